@@ -1,0 +1,32 @@
+"""cyclomech: design of cyclic machines with a Rust core.
+
+Linkages, stops, press drives, rotor transfer and the machine's cyclogram. SI units
+inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
+"""
+
+from __future__ import annotations
+
+from ._core import __version__
+from ._errors import (
+    CycleError,
+    CyclomechError,
+    InfeasibleError,
+    InputError,
+    InternalError,
+    SolverError,
+)
+from .schedule import EventGraph, GraphAnalysis, longest_path, max_cycle_ratio
+
+__all__ = [
+    "CycleError",
+    "CyclomechError",
+    "EventGraph",
+    "GraphAnalysis",
+    "InfeasibleError",
+    "InputError",
+    "InternalError",
+    "SolverError",
+    "__version__",
+    "longest_path",
+    "max_cycle_ratio",
+]

@@ -1,0 +1,53 @@
+"""Coercion of user input to the contiguous float64/int64 arrays the kernels take."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ._errors import InputError
+
+
+def index_array(name: str, value: Any) -> npt.NDArray[np.int64]:
+    """A 1-D C-contiguous int64 array of indices, or :class:`InputError`."""
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"{name} must be a 1-D sequence of integer indices; {e}") from None
+    if a.ndim != 1:
+        raise InputError(
+            f"{name} must be a 1-D sequence of integer indices; got an array of shape {a.shape}"
+        )
+    if a.size and a.dtype.kind not in "iu":
+        raise InputError(
+            f"{name} must hold integer indices; got dtype {a.dtype} (first value {a.flat[0]!r})"
+        )
+    return np.ascontiguousarray(a, dtype=np.int64)
+
+
+def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDArray[np.float64]:
+    """A C-contiguous float64 array with one of ``ndims`` dimensions, or :class:`InputError`.
+
+    Finiteness is checked by the kernels, which name the first bad entry.
+    """
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"{name} must be an array of real numbers; {e}") from None
+    if a.dtype.kind not in "biuf":
+        raise InputError(f"{name} must be an array of real numbers; got dtype {a.dtype}")
+    if a.ndim not in ndims:
+        want = " or ".join(f"{d}-D" for d in ndims)
+        raise InputError(f"{name} must be a {want} array; got shape {a.shape}")
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def threads_arg(n_threads: Any) -> int | None:
+    """Validate ``n_threads`` (None or a positive int) before it reaches Rust."""
+    if n_threads is None:
+        return None
+    if isinstance(n_threads, bool) or not isinstance(n_threads, int | np.integer):
+        raise InputError(f"n_threads must be None or a positive integer; got {n_threads!r}")
+    return int(n_threads)

@@ -1,0 +1,212 @@
+"""Longest-path scheduling of event networks (Rust kernels, thin wrappers).
+
+Events are vertices ``0 … n_events-1``; operations are arcs ``src[e] -> dst[e]``
+with a phase angle ``weights[e]`` in degrees of main-shaft rotation (negative for
+operations that overlap). The earliest occurrence angle of each event is 0 for an
+event without incoming arcs and ``max(p(x) + w)`` over its incoming arcs otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from . import _core
+from ._arrays import float_array, index_array, threads_arg
+from ._errors import InputError
+
+__all__ = ["EventGraph", "GraphAnalysis", "longest_path", "max_cycle_ratio"]
+
+_I64_MAX = 2**63 - 1
+
+
+def _count(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise InputError(f"{name} must be a non-negative integer; got {value!r}")
+    if not 0 <= int(value) <= _I64_MAX:
+        raise InputError(f"{name} must be a non-negative integer; got {value!r}")
+    return int(value)
+
+
+def longest_path(
+    n_events: int,
+    src: npt.ArrayLike,
+    dst: npt.ArrayLike,
+    weights: npt.ArrayLike,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]:
+    """Earliest occurrence angle of every event, for one or many weight vectors.
+
+    Parameters
+    ----------
+    n_events : number of events V.
+    src, dst : (E,) integer arrays, the arc ``e`` goes from event ``src[e]`` to ``dst[e]``.
+    weights : (E,) or (B, E) float array of phase angles [deg]; negative values allowed.
+    n_threads : threads for a batch (default: ``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    (V,) or (B, V) float64 array of earliest event angles [deg].
+
+    Raises
+    ------
+    CycleError : the arcs contain a cycle (its events are in ``.events``).
+    InputError : out-of-range indices, NaN/inf weights, mismatched shapes.
+
+    The structure is analysed once per call; to evaluate the same network many
+    times, build an :class:`EventGraph` once.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> cm.longest_path(4, [0, 1, 0, 2], [1, 3, 2, 3], [30.0, 50.0, 100.0, -20.0])
+    array([  0.,  30., 100.,  80.])
+    """
+    w = float_array("weights", weights, ndims=(1, 2))
+    return _core.longest_path(
+        _count("n_events", n_events),
+        index_array("src", src),
+        index_array("dst", dst),
+        w,
+        n_threads=threads_arg(n_threads),
+    )
+
+
+@dataclass(frozen=True)
+class GraphAnalysis:
+    """Earliest/latest event times, slack and critical arcs of one weight vector.
+
+    Angles in degrees. ``critical[e]`` is True for every arc with zero total slack
+    (all ties, not one arbitrary longest path).
+    """
+
+    earliest: npt.NDArray[np.float64]
+    latest: npt.NDArray[np.float64]
+    total_slack: npt.NDArray[np.float64]
+    free_slack: npt.NDArray[np.float64]
+    critical: npt.NDArray[np.bool_]
+    horizon: float
+    tolerance: float
+
+
+class EventGraph:
+    """An event network whose structure is analysed once and reused.
+
+    Building the graph validates the arcs, finds a topological order (or raises
+    :class:`CycleError` naming a cycle) and lays the arcs out for the kernels;
+    every later call only evaluates weights.
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> g = cm.EventGraph(3, [0, 1], [1, 2])
+    >>> g.longest_path([10.0, 20.0])
+    array([ 0., 10., 30.])
+    >>> g.longest_path(np.array([[10.0, 20.0], [1.0, 2.0]]))
+    array([[ 0., 10., 30.],
+           [ 0.,  1.,  3.]])
+    >>> g.analyze([10.0, 20.0], horizon=40.0).total_slack
+    array([10., 10.])
+    """
+
+    __slots__ = ("_g",)
+
+    def __init__(self, n_events: int, src: npt.ArrayLike, dst: npt.ArrayLike) -> None:
+        self._g = _core.EventGraph(
+            _count("n_events", n_events), index_array("src", src), index_array("dst", dst)
+        )
+
+    @property
+    def n_events(self) -> int:
+        """Number of events V."""
+        return int(self._g.n_events)
+
+    @property
+    def n_arcs(self) -> int:
+        """Number of arcs E."""
+        return int(self._g.n_arcs)
+
+    @property
+    def src(self) -> npt.NDArray[np.int64]:
+        """Tail event of each arc (E,)."""
+        return self._g.src
+
+    @property
+    def dst(self) -> npt.NDArray[np.int64]:
+        """Head event of each arc (E,)."""
+        return self._g.dst
+
+    @property
+    def topological_order(self) -> npt.NDArray[np.int64]:
+        """The events in a topological order (V,)."""
+        return self._g.topological_order
+
+    def longest_path(
+        self, weights: npt.ArrayLike, *, n_threads: int | None = None
+    ) -> npt.NDArray[np.float64]:
+        """Earliest event angles [deg] for (E,) or (B, E) weights -> (V,) or (B, V)."""
+        w = float_array("weights", weights, ndims=(1, 2))
+        return self._g.longest_path(w, n_threads=threads_arg(n_threads))
+
+    def latest(self, weights: npt.ArrayLike, horizon: float) -> npt.NDArray[np.float64]:
+        """Latest event angles [deg] that keep every event at or before ``horizon``."""
+        return self._g.latest(float_array("weights", weights), _scalar("horizon", horizon))
+
+    def analyze(self, weights: npt.ArrayLike, horizon: float | None = None) -> GraphAnalysis:
+        """Earliest and latest times, total and free slack, critical arcs.
+
+        ``horizon`` [deg] defaults to the largest earliest time, so the critical arcs
+        are exactly those on longest paths.
+        """
+        h = None if horizon is None else _scalar("horizon", horizon)
+        d = self._g.analyze(float_array("weights", weights), h)
+        return GraphAnalysis(**d)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (EventGraph, (self.n_events, self.src, self.dst))
+
+    def __repr__(self) -> str:
+        return f"EventGraph(n_events={self.n_events}, n_arcs={self.n_arcs})"
+
+
+def _scalar(name: str, value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a real number; got {value!r}") from None
+
+
+def max_cycle_ratio(
+    n_events: int,
+    src: npt.ArrayLike,
+    dst: npt.ArrayLike,
+    weights: npt.ArrayLike,
+    heights: npt.ArrayLike,
+) -> tuple[float, npt.NDArray[np.int64]] | None:
+    """Maximum over cycles of Σweights/Σheights, by Howard's policy iteration.
+
+    With ``weights`` the phase angles [deg] and ``heights`` the number of machine
+    cycles each arc crosses, the result is the shortest cycle angle [deg] in which
+    the operations can repeat. Arcs of height 0 must form a DAG.
+
+    Returns ``(ratio, arcs)`` for a cycle attaining the maximum (arc indices in
+    order), or ``None`` if the graph has no cycle.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r, arcs = cm.max_cycle_ratio(2, [0, 1], [1, 0], [100.0, 200.0], [0.0, 1.0])
+    >>> r, arcs.tolist()
+    (300.0, [0, 1])
+    """
+    return _core.max_cycle_ratio(
+        _count("n_events", n_events),
+        index_array("src", src),
+        index_array("dst", dst),
+        float_array("weights", weights),
+        float_array("heights", heights),
+    )

@@ -1,0 +1,84 @@
+//! The one place where core errors become Python exceptions.
+//!
+//! The exception classes live in `cyclomech._errors` (Python), so that they carry
+//! structured attributes (`events`, …), pickle across Dask workers, and can be
+//! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
+//! itself a `ValueError`.
+
+use cyclomech_core::parallel::ThreadsError;
+use cyclomech_core::schedule::ScheduleError;
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::PyType;
+
+fn class<'py>(py: Python<'py>, name: &'static str) -> PyResult<Bound<'py, PyType>> {
+    static MODULE: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
+    let module =
+        MODULE.get_or_try_init(py, || py.import("cyclomech._errors").map(Bound::unbind))?;
+    Ok(module.bind(py).getattr(name)?.cast_into::<PyType>()?)
+}
+
+/// Build `cls(message, **kwargs)` as a `PyErr`.
+fn raise(py: Python<'_>, name: &'static str, message: String, events: Option<Vec<usize>>) -> PyErr {
+    let made = class(py, name).and_then(|cls| match events {
+        Some(ev) => cls.call1((message.clone(), ev)),
+        None => cls.call1((message.clone(),)),
+    });
+    match made {
+        Ok(exc) => PyErr::from_value(exc),
+        Err(e) => e,
+    }
+}
+
+/// Map a core error onto the Python hierarchy.
+pub trait IntoPyErr {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr;
+}
+
+impl IntoPyErr for ScheduleError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        let message = self.to_string();
+        match self {
+            ScheduleError::Cycle { events } | ScheduleError::ZeroHeightCycle { events } => {
+                raise(py, "CycleError", message, Some(events))
+            }
+            ScheduleError::NotConverged { .. } => raise(py, "SolverError", message, None),
+            ScheduleError::Threads(e) => e.into_pyerr(py),
+            _ => raise(py, "InputError", message, None),
+        }
+    }
+}
+
+impl IntoPyErr for ThreadsError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        raise(py, "InputError", self.to_string(), None)
+    }
+}
+
+/// Run a kernel with the GIL released, turning both its error and any panic into
+/// a `CyclomechError` so that nothing unwinds into the interpreter.
+pub fn run<T, E, F>(py: Python<'_>, kernel: &'static str, f: F) -> PyResult<T>
+where
+    F: FnOnce() -> Result<T, E> + Send,
+    T: Send,
+    E: IntoPyErr + Send,
+{
+    let outcome = py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+    match outcome {
+        Ok(Ok(value)) => Ok(value),
+        Ok(Err(e)) => Err(e.into_pyerr(py)),
+        Err(payload) => {
+            let detail = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_string());
+            Err(raise(
+                py,
+                "InternalError",
+                format!("internal error in kernel {kernel}: {detail} (please report this with the input that caused it)"),
+                None,
+            ))
+        }
+    }
+}

@@ -1,0 +1,24 @@
+//! `cyclomech._core`: the pyo3 extension module.
+//!
+//! Thin by design: convert arrays and errors, release the GIL, call `cyclomech-core`.
+//! The public Python API (validation, coercion of lists to arrays, docs) lives in
+//! `python/cyclomech`; the stubs in `python/cyclomech/_core.pyi` are the contract.
+
+use pyo3::prelude::*;
+
+mod errors;
+mod schedule;
+
+#[pymodule]
+mod _core {
+    #[pymodule_export]
+    use super::schedule::{longest_path, max_cycle_ratio, max_speed, EventGraph};
+
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        Ok(())
+    }
+
+    use super::*;
+}

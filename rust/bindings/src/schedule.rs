@@ -1,0 +1,291 @@
+//! Bindings of the schedule domain: longest path, event graphs, cycle ratios.
+
+use cyclomech_core::cycle_ratio::{self, SpeedLimit};
+use cyclomech_core::schedule::{self, ScheduleError};
+use numpy::ndarray::{Array1, Array2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::errors::{run, IntoPyErr};
+
+/// Contiguous view of a 1-D array (the Python layer passes C-contiguous arrays).
+fn slice<'a, T: numpy::Element>(
+    py: Python<'_>,
+    field: &'static str,
+    a: &'a PyReadonlyArray1<'_, T>,
+) -> PyResult<&'a [T]> {
+    a.as_slice().map_err(|_| {
+        ScheduleError::BadScalar {
+            field,
+            value: f64::NAN,
+            what: "the array must be C-contiguous",
+        }
+        .into_pyerr(py)
+    })
+}
+
+/// Weights of shape (E,) or (B, E) as a flat slice plus the number of rows (None for 1-D).
+fn weights_view<'a>(
+    py: Python<'_>,
+    w: &'a PyReadonlyArrayDyn<'_, f64>,
+) -> PyResult<(&'a [f64], Option<usize>)> {
+    let shape = w.shape().to_vec();
+    let flat = w.as_slice().map_err(|_| {
+        ScheduleError::BadScalar {
+            field: "weights",
+            value: f64::NAN,
+            what: "the array must be C-contiguous",
+        }
+        .into_pyerr(py)
+    })?;
+    match shape.len() {
+        1 => Ok((flat, None)),
+        2 => Ok((flat, Some(shape[0]))),
+        _ => Err(ScheduleError::WeightLength {
+            field: "weights",
+            expected: 0,
+            got: shape.len(),
+        }
+        .into_pyerr(py)),
+    }
+}
+
+fn evaluate<'py>(
+    py: Python<'py>,
+    g: &schedule::EventGraph,
+    w: &[f64],
+    rows: Option<usize>,
+    n_threads: Option<i64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let n = g.n_events();
+    match rows {
+        None => {
+            let t = run(py, "longest_path", || g.earliest(w))?;
+            Ok(Array1::from(t).into_dyn().into_pyarray(py))
+        }
+        Some(b) => {
+            let t = run(py, "longest_path", || g.earliest_batch(w, b, n_threads))?;
+            // The kernel returns exactly b·n values; a mismatch would be a kernel bug.
+            let a = Array2::from_shape_vec((b, n), t).map_err(|e| {
+                pyo3::exceptions::PyRuntimeError::new_err(format!(
+                    "internal error: batch result shape: {e}"
+                ))
+            })?;
+            Ok(a.into_dyn().into_pyarray(py))
+        }
+    }
+}
+
+/// Earliest event times of a network cyclogram (see `cyclomech.longest_path`).
+#[pyfunction]
+#[pyo3(signature = (n_events, src, dst, weights, *, n_threads=None))]
+pub fn longest_path<'py>(
+    py: Python<'py>,
+    n_events: i64,
+    src: PyReadonlyArray1<'py, i64>,
+    dst: PyReadonlyArray1<'py, i64>,
+    weights: PyReadonlyArrayDyn<'py, f64>,
+    n_threads: Option<i64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (w, rows) = weights_view(py, &weights)?;
+    let g = run(py, "longest_path", || {
+        schedule::EventGraph::new(n_events, s, d)
+    })?;
+    evaluate(py, &g, w, rows, n_threads)
+}
+
+/// The structure of an event network, analysed once (see `cyclomech.EventGraph`).
+#[pyclass(module = "cyclomech._core", frozen)]
+pub struct EventGraph {
+    graph: schedule::EventGraph,
+}
+
+#[pymethods]
+impl EventGraph {
+    #[new]
+    fn new(
+        py: Python<'_>,
+        n_events: i64,
+        src: PyReadonlyArray1<'_, i64>,
+        dst: PyReadonlyArray1<'_, i64>,
+    ) -> PyResult<Self> {
+        let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+        let graph = run(py, "EventGraph", || {
+            schedule::EventGraph::new(n_events, s, d)
+        })?;
+        Ok(EventGraph { graph })
+    }
+
+    #[getter]
+    fn n_events(&self) -> usize {
+        self.graph.n_events()
+    }
+
+    #[getter]
+    fn n_arcs(&self) -> usize {
+        self.graph.n_arcs()
+    }
+
+    #[getter]
+    fn src<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        self.graph
+            .src()
+            .iter()
+            .map(|&v| v as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+    }
+
+    #[getter]
+    fn dst<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        self.graph
+            .dst()
+            .iter()
+            .map(|&v| v as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+    }
+
+    #[getter]
+    fn topological_order<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        self.graph
+            .topological_order()
+            .iter()
+            .map(|&v| v as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+    }
+
+    #[pyo3(signature = (weights, *, n_threads=None))]
+    fn longest_path<'py>(
+        &self,
+        py: Python<'py>,
+        weights: PyReadonlyArrayDyn<'py, f64>,
+        n_threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let (w, rows) = weights_view(py, &weights)?;
+        evaluate(py, &self.graph, w, rows, n_threads)
+    }
+
+    fn latest<'py>(
+        &self,
+        py: Python<'py>,
+        weights: PyReadonlyArray1<'py, f64>,
+        horizon: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let w = slice(py, "weights", &weights)?;
+        let t = run(py, "latest", || self.graph.latest(w, horizon))?;
+        Ok(t.into_pyarray(py))
+    }
+
+    #[pyo3(signature = (weights, horizon=None))]
+    fn analyze<'py>(
+        &self,
+        py: Python<'py>,
+        weights: PyReadonlyArray1<'py, f64>,
+        horizon: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let w = slice(py, "weights", &weights)?;
+        let a = run(py, "analyze", || self.graph.analyze(w, horizon))?;
+        let d = PyDict::new(py);
+        d.set_item("earliest", a.earliest.into_pyarray(py))?;
+        d.set_item("latest", a.latest.into_pyarray(py))?;
+        d.set_item("total_slack", a.total_slack.into_pyarray(py))?;
+        d.set_item("free_slack", a.free_slack.into_pyarray(py))?;
+        d.set_item("critical", a.critical.into_pyarray(py))?;
+        d.set_item("horizon", a.horizon)?;
+        d.set_item("tolerance", a.tolerance)?;
+        Ok(d)
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let g = &slf.get().graph;
+        let args = (g.n_events(), slf.getattr("src")?, slf.getattr("dst")?);
+        PyTuple::new(
+            py,
+            [
+                slf.get_type().into_any(),
+                args.into_pyobject(py)?.into_any(),
+            ],
+        )
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "EventGraph(n_events={}, n_arcs={})",
+            self.graph.n_events(),
+            self.graph.n_arcs()
+        )
+    }
+}
+
+/// Maximum cycle ratio Σweights/Σheights (see `cyclomech.max_cycle_ratio`).
+#[pyfunction]
+pub fn max_cycle_ratio<'py>(
+    py: Python<'py>,
+    n_events: i64,
+    src: PyReadonlyArray1<'py, i64>,
+    dst: PyReadonlyArray1<'py, i64>,
+    weights: PyReadonlyArray1<'py, f64>,
+    heights: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Option<(f64, Bound<'py, PyArray1<i64>>)>> {
+    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (w, h) = (
+        slice(py, "weights", &weights)?,
+        slice(py, "heights", &heights)?,
+    );
+    let r = run(py, "max_cycle_ratio", || {
+        cycle_ratio::max_cycle_ratio(n_events, s, d, w, h)
+    })?;
+    Ok(r.map(|c| {
+        (
+            c.ratio,
+            c.arcs
+                .iter()
+                .map(|&e| e as i64)
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )
+    }))
+}
+
+/// Highest speed at which a cyclic schedule fits (see `cyclomech.Cyclogram.max_speed_rpm`).
+/// Returns `(status, rpm, ratio, arcs)` with status "limited", "unlimited" or "infeasible".
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn max_speed<'py>(
+    py: Python<'py>,
+    n_events: i64,
+    src: PyReadonlyArray1<'py, i64>,
+    dst: PyReadonlyArray1<'py, i64>,
+    angle_deg: PyReadonlyArray1<'py, f64>,
+    seconds: PyReadonlyArray1<'py, f64>,
+    heights: PyReadonlyArray1<'py, f64>,
+    cycle_deg: f64,
+) -> PyResult<(&'static str, f64, f64, Bound<'py, PyArray1<i64>>)> {
+    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (a, t) = (
+        slice(py, "angle_deg", &angle_deg)?,
+        slice(py, "seconds", &seconds)?,
+    );
+    let h = slice(py, "heights", &heights)?;
+    let r = run(py, "max_speed", || {
+        cycle_ratio::max_speed(n_events, s, d, a, t, h, cycle_deg)
+    })?;
+    let arcs = |v: &[usize]| {
+        v.iter()
+            .map(|&e| e as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+    };
+    Ok(match r {
+        SpeedLimit::Unlimited => ("unlimited", f64::INFINITY, f64::NAN, arcs(&[])),
+        SpeedLimit::Limited { rpm, cycle } => ("limited", rpm, cycle.ratio, arcs(&cycle.arcs)),
+        SpeedLimit::Infeasible { cycle } => ("infeasible", 0.0, cycle.ratio, arcs(&cycle.arcs)),
+    })
+}

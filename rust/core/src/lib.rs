@@ -1,0 +1,18 @@
+//! Pure-Rust kernels of cyclomech.
+//!
+//! No Python types here: every kernel takes slices and returns owned vectors or a
+//! typed error (one `thiserror` enum per domain). The pyo3 layer in `rust/bindings`
+//! only converts arrays and maps these errors to `cyclomech.CyclomechError`
+//! subclasses. No kernel may panic on user input: inputs are validated up front.
+//!
+//! Domains:
+//! * [`schedule`] — network cyclograms: topological order, earliest/latest event
+//!   times, slack, critical arcs, batches of weight vectors.
+//! * [`cycle_ratio`] — maximum cycle ratio (Howard's policy iteration) and the
+//!   highest main-shaft speed at which a cyclic schedule fits in its cycle.
+//! * [`parallel`] — the rayon thread pools behind `n_threads=` and
+//!   `CYCLOMECH_THREADS`.
+
+pub mod cycle_ratio;
+pub mod parallel;
+pub mod schedule;

@@ -1,0 +1,120 @@
+//! Thread pools for the batch kernels.
+//!
+//! Every batch kernel runs inside [`with_pool`]: `n_threads = Some(k)` asks for `k`
+//! threads; `None` takes `CYCLOMECH_THREADS` from the environment, or the number of
+//! cores. Pools are built once per thread count and cached, because building one
+//! costs far more than a small kernel call. Inside Dask workers the Python layer
+//! sets one thread so that processes and threads do not oversubscribe the cores.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use rayon::{ThreadPool, ThreadPoolBuilder};
+
+/// Name of the environment variable that sets the default thread count.
+pub const THREADS_ENV: &str = "CYCLOMECH_THREADS";
+
+/// Largest thread count accepted (a typo such as 10000 should not spawn 10000 threads).
+pub const MAX_THREADS: usize = 1024;
+
+/// Errors of the thread-count settings.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ThreadsError {
+    #[error("n_threads must be an integer between 1 and {max}; got {value}")]
+    BadCount { value: i64, max: usize },
+    #[error("environment variable {var} must be an integer between 1 and {max}; got {value:?}")]
+    BadEnv {
+        var: &'static str,
+        value: String,
+        max: usize,
+    },
+    #[error("could not start a pool of {threads} threads: {reason}")]
+    Build { threads: usize, reason: String },
+}
+
+/// Resolve the thread count: the explicit argument, else `CYCLOMECH_THREADS`, else
+/// the number of available cores.
+pub fn resolve_threads(n_threads: Option<i64>) -> Result<usize, ThreadsError> {
+    if let Some(k) = n_threads {
+        if k < 1 || k as u64 > MAX_THREADS as u64 {
+            return Err(ThreadsError::BadCount {
+                value: k,
+                max: MAX_THREADS,
+            });
+        }
+        return Ok(k as usize);
+    }
+    if let Ok(raw) = std::env::var(THREADS_ENV) {
+        let trimmed = raw.trim();
+        if !trimmed.is_empty() {
+            return match trimmed.parse::<usize>() {
+                Ok(k) if (1..=MAX_THREADS).contains(&k) => Ok(k),
+                _ => Err(ThreadsError::BadEnv {
+                    var: THREADS_ENV,
+                    value: raw,
+                    max: MAX_THREADS,
+                }),
+            };
+        }
+    }
+    Ok(std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1))
+}
+
+fn pools() -> &'static Mutex<HashMap<usize, Arc<ThreadPool>>> {
+    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
+    POOLS.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+/// The cached pool with `threads` threads.
+pub fn pool(threads: usize) -> Result<Arc<ThreadPool>, ThreadsError> {
+    // A poisoned lock only means another thread panicked while holding it; the map
+    // itself is still valid, so recover it instead of propagating the panic.
+    let mut map = pools().lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(p) = map.get(&threads) {
+        return Ok(Arc::clone(p));
+    }
+    let built = ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("cyclomech-{i}"))
+        .build()
+        .map_err(|e| ThreadsError::Build {
+            threads,
+            reason: e.to_string(),
+        })?;
+    let built = Arc::new(built);
+    map.insert(threads, Arc::clone(&built));
+    Ok(built)
+}
+
+/// Run `f` on the pool selected by `n_threads` (see [`resolve_threads`]).
+pub fn with_pool<R: Send>(
+    n_threads: Option<i64>,
+    f: impl FnOnce() -> R + Send,
+) -> Result<R, ThreadsError> {
+    let threads = resolve_threads(n_threads)?;
+    Ok(pool(threads)?.install(f))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn explicit_count_is_validated() {
+        assert_eq!(resolve_threads(Some(3)), Ok(3));
+        assert!(matches!(
+            resolve_threads(Some(0)),
+            Err(ThreadsError::BadCount { value: 0, .. })
+        ));
+        assert!(resolve_threads(Some(-2)).is_err());
+        assert!(resolve_threads(Some(1_000_000)).is_err());
+    }
+
+    #[test]
+    fn pool_runs_with_requested_threads() {
+        let n = with_pool(Some(2), rayon::current_num_threads).unwrap();
+        assert_eq!(n, 2);
+    }
+}
