@@ -9,6 +9,10 @@ import numpy.typing as npt
 
 from ._errors import InputError
 
+_I64_MAX = np.iinfo(np.int64).max
+#: Largest thread count accepted (matches the Rust core's limit).
+MAX_THREADS = 1024
+
 
 def index_array(name: str, value: Any) -> npt.NDArray[np.int64]:
     """A 1-D C-contiguous int64 array of indices, or :class:`InputError`."""
@@ -24,6 +28,9 @@ def index_array(name: str, value: Any) -> npt.NDArray[np.int64]:
         raise InputError(
             f"{name} must hold integer indices; got dtype {a.dtype} (first value {a.flat[0]!r})"
         )
+    if a.dtype.kind == "u" and a.size and a.max() > _I64_MAX:
+        i = int(np.argmax(a > _I64_MAX))
+        raise InputError(f"{name}[{i}] = {a[i]} is not an event index; it exceeds any event count")
     return np.ascontiguousarray(a, dtype=np.int64)
 
 
@@ -48,6 +55,12 @@ def threads_arg(n_threads: Any) -> int | None:
     """Validate ``n_threads`` (None or a positive int) before it reaches Rust."""
     if n_threads is None:
         return None
-    if isinstance(n_threads, bool) or not isinstance(n_threads, int | np.integer):
-        raise InputError(f"n_threads must be None or a positive integer; got {n_threads!r}")
+    if (
+        isinstance(n_threads, bool)
+        or not isinstance(n_threads, int | np.integer)
+        or not 1 <= n_threads <= MAX_THREADS
+    ):
+        raise InputError(
+            f"n_threads must be None or an integer between 1 and {MAX_THREADS}; got {n_threads!r}"
+        )
     return int(n_threads)

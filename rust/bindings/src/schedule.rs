@@ -1,6 +1,7 @@
 //! Bindings of the schedule domain: longest path, event graphs, cycle ratios.
 
 use cyclomech_core::cycle_ratio::{self, SpeedLimit};
+use cyclomech_core::parallel::resolve_threads;
 use cyclomech_core::schedule::{self, ScheduleError};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
@@ -27,11 +28,11 @@ fn slice<'a, T: numpy::Element>(
     })
 }
 
-/// Weights of shape (E,) or (B, E) as a flat slice plus the number of rows (None for 1-D).
+/// Weights of shape (E,) or (B, E) as a flat slice plus (B, E) for a batch.
 fn weights_view<'a>(
     py: Python<'_>,
     w: &'a PyReadonlyArrayDyn<'_, f64>,
-) -> PyResult<(&'a [f64], Option<usize>)> {
+) -> PyResult<(&'a [f64], Option<(usize, usize)>)> {
     let shape = w.shape().to_vec();
     let flat = w.as_slice().map_err(|_| {
         ScheduleError::BadScalar {
@@ -43,7 +44,7 @@ fn weights_view<'a>(
     })?;
     match shape.len() {
         1 => Ok((flat, None)),
-        2 => Ok((flat, Some(shape[0]))),
+        2 => Ok((flat, Some((shape[0], shape[1])))),
         _ => Err(ScheduleError::WeightLength {
             field: "weights",
             expected: 0,
@@ -57,17 +58,19 @@ fn evaluate<'py>(
     py: Python<'py>,
     g: &schedule::EventGraph,
     w: &[f64],
-    rows: Option<usize>,
+    batch: Option<(usize, usize)>,
     n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let n = g.n_events();
-    match rows {
+    match batch {
         None => {
+            // One vector runs on the calling thread, but a bad n_threads is still an error.
+            run(py, "longest_path", || resolve_threads(n_threads))?;
             let t = run(py, "longest_path", || g.earliest(w))?;
             Ok(Array1::from(t).into_dyn().into_pyarray(py))
         }
-        Some(b) => {
-            let t = run(py, "longest_path", || g.earliest_batch(w, b, n_threads))?;
+        Some((b, e)) => {
+            let t = run(py, "longest_path", || g.earliest_batch(w, b, e, n_threads))?;
             // The kernel returns exactly b·n values; a mismatch would be a kernel bug.
             let a = Array2::from_shape_vec((b, n), t).map_err(|e| {
                 pyo3::exceptions::PyRuntimeError::new_err(format!(
@@ -167,8 +170,8 @@ impl EventGraph {
         weights: PyReadonlyArrayDyn<'py, f64>,
         n_threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let (w, rows) = weights_view(py, &weights)?;
-        evaluate(py, &self.graph, w, rows, n_threads)
+        let (w, batch) = weights_view(py, &weights)?;
+        evaluate(py, &self.graph, w, batch, n_threads)
     }
 
     fn latest<'py>(

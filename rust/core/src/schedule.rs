@@ -33,7 +33,7 @@ pub enum ScheduleError {
         value: i64,
         n_events: usize,
     },
-    #[error("{field} must have {expected} entries per row (one per arc); got {got}")]
+    #[error("{field} must have {expected} entries per weight vector (one per arc); got {got}")]
     WeightLength {
         field: &'static str,
         expected: usize,
@@ -73,6 +73,37 @@ pub enum ScheduleError {
     NotConverged { iterations: usize },
     #[error(transparent)]
     Threads(#[from] crate::parallel::ThreadsError),
+    #[error(
+        "n_events = {n_events} with {n_arcs} arcs needs about {gib:.1} GiB of working memory, \
+         more than can be allocated here"
+    )]
+    TooLarge {
+        n_events: usize,
+        n_arcs: usize,
+        gib: f64,
+    },
+}
+
+/// Upper bound of the working memory per event and per arc of any schedule kernel
+/// (index arrays, adjacency, times, Howard's policy state), in bytes.
+const BYTES_PER_EVENT: usize = 96;
+const BYTES_PER_ARC: usize = 48;
+
+/// Refuse sizes whose working memory cannot be allocated, instead of letting the
+/// allocator abort the process (an abort cannot be caught at the Python boundary).
+pub(crate) fn check_memory(n: usize, m: usize, extra_bytes: usize) -> Result<(), ScheduleError> {
+    let bytes = n
+        .saturating_mul(BYTES_PER_EVENT)
+        .saturating_add(m.saturating_mul(BYTES_PER_ARC))
+        .saturating_add(extra_bytes);
+    let mut probe: Vec<u8> = Vec::new();
+    probe
+        .try_reserve_exact(bytes)
+        .map_err(|_| ScheduleError::TooLarge {
+            n_events: n,
+            n_arcs: m,
+            gib: bytes as f64 / (1u64 << 30) as f64,
+        })
 }
 
 /// Largest number of events or arcs (indices are stored as `u32`).
@@ -100,6 +131,7 @@ pub(crate) fn validate_arcs(
         });
     }
     let n = n_events as usize;
+    check_memory(n, src.len(), 0)?;
     if src.len() != dst.len() {
         return Err(ScheduleError::LengthMismatch {
             src: src.len(),
@@ -448,11 +480,20 @@ impl EventGraph {
         &self,
         weights: &[f64],
         rows: usize,
+        row_len: usize,
         n_threads: Option<i64>,
     ) -> Result<Vec<f64>, ScheduleError> {
+        let (n, m) = (self.n, self.n_arcs());
+        if row_len != m {
+            return Err(ScheduleError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: row_len,
+            });
+        }
         self.check_weights(weights, rows)?;
         let threads = crate::parallel::resolve_threads(n_threads)?;
-        let (n, m) = (self.n, self.n_arcs());
+        check_memory(0, 0, rows.saturating_mul(n).saturating_mul(8))?;
         let mut out = vec![0.0; rows * n];
         if n == 0 || rows == 0 {
             return Ok(out);
@@ -625,7 +666,7 @@ mod tests {
             let g = EventGraph::new(n as i64, &s, &d).unwrap();
             let m = w.len();
             let all: Vec<f64> = (0..rows).flat_map(|r| w.iter().map(move |x| x * (1.0 + r as f64 * 0.1) - r as f64)).collect();
-            let batch = g.earliest_batch(&all, rows, Some(threads)).unwrap();
+            let batch = g.earliest_batch(&all, rows, m, Some(threads)).unwrap();
             for r in 0..rows {
                 let single = g.earliest(&all[r * m..(r + 1) * m]).unwrap();
                 prop_assert_eq!(&batch[r * n..(r + 1) * n], &single[..]);
@@ -701,14 +742,19 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert!(g.latest(&[1.0, 2.0], f64::INFINITY).is_err());
-        assert!(g.earliest_batch(&[1.0, 2.0, 3.0], 2, None).is_err());
+        assert!(g.earliest_batch(&[1.0, 2.0, 3.0], 2, 2, None).is_err());
+        assert!(g.earliest_batch(&[], 0, 5, None).is_err());
+        assert!(matches!(
+            EventGraph::new(4_000_000_000, &[], &[]),
+            Err(ScheduleError::TooLarge { .. })
+        ));
     }
 
     #[test]
     fn empty_graph() {
         let g = EventGraph::new(0, &[], &[]).unwrap();
         assert!(g.earliest(&[]).unwrap().is_empty());
-        assert!(g.earliest_batch(&[], 5, Some(1)).unwrap().is_empty());
+        assert!(g.earliest_batch(&[], 5, 0, Some(1)).unwrap().is_empty());
         let a = g.analyze(&[], None).unwrap();
         assert_eq!(a.horizon, 0.0);
     }
