@@ -15,17 +15,24 @@ from ._errors import (
     InternalError,
     SolverError,
 )
+from .cyclogram import Constraint, Cyclogram, Operation, Optimum, Schedule, SpeedLimit
 from .schedule import EventGraph, GraphAnalysis, longest_path, max_cycle_ratio
 
 __all__ = [
+    "Constraint",
     "CycleError",
+    "Cyclogram",
     "CyclomechError",
     "EventGraph",
     "GraphAnalysis",
     "InfeasibleError",
     "InputError",
     "InternalError",
+    "Operation",
+    "Optimum",
+    "Schedule",
     "SolverError",
+    "SpeedLimit",
     "__version__",
     "longest_path",
     "max_cycle_ratio",

@@ -1,0 +1,186 @@
+"""Command line: ``cyclomech cyclogram FILE.toml [--out DIR]``.
+
+Prints the schedule (every operation at its minimum), the LP optimum and the speed
+limit, and writes a figure and a JSON summary to ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from ._errors import CyclomechError, InfeasibleError
+from .cyclogram import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
+
+__all__ = ["main"]
+
+
+def _arc(a: Arc) -> str:
+    return f"{a[0]}→{a[1]}"
+
+
+def _table(rows: list[list[str]], header: list[str]) -> str:
+    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
+    fmt = "  ".join(f"{{:<{w}}}" if i < 2 else f"{{:>{w}}}" for i, w in enumerate(widths))
+    lines = [fmt.format(*header), fmt.format(*("-" * w for w in widths))]
+    lines += [fmt.format(*r) for r in rows]
+    return "\n".join("  " + ln for ln in lines)
+
+
+def _print_schedule(cg: Cyclogram, s: Schedule) -> None:
+    print(f"\nSchedule, every operation at its minimum angle"
+          + (f" (at {s.speed_rpm:g} rpm)" if s.speed_rpm is not None else ""))
+    crit = set(s.critical)
+    rows = [
+        [op.mechanism or "", op.title, _arc(op.arc), f"{s.angles[op.arc]:.1f}",
+         f"{s.earliest[op.src]:.1f}", f"{s.slack[op.arc]:.1f}", "*" if op.arc in crit else ""]
+        for op in cg.operations
+    ]
+    print(_table(rows, ["mechanism", "operation", "arc", "angle°", "start°", "slack°", "critical"]))
+    print(f"  duration {s.duration:.1f}° of the {s.cycle_deg:g}° cycle")
+
+
+def _print_optimum(cg: Cyclogram, o: Optimum, s: Schedule) -> None:
+    if o.limiting is not None:
+        op = cg.operation(o.limiting)
+        before = s.cycle_deg - (s.duration - s.angles[o.limiting])
+        print(f"\nOptimum (LP, HiGHS): the limiting operation {op.title!r} gets {o.objective:.2f}° "
+              f"of the {o.cycle_deg:g}° cycle (the group takes {o.cycle_deg - o.objective:.2f}°; "
+              f"at minimum angles with no added constraint it would get {before:.2f}°)")
+    else:
+        print(f"\nOptimum (LP, HiGHS): shortest duration {o.objective:.2f}°")
+    rows = [
+        [op.mechanism or "", op.title, _arc(op.arc), f"{o.angles[op.arc]:.2f}",
+         f"{o.times[op.src]:.2f}", f"{o.stretch[op.arc]:.2f}"]
+        for op in cg.operations
+    ]
+    print(_table(rows, ["mechanism", "operation", "arc", "angle°", "start°", "stretch°"]))
+    priced = [(k, v) for k, v in o.duals.items() if abs(v) > 1e-9]
+    if priced:
+        print("  binding bounds and constraints (shadow price: change of the objective per unit of the bound)")
+        for k, v in priced:
+            print(f"    {k:<40} {v:+.4g}")
+
+
+def _print_speed(lim: SpeedLimit) -> None:
+    if math.isinf(lim.rpm):
+        print("\nSpeed limit: none (no time-bound operation lies on a chain that must fit in the cycle)")
+        return
+    print(f"\nSpeed limit: {lim.rpm:.2f} rpm (the operations' own angles and durations allow "
+          f"{lim.network_rpm:.2f} rpm)")
+    if lim.cycle:
+        print("  limiting chain: " + ", ".join(_arc(a) for a in lim.cycle))
+    if lim.binding:
+        print("  also binding: " + ", ".join(lim.binding))
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {(_arc(k) if isinstance(k, tuple) else str(k)): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        if len(obj) == 2 and all(isinstance(x, str) for x in obj):
+            return _arc(obj)  # type: ignore[arg-type]
+        return [_jsonable(x) for x in obj]
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _summary(cg: Cyclogram, s: Schedule, o: Optimum | None, lim: SpeedLimit | None) -> dict[str, Any]:
+    out: dict[str, Any] = {
+        "schema": "cyclomech.cyclogram/1",
+        "name": cg.name,
+        "cycle_deg": cg.cycle_deg,
+        "speed_rpm": s.speed_rpm,
+        "schedule": {
+            "earliest_deg": s.earliest, "latest_deg": s.latest, "angles_deg": s.angles,
+            "slack_deg": s.slack, "critical": list(s.critical), "duration_deg": s.duration,
+        },
+    }
+    if o is not None:
+        out["optimum"] = {
+            "goal": o.goal, "limiting": o.limiting, "objective_deg": o.objective,
+            "times_deg": o.times, "angles_deg": o.angles, "duals": o.duals,
+            "binding": list(o.binding),
+        }
+    if lim is not None:
+        out["speed_limit"] = {
+            "rpm": lim.rpm, "network_rpm": lim.network_rpm, "chain": list(lim.cycle),
+            "binding": list(lim.binding),
+        }
+    return _jsonable(out)  # type: ignore[no-any-return]
+
+
+def _cyclogram_command(args: argparse.Namespace) -> int:
+    cg = Cyclogram.from_toml(args.file)
+    if args.speed is not None:
+        cg.speed_rpm = args.speed
+    print(f"{cg.name}: {len(cg.events)} events, {len(cg.operations)} operations, "
+          f"{len(cg.constraints)} constraints, cycle {cg.cycle_deg:g}°")
+    s = cg.schedule()
+    _print_schedule(cg, s)
+    o: Optimum | None
+    try:
+        o = cg.optimize()
+        _print_optimum(cg, o, s)
+    except InfeasibleError as e:
+        print(f"\nOptimum: none, {e}")
+        o = None
+    lim = None
+    if any(op.min_duration_s > 0 for op in cg.operations):
+        try:
+            lim = cg.max_speed_rpm()
+            _print_speed(lim)
+        except InfeasibleError as e:
+            print(f"\nSpeed limit: none, {e}")
+    out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "cyclogram.json").write_text(json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False),
+                                        encoding="utf-8")
+    written = [out / "cyclogram.json"]
+    if not args.no_plot:
+        try:
+            from .plot import plot_cyclogram_pair
+        except ImportError as e:
+            print(f"\n(no figure: {e}; install cyclomech[plot])")
+        else:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig = plot_cyclogram_pair(o if o is not None else s)
+            fig.savefig(out / "cyclogram.png", dpi=130, bbox_inches="tight")
+            plt.close(fig)
+            written.append(out / "cyclogram.png")
+    print("\nWrote " + ", ".join(str(p) for p in written))
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``cyclomech`` command."""
+    parser = argparse.ArgumentParser(prog="cyclomech", description="Design of cyclic machines.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("cyclogram", help="schedule, optimise and plot a cyclogram file (TOML)")
+    p.add_argument("file", help="cyclogram file, e.g. examples/stb_group1.toml")
+    p.add_argument("--out", help="output folder (default: out/<file name>)")
+    p.add_argument("--speed", type=float, help="main-shaft speed [rpm] for time-bound operations")
+    p.add_argument("--no-plot", action="store_true", help="do not write the figure")
+    args = parser.parse_args(argv)
+    try:
+        return _cyclogram_command(args)
+    except CyclomechError as e:
+        print(f"cyclomech: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("cyclomech: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,994 @@
+"""The cyclogram (cycle diagram) of a machine as a network (seed 000).
+
+Events are characteristic positions of mechanisms, with occurrence angles p(x) in
+degrees of main-shaft rotation; operations are arcs (x, y) whose phase angle is
+t(x, y) = p(y) - p(x) (+ cycle_deg for an operation that ends in the next cycle).
+Each operation has a minimum admissible angle (kinematics, contact stress,
+vibration), optionally a maximum, and optionally a minimum duration in seconds,
+which takes 6·n·seconds degrees at n rpm.
+
+* :meth:`Cyclogram.schedule` — every operation at its minimum: earliest and latest
+  event angles, slack and critical operations (Rust longest-path kernel).
+* :meth:`Cyclogram.optimize` — the seed's LP (eq. 1): minimise the group's duration
+  p(N) - p(1), or maximise the limiting operation inside the cycle, subject to the
+  bounds and the added linear constraints; shadow prices of every bound and
+  constraint; infeasibility explained.
+* :meth:`Cyclogram.max_speed_rpm` — the highest main-shaft speed at which the
+  cyclogram still fits in its cycle (maximum cycle ratio, Howard's policy iteration).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+from scipy import sparse
+from scipy.optimize import linprog
+
+from . import _core
+from ._errors import CycleError, InfeasibleError, InputError, SolverError
+
+__all__ = [
+    "Arc",
+    "Constraint",
+    "Cyclogram",
+    "Operation",
+    "Optimum",
+    "Schedule",
+    "SpeedLimit",
+]
+
+Arc = tuple[str, str]
+Sense = Literal["<=", ">=", "=="]
+
+#: Degrees of main-shaft rotation per second at 1 rpm (360° × 1/60 s⁻¹).
+DEG_PER_SECOND_PER_RPM = 6.0
+
+
+def _event_id(value: Any, field_name: str) -> str:
+    if isinstance(value, bool) or not isinstance(value, str | int):
+        raise InputError(f"{field_name} must be an event id (a string); got {value!r}")
+    text = str(value)
+    if not text.strip():
+        raise InputError(f"{field_name} must be a non-empty event id; got {value!r}")
+    return text
+
+
+def _finite(value: Any, field_name: str, *, lower: float | None = None) -> float:
+    if isinstance(value, bool):
+        raise InputError(f"{field_name} must be a real number; got {value!r}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{field_name} must be a real number; got {value!r}") from None
+    if not math.isfinite(x):
+        raise InputError(f"{field_name} must be finite; got {value!r}")
+    if lower is not None and x < lower:
+        raise InputError(f"{field_name} must be >= {lower:g}; got {value!r}")
+    return x
+
+
+def _cycle(value: Any, field_name: str = "cycle_deg") -> float:
+    x = _finite(value, field_name)
+    if x <= 0:
+        raise InputError(f"{field_name} must be a positive angle in degrees (360 for one turn); got {value!r}")
+    return x
+
+
+@dataclass(frozen=True)
+class Operation:
+    """One operation (arc) of the cyclogram.
+
+    Angles in degrees of main-shaft rotation; ``min_duration_s`` in seconds;
+    ``height`` is the number of machine cycles the operation crosses (1 for an
+    operation that ends in the next cycle).
+    """
+
+    src: str
+    dst: str
+    min_angle_deg: float = 0.0
+    max_angle_deg: float | None = None
+    min_duration_s: float = 0.0
+    height: int = 0
+    name: str | None = None
+    mechanism: str | None = None
+
+    @property
+    def arc(self) -> Arc:
+        """The arc ``(src, dst)``."""
+        return (self.src, self.dst)
+
+    @property
+    def title(self) -> str:
+        """The name, or ``"src→dst"``."""
+        return self.name or f"{self.src}→{self.dst}"
+
+    def min_angle_at(self, speed_rpm: float | None) -> float:
+        """Minimum angle [deg] at a speed: max(min_angle_deg, 6·n·min_duration_s)."""
+        if self.min_duration_s == 0.0:
+            return self.min_angle_deg
+        if speed_rpm is None:
+            raise InputError(
+                f"operation {self.title!r} has a minimum duration of {self.min_duration_s:g} s; "
+                "pass speed_rpm to convert it to degrees"
+            )
+        return max(self.min_angle_deg, DEG_PER_SECOND_PER_RPM * speed_rpm * self.min_duration_s)
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """A linear constraint Σ coeffs[arc]·t(arc) (sense) rhs on phase angles [deg]."""
+
+    coeffs: tuple[tuple[Arc, float], ...]
+    sense: Sense
+    rhs: float
+    name: str
+
+    def describe(self) -> str:
+        """The constraint as text, e.g. ``-0.003·t(3,7) <= -0.108``."""
+        terms = " + ".join(f"{c:g}·t({a[0]},{a[1]})" for a, c in self.coeffs)
+        return f"{terms} {self.sense} {self.rhs:g}"
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Every operation at its minimum angle: the earliest schedule (angles in degrees).
+
+    ``slack[arc]`` is the total slack (how much the operation can grow without
+    moving the end of the schedule), ``free_slack[arc]`` how much it can grow
+    without moving any event; ``critical`` lists every operation with zero total
+    slack. Operations crossing into the next cycle (height > 0) do not order
+    events within the cycle; their ``slack`` is p(y) + cycle_deg·h − p(x) − angle,
+    negative when the schedule violates them.
+    """
+
+    operations: tuple[Operation, ...]
+    events: tuple[str, ...]
+    earliest: dict[str, float]
+    latest: dict[str, float]
+    angles: dict[Arc, float]
+    slack: dict[Arc, float]
+    free_slack: dict[Arc, float]
+    critical: tuple[Arc, ...]
+    duration: float
+    cycle_deg: float
+    speed_rpm: float | None
+
+    @property
+    def times(self) -> dict[str, float]:
+        """Occurrence angle of each event [deg] (the earliest times)."""
+        return self.earliest
+
+
+@dataclass(frozen=True)
+class Optimum:
+    """Result of :meth:`Cyclogram.optimize` (angles in degrees).
+
+    ``duals[name]`` is the shadow price of each bound and constraint: the change of
+    ``objective`` per unit increase of that bound's value (a minimum angle, a
+    maximum angle, a constraint's right-hand side, the cycle angle). ``slack[name]``
+    is how far each is from binding; ``binding`` names those with zero slack.
+    Bounds are named ``min[op]`` and ``max[op]``; the cycle bound ``cycle``.
+    ``stretch[arc]`` is how much an operation got beyond its minimum angle;
+    ``critical`` lists the operations held at their minimum by a priced bound.
+    """
+
+    operations: tuple[Operation, ...]
+    events: tuple[str, ...]
+    times: dict[str, float]
+    angles: dict[Arc, float]
+    objective: float
+    goal: Literal["min_duration", "max_limiting"]
+    limiting: Arc | None
+    duration: float
+    cycle_deg: float
+    speed_rpm: float | None
+    duals: dict[str, float]
+    slack: dict[str, float]
+    binding: tuple[str, ...]
+    stretch: dict[Arc, float]
+    critical: tuple[Arc, ...]
+
+
+@dataclass(frozen=True)
+class SpeedLimit:
+    """Result of :meth:`Cyclogram.max_speed_rpm`.
+
+    ``rpm`` is the highest main-shaft speed at which the cyclogram fits in
+    ``cycle_deg`` (``inf`` when no time-bound operation limits it). ``cycle`` lists
+    the operations of the critical cycle (the chain whose angles fill the cycle at
+    that speed). ``network_rpm`` is the bound from the operations' minimum angles
+    and durations alone (Howard's maximum cycle ratio); when maximum angles or
+    added constraints lower it, ``rpm < network_rpm``, ``cycle`` lists the
+    operations held at their minimum and ``binding`` names the constraints, maximum
+    angles and the cycle bound that price the limit (non-zero shadow price).
+    """
+
+    rpm: float
+    cycle: tuple[Arc, ...]
+    cycle_deg: float
+    network_rpm: float
+    binding: tuple[str, ...] = field(default=())
+
+
+_OP_KEYS = {
+    "from", "to", "min_angle_deg", "max_angle_deg", "min_duration_s", "height", "name", "mechanism",
+}
+_CG_KEYS = {"name", "cycle_deg", "limiting", "speed_rpm", "events"}
+_CON_KEYS = {"name", "terms", "sense", "rhs"}
+_TERM_KEYS = {"from", "to", "coeff"}
+
+
+class Cyclogram:
+    """The network cyclogram of a machine or of one group of its mechanisms.
+
+    Parameters
+    ----------
+    name : a title for reports.
+    cycle_deg : the machine cycle [deg], 360 for one main-shaft turn.
+    limiting : the limiting operation (an arc or an operation name), whose angle
+        :meth:`optimize` maximises by default.
+    speed_rpm : main-shaft speed [rpm] at which operations with a minimum duration
+        in seconds are converted to degrees, unless a method is given another.
+
+    Examples
+    --------
+    The seed's linearised rebound constraint a(3,7) = -0.003·t(3,7) + 0.208 ≤ 0.1 mm
+    forces t(3,7) ≥ 36°:
+
+    >>> import cyclomech as cm
+    >>> cg = cm.Cyclogram()
+    >>> cg.add_operation("1", "3", min_angle_deg=40, mechanism="lifter")
+    >>> cg.add_operation("3", "7", min_angle_deg=20, mechanism="lifter")
+    >>> cg.add_constraint({("3", "7"): -0.003}, "<=", 0.1 - 0.208, name="rebound")
+    >>> opt = cg.optimize()
+    >>> round(opt.angles[("3", "7")], 6), round(opt.objective, 6), opt.binding
+    (36.0, 76.0, ('min[1→3]', 'rebound'))
+    """
+
+    def __init__(
+        self,
+        name: str = "cyclogram",
+        *,
+        cycle_deg: float = 360.0,
+        limiting: Arc | str | None = None,
+        speed_rpm: float | None = None,
+    ) -> None:
+        self.name = str(name)
+        self.cycle_deg = _cycle(cycle_deg)
+        self.speed_rpm = None if speed_rpm is None else _finite(speed_rpm, "speed_rpm", lower=0.0)
+        self._events: dict[str, int] = {}
+        self._ops: list[Operation] = []
+        self._arc_index: dict[Arc, int] = {}
+        self._constraints: list[Constraint] = []
+        self._limiting_spec = limiting
+
+    # ----------------------------------------------------------------- building
+    def add_event(self, event: str) -> str:
+        """Add an event (idempotent) and return its id."""
+        e = _event_id(event, "event")
+        self._events.setdefault(e, len(self._events))
+        return e
+
+    def add_operation(
+        self,
+        x: str,
+        y: str,
+        min_angle_deg: float = 0.0,
+        max_angle_deg: float | None = None,
+        name: str | None = None,
+        mechanism: str | None = None,
+        *,
+        min_duration_s: float = 0.0,
+        height: int = 0,
+    ) -> None:
+        """Add the operation x → y.
+
+        ``min_angle_deg`` / ``max_angle_deg`` bound its phase angle [deg];
+        ``min_duration_s`` [s] makes it time-bound (6·n·s degrees at n rpm);
+        ``height = 1`` for an operation that ends in the next machine cycle.
+        """
+        src, dst = _event_id(x, "x"), _event_id(y, "y")
+        where = f"operation {name or f'{src}→{dst}'!r}"
+        if src == dst:
+            raise InputError(f"{where}: an operation must join two different events; got {src!r} twice")
+        if (src, dst) in self._arc_index:
+            raise InputError(
+                f"{where}: an operation {src}→{dst} already exists; state all its bounds in one operation"
+            )
+        lo = _finite(min_angle_deg, f"{where}: min_angle_deg")
+        hi = None if max_angle_deg is None else _finite(max_angle_deg, f"{where}: max_angle_deg")
+        if hi is not None and hi < lo:
+            raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
+        secs = _finite(min_duration_s, f"{where}: min_duration_s", lower=0.0)
+        if isinstance(height, bool) or not isinstance(height, int | np.integer) or height < 0:
+            raise InputError(f"{where}: height must be a non-negative integer (cycles crossed); got {height!r}")
+        self.add_event(src)
+        self.add_event(dst)
+        op = Operation(
+            src, dst, lo, hi, secs, int(height),
+            None if name is None else str(name),
+            None if mechanism is None else str(mechanism),
+        )
+        self._arc_index[op.arc] = len(self._ops)
+        self._ops.append(op)
+
+    def add_constraint(
+        self,
+        coeffs: Mapping[tuple[str, str], float],
+        sense: str,
+        rhs: float,
+        name: str | None = None,
+    ) -> None:
+        """Add Σ coeffs[(x, y)]·t(x, y) (sense) rhs, with sense ``"<="``, ``">="`` or ``"=="``.
+
+        Angles in degrees. The operations named in ``coeffs`` must exist.
+        """
+        name = str(name) if name is not None else f"constraint {len(self._constraints) + 1}"
+        if any(c.name == name for c in self._constraints):
+            raise InputError(f"constraint {name!r} already exists; give each constraint its own name")
+        if sense not in ("<=", ">=", "=="):
+            raise InputError(f"constraint {name!r}: sense must be '<=', '>=' or '=='; got {sense!r}")
+        if not isinstance(coeffs, Mapping) or not coeffs:
+            raise InputError(f"constraint {name!r}: coeffs must map arcs (x, y) to coefficients; got {coeffs!r}")
+        terms = []
+        for arc, c in coeffs.items():
+            if not (isinstance(arc, tuple) and len(arc) == 2):
+                raise InputError(f"constraint {name!r}: keys must be arcs (x, y); got {arc!r}")
+            a = (_event_id(arc[0], "arc"), _event_id(arc[1], "arc"))
+            if a not in self._arc_index:
+                raise InputError(
+                    f"constraint {name!r}: there is no operation {a[0]}→{a[1]}; "
+                    f"add it first (known: {', '.join(f'{s}→{d}' for s, d in self._arc_index) or 'none'})"
+                )
+            terms.append((a, _finite(c, f"constraint {name!r}: coefficient of {a}")))
+        self._constraints.append(
+            Constraint(tuple(terms), sense, _finite(rhs, f"constraint {name!r}: rhs"), name)  # type: ignore[arg-type]
+        )
+
+    # ------------------------------------------------------------------ access
+    @property
+    def events(self) -> tuple[str, ...]:
+        """Event ids in the order they were added."""
+        return tuple(self._events)
+
+    @property
+    def operations(self) -> tuple[Operation, ...]:
+        """The operations in the order they were added."""
+        return tuple(self._ops)
+
+    @property
+    def constraints(self) -> tuple[Constraint, ...]:
+        """The added linear constraints."""
+        return tuple(self._constraints)
+
+    @property
+    def limiting(self) -> Arc | None:
+        """The limiting operation's arc, if one was set."""
+        return None if self._limiting_spec is None else self._resolve_op(self._limiting_spec, "limiting")
+
+    def operation(self, key: Arc | str) -> Operation:
+        """The operation with this arc or name."""
+        return self._ops[self._arc_index[self._resolve_op(key, "operation")]]
+
+    def _resolve_op(self, key: Arc | str | list[str], what: str) -> Arc:
+        if isinstance(key, tuple | list) and len(key) == 2:
+            arc = (_event_id(key[0], what), _event_id(key[1], what))
+            if arc in self._arc_index:
+                return arc
+            raise InputError(f"{what} = {key!r}: there is no operation {arc[0]}→{arc[1]}")
+        if isinstance(key, str):
+            hits = [op.arc for op in self._ops if op.name == key]
+            if len(hits) == 1:
+                return hits[0]
+            if len(hits) > 1:
+                raise InputError(f"{what} = {key!r}: several operations have that name; give the arc (x, y)")
+        names = ", ".join(repr(op.title) for op in self._ops) or "none"
+        raise InputError(f"{what} = {key!r} is neither an arc (x, y) nor an operation name (known: {names})")
+
+    def _speed(self, speed_rpm: float | None) -> float | None:
+        if speed_rpm is None:
+            return self.speed_rpm
+        return _finite(speed_rpm, "speed_rpm", lower=0.0)
+
+    def _arrays(self) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+        src = np.fromiter((self._events[op.src] for op in self._ops), np.int64, len(self._ops))
+        dst = np.fromiter((self._events[op.dst] for op in self._ops), np.int64, len(self._ops))
+        h = np.fromiter((op.height for op in self._ops), np.float64, len(self._ops))
+        return src, dst, h
+
+    def min_angles(self, speed_rpm: float | None = None) -> npt.NDArray[np.float64]:
+        """Minimum angle of each operation [deg] at ``speed_rpm`` (default: the cyclogram's)."""
+        n = self._speed(speed_rpm)
+        return np.array([op.min_angle_at(n) for op in self._ops], dtype=np.float64)
+
+    def _require_ops(self) -> None:
+        if not self._ops:
+            raise InputError(f"cyclogram {self.name!r} has no operations; add some with add_operation")
+
+    # ---------------------------------------------------------------- schedule
+    def schedule(self, speed_rpm: float | None = None, horizon_deg: float | None = None) -> Schedule:
+        """The earliest schedule with every operation at its minimum angle.
+
+        ``horizon_deg`` [deg] is the angle by which every event must occur for the
+        latest times (default: the schedule's own end, so the critical operations
+        are those on the longest chains). Raises :class:`CycleError` when the
+        operations within one cycle form a cycle.
+        """
+        self._require_ops()
+        n = self._speed(speed_rpm)
+        w = self.min_angles(n)
+        src, dst, h = self._arrays()
+        inner = h == 0
+        try:
+            g = _core.EventGraph(len(self._events), src[inner], dst[inner])
+        except CycleError as e:
+            raise self._named_cycle(e) from None
+        a = g.analyze(np.ascontiguousarray(w[inner]), horizon_deg)
+        names = self.events
+        early = dict(zip(names, a["earliest"].tolist(), strict=True))
+        late = dict(zip(names, a["latest"].tolist(), strict=True))
+        arcs = [op.arc for op in self._ops]
+        slack: dict[Arc, float] = {}
+        free: dict[Arc, float] = {}
+        critical: list[Arc] = []
+        inner_idx = np.flatnonzero(inner)
+        for k, e in enumerate(inner_idx):
+            slack[arcs[e]] = float(a["total_slack"][k])
+            free[arcs[e]] = float(a["free_slack"][k])
+            if a["critical"][k]:
+                critical.append(arcs[e])
+        for e in np.flatnonzero(~inner):
+            op = self._ops[e]
+            s = early[op.dst] + self.cycle_deg * op.height - early[op.src] - w[e]
+            slack[op.arc] = free[op.arc] = float(s)
+            if abs(s) <= a["tolerance"]:
+                critical.append(op.arc)
+        times = a["earliest"]
+        return Schedule(
+            operations=self.operations,
+            events=names,
+            earliest=early,
+            latest=late,
+            angles=dict(zip(arcs, w.tolist(), strict=True)),
+            slack={arc: slack[arc] for arc in arcs},
+            free_slack={arc: free[arc] for arc in arcs},
+            critical=tuple(critical),
+            duration=float(times.max() - times.min()) if times.size else 0.0,
+            cycle_deg=self.cycle_deg,
+            speed_rpm=n,
+        )
+
+    def _named_cycle(self, e: CycleError) -> CycleError:
+        names = self.events
+        ev = [names[i] for i in e.events]
+        chain = " → ".join([*ev, ev[0]])
+        return CycleError(
+            f"cyclogram {self.name!r}: the operations {chain} form a cycle within one machine "
+            "cycle; an operation that ends in the next cycle needs height=1",
+            ev,
+        )
+
+    # ---------------------------------------------------------------- optimize
+    def optimize(
+        self,
+        cycle_deg: float | None = None,
+        limiting: Arc | str | None = None,
+        speed_rpm: float | None = None,
+    ) -> Optimum:
+        """Optimise the phase angles by linear programming (HiGHS), seed eq. (1).
+
+        Without a limiting operation: minimise the duration p(N) − p(1) (the span
+        from the first to the last event), subject to every operation's bounds, the
+        added constraints and the span fitting in the cycle. With ``limiting`` (or
+        the cyclogram's own): maximise that operation's angle instead, inside the
+        cycle. ``cycle_deg`` defaults to the cyclogram's; ``speed_rpm`` converts
+        time-bound operations to degrees.
+
+        Raises :class:`InfeasibleError` naming the chain of operations whose minimum
+        angles exceed the cycle, or the smallest set of bounds and constraints that
+        conflict.
+        """
+        self._require_ops()
+        cycle = self.cycle_deg if cycle_deg is None else _cycle(cycle_deg)
+        lim_spec = self._limiting_spec if limiting is None else limiting
+        lim = None if lim_spec is None else self._resolve_op(lim_spec, "limiting")
+        n = self._speed(speed_rpm)
+        mins = self.min_angles(n)
+        self._check_fits(mins, cycle, n)
+        lp = _LP(self, mins, cycle, lim)
+        res = lp.solve(lp.rows)
+        if res.status == 2:
+            conflict = lp.irreducible_conflict()
+            detail = "; ".join(lp.describe(r) for r in conflict)
+            raise InfeasibleError(
+                f"cyclogram {self.name!r}: the bounds and constraints cannot all hold; these conflict "
+                f"(dropping any one of them removes the conflict): {detail}",
+                conflict,
+            )
+        if res.status != 0:
+            raise SolverError(f"cyclogram {self.name!r}: the LP solver stopped: {res.message}")
+        return lp.result(res, lp.earliest_at_optimum(res), n)
+
+    def _check_fits(self, mins: npt.NDArray[np.float64], cycle: float, speed: float | None) -> None:
+        """Raise if the minimum angles alone exceed the cycle, naming the chain."""
+        src, dst, h = self._arrays()
+        V = len(self._events)
+        # Close the group on itself: a virtual start S before and finish F after
+        # every event, F → S crossing into the next cycle, so that a cycle of the
+        # graph longer than cycle_deg per crossing is exactly a chain that does not fit.
+        S, F = V, V + 1
+        ev = np.arange(V, dtype=np.int64)
+        s2 = np.concatenate([src, np.full(V, S), ev, [F]])
+        d2 = np.concatenate([dst, ev, np.full(V, F), [S]])
+        w2 = np.concatenate([mins, np.zeros(2 * V + 1)])
+        h2 = np.concatenate([h, np.zeros(2 * V), [1.0]])
+        try:
+            found = _core.max_cycle_ratio(V + 2, s2, d2, w2, h2)
+        except CycleError as e:
+            raise self._named_cycle(e) from None
+        if found is None:
+            return
+        ratio, arcs = found
+        if ratio <= cycle * (1 + 1e-12):
+            return
+        ops = [self._ops[e] for e in _chain_after(arcs, len(s2) - 1) if e < len(self._ops)]
+        at = "" if speed is None else f" at {speed:g} rpm"
+        parts = " + ".join(f"{op.title} {mins[self._arc_index[op.arc]]:g}°" for op in ops)
+        crossings = int(round(h2[arcs].sum()))
+        room = f"{cycle:g}°" if crossings == 1 else f"{crossings} × {cycle:g}°"
+        raise InfeasibleError(
+            f"cyclogram {self.name!r}: the minimum angles{at} do not fit in the cycle: "
+            f"{parts} = {ratio * crossings:g}° > {room}",
+            [op.arc for op in ops],
+        )
+
+    # ---------------------------------------------------------------- speed
+    def max_speed_rpm(self, cycle_deg: float | None = None) -> SpeedLimit:
+        """The highest main-shaft speed [rpm] at which the cyclogram fits in its cycle.
+
+        Operations with ``min_duration_s`` take 6·n·s degrees at n rpm, so they grow
+        with speed. The network bound is the maximum cycle ratio of the operations
+        closed over one cycle, found by Howard's policy iteration with Newton steps
+        in speed (Rust). When maximum angles or added constraints exist, an LP over
+        the event angles and the speed itself gives the exact limit.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("10.1", "10.2", min_duration_s=0.05, name="weft insertion")
+        >>> cg.add_operation("10.2", "g", min_angle_deg=150, name="group 1")
+        >>> lim = cg.max_speed_rpm()          # 150° + 6·n·0.05 s = 360°
+        >>> round(lim.rpm, 6), lim.cycle
+        (700.0, (('10.1', '10.2'), ('10.2', 'g')))
+        """
+        self._require_ops()
+        cycle = self.cycle_deg if cycle_deg is None else _cycle(cycle_deg)
+        src, dst, h = self._arrays()
+        V, E = len(self._events), len(self._ops)
+        angle = np.array([op.min_angle_deg for op in self._ops])
+        secs = np.array([op.min_duration_s for op in self._ops])
+        S, F = V, V + 1
+        ev = np.arange(V, dtype=np.int64)
+        # Each operation is two parallel arcs, one per lower bound: its angle at
+        # rest and its duration (an angle of max(a, 6·n·s) at n rpm).
+        s2 = np.concatenate([src, src, np.full(V, S), ev, [F]])
+        d2 = np.concatenate([dst, dst, ev, np.full(V, F), [S]])
+        a2 = np.concatenate([angle, np.zeros(E + 2 * V + 1)])
+        t2 = np.concatenate([np.zeros(E), secs, np.zeros(2 * V + 1)])
+        h2 = np.concatenate([h, h, np.zeros(2 * V), [1.0]])
+        try:
+            status, rpm, _ratio, arcs = _core.max_speed(V + 2, s2, d2, a2, t2, h2, cycle)
+        except CycleError as e:
+            raise self._named_cycle(e) from None
+        cyc = tuple(self._ops[e % E].arc for e in _chain_after(arcs, len(s2) - 1) if e < 2 * E)
+        if status == "infeasible":
+            self._check_fits(angle, cycle, 0.0)  # raises with the chain named
+            raise InfeasibleError(f"cyclogram {self.name!r}: does not fit in {cycle:g}° at any speed", cyc)
+        network = float(rpm)
+        has_extra = self._constraints or any(op.max_angle_deg is not None for op in self._ops)
+        if not has_extra:
+            return SpeedLimit(network, cyc, cycle, network)
+        lp = _LP(self, angle, cycle, None, speed_secs=secs)
+        res = lp.solve(lp.rows)
+        if res.status == 3:
+            return SpeedLimit(math.inf, (), cycle, network)
+        if res.status == 2:
+            conflict = lp.irreducible_conflict()
+            raise InfeasibleError(
+                f"cyclogram {self.name!r}: the bounds and constraints conflict even at standstill: "
+                + "; ".join(lp.describe(r) for r in conflict),
+                conflict,
+            )
+        if res.status != 0:
+            raise SolverError(f"cyclogram {self.name!r}: the LP solver stopped: {res.message}")
+        best = float(res.x[-1])
+        if best >= network * (1 - 1e-9):
+            return SpeedLimit(network, cyc, cycle, network)
+        # The rows with a non-zero shadow price are what limits the speed: the
+        # operations among them form the limiting chain (ordered by event angle),
+        # the rest are the maximum angles, constraints and cycle that bind.
+        priced = [r for r, m in zip(res.rows_ub, res.ineqlin.marginals, strict=False) if abs(m) > 1e-9]
+        if res.rows_eq:
+            priced += [r for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True) if abs(m) > 1e-9]
+        p = res.x[:V]
+        chain_ops = {r.name for r in priced if r.kind == "min"}
+        chain = sorted(
+            (op for op in self._ops
+             if f"min[{op.title}]" in chain_ops or f"duration[{op.title}]" in chain_ops),
+            key=lambda op: p[self._events[op.src]],
+        )
+        others = tuple(r.name for r in priced if r.kind != "min")
+        return SpeedLimit(best, tuple(op.arc for op in chain), cycle, network, others)
+
+    # ---------------------------------------------------------------- TOML
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Cyclogram:
+        """Read a cyclogram from a TOML file (see ``examples/stb_group1.toml``).
+
+        Layout: a ``[cyclogram]`` table (``name``, ``cycle_deg``, ``limiting``,
+        ``speed_rpm``, ``events``), ``[[operation]]`` tables (``from``, ``to``,
+        ``min_angle_deg``, ``max_angle_deg``, ``min_duration_s``, ``height``,
+        ``name``, ``mechanism``) and ``[[constraint]]`` tables (``name``,
+        ``terms = [{from, to, coeff}, …]``, ``sense``, ``rhs``). Every error names
+        the file, the table and the key.
+        """
+        p = Path(path)
+        try:
+            with p.open("rb") as f:
+                data = tomllib.load(f)
+        except FileNotFoundError:
+            raise InputError(f"{p}: no such file") from None
+        except tomllib.TOMLDecodeError as e:
+            raise InputError(f"{p}: not valid TOML: {e}") from None
+        return cls.from_dict(data, source=str(p))
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Cyclogram:
+        """Build a cyclogram from the parsed TOML layout of :meth:`from_toml`."""
+        _keys(data, {"cyclogram", "operation", "constraint"}, source, "top level")
+        head = data.get("cyclogram", {})
+        _keys(head, _CG_KEYS, source, "[cyclogram]")
+        try:
+            lim = head.get("limiting")
+            cg = cls(
+                head.get("name", Path(source).stem),
+                cycle_deg=head.get("cycle_deg", 360.0),
+                limiting=tuple(lim) if isinstance(lim, list) else lim,
+                speed_rpm=head.get("speed_rpm"),
+            )
+            for ev in head.get("events", []):
+                cg.add_event(ev)
+        except InputError as e:
+            raise InputError(f"{source}: [cyclogram]: {e}") from None
+        ops = data.get("operation", [])
+        if not isinstance(ops, list):
+            raise InputError(f"{source}: 'operation' must be an array of tables ([[operation]])")
+        for i, op in enumerate(ops, 1):
+            where = f"{source}: [[operation]] #{i}"
+            _keys(op, _OP_KEYS, source, f"[[operation]] #{i}")
+            for req in ("from", "to"):
+                if req not in op:
+                    raise InputError(f"{where}: missing key {req!r} (the event the operation goes {req})")
+            try:
+                cg.add_operation(
+                    op["from"], op["to"],
+                    min_angle_deg=op.get("min_angle_deg", 0.0),
+                    max_angle_deg=op.get("max_angle_deg"),
+                    name=op.get("name"),
+                    mechanism=op.get("mechanism"),
+                    min_duration_s=op.get("min_duration_s", 0.0),
+                    height=op.get("height", 0),
+                )
+            except InputError as e:
+                raise InputError(f"{where}: {e}") from None
+        cons = data.get("constraint", [])
+        if not isinstance(cons, list):
+            raise InputError(f"{source}: 'constraint' must be an array of tables ([[constraint]])")
+        for i, con in enumerate(cons, 1):
+            where = f"{source}: [[constraint]] #{i}"
+            _keys(con, _CON_KEYS, source, f"[[constraint]] #{i}")
+            for req in ("terms", "sense", "rhs"):
+                if req not in con:
+                    raise InputError(f"{where}: missing key {req!r}")
+            coeffs: dict[Arc, float] = {}
+            if not isinstance(con["terms"], list):
+                raise InputError(f"{where}: terms must be a list of {{from, to, coeff}} tables")
+            for j, t in enumerate(con["terms"], 1):
+                if not isinstance(t, Mapping):
+                    raise InputError(f"{where}: terms #{j} must be a table {{from, to, coeff}}; got {t!r}")
+                _keys(t, _TERM_KEYS, source, f"[[constraint]] #{i} terms #{j}")
+                missing = _TERM_KEYS - set(t)
+                if missing:
+                    raise InputError(f"{where}: terms #{j} is missing {sorted(missing)}")
+                coeffs[(str(t["from"]), str(t["to"]))] = t["coeff"]
+            try:
+                cg.add_constraint(coeffs, con["sense"], con["rhs"], name=con.get("name"))
+            except InputError as e:
+                raise InputError(f"{where}: {e}") from None
+        if cg._limiting_spec is not None:
+            try:
+                _ = cg.limiting
+            except InputError as e:
+                raise InputError(f"{source}: [cyclogram]: {e}") from None
+        return cg
+
+    def to_toml(self, path: str | Path | None = None) -> str:
+        """The cyclogram as TOML text (written to ``path`` if given); reads back with :meth:`from_toml`."""
+        q = _toml_value
+        lines = ["[cyclogram]", f"name = {q(self.name)}", f"cycle_deg = {q(self.cycle_deg)}"]
+        if self.limiting is not None:
+            lines.append(f"limiting = {q(list(self.limiting))}")
+        if self.speed_rpm is not None:
+            lines.append(f"speed_rpm = {q(self.speed_rpm)}")
+        lines.append(f"events = {q(list(self.events))}")
+        for op in self._ops:
+            lines += ["", "[[operation]]", f"from = {q(op.src)}", f"to = {q(op.dst)}",
+                      f"min_angle_deg = {q(op.min_angle_deg)}"]
+            if op.max_angle_deg is not None:
+                lines.append(f"max_angle_deg = {q(op.max_angle_deg)}")
+            if op.min_duration_s:
+                lines.append(f"min_duration_s = {q(op.min_duration_s)}")
+            if op.height:
+                lines.append(f"height = {op.height}")
+            if op.name is not None:
+                lines.append(f"name = {q(op.name)}")
+            if op.mechanism is not None:
+                lines.append(f"mechanism = {q(op.mechanism)}")
+        for con in self._constraints:
+            terms = ", ".join(
+                f"{{ from = {q(a[0])}, to = {q(a[1])}, coeff = {q(c)} }}" for a, c in con.coeffs
+            )
+            lines += ["", "[[constraint]]", f"name = {q(con.name)}", f"terms = [{terms}]",
+                      f"sense = {q(con.sense)}", f"rhs = {q(con.rhs)}"]
+        text = "\n".join(lines) + "\n"
+        if path is not None:
+            Path(path).write_text(text, encoding="utf-8")
+        return text
+
+    def __repr__(self) -> str:
+        return (
+            f"Cyclogram({self.name!r}, events={len(self._events)}, operations={len(self._ops)}, "
+            f"constraints={len(self._constraints)}, cycle_deg={self.cycle_deg:g})"
+        )
+
+
+def _keys(table: Any, allowed: set[str], source: str, where: str) -> None:
+    if not isinstance(table, Mapping):
+        raise InputError(f"{source}: {where} must be a table; got {table!r}")
+    for k in table:
+        if k not in allowed:
+            raise InputError(
+                f"{source}: {where}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"
+            )
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, str):
+        # TOML basic strings accept JSON's escapes.
+        import json
+
+        return json.dumps(v, ensure_ascii=False)
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return str(v)
+
+
+@dataclass
+class _Row:
+    """One named row of the LP: coefficients over the variables, sense and rhs."""
+
+    name: str
+    kind: str  # "min", "max", "user", "cycle"
+    cols: list[int]
+    vals: list[float]
+    rhs: float
+    eq: bool
+    sign: float  # +1 if the row is the user's bound as written, -1 if negated to "<="
+    text: str
+
+
+class _LP:
+    """The cyclogram LP over event angles p (and the finish F, and the speed n).
+
+    Variables: p_0 … p_{V-1} ≥ 0, F (the span's end; the start is 0), and with
+    ``speed_secs`` the speed n ≥ 0 [rpm]. Every bound and constraint is a named
+    row so that the deletion filter can drop it and its dual can be reported.
+    """
+
+    def __init__(
+        self,
+        cg: Cyclogram,
+        mins: npt.NDArray[np.float64],
+        cycle: float,
+        limiting: Arc | None,
+        speed_secs: npt.NDArray[np.float64] | None = None,
+    ) -> None:
+        self.cg, self.cycle, self.limiting = cg, cycle, limiting
+        V = len(cg._events)
+        self.V, self.F = V, V
+        self.n_var = V + 1 + (speed_secs is not None)
+        idx = cg._events
+        rows: list[_Row] = []
+        for e, op in enumerate(cg._ops):
+            x, y = idx[op.src], idx[op.dst]
+            ch = cycle * op.height
+            t = f"t({op.src},{op.dst})"
+            # angle = p_y - p_x + C·h  >=  min   <=>   p_x - p_y <= C·h - min
+            rows.append(_Row(f"min[{op.title}]", "min", [x, y], [1.0, -1.0], ch - mins[e], False, -1.0,
+                             f"{t} >= {mins[e]:g}°"))
+            if speed_secs is not None and speed_secs[e] > 0:
+                rows.append(_Row(f"duration[{op.title}]", "min", [x, y, self.n_var - 1],
+                                 [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[e]], ch, False, -1.0,
+                                 f"{t} >= 6·n·{speed_secs[e]:g} s"))
+            if op.max_angle_deg is not None:
+                rows.append(_Row(f"max[{op.title}]", "max", [y, x], [1.0, -1.0], op.max_angle_deg - ch,
+                                 False, 1.0, f"{t} <= {op.max_angle_deg:g}°"))
+        for con in cg._constraints:
+            acc: dict[int, float] = {}
+            shift = 0.0
+            for arc, c in con.coeffs:
+                op = cg._ops[cg._arc_index[arc]]
+                acc[idx[op.dst]] = acc.get(idx[op.dst], 0.0) + c
+                acc[idx[op.src]] = acc.get(idx[op.src], 0.0) - c
+                shift += c * cycle * op.height
+            cols, vals = list(acc), list(acc.values())
+            sign = -1.0 if con.sense == ">=" else 1.0
+            rows.append(_Row(con.name, "user", cols, [sign * v for v in vals], sign * (con.rhs - shift),
+                             con.sense == "==", sign, con.describe()))
+        self.rows = rows
+        self.names = [r.name for r in rows]
+        self.cycle_row = _Row("cycle", "cycle", [self.F], [1.0], cycle, False, 1.0,
+                              f"span p(N) - p(1) <= {cycle:g}°")
+        self.rows.append(self.cycle_row)
+        self.names.append("cycle")
+        c = np.zeros(self.n_var)
+        if speed_secs is not None:
+            c[-1] = -1.0  # maximise n
+            self.sigma = -1.0
+        elif limiting is None:
+            c[self.F] = 1.0  # minimise the span
+            self.sigma = 1.0
+        else:
+            op = cg._ops[cg._arc_index[limiting]]
+            c[idx[op.src]] += 1.0  # maximise p_y - p_x  <=>  minimise p_x - p_y
+            c[idx[op.dst]] -= 1.0
+            self.sigma = -1.0
+        self.c = c
+        # Span rows p_v - F <= 0: structure, not bounds; never dropped or reported.
+        ar = np.arange(V)
+        self._span = sparse.csr_array(
+            (np.r_[np.ones(V), -np.ones(V)], (np.r_[ar, ar], np.r_[ar, np.full(V, self.F)])),
+            shape=(V, self.n_var),
+        )
+
+    def solve(self, rows: list[_Row]) -> Any:
+        """Solve with a subset of the named rows (all of them: ``self.rows``)."""
+        ub = [r for r in rows if not r.eq]
+        eq = [r for r in rows if r.eq]
+        A_ub = sparse.vstack([self._matrix(ub), self._span]).tocsr()
+        b_ub = np.concatenate([[r.rhs for r in ub], np.zeros(self.V)])
+        A_eq = self._matrix(eq) if eq else None
+        b_eq = np.array([r.rhs for r in eq]) if eq else None
+        res = linprog(self.c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq,
+                       bounds=[(0, None)] * self.n_var, method="highs")
+        res.rows_ub, res.rows_eq = ub, eq
+        return res
+
+    def _matrix(self, rows: list[_Row]) -> Any:
+        ri = np.repeat(np.arange(len(rows)), [len(r.cols) for r in rows])
+        ci = np.fromiter((c for r in rows for c in r.cols), np.int64, len(ri))
+        vs = np.fromiter((v for r in rows for v in r.vals), np.float64, len(ri))
+        return sparse.csr_array((vs, (ri, ci)), shape=(len(rows), self.n_var))
+
+    def tight_rows(self, res: Any) -> list[int]:
+        """Indices (into ``self.rows``) of the rows that hold with equality."""
+        scale = 1.0 + float(np.abs(res.x).max(initial=0.0))
+        pos = {id(r): i for i, r in enumerate(self.rows)}
+        tight = [pos[id(r)] for r, s in zip(res.rows_ub, res.ineqlin.residual, strict=False)
+                 if abs(s) <= 1e-9 * scale]
+        tight += [pos[id(r)] for r in res.rows_eq]
+        return sorted(tight)
+
+    def earliest_at_optimum(self, res: Any) -> npt.NDArray[np.float64]:
+        """Event angles of the optimum that puts every event as early as it can be.
+
+        The LP optimum is degenerate: operations off the critical chains may take
+        any angle that fits. A second LP keeps the objective at its optimum and
+        minimises Σ p(v), so each such operation stays at its minimum where it can,
+        as in the earliest schedule. Shadow prices still come from the first LP.
+        """
+        tol = 1e-9 * (1.0 + abs(float(res.fun)))
+        keep = _Row("objective", "objective", list(np.flatnonzero(self.c)),
+                    list(self.c[self.c != 0]), float(res.fun) + tol, False, 1.0, "")
+        c_primary = self.c
+        try:
+            self.c = np.r_[np.ones(self.V), np.zeros(self.n_var - self.V)]
+            tidy = self.solve([*self.rows, keep])
+        finally:
+            self.c = c_primary
+        return tidy.x if tidy.status == 0 else res.x
+
+    def irreducible_conflict(self) -> list[str]:
+        """Deletion filter: a set of rows that is infeasible, and feasible without any one."""
+        keep = list(self.rows)
+        for r in list(keep):
+            trial = [q for q in keep if q is not r]
+            if self.solve(trial).status == 2:
+                keep = trial
+        return [r.name for r in keep]
+
+    def describe(self, name: str) -> str:
+        r = self.rows[self.names.index(name)]
+        return f"{name}: {r.text}"
+
+    def result(self, res: Any, x: npt.NDArray[np.float64], speed: float | None) -> Optimum:
+        """The :class:`Optimum` with duals from ``res`` and event angles from ``x``."""
+        cg = self.cg
+        p = x[: self.V]
+        p = p - p.min()
+        times = dict(zip(cg.events, p.tolist(), strict=True))
+        angles: dict[Arc, float] = {}
+        stretch: dict[Arc, float] = {}
+        mins = cg.min_angles(speed)
+        for e, op in enumerate(cg._ops):
+            a = times[op.dst] - times[op.src] + self.cycle * op.height
+            angles[op.arc] = a
+            stretch[op.arc] = a - mins[e]
+        duals: dict[str, float] = {}
+        slack: dict[str, float] = {}
+        for r, m, s in zip(res.rows_ub, res.ineqlin.marginals, res.ineqlin.residual, strict=False):
+            duals[r.name] = float(self.sigma * r.sign * m) + 0.0
+            slack[r.name] = float(s)
+        if res.rows_eq:
+            for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True):
+                duals[r.name] = float(self.sigma * r.sign * m) + 0.0
+                slack[r.name] = 0.0
+        binding = tuple(self.names[i] for i in self.tight_rows(res))
+        tol = 1e-9
+        critical = tuple(
+            op.arc for op in cg._ops if abs(duals.get(f"min[{op.title}]", 0.0)) > tol
+        )
+        duration = float(p.max() - p.min())
+        if self.limiting is None:
+            objective = duration
+            goal: Literal["min_duration", "max_limiting"] = "min_duration"
+        else:
+            objective = angles[self.limiting]
+            goal = "max_limiting"
+        return Optimum(
+            operations=cg.operations,
+            events=cg.events,
+            times=times,
+            angles=angles,
+            objective=float(objective),
+            goal=goal,
+            limiting=self.limiting,
+            duration=duration,
+            cycle_deg=self.cycle,
+            speed_rpm=speed,
+            duals={k: duals[k] for k in self.names if k in duals},
+            slack={k: slack[k] for k in self.names if k in slack},
+            binding=binding,
+            stretch=stretch,
+            critical=critical,
+        )
+
+
+def _chain_after(arcs: npt.NDArray[np.int64], closure: int) -> list[int]:
+    """Rotate a cycle's arcs to start right after the closure arc F → S, so that
+    the operations read as a chain from the first event to the last."""
+    a = [int(e) for e in arcs]
+    if closure in a:
+        k = a.index(closure)
+        a = a[k + 1 :] + a[: k + 1]
+    return a
