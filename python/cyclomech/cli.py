@@ -33,12 +33,21 @@ def _table(rows: list[list[str]], header: list[str]) -> str:
 
 
 def _print_schedule(cg: Cyclogram, s: Schedule) -> None:
-    print(f"\nSchedule, every operation at its minimum angle"
-          + (f" (at {s.speed_rpm:g} rpm)" if s.speed_rpm is not None else ""))
+    print(
+        "\nSchedule, every operation at its minimum angle"
+        + (f" (at {s.speed_rpm:g} rpm)" if s.speed_rpm is not None else "")
+    )
     crit = set(s.critical)
     rows = [
-        [op.mechanism or "", op.title, _arc(op.arc), f"{s.angles[op.arc]:.1f}",
-         f"{s.earliest[op.src]:.1f}", f"{s.slack[op.arc]:.1f}", "*" if op.arc in crit else ""]
+        [
+            op.mechanism or "",
+            op.title,
+            _arc(op.arc),
+            f"{s.angles[op.arc]:.1f}",
+            f"{s.earliest[op.src]:.1f}",
+            f"{s.slack[op.arc]:.1f}",
+            "*" if op.arc in crit else "",
+        ]
         for op in cg.operations
     ]
     print(_table(rows, ["mechanism", "operation", "arc", "angle°", "start°", "slack°", "critical"]))
@@ -49,30 +58,46 @@ def _print_optimum(cg: Cyclogram, o: Optimum, s: Schedule) -> None:
     if o.limiting is not None:
         op = cg.operation(o.limiting)
         before = s.cycle_deg - (s.duration - s.angles[o.limiting])
-        print(f"\nOptimum (LP, HiGHS): the limiting operation {op.title!r} gets {o.objective:.2f}° "
-              f"of the {o.cycle_deg:g}° cycle (the group takes {o.cycle_deg - o.objective:.2f}°; "
-              f"at minimum angles with no added constraint it would get {before:.2f}°)")
+        print(
+            f"\nOptimum (LP, HiGHS): the limiting operation {op.title!r} gets {o.objective:.2f}° "
+            f"of the {o.cycle_deg:g}° cycle (the group takes {o.cycle_deg - o.objective:.2f}°; "
+            f"at minimum angles with no added constraint it would get {before:.2f}°)"
+        )
     else:
         print(f"\nOptimum (LP, HiGHS): shortest duration {o.objective:.2f}°")
     rows = [
-        [op.mechanism or "", op.title, _arc(op.arc), f"{o.angles[op.arc]:.2f}",
-         f"{o.times[op.src]:.2f}", f"{o.stretch[op.arc]:.2f}"]
+        [
+            op.mechanism or "",
+            op.title,
+            _arc(op.arc),
+            f"{o.angles[op.arc]:.2f}",
+            f"{o.times[op.src]:.2f}",
+            f"{o.stretch[op.arc]:.2f}",
+        ]
         for op in cg.operations
     ]
     print(_table(rows, ["mechanism", "operation", "arc", "angle°", "start°", "stretch°"]))
     priced = [(k, v) for k, v in o.duals.items() if abs(v) > 1e-9]
     if priced:
-        print("  binding bounds and constraints (shadow price: change of the objective per unit of the bound)")
+        print(
+            "  binding bounds and constraints"
+            " (shadow price: change of the objective per unit of the bound)"
+        )
         for k, v in priced:
             print(f"    {k:<40} {v:+.4g}")
 
 
 def _print_speed(lim: SpeedLimit) -> None:
     if math.isinf(lim.rpm):
-        print("\nSpeed limit: none (no time-bound operation lies on a chain that must fit in the cycle)")
+        print(
+            "\nSpeed limit: none"
+            " (no time-bound operation lies on a chain that must fit in the cycle)"
+        )
         return
-    print(f"\nSpeed limit: {lim.rpm:.2f} rpm (the operations' own angles and durations allow "
-          f"{lim.network_rpm:.2f} rpm)")
+    print(
+        f"\nSpeed limit: {lim.rpm:.2f} rpm (the operations' own angles and durations allow "
+        f"{lim.network_rpm:.2f} rpm)"
+    )
     if lim.cycle:
         print("  limiting chain: " + ", ".join(_arc(a) for a in lim.cycle))
     if lim.binding:
@@ -91,26 +116,38 @@ def _jsonable(obj: Any) -> Any:
     return obj
 
 
-def _summary(cg: Cyclogram, s: Schedule, o: Optimum | None, lim: SpeedLimit | None) -> dict[str, Any]:
+def _summary(
+    cg: Cyclogram, s: Schedule, o: Optimum | None, lim: SpeedLimit | None
+) -> dict[str, Any]:
     out: dict[str, Any] = {
         "schema": "cyclomech.cyclogram/1",
         "name": cg.name,
         "cycle_deg": cg.cycle_deg,
         "speed_rpm": s.speed_rpm,
         "schedule": {
-            "earliest_deg": s.earliest, "latest_deg": s.latest, "angles_deg": s.angles,
-            "slack_deg": s.slack, "critical": list(s.critical), "duration_deg": s.duration,
+            "earliest_deg": s.earliest,
+            "latest_deg": s.latest,
+            "angles_deg": s.angles,
+            "slack_deg": s.slack,
+            "critical": list(s.critical),
+            "duration_deg": s.duration,
         },
     }
     if o is not None:
         out["optimum"] = {
-            "goal": o.goal, "limiting": o.limiting, "objective_deg": o.objective,
-            "times_deg": o.times, "angles_deg": o.angles, "duals": o.duals,
+            "goal": o.goal,
+            "limiting": o.limiting,
+            "objective_deg": o.objective,
+            "times_deg": o.times,
+            "angles_deg": o.angles,
+            "duals": o.duals,
             "binding": list(o.binding),
         }
     if lim is not None:
         out["speed_limit"] = {
-            "rpm": lim.rpm, "network_rpm": lim.network_rpm, "chain": list(lim.cycle),
+            "rpm": lim.rpm,
+            "network_rpm": lim.network_rpm,
+            "chain": list(lim.cycle),
             "binding": list(lim.binding),
         }
     return _jsonable(out)  # type: ignore[no-any-return]
@@ -120,8 +157,10 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
     cg = Cyclogram.from_toml(args.file)
     if args.speed is not None:
         cg.speed_rpm = args.speed
-    print(f"{cg.name}: {len(cg.events)} events, {len(cg.operations)} operations, "
-          f"{len(cg.constraints)} constraints, cycle {cg.cycle_deg:g}°")
+    print(
+        f"{cg.name}: {len(cg.events)} events, {len(cg.operations)} operations, "
+        f"{len(cg.constraints)} constraints, cycle {cg.cycle_deg:g}°"
+    )
     s = cg.schedule()
     _print_schedule(cg, s)
     o: Optimum | None
@@ -140,8 +179,9 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
             print(f"\nSpeed limit: none, {e}")
     out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
     out.mkdir(parents=True, exist_ok=True)
-    (out / "cyclogram.json").write_text(json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False),
-                                        encoding="utf-8")
+    (out / "cyclogram.json").write_text(
+        json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False), encoding="utf-8"
+    )
     written = [out / "cyclogram.json"]
     if not args.no_plot:
         try:

@@ -77,7 +77,9 @@ def _finite(value: Any, field_name: str, *, lower: float | None = None) -> float
 def _cycle(value: Any, field_name: str = "cycle_deg") -> float:
     x = _finite(value, field_name)
     if x <= 0:
-        raise InputError(f"{field_name} must be a positive angle in degrees (360 for one turn); got {value!r}")
+        raise InputError(
+            f"{field_name} must be a positive angle in degrees (360 for one turn); got {value!r}"
+        )
     return x
 
 
@@ -218,7 +220,14 @@ class SpeedLimit:
 
 
 _OP_KEYS = {
-    "from", "to", "min_angle_deg", "max_angle_deg", "min_duration_s", "height", "name", "mechanism",
+    "from",
+    "to",
+    "min_angle_deg",
+    "max_angle_deg",
+    "min_duration_s",
+    "height",
+    "name",
+    "mechanism",
 }
 _CG_KEYS = {"name", "cycle_deg", "limiting", "speed_rpm", "events"}
 _CON_KEYS = {"name", "terms", "sense", "rhs"}
@@ -297,10 +306,13 @@ class Cyclogram:
         src, dst = _event_id(x, "x"), _event_id(y, "y")
         where = f"operation {name or f'{src}→{dst}'!r}"
         if src == dst:
-            raise InputError(f"{where}: an operation must join two different events; got {src!r} twice")
+            raise InputError(
+                f"{where}: an operation must join two different events; got {src!r} twice"
+            )
         if (src, dst) in self._arc_index:
             raise InputError(
-                f"{where}: an operation {src}→{dst} already exists; state all its bounds in one operation"
+                f"{where}: an operation {src}→{dst} already exists; "
+                "state all its bounds in one operation"
             )
         lo = _finite(min_angle_deg, f"{where}: min_angle_deg")
         hi = None if max_angle_deg is None else _finite(max_angle_deg, f"{where}: max_angle_deg")
@@ -308,11 +320,18 @@ class Cyclogram:
             raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
         secs = _finite(min_duration_s, f"{where}: min_duration_s", lower=0.0)
         if isinstance(height, bool) or not isinstance(height, int | np.integer) or height < 0:
-            raise InputError(f"{where}: height must be a non-negative integer (cycles crossed); got {height!r}")
+            raise InputError(
+                f"{where}: height must be a non-negative integer (cycles crossed); got {height!r}"
+            )
         self.add_event(src)
         self.add_event(dst)
         op = Operation(
-            src, dst, lo, hi, secs, int(height),
+            src,
+            dst,
+            lo,
+            hi,
+            secs,
+            int(height),
             None if name is None else str(name),
             None if mechanism is None else str(mechanism),
         )
@@ -332,20 +351,27 @@ class Cyclogram:
         """
         name = str(name) if name is not None else f"constraint {len(self._constraints) + 1}"
         if any(c.name == name for c in self._constraints):
-            raise InputError(f"constraint {name!r} already exists; give each constraint its own name")
+            raise InputError(
+                f"constraint {name!r} already exists; give each constraint its own name"
+            )
         if sense not in ("<=", ">=", "=="):
-            raise InputError(f"constraint {name!r}: sense must be '<=', '>=' or '=='; got {sense!r}")
+            raise InputError(
+                f"constraint {name!r}: sense must be '<=', '>=' or '=='; got {sense!r}"
+            )
         if not isinstance(coeffs, Mapping) or not coeffs:
-            raise InputError(f"constraint {name!r}: coeffs must map arcs (x, y) to coefficients; got {coeffs!r}")
+            raise InputError(
+                f"constraint {name!r}: coeffs must map arcs (x, y) to coefficients; got {coeffs!r}"
+            )
         terms = []
         for arc, c in coeffs.items():
             if not (isinstance(arc, tuple) and len(arc) == 2):
                 raise InputError(f"constraint {name!r}: keys must be arcs (x, y); got {arc!r}")
             a = (_event_id(arc[0], "arc"), _event_id(arc[1], "arc"))
             if a not in self._arc_index:
+                known = ", ".join(f"{s}→{d}" for s, d in self._arc_index) or "none"
                 raise InputError(
                     f"constraint {name!r}: there is no operation {a[0]}→{a[1]}; "
-                    f"add it first (known: {', '.join(f'{s}→{d}' for s, d in self._arc_index) or 'none'})"
+                    f"add it first (known: {known})"
                 )
             terms.append((a, _finite(c, f"constraint {name!r}: coefficient of {a}")))
         self._constraints.append(
@@ -371,7 +397,11 @@ class Cyclogram:
     @property
     def limiting(self) -> Arc | None:
         """The limiting operation's arc, if one was set."""
-        return None if self._limiting_spec is None else self._resolve_op(self._limiting_spec, "limiting")
+        return (
+            None
+            if self._limiting_spec is None
+            else self._resolve_op(self._limiting_spec, "limiting")
+        )
 
     def operation(self, key: Arc | str) -> Operation:
         """The operation with this arc or name."""
@@ -388,16 +418,22 @@ class Cyclogram:
             if len(hits) == 1:
                 return hits[0]
             if len(hits) > 1:
-                raise InputError(f"{what} = {key!r}: several operations have that name; give the arc (x, y)")
+                raise InputError(
+                    f"{what} = {key!r}: several operations have that name; give the arc (x, y)"
+                )
         names = ", ".join(repr(op.title) for op in self._ops) or "none"
-        raise InputError(f"{what} = {key!r} is neither an arc (x, y) nor an operation name (known: {names})")
+        raise InputError(
+            f"{what} = {key!r} is neither an arc (x, y) nor an operation name (known: {names})"
+        )
 
     def _speed(self, speed_rpm: float | None) -> float | None:
         if speed_rpm is None:
             return self.speed_rpm
         return _finite(speed_rpm, "speed_rpm", lower=0.0)
 
-    def _arrays(self) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+    def _arrays(
+        self,
+    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
         src = np.fromiter((self._events[op.src] for op in self._ops), np.int64, len(self._ops))
         dst = np.fromiter((self._events[op.dst] for op in self._ops), np.int64, len(self._ops))
         h = np.fromiter((op.height for op in self._ops), np.float64, len(self._ops))
@@ -410,10 +446,14 @@ class Cyclogram:
 
     def _require_ops(self) -> None:
         if not self._ops:
-            raise InputError(f"cyclogram {self.name!r} has no operations; add some with add_operation")
+            raise InputError(
+                f"cyclogram {self.name!r} has no operations; add some with add_operation"
+            )
 
     # ---------------------------------------------------------------- schedule
-    def schedule(self, speed_rpm: float | None = None, horizon_deg: float | None = None) -> Schedule:
+    def schedule(
+        self, speed_rpm: float | None = None, horizon_deg: float | None = None
+    ) -> Schedule:
         """The earliest schedule with every operation at its minimum angle.
 
         ``horizon_deg`` [deg] is the angle by which every event must occur for the
@@ -508,7 +548,8 @@ class Cyclogram:
             conflict = lp.irreducible_conflict()
             detail = "; ".join(lp.describe(r) for r in conflict)
             raise InfeasibleError(
-                f"cyclogram {self.name!r}: the bounds and constraints cannot all hold; these conflict "
+                f"cyclogram {self.name!r}: the bounds and constraints cannot all hold; "
+                "these conflict "
                 f"(dropping any one of them removes the conflict): {detail}",
                 conflict,
             )
@@ -541,7 +582,7 @@ class Cyclogram:
         ops = [self._ops[e] for e in _chain_after(arcs, len(s2) - 1) if e < len(self._ops)]
         at = "" if speed is None else f" at {speed:g} rpm"
         parts = " + ".join(f"{op.title} {mins[self._arc_index[op.arc]]:g}°" for op in ops)
-        crossings = int(round(h2[arcs].sum()))
+        crossings = round(float(h2[arcs].sum()))
         room = f"{cycle:g}°" if crossings == 1 else f"{crossings} × {cycle:g}°"
         raise InfeasibleError(
             f"cyclogram {self.name!r}: the minimum angles{at} do not fit in the cycle: "
@@ -591,7 +632,9 @@ class Cyclogram:
         cyc = tuple(self._ops[e % E].arc for e in _chain_after(arcs, len(s2) - 1) if e < 2 * E)
         if status == "infeasible":
             self._check_fits(angle, cycle, 0.0)  # raises with the chain named
-            raise InfeasibleError(f"cyclogram {self.name!r}: does not fit in {cycle:g}° at any speed", cyc)
+            raise InfeasibleError(
+                f"cyclogram {self.name!r}: does not fit in {cycle:g}° at any speed", cyc
+            )
         network = float(rpm)
         has_extra = self._constraints or any(op.max_angle_deg is not None for op in self._ops)
         if not has_extra:
@@ -615,14 +658,21 @@ class Cyclogram:
         # The rows with a non-zero shadow price are what limits the speed: the
         # operations among them form the limiting chain (ordered by event angle),
         # the rest are the maximum angles, constraints and cycle that bind.
-        priced = [r for r, m in zip(res.rows_ub, res.ineqlin.marginals, strict=False) if abs(m) > 1e-9]
+        priced = [
+            r for r, m in zip(res.rows_ub, res.ineqlin.marginals, strict=False) if abs(m) > 1e-9
+        ]
         if res.rows_eq:
-            priced += [r for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True) if abs(m) > 1e-9]
+            priced += [
+                r for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True) if abs(m) > 1e-9
+            ]
         p = res.x[:V]
         chain_ops = {r.name for r in priced if r.kind == "min"}
         chain = sorted(
-            (op for op in self._ops
-             if f"min[{op.title}]" in chain_ops or f"duration[{op.title}]" in chain_ops),
+            (
+                op
+                for op in self._ops
+                if f"min[{op.title}]" in chain_ops or f"duration[{op.title}]" in chain_ops
+            ),
             key=lambda op: p[self._events[op.src]],
         )
         others = tuple(r.name for r in priced if r.kind != "min")
@@ -676,10 +726,13 @@ class Cyclogram:
             _keys(op, _OP_KEYS, source, f"[[operation]] #{i}")
             for req in ("from", "to"):
                 if req not in op:
-                    raise InputError(f"{where}: missing key {req!r} (the event the operation goes {req})")
+                    raise InputError(
+                        f"{where}: missing key {req!r} (the event the operation goes {req})"
+                    )
             try:
                 cg.add_operation(
-                    op["from"], op["to"],
+                    op["from"],
+                    op["to"],
                     min_angle_deg=op.get("min_angle_deg", 0.0),
                     max_angle_deg=op.get("max_angle_deg"),
                     name=op.get("name"),
@@ -703,7 +756,9 @@ class Cyclogram:
                 raise InputError(f"{where}: terms must be a list of {{from, to, coeff}} tables")
             for j, t in enumerate(con["terms"], 1):
                 if not isinstance(t, Mapping):
-                    raise InputError(f"{where}: terms #{j} must be a table {{from, to, coeff}}; got {t!r}")
+                    raise InputError(
+                        f"{where}: terms #{j} must be a table {{from, to, coeff}}; got {t!r}"
+                    )
                 _keys(t, _TERM_KEYS, source, f"[[constraint]] #{i} terms #{j}")
                 missing = _TERM_KEYS - set(t)
                 if missing:
@@ -721,7 +776,10 @@ class Cyclogram:
         return cg
 
     def to_toml(self, path: str | Path | None = None) -> str:
-        """The cyclogram as TOML text (written to ``path`` if given); reads back with :meth:`from_toml`."""
+        """The cyclogram as TOML text, written to ``path`` if given.
+
+        Reads back with :meth:`from_toml` to an equal cyclogram.
+        """
         q = _toml_value
         lines = ["[cyclogram]", f"name = {q(self.name)}", f"cycle_deg = {q(self.cycle_deg)}"]
         if self.limiting is not None:
@@ -730,8 +788,13 @@ class Cyclogram:
             lines.append(f"speed_rpm = {q(self.speed_rpm)}")
         lines.append(f"events = {q(list(self.events))}")
         for op in self._ops:
-            lines += ["", "[[operation]]", f"from = {q(op.src)}", f"to = {q(op.dst)}",
-                      f"min_angle_deg = {q(op.min_angle_deg)}"]
+            lines += [
+                "",
+                "[[operation]]",
+                f"from = {q(op.src)}",
+                f"to = {q(op.dst)}",
+                f"min_angle_deg = {q(op.min_angle_deg)}",
+            ]
             if op.max_angle_deg is not None:
                 lines.append(f"max_angle_deg = {q(op.max_angle_deg)}")
             if op.min_duration_s:
@@ -746,8 +809,14 @@ class Cyclogram:
             terms = ", ".join(
                 f"{{ from = {q(a[0])}, to = {q(a[1])}, coeff = {q(c)} }}" for a, c in con.coeffs
             )
-            lines += ["", "[[constraint]]", f"name = {q(con.name)}", f"terms = [{terms}]",
-                      f"sense = {q(con.sense)}", f"rhs = {q(con.rhs)}"]
+            lines += [
+                "",
+                "[[constraint]]",
+                f"name = {q(con.name)}",
+                f"terms = [{terms}]",
+                f"sense = {q(con.sense)}",
+                f"rhs = {q(con.rhs)}",
+            ]
         text = "\n".join(lines) + "\n"
         if path is not None:
             Path(path).write_text(text, encoding="utf-8")
@@ -824,15 +893,44 @@ class _LP:
             ch = cycle * op.height
             t = f"t({op.src},{op.dst})"
             # angle = p_y - p_x + C·h  >=  min   <=>   p_x - p_y <= C·h - min
-            rows.append(_Row(f"min[{op.title}]", "min", [x, y], [1.0, -1.0], ch - mins[e], False, -1.0,
-                             f"{t} >= {mins[e]:g}°"))
+            rows.append(
+                _Row(
+                    f"min[{op.title}]",
+                    "min",
+                    [x, y],
+                    [1.0, -1.0],
+                    ch - mins[e],
+                    False,
+                    -1.0,
+                    f"{t} >= {mins[e]:g}°",
+                )
+            )
             if speed_secs is not None and speed_secs[e] > 0:
-                rows.append(_Row(f"duration[{op.title}]", "min", [x, y, self.n_var - 1],
-                                 [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[e]], ch, False, -1.0,
-                                 f"{t} >= 6·n·{speed_secs[e]:g} s"))
+                rows.append(
+                    _Row(
+                        f"duration[{op.title}]",
+                        "min",
+                        [x, y, self.n_var - 1],
+                        [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[e]],
+                        ch,
+                        False,
+                        -1.0,
+                        f"{t} >= 6·n·{speed_secs[e]:g} s",
+                    )
+                )
             if op.max_angle_deg is not None:
-                rows.append(_Row(f"max[{op.title}]", "max", [y, x], [1.0, -1.0], op.max_angle_deg - ch,
-                                 False, 1.0, f"{t} <= {op.max_angle_deg:g}°"))
+                rows.append(
+                    _Row(
+                        f"max[{op.title}]",
+                        "max",
+                        [y, x],
+                        [1.0, -1.0],
+                        op.max_angle_deg - ch,
+                        False,
+                        1.0,
+                        f"{t} <= {op.max_angle_deg:g}°",
+                    )
+                )
         for con in cg._constraints:
             acc: dict[int, float] = {}
             shift = 0.0
@@ -843,12 +941,23 @@ class _LP:
                 shift += c * cycle * op.height
             cols, vals = list(acc), list(acc.values())
             sign = -1.0 if con.sense == ">=" else 1.0
-            rows.append(_Row(con.name, "user", cols, [sign * v for v in vals], sign * (con.rhs - shift),
-                             con.sense == "==", sign, con.describe()))
+            rows.append(
+                _Row(
+                    con.name,
+                    "user",
+                    cols,
+                    [sign * v for v in vals],
+                    sign * (con.rhs - shift),
+                    con.sense == "==",
+                    sign,
+                    con.describe(),
+                )
+            )
         self.rows = rows
         self.names = [r.name for r in rows]
-        self.cycle_row = _Row("cycle", "cycle", [self.F], [1.0], cycle, False, 1.0,
-                              f"span p(N) - p(1) <= {cycle:g}°")
+        self.cycle_row = _Row(
+            "cycle", "cycle", [self.F], [1.0], cycle, False, 1.0, f"span p(N) - p(1) <= {cycle:g}°"
+        )
         self.rows.append(self.cycle_row)
         self.names.append("cycle")
         c = np.zeros(self.n_var)
@@ -879,8 +988,15 @@ class _LP:
         b_ub = np.concatenate([[r.rhs for r in ub], np.zeros(self.V)])
         A_eq = self._matrix(eq) if eq else None
         b_eq = np.array([r.rhs for r in eq]) if eq else None
-        res = linprog(self.c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq,
-                       bounds=[(0, None)] * self.n_var, method="highs")
+        res = linprog(
+            self.c,
+            A_ub=A_ub,
+            b_ub=b_ub,
+            A_eq=A_eq,
+            b_eq=b_eq,
+            bounds=[(0, None)] * self.n_var,
+            method="highs",
+        )
         res.rows_ub, res.rows_eq = ub, eq
         return res
 
@@ -894,8 +1010,11 @@ class _LP:
         """Indices (into ``self.rows``) of the rows that hold with equality."""
         scale = 1.0 + float(np.abs(res.x).max(initial=0.0))
         pos = {id(r): i for i, r in enumerate(self.rows)}
-        tight = [pos[id(r)] for r, s in zip(res.rows_ub, res.ineqlin.residual, strict=False)
-                 if abs(s) <= 1e-9 * scale]
+        tight = [
+            pos[id(r)]
+            for r, s in zip(res.rows_ub, res.ineqlin.residual, strict=False)
+            if abs(s) <= 1e-9 * scale
+        ]
         tight += [pos[id(r)] for r in res.rows_eq]
         return sorted(tight)
 
@@ -907,9 +1026,19 @@ class _LP:
         minimises Σ p(v), so each such operation stays at its minimum where it can,
         as in the earliest schedule. Shadow prices still come from the first LP.
         """
-        tol = 1e-9 * (1.0 + abs(float(res.fun)))
-        keep = _Row("objective", "objective", list(np.flatnonzero(self.c)),
-                    list(self.c[self.c != 0]), float(res.fun) + tol, False, 1.0, "")
+        # Pinned at the optimum itself: HiGHS's own feasibility tolerance absorbs
+        # round-off, and if it did not, the first LP's answer stands.
+        tol = 0.0
+        keep = _Row(
+            "objective",
+            "objective",
+            list(np.flatnonzero(self.c)),
+            list(self.c[self.c != 0]),
+            float(res.fun) + tol,
+            False,
+            1.0,
+            "",
+        )
         c_primary = self.c
         try:
             self.c = np.r_[np.ones(self.V), np.zeros(self.n_var - self.V)]
@@ -955,15 +1084,15 @@ class _LP:
                 slack[r.name] = 0.0
         binding = tuple(self.names[i] for i in self.tight_rows(res))
         tol = 1e-9
-        critical = tuple(
-            op.arc for op in cg._ops if abs(duals.get(f"min[{op.title}]", 0.0)) > tol
-        )
+        critical = tuple(op.arc for op in cg._ops if abs(duals.get(f"min[{op.title}]", 0.0)) > tol)
         duration = float(p.max() - p.min())
+        # The objective is the first LP's optimum, not re-derived from the tidied angles.
+        goal: Literal["min_duration", "max_limiting"]
         if self.limiting is None:
-            objective = duration
-            goal: Literal["min_duration", "max_limiting"] = "min_duration"
+            objective = float(res.fun)
+            goal = "min_duration"
         else:
-            objective = angles[self.limiting]
+            objective = -float(res.fun) + self.cycle * cg.operation(self.limiting).height
             goal = "max_limiting"
         return Optimum(
             operations=cg.operations,

@@ -28,11 +28,14 @@ fn slice<'a, T: numpy::Element>(
     })
 }
 
-/// Weights of shape (E,) or (B, E) as a flat slice plus (B, E) for a batch.
+/// (B, E) of a batch of weight vectors; `None` for a single (E,) vector.
+type BatchShape = Option<(usize, usize)>;
+
+/// Weights of shape (E,) or (B, E) as a flat slice plus the batch shape.
 fn weights_view<'a>(
     py: Python<'_>,
     w: &'a PyReadonlyArrayDyn<'_, f64>,
-) -> PyResult<(&'a [f64], Option<(usize, usize)>)> {
+) -> PyResult<(&'a [f64], BatchShape)> {
     let shape = w.shape().to_vec();
     let flat = w.as_slice().map_err(|_| {
         ScheduleError::BadScalar {
@@ -58,7 +61,7 @@ fn evaluate<'py>(
     py: Python<'py>,
     g: &schedule::EventGraph,
     w: &[f64],
-    batch: Option<(usize, usize)>,
+    batch: BatchShape,
     n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let n = g.n_events();

@@ -71,10 +71,9 @@ impl<'a> Graph<'a> {
         }
         let mut fill = out_ptr.clone();
         let mut out_arc = vec![0u32; m];
-        for e in 0..m {
-            let s = src[e] as usize;
-            out_arc[fill[s]] = e as u32;
-            fill[s] += 1;
+        for (e, &s) in src.iter().enumerate() {
+            out_arc[fill[s as usize]] = e as u32;
+            fill[s as usize] += 1;
         }
         // Peel vertices without outgoing or incoming arcs until none is left: what
         // remains is every vertex that can lie on a cycle, and each has an arc out.
@@ -92,10 +91,9 @@ impl<'a> Graph<'a> {
         }
         let mut fill = in_ptr.clone();
         let mut in_arc = vec![0u32; m];
-        for e in 0..m {
-            let d = dst[e] as usize;
-            in_arc[fill[d]] = e as u32;
-            fill[d] += 1;
+        for (e, &d) in dst.iter().enumerate() {
+            in_arc[fill[d as usize]] = e as u32;
+            fill[d as usize] += 1;
         }
         let mut alive = vec![true; n];
         let mut stack: Vec<usize> = (0..n)
@@ -479,6 +477,7 @@ mod tests {
     /// Brute force: enumerate simple cycles by DFS from each start (small graphs).
     fn brute_max_ratio(n: usize, s: &[i64], d: &[i64], w: &[f64], h: &[f64]) -> Option<f64> {
         let mut best: Option<f64> = None;
+        #[allow(clippy::too_many_arguments)]
         fn dfs(
             start: usize,
             v: usize,

@@ -1,0 +1,31 @@
+"""Every runnable example in the public docstrings runs and shows what it says."""
+
+import doctest
+import importlib
+
+import pytest
+
+MODULES = ["cyclomech.schedule", "cyclomech.cyclogram", "cyclomech.plot"]
+
+
+@pytest.mark.parametrize("name", MODULES)
+def test_docstring_examples(name: str) -> None:
+    if name == "cyclomech.plot":
+        pytest.importorskip("matplotlib")
+    module = importlib.import_module(name)
+    result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted > 0, f"{name} has no examples"
+    assert result.failed == 0
+
+
+def test_every_public_function_has_an_example() -> None:
+    import cyclomech as cm
+
+    missing = []
+    for name in cm.__all__:
+        obj = getattr(cm, name)
+        documented_class = name in {"Cyclogram", "EventGraph"}
+        is_function = callable(obj) and not isinstance(obj, type)
+        if (is_function or documented_class) and ">>>" not in (obj.__doc__ or ""):
+            missing.append(name)
+    assert not missing, f"public callables without a runnable example: {missing}"
