@@ -4,7 +4,7 @@ import os
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from hypothesis import HealthCheck, settings  # noqa: E402
+from hypothesis import HealthCheck, settings
 
 # CI machines are slow and shared: no per-example deadline, and a fixed seed so a
 # failure reproduces. Locally, hypothesis explores fresh examples each run.
