@@ -107,9 +107,9 @@ def _print_speed(lim: SpeedLimit) -> None:
 def _jsonable(obj: Any) -> Any:
     if isinstance(obj, dict):
         return {(_arc(k) if isinstance(k, tuple) else str(k)): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, tuple) and len(obj) == 2 and all(isinstance(x, str) for x in obj):
+        return _arc(obj)  # arcs are tuples; lists (of names, of arcs) stay lists
     if isinstance(obj, list | tuple):
-        if len(obj) == 2 and all(isinstance(x, str) for x in obj):
-            return _arc(obj)  # type: ignore[arg-type]
         return [_jsonable(x) for x in obj]
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
@@ -185,14 +185,14 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
     written = [out / "cyclogram.json"]
     if not args.no_plot:
         try:
-            from .plot import plot_cyclogram_pair
-        except ImportError as e:
-            print(f"\n(no figure: {e}; install cyclomech[plot])")
-        else:
             import matplotlib
-
+        except ImportError:
+            print("\n(no figure: matplotlib is not installed; pip install cyclomech[plot])")
+        else:
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
+
+            from .plot import plot_cyclogram_pair
 
             fig = plot_cyclogram_pair(o if o is not None else s)
             fig.savefig(out / "cyclogram.png", dpi=130, bbox_inches="tight")

@@ -147,7 +147,7 @@ class Schedule:
     without moving any event; ``critical`` lists every operation with zero total
     slack. Operations crossing into the next cycle (height > 0) do not order
     events within the cycle; their ``slack`` is p(y) + cycle_deg·h − p(x) − angle,
-    negative when the schedule violates them.
+    negative when the schedule violates them; ``violated`` lists those.
     """
 
     operations: tuple[Operation, ...]
@@ -161,6 +161,8 @@ class Schedule:
     duration: float
     cycle_deg: float
     speed_rpm: float | None
+    violated: tuple[Arc, ...] = ()
+    name: str = "cyclogram"
 
     @property
     def times(self) -> dict[str, float]:
@@ -196,6 +198,7 @@ class Optimum:
     binding: tuple[str, ...]
     stretch: dict[Arc, float]
     critical: tuple[Arc, ...]
+    name: str = "cyclogram"
 
 
 @dataclass(frozen=True)
@@ -478,6 +481,7 @@ class Cyclogram:
         slack: dict[Arc, float] = {}
         free: dict[Arc, float] = {}
         critical: list[Arc] = []
+        violated: list[Arc] = []
         inner_idx = np.flatnonzero(inner)
         for k, e in enumerate(inner_idx):
             slack[arcs[e]] = float(a["total_slack"][k])
@@ -490,6 +494,8 @@ class Cyclogram:
             slack[op.arc] = free[op.arc] = float(s)
             if abs(s) <= a["tolerance"]:
                 critical.append(op.arc)
+            elif s < 0:
+                violated.append(op.arc)
         times = a["earliest"]
         return Schedule(
             operations=self.operations,
@@ -503,6 +509,8 @@ class Cyclogram:
             duration=float(times.max() - times.min()) if times.size else 0.0,
             cycle_deg=self.cycle_deg,
             speed_rpm=n,
+            violated=tuple(violated),
+            name=self.name,
         )
 
     def _named_cycle(self, e: CycleError) -> CycleError:
@@ -714,7 +722,10 @@ class Cyclogram:
                 limiting=tuple(lim) if isinstance(lim, list) else lim,
                 speed_rpm=head.get("speed_rpm"),
             )
-            for ev in head.get("events", []):
+            events = head.get("events", [])
+            if not isinstance(events, list):
+                raise InputError(f"events must be an array of event ids; got {events!r}")
+            for ev in events:
                 cg.add_event(ev)
         except InputError as e:
             raise InputError(f"{source}: [cyclogram]: {e}") from None
@@ -730,9 +741,10 @@ class Cyclogram:
                         f"{where}: missing key {req!r} (the event the operation goes {req})"
                     )
             try:
+                src, dst = _event_id(op["from"], "from"), _event_id(op["to"], "to")
                 cg.add_operation(
-                    op["from"],
-                    op["to"],
+                    src,
+                    dst,
                     min_angle_deg=op.get("min_angle_deg", 0.0),
                     max_angle_deg=op.get("max_angle_deg"),
                     name=op.get("name"),
@@ -763,7 +775,16 @@ class Cyclogram:
                 missing = _TERM_KEYS - set(t)
                 if missing:
                     raise InputError(f"{where}: terms #{j} is missing {sorted(missing)}")
-                coeffs[(str(t["from"]), str(t["to"]))] = t["coeff"]
+                try:
+                    arc = (_event_id(t["from"], "from"), _event_id(t["to"], "to"))
+                except InputError as e:
+                    raise InputError(f"{where}: terms #{j}: {e}") from None
+                if arc in coeffs:
+                    raise InputError(
+                        f"{where}: terms #{j} repeats the arc {arc[0]}→{arc[1]}; "
+                        "list each arc once with its total coefficient"
+                    )
+                coeffs[arc] = t["coeff"]
             try:
                 cg.add_constraint(coeffs, con["sense"], con["rhs"], name=con.get("name"))
             except InputError as e:
@@ -839,12 +860,23 @@ def _keys(table: Any, allowed: set[str], source: str, where: str) -> None:
             )
 
 
+def _toml_string(text: str) -> str:
+    """A TOML basic string: quotes, backslashes and every control character
+    (U+0000-U+001F and U+007F, which TOML forbids raw) escaped."""
+    out = []
+    for ch in text:
+        if ch in ('"', "\\"):
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04X}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 def _toml_value(v: Any) -> str:
     if isinstance(v, str):
-        # TOML basic strings accept JSON's escapes.
-        import json
-
-        return json.dumps(v, ensure_ascii=False)
+        return _toml_string(v)
     if isinstance(v, float):
         return repr(v)
     if isinstance(v, list):
@@ -1072,7 +1104,7 @@ class _LP:
         for e, op in enumerate(cg._ops):
             a = times[op.dst] - times[op.src] + self.cycle * op.height
             angles[op.arc] = a
-            stretch[op.arc] = a - mins[e]
+            stretch[op.arc] = float(a - mins[e])
         duals: dict[str, float] = {}
         slack: dict[str, float] = {}
         for r, m, s in zip(res.rows_ub, res.ineqlin.marginals, res.ineqlin.residual, strict=False):
@@ -1110,6 +1142,7 @@ class _LP:
             binding=binding,
             stretch=stretch,
             critical=critical,
+            name=cg.name,
         )
 
 
