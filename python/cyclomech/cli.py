@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ._errors import CyclomechError, InfeasibleError
+from ._errors import CyclomechError, InfeasibleError, InputError
 from .cyclogram import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
 
 __all__ = ["main"]
@@ -178,7 +178,12 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
         except InfeasibleError as e:
             print(f"\nSpeed limit: none, {e}")
     out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise InputError(
+            f"--out {out}: cannot create the output folder: {e.strerror or e}"
+        ) from None
     (out / "cyclogram.json").write_text(
         json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False), encoding="utf-8"
     )

@@ -357,6 +357,11 @@ class Cyclogram:
             raise InputError(
                 f"constraint {name!r} already exists; give each constraint its own name"
             )
+        if name == "cycle" or name.startswith(("min[", "max[", "duration[")):
+            raise InputError(
+                f"constraint name {name!r} is reserved for the bounds in results "
+                "('cycle', 'min[…]', 'max[…]', 'duration[…]'); choose another name"
+            )
         if sense not in ("<=", ">=", "=="):
             raise InputError(
                 f"constraint {name!r}: sense must be '<=', '>=' or '=='; got {sense!r}"
@@ -447,6 +452,18 @@ class Cyclogram:
         n = self._speed(speed_rpm)
         return np.array([op.min_angle_at(n) for op in self._ops], dtype=np.float64)
 
+    def _bound_labels(self) -> list[str]:
+        """The label of each operation's bounds in results (``min[label]``, ``max[label]``):
+        its title, with the arc added where several operations share a title."""
+        titles = [op.title for op in self._ops]
+        seen: dict[str, int] = {}
+        for t in titles:
+            seen[t] = seen.get(t, 0) + 1
+        return [
+            t if seen[t] == 1 else f"{t} ({op.src}→{op.dst})"
+            for t, op in zip(titles, self._ops, strict=True)
+        ]
+
     def _require_ops(self) -> None:
         if not self._ops:
             raise InputError(
@@ -473,7 +490,8 @@ class Cyclogram:
             g = _core.EventGraph(len(self._events), src[inner], dst[inner])
         except CycleError as e:
             raise self._named_cycle(e) from None
-        a = g.analyze(np.ascontiguousarray(w[inner]), horizon_deg)
+        horizon = None if horizon_deg is None else _finite(horizon_deg, "horizon_deg")
+        a = g.analyze(np.ascontiguousarray(w[inner]), horizon)
         names = self.events
         early = dict(zip(names, a["earliest"].tolist(), strict=True))
         late = dict(zip(names, a["latest"].tolist(), strict=True))
@@ -674,15 +692,8 @@ class Cyclogram:
                 r for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True) if abs(m) > 1e-9
             ]
         p = res.x[:V]
-        chain_ops = {r.name for r in priced if r.kind == "min"}
-        chain = sorted(
-            (
-                op
-                for op in self._ops
-                if f"min[{op.title}]" in chain_ops or f"duration[{op.title}]" in chain_ops
-            ),
-            key=lambda op: p[self._events[op.src]],
-        )
+        chain_ops = {r.op for r in priced if r.kind == "min" and r.op is not None}
+        chain = sorted((self._ops[e] for e in chain_ops), key=lambda op: p[self._events[op.src]])
         others = tuple(r.name for r in priced if r.kind != "min")
         return SpeedLimit(best, tuple(op.arc for op in chain), cycle, network, others)
 
@@ -706,6 +717,10 @@ class Cyclogram:
             raise InputError(f"{p}: no such file") from None
         except tomllib.TOMLDecodeError as e:
             raise InputError(f"{p}: not valid TOML: {e}") from None
+        except UnicodeDecodeError as e:
+            raise InputError(f"{p}: not valid TOML: the file is not UTF-8 text ({e})") from None
+        except OSError as e:
+            raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
         return cls.from_dict(data, source=str(p))
 
     @classmethod
@@ -896,6 +911,7 @@ class _Row:
     eq: bool
     sign: float  # +1 if the row is the user's bound as written, -1 if negated to "<="
     text: str
+    op: int | None = None  # the operation a bound belongs to
 
 
 class _LP:
@@ -920,6 +936,7 @@ class _LP:
         self.n_var = V + 1 + (speed_secs is not None)
         idx = cg._events
         rows: list[_Row] = []
+        label = cg._bound_labels()
         for e, op in enumerate(cg._ops):
             x, y = idx[op.src], idx[op.dst]
             ch = cycle * op.height
@@ -927,7 +944,7 @@ class _LP:
             # angle = p_y - p_x + C·h  >=  min   <=>   p_x - p_y <= C·h - min
             rows.append(
                 _Row(
-                    f"min[{op.title}]",
+                    f"min[{label[e]}]",
                     "min",
                     [x, y],
                     [1.0, -1.0],
@@ -935,12 +952,13 @@ class _LP:
                     False,
                     -1.0,
                     f"{t} >= {mins[e]:g}°",
+                    e,
                 )
             )
             if speed_secs is not None and speed_secs[e] > 0:
                 rows.append(
                     _Row(
-                        f"duration[{op.title}]",
+                        f"duration[{label[e]}]",
                         "min",
                         [x, y, self.n_var - 1],
                         [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[e]],
@@ -948,12 +966,13 @@ class _LP:
                         False,
                         -1.0,
                         f"{t} >= 6·n·{speed_secs[e]:g} s",
+                        e,
                     )
                 )
             if op.max_angle_deg is not None:
                 rows.append(
                     _Row(
-                        f"max[{op.title}]",
+                        f"max[{label[e]}]",
                         "max",
                         [y, x],
                         [1.0, -1.0],
@@ -961,6 +980,7 @@ class _LP:
                         False,
                         1.0,
                         f"{t} <= {op.max_angle_deg:g}°",
+                        e,
                     )
                 )
         for con in cg._constraints:
@@ -1089,7 +1109,8 @@ class _LP:
         return [r.name for r in keep]
 
     def describe(self, name: str) -> str:
-        r = self.rows[self.names.index(name)]
+        """``name: the bound as text`` (row names are unique)."""
+        r = next(q for q in self.rows if q.name == name)
         return f"{name}: {r.text}"
 
     def result(self, res: Any, x: npt.NDArray[np.float64], speed: float | None) -> Optimum:
@@ -1107,16 +1128,18 @@ class _LP:
             stretch[op.arc] = float(a - mins[e])
         duals: dict[str, float] = {}
         slack: dict[str, float] = {}
+        priced_ops: set[int] = set()
         for r, m, s in zip(res.rows_ub, res.ineqlin.marginals, res.ineqlin.residual, strict=False):
             duals[r.name] = float(self.sigma * r.sign * m) + 0.0
             slack[r.name] = float(s)
+            if r.kind == "min" and r.op is not None and abs(m) > 1e-9:
+                priced_ops.add(r.op)
         if res.rows_eq:
             for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True):
                 duals[r.name] = float(self.sigma * r.sign * m) + 0.0
                 slack[r.name] = 0.0
         binding = tuple(self.names[i] for i in self.tight_rows(res))
-        tol = 1e-9
-        critical = tuple(op.arc for op in cg._ops if abs(duals.get(f"min[{op.title}]", 0.0)) > tol)
+        critical = tuple(op.arc for e, op in enumerate(cg._ops) if e in priced_ops)
         duration = float(p.max() - p.min())
         # The objective is the first LP's optimum, not re-derived from the tidied angles.
         goal: Literal["min_duration", "max_limiting"]
