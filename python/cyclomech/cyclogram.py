@@ -493,41 +493,33 @@ class Cyclogram:
         horizon = None if horizon_deg is None else _finite(horizon_deg, "horizon_deg")
         a = g.analyze(np.ascontiguousarray(w[inner]), horizon)
         names = self.events
-        early = dict(zip(names, a["earliest"].tolist(), strict=True))
-        late = dict(zip(names, a["latest"].tolist(), strict=True))
-        arcs = [op.arc for op in self._ops]
-        slack: dict[Arc, float] = {}
-        free: dict[Arc, float] = {}
-        critical: list[Arc] = []
-        violated: list[Arc] = []
-        inner_idx = np.flatnonzero(inner)
-        for k, e in enumerate(inner_idx):
-            slack[arcs[e]] = float(a["total_slack"][k])
-            free[arcs[e]] = float(a["free_slack"][k])
-            if a["critical"][k]:
-                critical.append(arcs[e])
-        for e in np.flatnonzero(~inner):
-            op = self._ops[e]
-            s = early[op.dst] + self.cycle_deg * op.height - early[op.src] - w[e]
-            slack[op.arc] = free[op.arc] = float(s)
-            if abs(s) <= a["tolerance"]:
-                critical.append(op.arc)
-            elif s < 0:
-                violated.append(op.arc)
-        times = a["earliest"]
+        t = a["earliest"]
+        # Arcs of height 0 get their slack from the kernel; operations that end in a
+        # later cycle are checked against the schedule: p(y) + C·h − p(x) − angle.
+        total = np.empty(len(w))
+        free = np.empty(len(w))
+        crit = np.zeros(len(w), bool)
+        total[inner], free[inner], crit[inner] = a["total_slack"], a["free_slack"], a["critical"]
+        outer = ~inner
+        across = t[dst[outer]] + self.cycle_deg * h[outer] - t[src[outer]] - w[outer]
+        total[outer] = free[outer] = across
+        crit[outer] = np.abs(across) <= a["tolerance"]
+        bad = outer.copy()
+        bad[outer] = across < -a["tolerance"]
+        arcs = list(self._arc_index)  # in operation order
         return Schedule(
             operations=self.operations,
             events=names,
-            earliest=early,
-            latest=late,
+            earliest=dict(zip(names, t.tolist(), strict=True)),
+            latest=dict(zip(names, a["latest"].tolist(), strict=True)),
             angles=dict(zip(arcs, w.tolist(), strict=True)),
-            slack={arc: slack[arc] for arc in arcs},
-            free_slack={arc: free[arc] for arc in arcs},
-            critical=tuple(critical),
-            duration=float(times.max() - times.min()) if times.size else 0.0,
+            slack=dict(zip(arcs, total.tolist(), strict=True)),
+            free_slack=dict(zip(arcs, free.tolist(), strict=True)),
+            critical=tuple(arcs[e] for e in np.flatnonzero(crit)),
+            duration=float(t.max() - t.min()) if t.size else 0.0,
             cycle_deg=self.cycle_deg,
             speed_rpm=n,
-            violated=tuple(violated),
+            violated=tuple(arcs[e] for e in np.flatnonzero(bad)),
             name=self.name,
         )
 
@@ -569,7 +561,7 @@ class Cyclogram:
         mins = self.min_angles(n)
         self._check_fits(mins, cycle, n)
         lp = _LP(self, mins, cycle, lim)
-        res = lp.solve(lp.rows)
+        res = lp.solve()
         if res.status == 2:
             conflict = lp.irreducible_conflict()
             detail = "; ".join(lp.describe(r) for r in conflict)
@@ -666,7 +658,7 @@ class Cyclogram:
         if not has_extra:
             return SpeedLimit(network, cyc, cycle, network)
         lp = _LP(self, angle, cycle, None, speed_secs=secs)
-        res = lp.solve(lp.rows)
+        res = lp.solve()
         if res.status == 3:
             return SpeedLimit(math.inf, (), cycle, network)
         if res.status == 2:
@@ -684,17 +676,11 @@ class Cyclogram:
         # The rows with a non-zero shadow price are what limits the speed: the
         # operations among them form the limiting chain (ordered by event angle),
         # the rest are the maximum angles, constraints and cycle that bind.
-        priced = [
-            r for r, m in zip(res.rows_ub, res.ineqlin.marginals, strict=False) if abs(m) > 1e-9
-        ]
-        if res.rows_eq:
-            priced += [
-                r for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True) if abs(m) > 1e-9
-            ]
+        priced = lp.priced(res)
         p = res.x[:V]
-        chain_ops = {r.op for r in priced if r.kind == "min" and r.op is not None}
+        chain_ops = {int(lp.op[i]) for i in priced if lp.kind[i] == _MIN}
         chain = sorted((self._ops[e] for e in chain_ops), key=lambda op: p[self._events[op.src]])
-        others = tuple(r.name for r in priced if r.kind != "min")
+        others = tuple(lp.names[i] for i in priced if lp.kind[i] != _MIN)
         return SpeedLimit(best, tuple(op.arc for op in chain), cycle, network, others)
 
     # ---------------------------------------------------------------- TOML
@@ -899,27 +885,19 @@ def _toml_value(v: Any) -> str:
     return str(v)
 
 
-@dataclass
-class _Row:
-    """One named row of the LP: coefficients over the variables, sense and rhs."""
-
-    name: str
-    kind: str  # "min", "max", "user", "cycle"
-    cols: list[int]
-    vals: list[float]
-    rhs: float
-    eq: bool
-    sign: float  # +1 if the row is the user's bound as written, -1 if negated to "<="
-    text: str
-    op: int | None = None  # the operation a bound belongs to
+# Kinds of named LP rows.
+_MIN, _MAX, _USER, _CYCLE = 0, 1, 2, 3
 
 
 class _LP:
     """The cyclogram LP over event angles p (and the finish F, and the speed n).
 
     Variables: p_0 … p_{V-1} ≥ 0, F (the span's end; the start is 0), and with
-    ``speed_secs`` the speed n ≥ 0 [rpm]. Every bound and constraint is a named
-    row so that the deletion filter can drop it and its dual can be reported.
+    ``speed_secs`` the speed n ≥ 0 [rpm]. Every bound and constraint is a named row
+    of one sparse matrix, with its kind, its operation and the sign that turned it
+    into the solver's form, so a subset is a row mask (for the deletion filter) and
+    every dual maps back to its name. The span rows p_v − F ≤ 0 are structure, not
+    bounds: always present, never reported.
     """
 
     def __init__(
@@ -930,59 +908,63 @@ class _LP:
         limiting: Arc | None,
         speed_secs: npt.NDArray[np.float64] | None = None,
     ) -> None:
-        self.cg, self.cycle, self.limiting = cg, cycle, limiting
+        self.cg, self.cycle, self.limiting, self.mins = cg, cycle, limiting, mins
         V = len(cg._events)
-        self.V, self.F = V, V
+        self.V = self.F = V
         self.n_var = V + 1 + (speed_secs is not None)
-        idx = cg._events
-        rows: list[_Row] = []
+        xi, yi, h = cg._arrays()
+        self.xi, self.yi, self.ch = xi, yi, cycle * h
+        E = len(xi)
         label = cg._bound_labels()
-        for e, op in enumerate(cg._ops):
-            x, y = idx[op.src], idx[op.dst]
-            ch = cycle * op.height
-            t = f"t({op.src},{op.dst})"
-            # angle = p_y - p_x + C·h  >=  min   <=>   p_x - p_y <= C·h - min
-            rows.append(
-                _Row(
-                    f"min[{label[e]}]",
-                    "min",
-                    [x, y],
-                    [1.0, -1.0],
-                    ch - mins[e],
-                    False,
-                    -1.0,
-                    f"{t} >= {mins[e]:g}°",
-                    e,
-                )
+        ops = np.arange(E)
+        max_ops = np.array([e for e, op in enumerate(cg._ops) if op.max_angle_deg is not None], int)
+        maxs = np.array([cg._ops[e].max_angle_deg for e in max_ops], dtype=np.float64)
+        dur_ops = np.flatnonzero(speed_secs > 0) if speed_secs is not None else np.zeros(0, int)
+        rows: list[npt.NDArray[np.int64]] = []
+        cols: list[npt.NDArray[np.int64]] = []
+        vals: list[npt.NDArray[np.float64]] = []
+        n_rows = 0
+
+        def block(c: list[npt.NDArray[np.int64]], v: list[npt.NDArray[np.float64] | float]) -> None:
+            # One row per entry of c[0]; the k-th column list gives each row's k-th entry.
+            nonlocal n_rows
+            k = len(c[0])
+            r = n_rows + np.arange(k)
+            for ck, vk in zip(c, v, strict=True):
+                rows.append(r)
+                cols.append(np.asarray(ck, dtype=np.int64))
+                vals.append(np.broadcast_to(np.asarray(vk, dtype=np.float64), (k,)))
+            n_rows += k
+
+        # angle = p_y − p_x + C·h ≥ min   ⇔   p_x − p_y ≤ C·h − min
+        block([xi, yi], [1.0, -1.0])
+        rhs = [self.ch - mins]
+        kind = [np.full(E, _MIN)]
+        opi = [ops]
+        sign = [np.full(E, -1.0)]
+        names = [f"min[{lab}]" for lab in label]
+        if len(dur_ops):
+            assert speed_secs is not None
+            n_col = np.full(len(dur_ops), self.n_var - 1)
+            block(
+                [xi[dur_ops], yi[dur_ops], n_col],
+                [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[dur_ops]],
             )
-            if speed_secs is not None and speed_secs[e] > 0:
-                rows.append(
-                    _Row(
-                        f"duration[{label[e]}]",
-                        "min",
-                        [x, y, self.n_var - 1],
-                        [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[e]],
-                        ch,
-                        False,
-                        -1.0,
-                        f"{t} >= 6·n·{speed_secs[e]:g} s",
-                        e,
-                    )
-                )
-            if op.max_angle_deg is not None:
-                rows.append(
-                    _Row(
-                        f"max[{label[e]}]",
-                        "max",
-                        [y, x],
-                        [1.0, -1.0],
-                        op.max_angle_deg - ch,
-                        False,
-                        1.0,
-                        f"{t} <= {op.max_angle_deg:g}°",
-                        e,
-                    )
-                )
+            rhs.append(self.ch[dur_ops])
+            kind.append(np.full(len(dur_ops), _MIN))
+            opi.append(dur_ops)
+            sign.append(np.full(len(dur_ops), -1.0))
+            names += [f"duration[{label[e]}]" for e in dur_ops]
+        # angle ≤ max   ⇔   p_y − p_x ≤ max − C·h
+        if len(max_ops):
+            block([yi[max_ops], xi[max_ops]], [1.0, -1.0])
+            rhs.append(maxs - self.ch[max_ops])
+            kind.append(np.full(len(max_ops), _MAX))
+            opi.append(max_ops)
+            sign.append(np.ones(len(max_ops)))
+            names += [f"max[{label[e]}]" for e in max_ops]
+        eq = [np.zeros(n_rows, bool)]
+        idx = cg._events
         for con in cg._constraints:
             acc: dict[int, float] = {}
             shift = 0.0
@@ -991,27 +973,47 @@ class _LP:
                 acc[idx[op.dst]] = acc.get(idx[op.dst], 0.0) + c
                 acc[idx[op.src]] = acc.get(idx[op.src], 0.0) - c
                 shift += c * cycle * op.height
-            cols, vals = list(acc), list(acc.values())
-            sign = -1.0 if con.sense == ">=" else 1.0
-            rows.append(
-                _Row(
-                    con.name,
-                    "user",
-                    cols,
-                    [sign * v for v in vals],
-                    sign * (con.rhs - shift),
-                    con.sense == "==",
-                    sign,
-                    con.describe(),
-                )
-            )
-        self.rows = rows
-        self.names = [r.name for r in rows]
-        self.cycle_row = _Row(
-            "cycle", "cycle", [self.F], [1.0], cycle, False, 1.0, f"span p(N) - p(1) <= {cycle:g}°"
+            sg = -1.0 if con.sense == ">=" else 1.0  # ">=" is negated into "<="
+            rows.append(np.full(len(acc), n_rows))
+            cols.append(np.fromiter(acc, np.int64, len(acc)))
+            vals.append(sg * np.fromiter(acc.values(), np.float64, len(acc)))
+            n_rows += 1
+            rhs.append(np.array([sg * (con.rhs - shift)]))
+            kind.append(np.array([_USER]))
+            opi.append(np.array([-1]))
+            sign.append(np.array([sg]))
+            eq.append(np.array([con.sense == "=="]))
+            names.append(con.name)
+        # The span fits in the cycle: F ≤ cycle.
+        rows.append(np.array([n_rows]))
+        cols.append(np.array([self.F]))
+        vals.append(np.array([1.0]))
+        n_rows += 1
+        rhs.append(np.array([cycle]))
+        kind.append(np.array([_CYCLE]))
+        opi.append(np.array([-1]))
+        sign.append(np.array([1.0]))
+        eq.append(np.array([False]))
+        names.append("cycle")
+
+        self.A = sparse.csr_array(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(n_rows, self.n_var),
         )
-        self.rows.append(self.cycle_row)
-        self.names.append("cycle")
+        self.b = np.concatenate(rhs).astype(np.float64)
+        self.kind = np.concatenate(kind)
+        self.op = np.concatenate(opi).astype(np.int64)
+        self.sign = np.concatenate(sign)
+        self.eq = np.concatenate(eq)
+        self.names = names
+        self.n_rows = n_rows
+        self.max_of = dict(zip(max_ops.tolist(), maxs.tolist(), strict=True))
+        self.speed_secs = speed_secs
+        ar = np.arange(V)
+        self._span = sparse.csr_array(
+            (np.r_[np.ones(V), -np.ones(V)], (np.r_[ar, ar], np.r_[ar, np.full(V, self.F)])),
+            shape=(V, self.n_var),
+        )
         c = np.zeros(self.n_var)
         if speed_secs is not None:
             c[-1] = -1.0  # maximise n
@@ -1021,54 +1023,85 @@ class _LP:
             self.sigma = 1.0
         else:
             op = cg._ops[cg._arc_index[limiting]]
-            c[idx[op.src]] += 1.0  # maximise p_y - p_x  <=>  minimise p_x - p_y
+            c[idx[op.src]] += 1.0  # maximise p_y − p_x  ⇔  minimise p_x − p_y
             c[idx[op.dst]] -= 1.0
             self.sigma = -1.0
         self.c = c
-        # Span rows p_v - F <= 0: structure, not bounds; never dropped or reported.
-        ar = np.arange(V)
-        self._span = sparse.csr_array(
-            (np.r_[np.ones(V), -np.ones(V)], (np.r_[ar, ar], np.r_[ar, np.full(V, self.F)])),
-            shape=(V, self.n_var),
-        )
 
-    def solve(self, rows: list[_Row]) -> Any:
-        """Solve with a subset of the named rows (all of them: ``self.rows``)."""
-        ub = [r for r in rows if not r.eq]
-        eq = [r for r in rows if r.eq]
-        A_ub = sparse.vstack([self._matrix(ub), self._span]).tocsr()
-        b_ub = np.concatenate([[r.rhs for r in ub], np.zeros(self.V)])
-        A_eq = self._matrix(eq) if eq else None
-        b_eq = np.array([r.rhs for r in eq]) if eq else None
+    def solve(
+        self,
+        keep: npt.NDArray[np.bool_] | None = None,
+        c: npt.NDArray[np.float64] | None = None,
+        extra: tuple[Any, float] | None = None,
+    ) -> Any:
+        """Solve with the named rows in ``keep`` (default all), objective ``c``
+        (default the LP's own) and an optional extra row ``(row, rhs)``.
+
+        On success the result carries ``dual_all`` and ``resid_all``: the marginal
+        and the residual of every named row (NaN for rows left out).
+        """
+        sel = np.arange(self.n_rows) if keep is None else np.flatnonzero(keep)
+        ub, eq = sel[~self.eq[sel]], sel[self.eq[sel]]
+        blocks = [self.A[ub], self._span]
+        b_ub = [self.b[ub], np.zeros(self.V)]
+        if extra is not None:
+            blocks.append(extra[0])
+            b_ub.append(np.array([extra[1]]))
         res = linprog(
-            self.c,
-            A_ub=A_ub,
-            b_ub=b_ub,
-            A_eq=A_eq,
-            b_eq=b_eq,
+            self.c if c is None else c,
+            A_ub=sparse.vstack(blocks).tocsr(),
+            b_ub=np.concatenate(b_ub),
+            A_eq=self.A[eq] if len(eq) else None,
+            b_eq=self.b[eq] if len(eq) else None,
             bounds=[(0, None)] * self.n_var,
             method="highs",
         )
-        res.rows_ub, res.rows_eq = ub, eq
+        if res.status == 0:
+            dual = np.full(self.n_rows, np.nan)
+            resid = np.full(self.n_rows, np.nan)
+            dual[ub] = res.ineqlin.marginals[: len(ub)]
+            resid[ub] = res.ineqlin.residual[: len(ub)]
+            if len(eq):
+                dual[eq] = res.eqlin.marginals
+                resid[eq] = 0.0
+            res.dual_all, res.resid_all = dual, resid
         return res
 
-    def _matrix(self, rows: list[_Row]) -> Any:
-        ri = np.repeat(np.arange(len(rows)), [len(r.cols) for r in rows])
-        ci = np.fromiter((c for r in rows for c in r.cols), np.int64, len(ri))
-        vs = np.fromiter((v for r in rows for v in r.vals), np.float64, len(ri))
-        return sparse.csr_array((vs, (ri, ci)), shape=(len(rows), self.n_var))
-
-    def tight_rows(self, res: Any) -> list[int]:
-        """Indices (into ``self.rows``) of the rows that hold with equality."""
+    def tight(self, res: Any) -> npt.NDArray[np.int64]:
+        """Named rows that hold with equality."""
         scale = 1.0 + float(np.abs(res.x).max(initial=0.0))
-        pos = {id(r): i for i, r in enumerate(self.rows)}
-        tight = [
-            pos[id(r)]
-            for r, s in zip(res.rows_ub, res.ineqlin.residual, strict=False)
-            if abs(s) <= 1e-9 * scale
-        ]
-        tight += [pos[id(r)] for r in res.rows_eq]
-        return sorted(tight)
+        return np.flatnonzero(np.abs(res.resid_all) <= 1e-9 * scale)
+
+    def priced(self, res: Any) -> npt.NDArray[np.int64]:
+        """Named rows with a non-zero shadow price."""
+        return np.flatnonzero(np.abs(np.nan_to_num(res.dual_all)) > 1e-9)
+
+    def irreducible_conflict(self) -> list[str]:
+        """Deletion filter: rows that are infeasible together and feasible without any one."""
+        keep = np.ones(self.n_rows, bool)
+        for i in range(self.n_rows):
+            keep[i] = False
+            if self.solve(keep).status != 2:
+                keep[i] = True  # needed for the conflict
+        return [self.names[i] for i in np.flatnonzero(keep)]
+
+    def describe(self, name: str) -> str:
+        """``name: the bound as text`` (row names are unique)."""
+        i = self.names.index(name)
+        kind = self.kind[i]
+        if kind in (_MIN, _MAX):
+            op = self.cg._ops[self.op[i]]
+            t = f"t({op.src},{op.dst})"
+            if kind == _MAX:
+                return f"{name}: {t} <= {self.max_of[int(self.op[i])]:g}°"
+            if name.startswith("duration["):
+                assert self.speed_secs is not None
+                return f"{name}: {t} >= 6·n·{self.speed_secs[self.op[i]]:g} s"
+            return f"{name}: {t} >= {self.mins[self.op[i]]:g}°"
+        if kind == _USER:
+            con = next(c for c in self.cg._constraints if c.name == name)
+            return f"{name}: {con.describe()}"
+        return f"{name}: span p(N) - p(1) <= {self.cycle:g}°"
 
     def earliest_at_optimum(self, res: Any) -> npt.NDArray[np.float64]:
         """Event angles of the optimum that puts every event as early as it can be.
@@ -1076,95 +1109,46 @@ class _LP:
         The LP optimum is degenerate: operations off the critical chains may take
         any angle that fits. A second LP keeps the objective at its optimum and
         minimises Σ p(v), so each such operation stays at its minimum where it can,
-        as in the earliest schedule. Shadow prices still come from the first LP.
+        as in the earliest schedule. Pinned at the optimum itself: HiGHS's own
+        feasibility tolerance absorbs round-off, and if it did not, the first LP's
+        answer stands. Shadow prices still come from the first LP.
         """
-        # Pinned at the optimum itself: HiGHS's own feasibility tolerance absorbs
-        # round-off, and if it did not, the first LP's answer stands.
-        tol = 0.0
-        keep = _Row(
-            "objective",
-            "objective",
-            list(np.flatnonzero(self.c)),
-            list(self.c[self.c != 0]),
-            float(res.fun) + tol,
-            False,
-            1.0,
-            "",
-        )
-        c_primary = self.c
-        try:
-            self.c = np.r_[np.ones(self.V), np.zeros(self.n_var - self.V)]
-            tidy = self.solve([*self.rows, keep])
-        finally:
-            self.c = c_primary
+        pin = sparse.csr_array(self.c.reshape(1, -1))
+        c = np.r_[np.ones(self.V), np.zeros(self.n_var - self.V)]
+        tidy = self.solve(c=c, extra=(pin, float(res.fun)))
         return tidy.x if tidy.status == 0 else res.x
-
-    def irreducible_conflict(self) -> list[str]:
-        """Deletion filter: a set of rows that is infeasible, and feasible without any one."""
-        keep = list(self.rows)
-        for r in list(keep):
-            trial = [q for q in keep if q is not r]
-            if self.solve(trial).status == 2:
-                keep = trial
-        return [r.name for r in keep]
-
-    def describe(self, name: str) -> str:
-        """``name: the bound as text`` (row names are unique)."""
-        r = next(q for q in self.rows if q.name == name)
-        return f"{name}: {r.text}"
 
     def result(self, res: Any, x: npt.NDArray[np.float64], speed: float | None) -> Optimum:
         """The :class:`Optimum` with duals from ``res`` and event angles from ``x``."""
         cg = self.cg
-        p = x[: self.V]
-        p = p - p.min()
-        times = dict(zip(cg.events, p.tolist(), strict=True))
-        angles: dict[Arc, float] = {}
-        stretch: dict[Arc, float] = {}
-        mins = cg.min_angles(speed)
-        for e, op in enumerate(cg._ops):
-            a = times[op.dst] - times[op.src] + self.cycle * op.height
-            angles[op.arc] = a
-            stretch[op.arc] = float(a - mins[e])
-        duals: dict[str, float] = {}
-        slack: dict[str, float] = {}
-        priced_ops: set[int] = set()
-        for r, m, s in zip(res.rows_ub, res.ineqlin.marginals, res.ineqlin.residual, strict=False):
-            duals[r.name] = float(self.sigma * r.sign * m) + 0.0
-            slack[r.name] = float(s)
-            if r.kind == "min" and r.op is not None and abs(m) > 1e-9:
-                priced_ops.add(r.op)
-        if res.rows_eq:
-            for r, m in zip(res.rows_eq, res.eqlin.marginals, strict=True):
-                duals[r.name] = float(self.sigma * r.sign * m) + 0.0
-                slack[r.name] = 0.0
-        binding = tuple(self.names[i] for i in self.tight_rows(res))
-        critical = tuple(op.arc for e, op in enumerate(cg._ops) if e in priced_ops)
-        duration = float(p.max() - p.min())
+        p = x[: self.V] - x[: self.V].min()
+        arcs = list(cg._arc_index)  # in operation order
+        ang = p[self.yi] - p[self.xi] + self.ch
+        duals = self.sigma * self.sign * res.dual_all + 0.0  # + 0.0: no -0.0 in reports
+        critical_ops = [i for i in self.priced(res) if self.kind[i] == _MIN]
         # The objective is the first LP's optimum, not re-derived from the tidied angles.
         goal: Literal["min_duration", "max_limiting"]
         if self.limiting is None:
-            objective = float(res.fun)
-            goal = "min_duration"
+            objective, goal = float(res.fun), "min_duration"
         else:
-            objective = -float(res.fun) + self.cycle * cg.operation(self.limiting).height
-            goal = "max_limiting"
+            height = cg.operation(self.limiting).height
+            objective, goal = -float(res.fun) + self.cycle * height, "max_limiting"
         return Optimum(
             operations=cg.operations,
             events=cg.events,
-            times=times,
-            angles=angles,
-            objective=float(objective),
+            times=dict(zip(cg.events, p.tolist(), strict=True)),
+            angles=dict(zip(arcs, ang.tolist(), strict=True)),
+            objective=objective,
             goal=goal,
             limiting=self.limiting,
-            duration=duration,
+            duration=float(p.max() - p.min()),
             cycle_deg=self.cycle,
             speed_rpm=speed,
-            duals={k: duals[k] for k in self.names if k in duals},
-            slack={k: slack[k] for k in self.names if k in slack},
-            binding=binding,
-            stretch=stretch,
-            critical=critical,
+            duals=dict(zip(self.names, duals.tolist(), strict=True)),
+            slack=dict(zip(self.names, res.resid_all.tolist(), strict=True)),
+            binding=tuple(self.names[i] for i in self.tight(res)),
+            stretch=dict(zip(arcs, (ang - self.mins).tolist(), strict=True)),
+            critical=tuple(arcs[e] for e in sorted({int(self.op[i]) for i in critical_ops})),
             name=cg.name,
         )
 
