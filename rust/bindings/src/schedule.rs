@@ -97,11 +97,19 @@ pub fn longest_path<'py>(
     n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
-    let (w, rows) = weights_view(py, &weights)?;
+    let (w, batch) = weights_view(py, &weights)?;
+    if batch.is_none() {
+        // One vector: the fused kernel (times computed during the topological sort).
+        run(py, "longest_path", || resolve_threads(n_threads))?;
+        let t = run(py, "longest_path", || {
+            schedule::longest_path(n_events, s, d, w)
+        })?;
+        return Ok(Array1::from(t).into_dyn().into_pyarray(py));
+    }
     let g = run(py, "longest_path", || {
         schedule::EventGraph::new(n_events, s, d)
     })?;
-    evaluate(py, &g, w, rows, n_threads)
+    evaluate(py, &g, w, batch, n_threads)
 }
 
 /// The structure of an event network, analysed once (see `cyclomech.EventGraph`).

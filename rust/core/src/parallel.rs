@@ -57,9 +57,18 @@ pub fn resolve_threads(n_threads: Option<i64>) -> Result<usize, ThreadsError> {
             };
         }
     }
-    Ok(std::thread::available_parallelism()
-        .map(|n| n.get())
-        .unwrap_or(1))
+    Ok(cores())
+}
+
+/// Number of cores available to this process, read once: the standard library
+/// re-reads the cgroup files on every call, which costs tens of microseconds.
+pub fn cores() -> usize {
+    static CORES: OnceLock<usize> = OnceLock::new();
+    *CORES.get_or_init(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    })
 }
 
 fn pools() -> &'static Mutex<HashMap<usize, Arc<ThreadPool>>> {

@@ -14,6 +14,8 @@
 //! structure once (topological order, incoming and outgoing arc lists laid out by
 //! topological position) and then evaluates any number of weight vectors against it.
 
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
 
 /// Errors of the schedule domain (event graphs, cycle ratios, speed limits).
@@ -109,9 +111,10 @@ pub(crate) fn check_memory(n: usize, m: usize, extra_bytes: usize) -> Result<(),
 /// Largest number of events or arcs (indices are stored as `u32`).
 pub const MAX_SIZE: usize = u32::MAX as usize - 1;
 
-/// Weight vectors evaluated together in the batch kernel: one block of this many
-/// rows is laid out lane-by-lane so the inner max runs as SIMD, and a block of
-/// `E` arcs × 8 lanes × 8 bytes stays in cache for the graphs this is meant for.
+/// Weight vectors evaluated together in the batch kernel. One arc relaxation is a
+/// short dependency chain (add, max, store, load): evaluating 8 rows per chain
+/// hides its latency, and a block of E arcs × 8 lanes × 8 bytes stays in L2 for
+/// the graph sizes batches are meant for.
 const LANES: usize = 8;
 
 /// Below this many arc evaluations (rows × arcs) a batch runs on the calling
@@ -165,6 +168,23 @@ pub(crate) fn validate_arcs(
     Ok((n, check("src", src)?, check("dst", dst)?))
 }
 
+/// True if no value is NaN or ±inf. Branch-free over blocks of 8 so that it
+/// vectorises: `x * 0` is 0 for finite x and NaN otherwise, and NaN propagates
+/// through the sums.
+#[inline]
+pub(crate) fn all_finite(values: &[f64]) -> bool {
+    let mut acc = [0.0f64; 8];
+    let chunks = values.chunks_exact(8);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for i in 0..8 {
+            acc[i] += c[i] * 0.0;
+        }
+    }
+    let t: f64 = tail.iter().map(|x| x * 0.0).sum();
+    (acc.iter().sum::<f64>() + t) == 0.0
+}
+
 /// Check that every value is finite; name the first one that is not.
 pub(crate) fn check_finite(
     field: &'static str,
@@ -172,7 +192,7 @@ pub(crate) fn check_finite(
     row_len: usize,
     what: &'static str,
 ) -> Result<(), ScheduleError> {
-    if values.iter().all(|v| v.is_finite()) {
+    if all_finite(values) {
         return Ok(());
     }
     let (i, &value) = values
@@ -299,19 +319,39 @@ pub(crate) fn topological_order(
 
 /// The structure of an event network, analysed once and reused for any number of
 /// weight vectors.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct EventGraph {
     n: usize,
     src: Vec<u32>,
     dst: Vec<u32>,
     /// `order[k]`: the event at topological position `k`.
     order: Vec<u32>,
-    /// `pos[v]`: the topological position of event `v`.
-    pos: Vec<u32>,
-    /// Incoming arcs by topological position of their head; `other` = position of the tail.
+    /// Incoming arcs grouped by the topological position of their head, in that
+    /// order, so the forward pass reads them sequentially; `other` = tail event.
     inc: Csr,
-    /// Outgoing arcs by topological position of their tail; `other` = position of the head.
-    out: Csr,
+    /// `slot[e]`: where arc `e` sits in `inc` (the inverse of `inc.edge`).
+    slot: Vec<u32>,
+    /// Outgoing arcs grouped by the topological position of their tail; `other` =
+    /// head event. Only the backward pass needs them: built on first use.
+    out: OnceLock<Csr>,
+}
+
+impl Clone for EventGraph {
+    fn clone(&self) -> Self {
+        let out = OnceLock::new();
+        if let Some(o) = self.out.get() {
+            let _ = out.set(o.clone());
+        }
+        EventGraph {
+            n: self.n,
+            src: self.src.clone(),
+            dst: self.dst.clone(),
+            order: self.order.clone(),
+            inc: self.inc.clone(),
+            slot: self.slot.clone(),
+            out,
+        }
+    }
 }
 
 /// Earliest and latest event times, slack and critical arcs of one weight vector.
@@ -335,7 +375,7 @@ pub struct Analysis {
 
 impl EventGraph {
     /// Analyse the structure: validate indices, find a topological order (or report
-    /// a cycle) and lay the arcs out by topological position.
+    /// a cycle) and lay the incoming arcs out by topological position.
     pub fn new(n_events: i64, src: &[i64], dst: &[i64]) -> Result<Self, ScheduleError> {
         let (n, src, dst) = validate_arcs(n_events, src, dst)?;
         let order =
@@ -344,27 +384,34 @@ impl EventGraph {
         for (k, &v) in order.iter().enumerate() {
             pos[v as usize] = k as u32;
         }
-        let m = src.len();
-        let inc = Csr::build(
-            n,
-            |e| pos[dst[e] as usize] as usize,
-            |e| pos[src[e] as usize],
-            m,
-        );
-        let out = Csr::build(
-            n,
-            |e| pos[src[e] as usize] as usize,
-            |e| pos[dst[e] as usize],
-            m,
-        );
+        let inc = Csr::build(n, |e| pos[dst[e] as usize] as usize, |e| src[e], src.len());
+        let mut slot = vec![0u32; src.len()];
+        for (j, &e) in inc.edge.iter().enumerate() {
+            slot[e as usize] = j as u32;
+        }
         Ok(EventGraph {
             n,
             src,
             dst,
             order,
-            pos,
             inc,
-            out,
+            slot,
+            out: OnceLock::new(),
+        })
+    }
+
+    fn out(&self) -> &Csr {
+        self.out.get_or_init(|| {
+            let mut pos = vec![0u32; self.n];
+            for (k, &v) in self.order.iter().enumerate() {
+                pos[v as usize] = k as u32;
+            }
+            Csr::build(
+                self.n,
+                |e| pos[self.src[e] as usize] as usize,
+                |e| self.dst[e],
+                self.src.len(),
+            )
         })
     }
 
@@ -409,44 +456,33 @@ impl EventGraph {
         check_finite("weights", weights, m, "phase angles must be finite degrees")
     }
 
-    /// Earliest times by topological position.
+    /// Earliest times, by event, into `t` (V,).
     fn forward(&self, w: &[f64], t: &mut [f64]) {
-        for k in 0..self.n {
+        for (k, &v) in self.order.iter().enumerate() {
             let r = self.inc.range(k);
             let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
             for (&s, &e) in self.inc.other[r.clone()].iter().zip(&self.inc.edge[r]) {
+                // Finite inputs, no NaN: compare-and-select, not the NaN-aware max.
                 let c = t[s as usize] + w[e as usize];
-                if c > best {
-                    best = c;
-                }
+                best = if c > best { c } else { best };
             }
-            t[k] = best;
+            t[v as usize] = best;
         }
     }
 
-    /// Latest times by topological position for a horizon.
+    /// Latest times, by event, for a horizon into `t` (V,).
     fn backward(&self, w: &[f64], horizon: f64, t: &mut [f64]) {
-        for k in (0..self.n).rev() {
-            let r = self.out.range(k);
+        let out = self.out();
+        for (k, &v) in self.order.iter().enumerate().rev() {
             // Every event, not only the sinks, must occur by the horizon: with negative
             // (overlapping) arcs an inner event can be the last one.
             let mut best = horizon;
-            for (&d, &e) in self.out.other[r.clone()].iter().zip(&self.out.edge[r]) {
-                let c = t[d as usize] - w[e as usize];
-                if c < best {
-                    best = c;
-                }
+            let r = out.range(k);
+            for (&d, &e) in out.other[r.clone()].iter().zip(&out.edge[r]) {
+                best = best.min(t[d as usize] - w[e as usize]);
             }
-            t[k] = best;
+            t[v as usize] = best;
         }
-    }
-
-    fn to_event_order(&self, by_pos: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; self.n];
-        for (k, &v) in self.order.iter().enumerate() {
-            out[v as usize] = by_pos[k];
-        }
-        out
     }
 
     /// Earliest occurrence angle of every event for one weight vector (E,) -> (V,).
@@ -454,7 +490,7 @@ impl EventGraph {
         self.check_weights(weights, 1)?;
         let mut t = vec![0.0; self.n];
         self.forward(weights, &mut t);
-        Ok(self.to_event_order(&t))
+        Ok(t)
     }
 
     /// Latest occurrence angle of every event such that every event occurs at or
@@ -470,12 +506,73 @@ impl EventGraph {
         }
         let mut t = vec![0.0; self.n];
         self.backward(weights, horizon, &mut t);
-        Ok(self.to_event_order(&t))
+        Ok(t)
     }
 
-    /// Earliest times for `rows` weight vectors stored row-major in `weights`
-    /// (rows × E) -> (rows × V), row-major. Blocks of [`LANES`] rows run in
-    /// parallel on the pool chosen by `n_threads`.
+    /// Earliest times for 8 rows at once: `wblk[j]` holds the weights of the arc at
+    /// `inc` position `j` for each lane; times by event into `t`.
+    fn forward_block(&self, wblk: &[[f64; LANES]], t: &mut [[f64; LANES]]) {
+        for (k, &v) in self.order.iter().enumerate() {
+            let r = self.inc.range(k);
+            let mut best = if r.is_empty() {
+                [0.0; LANES]
+            } else {
+                [f64::NEG_INFINITY; LANES]
+            };
+            for (&s, w) in self.inc.other[r.clone()].iter().zip(&wblk[r]) {
+                let ts = &t[s as usize];
+                for l in 0..LANES {
+                    // Inputs are finite, so no NaN: a plain compare-and-select.
+                    let c = ts[l] + w[l];
+                    best[l] = if c > best[l] { c } else { best[l] };
+                }
+            }
+            t[v as usize] = best;
+        }
+    }
+
+    /// One block of up to 8 rows starting at row `r0` into `out` (lanes × V).
+    /// Returns false if a weight of the block is not finite (nothing is reported
+    /// from here; the caller locates it).
+    fn batch_block(
+        &self,
+        weights: &[f64],
+        r0: usize,
+        out: &mut [f64],
+        wblk: &mut [[f64; LANES]],
+        t: &mut [[f64; LANES]],
+    ) -> bool {
+        let (n, m) = (self.n, self.n_arcs());
+        let lanes = out.len() / n;
+        let rows: Vec<&[f64]> = (0..lanes)
+            .map(|l| &weights[(r0 + l) * m..(r0 + l + 1) * m])
+            .collect();
+        // Gather: the rows are read in order, each arc's 8 lanes written once at
+        // its position in the forward pass; the finite check rides along.
+        let mut nan = [0.0f64; LANES];
+        for (e, &j) in self.slot.iter().enumerate() {
+            let dst = &mut wblk[j as usize];
+            for l in 0..lanes {
+                let x = rows[l][e];
+                dst[l] = x;
+                nan[l] += x * 0.0;
+            }
+        }
+        if nan.iter().sum::<f64>() != 0.0 {
+            return false;
+        }
+        self.forward_block(wblk, t);
+        for l in 0..lanes {
+            for (o, tv) in out[l * n..(l + 1) * n].iter_mut().zip(t.iter()) {
+                *o = tv[l];
+            }
+        }
+        true
+    }
+
+    /// Earliest times for `rows` weight vectors of `row_len` entries stored
+    /// row-major in `weights` (rows × E) -> (rows × V), row-major. Blocks of 8 rows
+    /// run in parallel on the pool chosen by `n_threads`.
     pub fn earliest_batch(
         &self,
         weights: &[f64],
@@ -491,52 +588,39 @@ impl EventGraph {
                 got: row_len,
             });
         }
-        self.check_weights(weights, rows)?;
+        if weights.len() != rows * m {
+            return Err(ScheduleError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: weights.len() / rows.max(1),
+            });
+        }
         let threads = crate::parallel::resolve_threads(n_threads)?;
         check_memory(0, 0, rows.saturating_mul(n).saturating_mul(8))?;
         let mut out = vec![0.0; rows * n];
         if n == 0 || rows == 0 {
-            return Ok(out);
+            return check_finite("weights", weights, m, "phase angles must be finite degrees")
+                .map(|_| out);
         }
-        let block = |(b, chunk): (usize, &mut [f64])| {
-            let r0 = b * LANES;
-            let lanes = chunk.len() / n;
-            // Weights of this block in incoming-arc order, lane-interleaved.
-            let mut wblk = vec![[0.0f64; LANES]; m];
-            for l in 0..lanes {
-                let row = &weights[(r0 + l) * m..(r0 + l + 1) * m];
-                for (slot, &e) in wblk.iter_mut().zip(&self.inc.edge) {
-                    slot[l] = row[e as usize];
-                }
-            }
-            let mut t = vec![[0.0f64; LANES]; n];
-            for k in 0..n {
-                let r = self.inc.range(k);
-                let mut best = if r.is_empty() {
-                    [0.0; LANES]
-                } else {
-                    [f64::NEG_INFINITY; LANES]
-                };
-                for j in r {
-                    let s = t[self.inc.other[j] as usize];
-                    let wj = wblk[j];
-                    for l in 0..LANES {
-                        best[l] = best[l].max(s[l] + wj[l]);
-                    }
-                }
-                t[k] = best;
-            }
-            for (k, &v) in self.order.iter().enumerate() {
-                for l in 0..lanes {
-                    chunk[l * n + v as usize] = t[k][l];
-                }
-            }
-        };
-        if threads == 1 || rows * m < PARALLEL_MIN_WORK {
-            out.chunks_mut(LANES * n).enumerate().for_each(block);
+        let buffers = || (vec![[0.0f64; LANES]; m], vec![[0.0f64; LANES]; n]);
+        let all_ok = if threads == 1 || rows * m < PARALLEL_MIN_WORK {
+            let (mut wblk, mut t) = buffers();
+            out.chunks_mut(LANES * n)
+                .enumerate()
+                .map(|(b, chunk)| self.batch_block(weights, b * LANES, chunk, &mut wblk, &mut t))
+                .fold(true, |a, b| a & b)
         } else {
-            crate::parallel::pool(threads)?
-                .install(|| out.par_chunks_mut(LANES * n).enumerate().for_each(block));
+            crate::parallel::pool(threads)?.install(|| {
+                out.par_chunks_mut(LANES * n)
+                    .enumerate()
+                    .map_init(buffers, |(wblk, t), (b, chunk)| {
+                        self.batch_block(weights, b * LANES, chunk, wblk, t)
+                    })
+                    .reduce(|| true, |a, b| a & b)
+            })
+        };
+        if !all_ok {
+            check_finite("weights", weights, m, "phase angles must be finite degrees")?;
         }
         Ok(out)
     }
@@ -577,15 +661,14 @@ impl EventGraph {
         let mut free = vec![0.0; m];
         let mut critical = vec![false; m];
         for e in 0..m {
-            let ps = self.pos[self.src[e] as usize] as usize;
-            let pd = self.pos[self.dst[e] as usize] as usize;
-            total[e] = late[pd] - early[ps] - weights[e];
-            free[e] = early[pd] - early[ps] - weights[e];
+            let (x, y) = (self.src[e] as usize, self.dst[e] as usize);
+            total[e] = late[y] - early[x] - weights[e];
+            free[e] = early[y] - early[x] - weights[e];
             critical[e] = total[e].abs() <= tolerance;
         }
         Ok(Analysis {
-            earliest: self.to_event_order(&early),
-            latest: self.to_event_order(&late),
+            earliest: early,
+            latest: late,
             total_slack: total,
             free_slack: free,
             critical,
@@ -595,14 +678,57 @@ impl EventGraph {
     }
 }
 
-/// One-shot longest path: analyse the structure and evaluate one weight vector.
+/// One-shot longest path: earliest times computed during Kahn's topological sort,
+/// with one adjacency structure and no stored order (an event's time is final
+/// when its last incoming arc has been relaxed).
 pub fn longest_path(
     n_events: i64,
     src: &[i64],
     dst: &[i64],
     weights: &[f64],
 ) -> Result<Vec<f64>, ScheduleError> {
-    EventGraph::new(n_events, src, dst)?.earliest(weights)
+    let (n, s, d) = validate_arcs(n_events, src, dst)?;
+    let m = s.len();
+    if weights.len() != m {
+        return Err(ScheduleError::WeightLength {
+            field: "weights",
+            expected: m,
+            got: weights.len(),
+        });
+    }
+    check_finite("weights", weights, m, "phase angles must be finite degrees")?;
+    let out = Csr::build(n, |e| s[e] as usize, |e| d[e], m);
+    let mut indeg = vec![0u32; n];
+    for &v in &d {
+        indeg[v as usize] += 1;
+    }
+    let mut t: Vec<f64> = indeg
+        .iter()
+        .map(|&k| if k == 0 { 0.0 } else { f64::NEG_INFINITY })
+        .collect();
+    let mut queue: Vec<u32> = (0..n as u32).filter(|&v| indeg[v as usize] == 0).collect();
+    let mut head = 0;
+    while head < queue.len() {
+        let v = queue[head] as usize;
+        head += 1;
+        let tv = t[v];
+        for j in out.range(v) {
+            let u = out.other[j] as usize;
+            t[u] = t[u].max(tv + weights[out.edge[j] as usize]);
+            indeg[u] -= 1;
+            if indeg[u] == 0 {
+                queue.push(u as u32);
+            }
+        }
+    }
+    if queue.len() < n {
+        // Cold path: let the topological sort name one cycle.
+        return Err(match topological_order(n, &s, &d) {
+            Err(events) => ScheduleError::Cycle { events },
+            Ok(_) => ScheduleError::Cycle { events: vec![] },
+        });
+    }
+    Ok(t)
 }
 
 #[cfg(test)]
@@ -654,10 +780,12 @@ mod tests {
     proptest! {
         #[test]
         fn earliest_matches_reference((n, s, d, w) in dag()) {
-            let got = longest_path(n as i64, &s, &d, &w).unwrap();
             let want = reference(n, &s, &d, &w);
-            for (g, r) in got.iter().zip(&want) {
-                prop_assert!((g - r).abs() <= 1e-9 * (1.0 + r.abs()), "{g} vs {r}");
+            let fused = longest_path(n as i64, &s, &d, &w).unwrap();
+            let prepared = EventGraph::new(n as i64, &s, &d).unwrap().earliest(&w).unwrap();
+            for ((f, p), r) in fused.iter().zip(&prepared).zip(&want) {
+                prop_assert!((f - r).abs() <= 1e-9 * (1.0 + r.abs()), "{f} vs {r}");
+                prop_assert!((p - r).abs() <= 1e-9 * (1.0 + r.abs()), "{p} vs {r}");
             }
         }
 
@@ -707,6 +835,13 @@ mod tests {
         );
         let err = EventGraph::new(2, &[1], &[1]).unwrap_err();
         assert_eq!(err, ScheduleError::Cycle { events: vec![1] });
+        let err = longest_path(4, &[0, 1, 2, 3], &[1, 2, 3, 1], &[1.0; 4]).unwrap_err();
+        assert_eq!(
+            err,
+            ScheduleError::Cycle {
+                events: vec![1, 2, 3]
+            }
+        );
     }
 
     #[test]
