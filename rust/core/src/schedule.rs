@@ -148,22 +148,26 @@ pub(crate) fn validate_arcs(
             got: src.len(),
         });
     }
+    // One branch-free pass for the range (it vectorises), a plain cast, and a
+    // search for the culprit only when the range is wrong.
     let check = |field: &'static str, idx: &[i64]| -> Result<Vec<u32>, ScheduleError> {
-        idx.iter()
-            .enumerate()
-            .map(|(position, &value)| {
-                if value < 0 || value as u64 >= n as u64 {
-                    Err(ScheduleError::IndexOutOfRange {
-                        field,
-                        position,
-                        value,
-                        n_events: n,
-                    })
-                } else {
-                    Ok(value as u32)
-                }
-            })
-            .collect()
+        let (lo, hi) = idx
+            .iter()
+            .fold((0i64, -1i64), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        if lo < 0 || (hi >= 0 && hi as u64 >= n as u64) {
+            let (position, &value) = idx
+                .iter()
+                .enumerate()
+                .find(|(_, &v)| v < 0 || v as u64 >= n as u64)
+                .unwrap_or((0, &lo));
+            return Err(ScheduleError::IndexOutOfRange {
+                field,
+                position,
+                value,
+                n_events: n,
+            });
+        }
+        Ok(idx.iter().map(|&v| v as u32).collect())
     };
     Ok((n, check("src", src)?, check("dst", dst)?))
 }
@@ -681,6 +685,10 @@ impl EventGraph {
 /// One-shot longest path: earliest times computed during Kahn's topological sort,
 /// with one adjacency structure and no stored order (an event's time is final
 /// when its last incoming arc has been relaxed).
+///
+/// Each arc's weight is copied into the adjacency while it is built (reading the
+/// weights in order), so the relaxation streams through (head, weight) pairs
+/// instead of fetching every weight at a random position.
 pub fn longest_path(
     n_events: i64,
     src: &[i64],
@@ -697,24 +705,44 @@ pub fn longest_path(
         });
     }
     check_finite("weights", weights, m, "phase angles must be finite degrees")?;
-    let out = Csr::build(n, |e| s[e] as usize, |e| d[e], m);
+    // Out-degrees (as CSR offsets) and in-degrees in one pass.
+    let mut ptr = vec![0usize; n + 1];
     let mut indeg = vec![0u32; n];
-    for &v in &d {
-        indeg[v as usize] += 1;
+    for (&a, &b) in s.iter().zip(&d) {
+        ptr[a as usize + 1] += 1;
+        indeg[b as usize] += 1;
     }
+    for k in 0..n {
+        ptr[k + 1] += ptr[k];
+    }
+    let mut fill = ptr.clone();
+    let mut head = vec![0u32; m];
+    let mut wt = vec![0.0f64; m];
+    for ((&a, &b), &w) in s.iter().zip(&d).zip(weights) {
+        let slot = &mut fill[a as usize];
+        head[*slot] = b;
+        wt[*slot] = w;
+        *slot += 1;
+    }
+    drop(fill);
     let mut t: Vec<f64> = indeg
         .iter()
         .map(|&k| if k == 0 { 0.0 } else { f64::NEG_INFINITY })
         .collect();
     let mut queue: Vec<u32> = (0..n as u32).filter(|&v| indeg[v as usize] == 0).collect();
-    let mut head = 0;
-    while head < queue.len() {
-        let v = queue[head] as usize;
-        head += 1;
+    queue.reserve(n - queue.len());
+    let mut next = 0;
+    while next < queue.len() {
+        let v = queue[next] as usize;
+        next += 1;
         let tv = t[v];
-        for j in out.range(v) {
-            let u = out.other[j] as usize;
-            t[u] = t[u].max(tv + weights[out.edge[j] as usize]);
+        let r = ptr[v]..ptr[v + 1];
+        for (&u, &w) in head[r.clone()].iter().zip(&wt[r]) {
+            let u = u as usize;
+            let (c, old) = (tv + w, t[u]);
+            // Finite inputs, no NaN: an unconditional select (maxsd), not a branch
+            // on a value that was just fetched from a random address.
+            t[u] = if c > old { c } else { old };
             indeg[u] -= 1;
             if indeg[u] == 0 {
                 queue.push(u as u32);
