@@ -968,11 +968,11 @@ class _LP:
         for con in cg._constraints:
             acc: dict[int, float] = {}
             shift = 0.0
-            for arc, c in con.coeffs:
+            for arc, coeff in con.coeffs:
                 op = cg._ops[cg._arc_index[arc]]
-                acc[idx[op.dst]] = acc.get(idx[op.dst], 0.0) + c
-                acc[idx[op.src]] = acc.get(idx[op.src], 0.0) - c
-                shift += c * cycle * op.height
+                acc[idx[op.dst]] = acc.get(idx[op.dst], 0.0) + coeff
+                acc[idx[op.src]] = acc.get(idx[op.src], 0.0) - coeff
+                shift += coeff * cycle * op.height
             sg = -1.0 if con.sense == ">=" else 1.0  # ">=" is negated into "<="
             rows.append(np.full(len(acc), n_rows))
             cols.append(np.fromiter(acc, np.int64, len(acc)))
