@@ -68,7 +68,9 @@ def test_example_prints_and_writes_summary(
     lim = summary["speed_limit"]
     assert lim["rpm"] == pytest.approx(RPM, rel=1e-9)
     assert lim["network_rpm"] == pytest.approx(NETWORK_RPM, rel=1e-9)
-    assert lim["chain"] == ["1→3", "7→10.1", "10.1→10.2"]
+    # The chain that fills the cycle at the limit, by hand: lift 45° + rebound-held
+    # approach 36° + 20° + insertion 6·n·0.1 s = 360° (3→7 is held by the constraint).
+    assert lim["chain"] == ["1→3", "3→7", "7→10.1", "10.1→10.2"]
 
 
 def test_summary_binding_is_a_list(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -548,9 +548,36 @@ def test_shadow_prices_are_finite_differences(
         assert dual == pytest.approx(fd, abs=1e-4), name
         assert dual == pytest.approx(priced.get(name, 0.0), abs=1e-9), name
     assert set(priced) <= set(opt.binding)
-    # The critical operations are those whose minimum angle has a price.
+    # Critical: the operations whose minimum, or a constraint on them, has a price
+    # (no two chains tie in these networks).
     held = {o.arc for o in spec.ops if f"min[{o.title}]" in priced}
+    held |= {arc for c in spec.cons if c.name in priced for arc, _ in c.coeffs}
     assert set(opt.critical) == held
+
+
+def test_tied_chains_are_all_critical() -> None:
+    # s -> a -> f and s -> b -> f both take 100°; the LP prices one of them only,
+    # but lengthening either delays f and shortens the limiting f -> g.
+    spec = Spec(
+        (
+            Op("s", "a", 50.0),
+            Op("a", "f", 50.0),
+            Op("s", "b", 60.0),
+            Op("b", "f", 40.0),
+            Op("f", "g", 10.0, name="L"),
+        ),
+        limiting="L",
+    )
+    opt = spec.build().optimize()
+    assert opt.objective == pytest.approx(360.0 - 100.0)
+    chains = {("s", "a"), ("a", "f"), ("s", "b"), ("b", "f")}
+    assert set(opt.critical) == chains
+    for arc in chains:  # each really is critical: +1° on it costs the objective 1°
+        longer = replace(
+            spec,
+            ops=tuple(replace(o, lo=o.lo + 1.0) if o.arc == arc else o for o in spec.ops),
+        )
+        assert longer.build().optimize().objective == pytest.approx(opt.objective - 1.0)
 
 
 # ---------------------------------------------------------------------------
@@ -779,7 +806,10 @@ def test_max_speed_lowered_by_bounds_matches_own_linprog(spec: Spec, binding: se
     assert lim.network_rpm == pytest.approx(700.0, rel=1e-12)
     assert lim.rpm < lim.network_rpm
     assert set(lim.binding) == binding
-    assert lim.cycle == (("A", "B"), ("B", "C"))
+    # The chain that fills the cycle at the limit: with the constraint, the dwell it
+    # holds at 60° is part of it (60 + 0.3·n + 150 = 360 at n = 500).
+    held = (("0", "A"),) if "dwell >= 60" in binding else ()
+    assert lim.cycle == (*held, ("A", "B"), ("B", "C"))
 
 
 @settings(max_examples=60, deadline=None)
@@ -1270,3 +1300,35 @@ def test_unreadable_file_is_named(tmp_path: Path, kind: str) -> None:
     with pytest.raises(cm.InputError) as err:
         cm.Cyclogram.from_toml(path)
     assert str(path) in str(err.value)
+
+
+# ---------------------------------------------------------------------------
+# Regressions from the review of issue 2
+# ---------------------------------------------------------------------------
+
+
+def test_typo_in_an_event_id_is_refused_when_events_are_listed(tmp_path: Path) -> None:
+    # A typo ("10.l" for "10.1") would otherwise add an event silently and change
+    # the optimum (265° instead of 259° in the STB example).
+    text = EXAMPLE.read_text(encoding="utf-8").replace('to = "10.1"', 'to = "10.l"', 1)
+    path = tmp_path / "typo.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(cm.InputError) as err:
+        cm.Cyclogram.from_toml(path)
+    msg = str(err.value)
+    assert str(path) in msg and "[[operation]] #" in msg
+    assert "to = '10.l'" in msg and "'10.1'" in msg  # the bad value and the valid ones
+
+
+@pytest.mark.parametrize("speed", [-1.0, math.nan, math.inf, "fast"])
+def test_speed_rpm_is_validated_when_set(speed: Any) -> None:
+    cg = cm.Cyclogram()
+    with pytest.raises(cm.InputError, match="speed_rpm"):
+        cg.speed_rpm = speed
+
+
+def test_a_speed_that_overflows_an_angle_names_the_operation() -> None:
+    cg = cm.Cyclogram()
+    cg.add_operation("a", "b", 10.0, name="insert", min_duration_s=0.1)
+    with pytest.raises(cm.InputError, match=r"'insert'.*speed_rpm = 1e\+308"):
+        cg.schedule(speed_rpm=1e308)

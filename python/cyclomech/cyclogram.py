@@ -30,6 +30,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy import sparse
 from scipy.optimize import linprog
+from scipy.sparse.csgraph import breadth_first_order
 
 from . import _core
 from ._errors import CycleError, InfeasibleError, InputError, SolverError
@@ -49,6 +50,10 @@ Sense = Literal["<=", ">=", "=="]
 
 #: Degrees of main-shaft rotation per second at 1 rpm (360° × 1/60 s⁻¹).
 DEG_PER_SECOND_PER_RPM = 6.0
+
+#: Largest angle magnitude accepted anywhere [deg]: far beyond any machine cycle,
+#: and small enough that sums over millions of operations cannot overflow.
+MAX_ANGLE_DEG = 1e12
 
 
 def _event_id(value: Any, field_name: str) -> str:
@@ -180,7 +185,9 @@ class Optimum:
     is how far each is from binding; ``binding`` names those with zero slack.
     Bounds are named ``min[op]`` and ``max[op]``; the cycle bound ``cycle``.
     ``stretch[arc]`` is how much an operation got beyond its minimum angle;
-    ``critical`` lists the operations held at their minimum by a priced bound.
+    ``critical`` lists the operations on the chains that set the objective: those
+    whose minimum, or a constraint on them, has a non-zero shadow price, and every
+    operation at its minimum on a chain tied with them.
     """
 
     operations: tuple[Operation, ...]
@@ -274,12 +281,27 @@ class Cyclogram:
     ) -> None:
         self.name = str(name)
         self.cycle_deg = _cycle(cycle_deg)
-        self.speed_rpm = None if speed_rpm is None else _finite(speed_rpm, "speed_rpm", lower=0.0)
+        self.speed_rpm = speed_rpm
         self._events: dict[str, int] = {}
         self._ops: list[Operation] = []
         self._arc_index: dict[Arc, int] = {}
         self._constraints: list[Constraint] = []
         self._limiting_spec = limiting
+        # Per-operation columns, appended as operations are added and turned into
+        # arrays once per change, so no method loops over operations in Python.
+        self._columns: dict[str, list[float]] = {
+            k: [] for k in ("src", "dst", "height", "angle", "secs")
+        }
+        self._column_arrays: dict[str, npt.NDArray[Any]] = {}
+
+    @property
+    def speed_rpm(self) -> float | None:
+        """Main-shaft speed [rpm] for time-bound operations, or None."""
+        return self._speed_rpm
+
+    @speed_rpm.setter
+    def speed_rpm(self, value: float | None) -> None:
+        self._speed_rpm = None if value is None else _finite(value, "speed_rpm", lower=0.0)
 
     # ----------------------------------------------------------------- building
     def add_event(self, event: str) -> str:
@@ -340,6 +362,15 @@ class Cyclogram:
         )
         self._arc_index[op.arc] = len(self._ops)
         self._ops.append(op)
+        for key, value in (
+            ("src", self._events[src]),
+            ("dst", self._events[dst]),
+            ("height", float(op.height)),
+            ("angle", lo),
+            ("secs", secs),
+        ):
+            self._columns[key].append(value)
+        self._column_arrays.clear()
 
     def add_constraint(
         self,
@@ -439,18 +470,47 @@ class Cyclogram:
             return self.speed_rpm
         return _finite(speed_rpm, "speed_rpm", lower=0.0)
 
+    def _column(self, key: str) -> npt.NDArray[Any]:
+        if key not in self._column_arrays:
+            dtype = np.int64 if key in ("src", "dst") else np.float64
+            self._column_arrays[key] = np.array(self._columns[key], dtype=dtype)
+        return self._column_arrays[key]
+
     def _arrays(
         self,
     ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
-        src = np.fromiter((self._events[op.src] for op in self._ops), np.int64, len(self._ops))
-        dst = np.fromiter((self._events[op.dst] for op in self._ops), np.int64, len(self._ops))
-        h = np.fromiter((op.height for op in self._ops), np.float64, len(self._ops))
-        return src, dst, h
+        return self._column("src"), self._column("dst"), self._column("height")
 
     def min_angles(self, speed_rpm: float | None = None) -> npt.NDArray[np.float64]:
-        """Minimum angle of each operation [deg] at ``speed_rpm`` (default: the cyclogram's)."""
+        """Minimum angle of each operation [deg] at ``speed_rpm`` (default: the cyclogram's).
+
+        max(min_angle_deg, 6·n·min_duration_s) for each operation, in the order added.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", min_angle_deg=30)
+        >>> cg.add_operation("b", "c", min_angle_deg=10, min_duration_s=0.02)
+        >>> cg.min_angles(speed_rpm=500).tolist()   # 6 · 500 rpm · 0.02 s = 60°
+        [30.0, 60.0]
+        """
         n = self._speed(speed_rpm)
-        return np.array([op.min_angle_at(n) for op in self._ops], dtype=np.float64)
+        angle, secs = self._column("angle"), self._column("secs")
+        timed = secs > 0
+        if not timed.any():
+            return angle.copy()
+        if n is None:
+            self._ops[int(np.argmax(timed))].min_angle_at(None)  # raises, naming the operation
+        assert n is not None
+        out = np.maximum(angle, np.where(timed, DEG_PER_SECOND_PER_RPM * n * secs, -np.inf))
+        bad = ~(np.abs(out) <= MAX_ANGLE_DEG)
+        if bad.any():
+            op = self._ops[int(np.argmax(bad))]
+            raise InputError(
+                f"operation {op.title!r}: at speed_rpm = {n:g} its minimum duration of "
+                f"{op.min_duration_s:g} s is {out[bad][0]:g}°, beyond any machine cycle "
+                f"(at most {MAX_ANGLE_DEG:g}°); give a realistic speed"
+            )
+        return out
 
     def _bound_labels(self) -> list[str]:
         """The label of each operation's bounds in results (``min[label]``, ``max[label]``):
@@ -679,6 +739,11 @@ class Cyclogram:
         priced = lp.priced(res)
         p = res.x[:V]
         chain_ops = {int(lp.op[i]) for i in priced if lp.kind[i] == _MIN}
+        # Operations held at a bound by a priced constraint belong to the chain too.
+        for i in priced:
+            if lp.kind[i] == _USER:
+                con = next(c for c in self._constraints if c.name == lp.names[i])
+                chain_ops.update(self._arc_index[a] for a, _ in con.coeffs)
         chain = sorted((self._ops[e] for e in chain_ops), key=lambda op: p[self._events[op.src]])
         others = tuple(lp.names[i] for i in priced if lp.kind[i] != _MIN)
         return SpeedLimit(best, tuple(op.arc for op in chain), cycle, network, others)
@@ -730,6 +795,7 @@ class Cyclogram:
                 cg.add_event(ev)
         except InputError as e:
             raise InputError(f"{source}: [cyclogram]: {e}") from None
+        declared = set(cg.events) if "events" in head else None
         ops = data.get("operation", [])
         if not isinstance(ops, list):
             raise InputError(f"{source}: 'operation' must be an array of tables ([[operation]])")
@@ -743,6 +809,13 @@ class Cyclogram:
                     )
             try:
                 src, dst = _event_id(op["from"], "from"), _event_id(op["to"], "to")
+                for key, ev in (("from", src), ("to", dst)):
+                    if declared is not None and ev not in declared:
+                        raise InputError(
+                            f"{key} = {ev!r} is not one of the events listed in [cyclogram] "
+                            f"events ({', '.join(repr(e) for e in cg.events)}); a typo, or "
+                            "add it to that list"
+                        )
                 cg.add_operation(
                     src,
                     dst,
@@ -1118,6 +1191,42 @@ class _LP:
         tidy = self.solve(c=c, extra=(pin, float(res.fun)))
         return tidy.x if tidy.status == 0 else res.x
 
+    def _critical_ops(self, res: Any) -> npt.NDArray[np.bool_]:
+        """Operations on the chains that set the objective.
+
+        Every operation whose minimum, or a constraint on it, has a shadow price; and,
+        because a degenerate LP prices only one of several tied chains, every
+        operation at its minimum on a chain of such operations between two events of
+        the priced ones (lengthening it would move a priced event just the same).
+        """
+        E, V = len(self.xi), self.V
+        priced = np.zeros(E, bool)
+        rows = self.priced(res)
+        priced[self.op[rows[self.kind[rows] == _MIN]]] = True
+        # Operations held by a priced constraint (the seed's rebound bound) too.
+        for i in rows[self.kind[rows] == _USER]:
+            con = next(c for c in self.cg._constraints if c.name == self.names[i])
+            priced[[self.cg._arc_index[a] for a, _ in con.coeffs]] = True
+        if not priced.any():
+            return priced
+        # The first E rows are the minimum-angle rows, in operation order.
+        tight = np.abs(res.resid_all[:E]) <= 1e-9 * (1.0 + float(np.abs(res.x).max()))
+        ends = np.unique(np.r_[self.xi[priced], self.yi[priced]])
+        reach = []
+        for a, b in ((self.xi, self.yi), (self.yi, self.xi)):  # forwards, then backwards
+            # Arcs at their minimum, plus a virtual root V joined to every priced event.
+            g = sparse.csr_array(
+                (
+                    np.ones(int(tight.sum()) + len(ends)),
+                    (np.r_[a[tight], np.full(len(ends), V)], np.r_[b[tight], ends]),
+                ),
+                shape=(V + 1, V + 1),
+            )
+            seen = np.zeros(V + 1, bool)
+            seen[breadth_first_order(g, V, directed=True, return_predecessors=False)] = True
+            reach.append(seen)
+        return priced | (tight & reach[0][self.xi] & reach[1][self.yi])
+
     def result(self, res: Any, x: npt.NDArray[np.float64], speed: float | None) -> Optimum:
         """The :class:`Optimum` with duals from ``res`` and event angles from ``x``."""
         cg = self.cg
@@ -1125,7 +1234,7 @@ class _LP:
         arcs = list(cg._arc_index)  # in operation order
         ang = p[self.yi] - p[self.xi] + self.ch
         duals = self.sigma * self.sign * res.dual_all + 0.0  # + 0.0: no -0.0 in reports
-        critical_ops = [i for i in self.priced(res) if self.kind[i] == _MIN]
+        critical = self._critical_ops(res)
         # The objective is the first LP's optimum, not re-derived from the tidied angles.
         goal: Literal["min_duration", "max_limiting"]
         if self.limiting is None:
@@ -1148,7 +1257,7 @@ class _LP:
             slack=dict(zip(self.names, res.resid_all.tolist(), strict=True)),
             binding=tuple(self.names[i] for i in self.tight(res)),
             stretch=dict(zip(arcs, (ang - self.mins).tolist(), strict=True)),
-            critical=tuple(arcs[e] for e in sorted({int(self.op[i]) for i in critical_ops})),
+            critical=tuple(arcs[e] for e in np.flatnonzero(critical)),
             name=cg.name,
         )
 
