@@ -1332,3 +1332,27 @@ def test_a_speed_that_overflows_an_angle_names_the_operation() -> None:
     cg.add_operation("a", "b", 10.0, name="insert", min_duration_s=0.1)
     with pytest.raises(cm.InputError, match=r"'insert'.*speed_rpm = 1e\+308"):
         cg.schedule(speed_rpm=1e308)
+
+
+def test_conflict_in_a_large_cyclogram_is_found_among_thousands_of_rows() -> None:
+    # ~3000 operations; one max bound below a constraint's demand, five harmless
+    # constraints. The explanation must name exactly the two (and come back fast:
+    # an elastic LP narrows the candidates before the deletion filter).
+    rng = np.random.default_rng(0)
+    n = 1000
+    perm = rng.permutation(n)
+    a, b = rng.integers(0, n, 3 * n), rng.integers(0, n, 3 * n)
+    keep = a != b
+    pairs = np.unique(
+        np.stack([perm[np.minimum(a, b)[keep]], perm[np.maximum(a, b)[keep]]], 1), axis=0
+    ).tolist()
+    cg = cm.Cyclogram(cycle_deg=1e9)
+    for i, (x, y) in enumerate(pairs):
+        cg.add_operation(str(x), str(y), 1.0, 50.0 if i == 7 else None, name=f"op{i}")
+    cg.add_constraint({(str(pairs[7][0]), str(pairs[7][1])): 1.0}, ">=", 60.0, name="needs 60")
+    for j in range(5):
+        x, y = pairs[100 + j]
+        cg.add_constraint({(str(x), str(y)): 1.0}, ">=", 2.0, name=f"harmless {j}")
+    with pytest.raises(cm.InfeasibleError) as err:
+        cg.optimize()
+    assert set(err.value.conflict) == {"max[op7]", "needs 60"}

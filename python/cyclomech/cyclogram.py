@@ -1150,13 +1150,49 @@ class _LP:
         return np.flatnonzero(np.abs(np.nan_to_num(res.dual_all)) > 1e-9)
 
     def irreducible_conflict(self) -> list[str]:
-        """Deletion filter: rows that are infeasible together and feasible without any one."""
-        keep = np.ones(self.n_rows, bool)
-        for i in range(self.n_rows):
+        """Rows that are infeasible together and feasible without any one of them.
+
+        First an elastic LP (every named row may be violated by a slack ≥ 0; minimise
+        the total slack): the rows with a non-zero dual there form an infeasible
+        subsystem (a Farkas certificate), usually a handful of rows. The deletion
+        filter then drops each of those in turn and keeps it only if the rest turn
+        feasible: one small LP per candidate instead of one per row.
+        """
+        keep = self._elastic_support()
+        if keep is None or self.solve(keep).status != 2:
+            keep = np.ones(self.n_rows, bool)  # fall back to every row
+        for i in np.flatnonzero(keep):
             keep[i] = False
             if self.solve(keep).status != 2:
                 keep[i] = True  # needed for the conflict
         return [self.names[i] for i in np.flatnonzero(keep)]
+
+    def _elastic_support(self) -> npt.NDArray[np.bool_] | None:
+        """Rows with a non-zero dual in the elastic LP, or None if it fails."""
+        R, nv = self.n_rows, self.n_var
+        # Equalities become two inequalities sharing one slack.
+        A = sparse.vstack([self.A, -self.A[self.eq]]).tocsr()
+        b = np.r_[self.b, -self.b[self.eq]]
+        owner = np.r_[np.arange(R), np.flatnonzero(self.eq)]
+        slack = sparse.csr_array(
+            (-np.ones(len(owner)), (np.arange(len(owner)), owner)), shape=(len(owner), R)
+        )
+        A_ub = sparse.vstack(
+            [sparse.hstack([A, slack]), sparse.hstack([self._span, sparse.csr_array((self.V, R))])]
+        ).tocsr()
+        res = linprog(
+            np.r_[np.zeros(nv), np.ones(R)],
+            A_ub=A_ub,
+            b_ub=np.r_[b, np.zeros(self.V)],
+            bounds=[(0, None)] * (nv + R),
+            method="highs",
+        )
+        if res.status != 0:
+            return None
+        dual = np.zeros(R)
+        np.add.at(dual, owner, np.abs(res.ineqlin.marginals[: len(owner)]))
+        support = dual > 1e-9
+        return support if support.any() else None
 
     def describe(self, name: str) -> str:
         """``name: the bound as text`` (row names are unique)."""
