@@ -117,7 +117,12 @@ class Operation:
         return self.name or f"{self.src}→{self.dst}"
 
     def min_angle_at(self, speed_rpm: float | None) -> float:
-        """Minimum angle [deg] at a speed: max(min_angle_deg, 6·n·min_duration_s)."""
+        """Minimum angle [deg] at a speed [rpm]: max(min_angle_deg, 6·n·min_duration_s).
+
+        >>> from cyclomech import Operation
+        >>> Operation("a", "b", min_angle_deg=120, min_duration_s=0.1).min_angle_at(300)
+        180.0
+        """
         if self.min_duration_s == 0.0:
             return self.min_angle_deg
         if speed_rpm is None:
@@ -138,7 +143,12 @@ class Constraint:
     name: str
 
     def describe(self) -> str:
-        """The constraint as text, e.g. ``-0.003·t(3,7) <= -0.108``."""
+        """The constraint as text (angles in degrees).
+
+        >>> from cyclomech import Constraint
+        >>> Constraint(((("3", "7"), -0.003),), "<=", -0.108, "rebound").describe()
+        '-0.003·t(3,7) <= -0.108'
+        """
         terms = " + ".join(f"{c:g}·t({a[0]},{a[1]})" for a, c in self.coeffs)
         return f"{terms} {self.sense} {self.rhs:g}"
 
@@ -305,7 +315,16 @@ class Cyclogram:
 
     # ----------------------------------------------------------------- building
     def add_event(self, event: str) -> str:
-        """Add an event (idempotent) and return its id."""
+        """Add an event (idempotent) and return its id; events of operations are
+        added by :meth:`add_operation` anyway, this fixes their order for reports.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_event("10.1")
+        '10.1'
+        >>> cg.events
+        ('10.1',)
+        """
         e = _event_id(event, "event")
         self._events.setdefault(e, len(self._events))
         return e
@@ -327,6 +346,13 @@ class Cyclogram:
         ``min_angle_deg`` / ``max_angle_deg`` bound its phase angle [deg];
         ``min_duration_s`` [s] makes it time-bound (6·n·s degrees at n rpm);
         ``height = 1`` for an operation that ends in the next machine cycle.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("1", "3", 45, 90, name="lift", mechanism="lifter")
+        >>> op = cg.operation("lift")
+        >>> op.arc, op.min_angle_deg, op.max_angle_deg, op.mechanism
+        (('1', '3'), 45.0, 90.0, 'lifter')
         """
         src, dst = _event_id(x, "x"), _event_id(y, "y")
         where = f"operation {name or f'{src}→{dst}'!r}"
@@ -382,6 +408,13 @@ class Cyclogram:
         """Add Σ coeffs[(x, y)]·t(x, y) (sense) rhs, with sense ``"<="``, ``">="`` or ``"=="``.
 
         Angles in degrees. The operations named in ``coeffs`` must exist.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("3", "7", 20)
+        >>> cg.add_constraint({("3", "7"): -0.003}, "<=", 0.1 - 0.208, name="rebound")
+        >>> cg.constraints[0].describe()
+        '-0.003·t(3,7) <= -0.108'
         """
         name = str(name) if name is not None else f"constraint {len(self._constraints) + 1}"
         if any(c.name == name for c in self._constraints):
@@ -443,7 +476,14 @@ class Cyclogram:
         )
 
     def operation(self, key: Arc | str) -> Operation:
-        """The operation with this arc or name."""
+        """The operation with this arc ``(x, y)`` or this name.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30, name="feed")
+        >>> cg.operation(("a", "b")) is cg.operation("feed")
+        True
+        """
         return self._ops[self._arc_index[self._resolve_op(key, "operation")]]
 
     def _resolve_op(self, key: Arc | str | list[str], what: str) -> Arc:
@@ -540,6 +580,16 @@ class Cyclogram:
         latest times (default: the schedule's own end, so the critical operations
         are those on the longest chains). Raises :class:`CycleError` when the
         operations within one cycle form a cycle.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("1", "2", 40)
+        >>> cg.add_operation("2", "4", 30)
+        >>> cg.add_operation("1", "3", 20)
+        >>> cg.add_operation("3", "4", 30)
+        >>> s = cg.schedule()
+        >>> s.duration, s.critical, s.slack[("1", "3")]
+        (70.0, (('1', '2'), ('2', '4')), 20.0)
         """
         self._require_ops()
         n = self._speed(speed_rpm)
@@ -612,6 +662,14 @@ class Cyclogram:
         Raises :class:`InfeasibleError` naming the chain of operations whose minimum
         angles exceed the cycle, or the smallest set of bounds and constraints that
         conflict.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("10.1", "10.2"))
+        >>> cg.add_operation("1", "10.1", 100, name="group")
+        >>> cg.add_operation("10.1", "10.2", 150, name="weft insertion")
+        >>> opt = cg.optimize()                  # the insertion gets what the group leaves
+        >>> opt.objective, opt.duals["min[group]"], opt.duals["cycle"]
+        (260.0, -1.0, 1.0)
         """
         self._require_ops()
         cycle = self.cycle_deg if cycle_deg is None else _cycle(cycle_deg)
@@ -759,6 +817,12 @@ class Cyclogram:
         ``name``, ``mechanism``) and ``[[constraint]]`` tables (``name``,
         ``terms = [{from, to, coeff}, …]``, ``sense``, ``rhs``). Every error names
         the file, the table and the key.
+
+        >>> import pathlib, tempfile, cyclomech as cm
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "g.toml"
+        >>> _ = path.write_text('[[operation]]\\nfrom = "a"\\nto = "b"\\nmin_angle_deg = 30.0\\n')
+        >>> cm.Cyclogram.from_toml(path).schedule().duration
+        30.0
         """
         p = Path(path)
         try:
@@ -776,7 +840,14 @@ class Cyclogram:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Cyclogram:
-        """Build a cyclogram from the parsed TOML layout of :meth:`from_toml`."""
+        """Build a cyclogram from the parsed TOML layout of :meth:`from_toml`.
+
+        >>> import cyclomech as cm
+        >>> data = {"cyclogram": {"cycle_deg": 360.0},
+        ...         "operation": [{"from": "a", "to": "b", "min_angle_deg": 30.0}]}
+        >>> cm.Cyclogram.from_dict(data).operations[0].min_angle_deg
+        30.0
+        """
         _keys(data, {"cyclogram", "operation", "constraint"}, source, "top level")
         head = data.get("cyclogram", {})
         _keys(head, _CG_KEYS, source, "[cyclogram]")
@@ -874,6 +945,22 @@ class Cyclogram:
         """The cyclogram as TOML text, written to ``path`` if given.
 
         Reads back with :meth:`from_toml` to an equal cyclogram.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram("press")
+        >>> cg.add_operation("a", "b", 30, name="feed")
+        >>> print(cg.to_toml())
+        [cyclogram]
+        name = "press"
+        cycle_deg = 360.0
+        events = ["a", "b"]
+        <BLANKLINE>
+        [[operation]]
+        from = "a"
+        to = "b"
+        min_angle_deg = 30.0
+        name = "feed"
+        <BLANKLINE>
         """
         q = _toml_value
         lines = ["[cyclogram]", f"name = {q(self.name)}", f"cycle_deg = {q(self.cycle_deg)}"]

@@ -148,12 +148,26 @@ class EventGraph:
     def longest_path(
         self, weights: npt.ArrayLike, *, n_threads: int | None = None
     ) -> npt.NDArray[np.float64]:
-        """Earliest event angles [deg] for (E,) or (B, E) weights -> (V,) or (B, V)."""
+        """Earliest event angles [deg] for (E,) or (B, E) weights -> (V,) or (B, V).
+
+        Rows of a batch run in parallel (``n_threads``, default ``CYCLOMECH_THREADS``
+        or all cores).
+
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [0, 1], [1, 2]).longest_path([[10.0, 20.0], [5.0, -1.0]])
+        array([[ 0., 10., 30.],
+               [ 0.,  5.,  4.]])
+        """
         w = float_array("weights", weights, ndims=(1, 2))
         return self._g.longest_path(w, n_threads=threads_arg(n_threads))
 
     def latest(self, weights: npt.ArrayLike, horizon: float) -> npt.NDArray[np.float64]:
-        """Latest event angles [deg] that keep every event at or before ``horizon``."""
+        """Latest event angles [deg] that keep every event at or before ``horizon`` [deg].
+
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [0, 1], [1, 2]).latest([10.0, 20.0], horizon=40.0)
+        array([10., 20., 40.])
+        """
         return self._g.latest(float_array("weights", weights), _scalar("horizon", horizon))
 
     def analyze(self, weights: npt.ArrayLike, horizon: float | None = None) -> GraphAnalysis:
@@ -161,6 +175,13 @@ class EventGraph:
 
         ``horizon`` [deg] defaults to the largest earliest time, so the critical arcs
         are exactly those on longest paths.
+
+        >>> import cyclomech as cm
+        >>> a = cm.EventGraph(4, [0, 1, 0, 2], [1, 3, 2, 3]).analyze([40.0, 30.0, 20.0, 30.0])
+        >>> a.earliest, a.total_slack
+        (array([ 0., 40., 20., 70.]), array([ 0.,  0., 20., 20.]))
+        >>> a.critical
+        array([ True,  True, False, False])
         """
         h = None if horizon is None else _scalar("horizon", horizon)
         d = self._g.analyze(float_array("weights", weights), h)
