@@ -106,7 +106,7 @@ def test_default_output_folder(
     assert read_summary(tmp_path / "out" / "stb_group1")["schema"] == "cyclomech.cyclogram/1"
 
 
-def test_infeasible_optimum_is_reported_not_fatal(
+def test_infeasible_optimum_is_reported_with_exit_code_1(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     # 1 -> 2 -> 3 takes 100 + 100 = 200° of a 150° cycle.
@@ -117,9 +117,12 @@ def test_infeasible_optimum_is_reported_not_fatal(
         '[[operation]]\nfrom = "2"\nto = "3"\nmin_angle_deg = 100.0\n',
         encoding="utf-8",
     )
-    code, out, _ = run(["cyclogram", str(path), "--out", str(tmp_path), "--no-plot"], capsys)
-    assert code == 0
+    code, out, err = run(["cyclogram", str(path), "--out", str(tmp_path)], capsys)
+    # Reported, the schedule still written, but a script must see it failed.
+    assert code == 1 and "no feasible optimum" in err
     assert "Optimum: none" in out and "200° > 150°" in out
+    # A 200° schedule wrapped onto a 150° axis would mislead: no figure, and why.
+    assert not (tmp_path / "cyclogram.png").exists() and "no figure" in out
     summary = read_summary(tmp_path)
     assert "optimum" not in summary and "speed_limit" not in summary
     assert summary["schedule"]["duration_deg"] == 200.0

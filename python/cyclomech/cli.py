@@ -57,11 +57,10 @@ def _print_schedule(cg: Cyclogram, s: Schedule) -> None:
 def _print_optimum(cg: Cyclogram, o: Optimum, s: Schedule) -> None:
     if o.limiting is not None:
         op = cg.operation(o.limiting)
-        before = s.cycle_deg - (s.duration - s.angles[o.limiting])
         print(
             f"\nOptimum (LP, HiGHS): the limiting operation {op.title!r} gets {o.objective:.2f}° "
-            f"of the {o.cycle_deg:g}° cycle (the group takes {o.cycle_deg - o.objective:.2f}°; "
-            f"at minimum angles with no added constraint it would get {before:.2f}°)"
+            f"of the {o.cycle_deg:g}° cycle, {o.stretch[o.limiting]:.2f}° more than its minimum "
+            f"of {s.angles[o.limiting]:.2f}°"
         )
     else:
         print(f"\nOptimum (LP, HiGHS): shortest duration {o.objective:.2f}°")
@@ -80,7 +79,7 @@ def _print_optimum(cg: Cyclogram, o: Optimum, s: Schedule) -> None:
     priced = [(k, v) for k, v in o.duals.items() if abs(v) > 1e-9]
     if priced:
         print(
-            "  binding bounds and constraints"
+            "  priced bounds and constraints"
             " (shadow price: change of the objective per unit of the bound)"
         )
         for k, v in priced:
@@ -168,7 +167,7 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
         o = cg.optimize()
         _print_optimum(cg, o, s)
     except InfeasibleError as e:
-        print(f"\nOptimum: none, {e}")
+        print(f"\nOptimum: none. {e}")
         o = None
     lim = None
     if any(op.min_duration_s > 0 for op in cg.operations):
@@ -199,11 +198,19 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
 
             from .plot import plot_cyclogram_pair
 
-            fig = plot_cyclogram_pair(o if o is not None else s)
-            fig.savefig(out / "cyclogram.png", dpi=130, bbox_inches="tight")
-            plt.close(fig)
-            written.append(out / "cyclogram.png")
+            if o is None and s.duration > s.cycle_deg:
+                # Wrapping a schedule longer than the cycle onto it draws overlaps
+                # that mean nothing; say so instead.
+                print(f"\n(no figure: the schedule takes {s.duration:g}°, more than the cycle)")
+            else:
+                fig = plot_cyclogram_pair(o if o is not None else s)
+                fig.savefig(out / "cyclogram.png", dpi=130, bbox_inches="tight")
+                plt.close(fig)
+                written.append(out / "cyclogram.png")
     print("\nWrote " + ", ".join(str(p) for p in written))
+    if o is None:
+        print("cyclomech: the cyclogram has no feasible optimum (see above)", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -220,7 +227,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _cyclogram_command(args)
     except CyclomechError as e:
-        print(f"cyclomech: error: {e}", file=sys.stderr)
+        # Errors from the file already name it; name it for the others too.
+        msg = str(e) if args.file in str(e) else f"{args.file}: {e}"
+        print(f"cyclomech: error: {msg}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("cyclomech: interrupted", file=sys.stderr)
