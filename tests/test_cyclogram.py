@@ -1156,7 +1156,7 @@ def test_rich_round_trip(tmp_path: Path) -> None:
     )
     cg.add_event("lonely")
     cg.add_operation("a", "b", -5.5, 1e-3, name="fly", mechanism="mécanisme ✓", min_duration_s=0.25)
-    cg.add_operation("b", "a", 1e300, height=2)
+    cg.add_operation("b", "a", 1e12, height=2)  # the largest angle accepted
     cg.add_operation("b", "c\td", 0.1 + 0.2, 1 / 3, mechanism="")
     cg.add_constraint({("a", "b"): -0.003, ("b", "c\td"): 2.0}, "==", 0.1 - 0.208, name="eq")
     cg.add_constraint({("b", "a"): 1e-12}, ">=", -1.0)
@@ -1329,8 +1329,11 @@ def test_speed_rpm_is_validated_when_set(speed: Any) -> None:
 
 def test_a_speed_that_overflows_an_angle_names_the_operation() -> None:
     cg = cm.Cyclogram()
-    cg.add_operation("a", "b", 10.0, name="insert", min_duration_s=0.1)
-    with pytest.raises(cm.InputError, match=r"'insert'.*speed_rpm = 1e\+308"):
+    cg.add_operation("a", "b", 10.0, name="insert", min_duration_s=100.0)
+    # 6 · 1e10 rpm · 100 s = 6e12° > 1e12°: refused, naming the operation.
+    with pytest.raises(cm.InputError, match=r"'insert'.*speed_rpm = 1e\+10"):
+        cg.schedule(speed_rpm=1e10)
+    with pytest.raises(cm.InputError, match=r"speed_rpm = 1e\+308 is out of range"):
         cg.schedule(speed_rpm=1e308)
 
 

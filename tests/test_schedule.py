@@ -673,7 +673,20 @@ EXTREME_INPUTS: dict[str, tuple[Callable[[], Any], Any]] = {
     "E=0 B=0": (lambda: cm.longest_path(5, [], [], np.zeros((0, 0))), np.zeros((0, 5))),
     "latest V=0": (lambda: cm.EventGraph(0, [], []).latest([], 1.0), np.zeros(0)),
     "latest E=0": (lambda: cm.EventGraph(2, [], []).latest([], 7.0), np.full(2, 7.0)),
-    "huge weights": (lambda: cm.longest_path(2, [0], [1], [1e308]), np.array([0.0, 1e308])),
+    # Finite but huge: 1e308 + 1e308 would be inf; magnitudes above 1e12 are refused.
+    "huge weight": (lambda: cm.longest_path(2, [0], [1], [1e308]), ERROR),
+    "huge weights summing to inf": (
+        lambda: cm.longest_path(3, [0, 1], [1, 2], [1e308, 1e308]),
+        ERROR,
+    ),
+    "largest accepted weights": (
+        lambda: cm.longest_path(3, [0, 1], [1, 2], [1e12, 1e12]),
+        np.array([0.0, 1e12, 2e12]),
+    ),
+    "denormal height": (
+        lambda: cm.max_cycle_ratio(2, [0, 1], [1, 0], [1.0, 1.0], [0, 1e-320]),
+        ERROR,
+    ),
 }
 
 

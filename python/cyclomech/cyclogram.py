@@ -65,7 +65,9 @@ def _event_id(value: Any, field_name: str) -> str:
     return text
 
 
-def _finite(value: Any, field_name: str, *, lower: float | None = None) -> float:
+def _finite(
+    value: Any, field_name: str, *, lower: float | None = None, limit: float = 1e12
+) -> float:
     if isinstance(value, bool):
         raise InputError(f"{field_name} must be a real number; got {value!r}")
     try:
@@ -76,6 +78,10 @@ def _finite(value: Any, field_name: str, *, lower: float | None = None) -> float
         raise InputError(f"{field_name} must be finite; got {value!r}")
     if lower is not None and x < lower:
         raise InputError(f"{field_name} must be >= {lower:g}; got {value!r}")
+    if abs(x) > limit:
+        raise InputError(
+            f"{field_name} = {value!r} is out of range: at most {limit:g} in magnitude"
+        )
     return x
 
 
@@ -370,6 +376,8 @@ class Cyclogram:
         if hi is not None and hi < lo:
             raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
         secs = _finite(min_duration_s, f"{where}: min_duration_s", lower=0.0)
+        if 0.0 < secs < 1e-12:
+            raise InputError(f"{where}: min_duration_s = {secs!r} s: 0, or at least 1e-12 s")
         if isinstance(height, bool) or not isinstance(height, int | np.integer) or height < 0:
             raise InputError(
                 f"{where}: height must be a non-negative integer (cycles crossed); got {height!r}"

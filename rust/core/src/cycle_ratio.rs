@@ -25,6 +25,10 @@ use crate::schedule::{check_finite, topological_order, validate_arcs, ScheduleEr
 /// Degrees of main-shaft rotation per second at 1 rpm (360° · 1/60 s⁻¹).
 pub const DEG_PER_SECOND_PER_RPM: f64 = 6.0;
 
+/// Smallest non-zero height or duration: both end up as denominators (of the
+/// cycle ratio, of the Newton step in speed), where a denormal would give inf.
+pub const MIN_DIVISOR: f64 = 1e-12;
+
 /// A cycle of the graph and its ratio Σw / Σh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CycleRatio {
@@ -300,14 +304,18 @@ fn check_heights(n: usize, src: &[u32], dst: &[u32], heights: &[f64]) -> Result<
         "heights",
         heights,
         0,
-        "heights count the machine cycles an arc crosses",
+        "heights (machine cycles an arc crosses)",
     )?;
-    if let Some((i, &h)) = heights.iter().enumerate().find(|(_, &h)| h < 0.0) {
+    if let Some((i, &h)) = heights
+        .iter()
+        .enumerate()
+        .find(|(_, &h)| h < 0.0 || (h > 0.0 && h < MIN_DIVISOR))
+    {
         return Err(ScheduleError::OutOfDomain {
             field: "heights",
             position: i,
             value: h,
-            what: "heights must be >= 0 (the number of machine cycles the arc crosses)",
+            what: "heights count the machine cycles an arc crosses: 0, or at least 1e-12",
         });
     }
     let (zs, zd): (Vec<u32>, Vec<u32>) = (0..src.len())
@@ -344,12 +352,7 @@ pub fn max_cycle_ratio(
     heights: &[f64],
 ) -> Result<Option<CycleRatio>, ScheduleError> {
     let (n, s, d) = validate_arcs(n_events, src, dst)?;
-    check_weights(
-        "weights",
-        s.len(),
-        weights,
-        "phase angles must be finite degrees",
-    )?;
+    check_weights("weights", s.len(), weights, "phase angles [deg]")?;
     check_heights(n, &s, &d, heights)?;
     Graph::new(n, &s, &d, heights).howard(weights)
 }
@@ -369,27 +372,21 @@ pub fn max_speed(
 ) -> Result<SpeedLimit, ScheduleError> {
     let (n, s, d) = validate_arcs(n_events, src, dst)?;
     let m = s.len();
-    check_weights(
-        "angle_deg",
-        m,
-        angle_deg,
-        "minimum angles must be finite degrees",
-    )?;
-    check_weights(
-        "seconds",
-        m,
-        seconds,
-        "minimum durations must be finite seconds",
-    )?;
-    if let Some((i, &v)) = seconds.iter().enumerate().find(|(_, &v)| v < 0.0) {
+    check_weights("angle_deg", m, angle_deg, "minimum angles [deg]")?;
+    check_weights("seconds", m, seconds, "minimum durations [s]")?;
+    if let Some((i, &v)) = seconds
+        .iter()
+        .enumerate()
+        .find(|(_, &v)| v < 0.0 || (v > 0.0 && v < MIN_DIVISOR))
+    {
         return Err(ScheduleError::OutOfDomain {
             field: "seconds",
             position: i,
             value: v,
-            what: "minimum durations must be >= 0 seconds",
+            what: "minimum durations must be 0 or at least 1e-12 seconds",
         });
     }
-    if !(cycle_deg.is_finite() && cycle_deg > 0.0) {
+    if !(cycle_deg > 0.0 && cycle_deg <= crate::schedule::MAX_ABS_VALUE) {
         return Err(ScheduleError::BadScalar {
             field: "cycle_deg",
             value: cycle_deg,
@@ -609,6 +606,26 @@ mod tests {
             max_speed(3, &s, &d, &a, &t, &h, 250.0).unwrap(),
             SpeedLimit::Infeasible { .. }
         ));
+    }
+
+    #[test]
+    fn values_that_would_overflow_are_errors() {
+        // Finite but huge: sums would overflow to inf and ratios to NaN.
+        let big = 1e308;
+        assert!(max_cycle_ratio(2, &[0, 1], &[1, 0], &[big, big], &[0.0, 1.0]).is_err());
+        assert!(max_cycle_ratio(2, &[0, 1], &[1, 0], &[1.0, 1.0], &[0.0, 1e-320]).is_err());
+        assert!(max_speed(
+            3,
+            &[0, 1],
+            &[1, 2],
+            &[-big, big],
+            &[1.0, 0.0],
+            &[0.0, 0.0],
+            360.0
+        )
+        .is_err());
+        assert!(max_speed(2, &[0], &[1], &[1.0], &[1e-300], &[0.0], 360.0).is_err());
+        assert!(max_speed(2, &[0], &[1], &[1.0], &[0.0], &[0.0], 1e300).is_err());
     }
 
     #[test]

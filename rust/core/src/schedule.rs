@@ -41,7 +41,10 @@ pub enum ScheduleError {
         expected: usize,
         got: usize,
     },
-    #[error("{field}{location} = {value} is not a finite number; {what}")]
+    #[error(
+        "{field}{location} = {} is out of range: {what} must be finite, with magnitude at most 1e12",
+        compact(*value)
+    )]
     NonFinite {
         field: &'static str,
         location: String,
@@ -172,37 +175,50 @@ pub(crate) fn validate_arcs(
     Ok((n, check("src", src)?, check("dst", dst)?))
 }
 
-/// True if no value is NaN or ±inf. Branch-free over blocks of 8 so that it
-/// vectorises: `x * 0` is 0 for finite x and NaN otherwise, and NaN propagates
-/// through the sums.
+/// A number as a person would write it: 1.5, -20, 1e+308, NaN.
+fn compact(v: f64) -> String {
+    if v.is_finite() && v != 0.0 && !(1e-4..1e9).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// Largest magnitude accepted for any weight, angle, duration or height: far
+/// beyond any machine (1e12 degrees), and small enough that sums over billions of
+/// arcs stay finite — a finite 1e308 would otherwise overflow to inf or NaN.
+pub const MAX_ABS_VALUE: f64 = 1e12;
+
+/// True if every value is finite with magnitude at most [`MAX_ABS_VALUE`].
+/// Branch-free over blocks of 8 so that it vectorises (NaN fails the compare).
 #[inline]
-pub(crate) fn all_finite(values: &[f64]) -> bool {
-    let mut acc = [0.0f64; 8];
+pub(crate) fn all_within(values: &[f64]) -> bool {
+    let mut ok = [true; 8];
     let chunks = values.chunks_exact(8);
     let tail = chunks.remainder();
     for c in chunks {
         for i in 0..8 {
-            acc[i] += c[i] * 0.0;
+            ok[i] &= c[i].abs() <= MAX_ABS_VALUE;
         }
     }
-    let t: f64 = tail.iter().map(|x| x * 0.0).sum();
-    (acc.iter().sum::<f64>() + t) == 0.0
+    ok.iter().all(|&b| b) && tail.iter().all(|x| x.abs() <= MAX_ABS_VALUE)
 }
 
-/// Check that every value is finite; name the first one that is not.
+/// Check that every value is finite and within [`MAX_ABS_VALUE`]; name the first
+/// one that is not.
 pub(crate) fn check_finite(
     field: &'static str,
     values: &[f64],
     row_len: usize,
     what: &'static str,
 ) -> Result<(), ScheduleError> {
-    if all_finite(values) {
+    if all_within(values) {
         return Ok(());
     }
     let (i, &value) = values
         .iter()
         .enumerate()
-        .find(|(_, v)| !v.is_finite())
+        .find(|(_, v)| v.is_nan() || v.abs() > MAX_ABS_VALUE)
         .unwrap_or((0, &f64::NAN));
     let location = if row_len > 0 && values.len() > row_len {
         format!("[{}, {}]", i / row_len, i % row_len)
@@ -457,7 +473,7 @@ impl EventGraph {
                 },
             });
         }
-        check_finite("weights", weights, m, "phase angles must be finite degrees")
+        check_finite("weights", weights, m, "phase angles [deg]")
     }
 
     /// Earliest times, by event, into `t` (V,).
@@ -553,16 +569,16 @@ impl EventGraph {
             .collect();
         // Gather: the rows are read in order, each arc's 8 lanes written once at
         // its position in the forward pass; the finite check rides along.
-        let mut nan = [0.0f64; LANES];
+        let mut ok = [true; LANES];
         for (e, &j) in self.slot.iter().enumerate() {
             let dst = &mut wblk[j as usize];
             for l in 0..lanes {
                 let x = rows[l][e];
                 dst[l] = x;
-                nan[l] += x * 0.0;
+                ok[l] &= x.abs() <= MAX_ABS_VALUE;
             }
         }
-        if nan.iter().sum::<f64>() != 0.0 {
+        if !ok.iter().all(|&b| b) {
             return false;
         }
         self.forward_block(wblk, t);
@@ -603,8 +619,7 @@ impl EventGraph {
         check_memory(0, 0, rows.saturating_mul(n).saturating_mul(8))?;
         let mut out = vec![0.0; rows * n];
         if n == 0 || rows == 0 {
-            return check_finite("weights", weights, m, "phase angles must be finite degrees")
-                .map(|_| out);
+            return check_finite("weights", weights, m, "phase angles [deg]").map(|_| out);
         }
         let buffers = || (vec![[0.0f64; LANES]; m], vec![[0.0f64; LANES]; n]);
         let all_ok = if threads == 1 || rows * m < PARALLEL_MIN_WORK {
@@ -624,7 +639,7 @@ impl EventGraph {
             })
         };
         if !all_ok {
-            check_finite("weights", weights, m, "phase angles must be finite degrees")?;
+            check_finite("weights", weights, m, "phase angles [deg]")?;
         }
         Ok(out)
     }
@@ -704,7 +719,7 @@ pub fn longest_path(
             got: weights.len(),
         });
     }
-    check_finite("weights", weights, m, "phase angles must be finite degrees")?;
+    check_finite("weights", weights, m, "phase angles [deg]")?;
     // Out-degrees (as CSR offsets) and in-degrees in one pass.
     let mut ptr = vec![0usize; n + 1];
     let mut indeg = vec![0u32; n];
@@ -905,6 +920,12 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert!(g.latest(&[1.0, 2.0], f64::INFINITY).is_err());
+        // Finite but huge weights would overflow the sums: refused like NaN.
+        assert!(g.earliest(&[1e308, 1e308]).is_err());
+        assert!(longest_path(3, &[0, 1], &[1, 2], &[1e308, 1e308]).is_err());
+        assert!(g
+            .earliest_batch(&[1.0, 2.0, 1e308, 1.0], 2, 2, Some(1))
+            .is_err());
         assert!(g.earliest_batch(&[1.0, 2.0, 3.0], 2, 2, None).is_err());
         assert!(g.earliest_batch(&[], 0, 5, None).is_err());
         assert!(matches!(
