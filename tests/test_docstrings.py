@@ -5,7 +5,7 @@ import importlib
 
 import pytest
 
-MODULES = ["cyclomech.schedule", "cyclomech.cyclogram", "cyclomech.plot"]
+MODULES = ["cyclomech.schedule", "cyclomech.cyclogram", "cyclomech.linkage", "cyclomech.plot"]
 
 
 @pytest.mark.parametrize("name", MODULES)

@@ -16,6 +16,7 @@ from ._errors import (
     SolverError,
 )
 from .cyclogram import Constraint, Cyclogram, Operation, Optimum, Schedule, SpeedLimit
+from .linkage import Linkage, LinkageSolution
 from .schedule import EventGraph, GraphAnalysis, longest_path, max_cycle_ratio
 
 __all__ = [
@@ -28,6 +29,8 @@ __all__ = [
     "InfeasibleError",
     "InputError",
     "InternalError",
+    "Linkage",
+    "LinkageSolution",
     "Operation",
     "Optimum",
     "Schedule",

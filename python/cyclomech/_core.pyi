@@ -9,7 +9,14 @@ from typing import Any, Literal, final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["EventGraph", "__version__", "longest_path", "max_cycle_ratio", "max_speed"]
+__all__ = [
+    "EventGraph",
+    "LinkageProgram",
+    "__version__",
+    "longest_path",
+    "max_cycle_ratio",
+    "max_speed",
+]
 
 __version__: str
 
@@ -63,3 +70,32 @@ class EventGraph:
         self, weights: npt.NDArray[np.float64], horizon: float | None = None
     ) -> dict[str, Any]: ...
     def __reduce__(self) -> tuple[Any, ...]: ...
+
+@final
+class LinkageProgram:
+    """A linkage compiled into solving steps.
+
+    kind[s]: 0 driver (idx = pivot, tip, -; dims = radius, -, -), 1 two circles
+    (idx = a, b, p; dims = ra, rb, sign).
+    """
+
+    def __new__(
+        cls,
+        n_points: int,
+        fixed_idx: npt.NDArray[np.int64],
+        fixed_xy: npt.NDArray[np.float64],
+        kind: npt.NDArray[np.int64],
+        idx: npt.NDArray[np.int64],
+        dims: npt.NDArray[np.float64],
+    ) -> LinkageProgram: ...
+    @property
+    def n_points(self) -> int: ...
+    def solve(
+        self, angles: npt.NDArray[np.float64], *, n_threads: int | None = None
+    ) -> tuple[
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+    ]: ...

@@ -5,6 +5,7 @@
 //! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
 //! itself a `ValueError`.
 
+use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::parallel::ThreadsError;
 use cyclomech_core::schedule::ScheduleError;
 use pyo3::prelude::*;
@@ -45,6 +46,15 @@ impl IntoPyErr for ScheduleError {
             ScheduleError::NotConverged { .. } => raise(py, "SolverError", message, None),
             ScheduleError::Threads(e) => e.into_pyerr(py),
             _ => raise(py, "InputError", message, None),
+        }
+    }
+}
+
+impl IntoPyErr for LinkageError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            LinkageError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
         }
     }
 }

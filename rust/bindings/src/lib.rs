@@ -7,10 +7,13 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod linkage;
 mod schedule;
 
 #[pymodule]
 mod _core {
+    #[pymodule_export]
+    use super::linkage::LinkageProgram;
     #[pymodule_export]
     use super::schedule::{longest_path, max_cycle_ratio, max_speed, EventGraph};
 

@@ -10,9 +10,12 @@
 //!   times, slack, critical arcs, batches of weight vectors.
 //! * [`cycle_ratio`] — maximum cycle ratio (Howard's policy iteration) and the
 //!   highest main-shaft speed at which a cyclic schedule fits in its cycle.
+//! * [`linkage`] — planar linkages over crank-angle grids by Assur groups:
+//!   positions, velocity and acceleration analogs, assembly and dead-centre flags.
 //! * [`parallel`] — the rayon thread pools behind `n_threads=` and
 //!   `CYCLOMECH_THREADS`.
 
 pub mod cycle_ratio;
+pub mod linkage;
 pub mod parallel;
 pub mod schedule;

@@ -1,0 +1,348 @@
+"""Linkages (class II): positions and analogs against independent references.
+
+* The four-bar's rocker angle against the textbook closed form of the Freudenstein
+  equation (half-angle substitution; Norton, *Design of Machinery*, eq. 4.10),
+  for both assembly modes, and the Freudenstein residual itself.
+* Velocity and acceleration analogs against central finite differences of the
+  positions.
+* The angles where a non-Grashof linkage cannot be assembled, from the triangle
+  inequality on |BD|, computed here.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import pickle
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+from numpy.testing import assert_allclose, assert_array_equal
+
+TAU = 2 * math.pi
+
+
+def four_bar(r: float, l2: float, l3: float, d: float, up: bool = True) -> cm.Linkage:
+    """Crank A–B (r), coupler B–C (l2), rocker C–D (l3), ground A = (0, 0), D = (d, 0),
+    drawn at φ = 90° with C above (``up``) or below the line B–D."""
+    b = (0.0, r)
+    bd = math.hypot(d, r)
+    x = (l2**2 - l3**2 + bd**2) / (2 * bd)
+    h = math.sqrt(l2**2 - x**2)
+    ex, ey = d / bd, -r / bd
+    s = 1.0 if up else -1.0
+    c = (b[0] + x * ex - s * h * ey, b[1] + x * ey + s * h * ex)
+    return cm.Linkage(
+        {"A": (0.0, 0.0), "B": b, "C": c, "D": (d, 0.0)},
+        [("A", "B"), ("B", "C"), ("C", "D")],
+        ["A", "D"],
+        ("A", "B"),
+    )
+
+
+def freudenstein_theta4(phi, r, l2, l3, d, mode):
+    """Rocker angle θ4 (of D→C) by the half-angle closed form; mode ±1."""
+    k1, k2 = d / r, d / l3
+    k3 = (r**2 - l2**2 + l3**2 + d**2) / (2 * r * l3)
+    a = np.cos(phi) - k1 - k2 * np.cos(phi) + k3
+    b = -2 * np.sin(phi)
+    c = k1 - (k2 + 1) * np.cos(phi) + k3
+    return 2 * np.arctan2(-b + mode * np.sqrt(b * b - 4 * a * c), 2 * a)
+
+
+CRANK_ROCKER = (1.0, 3.5, 3.0, 4.0)  # r, l2, l3, d: Grashof, crank shortest
+
+
+@pytest.mark.parametrize("up", [True, False])
+def test_crank_rocker_matches_the_freudenstein_closed_form(up: bool) -> None:
+    r, l2, l3, d = CRANK_ROCKER
+    lk = four_bar(r, l2, l3, d, up)
+    phi = np.linspace(0, TAU, 3601)
+    sol = lk.solve(phi)
+    assert sol.ok.all() and not sol.singular.any()
+    c = sol["C"]
+    theta4 = np.arctan2(c[:, 1], c[:, 0] - d)
+    # One of the two closed-form roots, the same one all the way round: the
+    # drawn assembly mode is kept.
+    roots = [freudenstein_theta4(phi, r, l2, l3, d, m) for m in (1, -1)]
+    errs = [np.abs(np.angle(np.exp(1j * (theta4 - t)))).max() for t in roots]
+    assert min(errs) < 1e-10
+    # The Freudenstein equation itself holds.
+    k1, k2 = d / r, d / l3
+    k3 = (r**2 - l2**2 + l3**2 + d**2) / (2 * r * l3)
+    residual = k1 * np.cos(theta4) - k2 * np.cos(phi) + k3 - np.cos(phi - theta4)
+    assert np.abs(residual).max() < 1e-12
+    # Link lengths hold.
+    assert_allclose(np.linalg.norm(c - sol["B"], axis=1), l2, rtol=1e-13)
+    assert_allclose(np.linalg.norm(c - sol["D"], axis=1), l3, rtol=1e-13)
+
+
+def test_the_two_assembly_modes_are_the_two_roots() -> None:
+    r, l2, l3, d = CRANK_ROCKER
+    phi = np.linspace(0, TAU, 721)
+    got = []
+    for up in (True, False):
+        c = four_bar(r, l2, l3, d, up).solve(phi)["C"]
+        got.append(np.arctan2(c[:, 1], c[:, 0] - d))
+    roots = [freudenstein_theta4(phi, r, l2, l3, d, m) for m in (1, -1)]
+    wrap = lambda a, b: np.abs(np.angle(np.exp(1j * (a - b)))).max()  # noqa: E731
+    assert (
+        min(
+            wrap(got[0], roots[0]) + wrap(got[1], roots[1]),
+            wrap(got[0], roots[1]) + wrap(got[1], roots[0]),
+        )
+        < 1e-9
+    )
+    assert wrap(got[0], got[1]) > 0.1  # different branches
+
+
+def test_analogs_match_finite_differences() -> None:
+    r, l2, l3, d = CRANK_ROCKER
+    lk = four_bar(r, l2, l3, d)
+    phi = np.linspace(0.01, TAU, 200)
+    h = 1e-5
+    mid, lo, hi = lk.solve(phi), lk.solve(phi - h), lk.solve(phi + h)
+    assert_allclose(mid.vel, (hi.xy - lo.xy) / (2 * h), atol=1e-8)
+    assert_allclose(mid.acc, (hi.xy - 2 * mid.xy + lo.xy) / h**2, atol=2e-4)
+    # Link angle analogs too.
+    t, dt, ddt = mid.link_angle("C", "D")
+    t_lo, _, _ = lo.link_angle("C", "D")
+    t_hi, _, _ = hi.link_angle("C", "D")
+    assert_allclose(dt, np.angle(np.exp(1j * (t_hi - t_lo))) / (2 * h), atol=1e-8)
+    fd2 = (np.angle(np.exp(1j * (t_hi - t))) - np.angle(np.exp(1j * (t - t_lo)))) / h**2
+    assert_allclose(ddt, fd2, atol=2e-4)
+
+
+def test_non_grashof_flags_exactly_the_unassemblable_angles() -> None:
+    r, l2, l3, d = 2.0, 2.0, 2.5, 3.0  # the crank cannot turn fully
+    lk = four_bar(r, l2, l3, d)
+    phi = np.linspace(0, TAU, 7201)
+    sol = lk.solve(phi)
+    bd = np.sqrt(r * r + d * d - 2 * r * d * np.cos(phi))
+    feasible = (bd <= l2 + l3) & (bd >= abs(l2 - l3))
+    margin = np.minimum(np.abs(bd - (l2 + l3)), np.abs(bd - abs(l2 - l3)))
+    clear = margin > 1e-9  # leave the tangent angles themselves out
+    assert (~feasible).any() and feasible.any()
+    assert_array_equal(sol.ok[clear], feasible[clear])
+    assert np.isnan(sol.xy[~sol.ok][:, 1:]).all()  # every point but the fixed A
+    assert not np.isnan(sol.xy[sol.ok]).any()
+
+
+def test_dead_centre_is_flagged_not_taken() -> None:
+    # Change-point linkage r + l2 = l3 + d: at φ = 0 the coupler folds onto the rocker.
+    lk = four_bar(1.0, 3.0, 2.0, 2.0)
+    sol = lk.solve([0.0, 0.5])
+    assert sol.ok.tolist() == [True, True]
+    assert sol.singular.tolist() == [True, False]
+    assert np.isnan(sol.vel[0, lk.names.index("C")]).all()
+    assert np.isfinite(sol.vel[1]).all()
+
+
+def test_coupler_point_of_a_ternary_link() -> None:
+    pts = {"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0), "E": (2.0, 3.5)}
+    lk = cm.Linkage(pts, [("A", "B"), ("B", "C", "E"), ("C", "D")], ["A", "D"], ("A", "B"))
+    assert lk.structure == [("driver", ("B",)), ("II", ("C",)), ("point", ("E",))]
+    sol = lk.solve(np.linspace(0, TAU, 361))
+    for a, b in (("B", "E"), ("C", "E"), ("B", "C")):
+        want = math.dist(pts[a], pts[b])
+        assert_allclose(np.linalg.norm(sol[a] - sol[b], axis=1), want, rtol=1e-12)
+    # E stays on the side of B→C where it was drawn (a rigid body does not flip).
+    bc, be = sol["C"] - sol["B"], sol["E"] - sol["B"]
+    assert (bc[:, 0] * be[:, 1] - bc[:, 1] * be[:, 0] > 0).all()
+    # The drawn pose is reproduced at the drawn crank angle.
+    at = lk.solve([lk.drawn_angle])
+    assert_allclose(at.xy[0], [pts[n] for n in lk.names], atol=1e-12)
+
+
+def test_six_bar_with_two_dyads_in_series() -> None:
+    # Watt II: a four-bar A-B-C-D drives a second dyad C-E-F from the rocker's
+    # extension (ternary rocker C-D-G) to ground F.
+    pts = {
+        "A": (0, 0),
+        "B": (1, 0),
+        "C": (3.5, 2.5),
+        "D": (4, 0),
+        "G": (5.5, 1.0),
+        "E": (7.0, 3.0),
+        "F": (8.0, 0.0),
+    }
+    links = [("A", "B"), ("B", "C"), ("C", "D", "G"), ("G", "E"), ("E", "F")]
+    lk = cm.Linkage(pts, links, ["A", "D", "F"], ("A", "B"))
+    assert [s[0] for s in lk.structure] == ["driver", "II", "point", "II"]
+    sol = lk.solve(np.linspace(0, TAU, 721))
+    assert sol.ok.all()
+    for ln in links:
+        for a, b in itertools.pairwise(ln):
+            want = math.dist(pts[a], pts[b])
+            assert_allclose(np.linalg.norm(sol[a] - sol[b], axis=1), want, rtol=1e-12)
+
+
+@given(
+    r=st.floats(0.3, 1.0),
+    l2=st.floats(2.0, 4.0),
+    l3=st.floats(2.0, 4.0),
+    d=st.floats(2.0, 4.0),
+    up=st.booleans(),
+)
+def test_random_grashof_crank_rockers(r: float, l2: float, l3: float, d: float, up: bool) -> None:
+    short, p, q, long_ = sorted([r, l2, l3, d])
+    # A crank-rocker (the crank is the shortest link), clear of the change point.
+    assume(r == short and short + long_ < p + q - 1e-2)
+    lk = four_bar(r, l2, l3, d, up)
+    phi = np.linspace(0, TAU, 181)
+    h = 1e-5
+    mid, lo, hi = lk.solve(phi), lk.solve(phi - h), lk.solve(phi + h)
+    assert mid.ok.all()
+    size = r + l2 + l3 + d
+    for a, b, length in (("B", "C", l2), ("C", "D", l3)):
+        closure = np.abs(np.linalg.norm(mid[a] - mid[b], axis=1) - length).max()
+        assert closure <= 1e-12 * size
+    # No branch jump: between neighbouring angles C moves no more than its
+    # velocity analog allows.
+    c = lk.names.index("C")
+    step = np.linalg.norm(np.diff(mid.xy[:, c], axis=0), axis=1)
+    speed = np.linalg.norm(mid.vel[:, c], axis=1)
+    assert (step <= 1.5 * speed.max() * (phi[1] - phi[0]) + 1e-12).all()
+    assert_allclose(mid.vel, (hi.xy - lo.xy) / (2 * h), atol=1e-6 * size)
+
+
+def test_threads_give_identical_results() -> None:
+    lk = four_bar(*CRANK_ROCKER)
+    phi = np.linspace(0, 50 * TAU, 20_000)  # above the parallel threshold
+    one, two = lk.solve(phi, n_threads=1), lk.solve(phi, n_threads=2)
+    assert_array_equal(one.xy, two.xy)
+    assert_array_equal(one.acc, two.acc)
+
+
+def test_linkage_and_solution_pickle() -> None:
+    lk = four_bar(*CRANK_ROCKER)
+    back = pickle.loads(pickle.dumps(lk))
+    assert back.structure == lk.structure
+    sol = lk.solve([0.1, 0.2])
+    assert_array_equal(pickle.loads(pickle.dumps(sol)).xy, sol.xy)
+    assert_array_equal(back.solve([0.1, 0.2]).xy, sol.xy)
+
+
+FOUR = {"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)}
+LINKS = [("A", "B"), ("B", "C"), ("C", "D")]
+BAD = {
+    "under-constrained five-bar": (
+        dict(
+            points={**FOUR, "E": (5, 2)},
+            links=[("A", "B"), ("B", "C"), ("C", "E"), ("E", "D")],
+            ground=["A", "D"],
+            driver=("A", "B"),
+        ),
+        ["under-constrained", "M = 3·4 links − 2·5 joints = 2"],
+    ),
+    "over-constrained truss": (
+        dict(points=FOUR, links=[*LINKS, ("B", "D")], ground=["A", "D"], driver=("A", "B")),
+        ["over-constrained", "M = 3·4 links − 2·6 joints = 0"],
+    ),
+    "class III group": (
+        # Crank A-B, then a ternary link C-E-G held by B-C and by E-F, G-H to
+        # ground: mobility 3·5 − 2·7 = 1, but no joint has two placed neighbours.
+        dict(
+            points={
+                "A": (0, 0),
+                "B": (0, 1),
+                "C": (2, 2),
+                "E": (3, 1.5),
+                "G": (2.5, 3),
+                "F": (4, 0),
+                "H": (2, 5),
+            },
+            links=[("A", "B"), ("B", "C"), ("C", "E", "G"), ("E", "F"), ("G", "H")],
+            ground=["A", "F", "H"],
+            driver=("A", "B"),
+        ),
+        ["cannot be placed by class II", "class III"],
+    ),
+    "pivot not ground": (
+        dict(points=FOUR, links=LINKS, ground=["D"], driver=("A", "B")),
+        ["pivot 'A' must be a ground joint"],
+    ),
+    "driver not a link": (
+        dict(points=FOUR, links=LINKS, ground=["A", "D"], driver=("A", "C")),
+        ["no link joins 'A' and 'C'"],
+    ),
+    "unknown point in a link": (
+        dict(points=FOUR, links=[*LINKS[:2], ("C", "Z")], ground=["A", "D"], driver=("A", "B")),
+        ["no point 'Z'"],
+    ),
+    "NaN coordinate": (
+        dict(
+            points={**FOUR, "C": (float("nan"), 2.5)},
+            links=LINKS,
+            ground=["A", "D"],
+            driver=("A", "B"),
+        ),
+        ["points['C']", "finite"],
+    ),
+    "collinear drawn pose": (
+        dict(points={**FOUR, "C": (2.5, 0.0)}, links=LINKS, ground=["A", "D"], driver=("A", "B")),
+        ["'C' is drawn on the line through", "assembly mode"],
+    ),
+    "joint listed twice": (
+        dict(points=FOUR, links=[*LINKS, ("B", "B")], ground=["A", "D"], driver=("A", "B")),
+        ["lists a joint twice"],
+    ),
+    "one-joint link": (
+        dict(points=FOUR, links=[*LINKS, ("B",)], ground=["A", "D"], driver=("A", "B")),
+        ["at least two joints"],
+    ),
+    "sliders": (
+        dict(
+            points=FOUR,
+            links=LINKS,
+            ground=["A", "D"],
+            driver=("A", "B"),
+            sliders={"C": ("ground", (1, 0))},
+        ),
+        ["prismatic joints are not solved"],
+    ),
+    "length of a non-link pair": (
+        dict(
+            points=FOUR,
+            links=LINKS,
+            ground=["A", "D"],
+            driver=("A", "B"),
+            lengths={("A", "C"): 2.0},
+        ),
+        ["not joints of one link"],
+    ),
+    "negative length": (
+        dict(
+            points=FOUR,
+            links=LINKS,
+            ground=["A", "D"],
+            driver=("A", "B"),
+            lengths={("B", "C"): -2.0},
+        ),
+        ["positive length"],
+    ),
+}
+
+
+@pytest.mark.parametrize(("kwargs", "words"), BAD.values(), ids=BAD.keys())
+def test_bad_linkages_are_refused_clearly(kwargs: dict, words: list[str]) -> None:
+    with pytest.raises(cm.InputError) as err:
+        cm.Linkage(**kwargs)
+    assert isinstance(err.value, ValueError)
+    for w in words:
+        assert w in str(err.value), (w, str(err.value))
+
+
+@pytest.mark.parametrize("angles", [[float("nan")], [[0.0, 1.0]], ["a"]])
+def test_bad_angles_are_refused(angles: object) -> None:
+    with pytest.raises(cm.InputError, match="angles"):
+        four_bar(*CRANK_ROCKER).solve(angles)
+
+
+def test_lengths_override_the_drawn_distance() -> None:
+    lk = cm.Linkage(FOUR, LINKS, ["A", "D"], ("A", "B"), lengths={("B", "C"): 3.0})
+    sol = lk.solve(np.linspace(0, TAU, 91))
+    assert_allclose(np.linalg.norm(sol["C"] - sol["B"], axis=1), 3.0, rtol=1e-13)
