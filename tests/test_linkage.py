@@ -242,25 +242,6 @@ BAD = {
         dict(points=FOUR, links=[*LINKS, ("B", "D")], ground=["A", "D"], driver=("A", "B")),
         ["over-constrained", "M = 3·4 links − 2·6 joints = 0"],
     ),
-    "class III group": (
-        # Crank A-B, then a ternary link C-E-G held by B-C and by E-F, G-H to
-        # ground: mobility 3·5 − 2·7 = 1, but no joint has two placed neighbours.
-        dict(
-            points={
-                "A": (0, 0),
-                "B": (0, 1),
-                "C": (2, 2),
-                "E": (3, 1.5),
-                "G": (2.5, 3),
-                "F": (4, 0),
-                "H": (2, 5),
-            },
-            links=[("A", "B"), ("B", "C"), ("C", "E", "G"), ("E", "F"), ("G", "H")],
-            ground=["A", "F", "H"],
-            driver=("A", "B"),
-        ),
-        ["cannot be placed by class II", "class III"],
-    ),
     "pivot not ground": (
         dict(points=FOUR, links=LINKS, ground=["D"], driver=("A", "B")),
         ["pivot 'A' must be a ground joint"],
@@ -346,3 +327,100 @@ def test_lengths_override_the_drawn_distance() -> None:
     lk = cm.Linkage(FOUR, LINKS, ["A", "D"], ("A", "B"), lengths={("B", "C"): 3.0})
     sol = lk.solve(np.linspace(0, TAU, 91))
     assert_allclose(np.linalg.norm(sol["C"] - sol["B"], axis=1), 3.0, rtol=1e-13)
+
+
+# ---------------------------------------------------------------------------
+# Class III: a ternary link C-E-G held by B-C (B on the crank), E-F and G-H
+# ---------------------------------------------------------------------------
+
+TRIAD_POINTS = {
+    "A": (0.0, 0.0),
+    "B": (0.0, 0.2),
+    "C": (1.5, 1.2),
+    "E": (2.5, 0.8),
+    "G": (2.0, 2.2),
+    "F": (3.2, -0.6),
+    "H": (3.1, 3.4),
+}
+TRIAD_LINKS = [("A", "B"), ("B", "C"), ("C", "E", "G"), ("E", "F"), ("G", "H")]
+TRIAD_PAIRS = [("B", "C"), ("E", "F"), ("G", "H"), ("C", "E"), ("E", "G"), ("G", "C")]
+
+
+def triad_linkage() -> cm.Linkage:
+    return cm.Linkage(TRIAD_POINTS, TRIAD_LINKS, ["A", "F", "H"], ("A", "B"))
+
+
+def scipy_continuation(angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Independent reference: scipy's least squares on the six closure equations,
+    continued angle by angle from the drawn pose. Returns C, E, G (N, 3, 2) and
+    the final cost at each angle (0 where the mechanism closes)."""
+    from scipy.optimize import least_squares
+
+    p = {k: np.array(v) for k, v in TRIAD_POINTS.items()}
+    length = {ab: math.dist(TRIAD_POINTS[ab[0]], TRIAD_POINTS[ab[1]]) for ab in TRIAD_PAIRS}
+    r = math.dist(TRIAD_POINTS["A"], TRIAD_POINTS["B"])
+
+    def residual(x: np.ndarray, phi: float) -> list[float]:
+        at = {"C": x[:2], "E": x[2:4], "G": x[4:], "F": p["F"], "H": p["H"]}
+        at["B"] = r * np.array([math.cos(phi), math.sin(phi)])
+        return [np.linalg.norm(at[a] - at[b]) - length[a, b] for a, b in TRIAD_PAIRS]
+
+    x = np.r_[p["C"], p["E"], p["G"]]
+    out, cost = [], []
+    for phi in angles:
+        fit = least_squares(residual, x, args=(phi,), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        x = fit.x
+        out.append(x.reshape(3, 2))
+        cost.append(fit.cost)
+    return np.array(out), np.array(cost)
+
+
+def test_class_iii_group_is_found() -> None:
+    assert triad_linkage().structure == [("driver", ("B",)), ("III", ("C", "E", "G"))]
+
+
+@pytest.mark.parametrize("end_deg", [110.0, 0.0])
+def test_class_iii_matches_an_independent_root_finder(end_deg: float) -> None:
+    lk = triad_linkage()
+    # Walk from the drawn crank angle (90°) up to 110° or down to 0°.
+    phi = np.radians(np.linspace(90.0, end_deg, 81))
+    sol = lk.solve(phi)
+    want, cost = scipy_continuation(phi)
+    assert sol.ok.all() and (cost < 1e-24).all()
+    got = np.stack([sol["C"], sol["E"], sol["G"]], axis=1)
+    assert_allclose(got, want, atol=1e-9)
+    for a, b in TRIAD_PAIRS:
+        length = math.dist(TRIAD_POINTS[a], TRIAD_POINTS[b])
+        assert np.abs(np.linalg.norm(sol[a] - sol[b], axis=1) - length).max() <= 1e-12
+
+
+def test_class_iii_limit_position_agrees_with_the_root_finder() -> None:
+    # Past about 111.1° the group cannot close (scipy's least cost turns positive):
+    # cyclomech flags those angles, continuing from the drawn pose.
+    phi = np.radians([110.5, 111.0, 111.5, 112.0, 150.0])
+    sol = triad_linkage().solve(phi)
+    _, cost = scipy_continuation(
+        np.radians(np.r_[np.linspace(90.0, 110.5, 42), [111.0, 111.5, 112.0]])
+    )
+    assert cost[-3] < 1e-24 and cost[-2] > 1e-12 and cost[-1] > 1e-12
+    assert sol.ok.tolist() == [True, True, False, False, False]
+
+
+def test_class_iii_analogs_match_finite_differences() -> None:
+    lk = triad_linkage()
+    phi = np.radians(np.linspace(20.0, 100.0, 41))
+    h = 1e-5
+    mid, lo, hi = lk.solve(phi), lk.solve(phi - h), lk.solve(phi + h)
+    assert mid.ok.all() and lo.ok.all() and hi.ok.all()
+    assert_allclose(mid.vel, (hi.xy - lo.xy) / (2 * h), atol=1e-7)
+    assert_allclose(mid.acc, (hi.xy - 2 * mid.xy + lo.xy) / h**2, atol=1e-3)
+
+
+def test_class_iii_follows_the_drawn_pose_whatever_the_grid_order() -> None:
+    lk = triad_linkage()
+    at = lk.solve([lk.drawn_angle])
+    assert_allclose(at.xy[0], [TRIAD_POINTS[n] for n in lk.names], atol=1e-12)
+    phi = np.radians([100.0, 10.0, 55.0, 90.0, 30.0])  # unsorted, straddling 90°
+    sol = lk.solve(phi)
+    one_by_one = np.concatenate([lk.solve([p]).xy for p in phi])
+    assert_allclose(sol.xy, one_by_one, atol=1e-12)

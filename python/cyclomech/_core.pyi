@@ -75,8 +75,9 @@ class EventGraph:
 class LinkageProgram:
     """A linkage compiled into solving steps.
 
-    kind[s]: 0 driver (idx = pivot, tip, -; dims = radius, -, -), 1 two circles
-    (idx = a, b, p; dims = ra, rb, sign).
+    kind[s]: 0 driver (idx = pivot, tip; dims = radius), 1 two circles (idx = a, b, p;
+    dims = ra, rb, sign), 2 class III group (idx = 3 anchors, 3 joints; dims = 3 arms,
+    3 sides, orientation). idx rows have 6 entries, dims rows 7.
     """
 
     def __new__(
@@ -87,6 +88,8 @@ class LinkageProgram:
         kind: npt.NDArray[np.int64],
         idx: npt.NDArray[np.int64],
         dims: npt.NDArray[np.float64],
+        drawn_phi: float,
+        drawn_xy: npt.NDArray[np.float64],
     ) -> LinkageProgram: ...
     @property
     def n_points(self) -> int: ...

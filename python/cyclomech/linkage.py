@@ -8,7 +8,9 @@ solves every crank angle with positions, velocity analogs d xy/dφ [m/rad] and
 acceleration analogs d²xy/dφ² [m/rad²], exactly (no finite differences).
 
 This version solves class II groups (RRR dyads) and further joints of rigid
-bodies (coupler points) in closed form. Sliders and class III groups come next.
+bodies (coupler points) in closed form, and class III groups (a ternary link held
+by three binary links, the knife drives of seed 001) by Newton continuation from
+the drawn pose with the seed's bracketing as fallback. Sliders come next.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ from ._errors import InputError
 
 __all__ = ["Linkage", "LinkageSolution"]
 
-_DRIVER, _CIRCLES = 0, 1
+_DRIVER, _CIRCLES, _TRIAD = 0, 1, 2
 
 
 @dataclass(frozen=True)
@@ -156,7 +158,7 @@ class Linkage:
 
         ``("driver", (tip,))`` for the crank, ``("II", (p,))`` for a dyad placing
         joint p, ``("point", (p,))`` for a further joint of a rigid body already
-        placed (a coupler point).
+        placed (a coupler point), ``("III", (j0, j1, j2))`` for a class III group.
         """
         return list(self._structure)
 
@@ -235,15 +237,14 @@ class Linkage:
                         near[a].setdefault(b, k)
         known = set(self._ground) | {tip}
         structure: list[tuple[str, tuple[str, ...]]] = [("driver", (tip,))]
-        kind, rows, dims = (
-            [_DRIVER],
-            [(idx[pivot], idx[tip], 0)],
-            [(self.length(pivot, tip), 0.0, 0.0)],
-        )
+        # Rows of the compiled program: 6 indices and 7 dimensions each (see _core).
+        kind = [_DRIVER]
+        rows: list[tuple[int, ...]] = [(idx[pivot], idx[tip], 0, 0, 0, 0)]
+        dims: list[tuple[float, ...]] = [(self.length(pivot, tip), 0, 0, 0, 0, 0, 0)]
         scale = max(self.length(a, b) for ln in self._links for a in ln for b in ln if a != b)
         pending = [n for n in self._names if n not in known]
         while pending:
-            placed = None
+            placed: list[str] = []
             for p in pending:
                 anchors = [q for q in near[p] if q in known]
                 if len(anchors) < 2:
@@ -263,29 +264,71 @@ class Linkage:
                 label = "II" if near[p][a] != near[p][b] else "point"
                 structure.append((label, (p,)))
                 kind.append(_CIRCLES)
-                rows.append((idx[a], idx[b], idx[p]))
-                dims.append((self.length(a, p), self.length(b, p), math.copysign(1.0, area)))
-                placed = p
+                rows.append((idx[a], idx[b], idx[p], 0, 0, 0))
+                sign = math.copysign(1.0, area)
+                dims.append((self.length(a, p), self.length(b, p), sign, 0, 0, 0, 0))
+                placed = [p]
                 break
-            if placed is None:
-                raise InputError(
-                    f"joints {', '.join(map(repr, pending))} cannot be placed by class II "
-                    "groups: none of them is joined by links to two joints already placed. "
-                    "This is a class III (or higher) group, which this version does not solve yet"
-                )
-            known.add(placed)
-            pending.remove(placed)
+            if not placed:
+                ends, joints = self._triad(known, pending)
+                j0, j1, j2 = joints
+                structure.append(("III", (j0, j1, j2)))
+                kind.append(_TRIAD)
+                rows.append(tuple(idx[q] for q in (*ends, *joints)))
+                arms = [self.length(a, j) for a, j in zip(ends, joints, strict=True)]
+                sides = [self.length(j0, j1), self.length(j1, j2), self.length(j2, j0)]
+                turn = math.copysign(1.0, _cross(self._points, j0, j1, j2))
+                dims.append((*arms, *sides, turn))
+                placed = list(joints)
+            for q in placed:
+                known.add(q)
+                pending.remove(q)
         fixed = sorted(self._ground)
+        pv, tp = self._points[pivot], self._points[tip]
+        drawn = math.atan2(tp[1] - pv[1], tp[0] - pv[0])
         program = _core.LinkageProgram(
             len(self._names),
             np.array([idx[g] for g in fixed], dtype=np.int64),
             np.array([self._points[g] for g in fixed], dtype=np.float64).reshape(-1, 2),
             np.array(kind, dtype=np.int64),
-            np.array(rows, dtype=np.int64).reshape(-1, 3),
-            np.array(dims, dtype=np.float64).reshape(-1, 3),
+            np.array(rows, dtype=np.int64).reshape(-1, 6),
+            np.array(dims, dtype=np.float64).reshape(-1, 7),
+            drawn,
+            np.array([self._points[n] for n in self._names], dtype=np.float64),
         )
-        pv, tp = self._points[pivot], self._points[tip]
-        return structure, program, math.atan2(tp[1] - pv[1], tp[0] - pv[0])
+        return structure, program, drawn
+
+    def _triad(self, known: set[str], pending: list[str]) -> tuple[list[str], list[str]]:
+        """A class III group among the pending joints: a link with exactly three
+        pending joints, each joined by another link to exactly one placed joint."""
+        for k, ln in enumerate(self._links):
+            joints = [q for q in ln if q in pending]
+            if len(joints) != 3:
+                continue
+            ends = []
+            for j in joints:
+                outside = {
+                    q
+                    for m, other in enumerate(self._links)
+                    if m != k and j in other
+                    for q in other
+                    if q in known
+                }
+                if len(outside) != 1:
+                    break
+                ends.append(outside.pop())
+            else:
+                if abs(_cross(self._points, *joints)) <= 1e-12:
+                    raise InputError(
+                        f"the ternary link {ln!r} is drawn with {', '.join(joints)} on one "
+                        "line; a class III group needs a triangle"
+                    )
+                return ends, joints
+        raise InputError(
+            f"joints {', '.join(map(repr, pending))} cannot be placed by class II or class "
+            "III groups: none of them is joined by links to two joints already placed, and no "
+            "link with three of them is held by one link each to placed joints"
+        )
 
 
 def _cross(points: Mapping[str, tuple[float, float]], a: str, b: str, p: str) -> float:

@@ -1,6 +1,7 @@
 //! Bindings of the linkage domain: a compiled program, solved over angle grids.
 
 use cyclomech_core::linkage::{self, LinkageError, Step};
+use cyclomech_core::triad::Triad;
 use numpy::ndarray::{Array1, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -13,8 +14,10 @@ fn bad(py: Python<'_>, why: String) -> PyErr {
 
 /// A linkage compiled into solving steps (see `cyclomech.Linkage`).
 ///
-/// `kind[s]` is 0 for the driver (idx = pivot, tip, -; dims = radius, -, -) and 1
-/// for two circles (idx = a, b, p; dims = ra, rb, sign).
+/// `kind[s]` is 0 for the driver (idx = pivot, tip; dims = radius), 1 for two
+/// circles (idx = a, b, p; dims = ra, rb, sign) and 2 for a class III group
+/// (idx = 3 anchors, 3 joints; dims = 3 arms, 3 sides, orientation). Rows of `idx`
+/// have 6 entries and rows of `dims` 7; unused entries are ignored.
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct LinkageProgram {
     program: linkage::Program,
@@ -23,6 +26,7 @@ pub struct LinkageProgram {
 #[pymethods]
 impl LinkageProgram {
     #[new]
+    #[allow(clippy::too_many_arguments)] // the flat arrays of the compiled program
     fn new(
         py: Python<'_>,
         n_points: usize,
@@ -31,10 +35,16 @@ impl LinkageProgram {
         kind: PyReadonlyArray1<'_, i64>,
         idx: PyReadonlyArray2<'_, i64>,
         dims: PyReadonlyArray2<'_, f64>,
+        drawn_phi: f64,
+        drawn_xy: PyReadonlyArray2<'_, f64>,
     ) -> PyResult<Self> {
         let (fi, fx) = (fixed_idx.as_array(), fixed_xy.as_array());
         let (kd, ix, dm) = (kind.as_array(), idx.as_array(), dims.as_array());
-        if fx.shape() != [fi.len(), 2] || ix.shape() != [kd.len(), 3] || dm.shape() != [kd.len(), 3]
+        let dx = drawn_xy.as_array();
+        if fx.shape() != [fi.len(), 2]
+            || ix.shape() != [kd.len(), 6]
+            || dm.shape() != [kd.len(), 7]
+            || dx.shape() != [n_points, 2]
         {
             return Err(bad(py, "array shapes do not match".into()));
         }
@@ -64,13 +74,24 @@ impl LinkageProgram {
                     rb: dm[[s, 1]],
                     sign: dm[[s, 2]],
                 },
+                2 => Step::Triad {
+                    anchors: [index(ix[[s, 0]])?, index(ix[[s, 1]])?, index(ix[[s, 2]])?],
+                    joints: [index(ix[[s, 3]])?, index(ix[[s, 4]])?, index(ix[[s, 5]])?],
+                    triad: Triad {
+                        arms: [dm[[s, 0]], dm[[s, 1]], dm[[s, 2]]],
+                        sides: [dm[[s, 3]], dm[[s, 4]], dm[[s, 5]]],
+                        orientation: dm[[s, 6]],
+                    },
+                },
                 other => return Err(bad(py, format!("unknown step kind {other}"))),
             });
         }
+        let drawn = (0..n_points).map(|k| [dx[[k, 0]], dx[[k, 1]]]).collect();
         let program = linkage::Program {
             n_points,
             fixed,
             steps,
+            drawn: Some((drawn_phi, drawn)),
         };
         run(py, "LinkageProgram", || program.validate())?;
         Ok(LinkageProgram { program })

@@ -19,3 +19,4 @@ pub mod cycle_ratio;
 pub mod linkage;
 pub mod parallel;
 pub mod schedule;
+pub mod triad;

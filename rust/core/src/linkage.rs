@@ -21,6 +21,8 @@
 
 use rayon::prelude::*;
 
+use crate::triad::Triad;
+
 /// Errors of the linkage domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LinkageError {
@@ -40,6 +42,12 @@ pub enum LinkageError {
 /// One step of a compiled linkage.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step {
+    /// A class III group: the ternary link `joints` held by binary links to `anchors`.
+    Triad {
+        anchors: [usize; 3],
+        joints: [usize; 3],
+        triad: Triad,
+    },
     /// The crank: `tip = pivot + radius·(cos φ, sin φ)` for the absolute crank angle φ.
     Driver {
         pivot: usize,
@@ -64,6 +72,9 @@ pub struct Program {
     pub n_points: usize,
     pub fixed: Vec<(usize, [f64; 2])>,
     pub steps: Vec<Step>,
+    /// The drawn pose (crank angle, every point): where a sweep through class III
+    /// groups starts, so that it follows the drawn assembly.
+    pub drawn: Option<(f64, Vec<[f64; 2]>)>,
 }
 
 /// Positions and analogs over an angle grid, row-major: `xy[(i * P + k) * 2 + c]`.
@@ -85,6 +96,14 @@ const SINGULAR_REL: f64 = 1e-9;
 const PARALLEL_MIN_ANGLES: usize = 2048;
 
 type V2 = [f64; 2];
+
+/// The pose just solved: positions, velocity and acceleration analogs, and the
+/// step Δφ to the angle being solved.
+type Prev<'a> = (&'a [V2], &'a [V2], &'a [V2], f64);
+
+/// Largest crank-angle step along a path through class III groups [rad]: larger
+/// gaps in the grid are walked in substeps so that Newton stays in its basin.
+const MAX_PATH_STEP: f64 = std::f64::consts::PI / 180.0;
 
 /// One angle's slot in the outputs: (((((φ, xy), vel), acc), ok), singular).
 type AngleRow<'a> = (
@@ -121,9 +140,20 @@ impl Program {
             placed[k] = true;
         }
         for (s, step) in self.steps.iter().enumerate() {
-            let (reads, writes, dims): (Vec<usize>, usize, Vec<f64>) = match *step {
-                Step::Driver { pivot, tip, radius } => (vec![pivot], tip, vec![radius]),
-                Step::Circles {
+            let (reads, writes, dims): (Vec<usize>, Vec<usize>, Vec<f64>) = match step {
+                Step::Triad {
+                    anchors,
+                    joints,
+                    triad,
+                } => {
+                    if self.drawn.is_none() {
+                        return bad(s, "a class III group needs the drawn pose".into());
+                    }
+                    let dims = triad.arms.iter().chain(&triad.sides).copied().collect();
+                    (anchors.to_vec(), joints.to_vec(), dims)
+                }
+                &Step::Driver { pivot, tip, radius } => (vec![pivot], vec![tip], vec![radius]),
+                &Step::Circles {
                     a,
                     b,
                     p,
@@ -134,17 +164,17 @@ impl Program {
                     if sign != 1.0 && sign != -1.0 {
                         return bad(s, format!("sign must be +1 or -1, got {sign}"));
                     }
-                    (vec![a, b], p, vec![ra, rb])
+                    (vec![a, b], vec![p], vec![ra, rb])
                 }
             };
-            if writes >= n || reads.iter().any(|&r| r >= n) {
+            if writes.iter().chain(&reads).any(|&r| r >= n) {
                 return bad(s, "a point index is out of range".into());
             }
             if let Some(&r) = reads.iter().find(|&&r| !placed[r]) {
                 return bad(s, format!("it reads point {r} before any step places it"));
             }
-            if placed[writes] {
-                return bad(s, format!("point {writes} is placed twice"));
+            if let Some(&w) = writes.iter().find(|&&w| placed[w]) {
+                return bad(s, format!("point {w} is placed twice"));
             }
             if dims.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
                 return bad(
@@ -152,7 +182,18 @@ impl Program {
                     format!("lengths must be finite and positive, got {dims:?}"),
                 );
             }
-            placed[writes] = true;
+            for &w in &writes {
+                placed[w] = true;
+            }
+        }
+        if let Some((phi, pose)) = &self.drawn {
+            let finite = phi.is_finite() && pose.iter().flatten().all(|v| v.is_finite());
+            if pose.len() != n || !finite {
+                return bad(
+                    0,
+                    "the drawn pose must give finite coordinates for every point".into(),
+                );
+            }
         }
         if let Some(k) = placed.iter().position(|&p| !p) {
             return bad(self.steps.len(), format!("point {k} is never placed"));
@@ -161,7 +202,16 @@ impl Program {
     }
 
     /// Solve one angle into `xy`, `vel`, `acc` (each P×2); returns (ok, singular).
-    fn solve_one(&self, phi: f64, xy: &mut [V2], vel: &mut [V2], acc: &mut [V2]) -> (bool, bool) {
+    /// `prev` = (positions, velocity and acceleration analogs, Δφ) of the pose just
+    /// solved, from which class III groups predict their next position.
+    fn solve_one(
+        &self,
+        phi: f64,
+        xy: &mut [V2],
+        vel: &mut [V2],
+        acc: &mut [V2],
+        prev: Option<Prev<'_>>,
+    ) -> (bool, bool) {
         for &(k, p) in &self.fixed {
             xy[k] = p;
             vel[k] = [0.0, 0.0];
@@ -169,7 +219,50 @@ impl Program {
         }
         let mut singular = false;
         for step in &self.steps {
+            if let Step::Triad {
+                anchors,
+                joints,
+                triad,
+            } = step
+            {
+                let Some((px, pv, pa, dphi)) = prev else {
+                    return (false, singular);
+                };
+                let k = anchors.map(|i| xy[i]);
+                // Second-order predictor; a NaN analog (a singular pose) is dropped.
+                let predicted = joints.map(|j| {
+                    let step = |c: usize| {
+                        let d = pv[j][c] * dphi + 0.5 * pa[j][c] * dphi * dphi;
+                        px[j][c] + if d.is_finite() { d } else { 0.0 }
+                    };
+                    [step(0), step(1)]
+                });
+                let Some(found) = triad.solve(&k, predicted, 0.25 * triad.size()) else {
+                    return (false, singular);
+                };
+                for (i, &j) in joints.iter().enumerate() {
+                    xy[j] = found[i];
+                }
+                let (kv, ka) = (anchors.map(|i| vel[i]), anchors.map(|i| acc[i]));
+                match triad.analogs(&k, &kv, &ka, &found) {
+                    Some((v, a)) => {
+                        for (i, &j) in joints.iter().enumerate() {
+                            vel[j] = v[i];
+                            acc[j] = a[i];
+                        }
+                    }
+                    None => {
+                        singular = true;
+                        for &j in joints {
+                            vel[j] = [f64::NAN; 2];
+                            acc[j] = [f64::NAN; 2];
+                        }
+                    }
+                }
+                continue;
+            }
             match *step {
+                Step::Triad { .. } => {}
                 Step::Driver { pivot, tip, radius } => {
                     let (s, c) = phi.sin_cos();
                     let o = xy[pivot];
@@ -230,6 +323,93 @@ impl Program {
         (true, singular)
     }
 
+    /// Class III groups have no closed form: the grid is walked from the drawn pose
+    /// outwards, both ways (upwards through the angles above the drawn one, then
+    /// downwards through those below), each pose predicted from the one before and
+    /// gaps wider than [`MAX_PATH_STEP`] walked in substeps. An angle that cannot be
+    /// reached continuously is `ok = false`; the walk goes on from the last pose.
+    fn solve_path(
+        &self,
+        angles: &[f64],
+        xy: &mut [V2],
+        vel: &mut [V2],
+        acc: &mut [V2],
+        ok: &mut [bool],
+        singular: &mut [bool],
+    ) -> Result<(), LinkageError> {
+        let p = self.n_points;
+        let Some((drawn_phi, drawn)) = &self.drawn else {
+            return Err(LinkageError::BadProgram {
+                step: 0,
+                why: "a class III group needs the drawn pose".into(),
+            });
+        };
+        let mut order: Vec<usize> = (0..angles.len()).collect();
+        order.sort_by(|&a, &b| angles[a].total_cmp(&angles[b]));
+        let split = order.partition_point(|&i| angles[i] < *drawn_phi);
+        let (below, above) = order.split_at(split);
+        let zeros = vec![[0.0; 2]; p];
+        let mut scratch = (zeros.clone(), zeros.clone(), zeros.clone());
+        for walk in [above.to_vec(), below.iter().rev().copied().collect()] {
+            // The drawn pose, closed and with its analogs, starts every walk.
+            let mut state = (zeros.clone(), zeros.clone(), zeros.clone());
+            let (good, _) = self.solve_one(
+                *drawn_phi,
+                &mut state.0,
+                &mut state.1,
+                &mut state.2,
+                Some((drawn, &zeros, &zeros, 0.0)),
+            );
+            if !good {
+                return Err(LinkageError::BadProgram {
+                    step: 0,
+                    why: "the drawn pose does not close: check the points and lengths".into(),
+                });
+            }
+            let mut at = *drawn_phi;
+            // Once a substep from the current pose fails, every angle beyond it in
+            // this walk would retry the same step from the same pose: it is not
+            // reachable continuously, and is marked so without solving again.
+            let mut blocked: Option<f64> = None;
+            for i in walk {
+                let target = angles[i];
+                let beyond = |b: f64| (target - b) * (b - at) >= 0.0;
+                let (mut good, mut sing) = (blocked.is_none_or(|b| !beyond(b)), false);
+                while good && at != target {
+                    let next = if (target - at).abs() <= MAX_PATH_STEP {
+                        target
+                    } else {
+                        at + MAX_PATH_STEP.copysign(target - at)
+                    };
+                    let prev = Some((&state.0[..], &state.1[..], &state.2[..], next - at));
+                    let (g, s) =
+                        self.solve_one(next, &mut scratch.0, &mut scratch.1, &mut scratch.2, prev);
+                    good = g;
+                    if g {
+                        std::mem::swap(&mut state, &mut scratch);
+                        at = next;
+                        sing = s;
+                    } else {
+                        blocked = Some(next);
+                    }
+                }
+                ok[i] = good;
+                singular[i] = good && sing;
+                let row = i * p..(i + 1) * p;
+                if good {
+                    xy[row.clone()].copy_from_slice(&state.0);
+                    vel[row.clone()].copy_from_slice(&state.1);
+                    acc[row].copy_from_slice(&state.2);
+                } else {
+                    xy[row.clone()].fill([f64::NAN; 2]);
+                    vel[row.clone()].fill([f64::NAN; 2]);
+                    acc[row].fill([f64::NAN; 2]);
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Solve every angle of the grid (radians, absolute crank angle).
     pub fn solve(&self, angles: &[f64], n_threads: Option<i64>) -> Result<Solution, LinkageError> {
         self.validate()?;
@@ -253,7 +433,7 @@ impl Program {
         let mut ok = vec![false; n];
         let mut singular = vec![false; n];
         let one = |(((((phi, xy), vel), acc), ok), sing): AngleRow<'_>| {
-            let (good, s) = self.solve_one(*phi, xy, vel, acc);
+            let (good, s) = self.solve_one(*phi, xy, vel, acc, None);
             *ok = good;
             *sing = s && good;
             if !good {
@@ -263,7 +443,9 @@ impl Program {
             }
         };
         let chunk = p.max(1);
-        if threads == 1 || n < PARALLEL_MIN_ANGLES {
+        if self.steps.iter().any(|s| matches!(s, Step::Triad { .. })) {
+            self.solve_path(angles, xy, vel, acc, &mut ok, &mut singular)?;
+        } else if threads == 1 || n < PARALLEL_MIN_ANGLES {
             angles
                 .iter()
                 .zip(xy.chunks_mut(chunk))
@@ -319,6 +501,7 @@ mod tests {
                     sign,
                 },
             ],
+            drawn: None,
         }
     }
 

@@ -1,0 +1,353 @@
+//! Class III Assur group (triad): a ternary link J0-J1-J2 held by three binary
+//! links K_i–J_i to known joints K_i (seed 001: the knife drives of BR-125 and of
+//! the Burg trimmer).
+//!
+//! Six closure equations in the six coordinates of J0, J1, J2:
+//!
+//! ```text
+//! F_i   = (|J_i − K_i|² − arm_i²) / 2        i = 0, 1, 2   (binary links)
+//! F_3+k = (|J_a − J_b|² − side_k²) / 2        (a, b) = (0,1), (1,2), (2,0)
+//! ```
+//!
+//! No closed form exists. Along a crank-angle grid the solver takes Newton steps
+//! on F with the analytic Jacobian, started from a second-order predictor (the
+//! previous pose plus its velocity and acceleration analogs). When Newton fails,
+//! or lands on another assembly (the ternary link mirrored, or far from the
+//! predictor), it falls back to the seed's method: open the group at J1, leaving a
+//! four-bar K0-J0-J2-K2; move the angle ψ of K0→J0 over its full turn; bracket the
+//! sign changes of `f(ψ) = |J1(ψ) − K1| − arm1` and bisect (Bolzano); take the root
+//! nearest the predictor and polish it with Newton.
+//!
+//! The analogs solve `J·v = r`, `J·a = r2` with the same Jacobian (nalgebra LU):
+//! `r_i = (J_i − K_i)·K_i'`, `r2_i = (J_i − K_i)·K_i'' − |J_i' − K_i'|²`, and for a
+//! side `r2 = −|J_a' − J_b'|²`.
+
+use nalgebra::{SMatrix, SVector};
+
+type V2 = [f64; 2];
+type M6 = SMatrix<f64, 6, 6>;
+type V6 = SVector<f64, 6>;
+
+const SIDES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+
+/// The triad's dimensions and the orientation of its ternary link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Triad {
+    /// |K_i J_i| of the three binary links.
+    pub arms: [f64; 3],
+    /// |J0 J1|, |J1 J2|, |J2 J0| of the ternary link.
+    pub sides: [f64; 3],
+    /// Sign of (J1 − J0) × (J2 − J0): a rigid body keeps its orientation.
+    pub orientation: f64,
+}
+
+#[inline]
+fn sub(a: V2, b: V2) -> V2 {
+    [a[0] - b[0], a[1] - b[1]]
+}
+#[inline]
+fn dot(a: V2, b: V2) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+#[inline]
+fn cross(a: V2, b: V2) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// Intersection of circle(c1, r1) and circle(c2, r2) on side `sign` of c1→c2.
+fn circles(c1: V2, r1: f64, c2: V2, r2: f64, sign: f64) -> Option<V2> {
+    let d = sub(c2, c1);
+    let dd = dot(d, d);
+    let l = dd.sqrt();
+    if l == 0.0 {
+        return None;
+    }
+    let x = (r1 * r1 - r2 * r2 + dd) / (2.0 * l);
+    let h2 = r1 * r1 - x * x;
+    if h2 < 0.0 {
+        return None;
+    }
+    let h = h2.sqrt();
+    let (ex, ey) = (d[0] / l, d[1] / l);
+    Some([
+        c1[0] + x * ex - sign * h * ey,
+        c1[1] + x * ey + sign * h * ex,
+    ])
+}
+
+impl Triad {
+    /// Dimensions and orientation from an assembled (drawn) pose.
+    pub fn from_pose(k: [V2; 3], j: [V2; 3]) -> Triad {
+        let len = |a: V2, b: V2| dot(sub(a, b), sub(a, b)).sqrt();
+        Triad {
+            arms: [len(j[0], k[0]), len(j[1], k[1]), len(j[2], k[2])],
+            sides: SIDES.map(|(a, b)| len(j[a], j[b])),
+            orientation: cross(sub(j[1], j[0]), sub(j[2], j[0])).signum(),
+        }
+    }
+
+    /// A length scale for tolerances.
+    pub fn size(&self) -> f64 {
+        self.arms
+            .iter()
+            .chain(&self.sides)
+            .fold(0.0f64, |a, &b| a.max(b))
+    }
+
+    fn residual(&self, k: &[V2; 3], j: &[V2; 3]) -> V6 {
+        let mut f = V6::zeros();
+        for i in 0..3 {
+            let d = sub(j[i], k[i]);
+            f[i] = 0.5 * (dot(d, d) - self.arms[i] * self.arms[i]);
+        }
+        for (s, &(a, b)) in SIDES.iter().enumerate() {
+            let d = sub(j[a], j[b]);
+            f[3 + s] = 0.5 * (dot(d, d) - self.sides[s] * self.sides[s]);
+        }
+        f
+    }
+
+    fn jacobian(&self, k: &[V2; 3], j: &[V2; 3]) -> M6 {
+        let mut m = M6::zeros();
+        for i in 0..3 {
+            let d = sub(j[i], k[i]);
+            m[(i, 2 * i)] = d[0];
+            m[(i, 2 * i + 1)] = d[1];
+        }
+        for (s, &(a, b)) in SIDES.iter().enumerate() {
+            let d = sub(j[a], j[b]);
+            m[(3 + s, 2 * a)] = d[0];
+            m[(3 + s, 2 * a + 1)] = d[1];
+            m[(3 + s, 2 * b)] = -d[0];
+            m[(3 + s, 2 * b + 1)] = -d[1];
+        }
+        m
+    }
+
+    /// Largest closure error as a length: max |(|P − Q| − length)|.
+    pub fn closure_error(&self, k: &[V2; 3], j: &[V2; 3]) -> f64 {
+        let len = |a: V2, b: V2| dot(sub(a, b), sub(a, b)).sqrt();
+        let arms = (0..3).map(|i| (len(j[i], k[i]) - self.arms[i]).abs());
+        let sides = SIDES
+            .iter()
+            .enumerate()
+            .map(|(s, &(a, b))| (len(j[a], j[b]) - self.sides[s]).abs());
+        arms.chain(sides).fold(0.0, f64::max)
+    }
+
+    fn oriented(&self, j: &[V2; 3]) -> bool {
+        cross(sub(j[1], j[0]), sub(j[2], j[0])) * self.orientation > 0.0
+    }
+
+    /// Newton from `guess`; `None` if it does not converge to 1e-13 of the size,
+    /// or lands on the mirrored ternary link.
+    pub fn newton(&self, k: &[V2; 3], guess: [V2; 3]) -> Option<[V2; 3]> {
+        let size = self.size();
+        let mut j = guess;
+        for _ in 0..30 {
+            if self.closure_error(k, &j) <= 1e-13 * size {
+                return self.oriented(&j).then_some(j);
+            }
+            let f = self.residual(k, &j);
+            let step = self.jacobian(k, &j).lu().solve(&f)?;
+            if !step.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            for i in 0..3 {
+                j[i][0] -= step[2 * i];
+                j[i][1] -= step[2 * i + 1];
+            }
+        }
+        (self.closure_error(k, &j) <= 1e-12 * size && self.oriented(&j)).then_some(j)
+    }
+
+    /// J0 and J2 for the opened four-bar at ψ, then J1 on the rigid link.
+    fn open(&self, k: &[V2; 3], psi: f64, sign: f64) -> Option<[V2; 3]> {
+        let j0 = [
+            k[0][0] + self.arms[0] * psi.cos(),
+            k[0][1] + self.arms[0] * psi.sin(),
+        ];
+        let j2 = circles(j0, self.sides[2], k[2], self.arms[2], sign)?;
+        // J1 at |J0J1| from J0 and |J1J2| from J2, on the side of J0→J2 that
+        // keeps the ternary link's orientation: (J1−J0)×(J2−J0) has its sign, so
+        // J1 is on side −orientation of the line J0→J2.
+        let j1 = circles(j0, self.sides[0], j2, self.sides[1], -self.orientation)?;
+        Some([j0, j1, j2])
+    }
+
+    /// The seed's bracketing: every root of f(ψ) over a full turn of ψ, for both
+    /// assemblies of the opened four-bar, each bisected and polished by Newton.
+    pub fn bracket_all(&self, k: &[V2; 3]) -> Vec<[V2; 3]> {
+        const SAMPLES: usize = 1440;
+        let mut roots = Vec::new();
+        let f = |psi: f64, sign: f64| -> Option<f64> {
+            let j = self.open(k, psi, sign)?;
+            Some(dot(sub(j[1], k[1]), sub(j[1], k[1])).sqrt() - self.arms[1])
+        };
+        for sign in [1.0, -1.0] {
+            let step = std::f64::consts::TAU / SAMPLES as f64;
+            let mut prev: Option<(f64, f64)> = None;
+            for s in 0..=SAMPLES {
+                let psi = s as f64 * step;
+                let cur = f(psi, sign).map(|v| (psi, v));
+                // At an edge of the opened four-bar's range (its own dead centre) a
+                // root can sit where f stops existing, with no sign change: try
+                // Newton from the last sample that still assembles.
+                if let (Some((edge, fe)), None) | (None, Some((edge, fe))) = (prev, cur) {
+                    if fe.abs() < 0.1 * self.size() {
+                        if let Some(j) = self.open(k, edge, sign).and_then(|j| self.newton(k, j)) {
+                            roots.push(j);
+                        }
+                    }
+                }
+                if let (Some((a, fa)), Some((b, fb))) = (prev, cur) {
+                    if fa == 0.0 || fa * fb < 0.0 {
+                        let (mut lo, mut hi, mut flo) = (a, b, fa);
+                        for _ in 0..60 {
+                            let mid = 0.5 * (lo + hi);
+                            match f(mid, sign) {
+                                Some(fm) if fm * flo <= 0.0 => hi = mid,
+                                Some(fm) => {
+                                    lo = mid;
+                                    flo = fm;
+                                }
+                                None => break,
+                            }
+                        }
+                        if let Some(j) = self.open(k, 0.5 * (lo + hi), sign) {
+                            if let Some(polished) = self.newton(k, j) {
+                                roots.push(polished);
+                            }
+                        }
+                    }
+                }
+                prev = cur;
+            }
+        }
+        roots
+    }
+
+    /// The assembly continuous with `predicted`: Newton from it, and if that fails
+    /// or jumps more than `max_jump`, the bracketed root nearest to it.
+    pub fn solve(&self, k: &[V2; 3], predicted: [V2; 3], max_jump: f64) -> Option<[V2; 3]> {
+        let dist = |j: &[V2; 3]| {
+            (0..3)
+                .map(|i| dot(sub(j[i], predicted[i]), sub(j[i], predicted[i])).sqrt())
+                .fold(0.0, f64::max)
+        };
+        if let Some(j) = self.newton(k, predicted) {
+            if dist(&j) <= max_jump {
+                return Some(j);
+            }
+        }
+        self.bracket_all(k)
+            .into_iter()
+            .filter(|j| dist(j) <= max_jump)
+            .min_by(|a, b| dist(a).total_cmp(&dist(b)))
+    }
+
+    /// Velocity and acceleration analogs of J from those of K; `None` at a
+    /// singular position (the Jacobian is not invertible).
+    #[allow(clippy::type_complexity)]
+    pub fn analogs(
+        &self,
+        k: &[V2; 3],
+        kv: &[V2; 3],
+        ka: &[V2; 3],
+        j: &[V2; 3],
+    ) -> Option<([V2; 3], [V2; 3])> {
+        let m = self.jacobian(k, j);
+        let size = self.size();
+        let lu = m.lu();
+        // |det| relative to the scale of the entries (size⁶): a dead centre.
+        if lu.determinant().abs() <= 1e-8 * size.powi(6) {
+            return None;
+        }
+        let mut r = V6::zeros();
+        for i in 0..3 {
+            r[i] = dot(sub(j[i], k[i]), kv[i]);
+        }
+        let v6 = lu.solve(&r)?;
+        let v: [V2; 3] = [0, 1, 2].map(|i| [v6[2 * i], v6[2 * i + 1]]);
+        let mut r2 = V6::zeros();
+        for i in 0..3 {
+            let rel = sub(v[i], kv[i]);
+            r2[i] = dot(sub(j[i], k[i]), ka[i]) - dot(rel, rel);
+        }
+        for (s, &(a, b)) in SIDES.iter().enumerate() {
+            let rel = sub(v[a], v[b]);
+            r2[3 + s] = -dot(rel, rel);
+        }
+        let a6 = lu.solve(&r2)?;
+        Some((v, [0, 1, 2].map(|i| [a6[2 * i], a6[2 * i + 1]])))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A random assembled triad: anchors and joints drawn at random.
+    fn triad_pose() -> impl Strategy<Value = ([V2; 3], [V2; 3])> {
+        let pt = || (-3.0f64..3.0, -3.0f64..3.0).prop_map(|(x, y)| [x, y]);
+        ([pt(), pt(), pt()], [pt(), pt(), pt()]).prop_filter("non-degenerate", |(k, j)| {
+            let t = Triad::from_pose(*k, *j);
+            t.arms.iter().chain(&t.sides).all(|&l| l > 0.3)
+                && cross(sub(j[1], j[0]), sub(j[2], j[0])).abs() > 0.3
+        })
+    }
+
+    proptest! {
+        #[test]
+        fn newton_and_bracketing_find_the_drawn_pose((k, j) in triad_pose(), nudge in -0.05f64..0.05) {
+            let t = Triad::from_pose(k, j);
+            // A pose drawn at a singular position (a double root of the closure)
+            // has no sign change to bracket: not a fair case for either method.
+            let sigma = t.jacobian(&k, &j).singular_values().min();
+            prop_assume!(sigma > 0.05 * t.size());
+            // Newton from a nudged guess returns to the pose (closure to 1e-12).
+            let guess = j.map(|p| [p[0] + nudge, p[1] - nudge]);
+            if let Some(n) = t.newton(&k, guess) {
+                prop_assert!(t.closure_error(&k, &n) <= 1e-12 * t.size());
+            }
+            // The seed's bracketing, independently, finds the drawn pose among its roots.
+            let roots = t.bracket_all(&k);
+            let near = roots.iter().any(|r| (0..3).all(|i| dot(sub(r[i], j[i]), sub(r[i], j[i])).sqrt() < 1e-8));
+            prop_assert!(near, "{} roots, none at the drawn pose", roots.len());
+            for r in &roots {
+                prop_assert!(t.closure_error(&k, r) <= 1e-12 * t.size());
+                prop_assert!(t.oriented(r));
+            }
+        }
+
+        #[test]
+        fn analogs_match_finite_differences((k, j) in triad_pose(), vx in -1.0f64..1.0, vy in -1.0f64..1.0) {
+            // Move anchor K0 along a circle-free straight line with velocity (vx, vy).
+            let t = Triad::from_pose(k, j);
+            let kv = [[vx, vy], [0.0, 0.0], [0.0, 0.0]];
+            let ka = [[0.0; 2]; 3];
+            prop_assume!(t.analogs(&k, &kv, &ka, &j).is_some());
+            let (v, a) = t.analogs(&k, &kv, &ka, &j).unwrap();
+            // Finite differences are only a fair reference away from singular poses.
+            prop_assume!(v.iter().chain(&a).all(|p| p[0].abs() < 20.0 && p[1].abs() < 20.0));
+            // Newton stops at 1e-13 of the size: h = 1e-4 keeps that round-off
+            // (1e-13 / h²) well below the second difference's own accuracy.
+            let h = 1e-4;
+            let at = |s: f64| {
+                let ks = [[k[0][0] + s * vx, k[0][1] + s * vy], k[1], k[2]];
+                t.newton(&ks, j)
+            };
+            if let (Some(lo), Some(hi)) = (at(-h), at(h)) {
+                for i in 0..3 {
+                    for c in 0..2 {
+                        let fd1 = (hi[i][c] - lo[i][c]) / (2.0 * h);
+                        let fd2 = (hi[i][c] - 2.0 * j[i][c] + lo[i][c]) / (h * h);
+                        prop_assert!((v[i][c] - fd1).abs() <= 1e-5 * (1.0 + fd1.abs()), "v {} vs {}", v[i][c], fd1);
+                        prop_assert!((a[i][c] - fd2).abs() <= 1e-3 * (1.0 + fd2.abs()), "a {} vs {}", a[i][c], fd2);
+                    }
+                }
+            }
+        }
+    }
+}
