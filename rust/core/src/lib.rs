@@ -16,6 +16,7 @@
 //!   `CYCLOMECH_THREADS`.
 
 pub mod cycle_ratio;
+pub mod geom;
 pub mod linkage;
 pub mod parallel;
 pub mod schedule;

@@ -21,6 +21,7 @@
 
 use rayon::prelude::*;
 
+use crate::geom::{cross, dot, sub, V2};
 use crate::triad::Triad;
 
 /// Errors of the linkage domain.
@@ -95,8 +96,6 @@ const SINGULAR_REL: f64 = 1e-9;
 /// Below this many angles a solve runs on the calling thread.
 const PARALLEL_MIN_ANGLES: usize = 2048;
 
-type V2 = [f64; 2];
-
 /// The pose just solved: positions, velocity and acceleration analogs, and the
 /// step Δφ to the angle being solved.
 type Prev<'a> = (&'a [V2], &'a [V2], &'a [V2], f64);
@@ -113,19 +112,6 @@ type AngleRow<'a> = (
     ),
     &'a mut bool,
 );
-
-#[inline]
-fn sub(a: V2, b: V2) -> V2 {
-    [a[0] - b[0], a[1] - b[1]]
-}
-#[inline]
-fn dot(a: V2, b: V2) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-#[inline]
-fn cross(a: V2, b: V2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
 
 impl Program {
     /// Check indices and dimensions once, before any angle is solved.

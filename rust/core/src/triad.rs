@@ -24,7 +24,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
-type V2 = [f64; 2];
+use crate::geom::{cross, dist, dot, sub, V2};
+
 type M6 = SMatrix<f64, 6, 6>;
 type V6 = SVector<f64, 6>;
 
@@ -39,19 +40,6 @@ pub struct Triad {
     pub sides: [f64; 3],
     /// Sign of (J1 − J0) × (J2 − J0): a rigid body keeps its orientation.
     pub orientation: f64,
-}
-
-#[inline]
-fn sub(a: V2, b: V2) -> V2 {
-    [a[0] - b[0], a[1] - b[1]]
-}
-#[inline]
-fn dot(a: V2, b: V2) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-#[inline]
-fn cross(a: V2, b: V2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
 }
 
 /// Intersection of circle(c1, r1) and circle(c2, r2) on side `sign` of c1→c2.
@@ -78,10 +66,9 @@ fn circles(c1: V2, r1: f64, c2: V2, r2: f64, sign: f64) -> Option<V2> {
 impl Triad {
     /// Dimensions and orientation from an assembled (drawn) pose.
     pub fn from_pose(k: [V2; 3], j: [V2; 3]) -> Triad {
-        let len = |a: V2, b: V2| dot(sub(a, b), sub(a, b)).sqrt();
         Triad {
-            arms: [len(j[0], k[0]), len(j[1], k[1]), len(j[2], k[2])],
-            sides: SIDES.map(|(a, b)| len(j[a], j[b])),
+            arms: [dist(j[0], k[0]), dist(j[1], k[1]), dist(j[2], k[2])],
+            sides: SIDES.map(|(a, b)| dist(j[a], j[b])),
             orientation: cross(sub(j[1], j[0]), sub(j[2], j[0])).signum(),
         }
     }
@@ -126,12 +113,11 @@ impl Triad {
 
     /// Largest closure error as a length: max |(|P − Q| − length)|.
     pub fn closure_error(&self, k: &[V2; 3], j: &[V2; 3]) -> f64 {
-        let len = |a: V2, b: V2| dot(sub(a, b), sub(a, b)).sqrt();
-        let arms = (0..3).map(|i| (len(j[i], k[i]) - self.arms[i]).abs());
+        let arms = (0..3).map(|i| (dist(j[i], k[i]) - self.arms[i]).abs());
         let sides = SIDES
             .iter()
             .enumerate()
-            .map(|(s, &(a, b))| (len(j[a], j[b]) - self.sides[s]).abs());
+            .map(|(s, &(a, b))| (dist(j[a], j[b]) - self.sides[s]).abs());
         arms.chain(sides).fold(0.0, f64::max)
     }
 
@@ -230,20 +216,20 @@ impl Triad {
     /// The assembly continuous with `predicted`: Newton from it, and if that fails
     /// or jumps more than `max_jump`, the bracketed root nearest to it.
     pub fn solve(&self, k: &[V2; 3], predicted: [V2; 3], max_jump: f64) -> Option<[V2; 3]> {
-        let dist = |j: &[V2; 3]| {
+        let away = |j: &[V2; 3]| {
             (0..3)
                 .map(|i| dot(sub(j[i], predicted[i]), sub(j[i], predicted[i])).sqrt())
                 .fold(0.0, f64::max)
         };
         if let Some(j) = self.newton(k, predicted) {
-            if dist(&j) <= max_jump {
+            if away(&j) <= max_jump {
                 return Some(j);
             }
         }
         self.bracket_all(k)
             .into_iter()
-            .filter(|j| dist(j) <= max_jump)
-            .min_by(|a, b| dist(a).total_cmp(&dist(b)))
+            .filter(|j| away(j) <= max_jump)
+            .min_by(|a, b| away(a).total_cmp(&away(b)))
     }
 
     /// Velocity and acceleration analogs of J from those of K; `None` at a
