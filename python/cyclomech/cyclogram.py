@@ -66,7 +66,7 @@ def _event_id(value: Any, field_name: str) -> str:
 
 
 def _finite(
-    value: Any, field_name: str, *, lower: float | None = None, limit: float = 1e12
+    value: Any, field_name: str, *, lower: float | None = None, limit: float | None = None
 ) -> float:
     if isinstance(value, bool):
         raise InputError(f"{field_name} must be a real number; got {value!r}")
@@ -78,6 +78,7 @@ def _finite(
         raise InputError(f"{field_name} must be finite; got {value!r}")
     if lower is not None and x < lower:
         raise InputError(f"{field_name} must be >= {lower:g}; got {value!r}")
+    limit = MAX_ANGLE_DEG if limit is None else limit
     if abs(x) > limit:
         raise InputError(
             f"{field_name} = {value!r} is out of range: at most {limit:g} in magnitude"
@@ -705,17 +706,12 @@ class Cyclogram:
         """Raise if the minimum angles alone exceed the cycle, naming the chain."""
         src, dst, h = self._arrays()
         V = len(self._events)
-        # Close the group on itself: a virtual start S before and finish F after
-        # every event, F → S crossing into the next cycle, so that a cycle of the
-        # graph longer than cycle_deg per crossing is exactly a chain that does not fit.
-        S, F = V, V + 1
-        ev = np.arange(V, dtype=np.int64)
-        s2 = np.concatenate([src, np.full(V, S), ev, [F]])
-        d2 = np.concatenate([dst, ev, np.full(V, F), [S]])
-        w2 = np.concatenate([mins, np.zeros(2 * V + 1)])
-        h2 = np.concatenate([h, np.zeros(2 * V), [1.0]])
+        # Closed on itself over one cycle: a cycle of this graph longer than
+        # cycle_deg per crossing is exactly a chain that does not fit.
+        n, s2, d2, h2, pad = _closed_over_cycle(src, dst, h, V)
+        w2 = np.concatenate([mins, np.zeros(pad)])
         try:
-            found = _core.max_cycle_ratio(V + 2, s2, d2, w2, h2)
+            found = _core.max_cycle_ratio(n, s2, d2, w2, h2)
         except CycleError as e:
             raise self._named_cycle(e) from None
         if found is None:
@@ -760,17 +756,13 @@ class Cyclogram:
         V, E = len(self._events), len(self._ops)
         angle = np.array([op.min_angle_deg for op in self._ops])
         secs = np.array([op.min_duration_s for op in self._ops])
-        S, F = V, V + 1
-        ev = np.arange(V, dtype=np.int64)
         # Each operation is two parallel arcs, one per lower bound: its angle at
         # rest and its duration (an angle of max(a, 6·n·s) at n rpm).
-        s2 = np.concatenate([src, src, np.full(V, S), ev, [F]])
-        d2 = np.concatenate([dst, dst, ev, np.full(V, F), [S]])
-        a2 = np.concatenate([angle, np.zeros(E + 2 * V + 1)])
-        t2 = np.concatenate([np.zeros(E), secs, np.zeros(2 * V + 1)])
-        h2 = np.concatenate([h, h, np.zeros(2 * V), [1.0]])
+        n, s2, d2, h2, pad = _closed_over_cycle(np.r_[src, src], np.r_[dst, dst], np.r_[h, h], V)
+        a2 = np.concatenate([angle, np.zeros(E + pad)])
+        t2 = np.concatenate([np.zeros(E), secs, np.zeros(pad)])
         try:
-            status, rpm, _ratio, arcs = _core.max_speed(V + 2, s2, d2, a2, t2, h2, cycle)
+            status, rpm, _ratio, arcs = _core.max_speed(n, s2, d2, a2, t2, h2, cycle)
         except CycleError as e:
             raise self._named_cycle(e) from None
         cyc = tuple(self._ops[e % E].arc for e in _chain_after(arcs, len(s2) - 1) if e < 2 * E)
@@ -1391,6 +1383,26 @@ class _LP:
             critical=tuple(arcs[e] for e in np.flatnonzero(critical)),
             name=cg.name,
         )
+
+
+def _closed_over_cycle(
+    src: npt.NDArray[np.int64],
+    dst: npt.NDArray[np.int64],
+    heights: npt.NDArray[np.float64],
+    n_events: int,
+) -> tuple[int, npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64], int]:
+    """The arcs closed over one machine cycle, for the cycle-ratio kernels.
+
+    A virtual start S before and finish F after every event, and F → S crossing
+    into the next cycle. Returns (number of events, src, dst, heights, number of
+    virtual arcs appended, all of weight 0); the closure F → S is the last arc.
+    """
+    S, F = n_events, n_events + 1
+    ev = np.arange(n_events, dtype=np.int64)
+    s2 = np.concatenate([src, np.full(n_events, S), ev, [F]])
+    d2 = np.concatenate([dst, ev, np.full(n_events, F), [S]])
+    h2 = np.concatenate([heights, np.zeros(2 * n_events), [1.0]])
+    return n_events + 2, s2, d2, h2, 2 * n_events + 1
 
 
 def _chain_after(arcs: npt.NDArray[np.int64], closure: int) -> list[int]:

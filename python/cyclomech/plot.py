@@ -153,24 +153,32 @@ def _layout(result: Schedule | Optimum) -> _Layout:
         else:
             minimum, slack = angle, float(result.slack[op.arc])
         pieces = _pieces(start, angle, cycle)
-        lanes = taken.setdefault(row, [])
-        lane = next(
-            (
-                k
-                for k, used in enumerate(lanes)
-                if not any(_overlap(p, q, eps) for p in pieces for q in used)
-            ),
-            len(lanes),
-        )
-        if lane == len(lanes):
-            lanes.append([])
-        lanes[lane] += pieces
+        lane = _first_free_lane(taken.setdefault(row, []), pieces, eps)
         bars.append(
             _Bar(
                 op, row, lane, start, angle, minimum, slack, op.arc in critical, op.arc == limiting
             )
         )
     return _Layout(tuple(rows), tuple(len(taken[r]) for r in range(len(rows))), tuple(bars), cycle)
+
+
+def _first_free_lane(
+    lanes: list[list[tuple[float, float]]], pieces: list[tuple[float, float]], eps: float
+) -> int:
+    """The first lane in which ``pieces`` (start, width) [deg] overlap nothing; a
+    new lane if none. The pieces are recorded in the lane chosen."""
+    lane = next(
+        (
+            k
+            for k, used in enumerate(lanes)
+            if not any(_overlap(p, q, eps) for p in pieces for q in used)
+        ),
+        len(lanes),
+    )
+    if lane == len(lanes):
+        lanes.append([])
+    lanes[lane] += pieces
+    return lane
 
 
 def _default_title(result: Schedule | Optimum) -> str:
@@ -597,18 +605,7 @@ def _whiskers(lay: _Layout, y_of: list[float]) -> tuple[list[Any], list[Any]]:
             continue
         seen.add(key)
         pieces = _pieces(b.start + b.angle, b.slack, cycle)
-        used = levels.setdefault(y, [])
-        k = next(
-            (
-                i
-                for i, lv in enumerate(used)
-                if not any(_overlap(p, q, eps) for p in pieces for q in lv)
-            ),
-            len(used),
-        )
-        if k == len(used):
-            used.append([])
-        used[k] += pieces
+        k = _first_free_lane(levels.setdefault(y, []), pieces, eps)
         y_w = y + _BAR_H / 2 + 0.1 + 0.09 * k
         segs += [((a, y_w), (a + w, y_w)) for a, w in pieces]
         end = pieces[-1][0] + pieces[-1][1]

@@ -1,8 +1,8 @@
 //! Thread pools for the batch kernels.
 //!
-//! Every batch kernel runs inside [`with_pool`]: `n_threads = Some(k)` asks for `k`
-//! threads; `None` takes `CYCLOMECH_THREADS` from the environment, or the number of
-//! cores. Pools are built once per thread count and cached, because building one
+//! Every batch kernel runs on `pool(resolve_threads(n_threads)?)`: `Some(k)` asks
+//! for `k` threads; `None` takes `CYCLOMECH_THREADS` from the environment, or the
+//! number of cores. Pools are built once per thread count and cached, because building one
 //! costs far more than a small kernel call. Inside Dask workers the Python layer
 //! sets one thread so that processes and threads do not oversubscribe the cores.
 
@@ -97,15 +97,6 @@ pub fn pool(threads: usize) -> Result<Arc<ThreadPool>, ThreadsError> {
     Ok(built)
 }
 
-/// Run `f` on the pool selected by `n_threads` (see [`resolve_threads`]).
-pub fn with_pool<R: Send>(
-    n_threads: Option<i64>,
-    f: impl FnOnce() -> R + Send,
-) -> Result<R, ThreadsError> {
-    let threads = resolve_threads(n_threads)?;
-    Ok(pool(threads)?.install(f))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,7 +114,9 @@ mod tests {
 
     #[test]
     fn pool_runs_with_requested_threads() {
-        let n = with_pool(Some(2), rayon::current_num_threads).unwrap();
+        let n = pool(resolve_threads(Some(2)).unwrap())
+            .unwrap()
+            .install(rayon::current_num_threads);
         assert_eq!(n, 2);
     }
 }
