@@ -20,7 +20,6 @@ which takes 6·n·seconds degrees at n rpm.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,7 +31,7 @@ from scipy import sparse
 from scipy.optimize import linprog
 from scipy.sparse.csgraph import breadth_first_order
 
-from . import _core
+from . import _core, _toml
 from ._errors import CycleError, InfeasibleError, InputError, SolverError
 
 __all__ = [
@@ -824,19 +823,8 @@ class Cyclogram:
         >>> cm.Cyclogram.from_toml(path).schedule().duration
         30.0
         """
-        p = Path(path)
-        try:
-            with p.open("rb") as f:
-                data = tomllib.load(f)
-        except FileNotFoundError:
-            raise InputError(f"{p}: no such file") from None
-        except tomllib.TOMLDecodeError as e:
-            raise InputError(f"{p}: not valid TOML: {e}") from None
-        except UnicodeDecodeError as e:
-            raise InputError(f"{p}: not valid TOML: the file is not UTF-8 text ({e})") from None
-        except OSError as e:
-            raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
-        return cls.from_dict(data, source=str(p))
+        data, source = _toml.load(path)
+        return cls.from_dict(data, source=source)
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Cyclogram:
@@ -848,9 +836,9 @@ class Cyclogram:
         >>> cm.Cyclogram.from_dict(data).operations[0].min_angle_deg
         30.0
         """
-        _keys(data, {"cyclogram", "operation", "constraint"}, source, "top level")
+        _toml.check_keys(data, {"cyclogram", "operation", "constraint"}, source, "top level")
         head = data.get("cyclogram", {})
-        _keys(head, _CG_KEYS, source, "[cyclogram]")
+        _toml.check_keys(head, _CG_KEYS, source, "[cyclogram]")
         try:
             lim = head.get("limiting")
             cg = cls(
@@ -872,7 +860,7 @@ class Cyclogram:
             raise InputError(f"{source}: 'operation' must be an array of tables ([[operation]])")
         for i, op in enumerate(ops, 1):
             where = f"{source}: [[operation]] #{i}"
-            _keys(op, _OP_KEYS, source, f"[[operation]] #{i}")
+            _toml.check_keys(op, _OP_KEYS, source, f"[[operation]] #{i}")
             for req in ("from", "to"):
                 if req not in op:
                     raise InputError(
@@ -904,7 +892,7 @@ class Cyclogram:
             raise InputError(f"{source}: 'constraint' must be an array of tables ([[constraint]])")
         for i, con in enumerate(cons, 1):
             where = f"{source}: [[constraint]] #{i}"
-            _keys(con, _CON_KEYS, source, f"[[constraint]] #{i}")
+            _toml.check_keys(con, _CON_KEYS, source, f"[[constraint]] #{i}")
             for req in ("terms", "sense", "rhs"):
                 if req not in con:
                     raise InputError(f"{where}: missing key {req!r}")
@@ -916,7 +904,7 @@ class Cyclogram:
                     raise InputError(
                         f"{where}: terms #{j} must be a table {{from, to, coeff}}; got {t!r}"
                     )
-                _keys(t, _TERM_KEYS, source, f"[[constraint]] #{i} terms #{j}")
+                _toml.check_keys(t, _TERM_KEYS, source, f"[[constraint]] #{i} terms #{j}")
                 missing = _TERM_KEYS - set(t)
                 if missing:
                     raise InputError(f"{where}: terms #{j} is missing {sorted(missing)}")
@@ -962,7 +950,7 @@ class Cyclogram:
         name = "feed"
         <BLANKLINE>
         """
-        q = _toml_value
+        q = _toml.value
         lines = ["[cyclogram]", f"name = {q(self.name)}", f"cycle_deg = {q(self.cycle_deg)}"]
         if self.limiting is not None:
             lines.append(f"limiting = {q(list(self.limiting))}")
@@ -1009,40 +997,6 @@ class Cyclogram:
             f"Cyclogram({self.name!r}, events={len(self._events)}, operations={len(self._ops)}, "
             f"constraints={len(self._constraints)}, cycle_deg={self.cycle_deg:g})"
         )
-
-
-def _keys(table: Any, allowed: set[str], source: str, where: str) -> None:
-    if not isinstance(table, Mapping):
-        raise InputError(f"{source}: {where} must be a table; got {table!r}")
-    for k in table:
-        if k not in allowed:
-            raise InputError(
-                f"{source}: {where}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"
-            )
-
-
-def _toml_string(text: str) -> str:
-    """A TOML basic string: quotes, backslashes and every control character
-    (U+0000-U+001F and U+007F, which TOML forbids raw) escaped."""
-    out = []
-    for ch in text:
-        if ch in ('"', "\\"):
-            out.append("\\" + ch)
-        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
-            out.append(f"\\u{ord(ch):04X}")
-        else:
-            out.append(ch)
-    return '"' + "".join(out) + '"'
-
-
-def _toml_value(v: Any) -> str:
-    if isinstance(v, str):
-        return _toml_string(v)
-    if isinstance(v, float):
-        return repr(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    return str(v)
 
 
 # Kinds of named LP rows.

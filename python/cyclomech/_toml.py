@@ -1,0 +1,77 @@
+"""TOML reading and writing shared by every file format of cyclomech.
+
+Errors name the file (``source``), the table and the key, as the brief asks.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from ._errors import InputError
+
+
+def load(path: str | Path) -> tuple[dict[str, Any], str]:
+    """The parsed file and its name for messages, or :class:`InputError`."""
+    p = Path(path)
+    try:
+        with p.open("rb") as f:
+            return tomllib.load(f), str(p)
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such file") from None
+    except tomllib.TOMLDecodeError as e:
+        raise InputError(f"{p}: not valid TOML: {e}") from None
+    except UnicodeDecodeError as e:
+        raise InputError(f"{p}: not valid TOML: the file is not UTF-8 text ({e})") from None
+    except IsADirectoryError:
+        raise InputError(f"{p}: is a directory, not a TOML file") from None
+    except OSError as e:
+        raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
+
+
+def check_keys(table: Any, allowed: set[str], source: str, where: str) -> None:
+    """``table`` must be a table whose keys are all in ``allowed``."""
+    if not isinstance(table, Mapping):
+        raise InputError(f"{source}: {where} must be a table; got {table!r}")
+    for k in table:
+        if k not in allowed:
+            raise InputError(
+                f"{source}: {where}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"
+            )
+
+
+def string(text: str) -> str:
+    """A TOML basic string: quotes, backslashes and every control character
+    (U+0000-U+001F and U+007F, which TOML forbids raw) escaped."""
+    out = []
+    for ch in text:
+        if ch in ('"', "\\"):
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04X}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
+def value(v: Any) -> str:
+    """A TOML value: strings, floats (round-tripping repr), ints, arrays, inline tables."""
+    if isinstance(v, str):
+        return string(v)
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(value(x) for x in v) + "]"
+    if isinstance(v, Mapping):
+        return "{ " + ", ".join(f"{key(k)} = {value(x)}" for k, x in v.items()) + " }"
+    return str(v)
+
+
+def key(k: str) -> str:
+    """A TOML key: bare when it may be, quoted otherwise."""
+    bare = k and all(c.isascii() and (c.isalnum() or c in "-_") for c in k)
+    return k if bare else string(k)
