@@ -5,7 +5,13 @@ import importlib
 
 import pytest
 
-MODULES = ["cyclomech.schedule", "cyclomech.cyclogram", "cyclomech.linkage", "cyclomech.plot"]
+MODULES = [
+    "cyclomech.schedule",
+    "cyclomech.cyclogram",
+    "cyclomech.linkage",
+    "cyclomech.linkage.presets",
+    "cyclomech.plot",
+]
 
 
 @pytest.mark.parametrize("name", MODULES)

@@ -228,6 +228,12 @@ def test_linkage_and_solution_pickle() -> None:
 
 FOUR = {"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)}
 LINKS = [("A", "B"), ("B", "C"), ("C", "D")]
+SLIDER_CRANK = {"A": (0, 0), "B": (0.1, 0), "C": (0.45, 0)}
+SC_LINKS = [("A", "B"), ("B", "C")]
+# Inverted slider-crank: block at the crank tip B slides on the rocker O–C.
+INVERTED = {"A": (0, 0), "B": (0.1, 0), "O": (0, -0.25)}
+INVERTED["C"] = (0.5 * 0.1 / math.hypot(0.1, 0.25), -0.25 + 0.5 * 0.25 / math.hypot(0.1, 0.25))
+INV_LINKS = [("A", "B"), ("O", "C")]
 BAD = {
     "under-constrained five-bar": (
         dict(
@@ -275,7 +281,7 @@ BAD = {
         dict(points=FOUR, links=[*LINKS, ("B",)], ground=["A", "D"], driver=("A", "B")),
         ["at least two joints"],
     ),
-    "sliders": (
+    "slider over-constraining a four-bar": (
         dict(
             points=FOUR,
             links=LINKS,
@@ -283,7 +289,77 @@ BAD = {
             driver=("A", "B"),
             sliders={"C": ("ground", (1, 0))},
         ),
-        ["prismatic joints are not solved"],
+        ["over-constrained", "1 guides", "remove a link, a joint or a guide"],
+    ),
+    "slider on a ground joint": (
+        dict(
+            points=FOUR,
+            links=LINKS,
+            ground=["A", "D"],
+            driver=("A", "B"),
+            sliders={"D": ("ground", (1, 0))},
+        ),
+        ["sliders['D']", "ground joint"],
+    ),
+    "zero guide direction": (
+        dict(
+            points=SLIDER_CRANK,
+            links=SC_LINKS,
+            ground=["A"],
+            driver=("A", "B"),
+            sliders={"C": ("ground", (0, 0))},
+        ),
+        ["sliders['C']", "non-zero (dx, dy)"],
+    ),
+    "NaN guide direction": (
+        dict(
+            points=SLIDER_CRANK,
+            links=SC_LINKS,
+            ground=["A"],
+            driver=("A", "B"),
+            sliders={"C": ("ground", (float("nan"), 1))},
+        ),
+        ["sliders['C']", "finite"],
+    ),
+    "unknown guide kind": (
+        dict(
+            points=SLIDER_CRANK,
+            links=SC_LINKS,
+            ground=["A"],
+            driver=("A", "B"),
+            sliders={"C": ("rail", (1, 0))},
+        ),
+        ["('ground', (dx, dy)) or ('link', (b, c))"],
+    ),
+    "guide along a non-link": (
+        dict(
+            points=SLIDER_CRANK,
+            links=SC_LINKS,
+            ground=["A"],
+            driver=("A", "B"),
+            sliders={"C": ("link", ("A", "C"))},
+        ),
+        ["not two joints of one link"],
+    ),
+    "slider drawn off its link": (
+        dict(
+            points={**INVERTED, "B": (0.1, 0.05)},
+            links=INV_LINKS,
+            ground=["A", "O"],
+            driver=("A", "B"),
+            sliders={"B": ("link", ("O", "C"))},
+        ),
+        ["drawn off it"],
+    ),
+    "slider crank drawn at dead centre": (
+        dict(
+            points={"A": (0, 0), "B": (0.1, 0), "C": (0.1, 0.3)},
+            links=SC_LINKS,
+            ground=["A"],
+            driver=("A", "B"),
+            sliders={"C": ("ground", (1, 0))},
+        ),
+        ["perpendicular to its guide"],
     ),
     "length of a non-link pair": (
         dict(

@@ -71,13 +71,25 @@ class EventGraph:
     ) -> dict[str, Any]: ...
     def __reduce__(self) -> tuple[Any, ...]: ...
 
+_LinkageArrays = tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64] | None,
+    npt.NDArray[np.float64] | None,
+    npt.NDArray[np.bool_],
+    npt.NDArray[np.bool_],
+    npt.NDArray[np.bool_],
+]
+
 @final
 class LinkageProgram:
     """A linkage compiled into solving steps.
 
-    kind[s]: 0 driver (idx = pivot, tip; dims = radius), 1 two circles (idx = a, b, p;
-    dims = ra, rb, sign), 2 class III group (idx = 3 anchors, 3 joints; dims = 3 arms,
-    3 sides, orientation). idx rows have 6 entries, dims rows 7.
+    Rows of idx have 6 entries and rows of dims 8. kind[s]: 0 driver (idx = pivot,
+    tip; dims = radius); 1 two circles (idx = a, b, p; dims = ra, rb, sign); 2 class
+    III group (idx = 3 anchors, 3 joints; dims = 3 arms, 3 sides, orientation); 3
+    circle and guide (idx = a, p, b, c; dims = r, sign, ox, oy, ux, uy); 4 two
+    guides (idx = p, b1, c1, b2, c2; dims = o1, u1, o2, u2); 5 link aimed through a
+    block (idx = b, s, c; dims = len, sign). A guide with b = -1 is fixed.
     """
 
     def __new__(
@@ -94,11 +106,19 @@ class LinkageProgram:
     @property
     def n_points(self) -> int: ...
     def solve(
-        self, angles: npt.NDArray[np.float64], *, n_threads: int | None = None
-    ) -> tuple[
-        npt.NDArray[np.float64],
-        npt.NDArray[np.float64],
-        npt.NDArray[np.float64],
-        npt.NDArray[np.bool_],
-        npt.NDArray[np.bool_],
-    ]: ...
+        self,
+        angles: npt.NDArray[np.float64],
+        points: npt.NDArray[np.int64],
+        *,
+        analogs: bool = True,
+        n_threads: int | None = None,
+    ) -> _LinkageArrays: ...
+    def solve_many(
+        self,
+        dims: npt.NDArray[np.float64],
+        angles: npt.NDArray[np.float64],
+        points: npt.NDArray[np.int64],
+        *,
+        analogs: bool = True,
+        n_threads: int | None = None,
+    ) -> _LinkageArrays: ...

@@ -1,26 +1,168 @@
-//! Bindings of the linkage domain: a compiled program, solved over angle grids.
+//! Bindings of the linkage domain: a compiled program, solved over angle grids,
+//! one geometry or many.
 
-use cyclomech_core::linkage::{self, LinkageError, Step};
+use cyclomech_core::linkage::{self, Line, LinkageError, Request, Solution, Step};
 use cyclomech_core::triad::Triad;
-use numpy::ndarray::{Array1, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::ndarray::{ArrayD, ArrayView1, Axis, IxDyn};
+use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
 use crate::errors::{run, IntoPyErr};
+
+/// Columns of a compiled step's index and dimension rows.
+const IDX: usize = 6;
+const DIMS: usize = 8;
 
 fn bad(py: Python<'_>, why: String) -> PyErr {
     LinkageError::BadProgram { step: 0, why }.into_pyerr(py)
 }
 
+/// One step from its kind, index row and dimension row (see `LinkageProgram`).
+fn step(
+    py: Python<'_>,
+    kind: i64,
+    ix: ArrayView1<'_, i64>,
+    dm: ArrayView1<'_, f64>,
+    n_points: usize,
+) -> PyResult<Step> {
+    let at = |c: usize| -> PyResult<usize> {
+        let v = ix[c];
+        usize::try_from(v)
+            .ok()
+            .filter(|&u| u < n_points)
+            .ok_or_else(|| bad(py, format!("point index {v} out of range")))
+    };
+    // A guide: fixed (first index −1, direction from the dims) or along b–c.
+    let line = |c: usize, d: usize| -> PyResult<Line> {
+        Ok(if ix[c] < 0 {
+            Line::Fixed {
+                o: [dm[d], dm[d + 1]],
+                u: [dm[d + 2], dm[d + 3]],
+            }
+        } else {
+            Line::Through {
+                b: at(c)?,
+                c: at(c + 1)?,
+            }
+        })
+    };
+    Ok(match kind {
+        0 => Step::Driver {
+            pivot: at(0)?,
+            tip: at(1)?,
+            radius: dm[0],
+        },
+        1 => Step::Circles {
+            a: at(0)?,
+            b: at(1)?,
+            p: at(2)?,
+            ra: dm[0],
+            rb: dm[1],
+            sign: dm[2],
+        },
+        2 => Step::Triad {
+            anchors: [at(0)?, at(1)?, at(2)?],
+            joints: [at(3)?, at(4)?, at(5)?],
+            triad: Triad {
+                arms: [dm[0], dm[1], dm[2]],
+                sides: [dm[3], dm[4], dm[5]],
+                orientation: dm[6],
+            },
+        },
+        3 => Step::Slide {
+            a: at(0)?,
+            p: at(1)?,
+            line: line(2, 2)?,
+            r: dm[0],
+            sign: dm[1],
+        },
+        4 => Step::Cross {
+            p: at(0)?,
+            l1: line(1, 0)?,
+            l2: line(3, 4)?,
+        },
+        5 => Step::Aim {
+            b: at(0)?,
+            s: at(1)?,
+            c: at(2)?,
+            len: dm[0],
+            sign: dm[1],
+        },
+        other => return Err(bad(py, format!("unknown step kind {other}"))),
+    })
+}
+
 /// A linkage compiled into solving steps (see `cyclomech.Linkage`).
 ///
-/// `kind[s]` is 0 for the driver (idx = pivot, tip; dims = radius), 1 for two
-/// circles (idx = a, b, p; dims = ra, rb, sign) and 2 for a class III group
-/// (idx = 3 anchors, 3 joints; dims = 3 arms, 3 sides, orientation). Rows of `idx`
-/// have 6 entries and rows of `dims` 7; unused entries are ignored.
+/// Rows of `idx` have 6 entries and rows of `dims` 8; unused entries are ignored.
+/// `kind[s]`: 0 driver (idx = pivot, tip; dims = radius); 1 two circles (idx = a,
+/// b, p; dims = ra, rb, sign); 2 class III group (idx = 3 anchors, 3 joints; dims =
+/// 3 arms, 3 sides, orientation); 3 circle and guide (idx = a, p, b, c; dims = r,
+/// sign, ox, oy, ux, uy); 4 two guides (idx = p, b1, c1, b2, c2; dims = o1, u1, o2,
+/// u2); 5 a link aimed through a block (idx = b, s, c; dims = len, sign). A guide
+/// with b = −1 is fixed, through o along u; otherwise it runs along b–c.
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct LinkageProgram {
     program: linkage::Program,
+    kind: Vec<i64>,
+    idx: Vec<[i64; IDX]>,
+}
+
+type Arrays<'py> = (
+    Bound<'py, PyArrayDyn<f64>>,
+    Option<Bound<'py, PyArrayDyn<f64>>>,
+    Option<Bound<'py, PyArrayDyn<f64>>>,
+    Bound<'py, PyArrayDyn<bool>>,
+    Bound<'py, PyArrayDyn<bool>>,
+    Bound<'py, PyArrayDyn<bool>>,
+);
+
+/// The solution as numpy arrays: positions and analogs of shape `lead + (M, 2)`,
+/// flags of shape `lead`; the analogs are None when not computed.
+fn arrays<'py>(py: Python<'py>, s: Solution, lead: &[usize], m: usize) -> PyResult<Arrays<'py>> {
+    let internal = |e: numpy::ndarray::ShapeError| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("internal error: {e}"))
+    };
+    let points: Vec<usize> = lead.iter().copied().chain([m, 2]).collect();
+    let big = |v: Vec<f64>| -> PyResult<_> {
+        Ok(ArrayD::from_shape_vec(IxDyn(&points), v)
+            .map_err(internal)?
+            .into_pyarray(py))
+    };
+    let flags = |v: Vec<bool>| -> PyResult<_> {
+        Ok(ArrayD::from_shape_vec(IxDyn(lead), v)
+            .map_err(internal)?
+            .into_pyarray(py))
+    };
+    let analogs = !s.vel.is_empty() || s.xy.is_empty();
+    let (vel, acc) = if analogs {
+        (Some(big(s.vel)?), Some(big(s.acc)?))
+    } else {
+        (None, None)
+    };
+    Ok((
+        big(s.xy)?,
+        vel,
+        acc,
+        flags(s.ok)?,
+        flags(s.singular)?,
+        flags(s.branch)?,
+    ))
+}
+
+fn request(py: Python<'_>, points: PyReadonlyArray1<'_, i64>, analogs: bool) -> PyResult<Request> {
+    let points = points
+        .as_array()
+        .iter()
+        .map(|&k| usize::try_from(k).map_err(|_| bad(py, format!("point index {k} out of range"))))
+        .collect::<PyResult<Vec<usize>>>()?;
+    Ok(Request { points, analogs })
+}
+
+fn contiguous<'a>(py: Python<'_>, angles: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
+    angles
+        .as_slice()
+        .map_err(|_| bad(py, "angles must be C-contiguous".into()))
 }
 
 #[pymethods]
@@ -42,50 +184,25 @@ impl LinkageProgram {
         let (kd, ix, dm) = (kind.as_array(), idx.as_array(), dims.as_array());
         let dx = drawn_xy.as_array();
         if fx.shape() != [fi.len(), 2]
-            || ix.shape() != [kd.len(), 6]
-            || dm.shape() != [kd.len(), 7]
+            || ix.shape() != [kd.len(), IDX]
+            || dm.shape() != [kd.len(), DIMS]
             || dx.shape() != [n_points, 2]
         {
             return Err(bad(py, "array shapes do not match".into()));
         }
-        let index = |v: i64| -> PyResult<usize> {
-            usize::try_from(v)
-                .ok()
-                .filter(|&u| u < n_points)
-                .ok_or_else(|| bad(py, format!("point index {v} out of range")))
-        };
         let mut fixed = Vec::with_capacity(fi.len());
         for (k, &i) in fi.iter().enumerate() {
-            fixed.push((index(i)?, [fx[[k, 0]], fx[[k, 1]]]));
+            let i = usize::try_from(i)
+                .ok()
+                .filter(|&u| u < n_points)
+                .ok_or_else(|| bad(py, format!("fixed point index {i} out of range")))?;
+            fixed.push((i, [fx[[k, 0]], fx[[k, 1]]]));
         }
-        let mut steps = Vec::with_capacity(kd.len());
-        for (s, &k) in kd.iter().enumerate() {
-            steps.push(match k {
-                0 => Step::Driver {
-                    pivot: index(ix[[s, 0]])?,
-                    tip: index(ix[[s, 1]])?,
-                    radius: dm[[s, 0]],
-                },
-                1 => Step::Circles {
-                    a: index(ix[[s, 0]])?,
-                    b: index(ix[[s, 1]])?,
-                    p: index(ix[[s, 2]])?,
-                    ra: dm[[s, 0]],
-                    rb: dm[[s, 1]],
-                    sign: dm[[s, 2]],
-                },
-                2 => Step::Triad {
-                    anchors: [index(ix[[s, 0]])?, index(ix[[s, 1]])?, index(ix[[s, 2]])?],
-                    joints: [index(ix[[s, 3]])?, index(ix[[s, 4]])?, index(ix[[s, 5]])?],
-                    triad: Triad {
-                        arms: [dm[[s, 0]], dm[[s, 1]], dm[[s, 2]]],
-                        sides: [dm[[s, 3]], dm[[s, 4]], dm[[s, 5]]],
-                        orientation: dm[[s, 6]],
-                    },
-                },
-                other => return Err(bad(py, format!("unknown step kind {other}"))),
-            });
-        }
+        let steps = kd
+            .iter()
+            .enumerate()
+            .map(|(s, &k)| step(py, k, ix.row(s), dm.row(s), n_points))
+            .collect::<PyResult<Vec<Step>>>()?;
         let drawn = (0..n_points).map(|k| [dx[[k, 0]], dx[[k, 1]]]).collect();
         let program = linkage::Program {
             n_points,
@@ -94,7 +211,16 @@ impl LinkageProgram {
             drawn: Some((drawn_phi, drawn)),
         };
         run(py, "LinkageProgram", || program.validate())?;
-        Ok(LinkageProgram { program })
+        let idx = ix
+            .rows()
+            .into_iter()
+            .map(|r| std::array::from_fn(|c| r[c]))
+            .collect();
+        Ok(LinkageProgram {
+            program,
+            kind: kd.to_vec(),
+            idx,
+        })
     }
 
     #[getter]
@@ -102,38 +228,65 @@ impl LinkageProgram {
         self.program.n_points
     }
 
-    /// Solve over absolute crank angles [rad]: (xy, vel, acc) of shape (N, P, 2),
-    /// ok (N,) and singular (N,).
-    #[pyo3(signature = (angles, *, n_threads=None))]
-    #[allow(clippy::type_complexity)]
+    /// Solve over absolute crank angles [rad]: (xy, vel, acc) of shape (N, M, 2)
+    /// for the M chosen `points` (vel and acc None unless `analogs`), and the flags
+    /// ok, singular and branch, each (N,).
+    #[pyo3(signature = (angles, points, *, analogs=true, n_threads=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
         angles: PyReadonlyArray1<'py, f64>,
+        points: PyReadonlyArray1<'py, i64>,
+        analogs: bool,
         n_threads: Option<i64>,
-    ) -> PyResult<(
-        Bound<'py, PyArray3<f64>>,
-        Bound<'py, PyArray3<f64>>,
-        Bound<'py, PyArray3<f64>>,
-        Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyArray1<bool>>,
-    )> {
-        let a = angles
-            .as_slice()
-            .map_err(|_| bad(py, "angles must be C-contiguous".into()))?;
-        let (n, p) = (a.len(), self.program.n_points);
-        let s = run(py, "Linkage.solve", || self.program.solve(a, n_threads))?;
-        let shape = |v: Vec<f64>| {
-            Array3::from_shape_vec((n, p, 2), v).map_err(|e| {
-                pyo3::exceptions::PyRuntimeError::new_err(format!("internal error: {e}"))
-            })
-        };
-        Ok((
-            shape(s.xy)?.into_pyarray(py),
-            shape(s.vel)?.into_pyarray(py),
-            shape(s.acc)?.into_pyarray(py),
-            Array1::from(s.ok).into_pyarray(py),
-            Array1::from(s.singular).into_pyarray(py),
-        ))
+    ) -> PyResult<Arrays<'py>> {
+        let a = contiguous(py, &angles)?;
+        let req = request(py, points, analogs)?;
+        let m = req.points.len();
+        let s = run(py, "Linkage.solve", || {
+            self.program.solve(a, &req, n_threads)
+        })?;
+        arrays(py, s, &[a.len()], m)
+    }
+
+    /// Solve K geometries of this program, `dims` (K, S, 8) replacing its
+    /// dimensions row by row, over one angle grid, in parallel over the
+    /// geometries: arrays of shape (K, N, M, 2) and flags (K, N).
+    #[pyo3(signature = (dims, angles, points, *, analogs=true, n_threads=None))]
+    fn solve_many<'py>(
+        &self,
+        py: Python<'py>,
+        dims: PyReadonlyArray3<'py, f64>,
+        angles: PyReadonlyArray1<'py, f64>,
+        points: PyReadonlyArray1<'py, i64>,
+        analogs: bool,
+        n_threads: Option<i64>,
+    ) -> PyResult<Arrays<'py>> {
+        let dm = dims.as_array();
+        let (k, s) = (dm.shape()[0], self.kind.len());
+        if dm.shape()[1..] != [s, DIMS] {
+            return Err(bad(py, format!("dims must have shape (K, {s}, {DIMS})")));
+        }
+        let n = self.program.n_points;
+        let mut programs = Vec::with_capacity(k);
+        for g in 0..k {
+            let mut steps = Vec::with_capacity(s);
+            for (r, &kind) in self.kind.iter().enumerate() {
+                let ix = ArrayView1::from(&self.idx[r][..]);
+                let row = dm.index_axis(Axis(0), g);
+                steps.push(step(py, kind, ix, row.row(r), n)?);
+            }
+            programs.push(linkage::Program {
+                steps,
+                ..self.program.clone()
+            });
+        }
+        let a = contiguous(py, &angles)?;
+        let req = request(py, points, analogs)?;
+        let m = req.points.len();
+        let sol = run(py, "linkage.sweep", || {
+            linkage::solve_many(&programs, a, &req, n_threads)
+        })?;
+        arrays(py, sol, &[k, a.len()], m)
     }
 }

@@ -36,8 +36,98 @@ pub enum LinkageError {
     },
     #[error("step {step} of the program is invalid: {why}")]
     BadProgram { step: usize, why: String },
+    #[error("the solution would need {bytes} bytes of memory, more than this machine can allocate; solve fewer angles, geometries or points at a time")]
+    Memory { bytes: usize },
     #[error(transparent)]
     Threads(#[from] crate::parallel::ThreadsError),
+}
+
+/// The straight guide of a prismatic joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Line {
+    /// Fixed to the frame: through `o` along `u` (any non-zero length).
+    Fixed { o: V2, u: V2 },
+    /// Along a moving link: through its joints `b` and `c`.
+    Through { b: usize, c: usize },
+}
+
+/// A line at one pose: a point `o` on it, its direction `e` (not normalised), and
+/// their first and second analogs.
+struct LineAt {
+    o: V2,
+    e: V2,
+    o1: V2,
+    e1: V2,
+    o2: V2,
+    e2: V2,
+}
+
+impl Line {
+    fn reads(&self) -> Vec<usize> {
+        match *self {
+            Line::Fixed { .. } => vec![],
+            Line::Through { b, c } => vec![b, c],
+        }
+    }
+
+    fn dims(&self) -> Vec<f64> {
+        match *self {
+            Line::Fixed { o, u } => {
+                let n = dot(u, u).sqrt();
+                // o may be anywhere (0 included); only u must be a direction.
+                vec![1.0 + o[0].abs() + o[1].abs(), n]
+            }
+            Line::Through { .. } => vec![],
+        }
+    }
+
+    fn at<const AN: bool>(&self, xy: &[V2], vel: &[V2], acc: &[V2]) -> LineAt {
+        const Z: V2 = [0.0, 0.0];
+        match *self {
+            Line::Fixed { o, u } => LineAt {
+                o,
+                e: u,
+                o1: Z,
+                e1: Z,
+                o2: Z,
+                e2: Z,
+            },
+            Line::Through { b, c } => {
+                let (o1, e1, o2, e2) = if AN {
+                    (vel[b], sub(vel[c], vel[b]), acc[b], sub(acc[c], acc[b]))
+                } else {
+                    (Z, Z, Z, Z)
+                };
+                LineAt {
+                    o: xy[b],
+                    e: sub(xy[c], xy[b]),
+                    o1,
+                    e1,
+                    o2,
+                    e2,
+                }
+            }
+        }
+    }
+}
+
+impl LineAt {
+    /// Normal row of `(p − o) × e = 0`: n·x = x × e.
+    fn normal(&self) -> V2 {
+        [self.e[1], -self.e[0]]
+    }
+
+    /// Right-hand side of n·p' for the first analog.
+    fn rhs_v(&self, p: V2) -> f64 {
+        dot(self.normal(), self.o1) - cross(sub(p, self.o), self.e1)
+    }
+
+    /// Right-hand side of n·p'' for the second analog, given p'.
+    fn rhs_a(&self, p: V2, v: V2) -> f64 {
+        dot(self.normal(), self.o2)
+            - 2.0 * cross(sub(v, self.o1), self.e1)
+            - cross(sub(p, self.o), self.e2)
+    }
 }
 
 /// One step of a compiled linkage.
@@ -55,13 +145,35 @@ pub enum Step {
         tip: usize,
         radius: f64,
     },
-    /// `p` at distance `ra` from `a` and `rb` from `b`, on side `sign` (±1) of a→b.
+    /// RRR dyad (or a coupler point): `p` at distance `ra` from `a` and `rb` from
+    /// `b`, on side `sign` (±1) of a→b.
     Circles {
         a: usize,
         b: usize,
         p: usize,
         ra: f64,
         rb: f64,
+        sign: f64,
+    },
+    /// RRP dyad: `p` at distance `r` from `a` and on `line`; `sign` (±1) picks the
+    /// intersection ahead of or behind the foot of `a` along the line's direction.
+    Slide {
+        a: usize,
+        r: f64,
+        line: Line,
+        p: usize,
+        sign: f64,
+    },
+    /// PRP dyad: `p` where two guides cross.
+    Cross { l1: Line, l2: Line, p: usize },
+    /// RPR dyad: the link b–c turns about known `b` and its line passes through
+    /// known `s` (a block pinned at `s` slides on it): `c = b + sign·len·ŝ`, with ŝ
+    /// the unit vector from b to s.
+    Aim {
+        b: usize,
+        s: usize,
+        c: usize,
+        len: f64,
         sign: f64,
     },
 }
@@ -78,7 +190,10 @@ pub struct Program {
     pub drawn: Option<(f64, Vec<[f64; 2]>)>,
 }
 
-/// Positions and analogs over an angle grid, row-major: `xy[(i * P + k) * 2 + c]`.
+/// Positions and analogs of the chosen points over an angle grid (and, for a
+/// sweep, over geometries), row-major: `xy[(i * M + k) * 2 + c]` for angle row `i`
+/// and chosen point `k` of `M`. `vel` and `acc` are empty when analogs were not
+/// asked for.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution {
     pub xy: Vec<f64>,
@@ -86,15 +201,27 @@ pub struct Solution {
     pub acc: Vec<f64>,
     /// The mechanism can be assembled at the angle.
     pub ok: Vec<bool>,
-    /// A dyad is at (or within round-off of) a dead centre: analogs are NaN there.
+    /// A group is at (or within round-off of) a dead centre: analogs are NaN there.
     pub singular: Vec<bool>,
+    /// A class III group passed through a singular position on its way from the
+    /// angle solved before (its Jacobian's determinant changed sign): the pose is
+    /// on another assembly branch than the drawn one.
+    pub branch: Vec<bool>,
 }
 
-/// A dyad whose determinant is below this fraction of `ra·rb` is at a dead centre.
+/// What to compute: which points (indices) and whether the analogs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Request {
+    pub points: Vec<usize>,
+    pub analogs: bool,
+}
+
+/// A group whose determinant is below this fraction of its dimensions' product is
+/// at a dead centre.
 const SINGULAR_REL: f64 = 1e-9;
 
-/// Below this many angles a solve runs on the calling thread.
-const PARALLEL_MIN_ANGLES: usize = 2048;
+/// Angles per parallel task of a closed-form (class II) solve.
+const BLOCK: usize = 1024;
 
 /// The pose just solved: positions, velocity and acceleration analogs, and the
 /// step Δφ to the angle being solved.
@@ -104,14 +231,132 @@ type Prev<'a> = (&'a [V2], &'a [V2], &'a [V2], f64);
 /// gaps in the grid are walked in substeps so that Newton stays in its basin.
 const MAX_PATH_STEP: f64 = std::f64::consts::PI / 180.0;
 
-/// One angle's slot in the outputs: (((((φ, xy), vel), acc), ok), singular).
-type AngleRow<'a> = (
-    (
-        (((&'a f64, &'a mut [V2]), &'a mut [V2]), &'a mut [V2]),
-        &'a mut bool,
-    ),
-    &'a mut bool,
-);
+/// The outcome at one angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Pose {
+    ok: bool,
+    singular: bool,
+    /// One bit per class III group: its Jacobian's determinant is negative.
+    branch: u64,
+}
+
+impl Pose {
+    const FAILED: Pose = Pose {
+        ok: false,
+        singular: false,
+        branch: 0,
+    };
+}
+
+/// Positions and analogs of every point at one angle.
+#[derive(Clone)]
+struct State {
+    xy: Vec<V2>,
+    vel: Vec<V2>,
+    acc: Vec<V2>,
+}
+
+impl State {
+    fn new(p: usize) -> State {
+        State {
+            xy: vec![[0.0; 2]; p],
+            vel: vec![[0.0; 2]; p],
+            acc: vec![[0.0; 2]; p],
+        }
+    }
+}
+
+/// The output rows of a run of angles: `M` chosen points per row.
+struct Out<'a> {
+    xy: &'a mut [V2],
+    vel: &'a mut [V2],
+    acc: &'a mut [V2],
+    ok: &'a mut [bool],
+    singular: &'a mut [bool],
+    branch: &'a mut [bool],
+}
+
+impl<'a> Out<'a> {
+    /// Rows before `at` and from `at` on.
+    fn split(self, at: usize, m: usize) -> (Out<'a>, Out<'a>) {
+        let cut = |v: &'a mut [V2]| -> (&'a mut [V2], &'a mut [V2]) {
+            if v.is_empty() {
+                (&mut [], &mut [])
+            } else {
+                v.split_at_mut(at * m)
+            }
+        };
+        let (x0, x1) = self.xy.split_at_mut(at * m);
+        let (v0, v1) = cut(self.vel);
+        let (a0, a1) = cut(self.acc);
+        let (o0, o1) = self.ok.split_at_mut(at);
+        let (s0, s1) = self.singular.split_at_mut(at);
+        let (b0, b1) = self.branch.split_at_mut(at);
+        (
+            Out {
+                xy: x0,
+                vel: v0,
+                acc: a0,
+                ok: o0,
+                singular: s0,
+                branch: b0,
+            },
+            Out {
+                xy: x1,
+                vel: v1,
+                acc: a1,
+                ok: o1,
+                singular: s1,
+                branch: b1,
+            },
+        )
+    }
+
+    /// Row `i` from `state` (chosen points `sel`), or NaN where the pose failed.
+    fn write(&mut self, i: usize, sel: &[usize], state: &State, pose: Pose, branch: bool) {
+        let m = sel.len();
+        let row = i * m..(i + 1) * m;
+        self.ok[i] = pose.ok;
+        self.singular[i] = pose.ok && pose.singular;
+        self.branch[i] = pose.ok && branch;
+        let an = !self.vel.is_empty();
+        if !pose.ok {
+            self.xy[row.clone()].fill([f64::NAN; 2]);
+            if an {
+                self.vel[row.clone()].fill([f64::NAN; 2]);
+                self.acc[row].fill([f64::NAN; 2]);
+            }
+            return;
+        }
+        for (k, &j) in sel.iter().enumerate() {
+            self.xy[i * m + k] = state.xy[j];
+        }
+        if an {
+            for (k, &j) in sel.iter().enumerate() {
+                self.vel[i * m + k] = state.vel[j];
+                self.acc[i * m + k] = state.acc[j];
+            }
+        }
+    }
+
+    fn fail_all(&mut self) {
+        for v in [&mut *self.xy, &mut *self.vel, &mut *self.acc] {
+            v.fill([f64::NAN; 2]);
+        }
+        self.ok.fill(false);
+        self.singular.fill(false);
+        self.branch.fill(false);
+    }
+}
+
+/// `[n1ᵀ; n2ᵀ] x = (r1, r2)` by Cramer's rule, with `det = n1 × n2` non-zero.
+#[inline]
+fn solve2(n1: V2, n2: V2, det: f64, r1: f64, r2: f64) -> V2 {
+    [
+        (r1 * n2[1] - r2 * n1[1]) / det,
+        (n1[0] * r2 - n2[0] * r1) / det,
+    ]
+}
 
 impl Program {
     /// Check indices and dimensions once, before any angle is solved.
@@ -125,6 +370,7 @@ impl Program {
             }
             placed[k] = true;
         }
+        let sign_ok = |s: f64| s == 1.0 || s == -1.0;
         for (s, step) in self.steps.iter().enumerate() {
             let (reads, writes, dims): (Vec<usize>, Vec<usize>, Vec<f64>) = match step {
                 Step::Triad {
@@ -147,10 +393,42 @@ impl Program {
                     rb,
                     sign,
                 } => {
-                    if sign != 1.0 && sign != -1.0 {
+                    if !sign_ok(sign) {
                         return bad(s, format!("sign must be +1 or -1, got {sign}"));
                     }
                     (vec![a, b], vec![p], vec![ra, rb])
+                }
+                &Step::Slide {
+                    a,
+                    r,
+                    line,
+                    p,
+                    sign,
+                } => {
+                    if !sign_ok(sign) {
+                        return bad(s, format!("sign must be +1 or -1, got {sign}"));
+                    }
+                    let mut reads = line.reads();
+                    reads.push(a);
+                    let mut dims = line.dims();
+                    dims.push(r);
+                    (reads, vec![p], dims)
+                }
+                &Step::Cross { l1, l2, p } => {
+                    let reads = [l1.reads(), l2.reads()].concat();
+                    (reads, vec![p], [l1.dims(), l2.dims()].concat())
+                }
+                &Step::Aim {
+                    b,
+                    s: pin,
+                    c,
+                    len,
+                    sign,
+                } => {
+                    if !sign_ok(sign) {
+                        return bad(s, format!("sign must be +1 or -1, got {sign}"));
+                    }
+                    (vec![b, pin], vec![c], vec![len])
                 }
             };
             if writes.iter().chain(&reads).any(|&r| r >= n) {
@@ -187,75 +465,89 @@ impl Program {
         Ok(())
     }
 
-    /// Solve one angle into `xy`, `vel`, `acc` (each P×2); returns (ok, singular).
+    fn has_triads(&self) -> bool {
+        self.steps.iter().any(|s| matches!(s, Step::Triad { .. }))
+    }
+
+    /// Solve one angle into `xy` and, when `AN`, `vel` and `acc` (each P×2).
     /// `prev` = (positions, velocity and acceleration analogs, Δφ) of the pose just
-    /// solved, from which class III groups predict their next position.
-    fn solve_one(
+    /// solved, from which class III groups predict their next position (they need
+    /// `AN`: the analogs are the predictor).
+    fn solve_one<const AN: bool>(
         &self,
         phi: f64,
         xy: &mut [V2],
         vel: &mut [V2],
         acc: &mut [V2],
         prev: Option<Prev<'_>>,
-    ) -> (bool, bool) {
+    ) -> Pose {
+        const NAN2: V2 = [f64::NAN; 2];
         for &(k, p) in &self.fixed {
             xy[k] = p;
-            vel[k] = [0.0, 0.0];
-            acc[k] = [0.0, 0.0];
+            if AN {
+                vel[k] = [0.0, 0.0];
+                acc[k] = [0.0, 0.0];
+            }
         }
         let mut singular = false;
+        let mut branch = 0u64;
+        let mut n_triads = 0;
         for step in &self.steps {
-            if let Step::Triad {
-                anchors,
-                joints,
-                triad,
-            } = step
-            {
-                let Some((px, pv, pa, dphi)) = prev else {
-                    return (false, singular);
-                };
-                let k = anchors.map(|i| xy[i]);
-                // Second-order predictor; a NaN analog (a singular pose) is dropped.
-                let predicted = joints.map(|j| {
-                    let step = |c: usize| {
-                        let d = pv[j][c] * dphi + 0.5 * pa[j][c] * dphi * dphi;
-                        px[j][c] + if d.is_finite() { d } else { 0.0 }
-                    };
-                    [step(0), step(1)]
-                });
-                let Some(found) = triad.solve(&k, predicted, 0.25 * triad.size()) else {
-                    return (false, singular);
-                };
-                for (i, &j) in joints.iter().enumerate() {
-                    xy[j] = found[i];
-                }
-                let (kv, ka) = (anchors.map(|i| vel[i]), anchors.map(|i| acc[i]));
-                match triad.analogs(&k, &kv, &ka, &found) {
-                    Some((v, a)) => {
-                        for (i, &j) in joints.iter().enumerate() {
-                            vel[j] = v[i];
-                            acc[j] = a[i];
-                        }
-                    }
-                    None => {
-                        singular = true;
-                        for &j in joints {
-                            vel[j] = [f64::NAN; 2];
-                            acc[j] = [f64::NAN; 2];
-                        }
-                    }
-                }
-                continue;
-            }
             match *step {
-                Step::Triad { .. } => {}
+                Step::Triad {
+                    anchors,
+                    joints,
+                    ref triad,
+                } => {
+                    let Some((px, pv, pa, dphi)) = prev else {
+                        return Pose::FAILED;
+                    };
+                    let k = anchors.map(|i| xy[i]);
+                    // Second-order predictor; a NaN analog (a singular pose) is dropped.
+                    let predicted = joints.map(|j| {
+                        let step = |c: usize| {
+                            let d = pv[j][c] * dphi + 0.5 * pa[j][c] * dphi * dphi;
+                            px[j][c] + if d.is_finite() { d } else { 0.0 }
+                        };
+                        [step(0), step(1)]
+                    });
+                    let Some(found) = triad.solve(&k, predicted, 0.25 * triad.size()) else {
+                        return Pose::FAILED;
+                    };
+                    for (i, &j) in joints.iter().enumerate() {
+                        xy[j] = found[i];
+                    }
+                    let (kv, ka) = (anchors.map(|i| vel[i]), anchors.map(|i| acc[i]));
+                    let (det_sign, analogs) = triad.analogs(&k, &kv, &ka, &found);
+                    if det_sign < 0.0 && n_triads < 64 {
+                        branch |= 1 << n_triads;
+                    }
+                    n_triads += 1;
+                    match analogs {
+                        Some((v, a)) => {
+                            for (i, &j) in joints.iter().enumerate() {
+                                vel[j] = v[i];
+                                acc[j] = a[i];
+                            }
+                        }
+                        None => {
+                            singular = true;
+                            for &j in &joints {
+                                vel[j] = NAN2;
+                                acc[j] = NAN2;
+                            }
+                        }
+                    }
+                }
                 Step::Driver { pivot, tip, radius } => {
                     let (s, c) = phi.sin_cos();
                     let o = xy[pivot];
                     xy[tip] = [o[0] + radius * c, o[1] + radius * s];
-                    // The pivot is fixed; d/dφ of (cos, sin) is (−sin, cos).
-                    vel[tip] = [-radius * s, radius * c];
-                    acc[tip] = [-radius * c, -radius * s];
+                    if AN {
+                        // The pivot is fixed; d/dφ of (cos, sin) is (−sin, cos).
+                        vel[tip] = [-radius * s, radius * c];
+                        acc[tip] = [-radius * c, -radius * s];
+                    }
                 }
                 Step::Circles {
                     a,
@@ -270,14 +562,13 @@ impl Program {
                     let dd = dot(d, d);
                     let l = dd.sqrt();
                     if l == 0.0 {
-                        return (false, singular);
+                        return Pose::FAILED;
                     }
                     let x = (ra * ra - rb * rb + dd) / (2.0 * l);
                     let h2 = ra * ra - x * x;
                     // Round-off can make a tangent position slightly negative.
-                    let tol = 1e-12 * ra * ra;
-                    if h2 < -tol {
-                        return (false, singular);
+                    if h2 < -1e-12 * ra * ra {
+                        return Pose::FAILED;
                     }
                     let h = h2.max(0.0).sqrt();
                     let (ex, ey) = (d[0] / l, d[1] / l);
@@ -290,23 +581,108 @@ impl Program {
                     let det = cross(u, w);
                     if det.abs() <= SINGULAR_REL * ra * rb {
                         singular = true;
-                        vel[p] = [f64::NAN, f64::NAN];
-                        acc[p] = [f64::NAN, f64::NAN];
+                        if AN {
+                            vel[p] = NAN2;
+                            acc[p] = NAN2;
+                        }
                         continue;
                     }
-                    // [uᵀ; wᵀ] v = r  by Cramer's rule.
-                    let solve = |r0: f64, r1: f64| -> V2 {
-                        [(r0 * w[1] - r1 * u[1]) / det, (u[0] * r1 - w[0] * r0) / det]
-                    };
-                    let v = solve(dot(u, vel[a]), dot(w, vel[b]));
-                    let (va, vb) = (sub(v, vel[a]), sub(v, vel[b]));
-                    let ac = solve(dot(u, acc[a]) - dot(va, va), dot(w, acc[b]) - dot(vb, vb));
-                    vel[p] = v;
-                    acc[p] = ac;
+                    if AN {
+                        let v = solve2(u, w, det, dot(u, vel[a]), dot(w, vel[b]));
+                        let (va, vb) = (sub(v, vel[a]), sub(v, vel[b]));
+                        let r1 = dot(u, acc[a]) - dot(va, va);
+                        vel[p] = v;
+                        acc[p] = solve2(u, w, det, r1, dot(w, acc[b]) - dot(vb, vb));
+                    }
+                }
+                Step::Slide {
+                    a,
+                    r,
+                    line,
+                    p,
+                    sign,
+                } => {
+                    let ln = line.at::<AN>(xy, vel, acc);
+                    let el = dot(ln.e, ln.e).sqrt();
+                    if el == 0.0 {
+                        return Pose::FAILED;
+                    }
+                    let e = [ln.e[0] / el, ln.e[1] / el];
+                    let ao = sub(xy[a], ln.o);
+                    let (t0, off) = (dot(ao, e), cross(e, ao));
+                    let q2 = r * r - off * off;
+                    if q2 < -1e-12 * r * r {
+                        return Pose::FAILED;
+                    }
+                    let t = t0 + sign * q2.max(0.0).sqrt();
+                    let q = [ln.o[0] + t * e[0], ln.o[1] + t * e[1]];
+                    xy[p] = q;
+                    let (u, n) = (sub(q, xy[a]), ln.normal());
+                    let det = cross(u, n);
+                    if det.abs() <= SINGULAR_REL * r * el {
+                        singular = true;
+                        if AN {
+                            vel[p] = NAN2;
+                            acc[p] = NAN2;
+                        }
+                        continue;
+                    }
+                    if AN {
+                        let v = solve2(u, n, det, dot(u, vel[a]), ln.rhs_v(q));
+                        let va = sub(v, vel[a]);
+                        let r1 = dot(u, acc[a]) - dot(va, va);
+                        vel[p] = v;
+                        acc[p] = solve2(u, n, det, r1, ln.rhs_a(q, v));
+                    }
+                }
+                Step::Cross { l1, l2, p } => {
+                    let (g1, g2) = (l1.at::<AN>(xy, vel, acc), l2.at::<AN>(xy, vel, acc));
+                    let (n1, n2) = (g1.normal(), g2.normal());
+                    let det = cross(n1, n2);
+                    let scale = dot(n1, n1).sqrt() * dot(n2, n2).sqrt();
+                    // Parallel guides: no crossing (or a whole line of them).
+                    if det.abs() <= SINGULAR_REL * scale || det.is_nan() {
+                        return Pose::FAILED;
+                    }
+                    // n_i·q = n_i·o_i.
+                    let q = solve2(n1, n2, det, dot(n1, g1.o), dot(n2, g2.o));
+                    xy[p] = q;
+                    if AN {
+                        let v = solve2(n1, n2, det, g1.rhs_v(q), g2.rhs_v(q));
+                        vel[p] = v;
+                        acc[p] = solve2(n1, n2, det, g1.rhs_a(q, v), g2.rhs_a(q, v));
+                    }
+                }
+                Step::Aim { b, s, c, len, sign } => {
+                    let w = sub(xy[s], xy[b]);
+                    let l2 = dot(w, w);
+                    let l = l2.sqrt();
+                    // The block at the link's pivot: the link's direction is free.
+                    if l <= SINGULAR_REL * len {
+                        return Pose::FAILED;
+                    }
+                    let (e, en) = ([w[0] / l, w[1] / l], [-w[1] / l, w[0] / l]);
+                    let k = sign * len;
+                    xy[c] = [xy[b][0] + k * e[0], xy[b][1] + k * e[1]];
+                    if AN {
+                        // θ' = w × w'/|w|², θ'' = w × w''/|w|² − 2 (w·w')(w × w')/|w|⁴.
+                        let (w1, w2) = (sub(vel[s], vel[b]), sub(acc[s], acc[b]));
+                        let t1 = cross(w, w1) / l2;
+                        let t2 = cross(w, w2) / l2 - 2.0 * dot(w, w1) * cross(w, w1) / (l2 * l2);
+                        vel[c] = [vel[b][0] + k * t1 * en[0], vel[b][1] + k * t1 * en[1]];
+                        acc[c] = [
+                            acc[b][0] + k * (t2 * en[0] - t1 * t1 * e[0]),
+                            acc[b][1] + k * (t2 * en[1] - t1 * t1 * e[1]),
+                        ];
+                    }
                 }
             }
         }
-        (true, singular)
+        Pose {
+            ok: true,
+            singular,
+            branch,
+        }
     }
 
     /// Class III groups have no closed form: the grid is walked from the drawn pose
@@ -317,11 +693,8 @@ impl Program {
     fn solve_path(
         &self,
         angles: &[f64],
-        xy: &mut [V2],
-        vel: &mut [V2],
-        acc: &mut [V2],
-        ok: &mut [bool],
-        singular: &mut [bool],
+        sel: &[usize],
+        out: &mut Out<'_>,
     ) -> Result<(), LinkageError> {
         let p = self.n_points;
         let Some((drawn_phi, drawn)) = &self.drawn else {
@@ -335,24 +708,24 @@ impl Program {
         let split = order.partition_point(|&i| angles[i] < *drawn_phi);
         let (below, above) = order.split_at(split);
         let zeros = vec![[0.0; 2]; p];
-        let mut scratch = (zeros.clone(), zeros.clone(), zeros.clone());
+        let mut scratch = State::new(p);
         for walk in [above.to_vec(), below.iter().rev().copied().collect()] {
             // The drawn pose, closed and with its analogs, starts every walk.
-            let mut state = (zeros.clone(), zeros.clone(), zeros.clone());
-            let (good, _) = self.solve_one(
+            let mut state = State::new(p);
+            let start = self.solve_one::<true>(
                 *drawn_phi,
-                &mut state.0,
-                &mut state.1,
-                &mut state.2,
+                &mut state.xy,
+                &mut state.vel,
+                &mut state.acc,
                 Some((drawn, &zeros, &zeros, 0.0)),
             );
-            if !good {
+            if !start.ok {
                 return Err(LinkageError::BadProgram {
                     step: 0,
                     why: "the drawn pose does not close: check the points and lengths".into(),
                 });
             }
-            let mut at = *drawn_phi;
+            let (mut at, mut branch, mut last) = (*drawn_phi, start.branch, start);
             // Once a substep from the current pose fails, every angle beyond it in
             // this walk would retry the same step from the same pose: it is not
             // reachable continuously, and is marked so without solving again.
@@ -360,106 +733,250 @@ impl Program {
             for i in walk {
                 let target = angles[i];
                 let beyond = |b: f64| (target - b) * (b - at) >= 0.0;
-                let (mut good, mut sing) = (blocked.is_none_or(|b| !beyond(b)), false);
-                while good && at != target {
+                // An angle equal to the current one is the pose already solved.
+                let mut pose = Pose {
+                    ok: blocked.is_none_or(|b| !beyond(b)),
+                    ..last
+                };
+                let mut changed = false;
+                while pose.ok && at != target {
                     let next = if (target - at).abs() <= MAX_PATH_STEP {
                         target
                     } else {
                         at + MAX_PATH_STEP.copysign(target - at)
                     };
-                    let prev = Some((&state.0[..], &state.1[..], &state.2[..], next - at));
-                    let (g, s) =
-                        self.solve_one(next, &mut scratch.0, &mut scratch.1, &mut scratch.2, prev);
-                    good = g;
-                    if g {
+                    let prev = Some((&state.xy[..], &state.vel[..], &state.acc[..], next - at));
+                    let got = self.solve_one::<true>(
+                        next,
+                        &mut scratch.xy,
+                        &mut scratch.vel,
+                        &mut scratch.acc,
+                        prev,
+                    );
+                    if got.ok {
                         std::mem::swap(&mut state, &mut scratch);
                         at = next;
-                        sing = s;
+                        changed |= got.branch != branch;
+                        branch = got.branch;
+                        (pose, last) = (got, got);
                     } else {
+                        pose = Pose::FAILED;
                         blocked = Some(next);
                     }
                 }
-                ok[i] = good;
-                singular[i] = good && sing;
-                let row = i * p..(i + 1) * p;
-                if good {
-                    xy[row.clone()].copy_from_slice(&state.0);
-                    vel[row.clone()].copy_from_slice(&state.1);
-                    acc[row].copy_from_slice(&state.2);
-                } else {
-                    xy[row.clone()].fill([f64::NAN; 2]);
-                    vel[row.clone()].fill([f64::NAN; 2]);
-                    acc[row].fill([f64::NAN; 2]);
-                }
+                out.write(i, sel, &state, pose, changed);
             }
         }
         Ok(())
     }
 
-    /// Solve every angle of the grid (radians, absolute crank angle).
-    pub fn solve(&self, angles: &[f64], n_threads: Option<i64>) -> Result<Solution, LinkageError> {
-        self.validate()?;
-        if let Some((i, &v)) = angles.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(LinkageError::NonFinite {
-                field: "angles",
-                position: i,
-                value: v,
-                what: "crank angles must be finite radians",
-            });
+    /// Closed-form groups only: every angle on its own.
+    fn solve_rows(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
+        let mut state = State::new(self.n_points);
+        for (i, &phi) in angles.iter().enumerate() {
+            let pose = if out.vel.is_empty() {
+                self.solve_one::<false>(phi, &mut state.xy, &mut [], &mut [], None)
+            } else {
+                self.solve_one::<true>(phi, &mut state.xy, &mut state.vel, &mut state.acc, None)
+            };
+            out.write(i, sel, &state, pose, false);
         }
-        let threads = crate::parallel::resolve_threads(n_threads)?;
-        let (n, p) = (angles.len(), self.n_points);
-        let mut xy_flat = vec![0.0; n * p * 2];
-        let mut vel_flat = vec![0.0; n * p * 2];
-        let mut acc_flat = vec![0.0; n * p * 2];
-        // Viewed as (x, y) pairs in place: the kernel writes the final layout.
-        let xy = xy_flat.as_chunks_mut::<2>().0;
-        let vel = vel_flat.as_chunks_mut::<2>().0;
-        let acc = acc_flat.as_chunks_mut::<2>().0;
-        let mut ok = vec![false; n];
-        let mut singular = vec![false; n];
-        let one = |(((((phi, xy), vel), acc), ok), sing): AngleRow<'_>| {
-            let (good, s) = self.solve_one(*phi, xy, vel, acc, None);
-            *ok = good;
-            *sing = s && good;
-            if !good {
-                for row in [xy, vel, acc] {
-                    row.fill([f64::NAN; 2]);
-                }
-            }
-        };
-        let chunk = p.max(1);
-        if self.steps.iter().any(|s| matches!(s, Step::Triad { .. })) {
-            self.solve_path(angles, xy, vel, acc, &mut ok, &mut singular)?;
-        } else if threads == 1 || n < PARALLEL_MIN_ANGLES {
-            angles
-                .iter()
-                .zip(xy.chunks_mut(chunk))
-                .zip(vel.chunks_mut(chunk))
-                .zip(acc.chunks_mut(chunk))
-                .zip(ok.iter_mut())
-                .zip(singular.iter_mut())
-                .for_each(one);
+    }
+
+    /// Solve one run of angles single-threaded.
+    fn solve_serial(
+        &self,
+        angles: &[f64],
+        sel: &[usize],
+        out: &mut Out<'_>,
+    ) -> Result<(), LinkageError> {
+        if self.has_triads() {
+            self.solve_path(angles, sel, out)
         } else {
+            self.solve_rows(angles, sel, out);
+            Ok(())
+        }
+    }
+
+    /// Solve every angle of the grid (radians, absolute crank angle): the points
+    /// and analogs of `request`, in parallel over the angles where no class III
+    /// group makes the grid a path.
+    pub fn solve(
+        &self,
+        angles: &[f64],
+        request: &Request,
+        n_threads: Option<i64>,
+    ) -> Result<Solution, LinkageError> {
+        self.validate()?;
+        check_request(request, self.n_points)?;
+        check_angles(angles)?;
+        let threads = crate::parallel::resolve_threads(n_threads)?;
+        let sel = &request.points;
+        let mut buffers = Buffers::new(angles.len(), sel.len(), request.analogs)?;
+        let mut out = buffers.out();
+        if self.has_triads() || threads == 1 || angles.len() < 2 * BLOCK {
+            self.solve_serial(angles, sel, &mut out)?;
+        } else {
+            let mut blocks = Vec::with_capacity(angles.len().div_ceil(BLOCK));
+            let mut rest = out;
+            for start in (0..angles.len()).step_by(BLOCK) {
+                let take = BLOCK.min(angles.len() - start);
+                let (head, tail) = rest.split(take, sel.len());
+                blocks.push((start, head));
+                rest = tail;
+            }
             crate::parallel::pool(threads)?.install(|| {
-                angles
-                    .par_iter()
-                    .zip(xy.par_chunks_mut(chunk))
-                    .zip(vel.par_chunks_mut(chunk))
-                    .zip(acc.par_chunks_mut(chunk))
-                    .zip(ok.par_iter_mut())
-                    .zip(singular.par_iter_mut())
-                    .for_each(one)
+                blocks.into_par_iter().for_each(|(start, mut block)| {
+                    let run = &angles[start..start + block.ok.len()];
+                    self.solve_rows(run, sel, &mut block);
+                })
             });
         }
-        Ok(Solution {
-            xy: xy_flat,
-            vel: vel_flat,
-            acc: acc_flat,
-            ok,
-            singular,
+        Ok(buffers.finish())
+    }
+}
+
+/// Output buffers of `rows` rows of `m` points.
+struct Buffers {
+    xy: Vec<f64>,
+    vel: Vec<f64>,
+    acc: Vec<f64>,
+    ok: Vec<bool>,
+    singular: Vec<bool>,
+    branch: Vec<bool>,
+}
+
+impl Buffers {
+    fn new(rows: usize, m: usize, analogs: bool) -> Result<Buffers, LinkageError> {
+        let len = rows
+            .checked_mul(m * 2)
+            .ok_or(LinkageError::Memory { bytes: usize::MAX })?;
+        let alloc = |n: usize| -> Result<Vec<f64>, LinkageError> {
+            let mut v = Vec::new();
+            v.try_reserve_exact(n).map_err(|_| LinkageError::Memory {
+                bytes: n.saturating_mul(8),
+            })?;
+            v.resize(n, 0.0);
+            Ok(v)
+        };
+        let an = if analogs { len } else { 0 };
+        Ok(Buffers {
+            xy: alloc(len)?,
+            vel: alloc(an)?,
+            acc: alloc(an)?,
+            ok: vec![false; rows],
+            singular: vec![false; rows],
+            branch: vec![false; rows],
         })
     }
+
+    /// The buffers viewed as (x, y) pairs in place: the kernel writes the final layout.
+    fn out(&mut self) -> Out<'_> {
+        Out {
+            xy: self.xy.as_chunks_mut::<2>().0,
+            vel: self.vel.as_chunks_mut::<2>().0,
+            acc: self.acc.as_chunks_mut::<2>().0,
+            ok: &mut self.ok,
+            singular: &mut self.singular,
+            branch: &mut self.branch,
+        }
+    }
+
+    fn finish(self) -> Solution {
+        Solution {
+            xy: self.xy,
+            vel: self.vel,
+            acc: self.acc,
+            ok: self.ok,
+            singular: self.singular,
+            branch: self.branch,
+        }
+    }
+}
+
+fn check_angles(angles: &[f64]) -> Result<(), LinkageError> {
+    if let Some((i, &v)) = angles.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(LinkageError::NonFinite {
+            field: "angles",
+            position: i,
+            value: v,
+            what: "crank angles must be finite radians",
+        });
+    }
+    Ok(())
+}
+
+fn check_request(request: &Request, n_points: usize) -> Result<(), LinkageError> {
+    if request.points.is_empty() || request.points.iter().any(|&k| k >= n_points) {
+        return Err(LinkageError::BadProgram {
+            step: 0,
+            why: format!(
+                "the points asked for, {:?}, must be a non-empty list of indices below {n_points}",
+                request.points
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Solve many geometries of one linkage (programs with the same points) over one
+/// angle grid, in parallel over the geometries: rows are geometry-major, row
+/// `g * N + i` for geometry `g` and angle `i`. A geometry whose drawn pose does
+/// not close (its class III groups cannot start) is `ok = false` throughout.
+pub fn solve_many(
+    programs: &[Program],
+    angles: &[f64],
+    request: &Request,
+    n_threads: Option<i64>,
+) -> Result<Solution, LinkageError> {
+    let Some(first) = programs.first() else {
+        return Ok(Buffers::new(0, request.points.len(), request.analogs)?.finish());
+    };
+    for (g, prog) in programs.iter().enumerate() {
+        if prog.n_points != first.n_points {
+            return Err(LinkageError::BadProgram {
+                step: 0,
+                why: format!(
+                    "geometry {g} has {} points, geometry 0 {}",
+                    prog.n_points, first.n_points
+                ),
+            });
+        }
+        prog.validate().map_err(|e| match e {
+            LinkageError::BadProgram { step, why } => LinkageError::BadProgram {
+                step,
+                why: format!("geometry {g}: {why}"),
+            },
+            other => other,
+        })?;
+    }
+    check_request(request, first.n_points)?;
+    check_angles(angles)?;
+    let threads = crate::parallel::resolve_threads(n_threads)?;
+    let (n, m) = (angles.len(), request.points.len());
+    let mut buffers = Buffers::new(programs.len().saturating_mul(n), m, request.analogs)?;
+    let mut slabs = Vec::with_capacity(programs.len());
+    let mut rest = buffers.out();
+    for _ in 0..programs.len() {
+        let (head, tail) = rest.split(n, m);
+        slabs.push(head);
+        rest = tail;
+    }
+    let one = |(prog, mut slab): (&Program, Out<'_>)| {
+        if prog
+            .solve_serial(angles, &request.points, &mut slab)
+            .is_err()
+        {
+            slab.fail_all();
+        }
+    };
+    if threads == 1 {
+        programs.iter().zip(slabs).for_each(one);
+    } else {
+        crate::parallel::pool(threads)?
+            .install(|| programs.par_iter().zip(slabs.into_par_iter()).for_each(one));
+    }
+    Ok(buffers.finish())
 }
 
 #[cfg(test)]
@@ -491,6 +1008,13 @@ mod tests {
         }
     }
 
+    fn all(p: usize) -> Request {
+        Request {
+            points: (0..p).collect(),
+            analogs: true,
+        }
+    }
+
     fn point(s: &Solution, i: usize, p: usize, k: usize) -> V2 {
         let base = (i * p + k) * 2;
         [s.xy[base], s.xy[base + 1]]
@@ -509,7 +1033,7 @@ mod tests {
             prop_assume!(links[0] + links[3] < links[1] + links[2] - 1e-3);
             let prog = four_bar(r, l2, l3, d, sign);
             let h = 1e-5;
-            let s = prog.solve(&[phi - h, phi, phi + h], Some(1)).unwrap();
+            let s = prog.solve(&[phi - h, phi, phi + h], &all(4), Some(1)).unwrap();
             prop_assert!(s.ok.iter().all(|&o| o));
             let (b, c, dd) = (point(&s, 1, 4, 1), point(&s, 1, 4, 2), point(&s, 1, 4, 3));
             let len = |u: V2, v: V2| dot(sub(u, v), sub(u, v)).sqrt();
@@ -525,12 +1049,185 @@ mod tests {
         }
     }
 
+    /// Finite-difference check of the analogs of point `k` at angle `phi`.
+    fn check_analogs(prog: &Program, k: usize, phi: f64) {
+        let h = 1e-5;
+        let req = Request {
+            points: vec![k],
+            analogs: true,
+        };
+        let s = prog.solve(&[phi - h, phi, phi + h], &req, Some(1)).unwrap();
+        assert!(s.ok.iter().all(|&o| o));
+        for c in 0..2 {
+            let fd1 = (s.xy[4 + c] - s.xy[c]) / (2.0 * h);
+            let fd2 = (s.xy[4 + c] - 2.0 * s.xy[2 + c] + s.xy[c]) / (h * h);
+            assert!(
+                (s.vel[2 + c] - fd1).abs() < 1e-6 * (1.0 + fd1.abs()),
+                "vel {} vs {fd1}",
+                s.vel[2 + c]
+            );
+            assert!(
+                (s.acc[2 + c] - fd2).abs() < 1e-3 * (1.0 + fd2.abs()),
+                "acc {} vs {fd2}",
+                s.acc[2 + c]
+            );
+        }
+    }
+
+    #[test]
+    fn slider_crank_matches_its_closed_form() {
+        // Crank A(0,0)–B (r), rod B–C (l), C on the guide y = e along +x.
+        let (r, l, e) = (0.1, 0.35, 0.02);
+        let prog = Program {
+            n_points: 3,
+            fixed: vec![(0, [0.0, 0.0])],
+            steps: vec![
+                Step::Driver {
+                    pivot: 0,
+                    tip: 1,
+                    radius: r,
+                },
+                Step::Slide {
+                    a: 1,
+                    r: l,
+                    line: Line::Fixed {
+                        o: [0.0, e],
+                        u: [2.0, 0.0],
+                    },
+                    p: 2,
+                    sign: 1.0,
+                },
+            ],
+            drawn: None,
+        };
+        let angles: Vec<f64> = (0..360).map(|i| (i as f64).to_radians()).collect();
+        let s = prog.solve(&angles, &all(3), Some(1)).unwrap();
+        for (i, &phi) in angles.iter().enumerate() {
+            let (sn, cs) = phi.sin_cos();
+            let root = (l * l - (r * sn - e).powi(2)).sqrt();
+            let x = r * cs + root;
+            let dx = -r * sn - (r * sn - e) * r * cs / root;
+            let base = (i * 3 + 2) * 2;
+            assert!((s.xy[base] - x).abs() < 1e-14 && (s.xy[base + 1] - e).abs() < 1e-15);
+            assert!((s.vel[base] - dx).abs() < 1e-13 && s.vel[base + 1].abs() < 1e-15);
+        }
+        check_analogs(&prog, 2, 0.7);
+        // The other assembly: C behind the crank.
+        let mut back = prog.clone();
+        if let Step::Slide { sign, .. } = &mut back.steps[1] {
+            *sign = -1.0;
+        }
+        let s = back.solve(&[0.0], &all(3), Some(1)).unwrap();
+        assert!((s.xy[4] - (r - (l * l - e * e).sqrt())).abs() < 1e-14);
+    }
+
+    #[test]
+    fn inverted_slider_crank_and_yoke_match_closed_forms() {
+        // Crank A(0,0)–B (r); rocker O(0,−d)–C (len) whose line passes through B.
+        let (r, d, len) = (0.1, 0.25, 0.5);
+        let prog = Program {
+            n_points: 4,
+            fixed: vec![(0, [0.0, 0.0]), (2, [0.0, -d])],
+            steps: vec![
+                Step::Driver {
+                    pivot: 0,
+                    tip: 1,
+                    radius: r,
+                },
+                Step::Aim {
+                    b: 2,
+                    s: 1,
+                    c: 3,
+                    len,
+                    sign: 1.0,
+                },
+            ],
+            drawn: None,
+        };
+        let phi = 1.1;
+        let s = prog.solve(&[phi], &all(4), Some(1)).unwrap();
+        let theta = (r * phi.sin() + d).atan2(r * phi.cos());
+        assert!((s.xy[6] - len * theta.cos()).abs() < 1e-14);
+        assert!((s.xy[7] - (-d + len * theta.sin())).abs() < 1e-14);
+        check_analogs(&prog, 3, phi);
+        // PRP: P on the x axis and on the line from the crank tip B to D(0, 2).
+        let yoke = Program {
+            n_points: 4,
+            fixed: vec![(0, [0.0, 0.0]), (2, [0.0, 2.0])],
+            steps: vec![
+                Step::Driver {
+                    pivot: 0,
+                    tip: 1,
+                    radius: r,
+                },
+                Step::Cross {
+                    l1: Line::Fixed {
+                        o: [5.0, 0.0],
+                        u: [1.0, 0.0],
+                    },
+                    l2: Line::Through { b: 1, c: 2 },
+                    p: 3,
+                },
+            ],
+            drawn: None,
+        };
+        let s = yoke.solve(&[phi], &all(4), Some(1)).unwrap();
+        let x = 2.0 * r * phi.cos() / (2.0 - r * phi.sin());
+        assert!((s.xy[6] - x).abs() < 1e-14 && s.xy[7].abs() < 1e-15);
+        check_analogs(&yoke, 3, phi);
+        // An RRP dyad on a moving guide: E at 0.3 from A on the rocker's line O–C.
+        let mut moving = prog.clone();
+        moving.n_points = 5;
+        moving.steps.push(Step::Slide {
+            a: 0,
+            r: 0.3,
+            line: Line::Through { b: 2, c: 3 },
+            p: 4,
+            sign: 1.0,
+        });
+        check_analogs(&moving, 4, phi);
+    }
+
+    #[test]
+    fn positions_only_parallel_and_many_agree_with_one_serial_solve() {
+        let prog = four_bar(1.0, 3.5, 3.0, 3.5, 1.0);
+        let angles: Vec<f64> = (0..5000).map(|i| i as f64 * 0.00127).collect();
+        let serial = prog.solve(&angles, &all(4), Some(1)).unwrap();
+        let parallel = prog.solve(&angles, &all(4), Some(2)).unwrap();
+        assert_eq!(serial, parallel);
+        let pick = Request {
+            points: vec![2],
+            analogs: false,
+        };
+        let only = prog.solve(&angles, &pick, Some(2)).unwrap();
+        assert!(only.vel.is_empty() && only.acc.is_empty());
+        for i in 0..angles.len() {
+            assert_eq!(
+                only.xy[2 * i..2 * i + 2],
+                serial.xy[(4 * i + 2) * 2..(4 * i + 2) * 2 + 2]
+            );
+        }
+        let geoms = [
+            four_bar(1.0, 3.5, 3.0, 3.5, 1.0),
+            four_bar(1.2, 3.4, 3.1, 3.5, -1.0),
+        ];
+        let many = solve_many(&geoms, &angles, &all(4), Some(2)).unwrap();
+        let n = angles.len() * 4 * 2;
+        for (g, prog) in geoms.iter().enumerate() {
+            let one = prog.solve(&angles, &all(4), Some(1)).unwrap();
+            assert_eq!(many.xy[g * n..(g + 1) * n], one.xy[..]);
+            assert_eq!(many.acc[g * n..(g + 1) * n], one.acc[..]);
+        }
+    }
+
     #[test]
     fn unassemblable_angles_are_flagged() {
         // Non-Grashof: the crank (2) cannot turn fully; with l2 = l3 = 2, d = 3 the
         // position B = (-2, 0) is 5 away from D, beyond l2 + l3 = 4.
         let prog = four_bar(2.0, 2.0, 2.0, 3.0, 1.0);
-        let s = prog.solve(&[0.0, std::f64::consts::PI], Some(1)).unwrap();
+        let s = prog
+            .solve(&[0.0, std::f64::consts::PI], &all(4), Some(1))
+            .unwrap();
         assert_eq!(s.ok, vec![true, false]);
         assert!(s.xy[8..].iter().all(|v| v.is_nan()));
     }
@@ -548,7 +1245,17 @@ mod tests {
         prog = four_bar(-1.0, 3.0, 3.0, 3.0, 1.0);
         assert!(prog.validate().is_err());
         prog = four_bar(1.0, 3.0, 3.0, 3.0, 1.0);
-        assert!(prog.solve(&[f64::NAN], None).is_err());
+        assert!(prog.solve(&[f64::NAN], &all(4), None).is_err());
+        assert!(prog
+            .solve(
+                &[0.0],
+                &Request {
+                    points: vec![4],
+                    analogs: true
+                },
+                None
+            )
+            .is_err());
         prog.n_points = 5;
         assert!(prog.validate().is_err());
     }

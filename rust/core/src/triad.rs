@@ -232,8 +232,10 @@ impl Triad {
             .min_by(|a, b| away(a).total_cmp(&away(b)))
     }
 
-    /// Velocity and acceleration analogs of J from those of K; `None` at a
-    /// singular position (the Jacobian is not invertible).
+    /// Velocity and acceleration analogs of J from those of K, and the sign of the
+    /// Jacobian's determinant (which assembly branch the pose is on: it changes
+    /// only through a singular position). The analogs are `None` at a singular
+    /// position (the Jacobian is not invertible).
     #[allow(clippy::type_complexity)]
     pub fn analogs(
         &self,
@@ -241,14 +243,25 @@ impl Triad {
         kv: &[V2; 3],
         ka: &[V2; 3],
         j: &[V2; 3],
-    ) -> Option<([V2; 3], [V2; 3])> {
-        let m = self.jacobian(k, j);
-        let size = self.size();
-        let lu = m.lu();
+    ) -> (f64, Option<([V2; 3], [V2; 3])>) {
+        let lu = self.jacobian(k, j).lu();
+        let det = lu.determinant();
         // |det| relative to the scale of the entries (size⁶): a dead centre.
-        if lu.determinant().abs() <= 1e-8 * size.powi(6) {
-            return None;
+        if det.abs() <= 1e-8 * self.size().powi(6) {
+            return (det.signum(), None);
         }
+        (det.signum(), self.analogs_with(&lu, k, kv, ka, j))
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn analogs_with(
+        &self,
+        lu: &nalgebra::LU<f64, nalgebra::U6, nalgebra::U6>,
+        k: &[V2; 3],
+        kv: &[V2; 3],
+        ka: &[V2; 3],
+        j: &[V2; 3],
+    ) -> Option<([V2; 3], [V2; 3])> {
         let mut r = V6::zeros();
         for i in 0..3 {
             r[i] = dot(sub(j[i], k[i]), kv[i]);
@@ -313,8 +326,9 @@ mod tests {
             let t = Triad::from_pose(k, j);
             let kv = [[vx, vy], [0.0, 0.0], [0.0, 0.0]];
             let ka = [[0.0; 2]; 3];
-            prop_assume!(t.analogs(&k, &kv, &ka, &j).is_some());
-            let (v, a) = t.analogs(&k, &kv, &ka, &j).unwrap();
+            let (_, found) = t.analogs(&k, &kv, &ka, &j);
+            prop_assume!(found.is_some());
+            let (v, a) = found.unwrap();
             // Finite differences are only a fair reference away from singular poses.
             prop_assume!(v.iter().chain(&a).all(|p| p[0].abs() < 20.0 && p[1].abs() < 20.0));
             // Newton stops at 1e-13 of the size: h = 1e-4 keeps that round-off
