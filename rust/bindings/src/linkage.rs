@@ -1,10 +1,10 @@
 //! Bindings of the linkage domain: a compiled program, solved over angle grids,
 //! one geometry or many.
 
-use cyclomech_core::linkage::{self, Line, LinkageError, Request, Solution, Step};
+use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step};
 use cyclomech_core::triad::Triad;
-use numpy::ndarray::{ArrayD, ArrayView1, Axis, IxDyn};
-use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use numpy::ndarray::{ArrayView1, Axis, IxDyn};
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
 use crate::errors::{run, IntoPyErr};
@@ -117,37 +117,49 @@ type Arrays<'py> = (
     Bound<'py, PyArrayDyn<bool>>,
 );
 
-/// The solution as numpy arrays: positions and analogs of shape `lead + (M, 2)`,
-/// flags of shape `lead`; the analogs are None when not computed.
-fn arrays<'py>(py: Python<'py>, s: Solution, lead: &[usize], m: usize) -> PyResult<Arrays<'py>> {
-    let internal = |e: numpy::ndarray::ShapeError| {
-        pyo3::exceptions::PyRuntimeError::new_err(format!("internal error: {e}"))
-    };
+/// Output arrays allocated by numpy (which backs large ones with huge pages), of
+/// shape `lead + (M, 2)` for positions and analogs (None unless `analogs`) and
+/// `lead` for the flags.
+fn allocate<'py>(py: Python<'py>, lead: &[usize], m: usize, analogs: bool) -> Arrays<'py> {
     let points: Vec<usize> = lead.iter().copied().chain([m, 2]).collect();
-    let big = |v: Vec<f64>| -> PyResult<_> {
-        Ok(ArrayD::from_shape_vec(IxDyn(&points), v)
-            .map_err(internal)?
-            .into_pyarray(py))
-    };
-    let flags = |v: Vec<bool>| -> PyResult<_> {
-        Ok(ArrayD::from_shape_vec(IxDyn(lead), v)
-            .map_err(internal)?
-            .into_pyarray(py))
-    };
-    let analogs = !s.vel.is_empty() || s.xy.is_empty();
+    let big = || PyArrayDyn::<f64>::zeros(py, IxDyn(&points), false);
+    let flag = || PyArrayDyn::<bool>::zeros(py, IxDyn(lead), false);
     let (vel, acc) = if analogs {
-        (Some(big(s.vel)?), Some(big(s.acc)?))
+        (Some(big()), Some(big()))
     } else {
         (None, None)
     };
-    Ok((
-        big(s.xy)?,
-        vel,
-        acc,
-        flags(s.ok)?,
-        flags(s.singular)?,
-        flags(s.branch)?,
-    ))
+    (big(), vel, acc, flag(), flag(), flag())
+}
+
+/// Run `kernel` (GIL released) writing into the arrays of `out`.
+fn fill<'py, F>(py: Python<'py>, name: &'static str, out: &Arrays<'py>, kernel: F) -> PyResult<()>
+where
+    F: FnOnce(Outputs<'_>) -> Result<(), LinkageError> + Send,
+{
+    let internal =
+        |_| pyo3::exceptions::PyRuntimeError::new_err("internal error: array not contiguous");
+    let mut xy = out.0.readwrite();
+    let mut vel = out.1.as_ref().map(|a| a.readwrite());
+    let mut acc = out.2.as_ref().map(|a| a.readwrite());
+    let (mut ok, mut singular, mut branch) =
+        (out.3.readwrite(), out.4.readwrite(), out.5.readwrite());
+    let (mut no_vel, mut no_acc): ([f64; 0], [f64; 0]) = ([], []);
+    let outputs = Outputs {
+        xy: xy.as_slice_mut().map_err(internal)?,
+        vel: match vel.as_mut() {
+            Some(v) => v.as_slice_mut().map_err(internal)?,
+            None => &mut no_vel,
+        },
+        acc: match acc.as_mut() {
+            Some(v) => v.as_slice_mut().map_err(internal)?,
+            None => &mut no_acc,
+        },
+        ok: ok.as_slice_mut().map_err(internal)?,
+        singular: singular.as_slice_mut().map_err(internal)?,
+        branch: branch.as_slice_mut().map_err(internal)?,
+    };
+    run(py, name, || kernel(outputs))
 }
 
 fn request(py: Python<'_>, points: PyReadonlyArray1<'_, i64>, analogs: bool) -> PyResult<Request> {
@@ -242,11 +254,11 @@ impl LinkageProgram {
     ) -> PyResult<Arrays<'py>> {
         let a = contiguous(py, &angles)?;
         let req = request(py, points, analogs)?;
-        let m = req.points.len();
-        let s = run(py, "Linkage.solve", || {
-            self.program.solve(a, &req, n_threads)
+        let out = allocate(py, &[a.len()], req.points.len(), analogs);
+        fill(py, "Linkage.solve", &out, |o| {
+            self.program.solve_into(a, &req, n_threads, o)
         })?;
-        arrays(py, s, &[a.len()], m)
+        Ok(out)
     }
 
     /// Solve K geometries of this program, `dims` (K, S, 8) replacing its
@@ -283,10 +295,10 @@ impl LinkageProgram {
         }
         let a = contiguous(py, &angles)?;
         let req = request(py, points, analogs)?;
-        let m = req.points.len();
-        let sol = run(py, "linkage.sweep", || {
-            linkage::solve_many(&programs, a, &req, n_threads)
+        let out = allocate(py, &[k, a.len()], req.points.len(), analogs);
+        fill(py, "linkage.sweep", &out, |o| {
+            linkage::solve_many_into(&programs, a, &req, n_threads, o)
         })?;
-        arrays(py, sol, &[k, a.len()], m)
+        Ok(out)
     }
 }

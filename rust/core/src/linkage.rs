@@ -313,6 +313,7 @@ impl<'a> Out<'a> {
     }
 
     /// Row `i` from `state` (chosen points `sel`), or NaN where the pose failed.
+    #[inline(always)]
     fn write(&mut self, i: usize, sel: &[usize], state: &State, pose: Pose, branch: bool) {
         let m = sel.len();
         let row = i * m..(i + 1) * m;
@@ -473,6 +474,7 @@ impl Program {
     /// `prev` = (positions, velocity and acceleration analogs, Δφ) of the pose just
     /// solved, from which class III groups predict their next position (they need
     /// `AN`: the analogs are the predictor).
+    #[inline(always)]
     fn solve_one<const AN: bool>(
         &self,
         phi: f64,
@@ -540,7 +542,7 @@ impl Program {
                     }
                 }
                 Step::Driver { pivot, tip, radius } => {
-                    let (s, c) = phi.sin_cos();
+                    let (s, c) = crate::geom::sin_cos(phi);
                     let o = xy[pivot];
                     xy[tip] = [o[0] + radius * c, o[1] + radius * s];
                     if AN {
@@ -807,13 +809,26 @@ impl Program {
         request: &Request,
         n_threads: Option<i64>,
     ) -> Result<Solution, LinkageError> {
+        let mut buffers = Buffers::new(angles.len(), request.points.len(), request.analogs)?;
+        self.solve_into(angles, request, n_threads, buffers.outputs())?;
+        Ok(buffers.finish())
+    }
+
+    /// [`Program::solve`] into caller-owned buffers (e.g. numpy arrays), laid out
+    /// as [`Solution`]'s; every element is written.
+    pub fn solve_into(
+        &self,
+        angles: &[f64],
+        request: &Request,
+        n_threads: Option<i64>,
+        outputs: Outputs<'_>,
+    ) -> Result<(), LinkageError> {
         self.validate()?;
         check_request(request, self.n_points)?;
         check_angles(angles)?;
         let threads = crate::parallel::resolve_threads(n_threads)?;
         let sel = &request.points;
-        let mut buffers = Buffers::new(angles.len(), sel.len(), request.analogs)?;
-        let mut out = buffers.out();
+        let mut out = outputs.view(angles.len(), sel.len(), request.analogs)?;
         if self.has_triads() || threads == 1 || angles.len() < 2 * BLOCK {
             self.solve_serial(angles, sel, &mut out)?;
         } else {
@@ -832,7 +847,46 @@ impl Program {
                 })
             });
         }
-        Ok(buffers.finish())
+        Ok(())
+    }
+}
+
+/// Caller-owned output buffers, laid out as [`Solution`]'s fields: `rows · M · 2`
+/// values for `xy` (and for `vel`, `acc` when analogs are asked for, else empty),
+/// `rows` flags each.
+pub struct Outputs<'a> {
+    pub xy: &'a mut [f64],
+    pub vel: &'a mut [f64],
+    pub acc: &'a mut [f64],
+    pub ok: &'a mut [bool],
+    pub singular: &'a mut [bool],
+    pub branch: &'a mut [bool],
+}
+
+impl<'a> Outputs<'a> {
+    /// Checked sizes, viewed as (x, y) pairs in place: the kernel writes the final
+    /// layout.
+    fn view(self, rows: usize, m: usize, analogs: bool) -> Result<Out<'a>, LinkageError> {
+        let len = rows * m * 2;
+        let an = if analogs { len } else { 0 };
+        let sizes = [self.xy.len(), self.vel.len(), self.acc.len()];
+        let flags = [self.ok.len(), self.singular.len(), self.branch.len()];
+        if sizes != [len, an, an] || flags != [rows; 3] {
+            return Err(LinkageError::BadProgram {
+                step: 0,
+                why: format!(
+                    "output buffers of {sizes:?} values and {flags:?} flags for {rows} rows of {m} points"
+                ),
+            });
+        }
+        Ok(Out {
+            xy: self.xy.as_chunks_mut::<2>().0,
+            vel: self.vel.as_chunks_mut::<2>().0,
+            acc: self.acc.as_chunks_mut::<2>().0,
+            ok: self.ok,
+            singular: self.singular,
+            branch: self.branch,
+        })
     }
 }
 
@@ -851,31 +905,31 @@ impl Buffers {
         let len = rows
             .checked_mul(m * 2)
             .ok_or(LinkageError::Memory { bytes: usize::MAX })?;
-        let alloc = |n: usize| -> Result<Vec<f64>, LinkageError> {
-            let mut v = Vec::new();
-            v.try_reserve_exact(n).map_err(|_| LinkageError::Memory {
-                bytes: n.saturating_mul(8),
-            })?;
-            v.resize(n, 0.0);
-            Ok(v)
-        };
         let an = if analogs { len } else { 0 };
+        // Probe the whole size once, fallibly; then allocate zeroed memory, which
+        // for large buffers is fresh pages touched first by the (parallel) kernel
+        // rather than a serial memset here.
+        let bytes = (len + 2 * an).saturating_mul(8).saturating_add(3 * rows);
+        let mut probe: Vec<u8> = Vec::new();
+        probe
+            .try_reserve_exact(bytes)
+            .map_err(|_| LinkageError::Memory { bytes })?;
+        drop(probe);
         Ok(Buffers {
-            xy: alloc(len)?,
-            vel: alloc(an)?,
-            acc: alloc(an)?,
+            xy: vec![0.0; len],
+            vel: vec![0.0; an],
+            acc: vec![0.0; an],
             ok: vec![false; rows],
             singular: vec![false; rows],
             branch: vec![false; rows],
         })
     }
 
-    /// The buffers viewed as (x, y) pairs in place: the kernel writes the final layout.
-    fn out(&mut self) -> Out<'_> {
-        Out {
-            xy: self.xy.as_chunks_mut::<2>().0,
-            vel: self.vel.as_chunks_mut::<2>().0,
-            acc: self.acc.as_chunks_mut::<2>().0,
+    fn outputs(&mut self) -> Outputs<'_> {
+        Outputs {
+            xy: &mut self.xy,
+            vel: &mut self.vel,
+            acc: &mut self.acc,
             ok: &mut self.ok,
             singular: &mut self.singular,
             branch: &mut self.branch,
@@ -929,8 +983,22 @@ pub fn solve_many(
     request: &Request,
     n_threads: Option<i64>,
 ) -> Result<Solution, LinkageError> {
+    let rows = programs.len().saturating_mul(angles.len());
+    let mut buffers = Buffers::new(rows, request.points.len(), request.analogs)?;
+    solve_many_into(programs, angles, request, n_threads, buffers.outputs())?;
+    Ok(buffers.finish())
+}
+
+/// [`solve_many`] into caller-owned buffers laid out as its [`Solution`].
+pub fn solve_many_into(
+    programs: &[Program],
+    angles: &[f64],
+    request: &Request,
+    n_threads: Option<i64>,
+    outputs: Outputs<'_>,
+) -> Result<(), LinkageError> {
     let Some(first) = programs.first() else {
-        return Ok(Buffers::new(0, request.points.len(), request.analogs)?.finish());
+        return Ok(());
     };
     for (g, prog) in programs.iter().enumerate() {
         if prog.n_points != first.n_points {
@@ -954,9 +1022,9 @@ pub fn solve_many(
     check_angles(angles)?;
     let threads = crate::parallel::resolve_threads(n_threads)?;
     let (n, m) = (angles.len(), request.points.len());
-    let mut buffers = Buffers::new(programs.len().saturating_mul(n), m, request.analogs)?;
+    let rows = programs.len().saturating_mul(n);
     let mut slabs = Vec::with_capacity(programs.len());
-    let mut rest = buffers.out();
+    let mut rest = outputs.view(rows, m, request.analogs)?;
     for _ in 0..programs.len() {
         let (head, tail) = rest.split(n, m);
         slabs.push(head);
@@ -976,7 +1044,7 @@ pub fn solve_many(
         crate::parallel::pool(threads)?
             .install(|| programs.par_iter().zip(slabs.into_par_iter()).for_each(one));
     }
-    Ok(buffers.finish())
+    Ok(())
 }
 
 #[cfg(test)]

@@ -26,6 +26,9 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::geom::{cross, dist, dot, sub, V2};
 
+type M3 = SMatrix<f64, 3, 3>;
+type V3 = SVector<f64, 3>;
+#[cfg(test)]
 type M6 = SMatrix<f64, 6, 6>;
 type V6 = SVector<f64, 6>;
 
@@ -40,6 +43,39 @@ pub struct Triad {
     pub sides: [f64; 3],
     /// Sign of (J1 − J0) × (J2 − J0): a rigid body keeps its orientation.
     pub orientation: f64,
+}
+
+/// The Jacobian of a pose in the reduced form of [`Triad::reduce`].
+struct Reduced {
+    d: [V2; 3],
+    n: [V2; 3],
+    s: [V2; 3],
+    inv: Option<M3>,
+    /// det M, which is ± det F' (the change to the (α, t) coordinates has
+    /// determinant Π|d_i|² and scales the first three rows by the same).
+    det: f64,
+}
+
+impl Reduced {
+    /// x with `F' x = r` (r in the row order of the closure equations), by the
+    /// structure: three projections and the 3×3 inverse.
+    fn solve(&self, r: [f64; 6]) -> Option<[V2; 3]> {
+        let inv = self.inv.as_ref()?;
+        let alpha: [f64; 3] = [0, 1, 2].map(|i| r[i] / dot(self.d[i], self.d[i]));
+        let mut b = V3::zeros();
+        for (row, &(a, c)) in SIDES.iter().enumerate() {
+            b[row] = r[3 + row] - alpha[a] * dot(self.s[row], self.d[a])
+                + alpha[c] * dot(self.s[row], self.d[c]);
+        }
+        let t = inv * b;
+        let x = [0, 1, 2].map(|i| {
+            [
+                alpha[i] * self.d[i][0] + t[i] * self.n[i][0],
+                alpha[i] * self.d[i][1] + t[i] * self.n[i][1],
+            ]
+        });
+        x.iter().flatten().all(|v| v.is_finite()).then_some(x)
+    }
 }
 
 /// Intersection of circle(c1, r1) and circle(c2, r2) on side `sign` of c1→c2.
@@ -94,6 +130,8 @@ impl Triad {
         f
     }
 
+    /// The full 6×6 Jacobian: the tests' reference for the structured solve.
+    #[cfg(test)]
     fn jacobian(&self, k: &[V2; 3], j: &[V2; 3]) -> M6 {
         let mut m = M6::zeros();
         for i in 0..3 {
@@ -109,6 +147,34 @@ impl Triad {
             m[(3 + s, 2 * b + 1)] = -d[1];
         }
         m
+    }
+
+    /// The Jacobian `F'(J)` reduced by its structure, for solving `F'(J) x = r`.
+    ///
+    /// Rows 0–2 (the binary links) say `d_i · x_i = r_i` with `d_i = J_i − K_i`,
+    /// so `x_i = (r_i / |d_i|²) d_i + t_i n_i` with `n_i ⟂ d_i`; rows 3–5 (the sides
+    /// `s = J_a − J_b`) then give three equations in `t`:
+    /// `t_a (s·n_a) − t_b (s·n_b) = r − α_a (s·d_a) + α_b (s·d_b)`. The 3×3 matrix
+    /// `M` of that system carries the singularity: `det F' = ± det M` with a sign
+    /// fixed by the layout, so `det M`'s sign tells the assembly branch.
+    fn reduce(&self, k: &[V2; 3], j: &[V2; 3]) -> Reduced {
+        let d: [V2; 3] = [0, 1, 2].map(|i| sub(j[i], k[i]));
+        let n: [V2; 3] = d.map(|v| [-v[1], v[0]]);
+        let s: [V2; 3] = SIDES.map(|(a, b)| sub(j[a], j[b]));
+        let mut m = M3::zeros();
+        for (row, &(a, b)) in SIDES.iter().enumerate() {
+            m[(row, a)] = dot(s[row], n[a]);
+            m[(row, b)] = -dot(s[row], n[b]);
+        }
+        // nalgebra's 3×3 determinant and inverse are closed-form (cofactors).
+        let det = m.determinant();
+        Reduced {
+            d,
+            n,
+            s,
+            inv: m.try_inverse(),
+            det,
+        }
     }
 
     /// Largest closure error as a length: max |(|P − Q| − length)|.
@@ -135,13 +201,10 @@ impl Triad {
                 return self.oriented(&j).then_some(j);
             }
             let f = self.residual(k, &j);
-            let step = self.jacobian(k, &j).lu().solve(&f)?;
-            if !step.iter().all(|v| v.is_finite()) {
-                return None;
-            }
+            let step = self.reduce(k, &j).solve(f.into())?;
             for i in 0..3 {
-                j[i][0] -= step[2 * i];
-                j[i][1] -= step[2 * i + 1];
+                j[i][0] -= step[i][0];
+                j[i][1] -= step[i][1];
             }
         }
         (self.closure_error(k, &j) <= 1e-12 * size && self.oriented(&j)).then_some(j)
@@ -244,41 +307,28 @@ impl Triad {
         ka: &[V2; 3],
         j: &[V2; 3],
     ) -> (f64, Option<([V2; 3], [V2; 3])>) {
-        let lu = self.jacobian(k, j).lu();
-        let det = lu.determinant();
+        let red = self.reduce(k, j);
         // |det| relative to the scale of the entries (size⁶): a dead centre.
-        if det.abs() <= 1e-8 * self.size().powi(6) {
-            return (det.signum(), None);
+        if red.det.abs() <= 1e-8 * self.size().powi(6) {
+            return (red.det.signum(), None);
         }
-        (det.signum(), self.analogs_with(&lu, k, kv, ka, j))
-    }
-
-    #[allow(clippy::type_complexity)]
-    fn analogs_with(
-        &self,
-        lu: &nalgebra::LU<f64, nalgebra::U6, nalgebra::U6>,
-        k: &[V2; 3],
-        kv: &[V2; 3],
-        ka: &[V2; 3],
-        j: &[V2; 3],
-    ) -> Option<([V2; 3], [V2; 3])> {
-        let mut r = V6::zeros();
+        let mut r = [0.0; 6];
         for i in 0..3 {
-            r[i] = dot(sub(j[i], k[i]), kv[i]);
+            r[i] = dot(red.d[i], kv[i]);
         }
-        let v6 = lu.solve(&r)?;
-        let v: [V2; 3] = [0, 1, 2].map(|i| [v6[2 * i], v6[2 * i + 1]]);
-        let mut r2 = V6::zeros();
+        let Some(v) = red.solve(r) else {
+            return (red.det.signum(), None);
+        };
+        let mut r2 = [0.0; 6];
         for i in 0..3 {
             let rel = sub(v[i], kv[i]);
-            r2[i] = dot(sub(j[i], k[i]), ka[i]) - dot(rel, rel);
+            r2[i] = dot(red.d[i], ka[i]) - dot(rel, rel);
         }
         for (s, &(a, b)) in SIDES.iter().enumerate() {
             let rel = sub(v[a], v[b]);
             r2[3 + s] = -dot(rel, rel);
         }
-        let a6 = lu.solve(&r2)?;
-        Some((v, [0, 1, 2].map(|i| [a6[2 * i], a6[2 * i + 1]])))
+        (red.det.signum(), red.solve(r2).map(|a| (v, a)))
     }
 }
 
@@ -318,6 +368,24 @@ mod tests {
                 prop_assert!(t.closure_error(&k, r) <= 1e-12 * t.size());
                 prop_assert!(t.oriented(r));
             }
+        }
+
+        #[test]
+        fn structured_solve_matches_a_dense_lu((k, j) in triad_pose(), r in prop::array::uniform6(-1.0f64..1.0)) {
+            let t = Triad::from_pose(k, j);
+            let dense = t.jacobian(&k, &j);
+            prop_assume!(dense.singular_values().min() > 1e-3 * t.size() * t.size());
+            let want = dense.lu().solve(&V6::from_row_slice(&r)).unwrap();
+            let red = t.reduce(&k, &j);
+            let got = red.solve(r).unwrap();
+            for i in 0..3 {
+                for c in 0..2 {
+                    prop_assert!((got[i][c] - want[2 * i + c]).abs() <= 1e-9 * (1.0 + want.amax()));
+                }
+            }
+            // |det M| is |det F'|.
+            let det = dense.determinant();
+            prop_assert!((red.det.abs() - det.abs()).abs() <= 1e-9 * det.abs().max(1.0));
         }
 
         #[test]
