@@ -1,7 +1,12 @@
-"""Command line: ``cyclomech cyclogram FILE.toml [--out DIR]``.
+"""Command line of cyclomech.
 
-Prints the schedule (every operation at its minimum), the LP optimum and the speed
-limit, and writes a figure and a JSON summary to ``--out``.
+``cyclomech cyclogram FILE.toml [--out DIR]`` prints the schedule (every operation
+at its minimum), the LP optimum and the speed limit, and writes a figure and a JSON
+summary to ``--out``.
+
+``cyclomech linkage FILE.toml [--out DIR] [--step-deg S]`` solves a linkage over a
+full crank turn and writes the analog table (CSV), a JSON summary and figures (the
+mechanism with the traced path of its output point, the output point's analogs).
 """
 
 from __future__ import annotations
@@ -16,6 +21,7 @@ from typing import Any
 
 from ._errors import CyclomechError, InfeasibleError, InputError
 from .cyclogram import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
+from .linkage import Linkage, LinkageSolution
 
 __all__ = ["main"]
 
@@ -176,13 +182,7 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
             _print_speed(lim)
         except InfeasibleError as e:
             print(f"\nSpeed limit: none, {e}")
-    out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise InputError(
-            f"--out {out}: cannot create the output folder: {e.strerror or e}"
-        ) from None
+    out = _out_folder(args)
     (out / "cyclogram.json").write_text(
         json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False), encoding="utf-8"
     )
@@ -214,6 +214,158 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _out_folder(args: argparse.Namespace) -> Path:
+    out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise InputError(
+            f"--out {out}: cannot create the output folder: {e.strerror or e}"
+        ) from None
+    return out
+
+
+def _analog_table(sol: LinkageSolution) -> tuple[list[str], Any]:
+    """Columns and rows of the analog table: one row per crank angle."""
+    import numpy as np
+
+    cols = ["angle_deg", "ok", "singular", "branch_change"]
+    parts = [np.degrees(sol.angles)[:, None], sol.ok[:, None], sol.singular[:, None]]
+    parts.append(sol.branch_change[:, None])
+    assert sol.vel is not None and sol.acc is not None
+    for k, name in enumerate(sol.names):
+        cols += [f"{name}_{q}" for q in ("x", "y", "dx", "dy", "ddx", "ddy")]
+        parts += [sol.xy[:, k], sol.vel[:, k], sol.acc[:, k]]
+    return cols, np.hstack([np.asarray(p, dtype=np.float64) for p in parts])
+
+
+def _stroke(xy: Any) -> float:
+    """The largest distance between two points of a path [m] (its diameter), over
+    the vertices of its convex hull; a straight path's extent along its line."""
+    import numpy as np
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        pts = xy[ConvexHull(xy).vertices]
+    except (QhullError, ValueError):  # on one line (a slider), or too few points
+        centred = xy - xy.mean(axis=0)
+        axis = np.linalg.svd(centred, full_matrices=False)[2][0]
+        along = centred @ axis
+        return float(along.max() - along.min())
+    d = pts[:, None, :] - pts[None, :, :]
+    return float(np.sqrt((d**2).sum(axis=2)).max())
+
+
+def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str) -> dict[str, Any]:
+    import numpy as np
+
+    k = sol.index(point)
+    assert sol.vel is not None and sol.acc is not None
+    xy = sol.xy[sol.ok, k]
+    out: dict[str, Any] = {
+        "schema": "cyclomech.linkage/1",
+        "name": lk.name,
+        "structure": [[kind, list(joints)] for kind, joints in lk.structure],
+        "dimensions": [
+            {"joints": list(pair), "length_m": float(v)}
+            for pair, v in zip(lk.dimensions, lk.dimension_values, strict=True)
+        ],
+        "angles": len(sol.angles),
+        "assembled": int(sol.ok.sum()),
+        "singular": int(sol.singular.sum()),
+        "branch_changes": [float(a) for a in np.degrees(sol.angles[sol.branch_change])],
+        "output": point,
+    }
+    if len(xy):
+        out["output_range_m"] = {
+            "x": [float(xy[:, 0].min()), float(xy[:, 0].max())],
+            "y": [float(xy[:, 1].min()), float(xy[:, 1].max())],
+        }
+        out["output_stroke_m"] = _stroke(xy)
+        speed = np.hypot(*sol.vel[sol.ok, k].T)
+        accel = np.hypot(*sol.acc[sol.ok, k].T)
+        out["max_velocity_analog_m_per_rad"] = float(np.nanmax(speed))
+        out["max_acceleration_analog_m_per_rad2"] = float(np.nanmax(accel))
+    return out
+
+
+def _linkage_command(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    lk = Linkage.from_toml(args.file)
+    step = args.step_deg
+    if not (math.isfinite(step) and 0 < step <= 90):
+        raise InputError(f"--step-deg {step:g}: give a step in (0, 90] degrees")
+    n = round(360.0 / step)
+    angles = lk.drawn_angle + np.radians(np.arange(n) * step)
+    sol = lk.solve(angles)
+    point = lk.output or lk.names[-1]
+    summary = _linkage_summary(lk, sol, point)
+    structure = " – ".join(
+        kind if kind == "driver" else f"{kind}({', '.join(j)})" for kind, j in lk.structure
+    )
+    print(f"{lk.name or Path(args.file).stem}: {len(lk.names)} points, structure {structure}")
+    print(
+        f"Solved {n} crank angles from the drawn {math.degrees(lk.drawn_angle):.2f}° in steps "
+        f"of {step:g}°: assembled at {summary['assembled']}, dead centres at "
+        f"{summary['singular']}, branch changes at {len(summary['branch_changes'])}."
+    )
+    if "output_range_m" in summary:
+        r = summary["output_range_m"]
+        print(
+            f"Output point {point}: x {r['x'][0]:.6g}…{r['x'][1]:.6g} m, "
+            f"y {r['y'][0]:.6g}…{r['y'][1]:.6g} m"
+            + (
+                f", stroke {summary['output_stroke_m']:.6g} m"
+                if "output_stroke_m" in summary
+                else ""
+            )
+            + f"; |d xy/dφ| ≤ {summary['max_velocity_analog_m_per_rad']:.6g} m/rad, "
+            f"|d² xy/dφ²| ≤ {summary['max_acceleration_analog_m_per_rad2']:.6g} m/rad²"
+        )
+    out = _out_folder(args)
+    cols, table = _analog_table(sol)
+    np.savetxt(
+        out / "analogs.csv", table, delimiter=",", header=",".join(cols), comments="", fmt="%.12g"
+    )
+    (out / "linkage.json").write_text(
+        json.dumps(summary, indent=2, ensure_ascii=False), encoding="utf-8"
+    )
+    written = [out / "analogs.csv", out / "linkage.json"]
+    if not args.no_plot:
+        written += _linkage_figures(lk, sol, point, out)
+    print("\nWrote " + ", ".join(str(p) for p in written))
+    if not sol.ok.any():
+        print("cyclomech: the linkage cannot be assembled at any angle", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _linkage_figures(lk: Linkage, sol: LinkageSolution, point: str, out: Path) -> list[Path]:
+    try:
+        import matplotlib
+    except ImportError:
+        print("\n(no figures: matplotlib is not installed; pip install cyclomech[plot])")
+        return []
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plot import plot_analogs, plot_linkage
+
+    written = []
+    if sol.ok.any():
+        first = int(sol.ok.argmax())
+        ax = plot_linkage(lk, sol, first, trace=[point])
+        ax.figure.savefig(out / "mechanism.png", dpi=130, bbox_inches="tight")
+        plt.close(ax.figure)
+        written.append(out / "mechanism.png")
+    fig = plot_analogs(sol, point)
+    fig.savefig(out / f"analogs_{point}.png", dpi=130, bbox_inches="tight")
+    plt.close(fig)
+    written.append(out / f"analogs_{point}.png")
+    return written
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
     parser = argparse.ArgumentParser(prog="cyclomech", description="Design of cyclic machines.")
@@ -223,9 +375,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--out", help="output folder (default: out/<file name>)")
     p.add_argument("--speed", type=float, help="main-shaft speed [rpm] for time-bound operations")
     p.add_argument("--no-plot", action="store_true", help="do not write the figure")
+    p.set_defaults(run=_cyclogram_command)
+    q = sub.add_parser("linkage", help="solve a linkage file (TOML) over a crank turn")
+    q.add_argument("file", help="linkage file, e.g. examples/burg_trimmer.toml")
+    q.add_argument("--out", help="output folder (default: out/<file name>)")
+    q.add_argument("--step-deg", type=float, default=1.0, help="crank-angle step [°] (default 1)")
+    q.add_argument("--no-plot", action="store_true", help="do not write the figures")
+    q.set_defaults(run=_linkage_command)
     args = parser.parse_args(argv)
     try:
-        return _cyclogram_command(args)
+        return int(args.run(args))
     except CyclomechError as e:
         # Errors from the file already name it; name it for the others too.
         msg = str(e) if args.file in str(e) else f"{args.file}: {e}"

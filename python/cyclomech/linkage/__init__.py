@@ -412,14 +412,29 @@ class Linkage:
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> print(lk.to_toml())
         [linkage]
-        points = { A = [0.0, 0.0], B = [1.0, 0.0] }
         links = [["A", "B"]]
         ground = ["A"]
         driver = ["A", "B"]
         <BLANKLINE>
+        [linkage.points]
+        A = [0.0, 0.0]
+        B = [1.0, 0.0]
+        <BLANKLINE>
         """
+        table = self.to_dict()
+        points = table.pop("points")
+        lengths = table.pop("lengths", [])
+        sliders = table.pop("sliders", {})
         lines = ["[linkage]"]
-        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in self.to_dict().items()]
+        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in table.items()]
+        lines += ["", "[linkage.points]"]
+        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in points.items()]
+        for item in lengths:
+            lines += ["", "[[linkage.lengths]]"]
+            lines += [f"{k} = {_toml.value(v)}" for k, v in item.items()]
+        if sliders:
+            lines += ["", "[linkage.sliders]"]
+            lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in sliders.items()]
         text = "\n".join(lines) + "\n"
         if path is not None:
             Path(path).write_text(text, encoding="utf-8")
