@@ -15,6 +15,12 @@ from typing import Any
 
 import pytest
 
+# scipy's and numpy's OpenBLAS keep worker threads spinning for a while after a
+# BLAS call (scipy's least_squares in the class III peer row); on a 2-core machine
+# they steal a core from whatever is timed next. No benchmark here uses BLAS
+# threads, so they are turned off for all tools alike (before numpy is imported).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 REFERENCE_TOOL = "cyclomech"
 VERSIONED = ("cyclomech", "numpy", "rustworkx", "networkx", "pytest-benchmark")
 
