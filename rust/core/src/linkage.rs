@@ -566,14 +566,15 @@ impl Program {
                     if l == 0.0 {
                         return Pose::FAILED;
                     }
-                    let x = (ra * ra - rb * rb + dd) / (2.0 * l);
+                    let inv = 1.0 / l;
+                    let x = (ra * ra - rb * rb + dd) * (0.5 * inv);
                     let h2 = ra * ra - x * x;
                     // Round-off can make a tangent position slightly negative.
                     if h2 < -1e-12 * ra * ra {
                         return Pose::FAILED;
                     }
                     let h = h2.max(0.0).sqrt();
-                    let (ex, ey) = (d[0] / l, d[1] / l);
+                    let (ex, ey) = (d[0] * inv, d[1] * inv);
                     let q = [
                         pa[0] + x * ex - sign * h * ey,
                         pa[1] + x * ey + sign * h * ex,
