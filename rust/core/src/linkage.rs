@@ -220,6 +220,12 @@ pub struct Request {
 /// at a dead centre.
 const SINGULAR_REL: f64 = 1e-9;
 
+/// Angles solved together by [`Program::solve_lanes`].
+const LANES: usize = 8;
+
+/// One coordinate of a point over a block of angles.
+type Lane = [f64; LANES];
+
 /// Angles per parallel task of a closed-form (class II) solve.
 const BLOCK: usize = 1024;
 
@@ -340,6 +346,38 @@ impl<'a> Out<'a> {
         }
     }
 
+    /// Row `i` from lane `l` of a block's state (chosen points `sel`).
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    fn write_lane(
+        &mut self,
+        i: usize,
+        sel: &[usize],
+        (xy, vel, acc): (&[[Lane; 2]], &[[Lane; 2]], &[[Lane; 2]]),
+        l: usize,
+        pose: Pose,
+    ) {
+        let m = sel.len();
+        self.ok[i] = pose.ok;
+        self.singular[i] = pose.ok && pose.singular;
+        self.branch[i] = false;
+        let an = !self.vel.is_empty();
+        let pick = |v: &[[Lane; 2]], j: usize| -> V2 {
+            if pose.ok {
+                [v[j][0][l], v[j][1][l]]
+            } else {
+                [f64::NAN; 2]
+            }
+        };
+        for (k, &j) in sel.iter().enumerate() {
+            self.xy[i * m + k] = pick(xy, j);
+            if an {
+                self.vel[i * m + k] = pick(vel, j);
+                self.acc[i * m + k] = pick(acc, j);
+            }
+        }
+    }
+
     fn fail_all(&mut self) {
         for v in [&mut *self.xy, &mut *self.vel, &mut *self.acc] {
             v.fill([f64::NAN; 2]);
@@ -350,12 +388,13 @@ impl<'a> Out<'a> {
     }
 }
 
-/// `[n1ᵀ; n2ᵀ] x = (r1, r2)` by Cramer's rule, with `det = n1 × n2` non-zero.
+/// `[n1ᵀ; n2ᵀ] x = (r1, r2)` by Cramer's rule, given `inv = 1 / (n1 × n2)`
+/// (one division serves the velocity and the acceleration analog).
 #[inline]
-fn solve2(n1: V2, n2: V2, det: f64, r1: f64, r2: f64) -> V2 {
+fn solve2(n1: V2, n2: V2, inv: f64, r1: f64, r2: f64) -> V2 {
     [
-        (r1 * n2[1] - r2 * n1[1]) / det,
-        (n1[0] * r2 - n2[0] * r1) / det,
+        (r1 * n2[1] - r2 * n1[1]) * inv,
+        (n1[0] * r2 - n2[0] * r1) * inv,
     ]
 }
 
@@ -591,11 +630,12 @@ impl Program {
                         continue;
                     }
                     if AN {
-                        let v = solve2(u, w, det, dot(u, vel[a]), dot(w, vel[b]));
+                        let inv = 1.0 / det;
+                        let v = solve2(u, w, inv, dot(u, vel[a]), dot(w, vel[b]));
                         let (va, vb) = (sub(v, vel[a]), sub(v, vel[b]));
                         let r1 = dot(u, acc[a]) - dot(va, va);
                         vel[p] = v;
-                        acc[p] = solve2(u, w, det, r1, dot(w, acc[b]) - dot(vb, vb));
+                        acc[p] = solve2(u, w, inv, r1, dot(w, acc[b]) - dot(vb, vb));
                     }
                 }
                 Step::Slide {
@@ -631,11 +671,12 @@ impl Program {
                         continue;
                     }
                     if AN {
-                        let v = solve2(u, n, det, dot(u, vel[a]), ln.rhs_v(q));
+                        let inv = 1.0 / det;
+                        let v = solve2(u, n, inv, dot(u, vel[a]), ln.rhs_v(q));
                         let va = sub(v, vel[a]);
                         let r1 = dot(u, acc[a]) - dot(va, va);
                         vel[p] = v;
-                        acc[p] = solve2(u, n, det, r1, ln.rhs_a(q, v));
+                        acc[p] = solve2(u, n, inv, r1, ln.rhs_a(q, v));
                     }
                 }
                 Step::Cross { l1, l2, p } => {
@@ -648,12 +689,13 @@ impl Program {
                         return Pose::FAILED;
                     }
                     // n_i·q = n_i·o_i.
-                    let q = solve2(n1, n2, det, dot(n1, g1.o), dot(n2, g2.o));
+                    let inv = 1.0 / det;
+                    let q = solve2(n1, n2, inv, dot(n1, g1.o), dot(n2, g2.o));
                     xy[p] = q;
                     if AN {
-                        let v = solve2(n1, n2, det, g1.rhs_v(q), g2.rhs_v(q));
+                        let v = solve2(n1, n2, inv, g1.rhs_v(q), g2.rhs_v(q));
                         vel[p] = v;
-                        acc[p] = solve2(n1, n2, det, g1.rhs_a(q, v), g2.rhs_a(q, v));
+                        acc[p] = solve2(n1, n2, inv, g1.rhs_a(q, v), g2.rhs_a(q, v));
                     }
                 }
                 Step::Aim { b, s, c, len, sign } => {
@@ -773,8 +815,20 @@ impl Program {
         Ok(())
     }
 
-    /// Closed-form groups only: every angle on its own.
+    /// Closed-form groups only: every angle on its own (in blocks of [`LANES`]
+    /// angles when the program is cranks and two-circle steps only).
     fn solve_rows(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
+        if self
+            .steps
+            .iter()
+            .all(|s| matches!(s, Step::Driver { .. } | Step::Circles { .. }))
+        {
+            return if out.vel.is_empty() {
+                self.solve_lanes::<false>(angles, sel, out)
+            } else {
+                self.solve_lanes::<true>(angles, sel, out)
+            };
+        }
         let mut state = State::new(self.n_points);
         for (i, &phi) in angles.iter().enumerate() {
             let pose = if out.vel.is_empty() {
@@ -783,6 +837,111 @@ impl Program {
                 self.solve_one::<true>(phi, &mut state.xy, &mut state.vel, &mut state.acc, None)
             };
             out.write(i, sel, &state, pose, false);
+        }
+    }
+
+    /// [`Program::solve_rows`] for cranks and two-circle steps, [`LANES`] angles at
+    /// a time: every step runs over the block before the next, so the angles'
+    /// independent square roots and divisions overlap (one angle at a time they
+    /// form a dependent chain). The same formulas, operation for operation, as
+    /// [`Program::solve_one`]; a lane that cannot be assembled is masked, not
+    /// returned from.
+    fn solve_lanes<const AN: bool>(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
+        let p = self.n_points;
+        let zero = [[0.0; LANES]; 2];
+        let (mut xy, mut vel, mut acc) = (vec![zero; p], vec![zero; p], vec![zero; p]);
+        for &(k, q) in &self.fixed {
+            xy[k] = [[q[0]; LANES], [q[1]; LANES]];
+        }
+        for start in (0..angles.len()).step_by(LANES) {
+            let n = LANES.min(angles.len() - start);
+            // A short last block repeats its last angle in the unused lanes.
+            let phi: Lane = std::array::from_fn(|l| angles[start + l.min(n - 1)]);
+            let mut ok = [true; LANES];
+            let mut singular = [false; LANES];
+            for step in &self.steps {
+                match *step {
+                    Step::Driver { pivot, tip, radius } => {
+                        let o = xy[pivot];
+                        for l in 0..LANES {
+                            let (s, c) = crate::geom::sin_cos(phi[l]);
+                            xy[tip][0][l] = o[0][l] + radius * c;
+                            xy[tip][1][l] = o[1][l] + radius * s;
+                            if AN {
+                                vel[tip][0][l] = -radius * s;
+                                vel[tip][1][l] = radius * c;
+                                acc[tip][0][l] = -radius * c;
+                                acc[tip][1][l] = -radius * s;
+                            }
+                        }
+                    }
+                    Step::Circles {
+                        a,
+                        b,
+                        p: pt,
+                        ra,
+                        rb,
+                        sign,
+                    } => {
+                        let (pa, pb) = (xy[a], xy[b]);
+                        let mut q = zero;
+                        let (mut v, mut ac) = (zero, zero);
+                        for l in 0..LANES {
+                            let d = [pb[0][l] - pa[0][l], pb[1][l] - pa[1][l]];
+                            let dd = d[0] * d[0] + d[1] * d[1];
+                            let len = dd.sqrt();
+                            let inv = 1.0 / len;
+                            let x = (ra * ra - rb * rb + dd) * (0.5 * inv);
+                            let h2 = ra * ra - x * x;
+                            ok[l] &= len != 0.0 && h2 >= -1e-12 * ra * ra;
+                            let h = h2.max(0.0).sqrt();
+                            let (ex, ey) = (d[0] * inv, d[1] * inv);
+                            let qq = [
+                                pa[0][l] + x * ex - sign * h * ey,
+                                pa[1][l] + x * ey + sign * h * ex,
+                            ];
+                            q[0][l] = qq[0];
+                            q[1][l] = qq[1];
+                            let u = [qq[0] - pa[0][l], qq[1] - pa[1][l]];
+                            let w = [qq[0] - pb[0][l], qq[1] - pb[1][l]];
+                            let det = cross(u, w);
+                            let dead = det.abs() <= SINGULAR_REL * ra * rb;
+                            singular[l] |= dead;
+                            if AN {
+                                let va_ = [vel[a][0][l], vel[a][1][l]];
+                                let vb_ = [vel[b][0][l], vel[b][1][l]];
+                                let aa_ = [acc[a][0][l], acc[a][1][l]];
+                                let ab_ = [acc[b][0][l], acc[b][1][l]];
+                                let inv = 1.0 / det;
+                                let vv = solve2(u, w, inv, dot(u, va_), dot(w, vb_));
+                                let (ra_, rb_) = (sub(vv, va_), sub(vv, vb_));
+                                let r1 = dot(u, aa_) - dot(ra_, ra_);
+                                let aa = solve2(u, w, inv, r1, dot(w, ab_) - dot(rb_, rb_));
+                                let nan = f64::NAN;
+                                for c in 0..2 {
+                                    v[c][l] = if dead { nan } else { vv[c] };
+                                    ac[c][l] = if dead { nan } else { aa[c] };
+                                }
+                            }
+                        }
+                        xy[pt] = q;
+                        if AN {
+                            vel[pt] = v;
+                            acc[pt] = ac;
+                        }
+                    }
+                    _ => unreachable!("solve_lanes runs cranks and two-circle steps only"),
+                }
+            }
+            for l in 0..n {
+                let i = start + l;
+                let pose = Pose {
+                    ok: ok[l],
+                    singular: singular[l],
+                    branch: 0,
+                };
+                out.write_lane(i, sel, (&xy, &vel, &acc), l, pose);
+            }
         }
     }
 
@@ -1286,6 +1445,59 @@ mod tests {
             let one = prog.solve(&angles, &all(4), Some(1)).unwrap();
             assert_eq!(many.xy[g * n..(g + 1) * n], one.xy[..]);
             assert_eq!(many.acc[g * n..(g + 1) * n], one.acc[..]);
+        }
+    }
+
+    #[test]
+    fn blocks_of_angles_equal_one_angle_at_a_time() {
+        // A crank-rocker with a coupler point E, over angles where it assembles
+        // and where it does not (non-Grashof), and a grid that is not a multiple
+        // of the block: the block path must give the one-angle path's bits.
+        for (r, l2, l3, d) in [(1.0, 3.5, 3.0, 3.5), (2.0, 2.0, 2.0, 3.0)] {
+            let mut prog = four_bar(r, l2, l3, d, 1.0);
+            prog.n_points = 5;
+            prog.steps.push(Step::Circles {
+                a: 1,
+                b: 2,
+                p: 4,
+                ra: 0.8 * l2,
+                rb: 0.5 * l2,
+                sign: -1.0,
+            });
+            let angles: Vec<f64> = (0..1003).map(|i| i as f64 * 0.00627).collect();
+            for analogs in [true, false] {
+                let req = Request {
+                    points: vec![4, 2, 0],
+                    analogs,
+                };
+                let s = prog.solve(&angles, &req, Some(1)).unwrap();
+                let mut st = State::new(5);
+                for (i, &phi) in angles.iter().enumerate() {
+                    let pose =
+                        prog.solve_one::<true>(phi, &mut st.xy, &mut st.vel, &mut st.acc, None);
+                    assert_eq!(s.ok[i], pose.ok);
+                    assert_eq!(s.singular[i], pose.ok && pose.singular);
+                    for (k, &j) in req.points.iter().enumerate() {
+                        for c in 0..2 {
+                            let at = (i * 3 + k) * 2 + c;
+                            let same = |got: f64, want: f64| {
+                                if pose.ok {
+                                    got.to_bits() == want.to_bits()
+                                } else {
+                                    got.is_nan()
+                                }
+                            };
+                            assert!(same(s.xy[at], st.xy[j][c]), "xy at {i}");
+                            if analogs {
+                                assert!(
+                                    same(s.vel[at], st.vel[j][c]) && same(s.acc[at], st.acc[j][c])
+                                );
+                            }
+                        }
+                    }
+                }
+                assert!(s.ok.iter().any(|&o| o));
+            }
         }
     }
 
