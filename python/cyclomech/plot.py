@@ -1514,7 +1514,7 @@ def animate_linkage(
             or not (math.isfinite(v) and v > 0)
         ):
             raise InputError(f"{name} must be a positive number; got {v!r}")
-    rows = [i for i in range(0, len(solution.angles), int(every)) if solution.ok[i]]
+    rows = (np.flatnonzero(solution.ok[:: int(every)]) * int(every)).tolist()
     if not rows:
         raise InputError(
             f"the mechanism cannot be assembled at any of the {len(solution.angles)} angles "

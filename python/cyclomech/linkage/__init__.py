@@ -569,15 +569,13 @@ class Linkage:
         fixed = sorted(self._ground)
         pv, tp = self._points[pivot], self._points[tip]
         drawn = math.atan2(tp[1] - pv[1], tp[0] - pv[0])
-        self._kind = np.array(kind, dtype=np.int64)
-        self._rows = np.array(rows, dtype=np.int64).reshape(-1, _IDX)
         self._base_dims = np.array(dims, dtype=np.float64).reshape(-1, _DIMS)
         program = _core.LinkageProgram(
             len(self._names),
             np.array([idx[g] for g in fixed], dtype=np.int64),
             np.array([self._points[g] for g in fixed], dtype=np.float64).reshape(-1, 2),
-            self._kind,
-            self._rows,
+            np.array(kind, dtype=np.int64),
+            np.array(rows, dtype=np.int64).reshape(-1, _IDX),
             self._base_dims,
             drawn,
             np.array([self._points[n] for n in self._names], dtype=np.float64),

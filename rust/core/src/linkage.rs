@@ -930,7 +930,9 @@ impl Program {
                             acc[pt] = ac;
                         }
                     }
-                    _ => unreachable!("solve_lanes runs cranks and two-circle steps only"),
+                    // solve_rows sends only cranks and two-circle steps here; any
+                    // other step would leave its point unsolved: fail, don't guess.
+                    _ => ok = [false; LANES],
                 }
             }
             for l in 0..n {
