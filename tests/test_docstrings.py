@@ -10,7 +10,9 @@ MODULES = [
     "cyclomech.cyclogram",
     "cyclomech.linkage",
     "cyclomech.linkage.presets",
+    "cyclomech.motion",
     "cyclomech.plot",
+    "cyclomech.press",
 ]
 
 
@@ -30,13 +32,22 @@ def test_every_public_function_has_an_example() -> None:
 
     import cyclomech as cm
 
+    import cyclomech.motion
+    import cyclomech.press
+
     missing = []
-    for name in cm.__all__:
-        obj = getattr(cm, name)
+    public = [(name, getattr(cm, name)) for name in cm.__all__]
+    for mod in (cyclomech.motion, cyclomech.press):
+        public += [(f"{mod.__name__}.{n}", getattr(mod, n)) for n in mod.__all__]
+    for name, obj in public:
+        if inspect.ismodule(obj):
+            continue
         if inspect.isclass(obj):
             if issubclass(obj, BaseException):
                 continue
-            if name in {"Cyclogram", "EventGraph"} and ">>>" not in (obj.__doc__ or ""):
+            if name.rsplit(".", 1)[-1] in {"Cyclogram", "EventGraph"} and ">>>" not in (
+                obj.__doc__ or ""
+            ):
                 missing.append(name)
             for attr, member in vars(obj).items():
                 if isinstance(member, classmethod | staticmethod):

@@ -6,6 +6,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
+from . import motion, press
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -39,4 +40,6 @@ __all__ = [
     "__version__",
     "longest_path",
     "max_cycle_ratio",
+    "motion",
+    "press",
 ]

@@ -12,10 +12,15 @@ import numpy.typing as npt
 __all__ = [
     "EventGraph",
     "LinkageProgram",
+    "MotionLaw",
+    "TwoPeriodKernel",
     "__version__",
     "longest_path",
     "max_cycle_ratio",
     "max_speed",
+    "press_criteria_names",
+    "press_solve",
+    "press_sweep",
 ]
 
 __version__: str
@@ -122,3 +127,68 @@ class LinkageProgram:
         analogs: bool = True,
         n_threads: int | None = None,
     ) -> _LinkageArrays: ...
+
+@final
+class MotionLaw:
+    """A dimensionless law Z(x) on the unit square (rise or half law)."""
+
+    @staticmethod
+    def named(name: str, rise: bool) -> MotionLaw: ...
+    @staticmethod
+    def polynomial(coeffs: npt.NDArray[np.float64], rise: bool) -> MotionLaw: ...
+    @property
+    def dz_max(self) -> float: ...
+    @property
+    def ddz_max(self) -> float: ...
+    @property
+    def breaks(self) -> list[float]: ...
+    def eval(
+        self, x: npt.NDArray[np.float64], order: int, *, n_threads: int | None = None
+    ) -> npt.NDArray[np.float64]: ...
+
+@final
+class TwoPeriodKernel:
+    """The two-period slider law of seed 003."""
+
+    def __new__(
+        cls,
+        law1: MotionLaw,
+        law2: MotionLaw,
+        stroke1: float,
+        angle1: float,
+        stroke: float,
+        angle: float,
+    ) -> TwoPeriodKernel: ...
+    def eval(
+        self, alpha: npt.NDArray[np.float64], order: int, *, n_threads: int | None = None
+    ) -> npt.NDArray[np.float64]: ...
+
+def press_criteria_names() -> list[str]: ...
+def press_solve(
+    designs: npt.NDArray[np.float64],
+    alpha: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.bool_],
+]: ...
+def press_sweep(
+    big_r: npt.NDArray[np.float64],
+    r: npt.NDArray[np.float64],
+    d: npt.NDArray[np.float64],
+    l: npt.NDArray[np.float64],
+    phi0: npt.NDArray[np.float64],
+    *,
+    offset: float,
+    k_sp: float | None,
+    working_stroke: float | None,
+    omega: float,
+    samples: int,
+    n_threads: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8]]: ...

@@ -6,7 +6,9 @@
 //! itself a `ValueError`.
 
 use cyclomech_core::linkage::LinkageError;
+use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
+use cyclomech_core::press::PressError;
 use cyclomech_core::schedule::ScheduleError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -54,6 +56,24 @@ impl IntoPyErr for LinkageError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
             LinkageError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
+        }
+    }
+}
+
+impl IntoPyErr for MotionError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            MotionError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
+        }
+    }
+}
+
+impl IntoPyErr for PressError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            PressError::Threads(e) => e.into_pyerr(py),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }

@@ -8,12 +8,18 @@ use pyo3::prelude::*;
 
 mod errors;
 mod linkage;
+mod motion;
+mod press;
 mod schedule;
 
 #[pymodule]
 mod _core {
     #[pymodule_export]
     use super::linkage::LinkageProgram;
+    #[pymodule_export]
+    use super::motion::{MotionLaw, TwoPeriodKernel};
+    #[pymodule_export]
+    use super::press::{press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
     use super::schedule::{longest_path, max_cycle_ratio, max_speed, EventGraph};
 

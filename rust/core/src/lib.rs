@@ -12,12 +12,18 @@
 //!   highest main-shaft speed at which a cyclic schedule fits in its cycle.
 //! * [`linkage`] — planar linkages over crank-angle grids by Assur groups:
 //!   positions, velocity and acceleration analogs, assembly and dead-centre flags.
+//! * [`motion`] — dimensionless motion laws (rise and half forms) and the
+//!   two-period slider law of seed 003.
+//! * [`press`] — the planetary gear-lever press drive: kinematics over α grids,
+//!   working-stroke criteria, design grids in parallel.
 //! * [`parallel`] — the rayon thread pools behind `n_threads=` and
 //!   `CYCLOMECH_THREADS`.
 
 pub mod cycle_ratio;
 pub mod geom;
 pub mod linkage;
+pub mod motion;
 pub mod parallel;
+pub mod press;
 pub mod schedule;
 pub mod triad;

@@ -1,0 +1,732 @@
+"""The planetary gear-lever press drive of seed 003: kinematics, working-stroke
+criteria, design sweeps and the non-dominated designs.
+
+The drive: a crank (carrier) turns about the centre O of a fixed internal guide
+gear of pitch radius R; a planet gear of radius r rolls inside it (i = R/r, a
+whole number; the seed uses 3), so the planet centre is C = (R − r)·e^{iθ} and
+the planet turns at −(R − r)/r times the carrier; the rod (length L) hangs on the
+planet at eccentricity d, its pin tracing a hypotrochoid; the slider runs on the
+vertical guide x = ``offset`` below O. ``phi0`` is the setting angle of the guide
+gear: the angle it is turned from the setting in which the pin lies on the
+carrier line, outwards, when the carrier points straight down (turning the guide
+gear by φ0 turns the planet by i·φ0 relative to the carrier). Designs repeat with
+period 2π/i in φ0. With d = 0 the drive is a plain crank-slider of radius R − r,
+the baseline every design is compared with.
+
+Angles follow the seed: the carrier turns counterclockwise, and α is the crank
+angle counted from the slider's bottom dead centre (BDC) *against* the motion,
+so S = Π(α) ≥ 0 is the slider's height above BDC and the working stroke is the
+approach to BDC, α from α_p down to 0. Π' = dS/dα [m/rad], Π'' [m/rad²]; at a
+constant crank speed ω the slider speed is |Π'|·ω and its acceleration Π''·ω².
+
+Criteria (:class:`PressCriteria`, all from the Rust kernel): the nominal stroke
+S_n, the working stroke S_p = k_Sp·S_n and its crank angle α_p, the slider speed
+at its start V_np, its mean V_cp = S_p·ω/α_p and maximum V_pmax over it, the
+largest acceleration J_max over the turn, the torque arm (max Π' over the
+working stroke: the crank torque per newton of a constant deformation force)
+and the dimensionless k_Sp, k_Vp = V_np/V_cp (→ 0), k_Vmax = V_pmax/V_cp
+(→ 1), k_M = torque/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
+for a crank-slider).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from . import _core
+from ._arrays import float_array, threads_arg
+from ._errors import InfeasibleError, InputError
+
+__all__ = [
+    "CRITERIA",
+    "OBJECTIVES",
+    "SAMPLES",
+    "STATUS",
+    "GearLeverPress",
+    "PressCriteria",
+    "PressKinematics",
+    "PressOptimum",
+    "PressSweep",
+    "optimize",
+    "pareto_mask",
+    "sweep",
+]
+
+#: Names of the criteria, in the kernel's column order.
+CRITERIA: tuple[str, ...] = tuple(_core.press_criteria_names())
+#: Meaning of the status codes of a design.
+STATUS = {
+    0: "ok",
+    1: "the rod cannot reach the guide somewhere in the turn",
+    2: "the slider moves back up during the working stroke",
+    3: "the working stroke exceeds the nominal stroke",
+}
+#: Carrier angles sampled per turn when criteria are computed.
+SAMPLES = 360
+_AXES = ("R", "r", "d", "L", "phi0")
+
+
+@dataclass(frozen=True)
+class PressKinematics:
+    """The drive over a grid of α [rad] (from BDC against the motion).
+
+    ``s`` = Π(α) [m], ``ds`` = Π' [m/rad], ``dds`` = Π'' [m/rad²], shape (N,);
+    ``centre`` (planet centre), ``pin`` (rod pin) and ``slider`` (N, 2) [m] in
+    the frame of the guide gear's centre; ``ok`` is False where the rod cannot
+    reach the guide (NaN there; centre and pin are still given).
+    """
+
+    alpha: npt.NDArray[np.float64]
+    s: npt.NDArray[np.float64]
+    ds: npt.NDArray[np.float64]
+    dds: npt.NDArray[np.float64]
+    centre: npt.NDArray[np.float64]
+    pin: npt.NDArray[np.float64]
+    slider: npt.NDArray[np.float64]
+    ok: npt.NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class PressCriteria:
+    """Working-stroke criteria of one design at crank speed ``omega`` [rad/s].
+
+    Lengths [m], speeds [m/s], accelerations [m/s²], angles [rad]; ``torque`` is
+    the largest Π' over the working stroke [m] (crank torque per newton of
+    constant deformation force); ``theta_bdc`` the carrier angle of BDC. ``status``
+    says why a design fails (``ok`` False: its criteria are NaN, except for a
+    slider that moves back up during the working stroke, which keeps them).
+    """
+
+    S_n: float
+    S_p: float
+    alpha_p: float
+    V_np: float
+    V_cp: float
+    V_pmax: float
+    J_max: float
+    torque: float
+    k_Sp: float
+    k_Vp: float
+    k_Vmax: float
+    k_M: float
+    k_J: float
+    theta_bdc: float
+    omega: float
+    status: str
+
+    @property
+    def ok(self) -> bool:
+        """True when the design works over the whole turn and the working stroke."""
+        return self.status == STATUS[0]
+
+    def as_dict(self) -> dict[str, float | str]:
+        """The criteria by name (for tables and JSON).
+
+        >>> import cyclomech as cm
+        >>> c = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> sorted(c.criteria(k_Sp=0.1, omega=4.0).as_dict())[:3]
+        ['J_max', 'S_n', 'S_p']
+        """
+        return {k: getattr(self, k) for k in (*CRITERIA, "omega", "status")}
+
+
+def _finite(name: str, value: Any, unit: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number {unit}; got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} = {value!r} must be finite {unit}")
+    return v
+
+
+def _stroke(k_Sp: Any, working_stroke: Any) -> tuple[float | None, float | None]:
+    if (k_Sp is None) == (working_stroke is None):
+        raise InputError(
+            "give exactly one of k_Sp (working stroke as a fraction of the nominal stroke) "
+            "and working_stroke (S_p [m])"
+        )
+    if k_Sp is not None:
+        k = _finite("k_Sp", k_Sp, "(a fraction of the nominal stroke)")
+        if not 0 < k <= 1:
+            raise InputError(f"k_Sp = {k_Sp!r} must lie in (0, 1] (S_p/S_n)")
+        return k, None
+    s = _finite("working_stroke", working_stroke, "[m]")
+    if s <= 0:
+        raise InputError(f"working_stroke = {working_stroke!r} must be > 0 [m]")
+    return None, s
+
+
+def _omega(omega: Any) -> float:
+    w = _finite("omega", omega, "[rad/s]")
+    if w <= 0:
+        raise InputError(f"omega = {omega!r} must be a positive crank speed [rad/s]")
+    return w
+
+
+def _samples(samples: Any) -> int:
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer):
+        raise InputError(f"samples must be an integer; got {samples!r}")
+    if not 8 <= samples <= 1_000_000:
+        raise InputError(f"samples = {samples} must be between 8 and 1000000 angles per turn")
+    return int(samples)
+
+
+@dataclass(frozen=True)
+class GearLeverPress:
+    """A planetary gear-lever press drive (see the module docs for the geometry).
+
+    ``R``, ``r`` pitch radii of the guide and planet gears [m] (R/r a whole number
+    ≥ 2), ``d`` the pin's eccentricity on the planet [m] (0: crank-slider), ``L``
+    the rod [m], ``phi0`` the guide gear's setting angle [rad], ``offset`` of the
+    slider's guide from the centre [m].
+
+    >>> import numpy as np, cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.025, L=0.3, phi0=0.3)
+    >>> k = p.solve(np.radians([0.0, 90.0, 180.0]))
+    >>> k.s.round(4).tolist(), k.pin.shape
+    ([0.0, 0.0948, 0.1146], (3, 2))
+    """
+
+    R: float
+    r: float
+    d: float
+    L: float
+    phi0: float
+    offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, unit in (
+            ("R", "[m]"),
+            ("r", "[m]"),
+            ("d", "[m]"),
+            ("L", "[m]"),
+            ("phi0", "[rad]"),
+            ("offset", "[m]"),
+        ):
+            object.__setattr__(self, name, _finite(name, getattr(self, name), unit))
+        # The kernel checks the geometry (R > r > 0, R/r whole, d ≥ 0, L > 0).
+        _core.press_solve(self._row(), np.zeros(1))
+
+    def _row(self) -> npt.NDArray[np.float64]:
+        return np.array([[self.R, self.r, self.d, self.L, self.phi0, self.offset]])
+
+    @property
+    def ratio(self) -> int:
+        """The gear ratio i = R/r.
+
+        >>> import cyclomech as cm
+        >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0).ratio
+        3
+        """
+        return round(self.R / self.r)
+
+    def solve(self, alpha: npt.ArrayLike, *, n_threads: int | None = None) -> PressKinematics:
+        """Positions and exact transfer functions over α [rad], shape (N,).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> k = p.solve(np.array([np.pi]))      # crank-slider: TDC at α = π
+        >>> round(float(k.s[0]), 12), bool(k.ok[0])
+        (0.12, True)
+        """
+        a = float_array("alpha", alpha)
+        s, ds, dds, centre, pin, slider, ok = _core.press_solve(
+            self._row(), a, n_threads=threads_arg(n_threads)
+        )
+        return PressKinematics(a, s[0], ds[0], dds[0], centre[0], pin[0], slider[0], ok[0])
+
+    def criteria(
+        self,
+        *,
+        omega: float,
+        k_Sp: float | None = None,
+        working_stroke: float | None = None,
+        samples: int = SAMPLES,
+    ) -> PressCriteria:
+        """Working-stroke criteria at crank speed ``omega`` [rad/s], for a working
+        stroke of ``k_Sp``·S_n or ``working_stroke`` [m] (one of them).
+
+        ``samples`` carrier angles per turn bracket every extreme, which is then
+        found exactly (a root of the next derivative).
+
+        >>> import cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> c = p.criteria(k_Sp=0.1, omega=4.0)
+        >>> round(c.S_n, 9), round(c.k_Vp, 3), c.ok
+        (0.12, 1.915, True)
+        """
+        sw = sweep(
+            R=self.R,
+            r=self.r,
+            d=self.d,
+            L=self.L,
+            phi0=self.phi0,
+            offset=self.offset,
+            k_Sp=k_Sp,
+            working_stroke=working_stroke,
+            omega=omega,
+            samples=samples,
+            progress=False,
+        )
+        return sw.at(())
+
+    def baseline(self) -> GearLeverPress:
+        """The plain crank-slider of this drive: the same gears, rod and guide with
+        the pin on the planet's centre (d = 0).
+
+        >>> import cyclomech as cm
+        >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.4).baseline().d
+        0.0
+        """
+        return replace(self, d=0.0, phi0=0.0)
+
+    def to_dict(self) -> dict[str, float]:
+        """The design as a plain dict [m, rad].
+
+        >>> import cyclomech as cm
+        >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.4).to_dict()["L"]
+        0.3
+        """
+        return {k: getattr(self, k) for k in (*_AXES, "offset")}
+
+
+@dataclass(frozen=True)
+class PressSweep:
+    """Criteria over a Cartesian grid of designs (from :func:`sweep`).
+
+    ``axes`` maps each swept parameter (in the order R, r, d, L, phi0; those given
+    as arrays) to its values; ``fixed`` holds the others. ``values[name]`` is an
+    array of the grid's shape for every name in :data:`CRITERIA`; ``status`` (same
+    shape, uint8) says why a design fails (see :data:`STATUS`); ``ok`` is status
+    0. ``sw["k_Vp"]`` is ``sw.values["k_Vp"]``.
+    """
+
+    axes: dict[str, npt.NDArray[np.float64]]
+    fixed: dict[str, float]
+    values: dict[str, npt.NDArray[np.float64]]
+    status: npt.NDArray[np.uint8]
+    omega: float
+    k_Sp: float | None
+    working_stroke: float | None
+    samples: int = SAMPLES
+    elapsed: float = field(default=0.0, compare=False)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of the grid (one entry per swept axis)."""
+        return self.status.shape
+
+    @property
+    def ok(self) -> npt.NDArray[np.bool_]:
+        """True where the design works (status 0)."""
+        return self.status == 0
+
+    def __getitem__(self, name: str) -> npt.NDArray[np.float64]:
+        try:
+            return self.values[name]
+        except KeyError:
+            raise InputError(f"no criterion {name!r}; criteria are {', '.join(CRITERIA)}") from None
+
+    def design(self, index: tuple[int, ...] | int) -> GearLeverPress:
+        """The design at a grid index.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> sw = cm.press.sweep(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        ...                     omega=4.0)
+        >>> sw.design(1).d
+        0.02
+        """
+        idx = np.unravel_index(index, self.shape) if np.ndim(index) == 0 else index
+        if len(idx) != len(self.axes):
+            raise InputError(f"index {index!r} must have {len(self.axes)} entries")
+        par = dict(self.fixed)
+        for (name, vals), i in zip(self.axes.items(), idx, strict=True):
+            par[name] = float(vals[i])
+        return GearLeverPress(**par)
+
+    def at(self, index: tuple[int, ...] | int) -> PressCriteria:
+        """The criteria of the design at a grid index.
+
+        >>> import cyclomech as cm
+        >>> sw = cm.press.sweep(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        ...                     omega=4.0)
+        >>> round(sw.at(0).S_n, 9)
+        0.12
+        """
+        idx = np.unravel_index(index, self.shape) if np.ndim(index) == 0 else tuple(index)
+        vals = {k: float(v[idx]) for k, v in self.values.items()}
+        return PressCriteria(**vals, omega=self.omega, status=STATUS[int(self.status[idx])])
+
+    def table(self) -> dict[str, npt.NDArray[Any]]:
+        """Flat columns (one row per design): the swept parameters, the criteria and
+        the status code, for CSV or a data frame.
+
+        >>> import cyclomech as cm
+        >>> sw = cm.press.sweep(R=0.09, r=0.03, d=[0.0, 0.02], L=[0.3, 0.4], phi0=0.0,
+        ...                     k_Sp=0.1, omega=4.0)
+        >>> t = sw.table(); list(t)[:3], len(t["k_Vp"])
+        (['d', 'L', 'k_Vp'], 4)
+        """
+        grids = np.meshgrid(*self.axes.values(), indexing="ij")
+        out: dict[str, npt.NDArray[Any]] = {
+            name: g.ravel() for name, g in zip(self.axes, grids, strict=True)
+        }
+        order = ("k_Vp", "k_Vmax", "k_J", "k_M")
+        for name in (*order, *(c for c in CRITERIA if c not in order)):
+            out[name] = self.values[name].ravel()
+        out["status"] = self.status.ravel()
+        return out
+
+
+class _Progress:
+    """A text progress bar on stderr, for sweeps that take more than a moment."""
+
+    def __init__(self, total: int, label: str, enabled: bool) -> None:
+        self.total, self.label, self.enabled = total, label, enabled
+        self.done, self.t0 = 0, time.perf_counter()
+
+    def update(self, n: int) -> None:
+        self.done += n
+        if self.enabled:
+            frac = self.done / max(self.total, 1)
+            bar = "#" * int(30 * frac)
+            dt = time.perf_counter() - self.t0
+            sys.stderr.write(
+                f"\r{self.label} [{bar:<30}] {100 * frac:5.1f}% {self.done}/{self.total} {dt:.1f} s"
+            )
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+#: Designs per kernel call when a sweep shows progress (about a tenth of a second).
+_CHUNK = 50_000
+
+
+def sweep(
+    *,
+    d: npt.ArrayLike,
+    L: npt.ArrayLike,
+    phi0: npt.ArrayLike,
+    R: npt.ArrayLike,
+    r: npt.ArrayLike,
+    omega: float,
+    offset: float = 0.0,
+    k_Sp: float | None = None,
+    working_stroke: float | None = None,
+    samples: int = SAMPLES,
+    n_threads: int | None = None,
+    progress: bool | None = None,
+) -> PressSweep:
+    """Criteria over the full Cartesian grid of designs, in parallel in Rust.
+
+    Each of ``R``, ``r``, ``d``, ``L`` [m] and ``phi0`` [rad] is a scalar (fixed)
+    or a 1-D array (an axis of the grid, in that order). ``omega`` [rad/s] and the
+    working stroke (``k_Sp`` or ``working_stroke`` [m]) as in
+    :meth:`GearLeverPress.criteria`. A large grid runs in chunks of 50 000
+    designs, one Rust call each, with a progress bar on stderr (``progress=None``:
+    when stderr is a terminal and the grid is large); Ctrl-C stops between chunks.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> sw = cm.press.sweep(R=0.09, r=0.03, d=np.linspace(0, 0.04, 5), L=[0.3, 0.4],
+    ...                     phi0=np.radians(np.arange(0, 120, 10)), k_Sp=0.1, omega=4.0)
+    >>> sw.shape, sw["k_Vp"].shape, bool(sw.ok.all())
+    ((5, 2, 12), (5, 2, 12), True)
+    """
+    k, s = _stroke(k_Sp, working_stroke)
+    w = _omega(omega)
+    m = _samples(samples)
+    off = _finite("offset", offset, "[m]")
+    axes: dict[str, npt.NDArray[np.float64]] = {}
+    fixed: dict[str, float] = {"offset": off}
+    flat: list[npt.NDArray[np.float64]] = []
+    for name, value in zip(_AXES, (R, r, d, L, phi0), strict=True):
+        scalar = np.ndim(value) == 0
+        a = float_array(name, value, ndims=(0, 1))
+        bad = ~np.isfinite(a)
+        if bad.any():
+            i = int(np.argmax(bad.ravel()))
+            raise InputError(f"{name}[{i}] = {a.ravel()[i]!r} must be finite")
+        if not scalar:
+            if a.size == 0:
+                raise InputError(f"{name} must hold at least one value")
+            axes[name] = a
+        else:
+            fixed[name] = float(a[0])
+        flat.append(np.ascontiguousarray(a.reshape(-1)))
+    shape = tuple(len(v) for v in axes.values())
+    n = math.prod(len(f) for f in flat)
+    # Chunk along the outermost axis longer than one value.
+    lead = next((i for i, f in enumerate(flat) if len(f) > 1), 0)
+    inner = n // len(flat[lead])
+    step = max(1, _CHUNK // max(inner, 1))
+    bar = _Progress(
+        n,
+        "press.sweep",
+        (n >= 20 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
+    )
+    threads = threads_arg(n_threads)
+    rows, status = [], []
+    t0 = time.perf_counter()
+    try:
+        for start in range(0, len(flat[lead]), step):
+            part = list(flat)
+            part[lead] = flat[lead][start : start + step]
+            rw, st = _core.press_sweep(
+                *part,
+                offset=off,
+                k_sp=k,
+                working_stroke=s,
+                omega=w,
+                samples=m,
+                n_threads=threads,
+            )
+            rows.append(rw)
+            status.append(st)
+            bar.update(len(st))
+    finally:
+        bar.close()
+    table = np.concatenate(rows) if len(rows) > 1 else rows[0]
+    values = {c: table[:, j].reshape(shape) for j, c in enumerate(CRITERIA)}
+    st = (np.concatenate(status) if len(status) > 1 else status[0]).reshape(shape)
+    return PressSweep(axes, fixed, values, st, w, k, s, m, elapsed=time.perf_counter() - t0)
+
+
+#: The objectives of :func:`optimize`: name → how a design's value is scored (lower
+#: is better).
+OBJECTIVES = {
+    "k_Vp": lambda v: v["k_Vp"],
+    "k_Vmax": lambda v: np.abs(v["k_Vmax"] - 1.0),
+    "k_J": lambda v: v["k_J"],
+    "k_M": lambda v: v["k_M"],
+}
+
+
+@dataclass(frozen=True)
+class PressOptimum:
+    """The non-dominated designs of :func:`optimize`.
+
+    ``designs`` lists them as :class:`GearLeverPress`, ``criteria`` their
+    :class:`PressCriteria`, ``refined`` whether scipy moved each off the grid,
+    ``scores`` their weighted score (lower is better; 1 per objective is the
+    baseline's level) and ``best`` the index of the lowest score. ``baseline``
+    are the criteria of the best design's crank-slider (d = 0); ``grid`` the sweep
+    it started from.
+    """
+
+    designs: tuple[GearLeverPress, ...]
+    criteria: tuple[PressCriteria, ...]
+    refined: tuple[bool, ...]
+    scores: npt.NDArray[np.float64]
+    best: int
+    baseline: PressCriteria
+    grid: PressSweep
+    objectives: tuple[str, ...]
+
+
+def _objective_matrix(values: Mapping[str, Any], objectives: Sequence[str]) -> Any:
+    return np.stack([np.asarray(OBJECTIVES[o](values), dtype=np.float64) for o in objectives], -1)
+
+
+def pareto_mask(points: npt.ArrayLike) -> npt.NDArray[np.bool_]:
+    """True for the rows of ``points`` (n, m) that no other row dominates (every
+    objective lower or equal, one strictly lower); lower is better.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> cm.press.pareto_mask(np.array([[1, 2], [2, 1], [2, 2], [1, 2]])).tolist()
+    [True, True, False, True]
+    """
+    p = float_array("points", points, ndims=(2,))
+    n = len(p)
+    keep = np.ones(n, dtype=bool)
+    order = np.argsort(p.sum(axis=1), kind="stable")
+    front: list[int] = []
+    block = 1024
+    # A dominator has a smaller or equal sum, so scanning in order of the sum only
+    # needs comparisons against the front found so far and within the block.
+    for start in range(0, n, block):
+        idx = order[start : start + block]
+        q = p[idx]
+        if front:
+            f = p[front]
+            dom = (f[None, :, :] <= q[:, None, :]).all(-1) & (f[None, :, :] < q[:, None, :]).any(-1)
+            alive = ~dom.any(1)
+        else:
+            alive = np.ones(len(idx), dtype=bool)
+        dom = (q[None, :, :] <= q[:, None, :]).all(-1) & (q[None, :, :] < q[:, None, :]).any(-1)
+        alive &= ~dom.any(1)
+        keep[idx[~alive]] = False
+        front.extend(idx[alive].tolist())
+    return keep
+
+
+def optimize(
+    *,
+    d: npt.ArrayLike,
+    L: npt.ArrayLike,
+    phi0: npt.ArrayLike,
+    R: float,
+    r: float,
+    omega: float,
+    offset: float = 0.0,
+    k_Sp: float | None = None,
+    working_stroke: float | None = None,
+    limits: Mapping[str, float] | None = None,
+    objectives: Sequence[str] = ("k_Vp", "k_Vmax", "k_J", "k_M"),
+    weights: Sequence[float] | None = None,
+    refine: int = 5,
+    samples: int = SAMPLES,
+    n_threads: int | None = None,
+    progress: bool | None = None,
+) -> PressOptimum:
+    """The non-dominated designs over a grid of (d, L, φ0), refined by scipy.
+
+    Objectives (lower is better): ``k_Vp`` (→ 0), ``|k_Vmax − 1|``, ``k_J`` and
+    ``k_M`` (the dimensionless peak acceleration and torque arm), or a subset.
+    ``limits`` bounds any criterion from above, e.g. ``{"V_np": 0.05}`` for a
+    start of the working stroke at most 50 mm/s at ``omega``. Designs that fail
+    (see :data:`STATUS`) or break a limit are dropped. The ``refine`` best grid
+    designs of the front (by the weighted sum of objectives, each divided by the
+    baseline crank-slider's value) are then moved by scipy's Nelder–Mead within
+    the grid's bounds, keeping every objective no worse than at the start and the
+    limits met; the returned front is recomputed over grid and refined designs.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> opt = cm.press.optimize(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
+    ...                         L=[0.3, 0.4], phi0=np.radians(np.arange(0, 120, 10)),
+    ...                         k_Sp=0.1, omega=4.0, refine=1)
+    >>> c = opt.criteria[opt.best]
+    >>> c.k_Vp < opt.baseline.k_Vp, len(opt.designs) >= 1
+    (True, True)
+    """
+    from scipy.optimize import minimize
+
+    objectives = tuple(objectives)
+    for o in objectives:
+        if o not in OBJECTIVES:
+            raise InputError(f"objective {o!r} is not known; choose from {', '.join(OBJECTIVES)}")
+    if not objectives:
+        raise InputError("objectives must name at least one objective")
+    wts = np.ones(len(objectives)) if weights is None else float_array("weights", weights)
+    if wts.shape != (len(objectives),) or not (np.isfinite(wts).all() and (wts >= 0).all()):
+        raise InputError(
+            f"weights must be {len(objectives)} finite non-negative numbers, one per objective"
+        )
+    lim = dict(limits or {})
+    for name, v in lim.items():
+        if name not in CRITERIA:
+            raise InputError(f"limits: no criterion {name!r}; criteria are {', '.join(CRITERIA)}")
+        _finite(f"limits[{name!r}]", v, "")
+    if isinstance(refine, bool) or not isinstance(refine, int) or refine < 0:
+        raise InputError(f"refine must be a non-negative integer; got {refine!r}")
+    for name, value in (("R", R), ("r", r)):
+        if np.ndim(value) != 0:
+            raise InputError(f"{name} must be a scalar for optimize; sweep it with cm.press.sweep")
+    grid = sweep(
+        R=R,
+        r=r,
+        d=d,
+        L=L,
+        phi0=phi0,
+        offset=offset,
+        k_Sp=k_Sp,
+        working_stroke=working_stroke,
+        omega=omega,
+        samples=samples,
+        n_threads=n_threads,
+        progress=progress,
+    )
+    flat = {k: v.ravel() for k, v in grid.values.items()}
+    usable = grid.ok.ravel().copy()
+    for name, v in lim.items():
+        usable &= flat[name] <= v
+    if not usable.any():
+        why = f" and the limits {lim}" if lim else ""
+        raise InfeasibleError(
+            f"no design of the grid works{why}: widen the grid or relax the limits",
+            tuple(lim),
+        )
+    # Score relative to the crank-slider of the same gears (d = 0) and median rod.
+    base_press = GearLeverPress(
+        R=float(R), r=float(r), d=0.0, L=float(np.median(np.atleast_1d(L))), phi0=0.0, offset=offset
+    )
+    base = base_press.criteria(
+        k_Sp=k_Sp, working_stroke=working_stroke, omega=omega, samples=samples
+    )
+    bvals = _objective_matrix(base.as_dict(), objectives)
+    norm = np.where(np.abs(bvals) > 1e-12, np.abs(bvals), 1.0)
+    obj = _objective_matrix(flat, objectives) / norm
+    cand = np.flatnonzero(usable)
+    front = cand[pareto_mask(obj[cand])]
+    score = obj @ wts
+    ranked = front[np.argsort(score[front], kind="stable")]
+
+    designs: list[GearLeverPress] = [grid.design(int(i)) for i in ranked]
+    crits: list[PressCriteria] = [grid.at(int(i)) for i in ranked]
+    refined = [False] * len(designs)
+    names = [n_ for n_ in ("d", "L", "phi0") if n_ in grid.axes]
+    bounds = [(float(grid.axes[n_].min()), float(grid.axes[n_].max())) for n_ in names]
+
+    def evaluate(p: GearLeverPress) -> PressCriteria:
+        return p.criteria(k_Sp=k_Sp, working_stroke=working_stroke, omega=omega, samples=samples)
+
+    for start in range(min(refine, len(ranked))):
+        p0, c0 = designs[start], crits[start]
+        o0 = _objective_matrix(c0.as_dict(), objectives) / norm
+
+        def f(x: npt.NDArray[np.float64], p0: GearLeverPress = p0, o0: Any = o0) -> float:
+            try:
+                p = replace(p0, **{n_: float(v) for n_, v in zip(names, x, strict=True)})
+                c = evaluate(p)
+            except InputError:
+                return math.inf
+            if not c.ok or any(getattr(c, k_) > v for k_, v in lim.items()):
+                return math.inf
+            o = _objective_matrix(c.as_dict(), objectives) / norm
+            if (o > o0 + 1e-12).any():
+                return math.inf
+            return float(o @ wts)
+
+        if not names:
+            break
+        x0 = np.array([getattr(p0, n_) for n_ in names])
+        res = minimize(
+            f,
+            x0,
+            method="Nelder-Mead",
+            bounds=bounds,
+            options={"xatol": 1e-7, "fatol": 1e-9, "maxfev": 400},
+        )
+        if np.isfinite(res.fun) and res.fun < float(o0 @ wts) - 1e-12:
+            p = replace(p0, **{n_: float(v) for n_, v in zip(names, res.x, strict=True)})
+            designs.append(p)
+            crits.append(evaluate(p))
+            refined.append(True)
+    allobj = np.array([_objective_matrix(c.as_dict(), objectives) / norm for c in crits])
+    keep = pareto_mask(allobj)
+    sel = np.flatnonzero(keep)
+    scores = allobj[sel] @ wts
+    order = sel[np.argsort(scores, kind="stable")]
+    best_design = designs[int(order[0])]
+    return PressOptimum(
+        designs=tuple(designs[i] for i in order),
+        criteria=tuple(crits[i] for i in order),
+        refined=tuple(refined[i] for i in order),
+        scores=np.sort(scores),
+        best=0,
+        baseline=evaluate(best_design.baseline()),
+        grid=grid,
+        objectives=objectives,
+    )

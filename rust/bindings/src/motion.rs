@@ -1,0 +1,149 @@
+//! Bindings of the motion domain: dimensionless laws and the two-period law.
+
+use cyclomech_core::motion::{Law, MotionError, TwoPeriod};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use pyo3::prelude::*;
+
+use crate::errors::{run, IntoPyErr};
+
+fn contiguous<'a>(
+    py: Python<'_>,
+    field: &str,
+    a: &'a PyReadonlyArray1<'_, f64>,
+) -> PyResult<&'a [f64]> {
+    a.as_slice().map_err(|_| {
+        MotionError::BadLaw {
+            what: format!("{field} must be C-contiguous"),
+        }
+        .into_pyerr(py)
+    })
+}
+
+/// Evaluate `f` into a new float64 array of the length of `x`, GIL released.
+fn evaluate<'py, F>(
+    py: Python<'py>,
+    kernel: &'static str,
+    x: &[f64],
+    f: F,
+) -> PyResult<Bound<'py, PyArray1<f64>>>
+where
+    F: FnOnce(&mut [f64]) -> Result<(), MotionError> + Send,
+{
+    let out = PyArray1::<f64>::zeros(py, x.len(), false);
+    {
+        let mut rw = out.readwrite();
+        let slice = rw
+            .as_slice_mut()
+            .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous"))?;
+        run(py, kernel, || f(slice))?;
+    }
+    Ok(out)
+}
+
+/// A dimensionless law Z(x) on the unit square (see `cyclomech.motion`).
+#[pyclass(module = "cyclomech._core", frozen)]
+pub struct MotionLaw {
+    law: Law,
+}
+
+#[pymethods]
+impl MotionLaw {
+    /// A named law: its full rise, or its half law.
+    #[staticmethod]
+    fn named(py: Python<'_>, name: &str, rise: bool) -> PyResult<Self> {
+        let law = if rise {
+            Law::rise(name)
+        } else {
+            Law::half(name)
+        };
+        law.map(|law| MotionLaw { law })
+            .map_err(|e| e.into_pyerr(py))
+    }
+
+    /// A user polynomial Z = Σ c_k x^k, checked as a rise or a half law.
+    #[staticmethod]
+    fn polynomial(py: Python<'_>, coeffs: PyReadonlyArray1<'_, f64>, rise: bool) -> PyResult<Self> {
+        let c = contiguous(py, "coeffs", &coeffs)?;
+        Law::polynomial(c, rise)
+            .map(|law| MotionLaw { law })
+            .map_err(|e| e.into_pyerr(py))
+    }
+
+    #[getter]
+    fn dz_max(&self) -> f64 {
+        self.law.dz_max
+    }
+
+    #[getter]
+    fn ddz_max(&self) -> f64 {
+        self.law.ddz_max
+    }
+
+    /// Breakpoints of the law's pieces on [0, 1].
+    #[getter]
+    fn breaks(&self) -> Vec<f64> {
+        let mut b: Vec<f64> = self.law.segments.iter().map(|s| s.x0).collect();
+        b.push(1.0);
+        b
+    }
+
+    /// Z^(order)(x) for order 0..=3 (x in [0, 1]).
+    #[pyo3(signature = (x, order, *, n_threads=None))]
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        n_threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let xs = contiguous(py, "x", &x)?;
+        evaluate(py, "MotionLaw.eval", xs, |out| {
+            self.law.eval_into(xs, order, n_threads, out)
+        })
+    }
+}
+
+/// The two-period slider law of seed 003 (see `cyclomech.motion.two_period`).
+#[pyclass(module = "cyclomech._core", frozen)]
+pub struct TwoPeriodKernel {
+    law: TwoPeriod,
+}
+
+#[pymethods]
+impl TwoPeriodKernel {
+    #[new]
+    fn new(
+        law1: &MotionLaw,
+        law2: &MotionLaw,
+        stroke1: f64,
+        angle1: f64,
+        stroke: f64,
+        angle: f64,
+    ) -> Self {
+        TwoPeriodKernel {
+            law: TwoPeriod {
+                law1: law1.law.clone(),
+                law2: law2.law.clone(),
+                stroke1,
+                angle1,
+                stroke,
+                angle,
+            },
+        }
+    }
+
+    /// Π^(order)(α) for order 0..=3 (α in [0, α2]).
+    #[pyo3(signature = (alpha, order, *, n_threads=None))]
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        alpha: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        n_threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let a = contiguous(py, "alpha", &alpha)?;
+        evaluate(py, "TwoPeriodLaw.eval", a, |out| {
+            self.law.eval_into(a, order, n_threads, out)
+        })
+    }
+}

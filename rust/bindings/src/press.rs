@@ -1,0 +1,168 @@
+//! Bindings of the press domain: gear-lever drive kinematics, criteria, sweeps.
+
+use cyclomech_core::press::{self, Design, Grid, KinOut, PressError, Spec, Stroke, CRITERIA};
+use numpy::ndarray::IxDyn;
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+
+use crate::errors::{run, IntoPyErr};
+
+fn bad(py: Python<'_>, why: String) -> PyErr {
+    PressError::BadSpec(why).into_pyerr(py)
+}
+
+fn contiguous<'a>(
+    py: Python<'_>,
+    field: &str,
+    a: &'a PyReadonlyArray1<'_, f64>,
+) -> PyResult<&'a [f64]> {
+    a.as_slice()
+        .map_err(|_| bad(py, format!("{field} must be C-contiguous")))
+}
+
+fn spec(
+    py: Python<'_>,
+    k_sp: Option<f64>,
+    working_stroke: Option<f64>,
+    omega: f64,
+    samples: usize,
+) -> PyResult<Spec> {
+    let stroke = match (k_sp, working_stroke) {
+        (Some(k), None) => Stroke::Fraction(k),
+        (None, Some(s)) => Stroke::Length(s),
+        _ => {
+            return Err(bad(
+                py,
+                "give exactly one of k_Sp and working_stroke".into(),
+            ))
+        }
+    };
+    Ok(Spec {
+        stroke,
+        omega,
+        samples,
+    })
+}
+
+/// Names of the criteria columns, in order.
+#[pyfunction]
+pub fn press_criteria_names() -> Vec<&'static str> {
+    CRITERIA.to_vec()
+}
+
+type Kinematics<'py> = (
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<bool>>,
+);
+
+/// Kinematics of K designs (rows R, r, d, L, φ0, offset) over α (N,) counted
+/// from each design's BDC: s, ds, dds (K, N); centre, pin, slider (K, N, 2); ok.
+#[pyfunction]
+#[pyo3(signature = (designs, alpha, *, n_threads=None))]
+pub fn press_solve<'py>(
+    py: Python<'py>,
+    designs: PyReadonlyArray2<'py, f64>,
+    alpha: PyReadonlyArray1<'py, f64>,
+    n_threads: Option<i64>,
+) -> PyResult<Kinematics<'py>> {
+    let dv = designs.as_array();
+    if dv.shape()[1] != 6 {
+        return Err(bad(py, "designs must have shape (K, 6)".into()));
+    }
+    let list: Vec<Design> = dv
+        .rows()
+        .into_iter()
+        .map(|r| Design {
+            big_r: r[0],
+            r: r[1],
+            d: r[2],
+            l: r[3],
+            phi0: r[4],
+            offset: r[5],
+        })
+        .collect();
+    let a = contiguous(py, "alpha", &alpha)?;
+    let (k, n) = (list.len(), a.len());
+    let f = |shape: &[usize]| PyArrayDyn::<f64>::zeros(py, IxDyn(shape), false);
+    let out = (
+        f(&[k, n]),
+        f(&[k, n]),
+        f(&[k, n]),
+        f(&[k, n, 2]),
+        f(&[k, n, 2]),
+        f(&[k, n, 2]),
+        PyArrayDyn::<bool>::zeros(py, IxDyn(&[k, n]), false),
+    );
+    {
+        let internal = |_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous");
+        let (mut s, mut ds, mut dds) = (out.0.readwrite(), out.1.readwrite(), out.2.readwrite());
+        let (mut c, mut p, mut sl) = (out.3.readwrite(), out.4.readwrite(), out.5.readwrite());
+        let mut ok = out.6.readwrite();
+        let kin = KinOut {
+            s: s.as_slice_mut().map_err(internal)?,
+            ds: ds.as_slice_mut().map_err(internal)?,
+            dds: dds.as_slice_mut().map_err(internal)?,
+            centre: c.as_slice_mut().map_err(internal)?,
+            pin: p.as_slice_mut().map_err(internal)?,
+            slider: sl.as_slice_mut().map_err(internal)?,
+            ok: ok.as_slice_mut().map_err(internal)?,
+        };
+        run(py, "GearLeverPress.solve", || {
+            press::solve_into(&list, a, n_threads, kin)
+        })?;
+    }
+    Ok(out)
+}
+
+/// Criteria rows and status codes of a sweep.
+type SweepArrays<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArray1<u8>>);
+
+/// Criteria over the Cartesian grid of designs (C order R, r, d, L, φ0): rows
+/// (n, 14) in the order of `press_criteria_names()` and status (n,) uint8.
+#[pyfunction]
+#[pyo3(signature = (big_r, r, d, l, phi0, *, offset, k_sp, working_stroke, omega, samples, n_threads=None))]
+#[allow(clippy::too_many_arguments)] // the grid's axes and the criteria's settings
+pub fn press_sweep<'py>(
+    py: Python<'py>,
+    big_r: PyReadonlyArray1<'py, f64>,
+    r: PyReadonlyArray1<'py, f64>,
+    d: PyReadonlyArray1<'py, f64>,
+    l: PyReadonlyArray1<'py, f64>,
+    phi0: PyReadonlyArray1<'py, f64>,
+    offset: f64,
+    k_sp: Option<f64>,
+    working_stroke: Option<f64>,
+    omega: f64,
+    samples: usize,
+    n_threads: Option<i64>,
+) -> PyResult<SweepArrays<'py>> {
+    let grid = Grid {
+        big_r: contiguous(py, "R", &big_r)?,
+        r: contiguous(py, "r", &r)?,
+        d: contiguous(py, "d", &d)?,
+        l: contiguous(py, "L", &l)?,
+        phi0: contiguous(py, "phi0", &phi0)?,
+        offset,
+    };
+    let spec = spec(py, k_sp, working_stroke, omega, samples)?;
+    let n = grid.len();
+    let rows = PyArrayDyn::<f64>::zeros(py, IxDyn(&[n, CRITERIA.len()]), false);
+    let status = PyArray1::<u8>::zeros(py, n, false);
+    {
+        let internal = |_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous");
+        let (mut rw, mut sw) = (rows.readwrite(), status.readwrite());
+        let (rs, ss) = (
+            rw.as_slice_mut().map_err(internal)?,
+            sw.as_slice_mut().map_err(internal)?,
+        );
+        run(py, "press.sweep", || {
+            press::sweep_into(&grid, &spec, n_threads, rs, ss)
+        })?;
+    }
+    Ok((rows, status))
+}

@@ -1,0 +1,681 @@
+//! Dimensionless motion laws on the unit square and the two-period slider law.
+//!
+//! A law is Z(x) on 0 ≤ x ≤ 1, piecewise: on each segment [x0, x1],
+//! Z = Σ c_k t^k + A·sin(ω t + φ) with t = x − x0, so that Z, Z', Z'', Z''' are
+//! exact everywhere. Named laws (cycloidal, harmonic, 3-4-5, 4-5-6-7, modified
+//! sine, modified trapezoid) are built as full rises (Z' = 0 at both ends); the
+//! modified laws by integrating their acceleration pieces exactly and scaling to
+//! Z(1) = 1, so that their peaks (Cv, Ca) follow from the shape rather than from
+//! printed decimals. The **half law** of a symmetric rise is its first half
+//! rescaled to the unit square: Z_h(j) = 2·Z(j/2), so Z_h' peaks at j = 1.
+//!
+//! The two-period law of seed 003 joins a half law over 0 ≤ α ≤ α1 (period I,
+//! Π = Π1·Z1(α/α1)) and a mirrored half law over α1 ≤ α ≤ α2 (period II,
+//! Π = Π2 − (Π2 − Π1)·Z2((α2 − α)/(α2 − α1))).
+
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use rayon::prelude::*;
+
+use crate::geom::sin_cos;
+use crate::parallel::{pool, resolve_threads, ThreadsError};
+
+/// Highest polynomial degree accepted for a user law.
+pub const MAX_DEGREE: usize = 24;
+
+/// Tolerance on the boundary conditions of a user law (Z(0) = 0, Z(1) = 1, …).
+pub const LAW_TOL: f64 = 1e-9;
+
+/// Errors of the motion domain.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MotionError {
+    #[error("unknown motion law {name:?}; known laws: {known}")]
+    UnknownLaw { name: String, known: String },
+    #[error("{what}")]
+    BadLaw { what: String },
+    #[error("{field}[{index}] = {value} is not finite")]
+    NotFinite {
+        field: &'static str,
+        index: usize,
+        value: f64,
+    },
+    #[error("{field}[{index}] = {value} lies outside [{lo}, {hi}]{why}")]
+    OutOfRange {
+        field: &'static str,
+        index: usize,
+        value: f64,
+        lo: f64,
+        hi: f64,
+        why: &'static str,
+    },
+    #[error("{0}")]
+    Threads(#[from] ThreadsError),
+}
+
+/// One piece of a law: Z = Σ c_k t^k + amp·sin(freq·t + phase), t = x − x0.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment {
+    pub x0: f64,
+    pub x1: f64,
+    pub poly: Vec<f64>,
+    pub amp: f64,
+    pub freq: f64,
+    pub phase: f64,
+}
+
+impl Segment {
+    /// Z^(order)(x) for order 0..=3.
+    #[inline]
+    fn eval(&self, x: f64, order: usize) -> f64 {
+        let t = x - self.x0;
+        // Horner on the `order`-th derivative of the polynomial.
+        let n = self.poly.len();
+        let mut p = 0.0;
+        for k in (order..n).rev() {
+            let mut f = self.poly[k];
+            for m in 0..order {
+                f *= (k - m) as f64;
+            }
+            p = p * t + f;
+        }
+        if self.amp == 0.0 {
+            return p;
+        }
+        let (s, c) = sin_cos(self.freq * t + self.phase);
+        let w = self.freq;
+        p + self.amp
+            * match order {
+                0 => s,
+                1 => w * c,
+                2 => -w * w * s,
+                _ => -w * w * w * c,
+            }
+    }
+}
+
+/// An acceleration piece used to build a law: a(t) = Σ p_k t^k + A·sin(ω t + φ).
+struct AccelPiece {
+    x1: f64,
+    poly: Vec<f64>,
+    amp: f64,
+    freq: f64,
+    phase: f64,
+}
+
+/// A dimensionless law Z(x) on [0, 1], with its peaks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Law {
+    pub segments: Vec<Segment>,
+    /// max |Z'| on [0, 1] (Cv for a rise, Z'max for a half law).
+    pub dz_max: f64,
+    /// max |Z''| on [0, 1] (Ca for a rise, Z''max for a half law).
+    pub ddz_max: f64,
+}
+
+/// Names of the built-in laws.
+pub const NAMES: [&str; 6] = [
+    "cycloidal",
+    "harmonic",
+    "polynomial_345",
+    "polynomial_4567",
+    "modified_sine",
+    "modified_trapezoid",
+];
+
+impl Law {
+    fn from_segments(segments: Vec<Segment>) -> Law {
+        let mut law = Law {
+            segments,
+            dz_max: 0.0,
+            ddz_max: 0.0,
+        };
+        law.dz_max = law.peak(1).1;
+        law.ddz_max = law.peak(2).1;
+        law
+    }
+
+    /// The full rise of a named law (Z' = 0 at both ends).
+    pub fn rise(name: &str) -> Result<Law, MotionError> {
+        let one = |poly: Vec<f64>, amp: f64, freq: f64, phase: f64| {
+            vec![Segment {
+                x0: 0.0,
+                x1: 1.0,
+                poly,
+                amp,
+                freq,
+                phase,
+            }]
+        };
+        let w = 4.0 * PI;
+        let piece = |x1: f64, poly: Vec<f64>, amp: f64, freq: f64, phase: f64| AccelPiece {
+            x1,
+            poly,
+            amp,
+            freq,
+            phase,
+        };
+        let segments = match name {
+            "cycloidal" => one(vec![0.0, 1.0], -0.5 / PI, 2.0 * PI, 0.0),
+            // (1 − cos πx)/2, with −cos written as a shifted sine.
+            "harmonic" => one(vec![0.5], -0.5, PI, FRAC_PI_2),
+            "polynomial_345" => one(vec![0.0, 0.0, 0.0, 10.0, -15.0, 6.0], 0.0, 0.0, 0.0),
+            "polynomial_4567" => one(
+                vec![0.0, 0.0, 0.0, 0.0, 35.0, -84.0, 70.0, -20.0],
+                0.0,
+                0.0,
+                0.0,
+            ),
+            // Acceleration: sine ramp over 1/8, a sine of period 3/2 through the
+            // middle 3/4, sine ramp back to zero over the last 1/8.
+            "modified_sine" => integrate(&[
+                piece(0.125, vec![], 1.0, w, 0.0),
+                piece(0.875, vec![], 1.0, w / 3.0, FRAC_PI_2),
+                piece(1.0, vec![], -1.0, w, FRAC_PI_2),
+            ]),
+            // Acceleration: sine ramps of 1/8 joined by constant plateaus of 1/4.
+            "modified_trapezoid" => integrate(&[
+                piece(0.125, vec![], 1.0, w, 0.0),
+                piece(0.375, vec![1.0], 0.0, 0.0, 0.0),
+                piece(0.625, vec![], 1.0, w, FRAC_PI_2),
+                piece(0.875, vec![-1.0], 0.0, 0.0, 0.0),
+                piece(1.0, vec![], -1.0, w, FRAC_PI_2),
+            ]),
+            _ => {
+                return Err(MotionError::UnknownLaw {
+                    name: name.to_string(),
+                    known: NAMES.join(", "),
+                })
+            }
+        };
+        Ok(Law::from_segments(segments))
+    }
+
+    /// The half law of a named law: the first half of its rise on the unit square.
+    pub fn half(name: &str) -> Result<Law, MotionError> {
+        Ok(Law::rise(name)?.first_half())
+    }
+
+    /// Z_h(j) = 2·Z(j/2): the first half of this (symmetric) rise, rescaled.
+    pub fn first_half(&self) -> Law {
+        let mut segments = Vec::new();
+        for s in &self.segments {
+            if s.x0 >= 0.5 {
+                break;
+            }
+            let poly = s
+                .poly
+                .iter()
+                .enumerate()
+                .map(|(k, &c)| 2.0 * c * 0.5f64.powi(k as i32))
+                .collect();
+            segments.push(Segment {
+                x0: 2.0 * s.x0,
+                x1: (2.0 * s.x1).min(1.0),
+                poly,
+                amp: 2.0 * s.amp,
+                freq: 0.5 * s.freq,
+                phase: s.phase,
+            });
+        }
+        Law::from_segments(segments)
+    }
+
+    /// A user polynomial Z = Σ c_k x^k, checked as a rise (Z(0) = 0, Z(1) = 1,
+    /// Z'(0) = Z'(1) = 0) or as a half law (Z(0) = 0, Z(1) = 1, Z'(0) = 0, Z'
+    /// largest at x = 1); in both forms Z' ≥ 0 (the law never runs backwards).
+    pub fn polynomial(coeffs: &[f64], rise: bool) -> Result<Law, MotionError> {
+        if let Some((i, &v)) = coeffs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(MotionError::NotFinite {
+                field: "coeffs",
+                index: i,
+                value: v,
+            });
+        }
+        if coeffs.len() < 2 || coeffs.len() > MAX_DEGREE + 1 {
+            return Err(MotionError::BadLaw {
+                what: format!(
+                    "coeffs must hold between 2 and {} coefficients c0, c1, … of Z = Σ c_k x^k; got {}",
+                    MAX_DEGREE + 1,
+                    coeffs.len()
+                ),
+            });
+        }
+        let law = Law::from_segments(vec![Segment {
+            x0: 0.0,
+            x1: 1.0,
+            poly: coeffs.to_vec(),
+            amp: 0.0,
+            freq: 0.0,
+            phase: 0.0,
+        }]);
+        let form = if rise { "rise" } else { "half law" };
+        let check = |ok: bool, what: String| {
+            if ok {
+                Ok(())
+            } else {
+                Err(MotionError::BadLaw {
+                    what: format!("this polynomial is not a {form}: {what}"),
+                })
+            }
+        };
+        let (z0, z1, v0, v1) = (law.z(0.0, 0), law.z(1.0, 0), law.z(0.0, 1), law.z(1.0, 1));
+        check(z0.abs() <= LAW_TOL, format!("Z(0) = {z0} must be 0"))?;
+        check(
+            (z1 - 1.0).abs() <= LAW_TOL,
+            format!("Z(1) = {z1} must be 1"),
+        )?;
+        check(v0.abs() <= LAW_TOL, format!("Z'(0) = {v0} must be 0"))?;
+        if rise {
+            check(v1.abs() <= LAW_TOL, format!("Z'(1) = {v1} must be 0"))?;
+        } else {
+            check(
+                v1 >= law.dz_max - LAW_TOL * law.dz_max.max(1.0),
+                format!(
+                    "Z' must peak at x = 1 (Z'(1) = {v1}, but max Z' = {})",
+                    law.dz_max
+                ),
+            )?;
+        }
+        let (at, lowest) = law.peak_signed(1, -1.0);
+        check(
+            lowest >= -LAW_TOL,
+            format!("Z' = {lowest} < 0 at x = {at}: the law runs backwards"),
+        )?;
+        Ok(law)
+    }
+
+    /// The segment holding x (x in [0, 1]).
+    #[inline]
+    fn segment(&self, x: f64) -> &Segment {
+        let s = &self.segments;
+        let mut k = 0;
+        while k + 1 < s.len() && x > s[k].x1 {
+            k += 1;
+        }
+        &s[k]
+    }
+
+    /// Z^(order)(x), order 0..=3, for x in [0, 1].
+    #[inline]
+    pub fn z(&self, x: f64, order: usize) -> f64 {
+        self.segment(x).eval(x, order)
+    }
+
+    /// (x, max |Z^(order)|) over [0, 1].
+    fn peak(&self, order: usize) -> (f64, f64) {
+        let (x, v) = self.peak_signed_abs(order);
+        (x, v)
+    }
+
+    fn peak_signed_abs(&self, order: usize) -> (f64, f64) {
+        let (xa, a) = self.peak_signed(order, 1.0);
+        let (xb, b) = self.peak_signed(order, -1.0);
+        if a >= -b {
+            (xa, a)
+        } else {
+            (xb, -b)
+        }
+    }
+
+    /// (x, extreme of Z^(order)): its maximum for `sign` = 1, its minimum for −1.
+    /// Dense samples on every segment, then golden-section refinement around the
+    /// best sample (the value is then exact to rounding: the error is quadratic
+    /// in the abscissa's).
+    fn peak_signed(&self, order: usize, sign: f64) -> (f64, f64) {
+        const SAMPLES: usize = 256;
+        let mut best = (0.0, f64::NEG_INFINITY);
+        for s in &self.segments {
+            let f = |x: f64| sign * s.eval(x, order);
+            let h = (s.x1 - s.x0) / SAMPLES as f64;
+            let mut at = 0;
+            let mut top = f64::NEG_INFINITY;
+            for i in 0..=SAMPLES {
+                let v = f(s.x0 + h * i as f64);
+                if v > top {
+                    top = v;
+                    at = i;
+                }
+            }
+            let lo = s.x0 + h * at.saturating_sub(1) as f64;
+            let hi = (s.x0 + h * (at + 1) as f64).min(s.x1);
+            let (x, v) = golden_max(f, lo, hi);
+            let (x, v) = if v >= top {
+                (x, v)
+            } else {
+                (s.x0 + h * at as f64, top)
+            };
+            if v > best.1 {
+                best = (x, v);
+            }
+        }
+        (best.0, sign * best.1)
+    }
+}
+
+/// Maximum of a unimodal f on [lo, hi] by golden sections.
+fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> (f64, f64) {
+    const G: f64 = 0.618_033_988_749_894_8;
+    let mut x1 = hi - G * (hi - lo);
+    let mut x2 = lo + G * (hi - lo);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..80 {
+        if f1 < f2 {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + G * (hi - lo);
+            f2 = f(x2);
+        } else {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - G * (hi - lo);
+            f1 = f(x1);
+        }
+        if hi - lo <= 1e-15 * (1.0 + hi.abs()) {
+            break;
+        }
+    }
+    let (fl, fh) = (f(lo), f(hi));
+    [(x1, f1), (x2, f2), (lo, fl), (hi, fh)]
+        .into_iter()
+        .fold(
+            (lo, f64::NEG_INFINITY),
+            |b, c| if c.1 > b.1 { c } else { b },
+        )
+}
+
+/// A law from its acceleration pieces, integrated exactly from Z(0) = Z'(0) = 0
+/// and scaled to Z(1) = 1.
+fn integrate(pieces: &[AccelPiece]) -> Vec<Segment> {
+    let mut segments: Vec<Segment> = Vec::with_capacity(pieces.len());
+    let (mut z0, mut v0, mut x0) = (0.0, 0.0, 0.0);
+    for p in pieces {
+        // a = Σ p_k t^k + A sin(ωt + φ) integrates to
+        // Z = z0 + (v0 + (A/ω) cos φ) t + (A/ω²) sin φ + Σ p_k t^(k+2)/((k+1)(k+2))
+        //     − (A/ω²) sin(ωt + φ).
+        let (a, w, phi) = (p.amp, p.freq, p.phase);
+        let (c0, c1, amp) = if a == 0.0 {
+            (z0, v0, 0.0)
+        } else {
+            (
+                z0 + a / (w * w) * phi.sin(),
+                v0 + a / w * phi.cos(),
+                -a / (w * w),
+            )
+        };
+        let mut poly = vec![c0, c1];
+        for (k, &pk) in p.poly.iter().enumerate() {
+            poly.push(pk / (((k + 1) * (k + 2)) as f64));
+        }
+        let seg = Segment {
+            x0,
+            x1: p.x1,
+            poly,
+            amp,
+            freq: w,
+            phase: phi,
+        };
+        z0 = seg.eval(p.x1, 0);
+        v0 = seg.eval(p.x1, 1);
+        x0 = p.x1;
+        segments.push(seg);
+    }
+    let scale = 1.0 / z0;
+    for s in &mut segments {
+        for c in &mut s.poly {
+            *c *= scale;
+        }
+        s.amp *= scale;
+    }
+    segments
+}
+
+/// Check that every x is finite and in [0, 1].
+pub fn check_unit(field: &'static str, x: &[f64]) -> Result<(), MotionError> {
+    for (i, &v) in x.iter().enumerate() {
+        if !v.is_finite() {
+            return Err(MotionError::NotFinite {
+                field,
+                index: i,
+                value: v,
+            });
+        }
+        if !(0.0..=1.0).contains(&v) {
+            return Err(MotionError::OutOfRange {
+                field,
+                index: i,
+                value: v,
+                lo: 0.0,
+                hi: 1.0,
+                why: " (a law is defined on the unit square)",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Elements per parallel task: below it one thread is faster.
+const CHUNK: usize = 16_384;
+
+/// Fill `out[i] = f(x[i])` in parallel chunks on `n_threads` threads.
+fn par_fill(
+    x: &[f64],
+    out: &mut [f64],
+    n_threads: Option<i64>,
+    f: impl Fn(f64) -> f64 + Sync,
+) -> Result<(), MotionError> {
+    let threads = resolve_threads(n_threads)?;
+    let one = |(xs, os): (&[f64], &mut [f64])| {
+        for (o, &v) in os.iter_mut().zip(xs) {
+            *o = f(v);
+        }
+    };
+    if threads == 1 || x.len() <= CHUNK {
+        one((x, out));
+    } else {
+        pool(threads)?.install(|| {
+            x.par_chunks(CHUNK)
+                .zip(out.par_chunks_mut(CHUNK))
+                .for_each(one)
+        });
+    }
+    Ok(())
+}
+
+impl Law {
+    /// out = Z^(order)(x) for every x (checked to lie in [0, 1]).
+    pub fn eval_into(
+        &self,
+        x: &[f64],
+        order: usize,
+        n_threads: Option<i64>,
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
+        check_unit("x", x)?;
+        par_fill(x, out, n_threads, |v| self.z(v, order.min(3)))
+    }
+}
+
+/// The two-period law: Π1 = `stroke1` at α1 = `angle1`, Π2 = `stroke` at
+/// α2 = `angle`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TwoPeriod {
+    pub law1: Law,
+    pub law2: Law,
+    pub stroke1: f64,
+    pub angle1: f64,
+    pub stroke: f64,
+    pub angle: f64,
+}
+
+impl TwoPeriod {
+    /// Π^(order)(α) for α in [0, α2], order 0..=3.
+    #[inline]
+    pub fn at(&self, alpha: f64, order: usize) -> f64 {
+        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
+        if alpha <= a1 {
+            let z = self.law1.z(alpha / a1, order);
+            p1 * z / a1.powi(order as i32)
+        } else {
+            let span = a2 - a1;
+            let j = ((a2 - alpha) / span).max(0.0);
+            let z = self.law2.z(j, order);
+            // d/dα = −(1/span)·d/dj, so odd orders change sign.
+            let scale = (p2 - p1) / span.powi(order as i32);
+            match order {
+                0 => p2 - (p2 - p1) * z,
+                1 | 3 => scale * z,
+                _ => -scale * z,
+            }
+        }
+    }
+
+    /// out = Π^(order)(α) for every α (checked to lie in [0, α2]).
+    pub fn eval_into(
+        &self,
+        alpha: &[f64],
+        order: usize,
+        n_threads: Option<i64>,
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
+        for (i, &v) in alpha.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(MotionError::NotFinite {
+                    field: "alpha",
+                    index: i,
+                    value: v,
+                });
+            }
+            if !(0.0..=self.angle).contains(&v) {
+                return Err(MotionError::OutOfRange {
+                    field: "alpha",
+                    index: i,
+                    value: v,
+                    lo: 0.0,
+                    hi: self.angle,
+                    why: " [rad] (the law runs from α = 0 to the full angle α2)",
+                });
+            }
+        }
+        let order = order.min(3);
+        par_fill(alpha, out, n_threads, |v| self.at(v, order))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn close(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol * (1.0 + b.abs())
+    }
+
+    #[test]
+    fn published_peaks_of_the_rises() {
+        // (name, Cv, Ca) from the cam-design literature (Norton, Cam Design and
+        // Manufacturing Handbook, table 3-2; Rothbart).
+        for (name, cv, ca) in [
+            ("cycloidal", 2.0, 2.0 * PI),
+            ("harmonic", PI / 2.0, PI * PI / 2.0),
+            ("polynomial_345", 1.875, 10.0 / 3f64.sqrt()),
+            ("polynomial_4567", 2.1875, 7.5132),
+            ("modified_sine", 1.760, 5.528),
+            ("modified_trapezoid", 2.000, 4.888),
+        ] {
+            let law = Law::rise(name).unwrap();
+            // Published to four or five digits; the closed forms to rounding.
+            let tol = if name.starts_with("modified") || name == "polynomial_4567" {
+                5e-4
+            } else {
+                1e-12
+            };
+            assert!(close(law.dz_max, cv, tol), "{name}: Cv {}", law.dz_max);
+            assert!(close(law.ddz_max, ca, tol), "{name}: Ca {}", law.ddz_max);
+            assert!(law.z(0.0, 0).abs() < 1e-14 && close(law.z(1.0, 0), 1.0, 1e-14));
+            assert!(law.z(0.0, 1).abs() < 1e-14 && law.z(1.0, 1).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn half_cycloidal_is_the_seed_form() {
+        let h = Law::half("cycloidal").unwrap();
+        for j in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
+            assert!(close(h.z(j, 0), j - (PI * j).sin() / PI, 1e-14));
+            assert!(close(h.z(j, 1), 1.0 - (PI * j).cos(), 1e-14));
+            assert!(close(h.z(j, 2), PI * (PI * j).sin(), 1e-14));
+        }
+        assert!(close(h.dz_max, 2.0, 1e-14) && close(h.ddz_max, PI, 1e-14));
+    }
+
+    #[test]
+    fn pieces_join_smoothly() {
+        for name in ["modified_sine", "modified_trapezoid"] {
+            let law = Law::rise(name).unwrap();
+            for w in law.segments.windows(2) {
+                let x = w[0].x1;
+                for order in 0..3 {
+                    let (a, b) = (w[0].eval(x, order), w[1].eval(x, order));
+                    assert!(
+                        close(a, b, 1e-12),
+                        "{name} order {order} at {x}: {a} vs {b}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn user_polynomials_are_checked() {
+        assert!(Law::polynomial(&[0.0, 0.0, 0.0, 10.0, -15.0, 6.0], true).is_ok());
+        assert!(Law::polynomial(&[0.0, 0.0, 1.0], true).is_err()); // Z'(1) = 2
+        assert!(Law::polynomial(&[0.0, 0.0, 1.0], false).is_ok()); // Z = x², Z' peaks at 1
+        assert!(Law::polynomial(&[0.0, 2.0, -1.0], false).is_err()); // Z'(0) = 2
+        assert!(Law::polynomial(&[0.0, f64::NAN], true).is_err());
+    }
+
+    proptest! {
+        #[test]
+        fn derivatives_match_differences(x in 0.01f64..0.99, k in 0usize..6, half in any::<bool>()) {
+            let law = if half { Law::half(NAMES[k]) } else { Law::rise(NAMES[k]) }.unwrap();
+            let h = 1e-6;
+            for order in 0..3 {
+                let fd = (law.z(x + h, order) - law.z(x - h, order)) / (2.0 * h);
+                let exact = law.z(x, order + 1);
+                // Pieces switch at breakpoints: skip a stencil straddling one.
+                let straddles = law.segments.iter().any(|s| (s.x1 - x).abs() < 2.0 * h);
+                prop_assert!(straddles || (fd - exact).abs() <= 1e-5 * (1.0 + exact.abs()),
+                    "{} order {}: {} vs {}", NAMES[k], order + 1, fd, exact);
+            }
+        }
+    }
+
+    #[test]
+    fn two_period_is_continuous_at_the_junction() {
+        let (l1, l2) = (
+            Law::half("cycloidal").unwrap(),
+            Law::half("modified_sine").unwrap(),
+        );
+        // Π1 from continuity (9) for f_A = 1.5.
+        let (p2, a2, f) = (0.1, PI, 1.5);
+        let n1 = l1.dz_max / l2.dz_max;
+        let law = TwoPeriod {
+            stroke1: p2 / (1.0 + n1 * f),
+            angle1: a2 / (1.0 + f),
+            stroke: p2,
+            angle: a2,
+            law1: l1,
+            law2: l2,
+        };
+        let a1 = law.angle1;
+        for order in 0..3 {
+            let (lo, hi) = (
+                law.at(a1 * (1.0 - 1e-12), order),
+                law.at(a1 * (1.0 + 1e-12), order),
+            );
+            assert!(close(lo, hi, 1e-9), "order {order}: {lo} vs {hi}");
+        }
+        assert!(close(law.at(a2, 0), p2, 1e-15) && law.at(0.0, 0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,967 @@
+//! The planetary gear-lever press drive of seed 003: kinematics over crank-angle
+//! grids and the working-stroke criteria, for one design or a grid of designs.
+//!
+//! Frame: origin at the centre O of the fixed internal guide gear (radius R), y up;
+//! the slider runs on the vertical guide x = `offset` below O. The carrier (crank)
+//! at angle θ carries the planet gear (radius r) whose centre is C = (R − r)·e^{iθ};
+//! the planet rolls inside the guide gear, so it turns at −k = −(R − r)/r times the
+//! carrier. The rod (length L) hangs on the planet at eccentricity d:
+//! pin P = C + d·e^{iβ}, β = −k·θ + i·(φ0 − π/2) with i = R/r: φ0 is the angle the
+//! guide gear is turned from the setting in which the pin lies on the carrier line,
+//! outwards, when the carrier points straight down. The slider is at
+//! y = P_y − √(L² − (P_x − offset)²).
+//!
+//! The carrier turns counterclockwise. As in the seed, α is the crank angle counted
+//! from the slider's bottom dead centre (BDC) **against** the motion: θ = θ_B − α,
+//! and S = Π(α) = y(θ_B − α) − y(θ_B) ≥ 0 is the slider's height above BDC, so
+//! the working stroke is the approach to BDC, α from α_p down to 0.
+//!
+//! With d = 0 the drive is a plain crank-slider of crank radius R − r.
+
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+use rayon::prelude::*;
+
+use crate::geom::sin_cos;
+use crate::parallel::{pool, resolve_threads, ThreadsError};
+
+/// Errors of the press domain.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PressError {
+    #[error("{field} = {value} {why}")]
+    BadDesign {
+        field: &'static str,
+        value: f64,
+        why: String,
+    },
+    #[error("{field}[{index}] = {value} is not finite")]
+    NotFinite {
+        field: &'static str,
+        index: usize,
+        value: f64,
+    },
+    #[error("{0}")]
+    BadSpec(String),
+    #[error("{0}")]
+    Threads(#[from] ThreadsError),
+}
+
+/// One gear-lever press: lengths [m], angle [rad].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Design {
+    /// Pitch radius of the fixed internal guide gear R [m].
+    pub big_r: f64,
+    /// Pitch radius of the planet (generating) gear r [m].
+    pub r: f64,
+    /// Eccentricity of the rod's pin on the planet d [m] (0: a crank-slider).
+    pub d: f64,
+    /// Rod length L [m].
+    pub l: f64,
+    /// Setting angle of the guide gear φ0 [rad].
+    pub phi0: f64,
+    /// Offset of the slider's guide from the centre [m].
+    pub offset: f64,
+}
+
+/// Largest gear ratio accepted (a typo such as R/r = 3000 is not a press).
+pub const MAX_RATIO: f64 = 64.0;
+
+impl Design {
+    /// Check the design; returns the gear ratio i = R/r (a whole number ≥ 2: the
+    /// drive repeats every crank turn only then).
+    pub fn validate(&self) -> Result<f64, PressError> {
+        let bad = |field, value, why: &str| {
+            Err(PressError::BadDesign {
+                field,
+                value,
+                why: why.to_string(),
+            })
+        };
+        for (field, v) in [
+            ("R", self.big_r),
+            ("r", self.r),
+            ("d", self.d),
+            ("L", self.l),
+            ("phi0", self.phi0),
+            ("offset", self.offset),
+        ] {
+            if !v.is_finite() {
+                return bad(field, v, "must be finite");
+            }
+        }
+        if self.r <= 0.0 {
+            return bad("r", self.r, "must be a positive radius [m]");
+        }
+        if self.big_r <= self.r {
+            return bad(
+                "R",
+                self.big_r,
+                &format!(
+                    "must exceed r = {} (the planet rolls inside the guide gear)",
+                    self.r
+                ),
+            );
+        }
+        let i = self.big_r / self.r;
+        if (i - i.round()).abs() > 1e-9 * i || i.round() > MAX_RATIO {
+            return Err(PressError::BadDesign {
+                field: "R/r",
+                value: i,
+                why: format!(
+                    "must be a whole number between 2 and {MAX_RATIO} (R = {}, r = {}): only then \
+                     does the drive repeat every crank turn; the seed uses 3",
+                    self.big_r, self.r
+                ),
+            });
+        }
+        if self.d < 0.0 {
+            return bad(
+                "d",
+                self.d,
+                "must be ≥ 0 [m] (0 gives a plain crank-slider)",
+            );
+        }
+        if self.l <= 0.0 {
+            return bad("L", self.l, "must be a positive rod length [m]");
+        }
+        Ok(i.round())
+    }
+
+    fn frame(&self) -> Frame {
+        let i = (self.big_r / self.r).round();
+        Frame {
+            a: self.big_r - self.r,
+            k: i - 1.0,
+            beta0: i * (self.phi0 - FRAC_PI_2),
+            d: self.d,
+            l: self.l,
+            e: self.offset,
+        }
+    }
+}
+
+/// A design in the form the kernels use.
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    a: f64,
+    k: f64,
+    beta0: f64,
+    d: f64,
+    l: f64,
+    e: f64,
+}
+
+/// Slider height and its θ-derivatives at one carrier angle.
+#[derive(Debug, Clone, Copy)]
+struct Kin {
+    centre: [f64; 2],
+    pin: [f64; 2],
+    /// L² − (P_x − offset)²: > 0 where the rod reaches the guide.
+    w2: f64,
+    y: f64,
+    dy: f64,
+    ddy: f64,
+    dddy: f64,
+}
+
+impl Frame {
+    /// Kinematics from cos/sin of θ and of β = −kθ + β0; `third` adds y'''.
+    #[inline(always)]
+    fn kin(&self, (ct, st): (f64, f64), (cb, sb): (f64, f64), third: bool) -> Kin {
+        let (a, k, d) = (self.a, self.k, self.d);
+        let (kd, k2d) = (k * d, k * k * d);
+        let (cx, cy) = (a * ct, a * st);
+        let (px, py) = (cx + d * cb, cy + d * sb);
+        let (px1, py1) = (-a * st + kd * sb, a * ct - kd * cb);
+        let (px2, py2) = (-a * ct - k2d * cb, -a * st - k2d * sb);
+        let u = px - self.e;
+        let w2 = self.l * self.l - u * u;
+        let w = w2.sqrt();
+        let iw = 1.0 / w;
+        let g = u * px1 * iw;
+        let h = px1 * px1 + u * px2;
+        let dddy = if third {
+            let k3d = k * k2d;
+            let (px3, py3) = (a * st - k3d * sb, -a * ct + k3d * cb);
+            let h1 = 3.0 * px1 * px2 + u * px3;
+            py3 + h1 * iw + 3.0 * (g * h + g * g * g) * iw * iw
+        } else {
+            0.0
+        };
+        Kin {
+            centre: [cx, cy],
+            pin: [px, py],
+            w2,
+            y: py - w,
+            dy: py1 + g,
+            ddy: py2 + (h + g * g) * iw,
+            dddy,
+        }
+    }
+
+    #[inline]
+    fn at(&self, theta: f64, third: bool) -> Kin {
+        self.kin(
+            sin_cos(theta).swap(),
+            sin_cos(self.beta0 - self.k * theta).swap(),
+            third,
+        )
+    }
+}
+
+trait Swap {
+    fn swap(self) -> (f64, f64);
+}
+
+impl Swap for (f64, f64) {
+    /// (sin, cos) → (cos, sin).
+    #[inline(always)]
+    fn swap(self) -> (f64, f64) {
+        (self.1, self.0)
+    }
+}
+
+/// Root of f on [lo, hi] where f(lo), f(hi) differ in sign (Illinois variant of
+/// regula falsi: superlinear, and never leaves the bracket).
+fn root(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, mut flo: f64, mut fhi: f64) -> f64 {
+    if flo == 0.0 {
+        return lo;
+    }
+    if fhi == 0.0 {
+        return hi;
+    }
+    let mut side = 0i8;
+    for _ in 0..100 {
+        let x = (lo * fhi - hi * flo) / (fhi - flo);
+        if !(x > lo.min(hi) && x < lo.max(hi)) || (hi - lo).abs() <= 4.0 * f64::EPSILON * x.abs() {
+            return if x.is_finite() { x } else { 0.5 * (lo + hi) };
+        }
+        let fx = f(x);
+        if fx == 0.0 {
+            return x;
+        }
+        if (fx > 0.0) == (fhi > 0.0) {
+            hi = x;
+            fhi = fx;
+            if side == 1 {
+                flo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = x;
+            flo = fx;
+            if side == -1 {
+                fhi *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Samples of the carrier angle for the grid scans: θ_j = 2πj/M, with cos/sin of
+/// θ_j and of −kθ_j, shared by every design of one gear ratio.
+pub struct Table {
+    ct: Vec<f64>,
+    st: Vec<f64>,
+    cb: Vec<f64>,
+    sb: Vec<f64>,
+}
+
+impl Table {
+    pub fn new(ratio: f64, m: usize) -> Table {
+        let k = ratio - 1.0;
+        let mut t = Table {
+            ct: Vec::with_capacity(m),
+            st: Vec::with_capacity(m),
+            cb: Vec::with_capacity(m),
+            sb: Vec::with_capacity(m),
+        };
+        for j in 0..m {
+            let th = TAU * j as f64 / m as f64;
+            let (s, c) = sin_cos(th);
+            let (sb, cb) = sin_cos(-k * th);
+            t.ct.push(c);
+            t.st.push(s);
+            t.cb.push(cb);
+            t.sb.push(sb);
+        }
+        t
+    }
+
+    fn len(&self) -> usize {
+        self.ct.len()
+    }
+
+    fn theta(&self, j: usize) -> f64 {
+        TAU * j as f64 / self.len() as f64
+    }
+}
+
+/// Carrier angles sampled per turn to find dead centres and extremes, unless the
+/// caller gives its own count.
+pub const DEFAULT_SAMPLES: usize = 360;
+
+/// Why a design has no criteria (or has them with a warning).
+#[repr(u8)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    Ok = 0,
+    /// The rod cannot reach the guide somewhere in the turn.
+    NoReach = 1,
+    /// The slider moves back up during the working stroke.
+    Reverses = 2,
+    /// The working stroke asked for exceeds the nominal stroke.
+    LongStroke = 3,
+}
+
+/// Columns of the criteria rows.
+pub const CRITERIA: [&str; 14] = [
+    "S_n",
+    "S_p",
+    "alpha_p",
+    "V_np",
+    "V_cp",
+    "V_pmax",
+    "J_max",
+    "torque",
+    "k_Sp",
+    "k_Vp",
+    "k_Vmax",
+    "k_M",
+    "k_J",
+    "theta_bdc",
+];
+
+/// The working stroke: a fraction k_Sp of the nominal stroke, or a length S_p [m].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stroke {
+    Fraction(f64),
+    Length(f64),
+}
+
+/// What the criteria are computed for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spec {
+    pub stroke: Stroke,
+    /// Crank speed ω [rad/s] (constant).
+    pub omega: f64,
+    /// Carrier angles sampled per turn.
+    pub samples: usize,
+}
+
+impl Spec {
+    pub fn validate(&self) -> Result<(), PressError> {
+        let (name, v, ok) = match self.stroke {
+            Stroke::Fraction(k) => ("k_Sp", k, k > 0.0 && k <= 1.0),
+            Stroke::Length(s) => ("working_stroke", s, s > 0.0),
+        };
+        if !(v.is_finite() && ok) {
+            let want = if name == "k_Sp" {
+                "a fraction of the nominal stroke in (0, 1]"
+            } else {
+                "a positive length [m]"
+            };
+            return Err(PressError::BadSpec(format!("{name} = {v} must be {want}")));
+        }
+        if !(self.omega.is_finite() && self.omega > 0.0) {
+            return Err(PressError::BadSpec(format!(
+                "omega = {} must be a positive crank speed [rad/s]",
+                self.omega
+            )));
+        }
+        if !(8..=1_000_000).contains(&self.samples) {
+            return Err(PressError::BadSpec(format!(
+                "samples = {} must be between 8 and 1000000 carrier angles per turn",
+                self.samples
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Scratch rows of one design's scan.
+#[derive(Default)]
+pub struct Scratch {
+    y: Vec<f64>,
+    dy: Vec<f64>,
+}
+
+/// Wrap an angle into [0, 2π).
+#[inline]
+fn wrap(x: f64) -> f64 {
+    let w = x.rem_euclid(TAU);
+    if w >= TAU {
+        0.0
+    } else {
+        w
+    }
+}
+
+/// The criteria of one design (see [`CRITERIA`]) and its status.
+pub fn criteria_with(
+    design: &Design,
+    table: &Table,
+    spec: &Spec,
+    scratch: &mut Scratch,
+    row: &mut [f64],
+) -> Status {
+    row.fill(f64::NAN);
+    let f = design.frame();
+    let m = table.len();
+    let (c0, s0) = sin_cos(f.beta0).swap();
+    scratch.y.resize(m, 0.0);
+    scratch.dy.resize(m, 0.0);
+    let (ys, dys) = (&mut scratch.y[..], &mut scratch.dy[..]);
+    // One pass over the turn: heights and slopes, and the sample extremes.
+    let mut w2_min = f64::INFINITY;
+    let (mut j_lo, mut j_hi, mut j_acc) = (0, 0, 0);
+    let (mut y_lo, mut y_hi, mut acc) = (f64::INFINITY, f64::NEG_INFINITY, -1.0);
+    for j in 0..m {
+        let (cb, sb) = (table.cb[j], table.sb[j]);
+        let kin = f.kin(
+            (table.ct[j], table.st[j]),
+            (cb * c0 - sb * s0, sb * c0 + cb * s0),
+            false,
+        );
+        w2_min = w2_min.min(kin.w2);
+        ys[j] = kin.y;
+        dys[j] = kin.dy;
+        if kin.y < y_lo {
+            y_lo = kin.y;
+            j_lo = j;
+        }
+        if kin.y > y_hi {
+            y_hi = kin.y;
+            j_hi = j;
+        }
+        if kin.ddy.abs() > acc {
+            acc = kin.ddy.abs();
+            j_acc = j;
+        }
+    }
+    // The rod must reach the guide everywhere: the samples first, then the exact
+    // extreme of |P_x − offset| near the sample closest to failing.
+    if w2_min.is_nan() || w2_min <= 0.0 || !reaches(&f, table) {
+        return Status::NoReach;
+    }
+    let h = TAU / m as f64;
+    let at = |th: f64| f.at(th, true);
+    // Dead centres: roots of y' next to the sample extremes.
+    let refine = |j: usize, g: &dyn Fn(f64) -> f64| -> f64 {
+        let th = table.theta(j);
+        let (lo, hi) = (th - h, th + h);
+        let (glo, ghi) = (g(lo), g(hi));
+        if glo * ghi < 0.0 {
+            root(g, lo, hi, glo, ghi)
+        } else {
+            th
+        }
+    };
+    let dy = |th: f64| at(th).dy;
+    let th_b = refine(j_lo, &dy);
+    let th_t = refine(j_hi, &dy);
+    let (y_b, y_t) = (at(th_b).y.min(y_lo), at(th_t).y.max(y_hi));
+    let s_n = y_t - y_b;
+    let s_p = match spec.stroke {
+        Stroke::Fraction(k) => k * s_n,
+        Stroke::Length(s) => s,
+    };
+    row[0] = s_n;
+    row[13] = wrap(th_b);
+    if s_p > s_n {
+        row[1] = s_p;
+        return Status::LongStroke;
+    }
+    // Walk back in time from BDC (θ decreasing, α increasing) to the first height
+    // S_p; watch Π' = −y' on the way.
+    let mut status = Status::Ok;
+    let (mut prev_th, mut prev_s) = (th_b, 0.0);
+    let (mut best_v, mut best_th) = (f64::NEG_INFINITY, th_b);
+    // First sample strictly before BDC.
+    let mut j = j_lo;
+    if table.theta(j) >= th_b {
+        j = (j + m - 1) % m;
+    }
+    let mut theta_j = th_b - wrap(th_b - table.theta(j));
+    let mut th_p = f64::NAN;
+    for _ in 0..=m {
+        let s = ys[j] - y_b;
+        if s >= s_p {
+            let g = |th: f64| at(th).y - y_b - s_p;
+            th_p = root(g, theta_j, prev_th, s - s_p, prev_s - s_p);
+            break;
+        }
+        let v = -dys[j];
+        if v < -1e-12 * s_n {
+            status = Status::Reverses;
+        }
+        if v > best_v {
+            best_v = v;
+            best_th = theta_j;
+        }
+        prev_th = theta_j;
+        prev_s = s;
+        j = (j + m - 1) % m;
+        theta_j -= h;
+    }
+    if th_p.is_nan() {
+        // Unreachable when S_p ≤ S_n (the walk meets TDC), kept as a guard.
+        return Status::LongStroke;
+    }
+    let alpha_p = th_b - th_p;
+    let kp = at(th_p);
+    let v_np = -kp.dy;
+    // Interior speed peak: root of y'' next to the best sample, inside the stroke.
+    let mut v_max = v_np;
+    if best_v > v_max {
+        let lo = (best_th - h).max(th_p);
+        let hi = (best_th + h).min(th_b);
+        let g = |th: f64| at(th).ddy;
+        let (glo, ghi) = (g(lo), g(hi));
+        let peak = if glo * ghi < 0.0 {
+            -at(root(g, lo, hi, glo, ghi)).dy
+        } else {
+            best_v
+        };
+        v_max = v_max.max(peak).max(best_v);
+    }
+    // Acceleration peak over the turn: root of y''' next to the best sample.
+    let th_a = table.theta(j_acc);
+    let sgn = at(th_a).ddy.signum();
+    let g = |th: f64| sgn * at(th).dddy;
+    let (lo, hi) = (th_a - h, th_a + h);
+    let (glo, ghi) = (g(lo), g(hi));
+    let a_max = if glo > 0.0 && ghi < 0.0 {
+        at(root(g, lo, hi, glo, ghi)).ddy.abs().max(acc)
+    } else {
+        acc
+    };
+    let w = spec.omega;
+    let v_cp = s_p / alpha_p;
+    row[1] = s_p;
+    row[2] = alpha_p;
+    row[3] = v_np * w;
+    row[4] = v_cp * w;
+    row[5] = v_max * w;
+    row[6] = a_max * w * w;
+    row[7] = v_max;
+    row[8] = s_p / s_n;
+    row[9] = v_np / v_cp;
+    row[10] = v_max / v_cp;
+    row[11] = v_max / (0.5 * s_n);
+    row[12] = a_max / (0.5 * s_n);
+    status
+}
+
+/// Whether the rod reaches the guide over the whole turn: the largest
+/// |P_x − offset|, found from the samples and refined at a root of P_x', is
+/// below L.
+fn reaches(f: &Frame, table: &Table) -> bool {
+    let m = table.len();
+    let (c0, s0) = sin_cos(f.beta0).swap();
+    let ux = |j: usize| {
+        let (cb, sb) = (table.cb[j], table.sb[j]);
+        f.a * table.ct[j] + f.d * (cb * c0 - sb * s0) - f.e
+    };
+    let mut best = (0, 0.0f64);
+    for j in 0..m {
+        let u = ux(j).abs();
+        if u > best.1 {
+            best = (j, u);
+        }
+    }
+    let h = TAU / m as f64;
+    let th = table.theta(best.0);
+    let sgn = ux(best.0).signum();
+    let px = |t: f64| f.a * sin_cos(t).1 + f.d * sin_cos(f.beta0 - f.k * t).1 - f.e;
+    let dpx = |t: f64| {
+        let (st, sb) = (sin_cos(t).0, sin_cos(f.beta0 - f.k * t).0);
+        sgn * (-f.a * st + f.k * f.d * sb)
+    };
+    let (lo, hi) = (th - h, th + h);
+    let (glo, ghi) = (dpx(lo), dpx(hi));
+    let u_max = if glo > 0.0 && ghi < 0.0 {
+        px(root(dpx, lo, hi, glo, ghi)).abs().max(best.1)
+    } else {
+        best.1
+    };
+    u_max < f.l
+}
+
+/// Criteria of one design.
+pub fn criteria(design: &Design, spec: &Spec) -> Result<(Vec<f64>, Status), PressError> {
+    let ratio = design.validate()?;
+    spec.validate()?;
+    let table = Table::new(ratio, spec.samples);
+    let mut row = vec![0.0; CRITERIA.len()];
+    let status = criteria_with(design, &table, spec, &mut Scratch::default(), &mut row);
+    Ok((row, status))
+}
+
+/// The axes of a design grid, designs in C order (R, r, d, L, φ0).
+pub struct Grid<'a> {
+    pub big_r: &'a [f64],
+    pub r: &'a [f64],
+    pub d: &'a [f64],
+    pub l: &'a [f64],
+    pub phi0: &'a [f64],
+    pub offset: f64,
+}
+
+impl Grid<'_> {
+    pub fn len(&self) -> usize {
+        self.big_r.len() * self.r.len() * self.d.len() * self.l.len() * self.phi0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn design(&self, flat: usize) -> Design {
+        let (np, nl, nd, nr) = (self.phi0.len(), self.l.len(), self.d.len(), self.r.len());
+        let ip = flat % np;
+        let il = (flat / np) % nl;
+        let id = (flat / (np * nl)) % nd;
+        let ir = (flat / (np * nl * nd)) % nr;
+        let ib = flat / (np * nl * nd * nr);
+        Design {
+            big_r: self.big_r[ib],
+            r: self.r[ir],
+            d: self.d[id],
+            l: self.l[il],
+            phi0: self.phi0[ip],
+            offset: self.offset,
+        }
+    }
+}
+
+/// Designs per parallel task of a sweep.
+const DESIGNS_PER_TASK: usize = 64;
+
+/// Criteria over the full Cartesian grid: `rows` (designs × 14) and `status`
+/// (designs), in parallel over designs.
+pub fn sweep_into(
+    grid: &Grid<'_>,
+    spec: &Spec,
+    n_threads: Option<i64>,
+    rows: &mut [f64],
+    status: &mut [u8],
+) -> Result<(), PressError> {
+    spec.validate()?;
+    let n = grid.len();
+    let nc = CRITERIA.len();
+    if rows.len() != n * nc || status.len() != n {
+        return Err(PressError::BadSpec(
+            "output sizes do not match the grid".into(),
+        ));
+    }
+    if n == 0 {
+        return Ok(());
+    }
+    // Validate every axis value (each with the first values of the other axes),
+    // and build one table per gear ratio.
+    let base = grid.design(0);
+    let mut tables: Vec<(f64, Table)> = Vec::new();
+    for &big_r in grid.big_r {
+        for &r in grid.r {
+            let ratio = Design { big_r, r, ..base }.validate()?;
+            if !tables.iter().any(|(q, _)| *q == ratio) {
+                tables.push((ratio, Table::new(ratio, spec.samples)));
+            }
+        }
+    }
+    for &d in grid.d {
+        Design { d, ..base }.validate()?;
+    }
+    for &l in grid.l {
+        Design { l, ..base }.validate()?;
+    }
+    for &phi0 in grid.phi0 {
+        Design { phi0, ..base }.validate()?;
+    }
+    let table_of = |d: &Design| -> &Table {
+        let q = (d.big_r / d.r).round();
+        &tables
+            .iter()
+            .find(|(t, _)| *t == q)
+            .expect("a table per ratio")
+            .1
+    };
+    let threads = resolve_threads(n_threads)?;
+    let task = |(t, (rows, status)): (usize, (&mut [f64], &mut [u8])), scratch: &mut Scratch| {
+        for (k, (row, st)) in rows.chunks_mut(nc).zip(status.iter_mut()).enumerate() {
+            let design = grid.design(t * DESIGNS_PER_TASK + k);
+            *st = criteria_with(&design, table_of(&design), spec, scratch, row) as u8;
+        }
+    };
+    let chunks = rows
+        .chunks_mut(nc * DESIGNS_PER_TASK)
+        .zip(status.chunks_mut(DESIGNS_PER_TASK))
+        .enumerate();
+    if threads == 1 || n <= DESIGNS_PER_TASK {
+        let mut scratch = Scratch::default();
+        chunks.for_each(|c| task(c, &mut scratch));
+    } else {
+        let chunks: Vec<_> = chunks.collect();
+        pool(threads)?.install(|| {
+            chunks
+                .into_par_iter()
+                .for_each_init(Scratch::default, |s, c| task(c, s))
+        });
+    }
+    Ok(())
+}
+
+/// Kinematics outputs for K designs × N angles, caller-owned: `s`, `ds`, `dds`
+/// (K·N), `centre`, `pin`, `slider` (K·N·2), `ok` (K·N).
+pub struct KinOut<'a> {
+    pub s: &'a mut [f64],
+    pub ds: &'a mut [f64],
+    pub dds: &'a mut [f64],
+    pub centre: &'a mut [f64],
+    pub pin: &'a mut [f64],
+    pub slider: &'a mut [f64],
+    pub ok: &'a mut [bool],
+}
+
+/// The BDC of a design: (θ_B, y_B), the lowest slider position over the turn
+/// (over its assembled part if the rod cannot reach everywhere; None if nowhere).
+pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
+    let f = design.frame();
+    let h = TAU / samples as f64;
+    let mut best: Option<(usize, f64)> = None;
+    for j in 0..samples {
+        let k = f.at(h * j as f64, false);
+        if k.w2 > 0.0 && best.is_none_or(|(_, y)| k.y < y) {
+            best = Some((j, k.y));
+        }
+    }
+    let (j, y) = best?;
+    let th = h * j as f64;
+    let (lo, hi) = (th - h, th + h);
+    let (klo, khi) = (f.at(lo, false), f.at(hi, false));
+    if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
+        let t = root(|x| f.at(x, false).dy, lo, hi, klo.dy, khi.dy);
+        let yt = f.at(t, false).y;
+        if yt <= y {
+            return Some((wrap(t), yt));
+        }
+    }
+    Some((wrap(th), y))
+}
+
+/// One chunk of the outputs of [`solve_into`].
+type KinChunk<'a> = (
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [bool],
+);
+
+/// Solve K designs over one grid of α [rad] (counted from each design's BDC
+/// against the motion), in parallel. Where the rod cannot reach the guide, `ok`
+/// is false and the outputs NaN.
+pub fn solve_into(
+    designs: &[Design],
+    alpha: &[f64],
+    n_threads: Option<i64>,
+    out: KinOut<'_>,
+) -> Result<(), PressError> {
+    for d in designs {
+        d.validate()?;
+    }
+    if let Some((i, &v)) = alpha.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(PressError::NotFinite {
+            field: "alpha",
+            index: i,
+            value: v,
+        });
+    }
+    let (k, n) = (designs.len(), alpha.len());
+    if out.s.len() != k * n
+        || out.ds.len() != k * n
+        || out.dds.len() != k * n
+        || out.centre.len() != 2 * k * n
+        || out.pin.len() != 2 * k * n
+        || out.slider.len() != 2 * k * n
+        || out.ok.len() != k * n
+    {
+        return Err(PressError::BadSpec("output sizes do not match".into()));
+    }
+    let threads = resolve_threads(n_threads)?;
+    let frames: Vec<(Frame, Option<(f64, f64)>)> = designs
+        .iter()
+        .map(|d| (d.frame(), bdc(d, 4 * DEFAULT_SAMPLES)))
+        .collect();
+    const CHUNK: usize = 8192;
+    let one = |start: usize, (s, ds, dds, centre, pin, slider, ok): KinChunk<'_>| {
+        for q in 0..s.len() {
+            let flat = start + q;
+            let (f, b) = &frames[flat / n];
+            let a = alpha[flat % n];
+            let kin = b.map(|(th_b, y_b)| (f.at(th_b - a, false), y_b));
+            match kin {
+                Some((kin, y_b)) if kin.w2 > 0.0 => {
+                    s[q] = kin.y - y_b;
+                    ds[q] = -kin.dy;
+                    dds[q] = kin.ddy;
+                    ok[q] = true;
+                    slider[2 * q] = f.e;
+                    slider[2 * q + 1] = kin.y;
+                    centre[2 * q..2 * q + 2].copy_from_slice(&kin.centre);
+                    pin[2 * q..2 * q + 2].copy_from_slice(&kin.pin);
+                }
+                _ => {
+                    s[q] = f64::NAN;
+                    ds[q] = f64::NAN;
+                    dds[q] = f64::NAN;
+                    ok[q] = false;
+                    slider[2 * q..2 * q + 2].fill(f64::NAN);
+                    match b {
+                        // The crank still turns: centre and pin are known.
+                        Some((th_b, _)) => {
+                            let kin = f.at(th_b - a, false);
+                            centre[2 * q..2 * q + 2].copy_from_slice(&kin.centre);
+                            pin[2 * q..2 * q + 2].copy_from_slice(&kin.pin);
+                        }
+                        None => {
+                            centre[2 * q..2 * q + 2].fill(f64::NAN);
+                            pin[2 * q..2 * q + 2].fill(f64::NAN);
+                        }
+                    }
+                }
+            }
+        }
+    };
+    let KinOut {
+        s,
+        ds,
+        dds,
+        centre,
+        pin,
+        slider,
+        ok,
+    } = out;
+    let chunks: Vec<_> = s
+        .chunks_mut(CHUNK)
+        .zip(ds.chunks_mut(CHUNK))
+        .zip(dds.chunks_mut(CHUNK))
+        .zip(centre.chunks_mut(2 * CHUNK))
+        .zip(pin.chunks_mut(2 * CHUNK))
+        .zip(slider.chunks_mut(2 * CHUNK))
+        .zip(ok.chunks_mut(CHUNK))
+        .enumerate()
+        .map(|(c, ((((((a, b), cc), d), e), g), h))| (c * CHUNK, (a, b, cc, d, e, g, h)))
+        .collect();
+    if threads == 1 || chunks.len() <= 1 {
+        chunks.into_iter().for_each(|(st, c)| one(st, c));
+    } else {
+        pool(threads)?.install(|| chunks.into_par_iter().for_each(|(st, c)| one(st, c)));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use std::f64::consts::PI;
+
+    fn press(d: f64, l: f64, phi0: f64) -> Design {
+        Design {
+            big_r: 0.09,
+            r: 0.03,
+            d,
+            l,
+            phi0,
+            offset: 0.0,
+        }
+    }
+
+    fn solve(design: &Design, alpha: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<bool>) {
+        let n = alpha.len();
+        let (mut s, mut ds, mut dds) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let (mut c, mut p, mut sl) = (vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        let mut ok = vec![false; n];
+        solve_into(
+            &[*design],
+            alpha,
+            Some(1),
+            KinOut {
+                s: &mut s,
+                ds: &mut ds,
+                dds: &mut dds,
+                centre: &mut c,
+                pin: &mut p,
+                slider: &mut sl,
+                ok: &mut ok,
+            },
+        )
+        .unwrap();
+        (s, ds, dds, ok)
+    }
+
+    #[test]
+    fn crank_slider_limit_is_the_closed_form() {
+        let (a, l) = (0.06, 0.25);
+        let design = press(0.0, l, 0.3);
+        let alpha: Vec<f64> = (0..=72).map(|k| k as f64 * PI / 36.0).collect();
+        let (s, ds, dds, ok) = solve(&design, &alpha);
+        for (q, &al) in alpha.iter().enumerate() {
+            let (sa, ca) = al.sin_cos();
+            let root = (l * l - a * a * sa * sa).sqrt();
+            let s0 = a * (1.0 - ca) + l - root;
+            let ds0 = a * sa + a * a * sa * ca / root;
+            let dds0 = a * ca
+                + a * a * (ca * ca - sa * sa) / root
+                + a.powi(4) * sa * sa * ca * ca / root.powi(3);
+            assert!(ok[q]);
+            assert!((s[q] - s0).abs() < 1e-14, "S at {al}: {} vs {s0}", s[q]);
+            assert!((ds[q] - ds0).abs() < 1e-14, "S' at {al}");
+            assert!((dds[q] - dds0).abs() < 1e-13, "S'' at {al}");
+        }
+    }
+
+    #[test]
+    fn criteria_of_the_crank_slider() {
+        // Crank-slider with ω = 1: α_p from S(α_p) = S_p in closed form.
+        let (a, l) = (0.06, 0.25);
+        let spec = Spec {
+            stroke: Stroke::Fraction(0.1),
+            omega: 1.0,
+            samples: 360,
+        };
+        let (row, status) = criteria(&press(0.0, l, 0.0), &spec).unwrap();
+        assert_eq!(status, Status::Ok);
+        assert!((row[0] - 2.0 * a).abs() < 1e-14);
+        let s_p = 0.1 * 2.0 * a;
+        let s = |al: f64| a * (1.0 - al.cos()) + l - (l * l - (a * al.sin()).powi(2)).sqrt();
+        let alpha_p = row[2];
+        assert!((s(alpha_p) - s_p).abs() < 1e-15);
+        assert!(alpha_p > 0.0 && alpha_p < PI);
+        // Speed falls monotonically to BDC: the peak is at the start.
+        assert!((row[5] - row[3]).abs() < 1e-15);
+        // J_max of a crank-slider is at BDC: a(1 + a/L).
+        assert!((row[6] - a * (1.0 + a / l)).abs() < 1e-13, "{}", row[6]);
+    }
+
+    proptest! {
+        #[test]
+        fn derivatives_match_differences(d in 0.0f64..0.06, phi0 in -PI..PI, al in 0.1f64..6.0) {
+            let design = press(d, 0.4, phi0);
+            let h = 1e-6;
+            let (s, ds, dds, ok) = solve(&design, &[al - h, al, al + h]);
+            prop_assume!(ok.iter().all(|&o| o));
+            prop_assert!(((s[2] - s[0]) / (2.0 * h) - ds[1]).abs() < 1e-7);
+            prop_assert!(((ds[2] - ds[0]) / (2.0 * h) - dds[1]).abs() < 1e-6);
+            let f = design.frame();
+            let th = 1.234 + al;
+            let fd = (f.at(th + h, false).ddy - f.at(th - h, false).ddy) / (2.0 * h);
+            prop_assert!((fd - f.at(th, true).dddy).abs() < 1e-6);
+        }
+    }
+}
