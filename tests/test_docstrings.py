@@ -31,7 +31,6 @@ def test_every_public_function_has_an_example() -> None:
     import inspect
 
     import cyclomech as cm
-
     import cyclomech.motion
     import cyclomech.press
 
