@@ -222,8 +222,16 @@ impl Swap for (f64, f64) {
 }
 
 /// Root of f on [lo, hi] where f(lo), f(hi) differ in sign (Illinois variant of
-/// regula falsi: superlinear, and never leaves the bracket).
-fn root(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, mut flo: f64, mut fhi: f64) -> f64 {
+/// regula falsi: superlinear, and never leaves the bracket), to within `xtol`
+/// in x: successive estimates closer than that end the search.
+fn root(
+    f: impl Fn(f64) -> f64,
+    mut lo: f64,
+    mut hi: f64,
+    mut flo: f64,
+    mut fhi: f64,
+    xtol: f64,
+) -> f64 {
     if flo == 0.0 {
         return lo;
     }
@@ -231,11 +239,13 @@ fn root(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, mut flo: f64, mut fhi:
         return hi;
     }
     let mut side = 0i8;
+    let mut last = f64::NAN;
     for _ in 0..100 {
         let x = (lo * fhi - hi * flo) / (fhi - flo);
-        if !(x > lo.min(hi) && x < lo.max(hi)) || (hi - lo).abs() <= 4.0 * f64::EPSILON * x.abs() {
+        if !(x > lo.min(hi) && x < lo.max(hi)) || (x - last).abs() <= xtol {
             return if x.is_finite() { x } else { 0.5 * (lo + hi) };
         }
+        last = x;
         let fx = f(x);
         if fx == 0.0 {
             return x;
@@ -380,13 +390,6 @@ impl Spec {
     }
 }
 
-/// Scratch rows of one design's scan.
-#[derive(Default)]
-pub struct Scratch {
-    y: Vec<f64>,
-    dy: Vec<f64>,
-}
-
 /// Wrap an angle into [0, 2π).
 #[inline]
 fn wrap(x: f64) -> f64 {
@@ -398,70 +401,226 @@ fn wrap(x: f64) -> f64 {
     }
 }
 
-/// The criteria of one design (see [`CRITERIA`]) and its status.
-pub fn criteria_with(
-    design: &Design,
+/// One pin path sampled over the turn: everything of the slider's kinematics
+/// that does not depend on the rod length, so that a sweep computes it once per
+/// (R, r, d, φ0, offset) and reuses it for every L.
+#[derive(Default)]
+pub struct PinScan {
+    u2: Vec<f64>,
+    upx1: Vec<f64>,
+    hh: Vec<f64>,
+    py: Vec<f64>,
+    py1: Vec<f64>,
+    py2: Vec<f64>,
+    /// max |P_x − offset| over the turn, exact (sample maximum refined at a root
+    /// of P_x'): the rod reaches the guide everywhere iff L exceeds it.
+    u_max: f64,
+    // Rows of one rod length.
+    y: Vec<f64>,
+    dy: Vec<f64>,
+    ddy: Vec<f64>,
+}
+
+impl PinScan {
+    /// Sample the pin path of `f` (its rod length is not used).
+    fn fill(&mut self, f: &Frame, table: &Table) {
+        let m = table.len();
+        let (c0, s0) = sin_cos(f.beta0).swap();
+        for v in [
+            &mut self.u2,
+            &mut self.upx1,
+            &mut self.hh,
+            &mut self.py,
+            &mut self.py1,
+            &mut self.py2,
+            &mut self.y,
+            &mut self.dy,
+            &mut self.ddy,
+        ] {
+            v.resize(m, 0.0);
+        }
+        let (a, d, kd, k2d) = (f.a, f.d, f.k * f.d, f.k * f.k * f.d);
+        let mut best = (0, -1.0);
+        for j in 0..m {
+            let (ct, st) = (table.ct[j], table.st[j]);
+            let (tcb, tsb) = (table.cb[j], table.sb[j]);
+            let (cb, sb) = (tcb * c0 - tsb * s0, tsb * c0 + tcb * s0);
+            let u = a * ct + d * cb - f.e;
+            let px1 = -a * st + kd * sb;
+            let px2 = -a * ct - k2d * cb;
+            self.u2[j] = u * u;
+            self.upx1[j] = u * px1;
+            self.hh[j] = px1 * px1 + u * px2;
+            self.py[j] = a * st + d * sb;
+            self.py1[j] = a * ct - kd * cb;
+            self.py2[j] = -a * st - k2d * sb;
+            if u * u > best.1 {
+                best = (j, u * u);
+            }
+        }
+        // Refine the largest |u| at a root of u' = P_x' (Newton with u'').
+        let h = TAU / m as f64;
+        let th = table.theta(best.0);
+        let ux = |t: f64| {
+            let (st, ct) = sin_cos(t);
+            let (sb, cb) = sin_cos(f.beta0 - f.k * t);
+            (a * ct + d * cb - f.e, -a * st + kd * sb, -a * ct - k2d * cb)
+        };
+        let dir = ux(th).0.signum();
+        let g = |t: f64| {
+            let (_, u1, u2) = ux(t);
+            (dir * u1, dir * u2)
+        };
+        let (lo, hi) = (th - h, th + h);
+        let (glo, ghi) = (g(lo).0, g(hi).0);
+        self.u_max = best.1.sqrt();
+        if glo > 0.0 && ghi < 0.0 {
+            let t = rtsafe(g, lo, hi, glo, ghi, th);
+            self.u_max = self.u_max.max(ux(t).0.abs());
+        }
+    }
+}
+
+/// Root of f on [lo, hi] (f(lo), f(hi) of opposite signs) by Newton's method
+/// from `x0`, kept inside the bracket by bisection (`rtsafe`); `f` returns the
+/// value and the derivative.
+fn rtsafe(
+    f: impl Fn(f64) -> (f64, f64),
+    mut lo: f64,
+    mut hi: f64,
+    flo: f64,
+    fhi: f64,
+    x0: f64,
+) -> f64 {
+    if flo == 0.0 {
+        return lo;
+    }
+    if fhi == 0.0 {
+        return hi;
+    }
+    // Orient so that f(lo) < 0.
+    if flo > 0.0 {
+        std::mem::swap(&mut lo, &mut hi);
+    }
+    let mut x = if (x0 - lo) * (x0 - hi) < 0.0 {
+        x0
+    } else {
+        0.5 * (lo + hi)
+    };
+    for _ in 0..60 {
+        let (v, dv) = f(x);
+        if v == 0.0 {
+            return x;
+        }
+        if v < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let step = v / dv;
+        if step.abs() <= 4.0 * f64::EPSILON * (1.0 + x.abs()) {
+            return x;
+        }
+        let newton = x - step;
+        let next = if (newton - lo) * (newton - hi) < 0.0 {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - x).abs() <= 2.0 * f64::EPSILON * (1.0 + x.abs()) {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+/// y, y', y'' over the turn for one rod length (L² = `l2`) from the pin path's
+/// rod-independent rows; a separate function so that the slices are known not to
+/// alias and the loop is vectorised.
+#[inline(never)]
+fn scan_rod(l2: f64, pin: [&[f64]; 6], out: [&mut Vec<f64>; 3]) {
+    let [u2, upx1, hh, py, py1, py2] = pin;
+    let [y, dy, ddy] = out;
+    let m = u2.len();
+    let (y, dy, ddy) = (&mut y[..m], &mut dy[..m], &mut ddy[..m]);
+    let (upx1, hh, py, py1, py2) = (&upx1[..m], &hh[..m], &py[..m], &py1[..m], &py2[..m]);
+    for j in 0..m {
+        let w = (l2 - u2[j]).sqrt();
+        let iw = 1.0 / w;
+        let g = upx1[j] * iw;
+        y[j] = py[j] - w;
+        dy[j] = py1[j] + g;
+        ddy[j] = py2[j] + (hh[j] + g * g) * iw;
+    }
+}
+
+/// Criteria of the design `f` (its rod length included) on its sampled pin path
+/// `scan`, into `row` (see [`CRITERIA`]); returns its status.
+fn criteria_with(
+    f: &Frame,
     table: &Table,
     spec: &Spec,
-    scratch: &mut Scratch,
+    scan: &mut PinScan,
     row: &mut [f64],
 ) -> Status {
     row.fill(f64::NAN);
-    let f = design.frame();
     let m = table.len();
-    let (c0, s0) = sin_cos(f.beta0).swap();
-    scratch.y.resize(m, 0.0);
-    scratch.dy.resize(m, 0.0);
-    let (ys, dys) = (&mut scratch.y[..], &mut scratch.dy[..]);
-    // One pass over the turn: heights and slopes, and the sample extremes.
-    let mut w2_min = f64::INFINITY;
+    if scan.u_max >= f.l {
+        return Status::NoReach;
+    }
+    let l2 = f.l * f.l;
+    // One branch-free pass over the turn (vectorised): height, slope, curvature.
+    {
+        let PinScan {
+            u2,
+            upx1,
+            hh,
+            py,
+            py1,
+            py2,
+            y,
+            dy,
+            ddy,
+            ..
+        } = &mut *scan;
+        scan_rod(l2, [u2, upx1, hh, py, py1, py2], [y, dy, ddy]);
+    }
+    let (ys, dys, ddys) = (&scan.y[..m], &scan.dy[..m], &scan.ddy[..m]);
     let (mut j_lo, mut j_hi, mut j_acc) = (0, 0, 0);
-    let (mut y_lo, mut y_hi, mut acc) = (f64::INFINITY, f64::NEG_INFINITY, -1.0);
-    for j in 0..m {
-        let (cb, sb) = (table.cb[j], table.sb[j]);
-        let kin = f.kin(
-            (table.ct[j], table.st[j]),
-            (cb * c0 - sb * s0, sb * c0 + cb * s0),
-            false,
-        );
-        w2_min = w2_min.min(kin.w2);
-        ys[j] = kin.y;
-        dys[j] = kin.dy;
-        if kin.y < y_lo {
-            y_lo = kin.y;
+    for j in 1..m {
+        if ys[j] < ys[j_lo] {
             j_lo = j;
         }
-        if kin.y > y_hi {
-            y_hi = kin.y;
+        if ys[j] > ys[j_hi] {
             j_hi = j;
         }
-        if kin.ddy.abs() > acc {
-            acc = kin.ddy.abs();
+        if ddys[j].abs() > ddys[j_acc].abs() {
             j_acc = j;
         }
     }
-    // The rod must reach the guide everywhere: the samples first, then the exact
-    // extreme of |P_x − offset| near the sample closest to failing.
-    if w2_min.is_nan() || w2_min <= 0.0 || !reaches(&f, table) {
-        return Status::NoReach;
-    }
     let h = TAU / m as f64;
-    let at = |th: f64| f.at(th, true);
-    // Dead centres: roots of y' next to the sample extremes.
-    let refine = |j: usize, g: &dyn Fn(f64) -> f64| -> f64 {
+    let prev = |j: usize| (j + m - 1) % m;
+    let next = |j: usize| (j + 1) % m;
+    // Dead centres: roots of y' between the neighbours of the sample extremes,
+    // by Newton with y''.
+    let dead = |j: usize| -> (f64, f64) {
         let th = table.theta(j);
-        let (lo, hi) = (th - h, th + h);
-        let (glo, ghi) = (g(lo), g(hi));
+        let (glo, ghi) = (dys[prev(j)], dys[next(j)]);
         if glo * ghi < 0.0 {
-            root(g, lo, hi, glo, ghi)
+            let g = |x: f64| {
+                let k = f.at(x, false);
+                (k.dy, k.ddy)
+            };
+            let t = rtsafe(g, th - h, th + h, glo, ghi, th);
+            (t, f.at(t, false).y)
         } else {
-            th
+            (th, ys[j])
         }
     };
-    let dy = |th: f64| at(th).dy;
-    let th_b = refine(j_lo, &dy);
-    let th_t = refine(j_hi, &dy);
-    let (y_b, y_t) = (at(th_b).y.min(y_lo), at(th_t).y.max(y_hi));
+    let (th_b, y_b) = dead(j_lo);
+    let y_t = dead(j_hi).1.max(ys[j_hi]);
+    let y_b = y_b.min(ys[j_lo]);
     let s_n = y_t - y_b;
     let s_p = match spec.stroke {
         Stroke::Fraction(k) => k * s_n,
@@ -476,20 +635,23 @@ pub fn criteria_with(
     // Walk back in time from BDC (θ decreasing, α increasing) to the first height
     // S_p; watch Π' = −y' on the way.
     let mut status = Status::Ok;
-    let (mut prev_th, mut prev_s) = (th_b, 0.0);
-    let (mut best_v, mut best_th) = (f64::NEG_INFINITY, th_b);
-    // First sample strictly before BDC.
     let mut j = j_lo;
     if table.theta(j) >= th_b {
-        j = (j + m - 1) % m;
+        j = prev(j);
     }
     let mut theta_j = th_b - wrap(th_b - table.theta(j));
+    let (mut prev_th, mut prev_s) = (th_b, 0.0);
+    let (mut best_v, mut best_th) = (f64::NEG_INFINITY, th_b);
     let mut th_p = f64::NAN;
     for _ in 0..=m {
         let s = ys[j] - y_b;
         if s >= s_p {
-            let g = |th: f64| at(th).y - y_b - s_p;
-            th_p = root(g, theta_j, prev_th, s - s_p, prev_s - s_p);
+            let g = |x: f64| {
+                let k = f.at(x, false);
+                (k.y - y_b - s_p, k.dy)
+            };
+            let guess = theta_j + (prev_th - theta_j) * (s - s_p) / (s - prev_s);
+            th_p = rtsafe(g, theta_j, prev_th, s - s_p, prev_s - s_p, guess);
             break;
         }
         let v = -dys[j];
@@ -502,7 +664,7 @@ pub fn criteria_with(
         }
         prev_th = theta_j;
         prev_s = s;
-        j = (j + m - 1) % m;
+        j = prev(j);
         theta_j -= h;
     }
     if th_p.is_nan() {
@@ -510,30 +672,35 @@ pub fn criteria_with(
         return Status::LongStroke;
     }
     let alpha_p = th_b - th_p;
-    let kp = at(th_p);
-    let v_np = -kp.dy;
-    // Interior speed peak: root of y'' next to the best sample, inside the stroke.
-    let mut v_max = v_np;
-    if best_v > v_max {
-        let lo = (best_th - h).max(th_p);
-        let hi = (best_th + h).min(th_b);
-        let g = |th: f64| at(th).ddy;
-        let (glo, ghi) = (g(lo), g(hi));
-        let peak = if glo * ghi < 0.0 {
-            -at(root(g, lo, hi, glo, ghi)).dy
-        } else {
-            best_v
+    let v_np = -f.at(th_p, false).dy;
+    // Interior speed peak: a root of y'' next to the best sample, by Newton with
+    // the third derivative, inside the working stroke.
+    let mut v_max = v_np.max(best_v);
+    if best_v > v_np {
+        let (lo, hi) = ((best_th - h).max(th_p), (best_th + h).min(th_b));
+        let g = |x: f64| {
+            let k = f.at(x, true);
+            (k.ddy, k.dddy)
         };
-        v_max = v_max.max(peak).max(best_v);
+        let (glo, ghi) = (g(lo).0, g(hi).0);
+        if glo * ghi < 0.0 {
+            let t = rtsafe(g, lo, hi, glo, ghi, best_th);
+            v_max = v_max.max(-f.at(t, false).dy);
+        }
     }
-    // Acceleration peak over the turn: root of y''' next to the best sample.
+    // Acceleration peak over the turn: a root of the third derivative next to
+    // the best sample.
+    let acc = ddys[j_acc].abs();
     let th_a = table.theta(j_acc);
-    let sgn = at(th_a).ddy.signum();
-    let g = |th: f64| sgn * at(th).dddy;
+    let sgn = ddys[j_acc].signum();
+    let g3 = |x: f64| sgn * f.at(x, true).dddy;
     let (lo, hi) = (th_a - h, th_a + h);
-    let (glo, ghi) = (g(lo), g(hi));
+    let (glo, ghi) = (g3(lo), g3(hi));
     let a_max = if glo > 0.0 && ghi < 0.0 {
-        at(root(g, lo, hi, glo, ghi)).ddy.abs().max(acc)
+        f.at(root(g3, lo, hi, glo, ghi, 1e-9 * h), false)
+            .ddy
+            .abs()
+            .max(acc)
     } else {
         acc
     };
@@ -554,48 +721,16 @@ pub fn criteria_with(
     status
 }
 
-/// Whether the rod reaches the guide over the whole turn: the largest
-/// |P_x − offset|, found from the samples and refined at a root of P_x', is
-/// below L.
-fn reaches(f: &Frame, table: &Table) -> bool {
-    let m = table.len();
-    let (c0, s0) = sin_cos(f.beta0).swap();
-    let ux = |j: usize| {
-        let (cb, sb) = (table.cb[j], table.sb[j]);
-        f.a * table.ct[j] + f.d * (cb * c0 - sb * s0) - f.e
-    };
-    let mut best = (0, 0.0f64);
-    for j in 0..m {
-        let u = ux(j).abs();
-        if u > best.1 {
-            best = (j, u);
-        }
-    }
-    let h = TAU / m as f64;
-    let th = table.theta(best.0);
-    let sgn = ux(best.0).signum();
-    let px = |t: f64| f.a * sin_cos(t).1 + f.d * sin_cos(f.beta0 - f.k * t).1 - f.e;
-    let dpx = |t: f64| {
-        let (st, sb) = (sin_cos(t).0, sin_cos(f.beta0 - f.k * t).0);
-        sgn * (-f.a * st + f.k * f.d * sb)
-    };
-    let (lo, hi) = (th - h, th + h);
-    let (glo, ghi) = (dpx(lo), dpx(hi));
-    let u_max = if glo > 0.0 && ghi < 0.0 {
-        px(root(dpx, lo, hi, glo, ghi)).abs().max(best.1)
-    } else {
-        best.1
-    };
-    u_max < f.l
-}
-
 /// Criteria of one design.
 pub fn criteria(design: &Design, spec: &Spec) -> Result<(Vec<f64>, Status), PressError> {
     let ratio = design.validate()?;
     spec.validate()?;
     let table = Table::new(ratio, spec.samples);
     let mut row = vec![0.0; CRITERIA.len()];
-    let status = criteria_with(design, &table, spec, &mut Scratch::default(), &mut row);
+    let f = design.frame();
+    let mut scan = PinScan::default();
+    scan.fill(&f, &table);
+    let status = criteria_with(&f, &table, spec, &mut scan, &mut row);
     Ok((row, status))
 }
 
@@ -636,11 +771,9 @@ impl Grid<'_> {
     }
 }
 
-/// Designs per parallel task of a sweep.
-const DESIGNS_PER_TASK: usize = 64;
-
 /// Criteria over the full Cartesian grid: `rows` (designs × 14) and `status`
-/// (designs), in parallel over designs.
+/// (designs), in parallel. Each pin path (R, r, d, φ0) is sampled once and
+/// reused for every rod length L.
 pub fn sweep_into(
     grid: &Grid<'_>,
     spec: &Spec,
@@ -682,32 +815,57 @@ pub fn sweep_into(
     }
     let table_of = |d: &Design| -> &Table {
         let q = (d.big_r / d.r).round();
-        &tables
-            .iter()
-            .find(|(t, _)| *t == q)
-            .expect("a table per ratio")
-            .1
+        let found = tables.iter().find(|(t, _)| *t == q);
+        &found.expect("a table per ratio").1
     };
-    let threads = resolve_threads(n_threads)?;
-    let task = |(t, (rows, status)): (usize, (&mut [f64], &mut [u8])), scratch: &mut Scratch| {
-        for (k, (row, st)) in rows.chunks_mut(nc).zip(status.iter_mut()).enumerate() {
-            let design = grid.design(t * DESIGNS_PER_TASK + k);
-            *st = criteria_with(&design, table_of(&design), spec, scratch, row) as u8;
+    let (nl, np) = (grid.l.len(), grid.phi0.len());
+    let block = nl * np;
+    // Rows of one pin path (block b = (R, r, d), φ0 index p) for every L.
+    let group = |b: usize, p: usize, scan: &mut PinScan| -> (Vec<f64>, Vec<u8>) {
+        let design = grid.design(b * block + p);
+        let table = table_of(&design);
+        let mut f = design.frame();
+        scan.fill(&f, table);
+        let mut out = vec![0.0; nl * nc];
+        let mut st = vec![0u8; nl];
+        for (il, (row, s)) in out.chunks_mut(nc).zip(st.iter_mut()).enumerate() {
+            f.l = grid.l[il];
+            *s = criteria_with(&f, table, spec, scan, row) as u8;
+        }
+        (out, st)
+    };
+    let place = |rb: &mut [f64], sb: &mut [u8], p: usize, (out, st): (Vec<f64>, Vec<u8>)| {
+        for il in 0..nl {
+            let q = il * np + p;
+            rb[q * nc..(q + 1) * nc].copy_from_slice(&out[il * nc..(il + 1) * nc]);
+            sb[q] = st[il];
         }
     };
-    let chunks = rows
-        .chunks_mut(nc * DESIGNS_PER_TASK)
-        .zip(status.chunks_mut(DESIGNS_PER_TASK))
+    let threads = resolve_threads(n_threads)?;
+    let blocks = rows
+        .chunks_mut(block * nc)
+        .zip(status.chunks_mut(block))
         .enumerate();
-    if threads == 1 || n <= DESIGNS_PER_TASK {
-        let mut scratch = Scratch::default();
-        chunks.for_each(|c| task(c, &mut scratch));
+    if threads == 1 {
+        let mut scan = PinScan::default();
+        for (b, (rb, sb)) in blocks {
+            for p in 0..np {
+                let res = group(b, p, &mut scan);
+                place(rb, sb, p, res);
+            }
+        }
     } else {
-        let chunks: Vec<_> = chunks.collect();
+        let blocks: Vec<_> = blocks.collect();
         pool(threads)?.install(|| {
-            chunks
-                .into_par_iter()
-                .for_each_init(Scratch::default, |s, c| task(c, s))
+            blocks.into_par_iter().for_each(|(b, (rb, sb))| {
+                let res: Vec<_> = (0..np)
+                    .into_par_iter()
+                    .map_init(PinScan::default, |scan, p| group(b, p, scan))
+                    .collect();
+                for (p, r) in res.into_iter().enumerate() {
+                    place(rb, sb, p, r);
+                }
+            })
         });
     }
     Ok(())
@@ -742,7 +900,7 @@ pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
     let (lo, hi) = (th - h, th + h);
     let (klo, khi) = (f.at(lo, false), f.at(hi, false));
     if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
-        let t = root(|x| f.at(x, false).dy, lo, hi, klo.dy, khi.dy);
+        let t = root(|x| f.at(x, false).dy, lo, hi, klo.dy, khi.dy, 0.0);
         let yt = f.at(t, false).y;
         if yt <= y {
             return Some((wrap(t), yt));
