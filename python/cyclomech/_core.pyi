@@ -18,6 +18,7 @@ __all__ = [
     "longest_path",
     "max_cycle_ratio",
     "max_speed",
+    "pareto_mask",
     "press_criteria_names",
     "press_solve",
     "press_sweep",
@@ -192,3 +193,4 @@ def press_sweep(
     samples: int,
     n_threads: int | None = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8]]: ...
+def pareto_mask(points: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]: ...

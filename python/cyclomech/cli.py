@@ -366,6 +366,164 @@ def _linkage_figures(lk: Linkage, sol: LinkageSolution, point: str, out: Path) -
     return written
 
 
+def _press_command(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .press import CRITERIA, PressStudy, optimize
+
+    st = PressStudy.from_toml(args.file)
+    p, w = st.press, st.omega
+    step = args.step_deg
+    if not (math.isfinite(step) and 0 < step <= 90):
+        raise InputError(f"--step-deg {step:g}: give a step in (0, 90] degrees")
+    stroke = {"k_Sp": st.k_Sp, "working_stroke": st.working_stroke}
+    c = p.criteria(omega=w, **stroke)
+    base = p.baseline().criteria(omega=w, **stroke)
+    name = st.name or Path(args.file).stem
+    print(
+        f"{name}: gear-lever press R = {p.R * 1e3:g} mm, r = {p.r * 1e3:g} mm (i = {p.ratio}), "
+        f"d = {p.d * 1e3:g} mm, L = {p.L * 1e3:g} mm, φ0 = {math.degrees(p.phi0):g}°, "
+        f"offset {p.offset * 1e3:g} mm; {st.rpm:g} rpm"
+    )
+    if not c.ok:
+        print(f"cyclomech: the design does not work: {c.status}", file=sys.stderr)
+    units = {
+        "S_n": ("mm", 1e3),
+        "S_p": ("mm", 1e3),
+        "alpha_p": ("°", 180 / math.pi),
+        "V_np": ("mm/s", 1e3),
+        "V_cp": ("mm/s", 1e3),
+        "V_pmax": ("mm/s", 1e3),
+        "J_max": ("m/s²", 1.0),
+        "torque": ("mm", 1e3),
+        "theta_bdc": ("°", 180 / math.pi),
+    }
+    rows = []
+    for k in CRITERIA:
+        u, f = units.get(k, ("", 1.0))
+        a, b = getattr(c, k) * f, getattr(base, k) * f
+        rows.append([k + (f" [{u}]" if u else ""), f"{a:.6g}", f"{b:.6g}"])
+    print(_table(rows, ["criterion", "design", "crank-slider (d = 0)"]))
+    out = _out_folder(args)
+    n = round(360.0 / step)
+    alpha = np.radians(np.arange(n + 1) * step)
+    k = p.solve(alpha)
+    table = np.column_stack([np.degrees(alpha), k.s, k.ds, k.dds, k.ds * w, k.dds * w * w])
+    np.savetxt(
+        out / "kinematics.csv",
+        table,
+        delimiter=",",
+        comments="",
+        fmt="%.12g",
+        header="alpha_deg,S_m,dS_m_per_rad,d2S_m_per_rad2,V_m_per_s,J_m_per_s2",
+    )
+    with (out / "criteria.csv").open("w", encoding="utf-8") as fh:
+        fh.write("design," + ",".join(CRITERIA) + ",status\n")
+        for label, cc in (("design", c), ("crank_slider", base)):
+            fh.write(label + "," + ",".join(f"{getattr(cc, k_):.12g}" for k_ in CRITERIA))
+            fh.write(f",{cc.status}\n")
+    summary: dict[str, Any] = {
+        "schema": "cyclomech.press/1",
+        "name": name,
+        "design": p.to_dict(),
+        "rpm": st.rpm,
+        "omega_rad_per_s": w,
+        "criteria": c.as_dict(),
+        "crank_slider": base.as_dict(),
+    }
+    written = [out / "kinematics.csv", out / "criteria.csv"]
+    opt = None
+    if st.grid is not None:
+        g = st.grid
+        n_designs = len(g["d"]) * len(g["L"]) * len(g["phi0"])
+        print(f"\nSweeping {n_designs} designs (d × L × φ0) and refining the best …")
+        opt = optimize(
+            R=p.R,
+            r=p.r,
+            d=g["d"],
+            L=g["L"],
+            phi0=g["phi0"],
+            offset=p.offset,
+            omega=w,
+            limits=st.limits,
+            progress=None,
+            **stroke,
+        )
+        best, cb = opt.designs[opt.best], opt.criteria[opt.best]
+        print(
+            f"{len(opt.designs)} non-dominated designs"
+            + (f" within the limits {st.limits}" if st.limits else "")
+            + f"; the best by score: d = {best.d * 1e3:.4g} mm, L = {best.L * 1e3:.4g} mm, "
+            f"φ0 = {math.degrees(best.phi0):.4g}°: k_Vp {cb.k_Vp:.4g}, k_Vmax {cb.k_Vmax:.4g}, "
+            f"k_J {cb.k_J:.4g}, k_M {cb.k_M:.4g} (crank-slider: k_Vp {opt.baseline.k_Vp:.4g}, "
+            f"k_Vmax {opt.baseline.k_Vmax:.4g}, k_J {opt.baseline.k_J:.4g}, "
+            f"k_M {opt.baseline.k_M:.4g})"
+        )
+        cols = opt.grid.table()
+        names = list(cols)
+        np.savetxt(
+            out / "sweep.csv",
+            np.column_stack([cols[k_] for k_ in names]),
+            delimiter=",",
+            header=",".join(names),
+            comments="",
+            fmt="%.10g",
+        )
+        with (out / "pareto.csv").open("w", encoding="utf-8") as fh:
+            fh.write("d,L,phi0_deg,refined,score," + ",".join(CRITERIA) + "\n")
+            for q, cq, rf, sc in zip(
+                opt.designs, opt.criteria, opt.refined, opt.scores, strict=True
+            ):
+                fh.write(f"{q.d:.10g},{q.L:.10g},{math.degrees(q.phi0):.10g},{int(rf)},{sc:.10g},")
+                fh.write(",".join(f"{getattr(cq, k_):.10g}" for k_ in CRITERIA) + "\n")
+        summary["optimum"] = {
+            "designs_swept": n_designs,
+            "non_dominated": len(opt.designs),
+            "objectives": list(opt.objectives),
+            "limits": st.limits,
+            "best": best.to_dict(),
+            "best_criteria": cb.as_dict(),
+            "baseline": opt.baseline_press.to_dict(),
+            "baseline_criteria": opt.baseline.as_dict(),
+        }
+        written += [out / "sweep.csv", out / "pareto.csv"]
+    (out / "press.json").write_text(
+        json.dumps(_jsonable(summary), indent=2, ensure_ascii=False), encoding="utf-8"
+    )
+    written.append(out / "press.json")
+    if not args.no_plot:
+        written += _press_figures(st, c, opt, out)
+    print("\nWrote " + ", ".join(str(q) for q in written))
+    return 0 if c.ok else 1
+
+
+def _press_figures(st: Any, c: Any, opt: Any, out: Path) -> list[Path]:
+    try:
+        import matplotlib
+    except ImportError:
+        print("\n(no figures: matplotlib is not installed; pip install cyclomech[plot])")
+        return []
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plot import plot_press, plot_press_criteria
+
+    written = []
+    if c.ok:
+        axes = plot_press(st.press, c.alpha_p, show_motion=True, k_Sp=c.k_Sp)
+        fig = axes[0].figure
+        fig.savefig(out / "press.png", dpi=130, bbox_inches="tight")
+        plt.close(fig)
+        written.append(out / "press.png")
+    if opt is not None:
+        axes = plot_press_criteria(opt.grid, optimum=opt)
+        fig = axes[0].figure
+        fig.savefig(out / "criteria.png", dpi=130, bbox_inches="tight")
+        plt.close(fig)
+        written.append(out / "criteria.png")
+    return written
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
     parser = argparse.ArgumentParser(prog="cyclomech", description="Design of cyclic machines.")
@@ -382,6 +540,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     q.add_argument("--step-deg", type=float, default=1.0, help="crank-angle step [°] (default 1)")
     q.add_argument("--no-plot", action="store_true", help="do not write the figures")
     q.set_defaults(run=_linkage_command)
+    r = sub.add_parser("press", help="kinematics, criteria and design sweep of a press file (TOML)")
+    r.add_argument("file", help="press file, e.g. examples/extrusion_press.toml")
+    r.add_argument("--out", help="output folder (default: out/<file name>)")
+    r.add_argument("--step-deg", type=float, default=1.0, help="crank-angle step [°] (default 1)")
+    r.add_argument("--no-plot", action="store_true", help="do not write the figures")
+    r.set_defaults(run=_press_command)
     args = parser.parse_args(argv)
     try:
         return int(args.run(args))

@@ -1,6 +1,8 @@
-"""Plots of a cyclogram (a Gantt chart over the cycle and a circular diagram) and of
+"""Plots of a cyclogram (a Gantt chart over the cycle and a circular diagram), of
 a linkage (the mechanism at one crank angle, the paths of its points, the position
-and analogs of a point over the crank turn, an animated GIF).
+and analogs of a point over the crank turn, an animated GIF), of motion laws and of
+the gear-lever press (the mechanism with its pin's path, the slider's motion, maps
+of the working-stroke criteria and the non-dominated designs).
 
 Cyclograms: :func:`plot_cyclogram` and :func:`plot_cyclogram_pair` take the result
 of :meth:`cyclomech.Cyclogram.schedule` (a :class:`Schedule`:
@@ -15,6 +17,13 @@ Linkages: :func:`plot_linkage`, :func:`plot_analogs` and :func:`animate_linkage`
 take a :class:`cyclomech.Linkage` and the :class:`~cyclomech.linkage.LinkageSolution`
 of :meth:`~cyclomech.Linkage.solve` (lengths in metres, crank angles shown in
 degrees).
+
+Motion laws and presses: :func:`plot_law` takes a :class:`cyclomech.motion.MotionLaw`
+or a :class:`~cyclomech.motion.TwoPeriodLaw`, :func:`plot_press` a
+:class:`cyclomech.press.GearLeverPress` and a crank angle α [rad] from BDC, and
+:func:`plot_press_criteria` a :class:`~cyclomech.press.PressSweep` (with, optionally,
+a :class:`~cyclomech.press.PressOptimum`). They show lengths in millimetres and
+angles in degrees.
 
 matplotlib is an optional dependency: ``pip install 'cyclomech[plot]'``. The
 functions draw on the axes they are given (or on a new figure), return what they

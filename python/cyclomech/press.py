@@ -54,6 +54,7 @@ __all__ = [
     "PressCriteria",
     "PressKinematics",
     "PressOptimum",
+    "PressStudy",
     "PressSweep",
     "optimize",
     "pareto_mask",
@@ -475,7 +476,7 @@ def sweep(
     bar = _Progress(
         n,
         "press.sweep",
-        (n >= 20 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
+        (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
     )
     threads = threads_arg(n_threads)
     rows, status = [], []
@@ -521,9 +522,10 @@ class PressOptimum:
     ``designs`` lists them as :class:`GearLeverPress`, ``criteria`` their
     :class:`PressCriteria`, ``refined`` whether scipy moved each off the grid,
     ``scores`` their weighted score (lower is better; 1 per objective is the
-    baseline's level) and ``best`` the index of the lowest score. ``baseline``
-    are the criteria of the best design's crank-slider (d = 0); ``grid`` the sweep
-    it started from.
+    baseline's level; sorted, so ``best`` = 0 is the lowest). ``baseline`` are
+    the criteria of ``baseline_press``, the crank-slider (d = 0) of the same gears
+    with the grid's median rod, which every objective is divided by; ``grid`` the
+    sweep it started from.
     """
 
     designs: tuple[GearLeverPress, ...]
@@ -532,6 +534,7 @@ class PressOptimum:
     scores: npt.NDArray[np.float64]
     best: int
     baseline: PressCriteria
+    baseline_press: GearLeverPress
     grid: PressSweep
     objectives: tuple[str, ...]
 
@@ -542,34 +545,16 @@ def _objective_matrix(values: Mapping[str, Any], objectives: Sequence[str]) -> A
 
 def pareto_mask(points: npt.ArrayLike) -> npt.NDArray[np.bool_]:
     """True for the rows of ``points`` (n, m) that no other row dominates (every
-    objective lower or equal, one strictly lower); lower is better.
+    objective lower or equal, one strictly lower); lower is better. Equal rows
+    are all kept. In Rust: rows in order of their sum, each compared with the
+    front found so far.
 
     >>> import numpy as np, cyclomech as cm
     >>> cm.press.pareto_mask(np.array([[1, 2], [2, 1], [2, 2], [1, 2]])).tolist()
     [True, True, False, True]
     """
     p = float_array("points", points, ndims=(2,))
-    n = len(p)
-    keep = np.ones(n, dtype=bool)
-    order = np.argsort(p.sum(axis=1), kind="stable")
-    front: list[int] = []
-    block = 1024
-    # A dominator has a smaller or equal sum, so scanning in order of the sum only
-    # needs comparisons against the front found so far and within the block.
-    for start in range(0, n, block):
-        idx = order[start : start + block]
-        q = p[idx]
-        if front:
-            f = p[front]
-            dom = (f[None, :, :] <= q[:, None, :]).all(-1) & (f[None, :, :] < q[:, None, :]).any(-1)
-            alive = ~dom.any(1)
-        else:
-            alive = np.ones(len(idx), dtype=bool)
-        dom = (q[None, :, :] <= q[:, None, :]).all(-1) & (q[None, :, :] < q[:, None, :]).any(-1)
-        alive &= ~dom.any(1)
-        keep[idx[~alive]] = False
-        front.extend(idx[alive].tolist())
-    return keep
+    return _core.pareto_mask(p)
 
 
 def optimize(
@@ -600,8 +585,8 @@ def optimize(
     (see :data:`STATUS`) or break a limit are dropped. The ``refine`` best grid
     designs of the front (by the weighted sum of objectives, each divided by the
     baseline crank-slider's value) are then moved by scipy's Nelder–Mead within
-    the grid's bounds, keeping every objective no worse than at the start and the
-    limits met; the returned front is recomputed over grid and refined designs.
+    the grid's bounds to lower that score with the limits met; the returned front
+    is recomputed over the grid's front and the refined designs.
 
     >>> import numpy as np, cyclomech as cm
     >>> opt = cm.press.optimize(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
@@ -658,9 +643,15 @@ def optimize(
             f"no design of the grid works{why}: widen the grid or relax the limits",
             tuple(lim),
         )
-    # Score relative to the crank-slider of the same gears (d = 0) and median rod.
+    # Score relative to one baseline: the crank-slider (d = 0) of the same gears
+    # with the grid's median rod.
     base_press = GearLeverPress(
-        R=float(R), r=float(r), d=0.0, L=float(np.median(np.atleast_1d(L))), phi0=0.0, offset=offset
+        R=float(R),
+        r=float(r),
+        d=0.0,
+        L=float(np.median(np.atleast_1d(L))),
+        phi0=0.0,
+        offset=offset,
     )
     base = base_press.criteria(
         k_Sp=k_Sp, working_stroke=working_stroke, omega=omega, samples=samples
@@ -695,8 +686,6 @@ def optimize(
             if not c.ok or any(getattr(c, k_) > v for k_, v in lim.items()):
                 return math.inf
             o = _objective_matrix(c.as_dict(), objectives) / norm
-            if (o > o0 + 1e-12).any():
-                return math.inf
             return float(o @ wts)
 
         if not names:
@@ -709,8 +698,18 @@ def optimize(
             bounds=bounds,
             options={"xatol": 1e-7, "fatol": 1e-9, "maxfev": 400},
         )
-        if np.isfinite(res.fun) and res.fun < float(o0 @ wts) - 1e-12:
+        # Keep a move only when it is a real improvement, not rounding.
+        start_score = float(o0 @ wts)
+        if np.isfinite(res.fun) and res.fun < start_score - 1e-6 * max(abs(start_score), 1.0):
             p = replace(p0, **{n_: float(v) for n_, v in zip(names, res.x, strict=True)})
+            # Starts that converge to one design keep it once.
+            span = np.array([hi - lo for lo, hi in bounds]) + 1e-300
+            if any(
+                np.all(np.abs(res.x - [getattr(q, n_) for n_ in names]) <= 1e-6 * span)
+                for q, rf in zip(designs, refined, strict=True)
+                if rf
+            ):
+                continue
             designs.append(p)
             crits.append(evaluate(p))
             refined.append(True)
@@ -719,14 +718,150 @@ def optimize(
     sel = np.flatnonzero(keep)
     scores = allobj[sel] @ wts
     order = sel[np.argsort(scores, kind="stable")]
-    best_design = designs[int(order[0])]
     return PressOptimum(
         designs=tuple(designs[i] for i in order),
         criteria=tuple(crits[i] for i in order),
         refined=tuple(refined[i] for i in order),
         scores=np.sort(scores),
         best=0,
-        baseline=evaluate(best_design.baseline()),
+        baseline=base,
+        baseline_press=base_press,
         grid=grid,
         objectives=objectives,
     )
+
+
+@dataclass(frozen=True)
+class PressStudy:
+    """A press file: one design, its working stroke and speed, and optionally a
+    design grid with limits for :func:`optimize` (read with :meth:`from_toml`).
+
+    The file::
+
+        [press]
+        name = "extrusion press"     # optional
+        R = 0.09                     # guide gear pitch radius [m]
+        r = 0.03                     # planet pitch radius [m] (R/r whole)
+        d = 0.025                    # pin eccentricity [m]
+        L = 0.30                     # rod [m]
+        phi0_deg = 17.0              # guide gear setting angle [°]
+        offset = 0.0                 # optional, guide offset [m]
+
+        [working]
+        k_Sp = 0.1                   # or working_stroke = 0.012 [m]
+        rpm = 40.0                   # crank speed [rpm]
+
+        [sweep]                      # optional: a grid of (d, L, φ0), [from, to, count]
+        d = [0.0, 0.04, 41]
+        L = [0.25, 0.5, 26]
+        phi0_deg = [0.0, 118.0, 60]
+
+        [limits]                     # optional upper bounds on criteria (SI units)
+        V_np = 0.05
+    """
+
+    press: GearLeverPress
+    rpm: float
+    k_Sp: float | None = None
+    working_stroke: float | None = None
+    grid: dict[str, npt.NDArray[np.float64]] | None = None
+    limits: dict[str, float] = field(default_factory=dict)
+    name: str = ""
+
+    @property
+    def omega(self) -> float:
+        """Crank speed [rad/s].
+
+        >>> import cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0)
+        >>> round(cm.press.PressStudy(p, rpm=60.0, k_Sp=0.1).omega, 6)
+        6.283185
+        """
+        return self.rpm * 2 * math.pi / 60
+
+    @classmethod
+    def from_toml(cls, path: str | Any) -> PressStudy:
+        """Read a press file; errors name the file, the table and the key.
+
+        >>> import cyclomech as cm, pathlib, tempfile
+        >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.toml"
+        >>> _ = f.write_text('[press]\\nR = 0.09\\nr = 0.03\\nd = 0.02\\nL = 0.3\\n'
+        ...                  'phi0_deg = 15\\n[working]\\nk_Sp = 0.1\\nrpm = 40\\n')
+        >>> st = cm.press.PressStudy.from_toml(f)
+        >>> round(st.press.phi0, 6), st.grid is None
+        (0.261799, True)
+        """
+        from . import _toml
+
+        data, src = _toml.load(path)
+        _toml.check_keys(data, {"press", "working", "sweep", "limits"}, src, "the file")
+        for t in ("press", "working"):
+            if t not in data:
+                raise InputError(f"{src}: missing table [{t}]")
+        pt, wt = data["press"], data["working"]
+        _toml.check_keys(pt, {"name", "R", "r", "d", "L", "phi0_deg", "offset"}, src, "[press]")
+        _toml.check_keys(wt, {"k_Sp", "working_stroke", "rpm"}, src, "[working]")
+
+        def num(table: Mapping[str, Any], where: str, key: str, default: Any = None) -> float:
+            if key not in table:
+                if default is not None:
+                    return float(default)
+                raise InputError(f"{src}: {where}: missing key {key!r}")
+            v = table[key]
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+                raise InputError(f"{src}: {where}: {key} = {v!r} must be a finite number")
+            return float(v)
+
+        try:
+            press = GearLeverPress(
+                R=num(pt, "[press]", "R"),
+                r=num(pt, "[press]", "r"),
+                d=num(pt, "[press]", "d"),
+                L=num(pt, "[press]", "L"),
+                phi0=math.radians(num(pt, "[press]", "phi0_deg")),
+                offset=num(pt, "[press]", "offset", 0.0),
+            )
+        except InputError as e:
+            raise InputError(f"{src}: [press]: {e}") from None
+        rpm = num(wt, "[working]", "rpm")
+        if rpm <= 0:
+            raise InputError(f"{src}: [working]: rpm = {rpm!r} must be > 0")
+        k = num(wt, "[working]", "k_Sp") if "k_Sp" in wt else None
+        s = num(wt, "[working]", "working_stroke") if "working_stroke" in wt else None
+        try:
+            _stroke(k, s)
+        except InputError as e:
+            raise InputError(f"{src}: [working]: {e}") from None
+        grid = None
+        if "sweep" in data:
+            st = data["sweep"]
+            _toml.check_keys(st, {"d", "L", "phi0_deg"}, src, "[sweep]")
+            grid = {}
+            for key, name, scale in (("d", "d", 1.0), ("L", "L", 1.0), ("phi0_deg", "phi0", None)):
+                if key not in st:
+                    grid[name] = np.array([getattr(press, name)])
+                    continue
+                v = st[key]
+                ok = (
+                    isinstance(v, list)
+                    and len(v) == 3
+                    and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+                    and isinstance(v[2], int)
+                    and v[2] >= 1
+                    and all(math.isfinite(x) for x in v)
+                )
+                if not ok:
+                    raise InputError(
+                        f"{src}: [sweep]: {key} = {v!r} must be [from, to, count] "
+                        "(two numbers and a whole count ≥ 1)"
+                    )
+                vals = np.linspace(float(v[0]), float(v[1]), int(v[2]))
+                grid[name] = vals if scale else np.radians(vals)
+        limits: dict[str, float] = {}
+        if "limits" in data:
+            _toml.check_keys(data["limits"], set(CRITERIA), src, "[limits]")
+            limits = {k_: num(data["limits"], "[limits]", k_) for k_ in data["limits"]}
+        name = pt.get("name", "")
+        if not isinstance(name, str):
+            raise InputError(f"{src}: [press]: name = {name!r} must be a string")
+        return cls(press, rpm, k, s, grid, limits, name)

@@ -8,6 +8,7 @@
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
+use cyclomech_core::pareto::ParetoError;
 use cyclomech_core::press::PressError;
 use cyclomech_core::schedule::ScheduleError;
 use pyo3::prelude::*;
@@ -76,6 +77,12 @@ impl IntoPyErr for PressError {
             PressError::Threads(e) => e.into_pyerr(py),
             other => raise(py, "InputError", other.to_string(), None),
         }
+    }
+}
+
+impl IntoPyErr for ParetoError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        raise(py, "InputError", self.to_string(), None)
     }
 }
 

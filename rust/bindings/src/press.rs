@@ -1,8 +1,11 @@
 //! Bindings of the press domain: gear-lever drive kinematics, criteria, sweeps.
 
+use cyclomech_core::pareto;
 use cyclomech_core::press::{self, Design, Grid, KinOut, PressError, Spec, Stroke, CRITERIA};
 use numpy::ndarray::IxDyn;
-use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{
+    PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::errors::{run, IntoPyErr};
@@ -165,4 +168,19 @@ pub fn press_sweep<'py>(
         })?;
     }
     Ok((rows, status))
+}
+
+/// True for the rows of `points` (n, m) that no other row dominates (lower is
+/// better in every column).
+#[pyfunction]
+pub fn pareto_mask<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<bool>>> {
+    let m = points.shape()[1];
+    let flat = points
+        .as_slice()
+        .map_err(|_| bad(py, "points must be C-contiguous".into()))?;
+    let mask = run(py, "pareto_mask", || pareto::pareto_mask(flat, m))?;
+    Ok(PyArray1::from_vec(py, mask))
 }

@@ -14,6 +14,7 @@
 //!   positions, velocity and acceleration analogs, assembly and dead-centre flags.
 //! * [`motion`] — dimensionless motion laws (rise and half forms) and the
 //!   two-period slider law of seed 003.
+//! * [`pareto`] — non-dominated filtering of objective vectors.
 //! * [`press`] — the planetary gear-lever press drive: kinematics over α grids,
 //!   working-stroke criteria, design grids in parallel.
 //! * [`parallel`] — the rayon thread pools behind `n_threads=` and
@@ -24,6 +25,7 @@ pub mod geom;
 pub mod linkage;
 pub mod motion;
 pub mod parallel;
+pub mod pareto;
 pub mod press;
 pub mod schedule;
 pub mod triad;
