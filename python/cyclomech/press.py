@@ -638,9 +638,9 @@ def optimize(
     for name, v in lim.items():
         usable &= flat[name] <= v
     if not usable.any():
-        why = f" and the limits {lim}" if lim else ""
+        why = f" within the limits {lim}" if lim else ""
         raise InfeasibleError(
-            f"no design of the grid works{why}: widen the grid or relax the limits",
+            f"no design of the grid works{why}: widen or refine the grid, or relax the limits",
             tuple(lim),
         )
     # Score relative to one baseline: the crank-slider (d = 0) of the same gears

@@ -1,0 +1,141 @@
+"""Tests of ``cyclomech press FILE.toml [--out DIR] [--step-deg S] [--no-plot]``.
+
+The tables are checked against direct calls and, for the crank-slider column,
+against the closed form of the crank-slider press (S_n = 2a, J_max = ω²a(1 + a/L)).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from cyclomech.cli import main
+from numpy.testing import assert_allclose
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+SMALL = """
+[press]
+name = "small"
+R = 0.09
+r = 0.03
+d = 0.028
+L = 0.46
+phi0_deg = 56.0
+
+[working]
+k_Sp = 0.1
+rpm = 40.0
+"""
+
+
+def _write(tmp_path: Path, text: str) -> Path:
+    f = tmp_path / "press.toml"
+    f.write_text(text, encoding="utf-8")
+    return f
+
+
+def test_design_tables_match_direct_calls(tmp_path, capsys):
+    f = _write(tmp_path, SMALL)
+    code = main(["press", str(f), "--out", str(tmp_path / "out"), "--no-plot", "--step-deg", "2"])
+    out, err = capsys.readouterr()
+    assert code == 0 and err == ""
+    assert "i = 3" in out and "k_Vp" in out
+    st = cm.press.PressStudy.from_toml(f)
+    w = 2 * math.pi * 40 / 60
+    kin = np.genfromtxt(tmp_path / "out" / "kinematics.csv", delimiter=",", names=True)
+    assert len(kin) == 181 and kin["alpha_deg"][-1] == 360
+    k = st.press.solve(np.radians(kin["alpha_deg"]))
+    assert_allclose(kin["S_m"], k.s, rtol=1e-11, atol=1e-14)
+    assert_allclose(kin["V_m_per_s"], k.ds * w, rtol=1e-11, atol=1e-14)
+    assert_allclose(kin["J_m_per_s2"], k.dds * w * w, rtol=1e-11, atol=1e-14)
+    crit = np.genfromtxt(tmp_path / "out" / "criteria.csv", delimiter=",", names=True, dtype=None)
+    design, base = crit[0], crit[1]
+    c = st.press.criteria(k_Sp=0.1, omega=w)
+    assert_allclose(design["k_Vp"], c.k_Vp, rtol=1e-10)
+    # The baseline column is the crank-slider of the same gears and rod.
+    a, L = 0.06, 0.46
+    assert_allclose(base["S_n"], 2 * a, rtol=1e-12)
+    assert_allclose(base["J_max"], w * w * a * (1 + a / L), rtol=1e-10)
+    summary = json.loads((tmp_path / "out" / "press.json").read_text())
+    assert summary["schema"] == "cyclomech.press/1"
+    assert summary["design"]["d"] == 0.028 and "optimum" not in summary
+    # The slow start of the working stroke that the drive is for.
+    assert c.k_Vp < 0.1 < 1.9 < summary["crank_slider"]["k_Vp"]
+
+
+def test_example_with_sweep_writes_front_and_figures(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    text = (EXAMPLES / "extrusion_press.toml").read_text(encoding="utf-8")
+    # A smaller grid than the example's, to keep the test quick.
+    # (so a looser limit: the coarse grid misses the narrow band of slow starts).
+    text = (
+        text.replace("[0.0, 0.04, 41]", "[0.0, 0.04, 11]")
+        .replace("[0.25, 0.5, 26]", "[0.25, 0.5, 6]")
+        .replace("V_np = 0.01 ", "V_np = 0.05 ")
+    )
+    f = _write(tmp_path, text)
+    code = main(["press", str(f), "--out", str(tmp_path / "o")])
+    out, _ = capsys.readouterr()
+    assert code == 0
+    assert "non-dominated designs within the limits" in out
+    for name in ("sweep.csv", "pareto.csv", "press.png", "criteria.png", "press.json"):
+        assert (tmp_path / "o" / name).stat().st_size > 0
+    sweep = np.genfromtxt(tmp_path / "o" / "sweep.csv", delimiter=",", names=True)
+    assert len(sweep) == 11 * 6 * 60
+    front = np.genfromtxt(tmp_path / "o" / "pareto.csv", delimiter=",", names=True, ndmin=1)
+    # Every design of the front meets the limit V_np <= 50 mm/s.
+    assert (front["V_np"] <= 0.05 + 1e-15).all()
+    summary = json.loads((tmp_path / "o" / "press.json").read_text())
+    assert summary["optimum"]["non_dominated"] == len(front)
+    assert summary["optimum"]["designs_swept"] == 11 * 6 * 60
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (("R = 0.09", "R = 0.1"), "R/r"),
+        (("d = 0.028", "d = -0.01"), "[press]: d = -0.01"),
+        (("rpm = 40.0", "rpm = 0"), "[working]: rpm = 0"),
+        (("k_Sp = 0.1", "k_Sp = 1.5"), "k_Sp = 1.5"),
+        (("k_Sp = 0.1", "working_stroke = 0.01\nk_Sp = 0.1"), "exactly one of k_Sp"),
+        (("phi0_deg = 56.0", "phi0 = 56.0"), "unknown key 'phi0'"),
+        (("L = 0.46", 'L = "long"'), "L = 'long' must be a finite number"),
+        (("[working]", "[work]"), "unknown key 'work'"),
+    ],
+)
+def test_bad_files_exit_2_naming_file_table_and_key(tmp_path, capsys, change, message):
+    f = _write(tmp_path, SMALL.replace(*change))
+    code = main(["press", str(f), "--out", str(tmp_path / "o"), "--no-plot"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert str(f) in err and message in err, err
+
+
+def test_bad_sweep_spec_and_limits(tmp_path, capsys):
+    f = _write(tmp_path, SMALL + "[sweep]\nd = [0.0, 0.04]\n")
+    assert main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")]) == 2
+    assert "[sweep]: d = [0.0, 0.04] must be [from, to, count]" in capsys.readouterr().err
+    f = _write(tmp_path, SMALL + "[limits]\nV_start = 0.01\n")
+    assert main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")]) == 2
+    assert "[limits]: unknown key 'V_start'" in capsys.readouterr().err
+
+
+def test_limits_no_design_meets_exit_2(tmp_path, capsys):
+    f = _write(tmp_path, SMALL + "[sweep]\nd = [0.0, 0.01, 3]\n[limits]\nV_np = 0.001\n")
+    assert main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "no design of the grid works within the limits {'V_np': 0.001}" in err
+
+
+def test_a_design_that_cannot_be_assembled_exits_1(tmp_path, capsys):
+    # The rod is shorter than the pin's sideways reach: it cannot reach the guide.
+    f = _write(tmp_path, SMALL.replace("L = 0.46", "L = 0.05"))
+    code = main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert "the rod cannot reach the guide" in err
