@@ -331,6 +331,13 @@ class TwoPeriodLaw:
         """
         return self._eval(alpha, 2, n_threads)
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # The cached Rust kernel is rebuilt on demand, not pickled.
+        return (
+            TwoPeriodLaw,
+            (self.law1, self.law2, self.stroke, self.angle, self.stroke1, self.angle1),
+        )
+
     def __repr__(self) -> str:
         return (
             f"TwoPeriodLaw(law1={self.law1.name!r}, law2={self.law2.name!r}, "

@@ -619,7 +619,8 @@ fn criteria_with(
         }
     };
     let (th_b, y_b) = dead(j_lo);
-    let y_t = dead(j_hi).1.max(ys[j_hi]);
+    let (th_t, y_t) = dead(j_hi);
+    let y_t = y_t.max(ys[j_hi]);
     let y_b = y_b.min(ys[j_lo]);
     let s_n = y_t - y_b;
     let s_p = match spec.stroke {
@@ -633,77 +634,98 @@ fn criteria_with(
         return Status::LongStroke;
     }
     // Walk back in time from BDC (θ decreasing, α increasing) to the first height
-    // S_p; watch Π' = −y' on the way.
+    // S_p. TDC joins the walk as a point of its own (it is rarely a sample), so
+    // that k_Sp = 1 ends there. On the way, watch Π' = −y' and bracket each of its
+    // local maxima: dΠ'/dθ = −y'' turns from + to − between two points.
     let mut status = Status::Ok;
     let mut j = j_lo;
     if table.theta(j) >= th_b {
         j = prev(j);
     }
     let mut theta_j = th_b - wrap(th_b - table.theta(j));
-    let (mut prev_th, mut prev_s) = (th_b, 0.0);
-    let (mut best_v, mut best_th) = (f64::NEG_INFINITY, th_b);
+    let th_top = th_b - wrap(th_b - th_t);
+    let mut top_pending = th_top < th_b;
+    // The point after the current one in θ: (θ, S, −y'').
+    let (mut nx_th, mut nx_s, mut nx_g) = (th_b, 0.0, -f.at(th_b, false).ddy);
+    let mut peaks: [(f64, f64); 4] = [(0.0, 0.0); 4];
+    let mut n_peaks = 0;
+    let mut best_v = f64::NEG_INFINITY;
     let mut th_p = f64::NAN;
-    for _ in 0..=m {
-        let s = ys[j] - y_b;
+    for _ in 0..=m + 1 {
+        // The next point back: TDC if it lies before the next sample.
+        let (th, s, v, g, sample) = if top_pending && th_top >= theta_j {
+            top_pending = false;
+            (th_top, s_n, 0.0, -f.at(th_t, false).ddy, false)
+        } else {
+            (theta_j, ys[j] - y_b, -dys[j], -ddys[j], true)
+        };
         if s >= s_p {
             let g = |x: f64| {
                 let k = f.at(x, false);
                 (k.y - y_b - s_p, k.dy)
             };
-            let guess = theta_j + (prev_th - theta_j) * (s - s_p) / (s - prev_s);
-            th_p = rtsafe(g, theta_j, prev_th, s - s_p, prev_s - s_p, guess);
+            let guess = th + (nx_th - th) * (s - s_p) / (s - nx_s);
+            th_p = rtsafe(g, th, nx_th, s - s_p, nx_s - s_p, guess);
             break;
         }
-        let v = -dys[j];
         if v < -1e-12 * s_n {
             status = Status::Reverses;
         }
-        if v > best_v {
-            best_v = v;
-            best_th = theta_j;
+        best_v = best_v.max(v);
+        if g > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
+            peaks[n_peaks] = (th, nx_th);
+            n_peaks += 1;
         }
-        prev_th = theta_j;
-        prev_s = s;
-        j = prev(j);
-        theta_j -= h;
+        (nx_th, nx_s, nx_g) = (th, s, g);
+        if sample {
+            j = prev(j);
+            theta_j -= h;
+        }
     }
     if th_p.is_nan() {
         // Unreachable when S_p ≤ S_n (the walk meets TDC), kept as a guard.
         return Status::LongStroke;
     }
     let alpha_p = th_b - th_p;
-    let v_np = -f.at(th_p, false).dy;
-    // Interior speed peak: a root of y'' next to the best sample, by Newton with
-    // the third derivative, inside the working stroke.
+    let kp = f.at(th_p, false);
+    let v_np = -kp.dy;
+    // The last stretch, from the start of the working stroke to the first point.
+    if -kp.ddy > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
+        peaks[n_peaks] = (th_p, nx_th);
+        n_peaks += 1;
+    }
+    // Speed peaks inside the working stroke: roots of y'' by Newton with y'''.
     let mut v_max = v_np.max(best_v);
-    if best_v > v_np {
-        let (lo, hi) = ((best_th - h).max(th_p), (best_th + h).min(th_b));
+    for &(lo, hi) in &peaks[..n_peaks] {
         let g = |x: f64| {
             let k = f.at(x, true);
             (k.ddy, k.dddy)
         };
         let (glo, ghi) = (g(lo).0, g(hi).0);
         if glo * ghi < 0.0 {
-            let t = rtsafe(g, lo, hi, glo, ghi, best_th);
+            let t = rtsafe(g, lo, hi, glo, ghi, 0.5 * (lo + hi));
             v_max = v_max.max(-f.at(t, false).dy);
         }
     }
-    // Acceleration peak over the turn: a root of the third derivative next to
-    // the best sample.
+    // Acceleration peak over the turn: every sampled local maximum of |y''| within
+    // 1 % of the largest, refined at a root of y''' (near-ties go either way).
     let acc = ddys[j_acc].abs();
-    let th_a = table.theta(j_acc);
-    let sgn = ddys[j_acc].signum();
-    let g3 = |x: f64| sgn * f.at(x, true).dddy;
-    let (lo, hi) = (th_a - h, th_a + h);
-    let (glo, ghi) = (g3(lo), g3(hi));
-    let a_max = if glo > 0.0 && ghi < 0.0 {
-        f.at(root(g3, lo, hi, glo, ghi, 1e-9 * h), false)
-            .ddy
-            .abs()
-            .max(acc)
-    } else {
-        acc
-    };
+    let mut a_max = acc;
+    for q in 0..m {
+        let aq = ddys[q].abs();
+        if aq < 0.99 * acc || aq < ddys[prev(q)].abs() || aq < ddys[next(q)].abs() {
+            continue;
+        }
+        let th_a = table.theta(q);
+        let sgn = ddys[q].signum();
+        let g3 = |x: f64| sgn * f.at(x, true).dddy;
+        let (lo, hi) = (th_a - h, th_a + h);
+        let (glo, ghi) = (g3(lo), g3(hi));
+        if glo > 0.0 && ghi < 0.0 {
+            let t = root(g3, lo, hi, glo, ghi, 1e-9 * h);
+            a_max = a_max.max(f.at(t, false).ddy.abs());
+        }
+    }
     let w = spec.omega;
     let v_cp = s_p / alpha_p;
     row[1] = s_p;
