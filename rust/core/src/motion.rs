@@ -93,6 +93,56 @@ impl Segment {
     }
 }
 
+/// A segment prepared for evaluation: for each order 0..=3 the coefficients of
+/// that derivative of the polynomial, and the sinusoid's amplitude and phase
+/// (d^n/dt^n sin(ωt + φ) = ω^n sin(ωt + φ + nπ/2)), so that evaluating costs one
+/// Horner pass and at most one sine.
+#[derive(Debug, Clone, PartialEq)]
+struct Fast {
+    x0: f64,
+    x1: f64,
+    poly: [Vec<f64>; 4],
+    amp: [f64; 4],
+    freq: f64,
+    phase: [f64; 4],
+}
+
+impl Fast {
+    fn new(s: &Segment) -> Fast {
+        let poly = std::array::from_fn(|order| {
+            (order..s.poly.len())
+                .map(|k| {
+                    let falling: f64 = (0..order).map(|m| (k - m) as f64).product();
+                    s.poly[k] * falling
+                })
+                .collect()
+        });
+        Fast {
+            x0: s.x0,
+            x1: s.x1,
+            poly,
+            amp: std::array::from_fn(|order| s.amp * s.freq.powi(order as i32)),
+            freq: s.freq,
+            phase: std::array::from_fn(|order| s.phase + order as f64 * FRAC_PI_2),
+        }
+    }
+
+    #[inline(always)]
+    fn eval(&self, x: f64, order: usize) -> f64 {
+        let t = x - self.x0;
+        let c = &self.poly[order];
+        let mut p = 0.0;
+        for &ck in c.iter().rev() {
+            p = p * t + ck;
+        }
+        let a = self.amp[order];
+        if a != 0.0 {
+            p += a * crate::geom::sin(self.freq * t + self.phase[order]);
+        }
+        p
+    }
+}
+
 /// An acceleration piece used to build a law: a(t) = Σ p_k t^k + A·sin(ω t + φ).
 struct AccelPiece {
     x1: f64,
@@ -106,6 +156,7 @@ struct AccelPiece {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Law {
     pub segments: Vec<Segment>,
+    fast: Vec<Fast>,
     /// max |Z'| on [0, 1] (Cv for a rise, Z'max for a half law).
     pub dz_max: f64,
     /// max |Z''| on [0, 1] (Ca for a rise, Z''max for a half law).
@@ -124,8 +175,10 @@ pub const NAMES: [&str; 6] = [
 
 impl Law {
     fn from_segments(segments: Vec<Segment>) -> Law {
+        let fast = segments.iter().map(Fast::new).collect();
         let mut law = Law {
             segments,
+            fast,
             dz_max: 0.0,
             ddz_max: 0.0,
         };
@@ -284,21 +337,15 @@ impl Law {
         Ok(law)
     }
 
-    /// The segment holding x (x in [0, 1]).
+    /// Z^(order)(x), order 0..=3, for x in [0, 1].
     #[inline]
-    fn segment(&self, x: f64) -> &Segment {
-        let s = &self.segments;
+    pub fn z(&self, x: f64, order: usize) -> f64 {
+        let s = &self.fast;
         let mut k = 0;
         while k + 1 < s.len() && x > s[k].x1 {
             k += 1;
         }
-        &s[k]
-    }
-
-    /// Z^(order)(x), order 0..=3, for x in [0, 1].
-    #[inline]
-    pub fn z(&self, x: f64, order: usize) -> f64 {
-        self.segment(x).eval(x, order)
+        s[k].eval(x, order.min(3))
     }
 
     /// (x, max |Z^(order)|) over [0, 1].
@@ -559,7 +606,26 @@ impl TwoPeriod {
             }
         }
         let order = order.min(3);
-        par_fill(alpha, out, n_threads, |v| self.at(v, order))
+        // Per-call constants, so that the loop has no divisions by α1 or α2 − α1
+        // and no powers.
+        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
+        let span = a2 - a1;
+        let (ia1, ispan) = (1.0 / a1, 1.0 / span);
+        let s1 = p1 * ia1.powi(order as i32);
+        let s2 = (p2 - p1) * ispan.powi(order as i32) * if order == 2 { -1.0 } else { 1.0 };
+        let (l1, l2) = (&self.law1, &self.law2);
+        par_fill(alpha, out, n_threads, |v| {
+            if v <= a1 {
+                s1 * l1.z(v * ia1, order)
+            } else {
+                let z = l2.z(((a2 - v) * ispan).max(0.0), order);
+                if order == 0 {
+                    p2 - (p2 - p1) * z
+                } else {
+                    s2 * z
+                }
+            }
+        })
     }
 }
 
