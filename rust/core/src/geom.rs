@@ -28,51 +28,76 @@ pub fn dist(a: V2, b: V2) -> f64 {
     dot(d, d).sqrt()
 }
 
+// fdlibm's constants, digits as published. π/2 = PIO2_1 + PIO2_2 + PIO2_3, the
+// first two with 33 significant bits, so k·PIO2_1 and k·PIO2_2 are exact for
+// |k| < 2²⁰ (fdlibm's pio2_1, pio2_2, pio2_3).
+#[allow(clippy::excessive_precision)]
+const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
+#[allow(clippy::excessive_precision)]
+const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
+#[allow(clippy::excessive_precision)]
+const PIO2_3: f64 = 2.022_266_248_711_166_455_8e-21;
+#[allow(clippy::excessive_precision)]
+const S: [f64; 6] = [
+    -1.666_666_666_666_663_243_48e-1,
+    8.333_333_333_322_489_461_24e-3,
+    -1.984_126_982_985_794_931_34e-4,
+    2.755_731_370_707_006_767_89e-6,
+    -2.505_076_025_340_686_341_95e-8,
+    1.589_690_995_211_550_102_21e-10,
+];
+#[allow(clippy::excessive_precision)]
+const C: [f64; 6] = [
+    4.166_666_666_666_660_190_37e-2,
+    -1.388_888_888_887_410_957_49e-3,
+    2.480_158_728_947_672_941_78e-5,
+    -2.755_731_435_139_066_330_35e-7,
+    2.087_572_321_298_174_827_90e-9,
+    -1.135_964_755_778_819_482_65e-11,
+];
+
+/// x = k·π/2 + r with |r| ≤ π/4 (three-part Cody–Waite): (k mod 4, r), for
+/// |x| ≤ 10⁶.
+#[inline(always)]
+fn reduce(x: f64) -> (i64, f64) {
+    // Round to nearest by the 1.5·2⁵² trick (f64::round is a libm call on baseline
+    // x86-64); exact for |x·2/π| < 2⁵¹.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let k = (x * std::f64::consts::FRAC_2_PI + ROUND) - ROUND;
+    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
+    ((k as i64) & 3, r)
+}
+
+/// fdlibm's sine kernel on |r| ≤ π/4.
+#[inline(always)]
+fn kernel_sin(r: f64) -> f64 {
+    let z = r * r;
+    r + r * z * (S[0] + z * (S[1] + z * (S[2] + z * (S[3] + z * (S[4] + z * S[5])))))
+}
+
+/// fdlibm's cosine kernel on |r| ≤ π/4.
+#[inline(always)]
+fn kernel_cos(r: f64) -> f64 {
+    let z = r * r;
+    let p = z * z * (C[0] + z * (C[1] + z * (C[2] + z * (C[3] + z * (C[4] + z * C[5])))));
+    let hz = 0.5 * z;
+    let w = 1.0 - hz;
+    w + (((1.0 - w) - hz) + p)
+}
+
 /// sin x and cos x, inlined: fdlibm's kernels (|r| ≤ π/4 minimax polynomials)
 /// after a three-part Cody–Waite reduction by π/2, exact in k·(π/2) for
 /// |x| ≤ 10⁶; larger or non-finite x go to the platform's `sin_cos`. Within 1 ulp
 /// of 1 of the platform's values (tested), and several times faster than the
 /// out-of-line libm call in the hot loop of a crank-angle grid.
 #[inline(always)]
-#[allow(clippy::excessive_precision)] // fdlibm's constants, digits as published
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
-    // π/2 = PIO2_1 + PIO2_2 + PIO2_3, the first two with 33 significant bits, so
-    // k·PIO2_1 and k·PIO2_2 are exact for |k| < 2²⁰ (fdlibm's pio2_1, pio2_2, pio2_3).
-    const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
-    const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
-    const PIO2_3: f64 = 2.022_266_248_711_166_455_8e-21;
-    const S: [f64; 6] = [
-        -1.666_666_666_666_663_243_48e-1,
-        8.333_333_333_322_489_461_24e-3,
-        -1.984_126_982_985_794_931_34e-4,
-        2.755_731_370_707_006_767_89e-6,
-        -2.505_076_025_340_686_341_95e-8,
-        1.589_690_995_211_550_102_21e-10,
-    ];
-    const C: [f64; 6] = [
-        4.166_666_666_666_660_190_37e-2,
-        -1.388_888_888_887_410_957_49e-3,
-        2.480_158_728_947_672_941_78e-5,
-        -2.755_731_435_139_066_330_35e-7,
-        2.087_572_321_298_174_827_90e-9,
-        -1.135_964_755_778_819_482_65e-11,
-    ];
     if x.abs() > 1e6 || x.is_nan() {
         return platform_sin_cos(x);
     }
-    // Round to nearest by the 1.5·2⁵² trick (f64::round is a libm call on baseline
-    // x86-64); exact for |x·2/π| < 2⁵¹.
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let k = (x * FRAC_2_PI + ROUND) - ROUND;
-    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    let z = r * r;
-    let s = r + r * z * (S[0] + z * (S[1] + z * (S[2] + z * (S[3] + z * (S[4] + z * S[5])))));
-    let p = z * z * (C[0] + z * (C[1] + z * (C[2] + z * (C[3] + z * (C[4] + z * C[5])))));
-    let hz = 0.5 * z;
-    let w = 1.0 - hz;
-    let c = w + (((1.0 - w) - hz) + p);
-    match (k as i64) & 3 {
+    let (q, r) = reduce(x);
+    let (s, c) = (kernel_sin(r), kernel_cos(r));
+    match q {
         0 => (s, c),
         1 => (c, -s),
         2 => (-s, -c),
@@ -81,45 +106,17 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 }
 
 /// sin x alone, inlined: the reduction of [`sin_cos`] and only the one kernel
-/// polynomial the quadrant needs (the same values as `sin_cos(x).0`).
+/// the quadrant needs (the same values as `sin_cos(x).0`).
 #[inline(always)]
-#[allow(clippy::excessive_precision)] // fdlibm's constants, digits as published
 pub fn sin(x: f64) -> f64 {
-    const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
-    const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
-    const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
-    const PIO2_3: f64 = 2.022_266_248_711_166_455_8e-21;
-    const S: [f64; 6] = [
-        -1.666_666_666_666_663_243_48e-1,
-        8.333_333_333_322_489_461_24e-3,
-        -1.984_126_982_985_794_931_34e-4,
-        2.755_731_370_707_006_767_89e-6,
-        -2.505_076_025_340_686_341_95e-8,
-        1.589_690_995_211_550_102_21e-10,
-    ];
-    const C: [f64; 6] = [
-        4.166_666_666_666_660_190_37e-2,
-        -1.388_888_888_887_410_957_49e-3,
-        2.480_158_728_947_672_941_78e-5,
-        -2.755_731_435_139_066_330_35e-7,
-        2.087_572_321_298_174_827_90e-9,
-        -1.135_964_755_778_819_482_65e-11,
-    ];
     if x.abs() > 1e6 || x.is_nan() {
         return platform_sin_cos(x).0;
     }
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let k = (x * FRAC_2_PI + ROUND) - ROUND;
-    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    let z = r * r;
-    let q = (k as i64) & 3;
+    let (q, r) = reduce(x);
     let v = if q & 1 == 0 {
-        r + r * z * (S[0] + z * (S[1] + z * (S[2] + z * (S[3] + z * (S[4] + z * S[5])))))
+        kernel_sin(r)
     } else {
-        let p = z * z * (C[0] + z * (C[1] + z * (C[2] + z * (C[3] + z * (C[4] + z * C[5])))));
-        let hz = 0.5 * z;
-        let w = 1.0 - hz;
-        w + (((1.0 - w) - hz) + p)
+        kernel_cos(r)
     };
     if q & 2 == 0 {
         v
