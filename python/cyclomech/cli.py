@@ -158,6 +158,26 @@ def _summary(
     return _jsonable(out)  # type: ignore[no-any-return]
 
 
+def _has_matplotlib(what: str = "figures") -> bool:
+    """Select the Agg backend, or say why no figures are written."""
+    try:
+        import matplotlib
+    except ImportError:
+        print(f"\n(no {what}: matplotlib is not installed; pip install cyclomech[plot])")
+        return False
+    matplotlib.use("Agg")
+    return True
+
+
+def _save(fig: Any, path: Path, written: list[Path]) -> None:
+    """Write ``fig`` to ``path``, close it, and note the file."""
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=130, bbox_inches="tight")
+    plt.close(fig)
+    written.append(path)
+
+
 def _cyclogram_command(args: argparse.Namespace) -> int:
     cg = Cyclogram.from_toml(args.file)
     if args.speed is not None:
@@ -187,26 +207,15 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
         json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False), encoding="utf-8"
     )
     written = [out / "cyclogram.json"]
-    if not args.no_plot:
-        try:
-            import matplotlib
-        except ImportError:
-            print("\n(no figure: matplotlib is not installed; pip install cyclomech[plot])")
+    if not args.no_plot and _has_matplotlib("figure"):
+        from .plot import plot_cyclogram_pair
+
+        if o is None and s.duration > s.cycle_deg:
+            # Wrapping a schedule longer than the cycle onto it draws overlaps
+            # that mean nothing; say so instead.
+            print(f"\n(no figure: the schedule takes {s.duration:g}°, more than the cycle)")
         else:
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-
-            from .plot import plot_cyclogram_pair
-
-            if o is None and s.duration > s.cycle_deg:
-                # Wrapping a schedule longer than the cycle onto it draws overlaps
-                # that mean nothing; say so instead.
-                print(f"\n(no figure: the schedule takes {s.duration:g}°, more than the cycle)")
-            else:
-                fig = plot_cyclogram_pair(o if o is not None else s)
-                fig.savefig(out / "cyclogram.png", dpi=130, bbox_inches="tight")
-                plt.close(fig)
-                written.append(out / "cyclogram.png")
+            _save(plot_cyclogram_pair(o if o is not None else s), out / "cyclogram.png", written)
     print("\nWrote " + ", ".join(str(p) for p in written))
     if o is None:
         print("cyclomech: the cyclogram has no feasible optimum (see above)", file=sys.stderr)
@@ -342,27 +351,16 @@ def _linkage_command(args: argparse.Namespace) -> int:
 
 
 def _linkage_figures(lk: Linkage, sol: LinkageSolution, point: str, out: Path) -> list[Path]:
-    try:
-        import matplotlib
-    except ImportError:
-        print("\n(no figures: matplotlib is not installed; pip install cyclomech[plot])")
-        return []
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    written: list[Path] = []
+    if not _has_matplotlib():
+        return written
     from .plot import plot_analogs, plot_linkage
 
-    written = []
     if sol.ok.any():
         first = int(sol.ok.argmax())
         ax = plot_linkage(lk, sol, first, trace=[point])
-        ax.figure.savefig(out / "mechanism.png", dpi=130, bbox_inches="tight")
-        plt.close(ax.figure)
-        written.append(out / "mechanism.png")
-    fig = plot_analogs(sol, point)
-    fig.savefig(out / f"analogs_{point}.png", dpi=130, bbox_inches="tight")
-    plt.close(fig)
-    written.append(out / f"analogs_{point}.png")
+        _save(ax.figure, out / "mechanism.png", written)
+    _save(plot_analogs(sol, point), out / f"analogs_{point}.png", written)
     return written
 
 
@@ -498,29 +496,17 @@ def _press_command(args: argparse.Namespace) -> int:
 
 
 def _press_figures(st: Any, c: Any, opt: Any, out: Path) -> list[Path]:
-    try:
-        import matplotlib
-    except ImportError:
-        print("\n(no figures: matplotlib is not installed; pip install cyclomech[plot])")
-        return []
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    written: list[Path] = []
+    if not _has_matplotlib():
+        return written
     from .plot import plot_press, plot_press_criteria
 
-    written = []
     if c.ok:
         axes = plot_press(st.press, c.alpha_p, show_motion=True, k_Sp=c.k_Sp)
-        fig = axes[0].figure
-        fig.savefig(out / "press.png", dpi=130, bbox_inches="tight")
-        plt.close(fig)
-        written.append(out / "press.png")
+        _save(axes[0].figure, out / "press.png", written)
     if opt is not None:
         axes = plot_press_criteria(opt.grid, optimum=opt)
-        fig = axes[0].figure
-        fig.savefig(out / "criteria.png", dpi=130, bbox_inches="tight")
-        plt.close(fig)
-        written.append(out / "criteria.png")
+        _save(axes[0].figure, out / "criteria.png", written)
     return written
 
 
