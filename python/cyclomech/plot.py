@@ -1049,6 +1049,38 @@ def _block(centre: Any, u: Any, s: float) -> npt.NDArray[np.float64]:
     return np.array([c - a - b, c + a - b, c + a + b, c - a + b])
 
 
+def _point_label(
+    ax: Any, name: str, xy: Any, d: npt.NDArray[np.float64], *, text: str | None = None
+) -> None:
+    """Label a joint 8 points from ``xy`` along the unit direction ``d``."""
+    ax.annotate(
+        name if text is None else text,
+        tuple(xy),
+        xytext=(8.0 * d[0], 8.0 * d[1]),
+        textcoords="offset points",
+        ha="left" if d[0] > 0.38 else "right" if d[0] < -0.38 else "center",
+        va="bottom" if d[1] > 0.38 else "top" if d[1] < -0.38 else "center",
+        fontsize=9,
+        path_effects=_halo(),
+        gid=f"label:{name}",
+        zorder=5.0,
+    )
+
+
+def _frame_equal(ax: Any, box: Any, unit: str, *, grid: str) -> None:
+    """Limits by autoscaling to ``box`` = (x0, x1, y0, y1) (everything drawn is
+    inside it), so that the equal aspect may widen them to fill the axes; axis
+    labels in ``unit``."""
+    ax.update_datalim([(box[0], box[2]), (box[1], box[3])])
+    ax.margins(0.0)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.autoscale_view()
+    ax.set_xlabel(f"x [{unit}]")
+    ax.set_ylabel(f"y [{unit}]")
+    ax.grid(color=grid, linewidth=0.6)
+    ax.set_axisbelow(True)
+
+
 def _label_direction(blocked: list[npt.NDArray[np.float64]]) -> npt.NDArray[np.float64]:
     """A unit vector in the middle of the widest gap between the ``blocked``
     directions (links, symbols) at a point; up-right when nothing is in the way."""
@@ -1247,29 +1279,9 @@ def _draw_linkage(
             ),
             default=0.0,
         )
-        ax.annotate(
-            p,
-            pos[p] + edge * s * d,
-            xytext=(8.0 * d[0], 8.0 * d[1]),
-            textcoords="offset points",
-            ha="left" if d[0] > 0.38 else "right" if d[0] < -0.38 else "center",
-            va="bottom" if d[1] > 0.38 else "top" if d[1] < -0.38 else "center",
-            fontsize=9,
-            path_effects=_halo(),
-            gid=f"label:{p}",
-            zorder=5.0,
-        )
+        _point_label(ax, p, pos[p] + edge * s * d, d)
 
-    # Limits by autoscaling to the box (everything drawn is inside it), so that the
-    # equal aspect may widen them to fill the axes.
-    ax.update_datalim([(box[0], box[2]), (box[1], box[3])])
-    ax.margins(0.0)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.autoscale_view()
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.grid(color="0.9", linewidth=0.6)
-    ax.set_axisbelow(True)
+    _frame_equal(ax, box, "m", grid="0.9")
     if title is None:
         angle = f"crank angle {_deg(math.degrees(solution.angles[i]))}"
         title = f"C{angle[1:]}" if linkage.name is None else f"{linkage.name} — {angle}"
@@ -2183,27 +2195,10 @@ def plot_press(
     for name, q in named:
         d = _label_direction(blocked[name])
         edge = 1.3 * s if name == "slider" else 0.0
-        mech.annotate(
-            "C = P" if name == "C" and press.d == 0.0 else name,
-            tuple(q + edge * np.array([d[0] * 0.6, d[1]])),
-            xytext=(8.0 * d[0], 8.0 * d[1]),
-            textcoords="offset points",
-            ha="left" if d[0] > 0.38 else "right" if d[0] < -0.38 else "center",
-            va="bottom" if d[1] > 0.38 else "top" if d[1] < -0.38 else "center",
-            fontsize=9,
-            path_effects=_halo(),
-            gid=f"label:{name}",
-            zorder=5.0,
-        )
+        text = "C = P" if name == "C" and press.d == 0.0 else name
+        _point_label(mech, name, q + edge * np.array([d[0] * 0.6, d[1]]), d, text=text)
 
-    mech.update_datalim([(box[0], box[2]), (box[1], box[3])])
-    mech.margins(0.0)
-    mech.set_aspect("equal", adjustable="datalim")
-    mech.autoscale_view()
-    mech.set_xlabel("x [mm]")
-    mech.set_ylabel("y [mm]")
-    mech.grid(color="0.92", linewidth=0.6)
-    mech.set_axisbelow(True)
+    _frame_equal(mech, box, "mm", grid="0.92")
     mech.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), frameon=False, fontsize=8)
     if title is None:
         title = (
