@@ -689,6 +689,25 @@ def test_sweep_equals_one_design_at_a_time():
         sw["nope"]
 
 
+def test_sweep_over_several_gear_ratios_equals_one_design_at_a_time():
+    """A grid over R and r (ratios 3, 2, 6 and 4, each with its own angle table)
+    gives at every point the single design's criteria, bit for bit."""
+    sw = cm.press.sweep(
+        R=[0.09, 0.18],
+        r=[0.03, 0.045],
+        d=[0.0, 0.02],
+        L=[0.3, 0.5],
+        phi0=[0.1, 1.0],
+        k_Sp=0.2,
+        omega=3.0,
+    )
+    assert sw.shape == (2, 2, 2, 2, 2)
+    for idx in np.ndindex(sw.shape):
+        one = sw.design(idx).criteria(k_Sp=0.2, omega=3.0)
+        for name in cm.press.CRITERIA:
+            assert_array_equal(sw[name][idx], getattr(one, name))
+
+
 def test_sweep_shape_rule():
     """A scalar is fixed, an array (even of one value) is an axis, in the order
     R, r, d, L, phi0."""

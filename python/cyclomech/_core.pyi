@@ -19,6 +19,7 @@ __all__ = [
     "max_cycle_ratio",
     "max_speed",
     "pareto_mask",
+    "press_check",
     "press_criteria_names",
     "press_solve",
     "press_sweep",
@@ -164,6 +165,9 @@ class TwoPeriodKernel:
         self, alpha: npt.NDArray[np.float64], order: int, *, n_threads: int | None = None
     ) -> npt.NDArray[np.float64]: ...
 
+def press_check(
+    big_r: float, r: float, d: float, l: float, phi0: float, offset: float
+) -> float: ...
 def press_criteria_names() -> list[str]: ...
 def press_solve(
     designs: npt.NDArray[np.float64],

@@ -215,7 +215,7 @@ class GearLeverPress:
         ):
             object.__setattr__(self, name, _finite(name, getattr(self, name), unit))
         # The kernel checks the geometry (R > r > 0, R/r whole, d ≥ 0, L > 0).
-        _core.press_solve(self._row(), np.zeros(1))
+        _core.press_check(self.R, self.r, self.d, self.L, self.phi0, self.offset)
 
     def _row(self) -> npt.NDArray[np.float64]:
         return np.array([[self.R, self.r, self.d, self.L, self.phi0, self.offset]])

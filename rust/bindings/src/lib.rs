@@ -19,7 +19,7 @@ mod _core {
     #[pymodule_export]
     use super::motion::{MotionLaw, TwoPeriodKernel};
     #[pymodule_export]
-    use super::press::{pareto_mask, press_criteria_names, press_solve, press_sweep};
+    use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
     use super::schedule::{longest_path, max_cycle_ratio, max_speed, EventGraph};
 

@@ -47,6 +47,31 @@ fn spec(
     })
 }
 
+/// Check one design (R > r > 0 with R/r whole, d ≥ 0, L > 0, all finite);
+/// returns the gear ratio.
+#[pyfunction]
+#[pyo3(signature = (big_r, r, d, l, phi0, offset))]
+pub fn press_check(
+    py: Python<'_>,
+    big_r: f64,
+    r: f64,
+    d: f64,
+    l: f64,
+    phi0: f64,
+    offset: f64,
+) -> PyResult<f64> {
+    Design {
+        big_r,
+        r,
+        d,
+        l,
+        phi0,
+        offset,
+    }
+    .validate()
+    .map_err(|e| e.into_pyerr(py))
+}
+
 /// Names of the criteria columns, in order.
 #[pyfunction]
 pub fn press_criteria_names() -> Vec<&'static str> {

@@ -17,7 +17,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use rayon::prelude::*;
 
-use crate::geom::sin_cos;
+use crate::geom::sin;
 use crate::parallel::{pool, resolve_threads, ThreadsError};
 
 /// Highest polynomial degree accepted for a user law.
@@ -61,36 +61,6 @@ pub struct Segment {
     pub amp: f64,
     pub freq: f64,
     pub phase: f64,
-}
-
-impl Segment {
-    /// Z^(order)(x) for order 0..=3.
-    #[inline]
-    fn eval(&self, x: f64, order: usize) -> f64 {
-        let t = x - self.x0;
-        // Horner on the `order`-th derivative of the polynomial.
-        let n = self.poly.len();
-        let mut p = 0.0;
-        for k in (order..n).rev() {
-            let mut f = self.poly[k];
-            for m in 0..order {
-                f *= (k - m) as f64;
-            }
-            p = p * t + f;
-        }
-        if self.amp == 0.0 {
-            return p;
-        }
-        let (s, c) = sin_cos(self.freq * t + self.phase);
-        let w = self.freq;
-        p + self.amp
-            * match order {
-                0 => s,
-                1 => w * c,
-                2 => -w * w * s,
-                _ => -w * w * w * c,
-            }
-    }
 }
 
 /// A segment prepared for evaluation: for each order 0..=3 the coefficients of
@@ -137,7 +107,7 @@ impl Fast {
         }
         let a = self.amp[order];
         if a != 0.0 {
-            p += a * crate::geom::sin(self.freq * t + self.phase[order]);
+            p += a * sin(self.freq * t + self.phase[order]);
         }
         p
     }
@@ -350,11 +320,6 @@ impl Law {
 
     /// (x, max |Z^(order)|) over [0, 1].
     fn peak(&self, order: usize) -> (f64, f64) {
-        let (x, v) = self.peak_signed_abs(order);
-        (x, v)
-    }
-
-    fn peak_signed_abs(&self, order: usize) -> (f64, f64) {
         let (xa, a) = self.peak_signed(order, 1.0);
         let (xb, b) = self.peak_signed(order, -1.0);
         if a >= -b {
@@ -371,7 +336,7 @@ impl Law {
     fn peak_signed(&self, order: usize, sign: f64) -> (f64, f64) {
         const SAMPLES: usize = 256;
         let mut best = (0.0, f64::NEG_INFINITY);
-        for s in &self.segments {
+        for s in &self.fast {
             let f = |x: f64| sign * s.eval(x, order);
             let h = (s.x1 - s.x0) / SAMPLES as f64;
             let mut at = 0;
@@ -463,8 +428,9 @@ fn integrate(pieces: &[AccelPiece]) -> Vec<Segment> {
             freq: w,
             phase: phi,
         };
-        z0 = seg.eval(p.x1, 0);
-        v0 = seg.eval(p.x1, 1);
+        let fast = Fast::new(&seg);
+        z0 = fast.eval(p.x1, 0);
+        v0 = fast.eval(p.x1, 1);
         x0 = p.x1;
         segments.push(seg);
     }
@@ -478,8 +444,13 @@ fn integrate(pieces: &[AccelPiece]) -> Vec<Segment> {
     segments
 }
 
-/// Check that every x is finite and in [0, 1].
-pub fn check_unit(field: &'static str, x: &[f64]) -> Result<(), MotionError> {
+/// Check that every x is finite and in [0, `hi`] (`why` ends the message).
+fn check_range(
+    field: &'static str,
+    x: &[f64],
+    hi: f64,
+    why: &'static str,
+) -> Result<(), MotionError> {
     for (i, &v) in x.iter().enumerate() {
         if !v.is_finite() {
             return Err(MotionError::NotFinite {
@@ -488,14 +459,14 @@ pub fn check_unit(field: &'static str, x: &[f64]) -> Result<(), MotionError> {
                 value: v,
             });
         }
-        if !(0.0..=1.0).contains(&v) {
+        if !(0.0..=hi).contains(&v) {
             return Err(MotionError::OutOfRange {
                 field,
                 index: i,
                 value: v,
                 lo: 0.0,
-                hi: 1.0,
-                why: " (a law is defined on the unit square)",
+                hi,
+                why,
             });
         }
     }
@@ -539,7 +510,7 @@ impl Law {
         n_threads: Option<i64>,
         out: &mut [f64],
     ) -> Result<(), MotionError> {
-        check_unit("x", x)?;
+        check_range("x", x, 1.0, " (a law is defined on the unit square)")?;
         par_fill(x, out, n_threads, |v| self.z(v, order.min(3)))
     }
 }
@@ -558,63 +529,21 @@ pub struct TwoPeriod {
 
 impl TwoPeriod {
     /// Π^(order)(α) for α in [0, α2], order 0..=3.
-    #[inline]
     pub fn at(&self, alpha: f64, order: usize) -> f64 {
-        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        if alpha <= a1 {
-            let z = self.law1.z(alpha / a1, order);
-            p1 * z / a1.powi(order as i32)
-        } else {
-            let span = a2 - a1;
-            let j = ((a2 - alpha) / span).max(0.0);
-            let z = self.law2.z(j, order);
-            // d/dα = −(1/span)·d/dj, so odd orders change sign.
-            let scale = (p2 - p1) / span.powi(order as i32);
-            match order {
-                0 => p2 - (p2 - p1) * z,
-                1 | 3 => scale * z,
-                _ => -scale * z,
-            }
-        }
+        self.evaluator(order.min(3))(alpha)
     }
 
-    /// out = Π^(order)(α) for every α (checked to lie in [0, α2]).
-    pub fn eval_into(
-        &self,
-        alpha: &[f64],
-        order: usize,
-        n_threads: Option<i64>,
-        out: &mut [f64],
-    ) -> Result<(), MotionError> {
-        for (i, &v) in alpha.iter().enumerate() {
-            if !v.is_finite() {
-                return Err(MotionError::NotFinite {
-                    field: "alpha",
-                    index: i,
-                    value: v,
-                });
-            }
-            if !(0.0..=self.angle).contains(&v) {
-                return Err(MotionError::OutOfRange {
-                    field: "alpha",
-                    index: i,
-                    value: v,
-                    lo: 0.0,
-                    hi: self.angle,
-                    why: " [rad] (the law runs from α = 0 to the full angle α2)",
-                });
-            }
-        }
-        let order = order.min(3);
-        // Per-call constants, so that the loop has no divisions by α1 or α2 − α1
-        // and no powers.
+    /// Π^(order) as a function of α, with its constants worked out once (no
+    /// divisions by α1 or α2 − α1 and no powers per value). Period II runs
+    /// backwards in j = (α2 − α)/(α2 − α1), so d/dα = −d/dj/(α2 − α1): its
+    /// second derivative changes sign.
+    fn evaluator(&self, order: usize) -> impl Fn(f64) -> f64 + Sync + '_ {
         let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let span = a2 - a1;
-        let (ia1, ispan) = (1.0 / a1, 1.0 / span);
+        let (ia1, ispan) = (1.0 / a1, 1.0 / (a2 - a1));
         let s1 = p1 * ia1.powi(order as i32);
         let s2 = (p2 - p1) * ispan.powi(order as i32) * if order == 2 { -1.0 } else { 1.0 };
         let (l1, l2) = (&self.law1, &self.law2);
-        par_fill(alpha, out, n_threads, |v| {
+        move |v: f64| {
             if v <= a1 {
                 s1 * l1.z(v * ia1, order)
             } else {
@@ -625,7 +554,36 @@ impl TwoPeriod {
                     s2 * z
                 }
             }
+        }
+    }
+
+    /// Check 0 < Π1 < Π2 and 0 < α1 < α2 (all finite).
+    pub fn validate(&self) -> Result<(), MotionError> {
+        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
+        let finite = [p1, a1, p2, a2].iter().all(|v| v.is_finite());
+        if finite && 0.0 < p1 && p1 < p2 && 0.0 < a1 && a1 < a2 {
+            return Ok(());
+        }
+        Err(MotionError::BadLaw {
+            what: format!(
+                "a two-period law needs 0 < Π1 < Π2 and 0 < α1 < α2; got Π1 = {p1}, \
+                 Π2 = {p2}, α1 = {a1}, α2 = {a2}"
+            ),
         })
+    }
+
+    /// out = Π^(order)(α) for every α (checked to lie in [0, α2]).
+    pub fn eval_into(
+        &self,
+        alpha: &[f64],
+        order: usize,
+        n_threads: Option<i64>,
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
+        self.validate()?;
+        let why = " [rad] (the law runs from α = 0 to the full angle α2)";
+        check_range("alpha", alpha, self.angle, why)?;
+        par_fill(alpha, out, n_threads, self.evaluator(order.min(3)))
     }
 }
 
@@ -679,7 +637,7 @@ mod tests {
     fn pieces_join_smoothly() {
         for name in ["modified_sine", "modified_trapezoid"] {
             let law = Law::rise(name).unwrap();
-            for w in law.segments.windows(2) {
+            for w in law.fast.windows(2) {
                 let x = w[0].x1;
                 for order in 0..3 {
                     let (a, b) = (w[0].eval(x, order), w[1].eval(x, order));

@@ -201,24 +201,15 @@ impl Frame {
 
     #[inline]
     fn at(&self, theta: f64, third: bool) -> Kin {
-        self.kin(
-            sin_cos(theta).swap(),
-            sin_cos(self.beta0 - self.k * theta).swap(),
-            third,
-        )
+        self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), third)
     }
 }
 
-trait Swap {
-    fn swap(self) -> (f64, f64);
-}
-
-impl Swap for (f64, f64) {
-    /// (sin, cos) → (cos, sin).
-    #[inline(always)]
-    fn swap(self) -> (f64, f64) {
-        (self.1, self.0)
-    }
+/// (cos x, sin x).
+#[inline(always)]
+fn cos_sin(x: f64) -> (f64, f64) {
+    let (s, c) = sin_cos(x);
+    (c, s)
 }
 
 /// Root of f on [lo, hi] where f(lo), f(hi) differ in sign (Illinois variant of
@@ -425,7 +416,7 @@ impl PinScan {
     /// Sample the pin path of `f` (its rod length is not used).
     fn fill(&mut self, f: &Frame, table: &Table) {
         let m = table.len();
-        let (c0, s0) = sin_cos(f.beta0).swap();
+        let (c0, s0) = cos_sin(f.beta0);
         for v in [
             &mut self.u2,
             &mut self.upx1,
@@ -817,13 +808,21 @@ pub fn sweep_into(
     // Validate every axis value (each with the first values of the other axes),
     // and build one table per gear ratio.
     let base = grid.design(0);
+    // One table per gear ratio, and for every (R, r) pair (in grid order, one per
+    // block of d values) the index of its table.
     let mut tables: Vec<(f64, Table)> = Vec::new();
+    let mut table_at: Vec<usize> = Vec::with_capacity(grid.big_r.len() * grid.r.len());
     for &big_r in grid.big_r {
         for &r in grid.r {
             let ratio = Design { big_r, r, ..base }.validate()?;
-            if !tables.iter().any(|(q, _)| *q == ratio) {
-                tables.push((ratio, Table::new(ratio, spec.samples)));
-            }
+            let k = match tables.iter().position(|(q, _)| *q == ratio) {
+                Some(k) => k,
+                None => {
+                    tables.push((ratio, Table::new(ratio, spec.samples)));
+                    tables.len() - 1
+                }
+            };
+            table_at.push(k);
         }
     }
     for &d in grid.d {
@@ -835,17 +834,13 @@ pub fn sweep_into(
     for &phi0 in grid.phi0 {
         Design { phi0, ..base }.validate()?;
     }
-    let table_of = |d: &Design| -> &Table {
-        let q = (d.big_r / d.r).round();
-        let found = tables.iter().find(|(t, _)| *t == q);
-        &found.expect("a table per ratio").1
-    };
     let (nl, np) = (grid.l.len(), grid.phi0.len());
     let block = nl * np;
     // Rows of one pin path (block b = (R, r, d), φ0 index p) for every L.
     let group = |b: usize, p: usize, scan: &mut PinScan| -> (Vec<f64>, Vec<u8>) {
         let design = grid.design(b * block + p);
-        let table = table_of(&design);
+        // Block b is (R, r, d) in C order: its (R, r) pair is b / len(d).
+        let table = &tables[table_at[b / grid.d.len()]].1;
         let mut f = design.frame();
         scan.fill(&f, table);
         let mut out = vec![0.0; nl * nc];
