@@ -189,6 +189,8 @@ def press_sweep(
     d: npt.NDArray[np.float64],
     l: npt.NDArray[np.float64],
     phi0: npt.NDArray[np.float64],
+    rows: npt.NDArray[np.float64],
+    status: npt.NDArray[np.uint8],
     *,
     offset: float,
     k_sp: float | None,
@@ -196,5 +198,5 @@ def press_sweep(
     omega: float,
     samples: int,
     n_threads: int | None = None,
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8]]: ...
+) -> None: ...
 def pareto_mask(points: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]: ...

@@ -479,14 +479,18 @@ def sweep(
         (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
     )
     threads = threads_arg(n_threads)
-    rows, status = [], []
+    table = np.empty((n, len(CRITERIA)))
+    status = np.empty(n, dtype=np.uint8)
     t0 = time.perf_counter()
     try:
         for start in range(0, len(flat[lead]), step):
             part = list(flat)
             part[lead] = flat[lead][start : start + step]
-            rw, st = _core.press_sweep(
+            lo, hi = start * inner, min(start + step, len(flat[lead])) * inner
+            _core.press_sweep(
                 *part,
+                table[lo:hi],
+                status[lo:hi],
                 offset=off,
                 k_sp=k,
                 working_stroke=s,
@@ -494,14 +498,11 @@ def sweep(
                 samples=m,
                 n_threads=threads,
             )
-            rows.append(rw)
-            status.append(st)
-            bar.update(len(st))
+            bar.update(hi - lo)
     finally:
         bar.close()
-    table = np.concatenate(rows) if len(rows) > 1 else rows[0]
     values = {c: table[:, j].reshape(shape) for j, c in enumerate(CRITERIA)}
-    st = (np.concatenate(status) if len(status) > 1 else status[0]).reshape(shape)
+    st = status.reshape(shape)
     return PressSweep(axes, fixed, values, st, w, k, s, m, elapsed=time.perf_counter() - t0)
 
 

@@ -4,7 +4,8 @@ use cyclomech_core::pareto;
 use cyclomech_core::press::{self, Design, Grid, KinOut, PressError, Spec, Stroke, CRITERIA};
 use numpy::ndarray::IxDyn;
 use numpy::{
-    PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+    PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1,
+    PyReadwriteArray2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 
@@ -147,14 +148,13 @@ pub fn press_solve<'py>(
     Ok(out)
 }
 
-/// Criteria rows and status codes of a sweep.
-type SweepArrays<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArray1<u8>>);
-
-/// Criteria over the Cartesian grid of designs (C order R, r, d, L, φ0): rows
-/// (n, 14) in the order of `press_criteria_names()` and status (n,) uint8.
+/// Criteria over the Cartesian grid of designs (C order R, r, d, L, φ0), written
+/// into `rows` (n, 14), in the order of `press_criteria_names()`, and `status`
+/// (n,) uint8: the caller allocates the whole sweep's output once and passes a
+/// chunk's slice, so that nothing is copied afterwards.
 #[pyfunction]
-#[pyo3(signature = (big_r, r, d, l, phi0, *, offset, k_sp, working_stroke, omega, samples, n_threads=None))]
-#[allow(clippy::too_many_arguments)] // the grid's axes and the criteria's settings
+#[pyo3(signature = (big_r, r, d, l, phi0, rows, status, *, offset, k_sp, working_stroke, omega, samples, n_threads=None))]
+#[allow(clippy::too_many_arguments)] // the grid's axes, the outputs and the criteria's settings
 pub fn press_sweep<'py>(
     py: Python<'py>,
     big_r: PyReadonlyArray1<'py, f64>,
@@ -162,13 +162,15 @@ pub fn press_sweep<'py>(
     d: PyReadonlyArray1<'py, f64>,
     l: PyReadonlyArray1<'py, f64>,
     phi0: PyReadonlyArray1<'py, f64>,
+    mut rows: PyReadwriteArray2<'py, f64>,
+    mut status: PyReadwriteArray1<'py, u8>,
     offset: f64,
     k_sp: Option<f64>,
     working_stroke: Option<f64>,
     omega: f64,
     samples: usize,
     n_threads: Option<i64>,
-) -> PyResult<SweepArrays<'py>> {
+) -> PyResult<()> {
     let grid = Grid {
         big_r: contiguous(py, "R", &big_r)?,
         r: contiguous(py, "r", &r)?,
@@ -179,20 +181,26 @@ pub fn press_sweep<'py>(
     };
     let spec = spec(py, k_sp, working_stroke, omega, samples)?;
     let n = grid.len();
-    let rows = PyArrayDyn::<f64>::zeros(py, IxDyn(&[n, CRITERIA.len()]), false);
-    let status = PyArray1::<u8>::zeros(py, n, false);
-    {
-        let internal = |_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous");
-        let (mut rw, mut sw) = (rows.readwrite(), status.readwrite());
-        let (rs, ss) = (
-            rw.as_slice_mut().map_err(internal)?,
-            sw.as_slice_mut().map_err(internal)?,
-        );
-        run(py, "press.sweep", || {
-            press::sweep_into(&grid, &spec, n_threads, rs, ss)
-        })?;
+    let want = [n, CRITERIA.len()];
+    if rows.shape() != want || status.shape() != [n] {
+        return Err(bad(
+            py,
+            format!(
+                "rows must have shape {want:?} and status ({n},) for {n} designs; got {:?} and {:?}",
+                rows.shape(),
+                status.shape()
+            ),
+        ));
     }
-    Ok((rows, status))
+    let rs = rows
+        .as_slice_mut()
+        .map_err(|_| bad(py, "rows must be C-contiguous".into()))?;
+    let ss = status
+        .as_slice_mut()
+        .map_err(|_| bad(py, "status must be C-contiguous".into()))?;
+    run(py, "press.sweep", || {
+        press::sweep_into(&grid, &spec, n_threads, rs, ss)
+    })
 }
 
 /// True for the rows of `points` (n, m) that no other row dominates (lower is

@@ -216,7 +216,7 @@ fn cos_sin(x: f64) -> (f64, f64) {
 /// regula falsi: superlinear, and never leaves the bracket), to within `xtol`
 /// in x: successive estimates closer than that end the search.
 fn root(
-    f: impl Fn(f64) -> f64,
+    mut f: impl FnMut(f64) -> f64,
     mut lo: f64,
     mut hi: f64,
     mut flo: f64,
@@ -472,11 +472,14 @@ impl PinScan {
     }
 }
 
+/// A Newton step at most this large (relative to 1 + |x|) is taken as the last.
+const NEWTON_LAST: f64 = 1e-9;
+
 /// Root of f on [lo, hi] (f(lo), f(hi) of opposite signs) by Newton's method
 /// from `x0`, kept inside the bracket by bisection (`rtsafe`); `f` returns the
 /// value and the derivative.
 fn rtsafe(
-    f: impl Fn(f64) -> (f64, f64),
+    mut f: impl FnMut(f64) -> (f64, f64),
     mut lo: f64,
     mut hi: f64,
     flo: f64,
@@ -513,11 +516,13 @@ fn rtsafe(
             return x;
         }
         let newton = x - step;
-        let next = if (newton - lo) * (newton - hi) < 0.0 {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
+        let inside = (newton - lo) * (newton - hi) < 0.0;
+        // Newton's error squares: after a step of 1e-9 the next one is below
+        // rounding, so the step is the last (one evaluation fewer per root).
+        if inside && step.abs() <= NEWTON_LAST * (1.0 + x.abs()) {
+            return newton;
+        }
+        let next = if inside { newton } else { 0.5 * (lo + hi) };
         if (next - x).abs() <= 2.0 * f64::EPSILON * (1.0 + x.abs()) {
             return next;
         }
@@ -530,19 +535,80 @@ fn rtsafe(
 /// rod-independent rows; a separate function so that the slices are known not to
 /// alias and the loop is vectorised.
 #[inline(never)]
-fn scan_rod(l2: f64, pin: [&[f64]; 6], out: [&mut Vec<f64>; 3]) {
-    let [u2, upx1, hh, py, py1, py2] = pin;
-    let [y, dy, ddy] = out;
-    let m = u2.len();
-    let (y, dy, ddy) = (&mut y[..m], &mut dy[..m], &mut ddy[..m]);
-    let (upx1, hh, py, py1, py2) = (&upx1[..m], &hh[..m], &py[..m], &py1[..m], &py2[..m]);
-    for j in 0..m {
-        let w = (l2 - u2[j]).sqrt();
-        let iw = 1.0 / w;
-        let g = upx1[j] * iw;
-        y[j] = py[j] - w;
-        dy[j] = py1[j] + g;
-        ddy[j] = py2[j] + (hh[j] + g * g) * iw;
+/// Returns the indices of the lowest and highest sample of y and of the largest
+/// |y''| (the first one of ties).
+fn scan_rod(l2: f64, pin: [&[f64]; 6], out: [&mut Vec<f64>; 3]) -> [usize; 3] {
+    pulp::Arch::new().dispatch(RodScan { l2, pin, out })
+}
+
+/// Lanes of the extreme search: independent running extremes, merged at the end.
+const LANES: usize = 4;
+
+/// Index of the first smallest of `key(x)` (`sign` = 1) or of the first largest
+/// (`sign` = −1), `LANES` comparisons at a time without branches.
+#[inline(always)]
+fn arg_extreme(x: &[f64], sign: f64, key: impl Fn(f64) -> f64) -> usize {
+    let mut best = [f64::INFINITY; LANES];
+    let mut at = [0.0f64; LANES];
+    let blocks = x.chunks_exact(LANES);
+    let rest = blocks.remainder();
+    for (b, block) in blocks.enumerate() {
+        let base = (b * LANES) as f64;
+        for l in 0..LANES {
+            let v = sign * key(block[l]);
+            let lt = v < best[l];
+            best[l] = if lt { v } else { best[l] };
+            at[l] = if lt { base + l as f64 } else { at[l] };
+        }
+    }
+    let (mut v, mut i) = (f64::INFINITY, 0usize);
+    for l in 0..LANES {
+        let j = at[l] as usize;
+        if best[l] < v || (best[l] == v && j < i) {
+            (v, i) = (best[l], j);
+        }
+    }
+    let start = x.len() - rest.len();
+    for (k, &r) in rest.iter().enumerate() {
+        if sign * key(r) < v {
+            (v, i) = (sign * key(r), start + k);
+        }
+    }
+    i
+}
+
+/// [`scan_rod`]'s loop, compiled once per instruction set (AVX2 + FMA where the
+/// processor has them, plain SSE2 otherwise) and picked at run time.
+struct RodScan<'a, 'b> {
+    l2: f64,
+    pin: [&'a [f64]; 6],
+    out: [&'b mut Vec<f64>; 3],
+}
+
+impl pulp::WithSimd for RodScan<'_, '_> {
+    type Output = [usize; 3];
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> [usize; 3] {
+        let RodScan { l2, pin, out } = self;
+        let [u2, upx1, hh, py, py1, py2] = pin;
+        let [y, dy, ddy] = out;
+        let m = u2.len();
+        let (y, dy, ddy) = (&mut y[..m], &mut dy[..m], &mut ddy[..m]);
+        let (upx1, hh, py, py1, py2) = (&upx1[..m], &hh[..m], &py[..m], &py1[..m], &py2[..m]);
+        for j in 0..m {
+            let w = (l2 - u2[j]).sqrt();
+            let iw = 1.0 / w;
+            let g = upx1[j] * iw;
+            y[j] = py[j] - w;
+            dy[j] = py1[j] + g;
+            ddy[j] = py2[j] + (hh[j] + g * g) * iw;
+        }
+        [
+            arg_extreme(y, 1.0, |v| v),
+            arg_extreme(y, -1.0, |v| v),
+            arg_extreme(ddy, -1.0, f64::abs),
+        ]
     }
 }
 
@@ -561,8 +627,9 @@ fn criteria_with(
         return Status::NoReach;
     }
     let l2 = f.l * f.l;
+    let at = |x: f64, third: bool| f.at(x, third);
     // One branch-free pass over the turn (vectorised): height, slope, curvature.
-    {
+    let [j_lo, j_hi, j_acc] = {
         let PinScan {
             u2,
             upx1,
@@ -575,42 +642,40 @@ fn criteria_with(
             ddy,
             ..
         } = &mut *scan;
-        scan_rod(l2, [u2, upx1, hh, py, py1, py2], [y, dy, ddy]);
-    }
+        scan_rod(l2, [u2, upx1, hh, py, py1, py2], [y, dy, ddy])
+    };
     let (ys, dys, ddys) = (&scan.y[..m], &scan.dy[..m], &scan.ddy[..m]);
-    let (mut j_lo, mut j_hi, mut j_acc) = (0, 0, 0);
-    for j in 1..m {
-        if ys[j] < ys[j_lo] {
-            j_lo = j;
-        }
-        if ys[j] > ys[j_hi] {
-            j_hi = j;
-        }
-        if ddys[j].abs() > ddys[j_acc].abs() {
-            j_acc = j;
-        }
-    }
     let h = TAU / m as f64;
     let prev = |j: usize| (j + m - 1) % m;
     let next = |j: usize| (j + 1) % m;
     // Dead centres: roots of y' between the neighbours of the sample extremes,
-    // by Newton with y''.
-    let dead = |j: usize| -> (f64, f64) {
+    // by Newton with y'', the first step taken from the sample's own y', y''.
+    // Each returns (θ, y, y'') there, y and y'' carried from the last evaluation
+    // by Taylor (its distance to the root is below the last Newton step).
+    let dead = |j: usize| -> (f64, f64, f64) {
         let th = table.theta(j);
         let (glo, ghi) = (dys[prev(j)], dys[next(j)]);
         if glo * ghi < 0.0 {
+            let mut last = (th, None);
             let g = |x: f64| {
-                let k = f.at(x, false);
+                let k = at(x, false);
+                last = (x, Some(k));
                 (k.dy, k.ddy)
             };
-            let t = rtsafe(g, th - h, th + h, glo, ghi, th);
-            (t, f.at(t, false).y)
+            let t = rtsafe(g, th - h, th + h, glo, ghi, th - dys[j] / ddys[j]);
+            match last {
+                (x, Some(k)) => {
+                    let e = t - x;
+                    (t, k.y + e * (k.dy + 0.5 * e * k.ddy), k.ddy)
+                }
+                _ => (t, ys[j], ddys[j]),
+            }
         } else {
-            (th, ys[j])
+            (th, ys[j], ddys[j])
         }
     };
-    let (th_b, y_b) = dead(j_lo);
-    let (th_t, y_t) = dead(j_hi);
+    let (th_b, y_b, ddy_b) = dead(j_lo);
+    let (th_t, y_t, ddy_t) = dead(j_hi);
     let y_t = y_t.max(ys[j_hi]);
     let y_b = y_b.min(ys[j_lo]);
     let s_n = y_t - y_b;
@@ -637,22 +702,25 @@ fn criteria_with(
     let th_top = th_b - wrap(th_b - th_t);
     let mut top_pending = th_top < th_b;
     // The point after the current one in θ: (θ, S, −y'').
-    let (mut nx_th, mut nx_s, mut nx_g) = (th_b, 0.0, -f.at(th_b, false).ddy);
-    let mut peaks: [(f64, f64); 4] = [(0.0, 0.0); 4];
+    let (mut nx_th, mut nx_s, mut nx_g) = (th_b, 0.0, -ddy_b);
+    // Brackets (θ_lo, θ_hi, y''(θ_lo), y''(θ_hi)) of the speed peaks.
+    let mut peaks: [(f64, f64, f64, f64); 4] = [(0.0, 0.0, 0.0, 0.0); 4];
     let mut n_peaks = 0;
     let mut best_v = f64::NEG_INFINITY;
     let mut th_p = f64::NAN;
+    let mut kp: (f64, Option<Kin>) = (f64::NAN, None);
     for _ in 0..=m + 1 {
         // The next point back: TDC if it lies before the next sample.
         let (th, s, v, g, sample) = if top_pending && th_top >= theta_j {
             top_pending = false;
-            (th_top, s_n, 0.0, -f.at(th_t, false).ddy, false)
+            (th_top, s_n, 0.0, -ddy_t, false)
         } else {
             (theta_j, ys[j] - y_b, -dys[j], -ddys[j], true)
         };
         if s >= s_p {
             let g = |x: f64| {
-                let k = f.at(x, false);
+                let k = at(x, false);
+                kp = (x, Some(k));
                 (k.y - y_b - s_p, k.dy)
             };
             let guess = th + (nx_th - th) * (s - s_p) / (s - nx_s);
@@ -664,7 +732,7 @@ fn criteria_with(
         }
         best_v = best_v.max(v);
         if g > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
-            peaks[n_peaks] = (th, nx_th);
+            peaks[n_peaks] = (th, nx_th, -g, -nx_g);
             n_peaks += 1;
         }
         (nx_th, nx_s, nx_g) = (th, s, g);
@@ -678,24 +746,42 @@ fn criteria_with(
         return Status::LongStroke;
     }
     let alpha_p = th_b - th_p;
-    let kp = f.at(th_p, false);
-    let v_np = -kp.dy;
+    // y', y'' at the start of the working stroke, by Taylor from the last
+    // evaluation of its search.
+    let (dy_p, ddy_p) = match kp {
+        (x, Some(k)) => (k.dy + (th_p - x) * k.ddy, k.ddy),
+        _ => {
+            let k = at(th_p, false);
+            (k.dy, k.ddy)
+        }
+    };
+    let v_np = -dy_p;
     // The last stretch, from the start of the working stroke to the first point.
-    if -kp.ddy > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
-        peaks[n_peaks] = (th_p, nx_th);
+    if -ddy_p > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
+        peaks[n_peaks] = (th_p, nx_th, ddy_p, -nx_g);
         n_peaks += 1;
     }
-    // Speed peaks inside the working stroke: roots of y'' by Newton with y'''.
+    // Speed peaks inside the working stroke: roots of y'' by Newton with y''',
+    // from the secant of the bracket's ends; Π' there by Taylor from the last
+    // evaluation.
     let mut v_max = v_np.max(best_v);
-    for &(lo, hi) in &peaks[..n_peaks] {
-        let g = |x: f64| {
-            let k = f.at(x, true);
-            (k.ddy, k.dddy)
-        };
-        let (glo, ghi) = (g(lo).0, g(hi).0);
+    for &(lo, hi, glo, ghi) in &peaks[..n_peaks] {
         if glo * ghi < 0.0 {
-            let t = rtsafe(g, lo, hi, glo, ghi, 0.5 * (lo + hi));
-            v_max = v_max.max(-f.at(t, false).dy);
+            let mut last = (lo, None);
+            let g = |x: f64| {
+                let k = at(x, true);
+                last = (x, Some(k));
+                (k.ddy, k.dddy)
+            };
+            let t = rtsafe(g, lo, hi, glo, ghi, lo + (hi - lo) * glo / (glo - ghi));
+            let dy = match last {
+                (x, Some(k)) => {
+                    let e = t - x;
+                    k.dy + e * (k.ddy + 0.5 * e * k.dddy)
+                }
+                _ => at(t, false).dy,
+            };
+            v_max = v_max.max(-dy);
         }
     }
     // Acceleration peak over the turn: every sampled local maximum of |y''| within
@@ -709,12 +795,21 @@ fn criteria_with(
         }
         let th_a = table.theta(q);
         let sgn = ddys[q].signum();
-        let g3 = |x: f64| sgn * f.at(x, true).dddy;
         let (lo, hi) = (th_a - h, th_a + h);
-        let (glo, ghi) = (g3(lo), g3(hi));
+        let (glo, ghi) = (sgn * at(lo, true).dddy, sgn * at(hi, true).dddy);
         if glo > 0.0 && ghi < 0.0 {
+            let mut last = (lo, None);
+            let g3 = |x: f64| {
+                let k = at(x, true);
+                last = (x, Some(k));
+                sgn * k.dddy
+            };
             let t = root(g3, lo, hi, glo, ghi, 1e-9 * h);
-            a_max = a_max.max(f.at(t, false).ddy.abs());
+            let ddy = match last {
+                (x, Some(k)) => k.ddy + (t - x) * k.dddy,
+                _ => at(t, false).ddy,
+            };
+            a_max = a_max.max(ddy.abs());
         }
     }
     let w = spec.omega;
