@@ -408,14 +408,16 @@ class Cyclogram:
 
     def add_constraint(
         self,
-        coeffs: Mapping[tuple[str, str], float],
-        sense: str,
-        rhs: float,
+        coeffs: Mapping[tuple[str, str], float] | Constraint,
+        sense: str | None = None,
+        rhs: float | None = None,
         name: str | None = None,
     ) -> None:
         """Add Σ coeffs[(x, y)]·t(x, y) (sense) rhs, with sense ``"<="``, ``">="`` or ``"=="``.
 
-        Angles in degrees. The operations named in ``coeffs`` must exist.
+        Angles in degrees. The operations named in ``coeffs`` must exist. A
+        :class:`Constraint` (e.g. from :meth:`cyclomech.impact.StopImpact.constraint`)
+        may be passed alone.
 
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
@@ -424,6 +426,17 @@ class Cyclogram:
         >>> cg.constraints[0].describe()
         '-0.003·t(3,7) <= -0.108'
         """
+        if isinstance(coeffs, Constraint):
+            if sense is not None or rhs is not None:
+                raise InputError("pass a Constraint alone, or coeffs, sense and rhs; not both")
+            coeffs, sense, rhs, name = (
+                dict(coeffs.coeffs),
+                coeffs.sense,
+                coeffs.rhs,
+                coeffs.name if name is None else name,
+            )
+        if sense is None or rhs is None:
+            raise InputError("add_constraint needs coeffs, sense and rhs (or one Constraint)")
         name = str(name) if name is not None else f"constraint {len(self._constraints) + 1}"
         if any(c.name == name for c in self._constraints):
             raise InputError(
