@@ -66,9 +66,11 @@ pub enum DuhamelError {
     #[error("{field} must be {want}; got {value}")]
     Count {
         field: &'static str,
-        value: usize,
+        value: i64,
         want: &'static str,
     },
+    #[error("{field} must be a C-contiguous float64 array{what}")]
+    Layout { field: &'static str, what: String },
     #[error("{field}[{index}] must be finite; got {value}")]
     NotFinite {
         field: &'static str,
