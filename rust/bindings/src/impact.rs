@@ -19,8 +19,8 @@ use crate::errors::{run, IntoPyErr};
 // the stubs); keep it the core's.
 const _: () = assert!(MAX_EVENTS == 10000);
 
-fn layout(py: Python<'_>, field: &'static str, what: String) -> PyErr {
-    DuhamelError::Layout { field, what }.into_pyerr(py)
+fn layout(py: Python<'_>, field: &'static str) -> PyErr {
+    DuhamelError::Layout { field }.into_pyerr(py)
 }
 
 /// Contiguous view of a 1-D array (the Python layer passes C-contiguous arrays).
@@ -29,7 +29,7 @@ fn slice<'a>(
     field: &'static str,
     a: &'a PyReadonlyArray1<'_, f64>,
 ) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|_| layout(py, field, String::new()))
+    a.as_slice().map_err(|_| layout(py, field))
 }
 
 /// A (B, N) array as (flat row-major slice, B, N).
@@ -39,11 +39,7 @@ fn rows<'a>(
     a: &'a PyReadonlyArray2<'_, f64>,
 ) -> PyResult<(&'a [f64], usize, usize)> {
     let (b, n) = (a.shape()[0], a.shape()[1]);
-    Ok((
-        a.as_slice().map_err(|_| layout(py, field, String::new()))?,
-        b,
-        n,
-    ))
+    Ok((a.as_slice().map_err(|_| layout(py, field))?, b, n))
 }
 
 /// A count from Python (an int that may be negative) as usize, or a typed error.

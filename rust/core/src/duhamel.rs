@@ -69,8 +69,8 @@ pub enum DuhamelError {
         value: i64,
         want: &'static str,
     },
-    #[error("{field} must be a C-contiguous float64 array{what}")]
-    Layout { field: &'static str, what: String },
+    #[error("{field} must be a C-contiguous float64 array")]
+    Layout { field: &'static str },
     #[error("{field}[{index}] must be finite; got {value}")]
     NotFinite {
         field: &'static str,
@@ -783,6 +783,10 @@ fn run_loop<const WITH_V: bool>(
 ) -> Result<(), DuhamelError> {
     let n = t.len();
     let (force, q_out) = (&force[..n], &mut q_out[..n]);
+    if n == 1 {
+        // No step uses the only force: check it here.
+        check_finite("force", force)?;
+    }
     let v_out = if WITH_V { &mut v_out[..n] } else { v_out };
     q_out[0] = q0;
     if WITH_V {
@@ -1838,6 +1842,18 @@ mod tests {
         );
         let e = run(&t, &[0.0, f64::NAN, 0.0], &osc, 0.0, &mut q);
         assert_eq!(e.to_string(), "force[1] must be finite; got NaN");
+        let e = run(&[0.0], &[f64::NAN], &osc, 0.0, &mut q[..1]);
+        assert!(
+            matches!(
+                e,
+                DuhamelError::NotFinite {
+                    field: "force",
+                    index: 0,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let e = run(&t, &[0.0, 0.0, f64::NEG_INFINITY], &osc, 0.0, &mut q);
         assert!(
             matches!(
