@@ -4,7 +4,7 @@ Arrays in are C-contiguous (the Python layer coerces user input); arrays out are
 new float64/int64/bool arrays. Every error is a ``cyclomech.CyclomechError``.
 """
 
-from typing import Any, Literal, final
+from typing import Any, Literal, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -15,6 +15,11 @@ __all__ = [
     "MotionLaw",
     "TwoPeriodKernel",
     "__version__",
+    "contact_response",
+    "contact_sample",
+    "duhamel",
+    "duhamel_batch",
+    "first_rebound_batch",
     "longest_path",
     "max_cycle_ratio",
     "max_speed",
@@ -200,3 +205,81 @@ def press_sweep(
     n_threads: int | None = None,
 ) -> None: ...
 def pareto_mask(points: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]: ...
+
+# Stop impact (seed 000). Forces are piecewise linear between samples and held
+# after the last one; a repeated time is a jump. Per-case arrays of the batches
+# have one entry per row of `forces`. Errors are cyclomech.InputError.
+
+@overload
+def duhamel(
+    t: npt.NDArray[np.float64],
+    force: npt.NDArray[np.float64],
+    omega_n: float,
+    zeta: float,
+    mass: float,
+    q0: float,
+    v0: float,
+    *,
+    with_velocity: Literal[False] = False,
+) -> npt.NDArray[np.float64]: ...
+@overload
+def duhamel(
+    t: npt.NDArray[np.float64],
+    force: npt.NDArray[np.float64],
+    omega_n: float,
+    zeta: float,
+    mass: float,
+    q0: float,
+    v0: float,
+    *,
+    with_velocity: Literal[True],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def duhamel_batch(
+    t: npt.NDArray[np.float64],
+    forces: npt.NDArray[np.float64],
+    omega_n: npt.NDArray[np.float64],
+    zeta: npt.NDArray[np.float64],
+    mass: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    v0: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def first_rebound_batch(
+    t: npt.NDArray[np.float64],
+    forces: npt.NDArray[np.float64],
+    omega_n: npt.NDArray[np.float64],
+    zeta: npt.NDArray[np.float64],
+    mass: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    v0: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def contact_response(
+    mass: float,
+    k_free: float,
+    k_stop: float,
+    preload: float,
+    zeta_free: float,
+    zeta_contact: float,
+    x0: float,
+    v0: float,
+    *,
+    t_end: float = ...,
+    max_rebounds: int = 1000,
+    max_events: int = 10000,
+) -> dict[str, Any]: ...
+def contact_sample(
+    mass: float,
+    k_free: float,
+    k_stop: float,
+    preload: float,
+    zeta_free: float,
+    zeta_contact: float,
+    x0: float,
+    v0: float,
+    times: npt.NDArray[np.float64],
+    *,
+    max_events: int = 10000,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...

@@ -5,6 +5,7 @@
 //! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
 //! itself a `ValueError`.
 
+use cyclomech_core::duhamel::DuhamelError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
@@ -66,6 +67,15 @@ impl IntoPyErr for MotionError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
             MotionError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
+        }
+    }
+}
+
+impl IntoPyErr for DuhamelError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            DuhamelError::Threads(e) => e.into_pyerr(py),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }

@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod impact;
 mod linkage;
 mod motion;
 mod press;
@@ -14,6 +15,10 @@ mod schedule;
 
 #[pymodule]
 mod _core {
+    #[pymodule_export]
+    use super::impact::{
+        contact_response, contact_sample, duhamel, duhamel_batch, first_rebound_batch,
+    };
     #[pymodule_export]
     use super::linkage::LinkageProgram;
     #[pymodule_export]

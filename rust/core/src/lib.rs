@@ -10,6 +10,9 @@
 //!   times, slack, critical arcs, batches of weight vectors.
 //! * [`cycle_ratio`] — maximum cycle ratio (Howard's policy iteration) and the
 //!   highest main-shaft speed at which a cyclic schedule fits in its cycle.
+//! * [`duhamel`] — stop impact (seed 000): the exact forced-oscillator recurrence
+//!   (Duhamel integral of a piecewise-linear force), the first rebound after a
+//!   pulse, and the link on its stop as an exact event-driven unilateral contact.
 //! * [`linkage`] — planar linkages over crank-angle grids by Assur groups:
 //!   positions, velocity and acceleration analogs, assembly and dead-centre flags.
 //! * [`motion`] — dimensionless motion laws (rise and half forms) and the
@@ -21,6 +24,7 @@
 //!   `CYCLOMECH_THREADS`.
 
 pub mod cycle_ratio;
+pub mod duhamel;
 pub mod geom;
 pub mod linkage;
 pub mod motion;

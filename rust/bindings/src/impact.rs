@@ -1,0 +1,353 @@
+//! Bindings of the impact domain: the forced oscillator (Duhamel integral of a
+//! piecewise-linear force), first rebounds, and the link on its stop.
+
+// Aliased: the Python function `duhamel` takes the module's name.
+use cyclomech_core::duhamel as kernel;
+use cyclomech_core::duhamel::{
+    Cases, Contact, ContactHistory, DuhamelError, Oscillator, MAX_EVENTS,
+};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{run, IntoPyErr};
+
+// The signatures spell the default out (so that it shows in Python's help and
+// the stubs); keep it the core's.
+const _: () = assert!(MAX_EVENTS == 10000);
+
+fn layout(py: Python<'_>, field: &'static str) -> PyErr {
+    DuhamelError::Layout { field }.into_pyerr(py)
+}
+
+/// Contiguous view of a 1-D array (the Python layer passes C-contiguous arrays).
+fn slice<'a>(
+    py: Python<'_>,
+    field: &'static str,
+    a: &'a PyReadonlyArray1<'_, f64>,
+) -> PyResult<&'a [f64]> {
+    a.as_slice().map_err(|_| layout(py, field))
+}
+
+/// A (B, N) array as (flat row-major slice, B, N).
+fn rows<'a>(
+    py: Python<'_>,
+    field: &'static str,
+    a: &'a PyReadonlyArray2<'_, f64>,
+) -> PyResult<(&'a [f64], usize, usize)> {
+    let (b, n) = (a.shape()[0], a.shape()[1]);
+    Ok((a.as_slice().map_err(|_| layout(py, field))?, b, n))
+}
+
+/// A count from Python (an int that may be negative) as usize, or a typed error.
+fn count(py: Python<'_>, field: &'static str, value: i64) -> PyResult<usize> {
+    usize::try_from(value)
+        .ok()
+        .filter(|&v| v >= 1)
+        .ok_or_else(|| {
+            DuhamelError::Count {
+                field,
+                value,
+                want: ">= 1",
+            }
+            .into_pyerr(py)
+        })
+}
+
+/// Two float64 arrays of one length: (time, q) or (x, v).
+type Pair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+fn internal(_: numpy::AsSliceError) -> PyErr {
+    pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous")
+}
+
+/// The per-case arrays of a batch, each of length B = the rows of `forces`.
+struct CaseArrays<'py> {
+    omega_n: PyReadonlyArray1<'py, f64>,
+    zeta: PyReadonlyArray1<'py, f64>,
+    mass: PyReadonlyArray1<'py, f64>,
+    q0: PyReadonlyArray1<'py, f64>,
+    v0: PyReadonlyArray1<'py, f64>,
+}
+
+impl<'py> CaseArrays<'py> {
+    fn view(&self, py: Python<'_>, b: usize) -> PyResult<Cases<'_>> {
+        let fields: [(&'static str, &PyReadonlyArray1<'py, f64>); 5] = [
+            ("omega_n", &self.omega_n),
+            ("zeta", &self.zeta),
+            ("mass", &self.mass),
+            ("q0", &self.q0),
+            ("v0", &self.v0),
+        ];
+        let mut views = Vec::with_capacity(5);
+        for (field, a) in fields {
+            let s = slice(py, field, a)?;
+            if s.len() != b {
+                return Err(DuhamelError::Length {
+                    field,
+                    got: s.len(),
+                    want: format!("B = {b} entries (one per row of forces)"),
+                }
+                .into_pyerr(py));
+            }
+            views.push(s);
+        }
+        Ok(Cases {
+            omega_n: views[0],
+            zeta: views[1],
+            mass: views[2],
+            q0: views[3],
+            v0: views[4],
+        })
+    }
+}
+
+/// Response q (N,) of m q̈ + 2ζω m q̇ + mω² q = F(t) to the piecewise-linear force
+/// `force` (N,) sampled at `t` (N,, non-decreasing; a repeated time is a jump),
+/// from q(t[0]) = q0, q̇(t[0]) = v0; with `with_velocity`, (q, q̇).
+#[pyfunction]
+#[pyo3(signature = (t, force, omega_n, zeta, mass, q0, v0, *, with_velocity=false))]
+#[allow(clippy::too_many_arguments)] // the oscillator, its start and the option
+pub fn duhamel<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    force: PyReadonlyArray1<'py, f64>,
+    omega_n: f64,
+    zeta: f64,
+    mass: f64,
+    q0: f64,
+    v0: f64,
+    with_velocity: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (ts, fs) = (slice(py, "t", &t)?, slice(py, "force", &force)?);
+    let osc = Oscillator {
+        omega_n,
+        zeta,
+        mass,
+    };
+    let n = ts.len();
+    let q = PyArray1::<f64>::zeros(py, n, false);
+    if !with_velocity {
+        {
+            let mut qw = q.readwrite();
+            let qs = qw.as_slice_mut().map_err(internal)?;
+            run(py, "duhamel", || {
+                kernel::response_into(ts, fs, &osc, q0, v0, qs, None)
+            })?;
+        }
+        return Ok(q.into_any());
+    }
+    let v = PyArray1::<f64>::zeros(py, n, false);
+    {
+        let (mut qw, mut vw) = (q.readwrite(), v.readwrite());
+        let (qs, vs) = (
+            qw.as_slice_mut().map_err(internal)?,
+            vw.as_slice_mut().map_err(internal)?,
+        );
+        run(py, "duhamel", || {
+            kernel::response_into(ts, fs, &osc, q0, v0, qs, Some(vs))
+        })?;
+    }
+    Ok((q, v).into_pyobject(py)?.into_any())
+}
+
+/// Responses q (B, N) of B oscillators (ω, ζ, m, q0, v0 each (B,)) to the forces
+/// (B, N) on one grid `t` (N,), in parallel over the cases.
+#[pyfunction]
+#[pyo3(signature = (t, forces, omega_n, zeta, mass, q0, v0, *, n_threads=None))]
+#[allow(clippy::too_many_arguments)] // the grid, the forces and five per-case arrays
+pub fn duhamel_batch<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    forces: PyReadonlyArray2<'py, f64>,
+    omega_n: PyReadonlyArray1<'py, f64>,
+    zeta: PyReadonlyArray1<'py, f64>,
+    mass: PyReadonlyArray1<'py, f64>,
+    q0: PyReadonlyArray1<'py, f64>,
+    v0: PyReadonlyArray1<'py, f64>,
+    n_threads: Option<i64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let ts = slice(py, "t", &t)?;
+    let (fs, b, n) = rows(py, "forces", &forces)?;
+    check_columns(py, n, ts.len())?;
+    let arrays = CaseArrays {
+        omega_n,
+        zeta,
+        mass,
+        q0,
+        v0,
+    };
+    let cases = arrays.view(py, b)?;
+    let out = PyArray2::<f64>::zeros(py, [b, n], false);
+    {
+        let mut ow = out.readwrite();
+        let os = ow.as_slice_mut().map_err(internal)?;
+        run(py, "duhamel_batch", || {
+            kernel::response_batch_into(ts, fs, &cases, n_threads, os)
+        })?;
+    }
+    Ok(out)
+}
+
+fn check_columns(py: Python<'_>, columns: usize, times: usize) -> PyResult<()> {
+    if columns == times {
+        return Ok(());
+    }
+    Err(DuhamelError::Length {
+        field: "forces",
+        got: columns,
+        want: format!("{times} columns (one per time in t)"),
+    }
+    .into_pyerr(py))
+}
+
+/// First rebounds of B oscillators driven by the pulse tables `forces` (B, K) on
+/// one time grid `t` (K,): (time (B,), q (B,)), the first local extremum of q
+/// after t[0] (time = +inf and q = the static limit if there is none).
+#[pyfunction]
+#[pyo3(signature = (t, forces, omega_n, zeta, mass, q0, v0, *, n_threads=None))]
+#[allow(clippy::too_many_arguments)] // the grid, the forces and five per-case arrays
+pub fn first_rebound_batch<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    forces: PyReadonlyArray2<'py, f64>,
+    omega_n: PyReadonlyArray1<'py, f64>,
+    zeta: PyReadonlyArray1<'py, f64>,
+    mass: PyReadonlyArray1<'py, f64>,
+    q0: PyReadonlyArray1<'py, f64>,
+    v0: PyReadonlyArray1<'py, f64>,
+    n_threads: Option<i64>,
+) -> PyResult<Pair<'py>> {
+    let ts = slice(py, "t", &t)?;
+    let (fs, b, k) = rows(py, "forces", &forces)?;
+    check_columns(py, k, ts.len())?;
+    let arrays = CaseArrays {
+        omega_n,
+        zeta,
+        mass,
+        q0,
+        v0,
+    };
+    let cases = arrays.view(py, b)?;
+    let (time, q) = (
+        PyArray1::<f64>::zeros(py, b, false),
+        PyArray1::<f64>::zeros(py, b, false),
+    );
+    {
+        let (mut tw, mut qw) = (time.readwrite(), q.readwrite());
+        let (tsl, qsl) = (
+            tw.as_slice_mut().map_err(internal)?,
+            qw.as_slice_mut().map_err(internal)?,
+        );
+        run(py, "first_rebound_batch", || {
+            kernel::first_rebound_batch_into(ts, fs, &cases, n_threads, tsl, qsl)
+        })?;
+    }
+    Ok((time, q))
+}
+
+fn history_dict<'py>(py: Python<'py>, h: ContactHistory) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("contact_start", h.contact_start.into_pyarray(py))?;
+    d.set_item("impact_velocity", h.impact_velocity.into_pyarray(py))?;
+    d.set_item("contact_end", h.contact_end.into_pyarray(py))?;
+    d.set_item("exit_velocity", h.exit_velocity.into_pyarray(py))?;
+    d.set_item("contact_duration", h.contact_duration.into_pyarray(py))?;
+    d.set_item("penetration_time", h.penetration_time.into_pyarray(py))?;
+    d.set_item("penetration", h.penetration.into_pyarray(py))?;
+    d.set_item("rebound_time", h.rebound_time.into_pyarray(py))?;
+    d.set_item("rebound_height", h.rebound_height.into_pyarray(py))?;
+    d.set_item("n_events", h.n_events)?;
+    d.set_item("end", h.end.name())?;
+    d.set_item("t_stop", h.t_stop)?;
+    d.set_item("x_stop", h.x_stop)?;
+    d.set_item("v_stop", h.v_stop)?;
+    Ok(d)
+}
+
+/// The event history of a link (mass m, free stiffness k_free, stop stiffness
+/// k_stop, preload δ, damping ratios per regime) released at x0 with velocity v0
+/// at t = 0; the stop is at x = 0, contact for x < 0. A dict of arrays (contact
+/// starts, ends, durations, impact and exit velocities, penetrations, rebound
+/// times and heights) and scalars (n_events, end, t_stop, x_stop, v_stop).
+#[pyfunction]
+#[pyo3(signature = (mass, k_free, k_stop, preload, zeta_free, zeta_contact, x0, v0, *, t_end=f64::INFINITY, max_rebounds=1000, max_events=10000))]
+#[allow(clippy::too_many_arguments)] // the link, its start and the limits
+pub fn contact_response<'py>(
+    py: Python<'py>,
+    mass: f64,
+    k_free: f64,
+    k_stop: f64,
+    preload: f64,
+    zeta_free: f64,
+    zeta_contact: f64,
+    x0: f64,
+    v0: f64,
+    t_end: f64,
+    max_rebounds: i64,
+    max_events: i64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let stop = Contact {
+        mass,
+        k_free,
+        k_stop,
+        preload,
+        zeta_free,
+        zeta_contact,
+    };
+    let max_rebounds = count(py, "max_rebounds", max_rebounds)?;
+    let max_events = count(py, "max_events", max_events)?;
+    let h = run(py, "contact_response", || {
+        kernel::contact_response(&stop, x0, v0, t_end, max_rebounds, max_events)
+    })?;
+    history_dict(py, h)
+}
+
+/// x(t), ẋ(t) of the same history at `times` (non-decreasing, >= 0), by the
+/// same piecewise closed form.
+#[pyfunction]
+#[pyo3(signature = (mass, k_free, k_stop, preload, zeta_free, zeta_contact, x0, v0, times, *, max_events=10000))]
+#[allow(clippy::too_many_arguments)] // the link, its start, the times and the limit
+pub fn contact_sample<'py>(
+    py: Python<'py>,
+    mass: f64,
+    k_free: f64,
+    k_stop: f64,
+    preload: f64,
+    zeta_free: f64,
+    zeta_contact: f64,
+    x0: f64,
+    v0: f64,
+    times: PyReadonlyArray1<'py, f64>,
+    max_events: i64,
+) -> PyResult<Pair<'py>> {
+    let stop = Contact {
+        mass,
+        k_free,
+        k_stop,
+        preload,
+        zeta_free,
+        zeta_contact,
+    };
+    let max_events = count(py, "max_events", max_events)?;
+    let ts = slice(py, "times", &times)?;
+    let n = ts.len();
+    let (x, v) = (
+        PyArray1::<f64>::zeros(py, n, false),
+        PyArray1::<f64>::zeros(py, n, false),
+    );
+    {
+        let (mut xw, mut vw) = (x.readwrite(), v.readwrite());
+        let (xs, vs) = (
+            xw.as_slice_mut().map_err(internal)?,
+            vw.as_slice_mut().map_err(internal)?,
+        );
+        run(py, "contact_sample", || {
+            kernel::contact_sample_into(&stop, x0, v0, ts, max_events, xs, vs)
+        })?;
+    }
+    Ok((x, v))
+}
