@@ -6,7 +6,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import motion, press
+from . import impact, motion, press
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -38,6 +38,7 @@ __all__ = [
     "SolverError",
     "SpeedLimit",
     "__version__",
+    "impact",
     "longest_path",
     "max_cycle_ratio",
     "motion",

@@ -15,6 +15,7 @@ __all__ = [
     "MotionLaw",
     "TwoPeriodKernel",
     "__version__",
+    "contact_rebound_batch",
     "contact_response",
     "contact_sample",
     "duhamel",
@@ -254,8 +255,20 @@ def first_rebound_batch(
     q0: npt.NDArray[np.float64],
     v0: npt.NDArray[np.float64],
     *,
+    maximum: bool = False,
     n_threads: int | None = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def contact_rebound_batch(
+    mass: float,
+    k_free: float,
+    k_stop: float,
+    preload: float,
+    zeta_free: float,
+    zeta_contact: float,
+    v0: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
 def contact_response(
     mass: float,
     k_free: float,

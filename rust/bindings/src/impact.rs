@@ -206,9 +206,10 @@ fn check_columns(py: Python<'_>, columns: usize, times: usize) -> PyResult<()> {
 
 /// First rebounds of B oscillators driven by the pulse tables `forces` (B, K) on
 /// one time grid `t` (K,): (time (B,), q (B,)), the first local extremum of q
-/// after t[0] (time = +inf and q = the static limit if there is none).
+/// after t[0] (with `maximum`, the first local maximum; time = +inf and q = the
+/// static limit if there is none).
 #[pyfunction]
-#[pyo3(signature = (t, forces, omega_n, zeta, mass, q0, v0, *, n_threads=None))]
+#[pyo3(signature = (t, forces, omega_n, zeta, mass, q0, v0, *, maximum=false, n_threads=None))]
 #[allow(clippy::too_many_arguments)] // the grid, the forces and five per-case arrays
 pub fn first_rebound_batch<'py>(
     py: Python<'py>,
@@ -219,6 +220,7 @@ pub fn first_rebound_batch<'py>(
     mass: PyReadonlyArray1<'py, f64>,
     q0: PyReadonlyArray1<'py, f64>,
     v0: PyReadonlyArray1<'py, f64>,
+    maximum: bool,
     n_threads: Option<i64>,
 ) -> PyResult<Pair<'py>> {
     let ts = slice(py, "t", &t)?;
@@ -243,7 +245,7 @@ pub fn first_rebound_batch<'py>(
             qw.as_slice_mut().map_err(internal)?,
         );
         run(py, "first_rebound_batch", || {
-            kernel::first_rebound_batch_into(ts, fs, &cases, n_threads, tsl, qsl)
+            kernel::first_rebound_batch_into(ts, fs, &cases, maximum, n_threads, tsl, qsl)
         })?;
     }
     Ok((time, q))
@@ -350,4 +352,41 @@ pub fn contact_sample<'py>(
         })?;
     }
     Ok((x, v))
+}
+
+/// First rebound heights [m] of one link on its stop, one per impact velocity
+/// `v0` (B,) (negative: towards the stop, from x = 0), in parallel.
+#[pyfunction]
+#[pyo3(signature = (mass, k_free, k_stop, preload, zeta_free, zeta_contact, v0, *, n_threads=None))]
+#[allow(clippy::too_many_arguments)] // the link, the velocities and the threads
+pub fn contact_rebound_batch<'py>(
+    py: Python<'py>,
+    mass: f64,
+    k_free: f64,
+    k_stop: f64,
+    preload: f64,
+    zeta_free: f64,
+    zeta_contact: f64,
+    v0: PyReadonlyArray1<'py, f64>,
+    n_threads: Option<i64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let stop = Contact {
+        mass,
+        k_free,
+        k_stop,
+        preload,
+        zeta_free,
+        zeta_contact,
+    };
+    let vs = slice(py, "v0", &v0)?;
+    let x0 = vec![0.0; vs.len()];
+    let out = PyArray1::<f64>::zeros(py, vs.len(), false);
+    {
+        let mut ow = out.readwrite();
+        let os = ow.as_slice_mut().map_err(internal)?;
+        run(py, "contact_rebound_batch", || {
+            kernel::contact_rebound_batch_into(&stop, &x0, vs, n_threads, os)
+        })?;
+    }
+    Ok(out)
 }

@@ -17,7 +17,8 @@ mod schedule;
 mod _core {
     #[pymodule_export]
     use super::impact::{
-        contact_response, contact_sample, duhamel, duhamel_batch, first_rebound_batch,
+        contact_rebound_batch, contact_response, contact_sample, duhamel, duhamel_batch,
+        first_rebound_batch,
     };
     #[pymodule_export]
     use super::linkage::LinkageProgram;

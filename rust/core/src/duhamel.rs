@@ -936,13 +936,26 @@ pub fn first_rebound(
     q0: f64,
     v0: f64,
 ) -> Result<Rebound, DuhamelError> {
+    first_turn(t, force, osc, q0, v0, false)
+}
+
+/// [`first_rebound`], or with `maximum` the first local maximum of q (minima
+/// passed over): the rebound of a link that first presses into its stop.
+pub fn first_turn(
+    t: &[f64],
+    force: &[f64],
+    osc: &Oscillator,
+    q0: f64,
+    v0: f64,
+    maximum: bool,
+) -> Result<Rebound, DuhamelError> {
     osc.validate()?;
     finite("q0", q0)?;
     finite("v0", v0)?;
     check_times("t", t)?;
     length("force", force.len(), t.len(), "one per time")?;
     check_finite("force", force)?;
-    rebound(t, force, &osc.mode(), 1.0 / osc.mass, q0, v0)
+    rebound(t, force, &osc.mode(), 1.0 / osc.mass, q0, v0, maximum)
 }
 
 /// The direction q̇ leaves 0 in, from q̇ = v, q̈ = a and the force's quasi-static
@@ -964,11 +977,15 @@ fn rebound(
     inv_m: f64,
     q0: f64,
     v0: f64,
+    maximum: bool,
 ) -> Result<Rebound, DuhamelError> {
     let (sig, w2) = (mode.sigma, mode.w2);
     let (mut q, mut v) = (q0, v0);
     // The sign q̇ has had since it became non-zero (0: not moving yet).
     let mut s = sign(v0);
+    // Is a turn with q̇ of sign `s` before it the one wanted? (With `maximum`,
+    // minima are passed over.)
+    let wanted = |s: f64| !maximum || s > 0.0;
     let range = |h| DuhamelError::Range {
         h,
         omega_n: mode.omega,
@@ -979,66 +996,94 @@ fn rebound(
         if h == 0.0 {
             continue; // a jump of the force: the state is unchanged
         }
-        let (p0, p1) = (fw[0] * inv_m, (fw[1] - fw[0]) * inv_m / h);
-        // q̇(τ) = c + y(τ), y unforced with y(0) = v − c, y'(0) = q̈(0).
-        let c = p1 / w2;
-        let a0 = p0 - 2.0 * sig * v - w2 * q;
-        if s == 0.0 {
-            s = start_sign(v, a0, c);
+        let slope = (fw[1] - fw[0]) / h;
+        // The segment from (t_a, f_a) to its end; t_a moves past passed-over minima.
+        let (mut t_a, mut f_a) = (tw[0], fw[0]);
+        loop {
+            let rest = tw[1] - t_a;
+            let (p0, p1) = (f_a * inv_m, slope * inv_m);
+            // q̇(τ) = c + y(τ), y unforced with y(0) = v − c, y'(0) = q̈(0).
+            let c = p1 / w2;
+            let a0 = p0 - 2.0 * sig * v - w2 * q;
             if s == 0.0 {
-                // At rest under a constant force (q̇ = q̈ = 0, c = 0): exactly so
-                // to the segment's end; stepping would only add rounding noise.
+                s = start_sign(v, a0, c);
+                if s == 0.0 {
+                    // At rest under a constant force (q̇ = q̈ = 0, c = 0): exactly
+                    // so to the segment's end; stepping would only add rounding noise.
+                    break;
+                }
+            }
+            if let Some(tau) = mode.crossing(v - c, a0, -c, s, true).filter(|&x| x <= rest) {
+                let f_tau = f_a + slope * tau;
+                let (qt, _) = Step::new(mode, tau, inv_m).apply(q, v, f_a, f_tau);
+                if wanted(s) {
+                    return Ok(Rebound {
+                        time: t_a + tau,
+                        q: qt,
+                    });
+                }
+                // A minimum: go on from it, q̇ = 0 there, its new sign from q̈.
+                (q, v, s) = (qt, 0.0, 0.0);
+                (t_a, f_a) = (t_a + tau, f_tau);
                 continue;
             }
-        }
-        if let Some(tau) = mode.crossing(v - c, a0, -c, s, true).filter(|&x| x <= h) {
-            let f_tau = fw[0] + (fw[1] - fw[0]) * (tau / h);
-            let (qt, _) = Step::new(mode, tau, inv_m).apply(q, v, fw[0], f_tau);
-            return Ok(Rebound {
-                time: tw[0] + tau,
-                q: qt,
-            });
-        }
-        let st = Step::new(mode, h, inv_m);
-        if !st.is_finite() {
-            return Err(range(h));
-        }
-        (q, v) = st.apply(q, v, fw[0], fw[1]);
-        if s * v <= 0.0 {
-            // The crossing rounds onto the end of the segment.
-            return Ok(Rebound { time: tw[1], q });
+            let st = Step::new(mode, rest, inv_m);
+            if !st.is_finite() {
+                return Err(range(rest));
+            }
+            (q, v) = st.apply(q, v, f_a, fw[1]);
+            if s * v <= 0.0 {
+                // The turn rounds onto the end of the segment.
+                if wanted(s) {
+                    return Ok(Rebound { time: tw[1], q });
+                }
+                s = 0.0;
+            }
+            break;
         }
     }
     // After the last sample: constant force, static deflection q_s, and q̇ is
-    // itself an unforced motion, whose first zero is in closed form.
-    let (t_last, f_last) = (t[t.len() - 1], force[force.len() - 1]);
+    // itself an unforced motion, whose zeros are in closed form.
+    let (mut t_last, f_last) = (t[t.len() - 1], force[force.len() - 1]);
     let q_s = f_last * inv_m / w2;
-    let a0 = f_last * inv_m - 2.0 * sig * v - w2 * q;
     let never = Rebound {
         time: f64::INFINITY,
         q: q_s,
     };
-    if s == 0.0 && start_sign(v, a0, 0.0) == 0.0 {
-        return Ok(never);
+    for _ in 0..2 {
+        let a0 = f_last * inv_m - 2.0 * sig * v - w2 * q;
+        let before = if s == 0.0 { start_sign(v, a0, 0.0) } else { s };
+        if before == 0.0 {
+            return Ok(never);
+        }
+        let Some(tau) = mode.first_zero(v, a0) else {
+            return Ok(never);
+        };
+        let qt = q_s + mode.eval(q - q_s, v, tau).0;
+        if wanted(before) {
+            return Ok(Rebound {
+                time: t_last + tau,
+                q: qt,
+            });
+        }
+        // Passed over a minimum: the next turn is a maximum.
+        (q, v, s, t_last) = (qt, 0.0, 0.0, t_last + tau);
     }
-    Ok(match mode.first_zero(v, a0) {
-        Some(tau) => Rebound {
-            time: t_last + tau,
-            q: q_s + mode.eval(q - q_s, v, tau).0,
-        },
-        None => never,
-    })
+    Ok(never)
 }
 
 /// Cases per rayon task of the peak-only batch.
 const REBOUND_TASK: usize = 64;
 
 /// First rebounds of B oscillators driven by B pulse tables (B, K) on one time
-/// grid `t` (K,): `time_out` (B,) and `q_out` (B,).
+/// grid `t` (K,): `time_out` (B,) and `q_out` (B,); with `maximum`, the first
+/// local maxima (see [`first_turn`]).
+#[allow(clippy::too_many_arguments)] // the grid, the cases, the kind and the outputs
 pub fn first_rebound_batch_into(
     t: &[f64],
     forces: &[f64],
     cases: &Cases<'_>,
+    maximum: bool,
     n_threads: Option<i64>,
     time_out: &mut [f64],
     q_out: &mut [f64],
@@ -1051,7 +1096,7 @@ pub fn first_rebound_batch_into(
     let one = |i: usize, f: &[f64]| -> Result<Rebound, DuhamelError> {
         let (mode, inv_m, q0, v0) = cases.case(i)?;
         check_finite("force", f)
-            .and_then(|_| rebound(t, f, &mode, inv_m, q0, v0))
+            .and_then(|_| rebound(t, f, &mode, inv_m, q0, v0, maximum))
             .map_err(DuhamelError::case(i))
     };
     let block = |j: usize, f: &[f64], to: &mut [f64], qo: &mut [f64]| {
@@ -1350,6 +1395,51 @@ pub fn contact_response(
             (h.end, h.t_stop, h.x_stop, h.v_stop) = (ContactEnd::MaxEvents, t, x, v);
             return Ok(h);
         }
+    }
+}
+
+/// First rebound heights [m] of one link on its stop for many impact states
+/// (x0, v0) in parallel: the highest point of the first free flight after a
+/// contact, 0 where the link never leaves the stop again.
+pub fn contact_rebound_batch_into(
+    stop: &Contact,
+    x0: &[f64],
+    v0: &[f64],
+    n_threads: Option<i64>,
+    out: &mut [f64],
+) -> Result<(), DuhamelError> {
+    length("v0", v0.len(), x0.len(), "one per x0")?;
+    length("out", out.len(), x0.len(), "one per case")?;
+    let one = |i: usize| -> Result<f64, DuhamelError> {
+        let h = contact_response(stop, x0[i], v0[i], f64::INFINITY, 1, MAX_EVENTS)
+            .map_err(DuhamelError::case(i))?;
+        Ok(h.rebound_height.first().copied().unwrap_or(0.0))
+    };
+    let threads = resolve_threads(n_threads)?;
+    if threads == 1 || x0.len() < 2 * REBOUND_TASK {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = one(i)?;
+        }
+        return Ok(());
+    }
+    let first_error = pool(threads)?.install(|| {
+        out.par_chunks_mut(REBOUND_TASK)
+            .enumerate()
+            .filter_map(|(j, os)| {
+                for (r, o) in os.iter_mut().enumerate() {
+                    let i = j * REBOUND_TASK + r;
+                    match one(i) {
+                        Ok(v) => *o = v,
+                        Err(e) => return Some((i, e)),
+                    }
+                }
+                None
+            })
+            .min_by_key(|(i, _)| *i)
+    });
+    match first_error {
+        Some((_, e)) => Err(e),
+        None => Ok(()),
     }
 }
 
@@ -1706,7 +1796,7 @@ mod tests {
             .collect();
         for threads in [1, 2] {
             let (mut tt, mut qq) = (vec![0.0; w.len()], vec![0.0; w.len()]);
-            first_rebound_batch_into(&tk, &pulses, &cases, Some(threads), &mut tt, &mut qq)
+            first_rebound_batch_into(&tk, &pulses, &cases, false, Some(threads), &mut tt, &mut qq)
                 .unwrap();
             for i in 0..w.len() {
                 let osc = Oscillator::new(w[i], z[i], m[i]).unwrap();
@@ -1735,8 +1825,9 @@ mod tests {
             );
             assert_eq!(e.to_string(), "case 2: force[1] must be finite; got NaN");
             let (mut a, mut b) = (vec![0.0; 4], vec![0.0; 4]);
-            let e = first_rebound_batch_into(&t, &forces, &cases, Some(threads), &mut a, &mut b)
-                .unwrap_err();
+            let e =
+                first_rebound_batch_into(&t, &forces, &cases, false, Some(threads), &mut a, &mut b)
+                    .unwrap_err();
             assert!(matches!(e, DuhamelError::Case { row: 2, .. }), "{e}");
         }
         let z = [0.0, 0.0, 0.0, -0.1];
@@ -1962,6 +2053,51 @@ mod tests {
 
     // ---------------------------------------------------------------------
     // First rebound.
+
+    #[test]
+    fn first_maximum_passes_over_minima() {
+        // Undamped free vibration from q = 0 moving down at 1: the first turn is
+        // the minimum −1/ω at a quarter period, the first maximum +1/ω at three.
+        let w = 5.0;
+        let osc = Oscillator::new(w, 0.0, 1.0).unwrap();
+        let r = first_turn(&[0.0], &[0.0], &osc, 0.0, -1.0, true).unwrap();
+        assert!((r.time - 1.5 * PI / w).abs() < 1e-14 && (r.q - 1.0 / w).abs() < 1e-15);
+        let r = first_turn(&[0.0], &[0.0], &osc, 0.0, -1.0, false).unwrap();
+        assert!((r.time - 0.5 * PI / w).abs() < 1e-14 && (r.q + 1.0 / w).abs() < 1e-15);
+        // A link pressed into its stop and thrown back by a rectangular pulse: the
+        // minimum falls inside the pulse, the maximum after it; against a fine
+        // history scan.
+        let osc = Oscillator::new(2.0 * PI * 297.0, 0.05, 7.4e-3).unwrap();
+        let (tau, v0) = (6.5e-4, 0.2);
+        let force = 7.4e-3 * (1.0 + 5.0 / 9.0) * v0 / tau;
+        let r = first_turn(&[0.0, tau, tau], &[force, force, 0.0], &osc, 0.0, -v0, true).unwrap();
+        // The scan's grid holds τ twice, so that its force jumps there too.
+        let (n1, n2) = (13_001, 187_001);
+        let dt = (0.01 - tau) / (n2 - 1) as f64;
+        let mut t: Vec<f64> = (0..n1).map(|i| tau * i as f64 / (n1 - 1) as f64).collect();
+        t.extend((0..n2).map(|i| tau + dt * i as f64));
+        let mut f = vec![force; n1];
+        f.extend(vec![0.0; n2]);
+        let n = t.len();
+        let mut q = vec![0.0; n];
+        response_into(&t, &f, &osc, 0.0, -v0, &mut q, None).unwrap();
+        let i_min = (1..n).find(|&i| q[i] > q[i - 1]).unwrap();
+        let i_max = (i_min..n).find(|&i| q[i] < q[i - 1]).unwrap() - 1;
+        assert!(t[i_min] < tau && t[i_max] > tau);
+        assert!(
+            (r.time - t[i_max]).abs() < 2.0 * dt,
+            "{} vs {}",
+            r.time,
+            t[i_max]
+        );
+        // The scan misses the top by at most (ω·dt)²/2 of it.
+        assert!(
+            r.q >= q[i_max] && r.q - q[i_max] < 1e-8 * r.q.abs(),
+            "{} vs {}",
+            r.q,
+            q[i_max]
+        );
+    }
 
     #[test]
     fn first_rebound_closed_forms() {
@@ -2732,8 +2868,16 @@ mod tests {
         let (mut tt, mut qq) = (vec![0.0; bb], vec![0.0; bb]);
         for threads in [1usize, 2] {
             let t0 = Instant::now();
-            first_rebound_batch_into(&tk, &pulses, &cases, Some(threads as i64), &mut tt, &mut qq)
-                .unwrap();
+            first_rebound_batch_into(
+                &tk,
+                &pulses,
+                &cases,
+                false,
+                Some(threads as i64),
+                &mut tt,
+                &mut qq,
+            )
+            .unwrap();
             let dt = t0.elapsed().as_secs_f64();
             println!(
                 "batch peak-only (3-point pulse, ζ in [0, 3]), {threads} thread(s): {:.3e} cases/s, {:.0}x faster per case than the 10,000-step history",
