@@ -510,6 +510,107 @@ def _press_figures(st: Any, c: Any, opt: Any, out: Path) -> list[Path]:
     return written
 
 
+def _impact_command(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .impact import ImpactStudy
+
+    st = ImpactStudy.from_toml(args.file)
+    m, name = st.stop, st.name or Path(args.file).stem
+    two_pi = 2 * math.pi
+    print(
+        f"{name}: {m.law.name} rise of {m.stroke * 1e3:g} mm, preload {m.preload * 1e3:g} mm, "
+        f"{m.model} model"
+    )
+    print(
+        f"  free {m.omega_free / two_pi:.4g} Hz, in contact {m.omega_contact / two_pi:.4g} Hz, "
+        f"contact time {m.contact_time * 1e3:.4g} ms, meets the stop at j = {m.j_contact:.4f} "
+        f"of the rise"
+    )
+    rpm, phase = st.rpm, st.phase_deg
+    a = m.rebound(rpm[:, None], phase[None, :])  # one call over the grid
+    v0 = m.impact_speed(rpm[:, None], phase[None, :])
+    force = m.impact_force(rpm[:, None], phase[None, :])
+    t_min = np.atleast_1d(m.min_phase_angle(st.a_max, rpm))
+    top = float(rpm.max())
+    lo, hi = float(phase.min()), float(phase.max())
+    slope, intercept = m.linearize((lo, hi), top)
+    shown = sorted({0, len(rpm) // 2, len(rpm) - 1})
+    rows = [
+        [
+            f"{rpm[i]:g}",
+            f"{a[i, len(phase) // 2] * 1e3:.4g}",
+            f"{force[i, len(phase) // 2]:.4g}",
+            f"{t_min[i]:.4g}" if math.isfinite(t_min[i]) else "none ≤ 360",
+        ]
+        for i in shown
+    ]
+    mid = phase[len(phase) // 2]
+    print(
+        _table(
+            rows,
+            ["rpm", f"rebound at {mid:g}° [mm]", "impact force [N]", "min phase angle [°]"],
+        )
+    )
+    print(
+        f"  linearised at {top:g} rpm over {lo:g}–{hi:g}°: "
+        f"a = {slope * 1e3:.4g}·t + {intercept * 1e3:.4g} mm (the seed: −0.003·t + 0.208)"
+    )
+    out = _out_folder(args)
+    grid_rpm, grid_phase = np.meshgrid(rpm, phase, indexing="ij")
+    np.savetxt(
+        out / "rebound.csv",
+        np.column_stack(
+            [grid_rpm.ravel(), grid_phase.ravel(), v0.ravel(), force.ravel(), a.ravel() * 1e3]
+        ),
+        delimiter=",",
+        comments="",
+        fmt="%.12g",
+        header="rpm,phase_deg,impact_speed_m_per_s,impact_force_N,rebound_mm",
+    )
+    np.savetxt(
+        out / "min_phase.csv",
+        np.column_stack([rpm, t_min]),
+        delimiter=",",
+        comments="",
+        fmt="%.12g",
+        header=f"rpm,min_phase_deg_for_rebound_le_{st.a_max * 1e3:g}_mm",
+    )
+    written = [out / "rebound.csv", out / "min_phase.csv"]
+    summary = {
+        "schema": "cyclomech.impact/1",
+        "name": name,
+        "model": m.model,
+        "free_hz": m.omega_free / two_pi,
+        "contact_hz": m.omega_contact / two_pi,
+        "contact_time_s": m.contact_time,
+        "j_contact": m.j_contact,
+        "a_max_m": st.a_max,
+        "rpm": rpm.tolist(),
+        "min_phase_deg": [v if math.isfinite(v) else None for v in t_min.tolist()],
+        "linearized": {"rpm": top, "slope_m_per_deg": slope, "intercept_m": intercept},
+    }
+    if st.arc is not None and math.isfinite(t_min[-1]):
+        c = m.constraint(st.arc, st.a_max, top)
+        summary["constraint"] = {"at_rpm": top, "text": c.describe()}
+        print(f"  cyclogram constraint at {top:g} rpm: {c.describe()}")
+    (out / "impact.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    written.append(out / "impact.json")
+    if not args.no_plot and _has_matplotlib():
+        from .plot import plot_rebound_vs_speed, plot_response
+
+        fig = plot_rebound_vs_speed(m, rpm, phase_deg=[lo, mid, hi], a_max=st.a_max, title=name)
+        _save(fig, out / "rebound_vs_speed.png", written)
+        t, q = m.response(top, float(mid))
+        k = int(np.argmax(q))
+        ax = plot_response(
+            t, q, rebound=(float(t[k]), float(q[k])), title=f"{name}: {top:g} rpm, {mid:g}°"
+        )
+        _save(ax.figure, out / "response.png", written)
+    print("\nwrote " + ", ".join(str(w) for w in written))
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
     parser = argparse.ArgumentParser(prog="cyclomech", description="Design of cyclic machines.")
@@ -532,6 +633,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     r.add_argument("--step-deg", type=float, default=1.0, help="crank-angle step [°] (default 1)")
     r.add_argument("--no-plot", action="store_true", help="do not write the figures")
     r.set_defaults(run=_press_command)
+    i = sub.add_parser("impact", help="rebound at a stop against speed and phase angle (TOML)")
+    i.add_argument("file", help="impact file, e.g. examples/stb_lifter.toml")
+    i.add_argument("--out", help="output folder (default: out/<file name>)")
+    i.add_argument("--no-plot", action="store_true", help="do not write the figures")
+    i.set_defaults(run=_impact_command)
     args = parser.parse_args(argv)
     try:
         return int(args.run(args))

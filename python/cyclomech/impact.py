@@ -35,6 +35,7 @@ from .cyclogram import Constraint
 
 __all__ = [
     "ContactHistory",
+    "ImpactStudy",
     "Pulse",
     "Rebound",
     "StopImpact",
@@ -859,6 +860,48 @@ class StopImpact:
         )
         return q.reshape(shape)
 
+    def response(
+        self, rpm: float, phase_deg: float, *, duration: float | None = None, points: int = 2001
+    ) -> tuple[Array, Array]:
+        """The motion after the impact at one speed and phase angle: ``(t [s], q
+        [m])``, q the displacement of the working point away from the stop, t from
+        the instant of contact over ``duration`` (default 6 free periods), with
+        the pulse's breakpoints on the grid (pulse model: exact Duhamel response;
+        contact model: the exact event-driven motion).
+
+        >>> import cyclomech as cm
+        >>> t, q = cm.impact.StopImpact.example().response(280, 40.0)
+        >>> round(float(q.max()) * 1e3, 3)                   # mm: the first rebound
+        0.07
+        """
+        v0 = float(self.impact_speed(float(rpm), float(phase_deg)))
+        span = 12.0 * math.pi / self.omega_free if duration is None else float(duration)
+        span = _positive("duration", span, "[s]")
+        if isinstance(points, bool) or not isinstance(points, int) or points < 2:
+            raise InputError(f"points must be an integer ≥ 2; got {points!r}")
+        if self.model == "contact":
+            t = np.linspace(0.0, span, points)
+            x, _v = contact_sample(
+                t,
+                mass=self.mass,
+                k_free=self.stiffness,
+                k_stop=self.contact_stiffness - self.stiffness,
+                preload=self.preload,
+                zeta_free=self.zeta,
+                zeta_contact=_restitution_damping(self.restitution),
+                v0=-v0,
+            )
+            return t, x
+        shape = self._shape()
+        pulse_t = shape.t[shape.t < span]
+        t = np.union1d(np.linspace(0.0, span, points), pulse_t)
+        # Repeated breakpoints (jumps) stay repeated: the force there is two-valued.
+        jumps = shape.t[1:][np.diff(shape.t) == 0.0]
+        t = np.sort(np.concatenate([t, jumps[jumps < span]]))
+        f = self.mass * (1.0 + self.restitution) * v0 * _pulse_at(shape, t)
+        q = duhamel(t, f, omega_n=self.omega_free, zeta=self.zeta, mass=self.mass, q0=0.0, v0=-v0)
+        return t, q
+
     def min_phase_angle(self, a_max: float, rpm: npt.ArrayLike, *, tol_deg: float = 1e-9) -> Any:
         """Smallest phase angle [deg] whose first rebound is at most ``a_max`` [m],
         at each speed ``rpm``: the rebound falls as the phase angle grows, so a
@@ -974,6 +1017,21 @@ class StopImpact:
         )
 
 
+def _pulse_at(pulse: Pulse, t: Array) -> Array:
+    """The pulse's force at the sorted times ``t`` (zero after its table), the
+    right-hand value at a repeated time for its first copy, so that a jump at a
+    repeated breakpoint is kept."""
+    f = np.interp(t, pulse.t, pulse.f, right=0.0)
+    # np.interp takes the last of repeated xp: at a jump, the first copy of t
+    # gets the value before it.
+    for k in np.flatnonzero(np.diff(pulse.t) == 0.0):
+        at = np.flatnonzero(t == pulse.t[k])
+        if at.size >= 2:
+            f[at[0]] = pulse.f[k]
+            f[at[1:]] = pulse.f[k + 1]
+    return f
+
+
 def _nonnegative(name: str, value: Any, unit: str) -> float:
     try:
         v = float(value)
@@ -995,3 +1053,136 @@ def _phase(value: Any) -> Any:
         v = t.reshape(-1)[int(np.argmax(bad.reshape(-1)))]
         raise InputError(f"phase_deg = {float(v)!r} must lie in (0, 360] degrees")
     return t
+
+
+_STOP_KEYS = {
+    "name",
+    "law",
+    "stroke",
+    "preload",
+    "lever_length",
+    "J_A",
+    "a",
+    "b",
+    "E",
+    "J_x",
+    "mass",
+    "restitution",
+    "zeta",
+    "contact_stiffness",
+    "pulse",
+    "contact_time",
+    "model",
+}
+_STRING_KEYS = {"name", "law", "pulse", "model"}
+
+
+@dataclass(frozen=True)
+class ImpactStudy:
+    """An impact file: a lever with its stop and the speeds and phase angles to
+    study (read with :meth:`from_toml`).
+
+    The file::
+
+        [stop]
+        name = "microshuttle lifter"   # optional
+        law = "modified_sine"          # rise law of the cam (cyclomech.motion)
+        stroke = 0.0094                # [m] travel of the working point
+        preload = 0.00025              # [m]
+        lever_length = 0.1             # [m]
+        J_A = 7.4e-5                   # [kg m²]
+        a = 0.05                       # [m] lever arms
+        b = 0.1
+        E = 2.1e11                     # [Pa]
+        J_x = 6.14e-11                 # [m⁴]
+        restitution = 0.5556           # optional (5/9), also: mass, zeta, pulse,
+                                       # contact_stiffness, contact_time, model
+
+        [study]
+        rpm = [200, 450, 26]           # from, to, count
+        phase_deg = [20, 60, 41]       # from, to, count [deg]
+        a_max = 1e-4                   # [m] rebound limit
+        arc = ["3", "7"]               # optional: the cyclogram operation
+    """
+
+    stop: StopImpact
+    rpm: Array
+    phase_deg: Array
+    a_max: float
+    arc: tuple[str, str] | None = None
+    name: str = ""
+
+    @classmethod
+    def from_toml(cls, path: Any) -> ImpactStudy:
+        """Read an impact file; errors name the file, the table and the key.
+
+        >>> import cyclomech as cm
+        >>> st = cm.impact.ImpactStudy.from_toml("examples/stb_lifter.toml")
+        >>> st.rpm.size, st.phase_deg.size, st.a_max
+        (26, 41, 0.0001)
+        """
+        from . import _toml
+
+        data, src = _toml.load(path)
+        _toml.check_keys(data, {"stop", "study"}, src, "the file")
+        for t in ("stop", "study"):
+            if t not in data:
+                raise InputError(f"{src}: missing table [{t}]")
+        sp, sd = data["stop"], data["study"]
+        _toml.check_keys(sp, _STOP_KEYS, src, "[stop]")
+        _toml.check_keys(sd, {"rpm", "phase_deg", "a_max", "arc"}, src, "[study]")
+        kwargs: dict[str, Any] = {}
+        for k, v in sp.items():
+            if k == "name":
+                continue
+            if k in _STRING_KEYS:
+                if not isinstance(v, str):
+                    raise InputError(f"{src}: [stop]: {k} = {v!r} must be a string")
+            elif isinstance(v, bool) or not isinstance(v, int | float):
+                raise InputError(f"{src}: [stop]: {k} = {v!r} must be a number")
+            kwargs[k] = v
+        for k in ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"):
+            if k not in kwargs:
+                raise InputError(f"{src}: [stop]: missing key {k!r}")
+        try:
+            stop = StopImpact(**kwargs)
+        except InputError as e:
+            raise InputError(f"{src}: [stop]: {e}") from None
+
+        def span(key: str, lo: float, hi: float) -> Array:
+            if key not in sd:
+                raise InputError(f"{src}: [study]: missing key {key!r}")
+            v = sd[key]
+            ok = (
+                isinstance(v, list)
+                and len(v) == 3
+                and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+                and isinstance(v[2], int)
+                and v[2] >= 1
+                and all(math.isfinite(x) and lo < x <= hi for x in v[:2])
+            )
+            if not ok:
+                raise InputError(
+                    f"{src}: [study]: {key} = {v!r} must be [from, to, count], from and to "
+                    f"in ({lo:g}, {hi:g}] and a whole count ≥ 1"
+                )
+            return np.linspace(float(v[0]), float(v[1]), int(v[2]))
+
+        rpm = span("rpm", 0.0, 1e6)
+        phase = span("phase_deg", 0.0, 360.0)
+        if "a_max" not in sd:
+            raise InputError(f"{src}: [study]: missing key 'a_max'")
+        try:
+            a_max = _positive("a_max", sd["a_max"], "[m]")
+        except InputError as e:
+            raise InputError(f"{src}: [study]: {e}") from None
+        arc = None
+        if "arc" in sd:
+            v = sd["arc"]
+            if not (isinstance(v, list) and len(v) == 2 and all(isinstance(x, str) for x in v)):
+                raise InputError(f"{src}: [study]: arc = {v!r} must be two event names")
+            arc = (v[0], v[1])
+        name = sp.get("name", "")
+        if not isinstance(name, str):
+            raise InputError(f"{src}: [stop]: name = {name!r} must be a string")
+        return cls(stop, rpm, phase, a_max, arc, name)
