@@ -8,6 +8,7 @@ import pytest
 MODULES = [
     "cyclomech.schedule",
     "cyclomech.cyclogram",
+    "cyclomech.impact",
     "cyclomech.linkage",
     "cyclomech.linkage.presets",
     "cyclomech.motion",
@@ -31,12 +32,13 @@ def test_every_public_function_has_an_example() -> None:
     import inspect
 
     import cyclomech as cm
+    import cyclomech.impact
     import cyclomech.motion
     import cyclomech.press
 
     missing = []
     public = [(name, getattr(cm, name)) for name in cm.__all__]
-    for mod in (cyclomech.motion, cyclomech.press):
+    for mod in (cyclomech.impact, cyclomech.motion, cyclomech.press):
         public += [(f"{mod.__name__}.{n}", getattr(mod, n)) for n in mod.__all__]
     for name, obj in public:
         if inspect.ismodule(obj):
