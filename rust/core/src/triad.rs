@@ -236,15 +236,49 @@ impl Triad {
         for sign in [1.0, -1.0] {
             let step = std::f64::consts::TAU / SAMPLES as f64;
             let mut prev: Option<(f64, f64)> = None;
+            let mut before: Option<(f64, f64)> = None;
             for s in 0..=SAMPLES {
                 let psi = s as f64 * step;
                 let cur = f(psi, sign).map(|v| (psi, v));
+                // Two roots closer than a step leave no sign change between samples:
+                // a sample where |f| dips without changing sign is a start for Newton.
+                if let (Some((_, f0)), Some((mid, f1)), Some((_, f2))) = (before, prev, cur) {
+                    if f0 * f1 > 0.0
+                        && f1 * f2 > 0.0
+                        && f1.abs() < f0.abs()
+                        && f1.abs() < f2.abs()
+                        && f1.abs() < 0.05 * self.size()
+                    {
+                        if let Some(j) = self.open(k, mid, sign).and_then(|j| self.newton(k, j)) {
+                            roots.push(j);
+                        }
+                    }
+                }
                 // At an edge of the opened four-bar's range (its own dead centre) a
                 // root can sit where f stops existing, with no sign change: try
                 // Newton from the last sample that still assembles.
                 if let (Some((edge, fe)), None) | (None, Some((edge, fe))) = (prev, cur) {
                     if fe.abs() < 0.1 * self.size() {
                         if let Some(j) = self.open(k, edge, sign).and_then(|j| self.newton(k, j)) {
+                            roots.push(j);
+                        }
+                    }
+                    // f changes like a square root there, so the last sample may be
+                    // far from a root at the edge itself: bisect for the edge and
+                    // start Newton there (it keeps only a closed, oriented pose).
+                    {
+                        let mut inside = edge;
+                        let mut outside = if edge == psi { psi - step } else { psi };
+                        for _ in 0..60 {
+                            let mid = 0.5 * (inside + outside);
+                            if self.open(k, mid, sign).is_some() {
+                                inside = mid;
+                            } else {
+                                outside = mid;
+                            }
+                        }
+                        if let Some(j) = self.open(k, inside, sign).and_then(|j| self.newton(k, j))
+                        {
                             roots.push(j);
                         }
                     }
@@ -270,6 +304,7 @@ impl Triad {
                         }
                     }
                 }
+                before = prev;
                 prev = cur;
             }
         }
@@ -345,6 +380,29 @@ mod tests {
             t.arms.iter().chain(&t.sides).all(|&l| l > 0.3)
                 && cross(sub(j[1], j[0]), sub(j[2], j[0])).abs() > 0.3
         })
+    }
+
+    #[test]
+    fn bracketing_finds_a_root_at_the_edge_of_the_range() {
+        // Found by the property test below on a fresh machine: the drawn pose lies
+        // at the edge of the opened four-bar's range, between the last sample that
+        // assembles and the first that does not.
+        let k = [
+            [-0.39917138870379304, -2.8981437220848973],
+            [2.169463478376187, 0.0],
+            [-1.5575628277323534, -0.4807192288132295],
+        ];
+        let j = [
+            [-1.2714355822739363, -0.21211261572923573],
+            [1.3589427596481871, -2.8589867979771073],
+            [1.9784667200530694, 2.6553920968799956],
+        ];
+        let t = Triad::from_pose(k, j);
+        let roots = t.bracket_all(&k);
+        let near = roots
+            .iter()
+            .any(|r| (0..3).all(|i| dot(sub(r[i], j[i]), sub(r[i], j[i])).sqrt() < 1e-8));
+        assert!(near, "{} roots, none at the drawn pose", roots.len());
     }
 
     proptest! {
