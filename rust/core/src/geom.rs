@@ -57,15 +57,18 @@ const C: [f64; 6] = [
 ];
 
 /// x = k·π/2 + r with |r| ≤ π/4 (three-part Cody–Waite): (k mod 4, r), for
-/// |x| ≤ 10⁶.
+/// |x| ≤ 10⁶. Branch-free and without a float-to-integer conversion, so that
+/// loops over it run several lanes per instruction.
 #[inline(always)]
-fn reduce(x: f64) -> (i64, f64) {
+fn reduce(x: f64) -> (u64, f64) {
     // Round to nearest by the 1.5·2⁵² trick (f64::round is a libm call on baseline
-    // x86-64); exact for |x·2/π| < 2⁵¹.
+    // x86-64); exact for |x·2/π| < 2⁵¹. The low bits of the shifted value are
+    // k mod 4 (1.5·2⁵² has ulp 1).
     const ROUND: f64 = 6_755_399_441_055_744.0;
-    let k = (x * std::f64::consts::FRAC_2_PI + ROUND) - ROUND;
+    let shifted = x * std::f64::consts::FRAC_2_PI + ROUND;
+    let k = shifted - ROUND;
     let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    ((k as i64) & 3, r)
+    (shifted.to_bits() & 3, r)
 }
 
 /// fdlibm's sine kernel on |r| ≤ π/4.
@@ -131,12 +134,7 @@ pub fn sin(x: f64) -> f64 {
 /// quadrant's picked by bit masks. Bit for bit the values of [`sin`].
 #[inline(always)]
 pub fn sin_lanes(x: f64) -> f64 {
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let shifted = x * std::f64::consts::FRAC_2_PI + ROUND;
-    let k = shifted - ROUND;
-    let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    // The low bits of the shifted value are k mod 4 (1.5·2⁵² has ulp 1).
-    let q = shifted.to_bits();
+    let (q, r) = reduce(x);
     let odd = (q & 1).wrapping_neg();
     let v = (kernel_sin(r).to_bits() & !odd) | (kernel_cos(r).to_bits() & odd);
     f64::from_bits(v ^ ((q & 2) << 62))

@@ -714,8 +714,9 @@ impl Law {
     ) -> Result<(), MotionError> {
         let order = order.min(3);
         let range = ("x", 1.0, " (a law is defined on the unit square)");
-        let one = [(0.0, 1.0); 2];
-        match Lanes::new([self, self], order, f64::INFINITY, one, [(0.0, 1.0); 2]) {
+        // One law: u = (x − 0)·1, value = 0 + 1·Z.
+        let identity = [(0.0, 1.0); 2];
+        match Lanes::new([self, self], order, f64::INFINITY, identity, identity) {
             Some(l) => par_chunks(x, out, n_threads, range, |xs, os| l.eval(xs, os)),
             None => par_fill(x, out, n_threads, range, |v| self.z(v, order)),
         }
@@ -740,15 +741,24 @@ impl TwoPeriod {
         self.evaluator(order.min(3))(alpha)
     }
 
+    /// [1/α1, 1/(α2 − α1), and the factors of Z1^(order), Z2^(order) in
+    /// Π^(order)] (period II runs backwards in j, so its second derivative
+    /// changes sign).
+    fn scales(&self, order: usize) -> [f64; 4] {
+        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
+        let (ia1, ispan) = (1.0 / a1, 1.0 / (a2 - a1));
+        let s1 = p1 * ia1.powi(order as i32);
+        let s2 = (p2 - p1) * ispan.powi(order as i32) * if order == 2 { -1.0 } else { 1.0 };
+        [ia1, ispan, s1, s2]
+    }
+
     /// Π^(order) as a function of α, with its constants worked out once (no
     /// divisions by α1 or α2 − α1 and no powers per value). Period II runs
     /// backwards in j = (α2 − α)/(α2 − α1), so d/dα = −d/dj/(α2 − α1): its
     /// second derivative changes sign.
     fn evaluator(&self, order: usize) -> impl Fn(f64) -> f64 + Sync + '_ {
         let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let (ia1, ispan) = (1.0 / a1, 1.0 / (a2 - a1));
-        let s1 = p1 * ia1.powi(order as i32);
-        let s2 = (p2 - p1) * ispan.powi(order as i32) * if order == 2 { -1.0 } else { 1.0 };
+        let [ia1, ispan, s1, s2] = self.scales(order);
         let (l1, l2) = (&self.law1, &self.law2);
         move |v: f64| {
             if v <= a1 {
@@ -767,9 +777,7 @@ impl TwoPeriod {
     /// [`TwoPeriod::evaluator`] in the lane-parallel form.
     fn lanes(&self, order: usize) -> Option<Lanes> {
         let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let (ia1, ispan) = (1.0 / a1, 1.0 / (a2 - a1));
-        let s1 = p1 * ia1.powi(order as i32);
-        let s2 = (p2 - p1) * ispan.powi(order as i32) * if order == 2 { -1.0 } else { 1.0 };
+        let [ia1, ispan, s1, s2] = self.scales(order);
         // Period II: u = (α2 − α)/(α2 − α1) = (α − α2)·(−1/(α2 − α1)).
         let map = [(0.0, ia1), (a2, -ispan)];
         let second = if order == 0 {
