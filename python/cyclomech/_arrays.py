@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -49,6 +50,22 @@ def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDA
         want = " or ".join(f"{d}-D" for d in ndims)
         raise InputError(f"{name} must be a {want} array; got shape {a.shape}")
     return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def finite_number(
+    name: str, value: Any, unit: str, *, low: float | None = None, strict: bool = False
+) -> float:
+    """``value`` as a finite float, or :class:`InputError` naming ``name``, the value
+    and ``unit``; with ``low``, it must be ≥ ``low`` (> ``low`` if ``strict``)."""
+    bound = "" if low is None else f" and {'>' if strict else '≥'} {low:g}"
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number{bound} {unit}; got {value!r}") from None
+    inside = low is None or (v > low if strict else v >= low)
+    if not (math.isfinite(v) and inside):
+        raise InputError(f"{name} = {value!r} must be finite{bound} {unit}")
+    return v
 
 
 def threads_arg(n_threads: Any) -> int | None:

@@ -29,7 +29,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core, motion
-from ._arrays import float_array, threads_arg
+from ._arrays import finite_number, float_array, threads_arg
 from ._errors import InfeasibleError, InputError
 from .cyclogram import Constraint
 
@@ -55,13 +55,15 @@ Array = npt.NDArray[np.float64]
 
 
 def _positive(name: str, value: Any, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a positive number {unit}; got {value!r}") from None
-    if not (math.isfinite(v) and v > 0.0):
-        raise InputError(f"{name} = {value!r} must be finite and > 0 {unit}")
-    return v
+    return finite_number(name, value, unit, low=0.0, strict=True)
+
+
+def _nonnegative(name: str, value: Any, unit: str) -> float:
+    return finite_number(name, value, unit, low=0.0)
+
+
+def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
+    return finite_number(name, value, unit)
 
 
 def _positive_array(name: str, value: Any, unit: str) -> Array:
@@ -175,6 +177,9 @@ def contact_time(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
     c = _positive_array("stiffness", stiffness, "[N/m]")
     m = _positive_array("mass", mass, "[kg]")
     return np.pi * np.sqrt(m / c)
+
+
+_half_period = contact_time  # for StopImpact, whose argument shadows the name
 
 
 def impact_force(
@@ -371,16 +376,6 @@ class Pulse:
         f = p * np.sin(np.pi * t / d)
         f[-1] = 0.0
         return cls.table(t, f, "half_sine")
-
-
-def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number {unit}; got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"{name} = {value!r} must be finite {unit}")
-    return v
 
 
 # --- kernels ------------------------------------------------------------------------
@@ -740,7 +735,7 @@ class StopImpact:
             raise InputError(f"pulse = {pulse!r} is not a shape; choose one of {_PULSES}")
         self.pulse = pulse
         self.contact_time = (
-            float(globals()["contact_time"](self.contact_stiffness, self.mass))
+            float(_half_period(self.contact_stiffness, self.mass))
             if contact_time is None
             else _positive("contact_time", contact_time, "[s]")
         )
@@ -840,24 +835,20 @@ class StopImpact:
                 n_threads=threads,
             )
             return out.reshape(shape)
-        shape_pulse = self._shape()
+        pulse = self._shape()
         impulse = self.mass * (1.0 + self.restitution) * flat  # J_A·ω0·(1+k)/l
-        forces = np.multiply.outer(impulse, shape_pulse.f)
-        b = flat.size
-        omega = np.full(b, self.omega_free)
-        zeta = np.full(b, self.zeta)
-        mass = np.full(b, self.mass)
-        _time, q = _core.first_rebound_batch(
-            shape_pulse.t,
-            np.ascontiguousarray(forces),
-            omega,
-            zeta,
-            mass,
-            np.zeros(b),
-            np.ascontiguousarray(-flat),
+        forces = np.multiply.outer(impulse, pulse.f)
+        q = first_rebound(
+            pulse.t,
+            forces,
+            self.omega_free,
+            self.zeta,
+            self.mass,
+            0.0,
+            -flat,
             maximum=True,
-            n_threads=threads,
-        )
+            n_threads=n_threads,
+        ).q
         return q.reshape(shape)
 
     def response(
@@ -928,7 +919,7 @@ class StopImpact:
             fine = self.rebound(n, mid) <= a
             hi = np.where(fine, mid, hi)
             lo = np.where(fine, lo, mid)
-        return np.where(ok, hi, np.nan)[()] if n.ndim == 0 else np.where(ok, hi, np.nan)
+        return np.where(ok, hi, np.nan)[()]  # a float for a scalar speed
 
     def linearize(
         self, phase_deg_range: tuple[float, float], rpm: float, points: int = 64
@@ -1032,20 +1023,9 @@ def _pulse_at(pulse: Pulse, t: Array) -> Array:
     return f
 
 
-def _nonnegative(name: str, value: Any, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number ≥ 0 {unit}; got {value!r}") from None
-    if not (math.isfinite(v) and v >= 0.0):
-        raise InputError(f"{name} = {value!r} must be finite and ≥ 0 {unit}")
-    return v
-
-
 def _phase(value: Any) -> Any:
-    t = np.asarray(value, dtype=np.float64) if not isinstance(value, np.ndarray) else value
     try:
-        t = np.asarray(t, dtype=np.float64)
+        t = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise InputError(f"phase_deg must be angles in degrees; got {value!r}") from None
     bad = ~(np.isfinite(t) & (t > 0.0) & (t <= 360.0))

@@ -42,7 +42,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core
-from ._arrays import float_array, threads_arg
+from ._arrays import finite_number, float_array, threads_arg
 from ._errors import InfeasibleError, InputError
 
 __all__ = [
@@ -139,16 +139,6 @@ class PressCriteria:
         return {k: getattr(self, k) for k in (*CRITERIA, "omega", "status")}
 
 
-def _finite(name: str, value: Any, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number {unit}; got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"{name} = {value!r} must be finite {unit}")
-    return v
-
-
 def _stroke(k_Sp: Any, working_stroke: Any) -> tuple[float | None, float | None]:
     if (k_Sp is None) == (working_stroke is None):
         raise InputError(
@@ -156,18 +146,18 @@ def _stroke(k_Sp: Any, working_stroke: Any) -> tuple[float | None, float | None]
             "and working_stroke (S_p [m])"
         )
     if k_Sp is not None:
-        k = _finite("k_Sp", k_Sp, "(a fraction of the nominal stroke)")
+        k = finite_number("k_Sp", k_Sp, "(a fraction of the nominal stroke)")
         if not 0 < k <= 1:
             raise InputError(f"k_Sp = {k_Sp!r} must lie in (0, 1] (S_p/S_n)")
         return k, None
-    s = _finite("working_stroke", working_stroke, "[m]")
+    s = finite_number("working_stroke", working_stroke, "[m]")
     if s <= 0:
         raise InputError(f"working_stroke = {working_stroke!r} must be > 0 [m]")
     return None, s
 
 
 def _omega(omega: Any) -> float:
-    w = _finite("omega", omega, "[rad/s]")
+    w = finite_number("omega", omega, "[rad/s]")
     if w <= 0:
         raise InputError(f"omega = {omega!r} must be a positive crank speed [rad/s]")
     return w
@@ -213,7 +203,7 @@ class GearLeverPress:
             ("phi0", "[rad]"),
             ("offset", "[m]"),
         ):
-            object.__setattr__(self, name, _finite(name, getattr(self, name), unit))
+            object.__setattr__(self, name, finite_number(name, getattr(self, name), unit))
         # The kernel checks the geometry (R > r > 0, R/r whole, d ≥ 0, L > 0).
         _core.press_check(self.R, self.r, self.d, self.L, self.phi0, self.offset)
 
@@ -449,7 +439,7 @@ def sweep(
     k, s = _stroke(k_Sp, working_stroke)
     w = _omega(omega)
     m = _samples(samples)
-    off = _finite("offset", offset, "[m]")
+    off = finite_number("offset", offset, "[m]")
     axes: dict[str, npt.NDArray[np.float64]] = {}
     fixed: dict[str, float] = {"offset": off}
     flat: list[npt.NDArray[np.float64]] = []
@@ -614,7 +604,7 @@ def optimize(
     for name, v in lim.items():
         if name not in CRITERIA:
             raise InputError(f"limits: no criterion {name!r}; criteria are {', '.join(CRITERIA)}")
-        _finite(f"limits[{name!r}]", v, "")
+        finite_number(f"limits[{name!r}]", v, "")
     if isinstance(refine, bool) or not isinstance(refine, int) or refine < 0:
         raise InputError(f"refine must be a non-negative integer; got {refine!r}")
     for name, value in (("R", R), ("r", r)):
