@@ -82,6 +82,7 @@ import numpy.typing as npt
 import pytest
 import scipy.fft
 import scipy.signal
+from numpy.testing import assert_array_equal
 
 Array = npt.NDArray[np.float64]
 
@@ -516,6 +517,15 @@ def test_batch_sdof(benchmark, batch) -> None:
     args = (sdof, T, batch["forces"], OMEGA, batch["zeta"], MASS)
     q = benchmark.pedantic(sdof_batch, args=args, rounds=3)
     check_one(benchmark, q, batch, _sdof_bound())
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+def test_batch_memory_floor(benchmark, batch) -> None:
+    """Not a solver: the least any tool returning new (B, N) histories does, read
+    the forces and write a fresh array of their size (its pages faulted in)."""
+    _label(benchmark, "numpy", "forces * 1.0, memory floor (read B*N, write new B*N)")
+    q = benchmark.pedantic(np.multiply, args=(batch["forces"], 1.0), rounds=5)
+    assert_array_equal(q, batch["forces"])
 
 
 @full_only

@@ -448,8 +448,13 @@ def _cases(b, seed=1):
     return t, forces, omega, zeta, mass, q0, v0
 
 
-def test_batch_equals_single_rows_bit_for_bit():
-    t, forces, omega, zeta, mass, q0, v0 = _cases(9)
+@pytest.mark.parametrize("grid", ["random", "linspace"])
+def test_batch_equals_single_rows_bit_for_bit(grid):
+    # A sorted random grid goes case by case; a linspace grid (a jump at 0.01 s
+    # inserted) in lockstep groups of cases, 19 = two groups and a remainder.
+    t, forces, omega, zeta, mass, q0, v0 = _cases(9 if grid == "random" else 19)
+    if grid == "linspace":
+        t = np.sort(np.concatenate([np.linspace(0.0, 0.05, 300), [0.01]]))
     qb = impact.duhamel_batch(t, forces, omega, zeta, mass, q0, v0)
     assert qb.shape == forces.shape
     for i in range(forces.shape[0]):

@@ -880,9 +880,107 @@ impl Cases<'_> {
 /// Cases per rayon task of at least this many steps.
 const TASK_STEPS: usize = 16_384;
 
+/// Cases the batch advances in lockstep: two AVX2 registers of f64, so that
+/// the two dependent FMAs of one step of each case's (q, v) overlap across
+/// lanes instead of waiting on each other.
+const LOCK: usize = 8;
+
+/// Distinct step lengths above which a batch's grid is treated as ragged.
+const MAX_DISTINCT: usize = 256;
+
+/// A batch's shared grid: its distinct step lengths and, for each step
+/// k = 1 … N−1, which of them it is (`which[k − 1]`). Each case's coefficients
+/// are then worked out once per distinct h, outside the loop over steps.
+struct GridSteps {
+    hs: Vec<f64>,
+    which: Vec<u32>,
+}
+
+impl GridSteps {
+    /// None for a grid of more than [`MAX_DISTINCT`] step lengths (each case
+    /// then goes through its own table, see [`Steps`]). `t` is checked already.
+    fn new(t: &[f64]) -> Option<GridSteps> {
+        let mut seen = std::collections::HashMap::new();
+        let (mut hs, mut which) = (Vec::new(), Vec::with_capacity(t.len().saturating_sub(1)));
+        for w in t.windows(2) {
+            let h = w[1] - w[0];
+            let fresh = hs.len() as u32;
+            let i = *seen.entry(h.to_bits()).or_insert(fresh);
+            if i == fresh {
+                if hs.len() == MAX_DISTINCT {
+                    return None;
+                }
+                hs.push(h);
+            }
+            which.push(i);
+        }
+        Some(GridSteps { hs, which })
+    }
+}
+
+/// One distinct step's coefficients for the lanes of a lockstep group, in
+/// [`Step`]'s field order.
+type LaneStep = [[f64; LOCK]; 8];
+
+/// A lockstep group: LOCK cases on one grid, each lane the exact arithmetic of
+/// [`Step::apply`] (so the results equal the single-case ones bit for bit).
+struct Lockstep<'a, 'b> {
+    which: &'a [u32],
+    coef: &'a [LaneStep],
+    forces: &'a [f64],
+    out: &'b mut [f64],
+    q0: [f64; LOCK],
+    v0: [f64; LOCK],
+}
+
+impl pulp::WithSimd for Lockstep<'_, '_> {
+    /// The final (q, v) of each lane.
+    type Output = ([f64; LOCK], [f64; LOCK]);
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        let Lockstep {
+            which,
+            coef,
+            forces,
+            out,
+            q0,
+            v0,
+        } = self;
+        let n = which.len() + 1;
+        let rows: [&[f64]; LOCK] = std::array::from_fn(|l| &forces[l * n..(l + 1) * n]);
+        let mut outs: Vec<&mut [f64]> = out.chunks_exact_mut(n).collect();
+        let (mut q, mut v) = (q0, v0);
+        let mut f0: [f64; LOCK] = std::array::from_fn(|l| rows[l][0]);
+        for (l, o) in outs.iter_mut().enumerate() {
+            o[0] = q[l];
+        }
+        for (k, &w) in (1..n).zip(which) {
+            let c = &coef[w as usize];
+            let f1: [f64; LOCK] = std::array::from_fn(|l| rows[l][k]);
+            for l in 0..LOCK {
+                let fq = c[4][l] * f0[l] + c[6][l] * f1[l];
+                let fv = c[5][l] * f0[l] + c[7][l] * f1[l];
+                let qn = c[0][l] * q[l] + (c[1][l] * v[l] + fq);
+                v[l] = c[2][l] * q[l] + (c[3][l] * v[l] + fv);
+                q[l] = qn;
+            }
+            for (l, o) in outs.iter_mut().enumerate() {
+                o[k] = q[l];
+            }
+            f0 = f1;
+        }
+        (q, v)
+    }
+}
+
 /// Responses of B oscillators to B forces (B, N) row-major on one grid `t` (N,):
 /// q_out (B, N). Errors name the case (row) and, for forces, the column; with
 /// several bad cases, the lowest row's error.
+///
+/// Cases run LOCK at a time in lockstep (one vector lane each) where the grid
+/// has at most [`MAX_DISTINCT`] step lengths; the rest, and any group with a
+/// bad case, go one by one, which also words the error.
 pub fn response_batch_into(
     t: &[f64],
     forces: &[f64],
@@ -898,26 +996,82 @@ pub fn response_batch_into(
         let (mode, inv_m, q0, v0) = cases.case(i)?;
         run(t, f, &mode, inv_m, q0, v0, qo, None).map_err(DuhamelError::case(i))
     };
+    let grid = if n >= 2 { GridSteps::new(t) } else { None };
+    // Rows first..first+rows of the batch: in lockstep if the grid allows and
+    // every case of the group is sound, else one by one.
+    let group = |first: usize, f: &[f64], qo: &mut [f64]| -> Result<(), DuhamelError> {
+        let rows = f.len() / n.max(1);
+        let sound = match &grid {
+            Some(g) if rows == LOCK => lockstep(g, cases, first, f, qo),
+            _ => false,
+        };
+        if sound {
+            return Ok(());
+        }
+        for (j, (fr, qr)) in f.chunks(n).zip(qo.chunks_mut(n)).enumerate() {
+            one(first + j, fr, qr)?;
+        }
+        Ok(())
+    };
+    if n == 0 || b == 0 {
+        return Ok(());
+    }
     let threads = resolve_threads(n_threads)?;
-    if threads == 1 || b < 2 {
-        for (i, (f, qo)) in forces.chunks(n).zip(q_out.chunks_mut(n)).enumerate() {
-            one(i, f, qo)?;
+    let span = LOCK * n;
+    if threads == 1 || b <= LOCK {
+        for (g, (f, qo)) in forces.chunks(span).zip(q_out.chunks_mut(span)).enumerate() {
+            group(g * LOCK, f, qo)?;
         }
         return Ok(());
     }
     let first_error = pool(threads)?.install(|| {
         forces
-            .par_chunks(n)
-            .zip(q_out.par_chunks_mut(n))
+            .par_chunks(span)
+            .zip(q_out.par_chunks_mut(span))
             .enumerate()
-            .with_min_len(TASK_STEPS.div_ceil(n))
-            .filter_map(|(i, (f, qo))| one(i, f, qo).err().map(|e| (i, e)))
-            .min_by_key(|(i, _)| *i)
+            .with_min_len(TASK_STEPS.div_ceil(span))
+            .filter_map(|(g, (f, qo))| group(g * LOCK, f, qo).err().map(|e| (g, e)))
+            .min_by_key(|(g, _)| *g)
     });
     match first_error {
         Some((_, e)) => Err(e),
         None => Ok(()),
     }
+}
+
+/// Rows first..first+LOCK in lockstep; false (output to be redone) if a case
+/// is invalid, a coefficient not finite, or a final state not finite (a bad
+/// force), so that the one-by-one path reports it.
+fn lockstep(grid: &GridSteps, cases: &Cases<'_>, first: usize, f: &[f64], qo: &mut [f64]) -> bool {
+    let mut coef = vec![[[0.0; LOCK]; 8]; grid.hs.len()];
+    let (mut q0, mut v0) = ([0.0; LOCK], [0.0; LOCK]);
+    for l in 0..LOCK {
+        let Ok((mode, inv_m, q, v)) = cases.case(first + l) else {
+            return false;
+        };
+        (q0[l], v0[l]) = (q, v);
+        for (c, &h) in coef.iter_mut().zip(&grid.hs) {
+            let st = Step::new(&mode, h, inv_m);
+            if !st.is_finite() {
+                return false;
+            }
+            let all = [
+                st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
+            ];
+            for (cj, x) in c.iter_mut().zip(all) {
+                cj[l] = x;
+            }
+        }
+    }
+    let (q, v) = pulp::Arch::new().dispatch(Lockstep {
+        which: &grid.which,
+        coef: &coef,
+        forces: f,
+        out: qo,
+        q0,
+        v0,
+    });
+    q.iter().chain(&v).all(|x| x.is_finite())
 }
 
 /// The first extremum of q after t[0]: its time [s] (+∞ if none) and signed q.
@@ -1805,6 +1959,68 @@ mod tests {
                 assert_eq!((tt[i], qq[i]), (r.time, r.q), "case {i}");
             }
         }
+    }
+
+    #[test]
+    fn lockstep_batch_equals_single() {
+        // A linspace-like grid (a few step lengths ulps apart) with a repeated
+        // time (a force jump), and 2·LOCK + 3 cases: two lockstep groups and a
+        // remainder, every damping regime in each group.
+        let mut t: Vec<f64> = (0..400).map(|k| k as f64 * (0.02 / 399.0)).collect();
+        t.insert(150, t[150]);
+        let n = t.len();
+        let grid = GridSteps::new(&t).unwrap();
+        assert!(grid.hs.len() > 2 && grid.hs.contains(&0.0), "{:?}", grid.hs);
+        let b = 2 * LOCK + 3;
+        let w: Vec<f64> = (0..b).map(|i| 200.0 + 97.0 * i as f64).collect();
+        let z: Vec<f64> = (0..b).map(|i| [0.0, 0.05, 1.0, 2.5, 0.7][i % 5]).collect();
+        let m: Vec<f64> = (0..b).map(|i| 0.1 + 0.3 * i as f64).collect();
+        let q0: Vec<f64> = (0..b).map(|i| 1e-3 * (i as f64 - 9.0)).collect();
+        let v0: Vec<f64> = (0..b).map(|i| 0.1 * (i % 3) as f64).collect();
+        let forces: Vec<f64> = (0..b * n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let cases = cases_of(&w, &z, &m, &q0, &v0);
+        for threads in [1, 2] {
+            let mut out = vec![0.0; b * n];
+            response_batch_into(&t, &forces, &cases, Some(threads), &mut out).unwrap();
+            for i in 0..b {
+                let osc = Oscillator::new(w[i], z[i], m[i]).unwrap();
+                let (q, _) = respond(&t, &forces[i * n..(i + 1) * n], &osc, q0[i], v0[i]);
+                assert_eq!(
+                    &out[i * n..(i + 1) * n],
+                    &q[..],
+                    "case {i}, {threads} threads"
+                );
+            }
+        }
+        // A bad force or case inside a lockstep group is reported by its row.
+        for (row, col) in [(10, 7), (3, n - 1)] {
+            let mut bad = forces.clone();
+            bad[row * n + col] = f64::INFINITY;
+            for threads in [1, 2] {
+                let mut out = vec![0.0; b * n];
+                let e = response_batch_into(&t, &bad, &cases, Some(threads), &mut out);
+                assert_eq!(
+                    e.unwrap_err().to_string(),
+                    format!("case {row}: force[{col}] must be finite; got inf")
+                );
+            }
+        }
+        let mut zb = z.clone();
+        zb[12] = f64::NAN;
+        let e = response_batch_into(
+            &t,
+            &forces,
+            &cases_of(&w, &zb, &m, &q0, &v0),
+            Some(2),
+            &mut vec![0.0; b * n],
+        );
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "case 12: zeta must be finite and >= 0; got NaN"
+        );
+        // A graded grid (every step its own length) goes case by case.
+        let graded: Vec<f64> = (0..1000).map(|k| (k as f64).powf(1.5)).collect();
+        assert!(GridSteps::new(&graded).is_none());
     }
 
     #[test]
