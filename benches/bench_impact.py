@@ -39,7 +39,8 @@ Groups (each prints one ratio table; ``cyclomech`` rows are the references):
   vectorises over the periods of one record, not over records: 1000 cases are
   1000 of its Python loops (~80 s), timed only with ``CYCLOMECH_BENCH_FULL=1``.
   lsim is left out: 1000 cases as one block-diagonal system would step a
-  2000-state matrix product.
+  2000-state matrix product. Also numpy's ``forces * 1.0``, not a solver: the
+  memory traffic any tool returning the histories as a new array pays.
 - peak only, 1e6 cases (amplitude and ζ as above, the 3-point pulse F, F/2 at τ,
   then 0): ``first_rebound`` (O(breakpoints), exact) against
   :func:`numpy_first_max`, the exact FOH recurrence vectorised over the cases and
@@ -53,12 +54,13 @@ Groups (each prints one ratio table; ``cyclomech`` rows are the references):
   pulse (grid τ/333; 2e-10).
 
 Measured (AMD EPYC, 2 cores; medians; ratios to cyclomech on two threads / one):
-one case 37 µs: lsim 1070x, lfilter 5.3x (63 of its 195 µs are lfilter itself, the
-rest numpy setting up one case's coefficients), sdof 7.2x, eqsig 2240x. Batch 24 /
-43 ms: numpy FFT 25x / 14x, lfilter 4.4x / 2.4x, sdof 11x / 6.3x. first_rebound
-1e6 cases in 0.45 / 0.88 s (2.2e6 / 1.1e6 cases/s): numpy 4.2x / 2.1x; per case
-0.88 µs, 48x less than the full history's 42 µs. StopImpact 54 / 106 ms: numpy
-4.0x / 2.0x.
+one case 37 µs: lsim 1026x, lfilter 5.6x (63 of its 205 µs are lfilter itself, the
+rest numpy setting up one case's coefficients), sdof 7.2x, eqsig 2233x. Batch 12 /
+19 ms: numpy FFT 50x / 32x, lfilter 8.5x / 5.4x, sdof 22x / 14x; numpy's
+``forces * 1.0`` (the memory floor: read the forces, write a new array of their
+size) 12 ms. first_rebound 1e6 cases in 0.48 / 0.93 s (2.1e6 / 1.1e6 cases/s):
+numpy 4.4x / 2.3x; per case 0.93 µs, 21x less than the full history's 19 µs.
+StopImpact 60 / 117 ms: numpy 4.7x / 2.4x.
 
 sdof and eqsig are optional (``pip install sdof eqsig``): their rows skip when not
 installed. Default test run (``--benchmark-disable`` in addopts): each benchmark
