@@ -631,18 +631,20 @@ impl pulp::WithSimd for LaneChunk<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let LaneChunk { lanes, v, out } = self;
-        let groups = v.chunks_exact(GROUP).zip(out.chunks_exact_mut(GROUP));
-        for (vg, og) in groups {
-            let vg: &[f64; GROUP] = vg.try_into().unwrap_or(&[0.0; GROUP]);
-            og.copy_from_slice(&lane_group(lanes, vg));
-        }
-        let tail = v.len() % GROUP;
-        if tail > 0 {
-            let mut vg = [0.0; GROUP];
-            vg[..tail].copy_from_slice(&v[v.len() - tail..]);
-            let og = lane_group(lanes, &vg);
-            let n = out.len();
-            out[n - tail..].copy_from_slice(&og[..tail]);
+        let mut stage = Stage::default();
+        for (vb, ob) in v.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
+            let m = vb.len();
+            let whole = m - m % GROUP;
+            for (g, vg) in vb[..whole].chunks_exact(GROUP).enumerate() {
+                let vg: &[f64; GROUP] = vg.try_into().unwrap_or(&[0.0; GROUP]);
+                lane_group(lanes, vg, &mut stage, g * GROUP);
+            }
+            if whole < m {
+                let mut vg = [0.0; GROUP];
+                vg[..m - whole].copy_from_slice(&vb[whole..]);
+                lane_group(lanes, &vg, &mut stage, whole);
+            }
+            stage.finish(lanes.has_sine, &mut ob[..m]);
         }
     }
 }
@@ -650,10 +652,64 @@ impl pulp::WithSimd for LaneChunk<'_> {
 /// Values per group: one AVX2 register of f64.
 const GROUP: usize = 4;
 
-/// One group of [`LaneChunk`]: the lane loops have a fixed length, so each
-/// group's arrays live in vector registers and every `if` is a blend.
+/// Values staged between [`lane_group`]'s pass and the sine's.
+const BLOCK: usize = 256;
+
+/// A block's values after the piece pass: the law is off + sc·(p + amp·sin(arg)).
+/// The sine then runs as its own short loop, whose iterations the processor
+/// overlaps (inside the piece pass, each group's sine waited on its polynomial).
+struct Stage {
+    p: [f64; BLOCK],
+    amp: [f64; BLOCK],
+    arg: [f64; BLOCK],
+    off: [f64; BLOCK],
+    sc: [f64; BLOCK],
+}
+
+impl Default for Stage {
+    fn default() -> Stage {
+        Stage {
+            p: [0.0; BLOCK],
+            amp: [0.0; BLOCK],
+            arg: [0.0; BLOCK],
+            off: [0.0; BLOCK],
+            sc: [0.0; BLOCK],
+        }
+    }
+}
+
+impl Stage {
+    /// out[i] = the law at the block's value i.
+    #[inline(always)]
+    fn finish(&self, has_sine: bool, out: &mut [f64]) {
+        let m = out.len().min(BLOCK);
+        let (p, amp, arg) = (&self.p[..m], &self.amp[..m], &self.arg[..m]);
+        let (off, sc, out) = (&self.off[..m], &self.sc[..m], &mut out[..m]);
+        if has_sine {
+            for i in 0..m {
+                out[i] = off[i] + sc[i] * (p[i] + amp[i] * sin_lanes(arg[i]));
+            }
+        } else {
+            for i in 0..m {
+                out[i] = off[i] + sc[i] * p[i];
+            }
+        }
+    }
+}
+
+/// `if m { a } else { b }` by bit masks: a blend in every lane, where an `if`
+/// in a lane loop can compile to a branch per lane.
 #[inline(always)]
-fn lane_group(lanes: &Lanes, v: &[f64; GROUP]) -> [f64; GROUP] {
+fn pick(m: bool, a: f64, b: f64) -> f64 {
+    let k = (m as u64).wrapping_neg();
+    f64::from_bits((a.to_bits() & k) | (b.to_bits() & !k))
+}
+
+/// The piece pass of one group of [`LaneChunk`], into `stage` at `at`: the lane
+/// loops have a fixed length, so each group's arrays live in vector registers and
+/// every `if` is a blend.
+#[inline(always)]
+fn lane_group(lanes: &Lanes, v: &[f64; GROUP], stage: &mut Stage, at: usize) {
     let split = lanes.split;
     let [(c1, s1), (c2, s2)] = lanes.map;
     let second: [bool; GROUP] = std::array::from_fn(|l| v[l] > split);
@@ -681,26 +737,23 @@ fn lane_group(lanes: &Lanes, v: &[f64; GROUP]) -> [f64; GROUP] {
         }
         for l in 0..GROUP {
             let mine = (second[l] == piece.second) & (u[l] > piece.after) & (u[l] <= piece.upto);
-            p[l] = if mine { q[l] } else { p[l] };
-            t[l] = if mine { tk[l] } else { t[l] };
-            amp[l] = if mine { piece.amp } else { amp[l] };
-            freq[l] = if mine { piece.freq } else { freq[l] };
-            phase[l] = if mine { piece.phase } else { phase[l] };
-        }
-    }
-    if lanes.has_sine {
-        for l in 0..GROUP {
-            p[l] += amp[l] * sin_lanes(freq[l] * t[l] + phase[l]);
+            p[l] = pick(mine, q[l], p[l]);
+            t[l] = pick(mine, tk[l], t[l]);
+            amp[l] = pick(mine, piece.amp, amp[l]);
+            freq[l] = pick(mine, piece.freq, freq[l]);
+            phase[l] = pick(mine, piece.phase, phase[l]);
         }
     }
     let [(o1, k1), (o2, k2)] = lanes.out;
-    std::array::from_fn(|l| {
-        if second[l] {
-            o2 + k2 * p[l]
-        } else {
-            o1 + k1 * p[l]
-        }
-    })
+    let slot = at..at + GROUP;
+    stage.p[slot.clone()].copy_from_slice(&p);
+    stage.amp[slot.clone()].copy_from_slice(&amp);
+    let arg: [f64; GROUP] = std::array::from_fn(|l| freq[l] * t[l] + phase[l]);
+    stage.arg[slot.clone()].copy_from_slice(&arg);
+    let off: [f64; GROUP] = std::array::from_fn(|l| pick(second[l], o2, o1));
+    stage.off[slot.clone()].copy_from_slice(&off);
+    let sc: [f64; GROUP] = std::array::from_fn(|l| pick(second[l], k2, k1));
+    stage.sc[slot].copy_from_slice(&sc);
 }
 
 impl Law {
