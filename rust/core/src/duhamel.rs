@@ -1992,6 +1992,46 @@ mod tests {
                 );
             }
         }
+        // The lockstep loop compiled for each instruction set the processor has.
+        {
+            use pulp::Simd;
+            let grid = GridSteps::new(&t).unwrap();
+            let mut coef = vec![[[0.0; LOCK]; 8]; grid.hs.len()];
+            for l in 0..LOCK {
+                let (mode, inv_m, _, _) = cases.case(l).unwrap();
+                for (c, &h) in coef.iter_mut().zip(&grid.hs) {
+                    let st = Step::new(&mode, h, inv_m);
+                    let all = [
+                        st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
+                    ];
+                    for (cj, x) in c.iter_mut().zip(all) {
+                        cj[l] = x;
+                    }
+                }
+            }
+            let runs = on_each_isa!(|simd| {
+                let mut out = vec![0.0; LOCK * n];
+                Simd::vectorize(
+                    simd,
+                    Lockstep {
+                        which: &grid.which,
+                        coef: &coef,
+                        forces: &forces[..LOCK * n],
+                        out: &mut out,
+                        q0: std::array::from_fn(|l| q0[l]),
+                        v0: std::array::from_fn(|l| v0[l]),
+                    },
+                );
+                out
+            });
+            for (isa, out) in runs {
+                for i in 0..LOCK {
+                    let osc = Oscillator::new(w[i], z[i], m[i]).unwrap();
+                    let (q, _) = respond(&t, &forces[i * n..(i + 1) * n], &osc, q0[i], v0[i]);
+                    assert_eq!(&out[i * n..(i + 1) * n], &q[..], "{isa}: case {i}");
+                }
+            }
+        }
         // A bad force or case inside a lockstep group is reported by its row.
         for (row, col) in [(10, 7), (3, n - 1)] {
             let mut bad = forces.clone();

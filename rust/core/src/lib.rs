@@ -23,6 +23,31 @@
 //! * [`parallel`] — the rayon thread pools behind `n_threads=` and
 //!   `CYCLOMECH_THREADS`.
 
+/// Tests only: `$body` run once per instruction set the processor has (plain
+/// scalar code, AVX2 + FMA, AVX-512), with `$s` the `pulp::Simd` of each, as
+/// (name, value) pairs. The kernels dispatched by `pulp::Arch` pick the best one
+/// at run time; this checks the ones a machine would not pick too.
+#[cfg(test)]
+macro_rules! on_each_isa {
+    (|$s:ident| $body:expr) => {{
+        let mut all = Vec::new();
+        {
+            let $s = pulp::Scalar::new();
+            all.push(("scalar", $body));
+        }
+        #[cfg(target_arch = "x86_64")]
+        {
+            if let Some($s) = pulp::x86::V3::try_new() {
+                all.push(("avx2", $body));
+            }
+            if let Some($s) = pulp::x86::V4::try_new() {
+                all.push(("avx512", $body));
+            }
+        }
+        all
+    }};
+}
+
 pub mod cycle_ratio;
 pub mod duhamel;
 pub mod geom;

@@ -1015,6 +1015,51 @@ mod tests {
     }
 
     #[test]
+    fn every_instruction_set_gives_the_pointwise_values() {
+        // The lane evaluator compiled for scalar code, AVX2 and AVX-512 (those
+        // the processor has), not only the one the dispatch picks.
+        use pulp::Simd;
+        let names = [
+            "cycloidal",
+            "modified_sine",
+            "modified_trapezoid",
+            "polynomial_345",
+        ];
+        let alpha: Vec<f64> = (0..=997).map(|i| i as f64 * (PI / 997.0)).collect();
+        for (n1, n2) in names.iter().zip(names.iter().rev()) {
+            let law = TwoPeriod {
+                stroke1: 0.04,
+                angle1: 1.1,
+                stroke: 0.1,
+                angle: PI,
+                law1: Law::half(n1).unwrap(),
+                law2: Law::half(n2).unwrap(),
+            };
+            for order in 0..=3 {
+                let lanes = law.lanes(order).unwrap();
+                let runs = on_each_isa!(|simd| {
+                    let mut out = vec![0.0; alpha.len()];
+                    Simd::vectorize(
+                        simd,
+                        LaneChunk {
+                            lanes: &lanes,
+                            v: &alpha,
+                            out: &mut out,
+                        },
+                    );
+                    out
+                });
+                assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
+                for (isa, out) in runs {
+                    for (&a, &o) in alpha.iter().zip(&out) {
+                        assert_eq!(o, law.at(a, order), "{isa}: α = {a}, order {order}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn arrays_out_of_range_are_refused_by_index() {
         let law = Law::half("cycloidal").unwrap();
         let mut x = vec![0.5; 40_000];

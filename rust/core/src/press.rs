@@ -1176,6 +1176,43 @@ mod tests {
     }
 
     #[test]
+    fn rod_scan_is_the_same_on_every_instruction_set() {
+        // The rod loop and extreme search compiled for scalar code, AVX2 and
+        // AVX-512 (those the processor has): the same values and indices.
+        use pulp::Simd;
+        let m = 361;
+        let col =
+            |f: &dyn Fn(f64) -> f64| (0..m).map(|j| f(j as f64 * 0.0174)).collect::<Vec<f64>>();
+        let u2 = col(&|x| 0.01 * (1.0 + x.sin()).powi(2));
+        let upx1 = col(&|x| 0.02 * x.cos());
+        let hh = col(&|x| 0.001 * (2.0 * x).sin());
+        let mut py = col(&|x| 0.3 * (x * 0.5).cos());
+        py[200..210].fill(-0.4); // a dip: the lowest point is in it
+        let py1 = col(&|x| -0.15 * (x * 0.5).sin());
+        let py2 = col(&|x| -0.075 * (x * 0.5).cos());
+        let runs = on_each_isa!(|simd| {
+            let (mut y, mut dy, mut ddy) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+            let idx = Simd::vectorize(
+                simd,
+                RodScan {
+                    l2: 0.09,
+                    pin: [&u2, &upx1, &hh, &py, &py1, &py2],
+                    out: [&mut y, &mut dy, &mut ddy],
+                },
+            );
+            (idx, y, dy, ddy)
+        });
+        let (_, first) = &runs[0];
+        let y = &first.1;
+        let lowest = (0..m).fold(0, |b, j| if y[j] < y[b] { j } else { b });
+        assert_eq!(first.0[0], lowest, "the first lowest sample");
+        assert!((200..210).contains(&lowest), "{lowest}");
+        for (isa, run) in &runs {
+            assert_eq!(run, first, "{isa}");
+        }
+    }
+
+    #[test]
     fn crank_slider_limit_is_the_closed_form() {
         let (a, l) = (0.06, 0.25);
         let design = press(0.0, l, 0.3);
