@@ -14,6 +14,7 @@ MODULES = [
     "cyclomech.motion",
     "cyclomech.plot",
     "cyclomech.press",
+    "cyclomech.transfer",
 ]
 
 
@@ -35,10 +36,11 @@ def test_every_public_function_has_an_example() -> None:
     import cyclomech.impact
     import cyclomech.motion
     import cyclomech.press
+    import cyclomech.transfer
 
     missing = []
     public = [(name, getattr(cm, name)) for name in cm.__all__]
-    for mod in (cyclomech.impact, cyclomech.motion, cyclomech.press):
+    for mod in (cyclomech.impact, cyclomech.motion, cyclomech.press, cyclomech.transfer):
         public += [(f"{mod.__name__}.{n}", getattr(mod, n)) for n in mod.__all__]
     for name, obj in public:
         if inspect.ismodule(obj):

@@ -6,7 +6,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import impact, motion, press
+from . import impact, motion, press, transfer
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -43,4 +43,5 @@ __all__ = [
     "max_cycle_ratio",
     "motion",
     "press",
+    "transfer",
 ]
