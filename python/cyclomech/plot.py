@@ -2857,17 +2857,17 @@ def plot_transfer(
     """Draw a rotor transfer path (:class:`cyclomech.transfer.TransferPath`);
     return the figure.
 
-    Top left, the machine at equal scale [mm]: both rotors (light discs, their
-    pitch circles dash-dot, centres marked), the path's ``n`` samples coloured by
-    signed curvature [1/m] (a colour bar; blue where the path turns left round the
-    transport rotor, red where it turns right round the process rotor), the points A, B_t, B_p, C where
-    it leaves the transport circle, meets and leaves the straight, and joins the
-    process circle. Top right, the same zoomed on the transfer A → C. Below, the
-    curvature against arc length [mm] with the pieces shaded; with ``speed`` (V or
-    (V_t, V_p) [m/s], see :meth:`~cyclomech.transfer.TransferPath.acceleration`)
-    a last plot of the normal and tangential acceleration [m/s²] and the jerk
-    |da/dt| [m/s³] (right axis), the jump without transitions as a dotted step
-    for comparison.
+    Top left, the machine at equal scale [mm]: both rotors (light discs, their pitch
+    circles dash-dot, centres marked), the path's ``n`` samples coloured by signed
+    curvature [1/m] (a colour bar; blue where the path turns left round the
+    transport rotor, red where it turns right round the process rotor), the points
+    A, B_t, B_p, C where it leaves the transport circle, meets and leaves the
+    straight, and joins the process circle. Top right, the same zoomed on the
+    transfer A → C. Below, the curvature against arc length [mm] with the pieces
+    shaded; with ``speed`` (V or (V_t, V_p) [m/s], see
+    :meth:`~cyclomech.transfer.TransferPath.acceleration`) a last plot of the normal
+    and tangential acceleration [m/s²] and the jerk |da/dt| [m/s³] (right axis), the
+    jump without transitions as a dotted step for comparison.
 
     Artists, by gid: ``"path"`` (a LineCollection on both maps), ``"rotor t"``,
     ``"rotor p"``, ``"pitch t"``, ``"pitch p"``, ``"points"``, ``"curvature"``,
@@ -2880,8 +2880,10 @@ def plot_transfer(
     >>> from cyclomech.plot import plot_transfer
     >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
     >>> fig = plot_transfer(p, speed=0.157)
-    >>> [ax.get_xlabel() for ax in fig.axes[:4]]
+    >>> [ax.get_xlabel() for ax in fig.axes if ax.get_xlabel()]
     ['x  [mm]', 'x  [mm]', 'arc length s  [mm]', 'arc length s  [mm]']
+    >>> sorted(ln.get_gid() for ax in fig.axes for ln in ax.get_lines() if ln.get_gid())[:4]
+    ['curvature', 'jerk', 'jump', 'normal']
     >>> plt.close(fig)
     """
     plt = _matplotlib()
@@ -2964,7 +2966,8 @@ def plot_transfer(
     fig.colorbar(mappable, ax=ax_zoom, label="curvature  [1/m]", shrink=0.85)
     s_mm = smp.s * 1e3
     shades = ("#deebf7", "#f0f0f0", "white", "#f0f0f0", "#fdd0a2")
-    for ax in [ax_k] + ([fig.add_subplot(grid[2, :])] if acc is not None else []):
+    ax_a = fig.add_subplot(grid[2, :]) if acc is not None else None
+    for ax in [ax_k] if ax_a is None else [ax_k, ax_a]:
         for i, _name in enumerate(PIECES):
             on = smp.piece == i
             if on.any():
@@ -2975,8 +2978,7 @@ def plot_transfer(
     ax_k.plot(s_mm, kappa, color="C0", lw=1.5, gid="curvature")
     ax_k.axhline(0.0, color="0.3", lw=0.6)
     ax_k.set_ylabel("curvature κ  [1/m]")
-    if acc is not None:
-        ax_a = fig.axes[-1]
+    if acc is not None and ax_a is not None:
         ax_a.plot(s_mm, acc.normal, color="C0", lw=1.5, label="normal v²κ", gid="normal")
         ax_a.plot(
             s_mm, acc.tangential, color="C2", lw=1.2, label="tangential v·dv/ds", gid="tangential"
