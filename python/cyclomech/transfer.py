@@ -86,6 +86,15 @@ def _finite_array(name: str, value: Any, unit: str) -> Array:
     return a
 
 
+def _broadcast(**arrays: Array) -> list[Array]:
+    """The arrays broadcast together, or :class:`InputError` naming them."""
+    try:
+        return list(np.broadcast_arrays(*arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {v.shape}" for k, v in arrays.items())
+        raise InputError(f"{shapes}: these shapes do not broadcast together") from None
+
+
 def _point(name: str, value: Any) -> Array:
     a = float_array(name, value, ndims=(1,))
     if a.shape != (2,) or not np.isfinite(a).all():
@@ -113,8 +122,8 @@ def acceleration_jump(R_t: Any, omega_t: Any, R_p: Any, omega_p: Any) -> Any:
     for name, r in (("R_t", r_t), ("R_p", r_p)):
         if (r <= 0).any():
             raise InputError(f"{name} must be > 0 m (a pitch radius); got {r.min()!r}")
-    out = r_p * w_p**2 + r_t * w_t**2
-    return float(out) if out.ndim == 0 else out
+    r_t, w_t, r_p, w_p = _broadcast(R_t=r_t, omega_t=w_t, R_p=r_p, omega_p=w_p)
+    return _scalar(r_p * w_p**2 + r_t * w_t**2)
 
 
 def acceleration_jump_at_speed(speed: Any, R_t: Any, R_p: Any) -> Any:
@@ -130,8 +139,8 @@ def acceleration_jump_at_speed(speed: Any, R_t: Any, R_p: Any) -> Any:
     r_p = _finite_array("R_p", R_p, "[m]")
     if (r_t <= 0).any() or (r_p <= 0).any():
         raise InputError(f"R_t and R_p must be > 0 m; got {r_t.min()!r}, {r_p.min()!r}")
-    out = v**2 / r_t + v**2 / r_p
-    return float(out) if out.ndim == 0 else out
+    v, r_t, r_p = _broadcast(speed=v, R_t=r_t, R_p=r_p)
+    return _scalar(v**2 / r_t + v**2 / r_p)
 
 
 # ---------------------------------------------------------------------------
@@ -160,7 +169,7 @@ class QuinticTransition:
         >>> bool(abs(q.y(0.05) - (0.1 * 0.05 - 0.002)) < 1e-15)
         True
         """
-        return self._poly(x, 0)
+        return _scalar(self._poly(self._x(x), 0))
 
     def dy(self, x: npt.ArrayLike) -> Any:
         """y'(x), the slope.
@@ -169,7 +178,7 @@ class QuinticTransition:
         >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).dy(0.05), 12)
         0.1
         """
-        return self._poly(x, 1)
+        return _scalar(self._poly(self._x(x), 1))
 
     def ddy(self, x: npt.ArrayLike) -> Any:
         """y''(x) [1/m].
@@ -178,7 +187,7 @@ class QuinticTransition:
         >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).ddy(0.0), 12)
         5.0
         """
-        return self._poly(x, 2)
+        return _scalar(self._poly(self._x(x), 2))
 
     def dddy(self, x: npt.ArrayLike) -> Any:
         """y'''(x) [1/m²].
@@ -188,7 +197,7 @@ class QuinticTransition:
         >>> bool(abs(q.dddy(0.0)) < 1e-9 and abs(q.dddy(0.05)) < 1e-9)
         True
         """
-        return self._poly(x, 3)
+        return _scalar(self._poly(self._x(x), 3))
 
     def curvature(self, x: npt.ArrayLike) -> Any:
         """κ = y''/(1 + y'²)^{3/2} [1/m]: 1/R at A, 0 at B.
@@ -200,7 +209,7 @@ class QuinticTransition:
         """
         x = self._x(x)
         d1, d2 = self._poly(x, 1), self._poly(x, 2)
-        return d2 / (1.0 + d1 * d1) ** 1.5
+        return _scalar(d2 / (1.0 + d1 * d1) ** 1.5)
 
     def curvature_rate(self, x: npt.ArrayLike) -> Any:
         """dκ/ds [1/m²], s the arc length: (y'''·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³.
@@ -214,11 +223,12 @@ class QuinticTransition:
         x = self._x(x)
         d1, d2, d3 = self._poly(x, 1), self._poly(x, 2), self._poly(x, 3)
         g = 1.0 + d1 * d1
-        return (d3 * g - 3.0 * d1 * d2 * d2) / g**3
+        return _scalar((d3 * g - 3.0 * d1 * d2 * d2) / g**3)
 
     def arc_length(self, x: npt.ArrayLike) -> Any:
-        """s(x) = ∫₀ˣ √(1 + y'²) dx [m] (16-point Gauss–Legendre, exact to rounding
-        for the slopes of a transition).
+        """s(x) = ∫₀ˣ √(1 + y'²) dx [m]: 16-point Gauss–Legendre on sub-intervals
+        of [0, x], one per 0.05 rad that the tangent turns over [0, max x] (exact to
+        rounding against adaptive quadrature, steep quintics included).
 
         >>> import cyclomech as cm
         >>> q = cm.transfer.quintic_transition(1e9, 0.0, 0.0, 0.05)   # nearly straight
@@ -226,10 +236,14 @@ class QuinticTransition:
         0.05
         """
         x = self._x(x)
-        t = x[..., None] * _NODES16
+        top = float(np.abs(x).max()) if x.size else 0.0
+        m = self._pieces(top) if top > 0 else 1
+        # Sub-interval j of [0, x]: x·(j + ξ)/m for the nodes ξ on [0, 1].
+        frac = ((np.arange(m)[:, None] + _NODES16) / m).ravel()
+        t = x[..., None] * frac
         f = np.sqrt(1.0 + self._poly(t, 1) ** 2)
-        out = x * (f @ _WEIGHTS16)
-        return float(out) if out.ndim == 0 else out
+        out = x * (f @ np.tile(_WEIGHTS16, m)) / m
+        return _scalar(out)
 
     @property
     def length(self) -> float:
@@ -239,15 +253,28 @@ class QuinticTransition:
     def _x(self, x: npt.ArrayLike) -> Array:
         return _finite_array("x", x, "[m]")
 
-    def _poly(self, x: npt.ArrayLike, order: int) -> Any:
-        x = np.asarray(x, dtype=np.float64) if isinstance(x, np.ndarray) else self._x(x)
+    def _poly(self, x: Array, order: int) -> Array:
+        """The order-th derivative at an array x (unchecked: the callers check)."""
         c = self.coeffs
-        # The order-th derivative's coefficients, highest power first (Horner).
+        # The derivative's coefficients, highest power last (Horner from the top).
         d = [c[n] * math.perm(n, order) for n in range(order, 6)]
         out = np.full_like(x, d[-1])
         for a in reversed(d[:-1]):
             out = out * x + a
-        return float(out) if out.ndim == 0 else out
+        return out
+
+    def _pieces(self, upto: float) -> int:
+        """Sub-intervals of [0, upto] for the arc-length quadrature: one per 0.05 rad
+        of turning of the tangent (a steep or wiggly quintic brings the integrand's
+        complex singularities close to the axis, and 16 nodes on the whole span lose
+        digits: 1e-3 relative on a quintic turning by 4 rad)."""
+        x = np.linspace(0.0, upto, 65)
+        turn = float(np.abs(np.diff(np.arctan(self._poly(x, 1)))).sum())
+        return int(min(max(1, math.ceil(turn / 0.05)), 512))
+
+
+def _scalar(a: Array) -> Any:
+    return float(a) if a.ndim == 0 else a
 
 
 def _coeffs(R: Any, k: Any, b: Any, x2: Any) -> tuple[Array, ...]:
@@ -341,8 +368,9 @@ def to_machine(x_local: Any, y_local: Any, alpha: float, x0: float, y0: float) -
     alpha = finite_number("alpha", alpha, "rad")
     x0 = finite_number("x0", x0, "m")
     y0 = finite_number("y0", y0, "m")
+    xl, yl = _broadcast(x_local=xl, y_local=yl)
     c, s = math.cos(alpha), math.sin(alpha)
-    return np.stack(np.broadcast_arrays(xl * c + yl * s - x0, -xl * s + yl * c - y0), axis=-1)
+    return np.stack([xl * c + yl * s - x0, -xl * s + yl * c - y0], axis=-1)
 
 
 # ---------------------------------------------------------------------------
@@ -473,8 +501,11 @@ class TransferPath:
     ``C`` where the path leaves the transport circle and joins the process one,
     ``B_t``, ``B_p`` the ends of the straight segment (machine frame, m);
     ``straight_length``; ``transitions`` (the two :class:`QuinticTransition`);
-    ``frames`` the seed's (α, x0, y0) of each transition's frame (see
-    :func:`to_machine`); ``length`` of the whole path.
+    ``frames`` the seed's (α, x0, y0) of each transition's frame, so that
+    ``to_machine(x, q.y(x), *frames[i])`` places transition i (``q``) in the
+    machine frame — with ``ccw=False`` the path is a mirror image and the seed's
+    rotation cannot mirror, so there ``to_machine(x, -q.y(x), *frames[i])``;
+    ``length`` of the whole path.
 
     >>> import cyclomech as cm
     >>> p = cm.transfer.TransferPath(0.15, 0.25, (0.0, 0.0), (0.41, 0.0), x2=0.05)
@@ -519,7 +550,12 @@ class TransferPath:
         if x2 is None:
             x2v = _longest(r, *self._canonical_centres(), ratio=np.ones(2))
         else:
-            x2v = np.broadcast_to(_finite_array("x2", x2, "[m]"), (2,)).astype(np.float64)
+            x2a = _finite_array("x2", x2, "[m]")
+            if x2a.shape not in ((), (1,), (2,)):
+                raise InputError(
+                    f"x2 must be one length or a pair (x2_t, x2_p) [m]; got shape {x2a.shape}"
+                )
+            x2v = np.broadcast_to(x2a, (2,)).astype(np.float64)
             if (x2v <= 0).any():
                 raise InputError(f"x2 must be > 0 m (transition lengths); got {x2!r}")
         self.x2_t, self.x2_p = float(x2v[0]), float(x2v[1])
@@ -764,10 +800,12 @@ def _quintic_part(
 
 def _cumulative_arc(q: QuinticTransition, x: Array) -> Array:
     """s(x) at a monotone grid x: the length from 0 to x[0] plus 4-point
-    Gauss–Legendre over each interval."""
-    first = q.arc_length(x[:1])
-    if x.size == 1:
-        return first
+    Gauss–Legendre over each interval, where the tangent turns by at most
+    0.005 rad an interval (then the rule is exact to rounding); on a coarser grid,
+    each point's length from 0 by :meth:`QuinticTransition.arc_length`."""
+    if x.size < 2 or 10 * q._pieces(float(np.abs(x).max())) > x.size:
+        return np.asarray(q.arc_length(x), dtype=np.float64).reshape(x.shape)
+    first = np.atleast_1d(q.arc_length(x[:1]))
     lo, hi = x[:-1], x[1:]
     h = hi - lo
     t = lo[:, None] + h[:, None] * _NODES4
@@ -861,8 +899,9 @@ def design_transfer(
     [m] apart (centre distance R_t + R_p + gap) and the speed law ``speed`` (V or
     (V_t, V_p) [m/s], see :meth:`TransferPath.acceleration`). Every candidate,
     from ``x2_min`` (default R_min/100) to the longest the gap allows, is evaluated
-    in one vectorised pass over (candidates × points on its transitions and
-    straight); the best is refined by scipy's bounded scalar minimiser.
+    in one vectorised pass over (candidates × ``n_points`` points on each
+    transition and on the straight); the best is refined by scipy's bounded scalar
+    minimiser.
 
     >>> import cyclomech as cm
     >>> d = cm.transfer.design_transfer(0.15, 0.25, 0.01, 0.157)
@@ -873,8 +912,9 @@ def design_transfer(
 
     R_t, R_p = _radius("R_t", R_t), _radius("R_p", R_p)
     gap = _positive("gap", gap, "m (between the pitch circles)")
-    if isinstance(n_candidates, bool) or not isinstance(n_candidates, int) or n_candidates < 2:
-        raise InputError(f"n_candidates must be an integer ≥ 2; got {n_candidates!r}")
+    for name, value, lo in (("n_candidates", n_candidates, 2), ("n_points", n_points, 16)):
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
+            raise InputError(f"{name} must be an integer ≥ {lo}; got {value!r}")
     r = np.array([R_t, R_p])
     c_t, c_p = np.zeros(2), np.array([R_t + R_p + gap, 0.0])
     top = float(_longest(r, c_t, c_p, np.ones(2))[0])
