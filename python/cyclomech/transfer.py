@@ -255,13 +255,7 @@ class QuinticTransition:
 
     def _poly(self, x: Array, order: int) -> Array:
         """The order-th derivative at an array x (unchecked: the callers check)."""
-        c = self.coeffs
-        # The derivative's coefficients, highest power last (Horner from the top).
-        d = [c[n] * math.perm(n, order) for n in range(order, 6)]
-        out = np.full_like(x, d[-1])
-        for a in reversed(d[:-1]):
-            out = out * x + a
-        return out
+        return _horner(list(self.coeffs), x, order)
 
     def _pieces(self, upto: float) -> int:
         """Sub-intervals of [0, upto] for the arc-length quadrature: one per 0.05 rad
@@ -271,6 +265,16 @@ class QuinticTransition:
         x = np.linspace(0.0, upto, 65)
         turn = float(np.abs(np.diff(np.arctan(self._poly(x, 1)))).sum())
         return int(min(max(1, math.ceil(turn / 0.05)), 512))
+
+
+def _horner(c: list[Any], x: Array, order: int) -> Array:
+    """The order-th derivative of Σ c[n]·xⁿ (n ≤ 5) at x; the c[n] are numbers or
+    arrays broadcasting with x."""
+    d = [c[n] * math.perm(n, order) for n in range(order, 6)]
+    out = np.zeros(np.broadcast_shapes(np.shape(x), np.shape(d[-1]))) + d[-1]
+    for a in reversed(d[:-1]):
+        out = out * x + a
+    return out
 
 
 def _scalar(a: Array) -> Any:
@@ -712,15 +716,9 @@ class TransferPath:
         law = self.speed_law(speed)
         smp = self.sample(n)
         v, dv, ddv = law(smp.s)
-        kappa, rate = smp.curvature, smp.curvature_rate
-        a_n = v * v * kappa
-        a_t = v * dv
-        # d/dt = v·d/ds.
-        an_rate = v * (2.0 * v * dv * kappa + v * v * rate)
-        at_rate = v * (dv * dv + v * ddv)
-        # da/dt of a = a_t·T + a_n·N, with dT/dt = v·κ·N, dN/dt = −v·κ·T.
-        j_t = at_rate - a_n * v * kappa
-        j_n = an_rate + a_t * v * kappa
+        a_n, a_t, an_rate, at_rate, jerk = _kinematics(
+            v, dv, ddv, smp.curvature, smp.curvature_rate
+        )
         ds = np.diff(smp.s)
         vm = 0.5 * (v[1:] + v[:-1])
         time = np.concatenate([[0.0], np.cumsum(ds / vm)])
@@ -733,7 +731,7 @@ class TransferPath:
             total=np.hypot(a_n, a_t),
             normal_rate=an_rate,
             tangential_rate=at_rate,
-            jerk=np.hypot(j_t, j_n),
+            jerk=jerk,
             piece=smp.piece,
         )
 
@@ -838,6 +836,18 @@ def _speed_law(speed: Any, start: float, span: float) -> Any:
         return v_t + dv * h, dv * dh, dv * ddh
 
     return law
+
+
+def _kinematics(v: Array, dv: Array, ddv: Array, kappa: Array, rate: Array) -> tuple[Array, ...]:
+    """(a_n, a_t, da_n/dt, da_t/dt, |da/dt|) of a point moving at v(s) (dv, ddv its
+    s-derivatives) along a curve of curvature κ(s) with rate dκ/ds; d/dt = v·d/ds."""
+    a_n = v * v * kappa
+    a_t = v * dv
+    an_rate = v * (2.0 * v * dv * kappa + v * v * rate)
+    at_rate = v * (dv * dv + v * ddv)
+    # da/dt of a = a_t·T + a_n·N, with dT/dt = v·κ·N, dN/dt = −v·κ·T.
+    jerk = np.hypot(at_rate - a_n * v * kappa, an_rate + a_t * v * kappa)
+    return a_n, a_t, an_rate, at_rate, jerk
 
 
 def _longest(r: Array, c_t: Array, c_p: Array, ratio: Array) -> Array:
@@ -974,13 +984,10 @@ def _peak_jerk(r: Array, c_t: Array, c_p: Array, x2: Array, speed: Any, m: int) 
         a2 = np.full_like(x2, a2)
         xx = x2[:, None] * u  # (C, m)
 
-        def d(order: int, x: Array, a2=a2, a3=a3, a4=a4, a5=a5) -> Array:
-            cs = [np.zeros_like(a2), np.zeros_like(a2), a2, a3, a4, a5]
-            dd = [cs[n][:, None] * math.perm(n, order) for n in range(order, 6)]
-            acc = np.broadcast_to(dd[-1], x.shape).copy()
-            for a in reversed(dd[:-1]):
-                acc = acc * x + a
-            return acc
+        cs = [0.0, 0.0] + [a[:, None] for a in (a2, a3, a4, a5)]
+
+        def d(order: int, x: Array, cs: list[Any] = cs) -> Array:
+            return _horner(cs, x, order)
 
         nodes = x2[:, None] * _NODES16
         lengths[:, side] = x2 * (np.sqrt(1.0 + d(1, nodes) ** 2) @ _WEIGHTS16)
@@ -997,24 +1004,11 @@ def _peak_jerk(r: Array, c_t: Array, c_p: Array, x2: Array, speed: Any, m: int) 
         )
         pieces.append((kappa, rate, s_loc))
     span = lengths.sum(axis=1) + straight
-    v_arr = _finite_array("speed", speed, "[m/s]")
-    v_t, v_p = (float(v_arr), float(v_arr)) if v_arr.ndim == 0 else tuple(map(float, v_arr))
-
-    def law(s: Array) -> tuple[Array, Array, Array]:
-        sp = span[:, None]
-        w = np.clip(s / sp, 0.0, 1.0)
-        h = w**3 * (10.0 - 15.0 * w + 6.0 * w * w)
-        dh = 30.0 * w * w * (1.0 - w) ** 2 / sp
-        ddh = 60.0 * w * (1.0 - w) * (1.0 - 2.0 * w) / sp**2
-        dv = v_p - v_t
-        return v_t + dv * h, dv * dh, dv * ddh
+    # s from A, each candidate's transfer its own span.
+    law = _speed_law(speed, 0.0, span[:, None])
 
     def jerk(s: Array, kappa: Array, rate: Array) -> Array:
-        v, dv, ddv = law(s)
-        a_n, a_t = v * v * kappa, v * dv
-        an_rate = v * (2.0 * v * dv * kappa + v * v * rate)
-        at_rate = v * (dv * dv + v * ddv)
-        return np.hypot(at_rate - a_n * v * kappa, an_rate + a_t * v * kappa)
+        return _kinematics(*law(s), kappa, rate)[4]
 
     k_t, r_t, s_t = pieces[0]
     out = jerk(s_t, k_t, r_t).max(axis=1)
