@@ -1916,6 +1916,25 @@ mod tests {
         }
     }
 
+    /// The batch, on one and two threads, equals each case run alone, bit for bit.
+    fn batch_is_single(t: &[f64], forces: &[f64], cases: &Cases<'_>) {
+        let (b, n) = (cases.omega_n.len(), t.len());
+        for threads in [1, 2] {
+            let mut out = vec![0.0; b * n];
+            response_batch_into(t, forces, cases, Some(threads), &mut out).unwrap();
+            for i in 0..b {
+                let osc = Oscillator::new(cases.omega_n[i], cases.zeta[i], cases.mass[i]).unwrap();
+                let row = &forces[i * n..(i + 1) * n];
+                let (q, _) = respond(t, row, &osc, cases.q0[i], cases.v0[i]);
+                assert_eq!(
+                    &out[i * n..(i + 1) * n],
+                    &q[..],
+                    "case {i}, {threads} threads"
+                );
+            }
+        }
+    }
+
     #[test]
     fn batch_equals_single() {
         let t = ragged(5.0, 20.0);
@@ -1929,19 +1948,7 @@ mod tests {
             .map(|i| ((i * 7919) % 13) as f64 - 6.0)
             .collect();
         let cases = cases_of(&w, &z, &m, &q0, &v0);
-        for threads in [1, 2] {
-            let mut out = vec![0.0; w.len() * n];
-            response_batch_into(&t, &forces, &cases, Some(threads), &mut out).unwrap();
-            for i in 0..w.len() {
-                let osc = Oscillator::new(w[i], z[i], m[i]).unwrap();
-                let (q, _) = respond(&t, &forces[i * n..(i + 1) * n], &osc, q0[i], v0[i]);
-                assert_eq!(
-                    &out[i * n..(i + 1) * n],
-                    &q[..],
-                    "case {i}, {threads} threads"
-                );
-            }
-        }
+        batch_is_single(&t, &forces, &cases);
         // First rebounds too.
         let k = 4;
         let tk = [0.0, 0.01, 0.03, 0.03];
@@ -1979,19 +1986,7 @@ mod tests {
         let v0: Vec<f64> = (0..b).map(|i| 0.1 * (i % 3) as f64).collect();
         let forces: Vec<f64> = (0..b * n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let cases = cases_of(&w, &z, &m, &q0, &v0);
-        for threads in [1, 2] {
-            let mut out = vec![0.0; b * n];
-            response_batch_into(&t, &forces, &cases, Some(threads), &mut out).unwrap();
-            for i in 0..b {
-                let osc = Oscillator::new(w[i], z[i], m[i]).unwrap();
-                let (q, _) = respond(&t, &forces[i * n..(i + 1) * n], &osc, q0[i], v0[i]);
-                assert_eq!(
-                    &out[i * n..(i + 1) * n],
-                    &q[..],
-                    "case {i}, {threads} threads"
-                );
-            }
-        }
+        batch_is_single(&t, &forces, &cases);
         // The lockstep loop compiled for each instruction set the processor has.
         {
             use pulp::Simd;
