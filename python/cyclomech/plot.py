@@ -2983,7 +2983,7 @@ def plot_transfer(
         ax_a.plot(
             s_mm, acc.tangential, color="C2", lw=1.2, label="tangential v·dv/ds", gid="tangential"
         )
-        v = np.broadcast_to(np.asarray(speed, dtype=np.float64), (2,))
+        v = acc.speed[[0, -1]]  # V_t before the transfer, V_p after it
         step = np.where(
             smp.s < path.start_of_transfer + 0.5 * path.transfer_length,
             v[0] ** 2 / path.R_t,

@@ -208,8 +208,7 @@ class QuinticTransition:
         (5.0, True)
         """
         x = self._x(x)
-        d1, d2 = self._poly(x, 1), self._poly(x, 2)
-        return _scalar(d2 / (1.0 + d1 * d1) ** 1.5)
+        return _scalar(_curvature(self._poly(x, 1), self._poly(x, 2), None)[0])
 
     def curvature_rate(self, x: npt.ArrayLike) -> Any:
         """dκ/ds [1/m²], s the arc length: (y'''·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³.
@@ -221,9 +220,7 @@ class QuinticTransition:
         (True, -148.799)
         """
         x = self._x(x)
-        d1, d2, d3 = self._poly(x, 1), self._poly(x, 2), self._poly(x, 3)
-        g = 1.0 + d1 * d1
-        return _scalar((d3 * g - 3.0 * d1 * d2 * d2) / g**3)
+        return _scalar(_curvature(*(self._poly(x, j) for j in (1, 2, 3)))[1])
 
     def arc_length(self, x: npt.ArrayLike) -> Any:
         """s(x) = ∫₀ˣ √(1 + y'²) dx [m]: 16-point Gauss–Legendre on sub-intervals
@@ -275,6 +272,29 @@ def _horner(c: list[Any], x: Array, order: int) -> Array:
     for a in reversed(d[:-1]):
         out = out * x + a
     return out
+
+
+def _curvature(d1: Array, d2: Array, d3: Array | None) -> tuple[Array, Array | None]:
+    """(κ, dκ/ds) of a graph from its first three derivatives (no rate without
+    the third): κ = y''/(1 + y'²)^{3/2}, dκ/ds = (y⁽³⁾·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³."""
+    g = 1.0 + d1 * d1
+    kappa = d2 / g**1.5
+    rate = None if d3 is None else (d3 * g - 3.0 * d1 * d2 * d2) / g**3
+    return kappa, rate
+
+
+def _speeds(speed: Any) -> tuple[float, float]:
+    """(V_t, V_p) [m/s] from a number V or a pair, checked."""
+    v = _finite_array("speed", speed, "[m/s]")
+    if v.ndim == 0:
+        v = np.array([float(v), float(v)])
+    if v.shape != (2,):
+        raise InputError(
+            f"speed must be a number V or a pair (V_t, V_p) [m/s]; got shape {v.shape}"
+        )
+    if (v <= 0).any():
+        raise InputError(f"speed must be > 0 m/s; got {speed!r}")
+    return float(v[0]), float(v[1])
 
 
 def _scalar(a: Array) -> Any:
@@ -444,7 +464,8 @@ class _Geometry:
     b: Array
     shift: Array  # line's distance from each centre minus the radius
     feasible: Array  # the shifted circles leave room for the line
-    psi: Array  # the line's angle from the centre line
+    u: Array  # (…, 2): direction of travel on the straight
+    ends: Array  # (…, 2 sides, 2): B_t and B_p
     t_a: Array  # (…, 2 sides, 2): local x axes at A (transport) and C (process)
     origin: Array  # (…, 2 sides, 2): A and C
     straight: Array  # length of the straight segment
@@ -476,7 +497,8 @@ def _geometry(r: Array, c_t: Array, c_p: Array, x2: Array) -> _Geometry:
         b=b,
         shift=dist - r,
         feasible=feasible,
-        psi=psi,
+        u=u,
+        ends=ends,
         t_a=t_a,
         origin=origin,
         straight=np.where(feasible, straight, -np.inf),
@@ -581,20 +603,13 @@ class TransferPath:
             smooth_transition(self.R_t, self.x2_t),
             smooth_transition(self.R_p, self.x2_p),
         )
-        frames = []
-        for side in range(2):
-            t = self._out(g.t_a[side], vector=True)
-            o = self._out(g.origin[side])
-            alpha = math.atan2(-t[1], t[0])
-            frames.append((alpha, -float(o[0]), -float(o[1])))
-        self.frames = tuple(frames)
-        self.A = self._out(g.origin[0])
-        self.C = self._out(g.origin[1])
-        ends = [
-            g.origin[i] + x2v[i] * g.t_a[i] + (g.k[i] * x2v[i] + g.b[i]) * _left(g.t_a[i])
-            for i in range(2)
-        ]
-        self.B_t, self.B_p = self._out(ends[0]), self._out(ends[1])
+        t_a, origin = g.t_a * self._mirror, g.origin * self._mirror
+        self.frames = tuple(
+            (math.atan2(-t[1], t[0]), -float(o[0]), -float(o[1]))
+            for t, o in zip(t_a, origin, strict=True)
+        )
+        self.A, self.C = origin
+        self.B_t, self.B_p = g.ends * self._mirror
         lead = math.radians(self.lead_deg)
         self._lengths = np.array(
             [
@@ -608,13 +623,13 @@ class TransferPath:
         self.length = float(self._lengths.sum())
 
     # Frames: everything is built with a counter-clockwise transport rotor; a
-    # clockwise one is its mirror image in the x axis.
-    def _canonical_centres(self) -> tuple[Array, Array]:
-        m = np.array([1.0, 1.0 if self.ccw else -1.0])
-        return self.centre_t * m, self.centre_p * m
+    # clockwise one is its mirror image in the x axis (its own inverse).
+    @property
+    def _mirror(self) -> Array:
+        return np.array([1.0, 1.0 if self.ccw else -1.0])
 
-    def _out(self, p: Array, vector: bool = False) -> Array:
-        return p * np.array([1.0, 1.0 if self.ccw else -1.0])
+    def _canonical_centres(self) -> tuple[Array, Array]:
+        return self.centre_t * self._mirror, self.centre_p * self._mirror
 
     @property
     def transfer_length(self) -> float:
@@ -657,11 +672,9 @@ class TransferPath:
         parts.append(_quintic_part(q, x, g.origin[0], g.t_a[0], s0, forward=True, piece=1))
         s0 += self._lengths[1]
         # Straight segment.
-        line_dir = np.asarray(_rot(g.t_a[0], math.atan(g.k[0])))
-        b_t = g.origin[0] + q.x2 * g.t_a[0] + (g.k[0] * q.x2 + g.b[0]) * _left(g.t_a[0])
         u = np.linspace(0.0, 1.0, counts[2], endpoint=False)
-        pts = b_t + (u * self.straight_length)[:, None] * line_dir
-        head = math.atan2(line_dir[1], line_dir[0])
+        pts = g.ends[0] + (u * self.straight_length)[:, None] * g.u
+        head = math.atan2(g.u[1], g.u[0])
         zero = np.zeros_like(u)
         parts.append((pts, s0 + u * self.straight_length, zero + head, zero, zero, 2))
         s0 += self._lengths[2]
@@ -682,7 +695,7 @@ class TransferPath:
         rate = np.concatenate([p[4] for p in parts])
         piece = np.concatenate([np.full(len(p[1]), p[5], dtype=np.int8) for p in parts])
         if not self.ccw:
-            points = points * np.array([1.0, -1.0])
+            points = points * self._mirror
             heading, curv, rate = -heading, -curv, -rate
         return PathSample(points, s, heading, curv, rate, piece)
 
@@ -783,11 +796,10 @@ def _quintic_part(
     forward: bool,
     piece: int,
 ) -> tuple[Any, ...]:
-    y, d1 = q._poly(x, 0), q._poly(x, 1)
-    n_a = _left(t_a)
-    pts = origin + x[:, None] * t_a + y[:, None] * n_a
+    y, d1, d2, d3 = (q._poly(x, j) for j in range(4))
+    pts = origin + x[:, None] * t_a + y[:, None] * _left(t_a)
     local = np.arctan(d1) + math.atan2(t_a[1], t_a[0])
-    kappa, rate = q.curvature(x), q.curvature_rate(x)
+    kappa, rate = _curvature(d1, d2, d3)
     s_local = _cumulative_arc(q, x)
     if forward:
         return pts, s0 + s_local, local, kappa, rate, piece
@@ -814,16 +826,7 @@ def _cumulative_arc(q: QuinticTransition, x: Array) -> Array:
 
 def _speed_law(speed: Any, start: float, span: float) -> Any:
     """s ↦ (v, dv/ds, d²v/ds²) for a constant speed or a (V_t, V_p) pair."""
-    v = _finite_array("speed", speed, "[m/s]")
-    if v.ndim == 0:
-        v = np.array([float(v), float(v)])
-    if v.shape != (2,):
-        raise InputError(
-            f"speed must be a number V or a pair (V_t, V_p) [m/s]; got shape {v.shape}"
-        )
-    if (v <= 0).any():
-        raise InputError(f"speed must be > 0 m/s; got {speed!r}")
-    v_t, v_p = float(v[0]), float(v[1])
+    v_t, v_p = _speeds(speed)
 
     def law(s: Any) -> tuple[Array, Array, Array]:
         s = np.asarray(s, dtype=np.float64)
@@ -948,8 +951,7 @@ def design_transfer(
     x2 = float(best.x) if best.fun <= peaks[i] else float(cands[i])
     path = TransferPath(R_t, R_p, c_t, c_p, x2=x2 if x2 < top else None)
     acc = path.acceleration(speed)
-    v = _finite_array("speed", speed, "[m/s]")
-    v_t, v_p = (float(v), float(v)) if v.ndim == 0 else (float(v[0]), float(v[1]))
+    v_t, v_p = _speeds(speed)
     jump = acceleration_jump(R_t, v_t / R_t, R_p, v_p / R_p)
     start = np.searchsorted(acc.s, path.start_of_transfer)
     end = np.searchsorted(acc.s, path.start_of_transfer + path.transfer_length)
@@ -974,8 +976,7 @@ def _peak_jerk(r: Array, c_t: Array, c_p: Array, x2: Array, speed: Any, m: int) 
     g = _geometry(r, c_t, c_p, x2s)
     straight = np.maximum(g.straight, 0.0)
     u = np.linspace(0.0, 1.0, m)
-    out = np.zeros(c)
-    # Arc lengths of the transitions (C, 2), 16-point Gauss–Legendre each.
+    # Arc lengths of the transitions (C, 2), from the cumulative lengths below.
     lengths = np.empty((c, 2))
     pieces = []
     for side in range(2):
@@ -989,19 +990,16 @@ def _peak_jerk(r: Array, c_t: Array, c_p: Array, x2: Array, speed: Any, m: int) 
         def d(order: int, x: Array, cs: list[Any] = cs) -> Array:
             return _horner(cs, x, order)
 
-        nodes = x2[:, None] * _NODES16
-        lengths[:, side] = x2 * (np.sqrt(1.0 + d(1, nodes) ** 2) @ _WEIGHTS16)
         d1, d2, d3 = d(1, xx), d(2, xx), d(3, xx)
-        gg = 1.0 + d1 * d1
-        kappa = d2 / gg**1.5
-        rate = (d3 * gg - 3.0 * d1 * d2 * d2) / gg**3
+        kappa, rate = _curvature(d1, d2, d3)
         # Cumulative arc length along the candidate's grid (trapezoid on a fine
         # grid is enough for locating the speed law).
-        f = np.sqrt(gg)
+        f = np.sqrt(1.0 + d1 * d1)
         s_loc = np.concatenate(
             [np.zeros((c, 1)), np.cumsum(0.5 * (f[:, 1:] + f[:, :-1]) * np.diff(xx), axis=1)],
             axis=1,
         )
+        lengths[:, side] = s_loc[:, -1]
         pieces.append((kappa, rate, s_loc))
     span = lengths.sum(axis=1) + straight
     # s from A, each candidate's transfer its own span.
