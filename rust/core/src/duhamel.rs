@@ -1043,26 +1043,9 @@ pub fn response_batch_into(
 /// is invalid, a coefficient not finite, or a final state not finite (a bad
 /// force), so that the one-by-one path reports it.
 fn lockstep(grid: &GridSteps, cases: &Cases<'_>, first: usize, f: &[f64], qo: &mut [f64]) -> bool {
-    let mut coef = vec![[[0.0; LOCK]; 8]; grid.hs.len()];
-    let (mut q0, mut v0) = ([0.0; LOCK], [0.0; LOCK]);
-    for l in 0..LOCK {
-        let Ok((mode, inv_m, q, v)) = cases.case(first + l) else {
-            return false;
-        };
-        (q0[l], v0[l]) = (q, v);
-        for (c, &h) in coef.iter_mut().zip(&grid.hs) {
-            let st = Step::new(&mode, h, inv_m);
-            if !st.is_finite() {
-                return false;
-            }
-            let all = [
-                st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
-            ];
-            for (cj, x) in c.iter_mut().zip(all) {
-                cj[l] = x;
-            }
-        }
-    }
+    let Some((coef, q0, v0)) = lane_steps(grid, cases, first) else {
+        return false;
+    };
     let (q, v) = pulp::Arch::new().dispatch(Lockstep {
         which: &grid.which,
         coef: &coef,
@@ -1072,6 +1055,35 @@ fn lockstep(grid: &GridSteps, cases: &Cases<'_>, first: usize, f: &[f64], qo: &m
         v0,
     });
     q.iter().chain(&v).all(|x| x.is_finite())
+}
+
+/// The lockstep inputs of cases first..first+LOCK: each distinct step's
+/// coefficients per lane, and each lane's (q0, v0); None if a case is invalid or
+/// a coefficient not finite.
+fn lane_steps(
+    grid: &GridSteps,
+    cases: &Cases<'_>,
+    first: usize,
+) -> Option<(Vec<LaneStep>, [f64; LOCK], [f64; LOCK])> {
+    let mut coef = vec![[[0.0; LOCK]; 8]; grid.hs.len()];
+    let (mut q0, mut v0) = ([0.0; LOCK], [0.0; LOCK]);
+    for l in 0..LOCK {
+        let (mode, inv_m, q, v) = cases.case(first + l).ok()?;
+        (q0[l], v0[l]) = (q, v);
+        for (c, &h) in coef.iter_mut().zip(&grid.hs) {
+            let st = Step::new(&mode, h, inv_m);
+            if !st.is_finite() {
+                return None;
+            }
+            let all = [
+                st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
+            ];
+            for (cj, x) in c.iter_mut().zip(all) {
+                cj[l] = x;
+            }
+        }
+    }
+    Some((coef, q0, v0))
 }
 
 /// The first extremum of q after t[0]: its time [s] (+∞ if none) and signed q.
@@ -1991,19 +2003,7 @@ mod tests {
         {
             use pulp::Simd;
             let grid = GridSteps::new(&t).unwrap();
-            let mut coef = vec![[[0.0; LOCK]; 8]; grid.hs.len()];
-            for l in 0..LOCK {
-                let (mode, inv_m, _, _) = cases.case(l).unwrap();
-                for (c, &h) in coef.iter_mut().zip(&grid.hs) {
-                    let st = Step::new(&mode, h, inv_m);
-                    let all = [
-                        st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
-                    ];
-                    for (cj, x) in c.iter_mut().zip(all) {
-                        cj[l] = x;
-                    }
-                }
-            }
+            let (coef, lane_q0, lane_v0) = lane_steps(&grid, &cases, 0).unwrap();
             let runs = on_each_isa!(|simd| {
                 let mut out = vec![0.0; LOCK * n];
                 Simd::vectorize(
@@ -2013,8 +2013,8 @@ mod tests {
                         coef: &coef,
                         forces: &forces[..LOCK * n],
                         out: &mut out,
-                        q0: std::array::from_fn(|l| q0[l]),
-                        v0: std::array::from_fn(|l| v0[l]),
+                        q0: lane_q0,
+                        v0: lane_v0,
                     },
                 );
                 out
