@@ -659,6 +659,8 @@ class TransferPath:
         g = self._g
         lead = math.radians(self.lead_deg)
         parts = []
+        # Headings are carried on from piece to piece (each the last one's end
+        # angle), so they come out continuous without unwrapping.
         # Lead-in arc: counter-clockwise about the transport centre, ending at A.
         c_t, c_p = self._canonical_centres()
         phi_a = math.atan2(*(g.origin[0] - c_t)[::-1])
@@ -669,28 +671,31 @@ class TransferPath:
         # Transport transition: x from 0 to x2_t in A's frame.
         q = self.transitions[0]
         x = np.linspace(0.0, q.x2, counts[1], endpoint=False)
-        parts.append(_quintic_part(q, x, g.origin[0], g.t_a[0], s0, forward=True, piece=1))
+        base = phi_a + 0.5 * math.pi  # the heading at A
+        parts.append(_quintic_part(q, x, g.origin[0], g.t_a[0], base, s0, forward=True, piece=1))
         s0 += self._lengths[1]
         # Straight segment.
         u = np.linspace(0.0, 1.0, counts[2], endpoint=False)
         pts = g.ends[0] + (u * self.straight_length)[:, None] * g.u
-        head = math.atan2(g.u[1], g.u[0])
+        head = base + math.atan(g.k[0])
         zero = np.zeros_like(u)
         parts.append((pts, s0 + u * self.straight_length, zero + head, zero, zero, 2))
         s0 += self._lengths[2]
         # Process transition, travelled backwards in C's frame: x from x2_p to 0.
         q = self.transitions[1]
         x = np.linspace(q.x2, 0.0, counts[3], endpoint=False)
-        parts.append(_quintic_part(q, x, g.origin[1], g.t_a[1], s0, forward=False, piece=3))
+        # Its heading at B_p, atan(k_p) + base + π, is the straight's.
+        base = head - math.atan(g.k[1]) - math.pi
+        parts.append(_quintic_part(q, x, g.origin[1], g.t_a[1], base, s0, forward=False, piece=3))
         s0 += self._lengths[3]
         # Lead-out arc: clockwise about the process centre, from C (end included).
-        phi_c = math.atan2(*(g.origin[1] - c_p)[::-1])
+        phi_c = base + 1.5 * math.pi  # C's angle about the centre: heading at C + π/2
         u = np.linspace(0.0, 1.0, counts[4])
         phi = phi_c - lead * u
         parts.append(_arc_part(c_p, self.R_p, phi, -1.0, s0 + self.R_p * lead * u, 4))
         points = np.concatenate([p[0] for p in parts])
         s = np.concatenate([p[1] for p in parts])
-        heading = np.unwrap(np.concatenate([p[2] for p in parts]))
+        heading = np.concatenate([p[2] for p in parts])
         curv = np.concatenate([p[3] for p in parts])
         rate = np.concatenate([p[4] for p in parts])
         piece = np.concatenate([np.full(len(p[1]), p[5], dtype=np.int8) for p in parts])
@@ -791,6 +796,7 @@ def _quintic_part(
     x: Array,
     origin: Array,
     t_a: Array,
+    base: float,
     s0: float,
     *,
     forward: bool,
@@ -798,7 +804,7 @@ def _quintic_part(
 ) -> tuple[Any, ...]:
     y, d1, d2, d3 = (q._poly(x, j) for j in range(4))
     pts = origin + x[:, None] * t_a + y[:, None] * _left(t_a)
-    local = np.arctan(d1) + math.atan2(t_a[1], t_a[0])
+    local = np.arctan(d1) + base  # base: the heading of the local x axis
     kappa, rate = _curvature(d1, d2, d3)
     s_local = _cumulative_arc(q, x)
     if forward:
