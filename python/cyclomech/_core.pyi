@@ -23,6 +23,7 @@ __all__ = [
     "first_rebound_batch",
     "longest_path",
     "max_cycle_ratio",
+    "max_difference",
     "max_speed",
     "pareto_mask",
     "press_check",
@@ -48,6 +49,16 @@ def max_cycle_ratio(
     weights: npt.NDArray[np.float64],
     heights: npt.NDArray[np.float64],
 ) -> tuple[float, npt.NDArray[np.int64]] | None: ...
+def max_difference(
+    n_nodes: int,
+    src: npt.NDArray[np.int64],
+    dst: npt.NDArray[np.int64],
+    weights: npt.NDArray[np.float64],
+    source: int,
+    target: int,
+    *,
+    n_threads: int | None = None,
+) -> tuple[float | npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...
 def max_speed(
     n_events: int,
     src: npt.NDArray[np.int64],

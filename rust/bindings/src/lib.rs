@@ -27,7 +27,7 @@ mod _core {
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
-    use super::schedule::{longest_path, max_cycle_ratio, max_speed, EventGraph};
+    use super::schedule::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

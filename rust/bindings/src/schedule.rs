@@ -1,4 +1,5 @@
-//! Bindings of the schedule domain: longest path, event graphs, cycle ratios.
+//! Bindings of the schedule domain: longest path, event graphs, cycle ratios,
+//! difference constraints.
 
 use cyclomech_core::cycle_ratio::{self, SpeedLimit};
 use cyclomech_core::parallel::resolve_threads;
@@ -302,4 +303,46 @@ pub fn max_speed<'py>(
         SpeedLimit::Limited { rpm, cycle } => ("limited", rpm, cycle.ratio, arcs(&cycle.arcs)),
         SpeedLimit::Infeasible { cycle } => ("infeasible", 0.0, cycle.ratio, arcs(&cycle.arcs)),
     })
+}
+
+/// Largest `x[target] - x[source]` under `x[dst] - x[src] <= weights` (see
+/// `cyclomech.schedule.max_difference`). (E,) weights give `(float, (E,) bool)`;
+/// (B, E) weights give `((B,) float64, (B, E) bool)`.
+#[pyfunction]
+#[pyo3(signature = (n_nodes, src, dst, weights, source, target, *, n_threads=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn max_difference<'py>(
+    py: Python<'py>,
+    n_nodes: i64,
+    src: PyReadonlyArray1<'py, i64>,
+    dst: PyReadonlyArray1<'py, i64>,
+    weights: PyReadonlyArrayDyn<'py, f64>,
+    source: i64,
+    target: i64,
+    n_threads: Option<i64>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyArrayDyn<bool>>)> {
+    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (w, batch) = weights_view(py, &weights)?;
+    let Some((b, e)) = batch else {
+        // One row runs on the calling thread, but a bad n_threads is still an error.
+        run(py, "max_difference", || resolve_threads(n_threads))?;
+        let (value, on_path) = run(py, "max_difference", || {
+            schedule::max_difference(n_nodes, s, d, w, source, target)
+        })?;
+        let value = value.into_pyobject(py)?.into_any();
+        return Ok((value, Array1::from(on_path).into_dyn().into_pyarray(py)));
+    };
+    let (values, on_path) = run(py, "max_difference", || {
+        schedule::max_difference_batch(n_nodes, s, d, w, (b, e), source, target, n_threads)
+    })?;
+    // The kernel returns exactly b·e marks; a mismatch would be a kernel bug.
+    let on_path = Array2::from_shape_vec((b, e), on_path).map_err(|err| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!(
+            "internal error: batch result shape: {err}"
+        ))
+    })?;
+    Ok((
+        values.into_pyarray(py).into_any(),
+        on_path.into_dyn().into_pyarray(py),
+    ))
 }

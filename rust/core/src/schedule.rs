@@ -13,6 +13,11 @@
 //! computed in one pass over a topological order. [`EventGraph`] analyses the
 //! structure once (topological order, incoming and outgoing arc lists laid out by
 //! topological position) and then evaluates any number of weight vectors against it.
+//!
+//! [`max_difference`] and [`max_difference_batch`] solve the other problem a
+//! cyclogram poses once cycles are allowed: the largest `x[t] - x[s]` subject to
+//! difference constraints `x[dst] - x[src] <= w`, i.e. the optimum of a cyclogram
+//! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
 
 use std::sync::OnceLock;
 
@@ -23,6 +28,18 @@ use rayon::prelude::*;
 pub enum ScheduleError {
     #[error("n_events = {value} is invalid: it must be an integer between 0 and {max}")]
     BadEventCount { value: i64, max: usize },
+    #[error("n_nodes = {value} is invalid: it must be an integer between 1 and {max}")]
+    BadNodeCount { value: i64, max: usize },
+    #[error(
+        "{field}{location} = {value} is not a node index; valid indices are 0 to {} \
+         (n_nodes = {n_nodes})", n_nodes.saturating_sub(1)
+    )]
+    NodeOutOfRange {
+        field: &'static str,
+        location: String,
+        value: i64,
+        n_nodes: usize,
+    },
     #[error("src and dst must have the same length (one entry per arc); got {src} and {dst}")]
     LengthMismatch { src: usize, dst: usize },
     #[error(
@@ -774,6 +791,355 @@ pub fn longest_path(
     Ok(t)
 }
 
+// ---------------------------------------------------------------------------
+// Systems of difference constraints
+// ---------------------------------------------------------------------------
+
+/// Relative tolerance of one relaxation in [`max_difference`]: a distance is
+/// lowered only when it improves by more than
+/// `eps = DIFFERENCE_RTOL · (1 + max |w|) · n_nodes` (per weight row). Round-off of
+/// a sum of up to `n_nodes` weights is far below this, so an exactly tight cycle
+/// whose float sum comes out at ±1e-13 is feasible, not a negative cycle.
+pub const DIFFERENCE_RTOL: f64 = 1e-12;
+
+/// What a difference bound is, for error messages.
+const BOUND_WHAT: &str = "difference bounds";
+
+/// "No arc": the predecessor of a vertex that was never lowered (arc indices are
+/// at most [`MAX_SIZE`] - 1 < `u32::MAX`).
+const NO_ARC: u32 = u32::MAX;
+
+/// Lower bound of the work of one row of a difference batch, in units of
+/// (arcs + nodes), counted against [`PARALLEL_MIN_WORK`]: two Bellman–Ford runs,
+/// each of at least one pass over the arcs and one over the nodes.
+const DIFFERENCE_PASSES: usize = 4;
+
+/// The structure of a system of difference constraints, validated once per call.
+struct Differences {
+    n: usize,
+    src: Vec<u32>,
+    dst: Vec<u32>,
+    source: usize,
+    target: usize,
+}
+
+/// Working memory of one thread: distances, predecessor arcs, cycle-search marks
+/// (each V,) and the arcs of the last path found.
+struct DifferenceWork {
+    dist: Vec<f64>,
+    pred: Vec<u32>,
+    mark: Vec<u32>,
+    path: Vec<u32>,
+}
+
+impl DifferenceWork {
+    fn new(n: usize) -> Self {
+        DifferenceWork {
+            dist: vec![0.0; n],
+            pred: vec![NO_ARC; n],
+            mark: vec![0; n],
+            path: Vec::new(),
+        }
+    }
+}
+
+/// How a Bellman–Ford run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Relaxation {
+    /// A full pass lowered no distance by more than `eps`.
+    Settled,
+    /// The predecessor arcs closed a cycle: its weights sum to less than `-eps`.
+    NegativeCycle,
+}
+
+impl Differences {
+    fn new(
+        n_nodes: i64,
+        src: &[i64],
+        dst: &[i64],
+        source: i64,
+        target: i64,
+    ) -> Result<Self, ScheduleError> {
+        if n_nodes < 1 || n_nodes as u64 > MAX_SIZE as u64 {
+            return Err(ScheduleError::BadNodeCount {
+                value: n_nodes,
+                max: MAX_SIZE,
+            });
+        }
+        // The arc checks are those of event graphs; only the wording differs.
+        let (n, src, dst) = validate_arcs(n_nodes, src, dst).map_err(|e| match e {
+            ScheduleError::IndexOutOfRange {
+                field,
+                position,
+                value,
+                n_events,
+            } => ScheduleError::NodeOutOfRange {
+                field,
+                location: format!("[{position}]"),
+                value,
+                n_nodes: n_events,
+            },
+            other => other,
+        })?;
+        for (field, value) in [("source", source), ("target", target)] {
+            if value < 0 || value as u64 >= n as u64 {
+                return Err(ScheduleError::NodeOutOfRange {
+                    field,
+                    location: String::new(),
+                    value,
+                    n_nodes: n,
+                });
+            }
+        }
+        Ok(Differences {
+            n,
+            src,
+            dst,
+            source: source as usize,
+            target: target as usize,
+        })
+    }
+
+    /// Bellman–Ford from `start`, or from a virtual vertex with a 0 arc to every
+    /// vertex (`None`: every distance starts at 0, which finds a negative cycle
+    /// anywhere in the graph). Passes over the arcs in input order until one
+    /// changes nothing; a distance is replaced, with its predecessor, only on an
+    /// improvement by more than `eps`.
+    ///
+    /// A cycle of predecessor arcs proves a cycle of weight < -eps (the arc that
+    /// closed it improved its head by more than eps). Conversely, as long as the
+    /// predecessors form a forest every distance is at least that of a simple
+    /// path, so distances can drop by more than eps only finitely often: after
+    /// pass n - 1 each is within (n - 1)·eps of that bound, so at most n(n - 1)
+    /// more improvements can happen before a predecessor cycle must appear. The
+    /// cap of n² + n + 1 passes is therefore never reached in practice.
+    fn relax(
+        &self,
+        w: &[f64],
+        eps: f64,
+        start: Option<usize>,
+        work: &mut DifferenceWork,
+    ) -> Relaxation {
+        let DifferenceWork {
+            dist, pred, mark, ..
+        } = work;
+        match start {
+            None => dist.fill(0.0),
+            Some(s) => {
+                dist.fill(f64::INFINITY);
+                dist[s] = 0.0;
+            }
+        }
+        pred.fill(NO_ARC);
+        let passes = self.n.saturating_mul(self.n).saturating_add(self.n + 1);
+        for _ in 0..passes {
+            let mut changed = false;
+            for (e, ((&u, &v), &we)) in self.src.iter().zip(&self.dst).zip(w).enumerate() {
+                // inf + w = inf is never below anything: unreached tails do nothing.
+                let c = dist[u as usize] + we;
+                if c < dist[v as usize] - eps {
+                    dist[v as usize] = c;
+                    pred[v as usize] = e as u32;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return Relaxation::Settled;
+            }
+            if predecessor_cycle(&self.src, pred, mark) {
+                return Relaxation::NegativeCycle;
+            }
+        }
+        Relaxation::NegativeCycle
+    }
+
+    /// Shortest distance from source to target for one weight row (NaN if some
+    /// cycle is negative, +inf if the target is unreachable); the arcs of one
+    /// shortest path, source to target, are left in `work.path`.
+    fn solve_row(&self, w: &[f64], work: &mut DifferenceWork) -> f64 {
+        let scale = w.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+        let eps = DIFFERENCE_RTOL * (1.0 + scale) * self.n as f64;
+        work.path.clear();
+        if self.relax(w, eps, None, work) == Relaxation::NegativeCycle
+            || self.relax(w, eps, Some(self.source), work) == Relaxation::NegativeCycle
+        {
+            return f64::NAN;
+        }
+        if work.dist[self.target] == f64::INFINITY {
+            return f64::INFINITY;
+        }
+        // A settled run leaves a predecessor tree rooted at the source (the source
+        // itself can only be lowered through a negative cycle), so this walk ends
+        // at the source within n - 1 arcs; the guard only keeps a bug from looping.
+        let mut v = self.target;
+        while v != self.source {
+            let e = work.pred[v];
+            if e == NO_ARC || work.path.len() >= self.n {
+                work.path.clear();
+                return f64::NAN;
+            }
+            work.path.push(e);
+            v = self.src[e as usize] as usize;
+        }
+        work.path.reverse();
+        // The value is the weight of the path reported, summed from the source, so
+        // the two agree exactly; it is within (n - 1)·eps of the relaxed distance.
+        work.path.iter().fold(0.0, |s, &e| s + w[e as usize])
+    }
+}
+
+/// True if following predecessor arcs from some vertex leads back to a vertex of
+/// the same walk. `mark` (V,) is scratch space.
+fn predecessor_cycle(src: &[u32], pred: &[u32], mark: &mut [u32]) -> bool {
+    mark.fill(0);
+    for start in 0..pred.len() {
+        if mark[start] != 0 {
+            continue;
+        }
+        // Vertex indices are below u32::MAX - 1, so the stamp is never 0.
+        let stamp = start as u32 + 1;
+        let mut v = start;
+        loop {
+            mark[v] = stamp;
+            let e = pred[v];
+            if e == NO_ARC {
+                break;
+            }
+            v = src[e as usize] as usize;
+            if mark[v] != 0 {
+                if mark[v] == stamp {
+                    return true;
+                }
+                break;
+            }
+        }
+    }
+    false
+}
+
+/// Largest `x[target] - x[source]` over all real `x` with
+/// `x[dst[e]] - x[src[e]] <= weights[e]` for every arc `e`: the shortest-path
+/// distance from `source` to `target` (Bellman–Ford; weights may be negative).
+///
+/// Returns the value and, per arc, whether it lies on the shortest path found:
+/// * NaN (no arc marked) if the system is infeasible, i.e. some cycle anywhere in
+///   the graph has negative total weight — reachable from `source` or not;
+/// * +inf (no arc marked) if it is feasible and `target` is unreachable from
+///   `source`;
+/// * otherwise the total weight of the marked path, summed from `source`
+///   (0 with no arc marked if `source == target`).
+///
+/// Tolerance: a relaxation counts only when it improves a distance by more than
+/// `eps = 1e-12 · (1 + max |w|) · n_nodes` ([`DIFFERENCE_RTOL`]). A cycle whose
+/// weights sum to `-eps` or more is therefore feasible (an exactly tight cycle
+/// with round-off of ±1e-13 is), one summing to less than `-n_nodes · eps` is
+/// always infeasible, and in between either verdict is possible; the value is
+/// within `(n_nodes - 1) · eps` of the exact distance.
+pub fn max_difference(
+    n_nodes: i64,
+    src: &[i64],
+    dst: &[i64],
+    weights: &[f64],
+    source: i64,
+    target: i64,
+) -> Result<(f64, Vec<bool>), ScheduleError> {
+    let sys = Differences::new(n_nodes, src, dst, source, target)?;
+    let m = sys.src.len();
+    if weights.len() != m {
+        return Err(ScheduleError::WeightLength {
+            field: "weights",
+            expected: m,
+            got: weights.len(),
+        });
+    }
+    check_finite("weights", weights, m, BOUND_WHAT)?;
+    check_memory(0, 0, m)?;
+    let mut work = DifferenceWork::new(sys.n);
+    let value = sys.solve_row(weights, &mut work);
+    let mut on_path = vec![false; m];
+    for &e in &work.path {
+        on_path[e as usize] = true;
+    }
+    Ok((value, on_path))
+}
+
+/// [`max_difference`] for `rows` weight rows of `row_len` entries, stored
+/// row-major in `weights` (`shape = (rows, row_len)`, `row_len` = number of arcs).
+/// Returns the values (rows,) and the path marks (rows × arcs, row-major); row `r`
+/// is bit for bit what [`max_difference`] gives for that row, whatever the thread
+/// count. The structure is validated once; rows run in parallel on the pool chosen
+/// by `n_threads` (see [`crate::parallel`]).
+#[allow(clippy::too_many_arguments)]
+pub fn max_difference_batch(
+    n_nodes: i64,
+    src: &[i64],
+    dst: &[i64],
+    weights: &[f64],
+    shape: (usize, usize),
+    source: i64,
+    target: i64,
+    n_threads: Option<i64>,
+) -> Result<(Vec<f64>, Vec<bool>), ScheduleError> {
+    let sys = Differences::new(n_nodes, src, dst, source, target)?;
+    let (rows, row_len) = shape;
+    let (n, m) = (sys.n, sys.src.len());
+    if row_len != m || rows.checked_mul(m) != Some(weights.len()) {
+        return Err(ScheduleError::WeightLength {
+            field: "weights",
+            expected: m,
+            got: if row_len != m {
+                row_len
+            } else {
+                weights.len() / rows.max(1)
+            },
+        });
+    }
+    let threads = crate::parallel::resolve_threads(n_threads)?;
+    if !all_within(weights) {
+        // Name the row and the column, even for a batch of one row.
+        let (i, &value) = weights
+            .iter()
+            .enumerate()
+            .find(|(_, v)| v.is_nan() || v.abs() > MAX_ABS_VALUE)
+            .unwrap_or((0, &f64::NAN));
+        return Err(ScheduleError::NonFinite {
+            field: "weights",
+            location: format!("[{}, {}]", i / m.max(1), i % m.max(1)),
+            value,
+            what: BOUND_WHAT,
+        });
+    }
+    check_memory(0, 0, rows.saturating_mul(m.saturating_add(8)))?;
+    let mut values = vec![0.0; rows];
+    let mut on_path = vec![false; rows * m];
+    let solve = |work: &mut DifferenceWork, r: usize, value: &mut f64, marks: &mut [bool]| {
+        *value = sys.solve_row(&weights[r * m..(r + 1) * m], work);
+        for &e in &work.path {
+            marks[e as usize] = true;
+        }
+    };
+    let work = rows.saturating_mul((m + n).saturating_mul(DIFFERENCE_PASSES));
+    // Without arcs there are no row chunks to hand out (and nothing to relax).
+    if threads == 1 || m == 0 || work < PARALLEL_MIN_WORK {
+        let mut scratch = DifferenceWork::new(n);
+        for (r, value) in values.iter_mut().enumerate() {
+            solve(&mut scratch, r, value, &mut on_path[r * m..(r + 1) * m]);
+        }
+    } else {
+        crate::parallel::pool(threads)?.install(|| {
+            values
+                .par_iter_mut()
+                .zip(on_path.par_chunks_mut(m))
+                .enumerate()
+                .for_each_init(
+                    || DifferenceWork::new(n),
+                    |scratch, (r, (value, marks))| solve(scratch, r, value, marks),
+                )
+        });
+    }
+    Ok((values, on_path))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -956,5 +1322,310 @@ mod tests {
         assert_eq!(a.critical, vec![false, false, true, false]);
         assert_eq!(a.total_slack, vec![20.0, 20.0, 0.0, 20.0]);
         assert_eq!(a.free_slack, vec![0.0, 0.0, 0.0, 0.0]);
+    }
+
+    // -----------------------------------------------------------------------
+    // Difference constraints
+    // -----------------------------------------------------------------------
+
+    /// Independent reference: Floyd–Warshall distances between all pairs, or None
+    /// if some cycle is negative (a negative diagonal entry). Exact on the
+    /// integer-valued weights the tests draw.
+    fn floyd_warshall(n: usize, src: &[i64], dst: &[i64], w: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let mut d = vec![vec![f64::INFINITY; n]; n];
+        for (i, row) in d.iter_mut().enumerate() {
+            row[i] = 0.0;
+        }
+        for e in 0..src.len() {
+            let (a, b) = (src[e] as usize, dst[e] as usize);
+            d[a][b] = d[a][b].min(w[e]);
+        }
+        for k in 0..n {
+            for i in 0..n {
+                for j in 0..n {
+                    let c = d[i][k] + d[k][j];
+                    if c < d[i][j] {
+                        d[i][j] = c;
+                    }
+                }
+            }
+        }
+        if (0..n).any(|i| d[i][i] < 0.0) {
+            None
+        } else {
+            Some(d)
+        }
+    }
+
+    /// A random graph (self-loops and parallel arcs allowed) with integer weights
+    /// in [-10, 30] times a power-of-two or 360 scale (sums stay exact), a source
+    /// and a target.
+    #[allow(clippy::type_complexity)]
+    fn difference_system() -> impl Strategy<Value = (usize, Vec<i64>, Vec<i64>, Vec<f64>, i64, i64)>
+    {
+        (1usize..9).prop_flat_map(|n| {
+            let arcs = prop::collection::vec((0..n as i64, 0..n as i64, -10i32..30), 0..24);
+            let scale = prop_oneof![Just(1.0), Just(0.25), Just(360.0)];
+            (Just(n), arcs, scale, 0..n as i64, 0..n as i64).prop_map(|(n, arcs, scale, s, t)| {
+                let src = arcs.iter().map(|a| a.0).collect();
+                let dst = arcs.iter().map(|a| a.1).collect();
+                let w = arcs.iter().map(|a| a.2 as f64 * scale).collect();
+                (n, src, dst, w, s, t)
+            })
+        })
+    }
+
+    /// The marked arcs, followed from `s`, form one path that ends at `t` and uses
+    /// each of them once; returns its weight summed from `s`.
+    fn walk_marked(src: &[i64], dst: &[i64], w: &[f64], marks: &[bool], s: i64, t: i64) -> f64 {
+        let mut left: Vec<usize> = (0..src.len()).filter(|&e| marks[e]).collect();
+        let (mut v, mut sum, mut seen) = (s, 0.0, vec![s]);
+        while let Some(k) = left.iter().position(|&e| src[e] == v) {
+            let e = left.remove(k);
+            sum += w[e];
+            v = dst[e];
+            assert!(!seen.contains(&v), "the marked arcs revisit node {v}");
+            seen.push(v);
+        }
+        assert!(left.is_empty(), "marked arcs {left:?} are off the path");
+        assert_eq!(v, t, "the marked path ends at {v}, not at the target {t}");
+        sum
+    }
+
+    proptest! {
+        #[test]
+        fn max_difference_matches_floyd_warshall((n, s, d, w, a, b) in difference_system()) {
+            let (value, marks) = max_difference(n as i64, &s, &d, &w, a, b).unwrap();
+            prop_assert_eq!(marks.len(), w.len());
+            match floyd_warshall(n, &s, &d, &w) {
+                None => {
+                    prop_assert!(value.is_nan(), "{value} for an infeasible system");
+                    prop_assert!(!marks.contains(&true));
+                }
+                Some(dist) => {
+                    let want = dist[a as usize][b as usize];
+                    if want == f64::INFINITY {
+                        prop_assert_eq!(value, f64::INFINITY);
+                        prop_assert!(!marks.contains(&true));
+                    } else {
+                        prop_assert!((value - want).abs() <= 1e-9 * (1.0 + want.abs()), "{value} vs {want}");
+                        let sum = walk_marked(&s, &d, &w, &marks, a, b);
+                        prop_assert_eq!(sum.to_bits(), value.to_bits());
+                        if a == b {
+                            prop_assert_eq!(value, 0.0);
+                            prop_assert!(!marks.contains(&true));
+                        }
+                    }
+                }
+            }
+        }
+
+        #[test]
+        fn max_difference_batch_matches_single(
+            (n, s, d, w, a, b) in difference_system(),
+            rows in 0usize..12,
+            threads in 1i64..3,
+        ) {
+            let m = w.len();
+            // Row r shifts every weight by 3 - r: later rows gain negative cycles.
+            let all: Vec<f64> = (0..rows)
+                .flat_map(|r| w.iter().map(move |x| x + 3.0 - r as f64))
+                .collect();
+            let (values, marks) =
+                max_difference_batch(n as i64, &s, &d, &all, (rows, m), a, b, Some(threads)).unwrap();
+            prop_assert_eq!(values.len(), rows);
+            prop_assert_eq!(marks.len(), rows * m);
+            for r in 0..rows {
+                let (v, mk) = max_difference(n as i64, &s, &d, &all[r * m..(r + 1) * m], a, b).unwrap();
+                prop_assert_eq!(values[r].to_bits(), v.to_bits());
+                prop_assert_eq!(&marks[r * m..(r + 1) * m], &mk[..]);
+            }
+        }
+    }
+
+    #[test]
+    fn max_difference_by_hand() {
+        // x1 - x0 <= 4, x2 - x1 <= -1, x2 - x0 <= 5: max x2 - x0 = 3 via 0 -> 1 -> 2.
+        let (s, d) = ([0, 1, 0], [1, 2, 2]);
+        let (v, mk) = max_difference(3, &s, &d, &[4.0, -1.0, 5.0], 0, 2).unwrap();
+        assert_eq!((v, mk), (3.0, vec![true, true, false]));
+        // source == target: 0, nothing marked.
+        let (v, mk) = max_difference(3, &s, &d, &[4.0, -1.0, 5.0], 1, 1).unwrap();
+        assert_eq!((v, mk), (0.0, vec![false; 3]));
+        // Unreachable target: unbounded.
+        let (v, mk) = max_difference(3, &s, &d, &[4.0, -1.0, 5.0], 2, 0).unwrap();
+        assert_eq!((v, mk), (f64::INFINITY, vec![false; 3]));
+        // No arcs at all.
+        assert_eq!(
+            max_difference(1, &[], &[], &[], 0, 0).unwrap(),
+            (0.0, vec![])
+        );
+        assert_eq!(
+            max_difference(2, &[], &[], &[], 0, 1).unwrap(),
+            (f64::INFINITY, vec![])
+        );
+    }
+
+    #[test]
+    fn negative_cycle_anywhere_is_infeasible() {
+        // 0 -> 1 is all the source sees; 2 <-> 3 is a negative cycle off to the side.
+        let (s, d) = ([0, 2, 3], [1, 3, 2]);
+        let (v, mk) = max_difference(4, &s, &d, &[1.0, 2.0, -3.0], 0, 1).unwrap();
+        assert!(v.is_nan());
+        assert_eq!(mk, vec![false; 3]);
+        // The same with source == target, and a negative self-loop.
+        assert!(max_difference(4, &s, &d, &[1.0, 2.0, -3.0], 0, 0)
+            .unwrap()
+            .0
+            .is_nan());
+        assert!(max_difference(2, &[0, 1], &[1, 1], &[1.0, -0.5], 0, 1)
+            .unwrap()
+            .0
+            .is_nan());
+        // A zero cycle is feasible.
+        let (v, _) = max_difference(4, &s, &d, &[1.0, 2.0, -2.0], 0, 1).unwrap();
+        assert_eq!(v, 1.0);
+    }
+
+    #[test]
+    fn tight_cycle_is_feasible_within_the_tolerance() {
+        // A cyclogram cycle that closes exactly, up to the round-off of its angles.
+        for (scale, slack) in [
+            (1.0, -1e-13),
+            (1.0, 1e-13),
+            (360.0, -1e-13),
+            (360.0, -5e-11),
+        ] {
+            let w = [120.0 / 360.0 * scale, 240.0 / 360.0 * scale, -scale + slack];
+            let (v, mk) = max_difference(3, &[0, 1, 2], &[1, 2, 0], &w, 0, 2).unwrap();
+            assert!((v - scale).abs() < 1e-9 * scale, "{scale} {slack}: {v}");
+            assert_eq!(mk, vec![true, true, false]);
+            let (v, _) = max_difference(3, &[0, 1, 2], &[1, 2, 0], &w, 2, 1).unwrap();
+            assert!((v - (w[2] + w[0])).abs() < 1e-9 * scale);
+        }
+        // Well below -n·eps: infeasible.
+        let w = [1.0, 2.0, -3.0 - 1e-6];
+        assert!(max_difference(3, &[0, 1, 2], &[1, 2, 0], &w, 0, 2)
+            .unwrap()
+            .0
+            .is_nan());
+        let w = [1.0, 2.0, -3.0 - 4.0 * 3.0 * DIFFERENCE_RTOL * 4.0 * 3.0];
+        assert!(max_difference(3, &[0, 1, 2], &[1, 2, 0], &w, 0, 2)
+            .unwrap()
+            .0
+            .is_nan());
+    }
+
+    #[test]
+    fn long_negative_cycle_is_found() {
+        // A ring of 200 nodes whose weights sum to -1 (found through predecessors
+        // long before the pass cap), plus a chord 5 -> 150 of weight 150 (the
+        // cycle it closes weighs 150 - 145 >= 0).
+        let n = 200i64;
+        let s: Vec<i64> = (0..n).chain([5]).collect();
+        let d: Vec<i64> = (1..n).chain([0, 150]).collect();
+        let mut w = vec![1.0; n as usize + 1];
+        w[n as usize] = 150.0;
+        w[n as usize - 1] = -(n as f64);
+        assert!(max_difference(n, &s, &d, &w, 3, 7).unwrap().0.is_nan());
+        // Ring of weight 0: feasible, and the chord is never the shorter way.
+        w[n as usize - 1] = -(n as f64) + 1.0;
+        let (v, mk) = max_difference(n, &s, &d, &w, 3, 7).unwrap();
+        assert_eq!(v, 4.0);
+        assert_eq!(mk.iter().filter(|&&b| b).count(), 4);
+        assert_eq!(max_difference(n, &s, &d, &w, 3, 160).unwrap().0, 157.0);
+        // Going round: 160 -> 199 -> 0 -> 7.
+        assert_eq!(
+            max_difference(n, &s, &d, &w, 160, 7).unwrap().0,
+            39.0 - 199.0 + 7.0
+        );
+        // A cheaper chord closes a negative cycle: infeasible.
+        w[n as usize] = 144.0;
+        assert!(max_difference(n, &s, &d, &w, 3, 7).unwrap().0.is_nan());
+    }
+
+    #[test]
+    fn difference_batch_threads_agree_bit_for_bit() {
+        // Large enough for the threaded path (rows · (arcs + nodes) · 4 > 2^16).
+        let (n, m, rows) = (20usize, 60usize, 400usize);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let s: Vec<i64> = (0..m).map(|_| (next() % n as u64) as i64).collect();
+        let d: Vec<i64> = (0..m).map(|_| (next() % n as u64) as i64).collect();
+        let w: Vec<f64> = (0..rows * m)
+            .map(|_| (next() % 4001) as f64 / 100.0 - 5.0)
+            .collect();
+        assert!(rows * (m + n) * DIFFERENCE_PASSES >= PARALLEL_MIN_WORK);
+        let one = max_difference_batch(n as i64, &s, &d, &w, (rows, m), 0, 7, Some(1)).unwrap();
+        let two = max_difference_batch(n as i64, &s, &d, &w, (rows, m), 0, 7, Some(2)).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&one.0), bits(&two.0));
+        assert_eq!(one.1, two.1);
+        let kinds = |f: fn(&f64) -> bool| one.0.iter().filter(|v| f(v)).count();
+        // The draw mixes feasible and infeasible rows.
+        assert!(kinds(|v| v.is_nan()) > 0 && kinds(|v| v.is_finite()) > 0);
+        for r in (0..rows).step_by(37) {
+            let single = max_difference(n as i64, &s, &d, &w[r * m..(r + 1) * m], 0, 7).unwrap();
+            assert_eq!(single.0.to_bits(), one.0[r].to_bits());
+            assert_eq!(&single.1[..], &one.1[r * m..(r + 1) * m]);
+        }
+    }
+
+    #[test]
+    fn difference_bad_input_is_an_error_not_a_panic() {
+        let (s, d, w) = ([0i64, 1], [1i64, 2], [1.0, 2.0]);
+        let msg = |r: Result<(f64, Vec<bool>), ScheduleError>| r.unwrap_err().to_string();
+        assert_eq!(
+            msg(max_difference(0, &[], &[], &[], 0, 0)),
+            format!("n_nodes = 0 is invalid: it must be an integer between 1 and {MAX_SIZE}")
+        );
+        assert!(msg(max_difference(-3, &s, &d, &w, 0, 1)).starts_with("n_nodes = -3"));
+        assert_eq!(
+            msg(max_difference(3, &s, &[1, 3], &w, 0, 1)),
+            "dst[1] = 3 is not a node index; valid indices are 0 to 2 (n_nodes = 3)"
+        );
+        assert!(msg(max_difference(3, &[-1, 0], &d, &w, 0, 1)).starts_with("src[0] = -1"));
+        assert_eq!(
+            msg(max_difference(3, &s, &d, &w, 3, 1)),
+            "source = 3 is not a node index; valid indices are 0 to 2 (n_nodes = 3)"
+        );
+        assert!(msg(max_difference(3, &s, &d, &w, 0, -1)).starts_with("target = -1"));
+        assert!(msg(max_difference(3, &s, &d[..1], &w, 0, 1)).contains("same length"));
+        assert!(msg(max_difference(3, &s, &d, &w[..1], 0, 1)).contains("got 1"));
+        assert!(
+            msg(max_difference(3, &s, &d, &[1.0, f64::NAN], 0, 1)).starts_with("weights[1] = NaN")
+        );
+        assert!(msg(max_difference(3, &s, &d, &[f64::INFINITY, 1.0], 0, 1))
+            .starts_with("weights[0] = inf"));
+        assert!(
+            msg(max_difference(3, &s, &d, &[1e300, 1.0], 0, 1)).starts_with("weights[0] = 1e300")
+        );
+        let batch = |w: &[f64], shape, threads| {
+            max_difference_batch(3, &s, &d, w, shape, 0, 1, threads)
+                .unwrap_err()
+                .to_string()
+        };
+        let mut rows = vec![1.0; 6];
+        rows[5] = f64::NEG_INFINITY;
+        assert!(batch(&rows, (3, 2), None).starts_with("weights[2, 1] = -inf"));
+        assert!(batch(&[f64::NAN, 1.0], (1, 2), None).starts_with("weights[0, 0] = NaN"));
+        assert!(batch(&[1.0; 6], (2, 3), None).contains("got 3"));
+        assert!(batch(&[], (0, 5), None).contains("got 5"));
+        assert!(batch(&[1.0; 5], (2, 2), None).contains("weights"));
+        assert!(batch(&[1.0; 4], (2, 2), Some(0)).contains("n_threads"));
+        assert!(max_difference_batch(3, &s, &d, &[], (0, 2), 0, 5, None).is_err());
+        assert_eq!(
+            max_difference_batch(3, &s, &d, &[], (0, 2), 0, 2, Some(2)).unwrap(),
+            (vec![], vec![])
+        );
+        assert_eq!(
+            max_difference_batch(2, &[], &[], &[], (3, 0), 0, 1, Some(2)).unwrap(),
+            (vec![f64::INFINITY; 3], vec![])
+        );
     }
 }
