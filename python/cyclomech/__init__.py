@@ -1,6 +1,7 @@
 """cyclomech: design of cyclic machines with a Rust core.
 
-Linkages, stops, press drives, rotor transfer and the machine's cyclogram. SI units
+Linkages, stops, press drives, rotor transfer, the machine's cyclogram, and the
+whole machine from one machine file (:class:`Machine`, :func:`sweep`). SI units
 inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 """
 
@@ -18,7 +19,9 @@ from ._errors import (
 )
 from .cyclogram import Constraint, Cyclogram, Operation, Optimum, Schedule, SpeedLimit
 from .linkage import Linkage, LinkageSolution
-from .schedule import EventGraph, GraphAnalysis, longest_path, max_cycle_ratio
+from .machine import Machine
+from .scale import SweepResult, sweep
+from .schedule import EventGraph, GraphAnalysis, longest_path, max_cycle_ratio, max_difference
 
 __all__ = [
     "Constraint",
@@ -32,16 +35,20 @@ __all__ = [
     "InternalError",
     "Linkage",
     "LinkageSolution",
+    "Machine",
     "Operation",
     "Optimum",
     "Schedule",
     "SolverError",
     "SpeedLimit",
+    "SweepResult",
     "__version__",
     "impact",
     "longest_path",
     "max_cycle_ratio",
+    "max_difference",
     "motion",
     "press",
+    "sweep",
     "transfer",
 ]

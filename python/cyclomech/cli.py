@@ -611,6 +611,80 @@ def _impact_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run_command(args: argparse.Namespace) -> int:
+    from .machine import Machine
+    from .report import analyze, write_report
+
+    m = Machine.from_toml(args.file)
+    kinds = ", ".join(f"{k} ({type(v).__name__})" for k, v in m.mechanisms.items())
+    print(
+        f"{m.name}: {len(m.mechanisms)} mechanisms{': ' + kinds if kinds else ''}; "
+        f"{len(m.cyclogram.operations)} operations; speeds {m.speed_range_rpm[0]:g}–"
+        f"{m.speed_range_rpm[1]:g} rpm"
+    )
+    out = _out_folder(args)
+    r = analyze(m, progress=None if not args.quiet else False)
+    lim = r.limit
+    by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
+    print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}")
+    if r.optimum is not None:
+        op = m.cyclogram.operation(m.cyclogram.limiting)  # type: ignore[arg-type]
+        o = r.optimum
+        print(
+            f"At {r.nominal_rpm:g} rpm the limiting operation {op.title!r} gets "
+            f"{o.objective:.2f}° ({o.stretch[op.arc]:.2f}° more than its minimum)"
+        )
+        priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
+        if priced:
+            print("Binding, with shadow prices: " + ", ".join(priced))
+    else:
+        print(f"At {r.nominal_rpm:g} rpm the cyclogram does not fit: {r.problem}")
+    use_fig = not args.no_plot and _has_matplotlib("figures")
+    written = write_report(r, out, figures=use_fig)
+    print(f"\nReport: {out / 'report.html'}  ({len(written)} files in {out})")
+    return 0
+
+
+def _sweep_command(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .machine import Machine
+    from .scale import dask_client, parse_range, sweep
+
+    m = Machine.from_toml(args.file)
+    grid: dict[str, Any] = {}
+    for item in args.set or []:
+        name, eq, text = item.partition("=")
+        if not eq or not name:
+            raise InputError(f"--set {item!r} must be <mechanism>.<key>=from:to:count")
+        grid[name] = parse_range(text, f"--set {name}=")
+    if args.speed is not None:
+        grid["speed_rpm"] = parse_range(args.speed, "--speed")
+    client = dask_client(args.dask) if args.dask else None
+    try:
+        r = sweep(
+            m, grid, client, progress=None if not args.quiet else False, n_threads=args.threads
+        )
+    finally:
+        if client is not None:
+            cluster = getattr(client, "cluster", None)
+            client.close()
+            if cluster is not None and args.dask.startswith("local"):
+                cluster.close()
+    out = _out_folder(args)
+    path = r.write(out / "sweep.parquet")
+    fits = r.columns["fits"]
+    n_speeds = int(np.unique(r.columns["speed_rpm"]).size)
+    print(
+        f"{r.n_points} points ({r.n_points // n_speeds} designs × {n_speeds} speeds) in "
+        f"{r.seconds:.2f} s"
+        + (f" on Dask ({args.dask})" if args.dask else "")
+        + f"; the cyclogram fits at {int(fits.sum())} of them"
+    )
+    print(f"Wrote {path}")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
     parser = argparse.ArgumentParser(prog="cyclomech", description="Design of cyclic machines.")
@@ -638,6 +712,30 @@ def main(argv: Sequence[str] | None = None) -> int:
     i.add_argument("--out", help="output folder (default: out/<file name>)")
     i.add_argument("--no-plot", action="store_true", help="do not write the figures")
     i.set_defaults(run=_impact_command)
+    m = sub.add_parser("run", help="the whole machine: a machine file (TOML) in, a report out")
+    m.add_argument("file", help="machine file, e.g. examples/stb_loom.toml")
+    m.add_argument("--out", help="output folder (default: out/<file name>)")
+    m.add_argument("--no-plot", action="store_true", help="do not draw the figures")
+    m.add_argument("--quiet", action="store_true", help="no progress bar")
+    m.set_defaults(run=_run_command)
+    w = sub.add_parser("sweep", help="a machine's key figures over parameters and speeds")
+    w.add_argument("file", help="machine file, e.g. examples/stb_loom.toml")
+    w.add_argument(
+        "--set",
+        action="append",
+        metavar="MECH.KEY=FROM:TO:COUNT",
+        help="a parameter of the file to sweep (repeat for a grid)",
+    )
+    w.add_argument("--speed", metavar="FROM:TO:COUNT", help="speeds [rpm] (default: the file's)")
+    w.add_argument("--out", help="output folder (default: out/<file name>)")
+    w.add_argument(
+        "--dask",
+        metavar="local[:N]|tcp://HOST:PORT",
+        help="run the chunks on Dask: a LocalCluster of N processes, or a running scheduler",
+    )
+    w.add_argument("--threads", type=int, help="Rust threads in this process (default: all)")
+    w.add_argument("--quiet", action="store_true", help="no progress bar")
+    w.set_defaults(run=_sweep_command)
     args = parser.parse_args(argv)
     try:
         return int(args.run(args))

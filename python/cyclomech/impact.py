@@ -893,7 +893,14 @@ class StopImpact:
         q = duhamel(t, f, omega_n=self.omega_free, zeta=self.zeta, mass=self.mass, q0=0.0, v0=-v0)
         return t, q
 
-    def min_phase_angle(self, a_max: float, rpm: npt.ArrayLike, *, tol_deg: float = 1e-9) -> Any:
+    def min_phase_angle(
+        self,
+        a_max: float,
+        rpm: npt.ArrayLike,
+        *,
+        tol_deg: float = 1e-9,
+        n_threads: int | None = None,
+    ) -> Any:
         """Smallest phase angle [deg] whose first rebound is at most ``a_max`` [m],
         at each speed ``rpm``: the rebound falls as the phase angle grows, so a
         bisection on (0°, 360°] brackets it to ``tol_deg``; NaN where even 360° is
@@ -909,14 +916,14 @@ class StopImpact:
         n = np.asarray(_positive_array("rpm", rpm, "[rpm]"), dtype=np.float64)
         lo = np.full(n.shape, 1e-9)
         hi = np.full(n.shape, 360.0)
-        ok = self.rebound(n, hi) <= a
-        lo_ok = self.rebound(n, lo) <= a
+        ok = self.rebound(n, hi, n_threads=n_threads) <= a
+        lo_ok = self.rebound(n, lo, n_threads=n_threads) <= a
         hi = np.where(lo_ok, lo, hi)
         while True:
             mid = 0.5 * (lo + hi)
             if (hi - lo <= tol_deg).all() or (mid == lo).all():
                 break
-            fine = self.rebound(n, mid) <= a
+            fine = self.rebound(n, mid, n_threads=n_threads) <= a
             hi = np.where(fine, mid, hi)
             lo = np.where(fine, lo, mid)
         return np.where(ok, hi, np.nan)[()]  # a float for a scalar speed

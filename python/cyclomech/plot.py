@@ -68,10 +68,12 @@ __all__ = [
     "plot_cyclogram_pair",
     "plot_law",
     "plot_linkage",
+    "plot_min_phase",
     "plot_press",
     "plot_press_criteria",
     "plot_rebound_vs_speed",
     "plot_response",
+    "plot_speed_sweep",
     "plot_transfer",
 ]
 
@@ -3008,3 +3010,132 @@ def plot_transfer(
         )
     fig.suptitle(title, fontsize=11)
     return fig
+
+
+def plot_speed_sweep(
+    sweep: Any,
+    *,
+    linear: Any = None,
+    limit_rpm: float | None = None,
+    title: str | None = None,
+) -> Figure:
+    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`:
+    on top the limiting operation's optimal angle [deg] (and, from ``linear``, a
+    second sweep with the seed's linearised rebound constraints, dashed); below
+    the time it gets [ms] and the productivity [cycles/min]. ``limit_rpm`` [rpm]
+    is drawn as a vertical line. Artists, by gid: ``"limiting"``,
+    ``"limiting:linear"``, ``"time"``, ``"productivity"``, ``"limit"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import cyclomech as cm
+    >>> from cyclomech.plot import plot_speed_sweep
+    >>> m = cm.Machine.example()
+    >>> fig = plot_speed_sweep(m.speed_sweep(), limit_rpm=m.speed_limit().rpm)
+    >>> fig.axes[0].get_ylabel()
+    'limiting operation  [deg]'
+    """
+    plt = _matplotlib()
+    fig, (top, bottom) = plt.subplots(
+        2, 1, figsize=(8.0, 6.0), sharex=True, layout="constrained", height_ratios=(1.3, 1.0)
+    )
+    n = np.asarray(sweep.rpm)
+    top.plot(
+        n, sweep.limiting_deg, "-", lw=1.8, color="C0", label="exact rebound bound", gid="limiting"
+    )
+    if linear is not None:
+        top.plot(
+            n,
+            linear.limiting_deg,
+            "--",
+            lw=1.3,
+            color="C1",
+            label="seed's linearised bound",
+            gid="limiting:linear",
+        )
+    top.set_ylabel("limiting operation  [deg]")
+    top.grid(True, lw=0.4, alpha=0.5)
+    bottom.plot(
+        n,
+        sweep.limiting_s * 1e3,
+        "-",
+        lw=1.6,
+        color="C2",
+        label="time of the limiting operation",
+        gid="time",
+    )
+    bottom.set_ylabel("limiting operation  [ms]")
+    bottom.set_xlabel("main-shaft speed  [rpm]")
+    bottom.grid(True, lw=0.4, alpha=0.5)
+    right = bottom.twinx()
+    right.plot(
+        n, sweep.productivity, ":", lw=1.6, color="C3", label="productivity", gid="productivity"
+    )
+    right.set_ylabel("productivity  [cycles/min]")
+    right.set_ylim(bottom=0.0)
+    for ax in (top, bottom):
+        if limit_rpm is not None and math.isfinite(limit_rpm) and n.min() <= limit_rpm <= n.max():
+            ax.axvline(
+                limit_rpm, color=CRITICAL_COLOR, ls="--", lw=1.0, gid="limit" if ax is top else None
+            )
+    if limit_rpm is not None and math.isfinite(limit_rpm):
+        top.text(
+            0.98,
+            0.96,
+            f"speed limit {limit_rpm:.1f} rpm",
+            transform=top.transAxes,
+            ha="right",
+            va="top",
+            fontsize=9,
+            color=CRITICAL_COLOR,
+        )
+    top.legend(fontsize=8, loc="lower left")
+    lines = bottom.get_lines() + right.get_lines()
+    bottom.legend(lines, [ln.get_label() for ln in lines], fontsize=8, loc="upper right")
+    fig.suptitle(title or "the machine against speed", fontsize=11)
+    return cast("Figure", fig)
+
+
+def plot_min_phase(
+    rpm: npt.ArrayLike,
+    exact: npt.ArrayLike,
+    linear: npt.ArrayLike | None = None,
+    *,
+    minimum_deg: float | None = None,
+    title: str | None = None,
+    ax: Axes | None = None,
+) -> Axes:
+    """A stop's smallest admissible phase angle [deg] against speed ``rpm``:
+    ``exact`` (solid) and the seed's ``linear`` form (dashed); ``minimum_deg`` is
+    the operation's own minimum angle (dotted). Returns the axes. Artists, by
+    gid: ``"exact"``, ``"linear"``, ``"minimum"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.plot import plot_min_phase
+    >>> s = cm.Machine.example().mechanisms["lifter"]
+    >>> n = np.linspace(200, 450, 11)
+    >>> ax = plot_min_phase(n, s.min_phase_deg(n), s.linear_min_phase_deg(n))
+    >>> ax.get_xlabel()
+    'main-shaft speed  [rpm]'
+    """
+    plt = _matplotlib()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7.0, 4.0), layout="constrained")
+    assert ax is not None
+    ax.plot(rpm, exact, "-", lw=1.8, color="C0", label="exact", gid="exact")
+    if linear is not None:
+        ax.plot(rpm, linear, "--", lw=1.3, color="C1", label="seed's linearised form", gid="linear")
+    if minimum_deg is not None:
+        ax.axhline(
+            minimum_deg, color="0.4", ls=":", lw=1.0, label="operation's own minimum", gid="minimum"
+        )
+    ax.set_xlabel("main-shaft speed  [rpm]")
+    ax.set_ylabel("smallest phase angle  [deg]")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title(
+        title or "smallest phase angle that keeps the rebound within its limit", fontsize=10
+    )
+    return ax

@@ -1,0 +1,1160 @@
+"""The whole machine: one machine file in, its key figures against speed out.
+
+A machine file (TOML) holds a ``[machine]`` table, its mechanisms as
+``[mechanism.<name>]`` tables with a ``kind``, and its cyclogram in the layout of
+:meth:`cyclomech.Cyclogram.from_toml` (``[cyclogram]``, ``[[operation]]``,
+``[[constraint]]``). Units: SI (m, s, kg, Pa, N/m); keys that take degrees or rpm
+say so (``_deg``, ``_rpm``). The layout::
+
+    [machine]
+    name = "STB loom, group 1"
+    speed_rpm = [200.0, 500.0]      # the speed range of the study [rpm]
+    speed_points = 61               # optional: speeds in the report's sweep
+    nominal_rpm = 300.0             # optional: the speed of the optimised cyclogram
+                                    # (default: the top of the range, or the speed
+                                    # limit if that is lower)
+    angle_points = 361              # optional: crank angles per turn for mechanisms
+
+    [mechanism.lifter]              # a cam-driven lever that hits a limit stop
+    kind = "cam_stop"
+    law = "modified_sine"           # and the other keys of cyclomech.impact.StopImpact:
+    stroke = 0.0094                 # stroke, preload, lever_length, J_A, a, b, E, J_x
+    ...                             # [m, kg m², Pa, m⁴]; optional mass, restitution, zeta,
+                                    # contact_stiffness, contact_time, pulse, model
+    arc = ["3", "7"]                # the operation that brings it to the stop
+    a_max = 1e-4                    # first-rebound limit [m]
+    phase_deg = [20.0, 60.0, 5]     # optional: phase angles drawn in the report
+
+    [mechanism.knife]               # a planar linkage, the table of Linkage.from_dict
+    kind = "linkage"                # points, links, ground, driver, lengths, sliders, output
+    max_acceleration = 50.0         # optional: limit on the output point's |a| [m/s²]
+
+    [mechanism.drive]               # the planetary gear-lever press drive
+    kind = "press"
+    R = 0.09                        # R, r, d, L [m], phi0_deg [deg], offset [m]
+    k_Sp = 0.1                      # or working_stroke [m]
+    max_V_np = 0.05                 # optional: limit on the speed at the start of the
+                                    # working stroke [m/s]
+
+    [mechanism.line]                # a transfer between two rotors
+    kind = "transfer"
+    R_t = 0.15                      # pitch radii [m], the gap between the pitch circles [m]
+    R_p = 0.25
+    gap = 0.01
+    pockets_t = 8                   # pockets of each rotor: one workpiece per machine cycle
+    pockets_p = 12
+    x2 = 0.04                       # optional transition length [m] (default: the
+                                    # length of least jerk, cyclomech.transfer.design_transfer)
+    max_jerk = 5.0                  # optional limits [m/s³], [m/s²]
+    max_acceleration = 2.0
+
+A cam stop constrains the cyclogram: at n rpm the phase angle of its arc must be
+at least the smallest one whose first rebound is within ``a_max`` (exact, by
+:meth:`~cyclomech.impact.StopImpact.min_phase_angle`). The other mechanisms limit
+the speed directly where given a limit (their peaks grow as n, n² or n³).
+
+The cyclogram's optimum at many speeds is a system of difference constraints
+(every bound is on one operation's angle): its optimum is a shortest path,
+computed for all speeds in one Rust call (:func:`cyclomech.schedule.max_difference`).
+Constraints over several operations need the LP, one per speed.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from . import _toml
+from ._arrays import threads_arg
+from ._errors import InfeasibleError, InputError
+from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
+from .impact import _STOP_KEYS, StopImpact
+from .linkage import Linkage, LinkageSolution
+from .press import GearLeverPress, PressCriteria
+from .schedule import max_difference
+from .transfer import TransferPath, design_transfer
+
+__all__ = [
+    "SCHEMA",
+    "CamStop",
+    "LinkageMechanism",
+    "Machine",
+    "Mechanism",
+    "PressMechanism",
+    "SpeedLimit",
+    "SpeedSweep",
+    "TransferMechanism",
+]
+
+Array = npt.NDArray[np.float64]
+
+#: Version of the layout of ``results.json`` and of sweep files.
+SCHEMA = "cyclomech.machine/1"
+
+_RAD_PER_RPM = 2.0 * math.pi / 60.0
+#: Highest speed searched for a speed limit [rpm]; above it the machine is unlimited.
+_SPEED_CAP_RPM = 1e6
+_MACHINE_KEYS = {"name", "speed_rpm", "speed_points", "nominal_rpm", "angle_points"}
+_KINDS = ("cam_stop", "linkage", "press", "transfer")
+_CAM_KEYS = (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg"}
+_LINKAGE_EXTRA = {"kind", "max_acceleration"}
+_PRESS_KEYS = {
+    "kind",
+    "R",
+    "r",
+    "d",
+    "L",
+    "phi0_deg",
+    "offset",
+    "k_Sp",
+    "working_stroke",
+    "max_V_np",
+}
+_TRANSFER_KEYS = {
+    "kind",
+    "R_t",
+    "R_p",
+    "gap",
+    "pockets_t",
+    "pockets_p",
+    "x2",
+    "max_jerk",
+    "max_acceleration",
+}
+
+
+# --------------------------------------------------------------------- mechanisms
+@dataclass(frozen=True)
+class CamStop:
+    """A cam-driven lever that hits a limit stop (seed 000), and the operation
+    ``arc`` of the cyclogram that brings it there: at n rpm that operation's phase
+    angle must keep the first rebound within ``a_max`` [m]. ``phase_deg`` are the
+    phase angles [deg] drawn in the report's rebound curves."""
+
+    name: str
+    stop: StopImpact
+    arc: Arc
+    a_max: float
+    phase_deg: Array
+
+    def min_phase_deg(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> Array:
+        """Exact smallest phase angle [deg] of the arc at each speed ``rpm``
+        (:meth:`StopImpact.min_phase_angle`; NaN where even 360° is too short).
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.Machine.example().mechanisms["lifter"]
+        >>> round(float(lifter.min_phase_deg(280.0)), 4)
+        28.0271
+        """
+        return np.asarray(
+            self.stop.min_phase_angle(self.a_max, rpm, n_threads=n_threads), dtype=np.float64
+        )
+
+    def linear_min_phase_deg(
+        self, rpm: npt.ArrayLike, *, points: int = 64, n_threads: int | None = None
+    ) -> Array:
+        """The seed's linearised form at each speed ``rpm`` [deg]: the rebound fitted
+        by a line slope·t + intercept over 0.5…2 times the exact angle (as
+        :meth:`StopImpact.constraint` with ``linear=True``), then t ≥ (a_max −
+        intercept)/slope. One rebound call for all speeds.
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.Machine.example().mechanisms["lifter"]
+        >>> round(float(lifter.linear_min_phase_deg(280.0)), 2)     # exact: 28.03
+        32.67
+        """
+        n = np.atleast_1d(np.asarray(rpm, dtype=np.float64))
+        exact = self.min_phase_deg(n, n_threads=n_threads)
+        ok = np.isfinite(exact)
+        out = np.full(n.shape, np.nan)
+        if not ok.any():
+            return out.reshape(np.shape(rpm))
+        lo = 0.5 * exact[ok]
+        hi = np.minimum(2.0 * exact[ok], 360.0)
+        s = np.linspace(0.0, 1.0, points)
+        t = lo[:, None] + (hi - lo)[:, None] * s[None, :]
+        a = self.stop.rebound(n[ok][:, None], t, n_threads=n_threads)
+        # Least squares per row, in closed form (np.polyfit row by row).
+        tm, am = t.mean(axis=1, keepdims=True), a.mean(axis=1, keepdims=True)
+        slope = ((t - tm) * (a - am)).sum(axis=1) / ((t - tm) ** 2).sum(axis=1)
+        intercept = am[:, 0] - slope * tm[:, 0]
+        out[ok] = (self.a_max - intercept) / slope
+        return out.reshape(np.shape(rpm))
+
+    def constraint(self, rpm: float) -> Constraint:
+        """The exact cyclogram constraint at ``rpm``, named ``rebound[<name>]``.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().mechanisms["lifter"].constraint(280.0).describe()
+        '1·t(3,7) >= 28.0271'
+        """
+        c = self.stop.constraint(self.arc, self.a_max, rpm)
+        return Constraint(c.coeffs, c.sense, c.rhs, f"rebound[{self.name}]")
+
+
+@dataclass(frozen=True)
+class LinkageMechanism:
+    """A planar linkage driven by the main shaft (one crank turn per machine
+    cycle); ``output`` is the point whose motion is reported, and
+    ``max_acceleration`` [m/s²] an optional limit on its acceleration."""
+
+    name: str
+    linkage: Linkage
+    output: str
+    max_acceleration: float | None = None
+
+    def solve(self, points: int = 361) -> LinkageSolution:
+        """The mechanism over one crank turn from its drawn angle, ``points``
+        angles (the last one repeats the first).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
+        >>> bool(m.mechanisms["knife"].solve(73).ok.all())
+        True
+        """
+        angles = self.linkage.drawn_angle + np.linspace(0.0, 2.0 * math.pi, points)
+        return self.linkage.solve(angles)
+
+    def peaks(self, points: int = 361) -> tuple[float, float]:
+        """Largest |d xy/dφ| [m/rad] and |d² xy/dφ²| [m/rad²] of the output point
+        over the turn: at constant crank speed ω its speed and acceleration peak
+        at ω and ω² times these.
+
+        >>> import cyclomech as cm
+        >>> v, a = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].peaks()
+        >>> v > 0 and a > 0
+        True
+        """
+        sol = self.solve(points)
+        if not sol.ok.all():
+            bad = np.degrees(sol.angles[~sol.ok])
+            raise InputError(
+                f"mechanism {self.name!r}: the linkage cannot be assembled at crank angles "
+                f"{', '.join(f'{v:.1f}' for v in bad[:6])}{' …' if bad.size > 6 else ''} "
+                "degrees; it must turn through a whole revolution in a machine"
+            )
+        assert sol.vel is not None and sol.acc is not None
+        k = sol.index(self.output)
+        return (
+            float(np.nanmax(np.hypot(*sol.vel[:, k].T))),
+            float(np.nanmax(np.hypot(*sol.acc[:, k].T))),
+        )
+
+    def speed_limit_rpm(self, points: int = 361) -> float:
+        """Speed [rpm] at which the output point's peak acceleration reaches
+        ``max_acceleration`` (inf without a limit): ω² · max|d² xy/dφ²|.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
+        >>> round(m.speed_limit_rpm()) > 0
+        True
+        """
+        if self.max_acceleration is None:
+            return math.inf
+        _, acc = self.peaks(points)
+        return math.sqrt(self.max_acceleration / acc) / _RAD_PER_RPM
+
+
+@dataclass(frozen=True)
+class PressMechanism:
+    """A gear-lever press drive whose crank turns once per machine cycle; the
+    working stroke is ``k_Sp``·S_n or ``working_stroke`` [m]; ``max_V_np`` [m/s]
+    optionally limits the slider's speed at the start of the working stroke."""
+
+    name: str
+    press: GearLeverPress
+    k_Sp: float | None = None
+    working_stroke: float | None = None
+    max_V_np: float | None = None
+
+    def criteria(self, rpm: float) -> PressCriteria:
+        """The working-stroke criteria at ``rpm`` (:meth:`GearLeverPress.criteria`).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> round(m.mechanisms["drive"].criteria(40.0).S_n, 4)
+        0.1313
+        """
+        return self.press.criteria(
+            omega=float(rpm) * _RAD_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
+        )
+
+    def speed_limit_rpm(self) -> float:
+        """Speed [rpm] at which V_np reaches ``max_V_np`` (V_np grows as n; inf
+        without a limit).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> round(m.mechanisms["drive"].speed_limit_rpm(), 1)
+        61.5
+        """
+        if self.max_V_np is None:
+            return math.inf
+        c = self.criteria(1.0)
+        if not c.ok:
+            raise InputError(
+                f"mechanism {self.name!r}: the press design does not work ({c.status})"
+            )
+        return self.max_V_np / c.V_np if c.V_np > 0 else math.inf
+
+
+@dataclass(frozen=True)
+class TransferMechanism:
+    """A transfer between a transfer rotor (pitch radius R_t, ``pockets_t``
+    pockets) and a process rotor (R_p, ``pockets_p``): each turns one pocket per
+    machine cycle, so at n rpm the peripheral speeds are V = 2π·R·n/(60·pockets)
+    [m/s]. Optional limits on the workpiece's peak jerk [m/s³] and acceleration
+    [m/s²]."""
+
+    name: str
+    path: TransferPath
+    pockets_t: int
+    pockets_p: int
+    max_jerk: float | None = None
+    max_acceleration: float | None = None
+
+    def speeds(self, rpm: float) -> tuple[float, float]:
+        """Peripheral speeds (V_t, V_p) [m/s] at ``rpm``.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+        >>> [round(v, 4) for v in m.speeds(60.0)]
+        [0.1178, 0.1309]
+        """
+        w = float(rpm) * _RAD_PER_RPM
+        return (w * self.path.R_t / self.pockets_t, w * self.path.R_p / self.pockets_p)
+
+    def peaks(self, rpm: float) -> tuple[float, float]:
+        """Peak |a| [m/s²] and |da/dt| [m/s³] of the workpiece at ``rpm``; they
+        grow as n² and n³ (the path is fixed, the speed law scales with n).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+        >>> a1, j1 = m.peaks(60.0); a2, j2 = m.peaks(120.0)
+        >>> round(a2 / a1, 6), round(j2 / j1, 6)
+        (4.0, 8.0)
+        """
+        acc = self.path.acceleration(self.speeds(rpm))
+        return acc.max_acceleration, acc.max_jerk
+
+    def speed_limit_rpm(self) -> float:
+        """Speed [rpm] at which the first of the limits is reached (inf without).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+        >>> a, j = m.peaks(m.speed_limit_rpm())
+        >>> round(j, 6) <= m.max_jerk and round(a, 6) <= m.max_acceleration
+        True
+        """
+        if self.max_jerk is None and self.max_acceleration is None:
+            return math.inf
+        a1, j1 = self.peaks(1.0)
+        out = math.inf
+        if self.max_jerk is not None:
+            out = min(out, (self.max_jerk / j1) ** (1.0 / 3.0))
+        if self.max_acceleration is not None:
+            out = min(out, math.sqrt(self.max_acceleration / a1))
+        return out
+
+
+Mechanism = CamStop | LinkageMechanism | PressMechanism | TransferMechanism
+
+
+# --------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class SpeedSweep:
+    """The machine's key figures at each speed ``rpm`` [rpm] (arrays of that shape).
+
+    ``fits``: the cyclogram fits in the cycle with every stop's rebound within its
+    limit; ``limiting_deg``: the limiting operation's optimal angle [deg] (NaN
+    where it does not fit); ``limiting_s``: the time it gets [s]; ``productivity``:
+    machine cycles per minute where it fits, else 0; ``max_rebound_m``: the largest
+    first rebound of the stops [m] with each stop's arc at its smallest admissible
+    angle (NaN without stops); ``binding``: the bounds and constraints on the
+    chain that sets the optimum (``; ``-joined); ``min_phase_deg[stop]``: each
+    stop's exact smallest phase angle [deg]; with ``linear=True``,
+    ``limiting_deg`` uses the seed's linearised rebound constraints instead.
+    """
+
+    rpm: Array
+    fits: npt.NDArray[np.bool_]
+    limiting_deg: Array
+    limiting_s: Array
+    productivity: Array
+    max_rebound_m: Array
+    binding: npt.NDArray[np.object_]
+    min_phase_deg: dict[str, Array]
+
+
+@dataclass(frozen=True)
+class SpeedLimit:
+    """The highest speed [rpm] at which the machine works: ``rpm`` is the least of
+    ``cyclogram_rpm`` (the cyclogram with the stops' constraints still fits) and
+    each mechanism's own limit in ``mechanisms_rpm``; ``by`` names what sets it
+    (``"cyclogram"`` or a mechanism); ``binding`` the chain at the cyclogram's limit."""
+
+    rpm: float
+    by: str
+    cyclogram_rpm: float
+    mechanisms_rpm: dict[str, float]
+    binding: str = ""
+
+
+# --------------------------------------------------------------------- network
+class _Network:
+    """The cyclogram's LP as a system of difference constraints over the event
+    angles p, a zero node z and the span's end F: every operation's minimum (its
+    angle, its duration, a stop's rebound bound) and maximum, every single-operation
+    constraint, p ≥ 0, p ≤ F and F ≤ cycle. The limiting angle's optimum is the
+    shortest path from the limiting operation's start to its end (plus the cycles
+    it crosses). ``general`` lists the constraints over several operations, which
+    need the LP instead."""
+
+    def __init__(self, cg: Cyclogram, stops: Sequence[CamStop]) -> None:
+        if cg.limiting is None:
+            raise InputError(
+                f"cyclogram {cg.name!r}: a machine needs its limiting operation "
+                "([cyclogram] limiting = [from, to])"
+            )
+        self.cg = cg
+        ev = cg._events
+        V = len(ev)
+        z, F = V, V + 1
+        self.n = V + 2
+        C = cg.cycle_deg
+        labels = cg._bound_labels()
+        src: list[int] = []
+        dst: list[int] = []
+        base: list[float] = []  # constant part of each edge's weight
+        self.kind: list[str] = []  # "min", "max", "user", "cycle", ""
+        self.label: list[str] = []
+        self.op: list[int] = []
+        ops = cg._ops
+        self.min_edge = np.empty(len(ops), np.int64)
+        for e, op in enumerate(ops):
+            x, y = ev[op.src], ev[op.dst]
+            self.min_edge[e] = len(src)
+            src.append(y), dst.append(x), base.append(C * op.height)
+            self.kind.append("min"), self.label.append(labels[e]), self.op.append(e)
+            if op.max_angle_deg is not None:
+                src.append(x), dst.append(y), base.append(op.max_angle_deg - C * op.height)
+                self.kind.append("max"), self.label.append(f"max[{labels[e]}]"), self.op.append(e)
+        self.general: list[Constraint] = []
+        self.always_false: list[Constraint] = []
+        for con in cg.constraints:
+            coeff: dict[Arc, float] = {}
+            for arc, c in con.coeffs:
+                coeff[arc] = coeff.get(arc, 0.0) + c
+            terms = [(a, c) for a, c in coeff.items() if c != 0.0]
+            if len(terms) > 1:
+                self.general.append(con)
+                continue
+            if not terms:
+                holds = {"<=": con.rhs >= 0.0, ">=": con.rhs <= 0.0, "==": con.rhs == 0.0}
+                if not holds[con.sense]:
+                    self.always_false.append(con)
+                continue
+            (arc, c), bound = terms[0], con.rhs / terms[0][1]
+            op = cg.operation(arc)
+            e = cg._arc_index[op.arc]
+            x, y = ev[op.src], ev[op.dst]
+            upper = (con.sense == "<=") == (c > 0)
+            senses = ("upper", "lower") if con.sense == "==" else ("upper" if upper else "lower",)
+            for s in senses:
+                if s == "upper":  # t ≤ bound
+                    src.append(x), dst.append(y), base.append(bound - C * op.height)
+                else:  # t ≥ bound
+                    src.append(y), dst.append(x), base.append(C * op.height - bound)
+                self.kind.append("user"), self.label.append(con.name), self.op.append(e)
+        for v in range(V):  # p_v ≥ 0 (z − p_v ≤ 0) and p_v ≤ F
+            src += [v, F]
+            dst += [z, v]
+            base += [0.0, 0.0]
+            self.kind += ["", ""]
+            self.label += ["", ""]
+            self.op += [-1, -1]
+        src.append(z), dst.append(F), base.append(C)
+        self.kind.append("cycle"), self.label.append("cycle"), self.op.append(-1)
+        self.src = np.array(src, np.int64)
+        self.dst = np.array(dst, np.int64)
+        self.base = np.array(base, np.float64)
+        lim = cg.operation(cg.limiting)
+        self.source, self.target = ev[lim.src], ev[lim.dst]
+        self.lim_shift = C * lim.height
+        self.angle = np.array([op.min_angle_deg for op in ops], np.float64)
+        self.secs = np.array([op.min_duration_s for op in ops], np.float64)
+        self.stop_op = [cg._arc_index[cg.operation(s.arc).arc] for s in stops]
+        self.stop_names = [s.name for s in stops]
+
+    def minimums(self, rpm: Array, t_stop: Sequence[Array]) -> tuple[Array, npt.NDArray[np.int8]]:
+        """Each operation's minimum angle at each speed (B, E) and which lower bound
+        sets it (0: its angle, 1: its duration, 2 + k: stop k)."""
+        mins = np.broadcast_to(self.angle, (rpm.size, self.angle.size)).copy()
+        which = np.zeros(mins.shape, np.int8)
+        dur = DEG_PER_SECOND_PER_RPM * rpm[:, None] * self.secs[None, :]
+        take = dur > mins
+        mins[take], which[take] = dur[take], 1
+        for k, (e, t) in enumerate(zip(self.stop_op, t_stop, strict=True)):
+            t = np.nan_to_num(t, nan=-np.inf)
+            take = t > mins[:, e]
+            mins[take, e], which[take, e] = t[take], 2 + k
+        return mins, which
+
+    def solve(
+        self, rpm: Array, t_stop: Sequence[Array], n_threads: int | None
+    ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
+        """The limiting angle [deg] (NaN: does not fit), the fit flags, the binding
+        labels and the minimum angles (B, E) at each speed."""
+        mins, which = self.minimums(rpm, t_stop)
+        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
+        w[:, self.min_edge] -= mins
+        stop_ok = np.ones(rpm.size, bool)
+        for t in t_stop:
+            stop_ok &= np.isfinite(t)
+        if self.always_false:
+            stop_ok[:] = False
+        if self.general:
+            value, on_path = self._lp(rpm, mins, stop_ok)
+        else:
+            value, on_path = max_difference(
+                self.n, self.src, self.dst, w, self.source, self.target, n_threads=n_threads
+            )
+        value = np.where(stop_ok & np.isfinite(value), value + self.lim_shift, np.nan)
+        fits = np.isfinite(value)
+        return value, fits, self._labels(on_path, which, fits), mins
+
+    def _lp(
+        self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]
+    ) -> tuple[Array, npt.NDArray[np.bool_]]:
+        """The LP at each speed, for constraints over several operations: the
+        optimum, and the priced minimum/maximum bounds as the 'path'."""
+        from .cyclogram import _LP
+
+        value = np.full(rpm.size, np.nan)
+        on_path = np.zeros((rpm.size, self.src.size), bool)
+        cg = self.cg
+        lim = cg.operation(cg.limiting)  # type: ignore[arg-type]
+        for i in np.flatnonzero(ok):
+            lp = _LP(cg, mins[i], cg.cycle_deg, lim.arc)
+            res = lp.solve()
+            if res.status != 0:
+                continue
+            value[i] = -float(res.fun)
+            for r in lp.priced(res):
+                name = lp.names[r]
+                hit = [k for k, lab in enumerate(self.label) if lab and name.endswith(lab)]
+                on_path[i, hit] = True
+        return value, on_path
+
+    def _labels(
+        self,
+        on_path: npt.NDArray[np.bool_],
+        which: npt.NDArray[np.int8],
+        fits: npt.NDArray[np.bool_],
+    ) -> npt.NDArray[np.object_]:
+        """``; ``-joined names of the bounds on each row's chain: the unique
+        patterns are named once."""
+        code = np.zeros(on_path.shape, np.int16)
+        code[on_path] = 1
+        mins = code[:, self.min_edge]
+        code[:, self.min_edge] = np.where(mins > 0, 1 + which.astype(np.int16), 0)
+        code[~fits] = 0
+        patterns, inverse = np.unique(code, axis=0, return_inverse=True)
+        names = []
+        for row in patterns:
+            parts = []
+            for k in np.flatnonzero(row):
+                kind, lab = self.kind[k], self.label[k]
+                if kind == "min":
+                    v = int(row[k]) - 1
+                    parts.append(
+                        f"min[{lab}]"
+                        if v == 0
+                        else f"duration[{lab}]"
+                        if v == 1
+                        else f"rebound[{self.stop_names[v - 2]}]"
+                    )
+                elif kind:
+                    parts.append(lab)
+            names.append("; ".join(parts))
+        out = np.array(names, dtype=object)[inverse.reshape(-1)]
+        return out
+
+
+# --------------------------------------------------------------------- the machine
+class Machine:
+    """A machine: its mechanisms and its cyclogram, over a speed range.
+
+    Read one with :meth:`from_toml` (the layout is in the module's docstring);
+    :meth:`speed_sweep` gives the key figures at many speeds in one pass,
+    :meth:`speed_limit` the highest speed at which it works, :meth:`optimize` the
+    LP optimum of its cyclogram with the stops' constraints at one speed.
+
+    >>> import cyclomech as cm
+    >>> m = cm.Machine.example()
+    >>> sorted(m.mechanisms), m.speed_range_rpm
+    (['lifter'], (200.0, 500.0))
+    """
+
+    def __init__(
+        self,
+        name: str,
+        cyclogram: Cyclogram,
+        mechanisms: Mapping[str, Mechanism],
+        *,
+        speed_range_rpm: tuple[float, float],
+        speed_points: int = 61,
+        nominal_rpm: float | None = None,
+        angle_points: int = 361,
+        source: str = "<machine>",
+        data: Mapping[str, Any] | None = None,
+    ) -> None:
+        self.name = name
+        self.cyclogram = cyclogram
+        self.mechanisms = dict(mechanisms)
+        self.speed_range_rpm = speed_range_rpm
+        self.speed_points = speed_points
+        self.nominal_rpm = nominal_rpm
+        self.angle_points = angle_points
+        self.source = source
+        self.data = data
+        self.stops = [m for m in self.mechanisms.values() if isinstance(m, CamStop)]
+        self._network = _Network(cyclogram, self.stops)
+
+    def __repr__(self) -> str:
+        kinds = ", ".join(f"{k}: {type(v).__name__}" for k, v in self.mechanisms.items())
+        return f"Machine({self.name!r}, {{{kinds}}}, speed {self.speed_range_rpm} rpm)"
+
+    # ----------------------------------------------------------------- reading
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Machine:
+        """Read a machine file; every error names the file, the table and the key.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/stb_loom.toml").name
+        'STB loom, group 1 (illustrative)'
+        """
+        data, source = _toml.load(path)
+        return cls.from_dict(data, source)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Machine:
+        """A machine from the parsed layout of :meth:`from_toml` (``source`` names
+        it in messages).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> cm.Machine.from_dict(m.data).speed_points
+        61
+        """
+        _toml.check_keys(
+            data,
+            {"machine", "mechanism", "cyclogram", "operation", "constraint"},
+            source,
+            "top level",
+        )
+        if "machine" not in data:
+            raise InputError(f"{source}: missing table [machine] (its name and speed_rpm)")
+        head = data["machine"]
+        _toml.check_keys(head, _MACHINE_KEYS, source, "[machine]")
+        name = head.get("name", Path(source).stem)
+        if not isinstance(name, str):
+            raise InputError(f"{source}: [machine]: name = {name!r} must be a string")
+        rng = head.get("speed_rpm")
+        if not (
+            isinstance(rng, list)
+            and len(rng) == 2
+            and all(_is_number(v) and math.isfinite(v) for v in rng)
+            and 0 < rng[0] < rng[1] <= _SPEED_CAP_RPM
+        ):
+            raise InputError(
+                f"{source}: [machine]: speed_rpm = {rng!r} must be [from, to] in rpm with "
+                f"0 < from < to ≤ {_SPEED_CAP_RPM:g}"
+            )
+        speed_points = _int_key(head, "speed_points", 61, 2, source, "[machine]")
+        angle_points = _int_key(head, "angle_points", 361, 9, source, "[machine]")
+        nominal = head.get("nominal_rpm")
+        if nominal is not None and not (_is_number(nominal) and 0 < nominal <= _SPEED_CAP_RPM):
+            raise InputError(
+                f"{source}: [machine]: nominal_rpm = {nominal!r} must be a speed in rpm, "
+                f"0 < nominal_rpm ≤ {_SPEED_CAP_RPM:g}"
+            )
+        if "cyclogram" not in data or "operation" not in data:
+            raise InputError(
+                f"{source}: a machine needs its cyclogram: a [cyclogram] table and "
+                "[[operation]] tables (see cyclomech.Cyclogram.from_toml)"
+            )
+        if isinstance(data["cyclogram"], Mapping) and "speed_rpm" in data["cyclogram"]:
+            raise InputError(
+                f"{source}: [cyclogram]: speed_rpm is set by the machine; give the speed "
+                "range in [machine] speed_rpm and the report's speed in [machine] nominal_rpm"
+            )
+        if isinstance(data["cyclogram"], Mapping) and "limiting" not in data["cyclogram"]:
+            raise InputError(
+                f"{source}: [cyclogram]: missing key 'limiting': the operation that gets what "
+                'the others leave of the cycle, e.g. limiting = ["10.1", "10.2"]'
+            )
+        cg = Cyclogram.from_dict(
+            {k: data[k] for k in ("cyclogram", "operation", "constraint") if k in data}, source
+        )
+        mechs: dict[str, Mechanism] = {}
+        table = data.get("mechanism", {})
+        if not isinstance(table, Mapping):
+            raise InputError(f"{source}: [mechanism] must be a table of [mechanism.<name>] tables")
+        for key, spec in table.items():
+            mechs[key] = _mechanism(key, spec, cg, source, angle_points)
+        return cls(
+            name,
+            cg,
+            mechs,
+            speed_range_rpm=(float(rng[0]), float(rng[1])),
+            speed_points=speed_points,
+            nominal_rpm=None if nominal is None else float(nominal),
+            angle_points=angle_points,
+            source=source,
+            data=copy.deepcopy(dict(data)),
+        )
+
+    @classmethod
+    def example(cls) -> Machine:
+        """A small machine for examples: the STB lifter's stop on the arc (3, 7)
+        of a four-operation group with a time-bound weft insertion.
+
+        >>> import cyclomech as cm
+        >>> len(cm.Machine.example().cyclogram.operations)
+        4
+        """
+        lifter = {
+            "kind": "cam_stop",
+            "law": "modified_sine",
+            "stroke": 9.4e-3,
+            "preload": 0.25e-3,
+            "lever_length": 0.1,
+            "J_A": 7.4e-5,
+            "a": 0.05,
+            "b": 0.1,
+            "E": 2.1e11,
+            "J_x": 6.14e-11,
+            "restitution": 5.0 / 9.0,
+            "zeta": 0.05,
+            "arc": ["3", "7"],
+            "a_max": 1e-4,
+        }
+        ops = [
+            {"from": "1", "to": "3", "min_angle_deg": 45.0, "mechanism": "lifter"},
+            {"from": "3", "to": "7", "min_angle_deg": 20.0, "mechanism": "lifter"},
+            {"from": "7", "to": "10.1", "min_angle_deg": 20.0, "mechanism": "lifter"},
+            {
+                "from": "10.1",
+                "to": "10.2",
+                "min_angle_deg": 120.0,
+                "min_duration_s": 0.1,
+                "name": "weft insertion",
+            },
+        ]
+        return cls.from_dict(
+            {
+                "machine": {"name": "example", "speed_rpm": [200.0, 500.0]},
+                "mechanism": {"lifter": lifter},
+                "cyclogram": {"name": "example", "limiting": ["10.1", "10.2"]},
+                "operation": ops,
+            },
+            "<example>",
+        )
+
+    def with_values(self, values: Mapping[str, Any]) -> Machine:
+        """A copy with mechanism keys replaced: ``{"lifter.preload": 2e-4}``
+        (``<mechanism>.<key>``) or machine keys (``machine.<key>``); the result is
+        validated like a file.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.example().with_values({"lifter.preload": 3e-4})
+        >>> m.mechanisms["lifter"].stop.preload
+        0.0003
+        """
+        if self.data is None:
+            raise InputError("with_values needs a machine read from a file or a dict")
+        data = copy.deepcopy(dict(self.data))
+        for path, value in values.items():
+            table, key = _split_key(path, data)
+            table[key] = value.item() if isinstance(value, np.generic) else value
+        return Machine.from_dict(data, self.source)
+
+    # ----------------------------------------------------------------- results
+    def speed_grid(self) -> Array:
+        """The report's speeds [rpm]: ``speed_points`` over ``speed_rpm``.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().speed_grid()[[0, -1]].tolist()
+        [200.0, 500.0]
+        """
+        return np.linspace(*self.speed_range_rpm, self.speed_points)
+
+    def stop_angles(
+        self, rpm: Array, *, linear: bool = False, n_threads: int | None = None
+    ) -> list[Array]:
+        """Each stop's smallest phase angle [deg] at each speed: exact, or the
+        seed's linearised form with ``linear=True``.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> [np.round(t, 2).tolist() for t in cm.Machine.example().stop_angles(np.array([300.0]))]
+        [[30.03]]
+        """
+        if linear:
+            return [s.linear_min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
+        return [s.min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
+
+    def speed_sweep(
+        self,
+        rpm: npt.ArrayLike | None = None,
+        *,
+        linear: bool = False,
+        n_threads: int | None = None,
+    ) -> SpeedSweep:
+        """The key figures at each speed ``rpm`` (default :meth:`speed_grid`): one
+        call per stop kernel and one shortest-path call for all speeds.
+
+        >>> import cyclomech as cm
+        >>> s = cm.Machine.example().speed_sweep([300.0, 900.0])
+        >>> s.fits.tolist(), round(float(s.limiting_deg[0]), 3)
+        ([True, False], 264.971)
+        """
+        threads = threads_arg(n_threads)
+        n = self.speed_grid() if rpm is None else _speeds("rpm", rpm)
+        t_stop = self.stop_angles(n, linear=linear, n_threads=threads)
+        value, fits, binding, mins = self._network.solve(n, t_stop, threads)
+        rebound = np.full(n.shape, np.nan)
+        for s, e in zip(self.stops, self._network.stop_op, strict=True):
+            a = np.full(n.shape, np.nan)
+            if fits.any():
+                a[fits] = s.stop.rebound(n[fits], mins[fits, e], n_threads=threads)
+            rebound = np.fmax(rebound, a)
+        return SpeedSweep(
+            rpm=n,
+            fits=fits,
+            limiting_deg=value,
+            limiting_s=value / (DEG_PER_SECOND_PER_RPM * n),
+            productivity=np.where(fits, n, 0.0),
+            max_rebound_m=rebound,
+            binding=binding,
+            min_phase_deg={s.name: t for s, t in zip(self.stops, t_stop, strict=True)},
+        )
+
+    def fits(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> npt.NDArray[np.bool_]:
+        """Whether the cyclogram with the stops' constraints fits at each speed.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().fits([300.0, 900.0]).tolist()
+        [True, False]
+        """
+        n = _speeds("rpm", rpm)
+        t_stop = self.stop_angles(n, n_threads=n_threads)
+        return self._network.solve(n, t_stop, n_threads)[1]
+
+    def cyclogram_speed_limit(self, *, n_threads: int | None = None, rtol: float = 1e-10) -> float:
+        """The highest speed [rpm] at which the cyclogram with the stops'
+        constraints fits (inf if it fits up to 1e6 rpm; 0 if it fits at no
+        speed). Feasibility only shrinks as the speed grows, so it is bracketed
+        on a grid of 64 speeds and the bracket refined on new grids to ``rtol``.
+
+        >>> import cyclomech as cm
+        >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
+        421.37
+        """
+        lo, hi = 0.0, max(self.speed_range_rpm[1], 1.0)
+        while self.fits([hi], n_threads=n_threads)[0]:
+            lo, hi = hi, 4.0 * hi
+            if hi > _SPEED_CAP_RPM:
+                return math.inf
+        while hi - lo > rtol * hi:
+            grid = np.linspace(lo, hi, 66)[1:-1]
+            ok = self.fits(grid, n_threads=n_threads)
+            k = int(np.argmin(ok)) if not ok.all() else grid.size
+            lo = float(grid[k - 1]) if k > 0 else lo
+            hi = float(grid[k]) if k < grid.size else hi
+        return lo
+
+    def speed_limit(self, *, n_threads: int | None = None) -> SpeedLimit:
+        """The machine's speed limit: the cyclogram's and every mechanism's.
+
+        >>> import cyclomech as cm
+        >>> lim = cm.Machine.example().speed_limit()
+        >>> round(lim.rpm, 3), lim.by
+        (421.37, 'cyclogram')
+        """
+        cg = self.cyclogram_speed_limit(n_threads=n_threads)
+        mech = {
+            k: float(m.speed_limit_rpm())  # type: ignore[call-arg]
+            for k, m in self.mechanisms.items()
+            if not isinstance(m, CamStop)
+        }
+        mech = {k: v for k, v in mech.items() if math.isfinite(v)}
+        by, rpm = "cyclogram", cg
+        for k, v in mech.items():
+            if v < rpm:
+                by, rpm = k, v
+        binding = ""
+        if 0.0 < cg < math.inf:
+            binding = str(self.speed_sweep([cg], n_threads=n_threads).binding[0])
+        return SpeedLimit(rpm, by, cg, mech, binding)
+
+    def nominal_speed(self, limit: SpeedLimit | None = None) -> float:
+        """The speed [rpm] of the report's optimised cyclogram: ``nominal_rpm``, or
+        the top of the speed range capped at the speed limit.
+
+        >>> import cyclomech as cm
+        >>> round(cm.Machine.example().nominal_speed(), 3)
+        421.37
+        """
+        if self.nominal_rpm is not None:
+            return self.nominal_rpm
+        lim = self.speed_limit() if limit is None else limit
+        return min(self.speed_range_rpm[1], lim.rpm) if lim.rpm > 0 else self.speed_range_rpm[0]
+
+    def cyclogram_at(self, rpm: float, *, linear: bool = False) -> Cyclogram:
+        """A copy of the cyclogram at ``rpm`` with each stop's constraint added
+        (exact, or the seed's linearised form with ``linear=True``).
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Machine.example().cyclogram_at(300.0)
+        >>> [c.name for c in cg.constraints]
+        ['rebound[lifter]']
+        """
+        cg = copy.deepcopy(self.cyclogram)
+        cg.speed_rpm = float(rpm)
+        for s in self.stops:
+            if linear:
+                c = s.stop.constraint(s.arc, s.a_max, rpm, linear=True)
+                cg.add_constraint(dict(c.coeffs), c.sense, c.rhs, name=f"rebound[{s.name}]")
+            else:
+                c = s.constraint(rpm)
+                cg.add_constraint(dict(c.coeffs), c.sense, c.rhs, name=c.name)
+        return cg
+
+    def optimize(self, rpm: float) -> Optimum:
+        """The LP optimum (HiGHS) of the cyclogram with the stops' exact
+        constraints at ``rpm``: angles, shadow prices, binding bounds.
+
+        >>> import cyclomech as cm
+        >>> round(cm.Machine.example().optimize(300.0).objective, 3)
+        264.971
+        """
+        try:
+            return self.cyclogram_at(rpm).optimize()
+        except InfeasibleError as e:
+            raise InfeasibleError(
+                f"machine {self.name!r} at {rpm:g} rpm: {e}", e.conflict
+            ) from None
+
+
+# --------------------------------------------------------------------- parsing
+def _is_number(v: Any) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _int_key(
+    table: Mapping[str, Any], key: str, default: int, low: int, source: str, where: str
+) -> int:
+    v = table.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= 1_000_000:
+        raise InputError(
+            f"{source}: {where}: {key} = {v!r} must be a whole number from {low} to 1000000"
+        )
+    return v
+
+
+def _speeds(name: str, value: npt.ArrayLike) -> Array:
+    try:
+        n = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be speeds in rpm; got {value!r}") from None
+    bad = ~(np.isfinite(n) & (n > 0) & (n <= _SPEED_CAP_RPM))
+    if n.size == 0 or bad.any():
+        v = n[np.argmax(bad)] if n.size else None
+        raise InputError(
+            f"{name} must hold speeds in rpm, each in (0, {_SPEED_CAP_RPM:g}]; got {v!r}"
+        )
+    return n
+
+
+def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
+    """The table and key a sweep parameter ``<mechanism>.<key>`` or
+    ``machine.<key>`` names in the parsed file."""
+    parts = path.split(".")
+    mechs = data.get("mechanism", {})
+    if len(parts) == 2 and parts[0] == "machine":
+        table = data.setdefault("machine", {})
+    elif len(parts) == 2 and parts[0] in mechs:
+        table = mechs[parts[0]]
+    else:
+        raise InputError(
+            f"parameter {path!r} must be <mechanism>.<key> or machine.<key>; the mechanisms "
+            f"are {', '.join(sorted(mechs)) or '(none)'}"
+        )
+    return table, parts[1]
+
+
+def _number(spec: Mapping[str, Any], key: str, where: str, unit: str) -> float:
+    v = spec[key]
+    if not _is_number(v) or not math.isfinite(v):
+        raise InputError(f"{where}: {key} = {v!r} must be a finite number {unit}")
+    return float(v)
+
+
+def _optional(spec: Mapping[str, Any], key: str, where: str, unit: str) -> float | None:
+    if key not in spec:
+        return None
+    v = _number(spec, key, where, unit)
+    if v <= 0:
+        raise InputError(f"{where}: {key} = {v!r} must be positive {unit}")
+    return v
+
+
+def _require(spec: Mapping[str, Any], keys: Sequence[str], where: str) -> None:
+    for k in keys:
+        if k not in spec:
+            raise InputError(f"{where}: missing key {k!r}")
+
+
+def _mechanism(key: str, spec: Any, cg: Cyclogram, source: str, points: int) -> Mechanism:
+    where = f"{source}: [mechanism.{key}]"
+    if not isinstance(spec, Mapping):
+        raise InputError(f"{where} must be a table; got {spec!r}")
+    kind = spec.get("kind")
+    if kind not in _KINDS:
+        raise InputError(f"{where}: kind = {kind!r} must be one of {', '.join(_KINDS)}")
+    build: dict[str, Callable[..., Mechanism]] = {
+        "cam_stop": _cam_stop,
+        "linkage": _linkage,
+        "press": _press,
+        "transfer": _transfer,
+    }
+    try:
+        return build[kind](key, spec, cg, source, where, points)
+    except InputError as e:
+        msg = str(e)
+        raise InputError(msg if msg.startswith(source) else f"{where}: {msg}") from None
+
+
+def _cam_stop(
+    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
+) -> CamStop:
+    _toml.check_keys(spec, _CAM_KEYS, source, f"[mechanism.{key}]")
+    _require(spec, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where)
+    _require(spec, ("arc", "a_max"), where)
+    kwargs: dict[str, Any] = {}
+    for k, v in spec.items():
+        if k in ("kind", "arc", "a_max", "phase_deg"):
+            continue
+        if k in ("law", "pulse", "model"):
+            if not isinstance(v, str):
+                raise InputError(f"{where}: {k} = {v!r} must be a string")
+        elif not _is_number(v):
+            raise InputError(f"{where}: {k} = {v!r} must be a number")
+        kwargs[k] = v
+    stop = StopImpact(**kwargs)
+    arc = spec["arc"]
+    if not (isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)):
+        raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+    known = [op.arc for op in cg.operations]
+    if (arc[0], arc[1]) not in known:
+        listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
+        raise InputError(
+            f"{where}: arc = {arc!r} is not an operation of the cyclogram; the operations "
+            f"are {listing}"
+        )
+    a_max = _number(spec, "a_max", where, "[m]")
+    if a_max <= 0:
+        raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
+    phase = spec.get("phase_deg", [20.0, 60.0, 5])
+    if not (
+        isinstance(phase, list)
+        and len(phase) == 3
+        and all(_is_number(v) for v in phase)
+        and isinstance(phase[2], int)
+        and 1 <= phase[2] <= 50
+        and all(0 < v <= 360 for v in phase[:2])
+    ):
+        raise InputError(
+            f"{where}: phase_deg = {phase!r} must be [from, to, count] with from and to in "
+            "(0, 360] degrees and a whole count from 1 to 50"
+        )
+    return CamStop(
+        key, stop, (arc[0], arc[1]), a_max, np.linspace(float(phase[0]), float(phase[1]), phase[2])
+    )
+
+
+def _linkage(
+    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
+) -> LinkageMechanism:
+    table = {k: v for k, v in spec.items() if k not in _LINKAGE_EXTRA}
+    lk = Linkage.from_dict(table, source, f"[mechanism.{key}]")
+    limit = _optional(spec, "max_acceleration", where, "[m/s²]")
+    mech = LinkageMechanism(key, lk, lk.output or lk.names[-1], limit)
+    mech.peaks(points)  # must assemble over the whole turn
+    return mech
+
+
+def _press(
+    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
+) -> PressMechanism:
+    _toml.check_keys(spec, _PRESS_KEYS, source, f"[mechanism.{key}]")
+    _require(spec, ("R", "r", "d", "L", "phi0_deg"), where)
+    if ("k_Sp" in spec) == ("working_stroke" in spec):
+        raise InputError(
+            f"{where}: give one of k_Sp (a fraction of the stroke) or working_stroke [m]"
+        )
+    geo = {k: _number(spec, k, where, "[m]") for k in ("R", "r", "d", "L")}
+    phi0 = math.radians(_number(spec, "phi0_deg", where, "[deg]"))
+    offset = _number(spec, "offset", where, "[m]") if "offset" in spec else 0.0
+    press = GearLeverPress(phi0=phi0, offset=offset, **geo)
+    mech = PressMechanism(
+        key,
+        press,
+        k_Sp=_number(spec, "k_Sp", where, "") if "k_Sp" in spec else None,
+        working_stroke=(
+            _number(spec, "working_stroke", where, "[m]") if "working_stroke" in spec else None
+        ),
+        max_V_np=_optional(spec, "max_V_np", where, "[m/s]"),
+    )
+    c = mech.criteria(60.0)
+    if not c.ok:
+        raise InputError(f"{where}: the press design does not work over the turn: {c.status}")
+    return mech
+
+
+def _transfer(
+    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
+) -> TransferMechanism:
+    _toml.check_keys(spec, _TRANSFER_KEYS, source, f"[mechanism.{key}]")
+    _require(spec, ("R_t", "R_p", "gap", "pockets_t", "pockets_p"), where)
+    R_t, R_p = _number(spec, "R_t", where, "[m]"), _number(spec, "R_p", where, "[m]")
+    gap = _number(spec, "gap", where, "[m]")
+    pockets = []
+    for k in ("pockets_t", "pockets_p"):
+        v = spec[k]
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 10_000:
+            raise InputError(f"{where}: {k} = {v!r} must be a whole number of pockets ≥ 1")
+        pockets.append(v)
+    if gap <= 0:
+        raise InputError(f"{where}: gap = {gap!r} must be positive [m] (pitch circles apart)")
+    x2 = _number(spec, "x2", where, "[m]") if "x2" in spec else None
+    if x2 is None:
+        w = _RAD_PER_RPM
+        x2 = design_transfer(R_t, R_p, gap, (w * R_t / pockets[0], w * R_p / pockets[1])).x2
+    path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
+    return TransferMechanism(
+        key,
+        path,
+        pockets[0],
+        pockets[1],
+        _optional(spec, "max_jerk", where, "[m/s³]"),
+        _optional(spec, "max_acceleration", where, "[m/s²]"),
+    )

@@ -1,0 +1,356 @@
+"""Sweeps of a whole machine over its parameters and speeds, in-process or on Dask.
+
+:func:`sweep` evaluates every combination of the named parameters (a Cartesian
+grid of designs) at every speed and reduces each point to the report's key
+figures, in a columnar :class:`SweepResult`. The designs are cut into chunks;
+each chunk is one task: per design, one call per stop kernel and one
+shortest-path call for all its speeds. Chunks run in this process (rayon
+threads inside each kernel), or on a Dask cluster: pass a
+``dask.distributed.Client`` or any ``concurrent.futures.Executor`` (for
+example ``client.get_executor()``); inside the tasks the kernels run on one
+thread each, so the workers' processes are not oversubscribed. The results do
+not depend on where the chunks ran: bit for bit.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import itertools
+import math
+import sys
+import time
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ._errors import InputError
+from .machine import SCHEMA, Machine
+
+__all__ = ["SweepResult", "dask_client", "parse_range", "sweep"]
+
+#: Key of the grid that holds the speeds [rpm].
+SPEED = "speed_rpm"
+#: The key figures of a sweep point, in the order of the columns.
+FIGURES = (
+    "fits",
+    "limiting_deg",
+    "limiting_s",
+    "productivity",
+    "max_rebound_m",
+    "speed_limit_rpm",
+    "speed_limit_by",
+    "binding",
+)
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """Key figures at every point of a sweep: ``columns`` maps the parameter names,
+    ``speed_rpm`` and :data:`FIGURES` to 1-D arrays of one row per point (the
+    parameters vary slowest, the speed fastest). ``speed_limit_rpm`` and
+    ``speed_limit_by`` belong to the design (the same at each of its speeds);
+    ``binding`` is text. ``seconds`` is the wall time of the sweep.
+
+    >>> import cyclomech as cm
+    >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload": [2e-4, 3e-4],
+    ...                                     "speed_rpm": [300.0, 400.0]})
+    >>> r.n_points, r.columns["lifter.preload"].tolist()
+    (4, [0.0002, 0.0002, 0.0003, 0.0003])
+    """
+
+    columns: dict[str, npt.NDArray[Any]]
+    parameters: tuple[str, ...]
+    seconds: float = 0.0
+
+    @property
+    def n_points(self) -> int:
+        """Number of rows."""
+        return int(self.columns[SPEED].size)
+
+    def write(self, path: str | Path) -> Path:
+        """Write the columns to ``path``: Parquet (pyarrow) when the name ends in
+        ``.parquet`` and pyarrow is installed, else NumPy ``.npz`` (the suffix is
+        changed to say which). Returns the path written.
+
+        >>> import pathlib, tempfile, cyclomech as cm
+        >>> r = cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0]})
+        >>> r.write(pathlib.Path(tempfile.mkdtemp()) / "s.npz").suffix
+        '.npz'
+        """
+        p = Path(path)
+        if p.suffix == ".parquet":
+            try:
+                import pyarrow as pa
+                import pyarrow.parquet as pq
+            except ImportError:
+                p = p.with_suffix(".npz")
+            else:
+                table = pa.table({k: pa.array(v) for k, v in self.columns.items()})
+                meta = {
+                    b"schema": SCHEMA.encode(),
+                    b"parameters": ",".join(self.parameters).encode(),
+                }
+                pq.write_table(table.replace_schema_metadata(meta), p)
+                return p
+        p = p.with_suffix(".npz")
+        cols = {k: (v.astype(str) if v.dtype == object else v) for k, v in self.columns.items()}
+        np.savez_compressed(p, **cols)
+        return p
+
+    @classmethod
+    def read(cls, path: str | Path) -> SweepResult:
+        """Read a file written by :meth:`write`.
+
+        >>> import pathlib, tempfile, cyclomech as cm
+        >>> r = cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0, 900.0]})
+        >>> back = cm.SweepResult.read(r.write(pathlib.Path(tempfile.mkdtemp()) / "s.npz"))
+        >>> back.columns["fits"].tolist()
+        [True, False]
+        """
+        p = Path(path)
+        if p.suffix == ".parquet":
+            import pyarrow.parquet as pq
+
+            t = pq.read_table(p)
+            cols = {
+                k: np.asarray(t.column(k).to_numpy(zero_copy_only=False)) for k in t.column_names
+            }
+        else:
+            with np.load(p, allow_pickle=False) as z:
+                cols = {k: z[k] for k in z.files}
+        for k in ("binding", "speed_limit_by"):
+            cols[k] = cols[k].astype(object)
+        params = tuple(k for k in cols if k != SPEED and k not in FIGURES)
+        return cls(cols, params)
+
+
+def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
+    """``"from:to:count"`` → ``count`` evenly spaced values (``"v"`` → one value).
+
+    >>> from cyclomech.scale import parse_range
+    >>> parse_range("200:500:4", "--speed").tolist()
+    [200.0, 300.0, 400.0, 500.0]
+    """
+    parts = text.split(":")
+    try:
+        if len(parts) == 1:
+            vals = np.array([float(parts[0])])
+        elif len(parts) == 3:
+            count = int(parts[2])
+            if count < 1:
+                raise ValueError
+            vals = np.linspace(float(parts[0]), float(parts[1]), count)
+        else:
+            raise ValueError
+    except ValueError:
+        raise InputError(
+            f"{what} {text!r} must be from:to:count (a whole count ≥ 1) or one value"
+        ) from None
+    if not np.isfinite(vals).all():
+        raise InputError(f"{what} {text!r} must be finite numbers")
+    return vals
+
+
+def _chunks(n_designs: int, size: int) -> Iterator[range]:
+    for start in range(0, n_designs, size):
+        yield range(start, min(start + size, n_designs))
+
+
+def _run_chunk(
+    data: Mapping[str, Any],
+    source: str,
+    names: Sequence[str],
+    values: npt.NDArray[np.float64],
+    speeds: npt.NDArray[np.float64],
+    n_threads: int | None,
+) -> dict[str, npt.NDArray[Any]]:
+    """The key figures of the designs ``values`` (k, P) at ``speeds``: one task."""
+    base = Machine.from_dict(data, source)
+    parts: list[dict[str, npt.NDArray[Any]]] = []
+    S = speeds.size
+    for row in values:
+        m = base.with_values(dict(zip(names, row.tolist(), strict=True))) if names else base
+        s = m.speed_sweep(speeds, n_threads=n_threads)
+        lim = m.speed_limit(n_threads=n_threads)
+        parts.append(
+            {
+                "fits": s.fits,
+                "limiting_deg": s.limiting_deg,
+                "limiting_s": s.limiting_s,
+                "productivity": s.productivity,
+                "max_rebound_m": s.max_rebound_m,
+                "speed_limit_rpm": np.full(S, lim.rpm),
+                "speed_limit_by": np.full(S, lim.by, dtype=object),
+                "binding": s.binding,
+            }
+        )
+    return {k: np.concatenate([p[k] for p in parts]) for k in FIGURES}
+
+
+def _as_executor(executor: Any) -> cf.Executor | None:
+    if executor is None:
+        return None
+    if hasattr(executor, "get_executor"):  # a dask.distributed.Client
+        return executor.get_executor()  # type: ignore[no-any-return]
+    if hasattr(executor, "submit"):
+        return executor  # type: ignore[no-any-return]
+    raise InputError(
+        f"executor must be None, a dask.distributed.Client or a concurrent.futures.Executor; "
+        f"got {type(executor).__name__}"
+    )
+
+
+class _Bar:
+    """A text progress bar on stderr."""
+
+    def __init__(self, total: int, label: str, enabled: bool) -> None:
+        self.total, self.label, self.enabled = total, label, enabled
+        self.done, self.t0 = 0, time.perf_counter()
+        self.update(0)
+
+    def update(self, n: int) -> None:
+        self.done += n
+        if self.enabled:
+            frac = self.done / max(self.total, 1)
+            bar = "#" * int(30 * frac)
+            dt = time.perf_counter() - self.t0
+            sys.stderr.write(
+                f"\r{self.label} [{bar:<30}] {100 * frac:5.1f}% {self.done}/{self.total} {dt:.1f} s"
+            )
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def sweep(
+    machine: Machine,
+    grid: Mapping[str, npt.ArrayLike],
+    executor: Any = None,
+    *,
+    chunk: int | None = None,
+    progress: bool | None = None,
+    n_threads: int | None = None,
+) -> SweepResult:
+    """Key figures of ``machine`` at every combination of the parameters in
+    ``grid`` (``"<mechanism>.<key>"`` or ``"machine.<key>"`` → values, in the
+    file's units) and of the speeds ``grid["speed_rpm"]`` [rpm] (default the
+    machine's speed grid).
+
+    ``executor``: None (this process; ``n_threads`` rayon threads per kernel), a
+    ``dask.distributed.Client`` or a ``concurrent.futures.Executor`` (one task per
+    chunk of ``chunk`` designs, one thread per kernel inside). ``progress``: a
+    bar on stderr (default: when stderr is a terminal). Ctrl-C cancels the
+    chunks not yet started and raises ``KeyboardInterrupt``.
+
+    >>> import cyclomech as cm
+    >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
+    ...                                     "speed_rpm": [300.0]})
+    >>> r.columns["limiting_deg"].round(2).tolist()
+    [264.97, 275.0]
+    """
+    if not isinstance(machine, Machine) or machine.data is None:
+        raise InputError("machine must be a cyclomech.Machine read from a file or a dict")
+    names = [k for k in grid if k != SPEED]
+    axes = []
+    for k in names:
+        v = np.asarray(grid[k], dtype=np.float64).reshape(-1)
+        if v.size == 0 or not np.isfinite(v).all():
+            raise InputError(f"grid[{k!r}] must hold finite values; got {grid[k]!r}")
+        axes.append(v)
+    speeds = (
+        machine.speed_grid()
+        if SPEED not in grid
+        else np.asarray(grid[SPEED], dtype=np.float64).reshape(-1)
+    )
+    if speeds.size == 0 or not (np.isfinite(speeds) & (speeds > 0)).all():
+        raise InputError(f"grid['speed_rpm'] must hold positive speeds [rpm]; got {speeds!r}")
+    # Every parameter must name a key the file can take: check on the first design.
+    if names:
+        machine.with_values({k: a[0] for k, a in zip(names, axes, strict=True)})
+    designs = (
+        np.array(list(itertools.product(*axes)), dtype=np.float64).reshape(-1, len(names))
+        if names
+        else np.zeros((1, 0))
+    )
+    D = designs.shape[0]
+    ex = _as_executor(executor)
+    if chunk is None:
+        chunk = max(1, math.ceil(D / 64)) if ex is not None else max(1, math.ceil(D / 100))
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise InputError(f"chunk must be a whole number of designs ≥ 1; got {chunk!r}")
+    bar = _Bar(
+        D * speeds.size,
+        "sweep",
+        sys.stderr.isatty() if progress is None else bool(progress),
+    )
+    t0 = time.perf_counter()
+    parts: dict[int, dict[str, npt.NDArray[Any]]] = {}
+    ranges = list(_chunks(D, chunk))
+    data, source = machine.data, machine.source
+    try:
+        if ex is None:
+            for i, r in enumerate(ranges):
+                parts[i] = _run_chunk(
+                    data, source, names, designs[r.start : r.stop], speeds, n_threads
+                )
+                bar.update(len(r) * speeds.size)
+        else:
+            futures = {
+                ex.submit(_run_chunk, data, source, names, designs[r.start : r.stop], speeds, 1): i
+                for i, r in enumerate(ranges)
+            }
+            try:
+                for f in cf.as_completed(futures):
+                    i = futures[f]
+                    parts[i] = f.result()
+                    bar.update(len(ranges[i]) * speeds.size)
+            except BaseException:
+                for f in futures:
+                    f.cancel()
+                raise
+    finally:
+        bar.close()
+    cols: dict[str, npt.NDArray[Any]] = {}
+    for j, k in enumerate(names):
+        cols[k] = np.repeat(designs[:, j], speeds.size)
+    cols[SPEED] = np.tile(speeds, D)
+    for k in FIGURES:
+        cols[k] = np.concatenate([parts[i][k] for i in range(len(ranges))])
+    return SweepResult(cols, tuple(names), time.perf_counter() - t0)
+
+
+def dask_client(spec: str) -> Any:
+    """A ``dask.distributed.Client`` for ``--dask``: ``local`` or ``local:N`` starts a
+    LocalCluster of N worker processes (default 2) with one thread each;
+    ``tcp://HOST:PORT`` connects to a running scheduler. Close it when done
+    (``client.close()``, and ``client.cluster.close()`` for a local one).
+    """
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError("--dask needs dask.distributed; pip install 'cyclomech[dask]'") from None
+    if spec == "local" or spec.startswith("local:"):
+        n = 2
+        if spec != "local":
+            try:
+                n = int(spec.split(":", 1)[1])
+            except ValueError:
+                n = 0
+            if n < 1:
+                raise InputError(f"--dask {spec!r}: give local:N with N ≥ 1 worker processes")
+        cluster = LocalCluster(
+            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+        )
+        return Client(cluster)
+    if spec.startswith(("tcp://", "tls://")):
+        return Client(spec)
+    raise InputError(
+        f"--dask {spec!r} must be local, local:N or a scheduler address tcp://HOST:PORT"
+    )
