@@ -11,16 +11,19 @@ MODULES = [
     "cyclomech.impact",
     "cyclomech.linkage",
     "cyclomech.linkage.presets",
+    "cyclomech.machine",
     "cyclomech.motion",
     "cyclomech.plot",
     "cyclomech.press",
+    "cyclomech.report",
+    "cyclomech.scale",
     "cyclomech.transfer",
 ]
 
 
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name: str) -> None:
-    if name == "cyclomech.plot":
+    if name in ("cyclomech.plot", "cyclomech.report"):
         pytest.importorskip("matplotlib")
     module = importlib.import_module(name)
     result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
@@ -34,13 +37,24 @@ def test_every_public_function_has_an_example() -> None:
 
     import cyclomech as cm
     import cyclomech.impact
+    import cyclomech.machine
     import cyclomech.motion
     import cyclomech.press
+    import cyclomech.report
+    import cyclomech.scale
     import cyclomech.transfer
 
     missing = []
     public = [(name, getattr(cm, name)) for name in cm.__all__]
-    for mod in (cyclomech.impact, cyclomech.motion, cyclomech.press, cyclomech.transfer):
+    for mod in (
+        cyclomech.impact,
+        cyclomech.machine,
+        cyclomech.motion,
+        cyclomech.press,
+        cyclomech.report,
+        cyclomech.scale,
+        cyclomech.transfer,
+    ):
         public += [(f"{mod.__name__}.{n}", getattr(mod, n)) for n in mod.__all__]
     for name, obj in public:
         if inspect.ismodule(obj):

@@ -2940,7 +2940,10 @@ def plot_transfer(
         ax.set_xlabel("x  [mm]")
         ax.set_ylabel("y  [mm]")
         ax.grid(True, lw=0.4, alpha=0.4)
-    for name, p in zip(("A", "B_t", "B_p", "C"), (path.A, path.B_t, path.B_p, path.C), strict=True):
+    labels = [("A", path.A), ("B_t", path.B_t), ("B_p", path.B_p), ("C", path.C)]
+    if path.straight_length < 0.02 * min(path.R_t, path.R_p):
+        labels[1:3] = [("B", path.B_t)]  # no straight: the two ends coincide, one label
+    for name, p in labels:
         ax_zoom.annotate(
             name,
             p * 1e3,
@@ -3019,12 +3022,14 @@ def plot_speed_sweep(
     limit_rpm: float | None = None,
     title: str | None = None,
 ) -> Figure:
-    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`:
-    on top the limiting operation's optimal angle [deg] (and, from ``linear``, a
-    second sweep with the seed's linearised rebound constraints, dashed); below
-    the time it gets [ms] and the productivity [cycles/min]. ``limit_rpm`` [rpm]
-    is drawn as a vertical line. Artists, by gid: ``"limiting"``,
-    ``"limiting:linear"``, ``"time"``, ``"productivity"``, ``"limit"``.
+    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`,
+    in three panels sharing the speed axis [rpm]: the limiting operation's optimal
+    angle [deg] (and, from ``linear``, a second sweep with the seed's linearised
+    rebound constraints, dashed), the time it gets [ms], and the productivity
+    [cycles/min]. Speeds where the cyclogram does not fit are shaded;
+    ``limit_rpm`` [rpm] is drawn as a vertical line. Artists, by gid:
+    ``"limiting"``, ``"limiting:linear"``, ``"time"``, ``"productivity"``,
+    ``"limit"``.
 
     >>> import matplotlib
     >>> matplotlib.use("Agg")
@@ -3032,14 +3037,15 @@ def plot_speed_sweep(
     >>> from cyclomech.plot import plot_speed_sweep
     >>> m = cm.Machine.example()
     >>> fig = plot_speed_sweep(m.speed_sweep(), limit_rpm=m.speed_limit().rpm)
-    >>> fig.axes[0].get_ylabel()
-    'limiting operation  [deg]'
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['limiting operation  [deg]', 'its time  [ms]', 'productivity  [cycles/min]']
     """
     plt = _matplotlib()
-    fig, (top, bottom) = plt.subplots(
-        2, 1, figsize=(8.0, 6.0), sharex=True, layout="constrained", height_ratios=(1.3, 1.0)
+    fig, (top, mid, bottom) = plt.subplots(
+        3, 1, figsize=(8.0, 7.5), sharex=True, layout="constrained", height_ratios=(1.4, 1, 1)
     )
     n = np.asarray(sweep.rpm)
+    fits = np.asarray(sweep.fits)
     top.plot(
         n, sweep.limiting_deg, "-", lw=1.8, color="C0", label="exact rebound bound", gid="limiting"
     )
@@ -3050,48 +3056,51 @@ def plot_speed_sweep(
             "--",
             lw=1.3,
             color="C1",
-            label="seed's linearised bound",
+            label="seed's linearised rebound bound",
             gid="limiting:linear",
         )
     top.set_ylabel("limiting operation  [deg]")
-    top.grid(True, lw=0.4, alpha=0.5)
+    mid.plot(n, sweep.limiting_s * 1e3, "-", lw=1.6, color="C2", gid="time")
+    mid.set_ylabel("its time  [ms]")
     bottom.plot(
-        n,
-        sweep.limiting_s * 1e3,
-        "-",
-        lw=1.6,
-        color="C2",
-        label="time of the limiting operation",
-        gid="time",
+        n, np.where(fits, sweep.productivity, np.nan), "-", lw=1.6, color="C3", gid="productivity"
     )
-    bottom.set_ylabel("limiting operation  [ms]")
+    bottom.set_ylabel("productivity  [cycles/min]")
     bottom.set_xlabel("main-shaft speed  [rpm]")
-    bottom.grid(True, lw=0.4, alpha=0.5)
-    right = bottom.twinx()
-    right.plot(
-        n, sweep.productivity, ":", lw=1.6, color="C3", label="productivity", gid="productivity"
-    )
-    right.set_ylabel("productivity  [cycles/min]")
-    right.set_ylim(bottom=0.0)
-    for ax in (top, bottom):
-        if limit_rpm is not None and math.isfinite(limit_rpm) and n.min() <= limit_rpm <= n.max():
-            ax.axvline(
-                limit_rpm, color=CRITICAL_COLOR, ls="--", lw=1.0, gid="limit" if ax is top else None
+    shown = limit_rpm is not None and math.isfinite(limit_rpm) and n.min() <= limit_rpm <= n.max()
+    for ax in (top, mid, bottom):
+        ax.grid(True, lw=0.4, alpha=0.5)
+        if shown and not fits[n > limit_rpm].all():
+            ax.axvspan(
+                float(limit_rpm),
+                float(n.max()),
+                color="0.85",
+                alpha=0.6,
+                lw=0,  # type: ignore[arg-type]
+                label="does not fit" if ax is top else None,
             )
-    if limit_rpm is not None and math.isfinite(limit_rpm):
-        top.text(
-            0.98,
-            0.96,
-            f"speed limit {limit_rpm:.1f} rpm",
-            transform=top.transAxes,
-            ha="right",
-            va="top",
-            fontsize=9,
-            color=CRITICAL_COLOR,
-        )
+        elif (~fits).any():
+            ax.fill_between(
+                n,
+                0,
+                1,
+                where=~fits,
+                transform=ax.get_xaxis_transform(),
+                color="0.85",
+                alpha=0.6,
+                lw=0,
+                label="does not fit" if ax is top else None,
+            )
+        if shown:
+            ax.axvline(
+                float(limit_rpm),
+                color=CRITICAL_COLOR,
+                ls="--",
+                lw=1.0,  # type: ignore[arg-type]
+                gid="limit" if ax is top else None,
+                label=f"speed limit {limit_rpm:.1f} rpm" if ax is top else None,
+            )
     top.legend(fontsize=8, loc="lower left")
-    lines = bottom.get_lines() + right.get_lines()
-    bottom.legend(lines, [ln.get_label() for ln in lines], fontsize=8, loc="upper right")
     fig.suptitle(title or "the machine against speed", fontsize=11)
     return cast("Figure", fig)
 

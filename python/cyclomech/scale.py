@@ -331,12 +331,22 @@ def dask_client(spec: str) -> Any:
     LocalCluster of N worker processes (default 2) with one thread each;
     ``tcp://HOST:PORT`` connects to a running scheduler. Close it when done
     (``client.close()``, and ``client.cluster.close()`` for a local one).
+
+    >>> from cyclomech.scale import dask_client
+    >>> dask_client("udp://host:1")                        # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: --dask 'udp://host:1' must be local, local:N or a ...
     """
+    local = spec == "local" or spec.startswith("local:")
+    if not (local or spec.startswith(("tcp://", "tls://"))):
+        raise InputError(
+            f"--dask {spec!r} must be local, local:N or a scheduler address tcp://HOST:PORT"
+        )
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise InputError("--dask needs dask.distributed; pip install 'cyclomech[dask]'") from None
-    if spec == "local" or spec.startswith("local:"):
+    if local:
         n = 2
         if spec != "local":
             try:
@@ -349,8 +359,4 @@ def dask_client(spec: str) -> Any:
             n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
         )
         return Client(cluster)
-    if spec.startswith(("tcp://", "tls://")):
-        return Client(spec)
-    raise InputError(
-        f"--dask {spec!r} must be local, local:N or a scheduler address tcp://HOST:PORT"
-    )
+    return Client(spec)
