@@ -660,6 +660,13 @@ def _sweep_command(args: argparse.Namespace) -> int:
         grid[name] = parse_range(text, f"--set {name}=")
     if args.speed is not None:
         grid["speed_rpm"] = parse_range(args.speed, "--speed")
+    designs = math.prod(v.size for k, v in grid.items() if k != "speed_rpm")
+    speeds = grid["speed_rpm"].size if "speed_rpm" in grid else m.speed_points
+    print(
+        f"{m.name}: sweeping {designs} designs × {speeds} speeds = {designs * speeds} points"
+        + (f" on Dask ({args.dask})" if args.dask else ""),
+        flush=True,
+    )
     client = dask_client(args.dask) if args.dask else None
     try:
         r = sweep(

@@ -1,0 +1,86 @@
+"""The whole machine from the command line: progress bars and Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import cyclomech as cm
+import numpy as np
+from cyclomech.cli import main
+from cyclomech.report import analyze
+
+ROOT = Path(__file__).resolve().parent.parent
+LOOM = ROOT / "examples" / "stb_loom.toml"
+
+
+def test_run_prints_the_key_figures_and_where_the_report_is(tmp_path, capsys):
+    out = tmp_path / "loom"
+    assert main(["run", str(LOOM), "--out", str(out), "--no-plot", "--quiet"]) == 0
+    text = capsys.readouterr().out
+    lim = cm.Machine.from_toml(LOOM).speed_limit()
+    assert f"Speed limit: {lim.rpm:.2f} rpm, set by the cyclogram" in text
+    assert f"Report: {out / 'report.html'}" in text
+    assert (out / "report.html").is_file()
+
+
+def test_run_and_sweep_show_progress_on_stderr(tmp_path, capsys):
+    m = cm.Machine.from_toml(LOOM)
+    analyze(m, progress=True)
+    err = capsys.readouterr().err
+    assert "5/5 done" in err and "1/5 mechanisms" in err
+    cm.sweep(m, {"lifter.preload": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
+    err = capsys.readouterr().err
+    assert "sweep [" in err and "100.0% 4/4" in err
+
+
+def test_ctrl_c_stops_a_long_sweep_cleanly(tmp_path):
+    """SIGINT in the middle of a sweep: exit status 130 and one line on stderr, no
+    traceback, within a few seconds (the chunks are short)."""
+    cmd = [
+        sys.executable,
+        "-m",
+        "cyclomech",
+        "sweep",
+        str(LOOM),
+        "--set",
+        "lifter.preload=0.0001:0.0005:2000",
+        "--speed",
+        "200:500:301",
+        "--out",
+        str(tmp_path / "sweep"),
+        "--quiet",
+    ]
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    assert proc.stdout is not None
+    assert b"sweeping 2000 designs" in proc.stdout.readline()  # started
+    time.sleep(1.0)
+    assert proc.poll() is None, "the sweep finished before it could be interrupted"
+    t0 = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert time.perf_counter() - t0 < 30.0
+    assert b"cyclomech: interrupted" in err
+    assert b"Traceback" not in err
+    assert not (tmp_path / "sweep" / "sweep.parquet").exists()
+
+
+def test_sweep_command_writes_the_grid(tmp_path, capsys):
+    out = tmp_path / "s"
+    argv = ["sweep", str(LOOM), "--set", "lifter.preload=0.0002:0.0003:2"]
+    argv += ["--speed", "300:400:3", "--out", str(out), "--quiet"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "6 points (2 designs × 3 speeds)" in text
+    files = list(out.glob("sweep.*"))
+    assert len(files) == 1
+    r = cm.SweepResult.read(files[0])
+    direct = cm.Machine.from_toml(LOOM).with_values({"lifter.preload": 0.0003})
+    s = direct.speed_sweep([300.0, 350.0, 400.0])
+    np.testing.assert_array_equal(r.columns["limiting_deg"][3:], s.limiting_deg)
