@@ -520,27 +520,40 @@ class _Network:
             stop_ok &= np.isfinite(t)
         if self.always_false:
             stop_ok[:] = False
+        extra: list[list[str]] = []
         if self.general:
-            value, on_path = self._lp(rpm, mins, stop_ok)
+            value, on_path, extra = self._lp(rpm, mins, stop_ok)
         else:
             value, on_path = max_difference(
                 self.n, self.src, self.dst, w, self.source, self.target, n_threads=n_threads
             )
         value = np.where(stop_ok & np.isfinite(value), value + self.lim_shift, np.nan)
         fits = np.isfinite(value)
-        return value, fits, self._labels(on_path, which, fits), mins
+        labels = self._labels(on_path, which, fits)
+        for i, names in enumerate(extra):
+            if names and fits[i]:
+                labels[i] = "; ".join([labels[i], *names] if labels[i] else names)
+        return value, fits, labels, mins
 
     def _lp(
         self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]
-    ) -> tuple[Array, npt.NDArray[np.bool_]]:
+    ) -> tuple[Array, npt.NDArray[np.bool_], list[list[str]]]:
         """The LP at each speed, for constraints over several operations: the
-        optimum, and the priced minimum/maximum bounds as the 'path'."""
+        optimum; the edges of the bounds with a shadow price as the 'path'; and the
+        priced constraints over several operations, which are no edge."""
         from .cyclogram import _LP
 
         value = np.full(rpm.size, np.nan)
         on_path = np.zeros((rpm.size, self.src.size), bool)
+        extra: list[list[str]] = [[] for _ in range(rpm.size)]
         cg = self.cg
         lim = cg.operation(cg.limiting)  # type: ignore[arg-type]
+        edge = {}  # the LP's row names of the bounds that are edges here
+        for k, (kind, lab) in enumerate(zip(self.kind, self.label, strict=True)):
+            if kind == "min":
+                edge[f"min[{lab}]"] = edge[f"duration[{lab}]"] = k
+            elif kind:
+                edge[lab] = k
         for i in np.flatnonzero(ok):
             lp = _LP(cg, mins[i], cg.cycle_deg, lim.arc)
             res = lp.solve()
@@ -549,9 +562,11 @@ class _Network:
             value[i] = -float(res.fun)
             for r in lp.priced(res):
                 name = lp.names[r]
-                hit = [k for k, lab in enumerate(self.label) if lab and name.endswith(lab)]
-                on_path[i, hit] = True
-        return value, on_path
+                if name in edge:
+                    on_path[i, edge[name]] = True
+                else:
+                    extra[i].append(name)
+        return value, on_path, extra
 
     def _labels(
         self,
