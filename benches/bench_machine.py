@@ -1,0 +1,411 @@
+"""Benchmarks of the whole machine: the speed sweep, its shortest-path call, cm.sweep.
+
+The hot loop is one design at many speeds (:meth:`cyclomech.Machine.speed_sweep`): one
+call per stop kernel (the exact smallest phase angle at every speed) and one
+:func:`cyclomech.max_difference` call over all speeds. The peer is what a user would
+write without it: per speed, the stop's exact constraint
+(:meth:`cyclomech.impact.StopImpact.constraint`) added to a copy of the cyclogram and
+:meth:`cyclomech.Cyclogram.optimize` (scipy HiGHS). The LP runs on a subset of the
+speeds in the same run; the per-point ratio is printed at the end of a timed run.
+The shortest-path call alone is timed against scipy's and networkx's Bellman–Ford,
+one weight row at a time, on the loom's own network. Every peer is checked once
+against cyclomech's values.
+
+Sizes: the default run (``--benchmark-disable`` in addopts) calls every benchmark
+once on 4 designs × 250 speeds; ``CYCLOMECH_BENCH_FULL=1`` times 40 designs × 2500
+speeds (the 100 000-point sweep of BENCHMARKS.md), also on a 2-worker Dask
+LocalCluster, whose start-up is timed on its own::
+
+    python -m pytest benches/bench_machine.py --benchmark-enable -q
+    CYCLOMECH_BENCH_FULL=1 python -m pytest benches/bench_machine.py --benchmark-enable -q
+"""
+
+from __future__ import annotations
+
+import copy
+import importlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import cyclomech as cm
+import numpy as np
+import numpy.typing as npt
+import pytest
+from cyclomech.machine import CamStop, SpeedSweep
+from numpy.testing import assert_allclose
+
+nx = pytest.importorskip("networkx")
+csgraph = pytest.importorskip("scipy.sparse.csgraph")
+sparse = pytest.importorskip("scipy.sparse")
+
+FULL = os.environ.get("CYCLOMECH_BENCH_FULL", "") not in ("", "0")
+full_only = pytest.mark.skipif(
+    not FULL, reason="the 100 000-point sweep and the Dask cluster: CYCLOMECH_BENCH_FULL=1"
+)
+
+LOOM = Path(__file__).resolve().parents[1] / "examples" / "stb_loom.toml"
+#: Speeds [rpm] of the study: the loom's range, across its speed limit (421.4 rpm).
+SPEED_RANGE_RPM = (200.0, 500.0)
+N_SPEEDS = 2500 if FULL else 250
+#: Preloads [m] of the lifter's stop: the designs of cm.sweep.
+PRELOAD_RANGE_M = (1e-4, 5e-4)
+N_PRELOADS = 40 if FULL else 4
+#: The LP peer runs on every LP_STRIDE-th speed (100 speeds full, 10 by default).
+LP_STRIDE = 25
+#: Dask workers (processes, one thread each): the machine has 2 cores.
+DASK_WORKERS = 2
+#: Agreement of the LP and Bellman–Ford peers with cyclomech [deg]; the exact angles
+#: differ by rounding only (HiGHS's tolerances are far looser than this in general,
+#: but on this small LP the optimum is a vertex it hits exactly).
+ATOL_DEG = 1e-9
+#: Slow peers and the 100 000-point sweeps get few rounds, so the timed run stays short.
+SLOW_ROUNDS = 3
+
+GROUP_SPEED = f"speed_sweep: one design, {N_SPEEDS} speeds"
+GROUP_LP = f"LP per point: {N_SPEEDS // LP_STRIDE} speeds (every {LP_STRIDE}th) of one design"
+GROUP_PATH = f"max_difference: the loom's network (V=12, E=33), {N_SPEEDS} weight rows"
+GROUP_SWEEP = f"cm.sweep: {N_PRELOADS} designs × {N_SPEEDS} speeds = {N_PRELOADS * N_SPEEDS}"
+GROUP_CLUSTER = f"Dask LocalCluster start-up: {DASK_WORKERS} worker processes"
+
+Array = npt.NDArray[np.float64]
+
+
+def _label(benchmark, tool: str, what: str) -> None:
+    """Name the tool and the call for the ratio table printed by conftest.py."""
+    benchmark.extra_info["tool"] = tool
+    benchmark.extra_info["what"] = what
+
+
+# --- per-point ratios, printed after conftest's tables ------------------------------
+
+#: Median seconds per point of each timed row, by key (filled only in a timed run).
+_PER_POINT: dict[str, tuple[str, float]] = {}
+
+
+def _record(benchmark, key: str, what: str, points: int) -> None:
+    stats = getattr(benchmark, "stats", None)
+    if stats is not None:  # None under --benchmark-disable
+        _PER_POINT[key] = (what, stats.stats.median / points)
+
+
+def _us(seconds: float) -> str:
+    return f"{seconds * 1e6:.3g} µs" if seconds < 1e-3 else f"{seconds * 1e3:.3g} ms"
+
+
+class _PerPointReport:
+    """The LP peer ran on a subset of the points: its ratio is per point, not per call."""
+
+    @pytest.hookimpl(trylast=True)
+    def pytest_terminal_summary(self, terminalreporter) -> None:
+        lp = _PER_POINT.get("lp")
+        if lp is None:
+            return
+        tr = terminalreporter
+        tr.write_sep("=", "cyclomech machine: per point")
+        tr.write_line(f"  peer: {lp[0]}: {_us(lp[1])} per point")
+        for key, (what, t) in _PER_POINT.items():
+            if key == "lp":
+                continue
+            n = N_PRELOADS * N_SPEEDS if key.startswith("sweep") else N_SPEEDS
+            tr.write_line(
+                f"  {what}: {_us(t)} per point; LP / this = {lp[1] / t:.0f}x"
+                f"  (LP extrapolated to its {n} points: {lp[1] * n:.1f} s)"
+            )
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _per_point_report(request):
+    pm = request.config.pluginmanager
+    if not pm.has_plugin("cyclomech-bench-machine"):
+        pm.register(_PerPointReport(), "cyclomech-bench-machine")
+
+
+# --- the loom -----------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def loom() -> cm.Machine:
+    return cm.Machine.from_toml(LOOM)
+
+
+@pytest.fixture(scope="module")
+def speeds() -> Array:
+    return np.linspace(*SPEED_RANGE_RPM, N_SPEEDS)
+
+
+@pytest.fixture(scope="module")
+def reference(loom: cm.Machine, speeds: Array) -> SpeedSweep:
+    s = loom.speed_sweep(speeds)
+    assert s.fits.any() and not s.fits.all()  # both sides of the speed limit
+    return s
+
+
+def grid() -> dict[str, Array]:
+    return {
+        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, N_PRELOADS),
+        "speed_rpm": np.linspace(*SPEED_RANGE_RPM, N_SPEEDS),
+    }
+
+
+# --- one design at every speed --------------------------------------------------------
+
+
+@pytest.mark.benchmark(group=GROUP_SPEED)
+@pytest.mark.parametrize("n_threads", [None, 1], ids=["all-cores", "1-thread"])
+def test_speed_sweep_cyclomech(benchmark, loom, speeds, reference, n_threads) -> None:
+    threads = "all cores" if n_threads is None else f"{n_threads} thread"
+    what = f"Machine.speed_sweep({N_SPEEDS} speeds), {threads}"
+    _label(benchmark, "cyclomech", what)
+    s = benchmark(loom.speed_sweep, speeds, n_threads=n_threads)
+    assert np.array_equal(s.limiting_deg, reference.limiting_deg, equal_nan=True)
+    _record(benchmark, f"speed_sweep-{threads}", what, N_SPEEDS)
+
+
+def lp_limiting_deg(machine: cm.Machine, rpm: Array) -> Array:
+    """The peer: per speed, a copy of the cyclogram with each stop's exact constraint
+    and the LP (HiGHS); NaN where it does not fit. What a user writes without the
+    machine's sweep."""
+    stops = [m for m in machine.mechanisms.values() if isinstance(m, CamStop)]
+    out = np.full(rpm.size, np.nan)
+    for i, n in enumerate(rpm.tolist()):
+        cg = copy.deepcopy(machine.cyclogram)
+        try:
+            for s in stops:
+                cg.add_constraint(s.stop.constraint(s.arc, s.a_max, n))
+            out[i] = cg.optimize(speed_rpm=n).objective
+        except cm.InfeasibleError:
+            pass  # the rebound bound or the cyclogram does not fit at this speed
+    return out
+
+
+@pytest.mark.benchmark(group=GROUP_LP)
+def test_lp_cyclomech(benchmark, loom, speeds, reference) -> None:
+    _label(benchmark, "cyclomech", f"Machine.speed_sweep({N_SPEEDS // LP_STRIDE} speeds)")
+    s = benchmark(loom.speed_sweep, speeds[::LP_STRIDE])
+    assert np.array_equal(s.limiting_deg, reference.limiting_deg[::LP_STRIDE], equal_nan=True)
+
+
+@pytest.mark.benchmark(group=GROUP_LP, min_rounds=SLOW_ROUNDS)
+def test_lp_peer(benchmark, loom, speeds, reference) -> None:
+    what = "StopImpact.constraint + Cyclogram.optimize per speed (HiGHS)"
+    _label(benchmark, "scipy", what)
+    sub = speeds[::LP_STRIDE]
+    value = benchmark(lp_limiting_deg, loom, sub)
+    want = reference.limiting_deg[::LP_STRIDE]
+    assert np.isfinite(value).any() and np.isnan(value).any()
+    assert np.array_equal(np.isnan(value), np.isnan(want))
+    assert_allclose(value, want, rtol=0, atol=ATOL_DEG)
+    _record(benchmark, "lp", what, sub.size)
+
+
+# --- the shortest-path call alone -----------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Network:
+    """The loom's system of difference constraints at every speed: arc e bounds
+    x[dst[e]] − x[src[e]] ≤ W[row, e] [deg], as Machine.speed_sweep builds it."""
+
+    n_nodes: int
+    src: npt.NDArray[np.int64]
+    dst: npt.NDArray[np.int64]
+    weights: Array  # (S, E)
+    source: int
+    target: int
+
+    def cyclomech(self, n_threads: int | None = None) -> Array:
+        value, _ = cm.max_difference(
+            self.n_nodes,
+            self.src,
+            self.dst,
+            self.weights,
+            self.source,
+            self.target,
+            n_threads=n_threads,
+        )
+        return np.asarray(value)
+
+
+@pytest.fixture(scope="module")
+def network(loom: cm.Machine, speeds: Array) -> Network:
+    # machine._Network.solve's weights, from its own tables (private, on purpose:
+    # this is the exact call speed_sweep makes).
+    net = loom._network
+    mins, _ = net.minimums(speeds, loom.stop_angles(speeds))
+    w = np.broadcast_to(net.base, (speeds.size, net.base.size)).copy()
+    w[:, net.min_edge] -= mins
+    return Network(net.n, net.src, net.dst, w, net.source, net.target)
+
+
+@pytest.fixture(scope="module")
+def network_values(network: Network) -> Array:
+    v = network.cyclomech()
+    assert np.isfinite(v).any() and np.isnan(v).any()  # fits, and does not (a neg. cycle)
+    return v
+
+
+class ScipyLoop:
+    """scipy's Bellman–Ford per row on one CSR structure whose data is overwritten."""
+
+    def __init__(self, net: Network) -> None:
+        key = net.src * net.n_nodes + net.dst
+        order = np.argsort(key, kind="stable")
+        uniq, self.first = np.unique(key[order], return_index=True)
+        self.order = order
+        # csr_matrix would *add* parallel arcs; the constraint is their minimum.
+        ones = np.ones(uniq.size)
+        self.graph = sparse.csr_array(
+            (ones, (uniq // net.n_nodes, uniq % net.n_nodes)), shape=(net.n_nodes,) * 2
+        )
+        self.graph.sort_indices()  # data in (row, col) order, as uniq
+        self.net = net
+
+    def __call__(self) -> Array:
+        net, g = self.net, self.graph
+        out = np.full(net.weights.shape[0], np.nan)
+        for i, row in enumerate(net.weights):
+            g.data[:] = np.minimum.reduceat(row[self.order], self.first)
+            try:
+                out[i] = csgraph.bellman_ford(g, directed=True, indices=net.source)[net.target]
+            except csgraph.NegativeCycleError:
+                continue  # infeasible: NaN, as max_difference
+        return out
+
+
+def networkx_loop(net: Network) -> Array:
+    """networkx's Bellman–Ford per row; the arc index is the payload, the weight a lookup."""
+    g = nx.DiGraph()
+    g.add_nodes_from(range(net.n_nodes))
+    for e, (u, v) in enumerate(zip(net.src.tolist(), net.dst.tolist(), strict=True)):
+        if g.has_edge(u, v):  # parallel arcs: keep the tighter bound's index
+            raise AssertionError("the loom's network has no parallel arcs")
+        g.add_edge(u, v, i=e)
+    out = np.full(net.weights.shape[0], np.nan)
+    for r, w in enumerate(net.weights):
+        row = w.tolist()
+        try:
+            out[r] = nx.bellman_ford_path_length(
+                g,
+                net.source,
+                net.target,
+                weight=lambda u, v, d: row[d["i"]],  # noqa: B023 (used before row changes)
+            )
+        except nx.NetworkXUnbounded:
+            continue  # a negative cycle: infeasible, NaN as max_difference
+    return out
+
+
+@pytest.mark.benchmark(group=GROUP_PATH)
+@pytest.mark.parametrize("n_threads", [None, 1], ids=["all-cores", "1-thread"])
+def test_path_cyclomech(benchmark, network, network_values, n_threads) -> None:
+    threads = "all cores" if n_threads is None else f"{n_threads} thread"
+    _label(benchmark, "cyclomech", f"max_difference(W), {threads}")
+    v = benchmark(network.cyclomech, n_threads)
+    assert np.array_equal(v, network_values, equal_nan=True)
+
+
+@pytest.mark.benchmark(group=GROUP_PATH)
+def test_path_scipy(benchmark, network, network_values) -> None:
+    _label(benchmark, "scipy", "csgraph.bellman_ford per row (CSR data overwritten)")
+    v = benchmark(ScipyLoop(network))
+    assert np.array_equal(np.isnan(v), np.isnan(network_values))
+    assert_allclose(v, network_values, rtol=0, atol=ATOL_DEG)
+
+
+@pytest.mark.benchmark(group=GROUP_PATH, min_rounds=SLOW_ROUNDS)
+def test_path_networkx(benchmark, network, network_values) -> None:
+    _label(benchmark, "networkx", "bellman_ford_path_length per row (weight=callable)")
+    v = benchmark(networkx_loop, network)
+    assert np.array_equal(np.isnan(v), np.isnan(network_values))
+    assert_allclose(v, network_values, rtol=0, atol=ATOL_DEG)
+
+
+# --- cm.sweep: designs × speeds, in-process and on Dask ---------------------------------
+
+
+@pytest.fixture(scope="module")
+def sweep_reference(loom: cm.Machine) -> cm.SweepResult:
+    return cm.sweep(loom, grid(), n_threads=1, progress=False)
+
+
+def _same_sweep(r: cm.SweepResult, want: cm.SweepResult) -> None:
+    assert list(r.columns) == list(want.columns)
+    for k, v in want.columns.items():
+        if v.dtype == object:
+            assert (r.columns[k] == v).all(), k
+        else:
+            assert np.array_equal(r.columns[k], v, equal_nan=v.dtype.kind == "f"), k
+
+
+@pytest.mark.benchmark(group=GROUP_SWEEP)
+@pytest.mark.parametrize("n_threads", [1, 2], ids=["1-thread", "2-threads"])
+def test_sweep_in_process(benchmark, loom, sweep_reference, n_threads) -> None:
+    what = f"cm.sweep(machine, grid, n_threads={n_threads})"
+    _label(benchmark, "cyclomech", what)
+    kw = {"n_threads": n_threads, "progress": False}
+    r = benchmark.pedantic(cm.sweep, (loom, grid()), kw, rounds=SLOW_ROUNDS if FULL else 1)
+    assert r.n_points == N_PRELOADS * N_SPEEDS
+    _same_sweep(r, sweep_reference)
+    _record(benchmark, f"sweep-{n_threads}", what, r.n_points)
+
+
+def _start_cluster() -> tuple[Any, Any]:
+    from dask.distributed import Client, LocalCluster
+
+    cluster = LocalCluster(
+        n_workers=DASK_WORKERS,
+        processes=True,
+        threads_per_worker=1,
+        dashboard_address=":0",  # None still binds port 8787 (see tests/test_dask.py)
+    )
+    client = Client(cluster)
+    client.run(importlib.import_module, "cyclomech")  # what the first task would pay
+    return cluster, client
+
+
+def _close_cluster(cluster: Any, client: Any) -> None:
+    client.close()
+    cluster.close()
+
+
+@full_only
+@pytest.mark.benchmark(group=GROUP_CLUSTER)
+def test_cluster_start(benchmark) -> None:
+    pytest.importorskip("dask.distributed")
+    _label(benchmark, "dask", "LocalCluster + Client + import cyclomech in the workers")
+    started: list[tuple[Any, Any]] = []
+
+    def start() -> None:
+        started.append(_start_cluster())
+
+    def close() -> None:
+        _close_cluster(*started.pop())
+
+    try:
+        benchmark.pedantic(start, teardown=close, rounds=SLOW_ROUNDS)
+    finally:
+        while started:  # --benchmark-disable runs no teardown
+            _close_cluster(*started.pop())
+
+
+@pytest.fixture(scope="module")
+def dask_client():
+    pytest.importorskip("dask.distributed")
+    cluster, client = _start_cluster()
+    yield client
+    _close_cluster(cluster, client)
+
+
+@full_only
+@pytest.mark.benchmark(group=GROUP_SWEEP)
+def test_sweep_dask(benchmark, loom, sweep_reference, dask_client) -> None:
+    what = f"cm.sweep(machine, grid, client), LocalCluster of {DASK_WORKERS}×1 thread"
+    _label(benchmark, "cyclomech", what)
+    r = benchmark.pedantic(
+        cm.sweep, (loom, grid(), dask_client), {"progress": False}, rounds=SLOW_ROUNDS
+    )
+    assert r.n_points == N_PRELOADS * N_SPEEDS
+    _same_sweep(r, sweep_reference)
+    _record(benchmark, "sweep-dask", what, r.n_points)
