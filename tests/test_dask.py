@@ -140,9 +140,12 @@ def test_tasks_run_the_kernels_on_one_thread(loom, client, local) -> None:
 
 @pytest.mark.parametrize("n_threads", [None, 2])
 def test_run_chunk_one_thread_equals_all_threads(loom, n_threads) -> None:
-    designs = np.array([[2e-4, 1e-4], [3e-4, 1.2e-4]])
+    # The designs (2e-4, 1e-4) and (3e-4, 1.2e-4): indices into the axes.
+    axes = [np.array([2e-4, 3e-4]), np.array([1e-4, 1.2e-4])]
+    designs = np.array([[0, 0], [1, 1]])
     speeds = np.linspace(200.0, 500.0, 401)  # big enough for the kernels to go parallel
-    args = (loom.data, loom.source, ["lifter.preload", "lifter.a_max"], designs, speeds)
+    names = ["lifter.preload", "lifter.a_max"]
+    args = (loom.data, loom.source, names, axes, designs, speeds)
     one = _run_chunk(*args, 1)
     many = _run_chunk(*args, n_threads)
     assert tuple(one) == FIGURES
@@ -190,13 +193,6 @@ def test_cli_sweep_on_dask(tmp_path: Path, capsys, monkeypatch) -> None:
     assert_bitwise_equal(got.columns, cm.sweep(m, grid, progress=False).columns)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: dask_client('local') passes dashboard_address=None, which in distributed "
-    "2026.8 disables the dashboard's pages but still binds the scheduler's HTTP server to "
-    "port 8787: with any other Dask cluster on the machine it warns 'Port 8787 is already "
-    "in use' (an error under -W error). dashboard_address=':0' would take a free port.",
-)
 def test_dask_client_local_does_not_need_port_8787() -> None:
     held = socket.socket()
     try:
@@ -218,13 +214,6 @@ def test_dask_client_local_does_not_need_port_8787() -> None:
     assert not [w for w in caught if "8787" in str(w.message)]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=OSError,
-    reason="BUG: `cyclomech sweep --dask tcp://HOST:PORT` with no scheduler there ends in "
-    "an OSError traceback from distributed after the connect timeout; the CLI maps only "
-    "CyclomechError to 'cyclomech: error: ...' and exit code 2.",
-)
 def test_cli_unreachable_scheduler_is_an_error_message(tmp_path: Path, capsys) -> None:
     with socket.socket() as s:  # a port with nothing listening
         s.bind(("127.0.0.1", 0))

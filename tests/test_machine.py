@@ -707,12 +707,6 @@ def test_cyclogram_speed_limit_is_max_speed(data):
     assert m.speed_sweep([ref * (1 - 1e-7), ref * (1 + 1e-7)]).fits.tolist() == [True, False]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: cyclogram_speed_limit returns inf for a limit between the last fitting "
-    "grid speed (4^k times the top of the range) and 1e6 rpm: the search stops once the "
-    "next bracket end exceeds the cap, without checking the speeds up to the cap",
-)
 def test_cyclogram_speed_limit_below_the_cap_is_finite():
     # t(a,b) ≥ 10° and 6·n·s for b→c: the limit is 350/(6·s) = 600 000 rpm < 1e6 rpm.
     s = 350.0 / (6.0 * 600_000.0)
@@ -831,12 +825,6 @@ def test_sweep_files_read_back_equal(loom_sweep, tmp_path, suffix):
             assert same_bits(got, v), k
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: sweep turns every parameter's values into float64, so a whole-number key "
-    "(pockets_t, machine.speed_points, ...) reaches the file's validation as 6.0 and is "
-    "rejected: InputError 'pockets_t = 6.0 must be a whole number of pockets'",
-)
 def test_sweep_over_a_whole_number_key():
     m = cm.Machine.from_toml(EXAMPLES / ROTOR)
     r = cm.sweep(m, {"line.pockets_t": [6, 8], "speed_rpm": [100.0]}, progress=False)

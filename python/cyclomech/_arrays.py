@@ -52,6 +52,15 @@ def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDA
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
+def real(value: Any) -> float:
+    """``float(value)`` for a real number only: a string, bytes or a bool is not
+    one (``float("30")`` would quietly read a file's ``"30"`` as 30); raises
+    ``TypeError`` or ``ValueError`` as ``float`` does."""
+    if isinstance(value, str | bytes | bool | np.bool_):
+        raise TypeError(f"not a real number: {value!r}")
+    return float(value)
+
+
 def finite_number(
     name: str, value: Any, unit: str, *, low: float | None = None, strict: bool = False
 ) -> float:
@@ -59,7 +68,7 @@ def finite_number(
     and ``unit``; with ``low``, it must be ≥ ``low`` (> ``low`` if ``strict``)."""
     bound = "" if low is None else f" and {'>' if strict else '≥'} {low:g}"
     try:
-        v = float(value)
+        v = real(value)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a number{bound} {unit}; got {value!r}") from None
     inside = low is None or (v > low if strict else v >= low)

@@ -5,6 +5,7 @@ Errors name the file (``source``), the table and the key, as the brief asks.
 
 from __future__ import annotations
 
+import codecs
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -14,11 +15,12 @@ from ._errors import InputError
 
 
 def load(path: str | Path) -> tuple[dict[str, Any], str]:
-    """The parsed file and its name for messages, or :class:`InputError`."""
+    """The parsed file and its name for messages, or :class:`InputError`. A UTF-8
+    byte order mark (written by some Windows editors) is skipped."""
     p = Path(path)
     try:
-        with p.open("rb") as f:
-            return tomllib.load(f), str(p)
+        text = p.read_bytes().removeprefix(codecs.BOM_UTF8).decode("utf-8")
+        return tomllib.loads(text), str(p)
     except FileNotFoundError:
         raise InputError(f"{p}: no such file") from None
     except tomllib.TOMLDecodeError as e:
@@ -31,14 +33,16 @@ def load(path: str | Path) -> tuple[dict[str, Any], str]:
         raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
 
 
-def check_keys(table: Any, allowed: set[str], source: str, where: str) -> None:
-    """``table`` must be a table whose keys are all in ``allowed``."""
+def check_keys(table: Any, allowed: set[str], source: str | None, where: str) -> None:
+    """``table`` must be a table whose keys are all in ``allowed``; messages start
+    with ``source`` (None: the caller adds the file's name)."""
+    at = where if source is None else f"{source}: {where}"
     if not isinstance(table, Mapping):
-        raise InputError(f"{source}: {where} must be a table; got {table!r}")
+        raise InputError(f"{at} must be a table; got {table!r}")
     for k in table:
         if k not in allowed:
             raise InputError(
-                f"{source}: {where}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"
+                f"{at}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"
             )
 
 

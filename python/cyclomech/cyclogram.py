@@ -32,6 +32,7 @@ from scipy.optimize import linprog
 from scipy.sparse.csgraph import breadth_first_order
 
 from . import _core, _toml
+from ._arrays import real
 from ._errors import CycleError, InfeasibleError, InputError, SolverError
 
 __all__ = [
@@ -67,10 +68,8 @@ def _event_id(value: Any, field_name: str) -> str:
 def _finite(
     value: Any, field_name: str, *, lower: float | None = None, limit: float | None = None
 ) -> float:
-    if isinstance(value, bool):
-        raise InputError(f"{field_name} must be a real number; got {value!r}")
     try:
-        x = float(value)
+        x = real(value)
     except (TypeError, ValueError):
         raise InputError(f"{field_name} must be a real number; got {value!r}") from None
     if not math.isfinite(x):
@@ -466,7 +465,9 @@ class Cyclogram:
                     f"constraint {name!r}: there is no operation {a[0]}→{a[1]}; "
                     f"add it first (known: {known})"
                 )
-            terms.append((a, _finite(c, f"constraint {name!r}: coefficient of {a}")))
+            terms.append(
+                (a, _finite(c, f"constraint {name!r}: the coefficient (coeff) of {a[0]}→{a[1]}"))
+            )
         self._constraints.append(
             Constraint(tuple(terms), sense, _finite(rhs, f"constraint {name!r}: rhs"), name)  # type: ignore[arg-type]
         )
@@ -508,11 +509,18 @@ class Cyclogram:
         return self._ops[self._arc_index[self._resolve_op(key, "operation")]]
 
     def _resolve_op(self, key: Arc | str | list[str], what: str) -> Arc:
+        names = (
+            ", ".join(f"{o.src}→{o.dst}" + (f" ({o.name!r})" if o.name else "") for o in self._ops)
+            or "none"
+        )
         if isinstance(key, tuple | list) and len(key) == 2:
             arc = (_event_id(key[0], what), _event_id(key[1], what))
             if arc in self._arc_index:
                 return arc
-            raise InputError(f"{what} = {key!r}: there is no operation {arc[0]}→{arc[1]}")
+            raise InputError(
+                f"{what} = {key!r}: there is no operation {arc[0]}→{arc[1]}; "
+                f"the operations are {names}"
+            )
         if isinstance(key, str):
             hits = [op.arc for op in self._ops if op.name == key]
             if len(hits) == 1:
@@ -521,7 +529,6 @@ class Cyclogram:
                 raise InputError(
                     f"{what} = {key!r}: several operations have that name; give the arc (x, y)"
                 )
-        names = ", ".join(repr(op.title) for op in self._ops) or "none"
         raise InputError(
             f"{what} = {key!r} is neither an arc (x, y) nor an operation name (known: {names})"
         )
@@ -940,7 +947,23 @@ class Cyclogram:
                 _ = cg.limiting
             except InputError as e:
                 raise InputError(f"{source}: [cyclogram]: {e}") from None
+        try:
+            cg._check_order()
+        except CycleError as e:
+            raise CycleError(f"{source}: [[operation]]: {e}", e.events) from None
         return cg
+
+    def _check_order(self) -> None:
+        """:class:`CycleError` if the operations within one machine cycle (height
+        0) form a cycle: no schedule can order their events."""
+        if not self._ops:
+            return
+        src, dst, h = self._arrays()
+        inner = h == 0
+        try:
+            _core.EventGraph(len(self._events), src[inner], dst[inner])
+        except CycleError as e:
+            raise self._named_cycle(e) from None
 
     def to_toml(self, path: str | Path | None = None) -> str:
         """The cyclogram as TOML text, written to ``path`` if given.

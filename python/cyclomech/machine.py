@@ -64,7 +64,7 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -76,8 +76,8 @@ from ._arrays import threads_arg
 from ._errors import InfeasibleError, InputError
 from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
 from .impact import _STOP_KEYS, StopImpact
-from .linkage import Linkage, LinkageSolution
-from .press import GearLeverPress, PressCriteria
+from .linkage import _LINKAGE_KEYS, Linkage, LinkageSolution
+from .press import STATUS, GearLeverPress, PressCriteria
 from .schedule import max_difference
 from .transfer import TransferPath, design_transfer
 
@@ -101,6 +101,9 @@ SCHEMA = "cyclomech.machine/1"
 _RAD_PER_RPM = 2.0 * math.pi / 60.0
 #: Highest speed searched for a speed limit [rpm]; above it the machine is unlimited.
 _SPEED_CAP_RPM = 1e6
+#: Lowest speed searched [rpm]: a cyclogram that does not fit there fits at no speed
+#: (its time-bound and rebound bounds only shrink as the speed falls).
+_SPEED_FLOOR_RPM = 1e-6
 _MACHINE_KEYS = {"name", "speed_rpm", "speed_points", "nominal_rpm", "angle_points"}
 _KINDS = ("cam_stop", "linkage", "press", "transfer")
 _CAM_KEYS = (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg"}
@@ -876,18 +879,21 @@ class Machine:
     def cyclogram_speed_limit(self, *, n_threads: int | None = None, rtol: float = 1e-10) -> float:
         """The highest speed [rpm] at which the cyclogram with the stops'
         constraints fits (inf if it fits up to 1e6 rpm; 0 if it fits at no
-        speed). Feasibility only shrinks as the speed grows, so it is bracketed
-        on a grid of 64 speeds and the bracket refined on new grids to ``rtol``.
+        speed from 1e-6 rpm up). Feasibility only shrinks as the speed grows, so
+        it is bracketed by speeds 4× apart up to the cap and the bracket refined on
+        grids of 64 speeds to ``rtol``.
 
         >>> import cyclomech as cm
         >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
         421.37
         """
-        lo, hi = 0.0, max(self.speed_range_rpm[1], 1.0)
+        if not self.fits([_SPEED_FLOOR_RPM], n_threads=n_threads)[0]:
+            return 0.0
+        lo, hi = _SPEED_FLOOR_RPM, max(self.speed_range_rpm[1], 1.0)
         while self.fits([hi], n_threads=n_threads)[0]:
-            lo, hi = hi, 4.0 * hi
-            if hi > _SPEED_CAP_RPM:
+            if hi >= _SPEED_CAP_RPM:
                 return math.inf
+            lo, hi = hi, min(4.0 * hi, _SPEED_CAP_RPM)
         while hi - lo > rtol * hi:
             grid = np.linspace(lo, hi, 66)[1:-1]
             ok = self.fits(grid, n_threads=n_threads)
@@ -994,7 +1000,7 @@ def _speeds(name: str, value: npt.ArrayLike) -> Array:
     if n.size == 0 or bad.any():
         v = n[np.argmax(bad)] if n.size else None
         raise InputError(
-            f"{name} must hold speeds in rpm, each in (0, {_SPEED_CAP_RPM:g}]; got {v!r}"
+            f"{name} must hold positive speeds in rpm, each in (0, {_SPEED_CAP_RPM:g}]; got {v!r}"
         )
     return n
 
@@ -1053,7 +1059,9 @@ def _mechanism(key: str, spec: Any, cg: Cyclogram, source: str, points: int) -> 
     }
     try:
         return build[kind](key, spec, cg, source, where, points)
-    except InputError as e:
+    except (InputError, InfeasibleError) as e:
+        # A mechanism that cannot work (a transition too long for its gap, say) is a
+        # mistake in the file: an InputError naming the file and the table.
         msg = str(e)
         raise InputError(msg if msg.startswith(source) else f"{where}: {msg}") from None
 
@@ -1109,6 +1117,7 @@ def _cam_stop(
 def _linkage(
     key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
 ) -> LinkageMechanism:
+    _toml.check_keys(spec, _LINKAGE_KEYS | _LINKAGE_EXTRA, source, f"[mechanism.{key}]")
     table = {k: v for k, v in spec.items() if k not in _LINKAGE_EXTRA}
     lk = Linkage.from_dict(table, source, f"[mechanism.{key}]")
     limit = _optional(spec, "max_acceleration", where, "[m/s²]")
@@ -1141,8 +1150,44 @@ def _press(
     )
     c = mech.criteria(60.0)
     if not c.ok:
-        raise InputError(f"{where}: the press design does not work over the turn: {c.status}")
+        raise InputError(f"{where}: {_press_failure(press, c, mech)}")
     return mech
+
+
+def _press_failure(press: GearLeverPress, c: PressCriteria, mech: PressMechanism) -> str:
+    """Why the press design ``c`` does not work, with the keys to change and their
+    admissible values."""
+    if c.status == STATUS[1]:
+        # The rod reaches the guide x = offset iff |x_pin − offset| < L all the turn.
+        # The pin's path is the planet's, whatever L and offset: trace it with a rod
+        # that always reaches (α counts from a BDC, which this design lacks).
+        tracer = replace(press, L=2.0 * (press.R + press.d) + 1.0, offset=0.0)
+        x = tracer.solve(np.linspace(0.0, 2.0 * math.pi, 3601)).pin[:, 0]
+        lo, hi = float(x.min()), float(x.max())
+        reach = max(hi - press.offset, press.offset - lo)
+        text = (
+            f"the rod (L = {press.L:g} m) cannot reach the slider's guide x = offset = "
+            f"{press.offset:g} m all the turn: the pin runs over x = {lo:.4g} … {hi:.4g} m, so "
+            f"L must exceed {reach:.4g} m at this offset"
+        )
+        if hi - lo < 2.0 * press.L:
+            text += f", or offset must lie in ({hi - press.L:.4g}, {lo + press.L:.4g}) m for this L"
+        return text
+    if c.status == STATUS[3]:
+        S_n = press.criteria(omega=1.0, k_Sp=1.0).S_n
+        return (
+            f"working_stroke = {mech.working_stroke!r} m exceeds the nominal stroke "
+            f"S_n = {S_n:.4g} m of this design; give working_stroke < {S_n:.4g} m or k_Sp in (0, 1]"
+        )
+    given = (
+        f"k_Sp = {mech.k_Sp!r}"
+        if mech.working_stroke is None
+        else f"working_stroke = {mech.working_stroke!r} m"
+    )
+    return (
+        f"{c.status} ({given}): give a shorter working stroke, or change the design "
+        "(d, L, phi0_deg)"
+    )
 
 
 def _transfer(

@@ -15,7 +15,6 @@ not depend on where the chunks ran: bit for bit.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import itertools
 import math
 import sys
 import time
@@ -28,7 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._errors import InputError
-from .machine import SCHEMA, Machine
+from .machine import SCHEMA, Machine, _speeds
 
 __all__ = ["SweepResult", "dask_client", "parse_range", "sweep"]
 
@@ -160,20 +159,34 @@ def _chunks(n_designs: int, size: int) -> Iterator[range]:
         yield range(start, min(start + size, n_designs))
 
 
+def _axis(key: str, values: npt.ArrayLike) -> npt.NDArray[Any]:
+    """A parameter's values as a 1-D array of finite numbers (integers kept)."""
+    v = np.asarray(values).reshape(-1)
+    if v.size == 0 or v.dtype.kind not in "iuf" or not np.isfinite(v).all():
+        raise InputError(
+            f"grid[{key!r}] must hold one or more finite numbers in the file's units; "
+            f"got {values!r}"
+        )
+    return v
+
+
 def _run_chunk(
     data: Mapping[str, Any],
     source: str,
     names: Sequence[str],
-    values: npt.NDArray[np.float64],
+    axes: Sequence[npt.NDArray[Any]],
+    designs: npt.NDArray[np.intp],
     speeds: npt.NDArray[np.float64],
     n_threads: int | None,
 ) -> dict[str, npt.NDArray[Any]]:
-    """The key figures of the designs ``values`` (k, P) at ``speeds``: one task."""
+    """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
+    one task."""
     base = Machine.from_dict(data, source)
     parts: list[dict[str, npt.NDArray[Any]]] = []
     S = speeds.size
-    for row in values:
-        m = base.with_values(dict(zip(names, row.tolist(), strict=True))) if names else base
+    for row in designs:
+        values = {k: axes[j][i].item() for j, (k, i) in enumerate(zip(names, row, strict=True))}
+        m = base.with_values(values) if names else base
         s = m.speed_sweep(speeds, n_threads=n_threads)
         lim = m.speed_limit(n_threads=n_threads)
         parts.append(
@@ -258,27 +271,14 @@ def sweep(
     if not isinstance(machine, Machine) or machine.data is None:
         raise InputError("machine must be a cyclomech.Machine read from a file or a dict")
     names = [k for k in grid if k != SPEED]
-    axes = []
-    for k in names:
-        v = np.asarray(grid[k], dtype=np.float64).reshape(-1)
-        if v.size == 0 or not np.isfinite(v).all():
-            raise InputError(f"grid[{k!r}] must hold finite values; got {grid[k]!r}")
-        axes.append(v)
-    speeds = (
-        machine.speed_grid()
-        if SPEED not in grid
-        else np.asarray(grid[SPEED], dtype=np.float64).reshape(-1)
-    )
-    if speeds.size == 0 or not (np.isfinite(speeds) & (speeds > 0)).all():
-        raise InputError(f"grid['speed_rpm'] must hold positive speeds [rpm]; got {speeds!r}")
+    axes = [_axis(k, grid[k]) for k in names]
+    speeds = machine.speed_grid() if SPEED not in grid else _speeds(f"grid[{SPEED!r}]", grid[SPEED])
     # Every parameter must name a key the file can take: check on the first design.
     if names:
         machine.with_values({k: a[0] for k, a in zip(names, axes, strict=True)})
-    designs = (
-        np.array(list(itertools.product(*axes)), dtype=np.float64).reshape(-1, len(names))
-        if names
-        else np.zeros((1, 0))
-    )
+    # Design d takes axes[j][designs[d, j]]: indices, so whole-number keys stay whole.
+    shape = tuple(a.size for a in axes)
+    designs = np.indices(shape).reshape(len(shape), -1).T if names else np.zeros((1, 0), np.intp)
     D = designs.shape[0]
     ex = _as_executor(executor)
     if chunk is None:
@@ -298,12 +298,14 @@ def sweep(
         if ex is None:
             for i, r in enumerate(ranges):
                 parts[i] = _run_chunk(
-                    data, source, names, designs[r.start : r.stop], speeds, n_threads
+                    data, source, names, axes, designs[r.start : r.stop], speeds, n_threads
                 )
                 bar.update(len(r) * speeds.size)
         else:
             futures = {
-                ex.submit(_run_chunk, data, source, names, designs[r.start : r.stop], speeds, 1): i
+                ex.submit(
+                    _run_chunk, data, source, names, axes, designs[r.start : r.stop], speeds, 1
+                ): i
                 for i, r in enumerate(ranges)
             }
             try:
@@ -319,7 +321,7 @@ def sweep(
         bar.close()
     cols: dict[str, npt.NDArray[Any]] = {}
     for j, k in enumerate(names):
-        cols[k] = np.repeat(designs[:, j], speeds.size)
+        cols[k] = np.repeat(axes[j][designs[:, j]], speeds.size)
     cols[SPEED] = np.tile(speeds, D)
     for k in FIGURES:
         cols[k] = np.concatenate([parts[i][k] for i in range(len(ranges))])
@@ -355,8 +357,16 @@ def dask_client(spec: str) -> Any:
                 n = 0
             if n < 1:
                 raise InputError(f"--dask {spec!r}: give local:N with N ≥ 1 worker processes")
+        # dashboard_address=None would still bind the scheduler's HTTP server to port
+        # 8787 (taken by any other Dask cluster here); ":0" takes a free port.
         cluster = LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0"
         )
         return Client(cluster)
-    return Client(spec)
+    try:
+        return Client(spec)
+    except (OSError, TimeoutError) as e:
+        raise InputError(
+            f"--dask {spec!r}: no Dask scheduler answered there ({e}); start one "
+            "(`dask scheduler`) and give its address, or use local:N"
+        ) from None

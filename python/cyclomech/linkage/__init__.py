@@ -30,7 +30,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core, _toml
-from .._arrays import float_array, threads_arg
+from .._arrays import float_array, real, threads_arg
 from .._errors import InputError
 
 __all__ = ["Linkage", "LinkageSolution", "sweep"]
@@ -351,14 +351,26 @@ class Linkage:
                 raise InputError(f"{source}: {where}: missing key {req!r}")
         try:
             lengths = {}
-            for i, item in enumerate(table.get("lengths", []), 1):
-                _toml.check_keys(item, {"joints", "length"}, source, f"{where} lengths #{i}")
+            items = table.get("lengths", [])
+            if not isinstance(items, list):
+                raise InputError(
+                    f"lengths = {items!r} must be an array of tables "
+                    "[{joints = [a, b], length = …}, …]"
+                )
+            for i, item in enumerate(items, 1):
+                _toml.check_keys(item, {"joints", "length"}, None, f"lengths #{i}")
                 joints = item.get("joints")
                 if not (isinstance(joints, list) and len(joints) == 2):
                     raise InputError(f"lengths #{i}: joints must be [a, b]; got {joints!r}")
                 lengths[(joints[0], joints[1])] = item.get("length")
             sliders: dict[str, Any] = {}
-            for p, spec in dict(table.get("sliders", {})).items():
+            guides_of = table.get("sliders", {})
+            if not isinstance(guides_of, Mapping):
+                raise InputError(
+                    f"sliders = {guides_of!r} must be a table: point = {{ground = [dx, dy]}} "
+                    "or {link = [b, c]}, or a list of two guides"
+                )
+            for p, spec in guides_of.items():
                 specs = spec if isinstance(spec, list) else [spec]
                 guides = []
                 for g in specs:
@@ -869,7 +881,7 @@ def _points(points: Any) -> dict[str, tuple[float, float]]:
         if not isinstance(name, str) or not name:
             raise InputError(f"points: joint names must be non-empty strings; got {name!r}")
         try:
-            x, y = (float(v) for v in xy)
+            x, y = (real(v) for v in xy)
         except (TypeError, ValueError):
             raise InputError(f"points[{name!r}] must be (x, y) in metres; got {xy!r}") from None
         if not (math.isfinite(x) and math.isfinite(y)):
@@ -879,6 +891,11 @@ def _points(points: Any) -> dict[str, tuple[float, float]]:
 
 
 def _links(links: Any, points: Mapping[str, Any]) -> list[tuple[str, ...]]:
+    if isinstance(links, str) or not isinstance(links, Iterable):
+        raise InputError(
+            f"links = {links!r} must be an array of links, each an array of joint names, "
+            'e.g. [["A", "B"], ["B", "C", "E"]]'
+        )
     out = []
     for k, ln in enumerate(links):
         if isinstance(ln, str) or not isinstance(ln, Sequence) or len(ln) < 2:
@@ -897,7 +914,13 @@ def _links(links: Any, points: Mapping[str, Any]) -> list[tuple[str, ...]]:
 
 
 def _ground(ground: Any, points: Mapping[str, Any]) -> set[str]:
-    g = {ground} if isinstance(ground, str) else set(ground)
+    if isinstance(ground, str) or not isinstance(ground, Iterable):
+        raise InputError(
+            f"ground = {ground!r} must be an array of joint names, e.g. [{ground!r}]"
+            if isinstance(ground, str)
+            else f"ground = {ground!r} must be an array of joint names"
+        )
+    g = set(ground)
     for p in g:
         if p not in points:
             raise InputError(f"ground: no point {p!r}; known points are {', '.join(points)}")
@@ -920,7 +943,14 @@ def _driver(
     if tip in ground:
         raise InputError(f"driver = {driver!r}: the crank's tip {tip!r} cannot be a ground joint")
     if not any(pivot in ln and tip in ln for ln in links):
-        raise InputError(f"driver = {driver!r}: no link joins {pivot!r} and {tip!r}")
+        cranks = sorted(
+            {(g, t) for ln in links for g in ln if g in ground for t in ln if t not in ground}
+        )
+        listing = ", ".join(f"[{g!r}, {t!r}]" for g, t in cranks) or "none"
+        raise InputError(
+            f"driver = {driver!r}: no link joins {pivot!r} and {tip!r}; a driver is a ground "
+            f"joint and a moving joint of one link: {listing}"
+        )
     return (pivot, tip)
 
 
@@ -930,7 +960,7 @@ def _lengths(lengths: Any, links: list[tuple[str, ...]]) -> dict[tuple[str, str]
         if not any(a in ln and b in ln for ln in links):
             raise InputError(f"lengths[{(a, b)!r}]: {a!r} and {b!r} are not joints of one link")
         try:
-            v = float(value)
+            v = real(value)
         except (TypeError, ValueError):
             raise InputError(f"lengths[{(a, b)!r}] = {value!r} must be a length [m]") from None
         if not (math.isfinite(v) and v > 0):
