@@ -894,6 +894,33 @@ def test_min_phase_angle_is_consistent_with_rebound(rpm, a_max_mm):
     assert float(lifter.rebound(rpm, t_min * (1 - 1e-6))) > a_max
 
 
+@FAST
+@given(rpm=st.floats(600.0, 5000.0), a_max_mm=st.floats(0.002, 0.2))
+def test_min_phase_angle_of_the_contact_model_is_consistent_with_rebound(rpm, a_max_mm):
+    """The contact model's rebound is not proportional to the impact speed (the
+    preload holds the lever up to a speed), so t_min comes from the search alone:
+    rebound(t_min) ≤ a_max, and above it 1e-9 relative below t_min."""
+    lifter = impact.StopImpact.example(model="contact")
+    a_max = a_max_mm * 1e-3
+    t_min = float(lifter.min_phase_angle(a_max, rpm))
+    if math.isnan(t_min):
+        assert float(lifter.rebound(rpm, 360.0)) > a_max
+        return
+    assert float(lifter.rebound(rpm, t_min)) <= a_max
+    if t_min > 1e-9:
+        assert float(lifter.rebound(rpm, t_min * (1 - 1e-9))) > a_max
+
+
+@pytest.mark.parametrize("a_max", [1e-9, 1e-6, 1e-4, 1e-2])
+def test_critical_speed_of_the_pulse_model_is_a_max_over_the_rebound_per_speed(a_max):
+    """The pulse model is linear in the impact speed v0 (the lever starts at v0 and
+    the pulse's impulse is ∝ v0), so v* = a_max·v0/rebound(v0) for any v0."""
+    lifter = impact.StopImpact.example()
+    v0 = float(lifter.impact_speed(300.0, 40.0))
+    g = float(lifter.rebound(300.0, 40.0)) / v0
+    assert lifter.critical_speed(a_max) == pytest.approx(a_max / g, rel=1e-11)
+
+
 def test_min_phase_angle_nan_where_impossible_and_arrays():
     lifter = impact.StopImpact.example()
     t = lifter.min_phase_angle(0.1e-3, [280.0, 420.0, 1e5])

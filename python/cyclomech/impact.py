@@ -819,26 +819,27 @@ class StopImpact:
         ((2, 2), True)
         """
         v0 = np.asarray(self.impact_speed(rpm, phase_deg), dtype=np.float64)
-        shape = v0.shape
-        flat = np.ascontiguousarray(v0.reshape(-1))
-        threads = threads_arg(n_threads)
+        return self._rebound_at(v0.reshape(-1), threads_arg(n_threads)).reshape(v0.shape)
+
+    def _rebound_at(self, v0: Array, n_threads: int | None) -> Array:
+        """First rebound [m] of impacts at speeds ``v0`` [m/s] (1-D): it depends on
+        the speed and phase angle only through v0."""
+        flat = np.ascontiguousarray(v0, dtype=np.float64)
         if self.model == "contact":
-            k = self.restitution
-            out = _core.contact_rebound_batch(
+            return _core.contact_rebound_batch(  # type: ignore[no-any-return]
                 self.mass,
                 self.stiffness,
                 self.contact_stiffness - self.stiffness,
                 self.preload,
                 self.zeta,
-                _restitution_damping(k),
+                _restitution_damping(self.restitution),
                 -flat,
-                n_threads=threads,
+                n_threads=n_threads,
             )
-            return out.reshape(shape)
         pulse = self._shape()
         impulse = self.mass * (1.0 + self.restitution) * flat  # J_A·ω0·(1+k)/l
         forces = np.multiply.outer(impulse, pulse.f)
-        q = first_rebound(
+        return first_rebound(  # type: ignore[no-any-return]
             pulse.t,
             forces,
             self.omega_free,
@@ -849,7 +850,6 @@ class StopImpact:
             maximum=True,
             n_threads=n_threads,
         ).q
-        return q.reshape(shape)
 
     def response(
         self, rpm: float, phase_deg: float, *, duration: float | None = None, points: int = 2001
@@ -893,6 +893,46 @@ class StopImpact:
         q = duhamel(t, f, omega_n=self.omega_free, zeta=self.zeta, mass=self.mass, q0=0.0, v0=-v0)
         return t, q
 
+    def critical_speed(
+        self, a_max: float, *, rtol: float = 1e-12, n_threads: int | None = None
+    ) -> float:
+        """The largest impact speed v* [m/s] whose first rebound is at most ``a_max``
+        [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to ``rtol``
+        relative: the rebound grows with the impact speed, so v* is bracketed on a
+        grid of 64 speeds from 1e-9 to 1e9 m/s and the bracket narrowed on grids of
+        64 (one Rust call each, about 8 in all). The returned speed is admissible.
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.impact.StopImpact.example()
+        >>> v = lifter.critical_speed(0.1e-3)        # the impact speed at t_min, any rpm
+        >>> t = lifter.min_phase_angle(0.1e-3, 280)
+        >>> round(v, 6), round(float(lifter.impact_speed(280, t)), 6)
+        (0.290929, 0.290929)
+        """
+        a = _positive("a_max", a_max, "[m]")
+        threads = threads_arg(n_threads)
+        # Remembered per stop for the parameters the rebound depends on (a machine's
+        # speed limit asks for it at every step of its search).
+        key = (a, rtol, self.model, self.pulse, self.contact_time, self.mass, self.stiffness)
+        key += (self.contact_stiffness, self.preload, self.zeta, self.restitution)
+        memo: dict[tuple[Any, ...], float] = self.__dict__.setdefault("_critical_memo", {})
+        if key in memo:
+            return memo[key]
+        grid = np.logspace(-9.0, 9.0, 64)
+        lo, hi = 0.0, math.inf
+        for _ in range(64):
+            fine = self._rebound_at(grid, threads) <= a
+            k = int(np.argmin(fine)) if not fine.all() else grid.size
+            lo = float(grid[k - 1]) if k > 0 else lo
+            hi = float(grid[k]) if k < grid.size else hi
+            if not math.isfinite(hi) or hi - lo <= rtol * hi:
+                break
+            grid = np.linspace(lo, hi, 66)[1:-1]
+        if len(memo) >= 64:
+            memo.clear()
+        memo[key] = math.inf if not math.isfinite(hi) else lo
+        return memo[key]
+
     def min_phase_angle(
         self,
         a_max: float,
@@ -902,9 +942,13 @@ class StopImpact:
         n_threads: int | None = None,
     ) -> Any:
         """Smallest phase angle [deg] whose first rebound is at most ``a_max`` [m],
-        at each speed ``rpm``: the rebound falls as the phase angle grows, so a
-        bisection on (0°, 360°] brackets it to ``tol_deg``; NaN where even 360° is
-        too short.
+        at each speed ``rpm``, to ``tol_deg``; NaN where even 360° is too short.
+
+        The rebound depends on the speed n and the phase angle t only through the
+        impact speed v0 = (2π·n/60)·stroke·Z'/t (:meth:`impact_speed`) and grows
+        with it, so t_min = (2π·n/60)·stroke·Z'/v* at every speed, with v* the
+        largest admissible impact speed (:meth:`critical_speed`): one search for
+        all speeds. At least 1e-9°.
 
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
@@ -914,19 +958,13 @@ class StopImpact:
         """
         a = _positive("a_max", a_max, "[m]")
         n = np.asarray(_positive_array("rpm", rpm, "[rpm]"), dtype=np.float64)
-        lo = np.full(n.shape, 1e-9)
-        hi = np.full(n.shape, 360.0)
-        ok = self.rebound(n, hi, n_threads=n_threads) <= a
-        lo_ok = self.rebound(n, lo, n_threads=n_threads) <= a
-        hi = np.where(lo_ok, lo, hi)
-        while True:
-            mid = 0.5 * (lo + hi)
-            if (hi - lo <= tol_deg).all() or (mid == lo).all():
-                break
-            fine = self.rebound(n, mid, n_threads=n_threads) <= a
-            hi = np.where(fine, mid, hi)
-            lo = np.where(fine, lo, mid)
-        return np.where(ok, hi, np.nan)[()]  # a float for a scalar speed
+        tol = _positive("tol_deg", tol_deg, "[deg]")
+        # t ≤ 360° and |Δt| ≤ t·Δv/v*: a relative bracket of tol/360 is enough.
+        v = self.critical_speed(a, rtol=tol / 360.0, n_threads=n_threads)
+        with np.errstate(divide="ignore"):
+            t = np.degrees(n * _RPM * self.stroke * self.dz_contact / v)
+        t = np.maximum(t, 1e-9)
+        return np.where(t <= 360.0, t, np.nan)[()]  # a float for a scalar speed
 
     def linearize(
         self, phase_deg_range: tuple[float, float], rpm: float, points: int = 64

@@ -578,13 +578,16 @@ class _Network:
         fits: npt.NDArray[np.bool_],
     ) -> npt.NDArray[np.object_]:
         """``; ``-joined names of the bounds on each row's chain: the unique
-        patterns are named once."""
+        patterns are named once. Neighbouring speeds mostly share a pattern, so
+        only the first row of each run of equal rows goes into the sort."""
         code = np.zeros(on_path.shape, np.int16)
         code[on_path] = 1
         mins = code[:, self.min_edge]
         code[:, self.min_edge] = np.where(mins > 0, 1 + which.astype(np.int16), 0)
         code[~fits] = 0
-        patterns, inverse = np.unique(code, axis=0, return_inverse=True)
+        starts = np.flatnonzero(np.r_[True, (code[1:] != code[:-1]).any(axis=1)])
+        patterns, of_run = np.unique(code[starts], axis=0, return_inverse=True)
+        inverse = np.repeat(of_run.reshape(-1), np.diff(np.r_[starts, code.shape[0]]))
         names = []
         for row in patterns:
             parts = []
