@@ -921,6 +921,50 @@ def test_critical_speed_of_the_pulse_model_is_a_max_over_the_rebound_per_speed(a
     assert lifter.critical_speed(a_max) == pytest.approx(a_max / g, rel=1e-11)
 
 
+def _mixed_stops() -> list[impact.StopImpact]:
+    """Stops in three pulse tables (two shapes, two contact times) and the contact
+    model, in an interleaved order."""
+    ex = impact.StopImpact.example
+    return [
+        ex(),
+        ex(model="contact"),
+        ex(zeta=0.2),
+        ex(pulse="half_sine"),
+        ex(contact_time=1e-3),
+        ex(preload=1e-4, model="contact"),
+        ex(preload=1e-4),
+        ex(pulse="half_sine", zeta=0.01),
+    ]
+
+
+def test_rebounds_of_many_stops_are_each_stops_rebound():
+    """One call over stops of different pulse tables and models gives, bit for
+    bit, what each stop's own rebound gives."""
+    stops = _mixed_stops()
+    v0 = np.linspace(0.05, 0.5, 24).reshape(len(stops), 3)
+    got = impact.rebounds(stops, v0)
+    for s, v, g in zip(stops, v0, got, strict=True):
+        t = 40.0
+        rpm = v * np.radians(t) / (2 * np.pi / 60 * s.stroke * s.dz_contact)
+        np.testing.assert_allclose(g, s.rebound(rpm, t), rtol=1e-13)
+        assert np.array_equal(g, impact.rebounds([s], v[None, :])[0])
+
+
+def test_critical_speeds_together_are_each_alone():
+    """The search over many stops at once (each step one call for all) gives each
+    stop's own critical speed bit for bit, and each is admissible."""
+    stops = _mixed_stops()
+    a_max = np.array([1e-4, 2e-5, 1e-4, 5e-5, 1e-4, 3e-5, 2e-4, 1e-4])
+    together = impact.critical_speeds(stops, a_max)
+    fresh = _mixed_stops()  # no remembered results
+    alone = [float(impact.critical_speeds([s], a)[0]) for s, a in zip(fresh, a_max, strict=True)]
+    assert together.tolist() == alone
+    at = impact.rebounds(stops, together[:, None])[:, 0]
+    assert (at <= a_max).all()
+    above = impact.rebounds(stops, together[:, None] * (1 + 1e-9))[:, 0]
+    assert (above > a_max).all()
+
+
 def test_min_phase_angle_nan_where_impossible_and_arrays():
     lifter = impact.StopImpact.example()
     t = lifter.min_phase_angle(0.1e-3, [280.0, 420.0, 1e5])

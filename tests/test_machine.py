@@ -825,6 +825,28 @@ def test_sweep_files_read_back_equal(loom_sweep, tmp_path, suffix):
             assert same_bits(got, v), k
 
 
+def test_many_machines_together_are_each_alone():
+    """speed_sweeps / speed_limits of variants (one network, stops searched
+    together, one shortest-path call) equal each machine's own, bit for bit; a
+    machine of another file in the same call too."""
+    loom = cm.Machine.from_toml(EXAMPLES / "stb_loom.toml")
+    others = [
+        loom.with_values({"lifter.preload": p, "lifter.a_max": a})
+        for p, a in ((1e-4, 1e-4), (3e-4, 5e-5), (5e-4, 2e-4))
+    ]
+    rotor = cm.Machine.from_toml(EXAMPLES / ROTOR)
+    ms = [loom, *others, rotor, loom.with_values({"lifter.model": "contact"})]
+    rpm = np.linspace(150.0, 600.0, 37)
+    sweeps = cm.machine.speed_sweeps(ms, rpm)
+    limits = cm.machine.speed_limits(ms)
+    for m, s, lim in zip(ms, sweeps, limits, strict=True):
+        one = m.speed_sweep(rpm)
+        for k in ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m"):
+            assert np.array_equal(getattr(s, k), getattr(one, k), equal_nan=k != "fits"), k
+        assert s.binding.tolist() == one.binding.tolist()
+        assert lim == m.speed_limit()
+
+
 def test_sweep_over_a_whole_number_key():
     m = cm.Machine.from_toml(EXAMPLES / ROTOR)
     r = cm.sweep(m, {"line.pockets_t": [6, 8], "speed_rpm": [100.0]}, progress=False)

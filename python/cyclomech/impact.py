@@ -21,7 +21,9 @@ names say so.
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -42,13 +44,16 @@ __all__ = [
     "contact_response",
     "contact_sample",
     "contact_time",
+    "critical_speeds",
     "duhamel",
     "duhamel_batch",
     "first_rebound",
     "impact_force",
     "lever_stiffness",
     "natural_frequency",
+    "phase_angles",
     "propped_lever_stiffness",
+    "rebounds",
 ]
 
 Array = npt.NDArray[np.float64]
@@ -151,6 +156,15 @@ def propped_lever_stiffness(
     f_mc = _flexibility(x, length, a, length, EJ)
     f_cc = _flexibility(length, length, a, length, EJ)
     return 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+
+
+@functools.lru_cache(maxsize=4096)
+def _propped_ratio(a: float, b: float) -> float:
+    """propped/free stiffness of :func:`propped_lever_stiffness` at the overhang's
+    middle: E·J_x cancels, so it depends on the lever's geometry alone (remembered,
+    as sweeps build a stop per design)."""
+    free, propped = propped_lever_stiffness(1.0, 1.0, a, b)
+    return propped / free
 
 
 def natural_frequency(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
@@ -644,6 +658,163 @@ def _restitution_damping(k: float) -> float:
     return -lk / math.sqrt(math.pi**2 + lk * lk)
 
 
+def rebounds(
+    stops: Sequence[StopImpact], v0: npt.ArrayLike, *, n_threads: int | None = None
+) -> Array:
+    """First rebound [m] of stop i hit at the speeds ``v0[i]`` [m/s], shape (S, W):
+    the rebound depends on the speed and phase angle only through the impact
+    speed. Pulse-model stops with the same pulse table go into one Rust call
+    (per-case frequency, damping and mass); a contact-model stop takes one call.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> a, b = cm.impact.StopImpact.example(), cm.impact.StopImpact.example(zeta=0.2)
+    >>> r = cm.impact.rebounds([a, b], [[0.2, 0.3], [0.2, 0.3]])
+    >>> r.shape, bool(r[1, 0] < r[0, 0]), bool(np.isclose(r[0, 1] / r[0, 0], 1.5))
+    ((2, 2), True, True)
+    """
+    v = float_array("v0", v0, ndims=(2,))
+    if v.shape[0] != len(stops):
+        raise InputError(f"v0 must have one row per stop ({len(stops)}); got shape {v.shape}")
+    threads = threads_arg(n_threads)
+    out = np.empty_like(v)
+    groups: dict[tuple[str, float], list[int]] = {}
+    for i, s in enumerate(stops):
+        if s.model == "contact":
+            out[i] = _core.contact_rebound_batch(
+                s.mass,
+                s.stiffness,
+                s.contact_stiffness - s.stiffness,
+                s.preload,
+                s.zeta,
+                _restitution_damping(s.restitution),
+                np.ascontiguousarray(-v[i]),
+                n_threads=threads,
+            )
+        else:
+            groups.setdefault((s.pulse, s.contact_time), []).append(i)
+    for rows in groups.values():
+        pulse = stops[rows[0]]._shape()
+        w = v.shape[1]
+        case = {
+            k: np.repeat([getattr(stops[i], k) for i in rows], w)
+            for k in ("omega_free", "zeta", "mass", "restitution")
+        }
+        speed = v[rows].reshape(-1)
+        impulse = case["mass"] * (1.0 + case["restitution"]) * speed  # J_A·ω0·(1+k)/l
+        out[rows] = first_rebound(
+            pulse.t,
+            np.multiply.outer(impulse, pulse.f),
+            case["omega_free"],
+            case["zeta"],
+            case["mass"],
+            0.0,
+            -speed,
+            maximum=True,
+            n_threads=threads,
+        ).q.reshape(len(rows), w)
+    return out
+
+
+#: Relative margin below the largest admissible impact speed (see critical_speeds).
+_SPEED_MARGIN = 1e-13
+
+
+def critical_speeds(
+    stops: Sequence[StopImpact],
+    a_max: npt.ArrayLike,
+    *,
+    rtol: float = 1e-12,
+    n_threads: int | None = None,
+) -> Array:
+    """The largest impact speed v* [m/s] of each stop whose first rebound is at most
+    its ``a_max`` [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to
+    ``rtol`` relative, shape (S,). The speed returned is admissible with a margin
+    of 1e-13 (relative), so that angles worked out from it are too: the rebounds'
+    rounding is ~1e-16, the angles' tolerance 1e-9°. The pulse
+    model's rebound is g·v0 (linear), so v* = a_max/g from one evaluation per
+    stop. The contact model's grows with v0, but not in proportion, so its v* is
+    bracketed on a grid of 64 speeds from 1e-9 to 1e9 m/s and the bracket
+    narrowed on grids of 64, about 8 steps. Each step evaluates all the stops in
+    one :func:`rebounds` call; results are remembered per stop and parameters.
+
+    >>> import cyclomech as cm
+    >>> stops = [cm.impact.StopImpact.example(), cm.impact.StopImpact.example(zeta=0.2)]
+    >>> v = cm.impact.critical_speeds(stops, 0.1e-3)
+    >>> [round(float(x), 4) for x in v]
+    [0.2909, 0.3657]
+    """
+    n = len(stops)
+    a = np.broadcast_to(float_array("a_max", a_max, ndims=(0, 1)), (n,)).copy()
+    for i, ai in enumerate(a):
+        _positive(f"a_max[{i}]" if n > 1 else "a_max", ai, "[m]")
+    r = _positive("rtol", rtol, "(relative)")
+    out = np.empty(n)
+    keys = [s._critical_key(ai, r) for s, ai in zip(stops, a, strict=True)]
+    todo = []
+    for i, (s, key) in enumerate(zip(stops, keys, strict=True)):
+        memo = s.__dict__.get("_critical_memo", {})
+        if key in memo:
+            out[i] = memo[key]
+        else:
+            todo.append(i)
+    if not todo:
+        return out
+    v = np.full(n, np.nan)
+    # The pulse model is linear in v0 (the lever starts at v0, the pulse's impulse
+    # is ∝ v0): rebound = g·v0, so v* = a_max/g (less the margin), stepped down by
+    # ulps until admissible should rounding still put it over.
+    lin = [i for i in todo if stops[i].model == "pulse"]
+    if lin:
+        g = rebounds([stops[i] for i in lin], np.ones((len(lin), 1)), n_threads=n_threads)[:, 0]
+        with np.errstate(divide="ignore"):
+            vl = np.where(g > 0.0, a[lin] / g * (1.0 - _SPEED_MARGIN), np.inf)
+        for _ in range(8):
+            fin = np.flatnonzero(np.isfinite(vl))
+            if not fin.size:
+                break
+            at = rebounds([stops[lin[j]] for j in fin], vl[fin, None], n_threads=n_threads)
+            over = fin[at[:, 0] > a[np.array(lin)[fin]]]
+            if not over.size:
+                break
+            vl[over] = np.nextafter(vl[over], 0.0) * (1.0 - 2.0 * np.finfo(float).eps)
+        v[lin] = vl
+    idx = np.array([i for i in todo if stops[i].model != "pulse"], dtype=np.intp)
+    lo, hi = np.zeros(idx.size), np.full(idx.size, np.inf)
+    grid = np.tile(np.logspace(-9.0, 9.0, 64), (idx.size, 1))
+    active = np.arange(idx.size)
+    for _ in range(64):
+        if not active.size:
+            break
+        fine = rebounds([stops[i] for i in idx[active]], grid[active], n_threads=n_threads)
+        fine = fine <= a[idx[active], None]
+        k = np.where(fine.all(axis=1), 64, np.argmin(fine, axis=1))
+        lo[active] = np.where(k > 0, grid[active, np.maximum(k - 1, 0)], lo[active])
+        hi[active] = np.where(k < 64, grid[active, np.minimum(k, 63)], hi[active])
+        h = hi[active]
+        done = ~np.isfinite(h) | (h - lo[active] <= r * h)
+        active = active[~done]
+        grid[active] = np.linspace(lo[active], hi[active], 66, axis=1)[:, 1:-1]
+    v[idx] = np.where(np.isfinite(hi), lo * (1.0 - _SPEED_MARGIN), np.inf)
+    for i in todo:
+        memo = stops[i].__dict__.setdefault("_critical_memo", {})
+        if len(memo) >= 64:
+            memo.clear()
+        memo[keys[i]] = out[i] = v[i]
+    return out
+
+
+def phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
+    """Smallest phase angles [deg] n·``per_rpm`` at speeds ``rpm`` (broadcast), at
+    least 1e-9°, NaN where over 360° (no phase angle of one turn will do).
+
+    >>> import cyclomech as cm
+    >>> cm.impact.phase_angles([100.0, 200.0, 400.0], 0.1).tolist()
+    [10.0, 20.0, 40.0]
+    """
+    t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
+    return np.where(t <= 360.0, t, np.nan)
+
+
 class StopImpact:
     """A cam-driven lever that strikes its limit stop (seed 000).
 
@@ -722,8 +893,7 @@ class StopImpact:
         self.zeta = _nonnegative("zeta", zeta, "(damping ratio)")
         self.stiffness = lever_stiffness(self.E, self.J_x, self.a, self.b)
         if contact_stiffness is None:
-            free, propped = propped_lever_stiffness(self.E, self.J_x, self.a, self.b)
-            self.contact_stiffness = self.stiffness * propped / free
+            self.contact_stiffness = self.stiffness * _propped_ratio(self.a, self.b)
         else:
             self.contact_stiffness = _positive("contact_stiffness", contact_stiffness, "[N/m]")
             if self.contact_stiffness <= self.stiffness:
@@ -742,15 +912,18 @@ class StopImpact:
         if model not in ("pulse", "contact"):
             raise InputError(f"model = {model!r} must be 'pulse' or 'contact'")
         self.model = model
-        # Where the lever meets the stop: Z(j*) = 1 − preload/stroke (Z rises).
+        # Where the lever meets the stop: Z(j*) = 1 − preload/stroke (Z rises), on
+        # grids of 64 values, each a vectorised law call, down to adjacent doubles.
         target = 1.0 - self.preload / self.stroke
         lo, hi = 0.0, 1.0
-        for _ in range(80):
-            mid = 0.5 * (lo + hi)
-            if float(self.law.z(mid)) < target:
-                lo = mid
-            else:
-                hi = mid
+        for _ in range(16):
+            grid = np.linspace(lo, hi, 66)[1:-1]
+            below = self.law.z(grid) < target
+            k = int(np.argmin(below)) if not below.all() else grid.size
+            lo = float(grid[k - 1]) if k > 0 else lo
+            hi = float(grid[k]) if k < grid.size else hi
+            if hi - lo <= 2.0 * np.spacing(hi):
+                break
         self.j_contact = 0.5 * (lo + hi)
         self.dz_contact = float(self.law.dz(self.j_contact))
 
@@ -819,37 +992,7 @@ class StopImpact:
         ((2, 2), True)
         """
         v0 = np.asarray(self.impact_speed(rpm, phase_deg), dtype=np.float64)
-        return self._rebound_at(v0.reshape(-1), threads_arg(n_threads)).reshape(v0.shape)
-
-    def _rebound_at(self, v0: Array, n_threads: int | None) -> Array:
-        """First rebound [m] of impacts at speeds ``v0`` [m/s] (1-D): it depends on
-        the speed and phase angle only through v0."""
-        flat = np.ascontiguousarray(v0, dtype=np.float64)
-        if self.model == "contact":
-            return _core.contact_rebound_batch(  # type: ignore[no-any-return]
-                self.mass,
-                self.stiffness,
-                self.contact_stiffness - self.stiffness,
-                self.preload,
-                self.zeta,
-                _restitution_damping(self.restitution),
-                -flat,
-                n_threads=n_threads,
-            )
-        pulse = self._shape()
-        impulse = self.mass * (1.0 + self.restitution) * flat  # J_A·ω0·(1+k)/l
-        forces = np.multiply.outer(impulse, pulse.f)
-        return first_rebound(  # type: ignore[no-any-return]
-            pulse.t,
-            forces,
-            self.omega_free,
-            self.zeta,
-            self.mass,
-            0.0,
-            -flat,
-            maximum=True,
-            n_threads=n_threads,
-        ).q
+        return rebounds([self], v0.reshape(1, -1), n_threads=n_threads).reshape(v0.shape)
 
     def response(
         self, rpm: float, phase_deg: float, *, duration: float | None = None, points: int = 2001
@@ -893,14 +1036,24 @@ class StopImpact:
         q = duhamel(t, f, omega_n=self.omega_free, zeta=self.zeta, mass=self.mass, q0=0.0, v0=-v0)
         return t, q
 
+    def _critical_key(self, a_max: float, rtol: float) -> tuple[Any, ...]:
+        """What v* depends on: a_max, rtol and the parameters of the rebound."""
+        key = (a_max, rtol, self.model, self.pulse, self.contact_time, self.mass)
+        return (
+            *key,
+            self.stiffness,
+            self.contact_stiffness,
+            self.preload,
+            self.zeta,
+            self.restitution,
+        )
+
     def critical_speed(
         self, a_max: float, *, rtol: float = 1e-12, n_threads: int | None = None
     ) -> float:
         """The largest impact speed v* [m/s] whose first rebound is at most ``a_max``
         [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to ``rtol``
-        relative: the rebound grows with the impact speed, so v* is bracketed on a
-        grid of 64 speeds from 1e-9 to 1e9 m/s and the bracket narrowed on grids of
-        64 (one Rust call each, about 8 in all). The returned speed is admissible.
+        relative (:func:`critical_speeds` for one stop).
 
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
@@ -909,29 +1062,20 @@ class StopImpact:
         >>> round(v, 6), round(float(lifter.impact_speed(280, t)), 6)
         (0.290929, 0.290929)
         """
-        a = _positive("a_max", a_max, "[m]")
-        threads = threads_arg(n_threads)
-        # Remembered per stop for the parameters the rebound depends on (a machine's
-        # speed limit asks for it at every step of its search).
-        key = (a, rtol, self.model, self.pulse, self.contact_time, self.mass, self.stiffness)
-        key += (self.contact_stiffness, self.preload, self.zeta, self.restitution)
-        memo: dict[tuple[Any, ...], float] = self.__dict__.setdefault("_critical_memo", {})
-        if key in memo:
-            return memo[key]
-        grid = np.logspace(-9.0, 9.0, 64)
-        lo, hi = 0.0, math.inf
-        for _ in range(64):
-            fine = self._rebound_at(grid, threads) <= a
-            k = int(np.argmin(fine)) if not fine.all() else grid.size
-            lo = float(grid[k - 1]) if k > 0 else lo
-            hi = float(grid[k]) if k < grid.size else hi
-            if not math.isfinite(hi) or hi - lo <= rtol * hi:
-                break
-            grid = np.linspace(lo, hi, 66)[1:-1]
-        if len(memo) >= 64:
-            memo.clear()
-        memo[key] = math.inf if not math.isfinite(hi) else lo
-        return memo[key]
+        return float(critical_speeds([self], a_max, rtol=rtol, n_threads=n_threads)[0])
+
+    def phase_per_rpm(self, v_star: float) -> float:
+        """The phase angle per rpm [deg/rpm] at which the impact speed is ``v_star``
+        [m/s]: t = n·(360/60)·stroke·Z'/v* (degrees of a turn of 2π·n/60 rad/s);
+        0 for v* = inf, inf for v* = 0.
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.impact.StopImpact.example()
+        >>> round(280 * lifter.phase_per_rpm(lifter.critical_speed(0.1e-3)), 6)
+        28.027142
+        """
+        with np.errstate(divide="ignore"):
+            return float(np.degrees(_RPM * self.stroke * self.dz_contact) / np.float64(v_star))
 
     def min_phase_angle(
         self,
@@ -956,15 +1100,11 @@ class StopImpact:
         >>> round(float(t), 6), round(float(lifter.rebound(280, t)) * 1e3, 9)
         (28.027142, 0.1)
         """
-        a = _positive("a_max", a_max, "[m]")
         n = np.asarray(_positive_array("rpm", rpm, "[rpm]"), dtype=np.float64)
         tol = _positive("tol_deg", tol_deg, "[deg]")
         # t ≤ 360° and |Δt| ≤ t·Δv/v*: a relative bracket of tol/360 is enough.
-        v = self.critical_speed(a, rtol=tol / 360.0, n_threads=n_threads)
-        with np.errstate(divide="ignore"):
-            t = np.degrees(n * _RPM * self.stroke * self.dz_contact / v)
-        t = np.maximum(t, 1e-9)
-        return np.where(t <= 360.0, t, np.nan)[()]  # a float for a scalar speed
+        v = self.critical_speed(a_max, rtol=tol / 360.0, n_threads=n_threads)
+        return phase_angles(n, self.phase_per_rpm(v))[()]  # a float for a scalar speed
 
     def linearize(
         self, phase_deg_range: tuple[float, float], rpm: float, points: int = 64

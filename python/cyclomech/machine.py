@@ -75,7 +75,7 @@ from . import _toml
 from ._arrays import threads_arg
 from ._errors import InfeasibleError, InputError
 from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
-from .impact import _STOP_KEYS, StopImpact
+from .impact import _STOP_KEYS, StopImpact, critical_speeds, phase_angles, rebounds
 from .linkage import _LINKAGE_KEYS, Linkage, LinkageSolution
 from .press import STATUS, GearLeverPress, PressCriteria
 from .schedule import max_difference
@@ -91,6 +91,8 @@ __all__ = [
     "SpeedLimit",
     "SpeedSweep",
     "TransferMechanism",
+    "speed_limits",
+    "speed_sweeps",
 ]
 
 Array = npt.NDArray[np.float64]
@@ -511,10 +513,11 @@ class _Network:
         return mins, which
 
     def solve(
-        self, rpm: Array, t_stop: Sequence[Array], n_threads: int | None
+        self, rpm: Array, t_stop: Sequence[Array], n_threads: int | None, *, labels: bool = True
     ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
         """The limiting angle [deg] (NaN: does not fit), the fit flags, the binding
-        labels and the minimum angles (B, E) at each speed."""
+        labels (empty with ``labels=False``) and the minimum angles (B, E) at each
+        speed."""
         mins, which = self.minimums(rpm, t_stop)
         w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
         w[:, self.min_edge] -= mins
@@ -532,11 +535,13 @@ class _Network:
             )
         value = np.where(stop_ok & np.isfinite(value), value + self.lim_shift, np.nan)
         fits = np.isfinite(value)
-        labels = self._labels(on_path, which, fits)
+        if not labels:
+            return value, fits, np.empty(0, dtype=object), mins
+        named = self._labels(on_path, which, fits)
         for i, names in enumerate(extra):
             if names and fits[i]:
-                labels[i] = "; ".join([labels[i], *names] if labels[i] else names)
-        return value, fits, labels, mins
+                named[i] = "; ".join([named[i], *names] if named[i] else names)
+        return value, fits, named, mins
 
     def _lp(
         self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]
@@ -802,11 +807,34 @@ class Machine:
         """
         if self.data is None:
             raise InputError("with_values needs a machine read from a file or a dict")
-        data = copy.deepcopy(dict(self.data))
+        # A copy of the tables that change; the others are shared with this machine.
+        data = dict(self.data)
+        data["mechanism"] = dict(data.get("mechanism", {}))
+        touched: set[str] = set()
         for path, value in values.items():
+            head = path.split(".", 1)[0]
+            if head not in touched:
+                if head == "machine":
+                    data["machine"] = copy.deepcopy(data.get("machine", {}))
+                elif head in data["mechanism"]:
+                    data["mechanism"][head] = copy.deepcopy(data["mechanism"][head])
             table, key = _split_key(path, data)
             table[key] = value.item() if isinstance(value, np.generic) else value
-        return Machine.from_dict(data, self.source)
+            touched.add(head)
+        if "machine" in touched:
+            return Machine.from_dict(data, self.source)
+        # Only the named mechanisms' tables changed: validate and build those (as
+        # from_dict would), and share the cyclogram and its network with this one.
+        mechs = dict(self.mechanisms)
+        for name in touched:
+            spec = data["mechanism"][name]
+            mechs[name] = _mechanism(name, spec, self.cyclogram, self.source, self.angle_points)
+        stops = [m for m in mechs.values() if isinstance(m, CamStop)]
+        if [(m.name, m.arc) for m in stops] != [(m.name, m.arc) for m in self.stops]:
+            return Machine.from_dict(data, self.source)  # the stops bound other operations
+        other = copy.copy(self)
+        other.mechanisms, other.data, other.stops = mechs, data, stops
+        return other
 
     # ----------------------------------------------------------------- results
     def speed_grid(self) -> Array:
@@ -830,7 +858,8 @@ class Machine:
         """
         if linear:
             return [s.linear_min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
-        return [s.min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
+        slopes = _stop_slopes([self], threads_arg(n_threads))[0]
+        return [phase_angles(rpm, k) for k in slopes]
 
     def speed_sweep(
         self,
@@ -840,33 +869,16 @@ class Machine:
         n_threads: int | None = None,
     ) -> SpeedSweep:
         """The key figures at each speed ``rpm`` (default :meth:`speed_grid`): one
-        call per stop kernel and one shortest-path call for all speeds.
+        search per stop for all speeds and one shortest-path call for all speeds
+        (:func:`speed_sweeps` for one machine).
 
         >>> import cyclomech as cm
         >>> s = cm.Machine.example().speed_sweep([300.0, 900.0])
         >>> s.fits.tolist(), round(float(s.limiting_deg[0]), 3)
         ([True, False], 264.971)
         """
-        threads = threads_arg(n_threads)
         n = self.speed_grid() if rpm is None else _speeds("rpm", rpm)
-        t_stop = self.stop_angles(n, linear=linear, n_threads=threads)
-        value, fits, binding, mins = self._network.solve(n, t_stop, threads)
-        rebound = np.full(n.shape, np.nan)
-        for s, e in zip(self.stops, self._network.stop_op, strict=True):
-            a = np.full(n.shape, np.nan)
-            if fits.any():
-                a[fits] = s.stop.rebound(n[fits], mins[fits, e], n_threads=threads)
-            rebound = np.fmax(rebound, a)
-        return SpeedSweep(
-            rpm=n,
-            fits=fits,
-            limiting_deg=value,
-            limiting_s=value / (DEG_PER_SECOND_PER_RPM * n),
-            productivity=np.where(fits, n, 0.0),
-            max_rebound_m=rebound,
-            binding=binding,
-            min_phase_deg={s.name: t for s, t in zip(self.stops, t_stop, strict=True)},
-        )
+        return speed_sweeps([self], n, linear=linear, n_threads=n_threads)[0]
 
     def fits(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> npt.NDArray[np.bool_]:
         """Whether the cyclogram with the stops' constraints fits at each speed.
@@ -876,58 +888,38 @@ class Machine:
         [True, False]
         """
         n = _speeds("rpm", rpm)
-        t_stop = self.stop_angles(n, n_threads=n_threads)
-        return self._network.solve(n, t_stop, n_threads)[1]
+        threads = threads_arg(n_threads)
+        return _fits(self._network, _stop_slopes([self], threads), n[None, :], threads)[0]
 
     def cyclogram_speed_limit(self, *, n_threads: int | None = None, rtol: float = 1e-10) -> float:
         """The highest speed [rpm] at which the cyclogram with the stops'
         constraints fits (inf if it fits up to 1e6 rpm; 0 if it fits at no
-        speed from 1e-6 rpm up). Feasibility only shrinks as the speed grows, so
-        it is bracketed by speeds 4× apart up to the cap and the bracket refined on
-        grids of 64 speeds to ``rtol``.
+        speed from 1e-6 rpm up), to ``rtol`` (:func:`speed_limits`' search).
 
         >>> import cyclomech as cm
         >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
         421.37
         """
-        if not self.fits([_SPEED_FLOOR_RPM], n_threads=n_threads)[0]:
-            return 0.0
-        lo, hi = _SPEED_FLOOR_RPM, max(self.speed_range_rpm[1], 1.0)
-        while self.fits([hi], n_threads=n_threads)[0]:
-            if hi >= _SPEED_CAP_RPM:
-                return math.inf
-            lo, hi = hi, min(4.0 * hi, _SPEED_CAP_RPM)
-        while hi - lo > rtol * hi:
-            grid = np.linspace(lo, hi, 66)[1:-1]
-            ok = self.fits(grid, n_threads=n_threads)
-            k = int(np.argmin(ok)) if not ok.all() else grid.size
-            lo = float(grid[k - 1]) if k > 0 else lo
-            hi = float(grid[k]) if k < grid.size else hi
-        return lo
+        threads = threads_arg(n_threads)
+        slopes = _stop_slopes([self], threads)
+        return float(
+            _cyclogram_limits(self._network, slopes, self._search_start(), threads, rtol)[0]
+        )
 
     def speed_limit(self, *, n_threads: int | None = None) -> SpeedLimit:
-        """The machine's speed limit: the cyclogram's and every mechanism's.
+        """The machine's speed limit: the cyclogram's and every mechanism's
+        (:func:`speed_limits` for one machine).
 
         >>> import cyclomech as cm
         >>> lim = cm.Machine.example().speed_limit()
         >>> round(lim.rpm, 3), lim.by
         (421.37, 'cyclogram')
         """
-        cg = self.cyclogram_speed_limit(n_threads=n_threads)
-        mech = {
-            k: float(m.speed_limit_rpm())  # type: ignore[call-arg]
-            for k, m in self.mechanisms.items()
-            if not isinstance(m, CamStop)
-        }
-        mech = {k: v for k, v in mech.items() if math.isfinite(v)}
-        by, rpm = "cyclogram", cg
-        for k, v in mech.items():
-            if v < rpm:
-                by, rpm = k, v
-        binding = ""
-        if 0.0 < cg < math.inf:
-            binding = str(self.speed_sweep([cg], n_threads=n_threads).binding[0])
-        return SpeedLimit(rpm, by, cg, mech, binding)
+        return speed_limits([self], n_threads=n_threads)[0]
+
+    def _search_start(self) -> float:
+        """The first speed [rpm] the speed-limit search tries."""
+        return max(self.speed_range_rpm[1], 1.0)
 
     def nominal_speed(self, limit: SpeedLimit | None = None) -> float:
         """The speed [rpm] of the report's optimised cyclogram: ``nominal_rpm``, or
@@ -976,6 +968,184 @@ class Machine:
             raise InfeasibleError(
                 f"machine {self.name!r} at {rpm:g} rpm: {e}", e.conflict
             ) from None
+
+
+# --------------------------------------------------------------------- many machines
+#: Relative bracket of the stops' critical speeds: min_phase_angle's default 1e-9°
+#: over at most 360°.
+_STOP_RTOL = 1e-9 / 360.0
+
+
+def _networks(machines: Sequence[Machine]) -> dict[int, list[int]]:
+    """Indices of the machines that share each cyclogram network (the variants of
+    one file made by :meth:`Machine.with_values`), in order."""
+    groups: dict[int, list[int]] = {}
+    for i, m in enumerate(machines):
+        groups.setdefault(id(m._network), []).append(i)
+    return groups
+
+
+def _stop_slopes(machines: Sequence[Machine], n_threads: int | None) -> Array:
+    """Each machine's stops' smallest phase angle per rpm [deg/rpm], (D, K): t_min
+    = n·slope (:meth:`StopImpact.min_phase_angle`); one search for every stop."""
+    stops = [s for m in machines for s in m.stops]
+    k = len(machines[0].stops) if machines else 0
+    if not stops:
+        return np.zeros((len(machines), k))
+    v = critical_speeds(
+        [s.stop for s in stops], [s.a_max for s in stops], rtol=_STOP_RTOL, n_threads=n_threads
+    )
+    slopes = [s.stop.phase_per_rpm(x) for s, x in zip(stops, v, strict=True)]
+    return np.array(slopes, dtype=np.float64).reshape(len(machines), k)
+
+
+def _fits(net: _Network, slopes: Array, rpm: Array, n_threads: int | None) -> npt.NDArray[np.bool_]:
+    """Whether machine d (stop slopes ``slopes[d]``) fits at the speeds ``rpm[d]``,
+    (D, M): one shortest-path call for all."""
+    m = rpm.shape[1]
+    rows = rpm.reshape(-1)
+    t_stop = [phase_angles(rows, np.repeat(slopes[:, k], m)) for k in range(slopes.shape[1])]
+    return net.solve(rows, t_stop, n_threads, labels=False)[1].reshape(rpm.shape)
+
+
+def _cyclogram_limits(
+    net: _Network, slopes: Array, start: float, n_threads: int | None, rtol: float
+) -> Array:
+    """The cyclogram speed limit [rpm] of each machine (stop slopes (D, K)), (D,):
+    feasibility only shrinks as the speed grows, so each is bracketed by speeds 4×
+    apart from ``start`` up to the cap (inf if it fits there; 0 if it does not fit
+    at the floor) and the bracket refined on grids of 64 speeds to ``rtol``;
+    every step is one shortest-path call for all machines still searching."""
+    D = slopes.shape[0]
+    out = np.full(D, np.nan)
+    ok = _fits(net, slopes, np.full((D, 1), _SPEED_FLOOR_RPM), n_threads)[:, 0]
+    out[~ok] = 0.0
+    lo, hi = np.full(D, _SPEED_FLOOR_RPM), np.full(D, start)
+    act = np.flatnonzero(ok)
+    while act.size:
+        f = _fits(net, slopes[act], hi[act, None], n_threads)[:, 0]
+        capped = f & (hi[act] >= _SPEED_CAP_RPM)
+        out[act[capped]] = math.inf
+        act = act[f & ~capped]
+        lo[act], hi[act] = hi[act], np.minimum(4.0 * hi[act], _SPEED_CAP_RPM)
+    act = np.flatnonzero(np.isnan(out))
+    while act.size:
+        done = hi[act] - lo[act] <= rtol * hi[act]
+        out[act[done]] = lo[act[done]]
+        act = act[~done]
+        if not act.size:
+            break
+        grid = np.linspace(lo[act], hi[act], 66, axis=1)[:, 1:-1]
+        fine = _fits(net, slopes[act], grid, n_threads)
+        k = np.where(fine.all(axis=1), grid.shape[1], np.argmin(fine, axis=1))
+        r = np.arange(act.size)
+        lo[act] = np.where(k > 0, grid[r, np.maximum(k - 1, 0)], lo[act])
+        hi[act] = np.where(k < grid.shape[1], grid[r, np.minimum(k, grid.shape[1] - 1)], hi[act])
+    return out
+
+
+def speed_sweeps(
+    machines: Sequence[Machine],
+    rpm: npt.ArrayLike,
+    *,
+    linear: bool = False,
+    n_threads: int | None = None,
+) -> list[SpeedSweep]:
+    """:meth:`Machine.speed_sweep` of many machines at the same speeds ``rpm``
+    [rpm]. Variants of one file (:meth:`Machine.with_values`) share their
+    cyclogram: their stops are searched together and every design at every speed
+    goes into one shortest-path call; each stop's rebounds at the optimum are one
+    call per pulse table.
+
+    >>> import cyclomech as cm
+    >>> m = cm.Machine.example()
+    >>> a, b = cm.machine.speed_sweeps([m, m.with_values({"lifter.a_max": 2e-4})], [300.0])
+    >>> round(float(a.limiting_deg[0]), 3), round(float(b.limiting_deg[0]), 3)
+    (264.971, 275.0)
+    """
+    n = _speeds("rpm", rpm)
+    threads = threads_arg(n_threads)
+    out: list[SpeedSweep | None] = [None] * len(machines)
+    S = n.size
+    for idx in _networks(machines).values():
+        ms = [machines[i] for i in idx]
+        net, D = ms[0]._network, len(ms)
+        rows = np.tile(n, D)
+        if linear:
+            t_stop = [
+                np.concatenate([m.stop_angles(n, linear=True, n_threads=threads)[k] for m in ms])
+                for k in range(len(net.stop_op))
+            ]
+        else:
+            slopes = _stop_slopes(ms, threads)
+            t_stop = [
+                phase_angles(rows, np.repeat(slopes[:, k], S)) for k in range(slopes.shape[1])
+            ]
+        value, fits, binding, mins = net.solve(rows, t_stop, threads)
+        rebound = np.full(rows.shape, np.nan)
+        for k, e in enumerate(net.stop_op):
+            stops = [m.stops[k].stop for m in ms]
+            # Impact speeds v0 = (2π·n/60)·stroke·Z'/t at the operation's optimum
+            # angle (its minimum); 1 m/s where the machine does not fit (dropped).
+            per = np.repeat([_RAD_PER_RPM * s.stroke * s.dz_contact for s in stops], S)
+            v0 = np.where(fits, rows * per / np.radians(np.where(fits, mins[:, e], 1.0)), 1.0)
+            a = rebounds(stops, v0.reshape(D, S), n_threads=threads).reshape(-1)
+            rebound = np.fmax(rebound, np.where(fits, a, np.nan))
+        names = [st.name for st in ms[0].stops]
+        for j, i in enumerate(idx):
+            r = slice(j * S, (j + 1) * S)
+            out[i] = SpeedSweep(
+                rpm=n,
+                fits=fits[r],
+                limiting_deg=value[r],
+                limiting_s=value[r] / (DEG_PER_SECOND_PER_RPM * n),
+                productivity=np.where(fits[r], n, 0.0),
+                max_rebound_m=rebound[r],
+                binding=binding[r],
+                min_phase_deg={name: t[r] for name, t in zip(names, t_stop, strict=True)},
+            )
+    return out  # type: ignore[return-value]
+
+
+def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -> list[SpeedLimit]:
+    """:meth:`Machine.speed_limit` of many machines: the cyclogram limits of the
+    variants of one file are searched together (one shortest-path call per step
+    for all of them); a mechanism shared by variants is evaluated once.
+
+    >>> import cyclomech as cm
+    >>> m = cm.Machine.example()
+    >>> both = cm.machine.speed_limits([m, m.with_values({"lifter.a_max": 2e-4})])
+    >>> [round(x.rpm, 2) for x in both]
+    [421.37, 453.81]
+    """
+    threads = threads_arg(n_threads)
+    out: list[SpeedLimit | None] = [None] * len(machines)
+    own: dict[int, float] = {}  # a mechanism's own limit, by object
+    for idx in _networks(machines).values():
+        ms = [machines[i] for i in idx]
+        net = ms[0]._network
+        slopes = _stop_slopes(ms, threads)
+        cg = _cyclogram_limits(net, slopes, ms[0]._search_start(), threads, 1e-10)
+        at = np.flatnonzero((cg > 0.0) & np.isfinite(cg))
+        binding = np.full(len(ms), "", dtype=object)
+        if at.size:
+            t_stop = [phase_angles(cg[at], slopes[at, k]) for k in range(slopes.shape[1])]
+            binding[at] = net.solve(cg[at], t_stop, threads)[2]
+        for j, (i, m) in enumerate(zip(idx, ms, strict=True)):
+            mech = {}
+            for k, x in m.mechanisms.items():
+                if isinstance(x, CamStop):
+                    continue
+                if id(x) not in own:
+                    own[id(x)] = float(x.speed_limit_rpm())  # type: ignore[call-arg]
+                if math.isfinite(own[id(x)]):
+                    mech[k] = own[id(x)]
+            by, rpm = "cyclogram", float(cg[j])
+            for k, v in mech.items():
+                if v < rpm:
+                    by, rpm = k, v
+            out[i] = SpeedLimit(rpm, by, float(cg[j]), mech, str(binding[j]))
+    return out  # type: ignore[return-value]
 
 
 # --------------------------------------------------------------------- parsing

@@ -27,7 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._errors import InputError
-from .machine import SCHEMA, Machine, _speeds
+from .machine import SCHEMA, Machine, _speeds, speed_limits, speed_sweeps
 
 __all__ = ["SweepResult", "dask_client", "parse_range", "sweep"]
 
@@ -180,28 +180,26 @@ def _run_chunk(
     n_threads: int | None,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
-    one task."""
+    one task. The designs are variants of one file, so every kernel runs once for
+    the chunk: the stops' searches together, one shortest-path call for every
+    design at every speed, one per step of the speed-limit search."""
     base = Machine.from_dict(data, source)
-    parts: list[dict[str, npt.NDArray[Any]]] = []
-    S = speeds.size
-    for row in designs:
-        values = {k: axes[j][i].item() for j, (k, i) in enumerate(zip(names, row, strict=True))}
-        m = base.with_values(values) if names else base
-        s = m.speed_sweep(speeds, n_threads=n_threads)
-        lim = m.speed_limit(n_threads=n_threads)
-        parts.append(
-            {
-                "fits": s.fits,
-                "limiting_deg": s.limiting_deg,
-                "limiting_s": s.limiting_s,
-                "productivity": s.productivity,
-                "max_rebound_m": s.max_rebound_m,
-                "speed_limit_rpm": np.full(S, lim.rpm),
-                "speed_limit_by": np.full(S, lim.by, dtype=object),
-                "binding": s.binding,
-            }
+    machines = [
+        base.with_values(
+            {k: axes[j][i].item() for j, (k, i) in enumerate(zip(names, row, strict=True))}
         )
-    return {k: np.concatenate([p[k] for p in parts]) for k in FIGURES}
+        if names
+        else base
+        for row in designs
+    ]
+    sweeps = speed_sweeps(machines, speeds, n_threads=n_threads)
+    limits = speed_limits(machines, n_threads=n_threads)
+    S = speeds.size
+    per_speed = ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m", "binding")
+    cols = {k: np.concatenate([getattr(s, k) for s in sweeps]) for k in per_speed}
+    cols["speed_limit_rpm"] = np.repeat([lim.rpm for lim in limits], S)
+    cols["speed_limit_by"] = np.repeat(np.array([lim.by for lim in limits], dtype=object), S)
+    return {k: cols[k] for k in FIGURES}
 
 
 def _as_executor(executor: Any) -> cf.Executor | None:
@@ -282,7 +280,9 @@ def sweep(
     D = designs.shape[0]
     ex = _as_executor(executor)
     if chunk is None:
-        chunk = max(1, math.ceil(D / 64)) if ex is not None else max(1, math.ceil(D / 100))
+        # In-process: about 100 steps of the progress bar, but at least 64 designs a
+        # chunk (each chunk is one call per kernel); on an executor, 64 tasks.
+        chunk = math.ceil(D / 64) if ex is not None else max(math.ceil(D / 100), min(D, 64))
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk must be a whole number of designs ≥ 1; got {chunk!r}")
     bar = _Bar(
