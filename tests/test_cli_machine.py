@@ -11,6 +11,7 @@ from pathlib import Path
 
 import cyclomech as cm
 import numpy as np
+import pytest
 from cyclomech.cli import main
 from cyclomech.report import analyze
 
@@ -69,6 +70,50 @@ def test_ctrl_c_stops_a_long_sweep_cleanly(tmp_path):
     assert b"cyclomech: interrupted" in err
     assert b"Traceback" not in err
     assert not (tmp_path / "sweep" / "sweep.parquet").exists()
+
+
+def test_ctrl_c_stops_a_dask_sweep_cleanly(tmp_path):
+    """Ctrl-C in a terminal reaches the whole foreground process group, the
+    LocalCluster's worker processes too: the sweep must still end with one line
+    and status 130, no traceback from the workers, and leave no process behind."""
+    pytest.importorskip("dask.distributed")
+    cmd = [sys.executable, "-m", "cyclomech", "sweep", str(LOOM)]
+    cmd += ["--set", "lifter.preload=0.0001:0.0005:4000", "--speed", "200:500:3001"]
+    cmd += ["--out", str(tmp_path / "sweep"), "--quiet", "--dask", "local:2"]
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, start_new_session=True
+    )
+    assert proc.stdout is not None
+    assert b"sweeping 4000 designs" in proc.stdout.readline()
+    # Ctrl-C is ignored while the cluster starts, then caught again: wait for both.
+    bit = 1 << (signal.SIGINT - 1)
+
+    def sigint(field: str) -> bool:
+        status = Path(f"/proc/{proc.pid}/status").read_text().splitlines()
+        return bool(int(next(ln for ln in status if ln.startswith(field)).split()[1], 16) & bit)
+
+    for field in ("SigIgn:", "SigCgt:"):
+        for _ in range(1200):
+            if sigint(field):
+                break
+            time.sleep(0.01)
+        else:
+            pytest.fail(f"SIGINT never in {field}")
+    time.sleep(0.5)
+    assert proc.poll() is None, "the sweep finished before it could be interrupted"
+    os.killpg(proc.pid, signal.SIGINT)  # what a terminal's Ctrl-C does
+    _, err = proc.communicate(timeout=60)
+    text = err.decode()
+    assert proc.returncode == 130, text
+    assert text.strip().splitlines() == ["cyclomech: interrupted"], text
+    for _ in range(100):  # the workers and multiprocessing's tracker wind down
+        left = subprocess.run(["pgrep", "-g", str(proc.pid)], capture_output=True, text=True)
+        if not left.stdout.strip():
+            break
+        time.sleep(0.1)
+    assert not left.stdout.strip(), f"processes left in the group: {left.stdout}"
+    assert not (tmp_path / "sweep").exists()
 
 
 def test_sweep_command_writes_the_grid(tmp_path, capsys):

@@ -120,6 +120,10 @@ def not_utf8(text: str, path: Path) -> None:
     path.write_bytes(text.encode().replace(b"ILLUSTRATIVE", b"ILLUSTRATIVE \xff\xfe", 1))
 
 
+def unchanged(text: str, path: Path) -> None:
+    path.write_text(text, encoding="utf-8")
+
+
 def no_file(text: str, path: Path) -> None:
     pass
 
@@ -238,6 +242,10 @@ FILE_CASES = [
     case("missing file", "stb_loom", no_file, None, None, "no such file"),
     case("a directory", "stb_loom", a_directory, None, None, "directory"),
     case("empty file", "stb_loom", raw(b""), "[machine]", None, "speed_rpm"),
+    case("an impact file", "stb_lifter", unchanged, None, None, "[machine]", "cyclomech impact"),
+    case("a linkage file", "burg_trimmer", unchanged, None, None, "cyclomech linkage"),
+    case("a cyclogram file", "stb_group1", unchanged, None, None, "cyclomech cyclogram"),
+    case("a press file", "extrusion_press", unchanged, None, None, "cyclomech press"),
     case("a key twice", "rotor_line", replace("gap = 0.01", "gap = 0.01\ngap = 0.02"), None,
          None, "not valid TOML", "line 28"),
 ]  # fmt: skip
@@ -793,6 +801,11 @@ def bad_file(edit: Edit, example: str = "stb_loom") -> Callable[[Path], Path]:
     return make
 
 
+def _a_file(path: Path) -> Path:
+    path.write_text("not a folder\n")
+    return path
+
+
 def run(make: Callable[[Path], Path]) -> Callable[[Path], list[str]]:
     return lambda tmp: ["run", str(make(tmp)), "--out", str(tmp / "out"), "--no-plot"]
 
@@ -824,8 +837,16 @@ CLI_CASES = [
     cli("sweep: --set words", sweep("--set", "lifter.preload=a:b:3"), "lifter.preload",
         "from:to:count"),
     cli("sweep: --speed 1:2", sweep("--speed", "1:2"), "--speed", "'1:2'", "from:to:count"),
+    cli("sweep: --speed from 0", sweep("--speed", "0:200:3"), "--speed", "positive", "got 0"),
     cli("sweep: --dask udp", sweep("--set", "lifter.preload=1e-4:2e-4:2", "--dask", "udp://x"),
         "--dask", "tcp://HOST:PORT"),
+    cli("sweep: --out a file",
+        lambda tmp: ["sweep", str(LOOM), "--set", "lifter.preload=1e-4:2e-4:2", "--out",
+                     str(_a_file(tmp / "afile")), "--quiet"],
+        "--out", "is a file, not a folder"),
+    cli("run: --out under a file",
+        lambda tmp: ["run", str(LOOM), "--out", str(_a_file(tmp / "afile") / "x"), "--no-plot"],
+        "--out", "is a file, not a folder"),
     cli("sweep: a bad file",
         lambda tmp: ["sweep", str(bad_file(replace("preload =", "prelod ="))(tmp)), "--set",
                      "lifter.a_max=1e-4:2e-4:2", "--out", str(tmp / "out"), "--quiet"],

@@ -12,10 +12,15 @@ mechanism with the traced path of its output point, the output point's analogs).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import logging
 import math
+import os
+import signal
 import sys
-from collections.abc import Sequence
+import threading
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -223,8 +228,26 @@ def _cyclogram_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def _out_folder(args: argparse.Namespace) -> Path:
+def _n(count: int, word: str) -> str:
+    """``count`` and ``word``, plural where it is not 1: 1 design, 2 designs."""
+    return f"{count} {word}{'' if count == 1 else 's'}"
+
+
+def _out_path(args: argparse.Namespace) -> Path:
+    """The output folder of a command, checked before any work: it, or the nearest
+    of its parents that exists, must be a writable folder."""
     out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
+    near = next((q for q in (out, *out.parents) if q.exists()), Path("."))
+    if not near.is_dir():
+        what = "is a file" if near == out else f"cannot be made: {near} is a file"
+        raise InputError(f"--out {out}: {what}, not a folder; give a folder for the results")
+    if not os.access(near, os.W_OK | os.X_OK):
+        raise InputError(f"--out {out}: the folder {near} is not writable")
+    return out
+
+
+def _out_folder(args: argparse.Namespace) -> Path:
+    out = _out_path(args)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -616,9 +639,9 @@ def _run_command(args: argparse.Namespace) -> int:
     from .report import analyze, write_report
 
     m = Machine.from_toml(args.file)
-    kinds = ", ".join(f"{k} ({type(v).__name__})" for k, v in m.mechanisms.items())
+    kinds = ", ".join(f"{k} ({v.kind})" for k, v in m.mechanisms.items())
     print(
-        f"{m.name}: {len(m.mechanisms)} mechanisms{': ' + kinds if kinds else ''}; "
+        f"{m.name}: {_n(len(m.mechanisms), 'mechanism')}{': ' + kinds if kinds else ''}; "
         f"{len(m.cyclogram.operations)} operations; speeds {m.speed_range_rpm[0]:g}–"
         f"{m.speed_range_rpm[1]:g} rpm"
     )
@@ -645,33 +668,62 @@ def _run_command(args: argparse.Namespace) -> int:
     return 0
 
 
+@contextlib.contextmanager
+def _quiet_interrupt(active: bool) -> Iterator[None]:
+    """While a Dask sweep runs, Ctrl-C first silences Dask's, tornado's and
+    asyncio's loggers (the cancelled tasks they would report are what the user
+    asked for), then interrupts as usual: one line, status 130."""
+    if not active or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum: int, frame: Any) -> None:
+        for name in ("distributed", "tornado", "asyncio"):
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGINT, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
 def _sweep_command(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .machine import Machine
-    from .scale import dask_client, parse_range, sweep
+    from .machine import Machine, _speeds
+    from .scale import dask_client, dask_workers, parse_range, sweep
 
     m = Machine.from_toml(args.file)
+    workers = dask_workers(args.dask) if args.dask else 0
     grid: dict[str, Any] = {}
     for item in args.set or []:
         name, eq, text = item.partition("=")
         if not eq or not name:
             raise InputError(f"--set {item!r} must be <mechanism>.<key>=from:to:count")
-        grid[name] = parse_range(text, f"--set {name}=")
+        grid[name] = parse_range(text, f"--set {name}:")
     if args.speed is not None:
-        grid["speed_rpm"] = parse_range(args.speed, "--speed")
-    designs = math.prod(v.size for k, v in grid.items() if k != "speed_rpm")
+        grid["speed_rpm"] = _speeds("--speed", parse_range(args.speed, "--speed"))
+    params = {k: v for k, v in grid.items() if k != "speed_rpm"}
+    if params:  # a key or value the file cannot take fails before the work starts
+        m.with_values({k: v[0] for k, v in params.items()})
+    designs = math.prod(v.size for v in params.values())
     speeds = grid["speed_rpm"].size if "speed_rpm" in grid else m.speed_points
     print(
-        f"{m.name}: sweeping {designs} designs × {speeds} speeds = {designs * speeds} points"
-        + (f" on Dask ({args.dask})" if args.dask else ""),
+        f"{m.name}: sweeping {_n(designs, 'design')} × {_n(speeds, 'speed')} = "
+        f"{_n(designs * speeds, 'point')}" + (f" on Dask ({args.dask})" if args.dask else ""),
         flush=True,
     )
+    if workers:
+        # Ctrl-C is ignored while the workers start (see scale._sigint_ignored).
+        print(f"starting a Dask LocalCluster of {workers} worker processes …", flush=True)
     client = dask_client(args.dask) if args.dask else None
     try:
-        r = sweep(
-            m, grid, client, progress=None if not args.quiet else False, n_threads=args.threads
-        )
+        with _quiet_interrupt(client is not None):
+            r = sweep(
+                m, grid, client, progress=None if not args.quiet else False, n_threads=args.threads
+            )
     finally:
         if client is not None:
             cluster = getattr(client, "cluster", None)
@@ -683,7 +735,8 @@ def _sweep_command(args: argparse.Namespace) -> int:
     fits = r.columns["fits"]
     n_speeds = int(np.unique(r.columns["speed_rpm"]).size)
     print(
-        f"{r.n_points} points ({r.n_points // n_speeds} designs × {n_speeds} speeds) in "
+        f"{_n(r.n_points, 'point')} ({_n(r.n_points // n_speeds, 'design')} × "
+        f"{_n(n_speeds, 'speed')}) in "
         f"{r.seconds:.2f} s"
         + (f" on Dask ({args.dask})" if args.dask else "")
         + f"; the cyclogram fits at {int(fits.sum())} of them"
@@ -745,6 +798,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     w.set_defaults(run=_sweep_command)
     args = parser.parse_args(argv)
     try:
+        _out_path(args)  # a bad --out fails now, not after the work
         return int(args.run(args))
     except CyclomechError as e:
         # Errors from the file already name it; name it for the others too.

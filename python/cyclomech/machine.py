@@ -66,7 +66,7 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -143,6 +143,8 @@ class CamStop:
     angle must keep the first rebound within ``a_max`` [m]. ``phase_deg`` are the
     phase angles [deg] drawn in the report's rebound curves."""
 
+    #: The ``kind`` of its table in a machine file.
+    kind: ClassVar[str] = "cam_stop"
     name: str
     stop: StopImpact
     arc: Arc
@@ -210,6 +212,8 @@ class LinkageMechanism:
     cycle); ``output`` is the point whose motion is reported, and
     ``max_acceleration`` [m/s²] an optional limit on its acceleration."""
 
+    #: The ``kind`` of its table in a machine file.
+    kind: ClassVar[str] = "linkage"
     name: str
     linkage: Linkage
     output: str
@@ -273,6 +277,8 @@ class PressMechanism:
     working stroke is ``k_Sp``·S_n or ``working_stroke`` [m]; ``max_V_np`` [m/s]
     optionally limits the slider's speed at the start of the working stroke."""
 
+    #: The ``kind`` of its table in a machine file.
+    kind: ClassVar[str] = "press"
     name: str
     press: GearLeverPress
     k_Sp: float | None = None
@@ -318,6 +324,8 @@ class TransferMechanism:
     [m/s]. Optional limits on the workpiece's peak jerk [m/s³] and acceleration
     [m/s²]."""
 
+    #: The ``kind`` of its table in a machine file.
+    kind: ClassVar[str] = "transfer"
     name: str
     path: TransferPath
     pockets_t: int
@@ -680,6 +688,13 @@ class Machine:
         >>> cm.Machine.from_dict(m.data).speed_points
         61
         """
+        if isinstance(data, Mapping) and "machine" not in data:
+            other = _other_command(data)
+            if other:
+                raise InputError(
+                    f"{source}: a machine file needs a [machine] table; this looks like "
+                    f"{other[0]}: run it with `cyclomech {other[1]}`"
+                )
         _toml.check_keys(
             data,
             {"machine", "mechanism", "cyclogram", "operation", "constraint"},
@@ -1149,6 +1164,19 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
 
 
 # --------------------------------------------------------------------- parsing
+def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
+    """What another command's file looks like, and that command: by its tables."""
+    if "stop" in data:
+        return "an impact file ([stop])", "impact"
+    if "linkage" in data:
+        return "a linkage file ([linkage])", "linkage"
+    if "press" in data:
+        return "a press file ([press])", "press"
+    if "mechanism" not in data and ("cyclogram" in data or "operation" in data):
+        return "a cyclogram file ([cyclogram], [[operation]])", "cyclogram"
+    return None
+
+
 def _is_number(v: Any) -> bool:
     return isinstance(v, int | float) and not isinstance(v, bool)
 
@@ -1171,9 +1199,9 @@ def _speeds(name: str, value: npt.ArrayLike) -> Array:
         raise InputError(f"{name} must be speeds in rpm; got {value!r}") from None
     bad = ~(np.isfinite(n) & (n > 0) & (n <= _SPEED_CAP_RPM))
     if n.size == 0 or bad.any():
-        v = n[np.argmax(bad)] if n.size else None
+        got = f"{float(n[np.argmax(bad)]):g}" if n.size else "no speeds"
         raise InputError(
-            f"{name} must hold positive speeds in rpm, each in (0, {_SPEED_CAP_RPM:g}]; got {v!r}"
+            f"{name} must hold positive speeds in rpm, each in (0, {_SPEED_CAP_RPM:g}]; got {got}"
         )
     return n
 

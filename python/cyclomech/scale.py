@@ -15,8 +15,12 @@ not depend on where the chunks ran: bit for bit.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
+import logging
 import math
+import signal
 import sys
+import threading
 import time
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -29,7 +33,7 @@ import numpy.typing as npt
 from ._errors import InputError
 from .machine import SCHEMA, Machine, _speeds, speed_limits, speed_sweeps
 
-__all__ = ["SweepResult", "dask_client", "parse_range", "sweep"]
+__all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
 
 #: Key of the grid that holds the speeds [rpm].
 SPEED = "speed_rpm"
@@ -328,6 +332,48 @@ def sweep(
     return SweepResult(cols, tuple(names), time.perf_counter() - t0)
 
 
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored while the block runs, so that the processes it starts ignore
+    it too (an ignored signal stays ignored through exec, and Python then
+    installs no handler of its own): Ctrl-C in a terminal reaches the whole
+    process group, and this process, not each Dask worker, decides what it
+    means. A Ctrl-C during the block is lost."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def dask_workers(spec: str) -> int:
+    """The ``--dask`` spec checked: the number of local worker processes for
+    ``local`` (2) or ``local:N``, 0 for a scheduler address ``tcp://HOST:PORT``.
+
+    >>> from cyclomech.scale import dask_workers
+    >>> dask_workers("local:3"), dask_workers("tcp://10.0.0.5:8786")
+    (3, 0)
+    """
+    if spec == "local":
+        return 2
+    if spec.startswith("local:"):
+        try:
+            n = int(spec.split(":", 1)[1])
+        except ValueError:
+            n = 0
+        if n < 1:
+            raise InputError(f"--dask {spec!r}: give local:N with N ≥ 1 worker processes")
+        return n
+    if not spec.startswith(("tcp://", "tls://")):
+        raise InputError(
+            f"--dask {spec!r} must be local, local:N or a scheduler address tcp://HOST:PORT"
+        )
+    return 0
+
+
 def dask_client(spec: str) -> Any:
     """A ``dask.distributed.Client`` for ``--dask``: ``local`` or ``local:N`` starts a
     LocalCluster of N worker processes (default 2) with one thread each;
@@ -339,29 +385,23 @@ def dask_client(spec: str) -> Any:
     Traceback (most recent call last):
     cyclomech._errors.InputError: --dask 'udp://host:1' must be local, local:N or a ...
     """
-    local = spec == "local" or spec.startswith("local:")
-    if not (local or spec.startswith(("tcp://", "tls://"))):
-        raise InputError(
-            f"--dask {spec!r} must be local, local:N or a scheduler address tcp://HOST:PORT"
-        )
+    workers = dask_workers(spec)
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise InputError("--dask needs dask.distributed; pip install 'cyclomech[dask]'") from None
-    if local:
-        n = 2
-        if spec != "local":
-            try:
-                n = int(spec.split(":", 1)[1])
-            except ValueError:
-                n = 0
-            if n < 1:
-                raise InputError(f"--dask {spec!r}: give local:N with N ≥ 1 worker processes")
+    if workers:
         # dashboard_address=None would still bind the scheduler's HTTP server to port
         # 8787 (taken by any other Dask cluster here); ":0" takes a free port.
-        cluster = LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0"
-        )
+        with _sigint_ignored():
+            cluster = LocalCluster(
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",
+                # errors only: a cancelled task is no news after a Ctrl-C
+                silence_logs=logging.ERROR,
+            )
         return Client(cluster)
     try:
         return Client(spec)
