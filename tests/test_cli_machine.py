@@ -129,3 +129,17 @@ def test_sweep_command_writes_the_grid(tmp_path, capsys):
     direct = cm.Machine.from_toml(LOOM).with_values({"lifter.preload": 0.0003})
     s = direct.speed_sweep([300.0, 350.0, 400.0])
     np.testing.assert_array_equal(r.columns["limiting_deg"][3:], s.limiting_deg)
+
+
+def test_output_read_by_a_pipe_that_closes_is_no_traceback(tmp_path):
+    """`cyclomech run … | head -1`: the reader goes away; no BrokenPipeError."""
+    cmd = [sys.executable, "-m", "cyclomech", "run", str(LOOM), "--out", str(tmp_path / "o")]
+    cmd += ["--no-plot", "--quiet"]
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE) as proc:
+        assert proc.stdout is not None and proc.stderr is not None
+        proc.stdout.readline()
+        proc.stdout.close()  # as head does after its line
+        err = proc.stderr.read()
+        proc.wait(timeout=60)
+    assert proc.returncode == 141
+    assert b"Traceback" not in err and b"BrokenPipe" not in err, err

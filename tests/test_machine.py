@@ -264,11 +264,14 @@ def test_run_writes_the_report_files(run, name):
 def test_run_with_figures_embeds_them_in_the_report(run):
     out = run(PLOTTED)
     pngs = sorted((out / "figures").glob("*.png"))
-    # The speed sweep, the cyclogram, and the lifter's rebound and smallest phase angle.
+    # The speed sweep, the cyclogram (Gantt and circular), and the lifter's rebound,
+    # cam law and smallest phase angle.
     assert {p.stem for p in pngs} == {
         "speed_sweep",
         "cyclogram",
+        "cyclogram_circular",
         "lifter_rebound",
+        "lifter_law",
         "lifter_min_phase",
     }
     page = (out / "report.html").read_text(encoding="utf-8")
@@ -823,6 +826,38 @@ def test_sweep_files_read_back_equal(loom_sweep, tmp_path, suffix):
             assert got.dtype == object and got.tolist() == v.tolist(), k
         else:
             assert same_bits(got, v), k
+
+
+def test_rebound_price_per_mm_is_the_optimum_s_slope_in_a_max(run):
+    """The report's price of the lifter's rebound bound per mm of its rebound limit
+    against the LP re-solved with a_max ± 10 nm (a central difference of the
+    optimum, not of t_min). A shadow price holds for small changes only: here a
+    parallel chain (open gripper spring …, at zero price) takes over once t(3,7)
+    has fallen by 0.031°, i.e. for a_max up by 0.1 µm."""
+    r = results(run(PLOTTED))
+    price = r["optimum"]["shadow_prices_per_mm_rebound"]["rebound[lifter]"]
+    m = cm.Machine.from_toml(EXAMPLES / PLOTTED)
+    n = r["nominal_rpm"]
+    a = m.mechanisms["lifter"].a_max
+    up, down = (m.with_values({"lifter.a_max": a + d}).optimize(n).objective for d in (1e-8, -1e-8))
+    assert price == pytest.approx((up - down) / 2e-5, rel=1e-3)  # deg per mm
+    assert price > 0  # more allowed rebound leaves the weft insertion more angle
+
+
+def test_a_speed_range_above_the_limit_is_reported_as_such(tmp_path):
+    """A loom whose speed range lies wholly above its speed limit: the report says
+    the machine works at no speed of the range, and draws the figure anyway."""
+    path = tmp_path / "fast.toml"
+    text = (EXAMPLES / PLOTTED).read_text(encoding="utf-8")
+    path.write_text(text.replace("speed_rpm = [200.0, 500.0]", "speed_rpm = [600.0, 900.0]"))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    r = results(out)
+    assert r["speed_limit"]["rpm"] == pytest.approx(421.37, abs=0.01)
+    assert not any(r["speed_sweep"]["fits"])
+    assert (out / "figures" / "speed_sweep.png").is_file()
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "421.37 rpm</b>, set by the cyclogram" in page
 
 
 def test_many_machines_together_are_each_alone():

@@ -742,6 +742,8 @@ def _sweep_command(args: argparse.Namespace) -> int:
         + f"; the cyclogram fits at {int(fits.sum())} of them"
     )
     print(f"Wrote {path}")
+    if path.suffix == ".npz":
+        print("(NumPy .npz: pyarrow is not installed; `pip install pyarrow` writes Parquet)")
     return 0
 
 
@@ -808,6 +810,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("cyclomech: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # Whoever read the output stopped (`| head`): no traceback, and none at exit.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -752,8 +752,9 @@ def _circular(ax: PolarAxes, result: Schedule | Optimum, lay: _Layout) -> list[A
 
 # -------------------------------------------------------------------- labels
 def _label_gantt(ax: Axes, lay: _Layout, pt_per_deg: float, pt_y: float) -> None:
-    """Label each bar inside if its title fits, else beside it where its lane is free,
-    else inside cut short; zero-angle operations (diamonds) are not labelled."""
+    """Label each bar inside if its title fits, else beside it where its lane is free
+    (on one or two lines, as inside), else inside cut short; zero-angle operations
+    (diamonds) are not labelled."""
     cycle = lay.cycle
     eps = 1e-9 * cycle
     _, y_of = _lane_y(lay)
@@ -810,7 +811,6 @@ def _label_gantt(ax: Axes, lay: _Layout, pt_per_deg: float, pt_y: float) -> None
                 _FONT,
                 b.limiting,
                 truncate=False,
-                lines=1,
             )
             if text is not None:
                 ax.text(x, y, text, ha=ha, **style)
@@ -2832,18 +2832,22 @@ def plot_rebound_vs_speed(
             n, a[:, j] * 1e3, "-o", ms=2.5, lw=1.4, label=f"t = {ph:g}°", gid=f"rebound:{ph:g}"
         )
     if a_max is not None:
-        right.axhline(float(a_max) * 1e3, color=CRITICAL_COLOR, ls="--", lw=1.0, gid="a_max")
         t_min = float(model.min_phase_angle(float(a_max), float(n.max())))
         note = (
-            f"[a] = {float(a_max) * 1e3:g} mm: t ≥ {t_min:.3g}° at {n.max():g} rpm"
+            f"limit [a] = {float(a_max) * 1e3:g} mm: t ≥ {t_min:.3g}° at {n.max():g} rpm"
             if math.isfinite(t_min)
-            else f"[a] = {float(a_max) * 1e3:g} mm: not reachable at {n.max():g} rpm"
+            else f"limit [a] = {float(a_max) * 1e3:g} mm: not reachable at {n.max():g} rpm"
         )
-        right.text(0.02, 0.97, note, transform=right.transAxes, va="top", fontsize=8.5)
+        # The note is the limit line's legend entry: text on the line was struck through.
+        right.axhline(
+            float(a_max) * 1e3, color=CRITICAL_COLOR, ls="--", lw=1.0, gid="a_max", label=note
+        )
+        right.set_ylim(0.0, 1.15 * max(float(a_max) * 1e3, float(np.nanmax(a)) * 1e3))
+    else:
+        right.set_ylim(bottom=0.0)
     right.set_xlabel("main-shaft speed  [rpm]")
     right.set_ylabel("first rebound  [mm]")
-    right.set_ylim(bottom=0.0)
-    right.legend(fontsize=8, loc="lower right")
+    right.legend(fontsize=8, loc="best")
     right.grid(True, lw=0.4, alpha=0.5)
     fig.suptitle(title or f"rebound at the stop ({model.model} model)", fontsize=11)
     return cast("Figure", fig)
@@ -3020,16 +3024,19 @@ def plot_speed_sweep(
     *,
     linear: Any = None,
     limit_rpm: float | None = None,
+    limit_by: str | None = None,
     title: str | None = None,
 ) -> Figure:
     """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`,
-    in three panels sharing the speed axis [rpm]: the limiting operation's optimal
-    angle [deg] (and, from ``linear``, a second sweep with the seed's linearised
-    rebound constraints, dashed), the time it gets [ms], and the productivity
-    [cycles/min]. Speeds where the cyclogram does not fit are shaded;
-    ``limit_rpm`` [rpm] is drawn as a vertical line. Artists, by gid:
-    ``"limiting"``, ``"limiting:linear"``, ``"time"``, ``"productivity"``,
-    ``"limit"``.
+    in panels sharing the speed axis [rpm]: the limiting operation's optimal angle
+    [deg] and the time it gets [ms], and where the machine has stops, each stop's
+    smallest phase angle [deg]; ``linear`` (a second sweep with the seed's
+    linearised rebound constraints) dashed. ``limit_rpm`` [rpm], the machine's
+    speed limit (set by ``limit_by``), is a vertical line: the curves end there
+    and the speeds above it are shaded; without it, the speeds where the
+    cyclogram does not fit are. Artists, by gid: ``"limiting"``,
+    ``"limiting:linear"``, ``"time"``, ``"stop:<name>"``, ``"stop:<name>:linear"``,
+    ``"limit"``, ``"above"``.
 
     >>> import matplotlib
     >>> matplotlib.use("Agg")
@@ -3038,68 +3045,117 @@ def plot_speed_sweep(
     >>> m = cm.Machine.example()
     >>> fig = plot_speed_sweep(m.speed_sweep(), limit_rpm=m.speed_limit().rpm)
     >>> [ax.get_ylabel() for ax in fig.axes]
-    ['limiting operation  [deg]', 'its time  [ms]', 'productivity  [cycles/min]']
+    ['limiting operation  [deg]', 'its time  [ms]', 'smallest phase angle  [deg]']
     """
     plt = _matplotlib()
-    fig, (top, mid, bottom) = plt.subplots(
-        3, 1, figsize=(8.0, 7.5), sharex=True, layout="constrained", height_ratios=(1.4, 1, 1)
+    stops = dict(sweep.min_phase_deg)
+    rows = 3 if stops else 2
+    fig, axes = plt.subplots(
+        rows,
+        1,
+        figsize=(8.0, 7.5 if stops else 5.6),
+        sharex=True,
+        layout="constrained",
+        height_ratios=(1.4, 1, 1)[:rows],
     )
+    top, mid = axes[0], axes[1]
     n = np.asarray(sweep.rpm)
-    fits = np.asarray(sweep.fits)
+    limited = limit_rpm is not None and math.isfinite(limit_rpm)
+    runs = n <= limit_rpm if limited else np.asarray(sweep.fits)
+
+    def upto(y: Any) -> Any:  # the curve where the machine runs
+        return np.where(runs, np.asarray(y, dtype=float), np.nan)
+
     top.plot(
-        n, sweep.limiting_deg, "-", lw=1.8, color="C0", label="exact rebound bound", gid="limiting"
+        n,
+        upto(sweep.limiting_deg),
+        "-",
+        lw=1.8,
+        color="C0",
+        label="with the stops' exact rebound bounds" if stops else "optimum",
+        gid="limiting",
     )
     if linear is not None:
         top.plot(
             n,
-            linear.limiting_deg,
+            upto(linear.limiting_deg),
             "--",
             lw=1.3,
             color="C1",
-            label="seed's linearised rebound bound",
+            label="with the seed's linearised bounds",
             gid="limiting:linear",
         )
     top.set_ylabel("limiting operation  [deg]")
-    mid.plot(n, sweep.limiting_s * 1e3, "-", lw=1.6, color="C2", gid="time")
+    mid.plot(n, upto(sweep.limiting_s * 1e3), "-", lw=1.6, color="C2", gid="time")
     mid.set_ylabel("its time  [ms]")
-    bottom.plot(
-        n, np.where(fits, sweep.productivity, np.nan), "-", lw=1.6, color="C3", gid="productivity"
-    )
-    bottom.set_ylabel("productivity  [cycles/min]")
-    bottom.set_xlabel("main-shaft speed  [rpm]")
-    shown = limit_rpm is not None and math.isfinite(limit_rpm) and n.min() <= limit_rpm <= n.max()
-    for ax in (top, mid, bottom):
+    if stops:
+        low = axes[2]
+        for i, (name, t) in enumerate(stops.items()):
+            c = f"C{(i + 3) % 10}"
+            low.plot(n, upto(t), "-", lw=1.6, color=c, label=f"{name}: exact", gid=f"stop:{name}")
+            if linear is not None:
+                low.plot(
+                    n,
+                    upto(linear.min_phase_deg[name]),
+                    "--",
+                    lw=1.2,
+                    color=c,
+                    label=f"{name}: linearised",
+                    gid=f"stop:{name}:linear",
+                )
+        low.set_ylabel("smallest phase angle  [deg]")
+        low.legend(fontsize=8, loc="upper left")
+    axes[-1].set_xlabel("main-shaft speed  [rpm]")
+    by = f" ({limit_by})" if limit_by else ""
+    for ax in axes:
         ax.grid(True, lw=0.4, alpha=0.5)
-        if shown and not fits[n > limit_rpm].all():
+        ax.set_xlim(float(n.min()), float(n.max()))
+        if limited and limit_rpm < n.max():
             ax.axvspan(
-                float(limit_rpm),
+                max(float(limit_rpm), float(n.min())),
                 float(n.max()),
                 color="0.85",
                 alpha=0.6,
                 lw=0,  # type: ignore[arg-type]
-                label="does not fit" if ax is top else None,
+                label="above the speed limit" if ax is top else None,
+                gid="above" if ax is top else None,
             )
-        elif (~fits).any():
+        elif not limited and not runs.all():
             ax.fill_between(
                 n,
                 0,
                 1,
-                where=~fits,
+                where=~runs,
                 transform=ax.get_xaxis_transform(),
                 color="0.85",
                 alpha=0.6,
                 lw=0,
-                label="does not fit" if ax is top else None,
+                label="the cyclogram does not fit" if ax is top else None,
+                gid="above" if ax is top else None,
             )
-        if shown:
+        if limited and n.min() <= limit_rpm <= n.max():
             ax.axvline(
                 float(limit_rpm),
                 color=CRITICAL_COLOR,
                 ls="--",
                 lw=1.0,  # type: ignore[arg-type]
                 gid="limit" if ax is top else None,
-                label=f"speed limit {limit_rpm:.1f} rpm" if ax is top else None,
+                label=f"speed limit {limit_rpm:.1f} rpm{by}" if ax is top else None,
             )
+    if not runs.any():
+        top.text(
+            0.5,
+            0.5,
+            "the machine works at no speed of this range"
+            + (f": its speed limit is {limit_rpm:.4g} rpm{by}" if limited else ""),
+            transform=top.transAxes,
+            ha="center",
+            va="center",
+            fontsize=10,
+            color=CRITICAL_COLOR,
+        )
+        top.set_yticks([])
+        mid.set_yticks([])
     top.legend(fontsize=8, loc="lower left")
     fig.suptitle(title or "the machine against speed", fontsize=11)
     return cast("Figure", fig)

@@ -228,6 +228,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
             "angles_deg": o.angles,
             "binding": list(o.binding),
             "shadow_prices": {kk: v for kk, v in o.duals.items() if abs(v) > 1e-9},
+            "shadow_prices_per_mm_rebound": _rebound_prices(r),
             "critical": list(o.critical),
         }
     else:
@@ -238,6 +239,12 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         exact, linear = r.stops[s.name]
         stops[s.name] = {
             "arc": s.arc,
+            "model": s.stop.model,
+            "law": s.stop.law.name,
+            "stroke_m": s.stop.stroke,
+            "preload_m": s.stop.preload,
+            "critical_speed_m_s": s.stop.critical_speed(s.a_max),
+            "linear_min_phase_deg_at_nominal": float(s.linear_min_phase_deg(r.nominal_rpm)),
             "a_max_m": s.a_max,
             "omega_free_rad_s": s.stop.omega_free,
             "omega_contact_rad_s": s.stop.omega_contact,
@@ -295,6 +302,24 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     return _jsonable(out)  # type: ignore[no-any-return]
 
 
+def _rebound_prices(r: MachineResult) -> dict[str, float]:
+    """Shadow price of each stop's rebound bound per mm of its rebound limit a_max
+    [deg/mm]: the LP's price per degree of the bound t ≥ t_min times dt_min/da_max
+    (central difference, ±0.1 % of a_max)."""
+    o, out = r.optimum, {}
+    if o is None:
+        return out
+    for s in r.machine.stops:
+        name = f"rebound[{s.name}]"
+        price = o.duals.get(name, 0.0)
+        if abs(price) <= 1e-9:
+            continue
+        h = 1e-3 * s.a_max
+        up, down = (float(s.stop.min_phase_angle(s.a_max + d, r.nominal_rpm)) for d in (h, -h))
+        out[name] = price * (up - down) / (2.0 * h) * 1e-3
+    return out
+
+
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
     with path.open("w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
@@ -314,7 +339,8 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
 
     from .plot import (
         plot_analogs,
-        plot_cyclogram_pair,
+        plot_cyclogram,
+        plot_law,
         plot_linkage,
         plot_min_phase,
         plot_press,
@@ -338,20 +364,45 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
             r.sweep,
             linear=r.sweep_linear if m.stops else None,
             limit_rpm=r.limit.rpm,
+            limit_by=r.limit.by,
             title=f"{m.name}: against speed",
         ),
         "speed_sweep",
         "summary",
-        "The limiting operation's optimal angle and time, and the productivity, against "
-        "speed; the dashed red line is the speed limit.",
+        "The limiting operation's optimal angle and the time it gets against speed"
+        + (
+            ", and each stop's smallest phase angle (exact solid, the seed's linearised form "
+            "dashed)"
+            if m.stops
+            else ""
+        )
+        + "; the curves end at the speed limit (dashed red line), shaded above it.",
     )
     if r.optimum is not None:
+        # Two figures, each legible at the page's width (side by side they were
+        # shrunk to half size).
+        at = f"at {r.nominal_rpm:g} rpm"
+        ax = plot_cyclogram(r.optimum, kind="gantt", title=f"optimised cyclogram {at}")
         save(
-            plot_cyclogram_pair(r.optimum, title=f"optimised cyclogram at {r.nominal_rpm:g} rpm"),
+            ax.figure,
             "cyclogram",
             "cyclogram",
-            "The optimised cyclogram (Gantt chart and circular diagram); critical operations "
-            "are outlined, the hatched parts are what each operation got beyond its minimum.",
+            "The optimised cyclogram, one row per mechanism over the main-shaft turn. The "
+            "critical operations (red outline) form the chain that leaves the limiting "
+            "operation (orange) its angle; the hatched parts are what each operation got "
+            "beyond its minimum.",
+        )
+        _, polar = plt.subplots(
+            figsize=(9.0, 7.2), layout="constrained", subplot_kw={"projection": "polar"}
+        )
+        polar.figure.get_layout_engine().set(w_pad=0.25, h_pad=0.1)
+        plot_cyclogram(r.optimum, polar, kind="circular", title=f"circular cyclogram {at}")
+        save(
+            polar.figure,
+            "cyclogram_circular",
+            "cyclogram",
+            "The same as a circular diagram: 0° at the top, the turn clockwise, one ring per "
+            "mechanism from the centre out.",
         )
     for k, mech in m.mechanisms.items():
         if isinstance(mech, CamStop):
@@ -366,8 +417,38 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
                 ),
                 f"{k}_rebound",
                 k,
-                "Left: the lever's motion after it strikes the stop; right: the first rebound "
-                "against speed for several phase angles, with the limit dashed.",
+                "Left: the lever's motion after it strikes the stop"
+                + (
+                    " (pulse model: the stop acts only through the impact pulse, so q < 0, "
+                    "into the stop, is the model's free vibration, not the lever's)"
+                    if mech.stop.model == "pulse"
+                    else " (contact model: q < 0 is the stop's deflection under the lever)"
+                )
+                + "; right: the first rebound against speed for several phase angles, with "
+                "the limit dashed.",
+            )
+            axes = plot_law(
+                mech.stop.law, title=f"{k}: cam law ({mech.stop.law.name.replace('_', ' ')}, rise)"
+            )
+            for a in axes:
+                a.axvline(mech.stop.j_contact, color="0.4", ls=":", lw=1.0)
+            axes[0].annotate(
+                "meets the stop",
+                (mech.stop.j_contact, 0.5),
+                xytext=(-6, 0),
+                textcoords="offset points",
+                ha="right",
+                fontsize=8,
+                color="0.3",
+            )
+            save(
+                axes[0].figure,
+                f"{k}_law",
+                k,
+                f"The cam's motion law over the arc {mech.arc[0]}→{mech.arc[1]}: Z, Z' and Z'' "
+                f"(dimensionless) against the fraction j of the phase angle; the lever meets "
+                f"the stop at j = {mech.stop.j_contact:.3f} (dotted), Z' = "
+                f"{mech.stop.dz_contact:.3f} there sets the impact speed.",
             )
             exact, linear = r.stops[k]
             ax = plot_min_phase(
@@ -454,7 +535,7 @@ def _table(header: list[str], rows: list[list[Any]]) -> str:
         for v in row:
             num = isinstance(v, int | float | np.floating) and not isinstance(v, bool)
             cls = ' class="n"' if num else ""
-            cells.append(f"<td{cls}>{html.escape(_f(v))}</td>")
+            cells.append(f"<td{cls}>{html.escape(_f(v, 5))}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table><tr>{th}</tr>{''.join(body)}</table>"
 
@@ -509,17 +590,30 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
     mech_rows += [[f"mechanism {k}", v] for k, v in lim.mechanisms_rpm.items()]
     parts.append("<h3>Speed limits</h3>" + _table(["what", "speed limit [rpm]"], mech_rows))
     if r.optimum is not None:
-        priced = [
-            (k, v, r.optimum.slack.get(k, 0.0)) for k, v in r.optimum.duals.items() if abs(v) > 1e-9
-        ]
+        o_ = r.optimum
+        priced = [(k, float(v)) for k, v in o_.duals.items() if abs(v) > 1e-9]
+        per_mm = summary["optimum"]["shadow_prices_per_mm_rebound"]
+        rows = [[k, v, per_mm.get(k, "")] for k, v in priced]
+        free = [k for k in o_.binding if k not in dict(priced)]
         parts.append(
-            "<h3>Binding bounds and constraints at the nominal speed</h3>"
-            "<p>The shadow price is the change of the limiting operation's angle per degree "
-            "added to the bound (negative: raising that minimum takes angle from the "
-            "limiting operation).</p>"
+            "<h3>What sets the optimum at the nominal speed</h3>"
+            "<p>The bounds and constraints with a shadow price: the change of the limiting "
+            "operation's angle per degree added to the bound (negative: raising that "
+            "minimum takes angle from the limiting operation). For a stop's rebound bound "
+            "also per millimetre added to its rebound limit.</p>"
             + _table(
-                ["bound or constraint", "shadow price [deg/deg]"],
-                [[k, float(v)] for k, v, _ in priced],
+                [
+                    "bound or constraint",
+                    "shadow price [deg/deg]",
+                    "per mm of rebound limit [deg/mm]",
+                ],
+                rows,
+            )
+            + (
+                f"<p>Also binding, at zero price (the optimum is degenerate there): "
+                f"{e(', '.join(free))}.</p>"
+                if free
+                else ""
             )
         )
     for sec, cap, p in figs:
@@ -527,7 +621,12 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
             parts.append(_img(p, cap))
     # The cyclogram
     parts.append("<h2>Optimised cyclogram</h2>")
-    if r.optimum is not None:
+    if r.optimum is None:
+        parts.append(
+            f"<p class='warn'>No optimised cyclogram: at {r.nominal_rpm:g} rpm it does not "
+            f"fit. {e(r.problem)}</p>"
+        )
+    else:
         o_ = r.optimum
         crit = set(o_.critical)
         mins = m.cyclogram_at(r.nominal_rpm).min_angles(r.nominal_rpm)
@@ -568,20 +667,32 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         parts.append(f"<h2>Mechanism “{e(k)}” ({e(info['kind'].replace('_', ' '))})</h2>")
         if isinstance(mech, CamStop):
             s = summary["stops"][k]
+            st = mech.stop
+            model = (
+                "pulse (the seed's: the free lever and the impact pulse)"
+                if st.model == "pulse"
+                else "contact (the stop as a unilateral spring, event by event)"
+            )
             parts.append(
                 _table(
                     ["quantity", "value"],
                     [
                         ["operation it constrains", f"{mech.arc[0]}→{mech.arc[1]}"],
+                        ["rebound model", model],
+                        ["cam law (rise)", st.law.name.replace("_", " ")],
+                        ["stroke [mm]", st.stroke * 1e3],
+                        ["preload (stop before the end of the stroke) [mm]", st.preload * 1e3],
                         ["rebound limit [mm]", mech.a_max * 1e3],
-                        ["free natural frequency [Hz]", mech.stop.omega_free / (2 * math.pi)],
-                        [
-                            "natural frequency in contact [Hz]",
-                            mech.stop.omega_contact / (2 * math.pi),
-                        ],
+                        ["free natural frequency [Hz]", st.omega_free / (2 * math.pi)],
+                        ["natural frequency in contact [Hz]", st.omega_contact / (2 * math.pi)],
+                        ["largest admissible impact speed [m/s]", s["critical_speed_m_s"]],
                         [
                             f"smallest phase angle at {r.nominal_rpm:g} rpm [deg]",
                             s["min_phase_deg_at_nominal"],
+                        ],
+                        [
+                            f"the seed's linearised form at {r.nominal_rpm:g} rpm [deg]",
+                            s["linear_min_phase_deg_at_nominal"],
                         ],
                     ],
                 )
