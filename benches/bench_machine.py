@@ -351,6 +351,39 @@ def test_sweep_in_process(benchmark, loom, sweep_reference, n_threads) -> None:
     _record(benchmark, f"sweep-{n_threads}", what, r.n_points)
 
 
+#: The other shape of 100 000 points: many designs, few speeds (each design one
+#: StopImpact, its critical speed searched with the others).
+N_DESIGNS_WIDE = 1000 if FULL else 20
+N_SPEEDS_WIDE = 100 if FULL else 10
+GROUP_WIDE = (
+    f"cm.sweep: {N_DESIGNS_WIDE} designs × {N_SPEEDS_WIDE} speeds = "
+    f"{N_DESIGNS_WIDE * N_SPEEDS_WIDE}"
+)
+
+
+def wide_grid() -> dict[str, Array]:
+    return {
+        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_WIDE),
+        "speed_rpm": np.linspace(*SPEED_RANGE_RPM, N_SPEEDS_WIDE),
+    }
+
+
+@pytest.mark.benchmark(group=GROUP_WIDE)
+@pytest.mark.parametrize("n_threads", [1, 2], ids=["1-thread", "2-threads"])
+def test_wide_sweep_in_process(benchmark, loom, n_threads) -> None:
+    what = f"cm.sweep(machine, {N_DESIGNS_WIDE} designs × {N_SPEEDS_WIDE} speeds), {n_threads}"
+    _label(benchmark, "cyclomech", what)
+    kw = {"n_threads": n_threads, "progress": False}
+    r = benchmark.pedantic(cm.sweep, (loom, wide_grid()), kw, rounds=SLOW_ROUNDS if FULL else 1)
+    assert r.n_points == N_DESIGNS_WIDE * N_SPEEDS_WIDE
+    # Every row is its design's own speed sweep (spot checks: first, middle, last).
+    for d in (0, N_DESIGNS_WIDE // 2, N_DESIGNS_WIDE - 1):
+        m = loom.with_values({"lifter.preload": wide_grid()["lifter.preload"][d]})
+        rows = slice(d * N_SPEEDS_WIDE, (d + 1) * N_SPEEDS_WIDE)
+        want = m.speed_sweep(wide_grid()["speed_rpm"]).limiting_deg
+        assert np.array_equal(r.columns["limiting_deg"][rows], want, equal_nan=True)
+
+
 def _start_cluster() -> tuple[Any, Any]:
     from dask.distributed import Client, LocalCluster
 
