@@ -663,6 +663,8 @@ def _run_command(args: argparse.Namespace) -> int:
     else:
         print(f"At {r.nominal_rpm:g} rpm the cyclogram does not fit: {r.problem}")
     use_fig = not args.no_plot and _has_matplotlib("figures")
+    if use_fig and not args.quiet:
+        print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds
     written = write_report(r, out, figures=use_fig)
     print(f"\nReport: {out / 'report.html'}  ({len(written)} files in {out})")
     return 0
