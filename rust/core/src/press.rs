@@ -397,19 +397,19 @@ fn wrap(x: f64) -> f64 {
 /// (R, r, d, φ0, offset) and reuses it for every L.
 #[derive(Default)]
 pub struct PinScan {
-    u2: Vec<f64>,
-    upx1: Vec<f64>,
-    hh: Vec<f64>,
-    py: Vec<f64>,
-    py1: Vec<f64>,
-    py2: Vec<f64>,
+    /// Rows of the pin path in blocks of [`LANES`] samples, so that the rod scan
+    /// reads whole registers: u², u·P_x', P_x'² + u·P_x'', P_y, P_y', P_y''
+    /// (u = P_x − offset). The last block is padded with copies of sample 0.
+    pin: Vec<[[f64; LANES]; 6]>,
     /// max |P_x − offset| over the turn, exact (sample maximum refined at a root
     /// of P_x'): the rod reaches the guide everywhere iff L exceeds it.
     u_max: f64,
-    // Rows of one rod length.
-    y: Vec<f64>,
-    dy: Vec<f64>,
-    ddy: Vec<f64>,
+    // Rows of one rod length (y, y', y''), in blocks like `pin`.
+    y: Vec<[f64; LANES]>,
+    dy: Vec<[f64; LANES]>,
+    ddy: Vec<[f64; LANES]>,
+    /// Candidates of the |y''| peak of one rod length (see [`Extremes`]).
+    peaks: Vec<usize>,
 }
 
 impl PinScan {
@@ -417,34 +417,32 @@ impl PinScan {
     fn fill(&mut self, f: &Frame, table: &Table) {
         let m = table.len();
         let (c0, s0) = cos_sin(f.beta0);
-        for v in [
-            &mut self.u2,
-            &mut self.upx1,
-            &mut self.hh,
-            &mut self.py,
-            &mut self.py1,
-            &mut self.py2,
-            &mut self.y,
-            &mut self.dy,
-            &mut self.ddy,
-        ] {
-            v.resize(m, 0.0);
+        let blocks = m.div_ceil(LANES);
+        self.pin.resize(blocks, [[0.0; LANES]; 6]);
+        for v in [&mut self.y, &mut self.dy, &mut self.ddy] {
+            v.resize(blocks, [0.0; LANES]);
         }
         let (a, d, kd, k2d) = (f.a, f.d, f.k * f.d, f.k * f.k * f.d);
         let mut best = (0, -1.0);
-        for j in 0..m {
+        for q in 0..blocks * LANES {
+            let j = if q < m { q } else { 0 };
             let (ct, st) = (table.ct[j], table.st[j]);
             let (tcb, tsb) = (table.cb[j], table.sb[j]);
             let (cb, sb) = (tcb * c0 - tsb * s0, tsb * c0 + tcb * s0);
             let u = a * ct + d * cb - f.e;
             let px1 = -a * st + kd * sb;
             let px2 = -a * ct - k2d * cb;
-            self.u2[j] = u * u;
-            self.upx1[j] = u * px1;
-            self.hh[j] = px1 * px1 + u * px2;
-            self.py[j] = a * st + d * sb;
-            self.py1[j] = a * ct - kd * cb;
-            self.py2[j] = -a * st - k2d * sb;
+            let row = [
+                u * u,
+                u * px1,
+                px1 * px1 + u * px2,
+                a * st + d * sb,
+                a * ct - kd * cb,
+                -a * st - k2d * sb,
+            ];
+            for (col, v) in self.pin[q / LANES].iter_mut().zip(row) {
+                col[q % LANES] = v;
+            }
             if u * u > best.1 {
                 best = (j, u * u);
             }
@@ -531,84 +529,145 @@ fn rtsafe(
     x
 }
 
+/// Lanes of the rod scan: samples computed side by side, each lane with its own
+/// running extremes, merged at the end (one AVX-512 register of f64).
+const LANES: usize = 8;
+
+/// What [`scan_rod`] finds besides the rows: the lowest and the highest sample
+/// of y and the largest |y''| (the first of ties), and `peaks`, every sampled
+/// local maximum of |y''| within 1 % of the largest (in θ order).
+struct Extremes {
+    lo: usize,
+    hi: usize,
+    acc: usize,
+}
+
 /// y, y', y'' over the turn for one rod length (L² = `l2`) from the pin path's
-/// rod-independent rows; a separate function so that the slices are known not to
-/// alias and the loop is vectorised.
+/// rod-independent rows, the sample extremes found in the same pass, then the
+/// candidates of the |y''| peak (into `peaks`); `m` samples, in blocks of
+/// [`LANES`]. A separate function so that the blocks are known not to alias and
+/// the loops are vectorised.
 #[inline(never)]
-/// Returns the indices of the lowest and highest sample of y and of the largest
-/// |y''| (the first one of ties).
-fn scan_rod(l2: f64, pin: [&[f64]; 6], out: [&mut Vec<f64>; 3]) -> [usize; 3] {
-    pulp::Arch::new().dispatch(RodScan { l2, pin, out })
+fn scan_rod(
+    l2: f64,
+    m: usize,
+    pin: &[[[f64; LANES]; 6]],
+    out: [&mut [[f64; LANES]]; 3],
+    peaks: &mut Vec<usize>,
+) -> Extremes {
+    pulp::Arch::new().dispatch(RodScan {
+        l2,
+        m,
+        pin,
+        out,
+        peaks,
+    })
 }
 
-/// Lanes of the extreme search: independent running extremes, merged at the end.
-const LANES: usize = 4;
+/// Running minimum of one key per lane, with the index (an f64, so that the
+/// blend stays in vector registers) where each lane first met it.
+struct LaneMin {
+    best: [f64; LANES],
+    at: [f64; LANES],
+}
 
-/// Index of the first smallest of `key(x)` (`sign` = 1) or of the first largest
-/// (`sign` = −1), `LANES` comparisons at a time without branches.
-#[inline(always)]
-fn arg_extreme(x: &[f64], sign: f64, key: impl Fn(f64) -> f64) -> usize {
-    let mut best = [f64::INFINITY; LANES];
-    let mut at = [0.0f64; LANES];
-    let blocks = x.chunks_exact(LANES);
-    let rest = blocks.remainder();
-    for (b, block) in blocks.enumerate() {
-        let base = (b * LANES) as f64;
+impl LaneMin {
+    #[inline(always)]
+    fn new() -> LaneMin {
+        LaneMin {
+            best: [f64::INFINITY; LANES],
+            at: [0.0; LANES],
+        }
+    }
+
+    /// Keep `key` in lane `l` if it is strictly below the lane's best.
+    #[inline(always)]
+    fn push(&mut self, l: usize, key: f64, at: f64) {
+        let lt = key < self.best[l];
+        self.best[l] = if lt { key } else { self.best[l] };
+        self.at[l] = if lt { at } else { self.at[l] };
+    }
+
+    /// (key, index) of the smallest, the first index of ties.
+    #[inline(always)]
+    fn merge(&self) -> (f64, usize) {
+        let (mut v, mut i) = (f64::INFINITY, 0.0);
         for l in 0..LANES {
-            let v = sign * key(block[l]);
-            let lt = v < best[l];
-            best[l] = if lt { v } else { best[l] };
-            at[l] = if lt { base + l as f64 } else { at[l] };
+            let (b, a) = (self.best[l], self.at[l]);
+            if b < v || (b == v && a < i) {
+                (v, i) = (b, a);
+            }
         }
+        (v, i as usize)
     }
-    let (mut v, mut i) = (f64::INFINITY, 0usize);
-    for l in 0..LANES {
-        let j = at[l] as usize;
-        if best[l] < v || (best[l] == v && j < i) {
-            (v, i) = (best[l], j);
-        }
-    }
-    let start = x.len() - rest.len();
-    for (k, &r) in rest.iter().enumerate() {
-        if sign * key(r) < v {
-            (v, i) = (sign * key(r), start + k);
-        }
-    }
-    i
 }
 
-/// [`scan_rod`]'s loop, compiled once per instruction set (AVX2 + FMA where the
-/// processor has them, plain SSE2 otherwise) and picked at run time.
+/// [`scan_rod`]'s loops, compiled once per instruction set (AVX-512 or AVX2 +
+/// FMA where the processor has them, plain SSE2 otherwise) and picked at run
+/// time.
 struct RodScan<'a, 'b> {
     l2: f64,
-    pin: [&'a [f64]; 6],
-    out: [&'b mut Vec<f64>; 3],
+    m: usize,
+    pin: &'a [[[f64; LANES]; 6]],
+    out: [&'b mut [[f64; LANES]]; 3],
+    peaks: &'b mut Vec<usize>,
 }
 
 impl pulp::WithSimd for RodScan<'_, '_> {
-    type Output = [usize; 3];
+    type Output = Extremes;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) -> [usize; 3] {
-        let RodScan { l2, pin, out } = self;
-        let [u2, upx1, hh, py, py1, py2] = pin;
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Extremes {
+        let RodScan {
+            l2,
+            m,
+            pin,
+            out,
+            peaks,
+        } = self;
         let [y, dy, ddy] = out;
-        let m = u2.len();
-        let (y, dy, ddy) = (&mut y[..m], &mut dy[..m], &mut ddy[..m]);
-        let (upx1, hh, py, py1, py2) = (&upx1[..m], &hh[..m], &py[..m], &py1[..m], &py2[..m]);
-        for j in 0..m {
-            let w = (l2 - u2[j]).sqrt();
-            let iw = 1.0 / w;
-            let g = upx1[j] * iw;
-            y[j] = py[j] - w;
-            dy[j] = py1[j] + g;
-            ddy[j] = py2[j] + (hh[j] + g * g) * iw;
+        // Running minima per lane of the keys y (BDC), −y (TDC) and −|y''| (the
+        // acceleration peak), with the index (an f64, so that the blend stays in
+        // vector registers) where each lane first met its minimum.
+        let (mut lo, mut hi, mut acc) = (LaneMin::new(), LaneMin::new(), LaneMin::new());
+        let mut at: [f64; LANES] = std::array::from_fn(|l| l as f64);
+        let rows = y.iter_mut().zip(dy.iter_mut()).zip(ddy.iter_mut());
+        for (p, ((yc, dyc), ddyc)) in pin.iter().zip(rows) {
+            let [u2, upx1, hh, py, py1, py2] = p;
+            let w: [f64; LANES] = std::array::from_fn(|l| (l2 - u2[l]).sqrt());
+            let iw: [f64; LANES] = std::array::from_fn(|l| 1.0 / w[l]);
+            let g: [f64; LANES] = std::array::from_fn(|l| upx1[l] * iw[l]);
+            *yc = std::array::from_fn(|l| py[l] - w[l]);
+            *dyc = std::array::from_fn(|l| py1[l] + g[l]);
+            *ddyc = std::array::from_fn(|l| py2[l] + (hh[l] + g[l] * g[l]) * iw[l]);
+            for l in 0..LANES {
+                lo.push(l, yc[l], at[l]);
+                hi.push(l, -yc[l], at[l]);
+                acc.push(l, -ddyc[l].abs(), at[l]);
+                at[l] += LANES as f64;
+            }
         }
-        [
-            arg_extreme(y, 1.0, |v| v),
-            arg_extreme(y, -1.0, |v| v),
-            arg_extreme(ddy, -1.0, f64::abs),
-        ]
+        let [(_, lo), (_, hi), (vacc, acc)] = [lo.merge(), hi.merge(), acc.merge()];
+        // Candidates of the |y''| peak: local maxima within 1 % of the largest.
+        // A block of samples with none that high is passed over in one test.
+        let thr = 0.99 * -vacc;
+        peaks.clear();
+        let flat = &ddy.as_flattened()[..m];
+        for (c, b) in ddy.iter().enumerate() {
+            let hit = b.iter().fold(false, |h, v| h | (v.abs() >= thr));
+            if !hit {
+                continue;
+            }
+            for q in c * LANES..(c * LANES + LANES).min(m) {
+                let aq = flat[q].abs();
+                let prev = flat[if q == 0 { m - 1 } else { q - 1 }].abs();
+                let next = flat[if q + 1 == m { 0 } else { q + 1 }].abs();
+                if aq >= thr && aq >= prev && aq >= next {
+                    peaks.push(q);
+                }
+            }
+        }
+        Extremes { lo, hi, acc }
     }
 }
 
@@ -629,25 +688,31 @@ fn criteria_with(
     let l2 = f.l * f.l;
     let at = |x: f64, third: bool| f.at(x, third);
     // One branch-free pass over the turn (vectorised): height, slope, curvature.
-    let [j_lo, j_hi, j_acc] = {
+    let Extremes {
+        lo: j_lo,
+        hi: j_hi,
+        acc: j_acc,
+    } = {
         let PinScan {
-            u2,
-            upx1,
-            hh,
-            py,
-            py1,
-            py2,
+            pin,
             y,
             dy,
             ddy,
+            peaks,
             ..
         } = &mut *scan;
-        scan_rod(l2, [u2, upx1, hh, py, py1, py2], [y, dy, ddy])
+        scan_rod(l2, m, pin, [y, dy, ddy], peaks)
     };
-    let (ys, dys, ddys) = (&scan.y[..m], &scan.dy[..m], &scan.ddy[..m]);
+    let (ys, dys, ddys) = (
+        &scan.y.as_flattened()[..m],
+        &scan.dy.as_flattened()[..m],
+        &scan.ddy.as_flattened()[..m],
+    );
     let h = TAU / m as f64;
-    let prev = |j: usize| (j + m - 1) % m;
-    let next = |j: usize| (j + 1) % m;
+    // Neighbours on the turn (a compare, not a division: `prev` is on the
+    // walk's chain of dependent steps).
+    let prev = |j: usize| if j == 0 { m - 1 } else { j - 1 };
+    let next = |j: usize| if j + 1 == m { 0 } else { j + 1 };
     // Dead centres: roots of y' between the neighbours of the sample extremes,
     // by Newton with y'', the first step taken from the sample's own y', y''.
     // Each returns (θ, y, y'') there, y and y'' carried from the last evaluation
@@ -788,11 +853,7 @@ fn criteria_with(
     // 1 % of the largest, refined at a root of y''' (near-ties go either way).
     let acc = ddys[j_acc].abs();
     let mut a_max = acc;
-    for q in 0..m {
-        let aq = ddys[q].abs();
-        if aq < 0.99 * acc || aq < ddys[prev(q)].abs() || aq < ddys[next(q)].abs() {
-            continue;
-        }
+    for &q in &scan.peaks {
         let th_a = table.theta(q);
         let sgn = ddys[q].signum();
         let (lo, hi) = (th_a - h, th_a + h);
@@ -1180,7 +1241,7 @@ mod tests {
         // The rod loop and extreme search compiled for scalar code, AVX2 and
         // AVX-512 (those the processor has): the same values and indices.
         use pulp::Simd;
-        let m = 361;
+        let m: usize = 361;
         let col =
             |f: &dyn Fn(f64) -> f64| (0..m).map(|j| f(j as f64 * 0.0174)).collect::<Vec<f64>>();
         let u2 = col(&|x| 0.01 * (1.0 + x.sin()).powi(2));
@@ -1188,25 +1249,63 @@ mod tests {
         let hh = col(&|x| 0.001 * (2.0 * x).sin());
         let mut py = col(&|x| 0.3 * (x * 0.5).cos());
         py[200..210].fill(-0.4); // a dip: the lowest point is in it
-        let py1 = col(&|x| -0.15 * (x * 0.5).sin());
-        let py2 = col(&|x| -0.075 * (x * 0.5).cos());
+        let mut py1 = col(&|x| -0.15 * (x * 0.5).sin());
+        let mut py2 = col(&|x| -0.075 * (x * 0.5).cos());
+        // Equal lowest samples in three lanes and in the remainder: the first wins.
+        py[202] = -0.5;
+        let (mut u2, mut upx1, mut hh) = (u2, upx1, hh);
+        for j in [203, 207, 360] {
+            for v in [&mut u2, &mut upx1, &mut hh, &mut py, &mut py1, &mut py2] {
+                v[j] = v[202];
+            }
+        }
+        // In blocks of LANES samples, the last one padded with sample 0 (as
+        // PinScan::fill does).
+        let nb = m.div_ceil(LANES);
+        let cols = [&u2, &upx1, &hh, &py, &py1, &py2];
+        let pin: Vec<[[f64; LANES]; 6]> = (0..nb)
+            .map(|b| {
+                std::array::from_fn(|k| {
+                    std::array::from_fn(|l| {
+                        let j = b * LANES + l;
+                        cols[k][if j < m { j } else { 0 }]
+                    })
+                })
+            })
+            .collect();
         let runs = on_each_isa!(|simd| {
-            let (mut y, mut dy, mut ddy) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-            let idx = Simd::vectorize(
+            let mut rows = vec![vec![[0.0; LANES]; nb]; 3];
+            let mut peaks = Vec::new();
+            let [y, dy, ddy] = &mut rows[..] else {
+                unreachable!()
+            };
+            let ex = Simd::vectorize(
                 simd,
                 RodScan {
                     l2: 0.09,
-                    pin: [&u2, &upx1, &hh, &py, &py1, &py2],
-                    out: [&mut y, &mut dy, &mut ddy],
+                    m,
+                    pin: &pin,
+                    out: [y, dy, ddy],
+                    peaks: &mut peaks,
                 },
             );
-            (idx, y, dy, ddy)
+            let flat = |v: &Vec<[f64; LANES]>| v.as_flattened()[..m].to_vec();
+            ([ex.lo, ex.hi, ex.acc], peaks, flat(y), flat(dy), flat(ddy))
         });
         let (_, first) = &runs[0];
-        let y = &first.1;
+        let (y, ddy) = (&first.2, &first.4);
         let lowest = (0..m).fold(0, |b, j| if y[j] < y[b] { j } else { b });
-        assert_eq!(first.0[0], lowest, "the first lowest sample");
-        assert!((200..210).contains(&lowest), "{lowest}");
+        let highest = (0..m).fold(0, |b, j| if y[j] > y[b] { j } else { b });
+        let steepest = (0..m).fold(0, |b, j| if ddy[j].abs() > ddy[b].abs() { j } else { b });
+        assert_eq!(first.0, [lowest, highest, steepest], "the first extremes");
+        assert_eq!(lowest, 202);
+        // The peaks of |y''|: local maxima within 1 % of the largest, by brute force.
+        let a = |j: usize| ddy[j % m].abs();
+        let peaks: Vec<usize> = (0..m)
+            .filter(|&j| a(j) >= 0.99 * a(steepest) && a(j) >= a(j + m - 1) && a(j) >= a(j + 1))
+            .collect();
+        assert!(peaks.contains(&steepest));
+        assert_eq!(first.1, peaks);
         for (isa, run) in &runs {
             assert_eq!(run, first, "{isa}");
         }
