@@ -161,13 +161,17 @@ struct Kin {
     y: f64,
     dy: f64,
     ddy: f64,
+    /// y''' where `order` ≥ 3, else 0.
     dddy: f64,
+    /// y'''' where `order` ≥ 4, else 0.
+    ddddy: f64,
 }
 
 impl Frame {
-    /// Kinematics from cos/sin of θ and of β = −kθ + β0; `third` adds y'''.
+    /// Kinematics from cos/sin of θ and of β = −kθ + β0, with the derivatives
+    /// of y up to `order` (2, 3 or 4).
     #[inline(always)]
-    fn kin(&self, (ct, st): (f64, f64), (cb, sb): (f64, f64), third: bool) -> Kin {
+    fn kin(&self, (ct, st): (f64, f64), (cb, sb): (f64, f64), order: u32) -> Kin {
         let (a, k, d) = (self.a, self.k, self.d);
         let (kd, k2d) = (k * d, k * k * d);
         let (cx, cy) = (a * ct, a * st);
@@ -180,14 +184,23 @@ impl Frame {
         let iw = 1.0 / w;
         let g = u * px1 * iw;
         let h = px1 * px1 + u * px2;
-        let dddy = if third {
+        let (mut dddy, mut ddddy) = (0.0, 0.0);
+        if order >= 3 {
             let k3d = k * k2d;
             let (px3, py3) = (a * st - k3d * sb, -a * ct + k3d * cb);
             let h1 = 3.0 * px1 * px2 + u * px3;
-            py3 + h1 * iw + 3.0 * (g * h + g * g * g) * iw * iw
-        } else {
-            0.0
-        };
+            dddy = py3 + h1 * iw + 3.0 * (g * h + g * g * g) * iw * iw;
+            if order >= 4 {
+                // From w·w''' + 3w'·w'' = −(u'² + u·u'')' by one more
+                // derivative: w'''' = −((u'² + u·u'')'' + 4w'·w''' + 3w''²)/w,
+                // with w' = −g, w'' = −(h + g²)/w, w''' = py3 − y'''.
+                let k4d = k * k3d;
+                let (px4, py4) = (a * ct + k4d * cb, a * st + k4d * sb);
+                let h2 = 3.0 * px2 * px2 + 4.0 * px1 * px3 + u * px4;
+                let (w1, w2d, w3) = (-g, -(h + g * g) * iw, py3 - dddy);
+                ddddy = py4 + (h2 + 4.0 * w1 * w3 + 3.0 * w2d * w2d) * iw;
+            }
+        }
         Kin {
             centre: [cx, cy],
             pin: [px, py],
@@ -196,12 +209,13 @@ impl Frame {
             dy: py1 + g,
             ddy: py2 + (h + g * g) * iw,
             dddy,
+            ddddy,
         }
     }
 
     #[inline]
-    fn at(&self, theta: f64, third: bool) -> Kin {
-        self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), third)
+    fn at(&self, theta: f64, order: u32) -> Kin {
+        self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), order)
     }
 }
 
@@ -529,6 +543,132 @@ fn rtsafe(
     x
 }
 
+/// A Chebyshev step at most this large (relative to 1 + |x|) is taken as the
+/// last: the method's error cubes, so the next one would be below rounding.
+const STEP_LAST: f64 = 1e-7;
+
+/// Root of f on [lo, hi] (f(lo), f(hi) of opposite signs) from `x0` by
+/// Chebyshev's method (Newton's step plus its second-order term), kept inside
+/// the bracket by bisection; `f` returns the value and the first two
+/// derivatives. The second-order term is taken only where it corrects
+/// Newton's step (is below half of it), so far from the root this is Newton.
+fn chebyshev(
+    mut f: impl FnMut(f64) -> (f64, f64, f64),
+    mut lo: f64,
+    mut hi: f64,
+    flo: f64,
+    fhi: f64,
+    x0: f64,
+) -> f64 {
+    if flo == 0.0 {
+        return lo;
+    }
+    if fhi == 0.0 {
+        return hi;
+    }
+    // Orient so that f(lo) < 0.
+    if flo > 0.0 {
+        std::mem::swap(&mut lo, &mut hi);
+    }
+    let mut x = if (x0 - lo) * (x0 - hi) < 0.0 {
+        x0
+    } else {
+        0.5 * (lo + hi)
+    };
+    for _ in 0..60 {
+        let (v, d1, d2) = f(x);
+        if v == 0.0 {
+            return x;
+        }
+        if v < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let newton = -v / d1;
+        let second = -0.5 * d2 / d1 * newton * newton;
+        let step = if second.abs() < 0.5 * newton.abs() {
+            newton + second
+        } else {
+            newton
+        };
+        let tiny = 4.0 * f64::EPSILON * (1.0 + x.abs());
+        if step.abs() <= tiny {
+            return x;
+        }
+        let next = x + step;
+        let inside = (next - lo) * (next - hi) < 0.0;
+        if inside && step.abs() <= STEP_LAST * (1.0 + x.abs()) {
+            return next;
+        }
+        if !inside {
+            // A root within rounding of an end of the bracket: that end (else
+            // the bisections below would creep up on it).
+            for end in [lo, hi] {
+                if (next - end).abs() <= tiny {
+                    return end;
+                }
+            }
+        }
+        let next = if inside { next } else { 0.5 * (lo + hi) };
+        if (next - x).abs() <= 2.0 * f64::EPSILON * (1.0 + x.abs()) {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+/// Root in [a, b] of the cubic that has the values `f` = [f(a), f(b)] (of
+/// opposite signs) and the slopes `df` at the ends (Hermite): Newton on the
+/// cubic from the secant's root, each step kept only if it stays in [a, b].
+fn hermite_root(a: f64, b: f64, [fa, fb]: [f64; 2], [da, db]: [f64; 2]) -> f64 {
+    if fa == 0.0 {
+        return a;
+    }
+    if fb == 0.0 {
+        return b;
+    }
+    // p(s) = fa + m0·s + c2·s² + c3·s³ on s ∈ [0, 1], x = a + s·(b − a).
+    let len = b - a;
+    let (m0, m1) = (len * da, len * db);
+    let c2 = 3.0 * (fb - fa) - 2.0 * m0 - m1;
+    let c3 = 2.0 * (fa - fb) + m0 + m1;
+    let mut s = fa / (fa - fb);
+    for _ in 0..2 {
+        let p = fa + s * (m0 + s * (c2 + s * c3));
+        let dp = m0 + s * (2.0 * c2 + 3.0 * s * c3);
+        let t = s - p / dp;
+        if (0.0..=1.0).contains(&t) {
+            s = t;
+        }
+    }
+    a + s * len
+}
+
+/// Offset from the middle sample of the peak of the quartic through five
+/// samples `f` spaced `h` apart (0 if it is farther than `h`): Newton on the
+/// quartic's slope from its parabola's peak.
+fn quartic_peak(f: [f64; 5], h: f64) -> f64 {
+    let [f0, f1, f2, f3, f4] = f;
+    // The quartic's derivatives at the middle sample (the five-point stencils).
+    let d1 = (f0 - 8.0 * f1 + 8.0 * f3 - f4) / (12.0 * h);
+    let d2 = (-f0 + 16.0 * f1 - 30.0 * f2 + 16.0 * f3 - f4) / (12.0 * h * h);
+    let d3 = (-f0 + 2.0 * f1 - 2.0 * f3 + f4) / (2.0 * h * h * h);
+    let d4 = (f0 - 4.0 * f1 + 6.0 * f2 - 4.0 * f3 + f4) / (h * h * h * h);
+    let mut x = -d1 / d2;
+    for _ in 0..3 {
+        let p1 = d1 + x * (d2 + x * (0.5 * d3 + x * d4 / 6.0));
+        let p2 = d2 + x * (d3 + 0.5 * x * d4);
+        x -= p1 / p2;
+    }
+    if x.abs() <= h {
+        x
+    } else {
+        0.0
+    }
+}
+
 /// Lanes of the rod scan: samples computed side by side, each lane with its own
 /// running extremes, merged at the end (one AVX-512 register of f64).
 const LANES: usize = 8;
@@ -564,44 +704,6 @@ fn scan_rod(
     })
 }
 
-/// Running minimum of one key per lane, with the index (an f64, so that the
-/// blend stays in vector registers) where each lane first met it.
-struct LaneMin {
-    best: [f64; LANES],
-    at: [f64; LANES],
-}
-
-impl LaneMin {
-    #[inline(always)]
-    fn new() -> LaneMin {
-        LaneMin {
-            best: [f64::INFINITY; LANES],
-            at: [0.0; LANES],
-        }
-    }
-
-    /// Keep `key` in lane `l` if it is strictly below the lane's best.
-    #[inline(always)]
-    fn push(&mut self, l: usize, key: f64, at: f64) {
-        let lt = key < self.best[l];
-        self.best[l] = if lt { key } else { self.best[l] };
-        self.at[l] = if lt { at } else { self.at[l] };
-    }
-
-    /// (key, index) of the smallest, the first index of ties.
-    #[inline(always)]
-    fn merge(&self) -> (f64, usize) {
-        let (mut v, mut i) = (f64::INFINITY, 0.0);
-        for l in 0..LANES {
-            let (b, a) = (self.best[l], self.at[l]);
-            if b < v || (b == v && a < i) {
-                (v, i) = (b, a);
-            }
-        }
-        (v, i as usize)
-    }
-}
-
 /// [`scan_rod`]'s loops, compiled once per instruction set (AVX-512 or AVX2 +
 /// FMA where the processor has them, plain SSE2 otherwise) and picked at run
 /// time.
@@ -617,7 +719,7 @@ impl pulp::WithSimd for RodScan<'_, '_> {
     type Output = Extremes;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Extremes {
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> Extremes {
         let RodScan {
             l2,
             m,
@@ -626,28 +728,60 @@ impl pulp::WithSimd for RodScan<'_, '_> {
             peaks,
         } = self;
         let [y, dy, ddy] = out;
-        // Running minima per lane of the keys y (BDC), −y (TDC) and −|y''| (the
-        // acceleration peak), with the index (an f64, so that the blend stays in
-        // vector registers) where each lane first met its minimum.
-        let (mut lo, mut hi, mut acc) = (LaneMin::new(), LaneMin::new(), LaneMin::new());
+        // Per lane of a block, the running minima of the keys y (BDC), −y (TDC)
+        // and −|y''| (the acceleration peak), and the index (an f64, a lane of
+        // the same register type) where the lane first met each.
+        let mut best = [[f64::INFINITY; LANES]; 3];
+        let mut best_at = [[0.0f64; LANES]; 3];
         let mut at: [f64; LANES] = std::array::from_fn(|l| l as f64);
+        let (l2, one) = (simd.splat_f64s(l2), simd.splat_f64s(1.0));
+        let step = simd.splat_f64s(LANES as f64);
         let rows = y.iter_mut().zip(dy.iter_mut()).zip(ddy.iter_mut());
         for (p, ((yc, dyc), ddyc)) in pin.iter().zip(rows) {
-            let [u2, upx1, hh, py, py1, py2] = p;
-            let w: [f64; LANES] = std::array::from_fn(|l| (l2 - u2[l]).sqrt());
-            let iw: [f64; LANES] = std::array::from_fn(|l| 1.0 / w[l]);
-            let g: [f64; LANES] = std::array::from_fn(|l| upx1[l] * iw[l]);
-            *yc = std::array::from_fn(|l| py[l] - w[l]);
-            *dyc = std::array::from_fn(|l| py1[l] + g[l]);
-            *ddyc = std::array::from_fn(|l| py2[l] + (hh[l] + g[l] * g[l]) * iw[l]);
-            for l in 0..LANES {
-                lo.push(l, yc[l], at[l]);
-                hi.push(l, -yc[l], at[l]);
-                acc.push(l, -ddyc[l].abs(), at[l]);
-                at[l] += LANES as f64;
+            let [u2, upx1, hh, py, py1, py2] = p.each_ref().map(|c| S::as_simd_f64s(c).0);
+            let (yv, dyv, ddyv) = (
+                S::as_mut_simd_f64s(yc).0,
+                S::as_mut_simd_f64s(dyc).0,
+                S::as_mut_simd_f64s(ddyc).0,
+            );
+            let [b0, b1, b2] = best.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
+            let [a0, a1, a2] = best_at.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
+            let atv = S::as_mut_simd_f64s(&mut at).0;
+            for v in 0..atv.len() {
+                let w = simd.sqrt_f64s(simd.sub_f64s(l2, u2[v]));
+                let iw = simd.div_f64s(one, w);
+                let g = simd.mul_f64s(upx1[v], iw);
+                let yy = simd.sub_f64s(py[v], w);
+                let hg = simd.add_f64s(hh[v], simd.mul_f64s(g, g));
+                let dd = simd.add_f64s(py2[v], simd.mul_f64s(hg, iw));
+                yv[v] = yy;
+                dyv[v] = simd.add_f64s(py1[v], g);
+                ddyv[v] = dd;
+                let keys = [yy, simd.neg_f64s(yy), simd.neg_f64s(simd.abs_f64s(dd))];
+                let trackers = [
+                    (&mut *b0, &mut *a0),
+                    (&mut *b1, &mut *a1),
+                    (&mut *b2, &mut *a2),
+                ];
+                for (k, (bk, ak)) in keys.into_iter().zip(trackers) {
+                    let lt = simd.less_than_f64s(k, bk[v]);
+                    bk[v] = simd.select_f64s(lt, k, bk[v]);
+                    ak[v] = simd.select_f64s(lt, atv[v], ak[v]);
+                }
+                atv[v] = simd.add_f64s(atv[v], step);
             }
         }
-        let [(_, lo), (_, hi), (vacc, acc)] = [lo.merge(), hi.merge(), acc.merge()];
+        // Merge the lanes: the smallest key, the first index of ties.
+        let [(_, lo), (_, hi), (vacc, acc)] = std::array::from_fn(|k| {
+            let (mut v, mut i) = (f64::INFINITY, 0.0);
+            for l in 0..LANES {
+                let (b, a) = (best[k][l], best_at[k][l]);
+                if b < v || (b == v && a < i) {
+                    (v, i) = (b, a);
+                }
+            }
+            (v, i as usize)
+        });
         // Candidates of the |y''| peak: local maxima within 1 % of the largest.
         // A block of samples with none that high is passed over in one test.
         let thr = 0.99 * -vacc;
@@ -686,7 +820,7 @@ fn criteria_with(
         return Status::NoReach;
     }
     let l2 = f.l * f.l;
-    let at = |x: f64, third: bool| f.at(x, third);
+    let at = |x: f64, order: u32| f.at(x, order);
     // One branch-free pass over the turn (vectorised): height, slope, curvature.
     let Extremes {
         lo: j_lo,
@@ -714,26 +848,34 @@ fn criteria_with(
     let prev = |j: usize| if j == 0 { m - 1 } else { j - 1 };
     let next = |j: usize| if j + 1 == m { 0 } else { j + 1 };
     // Dead centres: roots of y' between the neighbours of the sample extremes,
-    // by Newton with y'', the first step taken from the sample's own y', y''.
-    // Each returns (θ, y, y'') there, y and y'' carried from the last evaluation
-    // by Taylor (its distance to the root is below the last Newton step).
+    // started from the root of the cubic that matches the samples' y', y'' on
+    // the sample interval holding it (off by ~h⁴·y⁽⁵⁾/(384·y'')), then
+    // Chebyshev steps on y'. Each returns (θ, y, y'') there, y and y'' carried
+    // from the last evaluation by Taylor.
     let dead = |j: usize| -> (f64, f64, f64) {
         let th = table.theta(j);
-        let (glo, ghi) = (dys[prev(j)], dys[next(j)]);
+        let (jl, jr) = (prev(j), next(j));
+        let (glo, ghi) = (dys[jl], dys[jr]);
         if glo * ghi < 0.0 {
-            let mut last = (th, None);
-            let g = |x: f64| {
-                let k = at(x, false);
-                last = (x, Some(k));
-                (k.dy, k.ddy)
+            let x0 = if (dys[j] < 0.0) == (glo < 0.0) {
+                hermite_root(th, th + h, [dys[j], ghi], [ddys[j], ddys[jr]])
+            } else {
+                hermite_root(th - h, th, [glo, dys[j]], [ddys[jl], ddys[j]])
             };
-            let t = rtsafe(g, th - h, th + h, glo, ghi, th - dys[j] / ddys[j]);
+            let mut last = None;
+            let g = |x: f64| {
+                let k = at(x, 3);
+                last = Some((x, k));
+                (k.dy, k.ddy, k.dddy)
+            };
+            let t = chebyshev(g, th - h, th + h, glo, ghi, x0);
             match last {
-                (x, Some(k)) => {
+                Some((x, k)) => {
                     let e = t - x;
-                    (t, k.y + e * (k.dy + 0.5 * e * k.ddy), k.ddy)
+                    let y = k.y + e * (k.dy + e * (0.5 * k.ddy + e * k.dddy / 6.0));
+                    (t, y, k.ddy + e * k.dddy)
                 }
-                _ => (t, ys[j], ddys[j]),
+                None => (t, ys[j], ddys[j]),
             }
         } else {
             (th, ys[j], ddys[j])
@@ -766,32 +908,35 @@ fn criteria_with(
     let mut theta_j = th_b - wrap(th_b - table.theta(j));
     let th_top = th_b - wrap(th_b - th_t);
     let mut top_pending = th_top < th_b;
-    // The point after the current one in θ: (θ, S, −y'').
-    let (mut nx_th, mut nx_s, mut nx_g) = (th_b, 0.0, -ddy_b);
+    // The point after the current one in θ: (θ, S, y', −y'').
+    let (mut nx_th, mut nx_s, mut nx_dy, mut nx_g) = (th_b, 0.0, 0.0, -ddy_b);
     // Brackets (θ_lo, θ_hi, y''(θ_lo), y''(θ_hi)) of the speed peaks.
     let mut peaks: [(f64, f64, f64, f64); 4] = [(0.0, 0.0, 0.0, 0.0); 4];
     let mut n_peaks = 0;
     let mut best_v = f64::NEG_INFINITY;
     let mut th_p = f64::NAN;
-    let mut kp: (f64, Option<Kin>) = (f64::NAN, None);
+    let mut kp: Option<(f64, Kin)> = None;
     for _ in 0..=m + 1 {
         // The next point back: TDC if it lies before the next sample.
-        let (th, s, v, g, sample) = if top_pending && th_top >= theta_j {
+        let (th, s, dy, g, sample) = if top_pending && th_top >= theta_j {
             top_pending = false;
             (th_top, s_n, 0.0, -ddy_t, false)
         } else {
-            (theta_j, ys[j] - y_b, -dys[j], -ddys[j], true)
+            (theta_j, ys[j] - y_b, dys[j], -ddys[j], true)
         };
         if s >= s_p {
+            // S = S_p between this point and the next: from the root of the
+            // cubic through their S and S' = y', Chebyshev steps on S − S_p.
             let g = |x: f64| {
-                let k = at(x, false);
-                kp = (x, Some(k));
-                (k.y - y_b - s_p, k.dy)
+                let k = at(x, 3);
+                kp = Some((x, k));
+                (k.y - y_b - s_p, k.dy, k.ddy)
             };
-            let guess = th + (nx_th - th) * (s - s_p) / (s - nx_s);
-            th_p = rtsafe(g, th, nx_th, s - s_p, nx_s - s_p, guess);
+            let guess = hermite_root(th, nx_th, [s - s_p, nx_s - s_p], [dy, nx_dy]);
+            th_p = chebyshev(g, th, nx_th, s - s_p, nx_s - s_p, guess);
             break;
         }
+        let v = -dy;
         if v < -1e-12 * s_n {
             status = Status::Reverses;
         }
@@ -800,7 +945,7 @@ fn criteria_with(
             peaks[n_peaks] = (th, nx_th, -g, -nx_g);
             n_peaks += 1;
         }
-        (nx_th, nx_s, nx_g) = (th, s, g);
+        (nx_th, nx_s, nx_dy, nx_g) = (th, s, dy, g);
         if sample {
             j = prev(j);
             theta_j -= h;
@@ -814,9 +959,12 @@ fn criteria_with(
     // y', y'' at the start of the working stroke, by Taylor from the last
     // evaluation of its search.
     let (dy_p, ddy_p) = match kp {
-        (x, Some(k)) => (k.dy + (th_p - x) * k.ddy, k.ddy),
-        _ => {
-            let k = at(th_p, false);
+        Some((x, k)) => {
+            let e = th_p - x;
+            (k.dy + e * (k.ddy + 0.5 * e * k.dddy), k.ddy + e * k.dddy)
+        }
+        None => {
+            let k = at(th_p, 2);
             (k.dy, k.ddy)
         }
     };
@@ -826,49 +974,62 @@ fn criteria_with(
         peaks[n_peaks] = (th_p, nx_th, ddy_p, -nx_g);
         n_peaks += 1;
     }
-    // Speed peaks inside the working stroke: roots of y'' by Newton with y''',
+    // Speed peaks inside the working stroke: roots of y'' by Chebyshev steps
     // from the secant of the bracket's ends; Π' there by Taylor from the last
     // evaluation.
     let mut v_max = v_np.max(best_v);
     for &(lo, hi, glo, ghi) in &peaks[..n_peaks] {
         if glo * ghi < 0.0 {
-            let mut last = (lo, None);
+            let mut last = None;
             let g = |x: f64| {
-                let k = at(x, true);
-                last = (x, Some(k));
-                (k.ddy, k.dddy)
+                let k = at(x, 4);
+                last = Some((x, k));
+                (k.ddy, k.dddy, k.ddddy)
             };
-            let t = rtsafe(g, lo, hi, glo, ghi, lo + (hi - lo) * glo / (glo - ghi));
+            let t = chebyshev(g, lo, hi, glo, ghi, lo + (hi - lo) * glo / (glo - ghi));
             let dy = match last {
-                (x, Some(k)) => {
+                Some((x, k)) => {
                     let e = t - x;
-                    k.dy + e * (k.ddy + 0.5 * e * k.dddy)
+                    k.dy + e * (k.ddy + e * (0.5 * k.dddy + e * k.ddddy / 6.0))
                 }
-                _ => at(t, false).dy,
+                None => at(t, 2).dy,
             };
             v_max = v_max.max(-dy);
         }
     }
     // Acceleration peak over the turn: every sampled local maximum of |y''| within
-    // 1 % of the largest, refined at a root of y''' (near-ties go either way).
+    // 1 % of the largest, refined at a root of y'''. One evaluation each, at the
+    // peak of the quartic through the five samples around it (off by ~h⁴·y⁽⁷⁾/
+    // (30·y'''')); the peak of the Taylor parabola there is the value, unless
+    // that is more than a last step away, when a bracketed search follows.
     let acc = ddys[j_acc].abs();
     let mut a_max = acc;
     for &q in &scan.peaks {
         let th_a = table.theta(q);
         let sgn = ddys[q].signum();
+        let (q1, q2) = (prev(q), next(q));
+        let five = [prev(q1), q1, q, q2, next(q2)].map(|i| sgn * ddys[i]);
+        let t0 = th_a + quartic_peak(five, h);
+        let k = at(t0, 4);
+        let (v1, v2) = (sgn * k.dddy, sgn * k.ddddy);
+        let e = -v1 / v2;
+        if v2 < 0.0 && (t0 + e - th_a).abs() < h && e.abs() <= STEP_LAST * (1.0 + t0.abs()) {
+            a_max = a_max.max((k.ddy + 0.5 * e * k.dddy).abs());
+            continue;
+        }
         let (lo, hi) = (th_a - h, th_a + h);
-        let (glo, ghi) = (sgn * at(lo, true).dddy, sgn * at(hi, true).dddy);
+        let (glo, ghi) = (sgn * at(lo, 3).dddy, sgn * at(hi, 3).dddy);
         if glo > 0.0 && ghi < 0.0 {
-            let mut last = (lo, None);
-            let g3 = |x: f64| {
-                let k = at(x, true);
-                last = (x, Some(k));
-                sgn * k.dddy
+            let mut last = None;
+            let g = |x: f64| {
+                let k = at(x, 4);
+                last = Some((x, k));
+                (sgn * k.dddy, sgn * k.ddddy, 0.0)
             };
-            let t = root(g3, lo, hi, glo, ghi, 1e-9 * h);
+            let t = chebyshev(g, lo, hi, glo, ghi, th_a);
             let ddy = match last {
-                (x, Some(k)) => k.ddy + (t - x) * k.dddy,
-                _ => at(t, false).ddy,
+                Some((x, k)) => k.ddy + (t - x) * k.dddy,
+                None => at(t, 2).ddy,
             };
             a_max = a_max.max(ddy.abs());
         }
@@ -1063,7 +1224,7 @@ pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
     let h = TAU / samples as f64;
     let mut best: Option<(usize, f64)> = None;
     for j in 0..samples {
-        let k = f.at(h * j as f64, false);
+        let k = f.at(h * j as f64, 2);
         if k.w2 > 0.0 && best.is_none_or(|(_, y)| k.y < y) {
             best = Some((j, k.y));
         }
@@ -1071,10 +1232,10 @@ pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
     let (j, y) = best?;
     let th = h * j as f64;
     let (lo, hi) = (th - h, th + h);
-    let (klo, khi) = (f.at(lo, false), f.at(hi, false));
+    let (klo, khi) = (f.at(lo, 2), f.at(hi, 2));
     if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
-        let t = root(|x| f.at(x, false).dy, lo, hi, klo.dy, khi.dy, 0.0);
-        let yt = f.at(t, false).y;
+        let t = root(|x| f.at(x, 2).dy, lo, hi, klo.dy, khi.dy, 0.0);
+        let yt = f.at(t, 2).y;
         if yt <= y {
             return Some((wrap(t), yt));
         }
@@ -1134,7 +1295,7 @@ pub fn solve_into(
             let flat = start + q;
             let (f, b) = &frames[flat / n];
             let a = alpha[flat % n];
-            let kin = b.map(|(th_b, y_b)| (f.at(th_b - a, false), y_b));
+            let kin = b.map(|(th_b, y_b)| (f.at(th_b - a, 2), y_b));
             match kin {
                 Some((kin, y_b)) if kin.w2 > 0.0 => {
                     s[q] = kin.y - y_b;
@@ -1155,7 +1316,7 @@ pub fn solve_into(
                     match b {
                         // The crank still turns: centre and pin are known.
                         Some((th_b, _)) => {
-                            let kin = f.at(th_b - a, false);
+                            let kin = f.at(th_b - a, 2);
                             centre[2 * q..2 * q + 2].copy_from_slice(&kin.centre);
                             pin[2 * q..2 * q + 2].copy_from_slice(&kin.pin);
                         }
@@ -1366,8 +1527,12 @@ mod tests {
             prop_assert!(((ds[2] - ds[0]) / (2.0 * h) - dds[1]).abs() < 1e-6);
             let f = design.frame();
             let th = 1.234 + al;
-            let fd = (f.at(th + h, false).ddy - f.at(th - h, false).ddy) / (2.0 * h);
-            prop_assert!((fd - f.at(th, true).dddy).abs() < 1e-6);
+            let fd = (f.at(th + h, 2).ddy - f.at(th - h, 2).ddy) / (2.0 * h);
+            prop_assert!((fd - f.at(th, 3).dddy).abs() < 1e-6);
+            let fd = (f.at(th + h, 3).dddy - f.at(th - h, 3).dddy) / (2.0 * h);
+            let k = f.at(th, 4);
+            prop_assert!((fd - k.ddddy).abs() < 1e-5 * (1.0 + k.ddddy.abs()), "{fd} {}", k.ddddy);
+            prop_assert_eq!(k.dddy, f.at(th, 3).dddy);
         }
     }
 }
