@@ -317,6 +317,13 @@ impl Table {
 /// caller gives its own count.
 pub const DEFAULT_SAMPLES: usize = 360;
 
+/// Dead centres whose heights differ by at most this fraction of the stroke tie
+/// (mirror-symmetric designs have two equally low BDCs or two equally high TDCs,
+/// equal but for rounding). Of tied BDCs the one at the smallest θ in [0, 2π) is
+/// taken; of tied TDCs the first one reached going back from that BDC (so that a
+/// working stroke of k_Sp = 1 runs from the nearest TDC).
+pub const TIE: f64 = 1e-12;
+
 /// Why a design has no criteria (or has them with a warning).
 #[repr(u8)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -422,8 +429,9 @@ pub struct PinScan {
     y: Vec<[f64; LANES]>,
     dy: Vec<[f64; LANES]>,
     ddy: Vec<[f64; LANES]>,
-    /// Candidates of the |y''| peak of one rod length (see [`Extremes`]).
-    peaks: Vec<usize>,
+    /// Candidates of the |y''| peak, of BDC and of TDC for one rod length (see
+    /// [`scan_rod`]).
+    cands: [Vec<usize>; 3],
 }
 
 impl PinScan {
@@ -585,8 +593,9 @@ fn chebyshev(
         } else {
             hi = x;
         }
-        let newton = -v / d1;
-        let second = -0.5 * d2 / d1 * newton * newton;
+        let r = 1.0 / d1;
+        let newton = -v * r;
+        let second = -0.5 * d2 * r * newton * newton;
         let step = if second.abs() < 0.5 * newton.abs() {
             newton + second
         } else {
@@ -673,9 +682,8 @@ fn quartic_peak(f: [f64; 5], h: f64) -> f64 {
 /// running extremes, merged at the end (one AVX-512 register of f64).
 const LANES: usize = 8;
 
-/// What [`scan_rod`] finds besides the rows: the lowest and the highest sample
-/// of y and the largest |y''| (the first of ties), and `peaks`, every sampled
-/// local maximum of |y''| within 1 % of the largest (in θ order).
+/// The lowest and the highest sample of y and the largest |y''| (the first of
+/// ties), found by [`scan_rod`].
 struct Extremes {
     lo: usize,
     hi: usize,
@@ -683,24 +691,27 @@ struct Extremes {
 }
 
 /// y, y', y'' over the turn for one rod length (L² = `l2`) from the pin path's
-/// rod-independent rows, the sample extremes found in the same pass, then the
-/// candidates of the |y''| peak (into `peaks`); `m` samples, in blocks of
-/// [`LANES`]. A separate function so that the blocks are known not to alias and
-/// the loops are vectorised.
+/// rod-independent rows, the sample extremes found in the same pass; `m`
+/// samples, in blocks of [`LANES`]. Then, in θ order, the candidates `cands`:
+/// [0] every sampled local maximum of |y''| within 1 % of the largest; [1]
+/// every sampled local minimum of y that may tie with the lowest (BDC) and [2]
+/// every local maximum that may tie with the highest (TDC), see [`TIE`]. A
+/// separate function so that the blocks are known not to alias and the loops
+/// are vectorised.
 #[inline(never)]
 fn scan_rod(
     l2: f64,
     m: usize,
     pin: &[[[f64; LANES]; 6]],
     out: [&mut [[f64; LANES]]; 3],
-    peaks: &mut Vec<usize>,
+    cands: &mut [Vec<usize>; 3],
 ) -> Extremes {
     pulp::Arch::new().dispatch(RodScan {
         l2,
         m,
         pin,
         out,
-        peaks,
+        cands,
     })
 }
 
@@ -712,7 +723,7 @@ struct RodScan<'a, 'b> {
     m: usize,
     pin: &'a [[[f64; LANES]; 6]],
     out: [&'b mut [[f64; LANES]]; 3],
-    peaks: &'b mut Vec<usize>,
+    cands: &'b mut [Vec<usize>; 3],
 }
 
 impl pulp::WithSimd for RodScan<'_, '_> {
@@ -725,7 +736,7 @@ impl pulp::WithSimd for RodScan<'_, '_> {
             m,
             pin,
             out,
-            peaks,
+            cands,
         } = self;
         let [y, dy, ddy] = out;
         // Per lane of a block, the running minima of the keys y (BDC), −y (TDC)
@@ -772,7 +783,7 @@ impl pulp::WithSimd for RodScan<'_, '_> {
             }
         }
         // Merge the lanes: the smallest key, the first index of ties.
-        let [(_, lo), (_, hi), (vacc, acc)] = std::array::from_fn(|k| {
+        let [(vlo, lo), (vhi, hi), (vacc, acc)] = std::array::from_fn(|k| {
             let (mut v, mut i) = (f64::INFINITY, 0.0);
             for l in 0..LANES {
                 let (b, a) = (best[k][l], best_at[k][l]);
@@ -782,22 +793,55 @@ impl pulp::WithSimd for RodScan<'_, '_> {
             }
             (v, i as usize)
         });
-        // Candidates of the |y''| peak: local maxima within 1 % of the largest.
-        // A block of samples with none that high is passed over in one test.
-        let thr = 0.99 * -vacc;
-        peaks.clear();
-        let flat = &ddy.as_flattened()[..m];
-        for (c, b) in ddy.iter().enumerate() {
-            let hit = b.iter().fold(false, |h, v| h | (v.abs() >= thr));
-            if !hit {
+        // Candidates: local maxima of |y''| within 1 % of the largest, and local
+        // extremes of y within `band` of the lowest and the highest sample. A
+        // true extreme is at most max|y''|·h²/8 beyond its nearest sample, so
+        // one that ties with the lowest (highest) has a sample in the band (with
+        // twice the sampled max|y''| for the sampling of |y''| itself).
+        let (ylo, yhi) = (vlo, -vhi);
+        let h = TAU / m as f64;
+        let band =
+            0.25 * -vacc * h * h + TIE * (yhi - ylo) + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
+        let (thr, thr_lo, thr_hi) = (0.99 * -vacc, ylo + band, yhi - band);
+        let [peaks, lows, highs] = cands;
+        for c in [&mut *peaks, &mut *lows, &mut *highs] {
+            c.clear();
+        }
+        let (ys, ddys) = (&y.as_flattened()[..m], &ddy.as_flattened()[..m]);
+        let prev = |q: usize| if q == 0 { m - 1 } else { q - 1 };
+        let next = |q: usize| if q + 1 == m { 0 } else { q + 1 };
+        // A block with no sample in any of the three ranges is passed over in
+        // one test.
+        let [tv, tlo, thi] = [thr, thr_lo, thr_hi].map(|t| simd.splat_f64s(t));
+        let high = |yv: S::f64s, ddyv: S::f64s| {
+            let a = simd.greater_than_or_equal_f64s(simd.abs_f64s(ddyv), tv);
+            let l = simd.less_than_or_equal_f64s(yv, tlo);
+            let h = simd.greater_than_or_equal_f64s(yv, thi);
+            simd.or_m64s(a, simd.or_m64s(l, h))
+        };
+        for (c, (yb, ddyb)) in y.iter().zip(ddy.iter()).enumerate() {
+            let (yv, ddyv) = (S::as_simd_f64s(yb).0, S::as_simd_f64s(ddyb).0);
+            let hit = (1..yv.len()).fold(high(yv[0], ddyv[0]), |a, v| {
+                simd.or_m64s(a, high(yv[v], ddyv[v]))
+            });
+            if simd.first_true_m64s(hit) == S::F64_LANES {
                 continue;
             }
             for q in c * LANES..(c * LANES + LANES).min(m) {
-                let aq = flat[q].abs();
-                let prev = flat[if q == 0 { m - 1 } else { q - 1 }].abs();
-                let next = flat[if q + 1 == m { 0 } else { q + 1 }].abs();
-                if aq >= thr && aq >= prev && aq >= next {
+                let (yq, aq) = (ys[q], ddys[q].abs());
+                let (is_acc, is_lo, is_hi) = (aq >= thr, yq <= thr_lo, yq >= thr_hi);
+                if !(is_acc || is_lo || is_hi) {
+                    continue;
+                }
+                let (qp, qn) = (prev(q), next(q));
+                if is_acc && aq >= ddys[qp].abs() && aq >= ddys[qn].abs() {
                     peaks.push(q);
+                }
+                if is_lo && yq <= ys[qp] && yq <= ys[qn] {
+                    lows.push(q);
+                }
+                if is_hi && yq >= ys[qp] && yq >= ys[qn] {
+                    highs.push(q);
                 }
             }
         }
@@ -832,10 +876,10 @@ fn criteria_with(
             y,
             dy,
             ddy,
-            peaks,
+            cands,
             ..
         } = &mut *scan;
-        scan_rod(l2, m, pin, [y, dy, ddy], peaks)
+        scan_rod(l2, m, pin, [y, dy, ddy], cands)
     };
     let (ys, dys, ddys) = (
         &scan.y.as_flattened()[..m],
@@ -881,10 +925,41 @@ fn criteria_with(
             (th, ys[j], ddys[j])
         }
     };
-    let (th_b, y_b, ddy_b) = dead(j_lo);
-    let (th_t, y_t, ddy_t) = dead(j_hi);
-    let y_t = y_t.max(ys[j_hi]);
-    let y_b = y_b.min(ys[j_lo]);
+    // Each candidate refined (its sample kept if that is beyond the root).
+    let [acc_peaks, lows, highs] = &scan.cands;
+    let low = |q: usize| {
+        let (t, y, ddy) = dead(q);
+        (t, y.min(ys[q]), ddy, q)
+    };
+    let high = |q: usize| {
+        let (t, y, ddy) = dead(q);
+        (t, y.max(ys[q]), ddy, q)
+    };
+    // Usually one candidate each (the sample extreme); more only near a tie
+    // (see [`TIE`]).
+    let (b, t) = if lows.len() <= 1 && highs.len() <= 1 {
+        (low(j_lo), high(j_hi))
+    } else {
+        let lows: Vec<_> = lows.iter().map(|&q| low(q)).collect();
+        let highs: Vec<_> = highs.iter().map(|&q| high(q)).collect();
+        let y_min = lows.iter().fold(f64::INFINITY, |a, c| a.min(c.1));
+        let y_max = highs.iter().fold(f64::NEG_INFINITY, |a, c| a.max(c.1));
+        let tol = TIE * (y_max - y_min);
+        let b = lows
+            .iter()
+            .filter(|c| c.1 <= y_min + tol)
+            .min_by(|p, q| wrap(p.0).total_cmp(&wrap(q.0)))
+            .copied()
+            .unwrap_or_else(|| low(j_lo));
+        let t = highs
+            .iter()
+            .filter(|c| c.1 >= y_max - tol)
+            .min_by(|p, q| wrap(b.0 - p.0).total_cmp(&wrap(b.0 - q.0)))
+            .copied()
+            .unwrap_or_else(|| high(j_hi));
+        (b, t)
+    };
+    let ((th_b, y_b, ddy_b, j_b), (th_t, y_t, ddy_t, _)) = (b, t);
     let s_n = y_t - y_b;
     let s_p = match spec.stroke {
         Stroke::Fraction(k) => k * s_n,
@@ -900,8 +975,7 @@ fn criteria_with(
     // S_p. TDC joins the walk as a point of its own (it is rarely a sample), so
     // that k_Sp = 1 ends there. On the way, watch Π' = −y' and bracket each of its
     // local maxima: dΠ'/dθ = −y'' turns from + to − between two points.
-    let mut status = Status::Ok;
-    let mut j = j_lo;
+    let mut j = j_b;
     if table.theta(j) >= th_b {
         j = prev(j);
     }
@@ -913,7 +987,8 @@ fn criteria_with(
     // Brackets (θ_lo, θ_hi, y''(θ_lo), y''(θ_hi)) of the speed peaks.
     let mut peaks: [(f64, f64, f64, f64); 4] = [(0.0, 0.0, 0.0, 0.0); 4];
     let mut n_peaks = 0;
-    let mut best_v = f64::NEG_INFINITY;
+    // The extremes of y' over the points passed (Π' = −y').
+    let (mut dy_min, mut dy_max) = (f64::INFINITY, f64::NEG_INFINITY);
     let mut th_p = f64::NAN;
     let mut kp: Option<(f64, Kin)> = None;
     for _ in 0..=m + 1 {
@@ -936,11 +1011,8 @@ fn criteria_with(
             th_p = chebyshev(g, th, nx_th, s - s_p, nx_s - s_p, guess);
             break;
         }
-        let v = -dy;
-        if v < -1e-12 * s_n {
-            status = Status::Reverses;
-        }
-        best_v = best_v.max(v);
+        dy_min = if dy < dy_min { dy } else { dy_min };
+        dy_max = if dy > dy_max { dy } else { dy_max };
         if g > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
             peaks[n_peaks] = (th, nx_th, -g, -nx_g);
             n_peaks += 1;
@@ -955,6 +1027,14 @@ fn criteria_with(
         // Unreachable when S_p ≤ S_n (the walk meets TDC), kept as a guard.
         return Status::LongStroke;
     }
+    let (best_v, status) = (
+        -dy_min,
+        if -dy_max < -1e-12 * s_n {
+            Status::Reverses
+        } else {
+            Status::Ok
+        },
+    );
     let alpha_p = th_b - th_p;
     // y', y'' at the start of the working stroke, by Taylor from the last
     // evaluation of its search.
@@ -1004,7 +1084,7 @@ fn criteria_with(
     // that is more than a last step away, when a bracketed search follows.
     let acc = ddys[j_acc].abs();
     let mut a_max = acc;
-    for &q in &scan.peaks {
+    for &q in acc_peaks {
         let th_a = table.theta(q);
         let sgn = ddys[q].signum();
         let (q1, q2) = (prev(q), next(q));
@@ -1219,28 +1299,54 @@ pub struct KinOut<'a> {
 
 /// The BDC of a design: (θ_B, y_B), the lowest slider position over the turn
 /// (over its assembled part if the rod cannot reach everywhere; None if nowhere).
+/// Of BDCs that tie (see [`TIE`]), the one at the smallest θ in [0, 2π).
 pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
     let f = design.frame();
     let h = TAU / samples as f64;
-    let mut best: Option<(usize, f64)> = None;
+    // y over the turn, +∞ where the rod does not reach (never a minimum).
+    let mut ys = Vec::with_capacity(samples);
+    let (mut lo, mut hi, mut acc) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
     for j in 0..samples {
         let k = f.at(h * j as f64, 2);
-        if k.w2 > 0.0 && best.is_none_or(|(_, y)| k.y < y) {
-            best = Some((j, k.y));
+        if k.w2 > 0.0 {
+            ys.push(k.y);
+            (lo, hi, acc) = (lo.min(k.y), hi.max(k.y), acc.max(k.ddy.abs()));
+        } else {
+            ys.push(f64::INFINITY);
         }
     }
-    let (j, y) = best?;
-    let th = h * j as f64;
-    let (lo, hi) = (th - h, th + h);
-    let (klo, khi) = (f.at(lo, 2), f.at(hi, 2));
-    if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
-        let t = root(|x| f.at(x, 2).dy, lo, hi, klo.dy, khi.dy, 0.0);
-        let yt = f.at(t, 2).y;
-        if yt <= y {
-            return Some((wrap(t), yt));
-        }
+    if lo == f64::INFINITY {
+        return None;
     }
-    Some((wrap(th), y))
+    // Every sampled local minimum that may tie with the lowest (as in
+    // `scan_rod`), refined at a root of y' where its neighbours bracket one.
+    let band = 0.25 * acc * h * h + TIE * (hi - lo) + 8.0 * f64::EPSILON * (lo.abs() + hi.abs());
+    let n = samples;
+    let refine = |j: usize| -> (f64, f64) {
+        let (th, y) = (h * j as f64, ys[j]);
+        let (lo, hi) = (th - h, th + h);
+        let (klo, khi) = (f.at(lo, 2), f.at(hi, 2));
+        if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
+            let t = root(|x| f.at(x, 2).dy, lo, hi, klo.dy, khi.dy, 0.0);
+            let yt = f.at(t, 2).y;
+            if yt <= y {
+                return (wrap(t), yt);
+            }
+        }
+        (wrap(th), y)
+    };
+    let found: Vec<(f64, f64)> = (0..n)
+        .filter(|&j| {
+            let y = ys[j];
+            y <= lo + band && y <= ys[(j + n - 1) % n] && y <= ys[(j + 1) % n]
+        })
+        .map(refine)
+        .collect();
+    let y_min = found.iter().fold(f64::INFINITY, |a, c| a.min(c.1));
+    found
+        .into_iter()
+        .filter(|c| c.1 <= y_min + TIE * (hi - lo))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
 }
 
 /// One chunk of the outputs of [`solve_into`].
@@ -1436,7 +1542,7 @@ mod tests {
             .collect();
         let runs = on_each_isa!(|simd| {
             let mut rows = vec![vec![[0.0; LANES]; nb]; 3];
-            let mut peaks = Vec::new();
+            let mut cands = [Vec::new(), Vec::new(), Vec::new()];
             let [y, dy, ddy] = &mut rows[..] else {
                 unreachable!()
             };
@@ -1447,11 +1553,11 @@ mod tests {
                     m,
                     pin: &pin,
                     out: [y, dy, ddy],
-                    peaks: &mut peaks,
+                    cands: &mut cands,
                 },
             );
             let flat = |v: &Vec<[f64; LANES]>| v.as_flattened()[..m].to_vec();
-            ([ex.lo, ex.hi, ex.acc], peaks, flat(y), flat(dy), flat(ddy))
+            ([ex.lo, ex.hi, ex.acc], cands, flat(y), flat(dy), flat(ddy))
         });
         let (_, first) = &runs[0];
         let (y, ddy) = (&first.2, &first.4);
@@ -1460,13 +1566,29 @@ mod tests {
         let steepest = (0..m).fold(0, |b, j| if ddy[j].abs() > ddy[b].abs() { j } else { b });
         assert_eq!(first.0, [lowest, highest, steepest], "the first extremes");
         assert_eq!(lowest, 202);
-        // The peaks of |y''|: local maxima within 1 % of the largest, by brute force.
+        // The candidates by brute force: local maxima of |y''| within 1 % of
+        // the largest, local minima (maxima) of y within the band of the lowest
+        // (highest).
         let a = |j: usize| ddy[j % m].abs();
+        let yc = |j: usize| y[j % m];
         let peaks: Vec<usize> = (0..m)
             .filter(|&j| a(j) >= 0.99 * a(steepest) && a(j) >= a(j + m - 1) && a(j) >= a(j + 1))
             .collect();
         assert!(peaks.contains(&steepest));
-        assert_eq!(first.1, peaks);
+        let (ylo, yhi) = (y[lowest], y[highest]);
+        let h = TAU / m as f64;
+        let band = 0.25 * a(steepest) * h * h
+            + TIE * (yhi - ylo)
+            + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
+        let lows: Vec<usize> = (0..m)
+            .filter(|&j| yc(j) <= ylo + band && yc(j) <= yc(j + m - 1) && yc(j) <= yc(j + 1))
+            .collect();
+        let highs: Vec<usize> = (0..m)
+            .filter(|&j| yc(j) >= yhi - band && yc(j) >= yc(j + m - 1) && yc(j) >= yc(j + 1))
+            .collect();
+        // The equal lowest samples 202, 203 (a flat pair), 207 and 360.
+        assert_eq!(lows, [202, 203, 207, 360]);
+        assert_eq!(first.1, [peaks, lows, highs]);
         for (isa, run) in &runs {
             assert_eq!(run, first, "{isa}");
         }
