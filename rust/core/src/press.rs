@@ -656,23 +656,25 @@ fn hermite_root(a: f64, b: f64, [fa, fb]: [f64; 2], [da, db]: [f64; 2]) -> f64 {
 }
 
 /// Offset from the middle sample of the peak of the quartic through five
-/// samples `f` spaced `h` apart (0 if it is farther than `h`): Newton on the
-/// quartic's slope from its parabola's peak.
+/// samples `f` spaced `h` apart (0 if it is farther than `h`): two Newton steps
+/// on the quartic's slope from its parabola's peak (the quartic itself misses
+/// the function's peak by more than what a third would change).
 fn quartic_peak(f: [f64; 5], h: f64) -> f64 {
     let [f0, f1, f2, f3, f4] = f;
-    // The quartic's derivatives at the middle sample (the five-point stencils).
-    let d1 = (f0 - 8.0 * f1 + 8.0 * f3 - f4) / (12.0 * h);
-    let d2 = (-f0 + 16.0 * f1 - 30.0 * f2 + 16.0 * f3 - f4) / (12.0 * h * h);
-    let d3 = (-f0 + 2.0 * f1 - 2.0 * f3 + f4) / (2.0 * h * h * h);
-    let d4 = (f0 - 4.0 * f1 + 6.0 * f2 - 4.0 * f3 + f4) / (h * h * h * h);
-    let mut x = -d1 / d2;
-    for _ in 0..3 {
-        let p1 = d1 + x * (d2 + x * (0.5 * d3 + x * d4 / 6.0));
-        let p2 = d2 + x * (d3 + 0.5 * x * d4);
-        x -= p1 / p2;
+    // The quartic's derivatives at the middle sample times h, h², h³, h⁴ (the
+    // five-point stencils); s = x/h.
+    let d1 = (f0 - 8.0 * f1 + 8.0 * f3 - f4) / 12.0;
+    let d2 = (-f0 + 16.0 * f1 - 30.0 * f2 + 16.0 * f3 - f4) / 12.0;
+    let d3 = 0.5 * (-f0 + 2.0 * f1 - 2.0 * f3 + f4);
+    let d4 = f0 - 4.0 * f1 + 6.0 * f2 - 4.0 * f3 + f4;
+    let mut s = -d1 / d2;
+    for _ in 0..2 {
+        let p1 = d1 + s * (d2 + s * (0.5 * d3 + s * d4 / 6.0));
+        let p2 = d2 + s * (d3 + 0.5 * s * d4);
+        s -= p1 / p2;
     }
-    if x.abs() <= h {
-        x
+    if s.abs() <= 1.0 {
+        s * h
     } else {
         0.0
     }
