@@ -816,10 +816,10 @@ impl pulp::WithSimd for RodScan<'_, '_> {
         // one test.
         let [tv, tlo, thi] = [thr, thr_lo, thr_hi].map(|t| simd.splat_f64s(t));
         let high = |yv: S::f64s, ddyv: S::f64s| {
-            let a = simd.greater_than_or_equal_f64s(simd.abs_f64s(ddyv), tv);
-            let l = simd.less_than_or_equal_f64s(yv, tlo);
-            let h = simd.greater_than_or_equal_f64s(yv, thi);
-            simd.or_m64s(a, simd.or_m64s(l, h))
+            let acc = simd.greater_than_or_equal_f64s(simd.abs_f64s(ddyv), tv);
+            let low = simd.less_than_or_equal_f64s(yv, tlo);
+            let top = simd.greater_than_or_equal_f64s(yv, thi);
+            simd.or_m64s(acc, simd.or_m64s(low, top))
         };
         for (c, (yb, ddyb)) in y.iter().zip(ddy.iter()).enumerate() {
             let (yv, ddyv) = (S::as_simd_f64s(yb).0, S::as_simd_f64s(ddyb).0);
