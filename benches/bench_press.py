@@ -24,13 +24,14 @@ more passes). So the two agree to the grid's resolution h = 1°, not to rounding
 :func:`check_sweep` asserts bounds derived from h (α_p within 2h, S_n within
 (J_max/ω²)·h²/2, speeds within 2h·J_max/ω, …) and equal status codes, on a small
 grid in every run and on the timed grid after timing. Designs with two equally low
-dead centres (mirror-symmetric ones, φ0 = π/3 here) are the exception: rounding
-picks one of the two BDCs, differently in the two tools, and every working-stroke
-criterion depends on the pick; :func:`bdc_ties` checks that they are such ties, and
-only S_n and J_max are compared for them (1 design of the check grid, none of the
-default grid, 142 of the full grid). The pin and its derivatives could be shared
-by every L of one (d, φ0), which would save numpy some passes; the reference does
-not exploit the grid's structure, and neither does cyclomech.
+dead centres (mirror-symmetric ones, φ0 = π/3 here) are the exception: numpy's
+argmin takes whichever of the two BDCs' samples rounding makes lower, cyclomech the
+one at the smaller θ (its stated rule for ties, ``press::TIE`` in the Rust core),
+and every working-stroke criterion depends on the pick; :func:`bdc_ties` checks
+that they are such ties, and only S_n and J_max are compared for them (4 designs of
+the check grid, none of the default grid, 614 of the full grid). cyclomech samples
+each pin path (everything that does not depend on L) once per (d, φ0) and reuses
+it for every L; the numpy reference does not exploit the grid's structure.
 The two-period law and ``solve`` agree with cyclomech to 1e-12 m (checked).
 
 Default test run (``--benchmark-disable`` in addopts): each benchmark once, a few
@@ -222,8 +223,8 @@ def bdc_ties(
     to be a tie: the lowest sample next to cyclomech's θ_B is as low as numpy's, to
     1e-12 m. With offset 0 a design is mirror-symmetric when φ0 is a multiple of
     π/3; at odd multiples the pin points inwards at θ = −π/2 and, once d is large
-    enough, the slider has two equally low dead centres: rounding picks one. Returns
-    their flat indices."""
+    enough, the slider has two equally low dead centres: numpy's argmin lets rounding
+    pick one, cyclomech takes the one at the smaller θ. Returns their flat indices."""
     h = 2 * np.pi / samples
     diff = np.abs(ref["theta_bdc"] - sw["theta_bdc"].ravel())
     far = np.flatnonzero(np.minimum(diff, 2 * np.pi - diff) > 1.5 * h)

@@ -5,7 +5,10 @@ angle θ, planet centre C = (R − r)·e^{iθ}, pin P = C + d·e^{iβ} with
 β = −((R − r)/r)·θ + (R/r)·(φ0 − π/2), slider height y = Im P − √(L² − (Re P − e)²)
 on the guide x = e, and its θ-derivatives by hand. BDC is found here as the lowest
 slider position on a dense θ grid, polished by a root of y' (scipy's brentq);
-α = θ_B − θ. The criteria are recomputed by brute force over 2·10⁵ angles.
+α = θ_B − θ. Dead centres that tie (within ``TIE`` of the stroke: mirror-symmetric
+designs) are taken by the library's documented rule: the BDC at the smallest θ in
+[0, 2π), the TDC first reached going back from it. The criteria are recomputed by
+brute force over 2·10⁵ angles.
 
 * The crank-slider (d = 0) against its textbook closed forms, with and without an
   offset of the guide; J_max = ω²·a·(1 + a/L) at BDC.
@@ -33,6 +36,9 @@ SLOW = settings(max_examples=20, deadline=None)
 R0 = 0.09
 # The library samples 360 carrier angles per turn for its criteria.
 H_LIB = TAU / cm.press.SAMPLES
+# Dead centres whose heights differ by at most this fraction of the stroke tie
+# (press::TIE in the Rust core).
+TIE = 1e-12
 
 
 # ---------------------------------------------------------------------------
@@ -74,14 +80,29 @@ class Model:
         ddy = ddp.imag + (dp.real**2 + u * ddp.real) / w + (u * dp.real) ** 2 / w**3
         return c, p, y, dy, ddy
 
-    def dead_centre(self, lowest: bool = True, n: int = 20_000) -> tuple[float, float]:
-        """(θ, y) of BDC (lowest) or TDC: dense grid, then brentq on y'."""
+    def extremes(self, lowest: bool = True, n: int = 20_000) -> list[tuple[float, float]]:
+        """(θ, y) of every local minimum (lowest) or maximum of y: dense grid, then
+        brentq on y'."""
         th = np.linspace(0.0, TAU, n, endpoint=False)
-        y = self.at(th)[2]
-        j = int(np.nanargmin(y) if lowest else np.nanargmax(y))
+        z = self.at(th)[2] * (1.0 if lowest else -1.0)
         h = TAU / n
-        t = brentq(lambda x: float(self.at(x)[3]), th[j] - h, th[j] + h, xtol=1e-15, rtol=1e-15)
-        return t % TAU, float(self.at(t)[2])
+        out = []
+        for j in np.flatnonzero((z < np.roll(z, 1)) & (z <= np.roll(z, -1))):
+            t = brentq(lambda x: float(self.at(x)[3]), th[j] - h, th[j] + h, xtol=1e-15, rtol=1e-15)
+            out.append((t % TAU, float(self.at(t)[2])))
+        return out
+
+    def dead_centre(self, lowest: bool = True, n: int = 20_000) -> tuple[float, float]:
+        """(θ, y) of BDC (lowest) or TDC. Of BDCs within TIE of the stroke of the
+        lowest, the one at the smallest θ; of such TDCs, the first one reached going
+        back in θ from that BDC."""
+        lows, highs = self.extremes(True, n), self.extremes(False, n)
+        y_min, y_max = min(y for _, y in lows), max(y for _, y in highs)
+        tol = TIE * (y_max - y_min)
+        bdc = min((c for c in lows if c[1] <= y_min + tol), key=lambda c: c[0])
+        if lowest:
+            return bdc
+        return min((c for c in highs if c[1] >= y_max - tol), key=lambda c: (bdc[0] - c[0]) % TAU)
 
     def near_tie(self, rel: float = 1e-9) -> bool:
         """Whether the two lowest local minima of y are within rel·stroke of each other
@@ -525,6 +546,82 @@ def test_full_working_stroke_of_a_crank_slider():
     )
     assert c.ok and c.alpha_p == pytest.approx(math.pi, abs=1e-6)
     assert c.S_p == pytest.approx(0.12, rel=1e-14)
+
+
+# ---------------------------------------------------------------------------
+# Dead centres that tie
+
+#: One drive written five ways (i = 3 repeats every 2π/3 of φ0, so each rounds
+#: differently): φ0 = π/3 with no offset makes it mirror-symmetric about the
+#: vertical, and with d large enough its BDC splits in two, equally low.
+TIED_BDC_PHI0 = [math.pi / 3, math.pi, -math.pi / 3, 5 * math.pi / 3, 7 * math.pi / 3]
+#: The same for φ0 = 0, where TDC splits in two.
+TIED_TDC_PHI0 = [0.0, TAU / 3, -TAU / 3, 2 * TAU / 3]
+
+
+def _tie(extremes: list[tuple[float, float]], stroke: float) -> bool:
+    """Two extremes, equally high or low to TIE of the stroke."""
+    return len(extremes) == 2 and abs(extremes[0][1] - extremes[1][1]) <= TIE * stroke
+
+
+@pytest.mark.parametrize("d", [0.03, 0.035, 0.04])
+@pytest.mark.parametrize("L", [0.3, 0.4])
+def test_tied_bdcs_take_the_smallest_theta(d, L):
+    """Of two equally low BDCs (mirror images about θ = 3π/2) the one at the smaller
+    θ is taken, however rounding falls: every criterion as the brute force from that
+    BDC, and the same for each way of writing φ0. (Rounding used to decide: with d
+    from 0.025 to 0.04 m and L from 0.3 to 0.5 m, 27 of 28 such designs had
+    different BDCs for the five ways of writing the same φ0.)"""
+    first = None
+    for phi0 in TIED_BDC_PHI0:
+        m = Model(R0, 0.03, d, L, phi0)
+        lows = sorted(m.extremes())
+        stroke = m.dead_centre(lowest=False)[1] - m.dead_centre()[1]
+        assert _tie(lows, stroke), lows
+        assert lows[0][0] + lows[1][0] == pytest.approx(3 * math.pi, abs=1e-9)
+        crit = m.press().criteria(k_Sp=0.1, omega=4.0)
+        assert crit.theta_bdc == pytest.approx(lows[0][0], abs=1e-9)
+        check_criteria(m, 0.1, 4.0)
+        first = first or crit
+        for f in (*FIELDS, "theta_bdc"):
+            assert getattr(crit, f) == pytest.approx(getattr(first, f), rel=1e-9), f
+        assert crit.status == first.status
+
+
+def test_tied_bdc_is_the_same_in_solve_and_sweep():
+    """solve measures α from the same one of two tied BDCs as criteria (the carrier
+    points at θ_B at α = 0), and a sweep over the five ways of writing φ0 agrees
+    with criteria point by point."""
+    sw = cm.press.sweep(
+        R=R0, r=0.03, d=0.04, L=0.3, phi0=np.array(TIED_BDC_PHI0), k_Sp=0.1, omega=4.0
+    )
+    for i, phi0 in enumerate(TIED_BDC_PHI0):
+        p = cm.press.GearLeverPress(R=R0, r=0.03, d=0.04, L=0.3, phi0=phi0)
+        crit = p.criteria(k_Sp=0.1, omega=4.0)
+        for name in cm.press.CRITERIA:
+            assert_array_equal(sw[name][i], getattr(crit, name))
+        k = p.solve(np.array([0.0, 0.1]))
+        assert math.atan2(k.centre[0, 1], k.centre[0, 0]) % TAU == pytest.approx(
+            crit.theta_bdc, abs=1e-9
+        )
+        assert k.s[0] == pytest.approx(0.0, abs=1e-15)
+    assert np.ptp(sw["theta_bdc"]) < 1e-9
+
+
+@pytest.mark.parametrize("d", [0.01, 0.02, 0.03, 0.04])
+def test_tied_tdcs_full_working_stroke_from_the_nearest(d):
+    """Two equally high TDCs (φ0 = 0): with k_Sp = 1 the working stroke runs from
+    the one first reached going back from BDC, so it is ok and α_p = θ_B − θ_T. It
+    used to run from whichever rounding picked: for 11 of these 16 through the
+    other TDC (status: moves back up)."""
+    for phi0 in TIED_TDC_PHI0:
+        m = Model(R0, 0.03, d, 0.3, phi0)
+        (tb, yb), (tt, yt) = m.dead_centre(), m.dead_centre(lowest=False)
+        assert _tie(m.extremes(lowest=False), yt - yb)
+        c = m.press().criteria(k_Sp=1.0, omega=1.0)
+        assert c.status == cm.press.STATUS[0]
+        assert c.alpha_p == pytest.approx((tb - tt) % TAU, abs=1e-9)
+        assert c.S_p == pytest.approx(yt - yb, rel=1e-12)
 
 
 def test_acceleration_peak_with_two_near_equal_peaks():

@@ -161,13 +161,17 @@ struct Kin {
     y: f64,
     dy: f64,
     ddy: f64,
+    /// y''' where `order` ≥ 3, else 0.
     dddy: f64,
+    /// y'''' where `order` ≥ 4, else 0.
+    ddddy: f64,
 }
 
 impl Frame {
-    /// Kinematics from cos/sin of θ and of β = −kθ + β0; `third` adds y'''.
+    /// Kinematics from cos/sin of θ and of β = −kθ + β0, with the derivatives
+    /// of y up to `order` (2, 3 or 4).
     #[inline(always)]
-    fn kin(&self, (ct, st): (f64, f64), (cb, sb): (f64, f64), third: bool) -> Kin {
+    fn kin(&self, (ct, st): (f64, f64), (cb, sb): (f64, f64), order: u32) -> Kin {
         let (a, k, d) = (self.a, self.k, self.d);
         let (kd, k2d) = (k * d, k * k * d);
         let (cx, cy) = (a * ct, a * st);
@@ -180,14 +184,23 @@ impl Frame {
         let iw = 1.0 / w;
         let g = u * px1 * iw;
         let h = px1 * px1 + u * px2;
-        let dddy = if third {
+        let (mut dddy, mut ddddy) = (0.0, 0.0);
+        if order >= 3 {
             let k3d = k * k2d;
             let (px3, py3) = (a * st - k3d * sb, -a * ct + k3d * cb);
             let h1 = 3.0 * px1 * px2 + u * px3;
-            py3 + h1 * iw + 3.0 * (g * h + g * g * g) * iw * iw
-        } else {
-            0.0
-        };
+            dddy = py3 + h1 * iw + 3.0 * (g * h + g * g * g) * iw * iw;
+            if order >= 4 {
+                // From w·w''' + 3w'·w'' = −(u'² + u·u'')' by one more
+                // derivative: w'''' = −((u'² + u·u'')'' + 4w'·w''' + 3w''²)/w,
+                // with w' = −g, w'' = −(h + g²)/w, w''' = py3 − y'''.
+                let k4d = k * k3d;
+                let (px4, py4) = (a * ct + k4d * cb, a * st + k4d * sb);
+                let h2 = 3.0 * px2 * px2 + 4.0 * px1 * px3 + u * px4;
+                let (w1, w2d, w3) = (-g, -(h + g * g) * iw, py3 - dddy);
+                ddddy = py4 + (h2 + 4.0 * w1 * w3 + 3.0 * w2d * w2d) * iw;
+            }
+        }
         Kin {
             centre: [cx, cy],
             pin: [px, py],
@@ -196,12 +209,13 @@ impl Frame {
             dy: py1 + g,
             ddy: py2 + (h + g * g) * iw,
             dddy,
+            ddddy,
         }
     }
 
     #[inline]
-    fn at(&self, theta: f64, third: bool) -> Kin {
-        self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), third)
+    fn at(&self, theta: f64, order: u32) -> Kin {
+        self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), order)
     }
 }
 
@@ -303,6 +317,13 @@ impl Table {
 /// caller gives its own count.
 pub const DEFAULT_SAMPLES: usize = 360;
 
+/// Dead centres whose heights differ by at most this fraction of the stroke tie
+/// (mirror-symmetric designs have two equally low BDCs or two equally high TDCs,
+/// equal but for rounding). Of tied BDCs the one at the smallest θ in [0, 2π) is
+/// taken; of tied TDCs the first one reached going back from that BDC (so that a
+/// working stroke of k_Sp = 1 runs from the nearest TDC).
+pub const TIE: f64 = 1e-12;
+
 /// Why a design has no criteria (or has them with a warning).
 #[repr(u8)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -397,19 +418,20 @@ fn wrap(x: f64) -> f64 {
 /// (R, r, d, φ0, offset) and reuses it for every L.
 #[derive(Default)]
 pub struct PinScan {
-    u2: Vec<f64>,
-    upx1: Vec<f64>,
-    hh: Vec<f64>,
-    py: Vec<f64>,
-    py1: Vec<f64>,
-    py2: Vec<f64>,
+    /// Rows of the pin path in blocks of [`LANES`] samples, so that the rod scan
+    /// reads whole registers: u², u·P_x', P_x'² + u·P_x'', P_y, P_y', P_y''
+    /// (u = P_x − offset). The last block is padded with copies of sample 0.
+    pin: Vec<[[f64; LANES]; 6]>,
     /// max |P_x − offset| over the turn, exact (sample maximum refined at a root
     /// of P_x'): the rod reaches the guide everywhere iff L exceeds it.
     u_max: f64,
-    // Rows of one rod length.
-    y: Vec<f64>,
-    dy: Vec<f64>,
-    ddy: Vec<f64>,
+    // Rows of one rod length (y, y', y''), in blocks like `pin`.
+    y: Vec<[f64; LANES]>,
+    dy: Vec<[f64; LANES]>,
+    ddy: Vec<[f64; LANES]>,
+    /// Candidates of the |y''| peak, of BDC and of TDC for one rod length (see
+    /// [`scan_rod`]).
+    cands: [Vec<usize>; 3],
 }
 
 impl PinScan {
@@ -417,34 +439,32 @@ impl PinScan {
     fn fill(&mut self, f: &Frame, table: &Table) {
         let m = table.len();
         let (c0, s0) = cos_sin(f.beta0);
-        for v in [
-            &mut self.u2,
-            &mut self.upx1,
-            &mut self.hh,
-            &mut self.py,
-            &mut self.py1,
-            &mut self.py2,
-            &mut self.y,
-            &mut self.dy,
-            &mut self.ddy,
-        ] {
-            v.resize(m, 0.0);
+        let blocks = m.div_ceil(LANES);
+        self.pin.resize(blocks, [[0.0; LANES]; 6]);
+        for v in [&mut self.y, &mut self.dy, &mut self.ddy] {
+            v.resize(blocks, [0.0; LANES]);
         }
         let (a, d, kd, k2d) = (f.a, f.d, f.k * f.d, f.k * f.k * f.d);
         let mut best = (0, -1.0);
-        for j in 0..m {
+        for q in 0..blocks * LANES {
+            let j = if q < m { q } else { 0 };
             let (ct, st) = (table.ct[j], table.st[j]);
             let (tcb, tsb) = (table.cb[j], table.sb[j]);
             let (cb, sb) = (tcb * c0 - tsb * s0, tsb * c0 + tcb * s0);
             let u = a * ct + d * cb - f.e;
             let px1 = -a * st + kd * sb;
             let px2 = -a * ct - k2d * cb;
-            self.u2[j] = u * u;
-            self.upx1[j] = u * px1;
-            self.hh[j] = px1 * px1 + u * px2;
-            self.py[j] = a * st + d * sb;
-            self.py1[j] = a * ct - kd * cb;
-            self.py2[j] = -a * st - k2d * sb;
+            let row = [
+                u * u,
+                u * px1,
+                px1 * px1 + u * px2,
+                a * st + d * sb,
+                a * ct - kd * cb,
+                -a * st - k2d * sb,
+            ];
+            for (col, v) in self.pin[q / LANES].iter_mut().zip(row) {
+                col[q % LANES] = v;
+            }
             if u * u > best.1 {
                 best = (j, u * u);
             }
@@ -531,84 +551,303 @@ fn rtsafe(
     x
 }
 
+/// A Chebyshev step at most this large (relative to 1 + |x|) is taken as the
+/// last: the method's error cubes, so the next one would be below rounding.
+const STEP_LAST: f64 = 1e-7;
+
+/// Root of f on [lo, hi] (f(lo), f(hi) of opposite signs) from `x0` by
+/// Chebyshev's method (Newton's step plus its second-order term), kept inside
+/// the bracket by bisection; `f` returns the value and the first two
+/// derivatives. The second-order term is taken only where it corrects
+/// Newton's step (is below half of it), so far from the root this is Newton.
+fn chebyshev(
+    mut f: impl FnMut(f64) -> (f64, f64, f64),
+    mut lo: f64,
+    mut hi: f64,
+    flo: f64,
+    fhi: f64,
+    x0: f64,
+) -> f64 {
+    if flo == 0.0 {
+        return lo;
+    }
+    if fhi == 0.0 {
+        return hi;
+    }
+    // Orient so that f(lo) < 0.
+    if flo > 0.0 {
+        std::mem::swap(&mut lo, &mut hi);
+    }
+    let mut x = if (x0 - lo) * (x0 - hi) < 0.0 {
+        x0
+    } else {
+        0.5 * (lo + hi)
+    };
+    for _ in 0..60 {
+        let (v, d1, d2) = f(x);
+        if v == 0.0 {
+            return x;
+        }
+        if v < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let r = 1.0 / d1;
+        let newton = -v * r;
+        let second = -0.5 * d2 * r * newton * newton;
+        let step = if second.abs() < 0.5 * newton.abs() {
+            newton + second
+        } else {
+            newton
+        };
+        let tiny = 4.0 * f64::EPSILON * (1.0 + x.abs());
+        if step.abs() <= tiny {
+            return x;
+        }
+        let next = x + step;
+        let inside = (next - lo) * (next - hi) < 0.0;
+        if inside && step.abs() <= STEP_LAST * (1.0 + x.abs()) {
+            return next;
+        }
+        if !inside {
+            // A root within rounding of an end of the bracket: that end (else
+            // the bisections below would creep up on it).
+            for end in [lo, hi] {
+                if (next - end).abs() <= tiny {
+                    return end;
+                }
+            }
+        }
+        let next = if inside { next } else { 0.5 * (lo + hi) };
+        if (next - x).abs() <= 2.0 * f64::EPSILON * (1.0 + x.abs()) {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+/// Root in [a, b] of the cubic that has the values `f` = [f(a), f(b)] (of
+/// opposite signs) and the slopes `df` at the ends (Hermite): Newton on the
+/// cubic from the secant's root, each step kept only if it stays in [a, b].
+fn hermite_root(a: f64, b: f64, [fa, fb]: [f64; 2], [da, db]: [f64; 2]) -> f64 {
+    if fa == 0.0 {
+        return a;
+    }
+    if fb == 0.0 {
+        return b;
+    }
+    // p(s) = fa + m0·s + c2·s² + c3·s³ on s ∈ [0, 1], x = a + s·(b − a).
+    let len = b - a;
+    let (m0, m1) = (len * da, len * db);
+    let c2 = 3.0 * (fb - fa) - 2.0 * m0 - m1;
+    let c3 = 2.0 * (fa - fb) + m0 + m1;
+    let mut s = fa / (fa - fb);
+    for _ in 0..2 {
+        let p = fa + s * (m0 + s * (c2 + s * c3));
+        let dp = m0 + s * (2.0 * c2 + 3.0 * s * c3);
+        let t = s - p / dp;
+        if (0.0..=1.0).contains(&t) {
+            s = t;
+        }
+    }
+    a + s * len
+}
+
+/// Offset from the middle sample of the peak of the quartic through five
+/// samples `f` spaced `h` apart (0 if it is farther than `h`): two Newton steps
+/// on the quartic's slope from its parabola's peak (the quartic itself misses
+/// the function's peak by more than what a third would change).
+fn quartic_peak(f: [f64; 5], h: f64) -> f64 {
+    let [f0, f1, f2, f3, f4] = f;
+    // The quartic's derivatives at the middle sample times h, h², h³, h⁴ (the
+    // five-point stencils); s = x/h.
+    let d1 = (f0 - 8.0 * f1 + 8.0 * f3 - f4) / 12.0;
+    let d2 = (-f0 + 16.0 * f1 - 30.0 * f2 + 16.0 * f3 - f4) / 12.0;
+    let d3 = 0.5 * (-f0 + 2.0 * f1 - 2.0 * f3 + f4);
+    let d4 = f0 - 4.0 * f1 + 6.0 * f2 - 4.0 * f3 + f4;
+    let mut s = -d1 / d2;
+    for _ in 0..2 {
+        let p1 = d1 + s * (d2 + s * (0.5 * d3 + s * d4 / 6.0));
+        let p2 = d2 + s * (d3 + 0.5 * s * d4);
+        s -= p1 / p2;
+    }
+    if s.abs() <= 1.0 {
+        s * h
+    } else {
+        0.0
+    }
+}
+
+/// Lanes of the rod scan: samples computed side by side, each lane with its own
+/// running extremes, merged at the end (one AVX-512 register of f64).
+const LANES: usize = 8;
+
+/// The lowest and the highest sample of y and the largest |y''| (the first of
+/// ties), found by [`scan_rod`].
+struct Extremes {
+    lo: usize,
+    hi: usize,
+    acc: usize,
+}
+
 /// y, y', y'' over the turn for one rod length (L² = `l2`) from the pin path's
-/// rod-independent rows; a separate function so that the slices are known not to
-/// alias and the loop is vectorised.
+/// rod-independent rows, the sample extremes found in the same pass; `m`
+/// samples, in blocks of [`LANES`]. Then, in θ order, the candidates `cands`:
+/// [0] every sampled local maximum of |y''| within 1 % of the largest; [1]
+/// every sampled local minimum of y that may tie with the lowest (BDC) and [2]
+/// every local maximum that may tie with the highest (TDC), see [`TIE`]. A
+/// separate function so that the blocks are known not to alias and the loops
+/// are vectorised.
 #[inline(never)]
-/// Returns the indices of the lowest and highest sample of y and of the largest
-/// |y''| (the first one of ties).
-fn scan_rod(l2: f64, pin: [&[f64]; 6], out: [&mut Vec<f64>; 3]) -> [usize; 3] {
-    pulp::Arch::new().dispatch(RodScan { l2, pin, out })
+fn scan_rod(
+    l2: f64,
+    m: usize,
+    pin: &[[[f64; LANES]; 6]],
+    out: [&mut [[f64; LANES]]; 3],
+    cands: &mut [Vec<usize>; 3],
+) -> Extremes {
+    pulp::Arch::new().dispatch(RodScan {
+        l2,
+        m,
+        pin,
+        out,
+        cands,
+    })
 }
 
-/// Lanes of the extreme search: independent running extremes, merged at the end.
-const LANES: usize = 4;
-
-/// Index of the first smallest of `key(x)` (`sign` = 1) or of the first largest
-/// (`sign` = −1), `LANES` comparisons at a time without branches.
-#[inline(always)]
-fn arg_extreme(x: &[f64], sign: f64, key: impl Fn(f64) -> f64) -> usize {
-    let mut best = [f64::INFINITY; LANES];
-    let mut at = [0.0f64; LANES];
-    let blocks = x.chunks_exact(LANES);
-    let rest = blocks.remainder();
-    for (b, block) in blocks.enumerate() {
-        let base = (b * LANES) as f64;
-        for l in 0..LANES {
-            let v = sign * key(block[l]);
-            let lt = v < best[l];
-            best[l] = if lt { v } else { best[l] };
-            at[l] = if lt { base + l as f64 } else { at[l] };
-        }
-    }
-    let (mut v, mut i) = (f64::INFINITY, 0usize);
-    for l in 0..LANES {
-        let j = at[l] as usize;
-        if best[l] < v || (best[l] == v && j < i) {
-            (v, i) = (best[l], j);
-        }
-    }
-    let start = x.len() - rest.len();
-    for (k, &r) in rest.iter().enumerate() {
-        if sign * key(r) < v {
-            (v, i) = (sign * key(r), start + k);
-        }
-    }
-    i
-}
-
-/// [`scan_rod`]'s loop, compiled once per instruction set (AVX2 + FMA where the
-/// processor has them, plain SSE2 otherwise) and picked at run time.
+/// [`scan_rod`]'s loops, compiled once per instruction set (AVX-512 or AVX2 +
+/// FMA where the processor has them, plain SSE2 otherwise) and picked at run
+/// time.
 struct RodScan<'a, 'b> {
     l2: f64,
-    pin: [&'a [f64]; 6],
-    out: [&'b mut Vec<f64>; 3],
+    m: usize,
+    pin: &'a [[[f64; LANES]; 6]],
+    out: [&'b mut [[f64; LANES]]; 3],
+    cands: &'b mut [Vec<usize>; 3],
 }
 
 impl pulp::WithSimd for RodScan<'_, '_> {
-    type Output = [usize; 3];
+    type Output = Extremes;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) -> [usize; 3] {
-        let RodScan { l2, pin, out } = self;
-        let [u2, upx1, hh, py, py1, py2] = pin;
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> Extremes {
+        let RodScan {
+            l2,
+            m,
+            pin,
+            out,
+            cands,
+        } = self;
         let [y, dy, ddy] = out;
-        let m = u2.len();
-        let (y, dy, ddy) = (&mut y[..m], &mut dy[..m], &mut ddy[..m]);
-        let (upx1, hh, py, py1, py2) = (&upx1[..m], &hh[..m], &py[..m], &py1[..m], &py2[..m]);
-        for j in 0..m {
-            let w = (l2 - u2[j]).sqrt();
-            let iw = 1.0 / w;
-            let g = upx1[j] * iw;
-            y[j] = py[j] - w;
-            dy[j] = py1[j] + g;
-            ddy[j] = py2[j] + (hh[j] + g * g) * iw;
+        // Per lane of a block, the running minima of the keys y (BDC), −y (TDC)
+        // and −|y''| (the acceleration peak), and the index (an f64, a lane of
+        // the same register type) where the lane first met each.
+        let mut best = [[f64::INFINITY; LANES]; 3];
+        let mut best_at = [[0.0f64; LANES]; 3];
+        let mut at: [f64; LANES] = std::array::from_fn(|l| l as f64);
+        let (l2, one) = (simd.splat_f64s(l2), simd.splat_f64s(1.0));
+        let step = simd.splat_f64s(LANES as f64);
+        let rows = y.iter_mut().zip(dy.iter_mut()).zip(ddy.iter_mut());
+        for (p, ((yc, dyc), ddyc)) in pin.iter().zip(rows) {
+            let [u2, upx1, hh, py, py1, py2] = p.each_ref().map(|c| S::as_simd_f64s(c).0);
+            let (yv, dyv, ddyv) = (
+                S::as_mut_simd_f64s(yc).0,
+                S::as_mut_simd_f64s(dyc).0,
+                S::as_mut_simd_f64s(ddyc).0,
+            );
+            let [b0, b1, b2] = best.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
+            let [a0, a1, a2] = best_at.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
+            let atv = S::as_mut_simd_f64s(&mut at).0;
+            for v in 0..atv.len() {
+                let w = simd.sqrt_f64s(simd.sub_f64s(l2, u2[v]));
+                let iw = simd.div_f64s(one, w);
+                let g = simd.mul_f64s(upx1[v], iw);
+                let yy = simd.sub_f64s(py[v], w);
+                let hg = simd.add_f64s(hh[v], simd.mul_f64s(g, g));
+                let dd = simd.add_f64s(py2[v], simd.mul_f64s(hg, iw));
+                yv[v] = yy;
+                dyv[v] = simd.add_f64s(py1[v], g);
+                ddyv[v] = dd;
+                let keys = [yy, simd.neg_f64s(yy), simd.neg_f64s(simd.abs_f64s(dd))];
+                let trackers = [
+                    (&mut *b0, &mut *a0),
+                    (&mut *b1, &mut *a1),
+                    (&mut *b2, &mut *a2),
+                ];
+                for (k, (bk, ak)) in keys.into_iter().zip(trackers) {
+                    let lt = simd.less_than_f64s(k, bk[v]);
+                    bk[v] = simd.select_f64s(lt, k, bk[v]);
+                    ak[v] = simd.select_f64s(lt, atv[v], ak[v]);
+                }
+                atv[v] = simd.add_f64s(atv[v], step);
+            }
         }
-        [
-            arg_extreme(y, 1.0, |v| v),
-            arg_extreme(y, -1.0, |v| v),
-            arg_extreme(ddy, -1.0, f64::abs),
-        ]
+        // Merge the lanes: the smallest key, the first index of ties.
+        let [(vlo, lo), (vhi, hi), (vacc, acc)] = std::array::from_fn(|k| {
+            let (mut v, mut i) = (f64::INFINITY, 0.0);
+            for l in 0..LANES {
+                let (b, a) = (best[k][l], best_at[k][l]);
+                if b < v || (b == v && a < i) {
+                    (v, i) = (b, a);
+                }
+            }
+            (v, i as usize)
+        });
+        // Candidates: local maxima of |y''| within 1 % of the largest, and local
+        // extremes of y within `band` of the lowest and the highest sample. A
+        // true extreme is at most max|y''|·h²/8 beyond its nearest sample, so
+        // one that ties with the lowest (highest) has a sample in the band (with
+        // twice the sampled max|y''| for the sampling of |y''| itself).
+        let (ylo, yhi) = (vlo, -vhi);
+        let h = TAU / m as f64;
+        let band =
+            0.25 * -vacc * h * h + TIE * (yhi - ylo) + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
+        let (thr, thr_lo, thr_hi) = (0.99 * -vacc, ylo + band, yhi - band);
+        let [peaks, lows, highs] = cands;
+        for c in [&mut *peaks, &mut *lows, &mut *highs] {
+            c.clear();
+        }
+        let (ys, ddys) = (&y.as_flattened()[..m], &ddy.as_flattened()[..m]);
+        let prev = |q: usize| if q == 0 { m - 1 } else { q - 1 };
+        let next = |q: usize| if q + 1 == m { 0 } else { q + 1 };
+        // A block with no sample in any of the three ranges is passed over in
+        // one test.
+        let [tv, tlo, thi] = [thr, thr_lo, thr_hi].map(|t| simd.splat_f64s(t));
+        let high = |yv: S::f64s, ddyv: S::f64s| {
+            let acc = simd.greater_than_or_equal_f64s(simd.abs_f64s(ddyv), tv);
+            let low = simd.less_than_or_equal_f64s(yv, tlo);
+            let top = simd.greater_than_or_equal_f64s(yv, thi);
+            simd.or_m64s(acc, simd.or_m64s(low, top))
+        };
+        for (c, (yb, ddyb)) in y.iter().zip(ddy.iter()).enumerate() {
+            let (yv, ddyv) = (S::as_simd_f64s(yb).0, S::as_simd_f64s(ddyb).0);
+            let hit = (1..yv.len()).fold(high(yv[0], ddyv[0]), |a, v| {
+                simd.or_m64s(a, high(yv[v], ddyv[v]))
+            });
+            if simd.first_true_m64s(hit) == S::F64_LANES {
+                continue;
+            }
+            for q in c * LANES..(c * LANES + LANES).min(m) {
+                let (yq, aq) = (ys[q], ddys[q].abs());
+                let (is_acc, is_lo, is_hi) = (aq >= thr, yq <= thr_lo, yq >= thr_hi);
+                if !(is_acc || is_lo || is_hi) {
+                    continue;
+                }
+                let (qp, qn) = (prev(q), next(q));
+                if is_acc && aq >= ddys[qp].abs() && aq >= ddys[qn].abs() {
+                    peaks.push(q);
+                }
+                if is_lo && yq <= ys[qp] && yq <= ys[qn] {
+                    lows.push(q);
+                }
+                if is_hi && yq >= ys[qp] && yq >= ys[qn] {
+                    highs.push(q);
+                }
+            }
+        }
+        Extremes { lo, hi, acc }
     }
 }
 
@@ -627,57 +866,102 @@ fn criteria_with(
         return Status::NoReach;
     }
     let l2 = f.l * f.l;
-    let at = |x: f64, third: bool| f.at(x, third);
+    let at = |x: f64, order: u32| f.at(x, order);
     // One branch-free pass over the turn (vectorised): height, slope, curvature.
-    let [j_lo, j_hi, j_acc] = {
+    let Extremes {
+        lo: j_lo,
+        hi: j_hi,
+        acc: j_acc,
+    } = {
         let PinScan {
-            u2,
-            upx1,
-            hh,
-            py,
-            py1,
-            py2,
+            pin,
             y,
             dy,
             ddy,
+            cands,
             ..
         } = &mut *scan;
-        scan_rod(l2, [u2, upx1, hh, py, py1, py2], [y, dy, ddy])
+        scan_rod(l2, m, pin, [y, dy, ddy], cands)
     };
-    let (ys, dys, ddys) = (&scan.y[..m], &scan.dy[..m], &scan.ddy[..m]);
+    let (ys, dys, ddys) = (
+        &scan.y.as_flattened()[..m],
+        &scan.dy.as_flattened()[..m],
+        &scan.ddy.as_flattened()[..m],
+    );
     let h = TAU / m as f64;
-    let prev = |j: usize| (j + m - 1) % m;
-    let next = |j: usize| (j + 1) % m;
+    // Neighbours on the turn (a compare, not a division: `prev` is on the
+    // walk's chain of dependent steps).
+    let prev = |j: usize| if j == 0 { m - 1 } else { j - 1 };
+    let next = |j: usize| if j + 1 == m { 0 } else { j + 1 };
     // Dead centres: roots of y' between the neighbours of the sample extremes,
-    // by Newton with y'', the first step taken from the sample's own y', y''.
-    // Each returns (θ, y, y'') there, y and y'' carried from the last evaluation
-    // by Taylor (its distance to the root is below the last Newton step).
+    // started from the root of the cubic that matches the samples' y', y'' on
+    // the sample interval holding it (off by ~h⁴·y⁽⁵⁾/(384·y'')), then
+    // Chebyshev steps on y'. Each returns (θ, y, y'') there, y and y'' carried
+    // from the last evaluation by Taylor.
     let dead = |j: usize| -> (f64, f64, f64) {
         let th = table.theta(j);
-        let (glo, ghi) = (dys[prev(j)], dys[next(j)]);
+        let (jl, jr) = (prev(j), next(j));
+        let (glo, ghi) = (dys[jl], dys[jr]);
         if glo * ghi < 0.0 {
-            let mut last = (th, None);
-            let g = |x: f64| {
-                let k = at(x, false);
-                last = (x, Some(k));
-                (k.dy, k.ddy)
+            let x0 = if (dys[j] < 0.0) == (glo < 0.0) {
+                hermite_root(th, th + h, [dys[j], ghi], [ddys[j], ddys[jr]])
+            } else {
+                hermite_root(th - h, th, [glo, dys[j]], [ddys[jl], ddys[j]])
             };
-            let t = rtsafe(g, th - h, th + h, glo, ghi, th - dys[j] / ddys[j]);
+            let mut last = None;
+            let g = |x: f64| {
+                let k = at(x, 3);
+                last = Some((x, k));
+                (k.dy, k.ddy, k.dddy)
+            };
+            let t = chebyshev(g, th - h, th + h, glo, ghi, x0);
             match last {
-                (x, Some(k)) => {
+                Some((x, k)) => {
                     let e = t - x;
-                    (t, k.y + e * (k.dy + 0.5 * e * k.ddy), k.ddy)
+                    let y = k.y + e * (k.dy + e * (0.5 * k.ddy + e * k.dddy / 6.0));
+                    (t, y, k.ddy + e * k.dddy)
                 }
-                _ => (t, ys[j], ddys[j]),
+                None => (t, ys[j], ddys[j]),
             }
         } else {
             (th, ys[j], ddys[j])
         }
     };
-    let (th_b, y_b, ddy_b) = dead(j_lo);
-    let (th_t, y_t, ddy_t) = dead(j_hi);
-    let y_t = y_t.max(ys[j_hi]);
-    let y_b = y_b.min(ys[j_lo]);
+    // Each candidate refined (its sample kept if that is beyond the root).
+    let [acc_peaks, lows, highs] = &scan.cands;
+    let low = |q: usize| {
+        let (t, y, ddy) = dead(q);
+        (t, y.min(ys[q]), ddy, q)
+    };
+    let high = |q: usize| {
+        let (t, y, ddy) = dead(q);
+        (t, y.max(ys[q]), ddy, q)
+    };
+    // Usually one candidate each (the sample extreme); more only near a tie
+    // (see [`TIE`]).
+    let (b, t) = if lows.len() <= 1 && highs.len() <= 1 {
+        (low(j_lo), high(j_hi))
+    } else {
+        let lows: Vec<_> = lows.iter().map(|&q| low(q)).collect();
+        let highs: Vec<_> = highs.iter().map(|&q| high(q)).collect();
+        let y_min = lows.iter().fold(f64::INFINITY, |a, c| a.min(c.1));
+        let y_max = highs.iter().fold(f64::NEG_INFINITY, |a, c| a.max(c.1));
+        let tol = TIE * (y_max - y_min);
+        let b = lows
+            .iter()
+            .filter(|c| c.1 <= y_min + tol)
+            .min_by(|p, q| wrap(p.0).total_cmp(&wrap(q.0)))
+            .copied()
+            .unwrap_or_else(|| low(j_lo));
+        let t = highs
+            .iter()
+            .filter(|c| c.1 >= y_max - tol)
+            .min_by(|p, q| wrap(b.0 - p.0).total_cmp(&wrap(b.0 - q.0)))
+            .copied()
+            .unwrap_or_else(|| high(j_hi));
+        (b, t)
+    };
+    let ((th_b, y_b, ddy_b, j_b), (th_t, y_t, ddy_t, _)) = (b, t);
     let s_n = y_t - y_b;
     let s_p = match spec.stroke {
         Stroke::Fraction(k) => k * s_n,
@@ -693,49 +977,49 @@ fn criteria_with(
     // S_p. TDC joins the walk as a point of its own (it is rarely a sample), so
     // that k_Sp = 1 ends there. On the way, watch Π' = −y' and bracket each of its
     // local maxima: dΠ'/dθ = −y'' turns from + to − between two points.
-    let mut status = Status::Ok;
-    let mut j = j_lo;
+    let mut j = j_b;
     if table.theta(j) >= th_b {
         j = prev(j);
     }
     let mut theta_j = th_b - wrap(th_b - table.theta(j));
     let th_top = th_b - wrap(th_b - th_t);
     let mut top_pending = th_top < th_b;
-    // The point after the current one in θ: (θ, S, −y'').
-    let (mut nx_th, mut nx_s, mut nx_g) = (th_b, 0.0, -ddy_b);
+    // The point after the current one in θ: (θ, S, y', −y'').
+    let (mut nx_th, mut nx_s, mut nx_dy, mut nx_g) = (th_b, 0.0, 0.0, -ddy_b);
     // Brackets (θ_lo, θ_hi, y''(θ_lo), y''(θ_hi)) of the speed peaks.
     let mut peaks: [(f64, f64, f64, f64); 4] = [(0.0, 0.0, 0.0, 0.0); 4];
     let mut n_peaks = 0;
-    let mut best_v = f64::NEG_INFINITY;
+    // The extremes of y' over the points passed (Π' = −y').
+    let (mut dy_min, mut dy_max) = (f64::INFINITY, f64::NEG_INFINITY);
     let mut th_p = f64::NAN;
-    let mut kp: (f64, Option<Kin>) = (f64::NAN, None);
+    let mut kp: Option<(f64, Kin)> = None;
     for _ in 0..=m + 1 {
         // The next point back: TDC if it lies before the next sample.
-        let (th, s, v, g, sample) = if top_pending && th_top >= theta_j {
+        let (th, s, dy, g, sample) = if top_pending && th_top >= theta_j {
             top_pending = false;
             (th_top, s_n, 0.0, -ddy_t, false)
         } else {
-            (theta_j, ys[j] - y_b, -dys[j], -ddys[j], true)
+            (theta_j, ys[j] - y_b, dys[j], -ddys[j], true)
         };
         if s >= s_p {
+            // S = S_p between this point and the next: from the root of the
+            // cubic through their S and S' = y', Chebyshev steps on S − S_p.
             let g = |x: f64| {
-                let k = at(x, false);
-                kp = (x, Some(k));
-                (k.y - y_b - s_p, k.dy)
+                let k = at(x, 3);
+                kp = Some((x, k));
+                (k.y - y_b - s_p, k.dy, k.ddy)
             };
-            let guess = th + (nx_th - th) * (s - s_p) / (s - nx_s);
-            th_p = rtsafe(g, th, nx_th, s - s_p, nx_s - s_p, guess);
+            let guess = hermite_root(th, nx_th, [s - s_p, nx_s - s_p], [dy, nx_dy]);
+            th_p = chebyshev(g, th, nx_th, s - s_p, nx_s - s_p, guess);
             break;
         }
-        if v < -1e-12 * s_n {
-            status = Status::Reverses;
-        }
-        best_v = best_v.max(v);
+        dy_min = if dy < dy_min { dy } else { dy_min };
+        dy_max = if dy > dy_max { dy } else { dy_max };
         if g > 0.0 && nx_g < 0.0 && n_peaks < peaks.len() {
             peaks[n_peaks] = (th, nx_th, -g, -nx_g);
             n_peaks += 1;
         }
-        (nx_th, nx_s, nx_g) = (th, s, g);
+        (nx_th, nx_s, nx_dy, nx_g) = (th, s, dy, g);
         if sample {
             j = prev(j);
             theta_j -= h;
@@ -745,13 +1029,24 @@ fn criteria_with(
         // Unreachable when S_p ≤ S_n (the walk meets TDC), kept as a guard.
         return Status::LongStroke;
     }
+    let (best_v, status) = (
+        -dy_min,
+        if -dy_max < -1e-12 * s_n {
+            Status::Reverses
+        } else {
+            Status::Ok
+        },
+    );
     let alpha_p = th_b - th_p;
     // y', y'' at the start of the working stroke, by Taylor from the last
     // evaluation of its search.
     let (dy_p, ddy_p) = match kp {
-        (x, Some(k)) => (k.dy + (th_p - x) * k.ddy, k.ddy),
-        _ => {
-            let k = at(th_p, false);
+        Some((x, k)) => {
+            let e = th_p - x;
+            (k.dy + e * (k.ddy + 0.5 * e * k.dddy), k.ddy + e * k.dddy)
+        }
+        None => {
+            let k = at(th_p, 2);
             (k.dy, k.ddy)
         }
     };
@@ -761,53 +1056,62 @@ fn criteria_with(
         peaks[n_peaks] = (th_p, nx_th, ddy_p, -nx_g);
         n_peaks += 1;
     }
-    // Speed peaks inside the working stroke: roots of y'' by Newton with y''',
+    // Speed peaks inside the working stroke: roots of y'' by Chebyshev steps
     // from the secant of the bracket's ends; Π' there by Taylor from the last
     // evaluation.
     let mut v_max = v_np.max(best_v);
     for &(lo, hi, glo, ghi) in &peaks[..n_peaks] {
         if glo * ghi < 0.0 {
-            let mut last = (lo, None);
+            let mut last = None;
             let g = |x: f64| {
-                let k = at(x, true);
-                last = (x, Some(k));
-                (k.ddy, k.dddy)
+                let k = at(x, 4);
+                last = Some((x, k));
+                (k.ddy, k.dddy, k.ddddy)
             };
-            let t = rtsafe(g, lo, hi, glo, ghi, lo + (hi - lo) * glo / (glo - ghi));
+            let t = chebyshev(g, lo, hi, glo, ghi, lo + (hi - lo) * glo / (glo - ghi));
             let dy = match last {
-                (x, Some(k)) => {
+                Some((x, k)) => {
                     let e = t - x;
-                    k.dy + e * (k.ddy + 0.5 * e * k.dddy)
+                    k.dy + e * (k.ddy + e * (0.5 * k.dddy + e * k.ddddy / 6.0))
                 }
-                _ => at(t, false).dy,
+                None => at(t, 2).dy,
             };
             v_max = v_max.max(-dy);
         }
     }
     // Acceleration peak over the turn: every sampled local maximum of |y''| within
-    // 1 % of the largest, refined at a root of y''' (near-ties go either way).
+    // 1 % of the largest, refined at a root of y'''. One evaluation each, at the
+    // peak of the quartic through the five samples around it (off by ~h⁴·y⁽⁷⁾/
+    // (30·y'''')); the peak of the Taylor parabola there is the value, unless
+    // that is more than a last step away, when a bracketed search follows.
     let acc = ddys[j_acc].abs();
     let mut a_max = acc;
-    for q in 0..m {
-        let aq = ddys[q].abs();
-        if aq < 0.99 * acc || aq < ddys[prev(q)].abs() || aq < ddys[next(q)].abs() {
-            continue;
-        }
+    for &q in acc_peaks {
         let th_a = table.theta(q);
         let sgn = ddys[q].signum();
+        let (q1, q2) = (prev(q), next(q));
+        let five = [prev(q1), q1, q, q2, next(q2)].map(|i| sgn * ddys[i]);
+        let t0 = th_a + quartic_peak(five, h);
+        let k = at(t0, 4);
+        let (v1, v2) = (sgn * k.dddy, sgn * k.ddddy);
+        let e = -v1 / v2;
+        if v2 < 0.0 && (t0 + e - th_a).abs() < h && e.abs() <= STEP_LAST * (1.0 + t0.abs()) {
+            a_max = a_max.max((k.ddy + 0.5 * e * k.dddy).abs());
+            continue;
+        }
         let (lo, hi) = (th_a - h, th_a + h);
-        let (glo, ghi) = (sgn * at(lo, true).dddy, sgn * at(hi, true).dddy);
+        let (glo, ghi) = (sgn * at(lo, 3).dddy, sgn * at(hi, 3).dddy);
         if glo > 0.0 && ghi < 0.0 {
-            let mut last = (lo, None);
-            let g3 = |x: f64| {
-                let k = at(x, true);
-                last = (x, Some(k));
-                sgn * k.dddy
+            let mut last = None;
+            let g = |x: f64| {
+                let k = at(x, 4);
+                last = Some((x, k));
+                (sgn * k.dddy, sgn * k.ddddy, 0.0)
             };
-            let t = root(g3, lo, hi, glo, ghi, 1e-9 * h);
+            let t = chebyshev(g, lo, hi, glo, ghi, th_a);
             let ddy = match last {
-                (x, Some(k)) => k.ddy + (t - x) * k.dddy,
-                _ => at(t, false).ddy,
+                Some((x, k)) => k.ddy + (t - x) * k.dddy,
+                None => at(t, 2).ddy,
             };
             a_max = a_max.max(ddy.abs());
         }
@@ -997,28 +1301,54 @@ pub struct KinOut<'a> {
 
 /// The BDC of a design: (θ_B, y_B), the lowest slider position over the turn
 /// (over its assembled part if the rod cannot reach everywhere; None if nowhere).
+/// Of BDCs that tie (see [`TIE`]), the one at the smallest θ in [0, 2π).
 pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
     let f = design.frame();
     let h = TAU / samples as f64;
-    let mut best: Option<(usize, f64)> = None;
+    // y over the turn, +∞ where the rod does not reach (never a minimum).
+    let mut ys = Vec::with_capacity(samples);
+    let (mut lo, mut hi, mut acc) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
     for j in 0..samples {
-        let k = f.at(h * j as f64, false);
-        if k.w2 > 0.0 && best.is_none_or(|(_, y)| k.y < y) {
-            best = Some((j, k.y));
+        let k = f.at(h * j as f64, 2);
+        if k.w2 > 0.0 {
+            ys.push(k.y);
+            (lo, hi, acc) = (lo.min(k.y), hi.max(k.y), acc.max(k.ddy.abs()));
+        } else {
+            ys.push(f64::INFINITY);
         }
     }
-    let (j, y) = best?;
-    let th = h * j as f64;
-    let (lo, hi) = (th - h, th + h);
-    let (klo, khi) = (f.at(lo, false), f.at(hi, false));
-    if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
-        let t = root(|x| f.at(x, false).dy, lo, hi, klo.dy, khi.dy, 0.0);
-        let yt = f.at(t, false).y;
-        if yt <= y {
-            return Some((wrap(t), yt));
-        }
+    if lo == f64::INFINITY {
+        return None;
     }
-    Some((wrap(th), y))
+    // Every sampled local minimum that may tie with the lowest (as in
+    // `scan_rod`), refined at a root of y' where its neighbours bracket one.
+    let band = 0.25 * acc * h * h + TIE * (hi - lo) + 8.0 * f64::EPSILON * (lo.abs() + hi.abs());
+    let n = samples;
+    let refine = |j: usize| -> (f64, f64) {
+        let (th, y) = (h * j as f64, ys[j]);
+        let (lo, hi) = (th - h, th + h);
+        let (klo, khi) = (f.at(lo, 2), f.at(hi, 2));
+        if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
+            let t = root(|x| f.at(x, 2).dy, lo, hi, klo.dy, khi.dy, 0.0);
+            let yt = f.at(t, 2).y;
+            if yt <= y {
+                return (wrap(t), yt);
+            }
+        }
+        (wrap(th), y)
+    };
+    let found: Vec<(f64, f64)> = (0..n)
+        .filter(|&j| {
+            let y = ys[j];
+            y <= lo + band && y <= ys[(j + n - 1) % n] && y <= ys[(j + 1) % n]
+        })
+        .map(refine)
+        .collect();
+    let y_min = found.iter().fold(f64::INFINITY, |a, c| a.min(c.1));
+    found
+        .into_iter()
+        .filter(|c| c.1 <= y_min + TIE * (hi - lo))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
 }
 
 /// One chunk of the outputs of [`solve_into`].
@@ -1073,7 +1403,7 @@ pub fn solve_into(
             let flat = start + q;
             let (f, b) = &frames[flat / n];
             let a = alpha[flat % n];
-            let kin = b.map(|(th_b, y_b)| (f.at(th_b - a, false), y_b));
+            let kin = b.map(|(th_b, y_b)| (f.at(th_b - a, 2), y_b));
             match kin {
                 Some((kin, y_b)) if kin.w2 > 0.0 => {
                     s[q] = kin.y - y_b;
@@ -1094,7 +1424,7 @@ pub fn solve_into(
                     match b {
                         // The crank still turns: centre and pin are known.
                         Some((th_b, _)) => {
-                            let kin = f.at(th_b - a, false);
+                            let kin = f.at(th_b - a, 2);
                             centre[2 * q..2 * q + 2].copy_from_slice(&kin.centre);
                             pin[2 * q..2 * q + 2].copy_from_slice(&kin.pin);
                         }
@@ -1180,7 +1510,7 @@ mod tests {
         // The rod loop and extreme search compiled for scalar code, AVX2 and
         // AVX-512 (those the processor has): the same values and indices.
         use pulp::Simd;
-        let m = 361;
+        let m: usize = 361;
         let col =
             |f: &dyn Fn(f64) -> f64| (0..m).map(|j| f(j as f64 * 0.0174)).collect::<Vec<f64>>();
         let u2 = col(&|x| 0.01 * (1.0 + x.sin()).powi(2));
@@ -1188,25 +1518,79 @@ mod tests {
         let hh = col(&|x| 0.001 * (2.0 * x).sin());
         let mut py = col(&|x| 0.3 * (x * 0.5).cos());
         py[200..210].fill(-0.4); // a dip: the lowest point is in it
-        let py1 = col(&|x| -0.15 * (x * 0.5).sin());
-        let py2 = col(&|x| -0.075 * (x * 0.5).cos());
+        let mut py1 = col(&|x| -0.15 * (x * 0.5).sin());
+        let mut py2 = col(&|x| -0.075 * (x * 0.5).cos());
+        // Equal lowest samples in three lanes and in the remainder: the first wins.
+        py[202] = -0.5;
+        let (mut u2, mut upx1, mut hh) = (u2, upx1, hh);
+        for j in [203, 207, 360] {
+            for v in [&mut u2, &mut upx1, &mut hh, &mut py, &mut py1, &mut py2] {
+                v[j] = v[202];
+            }
+        }
+        // In blocks of LANES samples, the last one padded with sample 0 (as
+        // PinScan::fill does).
+        let nb = m.div_ceil(LANES);
+        let cols = [&u2, &upx1, &hh, &py, &py1, &py2];
+        let pin: Vec<[[f64; LANES]; 6]> = (0..nb)
+            .map(|b| {
+                std::array::from_fn(|k| {
+                    std::array::from_fn(|l| {
+                        let j = b * LANES + l;
+                        cols[k][if j < m { j } else { 0 }]
+                    })
+                })
+            })
+            .collect();
         let runs = on_each_isa!(|simd| {
-            let (mut y, mut dy, mut ddy) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-            let idx = Simd::vectorize(
+            let mut rows = vec![vec![[0.0; LANES]; nb]; 3];
+            let mut cands = [Vec::new(), Vec::new(), Vec::new()];
+            let [y, dy, ddy] = &mut rows[..] else {
+                unreachable!()
+            };
+            let ex = Simd::vectorize(
                 simd,
                 RodScan {
                     l2: 0.09,
-                    pin: [&u2, &upx1, &hh, &py, &py1, &py2],
-                    out: [&mut y, &mut dy, &mut ddy],
+                    m,
+                    pin: &pin,
+                    out: [y, dy, ddy],
+                    cands: &mut cands,
                 },
             );
-            (idx, y, dy, ddy)
+            let flat = |v: &Vec<[f64; LANES]>| v.as_flattened()[..m].to_vec();
+            ([ex.lo, ex.hi, ex.acc], cands, flat(y), flat(dy), flat(ddy))
         });
         let (_, first) = &runs[0];
-        let y = &first.1;
+        let (y, ddy) = (&first.2, &first.4);
         let lowest = (0..m).fold(0, |b, j| if y[j] < y[b] { j } else { b });
-        assert_eq!(first.0[0], lowest, "the first lowest sample");
-        assert!((200..210).contains(&lowest), "{lowest}");
+        let highest = (0..m).fold(0, |b, j| if y[j] > y[b] { j } else { b });
+        let steepest = (0..m).fold(0, |b, j| if ddy[j].abs() > ddy[b].abs() { j } else { b });
+        assert_eq!(first.0, [lowest, highest, steepest], "the first extremes");
+        assert_eq!(lowest, 202);
+        // The candidates by brute force: local maxima of |y''| within 1 % of
+        // the largest, local minima (maxima) of y within the band of the lowest
+        // (highest).
+        let a = |j: usize| ddy[j % m].abs();
+        let yc = |j: usize| y[j % m];
+        let peaks: Vec<usize> = (0..m)
+            .filter(|&j| a(j) >= 0.99 * a(steepest) && a(j) >= a(j + m - 1) && a(j) >= a(j + 1))
+            .collect();
+        assert!(peaks.contains(&steepest));
+        let (ylo, yhi) = (y[lowest], y[highest]);
+        let h = TAU / m as f64;
+        let band = 0.25 * a(steepest) * h * h
+            + TIE * (yhi - ylo)
+            + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
+        let lows: Vec<usize> = (0..m)
+            .filter(|&j| yc(j) <= ylo + band && yc(j) <= yc(j + m - 1) && yc(j) <= yc(j + 1))
+            .collect();
+        let highs: Vec<usize> = (0..m)
+            .filter(|&j| yc(j) >= yhi - band && yc(j) >= yc(j + m - 1) && yc(j) >= yc(j + 1))
+            .collect();
+        // The equal lowest samples 202, 203 (a flat pair), 207 and 360.
+        assert_eq!(lows, [202, 203, 207, 360]);
+        assert_eq!(first.1, [peaks, lows, highs]);
         for (isa, run) in &runs {
             assert_eq!(run, first, "{isa}");
         }
@@ -1267,8 +1651,12 @@ mod tests {
             prop_assert!(((ds[2] - ds[0]) / (2.0 * h) - dds[1]).abs() < 1e-6);
             let f = design.frame();
             let th = 1.234 + al;
-            let fd = (f.at(th + h, false).ddy - f.at(th - h, false).ddy) / (2.0 * h);
-            prop_assert!((fd - f.at(th, true).dddy).abs() < 1e-6);
+            let fd = (f.at(th + h, 2).ddy - f.at(th - h, 2).ddy) / (2.0 * h);
+            prop_assert!((fd - f.at(th, 3).dddy).abs() < 1e-6);
+            let fd = (f.at(th + h, 3).dddy - f.at(th - h, 3).dddy) / (2.0 * h);
+            let k = f.at(th, 4);
+            prop_assert!((fd - k.ddddy).abs() < 1e-5 * (1.0 + k.ddddy.abs()), "{fd} {}", k.ddddy);
+            prop_assert_eq!(k.dddy, f.at(th, 3).dddy);
         }
     }
 }
