@@ -104,6 +104,13 @@ class PressCriteria:
     constant deformation force); ``theta_bdc`` the carrier angle of BDC. ``status``
     says why a design fails (``ok`` False: its criteria are NaN, except for a
     slider that moves back up during the working stroke, which keeps them).
+
+    Mirror-symmetric designs (no offset, e.g. i = 3 with φ0 = π/3) have two equally
+    low BDCs or two equally high TDCs. Dead centres within 1e-12 of the stroke tie;
+    of tied BDCs the one at the smallest carrier angle in [0, 2π) is taken, of tied
+    TDCs the first reached going back from that BDC, so every way of writing φ0
+    gives the same criteria (and :meth:`GearLeverPress.solve` counts α from the same
+    BDC).
     """
 
     S_n: float
