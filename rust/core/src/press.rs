@@ -486,7 +486,11 @@ impl PinScan {
         let (glo, ghi) = (g(lo).0, g(hi).0);
         self.u_max = best.1.sqrt();
         if glo > 0.0 && ghi < 0.0 {
-            let t = rtsafe(g, lo, hi, glo, ghi, th);
+            let newton = |t: f64| {
+                let (v, d) = g(t);
+                (v, d, 0.0)
+            };
+            let t = chebyshev(newton, lo, hi, glo, ghi, th, NEWTON_LAST);
             self.u_max = self.u_max.max(ux(t).0.abs());
         }
     }
@@ -494,62 +498,6 @@ impl PinScan {
 
 /// A Newton step at most this large (relative to 1 + |x|) is taken as the last.
 const NEWTON_LAST: f64 = 1e-9;
-
-/// Root of f on [lo, hi] (f(lo), f(hi) of opposite signs) by Newton's method
-/// from `x0`, kept inside the bracket by bisection (`rtsafe`); `f` returns the
-/// value and the derivative.
-fn rtsafe(
-    mut f: impl FnMut(f64) -> (f64, f64),
-    mut lo: f64,
-    mut hi: f64,
-    flo: f64,
-    fhi: f64,
-    x0: f64,
-) -> f64 {
-    if flo == 0.0 {
-        return lo;
-    }
-    if fhi == 0.0 {
-        return hi;
-    }
-    // Orient so that f(lo) < 0.
-    if flo > 0.0 {
-        std::mem::swap(&mut lo, &mut hi);
-    }
-    let mut x = if (x0 - lo) * (x0 - hi) < 0.0 {
-        x0
-    } else {
-        0.5 * (lo + hi)
-    };
-    for _ in 0..60 {
-        let (v, dv) = f(x);
-        if v == 0.0 {
-            return x;
-        }
-        if v < 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let step = v / dv;
-        if step.abs() <= 4.0 * f64::EPSILON * (1.0 + x.abs()) {
-            return x;
-        }
-        let newton = x - step;
-        let inside = (newton - lo) * (newton - hi) < 0.0;
-        // Newton's error squares: after a step of 1e-9 the next one is below
-        // rounding, so the step is the last (one evaluation fewer per root).
-        if inside && step.abs() <= NEWTON_LAST * (1.0 + x.abs()) {
-            return newton;
-        }
-        let next = if inside { newton } else { 0.5 * (lo + hi) };
-        if (next - x).abs() <= 2.0 * f64::EPSILON * (1.0 + x.abs()) {
-            return next;
-        }
-        x = next;
-    }
-    x
-}
 
 /// A Chebyshev step at most this large (relative to 1 + |x|) is taken as the
 /// last: the method's error cubes, so the next one would be below rounding.
@@ -559,7 +507,10 @@ const STEP_LAST: f64 = 1e-7;
 /// Chebyshev's method (Newton's step plus its second-order term), kept inside
 /// the bracket by bisection; `f` returns the value and the first two
 /// derivatives. The second-order term is taken only where it corrects
-/// Newton's step (is below half of it), so far from the root this is Newton.
+/// Newton's step (is below half of it), so far from the root this is Newton,
+/// and with a zero second derivative it is Newton's method throughout. A step
+/// at most `last` (relative to 1 + |x|) is taken as the last: [`STEP_LAST`]
+/// where the error cubes, [`NEWTON_LAST`] where it squares (Newton).
 fn chebyshev(
     mut f: impl FnMut(f64) -> (f64, f64, f64),
     mut lo: f64,
@@ -567,6 +518,7 @@ fn chebyshev(
     flo: f64,
     fhi: f64,
     x0: f64,
+    last: f64,
 ) -> f64 {
     if flo == 0.0 {
         return lo;
@@ -607,7 +559,7 @@ fn chebyshev(
         }
         let next = x + step;
         let inside = (next - lo) * (next - hi) < 0.0;
-        if inside && step.abs() <= STEP_LAST * (1.0 + x.abs()) {
+        if inside && step.abs() <= last * (1.0 + x.abs()) {
             return next;
         }
         if !inside {
@@ -914,7 +866,7 @@ fn criteria_with(
                 last = Some((x, k));
                 (k.dy, k.ddy, k.dddy)
             };
-            let t = chebyshev(g, th - h, th + h, glo, ghi, x0);
+            let t = chebyshev(g, th - h, th + h, glo, ghi, x0, STEP_LAST);
             match last {
                 Some((x, k)) => {
                     let e = t - x;
@@ -1010,7 +962,7 @@ fn criteria_with(
                 (k.y - y_b - s_p, k.dy, k.ddy)
             };
             let guess = hermite_root(th, nx_th, [s - s_p, nx_s - s_p], [dy, nx_dy]);
-            th_p = chebyshev(g, th, nx_th, s - s_p, nx_s - s_p, guess);
+            th_p = chebyshev(g, th, nx_th, s - s_p, nx_s - s_p, guess, STEP_LAST);
             break;
         }
         dy_min = if dy < dy_min { dy } else { dy_min };
@@ -1068,7 +1020,15 @@ fn criteria_with(
                 last = Some((x, k));
                 (k.ddy, k.dddy, k.ddddy)
             };
-            let t = chebyshev(g, lo, hi, glo, ghi, lo + (hi - lo) * glo / (glo - ghi));
+            let t = chebyshev(
+                g,
+                lo,
+                hi,
+                glo,
+                ghi,
+                lo + (hi - lo) * glo / (glo - ghi),
+                STEP_LAST,
+            );
             let dy = match last {
                 Some((x, k)) => {
                     let e = t - x;
@@ -1108,7 +1068,7 @@ fn criteria_with(
                 last = Some((x, k));
                 (sgn * k.dddy, sgn * k.ddddy, 0.0)
             };
-            let t = chebyshev(g, lo, hi, glo, ghi, th_a);
+            let t = chebyshev(g, lo, hi, glo, ghi, th_a, STEP_LAST);
             let ddy = match last {
                 Some((x, k)) => k.ddy + (t - x) * k.dddy,
                 None => at(t, 2).ddy,
