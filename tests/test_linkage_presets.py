@@ -15,7 +15,7 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech.linkage import presets
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
@@ -144,6 +144,12 @@ point = st.tuples(st.floats(-2, 2), st.floats(-2, 2))
 
 @settings(max_examples=60, deadline=None)
 @given(k1=point, k2=point, j=st.tuples(point, point, point), r=st.floats(0.05, 0.3))
+@example(  # a fold between two solved angles (found on a fresh CI machine)
+    k1=(1.6891923048439557, -0.46875),
+    k2=(1.341045470636577, 2.0),
+    j=((0.0, -0.6484375), (1.341045470636577, 2.0), (1.6891923048439557, -0.45555305128012646)),
+    r=0.08,
+)
 def test_random_class_iii_groups_close_move_continuously_and_have_exact_analogs(k1, k2, j, r):
     """Crank A(0,0)–B (r) holds J0; fixed K1, K2 hold J1, J2; J0-J1-J2 a ternary link."""
     j0, j1, j2 = (np.array(p) for p in j)
@@ -199,7 +205,15 @@ def test_random_class_iii_groups_close_move_continuously_and_have_exact_analogs(
     fd, fd2 = (hi.xy - lo.xy) / (2 * h), (hi2.xy - lo2.xy) / (4 * h)
     scale = 1 + np.abs(sol.vel).max(axis=(1, 2))
     fair = np.abs(fd - fd2).max(axis=(1, 2)) <= 1e-6 * scale
-    good = calm & lo.ok & hi.ok & lo2.ok & hi2.ok & fair
+    # One assembly: no walk reports a branch change at or next to the angle (past a
+    # fold the walks may sit on neighbouring branches 1e-9 apart, where the pose is
+    # so ill-conditioned that differences at h = 1e-3 … 1e-6 disagree in the fourth
+    # digit; hypothesis found one).
+    flags = np.zeros(phi.size, bool)
+    for s in (sol, lo, hi, lo2, hi2):
+        flags |= s.branch_change
+    near = flags | np.r_[False, flags[:-1]] | np.r_[flags[1:], False]
+    good = calm & lo.ok & hi.ok & lo2.ok & hi2.ok & fair & ~near
     assume(good.any())
     assert_allclose(sol.vel[good], fd[good], atol=1e-5 * scale[good].max())
 
