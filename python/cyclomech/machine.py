@@ -1014,13 +1014,20 @@ def _stop_slopes(machines: Sequence[Machine], n_threads: int | None) -> Array:
     return np.array(slopes, dtype=np.float64).reshape(len(machines), k)
 
 
+def _stop_bounds(slopes: Array, rpm: Array) -> list[Array]:
+    """Each stop's smallest phase angle [deg] for machine d (stop slopes
+    ``slopes[d]``, (D, K)) at its speeds ``rpm[d]`` (D, M): one (D·M,) array a stop,
+    in the row order of ``rpm.reshape(-1)``."""
+    m = rpm.shape[1]
+    rows = rpm.reshape(-1)
+    return [phase_angles(rows, np.repeat(slopes[:, k], m)) for k in range(slopes.shape[1])]
+
+
 def _fits(net: _Network, slopes: Array, rpm: Array, n_threads: int | None) -> npt.NDArray[np.bool_]:
     """Whether machine d (stop slopes ``slopes[d]``) fits at the speeds ``rpm[d]``,
     (D, M): one shortest-path call for all."""
-    m = rpm.shape[1]
-    rows = rpm.reshape(-1)
-    t_stop = [phase_angles(rows, np.repeat(slopes[:, k], m)) for k in range(slopes.shape[1])]
-    return net.solve(rows, t_stop, n_threads, labels=False)[1].reshape(rpm.shape)
+    t_stop = _stop_bounds(slopes, rpm)
+    return net.solve(rpm.reshape(-1), t_stop, n_threads, labels=False)[1].reshape(rpm.shape)
 
 
 def _cyclogram_limits(
@@ -1087,23 +1094,20 @@ def speed_sweeps(
         net, D = ms[0]._network, len(ms)
         rows = np.tile(n, D)
         if linear:
-            t_stop = [
-                np.concatenate([m.stop_angles(n, linear=True, n_threads=threads)[k] for m in ms])
-                for k in range(len(net.stop_op))
-            ]
+            each = [m.stop_angles(n, linear=True, n_threads=threads) for m in ms]
+            t_stop = [np.concatenate([t[k] for t in each]) for k in range(len(net.stop_op))]
         else:
             slopes = _stop_slopes(ms, threads)
-            t_stop = [
-                phase_angles(rows, np.repeat(slopes[:, k], S)) for k in range(slopes.shape[1])
-            ]
+            t_stop = _stop_bounds(slopes, rows.reshape(D, S))
         value, fits, binding, mins = net.solve(rows, t_stop, threads)
         rebound = np.full(rows.shape, np.nan)
         for k, e in enumerate(net.stop_op):
             stops = [m.stops[k].stop for m in ms]
-            # Impact speeds v0 = (2π·n/60)·stroke·Z'/t at the operation's optimum
-            # angle (its minimum); 1 m/s where the machine does not fit (dropped).
-            per = np.repeat([_RAD_PER_RPM * s.stroke * s.dz_contact for s in stops], S)
-            v0 = np.where(fits, rows * per / np.radians(np.where(fits, mins[:, e], 1.0)), 1.0)
+            # Impact speeds at the operation's optimum angle t (its minimum): the
+            # angle per rpm at 1 m/s is phase_per_rpm(1), so v0 = n·that/t; 1 m/s
+            # where the machine does not fit (dropped).
+            per = np.repeat([s.phase_per_rpm(1.0) for s in stops], S)
+            v0 = np.where(fits, rows * per / np.where(fits, mins[:, e], 1.0), 1.0)
             a = rebounds(stops, v0.reshape(D, S), n_threads=threads).reshape(-1)
             rebound = np.fmax(rebound, np.where(fits, a, np.nan))
         names = [st.name for st in ms[0].stops]
@@ -1144,7 +1148,7 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
         at = np.flatnonzero((cg > 0.0) & np.isfinite(cg))
         binding = np.full(len(ms), "", dtype=object)
         if at.size:
-            t_stop = [phase_angles(cg[at], slopes[at, k]) for k in range(slopes.shape[1])]
+            t_stop = _stop_bounds(slopes[at], cg[at, None])
             binding[at] = net.solve(cg[at], t_stop, threads)[2]
         for j, (i, m) in enumerate(zip(idx, ms, strict=True)):
             mech = {}
