@@ -628,18 +628,15 @@ def test_a_byte_order_mark_is_skipped(tmp_path):
     assert m.data == cm.Machine.from_toml(EXAMPLES / "rotor_line.toml").data
 
 
-def test_a_negative_min_angle_is_a_lead_not_a_mistake(tmp_path):
-    """min_angle_deg < 0 lets the operation's end come before its start by up to
-    that angle (a lead, as in the cyclogram API): the file is read, and the
-    optimum takes it. In the loom, 3→7 is on the chain into the weft insertion
-    only through its minimum; the rebound bound t(3,7) ≥ 30.03° at 300 rpm still
-    holds it, so the optimum is the same as with 20°."""
+def test_item9_negative_min_angle_in_a_machine_is_refused(tmp_path):
+    """Issue 16 item 9: the loom's cam rise 1→3 at min_angle_deg = −45 used to read,
+    and its optimum gave the rise 0° while the weft insertion gained 20° (285° vs
+    264.97° at 300 rpm): a lead cannot be honoured when every event lies in one
+    cycle from 0. The file is refused, naming it, the operation and the value."""
     path = tmp_path / "lead.toml"
-    setting(operation__2__min_angle_deg=-20.0)(LOOM.read_text(encoding="utf-8"), path)
-    m = cm.Machine.from_toml(path)
-    assert m.cyclogram.operation(("3", "7")).min_angle_deg == -20.0
-    base = cm.Machine.from_toml(LOOM)
-    assert m.optimize(300.0).objective == pytest.approx(base.optimize(300.0).objective)
+    setting(operation__0__min_angle_deg=-45.0)(LOOM.read_text(encoding="utf-8"), path)
+    with pytest.raises(cm.InputError, match=r"lead\.toml.*min_angle_deg = -45.*≥ 0"):
+        cm.Machine.from_toml(path)
 
 
 def _pin_x_range(R: float, r: float, d: float, phi0_deg: float) -> tuple[float, float]:

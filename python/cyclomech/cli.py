@@ -7,6 +7,12 @@ summary to ``--out``.
 ``cyclomech linkage FILE.toml [--out DIR] [--step-deg S]`` solves a linkage over a
 full crank turn and writes the analog table (CSV), a JSON summary and figures (the
 mechanism with the traced path of its output point, the output point's analogs).
+
+Exit status: 0 when the job is done and the design works; 2 for bad input (the
+message names the file, the table and the key); 3 when the job is done (its files
+written) but the design fails: a machine whose cyclogram fits at no speed, a
+linkage that cannot make a full turn under ``--require-full-turn``; 130 when
+interrupted.
 """
 
 from __future__ import annotations
@@ -29,6 +35,9 @@ from .cyclogram import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
 from .linkage import Linkage, LinkageSolution
 
 __all__ = ["main"]
+
+#: Exit status of a job that ran and wrote its files, but whose design fails.
+EXIT_FAILS = 3
 
 
 def _arc(a: Arc) -> str:
@@ -649,8 +658,11 @@ def _run_command(args: argparse.Namespace) -> int:
     r = analyze(m, progress=None if not args.quiet else False)
     lim = r.limit
     by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
-    print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}")
-    if r.optimum is not None:
+    if lim.rpm > 0:
+        print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}: {lim.reason}")
+    if lim.rpm == 0:
+        print(f"The machine works at no speed: {lim.reason}")
+    elif r.optimum is not None:
         op = m.cyclogram.operation(m.cyclogram.limiting)  # type: ignore[arg-type]
         o = r.optimum
         print(
@@ -667,6 +679,12 @@ def _run_command(args: argparse.Namespace) -> int:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds
     written = write_report(r, out, figures=use_fig)
     print(f"\nReport: {out / 'report.html'}  ({len(written)} files in {out})")
+    if lim.rpm == 0:
+        print(
+            f"cyclomech: {args.file}: the machine works at no speed (exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
     return 0
 
 

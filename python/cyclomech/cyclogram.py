@@ -111,6 +111,52 @@ class Operation:
     name: str | None = None
     mechanism: str | None = None
 
+    def __post_init__(self) -> None:
+        """Validate and normalise every field: an operation joins two different
+        events; its phase angle is the crank angle it takes, so ``min_angle_deg``
+        ≥ 0 (a negative one cannot be honoured: every event of a cycle lies in
+        [0, cycle], so the optimum would silently give the operation 0°); its
+        duration is 0 or at least 1e-12 s; ``height`` is a whole number ≥ 0."""
+        src, dst = _event_id(self.src, "x"), _event_id(self.dst, "y")
+        where = f"operation {self.name or f'{src}→{dst}'!r}"
+        if src == dst:
+            raise InputError(
+                f"{where}: an operation must join two different events; got {src!r} twice"
+            )
+        lo = _finite(self.min_angle_deg, f"{where}: min_angle_deg")
+        if lo < 0:
+            raise InputError(
+                f"{where}: min_angle_deg = {self.min_angle_deg!r} must be ≥ 0 [deg]: an "
+                "operation's phase angle is the crank angle it takes (to let one event come "
+                "before another, order the events differently or add a [[constraint]])"
+            )
+        hi = self.max_angle_deg
+        if hi is not None:
+            hi = _finite(hi, f"{where}: max_angle_deg")
+            if hi < lo:
+                raise InputError(
+                    f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}"
+                )
+        secs = _finite(self.min_duration_s, f"{where}: min_duration_s", lower=0.0)
+        if 0.0 < secs < 1e-12:
+            raise InputError(f"{where}: min_duration_s = {secs!r} s: 0, or at least 1e-12 s")
+        h = self.height
+        if isinstance(h, bool) or not isinstance(h, int | np.integer) or h < 0:
+            raise InputError(
+                f"{where}: height must be a non-negative integer (cycles crossed); got {h!r}"
+            )
+        for key, value in (
+            ("src", src),
+            ("dst", dst),
+            ("min_angle_deg", lo),
+            ("max_angle_deg", hi),
+            ("min_duration_s", secs),
+            ("height", int(h)),
+            ("name", None if self.name is None else str(self.name)),
+            ("mechanism", None if self.mechanism is None else str(self.mechanism)),
+        ):
+            object.__setattr__(self, key, value)
+
     @property
     def arc(self) -> Arc:
         """The arc ``(src, dst)``."""
@@ -128,6 +174,8 @@ class Operation:
         >>> Operation("a", "b", min_angle_deg=120, min_duration_s=0.1).min_angle_at(300)
         180.0
         """
+        if speed_rpm is not None:
+            speed_rpm = _finite(speed_rpm, "speed_rpm", lower=0.0, limit=math.inf)
         if self.min_duration_s == 0.0:
             return self.min_angle_deg
         if speed_rpm is None:
@@ -301,6 +349,18 @@ class Cyclogram:
         self._ops: list[Operation] = []
         self._arc_index: dict[Arc, int] = {}
         self._constraints: list[Constraint] = []
+        if limiting is not None and not (
+            isinstance(limiting, str)
+            or (
+                isinstance(limiting, tuple | list)
+                and len(limiting) == 2
+                and all(isinstance(v, str) for v in limiting)
+            )
+        ):
+            raise InputError(
+                f"limiting = {limiting!r} must be an operation's name or its arc (x, y) of "
+                "two event names"
+            )
         self._limiting_spec = limiting
         # Per-operation columns, appended as operations are added and turned into
         # arrays once per change, so no method loops over operations in Python.
@@ -359,48 +419,24 @@ class Cyclogram:
         >>> op.arc, op.min_angle_deg, op.max_angle_deg, op.mechanism
         (('1', '3'), 45.0, 90.0, 'lifter')
         """
-        src, dst = _event_id(x, "x"), _event_id(y, "y")
-        where = f"operation {name or f'{src}→{dst}'!r}"
-        if src == dst:
+        op = Operation(
+            x, y, min_angle_deg, max_angle_deg, min_duration_s, height, name, mechanism
+        )
+        if op.arc in self._arc_index:
             raise InputError(
-                f"{where}: an operation must join two different events; got {src!r} twice"
-            )
-        if (src, dst) in self._arc_index:
-            raise InputError(
-                f"{where}: an operation {src}→{dst} already exists; "
+                f"operation {op.title!r}: an operation {op.src}→{op.dst} already exists; "
                 "state all its bounds in one operation"
             )
-        lo = _finite(min_angle_deg, f"{where}: min_angle_deg")
-        hi = None if max_angle_deg is None else _finite(max_angle_deg, f"{where}: max_angle_deg")
-        if hi is not None and hi < lo:
-            raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
-        secs = _finite(min_duration_s, f"{where}: min_duration_s", lower=0.0)
-        if 0.0 < secs < 1e-12:
-            raise InputError(f"{where}: min_duration_s = {secs!r} s: 0, or at least 1e-12 s")
-        if isinstance(height, bool) or not isinstance(height, int | np.integer) or height < 0:
-            raise InputError(
-                f"{where}: height must be a non-negative integer (cycles crossed); got {height!r}"
-            )
-        self.add_event(src)
-        self.add_event(dst)
-        op = Operation(
-            src,
-            dst,
-            lo,
-            hi,
-            secs,
-            int(height),
-            None if name is None else str(name),
-            None if mechanism is None else str(mechanism),
-        )
+        self.add_event(op.src)
+        self.add_event(op.dst)
         self._arc_index[op.arc] = len(self._ops)
         self._ops.append(op)
         for key, value in (
-            ("src", self._events[src]),
-            ("dst", self._events[dst]),
+            ("src", self._events[op.src]),
+            ("dst", self._events[op.dst]),
             ("height", float(op.height)),
-            ("angle", lo),
-            ("secs", secs),
+            ("angle", op.min_angle_deg),
+            ("secs", op.min_duration_s),
         ):
             self._columns[key].append(value)
         self._column_arrays.clear()

@@ -64,7 +64,7 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -218,30 +218,41 @@ class LinkageMechanism:
     linkage: Linkage
     output: str
     max_acceleration: float | None = None
+    #: Crank angles per turn (the machine's ``angle_points``): the grid of
+    #: :meth:`solve`, :meth:`peaks` and :meth:`speed_limit_rpm` unless given another.
+    points: int = 361
+    _peaks: dict[int, tuple[float, float]] = field(
+        default_factory=dict, init=False, repr=False, compare=False
+    )
 
-    def solve(self, points: int = 361) -> LinkageSolution:
+    def solve(self, points: int | None = None) -> LinkageSolution:
         """The mechanism over one crank turn from its drawn angle, ``points``
-        angles (the last one repeats the first).
+        angles (default :attr:`points`; the last one repeats the first).
 
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
         >>> bool(m.mechanisms["knife"].solve(73).ok.all())
         True
         """
-        angles = self.linkage.drawn_angle + np.linspace(0.0, 2.0 * math.pi, points)
+        n = self.points if points is None else points
+        angles = self.linkage.drawn_angle + np.linspace(0.0, 2.0 * math.pi, n)
         return self.linkage.solve(angles)
 
-    def peaks(self, points: int = 361) -> tuple[float, float]:
+    def peaks(self, points: int | None = None) -> tuple[float, float]:
         """Largest |d xy/dφ| [m/rad] and |d² xy/dφ²| [m/rad²] of the output point
-        over the turn: at constant crank speed ω its speed and acceleration peak
-        at ω and ω² times these.
+        over the turn (``points`` angles, default :attr:`points`; computed once per
+        grid): at constant crank speed ω its speed and acceleration peak at ω and
+        ω² times these.
 
         >>> import cyclomech as cm
         >>> v, a = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].peaks()
         >>> v > 0 and a > 0
         True
         """
-        sol = self.solve(points)
+        n = self.points if points is None else points
+        if n in self._peaks:
+            return self._peaks[n]
+        sol = self.solve(n)
         if not sol.ok.all():
             bad = np.degrees(sol.angles[~sol.ok])
             raise InputError(
@@ -251,13 +262,15 @@ class LinkageMechanism:
             )
         assert sol.vel is not None and sol.acc is not None
         k = sol.index(self.output)
-        return (
+        self._peaks[n] = (
             float(np.nanmax(np.hypot(*sol.vel[:, k].T))),
             float(np.nanmax(np.hypot(*sol.acc[:, k].T))),
         )
+        return self._peaks[n]
 
-    def speed_limit_rpm(self, points: int = 361) -> float:
-        """Speed [rpm] at which the output point's peak acceleration reaches
+    def speed_limit_rpm(self, points: int | None = None) -> float:
+        """Speed [rpm] at which the output point's peak acceleration over
+        ``points`` crank angles (default :attr:`points`) reaches
         ``max_acceleration`` (inf without a limit): ω² · max|d² xy/dφ²|.
 
         >>> import cyclomech as cm
@@ -269,6 +282,20 @@ class LinkageMechanism:
             return math.inf
         _, acc = self.peaks(points)
         return math.sqrt(self.max_acceleration / acc) / _RAD_PER_RPM
+
+    def limit_reason(self) -> str:
+        """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].limit_reason()
+        "the peak acceleration of point 'E' reaches max_acceleration = 8 m/s²"
+        """
+        if self.max_acceleration is None:
+            return ""
+        return (
+            f"the peak acceleration of point {self.output!r} reaches max_acceleration = "
+            f"{self.max_acceleration:g} m/s²"
+        )
 
 
 @dataclass(frozen=True)
@@ -314,6 +341,21 @@ class PressMechanism:
                 f"mechanism {self.name!r}: the press design does not work ({c.status})"
             )
         return self.max_V_np / c.V_np if c.V_np > 0 else math.inf
+
+    def limit_reason(self) -> str:
+        """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> m.mechanisms["drive"].limit_reason()
+        'V_np (the slider speed where the working stroke starts) reaches max_V_np = 5 mm/s'
+        """
+        if self.max_V_np is None:
+            return ""
+        return (
+            "V_np (the slider speed where the working stroke starts) reaches "
+            f"max_V_np = {1e3 * self.max_V_np:g} mm/s"
+        )
 
 
 @dataclass(frozen=True)
@@ -376,6 +418,30 @@ class TransferMechanism:
             out = min(out, math.sqrt(self.max_acceleration / a1))
         return out
 
+    def limit_reason(self) -> str:
+        """What sets :meth:`speed_limit_rpm`: the first limit reached (jerk where
+        both are reached at the same speed).
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"].limit_reason()
+        "the workpiece's peak jerk reaches max_jerk = 10 m/s³"
+        """
+        if self.max_jerk is None and self.max_acceleration is None:
+            return ""
+        a1, j1 = self.peaks(1.0)
+        by_jerk = math.inf if self.max_jerk is None else (self.max_jerk / j1) ** (1.0 / 3.0)
+        by_acc = (
+            math.inf
+            if self.max_acceleration is None
+            else math.sqrt(self.max_acceleration / a1)
+        )
+        if by_jerk <= by_acc:
+            return f"the workpiece's peak jerk reaches max_jerk = {self.max_jerk:g} m/s³"
+        return (
+            "the workpiece's peak acceleration reaches max_acceleration = "
+            f"{self.max_acceleration:g} m/s²"
+        )
+
 
 Mechanism = CamStop | LinkageMechanism | PressMechanism | TransferMechanism
 
@@ -411,13 +477,19 @@ class SpeedLimit:
     """The highest speed [rpm] at which the machine works: ``rpm`` is the least of
     ``cyclogram_rpm`` (the cyclogram with the stops' constraints still fits) and
     each mechanism's own limit in ``mechanisms_rpm``; ``by`` names what sets it
-    (``"cyclogram"`` or a mechanism); ``binding`` the chain at the cyclogram's limit."""
+    (``"cyclogram"`` or a mechanism); ``reason`` says why, in words: the
+    mechanism's criterion and its limit (``mechanisms_reason`` for each), the
+    cyclogram's chain, or that the minimum angles fit at no speed (``rpm`` 0);
+    ``binding`` the bounds and constraints on the chain at the cyclogram's limit
+    (a tuple, as :attr:`cyclomech.cyclogram.SpeedLimit.binding`)."""
 
     rpm: float
     by: str
     cyclogram_rpm: float
     mechanisms_rpm: dict[str, float]
-    binding: str = ""
+    binding: tuple[str, ...] = ()
+    reason: str = ""
+    mechanisms_reason: dict[str, str] = field(default_factory=dict)
 
 
 # --------------------------------------------------------------------- network
@@ -1151,20 +1223,46 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
             t_stop = _stop_bounds(slopes[at], cg[at, None])
             binding[at] = net.solve(cg[at], t_stop, threads)[2]
         for j, (i, m) in enumerate(zip(idx, ms, strict=True)):
-            mech = {}
+            mech, why = {}, {}
             for k, x in m.mechanisms.items():
                 if isinstance(x, CamStop):
                     continue
                 if id(x) not in own:
-                    own[id(x)] = float(x.speed_limit_rpm())  # type: ignore[call-arg]
+                    own[id(x)] = float(x.speed_limit_rpm())
                 if math.isfinite(own[id(x)]):
                     mech[k] = own[id(x)]
+                    why[k] = x.limit_reason()
             by, rpm = "cyclogram", float(cg[j])
             for k, v in mech.items():
                 if v < rpm:
                     by, rpm = k, v
-            out[i] = SpeedLimit(rpm, by, float(cg[j]), mech, str(binding[j]))
+            chain = tuple(b for b in str(binding[j]).split("; ") if b)
+            reason = why[by] if by != "cyclogram" else _cyclogram_reason(m, rpm, chain)
+            out[i] = SpeedLimit(rpm, by, float(cg[j]), mech, chain, reason, why)
     return out  # type: ignore[return-value]
+
+
+def _cyclogram_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> str:
+    """Why the cyclogram limits machine ``m`` at ``rpm``, in words."""
+    if math.isinf(rpm):
+        return f"nothing limits the speed up to {_SPEED_CAP_RPM:g} rpm"
+    if rpm > 0:
+        return "the cyclogram fills the cycle" + (f"; bounded by {', '.join(chain)}" if chain else "")
+    # Fits at no speed: the operations' durations and the stops' bounds vanish as the
+    # speed falls, so what is left is the minimum angles and the constraints.
+    try:
+        m.cyclogram.max_speed_rpm()
+    except InfeasibleError as e:
+        text = str(e).replace(" at 0 rpm", "")
+        return (
+            "the minimum angles alone do not fit in the cycle at any speed (they do not "
+            f"depend on the speed): {text}"
+        )
+    try:
+        m.cyclogram_at(_SPEED_FLOOR_RPM).optimize()
+    except InfeasibleError as e:
+        return f"the cyclogram's bounds and constraints conflict at any speed: {e}"
+    return f"the cyclogram does not fit even at {_SPEED_FLOOR_RPM:g} rpm"
 
 
 # --------------------------------------------------------------------- parsing
@@ -1326,8 +1424,8 @@ def _linkage(
     table = {k: v for k, v in spec.items() if k not in _LINKAGE_EXTRA}
     lk = Linkage.from_dict(table, source, f"[mechanism.{key}]")
     limit = _optional(spec, "max_acceleration", where, "[m/s²]")
-    mech = LinkageMechanism(key, lk, lk.output or lk.names[-1], limit)
-    mech.peaks(points)  # must assemble over the whole turn
+    mech = LinkageMechanism(key, lk, lk.output or lk.names[-1], limit, points)
+    mech.peaks()  # must assemble over the whole turn
     return mech
 
 

@@ -3146,8 +3146,12 @@ def plot_speed_sweep(
         top.text(
             0.5,
             0.5,
-            "the machine works at no speed of this range"
-            + (f": its speed limit is {limit_rpm:.4g} rpm{by}" if limited else ""),
+            (
+                "the machine works at no speed:\nits cyclogram does not fit even at standstill"
+                if limited and limit_rpm == 0
+                else "the machine works at no speed of this range"
+                + (f": its speed limit is {limit_rpm:.4g} rpm{by}" if limited else "")
+            ),
             transform=top.transAxes,
             ha="center",
             va="center",
@@ -3156,7 +3160,8 @@ def plot_speed_sweep(
         )
         top.set_yticks([])
         mid.set_yticks([])
-    top.legend(fontsize=8, loc="lower left")
+    else:  # with nothing drawn, a legend would only name empty lines
+        top.legend(fontsize=8, loc="lower left")
     fig.suptitle(title or "the machine against speed", fontsize=11)
     return cast("Figure", fig)
 

@@ -122,7 +122,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         lk: dict[str, LinkageSolution] = {}
         for k, mech in m.mechanisms.items():
             if isinstance(mech, LinkageMechanism):
-                lk[k] = mech.solve(m.angle_points)
+                lk[k] = mech.solve()
         return (lk,)
 
     (linkages,) = timed("mechanisms", mechanisms)
@@ -210,7 +210,9 @@ def _summary(r: MachineResult) -> dict[str, Any]:
             "by": r.limit.by,
             "cyclogram_rpm": r.limit.cyclogram_rpm,
             "mechanisms_rpm": r.limit.mechanisms_rpm,
-            "binding": [b for b in r.limit.binding.split("; ") if b],
+            "binding": list(r.limit.binding),
+            "reason": r.limit.reason,
+            "mechanisms_reason": r.limit.mechanisms_reason,
         },
         "limiting_operation": {"name": lim_op.title, "arc": lim_op.arc},
     }
@@ -255,9 +257,14 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         }
     out["stops"] = stops
     mech: dict[str, Any] = {}
+
+    def own_limit(k: str) -> float:
+        # The one value speed_limit computed (infinite where the mechanism has no limit).
+        return r.limit.mechanisms_rpm.get(k, math.inf)
+
     for k, v in m.mechanisms.items():
         if isinstance(v, LinkageMechanism):
-            vmax, amax = v.peaks(m.angle_points)
+            vmax, amax = v.peaks()
             w = 2.0 * math.pi * r.nominal_rpm / 60.0
             mech[k] = {
                 "kind": "linkage",
@@ -266,13 +273,13 @@ def _summary(r: MachineResult) -> dict[str, Any]:
                 "max_acceleration_analog_m_per_rad2": amax,
                 "max_velocity_m_s": vmax * w,
                 "max_acceleration_m_s2": amax * w * w,
-                "speed_limit_rpm": v.speed_limit_rpm(m.angle_points),
+                "speed_limit_rpm": own_limit(k),
             }
         elif isinstance(v, PressMechanism):
             mech[k] = {
                 "kind": "press",
                 "criteria": r.press[k].as_dict(),
-                "speed_limit_rpm": v.speed_limit_rpm(),
+                "speed_limit_rpm": own_limit(k),
             }
         elif isinstance(v, TransferMechanism):
             a, j = r.transfer[k]
@@ -282,7 +289,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
                 "speeds_m_s": list(v.speeds(r.nominal_rpm)),
                 "max_acceleration_m_s2": a,
                 "max_jerk_m_s3": j,
-                "speed_limit_rpm": v.speed_limit_rpm(),
+                "speed_limit_rpm": own_limit(k),
             }
         else:
             mech[k] = {"kind": "cam_stop", "arc": v.arc}
@@ -565,12 +572,12 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
     lim = r.limit
     lim_op = cg.operation(cg.limiting)  # type: ignore[arg-type]
     by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
-    key = [f"<p><b>Speed limit: {_f(lim.rpm, 5)} rpm</b>, set by {e(by)}."]
-    if lim.by == "cyclogram" and lim.binding:
-        key.append(
-            f" At that speed the chain that fills the cycle is bounded by: {e(lim.binding)}."
-        )
-    key.append("</p>")
+    if lim.rpm > 0:
+        key = [
+            f"<p><b>Speed limit: {_f(lim.rpm, 5)} rpm</b>, set by {e(by)}: {e(lim.reason)}.</p>"
+        ]
+    else:
+        key = [f"<p class='warn'><b>The machine works at no speed</b>: {e(lim.reason)}.</p>"]
     o = summary.get("optimum")
     if o is not None:
         key.append(
@@ -586,9 +593,14 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
             f"{e(r.problem)}</p>"
         )
     parts.append("<div class='key'>" + "".join(key) + "</div>")
-    mech_rows = [["cyclogram (with the stops' constraints)", lim.cyclogram_rpm]]
-    mech_rows += [[f"mechanism {k}", v] for k, v in lim.mechanisms_rpm.items()]
-    parts.append("<h3>Speed limits</h3>" + _table(["what", "speed limit [rpm]"], mech_rows))
+    mech_rows = [["cyclogram (with the stops' constraints)", lim.cyclogram_rpm, ""]]
+    mech_rows += [
+        [f"mechanism {k}", v, lim.mechanisms_reason.get(k, "")]
+        for k, v in lim.mechanisms_rpm.items()
+    ]
+    parts.append(
+        "<h3>Speed limits</h3>" + _table(["what", "speed limit [rpm]", "criterion"], mech_rows)
+    )
     if r.optimum is not None:
         o_ = r.optimum
         priced = [(k, float(v)) for k, v in o_.duals.items() if abs(v) > 1e-9]

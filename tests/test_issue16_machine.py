@@ -1,0 +1,136 @@
+"""Issue 16 (trust), the whole machine's items: each test is named after its item
+and failed before the fix. References are independent of the code under test:
+the linkage solved directly on the same grid, the press criteria and the rotor
+path's peaks at the reported limit, sums of the file's own angles."""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from pathlib import Path
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from cyclomech.cli import EXIT_FAILS, main
+from cyclomech.report import analyze, write_report
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+RAD_PER_RPM = 2.0 * math.pi / 60.0
+
+NO_FIT = """\
+[machine]
+name = "no fit"
+speed_rpm = [100.0, 300.0]
+
+[cyclogram]
+name = "c"
+limiting = ["b", "c"]
+events = ["a", "b", "c"]
+
+[[operation]]
+from = "a"
+to = "b"
+min_angle_deg = 200.0
+name = "one"
+
+[[operation]]
+from = "b"
+to = "c"
+min_angle_deg = 170.0
+name = "two"
+min_duration_s = 0.01
+"""
+
+
+def _knife(points: int, limit: float) -> cm.Machine:
+    data = tomllib.loads((EXAMPLES / "knife_cutter.toml").read_text("utf-8"))
+    data["machine"]["angle_points"] = points
+    data["mechanism"]["knife"]["max_acceleration"] = limit
+    return cm.Machine.from_dict(data, "knife.toml")
+
+
+def test_item5_one_speed_limit_for_one_knife(tmp_path):
+    """results.json of the knife cutter with angle_points = 13 and a 5 m/s² limit
+    carried 60.736 rpm in one place and 60.960 in another (the report recomputed
+    the limit on 361 angles). Now every place holds the one value, and it is the
+    one the machine's own 13-angle grid gives, computed here from the linkage
+    solved directly."""
+    m = _knife(13, 5.0)
+    r = analyze(m, progress=False)
+    write_report(r, tmp_path, figures=False)
+    out = json.loads((tmp_path / "results.json").read_text("utf-8"))
+    a = out["speed_limit"]["mechanisms_rpm"]["knife"]
+    b = out["mechanisms"]["knife"]["speed_limit_rpm"]
+    assert a == b
+    # Independent: the same 13 crank angles, the output point's |acc| by hand.
+    lk = m.mechanisms["knife"].linkage
+    phi = lk.drawn_angle + np.linspace(0.0, 2.0 * math.pi, 13)
+    sol = lk.solve(phi)
+    acc = np.hypot(*sol.acc[:, sol.index("E")].T)
+    expect = math.sqrt(5.0 / acc.max()) / RAD_PER_RPM
+    assert a == pytest.approx(expect, rel=1e-12)
+    # The 361-angle value is a different (finer) number: the grid is the machine's.
+    fine = m.mechanisms["knife"].speed_limit_rpm(361)
+    assert abs(fine - a) > 1e-3 * a
+
+
+def test_item8_a_cyclogram_that_fits_at_no_speed_is_loud(tmp_path, capsys):
+    """The minimum angles 200° + 170° = 370° exceed the cycle at any speed: the
+    run used to print "Speed limit: 0.00 rpm", blame "at 100 rpm" and exit 0. Now
+    it says the machine works at no speed, names the chain and its sum (the sum of
+    the file's own angles), writes the report and exits with EXIT_FAILS."""
+    path = tmp_path / "nofit.toml"
+    path.write_text(NO_FIT, encoding="utf-8")
+    lim = cm.Machine.from_toml(path).speed_limit()
+    assert lim.rpm == 0.0 and lim.by == "cyclogram"
+    assert "at any speed" in lim.reason and "one 200° + two 170° = 370° > 360°" in lim.reason
+    code = main(["run", str(path), "--out", str(tmp_path / "out"), "--no-plot", "--quiet"])
+    io = capsys.readouterr()
+    assert code == EXIT_FAILS != 0
+    assert "works at no speed" in io.out and "370° > 360°" in io.out
+    assert "Speed limit: 0.00 rpm" not in io.out and "at 100 rpm" not in io.out
+    assert "works at no speed" in io.err
+    assert (tmp_path / "out" / "report.html").is_file()
+    html = (tmp_path / "out" / "report.html").read_text("utf-8")
+    assert "works at no speed" in html
+    res = json.loads((tmp_path / "out" / "results.json").read_text("utf-8"))
+    assert res["speed_limit"]["rpm"] == 0.0 and "370°" in res["speed_limit"]["reason"]
+
+
+@pytest.mark.parametrize(
+    ("example", "mech", "words"),
+    [
+        ("extrusion_press_line.toml", "drive", ("V_np", "max_V_np = 5 mm/s")),
+        ("rotor_line.toml", "line", ("jerk", "max_jerk = 10 m/s³")),
+    ],
+)
+def test_item12_a_mechanisms_speed_limit_says_why(example, mech, words, capsys, tmp_path):
+    """"set by mechanism 'drive'" did not say why. The limit now names the
+    criterion and its limit, and the criterion at that speed equals the limit
+    (evaluated independently of the limit's formula: the press's criteria, the
+    rotor path's peaks)."""
+    m = cm.Machine.from_toml(EXAMPLES / example)
+    lim = m.speed_limit()
+    assert lim.by == mech
+    assert all(w in lim.reason for w in words)
+    assert lim.mechanisms_reason[mech] == lim.reason
+    x = m.mechanisms[mech]
+    if mech == "drive":
+        assert x.criteria(lim.rpm).V_np == pytest.approx(x.max_V_np, rel=1e-9)
+    else:
+        _, jerk = x.peaks(lim.rpm)
+        assert jerk == pytest.approx(x.max_jerk, rel=1e-9)
+    assert main(["run", str(EXAMPLES / example), "--out", str(tmp_path), "--no-plot", "--quiet"]) == 0
+    assert f"set by mechanism {mech!r}: {lim.reason}" in capsys.readouterr().out
+
+
+def test_item12_cyclogram_limit_names_its_chain():
+    """A limit set by the cyclogram names the bounds on its chain, and binding is a
+    tuple like Cyclogram.max_speed_rpm()'s (it was a "; "-joined string)."""
+    lim = cm.Machine.example().speed_limit()
+    assert lim.by == "cyclogram"
+    assert isinstance(lim.binding, tuple) and "rebound[lifter]" in lim.binding
+    assert "rebound[lifter]" in lim.reason
