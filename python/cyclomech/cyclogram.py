@@ -134,9 +134,7 @@ class Operation:
         if hi is not None:
             hi = _finite(hi, f"{where}: max_angle_deg")
             if hi < lo:
-                raise InputError(
-                    f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}"
-                )
+                raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
         secs = _finite(self.min_duration_s, f"{where}: min_duration_s", lower=0.0)
         if 0.0 < secs < 1e-12:
             raise InputError(f"{where}: min_duration_s = {secs!r} s: 0, or at least 1e-12 s")
@@ -419,9 +417,7 @@ class Cyclogram:
         >>> op.arc, op.min_angle_deg, op.max_angle_deg, op.mechanism
         (('1', '3'), 45.0, 90.0, 'lifter')
         """
-        op = Operation(
-            x, y, min_angle_deg, max_angle_deg, min_duration_s, height, name, mechanism
-        )
+        op = Operation(x, y, min_angle_deg, max_angle_deg, min_duration_s, height, name, mechanism)
         if op.arc in self._arc_index:
             raise InputError(
                 f"operation {op.title!r}: an operation {op.src}→{op.dst} already exists; "

@@ -431,9 +431,7 @@ class TransferMechanism:
         a1, j1 = self.peaks(1.0)
         by_jerk = math.inf if self.max_jerk is None else (self.max_jerk / j1) ** (1.0 / 3.0)
         by_acc = (
-            math.inf
-            if self.max_acceleration is None
-            else math.sqrt(self.max_acceleration / a1)
+            math.inf if self.max_acceleration is None else math.sqrt(self.max_acceleration / a1)
         )
         if by_jerk <= by_acc:
             return f"the workpiece's peak jerk reaches max_jerk = {self.max_jerk:g} m/s³"
@@ -1247,7 +1245,8 @@ def _cyclogram_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> str:
     if math.isinf(rpm):
         return f"nothing limits the speed up to {_SPEED_CAP_RPM:g} rpm"
     if rpm > 0:
-        return "the cyclogram fills the cycle" + (f"; bounded by {', '.join(chain)}" if chain else "")
+        bounded = f"; bounded by {', '.join(chain)}" if chain else ""
+        return "the cyclogram fills the cycle" + bounded
     # Fits at no speed: the operations' durations and the stops' bounds vanish as the
     # speed falls, so what is left is the minimum angles and the constraints.
     try:

@@ -573,9 +573,7 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
     lim_op = cg.operation(cg.limiting)  # type: ignore[arg-type]
     by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
     if lim.rpm > 0:
-        key = [
-            f"<p><b>Speed limit: {_f(lim.rpm, 5)} rpm</b>, set by {e(by)}: {e(lim.reason)}.</p>"
-        ]
+        key = [f"<p><b>Speed limit: {_f(lim.rpm, 5)} rpm</b>, set by {e(by)}: {e(lim.reason)}.</p>"]
     else:
         key = [f"<p class='warn'><b>The machine works at no speed</b>: {e(lim.reason)}.</p>"]
     o = summary.get("optimum")
