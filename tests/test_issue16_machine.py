@@ -135,3 +135,100 @@ def test_item12_cyclogram_limit_names_its_chain():
     assert lim.by == "cyclogram"
     assert isinstance(lim.binding, tuple) and "rebound[lifter]" in lim.binding
     assert "rebound[lifter]" in lim.reason
+
+
+def test_item6_a_sweep_goes_on_past_invalid_designs(tmp_path, capsys):
+    """`cyclomech sweep … --set drive.L=0.3:0.5:5` aborted at L = 0.35 (invalid) and
+    did not say which design. Now it records the invalid designs as not fitting,
+    with the reason in a 'problem' column, goes on, and counts them. Reference:
+    each L read on its own as a machine file (valid or refused)."""
+    press = EXAMPLES / "extrusion_press_line.toml"
+    Ls = np.linspace(0.3, 0.5, 5)
+    valid = []
+    for L in Ls:
+        try:
+            cm.Machine.from_toml(press).with_values({"drive.L": float(L)})
+            valid.append(True)
+        except cm.InputError:
+            valid.append(False)
+    assert not all(valid) and any(valid)  # the case the issue names has both kinds
+    r = cm.sweep(
+        cm.Machine.from_toml(press), {"drive.L": Ls, "speed_rpm": [30.0, 40.0]}, progress=False
+    )
+    problem = r.columns["problem"].reshape(5, 2)
+    assert ((problem == "").all(axis=1) == np.array(valid)).all()
+    assert all("drive.L = " in p and "[mechanism.drive]" in p for p in problem[~np.array(valid), 0])
+    fits = r.columns["fits"].reshape(5, 2)
+    assert not fits[~np.array(valid)].any()
+    assert np.isnan(r.columns["limiting_deg"].reshape(5, 2)[~np.array(valid)]).all()
+    assert r.n_invalid == 2 * (5 - sum(valid))
+    # A valid design's rows are what the design alone gives.
+    k = int(np.flatnonzero(valid)[0])
+    alone = cm.Machine.from_toml(press).with_values({"drive.L": float(Ls[k])})
+    s = alone.speed_sweep([30.0, 40.0])
+    assert np.array_equal(r.columns["limiting_deg"].reshape(5, 2)[k], s.limiting_deg)
+    # The command: exit 0, a summary line counting them, the file has the column.
+    code = main(["sweep", str(press), "--set", "drive.L=0.3:0.5:5", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert f"{5 - sum(valid)} designs of 5 are invalid" in out
+    back = cm.SweepResult.read(tmp_path / "sweep.parquet")
+    assert back.n_invalid == (5 - sum(valid)) * 81
+    # Every design invalid: the files are written, and the exit status says so.
+    code = main(["sweep", str(press), "--set", "drive.L=0.35:0.4:2", "--out", str(tmp_path)])
+    assert code == EXIT_FAILS
+
+
+def test_item6_a_key_the_file_cannot_take_still_fails_first(tmp_path):
+    press = EXAMPLES / "extrusion_press_line.toml"
+    with pytest.raises(cm.InputError, match=r"'drive\.LL'.*has no key 'LL'.*L, R, d"):
+        cm.sweep(cm.Machine.from_toml(press), {"drive.LL": [0.4]}, progress=False)
+
+
+@pytest.mark.parametrize("suffix", [".parquet", ".npz"])
+def test_item17_an_interrupted_write_leaves_no_result_file(tmp_path, monkeypatch, suffix):
+    """Ctrl-C while a sweep file was written left a file that looked like a result
+    (a 0-row Parquet, a 0-byte or truncated npz). The file is written under a
+    temporary name and renamed when complete: interrupted, nothing is left."""
+    import pyarrow.parquet as pq
+
+    r = cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0, 400.0]}, progress=False)
+    target = tmp_path / f"sweep{suffix}"
+
+    def interrupted(*args, **kwargs):
+        where = args[1] if suffix == ".parquet" else args[0]
+        Path(where).write_bytes(b"PAR1 half")  # what a cut-off write leaves
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pq, "write_table", interrupted)
+    monkeypatch.setattr(np, "savez_compressed", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        r.write(target)
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.undo()
+    # Complete, it is there and reads back.
+    assert cm.SweepResult.read(r.write(target)).n_points == 2
+
+
+@pytest.mark.parametrize(
+    ("content", "name"),
+    [
+        (b"", "empty.parquet"),
+        (b"PAR1 not parquet", "junk.parquet"),
+        (b"", "empty.npz"),
+        (b"PK\x03\x04 truncated", "junk.npz"),
+    ],
+)
+def test_item19_a_bad_sweep_file_is_named(tmp_path, content, name):
+    """SweepResult.read raised raw pyarrow errors, KeyError or EOFError."""
+    path = tmp_path / name
+    path.write_bytes(content)
+    with pytest.raises(cm.InputError, match=rf"{name}.*sweep file"):
+        cm.SweepResult.read(path)
+
+
+def test_item19_a_sweep_file_without_its_columns_is_named(tmp_path):
+    path = tmp_path / "other.npz"
+    np.savez(path, speed_rpm=np.arange(3.0))
+    with pytest.raises(cm.InputError, match=r"other\.npz.*missing the column.*fits"):
+        cm.SweepResult.read(path)

@@ -783,6 +783,7 @@ def test_sweep_columns_and_their_order():
         "speed_limit_rpm",
         "speed_limit_by",
         "binding",
+        "problem",
     ]
     assert r.parameters == ("lifter.preload", "lifter.a_max")
     # The first parameter slowest, the speed fastest.

@@ -11,7 +11,8 @@ mechanism with the traced path of its output point, the output point's analogs).
 Exit status: 0 when the job is done and the design works; 2 for bad input (the
 message names the file, the table and the key); 3 when the job is done (its files
 written) but the design fails: a machine whose cyclogram fits at no speed, a
-linkage that cannot make a full turn under ``--require-full-turn``; 130 when
+linkage that cannot make a full turn under ``--require-full-turn``, a sweep whose
+every design is invalid; 130 when
 interrupted.
 """
 
@@ -712,7 +713,7 @@ def _quiet_interrupt(active: bool) -> Iterator[None]:
 def _sweep_command(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .machine import Machine, _speeds
+    from .machine import Machine, _speeds, check_parameter
     from .scale import dask_client, dask_workers, parse_range, sweep
 
     m = Machine.from_toml(args.file)
@@ -726,8 +727,8 @@ def _sweep_command(args: argparse.Namespace) -> int:
     if args.speed is not None:
         grid["speed_rpm"] = _speeds("--speed", parse_range(args.speed, "--speed"))
     params = {k: v for k, v in grid.items() if k != "speed_rpm"}
-    if params:  # a key or value the file cannot take fails before the work starts
-        m.with_values({k: v[0] for k, v in params.items()})
+    for k in params:  # a key the file cannot take fails before the work starts
+        check_parameter(m, k)
     designs = math.prod(v.size for v in params.values())
     speeds = grid["speed_rpm"].size if "speed_rpm" in grid else m.speed_points
     print(
@@ -761,9 +762,24 @@ def _sweep_command(args: argparse.Namespace) -> int:
         + (f" on Dask ({args.dask})" if args.dask else "")
         + f"; the cyclogram fits at {int(fits.sum())} of them"
     )
+    problem = r.columns["problem"]
+    bad = problem[::n_speeds] != ""
+    if bad.any():
+        first = str(problem[::n_speeds][bad][0])
+        print(
+            f"{_n(int(bad.sum()), 'design')} of {bad.size} are invalid and counted as not "
+            f"fitting (the 'problem' column says why); the first: {first}"
+        )
     print(f"Wrote {path}")
     if path.suffix == ".npz":
         print("(NumPy .npz: pyarrow is not installed; `pip install pyarrow` writes Parquet)")
+    if bad.all():
+        print(
+            f"cyclomech: {args.file}: every design of the sweep is invalid "
+            f"(exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
     return 0
 
 

@@ -1324,6 +1324,45 @@ def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
     return table, parts[1]
 
 
+_KIND_KEYS: dict[str, set[str]] = {
+    "cam_stop": set(_CAM_KEYS),
+    "linkage": _LINKAGE_KEYS | _LINKAGE_EXTRA,
+    "press": _PRESS_KEYS,
+    "transfer": _TRANSFER_KEYS,
+}
+
+
+def check_parameter(machine: Machine, path: str) -> None:
+    """Raise :class:`InputError` unless ``path`` (``<mechanism>.<key>`` or
+    ``machine.<key>``) names a key its table can take: what a sweep checks before
+    it starts, whatever the values (a value that makes a design invalid is that
+    design's problem, not the sweep's).
+
+    >>> import cyclomech as cm
+    >>> from cyclomech.machine import check_parameter
+    >>> check_parameter(cm.Machine.example(), "lifter.preload")
+    >>> check_parameter(cm.Machine.example(), "lifter.preloud")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: <example>: parameter 'lifter.preloud': [mechanism.lifter] has ...
+    """
+    if machine.data is None:
+        raise InputError("a sweep needs a machine read from a file or a dict")
+    data = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in machine.data.items()}
+    table, key = _split_key(path, data)
+    head = path.split(".", 1)[0]
+    if head == "machine":
+        allowed, where = _MACHINE_KEYS - {"name", "speed_rpm"}, "[machine]"
+    else:
+        allowed, where = _KIND_KEYS[machine.mechanisms[head].kind], f"[mechanism.{head}]"
+        allowed = allowed - {"kind", "arc", "name"}
+    if key not in allowed:
+        raise InputError(
+            f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
+            "set; its keys are "
+            f"{', '.join(sorted(allowed))}"
+        )
+
+
 def _number(spec: Mapping[str, Any], key: str, where: str, unit: str) -> float:
     v = spec[key]
     if not _is_number(v) or not math.isfinite(v):

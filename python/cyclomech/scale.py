@@ -18,6 +18,7 @@ import concurrent.futures as cf
 import contextlib
 import logging
 import math
+import os
 import signal
 import sys
 import threading
@@ -31,7 +32,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._errors import InputError
-from .machine import SCHEMA, Machine, _speeds, speed_limits, speed_sweeps
+from .machine import SCHEMA, Machine, _speeds, check_parameter, speed_limits, speed_sweeps
 
 __all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
 
@@ -47,7 +48,10 @@ FIGURES = (
     "speed_limit_rpm",
     "speed_limit_by",
     "binding",
+    "problem",
 )
+#: The text columns.
+TEXT = ("speed_limit_by", "binding", "problem")
 
 
 @dataclass(frozen=True)
@@ -56,7 +60,10 @@ class SweepResult:
     ``speed_rpm`` and :data:`FIGURES` to 1-D arrays of one row per point (the
     parameters vary slowest, the speed fastest). ``speed_limit_rpm`` and
     ``speed_limit_by`` belong to the design (the same at each of its speeds);
-    ``binding`` is text. ``seconds`` is the wall time of the sweep.
+    ``binding`` is text. ``problem`` is empty for a valid design; a design the
+    file's rules refuse (a press whose rod cannot reach its guide, say) does not
+    stop the sweep: its rows do not fit (NaN figures, productivity 0) and
+    ``problem`` holds the reason. ``seconds`` is the wall time of the sweep.
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload": [2e-4, 3e-4],
@@ -74,6 +81,11 @@ class SweepResult:
         """Number of rows."""
         return int(self.columns[SPEED].size)
 
+    @property
+    def n_invalid(self) -> int:
+        """Number of rows whose design is invalid (a non-empty ``problem``)."""
+        return int((self.columns["problem"] != "").sum())
+
     def write(self, path: str | Path) -> Path:
         """Write the columns to ``path``: Parquet (pyarrow) when the name ends in
         ``.parquet`` and pyarrow is installed, else NumPy ``.npz`` (the suffix is
@@ -85,23 +97,33 @@ class SweepResult:
         '.npz'
         """
         p = Path(path)
-        if p.suffix == ".parquet":
+        parquet = p.suffix == ".parquet"
+        if parquet:
             try:
                 import pyarrow as pa
                 import pyarrow.parquet as pq
             except ImportError:
-                p = p.with_suffix(".npz")
-            else:
+                parquet = False
+        p = p if parquet else p.with_suffix(".npz")
+        # Written beside the target under a temporary name and renamed when complete:
+        # an interrupted write leaves no file that looks like a result.
+        tmp = p.with_name(f".{p.stem}.{os.getpid()}.partial{p.suffix}")
+        try:
+            if parquet:
                 table = pa.table({k: pa.array(v) for k, v in self.columns.items()})
                 meta = {
                     b"schema": SCHEMA.encode(),
                     b"parameters": ",".join(self.parameters).encode(),
                 }
-                pq.write_table(table.replace_schema_metadata(meta), p)
-                return p
-        p = p.with_suffix(".npz")
-        cols = {k: (v.astype(str) if v.dtype == object else v) for k, v in self.columns.items()}
-        np.savez_compressed(p, **cols)
+                pq.write_table(table.replace_schema_metadata(meta), tmp)
+            else:
+                cols = {
+                    k: (v.astype(str) if v.dtype == object else v) for k, v in self.columns.items()
+                }
+                np.savez_compressed(tmp, **cols)
+            os.replace(tmp, p)
+        finally:
+            tmp.unlink(missing_ok=True)
         return p
 
     @classmethod
@@ -115,17 +137,45 @@ class SweepResult:
         [True, False]
         """
         p = Path(path)
-        if p.suffix == ".parquet":
-            import pyarrow.parquet as pq
-
-            t = pq.read_table(p)
-            cols = {
-                k: np.asarray(t.column(k).to_numpy(zero_copy_only=False)) for k in t.column_names
-            }
-        else:
-            with np.load(p, allow_pickle=False) as z:
-                cols = {k: z[k] for k in z.files}
-        for k in ("binding", "speed_limit_by"):
+        what = "a sweep file written by SweepResult.write (.parquet or .npz)"
+        try:
+            if p.suffix == ".parquet":
+                try:
+                    import pyarrow.parquet as pq
+                except ImportError:
+                    raise InputError(
+                        f"{p}: reading Parquet needs pyarrow (`pip install pyarrow`)"
+                    ) from None
+                t = pq.read_table(p)
+                cols = {
+                    k: np.asarray(t.column(k).to_numpy(zero_copy_only=False))
+                    for k in t.column_names
+                }
+            else:
+                # np.load leaks its file when the archive is broken: hold it here.
+                with open(p, "rb") as fh:
+                    z = np.load(fh, allow_pickle=False)
+                    if not hasattr(z, "files"):
+                        raise ValueError("a single array, not an archive of columns")
+                    with z:
+                        cols = {k: z[k] for k in z.files}
+        except InputError:
+            raise
+        except (OSError, ValueError, EOFError, KeyError, TypeError) as e:
+            raise InputError(f"{p}: cannot be read as {what}: {e}") from None
+        except Exception as e:  # pyarrow's own errors (ArrowInvalid, …)
+            raise InputError(f"{p}: cannot be read as {what}: {e}") from None
+        missing = [k for k in (SPEED, *FIGURES) if k not in cols]
+        if "problem" in missing and len(missing) == 1 and SPEED in cols:
+            cols["problem"] = np.full(cols[SPEED].shape, "", dtype=object)  # older files
+            missing = []
+        if missing:
+            raise InputError(f"{p}: not {what}: missing the column(s) {', '.join(missing)}")
+        n = cols[SPEED].shape
+        ragged = [k for k, v in cols.items() if v.ndim != 1 or v.shape != n]
+        if ragged:
+            raise InputError(f"{p}: not {what}: columns of different lengths ({ragged[0]!r})")
+        for k in TEXT:
             cols[k] = cols[k].astype(object)
         params = tuple(k for k in cols if k != SPEED and k not in FIGURES)
         return cls(cols, params)
@@ -188,22 +238,41 @@ def _run_chunk(
     the chunk: the stops' searches together, one shortest-path call for every
     design at every speed, one per step of the speed-limit search."""
     base = Machine.from_dict(data, source)
-    machines = [
-        base.with_values(
-            {k: axes[j][i].item() for j, (k, i) in enumerate(zip(names, row, strict=True))}
-        )
-        if names
-        else base
-        for row in designs
-    ]
-    sweeps = speed_sweeps(machines, speeds, n_threads=n_threads)
-    limits = speed_limits(machines, n_threads=n_threads)
+    machines: list[Machine] = []
+    problems = np.full(len(designs), "", dtype=object)
+    for d, row in enumerate(designs):
+        if not names:
+            machines.append(base)
+            continue
+        values = {k: axes[j][i].item() for j, (k, i) in enumerate(zip(names, row, strict=True))}
+        try:
+            machines.append(base.with_values(values))
+        except InputError as e:
+            # An invalid design is a result of the sweep, not its end: its rows do not fit.
+            at = ", ".join(f"{k} = {v!r}" for k, v in values.items())
+            problems[d] = f"{at}: {e}"
+    ok = problems == ""
     S = speeds.size
     per_speed = ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m", "binding")
-    cols = {k: np.concatenate([getattr(s, k) for s in sweeps]) for k in per_speed}
-    cols["speed_limit_rpm"] = np.repeat([lim.rpm for lim in limits], S)
-    cols["speed_limit_by"] = np.repeat(np.array([lim.by for lim in limits], dtype=object), S)
-    return {k: cols[k] for k in FIGURES}
+    cols: dict[str, npt.NDArray[Any]] = {
+        "fits": np.zeros((len(designs), S), dtype=bool),
+        "limiting_deg": np.full((len(designs), S), np.nan),
+        "limiting_s": np.full((len(designs), S), np.nan),
+        "productivity": np.zeros((len(designs), S)),
+        "max_rebound_m": np.full((len(designs), S), np.nan),
+        "binding": np.full((len(designs), S), "", dtype=object),
+        "speed_limit_rpm": np.full((len(designs), S), np.nan),
+        "speed_limit_by": np.full((len(designs), S), "", dtype=object),
+        "problem": np.repeat(problems[:, None], S, axis=1),
+    }
+    if machines:
+        sweeps = speed_sweeps(machines, speeds, n_threads=n_threads)
+        limits = speed_limits(machines, n_threads=n_threads)
+        for k in per_speed:
+            cols[k][ok] = np.stack([getattr(s, k) for s in sweeps])
+        cols["speed_limit_rpm"][ok] = np.array([lim.rpm for lim in limits])[:, None]
+        cols["speed_limit_by"][ok] = np.array([lim.by for lim in limits], dtype=object)[:, None]
+    return {k: cols[k].reshape(-1) for k in FIGURES}
 
 
 def _as_executor(executor: Any) -> cf.Executor | None:
@@ -275,9 +344,10 @@ def sweep(
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
     speeds = machine.speed_grid() if SPEED not in grid else _speeds(f"grid[{SPEED!r}]", grid[SPEED])
-    # Every parameter must name a key the file can take: check on the first design.
-    if names:
-        machine.with_values({k: a[0] for k, a in zip(names, axes, strict=True)})
+    # Every parameter must name a key the file can take; a value that makes a design
+    # invalid is that design's problem (a column), not the sweep's.
+    for k in names:
+        check_parameter(machine, k)
     # Design d takes axes[j][designs[d, j]]: indices, so whole-number keys stay whole.
     shape = tuple(a.size for a in axes)
     designs = np.indices(shape).reshape(len(shape), -1).T if names else np.zeros((1, 0), np.intp)
