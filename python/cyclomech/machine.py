@@ -1348,7 +1348,7 @@ def check_parameter(machine: Machine, path: str) -> None:
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
     data = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in machine.data.items()}
-    table, key = _split_key(path, data)
+    _, key = _split_key(path, data)
     head = path.split(".", 1)[0]
     if head == "machine":
         allowed, where = _MACHINE_KEYS - {"name", "speed_rpm"}, "[machine]"
