@@ -298,7 +298,38 @@ def _stroke(xy: Any) -> float:
     return float(np.sqrt((d**2).sum(axis=2)).max())
 
 
-def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str) -> dict[str, Any]:
+def _runs(bad: Any, deg: Any, step: float) -> list[tuple[float, float]]:
+    """The ranges [from, to] of crank angle [deg] where ``bad`` holds, on a grid of
+    one turn: runs of neighbours, a run that wraps past the last angle joined to
+    the first."""
+    import numpy as np
+
+    idx = np.flatnonzero(bad)
+    if not idx.size:
+        return []
+    breaks = np.flatnonzero(np.diff(idx) > 1)
+    starts = np.r_[idx[0], idx[breaks + 1]]
+    ends = np.r_[idx[breaks], idx[-1]]
+    runs = [[int(a), int(b)] for a, b in zip(starts, ends, strict=True)]
+    n = len(bad)
+    if len(runs) > 1 and runs[0][0] == 0 and runs[-1][1] == n - 1:
+        runs[0][0] = runs.pop()[0] - n  # wraps: one range through the start
+    return [(float(deg[0] + a * step), float(deg[0] + b * step)) for a, b in runs]
+
+
+def _drawn_mismatch(lk: Linkage) -> list[str]:
+    """The lengths given in the file that differ from the drawing's, as text."""
+    pts = lk.to_dict()["points"]
+    out = []
+    for (a, b), v in zip(lk.dimensions, lk.dimension_values, strict=True):
+        if a in pts and b in pts:
+            drawn = math.dist(pts[a], pts[b])
+            if abs(drawn - v) > 1e-9 * max(drawn, v, 1e-300):
+                out.append(f"{a}{b} drawn {drawn:.6g} m, given {float(v):.6g} m")
+    return out
+
+
+def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str, step: float) -> dict[str, Any]:
     import numpy as np
 
     k = sol.index(point)
@@ -316,6 +347,10 @@ def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str) -> dict[str,
         "assembled": int(sol.ok.sum()),
         "singular": int(sol.singular.sum()),
         "branch_changes": [float(a) for a in np.degrees(sol.angles[sol.branch_change])],
+        "full_turn": bool(sol.ok.all()),
+        "unreachable_deg": [
+            list(r) for r in _runs(~sol.ok, np.degrees(sol.angles), step) if not sol.ok.all()
+        ],
         "output": point,
     }
     if len(xy):
@@ -324,6 +359,8 @@ def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str) -> dict[str,
             "y": [float(xy[:, 1].min()), float(xy[:, 1].max())],
         }
         out["output_stroke_m"] = _stroke(xy)
+        # Over the angles where the linkage is assembled: the whole turn, or not.
+        out["output_over"] = "the whole turn" if sol.ok.all() else "the reachable angles only"
         speed = np.hypot(*sol.vel[sol.ok, k].T)
         accel = np.hypot(*sol.acc[sol.ok, k].T)
         out["max_velocity_analog_m_per_rad"] = float(np.nanmax(speed))
@@ -342,16 +379,32 @@ def _linkage_command(args: argparse.Namespace) -> int:
     angles = lk.drawn_angle + np.radians(np.arange(n) * step)
     sol = lk.solve(angles)
     point = lk.output or lk.names[-1]
-    summary = _linkage_summary(lk, sol, point)
+    summary = _linkage_summary(lk, sol, point, step)
     structure = " – ".join(
         kind if kind == "driver" else f"{kind}({', '.join(j)})" for kind, j in lk.structure
     )
     print(f"{lk.name or Path(args.file).stem}: {len(lk.names)} points, structure {structure}")
+
+    def at(count: int, what: str) -> str:
+        return f"no {what}" if count == 0 else f"{what} at {_n(count, 'angle')}"
+
     print(
         f"Solved {n} crank angles from the drawn {math.degrees(lk.drawn_angle):.2f}° in steps "
-        f"of {step:g}°: assembled at {summary['assembled']}, dead centres at "
-        f"{summary['singular']}, branch changes at {len(summary['branch_changes'])}."
+        f"of {step:g}°: assembled at {summary['assembled']} of {n}, "
+        f"{at(summary['singular'], 'dead centres')}, "
+        f"{at(len(summary['branch_changes']), 'branch changes')}."
     )
+    full = bool(sol.ok.all())
+    if not full and sol.ok.any():
+        ranges = ", ".join(f"{a:.6g}…{b:.6g}°" for a, b in summary["unreachable_deg"])
+        why = _drawn_mismatch(lk)
+        print(
+            f"cyclomech: warning: {args.file}: the linkage cannot make a full turn: it cannot "
+            f"be assembled at crank angles {ranges}; the output's range, stroke and peaks "
+            "below are over the reachable angles only"
+            + (f" (the lengths given differ from the drawing: {'; '.join(why)})" if why else ""),
+            file=sys.stderr,
+        )
     if "output_range_m" in summary:
         r = summary["output_range_m"]
         print(
@@ -364,6 +417,7 @@ def _linkage_command(args: argparse.Namespace) -> int:
             )
             + f"; |d xy/dφ| ≤ {summary['max_velocity_analog_m_per_rad']:.6g} m/rad, "
             f"|d² xy/dφ²| ≤ {summary['max_acceleration_analog_m_per_rad2']:.6g} m/rad²"
+            + ("" if full else f" (over {summary['output_over']})")
         )
     out = _out_folder(args)
     cols, table = _analog_table(sol)
@@ -379,7 +433,14 @@ def _linkage_command(args: argparse.Namespace) -> int:
     print("\nWrote " + ", ".join(str(p) for p in written))
     if not sol.ok.any():
         print("cyclomech: the linkage cannot be assembled at any angle", file=sys.stderr)
-        return 1
+        return EXIT_FAILS
+    if not full and args.require_full_turn:
+        print(
+            f"cyclomech: {args.file}: the linkage cannot make a full turn (exit status "
+            f"{EXIT_FAILS}, --require-full-turn)",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
     return 0
 
 
@@ -798,6 +859,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     q.add_argument("--out", help="output folder (default: out/<file name>)")
     q.add_argument("--step-deg", type=float, default=1.0, help="crank-angle step [°] (default 1)")
     q.add_argument("--no-plot", action="store_true", help="do not write the figures")
+    q.add_argument(
+        "--require-full-turn",
+        action="store_true",
+        help=f"exit with status {EXIT_FAILS} if the linkage cannot make a full crank turn",
+    )
     q.set_defaults(run=_linkage_command)
     r = sub.add_parser("press", help="kinematics, criteria and design sweep of a press file (TOML)")
     r.add_argument("file", help="press file, e.g. examples/extrusion_press.toml")
