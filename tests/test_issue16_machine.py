@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from pathlib import Path
 
@@ -302,3 +303,97 @@ def test_item7_a_length_that_does_not_match_the_drawing_is_named(tmp_path, capsy
     err = capsys.readouterr().err
     assert "cannot make a full turn" in err
     assert "BC drawn 0.360555 m, given 0.15 m" in err
+
+
+def _chain_machine(n: int, order: np.ndarray) -> cm.Machine:
+    ops = [
+        {"from": str(i), "to": str(i + 1), "min_angle_deg": 100.0 / n, "name": f"op{i}"}
+        for i in order
+    ]
+    ops.append(
+        {"from": str(n), "to": "end", "min_angle_deg": 10.0, "min_duration_s": 0.05, "name": "L"}
+    )
+    return cm.Machine.from_dict(
+        {
+            "machine": {"name": "chain", "speed_rpm": [100.0, 200.0]},
+            "cyclogram": {"name": "c", "limiting": "L"},
+            "operation": ops,
+        }
+    )
+
+
+def test_item20_speed_limit_of_many_operations_is_right_in_any_order():
+    """4000 operations took 108 s (one Bellman–Ford pass per operation); the Rust
+    test item20_… counts the passes. Here: the limit of a 3000-operation chain,
+    given in order and shuffled, is the closed form 100° + 6·n·0.05 s = 360° →
+    n = 866.67 rpm, to max_difference's documented tolerance."""
+    n = 3000
+    exact = 260.0 / (6.0 * 0.05)
+    ordered = _chain_machine(n, np.arange(n)).speed_limit()
+    shuffled = _chain_machine(n, np.random.default_rng(3).permutation(n)).speed_limit()
+    assert ordered.rpm == pytest.approx(exact, rel=1e-7)
+    assert shuffled.rpm == pytest.approx(exact, rel=1e-7)
+    assert set(ordered.binding) == set(shuffled.binding)
+
+
+@pytest.mark.parametrize("rtol", [math.nan, 0.0, -1.0, 1e-300, 1.0, math.inf, "1e-6", True])
+def test_item16_speed_search_tolerance_is_validated(rtol):
+    """rtol = nan, 0, negative or 1e-300 looped forever; ≥ 1 or inf returned the
+    1e-6 rpm search floor instead of 421.37."""
+    with pytest.raises(cm.InputError, match=r"rtol = .* must be a relative tolerance"):
+        cm.Machine.example().cyclogram_speed_limit(rtol=rtol)
+
+
+def test_item16_speed_search_tolerance_bounds_are_usable():
+    m = cm.Machine.example()
+    exact = m.cyclogram_speed_limit(rtol=1e-14)
+    for rtol in (1e-14, 1e-6, 0.5):
+        got = m.cyclogram_speed_limit(rtol=rtol)
+        # The search returns a speed that fits, within rtol below the limit.
+        assert exact * (1 - rtol) - 1e-9 <= got <= exact
+        assert m.fits([got])[0]
+
+
+@pytest.mark.parametrize(
+    ("call", "words"),
+    [
+        (lambda m: m.stop_angles(np.array([300.0, np.nan])), "rpm"),
+        (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=0), "points = 0"),
+        (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=2.5), "points"),
+        (
+            lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(500.0, 200.0)),
+            "speed_range_rpm",
+        ),
+        (
+            lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), nominal_rpm=np.nan),
+            "nominal_rpm",
+        ),
+        (
+            lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), angle_points=-1),
+            "angle_points = -1",
+        ),
+        (
+            lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), speed_points=True),
+            "speed_points = True",
+        ),
+        (
+            lambda m: (
+                cm.Machine.from_toml(EXAMPLES / "rotor_line.toml")
+                .mechanisms["line"]
+                .speeds(math.nan)
+            ),
+            "rpm",
+        ),
+    ],
+)
+def test_item18_machine_arguments_are_checked(call, words):
+    """These returned NaN, garbage or a machine that fails later."""
+    with pytest.raises(cm.InputError, match=re.escape(words)):
+        call(cm.Machine.example())
+
+
+def test_item19_numpy_integers_are_counts():
+    m = cm.Machine.example()
+    a = m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=np.int64(64))
+    assert a == m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=64)
+    cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), angle_points=np.int32(19))

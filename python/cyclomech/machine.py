@@ -72,7 +72,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _toml
-from ._arrays import threads_arg
+from ._arrays import real, threads_arg
 from ._errors import InfeasibleError, InputError
 from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
 from .impact import _STOP_KEYS, StopImpact, critical_speeds, phase_angles, rebounds
@@ -177,7 +177,8 @@ class CamStop:
         >>> round(float(lifter.linear_min_phase_deg(280.0)), 2)     # exact: 28.03
         32.67
         """
-        n = np.atleast_1d(np.asarray(rpm, dtype=np.float64))
+        points = _count("points", points, 2)
+        n = _speeds("rpm", rpm).reshape(np.shape(rpm) or (1,))
         exact = self.min_phase_deg(n, n_threads=n_threads)
         ok = np.isfinite(exact)
         out = np.full(n.shape, np.nan)
@@ -383,7 +384,7 @@ class TransferMechanism:
         >>> [round(v, 4) for v in m.speeds(60.0)]
         [0.1178, 0.1309]
         """
-        w = float(rpm) * _RAD_PER_RPM
+        w = float(_speeds("rpm", rpm)[0]) * _RAD_PER_RPM
         return (w * self.path.R_t / self.pockets_t, w * self.path.R_p / self.pockets_p)
 
     def peaks(self, rpm: float) -> tuple[float, float]:
@@ -720,13 +721,23 @@ class Machine:
         source: str = "<machine>",
         data: Mapping[str, Any] | None = None,
     ) -> None:
-        self.name = name
+        if not isinstance(cyclogram, Cyclogram):
+            raise InputError(f"cyclogram must be a cyclomech.Cyclogram; got {cyclogram!r}")
+        rng = _speeds("speed_range_rpm", speed_range_rpm)
+        if rng.size != 2 or not rng[0] < rng[1]:
+            raise InputError(
+                f"speed_range_rpm = {speed_range_rpm!r} must be (from, to) in rpm with "
+                f"0 < from < to ≤ {_SPEED_CAP_RPM:g}"
+            )
+        if nominal_rpm is not None:
+            nominal_rpm = float(_speeds("nominal_rpm", nominal_rpm)[0])
+        self.name = str(name)
         self.cyclogram = cyclogram
         self.mechanisms = dict(mechanisms)
-        self.speed_range_rpm = speed_range_rpm
-        self.speed_points = speed_points
+        self.speed_range_rpm = (float(rng[0]), float(rng[1]))
+        self.speed_points = _count("speed_points", speed_points, 2)
         self.nominal_rpm = nominal_rpm
-        self.angle_points = angle_points
+        self.angle_points = _count("angle_points", angle_points, 9)
         self.source = source
         self.data = data
         self.stops = [m for m in self.mechanisms.values() if isinstance(m, CamStop)]
@@ -941,6 +952,7 @@ class Machine:
         >>> [np.round(t, 2).tolist() for t in cm.Machine.example().stop_angles(np.array([300.0]))]
         [[30.03]]
         """
+        rpm = _speeds("rpm", rpm)
         if linear:
             return [s.linear_min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
         slopes = _stop_slopes([self], threads_arg(n_threads))[0]
@@ -985,6 +997,7 @@ class Machine:
         >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
         421.37
         """
+        rtol = _rtol(rtol)
         threads = threads_arg(n_threads)
         slopes = _stop_slopes([self], threads)
         return float(
@@ -1290,6 +1303,28 @@ def _int_key(
         raise InputError(
             f"{source}: {where}: {key} = {v!r} must be a whole number from {low} to 1000000"
         )
+    return v
+
+
+def _count(name: str, value: Any, low: int, high: int = 1_000_000) -> int:
+    """A whole number in [low, high] (numpy integers too), or InputError."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer):
+        raise InputError(f"{name} = {value!r} must be a whole number from {low} to {high}")
+    if not low <= value <= high:
+        raise InputError(f"{name} = {value!r} must be a whole number from {low} to {high}")
+    return int(value)
+
+
+def _rtol(value: Any) -> float:
+    """A relative tolerance of a speed search: finite, in [1e-14, 0.5] (below, the
+    64-speed refinement cannot shrink its bracket in float64; at 1 and above it
+    would stop at once, at the search's floor)."""
+    try:
+        v = real(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not 1e-14 <= v <= 0.5:
+        raise InputError(f"rtol = {value!r} must be a relative tolerance in [1e-14, 0.5]")
     return v
 
 

@@ -821,6 +821,48 @@ struct Differences {
     dst: Vec<u32>,
     source: usize,
     target: usize,
+    /// The arcs in the order the relaxation passes take them: by the tail's rank in
+    /// a depth-first topological order (back arcs of cycles ignored), so one pass
+    /// settles every path along that order and each further pass one more back arc.
+    /// In input order a chain given tail-first needed one pass per arc: quadratic.
+    order: Vec<u32>,
+}
+
+/// Arc indices sorted (stably) by their tail's position in the reverse postorder
+/// of an iterative depth-first search over all vertices: for a graph without
+/// cycles a topological order, so Bellman–Ford over the arcs in this order settles
+/// in one pass (plus one to see that nothing changes) whatever the input order.
+fn arc_order(n: usize, src: &[u32], dst: &[u32]) -> Vec<u32> {
+    let m = src.len();
+    let out = Csr::build(n, |e| src[e] as usize, |e| dst[e], m);
+    let mut rank = vec![0usize; n];
+    let mut seen = vec![false; n];
+    let mut next = n; // ranks are handed out from the back: reverse postorder
+    let mut stack: Vec<(u32, usize)> = Vec::new();
+    for root in 0..n {
+        if seen[root] {
+            continue;
+        }
+        seen[root] = true;
+        stack.push((root as u32, out.ptr[root]));
+        while let Some(top) = stack.last_mut() {
+            let v = top.0 as usize;
+            if top.1 < out.ptr[v + 1] {
+                let w = out.other[top.1] as usize;
+                top.1 += 1;
+                if !seen[w] {
+                    seen[w] = true;
+                    stack.push((w as u32, out.ptr[w]));
+                }
+            } else {
+                next -= 1;
+                rank[v] = next;
+                stack.pop();
+            }
+        }
+    }
+    let by_rank = Csr::build(n, |e| rank[src[e] as usize], |_| 0, m);
+    by_rank.edge
 }
 
 /// Working memory of one thread: distances, predecessor arcs, cycle-search marks
@@ -830,6 +872,8 @@ struct DifferenceWork {
     pred: Vec<u32>,
     mark: Vec<u32>,
     path: Vec<u32>,
+    /// Passes over the arcs made by the last row (both runs): its cost, in passes.
+    passes: usize,
 }
 
 impl DifferenceWork {
@@ -839,6 +883,7 @@ impl DifferenceWork {
             pred: vec![NO_ARC; n],
             mark: vec![0; n],
             path: Vec::new(),
+            passes: 0,
         }
     }
 }
@@ -891,18 +936,20 @@ impl Differences {
                 });
             }
         }
+        let order = arc_order(n, &src, &dst);
         Ok(Differences {
             n,
             src,
             dst,
             source: source as usize,
             target: target as usize,
+            order,
         })
     }
 
     /// Bellman–Ford from `start`, or from a virtual vertex with a 0 arc to every
     /// vertex (`None`: every distance starts at 0, which finds a negative cycle
-    /// anywhere in the graph). Passes over the arcs in input order until one
+    /// anywhere in the graph). Passes over the arcs in [`arc_order`] until one
     /// changes nothing; a distance is replaced, with its predecessor, only on an
     /// improvement by more than `eps`.
     ///
@@ -921,7 +968,11 @@ impl Differences {
         work: &mut DifferenceWork,
     ) -> Relaxation {
         let DifferenceWork {
-            dist, pred, mark, ..
+            dist,
+            pred,
+            mark,
+            passes: done,
+            ..
         } = work;
         match start {
             None => dist.fill(0.0),
@@ -933,13 +984,15 @@ impl Differences {
         pred.fill(NO_ARC);
         let passes = self.n.saturating_mul(self.n).saturating_add(self.n + 1);
         for _ in 0..passes {
+            *done += 1;
             let mut changed = false;
-            for (e, ((&u, &v), &we)) in self.src.iter().zip(&self.dst).zip(w).enumerate() {
+            for &e in &self.order {
+                let (u, v) = (self.src[e as usize] as usize, self.dst[e as usize] as usize);
                 // inf + w = inf is never below anything: unreached tails do nothing.
-                let c = dist[u as usize] + we;
-                if c < dist[v as usize] - eps {
-                    dist[v as usize] = c;
-                    pred[v as usize] = e as u32;
+                let c = dist[u] + w[e as usize];
+                if c < dist[v] - eps {
+                    dist[v] = c;
+                    pred[v] = e;
                     changed = true;
                 }
             }
@@ -960,6 +1013,7 @@ impl Differences {
         let scale = w.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
         let eps = DIFFERENCE_RTOL * (1.0 + scale) * self.n as f64;
         work.path.clear();
+        work.passes = 0;
         if self.relax(w, eps, None, work) == Relaxation::NegativeCycle
             || self.relax(w, eps, Some(self.source), work) == Relaxation::NegativeCycle
         {
@@ -1144,6 +1198,42 @@ pub fn max_difference_batch(
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// Issue 16 item 20: a chain of constraints given head-first took one
+    /// Bellman–Ford pass per arc (the machine's speed limit was quadratic in its
+    /// operations: 4000 operations 108 s). In depth-first order each run settles in
+    /// two passes whatever the input order; the value is the chain's sum (closed form).
+    #[test]
+    fn item20_a_chain_settles_in_two_passes_whatever_its_order() {
+        let n = 2000usize;
+        // x[i] - x[i+1] <= -1 (x[i+1] >= x[i] + 1): arcs i+1 -> i of weight -1, and
+        // the span bound x[n-1] - x[0] <= 10 000 as the arc 0 -> n-1. Largest
+        // x[0] - x[n-1] is -(n-1): the shortest path from n-1 to 0 along the chain.
+        for reversed in [false, true] {
+            let mut src: Vec<i64> = (0..n as i64 - 1).map(|i| i + 1).collect();
+            let mut dst: Vec<i64> = (0..n as i64 - 1).collect();
+            if reversed {
+                src.reverse();
+                dst.reverse();
+            }
+            src.push(0);
+            dst.push(n as i64 - 1);
+            let mut w = vec![-1.0; n - 1];
+            w.push(10_000.0);
+            let sys = Differences::new(n as i64, &src, &dst, n as i64 - 1, 0).unwrap();
+            let mut work = DifferenceWork::new(n);
+            let value = sys.solve_row(&w, &mut work);
+            assert_eq!(value, -((n - 1) as f64));
+            assert_eq!(work.path.len(), n - 1);
+            // Two runs of (one settling pass + one that changes nothing), plus at
+            // most one pass per back arc (the span arc closes the only cycle).
+            assert!(
+                work.passes <= 6,
+                "{} passes (reversed = {reversed})",
+                work.passes
+            );
+        }
+    }
 
     /// Independent reference: relax every arc V times (Bellman–Ford style).
     fn reference(n: usize, src: &[i64], dst: &[i64], w: &[f64]) -> Vec<f64> {
