@@ -397,3 +397,43 @@ def test_item19_numpy_integers_are_counts():
     a = m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=np.int64(64))
     assert a == m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=64)
     cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), angle_points=np.int32(19))
+
+
+@pytest.mark.parametrize(
+    "reader", [cm.Machine.from_toml, cm.Cyclogram.from_toml, cm.Linkage.from_toml]
+)
+@pytest.mark.parametrize("depth", [200, 100_000])
+def test_item19_a_deeply_nested_file_is_named(tmp_path, reader, depth):
+    """A deeply nested TOML file gave a RecursionError traceback from every
+    from_toml (100 000 levels in the parser; 200 parse, then recursed later)."""
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * depth + "]" * depth + "\n", encoding="utf-8")
+    with pytest.raises(cm.InputError, match=r"deep\.toml: .*nested more than 64 levels"):
+        reader(path)
+
+
+def test_item19_a_deeply_nested_file_from_the_command_line(tmp_path, capsys):
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * 100_000 + "]" * 100_000 + "\n", encoding="utf-8")
+    assert main(["press", str(path), "--out", str(tmp_path / "o")]) == 2
+    assert "nested more than 64 levels" in capsys.readouterr().err
+
+
+def test_small_a_mechanism_name_one_letter_off_warns():
+    """`mechanism = "liftr"` on an operation silently made a Gantt row of its own.
+    A name close to one of the machine's mechanisms warns; a name far from all of
+    them (the knife cutter's "clamp", "back gauge": mechanisms the file does not
+    model) stays quiet."""
+    data = tomllib.loads((EXAMPLES / "stb_loom.toml").read_text("utf-8"))
+    data["operation"][0]["mechanism"] = "liftr"
+    with pytest.warns(cm.CyclomechWarning, match=r"'liftr'.*did you mean 'lifter'"):
+        cm.Machine.from_dict(data, "loom.toml")
+    m = cm.Machine.from_toml(EXAMPLES / "knife_cutter.toml")  # warnings are errors here
+    assert {"clamp", "back gauge"} <= {op.mechanism for op in m.cyclogram.operations}
+
+
+@pytest.mark.parametrize("command", ["cyclogram", "linkage", "press", "impact"])
+def test_small_a_machine_file_given_to_another_command_points_to_run(command, tmp_path, capsys):
+    loom = str(EXAMPLES / "stb_loom.toml")
+    assert main([command, loom, "--out", str(tmp_path), "--no-plot"]) == 2
+    assert f"run it with `cyclomech run {loom}`" in capsys.readouterr().err

@@ -12,6 +12,7 @@ from ._core import __version__
 from ._errors import (
     CycleError,
     CyclomechError,
+    CyclomechWarning,
     InfeasibleError,
     InputError,
     InternalError,
@@ -28,6 +29,7 @@ __all__ = [
     "CycleError",
     "Cyclogram",
     "CyclomechError",
+    "CyclomechWarning",
     "EventGraph",
     "GraphAnalysis",
     "InfeasibleError",

@@ -13,6 +13,7 @@ from typing import Any
 __all__ = [
     "CycleError",
     "CyclomechError",
+    "CyclomechWarning",
     "InfeasibleError",
     "InputError",
     "InternalError",
@@ -22,6 +23,11 @@ __all__ = [
 
 class CyclomechError(ValueError):
     """Base class of every cyclomech error (a ``ValueError``)."""
+
+
+class CyclomechWarning(UserWarning):
+    """Something in the input is probably a mistake, but has a valid reading (a
+    mechanism name on an operation one letter off a mechanism of the machine)."""
 
 
 class InputError(CyclomechError):

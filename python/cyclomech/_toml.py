@@ -14,13 +14,39 @@ from typing import Any
 from ._errors import InputError
 
 
+#: Deepest nesting of arrays and tables accepted [levels]: cyclomech's files need
+#: five; far deeper ones would exhaust Python's recursion in the parser or later.
+MAX_DEPTH = 64
+
+
+def _depth_ok(data: Any) -> bool:
+    """True if ``data`` nests at most :data:`MAX_DEPTH` levels (no recursion)."""
+    stack = [(data, 0)]
+    while stack:
+        v, d = stack.pop()
+        if d > MAX_DEPTH:
+            return False
+        if isinstance(v, Mapping):
+            stack.extend((x, d + 1) for x in v.values())
+        elif isinstance(v, list):
+            stack.extend((x, d + 1) for x in v)
+    return True
+
+
 def load(path: str | Path) -> tuple[dict[str, Any], str]:
     """The parsed file and its name for messages, or :class:`InputError`. A UTF-8
-    byte order mark (written by some Windows editors) is skipped."""
+    byte order mark (written by some Windows editors) is skipped; arrays and
+    tables nested more than :data:`MAX_DEPTH` deep are refused."""
     p = Path(path)
+    deep = f"{p}: arrays or tables nested more than {MAX_DEPTH} levels deep"
     try:
         text = p.read_bytes().removeprefix(codecs.BOM_UTF8).decode("utf-8")
-        return tomllib.loads(text), str(p)
+        data = tomllib.loads(text)
+        if not _depth_ok(data):
+            raise InputError(deep)
+        return data, str(p)
+    except RecursionError:
+        raise InputError(deep) from None
     except FileNotFoundError:
         raise InputError(f"{p}: no such file") from None
     except tomllib.TOMLDecodeError as e:

@@ -368,6 +368,24 @@ def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str, step: float)
     return out
 
 
+def _not_a_machine_file(args: argparse.Namespace) -> None:
+    """A machine file given to a one-domain command: say which command reads it
+    (as `run` does for the other files)."""
+    if args.command in ("run", "sweep"):
+        return
+    from . import _toml
+
+    try:
+        data, source = _toml.load(args.file)
+    except InputError:
+        return  # the command itself says what is wrong with the file
+    if isinstance(data, dict) and "machine" in data:
+        raise InputError(
+            f"{source}: this is a machine file ([machine]); run it with "
+            f"`cyclomech run {args.file}` (or sweep it with `cyclomech sweep`)"
+        )
+
+
 def _linkage_command(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -903,6 +921,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         _out_path(args)  # a bad --out fails now, not after the work
+        _not_a_machine_file(args)
         return int(args.run(args))
     except CyclomechError as e:
         # Errors from the file already name it; name it for the others too.

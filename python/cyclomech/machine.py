@@ -62,7 +62,9 @@ Constraints over several operations need the LP, one per speed.
 from __future__ import annotations
 
 import copy
+import difflib
 import math
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -73,7 +75,7 @@ import numpy.typing as npt
 
 from . import _toml
 from ._arrays import real, threads_arg
-from ._errors import InfeasibleError, InputError
+from ._errors import CyclomechWarning, InfeasibleError, InputError
 from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
 from .impact import _STOP_KEYS, StopImpact, critical_speeds, phase_angles, rebounds
 from .linkage import _LINKAGE_KEYS, Linkage, LinkageSolution
@@ -832,6 +834,7 @@ class Machine:
             raise InputError(f"{source}: [mechanism] must be a table of [mechanism.<name>] tables")
         for key, spec in table.items():
             mechs[key] = _mechanism(key, spec, cg, source, angle_points)
+        _near_misses(cg, mechs, source)
         return cls(
             name,
             cg,
@@ -1278,6 +1281,27 @@ def _cyclogram_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> str:
 
 
 # --------------------------------------------------------------------- parsing
+def _near_misses(cg: Cyclogram, mechs: Mapping[str, Mechanism], source: str) -> None:
+    """Warn when an operation's ``mechanism`` is not one of the machine's but nearly
+    is (``"liftr"`` for ``"lifter"``: difflib ratio ≥ 0.75): probably a typo that
+    would draw a Gantt row of its own. A name far from every mechanism is a
+    mechanism the file does not model (a clamp, a back gauge), and stays quiet."""
+    seen: set[str] = set()
+    for op in cg.operations:
+        name = op.mechanism
+        if name is None or name in mechs or name in seen:
+            continue
+        seen.add(name)
+        near = difflib.get_close_matches(name, list(mechs), n=1, cutoff=0.75)
+        if near:
+            warnings.warn(
+                f"{source}: operation {op.title!r}: mechanism = {name!r} is not a mechanism "
+                f"of the machine; did you mean {near[0]!r}? (it gets a Gantt row of its own)",
+                CyclomechWarning,
+                stacklevel=4,
+            )
+
+
 def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     """What another command's file looks like, and that command: by its tables."""
     if "stop" in data:
