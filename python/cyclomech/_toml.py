@@ -13,7 +13,6 @@ from typing import Any
 
 from ._errors import InputError
 
-
 #: Deepest nesting of arrays and tables accepted [levels]: cyclomech's files need
 #: five; far deeper ones would exhaust Python's recursion in the parser or later.
 MAX_DEPTH = 64
