@@ -437,3 +437,27 @@ def test_small_a_machine_file_given_to_another_command_points_to_run(command, tm
     loom = str(EXAMPLES / "stb_loom.toml")
     assert main([command, loom, "--out", str(tmp_path), "--no-plot"]) == 2
     assert f"run it with `cyclomech run {loom}`" in capsys.readouterr().err
+
+
+def test_small_circular_diagram_never_cuts_a_name_short():
+    """The loom's circular diagram showed "lift mic…" and "ope…": names that did
+    not fit on their bars were cut. Now a bar shows its whole name or a number,
+    and the numbers are keyed with the whole names beside the rings."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from cyclomech.plot import plot_cyclogram
+
+    m = cm.Machine.from_toml(EXAMPLES / "stb_loom.toml")
+    ax = plot_cyclogram(m.optimize(300.0), kind="circular")
+    texts = [t.get_text() for t in ax.texts]
+    assert not any("…" in t for t in texts), texts
+    key = next(a for a in ax.artists if a.get_gid() == "key")
+    keyed = [t.get_text().split("  ", 1) for t in key.get_texts()]
+    numbers = [t for t in texts if t.isdigit()]
+    assert sorted(numbers, key=int) == [k for k, _ in keyed]
+    titles = {op.title for op in m.cyclogram.operations}
+    assert {name for _, name in keyed} <= titles
+    assert {"lift microshuttle", "open gripper spring"} <= {name for _, name in keyed}
+    plt.close(ax.figure)

@@ -850,6 +850,9 @@ def _label(ax: Axes, lay: _Layout, kind: str) -> None:
     radius_pt = min(pt_x, pt_y) / 2  # of the outer circle, r = base[-1]
     size = _FONT - 0.5
     thick = (_BAR_H + 0.1) * radius_pt / base[-1]
+    # A title that does not fit whole on its bar gets a number there, and the
+    # numbers are keyed beside the rings: a name is never cut short.
+    keyed: list[str] = []
     for b, r in zip(lay.bars, r_of, strict=True):
         arc_pt = b.angle / cycle * 2.0 * math.pi * r / base[-1] * radius_pt
         # A chord is shorter than its arc: leave room for straight text on a curved bar.
@@ -860,9 +863,13 @@ def _label(ax: Axes, lay: _Layout, kind: str) -> None:
             thick - 1.0,
             size,
             bold=b.limiting,
+            truncate=False,
         )
         if text is None:
-            continue
+            if 0.85 * arc_pt - 2.0 < _text_width_pt(str(len(keyed) + 1), size):
+                continue  # a bar too short to hold even its number stays bare
+            keyed.append(b.op.title)
+            text = str(len(keyed))
         mid = b.start + b.angle / 2
         rot = (-mid * 360.0 / cycle) % 360.0  # the tangent, in display degrees
         if 90.0 < rot <= 270.0:
@@ -880,7 +887,27 @@ def _label(ax: Axes, lay: _Layout, kind: str) -> None:
             fontweight="bold" if b.limiting else "normal",
             path_effects=_halo(),
             zorder=4,
+            gid=f"key:{len(keyed)}" if text == str(len(keyed)) and keyed else None,
         )
+    if keyed:
+        from matplotlib.legend import Legend
+        from matplotlib.patches import Patch
+
+        key = Legend(
+            ax,
+            [Patch(visible=False) for _ in keyed],
+            [f"{k}  {title}" for k, title in enumerate(keyed, 1)],
+            loc="lower left",
+            bbox_to_anchor=(1.08, 0.0),
+            alignment="left",
+            title="numbered operations",
+            title_fontsize=8,
+            fontsize=8,
+            handlelength=0,
+            handletextpad=0,
+        )
+        key.set_gid("key")
+        ax.add_artist(key)
 
 
 # ================================================================== linkages
