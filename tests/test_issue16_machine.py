@@ -461,3 +461,16 @@ def test_small_circular_diagram_never_cuts_a_name_short():
     assert {name for _, name in keyed} <= titles
     assert {"lift microshuttle", "open gripper spring"} <= {name for _, name in keyed}
     plt.close(ax.figure)
+
+
+def test_item13_a_sweep_too_large_for_memory_is_refused_before_allocating():
+    """cm.sweep with 1e9 designs raised a bare MemoryError (or was killed) after
+    allocating its index grid; it is refused first, naming the sizes."""
+    m = cm.Machine.example()
+    grid = {
+        "lifter.preload": np.linspace(1e-4, 3e-4, 100_000),
+        "lifter.a_max": np.linspace(1e-4, 2e-4, 10_000),
+        "speed_rpm": [300.0],
+    }
+    with pytest.raises(cm.InputError, match=r"1,000,000,000 designs × 1 speeds.*GiB"):
+        cm.sweep(m, grid, progress=False)

@@ -208,6 +208,33 @@ def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
     return vals
 
 
+#: Bytes a point of a sweep takes in its result: a float64 or an object pointer per
+#: column, and the text of the three text columns (short strings, shared where equal).
+_POINT_BYTES = 8 * len(FIGURES) + 3 * 8
+
+
+def _memory_bytes() -> int:
+    """This machine's physical memory [bytes] (2**40 where it cannot be read)."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return 2**40
+
+
+def _check_size(designs: int, speeds: int, params: int) -> None:
+    """Refuse, before allocating, a sweep whose result alone would take more than
+    half of this machine's memory (it used to die in a bare MemoryError, or be
+    killed by the system, after allocating its index grid)."""
+    need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
+    have = _memory_bytes()
+    if need > have // 2:
+        raise InputError(
+            f"the sweep has {designs:,} designs × {speeds:,} speeds = {designs * speeds:,} "
+            f"points, whose result needs about {need / 2**30:.3g} GiB; this machine has "
+            f"{have / 2**30:.3g} GiB: sweep fewer designs or speeds, or the grid in parts"
+        )
+
+
 def _chunks(n_designs: int, size: int) -> Iterator[range]:
     for start in range(0, n_designs, size):
         yield range(start, min(start + size, n_designs))
@@ -348,8 +375,9 @@ def sweep(
     # invalid is that design's problem (a column), not the sweep's.
     for k in names:
         check_parameter(machine, k)
-    # Design d takes axes[j][designs[d, j]]: indices, so whole-number keys stay whole.
     shape = tuple(a.size for a in axes)
+    _check_size(math.prod(shape), speeds.size, len(names))
+    # Design d takes axes[j][designs[d, j]]: indices, so whole-number keys stay whole.
     designs = np.indices(shape).reshape(len(shape), -1).T if names else np.zeros((1, 0), np.intp)
     D = designs.shape[0]
     ex = _as_executor(executor)
