@@ -442,3 +442,84 @@ def test_sweep_dask(benchmark, loom, sweep_reference, dask_client) -> None:
     assert r.n_points == N_PRELOADS * N_SPEEDS
     _same_sweep(r, sweep_reference)
     _record(benchmark, "sweep-dask", what, r.n_points)
+
+
+# --- the speed limit of a machine with thousands of operations (issue 16 item 20) ------
+
+#: Operations of the chain (a chain given in order, with one time-bound operation at its
+#: end): 4000 took 108 s before the depth-first arc order, 20 000 fifteen minutes.
+N_CHAIN = 4000 if FULL else 1000
+GROUP_CHAIN = f"speed limit: a chain of {N_CHAIN} operations"
+#: Its exact limit: the chain's 100° plus 10° at rest, 6·n·0.05 s at n rpm: 360° at
+#: n = 260 / 0.3 rpm.
+CHAIN_LIMIT_RPM = 260.0 / (6.0 * 0.05)
+
+
+@pytest.fixture(scope="module")
+def chain() -> cm.Machine:
+    ops: list[dict[str, Any]] = [
+        {"from": str(i), "to": str(i + 1), "min_angle_deg": 100.0 / N_CHAIN} for i in range(N_CHAIN)
+    ]
+    ops.append({"from": str(N_CHAIN), "to": "end", "min_angle_deg": 10.0, "min_duration_s": 0.05})
+    return cm.Machine.from_dict(
+        {
+            "machine": {"name": "chain", "speed_rpm": [100.0, 200.0]},
+            "cyclogram": {"name": "chain", "limiting": [str(N_CHAIN), "end"]},
+            "operation": ops,
+        }
+    )
+
+
+def chain_lp(m: cm.Machine) -> float:
+    """The peer a user writes: one LP (scipy HiGHS) over the event angles p, the
+    span's end F and the speed n: max n with p_v − p_u ≥ a and p_v − p_u ≥ 6·n·s
+    per operation (its angle and its duration), 0 ≤ p ≤ F ≤ 360."""
+    from scipy.optimize import linprog
+
+    cg = m.cyclogram
+    ev = {e: k for k, e in enumerate(cg.events)}
+    V = len(ev)
+    ops = cg.operations
+    E = len(ops)
+    # Row e: p_u − p_v ≤ −a_e; row E + e: p_u − p_v + 6·s_e·n ≤ 0.
+    rows = np.r_[np.repeat(np.arange(E), 2), E + np.repeat(np.arange(E), 3)]
+    uv = [[ev[o.src], ev[o.dst]] for o in ops]
+    cols = np.r_[np.reshape(uv, -1), np.c_[uv, np.full(E, V + 1)].reshape(-1)]
+    secs = [6.0 * o.min_duration_s for o in ops]
+    vals = np.r_[np.tile([1.0, -1.0], E), np.c_[np.ones(E), -np.ones(E), secs].reshape(-1)]
+    span_rows = 2 * E + np.repeat(np.arange(V), 2)
+    span_cols = np.c_[np.arange(V), np.full(V, V)].reshape(-1)
+    span_vals = np.tile([1.0, -1.0], V)
+    a = sparse.csr_matrix(
+        (np.r_[vals, span_vals], (np.r_[rows, span_rows], np.r_[cols, span_cols])),
+        shape=(2 * E + V, V + 2),
+    )
+    b = np.r_[[-o.min_angle_deg for o in ops], np.zeros(E + V)]
+    c = np.zeros(V + 2)
+    c[-1] = -1.0
+    bounds = [(0.0, None)] * V + [(0.0, cg.cycle_deg), (0.0, None)]
+    res = linprog(c, A_ub=a, b_ub=b, bounds=bounds, method="highs")
+    assert res.status == 0, res.message
+    return float(res.x[-1])
+
+
+@pytest.mark.benchmark(group=GROUP_CHAIN, min_rounds=SLOW_ROUNDS)
+def test_chain_speed_limit_cyclomech(benchmark, chain) -> None:
+    _label(benchmark, "cyclomech", "Machine.speed_limit() (max_difference search)")
+    lim = benchmark(chain.speed_limit)
+    # max_difference's documented tolerance: 1e-12·(1 + max|w|)·nodes per relaxation.
+    assert lim.rpm == pytest.approx(CHAIN_LIMIT_RPM, rel=1e-7)
+
+
+@pytest.mark.benchmark(group=GROUP_CHAIN, min_rounds=SLOW_ROUNDS)
+def test_chain_speed_limit_howard(benchmark, chain) -> None:
+    _label(benchmark, "cyclomech (Howard)", "Cyclogram.max_speed_rpm() (max cycle ratio)")
+    lim = benchmark(chain.cyclogram.max_speed_rpm)
+    assert lim.rpm == pytest.approx(CHAIN_LIMIT_RPM, rel=1e-9)
+
+
+@pytest.mark.benchmark(group=GROUP_CHAIN, min_rounds=SLOW_ROUNDS)
+def test_chain_speed_limit_lp(benchmark, chain) -> None:
+    _label(benchmark, "scipy", "one LP (HiGHS) over event angles and the speed")
+    rpm = benchmark(chain_lp, chain)
+    assert rpm == pytest.approx(CHAIN_LIMIT_RPM, rel=1e-7)
