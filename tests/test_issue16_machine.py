@@ -474,3 +474,13 @@ def test_item13_a_sweep_too_large_for_memory_is_refused_before_allocating():
     }
     with pytest.raises(cm.InputError, match=r"1,000,000,000 designs × 1 speeds.*GiB"):
         cm.sweep(m, grid, progress=False)
+
+
+def test_item6_one_invalid_value_is_a_problem_row_not_an_error():
+    """A preload above the lifter's stroke used to abort cm.sweep; it is the
+    design's problem now, named in its rows, and the sweep returns."""
+    r = cm.sweep(cm.Machine.example(), {"lifter.preload": [0.02, 2e-4]}, progress=False)
+    rows = r.columns["problem"].reshape(2, -1)
+    assert all("lifter.preload = 0.02" in p and "smaller than stroke" in p for p in rows[0])
+    assert (rows[1] == "").all()
+    assert not r.columns["fits"].reshape(2, -1)[0].any()

@@ -755,8 +755,6 @@ API_CASES = [
         LIFTER, "nosuchkey", VALID),
     api("sweep unknown mechanism", lambda m: cm.sweep(m, {"nosuch.key": [1.0]}), False,
         None, "nosuch.key", "lifter"),
-    api("sweep preload above the stroke", lambda m: cm.sweep(m, {"lifter.preload": [0.02]}),
-        True, LIFTER, "preload", "smaller than stroke"),
     api("sweep chunk 0", lambda m: cm.sweep(m, {"lifter.preload": [1e-4]}, chunk=0), False,
         None, "chunk", "≥ 1"),
     api("sweep executor 5", lambda m: cm.sweep(m, {"lifter.preload": [1e-4]}, executor=5),

@@ -1417,7 +1417,7 @@ def check_parameter(machine: Machine, path: str) -> None:
     if key not in allowed:
         raise InputError(
             f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
-            "set; its keys are "
+            "set; valid keys are "
             f"{', '.join(sorted(allowed))}"
         )
 
