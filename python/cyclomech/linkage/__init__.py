@@ -31,7 +31,7 @@ import numpy.typing as npt
 
 from .. import _core, _toml
 from .._arrays import float_array, real, threads_arg
-from .._errors import InputError
+from .._errors import CyclomechError, InputError
 
 __all__ = ["Linkage", "LinkageSolution", "sweep"]
 
@@ -52,10 +52,25 @@ class LinkageSolution:
 
     Flags, one per angle: ``ok`` is False where the mechanism cannot be assembled
     (its points NaN there); ``singular`` is True at a dead centre of a group, where
-    the analogs are infinite (NaN); ``branch_change`` is True where a class III
-    group passed through a singular position since the angle solved before it (the
-    walk goes outwards from the drawn angle), so that the pose is on another
-    assembly branch than the drawn one.
+    the analogs are infinite (NaN); ``branch_change`` is True where the pose of a
+    class III group is not continuous with the one solved before it.
+
+    Class III groups are walked from the drawn pose outwards, the short way: an
+    angle is first moved by whole turns into half a turn of the drawn angle (θ and
+    θ + 2πn are one crank position and get one pose). The walk follows the drawn
+    branch while Newton from its predictor stays near it and no group's Jacobian
+    determinant changes sign. Where the branch ends (a fold, or the mechanism stops
+    assembling) the walk does not jump silently: each later angle is re-acquired by
+    the seed's bracketing, on the drawn assembly mode (the determinant's sign at
+    the drawn pose) nearest the last pose; the first angle re-acquired is flagged
+    ``branch_change``, angles where nothing assembles are ``ok = False``.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.linkage import presets
+    >>> lk = presets.burg_trimmer()
+    >>> sol = lk.solve(np.radians([170.0, 170.0 + 360.0]))
+    >>> bool(np.allclose(sol["E"][0], sol["E"][1], atol=1e-12)), sol.branch_change.tolist()
+    (True, [False, False])
     """
 
     angles: npt.NDArray[np.float64]
@@ -199,6 +214,7 @@ class Linkage:
         self._check_guides()
         compiled = self._compile()
         self._structure, self._program, self.drawn_angle, self._dims, self._slots = compiled
+        self._check_drawn_pose_closes()
 
     # ---------------------------------------------------------------- queries
     @property
@@ -478,6 +494,44 @@ class Linkage:
                 f"the linkage is under-constrained: mobility {formula} = {mobility}, but one "
                 "crank fixes only one degree of freedom; add a link, a guide, or ground a joint"
             )
+
+    def _check_drawn_pose_closes(self) -> None:
+        """A class III group starts every solve from the drawn pose: it must close
+        (the kernel takes the assembly nearest the drawing, within a quarter of the
+        group's size) at the drawn crank angle, or construction fails here, naming
+        the lengths that differ from the drawing."""
+        groups = [joints for kind, joints in self._structure if kind == "III"]
+        if not groups:
+            return
+        try:
+            self._program.solve(
+                np.array([self.drawn_angle]), np.array([0], dtype=np.int64), analogs=False
+            )
+        except CyclomechError as e:
+            if "does not close" not in str(e):
+                raise
+        else:
+            return
+        scale = self._scale()
+        differ = []
+        for (a, b), given in self._lengths.items():
+            pa, pb = self._points[a], self._points[b]
+            drawn = math.hypot(pb[0] - pa[0], pb[1] - pa[1])
+            if abs(drawn - given) > 1e-9 * scale:
+                differ.append(f"|{a}{b}| drawn {drawn:.6g} m, given {given:.6g} m")
+        names = ", ".join("(" + ", ".join(g) + ")" for g in groups)
+        why = (
+            "the lengths given differ from the drawing: " + "; ".join(differ)
+            if differ
+            else "the drawing itself does not close"
+        )
+        raise InputError(
+            f"the drawn pose does not close at the drawn crank angle "
+            f"{math.degrees(self.drawn_angle):.6g}°: {why}. No assembly of the class III "
+            f"group {names} lies within a quarter of its size of the drawn pose, so the "
+            "solver has no assembly to start from; redraw the pose with the given lengths, "
+            "or change the lengths"
+        )
 
     def _check_guides(self) -> None:
         """A point sliding along a link must be drawn on that link's line."""
