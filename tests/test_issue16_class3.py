@@ -308,3 +308,38 @@ def test_item15_class3_turns_do_not_change_the_pose_even_off_a_full_turn():
         other = lk.solve(phi + n * TAU)
         assert (other.ok == one.ok).all() and one.ok.sum() == 3
         assert_allclose(other.xy[one.ok], one.xy[one.ok], atol=1e-9)
+
+
+# ---------------------------------------------------------------- smaller: scaled geometry
+@pytest.mark.parametrize("k", [1e200, 1e-200, 2.0**-60, 1e300])
+def test_smaller_class3_scaled_geometry_is_not_a_dead_centre(k):
+    """On main a four-bar drawn ×1e200 or ×1e-200 was refused as a dead centre (the
+    cross-product check overflowed or underflowed). Reference: the same linkage at
+    unit scale, and the four-bar's closed form (Freudenstein's two circles) scaled."""
+    pts = {"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)}
+    links = [("A", "B"), ("B", "C"), ("C", "D")]
+    big = cm.Linkage(
+        {n: (x * k, y * k) for n, (x, y) in pts.items()}, links, ["A", "D"], ("A", "B")
+    )
+    phi = np.linspace(0, TAU, 73)
+    sol = big.solve(phi)
+    assert sol.ok.all() and not sol.singular.any()
+    b = np.stack([np.cos(phi), np.sin(phi)], -1)
+    c = circles(b, math.hypot(2.5, 2.5), np.array([4.0, 0.0]), math.hypot(0.5, 2.5), 1.0)
+    assert_allclose(sol["C"] / k, c, atol=1e-12)
+    assert_allclose(sol.vel / k, cm.Linkage(pts, links, ["A", "D"], ("A", "B")).solve(phi).vel)
+    # A class III group too: the Burg trimmer drawn ×k turns fully, E scaled.
+    base = presets.burg_trimmer()
+    scaled = cm.Linkage(
+        {n: (x * k, y * k) for n, (x, y) in base._points.items()},
+        base._links,
+        base._ground,
+        base._driver,
+        lengths={p: v * k for p, v in base._lengths.items()},
+    )
+    want = base.solve(phi)["E"]
+    got = scaled.solve(phi)
+    assert got.ok.all() and not got.branch_change.any()
+    assert_allclose(got["E"] / k, want, atol=1e-12)
+    sw = cm.linkage.sweep(scaled, phi, scaled.dimension_values[None], points=["E"])
+    assert_allclose(sw.xy[0, :, 0] / k, want, atol=1e-12)
