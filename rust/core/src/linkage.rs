@@ -1326,6 +1326,7 @@ pub fn solve_many_into(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::triad::Triad;
     use proptest::prelude::*;
 
     /// Crank-rocker A(0,0)–B (crank r), B–C (coupler l2), C–D (rocker l3), D(d, 0).
@@ -1614,6 +1615,87 @@ mod tests {
                 }
                 assert!(s.ok.iter().any(|&o| o));
             }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn short_way_keeps_the_crank_position(
+            theta in prop::num::f64::NORMAL.prop_filter("finite", |v| v.abs() < 1e12),
+            phi0 in -10.0f64..10.0,
+        ) {
+            let r = short_way(theta, phi0);
+            prop_assert!((r - phi0).abs() <= std::f64::consts::PI * (1.0 + 1e-15));
+            if (theta - phi0).abs() <= std::f64::consts::PI {
+                prop_assert_eq!(r.to_bits(), theta.to_bits());
+            }
+            // The platform's own reduction of θ is the reference: the float 2π is
+            // off the true one by |θ|·4e-17, below θ's rounding.
+            let tol = 1e-15 * (1.0 + theta.abs()) * 4.0 + 1e-14;
+            prop_assert!((r.sin() - theta.sin()).abs() <= tol, "{} {}", r, theta);
+            prop_assert!((r.cos() - theta.cos()).abs() <= tol, "{} {}", r, theta);
+        }
+    }
+
+    /// Issue 16 item 2's Stephenson six-bar: A(0,0), B(1,0), D(4,0), C on |BC| = 3.5
+    /// and |DC| = 2.6, E(2, 3.5), F(1.15, 5.6), G(1, 5.6); the group B–C–E held by
+    /// AB, DC and EF, the crank G–F.
+    fn stephenson() -> Program {
+        let (b, d) = ([1.0, 0.0], [4.0, 0.0]);
+        let l = 3.0f64;
+        let x = (3.5f64 * 3.5 - 2.6 * 2.6 + l * l) / (2.0 * l);
+        let c = [b[0] + x, (3.5f64 * 3.5 - x * x).sqrt()];
+        let pts = vec![[0.0, 0.0], b, d, c, [2.0, 3.5], [1.15, 5.6], [1.0, 5.6]];
+        let (k, j) = ([pts[0], pts[2], pts[5]], [pts[1], pts[3], pts[4]]);
+        Program {
+            n_points: 7,
+            fixed: vec![(0, pts[0]), (2, pts[2]), (6, pts[6])],
+            steps: vec![
+                Step::Driver {
+                    pivot: 6,
+                    tip: 5,
+                    radius: 0.15,
+                },
+                Step::Triad {
+                    anchors: [0, 2, 5],
+                    joints: [1, 3, 4],
+                    triad: Triad::from_pose(k, j),
+                },
+            ],
+            drawn: Some((0.0, pts)),
+        }
+    }
+
+    #[test]
+    fn a_class_iii_walk_never_jumps_silently_at_a_fold() {
+        let prog = stephenson();
+        let angles: Vec<f64> = (0..=25000)
+            .map(|i| (i as f64 * 0.01).to_radians())
+            .collect();
+        let s = prog.solve(&angles, &all(7), Some(1)).unwrap();
+        assert!(s.ok.iter().all(|&o| o));
+        let mut jumps = 0;
+        for i in 0..angles.len() - 1 {
+            let moved = (0..7)
+                .map(|k| {
+                    let (p, q) = (point(&s, i, 7, k), point(&s, i + 1, 7, k));
+                    dot(sub(p, q), sub(p, q)).sqrt()
+                })
+                .fold(0.0, f64::max);
+            if moved > 0.05 {
+                jumps += 1;
+                assert!(s.branch[i] || s.branch[i + 1], "silent jump at step {i}");
+            }
+        }
+        assert!(jumps >= 1);
+        // Every flagged pose (a re-acquired one) closes the group.
+        for i in (0..angles.len()).filter(|&i| s.branch[i]) {
+            let k = [point(&s, i, 7, 0), point(&s, i, 7, 2), point(&s, i, 7, 5)];
+            let j = [point(&s, i, 7, 1), point(&s, i, 7, 3), point(&s, i, 7, 4)];
+            let Step::Triad { triad, .. } = &prog.steps[1] else {
+                unreachable!()
+            };
+            assert!(triad.closure_error(&k, &j) < 1e-12 * triad.size());
         }
     }
 
