@@ -535,7 +535,7 @@ class Linkage:
             pa, pb = self._points[a], self._points[b]
             drawn = math.hypot(pb[0] - pa[0], pb[1] - pa[1])
             if abs(drawn - given) > 1e-9 * scale:
-                differ.append(f"|{a}{b}| drawn {drawn:.6g} m, given {given:.6g} m")
+                differ.append(f"{a}{b} drawn {drawn:.6g} m, given {given:.6g} m")
         names = ", ".join("(" + ", ".join(g) + ")" for g in groups)
         why = (
             "the lengths given differ from the drawing: " + "; ".join(differ)
