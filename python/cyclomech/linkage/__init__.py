@@ -31,7 +31,7 @@ import numpy.typing as npt
 
 from .. import _core, _toml
 from .._arrays import float_array, real, threads_arg
-from .._errors import InputError
+from .._errors import CyclomechError, InputError
 
 __all__ = ["Linkage", "LinkageSolution", "sweep"]
 
@@ -52,10 +52,25 @@ class LinkageSolution:
 
     Flags, one per angle: ``ok`` is False where the mechanism cannot be assembled
     (its points NaN there); ``singular`` is True at a dead centre of a group, where
-    the analogs are infinite (NaN); ``branch_change`` is True where a class III
-    group passed through a singular position since the angle solved before it (the
-    walk goes outwards from the drawn angle), so that the pose is on another
-    assembly branch than the drawn one.
+    the analogs are infinite (NaN); ``branch_change`` is True where the pose of a
+    class III group is not continuous with the one solved before it.
+
+    Class III groups are walked from the drawn pose outwards, the short way: an
+    angle is first moved by whole turns into half a turn of the drawn angle (θ and
+    θ + 2πn are one crank position and get one pose). The walk follows the drawn
+    branch while Newton from its predictor stays near it and no group's Jacobian
+    determinant changes sign. Where the branch ends (a fold, or the mechanism stops
+    assembling) the walk does not jump silently: each later angle is re-acquired by
+    the seed's bracketing, on the drawn assembly mode (the determinant's sign at
+    the drawn pose) nearest the last pose; the first angle re-acquired is flagged
+    ``branch_change``, angles where nothing assembles are ``ok = False``.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.linkage import presets
+    >>> lk = presets.burg_trimmer()
+    >>> sol = lk.solve(np.radians([170.0, 170.0 + 360.0]))
+    >>> bool(np.allclose(sol["E"][0], sol["E"][1], atol=1e-12)), sol.branch_change.tolist()
+    (True, [False, False])
     """
 
     angles: npt.NDArray[np.float64]
@@ -195,10 +210,21 @@ class Linkage:
                 f"output = {output!r} is not a point; the points are {', '.join(self._names)}"
             )
         self.name, self.output = name, output
+        # Geometric checks and the kernel work in units of a power of two near the
+        # drawing's size: exact scaling, so that a linkage drawn at 1e200 m or
+        # 1e-200 m is neither overflowed nor underflowed into a false dead centre.
+        size = self._scale()
+        self._unit = 2.0 ** round(math.log2(size)) if 0.0 < size < math.inf else 1.0
+        self._npts = {n: (x / self._unit, y / self._unit) for n, (x, y) in self._points.items()}
+        # The kernel sees the geometry divided by `_kscale` and its positions and
+        # analogs are multiplied back: 1 (bit for bit the plain solve) unless the
+        # drawing is outside 2^±40 of a metre, where squares of lengths could overflow.
+        self._kscale = 1.0 if 2.0**-40 <= self._unit <= 2.0**40 else self._unit
         self._check_mobility()
         self._check_guides()
         compiled = self._compile()
         self._structure, self._program, self.drawn_angle, self._dims, self._slots = compiled
+        self._check_drawn_pose_closes()
 
     # ---------------------------------------------------------------- queries
     @property
@@ -277,7 +303,14 @@ class Linkage:
         xy, vel, acc, ok, singular, branch = self._program.solve(
             a, sel, analogs=_flag("analogs", analogs), n_threads=threads_arg(n_threads)
         )
+        xy, vel, acc = self._unscale(xy, vel, acc)
         return LinkageSolution(a, names, xy, vel, acc, ok, singular, branch)
+
+    def _unscale(self, *arrays: Any) -> tuple[Any, ...]:
+        """The kernel's positions and analogs in metres (see ``_kscale``; exact)."""
+        if self._kscale == 1.0:
+            return arrays
+        return tuple(None if v is None else v * self._kscale for v in arrays)
 
     def _select(
         self, points: Sequence[str] | None
@@ -479,15 +512,50 @@ class Linkage:
                 "crank fixes only one degree of freedom; add a link, a guide, or ground a joint"
             )
 
+    def _check_drawn_pose_closes(self) -> None:
+        """A class III group starts every solve from the drawn pose: it must close
+        (the kernel takes the assembly nearest the drawing, within a quarter of the
+        group's size) at the drawn crank angle, or construction fails here, naming
+        the lengths that differ from the drawing."""
+        groups = [joints for kind, joints in self._structure if kind == "III"]
+        if not groups:
+            return
+        try:
+            self._program.solve(
+                np.array([self.drawn_angle]), np.array([0], dtype=np.int64), analogs=False
+            )
+        except CyclomechError as e:
+            if "does not close" not in str(e):
+                raise
+        else:
+            return
+        scale = self._scale()
+        differ = []
+        for (a, b), given in self._lengths.items():
+            pa, pb = self._points[a], self._points[b]
+            drawn = math.hypot(pb[0] - pa[0], pb[1] - pa[1])
+            if abs(drawn - given) > 1e-9 * scale:
+                differ.append(f"{a}{b} drawn {drawn:.6g} m, given {given:.6g} m")
+        names = ", ".join("(" + ", ".join(g) + ")" for g in groups)
+        why = (
+            "the lengths given differ from the drawing: " + "; ".join(differ)
+            if differ
+            else "the drawing itself does not close"
+        )
+        raise InputError(
+            f"the drawn pose does not close at the drawn crank angle "
+            f"{math.degrees(self.drawn_angle):.6g}°: {why}. No assembly of the class III "
+            f"group {names} lies within a quarter of its size of the drawn pose, so the "
+            "solver has no assembly to start from; redraw the pose with the given lengths, "
+            "or change the lengths"
+        )
+
     def _check_guides(self) -> None:
         """A point sliding along a link must be drawn on that link's line."""
-        scale = self._scale()
+        tol = 1e-9 * (self._scale() / self._unit) ** 2
         for p, guides in self._sliders.items():
             for kind, arg in guides:
-                if (
-                    kind == "link"
-                    and abs(_cross(self._points, arg[0], arg[1], p)) > 1e-9 * scale**2
-                ):
+                if kind == "link" and abs(_cross(self._npts, arg[0], arg[1], p)) > tol:
                     raise InputError(
                         f"sliders[{p!r}]: {p!r} slides along the line {arg[0]}–{arg[1]} but is "
                         "drawn off it; draw it on that line"
@@ -550,11 +618,13 @@ class Linkage:
                 slots.append((len(kind), c, dim_pairs.index(key)))
             kind.append(k)
             rows.append([*ix, *[0] * (_IDX - len(ix))])
+            ks = self._kscale
+            dm = [v / ks if c < len(lens) and lens[c] is not None else v for c, v in enumerate(dm)]
             dims.append([*dm, *[0.0] * (_DIMS - len(dm))])
 
         def line_row(g: tuple[Any, ...]) -> tuple[list[int], list[float]]:
             if g[0] is None:
-                return [-1, 0], [*g[1], *g[2]]
+                return [-1, 0], [g[1][0] / self._kscale, g[1][1] / self._kscale, *g[2]]
             return [idx[g[0]], idx[g[1]]], [0.0, 0.0, 0.0, 0.0]
 
         emit(_DRIVER, [idx[pivot], idx[tip]], [self.length(pivot, tip)], [(pivot, tip)])
@@ -566,7 +636,7 @@ class Linkage:
                 ends, joints = self._triad(known, pending)
                 j0, j1, j2 = joints
                 structure.append(("III", (j0, j1, j2)))
-                turn = math.copysign(1.0, _cross(self._points, j0, j1, j2))
+                turn = math.copysign(1.0, _cross(self._npts, j0, j1, j2))
                 pairs = [*zip(ends, joints, strict=True), (j0, j1), (j1, j2), (j2, j0)]
                 emit(
                     _TRIAD,
@@ -582,15 +652,16 @@ class Linkage:
         pv, tp = self._points[pivot], self._points[tip]
         drawn = math.atan2(tp[1] - pv[1], tp[0] - pv[0])
         self._base_dims = np.array(dims, dtype=np.float64).reshape(-1, _DIMS)
+        ks = self._kscale
         program = _core.LinkageProgram(
             len(self._names),
             np.array([idx[g] for g in fixed], dtype=np.int64),
-            np.array([self._points[g] for g in fixed], dtype=np.float64).reshape(-1, 2),
+            np.array([self._points[g] for g in fixed], dtype=np.float64).reshape(-1, 2) / ks,
             np.array(kind, dtype=np.int64),
             np.array(rows, dtype=np.int64).reshape(-1, _IDX),
             self._base_dims,
             drawn,
-            np.array([self._points[n] for n in self._names], dtype=np.float64),
+            np.array([self._points[n] for n in self._names], dtype=np.float64) / ks,
         )
         return structure, program, drawn, dim_pairs, slots
 
@@ -608,8 +679,8 @@ class Linkage:
         """Place one pending joint by a class II group, if any can be: two circles
         (RRR, coupler point), circle and guide (RRP), two guides (PRP), or a link
         aimed through a sliding block (RPR). Returns the joints placed."""
-        pts = self._points
-        tol = 1e-9 * scale * scale
+        pts, npts = self._points, self._npts
+        tol = 1e-9 * (scale / self._unit) ** 2
         for p in pending:
             anchors = [q for q in near[p] if q in known]
             guides = [
@@ -621,9 +692,9 @@ class Linkage:
                 # The best-conditioned pair: the largest area with p in the drawn pose.
                 a, b = max(
                     ((a, b) for i, a in enumerate(anchors) for b in anchors[i + 1 :]),
-                    key=lambda ab: abs(_cross(pts, ab[0], ab[1], p)),
+                    key=lambda ab: abs(_cross(npts, ab[0], ab[1], p)),
                 )
-                area = _cross(pts, a, b, p)
+                area = _cross(npts, a, b, p)
                 if abs(area) <= tol:
                     raise InputError(
                         f"joint {p!r} is drawn on the line through {a!r} and {b!r}, so the "
@@ -663,7 +734,8 @@ class Linkage:
             if len(guides) >= 2:
                 (ix1, dm1), (ix2, dm2) = line_row(guides[0]), line_row(guides[1])
                 (_, u1), (_, u2) = self._line_at_drawn(guides[0]), self._line_at_drawn(guides[1])
-                if abs(u1[0] * u2[1] - u1[1] * u2[0]) <= 1e-9 * math.hypot(*u1) * math.hypot(*u2):
+                n1, n2 = math.hypot(*u1), math.hypot(*u2)
+                if abs((u1[0] / n1) * (u2[1] / n2) - (u1[1] / n1) * (u2[0] / n2)) <= 1e-9:
                     raise InputError(
                         f"the two guides of {p!r} are drawn parallel, so they do not fix it"
                     )
@@ -722,10 +794,10 @@ class Linkage:
             joints = list(
                 max(
                     itertools.combinations(held, 3),
-                    key=lambda t: abs(_cross(self._points, *t)),
+                    key=lambda t: abs(_cross(self._npts, *t)),
                 )
             )
-            if abs(_cross(self._points, *joints)) <= 1e-9 * self._scale() ** 2:
+            if abs(_cross(self._npts, *joints)) <= 1e-9 * (self._scale() / self._unit) ** 2:
                 raise InputError(
                     f"the ternary link {ln!r} is drawn with {', '.join(joints)} on one "
                     "line; a class III group needs a triangle"
@@ -865,11 +937,12 @@ def sweep(
         )
     table = np.repeat(linkage._base_dims[None], dims.shape[0], axis=0)
     for row, col, j in linkage._slots:
-        table[:, row, col] = dims[:, j]
+        table[:, row, col] = dims[:, j] / linkage._kscale
     sel, names = linkage._select(points)
     xy, vel, acc, ok, singular, branch = linkage._program.solve_many(
         table, a, sel, analogs=_flag("analogs", analogs), n_threads=threads_arg(n_threads)
     )
+    xy, vel, acc = linkage._unscale(xy, vel, acc)
     return LinkageSolution(a, names, xy, vel, acc, ok, singular, branch)
 
 

@@ -203,9 +203,10 @@ pub struct Solution {
     pub ok: Vec<bool>,
     /// A group is at (or within round-off of) a dead centre: analogs are NaN there.
     pub singular: Vec<bool>,
-    /// A class III group passed through a singular position on its way from the
-    /// angle solved before (its Jacobian's determinant changed sign): the pose is
-    /// on another assembly branch than the drawn one.
+    /// The pose is not continuous with the one solved before it in the walk from
+    /// the drawn pose: the followed branch of a class III group ended (at a fold,
+    /// or where the mechanism stopped assembling) and the group was re-acquired
+    /// here by the seed's bracketing (see [`Program::solve_path`]).
     pub branch: Vec<bool>,
 }
 
@@ -229,13 +230,60 @@ type Lane = [f64; LANES];
 /// Angles per parallel task of a closed-form (class II) solve.
 const BLOCK: usize = 1024;
 
-/// The pose just solved: positions, velocity and acceleration analogs, and the
-/// step Δφ to the angle being solved.
-type Prev<'a> = (&'a [V2], &'a [V2], &'a [V2], f64);
+/// How class III groups find their pose from the one before.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Seek {
+    /// From the drawn pose: Newton from it, else the bracketed root nearest it
+    /// (within a quarter of the group's size).
+    Start,
+    /// A continuation step: Newton from the predictor, kept only if it lands near
+    /// the predictor (within half the predicted move, plus 1e-9 of the group's size).
+    Follow,
+    /// Re-acquisition after the followed branch has ended: the seed's bracketing,
+    /// on the drawn assembly mode (bit t of the mask set where group t's Jacobian
+    /// determinant is negative at the drawn pose), nearest the last pose.
+    Acquire(u64),
+}
+
+/// The pose just solved (positions, velocity and acceleration analogs), the step
+/// Δφ [rad] to the angle being solved, and how class III groups find their pose.
+#[derive(Clone, Copy)]
+struct Prev<'a> {
+    xy: &'a [V2],
+    vel: &'a [V2],
+    acc: &'a [V2],
+    dphi: f64,
+    seek: Seek,
+}
 
 /// Largest crank-angle step along a path through class III groups [rad]: larger
 /// gaps in the grid are walked in substeps so that Newton stays in its basin.
 const MAX_PATH_STEP: f64 = std::f64::consts::PI / 180.0;
+
+/// Smallest continuation step [rad]: a walk whose step is refused down to this
+/// size has reached the end of its branch (a fold, or where the mechanism stops
+/// assembling).
+const MIN_PATH_STEP: f64 = 1e-9;
+
+/// `theta` [rad] moved by whole turns into [φ0 − π, φ0 + π] around the drawn angle
+/// φ0: the crank's position is 2π-periodic, and the walk goes the short way (in a
+/// time bounded for any finite angle). Angles already within half a turn are kept
+/// bit for bit. The reduction by the float 2π is exact (`%` is), and its offset from
+/// the true 2π, |θ|·4e-17, is below the rounding of θ itself.
+fn short_way(theta: f64, phi0: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let d = theta - phi0;
+    if d.abs() <= PI {
+        return theta;
+    }
+    let mut r = d % TAU;
+    if r > PI {
+        r -= TAU;
+    } else if r < -PI {
+        r += TAU;
+    }
+    phi0 + r
+}
 
 /// The outcome at one angle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -540,7 +588,14 @@ impl Program {
                     joints,
                     ref triad,
                 } => {
-                    let Some((px, pv, pa, dphi)) = prev else {
+                    let Some(Prev {
+                        xy: px,
+                        vel: pv,
+                        acc: pa,
+                        dphi,
+                        seek,
+                    }) = prev
+                    else {
                         return Pose::FAILED;
                     };
                     let k = anchors.map(|i| xy[i]);
@@ -552,7 +607,24 @@ impl Program {
                         };
                         [step(0), step(1)]
                     });
-                    let Some(found) = triad.solve(&k, predicted, 0.25 * triad.size()) else {
+                    let last = joints.map(|j| px[j]);
+                    let found = match seek {
+                        Seek::Start => triad.solve(&k, predicted, 0.25 * triad.size()),
+                        Seek::Follow => {
+                            let moved = (0..3)
+                                .map(|i| {
+                                    dot(sub(predicted[i], last[i]), sub(predicted[i], last[i]))
+                                })
+                                .fold(0.0, f64::max)
+                                .sqrt();
+                            triad.follow(&k, predicted, 0.5 * moved + 1e-9 * triad.size())
+                        }
+                        Seek::Acquire(signs) => {
+                            let negative = n_triads < 64 && signs >> n_triads & 1 == 1;
+                            triad.acquire(&k, &last, if negative { -1.0 } else { 1.0 })
+                        }
+                    };
+                    let Some(found) = found else {
                         return Pose::FAILED;
                     };
                     for (i, &j) in joints.iter().enumerate() {
@@ -732,9 +804,21 @@ impl Program {
 
     /// Class III groups have no closed form: the grid is walked from the drawn pose
     /// outwards, both ways (upwards through the angles above the drawn one, then
-    /// downwards through those below), each pose predicted from the one before and
-    /// gaps wider than [`MAX_PATH_STEP`] walked in substeps. An angle that cannot be
-    /// reached continuously is `ok = false`; the walk goes on from the last pose.
+    /// downwards through those below), each pose predicted from the one before.
+    ///
+    /// * Angles are first moved by whole turns into [φ0 − π, φ0 + π] around the drawn
+    ///   angle φ0 ([`short_way`]): θ and θ + 2πn are one crank position, solved the
+    ///   short way from the drawing, in a time bounded for any finite angle.
+    /// * A step is accepted only if Newton from the predictor lands near it and no
+    ///   group's Jacobian determinant changed sign; otherwise it is halved. Gaps
+    ///   wider than [`MAX_PATH_STEP`] are walked in substeps.
+    /// * When the step is refused down to [`MIN_PATH_STEP`], the followed branch
+    ///   has ended (a fold, or the mechanism stops assembling). From then on each
+    ///   angle of the walk is re-acquired by the seed's bracketing, on the drawn
+    ///   assembly mode (the sign of each group's determinant at the drawn pose)
+    ///   nearest the last pose; the first angle re-acquired is flagged `branch`
+    ///   (its pose is not continuous with the one before), angles where nothing
+    ///   assembles are `ok = false`, and the walk follows on from the re-acquired pose.
     fn solve_path(
         &self,
         angles: &[f64],
@@ -748,65 +832,95 @@ impl Program {
                 why: "a class III group needs the drawn pose".into(),
             });
         };
+        let phi0 = *drawn_phi;
+        let reduced: Vec<f64> = angles.iter().map(|&a| short_way(a, phi0)).collect();
         let mut order: Vec<usize> = (0..angles.len()).collect();
-        order.sort_by(|&a, &b| angles[a].total_cmp(&angles[b]));
-        let split = order.partition_point(|&i| angles[i] < *drawn_phi);
+        order.sort_by(|&a, &b| reduced[a].total_cmp(&reduced[b]));
+        let split = order.partition_point(|&i| reduced[i] < phi0);
         let (below, above) = order.split_at(split);
         let zeros = vec![[0.0; 2]; p];
+        // The drawn pose, closed and with its analogs, starts every walk.
+        let mut first = State::new(p);
+        let start = self.solve_one::<true>(
+            phi0,
+            &mut first.xy,
+            &mut first.vel,
+            &mut first.acc,
+            Some(Prev {
+                xy: drawn,
+                vel: &zeros,
+                acc: &zeros,
+                dphi: 0.0,
+                seek: Seek::Start,
+            }),
+        );
+        if !start.ok {
+            return Err(LinkageError::BadProgram {
+                step: 0,
+                why: "the drawn pose does not close: check the points and lengths".into(),
+            });
+        }
         let mut scratch = State::new(p);
         for walk in [above.to_vec(), below.iter().rev().copied().collect()] {
-            // The drawn pose, closed and with its analogs, starts every walk.
-            let mut state = State::new(p);
-            let start = self.solve_one::<true>(
-                *drawn_phi,
-                &mut state.xy,
-                &mut state.vel,
-                &mut state.acc,
-                Some((drawn, &zeros, &zeros, 0.0)),
-            );
-            if !start.ok {
-                return Err(LinkageError::BadProgram {
-                    step: 0,
-                    why: "the drawn pose does not close: check the points and lengths".into(),
-                });
-            }
-            let (mut at, mut branch, mut last) = (*drawn_phi, start.branch, start);
-            // Once a substep from the current pose fails, every angle beyond it in
-            // this walk would retry the same step from the same pose: it is not
-            // reachable continuously, and is marked so without solving again.
-            let mut blocked: Option<f64> = None;
+            let mut state = first.clone();
+            let (mut at, mut last) = (phi0, start);
+            let mut ended = false;
+            let mut h = MAX_PATH_STEP;
             for i in walk {
-                let target = angles[i];
-                let beyond = |b: f64| (target - b) * (b - at) >= 0.0;
+                let target = reduced[i];
                 // An angle equal to the current one is the pose already solved.
-                let mut pose = Pose {
-                    ok: blocked.is_none_or(|b| !beyond(b)),
-                    ..last
-                };
+                let mut pose = last;
                 let mut changed = false;
-                while pose.ok && at != target {
-                    let next = if (target - at).abs() <= MAX_PATH_STEP {
+                while !ended && at != target {
+                    let next = if (target - at).abs() <= h {
                         target
                     } else {
-                        at + MAX_PATH_STEP.copysign(target - at)
+                        at + h.copysign(target - at)
                     };
-                    let prev = Some((&state.xy[..], &state.vel[..], &state.acc[..], next - at));
+                    let prev = Prev {
+                        xy: &state.xy,
+                        vel: &state.vel,
+                        acc: &state.acc,
+                        dphi: next - at,
+                        seek: Seek::Follow,
+                    };
                     let got = self.solve_one::<true>(
                         next,
                         &mut scratch.xy,
                         &mut scratch.vel,
                         &mut scratch.acc,
-                        prev,
+                        Some(prev),
+                    );
+                    if got.ok && got.branch == last.branch {
+                        std::mem::swap(&mut state, &mut scratch);
+                        (at, last, pose) = (next, got, got);
+                        h = (2.0 * h).min(MAX_PATH_STEP);
+                    } else {
+                        h *= 0.5;
+                        ended = h < MIN_PATH_STEP;
+                    }
+                }
+                if ended {
+                    let prev = Prev {
+                        xy: &state.xy,
+                        vel: &state.vel,
+                        acc: &state.acc,
+                        dphi: 0.0,
+                        seek: Seek::Acquire(start.branch),
+                    };
+                    let got = self.solve_one::<true>(
+                        target,
+                        &mut scratch.xy,
+                        &mut scratch.vel,
+                        &mut scratch.acc,
+                        Some(prev),
                     );
                     if got.ok {
                         std::mem::swap(&mut state, &mut scratch);
-                        at = next;
-                        changed |= got.branch != branch;
-                        branch = got.branch;
-                        (pose, last) = (got, got);
+                        (at, last, pose) = (target, got, got);
+                        (ended, changed, h) = (false, true, MAX_PATH_STEP);
                     } else {
                         pose = Pose::FAILED;
-                        blocked = Some(next);
                     }
                 }
                 out.write(i, sel, &state, pose, changed);
@@ -1212,6 +1326,7 @@ pub fn solve_many_into(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::triad::Triad;
     use proptest::prelude::*;
 
     /// Crank-rocker A(0,0)–B (crank r), B–C (coupler l2), C–D (rocker l3), D(d, 0).
@@ -1500,6 +1615,87 @@ mod tests {
                 }
                 assert!(s.ok.iter().any(|&o| o));
             }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn short_way_keeps_the_crank_position(
+            theta in prop::num::f64::NORMAL.prop_filter("finite", |v| v.abs() < 1e12),
+            phi0 in -10.0f64..10.0,
+        ) {
+            let r = short_way(theta, phi0);
+            prop_assert!((r - phi0).abs() <= std::f64::consts::PI * (1.0 + 1e-15));
+            if (theta - phi0).abs() <= std::f64::consts::PI {
+                prop_assert_eq!(r.to_bits(), theta.to_bits());
+            }
+            // The platform's own reduction of θ is the reference: the float 2π is
+            // off the true one by |θ|·4e-17, below θ's rounding.
+            let tol = 1e-15 * (1.0 + theta.abs()) * 4.0 + 1e-14;
+            prop_assert!((r.sin() - theta.sin()).abs() <= tol, "{} {}", r, theta);
+            prop_assert!((r.cos() - theta.cos()).abs() <= tol, "{} {}", r, theta);
+        }
+    }
+
+    /// Issue 16 item 2's Stephenson six-bar: A(0,0), B(1,0), D(4,0), C on |BC| = 3.5
+    /// and |DC| = 2.6, E(2, 3.5), F(1.15, 5.6), G(1, 5.6); the group B–C–E held by
+    /// AB, DC and EF, the crank G–F.
+    fn stephenson() -> Program {
+        let (b, d) = ([1.0, 0.0], [4.0, 0.0]);
+        let l = 3.0f64;
+        let x = (3.5f64 * 3.5 - 2.6 * 2.6 + l * l) / (2.0 * l);
+        let c = [b[0] + x, (3.5f64 * 3.5 - x * x).sqrt()];
+        let pts = vec![[0.0, 0.0], b, d, c, [2.0, 3.5], [1.15, 5.6], [1.0, 5.6]];
+        let (k, j) = ([pts[0], pts[2], pts[5]], [pts[1], pts[3], pts[4]]);
+        Program {
+            n_points: 7,
+            fixed: vec![(0, pts[0]), (2, pts[2]), (6, pts[6])],
+            steps: vec![
+                Step::Driver {
+                    pivot: 6,
+                    tip: 5,
+                    radius: 0.15,
+                },
+                Step::Triad {
+                    anchors: [0, 2, 5],
+                    joints: [1, 3, 4],
+                    triad: Triad::from_pose(k, j),
+                },
+            ],
+            drawn: Some((0.0, pts)),
+        }
+    }
+
+    #[test]
+    fn a_class_iii_walk_never_jumps_silently_at_a_fold() {
+        let prog = stephenson();
+        let angles: Vec<f64> = (0..=25000)
+            .map(|i| (i as f64 * 0.01).to_radians())
+            .collect();
+        let s = prog.solve(&angles, &all(7), Some(1)).unwrap();
+        assert!(s.ok.iter().all(|&o| o));
+        let mut jumps = 0;
+        for i in 0..angles.len() - 1 {
+            let moved = (0..7)
+                .map(|k| {
+                    let (p, q) = (point(&s, i, 7, k), point(&s, i + 1, 7, k));
+                    dot(sub(p, q), sub(p, q)).sqrt()
+                })
+                .fold(0.0, f64::max);
+            if moved > 0.05 {
+                jumps += 1;
+                assert!(s.branch[i] || s.branch[i + 1], "silent jump at step {i}");
+            }
+        }
+        assert!(jumps >= 1);
+        // Every flagged pose (a re-acquired one) closes the group.
+        for i in (0..angles.len()).filter(|&i| s.branch[i]) {
+            let k = [point(&s, i, 7, 0), point(&s, i, 7, 2), point(&s, i, 7, 5)];
+            let j = [point(&s, i, 7, 1), point(&s, i, 7, 3), point(&s, i, 7, 4)];
+            let Step::Triad { triad, .. } = &prog.steps[1] else {
+                unreachable!()
+            };
+            assert!(triad.closure_error(&k, &j) < 1e-12 * triad.size());
         }
     }
 

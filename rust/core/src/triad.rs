@@ -78,6 +78,13 @@ impl Reduced {
     }
 }
 
+/// The largest distance between corresponding joints of two poses.
+fn away(j: &[V2; 3], other: &[V2; 3]) -> f64 {
+    (0..3)
+        .map(|i| dot(sub(j[i], other[i]), sub(j[i], other[i])).sqrt())
+        .fold(0.0, f64::max)
+}
+
 /// Intersection of circle(c1, r1) and circle(c2, r2) on side `sign` of c1→c2.
 fn circles(c1: V2, r1: f64, c2: V2, r2: f64, sign: f64) -> Option<V2> {
     let d = sub(c2, c1);
@@ -314,20 +321,43 @@ impl Triad {
     /// The assembly continuous with `predicted`: Newton from it, and if that fails
     /// or jumps more than `max_jump`, the bracketed root nearest to it.
     pub fn solve(&self, k: &[V2; 3], predicted: [V2; 3], max_jump: f64) -> Option<[V2; 3]> {
-        let away = |j: &[V2; 3]| {
-            (0..3)
-                .map(|i| dot(sub(j[i], predicted[i]), sub(j[i], predicted[i])).sqrt())
-                .fold(0.0, f64::max)
-        };
         if let Some(j) = self.newton(k, predicted) {
-            if away(&j) <= max_jump {
+            if away(&j, &predicted) <= max_jump {
                 return Some(j);
             }
         }
         self.bracket_all(k)
             .into_iter()
-            .filter(|j| away(j) <= max_jump)
-            .min_by(|a, b| away(a).total_cmp(&away(b)))
+            .filter(|j| away(j, &predicted) <= max_jump)
+            .min_by(|a, b| away(a, &predicted).total_cmp(&away(b, &predicted)))
+    }
+
+    /// Newton from the predictor only, for a continuation step: `None` unless it
+    /// converges to a pose within `tol` of `predicted` (a root further away is on
+    /// another assembly, or the followed one has ended at a fold).
+    pub fn follow(&self, k: &[V2; 3], predicted: [V2; 3], tol: f64) -> Option<[V2; 3]> {
+        self.newton(k, predicted)
+            .filter(|j| away(j, &predicted) <= tol)
+    }
+
+    /// Re-acquire the group where its followed assembly has ended: every root of
+    /// the seed's bracketing, those whose Jacobian determinant has the sign `sign`
+    /// (the drawn assembly mode) first, and among them the one nearest `near`.
+    pub fn acquire(&self, k: &[V2; 3], near: &[V2; 3], sign: f64) -> Option<[V2; 3]> {
+        let key = |j: &[V2; 3]| {
+            let other = (self.reduce(k, j).det.signum() != sign) as u8;
+            (other, away(j, near))
+        };
+        self.bracket_all(k).into_iter().min_by(|a, b| {
+            let (ka, kb) = (key(a), key(b));
+            ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+        })
+    }
+
+    /// The sign of the Jacobian's determinant at pose `j` (the assembly mode; it
+    /// changes only through a singular position).
+    pub fn det_sign(&self, k: &[V2; 3], j: &[V2; 3]) -> f64 {
+        self.reduce(k, j).det.signum()
     }
 
     /// Velocity and acceleration analogs of J from those of K, and the sign of the
