@@ -343,9 +343,11 @@ def brute_criteria(m: Model, k_sp: float, omega: float, n: int = 200_001) -> dic
     def dds_at(a):
         return float(m.at(tb - a)[4])
 
-    # First α (going back from BDC) where S reaches S_p, interpolated, then polished.
-    j = int(np.argmax(s >= s_p))
-    a_p = brentq(lambda a: s_at(a) - s_p, alpha[j - 1], alpha[j], xtol=1e-15, rtol=1e-15)
+    # First contact: coming down from TDC (α_T, the first TDC going back from BDC),
+    # the first α where S = S_p, i.e. the largest α < α_T with S ≤ S_p, polished.
+    a_t = (tb - m.dead_centre(lowest=False)[0]) % TAU
+    j = int(np.flatnonzero((alpha < a_t) & (s <= s_p)).max())
+    a_p = brentq(lambda a: s_at(a) - s_p, alpha[j], alpha[j + 1], xtol=1e-15, rtol=1e-15)
     v_np = ds_at(a_p)
     inside = alpha <= a_p
     jv = int(np.argmax(np.where(inside, ds, -np.inf)))
@@ -363,6 +365,7 @@ def brute_criteria(m: Model, k_sp: float, omega: float, n: int = 200_001) -> dic
     ).fun
     acc = max(acc, np.abs(dds).max())
     v_cp = s_p / a_p
+    peak = (s[1:-1] >= s[:-2]) & (s[1:-1] >= s[2:])
     return {
         "S_n": s_n,
         "S_p": s_p,
@@ -380,6 +383,9 @@ def brute_criteria(m: Model, k_sp: float, omega: float, n: int = 200_001) -> dic
         "theta_bdc": tb,
         "min_speed": float(ds[inside].min()),
         "top_speed": float(ds[inside].max()),
+        # How far the slider backs off above S_p after first contact (> 0: re-contacts):
+        # its highest local maximum of S inside the working stroke, −inf if none.
+        "lift": float(np.max(s[1:j][peak[: j - 1]], initial=-math.inf) - s_p),
     }
 
 
@@ -396,7 +402,9 @@ def _sampling_traps(m: Model, k_sp: float) -> set[str]:
     far = np.abs(np.angle(np.exp(1j * (alpha[peaks] - top)))) > 2 * H_LIB
     if (a[peaks][far] > a.max() * (1 - 1e-3)).any():
         traps |= {"J_max", "k_J"}
-    a_p = alpha[int(np.argmax(s >= k_sp * (s.max() - s.min())))]
+    s_p = k_sp * (s.max() - s.min())
+    a_t = alpha[int(np.argmax(s))]
+    a_p = alpha[int(np.flatnonzero((alpha < a_t) & (s <= s_p)).max())]
     vpk = np.flatnonzero((ds > np.roll(ds, 1)) & (ds >= np.roll(ds, -1)))
     if ((alpha[vpk] < a_p) & (alpha[vpk] > a_p - 2 * H_LIB)).any():
         traps |= {"V_pmax", "torque", "k_Vmax", "k_M"}
@@ -428,8 +436,11 @@ def check_criteria(m: Model, k_sp: float, omega: float, skip: set[str] = frozens
             assert getattr(crit, f) == pytest.approx(ref[f], rel=1e-8), (f, crit, ref)
     assert abs(np.angle(np.exp(1j * (crit.theta_bdc - ref["theta_bdc"])))) < 1e-9
     assert crit.omega == omega
-    # Status: a slider that backs up during the working stroke is flagged, else ok.
-    if ref["min_speed"] < -1e-3 * ref["top_speed"]:
+    # Status: a slider that leaves the blank after first contact re-contacts; one
+    # that backs up without leaving it is flagged; else ok.
+    if ref["lift"] > 1e-6 * ref["S_n"]:
+        assert crit.status == cm.press.STATUS[4]
+    elif ref["min_speed"] < -1e-3 * ref["top_speed"] and ref["lift"] < -1e-6 * ref["S_n"]:
         assert crit.status == cm.press.STATUS[2]
     elif ref["min_speed"] > -1e-12:
         assert crit.status == cm.press.STATUS[0] and crit.ok

@@ -16,7 +16,9 @@ the baseline every design is compared with.
 Angles follow the seed: the carrier turns counterclockwise, and α is the crank
 angle counted from the slider's bottom dead centre (BDC) *against* the motion,
 so S = Π(α) ≥ 0 is the slider's height above BDC and the working stroke is the
-approach to BDC, α from α_p down to 0. Π' = dS/dα [m/rad], Π'' [m/rad²]; at a
+approach to BDC, α from α_p down to 0, where α_p is the first contact with the
+blank coming down from TDC (see :class:`PressCriteria` for a slider that leaves
+the blank and meets it again). Π' = dS/dα [m/rad], Π'' [m/rad²]; at a
 constant crank speed ω the slider speed is |Π'|·ω and its acceleration Π''·ω².
 
 Criteria (:class:`PressCriteria`, all from the Rust kernel): the nominal stroke
@@ -69,6 +71,8 @@ STATUS = {
     1: "the rod cannot reach the guide somewhere in the turn",
     2: "the slider moves back up during the working stroke",
     3: "the working stroke exceeds the nominal stroke",
+    4: "re-contacts: the slider meets the blank, backs off above it and comes down on it again "
+    "before BDC",
 }
 #: Carrier angles sampled per turn when criteria are computed.
 SAMPLES = 360
@@ -104,6 +108,19 @@ class PressCriteria:
     constant deformation force); ``theta_bdc`` the carrier angle of BDC. ``status``
     says why a design fails (``ok`` False: its criteria are NaN, except for a
     slider that moves back up during the working stroke, which keeps them).
+
+    The working stroke starts at the *first contact*: coming down from TDC, the first
+    α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that then backs
+    off above S_p (by more than 1e-9 of the stroke) and comes down on the blank again
+    before BDC *re-contacts* (status 4, :data:`STATUS`); one that moves back up without
+    leaving the blank has status 2. Both keep their criteria (from the first contact)
+    and fail (``ok`` False): sweeps mark them and :func:`optimize` drops them.
+
+    >>> import math, cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.028, L=0.46, phi0=math.radians(56))
+    >>> c = p.criteria(k_Sp=0.1, omega=2 * math.pi * 40 / 60)
+    >>> c.status[:11], round(math.degrees(c.alpha_p), 1), round(c.V_np * 1e3, 1)
+    ('re-contacts', 126.2, 57.7)
 
     Mirror-symmetric designs (no offset, e.g. i = 3 with φ0 = π/3) have two equally
     low BDCs or two equally high TDCs. Dead centres within 1e-12 of the stroke tie;

@@ -14,7 +14,10 @@
 //! The carrier turns counterclockwise. As in the seed, α is the crank angle counted
 //! from the slider's bottom dead centre (BDC) **against** the motion: θ = θ_B − α,
 //! and S = Π(α) = y(θ_B − α) − y(θ_B) ≥ 0 is the slider's height above BDC, so
-//! the working stroke is the approach to BDC, α from α_p down to 0.
+//! the working stroke is the approach to BDC, α from α_p down to 0. α_p is the
+//! first contact: coming down from TDC, the first α where S = S_p; a slider
+//! that then backs off above S_p and comes down again before BDC re-contacts
+//! ([`Status::ReContacts`]).
 //!
 //! With d = 0 the drive is a plain crank-slider of crank radius R − r.
 
@@ -335,6 +338,10 @@ pub enum Status {
     Reverses = 2,
     /// The working stroke asked for exceeds the nominal stroke.
     LongStroke = 3,
+    /// After the tool first meets the blank (coming down from TDC), the slider
+    /// backs off above S_p and comes down again before BDC: the blank is hit
+    /// twice (see [`RECONTACT`]). The criteria are those from the first contact.
+    ReContacts = 4,
 }
 
 /// Columns of the criteria rows.
@@ -803,6 +810,103 @@ impl pulp::WithSimd for RodScan<'_, '_> {
     }
 }
 
+/// A rise of the slider above S_p after the tool first met the blank counts as
+/// a re-contact (status [`Status::ReContacts`]) when it exceeds this fraction
+/// of the nominal stroke; a smaller one is a touch within rounding, and a
+/// slider that moves back up without leaving the blank is
+/// [`Status::Reverses`].
+pub const RECONTACT: f64 = 1e-9;
+
+/// One point of the walk back from BDC: θ, S = y − y_B, y' and −y''.
+#[derive(Debug, Clone, Copy)]
+struct WalkPoint {
+    th: f64,
+    s: f64,
+    dy: f64,
+    g: f64,
+}
+
+/// Where the walk back from BDC crosses S_p last (the first contact in time).
+struct Contact {
+    /// The walk's step at the crossing's point above S_p.
+    step: usize,
+    /// (θ, S) of the bottom of a dip between two samples above S_p, the
+    /// crossing's other end; None: the next point of the walk.
+    dip: Option<(f64, f64)>,
+    /// The highest S between the crossing and BDC (refined peaks included).
+    s_max: f64,
+}
+
+/// The sampled rows the walk reads.
+struct WalkPoints<'a> {
+    ys: &'a [f64],
+    dys: &'a [f64],
+    ddys: &'a [f64],
+    y_b: f64,
+    s_n: f64,
+    ddy_t: f64,
+}
+
+/// The walk back in time from BDC (θ decreasing) over the samples, with TDC
+/// as a point of its own; it ends at TDC.
+#[derive(Debug, Clone)]
+struct Walk {
+    j: usize,
+    m: usize,
+    h: f64,
+    theta_j: f64,
+    th_top: f64,
+    top_pending: bool,
+}
+
+impl Walk {
+    fn new(table: &Table, j_b: usize, th_b: f64, th_t: f64) -> Walk {
+        let m = table.len();
+        let mut j = j_b;
+        if table.theta(j) >= th_b {
+            j = if j == 0 { m - 1 } else { j - 1 };
+        }
+        let th_top = th_b - wrap(th_b - th_t);
+        Walk {
+            j,
+            m,
+            h: TAU / m as f64,
+            theta_j: th_b - wrap(th_b - table.theta(j)),
+            th_top,
+            top_pending: th_top < th_b,
+        }
+    }
+
+    /// True once TDC has been passed.
+    fn done(&self) -> bool {
+        !self.top_pending
+    }
+
+    /// The next point back: TDC if it lies before the next sample.
+    #[inline]
+    fn next(&mut self, p: &WalkPoints<'_>) -> Option<WalkPoint> {
+        if self.top_pending && self.th_top >= self.theta_j {
+            self.top_pending = false;
+            return Some(WalkPoint {
+                th: self.th_top,
+                s: p.s_n,
+                dy: 0.0,
+                g: -p.ddy_t,
+            });
+        }
+        let j = self.j;
+        let pt = WalkPoint {
+            th: self.theta_j,
+            s: p.ys[j] - p.y_b,
+            dy: p.dys[j],
+            g: -p.ddys[j],
+        };
+        self.j = if j == 0 { self.m - 1 } else { j - 1 };
+        self.theta_j -= self.h;
+        Some(pt)
+    }
+}
+
 /// Criteria of the design `f` (its rod length included) on its sampled pin path
 /// `scan`, into `row` (see [`CRITERIA`]); returns its status.
 fn criteria_with(
@@ -925,44 +1029,128 @@ fn criteria_with(
         row[1] = s_p;
         return Status::LongStroke;
     }
-    // Walk back in time from BDC (θ decreasing, α increasing) to the first height
-    // S_p. TDC joins the walk as a point of its own (it is rarely a sample), so
-    // that k_Sp = 1 ends there. On the way, watch Π' = −y' and bracket each of its
-    // local maxima: dΠ'/dθ = −y'' turns from + to − between two points.
-    let mut j = j_b;
-    if table.theta(j) >= th_b {
-        j = prev(j);
+    // The working stroke starts where the tool first meets the blank: coming
+    // down from TDC, the first θ where S = S_p. Walking back in time from BDC (θ
+    // decreasing, α increasing) to TDC, that is the last crossing met; crossings
+    // nearer BDC mean the slider dipped below S_p and backed off above it before
+    // coming down again (re-contact). Pass 1 finds the crossing, pass 2 walks to
+    // it for the speeds. TDC joins the walk as a point of its own (it is rarely a
+    // sample), so that k_Sp = 1 ends there.
+    let walk = Walk::new(table, j_b, th_b, th_t);
+    let pts = WalkPoints {
+        ys,
+        dys,
+        ddys,
+        y_b,
+        s_n,
+        ddy_t,
+    };
+    // A true extreme of S lies at most max|y''|·h²/8 beyond its nearest
+    // sample: only samples within `band` of S_p can hide a crossing.
+    let band = 0.25 * ddys[j_acc].abs() * h * h;
+    let rc_tol = RECONTACT * s_n;
+    // S at the extreme of y between two walk points where y' changes sign.
+    let extreme = |lo: f64, hi: f64, dlo: f64, dhi: f64| -> (f64, f64) {
+        let g = |x: f64| {
+            let k = at(x, 3);
+            (k.dy, k.ddy, k.dddy)
+        };
+        let x0 = lo + (hi - lo) * dlo / (dlo - dhi);
+        let t = chebyshev(g, lo, hi, dlo, dhi, x0, STEP_LAST);
+        (t, at(t, 2).y - y_b)
+    };
+    // Pass 1: the step of the walk at the start of the last crossing, the
+    // bracket's other end if it is a dip between two samples above S_p
+    // ((θ, S) of the dip's bottom), and the highest S over the points (and
+    // refined peaks) between that crossing and BDC.
+    let mut contact: Option<Contact> = None;
+    {
+        let mut w = walk.clone();
+        let mut nx = WalkPoint {
+            th: th_b,
+            s: 0.0,
+            dy: 0.0,
+            g: -ddy_b,
+        };
+        let mut s_max = 0.0f64;
+        for step in 0..=m + 1 {
+            let Some(cur) = w.next(&pts) else {
+                break;
+            };
+            if cur.s >= s_p {
+                if nx.s < s_p {
+                    contact = Some(Contact {
+                        step,
+                        dip: None,
+                        s_max,
+                    });
+                } else if cur.dy < 0.0 && nx.dy > 0.0 && cur.s.min(nx.s) < s_p + band {
+                    // A dip between two samples above S_p: below S_p at its bottom?
+                    let (t, s) = extreme(cur.th, nx.th, cur.dy, nx.dy);
+                    if s < s_p {
+                        contact = Some(Contact {
+                            step,
+                            dip: Some((t, s)),
+                            s_max,
+                        });
+                    }
+                }
+            } else if nx.s < s_p
+                && cur.dy > 0.0
+                && nx.dy < 0.0
+                && cur.s.max(nx.s) > s_p - band
+                && s_max <= s_p + rc_tol
+            {
+                // A peak between two samples below S_p: above S_p at its top?
+                s_max = s_max.max(extreme(cur.th, nx.th, cur.dy, nx.dy).1);
+            }
+            s_max = s_max.max(cur.s);
+            nx = cur;
+            if w.done() {
+                break;
+            }
+        }
     }
-    let mut theta_j = th_b - wrap(th_b - table.theta(j));
-    let th_top = th_b - wrap(th_b - th_t);
-    let mut top_pending = th_top < th_b;
+    let Some(Contact {
+        step: stop,
+        dip,
+        s_max,
+    }) = contact
+    else {
+        // Unreachable when S_p ≤ S_n (the walk meets TDC), kept as a guard.
+        return Status::LongStroke;
+    };
+    // Pass 2: walk to that crossing, watching Π' = −y' and bracketing each of
+    // its local maxima: dΠ'/dθ = −y'' turns from + to − between two points.
+    let mut w = walk;
     // The point after the current one in θ: (θ, S, y', −y'').
     let (mut nx_th, mut nx_s, mut nx_dy, mut nx_g) = (th_b, 0.0, 0.0, -ddy_b);
     // Brackets (θ_lo, θ_hi, y''(θ_lo), y''(θ_hi)) of the speed peaks.
-    let mut peaks: [(f64, f64, f64, f64); 4] = [(0.0, 0.0, 0.0, 0.0); 4];
+    let mut peaks: [(f64, f64, f64, f64); 8] = [(0.0, 0.0, 0.0, 0.0); 8];
     let mut n_peaks = 0;
     // The extremes of y' over the points passed (Π' = −y').
     let (mut dy_min, mut dy_max) = (f64::INFINITY, f64::NEG_INFINITY);
     let mut th_p = f64::NAN;
     let mut kp: Option<(f64, Kin)> = None;
-    for _ in 0..=m + 1 {
-        // The next point back: TDC if it lies before the next sample.
-        let (th, s, dy, g, sample) = if top_pending && th_top >= theta_j {
-            top_pending = false;
-            (th_top, s_n, 0.0, -ddy_t, false)
-        } else {
-            (theta_j, ys[j] - y_b, dys[j], -ddys[j], true)
+    for step in 0..=stop {
+        let Some(WalkPoint { th, s, dy, g }) = w.next(&pts) else {
+            break;
         };
-        if s >= s_p {
-            // S = S_p between this point and the next: from the root of the
-            // cubic through their S and S' = y', Chebyshev steps on S − S_p.
+        if step == stop {
+            // S = S_p between this point and the next (or the dip's bottom):
+            // from the root of the cubic through their S and S' = y',
+            // Chebyshev steps on S − S_p.
+            let (hi, s_hi, dy_hi) = match dip {
+                Some((t, s)) => (t, s, 0.0),
+                None => (nx_th, nx_s, nx_dy),
+            };
             let g = |x: f64| {
                 let k = at(x, 3);
                 kp = Some((x, k));
                 (k.y - y_b - s_p, k.dy, k.ddy)
             };
-            let guess = hermite_root(th, nx_th, [s - s_p, nx_s - s_p], [dy, nx_dy]);
-            th_p = chebyshev(g, th, nx_th, s - s_p, nx_s - s_p, guess, STEP_LAST);
+            let guess = hermite_root(th, hi, [s - s_p, s_hi - s_p], [dy, dy_hi]);
+            th_p = chebyshev(g, th, hi, s - s_p, s_hi - s_p, guess, STEP_LAST);
             break;
         }
         dy_min = if dy < dy_min { dy } else { dy_min };
@@ -972,18 +1160,16 @@ fn criteria_with(
             n_peaks += 1;
         }
         (nx_th, nx_s, nx_dy, nx_g) = (th, s, dy, g);
-        if sample {
-            j = prev(j);
-            theta_j -= h;
-        }
     }
     if th_p.is_nan() {
-        // Unreachable when S_p ≤ S_n (the walk meets TDC), kept as a guard.
+        // Unreachable: pass 2 walks the points of pass 1.
         return Status::LongStroke;
     }
     let (best_v, status) = (
         -dy_min,
-        if -dy_max < -1e-12 * s_n {
+        if s_max > s_p + rc_tol {
+            Status::ReContacts
+        } else if -dy_max < -1e-12 * s_n {
             Status::Reverses
         } else {
             Status::Ok
@@ -1598,6 +1784,35 @@ mod tests {
         assert!((row[5] - row[3]).abs() < 1e-15);
         // J_max of a crank-slider is at BDC: a(1 + a/L).
         assert!((row[6] - a * (1.0 + a / l)).abs() < 1e-13, "{}", row[6]);
+    }
+
+    #[test]
+    fn first_contact_of_a_slider_that_dips_and_backs_off() {
+        // Issue 16 item 1: coming down from TDC this slider first reaches S_p at
+        // α ≈ 126.2° (the dense reference of tests/test_issue16_press.py gives
+        // 126.22449…°), dips 1.55 mm below it, backs off above it and crosses it
+        // again at α ≈ 76.0° (the old α_p).
+        let spec = Spec {
+            stroke: Stroke::Fraction(0.1),
+            omega: 1.0,
+            samples: 360,
+        };
+        let (row, status) = criteria(&press(0.028, 0.46, 56f64.to_radians()), &spec).unwrap();
+        assert_eq!(status, Status::ReContacts);
+        assert!(
+            (row[2].to_degrees() - 126.2245).abs() < 1e-3,
+            "{}",
+            row[2].to_degrees()
+        );
+        // A shorter rod without the dip: ok, and the same from fewer samples.
+        let (row, status) = criteria(&press(0.029, 0.25, 56f64.to_radians()), &spec).unwrap();
+        assert_eq!(status, Status::Ok);
+        let coarse = Spec {
+            samples: 24,
+            ..spec
+        };
+        let (row24, _) = criteria(&press(0.029, 0.25, 56f64.to_radians()), &coarse).unwrap();
+        assert!((row[2] - row24[2]).abs() < 1e-9);
     }
 
     proptest! {
