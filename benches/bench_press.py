@@ -151,7 +151,16 @@ def _numpy_criteria_chunk(
     back = (jb[:, None] - np.arange(m)) % m
     s = y[rows[:, None], back] - y_b[:, None]
     v = -dy[rows[:, None], back]  # Π' = −dy/dθ
-    n_p = np.argmax(s >= s_p[:, None], axis=1)  # first sample with S ≥ S_p (≥ 1)
+    # First contact, coming down from TDC (column n_t): the sample with S ≥ S_p just
+    # before the last one below S_p met going back from BDC to TDC.
+    q = np.arange(m)
+    n_t = np.argmax(s, axis=1)
+    below = (s < s_p[:, None]) & (q < n_t[:, None])
+    last = m - 1 - np.argmax(below[:, ::-1], axis=1)
+    n_p = last + 1
+    # Re-contacts: back above S_p after that (by more than 1e-9 of the stroke).
+    inside = np.where(q < last[:, None], s, -np.inf)
+    recontacts = (inside > (s_p + 1e-9 * s_n)[:, None]).any(axis=1)
     alpha_p = n_p * h
     v_np = v[rows, n_p]
     before = np.arange(m) < n_p[:, None]
@@ -177,7 +186,7 @@ def _numpy_criteria_chunk(
     }
     for name, col in cols.items():
         out[name][:] = np.where(reach, col, np.nan)
-    out["status"][:] = np.where(reach, np.where(reverses, 2, 0), 1)
+    out["status"][:] = np.where(reach, np.where(recontacts, 4, np.where(reverses, 2, 0)), 1)
 
 
 def _flat_designs(axes: tuple[Array, Array, Array]) -> tuple[Array, Array, Array]:

@@ -23,9 +23,9 @@ SMALL = """
 name = "small"
 R = 0.09
 r = 0.03
-d = 0.028
-L = 0.46
-phi0_deg = 56.0
+d = 0.029
+L = 0.25
+phi0_deg = 55.95
 
 [working]
 k_Sp = 0.1
@@ -58,14 +58,14 @@ def test_design_tables_match_direct_calls(tmp_path, capsys):
     c = st.press.criteria(k_Sp=0.1, omega=w)
     assert_allclose(design["k_Vp"], c.k_Vp, rtol=1e-10)
     # The baseline column is the crank-slider of the same gears and rod.
-    a, L = 0.06, 0.46
+    a, L = 0.06, 0.25
     assert_allclose(base["S_n"], 2 * a, rtol=1e-12)
     assert_allclose(base["J_max"], w * w * a * (1 + a / L), rtol=1e-10)
     summary = json.loads((tmp_path / "out" / "press.json").read_text())
     assert summary["schema"] == "cyclomech.press/1"
-    assert summary["design"]["d"] == 0.028 and "optimum" not in summary
+    assert summary["design"]["d"] == 0.029 and "optimum" not in summary
     # The slow start of the working stroke that the drive is for.
-    assert c.k_Vp < 0.1 < 1.9 < summary["crank_slider"]["k_Vp"]
+    assert c.k_Vp < 0.15 < 1.9 < summary["crank_slider"]["k_Vp"]
 
 
 def test_example_with_sweep_writes_front_and_figures(tmp_path, capsys):
@@ -75,7 +75,7 @@ def test_example_with_sweep_writes_front_and_figures(tmp_path, capsys):
     # (so a looser limit: the coarse grid misses the narrow band of slow starts).
     text = (
         text.replace("[0.0, 0.04, 41]", "[0.0, 0.04, 11]")
-        .replace("[0.25, 0.5, 26]", "[0.25, 0.5, 6]")
+        .replace("[0.2, 0.5, 31]", "[0.2, 0.5, 6]")
         .replace("V_np = 0.01 ", "V_np = 0.05 ")
     )
     f = _write(tmp_path, text)
@@ -99,12 +99,12 @@ def test_example_with_sweep_writes_front_and_figures(tmp_path, capsys):
     ("change", "message"),
     [
         (("R = 0.09", "R = 0.1"), "R/r"),
-        (("d = 0.028", "d = -0.01"), "[press]: d = -0.01"),
+        (("d = 0.029", "d = -0.01"), "[press]: d = -0.01"),
         (("rpm = 40.0", "rpm = 0"), "[working]: rpm = 0"),
         (("k_Sp = 0.1", "k_Sp = 1.5"), "k_Sp = 1.5"),
         (("k_Sp = 0.1", "working_stroke = 0.01\nk_Sp = 0.1"), "exactly one of k_Sp"),
-        (("phi0_deg = 56.0", "phi0 = 56.0"), "unknown key 'phi0'"),
-        (("L = 0.46", 'L = "long"'), "L = 'long' must be a finite number"),
+        (("phi0_deg = 55.95", "phi0 = 55.95"), "unknown key 'phi0'"),
+        (("L = 0.25", 'L = "long"'), "L = 'long' must be a finite number"),
         (("[working]", "[work]"), "unknown key 'work'"),
     ],
 )
@@ -134,7 +134,7 @@ def test_limits_no_design_meets_exit_2(tmp_path, capsys):
 
 def test_a_design_that_cannot_be_assembled_exits_1(tmp_path, capsys):
     # The rod is shorter than the pin's sideways reach: it cannot reach the guide.
-    f = _write(tmp_path, SMALL.replace("L = 0.46", "L = 0.05"))
+    f = _write(tmp_path, SMALL.replace("L = 0.25", "L = 0.05"))
     code = main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == 1

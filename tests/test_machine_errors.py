@@ -468,7 +468,7 @@ MECHANISM_CASES = [
          "a_max", "finite"),
     case("cam_stop contact_stiffness nan", "stb_loom",
          lifter(contact_stiffness=float("nan")), LIFTER, "contact_stiffness", "finite"),
-    case("press d nan", "extrusion_press_line", replace("d = 0.028", "d = nan"), DRIVE, "d",
+    case("press d nan", "extrusion_press_line", replace("d = 0.029", "d = nan"), DRIVE, "d",
          "finite"),
     case("press phi0_deg nan", "extrusion_press_line", drive(phi0_deg=float("nan")), DRIVE,
          "phi0_deg", "finite"),

@@ -569,6 +569,8 @@ def _press_command(args: argparse.Namespace) -> int:
             f"k_Vmax {opt.baseline.k_Vmax:.4g}, k_J {opt.baseline.k_J:.4g}, "
             f"k_M {opt.baseline.k_M:.4g})"
         )
+        for edge in opt.edges:
+            print(f"warning: the best design is on the edge of the grid: {edge}; widen [sweep]")
         cols = opt.grid.table()
         names = list(cols)
         np.savetxt(
@@ -593,6 +595,7 @@ def _press_command(args: argparse.Namespace) -> int:
             "limits": st.limits,
             "best": best.to_dict(),
             "best_criteria": cb.as_dict(),
+            "best_on_grid_edge": list(opt.edges),
             "baseline": opt.baseline_press.to_dict(),
             "baseline_criteria": opt.baseline.as_dict(),
         }

@@ -321,7 +321,7 @@ class PressMechanism:
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> round(m.mechanisms["drive"].criteria(40.0).S_n, 4)
-        0.1313
+        0.1276
         """
         return self.press.criteria(
             omega=float(rpm) * _RAD_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
@@ -334,7 +334,7 @@ class PressMechanism:
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> round(m.mechanisms["drive"].speed_limit_rpm(), 1)
-        61.5
+        54.8
         """
         if self.max_V_np is None:
             return math.inf
