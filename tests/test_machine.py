@@ -175,7 +175,7 @@ def closed_form_limiting(name: str, rpm: np.ndarray) -> np.ndarray:
     * knife: the pile move gets 360 − (clamp 40 + cut 110 + return 90 + clear 0) = 120
       (the unclamp chain 40 + 110 + 60 = 210 is shorter); it needs max(60, 6·n·0.35).
     * press: the feed die open→blank in crosses into the next cycle: blank in →
-      contact (20) → bottom (76) → die open (90) → blank in (+360) leaves 174; it
+      contact (20) → bottom (103.3) → die open (90) → blank in (+360) leaves 146.7; it
       needs max(40, 6·n·0.2).
     * rotor: the process gets 360 − (40 + 30 + 50) = 240; it needs max(120, 6·n·0.15).
     """
@@ -187,7 +187,7 @@ def closed_form_limiting(name: str, rpm: np.ndarray) -> np.ndarray:
         free = np.full(n.shape, 120.0)
         need = np.maximum(60.0, DEG_PER_S_PER_RPM * n * 0.35)
     elif name == PRESS:
-        free = np.full(n.shape, 174.0)
+        free = np.full(n.shape, 146.7)
         need = np.maximum(40.0, DEG_PER_S_PER_RPM * n * 0.2)
     else:
         assert name == ROTOR
@@ -198,7 +198,7 @@ def closed_form_limiting(name: str, rpm: np.ndarray) -> np.ndarray:
 
 #: The cyclogram's speed limit [rpm] where the time-bound limiting operation's
 #: duration meets what the chain of the closed forms above leaves it.
-CHAIN_LIMIT = {KNIFE: 120.0 / (6 * 0.35), PRESS: 174.0 / (6 * 0.2), ROTOR: 240.0 / (6 * 0.15)}
+CHAIN_LIMIT = {KNIFE: 120.0 / (6 * 0.35), PRESS: 146.7 / (6 * 0.2), ROTOR: 240.0 / (6 * 0.15)}
 #: The chain that fills the cycle at the limit, for max_speed_rpm's ``cycle``.
 CHAIN_OPS = {
     KNIFE: {

@@ -678,7 +678,7 @@ def _numbers(msg: str, before: str) -> list[float]:
 def test_a_rod_too_short_names_the_shortest_rod_and_the_offsets(tmp_path):
     """The message's bounds are the pin's reach from the geometry (to its 4
     figures), and they are the edges: just inside reads, just outside does not."""
-    x_lo, x_hi = _pin_x_range(0.09, 0.03, 0.028, 56.0)
+    x_lo, x_hi = _pin_x_range(0.09, 0.03, 0.029, 55.95)
     msg = _press_reads(tmp_path, L=0.05)
     assert msg is not None
     (reach,) = _numbers(msg, "must exceed")[:1]
@@ -688,8 +688,8 @@ def test_a_rod_too_short_names_the_shortest_rod_and_the_offsets(tmp_path):
     msg = _press_reads(tmp_path, offset=1.0)
     assert msg is not None
     lo, hi = _numbers(msg, "offset must lie in")[:2]
-    assert (lo, hi) == (pytest.approx(x_hi - 0.46, rel=5e-4), pytest.approx(x_lo + 0.46, rel=5e-4))
-    for offset, fine in (((x_hi - 0.46) * 0.999, True), ((x_lo + 0.46) * 1.001, False)):
+    assert (lo, hi) == (pytest.approx(x_hi - 0.25, rel=5e-4), pytest.approx(x_lo + 0.25, rel=5e-4))
+    for offset, fine in (((x_hi - 0.25) * 0.999, True), ((x_lo + 0.25) * 1.001, False)):
         assert (_press_reads(tmp_path, offset=offset) is None) == fine, offset
 
 
