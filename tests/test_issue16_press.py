@@ -509,3 +509,52 @@ V_np = 0.01
     summary = json.loads((tmp_path / "o" / "press.json").read_text())
     edges = summary["optimum"]["best_on_grid_edge"]
     assert len(edges) == 1 and "lower bound 250 mm" in edges[0]
+
+
+# ---------------------------------------------------------------------------
+# Item 1, the rule's ambiguous cases (documented in cm.press.PressCriteria)
+
+
+def test_item1_a_rise_above_s_p_within_1e9_of_the_stroke_is_a_touch():
+    """The example's slider, after first contact, rises back to a local maximum H of
+    S (14 µm above its S_p) before coming down again. With S_p set just below H it
+    leaves the blank by δ: re-contacts when δ > 1e-9·S_n, a touch (it only moves
+    back up: status 2) below that; S_p just above H: it never leaves (status 2).
+    H from the reference (dense samples, brentq on y')."""
+    geo = (0.09, 0.03, 0.028, 0.46, math.radians(56.0))
+    p = cm.press.GearLeverPress(*geo)
+    c = p.criteria(k_Sp=0.1, omega=1.0)
+    ref = reference(*geo, 0.1, 1.0)
+    height = c.S_p + ref["lift"]  # the local maximum after first contact (sampled)
+    # Polish it: the root of y' next to the sampled peak.
+    a = np.linspace(math.radians(76.5), c.alpha_p - 0.01, 100_001)
+    s = p.solve(a).s
+    j = int(np.argmax(s))
+    tb = c.theta_bdc
+    t = brentq(lambda x: float(_y(tb - x, *geo)[1]), a[j - 1], a[j + 1], xtol=1e-15, rtol=1e-15)
+    height = max(height, float(p.solve(np.array([t])).s[0]))
+    s_n = c.S_n
+    cases = ((1e-7, RECONTACTS), (-1e-7, cm.press.STATUS[2]), (1e-11, cm.press.STATUS[2]))
+    for delta, want in cases:
+        got = p.criteria(working_stroke=height - delta * s_n, omega=1.0)
+        assert got.status == want, (delta, got.status)
+
+
+def test_item1_a_dip_on_the_way_up_is_not_a_contact():
+    """S_p is watched from TDC down to BDC: this slider (d 37.7 mm, L 300 mm, φ0
+    61.46°) rises above S_p after BDC, dips below it and rises again to TDC (by the
+    reference, over the up-stroke), yet comes down from TDC to BDC cleanly: ok, its
+    first contact the reference's."""
+    geo = (0.09, 0.03, 0.037747, 0.299825, math.radians(61.46084))
+    th = np.linspace(0.0, TAU, 1 << 18, endpoint=False)
+    y = _y(th, *geo)[0]
+    jb, jt = int(np.argmin(y)), int(np.argmax(y))
+    s = y - y[jb]
+    s_p = 0.1 * s[jt]
+    up = s[(jb + np.arange((jt - jb) % th.size + 1)) % th.size]  # BDC → TDC in time
+    first_above = int(np.argmax(up > s_p))
+    assert (up[first_above:] < s_p - 1e-4).any()  # a dip 0.1 mm below S_p on the way up
+    ref = reference(*geo, 0.1, 1.0)
+    assert ref_status(ref) == 0
+    c = cm.press.GearLeverPress(*geo).criteria(k_Sp=0.1, omega=1.0)
+    assert c.ok and c.alpha_p == pytest.approx(ref["alpha_c"], abs=1e-8)
