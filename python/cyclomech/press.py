@@ -656,20 +656,18 @@ def optimize(
     for name, value in (("R", R), ("r", r)):
         if np.ndim(value) != 0:
             raise InputError(f"{name} must be a scalar for optimize; sweep it with cm.press.sweep")
-    grid = sweep(
-        R=R,
-        r=r,
-        d=d,
-        L=L,
-        phi0=phi0,
-        offset=offset,
-        k_Sp=k_Sp,
-        working_stroke=working_stroke,
-        omega=omega,
-        samples=samples,
-        n_threads=n_threads,
-        progress=progress,
-    )
+    # What every sweep of this optimisation shares: gears, stroke, speed, sampling.
+    common: dict[str, Any] = {
+        "R": R,
+        "r": r,
+        "offset": offset,
+        "k_Sp": k_Sp,
+        "working_stroke": working_stroke,
+        "omega": omega,
+        "samples": samples,
+        "n_threads": n_threads,
+    }
+    grid = sweep(d=d, L=L, phi0=phi0, progress=progress, **common)
     flat = {k: v.ravel() for k, v in grid.values.items()}
     ok = grid.ok.ravel()
     # How far each grid design breaks the limits (relative; 0: meets them all).
@@ -725,18 +723,7 @@ def optimize(
                     kw[n_] = np.linspace(ax.min(), ax.max(), (len(ax) - 1) * factor + 1)
                 else:
                     kw[n_] = grid.axes[n_] if n_ in grid.axes else grid.fixed[n_]
-            dense = sweep(
-                R=R,
-                r=r,
-                offset=offset,
-                k_Sp=k_Sp,
-                working_stroke=working_stroke,
-                omega=omega,
-                samples=samples,
-                n_threads=n_threads,
-                progress=False,
-                **kw,
-            )
+            dense = sweep(progress=False, **common, **kw)
         else:
             factor = 1
     steps = np.array([np.ptp(dense.axes[n_]) / max(len(dense.axes[n_]) - 1, 1) for n_ in names])
@@ -776,18 +763,7 @@ def optimize(
             ]
             kw = {n_: getattr(p0, n_) for n_ in ("d", "L", "phi0")}
             kw.update(zip(names, axes, strict=True))
-            box = sweep(
-                R=p0.R,
-                r=p0.r,
-                offset=p0.offset,
-                k_Sp=k_Sp,
-                working_stroke=working_stroke,
-                omega=omega,
-                samples=samples,
-                n_threads=n_threads,
-                progress=False,
-                **kw,
-            )
+            box = sweep(progress=False, **common, **kw)  # p0 shares R, r, offset
             feas, pen = penalised(box.values, box.status, mu)
             i = int(np.argmin(feas))
             if feas.flat[i] < best[0]:
