@@ -219,11 +219,11 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     o = r.optimum
     if o is not None:
         mins = m.cyclogram_at(r.nominal_rpm).min_angles(r.nominal_rpm)
-        k = [op.arc for op in cg.operations].index(lim_op.arc)
+        at = [op.arc for op in cg.operations].index(lim_op.arc)
         out["optimum"] = {
             "speed_rpm": r.nominal_rpm,
             "limiting_deg": o.objective,
-            "limiting_min_deg": float(mins[k]),
+            "limiting_min_deg": float(mins[at]),
             "gained_deg": o.stretch[lim_op.arc],
             "limiting_s": o.objective / (6.0 * r.nominal_rpm),
             "times_deg": o.times,
