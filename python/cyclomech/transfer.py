@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import finite_number, float_array
+from ._arrays import available_bytes, check_bytes, count, finite_number, float_array
 from ._errors import InfeasibleError, InputError
 
 __all__ = [
@@ -67,6 +67,9 @@ _NODES16, _WEIGHTS16 = (_GL16[0] + 1.0) / 2.0, _GL16[1] / 2.0
 _NODES4, _WEIGHTS4 = (_GL4[0] + 1.0) / 2.0, _GL4[1] / 2.0
 
 #: Pieces of a sampled path, in travel order.
+#: Peak bytes a point of :meth:`TransferPath.sample` takes while it is built.
+_SAMPLE_PEAK_BYTES = 112
+
 PIECES = ("arc_t", "transition_t", "straight", "transition_p", "arc_p")
 
 
@@ -653,9 +656,16 @@ class TransferPath:
         >>> bool(abs(s.s[-1] - p.length) < 1e-12), bool(abs(s.curvature).max() <= 1 / 0.15)
         (True, True)
         """
-        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 10:
-            raise InputError(f"n must be an integer ≥ 10 (points along the path); got {n!r}")
-        counts = _allocate(int(n), self._lengths)
+        n = count("n", n, low=10, what="points along the path")
+        # Sized before anything is allocated: the pieces and their concatenation
+        # peak at ~104 bytes a point (49 kept); a size that cannot fit is an
+        # InputError, not a MemoryError or the OOM killer.
+        check_bytes(
+            f"TransferPath.sample({n})",
+            float(n) * _SAMPLE_PEAK_BYTES,
+            f"sample fewer points (≤ {int(available_bytes() // _SAMPLE_PEAK_BYTES):,} fit)",
+        )
+        counts = _allocate(n, self._lengths)
         g = self._g
         lead = math.radians(self.lead_deg)
         parts = []

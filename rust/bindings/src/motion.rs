@@ -4,6 +4,7 @@ use cyclomech_core::motion::{Law, MotionError, TwoPeriod};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
+use crate::alloc;
 use crate::errors::{run, IntoPyErr};
 
 fn contiguous<'a>(
@@ -29,7 +30,7 @@ fn evaluate<'py, F>(
 where
     F: FnOnce(&mut [f64]) -> Result<(), MotionError> + Send,
 {
-    let out = PyArray1::<f64>::zeros(py, x.len(), false);
+    let out = alloc::zeros(py, &[x.len()], kernel, "evaluate fewer points at a time")?;
     {
         let mut rw = out.readwrite();
         let slice = rw
