@@ -300,3 +300,90 @@ def test_item13_transfer_sample_that_cannot_fit_is_refused_before_allocating(mon
     # The budget is the peak it really takes: 1e5 points fit in 112 × 1e5 bytes.
     monkeypatch.setenv("CYCLOMECH_MAX_BYTES", str(112 * 10**5))
     assert p.sample(10**5).s.shape == (10**5,)
+
+
+# ---------------------------------------------------------------------------
+# Item 16: tolerances and counts of the impact functions.
+
+
+@pytest.mark.parametrize("rtol", [math.nan, 0.0, -1e-6, 1e-300, 1.0, math.inf, "1e-9", True])
+def test_item16_critical_speed_rtol_outside_its_range_is_refused(rtol):
+    # Rule: rtol in [1e-15, 0.5]. Below, the rebounds' rounding (~1e-16) cannot
+    # meet it; at 1 or more it is no tolerance (main took 1e-300 and 1.0).
+    stop = cm.impact.StopImpact.example()
+    with pytest.raises(cm.InputError, match=r"rtol"):
+        cm.impact.critical_speeds([stop], 0.1e-3, rtol=rtol)
+
+
+def test_item16_critical_speed_tolerance_is_met_at_both_ends_of_its_range():
+    # Reference: the pulse model's rebound is linear in the impact speed, so
+    # v* = a_max / rebound(1 m/s), a closed form independent of the search.
+    stop = cm.impact.StopImpact.example(model="contact")
+    a_max = 0.1e-3
+    v_tight = cm.impact.critical_speeds([stop], a_max, rtol=1e-15)[0]
+    v_loose = cm.impact.critical_speeds([stop], a_max, rtol=0.5)[0]
+    # Both are admissible (rebound ≤ a_max), the loose one within 50 % below.
+    r = cm.impact.rebounds([stop, stop], [[v_tight], [v_loose]])
+    assert r[0, 0] <= a_max and r[1, 0] <= a_max
+    assert 0.5 * v_tight <= v_loose <= v_tight
+    # Just above v* is too much: v_tight is the edge to ~1e-12.
+    assert cm.impact.rebounds([stop], [[v_tight * (1 + 1e-11)]])[0, 0] > a_max
+    with pytest.raises(cm.InputError, match=r"tol_deg = 1e-20 must lie in \[3.6e-13, 180\]"):
+        cm.impact.StopImpact.example().min_phase_angle(a_max, 280, tol_deg=1e-20)
+
+
+def test_item16_counts_are_integers_in_range():
+    # Rule: a count is an int, a numpy integer or a 0-d integer array; a bool, a
+    # float (2.5 was truncated to 2), a string is refused, naming the range.
+    p = cm.impact.Pulse.half_sine(1.0, 1e-3, points=257)
+    for ok in (np.int64(257), np.array(257)):
+        q = cm.impact.Pulse.half_sine(1.0, 1e-3, points=ok)
+        np.testing.assert_array_equal(q.t, p.t)
+    for bad in (257.0, 2.5, True, "257", 2):
+        with pytest.raises(cm.InputError, match=r"points must be an integer between 3 and"):
+            cm.impact.Pulse.half_sine(1.0, 1e-3, points=bad)
+    lever = cm.impact.StopImpact.example()
+    with pytest.raises(cm.InputError, match=r"points must be an integer between 2"):
+        lever.linearize((30, 45), 420, points=2.5)
+    with pytest.raises(cm.InputError, match=r"max_rebounds must be an integer ≥ 1; got 2.5"):
+        cm.impact.contact_response(mass=1.0, k_free=1.0, k_stop=99.0, v0=-1.0, max_rebounds=2.5)
+    # np.int64 is a count: 2 undamped rebounds, each of height v0·√(m/k_free) = 1
+    # (closed form).
+    h = cm.impact.contact_response(
+        mass=1.0, k_free=1.0, k_stop=99.0, v0=-1.0, max_rebounds=np.int64(2)
+    )
+    np.testing.assert_allclose(h.rebound_height, [1.0, 1.0], rtol=1e-12)
+
+
+# ---------------------------------------------------------------------------
+# Items 18-19: unchecked arguments and types of the impact functions.
+
+
+def test_item18_phase_angles_refuses_nan_and_negative_speeds():
+    # main: [30, nan, 1e-9] (a negative speed became the 1e-9° floor).
+    with pytest.raises(cm.InputError, match=r"rpm\[1\] = nan must be finite and > 0"):
+        cm.impact.phase_angles([300, math.nan, -300], 0.1)
+    with pytest.raises(cm.InputError, match=r"rpm\[0\] = -300.0 must be finite and > 0"):
+        cm.impact.phase_angles([-300], 0.1)
+    with pytest.raises(cm.InputError, match=r"per_rpm = -0.1 must be finite and ≥ 0"):
+        cm.impact.phase_angles([300], -0.1)
+    # Valid input: n·per_rpm, by hand, and a scalar stays a scalar.
+    np.testing.assert_allclose(cm.impact.phase_angles([100.0, 4000.0], 0.1), [10.0, math.nan])
+    assert np.ndim(cm.impact.phase_angles(100.0, 0.1)) == 0
+
+
+def test_item18_rebounds_refuses_negative_impact_speeds():
+    # An impact speed is a magnitude; main returned a rebound for -0.2 m/s.
+    lever = cm.impact.StopImpact.example()
+    with pytest.raises(cm.InputError, match=r"v0\[0, 1\] = -0.2 must be a finite impact speed"):
+        cm.impact.rebounds([lever], [[0.2, -0.2]])
+
+
+@pytest.mark.parametrize("field", ["x0", "v0"])
+@pytest.mark.parametrize("bad", ["1", b"1", True, 1j])
+def test_item19_contact_start_refuses_strings_bytes_bools_and_complex(field, bad):
+    kw = {"mass": 1.0, "k_free": 1.0, "k_stop": 99.0, "v0": -1.0, field: bad}
+    with pytest.raises(cm.InputError, match=field):
+        cm.impact.contact_response(**kw)
+    with pytest.raises(cm.InputError, match=field):
+        cm.impact.contact_sample([0.0], **kw)
