@@ -697,7 +697,8 @@ def rebounds(
     if bad.any():
         i, j = (int(x) for x in np.argwhere(bad)[0])
         raise InputError(
-            f"v0[{i}, {j}] = {float(v[i, j])!r} must be a finite impact speed ≥ 0 [m/s] (its magnitude)"
+            f"v0[{i}, {j}] = {float(v[i, j])!r} must be a finite impact speed ≥ 0 [m/s] "
+            "(its magnitude)"
         )
     if v.shape[0] != len(stops):
         raise InputError(f"v0 must have one row per stop ({len(stops)}); got shape {v.shape}")
