@@ -117,7 +117,21 @@ def lever_stiffness(E: float, J_x: float, a: float, b: float) -> float:
     J = _positive("J_x", J_x, "[m⁴]")
     a = _positive("a", a, "[m]")
     b = _positive("b", b, "[m]")
-    return 3.0 * E * J / ((a + b) * b * b)
+    with np.errstate(all="ignore"):
+        c = 3.0 * np.float64(E) * J / ((a + b) * b * b)
+    return _stiffness(c, E=E, J_x=J, a=a, b=b)
+
+
+def _stiffness(c: Any, **given: float) -> float:
+    """``c`` [N/m] if it is a finite, positive float, else :class:`InputError`:
+    inputs of extreme magnitude overflow or underflow (scale the units)."""
+    if not (np.isfinite(c) and c > 0.0):
+        args = ", ".join(f"{k} = {v!r}" for k, v in given.items())
+        raise InputError(
+            f"the lever {args} gives a stiffness of {float(c)!r} N/m, not a finite positive "
+            "number: the values overflow or underflow; scale the units"
+        )
+    return float(c)
 
 
 def _moment(z: Array, xi: float, a: float) -> Array:
@@ -165,12 +179,15 @@ def propped_lever_stiffness(
             f"at = {at!r} m must lie inside the overhang, 0 < at < b = {b!r} m "
             "(at the stop itself the propped lever does not move)"
         )
-    EJ, length = E * J, a + b
-    x = a + s
-    f_mm = _flexibility(x, x, a, length, EJ)
-    f_mc = _flexibility(x, length, a, length, EJ)
-    f_cc = _flexibility(length, length, a, length, EJ)
-    return 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+    with np.errstate(all="ignore"):
+        EJ, length = np.float64(E) * J, a + b
+        x = a + s
+        f_mm = np.float64(_flexibility(x, x, a, length, EJ))
+        f_mc = np.float64(_flexibility(x, length, a, length, EJ))
+        f_cc = np.float64(_flexibility(length, length, a, length, EJ))
+        free, propped = 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+    given = {"E": E, "J_x": J, "a": a, "b": b, "at": s}
+    return _stiffness(free, **given), _stiffness(propped, **given)
 
 
 @functools.lru_cache(maxsize=4096)
