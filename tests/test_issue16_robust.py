@@ -736,3 +736,29 @@ def test_item19_valid_neighbours_of_the_fuzzed_calls_keep_their_closed_forms():
         [0.0, 0.5, 1.0],
         atol=1e-15,
     )
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [{"omega_n": "1866"}, {"zeta": True}, {"mass": b"1"}, {"omega_n": 1866 + 1j}, {"q0": "0"}],
+)
+def test_item19_duhamel_refuses_strings_bools_bytes_and_complex(kw):
+    # main ran duhamel(omega_n="1866", zeta=True, mass=b"1") as numbers.
+    args = {"omega_n": 1866.0, "zeta": 0.1, "mass": 1.0, **kw}
+    with pytest.raises(cm.InputError, match=next(iter(kw))):
+        cm.impact.duhamel([0.0, 1e-3], [0.0, 1.0], **args)
+    # Per-case arrays: a bool array is not numbers either.
+    with pytest.raises(
+        cm.InputError, match="zeta must be an array of real numbers; got dtype bool"
+    ):
+        cm.impact.first_rebound([0.0], [[0.0]], 1.0, [True], 1.0)
+
+
+def test_item19_numpy_scalars_are_numbers():
+    # np.float64 and 0-d arrays are accepted, with the closed form of the undamped
+    # step response q = F/k·(1 − cos ωt) at ωt = π: 2F/(mω²).
+    w = np.float64(2.0)
+    q = cm.impact.duhamel(
+        [0.0, 0.0, math.pi / 2], [0.0, 1.0, 1.0], omega_n=w, zeta=np.array(0.0), mass=1.0
+    )
+    assert q[-1] == pytest.approx(2 * 1.0 / 4.0, rel=1e-14)

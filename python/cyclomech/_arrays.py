@@ -45,7 +45,9 @@ def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDA
         a = np.asarray(value)
     except (TypeError, ValueError) as e:
         raise InputError(f"{name} must be an array of real numbers; {e}") from None
-    if a.dtype.kind not in "biuf":
+    # Bools are not numbers (True would be read as 1), nor are strings, bytes
+    # or complex numbers (whose imaginary part would be dropped).
+    if a.dtype.kind not in "iuf":
         raise InputError(f"{name} must be an array of real numbers; got dtype {a.dtype}")
     if a.ndim not in ndims:
         want = " or ".join(f"{d}-D" for d in ndims)

@@ -31,7 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core, motion
-from ._arrays import count, finite_number, float_array, threads_arg
+from ._arrays import count, finite_number, float_array, real, threads_arg
 from ._errors import InfeasibleError, InputError
 from .cyclogram import Constraint
 
@@ -475,16 +475,34 @@ def duhamel(
     True
     """
     ta, fa = _grid("t", t), _grid("force", force)
+    # Real numbers only (a string, bytes, a bool or a complex is refused, not
+    # read as a number); the kernel checks their ranges and names them.
     return _core.duhamel(
         ta,
         fa,
-        float(omega_n),
-        float(zeta),
-        float(mass),
-        float(q0),
-        float(v0),
-        with_velocity=bool(velocity),
+        _real("omega_n", omega_n, "[rad/s]"),
+        _real("zeta", zeta, "(damping ratio)"),
+        _real("mass", mass, "[kg]"),
+        _real("q0", q0, "[m]"),
+        _real("v0", v0, "[m/s]"),
+        with_velocity=_flag("velocity", velocity),
     )
+
+
+def _real(name: str, value: Any, unit: str) -> float:
+    """``value`` as a float if it is a real number (NaN and inf included: the
+    kernels name those), else :class:`InputError`."""
+    try:
+        return real(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a real number {unit}; got {value!r}") from None
+
+
+def _flag(name: str, value: Any) -> bool:
+    """A bool (or numpy bool), or :class:`InputError`: 0, "no" or None are not flags."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise InputError(f"{name} must be True or False; got {value!r}")
 
 
 def duhamel_batch(
@@ -558,7 +576,7 @@ def first_rebound(
     b = fa.shape[0]
     cases = _cases(b, omega_n=omega_n, zeta=zeta, mass=mass, q0=q0, v0=v0)
     time, q = _core.first_rebound_batch(
-        ta, fa, *cases, maximum=bool(maximum), n_threads=threads_arg(n_threads)
+        ta, fa, *cases, maximum=_flag("maximum", maximum), n_threads=threads_arg(n_threads)
     )
     return Rebound(time, q)
 
