@@ -1779,6 +1779,45 @@ pub fn contact_sample_into(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 16 item 15: a ramp of 1e9 N/s over 1 ns (c = slope/(mω²) = 1e9
+    /// against q̇ ~ 1e-10) hung with `maximum` and put the minimum inside the
+    /// ramp without. By hand (Taylor): on the ramp q̇ ≈ −0.75τ + 5e8τ², still
+    /// −2.5e-10 at 1 ns; then q̈ ≈ 1 − 0.75 = 0.25 brings it to 0 about 1 ns
+    /// later: the minimum is at ≈ 2 ns, and over-damped (ζ = 10) q then creeps
+    /// to q_s = 1 with no maximum.
+    #[test]
+    fn item15_steep_short_ramp_neither_hangs_nor_turns_inside_the_ramp() {
+        let osc = Oscillator::new(1.0, 10.0, 1.0).unwrap();
+        let (t, f) = ([0.0, 1e-9], [0.0, 1.0]);
+        let max = first_turn(&t, &f, &osc, 0.75, 0.0, true).unwrap();
+        assert_eq!(max.time, f64::INFINITY);
+        assert!((max.q - 1.0).abs() < 1e-12);
+        let min = first_turn(&t, &f, &osc, 0.75, 0.0, false).unwrap();
+        assert!((1.9e-9..2.1e-9).contains(&min.time), "{min:?}");
+    }
+
+    /// Issue 16 item 15: k/m overflowing hung the crossing search; ω outside
+    /// [1e-150, 1e150] rad/s is refused.
+    #[test]
+    fn item15_overflowing_k_over_m_is_refused() {
+        let stop = Contact {
+            mass: 1e-300,
+            k_free: 1e300,
+            k_stop: 1e300,
+            preload: 0.1,
+            zeta_free: 0.0,
+            zeta_contact: 0.0,
+        };
+        let e = contact_response(&stop, 1.0, -1.0, f64::INFINITY, 3, 100).unwrap_err();
+        assert!(matches!(
+            e,
+            DuhamelError::Param {
+                field: "sqrt(k_free / mass)",
+                ..
+            }
+        ));
+    }
     use proptest::prelude::*;
 
     // ---------------------------------------------------------------------
