@@ -762,3 +762,12 @@ def test_item19_numpy_scalars_are_numbers():
         [0.0, 0.0, math.pi / 2], [0.0, 1.0, 1.0], omega_n=w, zeta=np.array(0.0), mass=1.0
     )
     assert q[-1] == pytest.approx(2 * 1.0 / 4.0, rel=1e-14)
+
+
+def test_item19_motion_law_form_is_checked_by_the_constructor_too():
+    # main: MotionLaw("cycloidal", "bogus") was silently the half law.
+    with pytest.raises(cm.InputError, match=r"form = 'bogus' must be 'half'"):
+        cm.motion.MotionLaw("cycloidal", "bogus")
+    # The valid forms: the cycloidal rise's peak speed Z' is 2 (closed form
+    # Z = x − sin(2πx)/(2π)), the same law as cm.motion.law gives.
+    assert cm.motion.MotionLaw("cycloidal", "rise").dz_max == pytest.approx(2.0, rel=1e-12)
