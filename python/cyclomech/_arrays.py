@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 from typing import Any
 
 import numpy as np
@@ -44,7 +45,9 @@ def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDA
         a = np.asarray(value)
     except (TypeError, ValueError) as e:
         raise InputError(f"{name} must be an array of real numbers; {e}") from None
-    if a.dtype.kind not in "biuf":
+    # Bools are not numbers (True would be read as 1), nor are strings, bytes
+    # or complex numbers (whose imaginary part would be dropped).
+    if a.dtype.kind not in "iuf":
         raise InputError(f"{name} must be an array of real numbers; got dtype {a.dtype}")
     if a.ndim not in ndims:
         want = " or ".join(f"{d}-D" for d in ndims)
@@ -90,3 +93,83 @@ def threads_arg(n_threads: Any) -> int | None:
             f"n_threads must be None or an integer between 1 and {MAX_THREADS}; got {n_threads!r}"
         )
     return int(n_threads)
+
+
+def count(name: str, value: Any, *, low: int = 1, high: int | None = None, what: str = "") -> int:
+    """``value`` as an int count in ``[low, high]``, or :class:`InputError`.
+
+    A count is an integer: a Python ``int``, a numpy integer scalar or a 0-d integer
+    array. A bool, a float (even ``3.0``: ``2.5`` would otherwise be truncated
+    silently), a string or bytes is refused, naming ``name``, the value and the
+    valid range (``what`` says what is counted).
+    """
+    span = f"between {low} and {high}" if high is not None else f"≥ {low}"
+    label = f" ({what})" if what else ""
+    v = value
+    if isinstance(v, np.ndarray) and v.ndim == 0:
+        v = v[()]
+    if isinstance(v, bool | np.bool_) or not isinstance(v, int | np.integer):
+        raise InputError(f"{name} must be an integer {span}{label}; got {value!r}")
+    n = int(v)
+    if n < low or (high is not None and n > high):
+        raise InputError(f"{name} must be an integer {span}{label}; got {n}")
+    return n
+
+
+#: Environment variable capping the bytes one call may allocate for its results
+#: (default: the memory the system reports available).
+MAX_BYTES_ENV = "CYCLOMECH_MAX_BYTES"
+
+
+def available_bytes() -> int:
+    """Bytes a call may allocate for its results: ``$CYCLOMECH_MAX_BYTES`` if set,
+    else the memory the system reports available (Linux ``MemAvailable``; else
+    ``sysconf``'s available pages), else unbounded (2**63 − 1)."""
+    env = os.environ.get(MAX_BYTES_ENV)
+    if env:
+        try:
+            return max(0, int(float(env)))
+        except ValueError:
+            raise InputError(
+                f"{MAX_BYTES_ENV} = {env!r} must be a number of bytes (e.g. 8e9)"
+            ) from None
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        return _I64_MAX
+
+
+def check_bytes(what: str, nbytes: float, hint: str, *, failed: bool = False) -> None:
+    """Refuse, before allocating, a result of ``nbytes`` bytes that cannot fit.
+
+    The rule: a call's results (and the working arrays the caller counts in)
+    must fit in :func:`available_bytes`; a larger size is an :class:`InputError`
+    naming ``what``, the size, the memory available and ``hint`` (what to
+    lower), instead of a ``MemoryError``, a Rust panic or the OOM killer. With
+    ``failed``, the allocation was tried and failed: always an :class:`InputError`.
+
+    >>> from cyclomech._arrays import check_bytes
+    >>> check_bytes("a small array", 8e3, "fewer points")
+    >>> check_bytes("a huge array", 1e30, "fewer points")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    cyclomech._errors.InputError: a huge array needs 1e+21 GB, more than the ... GB of ...
+    """
+    limit = available_bytes()
+    if failed:
+        raise InputError(
+            f"{what} needs {nbytes / 1e9:.3g} GB, which the system could not allocate "
+            f"({limit / 1e9:.3g} GB available); {hint}"
+        )
+    if not nbytes <= limit:
+        raise InputError(
+            f"{what} needs {nbytes / 1e9:.3g} GB, more than the {limit / 1e9:.3g} GB of "
+            f"memory available; {hint}"
+        )

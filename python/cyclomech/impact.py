@@ -31,7 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core, motion
-from ._arrays import finite_number, float_array, threads_arg
+from ._arrays import count, finite_number, float_array, real, threads_arg
 from ._errors import InfeasibleError, InputError
 from .cyclogram import Constraint
 
@@ -65,6 +65,21 @@ def _positive(name: str, value: Any, unit: str) -> float:
 
 def _nonnegative(name: str, value: Any, unit: str) -> float:
     return finite_number(name, value, unit, low=0.0)
+
+
+#: Relative tolerances a search can meet: rounding of the rebounds is ~1e-16, so
+#: below 1e-15 a tolerance would be claimed but not met; 1 or more is no
+#: tolerance at all (the bracket [0, v] already meets it).
+_RTOL_RANGE = (1e-15, 0.5)
+
+
+def _rtol(name: str, value: Any, scale: float = 1.0, unit: str = "(relative)") -> float:
+    """A tolerance in [1e-15, 0.5]·``scale``, or :class:`InputError` with the range."""
+    lo, hi = _RTOL_RANGE[0] * scale, _RTOL_RANGE[1] * scale
+    v = finite_number(name, value, unit, low=0.0, strict=True)
+    if not lo <= v <= hi:
+        raise InputError(f"{name} = {value!r} must lie in [{lo:g}, {hi:g}] {unit}")
+    return v
 
 
 def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
@@ -102,7 +117,21 @@ def lever_stiffness(E: float, J_x: float, a: float, b: float) -> float:
     J = _positive("J_x", J_x, "[m⁴]")
     a = _positive("a", a, "[m]")
     b = _positive("b", b, "[m]")
-    return 3.0 * E * J / ((a + b) * b * b)
+    with np.errstate(all="ignore"):
+        c = 3.0 * np.float64(E) * J / ((a + b) * b * b)
+    return _stiffness(c, E=E, J_x=J, a=a, b=b)
+
+
+def _stiffness(c: Any, **given: float) -> float:
+    """``c`` [N/m] if it is a finite, positive float, else :class:`InputError`:
+    inputs of extreme magnitude overflow or underflow (scale the units)."""
+    if not (np.isfinite(c) and c > 0.0):
+        args = ", ".join(f"{k} = {v!r}" for k, v in given.items())
+        raise InputError(
+            f"the lever {args} gives a stiffness of {float(c)!r} N/m, not a finite positive "
+            "number: the values overflow or underflow; scale the units"
+        )
+    return float(c)
 
 
 def _moment(z: Array, xi: float, a: float) -> Array:
@@ -150,12 +179,15 @@ def propped_lever_stiffness(
             f"at = {at!r} m must lie inside the overhang, 0 < at < b = {b!r} m "
             "(at the stop itself the propped lever does not move)"
         )
-    EJ, length = E * J, a + b
-    x = a + s
-    f_mm = _flexibility(x, x, a, length, EJ)
-    f_mc = _flexibility(x, length, a, length, EJ)
-    f_cc = _flexibility(length, length, a, length, EJ)
-    return 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+    with np.errstate(all="ignore"):
+        EJ, length = np.float64(E) * J, a + b
+        x = a + s
+        f_mm = np.float64(_flexibility(x, x, a, length, EJ))
+        f_mc = np.float64(_flexibility(x, length, a, length, EJ))
+        f_cc = np.float64(_flexibility(length, length, a, length, EJ))
+        free, propped = 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+    given = {"E": E, "J_x": J, "a": a, "b": b, "at": s}
+    return _stiffness(free, **given), _stiffness(propped, **given)
 
 
 @functools.lru_cache(maxsize=4096)
@@ -384,9 +416,7 @@ class Pulse:
         0.99999
         """
         p, d = _force(peak), _positive("duration", duration, "[s]")
-        if isinstance(points, bool) or not isinstance(points, int) or points < 3:
-            raise InputError(f"points must be an integer ≥ 3; got {points!r}")
-        t = np.linspace(0.0, d, points)
+        t = np.linspace(0.0, d, count("points", points, low=3, high=10**7))
         f = p * np.sin(np.pi * t / d)
         f[-1] = 0.0
         return cls.table(t, f, "half_sine")
@@ -445,16 +475,34 @@ def duhamel(
     True
     """
     ta, fa = _grid("t", t), _grid("force", force)
+    # Real numbers only (a string, bytes, a bool or a complex is refused, not
+    # read as a number); the kernel checks their ranges and names them.
     return _core.duhamel(
         ta,
         fa,
-        float(omega_n),
-        float(zeta),
-        float(mass),
-        float(q0),
-        float(v0),
-        with_velocity=bool(velocity),
+        _real("omega_n", omega_n, "[rad/s]"),
+        _real("zeta", zeta, "(damping ratio)"),
+        _real("mass", mass, "[kg]"),
+        _real("q0", q0, "[m]"),
+        _real("v0", v0, "[m/s]"),
+        with_velocity=_flag("velocity", velocity),
     )
+
+
+def _real(name: str, value: Any, unit: str) -> float:
+    """``value`` as a float if it is a real number (NaN and inf included: the
+    kernels name those), else :class:`InputError`."""
+    try:
+        return real(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a real number {unit}; got {value!r}") from None
+
+
+def _flag(name: str, value: Any) -> bool:
+    """A bool (or numpy bool), or :class:`InputError`: 0, "no" or None are not flags."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise InputError(f"{name} must be True or False; got {value!r}")
 
 
 def duhamel_batch(
@@ -528,7 +576,7 @@ def first_rebound(
     b = fa.shape[0]
     cases = _cases(b, omega_n=omega_n, zeta=zeta, mass=mass, q0=q0, v0=v0)
     time, q = _core.first_rebound_batch(
-        ta, fa, *cases, maximum=bool(maximum), n_threads=threads_arg(n_threads)
+        ta, fa, *cases, maximum=_flag("maximum", maximum), n_threads=threads_arg(n_threads)
     )
     return Rebound(time, q)
 
@@ -611,8 +659,13 @@ def contact_response(
     1.0
     """
     args = _contact_args(mass, k_free, k_stop, preload, zeta_free, zeta_contact)
+    end = t_end if t_end == math.inf else _positive("t_end", t_end, "[s] (or inf)")
     d = _core.contact_response(
-        *args, float(x0), float(v0), t_end=float(t_end), max_rebounds=int(max_rebounds)
+        *args,
+        finite_number("x0", x0, "[m]"),
+        finite_number("v0", v0, "[m/s]"),
+        t_end=end,
+        max_rebounds=count("max_rebounds", max_rebounds),
     )
     return ContactHistory(**d)
 
@@ -640,7 +693,9 @@ def contact_sample(
     """
     args = _contact_args(mass, k_free, k_stop, preload, zeta_free, zeta_contact)
     ts = float_array("times", times, ndims=(1,))
-    return _core.contact_sample(*args, float(x0), float(v0), ts)
+    return _core.contact_sample(
+        *args, finite_number("x0", x0, "[m]"), finite_number("v0", v0, "[m/s]"), ts
+    )
 
 
 # --- the lever and its stop ---------------------------------------------------------
@@ -673,6 +728,13 @@ def rebounds(
     ((2, 2), True, True)
     """
     v = float_array("v0", v0, ndims=(2,))
+    bad = ~(np.isfinite(v) & (v >= 0.0))
+    if bad.any():
+        i, j = (int(x) for x in np.argwhere(bad)[0])
+        raise InputError(
+            f"v0[{i}, {j}] = {float(v[i, j])!r} must be a finite impact speed ≥ 0 [m/s] "
+            "(its magnitude)"
+        )
     if v.shape[0] != len(stops):
         raise InputError(f"v0 must have one row per stop ({len(stops)}); got shape {v.shape}")
     threads = threads_arg(n_threads)
@@ -728,7 +790,8 @@ def critical_speeds(
 ) -> Array:
     """The largest impact speed v* [m/s] of each stop whose first rebound is at most
     its ``a_max`` [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to
-    ``rtol`` relative, shape (S,). The speed returned is admissible with a margin
+    ``rtol`` relative (in [1e-15, 0.5]: the rebounds' rounding is ~1e-16, and a
+    wider tolerance is none), shape (S,). The speed returned is admissible with a margin
     of 1e-13 (relative), so that angles worked out from it are too: the rebounds'
     rounding is ~1e-16, the angles' tolerance 1e-9°. The pulse
     model's rebound is g·v0 (linear), so v* = a_max/g from one evaluation per
@@ -747,7 +810,7 @@ def critical_speeds(
     a = np.broadcast_to(float_array("a_max", a_max, ndims=(0, 1)), (n,)).copy()
     for i, ai in enumerate(a):
         _positive(f"a_max[{i}]" if n > 1 else "a_max", ai, "[m]")
-    r = _positive("rtol", rtol, "(relative)")
+    r = _rtol("rtol", rtol)
     out = np.empty(n)
     keys = [s._critical_key(ai, r) for s, ai in zip(stops, a, strict=True)]
     todo = []
@@ -804,14 +867,23 @@ def critical_speeds(
 
 
 def phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
-    """Smallest phase angles [deg] n·``per_rpm`` at speeds ``rpm`` (broadcast), at
-    least 1e-9°, NaN where over 360° (no phase angle of one turn will do).
+    """Smallest phase angles [deg] n·``per_rpm`` at speeds ``rpm`` [rpm] (finite,
+    > 0; broadcast) with ``per_rpm`` [deg/rpm] finite and ≥ 0, at least 1e-9°, NaN
+    where over 360° (no phase angle of one turn will do).
 
     >>> import cyclomech as cm
     >>> cm.impact.phase_angles([100.0, 200.0, 400.0], 0.1).tolist()
     [10.0, 20.0, 40.0]
     """
-    t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
+    # float_array checks the dtype; np.asarray keeps a scalar 0-d.
+    n = _positive_array("rpm", np.asarray(float_array("rpm", rpm, ndims=(0, 1, 2))), "[rpm]")
+    n = n.reshape(np.shape(rpm))
+    k = float_array("per_rpm", per_rpm, ndims=(0, 1, 2)).reshape(np.shape(per_rpm))
+    bad = ~(np.isfinite(k) & (k >= 0.0))
+    if bad.any():
+        v = k.reshape(-1)[int(np.argmax(bad.reshape(-1)))]
+        raise InputError(f"per_rpm = {float(v)!r} must be finite and ≥ 0 [deg/rpm]")
+    t = np.maximum(np.multiply(n, k), 1e-9)
     return np.where(t <= 360.0, t, np.nan)
 
 
@@ -1011,8 +1083,7 @@ class StopImpact:
         v0 = float(self.impact_speed(float(rpm), float(phase_deg)))
         span = 12.0 * math.pi / self.omega_free if duration is None else float(duration)
         span = _positive("duration", span, "[s]")
-        if isinstance(points, bool) or not isinstance(points, int) or points < 2:
-            raise InputError(f"points must be an integer ≥ 2; got {points!r}")
+        points = count("points", points, low=2, high=10**8)
         if self.model == "contact":
             t = np.linspace(0.0, span, points)
             x, _v = contact_sample(
@@ -1086,7 +1157,8 @@ class StopImpact:
         n_threads: int | None = None,
     ) -> Any:
         """Smallest phase angle [deg] whose first rebound is at most ``a_max`` [m],
-        at each speed ``rpm``, to ``tol_deg``; NaN where even 360° is too short.
+        at each speed ``rpm``, to ``tol_deg`` (in [3.6e-13, 180]°: 360° times the
+        range of :func:`critical_speeds`' ``rtol``); NaN where even 360° is too short.
 
         The rebound depends on the speed n and the phase angle t only through the
         impact speed v0 = (2π·n/60)·stroke·Z'/t (:meth:`impact_speed`) and grows
@@ -1101,7 +1173,7 @@ class StopImpact:
         (28.027142, 0.1)
         """
         n = np.asarray(_positive_array("rpm", rpm, "[rpm]"), dtype=np.float64)
-        tol = _positive("tol_deg", tol_deg, "[deg]")
+        tol = _rtol("tol_deg", tol_deg, 360.0, "[deg]")
         # t ≤ 360° and |Δt| ≤ t·Δv/v*: a relative bracket of tol/360 is enough.
         v = self.critical_speed(a_max, rtol=tol / 360.0, n_threads=n_threads)
         return phase_angles(n, self.phase_per_rpm(v))[()]  # a float for a scalar speed
@@ -1123,7 +1195,7 @@ class StopImpact:
             raise InputError(
                 f"phase_deg_range = {phase_deg_range!r} must be (low, high) with low < high"
             )
-        t = np.linspace(float(lo), float(hi), int(points))
+        t = np.linspace(float(lo), float(hi), count("points", points, low=2, high=10**7))
         slope, intercept = np.polyfit(t, self.rebound(float(rpm), t), 1)
         return float(slope), float(intercept)
 

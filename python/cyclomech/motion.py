@@ -59,6 +59,8 @@ class MotionLaw:
     __slots__ = ("_kernel", "coeffs", "form", "name")
 
     def __init__(self, name: str, form: str, coeffs: tuple[float, ...] | None = None) -> None:
+        # The form is checked here too: any other string was the half law, silently.
+        form = _form(form)
         self.name = name
         self.form = form
         self.coeffs = coeffs

@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import finite_number, float_array
+from ._arrays import available_bytes, check_bytes, count, finite_number, float_array
 from ._errors import InfeasibleError, InputError
 
 __all__ = [
@@ -67,6 +67,9 @@ _NODES16, _WEIGHTS16 = (_GL16[0] + 1.0) / 2.0, _GL16[1] / 2.0
 _NODES4, _WEIGHTS4 = (_GL4[0] + 1.0) / 2.0, _GL4[1] / 2.0
 
 #: Pieces of a sampled path, in travel order.
+#: Peak bytes a point of :meth:`TransferPath.sample` takes while it is built.
+_SAMPLE_PEAK_BYTES = 112
+
 PIECES = ("arc_t", "transition_t", "straight", "transition_p", "arc_p")
 
 
@@ -74,8 +77,18 @@ def _positive(name: str, value: Any, unit: str) -> float:
     return finite_number(name, value, unit, low=0.0, strict=True)
 
 
+#: Lengths [m] the path's closed forms and scans hold in (fifth powers of x2 and
+#: their reciprocals, and 1e-9 fractions, stay normal floats); outside, scale
+#: the units.
+_LENGTH_RANGE = (1e-60, 1e60)
+
+
 def _radius(name: str, value: Any) -> float:
-    return finite_number(name, value, "m (a pitch radius must be positive)", low=0.0, strict=True)
+    r = finite_number(name, value, "m (a pitch radius must be positive)", low=0.0, strict=True)
+    lo, hi = _LENGTH_RANGE
+    if not lo <= r <= hi:
+        raise InputError(f"{name} = {value!r} m must lie in [{lo:g}, {hi:g}] m (scale the units)")
+    return r
 
 
 def _finite_array(name: str, value: Any, unit: str) -> Array:
@@ -342,7 +355,14 @@ def quintic_transition(R: float, k: float, b: float, x2: float) -> QuinticTransi
         low=0.0,
         strict=True,
     )
-    a2, a3, a4, a5 = _coeffs(R, k, b, x2)
+    lo, hi = _LENGTH_RANGE
+    if not lo <= x2 <= hi:
+        raise InputError(f"x2 = {x2!r} m must lie in [{lo:g}, {hi:g}] m (scale the units)")
+    # In numpy floats, an overflow (x2**5) or an underflow to 0 (1/x2**3) is an
+    # inf or a nan that the check below names, not a Python OverflowError or
+    # ZeroDivisionError.
+    with np.errstate(all="ignore"):
+        a2, a3, a4, a5 = _coeffs(*(np.float64(v) for v in (R, k, b, x2)))
     coeffs = np.array([0.0, 0.0, a2, a3, a4, a5])
     if not np.isfinite(coeffs).all():
         raise InputError(
@@ -373,8 +393,11 @@ def smooth_transition(R: float, x2: float) -> QuinticTransition:
     """
     R = _radius("R", R)
     x2 = _positive("x2", x2, "m (the transition's length along A's tangent)")
-    k, b = smooth_k_b(R, x2)
-    return quintic_transition(R, k, b, x2)
+    with np.errstate(all="ignore"):
+        k, b = smooth_k_b(np.float64(R), np.float64(x2))
+    if not (np.isfinite(k) and np.isfinite(b)):
+        raise InputError(f"the transition R = {R!r} m, x2 = {x2!r} m overflows; scale the geometry")
+    return quintic_transition(R, float(k), float(b), x2)
 
 
 def to_machine(x_local: Any, y_local: Any, alpha: float, x0: float, y0: float) -> Array:
@@ -582,8 +605,11 @@ class TransferPath:
                     f"x2 must be one length or a pair (x2_t, x2_p) [m]; got shape {x2a.shape}"
                 )
             x2v = np.broadcast_to(x2a, (2,)).astype(np.float64)
-            if (x2v <= 0).any():
-                raise InputError(f"x2 must be > 0 m (transition lengths); got {x2!r}")
+            lo, hi = _LENGTH_RANGE
+            if not ((x2v >= lo) & (x2v <= hi)).all():
+                raise InputError(
+                    f"x2 must be > 0 m, in [{lo:g}, {hi:g}] m (transition lengths); got {x2!r}"
+                )
         self.x2_t, self.x2_p = float(x2v[0]), float(x2v[1])
         g = _geometry(r, *self._canonical_centres(), x2v)
         if not g.feasible or g.straight < -1e-12 * d:
@@ -653,9 +679,16 @@ class TransferPath:
         >>> bool(abs(s.s[-1] - p.length) < 1e-12), bool(abs(s.curvature).max() <= 1 / 0.15)
         (True, True)
         """
-        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 10:
-            raise InputError(f"n must be an integer ≥ 10 (points along the path); got {n!r}")
-        counts = _allocate(int(n), self._lengths)
+        n = count("n", n, low=10, what="points along the path")
+        # Sized before anything is allocated: the pieces and their concatenation
+        # peak at ~104 bytes a point (49 kept); a size that cannot fit is an
+        # InputError, not a MemoryError or the OOM killer.
+        check_bytes(
+            f"TransferPath.sample({n})",
+            float(n) * _SAMPLE_PEAK_BYTES,
+            f"sample fewer points (≤ {int(available_bytes() // _SAMPLE_PEAK_BYTES):,} fit)",
+        )
+        counts = _allocate(n, self._lengths)
         g = self._g
         lead = math.radians(self.lead_deg)
         parts = []

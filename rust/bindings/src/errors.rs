@@ -76,6 +76,7 @@ impl IntoPyErr for DuhamelError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
             DuhamelError::Threads(e) => e.into_pyerr(py),
+            DuhamelError::Stalled { .. } => raise(py, "SolverError", self.to_string(), None),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }

@@ -13,7 +13,11 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::alloc;
 use crate::errors::{run, IntoPyErr};
+
+/// What to lower when an output cannot be allocated.
+const HINT: &str = "use fewer samples or cases at a time";
 
 // The signatures spell the default out (so that it shows in Python's help and
 // the stubs); keep it the core's.
@@ -42,19 +46,34 @@ fn rows<'a>(
     Ok((a.as_slice().map_err(|_| layout(py, field))?, b, n))
 }
 
-/// A count from Python (an int that may be negative) as usize, or a typed error.
-fn count(py: Python<'_>, field: &'static str, value: i64) -> PyResult<usize> {
+/// Most contact events one history may follow: each is stored (≈ 70 bytes) and
+/// takes a few closed-form evaluations, so this bounds a call to ~100 MB and
+/// about a second; a link that chatters longer is reported, not followed.
+const MAX_EVENTS_LIMIT: i64 = 1_000_000;
+
+/// A count from Python (an int that may be negative) as usize in [1, high], or
+/// a typed error.
+fn count(
+    py: Python<'_>,
+    field: &'static str,
+    value: i64,
+    high: i64,
+    want: &'static str,
+) -> PyResult<usize> {
     usize::try_from(value)
         .ok()
-        .filter(|&v| v >= 1)
-        .ok_or_else(|| {
-            DuhamelError::Count {
-                field,
-                value,
-                want: ">= 1",
-            }
-            .into_pyerr(py)
-        })
+        .filter(|&v| v >= 1 && value <= high)
+        .ok_or_else(|| DuhamelError::Count { field, value, want }.into_pyerr(py))
+}
+
+fn max_events_arg(py: Python<'_>, value: i64) -> PyResult<usize> {
+    count(
+        py,
+        "max_events",
+        value,
+        MAX_EVENTS_LIMIT,
+        "between 1 and 1000000",
+    )
 }
 
 /// Two float64 arrays of one length: (time, q) or (x, v).
@@ -129,7 +148,7 @@ pub fn duhamel<'py>(
         mass,
     };
     let n = ts.len();
-    let q = PyArray1::<f64>::zeros(py, n, false);
+    let q: Bound<PyArray1<f64>> = alloc::zeros(py, &[n], "duhamel's response", HINT)?;
     if !with_velocity {
         {
             let mut qw = q.readwrite();
@@ -140,7 +159,7 @@ pub fn duhamel<'py>(
         }
         return Ok(q.into_any());
     }
-    let v = PyArray1::<f64>::zeros(py, n, false);
+    let v: Bound<PyArray1<f64>> = alloc::zeros(py, &[n], "duhamel's response", HINT)?;
     {
         let (mut qw, mut vw) = (q.readwrite(), v.readwrite());
         let (qs, vs) = (
@@ -181,7 +200,7 @@ pub fn duhamel_batch<'py>(
         v0,
     };
     let cases = arrays.view(py, b)?;
-    let out = PyArray2::<f64>::zeros(py, [b, n], false);
+    let out = alloc::zeros(py, &[b, n], "duhamel_batch's responses", HINT)?;
     {
         let mut ow = out.readwrite();
         let os = ow.as_slice_mut().map_err(internal)?;
@@ -234,9 +253,10 @@ pub fn first_rebound_batch<'py>(
         v0,
     };
     let cases = arrays.view(py, b)?;
+    let what = "first_rebound_batch's results";
     let (time, q) = (
-        PyArray1::<f64>::zeros(py, b, false),
-        PyArray1::<f64>::zeros(py, b, false),
+        alloc::zeros(py, &[b], what, HINT)?,
+        alloc::zeros(py, &[b], what, HINT)?,
     );
     {
         let (mut tw, mut qw) = (time.readwrite(), q.readwrite());
@@ -300,8 +320,8 @@ pub fn contact_response<'py>(
         zeta_free,
         zeta_contact,
     };
-    let max_rebounds = count(py, "max_rebounds", max_rebounds)?;
-    let max_events = count(py, "max_events", max_events)?;
+    let max_rebounds = count(py, "max_rebounds", max_rebounds, i64::MAX, ">= 1")?;
+    let max_events = max_events_arg(py, max_events)?;
     let h = run(py, "contact_response", || {
         kernel::contact_response(&stop, x0, v0, t_end, max_rebounds, max_events)
     })?;
@@ -334,12 +354,13 @@ pub fn contact_sample<'py>(
         zeta_free,
         zeta_contact,
     };
-    let max_events = count(py, "max_events", max_events)?;
+    let max_events = max_events_arg(py, max_events)?;
     let ts = slice(py, "times", &times)?;
     let n = ts.len();
+    let what = "contact_sample's results";
     let (x, v) = (
-        PyArray1::<f64>::zeros(py, n, false),
-        PyArray1::<f64>::zeros(py, n, false),
+        alloc::zeros(py, &[n], what, HINT)?,
+        alloc::zeros(py, &[n], what, HINT)?,
     );
     {
         let (mut xw, mut vw) = (x.readwrite(), v.readwrite());
@@ -380,7 +401,7 @@ pub fn contact_rebound_batch<'py>(
     };
     let vs = slice(py, "v0", &v0)?;
     let x0 = vec![0.0; vs.len()];
-    let out = PyArray1::<f64>::zeros(py, vs.len(), false);
+    let out = alloc::zeros(py, &[vs.len()], "contact_rebound_batch's results", HINT)?;
     {
         let mut ow = out.readwrite();
         let os = ow.as_slice_mut().map_err(internal)?;

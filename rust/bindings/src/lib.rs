@@ -6,6 +6,7 @@
 
 use pyo3::prelude::*;
 
+mod alloc;
 mod errors;
 mod impact;
 mod linkage;

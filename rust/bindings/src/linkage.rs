@@ -3,10 +3,11 @@
 
 use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step};
 use cyclomech_core::triad::Triad;
-use numpy::ndarray::{ArrayView1, Axis, IxDyn};
+use numpy::ndarray::{ArrayView1, Axis};
 use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
+use crate::alloc;
 use crate::errors::{run, IntoPyErr};
 
 /// Columns of a compiled step's index and dimension rows.
@@ -119,17 +120,35 @@ type Arrays<'py> = (
 
 /// Output arrays allocated by numpy (which backs large ones with huge pages), of
 /// shape `lead + (M, 2)` for positions and analogs (None unless `analogs`) and
-/// `lead` for the flags.
-fn allocate<'py>(py: Python<'py>, lead: &[usize], m: usize, analogs: bool) -> Arrays<'py> {
+/// `lead` for the flags. Sized before anything is allocated: a grid whose results
+/// cannot fit is an `InputError`, and so is numpy's failure to allocate (never a
+/// panic).
+fn allocate<'py>(
+    py: Python<'py>,
+    lead: &[usize],
+    m: usize,
+    analogs: bool,
+) -> PyResult<Arrays<'py>> {
     let points: Vec<usize> = lead.iter().copied().chain([m, 2]).collect();
-    let big = || PyArrayDyn::<f64>::zeros(py, IxDyn(&points), false);
-    let flag = || PyArrayDyn::<bool>::zeros(py, IxDyn(lead), false);
+    let copies = if analogs { 3 } else { 1 };
+    let f = std::mem::size_of::<f64>();
+    let bytes = alloc::nbytes(&[(&points, copies * f), (lead, 3)]);
+    let shape = points
+        .iter()
+        .map(|d| d.to_string())
+        .collect::<Vec<_>>()
+        .join(" × ");
+    let what = format!("the linkage's results ({copies} arrays of {shape} float64 and 3 flags)");
+    let hint = "solve fewer angles, points or geometries at a time";
+    alloc::check(py, &what, bytes, hint)?;
+    let big = || alloc::zeros(py, &points, &what, hint);
+    let flag = || alloc::zeros(py, lead, &what, hint);
     let (vel, acc) = if analogs {
-        (Some(big()), Some(big()))
+        (Some(big()?), Some(big()?))
     } else {
         (None, None)
     };
-    (big(), vel, acc, flag(), flag(), flag())
+    Ok((big()?, vel, acc, flag()?, flag()?, flag()?))
 }
 
 /// Run `kernel` (GIL released) writing into the arrays of `out`.
@@ -254,7 +273,7 @@ impl LinkageProgram {
     ) -> PyResult<Arrays<'py>> {
         let a = contiguous(py, &angles)?;
         let req = request(py, points, analogs)?;
-        let out = allocate(py, &[a.len()], req.points.len(), analogs);
+        let out = allocate(py, &[a.len()], req.points.len(), analogs)?;
         fill(py, "Linkage.solve", &out, |o| {
             self.program.solve_into(a, &req, n_threads, o)
         })?;
@@ -295,7 +314,7 @@ impl LinkageProgram {
         }
         let a = contiguous(py, &angles)?;
         let req = request(py, points, analogs)?;
-        let out = allocate(py, &[k, a.len()], req.points.len(), analogs);
+        let out = allocate(py, &[k, a.len()], req.points.len(), analogs)?;
         fill(py, "linkage.sweep", &out, |o| {
             linkage::solve_many_into(&programs, a, &req, n_threads, o)
         })?;

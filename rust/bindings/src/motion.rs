@@ -4,6 +4,7 @@ use cyclomech_core::motion::{Law, MotionError, TwoPeriod};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
+use crate::alloc;
 use crate::errors::{run, IntoPyErr};
 
 fn contiguous<'a>(
@@ -19,6 +20,20 @@ fn contiguous<'a>(
     })
 }
 
+/// A derivative order from Python (any int) as 0..=3, or a typed error (a
+/// negative int would otherwise be pyo3's OverflowError).
+fn order_arg(py: Python<'_>, order: i64) -> PyResult<usize> {
+    usize::try_from(order)
+        .ok()
+        .filter(|&o| o <= 3)
+        .ok_or_else(|| {
+            MotionError::BadLaw {
+                what: format!("order must be 0, 1, 2 or 3 (the derivative); got {order}"),
+            }
+            .into_pyerr(py)
+        })
+}
+
 /// Evaluate `f` into a new float64 array of the length of `x`, GIL released.
 fn evaluate<'py, F>(
     py: Python<'py>,
@@ -29,7 +44,7 @@ fn evaluate<'py, F>(
 where
     F: FnOnce(&mut [f64]) -> Result<(), MotionError> + Send,
 {
-    let out = PyArray1::<f64>::zeros(py, x.len(), false);
+    let out = alloc::zeros(py, &[x.len()], kernel, "evaluate fewer points at a time")?;
     {
         let mut rw = out.readwrite();
         let slice = rw
@@ -93,9 +108,10 @@ impl MotionLaw {
         &self,
         py: Python<'py>,
         x: PyReadonlyArray1<'py, f64>,
-        order: usize,
+        order: i64,
         n_threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let order = order_arg(py, order)?;
         let xs = contiguous(py, "x", &x)?;
         evaluate(py, "MotionLaw.eval", xs, |out| {
             self.law.eval_into(xs, order, n_threads, out)
@@ -138,9 +154,10 @@ impl TwoPeriodKernel {
         &self,
         py: Python<'py>,
         alpha: PyReadonlyArray1<'py, f64>,
-        order: usize,
+        order: i64,
         n_threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let order = order_arg(py, order)?;
         let a = contiguous(py, "alpha", &alpha)?;
         evaluate(py, "TwoPeriodLaw.eval", a, |out| {
             self.law.eval_into(a, order, n_threads, out)

@@ -9,6 +9,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
+use crate::alloc;
 use crate::errors::{run, IntoPyErr};
 
 fn bad(py: Python<'_>, why: String) -> PyErr {
@@ -117,15 +118,19 @@ pub fn press_solve<'py>(
         .collect();
     let a = contiguous(py, "alpha", &alpha)?;
     let (k, n) = (list.len(), a.len());
-    let f = |shape: &[usize]| PyArrayDyn::<f64>::zeros(py, IxDyn(shape), false);
+    let what = format!("the press's kinematics ({k} designs × {n} angles × 9 float64 and 1 flag)");
+    let hint = "solve fewer designs or angles at a time";
+    let f8 = std::mem::size_of::<f64>();
+    alloc::check(py, &what, alloc::nbytes(&[(&[k, n], 9 * f8 + 1)]), hint)?;
+    let f = |shape: &[usize]| alloc::zeros::<f64, IxDyn>(py, shape, &what, hint);
     let out = (
-        f(&[k, n]),
-        f(&[k, n]),
-        f(&[k, n]),
-        f(&[k, n, 2]),
-        f(&[k, n, 2]),
-        f(&[k, n, 2]),
-        PyArrayDyn::<bool>::zeros(py, IxDyn(&[k, n]), false),
+        f(&[k, n])?,
+        f(&[k, n])?,
+        f(&[k, n])?,
+        f(&[k, n, 2])?,
+        f(&[k, n, 2])?,
+        f(&[k, n, 2])?,
+        alloc::zeros::<bool, IxDyn>(py, &[k, n], &what, hint)?,
     );
     {
         let internal = |_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous");
@@ -180,6 +185,21 @@ pub fn press_sweep<'py>(
         offset,
     };
     let spec = spec(py, k_sp, working_stroke, omega, samples)?;
+    // The grid's size is a product of the axes' lengths: refuse one that
+    // overflows before anything sizes a buffer by it.
+    let axes = [grid.big_r, grid.r, grid.d, grid.l, grid.phi0];
+    if axes
+        .iter()
+        .try_fold(1usize, |n, a| n.checked_mul(a.len()))
+        .and_then(|n| n.checked_mul(CRITERIA.len() * std::mem::size_of::<f64>()))
+        .is_none()
+    {
+        let lens: Vec<usize> = axes.iter().map(|a| a.len()).collect();
+        return Err(bad(
+            py,
+            format!("the grid of {lens:?} designs is too large to index; sweep it in parts"),
+        ));
+    }
     let n = grid.len();
     let want = [n, CRITERIA.len()];
     if rows.shape() != want || status.shape() != [n] {

@@ -125,6 +125,11 @@ pub enum DuhamelError {
          t = {time}; raise max_events or sample a shorter time"
     )]
     TooManyEvents { max_events: usize, time: f64 },
+    #[error(
+        "the first-rebound search stopped advancing at t = {time} (q̇ stays within \
+         rounding of zero); refine or rescale the pulse table"
+    )]
+    Stalled { time: f64 },
     #[error("{0}")]
     Threads(#[from] ThreadsError),
 }
@@ -149,6 +154,29 @@ fn param(
     } else {
         Err(DuhamelError::Param { field, value, want })
     }
+}
+
+/// The range of natural frequencies ω [rad/s] and damping rates ζω [1/s] the
+/// closed forms hold in: ω², (ζω)², 1/ω² and the ramp's c = slope/(mω²) stay
+/// finite with room to spare. Outside it the coefficients overflow or vanish and
+/// the searches cannot advance; rescale time instead.
+pub const MODE_RANGE: (f64, f64) = (1e-150, 1e150);
+
+fn mode_range(field: &'static str, omega: f64, zeta: f64) -> Result<(), DuhamelError> {
+    let (lo, hi) = MODE_RANGE;
+    param(
+        field,
+        omega,
+        (lo..=hi).contains(&omega),
+        "within [1e-150, 1e150] rad/s (rescale time)",
+    )?;
+    let rate = zeta * omega;
+    param(
+        "zeta * omega",
+        rate,
+        rate <= hi,
+        "<= 1e150 1/s (rescale time or lower the damping ratio)",
+    )
 }
 
 fn finite(field: &'static str, value: f64) -> Result<(), DuhamelError> {
@@ -263,7 +291,8 @@ impl Oscillator {
             "finite and > 0 [rad/s]",
         )?;
         param("zeta", self.zeta, self.zeta >= 0.0, "finite and >= 0")?;
-        param("mass", self.mass, self.mass > 0.0, "finite and > 0")
+        param("mass", self.mass, self.mass > 0.0, "finite and > 0")?;
+        mode_range("omega_n", self.omega_n, self.zeta)
     }
 
     fn mode(&self) -> Mode {
@@ -465,7 +494,9 @@ impl Mode {
                     return None;
                 }
                 let mut d = (1.0 / self.slow.max(self.omega)).max(ta);
-                loop {
+                // d doubles from ≥ 1e-150 s (ω ≤ 1e150) to overflow within ~1520
+                // rounds; the cap only makes that bound explicit.
+                for _ in 0..2100 {
                     let tb = ta + d;
                     let fb = f(tb).0;
                     if side * fb <= 0.0 {
@@ -481,6 +512,7 @@ impl Mode {
                         return None;
                     }
                 }
+                return None;
             };
             // f has an extremum at tb.
             let fb = f(tb).0;
@@ -1165,6 +1197,7 @@ fn rebound(
         let slope = (fw[1] - fw[0]) / h;
         // The segment from (t_a, f_a) to its end; t_a moves past passed-over minima.
         let (mut t_a, mut f_a) = (tw[0], fw[0]);
+        let mut passed = 0;
         loop {
             let rest = tw[1] - t_a;
             let (p0, p1) = (f_a * inv_m, slope * inv_m);
@@ -1179,7 +1212,18 @@ fn rebound(
                     break;
                 }
             }
-            if let Some(tau) = mode.crossing(v - c, a0, -c, s, true).filter(|&x| x <= rest) {
+            // q̇ = c + y loses the digits of c: where those are most of q̇'s own
+            // size over the segment (a steep ramp over a short step), the closed
+            // form's zero is rounding noise; bracket q̇ by exact steps instead.
+            let h = rest.min(1.0 / mode.rate.max(mode.omega));
+            let noise = 32.0 * f64::EPSILON * ((v - c).abs() + a0.abs() / mode.omega + c.abs());
+            let size = v.abs() + a0.abs() * h + 0.5 * p1.abs() * h * h;
+            let turn = if noise > 1e-6 * size {
+                stepped_turn(mode, inv_m, (q, v), (f_a, slope), rest, s)
+            } else {
+                mode.crossing(v - c, a0, -c, s, true).filter(|&x| x <= rest)
+            };
+            if let Some(tau) = turn {
                 let f_tau = f_a + slope * tau;
                 let (qt, _) = Step::new(mode, tau, inv_m).apply(q, v, f_a, f_tau);
                 if wanted(s) {
@@ -1189,6 +1233,13 @@ fn rebound(
                     });
                 }
                 // A minimum: go on from it, q̇ = 0 there, its new sign from q̈.
+                // Between two minima lies a maximum, which is wanted, so a segment
+                // passes over at most one minimum; a second one would be rounding
+                // that stops time from advancing: an error, never a hang.
+                passed += 1;
+                if passed > MAX_PASSED || t_a + tau <= t_a {
+                    return Err(DuhamelError::Stalled { time: t_a });
+                }
                 (q, v, s) = (qt, 0.0, 0.0);
                 (t_a, f_a) = (t_a + tau, f_tau);
                 continue;
@@ -1236,6 +1287,62 @@ fn rebound(
         (q, v, s, t_last) = (qt, 0.0, 0.0, t_last + tau);
     }
     Ok(never)
+}
+
+/// Minima one segment may pass over before [`rebound`] reports that time has
+/// stopped advancing (one is the most an exact motion can have).
+const MAX_PASSED: usize = 4;
+
+/// Samples of q̇ per segment in [`stepped_turn`]'s bracketing.
+const TURN_SAMPLES: usize = 64;
+
+/// The first τ in (0, rest] at which q̇ leaves the sign `s`, from (q, q̇) =
+/// `state` under the force f_a + slope·τ, with q̇ evaluated by exact steps (no
+/// cancellation against the ramp's particular velocity): sampled on a uniform
+/// grid and bisected to rounding. Used only on segments short against the
+/// mode's time constants, where q̇ is smooth on the grid's scale.
+fn stepped_turn(
+    mode: &Mode,
+    inv_m: f64,
+    state: (f64, f64),
+    force: (f64, f64),
+    rest: f64,
+    s: f64,
+) -> Option<f64> {
+    let (q, v) = state;
+    let (f_a, slope) = force;
+    let vel = |tau: f64| {
+        Step::new(mode, tau, inv_m)
+            .apply(q, v, f_a, f_a + slope * tau)
+            .1
+    };
+    let mut lo = 0.0;
+    for j in 1..=TURN_SAMPLES {
+        let hi = if j == TURN_SAMPLES {
+            rest
+        } else {
+            rest * j as f64 / TURN_SAMPLES as f64
+        };
+        if s * vel(hi) > 0.0 {
+            lo = hi;
+            continue;
+        }
+        // Bisect [lo, hi]: s·q̇ > 0 at lo (or lo = 0), ≤ 0 at hi.
+        let mut hi = hi;
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if s * vel(mid) > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        return Some(hi);
+    }
+    None
 }
 
 /// Cases per rayon task of the peak-only batch.
@@ -1409,7 +1516,11 @@ impl Contact {
             self.zeta_contact,
             self.zeta_contact >= 0.0,
             nonneg,
-        )
+        )?;
+        let free = (self.k_free / self.mass).sqrt();
+        mode_range("sqrt(k_free / mass)", free, self.zeta_free)?;
+        let contact = ((self.k_free + self.k_stop) / self.mass).sqrt();
+        mode_range("sqrt((k_free + k_stop) / mass)", contact, self.zeta_contact)
     }
 
     fn regime(&self, contact: bool) -> Regime {
@@ -1668,6 +1779,45 @@ pub fn contact_sample_into(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 16 item 15: a ramp of 1e9 N/s over 1 ns (c = slope/(mω²) = 1e9
+    /// against q̇ ~ 1e-10) hung with `maximum` and put the minimum inside the
+    /// ramp without. By hand (Taylor): on the ramp q̇ ≈ −0.75τ + 5e8τ², still
+    /// −2.5e-10 at 1 ns; then q̈ ≈ 1 − 0.75 = 0.25 brings it to 0 about 1 ns
+    /// later: the minimum is at ≈ 2 ns, and over-damped (ζ = 10) q then creeps
+    /// to q_s = 1 with no maximum.
+    #[test]
+    fn item15_steep_short_ramp_neither_hangs_nor_turns_inside_the_ramp() {
+        let osc = Oscillator::new(1.0, 10.0, 1.0).unwrap();
+        let (t, f) = ([0.0, 1e-9], [0.0, 1.0]);
+        let max = first_turn(&t, &f, &osc, 0.75, 0.0, true).unwrap();
+        assert_eq!(max.time, f64::INFINITY);
+        assert!((max.q - 1.0).abs() < 1e-12);
+        let min = first_turn(&t, &f, &osc, 0.75, 0.0, false).unwrap();
+        assert!((1.9e-9..2.1e-9).contains(&min.time), "{min:?}");
+    }
+
+    /// Issue 16 item 15: k/m overflowing hung the crossing search; ω outside
+    /// [1e-150, 1e150] rad/s is refused.
+    #[test]
+    fn item15_overflowing_k_over_m_is_refused() {
+        let stop = Contact {
+            mass: 1e-300,
+            k_free: 1e300,
+            k_stop: 1e300,
+            preload: 0.1,
+            zeta_free: 0.0,
+            zeta_contact: 0.0,
+        };
+        let e = contact_response(&stop, 1.0, -1.0, f64::INFINITY, 3, 100).unwrap_err();
+        assert!(matches!(
+            e,
+            DuhamelError::Param {
+                field: "sqrt(k_free / mass)",
+                ..
+            }
+        ));
+    }
     use proptest::prelude::*;
 
     // ---------------------------------------------------------------------
