@@ -88,8 +88,10 @@ def test_slider_file_runs_and_reports_unassemblable_angles(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("args", "words"),
     [
-        (["--step-deg", "0"], ["--step-deg 0", "(0, 90]"]),
+        (["--step-deg", "0"], ["--step-deg 0", "[0.001, 90]"]),
         (["--step-deg", "nan"], ["--step-deg nan"]),
+        # Issue 16 item 13: 1e-6° allocated 2.9 GB of angles before any check.
+        (["--step-deg", "1e-6"], ["--step-deg 1e-06", "[0.001, 90]", "360,000 angles"]),
     ],
 )
 def test_bad_options_exit_2_with_a_message(tmp_path, capsys, args, words):

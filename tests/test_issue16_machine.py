@@ -358,7 +358,7 @@ def test_item16_speed_search_tolerance_bounds_are_usable():
     ("call", "words"),
     [
         (lambda m: m.stop_angles(np.array([300.0, np.nan])), "rpm"),
-        (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=0), "points = 0"),
+        (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=0), "points must"),
         (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=2.5), "points"),
         (
             lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(500.0, 200.0)),
@@ -370,11 +370,11 @@ def test_item16_speed_search_tolerance_bounds_are_usable():
         ),
         (
             lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), angle_points=-1),
-            "angle_points = -1",
+            "angle_points must be an integer between 9",
         ),
         (
             lambda m: cm.Machine("x", m.cyclogram, {}, speed_range_rpm=(2, 5), speed_points=True),
-            "speed_points = True",
+            "speed_points must be an integer",
         ),
         (
             lambda m: (
@@ -472,7 +472,7 @@ def test_item13_a_sweep_too_large_for_memory_is_refused_before_allocating():
         "lifter.a_max": np.linspace(1e-4, 2e-4, 10_000),
         "speed_rpm": [300.0],
     }
-    with pytest.raises(cm.InputError, match=r"1,000,000,000 designs × 1 speeds.*GiB"):
+    with pytest.raises(cm.InputError, match=r"1,000,000,000 designs × 1 speeds.*GB"):
         cm.sweep(m, grid, progress=False)
 
 
@@ -484,3 +484,17 @@ def test_item6_one_invalid_value_is_a_problem_row_not_an_error():
     assert all("lifter.preload = 0.02" in p and "smaller than stroke" in p for p in rows[0])
     assert (rows[1] == "").all()
     assert not r.columns["fits"].reshape(2, -1)[0].any()
+
+
+def test_item13_press_command_step_is_bounded(tmp_path, capsys):
+    """`--step-deg 1e-6` asked for 3.6e8 angles (gigabytes) before any check."""
+    press = str(EXAMPLES / "extrusion_press.toml")
+    assert main(["press", press, "--out", str(tmp_path), "--step-deg", "1e-6"]) == 2
+    assert "[0.001, 90]" in capsys.readouterr().err
+
+
+def test_item13_press_sweep_too_large_is_refused_before_allocating():
+    """press.sweep with 1e9 designs raised a bare MemoryError from its table."""
+    axis = np.linspace(0.0, 0.04, 1000)
+    with pytest.raises(cm.InputError, match=r"1,000,000,000 designs needs .* GB"):
+        cm.press.sweep(R=0.09, r=0.03, d=axis, L=axis + 0.25, phi0=axis, k_Sp=0.1, omega=4.19)

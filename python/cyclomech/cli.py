@@ -39,6 +39,9 @@ __all__ = ["main"]
 
 #: Exit status of a job that ran and wrote its files, but whose design fails.
 EXIT_FAILS = 3
+#: Finest crank-angle step of the linkage and press commands [deg]: 360 000 angles a
+#: turn, whose table (CSV) is already hundreds of MB; 1e-6° would allocate gigabytes.
+MIN_STEP_DEG = 1e-3
 
 
 def _arc(a: Arc) -> str:
@@ -391,8 +394,11 @@ def _linkage_command(args: argparse.Namespace) -> int:
 
     lk = Linkage.from_toml(args.file)
     step = args.step_deg
-    if not (math.isfinite(step) and 0 < step <= 90):
-        raise InputError(f"--step-deg {step:g}: give a step in (0, 90] degrees")
+    if not (math.isfinite(step) and MIN_STEP_DEG <= step <= 90):
+        raise InputError(
+            f"--step-deg {step:g}: give a step in [{MIN_STEP_DEG:g}, 90] degrees "
+            f"(at most {round(360 / MIN_STEP_DEG):,} angles a turn)"
+        )
     n = round(360.0 / step)
     angles = lk.drawn_angle + np.radians(np.arange(n) * step)
     sol = lk.solve(angles)
@@ -484,8 +490,11 @@ def _press_command(args: argparse.Namespace) -> int:
     st = PressStudy.from_toml(args.file)
     p, w = st.press, st.omega
     step = args.step_deg
-    if not (math.isfinite(step) and 0 < step <= 90):
-        raise InputError(f"--step-deg {step:g}: give a step in (0, 90] degrees")
+    if not (math.isfinite(step) and MIN_STEP_DEG <= step <= 90):
+        raise InputError(
+            f"--step-deg {step:g}: give a step in [{MIN_STEP_DEG:g}, 90] degrees "
+            f"(at most {round(360 / MIN_STEP_DEG):,} angles a turn)"
+        )
     stroke = {"k_Sp": st.k_Sp, "working_stroke": st.working_stroke}
     c = p.criteria(omega=w, **stroke)
     base = p.baseline().criteria(omega=w, **stroke)

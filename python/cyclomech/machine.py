@@ -74,7 +74,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _toml
-from ._arrays import real, threads_arg
+from ._arrays import count, real, threads_arg
 from ._errors import CyclomechWarning, InfeasibleError, InputError
 from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
 from .impact import _STOP_KEYS, StopImpact, critical_speeds, phase_angles, rebounds
@@ -1332,11 +1332,7 @@ def _int_key(
 
 def _count(name: str, value: Any, low: int, high: int = 1_000_000) -> int:
     """A whole number in [low, high] (numpy integers too), or InputError."""
-    if isinstance(value, bool | np.bool_) or not isinstance(value, int | np.integer):
-        raise InputError(f"{name} = {value!r} must be a whole number from {low} to {high}")
-    if not low <= value <= high:
-        raise InputError(f"{name} = {value!r} must be a whole number from {low} to {high}")
-    return int(value)
+    return count(name, value, low=low, high=high)
 
 
 def _rtol(value: Any) -> float:

@@ -44,7 +44,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core
-from ._arrays import finite_number, float_array, threads_arg
+from ._arrays import check_bytes, finite_number, float_array, threads_arg
 from ._errors import InfeasibleError, InputError
 
 __all__ = [
@@ -496,6 +496,7 @@ def sweep(
         (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
     )
     threads = threads_arg(n_threads)
+    check_bytes(f"press.sweep's {n:,} designs", n * (8 * len(CRITERIA) + 1), "sweep a coarser grid")
     table = np.empty((n, len(CRITERIA)))
     status = np.empty(n, dtype=np.uint8)
     t0 = time.perf_counter()

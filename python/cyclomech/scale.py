@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ._arrays import check_bytes
 from ._errors import InputError
 from .machine import SCHEMA, Machine, _speeds, check_parameter, speed_limits, speed_sweeps
 
@@ -213,26 +214,17 @@ def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
 _POINT_BYTES = 8 * len(FIGURES) + 3 * 8
 
 
-def _memory_bytes() -> int:
-    """This machine's physical memory [bytes] (2**40 where it cannot be read)."""
-    try:
-        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):
-        return 2**40
-
-
 def _check_size(designs: int, speeds: int, params: int) -> None:
-    """Refuse, before allocating, a sweep whose result alone would take more than
-    half of this machine's memory (it used to die in a bare MemoryError, or be
-    killed by the system, after allocating its index grid)."""
+    """Refuse, before allocating, a sweep whose result cannot fit in memory (it
+    used to die in a bare MemoryError, or be killed by the system, after
+    allocating its index grid): :func:`cyclomech._arrays.check_bytes`."""
     need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
-    have = _memory_bytes()
-    if need > have // 2:
-        raise InputError(
-            f"the sweep has {designs:,} designs × {speeds:,} speeds = {designs * speeds:,} "
-            f"points, whose result needs about {need / 2**30:.3g} GiB; this machine has "
-            f"{have / 2**30:.3g} GiB: sweep fewer designs or speeds, or the grid in parts"
-        )
+    check_bytes(
+        f"the sweep's result ({designs:,} designs × {speeds:,} speeds = "
+        f"{designs * speeds:,} points)",
+        need,
+        "sweep fewer designs or speeds, or the grid in parts",
+    )
 
 
 def _chunks(n_designs: int, size: int) -> Iterator[range]:
