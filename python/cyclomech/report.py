@@ -585,13 +585,20 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
             f"<b>{o['gained_deg']:.2f}° more</b> than its minimum of "
             f"{o['limiting_min_deg']:.2f}°.</p>"
         )
-    else:
+    elif lim.rpm > 0:  # at no speed, said above: no speed is to blame
         key.append(
             f"<p class='warn'>At {r.nominal_rpm:g} rpm the cyclogram does not fit: "
             f"{e(r.problem)}</p>"
         )
     parts.append("<div class='key'>" + "".join(key) + "</div>")
-    mech_rows = [["cyclogram (with the stops' constraints)", lim.cyclogram_rpm, ""]]
+    cg_why = (
+        lim.reason
+        if lim.by == "cyclogram"
+        else "the cyclogram fills the cycle"
+        if math.isfinite(lim.cyclogram_rpm)
+        else ""
+    )
+    mech_rows = [["cyclogram (with the stops' constraints)", lim.cyclogram_rpm, cg_why]]
     mech_rows += [
         [f"mechanism {k}", v, lim.mechanisms_reason.get(k, "")]
         for k, v in lim.mechanisms_rpm.items()
