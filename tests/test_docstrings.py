@@ -6,6 +6,9 @@ import importlib
 import pytest
 
 MODULES = [
+    "cyclomech._arrays",
+    "cyclomech._json",
+    "cyclomech._units",
     "cyclomech.schedule",
     "cyclomech.cyclogram",
     "cyclomech.impact",

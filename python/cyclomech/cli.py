@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from ._errors import CyclomechError, InfeasibleError, InputError
+from ._json import jsonable
 from .cyclogram import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
 from .linkage import Linkage, LinkageSolution
 
@@ -127,18 +128,6 @@ def _print_speed(lim: SpeedLimit) -> None:
         print("  also binding: " + ", ".join(lim.binding))
 
 
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {(_arc(k) if isinstance(k, tuple) else str(k)): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, tuple) and len(obj) == 2 and all(isinstance(x, str) for x in obj):
-        return _arc(obj)  # arcs are tuples; lists (of names, of arcs) stay lists
-    if isinstance(obj, list | tuple):
-        return [_jsonable(x) for x in obj]
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
 def _summary(
     cg: Cyclogram, s: Schedule, o: Optimum | None, lim: SpeedLimit | None
 ) -> dict[str, Any]:
@@ -173,7 +162,7 @@ def _summary(
             "chain": list(lim.cycle),
             "binding": list(lim.binding),
         }
-    return _jsonable(out)  # type: ignore[no-any-return]
+    return jsonable(out)  # type: ignore[no-any-return]
 
 
 def _has_matplotlib(what: str = "figures") -> bool:
@@ -610,7 +599,7 @@ def _press_command(args: argparse.Namespace) -> int:
         }
         written += [out / "sweep.csv", out / "pareto.csv"]
     (out / "press.json").write_text(
-        json.dumps(_jsonable(summary), indent=2, ensure_ascii=False), encoding="utf-8"
+        json.dumps(jsonable(summary), indent=2, ensure_ascii=False), encoding="utf-8"
     )
     written.append(out / "press.json")
     if not args.no_plot:

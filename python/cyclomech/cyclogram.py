@@ -34,6 +34,7 @@ from scipy.sparse.csgraph import breadth_first_order
 from . import _core, _toml
 from ._arrays import real
 from ._errors import CycleError, InfeasibleError, InputError, SolverError
+from ._units import DEG_PER_S_PER_RPM
 
 __all__ = [
     "Arc",
@@ -48,8 +49,9 @@ __all__ = [
 Arc = tuple[str, str]
 Sense = Literal["<=", ">=", "=="]
 
-#: Degrees of main-shaft rotation per second at 1 rpm (360° × 1/60 s⁻¹).
-DEG_PER_SECOND_PER_RPM = 6.0
+#: Degrees of main-shaft rotation per second at 1 rpm (360° × 1/60 s⁻¹); the
+#: public name of :data:`cyclomech._units.DEG_PER_S_PER_RPM`.
+DEG_PER_SECOND_PER_RPM = DEG_PER_S_PER_RPM
 
 #: Largest angle magnitude accepted anywhere [deg]: far beyond any machine cycle,
 #: and small enough that sums over millions of operations cannot overflow.

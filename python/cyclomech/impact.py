@@ -33,6 +33,7 @@ import numpy.typing as npt
 from . import _core, motion
 from ._arrays import count, finite_number, float_array, real, threads_arg
 from ._errors import InfeasibleError, InputError
+from ._units import RAD_PER_S_PER_RPM
 from .cyclogram import Constraint
 
 __all__ = [
@@ -700,7 +701,6 @@ def contact_sample(
 
 # --- the lever and its stop ---------------------------------------------------------
 
-_RPM = 2.0 * np.pi / 60.0  # rad/s per rpm
 _PULSES = ("decaying", "rectangular", "triangular", "half_sine")
 
 
@@ -1040,7 +1040,7 @@ class StopImpact:
         """
         n = _positive_array("rpm", rpm, "[rpm]")
         t = _phase(phase_deg)
-        return n * _RPM * self.stroke * self.dz_contact / np.radians(t)
+        return n * RAD_PER_S_PER_RPM * self.stroke * self.dz_contact / np.radians(t)
 
     def impact_force(self, rpm: npt.ArrayLike, phase_deg: npt.ArrayLike) -> Any:
         """Mean impact force F = J_A·ω0·(1+k)/(l·τ) [N] (the seed's F_уд).
@@ -1146,7 +1146,8 @@ class StopImpact:
         28.027142
         """
         with np.errstate(divide="ignore"):
-            return float(np.degrees(_RPM * self.stroke * self.dz_contact) / np.float64(v_star))
+            per_rpm = np.degrees(RAD_PER_S_PER_RPM * self.stroke * self.dz_contact)
+            return float(per_rpm / np.float64(v_star))
 
     def min_phase_angle(
         self,

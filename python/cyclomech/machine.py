@@ -76,6 +76,7 @@ import numpy.typing as npt
 from . import _toml
 from ._arrays import count, real, threads_arg
 from ._errors import CyclomechWarning, InfeasibleError, InputError
+from ._units import RAD_PER_S_PER_RPM
 from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
 from .impact import _STOP_KEYS, StopImpact, critical_speeds, phase_angles, rebounds
 from .linkage import _LINKAGE_KEYS, Linkage, LinkageSolution
@@ -102,7 +103,6 @@ Array = npt.NDArray[np.float64]
 #: Version of the layout of ``results.json`` and of sweep files.
 SCHEMA = "cyclomech.machine/1"
 
-_RAD_PER_RPM = 2.0 * math.pi / 60.0
 #: Highest speed searched for a speed limit [rpm]; above it the machine is unlimited.
 _SPEED_CAP_RPM = 1e6
 #: Lowest speed searched [rpm]: a cyclogram that does not fit there fits at no speed
@@ -284,7 +284,7 @@ class LinkageMechanism:
         if self.max_acceleration is None:
             return math.inf
         _, acc = self.peaks(points)
-        return math.sqrt(self.max_acceleration / acc) / _RAD_PER_RPM
+        return math.sqrt(self.max_acceleration / acc) / RAD_PER_S_PER_RPM
 
     def limit_reason(self) -> str:
         """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
@@ -324,7 +324,7 @@ class PressMechanism:
         0.1276
         """
         return self.press.criteria(
-            omega=float(rpm) * _RAD_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
+            omega=float(rpm) * RAD_PER_S_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
         )
 
     def speed_limit_rpm(self) -> float:
@@ -386,7 +386,7 @@ class TransferMechanism:
         >>> [round(v, 4) for v in m.speeds(60.0)]
         [0.1178, 0.1309]
         """
-        w = float(_speeds("rpm", rpm)[0]) * _RAD_PER_RPM
+        w = float(_speeds("rpm", rpm)[0]) * RAD_PER_S_PER_RPM
         return (w * self.path.R_t / self.pockets_t, w * self.path.R_p / self.pockets_p)
 
     def peaks(self, rpm: float) -> tuple[float, float]:
@@ -1603,7 +1603,7 @@ def _transfer(
         raise InputError(f"{where}: gap = {gap!r} must be positive [m] (pitch circles apart)")
     x2 = _number(spec, "x2", where, "[m]") if "x2" in spec else None
     if x2 is None:
-        w = _RAD_PER_RPM
+        w = RAD_PER_S_PER_RPM
         x2 = design_transfer(R_t, R_p, gap, (w * R_t / pockets[0], w * R_p / pockets[1])).x2
     path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
     return TransferMechanism(

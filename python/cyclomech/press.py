@@ -46,6 +46,7 @@ import numpy.typing as npt
 from . import _core
 from ._arrays import check_bytes, finite_number, float_array, threads_arg
 from ._errors import InfeasibleError, InputError
+from ._units import RAD_PER_S_PER_RPM
 
 __all__ = [
     "CRITERIA",
@@ -998,7 +999,7 @@ class PressStudy:
         >>> round(cm.press.PressStudy(p, rpm=60.0, k_Sp=0.1).omega, 6)
         6.283185
         """
-        return self.rpm * 2 * math.pi / 60
+        return self.rpm * RAD_PER_S_PER_RPM
 
     @classmethod
     def from_toml(cls, path: str | Any) -> PressStudy:

@@ -25,6 +25,8 @@ from typing import Any
 import numpy as np
 
 from ._errors import InfeasibleError
+from ._json import jsonable
+from ._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
 from .cyclogram import Optimum
 from .linkage import LinkageSolution
 from .machine import (
@@ -176,25 +178,6 @@ def _f(v: Any, digits: int = 4) -> str:
     return str(v)
 
 
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {
-            (f"{k[0]}→{k[1]}" if isinstance(k, tuple) else str(k)): _jsonable(v)
-            for k, v in obj.items()
-        }
-    if isinstance(obj, tuple) and len(obj) == 2 and all(isinstance(x, str) for x in obj):
-        return f"{obj[0]}→{obj[1]}"
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, list | tuple):
-        return [_jsonable(x) for x in obj]
-    if isinstance(obj, np.generic):
-        return _jsonable(obj.item())
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
 def _summary(r: MachineResult) -> dict[str, Any]:
     m = r.machine
     cg = m.cyclogram
@@ -225,7 +208,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
             "limiting_deg": o.objective,
             "limiting_min_deg": float(mins[at]),
             "gained_deg": o.stretch[lim_op.arc],
-            "limiting_s": o.objective / (6.0 * r.nominal_rpm),
+            "limiting_s": o.objective / (DEG_PER_S_PER_RPM * r.nominal_rpm),
             "times_deg": o.times,
             "angles_deg": o.angles,
             "binding": list(o.binding),
@@ -265,7 +248,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     for k, v in m.mechanisms.items():
         if isinstance(v, LinkageMechanism):
             vmax, amax = v.peaks()
-            w = 2.0 * math.pi * r.nominal_rpm / 60.0
+            w = RAD_PER_S_PER_RPM * r.nominal_rpm
             mech[k] = {
                 "kind": "linkage",
                 "output": v.output,
@@ -306,7 +289,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         "binding": list(sw.binding),
     }
     out["seconds"] = r.seconds
-    return _jsonable(out)  # type: ignore[no-any-return]
+    return jsonable(out)  # type: ignore[no-any-return]
 
 
 def _rebound_prices(r: MachineResult) -> dict[str, float]:
