@@ -4,7 +4,7 @@ SI inside; the edges that take rpm or degrees say so in their names.
 
 >>> from cyclomech._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
 >>> round(60.0 * RAD_PER_S_PER_RPM, 12), 60.0 * DEG_PER_S_PER_RPM   # one turn a second
-(6.283185307179586, 360.0)
+(6.28318530718, 360.0)
 """
 
 from __future__ import annotations
