@@ -498,3 +498,16 @@ def test_item13_press_sweep_too_large_is_refused_before_allocating():
     axis = np.linspace(0.0, 0.04, 1000)
     with pytest.raises(cm.InputError, match=r"1,000,000,000 designs needs .* GB"):
         cm.press.sweep(R=0.09, r=0.03, d=axis, L=axis + 0.25, phi0=axis, k_Sp=0.1, omega=4.19)
+
+
+@pytest.mark.parametrize("bad", ["0.1", b"0.1", True])
+@pytest.mark.parametrize("key", ["stroke", "angle", "max_speed"])
+def test_item19_motion_two_period_takes_numbers_only(bad, key):
+    """motion's own copy of the positive-number check used float(): the string
+    "0.1" was read as 0.1 and True as 1. One check (_arrays.positive) serves the
+    impact, transfer and motion modules now."""
+    kw = {"stroke": 0.1, "angle": 3.0, "law1": "cycloidal", "law2": "cycloidal"}
+    kw["max_speed" if key == "max_speed" else "asymmetry"] = 0.08 if key == "max_speed" else 0.5
+    kw[key] = bad
+    with pytest.raises(cm.InputError, match=rf"{key} must be a number"):
+        cm.motion.two_period(**kw)

@@ -80,6 +80,20 @@ def finite_number(
     return v
 
 
+def positive(name: str, value: Any, unit: str) -> float:
+    """``value`` as a finite float > 0, or :class:`InputError` naming ``name``, the
+    value and ``unit`` (a string, bytes or a bool is not a number).
+
+    >>> from cyclomech._arrays import positive
+    >>> positive("stroke", 0.1, "[m]")
+    0.1
+    >>> positive("stroke", "0.1", "[m]")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: stroke must be a number and > 0 [m]; got '0.1'
+    """
+    return finite_number(name, value, unit, low=0.0, strict=True)
+
+
 def threads_arg(n_threads: Any) -> int | None:
     """Validate ``n_threads`` (None or a positive int) before it reaches Rust."""
     if n_threads is None:

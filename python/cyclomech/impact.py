@@ -31,7 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core, motion
-from ._arrays import count, finite_number, float_array, real, threads_arg
+from ._arrays import count, finite_number, float_array, positive, real, threads_arg
 from ._errors import InfeasibleError, InputError
 from ._units import RAD_PER_S_PER_RPM
 from .cyclogram import Constraint
@@ -58,10 +58,6 @@ __all__ = [
 ]
 
 Array = npt.NDArray[np.float64]
-
-
-def _positive(name: str, value: Any, unit: str) -> float:
-    return finite_number(name, value, unit, low=0.0, strict=True)
 
 
 def _nonnegative(name: str, value: Any, unit: str) -> float:
@@ -114,10 +110,10 @@ def lever_stiffness(E: float, J_x: float, a: float, b: float) -> float:
     >>> round(cm.impact.lever_stiffness(2.1e11, 6.1e-11, 0.05, 0.1))
     25620
     """
-    E = _positive("E", E, "[Pa]")
-    J = _positive("J_x", J_x, "[m⁴]")
-    a = _positive("a", a, "[m]")
-    b = _positive("b", b, "[m]")
+    E = positive("E", E, "[Pa]")
+    J = positive("J_x", J_x, "[m⁴]")
+    a = positive("a", a, "[m]")
+    b = positive("b", b, "[m]")
     with np.errstate(all="ignore"):
         c = 3.0 * np.float64(E) * J / ((a + b) * b * b)
     return _stiffness(c, E=E, J_x=J, a=a, b=b)
@@ -170,11 +166,11 @@ def propped_lever_stiffness(
     >>> round(free), round(propped / free, 2)
     (153720, 6.4)
     """
-    E = _positive("E", E, "[Pa]")
-    J = _positive("J_x", J_x, "[m⁴]")
-    a = _positive("a", a, "[m]")
-    b = _positive("b", b, "[m]")
-    s = 0.5 * b if at is None else _positive("at", at, "[m]")
+    E = positive("E", E, "[Pa]")
+    J = positive("J_x", J_x, "[m⁴]")
+    a = positive("a", a, "[m]")
+    b = positive("b", b, "[m]")
+    s = 0.5 * b if at is None else positive("at", at, "[m]")
     if s >= b:
         raise InputError(
             f"at = {at!r} m must lie inside the overhang, 0 < at < b = {b!r} m "
@@ -247,9 +243,9 @@ def impact_force(
     >>> round(float(cm.impact.impact_force(7.4e-5, 2.35, 5 / 9, 0.1, 6.52e-4)), 3)
     4.149
     """
-    J = _positive("J_A", J_A, "[kg·m²]")
+    J = positive("J_A", J_A, "[kg·m²]")
     k = _restitution(restitution)
-    length = _positive("lever_length", lever_length, "[m]")
+    length = positive("lever_length", lever_length, "[m]")
     w = np.asarray(omega0, dtype=np.float64)
     if not np.isfinite(w).all() or (w < 0).any():
         raise InputError(f"omega0 must be finite and ≥ 0 [rad/s]; got {omega0!r}")
@@ -373,7 +369,7 @@ class Pulse:
         >>> cm.impact.Pulse.rectangular(1.0, 1e-3).f.tolist()
         [1.0, 1.0, 0.0]
         """
-        p, d = _force(peak), _positive("duration", duration, "[s]")
+        p, d = _force(peak), positive("duration", duration, "[s]")
         return cls.table([0.0, d, d], [p, p, 0.0], "rectangular")
 
     @classmethod
@@ -386,7 +382,7 @@ class Pulse:
         >>> cm.impact.Pulse.decaying(2.0, 1e-3, end=0.5).f.tolist()
         [2.0, 1.0, 0.0]
         """
-        p, d = _force(peak), _positive("duration", duration, "[s]")
+        p, d = _force(peak), positive("duration", duration, "[s]")
         end = _force(end, "end", "(a fraction of the peak)")
         if not 0.0 <= end <= 1.0:
             raise InputError(f"end = {end!r} must lie in [0, 1] (a fraction of the peak)")
@@ -402,7 +398,7 @@ class Pulse:
         >>> cm.impact.Pulse.triangular(1.0, 2e-3).t.tolist()
         [0.0, 0.001, 0.002]
         """
-        p, d = _force(peak), _positive("duration", duration, "[s]")
+        p, d = _force(peak), positive("duration", duration, "[s]")
         return cls.table([0.0, 0.5 * d, d], [0.0, p, 0.0], "triangular")
 
     @classmethod
@@ -416,7 +412,7 @@ class Pulse:
         >>> round(p.impulse / (2e-3 / 3.141592653589793), 5)
         0.99999
         """
-        p, d = _force(peak), _positive("duration", duration, "[s]")
+        p, d = _force(peak), positive("duration", duration, "[s]")
         t = np.linspace(0.0, d, count("points", points, low=3, high=10**7))
         f = p * np.sin(np.pi * t / d)
         f[-1] = 0.0
@@ -618,9 +614,9 @@ def _contact_args(
     mass: float, k_free: float, k_stop: float, preload: float, zeta_free: float, zeta_contact: float
 ) -> tuple[float, ...]:
     return (
-        _positive("mass", mass, "[kg]"),
-        _positive("k_free", k_free, "[N/m]"),
-        _positive("k_stop", k_stop, "[N/m]"),
+        positive("mass", mass, "[kg]"),
+        positive("k_free", k_free, "[N/m]"),
+        positive("k_stop", k_stop, "[N/m]"),
         _nonnegative("preload", preload, "[m]"),
         _nonnegative("zeta_free", zeta_free, "(damping ratio)"),
         _nonnegative("zeta_contact", zeta_contact, "(damping ratio)"),
@@ -660,7 +656,7 @@ def contact_response(
     1.0
     """
     args = _contact_args(mass, k_free, k_stop, preload, zeta_free, zeta_contact)
-    end = t_end if t_end == math.inf else _positive("t_end", t_end, "[s] (or inf)")
+    end = t_end if t_end == math.inf else positive("t_end", t_end, "[s] (or inf)")
     d = _core.contact_response(
         *args,
         finite_number("x0", x0, "[m]"),
@@ -809,7 +805,7 @@ def critical_speeds(
     n = len(stops)
     a = np.broadcast_to(float_array("a_max", a_max, ndims=(0, 1)), (n,)).copy()
     for i, ai in enumerate(a):
-        _positive(f"a_max[{i}]" if n > 1 else "a_max", ai, "[m]")
+        positive(f"a_max[{i}]" if n > 1 else "a_max", ai, "[m]")
     r = _rtol("rtol", rtol)
     out = np.empty(n)
     keys = [s._critical_key(ai, r) for s, ai in zip(stops, a, strict=True)]
@@ -947,19 +943,19 @@ class StopImpact:
         model: str = "pulse",
     ) -> None:
         self.law = motion.law(law, form="rise")
-        self.stroke = _positive("stroke", stroke, "[m]")
+        self.stroke = positive("stroke", stroke, "[m]")
         self.preload = _nonnegative("preload", preload, "[m]")
         if self.preload >= self.stroke:
             raise InputError(
                 f"preload = {preload!r} m must be smaller than stroke = {stroke!r} m "
                 "(the lever meets the stop before the end of its stroke)"
             )
-        self.lever_length = _positive("lever_length", lever_length, "[m]")
-        self.J_A = _positive("J_A", J_A, "[kg·m²]")
-        self.a, self.b = _positive("a", a, "[m]"), _positive("b", b, "[m]")
-        self.E, self.J_x = _positive("E", E, "[Pa]"), _positive("J_x", J_x, "[m⁴]")
+        self.lever_length = positive("lever_length", lever_length, "[m]")
+        self.J_A = positive("J_A", J_A, "[kg·m²]")
+        self.a, self.b = positive("a", a, "[m]"), positive("b", b, "[m]")
+        self.E, self.J_x = positive("E", E, "[Pa]"), positive("J_x", J_x, "[m⁴]")
         self.mass = (
-            self.J_A / self.lever_length**2 if mass is None else _positive("mass", mass, "[kg]")
+            self.J_A / self.lever_length**2 if mass is None else positive("mass", mass, "[kg]")
         )
         self.restitution = _restitution(restitution)
         self.zeta = _nonnegative("zeta", zeta, "(damping ratio)")
@@ -967,7 +963,7 @@ class StopImpact:
         if contact_stiffness is None:
             self.contact_stiffness = self.stiffness * _propped_ratio(self.a, self.b)
         else:
-            self.contact_stiffness = _positive("contact_stiffness", contact_stiffness, "[N/m]")
+            self.contact_stiffness = positive("contact_stiffness", contact_stiffness, "[N/m]")
             if self.contact_stiffness <= self.stiffness:
                 raise InputError(
                     f"contact_stiffness = {contact_stiffness!r} N/m must exceed the free "
@@ -979,7 +975,7 @@ class StopImpact:
         self.contact_time = (
             float(_half_period(self.contact_stiffness, self.mass))
             if contact_time is None
-            else _positive("contact_time", contact_time, "[s]")
+            else positive("contact_time", contact_time, "[s]")
         )
         if model not in ("pulse", "contact"):
             raise InputError(f"model = {model!r} must be 'pulse' or 'contact'")
@@ -1082,7 +1078,7 @@ class StopImpact:
         """
         v0 = float(self.impact_speed(float(rpm), float(phase_deg)))
         span = 12.0 * math.pi / self.omega_free if duration is None else float(duration)
-        span = _positive("duration", span, "[s]")
+        span = positive("duration", span, "[s]")
         points = count("points", points, low=2, high=10**8)
         if self.model == "contact":
             t = np.linspace(0.0, span, points)
@@ -1411,7 +1407,7 @@ class ImpactStudy:
         if "a_max" not in sd:
             raise InputError(f"{src}: [study]: missing key 'a_max'")
         try:
-            a_max = _positive("a_max", sd["a_max"], "[m]")
+            a_max = positive("a_max", sd["a_max"], "[m]")
         except InputError as e:
             raise InputError(f"{src}: [study]: {e}") from None
         arc = None

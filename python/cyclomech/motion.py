@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _core
-from ._arrays import float_array, threads_arg
+from ._arrays import float_array, positive, threads_arg
 from ._errors import InputError
 
 __all__ = ["NAMES", "MotionLaw", "TwoPeriodLaw", "law", "polynomial", "two_period"]
@@ -218,16 +218,6 @@ def _half(name: str, value: Any) -> MotionLaw:
     return lw
 
 
-def _positive(name: str, value: Any, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number {unit}; got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{name} = {value!r} must be finite and > 0 {unit}")
-    return v
-
-
 @dataclass(frozen=True, eq=False)
 class TwoPeriodLaw:
     """The two-period slider law of seed 003 (build it with :func:`two_period`).
@@ -380,8 +370,8 @@ def two_period(
     >>> round(lw.angle1, 6), round(lw.stroke1, 6)
     (1.047198, 0.061102)
     """
-    p2 = _positive("stroke", stroke, "[m]")
-    a2 = _positive("angle", angle, "[rad]")
+    p2 = positive("stroke", stroke, "[m]")
+    a2 = positive("angle", angle, "[rad]")
     if a2 > 2 * math.pi * (1 + 1e-12):
         raise InputError(f"angle = {angle!r} [rad] must not exceed one crank turn, 2π")
     l1, l2 = _half("law1", law1), _half("law2", law2)
@@ -402,13 +392,13 @@ def two_period(
     v1, v2 = l1.dz_max, l2.dz_max
     n1, n2 = v1 / v2, l1.ddz_max / l2.ddz_max
     if asymmetry is not None:
-        f = _positive(
+        f = positive(
             "asymmetry", asymmetry, "(f_A = (α2 − α1)/α1; f_A ≤ 0 would put α1 at or past α2)"
         )
     elif accel_ratio is not None:
-        f = _positive("accel_ratio", accel_ratio, "(I = Π''1max/Π''2max)") * n1 / n2
+        f = positive("accel_ratio", accel_ratio, "(I = Π''1max/Π''2max)") * n1 / n2
     else:
-        pm = _positive("max_speed", max_speed, "[m/rad]")
+        pm = positive("max_speed", max_speed, "[m/rad]")
         mean = p2 / a2
         lo, hi = sorted((v1, v2))
         if hi - lo <= 1e-12 * hi:

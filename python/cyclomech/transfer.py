@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import available_bytes, check_bytes, count, finite_number, float_array
+from ._arrays import available_bytes, check_bytes, count, finite_number, float_array, positive
 from ._errors import InfeasibleError, InputError
 
 __all__ = [
@@ -71,10 +71,6 @@ _NODES4, _WEIGHTS4 = (_GL4[0] + 1.0) / 2.0, _GL4[1] / 2.0
 _SAMPLE_PEAK_BYTES = 112
 
 PIECES = ("arc_t", "transition_t", "straight", "transition_p", "arc_p")
-
-
-def _positive(name: str, value: Any, unit: str) -> float:
-    return finite_number(name, value, unit, low=0.0, strict=True)
 
 
 #: Lengths [m] the path's closed forms and scans hold in (fifth powers of x2 and
@@ -392,7 +388,7 @@ def smooth_transition(R: float, x2: float) -> QuinticTransition:
     [3.3333, -0.0, -462.963, 3086.4198]
     """
     R = _radius("R", R)
-    x2 = _positive("x2", x2, "m (the transition's length along A's tangent)")
+    x2 = positive("x2", x2, "m (the transition's length along A's tangent)")
     with np.errstate(all="ignore"):
         k, b = smooth_k_b(np.float64(R), np.float64(x2))
     if not (np.isfinite(k) and np.isfinite(b)):
@@ -963,14 +959,14 @@ def design_transfer(
     from scipy.optimize import minimize_scalar
 
     R_t, R_p = _radius("R_t", R_t), _radius("R_p", R_p)
-    gap = _positive("gap", gap, "m (between the pitch circles)")
+    gap = positive("gap", gap, "m (between the pitch circles)")
     for name, value, lo in (("n_candidates", n_candidates, 2), ("n_points", n_points, 16)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
             raise InputError(f"{name} must be an integer ≥ {lo}; got {value!r}")
     r = np.array([R_t, R_p])
     c_t, c_p = np.zeros(2), np.array([R_t + R_p + gap, 0.0])
     top = float(_longest(r, c_t, c_p, np.ones(2))[0])
-    low = min(R_t, R_p) / 100.0 if x2_min is None else _positive("x2_min", x2_min, "m")
+    low = min(R_t, R_p) / 100.0 if x2_min is None else positive("x2_min", x2_min, "m")
     if low >= top:
         raise InfeasibleError(
             f"x2_min = {low:.6g} m is not below the longest transition the gap of "
