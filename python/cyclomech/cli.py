@@ -309,18 +309,6 @@ def _runs(bad: Any, deg: Any, step: float) -> list[tuple[float, float]]:
     return [(float(deg[0] + a * step), float(deg[0] + b * step)) for a, b in runs]
 
 
-def _drawn_mismatch(lk: Linkage) -> list[str]:
-    """The lengths given in the file that differ from the drawing's, as text."""
-    pts = lk.to_dict()["points"]
-    out = []
-    for (a, b), v in zip(lk.dimensions, lk.dimension_values, strict=True):
-        if a in pts and b in pts:
-            drawn = math.dist(pts[a], pts[b])
-            if abs(drawn - v) > 1e-9 * max(drawn, v, 1e-300):
-                out.append(f"{a}{b} drawn {drawn:.6g} m, given {float(v):.6g} m")
-    return out
-
-
 def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str, step: float) -> dict[str, Any]:
     import numpy as np
 
@@ -360,6 +348,15 @@ def _linkage_summary(lk: Linkage, sol: LinkageSolution, point: str, step: float)
     return out
 
 
+def _check_step(step: float) -> None:
+    """``--step-deg`` of the linkage and press commands, in [MIN_STEP_DEG, 90]°."""
+    if not (math.isfinite(step) and MIN_STEP_DEG <= step <= 90):
+        raise InputError(
+            f"--step-deg {step:g}: give a step in [{MIN_STEP_DEG:g}, 90] degrees "
+            f"(at most {round(360 / MIN_STEP_DEG):,} angles a turn)"
+        )
+
+
 def _not_a_machine_file(args: argparse.Namespace) -> None:
     """A machine file given to a one-domain command: say which command reads it
     (as `run` does for the other files)."""
@@ -383,11 +380,7 @@ def _linkage_command(args: argparse.Namespace) -> int:
 
     lk = Linkage.from_toml(args.file)
     step = args.step_deg
-    if not (math.isfinite(step) and MIN_STEP_DEG <= step <= 90):
-        raise InputError(
-            f"--step-deg {step:g}: give a step in [{MIN_STEP_DEG:g}, 90] degrees "
-            f"(at most {round(360 / MIN_STEP_DEG):,} angles a turn)"
-        )
+    _check_step(step)
     n = round(360.0 / step)
     angles = lk.drawn_angle + np.radians(np.arange(n) * step)
     sol = lk.solve(angles)
@@ -410,7 +403,7 @@ def _linkage_command(args: argparse.Namespace) -> int:
     full = bool(sol.ok.all())
     if not full and sol.ok.any():
         ranges = ", ".join(f"{a:.6g}…{b:.6g}°" for a, b in summary["unreachable_deg"])
-        why = _drawn_mismatch(lk)
+        why = lk.mismatched_lengths()
         print(
             f"cyclomech: warning: {args.file}: the linkage cannot make a full turn: it cannot "
             f"be assembled at crank angles {ranges}; the output's range, stroke and peaks "
@@ -479,11 +472,7 @@ def _press_command(args: argparse.Namespace) -> int:
     st = PressStudy.from_toml(args.file)
     p, w = st.press, st.omega
     step = args.step_deg
-    if not (math.isfinite(step) and MIN_STEP_DEG <= step <= 90):
-        raise InputError(
-            f"--step-deg {step:g}: give a step in [{MIN_STEP_DEG:g}, 90] degrees "
-            f"(at most {round(360 / MIN_STEP_DEG):,} angles a turn)"
-        )
+    _check_step(step)
     stroke = {"k_Sp": st.k_Sp, "working_stroke": st.working_stroke}
     c = p.criteria(omega=w, **stroke)
     base = p.baseline().criteria(omega=w, **stroke)
@@ -739,11 +728,13 @@ def _run_command(args: argparse.Namespace) -> int:
     r = analyze(m, progress=None if not args.quiet else False)
     lim = r.limit
     by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
-    if lim.rpm > 0:
-        print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}: {lim.reason}")
-    if lim.rpm == 0:
+    if lim.rpm == 0:  # no speed is to blame: the reason names the chain
         print(f"The machine works at no speed: {lim.reason}")
-    elif r.optimum is not None:
+    elif r.optimum is None:
+        print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}: {lim.reason}")
+        print(f"At {r.nominal_rpm:g} rpm the cyclogram does not fit: {r.problem}")
+    else:
+        print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}: {lim.reason}")
         op = m.cyclogram.operation(m.cyclogram.limiting)  # type: ignore[arg-type]
         o = r.optimum
         print(
@@ -753,8 +744,6 @@ def _run_command(args: argparse.Namespace) -> int:
         priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
         if priced:
             print("Binding, with shadow prices: " + ", ".join(priced))
-    else:
-        print(f"At {r.nominal_rpm:g} rpm the cyclogram does not fit: {r.problem}")
     use_fig = not args.no_plot and _has_matplotlib("figures")
     if use_fig and not args.quiet:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds

@@ -179,7 +179,7 @@ class CamStop:
         >>> round(float(lifter.linear_min_phase_deg(280.0)), 2)     # exact: 28.03
         32.67
         """
-        points = _count("points", points, 2)
+        points = count("points", points, low=2, high=1_000_000)
         n = _speeds("rpm", rpm).reshape(np.shape(rpm) or (1,))
         exact = self.min_phase_deg(n, n_threads=n_threads)
         ok = np.isfinite(exact)
@@ -402,6 +402,16 @@ class TransferMechanism:
         acc = self.path.acceleration(self.speeds(rpm))
         return acc.max_acceleration, acc.max_jerk
 
+    def _limits_rpm(self) -> tuple[float, float]:
+        """The speeds [rpm] at which the peak jerk and the peak acceleration reach
+        their limits (inf without one): jerk grows as n³, acceleration as n²."""
+        a1, j1 = self.peaks(1.0)
+        by_jerk = math.inf if self.max_jerk is None else (self.max_jerk / j1) ** (1.0 / 3.0)
+        by_acc = (
+            math.inf if self.max_acceleration is None else math.sqrt(self.max_acceleration / a1)
+        )
+        return by_jerk, by_acc
+
     def speed_limit_rpm(self) -> float:
         """Speed [rpm] at which the first of the limits is reached (inf without).
 
@@ -413,13 +423,7 @@ class TransferMechanism:
         """
         if self.max_jerk is None and self.max_acceleration is None:
             return math.inf
-        a1, j1 = self.peaks(1.0)
-        out = math.inf
-        if self.max_jerk is not None:
-            out = min(out, (self.max_jerk / j1) ** (1.0 / 3.0))
-        if self.max_acceleration is not None:
-            out = min(out, math.sqrt(self.max_acceleration / a1))
-        return out
+        return min(self._limits_rpm())
 
     def limit_reason(self) -> str:
         """What sets :meth:`speed_limit_rpm`: the first limit reached (jerk where
@@ -431,11 +435,7 @@ class TransferMechanism:
         """
         if self.max_jerk is None and self.max_acceleration is None:
             return ""
-        a1, j1 = self.peaks(1.0)
-        by_jerk = math.inf if self.max_jerk is None else (self.max_jerk / j1) ** (1.0 / 3.0)
-        by_acc = (
-            math.inf if self.max_acceleration is None else math.sqrt(self.max_acceleration / a1)
-        )
+        by_jerk, by_acc = self._limits_rpm()
         if by_jerk <= by_acc:
             return f"the workpiece's peak jerk reaches max_jerk = {self.max_jerk:g} m/s³"
         return (
@@ -737,9 +737,9 @@ class Machine:
         self.cyclogram = cyclogram
         self.mechanisms = dict(mechanisms)
         self.speed_range_rpm = (float(rng[0]), float(rng[1]))
-        self.speed_points = _count("speed_points", speed_points, 2)
+        self.speed_points = count("speed_points", speed_points, low=2, high=1_000_000)
         self.nominal_rpm = nominal_rpm
-        self.angle_points = _count("angle_points", angle_points, 9)
+        self.angle_points = count("angle_points", angle_points, low=9, high=1_000_000)
         self.source = source
         self.data = data
         self.stops = [m for m in self.mechanisms.values() if isinstance(m, CamStop)]
@@ -1330,11 +1330,6 @@ def _int_key(
     return v
 
 
-def _count(name: str, value: Any, low: int, high: int = 1_000_000) -> int:
-    """A whole number in [low, high] (numpy integers too), or InputError."""
-    return count(name, value, low=low, high=high)
-
-
 def _rtol(value: Any) -> float:
     """A relative tolerance of a speed search: finite, in [1e-14, 0.5] (below, the
     64-speed refinement cannot shrink its bracket in float64; at 1 and above it
@@ -1402,8 +1397,7 @@ def check_parameter(machine: Machine, path: str) -> None:
     """
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
-    data = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in machine.data.items()}
-    _, key = _split_key(path, data)
+    _, key = _split_key(path, dict(machine.data))  # a copy: it may add a [machine] table
     head = path.split(".", 1)[0]
     if head == "machine":
         allowed, where = _MACHINE_KEYS - {"name", "speed_rpm"}, "[machine]"

@@ -162,13 +162,11 @@ class SweepResult:
                         cols = {k: z[k] for k in z.files}
         except InputError:
             raise
-        except (OSError, ValueError, EOFError, KeyError, TypeError) as e:
-            raise InputError(f"{p}: cannot be read as {what}: {e}") from None
-        except Exception as e:  # pyarrow's own errors (ArrowInvalid, …)
+        except Exception as e:  # OSError, a broken archive, pyarrow's ArrowInvalid, …
             raise InputError(f"{p}: cannot be read as {what}: {e}") from None
         missing = [k for k in (SPEED, *FIGURES) if k not in cols]
-        if "problem" in missing and len(missing) == 1 and SPEED in cols:
-            cols["problem"] = np.full(cols[SPEED].shape, "", dtype=object)  # older files
+        if missing == ["problem"]:  # written before the column existed: no invalid design
+            cols["problem"] = np.full(cols[SPEED].shape, "", dtype=object)
             missing = []
         if missing:
             raise InputError(f"{p}: not {what}: missing the column(s) {', '.join(missing)}")
