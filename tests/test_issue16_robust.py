@@ -133,6 +133,8 @@ def test_item15_first_rebound_steep_ramp_minimum_against_solve_ivp():
     v0=st.just(0.0) | st.floats(1e-3, 1.0) | st.floats(-1.0, -1e-3),
     maximum=st.booleans(),
 )
+@example(zeta=0.0, ramp=1e-12, peak=1.0, q0=1.0, v0=0.0, maximum=False)
+@example(zeta=1.0, ramp=1e-6, peak=2.0, q0=1.0, v0=0.0, maximum=False)
 @example(zeta=10.0, ramp=1e-9, peak=1.0, q0=0.75, v0=0.0, maximum=True)
 @example(zeta=10.0, ramp=1e-9, peak=1.0, q0=0.75, v0=0.0, maximum=False)
 def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
@@ -149,11 +151,20 @@ def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
     # (Capped at 100 s, to bound the reference's cost: every case here turns
     # within a few seconds or, over-damped after its minimum, never.)
     late = min(25.0 / slow, 100.0) if slow > 0 else 100.0
+    # A start within rounding of the held force's equilibrium (q0 = peak/k, at
+    # rest) hardly moves: its "turns" are rounding noise for both solvers (found
+    # on q0 = peak = 1, v0 = 0, ramp 1e-12: an amplitude of ~1e-24).
+    if math.hypot(q0 - peak, v0) + peak * ramp < 1e-9 * (abs(q0) + peak):
+        return
     t, f = [0.0, ramp], [0.0, peak]
     r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, v0, maximum=maximum)
     ref_t, ref_q = reference_turn(t, f, 1.0, zeta, 1.0, q0, v0, maximum, late)
     if ref_t == math.inf:
-        assert r.time[0] == math.inf or r.time[0] > late
+        # (or a turn within 1e-6 of the ramp's end, which the reference's event
+        # location cannot see: q0 = 1 at rest, a ramp to 2 over 1e-6 s, ζ = 1 first
+        # sinks toward 0 and turns just before the ramp ends)
+        at_end = abs(r.time[0] - ramp) < 1e-6 * ramp
+        assert r.time[0] == math.inf or r.time[0] > late or at_end
         return
     if abs(ref_t - ramp) < 1e-6 * ramp or ref_t < 1e-14:
         return

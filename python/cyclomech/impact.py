@@ -1209,7 +1209,15 @@ class StopImpact:
         >>> c.describe()
         '1·t(3,7) >= 28.0271'
         """
-        arc = (str(arc[0]), str(arc[1]))
+        if not (
+            isinstance(arc, tuple | list)
+            and len(arc) == 2
+            and all(isinstance(e, str) and e for e in arc)
+        ):
+            raise InputError(
+                f'arc = {arc!r} must be an operation\'s two event names (from, to), e.g. ("3", "7")'
+            )
+        arc = (arc[0], arc[1])
         t_min = float(self.min_phase_angle(a_max, float(rpm)))
         if not math.isfinite(t_min):
             raise InfeasibleError(
