@@ -13,7 +13,7 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech.cli import main
-from cyclomech.report import analyze
+from cyclomech.machine import analyze
 
 ROOT = Path(__file__).resolve().parent.parent
 LOOM = ROOT / "examples" / "stb_loom.toml"

@@ -18,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 from cyclomech.cli import main
-from cyclomech.scale import FIGURES, SPEED, _run_chunk, dask_client
+from cyclomech.machine._sweep import FIGURES, SPEED, _run_chunk, dask_client
 
 distributed = pytest.importorskip("dask.distributed")
 pytest.importorskip("pyarrow")

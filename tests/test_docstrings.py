@@ -5,63 +5,73 @@ import importlib
 
 import pytest
 
-MODULES = [
-    "cyclomech._arrays",
-    "cyclomech._json",
-    "cyclomech._units",
-    "cyclomech.schedule",
-    "cyclomech.cyclogram",
-    "cyclomech.impact",
-    "cyclomech.linkage",
-    "cyclomech.linkage.presets",
-    "cyclomech.machine",
-    "cyclomech.motion",
-    "cyclomech.plot",
-    "cyclomech.press",
-    "cyclomech.report",
-    "cyclomech.scale",
-    "cyclomech.transfer",
-]
+
+def _modules() -> list[str]:
+    """Every module of the package, doors and private modules alike (a re-exported
+    object is doctested in the module that defines it)."""
+    import pkgutil
+
+    import cyclomech
+
+    names = [
+        m.name
+        for m in pkgutil.walk_packages(cyclomech.__path__, "cyclomech.")
+        if m.name not in ("cyclomech._core", "cyclomech.__main__")
+    ]
+    return sorted(names)
+
+
+MODULES = _modules()
+# Modules with nothing to show by example: the error classes, the TOML reader's
+# internals and the argument parser (tested through the CLI), and the domain doors,
+# which only re-export (their objects are doctested where they are defined).
+NO_EXAMPLES = {"cyclomech._errors", "cyclomech._toml", "cyclomech.cli"}
+
+
+def _is_door(name: str) -> bool:
+    return hasattr(importlib.import_module(name), "__path__")
 
 
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name: str) -> None:
-    if name in ("cyclomech.plot", "cyclomech.report"):
+    if "plot" in name or "report" in name:
         pytest.importorskip("matplotlib")
     module = importlib.import_module(name)
     result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
-    assert result.attempted > 0, f"{name} has no examples"
+    if name not in NO_EXAMPLES and not _is_door(name):
+        assert result.attempted > 0, f"{name} has no examples"
     assert result.failed == 0
 
 
 def test_every_public_function_has_an_example() -> None:
     """Every public function, and every public method of a public class."""
     import inspect
+    import types
 
     import cyclomech as cm
+    import cyclomech.cyclogram
     import cyclomech.impact
+    import cyclomech.linkage
     import cyclomech.machine
     import cyclomech.motion
     import cyclomech.press
-    import cyclomech.report
-    import cyclomech.scale
     import cyclomech.transfer
 
     missing = []
     public = [(name, getattr(cm, name)) for name in cm.__all__]
     for mod in (
+        cyclomech.cyclogram,
         cyclomech.impact,
+        cyclomech.linkage,
         cyclomech.machine,
         cyclomech.motion,
         cyclomech.press,
-        cyclomech.report,
-        cyclomech.scale,
         cyclomech.transfer,
     ):
         public += [(f"{mod.__name__}.{n}", getattr(mod, n)) for n in mod.__all__]
     for name, obj in public:
-        if inspect.ismodule(obj):
-            continue
+        if inspect.ismodule(obj) or isinstance(obj, types.GenericAlias):
+            continue  # a sub-package, or a type alias such as cyclogram.Arc
         if inspect.isclass(obj):
             if issubclass(obj, BaseException):
                 continue

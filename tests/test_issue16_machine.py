@@ -15,7 +15,7 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech.cli import EXIT_FAILS, main
-from cyclomech.report import analyze, write_report
+from cyclomech.machine import analyze, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"

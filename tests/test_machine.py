@@ -1,4 +1,4 @@
-"""The whole machine (cyclomech.machine, the report of ``cyclomech run``, cyclomech.scale)
+"""The whole machine (cyclomech.machine, the report of ``cyclomech run``, cyclomech.machine.sweep)
 checked against what does not go through the machine's fast path.
 
 Every number here is compared with something computed another way: the cyclogram's

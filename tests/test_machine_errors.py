@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from cyclomech import _toml
 from cyclomech.cli import main
-from cyclomech.scale import dask_client, parse_range
+from cyclomech.machine import dask_client, parse_range
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"

@@ -1,4 +1,4 @@
-"""Tests of ``cyclomech.schedule.max_difference``: difference constraints by shortest paths.
+"""Tests of ``cyclomech.cyclogram.max_difference``: difference constraints by shortest paths.
 
 Every expected value comes from scipy's LP solver (``scipy.optimize.linprog``, HiGHS)
 applied to the linear program itself -- maximise ``x[t] - x[s]`` subject to
@@ -18,7 +18,7 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
-from cyclomech.schedule import max_difference
+from cyclomech.cyclogram import max_difference
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_array_equal

@@ -21,7 +21,7 @@ from typing import Any
 import cyclomech as cm
 import pytest
 from cyclomech.cli import main
-from cyclomech.report import analyze, write_report
+from cyclomech.machine import analyze, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 PINNED = Path(__file__).resolve().parent / "pinned"

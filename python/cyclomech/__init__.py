@@ -7,7 +7,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import impact, motion, press, transfer
+from . import cyclogram, impact, linkage, machine, motion, press, transfer
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -18,11 +18,21 @@ from ._errors import (
     InternalError,
     SolverError,
 )
-from .cyclogram import Constraint, Cyclogram, Operation, Optimum, Schedule, SpeedLimit
+from .cyclogram import (
+    Constraint,
+    Cyclogram,
+    EventGraph,
+    GraphAnalysis,
+    Operation,
+    Optimum,
+    Schedule,
+    SpeedLimit,
+    longest_path,
+    max_cycle_ratio,
+    max_difference,
+)
 from .linkage import Linkage, LinkageSolution
-from .machine import Machine
-from .scale import SweepResult, sweep
-from .schedule import EventGraph, GraphAnalysis, longest_path, max_cycle_ratio, max_difference
+from .machine import Machine, SweepResult, sweep
 
 __all__ = [
     "Constraint",
@@ -45,8 +55,11 @@ __all__ = [
     "SpeedLimit",
     "SweepResult",
     "__version__",
+    "cyclogram",
     "impact",
+    "linkage",
     "longest_path",
+    "machine",
     "max_cycle_ratio",
     "max_difference",
     "motion",

@@ -714,8 +714,7 @@ def _impact_command(args: argparse.Namespace) -> int:
 
 
 def _run_command(args: argparse.Namespace) -> int:
-    from .machine import Machine
-    from .report import analyze, write_report
+    from .machine import Machine, analyze, write_report
 
     m = Machine.from_toml(args.file)
     kinds = ", ".join(f"{k} ({v.kind})" for k, v in m.mechanisms.items())
@@ -782,8 +781,8 @@ def _quiet_interrupt(active: bool) -> Iterator[None]:
 def _sweep_command(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .machine import Machine, _speeds, check_parameter
-    from .scale import dask_client, dask_workers, parse_range, sweep
+    from .machine import Machine, dask_client, dask_workers, parse_range, sweep
+    from .machine._model import _speeds, check_parameter
 
     m = Machine.from_toml(args.file)
     workers = dask_workers(args.dask) if args.dask else 0

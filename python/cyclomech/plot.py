@@ -2924,7 +2924,8 @@ def plot_transfer(
     from matplotlib.colors import TwoSlopeNorm
     from matplotlib.patches import Circle
 
-    from .transfer import PIECES, TransferPath
+    from .transfer import TransferPath
+    from .transfer._model import PIECES
 
     if not isinstance(path, TransferPath):
         raise InputError(

@@ -31,9 +31,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import check_bytes
-from ._errors import InputError
-from .machine import SCHEMA, Machine, _speeds, check_parameter, speed_limits, speed_sweeps
+from .._arrays import check_bytes
+from .._errors import InputError
+from ._model import SCHEMA, Machine, _speeds, check_parameter, speed_limits, speed_sweeps
 
 __all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
 
@@ -183,7 +183,7 @@ class SweepResult:
 def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
     """``"from:to:count"`` → ``count`` evenly spaced values (``"v"`` → one value).
 
-    >>> from cyclomech.scale import parse_range
+    >>> from cyclomech.machine import parse_range
     >>> parse_range("200:500:4", "--speed").tolist()
     [200.0, 300.0, 400.0, 500.0]
     """
@@ -441,7 +441,7 @@ def dask_workers(spec: str) -> int:
     """The ``--dask`` spec checked: the number of local worker processes for
     ``local`` (2) or ``local:N``, 0 for a scheduler address ``tcp://HOST:PORT``.
 
-    >>> from cyclomech.scale import dask_workers
+    >>> from cyclomech.machine import dask_workers
     >>> dask_workers("local:3"), dask_workers("tcp://10.0.0.5:8786")
     (3, 0)
     """
@@ -468,7 +468,7 @@ def dask_client(spec: str) -> Any:
     ``tcp://HOST:PORT`` connects to a running scheduler. Close it when done
     (``client.close()``, and ``client.cluster.close()`` for a local one).
 
-    >>> from cyclomech.scale import dask_client
+    >>> from cyclomech.machine import dask_client
     >>> dask_client("udp://host:1")                        # doctest: +ELLIPSIS
     Traceback (most recent call last):
     cyclomech._errors.InputError: --dask 'udp://host:1' must be local, local:N or a ...

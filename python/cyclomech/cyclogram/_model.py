@@ -1,21 +1,4 @@
-"""The cyclogram (cycle diagram) of a machine as a network (seed 000).
-
-Events are characteristic positions of mechanisms, with occurrence angles p(x) in
-degrees of main-shaft rotation; operations are arcs (x, y) whose phase angle is
-t(x, y) = p(y) - p(x) (+ cycle_deg for an operation that ends in the next cycle).
-Each operation has a minimum admissible angle (kinematics, contact stress,
-vibration), optionally a maximum, and optionally a minimum duration in seconds,
-which takes 6·n·seconds degrees at n rpm.
-
-* :meth:`Cyclogram.schedule` — every operation at its minimum: earliest and latest
-  event angles, slack and critical operations (Rust longest-path kernel).
-* :meth:`Cyclogram.optimize` — the seed's LP (eq. 1): minimise the group's duration
-  p(N) - p(1), or maximise the limiting operation inside the cycle, subject to the
-  bounds and the added linear constraints; shadow prices of every bound and
-  constraint; infeasibility explained.
-* :meth:`Cyclogram.max_speed_rpm` — the highest main-shaft speed at which the
-  cyclogram still fits in its cycle (maximum cycle ratio, Howard's policy iteration).
-"""
+"""The cyclogram: `_model` part of :mod:`cyclomech.cyclogram` (its door)."""
 
 from __future__ import annotations
 
@@ -31,10 +14,10 @@ from scipy import sparse
 from scipy.optimize import linprog
 from scipy.sparse.csgraph import breadth_first_order
 
-from . import _core, _toml
-from ._arrays import real
-from ._errors import CycleError, InfeasibleError, InputError, SolverError
-from ._units import DEG_PER_S_PER_RPM
+from .. import _core, _toml
+from .._arrays import real
+from .._errors import CycleError, InfeasibleError, InputError, SolverError
+from .._units import DEG_PER_S_PER_RPM
 
 __all__ = [
     "Arc",
@@ -48,10 +31,6 @@ __all__ = [
 
 Arc = tuple[str, str]
 Sense = Literal["<=", ">=", "=="]
-
-#: Degrees of main-shaft rotation per second at 1 rpm (360° × 1/60 s⁻¹); the
-#: public name of :data:`cyclomech._units.DEG_PER_S_PER_RPM`.
-DEG_PER_SECOND_PER_RPM = DEG_PER_S_PER_RPM
 
 #: Largest angle magnitude accepted anywhere [deg]: far beyond any machine cycle,
 #: and small enough that sums over millions of operations cannot overflow.
@@ -183,7 +162,7 @@ class Operation:
                 f"operation {self.title!r} has a minimum duration of {self.min_duration_s:g} s; "
                 "pass speed_rpm to convert it to degrees"
             )
-        return max(self.min_angle_deg, DEG_PER_SECOND_PER_RPM * speed_rpm * self.min_duration_s)
+        return max(self.min_angle_deg, DEG_PER_S_PER_RPM * speed_rpm * self.min_duration_s)
 
 
 @dataclass(frozen=True)
@@ -603,7 +582,7 @@ class Cyclogram:
         if n is None:
             self._ops[int(np.argmax(timed))].min_angle_at(None)  # raises, naming the operation
         assert n is not None
-        out = np.maximum(angle, np.where(timed, DEG_PER_SECOND_PER_RPM * n * secs, -np.inf))
+        out = np.maximum(angle, np.where(timed, DEG_PER_S_PER_RPM * n * secs, -np.inf))
         bad = ~(np.abs(out) <= MAX_ANGLE_DEG)
         if bad.any():
             op = self._ops[int(np.argmax(bad))]
@@ -1132,7 +1111,7 @@ class _LP:
             n_col = np.full(len(dur_ops), self.n_var - 1)
             block(
                 [xi[dur_ops], yi[dur_ops], n_col],
-                [1.0, -1.0, DEG_PER_SECOND_PER_RPM * speed_secs[dur_ops]],
+                [1.0, -1.0, DEG_PER_S_PER_RPM * speed_secs[dur_ops]],
             )
             rhs.append(self.ch[dur_ops])
             kind.append(np.full(len(dur_ops), _MIN))

@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from . import _core
-from ._arrays import float_array, index_array, threads_arg
-from ._errors import InputError
+from .. import _core
+from .._arrays import float_array, index_array, threads_arg
+from .._errors import InputError
 
 __all__ = ["EventGraph", "GraphAnalysis", "longest_path", "max_cycle_ratio", "max_difference"]
 
@@ -311,7 +311,7 @@ def max_difference(
     ``x1 - x0 <= 4``, ``x2 - x1 <= -1``, ``x2 - x0 <= 5``: at most 3, via 0 -> 1 -> 2.
 
     >>> import numpy as np
-    >>> from cyclomech.schedule import max_difference
+    >>> from cyclomech.cyclogram import max_difference
     >>> value, on_path = max_difference(3, [0, 1, 0], [1, 2, 2], [4.0, -1.0, 5.0], 0, 2)
     >>> value, on_path.tolist()
     (3.0, [True, True, False])

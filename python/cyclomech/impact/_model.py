@@ -1,23 +1,4 @@
-"""Impact of a driven link on its limit stop (seed 000).
-
-A cam-driven lever pressed with preload against a stop strikes it, vibrates, and
-rebounds; the first rebound must stay under a limit (0.1 mm for the STB loom's
-microshuttle lifter), which bounds the phase angle of the operation that brings
-the lever to the stop. This module holds the physics layer:
-
-* the lever's reduced stiffness, free (:func:`lever_stiffness`, the seed's
-  3·E·J_x/((a+b)·b²)) and propped at the stop (:func:`propped_lever_stiffness`),
-  :func:`natural_frequency`, :func:`contact_time` and :func:`impact_force`;
-* force pulses as piecewise-linear tables (:class:`Pulse`);
-* the exact response of a damped oscillator to such a force (:func:`duhamel`,
-  :func:`duhamel_batch`, :func:`first_rebound`), in Rust;
-* the stop as a unilateral contact (:func:`contact_response`);
-* :class:`StopImpact`, the lever with its stop, whose rebound against speed and
-  phase angle becomes a constraint of the :class:`cyclomech.Cyclogram`.
-
-SI units: m, kg, N, s, rad; speeds in rpm and phase angles in degrees where the
-names say so.
-"""
+"""The stops: `_model` part of :mod:`cyclomech.impact` (its door)."""
 
 from __future__ import annotations
 
@@ -30,11 +11,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from . import _core, motion
-from ._arrays import count, finite_number, float_array, positive, real, threads_arg
-from ._errors import InfeasibleError, InputError
-from ._units import RAD_PER_S_PER_RPM
-from .cyclogram import Constraint
+from .. import _core, motion
+from .._arrays import count, finite_number, float_array, positive, real, threads_arg
+from .._errors import InfeasibleError, InputError
+from .._units import RAD_PER_S_PER_RPM
+from ..cyclogram import Constraint
 
 __all__ = [
     "ContactHistory",
@@ -1363,7 +1344,7 @@ class ImpactStudy:
         >>> st.rpm.size, st.phase_deg.size, st.a_max
         (26, 41, 0.0001)
         """
-        from . import _toml
+        from .. import _toml
 
         data, src = _toml.load(path)
         _toml.check_keys(data, {"stop", "study"}, src, "the file")

@@ -24,12 +24,12 @@ from typing import Any
 
 import numpy as np
 
-from ._errors import InfeasibleError
-from ._json import jsonable
-from ._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
-from .cyclogram import Optimum
-from .linkage import LinkageSolution
-from .machine import (
+from .._errors import InfeasibleError
+from .._json import jsonable
+from .._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
+from ..cyclogram import Optimum
+from ..linkage import LinkageSolution
+from ._model import (
     SCHEMA,
     CamStop,
     LinkageMechanism,
@@ -101,7 +101,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     """Solve every mechanism, every stop, the cyclogram and the speed sweep.
 
     >>> import cyclomech as cm
-    >>> from cyclomech.report import analyze
+    >>> from cyclomech.machine import analyze
     >>> r = analyze(cm.Machine.example(), progress=False)
     >>> round(r.limit.rpm, 3), round(r.optimum.objective, 3)    # 6 · 421.37 rpm · 0.1 s
     (421.37, 252.822)
@@ -327,7 +327,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .plot import (
+    from ..plot import (
         plot_analogs,
         plot_cyclogram,
         plot_law,
@@ -768,7 +768,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     paths written (figures need matplotlib).
 
     >>> import pathlib, tempfile, cyclomech as cm
-    >>> from cyclomech.report import analyze, write_report
+    >>> from cyclomech.machine import analyze, write_report
     >>> r = analyze(cm.Machine.example(), progress=False)
     >>> sorted(p.name for p in write_report(r, tempfile.mkdtemp(), figures=False))
     ['operations.csv', 'report.html', 'results.json', 'speed_sweep.csv']

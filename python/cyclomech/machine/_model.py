@@ -1,63 +1,4 @@
-"""The whole machine: one machine file in, its key figures against speed out.
-
-A machine file (TOML) holds a ``[machine]`` table, its mechanisms as
-``[mechanism.<name>]`` tables with a ``kind``, and its cyclogram in the layout of
-:meth:`cyclomech.Cyclogram.from_toml` (``[cyclogram]``, ``[[operation]]``,
-``[[constraint]]``). Units: SI (m, s, kg, Pa, N/m); keys that take degrees or rpm
-say so (``_deg``, ``_rpm``). The layout::
-
-    [machine]
-    name = "STB loom, group 1"
-    speed_rpm = [200.0, 500.0]      # the speed range of the study [rpm]
-    speed_points = 61               # optional: speeds in the report's sweep
-    nominal_rpm = 300.0             # optional: the speed of the optimised cyclogram
-                                    # (default: the top of the range, or the speed
-                                    # limit if that is lower)
-    angle_points = 361              # optional: crank angles per turn for mechanisms
-
-    [mechanism.lifter]              # a cam-driven lever that hits a limit stop
-    kind = "cam_stop"
-    law = "modified_sine"           # and the other keys of cyclomech.impact.StopImpact:
-    stroke = 0.0094                 # stroke, preload, lever_length, J_A, a, b, E, J_x
-    ...                             # [m, kg m², Pa, m⁴]; optional mass, restitution, zeta,
-                                    # contact_stiffness, contact_time, pulse, model
-    arc = ["3", "7"]                # the operation that brings it to the stop
-    a_max = 1e-4                    # first-rebound limit [m]
-    phase_deg = [20.0, 60.0, 5]     # optional: phase angles drawn in the report
-
-    [mechanism.knife]               # a planar linkage, the table of Linkage.from_dict
-    kind = "linkage"                # points, links, ground, driver, lengths, sliders, output
-    max_acceleration = 50.0         # optional: limit on the output point's |a| [m/s²]
-
-    [mechanism.drive]               # the planetary gear-lever press drive
-    kind = "press"
-    R = 0.09                        # R, r, d, L [m], phi0_deg [deg], offset [m]
-    k_Sp = 0.1                      # or working_stroke [m]
-    max_V_np = 0.05                 # optional: limit on the speed at the start of the
-                                    # working stroke [m/s]
-
-    [mechanism.line]                # a transfer between two rotors
-    kind = "transfer"
-    R_t = 0.15                      # pitch radii [m], the gap between the pitch circles [m]
-    R_p = 0.25
-    gap = 0.01
-    pockets_t = 8                   # pockets of each rotor: one workpiece per machine cycle
-    pockets_p = 12
-    x2 = 0.04                       # optional transition length [m] (default: the
-                                    # length of least jerk, cyclomech.transfer.design_transfer)
-    max_jerk = 5.0                  # optional limits [m/s³], [m/s²]
-    max_acceleration = 2.0
-
-A cam stop constrains the cyclogram: at n rpm the phase angle of its arc must be
-at least the smallest one whose first rebound is within ``a_max`` (exact, by
-:meth:`~cyclomech.impact.StopImpact.min_phase_angle`). The other mechanisms limit
-the speed directly where given a limit (their peaks grow as n, n² or n³).
-
-The cyclogram's optimum at many speeds is a system of difference constraints
-(every bound is on one operation's angle): its optimum is a shortest path,
-computed for all speeds in one Rust call (:func:`cyclomech.schedule.max_difference`).
-Constraints over several operations need the LP, one per speed.
-"""
+"""The whole machine: `_model` part of :mod:`cyclomech.machine` (its door)."""
 
 from __future__ import annotations
 
@@ -73,16 +14,17 @@ from typing import Any, ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from . import _toml
-from ._arrays import count, real, threads_arg
-from ._errors import CyclomechWarning, InfeasibleError, InputError
-from ._units import RAD_PER_S_PER_RPM
-from .cyclogram import DEG_PER_SECOND_PER_RPM, Arc, Constraint, Cyclogram, Optimum
-from .impact import _STOP_KEYS, StopImpact, critical_speeds, phase_angles, rebounds
-from .linkage import _LINKAGE_KEYS, Linkage, LinkageSolution
-from .press import STATUS, GearLeverPress, PressCriteria
-from .schedule import max_difference
-from .transfer import TransferPath, design_transfer
+from .. import _toml
+from .._arrays import count, real, threads_arg
+from .._errors import CyclomechWarning, InfeasibleError, InputError
+from .._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
+from ..cyclogram import Arc, Constraint, Cyclogram, Optimum, max_difference
+from ..impact import StopImpact, critical_speeds, phase_angles, rebounds
+from ..impact._model import _STOP_KEYS
+from ..linkage import Linkage, LinkageSolution
+from ..linkage._model import _LINKAGE_KEYS
+from ..press import STATUS, GearLeverPress, PressCriteria
+from ..transfer import TransferPath, design_transfer
 
 __all__ = [
     "SCHEMA",
@@ -94,6 +36,7 @@ __all__ = [
     "SpeedLimit",
     "SpeedSweep",
     "TransferMechanism",
+    "check_parameter",
     "speed_limits",
     "speed_sweeps",
 ]
@@ -584,7 +527,7 @@ class _Network:
         sets it (0: its angle, 1: its duration, 2 + k: stop k)."""
         mins = np.broadcast_to(self.angle, (rpm.size, self.angle.size)).copy()
         which = np.zeros(mins.shape, np.int8)
-        dur = DEG_PER_SECOND_PER_RPM * rpm[:, None] * self.secs[None, :]
+        dur = DEG_PER_S_PER_RPM * rpm[:, None] * self.secs[None, :]
         take = dur > mins
         mins[take], which[take] = dur[take], 1
         for k, (e, t) in enumerate(zip(self.stop_op, t_stop, strict=True)):
@@ -630,7 +573,7 @@ class _Network:
         """The LP at each speed, for constraints over several operations: the
         optimum; the edges of the bounds with a shadow price as the 'path'; and the
         priced constraints over several operations, which are no edge."""
-        from .cyclogram import _LP
+        from ..cyclogram._model import _LP
 
         value = np.full(rpm.size, np.nan)
         on_path = np.zeros((rpm.size, self.src.size), bool)
@@ -1203,7 +1146,7 @@ def speed_sweeps(
                 rpm=n,
                 fits=fits[r],
                 limiting_deg=value[r],
-                limiting_s=value[r] / (DEG_PER_SECOND_PER_RPM * n),
+                limiting_s=value[r] / (DEG_PER_S_PER_RPM * n),
                 productivity=np.where(fits[r], n, 0.0),
                 max_rebound_m=rebound[r],
                 binding=binding[r],

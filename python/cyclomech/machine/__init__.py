@@ -1,0 +1,112 @@
+"""The whole machine: one machine file in, its key figures against speed out.
+
+A machine file (TOML) holds a ``[machine]`` table, its mechanisms as
+``[mechanism.<name>]`` tables with a ``kind``, and its cyclogram in the layout of
+:meth:`cyclomech.Cyclogram.from_toml` (``[cyclogram]``, ``[[operation]]``,
+``[[constraint]]``). Units: SI (m, s, kg, Pa, N/m); keys that take degrees or rpm
+say so (``_deg``, ``_rpm``). The layout::
+
+    [machine]
+    name = "STB loom, group 1"
+    speed_rpm = [200.0, 500.0]      # the speed range of the study [rpm]
+    speed_points = 61               # optional: speeds in the report's sweep
+    nominal_rpm = 300.0             # optional: the speed of the optimised cyclogram
+                                    # (default: the top of the range, or the speed
+                                    # limit if that is lower)
+    angle_points = 361              # optional: crank angles per turn for mechanisms
+
+    [mechanism.lifter]              # a cam-driven lever that hits a limit stop
+    kind = "cam_stop"
+    law = "modified_sine"           # and the other keys of cyclomech.impact.StopImpact:
+    stroke = 0.0094                 # stroke, preload, lever_length, J_A, a, b, E, J_x
+    ...                             # [m, kg m², Pa, m⁴]; optional mass, restitution, zeta,
+                                    # contact_stiffness, contact_time, pulse, model
+    arc = ["3", "7"]                # the operation that brings it to the stop
+    a_max = 1e-4                    # first-rebound limit [m]
+    phase_deg = [20.0, 60.0, 5]     # optional: phase angles drawn in the report
+
+    [mechanism.knife]               # a planar linkage, the table of Linkage.from_dict
+    kind = "linkage"                # points, links, ground, driver, lengths, sliders, output
+    max_acceleration = 50.0         # optional: limit on the output point's |a| [m/s²]
+
+    [mechanism.drive]               # the planetary gear-lever press drive
+    kind = "press"
+    R = 0.09                        # R, r, d, L [m], phi0_deg [deg], offset [m]
+    k_Sp = 0.1                      # or working_stroke [m]
+    max_V_np = 0.05                 # optional: limit on the speed at the start of the
+                                    # working stroke [m/s]
+
+    [mechanism.line]                # a transfer between two rotors
+    kind = "transfer"
+    R_t = 0.15                      # pitch radii [m], the gap between the pitch circles [m]
+    R_p = 0.25
+    gap = 0.01
+    pockets_t = 8                   # pockets of each rotor: one workpiece per machine cycle
+    pockets_p = 12
+    x2 = 0.04                       # optional transition length [m] (default: the
+                                    # length of least jerk, cyclomech.transfer.design_transfer)
+    max_jerk = 5.0                  # optional limits [m/s³], [m/s²]
+    max_acceleration = 2.0
+
+A cam stop constrains the cyclogram: at n rpm the phase angle of its arc must be
+at least the smallest one whose first rebound is within ``a_max`` (exact, by
+:meth:`~cyclomech.impact.StopImpact.min_phase_angle`). The other mechanisms limit
+the speed directly where given a limit (their peaks grow as n, n² or n³).
+
+The cyclogram's optimum at many speeds is a system of difference constraints
+(every bound is on one operation's angle): its optimum is a shortest path,
+computed for all speeds in one Rust call (:func:`cyclomech.cyclogram.max_difference`).
+Constraints over several operations need the LP, one per speed.
+"""
+
+from __future__ import annotations
+
+from ._model import (
+    SCHEMA,
+    CamStop,
+    LinkageMechanism,
+    Machine,
+    Mechanism,
+    PressMechanism,
+    SpeedLimit,
+    SpeedSweep,
+    TransferMechanism,
+    check_parameter,
+    speed_limits,
+    speed_sweeps,
+)
+from ._report import (
+    MachineResult,
+    analyze,
+    write_report,
+)
+from ._sweep import (
+    SweepResult,
+    dask_client,
+    dask_workers,
+    parse_range,
+    sweep,
+)
+
+__all__ = [
+    "SCHEMA",
+    "CamStop",
+    "LinkageMechanism",
+    "Machine",
+    "MachineResult",
+    "Mechanism",
+    "PressMechanism",
+    "SpeedLimit",
+    "SpeedSweep",
+    "SweepResult",
+    "TransferMechanism",
+    "analyze",
+    "check_parameter",
+    "dask_client",
+    "dask_workers",
+    "parse_range",
+    "speed_limits",
+    "speed_sweeps",
+    "sweep",
+    "write_report",
+]

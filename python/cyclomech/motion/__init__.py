@@ -1,0 +1,36 @@
+"""Dimensionless motion laws and the two-period slider law (seed 003).
+
+A law Z(j) lives on the unit square: 0 ≤ j ≤ 1, Z(0) = 0, Z(1) = 1, Z'(0) = 0.
+Two forms of each named law:
+
+* the **rise** (``form="rise"``): zero speed at both ends, Z' peaking at j = ½,
+  with the classical peaks Cv = max Z' and Ca = max |Z''| (cycloidal 2 and 2π);
+* the **half law** (``form="half"``, the default): the first half of the rise
+  rescaled to the unit square, Z_h(j) = 2·Z(j/2), so Z_h'(0) = 0 and Z_h' peaks at
+  j = 1 — the dimensionless characteristic of seed 003 (cycloidal half law
+  Z = j − sin(πj)/π, Z'max = 2, Z''max = π).
+
+:func:`two_period` synthesises the slider law Π(α) of seed 003 from a half law
+for each period and one of the seed's three complexes of input data.
+Everything is evaluated in Rust, vectorised and exact (no finite differences).
+"""
+
+from __future__ import annotations
+
+from ._laws import (
+    NAMES,
+    MotionLaw,
+    TwoPeriodLaw,
+    law,
+    polynomial,
+    two_period,
+)
+
+__all__ = [
+    "NAMES",
+    "MotionLaw",
+    "TwoPeriodLaw",
+    "law",
+    "polynomial",
+    "two_period",
+]

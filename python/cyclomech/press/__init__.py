@@ -1,0 +1,66 @@
+"""The planetary gear-lever press drive of seed 003: kinematics, working-stroke
+criteria, design sweeps and the non-dominated designs.
+
+The drive: a crank (carrier) turns about the centre O of a fixed internal guide
+gear of pitch radius R; a planet gear of radius r rolls inside it (i = R/r, a
+whole number; the seed uses 3), so the planet centre is C = (R − r)·e^{iθ} and
+the planet turns at −(R − r)/r times the carrier; the rod (length L) hangs on the
+planet at eccentricity d, its pin tracing a hypotrochoid; the slider runs on the
+vertical guide x = ``offset`` below O. ``phi0`` is the setting angle of the guide
+gear: the angle it is turned from the setting in which the pin lies on the
+carrier line, outwards, when the carrier points straight down (turning the guide
+gear by φ0 turns the planet by i·φ0 relative to the carrier). Designs repeat with
+period 2π/i in φ0. With d = 0 the drive is a plain crank-slider of radius R − r,
+the baseline every design is compared with.
+
+Angles follow the seed: the carrier turns counterclockwise, and α is the crank
+angle counted from the slider's bottom dead centre (BDC) *against* the motion,
+so S = Π(α) ≥ 0 is the slider's height above BDC and the working stroke is the
+approach to BDC, α from α_p down to 0, where α_p is the first contact with the
+blank coming down from TDC (see :class:`PressCriteria` for a slider that leaves
+the blank and meets it again). Π' = dS/dα [m/rad], Π'' [m/rad²]; at a
+constant crank speed ω the slider speed is |Π'|·ω and its acceleration Π''·ω².
+
+Criteria (:class:`PressCriteria`, all from the Rust kernel): the nominal stroke
+S_n, the working stroke S_p = k_Sp·S_n and its crank angle α_p, the slider speed
+at its start V_np, its mean V_cp = S_p·ω/α_p and maximum V_pmax over it, the
+largest acceleration J_max over the turn, the torque arm (max Π' over the
+working stroke: the crank torque per newton of a constant deformation force)
+and the dimensionless k_Sp, k_Vp = V_np/V_cp (→ 0), k_Vmax = V_pmax/V_cp
+(→ 1), k_M = torque/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
+for a crank-slider).
+"""
+
+from __future__ import annotations
+
+from ._model import (
+    CRITERIA,
+    OBJECTIVES,
+    SAMPLES,
+    STATUS,
+    GearLeverPress,
+    PressCriteria,
+    PressKinematics,
+    PressOptimum,
+    PressStudy,
+    PressSweep,
+    optimize,
+    pareto_mask,
+    sweep,
+)
+
+__all__ = [
+    "CRITERIA",
+    "OBJECTIVES",
+    "SAMPLES",
+    "STATUS",
+    "GearLeverPress",
+    "PressCriteria",
+    "PressKinematics",
+    "PressOptimum",
+    "PressStudy",
+    "PressSweep",
+    "optimize",
+    "pareto_mask",
+    "sweep",
+]
