@@ -33,7 +33,8 @@ import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
-from cyclomech.machine import CamStop, SpeedSweep
+from cyclomech.impact import CamStop
+from cyclomech.machine import SpeedSweep
 from numpy.testing import assert_allclose
 
 nx = pytest.importorskip("networkx")
@@ -230,10 +231,10 @@ class Network:
 
 @pytest.fixture(scope="module")
 def network(loom: cm.Machine, speeds: Array) -> Network:
-    # machine._Network.solve's weights, from its own tables (private, on purpose:
+    # cyclogram.SpeedNetwork.solve's weights, from its own tables (on purpose:
     # this is the exact call speed_sweep makes).
     net = loom._network
-    mins, _ = net.minimums(speeds, loom.stop_angles(speeds))
+    mins, _ = net.minimums(speeds, list(loom.bound_angles(speeds).values()))
     w = np.broadcast_to(net.base, (speeds.size, net.base.size)).copy()
     w[:, net.min_edge] -= mins
     return Network(net.n, net.src, net.dst, w, net.source, net.target)

@@ -357,7 +357,7 @@ def test_item16_speed_search_tolerance_bounds_are_usable():
 @pytest.mark.parametrize(
     ("call", "words"),
     [
-        (lambda m: m.stop_angles(np.array([300.0, np.nan])), "rpm"),
+        (lambda m: m.bound_angles(np.array([300.0, np.nan])), "rpm"),
         (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=0), "points must"),
         (lambda m: m.mechanisms["lifter"].linear_min_phase_deg(300.0, points=2.5), "points"),
         (

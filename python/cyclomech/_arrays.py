@@ -187,3 +187,30 @@ def check_bytes(what: str, nbytes: float, hint: str, *, failed: bool = False) ->
             f"{what} needs {nbytes / 1e9:.3g} GB, more than the {limit / 1e9:.3g} GB of "
             f"memory available; {hint}"
         )
+
+
+#: Highest shaft speed accepted anywhere [rpm]; above it a machine is unlimited.
+SPEED_CAP_RPM = 1e6
+
+
+def speeds_rpm(name: str, value: Any) -> npt.NDArray[np.float64]:
+    """Shaft speeds [rpm] as a flat float64 array, each in (0, :data:`SPEED_CAP_RPM`].
+
+    >>> from cyclomech._arrays import speeds_rpm
+    >>> speeds_rpm("rpm", 300).tolist()
+    [300.0]
+    >>> speeds_rpm("rpm", [100, -1])
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: rpm must hold positive speeds in rpm, each in (0, 1e+06]; got -1
+    """
+    try:
+        n = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be speeds in rpm; got {value!r}") from None
+    bad = ~(np.isfinite(n) & (n > 0) & (n <= SPEED_CAP_RPM))
+    if n.size == 0 or bad.any():
+        got = f"{float(n[np.argmax(bad)]):g}" if n.size else "no speeds"
+        raise InputError(
+            f"{name} must hold positive speeds in rpm, each in (0, {SPEED_CAP_RPM:g}]; got {got}"
+        )
+    return n

@@ -6,8 +6,9 @@ Errors name the file (``source``), the table and the key, as the brief asks.
 from __future__ import annotations
 
 import codecs
+import math
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -104,3 +105,48 @@ def key(k: str) -> str:
     """A TOML key: bare when it may be, quoted otherwise."""
     bare = k and all(c.isascii() and (c.isalnum() or c in "-_") for c in k)
     return k if bare else string(k)
+
+
+# --------------------------------------------------------------------- field readers
+# One reader per kind of field, for every table of every file format: each names
+# the place (``where``: the file and the table), the key, the value and what is valid.
+
+
+def is_number(v: Any) -> bool:
+    """A TOML number (int or float; a boolean is not one)."""
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def number(table: Mapping[str, Any], key: str, where: str, unit: str) -> float:
+    """The finite number ``table[key]``."""
+    v = table[key]
+    if not is_number(v) or not math.isfinite(v):
+        raise InputError(f"{where}: {key} = {v!r} must be a finite number {unit}".rstrip())
+    return float(v)
+
+
+def optional_positive(table: Mapping[str, Any], key: str, where: str, unit: str) -> float | None:
+    """The positive number ``table[key]``, or None where the key is absent."""
+    if key not in table:
+        return None
+    v = number(table, key, where, unit)
+    if v <= 0:
+        raise InputError(f"{where}: {key} = {v!r} must be positive {unit}".rstrip())
+    return v
+
+
+def require(table: Mapping[str, Any], keys: Iterable[str], where: str) -> None:
+    """Every key of ``keys`` is in ``table``."""
+    for k in keys:
+        if k not in table:
+            raise InputError(f"{where}: missing key {k!r}")
+
+
+def whole(
+    table: Mapping[str, Any], key: str, default: int, low: int, where: str, high: int = 1_000_000
+) -> int:
+    """The whole number ``table[key]`` (``default`` if absent) in [low, high]."""
+    v = table.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
+        raise InputError(f"{where}: {key} = {v!r} must be a whole number from {low} to {high}")
+    return v

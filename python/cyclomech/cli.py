@@ -781,8 +781,8 @@ def _quiet_interrupt(active: bool) -> Iterator[None]:
 def _sweep_command(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .machine import Machine, dask_client, dask_workers, parse_range, sweep
-    from .machine._model import _speeds, check_parameter
+    from ._arrays import speeds_rpm as _speeds
+    from .machine import Machine, check_parameter, dask_client, dask_workers, parse_range, sweep
 
     m = Machine.from_toml(args.file)
     workers = dask_workers(args.dask) if args.dask else 0

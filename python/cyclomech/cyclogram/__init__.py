@@ -34,10 +34,14 @@ from ._model import (
     Optimum,
     Schedule,
     SpeedLimit,
+    minimum_angles,
 )
+from ._network import SPEED_FLOOR_RPM, BoundsAt, SpeedNetwork
 
 __all__ = [
+    "SPEED_FLOOR_RPM",
     "Arc",
+    "BoundsAt",
     "Constraint",
     "Cyclogram",
     "EventGraph",
@@ -46,7 +50,9 @@ __all__ = [
     "Optimum",
     "Schedule",
     "SpeedLimit",
+    "SpeedNetwork",
     "longest_path",
     "max_cycle_ratio",
     "max_difference",
+    "minimum_angles",
 ]

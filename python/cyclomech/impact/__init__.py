@@ -21,6 +21,7 @@ names say so.
 
 from __future__ import annotations
 
+from ._kind import CamStop
 from ._model import (
     ContactHistory,
     ImpactStudy,
@@ -43,6 +44,7 @@ from ._model import (
 )
 
 __all__ = [
+    "CamStop",
     "ContactHistory",
     "ImpactStudy",
     "Pulse",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,6 +14,7 @@ import numpy.typing as npt
 from .. import _core, motion
 from .._arrays import count, finite_number, float_array, positive, real, threads_arg
 from .._errors import InfeasibleError, InputError
+from .._kind import Proportional
 from .._units import RAD_PER_S_PER_RPM
 from ..cyclogram import Constraint
 
@@ -860,8 +861,7 @@ def phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
     if bad.any():
         v = k.reshape(-1)[int(np.argmax(bad.reshape(-1)))]
         raise InputError(f"per_rpm = {float(v)!r} must be finite and ≥ 0 [deg/rpm]")
-    t = np.maximum(np.multiply(n, k), 1e-9)
-    return np.where(t <= 360.0, t, np.nan)
+    return Proportional.evaluate(n, k)
 
 
 class StopImpact:
@@ -1173,9 +1173,48 @@ class StopImpact:
             raise InputError(
                 f"phase_deg_range = {phase_deg_range!r} must be (low, high) with low < high"
             )
-        t = np.linspace(float(lo), float(hi), count("points", points, low=2, high=10**7))
-        slope, intercept = np.polyfit(t, self.rebound(float(rpm), t), 1)
-        return float(slope), float(intercept)
+        points = count("points", points, low=2, high=10**7)
+        slope, intercept = self._lines(
+            np.array([float(rpm)]), np.array([lo]), np.array([hi]), points
+        )
+        return float(slope[0]), float(intercept[0])
+
+    def _lines(self, rpm: Array, lo: Array, hi: Array, points: int) -> tuple[Array, Array]:
+        """The seed's linearisation, the one place it is computed: per speed
+        ``rpm[i]``, the least-squares line through the first rebound at ``points``
+        phase angles from ``lo[i]`` to ``hi[i]`` [deg] (one rebound call for all;
+        the normal equations in closed form)."""
+        t = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, points)[None, :]
+        a = self.rebound(rpm[:, None], t)
+        tm, am = t.mean(axis=1, keepdims=True), a.mean(axis=1, keepdims=True)
+        slope = ((t - tm) * (a - am)).sum(axis=1) / ((t - tm) ** 2).sum(axis=1)
+        return slope, am[:, 0] - slope * tm[:, 0]
+
+    def linear_min_phase_angle(
+        self, a_max: float, rpm: npt.ArrayLike, *, points: int = 64, n_threads: int | None = None
+    ) -> Any:
+        """The seed's linearised smallest phase angle [deg] at each speed ``rpm``:
+        the rebound fitted by a line slope·t + intercept over 0.5…2 times the exact
+        angle (capped at 360°; as :meth:`constraint` with ``linear=True``), then
+        t = (a_max − intercept)/slope; NaN where the exact angle is. One rebound
+        call for all speeds.
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.impact.StopImpact.example()
+        >>> round(float(lifter.linear_min_phase_angle(1e-4, 280.0)), 2)     # exact: 28.03
+        32.67
+        """
+        points = count("points", points, low=2, high=1_000_000)
+        n = np.asarray(rpm, dtype=np.float64)
+        flat = n.reshape(-1)
+        exact = np.asarray(self.min_phase_angle(a_max, flat, n_threads=n_threads)).reshape(-1)
+        ok = np.isfinite(exact)
+        out = np.full(flat.shape, np.nan)
+        if ok.any():
+            lo, hi = 0.5 * exact[ok], np.minimum(2.0 * exact[ok], 360.0)
+            slope, intercept = self._lines(flat[ok], lo, hi, points)
+            out[ok] = (float(a_max) - intercept) / slope
+        return out.reshape(n.shape) if n.ndim else float(out[0])
 
     def constraint(
         self, arc: tuple[str, str], a_max: float, rpm: float, *, linear: bool = False
@@ -1300,6 +1339,31 @@ _STOP_KEYS = {
 _STRING_KEYS = {"name", "law", "pulse", "model"}
 
 
+def _stop_from_table(table: Mapping[str, Any], where: str, skip: Iterable[str] = ()) -> StopImpact:
+    """A :class:`StopImpact` from a file's table (its keys are checked by the
+    caller; ``skip`` are the caller's own keys): the one reader of a stop, for
+    ``cyclomech impact``'s [stop] and a machine's cam_stop mechanisms. Errors start
+    with ``where``."""
+    skip = {"name", *skip}
+    kwargs: dict[str, Any] = {}
+    for k, v in table.items():
+        if k in skip:
+            continue
+        if k in _STRING_KEYS:
+            if not isinstance(v, str):
+                raise InputError(f"{where}: {k} = {v!r} must be a string")
+        elif isinstance(v, bool) or not isinstance(v, int | float):
+            raise InputError(f"{where}: {k} = {v!r} must be a number")
+        kwargs[k] = v
+    for k in ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"):
+        if k not in kwargs:
+            raise InputError(f"{where}: missing key {k!r}")
+    try:
+        return StopImpact(**kwargs)
+    except InputError as e:
+        raise InputError(f"{where}: {e}") from None
+
+
 @dataclass(frozen=True)
 class ImpactStudy:
     """An impact file: a lever with its stop and the speeds and phase angles to
@@ -1354,23 +1418,7 @@ class ImpactStudy:
         sp, sd = data["stop"], data["study"]
         _toml.check_keys(sp, _STOP_KEYS, src, "[stop]")
         _toml.check_keys(sd, {"rpm", "phase_deg", "a_max", "arc"}, src, "[study]")
-        kwargs: dict[str, Any] = {}
-        for k, v in sp.items():
-            if k == "name":
-                continue
-            if k in _STRING_KEYS:
-                if not isinstance(v, str):
-                    raise InputError(f"{src}: [stop]: {k} = {v!r} must be a string")
-            elif isinstance(v, bool) or not isinstance(v, int | float):
-                raise InputError(f"{src}: [stop]: {k} = {v!r} must be a number")
-            kwargs[k] = v
-        for k in ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"):
-            if k not in kwargs:
-                raise InputError(f"{src}: [stop]: missing key {k!r}")
-        try:
-            stop = StopImpact(**kwargs)
-        except InputError as e:
-            raise InputError(f"{src}: [stop]: {e}") from None
+        stop = _stop_from_table(sp, f"{src}: [stop]")
 
         def span(key: str, lo: float, hi: float) -> Array:
             if key not in sd:

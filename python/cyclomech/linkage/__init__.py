@@ -20,6 +20,7 @@ the fallback.
 from __future__ import annotations
 
 from . import presets
+from ._kind import LinkageMechanism
 from ._model import (
     Linkage,
     LinkageSolution,
@@ -28,6 +29,7 @@ from ._model import (
 
 __all__ = [
     "Linkage",
+    "LinkageMechanism",
     "LinkageSolution",
     "presets",
     "sweep",

@@ -61,16 +61,21 @@ Constraints over several operations need the LP, one per speed.
 
 from __future__ import annotations
 
+from .._kind import (
+    Bound,
+    Context,
+    Mechanism,
+    MechanismResult,
+    PlainResult,
+    Proportional,
+    TableContext,
+    Unbounded,
+)
+from ._kinds import KINDS, register
 from ._model import (
     SCHEMA,
-    CamStop,
-    LinkageMechanism,
     Machine,
-    Mechanism,
-    PressMechanism,
-    SpeedLimit,
     SpeedSweep,
-    TransferMechanism,
     check_parameter,
     speed_limits,
     speed_sweeps,
@@ -89,22 +94,26 @@ from ._sweep import (
 )
 
 __all__ = [
+    "KINDS",
     "SCHEMA",
-    "CamStop",
-    "LinkageMechanism",
+    "Bound",
+    "Context",
     "Machine",
     "MachineResult",
     "Mechanism",
-    "PressMechanism",
-    "SpeedLimit",
+    "MechanismResult",
+    "PlainResult",
+    "Proportional",
     "SpeedSweep",
     "SweepResult",
-    "TransferMechanism",
+    "TableContext",
+    "Unbounded",
     "analyze",
     "check_parameter",
     "dask_client",
     "dask_workers",
     "parse_range",
+    "register",
     "speed_limits",
     "speed_sweeps",
     "sweep",

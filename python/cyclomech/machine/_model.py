@@ -6,388 +6,42 @@ import copy
 import difflib
 import math
 import warnings
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import count, real, threads_arg
+from .._arrays import SPEED_CAP_RPM, count, real, speeds_rpm, threads_arg
 from .._errors import CyclomechWarning, InfeasibleError, InputError
-from .._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
-from ..cyclogram import Arc, Constraint, Cyclogram, Optimum, max_difference
-from ..impact import StopImpact, critical_speeds, phase_angles, rebounds
-from ..impact._model import _STOP_KEYS
-from ..linkage import Linkage, LinkageSolution
-from ..linkage._model import _LINKAGE_KEYS
-from ..press import STATUS, GearLeverPress, PressCriteria
-from ..transfer import TransferPath, design_transfer
+from .._kind import Array, Bound, BoundLaw, Mechanism, Proportional, TableContext
+from .._units import DEG_PER_S_PER_RPM
+from ..cyclogram import (
+    SPEED_FLOOR_RPM,
+    BoundsAt,
+    Cyclogram,
+    Optimum,
+    SpeedLimit,
+    SpeedNetwork,
+)
+from ._kinds import KINDS
 
 __all__ = [
     "SCHEMA",
-    "CamStop",
-    "LinkageMechanism",
     "Machine",
-    "Mechanism",
-    "PressMechanism",
-    "SpeedLimit",
     "SpeedSweep",
-    "TransferMechanism",
     "check_parameter",
     "speed_limits",
     "speed_sweeps",
 ]
 
-Array = npt.NDArray[np.float64]
-
 #: Version of the layout of ``results.json`` and of sweep files.
 SCHEMA = "cyclomech.machine/1"
 
-#: Highest speed searched for a speed limit [rpm]; above it the machine is unlimited.
-_SPEED_CAP_RPM = 1e6
-#: Lowest speed searched [rpm]: a cyclogram that does not fit there fits at no speed
-#: (its time-bound and rebound bounds only shrink as the speed falls).
-_SPEED_FLOOR_RPM = 1e-6
 _MACHINE_KEYS = {"name", "speed_rpm", "speed_points", "nominal_rpm", "angle_points"}
-_KINDS = ("cam_stop", "linkage", "press", "transfer")
-_CAM_KEYS = (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg"}
-_LINKAGE_EXTRA = {"kind", "max_acceleration"}
-_PRESS_KEYS = {
-    "kind",
-    "R",
-    "r",
-    "d",
-    "L",
-    "phi0_deg",
-    "offset",
-    "k_Sp",
-    "working_stroke",
-    "max_V_np",
-}
-_TRANSFER_KEYS = {
-    "kind",
-    "R_t",
-    "R_p",
-    "gap",
-    "pockets_t",
-    "pockets_p",
-    "x2",
-    "max_jerk",
-    "max_acceleration",
-}
-
-
-# --------------------------------------------------------------------- mechanisms
-@dataclass(frozen=True)
-class CamStop:
-    """A cam-driven lever that hits a limit stop (seed 000), and the operation
-    ``arc`` of the cyclogram that brings it there: at n rpm that operation's phase
-    angle must keep the first rebound within ``a_max`` [m]. ``phase_deg`` are the
-    phase angles [deg] drawn in the report's rebound curves."""
-
-    #: The ``kind`` of its table in a machine file.
-    kind: ClassVar[str] = "cam_stop"
-    name: str
-    stop: StopImpact
-    arc: Arc
-    a_max: float
-    phase_deg: Array
-
-    def min_phase_deg(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> Array:
-        """Exact smallest phase angle [deg] of the arc at each speed ``rpm``
-        (:meth:`StopImpact.min_phase_angle`; NaN where even 360° is too short).
-
-        >>> import cyclomech as cm
-        >>> lifter = cm.Machine.example().mechanisms["lifter"]
-        >>> round(float(lifter.min_phase_deg(280.0)), 4)
-        28.0271
-        """
-        return np.asarray(
-            self.stop.min_phase_angle(self.a_max, rpm, n_threads=n_threads), dtype=np.float64
-        )
-
-    def linear_min_phase_deg(
-        self, rpm: npt.ArrayLike, *, points: int = 64, n_threads: int | None = None
-    ) -> Array:
-        """The seed's linearised form at each speed ``rpm`` [deg]: the rebound fitted
-        by a line slope·t + intercept over 0.5…2 times the exact angle (as
-        :meth:`StopImpact.constraint` with ``linear=True``), then t ≥ (a_max −
-        intercept)/slope. One rebound call for all speeds.
-
-        >>> import cyclomech as cm
-        >>> lifter = cm.Machine.example().mechanisms["lifter"]
-        >>> round(float(lifter.linear_min_phase_deg(280.0)), 2)     # exact: 28.03
-        32.67
-        """
-        points = count("points", points, low=2, high=1_000_000)
-        n = _speeds("rpm", rpm).reshape(np.shape(rpm) or (1,))
-        exact = self.min_phase_deg(n, n_threads=n_threads)
-        ok = np.isfinite(exact)
-        out = np.full(n.shape, np.nan)
-        if not ok.any():
-            return out.reshape(np.shape(rpm))
-        lo = 0.5 * exact[ok]
-        hi = np.minimum(2.0 * exact[ok], 360.0)
-        s = np.linspace(0.0, 1.0, points)
-        t = lo[:, None] + (hi - lo)[:, None] * s[None, :]
-        a = self.stop.rebound(n[ok][:, None], t, n_threads=n_threads)
-        # Least squares per row, in closed form (np.polyfit row by row).
-        tm, am = t.mean(axis=1, keepdims=True), a.mean(axis=1, keepdims=True)
-        slope = ((t - tm) * (a - am)).sum(axis=1) / ((t - tm) ** 2).sum(axis=1)
-        intercept = am[:, 0] - slope * tm[:, 0]
-        out[ok] = (self.a_max - intercept) / slope
-        return out.reshape(np.shape(rpm))
-
-    def constraint(self, rpm: float) -> Constraint:
-        """The exact cyclogram constraint at ``rpm``, named ``rebound[<name>]``.
-
-        >>> import cyclomech as cm
-        >>> cm.Machine.example().mechanisms["lifter"].constraint(280.0).describe()
-        '1·t(3,7) >= 28.0271'
-        """
-        c = self.stop.constraint(self.arc, self.a_max, rpm)
-        return Constraint(c.coeffs, c.sense, c.rhs, f"rebound[{self.name}]")
-
-
-@dataclass(frozen=True)
-class LinkageMechanism:
-    """A planar linkage driven by the main shaft (one crank turn per machine
-    cycle); ``output`` is the point whose motion is reported, and
-    ``max_acceleration`` [m/s²] an optional limit on its acceleration."""
-
-    #: The ``kind`` of its table in a machine file.
-    kind: ClassVar[str] = "linkage"
-    name: str
-    linkage: Linkage
-    output: str
-    max_acceleration: float | None = None
-    #: Crank angles per turn (the machine's ``angle_points``): the grid of
-    #: :meth:`solve`, :meth:`peaks` and :meth:`speed_limit_rpm` unless given another.
-    points: int = 361
-    _peaks: dict[int, tuple[float, float]] = field(
-        default_factory=dict, init=False, repr=False, compare=False
-    )
-
-    def solve(self, points: int | None = None) -> LinkageSolution:
-        """The mechanism over one crank turn from its drawn angle, ``points``
-        angles (default :attr:`points`; the last one repeats the first).
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
-        >>> bool(m.mechanisms["knife"].solve(73).ok.all())
-        True
-        """
-        n = self.points if points is None else points
-        angles = self.linkage.drawn_angle + np.linspace(0.0, 2.0 * math.pi, n)
-        return self.linkage.solve(angles)
-
-    def peaks(self, points: int | None = None) -> tuple[float, float]:
-        """Largest |d xy/dφ| [m/rad] and |d² xy/dφ²| [m/rad²] of the output point
-        over the turn (``points`` angles, default :attr:`points`; computed once per
-        grid): at constant crank speed ω its speed and acceleration peak at ω and
-        ω² times these.
-
-        >>> import cyclomech as cm
-        >>> v, a = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].peaks()
-        >>> v > 0 and a > 0
-        True
-        """
-        n = self.points if points is None else points
-        if n in self._peaks:
-            return self._peaks[n]
-        sol = self.solve(n)
-        if not sol.ok.all():
-            bad = np.degrees(sol.angles[~sol.ok])
-            raise InputError(
-                f"mechanism {self.name!r}: the linkage cannot be assembled at crank angles "
-                f"{', '.join(f'{v:.1f}' for v in bad[:6])}{' …' if bad.size > 6 else ''} "
-                "degrees; it must turn through a whole revolution in a machine"
-            )
-        assert sol.vel is not None and sol.acc is not None
-        k = sol.index(self.output)
-        self._peaks[n] = (
-            float(np.nanmax(np.hypot(*sol.vel[:, k].T))),
-            float(np.nanmax(np.hypot(*sol.acc[:, k].T))),
-        )
-        return self._peaks[n]
-
-    def speed_limit_rpm(self, points: int | None = None) -> float:
-        """Speed [rpm] at which the output point's peak acceleration over
-        ``points`` crank angles (default :attr:`points`) reaches
-        ``max_acceleration`` (inf without a limit): ω² · max|d² xy/dφ²|.
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
-        >>> round(m.speed_limit_rpm()) > 0
-        True
-        """
-        if self.max_acceleration is None:
-            return math.inf
-        _, acc = self.peaks(points)
-        return math.sqrt(self.max_acceleration / acc) / RAD_PER_S_PER_RPM
-
-    def limit_reason(self) -> str:
-        """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
-
-        >>> import cyclomech as cm
-        >>> cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].limit_reason()
-        "the peak acceleration of point 'E' reaches max_acceleration = 8 m/s²"
-        """
-        if self.max_acceleration is None:
-            return ""
-        return (
-            f"the peak acceleration of point {self.output!r} reaches max_acceleration = "
-            f"{self.max_acceleration:g} m/s²"
-        )
-
-
-@dataclass(frozen=True)
-class PressMechanism:
-    """A gear-lever press drive whose crank turns once per machine cycle; the
-    working stroke is ``k_Sp``·S_n or ``working_stroke`` [m]; ``max_V_np`` [m/s]
-    optionally limits the slider's speed at the start of the working stroke."""
-
-    #: The ``kind`` of its table in a machine file.
-    kind: ClassVar[str] = "press"
-    name: str
-    press: GearLeverPress
-    k_Sp: float | None = None
-    working_stroke: float | None = None
-    max_V_np: float | None = None
-
-    def criteria(self, rpm: float) -> PressCriteria:
-        """The working-stroke criteria at ``rpm`` (:meth:`GearLeverPress.criteria`).
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
-        >>> round(m.mechanisms["drive"].criteria(40.0).S_n, 4)
-        0.1276
-        """
-        return self.press.criteria(
-            omega=float(rpm) * RAD_PER_S_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
-        )
-
-    def speed_limit_rpm(self) -> float:
-        """Speed [rpm] at which V_np reaches ``max_V_np`` (V_np grows as n; inf
-        without a limit).
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
-        >>> round(m.mechanisms["drive"].speed_limit_rpm(), 1)
-        54.8
-        """
-        if self.max_V_np is None:
-            return math.inf
-        c = self.criteria(1.0)
-        if not c.ok:
-            raise InputError(
-                f"mechanism {self.name!r}: the press design does not work ({c.status})"
-            )
-        return self.max_V_np / c.V_np if c.V_np > 0 else math.inf
-
-    def limit_reason(self) -> str:
-        """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
-        >>> m.mechanisms["drive"].limit_reason()
-        'V_np (the slider speed where the working stroke starts) reaches max_V_np = 5 mm/s'
-        """
-        if self.max_V_np is None:
-            return ""
-        return (
-            "V_np (the slider speed where the working stroke starts) reaches "
-            f"max_V_np = {1e3 * self.max_V_np:g} mm/s"
-        )
-
-
-@dataclass(frozen=True)
-class TransferMechanism:
-    """A transfer between a transfer rotor (pitch radius R_t, ``pockets_t``
-    pockets) and a process rotor (R_p, ``pockets_p``): each turns one pocket per
-    machine cycle, so at n rpm the peripheral speeds are V = 2π·R·n/(60·pockets)
-    [m/s]. Optional limits on the workpiece's peak jerk [m/s³] and acceleration
-    [m/s²]."""
-
-    #: The ``kind`` of its table in a machine file.
-    kind: ClassVar[str] = "transfer"
-    name: str
-    path: TransferPath
-    pockets_t: int
-    pockets_p: int
-    max_jerk: float | None = None
-    max_acceleration: float | None = None
-
-    def speeds(self, rpm: float) -> tuple[float, float]:
-        """Peripheral speeds (V_t, V_p) [m/s] at ``rpm``.
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
-        >>> [round(v, 4) for v in m.speeds(60.0)]
-        [0.1178, 0.1309]
-        """
-        w = float(_speeds("rpm", rpm)[0]) * RAD_PER_S_PER_RPM
-        return (w * self.path.R_t / self.pockets_t, w * self.path.R_p / self.pockets_p)
-
-    def peaks(self, rpm: float) -> tuple[float, float]:
-        """Peak |a| [m/s²] and |da/dt| [m/s³] of the workpiece at ``rpm``; they
-        grow as n² and n³ (the path is fixed, the speed law scales with n).
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
-        >>> a1, j1 = m.peaks(60.0); a2, j2 = m.peaks(120.0)
-        >>> round(a2 / a1, 6), round(j2 / j1, 6)
-        (4.0, 8.0)
-        """
-        acc = self.path.acceleration(self.speeds(rpm))
-        return acc.max_acceleration, acc.max_jerk
-
-    def _limits_rpm(self) -> tuple[float, float]:
-        """The speeds [rpm] at which the peak jerk and the peak acceleration reach
-        their limits (inf without one): jerk grows as n³, acceleration as n²."""
-        a1, j1 = self.peaks(1.0)
-        by_jerk = math.inf if self.max_jerk is None else (self.max_jerk / j1) ** (1.0 / 3.0)
-        by_acc = (
-            math.inf if self.max_acceleration is None else math.sqrt(self.max_acceleration / a1)
-        )
-        return by_jerk, by_acc
-
-    def speed_limit_rpm(self) -> float:
-        """Speed [rpm] at which the first of the limits is reached (inf without).
-
-        >>> import cyclomech as cm
-        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
-        >>> a, j = m.peaks(m.speed_limit_rpm())
-        >>> round(j, 6) <= m.max_jerk and round(a, 6) <= m.max_acceleration
-        True
-        """
-        if self.max_jerk is None and self.max_acceleration is None:
-            return math.inf
-        return min(self._limits_rpm())
-
-    def limit_reason(self) -> str:
-        """What sets :meth:`speed_limit_rpm`: the first limit reached (jerk where
-        both are reached at the same speed).
-
-        >>> import cyclomech as cm
-        >>> cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"].limit_reason()
-        "the workpiece's peak jerk reaches max_jerk = 10 m/s³"
-        """
-        if self.max_jerk is None and self.max_acceleration is None:
-            return ""
-        by_jerk, by_acc = self._limits_rpm()
-        if by_jerk <= by_acc:
-            return f"the workpiece's peak jerk reaches max_jerk = {self.max_jerk:g} m/s³"
-        return (
-            "the workpiece's peak acceleration reaches max_acceleration = "
-            f"{self.max_acceleration:g} m/s²"
-        )
-
-
-Mechanism = CamStop | LinkageMechanism | PressMechanism | TransferMechanism
 
 
 # --------------------------------------------------------------------- results
@@ -395,15 +49,17 @@ Mechanism = CamStop | LinkageMechanism | PressMechanism | TransferMechanism
 class SpeedSweep:
     """The machine's key figures at each speed ``rpm`` [rpm] (arrays of that shape).
 
-    ``fits``: the cyclogram fits in the cycle with every stop's rebound within its
-    limit; ``limiting_deg``: the limiting operation's optimal angle [deg] (NaN
-    where it does not fit); ``limiting_s``: the time it gets [s]; ``productivity``:
-    machine cycles per minute where it fits, else 0; ``max_rebound_m``: the largest
-    first rebound of the stops [m] with each stop's arc at its smallest admissible
-    angle (NaN without stops); ``binding``: the bounds and constraints on the
-    chain that sets the optimum (``; ``-joined); ``min_phase_deg[stop]``: each
-    stop's exact smallest phase angle [deg]; with ``linear=True``,
-    ``limiting_deg`` uses the seed's linearised rebound constraints instead.
+    ``fits``: the cyclogram fits in the cycle with every mechanism's bound;
+    ``limiting_deg``: the limiting operation's optimal angle [deg] (NaN where it
+    does not fit); ``limiting_s``: the time it gets [s]; ``productivity``: machine
+    cycles per minute where it fits, else 0; ``binding``: the bounds and
+    constraints on the chain that sets the optimum (``; ``-joined);
+    ``min_phase_deg[name]``: each bound's smallest angle [deg] (by the bound's
+    name: a stop's is its mechanism's name); ``columns``: what the mechanism kinds
+    add (:attr:`~cyclomech._kind.Mechanism.sweep_columns`; ``max_rebound_m``, the
+    largest first rebound of the stops [m] with each stop's arc at its angle in the
+    optimum, NaN without stops). With ``linear=True``, the bounds are the seed's
+    linearised forms.
     """
 
     rpm: Array
@@ -411,231 +67,14 @@ class SpeedSweep:
     limiting_deg: Array
     limiting_s: Array
     productivity: Array
-    max_rebound_m: Array
     binding: npt.NDArray[np.object_]
     min_phase_deg: dict[str, Array]
+    columns: dict[str, Array] = field(default_factory=dict)
 
-
-@dataclass(frozen=True)
-class SpeedLimit:
-    """The highest speed [rpm] at which the machine works: ``rpm`` is the least of
-    ``cyclogram_rpm`` (the cyclogram with the stops' constraints still fits) and
-    each mechanism's own limit in ``mechanisms_rpm``; ``by`` names what sets it
-    (``"cyclogram"`` or a mechanism); ``reason`` says why, in words: the
-    mechanism's criterion and its limit (``mechanisms_reason`` for each), the
-    cyclogram's chain, or that the minimum angles fit at no speed (``rpm`` 0);
-    ``binding`` the bounds and constraints on the chain at the cyclogram's limit
-    (a tuple, as :attr:`cyclomech.cyclogram.SpeedLimit.binding`)."""
-
-    rpm: float
-    by: str
-    cyclogram_rpm: float
-    mechanisms_rpm: dict[str, float]
-    binding: tuple[str, ...] = ()
-    reason: str = ""
-    mechanisms_reason: dict[str, str] = field(default_factory=dict)
-
-
-# --------------------------------------------------------------------- network
-class _Network:
-    """The cyclogram's LP as a system of difference constraints over the event
-    angles p, a zero node z and the span's end F: every operation's minimum (its
-    angle, its duration, a stop's rebound bound) and maximum, every single-operation
-    constraint, p ≥ 0, p ≤ F and F ≤ cycle. The limiting angle's optimum is the
-    shortest path from the limiting operation's start to its end (plus the cycles
-    it crosses). ``general`` lists the constraints over several operations, which
-    need the LP instead."""
-
-    def __init__(self, cg: Cyclogram, stops: Sequence[CamStop]) -> None:
-        if cg.limiting is None:
-            raise InputError(
-                f"cyclogram {cg.name!r}: a machine needs its limiting operation "
-                "([cyclogram] limiting = [from, to])"
-            )
-        self.cg = cg
-        ev = cg._events
-        V = len(ev)
-        z, F = V, V + 1
-        self.n = V + 2
-        C = cg.cycle_deg
-        labels = cg._bound_labels()
-        src: list[int] = []
-        dst: list[int] = []
-        base: list[float] = []  # constant part of each edge's weight
-        self.kind: list[str] = []  # "min", "max", "user", "cycle", ""
-        self.label: list[str] = []
-        self.op: list[int] = []
-        ops = cg._ops
-        self.min_edge = np.empty(len(ops), np.int64)
-        for e, op in enumerate(ops):
-            x, y = ev[op.src], ev[op.dst]
-            self.min_edge[e] = len(src)
-            src.append(y), dst.append(x), base.append(C * op.height)
-            self.kind.append("min"), self.label.append(labels[e]), self.op.append(e)
-            if op.max_angle_deg is not None:
-                src.append(x), dst.append(y), base.append(op.max_angle_deg - C * op.height)
-                self.kind.append("max"), self.label.append(f"max[{labels[e]}]"), self.op.append(e)
-        self.general: list[Constraint] = []
-        self.always_false: list[Constraint] = []
-        for con in cg.constraints:
-            coeff: dict[Arc, float] = {}
-            for arc, c in con.coeffs:
-                coeff[arc] = coeff.get(arc, 0.0) + c
-            terms = [(a, c) for a, c in coeff.items() if c != 0.0]
-            if len(terms) > 1:
-                self.general.append(con)
-                continue
-            if not terms:
-                holds = {"<=": con.rhs >= 0.0, ">=": con.rhs <= 0.0, "==": con.rhs == 0.0}
-                if not holds[con.sense]:
-                    self.always_false.append(con)
-                continue
-            (arc, c), bound = terms[0], con.rhs / terms[0][1]
-            op = cg.operation(arc)
-            e = cg._arc_index[op.arc]
-            x, y = ev[op.src], ev[op.dst]
-            upper = (con.sense == "<=") == (c > 0)
-            senses = ("upper", "lower") if con.sense == "==" else ("upper" if upper else "lower",)
-            for s in senses:
-                if s == "upper":  # t ≤ bound
-                    src.append(x), dst.append(y), base.append(bound - C * op.height)
-                else:  # t ≥ bound
-                    src.append(y), dst.append(x), base.append(C * op.height - bound)
-                self.kind.append("user"), self.label.append(con.name), self.op.append(e)
-        for v in range(V):  # p_v ≥ 0 (z − p_v ≤ 0) and p_v ≤ F
-            src += [v, F]
-            dst += [z, v]
-            base += [0.0, 0.0]
-            self.kind += ["", ""]
-            self.label += ["", ""]
-            self.op += [-1, -1]
-        src.append(z), dst.append(F), base.append(C)
-        self.kind.append("cycle"), self.label.append("cycle"), self.op.append(-1)
-        self.src = np.array(src, np.int64)
-        self.dst = np.array(dst, np.int64)
-        self.base = np.array(base, np.float64)
-        lim = cg.operation(cg.limiting)
-        self.source, self.target = ev[lim.src], ev[lim.dst]
-        self.lim_shift = C * lim.height
-        self.angle = np.array([op.min_angle_deg for op in ops], np.float64)
-        self.secs = np.array([op.min_duration_s for op in ops], np.float64)
-        self.stop_op = [cg._arc_index[cg.operation(s.arc).arc] for s in stops]
-        self.stop_names = [s.name for s in stops]
-
-    def minimums(self, rpm: Array, t_stop: Sequence[Array]) -> tuple[Array, npt.NDArray[np.int8]]:
-        """Each operation's minimum angle at each speed (B, E) and which lower bound
-        sets it (0: its angle, 1: its duration, 2 + k: stop k)."""
-        mins = np.broadcast_to(self.angle, (rpm.size, self.angle.size)).copy()
-        which = np.zeros(mins.shape, np.int8)
-        dur = DEG_PER_S_PER_RPM * rpm[:, None] * self.secs[None, :]
-        take = dur > mins
-        mins[take], which[take] = dur[take], 1
-        for k, (e, t) in enumerate(zip(self.stop_op, t_stop, strict=True)):
-            t = np.nan_to_num(t, nan=-np.inf)
-            take = t > mins[:, e]
-            mins[take, e], which[take, e] = t[take], 2 + k
-        return mins, which
-
-    def solve(
-        self, rpm: Array, t_stop: Sequence[Array], n_threads: int | None, *, labels: bool = True
-    ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
-        """The limiting angle [deg] (NaN: does not fit), the fit flags, the binding
-        labels (empty with ``labels=False``) and the minimum angles (B, E) at each
-        speed."""
-        mins, which = self.minimums(rpm, t_stop)
-        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
-        w[:, self.min_edge] -= mins
-        stop_ok = np.ones(rpm.size, bool)
-        for t in t_stop:
-            stop_ok &= np.isfinite(t)
-        if self.always_false:
-            stop_ok[:] = False
-        extra: list[list[str]] = []
-        if self.general:
-            value, on_path, extra = self._lp(rpm, mins, stop_ok)
-        else:
-            value, on_path = max_difference(
-                self.n, self.src, self.dst, w, self.source, self.target, n_threads=n_threads
-            )
-        value = np.where(stop_ok & np.isfinite(value), value + self.lim_shift, np.nan)
-        fits = np.isfinite(value)
-        if not labels:
-            return value, fits, np.empty(0, dtype=object), mins
-        named = self._labels(on_path, which, fits)
-        for i, names in enumerate(extra):
-            if names and fits[i]:
-                named[i] = "; ".join([named[i], *names] if named[i] else names)
-        return value, fits, named, mins
-
-    def _lp(
-        self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]
-    ) -> tuple[Array, npt.NDArray[np.bool_], list[list[str]]]:
-        """The LP at each speed, for constraints over several operations: the
-        optimum; the edges of the bounds with a shadow price as the 'path'; and the
-        priced constraints over several operations, which are no edge."""
-        from ..cyclogram._model import _LP
-
-        value = np.full(rpm.size, np.nan)
-        on_path = np.zeros((rpm.size, self.src.size), bool)
-        extra: list[list[str]] = [[] for _ in range(rpm.size)]
-        cg = self.cg
-        lim = cg.operation(cg.limiting)  # type: ignore[arg-type]
-        edge = {}  # the LP's row names of the bounds that are edges here
-        for k, (kind, lab) in enumerate(zip(self.kind, self.label, strict=True)):
-            if kind == "min":
-                edge[f"min[{lab}]"] = edge[f"duration[{lab}]"] = k
-            elif kind:
-                edge[lab] = k
-        for i in np.flatnonzero(ok):
-            lp = _LP(cg, mins[i], cg.cycle_deg, lim.arc)
-            res = lp.solve()
-            if res.status != 0:
-                continue
-            value[i] = -float(res.fun)
-            for r in lp.priced(res):
-                name = lp.names[r]
-                if name in edge:
-                    on_path[i, edge[name]] = True
-                else:
-                    extra[i].append(name)
-        return value, on_path, extra
-
-    def _labels(
-        self,
-        on_path: npt.NDArray[np.bool_],
-        which: npt.NDArray[np.int8],
-        fits: npt.NDArray[np.bool_],
-    ) -> npt.NDArray[np.object_]:
-        """``; ``-joined names of the bounds on each row's chain: the unique
-        patterns are named once. Neighbouring speeds mostly share a pattern, so
-        only the first row of each run of equal rows goes into the sort."""
-        code = np.zeros(on_path.shape, np.int16)
-        code[on_path] = 1
-        mins = code[:, self.min_edge]
-        code[:, self.min_edge] = np.where(mins > 0, 1 + which.astype(np.int16), 0)
-        code[~fits] = 0
-        starts = np.flatnonzero(np.r_[True, (code[1:] != code[:-1]).any(axis=1)])
-        patterns, of_run = np.unique(code[starts], axis=0, return_inverse=True)
-        inverse = np.repeat(of_run.reshape(-1), np.diff(np.r_[starts, code.shape[0]]))
-        names = []
-        for row in patterns:
-            parts = []
-            for k in np.flatnonzero(row):
-                kind, lab = self.kind[k], self.label[k]
-                if kind == "min":
-                    v = int(row[k]) - 1
-                    parts.append(
-                        f"min[{lab}]"
-                        if v == 0
-                        else f"duration[{lab}]"
-                        if v == 1
-                        else f"rebound[{self.stop_names[v - 2]}]"
-                    )
-                elif kind:
-                    parts.append(lab)
-            names.append("; ".join(parts))
-        out = np.array(names, dtype=object)[inverse.reshape(-1)]
-        return out
+    @property
+    def max_rebound_m(self) -> Array:
+        """The stops' column ``max_rebound_m`` [m] (NaN without stops)."""
+        return self.columns["max_rebound_m"]
 
 
 # --------------------------------------------------------------------- the machine
@@ -645,7 +84,8 @@ class Machine:
     Read one with :meth:`from_toml` (the layout is in the module's docstring);
     :meth:`speed_sweep` gives the key figures at many speeds in one pass,
     :meth:`speed_limit` the highest speed at which it works, :meth:`optimize` the
-    LP optimum of its cyclogram with the stops' constraints at one speed.
+    LP optimum of its cyclogram with the mechanisms' bounds at one speed. The
+    mechanisms are instances of the kinds in :data:`KINDS`.
 
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
@@ -668,14 +108,14 @@ class Machine:
     ) -> None:
         if not isinstance(cyclogram, Cyclogram):
             raise InputError(f"cyclogram must be a cyclomech.Cyclogram; got {cyclogram!r}")
-        rng = _speeds("speed_range_rpm", speed_range_rpm)
+        rng = speeds_rpm("speed_range_rpm", speed_range_rpm)
         if rng.size != 2 or not rng[0] < rng[1]:
             raise InputError(
                 f"speed_range_rpm = {speed_range_rpm!r} must be (from, to) in rpm with "
-                f"0 < from < to ≤ {_SPEED_CAP_RPM:g}"
+                f"0 < from < to ≤ {SPEED_CAP_RPM:g}"
             )
         if nominal_rpm is not None:
-            nominal_rpm = float(_speeds("nominal_rpm", nominal_rpm)[0])
+            nominal_rpm = float(speeds_rpm("nominal_rpm", nominal_rpm)[0])
         self.name = str(name)
         self.cyclogram = cyclogram
         self.mechanisms = dict(mechanisms)
@@ -685,8 +125,9 @@ class Machine:
         self.angle_points = count("angle_points", angle_points, low=9, high=1_000_000)
         self.source = source
         self.data = data
-        self.stops = [m for m in self.mechanisms.values() if isinstance(m, CamStop)]
-        self._network = _Network(cyclogram, self.stops)
+        self._bounded = _bounded(self.mechanisms)
+        self._network = SpeedNetwork(cyclogram, [(b.arc, b.label) for b in self.bounds()])
+        self._laws: dict[bool, list[BoundLaw]] = {}
 
     def __repr__(self) -> str:
         kinds = ", ".join(f"{k}: {type(v).__name__}" for k, v in self.mechanisms.items())
@@ -738,20 +179,20 @@ class Machine:
         if not (
             isinstance(rng, list)
             and len(rng) == 2
-            and all(_is_number(v) and math.isfinite(v) for v in rng)
-            and 0 < rng[0] < rng[1] <= _SPEED_CAP_RPM
+            and all(_toml.is_number(v) and math.isfinite(v) for v in rng)
+            and 0 < rng[0] < rng[1] <= SPEED_CAP_RPM
         ):
             raise InputError(
                 f"{source}: [machine]: speed_rpm = {rng!r} must be [from, to] in rpm with "
-                f"0 < from < to ≤ {_SPEED_CAP_RPM:g}"
+                f"0 < from < to ≤ {SPEED_CAP_RPM:g}"
             )
-        speed_points = _int_key(head, "speed_points", 61, 2, source, "[machine]")
-        angle_points = _int_key(head, "angle_points", 361, 9, source, "[machine]")
+        speed_points = _toml.whole(head, "speed_points", 61, 2, f"{source}: [machine]")
+        angle_points = _toml.whole(head, "angle_points", 361, 9, f"{source}: [machine]")
         nominal = head.get("nominal_rpm")
-        if nominal is not None and not (_is_number(nominal) and 0 < nominal <= _SPEED_CAP_RPM):
+        if nominal is not None and not (_toml.is_number(nominal) and 0 < nominal <= SPEED_CAP_RPM):
             raise InputError(
                 f"{source}: [machine]: nominal_rpm = {nominal!r} must be a speed in rpm, "
-                f"0 < nominal_rpm ≤ {_SPEED_CAP_RPM:g}"
+                f"0 < nominal_rpm ≤ {SPEED_CAP_RPM:g}"
             )
         if "cyclogram" not in data or "operation" not in data:
             raise InputError(
@@ -775,8 +216,9 @@ class Machine:
         table = data.get("mechanism", {})
         if not isinstance(table, Mapping):
             raise InputError(f"{source}: [mechanism] must be a table of [mechanism.<name>] tables")
+        ctx = TableContext(cg, source, angle_points)
         for key, spec in table.items():
-            mechs[key] = _mechanism(key, spec, cg, source, angle_points)
+            mechs[key] = _mechanism(key, spec, ctx)
         _near_misses(cg, mechs, source)
         return cls(
             name,
@@ -868,14 +310,14 @@ class Machine:
         # Only the named mechanisms' tables changed: validate and build those (as
         # from_dict would), and share the cyclogram and its network with this one.
         mechs = dict(self.mechanisms)
+        ctx = TableContext(self.cyclogram, self.source, self.angle_points)
         for name in touched:
-            spec = data["mechanism"][name]
-            mechs[name] = _mechanism(name, spec, self.cyclogram, self.source, self.angle_points)
-        stops = [m for m in mechs.values() if isinstance(m, CamStop)]
-        if [(m.name, m.arc) for m in stops] != [(m.name, m.arc) for m in self.stops]:
-            return Machine.from_dict(data, self.source)  # the stops bound other operations
+            mechs[name] = _mechanism(name, data["mechanism"][name], ctx)
+        bounded = _bounded(mechs)
+        if [b for m in bounded for b in m.bounds()] != self.bounds():
+            return Machine.from_dict(data, self.source)  # the bounds are on other operations
         other = copy.copy(self)
-        other.mechanisms, other.data, other.stops = mechs, data, stops
+        other.mechanisms, other.data, other._bounded, other._laws = mechs, data, bounded, {}
         return other
 
     # ----------------------------------------------------------------- results
@@ -888,21 +330,45 @@ class Machine:
         """
         return np.linspace(*self.speed_range_rpm, self.speed_points)
 
-    def stop_angles(
-        self, rpm: Array, *, linear: bool = False, n_threads: int | None = None
-    ) -> list[Array]:
-        """Each stop's smallest phase angle [deg] at each speed: exact, or the
-        seed's linearised form with ``linear=True``.
+    def bounds(self) -> list[Bound]:
+        """The lower bounds the mechanisms put on cyclogram operations, in the
+        order of the mechanisms.
+
+        >>> import cyclomech as cm
+        >>> [b.label for b in cm.Machine.example().bounds()]
+        ['rebound[lifter]']
+        """
+        return [b for m in self._bounded for b in m.bounds()]
+
+    def bound_laws(self, *, linear: bool = False, n_threads: int | None = None) -> list[BoundLaw]:
+        """The law of each of :meth:`bounds` (the smallest angle [deg] at any
+        speed), worked out once per machine (and once for all the machines of a
+        sweep, :func:`speed_sweeps`); ``linear``: the seed's linearised forms.
 
         >>> import numpy as np, cyclomech as cm
-        >>> [np.round(t, 2).tolist() for t in cm.Machine.example().stop_angles(np.array([300.0]))]
-        [[30.03]]
+        >>> [law] = cm.Machine.example().bound_laws()
+        >>> np.round(law(np.array([300.0])), 2).tolist()
+        [30.03]
         """
-        rpm = _speeds("rpm", rpm)
-        if linear:
-            return [s.linear_min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
-        slopes = _stop_slopes([self], threads_arg(n_threads))[0]
-        return [phase_angles(rpm, k) for k in slopes]
+        if linear not in self._laws:
+            self._laws[linear] = _laws([self], linear, threads_arg(n_threads))[0]
+        return self._laws[linear]
+
+    def bound_angles(
+        self, rpm: npt.ArrayLike, *, linear: bool = False, n_threads: int | None = None
+    ) -> dict[str, Array]:
+        """Each bound's smallest angle [deg] at each speed ``rpm``, by the bound's
+        name (:class:`~cyclomech._kind.Bound`): exact, or the seed's linearised form
+        with ``linear=True``.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> t = cm.Machine.example().bound_angles([300.0])
+        >>> {k: np.round(v, 2).tolist() for k, v in t.items()}
+        {'lifter': [30.03]}
+        """
+        n = speeds_rpm("rpm", rpm)
+        laws = self.bound_laws(linear=linear, n_threads=n_threads)
+        return {b.name: law(n) for b, law in zip(self.bounds(), laws, strict=True)}
 
     def speed_sweep(
         self,
@@ -920,23 +386,24 @@ class Machine:
         >>> s.fits.tolist(), round(float(s.limiting_deg[0]), 3)
         ([True, False], 264.971)
         """
-        n = self.speed_grid() if rpm is None else _speeds("rpm", rpm)
+        n = self.speed_grid() if rpm is None else speeds_rpm("rpm", rpm)
         return speed_sweeps([self], n, linear=linear, n_threads=n_threads)[0]
 
     def fits(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> npt.NDArray[np.bool_]:
-        """Whether the cyclogram with the stops' constraints fits at each speed.
+        """Whether the cyclogram with the mechanisms' bounds fits at each speed.
 
         >>> import cyclomech as cm
         >>> cm.Machine.example().fits([300.0, 900.0]).tolist()
         [True, False]
         """
-        n = _speeds("rpm", rpm)
+        n = speeds_rpm("rpm", rpm)
         threads = threads_arg(n_threads)
-        return _fits(self._network, _stop_slopes([self], threads), n[None, :], threads)[0]
+        at = _bounds_at([self.bound_laws(n_threads=threads)])
+        return self._network.fits(at, n[None, :], threads)[0]
 
     def cyclogram_speed_limit(self, *, n_threads: int | None = None, rtol: float = 1e-10) -> float:
-        """The highest speed [rpm] at which the cyclogram with the stops'
-        constraints fits (inf if it fits up to 1e6 rpm; 0 if it fits at no
+        """The highest speed [rpm] at which the cyclogram with the mechanisms'
+        bounds fits (inf if it fits up to 1e6 rpm; 0 if it fits at no
         speed from 1e-6 rpm up), to ``rtol`` (:func:`speed_limits`' search).
 
         >>> import cyclomech as cm
@@ -945,10 +412,8 @@ class Machine:
         """
         rtol = _rtol(rtol)
         threads = threads_arg(n_threads)
-        slopes = _stop_slopes([self], threads)
-        return float(
-            _cyclogram_limits(self._network, slopes, self._search_start(), threads, rtol)[0]
-        )
+        at = _bounds_at([self.bound_laws(n_threads=threads)])
+        return float(self._network.speed_limits(at, 1, self._search_start(), threads, rtol)[0])
 
     def speed_limit(self, *, n_threads: int | None = None) -> SpeedLimit:
         """The machine's speed limit: the cyclogram's and every mechanism's
@@ -979,8 +444,9 @@ class Machine:
         return min(self.speed_range_rpm[1], lim.rpm) if lim.rpm > 0 else self.speed_range_rpm[0]
 
     def cyclogram_at(self, rpm: float, *, linear: bool = False) -> Cyclogram:
-        """A copy of the cyclogram at ``rpm`` with each stop's constraint added
-        (exact, or the seed's linearised form with ``linear=True``).
+        """A copy of the cyclogram at ``rpm`` with each bound added as a constraint
+        (exact, or the seed's linearised form with ``linear=True``, where the
+        mechanism has one).
 
         >>> import cyclomech as cm
         >>> cg = cm.Machine.example().cyclogram_at(300.0)
@@ -989,18 +455,14 @@ class Machine:
         """
         cg = copy.deepcopy(self.cyclogram)
         cg.speed_rpm = float(rpm)
-        for s in self.stops:
-            if linear:
-                c = s.stop.constraint(s.arc, s.a_max, rpm, linear=True)
-                cg.add_constraint(dict(c.coeffs), c.sense, c.rhs, name=f"rebound[{s.name}]")
-            else:
-                c = s.constraint(rpm)
+        for m in self._bounded:
+            for c in m.constraints(float(rpm), linear=linear):
                 cg.add_constraint(dict(c.coeffs), c.sense, c.rhs, name=c.name)
         return cg
 
     def optimize(self, rpm: float) -> Optimum:
         """The LP optimum (HiGHS) of the cyclogram with the stops' exact
-        constraints at ``rpm``: angles, shadow prices, binding bounds.
+        bounds at ``rpm``: angles, shadow prices, binding bounds.
 
         >>> import cyclomech as cm
         >>> round(cm.Machine.example().optimize(300.0).objective, 3)
@@ -1015,9 +477,9 @@ class Machine:
 
 
 # --------------------------------------------------------------------- many machines
-#: Relative bracket of the stops' critical speeds: min_phase_angle's default 1e-9°
-#: over at most 360°.
-_STOP_RTOL = 1e-9 / 360.0
+def _bounded(mechanisms: Mapping[str, Mechanism]) -> list[Mechanism]:
+    """The mechanisms that bound cyclogram operations, in order."""
+    return [m for m in mechanisms.values() if m.bounds()]
 
 
 def _networks(machines: Sequence[Machine]) -> dict[int, list[int]]:
@@ -1029,70 +491,51 @@ def _networks(machines: Sequence[Machine]) -> dict[int, list[int]]:
     return groups
 
 
-def _stop_slopes(machines: Sequence[Machine], n_threads: int | None) -> Array:
-    """Each machine's stops' smallest phase angle per rpm [deg/rpm], (D, K): t_min
-    = n·slope (:meth:`StopImpact.min_phase_angle`); one search for every stop."""
-    stops = [s for m in machines for s in m.stops]
-    k = len(machines[0].stops) if machines else 0
-    if not stops:
-        return np.zeros((len(machines), k))
-    v = critical_speeds(
-        [s.stop for s in stops], [s.a_max for s in stops], rtol=_STOP_RTOL, n_threads=n_threads
-    )
-    slopes = [s.stop.phase_per_rpm(x) for s, x in zip(stops, v, strict=True)]
-    return np.array(slopes, dtype=np.float64).reshape(len(machines), k)
-
-
-def _stop_bounds(slopes: Array, rpm: Array) -> list[Array]:
-    """Each stop's smallest phase angle [deg] for machine d (stop slopes
-    ``slopes[d]``, (D, K)) at its speeds ``rpm[d]`` (D, M): one (D·M,) array a stop,
-    in the row order of ``rpm.reshape(-1)``."""
-    m = rpm.shape[1]
-    rows = rpm.reshape(-1)
-    return [phase_angles(rows, np.repeat(slopes[:, k], m)) for k in range(slopes.shape[1])]
-
-
-def _fits(net: _Network, slopes: Array, rpm: Array, n_threads: int | None) -> npt.NDArray[np.bool_]:
-    """Whether machine d (stop slopes ``slopes[d]``) fits at the speeds ``rpm[d]``,
-    (D, M): one shortest-path call for all."""
-    t_stop = _stop_bounds(slopes, rpm)
-    return net.solve(rpm.reshape(-1), t_stop, n_threads, labels=False)[1].reshape(rpm.shape)
-
-
-def _cyclogram_limits(
-    net: _Network, slopes: Array, start: float, n_threads: int | None, rtol: float
-) -> Array:
-    """The cyclogram speed limit [rpm] of each machine (stop slopes (D, K)), (D,):
-    feasibility only shrinks as the speed grows, so each is bracketed by speeds 4×
-    apart from ``start`` up to the cap (inf if it fits there; 0 if it does not fit
-    at the floor) and the bracket refined on grids of 64 speeds to ``rtol``;
-    every step is one shortest-path call for all machines still searching."""
-    D = slopes.shape[0]
-    out = np.full(D, np.nan)
-    ok = _fits(net, slopes, np.full((D, 1), _SPEED_FLOOR_RPM), n_threads)[:, 0]
-    out[~ok] = 0.0
-    lo, hi = np.full(D, _SPEED_FLOOR_RPM), np.full(D, start)
-    act = np.flatnonzero(ok)
-    while act.size:
-        f = _fits(net, slopes[act], hi[act, None], n_threads)[:, 0]
-        capped = f & (hi[act] >= _SPEED_CAP_RPM)
-        out[act[capped]] = math.inf
-        act = act[f & ~capped]
-        lo[act], hi[act] = hi[act], np.minimum(4.0 * hi[act], _SPEED_CAP_RPM)
-    act = np.flatnonzero(np.isnan(out))
-    while act.size:
-        done = hi[act] - lo[act] <= rtol * hi[act]
-        out[act[done]] = lo[act[done]]
-        act = act[~done]
-        if not act.size:
-            break
-        grid = np.linspace(lo[act], hi[act], 66, axis=1)[:, 1:-1]
-        fine = _fits(net, slopes[act], grid, n_threads)
-        k = np.where(fine.all(axis=1), grid.shape[1], np.argmin(fine, axis=1))
-        r = np.arange(act.size)
-        lo[act] = np.where(k > 0, grid[r, np.maximum(k - 1, 0)], lo[act])
-        hi[act] = np.where(k < grid.shape[1], grid[r, np.minimum(k, grid.shape[1] - 1)], hi[act])
+def _laws(machines: Sequence[Machine], linear: bool, n_threads: int | None) -> list[list[BoundLaw]]:
+    """Each machine's bound laws, (D, K): the machines share a network, so their
+    bounded mechanisms match one to one; each kind works out the laws of all the
+    designs' mechanisms in one batch (one search for all the stops)."""
+    if not machines:
+        return []
+    out: list[list[BoundLaw]] = [[] for _ in machines]
+    for j, first in enumerate(machines[0]._bounded):
+        same = [m._bounded[j] for m in machines]
+        for d, laws in enumerate(type(first).bound_laws(same, linear=linear, n_threads=n_threads)):
+            out[d].extend(laws)
     return out
+
+
+def _group_laws(
+    machines: Sequence[Machine], linear: bool, n_threads: int | None
+) -> list[list[BoundLaw]]:
+    """The bound laws of machines that share a network: one machine's are kept on
+    it (worked out once per machine); many are worked out in one batch."""
+    if len(machines) == 1:
+        return [machines[0].bound_laws(linear=linear, n_threads=n_threads)]
+    return _laws(machines, linear, n_threads)
+
+
+def _bounds_at(laws: Sequence[Sequence[BoundLaw]]) -> BoundsAt:
+    """``bounds_at(designs, rpm)`` over the laws (D, K) of
+    :meth:`SpeedNetwork.speed_limits`: bound k of design ``designs[i]`` at the
+    speeds ``rpm[i]``; the speed-proportional laws of all the designs in one
+    vectorised step."""
+    K = len(laws[0]) if laws else 0
+    prop = [all(isinstance(row[k], Proportional) for row in laws) for k in range(K)]
+    slopes = [np.array([row[k].per_rpm if prop[k] else 0.0 for row in laws]) for k in range(K)]
+
+    def at(designs: npt.NDArray[np.int64], rpm: Array) -> list[Array]:
+        m = rpm.shape[1]
+        rows = rpm.reshape(-1)
+        out = []
+        for k in range(K):
+            if prop[k]:
+                out.append(Proportional.evaluate(rows, np.repeat(slopes[k][designs], m)))
+            else:
+                out.append(np.concatenate([laws[d][k](rpm[i]) for i, d in enumerate(designs)]))
+        return out
+
+    return at
 
 
 def speed_sweeps(
@@ -1104,9 +547,9 @@ def speed_sweeps(
 ) -> list[SpeedSweep]:
     """:meth:`Machine.speed_sweep` of many machines at the same speeds ``rpm``
     [rpm]. Variants of one file (:meth:`Machine.with_values`) share their
-    cyclogram: their stops are searched together and every design at every speed
-    goes into one shortest-path call; each stop's rebounds at the optimum are one
-    call per pulse table.
+    cyclogram: their bounds are worked out together and every design at every
+    speed goes into one shortest-path call; each kind's sweep columns are one call
+    for all the designs.
 
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
@@ -1114,32 +557,30 @@ def speed_sweeps(
     >>> round(float(a.limiting_deg[0]), 3), round(float(b.limiting_deg[0]), 3)
     (264.971, 275.0)
     """
-    n = _speeds("rpm", rpm)
+    n = speeds_rpm("rpm", rpm)
     threads = threads_arg(n_threads)
     out: list[SpeedSweep | None] = [None] * len(machines)
     S = n.size
+    columns = sorted({c for cls in KINDS.values() for c in cls.sweep_columns})
     for idx in _networks(machines).values():
         ms = [machines[i] for i in idx]
         net, D = ms[0]._network, len(ms)
-        rows = np.tile(n, D)
-        if linear:
-            each = [m.stop_angles(n, linear=True, n_threads=threads) for m in ms]
-            t_stop = [np.concatenate([t[k] for t in each]) for k in range(len(net.stop_op))]
-        else:
-            slopes = _stop_slopes(ms, threads)
-            t_stop = _stop_bounds(slopes, rows.reshape(D, S))
-        value, fits, binding, mins = net.solve(rows, t_stop, threads)
-        rebound = np.full(rows.shape, np.nan)
-        for k, e in enumerate(net.stop_op):
-            stops = [m.stops[k].stop for m in ms]
-            # Impact speeds at the operation's optimum angle t (its minimum): the
-            # angle per rpm at 1 m/s is phase_per_rpm(1), so v0 = n·that/t; 1 m/s
-            # where the machine does not fit (dropped).
-            per = np.repeat([s.phase_per_rpm(1.0) for s in stops], S)
-            v0 = np.where(fits, rows * per / np.where(fits, mins[:, e], 1.0), 1.0)
-            a = rebounds(stops, v0.reshape(D, S), n_threads=threads).reshape(-1)
-            rebound = np.fmax(rebound, np.where(fits, a, np.nan))
-        names = [st.name for st in ms[0].stops]
+        laws = _group_laws(ms, linear, threads)
+        grid = np.tile(n, (D, 1))
+        t_bound = _bounds_at(laws)(np.arange(D), grid)
+        rows = grid.reshape(-1)
+        value, fits, binding, mins = net.solve(rows, t_bound, threads)
+        extra = {c: np.full(rows.shape, np.nan) for c in columns}
+        k = 0
+        for j, first in enumerate(ms[0]._bounded):
+            nb = len(first.bounds())
+            angles = [mins[:, net.bound_op[k + i]] for i in range(nb)]
+            same = [m._bounded[j] for m in ms]
+            got = type(first).sweep_values(same, grid, angles, fits, n_threads=threads)
+            for c, v in got.items():
+                extra[c] = np.fmax(extra.get(c, np.full(rows.shape, np.nan)), v)
+            k += nb
+        names = [b.name for b in ms[0].bounds()]
         for j, i in enumerate(idx):
             r = slice(j * S, (j + 1) * S)
             out[i] = SpeedSweep(
@@ -1148,9 +589,9 @@ def speed_sweeps(
                 limiting_deg=value[r],
                 limiting_s=value[r] / (DEG_PER_S_PER_RPM * n),
                 productivity=np.where(fits[r], n, 0.0),
-                max_rebound_m=rebound[r],
                 binding=binding[r],
-                min_phase_deg={name: t[r] for name, t in zip(names, t_stop, strict=True)},
+                min_phase_deg={name: t[r] for name, t in zip(names, t_bound, strict=True)},
+                columns={c: v[r] for c, v in extra.items()},
             )
     return out  # type: ignore[return-value]
 
@@ -1172,18 +613,16 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
     for idx in _networks(machines).values():
         ms = [machines[i] for i in idx]
         net = ms[0]._network
-        slopes = _stop_slopes(ms, threads)
-        cg = _cyclogram_limits(net, slopes, ms[0]._search_start(), threads, 1e-10)
-        at = np.flatnonzero((cg > 0.0) & np.isfinite(cg))
+        laws = _group_laws(ms, False, threads)
+        at = _bounds_at(laws)
+        cg = net.speed_limits(at, len(ms), ms[0]._search_start(), threads, 1e-10)
+        ok = np.flatnonzero((cg > 0.0) & np.isfinite(cg))
         binding = np.full(len(ms), "", dtype=object)
-        if at.size:
-            t_stop = _stop_bounds(slopes[at], cg[at, None])
-            binding[at] = net.solve(cg[at], t_stop, threads)[2]
+        if ok.size:
+            binding[ok] = net.solve(cg[ok], at(ok, cg[ok, None]), threads)[2]
         for j, (i, m) in enumerate(zip(idx, ms, strict=True)):
             mech, why = {}, {}
             for k, x in m.mechanisms.items():
-                if isinstance(x, CamStop):
-                    continue
                 if id(x) not in own:
                     own[id(x)] = float(x.speed_limit_rpm())
                 if math.isfinite(own[id(x)]):
@@ -1195,18 +634,26 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
                     by, rpm = k, v
             chain = tuple(b for b in str(binding[j]).split("; ") if b)
             reason = why[by] if by != "cyclogram" else _cyclogram_reason(m, rpm, chain)
-            out[i] = SpeedLimit(rpm, by, float(cg[j]), mech, chain, reason, why)
+            out[i] = SpeedLimit(
+                rpm,
+                binding=chain,
+                reason=reason,
+                by=by,
+                cyclogram_rpm=float(cg[j]),
+                mechanisms_rpm=mech,
+                mechanisms_reason=why,
+            )
     return out  # type: ignore[return-value]
 
 
 def _cyclogram_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> str:
     """Why the cyclogram limits machine ``m`` at ``rpm``, in words."""
     if math.isinf(rpm):
-        return f"nothing limits the speed up to {_SPEED_CAP_RPM:g} rpm"
+        return f"nothing limits the speed up to {SPEED_CAP_RPM:g} rpm"
     if rpm > 0:
         bounded = f"; bounded by {', '.join(chain)}" if chain else ""
         return "the cyclogram fills the cycle" + bounded
-    # Fits at no speed: the operations' durations and the stops' bounds vanish as the
+    # Fits at no speed: the operations' durations and the bounds vanish as the
     # speed falls, so what is left is the minimum angles and the constraints.
     try:
         m.cyclogram.max_speed_rpm()
@@ -1217,10 +664,10 @@ def _cyclogram_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> str:
             f"depend on the speed): {text}"
         )
     try:
-        m.cyclogram_at(_SPEED_FLOOR_RPM).optimize()
+        m.cyclogram_at(SPEED_FLOOR_RPM).optimize()
     except InfeasibleError as e:
         return f"the cyclogram's bounds and constraints conflict at any speed: {e}"
-    return f"the cyclogram does not fit even at {_SPEED_FLOOR_RPM:g} rpm"
+    return f"the cyclogram does not fit even at {SPEED_FLOOR_RPM:g} rpm"
 
 
 # --------------------------------------------------------------------- parsing
@@ -1258,21 +705,6 @@ def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     return None
 
 
-def _is_number(v: Any) -> bool:
-    return isinstance(v, int | float) and not isinstance(v, bool)
-
-
-def _int_key(
-    table: Mapping[str, Any], key: str, default: int, low: int, source: str, where: str
-) -> int:
-    v = table.get(key, default)
-    if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= 1_000_000:
-        raise InputError(
-            f"{source}: {where}: {key} = {v!r} must be a whole number from {low} to 1000000"
-        )
-    return v
-
-
 def _rtol(value: Any) -> float:
     """A relative tolerance of a speed search: finite, in [1e-14, 0.5] (below, the
     64-speed refinement cannot shrink its bracket in float64; at 1 and above it
@@ -1284,20 +716,6 @@ def _rtol(value: Any) -> float:
     if not 1e-14 <= v <= 0.5:
         raise InputError(f"rtol = {value!r} must be a relative tolerance in [1e-14, 0.5]")
     return v
-
-
-def _speeds(name: str, value: npt.ArrayLike) -> Array:
-    try:
-        n = np.asarray(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be speeds in rpm; got {value!r}") from None
-    bad = ~(np.isfinite(n) & (n > 0) & (n <= _SPEED_CAP_RPM))
-    if n.size == 0 or bad.any():
-        got = f"{float(n[np.argmax(bad)]):g}" if n.size else "no speeds"
-        raise InputError(
-            f"{name} must hold positive speeds in rpm, each in (0, {_SPEED_CAP_RPM:g}]; got {got}"
-        )
-    return n
 
 
 def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
@@ -1315,14 +733,6 @@ def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
             f"are {', '.join(sorted(mechs)) or '(none)'}"
         )
     return table, parts[1]
-
-
-_KIND_KEYS: dict[str, set[str]] = {
-    "cam_stop": set(_CAM_KEYS),
-    "linkage": _LINKAGE_KEYS | _LINKAGE_EXTRA,
-    "press": _PRESS_KEYS,
-    "transfer": _TRANSFER_KEYS,
-}
 
 
 def check_parameter(machine: Machine, path: str) -> None:
@@ -1345,8 +755,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     if head == "machine":
         allowed, where = _MACHINE_KEYS - {"name", "speed_rpm"}, "[machine]"
     else:
-        allowed, where = _KIND_KEYS[machine.mechanisms[head].kind], f"[mechanism.{head}]"
-        allowed = allowed - {"kind", "arc", "name"}
+        kind = type(machine.mechanisms[head])
+        allowed, where = set(kind.keys - kind.fixed_keys), f"[mechanism.{head}]"
     if key not in allowed:
         raise InputError(
             f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
@@ -1355,199 +765,18 @@ def check_parameter(machine: Machine, path: str) -> None:
         )
 
 
-def _number(spec: Mapping[str, Any], key: str, where: str, unit: str) -> float:
-    v = spec[key]
-    if not _is_number(v) or not math.isfinite(v):
-        raise InputError(f"{where}: {key} = {v!r} must be a finite number {unit}")
-    return float(v)
-
-
-def _optional(spec: Mapping[str, Any], key: str, where: str, unit: str) -> float | None:
-    if key not in spec:
-        return None
-    v = _number(spec, key, where, unit)
-    if v <= 0:
-        raise InputError(f"{where}: {key} = {v!r} must be positive {unit}")
-    return v
-
-
-def _require(spec: Mapping[str, Any], keys: Sequence[str], where: str) -> None:
-    for k in keys:
-        if k not in spec:
-            raise InputError(f"{where}: missing key {k!r}")
-
-
-def _mechanism(key: str, spec: Any, cg: Cyclogram, source: str, points: int) -> Mechanism:
-    where = f"{source}: [mechanism.{key}]"
+def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:
+    """The mechanism of the table ``[mechanism.<key>]``, by its kind's parser."""
+    where = ctx.where(key)
     if not isinstance(spec, Mapping):
         raise InputError(f"{where} must be a table; got {spec!r}")
     kind = spec.get("kind")
-    if kind not in _KINDS:
-        raise InputError(f"{where}: kind = {kind!r} must be one of {', '.join(_KINDS)}")
-    build: dict[str, Callable[..., Mechanism]] = {
-        "cam_stop": _cam_stop,
-        "linkage": _linkage,
-        "press": _press,
-        "transfer": _transfer,
-    }
+    if kind not in KINDS:
+        raise InputError(f"{where}: kind = {kind!r} must be one of {', '.join(KINDS)}")
     try:
-        return build[kind](key, spec, cg, source, where, points)
+        return KINDS[kind].from_table(key, spec, ctx)
     except (InputError, InfeasibleError) as e:
         # A mechanism that cannot work (a transition too long for its gap, say) is a
         # mistake in the file: an InputError naming the file and the table.
         msg = str(e)
-        raise InputError(msg if msg.startswith(source) else f"{where}: {msg}") from None
-
-
-def _cam_stop(
-    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
-) -> CamStop:
-    _toml.check_keys(spec, _CAM_KEYS, source, f"[mechanism.{key}]")
-    _require(spec, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where)
-    _require(spec, ("arc", "a_max"), where)
-    kwargs: dict[str, Any] = {}
-    for k, v in spec.items():
-        if k in ("kind", "arc", "a_max", "phase_deg"):
-            continue
-        if k in ("law", "pulse", "model"):
-            if not isinstance(v, str):
-                raise InputError(f"{where}: {k} = {v!r} must be a string")
-        elif not _is_number(v):
-            raise InputError(f"{where}: {k} = {v!r} must be a number")
-        kwargs[k] = v
-    stop = StopImpact(**kwargs)
-    arc = spec["arc"]
-    if not (isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)):
-        raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
-    known = [op.arc for op in cg.operations]
-    if (arc[0], arc[1]) not in known:
-        listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
-        raise InputError(
-            f"{where}: arc = {arc!r} is not an operation of the cyclogram; the operations "
-            f"are {listing}"
-        )
-    a_max = _number(spec, "a_max", where, "[m]")
-    if a_max <= 0:
-        raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
-    phase = spec.get("phase_deg", [20.0, 60.0, 5])
-    if not (
-        isinstance(phase, list)
-        and len(phase) == 3
-        and all(_is_number(v) for v in phase)
-        and isinstance(phase[2], int)
-        and 1 <= phase[2] <= 50
-        and all(0 < v <= 360 for v in phase[:2])
-    ):
-        raise InputError(
-            f"{where}: phase_deg = {phase!r} must be [from, to, count] with from and to in "
-            "(0, 360] degrees and a whole count from 1 to 50"
-        )
-    return CamStop(
-        key, stop, (arc[0], arc[1]), a_max, np.linspace(float(phase[0]), float(phase[1]), phase[2])
-    )
-
-
-def _linkage(
-    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
-) -> LinkageMechanism:
-    _toml.check_keys(spec, _LINKAGE_KEYS | _LINKAGE_EXTRA, source, f"[mechanism.{key}]")
-    table = {k: v for k, v in spec.items() if k not in _LINKAGE_EXTRA}
-    lk = Linkage.from_dict(table, source, f"[mechanism.{key}]")
-    limit = _optional(spec, "max_acceleration", where, "[m/s²]")
-    mech = LinkageMechanism(key, lk, lk.output or lk.names[-1], limit, points)
-    mech.peaks()  # must assemble over the whole turn
-    return mech
-
-
-def _press(
-    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
-) -> PressMechanism:
-    _toml.check_keys(spec, _PRESS_KEYS, source, f"[mechanism.{key}]")
-    _require(spec, ("R", "r", "d", "L", "phi0_deg"), where)
-    if ("k_Sp" in spec) == ("working_stroke" in spec):
-        raise InputError(
-            f"{where}: give one of k_Sp (a fraction of the stroke) or working_stroke [m]"
-        )
-    geo = {k: _number(spec, k, where, "[m]") for k in ("R", "r", "d", "L")}
-    phi0 = math.radians(_number(spec, "phi0_deg", where, "[deg]"))
-    offset = _number(spec, "offset", where, "[m]") if "offset" in spec else 0.0
-    press = GearLeverPress(phi0=phi0, offset=offset, **geo)
-    mech = PressMechanism(
-        key,
-        press,
-        k_Sp=_number(spec, "k_Sp", where, "") if "k_Sp" in spec else None,
-        working_stroke=(
-            _number(spec, "working_stroke", where, "[m]") if "working_stroke" in spec else None
-        ),
-        max_V_np=_optional(spec, "max_V_np", where, "[m/s]"),
-    )
-    c = mech.criteria(60.0)
-    if not c.ok:
-        raise InputError(f"{where}: {_press_failure(press, c, mech)}")
-    return mech
-
-
-def _press_failure(press: GearLeverPress, c: PressCriteria, mech: PressMechanism) -> str:
-    """Why the press design ``c`` does not work, with the keys to change and their
-    admissible values."""
-    if c.status == STATUS[1]:
-        # The rod reaches the guide x = offset iff |x_pin − offset| < L all the turn.
-        # The pin's path is the planet's, whatever L and offset: trace it with a rod
-        # that always reaches (α counts from a BDC, which this design lacks).
-        tracer = replace(press, L=2.0 * (press.R + press.d) + 1.0, offset=0.0)
-        x = tracer.solve(np.linspace(0.0, 2.0 * math.pi, 3601)).pin[:, 0]
-        lo, hi = float(x.min()), float(x.max())
-        reach = max(hi - press.offset, press.offset - lo)
-        text = (
-            f"the rod (L = {press.L:g} m) cannot reach the slider's guide x = offset = "
-            f"{press.offset:g} m all the turn: the pin runs over x = {lo:.4g} … {hi:.4g} m, so "
-            f"L must exceed {reach:.4g} m at this offset"
-        )
-        if hi - lo < 2.0 * press.L:
-            text += f", or offset must lie in ({hi - press.L:.4g}, {lo + press.L:.4g}) m for this L"
-        return text
-    if c.status == STATUS[3]:
-        S_n = press.criteria(omega=1.0, k_Sp=1.0).S_n
-        return (
-            f"working_stroke = {mech.working_stroke!r} m exceeds the nominal stroke "
-            f"S_n = {S_n:.4g} m of this design; give working_stroke < {S_n:.4g} m or k_Sp in (0, 1]"
-        )
-    given = (
-        f"k_Sp = {mech.k_Sp!r}"
-        if mech.working_stroke is None
-        else f"working_stroke = {mech.working_stroke!r} m"
-    )
-    return (
-        f"{c.status} ({given}): give a shorter working stroke, or change the design "
-        "(d, L, phi0_deg)"
-    )
-
-
-def _transfer(
-    key: str, spec: Mapping[str, Any], cg: Cyclogram, source: str, where: str, points: int
-) -> TransferMechanism:
-    _toml.check_keys(spec, _TRANSFER_KEYS, source, f"[mechanism.{key}]")
-    _require(spec, ("R_t", "R_p", "gap", "pockets_t", "pockets_p"), where)
-    R_t, R_p = _number(spec, "R_t", where, "[m]"), _number(spec, "R_p", where, "[m]")
-    gap = _number(spec, "gap", where, "[m]")
-    pockets = []
-    for k in ("pockets_t", "pockets_p"):
-        v = spec[k]
-        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 10_000:
-            raise InputError(f"{where}: {k} = {v!r} must be a whole number of pockets ≥ 1")
-        pockets.append(v)
-    if gap <= 0:
-        raise InputError(f"{where}: gap = {gap!r} must be positive [m] (pitch circles apart)")
-    x2 = _number(spec, "x2", where, "[m]") if "x2" in spec else None
-    if x2 is None:
-        w = RAD_PER_S_PER_RPM
-        x2 = design_transfer(R_t, R_p, gap, (w * R_t / pockets[0], w * R_p / pockets[1])).x2
-    path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
-    return TransferMechanism(
-        key,
-        path,
-        pockets[0],
-        pockets[1],
-        _optional(spec, "max_jerk", where, "[m/s³]"),
-        _optional(spec, "max_acceleration", where, "[m/s²]"),
-    )
+        raise InputError(msg if msg.startswith(ctx.source) else f"{where}: {msg}") from None

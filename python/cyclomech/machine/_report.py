@@ -15,7 +15,6 @@ import csv
 import html
 import json
 import math
-import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -26,35 +25,29 @@ import numpy as np
 
 from .._errors import InfeasibleError
 from .._json import jsonable
-from .._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
-from ..cyclogram import Optimum
-from ..linkage import LinkageSolution
-from ._model import (
-    SCHEMA,
-    CamStop,
-    LinkageMechanism,
-    Machine,
-    PressMechanism,
-    SpeedLimit,
-    SpeedSweep,
-    TransferMechanism,
-)
+from .._kind import Context, MechanismResult
+from .._progress import progress as progress_bar
+from .._units import DEG_PER_S_PER_RPM
+from ..cyclogram import Optimum, SpeedLimit
+from ._kinds import KINDS
+from ._model import SCHEMA, Machine, SpeedSweep
 
 __all__ = ["MachineResult", "analyze", "write_report"]
 
 
 @dataclass
 class MachineResult:
-    """Everything the report shows (speeds [rpm], angles [deg], SI otherwise).
+    """Everything the report shows, computed once by :func:`analyze` (speeds
+    [rpm], angles [deg], SI otherwise): the report, ``results.json``, the CSVs and
+    the CLI's summary only read it.
 
     ``limit``: the speed limit; ``nominal_rpm``: the speed of ``optimum`` (the LP
-    optimum with the stops' exact constraints; None if it does not fit there);
-    ``sweep`` / ``sweep_linear``: the key figures against speed with the exact and
-    the seed's linearised stop constraints; ``linkages``: each linkage's solution
-    over a crank turn; ``press``: each press's criteria at the nominal speed;
-    ``transfer``: each transfer's (peak |a| [m/s²], peak jerk [m/s³]) at the
-    nominal speed; ``stops``: each stop's exact and linearised smallest phase
-    angle on the sweep's speeds.
+    optimum with the mechanisms' exact bounds; None if it does not fit there, and
+    ``problem`` says why); ``minimums``: each operation's minimum angle there (with
+    the bounds); ``sweep`` / ``sweep_linear``: the key figures against speed with
+    the exact and the seed's linearised bounds; ``mechanisms``: each mechanism's
+    results (:meth:`~cyclomech._kind.Mechanism.analyze`); ``seconds``: the time of
+    each step.
     """
 
     machine: Machine
@@ -64,41 +57,16 @@ class MachineResult:
     problem: str
     sweep: SpeedSweep
     sweep_linear: SpeedSweep
-    linkages: dict[str, LinkageSolution] = field(default_factory=dict)
-    press: dict[str, Any] = field(default_factory=dict)
-    transfer: dict[str, tuple[float, float]] = field(default_factory=dict)
-    stops: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    minimums: np.ndarray | None = None
+    mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
 
 
-class _Steps:
-    """A progress bar over the steps of a run, on stderr."""
-
-    def __init__(self, steps: list[str], enabled: bool) -> None:
-        self.steps, self.enabled, self.k = steps, enabled, 0
-        self.t0 = time.perf_counter()
-
-    def run(self, fn: Callable[[], Any]) -> Any:
-        name = self.steps[self.k]
-        if self.enabled:
-            bar = "#" * int(30 * self.k / len(self.steps))
-            sys.stderr.write(
-                f"\r[{bar:<30}] {self.k + 1}/{len(self.steps)} {name:<32} "
-                f"{time.perf_counter() - self.t0:5.1f} s"
-            )
-            sys.stderr.flush()
-        out = fn()
-        self.k += 1
-        if self.enabled and self.k == len(self.steps):
-            sys.stderr.write(
-                f"\r[{'#' * 30}] {self.k}/{len(self.steps)} {'done':<32} "
-                f"{time.perf_counter() - self.t0:5.1f} s\n"
-            )
-        return out
-
-
 def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
-    """Solve every mechanism, every stop, the cyclogram and the speed sweep.
+    """Solve the machine once: its speed limit, the optimised cyclogram at the
+    nominal speed, the speed sweeps (exact and linearised bounds) and every
+    mechanism's results; ``progress``: a progress bar on stderr (default: when
+    stderr is a terminal).
 
     >>> import cyclomech as cm
     >>> from cyclomech.machine import analyze
@@ -106,65 +74,53 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     >>> round(r.limit.rpm, 3), round(r.optimum.objective, 3)    # 6 · 421.37 rpm · 0.1 s
     (421.37, 252.822)
     """
-    steps = _Steps(
-        ["mechanisms", "stops", "speed limit", "optimised cyclogram", "speed sweep"],
-        sys.stderr.isatty() if progress is None else bool(progress),
-    )
-    seconds: dict[str, float] = {}
-
-    def timed(name: str, fn: Callable[[], Any]) -> Any:
-        t = time.perf_counter()
-        out = steps.run(fn)
-        seconds[name] = time.perf_counter() - t
-        return out
-
     m = machine
+    steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms"]
+    seconds: dict[str, float] = {}
+    with progress_bar(len(steps), m.name, progress) as bar:
 
-    def mechanisms() -> tuple[dict[str, Any], ...]:
-        lk: dict[str, LinkageSolution] = {}
-        for k, mech in m.mechanisms.items():
-            if isinstance(mech, LinkageMechanism):
-                lk[k] = mech.solve()
-        return (lk,)
+        def timed(name: str, fn: Callable[[], Any]) -> Any:
+            bar.set_postfix_str(name)
+            t = time.perf_counter()
+            out = fn()
+            seconds[name] = time.perf_counter() - t
+            bar.update(1)
+            return out
 
-    (linkages,) = timed("mechanisms", mechanisms)
-    rpm = m.speed_grid()
+        limit = timed("speed limit", m.speed_limit)
+        nominal = m.nominal_speed(limit)
+        problem = ""
 
-    def stops() -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        return {s.name: (s.min_phase_deg(rpm), s.linear_min_phase_deg(rpm)) for s in m.stops}
+        def optimum() -> Optimum | None:
+            nonlocal problem
+            try:
+                return m.optimize(nominal)
+            except InfeasibleError as e:
+                problem = str(e)
+                return None
 
-    stop_angles = timed("stops", stops)
-    limit = timed("speed limit", m.speed_limit)
-    nominal = m.nominal_speed(limit)
-    problem = ""
+        opt = timed("optimised cyclogram", optimum)
+        rpm = m.speed_grid()
 
-    def optimum() -> Optimum | None:
-        nonlocal problem
-        try:
-            return m.optimize(nominal)
-        except InfeasibleError as e:
-            problem = str(e)
-            return None
+        def sweeps() -> tuple[SpeedSweep, SpeedSweep]:
+            return m.speed_sweep(rpm), m.speed_sweep(rpm, linear=True)
 
-    opt = timed("optimised cyclogram", optimum)
-
-    def sweeps() -> tuple[SpeedSweep, SpeedSweep]:
-        return m.speed_sweep(rpm), m.speed_sweep(rpm, linear=True)
-
-    sw, sw_lin = timed("speed sweep", sweeps)
-    press = {
-        k: mech.criteria(nominal)
-        for k, mech in m.mechanisms.items()
-        if isinstance(mech, PressMechanism)
-    }
-    transfer = {
-        k: mech.peaks(nominal)
-        for k, mech in m.mechanisms.items()
-        if isinstance(mech, TransferMechanism)
-    }
-    return MachineResult(
-        m, limit, nominal, opt, problem, sw, sw_lin, linkages, press, transfer, stop_angles, seconds
-    )
+        sw, sw_lin = timed("speed sweep", sweeps)
+        mins = None if opt is None else m.cyclogram_at(nominal).min_angles(nominal)
+        by_label = {b.label: b.name for b in m.bounds()}
+        ctx = Context(
+            limit=limit,
+            nominal_rpm=nominal,
+            rpm=rpm,
+            optimum=opt,
+            cyclogram=m.cyclogram,
+            bounds={lab: sw.min_phase_deg[n] for lab, n in by_label.items()},
+            linear_bounds={lab: sw_lin.min_phase_deg[n] for lab, n in by_label.items()},
+        )
+        results = timed(
+            "mechanisms", lambda: {k: mech.analyze(ctx) for k, mech in m.mechanisms.items()}
+        )
+    return MachineResult(m, limit, nominal, opt, problem, sw, sw_lin, mins, results, seconds)
 
 
 # --------------------------------------------------------------------- tables
@@ -201,82 +157,34 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     }
     o = r.optimum
     if o is not None:
-        mins = m.cyclogram_at(r.nominal_rpm).min_angles(r.nominal_rpm)
+        assert r.minimums is not None
         at = [op.arc for op in cg.operations].index(lim_op.arc)
+        prices: dict[str, float] = {}
+        for res in r.mechanisms.values():
+            prices.update(res.prices())
         out["optimum"] = {
             "speed_rpm": r.nominal_rpm,
             "limiting_deg": o.objective,
-            "limiting_min_deg": float(mins[at]),
+            "limiting_min_deg": float(r.minimums[at]),
             "gained_deg": o.stretch[lim_op.arc],
             "limiting_s": o.objective / (DEG_PER_S_PER_RPM * r.nominal_rpm),
             "times_deg": o.times,
             "angles_deg": o.angles,
             "binding": list(o.binding),
             "shadow_prices": {kk: v for kk, v in o.duals.items() if abs(v) > 1e-9},
-            "shadow_prices_per_mm_rebound": _rebound_prices(r),
+            "shadow_prices_per_mm_rebound": prices,
             "critical": list(o.critical),
         }
     else:
         out["optimum"] = None
         out["problem"] = r.problem
-    stops = {}
-    for s in m.stops:
-        exact, linear = r.stops[s.name]
-        stops[s.name] = {
-            "arc": s.arc,
-            "model": s.stop.model,
-            "law": s.stop.law.name,
-            "stroke_m": s.stop.stroke,
-            "preload_m": s.stop.preload,
-            "critical_speed_m_s": s.stop.critical_speed(s.a_max),
-            "linear_min_phase_deg_at_nominal": float(s.linear_min_phase_deg(r.nominal_rpm)),
-            "a_max_m": s.a_max,
-            "omega_free_rad_s": s.stop.omega_free,
-            "omega_contact_rad_s": s.stop.omega_contact,
-            "min_phase_deg_at_nominal": float(s.min_phase_deg(r.nominal_rpm)),
-            "speed_rpm": m.speed_grid(),
-            "min_phase_deg": exact,
-            "linear_min_phase_deg": linear,
-        }
-    out["stops"] = stops
-    mech: dict[str, Any] = {}
-
-    def own_limit(k: str) -> float:
-        # The one value speed_limit computed (infinite where the mechanism has no limit).
-        return r.limit.mechanisms_rpm.get(k, math.inf)
-
-    for k, v in m.mechanisms.items():
-        if isinstance(v, LinkageMechanism):
-            vmax, amax = v.peaks()
-            w = RAD_PER_S_PER_RPM * r.nominal_rpm
-            mech[k] = {
-                "kind": "linkage",
-                "output": v.output,
-                "max_velocity_analog_m_per_rad": vmax,
-                "max_acceleration_analog_m_per_rad2": amax,
-                "max_velocity_m_s": vmax * w,
-                "max_acceleration_m_s2": amax * w * w,
-                "speed_limit_rpm": own_limit(k),
-            }
-        elif isinstance(v, PressMechanism):
-            mech[k] = {
-                "kind": "press",
-                "criteria": r.press[k].as_dict(),
-                "speed_limit_rpm": own_limit(k),
-            }
-        elif isinstance(v, TransferMechanism):
-            a, j = r.transfer[k]
-            mech[k] = {
-                "kind": "transfer",
-                "x2_m": [v.path.x2_t, v.path.x2_p],
-                "speeds_m_s": list(v.speeds(r.nominal_rpm)),
-                "max_acceleration_m_s2": a,
-                "max_jerk_m_s3": j,
-                "speed_limit_rpm": own_limit(k),
-            }
-        else:
-            mech[k] = {"kind": "cam_stop", "arc": v.arc}
-    out["mechanisms"] = mech
+    # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
+    groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
+    groups["mechanisms"] = {}
+    for k, res in r.mechanisms.items():
+        for g, entry in res.json().items():
+            groups.setdefault(g, {})[k] = entry
+    out.update(groups)
     sw = r.sweep
     out["speed_sweep"] = {
         "speed_rpm": sw.rpm,
@@ -285,29 +193,11 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         "limiting_deg_linear": r.sweep_linear.limiting_deg,
         "limiting_s": sw.limiting_s,
         "productivity_per_min": sw.productivity,
-        "max_rebound_m": sw.max_rebound_m,
+        **{c: v for c, v in sw.columns.items()},
         "binding": list(sw.binding),
     }
     out["seconds"] = r.seconds
     return jsonable(out)  # type: ignore[no-any-return]
-
-
-def _rebound_prices(r: MachineResult) -> dict[str, float]:
-    """Shadow price of each stop's rebound bound per mm of its rebound limit a_max
-    [deg/mm]: the LP's price per degree of the bound t ≥ t_min times dt_min/da_max
-    (central difference, ±0.1 % of a_max)."""
-    o, out = r.optimum, {}
-    if o is None:
-        return out
-    for s in r.machine.stops:
-        name = f"rebound[{s.name}]"
-        price = o.duals.get(name, 0.0)
-        if abs(price) <= 1e-9:
-            continue
-        h = 1e-3 * s.a_max
-        up, down = (float(s.stop.min_phase_angle(s.a_max + d, r.nominal_rpm)) for d in (h, -h))
-        out[name] = price * (up - down) / (2.0 * h) * 1e-3
-    return out
 
 
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
@@ -327,17 +217,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..plot import (
-        plot_analogs,
-        plot_cyclogram,
-        plot_law,
-        plot_linkage,
-        plot_min_phase,
-        plot_press,
-        plot_rebound_vs_speed,
-        plot_speed_sweep,
-        plot_transfer,
-    )
+    from ..plot import plot_cyclogram, plot_speed_sweep
 
     folder.mkdir(parents=True, exist_ok=True)
     out: list[tuple[str, str, Path]] = []
@@ -352,7 +232,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     save(
         plot_speed_sweep(
             r.sweep,
-            linear=r.sweep_linear if m.stops else None,
+            linear=r.sweep_linear if m.bounds() else None,
             limit_rpm=r.limit.rpm,
             limit_by=r.limit.by,
             title=f"{m.name}: against speed",
@@ -363,7 +243,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
         + (
             ", and each stop's smallest phase angle (exact solid, the seed's linearised form "
             "dashed)"
-            if m.stops
+            if m.bounds()
             else ""
         )
         + "; the curves end at the speed limit (dashed red line), shaded above it.",
@@ -394,111 +274,8 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
             "The same as a circular diagram: 0° at the top, the turn clockwise, one ring per "
             "mechanism from the centre out.",
         )
-    for k, mech in m.mechanisms.items():
-        if isinstance(mech, CamStop):
-            n = m.speed_grid()
-            save(
-                plot_rebound_vs_speed(
-                    mech.stop,
-                    n,
-                    phase_deg=mech.phase_deg,
-                    a_max=mech.a_max,
-                    title=f"{k}: rebound at the stop",
-                ),
-                f"{k}_rebound",
-                k,
-                "Left: the lever's motion after it strikes the stop"
-                + (
-                    " (pulse model: the stop acts only through the impact pulse, so q < 0, "
-                    "into the stop, is the model's free vibration, not the lever's)"
-                    if mech.stop.model == "pulse"
-                    else " (contact model: q < 0 is the stop's deflection under the lever)"
-                )
-                + "; right: the first rebound against speed for several phase angles, with "
-                "the limit dashed.",
-            )
-            axes = plot_law(
-                mech.stop.law, title=f"{k}: cam law ({mech.stop.law.name.replace('_', ' ')}, rise)"
-            )
-            for a in axes:
-                a.axvline(mech.stop.j_contact, color="0.4", ls=":", lw=1.0)
-            axes[0].annotate(
-                "meets the stop",
-                (mech.stop.j_contact, 0.5),
-                xytext=(-6, 0),
-                textcoords="offset points",
-                ha="right",
-                fontsize=8,
-                color="0.3",
-            )
-            save(
-                axes[0].figure,
-                f"{k}_law",
-                k,
-                f"The cam's motion law over the arc {mech.arc[0]}→{mech.arc[1]}: Z, Z' and Z'' "
-                f"(dimensionless) against the fraction j of the phase angle; the lever meets "
-                f"the stop at j = {mech.stop.j_contact:.3f} (dotted), Z' = "
-                f"{mech.stop.dz_contact:.3f} there sets the impact speed.",
-            )
-            exact, linear = r.stops[k]
-            ax = plot_min_phase(
-                n,
-                exact,
-                linear,
-                minimum_deg=m.cyclogram.operation(mech.arc).min_angle_deg,
-                title=f"{k}: smallest phase angle of {mech.arc[0]}→{mech.arc[1]}",
-            )
-            save(
-                ax.figure,
-                f"{k}_min_phase",
-                k,
-                "The smallest phase angle of the operation that keeps the rebound within its "
-                "limit: exact and the seed's linearised form.",
-            )
-        elif isinstance(mech, LinkageMechanism):
-            sol = r.linkages[k]
-            ax = plot_linkage(mech.linkage, sol, 0, trace=[mech.output], title=f"{k}: mechanism")
-            save(
-                ax.figure,
-                f"{k}_mechanism",
-                k,
-                f"The mechanism at its drawn angle, with the path of {mech.output}.",
-            )
-            save(
-                plot_analogs(sol, mech.output, title=f"{k}: analogs of {mech.output}"),
-                f"{k}_analogs",
-                k,
-                f"Position, velocity and acceleration analogs of {mech.output} over the turn.",
-            )
-        elif isinstance(mech, PressMechanism):
-            c = r.press[k]
-            res = plot_press(
-                mech.press,
-                0.0,
-                show_motion=True,
-                k_Sp=mech.k_Sp or c.k_Sp,
-                title=f"{k}: gear-lever press",
-            )
-            fig = res[0].figure if isinstance(res, tuple) else res.figure
-            save(
-                fig,
-                f"{k}_press",
-                k,
-                "The drive at bottom dead centre with the pin's hypotrochoid, and the "
-                "slider's motion and transfer functions.",
-            )
-        elif isinstance(mech, TransferMechanism):
-            save(
-                plot_transfer(
-                    mech.path,
-                    speed=mech.speeds(r.nominal_rpm),
-                    title=f"{k}: transfer at {r.nominal_rpm:g} rpm",
-                ),
-                f"{k}_transfer",
-                k,
-                "The workpiece's path between the rotors, its curvature, acceleration and "
-                "jerk at the nominal speed.",
-            )
+    for k, res in r.mechanisms.items():
+        res.figures(lambda fig, name, caption, k=k: save(fig, name, k, caption))  # type: ignore[misc]
     return out
 
 
@@ -581,7 +358,7 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         if math.isfinite(lim.cyclogram_rpm)
         else ""
     )
-    mech_rows = [["cyclogram (with the stops' constraints)", lim.cyclogram_rpm, cg_why]]
+    mech_rows = [["cyclogram (with the mechanisms' bounds)", lim.cyclogram_rpm, cg_why]]
     mech_rows += [
         [f"mechanism {k}", v, lim.mechanisms_reason.get(k, "")]
         for k, v in lim.mechanisms_rpm.items()
@@ -629,7 +406,8 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
     else:
         o_ = r.optimum
         crit = set(o_.critical)
-        mins = m.cyclogram_at(r.nominal_rpm).min_angles(r.nominal_rpm)
+        mins = r.minimums
+        assert mins is not None
         rows = [
             [
                 op.mechanism or "",
@@ -662,95 +440,11 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         if sec == "cyclogram":
             parts.append(_img(p, cap))
     # Mechanisms
-    for k, mech in m.mechanisms.items():
+    for k in m.mechanisms:
         info = summary["mechanisms"][k]
         parts.append(f"<h2>Mechanism “{e(k)}” ({e(info['kind'].replace('_', ' '))})</h2>")
-        if isinstance(mech, CamStop):
-            s = summary["stops"][k]
-            st = mech.stop
-            model = (
-                "pulse (the seed's: the free lever and the impact pulse)"
-                if st.model == "pulse"
-                else "contact (the stop as a unilateral spring, event by event)"
-            )
-            parts.append(
-                _table(
-                    ["quantity", "value"],
-                    [
-                        ["operation it constrains", f"{mech.arc[0]}→{mech.arc[1]}"],
-                        ["rebound model", model],
-                        ["cam law (rise)", st.law.name.replace("_", " ")],
-                        ["stroke [mm]", st.stroke * 1e3],
-                        ["preload (stop before the end of the stroke) [mm]", st.preload * 1e3],
-                        ["rebound limit [mm]", mech.a_max * 1e3],
-                        ["free natural frequency [Hz]", st.omega_free / (2 * math.pi)],
-                        ["natural frequency in contact [Hz]", st.omega_contact / (2 * math.pi)],
-                        ["largest admissible impact speed [m/s]", s["critical_speed_m_s"]],
-                        [
-                            f"smallest phase angle at {r.nominal_rpm:g} rpm [deg]",
-                            s["min_phase_deg_at_nominal"],
-                        ],
-                        [
-                            f"the seed's linearised form at {r.nominal_rpm:g} rpm [deg]",
-                            s["linear_min_phase_deg_at_nominal"],
-                        ],
-                    ],
-                )
-            )
-        elif isinstance(mech, LinkageMechanism):
-            parts.append(
-                _table(
-                    ["quantity", "value"],
-                    [
-                        ["output point", mech.output],
-                        ["max |d xy/dφ| [m/rad]", info["max_velocity_analog_m_per_rad"]],
-                        ["max |d² xy/dφ²| [m/rad²]", info["max_acceleration_analog_m_per_rad2"]],
-                        [f"max speed at {r.nominal_rpm:g} rpm [m/s]", info["max_velocity_m_s"]],
-                        [
-                            f"max acceleration at {r.nominal_rpm:g} rpm [m/s²]",
-                            info["max_acceleration_m_s2"],
-                        ],
-                        ["speed limit [rpm]", info["speed_limit_rpm"]],
-                    ],
-                )
-            )
-        elif isinstance(mech, PressMechanism):
-            c = r.press[k]
-            parts.append(
-                _table(
-                    ["criterion", f"at {r.nominal_rpm:g} rpm"],
-                    [
-                        ["nominal stroke S_n [mm]", c.S_n * 1e3],
-                        ["working stroke S_p [mm]", c.S_p * 1e3],
-                        ["speed at the start of the working stroke V_np [mm/s]", c.V_np * 1e3],
-                        ["mean working speed V_cp [mm/s]", c.V_cp * 1e3],
-                        ["k_Vp = V_np/V_cp", c.k_Vp],
-                        ["k_Vmax = V_pmax/V_cp", c.k_Vmax],
-                        ["peak acceleration J_max [m/s²]", c.J_max],
-                        ["torque factor (max Π' in the working stroke) [mm]", c.torque * 1e3],
-                        ["speed limit [rpm]", info["speed_limit_rpm"]],
-                    ],
-                )
-            )
-        elif isinstance(mech, TransferMechanism):
-            parts.append(
-                _table(
-                    ["quantity", "value"],
-                    [
-                        [
-                            "transition lengths x2 [mm]",
-                            ", ".join(f"{1e3 * x:.4g}" for x in info["x2_m"]),
-                        ],
-                        [
-                            f"peripheral speeds at {r.nominal_rpm:g} rpm [m/s]",
-                            ", ".join(f"{v:.4g}" for v in info["speeds_m_s"]),
-                        ],
-                        ["peak acceleration [m/s²]", info["max_acceleration_m_s2"]],
-                        ["peak jerk [m/s³]", info["max_jerk_m_s3"]],
-                        ["speed limit [rpm]", info["speed_limit_rpm"]],
-                    ],
-                )
-            )
+        header, rows = r.mechanisms[k].table()
+        parts.append(_table(header, rows))
         for sec, cap, p in figs:
             if sec == k:
                 parts.append(_img(p, cap))
@@ -780,7 +474,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     p = folder / "results.json"
     p.write_text(json.dumps(summary, indent=2, ensure_ascii=False), encoding="utf-8")
     written.append(p)
-    sw, m = result.sweep, result.machine
+    sw = result.sweep
     header = [
         "speed_rpm",
         "fits",
@@ -788,7 +482,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         "limiting_deg_linear",
         "limiting_s",
         "productivity_per_min",
-        "max_rebound_m",
+        *sw.columns,
     ]
     cols: list[Any] = [
         sw.rpm,
@@ -797,11 +491,12 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         result.sweep_linear.limiting_deg,
         sw.limiting_s,
         sw.productivity,
-        sw.max_rebound_m,
+        *sw.columns.values(),
     ]
-    for s in m.stops:
-        header += [f"min_phase_deg[{s.name}]", f"linear_min_phase_deg[{s.name}]"]
-        cols += list(result.stops[s.name])
+    for res in result.mechanisms.values():
+        for name, column in res.csv_columns():
+            header.append(name)
+            cols.append(column)
     header.append("binding")
     cols.append(sw.binding)
     rows = [list(r) for r in zip(*cols, strict=True)]
@@ -809,7 +504,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     op_rows: list[list[Any]] = []
     if result.optimum is not None:
         o = result.optimum
-        for op in m.cyclogram.operations:
+        for op in result.machine.cyclogram.operations:
             op_rows.append(
                 [
                     op.mechanism or "",

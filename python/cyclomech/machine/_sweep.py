@@ -20,7 +20,6 @@ import logging
 import math
 import os
 import signal
-import sys
 import threading
 import time
 from collections.abc import Iterator, Mapping, Sequence
@@ -31,9 +30,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import check_bytes
+from .._arrays import check_bytes, speeds_rpm
 from .._errors import InputError
-from ._model import SCHEMA, Machine, _speeds, check_parameter, speed_limits, speed_sweeps
+from .._progress import progress as progress_bar
+from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
 
 __all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
 
@@ -305,31 +305,6 @@ def _as_executor(executor: Any) -> cf.Executor | None:
     )
 
 
-class _Bar:
-    """A text progress bar on stderr."""
-
-    def __init__(self, total: int, label: str, enabled: bool) -> None:
-        self.total, self.label, self.enabled = total, label, enabled
-        self.done, self.t0 = 0, time.perf_counter()
-        self.update(0)
-
-    def update(self, n: int) -> None:
-        self.done += n
-        if self.enabled:
-            frac = self.done / max(self.total, 1)
-            bar = "#" * int(30 * frac)
-            dt = time.perf_counter() - self.t0
-            sys.stderr.write(
-                f"\r{self.label} [{bar:<30}] {100 * frac:5.1f}% {self.done}/{self.total} {dt:.1f} s"
-            )
-            sys.stderr.flush()
-
-    def close(self) -> None:
-        if self.enabled:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
-
-
 def sweep(
     machine: Machine,
     grid: Mapping[str, npt.ArrayLike],
@@ -360,7 +335,9 @@ def sweep(
         raise InputError("machine must be a cyclomech.Machine read from a file or a dict")
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
-    speeds = machine.speed_grid() if SPEED not in grid else _speeds(f"grid[{SPEED!r}]", grid[SPEED])
+    speeds = (
+        machine.speed_grid() if SPEED not in grid else speeds_rpm(f"grid[{SPEED!r}]", grid[SPEED])
+    )
     # Every parameter must name a key the file can take; a value that makes a design
     # invalid is that design's problem (a column), not the sweep's.
     for k in names:
@@ -377,11 +354,7 @@ def sweep(
         chunk = math.ceil(D / 64) if ex is not None else max(math.ceil(D / 100), min(D, 64))
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk must be a whole number of designs ≥ 1; got {chunk!r}")
-    bar = _Bar(
-        D * speeds.size,
-        "sweep",
-        sys.stderr.isatty() if progress is None else bool(progress),
-    )
+    bar = progress_bar(D * speeds.size, "sweep", progress)
     t0 = time.perf_counter()
     parts: dict[int, dict[str, npt.NDArray[Any]]] = {}
     ranges = list(_chunks(D, chunk))

@@ -33,6 +33,7 @@ for a crank-slider).
 
 from __future__ import annotations
 
+from ._kind import PressMechanism
 from ._model import (
     CRITERIA,
     OBJECTIVES,
@@ -57,6 +58,7 @@ __all__ = [
     "GearLeverPress",
     "PressCriteria",
     "PressKinematics",
+    "PressMechanism",
     "PressOptimum",
     "PressStudy",
     "PressSweep",

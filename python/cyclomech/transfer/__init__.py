@@ -33,6 +33,7 @@ path turns left: +1/R_t on the transport circle, −1/R_p on the process circle.
 
 from __future__ import annotations
 
+from ._kind import TransferMechanism
 from ._model import (
     PathAcceleration,
     PathSample,
@@ -52,6 +53,7 @@ __all__ = [
     "PathSample",
     "QuinticTransition",
     "TransferDesign",
+    "TransferMechanism",
     "TransferPath",
     "acceleration_jump",
     "acceleration_jump_at_speed",

@@ -1,0 +1,345 @@
+"""A cyclogram solved at many speeds at once: the one place where a machine's
+cyclogram is optimised against speed and its speed limit searched; part of
+:mod:`cyclomech.cyclogram`."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .._arrays import SPEED_CAP_RPM
+from .._errors import InputError
+from ._graph import max_difference
+from ._lp import _LP
+from ._model import Arc, Constraint, Cyclogram, minimum_angles
+
+__all__ = ["SPEED_FLOOR_RPM", "BoundsAt", "SpeedNetwork"]
+
+Array = npt.NDArray[np.float64]
+#: Lowest speed a speed-limit search tries [rpm]: a cyclogram that does not fit
+#: there fits at no speed (its time bounds and speed-proportional bounds only shrink
+#: as the speed falls).
+SPEED_FLOOR_RPM = 1e-6
+#: ``bounds_at(designs, rpm)``: each extra bound's smallest angle [deg] for the
+#: designs ``designs`` (indices) at their speeds ``rpm`` (D', M), one (D'·M,) array
+#: a bound in the row order of ``rpm.reshape(-1)``.
+BoundsAt = Callable[[npt.NDArray[np.int64], Array], list[Array]]
+
+
+class SpeedNetwork:
+    """The cyclogram's LP as a system of difference constraints over the event
+    angles p, a zero node z and the span's end F, solved at many speeds (and
+    designs) in one shortest-path call: every operation's minimum (its angle, its
+    duration, the extra ``bounds``) and maximum, every single-operation constraint,
+    p ≥ 0, p ≤ F and F ≤ cycle. The limiting operation's optimal angle is the
+    shortest path from its start to its end (plus the cycles it crosses).
+    Constraints over several operations need the LP instead, one per speed.
+
+    ``bounds``: (arc, label) of each extra lower bound on an operation's angle that
+    mechanisms impose (a stop's rebound bound, ``"rebound[lifter]"``); their values
+    at each speed are given to :meth:`solve`.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> cg = cm.Cyclogram(limiting=("b", "c"))
+    >>> cg.add_operation("a", "b", min_angle_deg=100, min_duration_s=0.05)
+    >>> cg.add_operation("b", "c", min_angle_deg=60)
+    >>> net = cm.cyclogram.SpeedNetwork(cg)
+    >>> angle, fits, binding, _ = net.solve(np.array([300.0, 1300.0]), [])
+    >>> angle.round(3).tolist(), fits.tolist(), binding.tolist()    # 360 − max(100, 6·n·0.05)
+    ([260.0, nan], [True, False], ['min[a→b]; cycle', ''])
+    """
+
+    def __init__(self, cg: Cyclogram, bounds: Sequence[tuple[Arc, str]] = ()) -> None:
+        if cg.limiting is None:
+            raise InputError(
+                f"cyclogram {cg.name!r}: a machine needs its limiting operation "
+                "([cyclogram] limiting = [from, to])"
+            )
+        self.cg = cg
+        ev = cg._events
+        V = len(ev)
+        z, F = V, V + 1
+        self.n = V + 2
+        C = cg.cycle_deg
+        labels = cg._bound_labels()
+        src: list[int] = []
+        dst: list[int] = []
+        base: list[float] = []  # constant part of each edge's weight
+        self.kind: list[str] = []  # "min", "max", "user", "cycle", ""
+        self.label: list[str] = []
+        self.op: list[int] = []
+        ops = cg._ops
+        self.min_edge = np.empty(len(ops), np.int64)
+        for e, op in enumerate(ops):
+            x, y = ev[op.src], ev[op.dst]
+            self.min_edge[e] = len(src)
+            src.append(y), dst.append(x), base.append(C * op.height)
+            self.kind.append("min"), self.label.append(labels[e]), self.op.append(e)
+            if op.max_angle_deg is not None:
+                src.append(x), dst.append(y), base.append(op.max_angle_deg - C * op.height)
+                self.kind.append("max"), self.label.append(f"max[{labels[e]}]"), self.op.append(e)
+        self.general: list[Constraint] = []
+        self.always_false: list[Constraint] = []
+        for con in cg.constraints:
+            coeff: dict[Arc, float] = {}
+            for arc, c in con.coeffs:
+                coeff[arc] = coeff.get(arc, 0.0) + c
+            terms = [(a, c) for a, c in coeff.items() if c != 0.0]
+            if len(terms) > 1:
+                self.general.append(con)
+                continue
+            if not terms:
+                holds = {"<=": con.rhs >= 0.0, ">=": con.rhs <= 0.0, "==": con.rhs == 0.0}
+                if not holds[con.sense]:
+                    self.always_false.append(con)
+                continue
+            (arc, c), bound = terms[0], con.rhs / terms[0][1]
+            op = cg.operation(arc)
+            e = cg._arc_index[op.arc]
+            x, y = ev[op.src], ev[op.dst]
+            upper = (con.sense == "<=") == (c > 0)
+            senses = ("upper", "lower") if con.sense == "==" else ("upper" if upper else "lower",)
+            for s in senses:
+                if s == "upper":  # t ≤ bound
+                    src.append(x), dst.append(y), base.append(bound - C * op.height)
+                else:  # t ≥ bound
+                    src.append(y), dst.append(x), base.append(C * op.height - bound)
+                self.kind.append("user"), self.label.append(con.name), self.op.append(e)
+        for v in range(V):  # p_v ≥ 0 (z − p_v ≤ 0) and p_v ≤ F
+            src += [v, F]
+            dst += [z, v]
+            base += [0.0, 0.0]
+            self.kind += ["", ""]
+            self.label += ["", ""]
+            self.op += [-1, -1]
+        src.append(z), dst.append(F), base.append(C)
+        self.kind.append("cycle"), self.label.append("cycle"), self.op.append(-1)
+        self.src = np.array(src, np.int64)
+        self.dst = np.array(dst, np.int64)
+        self.base = np.array(base, np.float64)
+        lim = cg.operation(cg.limiting)
+        self.source, self.target = ev[lim.src], ev[lim.dst]
+        self.lim_shift = C * lim.height
+        self.angle = np.array([op.min_angle_deg for op in ops], np.float64)
+        self.secs = np.array([op.min_duration_s for op in ops], np.float64)
+        self.bound_op = [cg._arc_index[cg.operation(arc).arc] for arc, _ in bounds]
+        self.bound_labels = [label for _, label in bounds]
+
+    def minimums(self, rpm: Array, t_bound: Sequence[Array]) -> tuple[Array, npt.NDArray[np.int8]]:
+        """Each operation's minimum angle [deg] at each speed (B, E) and which lower
+        bound sets it (0: its angle, 1: its duration, 2 + k: extra bound k).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_angle_deg=100)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg, [(("a", "b"), "wear")])
+        >>> mins, which = net.minimums(np.array([1.0, 2.0]), [np.array([90.0, 120.0])])
+        >>> mins.tolist(), which.tolist()
+        ([[100.0, 60.0], [120.0, 60.0]], [[0, 0], [2, 0]])
+        """
+        mins, by_time = minimum_angles(self.angle, self.secs, rpm)
+        which = by_time.astype(np.int8)
+        for k, (e, t) in enumerate(zip(self.bound_op, t_bound, strict=True)):
+            t = np.nan_to_num(t, nan=-np.inf)
+            take = t > mins[:, e]
+            mins[take, e], which[take, e] = t[take], 2 + k
+        return mins, which
+
+    def solve(
+        self,
+        rpm: Array,
+        t_bound: Sequence[Array],
+        n_threads: int | None = None,
+        *,
+        labels: bool = True,
+    ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
+        """At each speed ``rpm`` [rpm] (B,) with the extra bounds' angles
+        ``t_bound`` [deg] (one (B,) array a bound; NaN: no angle is enough): the
+        limiting operation's optimal angle [deg] (NaN where it does not fit), the
+        fit flags, the names of the bounds on the chain that sets it (``; ``-joined;
+        empty with ``labels=False``) and the minimum angles (B, E). One
+        shortest-path call for every speed (the LP per speed where constraints span
+        several operations).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_angle_deg=100)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg, [(("a", "b"), "wear")])
+        >>> angle, fits, binding, _ = net.solve(np.array([1.0, 2.0]), [np.array([90.0, 120.0])])
+        >>> angle.tolist(), binding.tolist()
+        ([260.0, 240.0], ['min[a→b]; cycle', 'wear; cycle'])
+        """
+        mins, which = self.minimums(rpm, t_bound)
+        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
+        w[:, self.min_edge] -= mins
+        bound_ok = np.ones(rpm.size, bool)
+        for t in t_bound:
+            bound_ok &= np.isfinite(t)
+        if self.always_false:
+            bound_ok[:] = False
+        extra: list[list[str]] = []
+        if self.general:
+            value, on_path, extra = self._lp(rpm, mins, bound_ok)
+        else:
+            value, on_path = max_difference(
+                self.n, self.src, self.dst, w, self.source, self.target, n_threads=n_threads
+            )
+        value = np.where(bound_ok & np.isfinite(value), value + self.lim_shift, np.nan)
+        fits = np.isfinite(value)
+        if not labels:
+            return value, fits, np.empty(0, dtype=object), mins
+        named = self._labels(on_path, which, fits)
+        for i, names in enumerate(extra):
+            if names and fits[i]:
+                named[i] = "; ".join([named[i], *names] if named[i] else names)
+        return value, fits, named, mins
+
+    def fits(
+        self, bounds_at: BoundsAt, rpm: Array, n_threads: int | None = None
+    ) -> npt.NDArray[np.bool_]:
+        """Whether design d fits at the speeds ``rpm[d]`` (D, M), its extra bounds
+        from ``bounds_at``: one shortest-path call for all.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_duration_s=0.05)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg)
+        >>> net.fits(lambda d, n: [], np.array([[900.0, 1100.0]])).tolist()   # 6·n·0.05 ≤ 300
+        [[True, False]]
+        """
+        designs = np.arange(rpm.shape[0])
+        t_bound = bounds_at(designs, rpm)
+        return self.solve(rpm.reshape(-1), t_bound, n_threads, labels=False)[1].reshape(rpm.shape)
+
+    def speed_limits(
+        self,
+        bounds_at: BoundsAt,
+        designs: int,
+        start: float,
+        n_threads: int | None = None,
+        rtol: float = 1e-10,
+    ) -> Array:
+        """The highest speed [rpm] at which each of ``designs`` fits (its bounds
+        from ``bounds_at``), (D,): feasibility only shrinks as the speed grows, so
+        each is bracketed by speeds 4× apart from ``start`` up to
+        :data:`~cyclomech._arrays.SPEED_CAP_RPM` (inf if it fits there; 0 if it does
+        not fit at :data:`SPEED_FLOOR_RPM`) and the bracket refined on grids of 64
+        speeds to ``rtol``; every step is one shortest-path call for all the
+        designs still searching.
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_duration_s=0.05)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg)
+        >>> round(float(net.speed_limits(lambda d, n: [], 1, 100.0)[0]), 6)     # 6·n·0.05 = 300
+        1000.0
+        """
+
+        def fit(idx: npt.NDArray[np.int64], rpm: Array) -> npt.NDArray[np.bool_]:
+            t_bound = bounds_at(idx, rpm)
+            flat = self.solve(rpm.reshape(-1), t_bound, n_threads, labels=False)[1]
+            return flat.reshape(rpm.shape)
+
+        D = designs
+        out = np.full(D, np.nan)
+        ok = fit(np.arange(D), np.full((D, 1), SPEED_FLOOR_RPM))[:, 0]
+        out[~ok] = 0.0
+        lo, hi = np.full(D, SPEED_FLOOR_RPM), np.full(D, start)
+        act = np.flatnonzero(ok)
+        while act.size:
+            f = fit(act, hi[act, None])[:, 0]
+            capped = f & (hi[act] >= SPEED_CAP_RPM)
+            out[act[capped]] = math.inf
+            act = act[f & ~capped]
+            lo[act], hi[act] = hi[act], np.minimum(4.0 * hi[act], SPEED_CAP_RPM)
+        act = np.flatnonzero(np.isnan(out))
+        while act.size:
+            done = hi[act] - lo[act] <= rtol * hi[act]
+            out[act[done]] = lo[act[done]]
+            act = act[~done]
+            if not act.size:
+                break
+            grid = np.linspace(lo[act], hi[act], 66, axis=1)[:, 1:-1]
+            fine = fit(act, grid)
+            k = np.where(fine.all(axis=1), grid.shape[1], np.argmin(fine, axis=1))
+            r = np.arange(act.size)
+            lo[act] = np.where(k > 0, grid[r, np.maximum(k - 1, 0)], lo[act])
+            hi[act] = np.where(
+                k < grid.shape[1], grid[r, np.minimum(k, grid.shape[1] - 1)], hi[act]
+            )
+        return out
+
+    def _lp(
+        self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]
+    ) -> tuple[Array, npt.NDArray[np.bool_], list[list[str]]]:
+        """The LP at each speed, for constraints over several operations: the
+        optimum; the edges of the bounds with a shadow price as the 'path'; and the
+        priced constraints over several operations, which are no edge."""
+        value = np.full(rpm.size, np.nan)
+        on_path = np.zeros((rpm.size, self.src.size), bool)
+        extra: list[list[str]] = [[] for _ in range(rpm.size)]
+        cg = self.cg
+        lim = cg.operation(cg.limiting)  # type: ignore[arg-type]
+        edge = {}  # the LP's row names of the bounds that are edges here
+        for k, (kind, lab) in enumerate(zip(self.kind, self.label, strict=True)):
+            if kind == "min":
+                edge[f"min[{lab}]"] = edge[f"duration[{lab}]"] = k
+            elif kind:
+                edge[lab] = k
+        for i in np.flatnonzero(ok):
+            lp = _LP(cg, mins[i], cg.cycle_deg, lim.arc)
+            res = lp.solve()
+            if res.status != 0:
+                continue
+            value[i] = -float(res.fun)
+            for r in lp.priced(res):
+                name = lp.names[r]
+                if name in edge:
+                    on_path[i, edge[name]] = True
+                else:
+                    extra[i].append(name)
+        return value, on_path, extra
+
+    def _labels(
+        self,
+        on_path: npt.NDArray[np.bool_],
+        which: npt.NDArray[np.int8],
+        fits: npt.NDArray[np.bool_],
+    ) -> npt.NDArray[np.object_]:
+        """``; ``-joined names of the bounds on each row's chain: the unique
+        patterns are named once. Neighbouring speeds mostly share a pattern, so
+        only the first row of each run of equal rows goes into the sort."""
+        code = np.zeros(on_path.shape, np.int16)
+        code[on_path] = 1
+        mins = code[:, self.min_edge]
+        code[:, self.min_edge] = np.where(mins > 0, 1 + which.astype(np.int16), 0)
+        code[~fits] = 0
+        starts = np.flatnonzero(np.r_[True, (code[1:] != code[:-1]).any(axis=1)])
+        patterns, of_run = np.unique(code[starts], axis=0, return_inverse=True)
+        inverse = np.repeat(of_run.reshape(-1), np.diff(np.r_[starts, code.shape[0]]))
+        names = []
+        for row in patterns:
+            parts = []
+            for k in np.flatnonzero(row):
+                kind, lab = self.kind[k], self.label[k]
+                if kind == "min":
+                    v = int(row[k]) - 1
+                    parts.append(
+                        f"min[{lab}]"
+                        if v == 0
+                        else f"duration[{lab}]"
+                        if v == 1
+                        else self.bound_labels[v - 2]
+                    )
+                elif kind:
+                    parts.append(lab)
+            names.append("; ".join(parts))
+        out = np.array(names, dtype=object)[inverse.reshape(-1)]
+        return out

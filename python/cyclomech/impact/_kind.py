@@ -1,0 +1,414 @@
+"""The ``cam_stop`` mechanism kind of a machine file: a cam-driven lever that hits
+its limit stop, and the cyclogram operation that brings it there (seed 000)."""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _toml
+from .._arrays import threads_arg
+from .._errors import InputError
+from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
+from ..cyclogram import Arc, Constraint
+from ._model import (
+    _STOP_KEYS,
+    StopImpact,
+    _stop_from_table,
+    critical_speeds,
+    rebounds,
+)
+
+__all__ = ["CamStop"]
+
+#: Relative bracket of the stops' largest impact speeds: min_phase_angle's default
+#: 1e-9° over at most 360°.
+_STOP_RTOL = 1e-9 / 360.0
+
+
+@dataclass(frozen=True)
+class CamStop:
+    """A cam-driven lever that hits a limit stop (seed 000), and the operation
+    ``arc`` of the cyclogram that brings it there: at n rpm that operation's phase
+    angle must keep the first rebound within ``a_max`` [m]. ``phase_deg`` are the
+    phase angles [deg] drawn in the report's rebound curves.
+
+    >>> import cyclomech as cm
+    >>> lifter = cm.Machine.example().mechanisms["lifter"]
+    >>> lifter.kind, lifter.arc, lifter.a_max
+    ('cam_stop', ('3', '7'), 0.0001)
+    """
+
+    kind: ClassVar[str] = "cam_stop"
+    keys: ClassVar[frozenset[str]] = frozenset(
+        (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg"}
+    )
+    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc"})
+    json_groups: ClassVar[tuple[str, ...]] = ("stops",)
+    sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)
+    name: str
+    stop: StopImpact
+    arc: Arc
+    a_max: float
+    phase_deg: Array
+
+    # ------------------------------------------------------------- the file
+    @classmethod
+    def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamStop:
+        """Its ``[mechanism.<name>]`` table: the keys of
+        :class:`~cyclomech.impact.StopImpact` plus ``arc`` (the operation's two
+        events), ``a_max`` [m] and optionally ``phase_deg = [from, to, count]``.
+
+        >>> import cyclomech as cm
+        >>> spec = cm.Machine.example().data["mechanism"]["lifter"]
+        >>> ctx = TableContext(cm.Machine.example().cyclogram, "<doc>", 361)
+        >>> CamStop.from_table("lifter", spec, ctx).phase_deg.tolist()
+        [20.0, 30.0, 40.0, 50.0, 60.0]
+        """
+        where = ctx.where(name)
+        _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
+        _toml.require(
+            table, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where
+        )
+        _toml.require(table, ("arc", "a_max"), where)
+        stop = _stop_from_table(table, where, skip=("kind", "arc", "a_max", "phase_deg"))
+        arc = table["arc"]
+        if not (isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)):
+            raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+        known = [op.arc for op in ctx.cyclogram.operations]
+        if (arc[0], arc[1]) not in known:
+            listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
+            raise InputError(
+                f"{where}: arc = {arc!r} is not an operation of the cyclogram; the operations "
+                f"are {listing}"
+            )
+        a_max = _toml.number(table, "a_max", where, "[m]")
+        if a_max <= 0:
+            raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
+        phase = table.get("phase_deg", [20.0, 60.0, 5])
+        if not (
+            isinstance(phase, list)
+            and len(phase) == 3
+            and all(_toml.is_number(v) for v in phase)
+            and isinstance(phase[2], int)
+            and 1 <= phase[2] <= 50
+            and all(0 < v <= 360 for v in phase[:2])
+        ):
+            raise InputError(
+                f"{where}: phase_deg = {phase!r} must be [from, to, count] with from and to in "
+                "(0, 360] degrees and a whole count from 1 to 50"
+            )
+        grid = np.linspace(float(phase[0]), float(phase[1]), phase[2])
+        return cls(name, stop, (arc[0], arc[1]), a_max, grid)
+
+    # ------------------------------------------------------------- its bound
+    def min_phase_deg(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> Array:
+        """Exact smallest phase angle [deg] of the arc at each speed ``rpm``
+        (:meth:`StopImpact.min_phase_angle`; NaN where even 360° is too short).
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.Machine.example().mechanisms["lifter"]
+        >>> round(float(lifter.min_phase_deg(280.0)), 4)
+        28.0271
+        """
+        return np.asarray(
+            self.stop.min_phase_angle(self.a_max, rpm, n_threads=n_threads), dtype=np.float64
+        )
+
+    def linear_min_phase_deg(
+        self, rpm: npt.ArrayLike, *, points: int = 64, n_threads: int | None = None
+    ) -> Array:
+        """The seed's linearised form at each speed ``rpm`` [deg]
+        (:meth:`StopImpact.linear_min_phase_angle`).
+
+        >>> import cyclomech as cm
+        >>> lifter = cm.Machine.example().mechanisms["lifter"]
+        >>> round(float(lifter.linear_min_phase_deg(280.0)), 2)     # exact: 28.03
+        32.67
+        """
+        return np.asarray(
+            self.stop.linear_min_phase_angle(self.a_max, rpm, points=points, n_threads=n_threads),
+            dtype=np.float64,
+        )
+
+    def constraint(self, rpm: float, *, linear: bool = False) -> Constraint:
+        """The cyclogram constraint at ``rpm``, named ``rebound[<name>]``: exact, or
+        the seed's linearised form with ``linear=True``.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().mechanisms["lifter"].constraint(280.0).describe()
+        '1·t(3,7) >= 28.0271'
+        """
+        c = self.stop.constraint(self.arc, self.a_max, rpm, linear=linear)
+        return Constraint(c.coeffs, c.sense, c.rhs, self.bounds()[0].label)
+
+    def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
+        """Its bound at ``rpm`` as a cyclogram constraint (:meth:`constraint`).
+
+        >>> import cyclomech as cm
+        >>> [c.name for c in cm.Machine.example().mechanisms["lifter"].constraints(280.0)]
+        ['rebound[lifter]']
+        """
+        return (self.constraint(rpm, linear=linear),)
+
+    def bounds(self) -> tuple[Bound, ...]:
+        """Its one bound: the rebound bound on its arc.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().mechanisms["lifter"].bounds()
+        (Bound(arc=('3', '7'), label='rebound[lifter]', name='lifter'),)
+        """
+        return (Bound(self.arc, f"rebound[{self.name}]", self.name),)
+
+    @classmethod
+    def bound_laws(
+        cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
+    ) -> list[list[BoundLaw]]:
+        """Each stop's smallest phase angle at any speed: t_min = n·slope, the
+        slopes of all the stops from one search for their largest impact speeds
+        (the rebound depends on the impact speed alone, which grows as n/t); or the
+        seed's linearised form, one fit per call.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> lifter = cm.Machine.example().mechanisms["lifter"]
+        >>> [[law]] = CamStop.bound_laws([lifter])
+        >>> np.round(law(np.array([280.0, 300.0])), 4).tolist()
+        [28.0271, 30.0291]
+        """
+        threads = threads_arg(n_threads)
+        if linear:
+            return [[functools.partial(_linear_law, m, threads)] for m in mechanisms]
+        if not mechanisms:
+            return []
+        v = critical_speeds(
+            [m.stop for m in mechanisms],
+            [m.a_max for m in mechanisms],
+            rtol=_STOP_RTOL,
+            n_threads=threads,
+        )
+        slopes = [m.stop.phase_per_rpm(x) for m, x in zip(mechanisms, v, strict=True)]
+        return [[Proportional(k)] for k in slopes]
+
+    @classmethod
+    def sweep_values(
+        cls,
+        mechanisms: Sequence[Any],
+        rpm: Array,
+        angle_deg: Sequence[Array],
+        fits: npt.NDArray[np.bool_],
+        *,
+        n_threads: int | None = None,
+    ) -> dict[str, Array]:
+        """``max_rebound_m``: each stop's first rebound [m] with its arc at the
+        optimum's angle (its minimum there), one rebound call per pulse table; NaN
+        where the machine does not fit.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> lifter = cm.Machine.example().mechanisms["lifter"]
+        >>> n = np.array([[300.0]])
+        >>> t = [lifter.min_phase_deg(n.reshape(-1))]
+        >>> a = CamStop.sweep_values([lifter], n, t, np.array([True]))["max_rebound_m"]
+        >>> bool(abs(a[0] - lifter.a_max) < 1e-9)
+        True
+        """
+        D, S = rpm.shape
+        rows = rpm.reshape(-1)
+        stops = [m.stop for m in mechanisms]
+        # Impact speeds at the operation's angle t: the angle per rpm at 1 m/s is
+        # phase_per_rpm(1), so v0 = n·that/t; 1 m/s where the machine does not fit
+        # (dropped).
+        per = np.repeat([s.phase_per_rpm(1.0) for s in stops], S)
+        t = angle_deg[0]
+        v0 = np.where(fits, rows * per / np.where(fits, t, 1.0), 1.0)
+        a = rebounds(stops, v0.reshape(D, S), n_threads=n_threads).reshape(-1)
+        return {"max_rebound_m": np.where(fits, a, np.nan)}
+
+    # ------------------------------------------------------------- its limit
+    def speed_limit_rpm(self) -> float:
+        """A stop limits the speed through the cyclogram only: inf here.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().mechanisms["lifter"].speed_limit_rpm()
+        inf
+        """
+        return math.inf
+
+    def limit_reason(self) -> str:
+        """ "" (:meth:`speed_limit_rpm`).
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().mechanisms["lifter"].limit_reason()
+        ''
+        """
+        return ""
+
+    # ------------------------------------------------------------- results
+    def analyze(self, ctx: Context) -> CamStopResult:
+        """Its results at the machine's nominal speed and on the speed grid.
+
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
+        >>> round(r.nominal_rpm, 2), round(r.mechanisms["lifter"].min_phase_at_nominal, 4)
+        (421.37, 42.1779)
+        """
+        label = self.bounds()[0].label
+        n = ctx.nominal_rpm
+        price = 0.0 if ctx.optimum is None else ctx.optimum.duals.get(label, 0.0)
+        per_mm: dict[str, float] = {}
+        if abs(price) > 1e-9:
+            # Its LP price per degree of the bound, times dt_min/da_max by a central
+            # difference (±0.1 % of a_max), per mm.
+            h = 1e-3 * self.a_max
+            up, down = (float(self.stop.min_phase_angle(self.a_max + d, n)) for d in (h, -h))
+            per_mm[label] = price * (up - down) / (2.0 * h) * 1e-3
+        return CamStopResult(
+            mech=self,
+            ctx=ctx,
+            max_impact_speed=self.stop.critical_speed(self.a_max),
+            min_phase_at_nominal=float(self.min_phase_deg(n)),
+            linear_at_nominal=float(self.linear_min_phase_deg(n)),
+            exact=ctx.bounds[label],
+            linear=ctx.linear_bounds[label],
+            per_mm=per_mm,
+        )
+
+
+def _linear_law(m: CamStop, n_threads: int | None, rpm: Array) -> Array:
+    return m.linear_min_phase_deg(rpm, n_threads=n_threads)
+
+
+@dataclass(frozen=True)
+class CamStopResult:
+    """A cam stop's results: its largest admissible impact speed [m/s], its
+    smallest phase angle [deg] at the nominal speed (exact and linearised), on the
+    speed grid (``exact``, ``linear``), and its bound's shadow price per mm of
+    ``a_max`` (``per_mm``)."""
+
+    mech: CamStop
+    ctx: Context
+    max_impact_speed: float
+    min_phase_at_nominal: float
+    linear_at_nominal: float
+    exact: Array
+    linear: Array
+    per_mm: dict[str, float]
+
+    def json(self) -> dict[str, dict[str, Any]]:
+        """Its ``mechanisms`` entry and its ``stops`` entry."""
+        s, st = self.mech, self.mech.stop
+        return {
+            "mechanisms": {"kind": "cam_stop", "arc": s.arc},
+            "stops": {
+                "arc": s.arc,
+                "model": st.model,
+                "law": st.law.name,
+                "stroke_m": st.stroke,
+                "preload_m": st.preload,
+                "critical_speed_m_s": self.max_impact_speed,
+                "linear_min_phase_deg_at_nominal": self.linear_at_nominal,
+                "a_max_m": s.a_max,
+                "omega_free_rad_s": st.omega_free,
+                "omega_contact_rad_s": st.omega_contact,
+                "min_phase_deg_at_nominal": self.min_phase_at_nominal,
+                "speed_rpm": self.ctx.rpm,
+                "min_phase_deg": self.exact,
+                "linear_min_phase_deg": self.linear,
+            },
+        }
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """Its report table."""
+        s, st, n = self.mech, self.mech.stop, self.ctx.nominal_rpm
+        model = (
+            "pulse (the seed's: the free lever and the impact pulse)"
+            if st.model == "pulse"
+            else "contact (the stop as a unilateral spring, event by event)"
+        )
+        return ["quantity", "value"], [
+            ["operation it constrains", f"{s.arc[0]}→{s.arc[1]}"],
+            ["rebound model", model],
+            ["cam law (rise)", st.law.name.replace("_", " ")],
+            ["stroke [mm]", st.stroke * 1e3],
+            ["preload (stop before the end of the stroke) [mm]", st.preload * 1e3],
+            ["rebound limit [mm]", s.a_max * 1e3],
+            ["free natural frequency [Hz]", st.omega_free / (2 * math.pi)],
+            ["natural frequency in contact [Hz]", st.omega_contact / (2 * math.pi)],
+            ["largest admissible impact speed [m/s]", self.max_impact_speed],
+            [f"smallest phase angle at {n:g} rpm [deg]", self.min_phase_at_nominal],
+            [f"the seed's linearised form at {n:g} rpm [deg]", self.linear_at_nominal],
+        ]
+
+    def csv_columns(self) -> list[tuple[str, Array]]:
+        """Its smallest phase angles on the sweep's speeds, exact and linearised."""
+        k = self.mech.name
+        return [(f"min_phase_deg[{k}]", self.exact), (f"linear_min_phase_deg[{k}]", self.linear)]
+
+    def prices(self) -> dict[str, float]:
+        """Its bound's shadow price per mm of ``a_max`` [deg/mm] (where priced)."""
+        return self.per_mm
+
+    def figures(self, save: Save) -> None:
+        """The rebound against speed, the cam law and the smallest phase angle."""
+        from ..plot import plot_law, plot_min_phase, plot_rebound_vs_speed
+
+        k, mech, n = self.mech.name, self.mech, self.ctx.rpm
+        save(
+            plot_rebound_vs_speed(
+                mech.stop,
+                n,
+                phase_deg=mech.phase_deg,
+                a_max=mech.a_max,
+                title=f"{k}: rebound at the stop",
+            ),
+            f"{k}_rebound",
+            "Left: the lever's motion after it strikes the stop"
+            + (
+                " (pulse model: the stop acts only through the impact pulse, so q < 0, "
+                "into the stop, is the model's free vibration, not the lever's)"
+                if mech.stop.model == "pulse"
+                else " (contact model: q < 0 is the stop's deflection under the lever)"
+            )
+            + "; right: the first rebound against speed for several phase angles, with "
+            "the limit dashed.",
+        )
+        axes = plot_law(
+            mech.stop.law, title=f"{k}: cam law ({mech.stop.law.name.replace('_', ' ')}, rise)"
+        )
+        for a in axes:
+            a.axvline(mech.stop.j_contact, color="0.4", ls=":", lw=1.0)
+        axes[0].annotate(
+            "meets the stop",
+            (mech.stop.j_contact, 0.5),
+            xytext=(-6, 0),
+            textcoords="offset points",
+            ha="right",
+            fontsize=8,
+            color="0.3",
+        )
+        save(
+            axes[0].figure,
+            f"{k}_law",
+            f"The cam's motion law over the arc {mech.arc[0]}→{mech.arc[1]}: Z, Z' and Z'' "
+            f"(dimensionless) against the fraction j of the phase angle; the lever meets "
+            f"the stop at j = {mech.stop.j_contact:.3f} (dotted), Z' = "
+            f"{mech.stop.dz_contact:.3f} there sets the impact speed.",
+        )
+        ax = plot_min_phase(
+            n,
+            self.exact,
+            self.linear,
+            minimum_deg=self.ctx.cyclogram.operation(mech.arc).min_angle_deg,
+            title=f"{k}: smallest phase angle of {mech.arc[0]}→{mech.arc[1]}",
+        )
+        save(
+            ax.figure,
+            f"{k}_min_phase",
+            "The smallest phase angle of the operation that keeps the rebound within its "
+            "limit: exact and the seed's linearised form.",
+        )

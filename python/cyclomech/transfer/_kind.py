@@ -1,0 +1,228 @@
+"""The ``transfer`` mechanism kind of a machine file: a transfer of workpieces
+between two rotors, each turning one pocket per machine cycle (seed 002)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from .. import _toml
+from .._arrays import speeds_rpm
+from .._errors import InputError
+from .._kind import Context, PlainResult, Save, TableContext, Unbounded
+from .._units import RAD_PER_S_PER_RPM
+from ._model import TransferPath, design_transfer
+
+__all__ = ["TransferMechanism"]
+
+
+@dataclass(frozen=True)
+class TransferMechanism(Unbounded):
+    """A transfer between a transfer rotor (pitch radius R_t, ``pockets_t``
+    pockets) and a process rotor (R_p, ``pockets_p``): each turns one pocket per
+    machine cycle, so at n rpm the peripheral speeds are V = 2π·R·n/(60·pockets)
+    [m/s]. Optional limits on the workpiece's peak jerk [m/s³] and acceleration
+    [m/s²].
+
+    >>> import cyclomech as cm
+    >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+    >>> m.kind, m.pockets_t, m.pockets_p
+    ('transfer', 8, 12)
+    """
+
+    kind: ClassVar[str] = "transfer"
+    keys: ClassVar[frozenset[str]] = frozenset(
+        {
+            "kind",
+            "R_t",
+            "R_p",
+            "gap",
+            "pockets_t",
+            "pockets_p",
+            "x2",
+            "max_jerk",
+            "max_acceleration",
+        }
+    )
+    name: str
+    path: TransferPath
+    pockets_t: int
+    pockets_p: int
+    max_jerk: float | None = None
+    max_acceleration: float | None = None
+
+    @classmethod
+    def from_table(
+        cls, name: str, table: Mapping[str, Any], ctx: TableContext
+    ) -> TransferMechanism:
+        """Its ``[mechanism.<name>]`` table: ``R_t``, ``R_p``, ``gap`` [m],
+        ``pockets_t``, ``pockets_p``; optional ``x2`` [m] (default: the length of
+        least jerk, :func:`cyclomech.transfer.design_transfer`), ``max_jerk``
+        [m/s³] and ``max_acceleration`` [m/s²].
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml")
+        >>> ctx = TableContext(m.cyclogram, "<doc>", 361)
+        >>> TransferMechanism.from_table("line", m.data["mechanism"]["line"], ctx).max_jerk
+        10.0
+        """
+        where = ctx.where(name)
+        _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
+        _toml.require(table, ("R_t", "R_p", "gap", "pockets_t", "pockets_p"), where)
+        R_t, R_p = (
+            _toml.number(table, "R_t", where, "[m]"),
+            _toml.number(table, "R_p", where, "[m]"),
+        )
+        gap = _toml.number(table, "gap", where, "[m]")
+        pockets = []
+        for k in ("pockets_t", "pockets_p"):
+            v = table[k]
+            if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 10_000:
+                raise InputError(f"{where}: {k} = {v!r} must be a whole number of pockets ≥ 1")
+            pockets.append(v)
+        if gap <= 0:
+            raise InputError(f"{where}: gap = {gap!r} must be positive [m] (pitch circles apart)")
+        x2 = _toml.number(table, "x2", where, "[m]") if "x2" in table else None
+        if x2 is None:
+            w = RAD_PER_S_PER_RPM
+            x2 = design_transfer(R_t, R_p, gap, (w * R_t / pockets[0], w * R_p / pockets[1])).x2
+        path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
+        return cls(
+            name,
+            path,
+            pockets[0],
+            pockets[1],
+            _toml.optional_positive(table, "max_jerk", where, "[m/s³]"),
+            _toml.optional_positive(table, "max_acceleration", where, "[m/s²]"),
+        )
+
+    def speeds(self, rpm: float) -> tuple[float, float]:
+        """Peripheral speeds (V_t, V_p) [m/s] at ``rpm``.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+        >>> [round(v, 4) for v in m.speeds(60.0)]
+        [0.1178, 0.1309]
+        """
+        w = float(speeds_rpm("rpm", rpm)[0]) * RAD_PER_S_PER_RPM
+        return (w * self.path.R_t / self.pockets_t, w * self.path.R_p / self.pockets_p)
+
+    def peaks(self, rpm: float) -> tuple[float, float]:
+        """Peak |a| [m/s²] and |da/dt| [m/s³] of the workpiece at ``rpm``; they
+        grow as n² and n³ (the path is fixed, the speed law scales with n).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+        >>> a1, j1 = m.peaks(60.0); a2, j2 = m.peaks(120.0)
+        >>> round(a2 / a1, 6), round(j2 / j1, 6)
+        (4.0, 8.0)
+        """
+        acc = self.path.acceleration(self.speeds(rpm))
+        return acc.max_acceleration, acc.max_jerk
+
+    def _limits_rpm(self) -> tuple[float, float]:
+        """The speeds [rpm] at which the peak jerk and the peak acceleration reach
+        their limits (inf without one): jerk grows as n³, acceleration as n²."""
+        a1, j1 = self.peaks(1.0)
+        by_jerk = math.inf if self.max_jerk is None else (self.max_jerk / j1) ** (1.0 / 3.0)
+        by_acc = (
+            math.inf if self.max_acceleration is None else math.sqrt(self.max_acceleration / a1)
+        )
+        return by_jerk, by_acc
+
+    def speed_limit_rpm(self) -> float:
+        """Speed [rpm] at which the first of the limits is reached (inf without).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
+        >>> a, j = m.peaks(m.speed_limit_rpm())
+        >>> round(j, 6) <= m.max_jerk and round(a, 6) <= m.max_acceleration
+        True
+        """
+        if self.max_jerk is None and self.max_acceleration is None:
+            return math.inf
+        return min(self._limits_rpm())
+
+    def limit_reason(self) -> str:
+        """What sets :meth:`speed_limit_rpm`: the first limit reached (jerk where
+        both are reached at the same speed).
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"].limit_reason()
+        "the workpiece's peak jerk reaches max_jerk = 10 m/s³"
+        """
+        if self.max_jerk is None and self.max_acceleration is None:
+            return ""
+        by_jerk, by_acc = self._limits_rpm()
+        if by_jerk <= by_acc:
+            return f"the workpiece's peak jerk reaches max_jerk = {self.max_jerk:g} m/s³"
+        return (
+            "the workpiece's peak acceleration reaches max_acceleration = "
+            f"{self.max_acceleration:g} m/s²"
+        )
+
+    def analyze(self, ctx: Context) -> TransferResult:
+        """Its speeds and peaks at the nominal speed.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml")
+        >>> r = cm.machine.analyze(m, progress=False).mechanisms["line"]
+        >>> r.max_jerk <= m.mechanisms["line"].max_jerk * (1 + 1e-9)
+        True
+        """
+        a, j = self.peaks(ctx.nominal_rpm)
+        return TransferResult(self, ctx, self.speeds(ctx.nominal_rpm), a, j)
+
+
+@dataclass(frozen=True)
+class TransferResult(PlainResult):
+    """A transfer's peripheral speeds [m/s] and the workpiece's peak acceleration
+    [m/s²] and jerk [m/s³] at the machine's nominal speed."""
+
+    mech: TransferMechanism
+    ctx: Context
+    speeds: tuple[float, float]
+    max_acceleration: float
+    max_jerk: float
+
+    def json(self) -> dict[str, dict[str, Any]]:
+        """Its ``mechanisms`` entry."""
+        p = self.mech.path
+        return {
+            "mechanisms": {
+                "kind": "transfer",
+                "x2_m": [p.x2_t, p.x2_p],
+                "speeds_m_s": list(self.speeds),
+                "max_acceleration_m_s2": self.max_acceleration,
+                "max_jerk_m_s3": self.max_jerk,
+                "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
+            }
+        }
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """Its report table."""
+        info, n = self.json()["mechanisms"], self.ctx.nominal_rpm
+        return ["quantity", "value"], [
+            ["transition lengths x2 [mm]", ", ".join(f"{1e3 * x:.4g}" for x in info["x2_m"])],
+            [
+                f"peripheral speeds at {n:g} rpm [m/s]",
+                ", ".join(f"{v:.4g}" for v in info["speeds_m_s"]),
+            ],
+            ["peak acceleration [m/s²]", info["max_acceleration_m_s2"]],
+            ["peak jerk [m/s³]", info["max_jerk_m_s3"]],
+            ["speed limit [rpm]", info["speed_limit_rpm"]],
+        ]
+
+    def figures(self, save: Save) -> None:
+        """The workpiece's path, curvature, acceleration and jerk."""
+        from ..plot import plot_transfer
+
+        k, n = self.mech.name, self.ctx.nominal_rpm
+        save(
+            plot_transfer(self.mech.path, speed=self.speeds, title=f"{k}: transfer at {n:g} rpm"),
+            f"{k}_transfer",
+            "The workpiece's path between the rotors, its curvature, acceleration and "
+            "jerk at the nominal speed.",
+        )
