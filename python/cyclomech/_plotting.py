@@ -30,6 +30,7 @@ from ._errors import InputError
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.axis import Axis
 
 #: Red of what is critical: the edges of critical operations in a cyclogram (zero
 #: slack / held at their minimum by a priced bound), the limit lines of the stop,
@@ -80,13 +81,18 @@ def tick_step(cycle: float) -> float:
     return 90.0 * 2.0 ** math.ceil(math.log2(cycle / (90.0 * 12.0)))
 
 
-def angle_axis(ax: Axes, hi_deg: float, label: str) -> None:
-    """x from 0 to ``hi_deg`` [deg], ticks every 15°, 30°, … with ° labels."""
+def degree_ticks(axis: Axis, span: float) -> None:
+    """Ticks on ``axis`` every :func:`tick_step` of ``span`` [deg], labelled 30°, 45°, …"""
     from matplotlib.ticker import FuncFormatter, MultipleLocator
 
+    axis.set_major_locator(MultipleLocator(tick_step(span)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: deg_text(v)))
+
+
+def angle_axis(ax: Axes, hi_deg: float, label: str) -> None:
+    """x from 0 to ``hi_deg`` [deg], ticks every 15°, 30°, … with ° labels."""
     ax.set_xlim(0.0, hi_deg)
-    ax.xaxis.set_major_locator(MultipleLocator(tick_step(hi_deg)))
-    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: deg_text(v)))
+    degree_ticks(ax.xaxis, hi_deg)
     ax.set_xlabel(label)
 
 
@@ -119,12 +125,6 @@ def axes_arg(ax: Any, counts: tuple[int, ...], what: str) -> list[Axes] | None:
     return axes
 
 
-def count_arg(name: str, value: Any, lo: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
-        raise InputError(f"{name} must be an integer ≥ {lo}; got {value!r}")
-    return int(value)
-
-
 # ----------------------------------------- mechanism drawings (linkages and the press)
 #: Colour of the links, joints and symbols of a linkage drawing.
 LINK_COLOR = "#262626"
@@ -134,6 +134,19 @@ PLATE_COLOR = "#d6e2f0"
 DRIVER_COLOR = "#c0392b"
 #: Colours of the traced paths, in the order of ``trace`` (then round again).
 TRACE_COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf")
+
+
+def ground_symbol(
+    x: float, y: float, s: float
+) -> tuple[list[tuple[float, float]], list[list[tuple[float, float]]]]:
+    """The ground symbol under a fixed pivot at (x, y) [m or mm], of size ``s`` (same
+    unit): the support triangle's corners and the lines of its hatched base."""
+    yb = y - 1.5 * s
+    triangle = [(x, y), (x - 0.85 * s, yb), (x + 0.85 * s, yb)]
+    hatch = [[(x - 1.5 * s, yb), (x + 1.5 * s, yb)]]
+    for xk in np.linspace(x - 1.05 * s, x + 1.5 * s, 6):
+        hatch.append([(xk, yb), (xk - 0.55 * s, yb - 0.6 * s)])
+    return triangle, hatch
 
 
 def unit_vector(v: Any) -> npt.NDArray[np.float64]:

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from .._errors import InputError
-from .._plotting import CRITICAL_COLOR, deg_text, halo, pyplot, tick_step
+from .._plotting import CRITICAL_COLOR, deg_text, degree_ticks, halo, pyplot, tick_step
 from . import Operation, Optimum, Schedule
 
 if TYPE_CHECKING:
@@ -450,7 +450,6 @@ def _gantt(ax: Axes, result: Schedule | Optimum, lay: _Layout) -> list[Any]:
     from matplotlib.collections import LineCollection
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
-    from matplotlib.ticker import FuncFormatter, MultipleLocator
 
     cycle = lay.cycle
     eps = 1e-9 * cycle
@@ -542,8 +541,7 @@ def _gantt(ax: Axes, result: Schedule | Optimum, lay: _Layout) -> list[Any]:
         )
 
     ax.set_xlim(0.0, cycle)
-    ax.xaxis.set_major_locator(MultipleLocator(tick_step(cycle)))
-    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _pos: deg_text(x)))
+    degree_ticks(ax.xaxis, cycle)
     ax.set_xlabel("main-shaft angle")
     centres = [base[r] + (lay.lanes[r] - 1) / 2 for r in range(len(lay.rows))]
     ax.set_yticks(centres, labels=list(lay.rows))

@@ -29,13 +29,14 @@ from .._plotting import (
     PLATE_COLOR,
     TRACE_COLORS,
     deg_text,
+    degree_ticks,
     frame_equal,
+    ground_symbol,
     label_direction,
     mechanism_figure,
     point_label,
     pyplot,
     slider_block,
-    tick_step,
     true_runs,
     unit_vector,
 )
@@ -274,11 +275,9 @@ def _draw_linkage(
     tri, hatch = [], []
     for g in ground:
         x, y = pos[g]
-        yb = y - 1.5 * s
-        tri.append([(x, y), (x - 0.85 * s, yb), (x + 0.85 * s, yb)])
-        hatch.append([(x - 1.5 * s, yb), (x + 1.5 * s, yb)])
-        for xk in np.linspace(x - 1.05 * s, x + 1.5 * s, 6):
-            hatch.append([(xk, yb), (xk - 0.55 * s, yb - 0.6 * s)])
+        corners, base = ground_symbol(x, y, s)
+        tri.append(corners)
+        hatch += base
         blocked[g] += [np.array([-1.0, -1.0]), np.array([0.0, -1.0]), np.array([1.0, -1.0])]
     ax.add_collection(
         PolyCollection(
@@ -495,7 +494,6 @@ def plot_analogs(solution: LinkageSolution, point: str, *, title: str | None = N
     plt = pyplot()
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
-    from matplotlib.ticker import FuncFormatter, MultipleLocator
 
     _check_solution(solution)
     if solution.vel is None or solution.acc is None:
@@ -556,8 +554,7 @@ def plot_analogs(solution: LinkageSolution, point: str, *, title: str | None = N
         ax.set_axisbelow(True)
     bottom = axes[-1]
     bottom.set_xlim(*((lo, hi) if hi > lo else (lo - 1.0, hi + 1.0)))
-    bottom.xaxis.set_major_locator(MultipleLocator(tick_step(max(hi - lo, 1.0))))
-    bottom.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: deg_text(v)))
+    degree_ticks(bottom.xaxis, max(hi - lo, 1.0))
     bottom.set_xlabel("crank angle φ")
     fig.suptitle(f"Point {point}: position and analogs" if title is None else title)
     return cast("Figure", fig)

@@ -16,18 +16,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._arrays import count
 from .._errors import InputError
-from .._plotting import (
-    MM,
-    MOTION_COLORS,
-    angle_axis,
-    axes_arg,
-    count_arg,
-    deg_text,
-    halo,
-    num_text,
-    pyplot,
-)
+from .._plotting import MM, MOTION_COLORS, angle_axis, axes_arg, deg_text, halo, num_text, pyplot
 from . import MotionLaw, TwoPeriodLaw
 
 if TYPE_CHECKING:
@@ -117,7 +108,7 @@ def plot_law(
             "law must be a cyclomech.motion.MotionLaw (cm.motion.law(...)) or a "
             f"cyclomech.motion.TwoPeriodLaw (cm.motion.two_period(...)); got {type(law).__name__}"
         )
-    n = count_arg("n", n, 3)
+    n = count("n", n, low=3)
     given = axes_arg(ax, (1, 3), "plot_law")
     if given is None:
         fig, arr = plt.subplots(3, 1, sharex=True, figsize=(7.5, 7.6), layout="constrained")

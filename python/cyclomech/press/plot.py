@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from .._arrays import count
 from .._errors import InputError
 from .._plotting import (
     CRITICAL_COLOR,
@@ -31,9 +32,9 @@ from .._plotting import (
     TRACE_COLORS,
     angle_axis,
     axes_arg,
-    count_arg,
     deg_text,
     frame_equal,
+    ground_symbol,
     halo,
     label_direction,
     mechanism_figure,
@@ -146,7 +147,7 @@ def plot_press(
         raise InputError(f"alpha must be a crank angle [rad]; got {alpha!r}") from None
     if not math.isfinite(a0):
         raise InputError(f"alpha = {alpha!r} must be a finite crank angle [rad]")
-    n = count_arg("n", n, 8)
+    n = count("n", n, low=8)
     show_motion = bool(show_motion)
     given = axes_arg(
         ax,
@@ -315,11 +316,10 @@ def plot_press(
     )
 
     # The ground symbol under O: a support triangle on a hatched base.
-    g = 0.7 * s  # smaller than the slider's: the planet passes close to O
-    yb = -1.5 * g
+    corners, hatch = ground_symbol(0.0, 0.0, 0.7 * s)  # smaller: the planet passes close to O
     mech.add_collection(
         PolyCollection(
-            [[(0.0, 0.0), (-0.85 * g, yb), (0.85 * g, yb)]],
+            [corners],
             facecolors="white",
             edgecolors=LINK_COLOR,
             linewidths=1.0,
@@ -327,9 +327,6 @@ def plot_press(
             zorder=1.8,
         )
     )
-    hatch = [[(-1.5 * g, yb), (1.5 * g, yb)]] + [
-        [(xk, yb), (xk - 0.55 * g, yb - 0.6 * g)] for xk in np.linspace(-1.05 * g, 1.5 * g, 6)
-    ]
     mech.add_collection(
         LineCollection(hatch, colors=LINK_COLOR, linewidths=0.8, gid="ground hatching", zorder=1.8)
     )

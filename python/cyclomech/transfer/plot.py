@@ -15,8 +15,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._arrays import count
 from .._errors import InputError
-from .._plotting import count_arg, pyplot
+from .._plotting import pyplot
 from . import TransferPath
 from ._model import PIECES
 
@@ -74,7 +75,7 @@ def plot_transfer(
         raise InputError(
             f"path must be a cyclomech.transfer.TransferPath; got {type(path).__name__}"
         )
-    n = count_arg("n", n, 10)
+    n = count("n", n, low=10)
     smp = path.sample(n)
     acc = path.acceleration(speed, n) if speed is not None else None
     pts = smp.points * 1e3
