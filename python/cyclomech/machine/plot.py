@@ -66,6 +66,7 @@ def plot_speed_sweep(
     top, mid = axes[0], axes[1]
     n = np.asarray(sweep.rpm)
     limited = limit_rpm is not None and math.isfinite(limit_rpm)
+    lim = math.nan if limit_rpm is None else float(limit_rpm)
     runs = n <= limit_rpm if limited else np.asarray(sweep.fits)
 
     def upto(y: Any) -> Any:  # the curve where the machine runs
@@ -117,7 +118,7 @@ def plot_speed_sweep(
         ax.set_xlim(float(n.min()), float(n.max()))
         if limited and limit_rpm < n.max():
             ax.axvspan(
-                max(float(limit_rpm), float(n.min())),
+                max(lim, float(n.min())),
                 float(n.max()),
                 color="0.85",
                 alpha=0.6,
@@ -140,7 +141,7 @@ def plot_speed_sweep(
             )
         if limited and n.min() <= limit_rpm <= n.max():
             ax.axvline(
-                float(limit_rpm),
+                lim,
                 color=CRITICAL_COLOR,
                 ls="--",
                 lw=1.0,  # type: ignore[arg-type]

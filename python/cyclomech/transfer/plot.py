@@ -88,7 +88,7 @@ def plot_transfer(
     ax_k = fig.add_subplot(grid[1, :])
     lim = max(1.0 / path.R_t, 1.0 / path.R_p)
     norm = TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim)
-    segs = np.stack([pts[:-1], pts[1:]], axis=1)
+    segs: Any = np.stack([pts[:-1], pts[1:]], axis=1)  # (n - 1, 2, 2) [mm]
     mid_k = 0.5 * (kappa[1:] + kappa[:-1])
     mappable = None
     for ax in (ax_map, ax_zoom):
