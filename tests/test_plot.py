@@ -1,8 +1,12 @@
-"""Tests of cyclomech.plot: what is drawn, not only that drawing does not fail."""
+"""Tests of cyclomech.plot: what is drawn, not only that drawing does not fail; and
+of the house of the plots (each domain's plot module, the facade that re-exports them,
+doors that never import matplotlib)."""
 
 from __future__ import annotations
 
 import doctest
+import importlib
+import subprocess
 import sys
 
 import matplotlib
@@ -346,10 +350,70 @@ def test_without_matplotlib(monkeypatch):
         plot_cyclogram(stb().schedule())
 
 
-def test_docstring_examples():
-    result = doctest.testmod(cplot, optionflags=doctest.ELLIPSIS)
+DOMAINS = ("cyclogram", "impact", "linkage", "machine", "motion", "press", "transfer")
+
+
+@pytest.mark.parametrize("module", ["cyclomech.plot", *(f"cyclomech.{d}.plot" for d in DOMAINS)])
+def test_docstring_examples(module):
+    result = doctest.testmod(importlib.import_module(module), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0
     assert result.failed == 0
+
+
+def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
+    assert cplot.__all__ == [
+        "animate_linkage",
+        "plot_analogs",
+        "plot_cyclogram",
+        "plot_cyclogram_pair",
+        "plot_law",
+        "plot_linkage",
+        "plot_min_phase",
+        "plot_press",
+        "plot_press_criteria",
+        "plot_rebound_vs_speed",
+        "plot_response",
+        "plot_speed_sweep",
+        "plot_transfer",
+    ]
+    homes = set()
+    for name in cplot.__all__:
+        f = getattr(cplot, name)
+        home = importlib.import_module(f.__module__)
+        assert f.__module__ in {f"cyclomech.{d}.plot" for d in DOMAINS}, name
+        assert name in home.__all__ and getattr(home, name) is f
+        homes.add(f.__module__)
+    assert homes == {f"cyclomech.{d}.plot" for d in DOMAINS}
+    # Every domain plot module's public functions are in the facade.
+    assert {n for d in DOMAINS for n in importlib.import_module(f"cyclomech.{d}.plot").__all__} == (
+        set(cplot.__all__)
+    )
+    # The colours stay where they were.
+    assert cplot.MECHANISM_COLORS[0] == "#9ecae1" and cplot.WORK_COLOR == "#f28e2b"
+    assert cplot.CRITICAL_COLOR == "#d62728" and cplot.XY_COLORS == ("#1f77b4", "#d62728")
+
+
+def test_import_cyclomech_and_its_plot_modules_needs_no_matplotlib():
+    """No door imports a plot module or matplotlib; the plot modules import
+    matplotlib only when they draw."""
+    code = (
+        "import sys\n"
+        "sys.modules['matplotlib'] = None\n"
+        "import cyclomech, cyclomech.plot\n"
+        f"for d in {DOMAINS!r}:\n"
+        "    __import__(f'cyclomech.{d}.plot')\n"
+        "print('ok')\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert run.returncode == 0 and run.stdout == "ok\n", run.stderr
+    code = (
+        "import sys, cyclomech\n"
+        f"for d in {DOMAINS!r}:\n"
+        "    __import__(f'cyclomech.{d}')\n"
+        "print(sorted(m for m in sys.modules if m.endswith('plot') or 'matplotlib' in m))\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert run.returncode == 0 and run.stdout == "[]\n", run.stdout + run.stderr
 
 
 # ---------------------------------------------------------------------------

@@ -1,0 +1,227 @@
+"""Plots of a stop impact (seed 000): the motion after contact, the first rebound
+against speed, and a stop's smallest admissible phase angle against speed.
+
+:func:`plot_response` takes a response q(t) [m] over t [s] (as from
+:meth:`cyclomech.impact.StopImpact.response`), :func:`plot_rebound_vs_speed` a
+:class:`cyclomech.impact.StopImpact` and speeds [rpm], :func:`plot_min_phase`
+phase angles [deg] against speeds [rpm]. They show q in millimetres and t in
+milliseconds.
+
+matplotlib is an optional dependency (``pip install 'cyclomech[plot]'``), imported
+only when a function draws; the functions draw on the axes they are given (or on a
+new figure), return what they drew on, and never call ``plt.show()``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, cast
+
+import numpy as np
+import numpy.typing as npt
+
+from .._errors import InputError
+from .._plotting import CRITICAL_COLOR, pyplot
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_min_phase", "plot_rebound_vs_speed", "plot_response"]
+
+
+def plot_response(
+    t: npt.ArrayLike,
+    q: npt.ArrayLike,
+    ax: Axes | None = None,
+    *,
+    force: npt.ArrayLike | None = None,
+    rebound: tuple[float, float] | None = None,
+    label: str | None = None,
+    title: str | None = None,
+) -> Axes:
+    """Draw a response q(t) after an impact: q [mm] against t [ms]; return the axes.
+
+    ``t`` [s] and ``q`` [m] as from :func:`cyclomech.impact.duhamel` or
+    :meth:`cyclomech.impact.StopImpact.response`. ``force`` [N] on the same grid
+    adds the pulse on a second y axis (shaded); ``rebound`` = (time [s], q [m])
+    marks the first rebound with a dot and its value. The stop is q = 0 (a
+    dashed line). Artists, by gid: ``"q"``, ``"force"``, ``"rebound"``,
+    ``"label:rebound"``, ``"stop"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import cyclomech as cm
+    >>> from cyclomech.impact.plot import plot_response
+    >>> lifter = cm.impact.StopImpact.example()
+    >>> t, q = lifter.response(280, 40.0)
+    >>> ax = plot_response(t, q, rebound=(float(t[q.argmax()]), float(q.max())))
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('t after contact  [ms]', 'q, away from the stop  [mm]')
+    """
+    plt = pyplot()
+    ta = np.asarray(t, dtype=np.float64)
+    qa = np.asarray(q, dtype=np.float64)
+    if ta.ndim != 1 or qa.shape != ta.shape:
+        raise InputError(
+            f"t and q must be 1-D arrays of one length; got shapes {ta.shape} and {qa.shape}"
+        )
+    if ax is None:
+        _fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    ax.axhline(0.0, color="0.4", lw=0.8, ls="--", gid="stop")
+    ax.plot(ta * 1e3, qa * 1e3, color="C0", lw=1.4, label=label or "q(t)", gid="q")
+    if force is not None:
+        fa = np.asarray(force, dtype=np.float64)
+        if fa.shape != ta.shape:
+            raise InputError(f"force must have the shape of t {ta.shape}; got {fa.shape}")
+        tw = ax.twinx()
+        tw.fill_between(ta * 1e3, fa, color="C3", alpha=0.18, lw=0, gid="force")
+        tw.plot(ta * 1e3, fa, color="C3", lw=0.8)
+        tw.set_ylabel("impact force  [N]", color="C3")
+        tw.tick_params(axis="y", colors="C3")
+        tw.set_ylim(bottom=min(0.0, float(fa.min())) * 1.1, top=float(fa.max()) * 3.0 or 1.0)
+    if rebound is not None:
+        tr, qr = float(rebound[0]), float(rebound[1])
+        if math.isfinite(tr):
+            ax.plot([tr * 1e3], [qr * 1e3], "o", color="C1", ms=6, zorder=5, gid="rebound")
+            ax.annotate(
+                f"first rebound {qr * 1e3:.4g} mm",
+                (tr * 1e3, qr * 1e3),
+                xytext=(8, 6),
+                textcoords="offset points",
+                fontsize=8.5,
+                gid="label:rebound",
+            )
+    ax.set_xlabel("t after contact  [ms]")
+    ax.set_ylabel("q, away from the stop  [mm]")
+    ax.set_xlim(float(ta[0]) * 1e3, float(ta[-1]) * 1e3)
+    ax.margins(y=0.18)  # room for the rebound's label
+    ax.grid(True, lw=0.4, alpha=0.5)
+    if title is not None:
+        ax.set_title(title)
+    return ax
+
+
+def plot_rebound_vs_speed(
+    model: Any,
+    rpm: npt.ArrayLike,
+    *,
+    phase_deg: npt.ArrayLike = (40.0,),
+    a_max: float | None = None,
+    responses: npt.ArrayLike | None = None,
+    title: str | None = None,
+) -> Figure:
+    """The seed's fig. 8 for a :class:`cyclomech.impact.StopImpact`: on the left
+    the motion after contact at a few speeds (``responses`` [rpm], default the
+    ends and middle of ``rpm``, at the first phase angle), on the right the first
+    rebound [mm] against speed ``rpm`` for each phase angle ``phase_deg`` [deg]
+    (one Rust call), with the limit ``a_max`` [m] as a dashed line and the
+    smallest admissible phase angle at the top speed noted. Returns the figure.
+    Artists, by gid: ``"response:<rpm>"``, ``"rebound:<phase>"``, ``"a_max"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.impact.plot import plot_rebound_vs_speed
+    >>> fig = plot_rebound_vs_speed(cm.impact.StopImpact.example(), np.linspace(200, 450, 26),
+    ...                             phase_deg=[30, 40, 50], a_max=0.1e-3)
+    >>> len(fig.axes), fig.axes[1].get_xlabel()
+    (2, 'main-shaft speed  [rpm]')
+    """
+    plt = pyplot()
+    n = np.asarray(rpm, dtype=np.float64).reshape(-1)
+    if n.size < 2 or not np.isfinite(n).all() or (n <= 0).any():
+        raise InputError("rpm must hold at least two positive speeds [rpm]")
+    phases = np.asarray(phase_deg, dtype=np.float64).reshape(-1)
+    if phases.size < 1:
+        raise InputError("phase_deg must hold at least one phase angle [deg]")
+    shown = (
+        np.array([n.min(), np.median(n), n.max()])
+        if responses is None
+        else np.asarray(responses, dtype=np.float64).reshape(-1)
+    )
+    fig, (left, right) = plt.subplots(
+        1, 2, figsize=(11.0, 4.0), layout="constrained", width_ratios=(1.25, 1.0)
+    )
+    left.axhline(0.0, color="0.4", lw=0.8, ls="--")
+    colors = plt.get_cmap("viridis")(np.linspace(0.1, 0.85, max(shown.size, 2)))
+    for c, speed in zip(colors, shown, strict=False):
+        t, q = model.response(float(speed), float(phases[0]))
+        left.plot(
+            t * 1e3, q * 1e3, color=c, lw=1.2, label=f"{speed:g} rpm", gid=f"response:{speed:g}"
+        )
+    left.set_xlabel("t after contact  [ms]")
+    left.set_ylabel("q, away from the stop  [mm]")
+    left.set_title(f"motion after contact, phase angle {phases[0]:g}°", fontsize=10)
+    left.legend(fontsize=8, loc="upper right")
+    left.grid(True, lw=0.4, alpha=0.5)
+    a = model.rebound(n[:, None], phases[None, :])  # (speeds, phases), one call
+    for j, ph in enumerate(phases):
+        right.plot(
+            n, a[:, j] * 1e3, "-o", ms=2.5, lw=1.4, label=f"t = {ph:g}°", gid=f"rebound:{ph:g}"
+        )
+    if a_max is not None:
+        t_min = float(model.min_phase_angle(float(a_max), float(n.max())))
+        note = (
+            f"limit [a] = {float(a_max) * 1e3:g} mm: t ≥ {t_min:.3g}° at {n.max():g} rpm"
+            if math.isfinite(t_min)
+            else f"limit [a] = {float(a_max) * 1e3:g} mm: not reachable at {n.max():g} rpm"
+        )
+        # The note is the limit line's legend entry: text on the line was struck through.
+        right.axhline(
+            float(a_max) * 1e3, color=CRITICAL_COLOR, ls="--", lw=1.0, gid="a_max", label=note
+        )
+        right.set_ylim(0.0, 1.15 * max(float(a_max) * 1e3, float(np.nanmax(a)) * 1e3))
+    else:
+        right.set_ylim(bottom=0.0)
+    right.set_xlabel("main-shaft speed  [rpm]")
+    right.set_ylabel("first rebound  [mm]")
+    right.legend(fontsize=8, loc="best")
+    right.grid(True, lw=0.4, alpha=0.5)
+    fig.suptitle(title or f"rebound at the stop ({model.model} model)", fontsize=11)
+    return cast("Figure", fig)
+
+
+def plot_min_phase(
+    rpm: npt.ArrayLike,
+    exact: npt.ArrayLike,
+    linear: npt.ArrayLike | None = None,
+    *,
+    minimum_deg: float | None = None,
+    title: str | None = None,
+    ax: Axes | None = None,
+) -> Axes:
+    """A stop's smallest admissible phase angle [deg] against speed ``rpm``:
+    ``exact`` (solid) and the seed's ``linear`` form (dashed); ``minimum_deg`` is
+    the operation's own minimum angle (dotted). Returns the axes. Artists, by
+    gid: ``"exact"``, ``"linear"``, ``"minimum"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.impact.plot import plot_min_phase
+    >>> s = cm.Machine.example().mechanisms["lifter"]
+    >>> n = np.linspace(200, 450, 11)
+    >>> ax = plot_min_phase(n, s.min_phase_deg(n), s.linear_min_phase_deg(n))
+    >>> ax.get_xlabel()
+    'main-shaft speed  [rpm]'
+    """
+    plt = pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7.0, 4.0), layout="constrained")
+    assert ax is not None
+    ax.plot(rpm, exact, "-", lw=1.8, color="C0", label="exact", gid="exact")
+    if linear is not None:
+        ax.plot(rpm, linear, "--", lw=1.3, color="C1", label="seed's linearised form", gid="linear")
+    if minimum_deg is not None:
+        ax.axhline(
+            minimum_deg, color="0.4", ls=":", lw=1.0, label="operation's own minimum", gid="minimum"
+        )
+    ax.set_xlabel("main-shaft speed  [rpm]")
+    ax.set_ylabel("smallest phase angle  [deg]")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title(
+        title or "smallest phase angle that keeps the rebound within its limit", fontsize=10
+    )
+    return ax

@@ -1,0 +1,172 @@
+"""Plot of the whole machine against speed: the limiting operation's angle and
+time, each stop's smallest phase angle, and the speed limit.
+
+:func:`plot_speed_sweep` takes the result of :meth:`cyclomech.Machine.speed_sweep`
+(speeds in rpm, angles in degrees, times shown in milliseconds).
+
+matplotlib is an optional dependency (``pip install 'cyclomech[plot]'``), imported
+only when the function draws; it returns a new figure and never calls
+``plt.show()``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, cast
+
+import numpy as np
+
+from .._plotting import CRITICAL_COLOR, pyplot
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_speed_sweep"]
+
+
+def plot_speed_sweep(
+    sweep: Any,
+    *,
+    linear: Any = None,
+    limit_rpm: float | None = None,
+    limit_by: str | None = None,
+    title: str | None = None,
+) -> Figure:
+    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`,
+    in panels sharing the speed axis [rpm]: the limiting operation's optimal angle
+    [deg] and the time it gets [ms], and where the machine has stops, each stop's
+    smallest phase angle [deg]; ``linear`` (a second sweep with the seed's
+    linearised rebound constraints) dashed. ``limit_rpm`` [rpm], the machine's
+    speed limit (set by ``limit_by``), is a vertical line: the curves end there
+    and the speeds above it are shaded; without it, the speeds where the
+    cyclogram does not fit are. Artists, by gid: ``"limiting"``,
+    ``"limiting:linear"``, ``"time"``, ``"stop:<name>"``, ``"stop:<name>:linear"``,
+    ``"limit"``, ``"above"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import cyclomech as cm
+    >>> from cyclomech.machine.plot import plot_speed_sweep
+    >>> m = cm.Machine.example()
+    >>> fig = plot_speed_sweep(m.speed_sweep(), limit_rpm=m.speed_limit().rpm)
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['limiting operation  [deg]', 'its time  [ms]', 'smallest phase angle  [deg]']
+    """
+    plt = pyplot()
+    stops = dict(sweep.min_phase_deg)
+    rows = 3 if stops else 2
+    fig, axes = plt.subplots(
+        rows,
+        1,
+        figsize=(8.0, 7.5 if stops else 5.6),
+        sharex=True,
+        layout="constrained",
+        height_ratios=(1.4, 1, 1)[:rows],
+    )
+    top, mid = axes[0], axes[1]
+    n = np.asarray(sweep.rpm)
+    limited = limit_rpm is not None and math.isfinite(limit_rpm)
+    lim = math.nan if limit_rpm is None else float(limit_rpm)
+    runs = n <= limit_rpm if limited else np.asarray(sweep.fits)
+
+    def upto(y: Any) -> Any:  # the curve where the machine runs
+        return np.where(runs, np.asarray(y, dtype=float), np.nan)
+
+    top.plot(
+        n,
+        upto(sweep.limiting_deg),
+        "-",
+        lw=1.8,
+        color="C0",
+        label="with the stops' exact rebound bounds" if stops else "optimum",
+        gid="limiting",
+    )
+    if linear is not None:
+        top.plot(
+            n,
+            upto(linear.limiting_deg),
+            "--",
+            lw=1.3,
+            color="C1",
+            label="with the seed's linearised bounds",
+            gid="limiting:linear",
+        )
+    top.set_ylabel("limiting operation  [deg]")
+    mid.plot(n, upto(sweep.limiting_s * 1e3), "-", lw=1.6, color="C2", gid="time")
+    mid.set_ylabel("its time  [ms]")
+    if stops:
+        low = axes[2]
+        for i, (name, t) in enumerate(stops.items()):
+            c = f"C{(i + 3) % 10}"
+            low.plot(n, upto(t), "-", lw=1.6, color=c, label=f"{name}: exact", gid=f"stop:{name}")
+            if linear is not None:
+                low.plot(
+                    n,
+                    upto(linear.min_phase_deg[name]),
+                    "--",
+                    lw=1.2,
+                    color=c,
+                    label=f"{name}: linearised",
+                    gid=f"stop:{name}:linear",
+                )
+        low.set_ylabel("smallest phase angle  [deg]")
+        low.legend(fontsize=8, loc="upper left")
+    axes[-1].set_xlabel("main-shaft speed  [rpm]")
+    by = f" ({limit_by})" if limit_by else ""
+    for ax in axes:
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.set_xlim(float(n.min()), float(n.max()))
+        if limited and limit_rpm < n.max():
+            ax.axvspan(
+                max(lim, float(n.min())),
+                float(n.max()),
+                color="0.85",
+                alpha=0.6,
+                lw=0,  # type: ignore[arg-type]
+                label="above the speed limit" if ax is top else None,
+                gid="above" if ax is top else None,
+            )
+        elif not limited and not runs.all():
+            ax.fill_between(
+                n,
+                0,
+                1,
+                where=~runs,
+                transform=ax.get_xaxis_transform(),
+                color="0.85",
+                alpha=0.6,
+                lw=0,
+                label="the cyclogram does not fit" if ax is top else None,
+                gid="above" if ax is top else None,
+            )
+        if limited and n.min() <= limit_rpm <= n.max():
+            ax.axvline(
+                lim,
+                color=CRITICAL_COLOR,
+                ls="--",
+                lw=1.0,  # type: ignore[arg-type]
+                gid="limit" if ax is top else None,
+                label=f"speed limit {limit_rpm:.1f} rpm{by}" if ax is top else None,
+            )
+    if not runs.any():
+        top.text(
+            0.5,
+            0.5,
+            (
+                "the machine works at no speed:\nits cyclogram does not fit even at standstill"
+                if limited and limit_rpm == 0
+                else "the machine works at no speed of this range"
+                + (f": its speed limit is {limit_rpm:.4g} rpm{by}" if limited else "")
+            ),
+            transform=top.transAxes,
+            ha="center",
+            va="center",
+            fontsize=10,
+            color=CRITICAL_COLOR,
+        )
+        top.set_yticks([])
+        mid.set_yticks([])
+    else:  # with nothing drawn, a legend would only name empty lines
+        top.legend(fontsize=8, loc="lower left")
+    fig.suptitle(title or "the machine against speed", fontsize=11)
+    return cast("Figure", fig)

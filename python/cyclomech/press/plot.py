@@ -1,0 +1,914 @@
+"""Plots of the gear-lever press: the mechanism with its pin's path and the
+slider's motion, maps of the working-stroke criteria and the non-dominated designs.
+
+:func:`plot_press` takes a :class:`cyclomech.press.GearLeverPress` and a crank
+angle α [rad] from BDC, :func:`plot_press_criteria` a
+:class:`~cyclomech.press.PressSweep` (with, optionally, a
+:class:`~cyclomech.press.PressOptimum`). They show lengths in millimetres and
+angles in degrees.
+
+matplotlib is an optional dependency (``pip install 'cyclomech[plot]'``), imported
+only when a function draws; the functions draw on the axes they are given (or on a
+new figure), return what they drew on, and never call ``plt.show()``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._arrays import count
+from .._errors import InputError
+from .._plotting import (
+    CRITICAL_COLOR,
+    DRIVER_COLOR,
+    LINK_COLOR,
+    MM,
+    MOTION_COLORS,
+    PLATE_COLOR,
+    TRACE_COLORS,
+    angle_axis,
+    axes_arg,
+    deg_text,
+    frame_equal,
+    ground_symbol,
+    halo,
+    label_direction,
+    mechanism_figure,
+    num_text,
+    point_label,
+    pyplot,
+    slider_block,
+    true_runs,
+)
+from . import GearLeverPress, PressOptimum, PressSweep
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = ["plot_press", "plot_press_criteria"]
+
+
+#: Colour of the working stroke (shading and the pin's path over it).
+WORK_COLOR = "#f28e2b"
+_CHAIN = (0, (9.0, 2.5, 1.5, 2.5))  # dash-dot line style of a pitch circle
+
+
+def _press_arg(press: Any) -> GearLeverPress:
+    if not isinstance(press, GearLeverPress):
+        raise InputError(
+            f"press must be a cyclomech.press.GearLeverPress; got {type(press).__name__}"
+        )
+    return press
+
+
+def _design_text(press: GearLeverPress) -> str:
+    """The design's parameters in mm and degrees, for titles."""
+    mm = ", ".join(
+        f"{k} = {num_text(getattr(press, k) * MM)}"
+        for k in ("R", "r", "d", "L") + (("offset",) if press.offset != 0.0 else ())
+    )
+    return f"{mm} mm, φ0 = {deg_text(math.degrees(press.phi0))}"
+
+
+def plot_press(
+    press: GearLeverPress,
+    alpha: float = 0.0,
+    ax: Axes | Any = None,
+    *,
+    show_motion: bool = False,
+    k_Sp: float | None = None,
+    n: int = 720,
+    title: str | None = None,
+) -> Axes | tuple[Axes, Axes]:
+    """Draw the gear-lever press at crank angle ``alpha`` [rad, from BDC against
+    the motion, as :meth:`~cyclomech.press.GearLeverPress.solve`]; return the axes.
+
+    At equal scale in millimetres, in the frame of the guide gear's centre O: the
+    fixed guide gear (a hatched ring on its pitch circle of radius R, drawn
+    dash-dot), the planet's pitch circle (radius r) round its centre C, the
+    carrier O → C in red, the planet's arm C → P to the rod pin P, the rod
+    P → slider, the slider block between the rails of its vertical guide
+    (x = ``offset``, drawn over the slider's travel), the ground symbol at O, an
+    arrow for the carrier's (counterclockwise) turn, and the pin's whole path over
+    one crank turn (a hypotrochoid, ``n`` + 1 angles from 0 to 2π) as a thin
+    line. With ``k_Sp`` (the working stroke as a fraction of the nominal stroke,
+    see :meth:`~cyclomech.press.GearLeverPress.criteria`) the part of the pin's
+    path over the working stroke and the slider's working stroke beside its guide
+    are drawn in orange.
+
+    ``show_motion=True`` adds a second plot: S = Π(α) [mm], Π' [mm/rad] and Π''
+    [mm/rad²] over the turn against α [deg], the angle drawn as a dotted line and
+    the working stroke (0 … α_p) shaded when ``k_Sp`` is given; ``ax`` must then be
+    None (a new figure with both) or two axes, and the pair (mechanism, motion) is
+    returned. ``title`` defaults to the angle and the design's parameters.
+
+    Artists, by gid: ``"guide gear"`` (the ring), ``"guide pitch circle"``,
+    ``"planet"``, ``"planet pitch circle"`` (patches), the lines ``"carrier"``,
+    ``"arm"``, ``"rod"`` (two points each), ``"pin path"`` (x, y [mm] of the pin
+    at ``np.linspace(0, 2π, n + 1)``), ``"pin path, working stroke"``,
+    ``"working stroke"``, ``"rotation"``, the collections ``"joints"`` (O, C, P,
+    slider), ``"slider"``, ``"guides"``, ``"guide hatching"``, ``"ground"``,
+    ``"ground hatching"``, texts ``"label:O"`` …; on the motion plot the curves
+    ``"S"``, ``"Π'"``, ``"Π''"`` (x data α [deg]), the line ``"α"`` and the
+    shading ``"working stroke"``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.press.plot import plot_press
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.025, L=0.3, phi0=0.29)
+    >>> ax = plot_press(p, np.radians(60))
+    >>> ax.get_title().splitlines()[0]
+    'Gear-lever press at α = 60° from BDC'
+    >>> path = next(ln for ln in ax.get_lines() if ln.get_gid() == "pin path")
+    >>> pin = p.solve(np.linspace(0, 2 * np.pi, 721)).pin * 1000   # [mm]
+    >>> bool(np.allclose(path.get_xydata(), pin)), ax.get_xlabel()
+    (True, 'x [mm]')
+    >>> mech, motion = plot_press(p, np.radians(60), show_motion=True, k_Sp=0.1)
+    >>> [ln.get_gid() for ln in motion.get_lines()][:3]
+    ['S', "Π'", "Π''"]
+    >>> plt.close("all")
+    """
+    plt = pyplot()
+    from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.patches import Annulus, Circle
+
+    press = _press_arg(press)
+    try:
+        a0 = float(alpha)
+    except (TypeError, ValueError):
+        raise InputError(f"alpha must be a crank angle [rad]; got {alpha!r}") from None
+    if not math.isfinite(a0):
+        raise InputError(f"alpha = {alpha!r} must be a finite crank angle [rad]")
+    n = count("n", n, low=8)
+    show_motion = bool(show_motion)
+    given = axes_arg(
+        ax,
+        (2,) if show_motion else (1,),
+        "plot_press with show_motion=True" if show_motion else "plot_press",
+    )
+    now = press.solve(np.array([a0]))
+    if not now.ok[0]:
+        raise InputError(
+            f"alpha = {a0!r} rad ({deg_text(math.degrees(a0))}): the rod "
+            f"(L = {num_text(press.L * MM)} mm) cannot reach the slider's guide at this angle; "
+            "pick an angle where press.solve(alpha).ok is True"
+        )
+    turn = np.linspace(0.0, 2.0 * math.pi, n + 1)
+    kin = press.solve(turn)
+    alpha_p = math.nan
+    why = ""
+    k_text = ""
+    if k_Sp is not None:
+        crit = press.criteria(k_Sp=k_Sp, omega=1.0)  # α_p does not depend on ω
+        alpha_p = crit.alpha_p
+        k_text = f"k_Sp = {num_text(crit.k_Sp)}"
+        if not math.isfinite(alpha_p):
+            why = f"\nno working stroke: {crit.status}"
+
+    o = np.zeros(2)  # the guide gear's centre O
+    c, pin, b = now.centre[0] * MM, now.pin[0] * MM, now.slider[0] * MM
+    big, small, off = press.R * MM, press.r * MM, press.offset * MM
+    path = kin.pin * MM
+    slide = kin.slider[kin.ok, 1] * MM
+    y_lo, y_hi = float(slide.min()), float(slide.max())
+    allp = np.concatenate([path, [c, pin, b, [off, y_lo], [off, y_hi]]])
+    span = max(float(np.ptp(allp[:, 0])), float(np.ptp(allp[:, 1])), 2.0 * big)
+    s = 0.03 * span  # size of the symbols [mm]
+    ring = max(0.09 * big, 0.6 * s)  # width of the guide gear's ring [mm]
+    pad = 0.05 * span + 2.0 * s
+    box = (
+        min(-big - ring, float(allp[:, 0].min()), off - 2.0 * s) - pad,
+        max(big + ring, float(allp[:, 0].max()), off + 2.0 * s) + pad,
+        min(-big - ring, float(allp[:, 1].min()), y_lo - 2.0 * s) - pad,
+        max(big + ring, float(allp[:, 1].max()), y_hi + 2.0 * s) + pad,
+    )
+
+    if given is None:
+        w, h = box[1] - box[0], box[3] - box[2]
+        if show_motion:
+            height = 7.4
+            mech_w = min(max(height * w / h + 0.9, 3.6), 8.0)
+            fig = plt.figure(figsize=(mech_w + 7.8, height), layout="constrained")
+            grid = fig.add_gridspec(1, 2, width_ratios=(mech_w, 7.8))
+            axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
+        else:
+            _, ax0 = mechanism_figure(box)
+            axes = [ax0]
+    else:
+        axes = given
+    mech = axes[0]
+
+    # The fixed guide gear: a hatched ring outside its pitch circle.
+    mech.add_patch(
+        Annulus(
+            (0.0, 0.0),
+            big + ring,
+            ring,
+            facecolor="0.93",
+            edgecolor="0.45",
+            hatch="////",
+            linewidth=0.8,
+            gid="guide gear",
+            zorder=0.8,
+        )
+    )
+    mech.add_patch(
+        Circle(
+            (0.0, 0.0),
+            big,
+            fill=False,
+            edgecolor="0.25",
+            linestyle=_CHAIN,
+            linewidth=0.9,
+            gid="guide pitch circle",
+            label=f"pitch circles (R = {num_text(big)} mm, r = {num_text(small)} mm)",
+            zorder=0.9,
+        )
+    )
+    mech.add_patch(
+        Circle(
+            tuple(c),
+            small,
+            facecolor=PLATE_COLOR,
+            edgecolor="none",
+            alpha=0.85,
+            gid="planet",
+            zorder=1.0,
+        )
+    )
+    mech.add_patch(
+        Circle(
+            tuple(c),
+            small,
+            fill=False,
+            edgecolor="0.25",
+            linestyle=_CHAIN,
+            linewidth=0.9,
+            gid="planet pitch circle",
+            zorder=1.1,
+        )
+    )
+    mech.plot(
+        path[:, 0],
+        path[:, 1],
+        color=TRACE_COLORS[0],
+        linewidth=0.9,
+        label="pin path (hypotrochoid)",
+        gid="pin path",
+        zorder=1.3,
+    )
+    if math.isfinite(alpha_p):
+        work = press.solve(np.linspace(0.0, alpha_p, max(16, int(n * alpha_p / math.tau) + 2)))
+        wp = work.pin * MM
+        mech.plot(
+            wp[:, 0],
+            wp[:, 1],
+            color=WORK_COLOR,
+            linewidth=2.6,
+            solid_capstyle="butt",
+            label=f"working stroke ({k_text})",
+            gid="pin path, working stroke",
+            zorder=1.35,
+        )
+        ys = work.slider[work.ok, 1] * MM
+        xw = off + 1.9 * s
+        mech.plot(
+            [xw, xw],
+            [float(ys.min()), float(ys.max())],
+            color=WORK_COLOR,
+            linewidth=3.2,
+            solid_capstyle="butt",
+            gid="working stroke",
+            zorder=1.35,
+        )
+
+    # The slider's guide: two rails over its travel, hatched on the outside.
+    half = 0.75 * s + 0.12 * s
+    y0, y1 = y_lo - 1.8 * s, y_hi + 1.8 * s
+    rails = [[(off - half, y0), (off - half, y1)], [(off + half, y0), (off + half, y1)]]
+    mech.add_collection(
+        LineCollection(rails, colors=LINK_COLOR, linewidths=1.0, gid="guides", zorder=1.4)
+    )
+    ticks = []
+    for yk in np.arange(y0 + 0.2 * s, y1, 0.9 * s):
+        ticks.append([(off - half, yk), (off - half - 0.5 * s, yk - 0.5 * s)])
+        ticks.append([(off + half, yk), (off + half + 0.5 * s, yk - 0.5 * s)])
+    mech.add_collection(
+        LineCollection(ticks, colors=LINK_COLOR, linewidths=0.6, gid="guide hatching", zorder=1.4)
+    )
+    mech.add_collection(
+        PolyCollection(
+            [slider_block(b, (0.0, 1.0), s)],
+            facecolors="#f4f4f4",
+            edgecolors=LINK_COLOR,
+            linewidths=1.2,
+            gid="slider",
+            zorder=3.0,
+        )
+    )
+
+    # The ground symbol under O: a support triangle on a hatched base.
+    corners, hatch = ground_symbol(0.0, 0.0, 0.7 * s)  # smaller: the planet passes close to O
+    mech.add_collection(
+        PolyCollection(
+            [corners],
+            facecolors="white",
+            edgecolors=LINK_COLOR,
+            linewidths=1.0,
+            gid="ground",
+            zorder=1.8,
+        )
+    )
+    mech.add_collection(
+        LineCollection(hatch, colors=LINK_COLOR, linewidths=0.8, gid="ground hatching", zorder=1.8)
+    )
+
+    mech.plot(
+        [o[0], c[0]],
+        [o[1], c[1]],
+        color=DRIVER_COLOR,
+        linewidth=3.4,
+        solid_capstyle="round",
+        label="carrier (crank)",
+        gid="carrier",
+        zorder=2.5,
+    )
+    mech.plot(
+        [c[0], pin[0]],
+        [c[1], pin[1]],
+        color=LINK_COLOR,
+        linewidth=2.0,
+        solid_capstyle="round",
+        gid="arm",
+        zorder=2.2,
+    )
+    mech.plot(
+        [pin[0], b[0]],
+        [pin[1], b[1]],
+        color=LINK_COLOR,
+        linewidth=2.4,
+        solid_capstyle="round",
+        gid="rod",
+        zorder=2.2,
+    )
+    pts = np.array([o, c, pin, b])
+    mech.scatter(
+        pts[:, 0],
+        pts[:, 1],
+        s=26.0,
+        c="white",
+        edgecolors=LINK_COLOR,
+        linewidths=1.2,
+        gid="joints",
+        zorder=4.0,
+    )
+
+    # The carrier's sense of rotation, in the freest direction round O.
+    down = np.array([0.0, -1.0])
+    u = label_direction([c - o, down, np.array([-0.7, -0.7]), np.array([0.7, -0.7])])
+    mid = math.atan2(u[1], u[0])
+    rho = 0.45 * (big - small)
+    t = np.linspace(mid - 0.6, mid + 0.6, 40)
+    arc = rho * np.column_stack([np.cos(t), np.sin(t)])
+    mech.plot(arc[:-3, 0], arc[:-3, 1], color=DRIVER_COLOR, linewidth=1.1, gid="rotation")
+    mech.annotate(
+        "",
+        xy=tuple(arc[-1]),
+        xytext=tuple(arc[-4]),
+        arrowprops={
+            "arrowstyle": "-|>",
+            "color": DRIVER_COLOR,
+            "linewidth": 1.1,
+            "shrinkA": 0.0,
+            "shrinkB": 0.0,
+            "mutation_scale": 11.0,
+        },
+    )
+    mech.text(
+        *(1.3 * rho * u),
+        "ω",
+        color=DRIVER_COLOR,
+        fontsize=11,
+        ha="center",
+        va="center",
+        path_effects=halo(),
+        gid="label:ω",
+    )
+
+    blocked = {
+        "O": [c - o, down, np.array([-0.7, -0.7]), np.array([0.7, -0.7]), u],
+        "C": [o - c, pin - c, b - pin],
+        "P": [c - pin, b - pin],
+        "slider": [pin - b, np.array([0.0, 1.0]), down, np.array([1.0, 0.0])],
+    }
+    named = [("O", o), ("C", c), ("P", pin), ("slider", b)]
+    if press.d == 0.0:  # a crank-slider: the pin is the planet's centre
+        named.pop(2)
+    for name, q in named:
+        d = label_direction(blocked[name])
+        edge = 1.3 * s if name == "slider" else 0.0
+        text = "C = P" if name == "C" and press.d == 0.0 else name
+        point_label(mech, name, q + edge * np.array([d[0] * 0.6, d[1]]), d, text=text)
+
+    frame_equal(mech, box, "mm", grid="0.92")
+    mech.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), frameon=False, fontsize=8)
+    if title is None:
+        title = (
+            f"Gear-lever press at α = {deg_text(math.degrees(a0))} from BDC\n"
+            f"{_design_text(press)}{why}"
+        )
+    mech.set_title(title, fontsize=10.5)
+    if not show_motion:
+        return mech
+
+    motion = axes[1]
+    deg = np.degrees(turn)
+    curves = (
+        ("S", kin.s, "S = Π(α)  [mm]"),
+        ("Π'", kin.ds, "Π' = dS/dα  [mm/rad]"),
+        ("Π''", kin.dds, "Π'' = d²S/dα²  [mm/rad²]"),
+    )
+    for (gid, v, label), color in zip(curves, MOTION_COLORS, strict=True):
+        motion.plot(deg, v * MM, color=color, linewidth=1.6, label=label, gid=gid)
+    if math.isfinite(alpha_p):
+        motion.axvspan(
+            0.0,
+            math.degrees(alpha_p),
+            color=WORK_COLOR,
+            alpha=0.28,
+            linewidth=0.0,
+            label=f"working stroke, {k_text} (α_p = {deg_text(math.degrees(alpha_p))})",
+            gid="working stroke",
+            zorder=0.4,
+        )
+    x = deg[:-1]
+    step = float(deg[1] - deg[0])
+    for i, j in true_runs(~kin.ok[:-1]):
+        motion.axvspan(
+            x[i] - step / 2,
+            x[j] + step / 2,
+            color="0.85",
+            linewidth=0.0,
+            label="rod cannot reach the guide" if i == true_runs(~kin.ok[:-1])[0][0] else "_",
+            gid="not assembled",
+            zorder=0.3,
+        )
+    motion.axvline(
+        math.degrees(a0 % math.tau),
+        color="0.2",
+        linestyle=":",
+        linewidth=1.2,
+        label=f"α = {deg_text(math.degrees(a0))} (drawn)",
+        gid="α",
+    )
+    motion.axhline(0.0, color="0.55", linewidth=0.6, zorder=0.5, gid="zero")
+    # Near an angle where the rod cannot reach the guide Π'' runs off to infinity:
+    # keep the scale of the rest of the turn.
+    every = np.concatenate([kin.s, kin.ds, kin.dds]) * MM
+    every = every[np.isfinite(every)]
+    if every.size:
+        lo, hi = np.percentile(every, [2.0, 98.0])
+        full_lo, full_hi = float(every.min()), float(every.max())
+        if full_hi - full_lo > 4.0 * (hi - lo) > 0.0:
+            motion.set_ylim(lo - 0.5 * (hi - lo), hi + 0.5 * (hi - lo))
+    angle_axis(motion, 360.0, "crank angle α from BDC (against the motion)")
+    motion.set_ylabel("S [mm], Π' [mm/rad], Π'' [mm/rad²]")
+    motion.grid(color="0.9", linewidth=0.6)
+    motion.set_axisbelow(True)
+    motion.legend(
+        loc="upper center", bbox_to_anchor=(0.5, -0.09), ncols=2, frameon=False, fontsize=8
+    )
+    motion.set_title("Slider over one crank turn", fontsize=10.5)
+    return mech, motion
+
+
+#: How :func:`plot_press_criteria` shows each criterion: scale from SI, unit, name.
+_CRITERION_SHOWN: dict[str, tuple[float, str, str]] = {
+    "S_n": (MM, "mm", "nominal stroke S_n"),
+    "S_p": (MM, "mm", "working stroke S_p"),
+    "alpha_p": (180.0 / math.pi, "°", "crank angle of the working stroke α_p"),
+    "V_np": (MM, "mm/s", "speed at the start of the working stroke V_np"),
+    "V_cp": (MM, "mm/s", "mean speed over the working stroke V_cp"),
+    "V_pmax": (MM, "mm/s", "top speed over the working stroke V_pmax"),
+    "J_max": (1.0, "m/s²", "largest acceleration J_max"),
+    "torque": (MM, "mm", "torque arm (max Π' over the working stroke)"),
+    "k_Sp": (1.0, "", "k_Sp = S_p/S_n"),
+    "k_Vp": (1.0, "", "k_Vp = V_np/V_cp  (→ 0)"),
+    "k_Vmax": (1.0, "", "k_Vmax = V_pmax/V_cp  (→ 1)"),
+    "k_M": (1.0, "", "k_M = torque arm/(S_n/2)  (→ min)"),
+    "k_J": (1.0, "", "k_J = J_max/(ω²·S_n/2)  (→ min)"),
+    "theta_bdc": (180.0 / math.pi, "°", "carrier angle of BDC θ_bdc"),
+}
+
+
+def _criterion_label(name: str) -> str:
+    _, unit, text = _CRITERION_SHOWN[name]
+    return f"{text}  [{unit}]" if unit else f"{text}  [–]"
+
+
+def _badness(name: str, v: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """How bad a criterion's value is (lower is better): |k_Vmax − 1| for k_Vmax."""
+    return np.abs(v - 1.0) if name == "k_Vmax" else v
+
+
+def _edges(v: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """Cell edges round grid values (midpoints; half a step beyond the ends)."""
+    mid = (v[1:] + v[:-1]) / 2
+    return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
+
+
+def plot_press_criteria(
+    sweep: PressSweep,
+    ax: Axes | Any = None,
+    *,
+    criterion: str = "k_Vp",
+    phi0: float | None = None,
+    optimum: PressOptimum | None = None,
+    title: str | None = None,
+) -> Axes | tuple[Axes, Axes]:
+    """Map a working-stroke criterion over (d, L) at one φ0; return the axes.
+
+    ``sweep`` is a :func:`cyclomech.press.sweep` (or ``optimum.grid``) with d and L
+    among its axes (two or more values each; R and r fixed or of one value). The
+    map shows ``criterion`` (a name of :data:`cyclomech.press.CRITERIA`; lengths
+    in mm, speeds in mm/s, angles in degrees) over d [mm] across and L [mm] up,
+    one cell per design, with a colour bar (clipped at the 98th percentile when a
+    few designs are far worse) and a few labelled contour lines; designs that
+    fail (status ≠ 0, see :data:`cyclomech.press.STATUS`) are masked and hatched.
+    The best working design of the map (lowest value, |k_Vmax − 1| for k_Vmax) is
+    a white star. d = 0 is the plain crank-slider.
+
+    The map is at the grid's φ0 nearest ``phi0`` [rad]; by default at the φ0 of
+    the best design of the whole sweep by ``criterion``, or, with ``optimum``, at
+    the φ0 nearest its best design's.
+
+    With ``optimum`` (a :func:`cyclomech.press.optimize`) a second plot shows its
+    non-dominated designs: k_Vp across, k_Vmax up, coloured by k_J (refined
+    designs as diamonds), the baseline crank-slider (``optimum.baseline``) as a
+    black square, the best design circled in red and also starred on the map,
+    and the ideal (0, 1). ``ax`` must then be None or two axes, and the pair
+    (map, Pareto plot) is returned. ``title`` defaults to the criterion and φ0.
+
+    Artists, by gid: the map ``"criterion"`` (a QuadMesh whose masked array holds
+    the values shown, L by d), ``"failed"`` (one hatched square per failed
+    design), ``"best in map"``, ``"optimum"``; on the Pareto plot ``"pareto"``
+    (offsets k_Vp, k_Vmax; array k_J), ``"baseline"``, ``"best"``, ``"ideal"``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.press.plot import plot_press_criteria
+    >>> sw = cm.press.sweep(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
+    ...                     L=np.linspace(0.25, 0.5, 6), phi0=np.radians([0, 30, 55]),
+    ...                     k_Sp=0.1, omega=4.0)
+    >>> ax = plot_press_criteria(sw, phi0=np.radians(55))
+    >>> ax.get_title().splitlines()[0], ax.get_xlabel()
+    ('k_Vp over (d, L) at φ0 = 55°', 'eccentricity d [mm]  (d = 0: crank-slider)')
+    >>> mesh = next(c for c in ax.collections if c.get_gid() == "criterion")
+    >>> mesh.get_array().shape                               # L by d
+    (6, 9)
+    >>> plt.close("all")
+    """
+    plt = pyplot()
+    from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    if not isinstance(sweep, PressSweep):
+        raise InputError(
+            f"sweep must be a cyclomech.press.PressSweep (cm.press.sweep(...)); "
+            f"got {type(sweep).__name__}"
+        )
+    if criterion not in _CRITERION_SHOWN:
+        raise InputError(
+            f"criterion = {criterion!r} is not known; criteria are {', '.join(_CRITERION_SHOWN)}"
+        )
+    if optimum is not None and not isinstance(optimum, PressOptimum):
+        raise InputError(
+            "optimum must be a cyclomech.press.PressOptimum (cm.press.optimize(...)) or None; "
+            f"got {type(optimum).__name__}"
+        )
+    for name in ("d", "L"):
+        if name not in sweep.axes or len(sweep.axes[name]) < 2:
+            raise InputError(
+                f"the sweep must vary {name} over two or more values to map it; its axes are "
+                + ", ".join(f"{k} ({len(v)} values)" for k, v in sweep.axes.items())
+            )
+    for name, vals in sweep.axes.items():
+        if name in ("R", "r") and len(vals) > 1:
+            raise InputError(
+                f"the sweep varies {name} over {len(vals)} values; map a sweep at one {name} "
+                "(sweep it again with a scalar)"
+            )
+    given = axes_arg(
+        ax,
+        (2,) if optimum is not None else (1,),
+        "plot_press_criteria with optimum" if optimum is not None else "plot_press_criteria",
+    )
+
+    values = sweep.values[criterion]
+    ok = sweep.ok
+    names = list(sweep.axes)
+    if "phi0" in sweep.axes:
+        grid_phi = sweep.axes["phi0"]
+        if phi0 is not None:
+            try:
+                target = float(phi0)
+            except (TypeError, ValueError):
+                raise InputError(f"phi0 must be an angle [rad] or None; got {phi0!r}") from None
+            if not math.isfinite(target):
+                raise InputError(f"phi0 = {phi0!r} must be a finite angle [rad]")
+            k = int(np.argmin(np.abs(grid_phi - target)))
+        elif optimum is not None:
+            k = int(np.argmin(np.abs(grid_phi - optimum.designs[optimum.best].phi0)))
+        else:
+            bad = np.where(ok, _badness(criterion, values), np.inf)
+            if not np.isfinite(bad).any():
+                raise InputError("no design of the sweep works (every status ≠ 0): nothing to map")
+            k = int(np.unravel_index(int(np.argmin(bad)), bad.shape)[names.index("phi0")])
+        phi_shown = float(grid_phi[k])
+    else:
+        k = 0
+        phi_shown = float(sweep.fixed["phi0"])
+        if phi0 is not None and abs(float(phi0) - phi_shown) > 1e-12:
+            raise InputError(
+                f"the sweep holds φ0 fixed at {phi_shown!r} rad; phi0 = {phi0!r} is not in it"
+            )
+    idx = tuple(slice(None) if nm in ("d", "L") else (k if nm == "phi0" else 0) for nm in names)
+    scale = _CRITERION_SHOWN[criterion][0]
+    shown = values[idx] * scale  # (d, L): the axes' order
+    good = ok[idx]
+    if names.index("d") > names.index("L"):
+        shown, good = shown.T, good.T
+    shown, good = shown.T, good.T  # rows L, columns d
+    data = np.ma.masked_array(shown, mask=~good | ~np.isfinite(shown))
+    d_mm, l_mm = sweep.axes["d"] * MM, sweep.axes["L"] * MM
+    de, le = _edges(d_mm), _edges(l_mm)
+
+    if given is None:
+        size = (14.0, 6.0) if optimum is not None else (7.8, 6.0)
+        _, arr = plt.subplots(
+            1, 2 if optimum is not None else 1, figsize=size, layout="constrained"
+        )
+        axes = list(np.atleast_1d(arr))
+    else:
+        axes = given
+    m = axes[0]
+
+    vis = data.compressed()
+    extend = "neither"
+    if vis.size:
+        lo, hi = float(vis.min()), float(vis.max())
+        top = float(np.percentile(vis, 98.0))
+        if hi > lo and top < hi and (hi - lo) > 1.5 * (top - lo):
+            hi, extend = top, "max"
+    else:
+        lo, hi = 0.0, 1.0
+    if hi <= lo:
+        hi = lo + 1.0
+    mesh = m.pcolormesh(
+        de, le, data, cmap="viridis", vmin=lo, vmax=hi, shading="flat", gid="criterion", zorder=0.5
+    )
+    cbar = m.figure.colorbar(mesh, ax=m, extend=extend, pad=0.02)
+    cbar.set_label(_criterion_label(criterion))
+    if vis.size > 3 and good.sum() >= 4:
+        from matplotlib.ticker import MaxNLocator
+
+        ticks = np.asarray(MaxNLocator(6).tick_values(lo, hi), dtype=float)
+        levels = ticks[(ticks > lo) & (ticks < hi)]
+        if levels.size:
+            cs = m.contour(
+                d_mm,
+                l_mm,
+                np.ma.filled(data.astype(float), np.nan),
+                levels=levels,
+                colors="white",
+                linewidths=0.7,
+                alpha=0.85,
+                zorder=1.0,
+            )
+            m.clabel(cs, fontsize=7.5, fmt=lambda v: num_text(float(v)))
+            cs.set_gid("contours")
+    failed = [
+        [(de[j], le[i]), (de[j + 1], le[i]), (de[j + 1], le[i + 1]), (de[j], le[i + 1])]
+        for i, j in zip(*np.nonzero(~good), strict=True)
+    ]
+    m.add_collection(
+        PolyCollection(
+            failed,
+            facecolors="0.88",
+            edgecolors="0.45",
+            hatch="xxx",
+            linewidths=0.0,
+            gid="failed",
+            zorder=1.2,
+        )
+    )
+    handles: list[Any] = []
+    if failed:
+        handles.append(
+            Patch(facecolor="0.88", edgecolor="0.45", hatch="xxx", label="fails (status ≠ 0)")
+        )
+    if vis.size:
+        bad = np.ma.masked_array(_badness(criterion, shown / scale), mask=data.mask)
+        i, j = np.unravel_index(int(np.ma.argmin(bad)), bad.shape)
+        m.plot(
+            [d_mm[j]],
+            [l_mm[i]],
+            linestyle="none",
+            marker="*",
+            markersize=13,
+            markerfacecolor="white",
+            markeredgecolor="black",
+            markeredgewidth=0.8,
+            gid="best in map",
+            zorder=3.0,
+        )
+        handles.append(
+            Line2D(
+                [],
+                [],
+                linestyle="none",
+                marker="*",
+                markersize=11,
+                markerfacecolor="white",
+                markeredgecolor="black",
+                label=f"best in this map: {criterion} = {num_text(float(shown[i, j]))}",
+            )
+        )
+    if optimum is not None:
+        best = optimum.designs[optimum.best]
+        m.plot(
+            [best.d * MM],
+            [best.L * MM],
+            linestyle="none",
+            marker="o",
+            markersize=12,
+            markerfacecolor="none",
+            markeredgecolor=CRITICAL_COLOR,
+            markeredgewidth=2.0,
+            gid="optimum",
+            zorder=3.1,
+        )
+        handles.append(
+            Line2D(
+                [],
+                [],
+                linestyle="none",
+                marker="o",
+                markersize=10,
+                markerfacecolor="none",
+                markeredgecolor=CRITICAL_COLOR,
+                markeredgewidth=2.0,
+                label=f"best design (φ0 = {deg_text(math.degrees(best.phi0))})",
+            )
+        )
+    m.set_xlim(de[0], de[-1])
+    m.set_ylim(le[0], le[-1])
+    m.set_xlabel("eccentricity d [mm]  (d = 0: crank-slider)")
+    m.set_ylabel("rod length L [mm]")
+    if handles:
+        m.legend(
+            handles=handles,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.11),
+            ncols=2,
+            frameon=False,
+            fontsize=8,
+        )
+    fixed: dict[str, float] = dict(sweep.fixed)
+    fixed.update({nm: float(sweep.axes[nm][0]) for nm in ("R", "r") if nm in sweep.axes})
+    stroke = (
+        f"k_Sp = {num_text(sweep.k_Sp)}"
+        if sweep.k_Sp is not None
+        else f"S_p = {num_text(float(sweep.working_stroke or 0.0) * MM)} mm"
+    )
+    head = f"{criterion} over (d, L) at φ0 = {deg_text(math.degrees(phi_shown))}"
+    m.set_title(
+        (head if title is None else title)
+        + f"\nR = {num_text(fixed['R'] * MM)} mm, r = {num_text(fixed['r'] * MM)} mm, {stroke}, "
+        f"ω = {num_text(sweep.omega)} rad/s",
+        fontsize=10.5,
+    )
+    if optimum is None:
+        return m
+
+    p = axes[1]
+    crit = optimum.criteria
+    kv = np.array([c.k_Vp for c in crit])
+    km = np.array([c.k_Vmax for c in crit])
+    kj = np.array([c.k_J for c in crit])
+    refined = np.array(optimum.refined, dtype=bool)
+    base = optimum.baseline
+    jlo = float(min(kj.min(), base.k_J))
+    jhi = float(max(kj.max(), base.k_J))
+    sc = p.scatter(
+        kv,
+        km,
+        c=kj,
+        cmap="plasma",
+        vmin=jlo,
+        vmax=jhi,
+        s=30.0,
+        marker="o",
+        edgecolors="0.25",
+        linewidths=0.4,
+        gid="pareto",
+        zorder=2.0,
+    )
+    sc.set_sizes(np.where(refined, 46.0, 30.0))
+    if refined.any():
+        p.scatter(
+            kv[refined],
+            km[refined],
+            s=60.0,
+            marker="D",
+            facecolors="none",
+            edgecolors="black",
+            linewidths=0.9,
+            gid="refined",
+            zorder=2.1,
+        )
+    cb = p.figure.colorbar(sc, ax=p, pad=0.02)
+    cb.set_label(_criterion_label("k_J"))
+    top = max(float(kv.max()), float(km.max()), base.k_Vp, base.k_Vmax)
+    # V_pmax ≥ V_np and V_pmax ≥ V_cp: no design lies below this line or below 1.
+    p.plot(
+        [1.0, top * 1.05],
+        [1.0, top * 1.05],
+        color="0.6",
+        linestyle="--",
+        linewidth=0.8,
+        gid="diagonal",
+        zorder=0.8,
+        label="k_Vmax = k_Vp: fastest at the start of the working stroke",
+    )
+    p.plot(
+        [base.k_Vp],
+        [base.k_Vmax],
+        linestyle="none",
+        marker="s",
+        markersize=9,
+        color="black",
+        gid="baseline",
+        zorder=3.0,
+        label=f"crank-slider, d = 0 (k_Vp = {num_text(base.k_Vp)}, k_J = {num_text(base.k_J)})",
+    )
+    bc = crit[optimum.best]
+    p.plot(
+        [bc.k_Vp],
+        [bc.k_Vmax],
+        linestyle="none",
+        marker="o",
+        markersize=14,
+        markerfacecolor="none",
+        markeredgecolor=CRITICAL_COLOR,
+        markeredgewidth=2.0,
+        gid="best",
+        zorder=3.1,
+        label=f"best design: d = {num_text(best.d * MM)} mm, L = {num_text(best.L * MM)} mm, "
+        f"φ0 = {deg_text(math.degrees(best.phi0))}",
+    )
+    p.plot(
+        [0.0],
+        [1.0],
+        linestyle="none",
+        marker="P",
+        markersize=10,
+        color="#2ca02c",
+        gid="ideal",
+        zorder=3.0,
+        label="ideal (k_Vp = 0, k_Vmax = 1)",
+    )
+    if refined.any():
+        p.plot(
+            [],
+            [],
+            linestyle="none",
+            marker="D",
+            markerfacecolor="none",
+            markeredgecolor="black",
+            label="refined off the grid by scipy",
+        )
+    p.set_xlabel(_criterion_label("k_Vp"))
+    p.set_ylabel(_criterion_label("k_Vmax"))
+    p.set_xlim(left=-0.03 * top)
+    p.grid(color="0.9", linewidth=0.6)
+    p.set_axisbelow(True)
+    p.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), ncols=1, frameon=False, fontsize=8)
+    p.set_title(
+        f"Non-dominated designs ({len(crit)}), objectives " + ", ".join(optimum.objectives),
+        fontsize=10.5,
+    )
+    return m, p
