@@ -355,7 +355,8 @@ class CamStopResult:
 
     def figures(self, save: Save) -> None:
         """The rebound against speed, the cam law and the smallest phase angle."""
-        from ..plot import plot_law, plot_min_phase, plot_rebound_vs_speed
+        from ..motion.plot import plot_law
+        from .plot import plot_min_phase, plot_rebound_vs_speed
 
         k, mech, n = self.mech.name, self.mech, self.ctx.rpm
         save(

@@ -195,7 +195,7 @@ class LinkageResult(PlainResult):
 
     def figures(self, save: Save) -> None:
         """The mechanism with its output's path, and the output's analogs."""
-        from ..plot import plot_analogs, plot_linkage
+        from .plot import plot_analogs, plot_linkage
 
         k, mech, sol = self.mech.name, self.mech, self.solution
         ax = plot_linkage(mech.linkage, sol, 0, trace=[mech.output], title=f"{k}: mechanism")

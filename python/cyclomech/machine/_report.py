@@ -217,7 +217,8 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..plot import plot_cyclogram, plot_speed_sweep
+    from ..cyclogram.plot import plot_cyclogram
+    from .plot import plot_speed_sweep
 
     folder.mkdir(parents=True, exist_ok=True)
     out: list[tuple[str, str, Path]] = []

@@ -212,7 +212,7 @@ class PressResult(PlainResult):
 
     def figures(self, save: Save) -> None:
         """The drive at bottom dead centre and the slider's motion."""
-        from ..plot import plot_press
+        from .plot import plot_press
 
         k, mech = self.mech.name, self.mech
         res = plot_press(

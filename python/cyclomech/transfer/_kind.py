@@ -217,7 +217,7 @@ class TransferResult(PlainResult):
 
     def figures(self, save: Save) -> None:
         """The workpiece's path, curvature, acceleration and jerk."""
-        from ..plot import plot_transfer
+        from .plot import plot_transfer
 
         k, n = self.mech.name, self.ctx.nominal_rpm
         save(
