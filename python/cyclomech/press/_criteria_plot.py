@@ -1,0 +1,450 @@
+"""The press design grid's criteria map (:func:`plot_press_criteria`); part of
+:mod:`cyclomech.press.plot`, which re-exports it."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._errors import InputError
+from .._plotting import (
+    CRITICAL_COLOR,
+    MM,
+    axes_arg,
+    deg_text,
+    num_text,
+    pyplot,
+)
+from . import PressOptimum, PressSweep
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = ["plot_press_criteria"]
+
+
+#: How :func:`plot_press_criteria` shows each criterion: scale from SI, unit, name.
+_CRITERION_SHOWN: dict[str, tuple[float, str, str]] = {
+    "S_n": (MM, "mm", "nominal stroke S_n"),
+    "S_p": (MM, "mm", "working stroke S_p"),
+    "alpha_p": (180.0 / math.pi, "°", "crank angle of the working stroke α_p"),
+    "V_np": (MM, "mm/s", "speed at the start of the working stroke V_np"),
+    "V_cp": (MM, "mm/s", "mean speed over the working stroke V_cp"),
+    "V_pmax": (MM, "mm/s", "top speed over the working stroke V_pmax"),
+    "J_max": (1.0, "m/s²", "largest acceleration J_max"),
+    "torque": (MM, "mm", "torque arm (max Π' over the working stroke)"),
+    "k_Sp": (1.0, "", "k_Sp = S_p/S_n"),
+    "k_Vp": (1.0, "", "k_Vp = V_np/V_cp  (→ 0)"),
+    "k_Vmax": (1.0, "", "k_Vmax = V_pmax/V_cp  (→ 1)"),
+    "k_M": (1.0, "", "k_M = torque arm/(S_n/2)  (→ min)"),
+    "k_J": (1.0, "", "k_J = J_max/(ω²·S_n/2)  (→ min)"),
+    "theta_bdc": (180.0 / math.pi, "°", "carrier angle of BDC θ_bdc"),
+}
+
+
+def _criterion_label(name: str) -> str:
+    _, unit, text = _CRITERION_SHOWN[name]
+    return f"{text}  [{unit}]" if unit else f"{text}  [–]"
+
+
+def _badness(name: str, v: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """How bad a criterion's value is (lower is better): |k_Vmax − 1| for k_Vmax."""
+    return np.abs(v - 1.0) if name == "k_Vmax" else v
+
+
+def _edges(v: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """Cell edges round grid values (midpoints; half a step beyond the ends)."""
+    mid = (v[1:] + v[:-1]) / 2
+    return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
+
+
+def plot_press_criteria(
+    sweep: PressSweep,
+    ax: Axes | Any = None,
+    *,
+    criterion: str = "k_Vp",
+    phi0: float | None = None,
+    optimum: PressOptimum | None = None,
+    title: str | None = None,
+) -> Axes | tuple[Axes, Axes]:
+    """Map a working-stroke criterion over (d, L) at one φ0; return the axes.
+
+    ``sweep`` is a :func:`cyclomech.press.sweep` (or ``optimum.grid``) with d and L
+    among its axes (two or more values each; R and r fixed or of one value). The
+    map shows ``criterion`` (a name of :data:`cyclomech.press.CRITERIA`; lengths
+    in mm, speeds in mm/s, angles in degrees) over d [mm] across and L [mm] up,
+    one cell per design, with a colour bar (clipped at the 98th percentile when a
+    few designs are far worse) and a few labelled contour lines; designs that
+    fail (status ≠ 0, see :data:`cyclomech.press.STATUS`) are masked and hatched.
+    The best working design of the map (lowest value, |k_Vmax − 1| for k_Vmax) is
+    a white star. d = 0 is the plain crank-slider.
+
+    The map is at the grid's φ0 nearest ``phi0`` [rad]; by default at the φ0 of
+    the best design of the whole sweep by ``criterion``, or, with ``optimum``, at
+    the φ0 nearest its best design's.
+
+    With ``optimum`` (a :func:`cyclomech.press.optimize`) a second plot shows its
+    non-dominated designs: k_Vp across, k_Vmax up, coloured by k_J (refined
+    designs as diamonds), the baseline crank-slider (``optimum.baseline``) as a
+    black square, the best design circled in red and also starred on the map,
+    and the ideal (0, 1). ``ax`` must then be None or two axes, and the pair
+    (map, Pareto plot) is returned. ``title`` defaults to the criterion and φ0.
+
+    Artists, by gid: the map ``"criterion"`` (a QuadMesh whose masked array holds
+    the values shown, L by d), ``"failed"`` (one hatched square per failed
+    design), ``"best in map"``, ``"optimum"``; on the Pareto plot ``"pareto"``
+    (offsets k_Vp, k_Vmax; array k_J), ``"baseline"``, ``"best"``, ``"ideal"``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.press.plot import plot_press_criteria
+    >>> sw = cm.press.sweep(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
+    ...                     L=np.linspace(0.25, 0.5, 6), phi0=np.radians([0, 30, 55]),
+    ...                     k_Sp=0.1, omega=4.0)
+    >>> ax = plot_press_criteria(sw, phi0=np.radians(55))
+    >>> ax.get_title().splitlines()[0], ax.get_xlabel()
+    ('k_Vp over (d, L) at φ0 = 55°', 'eccentricity d [mm]  (d = 0: crank-slider)')
+    >>> mesh = next(c for c in ax.collections if c.get_gid() == "criterion")
+    >>> mesh.get_array().shape                               # L by d
+    (6, 9)
+    >>> plt.close("all")
+    """
+    plt = pyplot()
+    from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    if not isinstance(sweep, PressSweep):
+        raise InputError(
+            f"sweep must be a cyclomech.press.PressSweep (cm.press.sweep(...)); "
+            f"got {type(sweep).__name__}"
+        )
+    if criterion not in _CRITERION_SHOWN:
+        raise InputError(
+            f"criterion = {criterion!r} is not known; criteria are {', '.join(_CRITERION_SHOWN)}"
+        )
+    if optimum is not None and not isinstance(optimum, PressOptimum):
+        raise InputError(
+            "optimum must be a cyclomech.press.PressOptimum (cm.press.optimize(...)) or None; "
+            f"got {type(optimum).__name__}"
+        )
+    for name in ("d", "L"):
+        if name not in sweep.axes or len(sweep.axes[name]) < 2:
+            raise InputError(
+                f"the sweep must vary {name} over two or more values to map it; its axes are "
+                + ", ".join(f"{k} ({len(v)} values)" for k, v in sweep.axes.items())
+            )
+    for name, vals in sweep.axes.items():
+        if name in ("R", "r") and len(vals) > 1:
+            raise InputError(
+                f"the sweep varies {name} over {len(vals)} values; map a sweep at one {name} "
+                "(sweep it again with a scalar)"
+            )
+    given = axes_arg(
+        ax,
+        (2,) if optimum is not None else (1,),
+        "plot_press_criteria with optimum" if optimum is not None else "plot_press_criteria",
+    )
+
+    values = sweep.values[criterion]
+    ok = sweep.ok
+    names = list(sweep.axes)
+    if "phi0" in sweep.axes:
+        grid_phi = sweep.axes["phi0"]
+        if phi0 is not None:
+            try:
+                target = float(phi0)
+            except (TypeError, ValueError):
+                raise InputError(f"phi0 must be an angle [rad] or None; got {phi0!r}") from None
+            if not math.isfinite(target):
+                raise InputError(f"phi0 = {phi0!r} must be a finite angle [rad]")
+            k = int(np.argmin(np.abs(grid_phi - target)))
+        elif optimum is not None:
+            k = int(np.argmin(np.abs(grid_phi - optimum.designs[optimum.best].phi0)))
+        else:
+            bad = np.where(ok, _badness(criterion, values), np.inf)
+            if not np.isfinite(bad).any():
+                raise InputError("no design of the sweep works (every status ≠ 0): nothing to map")
+            k = int(np.unravel_index(int(np.argmin(bad)), bad.shape)[names.index("phi0")])
+        phi_shown = float(grid_phi[k])
+    else:
+        k = 0
+        phi_shown = float(sweep.fixed["phi0"])
+        if phi0 is not None and abs(float(phi0) - phi_shown) > 1e-12:
+            raise InputError(
+                f"the sweep holds φ0 fixed at {phi_shown!r} rad; phi0 = {phi0!r} is not in it"
+            )
+    idx = tuple(slice(None) if nm in ("d", "L") else (k if nm == "phi0" else 0) for nm in names)
+    scale = _CRITERION_SHOWN[criterion][0]
+    shown = values[idx] * scale  # (d, L): the axes' order
+    good = ok[idx]
+    if names.index("d") > names.index("L"):
+        shown, good = shown.T, good.T
+    shown, good = shown.T, good.T  # rows L, columns d
+    data = np.ma.masked_array(shown, mask=~good | ~np.isfinite(shown))
+    d_mm, l_mm = sweep.axes["d"] * MM, sweep.axes["L"] * MM
+    de, le = _edges(d_mm), _edges(l_mm)
+
+    if given is None:
+        size = (14.0, 6.0) if optimum is not None else (7.8, 6.0)
+        _, arr = plt.subplots(
+            1, 2 if optimum is not None else 1, figsize=size, layout="constrained"
+        )
+        axes = list(np.atleast_1d(arr))
+    else:
+        axes = given
+    m = axes[0]
+
+    vis = data.compressed()
+    extend = "neither"
+    if vis.size:
+        lo, hi = float(vis.min()), float(vis.max())
+        top = float(np.percentile(vis, 98.0))
+        if hi > lo and top < hi and (hi - lo) > 1.5 * (top - lo):
+            hi, extend = top, "max"
+    else:
+        lo, hi = 0.0, 1.0
+    if hi <= lo:
+        hi = lo + 1.0
+    mesh = m.pcolormesh(
+        de, le, data, cmap="viridis", vmin=lo, vmax=hi, shading="flat", gid="criterion", zorder=0.5
+    )
+    cbar = m.figure.colorbar(mesh, ax=m, extend=extend, pad=0.02)
+    cbar.set_label(_criterion_label(criterion))
+    if vis.size > 3 and good.sum() >= 4:
+        from matplotlib.ticker import MaxNLocator
+
+        ticks = np.asarray(MaxNLocator(6).tick_values(lo, hi), dtype=float)
+        levels = ticks[(ticks > lo) & (ticks < hi)]
+        if levels.size:
+            cs = m.contour(
+                d_mm,
+                l_mm,
+                np.ma.filled(data.astype(float), np.nan),
+                levels=levels,
+                colors="white",
+                linewidths=0.7,
+                alpha=0.85,
+                zorder=1.0,
+            )
+            m.clabel(cs, fontsize=7.5, fmt=lambda v: num_text(float(v)))
+            cs.set_gid("contours")
+    failed = [
+        [(de[j], le[i]), (de[j + 1], le[i]), (de[j + 1], le[i + 1]), (de[j], le[i + 1])]
+        for i, j in zip(*np.nonzero(~good), strict=True)
+    ]
+    m.add_collection(
+        PolyCollection(
+            failed,
+            facecolors="0.88",
+            edgecolors="0.45",
+            hatch="xxx",
+            linewidths=0.0,
+            gid="failed",
+            zorder=1.2,
+        )
+    )
+    handles: list[Any] = []
+    if failed:
+        handles.append(
+            Patch(facecolor="0.88", edgecolor="0.45", hatch="xxx", label="fails (status ≠ 0)")
+        )
+    if vis.size:
+        bad = np.ma.masked_array(_badness(criterion, shown / scale), mask=data.mask)
+        i, j = np.unravel_index(int(np.ma.argmin(bad)), bad.shape)
+        m.plot(
+            [d_mm[j]],
+            [l_mm[i]],
+            linestyle="none",
+            marker="*",
+            markersize=13,
+            markerfacecolor="white",
+            markeredgecolor="black",
+            markeredgewidth=0.8,
+            gid="best in map",
+            zorder=3.0,
+        )
+        handles.append(
+            Line2D(
+                [],
+                [],
+                linestyle="none",
+                marker="*",
+                markersize=11,
+                markerfacecolor="white",
+                markeredgecolor="black",
+                label=f"best in this map: {criterion} = {num_text(float(shown[i, j]))}",
+            )
+        )
+    if optimum is not None:
+        best = optimum.designs[optimum.best]
+        m.plot(
+            [best.d * MM],
+            [best.L * MM],
+            linestyle="none",
+            marker="o",
+            markersize=12,
+            markerfacecolor="none",
+            markeredgecolor=CRITICAL_COLOR,
+            markeredgewidth=2.0,
+            gid="optimum",
+            zorder=3.1,
+        )
+        handles.append(
+            Line2D(
+                [],
+                [],
+                linestyle="none",
+                marker="o",
+                markersize=10,
+                markerfacecolor="none",
+                markeredgecolor=CRITICAL_COLOR,
+                markeredgewidth=2.0,
+                label=f"best design (φ0 = {deg_text(math.degrees(best.phi0))})",
+            )
+        )
+    m.set_xlim(de[0], de[-1])
+    m.set_ylim(le[0], le[-1])
+    m.set_xlabel("eccentricity d [mm]  (d = 0: crank-slider)")
+    m.set_ylabel("rod length L [mm]")
+    if handles:
+        m.legend(
+            handles=handles,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.11),
+            ncols=2,
+            frameon=False,
+            fontsize=8,
+        )
+    fixed: dict[str, float] = dict(sweep.fixed)
+    fixed.update({nm: float(sweep.axes[nm][0]) for nm in ("R", "r") if nm in sweep.axes})
+    stroke = (
+        f"k_Sp = {num_text(sweep.k_Sp)}"
+        if sweep.k_Sp is not None
+        else f"S_p = {num_text(float(sweep.working_stroke or 0.0) * MM)} mm"
+    )
+    head = f"{criterion} over (d, L) at φ0 = {deg_text(math.degrees(phi_shown))}"
+    m.set_title(
+        (head if title is None else title)
+        + f"\nR = {num_text(fixed['R'] * MM)} mm, r = {num_text(fixed['r'] * MM)} mm, {stroke}, "
+        f"ω = {num_text(sweep.omega)} rad/s",
+        fontsize=10.5,
+    )
+    if optimum is None:
+        return m
+
+    p = axes[1]
+    crit = optimum.criteria
+    kv = np.array([c.k_Vp for c in crit])
+    km = np.array([c.k_Vmax for c in crit])
+    kj = np.array([c.k_J for c in crit])
+    refined = np.array(optimum.refined, dtype=bool)
+    base = optimum.baseline
+    jlo = float(min(kj.min(), base.k_J))
+    jhi = float(max(kj.max(), base.k_J))
+    sc = p.scatter(
+        kv,
+        km,
+        c=kj,
+        cmap="plasma",
+        vmin=jlo,
+        vmax=jhi,
+        s=30.0,
+        marker="o",
+        edgecolors="0.25",
+        linewidths=0.4,
+        gid="pareto",
+        zorder=2.0,
+    )
+    sc.set_sizes(np.where(refined, 46.0, 30.0))
+    if refined.any():
+        p.scatter(
+            kv[refined],
+            km[refined],
+            s=60.0,
+            marker="D",
+            facecolors="none",
+            edgecolors="black",
+            linewidths=0.9,
+            gid="refined",
+            zorder=2.1,
+        )
+    cb = p.figure.colorbar(sc, ax=p, pad=0.02)
+    cb.set_label(_criterion_label("k_J"))
+    top = max(float(kv.max()), float(km.max()), base.k_Vp, base.k_Vmax)
+    # V_pmax ≥ V_np and V_pmax ≥ V_cp: no design lies below this line or below 1.
+    p.plot(
+        [1.0, top * 1.05],
+        [1.0, top * 1.05],
+        color="0.6",
+        linestyle="--",
+        linewidth=0.8,
+        gid="diagonal",
+        zorder=0.8,
+        label="k_Vmax = k_Vp: fastest at the start of the working stroke",
+    )
+    p.plot(
+        [base.k_Vp],
+        [base.k_Vmax],
+        linestyle="none",
+        marker="s",
+        markersize=9,
+        color="black",
+        gid="baseline",
+        zorder=3.0,
+        label=f"crank-slider, d = 0 (k_Vp = {num_text(base.k_Vp)}, k_J = {num_text(base.k_J)})",
+    )
+    bc = crit[optimum.best]
+    p.plot(
+        [bc.k_Vp],
+        [bc.k_Vmax],
+        linestyle="none",
+        marker="o",
+        markersize=14,
+        markerfacecolor="none",
+        markeredgecolor=CRITICAL_COLOR,
+        markeredgewidth=2.0,
+        gid="best",
+        zorder=3.1,
+        label=f"best design: d = {num_text(best.d * MM)} mm, L = {num_text(best.L * MM)} mm, "
+        f"φ0 = {deg_text(math.degrees(best.phi0))}",
+    )
+    p.plot(
+        [0.0],
+        [1.0],
+        linestyle="none",
+        marker="P",
+        markersize=10,
+        color="#2ca02c",
+        gid="ideal",
+        zorder=3.0,
+        label="ideal (k_Vp = 0, k_Vmax = 1)",
+    )
+    if refined.any():
+        p.plot(
+            [],
+            [],
+            linestyle="none",
+            marker="D",
+            markerfacecolor="none",
+            markeredgecolor="black",
+            label="refined off the grid by scipy",
+        )
+    p.set_xlabel(_criterion_label("k_Vp"))
+    p.set_ylabel(_criterion_label("k_Vmax"))
+    p.set_xlim(left=-0.03 * top)
+    p.grid(color="0.9", linewidth=0.6)
+    p.set_axisbelow(True)
+    p.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), ncols=1, frameon=False, fontsize=8)
+    p.set_title(
+        f"Non-dominated designs ({len(crit)}), objectives " + ", ".join(optimum.objectives),
+        fontsize=10.5,
+    )
+    return m, p
