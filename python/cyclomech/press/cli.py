@@ -51,7 +51,7 @@ def press_command(args: argparse.Namespace) -> int:
     p, w = st.press, st.omega
     step = args.step_deg
     check_step(step)
-    stroke = {"k_Sp": st.k_Sp, "working_stroke": st.working_stroke}
+    stroke: dict[str, Any] = {"k_Sp": st.k_Sp, "working_stroke": st.working_stroke}
     c = p.criteria(omega=w, **stroke)
     base = p.baseline().criteria(omega=w, **stroke)
     name = st.name or Path(args.file).stem
@@ -82,8 +82,10 @@ def press_command(args: argparse.Namespace) -> int:
     out = out_folder(args)
     n = round(360.0 / step)
     alpha = np.radians(np.arange(n + 1) * step)
-    k = p.solve(alpha)
-    kinematics = np.column_stack([np.degrees(alpha), k.s, k.ds, k.dds, k.ds * w, k.dds * w * w])
+    kin = p.solve(alpha)
+    kinematics = np.column_stack(
+        [np.degrees(alpha), kin.s, kin.ds, kin.dds, kin.ds * w, kin.dds * w * w]
+    )
     np.savetxt(
         out / "kinematics.csv",
         kinematics,
@@ -183,8 +185,13 @@ def _figures(st: Any, c: Any, opt: Any, out: Path) -> list[Path]:
 
     if c.ok:
         axes = plot_press(st.press, c.alpha_p, show_motion=True, k_Sp=c.k_Sp)
-        save(axes[0].figure, out / "press.png", written)
+        save(_first(axes).figure, out / "press.png", written)
     if opt is not None:
         axes = plot_press_criteria(opt.grid, optimum=opt)
-        save(axes[0].figure, out / "criteria.png", written)
+        save(_first(axes).figure, out / "criteria.png", written)
     return written
+
+
+def _first(axes: Any) -> Any:
+    """The first of the axes a press plot drew (one, or a pair)."""
+    return axes[0] if isinstance(axes, tuple) else axes
