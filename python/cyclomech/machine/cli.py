@@ -134,7 +134,7 @@ def sweep_command(args: argparse.Namespace) -> int:
         flush=True,
     )
     if workers:
-        # Ctrl-C is ignored while the workers start (see scale._sigint_ignored).
+        # Ctrl-C is ignored while the workers start (see _sweep._sigint_ignored).
         print(f"starting a Dask LocalCluster of {workers} worker processes …", flush=True)
     client = dask_client(args.dask) if args.dask else None
     try:
