@@ -115,6 +115,37 @@ class LinkageSolution:
         theta = np.arctan2(d[..., 1], d[..., 0])
         return theta, cross_v / n2, cross_a / n2 - 2.0 * dot_v * cross_v / n2**2
 
+    def stroke(self, point: str) -> float:
+        """Stroke of point ``point`` [m]: the largest distance between two of its
+        positions over the angles where the linkage is assembled (the diameter of
+        its path), over the vertices of the path's convex hull; a straight path's
+        extent along its line. NaN where it is assembled at no angle. One
+        geometry's solution (not a :func:`sweep`'s).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> lk = cm.Linkage({"A": (0, 0), "B": (0.1, 0)}, [("A", "B")], ["A"], ("A", "B"))
+        >>> round(lk.solve(np.radians(np.arange(0.0, 360.0, 1.0))).stroke("B"), 12)
+        0.2
+        """
+        if self.xy.ndim != 3:
+            raise InputError(
+                f"stroke of a sweep's solution (shape {self.xy.shape}): solve one geometry"
+            )
+        xy = self.xy[self.ok, self.index(point)]
+        if not len(xy):
+            return math.nan
+        from scipy.spatial import ConvexHull, QhullError
+
+        try:
+            pts = xy[ConvexHull(xy).vertices]
+        except (QhullError, ValueError):  # on one line (a slider), or too few points
+            centred = xy - xy.mean(axis=0)
+            axis = np.linalg.svd(centred, full_matrices=False)[2][0]
+            along = centred @ axis
+            return float(along.max() - along.min())
+        d = pts[:, None, :] - pts[None, :, :]
+        return float(np.sqrt((d**2).sum(axis=2)).max())
+
 
 class Linkage:
     """A planar linkage given by a drawn, assembled pose.

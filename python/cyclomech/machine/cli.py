@@ -1,0 +1,180 @@
+"""``cyclomech run`` and ``cyclomech sweep``: the whole machine's commands.
+
+``cyclomech run FILE.toml [--out DIR]`` reads a machine file, analyses it over its
+speed range and writes the report (HTML, results.json, CSVs, figures); exit status
+3 when the machine works at no speed. ``cyclomech sweep FILE.toml --set
+MECH.KEY=FROM:TO:COUNT [--speed FROM:TO:COUNT] [--dask …]`` computes the machine's
+key figures over a grid of its parameters and speeds and writes them as a table
+(Parquet, or NumPy .npz without pyarrow); exit status 3 when every design of the
+sweep is invalid.
+
+>>> import argparse
+>>> from cyclomech.machine import cli
+>>> commands = argparse.ArgumentParser(prog="cyclomech").add_subparsers()
+>>> cli.add_commands(commands)
+>>> sorted(commands.choices)
+['run', 'sweep']
+>>> commands.choices["sweep"].parse_args(["loom.toml", "--set", "lifter.preload=1e-4:2e-4:3"]).set
+['lifter.preload=1e-4:2e-4:3']
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from typing import Any
+
+from .._cli import EXIT_FAILS, EXIT_OK, has_matplotlib, out_folder, plural, quiet_interrupt
+from .._errors import InputError
+
+__all__ = ["add_commands", "run_command", "sweep_command"]
+
+
+def add_commands(commands: Any) -> None:
+    """Add the ``run`` and ``sweep`` commands to the sub-parsers ``commands`` of
+    ``cyclomech``. They read machine files (``machine_file``): the other commands
+    send a machine file here."""
+    m = commands.add_parser("run", help="the whole machine: a machine file (TOML) in, a report out")
+    m.add_argument("file", help="machine file, e.g. examples/stb_loom.toml")
+    m.add_argument("--out", help="output folder (default: out/<file name>)")
+    m.add_argument("--no-plot", action="store_true", help="do not draw the figures")
+    m.add_argument("--quiet", action="store_true", help="no progress bar")
+    m.set_defaults(run=run_command, machine_file=True)
+    w = commands.add_parser("sweep", help="a machine's key figures over parameters and speeds")
+    w.add_argument("file", help="machine file, e.g. examples/stb_loom.toml")
+    w.add_argument(
+        "--set",
+        action="append",
+        metavar="MECH.KEY=FROM:TO:COUNT",
+        help="a parameter of the file to sweep (repeat for a grid)",
+    )
+    w.add_argument("--speed", metavar="FROM:TO:COUNT", help="speeds [rpm] (default: the file's)")
+    w.add_argument("--out", help="output folder (default: out/<file name>)")
+    w.add_argument(
+        "--dask",
+        metavar="local[:N]|tcp://HOST:PORT",
+        help="run the chunks on Dask: a LocalCluster of N processes, or a running scheduler",
+    )
+    w.add_argument("--threads", type=int, help="Rust threads in this process (default: all)")
+    w.add_argument("--quiet", action="store_true", help="no progress bar")
+    w.set_defaults(run=sweep_command, machine_file=True)
+
+
+def run_command(args: argparse.Namespace) -> int:
+    """Run ``cyclomech run`` with the parsed ``args``; return the exit status."""
+    from . import Machine, analyze, write_report
+
+    m = Machine.from_toml(args.file)
+    kinds = ", ".join(f"{k} ({v.kind})" for k, v in m.mechanisms.items())
+    print(
+        f"{m.name}: {plural(len(m.mechanisms), 'mechanism')}{': ' + kinds if kinds else ''}; "
+        f"{len(m.cyclogram.operations)} operations; speeds {m.speed_range_rpm[0]:g}–"
+        f"{m.speed_range_rpm[1]:g} rpm"
+    )
+    out = out_folder(args)
+    r = analyze(m, progress=None if not args.quiet else False)
+    lim = r.limit
+    by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
+    if lim.rpm == 0:  # no speed is to blame: the reason names the chain
+        print(f"The machine works at no speed: {lim.reason}")
+    elif r.optimum is None:
+        print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}: {lim.reason}")
+        print(f"At {r.nominal_rpm:g} rpm the cyclogram does not fit: {r.problem}")
+    else:
+        print(f"Speed limit: {lim.rpm:.2f} rpm, set by {by}: {lim.reason}")
+        op = m.cyclogram.operation(m.cyclogram.limiting)  # type: ignore[arg-type]
+        o = r.optimum
+        print(
+            f"At {r.nominal_rpm:g} rpm the limiting operation {op.title!r} gets "
+            f"{o.objective:.2f}° ({o.stretch[op.arc]:.2f}° more than its minimum)"
+        )
+        priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
+        if priced:
+            print("Binding, with shadow prices: " + ", ".join(priced))
+    use_fig = not args.no_plot and has_matplotlib("figures")
+    if use_fig and not args.quiet:
+        print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds
+    written = write_report(r, out, figures=use_fig)
+    print(f"\nReport: {out / 'report.html'}  ({len(written)} files in {out})")
+    if lim.rpm == 0:
+        print(
+            f"cyclomech: {args.file}: the machine works at no speed (exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
+    return EXIT_OK
+
+
+def sweep_command(args: argparse.Namespace) -> int:
+    """Run ``cyclomech sweep`` with the parsed ``args``; return the exit status."""
+    import numpy as np
+
+    from .._arrays import speeds_rpm
+    from . import Machine, check_parameter, dask_client, dask_workers, parse_range, sweep
+
+    m = Machine.from_toml(args.file)
+    workers = dask_workers(args.dask) if args.dask else 0
+    grid: dict[str, Any] = {}
+    for item in args.set or []:
+        name, eq, text = item.partition("=")
+        if not eq or not name:
+            raise InputError(f"--set {item!r} must be <mechanism>.<key>=from:to:count")
+        grid[name] = parse_range(text, f"--set {name}:")
+    if args.speed is not None:
+        grid["speed_rpm"] = speeds_rpm("--speed", parse_range(args.speed, "--speed"))
+    params = {k: v for k, v in grid.items() if k != "speed_rpm"}
+    for k in params:  # a key the file cannot take fails before the work starts
+        check_parameter(m, k)
+    designs = math.prod(v.size for v in params.values())
+    speeds = grid["speed_rpm"].size if "speed_rpm" in grid else m.speed_points
+    print(
+        f"{m.name}: sweeping {plural(designs, 'design')} × {plural(speeds, 'speed')} = "
+        f"{plural(designs * speeds, 'point')}" + (f" on Dask ({args.dask})" if args.dask else ""),
+        flush=True,
+    )
+    if workers:
+        # Ctrl-C is ignored while the workers start (see _sweep._sigint_ignored).
+        print(f"starting a Dask LocalCluster of {workers} worker processes …", flush=True)
+    client = dask_client(args.dask) if args.dask else None
+    try:
+        with quiet_interrupt(client is not None):
+            r = sweep(
+                m, grid, client, progress=None if not args.quiet else False, n_threads=args.threads
+            )
+    finally:
+        if client is not None:
+            cluster = getattr(client, "cluster", None)
+            client.close()
+            if cluster is not None and args.dask.startswith("local"):
+                cluster.close()
+    out = out_folder(args)
+    path = r.write(out / "sweep.parquet")
+    fits = r.columns["fits"]
+    n_speeds = int(np.unique(r.columns["speed_rpm"]).size)
+    print(
+        f"{plural(r.n_points, 'point')} ({plural(r.n_points // n_speeds, 'design')} × "
+        f"{plural(n_speeds, 'speed')}) in "
+        f"{r.seconds:.2f} s"
+        + (f" on Dask ({args.dask})" if args.dask else "")
+        + f"; the cyclogram fits at {int(fits.sum())} of them"
+    )
+    problem = r.columns["problem"]
+    bad = problem[::n_speeds] != ""
+    if bad.any():
+        first = str(problem[::n_speeds][bad][0])
+        print(
+            f"{plural(int(bad.sum()), 'design')} of {bad.size} are invalid and counted as not "
+            f"fitting (the 'problem' column says why); the first: {first}"
+        )
+    print(f"Wrote {path}")
+    if path.suffix == ".npz":
+        print("(NumPy .npz: pyarrow is not installed; `pip install pyarrow` writes Parquet)")
+    if bad.all():
+        print(
+            f"cyclomech: {args.file}: every design of the sweep is invalid "
+            f"(exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
+    return EXIT_OK
