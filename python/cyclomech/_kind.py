@@ -181,7 +181,11 @@ class Mechanism(Protocol):
     fixed_keys: ClassVar[frozenset[str]]
     json_groups: ClassVar[tuple[str, ...]]
     sweep_columns: ClassVar[tuple[str, ...]]
-    name: str
+
+    @property
+    def name(self) -> str:
+        """Its name: the ``<name>`` of its table."""
+        ...
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> Mechanism:

@@ -328,12 +328,9 @@ class Cyclogram:
         if isinstance(coeffs, Constraint):
             if sense is not None or rhs is not None:
                 raise InputError("pass a Constraint alone, or coeffs, sense and rhs; not both")
-            coeffs, sense, rhs, name = (
-                dict(coeffs.coeffs),
-                coeffs.sense,
-                coeffs.rhs,
-                coeffs.name if name is None else name,
-            )
+            con = coeffs
+            coeffs, sense, rhs = dict(con.coeffs), con.sense, con.rhs
+            name = con.name if name is None else name
         if sense is None or rhs is None:
             raise InputError("add_constraint needs coeffs, sense and rhs (or one Constraint)")
         name = str(name) if name is not None else f"constraint {len(self._constraints) + 1}"

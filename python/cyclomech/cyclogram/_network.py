@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -71,16 +72,23 @@ class SpeedNetwork:
         self.kind: list[str] = []  # "min", "max", "user", "cycle", ""
         self.label: list[str] = []
         self.op: list[int] = []
+
+        def edge(s: int, d: int, w: float, kind: str, label: str, op: int) -> None:
+            src.append(s)
+            dst.append(d)
+            base.append(w)
+            self.kind.append(kind)
+            self.label.append(label)
+            self.op.append(op)
+
         ops = cg._ops
         self.min_edge = np.empty(len(ops), np.int64)
         for e, op in enumerate(ops):
             x, y = ev[op.src], ev[op.dst]
             self.min_edge[e] = len(src)
-            src.append(y), dst.append(x), base.append(C * op.height)
-            self.kind.append("min"), self.label.append(labels[e]), self.op.append(e)
+            edge(y, x, C * op.height, "min", labels[e], e)
             if op.max_angle_deg is not None:
-                src.append(x), dst.append(y), base.append(op.max_angle_deg - C * op.height)
-                self.kind.append("max"), self.label.append(f"max[{labels[e]}]"), self.op.append(e)
+                edge(x, y, op.max_angle_deg - C * op.height, "max", f"max[{labels[e]}]", e)
         self.general: list[Constraint] = []
         self.always_false: list[Constraint] = []
         for con in cg.constraints:
@@ -102,21 +110,15 @@ class SpeedNetwork:
             x, y = ev[op.src], ev[op.dst]
             upper = (con.sense == "<=") == (c > 0)
             senses = ("upper", "lower") if con.sense == "==" else ("upper" if upper else "lower",)
-            for s in senses:
-                if s == "upper":  # t ≤ bound
-                    src.append(x), dst.append(y), base.append(bound - C * op.height)
+            for sense in senses:
+                if sense == "upper":  # t ≤ bound
+                    edge(x, y, bound - C * op.height, "user", con.name, e)
                 else:  # t ≥ bound
-                    src.append(y), dst.append(x), base.append(C * op.height - bound)
-                self.kind.append("user"), self.label.append(con.name), self.op.append(e)
+                    edge(y, x, C * op.height - bound, "user", con.name, e)
         for v in range(V):  # p_v ≥ 0 (z − p_v ≤ 0) and p_v ≤ F
-            src += [v, F]
-            dst += [z, v]
-            base += [0.0, 0.0]
-            self.kind += ["", ""]
-            self.label += ["", ""]
-            self.op += [-1, -1]
-        src.append(z), dst.append(F), base.append(C)
-        self.kind.append("cycle"), self.label.append("cycle"), self.op.append(-1)
+            edge(v, z, 0.0, "", "", -1)
+            edge(F, v, 0.0, "", "", -1)
+        edge(z, F, C, "cycle", "cycle", -1)
         self.src = np.array(src, np.int64)
         self.dst = np.array(dst, np.int64)
         self.base = np.array(base, np.float64)
@@ -186,9 +188,10 @@ class SpeedNetwork:
         if self.general:
             value, on_path, extra = self._lp(rpm, mins, bound_ok)
         else:
-            value, on_path = max_difference(
+            got, on_path = max_difference(
                 self.n, self.src, self.dst, w, self.source, self.target, n_threads=n_threads
             )
+            value = np.asarray(got, dtype=np.float64)
         value = np.where(bound_ok & np.isfinite(value), value + self.lim_shift, np.nan)
         fits = np.isfinite(value)
         if not labels:
@@ -322,8 +325,9 @@ class SpeedNetwork:
         code[:, self.min_edge] = np.where(mins > 0, 1 + which.astype(np.int16), 0)
         code[~fits] = 0
         starts = np.flatnonzero(np.r_[True, (code[1:] != code[:-1]).any(axis=1)])
-        patterns, of_run = np.unique(code[starts], axis=0, return_inverse=True)
-        inverse = np.repeat(of_run.reshape(-1), np.diff(np.r_[starts, code.shape[0]]))
+        found = np.unique(code[starts], axis=0, return_inverse=True)
+        patterns, of_run = cast(tuple[Any, Any], found)  # (numpy's stubs miss this overload)
+        inverse = np.repeat(of_run.reshape(-1), np.diff(np.r_[starts, len(code)]))
         names = []
         for row in patterns:
             parts = []

@@ -147,7 +147,7 @@ def _summary(
             "chain": list(lim.cycle),
             "binding": list(lim.binding),
         }
-    return jsonable(out)  # type: ignore[no-any-return]
+    return jsonable(out)
 
 
 def cyclogram_command(args: argparse.Namespace) -> int:

@@ -9,7 +9,7 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -522,7 +522,10 @@ def _bounds_at(laws: Sequence[Sequence[BoundLaw]]) -> BoundsAt:
     vectorised step."""
     K = len(laws[0]) if laws else 0
     prop = [all(isinstance(row[k], Proportional) for row in laws) for k in range(K)]
-    slopes = [np.array([row[k].per_rpm if prop[k] else 0.0 for row in laws]) for k in range(K)]
+    slopes = [
+        np.array([cast(Proportional, row[k]).per_rpm if prop[k] else 0.0 for row in laws])
+        for k in range(K)
+    ]
 
     def at(designs: npt.NDArray[np.int64], rpm: Array) -> list[Array]:
         m = rpm.shape[1]

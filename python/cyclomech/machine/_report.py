@@ -197,7 +197,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         "binding": list(sw.binding),
     }
     out["seconds"] = r.seconds
-    return jsonable(out)  # type: ignore[no-any-return]
+    return jsonable(out)
 
 
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
@@ -216,6 +216,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
 
     from ..cyclogram.plot import plot_cyclogram
     from .plot import plot_speed_sweep
@@ -266,7 +267,9 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
         _, polar = plt.subplots(
             figsize=(9.0, 7.2), layout="constrained", subplot_kw={"projection": "polar"}
         )
-        polar.figure.get_layout_engine().set(w_pad=0.25, h_pad=0.1)
+        engine = polar.figure.get_layout_engine()
+        assert isinstance(engine, ConstrainedLayoutEngine)
+        engine.set(w_pad=0.25, h_pad=0.1)
         plot_cyclogram(r.optimum, polar, kind="circular", title=f"circular cyclogram {at}")
         save(
             polar.figure,

@@ -25,7 +25,7 @@ import time
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -121,7 +121,7 @@ class SweepResult:
                 cols = {
                     k: (v.astype(str) if v.dtype == object else v) for k, v in self.columns.items()
                 }
-                np.savez_compressed(tmp, **cols)
+                np.savez_compressed(tmp, **cast(dict[str, Any], cols))
             os.replace(tmp, p)
         finally:
             tmp.unlink(missing_ok=True)
@@ -296,9 +296,9 @@ def _as_executor(executor: Any) -> cf.Executor | None:
     if executor is None:
         return None
     if hasattr(executor, "get_executor"):  # a dask.distributed.Client
-        return executor.get_executor()  # type: ignore[no-any-return]
+        return executor.get_executor()
     if hasattr(executor, "submit"):
-        return executor  # type: ignore[no-any-return]
+        return executor
     raise InputError(
         f"executor must be None, a dask.distributed.Client or a concurrent.futures.Executor; "
         f"got {type(executor).__name__}"

@@ -122,7 +122,7 @@ def plot_speed_sweep(
                 float(n.max()),
                 color="0.85",
                 alpha=0.6,
-                lw=0,  # type: ignore[arg-type]
+                lw=0,
                 label="above the speed limit" if ax is top else None,
                 gid="above" if ax is top else None,
             )
@@ -144,7 +144,7 @@ def plot_speed_sweep(
                 lim,
                 color=CRITICAL_COLOR,
                 ls="--",
-                lw=1.0,  # type: ignore[arg-type]
+                lw=1.0,
                 gid="limit" if ax is top else None,
                 label=f"speed limit {limit_rpm:.1f} rpm{by}" if ax is top else None,
             )
