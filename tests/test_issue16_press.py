@@ -444,7 +444,7 @@ def test_item11_edges_rule_on_each_axis():
     """The rule on small grids: a swept axis's first or last value, within half a
     step, is an edge (both bounds, every axis); d = 0 and a φ0 axis spanning a whole
     period are not; a single-valued axis is not swept."""
-    from cyclomech.press._model import _edges
+    from cyclomech.press._optimize import _edges
 
     sw = cm.press.sweep(
         R=0.09,

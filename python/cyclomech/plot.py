@@ -2925,7 +2925,7 @@ def plot_transfer(
     from matplotlib.patches import Circle
 
     from .transfer import TransferPath
-    from .transfer._model import PIECES
+    from .transfer._path import PIECES
 
     if not isinstance(path, TransferPath):
         raise InputError(

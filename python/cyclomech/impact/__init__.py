@@ -21,7 +21,7 @@ names say so.
 
 from __future__ import annotations
 
-from ._model import (
+from ._stop import (
     ContactHistory,
     ImpactStudy,
     Pulse,

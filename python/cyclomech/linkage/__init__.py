@@ -20,7 +20,7 @@ the fallback.
 from __future__ import annotations
 
 from . import presets
-from ._model import (
+from ._linkage import (
     Linkage,
     LinkageSolution,
     sweep,

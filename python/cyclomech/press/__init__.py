@@ -33,7 +33,7 @@ for a crank-slider).
 
 from __future__ import annotations
 
-from ._model import (
+from ._optimize import (
     CRITERIA,
     OBJECTIVES,
     SAMPLES,

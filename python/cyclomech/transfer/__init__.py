@@ -33,7 +33,7 @@ path turns left: +1/R_t on the transport circle, −1/R_p on the process circle.
 
 from __future__ import annotations
 
-from ._model import (
+from ._path import (
     PathAcceleration,
     PathSample,
     QuinticTransition,
