@@ -187,3 +187,18 @@ def check_bytes(what: str, nbytes: float, hint: str, *, failed: bool = False) ->
             f"{what} needs {nbytes / 1e9:.3g} GB, more than the {limit / 1e9:.3g} GB of "
             f"memory available; {hint}"
         )
+
+
+def flag(name: str, value: Any) -> bool:
+    """A bool (or numpy bool), or :class:`InputError`: 0, "no" or None are not flags.
+
+    >>> from cyclomech._arrays import flag
+    >>> flag("analogs", True)
+    True
+    >>> flag("analogs", 1)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: analogs must be True or False; got 1
+    """
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise InputError(f"{name} must be True or False; got {value!r}")

@@ -20,7 +20,7 @@ from .._errors import CyclomechWarning, InfeasibleError, InputError
 from .._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
 from ..cyclogram import Arc, Constraint, Cyclogram, Optimum, max_difference
 from ..impact import StopImpact, critical_speeds, phase_angles, rebounds
-from ..impact._stop import _STOP_KEYS
+from ..impact._study import _STOP_KEYS
 from ..linkage import Linkage, LinkageSolution
 from ..linkage._linkage import _LINKAGE_KEYS
 from ..press import STATUS, GearLeverPress, PressCriteria
