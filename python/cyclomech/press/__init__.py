@@ -33,21 +33,10 @@ for a crank-slider).
 
 from __future__ import annotations
 
-from ._optimize import (
-    CRITERIA,
-    OBJECTIVES,
-    SAMPLES,
-    STATUS,
-    GearLeverPress,
-    PressCriteria,
-    PressKinematics,
-    PressOptimum,
-    PressStudy,
-    PressSweep,
-    optimize,
-    pareto_mask,
-    sweep,
-)
+from ._drive import CRITERIA, SAMPLES, STATUS, GearLeverPress, PressCriteria, PressKinematics
+from ._grid import PressSweep, sweep
+from ._optimize import OBJECTIVES, PressOptimum, optimize, pareto_mask
+from ._study import PressStudy
 
 __all__ = [
     "CRITERIA",
