@@ -33,19 +33,10 @@ path turns left: +1/R_t on the transport circle, −1/R_p on the process circle.
 
 from __future__ import annotations
 
-from ._path import (
-    PathAcceleration,
-    PathSample,
-    QuinticTransition,
-    TransferDesign,
-    TransferPath,
-    acceleration_jump,
-    acceleration_jump_at_speed,
-    design_transfer,
-    quintic_transition,
-    smooth_transition,
-    to_machine,
-)
+from ._design import TransferDesign, design_transfer
+from ._jump import acceleration_jump, acceleration_jump_at_speed
+from ._path import PathAcceleration, PathSample, TransferPath
+from ._quintic import QuinticTransition, quintic_transition, smooth_transition, to_machine
 
 __all__ = [
     "PathAcceleration",
