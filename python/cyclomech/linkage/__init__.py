@@ -20,11 +20,9 @@ the fallback.
 from __future__ import annotations
 
 from . import presets
-from ._linkage import (
-    Linkage,
-    LinkageSolution,
-    sweep,
-)
+from ._geometries import sweep
+from ._linkage import Linkage
+from ._solution import LinkageSolution
 
 __all__ = [
     "Linkage",
