@@ -21,7 +21,7 @@ degrees).
 Motion laws and presses: :func:`plot_law` takes a :class:`cyclomech.motion.MotionLaw`
 or a :class:`~cyclomech.motion.TwoPeriodLaw`, :func:`plot_press` a
 :class:`cyclomech.press.GearLeverPress` and a crank angle α [rad] from BDC, and
-:func:`plot_press_criteria` a :class:`~cyclomech.press.PressSweep` (with, optionally,
+:func:`plot_press_criteria` a :class:`~cyclomech.press.PressGrid` (with, optionally,
 a :class:`~cyclomech.press.PressOptimum`). They show lengths in millimetres and
 angles in degrees.
 
@@ -54,7 +54,7 @@ from ._errors import InputError
 from .cyclogram import Operation, Optimum, Schedule
 from .linkage import Linkage, LinkageSolution
 from .motion import MotionLaw, TwoPeriodLaw
-from .press import GearLeverPress, PressOptimum, PressSweep
+from .press import GearLeverPress, PressGrid, PressOptimum
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -1346,7 +1346,7 @@ def plot_linkage(
 
     The pose is ``solution.xy[index]`` [m] (``index`` negative counts from the end);
     ``solution`` must be a :meth:`Linkage.solve` of every point of ``linkage`` (not
-    a :func:`~cyclomech.linkage.sweep`, not ``points=`` a subset), assembled at
+    a :func:`~cyclomech.linkage.solve_geometries`, not ``points=`` a subset), assembled at
     that row. Drawn at equal scale in metres: the links as lines between their
     joints (a link with three or more joints as a light plate with its outline; a
     link of ground joints only, the frame, is not drawn), the driving crank in
@@ -2337,7 +2337,7 @@ def _edges(v: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
 
 
 def plot_press_criteria(
-    sweep: PressSweep,
+    sweep: PressGrid,
     ax: Axes | Any = None,
     *,
     criterion: str = "k_Vp",
@@ -2347,7 +2347,7 @@ def plot_press_criteria(
 ) -> Axes | tuple[Axes, Axes]:
     """Map a working-stroke criterion over (d, L) at one φ0; return the axes.
 
-    ``sweep`` is a :func:`cyclomech.press.sweep` (or ``optimum.grid``) with d and L
+    ``sweep`` is a :func:`cyclomech.press.design_grid` (or ``optimum.grid``) with d and L
     among its axes (two or more values each; R and r fixed or of one value). The
     map shows ``criterion`` (a name of :data:`cyclomech.press.CRITERIA`; lengths
     in mm, speeds in mm/s, angles in degrees) over d [mm] across and L [mm] up,
@@ -2380,7 +2380,7 @@ def plot_press_criteria(
     >>> import matplotlib.pyplot as plt
     >>> import numpy as np, cyclomech as cm
     >>> from cyclomech.plot import plot_press_criteria
-    >>> sw = cm.press.sweep(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
+    >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
     ...                     L=np.linspace(0.25, 0.5, 6), phi0=np.radians([0, 30, 55]),
     ...                     k_Sp=0.1, omega=4.0)
     >>> ax = plot_press_criteria(sw, phi0=np.radians(55))
@@ -2396,9 +2396,9 @@ def plot_press_criteria(
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    if not isinstance(sweep, PressSweep):
+    if not isinstance(sweep, PressGrid):
         raise InputError(
-            f"sweep must be a cyclomech.press.PressSweep (cm.press.sweep(...)); "
+            f"sweep must be a cyclomech.press.PressGrid (cm.press.design_grid(...)); "
             f"got {type(sweep).__name__}"
         )
     if criterion not in _CRITERION_SHOWN:

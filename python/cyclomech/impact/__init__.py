@@ -37,7 +37,7 @@ from ._lever import (
 )
 from ._pulse import Pulse
 from ._response import Rebound, duhamel, duhamel_batch, first_rebound
-from ._stop import StopImpact, critical_speeds, phase_angles, rebounds
+from ._stop import StopImpact, max_impact_speeds, min_phase_angles, rebounds
 from ._study import ImpactStudy
 
 __all__ = [
@@ -49,14 +49,14 @@ __all__ = [
     "contact_response",
     "contact_sample",
     "contact_time",
-    "critical_speeds",
     "duhamel",
     "duhamel_batch",
     "first_rebound",
     "impact_force",
     "lever_stiffness",
+    "max_impact_speeds",
+    "min_phase_angles",
     "natural_frequency",
-    "phase_angles",
     "propped_lever_stiffness",
     "rebounds",
 ]

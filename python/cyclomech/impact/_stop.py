@@ -23,7 +23,7 @@ from ._lever import _propped_ratio, _restitution, contact_time, impact_force, le
 from ._pulse import Pulse, _pulse_at
 from ._response import duhamel, first_rebound
 
-__all__ = ["StopImpact", "critical_speeds", "phase_angles", "rebounds"]
+__all__ = ["StopImpact", "max_impact_speeds", "min_phase_angles", "rebounds"]
 
 
 #: Relative tolerances a search can meet: rounding of the rebounds is ~1e-16, so
@@ -111,11 +111,11 @@ def rebounds(
     return out
 
 
-#: Relative margin below the largest admissible impact speed (see critical_speeds).
+#: Relative margin below the largest admissible impact speed (see max_impact_speeds).
 _SPEED_MARGIN = 1e-13
 
 
-def critical_speeds(
+def max_impact_speeds(
     stops: Sequence[StopImpact],
     a_max: npt.ArrayLike,
     *,
@@ -136,7 +136,7 @@ def critical_speeds(
 
     >>> import cyclomech as cm
     >>> stops = [cm.impact.StopImpact.example(), cm.impact.StopImpact.example(zeta=0.2)]
-    >>> v = cm.impact.critical_speeds(stops, 0.1e-3)
+    >>> v = cm.impact.max_impact_speeds(stops, 0.1e-3)
     >>> [round(float(x), 4) for x in v]
     [0.2909, 0.3657]
     """
@@ -146,10 +146,10 @@ def critical_speeds(
         positive(f"a_max[{i}]" if n > 1 else "a_max", ai, "[m]")
     r = _rtol("rtol", rtol)
     out = np.empty(n)
-    keys = [s._critical_key(ai, r) for s, ai in zip(stops, a, strict=True)]
+    keys = [s._max_speed_key(ai, r) for s, ai in zip(stops, a, strict=True)]
     todo = []
     for i, (s, key) in enumerate(zip(stops, keys, strict=True)):
-        memo = s.__dict__.get("_critical_memo", {})
+        memo = s.__dict__.get("_max_speed_memo", {})
         if key in memo:
             out[i] = memo[key]
         else:
@@ -193,20 +193,20 @@ def critical_speeds(
         grid[active] = np.linspace(lo[active], hi[active], 66, axis=1)[:, 1:-1]
     v[idx] = np.where(np.isfinite(hi), lo * (1.0 - _SPEED_MARGIN), np.inf)
     for i in todo:
-        memo = stops[i].__dict__.setdefault("_critical_memo", {})
+        memo = stops[i].__dict__.setdefault("_max_speed_memo", {})
         if len(memo) >= 64:
             memo.clear()
         memo[keys[i]] = out[i] = v[i]
     return out
 
 
-def phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
+def min_phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
     """Smallest phase angles [deg] n·``per_rpm`` at speeds ``rpm`` [rpm] (finite,
     > 0; broadcast) with ``per_rpm`` [deg/rpm] finite and ≥ 0, at least 1e-9°, NaN
     where over 360° (no phase angle of one turn will do).
 
     >>> import cyclomech as cm
-    >>> cm.impact.phase_angles([100.0, 200.0, 400.0], 0.1).tolist()
+    >>> cm.impact.min_phase_angles([100.0, 200.0, 400.0], 0.1).tolist()
     [10.0, 20.0, 40.0]
     """
     # float_array checks the dtype; np.asarray keeps a scalar 0-d.
@@ -441,7 +441,7 @@ class StopImpact:
         q = duhamel(t, f, omega_n=self.omega_free, zeta=self.zeta, mass=self.mass, q0=0.0, v0=-v0)
         return t, q
 
-    def _critical_key(self, a_max: float, rtol: float) -> tuple[Any, ...]:
+    def _max_speed_key(self, a_max: float, rtol: float) -> tuple[Any, ...]:
         """What v* depends on: a_max, rtol and the parameters of the rebound."""
         key = (a_max, rtol, self.model, self.pulse, self.contact_time, self.mass)
         return (
@@ -453,21 +453,21 @@ class StopImpact:
             self.restitution,
         )
 
-    def critical_speed(
+    def max_impact_speed(
         self, a_max: float, *, rtol: float = 1e-12, n_threads: int | None = None
     ) -> float:
         """The largest impact speed v* [m/s] whose first rebound is at most ``a_max``
         [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to ``rtol``
-        relative (:func:`critical_speeds` for one stop).
+        relative (:func:`max_impact_speeds` for one stop).
 
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
-        >>> v = lifter.critical_speed(0.1e-3)        # the impact speed at t_min, any rpm
+        >>> v = lifter.max_impact_speed(0.1e-3)        # the impact speed at t_min, any rpm
         >>> t = lifter.min_phase_angle(0.1e-3, 280)
         >>> round(v, 6), round(float(lifter.impact_speed(280, t)), 6)
         (0.290929, 0.290929)
         """
-        return float(critical_speeds([self], a_max, rtol=rtol, n_threads=n_threads)[0])
+        return float(max_impact_speeds([self], a_max, rtol=rtol, n_threads=n_threads)[0])
 
     def phase_per_rpm(self, v_star: float) -> float:
         """The phase angle per rpm [deg/rpm] at which the impact speed is ``v_star``
@@ -476,7 +476,7 @@ class StopImpact:
 
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
-        >>> round(280 * lifter.phase_per_rpm(lifter.critical_speed(0.1e-3)), 6)
+        >>> round(280 * lifter.phase_per_rpm(lifter.max_impact_speed(0.1e-3)), 6)
         28.027142
         """
         with np.errstate(divide="ignore"):
@@ -493,12 +493,12 @@ class StopImpact:
     ) -> Any:
         """Smallest phase angle [deg] whose first rebound is at most ``a_max`` [m],
         at each speed ``rpm``, to ``tol_deg`` (in [3.6e-13, 180]°: 360° times the
-        range of :func:`critical_speeds`' ``rtol``); NaN where even 360° is too short.
+        range of :func:`max_impact_speeds`' ``rtol``); NaN where even 360° is too short.
 
         The rebound depends on the speed n and the phase angle t only through the
         impact speed v0 = (2π·n/60)·stroke·Z'/t (:meth:`impact_speed`) and grows
         with it, so t_min = (2π·n/60)·stroke·Z'/v* at every speed, with v* the
-        largest admissible impact speed (:meth:`critical_speed`): one search for
+        largest admissible impact speed (:meth:`max_impact_speed`): one search for
         all speeds. At least 1e-9°.
 
         >>> import cyclomech as cm
@@ -510,8 +510,8 @@ class StopImpact:
         n = np.asarray(_positive_array("rpm", rpm, "[rpm]"), dtype=np.float64)
         tol = _rtol("tol_deg", tol_deg, 360.0, "[deg]")
         # t ≤ 360° and |Δt| ≤ t·Δv/v*: a relative bracket of tol/360 is enough.
-        v = self.critical_speed(a_max, rtol=tol / 360.0, n_threads=n_threads)
-        return phase_angles(n, self.phase_per_rpm(v))[()]  # a float for a scalar speed
+        v = self.max_impact_speed(a_max, rtol=tol / 360.0, n_threads=n_threads)
+        return min_phase_angles(n, self.phase_per_rpm(v))[()]  # a float for a scalar speed
 
     def linearize(
         self, phase_deg_range: tuple[float, float], rpm: float, points: int = 64

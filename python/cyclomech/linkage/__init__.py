@@ -20,7 +20,7 @@ the fallback.
 from __future__ import annotations
 
 from . import presets
-from ._geometries import sweep
+from ._geometries import solve_geometries
 from ._linkage import Linkage
 from ._solution import LinkageSolution
 
@@ -28,5 +28,5 @@ __all__ = [
     "Linkage",
     "LinkageSolution",
     "presets",
-    "sweep",
+    "solve_geometries",
 ]

@@ -1,5 +1,5 @@
 """K geometries of one linkage solved over one crank-angle grid in one call
-(:func:`sweep`)."""
+(:func:`solve_geometries`)."""
 
 from __future__ import annotations
 
@@ -13,10 +13,10 @@ from .._errors import InputError
 from ._linkage import Linkage
 from ._solution import LinkageSolution
 
-__all__ = ["sweep"]
+__all__ = ["solve_geometries"]
 
 
-def sweep(
+def solve_geometries(
     linkage: Linkage,
     angles: npt.ArrayLike,
     lengths: npt.ArrayLike,
@@ -40,7 +40,7 @@ def sweep(
     ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
     >>> L = np.tile(lk.dimension_values, (3, 1))
     >>> L[:, 0] = [0.8, 1.0, 1.2]                       # three crank radii
-    >>> sol = cm.linkage.sweep(lk, np.linspace(0, 2 * np.pi, 73), L, points=["C"])
+    >>> sol = cm.linkage.solve_geometries(lk, np.linspace(0, 2 * np.pi, 73), L, points=["C"])
     >>> sol.xy.shape, bool(sol.ok.all())
     ((3, 73, 1, 2), True)
     """

@@ -151,7 +151,7 @@ class Linkage:
     @property
     def dimensions(self) -> tuple[tuple[str, str], ...]:
         """The joint pairs whose distances the solver uses, in the order of the
-        columns of :func:`sweep`'s ``lengths`` (see :attr:`dimension_values`).
+        columns of :func:`solve_geometries`'s ``lengths`` (see :attr:`dimension_values`).
 
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},

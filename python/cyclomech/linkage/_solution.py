@@ -18,7 +18,7 @@ class LinkageSolution:
     """Positions and analogs of the solved points over a crank-angle grid.
 
     ``xy``, ``vel`` = d xy/dφ and ``acc`` = d² xy/dφ² have shape (N, M, 2), the
-    points in the order of ``names``; for a :func:`sweep` over K geometries they
+    points in the order of ``names``; for a :func:`solve_geometries` over K geometries they
     have shape (K, N, M, 2) and the flags (K, N). Lengths in metres, φ the absolute
     crank angle [rad]. ``vel`` and ``acc`` are None when solved with
     ``analogs=False``.
@@ -71,7 +71,7 @@ class LinkageSolution:
             ) from None
 
     def __getitem__(self, name: str) -> npt.NDArray[np.float64]:
-        """Positions of one point, shape (N, 2) (or (K, N, 2) for a sweep) [m]."""
+        """Positions of one point, shape (N, 2) (or (K, N, 2) for K geometries) [m]."""
         return self.xy[..., self.index(name), :]
 
     def _analogs(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:

@@ -19,7 +19,7 @@ from .._arrays import count, real, threads_arg
 from .._errors import CyclomechWarning, InfeasibleError, InputError
 from .._units import DEG_PER_S_PER_RPM, RAD_PER_S_PER_RPM
 from ..cyclogram import Arc, Constraint, Cyclogram, Optimum, max_difference
-from ..impact import StopImpact, critical_speeds, phase_angles, rebounds
+from ..impact import StopImpact, max_impact_speeds, min_phase_angles, rebounds
 from ..impact._study import _STOP_KEYS
 from ..linkage import Linkage, LinkageSolution
 from ..linkage._drawing import _LINKAGE_KEYS
@@ -902,7 +902,7 @@ class Machine:
         if linear:
             return [s.linear_min_phase_deg(rpm, n_threads=n_threads) for s in self.stops]
         slopes = _stop_slopes([self], threads_arg(n_threads))[0]
-        return [phase_angles(rpm, k) for k in slopes]
+        return [min_phase_angles(rpm, k) for k in slopes]
 
     def speed_sweep(
         self,
@@ -1036,7 +1036,7 @@ def _stop_slopes(machines: Sequence[Machine], n_threads: int | None) -> Array:
     k = len(machines[0].stops) if machines else 0
     if not stops:
         return np.zeros((len(machines), k))
-    v = critical_speeds(
+    v = max_impact_speeds(
         [s.stop for s in stops], [s.a_max for s in stops], rtol=_STOP_RTOL, n_threads=n_threads
     )
     slopes = [s.stop.phase_per_rpm(x) for s, x in zip(stops, v, strict=True)]
@@ -1049,7 +1049,7 @@ def _stop_bounds(slopes: Array, rpm: Array) -> list[Array]:
     in the row order of ``rpm.reshape(-1)``."""
     m = rpm.shape[1]
     rows = rpm.reshape(-1)
-    return [phase_angles(rows, np.repeat(slopes[:, k], m)) for k in range(slopes.shape[1])]
+    return [min_phase_angles(rows, np.repeat(slopes[:, k], m)) for k in range(slopes.shape[1])]
 
 
 def _fits(net: _Network, slopes: Array, rpm: Array, n_threads: int | None) -> npt.NDArray[np.bool_]:

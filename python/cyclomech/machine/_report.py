@@ -228,7 +228,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
             "law": s.stop.law.name,
             "stroke_m": s.stop.stroke,
             "preload_m": s.stop.preload,
-            "critical_speed_m_s": s.stop.critical_speed(s.a_max),
+            "critical_speed_m_s": s.stop.max_impact_speed(s.a_max),
             "linear_min_phase_deg_at_nominal": float(s.linear_min_phase_deg(r.nominal_rpm)),
             "a_max_m": s.a_max,
             "omega_free_rad_s": s.stop.omega_free,

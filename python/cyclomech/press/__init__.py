@@ -1,5 +1,5 @@
 """The planetary gear-lever press drive of seed 003: kinematics, working-stroke
-criteria, design sweeps and the non-dominated designs.
+criteria, design grids and the non-dominated designs.
 
 The drive: a crank (carrier) turns about the centre O of a fixed internal guide
 gear of pitch radius R; a planet gear of radius r rolls inside it (i = R/r, a
@@ -34,7 +34,7 @@ for a crank-slider).
 from __future__ import annotations
 
 from ._drive import CRITERIA, SAMPLES, STATUS, GearLeverPress, PressCriteria, PressKinematics
-from ._grid import PressSweep, sweep
+from ._grid import PressGrid, design_grid
 from ._optimize import OBJECTIVES, PressOptimum, optimize, pareto_mask
 from ._study import PressStudy
 
@@ -45,11 +45,11 @@ __all__ = [
     "STATUS",
     "GearLeverPress",
     "PressCriteria",
+    "PressGrid",
     "PressKinematics",
     "PressOptimum",
     "PressStudy",
-    "PressSweep",
+    "design_grid",
     "optimize",
     "pareto_mask",
-    "sweep",
 ]

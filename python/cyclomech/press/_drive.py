@@ -74,7 +74,7 @@ class PressCriteria:
     off above S_p (by more than 1e-9 of the stroke) and comes down on the blank again
     before BDC *re-contacts* (status 4, :data:`STATUS`); one that moves back up without
     leaving the blank has status 2. Both keep their criteria (from the first contact)
-    and fail (``ok`` False): sweeps mark them and :func:`optimize` drops them. S_p is
+    and fail (``ok`` False): design grids mark them and :func:`optimize` drops them. S_p is
     watched from TDC down to BDC only, the blank taken to be in place from TDC: a
     slider that also dips below S_p on its way up (two strokes a turn; about 1 % of
     i = 3 designs, near φ0 = 60°) is not flagged for it.
@@ -242,9 +242,9 @@ class GearLeverPress:
         >>> round(c.S_n, 9), round(c.k_Vp, 3), c.ok
         (0.12, 1.915, True)
         """
-        from ._grid import sweep  # the grid module builds on this one
+        from ._grid import design_grid  # the grid module builds on this one
 
-        sw = sweep(
+        sw = design_grid(
             R=self.R,
             r=self.r,
             d=self.d,

@@ -1,4 +1,4 @@
-"""Criteria over a grid of designs (:func:`sweep`, :class:`PressSweep`), computed in
+"""Criteria over a grid of designs (:func:`design_grid`, :class:`PressGrid`), computed in
 chunks by the Rust kernel with a progress bar for long grids."""
 
 from __future__ import annotations
@@ -27,12 +27,12 @@ from ._drive import (
     _stroke,
 )
 
-__all__ = ["PressSweep", "sweep"]
+__all__ = ["PressGrid", "design_grid"]
 
 
 @dataclass(frozen=True)
-class PressSweep:
-    """Criteria over a Cartesian grid of designs (from :func:`sweep`).
+class PressGrid:
+    """Criteria over a Cartesian grid of designs (from :func:`design_grid`).
 
     ``axes`` maps each swept parameter (in the order R, r, d, L, phi0; those given
     as arrays) to its values; ``fixed`` holds the others. ``values[name]`` is an
@@ -71,7 +71,7 @@ class PressSweep:
         """The design at a grid index.
 
         >>> import numpy as np, cyclomech as cm
-        >>> sw = cm.press.sweep(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
         ...                     omega=4.0)
         >>> sw.design(1).d
         0.02
@@ -88,7 +88,7 @@ class PressSweep:
         """The criteria of the design at a grid index.
 
         >>> import cyclomech as cm
-        >>> sw = cm.press.sweep(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
         ...                     omega=4.0)
         >>> round(sw.at(0).S_n, 9)
         0.12
@@ -102,7 +102,7 @@ class PressSweep:
         the status code, for CSV or a data frame.
 
         >>> import cyclomech as cm
-        >>> sw = cm.press.sweep(R=0.09, r=0.03, d=[0.0, 0.02], L=[0.3, 0.4], phi0=0.0,
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=[0.3, 0.4], phi0=0.0,
         ...                     k_Sp=0.1, omega=4.0)
         >>> t = sw.table(); list(t)[:3], len(t["k_Vp"])
         (['d', 'L', 'k_Vp'], 4)
@@ -119,7 +119,7 @@ class PressSweep:
 
 
 class _Progress:
-    """A text progress bar on stderr, for sweeps that take more than a moment."""
+    """A text progress bar on stderr, for design grids that take more than a moment."""
 
     def __init__(self, total: int, label: str, enabled: bool) -> None:
         self.total, self.label, self.enabled = total, label, enabled
@@ -142,11 +142,11 @@ class _Progress:
             sys.stderr.flush()
 
 
-#: Designs per kernel call of a large sweep (about half a second on one core).
+#: Designs per kernel call of a large design grid (about half a second on one core).
 _CHUNK = 250_000
 
 
-def sweep(
+def design_grid(
     *,
     d: npt.ArrayLike,
     L: npt.ArrayLike,
@@ -160,7 +160,7 @@ def sweep(
     samples: int = SAMPLES,
     n_threads: int | None = None,
     progress: bool | None = None,
-) -> PressSweep:
+) -> PressGrid:
     """Criteria over the full Cartesian grid of designs, in parallel in Rust.
 
     Each of ``R``, ``r``, ``d``, ``L`` [m] and ``phi0`` [rad] is a scalar (fixed)
@@ -171,7 +171,7 @@ def sweep(
     when stderr is a terminal and the grid is large); Ctrl-C stops between chunks.
 
     >>> import numpy as np, cyclomech as cm
-    >>> sw = cm.press.sweep(R=0.09, r=0.03, d=np.linspace(0, 0.04, 5), L=[0.3, 0.4],
+    >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=np.linspace(0, 0.04, 5), L=[0.3, 0.4],
     ...                     phi0=np.radians(np.arange(0, 120, 10)), k_Sp=0.1, omega=4.0)
     >>> sw.shape, sw["k_Vp"].shape, bool(sw.ok.all())
     ((5, 2, 12), (5, 2, 12), True)
@@ -205,11 +205,13 @@ def sweep(
     step = max(1, _CHUNK // max(inner, 1))
     bar = _Progress(
         n,
-        "press.sweep",
+        "press.design_grid",
         (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
     )
     threads = threads_arg(n_threads)
-    check_bytes(f"press.sweep's {n:,} designs", n * (8 * len(CRITERIA) + 1), "sweep a coarser grid")
+    check_bytes(
+        f"press.design_grid's {n:,} designs", n * (8 * len(CRITERIA) + 1), "use a coarser grid"
+    )
     table = np.empty((n, len(CRITERIA)))
     status = np.empty(n, dtype=np.uint8)
     t0 = time.perf_counter()
@@ -234,4 +236,4 @@ def sweep(
         bar.close()
     values = {c: table[:, j].reshape(shape) for j, c in enumerate(CRITERIA)}
     st = status.reshape(shape)
-    return PressSweep(axes, fixed, values, st, w, k, s, m, elapsed=time.perf_counter() - t0)
+    return PressGrid(axes, fixed, values, st, w, k, s, m, elapsed=time.perf_counter() - t0)

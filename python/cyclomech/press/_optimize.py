@@ -15,7 +15,7 @@ from .. import _core
 from .._arrays import finite_number, float_array
 from .._errors import InfeasibleError, InputError
 from ._drive import CRITERIA, SAMPLES, GearLeverPress, PressCriteria
-from ._grid import PressSweep, sweep
+from ._grid import PressGrid, design_grid
 
 __all__ = ["OBJECTIVES", "PressOptimum", "optimize", "pareto_mask"]
 
@@ -40,7 +40,7 @@ class PressOptimum:
     baseline's level; sorted, so ``best`` = 0 is the lowest). ``baseline`` are
     the criteria of ``baseline_press``, the crank-slider (d = 0) of the same gears
     with the grid's median rod, which every objective is divided by; ``grid`` the
-    sweep it started from. ``edges`` says, one sentence each, where the best design
+    design grid it started from. ``edges`` says, one sentence each, where the best design
     lies on a bound of the grid (a swept axis's first or last value, to within half
     a grid step; not d = 0, nor φ0 on an axis spanning a whole period 2π/i, which
     wraps): a better design may lie beyond it, outside the grid. Empty when the best
@@ -54,7 +54,7 @@ class PressOptimum:
     best: int
     baseline: PressCriteria
     baseline_press: GearLeverPress
-    grid: PressSweep
+    grid: PressGrid
     objectives: tuple[str, ...]
     edges: tuple[str, ...] = ()
 
@@ -109,7 +109,7 @@ def optimize(
     The refinement (``refine`` > 0) is multi-start, with the limits inside it. A
     coarse grid is swept once more, finer (at most 100 000 designs, one Rust call),
     because the designs that meet a tight limit on V_np lie in a narrow band of φ0
-    that a coarse grid steps over. From that sweep start the ``refine`` best
+    that a coarse grid steps over. From that grid start the ``refine`` best
     designs that meet the limits and the ``refine`` best working designs by score
     plus a penalty of 1000 per unit of relative excess over a limit, the starts
     spread (none within a grid step of another). Each start is refined by a zoom
@@ -152,8 +152,10 @@ def optimize(
         raise InputError(f"refine must be a non-negative integer; got {refine!r}")
     for name, value in (("R", R), ("r", r)):
         if np.ndim(value) != 0:
-            raise InputError(f"{name} must be a scalar for optimize; sweep it with cm.press.sweep")
-    # What every sweep of this optimisation shares: gears, stroke, speed, sampling.
+            raise InputError(
+                f"{name} must be a scalar for optimize; give a grid of it to cm.press.design_grid"
+            )
+    # What every grid of this optimisation shares: gears, stroke, speed, sampling.
     common: dict[str, Any] = {
         "R": R,
         "r": r,
@@ -164,7 +166,7 @@ def optimize(
         "samples": samples,
         "n_threads": n_threads,
     }
-    grid = sweep(d=d, L=L, phi0=phi0, progress=progress, **common)
+    grid = design_grid(d=d, L=L, phi0=phi0, progress=progress, **common)
     flat = {k: v.ravel() for k, v in grid.values.items()}
     ok = grid.ok.ravel()
     # How far each grid design breaks the limits (relative; 0: meets them all).
@@ -220,7 +222,7 @@ def optimize(
                     kw[n_] = np.linspace(ax.min(), ax.max(), (len(ax) - 1) * factor + 1)
                 else:
                     kw[n_] = grid.axes[n_] if n_ in grid.axes else grid.fixed[n_]
-            dense = sweep(progress=False, **common, **kw)
+            dense = design_grid(progress=False, **common, **kw)
         else:
             factor = 1
     steps = np.array([np.ptp(dense.axes[n_]) / max(len(dense.axes[n_]) - 1, 1) for n_ in names])
@@ -260,7 +262,7 @@ def optimize(
             ]
             kw = {n_: getattr(p0, n_) for n_ in ("d", "L", "phi0")}
             kw.update(zip(names, axes, strict=True))
-            box = sweep(progress=False, **common, **kw)  # p0 shares R, r, offset
+            box = design_grid(progress=False, **common, **kw)  # p0 shares R, r, offset
             feas, pen = penalised(box.values, box.status, mu)
             i = int(np.argmin(feas))
             if feas.flat[i] < best[0]:
@@ -388,7 +390,7 @@ _ZOOM = 9
 _LEVELS = 8
 
 
-#: Designs of the finer sweep a coarse grid's refinement starts from.
+#: Designs of the finer grid a coarse grid's refinement starts from.
 _DENSE = 100_000
 
 
@@ -398,7 +400,7 @@ def _limit_scale(v: float) -> float:
 
 
 def _starts(
-    grid: PressSweep,
+    grid: PressGrid,
     ranked: npt.NDArray[np.intp],
     penalised: npt.NDArray[np.float64],
     refine: int,
@@ -428,7 +430,7 @@ def _starts(
     return out
 
 
-def _edges(grid: PressSweep, p: GearLeverPress, *, ratio: int) -> tuple[str, ...]:
+def _edges(grid: PressGrid, p: GearLeverPress, *, ratio: int) -> tuple[str, ...]:
     """Where design ``p`` lies on a bound of the grid: a swept axis's lowest or
     highest value, to within half a grid step (the grid cannot tell a better design
     beyond it). Not an edge: d = 0 (no lower eccentricity exists) and φ0 on an
