@@ -29,6 +29,11 @@ working stroke: the crank torque per newton of a constant deformation force)
 and the dimensionless k_Sp, k_Vp = V_np/V_cp (→ 0), k_Vmax = V_pmax/V_cp
 (→ 1), k_M = torque/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
 for a crank-slider).
+
+The code lives in private modules beside this door, one per subject: ``_drive``
+(:class:`GearLeverPress`, kinematics and criteria of one design), ``_grid``
+(:func:`design_grid`), ``_optimize`` (:func:`pareto_mask`, :func:`optimize`) and
+``_study`` (the press file).
 """
 
 from __future__ import annotations
