@@ -1,5 +1,5 @@
 """The parts of a linkage's drawing checked one by one: points, links, ground,
-driver, given lengths and sliders; and the keys of a linkage table."""
+driver, given lengths and sliders."""
 
 from __future__ import annotations
 
@@ -11,9 +11,6 @@ from .._arrays import real
 from .._errors import InputError
 
 Point = tuple[float, float]
-
-
-_LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengths", "sliders"}
 
 
 def _sliders(

@@ -1,6 +1,7 @@
 """A planar linkage drawn in an assembled pose (:class:`Linkage`): its Assur groups
-compiled for the Rust kernel and solved over a crank-angle grid, its checks and
-its file format (``to_dict``/``from_dict``, ``to_toml``/``from_toml``)."""
+compiled for the Rust kernel and solved over a crank-angle grid, and its checks;
+its file format (``to_dict``/``from_dict``, ``to_toml``/``from_toml``) is read and
+written by ``_file``."""
 
 from __future__ import annotations
 
@@ -13,11 +14,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .. import _core, _toml
+from .. import _core
 from .._arrays import flag, float_array, threads_arg
 from .._errors import CyclomechError, InputError
 from ._drawing import (
-    _LINKAGE_KEYS,
     Point,
     _driver,
     _ground,
@@ -26,6 +26,7 @@ from ._drawing import (
     _points,
     _sliders,
 )
+from ._file import from_table, linkage_table, read_toml, write_toml
 from ._solution import LinkageSolution
 
 __all__ = ["Linkage"]
@@ -247,23 +248,7 @@ class Linkage:
         >>> cm.Linkage.from_dict(lk.to_dict()).structure
         [('driver', ('B',))]
         """
-        out: dict[str, Any] = {}
-        if self.name is not None:
-            out["name"] = self.name
-        out["points"] = {n: list(xy) for n, xy in self._points.items()}
-        out["links"] = [list(ln) for ln in self._links]
-        out["ground"] = sorted(self._ground)
-        out["driver"] = list(self._driver)
-        if self.output is not None:
-            out["output"] = self.output
-        if self._lengths:
-            out["lengths"] = [{"joints": list(k), "length": v} for k, v in self._lengths.items()]
-        if self._sliders:
-            out["sliders"] = {
-                p: [{kind: list(arg)} for kind, arg in guides]
-                for p, guides in self._sliders.items()
-            }
-        return out
+        return linkage_table(self)
 
     @classmethod
     def from_dict(
@@ -283,58 +268,7 @@ class Linkage:
         >>> lk.structure
         [('driver', ('B',)), ('II', ('C',))]
         """
-        _toml.check_keys(table, _LINKAGE_KEYS, source, where)
-        for req in ("points", "links", "ground", "driver"):
-            if req not in table:
-                raise InputError(f"{source}: {where}: missing key {req!r}")
-        try:
-            lengths = {}
-            items = table.get("lengths", [])
-            if not isinstance(items, list):
-                raise InputError(
-                    f"lengths = {items!r} must be an array of tables "
-                    "[{joints = [a, b], length = …}, …]"
-                )
-            for i, item in enumerate(items, 1):
-                _toml.check_keys(item, {"joints", "length"}, None, f"lengths #{i}")
-                joints = item.get("joints")
-                if not (isinstance(joints, list) and len(joints) == 2):
-                    raise InputError(f"lengths #{i}: joints must be [a, b]; got {joints!r}")
-                lengths[(joints[0], joints[1])] = item.get("length")
-            sliders: dict[str, Any] = {}
-            guides_of = table.get("sliders", {})
-            if not isinstance(guides_of, Mapping):
-                raise InputError(
-                    f"sliders = {guides_of!r} must be a table: point = {{ground = [dx, dy]}} "
-                    "or {link = [b, c]}, or a list of two guides"
-                )
-            for p, spec in guides_of.items():
-                specs = spec if isinstance(spec, list) else [spec]
-                guides = []
-                for g in specs:
-                    if not (
-                        isinstance(g, Mapping) and len(g) == 1 and set(g) <= {"ground", "link"}
-                    ):
-                        raise InputError(
-                            f"sliders.{p} = {spec!r}: a guide is {{ground = [dx, dy]}} or "
-                            "{link = [b, c]}, or a list of two guides"
-                        )
-                    ((kind, arg),) = g.items()
-                    guides.append((kind, tuple(arg) if isinstance(arg, list) else arg))
-                sliders[p] = guides
-            driver = table["driver"]
-            return cls(
-                table["points"],
-                table["links"],
-                table["ground"],
-                tuple(driver) if isinstance(driver, list) else driver,
-                lengths=lengths or None,
-                sliders=sliders or None,
-                name=table.get("name"),
-                output=table.get("output"),
-            )
-        except InputError as e:
-            raise InputError(f"{source}: {where}: {e}") from None
+        return from_table(cls, table, source, where)
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Linkage:
@@ -348,11 +282,7 @@ class Linkage:
         >>> cm.Linkage.from_toml(path).names
         ('A', 'B')
         """
-        data, source = _toml.load(path)
-        _toml.check_keys(data, {"linkage"}, source, "top level")
-        if "linkage" not in data:
-            raise InputError(f"{source}: no [linkage] table")
-        return cls.from_dict(data["linkage"], source)
+        return read_toml(cls, path)
 
     def to_toml(self, path: str | Path | None = None) -> str:
         """The linkage as TOML text (a ``[linkage]`` table), written to ``path`` if
@@ -371,24 +301,7 @@ class Linkage:
         B = [1.0, 0.0]
         <BLANKLINE>
         """
-        table = self.to_dict()
-        points = table.pop("points")
-        lengths = table.pop("lengths", [])
-        sliders = table.pop("sliders", {})
-        lines = ["[linkage]"]
-        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in table.items()]
-        lines += ["", "[linkage.points]"]
-        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in points.items()]
-        for item in lengths:
-            lines += ["", "[[linkage.lengths]]"]
-            lines += [f"{k} = {_toml.value(v)}" for k, v in item.items()]
-        if sliders:
-            lines += ["", "[linkage.sliders]"]
-            lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in sliders.items()]
-        text = "\n".join(lines) + "\n"
-        if path is not None:
-            Path(path).write_text(text, encoding="utf-8")
-        return text
+        return write_toml(self, path)
 
     # ---------------------------------------------------------------- compiling
     def _check_mobility(self) -> None:

@@ -22,7 +22,7 @@ from ..cyclogram import Arc, Constraint, Cyclogram, Optimum, max_difference
 from ..impact import StopImpact, max_impact_speeds, min_phase_angles, rebounds
 from ..impact._study import _STOP_KEYS
 from ..linkage import Linkage, LinkageSolution
-from ..linkage._drawing import _LINKAGE_KEYS
+from ..linkage._file import _LINKAGE_KEYS
 from ..press import STATUS, GearLeverPress, PressCriteria
 from ..transfer import TransferPath, design_transfer
 
