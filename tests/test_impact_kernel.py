@@ -952,7 +952,7 @@ def test_rebounds_of_many_stops_are_each_stops_rebound():
 
 def test_max_impact_speeds_together_are_each_alone():
     """The search over many stops at once (each step one call for all) gives each
-    stop's own critical speed bit for bit, and each is admissible."""
+    stop's own largest admissible impact speed bit for bit, and each is admissible."""
     stops = _mixed_stops()
     a_max = np.array([1e-4, 2e-5, 1e-4, 5e-5, 1e-4, 3e-5, 2e-4, 1e-4])
     together = impact.max_impact_speeds(stops, a_max)
