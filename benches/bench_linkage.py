@@ -17,7 +17,7 @@ Groups (each prints one ratio table; ``cyclomech`` rows are the references):
 - the Burg trimmer (seed 001, class III), 360 000 angles: cyclomech with analogs,
   closure residual checked ≤ 1e-10 at every angle; pyslvs's SolverSystem on the
   same grid (one round: it takes about ten seconds).
-- a sweep of 10 000 four-bar geometries × 360 angles: ``cm.linkage.sweep`` with one
+- a sweep of 10 000 four-bar geometries × 360 angles: ``cm.linkage.solve_geometries`` with one
   and two threads, against numpy's closed form broadcast over (K, N).
 
 Accuracy on these grids (max over the grid of |joint distance − link length|, 2-core
@@ -443,10 +443,20 @@ def numpy_sweep(phi: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 @pytest.mark.benchmark(group=GROUP_SWEEP)
 @pytest.mark.parametrize("threads", [2, 1])
 def test_sweep_cyclomech(benchmark, geometries, threads) -> None:
-    _label(benchmark, "cyclomech", f"linkage.sweep(points=['C'], analogs=False), {threads} threads")
+    _label(
+        benchmark,
+        "cyclomech",
+        f"linkage.solve_geometries(points=['C'], analogs=False), {threads} threads",
+    )
     lk, phi, lengths = geometries
     sol = benchmark(
-        cm.linkage.sweep, lk, phi, lengths, points=["C"], analogs=False, n_threads=threads
+        cm.linkage.solve_geometries,
+        lk,
+        phi,
+        lengths,
+        points=["C"],
+        analogs=False,
+        n_threads=threads,
     )
     assert sol.ok.all()
     assert_allclose(sol["C"][:50], numpy_sweep(phi, lengths[:50]), atol=1e-12)
@@ -455,9 +465,13 @@ def test_sweep_cyclomech(benchmark, geometries, threads) -> None:
 @pytest.mark.benchmark(group=GROUP_SWEEP)
 @pytest.mark.parametrize("threads", [2, 1])
 def test_sweep_cyclomech_analogs(benchmark, geometries, threads) -> None:
-    _label(benchmark, "cyclomech", f"linkage.sweep with analogs, all points, {threads} threads")
+    _label(
+        benchmark,
+        "cyclomech",
+        f"linkage.solve_geometries with analogs, all points, {threads} threads",
+    )
     lk, phi, lengths = geometries
-    sol = benchmark(cm.linkage.sweep, lk, phi, lengths, n_threads=threads)
+    sol = benchmark(cm.linkage.solve_geometries, lk, phi, lengths, n_threads=threads)
     assert sol.ok.all()
 
 

@@ -353,7 +353,7 @@ def test_sweep_in_process(benchmark, loom, sweep_reference, n_threads) -> None:
 
 
 #: The other shape of 100 000 points: many designs, few speeds (each design one
-#: StopImpact, its critical speed searched with the others).
+#: StopImpact, its largest admissible impact speed searched with the others).
 N_DESIGNS_WIDE = 1000 if FULL else 20
 N_SPEEDS_WIDE = 100 if FULL else 10
 GROUP_WIDE = (

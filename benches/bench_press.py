@@ -3,7 +3,7 @@
 Groups (each prints one ratio table; ``cyclomech`` rows are the references, at one
 and two threads; numpy's ufuncs run on one thread):
 
-- ``press.sweep`` over a (d, L, φ0) grid of designs × 360 carrier angles, against
+- ``press.design_grid`` over a (d, L, φ0) grid of designs × 360 carrier angles, against
   :func:`numpy_sweep`: the same kinematics and criteria written with numpy,
   broadcast over (designs, angles) in chunks of designs. The default grid is
   20 × 20 × 25 designs (3.6e6 positions); the issue's 100 × 100 × 100 grid
@@ -80,9 +80,9 @@ def design_axes(shape: tuple[int, int, int]) -> tuple[Array, Array, Array]:
     )
 
 
-def cm_sweep(axes: tuple[Array, Array, Array], n_threads: int | None) -> cm.press.PressSweep:
+def cm_sweep(axes: tuple[Array, Array, Array], n_threads: int | None) -> cm.press.PressGrid:
     d, length, phi0 = axes
-    return cm.press.sweep(
+    return cm.press.design_grid(
         R=R,
         r=r,
         d=d,
@@ -226,7 +226,7 @@ def _heights(d: Array, length: Array, phi0: Array, samples: int) -> Array:
 
 
 def bdc_ties(
-    ref: dict[str, Array], sw: cm.press.PressSweep, axes: tuple[Array, Array, Array], samples: int
+    ref: dict[str, Array], sw: cm.press.PressGrid, axes: tuple[Array, Array, Array], samples: int
 ) -> npt.NDArray[np.intp]:
     """Designs whose BDC the two tools place at different lowest samples, each checked
     to be a tie: the lowest sample next to cyclomech's θ_B is as low as numpy's, to
@@ -254,7 +254,7 @@ def bdc_ties(
 
 def check_sweep(
     ref: dict[str, Array],
-    sw: cm.press.PressSweep,
+    sw: cm.press.PressGrid,
     axes: tuple[Array, Array, Array],
     samples: int = SAMPLES,
 ) -> int:
@@ -332,7 +332,7 @@ def test_numpy_sweep_agrees() -> None:
     check_sweep(ref, sw, axes)
 
 
-# --- press.sweep benchmarks -----------------------------------------------------------
+# --- press.design_grid benchmarks -----------------------------------------------------------
 
 
 def _label(benchmark, tool: str, what: str) -> None:
@@ -343,7 +343,7 @@ def _label(benchmark, tool: str, what: str) -> None:
 def _group(shape: tuple[int, int, int]) -> str:
     n = math.prod(shape)
     return (
-        f"press.sweep: {' x '.join(map(str, shape))} designs (d, L, phi0) x {SAMPLES} "
+        f"press.design_grid: {' x '.join(map(str, shape))} designs (d, L, phi0) x {SAMPLES} "
         f"angles = {n * SAMPLES:.1e} positions"
     )
 
@@ -366,7 +366,7 @@ def full_grid() -> tuple[Array, Array, Array]:
 @pytest.mark.benchmark(group=GROUP_SWEEP)
 @pytest.mark.parametrize("threads", [2, 1])
 def test_sweep_cyclomech(benchmark, grid, threads) -> None:
-    _label(benchmark, "cyclomech", f"press.sweep (criteria, refined), n_threads={threads}")
+    _label(benchmark, "cyclomech", f"press.design_grid (criteria, refined), n_threads={threads}")
     sw = benchmark(cm_sweep, grid, threads)
     assert sw.shape == DEFAULT_GRID and sw.ok.mean() > 0.9
 
@@ -382,7 +382,7 @@ def test_sweep_numpy(benchmark, grid) -> None:
 @pytest.mark.benchmark(group=GROUP_SWEEP_FULL)
 @pytest.mark.parametrize("threads", [2, 1])
 def test_sweep_full_cyclomech(benchmark, full_grid, threads) -> None:
-    _label(benchmark, "cyclomech", f"press.sweep (criteria, refined), n_threads={threads}")
+    _label(benchmark, "cyclomech", f"press.design_grid (criteria, refined), n_threads={threads}")
     sw = benchmark.pedantic(cm_sweep, args=(full_grid, threads), rounds=3, iterations=1)
     assert sw.shape == FULL_GRID and sw.ok.mean() > 0.9
 

@@ -912,13 +912,13 @@ def test_min_phase_angle_of_the_contact_model_is_consistent_with_rebound(rpm, a_
 
 
 @pytest.mark.parametrize("a_max", [1e-9, 1e-6, 1e-4, 1e-2])
-def test_critical_speed_of_the_pulse_model_is_a_max_over_the_rebound_per_speed(a_max):
+def test_max_impact_speed_of_the_pulse_model_is_a_max_over_the_rebound_per_speed(a_max):
     """The pulse model is linear in the impact speed v0 (the lever starts at v0 and
     the pulse's impulse is ∝ v0), so v* = a_max·v0/rebound(v0) for any v0."""
     lifter = impact.StopImpact.example()
     v0 = float(lifter.impact_speed(300.0, 40.0))
     g = float(lifter.rebound(300.0, 40.0)) / v0
-    assert lifter.critical_speed(a_max) == pytest.approx(a_max / g, rel=1e-11)
+    assert lifter.max_impact_speed(a_max) == pytest.approx(a_max / g, rel=1e-11)
 
 
 def _mixed_stops() -> list[impact.StopImpact]:
@@ -950,14 +950,14 @@ def test_rebounds_of_many_stops_are_each_stops_rebound():
         assert np.array_equal(g, impact.rebounds([s], v[None, :])[0])
 
 
-def test_critical_speeds_together_are_each_alone():
+def test_max_impact_speeds_together_are_each_alone():
     """The search over many stops at once (each step one call for all) gives each
-    stop's own critical speed bit for bit, and each is admissible."""
+    stop's own largest admissible impact speed bit for bit, and each is admissible."""
     stops = _mixed_stops()
     a_max = np.array([1e-4, 2e-5, 1e-4, 5e-5, 1e-4, 3e-5, 2e-4, 1e-4])
-    together = impact.critical_speeds(stops, a_max)
+    together = impact.max_impact_speeds(stops, a_max)
     fresh = _mixed_stops()  # no remembered results
-    alone = [float(impact.critical_speeds([s], a)[0]) for s, a in zip(fresh, a_max, strict=True)]
+    alone = [float(impact.max_impact_speeds([s], a)[0]) for s, a in zip(fresh, a_max, strict=True)]
     assert together.tolist() == alone
     at = impact.rebounds(stops, together[:, None])[:, 0]
     assert (at <= a_max).all()

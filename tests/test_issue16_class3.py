@@ -341,5 +341,5 @@ def test_smaller_class3_scaled_geometry_is_not_a_dead_centre(k):
     got = scaled.solve(phi)
     assert got.ok.all() and not got.branch_change.any()
     assert_allclose(got["E"] / k, want, atol=1e-12)
-    sw = cm.linkage.sweep(scaled, phi, scaled.dimension_values[None], points=["E"])
+    sw = cm.linkage.solve_geometries(scaled, phi, scaled.dimension_values[None], points=["E"])
     assert_allclose(sw.xy[0, :, 0] / k, want, atol=1e-12)

@@ -493,11 +493,11 @@ def test_item13_press_command_step_is_bounded(tmp_path, capsys):
     assert "[0.001, 90]" in capsys.readouterr().err
 
 
-def test_item13_press_sweep_too_large_is_refused_before_allocating():
-    """press.sweep with 1e9 designs raised a bare MemoryError from its table."""
+def test_item13_press_design_grid_too_large_is_refused_before_allocating():
+    """press.design_grid with 1e9 designs raised a bare MemoryError from its table."""
     axis = np.linspace(0.0, 0.04, 1000)
     with pytest.raises(cm.InputError, match=r"1,000,000,000 designs needs .* GB"):
-        cm.press.sweep(R=0.09, r=0.03, d=axis, L=axis + 0.25, phi0=axis, k_Sp=0.1, omega=4.19)
+        cm.press.design_grid(R=0.09, r=0.03, d=axis, L=axis + 0.25, phi0=axis, k_Sp=0.1, omega=4.19)
 
 
 @pytest.mark.parametrize("bad", ["0.1", b"0.1", True])

@@ -214,7 +214,7 @@ def test_item1_sweep_flags_recontacts_where_the_reference_does():
     d = np.linspace(0.024, 0.034, 6)
     L = np.linspace(0.25, 0.5, 6)
     phi0 = np.radians(np.linspace(50.0, 62.0, 7))
-    sw = cm.press.sweep(R=0.09, r=0.03, d=d, L=L, phi0=phi0, k_Sp=0.1, omega=1.0)
+    sw = cm.press.design_grid(R=0.09, r=0.03, d=d, L=L, phi0=phi0, k_Sp=0.1, omega=1.0)
     seen = {0: 0, 2: 0, 4: 0}
     for idx in np.ndindex(sw.shape):
         geo = (0.09, 0.03, d[idx[0]], L[idx[1]], phi0[idx[2]])
@@ -276,7 +276,7 @@ def _brute_force(score, centre, half, n, limit):
     centre ± half (d, L, φ0), in the grid's bounds."""
     lo = np.maximum(np.subtract(centre, half), [0.0, 0.25, 0.0])
     hi = np.minimum(np.add(centre, half), [0.04, 0.5, math.radians(115)])
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=0.09,
         r=0.03,
         d=np.linspace(lo[0], hi[0], n[0]),
@@ -366,7 +366,7 @@ def test_item4_a_limit_no_grid_design_meets_is_reached_by_refinement():
     raised InfeasibleError), but designs between the grid's points do: the
     optimiser returns them, each meeting the limit by the reference."""
     kw = dict(COARSE, L=np.linspace(0.25, 0.5, 3))
-    sw = cm.press.sweep(**{k: v for k, v in kw.items()})
+    sw = cm.press.design_grid(**{k: v for k, v in kw.items()})
     assert not (sw.ok & (sw["V_np"] <= 0.005)).any()
     opt = cm.press.optimize(**kw, limits={"V_np": 0.005})
     assert all(opt.refined)
@@ -444,9 +444,9 @@ def test_item11_edges_rule_on_each_axis():
     """The rule on small grids: a swept axis's first or last value, within half a
     step, is an edge (both bounds, every axis); d = 0 and a φ0 axis spanning a whole
     period are not; a single-valued axis is not swept."""
-    from cyclomech.press._model import _edges
+    from cyclomech.press._optimize import _edges
 
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=0.09,
         r=0.03,
         d=[0.0, 0.01, 0.02],
@@ -465,7 +465,7 @@ def test_item11_edges_rule_on_each_axis():
     e = _edges(sw, at(0.0151, 0.3751, 17.51), ratio=3)
     assert [x.split(" ")[0] for x in e] == ["d", "L", "phi0"]
     assert all("upper bound" in x for x in e)
-    full = cm.press.sweep(
+    full = cm.press.design_grid(
         R=0.09,
         r=0.03,
         d=0.02,

@@ -278,7 +278,7 @@ def test_item14_linkage_results_that_cannot_fit_are_refused_before_allocating(mo
     with pytest.raises(cm.InputError, match=r"the linkage's results .* needs .* GB, more than"):
         lk.solve(np.zeros(n), analogs=analogs)
     with pytest.raises(cm.InputError, match=r"solve fewer angles, points or geometries"):
-        cm.linkage.sweep(lk, np.zeros(n), lk.dimension_values[None], analogs=analogs)
+        cm.linkage.solve_geometries(lk, np.zeros(n), lk.dimension_values[None], analogs=analogs)
     monkeypatch.setenv("CYCLOMECH_MAX_BYTES", str(need))
     assert lk.solve(np.zeros(n), analogs=analogs).xy.shape == (n, 4, 2)
     # A size whose element count overflows is refused without any environment.
@@ -321,21 +321,21 @@ def test_item13_transfer_sample_that_cannot_fit_is_refused_before_allocating(mon
 
 
 @pytest.mark.parametrize("rtol", [math.nan, 0.0, -1e-6, 1e-300, 1.0, math.inf, "1e-9", True])
-def test_item16_critical_speed_rtol_outside_its_range_is_refused(rtol):
+def test_item16_max_impact_speed_rtol_outside_its_range_is_refused(rtol):
     # Rule: rtol in [1e-15, 0.5]. Below, the rebounds' rounding (~1e-16) cannot
     # meet it; at 1 or more it is no tolerance (main took 1e-300 and 1.0).
     stop = cm.impact.StopImpact.example()
     with pytest.raises(cm.InputError, match=r"rtol"):
-        cm.impact.critical_speeds([stop], 0.1e-3, rtol=rtol)
+        cm.impact.max_impact_speeds([stop], 0.1e-3, rtol=rtol)
 
 
-def test_item16_critical_speed_tolerance_is_met_at_both_ends_of_its_range():
+def test_item16_max_impact_speed_tolerance_is_met_at_both_ends_of_its_range():
     # Reference: the pulse model's rebound is linear in the impact speed, so
     # v* = a_max / rebound(1 m/s), a closed form independent of the search.
     stop = cm.impact.StopImpact.example(model="contact")
     a_max = 0.1e-3
-    v_tight = cm.impact.critical_speeds([stop], a_max, rtol=1e-15)[0]
-    v_loose = cm.impact.critical_speeds([stop], a_max, rtol=0.5)[0]
+    v_tight = cm.impact.max_impact_speeds([stop], a_max, rtol=1e-15)[0]
+    v_loose = cm.impact.max_impact_speeds([stop], a_max, rtol=0.5)[0]
     # Both are admissible (rebound ≤ a_max), the loose one within 50 % below.
     r = cm.impact.rebounds([stop, stop], [[v_tight], [v_loose]])
     assert r[0, 0] <= a_max and r[1, 0] <= a_max
@@ -376,14 +376,14 @@ def test_item16_counts_are_integers_in_range():
 def test_item18_phase_angles_refuses_nan_and_negative_speeds():
     # main: [30, nan, 1e-9] (a negative speed became the 1e-9° floor).
     with pytest.raises(cm.InputError, match=r"rpm\[1\] = nan must be finite and > 0"):
-        cm.impact.phase_angles([300, math.nan, -300], 0.1)
+        cm.impact.min_phase_angles([300, math.nan, -300], 0.1)
     with pytest.raises(cm.InputError, match=r"rpm\[0\] = -300.0 must be finite and > 0"):
-        cm.impact.phase_angles([-300], 0.1)
+        cm.impact.min_phase_angles([-300], 0.1)
     with pytest.raises(cm.InputError, match=r"per_rpm = -0.1 must be finite and ≥ 0"):
-        cm.impact.phase_angles([300], -0.1)
+        cm.impact.min_phase_angles([300], -0.1)
     # Valid input: n·per_rpm, by hand, and a scalar stays a scalar.
-    np.testing.assert_allclose(cm.impact.phase_angles([100.0, 4000.0], 0.1), [10.0, math.nan])
-    assert np.ndim(cm.impact.phase_angles(100.0, 0.1)) == 0
+    np.testing.assert_allclose(cm.impact.min_phase_angles([100.0, 4000.0], 0.1), [10.0, math.nan])
+    assert np.ndim(cm.impact.min_phase_angles(100.0, 0.1)) == 0
 
 
 def test_item18_rebounds_refuses_negative_impact_speeds():
@@ -642,7 +642,9 @@ TARGETS = {
             **dict(zip(["mass", "k_free", "k_stop", "v0"], a[1], strict=True)),
         )
     ),
-    "impact.phase_angles": st.tuples(arr(0, 4), F).map(lambda a: one(IM + "phase_angles", *a)),
+    "impact.min_phase_angles": st.tuples(arr(0, 4), F).map(
+        lambda a: one(IM + "min_phase_angles", *a)
+    ),
     "impact.StopImpact": st.tuples(floats(3), F, F).map(
         lambda a: [
             (

@@ -170,7 +170,7 @@ def test_sweep_equals_one_solve_per_geometry():
     assert lk.dimensions == (("A", "B"), ("B", "C"), ("D", "C"))
     rng = np.random.default_rng(7)
     L = lk.dimension_values * rng.uniform(0.9, 1.1, size=(40, 3))
-    sol = cm.linkage.sweep(lk, GRID, L)
+    sol = cm.linkage.solve_geometries(lk, GRID, L)
     assert sol.xy.shape == (40, 721, 4, 2) and sol.ok.shape == (40, 721)
     for k in (0, 17, 39):
         one = cm.Linkage(
@@ -183,7 +183,7 @@ def test_sweep_equals_one_solve_per_geometry():
         assert_array_equal(sol.xy[k], one.xy)
         assert_array_equal(sol.acc[k], one.acc)
         assert_array_equal(sol.ok[k], one.ok)
-    only = cm.linkage.sweep(lk, GRID, L, points=["C"], analogs=False, n_threads=1)
+    only = cm.linkage.solve_geometries(lk, GRID, L, points=["C"], analogs=False, n_threads=1)
     assert only.vel is None and only.acc is None
     assert_array_equal(only["C"], sol["C"])
 
@@ -195,7 +195,7 @@ def test_sweep_of_a_class_iii_linkage_and_a_geometry_that_cannot_start():
     L = np.tile(lk.dimension_values, (3, 1))
     L[1] *= 1.001  # close to the drawn pose: solved
     L[2, 0] *= 10.0  # a crank ten times longer: the drawn pose cannot be closed
-    sol = cm.linkage.sweep(lk, GRID, L, points=["E"])
+    sol = cm.linkage.solve_geometries(lk, GRID, L, points=["E"])
     assert sol.ok[0].all() and sol.ok[1].all() and not sol.ok[2].any()
     assert_array_equal(sol.xy[0], lk.solve(GRID, points=["E"]).xy)
 
@@ -212,7 +212,7 @@ def test_sweep_of_a_class_iii_linkage_and_a_geometry_that_cannot_start():
 def test_bad_sweeps_are_refused(lengths, words):
     lk = cm.Linkage(FOUR, LINKS, ["A", "D"], ("A", "B"))
     with pytest.raises(cm.InputError) as err:
-        cm.linkage.sweep(lk, GRID, lengths)
+        cm.linkage.solve_geometries(lk, GRID, lengths)
     for w in words:
         assert w in str(err.value), (w, str(err.value))
 

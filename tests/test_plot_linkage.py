@@ -281,7 +281,7 @@ def test_plot_linkage_bad_arguments():
         plot_linkage(lk, sol.xy)
     lengths = np.tile(lk.dimension_values, (2, 1))
     with pytest.raises(cm.InputError, match=r"sweep over 2 geometries"):
-        plot_linkage(lk, cm.linkage.sweep(lk, ANGLES, lengths))
+        plot_linkage(lk, cm.linkage.solve_geometries(lk, ANGLES, lengths))
     with pytest.raises(cm.InputError, match=r"must be a matplotlib Axes"):
         plot_linkage(lk, sol, ax="left")
 
@@ -407,7 +407,7 @@ def test_plot_analogs_bad_arguments():
         plot_analogs(lk.solve(ANGLES), "Z")
     lengths = np.tile(lk.dimension_values, (3, 1))
     with pytest.raises(cm.InputError, match=r"sweep over 3 geometries"):
-        plot_analogs(cm.linkage.sweep(lk, ANGLES, lengths), "C")
+        plot_analogs(cm.linkage.solve_geometries(lk, ANGLES, lengths), "C")
     with pytest.raises(cm.InputError, match=r"LinkageSolution"):
         plot_analogs(lk, "C")
 

@@ -54,9 +54,9 @@ def two_period() -> cm.motion.TwoPeriodLaw:
 
 
 @pytest.fixture(scope="module")
-def grid() -> cm.press.PressSweep:
+def grid() -> cm.press.PressGrid:
     """Small sweep with failures: short rods cannot reach the guide at large d."""
-    return cm.press.sweep(
+    return cm.press.design_grid(
         R=0.09,
         r=0.03,
         d=np.linspace(0.0, 0.04, 9),
@@ -348,7 +348,7 @@ def test_criteria_map_in_display_units(grid):
 
 
 def test_criteria_map_with_fixed_phi0():
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=0.09, r=0.03, d=[0.0, 0.02, 0.04], L=[0.3, 0.4], phi0=0.5, k_Sp=0.1, omega=4.0
     )
     ax = plot_press_criteria(sw)
@@ -397,14 +397,14 @@ def test_criteria_bad_arguments(grid, kw, match):
 
 
 def test_criteria_bad_sweeps(grid, optimum):
-    with pytest.raises(cm.InputError, match=r"sweep must be a cyclomech\.press\.PressSweep"):
+    with pytest.raises(cm.InputError, match=r"sweep must be a cyclomech\.press\.PressGrid"):
         plot_press_criteria(optimum)
-    one_l = cm.press.sweep(
+    one_l = cm.press.design_grid(
         R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=[0.0, 0.5], k_Sp=0.1, omega=4.0
     )
     with pytest.raises(cm.InputError, match="must vary L over two or more values"):
         plot_press_criteria(one_l)
-    two_r = cm.press.sweep(
+    two_r = cm.press.design_grid(
         R=0.09, r=[0.03, 0.045], d=[0.0, 0.02], L=[0.3, 0.4], phi0=0.0, k_Sp=0.1, omega=4.0
     )
     with pytest.raises(cm.InputError, match="varies r over 2 values"):

@@ -303,7 +303,7 @@ def test_rod_that_cannot_reach_the_guide_is_flagged():
     assert not crit.ok
     assert crit.status.startswith("the rod cannot reach")
     assert all(math.isnan(getattr(crit, f)) for f in ("S_n", "V_np", "J_max", "k_Vp"))
-    sw = cm.press.sweep(R=0.09, r=0.03, d=0.025, L=[0.05, 0.3], phi0=0.3, k_Sp=0.1, omega=4.0)
+    sw = cm.press.design_grid(R=0.09, r=0.03, d=0.025, L=[0.05, 0.3], phi0=0.3, k_Sp=0.1, omega=4.0)
     assert sw.status.tolist() == [1, 0]
     assert cm.press.STATUS[1].startswith("the rod cannot reach")
     assert sw.ok.tolist() == [False, True]
@@ -603,7 +603,7 @@ def test_tied_bdc_is_the_same_in_solve_and_sweep():
     """solve measures α from the same one of two tied BDCs as criteria (the carrier
     points at θ_B at α = 0), and a sweep over the five ways of writing φ0 agrees
     with criteria point by point."""
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=R0, r=0.03, d=0.04, L=0.3, phi0=np.array(TIED_BDC_PHI0), k_Sp=0.1, omega=4.0
     )
     for i, phi0 in enumerate(TIED_BDC_PHI0):
@@ -705,7 +705,7 @@ def test_bad_designs_are_refused(change, field):
         return
     name, value = next(iter(change.items()))
     with pytest.raises(cm.InputError, match=name):
-        cm.press.sweep(**{**BASE, name: [BASE[name], value]}, k_Sp=0.1, omega=1.0)
+        cm.press.design_grid(**{**BASE, name: [BASE[name], value]}, k_Sp=0.1, omega=1.0)
 
 
 @pytest.mark.parametrize(
@@ -742,7 +742,7 @@ def test_bad_criteria_requests_are_refused(kwargs, field):
         p.criteria(**kwargs)
     assert isinstance(e.value, ValueError)
     with pytest.raises(cm.InputError, match=field):
-        cm.press.sweep(**BASE, **kwargs)
+        cm.press.design_grid(**BASE, **kwargs)
 
 
 @pytest.mark.parametrize(
@@ -752,7 +752,7 @@ def test_bad_criteria_requests_are_refused(kwargs, field):
 def test_bad_sweep_axes_are_refused(change, field):
     """Sweep axes must be finite, 0-D or 1-D and not empty."""
     with pytest.raises(cm.InputError, match=field):
-        cm.press.sweep(**{**BASE, **change}, k_Sp=0.1, omega=1.0)
+        cm.press.design_grid(**{**BASE, **change}, k_Sp=0.1, omega=1.0)
 
 
 # ---------------------------------------------------------------------------
@@ -771,7 +771,7 @@ GRID = {
 def test_sweep_equals_one_design_at_a_time():
     """Every grid point equals GearLeverPress(...).criteria exactly (NaN included),
     and design(i), at(i) and table() agree with the grid."""
-    sw = cm.press.sweep(**GRID, k_Sp=0.1, omega=4.0)
+    sw = cm.press.design_grid(**GRID, k_Sp=0.1, omega=4.0)
     assert sw.shape == (3, 2, 4)
     assert list(sw.axes) == ["d", "L", "phi0"]
     assert sw.fixed == {"offset": 0.0, "R": 0.09, "r": 0.03}
@@ -800,7 +800,7 @@ def test_sweep_equals_one_design_at_a_time():
 def test_sweep_over_several_gear_ratios_equals_one_design_at_a_time():
     """A grid over R and r (ratios 3, 2, 6 and 4, each with its own angle table)
     gives at every point the single design's criteria, bit for bit."""
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=[0.09, 0.18],
         r=[0.03, 0.045],
         d=[0.0, 0.02],
@@ -819,7 +819,7 @@ def test_sweep_over_several_gear_ratios_equals_one_design_at_a_time():
 def test_sweep_shape_rule():
     """A scalar is fixed, an array (even of one value) is an axis, in the order
     R, r, d, L, phi0."""
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=[0.09, 0.12], r=[0.03], d=0.01, L=[0.3, 0.35, 0.4], phi0=0.0, k_Sp=0.1, omega=1.0
     )
     assert sw.shape == (2, 1, 3)
@@ -835,10 +835,10 @@ def test_sweep_shape_rule():
     # R = 0.12, r = 0.03: i = 4, a = 0.09; with φ0 = 0 the pin is in line with the
     # carrier at both dead centres, so S_n = 2(a + d) whatever the rod.
     assert_allclose(sw["S_n"][1, 0, :], 2 * (0.09 + 0.01), rtol=1e-12)
-    one = cm.press.sweep(R=0.09, r=0.03, d=0.01, L=0.3, phi0=0.0, k_Sp=0.1, omega=1.0)
+    one = cm.press.design_grid(R=0.09, r=0.03, d=0.01, L=0.3, phi0=0.0, k_Sp=0.1, omega=1.0)
     assert one.shape == () and one.axes == {}
     assert one.at(()).S_n == sw["S_n"][0, 0, 0]
-    phis = cm.press.sweep(
+    phis = cm.press.design_grid(
         R=0.09, r=0.03, d=0.01, L=0.3, phi0=[0.0, 1.0, 2.0, 3.0, 4.0], k_Sp=0.1, omega=1.0
     )
     assert phis.shape == (5,) and list(phis.axes) == ["phi0"]
@@ -848,7 +848,7 @@ def test_sweep_designs_repeat_with_period_2pi_over_i():
     """Turning the guide gear by 2π/i gives the same drive: φ0 and φ0 + 2π/3 (i = 3)
     have the same criteria."""
     phi0 = np.array([0.2, 0.2 + TAU / 3, 1.1, 1.1 + TAU / 3])
-    sw = cm.press.sweep(R=0.09, r=0.03, d=0.025, L=0.3, phi0=phi0, k_Sp=0.1, omega=1.0)
+    sw = cm.press.design_grid(R=0.09, r=0.03, d=0.025, L=0.3, phi0=phi0, k_Sp=0.1, omega=1.0)
     for name in ("S_n", "alpha_p", "V_np", "J_max", "k_Vp"):
         assert sw[name][1] == pytest.approx(sw[name][0], rel=1e-9)
         assert sw[name][3] == pytest.approx(sw[name][2], rel=1e-9)
@@ -865,8 +865,8 @@ def test_sweep_threads_give_identical_results():
         "k_Sp": 0.1,
         "omega": 4.0,
     }
-    a = cm.press.sweep(**kw, n_threads=1)
-    b = cm.press.sweep(**kw, n_threads=2)
+    a = cm.press.design_grid(**kw, n_threads=1)
+    b = cm.press.design_grid(**kw, n_threads=2)
     assert a.shape == (6, 3, 8)
     assert_array_equal(a.status, b.status)
     for name in cm.press.CRITERIA:
@@ -875,7 +875,7 @@ def test_sweep_threads_give_identical_results():
 
 def test_sweep_with_working_stroke():
     """A fixed working stroke: each design's k_Sp = S_p/S_n."""
-    sw = cm.press.sweep(
+    sw = cm.press.design_grid(
         R=0.09, r=0.03, d=[0.0, 0.02, 0.04], L=0.3, phi0=0.4, working_stroke=0.01, omega=2.0
     )
     assert_allclose(sw["S_p"], 0.01, rtol=1e-15)
@@ -1026,7 +1026,7 @@ def test_pareto_mask_on_more_points_than_one_block():
 
 
 def test_press_objects_pickle():
-    """GearLeverPress, PressCriteria and PressSweep survive a pickle round trip."""
+    """GearLeverPress, PressCriteria and PressGrid survive a pickle round trip."""
     p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.025, L=0.3, phi0=0.3, offset=0.01)
     back = pickle.loads(pickle.dumps(p))
     assert back == p
@@ -1034,7 +1034,7 @@ def test_press_objects_pickle():
     assert_array_equal(back.solve(alpha).s, p.solve(alpha).s)
     c = p.criteria(k_Sp=0.1, omega=4.0)
     assert pickle.loads(pickle.dumps(c)) == c
-    sw = cm.press.sweep(**GRID, k_Sp=0.1, omega=4.0)
+    sw = cm.press.design_grid(**GRID, k_Sp=0.1, omega=4.0)
     sb = pickle.loads(pickle.dumps(sw))
     assert sb.shape == sw.shape and sb.fixed == sw.fixed
     assert (sb.omega, sb.k_Sp, sb.working_stroke, sb.samples) == (

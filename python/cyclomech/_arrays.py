@@ -214,3 +214,18 @@ def speeds_rpm(name: str, value: Any) -> npt.NDArray[np.float64]:
             f"{name} must hold positive speeds in rpm, each in (0, {SPEED_CAP_RPM:g}]; got {got}"
         )
     return n
+
+
+def flag(name: str, value: Any) -> bool:
+    """A bool (or numpy bool), or :class:`InputError`: 0, "no" or None are not flags.
+
+    >>> from cyclomech._arrays import flag
+    >>> flag("analogs", True)
+    True
+    >>> flag("analogs", 1)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: analogs must be True or False; got 1
+    """
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise InputError(f"{name} must be True or False; got {value!r}")

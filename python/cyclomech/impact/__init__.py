@@ -13,7 +13,13 @@ the lever to the stop. This module holds the physics layer:
   :func:`duhamel_batch`, :func:`first_rebound`), in Rust;
 * the stop as a unilateral contact (:func:`contact_response`);
 * :class:`StopImpact`, the lever with its stop, whose rebound against speed and
-  phase angle becomes a constraint of the :class:`cyclomech.Cyclogram`.
+  phase angle becomes a constraint of the :class:`cyclomech.Cyclogram`;
+* :class:`ImpactStudy`, the impact file.
+
+The code lives in private modules beside this door, one per subject: ``_lever``
+(stiffness, frequency, contact time, impact force), ``_pulse``, ``_response``
+(the Duhamel kernels and first rebounds), ``_contact``, ``_stop`` (StopImpact and
+the batch functions over many stops) and ``_study`` (the file format).
 
 SI units: m, kg, N, s, rad; speeds in rpm and phase angles in degrees where the
 names say so.
@@ -21,27 +27,19 @@ names say so.
 
 from __future__ import annotations
 
+from ._contact import ContactHistory, contact_response, contact_sample
 from ._kind import CamStop
-from ._model import (
-    ContactHistory,
-    ImpactStudy,
-    Pulse,
-    Rebound,
-    StopImpact,
-    contact_response,
-    contact_sample,
+from ._lever import (
     contact_time,
-    critical_speeds,
-    duhamel,
-    duhamel_batch,
-    first_rebound,
     impact_force,
     lever_stiffness,
     natural_frequency,
-    phase_angles,
     propped_lever_stiffness,
-    rebounds,
 )
+from ._pulse import Pulse
+from ._response import Rebound, duhamel, duhamel_batch, first_rebound
+from ._stop import StopImpact, max_impact_speeds, min_phase_angles, rebounds
+from ._study import ImpactStudy
 
 __all__ = [
     "CamStop",
@@ -53,14 +51,14 @@ __all__ = [
     "contact_response",
     "contact_sample",
     "contact_time",
-    "critical_speeds",
     "duhamel",
     "duhamel_batch",
     "first_rebound",
     "impact_force",
     "lever_stiffness",
+    "max_impact_speeds",
+    "min_phase_angles",
     "natural_frequency",
-    "phase_angles",
     "propped_lever_stiffness",
     "rebounds",
 ]

@@ -17,13 +17,8 @@ from .._arrays import threads_arg
 from .._errors import InputError
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
-from ._model import (
-    _STOP_KEYS,
-    StopImpact,
-    _stop_from_table,
-    critical_speeds,
-    rebounds,
-)
+from ._stop import StopImpact, max_impact_speeds, rebounds
+from ._study import _STOP_KEYS, _stop_from_table
 
 __all__ = ["CamStop"]
 
@@ -186,7 +181,7 @@ class CamStop:
             return [[functools.partial(_linear_law, m, threads)] for m in mechanisms]
         if not mechanisms:
             return []
-        v = critical_speeds(
+        v = max_impact_speeds(
             [m.stop for m in mechanisms],
             [m.a_max for m in mechanisms],
             rtol=_STOP_RTOL,
@@ -270,7 +265,7 @@ class CamStop:
         return CamStopResult(
             mech=self,
             ctx=ctx,
-            max_impact_speed=self.stop.critical_speed(self.a_max),
+            max_impact_speed=self.stop.max_impact_speed(self.a_max),
             min_phase_at_nominal=float(self.min_phase_deg(n)),
             linear_at_nominal=float(self.linear_min_phase_deg(n)),
             exact=ctx.bounds[label],

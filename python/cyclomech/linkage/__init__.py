@@ -14,23 +14,28 @@ link turning about a pivot whose line passes through a sliding block, the
 inverted slider-crank) by aiming the link at the block. Class III groups (a
 ternary link held by three binary links, the knife drives of seed 001) are
 solved by Newton continuation from the drawn pose with the seed's bracketing as
-the fallback.
+the fallback. :func:`solve_geometries` solves K geometries of one linkage over one
+crank-angle grid in one call.
+
+The code lives in private modules beside this door: ``_linkage``
+(:class:`Linkage`: the model, its compilation and solve), ``_file`` (its file
+format), ``_drawing`` (the checks of the drawing's parts), ``_solution``
+(:class:`LinkageSolution`) and ``_geometries`` (:func:`solve_geometries`);
+:mod:`~cyclomech.linkage.presets` holds the seed's knife drives.
 """
 
 from __future__ import annotations
 
 from . import presets
+from ._geometries import solve_geometries
 from ._kind import LinkageMechanism
-from ._model import (
-    Linkage,
-    LinkageSolution,
-    sweep,
-)
+from ._linkage import Linkage
+from ._solution import LinkageSolution
 
 __all__ = [
     "Linkage",
     "LinkageMechanism",
     "LinkageSolution",
     "presets",
-    "sweep",
+    "solve_geometries",
 ]

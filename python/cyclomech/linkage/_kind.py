@@ -14,7 +14,9 @@ from .. import _toml
 from .._errors import InputError
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
-from ._model import _LINKAGE_KEYS, Linkage, LinkageSolution
+from ._file import _LINKAGE_KEYS
+from ._linkage import Linkage
+from ._solution import LinkageSolution
 
 __all__ = ["LinkageMechanism"]
 

@@ -400,7 +400,7 @@ def plot_linkage(
 
     The pose is ``solution.xy[index]`` [m] (``index`` negative counts from the end);
     ``solution`` must be a :meth:`Linkage.solve` of every point of ``linkage`` (not
-    a :func:`~cyclomech.linkage.sweep`, not ``points=`` a subset), assembled at
+    a :func:`~cyclomech.linkage.solve_geometries`, not ``points=`` a subset), assembled at
     that row. Drawn at equal scale in metres: the links as lines between their
     joints (a link with three or more joints as a light plate with its outline; a
     link of ground joints only, the frame, is not drawn), the driving crank in

@@ -24,7 +24,7 @@ import math
 from collections.abc import Callable
 
 from .._errors import InputError
-from ._model import Linkage
+from ._linkage import Linkage
 
 __all__ = ["NAMES", "br125", "br136", "brp4", "burg_trimmer", "get"]
 

@@ -1,5 +1,5 @@
 """The planetary gear-lever press drive of seed 003: kinematics, working-stroke
-criteria, design sweeps and the non-dominated designs.
+criteria, design grids and the non-dominated designs.
 
 The drive: a crank (carrier) turns about the centre O of a fixed internal guide
 gear of pitch radius R; a planet gear of radius r rolls inside it (i = R/r, a
@@ -29,26 +29,20 @@ working stroke: the crank torque per newton of a constant deformation force)
 and the dimensionless k_Sp, k_Vp = V_np/V_cp (→ 0), k_Vmax = V_pmax/V_cp
 (→ 1), k_M = torque/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
 for a crank-slider).
+
+The code lives in private modules beside this door, one per subject: ``_drive``
+(:class:`GearLeverPress`, kinematics and criteria of one design), ``_grid``
+(:func:`design_grid`), ``_optimize`` (:func:`pareto_mask`, :func:`optimize`) and
+``_study`` (the press file).
 """
 
 from __future__ import annotations
 
+from ._drive import CRITERIA, SAMPLES, STATUS, GearLeverPress, PressCriteria, PressKinematics
+from ._grid import PressGrid, design_grid
 from ._kind import PressMechanism
-from ._model import (
-    CRITERIA,
-    OBJECTIVES,
-    SAMPLES,
-    STATUS,
-    GearLeverPress,
-    PressCriteria,
-    PressKinematics,
-    PressOptimum,
-    PressStudy,
-    PressSweep,
-    optimize,
-    pareto_mask,
-    sweep,
-)
+from ._optimize import OBJECTIVES, PressOptimum, optimize, pareto_mask
+from ._study import PressStudy
 
 __all__ = [
     "CRITERIA",
@@ -57,12 +51,12 @@ __all__ = [
     "STATUS",
     "GearLeverPress",
     "PressCriteria",
+    "PressGrid",
     "PressKinematics",
     "PressMechanism",
     "PressOptimum",
     "PressStudy",
-    "PressSweep",
+    "design_grid",
     "optimize",
     "pareto_mask",
-    "sweep",
 ]

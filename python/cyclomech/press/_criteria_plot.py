@@ -18,7 +18,7 @@ from .._plotting import (
     num_text,
     pyplot,
 )
-from . import PressOptimum, PressSweep
+from . import PressGrid, PressOptimum
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -62,7 +62,7 @@ def _edges(v: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
 
 
 def plot_press_criteria(
-    sweep: PressSweep,
+    sweep: PressGrid,
     ax: Axes | Any = None,
     *,
     criterion: str = "k_Vp",
@@ -72,7 +72,7 @@ def plot_press_criteria(
 ) -> Axes | tuple[Axes, Axes]:
     """Map a working-stroke criterion over (d, L) at one φ0; return the axes.
 
-    ``sweep`` is a :func:`cyclomech.press.sweep` (or ``optimum.grid``) with d and L
+    ``sweep`` is a :func:`cyclomech.press.design_grid` (or ``optimum.grid``) with d and L
     among its axes (two or more values each; R and r fixed or of one value). The
     map shows ``criterion`` (a name of :data:`cyclomech.press.CRITERIA`; lengths
     in mm, speeds in mm/s, angles in degrees) over d [mm] across and L [mm] up,
@@ -105,7 +105,7 @@ def plot_press_criteria(
     >>> import matplotlib.pyplot as plt
     >>> import numpy as np, cyclomech as cm
     >>> from cyclomech.press.plot import plot_press_criteria
-    >>> sw = cm.press.sweep(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
+    >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
     ...                     L=np.linspace(0.25, 0.5, 6), phi0=np.radians([0, 30, 55]),
     ...                     k_Sp=0.1, omega=4.0)
     >>> ax = plot_press_criteria(sw, phi0=np.radians(55))
@@ -121,9 +121,9 @@ def plot_press_criteria(
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    if not isinstance(sweep, PressSweep):
+    if not isinstance(sweep, PressGrid):
         raise InputError(
-            f"sweep must be a cyclomech.press.PressSweep (cm.press.sweep(...)); "
+            f"sweep must be a cyclomech.press.PressGrid (cm.press.design_grid(...)); "
             f"got {type(sweep).__name__}"
         )
     if criterion not in _CRITERION_SHOWN:

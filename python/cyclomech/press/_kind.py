@@ -14,7 +14,7 @@ from .. import _toml
 from .._errors import InputError
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
-from ._model import STATUS, GearLeverPress, PressCriteria
+from ._drive import STATUS, GearLeverPress, PressCriteria
 
 __all__ = ["PressMechanism"]
 

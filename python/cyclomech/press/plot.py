@@ -3,7 +3,7 @@ slider's motion, maps of the working-stroke criteria and the non-dominated desig
 
 :func:`plot_press` takes a :class:`cyclomech.press.GearLeverPress` and a crank
 angle α [rad] from BDC, :func:`plot_press_criteria` a
-:class:`~cyclomech.press.PressSweep` (with, optionally, a
+:class:`~cyclomech.press.PressGrid` (with, optionally, a
 :class:`~cyclomech.press.PressOptimum`). They show lengths in millimetres and
 angles in degrees.
 

@@ -29,24 +29,20 @@ Conventions: SI units (m, s, rad); the transport rotor turns counter-clockwise
 unless ``ccw=False`` (then the process rotor turns clockwise, as meshing rotors
 do, and the path is the mirror image). Signed curvature is positive where the
 path turns left: +1/R_t on the transport circle, −1/R_p on the process circle.
+
+The code lives in private modules beside this door, one per subject: ``_jump``,
+``_quintic`` (the transitions and :func:`to_machine`), ``_path``
+(:class:`TransferPath`) and ``_design`` (:func:`design_transfer`), with the input
+checks they share in ``_checks``.
 """
 
 from __future__ import annotations
 
+from ._design import TransferDesign, design_transfer
+from ._jump import acceleration_jump, acceleration_jump_at_speed
 from ._kind import TransferMechanism
-from ._model import (
-    PathAcceleration,
-    PathSample,
-    QuinticTransition,
-    TransferDesign,
-    TransferPath,
-    acceleration_jump,
-    acceleration_jump_at_speed,
-    design_transfer,
-    quintic_transition,
-    smooth_transition,
-    to_machine,
-)
+from ._path import PathAcceleration, PathSample, TransferPath
+from ._quintic import QuinticTransition, quintic_transition, smooth_transition, to_machine
 
 __all__ = [
     "PathAcceleration",

@@ -13,7 +13,8 @@ from .._arrays import speeds_rpm
 from .._errors import InputError
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
-from ._model import TransferPath, design_transfer
+from ._design import design_transfer
+from ._path import TransferPath
 
 __all__ = ["TransferMechanism"]
 

@@ -19,7 +19,7 @@ from .._arrays import count
 from .._errors import InputError
 from .._plotting import pyplot
 from . import TransferPath
-from ._model import PIECES
+from ._path import PIECES
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -1,150 +1,42 @@
-"""The linkages: `_model` part of :mod:`cyclomech.linkage` (its door)."""
+"""A planar linkage drawn in an assembled pose (:class:`Linkage`): its Assur groups
+compiled for the Rust kernel and solved over a crank-angle grid, and its checks;
+its file format (``to_dict``/``from_dict``, ``to_toml``/``from_toml``) is read and
+written by ``_file``."""
 
 from __future__ import annotations
 
 import itertools
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from .. import _core, _toml
-from .._arrays import float_array, real, threads_arg
+from .. import _core
+from .._arrays import flag, float_array, threads_arg
 from .._errors import CyclomechError, InputError
+from ._drawing import (
+    Point,
+    _driver,
+    _ground,
+    _lengths,
+    _links,
+    _points,
+    _sliders,
+)
+from ._file import from_table, linkage_table, read_toml, write_toml
+from ._solution import LinkageSolution
 
-__all__ = ["Linkage", "LinkageSolution", "sweep"]
+__all__ = ["Linkage"]
+
 
 _DRIVER, _CIRCLES, _TRIAD, _SLIDE, _CROSS, _AIM = 0, 1, 2, 3, 4, 5
+
+
 #: Columns of a compiled step's index and dimension rows (see ``_core.LinkageProgram``).
 _IDX, _DIMS = 6, 8
-
-
-@dataclass(frozen=True)
-class LinkageSolution:
-    """Positions and analogs of the solved points over a crank-angle grid.
-
-    ``xy``, ``vel`` = d xy/dφ and ``acc`` = d² xy/dφ² have shape (N, M, 2), the
-    points in the order of ``names``; for a :func:`sweep` over K geometries they
-    have shape (K, N, M, 2) and the flags (K, N). Lengths in metres, φ the absolute
-    crank angle [rad]. ``vel`` and ``acc`` are None when solved with
-    ``analogs=False``.
-
-    Flags, one per angle: ``ok`` is False where the mechanism cannot be assembled
-    (its points NaN there); ``singular`` is True at a dead centre of a group, where
-    the analogs are infinite (NaN); ``branch_change`` is True where the pose of a
-    class III group is not continuous with the one solved before it.
-
-    Class III groups are walked from the drawn pose outwards, the short way: an
-    angle is first moved by whole turns into half a turn of the drawn angle (θ and
-    θ + 2πn are one crank position and get one pose). The walk follows the drawn
-    branch while Newton from its predictor stays near it and no group's Jacobian
-    determinant changes sign. Where the branch ends (a fold, or the mechanism stops
-    assembling) the walk does not jump silently: each later angle is re-acquired by
-    the seed's bracketing, on the drawn assembly mode (the determinant's sign at
-    the drawn pose) nearest the last pose; the first angle re-acquired is flagged
-    ``branch_change``, angles where nothing assembles are ``ok = False``.
-
-    >>> import numpy as np, cyclomech as cm
-    >>> from cyclomech.linkage import presets
-    >>> lk = presets.burg_trimmer()
-    >>> sol = lk.solve(np.radians([170.0, 170.0 + 360.0]))
-    >>> bool(np.allclose(sol["E"][0], sol["E"][1], atol=1e-12)), sol.branch_change.tolist()
-    (True, [False, False])
-    """
-
-    angles: npt.NDArray[np.float64]
-    names: tuple[str, ...]
-    xy: npt.NDArray[np.float64]
-    vel: npt.NDArray[np.float64] | None
-    acc: npt.NDArray[np.float64] | None
-    ok: npt.NDArray[np.bool_]
-    singular: npt.NDArray[np.bool_]
-    branch_change: npt.NDArray[np.bool_]
-
-    def index(self, name: str) -> int:
-        """Column of point ``name`` in ``xy``.
-
-        >>> import cyclomech as cm
-        >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
-        >>> lk.solve([0.0]).index("B")
-        1
-        """
-        try:
-            return self.names.index(name)
-        except ValueError:
-            raise InputError(
-                f"no point {name!r} in this solution; its points are {', '.join(self.names)}"
-            ) from None
-
-    def __getitem__(self, name: str) -> npt.NDArray[np.float64]:
-        """Positions of one point, shape (N, 2) (or (K, N, 2) for a sweep) [m]."""
-        return self.xy[..., self.index(name), :]
-
-    def _analogs(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        if self.vel is None or self.acc is None:
-            raise InputError("this solution has no analogs: solve with analogs=True")
-        return self.vel, self.acc
-
-    def link_angle(
-        self, a: str, b: str
-    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """Angle of the line a→b [rad] and its first and second analogs [rad/rad, rad/rad²].
-
-        θ = atan2(d), θ' = d × d' / |d|², θ'' = d × d'' / |d|² − 2 (d·d')(d × d') / |d|⁴,
-        with d = b − a; vectorised over the grid.
-
-        >>> import numpy as np, cyclomech as cm
-        >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
-        >>> theta, dtheta, ddtheta = lk.solve([0.0, 0.5]).link_angle("A", "B")
-        >>> np.round(theta, 12).tolist(), np.round(dtheta, 12).tolist()
-        ([0.0, 0.5], [1.0, 1.0])
-        """
-        vel, acc = self._analogs()
-        i, j = self.index(a), self.index(b)
-        d = self.xy[..., j, :] - self.xy[..., i, :]
-        dv = vel[..., j, :] - vel[..., i, :]
-        da = acc[..., j, :] - acc[..., i, :]
-        n2 = d[..., 0] ** 2 + d[..., 1] ** 2
-        cross_v = d[..., 0] * dv[..., 1] - d[..., 1] * dv[..., 0]
-        cross_a = d[..., 0] * da[..., 1] - d[..., 1] * da[..., 0]
-        dot_v = d[..., 0] * dv[..., 0] + d[..., 1] * dv[..., 1]
-        theta = np.arctan2(d[..., 1], d[..., 0])
-        return theta, cross_v / n2, cross_a / n2 - 2.0 * dot_v * cross_v / n2**2
-
-    def stroke(self, point: str) -> float:
-        """Stroke of point ``point`` [m]: the largest distance between two of its
-        positions over the angles where the linkage is assembled (the diameter of
-        its path), over the vertices of the path's convex hull; a straight path's
-        extent along its line. NaN where it is assembled at no angle. One
-        geometry's solution (not a :func:`sweep`'s).
-
-        >>> import numpy as np, cyclomech as cm
-        >>> lk = cm.Linkage({"A": (0, 0), "B": (0.1, 0)}, [("A", "B")], ["A"], ("A", "B"))
-        >>> round(lk.solve(np.radians(np.arange(0.0, 360.0, 1.0))).stroke("B"), 12)
-        0.2
-        """
-        if self.xy.ndim != 3:
-            raise InputError(
-                f"stroke of a sweep's solution (shape {self.xy.shape}): solve one geometry"
-            )
-        xy = self.xy[self.ok, self.index(point)]
-        if not len(xy):
-            return math.nan
-        from scipy.spatial import ConvexHull, QhullError
-
-        try:
-            pts = xy[ConvexHull(xy).vertices]
-        except (QhullError, ValueError):  # on one line (a slider), or too few points
-            centred = xy - xy.mean(axis=0)
-            axis = np.linalg.svd(centred, full_matrices=False)[2][0]
-            along = centred @ axis
-            return float(along.max() - along.min())
-        d = pts[:, None, :] - pts[None, :, :]
-        return float(np.sqrt((d**2).sum(axis=2)).max())
 
 
 class Linkage:
@@ -260,7 +152,7 @@ class Linkage:
     @property
     def dimensions(self) -> tuple[tuple[str, str], ...]:
         """The joint pairs whose distances the solver uses, in the order of the
-        columns of :func:`sweep`'s ``lengths`` (see :attr:`dimension_values`).
+        columns of :func:`solve_geometries`'s ``lengths`` (see :attr:`dimension_values`).
 
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
@@ -315,7 +207,7 @@ class Linkage:
         a = float_array("angles", angles)
         sel, names = self._select(points)
         xy, vel, acc, ok, singular, branch = self._program.solve(
-            a, sel, analogs=_flag("analogs", analogs), n_threads=threads_arg(n_threads)
+            a, sel, analogs=flag("analogs", analogs), n_threads=threads_arg(n_threads)
         )
         xy, vel, acc = self._unscale(xy, vel, acc)
         return LinkageSolution(a, names, xy, vel, acc, ok, singular, branch)
@@ -356,23 +248,7 @@ class Linkage:
         >>> cm.Linkage.from_dict(lk.to_dict()).structure
         [('driver', ('B',))]
         """
-        out: dict[str, Any] = {}
-        if self.name is not None:
-            out["name"] = self.name
-        out["points"] = {n: list(xy) for n, xy in self._points.items()}
-        out["links"] = [list(ln) for ln in self._links]
-        out["ground"] = sorted(self._ground)
-        out["driver"] = list(self._driver)
-        if self.output is not None:
-            out["output"] = self.output
-        if self._lengths:
-            out["lengths"] = [{"joints": list(k), "length": v} for k, v in self._lengths.items()]
-        if self._sliders:
-            out["sliders"] = {
-                p: [{kind: list(arg)} for kind, arg in guides]
-                for p, guides in self._sliders.items()
-            }
-        return out
+        return linkage_table(self)
 
     @classmethod
     def from_dict(
@@ -392,58 +268,7 @@ class Linkage:
         >>> lk.structure
         [('driver', ('B',)), ('II', ('C',))]
         """
-        _toml.check_keys(table, _LINKAGE_KEYS, source, where)
-        for req in ("points", "links", "ground", "driver"):
-            if req not in table:
-                raise InputError(f"{source}: {where}: missing key {req!r}")
-        try:
-            lengths = {}
-            items = table.get("lengths", [])
-            if not isinstance(items, list):
-                raise InputError(
-                    f"lengths = {items!r} must be an array of tables "
-                    "[{joints = [a, b], length = …}, …]"
-                )
-            for i, item in enumerate(items, 1):
-                _toml.check_keys(item, {"joints", "length"}, None, f"lengths #{i}")
-                joints = item.get("joints")
-                if not (isinstance(joints, list) and len(joints) == 2):
-                    raise InputError(f"lengths #{i}: joints must be [a, b]; got {joints!r}")
-                lengths[(joints[0], joints[1])] = item.get("length")
-            sliders: dict[str, Any] = {}
-            guides_of = table.get("sliders", {})
-            if not isinstance(guides_of, Mapping):
-                raise InputError(
-                    f"sliders = {guides_of!r} must be a table: point = {{ground = [dx, dy]}} "
-                    "or {link = [b, c]}, or a list of two guides"
-                )
-            for p, spec in guides_of.items():
-                specs = spec if isinstance(spec, list) else [spec]
-                guides = []
-                for g in specs:
-                    if not (
-                        isinstance(g, Mapping) and len(g) == 1 and set(g) <= {"ground", "link"}
-                    ):
-                        raise InputError(
-                            f"sliders.{p} = {spec!r}: a guide is {{ground = [dx, dy]}} or "
-                            "{link = [b, c]}, or a list of two guides"
-                        )
-                    ((kind, arg),) = g.items()
-                    guides.append((kind, tuple(arg) if isinstance(arg, list) else arg))
-                sliders[p] = guides
-            driver = table["driver"]
-            return cls(
-                table["points"],
-                table["links"],
-                table["ground"],
-                tuple(driver) if isinstance(driver, list) else driver,
-                lengths=lengths or None,
-                sliders=sliders or None,
-                name=table.get("name"),
-                output=table.get("output"),
-            )
-        except InputError as e:
-            raise InputError(f"{source}: {where}: {e}") from None
+        return from_table(cls, table, source, where)
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Linkage:
@@ -457,11 +282,7 @@ class Linkage:
         >>> cm.Linkage.from_toml(path).names
         ('A', 'B')
         """
-        data, source = _toml.load(path)
-        _toml.check_keys(data, {"linkage"}, source, "top level")
-        if "linkage" not in data:
-            raise InputError(f"{source}: no [linkage] table")
-        return cls.from_dict(data["linkage"], source)
+        return read_toml(cls, path)
 
     def to_toml(self, path: str | Path | None = None) -> str:
         """The linkage as TOML text (a ``[linkage]`` table), written to ``path`` if
@@ -480,24 +301,7 @@ class Linkage:
         B = [1.0, 0.0]
         <BLANKLINE>
         """
-        table = self.to_dict()
-        points = table.pop("points")
-        lengths = table.pop("lengths", [])
-        sliders = table.pop("sliders", {})
-        lines = ["[linkage]"]
-        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in table.items()]
-        lines += ["", "[linkage.points]"]
-        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in points.items()]
-        for item in lengths:
-            lines += ["", "[[linkage.lengths]]"]
-            lines += [f"{k} = {_toml.value(v)}" for k, v in item.items()]
-        if sliders:
-            lines += ["", "[linkage.sliders]"]
-            lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in sliders.items()]
-        text = "\n".join(lines) + "\n"
-        if path is not None:
-            Path(path).write_text(text, encoding="utf-8")
-        return text
+        return write_toml(self, path)
 
     # ---------------------------------------------------------------- compiling
     def _check_mobility(self) -> None:
@@ -843,228 +647,5 @@ def _cross(points: Mapping[str, tuple[float, float]], a: str, b: str, p: str) ->
     return (pb[0] - pa[0]) * (pp[1] - pa[1]) - (pb[1] - pa[1]) * (pp[0] - pa[0])
 
 
-Point = tuple[float, float]
-
-_LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengths", "sliders"}
-
-
 def _rebuild(table: dict[str, Any]) -> Linkage:
     return Linkage.from_dict(table)
-
-
-def _flag(name: str, value: Any) -> bool:
-    if not isinstance(value, bool | np.bool_):
-        raise InputError(f"{name} must be True or False; got {value!r}")
-    return bool(value)
-
-
-def _sliders(
-    sliders: Any, points: Mapping[str, Any], ground: set[str], links: list[tuple[str, ...]]
-) -> dict[str, list[tuple[str, tuple[Any, ...]]]]:
-    """{point: [(kind, arg), …]} with every guide checked."""
-    if sliders is None:
-        return {}
-    if not isinstance(sliders, Mapping):
-        raise InputError(f"sliders must map points to guides; got {sliders!r}")
-    out: dict[str, list[tuple[str, tuple[Any, ...]]]] = {}
-    for p, spec in sliders.items():
-        where = f"sliders[{p!r}]"
-        if p not in points:
-            raise InputError(f"{where}: no point {p!r}; known points are {', '.join(points)}")
-        if p in ground:
-            raise InputError(f"{where}: {p!r} is a ground joint; a fixed point cannot slide")
-        specs = (
-            [spec] if isinstance(spec, tuple | list) and spec and isinstance(spec[0], str) else spec
-        )
-        if not isinstance(specs, list | tuple) or not 1 <= len(specs) <= 2:
-            raise InputError(
-                f"{where} = {spec!r}: give a guide, ('ground', (dx, dy)) or ('link', (b, c)), "
-                "or a list of two guides"
-            )
-        guides = []
-        for g in specs:
-            if not (isinstance(g, tuple | list) and len(g) == 2 and g[0] in ("ground", "link")):
-                raise InputError(
-                    f"{where}: guide {g!r} must be ('ground', (dx, dy)) or ('link', (b, c))"
-                )
-            kind, arg = g
-            if kind == "ground":
-                try:
-                    dx, dy = (float(v) for v in arg)
-                except (TypeError, ValueError):
-                    raise InputError(
-                        f"{where}: the direction {arg!r} of a ground guide must be (dx, dy)"
-                    ) from None
-                if not (math.isfinite(dx) and math.isfinite(dy)) or dx == dy == 0.0:
-                    raise InputError(
-                        f"{where}: the direction {arg!r} must be a finite, non-zero (dx, dy)"
-                    )
-                guides.append(("ground", (dx, dy)))
-            else:
-                if not (isinstance(arg, tuple | list) and len(arg) == 2):
-                    raise InputError(f"{where}: a link guide is ('link', (b, c)); got {g!r}")
-                b, c = arg
-                if not any(b in ln and c in ln for ln in links) or b == c:
-                    raise InputError(
-                        f"{where}: ({b!r}, {c!r}) are not two joints of one link; the guide "
-                        "runs along a link, through two of its joints"
-                    )
-                if any(p in ln and b in ln and c in ln for ln in links):
-                    raise InputError(
-                        f"{where}: {p!r} is a joint of the link {b}–{c} it would slide on"
-                    )
-                guides.append(("link", (b, c)))
-        out[p] = guides
-    return out
-
-
-def sweep(
-    linkage: Linkage,
-    angles: npt.ArrayLike,
-    lengths: npt.ArrayLike,
-    *,
-    points: Sequence[str] | None = None,
-    analogs: bool = True,
-    n_threads: int | None = None,
-) -> LinkageSolution:
-    """Solve K geometries of one linkage over one crank-angle grid in one call,
-    in parallel over the geometries.
-
-    ``lengths`` (K, D) gives each geometry's distances [m] in the order of
-    ``linkage.dimensions`` (start from ``linkage.dimension_values``); topology,
-    ground points and assembly mode stay those of ``linkage``. Returns a
-    :class:`LinkageSolution` with ``xy`` of shape (K, N, M, 2) and flags (K, N),
-    for every point or ``points`` only. A geometry whose drawn pose cannot be
-    closed (class III groups start from it) is ``ok = False`` throughout.
-
-    >>> import numpy as np, cyclomech as cm
-    >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
-    ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
-    >>> L = np.tile(lk.dimension_values, (3, 1))
-    >>> L[:, 0] = [0.8, 1.0, 1.2]                       # three crank radii
-    >>> sol = cm.linkage.sweep(lk, np.linspace(0, 2 * np.pi, 73), L, points=["C"])
-    >>> sol.xy.shape, bool(sol.ok.all())
-    ((3, 73, 1, 2), True)
-    """
-    if not isinstance(linkage, Linkage):
-        raise InputError(f"linkage must be a cyclomech.Linkage; got {type(linkage).__name__}")
-    a = float_array("angles", angles)
-    dims = float_array("lengths", lengths, ndims=(2,))
-    d = len(linkage._dims)
-    if dims.shape[1] != d:
-        raise InputError(
-            f"lengths must have shape (K, {d}), one column per linkage.dimensions "
-            f"({', '.join(f'{p}{q}' for p, q in linkage._dims)}); got {dims.shape}"
-        )
-    bad = ~(np.isfinite(dims) & (dims > 0))
-    if bad.any():
-        k, j = (int(v) for v in np.argwhere(bad)[0])
-        p, q = linkage._dims[j]
-        raise InputError(
-            f"lengths[{k}, {j}] = {dims[k, j]!r} (|{p}{q}|) must be a finite, positive length [m]"
-        )
-    table = np.repeat(linkage._base_dims[None], dims.shape[0], axis=0)
-    for row, col, j in linkage._slots:
-        table[:, row, col] = dims[:, j] / linkage._kscale
-    sel, names = linkage._select(points)
-    xy, vel, acc, ok, singular, branch = linkage._program.solve_many(
-        table, a, sel, analogs=_flag("analogs", analogs), n_threads=threads_arg(n_threads)
-    )
-    xy, vel, acc = linkage._unscale(xy, vel, acc)
-    return LinkageSolution(a, names, xy, vel, acc, ok, singular, branch)
-
-
-def _points(points: Any) -> dict[str, tuple[float, float]]:
-    if not isinstance(points, Mapping) or not points:
-        raise InputError(f"points must map joint names to (x, y) [m]; got {points!r}")
-    out = {}
-    for name, xy in points.items():
-        if not isinstance(name, str) or not name:
-            raise InputError(f"points: joint names must be non-empty strings; got {name!r}")
-        try:
-            x, y = (real(v) for v in xy)
-        except (TypeError, ValueError):
-            raise InputError(f"points[{name!r}] must be (x, y) in metres; got {xy!r}") from None
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise InputError(f"points[{name!r}] = {xy!r} must be finite coordinates [m]")
-        out[name] = (x, y)
-    return out
-
-
-def _links(links: Any, points: Mapping[str, Any]) -> list[tuple[str, ...]]:
-    if isinstance(links, str) or not isinstance(links, Iterable):
-        raise InputError(
-            f"links = {links!r} must be an array of links, each an array of joint names, "
-            'e.g. [["A", "B"], ["B", "C", "E"]]'
-        )
-    out = []
-    for k, ln in enumerate(links):
-        if isinstance(ln, str) or not isinstance(ln, Sequence) or len(ln) < 2:
-            raise InputError(f"links[{k}] = {ln!r} must list at least two joints")
-        if len(set(ln)) != len(ln):
-            raise InputError(f"links[{k}] = {ln!r} lists a joint twice")
-        for p in ln:
-            if p not in points:
-                raise InputError(
-                    f"links[{k}] = {ln!r}: no point {p!r}; known points are {', '.join(points)}"
-                )
-        out.append(tuple(ln))
-    if not out:
-        raise InputError("links must list at least the crank")
-    return out
-
-
-def _ground(ground: Any, points: Mapping[str, Any]) -> set[str]:
-    if isinstance(ground, str) or not isinstance(ground, Iterable):
-        raise InputError(
-            f"ground = {ground!r} must be an array of joint names, e.g. [{ground!r}]"
-            if isinstance(ground, str)
-            else f"ground = {ground!r} must be an array of joint names"
-        )
-    g = set(ground)
-    for p in g:
-        if p not in points:
-            raise InputError(f"ground: no point {p!r}; known points are {', '.join(points)}")
-    if not g:
-        raise InputError("ground must list at least the crank's pivot")
-    return g
-
-
-def _driver(
-    driver: Any, points: Mapping[str, Any], ground: set[str], links: list[tuple[str, ...]]
-) -> tuple[str, str]:
-    if not (isinstance(driver, tuple | list) and len(driver) == 2):
-        raise InputError(f"driver must be (pivot, tip); got {driver!r}")
-    pivot, tip = driver
-    for p in (pivot, tip):
-        if p not in points:
-            raise InputError(f"driver = {driver!r}: no point {p!r}")
-    if pivot not in ground:
-        raise InputError(f"driver = {driver!r}: the crank's pivot {pivot!r} must be a ground joint")
-    if tip in ground:
-        raise InputError(f"driver = {driver!r}: the crank's tip {tip!r} cannot be a ground joint")
-    if not any(pivot in ln and tip in ln for ln in links):
-        cranks = sorted(
-            {(g, t) for ln in links for g in ln if g in ground for t in ln if t not in ground}
-        )
-        listing = ", ".join(f"[{g!r}, {t!r}]" for g, t in cranks) or "none"
-        raise InputError(
-            f"driver = {driver!r}: no link joins {pivot!r} and {tip!r}; a driver is a ground "
-            f"joint and a moving joint of one link: {listing}"
-        )
-    return (pivot, tip)
-
-
-def _lengths(lengths: Any, links: list[tuple[str, ...]]) -> dict[tuple[str, str], float]:
-    out: dict[tuple[str, str], float] = {}
-    for (a, b), value in (lengths or {}).items():
-        if not any(a in ln and b in ln for ln in links):
-            raise InputError(f"lengths[{(a, b)!r}]: {a!r} and {b!r} are not joints of one link")
-        try:
-            v = real(value)
-        except (TypeError, ValueError):
-            raise InputError(f"lengths[{(a, b)!r}] = {value!r} must be a length [m]") from None
-        if not (math.isfinite(v) and v > 0):
-            raise InputError(f"lengths[{(a, b)!r}] = {value!r} must be a positive length [m]")
-        out[(a, b)] = v
-    return out

@@ -1,0 +1,185 @@
+"""The lever of a stop (seed 000): its reduced stiffness free and propped at the
+stop, natural frequency, contact time and the mean impact force."""
+
+from __future__ import annotations
+
+import functools
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._arrays import positive
+from .._errors import InputError
+from ._checks import Array, _positive_array
+
+__all__ = [
+    "contact_time",
+    "impact_force",
+    "lever_stiffness",
+    "natural_frequency",
+    "propped_lever_stiffness",
+]
+
+
+def lever_stiffness(E: float, J_x: float, a: float, b: float) -> float:
+    """Reduced stiffness [N/m] of the lever at its working end, free of the stop.
+
+    The lever as a beam on two supports a [m] apart (its axis and the cam
+    roller) with an overhang b [m] to the working point: c = 3·E·J_x/((a+b)·b²),
+    E [Pa], J_x [m⁴] the section's axial moment of inertia (seed 000).
+
+    >>> import cyclomech as cm
+    >>> round(cm.impact.lever_stiffness(2.1e11, 6.1e-11, 0.05, 0.1))
+    25620
+    """
+    E = positive("E", E, "[Pa]")
+    J = positive("J_x", J_x, "[m⁴]")
+    a = positive("a", a, "[m]")
+    b = positive("b", b, "[m]")
+    with np.errstate(all="ignore"):
+        c = 3.0 * np.float64(E) * J / ((a + b) * b * b)
+    return _stiffness(c, E=E, J_x=J, a=a, b=b)
+
+
+def _stiffness(c: Any, **given: float) -> float:
+    """``c`` [N/m] if it is a finite, positive float, else :class:`InputError`:
+    inputs of extreme magnitude overflow or underflow (scale the units)."""
+    if not (np.isfinite(c) and c > 0.0):
+        args = ", ".join(f"{k} = {v!r}" for k, v in given.items())
+        raise InputError(
+            f"the lever {args} gives a stiffness of {float(c)!r} N/m, not a finite positive "
+            "number: the values overflow or underflow; scale the units"
+        )
+    return float(c)
+
+
+def _moment(z: Array, xi: float, a: float) -> Array:
+    """Bending moment at z of the two-support overhanging beam (supports at 0 and
+    a) under a unit load at xi (the statically determinate base)."""
+    if xi >= a:  # on the overhang: R_A = −(xi − a)/a
+        return np.where(z <= a, -(xi - a) * z / a, np.where(z <= xi, -(xi - z), 0.0))
+    return np.where(z <= xi, (a - xi) * z / a, np.where(z <= a, xi * (a - z) / a, 0.0))
+
+
+def _flexibility(xi: float, xj: float, a: float, length: float, EJ: float) -> float:
+    """∫ m_i·m_j dz / EJ over the beam, exact: Simpson's rule on each piece
+    between the diagrams' breakpoints (the product is quadratic there)."""
+    edges = np.unique(np.array([0.0, a, xi, xj, length]))
+    lo, hi = edges[:-1], edges[1:]
+    mid = 0.5 * (lo + hi)
+    f = [_moment(z, xi, a) * _moment(z, xj, a) for z in (lo, mid, hi)]
+    return float(np.sum((hi - lo) / 6.0 * (f[0] + 4.0 * f[1] + f[2]))) / EJ
+
+
+def propped_lever_stiffness(
+    E: float, J_x: float, a: float, b: float, at: float | None = None
+) -> tuple[float, float]:
+    """Stiffness [N/m] of the lever at a point of its overhang, free and with its
+    working end resting on the stop: ``(free, propped)``.
+
+    In contact the stop adds a support at the end of the overhang (seed 000,
+    fig. 6), so the reduced mass, now between two supports, vibrates faster. The
+    point lies ``at`` [m] from the roller support along the overhang (default
+    b/2); the beam is as in :func:`lever_stiffness`. Computed by the force
+    method: the overhanging beam is the base, the stop's reaction the redundant.
+
+    >>> import cyclomech as cm
+    >>> free, propped = cm.impact.propped_lever_stiffness(2.1e11, 6.1e-11, 0.05, 0.1)
+    >>> round(free), round(propped / free, 2)
+    (153720, 6.4)
+    """
+    E = positive("E", E, "[Pa]")
+    J = positive("J_x", J_x, "[m⁴]")
+    a = positive("a", a, "[m]")
+    b = positive("b", b, "[m]")
+    s = 0.5 * b if at is None else positive("at", at, "[m]")
+    if s >= b:
+        raise InputError(
+            f"at = {at!r} m must lie inside the overhang, 0 < at < b = {b!r} m "
+            "(at the stop itself the propped lever does not move)"
+        )
+    with np.errstate(all="ignore"):
+        EJ, length = np.float64(E) * J, a + b
+        x = a + s
+        f_mm = np.float64(_flexibility(x, x, a, length, EJ))
+        f_mc = np.float64(_flexibility(x, length, a, length, EJ))
+        f_cc = np.float64(_flexibility(length, length, a, length, EJ))
+        free, propped = 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+    given = {"E": E, "J_x": J, "a": a, "b": b, "at": s}
+    return _stiffness(free, **given), _stiffness(propped, **given)
+
+
+@functools.lru_cache(maxsize=4096)
+def _propped_ratio(a: float, b: float) -> float:
+    """propped/free stiffness of :func:`propped_lever_stiffness` at the overhang's
+    middle: E·J_x cancels, so it depends on the lever's geometry alone (remembered,
+    as sweeps build a stop per design)."""
+    free, propped = propped_lever_stiffness(1.0, 1.0, a, b)
+    return propped / free
+
+
+def natural_frequency(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
+    """Natural frequency f = √(c/m)/(2π) [Hz] of stiffness c [N/m] and mass m [kg]
+    (arrays broadcast).
+
+    >>> import cyclomech as cm
+    >>> round(float(cm.impact.natural_frequency(25620.0, 7.4e-3)), 1)
+    296.1
+    """
+    c = _positive_array("stiffness", stiffness, "[N/m]")
+    m = _positive_array("mass", mass, "[kg]")
+    return np.sqrt(c / m) / (2.0 * np.pi)
+
+
+def contact_time(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
+    """Half the period of the contact vibration, τ = π·√(m/c) [s]: the seed's
+    recommended duration of the impact (c [N/m] the in-contact stiffness).
+
+    >>> import cyclomech as cm
+    >>> round(float(cm.impact.contact_time(172e3, 7.4e-3)) * 1e3, 3)   # ms
+    0.652
+    """
+    c = _positive_array("stiffness", stiffness, "[N/m]")
+    m = _positive_array("mass", mass, "[kg]")
+    return np.pi * np.sqrt(m / c)
+
+
+def impact_force(
+    J_A: float,
+    omega0: npt.ArrayLike,
+    restitution: float,
+    lever_length: float,
+    contact_time: npt.ArrayLike,
+) -> Any:
+    """Mean force [N] of the impact at the stop: F = J_A·ω0·(1 + k)/(l·τ).
+
+    The impulse J_A·ω0·(1+k)/l [N·s] stops the lever (inertia J_A [kg·m²],
+    angular velocity ω0 [rad/s] at contact, length l [m]) and throws it back with
+    the restitution k ∈ [0, 1] (5/9 for steel), spread over the contact time τ
+    [s] (see :func:`contact_time`). ω0 and τ broadcast.
+
+    >>> import cyclomech as cm
+    >>> round(float(cm.impact.impact_force(7.4e-5, 2.35, 5 / 9, 0.1, 6.52e-4)), 3)
+    4.149
+    """
+    J = positive("J_A", J_A, "[kg·m²]")
+    k = _restitution(restitution)
+    length = positive("lever_length", lever_length, "[m]")
+    w = np.asarray(omega0, dtype=np.float64)
+    if not np.isfinite(w).all() or (w < 0).any():
+        raise InputError(f"omega0 must be finite and ≥ 0 [rad/s]; got {omega0!r}")
+    tau = _positive_array("contact_time", contact_time, "[s]")
+    return J * w * (1.0 + k) / (length * tau)
+
+
+def _restitution(value: Any) -> float:
+    try:
+        k = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"restitution must be a number in [0, 1]; got {value!r}") from None
+    if not 0.0 <= k <= 1.0:
+        raise InputError(
+            f"restitution = {value!r} must lie in [0, 1] (0 plastic, 1 elastic; 5/9 for steel)"
+        )
+    return k

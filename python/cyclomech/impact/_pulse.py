@@ -1,0 +1,188 @@
+"""Force pulses of an impact as piecewise-linear tables (:class:`Pulse`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._arrays import count, finite_number, positive
+from .._errors import InputError
+from ._checks import Array
+
+__all__ = ["Pulse"]
+
+
+def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
+    return finite_number(name, value, unit)
+
+
+@dataclass(frozen=True)
+class Pulse:
+    """A force pulse as a piecewise-linear table: force ``f`` [N] at times ``t``
+    [s] (non-decreasing from 0; a repeated time is a jump of the force there),
+    zero after the last point unless the table says otherwise.
+
+    Named shapes: :meth:`rectangular`, :meth:`decaying` (the seed's fig. 7 law),
+    :meth:`triangular`, :meth:`half_sine`; any table by :meth:`table`.
+
+    >>> import cyclomech as cm
+    >>> p = cm.impact.Pulse.rectangular(2.0, 1e-3)
+    >>> p.t.tolist(), p.f.tolist(), round(p.impulse, 12)
+    ([0.0, 0.001, 0.001], [2.0, 2.0, 0.0], 0.002)
+    """
+
+    t: Array
+    f: Array
+    shape: str = "table"
+
+    @property
+    def duration(self) -> float:
+        """Time of the last point [s].
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.triangular(1.0, 2e-3).duration
+        0.002
+        """
+        return float(self.t[-1])
+
+    @property
+    def peak(self) -> float:
+        """Largest |force| [N].
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.decaying(3.0, 1e-3).peak
+        3.0
+        """
+        return float(np.abs(self.f).max())
+
+    @property
+    def impulse(self) -> float:
+        """∫ F dt [N·s] (exact for the linear pieces).
+
+        >>> import cyclomech as cm
+        >>> round(cm.impact.Pulse.decaying(3.0, 1e-3).impulse, 12)
+        0.0015
+        """
+        return float(np.sum(np.diff(self.t) * 0.5 * (self.f[1:] + self.f[:-1])))
+
+    def scaled(self, factor: float) -> Pulse:
+        """The same shape with every force times ``factor``.
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.rectangular(1.0, 1e-3).scaled(4.0).peak
+        4.0
+        """
+        return Pulse.table(self.t, self.f * _force(factor, "factor", ""), self.shape)
+
+    @classmethod
+    def table(cls, t: npt.ArrayLike, f: npt.ArrayLike, shape: str = "table") -> Pulse:
+        """A pulse from a user table; ``t`` [s] starts at 0 and never decreases.
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.table([0, 1e-3, 2e-3], [0, 5, 0]).peak
+        5.0
+        """
+        ta = np.array(t, dtype=np.float64, ndmin=1)
+        fa = np.array(f, dtype=np.float64, ndmin=1)
+        if ta.ndim != 1 or fa.shape != ta.shape:
+            raise InputError(
+                f"a pulse table needs t and f as 1-D arrays of one length; "
+                f"got shapes {ta.shape} and {fa.shape}"
+            )
+        if ta.size < 2:
+            raise InputError(f"a pulse table needs at least 2 points; got {ta.size}")
+        for name, a in (("t", ta), ("f", fa)):
+            bad = ~np.isfinite(a)
+            if bad.any():
+                i = int(np.argmax(bad))
+                raise InputError(f"pulse {name}[{i}] = {float(a[i])!r} must be finite")
+        if ta[0] != 0.0:
+            raise InputError(f"pulse t[0] = {float(ta[0])!r} must be 0 (the instant of impact)")
+        down = np.diff(ta) < 0
+        if down.any():
+            i = int(np.argmax(down)) + 1
+            raise InputError(
+                f"pulse t must not decrease: t[{i}] = {float(ta[i])!r} < "
+                f"t[{i - 1}] = {float(ta[i - 1])!r} "
+                "(repeat a time for a jump)"
+            )
+        if ta[-1] <= 0.0:
+            raise InputError("a pulse must last: its last time must be > 0 s")
+        ta.flags.writeable = False
+        fa.flags.writeable = False
+        return cls(ta, fa, shape)
+
+    @classmethod
+    def rectangular(cls, peak: float, duration: float) -> Pulse:
+        """Constant ``peak`` [N] for ``duration`` [s], then zero.
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.rectangular(1.0, 1e-3).f.tolist()
+        [1.0, 1.0, 0.0]
+        """
+        p, d = _force(peak), positive("duration", duration, "[s]")
+        return cls.table([0.0, d, d], [p, p, 0.0], "rectangular")
+
+    @classmethod
+    def decaying(cls, peak: float, duration: float, end: float = 0.0) -> Pulse:
+        """The seed's impact law (fig. 7): ``peak`` [N] at the instant of impact,
+        falling linearly to ``end``·peak at ``duration`` [s], then zero (``end`` =
+        0: a decaying triangle; the seed's printed F·(1 − t/2τ) is ``end`` = ½).
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.decaying(2.0, 1e-3, end=0.5).f.tolist()
+        [2.0, 1.0, 0.0]
+        """
+        p, d = _force(peak), positive("duration", duration, "[s]")
+        end = _force(end, "end", "(a fraction of the peak)")
+        if not 0.0 <= end <= 1.0:
+            raise InputError(f"end = {end!r} must lie in [0, 1] (a fraction of the peak)")
+        if end == 0.0:
+            return cls.table([0.0, d], [p, 0.0], "decaying")
+        return cls.table([0.0, d, d], [p, end * p, 0.0], "decaying")
+
+    @classmethod
+    def triangular(cls, peak: float, duration: float) -> Pulse:
+        """Rising linearly to ``peak`` [N] at half the ``duration`` [s], back to zero.
+
+        >>> import cyclomech as cm
+        >>> cm.impact.Pulse.triangular(1.0, 2e-3).t.tolist()
+        [0.0, 0.001, 0.002]
+        """
+        p, d = _force(peak), positive("duration", duration, "[s]")
+        return cls.table([0.0, 0.5 * d, d], [0.0, p, 0.0], "triangular")
+
+    @classmethod
+    def half_sine(cls, peak: float, duration: float, points: int = 257) -> Pulse:
+        """``peak``·sin(πt/duration) over ``duration`` [s], sampled at ``points``
+        points (linear between them: the table's impulse falls short of the
+        sine's by about (π²/12)/(points−1)² relative).
+
+        >>> import cyclomech as cm
+        >>> p = cm.impact.Pulse.half_sine(1.0, 1e-3)
+        >>> round(p.impulse / (2e-3 / 3.141592653589793), 5)
+        0.99999
+        """
+        p, d = _force(peak), positive("duration", duration, "[s]")
+        t = np.linspace(0.0, d, count("points", points, low=3, high=10**7))
+        f = p * np.sin(np.pi * t / d)
+        f[-1] = 0.0
+        return cls.table(t, f, "half_sine")
+
+
+def _pulse_at(pulse: Pulse, t: Array) -> Array:
+    """The pulse's force at the sorted times ``t`` (zero after its table), the
+    right-hand value at a repeated time for its first copy, so that a jump at a
+    repeated breakpoint is kept."""
+    f = np.interp(t, pulse.t, pulse.f, right=0.0)
+    # np.interp takes the last of repeated xp: at a jump, the first copy of t
+    # gets the value before it.
+    for k in np.flatnonzero(np.diff(pulse.t) == 0.0):
+        at = np.flatnonzero(t == pulse.t[k])
+        if at.size >= 2:
+            f[at[0]] = pulse.f[k]
+            f[at[1:]] = pulse.f[k + 1]
+    return f

@@ -1,0 +1,162 @@
+"""The impact file (:class:`ImpactStudy`): a lever with its stop and the speeds and
+phase angles to study, and the keys of its ``[stop]`` table."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._arrays import positive
+from .._errors import InputError
+from ._checks import Array
+from ._stop import StopImpact
+
+__all__ = ["ImpactStudy"]
+
+
+_STOP_KEYS = {
+    "name",
+    "law",
+    "stroke",
+    "preload",
+    "lever_length",
+    "J_A",
+    "a",
+    "b",
+    "E",
+    "J_x",
+    "mass",
+    "restitution",
+    "zeta",
+    "contact_stiffness",
+    "pulse",
+    "contact_time",
+    "model",
+}
+
+
+_STRING_KEYS = {"name", "law", "pulse", "model"}
+
+
+def _stop_from_table(table: Mapping[str, Any], where: str, skip: Iterable[str] = ()) -> StopImpact:
+    """A :class:`StopImpact` from a file's table (its keys are checked by the
+    caller; ``skip`` are the caller's own keys): the one reader of a stop, for
+    ``cyclomech impact``'s [stop] and a machine's cam_stop mechanisms. Errors start
+    with ``where``."""
+    skip = {"name", *skip}
+    kwargs: dict[str, Any] = {}
+    for k, v in table.items():
+        if k in skip:
+            continue
+        if k in _STRING_KEYS:
+            if not isinstance(v, str):
+                raise InputError(f"{where}: {k} = {v!r} must be a string")
+        elif isinstance(v, bool) or not isinstance(v, int | float):
+            raise InputError(f"{where}: {k} = {v!r} must be a number")
+        kwargs[k] = v
+    for k in ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"):
+        if k not in kwargs:
+            raise InputError(f"{where}: missing key {k!r}")
+    try:
+        return StopImpact(**kwargs)
+    except InputError as e:
+        raise InputError(f"{where}: {e}") from None
+
+
+@dataclass(frozen=True)
+class ImpactStudy:
+    """An impact file: a lever with its stop and the speeds and phase angles to
+    study (read with :meth:`from_toml`).
+
+    The file::
+
+        [stop]
+        name = "microshuttle lifter"   # optional
+        law = "modified_sine"          # rise law of the cam (cyclomech.motion)
+        stroke = 0.0094                # [m] travel of the working point
+        preload = 0.00025              # [m]
+        lever_length = 0.1             # [m]
+        J_A = 7.4e-5                   # [kg m²]
+        a = 0.05                       # [m] lever arms
+        b = 0.1
+        E = 2.1e11                     # [Pa]
+        J_x = 6.14e-11                 # [m⁴]
+        restitution = 0.5556           # optional (5/9), also: mass, zeta, pulse,
+                                       # contact_stiffness, contact_time, model
+
+        [study]
+        rpm = [200, 450, 26]           # from, to, count
+        phase_deg = [20, 60, 41]       # from, to, count [deg]
+        a_max = 1e-4                   # [m] rebound limit
+        arc = ["3", "7"]               # optional: the cyclogram operation
+    """
+
+    stop: StopImpact
+    rpm: Array
+    phase_deg: Array
+    a_max: float
+    arc: tuple[str, str] | None = None
+    name: str = ""
+
+    @classmethod
+    def from_toml(cls, path: Any) -> ImpactStudy:
+        """Read an impact file; errors name the file, the table and the key.
+
+        >>> import cyclomech as cm
+        >>> st = cm.impact.ImpactStudy.from_toml("examples/stb_lifter.toml")
+        >>> st.rpm.size, st.phase_deg.size, st.a_max
+        (26, 41, 0.0001)
+        """
+        from .. import _toml
+
+        data, src = _toml.load(path)
+        _toml.check_keys(data, {"stop", "study"}, src, "the file")
+        for t in ("stop", "study"):
+            if t not in data:
+                raise InputError(f"{src}: missing table [{t}]")
+        sp, sd = data["stop"], data["study"]
+        _toml.check_keys(sp, _STOP_KEYS, src, "[stop]")
+        _toml.check_keys(sd, {"rpm", "phase_deg", "a_max", "arc"}, src, "[study]")
+        stop = _stop_from_table(sp, f"{src}: [stop]")
+
+        def span(key: str, lo: float, hi: float) -> Array:
+            if key not in sd:
+                raise InputError(f"{src}: [study]: missing key {key!r}")
+            v = sd[key]
+            ok = (
+                isinstance(v, list)
+                and len(v) == 3
+                and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+                and isinstance(v[2], int)
+                and v[2] >= 1
+                and all(math.isfinite(x) and lo < x <= hi for x in v[:2])
+            )
+            if not ok:
+                raise InputError(
+                    f"{src}: [study]: {key} = {v!r} must be [from, to, count], from and to "
+                    f"in ({lo:g}, {hi:g}] and a whole count ≥ 1"
+                )
+            return np.linspace(float(v[0]), float(v[1]), int(v[2]))
+
+        rpm = span("rpm", 0.0, 1e6)
+        phase = span("phase_deg", 0.0, 360.0)
+        if "a_max" not in sd:
+            raise InputError(f"{src}: [study]: missing key 'a_max'")
+        try:
+            a_max = positive("a_max", sd["a_max"], "[m]")
+        except InputError as e:
+            raise InputError(f"{src}: [study]: {e}") from None
+        arc = None
+        if "arc" in sd:
+            v = sd["arc"]
+            if not (isinstance(v, list) and len(v) == 2 and all(isinstance(x, str) for x in v)):
+                raise InputError(f"{src}: [study]: arc = {v!r} must be two event names")
+            arc = (v[0], v[1])
+        name = sp.get("name", "")
+        if not isinstance(name, str):
+            raise InputError(f"{src}: [stop]: name = {name!r} must be a string")
+        return cls(stop, rpm, phase, a_max, arc, name)

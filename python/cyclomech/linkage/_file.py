@@ -1,0 +1,130 @@
+"""The linkage file format: the table of :meth:`Linkage.to_dict` and
+:meth:`Linkage.from_dict` (TOML layout), its keys, and the ``[linkage]`` table of a
+TOML file (:meth:`Linkage.from_toml`, :meth:`Linkage.to_toml`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from .. import _toml
+from .._errors import InputError
+
+if TYPE_CHECKING:
+    from ._linkage import Linkage
+
+_LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengths", "sliders"}
+
+
+def linkage_table(lk: Linkage) -> dict[str, Any]:
+    """The table :meth:`Linkage.to_dict` returns.
+
+    >>> import cyclomech as cm
+    >>> from cyclomech.linkage._file import linkage_table
+    >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
+    >>> linkage_table(lk)["points"]
+    {'A': [0.0, 0.0], 'B': [1.0, 0.0]}
+    """
+    out: dict[str, Any] = {}
+    if lk.name is not None:
+        out["name"] = lk.name
+    out["points"] = {n: list(xy) for n, xy in lk._points.items()}
+    out["links"] = [list(ln) for ln in lk._links]
+    out["ground"] = sorted(lk._ground)
+    out["driver"] = list(lk._driver)
+    if lk.output is not None:
+        out["output"] = lk.output
+    if lk._lengths:
+        out["lengths"] = [{"joints": list(k), "length": v} for k, v in lk._lengths.items()]
+    if lk._sliders:
+        out["sliders"] = {
+            p: [{kind: list(arg)} for kind, arg in guides] for p, guides in lk._sliders.items()
+        }
+    return out
+
+
+def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where: str) -> Linkage:
+    """What :meth:`Linkage.from_dict` does: check ``table``'s keys, read its
+    lengths and sliders and build a ``cls``; errors name ``source`` and ``where``."""
+    _toml.check_keys(table, _LINKAGE_KEYS, source, where)
+    for req in ("points", "links", "ground", "driver"):
+        if req not in table:
+            raise InputError(f"{source}: {where}: missing key {req!r}")
+    try:
+        lengths = {}
+        items = table.get("lengths", [])
+        if not isinstance(items, list):
+            raise InputError(
+                f"lengths = {items!r} must be an array of tables "
+                "[{joints = [a, b], length = …}, …]"
+            )
+        for i, item in enumerate(items, 1):
+            _toml.check_keys(item, {"joints", "length"}, None, f"lengths #{i}")
+            joints = item.get("joints")
+            if not (isinstance(joints, list) and len(joints) == 2):
+                raise InputError(f"lengths #{i}: joints must be [a, b]; got {joints!r}")
+            lengths[(joints[0], joints[1])] = item.get("length")
+        sliders: dict[str, Any] = {}
+        guides_of = table.get("sliders", {})
+        if not isinstance(guides_of, Mapping):
+            raise InputError(
+                f"sliders = {guides_of!r} must be a table: point = {{ground = [dx, dy]}} "
+                "or {link = [b, c]}, or a list of two guides"
+            )
+        for p, spec in guides_of.items():
+            specs = spec if isinstance(spec, list) else [spec]
+            guides = []
+            for g in specs:
+                if not (isinstance(g, Mapping) and len(g) == 1 and set(g) <= {"ground", "link"}):
+                    raise InputError(
+                        f"sliders.{p} = {spec!r}: a guide is {{ground = [dx, dy]}} or "
+                        "{link = [b, c]}, or a list of two guides"
+                    )
+                ((kind, arg),) = g.items()
+                guides.append((kind, tuple(arg) if isinstance(arg, list) else arg))
+            sliders[p] = guides
+        driver = table["driver"]
+        return cls(
+            table["points"],
+            table["links"],
+            table["ground"],
+            tuple(driver) if isinstance(driver, list) else driver,
+            lengths=lengths or None,
+            sliders=sliders or None,
+            name=table.get("name"),
+            output=table.get("output"),
+        )
+    except InputError as e:
+        raise InputError(f"{source}: {where}: {e}") from None
+
+
+def read_toml(cls: type[Linkage], path: str | Path) -> Linkage:
+    """What :meth:`Linkage.from_toml` does: the ``[linkage]`` table of a TOML file."""
+    data, source = _toml.load(path)
+    _toml.check_keys(data, {"linkage"}, source, "top level")
+    if "linkage" not in data:
+        raise InputError(f"{source}: no [linkage] table")
+    return cls.from_dict(data["linkage"], source)
+
+
+def write_toml(lk: Linkage, path: str | Path | None) -> str:
+    """What :meth:`Linkage.to_toml` does: the TOML text, written to ``path`` if given."""
+    table = lk.to_dict()
+    points = table.pop("points")
+    lengths = table.pop("lengths", [])
+    sliders = table.pop("sliders", {})
+    lines = ["[linkage]"]
+    lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in table.items()]
+    lines += ["", "[linkage.points]"]
+    lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in points.items()]
+    for item in lengths:
+        lines += ["", "[[linkage.lengths]]"]
+        lines += [f"{k} = {_toml.value(v)}" for k, v in item.items()]
+    if sliders:
+        lines += ["", "[linkage.sliders]"]
+        lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in sliders.items()]
+    text = "\n".join(lines) + "\n"
+    if path is not None:
+        Path(path).write_text(text, encoding="utf-8")
+    return text

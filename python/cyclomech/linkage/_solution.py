@@ -1,0 +1,138 @@
+"""A solved linkage (:class:`LinkageSolution`): positions, velocity and
+acceleration analogs of its points over a crank-angle grid."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from .._errors import InputError
+
+__all__ = ["LinkageSolution"]
+
+
+@dataclass(frozen=True)
+class LinkageSolution:
+    """Positions and analogs of the solved points over a crank-angle grid.
+
+    ``xy``, ``vel`` = d xy/dφ and ``acc`` = d² xy/dφ² have shape (N, M, 2), the
+    points in the order of ``names``; for a :func:`solve_geometries` over K geometries they
+    have shape (K, N, M, 2) and the flags (K, N). Lengths in metres, φ the absolute
+    crank angle [rad]. ``vel`` and ``acc`` are None when solved with
+    ``analogs=False``.
+
+    Flags, one per angle: ``ok`` is False where the mechanism cannot be assembled
+    (its points NaN there); ``singular`` is True at a dead centre of a group, where
+    the analogs are infinite (NaN); ``branch_change`` is True where the pose of a
+    class III group is not continuous with the one solved before it.
+
+    Class III groups are walked from the drawn pose outwards, the short way: an
+    angle is first moved by whole turns into half a turn of the drawn angle (θ and
+    θ + 2πn are one crank position and get one pose). The walk follows the drawn
+    branch while Newton from its predictor stays near it and no group's Jacobian
+    determinant changes sign. Where the branch ends (a fold, or the mechanism stops
+    assembling) the walk does not jump silently: each later angle is re-acquired by
+    the seed's bracketing, on the drawn assembly mode (the determinant's sign at
+    the drawn pose) nearest the last pose; the first angle re-acquired is flagged
+    ``branch_change``, angles where nothing assembles are ``ok = False``.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.linkage import presets
+    >>> lk = presets.burg_trimmer()
+    >>> sol = lk.solve(np.radians([170.0, 170.0 + 360.0]))
+    >>> bool(np.allclose(sol["E"][0], sol["E"][1], atol=1e-12)), sol.branch_change.tolist()
+    (True, [False, False])
+    """
+
+    angles: npt.NDArray[np.float64]
+    names: tuple[str, ...]
+    xy: npt.NDArray[np.float64]
+    vel: npt.NDArray[np.float64] | None
+    acc: npt.NDArray[np.float64] | None
+    ok: npt.NDArray[np.bool_]
+    singular: npt.NDArray[np.bool_]
+    branch_change: npt.NDArray[np.bool_]
+
+    def index(self, name: str) -> int:
+        """Column of point ``name`` in ``xy``.
+
+        >>> import cyclomech as cm
+        >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
+        >>> lk.solve([0.0]).index("B")
+        1
+        """
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise InputError(
+                f"no point {name!r} in this solution; its points are {', '.join(self.names)}"
+            ) from None
+
+    def __getitem__(self, name: str) -> npt.NDArray[np.float64]:
+        """Positions of one point, shape (N, 2) (or (K, N, 2) for K geometries) [m]."""
+        return self.xy[..., self.index(name), :]
+
+    def _analogs(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        if self.vel is None or self.acc is None:
+            raise InputError("this solution has no analogs: solve with analogs=True")
+        return self.vel, self.acc
+
+    def link_angle(
+        self, a: str, b: str
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Angle of the line a→b [rad] and its first and second analogs [rad/rad, rad/rad²].
+
+        θ = atan2(d), θ' = d × d' / |d|², θ'' = d × d'' / |d|² − 2 (d·d')(d × d') / |d|⁴,
+        with d = b − a; vectorised over the grid.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
+        >>> theta, dtheta, ddtheta = lk.solve([0.0, 0.5]).link_angle("A", "B")
+        >>> np.round(theta, 12).tolist(), np.round(dtheta, 12).tolist()
+        ([0.0, 0.5], [1.0, 1.0])
+        """
+        vel, acc = self._analogs()
+        i, j = self.index(a), self.index(b)
+        d = self.xy[..., j, :] - self.xy[..., i, :]
+        dv = vel[..., j, :] - vel[..., i, :]
+        da = acc[..., j, :] - acc[..., i, :]
+        n2 = d[..., 0] ** 2 + d[..., 1] ** 2
+        cross_v = d[..., 0] * dv[..., 1] - d[..., 1] * dv[..., 0]
+        cross_a = d[..., 0] * da[..., 1] - d[..., 1] * da[..., 0]
+        dot_v = d[..., 0] * dv[..., 0] + d[..., 1] * dv[..., 1]
+        theta = np.arctan2(d[..., 1], d[..., 0])
+        return theta, cross_v / n2, cross_a / n2 - 2.0 * dot_v * cross_v / n2**2
+
+    def stroke(self, point: str) -> float:
+        """Stroke of point ``point`` [m]: the largest distance between two of its
+        positions over the angles where the linkage is assembled (the diameter of
+        its path), over the vertices of the path's convex hull; a straight path's
+        extent along its line. NaN where it is assembled at no angle. One
+        geometry's solution (not a :func:`solve_geometries` one).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> lk = cm.Linkage({"A": (0, 0), "B": (0.1, 0)}, [("A", "B")], ["A"], ("A", "B"))
+        >>> round(lk.solve(np.radians(np.arange(0.0, 360.0, 1.0))).stroke("B"), 12)
+        0.2
+        """
+        if self.xy.ndim != 3:
+            raise InputError(
+                f"stroke of a sweep's solution (shape {self.xy.shape}): solve one geometry"
+            )
+        xy = self.xy[self.ok, self.index(point)]
+        if not len(xy):
+            return math.nan
+        from scipy.spatial import ConvexHull, QhullError
+
+        try:
+            pts = xy[ConvexHull(xy).vertices]
+        except (QhullError, ValueError):  # on one line (a slider), or too few points
+            centred = xy - xy.mean(axis=0)
+            axis = np.linalg.svd(centred, full_matrices=False)[2][0]
+            along = centred @ axis
+            return float(along.max() - along.min())
+        d = pts[:, None, :] - pts[None, :, :]
+        return float(np.sqrt((d**2).sum(axis=2)).max())

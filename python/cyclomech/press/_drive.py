@@ -1,0 +1,279 @@
+"""The press drive (:class:`GearLeverPress`): its kinematics and working-stroke
+criteria for one design, from the Rust kernel, and the names of the criteria and
+status codes."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _core
+from .._arrays import finite_number, float_array, threads_arg
+from .._errors import InputError
+
+__all__ = ["CRITERIA", "SAMPLES", "STATUS", "GearLeverPress", "PressCriteria", "PressKinematics"]
+
+
+#: Names of the criteria, in the kernel's column order.
+CRITERIA: tuple[str, ...] = tuple(_core.press_criteria_names())
+
+
+#: Meaning of the status codes of a design.
+STATUS = {
+    0: "ok",
+    1: "the rod cannot reach the guide somewhere in the turn",
+    2: "the slider moves back up during the working stroke",
+    3: "the working stroke exceeds the nominal stroke",
+    4: "re-contacts: the slider meets the blank, backs off above it and comes down on it again "
+    "before BDC",
+}
+
+
+#: Carrier angles sampled per turn when criteria are computed.
+SAMPLES = 360
+
+
+_AXES = ("R", "r", "d", "L", "phi0")
+
+
+@dataclass(frozen=True)
+class PressKinematics:
+    """The drive over a grid of α [rad] (from BDC against the motion).
+
+    ``s`` = Π(α) [m], ``ds`` = Π' [m/rad], ``dds`` = Π'' [m/rad²], shape (N,);
+    ``centre`` (planet centre), ``pin`` (rod pin) and ``slider`` (N, 2) [m] in
+    the frame of the guide gear's centre; ``ok`` is False where the rod cannot
+    reach the guide (NaN there; centre and pin are still given).
+    """
+
+    alpha: npt.NDArray[np.float64]
+    s: npt.NDArray[np.float64]
+    ds: npt.NDArray[np.float64]
+    dds: npt.NDArray[np.float64]
+    centre: npt.NDArray[np.float64]
+    pin: npt.NDArray[np.float64]
+    slider: npt.NDArray[np.float64]
+    ok: npt.NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class PressCriteria:
+    """Working-stroke criteria of one design at crank speed ``omega`` [rad/s].
+
+    Lengths [m], speeds [m/s], accelerations [m/s²], angles [rad]; ``torque`` is
+    the largest Π' over the working stroke [m] (crank torque per newton of
+    constant deformation force); ``theta_bdc`` the carrier angle of BDC. ``status``
+    says why a design fails (``ok`` False: its criteria are NaN, except for a
+    slider that moves back up during the working stroke, which keeps them).
+
+    The working stroke starts at the *first contact*: coming down from TDC, the first
+    α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that then backs
+    off above S_p (by more than 1e-9 of the stroke) and comes down on the blank again
+    before BDC *re-contacts* (status 4, :data:`STATUS`); one that moves back up without
+    leaving the blank has status 2. Both keep their criteria (from the first contact)
+    and fail (``ok`` False): design grids mark them and :func:`optimize` drops them. S_p is
+    watched from TDC down to BDC only, the blank taken to be in place from TDC: a
+    slider that also dips below S_p on its way up (two strokes a turn; about 1 % of
+    i = 3 designs, near φ0 = 60°) is not flagged for it.
+
+    >>> import math, cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.028, L=0.46, phi0=math.radians(56))
+    >>> c = p.criteria(k_Sp=0.1, omega=2 * math.pi * 40 / 60)
+    >>> c.status[:11], round(math.degrees(c.alpha_p), 1), round(c.V_np * 1e3, 1)
+    ('re-contacts', 126.2, 57.7)
+
+    Mirror-symmetric designs (no offset, e.g. i = 3 with φ0 = π/3) have two equally
+    low BDCs or two equally high TDCs. Dead centres within 1e-12 of the stroke tie;
+    of tied BDCs the one at the smallest carrier angle in [0, 2π) is taken, of tied
+    TDCs the first reached going back from that BDC, so every way of writing φ0
+    gives the same criteria (and :meth:`GearLeverPress.solve` counts α from the same
+    BDC).
+    """
+
+    S_n: float
+    S_p: float
+    alpha_p: float
+    V_np: float
+    V_cp: float
+    V_pmax: float
+    J_max: float
+    torque: float
+    k_Sp: float
+    k_Vp: float
+    k_Vmax: float
+    k_M: float
+    k_J: float
+    theta_bdc: float
+    omega: float
+    status: str
+
+    @property
+    def ok(self) -> bool:
+        """True when the design works over the whole turn and the working stroke."""
+        return self.status == STATUS[0]
+
+    def as_dict(self) -> dict[str, float | str]:
+        """The criteria by name (for tables and JSON).
+
+        >>> import cyclomech as cm
+        >>> c = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> sorted(c.criteria(k_Sp=0.1, omega=4.0).as_dict())[:3]
+        ['J_max', 'S_n', 'S_p']
+        """
+        return {k: getattr(self, k) for k in (*CRITERIA, "omega", "status")}
+
+
+def _stroke(k_Sp: Any, working_stroke: Any) -> tuple[float | None, float | None]:
+    if (k_Sp is None) == (working_stroke is None):
+        raise InputError(
+            "give exactly one of k_Sp (working stroke as a fraction of the nominal stroke) "
+            "and working_stroke (S_p [m])"
+        )
+    if k_Sp is not None:
+        k = finite_number("k_Sp", k_Sp, "(a fraction of the nominal stroke)")
+        if not 0 < k <= 1:
+            raise InputError(f"k_Sp = {k_Sp!r} must lie in (0, 1] (S_p/S_n)")
+        return k, None
+    s = finite_number("working_stroke", working_stroke, "[m]")
+    if s <= 0:
+        raise InputError(f"working_stroke = {working_stroke!r} must be > 0 [m]")
+    return None, s
+
+
+def _omega(omega: Any) -> float:
+    w = finite_number("omega", omega, "[rad/s]")
+    if w <= 0:
+        raise InputError(f"omega = {omega!r} must be a positive crank speed [rad/s]")
+    return w
+
+
+def _samples(samples: Any) -> int:
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer):
+        raise InputError(f"samples must be an integer; got {samples!r}")
+    if not 8 <= samples <= 1_000_000:
+        raise InputError(f"samples = {samples} must be between 8 and 1000000 angles per turn")
+    return int(samples)
+
+
+@dataclass(frozen=True)
+class GearLeverPress:
+    """A planetary gear-lever press drive (see the module docs for the geometry).
+
+    ``R``, ``r`` pitch radii of the guide and planet gears [m] (R/r a whole number
+    ≥ 2), ``d`` the pin's eccentricity on the planet [m] (0: crank-slider), ``L``
+    the rod [m], ``phi0`` the guide gear's setting angle [rad], ``offset`` of the
+    slider's guide from the centre [m].
+
+    >>> import numpy as np, cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.025, L=0.3, phi0=0.3)
+    >>> k = p.solve(np.radians([0.0, 90.0, 180.0]))
+    >>> k.s.round(4).tolist(), k.pin.shape
+    ([0.0, 0.0948, 0.1146], (3, 2))
+    """
+
+    R: float
+    r: float
+    d: float
+    L: float
+    phi0: float
+    offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, unit in (
+            ("R", "[m]"),
+            ("r", "[m]"),
+            ("d", "[m]"),
+            ("L", "[m]"),
+            ("phi0", "[rad]"),
+            ("offset", "[m]"),
+        ):
+            object.__setattr__(self, name, finite_number(name, getattr(self, name), unit))
+        # The kernel checks the geometry (R > r > 0, R/r whole, d ≥ 0, L > 0).
+        _core.press_check(self.R, self.r, self.d, self.L, self.phi0, self.offset)
+
+    def _row(self) -> npt.NDArray[np.float64]:
+        return np.array([[self.R, self.r, self.d, self.L, self.phi0, self.offset]])
+
+    @property
+    def ratio(self) -> int:
+        """The gear ratio i = R/r.
+
+        >>> import cyclomech as cm
+        >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0).ratio
+        3
+        """
+        return round(self.R / self.r)
+
+    def solve(self, alpha: npt.ArrayLike, *, n_threads: int | None = None) -> PressKinematics:
+        """Positions and exact transfer functions over α [rad], shape (N,).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> k = p.solve(np.array([np.pi]))      # crank-slider: TDC at α = π
+        >>> round(float(k.s[0]), 12), bool(k.ok[0])
+        (0.12, True)
+        """
+        a = float_array("alpha", alpha)
+        s, ds, dds, centre, pin, slider, ok = _core.press_solve(
+            self._row(), a, n_threads=threads_arg(n_threads)
+        )
+        return PressKinematics(a, s[0], ds[0], dds[0], centre[0], pin[0], slider[0], ok[0])
+
+    def criteria(
+        self,
+        *,
+        omega: float,
+        k_Sp: float | None = None,
+        working_stroke: float | None = None,
+        samples: int = SAMPLES,
+    ) -> PressCriteria:
+        """Working-stroke criteria at crank speed ``omega`` [rad/s], for a working
+        stroke of ``k_Sp``·S_n or ``working_stroke`` [m] (one of them).
+
+        ``samples`` carrier angles per turn bracket every extreme, which is then
+        found exactly (a root of the next derivative).
+
+        >>> import cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> c = p.criteria(k_Sp=0.1, omega=4.0)
+        >>> round(c.S_n, 9), round(c.k_Vp, 3), c.ok
+        (0.12, 1.915, True)
+        """
+        from ._grid import design_grid  # the grid module builds on this one
+
+        sw = design_grid(
+            R=self.R,
+            r=self.r,
+            d=self.d,
+            L=self.L,
+            phi0=self.phi0,
+            offset=self.offset,
+            k_Sp=k_Sp,
+            working_stroke=working_stroke,
+            omega=omega,
+            samples=samples,
+            progress=False,
+        )
+        return sw.at(())
+
+    def baseline(self) -> GearLeverPress:
+        """The plain crank-slider of this drive: the same gears, rod and guide with
+        the pin on the planet's centre (d = 0).
+
+        >>> import cyclomech as cm
+        >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.4).baseline().d
+        0.0
+        """
+        return replace(self, d=0.0, phi0=0.0)
+
+    def to_dict(self) -> dict[str, float]:
+        """The design as a plain dict [m, rad].
+
+        >>> import cyclomech as cm
+        >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.4).to_dict()["L"]
+        0.3
+        """
+        return {k: getattr(self, k) for k in (*_AXES, "offset")}

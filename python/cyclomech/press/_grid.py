@@ -1,0 +1,239 @@
+"""Criteria over a grid of designs (:func:`design_grid`, :class:`PressGrid`), computed in
+chunks by the Rust kernel with a progress bar for long grids."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _core
+from .._arrays import check_bytes, finite_number, float_array, threads_arg
+from .._errors import InputError
+from ._drive import (
+    _AXES,
+    CRITERIA,
+    SAMPLES,
+    STATUS,
+    GearLeverPress,
+    PressCriteria,
+    _omega,
+    _samples,
+    _stroke,
+)
+
+__all__ = ["PressGrid", "design_grid"]
+
+
+@dataclass(frozen=True)
+class PressGrid:
+    """Criteria over a Cartesian grid of designs (from :func:`design_grid`).
+
+    ``axes`` maps each swept parameter (in the order R, r, d, L, phi0; those given
+    as arrays) to its values; ``fixed`` holds the others. ``values[name]`` is an
+    array of the grid's shape for every name in :data:`CRITERIA`; ``status`` (same
+    shape, uint8) says why a design fails (see :data:`STATUS`); ``ok`` is status
+    0. ``sw["k_Vp"]`` is ``sw.values["k_Vp"]``.
+    """
+
+    axes: dict[str, npt.NDArray[np.float64]]
+    fixed: dict[str, float]
+    values: dict[str, npt.NDArray[np.float64]]
+    status: npt.NDArray[np.uint8]
+    omega: float
+    k_Sp: float | None
+    working_stroke: float | None
+    samples: int = SAMPLES
+    elapsed: float = field(default=0.0, compare=False)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of the grid (one entry per swept axis)."""
+        return self.status.shape
+
+    @property
+    def ok(self) -> npt.NDArray[np.bool_]:
+        """True where the design works (status 0)."""
+        return self.status == 0
+
+    def __getitem__(self, name: str) -> npt.NDArray[np.float64]:
+        try:
+            return self.values[name]
+        except KeyError:
+            raise InputError(f"no criterion {name!r}; criteria are {', '.join(CRITERIA)}") from None
+
+    def design(self, index: tuple[int, ...] | int) -> GearLeverPress:
+        """The design at a grid index.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        ...                     omega=4.0)
+        >>> sw.design(1).d
+        0.02
+        """
+        idx = np.unravel_index(index, self.shape) if np.ndim(index) == 0 else index
+        if len(idx) != len(self.axes):
+            raise InputError(f"index {index!r} must have {len(self.axes)} entries")
+        par = dict(self.fixed)
+        for (name, vals), i in zip(self.axes.items(), idx, strict=True):
+            par[name] = float(vals[i])
+        return GearLeverPress(**par)
+
+    def at(self, index: tuple[int, ...] | int) -> PressCriteria:
+        """The criteria of the design at a grid index.
+
+        >>> import cyclomech as cm
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        ...                     omega=4.0)
+        >>> round(sw.at(0).S_n, 9)
+        0.12
+        """
+        idx = np.unravel_index(index, self.shape) if np.ndim(index) == 0 else tuple(index)
+        vals = {k: float(v[idx]) for k, v in self.values.items()}
+        return PressCriteria(**vals, omega=self.omega, status=STATUS[int(self.status[idx])])
+
+    def table(self) -> dict[str, npt.NDArray[Any]]:
+        """Flat columns (one row per design): the swept parameters, the criteria and
+        the status code, for CSV or a data frame.
+
+        >>> import cyclomech as cm
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=[0.3, 0.4], phi0=0.0,
+        ...                     k_Sp=0.1, omega=4.0)
+        >>> t = sw.table(); list(t)[:3], len(t["k_Vp"])
+        (['d', 'L', 'k_Vp'], 4)
+        """
+        grids = np.meshgrid(*self.axes.values(), indexing="ij")
+        out: dict[str, npt.NDArray[Any]] = {
+            name: g.ravel() for name, g in zip(self.axes, grids, strict=True)
+        }
+        order = ("k_Vp", "k_Vmax", "k_J", "k_M")
+        for name in (*order, *(c for c in CRITERIA if c not in order)):
+            out[name] = self.values[name].ravel()
+        out["status"] = self.status.ravel()
+        return out
+
+
+class _Progress:
+    """A text progress bar on stderr, for design grids that take more than a moment."""
+
+    def __init__(self, total: int, label: str, enabled: bool) -> None:
+        self.total, self.label, self.enabled = total, label, enabled
+        self.done, self.t0 = 0, time.perf_counter()
+
+    def update(self, n: int) -> None:
+        self.done += n
+        if self.enabled:
+            frac = self.done / max(self.total, 1)
+            bar = "#" * int(30 * frac)
+            dt = time.perf_counter() - self.t0
+            sys.stderr.write(
+                f"\r{self.label} [{bar:<30}] {100 * frac:5.1f}% {self.done}/{self.total} {dt:.1f} s"
+            )
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+#: Designs per kernel call of a large design grid (about half a second on one core).
+_CHUNK = 250_000
+
+
+def design_grid(
+    *,
+    d: npt.ArrayLike,
+    L: npt.ArrayLike,
+    phi0: npt.ArrayLike,
+    R: npt.ArrayLike,
+    r: npt.ArrayLike,
+    omega: float,
+    offset: float = 0.0,
+    k_Sp: float | None = None,
+    working_stroke: float | None = None,
+    samples: int = SAMPLES,
+    n_threads: int | None = None,
+    progress: bool | None = None,
+) -> PressGrid:
+    """Criteria over the full Cartesian grid of designs, in parallel in Rust.
+
+    Each of ``R``, ``r``, ``d``, ``L`` [m] and ``phi0`` [rad] is a scalar (fixed)
+    or a 1-D array (an axis of the grid, in that order). ``omega`` [rad/s] and the
+    working stroke (``k_Sp`` or ``working_stroke`` [m]) as in
+    :meth:`GearLeverPress.criteria`. A large grid runs in chunks of 250 000
+    designs, one Rust call each, with a progress bar on stderr (``progress=None``:
+    when stderr is a terminal and the grid is large); Ctrl-C stops between chunks.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=np.linspace(0, 0.04, 5), L=[0.3, 0.4],
+    ...                     phi0=np.radians(np.arange(0, 120, 10)), k_Sp=0.1, omega=4.0)
+    >>> sw.shape, sw["k_Vp"].shape, bool(sw.ok.all())
+    ((5, 2, 12), (5, 2, 12), True)
+    """
+    k, s = _stroke(k_Sp, working_stroke)
+    w = _omega(omega)
+    m = _samples(samples)
+    off = finite_number("offset", offset, "[m]")
+    axes: dict[str, npt.NDArray[np.float64]] = {}
+    fixed: dict[str, float] = {"offset": off}
+    flat: list[npt.NDArray[np.float64]] = []
+    for name, value in zip(_AXES, (R, r, d, L, phi0), strict=True):
+        scalar = np.ndim(value) == 0
+        a = float_array(name, value, ndims=(0, 1))
+        bad = ~np.isfinite(a)
+        if bad.any():
+            i = int(np.argmax(bad.ravel()))
+            raise InputError(f"{name}[{i}] = {a.ravel()[i]!r} must be finite")
+        if not scalar:
+            if a.size == 0:
+                raise InputError(f"{name} must hold at least one value")
+            axes[name] = a
+        else:
+            fixed[name] = float(a[0])
+        flat.append(np.ascontiguousarray(a.reshape(-1)))
+    shape = tuple(len(v) for v in axes.values())
+    n = math.prod(len(f) for f in flat)
+    # Chunk along the outermost axis longer than one value.
+    lead = next((i for i, f in enumerate(flat) if len(f) > 1), 0)
+    inner = n // len(flat[lead])
+    step = max(1, _CHUNK // max(inner, 1))
+    bar = _Progress(
+        n,
+        "press.design_grid",
+        (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
+    )
+    threads = threads_arg(n_threads)
+    check_bytes(
+        f"press.design_grid's {n:,} designs", n * (8 * len(CRITERIA) + 1), "use a coarser grid"
+    )
+    table = np.empty((n, len(CRITERIA)))
+    status = np.empty(n, dtype=np.uint8)
+    t0 = time.perf_counter()
+    try:
+        for start in range(0, len(flat[lead]), step):
+            part = list(flat)
+            part[lead] = flat[lead][start : start + step]
+            lo, hi = start * inner, min(start + step, len(flat[lead])) * inner
+            _core.press_sweep(
+                *part,
+                table[lo:hi],
+                status[lo:hi],
+                offset=off,
+                k_sp=k,
+                working_stroke=s,
+                omega=w,
+                samples=m,
+                n_threads=threads,
+            )
+            bar.update(hi - lo)
+    finally:
+        bar.close()
+    values = {c: table[:, j].reshape(shape) for j, c in enumerate(CRITERIA)}
+    st = status.reshape(shape)
+    return PressGrid(axes, fixed, values, st, w, k, s, m, elapsed=time.perf_counter() - t0)

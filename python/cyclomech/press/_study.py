@@ -1,0 +1,154 @@
+"""The press file (:class:`PressStudy`): one design, its working stroke and speed,
+and optionally a design grid with limits for :func:`optimize`."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._errors import InputError
+from .._units import RAD_PER_S_PER_RPM
+from ._drive import CRITERIA, GearLeverPress, _stroke
+
+__all__ = ["PressStudy"]
+
+
+@dataclass(frozen=True)
+class PressStudy:
+    """A press file: one design, its working stroke and speed, and optionally a
+    design grid with limits for :func:`optimize` (read with :meth:`from_toml`).
+
+    The file::
+
+        [press]
+        name = "extrusion press"     # optional
+        R = 0.09                     # guide gear pitch radius [m]
+        r = 0.03                     # planet pitch radius [m] (R/r whole)
+        d = 0.025                    # pin eccentricity [m]
+        L = 0.30                     # rod [m]
+        phi0_deg = 17.0              # guide gear setting angle [°]
+        offset = 0.0                 # optional, guide offset [m]
+
+        [working]
+        k_Sp = 0.1                   # or working_stroke = 0.012 [m]
+        rpm = 40.0                   # crank speed [rpm]
+
+        [sweep]                      # optional: a grid of (d, L, φ0), [from, to, count]
+        d = [0.0, 0.04, 41]
+        L = [0.25, 0.5, 26]
+        phi0_deg = [0.0, 118.0, 60]
+
+        [limits]                     # optional upper bounds on criteria (SI units)
+        V_np = 0.05
+    """
+
+    press: GearLeverPress
+    rpm: float
+    k_Sp: float | None = None
+    working_stroke: float | None = None
+    grid: dict[str, npt.NDArray[np.float64]] | None = None
+    limits: dict[str, float] = field(default_factory=dict)
+    name: str = ""
+
+    @property
+    def omega(self) -> float:
+        """Crank speed [rad/s].
+
+        >>> import cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0)
+        >>> round(cm.press.PressStudy(p, rpm=60.0, k_Sp=0.1).omega, 6)
+        6.283185
+        """
+        return self.rpm * RAD_PER_S_PER_RPM
+
+    @classmethod
+    def from_toml(cls, path: str | Any) -> PressStudy:
+        """Read a press file; errors name the file, the table and the key.
+
+        >>> import cyclomech as cm, pathlib, tempfile
+        >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.toml"
+        >>> _ = f.write_text('[press]\\nR = 0.09\\nr = 0.03\\nd = 0.02\\nL = 0.3\\n'
+        ...                  'phi0_deg = 15\\n[working]\\nk_Sp = 0.1\\nrpm = 40\\n')
+        >>> st = cm.press.PressStudy.from_toml(f)
+        >>> round(st.press.phi0, 6), st.grid is None
+        (0.261799, True)
+        """
+        from .. import _toml
+
+        data, src = _toml.load(path)
+        _toml.check_keys(data, {"press", "working", "sweep", "limits"}, src, "the file")
+        for t in ("press", "working"):
+            if t not in data:
+                raise InputError(f"{src}: missing table [{t}]")
+        pt, wt = data["press"], data["working"]
+        _toml.check_keys(pt, {"name", "R", "r", "d", "L", "phi0_deg", "offset"}, src, "[press]")
+        _toml.check_keys(wt, {"k_Sp", "working_stroke", "rpm"}, src, "[working]")
+
+        def num(table: Mapping[str, Any], where: str, key: str, default: Any = None) -> float:
+            if key not in table:
+                if default is not None:
+                    return float(default)
+                raise InputError(f"{src}: {where}: missing key {key!r}")
+            v = table[key]
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+                raise InputError(f"{src}: {where}: {key} = {v!r} must be a finite number")
+            return float(v)
+
+        try:
+            press = GearLeverPress(
+                R=num(pt, "[press]", "R"),
+                r=num(pt, "[press]", "r"),
+                d=num(pt, "[press]", "d"),
+                L=num(pt, "[press]", "L"),
+                phi0=math.radians(num(pt, "[press]", "phi0_deg")),
+                offset=num(pt, "[press]", "offset", 0.0),
+            )
+        except InputError as e:
+            raise InputError(f"{src}: [press]: {e}") from None
+        rpm = num(wt, "[working]", "rpm")
+        if rpm <= 0:
+            raise InputError(f"{src}: [working]: rpm = {rpm!r} must be > 0")
+        k = num(wt, "[working]", "k_Sp") if "k_Sp" in wt else None
+        s = num(wt, "[working]", "working_stroke") if "working_stroke" in wt else None
+        try:
+            _stroke(k, s)
+        except InputError as e:
+            raise InputError(f"{src}: [working]: {e}") from None
+        grid = None
+        if "sweep" in data:
+            st = data["sweep"]
+            _toml.check_keys(st, {"d", "L", "phi0_deg"}, src, "[sweep]")
+            grid = {}
+            for key, name, scale in (("d", "d", 1.0), ("L", "L", 1.0), ("phi0_deg", "phi0", None)):
+                if key not in st:
+                    grid[name] = np.array([getattr(press, name)])
+                    continue
+                v = st[key]
+                ok = (
+                    isinstance(v, list)
+                    and len(v) == 3
+                    and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+                    and isinstance(v[2], int)
+                    and v[2] >= 1
+                    and all(math.isfinite(x) for x in v)
+                )
+                if not ok:
+                    raise InputError(
+                        f"{src}: [sweep]: {key} = {v!r} must be [from, to, count] "
+                        "(two numbers and a whole count ≥ 1)"
+                    )
+                vals = np.linspace(float(v[0]), float(v[1]), int(v[2]))
+                grid[name] = vals if scale else np.radians(vals)
+        limits: dict[str, float] = {}
+        if "limits" in data:
+            _toml.check_keys(data["limits"], set(CRITERIA), src, "[limits]")
+            limits = {k_: num(data["limits"], "[limits]", k_) for k_ in data["limits"]}
+        name = pt.get("name", "")
+        if not isinstance(name, str):
+            raise InputError(f"{src}: [press]: name = {name!r} must be a string")
+        return cls(press, rpm, k, s, grid, limits, name)
