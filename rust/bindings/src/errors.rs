@@ -5,13 +5,13 @@
 //! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
 //! itself a `ValueError`.
 
-use cyclomech_core::duhamel::DuhamelError;
+use cyclomech_core::cyclogram::ScheduleError;
+use cyclomech_core::impact::DuhamelError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
-use cyclomech_core::pareto::ParetoError;
+use cyclomech_core::press::ParetoError;
 use cyclomech_core::press::PressError;
-use cyclomech_core::schedule::ScheduleError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;

@@ -2,8 +2,8 @@
 //! piecewise-linear force), first rebounds, and the link on its stop.
 
 // Aliased: the Python function `duhamel` takes the module's name.
-use cyclomech_core::duhamel as kernel;
-use cyclomech_core::duhamel::{
+use cyclomech_core::impact as kernel;
+use cyclomech_core::impact::{
     Cases, Contact, ContactHistory, DuhamelError, Oscillator, MAX_EVENTS,
 };
 use numpy::{

@@ -1,8 +1,7 @@
 //! Bindings of the linkage domain: a compiled program, solved over angle grids,
 //! one geometry or many.
 
-use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step};
-use cyclomech_core::triad::Triad;
+use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step, Triad};
 use numpy::ndarray::{ArrayView1, Axis};
 use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;

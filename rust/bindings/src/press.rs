@@ -1,6 +1,5 @@
 //! Bindings of the press domain: gear-lever drive kinematics, criteria, sweeps.
 
-use cyclomech_core::pareto;
 use cyclomech_core::press::{self, Design, Grid, KinOut, PressError, Spec, Stroke, CRITERIA};
 use numpy::ndarray::IxDyn;
 use numpy::{
@@ -234,6 +233,6 @@ pub fn pareto_mask<'py>(
     let flat = points
         .as_slice()
         .map_err(|_| bad(py, "points must be C-contiguous".into()))?;
-    let mask = run(py, "pareto_mask", || pareto::pareto_mask(flat, m))?;
+    let mask = run(py, "pareto_mask", || press::pareto_mask(flat, m))?;
     Ok(PyArray1::from_vec(py, mask))
 }

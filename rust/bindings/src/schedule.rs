@@ -1,9 +1,8 @@
 //! Bindings of the schedule domain: longest path, event graphs, cycle ratios,
 //! difference constraints.
 
-use cyclomech_core::cycle_ratio::{self, SpeedLimit};
+use cyclomech_core::cyclogram::{self, ScheduleError, SpeedLimit};
 use cyclomech_core::parallel::resolve_threads;
-use cyclomech_core::schedule::{self, ScheduleError};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
     IntoPyArray, PyArray1, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods,
@@ -60,7 +59,7 @@ fn weights_view<'a>(
 
 fn evaluate<'py>(
     py: Python<'py>,
-    g: &schedule::EventGraph,
+    g: &cyclogram::EventGraph,
     w: &[f64],
     batch: BatchShape,
     n_threads: Option<i64>,
@@ -103,12 +102,12 @@ pub fn longest_path<'py>(
         // One vector: the fused kernel (times computed during the topological sort).
         run(py, "longest_path", || resolve_threads(n_threads))?;
         let t = run(py, "longest_path", || {
-            schedule::longest_path(n_events, s, d, w)
+            cyclogram::longest_path(n_events, s, d, w)
         })?;
         return Ok(Array1::from(t).into_dyn().into_pyarray(py));
     }
     let g = run(py, "longest_path", || {
-        schedule::EventGraph::new(n_events, s, d)
+        cyclogram::EventGraph::new(n_events, s, d)
     })?;
     evaluate(py, &g, w, batch, n_threads)
 }
@@ -116,7 +115,7 @@ pub fn longest_path<'py>(
 /// The structure of an event network, analysed once (see `cyclomech.EventGraph`).
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct EventGraph {
-    graph: schedule::EventGraph,
+    graph: cyclogram::EventGraph,
 }
 
 #[pymethods]
@@ -130,7 +129,7 @@ impl EventGraph {
     ) -> PyResult<Self> {
         let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
         let graph = run(py, "EventGraph", || {
-            schedule::EventGraph::new(n_events, s, d)
+            cyclogram::EventGraph::new(n_events, s, d)
         })?;
         Ok(EventGraph { graph })
     }
@@ -255,7 +254,7 @@ pub fn max_cycle_ratio<'py>(
         slice(py, "heights", &heights)?,
     );
     let r = run(py, "max_cycle_ratio", || {
-        cycle_ratio::max_cycle_ratio(n_events, s, d, w, h)
+        cyclogram::max_cycle_ratio(n_events, s, d, w, h)
     })?;
     Ok(r.map(|c| {
         (
@@ -290,7 +289,7 @@ pub fn max_speed<'py>(
     );
     let h = slice(py, "heights", &heights)?;
     let r = run(py, "max_speed", || {
-        cycle_ratio::max_speed(n_events, s, d, a, t, h, cycle_deg)
+        cyclogram::max_speed(n_events, s, d, a, t, h, cycle_deg)
     })?;
     let arcs = |v: &[usize]| {
         v.iter()
@@ -327,13 +326,13 @@ pub fn max_difference<'py>(
         // One row runs on the calling thread, but a bad n_threads is still an error.
         run(py, "max_difference", || resolve_threads(n_threads))?;
         let (value, on_path) = run(py, "max_difference", || {
-            schedule::max_difference(n_nodes, s, d, w, source, target)
+            cyclogram::max_difference(n_nodes, s, d, w, source, target)
         })?;
         let value = value.into_pyobject(py)?.into_any();
         return Ok((value, Array1::from(on_path).into_dyn().into_pyarray(py)));
     };
     let (values, on_path) = run(py, "max_difference", || {
-        schedule::max_difference_batch(n_nodes, s, d, w, (b, e), source, target, n_threads)
+        cyclogram::max_difference_batch(n_nodes, s, d, w, (b, e), source, target, n_threads)
     })?;
     // The kernel returns exactly b·e marks; a mismatch would be a kernel bug.
     let on_path = Array2::from_shape_vec((b, e), on_path).map_err(|err| {

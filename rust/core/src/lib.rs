@@ -48,13 +48,10 @@ macro_rules! on_each_isa {
     }};
 }
 
-pub mod cycle_ratio;
-pub mod duhamel;
-pub mod geom;
+pub mod cyclogram;
+pub(crate) mod geom;
+pub mod impact;
 pub mod linkage;
 pub mod motion;
 pub mod parallel;
-pub mod pareto;
 pub mod press;
-pub mod schedule;
-pub mod triad;

@@ -20,7 +20,7 @@
 //! algebra", in the ratio form of Dasdan (2004), "Experimental analysis of the
 //! fastest optimum cycle ratio and mean algorithms".
 
-use crate::schedule::{check_finite, topological_order, validate_arcs, ScheduleError};
+use super::event_graph::{check_finite, topological_order, validate_arcs, ScheduleError};
 
 /// Degrees of main-shaft rotation per second at 1 rpm (360° · 1/60 s⁻¹).
 pub const DEG_PER_SECOND_PER_RPM: f64 = 6.0;
@@ -386,7 +386,7 @@ pub fn max_speed(
             what: "minimum durations must be 0 or at least 1e-12 seconds",
         });
     }
-    if !(cycle_deg > 0.0 && cycle_deg <= crate::schedule::MAX_ABS_VALUE) {
+    if !(cycle_deg > 0.0 && cycle_deg <= super::event_graph::MAX_ABS_VALUE) {
         return Err(ScheduleError::BadScalar {
             field: "cycle_deg",
             value: cycle_deg,

@@ -21,8 +21,8 @@
 
 use rayon::prelude::*;
 
+use super::triad::Triad;
 use crate::geom::{cross, dot, sub, V2};
-use crate::triad::Triad;
 
 /// Errors of the linkage domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -1326,7 +1326,7 @@ pub fn solve_many_into(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::triad::Triad;
+    use crate::linkage::triad::Triad;
     use proptest::prelude::*;
 
     /// Crank-rocker A(0,0)–B (crank r), B–C (coupler l2), C–D (rocker l3), D(d, 0).

@@ -1,0 +1,2 @@
+mod oscillator;
+pub use oscillator::*;

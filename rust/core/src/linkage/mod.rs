@@ -1,0 +1,4 @@
+mod solve;
+mod triad;
+pub use solve::*;
+pub use triad::Triad;

@@ -1,0 +1,2 @@
+mod law;
+pub use law::*;

@@ -1,0 +1,4 @@
+mod criteria;
+mod pareto;
+pub use criteria::*;
+pub use pareto::*;
