@@ -6,7 +6,7 @@
 //! itself a `ValueError`.
 
 use cyclomech_core::cyclogram::ScheduleError;
-use cyclomech_core::impact::DuhamelError;
+use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
@@ -72,11 +72,11 @@ impl IntoPyErr for MotionError {
     }
 }
 
-impl IntoPyErr for DuhamelError {
+impl IntoPyErr for ImpactError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
-            DuhamelError::Threads(e) => e.into_pyerr(py),
-            DuhamelError::Stalled { .. } => raise(py, "SolverError", self.to_string(), None),
+            ImpactError::Threads(e) => e.into_pyerr(py),
+            ImpactError::Stalled { .. } => raise(py, "SolverError", self.to_string(), None),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }

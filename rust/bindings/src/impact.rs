@@ -3,9 +3,7 @@
 
 // Aliased: the Python function `duhamel` takes the module's name.
 use cyclomech_core::impact as kernel;
-use cyclomech_core::impact::{
-    Cases, Contact, ContactHistory, DuhamelError, Oscillator, MAX_EVENTS,
-};
+use cyclomech_core::impact::{Cases, Contact, ContactHistory, ImpactError, Oscillator, MAX_EVENTS};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
@@ -24,7 +22,7 @@ const HINT: &str = "use fewer samples or cases at a time";
 const _: () = assert!(MAX_EVENTS == 10000);
 
 fn layout(py: Python<'_>, field: &'static str) -> PyErr {
-    DuhamelError::Layout { field }.into_pyerr(py)
+    ImpactError::Layout { field }.into_pyerr(py)
 }
 
 /// Contiguous view of a 1-D array (the Python layer passes C-contiguous arrays).
@@ -63,7 +61,7 @@ fn count(
     usize::try_from(value)
         .ok()
         .filter(|&v| v >= 1 && value <= high)
-        .ok_or_else(|| DuhamelError::Count { field, value, want }.into_pyerr(py))
+        .ok_or_else(|| ImpactError::Count { field, value, want }.into_pyerr(py))
 }
 
 fn max_events_arg(py: Python<'_>, value: i64) -> PyResult<usize> {
@@ -105,7 +103,7 @@ impl<'py> CaseArrays<'py> {
         for (field, a) in fields {
             let s = slice(py, field, a)?;
             if s.len() != b {
-                return Err(DuhamelError::Length {
+                return Err(ImpactError::Length {
                     field,
                     got: s.len(),
                     want: format!("B = {b} entries (one per row of forces)"),
@@ -215,7 +213,7 @@ fn check_columns(py: Python<'_>, columns: usize, times: usize) -> PyResult<()> {
     if columns == times {
         return Ok(());
     }
-    Err(DuhamelError::Length {
+    Err(ImpactError::Length {
         field: "forces",
         got: columns,
         want: format!("{times} columns (one per time in t)"),
