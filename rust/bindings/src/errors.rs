@@ -5,7 +5,7 @@
 //! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
 //! itself a `ValueError`.
 
-use cyclomech_core::cyclogram::ScheduleError;
+use cyclomech_core::cyclogram::CyclogramError;
 use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
@@ -40,15 +40,15 @@ pub trait IntoPyErr {
     fn into_pyerr(self, py: Python<'_>) -> PyErr;
 }
 
-impl IntoPyErr for ScheduleError {
+impl IntoPyErr for CyclogramError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         let message = self.to_string();
         match self {
-            ScheduleError::Cycle { events } | ScheduleError::ZeroHeightCycle { events } => {
+            CyclogramError::Cycle { events } | CyclogramError::ZeroHeightCycle { events } => {
                 raise(py, "CycleError", message, Some(events))
             }
-            ScheduleError::NotConverged { .. } => raise(py, "SolverError", message, None),
-            ScheduleError::Threads(e) => e.into_pyerr(py),
+            CyclogramError::NotConverged { .. } => raise(py, "SolverError", message, None),
+            CyclogramError::Threads(e) => e.into_pyerr(py),
             _ => raise(py, "InputError", message, None),
         }
     }

@@ -1,7 +1,7 @@
 //! Bindings of the schedule domain: longest path, event graphs, cycle ratios,
 //! difference constraints.
 
-use cyclomech_core::cyclogram::{self, ScheduleError, SpeedLimit};
+use cyclomech_core::cyclogram::{self, CyclogramError, SpeedLimit};
 use cyclomech_core::parallel::resolve_threads;
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
@@ -19,7 +19,7 @@ fn slice<'a, T: numpy::Element>(
     a: &'a PyReadonlyArray1<'_, T>,
 ) -> PyResult<&'a [T]> {
     a.as_slice().map_err(|_| {
-        ScheduleError::BadScalar {
+        CyclogramError::BadScalar {
             field,
             value: f64::NAN,
             what: "the array must be C-contiguous",
@@ -38,7 +38,7 @@ fn weights_view<'a>(
 ) -> PyResult<(&'a [f64], BatchShape)> {
     let shape = w.shape().to_vec();
     let flat = w.as_slice().map_err(|_| {
-        ScheduleError::BadScalar {
+        CyclogramError::BadScalar {
             field: "weights",
             value: f64::NAN,
             what: "the array must be C-contiguous",
@@ -48,7 +48,7 @@ fn weights_view<'a>(
     match shape.len() {
         1 => Ok((flat, None)),
         2 => Ok((flat, Some((shape[0], shape[1])))),
-        _ => Err(ScheduleError::WeightLength {
+        _ => Err(CyclogramError::WeightLength {
             field: "weights",
             expected: 0,
             got: shape.len(),
