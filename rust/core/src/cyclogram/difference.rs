@@ -5,7 +5,10 @@
 
 use rayon::prelude::*;
 
-use super::graph::*;
+use super::graph::{
+    all_within, check_finite, check_memory, validate_arcs, Csr, CyclogramError, MAX_ABS_VALUE,
+    MAX_SIZE, PARALLEL_MIN_WORK,
+};
 
 // ---------------------------------------------------------------------------
 // Systems of difference constraints

@@ -7,7 +7,10 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
-use super::graph::*;
+use super::graph::{
+    check_finite, check_memory, topological_order, validate_arcs, Csr, CyclogramError, LANES,
+    MAX_ABS_VALUE, PARALLEL_MIN_WORK,
+};
 
 /// The structure of an event network, analysed once and reused for any number of
 /// weight vectors.

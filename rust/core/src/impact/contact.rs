@@ -4,8 +4,8 @@ use rayon::prelude::*;
 
 use crate::parallel::{pool, resolve_threads};
 
-use super::error::*;
-use super::oscillator::*;
+use super::error::{check_times, finite, length, mode_range, param, ImpactError};
+use super::oscillator::Mode;
 use super::rebound::REBOUND_TASK;
 
 /// Events a contact history follows by default before it reports chattering.

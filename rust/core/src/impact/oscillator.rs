@@ -8,7 +8,9 @@ use rayon::prelude::*;
 use crate::geom::sin_cos;
 use crate::parallel::{pool, resolve_threads};
 
-use super::error::*;
+use super::error::{
+    check_finite, check_times, finite, length, mode_range, param, step_ok, time_error, ImpactError,
+};
 
 /// The forced oscillator: ω = `omega_n` [rad/s], ζ = `zeta`, m = `mass`.
 #[derive(Debug, Clone, Copy, PartialEq)]

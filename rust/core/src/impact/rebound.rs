@@ -5,8 +5,8 @@ use rayon::prelude::*;
 
 use crate::parallel::{pool, resolve_threads};
 
-use super::error::*;
-use super::oscillator::*;
+use super::error::{check_finite, check_times, finite, length, ImpactError};
+use super::oscillator::{sign, Cases, Mode, Oscillator, Step};
 
 /// The first extremum of q after t[0]: its time [s] (+∞ if none) and signed q.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -2,8 +2,8 @@
 
 use rayon::prelude::*;
 
-use super::model::*;
-use super::solve::*;
+use super::model::{LinkageError, Program, Request, Solution};
+use super::solve::Out;
 
 /// Caller-owned output buffers, laid out as [`Solution`]'s fields: `rows · M · 2`
 /// values for `xy` (and for `vel`, `acc` when analogs are asked for, else empty),

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use crate::geom::{cross, dot, sub, V2};
 
 use super::batch::{check_angles, check_request, Buffers, Outputs};
-use super::model::*;
+use super::model::{LinkageError, Program, Request, Solution, Step};
 
 /// A group whose determinant is below this fraction of its dimensions' product is
 /// at a dead centre.

@@ -1,6 +1,6 @@
 //! The two-period slider law of seed 003: a half law then a mirrored half law.
 
-use super::law::*;
+use super::law::{par_chunks, par_fill, Lanes, Law, MotionError};
 
 /// The two-period law: Π1 = `stroke1` at α1 = `angle1`, Π2 = `stroke` at
 /// α2 = `angle`.

@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use crate::geom::sin_cos;
 
-use super::kinematics::*;
+use super::kinematics::{cos_sin, Design, Frame, Kin, PressError, Table};
 
 /// Carrier angles sampled per turn to find dead centres and extremes, unless the
 /// caller gives its own count.
@@ -115,7 +115,7 @@ pub(super) fn wrap(x: f64) -> f64 {
 /// that does not depend on the rod length, so that a sweep computes it once per
 /// (R, r, d, φ0, offset) and reuses it for every L.
 #[derive(Default)]
-pub struct PinScan {
+pub(super) struct PinScan {
     /// Rows of the pin path in blocks of [`LANES`] samples, so that the rod scan
     /// reads whole registers: u², u·P_x', P_x'² + u·P_x'', P_y, P_y', P_y''
     /// (u = P_x − offset). The last block is padded with copies of sample 0.

@@ -261,7 +261,7 @@ fn root(
 
 /// Samples of the carrier angle for the grid scans: θ_j = 2πj/M, with cos/sin of
 /// θ_j and of −kθ_j, shared by every design of one gear ratio.
-pub struct Table {
+pub(super) struct Table {
     pub(super) ct: Vec<f64>,
     pub(super) st: Vec<f64>,
     pub(super) cb: Vec<f64>,

@@ -5,8 +5,8 @@ use rayon::prelude::*;
 
 use crate::parallel::{pool, resolve_threads};
 
-use super::criteria::*;
-use super::kinematics::*;
+use super::criteria::{criteria_with, PinScan, Spec, CRITERIA};
+use super::kinematics::{Design, PressError, Table};
 
 /// The axes of a design grid, designs in C order (R, r, d, L, φ0).
 pub struct Grid<'a> {
