@@ -35,6 +35,16 @@ fn raise(py: Python<'_>, name: &'static str, message: String, events: Option<Vec
     }
 }
 
+/// An `InternalError`: a bug in the bindings or a kernel, not in the input.
+pub fn internal(py: Python<'_>, detail: String) -> PyErr {
+    raise(
+        py,
+        "InternalError",
+        format!("internal error: {detail}"),
+        None,
+    )
+}
+
 /// Map a core error onto the Python hierarchy.
 pub trait IntoPyErr {
     fn into_pyerr(self, py: Python<'_>) -> PyErr;

@@ -6,16 +6,18 @@
 
 use pyo3::prelude::*;
 
-mod alloc;
+mod convert;
+mod cyclogram;
 mod errors;
 mod impact;
 mod linkage;
 mod motion;
 mod press;
-mod schedule;
 
 #[pymodule]
 mod _core {
+    #[pymodule_export]
+    use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
     #[pymodule_export]
     use super::impact::{
         contact_rebound_batch, contact_response, contact_sample, duhamel, duhamel_batch,
@@ -27,8 +29,6 @@ mod _core {
     use super::motion::{MotionLaw, TwoPeriodKernel};
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
-    #[pymodule_export]
-    use super::schedule::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
