@@ -33,8 +33,18 @@ mod _core {
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        // Constants the Python layer needs too: read from the core, not copied.
+        m.add("MOTION_LAWS", PyTuple::new(m.py(), LAW_NAMES)?)?;
+        let status = Status::ALL.map(Status::text);
+        m.add("PRESS_STATUS", PyTuple::new(m.py(), status)?)?;
+        m.add("RAD_PER_S_PER_RPM", units::RAD_PER_S_PER_RPM)?;
+        m.add("DEG_PER_S_PER_RPM", units::DEG_PER_S_PER_RPM)?;
         Ok(())
     }
 
     use super::*;
+    use cyclomech_core::motion::NAMES as LAW_NAMES;
+    use cyclomech_core::press::Status;
+    use cyclomech_core::units;
+    use pyo3::types::PyTuple;
 }

@@ -25,8 +25,9 @@
 //!   filtering of its optimiser.
 //!
 //! Shared by every domain: [`parallel`] (the rayon thread pools behind
-//! `n_threads=` and `CYCLOMECH_THREADS`) and the crate-private `geom` (plane
-//! vectors and the sine and cosine every kernel evaluates the same way).
+//! `n_threads=` and `CYCLOMECH_THREADS`), [`units`] (rpm to rad/s and deg/s) and
+//! the crate-private `geom` (plane vectors and the sine and cosine every kernel
+//! evaluates the same way).
 
 /// Tests only: `$body` run once per instruction set the processor has (plain
 /// scalar code, AVX2 + FMA, AVX-512), with `$s` the `pulp::Simd` of each, as
@@ -60,3 +61,4 @@ pub mod linkage;
 pub mod motion;
 pub mod parallel;
 pub mod press;
+pub mod units;

@@ -20,10 +20,9 @@
 //! algebra", in the ratio form of Dasdan (2004), "Experimental analysis of the
 //! fastest optimum cycle ratio and mean algorithms".
 
-use super::graph::{check_finite, topological_order, validate_arcs, CyclogramError};
+use crate::units::DEG_PER_S_PER_RPM;
 
-/// Degrees of main-shaft rotation per second at 1 rpm (360° · 1/60 s⁻¹).
-pub const DEG_PER_SECOND_PER_RPM: f64 = 6.0;
+use super::graph::{check_finite, topological_order, validate_arcs, CyclogramError};
 
 /// Smallest non-zero height or duration: both end up as denominators (of the
 /// cycle ratio, of the Newton step in speed), where a denormal would give inf.
@@ -410,10 +409,7 @@ pub fn max_speed(
     }
     // Degrees per rpm of each arc; the cycle with the largest of these per height
     // grows fastest with speed.
-    let slope: Vec<f64> = seconds
-        .iter()
-        .map(|&t| DEG_PER_SECOND_PER_RPM * t)
-        .collect();
+    let slope: Vec<f64> = seconds.iter().map(|&t| DEG_PER_S_PER_RPM * t).collect();
     let growth = match g.howard(&slope)? {
         Some(c) if c.ratio > 0.0 => c.ratio,
         _ => return Ok(SpeedLimit::Unlimited),

@@ -30,9 +30,7 @@ mod graph;
 #[cfg(test)]
 mod tests;
 
-pub use cycle_ratio::{
-    max_cycle_ratio, max_speed, CycleRatio, SpeedLimit, DEG_PER_SECOND_PER_RPM, MIN_DIVISOR,
-};
+pub use cycle_ratio::{max_cycle_ratio, max_speed, CycleRatio, SpeedLimit, MIN_DIVISOR};
 pub use difference::{max_difference, max_difference_batch, DIFFERENCE_RTOL};
 pub use event_graph::{longest_path, Analysis, EventGraph};
 pub use graph::{CyclogramError, MAX_ABS_VALUE, MAX_SIZE};

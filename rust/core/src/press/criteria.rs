@@ -35,6 +35,32 @@ pub enum Status {
     ReContacts = 4,
 }
 
+impl Status {
+    /// Every status, indexed by its code.
+    pub const ALL: [Status; 5] = [
+        Status::Ok,
+        Status::NoReach,
+        Status::Reverses,
+        Status::LongStroke,
+        Status::ReContacts,
+    ];
+
+    /// What the status means, as `cyclomech.press.STATUS` shows it (the Python
+    /// layer reads these texts from `cyclomech._core.PRESS_STATUS`).
+    pub const fn text(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::NoReach => "the rod cannot reach the guide somewhere in the turn",
+            Status::Reverses => "the slider moves back up during the working stroke",
+            Status::LongStroke => "the working stroke exceeds the nominal stroke",
+            Status::ReContacts => {
+                "re-contacts: the slider meets the blank, backs off above it and comes \
+                 down on it again before BDC"
+            }
+        }
+    }
+}
+
 /// Columns of the criteria rows.
 pub const CRITERIA: [&str; 14] = [
     "S_n",

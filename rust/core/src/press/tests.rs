@@ -221,3 +221,17 @@ proptest! {
         prop_assert_eq!(k.dddy, f.at(th, 3).dddy);
     }
 }
+
+/// `Status::ALL` is indexed by code (the Python layer builds `STATUS` from it), and
+/// every status has its own text.
+#[test]
+fn statuses_are_indexed_by_code_with_distinct_texts() {
+    for (code, status) in Status::ALL.iter().enumerate() {
+        assert_eq!(*status as usize, code);
+    }
+    let mut texts: Vec<&str> = Status::ALL.iter().map(|s| s.text()).collect();
+    assert_eq!(texts[0], "ok");
+    texts.sort_unstable();
+    texts.dedup();
+    assert_eq!(texts.len(), Status::ALL.len());
+}
