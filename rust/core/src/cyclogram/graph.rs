@@ -3,7 +3,8 @@
 
 //! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
 
-/// Errors of the schedule domain (event graphs, cycle ratios, speed limits).
+/// Errors of the cyclogram domain (event graphs, difference constraints, cycle ratios,
+/// speed limits).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CyclogramError {
     #[error("n_events = {value} is invalid: it must be an integer between 0 and {max}")]
