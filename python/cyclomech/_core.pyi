@@ -10,6 +10,10 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "DEG_PER_S_PER_RPM",
+    "MOTION_LAWS",
+    "PRESS_STATUS",
+    "RAD_PER_S_PER_RPM",
     "EventGraph",
     "LinkageProgram",
     "MotionLaw",
@@ -33,6 +37,19 @@ __all__ = [
 ]
 
 __version__: str
+
+# Constants the Python layer shares with the core: one copy, in Rust.
+
+#: Names of the built-in motion laws (cyclomech.motion.NAMES).
+MOTION_LAWS: tuple[str, ...]
+#: What each press status code means, indexed by code (cyclomech.press.STATUS).
+PRESS_STATUS: tuple[str, ...]
+#: Angular speed [rad/s] of a shaft turning at 1 rpm: 2π/60.
+RAD_PER_S_PER_RPM: float
+#: Angular speed [deg/s] of a shaft turning at 1 rpm: 6.
+DEG_PER_S_PER_RPM: float
+
+# cyclogram: longest paths, event graphs, cycle ratios, difference constraints.
 
 def longest_path(
     n_events: int,
@@ -95,6 +112,8 @@ class EventGraph:
     ) -> dict[str, Any]: ...
     def __reduce__(self) -> tuple[Any, ...]: ...
 
+# linkage
+
 _LinkageArrays = tuple[
     npt.NDArray[np.float64],
     npt.NDArray[np.float64] | None,
@@ -147,6 +166,8 @@ class LinkageProgram:
         n_threads: int | None = None,
     ) -> _LinkageArrays: ...
 
+# motion
+
 @final
 class MotionLaw:
     """A dimensionless law Z(x) on the unit square (rise or half law)."""
@@ -181,6 +202,8 @@ class TwoPeriodKernel:
     def eval(
         self, alpha: npt.NDArray[np.float64], order: int, *, n_threads: int | None = None
     ) -> npt.NDArray[np.float64]: ...
+
+# press
 
 def press_check(
     big_r: float, r: float, d: float, l: float, phi0: float, offset: float
@@ -218,7 +241,7 @@ def press_sweep(
 ) -> None: ...
 def pareto_mask(points: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]: ...
 
-# Stop impact (seed 000). Forces are piecewise linear between samples and held
+# impact: stops (seed 000). Forces are piecewise linear between samples and held
 # after the last one; a repeated time is a jump. Per-case arrays of the batches
 # have one entry per row of `forces`. Errors are cyclomech.InputError.
 

@@ -12,6 +12,9 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+import numpy.typing as npt
+
 from ._errors import InputError
 
 #: Deepest nesting of arrays and tables accepted [levels]: cyclomech's files need
@@ -150,3 +153,47 @@ def whole(
     if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
         raise InputError(f"{where}: {key} = {v!r} must be a whole number from {low} to {high}")
     return v
+
+
+def span(
+    table: Mapping[str, Any],
+    key: str,
+    where: str,
+    *,
+    within: tuple[float, float] | None = None,
+    most: int = 1_000_000,
+    unit: str = "",
+) -> npt.NDArray[np.float64]:
+    """The values of ``key = [from, to, count]``: ``count`` evenly spaced values
+    from ``from`` to ``to`` (``numpy.linspace``; both finite, in the half-open
+    interval ``within`` = (low, high] where given), ``count`` a whole number from 1
+    to ``most``.
+
+    >>> span({"rpm": [100, 300, 3]}, "rpm", "f.toml: [study]", within=(0, 1e6)).tolist()
+    [100.0, 200.0, 300.0]
+    >>> span({"rpm": [0, 300, 3]}, "rpm", "f.toml: [study]", within=(0, 1e6), unit="rpm")
+    ... # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: f.toml: [study]: rpm = [0, 300, 3] must be [from, to, count] ...
+    """
+    if key not in table:
+        raise InputError(f"{where}: missing key {key!r}")
+    v = table[key]
+    lo, hi = within if within is not None else (-math.inf, math.inf)
+    ok = (
+        isinstance(v, list)
+        and len(v) == 3
+        and all(is_number(x) for x in v)
+        and isinstance(v[2], int)
+        and 1 <= v[2] <= most
+        and all(math.isfinite(x) and lo < x <= hi for x in v[:2])
+    )
+    if not ok:
+        bounds = ""
+        if within is not None:
+            bounds = f" with from and to in ({lo:g}, {hi:g}]" + (f" {unit}" if unit else "")
+        raise InputError(
+            f"{where}: {key} = {v!r} must be [from, to, count]{bounds} and a whole count "
+            f"from 1 to {most}"
+        )
+    return np.linspace(float(v[0]), float(v[1]), int(v[2]))

@@ -86,20 +86,8 @@ class CamStop:
         a_max = _toml.number(table, "a_max", where, "[m]")
         if a_max <= 0:
             raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
-        phase = table.get("phase_deg", [20.0, 60.0, 5])
-        if not (
-            isinstance(phase, list)
-            and len(phase) == 3
-            and all(_toml.is_number(v) for v in phase)
-            and isinstance(phase[2], int)
-            and 1 <= phase[2] <= 50
-            and all(0 < v <= 360 for v in phase[:2])
-        ):
-            raise InputError(
-                f"{where}: phase_deg = {phase!r} must be [from, to, count] with from and to in "
-                "(0, 360] degrees and a whole count from 1 to 50"
-            )
-        grid = np.linspace(float(phase[0]), float(phase[1]), phase[2])
+        shown = {"phase_deg": table.get("phase_deg", [20.0, 60.0, 5])}
+        grid = _toml.span(shown, "phase_deg", where, within=(0.0, 360.0), most=50, unit="deg")
         return cls(name, stop, (arc[0], arc[1]), a_max, grid)
 
     # ------------------------------------------------------------- its bound

@@ -3,12 +3,9 @@ phase angles to study, and the keys of its ``[stop]`` table."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
-
-import numpy as np
 
 from .._arrays import positive
 from .._errors import InputError
@@ -123,27 +120,9 @@ class ImpactStudy:
         _toml.check_keys(sd, {"rpm", "phase_deg", "a_max", "arc"}, src, "[study]")
         stop = _stop_from_table(sp, f"{src}: [stop]")
 
-        def span(key: str, lo: float, hi: float) -> Array:
-            if key not in sd:
-                raise InputError(f"{src}: [study]: missing key {key!r}")
-            v = sd[key]
-            ok = (
-                isinstance(v, list)
-                and len(v) == 3
-                and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
-                and isinstance(v[2], int)
-                and v[2] >= 1
-                and all(math.isfinite(x) and lo < x <= hi for x in v[:2])
-            )
-            if not ok:
-                raise InputError(
-                    f"{src}: [study]: {key} = {v!r} must be [from, to, count], from and to "
-                    f"in ({lo:g}, {hi:g}] and a whole count ≥ 1"
-                )
-            return np.linspace(float(v[0]), float(v[1]), int(v[2]))
-
-        rpm = span("rpm", 0.0, 1e6)
-        phase = span("phase_deg", 0.0, 360.0)
+        at = f"{src}: [study]"
+        rpm = _toml.span(sd, "rpm", at, within=(0.0, 1e6), unit="rpm")
+        phase = _toml.span(sd, "phase_deg", at, within=(0.0, 360.0), unit="deg")
         if "a_max" not in sd:
             raise InputError(f"{src}: [study]: missing key 'a_max'")
         try:

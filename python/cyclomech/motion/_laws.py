@@ -16,14 +16,7 @@ from .._errors import InputError
 __all__ = ["NAMES", "MotionLaw", "TwoPeriodLaw", "law", "polynomial", "two_period"]
 
 #: Names of the built-in laws.
-NAMES = (
-    "cycloidal",
-    "harmonic",
-    "polynomial_345",
-    "polynomial_4567",
-    "modified_sine",
-    "modified_trapezoid",
-)
+NAMES = tuple(_core.MOTION_LAWS)
 _FORMS = ("half", "rise")
 
 

@@ -22,14 +22,7 @@ CRITERIA: tuple[str, ...] = tuple(_core.press_criteria_names())
 
 
 #: Meaning of the status codes of a design.
-STATUS = {
-    0: "ok",
-    1: "the rod cannot reach the guide somewhere in the turn",
-    2: "the slider moves back up during the working stroke",
-    3: "the working stroke exceeds the nominal stroke",
-    4: "re-contacts: the slider meets the blank, backs off above it and comes down on it again "
-    "before BDC",
-}
+STATUS = dict(enumerate(_core.PRESS_STATUS))
 
 
 #: Carrier angles sampled per turn when criteria are computed.

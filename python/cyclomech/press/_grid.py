@@ -15,6 +15,7 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import check_bytes, finite_number, float_array, threads_arg
 from .._errors import InputError
+from .._progress import progress as progress_bar
 from ._drive import (
     _AXES,
     CRITERIA,
@@ -118,30 +119,6 @@ class PressGrid:
         return out
 
 
-class _Progress:
-    """A text progress bar on stderr, for design grids that take more than a moment."""
-
-    def __init__(self, total: int, label: str, enabled: bool) -> None:
-        self.total, self.label, self.enabled = total, label, enabled
-        self.done, self.t0 = 0, time.perf_counter()
-
-    def update(self, n: int) -> None:
-        self.done += n
-        if self.enabled:
-            frac = self.done / max(self.total, 1)
-            bar = "#" * int(30 * frac)
-            dt = time.perf_counter() - self.t0
-            sys.stderr.write(
-                f"\r{self.label} [{bar:<30}] {100 * frac:5.1f}% {self.done}/{self.total} {dt:.1f} s"
-            )
-            sys.stderr.flush()
-
-    def close(self) -> None:
-        if self.enabled:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
-
-
 #: Designs per kernel call of a large design grid (about half a second on one core).
 _CHUNK = 250_000
 
@@ -203,11 +180,9 @@ def design_grid(
     lead = next((i for i, f in enumerate(flat) if len(f) > 1), 0)
     inner = n // len(flat[lead])
     step = max(1, _CHUNK // max(inner, 1))
-    bar = _Progress(
-        n,
-        "press.design_grid",
-        (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress),
-    )
+    # By default a bar only for a grid of several calls, on a terminal.
+    show = (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress)
+    bar = progress_bar(n, "press.design_grid", show)
     threads = threads_arg(n_threads)
     check_bytes(
         f"press.design_grid's {n:,} designs", n * (8 * len(CRITERIA) + 1), "use a coarser grid"

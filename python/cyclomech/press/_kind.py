@@ -15,6 +15,7 @@ from .._errors import InputError
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
+from ._study import DRIVE_KEYS, drive_from_table
 
 __all__ = ["PressMechanism"]
 
@@ -33,7 +34,7 @@ class PressMechanism(Unbounded):
 
     kind: ClassVar[str] = "press"
     keys: ClassVar[frozenset[str]] = frozenset(
-        {"kind", "R", "r", "d", "L", "phi0_deg", "offset", "k_Sp", "working_stroke", "max_V_np"}
+        DRIVE_KEYS | {"kind", "k_Sp", "working_stroke", "max_V_np"}
     )
     name: str
     press: GearLeverPress
@@ -55,15 +56,11 @@ class PressMechanism(Unbounded):
         """
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
-        _toml.require(table, ("R", "r", "d", "L", "phi0_deg"), where)
         if ("k_Sp" in table) == ("working_stroke" in table):
             raise InputError(
                 f"{where}: give one of k_Sp (a fraction of the stroke) or working_stroke [m]"
             )
-        geo = {k: _toml.number(table, k, where, "[m]") for k in ("R", "r", "d", "L")}
-        phi0 = math.radians(_toml.number(table, "phi0_deg", where, "[deg]"))
-        offset = _toml.number(table, "offset", where, "[m]") if "offset" in table else 0.0
-        press = GearLeverPress(phi0=phi0, offset=offset, **geo)
+        press = drive_from_table(table, where)
         mech = cls(
             name,
             press,

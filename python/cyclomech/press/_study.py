@@ -11,11 +11,36 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from .. import _toml
 from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import CRITERIA, GearLeverPress, _stroke
 
 __all__ = ["PressStudy"]
+
+
+#: The keys of a press drive's design in a file: [press] here, [mechanism.<name>]
+#: of kind press in a machine file.
+DRIVE_KEYS = frozenset({"R", "r", "d", "L", "phi0_deg", "offset"})
+
+
+def drive_from_table(table: Mapping[str, Any], where: str) -> GearLeverPress:
+    """The design of a table's ``R``, ``r``, ``d``, ``L`` [m], ``phi0_deg`` [deg]
+    and optional ``offset`` [m]: the one reader of a press drive, for ``cyclomech
+    press`` files and machines' press mechanisms. Errors start with ``where``.
+
+    >>> d = drive_from_table({"R": 0.09, "r": 0.03, "d": 0.02, "L": 0.3, "phi0_deg": 15}, "x")
+    >>> round(d.phi0, 6), d.offset
+    (0.261799, 0.0)
+    """
+    _toml.require(table, ("R", "r", "d", "L", "phi0_deg"), where)
+    geo = {k: _toml.number(table, k, where, "[m]") for k in ("R", "r", "d", "L")}
+    phi0 = math.radians(_toml.number(table, "phi0_deg", where, "[deg]"))
+    offset = _toml.number(table, "offset", where, "[m]") if "offset" in table else 0.0
+    try:
+        return GearLeverPress(phi0=phi0, offset=offset, **geo)
+    except InputError as e:
+        raise InputError(f"{where}: {e}") from None
 
 
 @dataclass(frozen=True)
@@ -78,7 +103,6 @@ class PressStudy:
         >>> round(st.press.phi0, 6), st.grid is None
         (0.261799, True)
         """
-        from .. import _toml
 
         data, src = _toml.load(path)
         _toml.check_keys(data, {"press", "working", "sweep", "limits"}, src, "the file")
@@ -86,7 +110,7 @@ class PressStudy:
             if t not in data:
                 raise InputError(f"{src}: missing table [{t}]")
         pt, wt = data["press"], data["working"]
-        _toml.check_keys(pt, {"name", "R", "r", "d", "L", "phi0_deg", "offset"}, src, "[press]")
+        _toml.check_keys(pt, DRIVE_KEYS | {"name"}, src, "[press]")
         _toml.check_keys(wt, {"k_Sp", "working_stroke", "rpm"}, src, "[working]")
 
         def num(table: Mapping[str, Any], where: str, key: str, default: Any = None) -> float:
@@ -99,17 +123,7 @@ class PressStudy:
                 raise InputError(f"{src}: {where}: {key} = {v!r} must be a finite number")
             return float(v)
 
-        try:
-            press = GearLeverPress(
-                R=num(pt, "[press]", "R"),
-                r=num(pt, "[press]", "r"),
-                d=num(pt, "[press]", "d"),
-                L=num(pt, "[press]", "L"),
-                phi0=math.radians(num(pt, "[press]", "phi0_deg")),
-                offset=num(pt, "[press]", "offset", 0.0),
-            )
-        except InputError as e:
-            raise InputError(f"{src}: [press]: {e}") from None
+        press = drive_from_table(pt, f"{src}: [press]")
         rpm = num(wt, "[working]", "rpm")
         if rpm <= 0:
             raise InputError(f"{src}: [working]: rpm = {rpm!r} must be > 0")
@@ -128,21 +142,7 @@ class PressStudy:
                 if key not in st:
                     grid[name] = np.array([getattr(press, name)])
                     continue
-                v = st[key]
-                ok = (
-                    isinstance(v, list)
-                    and len(v) == 3
-                    and all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
-                    and isinstance(v[2], int)
-                    and v[2] >= 1
-                    and all(math.isfinite(x) for x in v)
-                )
-                if not ok:
-                    raise InputError(
-                        f"{src}: [sweep]: {key} = {v!r} must be [from, to, count] "
-                        "(two numbers and a whole count ≥ 1)"
-                    )
-                vals = np.linspace(float(v[0]), float(v[1]), int(v[2]))
+                vals = _toml.span(st, key, f"{src}: [sweep]")
                 grid[name] = vals if scale else np.radians(vals)
         limits: dict[str, float] = {}
         if "limits" in data:

@@ -5,13 +5,13 @@
 //! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
 //! itself a `ValueError`.
 
-use cyclomech_core::duhamel::DuhamelError;
+use cyclomech_core::cyclogram::CyclogramError;
+use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
-use cyclomech_core::pareto::ParetoError;
+use cyclomech_core::press::ParetoError;
 use cyclomech_core::press::PressError;
-use cyclomech_core::schedule::ScheduleError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -35,20 +35,30 @@ fn raise(py: Python<'_>, name: &'static str, message: String, events: Option<Vec
     }
 }
 
+/// An `InternalError`: a bug in the bindings or a kernel, not in the input.
+pub fn internal(py: Python<'_>, detail: String) -> PyErr {
+    raise(
+        py,
+        "InternalError",
+        format!("internal error: {detail}"),
+        None,
+    )
+}
+
 /// Map a core error onto the Python hierarchy.
 pub trait IntoPyErr {
     fn into_pyerr(self, py: Python<'_>) -> PyErr;
 }
 
-impl IntoPyErr for ScheduleError {
+impl IntoPyErr for CyclogramError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         let message = self.to_string();
         match self {
-            ScheduleError::Cycle { events } | ScheduleError::ZeroHeightCycle { events } => {
+            CyclogramError::Cycle { events } | CyclogramError::ZeroHeightCycle { events } => {
                 raise(py, "CycleError", message, Some(events))
             }
-            ScheduleError::NotConverged { .. } => raise(py, "SolverError", message, None),
-            ScheduleError::Threads(e) => e.into_pyerr(py),
+            CyclogramError::NotConverged { .. } => raise(py, "SolverError", message, None),
+            CyclogramError::Threads(e) => e.into_pyerr(py),
             _ => raise(py, "InputError", message, None),
         }
     }
@@ -72,11 +82,11 @@ impl IntoPyErr for MotionError {
     }
 }
 
-impl IntoPyErr for DuhamelError {
+impl IntoPyErr for ImpactError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
-            DuhamelError::Threads(e) => e.into_pyerr(py),
-            DuhamelError::Stalled { .. } => raise(py, "SolverError", self.to_string(), None),
+            ImpactError::Threads(e) => e.into_pyerr(py),
+            ImpactError::Stalled { .. } => raise(py, "SolverError", self.to_string(), None),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }

@@ -2,18 +2,13 @@
 //! piecewise-linear force), first rebounds, and the link on its stop.
 
 // Aliased: the Python function `duhamel` takes the module's name.
-use cyclomech_core::duhamel as kernel;
-use cyclomech_core::duhamel::{
-    Cases, Contact, ContactHistory, DuhamelError, Oscillator, MAX_EVENTS,
-};
-use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
-    PyUntypedArrayMethods,
-};
+use cyclomech_core::impact as kernel;
+use cyclomech_core::impact::{Cases, Contact, ContactHistory, ImpactError, Oscillator, MAX_EVENTS};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::alloc;
+use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
 
 /// What to lower when an output cannot be allocated.
@@ -22,29 +17,6 @@ const HINT: &str = "use fewer samples or cases at a time";
 // The signatures spell the default out (so that it shows in Python's help and
 // the stubs); keep it the core's.
 const _: () = assert!(MAX_EVENTS == 10000);
-
-fn layout(py: Python<'_>, field: &'static str) -> PyErr {
-    DuhamelError::Layout { field }.into_pyerr(py)
-}
-
-/// Contiguous view of a 1-D array (the Python layer passes C-contiguous arrays).
-fn slice<'a>(
-    py: Python<'_>,
-    field: &'static str,
-    a: &'a PyReadonlyArray1<'_, f64>,
-) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|_| layout(py, field))
-}
-
-/// A (B, N) array as (flat row-major slice, B, N).
-fn rows<'a>(
-    py: Python<'_>,
-    field: &'static str,
-    a: &'a PyReadonlyArray2<'_, f64>,
-) -> PyResult<(&'a [f64], usize, usize)> {
-    let (b, n) = (a.shape()[0], a.shape()[1]);
-    Ok((a.as_slice().map_err(|_| layout(py, field))?, b, n))
-}
 
 /// Most contact events one history may follow: each is stored (≈ 70 bytes) and
 /// takes a few closed-form evaluations, so this bounds a call to ~100 MB and
@@ -63,7 +35,7 @@ fn count(
     usize::try_from(value)
         .ok()
         .filter(|&v| v >= 1 && value <= high)
-        .ok_or_else(|| DuhamelError::Count { field, value, want }.into_pyerr(py))
+        .ok_or_else(|| ImpactError::Count { field, value, want }.into_pyerr(py))
 }
 
 fn max_events_arg(py: Python<'_>, value: i64) -> PyResult<usize> {
@@ -78,10 +50,6 @@ fn max_events_arg(py: Python<'_>, value: i64) -> PyResult<usize> {
 
 /// Two float64 arrays of one length: (time, q) or (x, v).
 type Pair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
-
-fn internal(_: numpy::AsSliceError) -> PyErr {
-    pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous")
-}
 
 /// The per-case arrays of a batch, each of length B = the rows of `forces`.
 struct CaseArrays<'py> {
@@ -103,9 +71,9 @@ impl<'py> CaseArrays<'py> {
         ];
         let mut views = Vec::with_capacity(5);
         for (field, a) in fields {
-            let s = slice(py, field, a)?;
+            let s = ImpactError::slice(py, field, a)?;
             if s.len() != b {
-                return Err(DuhamelError::Length {
+                return Err(ImpactError::Length {
                     field,
                     got: s.len(),
                     want: format!("B = {b} entries (one per row of forces)"),
@@ -141,31 +109,31 @@ pub fn duhamel<'py>(
     v0: f64,
     with_velocity: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (ts, fs) = (slice(py, "t", &t)?, slice(py, "force", &force)?);
+    let (ts, fs) = (
+        ImpactError::slice(py, "t", &t)?,
+        ImpactError::slice(py, "force", &force)?,
+    );
     let osc = Oscillator {
         omega_n,
         zeta,
         mass,
     };
     let n = ts.len();
-    let q: Bound<PyArray1<f64>> = alloc::zeros(py, &[n], "duhamel's response", HINT)?;
+    let q: Bound<PyArray1<f64>> = convert::zeros(py, &[n], "duhamel's response", HINT)?;
     if !with_velocity {
         {
             let mut qw = q.readwrite();
-            let qs = qw.as_slice_mut().map_err(internal)?;
+            let qs = convert::output(py, &mut qw)?;
             run(py, "duhamel", || {
                 kernel::response_into(ts, fs, &osc, q0, v0, qs, None)
             })?;
         }
         return Ok(q.into_any());
     }
-    let v: Bound<PyArray1<f64>> = alloc::zeros(py, &[n], "duhamel's response", HINT)?;
+    let v: Bound<PyArray1<f64>> = convert::zeros(py, &[n], "duhamel's response", HINT)?;
     {
         let (mut qw, mut vw) = (q.readwrite(), v.readwrite());
-        let (qs, vs) = (
-            qw.as_slice_mut().map_err(internal)?,
-            vw.as_slice_mut().map_err(internal)?,
-        );
+        let (qs, vs) = (convert::output(py, &mut qw)?, convert::output(py, &mut vw)?);
         run(py, "duhamel", || {
             kernel::response_into(ts, fs, &osc, q0, v0, qs, Some(vs))
         })?;
@@ -189,8 +157,8 @@ pub fn duhamel_batch<'py>(
     v0: PyReadonlyArray1<'py, f64>,
     n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let ts = slice(py, "t", &t)?;
-    let (fs, b, n) = rows(py, "forces", &forces)?;
+    let ts = ImpactError::slice(py, "t", &t)?;
+    let (fs, b, n) = ImpactError::rows(py, "forces", &forces)?;
     check_columns(py, n, ts.len())?;
     let arrays = CaseArrays {
         omega_n,
@@ -200,10 +168,10 @@ pub fn duhamel_batch<'py>(
         v0,
     };
     let cases = arrays.view(py, b)?;
-    let out = alloc::zeros(py, &[b, n], "duhamel_batch's responses", HINT)?;
+    let out = convert::zeros(py, &[b, n], "duhamel_batch's responses", HINT)?;
     {
         let mut ow = out.readwrite();
-        let os = ow.as_slice_mut().map_err(internal)?;
+        let os = convert::output(py, &mut ow)?;
         run(py, "duhamel_batch", || {
             kernel::response_batch_into(ts, fs, &cases, n_threads, os)
         })?;
@@ -215,7 +183,7 @@ fn check_columns(py: Python<'_>, columns: usize, times: usize) -> PyResult<()> {
     if columns == times {
         return Ok(());
     }
-    Err(DuhamelError::Length {
+    Err(ImpactError::Length {
         field: "forces",
         got: columns,
         want: format!("{times} columns (one per time in t)"),
@@ -242,8 +210,8 @@ pub fn first_rebound_batch<'py>(
     maximum: bool,
     n_threads: Option<i64>,
 ) -> PyResult<Pair<'py>> {
-    let ts = slice(py, "t", &t)?;
-    let (fs, b, k) = rows(py, "forces", &forces)?;
+    let ts = ImpactError::slice(py, "t", &t)?;
+    let (fs, b, k) = ImpactError::rows(py, "forces", &forces)?;
     check_columns(py, k, ts.len())?;
     let arrays = CaseArrays {
         omega_n,
@@ -255,15 +223,12 @@ pub fn first_rebound_batch<'py>(
     let cases = arrays.view(py, b)?;
     let what = "first_rebound_batch's results";
     let (time, q) = (
-        alloc::zeros(py, &[b], what, HINT)?,
-        alloc::zeros(py, &[b], what, HINT)?,
+        convert::zeros(py, &[b], what, HINT)?,
+        convert::zeros(py, &[b], what, HINT)?,
     );
     {
         let (mut tw, mut qw) = (time.readwrite(), q.readwrite());
-        let (tsl, qsl) = (
-            tw.as_slice_mut().map_err(internal)?,
-            qw.as_slice_mut().map_err(internal)?,
-        );
+        let (tsl, qsl) = (convert::output(py, &mut tw)?, convert::output(py, &mut qw)?);
         run(py, "first_rebound_batch", || {
             kernel::first_rebound_batch_into(ts, fs, &cases, maximum, n_threads, tsl, qsl)
         })?;
@@ -355,19 +320,16 @@ pub fn contact_sample<'py>(
         zeta_contact,
     };
     let max_events = max_events_arg(py, max_events)?;
-    let ts = slice(py, "times", &times)?;
+    let ts = ImpactError::slice(py, "times", &times)?;
     let n = ts.len();
     let what = "contact_sample's results";
     let (x, v) = (
-        alloc::zeros(py, &[n], what, HINT)?,
-        alloc::zeros(py, &[n], what, HINT)?,
+        convert::zeros(py, &[n], what, HINT)?,
+        convert::zeros(py, &[n], what, HINT)?,
     );
     {
         let (mut xw, mut vw) = (x.readwrite(), v.readwrite());
-        let (xs, vs) = (
-            xw.as_slice_mut().map_err(internal)?,
-            vw.as_slice_mut().map_err(internal)?,
-        );
+        let (xs, vs) = (convert::output(py, &mut xw)?, convert::output(py, &mut vw)?);
         run(py, "contact_sample", || {
             kernel::contact_sample_into(&stop, x0, v0, ts, max_events, xs, vs)
         })?;
@@ -399,12 +361,12 @@ pub fn contact_rebound_batch<'py>(
         zeta_free,
         zeta_contact,
     };
-    let vs = slice(py, "v0", &v0)?;
+    let vs = ImpactError::slice(py, "v0", &v0)?;
     let x0 = vec![0.0; vs.len()];
-    let out = alloc::zeros(py, &[vs.len()], "contact_rebound_batch's results", HINT)?;
+    let out = convert::zeros(py, &[vs.len()], "contact_rebound_batch's results", HINT)?;
     {
         let mut ow = out.readwrite();
-        let os = ow.as_slice_mut().map_err(internal)?;
+        let os = convert::output(py, &mut ow)?;
         run(py, "contact_rebound_batch", || {
             kernel::contact_rebound_batch_into(&stop, &x0, vs, n_threads, os)
         })?;

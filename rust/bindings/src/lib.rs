@@ -6,16 +6,18 @@
 
 use pyo3::prelude::*;
 
-mod alloc;
+mod convert;
+mod cyclogram;
 mod errors;
 mod impact;
 mod linkage;
 mod motion;
 mod press;
-mod schedule;
 
 #[pymodule]
 mod _core {
+    #[pymodule_export]
+    use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
     #[pymodule_export]
     use super::impact::{
         contact_rebound_batch, contact_response, contact_sample, duhamel, duhamel_batch,
@@ -27,14 +29,22 @@ mod _core {
     use super::motion::{MotionLaw, TwoPeriodKernel};
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
-    #[pymodule_export]
-    use super::schedule::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        // Constants the Python layer needs too: read from the core, not copied.
+        m.add("MOTION_LAWS", PyTuple::new(m.py(), LAW_NAMES)?)?;
+        let status = Status::ALL.map(Status::text);
+        m.add("PRESS_STATUS", PyTuple::new(m.py(), status)?)?;
+        m.add("RAD_PER_S_PER_RPM", units::RAD_PER_S_PER_RPM)?;
+        m.add("DEG_PER_S_PER_RPM", units::DEG_PER_S_PER_RPM)?;
         Ok(())
     }
 
     use super::*;
+    use cyclomech_core::motion::NAMES as LAW_NAMES;
+    use cyclomech_core::press::Status;
+    use cyclomech_core::units;
+    use pyo3::types::PyTuple;
 }

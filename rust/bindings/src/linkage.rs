@@ -1,13 +1,12 @@
 //! Bindings of the linkage domain: a compiled program, solved over angle grids,
 //! one geometry or many.
 
-use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step};
-use cyclomech_core::triad::Triad;
+use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step, Triad};
 use numpy::ndarray::{ArrayView1, Axis};
 use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
-use crate::alloc;
+use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
 
 /// Columns of a compiled step's index and dimension rows.
@@ -132,7 +131,7 @@ fn allocate<'py>(
     let points: Vec<usize> = lead.iter().copied().chain([m, 2]).collect();
     let copies = if analogs { 3 } else { 1 };
     let f = std::mem::size_of::<f64>();
-    let bytes = alloc::nbytes(&[(&points, copies * f), (lead, 3)]);
+    let bytes = convert::nbytes(&[(&points, copies * f), (lead, 3)]);
     let shape = points
         .iter()
         .map(|d| d.to_string())
@@ -140,9 +139,9 @@ fn allocate<'py>(
         .join(" × ");
     let what = format!("the linkage's results ({copies} arrays of {shape} float64 and 3 flags)");
     let hint = "solve fewer angles, points or geometries at a time";
-    alloc::check(py, &what, bytes, hint)?;
-    let big = || alloc::zeros(py, &points, &what, hint);
-    let flag = || alloc::zeros(py, lead, &what, hint);
+    convert::check(py, &what, bytes, hint)?;
+    let big = || convert::zeros(py, &points, &what, hint);
+    let flag = || convert::zeros(py, lead, &what, hint);
     let (vel, acc) = if analogs {
         (Some(big()?), Some(big()?))
     } else {
@@ -156,8 +155,6 @@ fn fill<'py, F>(py: Python<'py>, name: &'static str, out: &Arrays<'py>, kernel: 
 where
     F: FnOnce(Outputs<'_>) -> Result<(), LinkageError> + Send,
 {
-    let internal =
-        |_| pyo3::exceptions::PyRuntimeError::new_err("internal error: array not contiguous");
     let mut xy = out.0.readwrite();
     let mut vel = out.1.as_ref().map(|a| a.readwrite());
     let mut acc = out.2.as_ref().map(|a| a.readwrite());
@@ -165,18 +162,18 @@ where
         (out.3.readwrite(), out.4.readwrite(), out.5.readwrite());
     let (mut no_vel, mut no_acc): ([f64; 0], [f64; 0]) = ([], []);
     let outputs = Outputs {
-        xy: xy.as_slice_mut().map_err(internal)?,
+        xy: convert::output(py, &mut xy)?,
         vel: match vel.as_mut() {
-            Some(v) => v.as_slice_mut().map_err(internal)?,
+            Some(v) => convert::output(py, v)?,
             None => &mut no_vel,
         },
         acc: match acc.as_mut() {
-            Some(v) => v.as_slice_mut().map_err(internal)?,
+            Some(v) => convert::output(py, v)?,
             None => &mut no_acc,
         },
-        ok: ok.as_slice_mut().map_err(internal)?,
-        singular: singular.as_slice_mut().map_err(internal)?,
-        branch: branch.as_slice_mut().map_err(internal)?,
+        ok: convert::output(py, &mut ok)?,
+        singular: convert::output(py, &mut singular)?,
+        branch: convert::output(py, &mut branch)?,
     };
     run(py, name, || kernel(outputs))
 }
@@ -188,12 +185,6 @@ fn request(py: Python<'_>, points: PyReadonlyArray1<'_, i64>, analogs: bool) -> 
         .map(|&k| usize::try_from(k).map_err(|_| bad(py, format!("point index {k} out of range"))))
         .collect::<PyResult<Vec<usize>>>()?;
     Ok(Request { points, analogs })
-}
-
-fn contiguous<'a>(py: Python<'_>, angles: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
-    angles
-        .as_slice()
-        .map_err(|_| bad(py, "angles must be C-contiguous".into()))
 }
 
 #[pymethods]
@@ -271,7 +262,7 @@ impl LinkageProgram {
         analogs: bool,
         n_threads: Option<i64>,
     ) -> PyResult<Arrays<'py>> {
-        let a = contiguous(py, &angles)?;
+        let a = LinkageError::slice(py, "angles", &angles)?;
         let req = request(py, points, analogs)?;
         let out = allocate(py, &[a.len()], req.points.len(), analogs)?;
         fill(py, "Linkage.solve", &out, |o| {
@@ -312,7 +303,7 @@ impl LinkageProgram {
                 ..self.program.clone()
             });
         }
-        let a = contiguous(py, &angles)?;
+        let a = LinkageError::slice(py, "angles", &angles)?;
         let req = request(py, points, analogs)?;
         let out = allocate(py, &[k, a.len()], req.points.len(), analogs)?;
         fill(py, "linkage.sweep", &out, |o| {

@@ -4,21 +4,8 @@ use cyclomech_core::motion::{Law, MotionError, TwoPeriod};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
-use crate::alloc;
+use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
-
-fn contiguous<'a>(
-    py: Python<'_>,
-    field: &str,
-    a: &'a PyReadonlyArray1<'_, f64>,
-) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|_| {
-        MotionError::BadLaw {
-            what: format!("{field} must be C-contiguous"),
-        }
-        .into_pyerr(py)
-    })
-}
 
 /// A derivative order from Python (any int) as 0..=3, or a typed error (a
 /// negative int would otherwise be pyo3's OverflowError).
@@ -44,12 +31,10 @@ fn evaluate<'py, F>(
 where
     F: FnOnce(&mut [f64]) -> Result<(), MotionError> + Send,
 {
-    let out = alloc::zeros(py, &[x.len()], kernel, "evaluate fewer points at a time")?;
+    let out = convert::zeros(py, &[x.len()], kernel, "evaluate fewer points at a time")?;
     {
         let mut rw = out.readwrite();
-        let slice = rw
-            .as_slice_mut()
-            .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous"))?;
+        let slice = convert::output(py, &mut rw)?;
         run(py, kernel, || f(slice))?;
     }
     Ok(out)
@@ -78,7 +63,7 @@ impl MotionLaw {
     /// A user polynomial Z = Σ c_k x^k, checked as a rise or a half law.
     #[staticmethod]
     fn polynomial(py: Python<'_>, coeffs: PyReadonlyArray1<'_, f64>, rise: bool) -> PyResult<Self> {
-        let c = contiguous(py, "coeffs", &coeffs)?;
+        let c = MotionError::slice(py, "coeffs", &coeffs)?;
         Law::polynomial(c, rise)
             .map(|law| MotionLaw { law })
             .map_err(|e| e.into_pyerr(py))
@@ -112,7 +97,7 @@ impl MotionLaw {
         n_threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let order = order_arg(py, order)?;
-        let xs = contiguous(py, "x", &x)?;
+        let xs = MotionError::slice(py, "x", &x)?;
         evaluate(py, "MotionLaw.eval", xs, |out| {
             self.law.eval_into(xs, order, n_threads, out)
         })
@@ -158,7 +143,7 @@ impl TwoPeriodKernel {
         n_threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let order = order_arg(py, order)?;
-        let a = contiguous(py, "alpha", &alpha)?;
+        let a = MotionError::slice(py, "alpha", &alpha)?;
         evaluate(py, "TwoPeriodLaw.eval", a, |out| {
             self.law.eval_into(a, order, n_threads, out)
         })

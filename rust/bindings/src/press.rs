@@ -1,6 +1,5 @@
 //! Bindings of the press domain: gear-lever drive kinematics, criteria, sweeps.
 
-use cyclomech_core::pareto;
 use cyclomech_core::press::{self, Design, Grid, KinOut, PressError, Spec, Stroke, CRITERIA};
 use numpy::ndarray::IxDyn;
 use numpy::{
@@ -9,20 +8,11 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
-use crate::alloc;
+use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
 
 fn bad(py: Python<'_>, why: String) -> PyErr {
     PressError::BadSpec(why).into_pyerr(py)
-}
-
-fn contiguous<'a>(
-    py: Python<'_>,
-    field: &str,
-    a: &'a PyReadonlyArray1<'_, f64>,
-) -> PyResult<&'a [f64]> {
-    a.as_slice()
-        .map_err(|_| bad(py, format!("{field} must be C-contiguous")))
 }
 
 fn spec(
@@ -116,13 +106,13 @@ pub fn press_solve<'py>(
             offset: r[5],
         })
         .collect();
-    let a = contiguous(py, "alpha", &alpha)?;
+    let a = PressError::slice(py, "alpha", &alpha)?;
     let (k, n) = (list.len(), a.len());
     let what = format!("the press's kinematics ({k} designs × {n} angles × 9 float64 and 1 flag)");
     let hint = "solve fewer designs or angles at a time";
     let f8 = std::mem::size_of::<f64>();
-    alloc::check(py, &what, alloc::nbytes(&[(&[k, n], 9 * f8 + 1)]), hint)?;
-    let f = |shape: &[usize]| alloc::zeros::<f64, IxDyn>(py, shape, &what, hint);
+    convert::check(py, &what, convert::nbytes(&[(&[k, n], 9 * f8 + 1)]), hint)?;
+    let f = |shape: &[usize]| convert::zeros::<f64, IxDyn>(py, shape, &what, hint);
     let out = (
         f(&[k, n])?,
         f(&[k, n])?,
@@ -130,21 +120,20 @@ pub fn press_solve<'py>(
         f(&[k, n, 2])?,
         f(&[k, n, 2])?,
         f(&[k, n, 2])?,
-        alloc::zeros::<bool, IxDyn>(py, &[k, n], &what, hint)?,
+        convert::zeros::<bool, IxDyn>(py, &[k, n], &what, hint)?,
     );
     {
-        let internal = |_| pyo3::exceptions::PyRuntimeError::new_err("internal: not contiguous");
         let (mut s, mut ds, mut dds) = (out.0.readwrite(), out.1.readwrite(), out.2.readwrite());
         let (mut c, mut p, mut sl) = (out.3.readwrite(), out.4.readwrite(), out.5.readwrite());
         let mut ok = out.6.readwrite();
         let kin = KinOut {
-            s: s.as_slice_mut().map_err(internal)?,
-            ds: ds.as_slice_mut().map_err(internal)?,
-            dds: dds.as_slice_mut().map_err(internal)?,
-            centre: c.as_slice_mut().map_err(internal)?,
-            pin: p.as_slice_mut().map_err(internal)?,
-            slider: sl.as_slice_mut().map_err(internal)?,
-            ok: ok.as_slice_mut().map_err(internal)?,
+            s: convert::output(py, &mut s)?,
+            ds: convert::output(py, &mut ds)?,
+            dds: convert::output(py, &mut dds)?,
+            centre: convert::output(py, &mut c)?,
+            pin: convert::output(py, &mut p)?,
+            slider: convert::output(py, &mut sl)?,
+            ok: convert::output(py, &mut ok)?,
         };
         run(py, "GearLeverPress.solve", || {
             press::solve_into(&list, a, n_threads, kin)
@@ -177,11 +166,11 @@ pub fn press_sweep<'py>(
     n_threads: Option<i64>,
 ) -> PyResult<()> {
     let grid = Grid {
-        big_r: contiguous(py, "R", &big_r)?,
-        r: contiguous(py, "r", &r)?,
-        d: contiguous(py, "d", &d)?,
-        l: contiguous(py, "L", &l)?,
-        phi0: contiguous(py, "phi0", &phi0)?,
+        big_r: PressError::slice(py, "R", &big_r)?,
+        r: PressError::slice(py, "r", &r)?,
+        d: PressError::slice(py, "d", &d)?,
+        l: PressError::slice(py, "L", &l)?,
+        phi0: PressError::slice(py, "phi0", &phi0)?,
         offset,
     };
     let spec = spec(py, k_sp, working_stroke, omega, samples)?;
@@ -212,12 +201,8 @@ pub fn press_sweep<'py>(
             ),
         ));
     }
-    let rs = rows
-        .as_slice_mut()
-        .map_err(|_| bad(py, "rows must be C-contiguous".into()))?;
-    let ss = status
-        .as_slice_mut()
-        .map_err(|_| bad(py, "status must be C-contiguous".into()))?;
+    let rs = PressError::slice_mut(py, "rows", &mut rows)?;
+    let ss = PressError::slice_mut(py, "status", &mut status)?;
     run(py, "press.sweep", || {
         press::sweep_into(&grid, &spec, n_threads, rs, ss)
     })
@@ -231,9 +216,7 @@ pub fn pareto_mask<'py>(
     points: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<Bound<'py, PyArray1<bool>>> {
     let m = points.shape()[1];
-    let flat = points
-        .as_slice()
-        .map_err(|_| bad(py, "points must be C-contiguous".into()))?;
-    let mask = run(py, "pareto_mask", || pareto::pareto_mask(flat, m))?;
+    let flat = PressError::slice(py, "points", &points)?;
+    let mask = run(py, "pareto_mask", || press::pareto_mask(flat, m))?;
     Ok(PyArray1::from_vec(py, mask))
 }

@@ -1,4 +1,4 @@
-//! Plane vectors as `[f64; 2]`, shared by the linkage kernels.
+//! Plane vectors as `[f64; 2]` and the sine and cosine the kernels share.
 
 /// A point or vector in the plane [m].
 pub type V2 = [f64; 2];

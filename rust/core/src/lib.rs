@@ -5,23 +5,29 @@
 //! only converts arrays and maps these errors to `cyclomech.CyclomechError`
 //! subclasses. No kernel may panic on user input: inputs are validated up front.
 //!
-//! Domains:
-//! * [`schedule`] — network cyclograms: topological order, earliest/latest event
-//!   times, slack, critical arcs, batches of weight vectors.
-//! * [`cycle_ratio`] — maximum cycle ratio (Howard's policy iteration) and the
-//!   highest main-shaft speed at which a cyclic schedule fits in its cycle.
-//! * [`duhamel`] — stop impact (seed 000): the exact forced-oscillator recurrence
+//! Domains, one folder each (the Python package of the same name calls it), each
+//! with a `mod.rs` door that re-exports its public kernels and keeps its helpers
+//! private to the domain:
+//! * [`cyclogram`] — network cyclograms: topological order, earliest/latest event
+//!   times, slack, critical arcs, batches of weight vectors; systems of difference
+//!   constraints (the cyclogram LP); the maximum cycle ratio (Howard's policy
+//!   iteration) and the highest main-shaft speed at which a cyclic schedule fits
+//!   in its cycle.
+//! * [`impact`] — stops (seed 000): the exact forced-oscillator recurrence
 //!   (Duhamel integral of a piecewise-linear force), the first rebound after a
 //!   pulse, and the link on its stop as an exact event-driven unilateral contact.
 //! * [`linkage`] — planar linkages over crank-angle grids by Assur groups:
 //!   positions, velocity and acceleration analogs, assembly and dead-centre flags.
 //! * [`motion`] — dimensionless motion laws (rise and half forms) and the
 //!   two-period slider law of seed 003.
-//! * [`pareto`] — non-dominated filtering of objective vectors.
 //! * [`press`] — the planetary gear-lever press drive: kinematics over α grids,
-//!   working-stroke criteria, design grids in parallel.
-//! * [`parallel`] — the rayon thread pools behind `n_threads=` and
-//!   `CYCLOMECH_THREADS`.
+//!   working-stroke criteria, design grids in parallel, and the non-dominated
+//!   filtering of its optimiser.
+//!
+//! Shared by every domain: [`parallel`] (the rayon thread pools behind
+//! `n_threads=` and `CYCLOMECH_THREADS`), [`units`] (rpm to rad/s and deg/s) and
+//! the crate-private `geom` (plane vectors and the sine and cosine every kernel
+//! evaluates the same way).
 
 /// Tests only: `$body` run once per instruction set the processor has (plain
 /// scalar code, AVX2 + FMA, AVX-512), with `$s` the `pulp::Simd` of each, as
@@ -48,13 +54,11 @@ macro_rules! on_each_isa {
     }};
 }
 
-pub mod cycle_ratio;
-pub mod duhamel;
-pub mod geom;
+pub mod cyclogram;
+pub(crate) mod geom;
+pub mod impact;
 pub mod linkage;
 pub mod motion;
 pub mod parallel;
-pub mod pareto;
 pub mod press;
-pub mod schedule;
-pub mod triad;
+pub mod units;

@@ -1,33 +1,17 @@
-//! Bindings of the schedule domain: longest path, event graphs, cycle ratios,
+//! Bindings of the cyclogram domain: longest path, event graphs, cycle ratios,
 //! difference constraints.
 
-use cyclomech_core::cycle_ratio::{self, SpeedLimit};
+use cyclomech_core::cyclogram::{self, CyclogramError, SpeedLimit};
 use cyclomech_core::parallel::resolve_threads;
-use cyclomech_core::schedule::{self, ScheduleError};
-use numpy::ndarray::{Array1, Array2};
+use numpy::ndarray::Array1;
 use numpy::{
     IntoPyArray, PyArray1, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
-
-/// Contiguous view of a 1-D array (the Python layer passes C-contiguous arrays).
-fn slice<'a, T: numpy::Element>(
-    py: Python<'_>,
-    field: &'static str,
-    a: &'a PyReadonlyArray1<'_, T>,
-) -> PyResult<&'a [T]> {
-    a.as_slice().map_err(|_| {
-        ScheduleError::BadScalar {
-            field,
-            value: f64::NAN,
-            what: "the array must be C-contiguous",
-        }
-        .into_pyerr(py)
-    })
-}
 
 /// (B, E) of a batch of weight vectors; `None` for a single (E,) vector.
 type BatchShape = Option<(usize, usize)>;
@@ -38,18 +22,11 @@ fn weights_view<'a>(
     w: &'a PyReadonlyArrayDyn<'_, f64>,
 ) -> PyResult<(&'a [f64], BatchShape)> {
     let shape = w.shape().to_vec();
-    let flat = w.as_slice().map_err(|_| {
-        ScheduleError::BadScalar {
-            field: "weights",
-            value: f64::NAN,
-            what: "the array must be C-contiguous",
-        }
-        .into_pyerr(py)
-    })?;
+    let flat = CyclogramError::slice(py, "weights", w)?;
     match shape.len() {
         1 => Ok((flat, None)),
         2 => Ok((flat, Some((shape[0], shape[1])))),
-        _ => Err(ScheduleError::WeightLength {
+        _ => Err(CyclogramError::WeightLength {
             field: "weights",
             expected: 0,
             got: shape.len(),
@@ -60,7 +37,7 @@ fn weights_view<'a>(
 
 fn evaluate<'py>(
     py: Python<'py>,
-    g: &schedule::EventGraph,
+    g: &cyclogram::EventGraph,
     w: &[f64],
     batch: BatchShape,
     n_threads: Option<i64>,
@@ -76,11 +53,7 @@ fn evaluate<'py>(
         Some((b, e)) => {
             let t = run(py, "longest_path", || g.earliest_batch(w, b, e, n_threads))?;
             // The kernel returns exactly b·n values; a mismatch would be a kernel bug.
-            let a = Array2::from_shape_vec((b, n), t).map_err(|e| {
-                pyo3::exceptions::PyRuntimeError::new_err(format!(
-                    "internal error: batch result shape: {e}"
-                ))
-            })?;
+            let a = convert::shaped(py, b, n, t)?;
             Ok(a.into_dyn().into_pyarray(py))
         }
     }
@@ -97,18 +70,21 @@ pub fn longest_path<'py>(
     weights: PyReadonlyArrayDyn<'py, f64>,
     n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (s, d) = (
+        CyclogramError::slice(py, "src", &src)?,
+        CyclogramError::slice(py, "dst", &dst)?,
+    );
     let (w, batch) = weights_view(py, &weights)?;
     if batch.is_none() {
         // One vector: the fused kernel (times computed during the topological sort).
         run(py, "longest_path", || resolve_threads(n_threads))?;
         let t = run(py, "longest_path", || {
-            schedule::longest_path(n_events, s, d, w)
+            cyclogram::longest_path(n_events, s, d, w)
         })?;
         return Ok(Array1::from(t).into_dyn().into_pyarray(py));
     }
     let g = run(py, "longest_path", || {
-        schedule::EventGraph::new(n_events, s, d)
+        cyclogram::EventGraph::new(n_events, s, d)
     })?;
     evaluate(py, &g, w, batch, n_threads)
 }
@@ -116,7 +92,7 @@ pub fn longest_path<'py>(
 /// The structure of an event network, analysed once (see `cyclomech.EventGraph`).
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct EventGraph {
-    graph: schedule::EventGraph,
+    graph: cyclogram::EventGraph,
 }
 
 #[pymethods]
@@ -128,9 +104,12 @@ impl EventGraph {
         src: PyReadonlyArray1<'_, i64>,
         dst: PyReadonlyArray1<'_, i64>,
     ) -> PyResult<Self> {
-        let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+        let (s, d) = (
+            CyclogramError::slice(py, "src", &src)?,
+            CyclogramError::slice(py, "dst", &dst)?,
+        );
         let graph = run(py, "EventGraph", || {
-            schedule::EventGraph::new(n_events, s, d)
+            cyclogram::EventGraph::new(n_events, s, d)
         })?;
         Ok(EventGraph { graph })
     }
@@ -192,7 +171,7 @@ impl EventGraph {
         weights: PyReadonlyArray1<'py, f64>,
         horizon: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let w = slice(py, "weights", &weights)?;
+        let w = CyclogramError::slice(py, "weights", &weights)?;
         let t = run(py, "latest", || self.graph.latest(w, horizon))?;
         Ok(t.into_pyarray(py))
     }
@@ -204,7 +183,7 @@ impl EventGraph {
         weights: PyReadonlyArray1<'py, f64>,
         horizon: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let w = slice(py, "weights", &weights)?;
+        let w = CyclogramError::slice(py, "weights", &weights)?;
         let a = run(py, "analyze", || self.graph.analyze(w, horizon))?;
         let d = PyDict::new(py);
         d.set_item("earliest", a.earliest.into_pyarray(py))?;
@@ -249,13 +228,16 @@ pub fn max_cycle_ratio<'py>(
     weights: PyReadonlyArray1<'py, f64>,
     heights: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Option<(f64, Bound<'py, PyArray1<i64>>)>> {
-    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (s, d) = (
+        CyclogramError::slice(py, "src", &src)?,
+        CyclogramError::slice(py, "dst", &dst)?,
+    );
     let (w, h) = (
-        slice(py, "weights", &weights)?,
-        slice(py, "heights", &heights)?,
+        CyclogramError::slice(py, "weights", &weights)?,
+        CyclogramError::slice(py, "heights", &heights)?,
     );
     let r = run(py, "max_cycle_ratio", || {
-        cycle_ratio::max_cycle_ratio(n_events, s, d, w, h)
+        cyclogram::max_cycle_ratio(n_events, s, d, w, h)
     })?;
     Ok(r.map(|c| {
         (
@@ -283,14 +265,17 @@ pub fn max_speed<'py>(
     heights: PyReadonlyArray1<'py, f64>,
     cycle_deg: f64,
 ) -> PyResult<(&'static str, f64, f64, Bound<'py, PyArray1<i64>>)> {
-    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
-    let (a, t) = (
-        slice(py, "angle_deg", &angle_deg)?,
-        slice(py, "seconds", &seconds)?,
+    let (s, d) = (
+        CyclogramError::slice(py, "src", &src)?,
+        CyclogramError::slice(py, "dst", &dst)?,
     );
-    let h = slice(py, "heights", &heights)?;
+    let (a, t) = (
+        CyclogramError::slice(py, "angle_deg", &angle_deg)?,
+        CyclogramError::slice(py, "seconds", &seconds)?,
+    );
+    let h = CyclogramError::slice(py, "heights", &heights)?;
     let r = run(py, "max_speed", || {
-        cycle_ratio::max_speed(n_events, s, d, a, t, h, cycle_deg)
+        cyclogram::max_speed(n_events, s, d, a, t, h, cycle_deg)
     })?;
     let arcs = |v: &[usize]| {
         v.iter()
@@ -321,26 +306,25 @@ pub fn max_difference<'py>(
     target: i64,
     n_threads: Option<i64>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyArrayDyn<bool>>)> {
-    let (s, d) = (slice(py, "src", &src)?, slice(py, "dst", &dst)?);
+    let (s, d) = (
+        CyclogramError::slice(py, "src", &src)?,
+        CyclogramError::slice(py, "dst", &dst)?,
+    );
     let (w, batch) = weights_view(py, &weights)?;
     let Some((b, e)) = batch else {
         // One row runs on the calling thread, but a bad n_threads is still an error.
         run(py, "max_difference", || resolve_threads(n_threads))?;
         let (value, on_path) = run(py, "max_difference", || {
-            schedule::max_difference(n_nodes, s, d, w, source, target)
+            cyclogram::max_difference(n_nodes, s, d, w, source, target)
         })?;
         let value = value.into_pyobject(py)?.into_any();
         return Ok((value, Array1::from(on_path).into_dyn().into_pyarray(py)));
     };
     let (values, on_path) = run(py, "max_difference", || {
-        schedule::max_difference_batch(n_nodes, s, d, w, (b, e), source, target, n_threads)
+        cyclogram::max_difference_batch(n_nodes, s, d, w, (b, e), source, target, n_threads)
     })?;
     // The kernel returns exactly b·e marks; a mismatch would be a kernel bug.
-    let on_path = Array2::from_shape_vec((b, e), on_path).map_err(|err| {
-        pyo3::exceptions::PyRuntimeError::new_err(format!(
-            "internal error: batch result shape: {err}"
-        ))
-    })?;
+    let on_path = convert::shaped(py, b, e, on_path)?;
     Ok((
         values.into_pyarray(py).into_any(),
         on_path.into_dyn().into_pyarray(py),

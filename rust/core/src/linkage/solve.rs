@@ -1,221 +1,12 @@
-//! Position, velocity and acceleration analysis of planar linkages over crank-angle
-//! grids, by Assur groups solved in order (seed 001).
-//!
-//! A linkage is compiled (in Python, from its topology) into a [`Program`]: fixed
-//! points, a driver (crank) and a sequence of steps, each placing one point from
-//! points already known. This module holds the class II step in closed form:
-//!
-//! * [`Step::Circles`] — point `p` at distance `ra` from known `a` and `rb` from
-//!   known `b`, on the side `sign` of the line a→b. This is the RRR dyad (two
-//!   binary links meeting at `p`) and also a further joint of a rigid body two of
-//!   whose joints are known (a coupler point). With `d = |b − a|`,
-//!   `x = (ra² − rb² + d²) / 2d`, `h² = ra² − x²`; `h² < 0` is the seed's R² < 0:
-//!   the mechanism cannot be assembled at that angle.
-//!
-//! The analogs (derivatives with respect to the crank angle φ) come from the
-//! differentiated loop equations, exactly: `(p − a)·(p' − a') = 0` and
-//! `(p − b)·(p' − b') = 0` give a 2×2 system for `p'`, and differentiating once
-//! more, `(p − a)·(p'' − a'') + |p' − a'|² = 0` and the same for b, give `p''` with
-//! the same matrix. Its determinant `(p − a) × (p − b)` vanishes at a dead centre,
-//! where the analogs are infinite: such angles are flagged `singular`.
+//! One program over an angle grid: class II steps in closed form across SIMD
+//! lanes, class III groups followed along a path from the drawn pose.
 
 use rayon::prelude::*;
 
 use crate::geom::{cross, dot, sub, V2};
-use crate::triad::Triad;
 
-/// Errors of the linkage domain.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum LinkageError {
-    #[error("{field}[{position}] = {value} is not a finite number; {what}")]
-    NonFinite {
-        field: &'static str,
-        position: usize,
-        value: f64,
-        what: &'static str,
-    },
-    #[error("step {step} of the program is invalid: {why}")]
-    BadProgram { step: usize, why: String },
-    #[error("the solution would need {bytes} bytes of memory, more than this machine can allocate; solve fewer angles, geometries or points at a time")]
-    Memory { bytes: usize },
-    #[error(transparent)]
-    Threads(#[from] crate::parallel::ThreadsError),
-}
-
-/// The straight guide of a prismatic joint.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Line {
-    /// Fixed to the frame: through `o` along `u` (any non-zero length).
-    Fixed { o: V2, u: V2 },
-    /// Along a moving link: through its joints `b` and `c`.
-    Through { b: usize, c: usize },
-}
-
-/// A line at one pose: a point `o` on it, its direction `e` (not normalised), and
-/// their first and second analogs.
-struct LineAt {
-    o: V2,
-    e: V2,
-    o1: V2,
-    e1: V2,
-    o2: V2,
-    e2: V2,
-}
-
-impl Line {
-    fn reads(&self) -> Vec<usize> {
-        match *self {
-            Line::Fixed { .. } => vec![],
-            Line::Through { b, c } => vec![b, c],
-        }
-    }
-
-    fn dims(&self) -> Vec<f64> {
-        match *self {
-            Line::Fixed { o, u } => {
-                let n = dot(u, u).sqrt();
-                // o may be anywhere (0 included); only u must be a direction.
-                vec![1.0 + o[0].abs() + o[1].abs(), n]
-            }
-            Line::Through { .. } => vec![],
-        }
-    }
-
-    fn at<const AN: bool>(&self, xy: &[V2], vel: &[V2], acc: &[V2]) -> LineAt {
-        const Z: V2 = [0.0, 0.0];
-        match *self {
-            Line::Fixed { o, u } => LineAt {
-                o,
-                e: u,
-                o1: Z,
-                e1: Z,
-                o2: Z,
-                e2: Z,
-            },
-            Line::Through { b, c } => {
-                let (o1, e1, o2, e2) = if AN {
-                    (vel[b], sub(vel[c], vel[b]), acc[b], sub(acc[c], acc[b]))
-                } else {
-                    (Z, Z, Z, Z)
-                };
-                LineAt {
-                    o: xy[b],
-                    e: sub(xy[c], xy[b]),
-                    o1,
-                    e1,
-                    o2,
-                    e2,
-                }
-            }
-        }
-    }
-}
-
-impl LineAt {
-    /// Normal row of `(p − o) × e = 0`: n·x = x × e.
-    fn normal(&self) -> V2 {
-        [self.e[1], -self.e[0]]
-    }
-
-    /// Right-hand side of n·p' for the first analog.
-    fn rhs_v(&self, p: V2) -> f64 {
-        dot(self.normal(), self.o1) - cross(sub(p, self.o), self.e1)
-    }
-
-    /// Right-hand side of n·p'' for the second analog, given p'.
-    fn rhs_a(&self, p: V2, v: V2) -> f64 {
-        dot(self.normal(), self.o2)
-            - 2.0 * cross(sub(v, self.o1), self.e1)
-            - cross(sub(p, self.o), self.e2)
-    }
-}
-
-/// One step of a compiled linkage.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Step {
-    /// A class III group: the ternary link `joints` held by binary links to `anchors`.
-    Triad {
-        anchors: [usize; 3],
-        joints: [usize; 3],
-        triad: Triad,
-    },
-    /// The crank: `tip = pivot + radius·(cos φ, sin φ)` for the absolute crank angle φ.
-    Driver {
-        pivot: usize,
-        tip: usize,
-        radius: f64,
-    },
-    /// RRR dyad (or a coupler point): `p` at distance `ra` from `a` and `rb` from
-    /// `b`, on side `sign` (±1) of a→b.
-    Circles {
-        a: usize,
-        b: usize,
-        p: usize,
-        ra: f64,
-        rb: f64,
-        sign: f64,
-    },
-    /// RRP dyad: `p` at distance `r` from `a` and on `line`; `sign` (±1) picks the
-    /// intersection ahead of or behind the foot of `a` along the line's direction.
-    Slide {
-        a: usize,
-        r: f64,
-        line: Line,
-        p: usize,
-        sign: f64,
-    },
-    /// PRP dyad: `p` where two guides cross.
-    Cross { l1: Line, l2: Line, p: usize },
-    /// RPR dyad: the link b–c turns about known `b` and its line passes through
-    /// known `s` (a block pinned at `s` slides on it): `c = b + sign·len·ŝ`, with ŝ
-    /// the unit vector from b to s.
-    Aim {
-        b: usize,
-        s: usize,
-        c: usize,
-        len: f64,
-        sign: f64,
-    },
-}
-
-/// A compiled linkage: `n_points` points, the fixed ones with their coordinates,
-/// then the steps in solving order (each step reads only points placed before it).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Program {
-    pub n_points: usize,
-    pub fixed: Vec<(usize, [f64; 2])>,
-    pub steps: Vec<Step>,
-    /// The drawn pose (crank angle, every point): where a sweep through class III
-    /// groups starts, so that it follows the drawn assembly.
-    pub drawn: Option<(f64, Vec<[f64; 2]>)>,
-}
-
-/// Positions and analogs of the chosen points over an angle grid (and, for a
-/// sweep, over geometries), row-major: `xy[(i * M + k) * 2 + c]` for angle row `i`
-/// and chosen point `k` of `M`. `vel` and `acc` are empty when analogs were not
-/// asked for.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Solution {
-    pub xy: Vec<f64>,
-    pub vel: Vec<f64>,
-    pub acc: Vec<f64>,
-    /// The mechanism can be assembled at the angle.
-    pub ok: Vec<bool>,
-    /// A group is at (or within round-off of) a dead centre: analogs are NaN there.
-    pub singular: Vec<bool>,
-    /// The pose is not continuous with the one solved before it in the walk from
-    /// the drawn pose: the followed branch of a class III group ended (at a fold,
-    /// or where the mechanism stopped assembling) and the group was re-acquired
-    /// here by the seed's bracketing (see [`Program::solve_path`]).
-    pub branch: Vec<bool>,
-}
-
-/// What to compute: which points (indices) and whether the analogs.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Request {
-    pub points: Vec<usize>,
-    pub analogs: bool,
-}
+use super::batch::{check_angles, check_request, Buffers, Outputs};
+use super::model::{LinkageError, Program, Request, Solution, Step};
 
 /// A group whose determinant is below this fraction of its dimensions' product is
 /// at a dead centre.
@@ -248,7 +39,7 @@ enum Seek {
 /// The pose just solved (positions, velocity and acceleration analogs), the step
 /// Δφ [rad] to the angle being solved, and how class III groups find their pose.
 #[derive(Clone, Copy)]
-struct Prev<'a> {
+pub(super) struct Prev<'a> {
     xy: &'a [V2],
     vel: &'a [V2],
     acc: &'a [V2],
@@ -270,7 +61,7 @@ const MIN_PATH_STEP: f64 = 1e-9;
 /// time bounded for any finite angle). Angles already within half a turn are kept
 /// bit for bit. The reduction by the float 2π is exact (`%` is), and its offset from
 /// the true 2π, |θ|·4e-17, is below the rounding of θ itself.
-fn short_way(theta: f64, phi0: f64) -> f64 {
+pub(super) fn short_way(theta: f64, phi0: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
     let d = theta - phi0;
     if d.abs() <= PI {
@@ -287,11 +78,11 @@ fn short_way(theta: f64, phi0: f64) -> f64 {
 
 /// The outcome at one angle.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Pose {
-    ok: bool,
-    singular: bool,
+pub(super) struct Pose {
+    pub(super) ok: bool,
+    pub(super) singular: bool,
     /// One bit per class III group: its Jacobian's determinant is negative.
-    branch: u64,
+    pub(super) branch: u64,
 }
 
 impl Pose {
@@ -304,14 +95,14 @@ impl Pose {
 
 /// Positions and analogs of every point at one angle.
 #[derive(Clone)]
-struct State {
-    xy: Vec<V2>,
-    vel: Vec<V2>,
-    acc: Vec<V2>,
+pub(super) struct State {
+    pub(super) xy: Vec<V2>,
+    pub(super) vel: Vec<V2>,
+    pub(super) acc: Vec<V2>,
 }
 
 impl State {
-    fn new(p: usize) -> State {
+    pub(super) fn new(p: usize) -> State {
         State {
             xy: vec![[0.0; 2]; p],
             vel: vec![[0.0; 2]; p],
@@ -321,18 +112,18 @@ impl State {
 }
 
 /// The output rows of a run of angles: `M` chosen points per row.
-struct Out<'a> {
-    xy: &'a mut [V2],
-    vel: &'a mut [V2],
-    acc: &'a mut [V2],
-    ok: &'a mut [bool],
-    singular: &'a mut [bool],
-    branch: &'a mut [bool],
+pub(super) struct Out<'a> {
+    pub(super) xy: &'a mut [V2],
+    pub(super) vel: &'a mut [V2],
+    pub(super) acc: &'a mut [V2],
+    pub(super) ok: &'a mut [bool],
+    pub(super) singular: &'a mut [bool],
+    pub(super) branch: &'a mut [bool],
 }
 
 impl<'a> Out<'a> {
     /// Rows before `at` and from `at` on.
-    fn split(self, at: usize, m: usize) -> (Out<'a>, Out<'a>) {
+    pub(super) fn split(self, at: usize, m: usize) -> (Out<'a>, Out<'a>) {
         let cut = |v: &'a mut [V2]| -> (&'a mut [V2], &'a mut [V2]) {
             if v.is_empty() {
                 (&mut [], &mut [])
@@ -426,7 +217,7 @@ impl<'a> Out<'a> {
         }
     }
 
-    fn fail_all(&mut self) {
+    pub(super) fn fail_all(&mut self) {
         for v in [&mut *self.xy, &mut *self.vel, &mut *self.acc] {
             v.fill([f64::NAN; 2]);
         }
@@ -562,7 +353,7 @@ impl Program {
     /// solved, from which class III groups predict their next position (they need
     /// `AN`: the analogs are the predictor).
     #[inline(always)]
-    fn solve_one<const AN: bool>(
+    pub(super) fn solve_one<const AN: bool>(
         &self,
         phi: f64,
         xy: &mut [V2],
@@ -1062,7 +853,7 @@ impl Program {
     }
 
     /// Solve one run of angles single-threaded.
-    fn solve_serial(
+    pub(super) fn solve_serial(
         &self,
         angles: &[f64],
         sel: &[usize],
@@ -1124,618 +915,5 @@ impl Program {
             });
         }
         Ok(())
-    }
-}
-
-/// Caller-owned output buffers, laid out as [`Solution`]'s fields: `rows · M · 2`
-/// values for `xy` (and for `vel`, `acc` when analogs are asked for, else empty),
-/// `rows` flags each.
-pub struct Outputs<'a> {
-    pub xy: &'a mut [f64],
-    pub vel: &'a mut [f64],
-    pub acc: &'a mut [f64],
-    pub ok: &'a mut [bool],
-    pub singular: &'a mut [bool],
-    pub branch: &'a mut [bool],
-}
-
-impl<'a> Outputs<'a> {
-    /// Checked sizes, viewed as (x, y) pairs in place: the kernel writes the final
-    /// layout.
-    fn view(self, rows: usize, m: usize, analogs: bool) -> Result<Out<'a>, LinkageError> {
-        let len = rows * m * 2;
-        let an = if analogs { len } else { 0 };
-        let sizes = [self.xy.len(), self.vel.len(), self.acc.len()];
-        let flags = [self.ok.len(), self.singular.len(), self.branch.len()];
-        if sizes != [len, an, an] || flags != [rows; 3] {
-            return Err(LinkageError::BadProgram {
-                step: 0,
-                why: format!(
-                    "output buffers of {sizes:?} values and {flags:?} flags for {rows} rows of {m} points"
-                ),
-            });
-        }
-        Ok(Out {
-            xy: self.xy.as_chunks_mut::<2>().0,
-            vel: self.vel.as_chunks_mut::<2>().0,
-            acc: self.acc.as_chunks_mut::<2>().0,
-            ok: self.ok,
-            singular: self.singular,
-            branch: self.branch,
-        })
-    }
-}
-
-/// Output buffers of `rows` rows of `m` points.
-struct Buffers {
-    xy: Vec<f64>,
-    vel: Vec<f64>,
-    acc: Vec<f64>,
-    ok: Vec<bool>,
-    singular: Vec<bool>,
-    branch: Vec<bool>,
-}
-
-impl Buffers {
-    fn new(rows: usize, m: usize, analogs: bool) -> Result<Buffers, LinkageError> {
-        let len = rows
-            .checked_mul(m * 2)
-            .ok_or(LinkageError::Memory { bytes: usize::MAX })?;
-        let an = if analogs { len } else { 0 };
-        // Probe the whole size once, fallibly; then allocate zeroed memory, which
-        // for large buffers is fresh pages touched first by the (parallel) kernel
-        // rather than a serial memset here.
-        let bytes = (len + 2 * an).saturating_mul(8).saturating_add(3 * rows);
-        let mut probe: Vec<u8> = Vec::new();
-        probe
-            .try_reserve_exact(bytes)
-            .map_err(|_| LinkageError::Memory { bytes })?;
-        drop(probe);
-        Ok(Buffers {
-            xy: vec![0.0; len],
-            vel: vec![0.0; an],
-            acc: vec![0.0; an],
-            ok: vec![false; rows],
-            singular: vec![false; rows],
-            branch: vec![false; rows],
-        })
-    }
-
-    fn outputs(&mut self) -> Outputs<'_> {
-        Outputs {
-            xy: &mut self.xy,
-            vel: &mut self.vel,
-            acc: &mut self.acc,
-            ok: &mut self.ok,
-            singular: &mut self.singular,
-            branch: &mut self.branch,
-        }
-    }
-
-    fn finish(self) -> Solution {
-        Solution {
-            xy: self.xy,
-            vel: self.vel,
-            acc: self.acc,
-            ok: self.ok,
-            singular: self.singular,
-            branch: self.branch,
-        }
-    }
-}
-
-fn check_angles(angles: &[f64]) -> Result<(), LinkageError> {
-    if let Some((i, &v)) = angles.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(LinkageError::NonFinite {
-            field: "angles",
-            position: i,
-            value: v,
-            what: "crank angles must be finite radians",
-        });
-    }
-    Ok(())
-}
-
-fn check_request(request: &Request, n_points: usize) -> Result<(), LinkageError> {
-    if request.points.is_empty() || request.points.iter().any(|&k| k >= n_points) {
-        return Err(LinkageError::BadProgram {
-            step: 0,
-            why: format!(
-                "the points asked for, {:?}, must be a non-empty list of indices below {n_points}",
-                request.points
-            ),
-        });
-    }
-    Ok(())
-}
-
-/// Solve many geometries of one linkage (programs with the same points) over one
-/// angle grid, in parallel over the geometries: rows are geometry-major, row
-/// `g * N + i` for geometry `g` and angle `i`. A geometry whose drawn pose does
-/// not close (its class III groups cannot start) is `ok = false` throughout.
-pub fn solve_many(
-    programs: &[Program],
-    angles: &[f64],
-    request: &Request,
-    n_threads: Option<i64>,
-) -> Result<Solution, LinkageError> {
-    let rows = programs.len().saturating_mul(angles.len());
-    let mut buffers = Buffers::new(rows, request.points.len(), request.analogs)?;
-    solve_many_into(programs, angles, request, n_threads, buffers.outputs())?;
-    Ok(buffers.finish())
-}
-
-/// [`solve_many`] into caller-owned buffers laid out as its [`Solution`].
-pub fn solve_many_into(
-    programs: &[Program],
-    angles: &[f64],
-    request: &Request,
-    n_threads: Option<i64>,
-    outputs: Outputs<'_>,
-) -> Result<(), LinkageError> {
-    let Some(first) = programs.first() else {
-        return Ok(());
-    };
-    for (g, prog) in programs.iter().enumerate() {
-        if prog.n_points != first.n_points {
-            return Err(LinkageError::BadProgram {
-                step: 0,
-                why: format!(
-                    "geometry {g} has {} points, geometry 0 {}",
-                    prog.n_points, first.n_points
-                ),
-            });
-        }
-        prog.validate().map_err(|e| match e {
-            LinkageError::BadProgram { step, why } => LinkageError::BadProgram {
-                step,
-                why: format!("geometry {g}: {why}"),
-            },
-            other => other,
-        })?;
-    }
-    check_request(request, first.n_points)?;
-    check_angles(angles)?;
-    let threads = crate::parallel::resolve_threads(n_threads)?;
-    let (n, m) = (angles.len(), request.points.len());
-    let rows = programs.len().saturating_mul(n);
-    let mut slabs = Vec::with_capacity(programs.len());
-    let mut rest = outputs.view(rows, m, request.analogs)?;
-    for _ in 0..programs.len() {
-        let (head, tail) = rest.split(n, m);
-        slabs.push(head);
-        rest = tail;
-    }
-    let one = |(prog, mut slab): (&Program, Out<'_>)| {
-        if prog
-            .solve_serial(angles, &request.points, &mut slab)
-            .is_err()
-        {
-            slab.fail_all();
-        }
-    };
-    if threads == 1 {
-        programs.iter().zip(slabs).for_each(one);
-    } else {
-        crate::parallel::pool(threads)?
-            .install(|| programs.par_iter().zip(slabs.into_par_iter()).for_each(one));
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::triad::Triad;
-    use proptest::prelude::*;
-
-    /// Crank-rocker A(0,0)–B (crank r), B–C (coupler l2), C–D (rocker l3), D(d, 0).
-    fn four_bar(r: f64, l2: f64, l3: f64, d: f64, sign: f64) -> Program {
-        Program {
-            n_points: 4,
-            fixed: vec![(0, [0.0, 0.0]), (3, [d, 0.0])],
-            steps: vec![
-                Step::Driver {
-                    pivot: 0,
-                    tip: 1,
-                    radius: r,
-                },
-                Step::Circles {
-                    a: 1,
-                    b: 3,
-                    p: 2,
-                    ra: l2,
-                    rb: l3,
-                    sign,
-                },
-            ],
-            drawn: None,
-        }
-    }
-
-    fn all(p: usize) -> Request {
-        Request {
-            points: (0..p).collect(),
-            analogs: true,
-        }
-    }
-
-    fn point(s: &Solution, i: usize, p: usize, k: usize) -> V2 {
-        let base = (i * p + k) * 2;
-        [s.xy[base], s.xy[base + 1]]
-    }
-
-    proptest! {
-        #[test]
-        fn lengths_hold_and_analogs_match_differences(
-            r in 0.5f64..1.5, l2 in 3.0f64..4.0, l3 in 2.5f64..3.5, d in 3.0f64..4.0,
-            sign in prop::sample::select(vec![1.0, -1.0]),
-            phi in 0.0f64..std::f64::consts::TAU,
-        ) {
-            // Grashof crank-rocker: shortest link the crank, s + l <= p + q.
-            let mut links = [r, l2, l3, d];
-            links.sort_by(f64::total_cmp);
-            prop_assume!(links[0] + links[3] < links[1] + links[2] - 1e-3);
-            let prog = four_bar(r, l2, l3, d, sign);
-            let h = 1e-5;
-            let s = prog.solve(&[phi - h, phi, phi + h], &all(4), Some(1)).unwrap();
-            prop_assert!(s.ok.iter().all(|&o| o));
-            let (b, c, dd) = (point(&s, 1, 4, 1), point(&s, 1, 4, 2), point(&s, 1, 4, 3));
-            let len = |u: V2, v: V2| dot(sub(u, v), sub(u, v)).sqrt();
-            prop_assert!((len(b, c) - l2).abs() < 1e-12 * l2);
-            prop_assert!((len(c, dd) - l3).abs() < 1e-12 * l3);
-            for comp in 0..2 {
-                let base = (4 + 2) * 2 + comp;
-                let fd1 = (s.xy[(2 * 4 + 2) * 2 + comp] - s.xy[2 * 2 + comp]) / (2.0 * h);
-                let fd2 = (s.xy[(2 * 4 + 2) * 2 + comp] - 2.0 * s.xy[base] + s.xy[2 * 2 + comp]) / (h * h);
-                prop_assert!((s.vel[base] - fd1).abs() < 1e-6 * (1.0 + fd1.abs()));
-                prop_assert!((s.acc[base] - fd2).abs() < 1e-3 * (1.0 + fd2.abs()));
-            }
-        }
-    }
-
-    /// Finite-difference check of the analogs of point `k` at angle `phi`.
-    fn check_analogs(prog: &Program, k: usize, phi: f64) {
-        let h = 1e-5;
-        let req = Request {
-            points: vec![k],
-            analogs: true,
-        };
-        let s = prog.solve(&[phi - h, phi, phi + h], &req, Some(1)).unwrap();
-        assert!(s.ok.iter().all(|&o| o));
-        for c in 0..2 {
-            let fd1 = (s.xy[4 + c] - s.xy[c]) / (2.0 * h);
-            let fd2 = (s.xy[4 + c] - 2.0 * s.xy[2 + c] + s.xy[c]) / (h * h);
-            assert!(
-                (s.vel[2 + c] - fd1).abs() < 1e-6 * (1.0 + fd1.abs()),
-                "vel {} vs {fd1}",
-                s.vel[2 + c]
-            );
-            assert!(
-                (s.acc[2 + c] - fd2).abs() < 1e-3 * (1.0 + fd2.abs()),
-                "acc {} vs {fd2}",
-                s.acc[2 + c]
-            );
-        }
-    }
-
-    #[test]
-    fn slider_crank_matches_its_closed_form() {
-        // Crank A(0,0)–B (r), rod B–C (l), C on the guide y = e along +x.
-        let (r, l, e) = (0.1, 0.35, 0.02);
-        let prog = Program {
-            n_points: 3,
-            fixed: vec![(0, [0.0, 0.0])],
-            steps: vec![
-                Step::Driver {
-                    pivot: 0,
-                    tip: 1,
-                    radius: r,
-                },
-                Step::Slide {
-                    a: 1,
-                    r: l,
-                    line: Line::Fixed {
-                        o: [0.0, e],
-                        u: [2.0, 0.0],
-                    },
-                    p: 2,
-                    sign: 1.0,
-                },
-            ],
-            drawn: None,
-        };
-        let angles: Vec<f64> = (0..360).map(|i| (i as f64).to_radians()).collect();
-        let s = prog.solve(&angles, &all(3), Some(1)).unwrap();
-        for (i, &phi) in angles.iter().enumerate() {
-            let (sn, cs) = phi.sin_cos();
-            let root = (l * l - (r * sn - e).powi(2)).sqrt();
-            let x = r * cs + root;
-            let dx = -r * sn - (r * sn - e) * r * cs / root;
-            let base = (i * 3 + 2) * 2;
-            assert!((s.xy[base] - x).abs() < 1e-14 && (s.xy[base + 1] - e).abs() < 1e-15);
-            assert!((s.vel[base] - dx).abs() < 1e-13 && s.vel[base + 1].abs() < 1e-15);
-        }
-        check_analogs(&prog, 2, 0.7);
-        // The other assembly: C behind the crank.
-        let mut back = prog.clone();
-        if let Step::Slide { sign, .. } = &mut back.steps[1] {
-            *sign = -1.0;
-        }
-        let s = back.solve(&[0.0], &all(3), Some(1)).unwrap();
-        assert!((s.xy[4] - (r - (l * l - e * e).sqrt())).abs() < 1e-14);
-    }
-
-    #[test]
-    fn inverted_slider_crank_and_yoke_match_closed_forms() {
-        // Crank A(0,0)–B (r); rocker O(0,−d)–C (len) whose line passes through B.
-        let (r, d, len) = (0.1, 0.25, 0.5);
-        let prog = Program {
-            n_points: 4,
-            fixed: vec![(0, [0.0, 0.0]), (2, [0.0, -d])],
-            steps: vec![
-                Step::Driver {
-                    pivot: 0,
-                    tip: 1,
-                    radius: r,
-                },
-                Step::Aim {
-                    b: 2,
-                    s: 1,
-                    c: 3,
-                    len,
-                    sign: 1.0,
-                },
-            ],
-            drawn: None,
-        };
-        let phi = 1.1;
-        let s = prog.solve(&[phi], &all(4), Some(1)).unwrap();
-        let theta = (r * phi.sin() + d).atan2(r * phi.cos());
-        assert!((s.xy[6] - len * theta.cos()).abs() < 1e-14);
-        assert!((s.xy[7] - (-d + len * theta.sin())).abs() < 1e-14);
-        check_analogs(&prog, 3, phi);
-        // PRP: P on the x axis and on the line from the crank tip B to D(0, 2).
-        let yoke = Program {
-            n_points: 4,
-            fixed: vec![(0, [0.0, 0.0]), (2, [0.0, 2.0])],
-            steps: vec![
-                Step::Driver {
-                    pivot: 0,
-                    tip: 1,
-                    radius: r,
-                },
-                Step::Cross {
-                    l1: Line::Fixed {
-                        o: [5.0, 0.0],
-                        u: [1.0, 0.0],
-                    },
-                    l2: Line::Through { b: 1, c: 2 },
-                    p: 3,
-                },
-            ],
-            drawn: None,
-        };
-        let s = yoke.solve(&[phi], &all(4), Some(1)).unwrap();
-        let x = 2.0 * r * phi.cos() / (2.0 - r * phi.sin());
-        assert!((s.xy[6] - x).abs() < 1e-14 && s.xy[7].abs() < 1e-15);
-        check_analogs(&yoke, 3, phi);
-        // An RRP dyad on a moving guide: E at 0.3 from A on the rocker's line O–C.
-        let mut moving = prog.clone();
-        moving.n_points = 5;
-        moving.steps.push(Step::Slide {
-            a: 0,
-            r: 0.3,
-            line: Line::Through { b: 2, c: 3 },
-            p: 4,
-            sign: 1.0,
-        });
-        check_analogs(&moving, 4, phi);
-    }
-
-    #[test]
-    fn positions_only_parallel_and_many_agree_with_one_serial_solve() {
-        let prog = four_bar(1.0, 3.5, 3.0, 3.5, 1.0);
-        let angles: Vec<f64> = (0..5000).map(|i| i as f64 * 0.00127).collect();
-        let serial = prog.solve(&angles, &all(4), Some(1)).unwrap();
-        let parallel = prog.solve(&angles, &all(4), Some(2)).unwrap();
-        assert_eq!(serial, parallel);
-        let pick = Request {
-            points: vec![2],
-            analogs: false,
-        };
-        let only = prog.solve(&angles, &pick, Some(2)).unwrap();
-        assert!(only.vel.is_empty() && only.acc.is_empty());
-        for i in 0..angles.len() {
-            assert_eq!(
-                only.xy[2 * i..2 * i + 2],
-                serial.xy[(4 * i + 2) * 2..(4 * i + 2) * 2 + 2]
-            );
-        }
-        let geoms = [
-            four_bar(1.0, 3.5, 3.0, 3.5, 1.0),
-            four_bar(1.2, 3.4, 3.1, 3.5, -1.0),
-        ];
-        let many = solve_many(&geoms, &angles, &all(4), Some(2)).unwrap();
-        let n = angles.len() * 4 * 2;
-        for (g, prog) in geoms.iter().enumerate() {
-            let one = prog.solve(&angles, &all(4), Some(1)).unwrap();
-            assert_eq!(many.xy[g * n..(g + 1) * n], one.xy[..]);
-            assert_eq!(many.acc[g * n..(g + 1) * n], one.acc[..]);
-        }
-    }
-
-    #[test]
-    fn blocks_of_angles_equal_one_angle_at_a_time() {
-        // A crank-rocker with a coupler point E, over angles where it assembles
-        // and where it does not (non-Grashof), and a grid that is not a multiple
-        // of the block: the block path must give the one-angle path's bits.
-        for (r, l2, l3, d) in [(1.0, 3.5, 3.0, 3.5), (2.0, 2.0, 2.0, 3.0)] {
-            let mut prog = four_bar(r, l2, l3, d, 1.0);
-            prog.n_points = 5;
-            prog.steps.push(Step::Circles {
-                a: 1,
-                b: 2,
-                p: 4,
-                ra: 0.8 * l2,
-                rb: 0.5 * l2,
-                sign: -1.0,
-            });
-            let angles: Vec<f64> = (0..1003).map(|i| i as f64 * 0.00627).collect();
-            for analogs in [true, false] {
-                let req = Request {
-                    points: vec![4, 2, 0],
-                    analogs,
-                };
-                let s = prog.solve(&angles, &req, Some(1)).unwrap();
-                let mut st = State::new(5);
-                for (i, &phi) in angles.iter().enumerate() {
-                    let pose =
-                        prog.solve_one::<true>(phi, &mut st.xy, &mut st.vel, &mut st.acc, None);
-                    assert_eq!(s.ok[i], pose.ok);
-                    assert_eq!(s.singular[i], pose.ok && pose.singular);
-                    for (k, &j) in req.points.iter().enumerate() {
-                        for c in 0..2 {
-                            let at = (i * 3 + k) * 2 + c;
-                            let same = |got: f64, want: f64| {
-                                if pose.ok {
-                                    got.to_bits() == want.to_bits()
-                                } else {
-                                    got.is_nan()
-                                }
-                            };
-                            assert!(same(s.xy[at], st.xy[j][c]), "xy at {i}");
-                            if analogs {
-                                assert!(
-                                    same(s.vel[at], st.vel[j][c]) && same(s.acc[at], st.acc[j][c])
-                                );
-                            }
-                        }
-                    }
-                }
-                assert!(s.ok.iter().any(|&o| o));
-            }
-        }
-    }
-
-    proptest! {
-        #[test]
-        fn short_way_keeps_the_crank_position(
-            theta in prop::num::f64::NORMAL.prop_filter("finite", |v| v.abs() < 1e12),
-            phi0 in -10.0f64..10.0,
-        ) {
-            let r = short_way(theta, phi0);
-            prop_assert!((r - phi0).abs() <= std::f64::consts::PI * (1.0 + 1e-15));
-            if (theta - phi0).abs() <= std::f64::consts::PI {
-                prop_assert_eq!(r.to_bits(), theta.to_bits());
-            }
-            // The platform's own reduction of θ is the reference: the float 2π is
-            // off the true one by |θ|·4e-17, below θ's rounding.
-            let tol = 1e-15 * (1.0 + theta.abs()) * 4.0 + 1e-14;
-            prop_assert!((r.sin() - theta.sin()).abs() <= tol, "{} {}", r, theta);
-            prop_assert!((r.cos() - theta.cos()).abs() <= tol, "{} {}", r, theta);
-        }
-    }
-
-    /// Issue 16 item 2's Stephenson six-bar: A(0,0), B(1,0), D(4,0), C on |BC| = 3.5
-    /// and |DC| = 2.6, E(2, 3.5), F(1.15, 5.6), G(1, 5.6); the group B–C–E held by
-    /// AB, DC and EF, the crank G–F.
-    fn stephenson() -> Program {
-        let (b, d) = ([1.0, 0.0], [4.0, 0.0]);
-        let l = 3.0f64;
-        let x = (3.5f64 * 3.5 - 2.6 * 2.6 + l * l) / (2.0 * l);
-        let c = [b[0] + x, (3.5f64 * 3.5 - x * x).sqrt()];
-        let pts = vec![[0.0, 0.0], b, d, c, [2.0, 3.5], [1.15, 5.6], [1.0, 5.6]];
-        let (k, j) = ([pts[0], pts[2], pts[5]], [pts[1], pts[3], pts[4]]);
-        Program {
-            n_points: 7,
-            fixed: vec![(0, pts[0]), (2, pts[2]), (6, pts[6])],
-            steps: vec![
-                Step::Driver {
-                    pivot: 6,
-                    tip: 5,
-                    radius: 0.15,
-                },
-                Step::Triad {
-                    anchors: [0, 2, 5],
-                    joints: [1, 3, 4],
-                    triad: Triad::from_pose(k, j),
-                },
-            ],
-            drawn: Some((0.0, pts)),
-        }
-    }
-
-    #[test]
-    fn a_class_iii_walk_never_jumps_silently_at_a_fold() {
-        let prog = stephenson();
-        let angles: Vec<f64> = (0..=25000)
-            .map(|i| (i as f64 * 0.01).to_radians())
-            .collect();
-        let s = prog.solve(&angles, &all(7), Some(1)).unwrap();
-        assert!(s.ok.iter().all(|&o| o));
-        let mut jumps = 0;
-        for i in 0..angles.len() - 1 {
-            let moved = (0..7)
-                .map(|k| {
-                    let (p, q) = (point(&s, i, 7, k), point(&s, i + 1, 7, k));
-                    dot(sub(p, q), sub(p, q)).sqrt()
-                })
-                .fold(0.0, f64::max);
-            if moved > 0.05 {
-                jumps += 1;
-                assert!(s.branch[i] || s.branch[i + 1], "silent jump at step {i}");
-            }
-        }
-        assert!(jumps >= 1);
-        // Every flagged pose (a re-acquired one) closes the group.
-        for i in (0..angles.len()).filter(|&i| s.branch[i]) {
-            let k = [point(&s, i, 7, 0), point(&s, i, 7, 2), point(&s, i, 7, 5)];
-            let j = [point(&s, i, 7, 1), point(&s, i, 7, 3), point(&s, i, 7, 4)];
-            let Step::Triad { triad, .. } = &prog.steps[1] else {
-                unreachable!()
-            };
-            assert!(triad.closure_error(&k, &j) < 1e-12 * triad.size());
-        }
-    }
-
-    #[test]
-    fn unassemblable_angles_are_flagged() {
-        // Non-Grashof: the crank (2) cannot turn fully; with l2 = l3 = 2, d = 3 the
-        // position B = (-2, 0) is 5 away from D, beyond l2 + l3 = 4.
-        let prog = four_bar(2.0, 2.0, 2.0, 3.0, 1.0);
-        let s = prog
-            .solve(&[0.0, std::f64::consts::PI], &all(4), Some(1))
-            .unwrap();
-        assert_eq!(s.ok, vec![true, false]);
-        assert!(s.xy[8..].iter().all(|v| v.is_nan()));
-    }
-
-    #[test]
-    fn bad_programs_are_errors() {
-        let mut prog = four_bar(1.0, 3.0, 3.0, 3.0, 1.0);
-        prog.steps.swap(0, 1);
-        assert!(matches!(
-            prog.validate(),
-            Err(LinkageError::BadProgram { step: 0, .. })
-        ));
-        let mut prog = four_bar(1.0, 3.0, 3.0, 3.0, 0.5);
-        assert!(prog.validate().is_err());
-        prog = four_bar(-1.0, 3.0, 3.0, 3.0, 1.0);
-        assert!(prog.validate().is_err());
-        prog = four_bar(1.0, 3.0, 3.0, 3.0, 1.0);
-        assert!(prog.solve(&[f64::NAN], &all(4), None).is_err());
-        assert!(prog
-            .solve(
-                &[0.0],
-                &Request {
-                    points: vec![4],
-                    analogs: true
-                },
-                None
-            )
-            .is_err());
-        prog.n_points = 5;
-        assert!(prog.validate().is_err());
     }
 }

@@ -20,10 +20,9 @@
 //! algebra", in the ratio form of Dasdan (2004), "Experimental analysis of the
 //! fastest optimum cycle ratio and mean algorithms".
 
-use crate::schedule::{check_finite, topological_order, validate_arcs, ScheduleError};
+use crate::units::DEG_PER_S_PER_RPM;
 
-/// Degrees of main-shaft rotation per second at 1 rpm (360° · 1/60 s⁻¹).
-pub const DEG_PER_SECOND_PER_RPM: f64 = 6.0;
+use super::graph::{check_finite, topological_order, validate_arcs, CyclogramError};
 
 /// Smallest non-zero height or duration: both end up as denominators (of the
 /// cycle ratio, of the Newton step in speed), where a denormal would give inf.
@@ -142,7 +141,7 @@ impl<'a> Graph<'a> {
     }
 
     /// Howard's policy iteration for the maximum of Σw/Σh over cycles.
-    fn howard(&self, w: &[f64]) -> Result<Option<CycleRatio>, ScheduleError> {
+    fn howard(&self, w: &[f64]) -> Result<Option<CycleRatio>, CyclogramError> {
         let n = self.n;
         let live: Vec<usize> = (0..n).filter(|&v| self.alive[v]).collect();
         if live.is_empty() {
@@ -226,7 +225,7 @@ impl<'a> Graph<'a> {
                 }));
             }
         }
-        Err(ScheduleError::NotConverged {
+        Err(CyclogramError::NotConverged {
             iterations: max_iter,
         })
     }
@@ -292,9 +291,14 @@ impl<'a> Graph<'a> {
     }
 }
 
-fn check_heights(n: usize, src: &[u32], dst: &[u32], heights: &[f64]) -> Result<(), ScheduleError> {
+fn check_heights(
+    n: usize,
+    src: &[u32],
+    dst: &[u32],
+    heights: &[f64],
+) -> Result<(), CyclogramError> {
     if heights.len() != src.len() {
-        return Err(ScheduleError::WeightLength {
+        return Err(CyclogramError::WeightLength {
             field: "heights",
             expected: src.len(),
             got: heights.len(),
@@ -311,7 +315,7 @@ fn check_heights(n: usize, src: &[u32], dst: &[u32], heights: &[f64]) -> Result<
         .enumerate()
         .find(|(_, &h)| h < 0.0 || (h > 0.0 && h < MIN_DIVISOR))
     {
-        return Err(ScheduleError::OutOfDomain {
+        return Err(CyclogramError::OutOfDomain {
             field: "heights",
             position: i,
             value: h,
@@ -322,7 +326,7 @@ fn check_heights(n: usize, src: &[u32], dst: &[u32], heights: &[f64]) -> Result<
         .filter(|&e| heights[e] == 0.0)
         .map(|e| (src[e], dst[e]))
         .unzip();
-    topological_order(n, &zs, &zd).map_err(|events| ScheduleError::ZeroHeightCycle { events })?;
+    topological_order(n, &zs, &zd).map_err(|events| CyclogramError::ZeroHeightCycle { events })?;
     Ok(())
 }
 
@@ -331,9 +335,9 @@ fn check_weights(
     m: usize,
     w: &[f64],
     what: &'static str,
-) -> Result<(), ScheduleError> {
+) -> Result<(), CyclogramError> {
     if w.len() != m {
-        return Err(ScheduleError::WeightLength {
+        return Err(CyclogramError::WeightLength {
             field,
             expected: m,
             got: w.len(),
@@ -350,7 +354,7 @@ pub fn max_cycle_ratio(
     dst: &[i64],
     weights: &[f64],
     heights: &[f64],
-) -> Result<Option<CycleRatio>, ScheduleError> {
+) -> Result<Option<CycleRatio>, CyclogramError> {
     let (n, s, d) = validate_arcs(n_events, src, dst)?;
     check_weights("weights", s.len(), weights, "phase angles [deg]")?;
     check_heights(n, &s, &d, heights)?;
@@ -369,7 +373,7 @@ pub fn max_speed(
     seconds: &[f64],
     heights: &[f64],
     cycle_deg: f64,
-) -> Result<SpeedLimit, ScheduleError> {
+) -> Result<SpeedLimit, CyclogramError> {
     let (n, s, d) = validate_arcs(n_events, src, dst)?;
     let m = s.len();
     check_weights("angle_deg", m, angle_deg, "minimum angles [deg]")?;
@@ -379,15 +383,15 @@ pub fn max_speed(
         .enumerate()
         .find(|(_, &v)| v < 0.0 || (v > 0.0 && v < MIN_DIVISOR))
     {
-        return Err(ScheduleError::OutOfDomain {
+        return Err(CyclogramError::OutOfDomain {
             field: "seconds",
             position: i,
             value: v,
             what: "minimum durations must be 0 or at least 1e-12 seconds",
         });
     }
-    if !(cycle_deg > 0.0 && cycle_deg <= crate::schedule::MAX_ABS_VALUE) {
-        return Err(ScheduleError::BadScalar {
+    if !(cycle_deg > 0.0 && cycle_deg <= super::graph::MAX_ABS_VALUE) {
+        return Err(CyclogramError::BadScalar {
             field: "cycle_deg",
             value: cycle_deg,
             what: "the cycle must be a finite positive number of degrees (360 for one revolution)",
@@ -405,10 +409,7 @@ pub fn max_speed(
     }
     // Degrees per rpm of each arc; the cycle with the largest of these per height
     // grows fastest with speed.
-    let slope: Vec<f64> = seconds
-        .iter()
-        .map(|&t| DEG_PER_SECOND_PER_RPM * t)
-        .collect();
+    let slope: Vec<f64> = seconds.iter().map(|&t| DEG_PER_S_PER_RPM * t).collect();
     let growth = match g.howard(&slope)? {
         Some(c) if c.ratio > 0.0 => c.ratio,
         _ => return Ok(SpeedLimit::Unlimited),
@@ -463,7 +464,7 @@ pub fn max_speed(
         rpm = next;
         current = after;
     }
-    Err(ScheduleError::NotConverged { iterations: 10_000 })
+    Err(CyclogramError::NotConverged { iterations: 10_000 })
 }
 
 #[cfg(test)]
@@ -632,18 +633,18 @@ mod tests {
     fn bad_heights_are_errors() {
         assert!(matches!(
             max_cycle_ratio(2, &[0, 1], &[1, 0], &[1.0, 1.0], &[0.0, 0.0]),
-            Err(ScheduleError::ZeroHeightCycle { .. })
+            Err(CyclogramError::ZeroHeightCycle { .. })
         ));
         assert!(matches!(
             max_cycle_ratio(2, &[0, 1], &[1, 0], &[1.0, 1.0], &[0.0, -1.0]),
-            Err(ScheduleError::OutOfDomain {
+            Err(CyclogramError::OutOfDomain {
                 field: "heights",
                 ..
             })
         ));
         assert!(matches!(
             max_cycle_ratio(2, &[0, 1], &[1, 0], &[1.0, 1.0], &[0.0, f64::NAN]),
-            Err(ScheduleError::NonFinite {
+            Err(CyclogramError::NonFinite {
                 field: "heights",
                 ..
             })

@@ -1,17 +1,5 @@
-//! Dimensionless motion laws on the unit square and the two-period slider law.
-//!
-//! A law is Z(x) on 0 ≤ x ≤ 1, piecewise: on each segment [x0, x1],
-//! Z = Σ c_k t^k + A·sin(ω t + φ) with t = x − x0, so that Z, Z', Z'', Z''' are
-//! exact everywhere. Named laws (cycloidal, harmonic, 3-4-5, 4-5-6-7, modified
-//! sine, modified trapezoid) are built as full rises (Z' = 0 at both ends); the
-//! modified laws by integrating their acceleration pieces exactly and scaling to
-//! Z(1) = 1, so that their peaks (Cv, Ca) follow from the shape rather than from
-//! printed decimals. The **half law** of a symmetric rise is its first half
-//! rescaled to the unit square: Z_h(j) = 2·Z(j/2), so Z_h' peaks at j = 1.
-//!
-//! The two-period law of seed 003 joins a half law over 0 ≤ α ≤ α1 (period I,
-//! Π = Π1·Z1(α/α1)) and a mirrored half law over α1 ≤ α ≤ α2 (period II,
-//! Π = Π2 − (Π2 − Π1)·Z2((α2 − α)/(α2 − α1))).
+//! The motion laws: named rises and half laws, user polynomials, evaluated in
+//! parallel chunks across SIMD lanes.
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -68,17 +56,17 @@ pub struct Segment {
 /// (d^n/dt^n sin(ωt + φ) = ω^n sin(ωt + φ + nπ/2)), so that evaluating costs one
 /// Horner pass and at most one sine.
 #[derive(Debug, Clone, PartialEq)]
-struct Fast {
-    x0: f64,
-    x1: f64,
-    poly: [Vec<f64>; 4],
-    amp: [f64; 4],
-    freq: f64,
-    phase: [f64; 4],
+pub(super) struct Fast {
+    pub(super) x0: f64,
+    pub(super) x1: f64,
+    pub(super) poly: [Vec<f64>; 4],
+    pub(super) amp: [f64; 4],
+    pub(super) freq: f64,
+    pub(super) phase: [f64; 4],
 }
 
 impl Fast {
-    fn new(s: &Segment) -> Fast {
+    pub(super) fn new(s: &Segment) -> Fast {
         let poly = std::array::from_fn(|order| {
             (order..s.poly.len())
                 .map(|k| {
@@ -98,7 +86,7 @@ impl Fast {
     }
 
     #[inline(always)]
-    fn eval(&self, x: f64, order: usize) -> f64 {
+    pub(super) fn eval(&self, x: f64, order: usize) -> f64 {
         let t = x - self.x0;
         let c = &self.poly[order];
         let mut p = 0.0;
@@ -126,7 +114,7 @@ struct AccelPiece {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Law {
     pub segments: Vec<Segment>,
-    fast: Vec<Fast>,
+    pub(super) fast: Vec<Fast>,
     /// max |Z'| on [0, 1] (Cv for a rise, Z'max for a half law).
     pub dz_max: f64,
     /// max |Z''| on [0, 1] (Ca for a rise, Z''max for a half law).
@@ -479,7 +467,7 @@ const CHUNK: usize = 16_384;
 /// Fill `out` from `x` chunk by chunk with `f(xs, os)` on `n_threads` threads,
 /// after checking (in the same pass, by chunk) that every x is finite and in
 /// [0, `hi`]; the first offending value is then reported by [`check_range`].
-fn par_chunks(
+pub(super) fn par_chunks(
     x: &[f64],
     out: &mut [f64],
     n_threads: Option<i64>,
@@ -511,7 +499,7 @@ fn par_chunks(
 }
 
 /// [`par_chunks`] with a pointwise `f`.
-fn par_fill(
+pub(super) fn par_fill(
     x: &[f64],
     out: &mut [f64],
     n_threads: Option<i64>,
@@ -551,7 +539,7 @@ struct LanePiece {
 /// it, picked at run time): every piece's polynomial is evaluated for every
 /// value and the value's own piece selected, then one sine per value. The same
 /// arithmetic as the pointwise path, so the same values.
-struct Lanes {
+pub(super) struct Lanes {
     pieces: Vec<LanePiece>,
     /// v ≤ split: the first law.
     split: f64,
@@ -564,7 +552,7 @@ struct Lanes {
 
 impl Lanes {
     /// None when a piece's sine would leave the branch-free sine's range.
-    fn new(
+    pub(super) fn new(
         laws: [&Law; 2],
         order: usize,
         split: f64,
@@ -609,7 +597,7 @@ impl Lanes {
     }
 
     /// out[i] = the law at v[i], for a chunk of values.
-    fn eval(&self, v: &[f64], out: &mut [f64]) {
+    pub(super) fn eval(&self, v: &[f64], out: &mut [f64]) {
         pulp::Arch::new().dispatch(LaneChunk {
             lanes: self,
             v,
@@ -619,10 +607,10 @@ impl Lanes {
 }
 
 /// [`Lanes::eval`]'s loops, compiled once per instruction set.
-struct LaneChunk<'a> {
-    lanes: &'a Lanes,
-    v: &'a [f64],
-    out: &'a mut [f64],
+pub(super) struct LaneChunk<'a> {
+    pub(super) lanes: &'a Lanes,
+    pub(super) v: &'a [f64],
+    pub(super) out: &'a mut [f64],
 }
 
 impl pulp::WithSimd for LaneChunk<'_> {
@@ -773,330 +761,5 @@ impl Law {
             Some(l) => par_chunks(x, out, n_threads, range, |xs, os| l.eval(xs, os)),
             None => par_fill(x, out, n_threads, range, |v| self.z(v, order)),
         }
-    }
-}
-
-/// The two-period law: Π1 = `stroke1` at α1 = `angle1`, Π2 = `stroke` at
-/// α2 = `angle`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TwoPeriod {
-    pub law1: Law,
-    pub law2: Law,
-    pub stroke1: f64,
-    pub angle1: f64,
-    pub stroke: f64,
-    pub angle: f64,
-}
-
-impl TwoPeriod {
-    /// Π^(order)(α) for α in [0, α2], order 0..=3.
-    pub fn at(&self, alpha: f64, order: usize) -> f64 {
-        self.evaluator(order.min(3))(alpha)
-    }
-
-    /// [1/α1, 1/(α2 − α1), and the factors of Z1^(order), Z2^(order) in
-    /// Π^(order)] (period II runs backwards in j, so its second derivative
-    /// changes sign).
-    fn scales(&self, order: usize) -> [f64; 4] {
-        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let (ia1, ispan) = (1.0 / a1, 1.0 / (a2 - a1));
-        let s1 = p1 * ia1.powi(order as i32);
-        let s2 = (p2 - p1) * ispan.powi(order as i32) * if order == 2 { -1.0 } else { 1.0 };
-        [ia1, ispan, s1, s2]
-    }
-
-    /// Π^(order) as a function of α, with its constants worked out once (no
-    /// divisions by α1 or α2 − α1 and no powers per value). Period II runs
-    /// backwards in j = (α2 − α)/(α2 − α1), so d/dα = −d/dj/(α2 − α1): its
-    /// second derivative changes sign.
-    fn evaluator(&self, order: usize) -> impl Fn(f64) -> f64 + Sync + '_ {
-        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let [ia1, ispan, s1, s2] = self.scales(order);
-        let (l1, l2) = (&self.law1, &self.law2);
-        move |v: f64| {
-            if v <= a1 {
-                s1 * l1.z(v * ia1, order)
-            } else {
-                let z = l2.z(((a2 - v) * ispan).max(0.0), order);
-                if order == 0 {
-                    p2 - (p2 - p1) * z
-                } else {
-                    s2 * z
-                }
-            }
-        }
-    }
-
-    /// [`TwoPeriod::evaluator`] in the lane-parallel form.
-    fn lanes(&self, order: usize) -> Option<Lanes> {
-        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let [ia1, ispan, s1, s2] = self.scales(order);
-        // Period II: u = (α2 − α)/(α2 − α1) = (α − α2)·(−1/(α2 − α1)).
-        let map = [(0.0, ia1), (a2, -ispan)];
-        let second = if order == 0 {
-            (p2, -(p2 - p1))
-        } else {
-            (0.0, s2)
-        };
-        Lanes::new(
-            [&self.law1, &self.law2],
-            order,
-            a1,
-            map,
-            [(0.0, s1), second],
-        )
-    }
-
-    /// Check 0 < Π1 < Π2 and 0 < α1 < α2 (all finite).
-    pub fn validate(&self) -> Result<(), MotionError> {
-        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
-        let finite = [p1, a1, p2, a2].iter().all(|v| v.is_finite());
-        if finite && 0.0 < p1 && p1 < p2 && 0.0 < a1 && a1 < a2 {
-            return Ok(());
-        }
-        Err(MotionError::BadLaw {
-            what: format!(
-                "a two-period law needs 0 < Π1 < Π2 and 0 < α1 < α2; got Π1 = {p1}, \
-                 Π2 = {p2}, α1 = {a1}, α2 = {a2}"
-            ),
-        })
-    }
-
-    /// out = Π^(order)(α) for every α (checked to lie in [0, α2]).
-    pub fn eval_into(
-        &self,
-        alpha: &[f64],
-        order: usize,
-        n_threads: Option<i64>,
-        out: &mut [f64],
-    ) -> Result<(), MotionError> {
-        self.validate()?;
-        let order = order.min(3);
-        let why = " [rad] (the law runs from α = 0 to the full angle α2)";
-        let range = ("alpha", self.angle, why);
-        match self.lanes(order) {
-            Some(l) => par_chunks(alpha, out, n_threads, range, |xs, os| l.eval(xs, os)),
-            None => par_fill(alpha, out, n_threads, range, self.evaluator(order)),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    fn close(a: f64, b: f64, tol: f64) -> bool {
-        (a - b).abs() <= tol * (1.0 + b.abs())
-    }
-
-    #[test]
-    fn published_peaks_of_the_rises() {
-        // (name, Cv, Ca) from the cam-design literature (Norton, Cam Design and
-        // Manufacturing Handbook, table 3-2; Rothbart).
-        for (name, cv, ca) in [
-            ("cycloidal", 2.0, 2.0 * PI),
-            ("harmonic", PI / 2.0, PI * PI / 2.0),
-            ("polynomial_345", 1.875, 10.0 / 3f64.sqrt()),
-            ("polynomial_4567", 2.1875, 7.5132),
-            ("modified_sine", 1.760, 5.528),
-            ("modified_trapezoid", 2.000, 4.888),
-        ] {
-            let law = Law::rise(name).unwrap();
-            // Published to four or five digits; the closed forms to rounding.
-            let tol = if name.starts_with("modified") || name == "polynomial_4567" {
-                5e-4
-            } else {
-                1e-12
-            };
-            assert!(close(law.dz_max, cv, tol), "{name}: Cv {}", law.dz_max);
-            assert!(close(law.ddz_max, ca, tol), "{name}: Ca {}", law.ddz_max);
-            assert!(law.z(0.0, 0).abs() < 1e-14 && close(law.z(1.0, 0), 1.0, 1e-14));
-            assert!(law.z(0.0, 1).abs() < 1e-14 && law.z(1.0, 1).abs() < 1e-13);
-        }
-    }
-
-    #[test]
-    fn half_cycloidal_is_the_seed_form() {
-        let h = Law::half("cycloidal").unwrap();
-        for j in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
-            assert!(close(h.z(j, 0), j - (PI * j).sin() / PI, 1e-14));
-            assert!(close(h.z(j, 1), 1.0 - (PI * j).cos(), 1e-14));
-            assert!(close(h.z(j, 2), PI * (PI * j).sin(), 1e-14));
-        }
-        assert!(close(h.dz_max, 2.0, 1e-14) && close(h.ddz_max, PI, 1e-14));
-    }
-
-    #[test]
-    fn pieces_join_smoothly() {
-        for name in ["modified_sine", "modified_trapezoid"] {
-            let law = Law::rise(name).unwrap();
-            for w in law.fast.windows(2) {
-                let x = w[0].x1;
-                for order in 0..3 {
-                    let (a, b) = (w[0].eval(x, order), w[1].eval(x, order));
-                    assert!(
-                        close(a, b, 1e-12),
-                        "{name} order {order} at {x}: {a} vs {b}"
-                    );
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn user_polynomials_are_checked() {
-        assert!(Law::polynomial(&[0.0, 0.0, 0.0, 10.0, -15.0, 6.0], true).is_ok());
-        assert!(Law::polynomial(&[0.0, 0.0, 1.0], true).is_err()); // Z'(1) = 2
-        assert!(Law::polynomial(&[0.0, 0.0, 1.0], false).is_ok()); // Z = x², Z' peaks at 1
-        assert!(Law::polynomial(&[0.0, 2.0, -1.0], false).is_err()); // Z'(0) = 2
-        assert!(Law::polynomial(&[0.0, f64::NAN], true).is_err());
-    }
-
-    proptest! {
-        #[test]
-        fn derivatives_match_differences(x in 0.01f64..0.99, k in 0usize..6, half in any::<bool>()) {
-            let law = if half { Law::half(NAMES[k]) } else { Law::rise(NAMES[k]) }.unwrap();
-            let h = 1e-6;
-            for order in 0..3 {
-                let fd = (law.z(x + h, order) - law.z(x - h, order)) / (2.0 * h);
-                let exact = law.z(x, order + 1);
-                // Pieces switch at breakpoints: skip a stencil straddling one.
-                let straddles = law.segments.iter().any(|s| (s.x1 - x).abs() < 2.0 * h);
-                prop_assert!(straddles || (fd - exact).abs() <= 1e-5 * (1.0 + exact.abs()),
-                    "{} order {}: {} vs {}", NAMES[k], order + 1, fd, exact);
-            }
-        }
-    }
-
-    #[test]
-    fn arrays_take_the_pointwise_values() {
-        // The lane-parallel path (arrays) against the pointwise one, value for
-        // value, for every pair of laws, every order, on a grid through the
-        // pieces' ends, the junction and both ends; also single laws.
-        let polys = [Law::polynomial(&[0.0, 0.0, 1.5, -0.5], false).unwrap()];
-        let laws: Vec<Law> = NAMES
-            .iter()
-            .map(|n| Law::half(n).unwrap())
-            .chain(NAMES.iter().map(|n| Law::rise(n).unwrap()))
-            .chain(polys)
-            .collect();
-        let x: Vec<f64> = (0..=1003).map(|i| i as f64 / 1003.0).collect();
-        for law in &laws {
-            for order in 0..=3 {
-                let mut out = vec![0.0; x.len()];
-                law.eval_into(&x, order, Some(1), &mut out).unwrap();
-                for (&xi, &o) in x.iter().zip(&out) {
-                    assert_eq!(o, law.z(xi, order), "x = {xi}, order {order}");
-                }
-            }
-        }
-        for l1 in &laws[..NAMES.len()] {
-            for l2 in &laws[..NAMES.len()] {
-                let law = TwoPeriod {
-                    stroke1: 0.04,
-                    angle1: 1.1,
-                    stroke: 0.1,
-                    angle: PI,
-                    law1: l1.clone(),
-                    law2: l2.clone(),
-                };
-                let mut alpha: Vec<f64> = x.iter().map(|v| v * PI).collect();
-                alpha.extend([1.1, 1.1 * (1.0 + 1e-16), 0.0, PI]);
-                for order in 0..=3 {
-                    let mut out = vec![0.0; alpha.len()];
-                    law.eval_into(&alpha, order, Some(2), &mut out).unwrap();
-                    for (&a, &o) in alpha.iter().zip(&out) {
-                        assert_eq!(o, law.at(a, order), "α = {a}, order {order}");
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn every_instruction_set_gives_the_pointwise_values() {
-        // The lane evaluator compiled for scalar code, AVX2 and AVX-512 (those
-        // the processor has), not only the one the dispatch picks.
-        use pulp::Simd;
-        let names = [
-            "cycloidal",
-            "modified_sine",
-            "modified_trapezoid",
-            "polynomial_345",
-        ];
-        let alpha: Vec<f64> = (0..=997).map(|i| i as f64 * (PI / 997.0)).collect();
-        for (n1, n2) in names.iter().zip(names.iter().rev()) {
-            let law = TwoPeriod {
-                stroke1: 0.04,
-                angle1: 1.1,
-                stroke: 0.1,
-                angle: PI,
-                law1: Law::half(n1).unwrap(),
-                law2: Law::half(n2).unwrap(),
-            };
-            for order in 0..=3 {
-                let lanes = law.lanes(order).unwrap();
-                let runs = on_each_isa!(|simd| {
-                    let mut out = vec![0.0; alpha.len()];
-                    Simd::vectorize(
-                        simd,
-                        LaneChunk {
-                            lanes: &lanes,
-                            v: &alpha,
-                            out: &mut out,
-                        },
-                    );
-                    out
-                });
-                assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
-                for (isa, out) in runs {
-                    for (&a, &o) in alpha.iter().zip(&out) {
-                        assert_eq!(o, law.at(a, order), "{isa}: α = {a}, order {order}");
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn arrays_out_of_range_are_refused_by_index() {
-        let law = Law::half("cycloidal").unwrap();
-        let mut x = vec![0.5; 40_000];
-        x[30_001] = f64::NAN;
-        let mut out = vec![0.0; x.len()];
-        let err = law.eval_into(&x, 0, Some(2), &mut out).unwrap_err();
-        assert!(err.to_string().contains("30001"), "{err}");
-        x[30_001] = 1.5;
-        let err = law.eval_into(&x, 0, Some(2), &mut out).unwrap_err();
-        assert!(err.to_string().contains("30001"), "{err}");
-    }
-
-    #[test]
-    fn two_period_is_continuous_at_the_junction() {
-        let (l1, l2) = (
-            Law::half("cycloidal").unwrap(),
-            Law::half("modified_sine").unwrap(),
-        );
-        // Π1 from continuity (9) for f_A = 1.5.
-        let (p2, a2, f) = (0.1, PI, 1.5);
-        let n1 = l1.dz_max / l2.dz_max;
-        let law = TwoPeriod {
-            stroke1: p2 / (1.0 + n1 * f),
-            angle1: a2 / (1.0 + f),
-            stroke: p2,
-            angle: a2,
-            law1: l1,
-            law2: l2,
-        };
-        let a1 = law.angle1;
-        for order in 0..3 {
-            let (lo, hi) = (
-                law.at(a1 * (1.0 - 1e-12), order),
-                law.at(a1 * (1.0 + 1e-12), order),
-            );
-            assert!(close(lo, hi, 1e-9), "order {order}: {lo} vs {hi}");
-        }
-        assert!(close(law.at(a2, 0), p2, 1e-15) && law.at(0.0, 0).abs() < 1e-15);
     }
 }

@@ -1,320 +1,11 @@
-//! The planetary gear-lever press drive of seed 003: kinematics over crank-angle
-//! grids and the working-stroke criteria, for one design or a grid of designs.
-//!
-//! Frame: origin at the centre O of the fixed internal guide gear (radius R), y up;
-//! the slider runs on the vertical guide x = `offset` below O. The carrier (crank)
-//! at angle θ carries the planet gear (radius r) whose centre is C = (R − r)·e^{iθ};
-//! the planet rolls inside the guide gear, so it turns at −k = −(R − r)/r times the
-//! carrier. The rod (length L) hangs on the planet at eccentricity d:
-//! pin P = C + d·e^{iβ}, β = −k·θ + i·(φ0 − π/2) with i = R/r: φ0 is the angle the
-//! guide gear is turned from the setting in which the pin lies on the carrier line,
-//! outwards, when the carrier points straight down. The slider is at
-//! y = P_y − √(L² − (P_x − offset)²).
-//!
-//! The carrier turns counterclockwise. As in the seed, α is the crank angle counted
-//! from the slider's bottom dead centre (BDC) **against** the motion: θ = θ_B − α,
-//! and S = Π(α) = y(θ_B − α) − y(θ_B) ≥ 0 is the slider's height above BDC, so
-//! the working stroke is the approach to BDC, α from α_p down to 0. α_p is the
-//! first contact: coming down from TDC, the first α where S = S_p; a slider
-//! that then backs off above S_p and comes down again before BDC re-contacts
-//! ([`Status::ReContacts`]).
-//!
-//! With d = 0 the drive is a plain crank-slider of crank radius R − r.
+//! The working-stroke criteria of one design: dead centres, first contact, the
+//! peaks of speed, jerk and torque over the working stroke.
 
-use std::f64::consts::{FRAC_PI_2, TAU};
-
-use rayon::prelude::*;
+use std::f64::consts::TAU;
 
 use crate::geom::sin_cos;
-use crate::parallel::{pool, resolve_threads, ThreadsError};
 
-/// Errors of the press domain.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum PressError {
-    #[error("{field} = {value} {why}")]
-    BadDesign {
-        field: &'static str,
-        value: f64,
-        why: String,
-    },
-    #[error("{field}[{index}] = {value} is not finite")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
-    #[error("{0}")]
-    BadSpec(String),
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
-}
-
-/// One gear-lever press: lengths [m], angle [rad].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Design {
-    /// Pitch radius of the fixed internal guide gear R [m].
-    pub big_r: f64,
-    /// Pitch radius of the planet (generating) gear r [m].
-    pub r: f64,
-    /// Eccentricity of the rod's pin on the planet d [m] (0: a crank-slider).
-    pub d: f64,
-    /// Rod length L [m].
-    pub l: f64,
-    /// Setting angle of the guide gear φ0 [rad].
-    pub phi0: f64,
-    /// Offset of the slider's guide from the centre [m].
-    pub offset: f64,
-}
-
-/// Largest gear ratio accepted (a typo such as R/r = 3000 is not a press).
-pub const MAX_RATIO: f64 = 64.0;
-
-impl Design {
-    /// Check the design; returns the gear ratio i = R/r (a whole number ≥ 2: the
-    /// drive repeats every crank turn only then).
-    pub fn validate(&self) -> Result<f64, PressError> {
-        let bad = |field, value, why: &str| {
-            Err(PressError::BadDesign {
-                field,
-                value,
-                why: why.to_string(),
-            })
-        };
-        for (field, v) in [
-            ("R", self.big_r),
-            ("r", self.r),
-            ("d", self.d),
-            ("L", self.l),
-            ("phi0", self.phi0),
-            ("offset", self.offset),
-        ] {
-            if !v.is_finite() {
-                return bad(field, v, "must be finite");
-            }
-        }
-        if self.r <= 0.0 {
-            return bad("r", self.r, "must be a positive radius [m]");
-        }
-        if self.big_r <= self.r {
-            return bad(
-                "R",
-                self.big_r,
-                &format!(
-                    "must exceed r = {} (the planet rolls inside the guide gear)",
-                    self.r
-                ),
-            );
-        }
-        let i = self.big_r / self.r;
-        if (i - i.round()).abs() > 1e-9 * i || i.round() > MAX_RATIO {
-            return Err(PressError::BadDesign {
-                field: "R/r",
-                value: i,
-                why: format!(
-                    "must be a whole number between 2 and {MAX_RATIO} (R = {}, r = {}): only then \
-                     does the drive repeat every crank turn; the seed uses 3",
-                    self.big_r, self.r
-                ),
-            });
-        }
-        if self.d < 0.0 {
-            return bad(
-                "d",
-                self.d,
-                "must be ≥ 0 [m] (0 gives a plain crank-slider)",
-            );
-        }
-        if self.l <= 0.0 {
-            return bad("L", self.l, "must be a positive rod length [m]");
-        }
-        Ok(i.round())
-    }
-
-    fn frame(&self) -> Frame {
-        let i = (self.big_r / self.r).round();
-        Frame {
-            a: self.big_r - self.r,
-            k: i - 1.0,
-            beta0: i * (self.phi0 - FRAC_PI_2),
-            d: self.d,
-            l: self.l,
-            e: self.offset,
-        }
-    }
-}
-
-/// A design in the form the kernels use.
-#[derive(Debug, Clone, Copy)]
-struct Frame {
-    a: f64,
-    k: f64,
-    beta0: f64,
-    d: f64,
-    l: f64,
-    e: f64,
-}
-
-/// Slider height and its θ-derivatives at one carrier angle.
-#[derive(Debug, Clone, Copy)]
-struct Kin {
-    centre: [f64; 2],
-    pin: [f64; 2],
-    /// L² − (P_x − offset)²: > 0 where the rod reaches the guide.
-    w2: f64,
-    y: f64,
-    dy: f64,
-    ddy: f64,
-    /// y''' where `order` ≥ 3, else 0.
-    dddy: f64,
-    /// y'''' where `order` ≥ 4, else 0.
-    ddddy: f64,
-}
-
-impl Frame {
-    /// Kinematics from cos/sin of θ and of β = −kθ + β0, with the derivatives
-    /// of y up to `order` (2, 3 or 4).
-    #[inline(always)]
-    fn kin(&self, (ct, st): (f64, f64), (cb, sb): (f64, f64), order: u32) -> Kin {
-        let (a, k, d) = (self.a, self.k, self.d);
-        let (kd, k2d) = (k * d, k * k * d);
-        let (cx, cy) = (a * ct, a * st);
-        let (px, py) = (cx + d * cb, cy + d * sb);
-        let (px1, py1) = (-a * st + kd * sb, a * ct - kd * cb);
-        let (px2, py2) = (-a * ct - k2d * cb, -a * st - k2d * sb);
-        let u = px - self.e;
-        let w2 = self.l * self.l - u * u;
-        let w = w2.sqrt();
-        let iw = 1.0 / w;
-        let g = u * px1 * iw;
-        let h = px1 * px1 + u * px2;
-        let (mut dddy, mut ddddy) = (0.0, 0.0);
-        if order >= 3 {
-            let k3d = k * k2d;
-            let (px3, py3) = (a * st - k3d * sb, -a * ct + k3d * cb);
-            let h1 = 3.0 * px1 * px2 + u * px3;
-            dddy = py3 + h1 * iw + 3.0 * (g * h + g * g * g) * iw * iw;
-            if order >= 4 {
-                // From w·w''' + 3w'·w'' = −(u'² + u·u'')' by one more
-                // derivative: w'''' = −((u'² + u·u'')'' + 4w'·w''' + 3w''²)/w,
-                // with w' = −g, w'' = −(h + g²)/w, w''' = py3 − y'''.
-                let k4d = k * k3d;
-                let (px4, py4) = (a * ct + k4d * cb, a * st + k4d * sb);
-                let h2 = 3.0 * px2 * px2 + 4.0 * px1 * px3 + u * px4;
-                let (w1, w2d, w3) = (-g, -(h + g * g) * iw, py3 - dddy);
-                ddddy = py4 + (h2 + 4.0 * w1 * w3 + 3.0 * w2d * w2d) * iw;
-            }
-        }
-        Kin {
-            centre: [cx, cy],
-            pin: [px, py],
-            w2,
-            y: py - w,
-            dy: py1 + g,
-            ddy: py2 + (h + g * g) * iw,
-            dddy,
-            ddddy,
-        }
-    }
-
-    #[inline]
-    fn at(&self, theta: f64, order: u32) -> Kin {
-        self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), order)
-    }
-}
-
-/// (cos x, sin x).
-#[inline(always)]
-fn cos_sin(x: f64) -> (f64, f64) {
-    let (s, c) = sin_cos(x);
-    (c, s)
-}
-
-/// Root of f on [lo, hi] where f(lo), f(hi) differ in sign (Illinois variant of
-/// regula falsi: superlinear, and never leaves the bracket), to within `xtol`
-/// in x: successive estimates closer than that end the search.
-fn root(
-    mut f: impl FnMut(f64) -> f64,
-    mut lo: f64,
-    mut hi: f64,
-    mut flo: f64,
-    mut fhi: f64,
-    xtol: f64,
-) -> f64 {
-    if flo == 0.0 {
-        return lo;
-    }
-    if fhi == 0.0 {
-        return hi;
-    }
-    let mut side = 0i8;
-    let mut last = f64::NAN;
-    for _ in 0..100 {
-        let x = (lo * fhi - hi * flo) / (fhi - flo);
-        if !(x > lo.min(hi) && x < lo.max(hi)) || (x - last).abs() <= xtol {
-            return if x.is_finite() { x } else { 0.5 * (lo + hi) };
-        }
-        last = x;
-        let fx = f(x);
-        if fx == 0.0 {
-            return x;
-        }
-        if (fx > 0.0) == (fhi > 0.0) {
-            hi = x;
-            fhi = fx;
-            if side == 1 {
-                flo *= 0.5;
-            }
-            side = 1;
-        } else {
-            lo = x;
-            flo = fx;
-            if side == -1 {
-                fhi *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// Samples of the carrier angle for the grid scans: θ_j = 2πj/M, with cos/sin of
-/// θ_j and of −kθ_j, shared by every design of one gear ratio.
-pub struct Table {
-    ct: Vec<f64>,
-    st: Vec<f64>,
-    cb: Vec<f64>,
-    sb: Vec<f64>,
-}
-
-impl Table {
-    pub fn new(ratio: f64, m: usize) -> Table {
-        let k = ratio - 1.0;
-        let mut t = Table {
-            ct: Vec::with_capacity(m),
-            st: Vec::with_capacity(m),
-            cb: Vec::with_capacity(m),
-            sb: Vec::with_capacity(m),
-        };
-        for j in 0..m {
-            let th = TAU * j as f64 / m as f64;
-            let (s, c) = sin_cos(th);
-            let (sb, cb) = sin_cos(-k * th);
-            t.ct.push(c);
-            t.st.push(s);
-            t.cb.push(cb);
-            t.sb.push(sb);
-        }
-        t
-    }
-
-    fn len(&self) -> usize {
-        self.ct.len()
-    }
-
-    fn theta(&self, j: usize) -> f64 {
-        TAU * j as f64 / self.len() as f64
-    }
-}
+use super::kinematics::{cos_sin, Design, Frame, Kin, PressError, Table};
 
 /// Carrier angles sampled per turn to find dead centres and extremes, unless the
 /// caller gives its own count.
@@ -342,6 +33,32 @@ pub enum Status {
     /// backs off above S_p and comes down again before BDC: the blank is hit
     /// twice (see [`RECONTACT`]). The criteria are those from the first contact.
     ReContacts = 4,
+}
+
+impl Status {
+    /// Every status, indexed by its code.
+    pub const ALL: [Status; 5] = [
+        Status::Ok,
+        Status::NoReach,
+        Status::Reverses,
+        Status::LongStroke,
+        Status::ReContacts,
+    ];
+
+    /// What the status means, as `cyclomech.press.STATUS` shows it (the Python
+    /// layer reads these texts from `cyclomech._core.PRESS_STATUS`).
+    pub const fn text(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::NoReach => "the rod cannot reach the guide somewhere in the turn",
+            Status::Reverses => "the slider moves back up during the working stroke",
+            Status::LongStroke => "the working stroke exceeds the nominal stroke",
+            Status::ReContacts => {
+                "re-contacts: the slider meets the blank, backs off above it and comes \
+                 down on it again before BDC"
+            }
+        }
+    }
 }
 
 /// Columns of the criteria rows.
@@ -411,7 +128,7 @@ impl Spec {
 
 /// Wrap an angle into [0, 2π).
 #[inline]
-fn wrap(x: f64) -> f64 {
+pub(super) fn wrap(x: f64) -> f64 {
     let w = x.rem_euclid(TAU);
     if w >= TAU {
         0.0
@@ -424,7 +141,7 @@ fn wrap(x: f64) -> f64 {
 /// that does not depend on the rod length, so that a sweep computes it once per
 /// (R, r, d, φ0, offset) and reuses it for every L.
 #[derive(Default)]
-pub struct PinScan {
+pub(super) struct PinScan {
     /// Rows of the pin path in blocks of [`LANES`] samples, so that the rod scan
     /// reads whole registers: u², u·P_x', P_x'² + u·P_x'', P_y, P_y', P_y''
     /// (u = P_x − offset). The last block is padded with copies of sample 0.
@@ -443,7 +160,7 @@ pub struct PinScan {
 
 impl PinScan {
     /// Sample the pin path of `f` (its rod length is not used).
-    fn fill(&mut self, f: &Frame, table: &Table) {
+    pub(super) fn fill(&mut self, f: &Frame, table: &Table) {
         let m = table.len();
         let (c0, s0) = cos_sin(f.beta0);
         let blocks = m.div_ceil(LANES);
@@ -641,14 +358,14 @@ fn quartic_peak(f: [f64; 5], h: f64) -> f64 {
 
 /// Lanes of the rod scan: samples computed side by side, each lane with its own
 /// running extremes, merged at the end (one AVX-512 register of f64).
-const LANES: usize = 8;
+pub(super) const LANES: usize = 8;
 
 /// The lowest and the highest sample of y and the largest |y''| (the first of
 /// ties), found by [`scan_rod`].
-struct Extremes {
-    lo: usize,
-    hi: usize,
-    acc: usize,
+pub(super) struct Extremes {
+    pub(super) lo: usize,
+    pub(super) hi: usize,
+    pub(super) acc: usize,
 }
 
 /// y, y', y'' over the turn for one rod length (L² = `l2`) from the pin path's
@@ -679,12 +396,12 @@ fn scan_rod(
 /// [`scan_rod`]'s loops, compiled once per instruction set (AVX-512 or AVX2 +
 /// FMA where the processor has them, plain SSE2 otherwise) and picked at run
 /// time.
-struct RodScan<'a, 'b> {
-    l2: f64,
-    m: usize,
-    pin: &'a [[[f64; LANES]; 6]],
-    out: [&'b mut [[f64; LANES]]; 3],
-    cands: &'b mut [Vec<usize>; 3],
+pub(super) struct RodScan<'a, 'b> {
+    pub(super) l2: f64,
+    pub(super) m: usize,
+    pub(super) pin: &'a [[[f64; LANES]; 6]],
+    pub(super) out: [&'b mut [[f64; LANES]]; 3],
+    pub(super) cands: &'b mut [Vec<usize>; 3],
 }
 
 impl pulp::WithSimd for RodScan<'_, '_> {
@@ -909,7 +626,7 @@ impl Walk {
 
 /// Criteria of the design `f` (its rod length included) on its sampled pin path
 /// `scan`, into `row` (see [`CRITERIA`]); returns its status.
-fn criteria_with(
+pub(super) fn criteria_with(
     f: &Frame,
     table: &Table,
     spec: &Spec,
@@ -1290,548 +1007,4 @@ pub fn criteria(design: &Design, spec: &Spec) -> Result<(Vec<f64>, Status), Pres
     scan.fill(&f, &table);
     let status = criteria_with(&f, &table, spec, &mut scan, &mut row);
     Ok((row, status))
-}
-
-/// The axes of a design grid, designs in C order (R, r, d, L, φ0).
-pub struct Grid<'a> {
-    pub big_r: &'a [f64],
-    pub r: &'a [f64],
-    pub d: &'a [f64],
-    pub l: &'a [f64],
-    pub phi0: &'a [f64],
-    pub offset: f64,
-}
-
-impl Grid<'_> {
-    pub fn len(&self) -> usize {
-        self.big_r.len() * self.r.len() * self.d.len() * self.l.len() * self.phi0.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    fn design(&self, flat: usize) -> Design {
-        let (np, nl, nd, nr) = (self.phi0.len(), self.l.len(), self.d.len(), self.r.len());
-        let ip = flat % np;
-        let il = (flat / np) % nl;
-        let id = (flat / (np * nl)) % nd;
-        let ir = (flat / (np * nl * nd)) % nr;
-        let ib = flat / (np * nl * nd * nr);
-        Design {
-            big_r: self.big_r[ib],
-            r: self.r[ir],
-            d: self.d[id],
-            l: self.l[il],
-            phi0: self.phi0[ip],
-            offset: self.offset,
-        }
-    }
-}
-
-/// Criteria over the full Cartesian grid: `rows` (designs × 14) and `status`
-/// (designs), in parallel. Each pin path (R, r, d, φ0) is sampled once and
-/// reused for every rod length L.
-pub fn sweep_into(
-    grid: &Grid<'_>,
-    spec: &Spec,
-    n_threads: Option<i64>,
-    rows: &mut [f64],
-    status: &mut [u8],
-) -> Result<(), PressError> {
-    spec.validate()?;
-    let n = grid.len();
-    let nc = CRITERIA.len();
-    if rows.len() != n * nc || status.len() != n {
-        return Err(PressError::BadSpec(
-            "output sizes do not match the grid".into(),
-        ));
-    }
-    if n == 0 {
-        return Ok(());
-    }
-    // Validate every axis value (each with the first values of the other axes),
-    // and build one table per gear ratio.
-    let base = grid.design(0);
-    // One table per gear ratio, and for every (R, r) pair (in grid order, one per
-    // block of d values) the index of its table.
-    let mut tables: Vec<(f64, Table)> = Vec::new();
-    let mut table_at: Vec<usize> = Vec::with_capacity(grid.big_r.len() * grid.r.len());
-    for &big_r in grid.big_r {
-        for &r in grid.r {
-            let ratio = Design { big_r, r, ..base }.validate()?;
-            let k = match tables.iter().position(|(q, _)| *q == ratio) {
-                Some(k) => k,
-                None => {
-                    tables.push((ratio, Table::new(ratio, spec.samples)));
-                    tables.len() - 1
-                }
-            };
-            table_at.push(k);
-        }
-    }
-    for &d in grid.d {
-        Design { d, ..base }.validate()?;
-    }
-    for &l in grid.l {
-        Design { l, ..base }.validate()?;
-    }
-    for &phi0 in grid.phi0 {
-        Design { phi0, ..base }.validate()?;
-    }
-    let (nl, np) = (grid.l.len(), grid.phi0.len());
-    let block = nl * np;
-    // Rows of one pin path (block b = (R, r, d), φ0 index p) for every L.
-    let group = |b: usize, p: usize, scan: &mut PinScan| -> (Vec<f64>, Vec<u8>) {
-        let design = grid.design(b * block + p);
-        // Block b is (R, r, d) in C order: its (R, r) pair is b / len(d).
-        let table = &tables[table_at[b / grid.d.len()]].1;
-        let mut f = design.frame();
-        scan.fill(&f, table);
-        let mut out = vec![0.0; nl * nc];
-        let mut st = vec![0u8; nl];
-        for (il, (row, s)) in out.chunks_mut(nc).zip(st.iter_mut()).enumerate() {
-            f.l = grid.l[il];
-            *s = criteria_with(&f, table, spec, scan, row) as u8;
-        }
-        (out, st)
-    };
-    let place = |rb: &mut [f64], sb: &mut [u8], p: usize, (out, st): (Vec<f64>, Vec<u8>)| {
-        for il in 0..nl {
-            let q = il * np + p;
-            rb[q * nc..(q + 1) * nc].copy_from_slice(&out[il * nc..(il + 1) * nc]);
-            sb[q] = st[il];
-        }
-    };
-    let threads = resolve_threads(n_threads)?;
-    let blocks = rows
-        .chunks_mut(block * nc)
-        .zip(status.chunks_mut(block))
-        .enumerate();
-    if threads == 1 {
-        let mut scan = PinScan::default();
-        for (b, (rb, sb)) in blocks {
-            for p in 0..np {
-                let res = group(b, p, &mut scan);
-                place(rb, sb, p, res);
-            }
-        }
-    } else {
-        let blocks: Vec<_> = blocks.collect();
-        pool(threads)?.install(|| {
-            blocks.into_par_iter().for_each(|(b, (rb, sb))| {
-                let res: Vec<_> = (0..np)
-                    .into_par_iter()
-                    .map_init(PinScan::default, |scan, p| group(b, p, scan))
-                    .collect();
-                for (p, r) in res.into_iter().enumerate() {
-                    place(rb, sb, p, r);
-                }
-            })
-        });
-    }
-    Ok(())
-}
-
-/// Kinematics outputs for K designs × N angles, caller-owned: `s`, `ds`, `dds`
-/// (K·N), `centre`, `pin`, `slider` (K·N·2), `ok` (K·N).
-pub struct KinOut<'a> {
-    pub s: &'a mut [f64],
-    pub ds: &'a mut [f64],
-    pub dds: &'a mut [f64],
-    pub centre: &'a mut [f64],
-    pub pin: &'a mut [f64],
-    pub slider: &'a mut [f64],
-    pub ok: &'a mut [bool],
-}
-
-/// The BDC of a design: (θ_B, y_B), the lowest slider position over the turn
-/// (over its assembled part if the rod cannot reach everywhere; None if nowhere).
-/// Of BDCs that tie (see [`TIE`]), the one at the smallest θ in [0, 2π).
-pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
-    let f = design.frame();
-    let h = TAU / samples as f64;
-    // y over the turn, +∞ where the rod does not reach (never a minimum).
-    let mut ys = Vec::with_capacity(samples);
-    let (mut lo, mut hi, mut acc) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
-    for j in 0..samples {
-        let k = f.at(h * j as f64, 2);
-        if k.w2 > 0.0 {
-            ys.push(k.y);
-            (lo, hi, acc) = (lo.min(k.y), hi.max(k.y), acc.max(k.ddy.abs()));
-        } else {
-            ys.push(f64::INFINITY);
-        }
-    }
-    if lo == f64::INFINITY {
-        return None;
-    }
-    // Every sampled local minimum that may tie with the lowest (as in
-    // `scan_rod`), refined at a root of y' where its neighbours bracket one.
-    let band = 0.25 * acc * h * h + TIE * (hi - lo) + 8.0 * f64::EPSILON * (lo.abs() + hi.abs());
-    let n = samples;
-    let refine = |j: usize| -> (f64, f64) {
-        let (th, y) = (h * j as f64, ys[j]);
-        let (lo, hi) = (th - h, th + h);
-        let (klo, khi) = (f.at(lo, 2), f.at(hi, 2));
-        if klo.w2 > 0.0 && khi.w2 > 0.0 && klo.dy < 0.0 && khi.dy > 0.0 {
-            let t = root(|x| f.at(x, 2).dy, lo, hi, klo.dy, khi.dy, 0.0);
-            let yt = f.at(t, 2).y;
-            if yt <= y {
-                return (wrap(t), yt);
-            }
-        }
-        (wrap(th), y)
-    };
-    let found: Vec<(f64, f64)> = (0..n)
-        .filter(|&j| {
-            let y = ys[j];
-            y <= lo + band && y <= ys[(j + n - 1) % n] && y <= ys[(j + 1) % n]
-        })
-        .map(refine)
-        .collect();
-    let y_min = found.iter().fold(f64::INFINITY, |a, c| a.min(c.1));
-    found
-        .into_iter()
-        .filter(|c| c.1 <= y_min + TIE * (hi - lo))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
-/// One chunk of the outputs of [`solve_into`].
-type KinChunk<'a> = (
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut [bool],
-);
-
-/// Solve K designs over one grid of α [rad] (counted from each design's BDC
-/// against the motion), in parallel. Where the rod cannot reach the guide, `ok`
-/// is false and the outputs NaN.
-pub fn solve_into(
-    designs: &[Design],
-    alpha: &[f64],
-    n_threads: Option<i64>,
-    out: KinOut<'_>,
-) -> Result<(), PressError> {
-    for d in designs {
-        d.validate()?;
-    }
-    if let Some((i, &v)) = alpha.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(PressError::NotFinite {
-            field: "alpha",
-            index: i,
-            value: v,
-        });
-    }
-    let (k, n) = (designs.len(), alpha.len());
-    if out.s.len() != k * n
-        || out.ds.len() != k * n
-        || out.dds.len() != k * n
-        || out.centre.len() != 2 * k * n
-        || out.pin.len() != 2 * k * n
-        || out.slider.len() != 2 * k * n
-        || out.ok.len() != k * n
-    {
-        return Err(PressError::BadSpec("output sizes do not match".into()));
-    }
-    let threads = resolve_threads(n_threads)?;
-    let frames: Vec<(Frame, Option<(f64, f64)>)> = designs
-        .iter()
-        .map(|d| (d.frame(), bdc(d, 4 * DEFAULT_SAMPLES)))
-        .collect();
-    const CHUNK: usize = 8192;
-    let one = |start: usize, (s, ds, dds, centre, pin, slider, ok): KinChunk<'_>| {
-        for q in 0..s.len() {
-            let flat = start + q;
-            let (f, b) = &frames[flat / n];
-            let a = alpha[flat % n];
-            let kin = b.map(|(th_b, y_b)| (f.at(th_b - a, 2), y_b));
-            match kin {
-                Some((kin, y_b)) if kin.w2 > 0.0 => {
-                    s[q] = kin.y - y_b;
-                    ds[q] = -kin.dy;
-                    dds[q] = kin.ddy;
-                    ok[q] = true;
-                    slider[2 * q] = f.e;
-                    slider[2 * q + 1] = kin.y;
-                    centre[2 * q..2 * q + 2].copy_from_slice(&kin.centre);
-                    pin[2 * q..2 * q + 2].copy_from_slice(&kin.pin);
-                }
-                _ => {
-                    s[q] = f64::NAN;
-                    ds[q] = f64::NAN;
-                    dds[q] = f64::NAN;
-                    ok[q] = false;
-                    slider[2 * q..2 * q + 2].fill(f64::NAN);
-                    match b {
-                        // The crank still turns: centre and pin are known.
-                        Some((th_b, _)) => {
-                            let kin = f.at(th_b - a, 2);
-                            centre[2 * q..2 * q + 2].copy_from_slice(&kin.centre);
-                            pin[2 * q..2 * q + 2].copy_from_slice(&kin.pin);
-                        }
-                        None => {
-                            centre[2 * q..2 * q + 2].fill(f64::NAN);
-                            pin[2 * q..2 * q + 2].fill(f64::NAN);
-                        }
-                    }
-                }
-            }
-        }
-    };
-    let KinOut {
-        s,
-        ds,
-        dds,
-        centre,
-        pin,
-        slider,
-        ok,
-    } = out;
-    let chunks: Vec<_> = s
-        .chunks_mut(CHUNK)
-        .zip(ds.chunks_mut(CHUNK))
-        .zip(dds.chunks_mut(CHUNK))
-        .zip(centre.chunks_mut(2 * CHUNK))
-        .zip(pin.chunks_mut(2 * CHUNK))
-        .zip(slider.chunks_mut(2 * CHUNK))
-        .zip(ok.chunks_mut(CHUNK))
-        .enumerate()
-        .map(|(c, ((((((a, b), cc), d), e), g), h))| (c * CHUNK, (a, b, cc, d, e, g, h)))
-        .collect();
-    if threads == 1 || chunks.len() <= 1 {
-        chunks.into_iter().for_each(|(st, c)| one(st, c));
-    } else {
-        pool(threads)?.install(|| chunks.into_par_iter().for_each(|(st, c)| one(st, c)));
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-    use std::f64::consts::PI;
-
-    fn press(d: f64, l: f64, phi0: f64) -> Design {
-        Design {
-            big_r: 0.09,
-            r: 0.03,
-            d,
-            l,
-            phi0,
-            offset: 0.0,
-        }
-    }
-
-    fn solve(design: &Design, alpha: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<bool>) {
-        let n = alpha.len();
-        let (mut s, mut ds, mut dds) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let (mut c, mut p, mut sl) = (vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n]);
-        let mut ok = vec![false; n];
-        solve_into(
-            &[*design],
-            alpha,
-            Some(1),
-            KinOut {
-                s: &mut s,
-                ds: &mut ds,
-                dds: &mut dds,
-                centre: &mut c,
-                pin: &mut p,
-                slider: &mut sl,
-                ok: &mut ok,
-            },
-        )
-        .unwrap();
-        (s, ds, dds, ok)
-    }
-
-    #[test]
-    fn rod_scan_is_the_same_on_every_instruction_set() {
-        // The rod loop and extreme search compiled for scalar code, AVX2 and
-        // AVX-512 (those the processor has): the same values and indices.
-        use pulp::Simd;
-        let m: usize = 361;
-        let col =
-            |f: &dyn Fn(f64) -> f64| (0..m).map(|j| f(j as f64 * 0.0174)).collect::<Vec<f64>>();
-        let u2 = col(&|x| 0.01 * (1.0 + x.sin()).powi(2));
-        let upx1 = col(&|x| 0.02 * x.cos());
-        let hh = col(&|x| 0.001 * (2.0 * x).sin());
-        let mut py = col(&|x| 0.3 * (x * 0.5).cos());
-        py[200..210].fill(-0.4); // a dip: the lowest point is in it
-        let mut py1 = col(&|x| -0.15 * (x * 0.5).sin());
-        let mut py2 = col(&|x| -0.075 * (x * 0.5).cos());
-        // Equal lowest samples in three lanes and in the remainder: the first wins.
-        py[202] = -0.5;
-        let (mut u2, mut upx1, mut hh) = (u2, upx1, hh);
-        for j in [203, 207, 360] {
-            for v in [&mut u2, &mut upx1, &mut hh, &mut py, &mut py1, &mut py2] {
-                v[j] = v[202];
-            }
-        }
-        // In blocks of LANES samples, the last one padded with sample 0 (as
-        // PinScan::fill does).
-        let nb = m.div_ceil(LANES);
-        let cols = [&u2, &upx1, &hh, &py, &py1, &py2];
-        let pin: Vec<[[f64; LANES]; 6]> = (0..nb)
-            .map(|b| {
-                std::array::from_fn(|k| {
-                    std::array::from_fn(|l| {
-                        let j = b * LANES + l;
-                        cols[k][if j < m { j } else { 0 }]
-                    })
-                })
-            })
-            .collect();
-        let runs = on_each_isa!(|simd| {
-            let mut rows = vec![vec![[0.0; LANES]; nb]; 3];
-            let mut cands = [Vec::new(), Vec::new(), Vec::new()];
-            let [y, dy, ddy] = &mut rows[..] else {
-                unreachable!()
-            };
-            let ex = Simd::vectorize(
-                simd,
-                RodScan {
-                    l2: 0.09,
-                    m,
-                    pin: &pin,
-                    out: [y, dy, ddy],
-                    cands: &mut cands,
-                },
-            );
-            let flat = |v: &Vec<[f64; LANES]>| v.as_flattened()[..m].to_vec();
-            ([ex.lo, ex.hi, ex.acc], cands, flat(y), flat(dy), flat(ddy))
-        });
-        let (_, first) = &runs[0];
-        let (y, ddy) = (&first.2, &first.4);
-        let lowest = (0..m).fold(0, |b, j| if y[j] < y[b] { j } else { b });
-        let highest = (0..m).fold(0, |b, j| if y[j] > y[b] { j } else { b });
-        let steepest = (0..m).fold(0, |b, j| if ddy[j].abs() > ddy[b].abs() { j } else { b });
-        assert_eq!(first.0, [lowest, highest, steepest], "the first extremes");
-        assert_eq!(lowest, 202);
-        // The candidates by brute force: local maxima of |y''| within 1 % of
-        // the largest, local minima (maxima) of y within the band of the lowest
-        // (highest).
-        let a = |j: usize| ddy[j % m].abs();
-        let yc = |j: usize| y[j % m];
-        let peaks: Vec<usize> = (0..m)
-            .filter(|&j| a(j) >= 0.99 * a(steepest) && a(j) >= a(j + m - 1) && a(j) >= a(j + 1))
-            .collect();
-        assert!(peaks.contains(&steepest));
-        let (ylo, yhi) = (y[lowest], y[highest]);
-        let h = TAU / m as f64;
-        let band = 0.25 * a(steepest) * h * h
-            + TIE * (yhi - ylo)
-            + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
-        let lows: Vec<usize> = (0..m)
-            .filter(|&j| yc(j) <= ylo + band && yc(j) <= yc(j + m - 1) && yc(j) <= yc(j + 1))
-            .collect();
-        let highs: Vec<usize> = (0..m)
-            .filter(|&j| yc(j) >= yhi - band && yc(j) >= yc(j + m - 1) && yc(j) >= yc(j + 1))
-            .collect();
-        // The equal lowest samples 202, 203 (a flat pair), 207 and 360.
-        assert_eq!(lows, [202, 203, 207, 360]);
-        assert_eq!(first.1, [peaks, lows, highs]);
-        for (isa, run) in &runs {
-            assert_eq!(run, first, "{isa}");
-        }
-    }
-
-    #[test]
-    fn crank_slider_limit_is_the_closed_form() {
-        let (a, l) = (0.06, 0.25);
-        let design = press(0.0, l, 0.3);
-        let alpha: Vec<f64> = (0..=72).map(|k| k as f64 * PI / 36.0).collect();
-        let (s, ds, dds, ok) = solve(&design, &alpha);
-        for (q, &al) in alpha.iter().enumerate() {
-            let (sa, ca) = al.sin_cos();
-            let root = (l * l - a * a * sa * sa).sqrt();
-            let s0 = a * (1.0 - ca) + l - root;
-            let ds0 = a * sa + a * a * sa * ca / root;
-            let dds0 = a * ca
-                + a * a * (ca * ca - sa * sa) / root
-                + a.powi(4) * sa * sa * ca * ca / root.powi(3);
-            assert!(ok[q]);
-            assert!((s[q] - s0).abs() < 1e-14, "S at {al}: {} vs {s0}", s[q]);
-            assert!((ds[q] - ds0).abs() < 1e-14, "S' at {al}");
-            assert!((dds[q] - dds0).abs() < 1e-13, "S'' at {al}");
-        }
-    }
-
-    #[test]
-    fn criteria_of_the_crank_slider() {
-        // Crank-slider with ω = 1: α_p from S(α_p) = S_p in closed form.
-        let (a, l) = (0.06, 0.25);
-        let spec = Spec {
-            stroke: Stroke::Fraction(0.1),
-            omega: 1.0,
-            samples: 360,
-        };
-        let (row, status) = criteria(&press(0.0, l, 0.0), &spec).unwrap();
-        assert_eq!(status, Status::Ok);
-        assert!((row[0] - 2.0 * a).abs() < 1e-14);
-        let s_p = 0.1 * 2.0 * a;
-        let s = |al: f64| a * (1.0 - al.cos()) + l - (l * l - (a * al.sin()).powi(2)).sqrt();
-        let alpha_p = row[2];
-        assert!((s(alpha_p) - s_p).abs() < 1e-15);
-        assert!(alpha_p > 0.0 && alpha_p < PI);
-        // Speed falls monotonically to BDC: the peak is at the start.
-        assert!((row[5] - row[3]).abs() < 1e-15);
-        // J_max of a crank-slider is at BDC: a(1 + a/L).
-        assert!((row[6] - a * (1.0 + a / l)).abs() < 1e-13, "{}", row[6]);
-    }
-
-    #[test]
-    fn first_contact_of_a_slider_that_dips_and_backs_off() {
-        // Issue 16 item 1: coming down from TDC this slider first reaches S_p at
-        // α ≈ 126.2° (the dense reference of tests/test_issue16_press.py gives
-        // 126.22449…°), dips 1.55 mm below it, backs off above it and crosses it
-        // again at α ≈ 76.0° (the old α_p).
-        let spec = Spec {
-            stroke: Stroke::Fraction(0.1),
-            omega: 1.0,
-            samples: 360,
-        };
-        let (row, status) = criteria(&press(0.028, 0.46, 56f64.to_radians()), &spec).unwrap();
-        assert_eq!(status, Status::ReContacts);
-        assert!(
-            (row[2].to_degrees() - 126.2245).abs() < 1e-3,
-            "{}",
-            row[2].to_degrees()
-        );
-        // A shorter rod without the dip: ok, and the same from fewer samples.
-        let (row, status) = criteria(&press(0.029, 0.25, 56f64.to_radians()), &spec).unwrap();
-        assert_eq!(status, Status::Ok);
-        let coarse = Spec {
-            samples: 24,
-            ..spec
-        };
-        let (row24, _) = criteria(&press(0.029, 0.25, 56f64.to_radians()), &coarse).unwrap();
-        assert!((row[2] - row24[2]).abs() < 1e-9);
-    }
-
-    proptest! {
-        #[test]
-        fn derivatives_match_differences(d in 0.0f64..0.06, phi0 in -PI..PI, al in 0.1f64..6.0) {
-            let design = press(d, 0.4, phi0);
-            let h = 1e-6;
-            let (s, ds, dds, ok) = solve(&design, &[al - h, al, al + h]);
-            prop_assume!(ok.iter().all(|&o| o));
-            prop_assert!(((s[2] - s[0]) / (2.0 * h) - ds[1]).abs() < 1e-7);
-            prop_assert!(((ds[2] - ds[0]) / (2.0 * h) - dds[1]).abs() < 1e-6);
-            let f = design.frame();
-            let th = 1.234 + al;
-            let fd = (f.at(th + h, 2).ddy - f.at(th - h, 2).ddy) / (2.0 * h);
-            prop_assert!((fd - f.at(th, 3).dddy).abs() < 1e-6);
-            let fd = (f.at(th + h, 3).dddy - f.at(th - h, 3).dddy) / (2.0 * h);
-            let k = f.at(th, 4);
-            prop_assert!((fd - k.ddddy).abs() < 1e-5 * (1.0 + k.ddddy.abs()), "{fd} {}", k.ddddy);
-            prop_assert_eq!(k.dddy, f.at(th, 3).dddy);
-        }
-    }
 }

@@ -1,0 +1,450 @@
+//! Longest paths on a network analysed once: earliest and latest event times,
+//! slack, critical arcs, for one weight vector or a batch.
+
+//! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
+
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+
+use super::graph::{
+    check_finite, check_memory, topological_order, validate_arcs, Csr, CyclogramError, LANES,
+    MAX_ABS_VALUE, PARALLEL_MIN_WORK,
+};
+
+/// The structure of an event network, analysed once and reused for any number of
+/// weight vectors.
+#[derive(Debug)]
+pub struct EventGraph {
+    n: usize,
+    src: Vec<u32>,
+    dst: Vec<u32>,
+    /// `order[k]`: the event at topological position `k`.
+    order: Vec<u32>,
+    /// Incoming arcs grouped by the topological position of their head, in that
+    /// order, so the forward pass reads them sequentially; `other` = tail event.
+    inc: Csr,
+    /// `slot[e]`: where arc `e` sits in `inc` (the inverse of `inc.edge`).
+    slot: Vec<u32>,
+    /// Outgoing arcs grouped by the topological position of their tail; `other` =
+    /// head event. Only the backward pass needs them: built on first use.
+    out: OnceLock<Csr>,
+}
+
+impl Clone for EventGraph {
+    fn clone(&self) -> Self {
+        let out = OnceLock::new();
+        if let Some(o) = self.out.get() {
+            let _ = out.set(o.clone());
+        }
+        EventGraph {
+            n: self.n,
+            src: self.src.clone(),
+            dst: self.dst.clone(),
+            order: self.order.clone(),
+            inc: self.inc.clone(),
+            slot: self.slot.clone(),
+            out,
+        }
+    }
+}
+
+/// Earliest and latest event times, slack and critical arcs of one weight vector.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Analysis {
+    /// Earliest occurrence angle of each event (V,).
+    pub earliest: Vec<f64>,
+    /// Latest occurrence angle of each event that keeps every event at or before the horizon (V,).
+    pub latest: Vec<f64>,
+    /// Total slack of each arc: latest(y) - earliest(x) - w (E,).
+    pub total_slack: Vec<f64>,
+    /// Free slack of each arc: earliest(y) - earliest(x) - w (E,).
+    pub free_slack: Vec<f64>,
+    /// Arcs with zero total slack (within `tolerance`), every tie included (E,).
+    pub critical: Vec<bool>,
+    /// The horizon the latest times were computed for.
+    pub horizon: f64,
+    /// Absolute tolerance used to call a slack zero.
+    pub tolerance: f64,
+}
+
+impl EventGraph {
+    /// Analyse the structure: validate indices, find a topological order (or report
+    /// a cycle) and lay the incoming arcs out by topological position.
+    pub fn new(n_events: i64, src: &[i64], dst: &[i64]) -> Result<Self, CyclogramError> {
+        let (n, src, dst) = validate_arcs(n_events, src, dst)?;
+        let order =
+            topological_order(n, &src, &dst).map_err(|events| CyclogramError::Cycle { events })?;
+        let mut pos = vec![0u32; n];
+        for (k, &v) in order.iter().enumerate() {
+            pos[v as usize] = k as u32;
+        }
+        let inc = Csr::build(n, |e| pos[dst[e] as usize] as usize, |e| src[e], src.len());
+        let mut slot = vec![0u32; src.len()];
+        for (j, &e) in inc.edge.iter().enumerate() {
+            slot[e as usize] = j as u32;
+        }
+        Ok(EventGraph {
+            n,
+            src,
+            dst,
+            order,
+            inc,
+            slot,
+            out: OnceLock::new(),
+        })
+    }
+
+    fn out(&self) -> &Csr {
+        self.out.get_or_init(|| {
+            let mut pos = vec![0u32; self.n];
+            for (k, &v) in self.order.iter().enumerate() {
+                pos[v as usize] = k as u32;
+            }
+            Csr::build(
+                self.n,
+                |e| pos[self.src[e] as usize] as usize,
+                |e| self.dst[e],
+                self.src.len(),
+            )
+        })
+    }
+
+    /// Number of events (vertices).
+    pub fn n_events(&self) -> usize {
+        self.n
+    }
+
+    /// Number of operations (arcs).
+    pub fn n_arcs(&self) -> usize {
+        self.src.len()
+    }
+
+    /// Tail event of each arc.
+    pub fn src(&self) -> &[u32] {
+        &self.src
+    }
+
+    /// Head event of each arc.
+    pub fn dst(&self) -> &[u32] {
+        &self.dst
+    }
+
+    /// Events in a topological order.
+    pub fn topological_order(&self) -> &[u32] {
+        &self.order
+    }
+
+    fn check_weights(&self, weights: &[f64], rows: usize) -> Result<(), CyclogramError> {
+        let m = self.n_arcs();
+        if weights.len() != rows * m {
+            return Err(CyclogramError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: if rows == 0 {
+                    weights.len()
+                } else {
+                    weights.len() / rows.max(1)
+                },
+            });
+        }
+        check_finite("weights", weights, m, "phase angles [deg]")
+    }
+
+    /// Earliest times, by event, into `t` (V,).
+    fn forward(&self, w: &[f64], t: &mut [f64]) {
+        for (k, &v) in self.order.iter().enumerate() {
+            let r = self.inc.range(k);
+            let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
+            for (&s, &e) in self.inc.other[r.clone()].iter().zip(&self.inc.edge[r]) {
+                // Finite inputs, no NaN: compare-and-select, not the NaN-aware max.
+                let c = t[s as usize] + w[e as usize];
+                best = if c > best { c } else { best };
+            }
+            t[v as usize] = best;
+        }
+    }
+
+    /// Latest times, by event, for a horizon into `t` (V,).
+    fn backward(&self, w: &[f64], horizon: f64, t: &mut [f64]) {
+        let out = self.out();
+        for (k, &v) in self.order.iter().enumerate().rev() {
+            // Every event, not only the sinks, must occur by the horizon: with negative
+            // (overlapping) arcs an inner event can be the last one.
+            let mut best = horizon;
+            let r = out.range(k);
+            for (&d, &e) in out.other[r.clone()].iter().zip(&out.edge[r]) {
+                best = best.min(t[d as usize] - w[e as usize]);
+            }
+            t[v as usize] = best;
+        }
+    }
+
+    /// Earliest occurrence angle of every event for one weight vector (E,) -> (V,).
+    pub fn earliest(&self, weights: &[f64]) -> Result<Vec<f64>, CyclogramError> {
+        self.check_weights(weights, 1)?;
+        let mut t = vec![0.0; self.n];
+        self.forward(weights, &mut t);
+        Ok(t)
+    }
+
+    /// Latest occurrence angle of every event such that every event occurs at or
+    /// before `horizon` and every arc keeps its phase angle.
+    pub fn latest(&self, weights: &[f64], horizon: f64) -> Result<Vec<f64>, CyclogramError> {
+        self.check_weights(weights, 1)?;
+        if !horizon.is_finite() {
+            return Err(CyclogramError::BadScalar {
+                field: "horizon",
+                value: horizon,
+                what: "the horizon must be a finite angle in degrees",
+            });
+        }
+        let mut t = vec![0.0; self.n];
+        self.backward(weights, horizon, &mut t);
+        Ok(t)
+    }
+
+    /// Earliest times for 8 rows at once: `wblk[j]` holds the weights of the arc at
+    /// `inc` position `j` for each lane; times by event into `t`.
+    fn forward_block(&self, wblk: &[[f64; LANES]], t: &mut [[f64; LANES]]) {
+        for (k, &v) in self.order.iter().enumerate() {
+            let r = self.inc.range(k);
+            let mut best = if r.is_empty() {
+                [0.0; LANES]
+            } else {
+                [f64::NEG_INFINITY; LANES]
+            };
+            for (&s, w) in self.inc.other[r.clone()].iter().zip(&wblk[r]) {
+                let ts = &t[s as usize];
+                for l in 0..LANES {
+                    // Inputs are finite, so no NaN: a plain compare-and-select.
+                    let c = ts[l] + w[l];
+                    best[l] = if c > best[l] { c } else { best[l] };
+                }
+            }
+            t[v as usize] = best;
+        }
+    }
+
+    /// One block of up to 8 rows starting at row `r0` into `out` (lanes × V).
+    /// Returns false if a weight of the block is not finite (nothing is reported
+    /// from here; the caller locates it).
+    fn batch_block(
+        &self,
+        weights: &[f64],
+        r0: usize,
+        out: &mut [f64],
+        wblk: &mut [[f64; LANES]],
+        t: &mut [[f64; LANES]],
+    ) -> bool {
+        let (n, m) = (self.n, self.n_arcs());
+        let lanes = out.len() / n;
+        let rows: Vec<&[f64]> = (0..lanes)
+            .map(|l| &weights[(r0 + l) * m..(r0 + l + 1) * m])
+            .collect();
+        // Gather: the rows are read in order, each arc's 8 lanes written once at
+        // its position in the forward pass; the finite check rides along.
+        let mut ok = [true; LANES];
+        for (e, &j) in self.slot.iter().enumerate() {
+            let dst = &mut wblk[j as usize];
+            for l in 0..lanes {
+                let x = rows[l][e];
+                dst[l] = x;
+                ok[l] &= x.abs() <= MAX_ABS_VALUE;
+            }
+        }
+        if !ok.iter().all(|&b| b) {
+            return false;
+        }
+        self.forward_block(wblk, t);
+        for l in 0..lanes {
+            for (o, tv) in out[l * n..(l + 1) * n].iter_mut().zip(t.iter()) {
+                *o = tv[l];
+            }
+        }
+        true
+    }
+
+    /// Earliest times for `rows` weight vectors of `row_len` entries stored
+    /// row-major in `weights` (rows × E) -> (rows × V), row-major. Blocks of 8 rows
+    /// run in parallel on the pool chosen by `n_threads`.
+    pub fn earliest_batch(
+        &self,
+        weights: &[f64],
+        rows: usize,
+        row_len: usize,
+        n_threads: Option<i64>,
+    ) -> Result<Vec<f64>, CyclogramError> {
+        let (n, m) = (self.n, self.n_arcs());
+        if row_len != m {
+            return Err(CyclogramError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: row_len,
+            });
+        }
+        if weights.len() != rows * m {
+            return Err(CyclogramError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: weights.len() / rows.max(1),
+            });
+        }
+        let threads = crate::parallel::resolve_threads(n_threads)?;
+        check_memory(0, 0, rows.saturating_mul(n).saturating_mul(8))?;
+        let mut out = vec![0.0; rows * n];
+        if n == 0 || rows == 0 {
+            return check_finite("weights", weights, m, "phase angles [deg]").map(|_| out);
+        }
+        let buffers = || (vec![[0.0f64; LANES]; m], vec![[0.0f64; LANES]; n]);
+        let all_ok = if threads == 1 || rows * m < PARALLEL_MIN_WORK {
+            let (mut wblk, mut t) = buffers();
+            out.chunks_mut(LANES * n)
+                .enumerate()
+                .map(|(b, chunk)| self.batch_block(weights, b * LANES, chunk, &mut wblk, &mut t))
+                .fold(true, |a, b| a & b)
+        } else {
+            crate::parallel::pool(threads)?.install(|| {
+                out.par_chunks_mut(LANES * n)
+                    .enumerate()
+                    .map_init(buffers, |(wblk, t), (b, chunk)| {
+                        self.batch_block(weights, b * LANES, chunk, wblk, t)
+                    })
+                    .reduce(|| true, |a, b| a & b)
+            })
+        };
+        if !all_ok {
+            check_finite("weights", weights, m, "phase angles [deg]")?;
+        }
+        Ok(out)
+    }
+
+    /// Earliest and latest times, total and free slack, and the critical arcs of
+    /// one weight vector. `horizon = None` takes the latest earliest time (the
+    /// schedule's own end), so the critical arcs are those of the longest path.
+    pub fn analyze(
+        &self,
+        weights: &[f64],
+        horizon: Option<f64>,
+    ) -> Result<Analysis, CyclogramError> {
+        self.check_weights(weights, 1)?;
+        let mut early = vec![0.0; self.n];
+        self.forward(weights, &mut early);
+        let horizon = match horizon {
+            Some(h) if !h.is_finite() => {
+                return Err(CyclogramError::BadScalar {
+                    field: "horizon",
+                    value: h,
+                    what: "the horizon must be a finite angle in degrees",
+                })
+            }
+            Some(h) => h,
+            None => early.iter().copied().fold(0.0f64, f64::max),
+        };
+        let mut late = vec![0.0; self.n];
+        self.backward(weights, horizon, &mut late);
+        // Slack is a difference of sums of up to V weights: call it zero within a
+        // few ulps of the largest magnitude involved.
+        let scale = early
+            .iter()
+            .chain(weights.iter())
+            .fold(horizon.abs().max(1.0), |a, &b| a.max(b.abs()));
+        let tolerance = 1e-9 * scale;
+        let m = self.n_arcs();
+        let mut total = vec![0.0; m];
+        let mut free = vec![0.0; m];
+        let mut critical = vec![false; m];
+        for e in 0..m {
+            let (x, y) = (self.src[e] as usize, self.dst[e] as usize);
+            total[e] = late[y] - early[x] - weights[e];
+            free[e] = early[y] - early[x] - weights[e];
+            critical[e] = total[e].abs() <= tolerance;
+        }
+        Ok(Analysis {
+            earliest: early,
+            latest: late,
+            total_slack: total,
+            free_slack: free,
+            critical,
+            horizon,
+            tolerance,
+        })
+    }
+}
+
+/// One-shot longest path: earliest times computed during Kahn's topological sort,
+/// with one adjacency structure and no stored order (an event's time is final
+/// when its last incoming arc has been relaxed).
+///
+/// Each arc's weight is copied into the adjacency while it is built (reading the
+/// weights in order), so the relaxation streams through (head, weight) pairs
+/// instead of fetching every weight at a random position.
+pub fn longest_path(
+    n_events: i64,
+    src: &[i64],
+    dst: &[i64],
+    weights: &[f64],
+) -> Result<Vec<f64>, CyclogramError> {
+    let (n, s, d) = validate_arcs(n_events, src, dst)?;
+    let m = s.len();
+    if weights.len() != m {
+        return Err(CyclogramError::WeightLength {
+            field: "weights",
+            expected: m,
+            got: weights.len(),
+        });
+    }
+    check_finite("weights", weights, m, "phase angles [deg]")?;
+    // Out-degrees (as CSR offsets) and in-degrees in one pass.
+    let mut ptr = vec![0usize; n + 1];
+    let mut indeg = vec![0u32; n];
+    for (&a, &b) in s.iter().zip(&d) {
+        ptr[a as usize + 1] += 1;
+        indeg[b as usize] += 1;
+    }
+    for k in 0..n {
+        ptr[k + 1] += ptr[k];
+    }
+    let mut fill = ptr.clone();
+    let mut head = vec![0u32; m];
+    let mut wt = vec![0.0f64; m];
+    for ((&a, &b), &w) in s.iter().zip(&d).zip(weights) {
+        let slot = &mut fill[a as usize];
+        head[*slot] = b;
+        wt[*slot] = w;
+        *slot += 1;
+    }
+    drop(fill);
+    let mut t: Vec<f64> = indeg
+        .iter()
+        .map(|&k| if k == 0 { 0.0 } else { f64::NEG_INFINITY })
+        .collect();
+    let mut queue: Vec<u32> = (0..n as u32).filter(|&v| indeg[v as usize] == 0).collect();
+    queue.reserve(n - queue.len());
+    let mut next = 0;
+    while next < queue.len() {
+        let v = queue[next] as usize;
+        next += 1;
+        let tv = t[v];
+        let r = ptr[v]..ptr[v + 1];
+        for (&u, &w) in head[r.clone()].iter().zip(&wt[r]) {
+            let u = u as usize;
+            let (c, old) = (tv + w, t[u]);
+            // Finite inputs, no NaN: an unconditional select (maxsd), not a branch
+            // on a value that was just fetched from a random address.
+            t[u] = if c > old { c } else { old };
+            indeg[u] -= 1;
+            if indeg[u] == 0 {
+                queue.push(u as u32);
+            }
+        }
+    }
+    if queue.len() < n {
+        // Cold path: let the topological sort name one cycle.
+        return Err(match topological_order(n, &s, &d) {
+            Err(events) => CyclogramError::Cycle { events },
+            Ok(_) => CyclogramError::Cycle { events: vec![] },
+        });
+    }
+    Ok(t)
+}

@@ -1,0 +1,25 @@
+//! Dimensionless motion laws on the unit square and the two-period slider law.
+//!
+//! A law is Z(x) on 0 ≤ x ≤ 1, piecewise: on each segment [x0, x1],
+//! Z = Σ c_k t^k + A·sin(ω t + φ) with t = x − x0, so that Z, Z', Z'', Z''' are
+//! exact everywhere. Named laws (cycloidal, harmonic, 3-4-5, 4-5-6-7, modified
+//! sine, modified trapezoid) are built as full rises (Z' = 0 at both ends); the
+//! modified laws by integrating their acceleration pieces exactly and scaling to
+//! Z(1) = 1, so that their peaks (Cv, Ca) follow from the shape rather than from
+//! printed decimals. The **half law** of a symmetric rise is its first half
+//! rescaled to the unit square: Z_h(j) = 2·Z(j/2), so Z_h' peaks at j = 1.
+//!
+//! The two-period law of seed 003 joins a half law over 0 ≤ α ≤ α1 (period I,
+//! Π = Π1·Z1(α/α1)) and a mirrored half law over α1 ≤ α ≤ α2 (period II,
+//! Π = Π2 − (Π2 − Π1)·Z2((α2 − α)/(α2 − α1))).
+//!
+//! Files: `law` (the laws, named and polynomial, evaluated in SIMD lanes) and
+//! `two_period` (the two-period slider law).
+
+mod law;
+#[cfg(test)]
+mod tests;
+mod two_period;
+
+pub use law::{Law, MotionError, Segment, LAW_TOL, MAX_DEGREE, NAMES};
+pub use two_period::TwoPeriod;

@@ -1,0 +1,219 @@
+use super::law::*;
+use super::two_period::*;
+use std::f64::consts::PI;
+
+use proptest::prelude::*;
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + b.abs())
+}
+
+#[test]
+fn published_peaks_of_the_rises() {
+    // (name, Cv, Ca) from the cam-design literature (Norton, Cam Design and
+    // Manufacturing Handbook, table 3-2; Rothbart).
+    for (name, cv, ca) in [
+        ("cycloidal", 2.0, 2.0 * PI),
+        ("harmonic", PI / 2.0, PI * PI / 2.0),
+        ("polynomial_345", 1.875, 10.0 / 3f64.sqrt()),
+        ("polynomial_4567", 2.1875, 7.5132),
+        ("modified_sine", 1.760, 5.528),
+        ("modified_trapezoid", 2.000, 4.888),
+    ] {
+        let law = Law::rise(name).unwrap();
+        // Published to four or five digits; the closed forms to rounding.
+        let tol = if name.starts_with("modified") || name == "polynomial_4567" {
+            5e-4
+        } else {
+            1e-12
+        };
+        assert!(close(law.dz_max, cv, tol), "{name}: Cv {}", law.dz_max);
+        assert!(close(law.ddz_max, ca, tol), "{name}: Ca {}", law.ddz_max);
+        assert!(law.z(0.0, 0).abs() < 1e-14 && close(law.z(1.0, 0), 1.0, 1e-14));
+        assert!(law.z(0.0, 1).abs() < 1e-14 && law.z(1.0, 1).abs() < 1e-13);
+    }
+}
+
+#[test]
+fn half_cycloidal_is_the_seed_form() {
+    let h = Law::half("cycloidal").unwrap();
+    for j in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
+        assert!(close(h.z(j, 0), j - (PI * j).sin() / PI, 1e-14));
+        assert!(close(h.z(j, 1), 1.0 - (PI * j).cos(), 1e-14));
+        assert!(close(h.z(j, 2), PI * (PI * j).sin(), 1e-14));
+    }
+    assert!(close(h.dz_max, 2.0, 1e-14) && close(h.ddz_max, PI, 1e-14));
+}
+
+#[test]
+fn pieces_join_smoothly() {
+    for name in ["modified_sine", "modified_trapezoid"] {
+        let law = Law::rise(name).unwrap();
+        for w in law.fast.windows(2) {
+            let x = w[0].x1;
+            for order in 0..3 {
+                let (a, b) = (w[0].eval(x, order), w[1].eval(x, order));
+                assert!(
+                    close(a, b, 1e-12),
+                    "{name} order {order} at {x}: {a} vs {b}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn user_polynomials_are_checked() {
+    assert!(Law::polynomial(&[0.0, 0.0, 0.0, 10.0, -15.0, 6.0], true).is_ok());
+    assert!(Law::polynomial(&[0.0, 0.0, 1.0], true).is_err()); // Z'(1) = 2
+    assert!(Law::polynomial(&[0.0, 0.0, 1.0], false).is_ok()); // Z = x², Z' peaks at 1
+    assert!(Law::polynomial(&[0.0, 2.0, -1.0], false).is_err()); // Z'(0) = 2
+    assert!(Law::polynomial(&[0.0, f64::NAN], true).is_err());
+}
+
+proptest! {
+    #[test]
+    fn derivatives_match_differences(x in 0.01f64..0.99, k in 0usize..6, half in any::<bool>()) {
+        let law = if half { Law::half(NAMES[k]) } else { Law::rise(NAMES[k]) }.unwrap();
+        let h = 1e-6;
+        for order in 0..3 {
+            let fd = (law.z(x + h, order) - law.z(x - h, order)) / (2.0 * h);
+            let exact = law.z(x, order + 1);
+            // Pieces switch at breakpoints: skip a stencil straddling one.
+            let straddles = law.segments.iter().any(|s| (s.x1 - x).abs() < 2.0 * h);
+            prop_assert!(straddles || (fd - exact).abs() <= 1e-5 * (1.0 + exact.abs()),
+                "{} order {}: {} vs {}", NAMES[k], order + 1, fd, exact);
+        }
+    }
+}
+
+#[test]
+fn arrays_take_the_pointwise_values() {
+    // The lane-parallel path (arrays) against the pointwise one, value for
+    // value, for every pair of laws, every order, on a grid through the
+    // pieces' ends, the junction and both ends; also single laws.
+    let polys = [Law::polynomial(&[0.0, 0.0, 1.5, -0.5], false).unwrap()];
+    let laws: Vec<Law> = NAMES
+        .iter()
+        .map(|n| Law::half(n).unwrap())
+        .chain(NAMES.iter().map(|n| Law::rise(n).unwrap()))
+        .chain(polys)
+        .collect();
+    let x: Vec<f64> = (0..=1003).map(|i| i as f64 / 1003.0).collect();
+    for law in &laws {
+        for order in 0..=3 {
+            let mut out = vec![0.0; x.len()];
+            law.eval_into(&x, order, Some(1), &mut out).unwrap();
+            for (&xi, &o) in x.iter().zip(&out) {
+                assert_eq!(o, law.z(xi, order), "x = {xi}, order {order}");
+            }
+        }
+    }
+    for l1 in &laws[..NAMES.len()] {
+        for l2 in &laws[..NAMES.len()] {
+            let law = TwoPeriod {
+                stroke1: 0.04,
+                angle1: 1.1,
+                stroke: 0.1,
+                angle: PI,
+                law1: l1.clone(),
+                law2: l2.clone(),
+            };
+            let mut alpha: Vec<f64> = x.iter().map(|v| v * PI).collect();
+            alpha.extend([1.1, 1.1 * (1.0 + 1e-16), 0.0, PI]);
+            for order in 0..=3 {
+                let mut out = vec![0.0; alpha.len()];
+                law.eval_into(&alpha, order, Some(2), &mut out).unwrap();
+                for (&a, &o) in alpha.iter().zip(&out) {
+                    assert_eq!(o, law.at(a, order), "α = {a}, order {order}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn every_instruction_set_gives_the_pointwise_values() {
+    // The lane evaluator compiled for scalar code, AVX2 and AVX-512 (those
+    // the processor has), not only the one the dispatch picks.
+    use pulp::Simd;
+    let names = [
+        "cycloidal",
+        "modified_sine",
+        "modified_trapezoid",
+        "polynomial_345",
+    ];
+    let alpha: Vec<f64> = (0..=997).map(|i| i as f64 * (PI / 997.0)).collect();
+    for (n1, n2) in names.iter().zip(names.iter().rev()) {
+        let law = TwoPeriod {
+            stroke1: 0.04,
+            angle1: 1.1,
+            stroke: 0.1,
+            angle: PI,
+            law1: Law::half(n1).unwrap(),
+            law2: Law::half(n2).unwrap(),
+        };
+        for order in 0..=3 {
+            let lanes = law.lanes(order).unwrap();
+            let runs = on_each_isa!(|simd| {
+                let mut out = vec![0.0; alpha.len()];
+                Simd::vectorize(
+                    simd,
+                    LaneChunk {
+                        lanes: &lanes,
+                        v: &alpha,
+                        out: &mut out,
+                    },
+                );
+                out
+            });
+            assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
+            for (isa, out) in runs {
+                for (&a, &o) in alpha.iter().zip(&out) {
+                    assert_eq!(o, law.at(a, order), "{isa}: α = {a}, order {order}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn arrays_out_of_range_are_refused_by_index() {
+    let law = Law::half("cycloidal").unwrap();
+    let mut x = vec![0.5; 40_000];
+    x[30_001] = f64::NAN;
+    let mut out = vec![0.0; x.len()];
+    let err = law.eval_into(&x, 0, Some(2), &mut out).unwrap_err();
+    assert!(err.to_string().contains("30001"), "{err}");
+    x[30_001] = 1.5;
+    let err = law.eval_into(&x, 0, Some(2), &mut out).unwrap_err();
+    assert!(err.to_string().contains("30001"), "{err}");
+}
+
+#[test]
+fn two_period_is_continuous_at_the_junction() {
+    let (l1, l2) = (
+        Law::half("cycloidal").unwrap(),
+        Law::half("modified_sine").unwrap(),
+    );
+    // Π1 from continuity (9) for f_A = 1.5.
+    let (p2, a2, f) = (0.1, PI, 1.5);
+    let n1 = l1.dz_max / l2.dz_max;
+    let law = TwoPeriod {
+        stroke1: p2 / (1.0 + n1 * f),
+        angle1: a2 / (1.0 + f),
+        stroke: p2,
+        angle: a2,
+        law1: l1,
+        law2: l2,
+    };
+    let a1 = law.angle1;
+    for order in 0..3 {
+        let (lo, hi) = (
+            law.at(a1 * (1.0 - 1e-12), order),
+            law.at(a1 * (1.0 + 1e-12), order),
+        );
+        assert!(close(lo, hi, 1e-9), "order {order}: {lo} vs {hi}");
+    }
+    assert!(close(law.at(a2, 0), p2, 1e-15) && law.at(0.0, 0).abs() < 1e-15);
+}

@@ -1,0 +1,237 @@
+use std::f64::consts::TAU;
+
+use super::criteria::*;
+use super::kinematics::*;
+use proptest::prelude::*;
+use std::f64::consts::PI;
+
+fn press(d: f64, l: f64, phi0: f64) -> Design {
+    Design {
+        big_r: 0.09,
+        r: 0.03,
+        d,
+        l,
+        phi0,
+        offset: 0.0,
+    }
+}
+
+fn solve(design: &Design, alpha: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<bool>) {
+    let n = alpha.len();
+    let (mut s, mut ds, mut dds) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut c, mut p, mut sl) = (vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n]);
+    let mut ok = vec![false; n];
+    solve_into(
+        &[*design],
+        alpha,
+        Some(1),
+        KinOut {
+            s: &mut s,
+            ds: &mut ds,
+            dds: &mut dds,
+            centre: &mut c,
+            pin: &mut p,
+            slider: &mut sl,
+            ok: &mut ok,
+        },
+    )
+    .unwrap();
+    (s, ds, dds, ok)
+}
+
+#[test]
+fn rod_scan_is_the_same_on_every_instruction_set() {
+    // The rod loop and extreme search compiled for scalar code, AVX2 and
+    // AVX-512 (those the processor has): the same values and indices.
+    use pulp::Simd;
+    let m: usize = 361;
+    let col = |f: &dyn Fn(f64) -> f64| (0..m).map(|j| f(j as f64 * 0.0174)).collect::<Vec<f64>>();
+    let u2 = col(&|x| 0.01 * (1.0 + x.sin()).powi(2));
+    let upx1 = col(&|x| 0.02 * x.cos());
+    let hh = col(&|x| 0.001 * (2.0 * x).sin());
+    let mut py = col(&|x| 0.3 * (x * 0.5).cos());
+    py[200..210].fill(-0.4); // a dip: the lowest point is in it
+    let mut py1 = col(&|x| -0.15 * (x * 0.5).sin());
+    let mut py2 = col(&|x| -0.075 * (x * 0.5).cos());
+    // Equal lowest samples in three lanes and in the remainder: the first wins.
+    py[202] = -0.5;
+    let (mut u2, mut upx1, mut hh) = (u2, upx1, hh);
+    for j in [203, 207, 360] {
+        for v in [&mut u2, &mut upx1, &mut hh, &mut py, &mut py1, &mut py2] {
+            v[j] = v[202];
+        }
+    }
+    // In blocks of LANES samples, the last one padded with sample 0 (as
+    // PinScan::fill does).
+    let nb = m.div_ceil(LANES);
+    let cols = [&u2, &upx1, &hh, &py, &py1, &py2];
+    let pin: Vec<[[f64; LANES]; 6]> = (0..nb)
+        .map(|b| {
+            std::array::from_fn(|k| {
+                std::array::from_fn(|l| {
+                    let j = b * LANES + l;
+                    cols[k][if j < m { j } else { 0 }]
+                })
+            })
+        })
+        .collect();
+    let runs = on_each_isa!(|simd| {
+        let mut rows = vec![vec![[0.0; LANES]; nb]; 3];
+        let mut cands = [Vec::new(), Vec::new(), Vec::new()];
+        let [y, dy, ddy] = &mut rows[..] else {
+            unreachable!()
+        };
+        let ex = Simd::vectorize(
+            simd,
+            RodScan {
+                l2: 0.09,
+                m,
+                pin: &pin,
+                out: [y, dy, ddy],
+                cands: &mut cands,
+            },
+        );
+        let flat = |v: &Vec<[f64; LANES]>| v.as_flattened()[..m].to_vec();
+        ([ex.lo, ex.hi, ex.acc], cands, flat(y), flat(dy), flat(ddy))
+    });
+    let (_, first) = &runs[0];
+    let (y, ddy) = (&first.2, &first.4);
+    let lowest = (0..m).fold(0, |b, j| if y[j] < y[b] { j } else { b });
+    let highest = (0..m).fold(0, |b, j| if y[j] > y[b] { j } else { b });
+    let steepest = (0..m).fold(0, |b, j| if ddy[j].abs() > ddy[b].abs() { j } else { b });
+    assert_eq!(first.0, [lowest, highest, steepest], "the first extremes");
+    assert_eq!(lowest, 202);
+    // The candidates by brute force: local maxima of |y''| within 1 % of
+    // the largest, local minima (maxima) of y within the band of the lowest
+    // (highest).
+    let a = |j: usize| ddy[j % m].abs();
+    let yc = |j: usize| y[j % m];
+    let peaks: Vec<usize> = (0..m)
+        .filter(|&j| a(j) >= 0.99 * a(steepest) && a(j) >= a(j + m - 1) && a(j) >= a(j + 1))
+        .collect();
+    assert!(peaks.contains(&steepest));
+    let (ylo, yhi) = (y[lowest], y[highest]);
+    let h = TAU / m as f64;
+    let band = 0.25 * a(steepest) * h * h
+        + TIE * (yhi - ylo)
+        + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
+    let lows: Vec<usize> = (0..m)
+        .filter(|&j| yc(j) <= ylo + band && yc(j) <= yc(j + m - 1) && yc(j) <= yc(j + 1))
+        .collect();
+    let highs: Vec<usize> = (0..m)
+        .filter(|&j| yc(j) >= yhi - band && yc(j) >= yc(j + m - 1) && yc(j) >= yc(j + 1))
+        .collect();
+    // The equal lowest samples 202, 203 (a flat pair), 207 and 360.
+    assert_eq!(lows, [202, 203, 207, 360]);
+    assert_eq!(first.1, [peaks, lows, highs]);
+    for (isa, run) in &runs {
+        assert_eq!(run, first, "{isa}");
+    }
+}
+
+#[test]
+fn crank_slider_limit_is_the_closed_form() {
+    let (a, l) = (0.06, 0.25);
+    let design = press(0.0, l, 0.3);
+    let alpha: Vec<f64> = (0..=72).map(|k| k as f64 * PI / 36.0).collect();
+    let (s, ds, dds, ok) = solve(&design, &alpha);
+    for (q, &al) in alpha.iter().enumerate() {
+        let (sa, ca) = al.sin_cos();
+        let root = (l * l - a * a * sa * sa).sqrt();
+        let s0 = a * (1.0 - ca) + l - root;
+        let ds0 = a * sa + a * a * sa * ca / root;
+        let dds0 = a * ca
+            + a * a * (ca * ca - sa * sa) / root
+            + a.powi(4) * sa * sa * ca * ca / root.powi(3);
+        assert!(ok[q]);
+        assert!((s[q] - s0).abs() < 1e-14, "S at {al}: {} vs {s0}", s[q]);
+        assert!((ds[q] - ds0).abs() < 1e-14, "S' at {al}");
+        assert!((dds[q] - dds0).abs() < 1e-13, "S'' at {al}");
+    }
+}
+
+#[test]
+fn criteria_of_the_crank_slider() {
+    // Crank-slider with ω = 1: α_p from S(α_p) = S_p in closed form.
+    let (a, l) = (0.06, 0.25);
+    let spec = Spec {
+        stroke: Stroke::Fraction(0.1),
+        omega: 1.0,
+        samples: 360,
+    };
+    let (row, status) = criteria(&press(0.0, l, 0.0), &spec).unwrap();
+    assert_eq!(status, Status::Ok);
+    assert!((row[0] - 2.0 * a).abs() < 1e-14);
+    let s_p = 0.1 * 2.0 * a;
+    let s = |al: f64| a * (1.0 - al.cos()) + l - (l * l - (a * al.sin()).powi(2)).sqrt();
+    let alpha_p = row[2];
+    assert!((s(alpha_p) - s_p).abs() < 1e-15);
+    assert!(alpha_p > 0.0 && alpha_p < PI);
+    // Speed falls monotonically to BDC: the peak is at the start.
+    assert!((row[5] - row[3]).abs() < 1e-15);
+    // J_max of a crank-slider is at BDC: a(1 + a/L).
+    assert!((row[6] - a * (1.0 + a / l)).abs() < 1e-13, "{}", row[6]);
+}
+
+#[test]
+fn first_contact_of_a_slider_that_dips_and_backs_off() {
+    // Issue 16 item 1: coming down from TDC this slider first reaches S_p at
+    // α ≈ 126.2° (the dense reference of tests/test_issue16_press.py gives
+    // 126.22449…°), dips 1.55 mm below it, backs off above it and crosses it
+    // again at α ≈ 76.0° (the old α_p).
+    let spec = Spec {
+        stroke: Stroke::Fraction(0.1),
+        omega: 1.0,
+        samples: 360,
+    };
+    let (row, status) = criteria(&press(0.028, 0.46, 56f64.to_radians()), &spec).unwrap();
+    assert_eq!(status, Status::ReContacts);
+    assert!(
+        (row[2].to_degrees() - 126.2245).abs() < 1e-3,
+        "{}",
+        row[2].to_degrees()
+    );
+    // A shorter rod without the dip: ok, and the same from fewer samples.
+    let (row, status) = criteria(&press(0.029, 0.25, 56f64.to_radians()), &spec).unwrap();
+    assert_eq!(status, Status::Ok);
+    let coarse = Spec {
+        samples: 24,
+        ..spec
+    };
+    let (row24, _) = criteria(&press(0.029, 0.25, 56f64.to_radians()), &coarse).unwrap();
+    assert!((row[2] - row24[2]).abs() < 1e-9);
+}
+
+proptest! {
+    #[test]
+    fn derivatives_match_differences(d in 0.0f64..0.06, phi0 in -PI..PI, al in 0.1f64..6.0) {
+        let design = press(d, 0.4, phi0);
+        let h = 1e-6;
+        let (s, ds, dds, ok) = solve(&design, &[al - h, al, al + h]);
+        prop_assume!(ok.iter().all(|&o| o));
+        prop_assert!(((s[2] - s[0]) / (2.0 * h) - ds[1]).abs() < 1e-7);
+        prop_assert!(((ds[2] - ds[0]) / (2.0 * h) - dds[1]).abs() < 1e-6);
+        let f = design.frame();
+        let th = 1.234 + al;
+        let fd = (f.at(th + h, 2).ddy - f.at(th - h, 2).ddy) / (2.0 * h);
+        prop_assert!((fd - f.at(th, 3).dddy).abs() < 1e-6);
+        let fd = (f.at(th + h, 3).dddy - f.at(th - h, 3).dddy) / (2.0 * h);
+        let k = f.at(th, 4);
+        prop_assert!((fd - k.ddddy).abs() < 1e-5 * (1.0 + k.ddddy.abs()), "{fd} {}", k.ddddy);
+        prop_assert_eq!(k.dddy, f.at(th, 3).dddy);
+    }
+}
+
+/// `Status::ALL` is indexed by code (the Python layer builds `STATUS` from it), and
+/// every status has its own text.
+#[test]
+fn statuses_are_indexed_by_code_with_distinct_texts() {
+    for (code, status) in Status::ALL.iter().enumerate() {
+        assert_eq!(*status as usize, code);
+    }
+    let mut texts: Vec<&str> = Status::ALL.iter().map(|s| s.text()).collect();
+    assert_eq!(texts[0], "ok");
+    texts.sort_unstable();
+    texts.dedup();
+    assert_eq!(texts.len(), Status::ALL.len());
+}

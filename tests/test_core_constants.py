@@ -1,0 +1,51 @@
+"""Constants both layers need come from the Rust core, once (issue 17).
+
+The values are a public contract (``cyclomech.motion.NAMES``, ``cyclomech.press.STATUS``
+and the rpm factors appear in users' code, results and reports), so they are checked
+here against literal values, not against the core that now supplies them.
+"""
+
+import math
+
+import cyclomech as cm
+from cyclomech import _core, _units
+
+
+def test_motion_law_names_come_from_the_core() -> None:
+    expected = (
+        "cycloidal",
+        "harmonic",
+        "polynomial_345",
+        "polynomial_4567",
+        "modified_sine",
+        "modified_trapezoid",
+    )
+    assert expected == _core.MOTION_LAWS
+    assert expected == cm.motion.NAMES
+    assert type(cm.motion.NAMES) is tuple
+    for name in expected:  # each one names a law the core builds
+        assert cm.motion.law(name).dz_max > 0
+
+
+def test_press_statuses_come_from_the_core() -> None:
+    expected = {
+        0: "ok",
+        1: "the rod cannot reach the guide somewhere in the turn",
+        2: "the slider moves back up during the working stroke",
+        3: "the working stroke exceeds the nominal stroke",
+        4: "re-contacts: the slider meets the blank, backs off above it and comes down on it "
+        "again before BDC",
+    }
+    assert tuple(expected.values()) == _core.PRESS_STATUS
+    assert expected == cm.press.STATUS
+    assert type(cm.press.STATUS) is dict
+
+
+def test_rpm_factors_come_from_the_core() -> None:
+    # Bit for bit what the Python layer computed before the core supplied them.
+    assert 2.0 * math.pi / 60.0 == _core.RAD_PER_S_PER_RPM
+    assert _core.DEG_PER_S_PER_RPM == 6.0
+    assert _units.RAD_PER_S_PER_RPM is _core.RAD_PER_S_PER_RPM
+    assert _units.DEG_PER_S_PER_RPM is _core.DEG_PER_S_PER_RPM
+    assert type(_units.RAD_PER_S_PER_RPM) is float
+    assert type(_units.DEG_PER_S_PER_RPM) is float
