@@ -12,12 +12,13 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .. import _core, motion
+from .. import _core
 from .._arrays import count, finite_number, float_array, positive, threads_arg
 from .._errors import InfeasibleError, InputError
 from .._kind import Proportional
 from .._units import RAD_PER_S_PER_RPM
 from ..cyclogram import Constraint
+from ..motion import law as motion_law
 from ._checks import Array, _nonnegative, _positive_array
 from ._contact import _restitution_damping, contact_sample
 from ._lever import _propped_ratio, _restitution, contact_time, impact_force, lever_stiffness
@@ -280,7 +281,7 @@ class StopImpact:
         contact_time: float | None = None,
         model: str = "pulse",
     ) -> None:
-        self.law = motion.law(law, form="rise")
+        self.law = motion_law(law, form="rise")
         self.stroke = positive("stroke", stroke, "[m]")
         self.preload = _nonnegative("preload", preload, "[m]")
         if self.preload >= self.stroke:
