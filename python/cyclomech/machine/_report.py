@@ -374,22 +374,22 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         o_ = r.optimum
         priced = [(k, float(v)) for k, v in o_.duals.items() if abs(v) > 1e-9]
         per_mm = summary["optimum"]["shadow_prices_per_mm_rebound"]
-        rows = [[k, v, per_mm.get(k, "")] for k, v in priced]
+        # The price per unit of a mechanism's own limit, where a kind gives one (a
+        # stop's, per mm of its rebound limit): a column only if some bound has it.
+        header = ["bound or constraint", "shadow price [deg/deg]"]
+        rows = [[k, v] for k, v in priced]
+        extra = ""
+        if per_mm:
+            header.append("per mm of rebound limit [deg/mm]")
+            rows = [[k, v, per_mm.get(k, "")] for k, v in priced]
+            extra = " For a stop's rebound bound also per millimetre added to its rebound limit."
         free = [k for k in o_.binding if k not in dict(priced)]
         parts.append(
             "<h3>What sets the optimum at the nominal speed</h3>"
             "<p>The bounds and constraints with a shadow price: the change of the limiting "
             "operation's angle per degree added to the bound (negative: raising that "
-            "minimum takes angle from the limiting operation). For a stop's rebound bound "
-            "also per millimetre added to its rebound limit.</p>"
-            + _table(
-                [
-                    "bound or constraint",
-                    "shadow price [deg/deg]",
-                    "per mm of rebound limit [deg/mm]",
-                ],
-                rows,
-            )
+            f"minimum takes angle from the limiting operation).{extra}</p>"
+            + _table(header, rows)
             + (
                 f"<p>Also binding, at zero price (the optimum is degenerate there): "
                 f"{e(', '.join(free))}.</p>"
