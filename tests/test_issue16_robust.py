@@ -47,8 +47,34 @@ def run_bounded(code: str, *, timeout: float = BOUND_S, env: dict[str, str] | No
 # oscillator with k/m overflowing.
 
 
+#: A dip of q̇ after a start from rest (see start_dip) shallower than this
+#: fraction of the ramp's quasi-static velocity c is near or below
+#: first_rebound's rounding: a known kernel bug
+#: (test_item15_first_rebound_dip_below_the_ramps_rounding). The turn's time is
+#: off by up to ~0.45·ε·c/depth (measured), 1e-7 at this bound, 1e-6 at 1e-10.
+#: The depth is about (ωT)²/8 of c, T the turn's time: a turn within ~1e-4/ω of
+#: the start.
+LOST_DIP = 1e-9
+
+
+def start_dip(t, force, w, z, m, q0, v0):
+    """The dip of q̇ right after a start from rest, or None: with q̇(t[0]) = 0,
+    q̇ ≈ a·s + j·s²/2 (a = q̈, j = q⃛ at the start, s the time since it), and
+    when a and j have opposite signs q̇ turns back through 0 at s ≈ −2a/j.
+    Returns (that time T [s], the dip's depth a²/(2|j|) [m/s], the ramp's
+    quasi-static velocity c = slope/(mω²) [m/s])."""
+    if v0 != 0.0 or len(t) < 2 or t[1] <= t[0]:
+        return None
+    slope = (force[1] - force[0]) / (t[1] - t[0])
+    a = force[0] / m - w * w * q0
+    j = slope / m - 2 * z * w * a
+    if a * j >= 0.0:
+        return None
+    return -2 * a / j, a * a / (2 * abs(j)), slope / (m * w * w)
+
+
 def reference_turn(t, force, w, z, m, q0, v0, maximum, t_end):
-    """First turn of q by scipy's solve_ivp (DOP853, event on q̇ = 0): a
+    """First turn of q by scipy's solve_ivp (Radau, event on q̇ = 0): a
     different solver from the library's exact steps. With ``maximum``, the first
     q̇ = 0 crossing downwards (a maximum); otherwise the first crossing either
     way. Returns (time, q), (inf, None) if none before ``t_end``."""
@@ -65,20 +91,36 @@ def reference_turn(t, force, w, z, m, q0, v0, maximum, t_end):
         return y[1]
 
     turn.direction = -1.0 if maximum else 0.0
-    state, start = [q0, v0], t[0]
+    atol = 1e-14 * (abs(q0) + abs(v0) + max(abs(f)) / (m * w * w))
     # Integrate piece by piece (the force's kinks are the breakpoints) and on to
     # t_end, so that the steep ramp is resolved; Radau, as over-damped cases are
     # stiff.
-    for stop in [*t[1:], t_end]:
+    pieces = [(stop, math.inf, atol) for stop in [*t[1:], t_end]]
+    # From rest, q̇ = 0 at the start and q̇ may dip and come back through 0
+    # within the solver's first step (q0 = 2⁻⁹ at rest, a ramp to 1 over 2⁻⁷ s:
+    # a minimum at 3.05e-5 s with |q̇| ≤ 1.5e-8 m/s, which a first step of 1e-3 s
+    # never sees, as q̇ has one sign at both its ends). So the dip is its own
+    # piece, resolved with 64 steps per dip time and q̇ held to 1e-9 of the
+    # dip's depth.
+    dip = start_dip(t, f, w, z, m, q0, v0)
+    if dip is not None and 1e-9 * dip[1] > 1e-290:
+        T, depth, _ = dip
+        tol = [min(atol, 1e-9 * depth / (w * w * T)), 1e-9 * depth]
+        pieces.insert(0, (min(t[0] + 4 * T, t[1]), T / 64, tol))
+    state, start = [q0, v0], t[0]
+    for stop, max_step, tol in pieces:
         if stop <= start:
             continue
+        # Stop at the first turn, except where q̇ = 0 at the start itself.
+        turn.terminal = start > t[0] or v0 != 0.0
         sol = solve_ivp(
             rhs,
             (start, stop),
             state,
             method="Radau",
             rtol=1e-11,
-            atol=1e-14 * (abs(q0) + abs(v0) + max(abs(f)) / (m * w * w)),
+            atol=tol,
+            max_step=max_step,
             jac=[[0.0, 1.0], [-w * w, -2 * z * w]],
             events=turn,
         )
@@ -137,6 +179,17 @@ def test_item15_first_rebound_steep_ramp_minimum_against_solve_ivp():
 @example(zeta=1.0, ramp=1e-6, peak=2.0, q0=1.0, v0=0.0, maximum=False)
 @example(zeta=10.0, ramp=1e-9, peak=1.0, q0=0.75, v0=0.0, maximum=True)
 @example(zeta=10.0, ramp=1e-9, peak=1.0, q0=0.75, v0=0.0, maximum=False)
+# A minimum right after the start from rest, at 2·q0·ramp/peak = 3.05e-5 s (q̇
+# dips to -1.5e-8 m/s and comes back), undamped and critically damped: the
+# library had it right; solve_ivp's first step jumped over it (start_dip). The
+# dip is 1.2e-10 of c, below LOST_DIP: these two are checked with their own
+# tolerance in test_item15_first_rebound_early_minimum_from_rest.
+@example(zeta=0.0, ramp=0.0078125, peak=1.0, q0=0.001953125, v0=0.0, maximum=False)
+@example(zeta=1.0, ramp=0.0078125, peak=1.0, q0=0.001953125, v0=0.0, maximum=False)
+# The same dip, too shallow for a float (q0 = 5e-207), over-damped, the first maximum:
+# there is none (inf); the library stalls on the dip it cannot see (BUG, see
+# test_item15_first_rebound_dip_below_the_ramps_rounding).
+@example(zeta=10.0, ramp=0.0078125, peak=1.0, q0=5.479484529262842e-207, v0=0.0, maximum=True)
 def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
     zeta, ramp, peak, q0, v0, maximum
 ):
@@ -157,6 +210,12 @@ def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
     if math.hypot(q0 - peak, v0) + peak * ramp < 1e-9 * (abs(q0) + peak):
         return
     t, f = [0.0, ramp], [0.0, peak]
+    # A known kernel bug, pinned below: a start from rest whose q̇ dips by less
+    # than LOST_DIP of the ramp's quasi-static velocity c (the closed form
+    # carries q̇ as c + y and loses the dip's digits).
+    dip = start_dip(t, f, 1.0, zeta, 1.0, q0, v0)
+    if dip is not None and dip[1] < LOST_DIP * abs(dip[2]):
+        return
     r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, v0, maximum=maximum)
     ref_t, ref_q = reference_turn(t, f, 1.0, zeta, 1.0, q0, v0, maximum, late)
     if ref_t == math.inf:
@@ -166,10 +225,98 @@ def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
         at_end = abs(r.time[0] - ramp) < 1e-6 * ramp
         assert r.time[0] == math.inf or r.time[0] > late or at_end
         return
-    if abs(ref_t - ramp) < 1e-6 * ramp or ref_t < 1e-14:
+    if abs(ref_t - ramp) < 1e-6 * ramp:
         return
-    assert r.time[0] == pytest.approx(ref_t, rel=1e-6, abs=1e-13)
+    assert r.time[0] == pytest.approx(ref_t, rel=1e-6)
     assert r.q[0] == pytest.approx(ref_q, rel=1e-6, abs=1e-9)
+
+
+def undamped_early_turn(ramp, peak, q0):
+    """The closed form of the minimum after a start from rest at q0 > 0 under
+    a ramp F = peak·s/ramp (m = ω = 1, ζ = 0): q̇ = −q0·sin s + c·(1 − cos s)
+    with c = peak/ramp, zero again at s* = 2·atan(q0/c) (if s* ≤ ramp).
+    Returns (s* [s], q(s*) [m])."""
+    c = peak / ramp
+    s = 2 * math.atan(q0 / c)
+    return s, q0 * math.cos(s) + c * (s - math.sin(s))
+
+
+@pytest.mark.parametrize(
+    ("zeta", "q0"),
+    [(0.0, 0.001953125), (1.0, 0.001953125), (0.0, 0.01), (10.0, 0.01), (0.0, 0.5)],
+)
+def test_item15_first_rebound_early_minimum_from_rest(zeta, q0):
+    # Found by the property test: q0 = 2⁻⁹ at rest, a ramp to 1 over 2⁻⁷ s turns
+    # at 3.05e-5 s; solve_ivp's first step jumped over that dip (q̇ ≥ −1.5e-8 m/s)
+    # and reported the next turn at 3.15 s (ζ = 0) or none (ζ = 1). The closed
+    # form (ζ = 0) settles it: the library was right, and the reference now
+    # resolves the dip too. (The first two dips are 1.2e-10 of c, below LOST_DIP:
+    # the library is 2.6e-8 and 2.0e-7 off there.)
+    ramp, peak = 0.0078125, 1.0
+    t, f = [0.0, ramp], [0.0, peak]
+    ref_t, ref_q = reference_turn(t, f, 1.0, zeta, 1.0, q0, 0.0, False, 1.0)
+    if zeta == 0.0:
+        ts, qs = undamped_early_turn(ramp, peak, q0)
+        assert ref_t == pytest.approx(ts, rel=1e-9)
+        assert ref_q == pytest.approx(qs, rel=1e-12)
+    assert ref_t < ramp
+    r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, 0.0)
+    assert r.time[0] == pytest.approx(ref_t, rel=1e-6)
+    assert r.q[0] == pytest.approx(ref_q, rel=1e-12)
+
+
+def lost_dip(zeta, q0, maximum, raises, why):
+    """A case of the known bug, a strict xfail: it must fail, and only by `raises`."""
+    return pytest.param(
+        zeta, q0, maximum, marks=pytest.mark.xfail(strict=True, raises=raises, reason=f"BUG: {why}")
+    )
+
+
+@pytest.mark.parametrize(
+    ("zeta", "q0", "maximum"),
+    [
+        lost_dip(0.0, 1e-4, False, AssertionError, "a dip of 3e-13·c: the time is off by 1.6e-5"),
+        lost_dip(
+            0.0,
+            1e-6,
+            False,
+            AssertionError,
+            "a dip of 3e-17·c is lost: the turn comes out at q0·ramp, where q̇ is most"
+            " negative, half the true time",
+        ),
+        # Over-damped, the first maximum: there is none. Restarted at q̇'s most
+        # negative point with q̇ := 0 and q̈ = 0 within rounding, the search finds
+        # "minima" at that same time until it gives up (Stalled, an InputError):
+        # for q0 up to ~2e-5 m, not only within rounding of rest.
+        lost_dip(10.0, 1e-8, True, cm.CyclomechError, "stalls on a lost dip"),
+        lost_dip(10.0, 5.479484529262842e-207, True, cm.CyclomechError, "stalls on a lost dip"),
+    ],
+)
+def test_item15_first_rebound_dip_below_the_ramps_rounding(zeta, q0, maximum):
+    # From rest at q0 > 0 under a ramp, q̇ ≈ −q0·s + c·s²/2 (c = peak/ramp) dips
+    # by q0²/(2c) and turns at s* ≈ 2·q0/c: a real minimum, well conditioned
+    # (s* moves by the inputs' relative rounding). The kernel carries q̇ as
+    # c + y, so a dip below ~1e-10·c is within its rounding: the time is off
+    # or the search stalls. The right answers: the closed form for ζ = 0; for
+    # ζ = 10 with `maximum`, none (inf, at the static deflection 1), as solve_ivp
+    # and the library's own answer for q0 = 0 and for q0 < 0 say.
+    ramp, peak = 0.0078125, 1.0
+    t, f = [0.0, ramp], [0.0, peak]
+    T, depth, c = start_dip(t, f, 1.0, zeta, 1.0, q0, 0.0)
+    assert depth < LOST_DIP * c  # the property test leaves these out
+    if maximum:
+        ref_t, _ = reference_turn(t, f, 1.0, zeta, 1.0, q0, 0.0, True, 100.0)
+        want_t, want_q = math.inf, peak
+        assert ref_t == want_t
+        for q_near in (0.0, -q0):
+            r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q_near, 0.0, maximum=True)
+            assert (r.time[0], r.q[0]) == (want_t, pytest.approx(want_q, rel=1e-12))
+    else:
+        want_t, want_q = undamped_early_turn(ramp, peak, q0)
+        assert want_t == pytest.approx(T, rel=1e-6)
+    r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, 0.0, maximum=maximum)
+    assert r.time[0] == pytest.approx(want_t, rel=1e-6)
+    assert r.q[0] == pytest.approx(want_q, rel=1e-12)
 
 
 @pytest.mark.parametrize(
