@@ -269,6 +269,18 @@ def duhamel(
     *,
     with_velocity: Literal[True],
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+@overload
+def duhamel(
+    t: npt.NDArray[np.float64],
+    force: npt.NDArray[np.float64],
+    omega_n: float,
+    zeta: float,
+    mass: float,
+    q0: float,
+    v0: float,
+    *,
+    with_velocity: bool = False,
+) -> npt.NDArray[np.float64] | tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 def duhamel_batch(
     t: npt.NDArray[np.float64],
     forces: npt.NDArray[np.float64],
