@@ -46,7 +46,7 @@ class ContactHistory:
 
 def _contact_args(
     mass: float, k_free: float, k_stop: float, preload: float, zeta_free: float, zeta_contact: float
-) -> tuple[float, ...]:
+) -> tuple[float, float, float, float, float, float]:
     return (
         positive("mass", mass, "[kg]"),
         positive("k_free", k_free, "[N/m]"),

@@ -184,8 +184,8 @@ def max_impact_speeds(
     for _ in range(64):
         if not active.size:
             break
-        fine = rebounds([stops[i] for i in idx[active]], grid[active], n_threads=n_threads)
-        fine = fine <= a[idx[active], None]
+        heights = rebounds([stops[i] for i in idx[active]], grid[active], n_threads=n_threads)
+        fine = heights <= a[idx[active], None]
         k = np.where(fine.all(axis=1), 64, np.argmin(fine, axis=1))
         lo[active] = np.where(k > 0, grid[active, np.maximum(k - 1, 0)], lo[active])
         hi[active] = np.where(k < 64, grid[active, np.minimum(k, 63)], hi[active])
