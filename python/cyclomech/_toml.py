@@ -9,6 +9,7 @@ import codecs
 import math
 import tomllib
 from collections.abc import Iterable, Mapping
+from collections.abc import Set as AbstractSet
 from pathlib import Path
 from typing import Any
 
@@ -62,7 +63,7 @@ def load(path: str | Path) -> tuple[dict[str, Any], str]:
         raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
 
 
-def check_keys(table: Any, allowed: set[str], source: str | None, where: str) -> None:
+def check_keys(table: Any, allowed: AbstractSet[str], source: str | None, where: str) -> None:
     """``table`` must be a table whose keys are all in ``allowed``; messages start
     with ``source`` (None: the caller adds the file's name)."""
     at = where if source is None else f"{source}: {where}"

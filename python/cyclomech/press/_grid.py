@@ -68,6 +68,11 @@ class PressGrid:
         except KeyError:
             raise InputError(f"no criterion {name!r}; criteria are {', '.join(CRITERIA)}") from None
 
+    def _index(self, index: Any) -> tuple[Any, ...]:
+        """A grid index as a tuple of per-axis indices: a flat index (a scalar)
+        unravelled over the grid's shape, else the index's own entries."""
+        return np.unravel_index(index, self.shape) if np.ndim(index) == 0 else tuple(index)
+
     def design(self, index: tuple[int, ...] | int) -> GearLeverPress:
         """The design at a grid index.
 
@@ -77,7 +82,7 @@ class PressGrid:
         >>> sw.design(1).d
         0.02
         """
-        idx = np.unravel_index(index, self.shape) if np.ndim(index) == 0 else index
+        idx = self._index(index)
         if len(idx) != len(self.axes):
             raise InputError(f"index {index!r} must have {len(self.axes)} entries")
         par = dict(self.fixed)
@@ -94,7 +99,7 @@ class PressGrid:
         >>> round(sw.at(0).S_n, 9)
         0.12
         """
-        idx = np.unravel_index(index, self.shape) if np.ndim(index) == 0 else tuple(index)
+        idx = self._index(index)
         vals = {k: float(v[idx]) for k, v in self.values.items()}
         return PressCriteria(**vals, omega=self.omega, status=STATUS[int(self.status[idx])])
 
@@ -195,8 +200,14 @@ def design_grid(
             part = list(flat)
             part[lead] = flat[lead][start : start + step]
             lo, hi = start * inner, min(start + step, len(flat[lead])) * inner
+            # The chunk of each axis, in _AXES order (R, r, d, L, phi0).
+            R_part, r_part, d_part, L_part, phi0_part = part
             _core.press_sweep(
-                *part,
+                R_part,
+                r_part,
+                d_part,
+                L_part,
+                phi0_part,
                 table[lo:hi],
                 status[lo:hi],
                 offset=off,
