@@ -151,7 +151,7 @@ def br136() -> Linkage:
         "F": (0.059849272855501, 1.07814231078426),
         "J": (0.16, 1.69),
     }
-    drive = [("G", "F"), ("J", "F"), ("O", "J")]
+    drive: list[tuple[str, ...]] = [("G", "F"), ("J", "F"), ("O", "J")]
     return _knife(
         "BR-136",
         points,
