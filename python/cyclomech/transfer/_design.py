@@ -94,8 +94,8 @@ def design_transfer(
     acc = path.acceleration(speed)
     v_t, v_p = _speeds(speed)
     jump = acceleration_jump(R_t, v_t / R_t, R_p, v_p / R_p)
-    start = np.searchsorted(acc.s, path.start_of_transfer)
-    end = np.searchsorted(acc.s, path.start_of_transfer + path.transfer_length)
+    start = int(np.searchsorted(acc.s, path.start_of_transfer))
+    end = int(np.searchsorted(acc.s, path.start_of_transfer + path.transfer_length))
     return TransferDesign(
         path=path,
         x2=path.x2_t,
@@ -147,7 +147,8 @@ def _peak_jerk(r: Array, c_t: Array, c_p: Array, x2: Array, speed: Any, m: int) 
     law = _speed_law(speed, 0.0, span[:, None])
 
     def jerk(s: Array, kappa: Array, rate: Array) -> Array:
-        return _kinematics(*law(s), kappa, rate)[4]
+        v, dv, ddv = law(s)
+        return _kinematics(v, dv, ddv, kappa, rate)[4]
 
     k_t, r_t, s_t = pieces[0]
     out = jerk(s_t, k_t, r_t).max(axis=1)

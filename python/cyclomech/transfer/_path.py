@@ -95,7 +95,7 @@ class _Geometry:
     k: Array  # (…, 2): per side
     b: Array
     shift: Array  # line's distance from each centre minus the radius
-    feasible: Array  # the shifted circles leave room for the line
+    feasible: npt.NDArray[np.bool_]  # the shifted circles leave room for the line
     u: Array  # (…, 2): direction of travel on the straight
     ends: Array  # (…, 2 sides, 2): B_t and B_p
     t_a: Array  # (…, 2 sides, 2): local x axes at A (transport) and C (process)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -105,7 +105,8 @@ class QuinticTransition:
         (True, -148.799)
         """
         x = self._x(x)
-        return _scalar(_curvature(*(self._poly(x, j) for j in (1, 2, 3)))[1])
+        d1, d2, d3 = (self._poly(x, j) for j in (1, 2, 3))
+        return _scalar(_curvature(d1, d2, d3)[1])
 
     def arc_length(self, x: npt.ArrayLike) -> Any:
         """s(x) = ∫₀ˣ √(1 + y'²) dx [m]: 16-point Gauss–Legendre on sub-intervals
@@ -159,6 +160,10 @@ def _horner(c: list[Any], x: Array, order: int) -> Array:
     return out
 
 
+@overload
+def _curvature(d1: Array, d2: Array, d3: Array) -> tuple[Array, Array]: ...
+@overload
+def _curvature(d1: Array, d2: Array, d3: None) -> tuple[Array, None]: ...
 def _curvature(d1: Array, d2: Array, d3: Array | None) -> tuple[Array, Array | None]:
     """(κ, dκ/ds) of a graph from its first three derivatives (no rate without
     the third): κ = y''/(1 + y'²)^{3/2}, dκ/ds = (y⁽³⁾·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³."""
