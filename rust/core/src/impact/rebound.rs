@@ -102,9 +102,11 @@ fn rebound(
                     break;
                 }
             }
-            // q̇ = c + y loses the digits of c: where those are most of q̇'s own
-            // size over the segment (a steep ramp over a short step), the closed
-            // form's zero is rounding noise; bracket q̇ by exact steps instead.
+            // q̇ = c + y loses the digits of c: where those are most of the
+            // dip of q̇ after a point of rest, that dip is searched on its own
+            // (shallow_dip); where they are most of q̇'s own size over the
+            // segment (a steep ramp over a short step), the closed form's zero is
+            // rounding noise: bracket q̇ by exact steps instead.
             let h = rest.min(1.0 / mode.rate.max(mode.omega));
             let noise = 32.0 * f64::EPSILON * ((v - c).abs() + a0.abs() / mode.omega + c.abs());
             let size = v.abs() + a0.abs() * h + 0.5 * p1.abs() * h * h;
@@ -215,10 +217,11 @@ fn shallow_dip(
         return None;
     }
     let t_dip = -2.0 * a0 / j;
-    // depth = a0²/(2|j|) < DIP_TRUST·noise, without squaring a0 (underflow).
-    let shallow = a0.abs() * (0.5 * t_dip) < DIP_TRUST * noise;
+    // The depth a0²/(2|j|) = |a0|·T/4 < DIP_TRUST·noise, without squaring a0
+    // (which underflows).
+    let shallow = a0.abs() * (0.25 * t_dip) < DIP_TRUST * noise;
     let window = (4.0 * t_dip).min(rest);
-    if !shallow || !(mode.rate.max(mode.omega) * window <= 1.0) {
+    if !shallow || mode.rate.max(mode.omega) * window > 1.0 {
         return None;
     }
     let g = |tau: f64| dip_rate(mode, a0, j, tau);
