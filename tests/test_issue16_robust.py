@@ -47,16 +47,6 @@ def run_bounded(code: str, *, timeout: float = BOUND_S, env: dict[str, str] | No
 # oscillator with k/m overflowing.
 
 
-#: A dip of q̇ after a start from rest (see start_dip) shallower than this
-#: fraction of the ramp's quasi-static velocity c is near or below
-#: first_rebound's rounding: a known kernel bug
-#: (test_item15_first_rebound_dip_below_the_ramps_rounding). The turn's time is
-#: off by up to ~0.45·ε·c/depth (measured), 1e-7 at this bound, 1e-6 at 1e-10.
-#: The depth is about (ωT)²/8 of c, T the turn's time: a turn within ~1e-4/ω of
-#: the start.
-LOST_DIP = 1e-9
-
-
 def start_dip(t, force, w, z, m, q0, v0):
     """The dip of q̇ right after a start from rest, or None: with q̇(t[0]) = 0,
     q̇ ≈ a·s + j·s²/2 (a = q̈, j = q⃛ at the start, s the time since it), and
@@ -71,6 +61,33 @@ def start_dip(t, force, w, z, m, q0, v0):
     if a * j >= 0.0:
         return None
     return -2 * a / j, a * a / (2 * abs(j)), slope / (m * w * w)
+
+
+def dip_below_reference(dip):
+    """Is the dip (start_dip's answer) too shallow for reference_turn, its
+    tolerance 1e-9 of the depth underflowing (q0 ≲ 1e-140 at c = 128)? The
+    reference then steps over it."""
+    return 1e-9 * dip[1] <= 1e-290
+
+
+def dense_turn(y, start, stop, maximum):
+    """The first turn of q in (start, stop] on a dense output y(s) = (q, q̇)
+    from q̇(start) = 0: q̇'s first change of sign from the one it leaves 0 with,
+    on 1024 samples, bisected. With ``maximum``, only a maximum (q̇ from + to
+    −) counts: a minimum gives None, as does no turn. Returns (time, q)."""
+    grid = np.linspace(start, stop, 1025)[1:]
+    v = y(grid)[1]
+    sgn = np.sign(v[0])
+    flips = np.nonzero(np.sign(v) != sgn)[0]
+    if sgn == 0 or flips.size == 0 or (maximum and sgn < 0):
+        return None
+    lo, hi = grid[flips[0] - 1], grid[flips[0]]
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        lo, hi = (mid, hi) if np.sign(y(mid)[1]) == sgn else (lo, mid)
+    return hi, float(y(hi)[0])
 
 
 def reference_turn(t, force, w, z, m, q0, v0, maximum, t_end):
@@ -101,15 +118,35 @@ def reference_turn(t, force, w, z, m, q0, v0, maximum, t_end):
     # a minimum at 3.05e-5 s with |q̇| ≤ 1.5e-8 m/s, which a first step of 1e-3 s
     # never sees, as q̇ has one sign at both its ends). So the dip is its own
     # piece, resolved with 64 steps per dip time and q̇ held to 1e-9 of the
-    # dip's depth.
+    # dip's depth. The dip's turn is located on the piece's dense output, not
+    # by the event: the event's brentq failed on a dip of 3e-35 m/s ("f(a) and
+    # f(b) must have different signs": the step's ends and the interpolant
+    # disagree in q̇'s sign at that scale; q0 = 2.2e-16, ζ = 0).
     dip = start_dip(t, f, w, z, m, q0, v0)
-    if dip is not None and 1e-9 * dip[1] > 1e-290:
+    if dip is not None and not dip_below_reference(dip):
         T, depth, _ = dip
         tol = [min(atol, 1e-9 * depth / (w * w * T)), 1e-9 * depth]
-        pieces.insert(0, (min(t[0] + 4 * T, t[1]), T / 64, tol))
+        pieces.insert(0, (min(t[0] + 4 * T, t[1]), T / 64, tol, "dip"))
     state, start = [q0, v0], t[0]
-    for stop, max_step, tol in pieces:
+    for stop, max_step, tol, *kind in pieces:
         if stop <= start:
+            continue
+        if kind:
+            sol = solve_ivp(
+                rhs,
+                (start, stop),
+                state,
+                method="Radau",
+                rtol=1e-11,
+                atol=tol,
+                max_step=max_step,
+                jac=[[0.0, 1.0], [-w * w, -2 * z * w]],
+                dense_output=True,
+            )
+            found = dense_turn(sol.sol, start, stop, maximum)
+            if found is not None:
+                return found
+            state, start = sol.y[:, -1], stop
             continue
         # Stop at the first turn, except where q̇ = 0 at the start itself.
         turn.terminal = start > t[0] or v0 != 0.0
@@ -181,15 +218,27 @@ def test_item15_first_rebound_steep_ramp_minimum_against_solve_ivp():
 @example(zeta=10.0, ramp=1e-9, peak=1.0, q0=0.75, v0=0.0, maximum=False)
 # A minimum right after the start from rest, at 2·q0·ramp/peak = 3.05e-5 s (q̇
 # dips to -1.5e-8 m/s and comes back), undamped and critically damped: the
-# library had it right; solve_ivp's first step jumped over it (start_dip). The
-# dip is 1.2e-10 of c, below LOST_DIP: these two are checked with their own
-# tolerance in test_item15_first_rebound_early_minimum_from_rest.
+# library had it right; solve_ivp's first step jumped over it (start_dip).
 @example(zeta=0.0, ramp=0.0078125, peak=1.0, q0=0.001953125, v0=0.0, maximum=False)
 @example(zeta=1.0, ramp=0.0078125, peak=1.0, q0=0.001953125, v0=0.0, maximum=False)
-# The same dip, too shallow for a float (q0 = 5e-207), over-damped, the first maximum:
-# there is none (inf); the library stalls on the dip it cannot see (BUG, see
-# test_item15_first_rebound_dip_below_the_ramps_rounding).
+# Dips far below the closed form's rounding of q̇ (q0 = 1e-6: 3e-17 of c; q0 =
+# 5e-207: a dip of 1e-415 m/s), undamped, and over-damped with the first
+# maximum, which does not exist (inf). The library used to lose the first and
+# stall on the second (see test_item15_first_rebound_shallow_dip_from_rest_*
+# and test_item15_first_rebound_overdamped_maximum_after_a_shallow_dip_is_none).
+@example(zeta=0.0, ramp=0.0078125, peak=1.0, q0=1e-6, v0=0.0, maximum=False)
 @example(zeta=10.0, ramp=0.0078125, peak=1.0, q0=5.479484529262842e-207, v0=0.0, maximum=True)
+# A dip too shallow for the reference (it reported the next turn, at 3.1 s).
+@example(zeta=0.0, ramp=0.0078125, peak=1.0, q0=1.0789151673306364e-248, v0=0.0, maximum=False)
+# A dip whose event location failed in the reference (see reference_turn).
+@example(
+    zeta=0.0,
+    ramp=0.009590955987428118,
+    peak=8.027730360399747,
+    q0=2.220446049250313e-16,
+    v0=0.0,
+    maximum=False,
+)
 def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
     zeta, ramp, peak, q0, v0, maximum
 ):
@@ -210,13 +259,15 @@ def test_item15_first_rebound_property_short_ramps_against_solve_ivp(
     if math.hypot(q0 - peak, v0) + peak * ramp < 1e-9 * (abs(q0) + peak):
         return
     t, f = [0.0, ramp], [0.0, peak]
-    # A known kernel bug, pinned below: a start from rest whose q̇ dips by less
-    # than LOST_DIP of the ramp's quasi-static velocity c (the closed form
-    # carries q̇ as c + y and loses the dip's digits).
-    dip = start_dip(t, f, 1.0, zeta, 1.0, q0, v0)
-    if dip is not None and dip[1] < LOST_DIP * abs(dip[2]):
-        return
     r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, v0, maximum=maximum)
+    dip = start_dip(t, f, 1.0, zeta, 1.0, q0, v0)
+    if dip is not None and dip_below_reference(dip) and not maximum:
+        # A dip the reference steps over (found: q0 = 1.08e-248, a dip of
+        # 1e-498 m/s): its turn is at T = −2a/j to O(rate·T), q at q0. (With a
+        # positive peak the dip is a minimum, passed over with `maximum`.)
+        assert r.time[0] == pytest.approx(dip[0], rel=1e-9)
+        assert r.q[0] == pytest.approx(q0, rel=1e-12)
+        return
     ref_t, ref_q = reference_turn(t, f, 1.0, zeta, 1.0, q0, v0, maximum, late)
     if ref_t == math.inf:
         # (or a turn within 1e-6 of the ramp's end, which the reference's event
@@ -250,8 +301,9 @@ def test_item15_first_rebound_early_minimum_from_rest(zeta, q0):
     # at 3.05e-5 s; solve_ivp's first step jumped over that dip (q̇ ≥ −1.5e-8 m/s)
     # and reported the next turn at 3.15 s (ζ = 0) or none (ζ = 1). The closed
     # form (ζ = 0) settles it: the library was right, and the reference now
-    # resolves the dip too. (The first two dips are 1.2e-10 of c, below LOST_DIP:
-    # the library is 2.6e-8 and 2.0e-7 off there.)
+    # resolves the dip too. (The first two dips are 1.2e-10 of c, within the
+    # closed form's rounding: the library was 2.6e-8 and 2.0e-7 off there until
+    # shallow dips got their own search; now within rounding of the closed form.)
     ramp, peak = 0.0078125, 1.0
     t, f = [0.0, ramp], [0.0, peak]
     ref_t, ref_q = reference_turn(t, f, 1.0, zeta, 1.0, q0, 0.0, False, 1.0)
@@ -263,60 +315,58 @@ def test_item15_first_rebound_early_minimum_from_rest(zeta, q0):
     r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, 0.0)
     assert r.time[0] == pytest.approx(ref_t, rel=1e-6)
     assert r.q[0] == pytest.approx(ref_q, rel=1e-12)
+    if zeta == 0.0:
+        assert r.time[0] == pytest.approx(ts, rel=1e-9)
 
 
-def lost_dip(zeta, q0, maximum, raises, why):
-    """A case of the known bug, a strict xfail: it must fail, and only by `raises`."""
-    return pytest.param(
-        zeta, q0, maximum, marks=pytest.mark.xfail(strict=True, raises=raises, reason=f"BUG: {why}")
-    )
+# From rest at q0 > 0 under a ramp, q̇ ≈ −q0·s + c·s²/2 (c = peak/ramp, ω = m = 1)
+# dips by q0²/(2c) and turns at s* ≈ 2·q0/c: a real minimum, well conditioned
+# (s* moves by the inputs' relative rounding). The closed form carries q̇ as
+# c + y, so such a dip, below ~1e-10·c, is within its rounding: the time came
+# out off (1.6e-5 relative at q0 = 1e-4), or the dip was lost (q0 = 1e-6: the
+# turn at q0/c, where q̇ is most negative, half the true time), or the search
+# stalled (ζ = 10, the first maximum: a CyclomechError). A dip that shallow is
+# now found on q̇/s by its Taylor series, without c.
+SHALLOW_DIPS = [1e-2, 0.001953125, 1e-4, 1e-6, 1e-100, 5.479484529262842e-207]
 
 
-@pytest.mark.parametrize(
-    ("zeta", "q0", "maximum"),
-    [
-        lost_dip(0.0, 1e-4, False, AssertionError, "a dip of 3e-13·c: the time is off by 1.6e-5"),
-        lost_dip(
-            0.0,
-            1e-6,
-            False,
-            AssertionError,
-            "a dip of 3e-17·c is lost: the turn comes out at q0·ramp, where q̇ is most"
-            " negative, half the true time",
-        ),
-        # Over-damped, the first maximum: there is none. Restarted at q̇'s most
-        # negative point with q̇ := 0 and q̈ = 0 within rounding, the search finds
-        # "minima" at that same time until it gives up (Stalled, an InputError):
-        # for q0 up to ~2e-5 m, not only within rounding of rest.
-        lost_dip(10.0, 1e-8, True, cm.CyclomechError, "stalls on a lost dip"),
-        lost_dip(10.0, 5.479484529262842e-207, True, cm.CyclomechError, "stalls on a lost dip"),
-    ],
-)
-def test_item15_first_rebound_dip_below_the_ramps_rounding(zeta, q0, maximum):
-    # From rest at q0 > 0 under a ramp, q̇ ≈ −q0·s + c·s²/2 (c = peak/ramp) dips
-    # by q0²/(2c) and turns at s* ≈ 2·q0/c: a real minimum, well conditioned
-    # (s* moves by the inputs' relative rounding). The kernel carries q̇ as
-    # c + y, so a dip below ~1e-10·c is within its rounding: the time is off
-    # or the search stalls. The right answers: the closed form for ζ = 0; for
-    # ζ = 10 with `maximum`, none (inf, at the static deflection 1), as solve_ivp
-    # and the library's own answer for q0 = 0 and for q0 < 0 say.
+@pytest.mark.parametrize("q0", SHALLOW_DIPS)
+def test_item15_first_rebound_shallow_dip_from_rest_turns_at_the_closed_form(q0):
+    # The undamped closed form s* = 2·atan(q0/c) (see undamped_early_turn).
     ramp, peak = 0.0078125, 1.0
     t, f = [0.0, ramp], [0.0, peak]
-    T, depth, c = start_dip(t, f, 1.0, zeta, 1.0, q0, 0.0)
-    assert depth < LOST_DIP * c  # the property test leaves these out
-    if maximum:
-        ref_t, _ = reference_turn(t, f, 1.0, zeta, 1.0, q0, 0.0, True, 100.0)
-        want_t, want_q = math.inf, peak
-        assert ref_t == want_t
-        for q_near in (0.0, -q0):
-            r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q_near, 0.0, maximum=True)
-            assert (r.time[0], r.q[0]) == (want_t, pytest.approx(want_q, rel=1e-12))
-    else:
-        want_t, want_q = undamped_early_turn(ramp, peak, q0)
-        assert want_t == pytest.approx(T, rel=1e-6)
-    r = cm.impact.first_rebound(t, f, 1.0, zeta, 1.0, q0, 0.0, maximum=maximum)
-    assert r.time[0] == pytest.approx(want_t, rel=1e-6)
+    T, depth, c = start_dip(t, f, 1.0, 0.0, 1.0, q0, 0.0)
+    assert depth < 1e-8 * c  # within 1e8 roundings of c: the closed form's blind spot
+    want_t, want_q = undamped_early_turn(ramp, peak, q0)
+    assert want_t == pytest.approx(T, rel=1e-4)
+    r = cm.impact.first_rebound(t, f, 1.0, 0.0, 1.0, q0, 0.0)
+    assert r.time[0] == pytest.approx(want_t, rel=1e-9)
     assert r.q[0] == pytest.approx(want_q, rel=1e-12)
+
+
+@pytest.mark.parametrize("q0", [1.8e-5, 1e-6, 1e-8, 5.479484529262842e-207])
+def test_item15_first_rebound_overdamped_maximum_after_a_shallow_dip_is_none(q0):
+    # ζ = 10, the first maximum: the dip's turn is a minimum, passed over, and
+    # then q creeps up to the static deflection peak/k = 1 without a maximum
+    # (solve_ivp agrees, and so does the library for q0 = 0 and q0 = −q0).
+    ramp, peak = 0.0078125, 1.0
+    t, f = [0.0, ramp], [0.0, peak]
+    T, depth, c = start_dip(t, f, 1.0, 10.0, 1.0, q0, 0.0)
+    assert depth < 1e-10 * c
+    ref_t, _ = reference_turn(t, f, 1.0, 10.0, 1.0, q0, 0.0, True, 100.0)
+    assert ref_t == math.inf
+    for q in (0.0, -q0, q0):
+        r = cm.impact.first_rebound(t, f, 1.0, 10.0, 1.0, q, 0.0, maximum=True)
+        assert (r.time[0], r.q[0]) == (math.inf, pytest.approx(peak, rel=1e-12))
+    # Without `maximum`, the dip's own minimum, where solve_ivp puts it; a dip
+    # too shallow for the reference (1e-415 m/s at q0 = 5e-207) turns at
+    # T = −2a/j, to O(ζωT) = 1e-207.
+    ref_t, ref_q = reference_turn(t, f, 1.0, 10.0, 1.0, q0, 0.0, False, 1.0)
+    if dip_below_reference((T, depth, c)):
+        ref_t, ref_q = T, q0
+    r = cm.impact.first_rebound(t, f, 1.0, 10.0, 1.0, q0, 0.0)
+    assert r.time[0] == pytest.approx(ref_t, rel=1e-6)
+    assert r.q[0] == pytest.approx(ref_q, rel=1e-12)
 
 
 @pytest.mark.parametrize(

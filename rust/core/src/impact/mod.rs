@@ -31,8 +31,11 @@
 //! change, a non-generic case) counts too. It is found segment by segment: inside a
 //! segment with a linear force, q̇ = c + e^{−σs}(…) with c = slope/(mω²), the zeros
 //! of q̈ are in closed form and q̇ is monotone between them, so the first crossing
-//! is bracketed and solved by safeguarded Newton steps to rounding; after the last
-//! sample (constant force) it is in closed form. If q̇ never returns to zero (an
+//! is bracketed and solved by safeguarded Newton steps to rounding. A dip of q̇
+//! right after a point of rest (q̇ = 0 with q̈ and q⃛ of opposite signs: it turns
+//! back near s = −2q̈/q⃛) too shallow for c + e^{…}'s digits is bisected instead on
+//! q̇/s by its Taylor series. After the last sample (constant force) it is in
+//! closed form. If q̇ never returns to zero (an
 //! over-damped creep), the result is time = +∞ and q = F[last]/(mω²), the limit.
 //!
 //! **Contact oscillator.** A link of mass m at x meets its stop at x = 0: free for

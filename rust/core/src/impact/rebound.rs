@@ -102,13 +102,17 @@ fn rebound(
                     break;
                 }
             }
-            // q̇ = c + y loses the digits of c: where those are most of q̇'s own
-            // size over the segment (a steep ramp over a short step), the closed
-            // form's zero is rounding noise; bracket q̇ by exact steps instead.
+            // q̇ = c + y loses the digits of c: where those are most of the
+            // dip of q̇ after a point of rest, that dip is searched on its own
+            // (shallow_dip); where they are most of q̇'s own size over the
+            // segment (a steep ramp over a short step), the closed form's zero is
+            // rounding noise: bracket q̇ by exact steps instead.
             let h = rest.min(1.0 / mode.rate.max(mode.omega));
             let noise = 32.0 * f64::EPSILON * ((v - c).abs() + a0.abs() / mode.omega + c.abs());
             let size = v.abs() + a0.abs() * h + 0.5 * p1.abs() * h * h;
-            let turn = if noise > 1e-6 * size {
+            let turn = if let Some(dip) = shallow_dip(mode, v, a0, p1, s, noise, rest) {
+                dip
+            } else if noise > 1e-6 * size {
                 stepped_turn(mode, inv_m, (q, v), (f_a, slope), rest, s)
             } else {
                 mode.crossing(v - c, a0, -c, s, true).filter(|&x| x <= rest)
@@ -177,6 +181,91 @@ fn rebound(
         (q, v, s, t_last) = (qt, 0.0, 0.0, t_last + tau);
     }
     Ok(never)
+}
+
+/// A dip of q̇ shallower than this many times the closed form's rounding of
+/// q̇ (`noise` in [`rebound`]) is found by [`shallow_dip`]: the closed form's
+/// turn time is off by about noise/(4·depth) relative (measured ~0.45·ε·c/depth,
+/// about 1e-10 at the bound), and below ~1e-14·c it loses the dip entirely.
+const DIP_TRUST: f64 = 1e8;
+
+/// The turn of a dip of q̇ right after a point of rest, where the closed form
+/// q̇ = c + y cannot see it: Some(the turn) if it is found here (Some(None): no
+/// turn in this segment, q̇ still in the dip at its end), None to leave the
+/// segment to the other searches.
+///
+/// From q̇ = v = 0 with q̈ = a0 and q⃛ = j = p1 − 2σ·a0 of opposite signs, q̇
+/// leaves 0 with the sign of a0 and turns back through 0 near T = −2·a0/j,
+/// having dipped by a0²/(2|j|). When that depth is below [`DIP_TRUST`] times
+/// the closed form's rounding, the turn is found instead on g(τ) = q̇(τ)/τ by
+/// its Taylor series (see [`dip_rate`]): every term carries its own digits (no
+/// cancellation against the ramp's quasi-static velocity c) and dividing by τ
+/// removes the trivial zero at τ = 0 and the underflow of q̇ itself (a dip
+/// from q0 = 5e-207 is 1e-415 deep). The window [0, min(4T, rest)] is short
+/// against the mode (rate·4T ≤ 1), where the series converges in a few terms.
+fn shallow_dip(
+    mode: &Mode,
+    v: f64,
+    a0: f64,
+    p1: f64,
+    s: f64,
+    noise: f64,
+    rest: f64,
+) -> Option<Option<f64>> {
+    let j = p1 - 2.0 * mode.sigma * a0;
+    if v != 0.0 || a0 * j >= 0.0 || s != sign(a0) {
+        return None;
+    }
+    let t_dip = -2.0 * a0 / j;
+    // The depth a0²/(2|j|) = |a0|·T/4 < DIP_TRUST·noise, without squaring a0
+    // (which underflows).
+    let shallow = a0.abs() * (0.25 * t_dip) < DIP_TRUST * noise;
+    let window = (4.0 * t_dip).min(rest);
+    if !shallow || mode.rate.max(mode.omega) * window > 1.0 {
+        return None;
+    }
+    let g = |tau: f64| dip_rate(mode, a0, j, tau);
+    let g_end = g(window);
+    if s * g_end > 0.0 {
+        // Still in the dip at the window's end: the whole segment if the window
+        // is the segment (no turn in it), else not a dip of this shape.
+        return (window == rest).then_some(None);
+    }
+    // Bisect [lo, hi]: s·g > 0 at lo (g(0) = a0), ≤ 0 at hi.
+    let (mut lo, mut hi) = (0.0, window);
+    loop {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if s * g(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(Some(hi))
+}
+
+/// g(τ) = q̇(τ)/τ from q̇(0) = 0, q̈(0) = a0, q⃛(0) = j under a force linear in
+/// τ: Σ_{n≥2} d_n τ^{n−2}/(n−1)! with d_2 = a0, d_3 = j and
+/// d_{n+2} = −2σ d_{n+1} − ω² d_n, carried as D_n = d_n τ^{n−2} (bounded for
+/// rate·τ ≤ 1). Terms fall like (rate·τ)ⁿ/n!: a few for the dips it is used on.
+fn dip_rate(mode: &Mode, a0: f64, j: f64, tau: f64) -> f64 {
+    let (b1, b2) = (2.0 * mode.sigma * tau, mode.w2 * tau * tau);
+    let (mut dp, mut d) = (a0, j * tau); // D_n, D_{n+1}, n = 2
+    let (mut g, mut inv_fact) = (a0, 1.0); // Σ, 1/(n−1)!
+    for n in 2..40 {
+        // Add D_{n+1}/n!.
+        inv_fact /= n as f64;
+        let term = d * inv_fact;
+        g += term;
+        if term.abs() <= 1e-18 * a0.abs() && n > 3 {
+            break;
+        }
+        (dp, d) = (d, -b1 * d - b2 * dp);
+    }
+    g
 }
 
 /// Minima one segment may pass over before [`rebound`] reports that time has

@@ -22,6 +22,82 @@ fn item15_steep_short_ramp_neither_hangs_nor_turns_inside_the_ramp() {
     assert!((1.9e-9..2.1e-9).contains(&min.time), "{min:?}");
 }
 
+/// The undamped oscillator from rest at q0 under the ramp F = r·s (c = r/(mω²)):
+/// q = q0 cos ωs + c (s − sin(ωs)/ω), q̇ = −q0 ω sin ωs + c (1 − cos ωs), zero
+/// again where tan(ωs/2) = q0 ω/c. Returns (s*, q(s*)).
+fn undamped_dip_turn(w: f64, m: f64, r: f64, q0: f64) -> (f64, f64) {
+    let c = r / (m * w * w);
+    let x = 2.0 * (q0 * w / c).atan();
+    // x − sin x, by its series where it cancels.
+    let x_sin = if x < 1e-2 {
+        let x2 = x * x;
+        x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0))
+    } else {
+        x - x.sin()
+    };
+    (x / w, q0 * x.cos() + c * x_sin / w)
+}
+
+/// A start from rest at q0 > 0 under a ramp: q̇ dips by about q0²ω⁴m/(2r) and
+/// turns back through 0 at s* ≈ 2q0mω²/r, a real minimum. The closed form
+/// q̇ = c + y lost such a dip below ~1e-10·c (turn time off, or at q̇'s most
+/// negative point, or a stalled maximum search); it is found on q̇/s now.
+#[test]
+fn shallow_dip_from_rest_turns_at_the_undamped_closed_form() {
+    for (w, m) in [(1.0, 1.0), (300.0, 0.0074), (1e-3, 20.0)] {
+        let osc = Oscillator::new(w, 0.0, m).unwrap();
+        let ramp = 0.0078125 / w;
+        let peak = m * w * w; // c = peak/(ramp m ω²) = 128 ω
+        for q0 in [
+            1e-2,
+            0.001953125,
+            1e-4,
+            1e-6,
+            1e-100,
+            5.479484529262842e-207,
+        ] {
+            let (t, f) = ([0.0, ramp], [0.0, peak]);
+            let (ts, qs) = undamped_dip_turn(w, m, peak / ramp, q0);
+            assert!(ts < ramp);
+            let r = first_rebound(&t, &f, &osc, q0, 0.0).unwrap();
+            assert!(
+                (r.time - ts).abs() <= 1e-9 * ts,
+                "ω {w}, q0 {q0}: {} vs {ts}",
+                r.time
+            );
+            assert!(
+                (r.q - qs).abs() <= 1e-12 * qs,
+                "ω {w}, q0 {q0}: q {} vs {qs}",
+                r.q
+            );
+        }
+    }
+}
+
+/// The same dip over-damped, with `maximum`: the dip's minimum is passed over
+/// and q then creeps to q_s = 1 with no maximum, as from q0 = 0 or q0 < 0
+/// (the search used to stall on the dip it could not see).
+#[test]
+fn shallow_dip_from_rest_overdamped_has_no_maximum() {
+    let osc = Oscillator::new(1.0, 10.0, 1.0).unwrap();
+    let (t, f) = ([0.0, 0.0078125], [0.0, 1.0]);
+    for q0 in [1.8e-5, 1e-6, 1e-8, 5.479484529262842e-207] {
+        for q in [q0, 0.0, -q0] {
+            let r = first_turn(&t, &f, &osc, q, 0.0, true).unwrap();
+            assert_eq!(r.time, f64::INFINITY, "q0 {q}");
+            assert!((r.q - 1.0).abs() < 1e-12, "q0 {q}: {r:?}");
+        }
+        // The minimum itself: at −2a/j = 2q0/(128 + 20q0), to O(ζωs*).
+        let r = first_turn(&t, &f, &osc, q0, 0.0, false).unwrap();
+        let ts = 2.0 * q0 / (128.0 + 20.0 * q0);
+        assert!(
+            (r.time - ts).abs() <= 1e-4 * ts,
+            "q0 {q0}: {} vs {ts}",
+            r.time
+        );
+    }
+}
+
 /// Issue 16 item 15: k/m overflowing hung the crossing search; ω outside
 /// [1e-150, 1e150] rad/s is refused.
 #[test]
@@ -897,6 +973,29 @@ fn refine(
         x = xn;
     }
     x
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// The dip from rest under a ramp against the undamped closed form, over
+    /// depths from well inside the closed form's reach to below a float's.
+    #[test]
+    fn shallow_dip_from_rest_matches_the_undamped_closed_form(
+        w in 1e-3f64..1e4,
+        m in 1e-3f64..1e3,
+        log_q0 in -300.0f64..-1.0,
+        steps in 1.0f64..8.0,
+    ) {
+        let osc = Oscillator::new(w, 0.0, m).unwrap();
+        let ramp = 2f64.powf(-steps) / w;
+        let peak = m * w * w;
+        let q0 = 10f64.powf(log_q0) / w;
+        let (ts, qs) = undamped_dip_turn(w, m, peak / ramp, q0);
+        prop_assume!(ts < 0.5 * ramp);
+        let r = first_rebound(&[0.0, ramp], &[0.0, peak], &osc, q0, 0.0).unwrap();
+        prop_assert!((r.time - ts).abs() <= 1e-9 * ts, "{} vs {ts}", r.time);
+        prop_assert!((r.q - qs).abs() <= 1e-12 * qs, "q {} vs {qs}", r.q);
+    }
 }
 
 proptest! {
