@@ -6,6 +6,7 @@
 
 use pyo3::prelude::*;
 
+mod cam;
 mod convert;
 mod cyclogram;
 mod errors;
@@ -16,6 +17,8 @@ mod press;
 
 #[pymodule]
 mod _core {
+    #[pymodule_export]
+    use super::cam::CamKernel;
     #[pymodule_export]
     use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
     #[pymodule_export]

@@ -8,6 +8,9 @@
 //! Domains, one folder each (the Python package of the same name calls it), each
 //! with a `mod.rs` door that re-exports its public kernels and keeps its helpers
 //! private to the domain:
+//! * [`cam`] — disc cams: the program of rise, dwell and return segments, and the
+//!   exact follower kinematics, pitch curve, profile, pressure angle, curvature
+//!   and undercut.
 //! * [`cyclogram`] — network cyclograms: topological order, earliest/latest event
 //!   times, slack, critical arcs, batches of weight vectors; systems of difference
 //!   constraints (the cyclogram LP); the maximum cycle ratio (Howard's policy
@@ -54,6 +57,7 @@ macro_rules! on_each_isa {
     }};
 }
 
+pub mod cam;
 pub mod cyclogram;
 pub(crate) mod geom;
 pub mod impact;

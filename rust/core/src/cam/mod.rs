@@ -1,0 +1,22 @@
+//! Disc cams: the cam program (rise, dwell, return segments over one turn) and
+//! the exact kinematics and geometry of its follower.
+//!
+//! Conventions: the cam turns counter-clockwise at positive ω; the cam angle θ
+//! [rad] is measured from the start of the first segment. Results are in the cam
+//! frame (x, y) [m], fixed to the cam, with the follower at θ = 0 on +y: a
+//! translating follower moves along +y, offset `e` along +x; an oscillating
+//! follower's pivot lies at (a, 0) and its arm angle ψ is measured from the line
+//! pivot → cam centre, the roller centre at (a − l cos ψ, l sin ψ), ψ = ψ0 + s.
+//! Every derivative comes from the laws' closed forms by the chain rule: no
+//! finite differences.
+//!
+//! Files: `program` (segments, the displacement s(θ) and its derivatives) and
+//! `follower` (pitch curve, profile, pressure angle, curvature, undercut).
+
+mod follower;
+mod program;
+#[cfg(test)]
+mod tests;
+
+pub use follower::{Cam, Follower, COLUMNS, N_COLUMNS};
+pub use program::{CamError, Kind, Program, SegmentSpec};

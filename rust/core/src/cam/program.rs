@@ -1,0 +1,204 @@
+//! The cam program: segments over one turn and the displacement s(θ).
+
+use std::f64::consts::TAU;
+
+use crate::motion::{Law, NAMES};
+use crate::parallel::ThreadsError;
+
+/// Tolerance on the segments' angles summing to one turn [rad].
+pub const ANGLE_TOL: f64 = 1e-9 * TAU;
+
+/// Relative tolerance on the displacement returning to its start.
+pub const CLOSE_TOL: f64 = 1e-12;
+
+/// Errors of the cam domain.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CamError {
+    #[error("segment {index} ({kind}): {field} = {value} {why}")]
+    BadSegment {
+        index: usize,
+        kind: &'static str,
+        field: &'static str,
+        value: f64,
+        why: &'static str,
+    },
+    #[error("segment {index} ({kind}): unknown motion law {name:?}; known laws: {known}")]
+    UnknownLaw {
+        index: usize,
+        kind: &'static str,
+        name: String,
+        known: String,
+    },
+    #[error("the segments' angles sum to {sum_deg}°, not 360°")]
+    NotOneTurn { sum_deg: f64 },
+    #[error("the displacement does not return to its start: rises − returns = {net}")]
+    NotClosed { net: f64 },
+    #[error("the program has no segment")]
+    Empty,
+    #[error("follower {field} = {value} {why}")]
+    BadFollower {
+        field: &'static str,
+        value: f64,
+        why: String,
+    },
+    #[error("{field}[{index}] = {value} is not finite")]
+    NotFinite {
+        field: &'static str,
+        index: usize,
+        value: f64,
+    },
+    #[error("{0}")]
+    Threads(#[from] ThreadsError),
+}
+
+/// The kind of a segment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Rise,
+    Dwell,
+    Return,
+}
+
+impl Kind {
+    /// The kind's name in messages and in Python.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Rise => "rise",
+            Kind::Dwell => "dwell",
+            Kind::Return => "return",
+        }
+    }
+}
+
+/// A segment as given: its kind, angle [rad], stroke [m or rad] and law name
+/// (ignored for a dwell).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentSpec {
+    pub kind: Kind,
+    pub angle: f64,
+    pub stroke: f64,
+    pub law: String,
+}
+
+#[derive(Debug, Clone)]
+struct Seg {
+    start: f64,
+    angle: f64,
+    s0: f64,
+    /// Signed stroke: + for a rise, − for a return, 0 for a dwell.
+    h: f64,
+    law: Option<Law>,
+}
+
+/// A validated cam program: s(θ) and its derivatives over one turn.
+#[derive(Debug, Clone)]
+pub struct Program {
+    segs: Vec<Seg>,
+    s_min: f64,
+    s_max: f64,
+}
+
+impl Program {
+    /// Validate the segments: angles > 0 summing to 2π, strokes ≥ 0 (> 0 for a
+    /// rise or return, 0 for a dwell), known laws, and rises − returns = 0.
+    pub fn new(specs: &[SegmentSpec]) -> Result<Program, CamError> {
+        if specs.is_empty() {
+            return Err(CamError::Empty);
+        }
+        let mut segs = Vec::with_capacity(specs.len());
+        let (mut start, mut s0, mut s_min, mut s_max, mut scale) =
+            (0.0, 0.0, 0.0f64, 0.0f64, 0.0f64);
+        for (index, sp) in specs.iter().enumerate() {
+            let kind = sp.kind.name();
+            let bad = |field, value, why| CamError::BadSegment {
+                index,
+                kind,
+                field,
+                value,
+                why,
+            };
+            if !(sp.angle.is_finite() && sp.angle > 0.0) {
+                return Err(bad("angle", sp.angle, "must be finite and > 0"));
+            }
+            if !sp.stroke.is_finite() || sp.stroke < 0.0 {
+                return Err(bad("stroke", sp.stroke, "must be finite and >= 0"));
+            }
+            let (h, law) = match sp.kind {
+                Kind::Dwell if sp.stroke != 0.0 => {
+                    return Err(bad("stroke", sp.stroke, "must be 0 for a dwell"))
+                }
+                Kind::Dwell => (0.0, None),
+                _ if sp.stroke == 0.0 => {
+                    return Err(bad("stroke", sp.stroke, "must be > 0 for a rise or return"))
+                }
+                k => {
+                    let law = Law::rise(&sp.law).map_err(|_| CamError::UnknownLaw {
+                        index,
+                        kind,
+                        name: sp.law.clone(),
+                        known: NAMES.join(", "),
+                    })?;
+                    let sign = if k == Kind::Rise { 1.0 } else { -1.0 };
+                    (sign * sp.stroke, Some(law))
+                }
+            };
+            segs.push(Seg {
+                start,
+                angle: sp.angle,
+                s0,
+                h,
+                law,
+            });
+            start += sp.angle;
+            s0 += h;
+            s_max = s_max.max(s0);
+            s_min = s_min.min(s0);
+            scale = scale.max(sp.stroke);
+        }
+        if (start - TAU).abs() > ANGLE_TOL {
+            return Err(CamError::NotOneTurn {
+                sum_deg: start.to_degrees(),
+            });
+        }
+        if s0.abs() > CLOSE_TOL * scale {
+            return Err(CamError::NotClosed { net: s0 });
+        }
+        Ok(Program { segs, s_min, s_max })
+    }
+
+    /// Lowest displacement over the turn [m or rad] (0 unless a return comes first).
+    pub fn s_min(&self) -> f64 {
+        self.s_min
+    }
+
+    /// Highest displacement over the turn [m or rad].
+    pub fn s_max(&self) -> f64 {
+        self.s_max
+    }
+
+    /// [s, s', s'', s'''] at cam angle θ [rad] (any real: taken modulo 2π);
+    /// derivatives per radian of cam.
+    #[inline]
+    pub fn eval(&self, theta: f64) -> [f64; 4] {
+        let t = theta.rem_euclid(TAU);
+        // Last segment starting at or before t (segments are few: linear scan).
+        let mut k = 0;
+        while k + 1 < self.segs.len() && self.segs[k + 1].start <= t {
+            k += 1;
+        }
+        let g = &self.segs[k];
+        match &g.law {
+            None => [g.s0, 0.0, 0.0, 0.0],
+            Some(law) => {
+                let x = ((t - g.start) / g.angle).clamp(0.0, 1.0);
+                let b = g.angle;
+                [
+                    g.s0 + g.h * law.z(x, 0),
+                    g.h * law.z(x, 1) / b,
+                    g.h * law.z(x, 2) / (b * b),
+                    g.h * law.z(x, 3) / (b * b * b),
+                ]
+            }
+        }
+    }
+}
