@@ -7,7 +7,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import cyclogram, impact, linkage, machine, motion, press, transfer
+from . import cam, cyclogram, impact, linkage, machine, motion, press, transfer
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -55,6 +55,7 @@ __all__ = [
     "SpeedLimit",
     "SweepResult",
     "__version__",
+    "cam",
     "cyclogram",
     "impact",
     "linkage",

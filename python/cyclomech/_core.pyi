@@ -14,6 +14,7 @@ __all__ = [
     "MOTION_LAWS",
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
+    "CamKernel",
     "EventGraph",
     "LinkageProgram",
     "MotionLaw",
@@ -111,6 +112,28 @@ class EventGraph:
         self, weights: npt.NDArray[np.float64], horizon: float | None = None
     ) -> dict[str, Any]: ...
     def __reduce__(self) -> tuple[Any, ...]: ...
+
+# cam: a validated disc cam; errors are cyclomech.InputError.
+
+@final
+class CamKernel:
+    """A disc cam: program (angles [rad]), follower and closure (cyclomech.cam)."""
+
+    def __new__(
+        cls,
+        kinds: list[str],
+        angles: list[float],
+        strokes: list[float],
+        laws: list[str],
+        follower: str,
+        params: list[float],
+        groove: bool,
+    ) -> CamKernel: ...
+    @property
+    def initial_arm_angle(self) -> float | None: ...
+    def solve(
+        self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
+    ) -> npt.NDArray[np.float64]: ...
 
 # linkage
 
