@@ -65,7 +65,8 @@ class Segment:
 @dataclass(frozen=True)
 class CamKinematics:
     """The exact kinematics and geometry of a cam at cam angles ``theta`` [rad]
-    (every array has the shape of ``theta``, points one more axis of 2):
+    (every array has the shape of ``theta``, points one more axis of 2; the
+    arrays are views into one block the kernel filled):
 
     * ``s``, ``ds``, ``dds``, ``ddds``: follower displacement [m, or rad for an
       oscillating follower] and its 1st–3rd derivatives per radian of cam;
@@ -180,11 +181,12 @@ class Cam:
         shape = t.shape
         rows = self._kernel.solve(np.ascontiguousarray(t.ravel()), n_threads=threads_arg(n_threads))
 
+        # Views into the kernel's one (N, 14) block: no copies.
         def col(i: int) -> npt.NDArray[np.float64]:
-            return np.ascontiguousarray(rows[:, i]).reshape(shape)
+            return rows[:, i].reshape(shape)
 
         def pts(i: int) -> npt.NDArray[np.float64]:
-            return np.ascontiguousarray(rows[:, i : i + 2]).reshape(*shape, 2)
+            return rows[:, i : i + 2].reshape(*shape, 2)
 
         return CamKinematics(
             theta=t.copy(),
