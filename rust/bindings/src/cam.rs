@@ -1,7 +1,4 @@
 //! Bindings of the cam domain: a validated cam and its exact geometry over angles.
-//!
-//! The cam's errors map onto `cyclomech.InputError` here (errors.rs and convert.rs
-//! have no cam arms yet: the cam domain adds them here to touch only its own file).
 
 use cyclomech_core::cam::{Cam, CamError, Follower, Kind, Program, SegmentSpec, N_COLUMNS};
 use numpy::ndarray::Ix2;
@@ -10,33 +7,6 @@ use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
-
-impl IntoPyErr for CamError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        if let CamError::Threads(e) = self {
-            return e.into_pyerr(py);
-        }
-        let message = self.to_string();
-        match py
-            .import("cyclomech._errors")
-            .and_then(|m| m.getattr("InputError"))
-            .and_then(|cls| cls.call1((message,)))
-        {
-            Ok(exc) => PyErr::from_value(exc),
-            Err(e) => e,
-        }
-    }
-}
-
-impl LayoutError for CamError {
-    fn layout(field: &'static str) -> Self {
-        CamError::BadFollower {
-            field,
-            value: f64::NAN,
-            why: "must be a C-contiguous array".into(),
-        }
-    }
-}
 
 fn kind(py: Python<'_>, index: usize, name: &str) -> PyResult<Kind> {
     match name {

@@ -15,6 +15,7 @@
 //! Arrays made here are C-contiguous, so their slices ([`output`]) and the kernels'
 //! flat results reshaped ([`shaped`]) can fail only on a bug: an `InternalError`.
 
+use cyclomech_core::cam::CamError;
 use cyclomech_core::cyclogram::CyclogramError;
 use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
@@ -62,6 +63,16 @@ pub trait LayoutError: IntoPyErr + Sized {
     ) -> PyResult<(&'a [T], usize, usize)> {
         let (b, n) = (a.shape()[0], a.shape()[1]);
         Ok((Self::slice(py, field, a)?, b, n))
+    }
+}
+
+impl LayoutError for CamError {
+    fn layout(field: &'static str) -> Self {
+        CamError::BadFollower {
+            field,
+            value: f64::NAN,
+            why: "must be a C-contiguous array".into(),
+        }
     }
 }
 

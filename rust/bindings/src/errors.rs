@@ -5,6 +5,7 @@
 //! raised by the Python layer too. Every class subclasses `cyclomech.CyclomechError`,
 //! itself a `ValueError`.
 
+use cyclomech_core::cam::CamError;
 use cyclomech_core::cyclogram::CyclogramError;
 use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
@@ -68,6 +69,15 @@ impl IntoPyErr for LinkageError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
             LinkageError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
+        }
+    }
+}
+
+impl IntoPyErr for CamError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            CamError::Threads(e) => e.into_pyerr(py),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }
