@@ -18,20 +18,12 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import float_array, index_array, threads_arg
+from .._arrays import count, float_array, index_array, threads_arg
 from .._errors import InputError
 
 __all__ = ["EventGraph", "GraphAnalysis", "longest_path", "max_cycle_ratio", "max_difference"]
 
 _I64_MAX = 2**63 - 1
-
-
-def _count(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise InputError(f"{name} must be a non-negative integer; got {value!r}")
-    if not 0 <= int(value) <= _I64_MAX:
-        raise InputError(f"{name} must be a non-negative integer; got {value!r}")
-    return int(value)
 
 
 def longest_path(
@@ -71,7 +63,7 @@ def longest_path(
     """
     w = float_array("weights", weights, ndims=(1, 2))
     return _core.longest_path(
-        _count("n_events", n_events),
+        count("n_events", n_events, low=0, high=_I64_MAX),
         index_array("src", src),
         index_array("dst", dst),
         w,
@@ -120,7 +112,9 @@ class EventGraph:
 
     def __init__(self, n_events: int, src: npt.ArrayLike, dst: npt.ArrayLike) -> None:
         self._g = _core.EventGraph(
-            _count("n_events", n_events), index_array("src", src), index_array("dst", dst)
+            count("n_events", n_events, low=0, high=_I64_MAX),
+            index_array("src", src),
+            index_array("dst", dst),
         )
 
     @property
@@ -228,7 +222,7 @@ def max_cycle_ratio(
     (300.0, [0, 1])
     """
     return _core.max_cycle_ratio(
-        _count("n_events", n_events),
+        count("n_events", n_events, low=0, high=_I64_MAX),
         index_array("src", src),
         index_array("dst", dst),
         float_array("weights", weights),
