@@ -459,3 +459,23 @@ def test_kernel_validates_on_its_own() -> None:
         _core.CamKernel(
             ["up", "return"], [math.pi] * 2, [0.01] * 2, ["cycloidal"] * 2, "flat", [0.05], False
         )
+
+
+@pytest.mark.parametrize("theta", [np.array([True, False]), "0.5", [0.1, "x"]])
+def test_solve_refuses_angles_that_are_not_numbers(theta):
+    # A bool would have been read as 1 rad, a string parsed by numpy.
+    S = cm.cam.Segment
+    cam = cm.cam.Cam(
+        [S("rise", 180, 0.02), S("return", 180, 0.02)], cm.cam.TranslatingRoller(0.05, 0.01)
+    )
+    with pytest.raises(ValueError, match="theta must be an array of real numbers"):
+        cam.solve(theta)
+
+
+def test_solve_keeps_the_shape_of_a_scalar_angle():
+    S = cm.cam.Segment
+    cam = cm.cam.Cam(
+        [S("rise", 180, 0.02), S("return", 180, 0.02)], cm.cam.TranslatingRoller(0.05, 0.01)
+    )
+    k = cam.solve(0.5)
+    assert k.s.shape == () and k.theta.shape == () and k.pitch.shape == (2,)

@@ -114,9 +114,9 @@ class Context:
     """What the machine computed before its mechanisms' results, for
     :meth:`Mechanism.analyze`: the speed limit, the report's nominal speed [rpm]
     and the speed grid [rpm], the optimum there (None if it does not fit), the
-    cyclogram, the speed sweeps (exact and with the linearised bounds), and
-    ``bounds``: each bound label's smallest angle [deg] on the grid, exact and
-    linearised."""
+    cyclogram, and ``bounds`` / ``linear_bounds``: each bound's smallest angle
+    [deg] on the grid by the bound's name (the speed sweeps' ``min_phase_deg``),
+    exact and linearised."""
 
     limit: SpeedLimit
     nominal_rpm: float

@@ -12,8 +12,10 @@ True
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
 
-from tqdm import tqdm
+if TYPE_CHECKING:
+    from tqdm import tqdm
 
 __all__ = ["progress"]
 
@@ -32,6 +34,8 @@ def progress(total: int, label: str, enabled: bool | None = None) -> tqdm:
     >>> "100.0% 10/10" in err.getvalue()
     True
     """
+    from tqdm import tqdm  # on first use: importing cyclomech stays light
+
     show = sys.stderr.isatty() if enabled is None else bool(enabled)
     return tqdm(
         total=total,

@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, positive, threads_arg
+from .._arrays import finite_number, float_array, positive, threads_arg
 from .._errors import InputError
 from ..motion import NAMES
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
@@ -174,12 +174,10 @@ class Cam:
         >>> k.s.shape, k.profile.shape, round(float(k.s[3, 0]), 12)
         ((7, 1), (7, 1, 2), 0.02)
         """
-        try:
-            t = np.asarray(theta, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError(f"theta must be an array of cam angles [rad]; got {theta!r}") from None
-        shape = t.shape
-        rows = self._kernel.solve(np.ascontiguousarray(t.ravel()), n_threads=threads_arg(n_threads))
+        # (A bool or a string is not an angle; any number of dimensions.)
+        t = float_array("theta", theta, ndims=tuple(range(33)))
+        shape = np.shape(theta)  # (float_array makes a 0-d input 1-d)
+        rows = self._kernel.solve(t.reshape(-1), n_threads=threads_arg(n_threads))
 
         # Views into the kernel's one (N, 14) block: no copies.
         def col(i: int) -> npt.NDArray[np.float64]:
@@ -189,7 +187,7 @@ class Cam:
             return rows[:, i : i + 2].reshape(*shape, 2)
 
         return CamKinematics(
-            theta=t.copy(),
+            theta=t.reshape(shape).copy(),  # (not a view of the caller's array)
             s=col(0),
             ds=col(1),
             dds=col(2),

@@ -166,7 +166,9 @@ class CamStop:
         """
         threads = threads_arg(n_threads)
         if linear:
-            return [[functools.partial(_linear_law, m, threads)] for m in mechanisms]
+            return [
+                [functools.partial(m.linear_min_phase_deg, n_threads=threads)] for m in mechanisms
+            ]
         if not mechanisms:
             return []
         v = max_impact_speeds(
@@ -240,7 +242,8 @@ class CamStop:
         >>> round(r.nominal_rpm, 2), round(r.mechanisms["lifter"].min_phase_at_nominal, 4)
         (421.37, 42.1779)
         """
-        label = self.bounds()[0].label
+        bound = self.bounds()[0]
+        label = bound.label
         n = ctx.nominal_rpm
         price = 0.0 if ctx.optimum is None else ctx.optimum.duals.get(label, 0.0)
         per_mm: dict[str, float] = {}
@@ -256,14 +259,10 @@ class CamStop:
             max_impact_speed=self.stop.max_impact_speed(self.a_max),
             min_phase_at_nominal=float(self.min_phase_deg(n)),
             linear_at_nominal=float(self.linear_min_phase_deg(n)),
-            exact=ctx.bounds[label],
-            linear=ctx.linear_bounds[label],
+            exact=ctx.bounds[bound.name],
+            linear=ctx.linear_bounds[bound.name],
             per_mm=per_mm,
         )
-
-
-def _linear_law(m: CamStop, n_threads: int | None, rpm: Array) -> Array:
-    return m.linear_min_phase_deg(rpm, n_threads=n_threads)
 
 
 @dataclass(frozen=True)

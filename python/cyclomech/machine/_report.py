@@ -106,16 +106,16 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
             return m.speed_sweep(rpm), m.speed_sweep(rpm, linear=True)
 
         sw, sw_lin = timed("speed sweep", sweeps)
-        mins = None if opt is None else m.cyclogram_at(nominal).min_angles(nominal)
-        by_label = {b.label: b.name for b in m.bounds()}
+        # (The bounds are constraints on top of the operations' own minimums.)
+        mins = None if opt is None else m.cyclogram.min_angles(nominal)
         ctx = Context(
             limit=limit,
             nominal_rpm=nominal,
             rpm=rpm,
             optimum=opt,
             cyclogram=m.cyclogram,
-            bounds={lab: sw.min_phase_deg[n] for lab, n in by_label.items()},
-            linear_bounds={lab: sw_lin.min_phase_deg[n] for lab, n in by_label.items()},
+            bounds=sw.min_phase_deg,
+            linear_bounds=sw_lin.min_phase_deg,
         )
         results = timed(
             "mechanisms", lambda: {k: mech.analyze(ctx) for k, mech in m.mechanisms.items()}
