@@ -33,14 +33,20 @@ the base circle), − where concave, ``inf`` where straight.
 from __future__ import annotations
 
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
+from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
 
 __all__ = [
+    "CRITERIA",
     "KINDS",
     "Cam",
     "CamKinematics",
+    "CamLoads",
+    "Contact",
     "FlatFaced",
     "Follower",
+    "FollowerLoads",
+    "MinPhaseAngles",
     "OscillatingRoller",
     "Segment",
     "TranslatingRoller",

@@ -182,6 +182,16 @@ impl Cam {
         &self.program
     }
 
+    /// The follower.
+    pub fn follower(&self) -> Follower {
+        self.follower
+    }
+
+    /// Whether the cam is grooved (form closure).
+    pub fn groove(&self) -> bool {
+        self.groove
+    }
+
     /// The initial arm angle ψ0 [rad] of an oscillating follower (else `None`).
     pub fn initial_arm_angle(&self) -> Option<f64> {
         match self.follower {
@@ -193,7 +203,15 @@ impl Cam {
     /// One row of [`COLUMNS`] at cam angle θ [rad].
     #[inline]
     pub fn row(&self, theta: f64, out: &mut [f64]) {
-        let [s, ds, dds, ddds] = self.program.eval(theta);
+        self.row_at(theta, self.program.eval(theta), out)
+    }
+
+    /// One row of [`COLUMNS`] at cam angle θ [rad] for the displacement and its
+    /// derivatives `sv` = [s, s′, s″, s‴] (the program's at θ, or a bound
+    /// search's trial segment).
+    #[inline]
+    pub fn row_at(&self, theta: f64, sv: [f64; 4], out: &mut [f64]) {
+        let [s, ds, dds, ddds] = sv;
         // Fixed frame: roller centre (or flat-face trace point) C, C', C'', and
         // the unit direction v of the follower's motion (increasing s).
         let (c, c1, c2, v, rr) = match self.follower {
