@@ -32,14 +32,18 @@ the base circle), − where concave, ``inf`` where straight.
 
 from __future__ import annotations
 
+from ._design import CAM_KEYS, SEGMENT_KEYS, CamDesign
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
 
 __all__ = [
+    "CAM_KEYS",
     "CRITERIA",
     "KINDS",
+    "SEGMENT_KEYS",
     "Cam",
+    "CamDesign",
     "CamKinematics",
     "CamLoads",
     "Contact",
