@@ -34,6 +34,7 @@ from __future__ import annotations
 
 from ._design import CAM_KEYS, SEGMENT_KEYS, CamDesign
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
+from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
 
@@ -46,6 +47,8 @@ __all__ = [
     "CamDesign",
     "CamKinematics",
     "CamLoads",
+    "CamMechanism",
+    "CamResult",
     "Contact",
     "FlatFaced",
     "Follower",

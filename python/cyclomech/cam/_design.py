@@ -213,9 +213,12 @@ class CamDesign:
         design = cls.from_table(table, "[cam]", source=source, extra=frozenset({"name", "rpm"}))
         return name, rpm, design
 
-    def min_phase_angles(self, rpm: Any, *, n_threads: int | None = None) -> MinPhaseAngles:
-        """:meth:`Cam.min_phase_angles` of its rises and returns with its loads,
-        contact and limits, at the speeds ``rpm`` [rpm].
+    def min_phase_angles(
+        self, rpm: Any, *, segments: Any = None, n_threads: int | None = None
+    ) -> MinPhaseAngles:
+        """:meth:`Cam.min_phase_angles` of its rises and returns (or of the
+        indices ``segments``) with its loads, contact and limits, at the speeds
+        ``rpm`` [rpm].
 
         >>> import cyclomech as cm
         >>> _, _, d = cm.cam.CamDesign.from_toml("examples/lifter_cam.toml")
@@ -228,6 +231,7 @@ class CamDesign:
             contact=self.contact,
             max_stress=self.max_stress,
             max_pressure_angle_deg=self.max_pressure_angle_deg,
+            segments=segments,
             n_threads=n_threads,
         )
 

@@ -163,6 +163,10 @@ class Cam:
         self.follower = follower
         self.closure = closure
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Rebuilt from its parts (the kernel is not picklable): Dask ships machines.
+        return (Cam, (self.segments, self.follower, self.closure))
+
     def solve(self, theta: Any, *, n_threads: int | None = None) -> CamKinematics:
         """The exact kinematics and geometry at cam angles ``theta`` [rad] (any
         shape; taken modulo 2π) in one Rust call with the GIL released: see
