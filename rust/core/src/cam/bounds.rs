@@ -26,15 +26,20 @@ use rayon::prelude::*;
 use super::contact::{Contact, Loads};
 use super::follower::{Cam, Follower, N_COLUMNS};
 use super::program::CamError;
-use super::search::{brent_zero, max_unit};
+use super::search::{brent_zero, max_unit, max_unit_cut};
+
+/// A trial angle whose worst value on the grid is below this fraction of its
+/// limit is admissible without refining the maximum: a peak would have to stand
+/// 25 % above the two grid samples around it (1/48 of the segment apart).
+pub(super) const CUT: f64 = 0.8;
 use crate::parallel::{pool, resolve_threads};
 
 /// The criteria of [`Cam::min_angles_into`], in the order of its output.
 pub const CRITERIA: [&str; 4] = ["pressure_angle", "undercut", "jump", "contact_stress"];
 
 /// The scan's step ratio and its floor [rad].
-const STEP: f64 = 0.7;
-const FLOOR: f64 = TAU * 1e-6;
+pub(super) const STEP: f64 = 0.7;
+pub(super) const FLOOR: f64 = TAU * 1e-6;
 
 /// Limits of the criteria: the pressure angle [rad] and, optionally, the
 /// Hertz stress [Pa].
@@ -154,7 +159,7 @@ impl Cam {
     }
 
     /// The stress ratio σ_max/[σ_H] over segment `k` at angle `beta`, speed `omega`.
-    fn stress_ratio(
+    pub(super) fn stress_ratio(
         &self,
         k: usize,
         beta: f64,
@@ -164,11 +169,14 @@ impl Cam {
         limit: f64,
     ) -> f64 {
         let load = loads.segment_loads[k];
-        max_unit(|x| {
-            let mut geo = [0.0; N_COLUMNS];
-            self.trial_row(k, x, beta, &mut geo);
-            self.load_row(&geo, omega, loads, load, Some(hertz))[2] / limit
-        })
+        max_unit_cut(
+            |x| {
+                let mut geo = [0.0; N_COLUMNS];
+                self.trial_row(k, x, beta, &mut geo);
+                self.load_row(&geo, omega, loads, load, Some(hertz))[2] / limit
+            },
+            CUT,
+        )
         .0
     }
 
@@ -297,9 +305,24 @@ impl Cam {
                     [p, u, j]
                 })
                 .collect();
+            // The stress: per segment, its scan cache, then the speeds in chunks.
+            let mut sb = vec![0.0; ns * nk];
+            if let Some((m, l, h)) = stress {
+                const SPEEDS: usize = 64;
+                let caches: Vec<_> = segments
+                    .par_iter()
+                    .map(|&k| self.stress_cache(k, l, h, m))
+                    .collect();
+                sb.par_chunks_mut(ns).enumerate().for_each(|(ki, col)| {
+                    let k = segments[ki];
+                    col.par_chunks_mut(SPEEDS)
+                        .zip(omegas.par_chunks(SPEEDS))
+                        .for_each(|(o, w)| self.stress_bounds(k, &caches[ki], w, l, h, m, o));
+                });
+            }
             out.par_chunks_mut(nc).enumerate().for_each(|(i, row)| {
                 let (si, ki) = (i / nk, i % nk);
-                let (w, k) = (omegas[si], segments[ki]);
+                let w = omegas[si];
                 let [p, u, j] = fixed[ki];
                 let jb = if j.is_infinite() {
                     f64::NAN
@@ -311,11 +334,7 @@ impl Cam {
                         f64::NAN
                     }
                 };
-                let sb = match stress {
-                    None => 0.0,
-                    Some((m, l, h)) => last_crossing(|b| self.stress_ratio(k, b, w, l, h, m)),
-                };
-                row.copy_from_slice(&[p, u, jb, sb]);
+                row.copy_from_slice(&[p, u, jb, sb[ki * ns + si]]);
             });
         });
         Ok(())

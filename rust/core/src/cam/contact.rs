@@ -160,6 +160,13 @@ impl Cam {
         }
     }
 
+    /// l cos φ: the lever of the normal force about the follower's motion
+    /// (l = 1 for a translating follower), at pressure angle `phi` [rad].
+    #[inline]
+    pub(super) fn lever_cos(&self, phi: f64) -> f64 {
+        self.lever() * phi.cos()
+    }
+
     /// Check that the follower can carry a Hertz stress (a roller of radius
     /// > 0, or a flat face); the compliance of `contact`.
     pub fn hertz_compliance(&self, contact: &Contact) -> Result<f64, CamError> {
@@ -216,9 +223,9 @@ impl Cam {
     ) -> [f64; N_LOAD_COLUMNS] {
         let (s, ds, dds) = (geo[0], geo[1], geo[2]);
         let q = loads.mass * dds * omega * omega + loads.spring_rate * s + loads.preload + load;
-        let cos = geo[10].cos();
-        let n = if cos > 0.0 {
-            q / (self.lever() * cos)
+        let lc = self.lever_cos(geo[10]);
+        let n = if lc > 0.0 {
+            q / lc
         } else {
             f64::INFINITY.copysign(q)
         };

@@ -20,6 +20,7 @@ mod contact;
 mod follower;
 mod program;
 mod search;
+mod stress;
 #[cfg(test)]
 mod tests;
 

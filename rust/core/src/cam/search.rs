@@ -14,6 +14,13 @@ const REFINE: usize = 4;
 /// neighbouring cells to 1e-12 in x. A NaN anywhere counts as +∞ (a violated
 /// criterion), so the result is +∞ there.
 pub fn max_unit(f: impl Fn(f64) -> f64) -> (f64, f64) {
+    max_unit_cut(f, f64::NEG_INFINITY)
+}
+
+/// [`max_unit`], but where the grid's best is below `cut` the grid's best is
+/// returned unrefined (a bound search that only needs to know the worst value
+/// is well under its limit saves the refinement there).
+pub fn max_unit_cut(f: impl Fn(f64) -> f64, cut: f64) -> (f64, f64) {
     let h = 1.0 / (GRID - 1) as f64;
     let mut v = [0.0; GRID];
     for (i, vi) in v.iter_mut().enumerate() {
@@ -28,6 +35,9 @@ pub fn max_unit(f: impl Fn(f64) -> f64) -> (f64, f64) {
         if y > best {
             (bi, best) = (i, y);
         }
+    }
+    if best < cut {
+        return (best, bi as f64 * h);
     }
     let floor = best - 0.05 * best.abs();
     let mut top = (best, bi as f64 * h);
