@@ -656,3 +656,24 @@ def test_bad_files_exit_2_naming_file_table_and_key(tmp_path, capsys):
     _, err = capsys.readouterr()
     assert f"{f}: [cam]: no speed" in err and "--rpm" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_cam_without_loads_or_moving_segments(tmp_path, capsys):
+    # No mass: no loads, stress or jump, and no along-cycle figure; all dwell: no bounds.
+    f = _write(
+        tmp_path,
+        '[cam]\nrpm = 100.0\nfollower = "flat"\nbase_radius_m = 0.04\n'
+        '[[cam.segment]]\nkind = "dwell"\nangle_deg = 360.0\n',
+    )
+    code = main(["cam", str(f), "--out", str(tmp_path / "out")])
+    out, _ = capsys.readouterr()
+    assert code == 0
+    assert "loads, σ_H and jump: not computed (no mass_kg in the file)" in out
+    assert "no rise or return" in out
+    assert {p.name for p in (tmp_path / "out").glob("*.png")} == {
+        "cam.png",
+        "svaj.png",
+        "min_phase.png",
+    }
+    res = json.loads((tmp_path / "out" / "results.json").read_text(encoding="utf-8"))
+    assert res["min_phase"] == [] and res["fails"] == []

@@ -202,10 +202,12 @@ def cam_command(args: argparse.Namespace) -> int:
         if cam.closure == "spring":
             jump, jump_at = cam.jump_rpm(d.loads)
             leaves = bool(ld.separated.any()) or jump <= rpm
-            print(
-                f"  jump: the follower leaves the cam from {jump:.5g} rpm (at θ = {jump_at:.4g}°)"
-                + ("  FAILS" if leaves else "")
+            text = (
+                "none (the follower has no inertia)"
+                if math.isinf(jump)
+                else f"the follower leaves the cam from {jump:.5g} rpm (at θ = {jump_at:.4g}°)"
             )
+            print(f"  jump: {text}" + ("  FAILS" if leaves else ""))
             if leaves:
                 fails.append(f"the follower leaves the cam at {rpm:g} rpm (from {jump:.5g} rpm)")
             results["jump"] = {"rpm": jump, "at_deg": jump_at}
@@ -311,10 +313,13 @@ def _print_min_phase(
                 f"segment {seg} ({g.kind}): {g.angle_deg:g}° < {need}, the smallest phase angle "
                 f"for {why.replace('_', ' ')} at {rpm:g} rpm"
             )
+    results["min_phase"] = entries
+    if not rows:
+        print("\n  no rise or return: no smallest phase angles")
+        return fails
     print(f"\n  smallest phase angles at {rpm:g} rpm [deg] (0: the criterion does not bound it)")
     crit = [c.replace("_", " ") for c in m.criteria]
     print(table(rows, ["segment", "kind", *crit, "bound", "binding", "in file", ""]))
-    results["min_phase"] = entries
     return fails
 
 

@@ -73,7 +73,7 @@ def _rot(theta: Array, v: Array) -> Array:
     return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
-def _segments_xy(points: Array) -> Array:
+def _segments_xy(points: Array) -> Any:
     """(n, 2) vertices of a closed curve -> (n, 2, 2) line segments i -> i+1."""
     return np.stack([points, np.roll(points, -1, axis=0)], axis=1)
 
@@ -170,8 +170,8 @@ def plot_cam(
     _check_cam(cam, "plot_cam")
     if color_by not in COLOR_BY:
         raise InputError(f"color_by must be one of {COLOR_BY}; got {color_by!r}")
-    shown = (
-        np.arange(6) * 60.0
+    shown: Array = (
+        np.arange(6, dtype=np.float64) * 60.0
         if positions_deg is None
         else float_array("positions_deg", positions_deg, ndims=(0, 1)).reshape(-1)
     )
