@@ -647,6 +647,10 @@ def test_bad_files_exit_2_naming_file_table_and_key(tmp_path, capsys):
     assert main(["cam", str(f), "--out", str(tmp_path / "out")]) == 2
     _, err = capsys.readouterr()
     assert f"{f}: [cam]: unknown key 'colour'" in err
+    f = _write(tmp_path, LIFTER.replace("law = ", "speed = 3\nlaw = ", 1), "seg.toml")
+    assert main(["cam", str(f), "--out", str(tmp_path / "out")]) == 2
+    _, err = capsys.readouterr()
+    assert f"{f}: [cam]: segment 0: unknown key 'speed'" in err
     missing = tmp_path / "missing.toml"
     assert main(["cam", str(missing), "--out", str(tmp_path / "out")]) == 2
     _, err = capsys.readouterr()
