@@ -33,6 +33,7 @@ the base circle), − where concave, ``inf`` where straight.
 from __future__ import annotations
 
 from ._design import CAM_KEYS, SEGMENT_KEYS, CamDesign
+from ._export import DxfUnavailableError, profile_table, write_profile_csv, write_profile_dxf
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
 from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
@@ -50,6 +51,7 @@ __all__ = [
     "CamMechanism",
     "CamResult",
     "Contact",
+    "DxfUnavailableError",
     "FlatFaced",
     "Follower",
     "FollowerLoads",
@@ -57,4 +59,7 @@ __all__ = [
     "OscillatingRoller",
     "Segment",
     "TranslatingRoller",
+    "profile_table",
+    "write_profile_csv",
+    "write_profile_dxf",
 ]
