@@ -270,8 +270,9 @@ def test_run_writes_the_report_files(run, name):
 def test_run_with_figures_embeds_them_in_the_report(run):
     out = run(PLOTTED)
     pngs = sorted((out / "figures").glob("*.png"))
-    # The speed sweep, the cyclogram (Gantt and circular), and the lifter's rebound,
-    # cam law and smallest phase angle.
+    # The speed sweep, the cyclogram (Gantt and circular), the lifter's rebound,
+    # cam law and smallest phase angle, and its cam's drawing, SVAJ, loads along the
+    # cycle and smallest phase angles.
     assert {p.stem for p in pngs} == {
         "speed_sweep",
         "cyclogram",
@@ -279,6 +280,10 @@ def test_run_with_figures_embeds_them_in_the_report(run):
         "lifter_rebound",
         "lifter_law",
         "lifter_min_phase",
+        "lifter_cam_cam",
+        "lifter_cam_svaj",
+        "lifter_cam_along_cycle",
+        "lifter_cam_min_phase",
     }
     page = (out / "report.html").read_text(encoding="utf-8")
     for p in pngs:

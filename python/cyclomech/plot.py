@@ -41,13 +41,7 @@ from ._plotting import LINK_COLOR as LINK_COLOR
 from ._plotting import MOTION_COLORS as MOTION_COLORS
 from ._plotting import PLATE_COLOR as PLATE_COLOR
 from ._plotting import TRACE_COLORS as TRACE_COLORS
-
-# The cam's plots: re-exported as the colours are (explicitly, outside __all__ until
-# tests/test_plot.py's list of the facade's domains takes in the cam).
-from .cam.plot import plot_along_cycle as plot_along_cycle
-from .cam.plot import plot_cam as plot_cam
-from .cam.plot import plot_min_phase_angles as plot_min_phase_angles
-from .cam.plot import plot_svaj as plot_svaj
+from .cam.plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
 from .cyclogram.plot import LIMITING_COLOR as LIMITING_COLOR
 from .cyclogram.plot import MECHANISM_COLORS as MECHANISM_COLORS
 from .cyclogram.plot import OTHER_ROW as OTHER_ROW
@@ -63,16 +57,20 @@ from .transfer.plot import plot_transfer
 
 __all__ = [
     "animate_linkage",
+    "plot_along_cycle",
     "plot_analogs",
+    "plot_cam",
     "plot_cyclogram",
     "plot_cyclogram_pair",
     "plot_law",
     "plot_linkage",
     "plot_min_phase",
+    "plot_min_phase_angles",
     "plot_press",
     "plot_press_criteria",
     "plot_rebound_vs_speed",
     "plot_response",
     "plot_speed_sweep",
+    "plot_svaj",
     "plot_transfer",
 ]

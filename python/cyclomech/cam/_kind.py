@@ -400,4 +400,66 @@ class CamResult:
     def figures(self, save: Save) -> None:
         """The cam, its SVAJ diagram, the stress and pressure angle along the cycle
         and its smallest phase angles against speed."""
-        return None
+        from .plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
+
+        m, d, k, n = self.mech, self.mech.design, self.mech.name, self.ctx.nominal_rpm
+        stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in k)
+        stress = d.loads is not None and d.contact is not None
+        ax = plot_cam(
+            self.cam,
+            color_by="contact_stress" if stress else "pressure_angle",
+            loads=d.loads,
+            contact=d.contact,
+            rpm=n if stress else None,
+            title=f"{k} at the optimum, {n:g} rpm",
+        )
+        save(
+            ax.figure,
+            f"{stem}_cam",
+            "The cam laid out at the optimum's angles (each bound rise or return at its "
+            "operation's angle), in its own frame: the profile coloured by "
+            + ("the Hertz stress on the loaded flank" if stress else "the pressure angle")
+            + ", the pitch curve dashed, the roller at a few cam angles."
+            + (f" {self.layout_note}." if self.layout_note else ""),
+        )
+        axes = plot_svaj(self.cam, rpm=n, title=f"{k}: displacement and its derivatives")
+        save(
+            axes[0].figure,
+            f"{stem}_svaj",
+            f"Displacement, velocity, acceleration and jerk of the follower at {n:g} rpm "
+            "over one turn of the cam (exact derivatives of the laws).",
+        )
+        if d.loads is not None:
+            axes = plot_along_cycle(
+                self.cam,
+                n,
+                d.loads,
+                d.contact,
+                max_stress=d.max_stress,
+                max_pressure_angle_deg=d.max_pressure_angle_deg,
+                title=f"{k} along the cycle at {n:g} rpm",
+            )
+            save(
+                axes[0].figure,
+                f"{stem}_along_cycle",
+                "The pressure angle, the normal force, the Hertz stress and the shaft "
+                f"torque over one turn at {n:g} rpm, limits dashed.",
+            )
+        segs = sorted({j for j, _ in m.criteria})
+        if segs:
+            mins = d.min_phase_angles(self.ctx.rpm, segments=segs)
+            labels = [m._where(j) for j in segs]
+            nominal = [self.cam.segments[j].angle_deg for j in segs]
+            ax = plot_min_phase_angles(
+                mins,
+                labels=labels,
+                nominal_deg=nominal,
+                title=f"{k}: smallest phase angles against speed",
+            )
+            save(
+                ax.figure,
+                f"{stem}_min_phase",
+                "Each bound rise or return's smallest phase angle against speed per "
+                "criterion (the bound, the largest, bold); horizontal: its angle at the "
+                "optimum.",
+            )
