@@ -74,12 +74,49 @@ def linprog_limiting(rpm: float) -> tuple[float, dict[tuple[str, str], float]]:
     return (-res.fun if res.status == 0 else math.nan), mins
 
 
-@pytest.mark.parametrize("rpm", [200.0, 300.0, 380.0, 430.0])
+@pytest.mark.parametrize("rpm", [200.0, 300.0, 380.0, 415.0, 421.7])
 def test_loom_optimum_with_cam_bounds_equals_linprog(rpm):
     m = cm.Machine.from_toml(LOOM)
     ref, _ = linprog_limiting(rpm)
     got = m.optimize(rpm).objective
     assert got == pytest.approx(ref, abs=1e-7)
+
+
+def test_above_the_limit_the_machine_and_linprog_both_refuse():
+    assert math.isnan(linprog_limiting(430.0)[0])
+    with pytest.raises(cm.InfeasibleError, match="σ_H"):
+        cm.Machine.from_toml(LOOM).optimize(430.0)
+
+
+def test_the_cam_stop_takes_its_law_and_stroke_from_the_cam():
+    m = cm.Machine.from_toml(LOOM)
+    stop, design = m.mechanisms["lifter"].stop, cam_design()
+    k = design.arcs.index(("3", "7"))
+    seg = design.cam.segments[k]
+    assert stop.law.name == seg.law
+    lever = data()["mechanism"]["lifter"]["lever_length"]
+    assert stop.stroke == pytest.approx(seg.stroke * lever, rel=1e-15)
+    assert stop.stroke == pytest.approx(0.0094, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("edit", "needle"),
+    [
+        (('cam = "lifter cam"', 'cam = "lifter"'), "is not a cam of the machine"),
+        (('cam = "lifter cam"', 'cam = "lifter cam"\nlaw = "cycloidal"'), "law comes from the cam"),
+        (('arc = ["3", "7"]\n\n[[mech', 'arc = ["3", "8"]\n\n[[mech'), None),
+    ],
+)
+def test_bad_cam_stops_are_named(tmp_path, edit, needle):
+    text = LOOM.read_text(encoding="utf-8")
+    assert edit[0] in text
+    text = text.replace(*edit, 1)
+    p = tmp_path / "bad.toml"
+    p.write_text(text, encoding="utf-8")
+    with pytest.raises(cm.CyclomechError) as e:
+        cm.Machine.from_toml(p)
+    assert isinstance(e.value, ValueError)
+    assert needle in str(e.value)
 
 
 def test_loom_speed_limit_is_where_linprog_stops_fitting_and_names_the_cam():
@@ -147,7 +184,7 @@ def test_a_machine_with_a_cam_pickles():
             ),
             "stroke_m",
         ),
-        (("angle_deg = 110.0", "angle_deg = 100.0"), "not 360°"),
+        (("angle_deg = 180.0", "angle_deg = 170.0"), "not 360°"),
     ],
 )
 def test_bad_cam_tables_are_named(tmp_path, edit, needle):

@@ -92,12 +92,14 @@ class Proportional:
 @dataclass(frozen=True)
 class TableContext:
     """What a kind's parser may use besides its own table: the machine's
-    cyclogram (to check the arcs it names), the file's name for messages and the
-    machine's crank angles per turn."""
+    cyclogram (to check the arcs it names), the file's name for messages, the
+    machine's crank angles per turn and the machine's ``[mechanism.*]`` tables as
+    read (``tables``: a cam stop takes its law and stroke from its cam's table)."""
 
     cyclogram: Cyclogram
     source: str
     angle_points: int
+    tables: Mapping[str, Any] = field(default_factory=dict)
 
     def where(self, name: str) -> str:
         """The place a message names: ``<file>: [mechanism.<name>]``.

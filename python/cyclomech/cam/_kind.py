@@ -234,8 +234,8 @@ class CamMechanism:
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
         >>> c, why = cam.laid_out({("1", "3"): 60.0})
-        >>> c.segments[0].angle_deg, c.segments[1].angle_deg, why
-        (60.0, 120.0, '')
+        >>> c.segments[0].angle_deg, c.segments[3].angle_deg, why
+        (60.0, 190.0, '')
         """
         segs = list(self.design.cam.segments)
         n = len(segs)

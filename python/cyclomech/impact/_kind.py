@@ -42,9 +42,9 @@ class CamStop:
 
     kind: ClassVar[str] = "cam_stop"
     keys: ClassVar[frozenset[str]] = frozenset(
-        (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg"}
+        (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg", "cam"}
     )
-    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc"})
+    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc", "cam"})
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)
     name: str
@@ -68,14 +68,16 @@ class CamStop:
         """
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
-        _toml.require(
-            table, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where
-        )
         _toml.require(table, ("arc", "a_max"), where)
-        stop = _stop_from_table(table, where, skip=("kind", "arc", "a_max", "phase_deg"))
         arc = table["arc"]
         if not (isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)):
             raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+        if "cam" in table:
+            table = {**table, **_from_cam(table, (arc[0], arc[1]), where, ctx)}
+        _toml.require(
+            table, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where
+        )
+        stop = _stop_from_table(table, where, skip=("kind", "arc", "a_max", "phase_deg", "cam"))
         known = [op.arc for op in ctx.cyclogram.operations]
         if (arc[0], arc[1]) not in known:
             listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
@@ -395,3 +397,47 @@ class CamStopResult:
             "The smallest phase angle of the operation that keeps the rebound within its "
             "limit: exact and the seed's linearised form.",
         )
+
+
+def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext) -> dict[str, Any]:
+    """``law`` and ``stroke`` of a cam stop that names its cam (``cam = "<name>"``, a
+    ``kind = "cam"`` mechanism of the machine): the law of the cam's rise bound to
+    the stop's arc, and its stroke at the working point [m] (an oscillating
+    follower's rotation times ``lever_length``). One description of the motion,
+    not two: giving ``law`` or ``stroke`` as well is an error."""
+    from ..cam import CamDesign, OscillatingRoller
+
+    name = table["cam"]
+    twice = sorted(k for k in ("law", "stroke") if k in table)
+    if twice:
+        raise InputError(
+            f"{where}: {twice[0]} comes from the cam {name!r}; give either cam or law and stroke"
+        )
+    other = ctx.tables.get(name) if isinstance(name, str) else None
+    if not isinstance(other, Mapping) or other.get("kind") != "cam":
+        cams = sorted(
+            k for k, v in ctx.tables.items() if isinstance(v, Mapping) and v.get("kind") == "cam"
+        )
+        raise InputError(
+            f"{where}: cam = {name!r} is not a cam of the machine; its cams are {cams}"
+        )
+    design = CamDesign.from_table(
+        other, f"[mechanism.{name}]", source=ctx.source, extra=frozenset({"kind"}), arcs=True
+    )
+    if arc not in design.arcs:
+        raise InputError(
+            f"{where}: the cam {name!r} has no segment bound to the stop's arc {list(arc)!r}; "
+            "give that rise arc = [from, to]"
+        )
+    seg = design.cam.segments[design.arcs.index(arc)]
+    if seg.kind != "rise":
+        raise InputError(
+            f"{where}: the cam {name!r}'s segment on {list(arc)!r} is a {seg.kind}; a stop is "
+            "met at the end of a rise"
+        )
+    stroke = seg.stroke
+    if isinstance(design.cam.follower, OscillatingRoller):
+        if "lever_length" not in table:
+            raise InputError(f"{where}: missing key 'lever_length'")
+        stroke *= _toml.number(table, "lever_length", where, "[m]")
+    return {"law": seg.law, "stroke": stroke}

@@ -216,7 +216,7 @@ class Machine:
         table = data.get("mechanism", {})
         if not isinstance(table, Mapping):
             raise InputError(f"{source}: [mechanism] must be a table of [mechanism.<name>] tables")
-        ctx = TableContext(cg, source, angle_points)
+        ctx = TableContext(cg, source, angle_points, table)
         for key, spec in table.items():
             mechs[key] = _mechanism(key, spec, ctx)
         _near_misses(cg, mechs, source)
@@ -310,7 +310,7 @@ class Machine:
         # Only the named mechanisms' tables changed: validate and build those (as
         # from_dict would), and share the cyclogram and its network with this one.
         mechs = dict(self.mechanisms)
-        ctx = TableContext(self.cyclogram, self.source, self.angle_points)
+        ctx = TableContext(self.cyclogram, self.source, self.angle_points, data["mechanism"])
         for name in touched:
             mechs[name] = _mechanism(name, data["mechanism"][name], ctx)
         bounded = _bounded(mechs)
