@@ -104,7 +104,7 @@ def test_the_cam_stop_takes_its_law_and_stroke_from_the_cam():
     [
         (('cam = "lifter cam"', 'cam = "lifter"'), "is not a cam of the machine"),
         (('cam = "lifter cam"', 'cam = "lifter cam"\nlaw = "cycloidal"'), "law comes from the cam"),
-        (('arc = ["3", "7"]\n\n[[mech', 'arc = ["3", "8"]\n\n[[mech'), None),
+        (('arc = ["3", "7"]\n\n[[mech', 'arc = ["3", "8"]\n\n[[mech'), "has no segment bound"),
     ],
 )
 def test_bad_cam_stops_are_named(tmp_path, edit, needle):
