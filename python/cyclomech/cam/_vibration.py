@@ -67,9 +67,7 @@ def _law(law: Any) -> str:
 def _zeta(value: Any) -> float:
     z = finite_number("damping_ratio", value, "(dimensionless)", low=0.0)
     if z >= 1.0:
-        raise InputError(
-            f"damping_ratio = {value!r} must be in [0, 1) (an under-damped follower)"
-        )
+        raise InputError(f"damping_ratio = {value!r} must be in [0, 1) (an under-damped follower)")
     return z
 
 
