@@ -362,6 +362,8 @@ def test_kernel_errors_without_the_python_checks() -> None:
     tau = np.array([1.0, -2.0])
     with pytest.raises(cm.InputError, match="case 1: tau"):
         _core.cam_residual_ratio("cycloidal", tau, 0.0)
+    with pytest.raises(cm.InputError, match=r"case 0: tau must be finite and within"):
+        cm.cam.residual_vibration("cycloidal", 1e-200)
     with pytest.raises(cm.InputError, match="unknown motion law"):
         _core.cam_residual_ratio("nope", np.ones(1), 0.0)
     with pytest.raises(cm.InputError, match="zeta"):
