@@ -152,18 +152,19 @@ pub fn free_amplitude(q: f64, v: f64, w: f64, zeta: f64) -> f64 {
 }
 
 /// Nodes of [0, 1] for a law: each of its pieces split into ⌈per_unit·length⌉
-/// equal intervals (its breakpoints are nodes).
+/// equal intervals (its breakpoints are nodes). Written x0 + k·h: the named
+/// laws' pieces have dyadic ends and lengths, so h is a power of two and every
+/// node and step is exact, and the kernel works out a single step's
+/// coefficients (its cost per τ; ulp-different steps would each need theirs).
 fn law_nodes(law: &Law, per_unit: usize) -> Vec<f64> {
     let mut xs = vec![0.0];
     for s in &law.segments {
         let m = ((per_unit as f64) * (s.x1 - s.x0)).ceil().max(1.0) as usize;
-        for k in 1..=m {
-            xs.push(if k == m {
-                s.x1
-            } else {
-                s.x0 + (s.x1 - s.x0) * (k as f64 / m as f64)
-            });
+        let h = (s.x1 - s.x0) / m as f64;
+        for k in 1..m {
+            xs.push(s.x0 + k as f64 * h);
         }
+        xs.push(s.x1);
     }
     xs
 }
