@@ -439,7 +439,7 @@ pub fn min_tau(law: &str, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationE
             break;
         }
         if last > SCAN_MAX {
-            return Err(CamError::BadFollower {
+            return Err(CamError::BadValue {
                 field: "ratio_limit",
                 value: ratio_limit,
                 why: format!(
@@ -660,7 +660,7 @@ pub fn steady_response(
     let det = a * e - b * c;
     if det.is_nan() || det <= RESONANCE_DET {
         let rpm = omega * 30.0 / std::f64::consts::PI;
-        return Err(CamError::BadFollower {
+        return Err(CamError::BadValue {
             field: "speed",
             value: rpm,
             why: format!(
