@@ -392,3 +392,26 @@ def contact_sample(
     *,
     max_events: int = 10000,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+
+# Cam follower dynamics (cyclomech.cam._vibration).
+
+__all__ += ["cam_follower_response", "cam_min_tau", "cam_residual_ratio"]
+
+def cam_residual_ratio(
+    law: str,
+    tau: npt.NDArray[np.float64],
+    zeta: float,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def cam_min_tau(law: str, ratio_limit: float, zeta: float) -> float: ...
+def cam_follower_response(
+    kinds: list[str],
+    angles: list[float],
+    strokes: list[float],
+    laws: list[str],
+    omega: float,
+    omega_n: float,
+    zeta: float,
+    theta: npt.NDArray[np.float64],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...

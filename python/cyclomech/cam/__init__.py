@@ -38,6 +38,12 @@ from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRolle
 from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
+from ._vibration import (
+    FollowerResponse,
+    follower_response,
+    min_vibration_tau,
+    residual_vibration,
+)
 
 __all__ = [
     "CAM_KEYS",
@@ -55,11 +61,15 @@ __all__ = [
     "FlatFaced",
     "Follower",
     "FollowerLoads",
+    "FollowerResponse",
     "MinPhaseAngles",
     "OscillatingRoller",
     "Segment",
     "TranslatingRoller",
+    "follower_response",
+    "min_vibration_tau",
     "profile_table",
+    "residual_vibration",
     "write_profile_csv",
     "write_profile_dxf",
 ]

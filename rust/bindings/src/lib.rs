@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod cam;
+mod cam_vibration;
 mod convert;
 mod cyclogram;
 mod errors;
@@ -19,6 +20,8 @@ mod press;
 mod _core {
     #[pymodule_export]
     use super::cam::CamKernel;
+    #[pymodule_export]
+    use super::cam_vibration::{cam_follower_response, cam_min_tau, cam_residual_ratio};
     #[pymodule_export]
     use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
     #[pymodule_export]

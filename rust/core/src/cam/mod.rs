@@ -23,8 +23,13 @@ mod search;
 mod stress;
 #[cfg(test)]
 mod tests;
+mod vibration;
 
 pub use bounds::{last_crossing, Limits, CRITERIA};
 pub use contact::{Contact, Loads, LOAD_COLUMNS, N_LOAD_COLUMNS};
 pub use follower::{Cam, Follower, COLUMNS, N_COLUMNS};
 pub use program::{CamError, Kind, Program, SegmentSpec};
+pub use vibration::{
+    free_amplitude, min_tau, residual_ratio, residual_ratio_batch, steady_response, LawForce,
+    SteadyState, VibrationError, GRID_PER_UNIT, RESONANCE_DET, SCAN_MAX, SCAN_STEP, SETTLE_WINDOW,
+};

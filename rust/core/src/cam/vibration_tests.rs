@@ -1,0 +1,151 @@
+//! Unit tests of the follower dynamics (the Python tests compare with scipy).
+
+use std::f64::consts::{PI, TAU};
+
+use proptest::prelude::*;
+
+use super::*;
+
+/// The cycloidal rise's closed form (undamped): R = 8π²|sin(τ/2)|/(τ|4π² − τ²|).
+fn cycloidal(tau: f64) -> f64 {
+    8.0 * PI * PI * (tau / 2.0).sin().abs() / (tau * (4.0 * PI * PI - tau * tau).abs())
+}
+
+#[test]
+fn cycloidal_closed_form() {
+    let f = LawForce::new("cycloidal").unwrap();
+    let mut worst: f64 = 0.0;
+    for i in 1..=400 {
+        let tau = 0.5 * i as f64 + 0.123;
+        let r = f.residual_ratio(tau, 0.0).unwrap();
+        let want = cycloidal(tau);
+        // Relative to the envelope 8π²/(τ|4π² − τ²|) (the closed form has zeros).
+        let env = 8.0 * PI * PI / (tau * (4.0 * PI * PI - tau * tau).abs());
+        worst = worst.max((r - want).abs() / env);
+    }
+    // ~1.5e-9 at τ = 200 (the O(h⁴τ²) term left by the extrapolation).
+    assert!(worst < 1e-8, "worst {worst}");
+    for k in 2..=10 {
+        let r = f.residual_ratio(TAU * k as f64, 0.0).unwrap();
+        assert!(r < 1e-9, "k = {k}: {r}");
+    }
+}
+
+#[test]
+fn small_tau_limit() {
+    for zeta in [0.0, 0.3] {
+        for law in crate::motion::NAMES {
+            let r = residual_ratio(law, 1e-6, zeta).unwrap();
+            let want = 1.0 / (1.0 - zeta * zeta).sqrt();
+            assert!((r - want).abs() < 1e-5, "{law} {zeta}: {r}");
+        }
+    }
+}
+
+#[test]
+fn batch_equals_single() {
+    let taus: Vec<f64> = (1..100).map(|i| 0.37 * i as f64).collect();
+    let mut out = vec![0.0; taus.len()];
+    residual_ratio_batch("modified_sine", &taus, 0.1, Some(2), &mut out).unwrap();
+    for (t, o) in taus.iter().zip(&out) {
+        assert_eq!(*o, residual_ratio("modified_sine", *t, 0.1).unwrap());
+    }
+}
+
+#[test]
+fn bad_inputs_are_errors() {
+    assert!(residual_ratio("cycloidal", 1.0, 1.0).is_err());
+    assert!(residual_ratio("cycloidal", 1.0, -0.1).is_err());
+    assert!(residual_ratio("cycloidal", 1.0, f64::NAN).is_err());
+    assert!(residual_ratio("cycloidal", 0.0, 0.0).is_err());
+    assert!(residual_ratio("nope", 1.0, 0.0).is_err());
+    assert!(min_tau("cycloidal", 0.0, 0.0).is_err());
+    assert!(min_tau("cycloidal", f64::NAN, 0.0).is_err());
+    let mut out = [0.0; 3];
+    let e = residual_ratio_batch("harmonic", &[1.0, -1.0, 2.0], 0.0, None, &mut out);
+    assert!(e.unwrap_err().to_string().contains("case 1"));
+}
+
+#[test]
+fn min_tau_cycloidal() {
+    let f = LawForce::new("cycloidal").unwrap();
+    for limit in [0.3, 0.05, 0.01, 1e-3] {
+        let t = min_tau("cycloidal", limit, 0.0).unwrap();
+        let r = f.residual_ratio(t, 0.0).unwrap();
+        assert!((r - limit).abs() <= 1e-9 * limit, "{limit}: R({t}) = {r}");
+        assert!(f.residual_ratio(t * (1.0 - 1e-6), 0.0).unwrap() > limit);
+        // R stays below the limit beyond τ* (dense check).
+        for i in 1..4000 {
+            let tau = t + 0.01 * i as f64;
+            assert!(f.residual_ratio(tau, 0.0).unwrap() <= limit * (1.0 + 1e-12));
+        }
+    }
+    // Above R(0+) = 1: no bound.
+    assert_eq!(min_tau("cycloidal", 1.5, 0.0).unwrap(), 0.0);
+}
+
+#[test]
+fn steady_state_is_periodic_and_matches_the_residual() {
+    let seg = |kind, deg: f64, stroke| SegmentSpec {
+        kind,
+        angle: deg.to_radians(),
+        stroke,
+        law: "cycloidal".into(),
+    };
+    let specs = [
+        seg(Kind::Dwell, 200.0, 0.0),
+        seg(Kind::Rise, 60.0, 0.01),
+        seg(Kind::Dwell, 40.0, 0.0),
+        seg(Kind::Return, 60.0, 0.01),
+    ];
+    let (omega, omega_n, zeta) = (10.0, 400.0, 0.1);
+    let st = steady_response(&specs, omega, omega_n, zeta, &[0.0, TAU, 1.0]).unwrap();
+    assert!((st.x[0] - st.x[1]).abs() < 1e-12 * st.residual[1].max(1e-12));
+    assert!((st.rate[0] - st.rate[1]).abs() < 1e-9 * omega_n * st.residual[1]);
+    // After a long dwell the rise starts from (nearly) rest: its residual is h·R.
+    let tau = omega_n * 60f64.to_radians() / omega;
+    let want = 0.01 * residual_ratio("cycloidal", tau, zeta).unwrap();
+    assert!(
+        (st.residual[1] - want).abs() < 1e-9 * want,
+        "{} {want}",
+        st.residual[1]
+    );
+}
+
+#[test]
+fn resonance_is_an_error() {
+    let seg = |kind, deg: f64| SegmentSpec {
+        kind,
+        angle: deg.to_radians(),
+        stroke: 0.01,
+        law: "harmonic".into(),
+    };
+    let specs = [seg(Kind::Rise, 180.0), seg(Kind::Return, 180.0)];
+    let e = steady_response(&specs, 10.0, 30.0, 0.0, &[0.0]).unwrap_err();
+    assert!(e.to_string().contains("resonance"), "{e}");
+    assert!(steady_response(&specs, 10.0, 30.0, 0.01, &[0.0]).is_ok());
+    assert!(steady_response(&specs, 10.0, 30.5, 0.0, &[0.0]).is_ok());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// τ* is the last crossing: R(τ*) = limit and R ≤ limit on samples beyond.
+    #[test]
+    fn min_tau_is_the_last_crossing(
+        li in 0usize..6,
+        limit in 0.002f64..0.9,
+        zeta in 0.0f64..0.5,
+    ) {
+        let law = crate::motion::NAMES[li];
+        let f = LawForce::new(law).unwrap();
+        let t = min_tau(law, limit, zeta).unwrap();
+        prop_assert!(t > 0.0);
+        let r = f.residual_ratio(t, zeta).unwrap();
+        prop_assert!((r - limit).abs() <= 1e-9 * limit, "R({}) = {}", t, r);
+        for i in 1..600 {
+            let tau = t + 0.037 * i as f64;
+            prop_assert!(f.residual_ratio(tau, zeta).unwrap() <= limit * (1.0 + 1e-9));
+        }
+    }
+}
