@@ -223,7 +223,7 @@ class CamDesign:
         >>> import cyclomech as cm
         >>> _, _, d = cm.cam.CamDesign.from_toml("examples/lifter_cam.toml")
         >>> d.min_phase_angles([300.0]).angle_deg.shape
-        (1, 2, 4)
+        (1, 2, 5)
         """
         return self.cam.min_phase_angles(
             rpm,
@@ -232,6 +232,7 @@ class CamDesign:
             max_stress=self.max_stress,
             max_pressure_angle_deg=self.max_pressure_angle_deg,
             segments=segments,
+            vibration=self.vibration,
             n_threads=n_threads,
         )
 

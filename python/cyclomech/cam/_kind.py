@@ -28,6 +28,7 @@ WORDS = {
     "undercut": "undercut",
     "jump": "jump",
     "contact_stress": "σ_H",
+    "vibration": "vibration",
 }
 
 
@@ -140,7 +141,7 @@ class CamMechanism:
     def laws(self) -> list[BoundLaw]:
         """Each bound's smallest angle [deg] against speed [rpm]: constant for the
         pressure angle and undercut, proportional for jump (exact), solved per
-        speed for the stress.
+        speed for the stress, proportional for the residual vibration (exact).
 
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
@@ -153,7 +154,7 @@ class CamMechanism:
         for k, c in self.criteria:
             j, col = segs.index(k), CRITERIA.index(c)
             v = float(base[j, col])
-            if c == "jump":
+            if c in ("jump", "vibration"):
                 out.append(Proportional(math.inf if math.isnan(v) else v))
             elif c == "contact_stress":
                 out.append(_PerSpeed(self.design, k, col))
@@ -310,6 +311,8 @@ def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
             out.append((k, "jump"))
         if design.max_stress is not None:
             out.append((k, "contact_stress"))
+        if design.vibration is not None:
+            out.append((k, "vibration"))
     return tuple(out)
 
 

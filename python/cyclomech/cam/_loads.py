@@ -40,8 +40,9 @@ __all__ = [
 
 Array = npt.NDArray[np.float64]
 
-#: The criteria of :meth:`Cam.min_phase_angles`, in the order of its last axis.
-CRITERIA: tuple[str, ...] = tuple(_core.CAM_CRITERIA)
+#: The criteria of :meth:`Cam.min_phase_angles`, in the order of its last axis:
+#: the kernel's four, then the follower's residual vibration.
+CRITERIA: tuple[str, ...] = (*_core.CAM_CRITERIA, "vibration")
 
 
 @dataclass(frozen=True)
@@ -283,6 +284,7 @@ def solve_min_angles(
     max_stress: Any = None,
     max_pressure_angle_deg: Any = None,
     segments: Any = None,
+    vibration: Any = None,
     n_threads: int | None = None,
 ) -> MinPhaseAngles:
     """:meth:`Cam.min_phase_angles` (see there).
@@ -329,4 +331,37 @@ def solve_min_angles(
         max_stress,
         n_threads=threads_arg(n_threads),
     )
-    return MinPhaseAngles(rpm=n, segments=idx, criteria=CRITERIA, angle_deg=np.degrees(out))
+    vib = np.zeros((n.size, len(idx), 1))
+    if vibration is not None:
+        vib[:, :, 0] = _vibration_deg(cam, idx, n, vibration)
+    angles = np.concatenate([np.degrees(out), vib], axis=-1)
+    return MinPhaseAngles(rpm=n, segments=idx, criteria=CRITERIA, angle_deg=angles)
+
+
+def _vibration_deg(cam: Cam, idx: tuple[int, ...], rpm: Array, vibration: Any) -> Array:
+    """(speeds, segments) [deg]: β_min = τ*·ω/ω_n of each segment for the residual
+    vibration (τ* from :func:`min_vibration_tau` on [a]/h); NaN over 360°.
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> _vibration_deg(cam, (0,), np.array([600.0]), (100.0, 0.0, 1e-4)).round(3).tolist()
+    [[100.645]]
+    """
+    from ._vibration import min_vibration_tau
+
+    try:
+        f, zeta, a = (float(v) for v in vibration)
+    except (TypeError, ValueError):
+        raise InputError(
+            "vibration must be (natural frequency [Hz], damping ratio, amplitude limit "
+            f"[m or rad]); got {vibration!r}"
+        ) from None
+    positive("natural frequency", f, "[Hz]")
+    positive("amplitude limit", a, "[m or rad]")
+    wn = 2.0 * math.pi * f
+    tau = np.array(
+        [min_vibration_tau(cam.segments[k].law, a / cam.segments[k].stroke, zeta) for k in idx]
+    )
+    beta = np.degrees(np.outer(rpm * RAD_PER_S_PER_RPM, tau / wn))
+    return np.where(beta <= 360.0, beta, np.nan)

@@ -272,14 +272,18 @@ class Cam:
         max_stress: float | None = None,
         max_pressure_angle_deg: float | None = None,
         segments: Any = None,
+        vibration: tuple[float, float, float] | None = None,
         n_threads: int | None = None,
     ) -> MinPhaseAngles:
         """The smallest phase angle [deg] of each rise and return (or of the
         indices ``segments``) at each of the speeds ``rpm`` for each criterion of
         :data:`CRITERIA`: the pressure angle ≤ ``max_pressure_angle_deg``
         (default 30° translating, 45° oscillating), no undercut, no jump (spring
-        closure, with ``loads``) and σ_H ≤ ``max_stress`` [Pa] (with ``loads`` and
-        ``contact``). Each is exact (a bracketed root on the segment's worst value,
+        closure, with ``loads``), σ_H ≤ ``max_stress`` [Pa] (with ``loads`` and
+        ``contact``) and, with ``vibration`` = (natural frequency [Hz], damping
+        ratio, amplitude limit [m or rad]), the follower's residual vibration after
+        the segment ≤ the limit (β ≥ τ*·ω/ω_n, :func:`min_vibration_tau`). Each is
+        exact (a bracketed root on the segment's worst value,
         itself refined by Brent's maximiser), the segment's start displacement,
         stroke, law and load kept; all speeds in one Rust call (rayon over speeds
         and segments). See :class:`MinPhaseAngles` for the rule, NaN and 0.
@@ -301,6 +305,7 @@ class Cam:
             max_stress=max_stress,
             max_pressure_angle_deg=max_pressure_angle_deg,
             segments=segments,
+            vibration=vibration,
             n_threads=n_threads,
         )
 
