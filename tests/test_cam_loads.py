@@ -1,0 +1,514 @@
+"""The cam's loads, Hertz stress and smallest phase angles (issue 18, items 4-5),
+each checked against a reference computed here, never against the library itself:
+
+* forces: Q, N and T recomputed in numpy from ``Cam.solve`` and the textbook
+  formulas; the shaft torque against the power balance (T = dE/dθ of the
+  follower's energy, by finite differences) and zero work over a turn;
+* Hertz: three independent published forms of the two-cylinder line contact
+  (Johnson; Carvill's handbook; Shigley) evaluated on dwells, where the cam is an
+  arc of known radius, plus a printed worked example;
+* jump: dense sampling of √(K/(m(−s″)));
+* the bounds: the cam rebuilt with the segment at the returned angle, sampled
+  densely and refined by scipy's bounded minimiser, at, just below and above it.
+
+Kernel rule under test (``MinPhaseAngles``): the bound is the smallest β with the
+criterion holding on all of [β, 360°]; NaN: no angle up to a turn; 0: no bound.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.optimize import minimize_scalar
+
+S = cm.cam.Segment
+TAU = 2 * math.pi
+RAD_PER_S_PER_RPM = TAU / 60.0
+STEEL = dict(follower_modulus=2.1e11, follower_poisson=0.3, cam_modulus=2.1e11, cam_poisson=0.3)
+
+
+# --- helpers: the program's layout, rebuilt cams ----------------------------------
+
+
+def _starts_deg(cam: cm.cam.Cam) -> np.ndarray:
+    """Start angle [deg] of each segment."""
+    return np.concatenate([[0.0], np.cumsum([g.angle_deg for g in cam.segments])[:-1]])
+
+
+def _start_displacement(cam: cm.cam.Cam, k: int) -> float:
+    s = 0.0
+    for g in cam.segments[:k]:
+        s += g.stroke if g.kind == "rise" else -g.stroke if g.kind == "return" else 0.0
+    return s
+
+
+def _segment_index(cam: cm.cam.Cam, theta: np.ndarray) -> np.ndarray:
+    ends = np.radians(np.cumsum([g.angle_deg for g in cam.segments]))
+    return np.minimum(np.searchsorted(ends, np.mod(theta, TAU), side="right"), len(ends) - 1)
+
+
+def _seg_theta(cam: cm.cam.Cam, k: int, n: int) -> np.ndarray:
+    """n cam angles [rad] over segment k, its end excluded by 1e-9 of its angle
+    (the end point belongs to the next segment)."""
+    x = np.linspace(0.0, 1.0 - 1e-9, n)
+    return np.radians(_starts_deg(cam)[k] + x * cam.segments[k].angle_deg)
+
+
+def _with_angle(cam: cm.cam.Cam, k: int, beta_deg: float) -> cm.cam.Cam:
+    """The same cam with segment k's angle set to ``beta_deg``, the following
+    dwell (else the preceding one) absorbing the difference."""
+    segs = list(cam.segments)
+    n = len(segs)
+    j = (k + 1) % n if segs[(k + 1) % n].kind == "dwell" else (k - 1) % n
+    assert segs[j].kind == "dwell"
+    d = segs[j].angle_deg + segs[k].angle_deg - beta_deg
+    assert d > 0, f"dwell {j} cannot absorb β = {beta_deg}°"
+    segs[k] = replace(segs[k], angle_deg=beta_deg)
+    segs[j] = replace(segs[j], angle_deg=d)
+    return cm.cam.Cam(segs, cam.follower, cam.closure)
+
+
+def _probe(
+    cam: cm.cam.Cam, k: int, beta_deg: float, loads: cm.cam.FollowerLoads | None
+) -> tuple[cm.cam.Cam, int, cm.cam.FollowerLoads | None]:
+    """A cam holding segment k (its start displacement, stroke, law and load) at
+    any angle β' < 360°: the rest of the turn is cycloidal filler taking the
+    follower to the segment's start and back. Returns (cam, index, loads)."""
+    g = cam.segments[k]
+    s0 = _start_displacement(cam, k)
+    s1 = s0 + (g.stroke if g.kind == "rise" else -g.stroke)
+    rest = 360.0 - beta_deg
+    pieces = [p for p in (s0, s1) if p > 1e-15]
+    gamma = rest / max(len(pieces), 1)
+    segs: list[cm.cam.Segment] = []
+    if s0 > 1e-15:
+        segs.append(S("rise", gamma, s0))
+    idx = len(segs)
+    segs.append(replace(g, angle_deg=beta_deg))
+    if s1 > 1e-15:
+        segs.append(S("return", gamma, s1))
+    if len(segs) == 1:  # (a segment cannot be alone: it does not close)
+        raise AssertionError("a rise or return needs filler")
+    fl = None
+    if loads is not None:
+        sl = [0.0] * len(segs)
+        sl[idx] = (loads.segment_loads or (0.0,) * len(cam.segments))[k]
+        fl = replace(loads, segment_loads=tuple(sl))
+    return cm.cam.Cam(segs, cam.follower, cam.closure), idx, fl
+
+
+@dataclass(frozen=True)
+class Limits:
+    """What the criteria are evaluated against (one speed)."""
+
+    rpm: float = 300.0
+    loads: cm.cam.FollowerLoads | None = None
+    contact: cm.cam.Contact | None = None
+    max_stress: float | None = None
+    alpha_deg: float | None = None
+
+    def alpha(self, cam: cm.cam.Cam) -> float:
+        if self.alpha_deg is not None:
+            return math.radians(self.alpha_deg)
+        osc = isinstance(cam.follower, cm.cam.OscillatingRoller)
+        return math.radians(45.0 if osc else 30.0)
+
+    def bounds(self, cam: cm.cam.Cam, rpm: Any = None) -> cm.cam.MinPhaseAngles:
+        return cam.min_phase_angles(
+            [self.rpm] if rpm is None else rpm,
+            loads=self.loads,
+            contact=self.contact,
+            max_stress=self.max_stress,
+            max_pressure_angle_deg=self.alpha_deg,
+        )
+
+
+def _ratio(
+    criterion: str, cam: cm.cam.Cam, theta: np.ndarray, lim: Limits, loads: Any = None
+) -> np.ndarray:
+    """The criterion's value over its limit at cam angles ``theta`` (≤ 1 holds),
+    from ``Cam.solve`` / ``Cam.loads``; NaN (an undercut profile under load) is +∞."""
+    loads = lim.loads if loads is None else loads
+    if criterion == "pressure_angle":
+        r = np.abs(cam.solve(theta).pressure_angle) / lim.alpha(cam)
+    elif criterion == "undercut":
+        k = cam.solve(theta)
+        if isinstance(cam.follower, cm.cam.FlatFaced):
+            r = -k.dds / (cam.follower.base_radius + k.s)  # ρ = R_b + s + s″ ≥ 0
+        else:
+            inv = 1.0 / k.pitch_radius_of_curvature
+            r = cam.follower.roller_radius * (np.abs(inv) if cam.closure == "groove" else inv)
+    elif criterion == "jump":
+        s = cam.solve(theta).s
+        hold = loads.spring_rate * s + loads.preload
+        hold = (
+            hold
+            + np.asarray(loads.segment_loads or (0.0,) * len(cam.segments))[
+                _segment_index(cam, theta)
+            ]
+        )
+        q = cam.loads(theta, lim.rpm, loads).force
+        r = 1.0 - q / hold  # m(−s″)ω²/K
+    elif criterion == "contact_stress":
+        assert lim.max_stress is not None
+        r = cam.loads(theta, lim.rpm, loads, lim.contact).contact_stress / lim.max_stress
+    else:  # pragma: no cover
+        raise AssertionError(criterion)
+    return np.where(np.isnan(r), np.inf, r)
+
+
+def _dense_max(
+    criterion: str, cam: cm.cam.Cam, k: int, lim: Limits, n: int, loads: Any = None
+) -> tuple[float, float]:
+    """(sampled max, max refined by scipy's bounded minimiser around the sample's
+    argmax, xatol 1e-14) of the ratio over segment k."""
+    theta = _seg_theta(cam, k, n)
+    r = _ratio(criterion, cam, theta, lim, loads)
+    i = int(np.argmax(r))
+    if not np.isfinite(r[i]):
+        return math.inf, math.inf
+    lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, n - 1)]
+    res = minimize_scalar(
+        lambda t: -float(_ratio(criterion, cam, np.array([t]), lim, loads)[0]),
+        bounds=(lo, hi),
+        method="bounded",
+        options={"xatol": 1e-14},
+    )
+    return float(r[i]), max(float(r[i]), -float(res.fun))
+
+
+# --- forces ---------------------------------------------------------------------
+
+
+def _program(h: float = 0.02, law: str = "cycloidal") -> list[cm.cam.Segment]:
+    return [S("rise", 100, h, law), S("dwell", 80), S("return", 100, h, law), S("dwell", 80)]
+
+
+def _follower_loads_ref(
+    cam: cm.cam.Cam, theta: np.ndarray, rpm: float, fl: cm.cam.FollowerLoads
+) -> tuple[np.ndarray, np.ndarray]:
+    """(Q, s′) from the textbook: Q = m s″ω² + k s + F0 + F_L."""
+    k = cam.solve(theta)
+    w = rpm * RAD_PER_S_PER_RPM
+    fload = np.asarray(fl.segment_loads or (0.0,) * len(cam.segments))[_segment_index(cam, theta)]
+    q = fl.mass * k.dds * w**2 + fl.spring_rate * k.s + fl.preload + fload
+    return q, k.ds
+
+
+def test_forces_translating_roller_with_offset_against_the_textbook() -> None:
+    e, rb, rr = 0.008, 0.04, 0.01
+    cam = cm.cam.Cam(_program(), cm.cam.TranslatingRoller(rb, rr, offset=e))
+    fl = cm.cam.FollowerLoads(1.3, 2500.0, 40.0, (5.0, -3.0, 12.0, 0.0))
+    theta = np.linspace(0.0, TAU, 20001)[:-1]
+    ld = cam.loads(theta, 450.0, fl)
+    q, ds = _follower_loads_ref(cam, theta, 450.0, fl)
+    s = cam.solve(theta).s
+    # The pressure angle from its closed form, not from the kernel.
+    phi = np.arctan((ds - e) / (s + math.sqrt((rb + rr) ** 2 - e**2)))
+    scale = np.abs(q).max()
+    np.testing.assert_allclose(ld.force, q, rtol=1e-13, atol=1e-13 * scale)
+    np.testing.assert_allclose(ld.normal_force, q / np.cos(phi), rtol=1e-12, atol=1e-12 * scale)
+    np.testing.assert_allclose(ld.shaft_torque, q * ds, rtol=1e-13, atol=1e-13 * scale * 0.1)
+    np.testing.assert_array_equal(ld.separated, q < 0)
+    assert np.isnan(ld.contact_stress).all()  # no Contact
+
+
+def test_forces_flat_face_normal_force_is_the_generalised_force() -> None:
+    cam = cm.cam.Cam(_program(0.01, "modified_sine"), cm.cam.FlatFaced(0.05))
+    fl = cm.cam.FollowerLoads(0.7, 1500.0, 20.0)
+    theta = np.linspace(0.0, TAU, 5001)
+    ld = cam.loads(theta, 800.0, fl)
+    q, ds = _follower_loads_ref(cam, theta, 800.0, fl)
+    np.testing.assert_allclose(ld.force, q, rtol=1e-13, atol=1e-12)
+    np.testing.assert_allclose(ld.normal_force, q, rtol=1e-13, atol=1e-12)
+    np.testing.assert_allclose(ld.shaft_torque, q * ds, rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("closure", ["spring", "groove"])
+def test_forces_oscillating_roller_through_the_lever(closure: str) -> None:
+    arm = 0.08
+    cam = cm.cam.Cam(_program(0.3), cm.cam.OscillatingRoller(0.1, arm, 0.04, 0.01), closure)
+    fl = cm.cam.FollowerLoads(0.004, 15.0, 2.0, (0.5, 0.0, -0.5, 0.0))  # kg·m², N·m/rad, N·m
+    theta = np.linspace(0.0, TAU, 7201)
+    ld = cam.loads(theta, 350.0, fl)
+    q, ds = _follower_loads_ref(cam, theta, 350.0, fl)
+    phi = cam.solve(theta).pressure_angle
+    np.testing.assert_allclose(ld.force, q, rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(ld.normal_force, q / (arm * np.cos(phi)), rtol=1e-12, atol=1e-11)
+    np.testing.assert_allclose(ld.shaft_torque, q * ds, rtol=1e-13, atol=1e-13)
+    assert ld.separated.any() == (closure == "spring" and bool((q < 0).any()))
+
+
+def _energy(cam: cm.cam.Cam, theta: np.ndarray, rpm: float, fl: cm.cam.FollowerLoads) -> Any:
+    """The follower's energy [J]: ½ m ṡ² + ½ k s² + F0 s, plus the work F_L s of a
+    segment's constant load (a potential inside the segment)."""
+    k = cam.solve(theta)
+    w = rpm * RAD_PER_S_PER_RPM
+    fload = np.asarray(fl.segment_loads or (0.0,) * len(cam.segments))[_segment_index(cam, theta)]
+    return (
+        0.5 * fl.mass * (k.ds * w) ** 2 + 0.5 * fl.spring_rate * k.s**2 + (fl.preload + fload) * k.s
+    )
+
+
+@pytest.mark.parametrize(
+    "follower,h",
+    [
+        (cm.cam.TranslatingRoller(0.04, 0.01, offset=0.005), 0.02),
+        (cm.cam.FlatFaced(0.05), 0.015),
+        (cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01), 0.3),
+    ],
+)
+def test_shaft_torque_is_the_power_balance_of_the_follower_energy(follower: Any, h: float) -> None:
+    """T ω = dE/dt, i.e. T = dE/dθ: central differences of E inside each segment."""
+    cam = cm.cam.Cam(_program(h, "polynomial_4567"), follower)
+    fl = cm.cam.FollowerLoads(0.9 if h < 0.1 else 0.003, 1800.0, 30.0, (4.0, 0.0, -2.0, 0.0))
+    rpm, step = 500.0, 1e-5
+    starts = np.radians(_starts_deg(cam))
+    theta = np.concatenate(
+        [
+            np.linspace(a + 1e-3, a + math.radians(g.angle_deg) - 1e-3, 400)
+            for a, g in zip(starts, cam.segments)
+        ]
+    )
+    fd = (_energy(cam, theta + step, rpm, fl) - _energy(cam, theta - step, rpm, fl)) / (2 * step)
+    t = cam.loads(theta, rpm, fl).shaft_torque
+    np.testing.assert_allclose(t, fd, rtol=0, atol=1e-7 * np.abs(t).max())
+
+
+@pytest.mark.parametrize("law", ["cycloidal", "harmonic", "polynomial_345", "polynomial_4567"])
+def test_work_of_the_shaft_torque_over_a_turn_is_zero_when_conservative(law: str) -> None:
+    """Spring + inertia, no external load: ∮T dθ = 0 to 1e-9 of ∮|T| dθ
+    (Gauss-Legendre on each segment, where the laws are smooth)."""
+    cam = cm.cam.Cam(
+        [
+            S("rise", 90, 0.02, law),
+            S("dwell", 40),
+            S("rise", 70, 0.01, law),
+            S("return", 160, 0.03, law),
+        ],
+        cm.cam.TranslatingRoller(0.05, 0.012, offset=0.004),
+    )
+    fl = cm.cam.FollowerLoads(1.1, 3000.0, 45.0)
+    x, wq = np.polynomial.legendre.leggauss(80)
+    work = absw = 0.0
+    for a, g in zip(np.radians(_starts_deg(cam)), cam.segments):
+        b = math.radians(g.angle_deg)
+        t = cam.loads(a + 0.5 * b * (x + 1.0), 700.0, fl).shaft_torque
+        work += 0.5 * b * float(wq @ t)
+        absw += 0.5 * b * float(wq @ np.abs(t))
+    assert absw > 1.0
+    assert abs(work) <= 1e-9 * absw
+
+
+# --- Hertz stress -----------------------------------------------------------------
+
+
+def _c(contact: cm.cam.Contact) -> tuple[float, float, float, float]:
+    return (
+        contact.follower_modulus,
+        contact.follower_poisson,
+        contact.cam_modulus,
+        contact.cam_poisson,
+    )
+
+
+def _johnson(f: float, length: float, r1: float, r2: float, contact: cm.cam.Contact) -> float:
+    """Johnson, Contact Mechanics (1985) §4.2: p0 = √(P′E*/(πR)), 1/R = 1/R1 + 1/R2
+    (concave negative), 1/E* = Σ(1 − ν²)/E, P′ = F/L."""
+    e1, n1, e2, n2 = _c(contact)
+    estar = 1.0 / ((1 - n1**2) / e1 + (1 - n2**2) / e2)
+    inv_r = 1.0 / r1 + (0.0 if math.isinf(r2) else 1.0 / r2)
+    return math.sqrt(f / length * estar * inv_r / math.pi)
+
+
+def _carvill(f: float, length: float, r1: float, r2: float, contact: cm.cam.Contact) -> float:
+    """Carvill, Mechanical Engineer's Data Handbook (1993) §Contact stress, p. 52,
+    "two rollers in contact": w = √(16F((1−ν1²)/E1+(1−ν2²)/E2)/(πL(1/r1+1/r2))),
+    σc = 4F/(πwL) (r2 negative on a concave surface)."""
+    e1, n1, e2, n2 = _c(contact)
+    inv = 1.0 / r1 + (0.0 if math.isinf(r2) else 1.0 / r2)
+    w = math.sqrt(16 * f * ((1 - n1**2) / e1 + (1 - n2**2) / e2) / (math.pi * length * inv))
+    return 4 * f / (math.pi * w * length)
+
+
+def _shigley(f: float, length: float, r1: float, r2: float, contact: cm.cam.Contact) -> float:
+    """Shigley's Mechanical Engineering Design, §"cylindrical contact":
+    b = √(2F/(πl)·((1−ν1²)/E1+(1−ν2²)/E2)/(1/d1+1/d2)), p_max = 2F/(πbl)."""
+    e1, n1, e2, n2 = _c(contact)
+    inv_d = 1.0 / (2 * r1) + (0.0 if math.isinf(r2) else 1.0 / (2 * r2))
+    b = math.sqrt(2 * f / (math.pi * length) * ((1 - n1**2) / e1 + (1 - n2**2) / e2) / inv_d)
+    return 2 * f / (math.pi * b * length)
+
+
+HERTZ_FORMS = [_johnson, _carvill, _shigley]
+#: Unlike materials, so the compliance sum is tested term by term.
+BRONZE_ON_STEEL = cm.cam.Contact(0.012, follower_modulus=1.1e11, follower_poisson=0.34)
+
+
+@pytest.mark.parametrize("form", HERTZ_FORMS)
+@pytest.mark.parametrize("contact", [BRONZE_ON_STEEL, cm.cam.Contact(0.008, **STEEL)])
+def test_hertz_roller_on_dwells_convex_inner_flank(form: Any, contact: cm.cam.Contact) -> None:
+    """Base-circle dwell: the profile is an arc of radius R_b; the top dwell one of
+    R_b + h. Pressure angle 0 there (no offset), so N = Q = k s + F0 + F_L."""
+    rb, rr, h = 0.045, 0.011, 0.02
+    cam = cm.cam.Cam(_program(h), cm.cam.TranslatingRoller(rb, rr))
+    fl = cm.cam.FollowerLoads(1.0, 2000.0, 60.0, (0.0, 25.0, 0.0, 7.0))
+    base, top = math.radians(310.0), math.radians(140.0)  # inside dwells 3 and 1
+    ld = cam.loads(np.array([base, top]), 400.0, fl, contact)
+    want = [
+        form(60.0 + 7.0, contact.width, rr, rb, contact),
+        form(2000 * h + 60 + 25, contact.width, rr, rb + h, contact),
+    ]
+    np.testing.assert_allclose(ld.contact_stress, want, rtol=1e-12)
+
+
+@pytest.mark.parametrize("form", HERTZ_FORMS)
+def test_hertz_groove_concave_outer_flank_on_the_base_dwell(form: Any) -> None:
+    """A groove pulled outward (N < 0) on the base-circle dwell loads its outer
+    flank, a concave arc of radius R_b + 2 r_r: r2 = −(R_b + 2 r_r)."""
+    rb, rr = 0.045, 0.011
+    cam = cm.cam.Cam(_program(), cm.cam.TranslatingRoller(rb, rr), "groove")
+    fl = cm.cam.FollowerLoads(1.0, 0.0, -80.0)
+    ld = cam.loads(math.radians(320.0), 300.0, fl, BRONZE_ON_STEEL)
+    assert float(ld.normal_force) == -80.0
+    want = form(80.0, BRONZE_ON_STEEL.width, rr, -(rb + 2 * rr), BRONZE_ON_STEEL)
+    assert float(ld.contact_stress) == pytest.approx(want, rel=1e-12)
+    # The same load pushing inward: the convex inner flank, radius R_b.
+    ld2 = cam.loads(math.radians(320.0), 300.0, replace(fl, preload=80.0), BRONZE_ON_STEEL)
+    want2 = form(80.0, BRONZE_ON_STEEL.width, rr, rb, BRONZE_ON_STEEL)
+    assert float(ld2.contact_stress) == pytest.approx(want2, rel=1e-12)
+
+
+@pytest.mark.parametrize("form", HERTZ_FORMS)
+def test_hertz_flat_face_on_dwells(form: Any) -> None:
+    """A flat face is a cylinder of radius ∞ on the cam's arc R_b (+ h on top)."""
+    rb, h = 0.04, 0.012
+    cam = cm.cam.Cam(_program(h), cm.cam.FlatFaced(rb))
+    fl = cm.cam.FollowerLoads(0.5, 1000.0, 30.0)
+    ld = cam.loads(np.radians([330.0, 150.0]), 600.0, fl, BRONZE_ON_STEEL)
+    w = BRONZE_ON_STEEL.width
+    want = [
+        form(30.0, w, rb, math.inf, BRONZE_ON_STEEL),
+        form(30.0 + 1000 * h, w, rb + h, math.inf, BRONZE_ON_STEEL),
+    ]
+    np.testing.assert_allclose(ld.contact_stress, want, rtol=1e-12)
+
+
+def test_hertz_printed_worked_example_two_parallel_steel_rollers() -> None:
+    """A printed worked example: "Ch#3 Assignment#III", Question 1 (T. Worku,
+    Scribd document 580662553, after Stachowiak & Batchelor, *Engineering
+    Tribology*): two parallel steel rollers, W = 5 N, R_A = 10 mm, R_B = 15 mm,
+    E = 210 GPa, ν = 0.3, length 2l = 10 mm; printed answers b = 5.75e-6 m
+    (half-width) and p_max = 55.4 MPa. As a cam: a roller r_r = 10 mm on the
+    base-circle dwell of a cam with R_b = 15 mm, preload 5 N, width 10 mm. The
+    printed values are rounded to 3 digits (55.4 comes from b rounded to 5.75);
+    the handbook forms above are the 1e-12 reference."""
+    cam = cm.cam.Cam(_program(0.005), cm.cam.TranslatingRoller(0.015, 0.010))
+    contact = cm.cam.Contact(0.010, **STEEL)
+    ld = cam.loads(math.radians(300.0), 100.0, cm.cam.FollowerLoads(1.0, 0.0, 5.0), contact)
+    p0 = float(ld.contact_stress)
+    assert p0 == pytest.approx(55.4e6, rel=3e-3)
+    half_width = 2 * (5.0 / 0.010) / (math.pi * p0)  # b = 2P′/(π p0)
+    assert half_width == pytest.approx(5.75e-6, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    "follower,closure",
+    [
+        (cm.cam.TranslatingRoller(0.03, 0.012, offset=0.006), "spring"),
+        (cm.cam.TranslatingRoller(0.03, 0.012, offset=-0.004), "groove"),
+        (cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01), "groove"),
+        (cm.cam.FlatFaced(0.03), "spring"),
+    ],
+)
+def test_hertz_stress_along_the_cycle_on_the_solved_curvature(follower: Any, closure: str) -> None:
+    """Away from dwells: κ = 1/r_r + 1/ρ_profile on the inner flank (N ≥ 0),
+    1/r_r − 1/(ρ_pitch + r_r) on a groove's outer flank (N < 0), 1/ρ for a flat
+    face, from ``Cam.solve``; NaN where κ < 0 (undercut), 0 where separated."""
+    h = 0.3 if isinstance(follower, cm.cam.OscillatingRoller) else 0.02
+    cam = cm.cam.Cam(_program(h, "modified_trapezoid"), follower, closure)
+    if h == 0.3:  # kg·m², N·m/rad, N·m
+        fl = cm.cam.FollowerLoads(0.004, 10.0, 0.5, (0.0, -3.0, 0.5, 0.0))
+    else:
+        fl = cm.cam.FollowerLoads(1.2, 1500.0, 8.0, (0.0, -30.0, 5.0, 0.0))
+    theta = np.linspace(0.0, TAU, 36001)
+    rpm = 900.0
+    ld = cam.loads(theta, rpm, fl, BRONZE_ON_STEEL)
+    k = cam.solve(theta)
+    n = ld.normal_force
+    e1, n1, e2, n2 = _c(BRONZE_ON_STEEL)
+    c = (1 - n1**2) / e1 + (1 - n2**2) / e2
+    with np.errstate(divide="ignore"):
+        if isinstance(follower, cm.cam.FlatFaced):
+            kappa = 1.0 / k.profile_radius_of_curvature
+        else:
+            rr = follower.roller_radius
+            kappa = np.where(
+                n >= 0,
+                1 / rr + 1 / k.profile_radius_of_curvature,
+                1 / rr - 1 / (k.pitch_radius_of_curvature + rr),
+            )
+    want = np.sqrt(np.abs(n) * kappa / (math.pi * BRONZE_ON_STEEL.width * c))
+    separated = (closure == "spring") & (n < 0)
+    want = np.where(separated, 0.0, np.where(kappa < 0, np.nan, want))
+    assert (n < 0).any() and (n > 0).any()  # both flanks (or separation) exercised
+    np.testing.assert_allclose(ld.contact_stress, want, rtol=1e-12)
+
+
+# --- jump -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "follower,fl",
+    [
+        (
+            cm.cam.TranslatingRoller(0.05, 0.01, offset=0.004),
+            cm.cam.FollowerLoads(1.0, 2000.0, 50.0, (0, 10, -5, 0)),
+        ),
+        (cm.cam.FlatFaced(0.04), cm.cam.FollowerLoads(0.6, 800.0, 15.0)),
+        (cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01), cm.cam.FollowerLoads(0.003, 10.0, 1.5)),
+    ],
+)
+def test_jump_speed_against_dense_sampling(follower: Any, fl: cm.cam.FollowerLoads) -> None:
+    h = 0.3 if isinstance(follower, cm.cam.OscillatingRoller) else 0.02
+    cam = cm.cam.Cam(_program(h, "polynomial_345"), follower)
+    theta = np.linspace(0.0, TAU, 1_000_001)[:-1]
+    k = cam.solve(theta)
+    hold = fl.spring_rate * k.s + fl.preload
+    hold = hold + np.asarray(fl.segment_loads or (0.0,) * 4)[_segment_index(cam, theta)]
+    pull = fl.mass * (-k.dds)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(pull > 0, np.sqrt(hold / pull), np.inf)
+    sampled = float(w.min()) / RAD_PER_S_PER_RPM
+    rpm, at_deg = cam.jump_rpm(fl)
+    assert rpm <= sampled * (1 + 1e-13)
+    assert rpm == pytest.approx(sampled, rel=1e-6)
+    # Where: the speed √(K/(m(−s″))) at the reported angle is the minimum (a
+    # symmetric program has ties, so the angle itself is not compared).
+    ka = cam.solve(math.radians(at_deg))
+    hold_a = fl.spring_rate * float(ka.s) + fl.preload
+    hold_a += (fl.segment_loads or (0.0,) * 4)[int(_segment_index(cam, np.radians([at_deg]))[0])]
+    w_at = math.sqrt(hold_a / (fl.mass * -float(ka.dds))) / RAD_PER_S_PER_RPM
+    assert w_at == pytest.approx(rpm, rel=1e-9)
+    # Just below: in contact everywhere; just above: separated somewhere.
+    assert not cam.loads(theta, rpm * (1 - 1e-6), fl).separated.any()
+    above = np.append(theta, math.radians(at_deg))
+    assert cam.loads(above, rpm * (1 + 1e-6), fl).separated.any()
+
+
+def test_jump_groove_and_massless_never_jump() -> None:
+    fl = cm.cam.FollowerLoads(1.0, 100.0, 1.0)
+    groove = cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.01), "groove")
+    rpm, at = groove.jump_rpm(fl)
+    assert rpm == math.inf and math.isnan(at)
+    spring = cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.01))
+    assert spring.jump_rpm(cm.cam.FollowerLoads(0.0, 100.0, 1.0))[0] == math.inf
+    # A spring that does not hold the follower even at rest: 0 rpm.
+    assert spring.jump_rpm(cm.cam.FollowerLoads(1.0, 0.0, -1.0))[0] == 0.0
