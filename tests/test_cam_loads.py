@@ -274,7 +274,7 @@ def test_shaft_torque_is_the_power_balance_of_the_follower_energy(follower: Any,
     theta = np.concatenate(
         [
             np.linspace(a + 1e-3, a + math.radians(g.angle_deg) - 1e-3, 400)
-            for a, g in zip(starts, cam.segments)
+            for a, g in zip(starts, cam.segments, strict=True)
         ]
     )
     fd = (_energy(cam, theta + step, rpm, fl) - _energy(cam, theta - step, rpm, fl)) / (2 * step)
@@ -298,7 +298,7 @@ def test_work_of_the_shaft_torque_over_a_turn_is_zero_when_conservative(law: str
     fl = cm.cam.FollowerLoads(1.1, 3000.0, 45.0)
     x, wq = np.polynomial.legendre.leggauss(80)
     work = absw = 0.0
-    for a, g in zip(np.radians(_starts_deg(cam)), cam.segments):
+    for a, g in zip(np.radians(_starts_deg(cam)), cam.segments, strict=True):
         b = math.radians(g.angle_deg)
         t = cam.loads(a + 0.5 * b * (x + 1.0), 700.0, fl).shaft_torque
         work += 0.5 * b * float(wq @ t)
@@ -512,3 +512,171 @@ def test_jump_groove_and_massless_never_jump() -> None:
     assert spring.jump_rpm(cm.cam.FollowerLoads(0.0, 100.0, 1.0))[0] == math.inf
     # A spring that does not hold the follower even at rest: 0 rpm.
     assert spring.jump_rpm(cm.cam.FollowerLoads(1.0, 0.0, -1.0))[0] == 0.0
+
+
+# --- the bounds: the cam rebuilt at the returned angle ------------------------------
+
+CRITERIA = cm.cam.CRITERIA
+LOADS = cm.cam.FollowerLoads(1.0, 2000.0, 50.0, (0.0, 10.0, -5.0, 0.0))
+ARM_LOADS = cm.cam.FollowerLoads(0.004, 10.0, 1.0, (0.0, 0.2, -0.1, 0.0))  # kg·m², N·m/rad, N·m
+CONTACT = cm.cam.Contact(0.01)
+
+BOUND_CASES = {
+    "pressure_translating_offset": (
+        "pressure_angle",
+        cm.cam.Cam(_program(0.02), cm.cam.TranslatingRoller(0.04, 0.01, offset=0.008)),
+        Limits(),
+    ),
+    "pressure_oscillating": (
+        "pressure_angle",
+        cm.cam.Cam(_program(0.3), cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01)),
+        Limits(),
+    ),
+    "pressure_oscillating_groove_40deg": (
+        "pressure_angle",
+        cm.cam.Cam(_program(0.3), cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01), "groove"),
+        Limits(alpha_deg=40.0),
+    ),
+    "undercut_small_base_circle": (
+        "undercut",
+        cm.cam.Cam(_program(0.03), cm.cam.TranslatingRoller(0.02, 0.015)),
+        Limits(),
+    ),
+    "undercut_flat_face": (
+        "undercut",
+        cm.cam.Cam(_program(0.03), cm.cam.FlatFaced(0.02)),
+        Limits(),
+    ),
+    "jump_translating": (
+        "jump",
+        cm.cam.Cam(_program(0.02), cm.cam.TranslatingRoller(0.04, 0.01, offset=0.008)),
+        Limits(rpm=600.0, loads=LOADS),
+    ),
+    "jump_oscillating": (
+        "jump",
+        cm.cam.Cam(_program(0.3), cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01)),
+        Limits(rpm=500.0, loads=ARM_LOADS),
+    ),
+    "stress_translating": (
+        "contact_stress",
+        cm.cam.Cam(_program(0.02), cm.cam.TranslatingRoller(0.04, 0.01, offset=0.008)),
+        Limits(rpm=600.0, loads=LOADS, contact=CONTACT, max_stress=8e8),
+    ),
+    "stress_oscillating_groove": (
+        "contact_stress",
+        cm.cam.Cam(_program(0.3), cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01), "groove"),
+        Limits(rpm=900.0, loads=ARM_LOADS, contact=CONTACT, max_stress=6e8),
+    ),
+}
+
+
+@pytest.mark.parametrize("k", [0, 2])
+@pytest.mark.parametrize("case", list(BOUND_CASES))
+def test_bound_is_where_the_criterion_reaches_its_limit(case: str, k: int) -> None:
+    """At the returned β the segment's worst value equals the limit: a dense
+    sample (2e5 points) is ≤ it and within 1e-6, scipy's refined maximum within
+    1e-9; at β(1 − 1e-6) it is exceeded, at β(1 + 1e-3) it holds."""
+    criterion, cam, lim = BOUND_CASES[case]
+    beta = float(lim.bounds(cam).angle_deg[0, k // 2, CRITERIA.index(criterion)])
+    assert 0.0 < beta < cam.segments[k].angle_deg + cam.segments[k + 1].angle_deg
+    sampled, refined = _dense_max(criterion, _with_angle(cam, k, beta), k, lim, 200_001)
+    assert sampled <= 1.0 + 1e-10
+    assert sampled == pytest.approx(1.0, rel=1e-6)
+    assert refined == pytest.approx(1.0, rel=1e-9)
+    _, below = _dense_max(criterion, _with_angle(cam, k, beta * (1 - 1e-6)), k, lim, 200_001)
+    assert below > 1.0
+    above, _ = _dense_max(criterion, _with_angle(cam, k, beta * (1 + 1e-3)), k, lim, 200_001)
+    assert above < 1.0
+
+
+def _cycloid(x: float) -> tuple[float, float]:
+    return x - math.sin(TAU * x) / TAU, 1.0 - math.cos(TAU * x)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.006, -0.006])
+def test_pressure_angle_bound_of_a_translating_roller_in_closed_form(e: float) -> None:
+    """tan φ = (s′ − e)/(s + d), d = √(R_p² − e²), s′ = h z′/β: |φ| ≤ [α] on a
+    cycloidal rise ⇔ β ≥ h z′/(tan[α](h z + d) + e) for every x, so
+    β_min = max_x h z′/(tan[α](h z + d) + e); on the return (s = h(1 − z),
+    s′ = −h z′/β) β_min = max_x h z′/(tan[α](h(1 − z) + d) − e). The max over x
+    by scipy (bounded, xatol 1e-14); the kernel's β to 1e-9.
+
+    The shortcut β = 2h/(tan[α](R_p + h/2)) (e = 0, z′max = 2 at x = 1/2) is
+    only a lower bound: the denominator grows with z, so the maximum of
+    z′/(R_p + h z) lies before x = 1/2 on a rise (after it on a return), and the
+    shortcut is 1.1 % short here (66.16° against 66.92°)."""
+    rb, rr, h, alpha = 0.04, 0.01, 0.02, 30.0
+    cam = cm.cam.Cam(_program(h), cm.cam.TranslatingRoller(rb, rr, offset=e))
+    got = np.radians(cam.min_phase_angles([300.0]).angle_deg[0, :, 0])
+    ta, d = math.tan(math.radians(alpha)), math.sqrt((rb + rr) ** 2 - e**2)
+
+    def need(x: float, rise: bool) -> float:
+        z, dz = _cycloid(x)
+        s = h * z if rise else h * (1 - z)
+        return h * dz / (ta * (s + d) + (e if rise else -e))
+
+    for j, rise in enumerate((True, False)):
+        res = minimize_scalar(
+            lambda x, r=rise: -need(x, r), bounds=(0, 1), method="bounded", options={"xatol": 1e-14}
+        )
+        assert got[j] == pytest.approx(-res.fun, rel=1e-9)
+        if e == 0.0:
+            shortcut = 2 * h / (ta * (rb + rr + h / 2))
+            assert shortcut * 1.005 < got[j] < shortcut * 1.02
+            assert need(0.5, rise) == pytest.approx(shortcut, rel=1e-14)  # its derivation
+
+
+def test_jump_bound_is_proportional_to_speed_and_sampled_densely() -> None:
+    """β_jump = ω √(max m(−s″β0²)/K): s″β0² = h z″ does not depend on β."""
+    cam = cm.cam.Cam(_program(0.02, "polynomial_345"), cm.cam.TranslatingRoller(0.04, 0.01))
+    b1 = cam.min_phase_angles([250.0, 500.0], loads=LOADS).angle_deg[:, :, 2]
+    np.testing.assert_allclose(b1[1], 2 * b1[0], rtol=1e-12)
+    for j, k in enumerate((0, 2)):
+        theta = _seg_theta(cam, k, 1_000_000)
+        kin = cam.solve(theta)
+        beta0 = math.radians(cam.segments[k].angle_deg)
+        hold = LOADS.spring_rate * kin.s + LOADS.preload + LOADS.segment_loads[k]
+        worst = float(np.max(LOADS.mass * (-kin.dds) * beta0**2 / hold))
+        want = 250.0 * RAD_PER_S_PER_RPM * math.sqrt(worst)
+        got = math.radians(b1[0, j])
+        assert got >= want * (1 - 1e-13)
+        assert got == pytest.approx(want, rel=1e-6)
+
+
+def _holds_on_the_rest_of_the_turn(
+    criterion: str, cam: cm.cam.Cam, k: int, lim: Limits, beta: float, n_beta: int, n: int
+) -> None:
+    """The criterion holds (sampled) at ``n_beta`` angles β′ over [β, 359°]."""
+    for b in np.linspace(beta, 359.0, n_beta):
+        probe, j, fl = _probe(cam, k, float(b), lim.loads)
+        worst, _ = _dense_max(criterion, probe, j, lim, n, fl)
+        assert worst <= 1.0 + 1e-9, (criterion, float(b), worst)
+
+
+def test_stress_bound_is_monotone_in_speed_where_inertia_dominates() -> None:
+    """A heavy follower on a light spring: inertia loads the contact more at
+    every speed, so the stress bound does not fall over 200 speeds."""
+    cam = cm.cam.Cam(_program(0.02), cm.cam.TranslatingRoller(0.04, 0.01))
+    lim = Limits(loads=cm.cam.FollowerLoads(5.0, 100.0, 5.0), contact=CONTACT, max_stress=4e8)
+    rpm = np.linspace(50.0, 1000.0, 200)
+    b = lim.bounds(cam, rpm).angle_deg[:, :, 3]
+    assert np.isfinite(b).all() and (b > 0).all()
+    assert (np.diff(b, axis=0) >= -1e-12 * b[1:]).all()
+
+
+def test_stress_bound_need_not_be_monotone_with_a_stiff_preloaded_spring() -> None:
+    """With a stiff preloaded spring the stress near the nose (s″ < 0, the
+    profile's tightest convex curvature) is spring-driven and inertia unloads
+    it, so at first the bound falls with speed before the rise's positive
+    acceleration takes over: the bound need not be monotone. The rule still
+    holds: at each β′ in [β, 360°) the stress stays within its limit (dense)."""
+    cam = cm.cam.Cam(_program(0.02), cm.cam.TranslatingRoller(0.04, 0.01))
+    lim = Limits(rpm=290.0, loads=LOADS, contact=CONTACT, max_stress=6e8)
+    rpm = np.linspace(50.0, 1000.0, 200)
+    b = lim.bounds(cam, rpm).angle_deg[:, :, 3]
+    assert (np.diff(b[:, 0]) < 0).any() and (np.diff(b[:, 0]) > 0).any()
+    beta = float(lim.bounds(cam).angle_deg[0, 0, 3])
+    assert beta < b[0, 0]  # lower than at 50 rpm
+    _holds_on_the_rest_of_the_turn("contact_stress", cam, 0, lim, beta, 50, 20_001)
+    _, below = _dense_max("contact_stress", _with_angle(cam, 0, beta * (1 - 1e-6)), 0, lim, 20_001)
+    assert below > 1.0
