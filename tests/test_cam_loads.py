@@ -24,9 +24,9 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 S = cm.cam.Segment
 TAU = 2 * math.pi
@@ -164,16 +164,55 @@ def _ratio(
     return np.where(np.isnan(r), np.inf, r)
 
 
+def _hidden_undercut(cam: cm.cam.Cam, theta: np.ndarray, lim: Limits, loads: Any) -> bool:
+    """Whether the loaded flank is undercut (κ < 0: a NaN stress, which counts
+    as violated) where the normal force changes sign between two samples: a
+    window of contact on an undercut profile narrower than the sampling (the
+    follower landing back on the cam inside an undercut). The sign change is
+    located by scipy's brentq."""
+    loads = lim.loads if loads is None else loads
+
+    def force(t: float) -> float:
+        return float(cam.loads(np.array([t]), lim.rpm, loads).normal_force[0])
+
+    n = cam.loads(theta, lim.rpm, loads).normal_force
+    for i in np.nonzero(n[:-1] * n[1:] < 0)[0]:
+        tc = brentq(force, theta[i], theta[i + 1], xtol=1e-15)
+        k = cam.solve(tc)
+        rho_q, rho_p = float(k.profile_radius_of_curvature), float(k.pitch_radius_of_curvature)
+        if isinstance(cam.follower, cm.cam.FlatFaced):
+            if rho_q < 0:
+                return True
+            continue
+        rr = cam.follower.roller_radius
+        if 1 / rr + 1 / rho_q < 0:
+            return True
+        if cam.closure == "groove" and 1 / rr - 1 / (rho_p + rr) < 0:
+            return True
+    return False
+
+
 def _dense_max(
-    criterion: str, cam: cm.cam.Cam, k: int, lim: Limits, n: int, loads: Any = None
+    criterion: str,
+    cam: cm.cam.Cam,
+    k: int,
+    lim: Limits,
+    n: int,
+    loads: Any = None,
+    *,
+    refine: bool = True,
 ) -> tuple[float, float]:
     """(sampled max, max refined by scipy's bounded minimiser around the sample's
     argmax, xatol 1e-14) of the ratio over segment k."""
     theta = _seg_theta(cam, k, n)
     r = _ratio(criterion, cam, theta, lim, loads)
+    if criterion == "contact_stress" and _hidden_undercut(cam, theta, lim, loads):
+        return math.inf, math.inf
     i = int(np.argmax(r))
     if not np.isfinite(r[i]):
         return math.inf, math.inf
+    if not refine:
+        return float(r[i]), float(r[i])
     lo, hi = theta[max(i - 1, 0)], theta[min(i + 1, n - 1)]
     res = minimize_scalar(
         lambda t: -float(_ratio(criterion, cam, np.array([t]), lim, loads)[0]),
@@ -646,10 +685,12 @@ def test_jump_bound_is_proportional_to_speed_and_sampled_densely() -> None:
 def _holds_on_the_rest_of_the_turn(
     criterion: str, cam: cm.cam.Cam, k: int, lim: Limits, beta: float, n_beta: int, n: int
 ) -> None:
-    """The criterion holds (sampled) at ``n_beta`` angles β′ over [β, 359°]."""
-    for b in np.linspace(beta, 359.0, n_beta):
+    """The criterion holds (sampled) at ``n_beta`` angles β′ over [β, 359°]
+    (from β(1 + 1e-9): a window of violation closing at β has zero width there,
+    below the float resolution of the hidden-undercut check)."""
+    for b in np.linspace(beta * (1 + 1e-9), 359.0, n_beta):
         probe, j, fl = _probe(cam, k, float(b), lim.loads)
-        worst, _ = _dense_max(criterion, probe, j, lim, n, fl)
+        worst, _ = _dense_max(criterion, probe, j, lim, n, fl, refine=False)
         assert worst <= 1.0 + 1e-9, (criterion, float(b), worst)
 
 
@@ -680,3 +721,185 @@ def test_stress_bound_need_not_be_monotone_with_a_stiff_preloaded_spring() -> No
     _holds_on_the_rest_of_the_turn("contact_stress", cam, 0, lim, beta, 50, 20_001)
     _, below = _dense_max("contact_stress", _with_angle(cam, 0, beta * (1 - 1e-6)), 0, lim, 20_001)
     assert below > 1.0
+
+
+# --- property: random programs and followers ----------------------------------------
+
+
+@st.composite
+def _random_cams(draw: Any) -> tuple[cm.cam.Cam, Limits, int]:
+    kind = draw(st.sampled_from(["translating", "flat", "oscillating"]))
+    law = draw(st.sampled_from(cm.motion.NAMES))
+    rise, ret = draw(st.floats(40, 160)), draw(st.floats(40, 160))
+    d1 = draw(st.floats(0.1, 0.9)) * (360.0 - rise - ret)
+    closure = "spring"
+    if kind == "oscillating":
+        h = draw(st.floats(0.1, 0.4))
+        rb, rr = draw(st.floats(0.03, 0.05)), draw(st.floats(0.003, 0.015))
+        follower: Any = cm.cam.OscillatingRoller(draw(st.floats(0.09, 0.12)), 0.08, rb, rr)
+        scale = 0.004  # kg·m² and N·m against kg and N
+    else:
+        h = draw(st.floats(0.005, 0.03))
+        rb = draw(st.floats(0.02, 0.06))
+        scale = 1.0
+        if kind == "flat":
+            follower = cm.cam.FlatFaced(rb)
+        else:
+            rr = draw(st.floats(0.0, 0.02))
+            follower = cm.cam.TranslatingRoller(rb, rr, offset=draw(st.floats(-0.3, 0.3)) * rb)
+    if kind != "flat" and follower.roller_radius > 0:
+        closure = draw(st.sampled_from(["spring", "groove"]))
+    segs = [S("rise", rise, h, law), S("dwell", d1), S("return", ret, h, law)]
+    segs.append(S("dwell", 360.0 - rise - ret - d1))
+    cam = cm.cam.Cam(segs, follower, closure)
+    f0 = draw(st.floats(5.0, 100.0))
+    loads = cm.cam.FollowerLoads(
+        draw(st.floats(0.1, 3.0)) * scale,
+        draw(st.floats(0.0, 3000.0)) * scale,
+        f0 * scale,
+        tuple(draw(st.floats(-0.5, 1.0)) * f0 * scale for _ in range(4)),
+    )
+    roller = not (kind == "translating" and follower.roller_radius == 0.0)
+    lim = Limits(
+        rpm=draw(st.floats(50.0, 1000.0)),
+        loads=loads,
+        contact=cm.cam.Contact(draw(st.floats(0.005, 0.02))) if roller else None,
+        max_stress=draw(st.floats(3e8, 1.5e9)) if roller else None,
+        alpha_deg=draw(st.floats(20.0, 50.0)),
+    )
+    return cam, lim, draw(st.sampled_from([0, 2]))
+
+
+def _property(drawn: tuple[cm.cam.Cam, Limits, int], criterion: str, sound: bool = False) -> None:
+    """The property; ``sound``: only where the profile is free of undercut
+    (β′ ≥ the undercut bound too)."""
+    cam, lim, k = drawn
+    note(f"{cam.segments}, {cam.follower}, {cam.closure!r}, {lim}, segment {k}")
+    col = CRITERIA.index(criterion)
+    all_bounds = lim.bounds(cam).angle_deg[0]
+    got = all_bounds[:, col]
+    note(f"{criterion} bounds {got.tolist()}")
+    if sound:
+        floor = float(all_bounds[k // 2, CRITERIA.index("undercut")])
+        if not math.isfinite(floor):
+            return
+    if (criterion == "jump" and cam.closure == "groove") or (
+        criterion == "contact_stress" and lim.max_stress is None
+    ):
+        assert (got == 0).all()
+        return
+    beta = float(got[k // 2])
+    if math.isnan(beta):
+        probe, i, fl = _probe(cam, k, 359.99, lim.loads)
+        assert _dense_max(criterion, probe, i, lim, 4001, fl)[1] > 1.0 - 1e-4
+        return
+    lowest = max(beta, floor) if sound else beta
+    _holds_on_the_rest_of_the_turn(criterion, cam, k, lim, max(lowest, 1.0), 50, 1001)
+    if beta > 0 and beta * (1 - 1e-6) >= lowest:
+        probe, i, fl = _probe(cam, k, beta * (1 - 1e-6), lim.loads)
+        assert _dense_max(criterion, probe, i, lim, 20_001, fl)[1] > 1.0
+
+
+_PROPERTY = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+_PROPERTY_DOC = """For random programs, followers, loads and limits: the criterion holds
+    (sampled) at 50 angles β′ in [β, 359°] of a cam holding the segment at β′,
+    and is violated at β(1 − 1e-6); NaN is violated near a whole turn; 0 holds
+    down to 1° (where the criterion applies)."""
+
+
+@_PROPERTY
+@given(_random_cams())
+def test_property_pressure_angle_bound(drawn: tuple[cm.cam.Cam, Limits, int]) -> None:
+    _property(drawn, "pressure_angle")
+
+
+@_PROPERTY
+@given(_random_cams())
+def test_property_undercut_bound(drawn: tuple[cm.cam.Cam, Limits, int]) -> None:
+    _property(drawn, "undercut")
+
+
+@_PROPERTY
+@given(_random_cams())
+def test_property_jump_bound(drawn: tuple[cm.cam.Cam, Limits, int]) -> None:
+    _property(drawn, "jump")
+
+
+@_PROPERTY
+@given(_random_cams())
+def test_property_contact_stress_bound_on_sound_profiles(
+    drawn: tuple[cm.cam.Cam, Limits, int],
+) -> None:
+    _property(drawn, "contact_stress", sound=True)
+
+
+for _t in (
+    test_property_pressure_angle_bound,
+    test_property_undercut_bound,
+    test_property_jump_bound,
+    test_property_contact_stress_bound_on_sound_profiles,
+):
+    _t.__doc__ = _PROPERTY_DOC
+test_property_contact_stress_bound_on_sound_profiles.__doc__ = (
+    _PROPERTY_DOC + "\n\n    Here β′ also ≥ the undercut bound: below it see the xfail tests."
+)
+
+#: The stress bound misses contact on (or next to) an undercut profile: the
+#: kernel's worst value over the segment (a 49-point grid, then Brent on the grid
+#: maxima within 5 % of the best) does not see a window narrower than the grid
+#: where a spring-closed follower lands back on the cam inside an undercut (σ_H
+#: NaN, which the kernel itself counts as violated) or next to it (κ → ∞).
+#: Two cases hypothesis found (rise 0 of rise/dwell/return/dwell 40/140/40/140°,
+#: cycloidal, [σ_H] = 300 MPa, 50 rpm, [α] = 20°, width 15.625 mm, steel).
+STRESS_GRID_CASES = {
+    # stress column 18.0042°; at that angle σ_H/[σ_H] = 7.49 at x = 0.95245
+    # (ρ_profile = 4.3e-7 m) and NaN on x ∈ [0.95096, 0.95244]: the grid's
+    # neighbours x = 0.9375 (separated, σ 0) and 0.9583 (0.38) hide it.
+    "h23mm_rb31mm": (0.0234375, (0.03125, 0.0078125), (2.5, 0.0, 31.0), 18.004217137283035),
+    # stress column 6.39329°; NaN (contact on the undercut) at x ≈ 0.98900, and
+    # at β(1 + 1e-3) σ_H/[σ_H] = 1.0173 at x = 0.98899.
+    "h8mm_rb39mm": (0.0078125, (0.0390625, 0.009765625), (2.625, 589.0, 15.0), 6.393290556014303),
+}
+
+
+def _stress_grid_case(name: str) -> tuple[cm.cam.Cam, Limits]:
+    h, (rb, rr), (m, k, f0), _ = STRESS_GRID_CASES[name]
+    segs = [S("rise", 40, h), S("dwell", 140), S("return", 40, h), S("dwell", 140)]
+    cam = cm.cam.Cam(segs, cm.cam.TranslatingRoller(rb, rr))
+    lim = Limits(
+        rpm=50.0,
+        loads=cm.cam.FollowerLoads(m, k, f0),
+        contact=cm.cam.Contact(0.015625),
+        max_stress=3e8,
+        alpha_deg=20.0,
+    )
+    return cam, lim
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="cam stress bound: max_unit's 49-point grid misses the narrow window where a "
+    "spring-closed follower lands back on the cam inside/next to an undercut (σ_H NaN or "
+    "→ ∞): stress column 18.0042° where σ_H/[σ_H] = 7.49 at x = 0.95245; 6.39329° where "
+    "σ_H is NaN at x ≈ 0.989 (see STRESS_GRID_CASES)",
+)
+@pytest.mark.parametrize("name", list(STRESS_GRID_CASES))
+def test_stress_bound_sees_contact_on_an_undercut(name: str) -> None:
+    cam, lim = _stress_grid_case(name)
+    beta = float(lim.bounds(cam).angle_deg[0, 0, 3])
+    assert beta == pytest.approx(STRESS_GRID_CASES[name][3], rel=1e-9)
+    worst, _ = _dense_max("contact_stress", _with_angle(cam, 0, beta), 0, lim, 400_001)
+    assert worst <= 1.0 + 1e-9
+
+
+@pytest.mark.parametrize("name", list(STRESS_GRID_CASES))
+def test_stress_grid_cases_do_not_move_the_segment_bound(name: str) -> None:
+    """In both cases the contact on the undercut lies below the undercut bound,
+    so the segment's bound (the largest criterion) is still right: the profile
+    is sound above it and the stress holds there (dense, 50 β′)."""
+    cam, lim = _stress_grid_case(name)
+    m = lim.bounds(cam)
+    a = m.angle_deg[0, 0]
+    assert a[3] < a[1] <= m.bound_deg[0, 0]
+    floor = float(max(a[1], a[3]))
+    _holds_on_the_rest_of_the_turn("contact_stress", cam, 0, lim, floor, 50, 4001)
