@@ -903,3 +903,171 @@ def test_stress_grid_cases_do_not_move_the_segment_bound(name: str) -> None:
     assert a[3] < a[1] <= m.bound_deg[0, 0]
     floor = float(max(a[1], a[3]))
     _holds_on_the_rest_of_the_turn("contact_stress", cam, 0, lim, floor, 50, 4001)
+
+
+# --- NaN and 0 ----------------------------------------------------------------------
+
+
+def test_impossible_criterion_is_nan_and_named() -> None:
+    """[α] = 5° cannot be met even over a whole turn by a 50 mm stroke on a
+    15 mm pitch circle: NaN, and ``binding`` names the pressure angle."""
+    cam = cm.cam.Cam(_program(0.05), cm.cam.TranslatingRoller(0.01, 0.005))
+    m = cam.min_phase_angles([300.0], max_pressure_angle_deg=5.0)
+    assert np.isnan(m.angle_deg[0, :, 0]).all()
+    assert np.isnan(m.bound_deg).all()
+    assert m.binding.tolist() == [["pressure_angle", "pressure_angle"]]
+    # Independently: at 359.99° the pressure angle still exceeds 5°.
+    probe, i, _ = _probe(cam, 0, 359.99, None)
+    assert _dense_max("pressure_angle", probe, i, Limits(alpha_deg=5.0), 20_001)[1] > 1.0
+
+
+def test_impossible_stress_is_nan_and_named() -> None:
+    """[σ_H] below the dwell's static stress: no angle will do."""
+    cam = cm.cam.Cam(_program(0.01), cm.cam.TranslatingRoller(0.06, 0.01))
+    fl = cm.cam.FollowerLoads(1.0, 2000.0, 50.0)
+    static = float(cam.loads(math.radians(300.0), 100.0, fl, CONTACT).contact_stress)
+    m = cam.min_phase_angles([100.0], loads=fl, contact=CONTACT, max_stress=0.5 * static)
+    assert np.isnan(m.angle_deg[0, :, 3]).all()
+    assert np.isfinite(m.angle_deg[0, :, :3]).all()
+    assert m.binding.tolist() == [["contact_stress", "contact_stress"]]
+
+
+def test_spring_that_cannot_hold_the_follower_gives_nan_jump() -> None:
+    """A load pulling the follower off on the rise, stronger than the preload."""
+    cam = cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.01))
+    fl = cm.cam.FollowerLoads(1.0, 100.0, 10.0, (-20.0, 0.0, 0.0, 0.0))
+    m = cam.min_phase_angles([100.0], loads=fl)
+    assert math.isnan(m.angle_deg[0, 0, 2]) and math.isfinite(m.angle_deg[0, 1, 2])
+    assert m.binding[0, 0] == "jump"
+
+
+def test_zero_where_a_criterion_does_not_bound() -> None:
+    """0: no stress limit (stress column), a groove (jump), a flat face (pressure
+    angle); without loads, jump and stress are 0 too."""
+    fl = cm.cam.FollowerLoads(1.0, 2000.0, 50.0)
+    roller = cm.cam.TranslatingRoller(0.05, 0.01)
+    spring = cm.cam.Cam(_program(), roller)
+    a = spring.min_phase_angles([300.0], loads=fl, contact=CONTACT).angle_deg
+    assert (a[..., 3] == 0).all() and (a[..., 2] > 0).all()
+    groove = cm.cam.Cam(_program(), roller, "groove")
+    g = groove.min_phase_angles([300.0], loads=fl, contact=CONTACT, max_stress=8e8).angle_deg
+    assert (g[..., 2] == 0).all() and (g[..., 3] > 0).all()
+    flat = cm.cam.Cam(_program(0.01), cm.cam.FlatFaced(0.05))
+    assert (flat.min_phase_angles([300.0]).angle_deg[..., 0] == 0).all()
+    bare = spring.min_phase_angles([300.0]).angle_deg
+    assert (bare[..., 2:] == 0).all() and (bare[..., :2] > 0).all()
+
+
+def test_binding_names_the_largest_criterion_or_nothing() -> None:
+    cam = cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.01))
+    fl = cm.cam.FollowerLoads(1.0, 2000.0, 50.0)
+    m = cam.min_phase_angles([100.0, 600.0], loads=fl, contact=CONTACT, max_stress=6e8)
+    want = np.array(CRITERIA)[np.argmax(m.angle_deg, axis=-1)]
+    np.testing.assert_array_equal(m.binding, want)
+    np.testing.assert_array_equal(m.bound_deg, m.angle_deg.max(axis=-1))
+    flat = cm.cam.Cam(_program(0.001), cm.cam.FlatFaced(0.5), "spring")
+    # A 1 mm stroke on a 0.5 m flat-faced cam: only undercut bounds, far below 1°.
+    assert flat.min_phase_angles([10.0]).binding.tolist() == [["undercut", "undercut"]]
+
+
+# --- bad input ------------------------------------------------------------------------
+
+
+def _cam() -> cm.cam.Cam:
+    return cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.01))
+
+
+FL = cm.cam.FollowerLoads(1.0, 2000.0, 50.0)
+
+BAD = {
+    "poisson_half": (lambda: cm.cam.Contact(0.01, follower_poisson=0.5), "follower_poisson"),
+    "poisson_above": (lambda: cm.cam.Contact(0.01, cam_poisson=0.7), "cam_poisson"),
+    "poisson_minus_one": (lambda: cm.cam.Contact(0.01, cam_poisson=-1.0), "cam_poisson"),
+    "poisson_nan": (lambda: cm.cam.Contact(0.01, cam_poisson=math.nan), "cam_poisson"),
+    "width_negative": (lambda: cm.cam.Contact(-0.01), "width"),
+    "width_zero": (lambda: cm.cam.Contact(0.0), "width"),
+    "modulus_negative": (lambda: cm.cam.Contact(0.01, cam_modulus=-2e11), "cam_modulus"),
+    "modulus_zero": (lambda: cm.cam.Contact(0.01, follower_modulus=0.0), "follower_modulus"),
+    "mass_negative": (lambda: cm.cam.FollowerLoads(-1.0), "mass"),
+    "spring_negative": (lambda: cm.cam.FollowerLoads(1.0, -5.0), "spring_rate"),
+    "preload_nan": (lambda: cm.cam.FollowerLoads(1.0, 5.0, math.nan), "preload"),
+    "segment_load_inf": (
+        lambda: cm.cam.FollowerLoads(1.0, segment_loads=(0, math.inf, 0, 0)),
+        "segment_loads",
+    ),
+    "segment_loads_length_loads": (
+        lambda: _cam().loads(0.0, 100.0, cm.cam.FollowerLoads(1.0, segment_loads=(1.0, 2.0))),
+        "segment_loads",
+    ),
+    "segment_loads_length_jump": (
+        lambda: _cam().jump_rpm(cm.cam.FollowerLoads(1.0, segment_loads=(1.0,) * 5)),
+        "segment_loads",
+    ),
+    "segment_loads_length_bounds": (
+        lambda: _cam().min_phase_angles(
+            [100.0], loads=cm.cam.FollowerLoads(1.0, segment_loads=(1.0,) * 3)
+        ),
+        "segment_loads",
+    ),
+    "theta_nan_loads": (lambda: _cam().loads([0.0, math.nan], 100.0, FL), "theta"),
+    "theta_inf_loads": (lambda: _cam().loads([math.inf], 100.0, FL), "theta"),
+    "theta_string": (lambda: _cam().loads("1.0", 100.0, FL), "theta"),
+    "dwell_index": (lambda: _cam().min_phase_angles([100.0], segments=[1]), "segments"),
+    "index_out_of_range": (lambda: _cam().min_phase_angles([100.0], segments=[7]), "segments"),
+    "alpha_zero": (
+        lambda: _cam().min_phase_angles([100.0], max_pressure_angle_deg=0.0),
+        "max_pressure_angle_deg",
+    ),
+    "alpha_90": (
+        lambda: _cam().min_phase_angles([100.0], max_pressure_angle_deg=90.0),
+        "max_pressure_angle_deg",
+    ),
+    "alpha_negative": (
+        lambda: _cam().min_phase_angles([100.0], max_pressure_angle_deg=-10),
+        "max_pressure_angle_deg",
+    ),
+    "alpha_nan": (
+        lambda: _cam().min_phase_angles([100.0], max_pressure_angle_deg=math.nan),
+        "max_pressure_angle_deg",
+    ),
+    "stress_without_loads": (
+        lambda: _cam().min_phase_angles([100.0], contact=CONTACT, max_stress=6e8),
+        "max_stress",
+    ),
+    "stress_without_contact": (
+        lambda: _cam().min_phase_angles([100.0], loads=FL, max_stress=6e8),
+        "max_stress",
+    ),
+    "stress_negative": (
+        lambda: _cam().min_phase_angles([100.0], loads=FL, contact=CONTACT, max_stress=-1.0),
+        "max_stress",
+    ),
+    "knife_edge_loads": (
+        lambda: cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.0)).loads(
+            0.0, 100.0, FL, CONTACT
+        ),
+        "roller_radius",
+    ),
+    "knife_edge_bounds": (
+        lambda: cm.cam.Cam(_program(), cm.cam.TranslatingRoller(0.05, 0.0)).min_phase_angles(
+            [100.0], loads=FL, contact=CONTACT, max_stress=6e8
+        ),
+        "roller_radius",
+    ),
+    "rpm_zero_loads": (lambda: _cam().loads(0.0, 0.0, FL), "rpm"),
+    "rpm_negative_loads": (lambda: _cam().loads(0.0, -100.0, FL), "rpm"),
+    "rpm_nan_loads": (lambda: _cam().loads(0.0, math.nan, FL), "rpm"),
+    "rpm_array_loads": (lambda: _cam().loads(0.0, [100.0, 200.0], FL), "rpm"),
+    "rpm_zero_bounds": (lambda: _cam().min_phase_angles([100.0, 0.0]), "rpm"),
+    "rpm_negative_bounds": (lambda: _cam().min_phase_angles(-100.0), "rpm"),
+    "loads_not_loads": (lambda: _cam().loads(0.0, 100.0, {"mass": 1.0}), "loads"),
+    "contact_not_contact": (lambda: _cam().loads(0.0, 100.0, FL, 0.01), "contact"),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_bad_input_is_a_clear_value_error_naming_the_field(name: str) -> None:
+    make, field = BAD[name]
+    with pytest.raises(cm.CyclomechError, match=field) as info:
+        make()
+    assert isinstance(info.value, ValueError)
