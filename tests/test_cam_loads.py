@@ -735,7 +735,7 @@ def _random_cams(draw: Any) -> tuple[cm.cam.Cam, Limits, int]:
     closure = "spring"
     if kind == "oscillating":
         h = draw(st.floats(0.1, 0.4))
-        rb, rr = draw(st.floats(0.03, 0.05)), draw(st.floats(0.003, 0.015))
+        rb, rr = draw(st.floats(0.04, 0.05)), draw(st.floats(0.003, 0.015))  # R_p > |a − l|
         follower: Any = cm.cam.OscillatingRoller(draw(st.floats(0.09, 0.12)), 0.08, rb, rr)
         scale = 0.004  # kg·m² and N·m against kg and N
     else:
