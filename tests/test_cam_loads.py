@@ -674,7 +674,8 @@ def test_jump_bound_is_proportional_to_speed_and_sampled_densely() -> None:
         theta = _seg_theta(cam, k, 1_000_000)
         kin = cam.solve(theta)
         beta0 = math.radians(cam.segments[k].angle_deg)
-        hold = LOADS.spring_rate * kin.s + LOADS.preload + LOADS.segment_loads[k]
+        f_l = (LOADS.segment_loads or (0.0,) * 4)[k]
+        hold = LOADS.spring_rate * kin.s + LOADS.preload + f_l
         worst = float(np.max(LOADS.mass * (-kin.dds) * beta0**2 / hold))
         want = 250.0 * RAD_PER_S_PER_RPM * math.sqrt(worst)
         got = math.radians(b1[0, j])
