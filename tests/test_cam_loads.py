@@ -683,14 +683,31 @@ def test_jump_bound_is_proportional_to_speed_and_sampled_densely() -> None:
         assert got == pytest.approx(want, rel=1e-6)
 
 
+def _well_clear_of_undercut(probe: cm.cam.Cam, i: int, lim: Limits) -> bool:
+    """Whether segment i's pitch curve keeps ρ_p ≥ 1.1 r_r where convex (a flat
+    face: R_b + s + s″ ≥ 0.09(R_b + s)), sampled: the profile's radius stays
+    ≥ 0.1 r_r, away from the σ_H → ∞ at an undercut's edge."""
+    return _dense_max("undercut", probe, i, lim, 2001, refine=False)[0] <= 1 / 1.1
+
+
 def _holds_on_the_rest_of_the_turn(
-    criterion: str, cam: cm.cam.Cam, k: int, lim: Limits, beta: float, n_beta: int, n: int
+    criterion: str,
+    cam: cm.cam.Cam,
+    k: int,
+    lim: Limits,
+    beta: float,
+    n_beta: int,
+    n: int,
+    *,
+    clear_of_undercut: bool = False,
 ) -> None:
     """The criterion holds (sampled) at ``n_beta`` angles β′ over [β, 359°]
     (from β(1 + 1e-9): a window of violation closing at β has zero width there,
     below the float resolution of the hidden-undercut check)."""
     for b in np.linspace(beta * (1 + 1e-9), 359.0, n_beta):
         probe, j, fl = _probe(cam, k, float(b), lim.loads)
+        if clear_of_undercut and not _well_clear_of_undercut(probe, j, lim):
+            continue
         worst, _ = _dense_max(criterion, probe, j, lim, n, fl, refine=False)
         assert worst <= 1.0 + 1e-9, (criterion, float(b), worst)
 
@@ -772,8 +789,8 @@ def _random_cams(draw: Any) -> tuple[cm.cam.Cam, Limits, int]:
 
 
 def _property(drawn: tuple[cm.cam.Cam, Limits, int], criterion: str, sound: bool = False) -> None:
-    """The property; ``sound``: only where the profile is free of undercut
-    (β′ ≥ the undercut bound too)."""
+    """The property; ``sound``: only where the profile is well clear of
+    undercut (β′ ≥ the undercut bound, and ρ_p ≥ 1.1 r_r on the segment)."""
     cam, lim, k = drawn
     note(f"{cam.segments}, {cam.follower}, {cam.closure!r}, {lim}, segment {k}")
     col = CRITERIA.index(criterion)
@@ -795,10 +812,13 @@ def _property(drawn: tuple[cm.cam.Cam, Limits, int], criterion: str, sound: bool
         assert _dense_max(criterion, probe, i, lim, 4001, fl)[1] > 1.0 - 1e-4
         return
     lowest = max(beta, floor) if sound else beta
-    _holds_on_the_rest_of_the_turn(criterion, cam, k, lim, max(lowest, 1.0), 50, 1001)
+    _holds_on_the_rest_of_the_turn(
+        criterion, cam, k, lim, max(lowest, 1.0), 50, 1001, clear_of_undercut=sound
+    )
     if beta > 0 and beta * (1 - 1e-6) >= lowest:
         probe, i, fl = _probe(cam, k, beta * (1 - 1e-6), lim.loads)
-        assert _dense_max(criterion, probe, i, lim, 20_001, fl)[1] > 1.0
+        if not sound or _well_clear_of_undercut(probe, i, lim):
+            assert _dense_max(criterion, probe, i, lim, 20_001, fl)[1] > 1.0
 
 
 _PROPERTY = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -842,7 +862,8 @@ for _t in (
 ):
     _t.__doc__ = _PROPERTY_DOC
 test_property_contact_stress_bound_on_sound_profiles.__doc__ = (
-    _PROPERTY_DOC + "\n\n    Here β′ also ≥ the undercut bound: below it see the xfail tests."
+    _PROPERTY_DOC + "\n\n    Here only where the profile is well clear of undercut "
+    "(ρ_p ≥ 1.1 r_r): near it see the xfail tests."
 )
 
 #: The stress bound misses contact on (or next to) an undercut profile: the
@@ -904,6 +925,35 @@ def test_stress_grid_cases_do_not_move_the_segment_bound(name: str) -> None:
     assert a[3] < a[1] <= m.bound_deg[0, 0]
     floor = float(max(a[1], a[3]))
     _holds_on_the_rest_of_the_turn("contact_stress", cam, 0, lim, floor, 50, 4001)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="cam stress bound misses σ_H → ∞ at an undercut's edge, so the segment bound is "
+    "too low: bound_deg 28.4605° ('undercut') where σ_H/[σ_H] = 1264 at β(1 + 1e-9) "
+    "(x → 1, ρ_profile → 0); dense sampling puts the stress bound at ≈ 28.5064°; the "
+    "kernel's stress column is 3.4365°",
+)
+def test_segment_bound_sees_the_stress_at_an_undercut_edge() -> None:
+    """Hypothesis found it: at the undercut bound the profile's radius is 0 at a
+    point, so if the follower touches it there σ_H is infinite and the stress
+    bound must lie above the undercut bound. A harmonic rise (its s″ ≠ 0 at the
+    segment's end) on a spring-closed roller, [α] = 45° so the pressure angle
+    does not bind."""
+    segs = [S("rise", 40, 0.015625, "harmonic"), S("dwell", 140)]
+    segs += [S("return", 40, 0.015625, "harmonic"), S("dwell", 140)]
+    cam = cm.cam.Cam(segs, cm.cam.TranslatingRoller(0.046875, 0.015625))
+    lim = Limits(
+        rpm=90.0,
+        loads=cm.cam.FollowerLoads(0.125, 0.0, 5.0),
+        contact=cm.cam.Contact(0.015625),
+        max_stress=3e8,
+        alpha_deg=45.0,
+    )
+    bound = float(lim.bounds(cam).bound_deg[0, 0])
+    assert bound == pytest.approx(28.4605, abs=1e-4)
+    probe, i, fl = _probe(cam, 0, bound * (1 + 1e-9), lim.loads)
+    assert _dense_max("contact_stress", probe, i, lim, 200_001, fl)[1] <= 1.0 + 1e-9
 
 
 # --- NaN and 0 ----------------------------------------------------------------------
