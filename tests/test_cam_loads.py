@@ -1021,6 +1021,23 @@ def test_binding_names_the_largest_criterion_or_nothing() -> None:
     assert flat.min_phase_angles([10.0]).binding.tolist() == [["undercut", "undercut"]]
 
 
+def test_stress_column_ignores_an_undercut_the_follower_has_left() -> None:
+    """A decided case, documented: σ_H is 0 where a spring-closed follower has
+    left the cam, so an undercut met only while separated does not count
+    against the stress. A flat face whose profile cusps (R_b + s + s″ < 0) only
+    where the follower flies off at 600 rpm: the stress column is 0 ("does not
+    bound") although at 300 rpm, in contact there, it is 115°; the segment's
+    bound is still set, by jump and undercut. Checked densely at 50 β′."""
+    cam = cm.cam.Cam(_program(0.03), cm.cam.FlatFaced(0.02))
+    lim = Limits(rpm=600.0, loads=LOADS, contact=CONTACT, max_stress=8e8)
+    m = lim.bounds(cam, [300.0, 600.0])
+    np.testing.assert_allclose(m.angle_deg[0, 0, 3], 115.146, atol=1e-3)
+    assert m.angle_deg[1, 0, 3] == 0.0
+    assert m.binding[1].tolist() == ["jump", "jump"]
+    assert m.angle_deg[1, 0, 1] > 100.0  # undercut
+    _holds_on_the_rest_of_the_turn("contact_stress", cam, 0, lim, 1.0, 50, 4001)
+
+
 # --- bad input ------------------------------------------------------------------------
 
 
