@@ -86,7 +86,7 @@ class CamMechanism:
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
         >>> [c for c in m.mechanisms["lifter cam"].criteria if c[0] == 0]
-        [(0, 'pressure_angle'), (0, 'undercut'), (0, 'contact_stress')]
+        [(0, 'pressure_angle'), (0, 'undercut'), (0, 'contact_stress'), (0, 'vibration')]
         """
         where = f"[mechanism.{name}]"
         design = CamDesign.from_table(
@@ -145,8 +145,8 @@ class CamMechanism:
 
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
-        >>> [round(float(law(np.array([300.0]))[0]), 3) for law in cam.laws()][:3]
-        [25.459, 27.058, 20.608]
+        >>> [round(float(law(np.array([450.0]))[0]), 3) for law in cam.laws()][:4]
+        [25.459, 27.058, 29.637, 30.978]
         """
         segs = sorted({k for k, _ in self.criteria})
         base = self.design.min_phase_angles([1.0], segments=segs).angle_deg[0]
@@ -168,8 +168,8 @@ class CamMechanism:
 
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
-        >>> cam.constraints(300.0)[2].describe()
-        '1·t(1,3) >= 20.6084'
+        >>> cam.constraints(450.0)[2].describe()
+        '1·t(1,3) >= 29.6374'
         """
         n = np.array([float(rpm)])
         return tuple(

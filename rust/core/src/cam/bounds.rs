@@ -13,7 +13,10 @@
 //! seen. NaN: no angle up to a whole turn will do (g(2π) > 1, or the criterion
 //! cannot be met at all, e.g. a spring too weak to hold the follower at rest).
 //! 0: the criterion does not bound the segment (a flat face's pressure angle, a
-//! groove's jump, no stress limit) or not above 2π·1e-6.
+//! groove's jump, no stress limit) or not above 2π·1e-6. The Hertz stress is not
+//! defined on an undercut profile, so below the undercut bound it counts as
+//! violated; where it holds right above the undercut bound, its column is 0 (the
+//! undercut binds).
 //!
 //! Closed forms where there are: the pressure angle and undercut do not depend
 //! on the speed (one search per segment); jump is β_min = ω·√(max m(−h z″)/K)
@@ -26,7 +29,12 @@ use rayon::prelude::*;
 use super::contact::{Contact, Loads};
 use super::follower::{Cam, Follower, N_COLUMNS};
 use super::program::CamError;
-use super::search::{brent_zero, max_unit, max_unit_cut};
+use super::search::{brent_max, brent_zero, max_unit, refine, GRID};
+
+/// The curvature ratio (r_r/ρ_p, 1 at a cusp) above which the stress search
+/// also looks at the curvature's peak: there the profile's radius ρ_p − r_r is
+/// under the roller's and the relative curvature grows without bound.
+pub(super) const NEAR_UNDERCUT: f64 = 0.5;
 
 /// A trial angle whose worst value on the grid is below this fraction of its
 /// limit is admissible without refining the maximum: a peak would have to stand
@@ -105,37 +113,33 @@ impl Cam {
         .0
     }
 
-    /// The undercut ratio for segment `k` at angle `beta` (≤ 1: no cusp): a
-    /// roller's r_r/ρ_p on a convex pitch curve (either sign for a groove's two
-    /// flanks); a flat face's −s″/(R_b + s).
-    fn undercut_ratio(&self, k: usize, beta: f64) -> f64 {
-        let groove = self.groove();
+    /// The undercut ratio at one point from its geometry row `geo` (≤ 1: no
+    /// cusp): a roller's r_r/ρ_p on a convex pitch curve (either sign for a
+    /// groove's two flanks; 0 for a knife edge); a flat face's −s″/(R_b + s).
+    #[inline]
+    pub(super) fn undercut_of(&self, geo: &[f64]) -> f64 {
         match self.follower() {
-            Follower::FlatFaced { base_radius } => {
-                max_unit(|x| {
-                    let [s, _, dds, _] = self.program().trial(k, x, beta);
-                    -dds / (base_radius + s)
-                })
-                .0
-            }
+            Follower::FlatFaced { base_radius } => -geo[2] / (base_radius + geo[0]),
             Follower::TranslatingRoller { roller_radius, .. }
             | Follower::OscillatingRoller { roller_radius, .. } => {
-                if roller_radius == 0.0 {
-                    return 0.0;
-                }
-                max_unit(|x| {
-                    let mut geo = [0.0; N_COLUMNS];
-                    self.trial_row(k, x, beta, &mut geo);
-                    let kappa = if geo[11].is_infinite() {
-                        0.0
-                    } else {
-                        1.0 / geo[11]
-                    };
-                    roller_radius * if groove { kappa.abs() } else { kappa }
-                })
-                .0
+                let kappa = if geo[11].is_infinite() {
+                    0.0
+                } else {
+                    1.0 / geo[11]
+                };
+                roller_radius * if self.groove() { kappa.abs() } else { kappa }
             }
         }
+    }
+
+    /// The undercut ratio's worst value over segment `k` at angle `beta`.
+    fn undercut_ratio(&self, k: usize, beta: f64) -> f64 {
+        max_unit(|x| {
+            let mut geo = [0.0; N_COLUMNS];
+            self.trial_row(k, x, beta, &mut geo);
+            self.undercut_of(&geo)
+        })
+        .0
     }
 
     /// β_min/ω for jump [s]: √(max m(−h z″)/K) over segment `k` (∞ if the
@@ -158,7 +162,13 @@ impl Cam {
         v.sqrt()
     }
 
-    /// The stress ratio σ_max/[σ_H] over segment `k` at angle `beta`, speed `omega`.
+    /// The stress ratio σ_max/[σ_H] over segment `k` at angle `beta`, speed
+    /// `omega`. An undercut profile anywhere on the segment carries no Hertz
+    /// contact: +∞ (so the stress bound is never below the undercut bound). Near
+    /// an undercut the stress stands in a narrow peak where the profile's radius
+    /// is smallest, which a grid can step over: where the curvature ratio passes
+    /// [`NEAR_UNDERCUT`], its peak is found (grid and Brent) and the stress is
+    /// also maximised on the two cells around it.
     pub(super) fn stress_ratio(
         &self,
         k: usize,
@@ -169,15 +179,44 @@ impl Cam {
         limit: f64,
     ) -> f64 {
         let load = loads.segment_loads[k];
-        max_unit_cut(
-            |x| {
-                let mut geo = [0.0; N_COLUMNS];
-                self.trial_row(k, x, beta, &mut geo);
-                self.load_row(&geo, omega, loads, load, Some(hertz))[2] / limit
-            },
-            CUT,
-        )
-        .0
+        let at = |x: f64| {
+            let mut geo = [0.0; N_COLUMNS];
+            self.trial_row(k, x, beta, &mut geo);
+            geo
+        };
+        let f = |x: f64| self.load_row(&at(x), omega, loads, load, Some(hertz))[2] / limit;
+        let u = |x: f64| self.undercut_of(&at(x));
+        let h = 1.0 / (GRID - 1) as f64;
+        let (mut vs, mut vu) = ([0.0; GRID], [0.0; GRID]);
+        for i in 0..GRID {
+            let geo = at(i as f64 * h);
+            vs[i] = self.load_row(&geo, omega, loads, load, Some(hertz))[2] / limit;
+            vu[i] = self.undercut_of(&geo);
+        }
+        let near = vu.iter().any(|v| v.is_nan() || *v >= NEAR_UNDERCUT);
+        let peak = if near {
+            let (worst, x) = refine(&u, &vu, f64::NEG_INFINITY);
+            if worst.is_nan() || worst >= 1.0 {
+                return f64::INFINITY;
+            }
+            Some(x)
+        } else {
+            None
+        };
+        let (main, _) = refine(&f, &vs, CUT);
+        match peak {
+            Some(x) if main.is_finite() => {
+                let (lo, hi) = ((x - h).max(0.0), (x + h).min(1.0));
+                let (_, local) = brent_max(&f, lo, hi, 1e-12);
+                let v = main.max(local).max(f(x));
+                if v.is_nan() {
+                    f64::INFINITY
+                } else {
+                    v
+                }
+            }
+            _ => main,
+        }
     }
 
     /// The speed [rad/s] at which a spring-closed follower first leaves the cam,
@@ -334,7 +373,14 @@ impl Cam {
                         f64::NAN
                     }
                 };
-                row.copy_from_slice(&[p, u, jb, sb[ki * ns + si]]);
+                // The stress is not defined on an undercut profile: below the
+                // undercut bound it counts as violated. Where it holds right above
+                // that bound it does not bound the segment itself: 0.
+                let mut st = sb[ki * ns + si];
+                if u > 0.0 && st <= u * (1.0 + 1e-9) {
+                    st = 0.0;
+                }
+                row.copy_from_slice(&[p, u, jb, st]);
             });
         });
         Ok(())

@@ -24,11 +24,16 @@ pub fn max_unit_cut(f: impl Fn(f64) -> f64, cut: f64) -> (f64, f64) {
     let h = 1.0 / (GRID - 1) as f64;
     let mut v = [0.0; GRID];
     for (i, vi) in v.iter_mut().enumerate() {
-        let y = f(i as f64 * h);
-        if y.is_nan() || y == f64::INFINITY {
-            return (f64::INFINITY, i as f64 * h);
-        }
-        *vi = y;
+        *vi = f(i as f64 * h);
+    }
+    refine(&f, &v, cut)
+}
+
+/// The refinement of [`max_unit_cut`] given `f`'s values `v` on its grid.
+pub fn refine(f: &impl Fn(f64) -> f64, v: &[f64; GRID], cut: f64) -> (f64, f64) {
+    let h = 1.0 / (GRID - 1) as f64;
+    if let Some(i) = v.iter().position(|y| y.is_nan() || *y == f64::INFINITY) {
+        return (f64::INFINITY, i as f64 * h);
     }
     let (mut bi, mut best) = (0, v[0]);
     for (i, &y) in v.iter().enumerate() {
@@ -49,13 +54,7 @@ pub fn max_unit_cut(f: impl Fn(f64) -> f64, cut: f64) -> (f64, f64) {
             continue;
         }
         refined += 1;
-        let lo = if i == 0 { 0.0 } else { (i - 1) as f64 * h };
-        let hi = if i == GRID - 1 {
-            1.0
-        } else {
-            (i + 1) as f64 * h
-        };
-        let (x, y) = brent_max(&f, lo, hi, 1e-12);
+        let (x, y) = brent_max(f, cell(i).0, cell(i).1, 1e-12);
         if y.is_nan() {
             return (f64::INFINITY, x);
         }
@@ -64,6 +63,18 @@ pub fn max_unit_cut(f: impl Fn(f64) -> f64, cut: f64) -> (f64, f64) {
         }
     }
     top
+}
+
+/// The two grid cells around grid point `i` (one at an end), as [lo, hi].
+pub fn cell(i: usize) -> (f64, f64) {
+    let h = 1.0 / (GRID - 1) as f64;
+    let lo = if i == 0 { 0.0 } else { (i - 1) as f64 * h };
+    let hi = if i == GRID - 1 {
+        1.0
+    } else {
+        (i + 1) as f64 * h
+    };
+    (lo, hi)
 }
 
 /// Maximum of `f` on [a, b] by Brent's method (golden sections with parabolic

@@ -11,10 +11,10 @@
 
 use std::f64::consts::TAU;
 
-use super::bounds::{CUT, FLOOR, STEP};
+use super::bounds::{CUT, FLOOR, NEAR_UNDERCUT, STEP};
 use super::contact::Loads;
 use super::follower::{Cam, N_COLUMNS};
-use super::search::{brent_zero, GRID};
+use super::search::{brent_zero, refine, GRID};
 
 /// A node of a trial angle's grid: Q = `a`·ω² + `b`; σ²/[σ]² = Q·`c_in` (Q ≥ 0)
 /// or −Q·`c_out` (Q < 0; 0 with spring closure: separated).
@@ -29,11 +29,14 @@ struct Node {
 /// The scan's trial angles [rad] with their nodes.
 pub(super) struct ScanCache {
     beta: Vec<f64>,
-    nodes: Vec<[Node; GRID]>,
+    nodes: Vec<Vec<Node>>,
 }
 
 impl Cam {
-    /// The nodes of segment `k` at trial angle `beta`.
+    /// The nodes of segment `k` at trial angle `beta`: the grid's, and where the
+    /// curvature ratio passes [`NEAR_UNDERCUT`] one more at its peak (the stress's
+    /// narrow peak near an undercut); all NaN (violated at every speed) where
+    /// the profile is undercut (see `stress_ratio`).
     fn stress_nodes(
         &self,
         k: usize,
@@ -41,21 +44,15 @@ impl Cam {
         loads: &Loads,
         hertz: (f64, f64),
         limit: f64,
-    ) -> [Node; GRID] {
+    ) -> Vec<Node> {
         let load = loads.segment_loads[k];
         let h = 1.0 / (GRID - 1) as f64;
         let scale = std::f64::consts::PI * hertz.0 * hertz.1 * limit * limit;
-        let mut out = [Node {
-            a: 0.0,
-            b: 0.0,
-            c_in: 0.0,
-            c_out: 0.0,
-        }; GRID];
-        for (i, node) in out.iter_mut().enumerate() {
+        let start = self.program().segment(k).0;
+        let node = |x: f64| {
             let mut geo = [0.0; N_COLUMNS];
-            let sv = self.program().trial(k, i as f64 * h, beta);
-            let start = self.program().segment(k).0;
-            self.row_at(start + i as f64 * h * beta, sv, &mut geo);
+            let sv = self.program().trial(k, x, beta);
+            self.row_at(start + x * beta, sv, &mut geo);
             let lc = self.lever_cos(geo[10]);
             let c = |n: f64| {
                 if lc > 0.0 {
@@ -64,12 +61,33 @@ impl Cam {
                     f64::INFINITY
                 }
             };
-            *node = Node {
+            let nd = Node {
                 a: loads.mass * sv[2],
                 b: loads.spring_rate * sv[0] + loads.preload + load,
                 c_in: c(1.0),
                 c_out: if self.groove() { c(-1.0) } else { 0.0 },
             };
+            (nd, self.undercut_of(&geo))
+        };
+        let mut out = Vec::with_capacity(GRID + 1);
+        let mut vu = [0.0f64; GRID];
+        for (i, u) in vu.iter_mut().enumerate() {
+            let (nd, v) = node(i as f64 * h);
+            out.push(nd);
+            *u = v;
+        }
+        if vu.iter().any(|v| v.is_nan() || *v >= NEAR_UNDERCUT) {
+            let (worst, x) = refine(&|x| node(x).1, &vu, f64::NEG_INFINITY);
+            if worst.is_nan() || worst >= 1.0 {
+                let bad = Node {
+                    a: 0.0,
+                    b: 0.0,
+                    c_in: f64::NAN,
+                    c_out: f64::NAN,
+                };
+                return vec![bad];
+            }
+            out.push(node(x).0);
         }
         out
     }
