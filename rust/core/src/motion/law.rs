@@ -101,6 +101,26 @@ impl Fast {
     }
 }
 
+impl Fast {
+    /// [`Fast::eval`] for orders 0..=3 at once: the same arithmetic per order
+    /// (so the same values), `t` computed once.
+    #[inline(always)]
+    pub(super) fn eval_all(&self, x: f64) -> [f64; 4] {
+        let t = x - self.x0;
+        std::array::from_fn(|order| {
+            let mut p = 0.0;
+            for &ck in self.poly[order].iter().rev() {
+                p = p * t + ck;
+            }
+            let a = self.amp[order];
+            if a != 0.0 {
+                p += a * sin(self.freq * t + self.phase[order]);
+            }
+            p
+        })
+    }
+}
+
 /// An acceleration piece used to build a law: a(t) = Σ p_k t^k + A·sin(ω t + φ).
 struct AccelPiece {
     x1: f64,
@@ -304,6 +324,25 @@ impl Law {
             k += 1;
         }
         s[k].eval(x, order.min(3))
+    }
+
+    /// [Z, Z′, Z″, Z‴](x) for x in [0, 1]: bit for bit `z(x, k)` for k = 0..=3,
+    /// with one piece lookup for the four orders.
+    ///
+    /// ```
+    /// # use cyclomech_core::motion::Law;
+    /// let law = Law::rise("cycloidal").unwrap();
+    /// let z = law.z_all(0.25);
+    /// assert_eq!(z, [0, 1, 2, 3].map(|k| law.z(0.25, k)));
+    /// ```
+    #[inline]
+    pub fn z_all(&self, x: f64) -> [f64; 4] {
+        let s = &self.fast;
+        let mut k = 0;
+        while k + 1 < s.len() && x > s[k].x1 {
+            k += 1;
+        }
+        s[k].eval_all(x)
     }
 
     /// (x, max |Z^(order)|) over [0, 1].
