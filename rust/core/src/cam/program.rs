@@ -180,7 +180,12 @@ impl Program {
     /// derivatives per radian of cam.
     #[inline]
     pub fn eval(&self, theta: f64) -> [f64; 4] {
-        let t = theta.rem_euclid(TAU);
+        // θ in [0, 2π) is its own remainder (bit for bit): skip the division.
+        let t = if (0.0..TAU).contains(&theta) {
+            theta
+        } else {
+            theta.rem_euclid(TAU)
+        };
         // Last segment starting at or before t (segments are few: linear scan).
         let mut k = 0;
         while k + 1 < self.segs.len() && self.segs[k + 1].start <= t {
@@ -192,11 +197,13 @@ impl Program {
             Some(law) => {
                 let x = ((t - g.start) / g.angle).clamp(0.0, 1.0);
                 let b = g.angle;
+                // All four orders from one piece lookup.
+                let [z0, z1, z2, z3] = law.z_all(x);
                 [
-                    g.s0 + g.h * law.z(x, 0),
-                    g.h * law.z(x, 1) / b,
-                    g.h * law.z(x, 2) / (b * b),
-                    g.h * law.z(x, 3) / (b * b * b),
+                    g.s0 + g.h * z0,
+                    g.h * z1 / b,
+                    g.h * z2 / (b * b),
+                    g.h * z3 / (b * b * b),
                 ]
             }
         }
