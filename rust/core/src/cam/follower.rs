@@ -6,7 +6,6 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 
 use super::program::{CamError, Program};
-use crate::geom::{cross, dot, sin_cos, V2};
 use crate::parallel::{pool, resolve_threads};
 
 /// The columns of [`Cam::solve_into`]'s rows, in order.
@@ -88,12 +87,6 @@ fn roller(base: f64, r: f64) -> Result<(), CamError> {
     Ok(())
 }
 
-/// J v: v turned by +90°.
-#[inline]
-fn perp(v: V2) -> V2 {
-    [-v[1], v[0]]
-}
-
 // fdlibm's atan (s_atan.c): atan(0.5), atan(1), atan(1.5), atan(∞) split hi + lo,
 // and the odd minimax polynomial on |x| < 7/16, digits as published.
 #[allow(clippy::excessive_precision)]
@@ -128,49 +121,71 @@ const AT: [f64; 11] = [
 #[allow(clippy::excessive_precision)]
 const PI_LO: f64 = 1.224_646_799_147_353_177_2e-16;
 
-/// atan a for finite a ≥ 0: fdlibm's reduction to |w| < 7/16 and its
-/// polynomial, inlined (within 1 ulp; glibc's out-of-line atan2 was a seventh
-/// of the whole kernel's time).
+/// `if m { a } else { b }` by bit masks: a blend in every lane, where an `if`
+/// in a lane loop can compile to a branch per lane.
 #[inline(always)]
-fn atan_nonneg(a: f64) -> f64 {
-    let (id, w) = if a < 0.4375 {
-        (usize::MAX, a)
-    } else if a < 0.6875 {
-        (0, (2.0 * a - 1.0) / (2.0 + a))
-    } else if a < 1.1875 {
-        (1, (a - 1.0) / (a + 1.0))
-    } else if a < 2.4375 {
-        (2, (a - 1.5) / (1.0 + 1.5 * a))
-    } else {
-        (3, -1.0 / a)
-    };
-    let z = w * w;
-    let v = z * z;
-    let s1 = z * (AT[0] + v * (AT[2] + v * (AT[4] + v * (AT[6] + v * (AT[8] + v * AT[10])))));
-    let s2 = v * (AT[1] + v * (AT[3] + v * (AT[5] + v * (AT[7] + v * AT[9]))));
-    if id == usize::MAX {
-        w - w * (s1 + s2)
-    } else {
-        ATAN_HI[id] - ((w * (s1 + s2) - ATAN_LO[id]) - w)
-    }
+fn pick(m: bool, a: f64, b: f64) -> f64 {
+    let k = (m as u64).wrapping_neg();
+    f64::from_bits((a.to_bits() & k) | (b.to_bits() & !k))
 }
 
-/// atan2(y, x) [rad] in (−π, π]: fdlibm's quadrant rule around [`atan_nonneg`];
-/// zeros, infinities and NaN go to the platform's `atan2`. Within 2 ulp of it
-/// (tested).
+/// atan2(y, x) [rad] in (−π, π] for `L` lanes: fdlibm's atan (its reduction
+/// to |w| < 7/16 written as one rational map whose constants each lane picks,
+/// and its polynomial) and fdlibm's quadrant rule, without branches; lanes with a
+/// zero, infinite or NaN argument or ratio take the platform's `atan2`. Within 2
+/// ulp of the platform (tested); glibc's out-of-line atan2 was a seventh of the
+/// kernel's time.
 #[inline(always)]
-fn atan2(y: f64, x: f64) -> f64 {
-    let a = y.abs() / x.abs();
-    if !(y != 0.0 && x != 0.0 && a.is_finite() && a > 0.0) {
-        return platform_atan2(y, x);
+fn atan2_lanes<const L: usize>(y: &[f64; L], x: &[f64; L]) -> [f64; L] {
+    let mut out = [0.0; L];
+    let mut special = false;
+    for l in 0..L {
+        let a = y[l].abs() / x[l].abs();
+        special |= !(y[l] != 0.0 && x[l] != 0.0 && a.is_finite() && a > 0.0);
+        // w = (p·a − q)/(r + s·a): a, (2a − 1)/(2 + a), (a − 1)/(a + 1),
+        // (a − 1.5)/(1 + 1.5a), −1/a; then atan a = hi − ((w·P(w²) − lo) − w),
+        // which for hi = lo = 0 is fdlibm's w − w·P(w²) exactly.
+        let (b0, b1, b2, b3) = (a >= 0.4375, a >= 0.6875, a >= 1.1875, a >= 2.4375);
+        let p = pick(b3, 0.0, pick(b0 & !b1, 2.0, 1.0));
+        let q = pick(b3, 1.0, pick(b2, 1.5, pick(b0, 1.0, 0.0)));
+        let r = pick(b3, 0.0, pick(b0 & !b1, 2.0, 1.0));
+        let s = pick(b3, 1.0, pick(b2, 1.5, pick(b0, 1.0, 0.0)));
+        let hi = pick(
+            b3,
+            ATAN_HI[3],
+            pick(
+                b2,
+                ATAN_HI[2],
+                pick(b1, ATAN_HI[1], pick(b0, ATAN_HI[0], 0.0)),
+            ),
+        );
+        let lo = pick(
+            b3,
+            ATAN_LO[3],
+            pick(
+                b2,
+                ATAN_LO[2],
+                pick(b1, ATAN_LO[1], pick(b0, ATAN_LO[0], 0.0)),
+            ),
+        );
+        let w = (p * a - q) / (r + s * a);
+        let z = w * w;
+        let v = z * z;
+        let s1 = z * (AT[0] + v * (AT[2] + v * (AT[4] + v * (AT[6] + v * (AT[8] + v * AT[10])))));
+        let s2 = v * (AT[1] + v * (AT[3] + v * (AT[5] + v * (AT[7] + v * AT[9]))));
+        let t = hi - ((w * (s1 + s2) - lo) - w);
+        let t = pick(x[l] > 0.0, t, PI - (t - PI_LO));
+        out[l] = pick(y[l] > 0.0, t, -t);
     }
-    let z = atan_nonneg(a);
-    let z = if x > 0.0 { z } else { PI - (z - PI_LO) };
-    if y > 0.0 {
-        z
-    } else {
-        -z
+    if special {
+        for l in 0..L {
+            let a = y[l].abs() / x[l].abs();
+            if !(y[l] != 0.0 && x[l] != 0.0 && a.is_finite() && a > 0.0) {
+                out[l] = platform_atan2(y[l], x[l]);
+            }
+        }
     }
+    out
 }
 
 #[cold]
@@ -179,9 +194,255 @@ fn platform_atan2(y: f64, x: f64) -> f64 {
     y.atan2(x)
 }
 
+// geom::sin_cos's constants (fdlibm's, digits as published), for its lane form.
+#[allow(clippy::excessive_precision)]
+const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
+#[allow(clippy::excessive_precision)]
+const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
+#[allow(clippy::excessive_precision)]
+const PIO2_3: f64 = 2.022_266_248_711_166_455_8e-21;
+#[allow(clippy::excessive_precision)]
+const SIN: [f64; 6] = [
+    -1.666_666_666_666_663_243_48e-1,
+    8.333_333_333_322_489_461_24e-3,
+    -1.984_126_982_985_794_931_34e-4,
+    2.755_731_370_707_006_767_89e-6,
+    -2.505_076_025_340_686_341_95e-8,
+    1.589_690_995_211_550_102_21e-10,
+];
+#[allow(clippy::excessive_precision)]
+const COS: [f64; 6] = [
+    4.166_666_666_666_660_190_37e-2,
+    -1.388_888_888_887_410_957_49e-3,
+    2.480_158_728_947_672_941_78e-5,
+    -2.755_731_435_139_066_330_35e-7,
+    2.087_572_321_298_174_827_90e-9,
+    -1.135_964_755_778_819_482_65e-11,
+];
+
+/// `geom::sin_cos` for `L` lanes, bit for bit (tested), without branches: the
+/// same Cody–Waite reduction and fdlibm kernels, both kernels evaluated and each
+/// result's picked and signed by the quadrant's bits; lanes with |x| > 10⁶ or
+/// NaN take the platform's `sin_cos`, as `geom::sin_cos` does. (`geom` has the
+/// lane form of the sine alone; this belongs beside it.)
+#[inline(always)]
+fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let (mut sn, mut cs) = ([0.0; L], [0.0; L]);
+    let mut wide = false;
+    for l in 0..L {
+        let v = x[l];
+        wide |= !(v.abs() <= 1e6);
+        let shifted = v * std::f64::consts::FRAC_2_PI + ROUND;
+        let k = shifted - ROUND;
+        let r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
+        let q = shifted.to_bits() & 3;
+        let z = r * r;
+        let ks = r + r
+            * z
+            * (SIN[0] + z * (SIN[1] + z * (SIN[2] + z * (SIN[3] + z * (SIN[4] + z * SIN[5])))));
+        let p = z
+            * z
+            * (COS[0] + z * (COS[1] + z * (COS[2] + z * (COS[3] + z * (COS[4] + z * COS[5])))));
+        let hz = 0.5 * z;
+        let w = 1.0 - hz;
+        let kc = w + (((1.0 - w) - hz) + p);
+        // q = 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
+        let odd = (q & 1).wrapping_neg();
+        let (bs, bc) = (ks.to_bits(), kc.to_bits());
+        sn[l] = f64::from_bits(((bs & !odd) | (bc & odd)) ^ ((q & 2) << 62));
+        cs[l] = f64::from_bits(((bc & !odd) | (bs & odd)) ^ (((q + 1) & 2) << 62));
+    }
+    if wide {
+        for l in 0..L {
+            if !(x[l].abs() <= 1e6) {
+                (sn[l], cs[l]) = platform_sin_cos(x[l]);
+            }
+        }
+    }
+    (sn, cs)
+}
+
+#[cold]
+#[inline(never)]
+fn platform_sin_cos(x: f64) -> (f64, f64) {
+    x.sin_cos()
+}
+
+/// Angles per lane group of [`Cam::solve_into`]: one AVX-512 register of f64.
+const GROUP: usize = 8;
+
+/// [`Cam::solve_into`]'s loop over one chunk, compiled once per instruction set
+/// (`pulp` picks AVX-512, AVX2 or baseline at run time).
+struct Rows<'a> {
+    cam: &'a Cam,
+    theta: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl pulp::WithSimd for Rows<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let Rows { cam, theta, out } = self;
+        let mut groups = theta.chunks_exact(GROUP);
+        let mut rows = out.chunks_exact_mut(GROUP * N_COLUMNS);
+        for (tg, og) in (&mut groups).zip(&mut rows) {
+            let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
+            let cols = cam.lanes(tg);
+            for (l, row) in og.chunks_exact_mut(N_COLUMNS).enumerate() {
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = cols[c][l];
+                }
+            }
+        }
+        let rest = rows.into_remainder().chunks_exact_mut(N_COLUMNS);
+        for (&t, row) in groups.remainder().iter().zip(rest) {
+            cam.row(t, row);
+        }
+    }
+}
+
 #[cfg(test)]
-mod atan2_tests {
+mod lane_tests {
     use proptest::prelude::*;
+    use std::f64::consts::TAU;
+
+    use super::*;
+    use crate::cam::{Kind, SegmentSpec};
+    use crate::geom::sin_cos;
+
+    #[test]
+    fn sin_cos_lanes_is_geom_sin_cos_bit_for_bit() {
+        let mut x: Vec<f64> = (0..=20_000).map(|i| (i as f64 - 10_000.0) * 1e-3).collect();
+        for k in -8..=8 {
+            let e = k as f64 * std::f64::consts::FRAC_PI_4;
+            x.extend([e.next_down(), e, e.next_up()]);
+        }
+        x.extend([
+            1e6,
+            -1e6,
+            1e6f64.next_up(),
+            3e9,
+            f64::INFINITY,
+            f64::NAN,
+            0.0,
+            -0.0,
+        ]);
+        for g in x.chunks(8) {
+            let mut v = [0.0; 8];
+            v[..g.len()].copy_from_slice(g);
+            let (sn, cs) = sin_cos_lanes(&v);
+            for l in 0..8 {
+                let (s0, c0) = sin_cos(v[l]);
+                assert!(sn[l].to_bits() == s0.to_bits() || (sn[l].is_nan() && s0.is_nan()));
+                assert!(cs[l].to_bits() == c0.to_bits() || (cs[l].is_nan() && c0.is_nan()));
+            }
+        }
+    }
+
+    fn cams() -> Vec<Cam> {
+        let mut out = Vec::new();
+        for law in ["cycloidal", "modified_trapezoid", "polynomial_345"] {
+            let seg = |kind, deg: f64, stroke| SegmentSpec {
+                kind,
+                angle: deg.to_radians(),
+                stroke,
+                law: law.into(),
+            };
+            let prog = |h: f64| {
+                Program::new(&[
+                    seg(Kind::Rise, 100.0, h),
+                    seg(Kind::Dwell, 50.0, 0.0),
+                    seg(Kind::Return, 130.0, h),
+                    seg(Kind::Dwell, 80.0, 0.0),
+                ])
+                .unwrap()
+            };
+            let tr = Follower::TranslatingRoller {
+                base_radius: 0.012,
+                roller_radius: 0.009,
+                offset: 0.002,
+            };
+            let osc = Follower::OscillatingRoller {
+                pivot_distance: 0.1,
+                arm_length: 0.08,
+                base_radius: 0.04,
+                roller_radius: 0.01,
+            };
+            let flat = Follower::FlatFaced { base_radius: 0.05 };
+            out.push(Cam::new(prog(0.02), tr, true).unwrap());
+            out.push(Cam::new(prog(0.02), tr, false).unwrap());
+            out.push(Cam::new(prog(0.02), flat, false).unwrap());
+            out.push(Cam::new(prog(0.3), osc, true).unwrap());
+        }
+        out
+    }
+
+    fn same(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    #[test]
+    fn every_instruction_set_gives_the_rows_of_row() {
+        // Sorted angles (groups in one segment: the lane path), a group across
+        // every segment end, unsorted and out-of-turn angles (one by one), and a
+        // tail shorter than a group; compiled for baseline, AVX2 and AVX-512.
+        let mut theta: Vec<f64> = (0..4003).map(|i| i as f64 * TAU / 4003.0).collect();
+        for d in [0.0, 100.0, 150.0, 280.0, 360.0] {
+            let e = f64::to_radians(d);
+            theta.extend([e.next_down(), e, e.next_up(), e, e, e, e, e]);
+        }
+        theta.extend((0..41).map(|i| (i as f64 * 7.3).sin() * 40.0));
+        theta.extend([2e6, -3e7, 1e6]);
+        use pulp::Simd;
+        for cam in cams() {
+            let runs = on_each_isa!(|simd| {
+                let mut out = vec![0.0; theta.len() * N_COLUMNS];
+                Simd::vectorize(
+                    simd,
+                    Rows {
+                        cam: &cam,
+                        theta: &theta,
+                        out: &mut out,
+                    },
+                );
+                out
+            });
+            assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
+            let mut row = [0.0; N_COLUMNS];
+            for (i, &t) in theta.iter().enumerate() {
+                cam.row(t, &mut row);
+                for (isa, out) in &runs {
+                    for c in 0..N_COLUMNS {
+                        let v = out[i * N_COLUMNS + c];
+                        assert!(
+                            same(v, row[c]),
+                            "{isa}: θ = {t}, {}: {v} vs {}",
+                            COLUMNS[c],
+                            row[c]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn solve_into_reports_the_first_bad_angle() {
+        let cam = cams().remove(0);
+        let mut theta = vec![1.0; 3 * CHUNK];
+        theta[2 * CHUNK + 5] = f64::NAN;
+        theta[2 * CHUNK + 9] = f64::INFINITY;
+        let mut out = vec![0.0; theta.len() * N_COLUMNS];
+        let err = cam.solve_into(&theta, &mut out, Some(2)).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains(&format!("theta[{}]", 2 * CHUNK + 5)),
+            "{err}"
+        );
+    }
 
     fn ulps(a: f64, b: f64) -> f64 {
         (a - b).abs() / (f64::EPSILON * b.abs().max(f64::MIN_POSITIVE))
@@ -191,7 +452,7 @@ mod atan2_tests {
         #[test]
         fn atan2_matches_the_platform(y in -1e3f64..1e3, x in -1e3f64..1e3, e in -300i32..300) {
             for (yy, xx) in [(y, x), (y * 2f64.powi(e), x), (y, x * 2f64.powi(e))] {
-                let (a, b) = (super::atan2(yy, xx), yy.atan2(xx));
+                let (a, b) = (super::atan2_lanes(&[yy], &[xx])[0], yy.atan2(xx));
                 prop_assert!(ulps(a, b) <= 2.0, "atan2({yy}, {xx}) = {a} vs {b}");
             }
         }
@@ -199,19 +460,31 @@ mod atan2_tests {
 
     #[test]
     fn atan2_at_the_reduction_edges_and_special_values() {
-        for a in [0.4375f64, 0.6875, 1.1875, 2.4375, 1.0, 0.5, 1.5, 1e-300, 1e300] {
+        for a in [
+            0.4375f64, 0.6875, 1.1875, 2.4375, 1.0, 0.5, 1.5, 1e-300, 1e300,
+        ] {
             for t in [a.next_down(), a, a.next_up()] {
                 for (y, x) in [(t, 1.0), (-t, 1.0), (t, -1.0), (-t, -1.0), (1.0, 1.0 / t)] {
-                    let (a, b) = (super::atan2(y, x), y.atan2(x));
+                    let (a, b) = (super::atan2_lanes(&[y], &[x])[0], y.atan2(x));
                     assert!(ulps(a, b) <= 2.0, "atan2({y}, {x}) = {a} vs {b}");
                 }
             }
         }
         let inf = f64::INFINITY;
-        for (y, x) in [(0.0, 1.0), (-0.0, -1.0), (1.0, 0.0), (0.0, 0.0), (inf, 1.0), (1.0, -inf)] {
-            assert_eq!(super::atan2(y, x).to_bits(), y.atan2(x).to_bits());
+        for (y, x) in [
+            (0.0, 1.0),
+            (-0.0, -1.0),
+            (1.0, 0.0),
+            (0.0, 0.0),
+            (inf, 1.0),
+            (1.0, -inf),
+        ] {
+            assert_eq!(
+                super::atan2_lanes(&[y], &[x])[0].to_bits(),
+                y.atan2(x).to_bits()
+            );
         }
-        assert!(super::atan2(f64::NAN, 1.0).is_nan());
+        assert!(super::atan2_lanes(&[f64::NAN], &[1.0])[0].is_nan());
     }
 }
 
@@ -314,100 +587,126 @@ impl Cam {
     /// One row of [`COLUMNS`] at cam angle θ [rad].
     #[inline]
     pub fn row(&self, theta: f64, out: &mut [f64]) {
-        let [s, ds, dds, ddds] = self.program.eval(theta);
+        let cols = self.lanes(&[theta]);
+        for (o, c) in out[..N_COLUMNS].iter_mut().zip(cols) {
+            *o = c[0];
+        }
+    }
+
+    /// The rows of `L` cam angles θ [rad], column by column: every step a loop
+    /// across lanes without branches, so that [`Cam::solve_into`] (compiled per
+    /// instruction set) runs several angles per instruction. [`Cam::row`] is its
+    /// one-lane case: every path gives the same values.
+    #[inline(always)]
+    fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
+        use std::array::from_fn;
+        let [s, ds, dds, ddds] = self.program.eval_lanes(theta);
+        let st = self.start;
+        let (zero, one) = ([0.0; L], [1.0; L]);
         // Fixed frame: roller centre (or flat-face trace point) C, C', C'', and
         // the unit direction v of the follower's motion (increasing s).
+        let lift: [f64; L] = from_fn(|l| st + s[l]);
         let (c, c1, c2, v, rr) = match self.follower {
             Follower::TranslatingRoller {
                 roller_radius,
                 offset,
                 ..
             } => (
-                [offset, self.start + s],
-                [0.0, ds],
-                [0.0, dds],
-                [0.0, 1.0],
+                [[offset; L], lift],
+                [zero, ds],
+                [zero, dds],
+                [zero, one],
                 roller_radius,
             ),
-            Follower::FlatFaced { .. } => (
-                [0.0, self.start + s],
-                [0.0, ds],
-                [0.0, dds],
-                [0.0, 1.0],
-                0.0,
-            ),
+            Follower::FlatFaced { .. } => ([zero, lift], [zero, ds], [zero, dds], [zero, one], 0.0),
             Follower::OscillatingRoller {
                 pivot_distance: a,
                 arm_length: l,
                 roller_radius,
                 ..
             } => {
-                let (sn, cs) = sin_cos(self.start + s);
+                let (sn, cs) = sin_cos_lanes(&lift);
+                let dd: [f64; L] = from_fn(|i| ds[i] * ds[i]);
                 (
-                    [a - l * cs, l * sn],
-                    [l * ds * sn, l * ds * cs],
-                    [l * (dds * sn + ds * ds * cs), l * (dds * cs - ds * ds * sn)],
+                    [from_fn(|i| a - l * cs[i]), from_fn(|i| l * sn[i])],
+                    [
+                        from_fn(|i| l * ds[i] * sn[i]),
+                        from_fn(|i| l * ds[i] * cs[i]),
+                    ],
+                    [
+                        from_fn(|i| l * (dds[i] * sn[i] + dd[i] * cs[i])),
+                        from_fn(|i| l * (dds[i] * cs[i] - dd[i] * sn[i])),
+                    ],
                     [sn, cs],
                     roller_radius,
                 )
             }
         };
         // Pitch point in the cam frame P = R(−θ) C: dP/dθ = R(−θ) T and
-        // d²P/dθ² = R(−θ) A, with T = C' − J C and A = C'' − 2 J C' − C.
-        let jc = perp(c);
-        let jc1 = perp(c1);
-        let t = [c1[0] - jc[0], c1[1] - jc[1]];
-        let acc = [c2[0] - 2.0 * jc1[0] - c[0], c2[1] - 2.0 * jc1[1] - c[1]];
-        let speed = dot(t, t).sqrt();
-        let k = cross(t, acc);
+        // d²P/dθ² = R(−θ) A, with T = C' − J C and A = C'' − 2 J C' − C
+        // (J v = v turned by +90°: J (x, y) = (−y, x)).
+        let t: [[f64; L]; 2] = [
+            from_fn(|i| c1[0][i] - -c[1][i]),
+            from_fn(|i| c1[1][i] - c[0][i]),
+        ];
+        let acc: [[f64; L]; 2] = [
+            from_fn(|i| c2[0][i] - 2.0 * -c1[1][i] - c[0][i]),
+            from_fn(|i| c2[1][i] - 2.0 * c1[0][i] - c[1][i]),
+        ];
+        let speed: [f64; L] = from_fn(|i| (t[0][i] * t[0][i] + t[1][i] * t[1][i]).sqrt());
+        let k: [f64; L] = from_fn(|i| t[0][i] * acc[1][i] - t[1][i] * acc[0][i]);
         // The pitch point moves clockwise in the cam frame: convex is k < 0.
-        let rho_p = if k == 0.0 {
-            f64::INFINITY
-        } else {
-            -speed * speed * speed / k
+        let rho_p: [f64; L] = from_fn(|i| {
+            pick(
+                k[i] == 0.0,
+                f64::INFINITY,
+                -speed[i] * speed[i] * speed[i] / k[i],
+            )
+        });
+        let n: [[f64; L]; 2] = [
+            from_fn(|i| -t[1][i] / speed[i]),
+            from_fn(|i| t[0][i] / speed[i]),
+        ];
+        let (sn, cs) = sin_cos_lanes(theta);
+        let to_cam = |p: [[f64; L]; 2]| -> [[f64; L]; 2] {
+            [
+                from_fn(|i| p[0][i] * cs[i] + p[1][i] * sn[i]),
+                from_fn(|i| -p[0][i] * sn[i] + p[1][i] * cs[i]),
+            ]
         };
-        let jt = perp(t);
-        let n = [jt[0] / speed, jt[1] / speed];
-        let (sn, cs) = sin_cos(theta);
-        let to_cam = |p: V2| [p[0] * cs + p[1] * sn, -p[0] * sn + p[1] * cs];
         let pitch = to_cam(c);
-        let nan = [f64::NAN, f64::NAN];
+        let nan = [[f64::NAN; L]; 2];
         let (profile, outer, phi, rho_q, undercut) = match self.follower {
             Follower::FlatFaced { .. } => {
-                let rho = self.start + s + dds;
-                let q = to_cam([ds, self.start + s]);
-                (q, nan, 0.0, rho, rho < 0.0)
+                let rho: [f64; L] = from_fn(|i| lift[i] + dds[i]);
+                let q = to_cam([ds, lift]);
+                (q, nan, zero, rho, from_fn(|i| pick(rho[i] < 0.0, 1.0, 0.0)))
             }
             _ => {
-                let q = to_cam([c[0] - rr * n[0], c[1] - rr * n[1]]);
-                let o = if self.groove {
-                    to_cam([c[0] + rr * n[0], c[1] + rr * n[1]])
-                } else {
-                    nan
+                let side = |sign: f64| -> [[f64; L]; 2] {
+                    to_cam([
+                        from_fn(|i| c[0][i] + sign * (rr * n[0][i])),
+                        from_fn(|i| c[1][i] + sign * (rr * n[1][i])),
+                    ])
                 };
-                let phi = atan2(cross(v, n), dot(v, n));
-                let cusp_inner = rr > 0.0 && rho_p > 0.0 && rho_p < rr;
-                let cusp_outer = self.groove && rr > 0.0 && rho_p < 0.0 && -rho_p < rr;
-                (q, o, phi, rho_p - rr, cusp_inner || cusp_outer)
+                let q = side(-1.0);
+                let o = if self.groove { side(1.0) } else { nan };
+                let cr: [f64; L] = from_fn(|i| v[0][i] * n[1][i] - v[1][i] * n[0][i]);
+                let dt: [f64; L] = from_fn(|i| v[0][i] * n[0][i] + v[1][i] * n[1][i]);
+                let phi = atan2_lanes(&cr, &dt);
+                let groove = self.groove;
+                let cusp: [f64; L] = from_fn(|i| {
+                    let inner = (rr > 0.0) & (rho_p[i] > 0.0) & (rho_p[i] < rr);
+                    let outer = groove & (rr > 0.0) & (rho_p[i] < 0.0) & (-rho_p[i] < rr);
+                    pick(inner | outer, 1.0, 0.0)
+                });
+                (q, o, phi, from_fn(|i| rho_p[i] - rr), cusp)
             }
         };
-        let row = [
-            s,
-            ds,
-            dds,
-            ddds,
-            pitch[0],
-            pitch[1],
-            profile[0],
-            profile[1],
-            outer[0],
-            outer[1],
-            phi,
-            rho_p,
-            rho_q,
-            if undercut { 1.0 } else { 0.0 },
-        ];
-        out[..N_COLUMNS].copy_from_slice(&row);
+        [
+            s, ds, dds, ddds, pitch[0], pitch[1], profile[0], profile[1], outer[0], outer[1], phi,
+            rho_p, rho_q, undercut,
+        ]
     }
 
     /// Rows of [`COLUMNS`] for every cam angle [rad] into `out` (row-major,
@@ -418,24 +717,35 @@ impl Cam {
         out: &mut [f64],
         n_threads: Option<i64>,
     ) -> Result<(), CamError> {
-        if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
-            return Err(CamError::NotFinite {
-                field: "theta",
-                index,
-                value,
-            });
-        }
         debug_assert_eq!(out.len(), theta.len() * N_COLUMNS);
         let pool = pool(resolve_threads(n_threads)?)?;
-        pool.install(|| {
+        // The finite check runs inside each chunk's pass (one read of θ); a
+        // chunk with a bad angle is left unwritten and reported below.
+        let finite = pool.install(|| {
             out.par_chunks_mut(CHUNK * N_COLUMNS)
                 .zip(theta.par_chunks(CHUNK))
-                .for_each(|(rows, ts)| {
-                    for (row, &t) in rows.chunks_exact_mut(N_COLUMNS).zip(ts) {
-                        self.row(t, row);
+                .map(|(rows, ts)| {
+                    let ok = ts.iter().fold(true, |ok, t| ok & t.is_finite());
+                    if ok {
+                        pulp::Arch::new().dispatch(Rows {
+                            cam: self,
+                            theta: ts,
+                            out: rows,
+                        });
                     }
+                    ok
                 })
+                .reduce(|| true, |a, b| a & b)
         });
+        if !finite {
+            if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
+                return Err(CamError::NotFinite {
+                    field: "theta",
+                    index,
+                    value,
+                });
+            }
+        }
         Ok(())
     }
 }

@@ -208,4 +208,48 @@ impl Program {
             }
         }
     }
+
+    /// [`Program::eval`] for `L` angles at once, as four lanes [s, s′, s″, s‴]
+    /// (the same values, bit for bit): angles in [0, 2π) within one segment (the
+    /// common case for sorted angles) run as loops across lanes without branches
+    /// (see `Law::z_all_lanes`), others one by one.
+    #[inline(always)]
+    pub(super) fn eval_lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+        let segs = &self.segs;
+        let mut k = 0;
+        while k + 1 < segs.len() && segs[k + 1].start <= theta[0] {
+            k += 1;
+        }
+        let g = &segs[k];
+        // eval's lookup puts t in segment k iff start(k) ≤ t < start(k + 1).
+        let hi = segs.get(k + 1).map_or(TAU, |n| n.start.min(TAU));
+        let one_segment = theta
+            .iter()
+            .fold(true, |ok, &v| ok & (v >= 0.0) & (v >= g.start) & (v < hi));
+        if !one_segment {
+            let mut out = [[0.0; L]; 4];
+            for (l, &v) in theta.iter().enumerate() {
+                let e = self.eval(v);
+                for o in 0..4 {
+                    out[o][l] = e[o];
+                }
+            }
+            return out;
+        }
+        match &g.law {
+            None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
+            Some(law) => {
+                let x: [f64; L] =
+                    std::array::from_fn(|l| ((theta[l] - g.start) / g.angle).clamp(0.0, 1.0));
+                let b = g.angle;
+                let [z0, z1, z2, z3] = law.z_all_lanes(&x);
+                [
+                    std::array::from_fn(|l| g.s0 + g.h * z0[l]),
+                    std::array::from_fn(|l| g.h * z1[l] / b),
+                    std::array::from_fn(|l| g.h * z2[l] / (b * b)),
+                    std::array::from_fn(|l| g.h * z3[l] / (b * b * b)),
+                ]
+            }
+        }
+    }
 }
