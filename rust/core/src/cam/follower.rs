@@ -599,13 +599,23 @@ impl Cam {
     /// one-lane case: every path gives the same values.
     #[inline(always)]
     fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
-        use std::array::from_fn;
+        // `each!(i => e)`: the lanes [e(0), …, e(L − 1)] by a plain loop (a
+        // closure the compiler kept out of line would lose the instruction set).
+        macro_rules! each {
+            ($i:ident => $e:expr) => {{
+                let mut a = [0.0; L];
+                for $i in 0..L {
+                    a[$i] = $e;
+                }
+                a
+            }};
+        }
         let [s, ds, dds, ddds] = self.program.eval_lanes(theta);
         let st = self.start;
         let (zero, one) = ([0.0; L], [1.0; L]);
         // Fixed frame: roller centre (or flat-face trace point) C, C', C'', and
         // the unit direction v of the follower's motion (increasing s).
-        let lift: [f64; L] = from_fn(|l| st + s[l]);
+        let lift = each!(i => st + s[i]);
         let (c, c1, c2, v, rr) = match self.follower {
             Follower::TranslatingRoller {
                 roller_radius,
@@ -626,16 +636,13 @@ impl Cam {
                 ..
             } => {
                 let (sn, cs) = sin_cos_lanes(&lift);
-                let dd: [f64; L] = from_fn(|i| ds[i] * ds[i]);
+                let dd = each!(i => ds[i] * ds[i]);
                 (
-                    [from_fn(|i| a - l * cs[i]), from_fn(|i| l * sn[i])],
+                    [each!(i => a - l * cs[i]), each!(i => l * sn[i])],
+                    [each!(i => l * ds[i] * sn[i]), each!(i => l * ds[i] * cs[i])],
                     [
-                        from_fn(|i| l * ds[i] * sn[i]),
-                        from_fn(|i| l * ds[i] * cs[i]),
-                    ],
-                    [
-                        from_fn(|i| l * (dds[i] * sn[i] + dd[i] * cs[i])),
-                        from_fn(|i| l * (dds[i] * cs[i] - dd[i] * sn[i])),
+                        each!(i => l * (dds[i] * sn[i] + dd[i] * cs[i])),
+                        each!(i => l * (dds[i] * cs[i] - dd[i] * sn[i])),
                     ],
                     [sn, cs],
                     roller_radius,
@@ -645,62 +652,68 @@ impl Cam {
         // Pitch point in the cam frame P = R(−θ) C: dP/dθ = R(−θ) T and
         // d²P/dθ² = R(−θ) A, with T = C' − J C and A = C'' − 2 J C' − C
         // (J v = v turned by +90°: J (x, y) = (−y, x)).
-        let t: [[f64; L]; 2] = [
-            from_fn(|i| c1[0][i] - -c[1][i]),
-            from_fn(|i| c1[1][i] - c[0][i]),
+        let t = [
+            each!(i => c1[0][i] - -c[1][i]),
+            each!(i => c1[1][i] - c[0][i]),
         ];
-        let acc: [[f64; L]; 2] = [
-            from_fn(|i| c2[0][i] - 2.0 * -c1[1][i] - c[0][i]),
-            from_fn(|i| c2[1][i] - 2.0 * c1[0][i] - c[1][i]),
+        let acc = [
+            each!(i => c2[0][i] - 2.0 * -c1[1][i] - c[0][i]),
+            each!(i => c2[1][i] - 2.0 * c1[0][i] - c[1][i]),
         ];
-        let speed: [f64; L] = from_fn(|i| (t[0][i] * t[0][i] + t[1][i] * t[1][i]).sqrt());
-        let k: [f64; L] = from_fn(|i| t[0][i] * acc[1][i] - t[1][i] * acc[0][i]);
+        let speed = each!(i => (t[0][i] * t[0][i] + t[1][i] * t[1][i]).sqrt());
+        let k = each!(i => t[0][i] * acc[1][i] - t[1][i] * acc[0][i]);
         // The pitch point moves clockwise in the cam frame: convex is k < 0.
-        let rho_p: [f64; L] = from_fn(|i| {
-            pick(
-                k[i] == 0.0,
-                f64::INFINITY,
-                -speed[i] * speed[i] * speed[i] / k[i],
-            )
-        });
-        let n: [[f64; L]; 2] = [
-            from_fn(|i| -t[1][i] / speed[i]),
-            from_fn(|i| t[0][i] / speed[i]),
+        let rho_p = each!(i => pick(
+            k[i] == 0.0,
+            f64::INFINITY,
+            -speed[i] * speed[i] * speed[i] / k[i]
+        ));
+        let n = [
+            each!(i => -t[1][i] / speed[i]),
+            each!(i => t[0][i] / speed[i]),
         ];
         let (sn, cs) = sin_cos_lanes(theta);
-        let to_cam = |p: [[f64; L]; 2]| -> [[f64; L]; 2] {
-            [
-                from_fn(|i| p[0][i] * cs[i] + p[1][i] * sn[i]),
-                from_fn(|i| -p[0][i] * sn[i] + p[1][i] * cs[i]),
-            ]
-        };
-        let pitch = to_cam(c);
+        // P in the cam frame: R(−θ) p.
+        macro_rules! to_cam {
+            ($p:expr) => {{
+                let p: [[f64; L]; 2] = $p;
+                [
+                    each!(i => p[0][i] * cs[i] + p[1][i] * sn[i]),
+                    each!(i => -p[0][i] * sn[i] + p[1][i] * cs[i]),
+                ]
+            }};
+        }
+        let pitch = to_cam!(c);
         let nan = [[f64::NAN; L]; 2];
         let (profile, outer, phi, rho_q, undercut) = match self.follower {
             Follower::FlatFaced { .. } => {
-                let rho: [f64; L] = from_fn(|i| lift[i] + dds[i]);
-                let q = to_cam([ds, lift]);
-                (q, nan, zero, rho, from_fn(|i| pick(rho[i] < 0.0, 1.0, 0.0)))
+                let rho = each!(i => lift[i] + dds[i]);
+                let q = to_cam!([ds, lift]);
+                (q, nan, zero, rho, each!(i => pick(rho[i] < 0.0, 1.0, 0.0)))
             }
             _ => {
-                let side = |sign: f64| -> [[f64; L]; 2] {
-                    to_cam([
-                        from_fn(|i| c[0][i] + sign * (rr * n[0][i])),
-                        from_fn(|i| c[1][i] + sign * (rr * n[1][i])),
+                let q = to_cam!([
+                    each!(i => c[0][i] - rr * n[0][i]),
+                    each!(i => c[1][i] - rr * n[1][i])
+                ]);
+                let o = if self.groove {
+                    to_cam!([
+                        each!(i => c[0][i] + rr * n[0][i]),
+                        each!(i => c[1][i] + rr * n[1][i])
                     ])
+                } else {
+                    nan
                 };
-                let q = side(-1.0);
-                let o = if self.groove { side(1.0) } else { nan };
-                let cr: [f64; L] = from_fn(|i| v[0][i] * n[1][i] - v[1][i] * n[0][i]);
-                let dt: [f64; L] = from_fn(|i| v[0][i] * n[0][i] + v[1][i] * n[1][i]);
+                let cr = each!(i => v[0][i] * n[1][i] - v[1][i] * n[0][i]);
+                let dt = each!(i => v[0][i] * n[0][i] + v[1][i] * n[1][i]);
                 let phi = atan2_lanes(&cr, &dt);
                 let groove = self.groove;
-                let cusp: [f64; L] = from_fn(|i| {
+                let cusp = each!(i => {
                     let inner = (rr > 0.0) & (rho_p[i] > 0.0) & (rho_p[i] < rr);
                     let outer = groove & (rr > 0.0) & (rho_p[i] < 0.0) & (-rho_p[i] < rr);
                     pick(inner | outer, 1.0, 0.0)
                 });
-                (q, o, phi, from_fn(|i| rho_p[i] - rr), cusp)
+                (q, o, phi, each!(i => rho_p[i] - rr), cusp)
             }
         };
         [

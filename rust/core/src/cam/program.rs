@@ -239,16 +239,20 @@ impl Program {
         match &g.law {
             None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
             Some(law) => {
-                let x: [f64; L] =
-                    std::array::from_fn(|l| ((theta[l] - g.start) / g.angle).clamp(0.0, 1.0));
                 let b = g.angle;
+                let mut x = [0.0; L];
+                for l in 0..L {
+                    x[l] = ((theta[l] - g.start) / b).clamp(0.0, 1.0);
+                }
                 let [z0, z1, z2, z3] = law.z_all_lanes(&x);
-                [
-                    std::array::from_fn(|l| g.s0 + g.h * z0[l]),
-                    std::array::from_fn(|l| g.h * z1[l] / b),
-                    std::array::from_fn(|l| g.h * z2[l] / (b * b)),
-                    std::array::from_fn(|l| g.h * z3[l] / (b * b * b)),
-                ]
+                let mut out = [[0.0; L]; 4];
+                for l in 0..L {
+                    out[0][l] = g.s0 + g.h * z0[l];
+                    out[1][l] = g.h * z1[l] / b;
+                    out[2][l] = g.h * z2[l] / (b * b);
+                    out[3][l] = g.h * z3[l] / (b * b * b);
+                }
+                out
             }
         }
     }

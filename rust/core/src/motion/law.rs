@@ -393,9 +393,14 @@ impl Law {
             }
             return out;
         }
-        let t: [f64; L] = std::array::from_fn(|l| x[l] - f.x0);
-        std::array::from_fn(|order| {
-            let mut p = [0.0; L];
+        // Plain loops, no closures: a closure the compiler keeps out of line
+        // would lose the caller's instruction set.
+        let mut t = [0.0; L];
+        for l in 0..L {
+            t[l] = x[l] - f.x0;
+        }
+        let mut out = [[0.0; L]; 4];
+        for (order, p) in out.iter_mut().enumerate() {
             for &ck in f.poly[order].iter().rev() {
                 for l in 0..L {
                     p[l] = p[l] * t[l] + ck;
@@ -407,8 +412,8 @@ impl Law {
                     p[l] += a * sin_lanes(w * t[l] + phase);
                 }
             }
-            p
-        })
+        }
+        out
     }
 
     /// (x, max |Z^(order)|) over [0, 1].
