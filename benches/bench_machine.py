@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import copy
 import importlib
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,7 +34,6 @@ import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
-from cyclomech.impact import CamStop
 from cyclomech.machine import SpeedSweep
 from numpy.testing import assert_allclose
 
@@ -165,16 +165,18 @@ def test_speed_sweep_cyclomech(benchmark, loom, speeds, reference, n_threads) ->
 
 
 def lp_limiting_deg(machine: cm.Machine, rpm: Array) -> Array:
-    """The peer: per speed, a copy of the cyclogram with each stop's exact constraint
-    and the LP (HiGHS); NaN where it does not fit. What a user writes without the
-    machine's sweep."""
-    stops = [m for m in machine.mechanisms.values() if isinstance(m, CamStop)]
+    """The peer: per speed, a copy of the cyclogram with each mechanism's exact
+    constraints (a stop's rebound, a cam's criteria) and the LP (HiGHS); NaN where it
+    does not fit. What a user writes without the machine's sweep."""
     out = np.full(rpm.size, np.nan)
     for i, n in enumerate(rpm.tolist()):
         cg = copy.deepcopy(machine.cyclogram)
         try:
-            for s in stops:
-                cg.add_constraint(s.stop.constraint(s.arc, s.a_max, n))
+            for mech in machine.mechanisms.values():
+                for c in mech.constraints(n):
+                    if not math.isfinite(c.rhs):
+                        raise cm.InfeasibleError(f"{c.name} cannot be met at {n} rpm")
+                    cg.add_constraint(c)
             out[i] = cg.optimize(speed_rpm=n).objective
         except cm.InfeasibleError:
             pass  # the rebound bound or the cyclogram does not fit at this speed
@@ -190,7 +192,7 @@ def test_lp_cyclomech(benchmark, loom, speeds, reference) -> None:
 
 @pytest.mark.benchmark(group=GROUP_LP, min_rounds=SLOW_ROUNDS)
 def test_lp_peer(benchmark, loom, speeds, reference) -> None:
-    what = "StopImpact.constraint + Cyclogram.optimize per speed (HiGHS)"
+    what = "the mechanisms' constraints + Cyclogram.optimize per speed (HiGHS)"
     _label(benchmark, "scipy", what)
     sub = speeds[::LP_STRIDE]
     value = benchmark(lp_limiting_deg, loom, sub)

@@ -202,7 +202,7 @@ def _in(mechanism: str) -> Callable[..., Edit]:
 
 lifter, drive, line, knife = _in("lifter"), _in("drive"), _in("line"), _in("knife")
 LIFTER, DRIVE, LINE, KNIFE = (f"[mechanism.{k}]" for k in ("lifter", "drive", "line", "knife"))
-KINDS = "cam_stop, linkage, press, transfer"
+KINDS = "cam, cam_stop, linkage, press, transfer"
 VALID = "valid keys are"
 SPEED_RANGE = "0 < from < to"
 STRING_NUMBER = "a string where a number belongs is taken as the number (float(value))"
@@ -385,7 +385,7 @@ CYCLOGRAM_CASES = [
 MECHANISM_CASES = [
     # its kind
     case("no kind", "stb_loom", lifter(kind=DELETE), LIFTER, "kind", KINDS),
-    case("unknown kind", "stb_loom", lifter(kind="cam"), LIFTER, "kind", KINDS),
+    case("unknown kind", "stb_loom", lifter(kind="camshaft"), LIFTER, "kind", KINDS),
     case("kind capitalised", "extrusion_press_line", drive(kind="Press"), DRIVE, "kind",
          KINDS),
     case("mechanism not a table", "stb_loom", setting(mechanism__lifter=5), LIFTER, None,

@@ -350,7 +350,7 @@ def test_without_matplotlib(monkeypatch):
         plot_cyclogram(stb().schedule())
 
 
-DOMAINS = ("cyclogram", "impact", "linkage", "machine", "motion", "press", "transfer")
+DOMAINS = ("cam", "cyclogram", "impact", "linkage", "machine", "motion", "press", "transfer")
 
 
 @pytest.mark.parametrize("module", ["cyclomech.plot", *(f"cyclomech.{d}.plot" for d in DOMAINS)])
@@ -363,17 +363,21 @@ def test_docstring_examples(module):
 def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
     assert cplot.__all__ == [
         "animate_linkage",
+        "plot_along_cycle",
         "plot_analogs",
+        "plot_cam",
         "plot_cyclogram",
         "plot_cyclogram_pair",
         "plot_law",
         "plot_linkage",
         "plot_min_phase",
+        "plot_min_phase_angles",
         "plot_press",
         "plot_press_criteria",
         "plot_rebound_vs_speed",
         "plot_response",
         "plot_speed_sweep",
+        "plot_svaj",
         "plot_transfer",
     ]
     homes = set()

@@ -10,6 +10,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "CAM_CRITERIA",
+    "CAM_LOAD_COLUMNS",
     "DEG_PER_S_PER_RPM",
     "MOTION_LAWS",
     "PRESS_STATUS",
@@ -49,6 +51,10 @@ PRESS_STATUS: tuple[str, ...]
 RAD_PER_S_PER_RPM: float
 #: Angular speed [deg/s] of a shaft turning at 1 rpm: 6.
 DEG_PER_S_PER_RPM: float
+#: The cam's bound criteria, in the order of CamKernel.min_angles's last axis.
+CAM_CRITERIA: tuple[str, ...]
+#: The columns of CamKernel.loads.
+CAM_LOAD_COLUMNS: tuple[str, ...]
 
 # cyclogram: longest paths, event graphs, cycle ratios, difference constraints.
 
@@ -133,6 +139,27 @@ class CamKernel:
     def initial_arm_angle(self) -> float | None: ...
     def solve(
         self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
+    ) -> npt.NDArray[np.float64]: ...
+    def loads(
+        self,
+        theta: npt.NDArray[np.float64],
+        omega: float,
+        loads: tuple[float, float, float, list[float]],
+        contact: tuple[float, float, float, float, float] | None = None,
+        *,
+        n_threads: int | None = None,
+    ) -> npt.NDArray[np.float64]: ...
+    def jump_speed(self, loads: tuple[float, float, float, list[float]]) -> tuple[float, float]: ...
+    def min_angles(
+        self,
+        segments: list[int],
+        omegas: npt.NDArray[np.float64],
+        max_pressure_angle: float,
+        loads: tuple[float, float, float, list[float]] | None = None,
+        contact: tuple[float, float, float, float, float] | None = None,
+        max_stress: float | None = None,
+        *,
+        n_threads: int | None = None,
     ) -> npt.NDArray[np.float64]: ...
 
 # linkage

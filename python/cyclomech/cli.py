@@ -3,7 +3,7 @@
 Each domain owns its command in its ``cli.py``, which adds the command's
 sub-parser and runs it: ``cyclogram`` (:mod:`cyclomech.cyclogram.cli`),
 ``linkage`` (:mod:`cyclomech.linkage.cli`), ``press`` (:mod:`cyclomech.press.cli`),
-``impact`` (:mod:`cyclomech.impact.cli`), ``run`` and ``sweep``
+``impact`` (:mod:`cyclomech.impact.cli`), ``cam`` (:mod:`cyclomech.cam.cli`), ``run`` and ``sweep``
 (:mod:`cyclomech.machine.cli`). This module builds the top-level parser from the
 list :data:`COMMANDS`, checks ``--out`` before any work, and turns errors into one
 line and an exit status; the helpers the commands share are in ``_cli``.
@@ -33,6 +33,7 @@ from ._cli import (
     out_path,
 )
 from ._errors import CyclomechError, InputError
+from .cam import cli as cam_cli
 from .cyclogram import cli as cyclogram_cli
 from .impact import cli as impact_cli
 from .linkage import cli as linkage_cli
@@ -52,7 +53,7 @@ __all__ = [
 #: The domains with commands, in the order of ``cyclomech --help``: each module's
 #: ``add_commands(subparsers)`` adds its commands, each sub-parser with its ``run``
 #: function as a default. A new domain adds one line here.
-COMMANDS = (cyclogram_cli, linkage_cli, press_cli, impact_cli, machine_cli)
+COMMANDS = (cyclogram_cli, linkage_cli, press_cli, impact_cli, cam_cli, machine_cli)
 
 
 def _not_a_machine_file(args: argparse.Namespace) -> None:

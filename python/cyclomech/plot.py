@@ -14,6 +14,10 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
 * :mod:`cyclomech.impact.plot` — :func:`plot_response`, :func:`plot_rebound_vs_speed`,
   :func:`plot_min_phase` (a stop: the motion after contact, the first rebound and
   the smallest phase angle against speed);
+* :mod:`cyclomech.cam.plot` — :func:`plot_cam`, :func:`plot_svaj`, :func:`plot_along_cycle`,
+  :func:`plot_min_phase_angles` (a disc cam: the cam and its follower, the SVAJ
+  diagram, the pressure angle, forces and stress along the cycle, and the smallest
+  phase angles against speed per criterion);
 * :mod:`cyclomech.transfer.plot` — :func:`plot_transfer` (a rotor transfer path);
 * :mod:`cyclomech.machine.plot` — :func:`plot_speed_sweep` (the machine against speed).
 
@@ -37,6 +41,7 @@ from ._plotting import LINK_COLOR as LINK_COLOR
 from ._plotting import MOTION_COLORS as MOTION_COLORS
 from ._plotting import PLATE_COLOR as PLATE_COLOR
 from ._plotting import TRACE_COLORS as TRACE_COLORS
+from .cam.plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
 from .cyclogram.plot import LIMITING_COLOR as LIMITING_COLOR
 from .cyclogram.plot import MECHANISM_COLORS as MECHANISM_COLORS
 from .cyclogram.plot import OTHER_ROW as OTHER_ROW
@@ -52,16 +57,20 @@ from .transfer.plot import plot_transfer
 
 __all__ = [
     "animate_linkage",
+    "plot_along_cycle",
     "plot_analogs",
+    "plot_cam",
     "plot_cyclogram",
     "plot_cyclogram_pair",
     "plot_law",
     "plot_linkage",
     "plot_min_phase",
+    "plot_min_phase_angles",
     "plot_press",
     "plot_press_criteria",
     "plot_rebound_vs_speed",
     "plot_response",
     "plot_speed_sweep",
+    "plot_svaj",
     "plot_transfer",
 ]

@@ -32,16 +32,34 @@ the base circle), − where concave, ``inf`` where straight.
 
 from __future__ import annotations
 
+from ._design import CAM_KEYS, SEGMENT_KEYS, CamDesign
+from ._export import DxfUnavailableError, profile_table, write_profile_csv, write_profile_dxf
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
+from ._kind import CamMechanism, CamResult
+from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
 
 __all__ = [
+    "CAM_KEYS",
+    "CRITERIA",
     "KINDS",
+    "SEGMENT_KEYS",
     "Cam",
+    "CamDesign",
     "CamKinematics",
+    "CamLoads",
+    "CamMechanism",
+    "CamResult",
+    "Contact",
+    "DxfUnavailableError",
     "FlatFaced",
     "Follower",
+    "FollowerLoads",
+    "MinPhaseAngles",
     "OscillatingRoller",
     "Segment",
     "TranslatingRoller",
+    "profile_table",
+    "write_profile_csv",
+    "write_profile_dxf",
 ]

@@ -13,7 +13,9 @@ from .. import _core
 from .._arrays import finite_number, float_array, positive, threads_arg
 from .._errors import InputError
 from ..motion import NAMES
+from . import _loads
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
+from ._loads import CamLoads, Contact, FollowerLoads, MinPhaseAngles
 
 __all__ = ["KINDS", "Cam", "CamKinematics", "Segment"]
 
@@ -161,6 +163,10 @@ class Cam:
         self.follower = follower
         self.closure = closure
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Rebuilt from its parts (the kernel is not picklable): Dask ships machines.
+        return (Cam, (self.segments, self.follower, self.closure))
+
     def solve(self, theta: Any, *, n_threads: int | None = None) -> CamKinematics:
         """The exact kinematics and geometry at cam angles ``theta`` [rad] (any
         shape; taken modulo 2π) in one Rust call with the GIL released: see
@@ -214,6 +220,89 @@ class Cam:
         """
         psi0 = self._kernel.initial_arm_angle
         return None if psi0 is None else math.degrees(psi0)
+
+    def loads(
+        self,
+        theta: Any,
+        rpm: float,
+        loads: FollowerLoads,
+        contact: Contact | None = None,
+        *,
+        n_threads: int | None = None,
+    ) -> CamLoads:
+        """The follower's loads along the cycle at cam angles ``theta`` [rad]
+        (any shape) and speed ``rpm`` [rpm]: the generalised force, normal force,
+        Hertz stress on the loaded flank (with a :class:`Contact`), shaft torque
+        and separation; see :class:`CamLoads` and :mod:`cyclomech.cam`. One Rust
+        call, GIL released.
+
+        >>> import cyclomech as cm
+        >>> S = cm.cam.Segment
+        >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
+        ...                   S("dwell", 60)], cm.cam.TranslatingRoller(0.05, 0.01))
+        >>> ld = cam.loads(np.radians([0.0, 150.0]), 300.0,
+        ...                cm.cam.FollowerLoads(1.0, 2000.0, 50.0), cm.cam.Contact(0.01))
+        >>> ld.force.tolist(), [round(float(x) / 1e6, 3) for x in ld.contact_stress]
+        ([50.0, 90.0], [148.448, 194.364])
+        """
+        return _loads.solve_loads(self, theta, rpm, loads, contact, n_threads=n_threads)
+
+    def jump_rpm(self, loads: FollowerLoads) -> tuple[float, float]:
+        """The speed [rpm] at which a spring-closed follower first leaves the cam
+        (the smallest over the cycle of √((k s + F0 + F_L)/(m·(−s″))), each
+        segment's minimum found by a bracketed search) and the cam angle [deg]
+        where; (inf, nan) for a groove or a massless follower, (0, angle) where the
+        spring and loads do not hold the follower even at rest.
+
+        >>> import cyclomech as cm
+        >>> S = cm.cam.Segment
+        >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
+        ...                   S("dwell", 60)], cm.cam.TranslatingRoller(0.05, 0.01))
+        >>> [round(v, 3) for v in cam.jump_rpm(cm.cam.FollowerLoads(1.0, 2000.0, 50.0))]
+        [523.548, 211.526]
+        """
+        return _loads.solve_jump(self, loads)
+
+    def min_phase_angles(
+        self,
+        rpm: Any,
+        *,
+        loads: FollowerLoads | None = None,
+        contact: Contact | None = None,
+        max_stress: float | None = None,
+        max_pressure_angle_deg: float | None = None,
+        segments: Any = None,
+        n_threads: int | None = None,
+    ) -> MinPhaseAngles:
+        """The smallest phase angle [deg] of each rise and return (or of the
+        indices ``segments``) at each of the speeds ``rpm`` for each criterion of
+        :data:`CRITERIA`: the pressure angle ≤ ``max_pressure_angle_deg``
+        (default 30° translating, 45° oscillating), no undercut, no jump (spring
+        closure, with ``loads``) and σ_H ≤ ``max_stress`` [Pa] (with ``loads`` and
+        ``contact``). Each is exact (a bracketed root on the segment's worst value,
+        itself refined by Brent's maximiser), the segment's start displacement,
+        stroke, law and load kept; all speeds in one Rust call (rayon over speeds
+        and segments). See :class:`MinPhaseAngles` for the rule, NaN and 0.
+
+        >>> import cyclomech as cm
+        >>> S = cm.cam.Segment
+        >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
+        ...                   S("dwell", 60)], cm.cam.TranslatingRoller(0.05, 0.01))
+        >>> m = cam.min_phase_angles([100.0, 600.0], loads=cm.cam.FollowerLoads(1.0, 2000.0, 50.0),
+        ...                          contact=cm.cam.Contact(0.01), max_stress=6e8)
+        >>> m.binding[:, 0].tolist(), np.round(m.bound_deg[:, 0], 3).tolist()
+        (['pressure_angle', 'jump'], [57.184, 137.523])
+        """
+        return _loads.solve_min_angles(
+            self,
+            rpm,
+            follower_loads=loads,
+            contact=contact,
+            max_stress=max_stress,
+            max_pressure_angle_deg=max_pressure_angle_deg,
+            segments=segments,
+            n_threads=n_threads,
+        )
 
     def undercut_angles_deg(self, samples: int = 7200) -> list[tuple[float, float]]:
         """Runs of cam angles [deg] where the profile is undercut, as (first,

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from .._errors import InputError
 from .._kind import Mechanism
+from ..cam import CamMechanism
 from ..impact import CamStop
 from ..linkage import LinkageMechanism
 from ..press import PressMechanism
@@ -16,6 +17,7 @@ __all__ = ["KINDS", "register"]
 
 #: Every mechanism kind a machine file may use: its table's ``kind`` → its class.
 KINDS: dict[str, type[Mechanism]] = {
+    CamMechanism.kind: CamMechanism,
     CamStop.kind: CamStop,
     LinkageMechanism.kind: LinkageMechanism,
     PressMechanism.kind: PressMechanism,

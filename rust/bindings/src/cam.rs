@@ -1,8 +1,11 @@
 //! Bindings of the cam domain: a validated cam and its exact geometry over angles.
 
-use cyclomech_core::cam::{Cam, CamError, Follower, Kind, Program, SegmentSpec, N_COLUMNS};
-use numpy::ndarray::Ix2;
-use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray1};
+use cyclomech_core::cam::{
+    Cam, CamError, Contact, Follower, Kind, Limits, Loads, Program, SegmentSpec, CRITERIA,
+    N_COLUMNS, N_LOAD_COLUMNS,
+};
+use numpy::ndarray::{Ix2, Ix3};
+use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
@@ -120,5 +123,113 @@ impl CamKernel {
             })?;
         }
         Ok(out)
+    }
+    /// (N, 5) rows of the generalised force Q, normal force N (signed: − on a
+    /// groove's outer flank or, with a spring, separation), Hertz stress [Pa]
+    /// (NaN without `contact`), shaft torque [N·m] and separated (0/1) at cam
+    /// angles `theta` [rad] and cam speed `omega` [rad/s]. `loads` = (mass,
+    /// spring rate, preload, per-segment loads); `contact` = (width, E and ν of
+    /// the follower, E and ν of the cam).
+    #[pyo3(signature = (theta, omega, loads, contact=None, *, n_threads=None))]
+    fn loads<'py>(
+        &self,
+        py: Python<'py>,
+        theta: PyReadonlyArray1<'py, f64>,
+        omega: f64,
+        loads: (f64, f64, f64, Vec<f64>),
+        contact: Option<[f64; 5]>,
+        n_threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let ts = CamError::slice(py, "theta", &theta)?;
+        let loads = to_loads(loads);
+        let contact = contact.map(to_contact);
+        let out = convert::zeros::<f64, Ix2>(
+            py,
+            &[ts.len(), N_LOAD_COLUMNS],
+            "CamKernel.loads",
+            "solve fewer cam angles at a time",
+        )?;
+        {
+            let mut rw = out.readwrite();
+            let slice = convert::output(py, &mut rw)?;
+            run(py, "CamKernel.loads", || {
+                self.cam
+                    .loads_into(ts, omega, &loads, contact.as_ref(), slice, n_threads)
+            })?;
+        }
+        Ok(out)
+    }
+
+    /// (ω [rad/s], θ [rad]) at which a spring-closed follower first leaves the cam.
+    fn jump_speed(&self, py: Python<'_>, loads: (f64, f64, f64, Vec<f64>)) -> PyResult<(f64, f64)> {
+        let loads = to_loads(loads);
+        run(py, "CamKernel.jump_speed", || self.cam.jump_speed(&loads))
+    }
+
+    /// (S, K, 4) smallest phase angles [rad] of `segments` at cam speeds
+    /// `omegas` [rad/s] for the pressure angle, undercut, jump and Hertz stress
+    /// (NaN: no angle up to a turn; 0: no bound).
+    #[pyo3(signature = (segments, omegas, max_pressure_angle, loads=None, contact=None,
+                        max_stress=None, *, n_threads=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn min_angles<'py>(
+        &self,
+        py: Python<'py>,
+        segments: Vec<usize>,
+        omegas: PyReadonlyArray1<'py, f64>,
+        max_pressure_angle: f64,
+        loads: Option<(f64, f64, f64, Vec<f64>)>,
+        contact: Option<[f64; 5]>,
+        max_stress: Option<f64>,
+        n_threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let ws = CamError::slice(py, "omegas", &omegas)?;
+        let loads = loads.map(to_loads);
+        let contact = contact.map(to_contact);
+        let limits = Limits {
+            max_pressure_angle,
+            max_stress,
+        };
+        let out = convert::zeros::<f64, Ix3>(
+            py,
+            &[ws.len(), segments.len(), CRITERIA.len()],
+            "CamKernel.min_angles",
+            "ask for fewer speeds at a time",
+        )?;
+        {
+            let mut rw = out.readwrite();
+            let slice = convert::output(py, &mut rw)?;
+            run(py, "CamKernel.min_angles", || {
+                self.cam.min_angles_into(
+                    &segments,
+                    ws,
+                    loads.as_ref(),
+                    contact.as_ref(),
+                    &limits,
+                    slice,
+                    n_threads,
+                )
+            })?;
+        }
+        Ok(out)
+    }
+}
+
+fn to_loads((mass, spring_rate, preload, segment_loads): (f64, f64, f64, Vec<f64>)) -> Loads {
+    Loads {
+        mass,
+        spring_rate,
+        preload,
+        segment_loads,
+    }
+}
+
+fn to_contact([width, fe, fnu, ce, cnu]: [f64; 5]) -> Contact {
+    Contact {
+        width,
+        follower_modulus: fe,
+        follower_poisson: fnu,
+        cam_modulus: ce,
+        cam_poisson: cnu,
     }
 }

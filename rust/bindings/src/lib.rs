@@ -42,10 +42,13 @@ mod _core {
         m.add("PRESS_STATUS", PyTuple::new(m.py(), status)?)?;
         m.add("RAD_PER_S_PER_RPM", units::RAD_PER_S_PER_RPM)?;
         m.add("DEG_PER_S_PER_RPM", units::DEG_PER_S_PER_RPM)?;
+        m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
+        m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         Ok(())
     }
 
     use super::*;
+    use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
     use cyclomech_core::motion::NAMES as LAW_NAMES;
     use cyclomech_core::press::Status;
     use cyclomech_core::units;

@@ -395,6 +395,16 @@ impl Cam {
         &self.program
     }
 
+    /// The follower.
+    pub fn follower(&self) -> Follower {
+        self.follower
+    }
+
+    /// Whether the cam is grooved (form closure).
+    pub fn groove(&self) -> bool {
+        self.groove
+    }
+
     /// The initial arm angle ψ0 [rad] of an oscillating follower (else `None`).
     pub fn initial_arm_angle(&self) -> Option<f64> {
         match self.follower {
@@ -406,18 +416,38 @@ impl Cam {
     /// One row of [`COLUMNS`] at cam angle θ [rad].
     #[inline]
     pub fn row(&self, theta: f64, out: &mut [f64]) {
-        let cols = self.lanes(&[theta]);
+        self.row_at(theta, self.program.eval(theta), out)
+    }
+
+    /// One row of [`COLUMNS`] at cam angle θ [rad] for the displacement and its
+    /// derivatives `sv` = [s, s′, s″, s‴] (the program's at θ, or a bound
+    /// search's trial segment).
+    #[inline]
+    pub fn row_at(&self, theta: f64, sv: [f64; 4], out: &mut [f64]) {
+        let cols = self.geometry(&[theta], sv.map(|v| [v]));
         for (o, c) in out[..N_COLUMNS].iter_mut().zip(cols) {
             *o = c[0];
         }
     }
 
-    /// The rows of `L` cam angles θ [rad], column by column: every step a loop
-    /// across lanes without branches, so that [`Cam::solve_into`] (compiled per
-    /// instruction set) runs several angles per instruction. [`Cam::row`] is its
-    /// one-lane case: every path gives the same values.
+    /// The rows of `L` cam angles θ [rad], column by column (see
+    /// [`Cam::geometry`]).
     #[inline(always)]
     fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
+        self.geometry(theta, self.program.eval_lanes(theta))
+    }
+
+    /// The rows of `L` cam angles θ [rad] for their [s, s′, s″, s‴] lanes `sv`,
+    /// column by column: every step a loop across lanes without branches, so
+    /// that [`Cam::solve_into`] (compiled per instruction set) runs several
+    /// angles per instruction. [`Cam::row_at`] is its one-lane case: every path
+    /// gives the same values.
+    #[inline(always)]
+    fn geometry<const L: usize>(
+        &self,
+        theta: &[f64; L],
+        sv: [[f64; L]; 4],
+    ) -> [[f64; L]; N_COLUMNS] {
         // `each!(i => e)`: the lanes [e(0), …, e(L − 1)] by a plain loop (a
         // closure the compiler kept out of line would lose the instruction set).
         macro_rules! each {
@@ -429,7 +459,7 @@ impl Cam {
                 a
             }};
         }
-        let [s, ds, dds, ddds] = self.program.eval_lanes(theta);
+        let [s, ds, dds, ddds] = sv;
         let st = self.start;
         let (zero, one) = ([0.0; L], [1.0; L]);
         // Fixed frame: roller centre (or flat-face trace point) C, C', C'', and

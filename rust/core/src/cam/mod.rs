@@ -10,13 +10,21 @@
 //! Every derivative comes from the laws' closed forms by the chain rule: no
 //! finite differences.
 //!
-//! Files: `program` (segments, the displacement s(θ) and its derivatives) and
-//! `follower` (pitch curve, profile, pressure angle, curvature, undercut).
+//! Files: `program` (segments, the displacement s(θ) and its derivatives),
+//! `follower` (pitch curve, profile, pressure angle, curvature, undercut),
+//! `contact` (forces, Hertz stress, shaft torque, jump), `bounds` (the smallest
+//! phase angle per criterion) and `search` (the bracketed searches they use).
 
+mod bounds;
+mod contact;
 mod follower;
 mod program;
+mod search;
+mod stress;
 #[cfg(test)]
 mod tests;
 
+pub use bounds::{last_crossing, Limits, CRITERIA};
+pub use contact::{Contact, Loads, LOAD_COLUMNS, N_LOAD_COLUMNS};
 pub use follower::{Cam, Follower, COLUMNS, N_COLUMNS};
 pub use program::{CamError, Kind, Program, SegmentSpec};

@@ -41,6 +41,12 @@ pub enum CamError {
         value: f64,
         why: String,
     },
+    #[error("{field} = {value} {why}")]
+    BadValue {
+        field: &'static str,
+        value: f64,
+        why: String,
+    },
     #[error("{field}[{index}] = {value} is not finite")]
     NotFinite {
         field: &'static str,
@@ -254,6 +260,51 @@ impl Program {
                 }
                 out
             }
+        }
+    }
+
+    /// The number of segments.
+    pub fn len(&self) -> usize {
+        self.segs.len()
+    }
+
+    /// Whether the program has no segment (never: [`Program::new`] refuses that).
+    pub fn is_empty(&self) -> bool {
+        self.segs.is_empty()
+    }
+
+    /// The index of the segment holding cam angle θ [rad] (modulo 2π; a
+    /// boundary belongs to the segment it starts).
+    pub fn segment_at(&self, theta: f64) -> usize {
+        let t = theta.rem_euclid(TAU);
+        let mut k = 0;
+        while k + 1 < self.segs.len() && self.segs[k + 1].start <= t {
+            k += 1;
+        }
+        k
+    }
+
+    /// Segment `k`: (start angle [rad], angle [rad], displacement at its start,
+    /// signed stroke: + rise, − return, 0 dwell).
+    pub fn segment(&self, k: usize) -> (f64, f64, f64, f64) {
+        let g = &self.segs[k];
+        (g.start, g.angle, g.s0, g.h)
+    }
+
+    /// [s, s′, s″, s‴] of segment `k` at the fraction `x` ∈ [0, 1] of its
+    /// angle, were its angle `beta` [rad] instead of its own (a bound search's
+    /// trial: the segment's start displacement and stroke are kept).
+    #[inline]
+    pub fn trial(&self, k: usize, x: f64, beta: f64) -> [f64; 4] {
+        let g = &self.segs[k];
+        match &g.law {
+            None => [g.s0, 0.0, 0.0, 0.0],
+            Some(law) => [
+                g.s0 + g.h * law.z(x, 0),
+                g.h * law.z(x, 1) / beta,
+                g.h * law.z(x, 2) / (beta * beta),
+                g.h * law.z(x, 3) / (beta * beta * beta),
+            ],
         }
     }
 }

@@ -1,0 +1,288 @@
+"""A cam design as a file describes it: `_design` part of :mod:`cyclomech.cam`.
+
+One table (``[cam]`` of a cam file, or ``[mechanism.<name>]`` with
+``kind = "cam"`` in a machine file) and its ``segment`` array of tables. Units are in
+the key names: a translating or flat-faced follower's strokes, loads and rates are
+in m and N (``stroke_m``, ``mass_kg``, ``spring_rate_n_per_m``, ``preload_n``,
+``load_n``, ``max_vibration_m``); an oscillating follower's in degrees of arm
+rotation and N·m (``stroke_deg``, ``inertia_kg_m2``, ``spring_rate_nm_per_rad``,
+``preload_nm``, ``load_nm``, ``max_vibration_deg``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .. import _toml
+from .._errors import InputError
+from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
+from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
+from ._program import Cam, Segment
+
+__all__ = ["CAM_KEYS", "SEGMENT_KEYS", "CamDesign"]
+
+_GEOMETRY = {
+    "translating": ("base_radius_m", "roller_radius_m", "offset_m"),
+    "flat": ("base_radius_m",),
+    "oscillating": ("pivot_distance_m", "arm_length_m", "base_radius_m", "roller_radius_m"),
+}
+_TRANSLATING = {
+    "mass": "mass_kg",
+    "spring": "spring_rate_n_per_m",
+    "preload": "preload_n",
+    "stroke": "stroke_m",
+    "load": "load_n",
+    "vibration": "max_vibration_m",
+}
+_OSCILLATING = {
+    "mass": "inertia_kg_m2",
+    "spring": "spring_rate_nm_per_rad",
+    "preload": "preload_nm",
+    "stroke": "stroke_deg",
+    "load": "load_nm",
+    "vibration": "max_vibration_deg",
+}
+_CONTACT = ("width_m", "follower_modulus_pa", "follower_poisson", "cam_modulus_pa", "cam_poisson")
+#: The keys of a cam table (besides a machine's ``kind``; ``name`` and
+#: ``rpm`` in a cam file).
+CAM_KEYS = frozenset(
+    {"follower", "closure", "segment", "max_stress_pa", "max_pressure_angle_deg"}
+    | {k for keys in _GEOMETRY.values() for k in keys}
+    | set(_TRANSLATING.values()) - {"stroke_m", "load_n"}
+    | set(_OSCILLATING.values()) - {"stroke_deg", "load_nm"}
+    | set(_CONTACT)
+    | {"natural_frequency_hz", "damping_ratio"}
+)
+#: The keys of one ``segment`` table (``arc`` only in a machine file).
+SEGMENT_KEYS = frozenset(
+    {"kind", "angle_deg", "stroke_m", "stroke_deg", "law", "load_n", "load_nm"}
+)
+
+
+@dataclass(frozen=True)
+class CamDesign:
+    """A cam with what its bounds need: the :class:`Cam`, the follower's
+    :class:`FollowerLoads` (None without a mass), the :class:`Contact` (None without
+    a width), [σ_H] ``max_stress`` [Pa] (None: not checked), [α]
+    ``max_pressure_angle_deg`` [deg], the follower's vibration data
+    ``vibration`` = (natural frequency [Hz], damping ratio, amplitude limit [m or
+    rad]) or None, and ``arcs``: for each segment the cyclogram operation it is
+    bound to (``None`` where it is free).
+
+    >>> import cyclomech as cm
+    >>> d = cm.cam.CamDesign.from_table({"follower": "translating", "base_radius_m": 0.05,
+    ...     "roller_radius_m": 0.01, "segment": [
+    ...         {"kind": "rise", "angle_deg": 180, "stroke_m": 0.02},
+    ...         {"kind": "return", "angle_deg": 180, "stroke_m": 0.02}]}, "[cam]")
+    >>> d.max_pressure_angle_deg, d.loads is None
+    (30.0, True)
+    """
+
+    cam: Cam
+    loads: FollowerLoads | None
+    contact: Contact | None
+    max_stress: float | None
+    max_pressure_angle_deg: float
+    vibration: tuple[float, float, float] | None
+    arcs: tuple[tuple[str, str] | None, ...]
+
+    @classmethod
+    def from_table(
+        cls,
+        table: Mapping[str, Any],
+        where: str,
+        *,
+        source: str | None = None,
+        extra: frozenset[str] = frozenset(),
+        arcs: bool = False,
+    ) -> CamDesign:
+        """Parse a cam table (see the module's units); ``where`` names it in
+        errors ("file.toml: [cam]"), ``extra`` are keys the caller reads itself,
+        ``arcs`` allows ``arc = [from, to]`` in segments (a machine file).
+
+        >>> CamDesign.from_table({"follower": "disc", "segment": []}, "[cam]")
+        ... # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        cyclomech._errors.InputError: [cam]: follower = 'disc' must be one of 'translating', ...
+        """
+        _toml.check_keys(table, CAM_KEYS | extra, source, where)
+        at = where if source is None else f"{source}: {where}"
+        _toml.require(table, ("follower", "segment"), at)
+        kind = table["follower"]
+        if kind not in _GEOMETRY:
+            options = ", ".join(repr(k) for k in _GEOMETRY)
+            raise InputError(f"{at}: follower = {kind!r} must be one of {options}")
+        units = _OSCILLATING if kind == "oscillating" else _TRANSLATING
+        wrong = set(_OSCILLATING.values() if kind != "oscillating" else _TRANSLATING.values())
+        stray = sorted(k for k in table if k in wrong)
+        if stray:
+            raise InputError(
+                f"{at}: {stray[0]} is for the other kind of follower; a {kind} follower "
+                f"takes {', '.join(units.values())}"
+            )
+        geometry = [k for k in _GEOMETRY[kind] if k != "offset_m"]
+        _toml.require(table, geometry, at)
+        g = {k: _toml.number(table, k, at, "[m]") for k in _GEOMETRY[kind] if k in table}
+        closure = table.get("closure", "spring")
+        try:
+            follower: Any
+            if kind == "translating":
+                follower = TranslatingRoller(
+                    g["base_radius_m"], g["roller_radius_m"], g.get("offset_m", 0.0)
+                )
+            elif kind == "flat":
+                follower = FlatFaced(g["base_radius_m"])
+            else:
+                follower = OscillatingRoller(
+                    g["pivot_distance_m"],
+                    g["arm_length_m"],
+                    g["base_radius_m"],
+                    g["roller_radius_m"],
+                )
+            segments, bound = _segments(table["segment"], at, units, arcs)
+            cam = Cam(segments, follower, closure)
+        except InputError as e:
+            raise InputError(f"{at}: {e}") from None
+        loads = None
+        if units["mass"] in table:
+            try:
+                loads = FollowerLoads(
+                    _toml.number(table, units["mass"], at, "[kg]"),
+                    table.get(units["spring"], 0.0),
+                    table.get(units["preload"], 0.0),
+                    tuple(
+                        _toml.number(row, units["load"], f"{at} segment {i}", "")
+                        if units["load"] in row
+                        else 0.0
+                        for i, row in enumerate(table["segment"])
+                    ),
+                )
+            except InputError as e:
+                raise InputError(f"{at}: {e}") from None
+        contact = None
+        if "width_m" in table:
+            c = {k: table[k] for k in _CONTACT if k in table}
+            try:
+                contact = Contact(
+                    c["width_m"],
+                    c.get("follower_modulus_pa", 2.1e11),
+                    c.get("follower_poisson", 0.3),
+                    c.get("cam_modulus_pa", 2.1e11),
+                    c.get("cam_poisson", 0.3),
+                )
+            except InputError as e:
+                raise InputError(f"{at}: {e}") from None
+        max_stress = _toml.optional_positive(table, "max_stress_pa", at, "[Pa]")
+        if max_stress is not None and (loads is None or contact is None):
+            raise InputError(
+                f"{at}: max_stress_pa needs the follower's {units['mass']} and the contact's "
+                "width_m (and the moduli, steel by default)"
+            )
+        alpha = default_pressure_angle_deg(follower)
+        if "max_pressure_angle_deg" in table:
+            alpha = _toml.number(table, "max_pressure_angle_deg", at, "[deg]")
+            if not 0 < alpha < 90:
+                raise InputError(f"{at}: max_pressure_angle_deg = {alpha!r} must be in (0, 90)")
+        vibration = _vibration(table, at, units["vibration"], kind == "oscillating")
+        return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> tuple[str, float | None, CamDesign]:
+        """A cam file: its ``[cam]`` table, with an optional ``name`` and the
+        speed ``rpm`` [rpm] of its loads; returns (name, rpm, design).
+
+        >>> import cyclomech as cm
+        >>> name, rpm, d = cm.cam.CamDesign.from_toml("examples/lifter_cam.toml")
+        >>> name, rpm, len(d.cam.segments)
+        ('loom lifter cam', 300.0, 4)
+        """
+        data, source = _toml.load(path)
+        _toml.check_keys(data, {"cam"}, source, "the top level")
+        _toml.require(data, ("cam",), source)
+        table = data["cam"]
+        if not isinstance(table, dict):
+            raise InputError(f"{source}: [cam] must be a table")
+        name = table.get("name", Path(str(path)).stem)
+        if not isinstance(name, str):
+            raise InputError(f"{source}: [cam]: name = {name!r} must be a string")
+        rpm = _toml.optional_positive(table, "rpm", f"{source}: [cam]", "[rpm]")
+        design = cls.from_table(table, "[cam]", source=source, extra=frozenset({"name", "rpm"}))
+        return name, rpm, design
+
+    def min_phase_angles(
+        self, rpm: Any, *, segments: Any = None, n_threads: int | None = None
+    ) -> MinPhaseAngles:
+        """:meth:`Cam.min_phase_angles` of its rises and returns (or of the
+        indices ``segments``) with its loads, contact and limits, at the speeds
+        ``rpm`` [rpm].
+
+        >>> import cyclomech as cm
+        >>> _, _, d = cm.cam.CamDesign.from_toml("examples/lifter_cam.toml")
+        >>> d.min_phase_angles([300.0]).angle_deg.shape
+        (1, 2, 4)
+        """
+        return self.cam.min_phase_angles(
+            rpm,
+            loads=self.loads,
+            contact=self.contact,
+            max_stress=self.max_stress,
+            max_pressure_angle_deg=self.max_pressure_angle_deg,
+            segments=segments,
+            n_threads=n_threads,
+        )
+
+
+def _segments(
+    rows: Any, at: str, units: Mapping[str, str], arcs: bool
+) -> tuple[list[Segment], tuple[tuple[str, str] | None, ...]]:
+    if not isinstance(rows, list) or not rows or not all(isinstance(r, dict) for r in rows):
+        raise InputError("segment must be an array of tables [[...segment]] with at least one")
+    allowed = set(SEGMENT_KEYS) | ({"arc"} if arcs else set())
+    stroke_key, load_key = units["stroke"], units["load"]
+    other = {"stroke_m", "stroke_deg", "load_n", "load_nm"} - {stroke_key, load_key}
+    segs, bound = [], []
+    for i, row in enumerate(rows):
+        where = f"segment {i}"
+        _toml.check_keys(row, allowed - other, None, where)
+        _toml.require(row, ("kind", "angle_deg"), where)
+        stroke = _toml.number(row, stroke_key, where, "") if stroke_key in row else 0.0
+        if stroke_key == "stroke_deg":
+            stroke = math.radians(stroke)
+        law = row.get("law", "cycloidal")
+        segs.append(
+            Segment(row["kind"], _toml.number(row, "angle_deg", where, "[deg]"), stroke, law)
+        )
+        arc = row.get("arc")
+        if arc is not None and not (
+            isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)
+        ):
+            raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+        if arc is not None and row["kind"] == "dwell":
+            raise InputError(f"{where}: a dwell has no phase-angle bound; arc = {arc!r}")
+        bound.append(None if arc is None else (arc[0], arc[1]))
+    return segs, tuple(bound)
+
+
+def _vibration(
+    table: Mapping[str, Any], at: str, key: str, angular: bool
+) -> tuple[float, float, float] | None:
+    keys = ("natural_frequency_hz", key)
+    given = [k for k in keys if k in table]
+    if not given:
+        if "damping_ratio" in table:
+            raise InputError(f"{at}: damping_ratio needs natural_frequency_hz and {key}")
+        return None
+    if len(given) == 1:
+        missing = next(k for k in keys if k not in table)
+        raise InputError(f"{at}: {given[0]} needs {missing} too (the follower's vibration)")
+    f = _toml.optional_positive(table, "natural_frequency_hz", at, "[Hz]")
+    a = _toml.optional_positive(table, key, at, "[deg]" if angular else "[m]")
+    zeta = _toml.number(table, "damping_ratio", at, "") if "damping_ratio" in table else 0.0
+    if not 0.0 <= zeta < 1.0:
+        raise InputError(f"{at}: damping_ratio = {zeta!r} must be in [0, 1)")
+    assert f is not None and a is not None
+    return f, zeta, math.radians(a) if angular else a

@@ -1,0 +1,245 @@
+"""The cam's profile for a machinist: `_export` part of :mod:`cyclomech.cam` (its door).
+
+:func:`profile_table` samples the exact profile (:meth:`Cam.solve`) at evenly spaced
+cam angles; :func:`write_profile_csv` writes that table, lengths in **metres** (the
+house's SI units, the column names carry them); :func:`write_profile_dxf` writes the
+drawing a CAM program reads, lengths in **millimetres** ($INSUNITS = 4), with
+`ezdxf <https://ezdxf.mozman.at>`_ (an optional dependency:
+``pip install 'cyclomech[dxf]'``).
+
+The DXF profile is a closed LWPOLYLINE through the sampled points, not a fit-point
+SPLINE: its vertices are the exact profile points and what lies between them is a
+chord, whose distance from the true curve (the chordal error h²/(8ρ) for a chord h
+on a radius of curvature ρ) the table bounds and a warning reports; a fit-point
+spline's curve between the points depends on how the reading program computes its
+end tangents and knots, which the file does not pin down. Polylines are what CNC
+post-processors cut from; more samples make the error as small as needed.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._arrays import count
+from .._errors import CyclomechError, CyclomechWarning, InputError
+from ._followers import OscillatingRoller
+
+if TYPE_CHECKING:
+    from ._program import Cam
+
+__all__ = [
+    "CHORDAL_TOLERANCE_MM",
+    "DxfUnavailableError",
+    "profile_table",
+    "write_profile_csv",
+    "write_profile_dxf",
+]
+
+#: The chordal error [mm] above which :func:`profile_table` warns.
+CHORDAL_TOLERANCE_MM = 1e-3
+#: The DXF's layers: what lies on each.
+LAYERS = {
+    "PROFILE": "the cam profile (the inner flank of a groove)",
+    "GROOVE_OUTER": "the outer flank of a groove",
+    "PITCH": "the pitch curve (the roller centre's path)",
+    "BASE": "the base circle",
+    "CENTRE": "the cam centre (a POINT)",
+}
+_MM = 1000.0
+
+
+class DxfUnavailableError(CyclomechError, ImportError):
+    """The DXF writer needs ezdxf, which is not installed (a
+    :class:`cyclomech.CyclomechError`, so a ``ValueError``, and an ``ImportError``).
+
+    >>> issubclass(DxfUnavailableError, ValueError), issubclass(DxfUnavailableError, ImportError)
+    (True, True)
+    """
+
+
+def _samples(samples: Any) -> int:
+    return count("samples", samples, low=3, what="cam angles over one turn")
+
+
+def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
+    """The cam's exact geometry at ``samples`` (≥ 3) evenly spaced cam angles
+    over one turn, θ = 0, 360°/samples, … (the last is not 360°: the curves are
+    closed), one Rust call. Columns, lengths in **m** (the names carry the units):
+
+    * ``theta_deg`` [deg]; ``s_m`` (``s_rad`` for an oscillating follower) the
+      follower displacement;
+    * ``pitch_x_m``, ``pitch_y_m``: the pitch curve; ``profile_x_m``,
+      ``profile_y_m``: the profile (a groove's inner flank); ``outer_x_m``,
+      ``outer_y_m``: a groove's outer flank (groove closure only);
+    * ``pressure_angle_deg`` [deg], signed;
+    * ``pitch_radius_m``, ``profile_radius_m``: the signed radii of curvature
+      (+ convex, − concave, inf straight), the profile's of the inner flank;
+    * ``chordal_error_m``: the distance from the chord to the next point to the
+      curve, h²/(8ρ) with ρ the smaller |radius| at its ends (the largest of the
+      flanks; 0 where straight, NaN at an undercut point);
+    * ``undercut``: bool.
+
+    If the chordal error exceeds :data:`CHORDAL_TOLERANCE_MM` (1e-3 mm) anywhere
+    away from an undercut, a :class:`cyclomech.CyclomechWarning` says where and how
+    many samples would do.
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
+    ...                  cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> t = cm.cam.profile_table(cam, 720)
+    >>> t["theta_deg"][:3].tolist(), round(float(t["profile_y_m"][0]), 12)
+    ([0.0, 0.5, 1.0], 0.05)
+    """
+    n = _samples(samples)
+    deg = np.arange(n) * (360.0 / n)
+    k = cam.solve(np.radians(deg))
+    angular = isinstance(cam.follower, OscillatingRoller)
+    table: dict[str, npt.NDArray[Any]] = {
+        "theta_deg": deg,
+        "s_rad" if angular else "s_m": k.s.copy(),
+        "pitch_x_m": k.pitch[:, 0].copy(),
+        "pitch_y_m": k.pitch[:, 1].copy(),
+        "profile_x_m": k.profile[:, 0].copy(),
+        "profile_y_m": k.profile[:, 1].copy(),
+    }
+    if k.profile_outer is not None:
+        table["outer_x_m"] = k.profile_outer[:, 0].copy()
+        table["outer_y_m"] = k.profile_outer[:, 1].copy()
+    table["pressure_angle_deg"] = np.degrees(k.pressure_angle)
+    table["pitch_radius_m"] = k.pitch_radius_of_curvature.copy()
+    table["profile_radius_m"] = k.profile_radius_of_curvature.copy()
+    table["chordal_error_m"] = _chordal_error(cam, k)
+    table["undercut"] = k.undercut.copy()
+    _warn_chordal(table, n)
+    return table
+
+
+def _chordal_error(cam: Cam, k: Any) -> npt.NDArray[np.float64]:
+    """Per chord (point i to i+1, the last back to the first): h²/(8ρ) on each
+    flank, the larger; ρ the smaller |radius| at the chord's ends. A groove's
+    outer flank is the pitch curve offset outward by the roller radius: its
+    radius of curvature is ρ_pitch + r_r."""
+    flanks = [(k.profile, np.abs(k.profile_radius_of_curvature))]
+    if k.profile_outer is not None:
+        rr = float(getattr(cam.follower, "roller_radius", 0.0))
+        flanks.append((k.profile_outer, np.abs(k.pitch_radius_of_curvature + rr)))
+    err = np.zeros(len(k.s))
+    for pts, rho in flanks:
+        h = np.hypot(*(np.roll(pts, -1, axis=0) - pts).T)
+        r = np.minimum(rho, np.roll(rho, -1))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            e = np.where(np.isinf(r), 0.0, h * h / (8.0 * r))
+        err = np.maximum(err, e)
+    bad = k.undercut | np.roll(k.undercut, -1)
+    return np.where(bad, np.nan, err)
+
+
+def _warn_chordal(table: dict[str, npt.NDArray[Any]], n: int) -> None:
+    err = table["chordal_error_m"] * _MM
+    if not np.isfinite(err).any():
+        return
+    i = int(np.nanargmax(err))
+    worst = float(err[i])
+    if worst <= CHORDAL_TOLERANCE_MM:
+        return
+    # The error falls as 1/samples²: this many would do (with a margin of 5 %).
+    need = math.ceil(n * math.sqrt(worst / CHORDAL_TOLERANCE_MM) * 1.05)
+    warnings.warn(
+        f"samples = {n} leaves a chordal error of {worst:.3g} mm (> {CHORDAL_TOLERANCE_MM:g} mm) "
+        f"at θ = {table['theta_deg'][i]:.4g}°; samples ≥ {need} would keep it within",
+        CyclomechWarning,
+        stacklevel=3,
+    )
+
+
+def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
+    """Write :func:`profile_table` to ``path`` as CSV: one header line of the
+    column names with their units (lengths in m, angles in deg, ``undercut`` 0 or
+    1), one row per cam angle, 17 significant digits (a float64 round trips).
+    Returns the path.
+
+    >>> import tempfile, pathlib, numpy as np, cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
+    ...                  cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> p = cm.cam.write_profile_csv(cam, pathlib.Path(tempfile.mkdtemp()) / "p.csv", 720)
+    >>> p.read_text().splitlines()[0][:42]
+    'theta_deg,s_m,pitch_x_m,pitch_y_m,profile_'
+    """
+    table = profile_table(cam, samples)
+    p = Path(path)
+    cols = [v.astype(np.float64) for v in table.values()]
+    fmt = ["%.17g"] * (len(cols) - 1) + ["%d"]
+    try:
+        np.savetxt(
+            p,
+            np.column_stack(cols),
+            delimiter=",",
+            comments="",
+            header=",".join(table),
+            fmt=fmt,
+        )
+    except OSError as e:
+        raise InputError(f"{p}: cannot write the profile: {e.strerror or e}") from None
+    return p
+
+
+def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
+    """Write the cam as a DXF drawing (R2013) to ``path``, lengths in **mm**
+    ($INSUNITS = 4, $MEASUREMENT metric), the cam centre at the origin in the cam
+    frame of :mod:`cyclomech.cam`: the profile as a closed LWPOLYLINE of
+    ``samples`` vertices on layer PROFILE (a groove's inner flank), a groove's
+    outer flank on GROOVE_OUTER, the pitch curve on PITCH, the base circle (a
+    CIRCLE) on BASE and the centre (a POINT) on CENTRE. Why a polyline and not a
+    spline, and the chordal-error warning: see :mod:`cyclomech.cam._export` and
+    :func:`profile_table`. Needs ezdxf (``pip install 'cyclomech[dxf]'``); without
+    it :class:`DxfUnavailableError`, before the file is touched. Returns the path.
+
+    >>> import tempfile, pathlib, cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
+    ...                  cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> p = cm.cam.write_profile_dxf(cam, pathlib.Path(tempfile.mkdtemp()) / "cam.dxf", 720)
+    >>> import ezdxf
+    >>> doc = ezdxf.readfile(p)
+    >>> doc.header["$INSUNITS"], len(doc.modelspace().query("LWPOLYLINE[layer=='PROFILE']")[0])
+    (4, 720)
+    """
+    try:
+        import ezdxf
+    except ImportError:
+        raise DxfUnavailableError(
+            "write_profile_dxf needs ezdxf, which is not installed: "
+            "pip install 'cyclomech[dxf]' (or pip install ezdxf)"
+        ) from None
+    table = profile_table(cam, samples)
+    doc = ezdxf.new("R2013", setup=False)
+    doc.header["$INSUNITS"] = 4  # millimetres
+    doc.header["$MEASUREMENT"] = 1  # metric
+    for name, what in LAYERS.items():
+        doc.layers.add(name).description = what
+    msp = doc.modelspace()
+
+    def polyline(x: str, y: str, layer: str) -> None:
+        pts = np.column_stack([table[x], table[y]]) * _MM
+        msp.add_lwpolyline(pts.tolist(), format="xy", close=True, dxfattribs={"layer": layer})
+
+    polyline("profile_x_m", "profile_y_m", "PROFILE")
+    if "outer_x_m" in table:
+        polyline("outer_x_m", "outer_y_m", "GROOVE_OUTER")
+    polyline("pitch_x_m", "pitch_y_m", "PITCH")
+    msp.add_circle((0.0, 0.0), cam.follower.base_radius * _MM, dxfattribs={"layer": "BASE"})
+    msp.add_point((0.0, 0.0), dxfattribs={"layer": "CENTRE"})
+    p = Path(path)
+    try:
+        doc.saveas(p)
+    except OSError as e:
+        raise InputError(f"{p}: cannot write the DXF: {e.strerror or e}") from None
+    return p

@@ -1,0 +1,465 @@
+"""The ``cam`` mechanism kind of a machine file: a disc cam on the main shaft (one
+turn per cycle) whose rises and returns are bound to cyclogram operations, each
+bound by its criteria (seed 000: σ_max(t) ≤ [σ_H] and a(t) ≤ [a] turned into lower
+bounds on the phase angle; the pressure angle, undercut and jump besides)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from .._errors import InputError
+from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
+from ..cyclogram import Arc, Constraint
+from ._design import CAM_KEYS, CamDesign
+from ._loads import CRITERIA
+from ._program import Cam
+
+__all__ = ["CamMechanism", "CamResult"]
+
+#: How each criterion reads in labels and reasons.
+WORDS = {
+    "pressure_angle": "pressure angle",
+    "undercut": "undercut",
+    "jump": "jump",
+    "contact_stress": "σ_H",
+}
+
+
+@dataclass(frozen=True)
+class _Constant:
+    """A bound law that does not depend on the speed (a pressure angle, undercut)."""
+
+    value: float
+
+    def __call__(self, rpm: Array) -> Array:
+        return np.full(np.shape(rpm), self.value)
+
+
+@dataclass(frozen=True)
+class _PerSpeed:
+    """A bound law solved at each speed (the Hertz stress): one Rust call per call."""
+
+    design: CamDesign
+    segment: int
+    column: int
+
+    def __call__(self, rpm: Array) -> Array:
+        m = self.design.min_phase_angles(rpm, segments=[self.segment])
+        return m.angle_deg[:, 0, self.column]
+
+
+@dataclass(frozen=True)
+class CamMechanism:
+    """A cam of the machine: its :class:`CamDesign` and, for each bound, the
+    segment and criterion (``criteria``, in the order of :meth:`bounds`). A bound
+    is labelled ``<criterion>[<name> <kind> <from>→<to>]`` in the optimum's shadow
+    prices and the speed limit's reason.
+
+    >>> import cyclomech as cm
+    >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+    >>> cam.kind, [b.label for b in cam.bounds()][:2]
+    ('cam', ['pressure angle[lifter cam rise 1→3]', 'undercut[lifter cam rise 1→3]'])
+    """
+
+    kind: ClassVar[str] = "cam"
+    keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind"})
+    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "follower", "closure", "segment"})
+    json_groups: ClassVar[tuple[str, ...]] = ("cams",)
+    sweep_columns: ClassVar[tuple[str, ...]] = ()
+    name: str
+    design: CamDesign
+    criteria: tuple[tuple[int, str], ...]
+
+    @classmethod
+    def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamMechanism:
+        """Its ``[mechanism.<name>]`` table: a cam table (:class:`CamDesign`, units
+        in the key names) whose segments may carry ``arc = [from, to]``, an
+        operation of the cyclogram (one turn of the cam is one cycle).
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
+        >>> [c for c in m.mechanisms["lifter cam"].criteria if c[0] == 0]
+        [(0, 'pressure_angle'), (0, 'undercut'), (0, 'contact_stress')]
+        """
+        where = f"[mechanism.{name}]"
+        design = CamDesign.from_table(
+            table, where, source=ctx.source, extra=frozenset({"kind"}), arcs=True
+        )
+        at = ctx.where(name)
+        if not math.isclose(ctx.cyclogram.cycle_deg, 360.0):
+            raise InputError(
+                f"{at}: a cam turns once per cycle, so the cyclogram's cycle_deg must be 360; "
+                f"it is {ctx.cyclogram.cycle_deg!r}"
+            )
+        known = [op.arc for op in ctx.cyclogram.operations]
+        seen: set[Arc] = set()
+        for i, arc in enumerate(design.arcs):
+            if arc is None:
+                continue
+            if arc not in known:
+                listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
+                raise InputError(
+                    f"{at} segment {i}: arc = {list(arc)!r} is not an operation of the "
+                    f"cyclogram; the operations are {listing}"
+                )
+            if arc in seen:
+                raise InputError(f"{at} segment {i}: arc = {list(arc)!r} is bound twice")
+            seen.add(arc)
+        return cls(name, design, _criteria(design))
+
+    # ------------------------------------------------------------- its bounds
+    def _arc(self, k: int) -> Arc:
+        arc = self.design.arcs[k]
+        assert arc is not None
+        return arc
+
+    def _where(self, k: int) -> str:
+        a = self._arc(k)
+        return f"{self.name} {self.design.cam.segments[k].kind} {a[0]}→{a[1]}"
+
+    def bounds(self) -> tuple[Bound, ...]:
+        """One bound per (bound segment, criterion that applies to it).
+
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> cam.bounds()[2].arc, cam.bounds()[2].label
+        (('1', '3'), 'σ_H[lifter cam rise 1→3]')
+        """
+        out = []
+        for k, c in self.criteria:
+            label = f"{WORDS[c]}[{self._where(k)}]"
+            out.append(Bound(self._arc(k), label, label))
+        return tuple(out)
+
+    def laws(self) -> list[BoundLaw]:
+        """Each bound's smallest angle [deg] against speed [rpm]: constant for the
+        pressure angle and undercut, proportional for jump (exact), solved per
+        speed for the stress.
+
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> [round(float(law(np.array([300.0]))[0]), 3) for law in cam.laws()][:3]
+        [25.459, 27.058, 20.608]
+        """
+        segs = sorted({k for k, _ in self.criteria})
+        base = self.design.min_phase_angles([1.0], segments=segs).angle_deg[0]
+        out: list[BoundLaw] = []
+        for k, c in self.criteria:
+            j, col = segs.index(k), CRITERIA.index(c)
+            v = float(base[j, col])
+            if c == "jump":
+                out.append(Proportional(math.inf if math.isnan(v) else v))
+            elif c == "contact_stress":
+                out.append(_PerSpeed(self.design, k, col))
+            else:
+                out.append(_Constant(v))
+        return out
+
+    def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
+        """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound (exact:
+        a cam has no linearised form).
+
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> cam.constraints(300.0)[2].describe()
+        '1·t(1,3) >= 20.6084'
+        """
+        n = np.array([float(rpm)])
+        return tuple(
+            Constraint(((b.arc, 1.0),), ">=", float(law(n)[0]), b.label)
+            for b, law in zip(self.bounds(), self.laws(), strict=True)
+        )
+
+    @classmethod
+    def bound_laws(
+        cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
+    ) -> list[list[BoundLaw]]:
+        """:meth:`laws` of each cam (``linear`` has no meaning for a cam: exact).
+
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> len(CamMechanism.bound_laws([cam])[0]) == len(cam.bounds())
+        True
+        """
+        return [m.laws() for m in mechanisms]
+
+    @classmethod
+    def sweep_values(
+        cls,
+        mechanisms: Sequence[Any],
+        rpm: Array,
+        angle_deg: Sequence[Array],
+        fits: npt.NDArray[np.bool_],
+        *,
+        n_threads: int | None = None,
+    ) -> dict[str, Array]:
+        """Nothing: the sweep's ``min_phase_deg`` columns already hold its bounds.
+
+        >>> CamMechanism.sweep_values([], np.zeros((0, 1)), [], np.zeros(0, bool))
+        {}
+        """
+        return {}
+
+    def speed_limit_rpm(self) -> float:
+        """A cam limits the speed through the cyclogram's bounds only: inf.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
+        >>> m.mechanisms["lifter cam"].speed_limit_rpm()
+        inf
+        """
+        return math.inf
+
+    def limit_reason(self) -> str:
+        """ "" (:meth:`speed_limit_rpm`).
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"].limit_reason()
+        ''
+        """
+        return ""
+
+    # ------------------------------------------------------------- results
+    def laid_out(self, angles: Mapping[Arc, float]) -> tuple[Cam, str]:
+        """The cam with each bound segment at its operation's angle [deg] in
+        ``angles`` (the optimum's), the difference taken from the next dwell
+        (cyclically); the file's cam and the reason when that leaves no dwell.
+
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> c, why = cam.laid_out({("1", "3"): 60.0})
+        >>> c.segments[0].angle_deg, c.segments[1].angle_deg, why
+        (60.0, 120.0, '')
+        """
+        segs = list(self.design.cam.segments)
+        n = len(segs)
+        for k, arc in enumerate(self.design.arcs):
+            if arc is None or arc not in angles:
+                continue
+            delta = float(angles[arc]) - segs[k].angle_deg
+            j = next((i % n for i in range(k + 1, k + n) if segs[i % n].kind == "dwell"), None)
+            if j is None or segs[j].angle_deg - delta <= 0.0:
+                return self.design.cam, (
+                    f"segment {k} at {angles[arc]:.4g}° leaves no dwell to take up "
+                    f"{delta:+.4g}°: shown with the file's angles"
+                )
+            segs[k] = replace(segs[k], angle_deg=float(angles[arc]))
+            segs[j] = replace(segs[j], angle_deg=segs[j].angle_deg - delta)
+        try:
+            return Cam(segs, self.design.cam.follower, self.design.cam.closure), ""
+        except InputError as e:
+            return self.design.cam, f"the cam at the optimum's angles is invalid ({e})"
+
+    def analyze(self, ctx: Context) -> CamResult:
+        """Its results at the nominal speed (the cam laid out at the optimum's
+        angles) and its bounds on the speed grid.
+
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> res = r.mechanisms["lifter cam"]
+        >>> res.max_stress_pa < res.mech.design.max_stress
+        True
+        """
+        n = ctx.nominal_rpm
+        angles = {} if ctx.optimum is None else ctx.optimum.angles
+        cam, note = self.laid_out(angles)
+        d = self.design
+        theta = np.radians(np.arange(3600) * 0.1)
+        kin = cam.solve(theta)
+        loads = None if d.loads is None else cam.loads(theta, n, d.loads, d.contact)
+        stress = math.nan if loads is None or d.contact is None else np.nanmax(loads.contact_stress)
+        if loads is not None and np.isnan(loads.contact_stress).any() and d.contact is not None:
+            stress = math.inf  # an undercut profile: no Hertz contact there
+        segs = sorted({k for k, _ in self.criteria})
+        at = d.min_phase_angles([n], segments=segs) if segs else None
+        return CamResult(
+            mech=self,
+            ctx=ctx,
+            cam=cam,
+            layout_note=note,
+            max_pressure_angle_deg=float(np.degrees(np.abs(kin.pressure_angle).max())),
+            max_stress_pa=float(stress),
+            jump_rpm=math.inf if d.loads is None else cam.jump_rpm(d.loads)[0],
+            undercut_deg=cam.undercut_angles_deg(3600),
+            at_nominal=at,
+        )
+
+
+def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
+    """The (segment, criterion) pairs that bound a cam's operations."""
+    from ._followers import FlatFaced
+
+    cam = design.cam
+    flat = isinstance(cam.follower, FlatFaced)
+    knife = not isinstance(cam.follower, FlatFaced) and cam.follower.roller_radius == 0.0
+    out = []
+    for k, arc in enumerate(design.arcs):
+        if arc is None:
+            continue
+        if not flat:
+            out.append((k, "pressure_angle"))
+        if not knife:
+            out.append((k, "undercut"))
+        if cam.closure == "spring" and design.loads is not None and design.loads.mass > 0:
+            out.append((k, "jump"))
+        if design.max_stress is not None:
+            out.append((k, "contact_stress"))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class CamResult:
+    """A cam's results: the cam laid out at the optimum (``cam``; ``layout_note``
+    says why not, if not), at the nominal speed its largest pressure angle [deg],
+    Hertz stress [Pa] (inf where undercut, NaN without contact data), jump speed
+    [rpm] and undercut angle runs [deg], and its bound segments' smallest phase
+    angles there (``at_nominal``)."""
+
+    mech: CamMechanism
+    ctx: Context
+    cam: Cam
+    layout_note: str
+    max_pressure_angle_deg: float
+    max_stress_pa: float
+    jump_rpm: float
+    undercut_deg: list[tuple[float, float]]
+    at_nominal: Any
+
+    def json(self) -> dict[str, dict[str, Any]]:
+        """Its ``mechanisms`` entry and its ``cams`` entry."""
+        m, d = self.mech, self.mech.design
+        bounds = {b.label: self.ctx.bounds[b.name] for b in m.bounds()}
+        return {
+            "mechanisms": {"kind": "cam", "arcs": [list(a) for a in d.arcs if a is not None]},
+            "cams": {
+                "follower": type(d.cam.follower).__name__,
+                "closure": d.cam.closure,
+                "segment_angles_deg": [g.angle_deg for g in self.cam.segments],
+                "layout_note": self.layout_note,
+                "max_pressure_angle_deg": self.max_pressure_angle_deg,
+                "limit_pressure_angle_deg": d.max_pressure_angle_deg,
+                "max_stress_pa": self.max_stress_pa,
+                "limit_stress_pa": d.max_stress,
+                "jump_rpm": self.jump_rpm,
+                "undercut_deg": self.undercut_deg,
+                "speed_rpm": self.ctx.rpm,
+                "min_phase_deg": bounds,
+            },
+        }
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """Its report table."""
+        m, d, n = self.mech, self.mech.design, self.ctx.nominal_rpm
+        rows: list[list[Any]] = [
+            ["follower, closure", f"{type(d.cam.follower).__name__}, {d.cam.closure}"],
+            [
+                "segments at the optimum [deg]",
+                ", ".join(f"{g.kind} {g.angle_deg:.4g}" for g in self.cam.segments),
+            ],
+        ]
+        if self.layout_note:
+            rows.append(["layout", self.layout_note])
+        rows += [
+            [
+                f"largest pressure angle at {n:g} rpm [deg] (limit)",
+                f"{self.max_pressure_angle_deg:.4g} ({d.max_pressure_angle_deg:g})",
+            ],
+            [
+                f"largest Hertz stress at {n:g} rpm [MPa] (limit)",
+                f"{self.max_stress_pa / 1e6:.4g}"
+                + ("" if d.max_stress is None else f" ({d.max_stress / 1e6:g})"),
+            ],
+            ["jump speed [rpm]", self.jump_rpm],
+            ["undercut", ", ".join(f"{a:g}–{b:g}°" for a, b in self.undercut_deg) or "none"],
+        ]
+        if self.at_nominal is not None:
+            for j, k in enumerate(self.at_nominal.segments):
+                row = self.at_nominal.angle_deg[0, j]
+                text = ", ".join(
+                    f"{WORDS[c]} {row[i]:.4g}"
+                    for i, c in enumerate(CRITERIA)
+                    if (k, c) in m.criteria
+                )
+                rows.append([f"smallest angle of {m._where(k)} at {n:g} rpm [deg]", text])
+        return ["quantity", "value"], rows
+
+    def csv_columns(self) -> list[tuple[str, Array]]:
+        """Each bound's smallest phase angle on the sweep's speeds."""
+        return [(f"min_phase_deg[{b.label}]", self.ctx.bounds[b.name]) for b in self.mech.bounds()]
+
+    def prices(self) -> dict[str, float]:
+        """None beyond the optimum's own (its bounds are priced there by label)."""
+        return {}
+
+    def figures(self, save: Save) -> None:
+        """The cam, its SVAJ diagram, the stress and pressure angle along the cycle
+        and its smallest phase angles against speed."""
+        from .plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
+
+        m, d, k, n = self.mech, self.mech.design, self.mech.name, self.ctx.nominal_rpm
+        stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in k)
+        stress = d.loads is not None and d.contact is not None
+        ax = plot_cam(
+            self.cam,
+            color_by="contact_stress" if stress else "pressure_angle",
+            loads=d.loads,
+            contact=d.contact,
+            rpm=n if stress else None,
+            title=f"{k} at the optimum, {n:g} rpm",
+        )
+        save(
+            ax.figure,
+            f"{stem}_cam",
+            "The cam laid out at the optimum's angles (each bound rise or return at its "
+            "operation's angle), in its own frame: the profile coloured by "
+            + ("the Hertz stress on the loaded flank" if stress else "the pressure angle")
+            + ", the pitch curve dashed, the roller at a few cam angles."
+            + (f" {self.layout_note}." if self.layout_note else ""),
+        )
+        axes = plot_svaj(self.cam, rpm=n, title=f"{k}: displacement and its derivatives")
+        save(
+            axes[0].figure,
+            f"{stem}_svaj",
+            f"Displacement, velocity, acceleration and jerk of the follower at {n:g} rpm "
+            "over one turn of the cam (exact derivatives of the laws).",
+        )
+        if d.loads is not None:
+            axes = plot_along_cycle(
+                self.cam,
+                n,
+                d.loads,
+                d.contact,
+                max_stress=d.max_stress,
+                max_pressure_angle_deg=d.max_pressure_angle_deg,
+                title=f"{k} along the cycle at {n:g} rpm",
+            )
+            save(
+                axes[0].figure,
+                f"{stem}_along_cycle",
+                "The pressure angle, the normal force, the Hertz stress and the shaft "
+                f"torque over one turn at {n:g} rpm, limits dashed.",
+            )
+        segs = sorted({j for j, _ in m.criteria})
+        if segs:
+            mins = d.min_phase_angles(self.ctx.rpm, segments=segs)
+            labels = [m._where(j) for j in segs]
+            nominal = [self.cam.segments[j].angle_deg for j in segs]
+            ax = plot_min_phase_angles(
+                mins,
+                labels=labels,
+                nominal_deg=nominal,
+                title=f"{k}: smallest phase angles against speed",
+            )
+            save(
+                ax.figure,
+                f"{stem}_min_phase",
+                "Each bound rise or return's smallest phase angle against speed per "
+                "criterion (the bound, the largest, bold); horizontal: its angle at the "
+                "optimum.",
+            )

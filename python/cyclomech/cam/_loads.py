@@ -1,0 +1,332 @@
+"""Follower loads, Hertz stress and the smallest phase angles: `_loads` part of
+:mod:`cyclomech.cam` (its door).
+
+The cam must supply the generalised force Q = m s″ω² + k s + F0 + F_L along the
+follower's coordinate (N, or N·m about an oscillating arm's pivot): inertia, the
+spring (rate k, preload F0 at s = 0) and the segment's external load F_L, the last
+three acting toward the cam. The normal force is N = Q/(l cos φ) (l = 1, or the
+arm length), the shaft torque T = Q s′ (power balance; friction neglected), and the
+Hertz line-contact stress σ_H = √(|N| κ/(π b c)) with κ = 1/r_r + 1/ρ the relative
+curvature on the loaded flank and c = Σ(1 − ν²)/E (Johnson, *Contact Mechanics*,
+eq. 4.45).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _core
+from .._arrays import finite_number, float_array, positive, speeds_rpm, threads_arg
+from .._errors import InputError
+from .._units import RAD_PER_S_PER_RPM
+from ._followers import OscillatingRoller
+
+if TYPE_CHECKING:
+    from ._program import Cam
+
+__all__ = [
+    "CRITERIA",
+    "CamLoads",
+    "Contact",
+    "FollowerLoads",
+    "MinPhaseAngles",
+    "default_pressure_angle_deg",
+]
+
+Array = npt.NDArray[np.float64]
+
+#: The criteria of :meth:`Cam.min_phase_angles`, in the order of its last axis.
+CRITERIA: tuple[str, ...] = tuple(_core.CAM_CRITERIA)
+
+
+@dataclass(frozen=True)
+class FollowerLoads:
+    """The follower's loads: ``mass`` [kg] (an oscillating follower: the arm's
+    moment of inertia about its pivot [kg·m²]), ``spring_rate`` [N/m, or N·m/rad],
+    ``preload`` [N, or N·m] (the spring's force at s = 0) and ``segment_loads``,
+    one external load per segment [N, or N·m] acting toward the cam as the spring
+    does (``None``: none). Gravity, if it matters, is a load or part of the preload.
+
+    >>> import cyclomech as cm
+    >>> cm.cam.FollowerLoads(mass=0.8, spring_rate=2000.0, preload=40.0).mass
+    0.8
+    >>> cm.cam.FollowerLoads(mass=-1.0)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: mass = -1.0 must be finite and ≥ 0 [kg, or kg·m² ...]
+    """
+
+    mass: float
+    spring_rate: float = 0.0
+    preload: float = 0.0
+    segment_loads: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        m = finite_number("mass", self.mass, "[kg, or kg·m² for an oscillating arm]", low=0.0)
+        k = finite_number("spring_rate", self.spring_rate, "[N/m, or N·m/rad]", low=0.0)
+        f0 = finite_number("preload", self.preload, "[N, or N·m]")
+        object.__setattr__(self, "mass", m)
+        object.__setattr__(self, "spring_rate", k)
+        object.__setattr__(self, "preload", f0)
+        if self.segment_loads is not None:
+            v = float_array("segment_loads", self.segment_loads)
+            if not np.isfinite(v).all():
+                raise InputError(f"segment_loads must be finite [N, or N·m]; got {v.tolist()}")
+            object.__setattr__(self, "segment_loads", tuple(float(x) for x in v))
+
+    def _kernel_args(self, n_segments: int) -> tuple[float, float, float, list[float]]:
+        loads = self.segment_loads
+        if loads is None:
+            loads = (0.0,) * n_segments
+        if len(loads) != n_segments:
+            raise InputError(
+                f"segment_loads holds {len(loads)} values; the cam has {n_segments} segments"
+            )
+        return self.mass, self.spring_rate, self.preload, list(loads)
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Hertz line contact of the follower (roller, or flat face) on the cam:
+    ``width`` [m] of the contact along the cam's axis, Young's moduli [Pa] and
+    Poisson's ratios (each in (−1, 0.5)) of the follower and the cam; the
+    defaults are steel (210 GPa, 0.3).
+
+    >>> import cyclomech as cm
+    >>> cm.cam.Contact(width=0.012).cam_modulus
+    210000000000.0
+    >>> cm.cam.Contact(width=0.01, cam_poisson=0.5)
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: cam_poisson must be a number in (-1, 0.5); got 0.5
+    """
+
+    width: float
+    follower_modulus: float = 2.1e11
+    follower_poisson: float = 0.3
+    cam_modulus: float = 2.1e11
+    cam_poisson: float = 0.3
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "width", positive("width", self.width, "[m]"))
+        for name in ("follower_modulus", "cam_modulus"):
+            object.__setattr__(self, name, positive(name, getattr(self, name), "[Pa]"))
+        for name in ("follower_poisson", "cam_poisson"):
+            v = getattr(self, name)
+            ok = isinstance(v, int | float) and not isinstance(v, bool) and -1.0 < v < 0.5
+            if not ok:
+                raise InputError(f"{name} must be a number in (-1, 0.5); got {v!r}")
+            object.__setattr__(self, name, float(v))
+
+    def _kernel_args(self) -> tuple[float, float, float, float, float]:
+        return (
+            self.width,
+            self.follower_modulus,
+            self.follower_poisson,
+            self.cam_modulus,
+            self.cam_poisson,
+        )
+
+
+@dataclass(frozen=True)
+class CamLoads:
+    """Loads along the cycle at one speed (arrays of ``theta``'s shape):
+    ``force`` Q [N, or N·m], ``normal_force`` N [N] (signed: + on the inner
+    flank, − on a groove's outer flank or, with a spring, the pull the follower
+    would need: separation), ``contact_stress`` σ_H [Pa] (NaN without a
+    :class:`Contact`, or where the profile is undercut; 0 where separated),
+    ``shaft_torque`` [N·m] the cam shaft must supply, ``separated`` (spring
+    closure: the follower leaves the cam)."""
+
+    theta: Array
+    rpm: float
+    force: Array
+    normal_force: Array
+    contact_stress: Array
+    shaft_torque: Array
+    separated: npt.NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class MinPhaseAngles:
+    """The smallest phase angle of each bound segment for each criterion:
+    ``angle_deg`` (speeds, segments, criteria) [deg] at ``rpm`` for the segment
+    indices ``segments`` and :data:`CRITERIA` ``criteria``. NaN: no angle up to a
+    whole turn will do; 0: the criterion does not bound the segment.
+
+    The rule (documented in the kernel): the bound is the smallest angle β such
+    that the criterion holds on all of [β, 360°]; a feasible window below a
+    violation is ignored.
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
+    ...                   S("dwell", 60)], cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> m = cam.min_phase_angles([300.0])
+    >>> str(m.binding[0, 0]), round(float(m.bound_deg[0, 0]), 4)
+    ('pressure_angle', 57.1837)
+    """
+
+    rpm: Array
+    segments: tuple[int, ...]
+    criteria: tuple[str, ...]
+    angle_deg: Array
+
+    @property
+    def bound_deg(self) -> Array:
+        """(speeds, segments) [deg]: the largest over the criteria (NaN if any is NaN).
+
+        >>> import numpy as np
+        >>> MinPhaseAngles(np.ones(1), (0,), ("a", "b"), np.array([[[10.0, 20.0]]])).bound_deg
+        array([[20.]])
+        """
+        return np.max(self.angle_deg, axis=-1)
+
+    @property
+    def binding(self) -> npt.NDArray[np.str_]:
+        """(speeds, segments): the criterion that sets the bound ("" where none
+        does; the NaN one where no angle will do).
+
+        >>> import numpy as np
+        >>> MinPhaseAngles(np.ones(1), (0,), ("a", "b"), np.array([[[10.0, 20.0]]])).binding
+        array([['b']], dtype='<U1')
+        """
+        a = self.angle_deg
+        nan = np.isnan(a)
+        idx = np.where(nan.any(axis=-1), np.argmax(nan, axis=-1), np.argmax(np.nan_to_num(a), -1))
+        names = np.array(self.criteria)[idx]
+        return np.where((np.nan_to_num(a, nan=1.0) > 0).any(axis=-1), names, "")
+
+
+def default_pressure_angle_deg(follower: Any) -> float:
+    """[α] by default [deg]: 45 for an oscillating follower, 30 for a translating one.
+
+    >>> import cyclomech as cm
+    >>> default_pressure_angle_deg(cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01))
+    45.0
+    """
+    return 45.0 if isinstance(follower, OscillatingRoller) else 30.0
+
+
+def solve_loads(
+    cam: Cam,
+    theta: Any,
+    rpm: Any,
+    follower_loads: Any,
+    contact: Any = None,
+    *,
+    n_threads: int | None = None,
+) -> CamLoads:
+    """:meth:`Cam.loads` (see there).
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> float(solve_loads(cam, 0.0, 100.0, cm.cam.FollowerLoads(1.0, preload=5.0)).force)
+    5.0
+    """
+    if not isinstance(follower_loads, FollowerLoads):
+        raise InputError(f"loads must be a cyclomech.cam.FollowerLoads; got {follower_loads!r}")
+    if contact is not None and not isinstance(contact, Contact):
+        raise InputError(f"contact must be None or a cyclomech.cam.Contact; got {contact!r}")
+    n = float(speeds_rpm("rpm", rpm)[0]) if np.ndim(rpm) == 0 else None
+    if n is None:
+        raise InputError(f"rpm must be one speed [rpm]; got {rpm!r}")
+    t = float_array("theta", theta, ndims=tuple(range(33)))
+    shape = np.shape(theta)
+    rows = cam._kernel.loads(
+        t.reshape(-1),
+        n * RAD_PER_S_PER_RPM,
+        follower_loads._kernel_args(len(cam.segments)),
+        None if contact is None else contact._kernel_args(),
+        n_threads=threads_arg(n_threads),
+    )
+
+    def col(i: int) -> Array:
+        return rows[:, i].reshape(shape)
+
+    return CamLoads(
+        theta=t.reshape(shape).copy(),
+        rpm=n,
+        force=col(0),
+        normal_force=col(1),
+        contact_stress=col(2),
+        shaft_torque=col(3),
+        separated=col(4) != 0.0,
+    )
+
+
+def solve_jump(cam: Cam, follower_loads: Any) -> tuple[float, float]:
+    """:meth:`Cam.jump_rpm` (see there).
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> round(solve_jump(cam, cm.cam.FollowerLoads(1.0, preload=5.0))[0], 3)
+    267.619
+    """
+    if not isinstance(follower_loads, FollowerLoads):
+        raise InputError(f"loads must be a cyclomech.cam.FollowerLoads; got {follower_loads!r}")
+    w, theta = cam._kernel.jump_speed(follower_loads._kernel_args(len(cam.segments)))
+    return w / RAD_PER_S_PER_RPM, math.degrees(theta)
+
+
+def solve_min_angles(
+    cam: Cam,
+    rpm: Any,
+    *,
+    follower_loads: Any = None,
+    contact: Any = None,
+    max_stress: Any = None,
+    max_pressure_angle_deg: Any = None,
+    segments: Any = None,
+    n_threads: int | None = None,
+) -> MinPhaseAngles:
+    """:meth:`Cam.min_phase_angles` (see there).
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> solve_min_angles(cam, 100.0).criteria[0]
+    'pressure_angle'
+    """
+    n = speeds_rpm("rpm", rpm)
+    if follower_loads is not None and not isinstance(follower_loads, FollowerLoads):
+        raise InputError(
+            f"loads must be None or a cyclomech.cam.FollowerLoads; got {follower_loads!r}"
+        )
+    if contact is not None and not isinstance(contact, Contact):
+        raise InputError(f"contact must be None or a cyclomech.cam.Contact; got {contact!r}")
+    if max_stress is not None:
+        max_stress = positive("max_stress", max_stress, "[Pa]")
+        if follower_loads is None or contact is None:
+            raise InputError("max_stress needs the follower's loads and a Contact")
+    if max_pressure_angle_deg is None:
+        alpha = default_pressure_angle_deg(cam.follower)
+    else:
+        alpha = finite_number("max_pressure_angle_deg", max_pressure_angle_deg, "[deg]")
+        if not 0.0 < alpha < 90.0:
+            raise InputError(f"max_pressure_angle_deg must be in (0, 90) [deg]; got {alpha!r}")
+    moving = tuple(i for i, g in enumerate(cam.segments) if g.kind != "dwell")
+    if segments is None:
+        idx = moving
+    else:
+        idx = tuple(int(i) for i in np.atleast_1d(np.asarray(segments)).reshape(-1))
+        for i in idx:
+            if i not in moving:
+                raise InputError(
+                    f"segments: {i} is not the index of a rise or return; those are {list(moving)}"
+                )
+    out = cam._kernel.min_angles(
+        list(idx),
+        n * RAD_PER_S_PER_RPM,
+        math.radians(alpha),
+        None if follower_loads is None else follower_loads._kernel_args(len(cam.segments)),
+        None if contact is None else contact._kernel_args(),
+        max_stress,
+        n_threads=threads_arg(n_threads),
+    )
+    return MinPhaseAngles(rpm=n, segments=idx, criteria=CRITERIA, angle_deg=np.degrees(out))

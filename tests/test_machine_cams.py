@@ -1,0 +1,170 @@
+"""The loom example with its lifter cam (issue 18, item 7): the machine's optimum and
+speed limit against an LP built here with scipy's linprog from the file (parsed by
+tomllib) and the bounds the cam and stop APIs report, and the cam's place in the
+report, results.json and a pickle (Dask ships machines)."""
+
+from __future__ import annotations
+
+import math
+import pickle
+import tomllib
+from pathlib import Path
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from cyclomech.cli import main
+from scipy.optimize import linprog
+
+ROOT = Path(__file__).resolve().parent.parent
+LOOM = ROOT / "examples" / "stb_loom.toml"
+
+
+def data() -> dict:
+    with LOOM.open("rb") as f:
+        return tomllib.load(f)
+
+
+def cam_design() -> cm.cam.CamDesign:
+    table = data()["mechanism"]["lifter cam"]
+    return cm.cam.CamDesign.from_table(table, "[lifter cam]", extra=frozenset({"kind"}), arcs=True)
+
+
+def linprog_limiting(rpm: float) -> tuple[float, dict[tuple[str, str], float]]:
+    """The weft insertion's largest angle at ``rpm`` by an LP over event angles
+    p ≥ 0 written here: p(y) − p(x) ≥ each operation's minimum (its angle, or 6·n·its
+    duration), ≤ its maximum, every p ≤ 360; plus the cam's bounds (the largest over
+    its criteria, from `CamDesign.min_phase_angles`) and the stop's (from
+    `CamStop.min_phase_deg`) on their arcs. NaN where it does not fit."""
+    d = data()
+    events = d["cyclogram"]["events"]
+    ix = {e: i for i, e in enumerate(events)}
+    mins: dict[tuple[str, str], float] = {}
+    maxs: dict[tuple[str, str], float] = {}
+    for op in d["operation"]:
+        arc = (op["from"], op["to"])
+        mins[arc] = max(op["min_angle_deg"], 6.0 * rpm * op.get("min_duration_s", 0.0))
+        if "max_angle_deg" in op:
+            maxs[arc] = op["max_angle_deg"]
+    design = cam_design()
+    m = design.min_phase_angles([rpm])
+    for j, k in enumerate(m.segments):
+        arc = design.arcs[k]
+        if arc is not None:
+            mins[arc] = max(mins[arc], float(np.max(m.angle_deg[0, j])))
+    stop = cm.Machine.from_toml(LOOM).mechanisms["lifter"]
+    mins[stop.arc] = max(mins[stop.arc], float(stop.min_phase_deg(rpm)))
+    if any(not math.isfinite(v) for v in mins.values()):
+        return math.nan, mins
+    A, b = [], []
+    for arc, v in mins.items():
+        row = np.zeros(len(events))
+        row[ix[arc[0]]], row[ix[arc[1]]] = 1.0, -1.0  # p(x) − p(y) ≤ −min
+        A.append(row)
+        b.append(-v)
+    for arc, v in maxs.items():
+        row = np.zeros(len(events))
+        row[ix[arc[0]]], row[ix[arc[1]]] = -1.0, 1.0
+        A.append(row)
+        b.append(v)
+    c = np.zeros(len(events))
+    lim = d["cyclogram"]["limiting"]
+    c[ix[lim[0]]], c[ix[lim[1]]] = 1.0, -1.0  # maximise p(10.2) − p(10.1)
+    res = linprog(c, A_ub=np.array(A), b_ub=np.array(b), bounds=[(0.0, 360.0)] * len(events))
+    return (-res.fun if res.status == 0 else math.nan), mins
+
+
+@pytest.mark.parametrize("rpm", [200.0, 300.0, 380.0, 430.0])
+def test_loom_optimum_with_cam_bounds_equals_linprog(rpm):
+    m = cm.Machine.from_toml(LOOM)
+    ref, _ = linprog_limiting(rpm)
+    got = m.optimize(rpm).objective
+    assert got == pytest.approx(ref, abs=1e-7)
+
+
+def test_loom_speed_limit_is_where_linprog_stops_fitting_and_names_the_cam():
+    lim = cm.Machine.from_toml(LOOM).speed_limit()
+    n = lim.rpm
+    assert math.isfinite(linprog_limiting(n * (1 - 1e-6))[0])
+    assert math.isnan(linprog_limiting(n * (1 + 1e-6))[0])
+    # The cam's stress binds at the limit, by its label, in the reason.
+    assert "σ_H[lifter cam rise 1→3]" in lim.binding
+    assert "σ_H[lifter cam rise 1→3]" in lim.reason
+
+
+def test_the_cam_bounds_are_its_criteria_and_grow_with_speed():
+    cam = cm.Machine.from_toml(LOOM).mechanisms["lifter cam"]
+    design = cam_design()
+    n = np.linspace(200.0, 500.0, 31)
+    m = design.min_phase_angles(n)
+    for b, law, (k, c) in zip(cam.bounds(), cam.laws(), cam.criteria, strict=True):
+        j = m.segments.index(k)
+        np.testing.assert_allclose(law(n), m.angle_deg[:, j, cm.cam.CRITERIA.index(c)], rtol=1e-12)
+        assert b.arc == design.arcs[k]
+    stress = [
+        law(n)
+        for law, (_, c) in zip(cam.laws(), cam.criteria, strict=True)
+        if c == "contact_stress"
+    ]
+    assert stress and all(np.all(np.diff(s) > 0) for s in stress)
+
+
+def test_the_loom_report_has_the_cam(tmp_path):
+    out = tmp_path / "out"
+    assert main(["run", str(LOOM), "--out", str(out), "--quiet", "--no-plot"]) == 0
+    import json
+
+    r = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    cam = r["cams"]["lifter cam"]
+    assert cam["closure"] == "groove"
+    assert cam["max_stress_pa"] < cam["limit_stress_pa"]
+    # At the optimum the bound segments take their operations' angles.
+    angles = r["optimum"]["angles_deg"]
+    assert cam["segment_angles_deg"][0] == pytest.approx(angles["1→3"], abs=1e-9)
+    assert cam["segment_angles_deg"][2] == pytest.approx(angles["7→10.1"], abs=1e-9)
+    assert sum(cam["segment_angles_deg"]) == pytest.approx(360.0, abs=1e-9)
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "lifter cam" in page and "largest Hertz stress" in page
+
+
+def test_a_machine_with_a_cam_pickles():
+    m = cm.Machine.from_toml(LOOM)
+    again = pickle.loads(pickle.dumps(m))
+    assert again.speed_limit().rpm == pytest.approx(m.speed_limit().rpm, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("edit", "needle"),
+    [
+        (('arc = ["1", "3"]', 'arc = ["1", "9"]'), "is not an operation of the cyclogram"),
+        (('law = "modified_sine"\nload_nm', 'law = "sine"\nload_nm'), "unknown law"),
+        (("cam_poisson", "cam_poisson = 0.5\nx"), None),
+        (("width_m = 0.008", "width_m = -0.008"), "width"),
+        (
+            (
+                'stroke_deg = 12.0\nlaw = "modified_sine"\nload_nm',
+                'stroke_m = 0.01\nlaw = "modified_sine"\nload_nm',
+            ),
+            "stroke_m",
+        ),
+        (("angle_deg = 110.0", "angle_deg = 100.0"), "not 360°"),
+    ],
+)
+def test_bad_cam_tables_are_named(tmp_path, edit, needle):
+    text = LOOM.read_text(encoding="utf-8")
+    old, new = edit
+    if old == "cam_poisson":  # an unknown key in the cam's table
+        text = text.replace(
+            "max_pressure_angle_deg = 45.0", "max_pressure_angle_deg = 45.0\npoisson_cam = 0.3"
+        )
+        needle = "poisson_cam"
+    else:
+        assert old in text
+        text = text.replace(old, new, 1)
+    p = tmp_path / "bad.toml"
+    p.write_text(text, encoding="utf-8")
+    with pytest.raises(cm.CyclomechError, match=None) as e:
+        cm.Machine.from_toml(p)
+    assert isinstance(e.value, ValueError)
+    assert needle in str(e.value)
+    assert "lifter cam" in str(e.value)
