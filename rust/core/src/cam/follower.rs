@@ -297,9 +297,18 @@ impl pulp::WithSimd for Rows<'_> {
                 }
             }
         }
-        let rest = rows.into_remainder().chunks_exact_mut(N_COLUMNS);
-        for (&t, row) in groups.remainder().iter().zip(rest) {
-            cam.row(t, row);
+        // The tail (fewer than a group) padded to a whole group, so that every
+        // angle of a solve takes the same arithmetic.
+        let (tail, rest) = (groups.remainder(), rows.into_remainder());
+        if !tail.is_empty() {
+            let mut tg = [0.0; GROUP];
+            tg[..tail.len()].copy_from_slice(tail);
+            let cols = cam.lanes(&tg);
+            for (l, row) in rest.chunks_exact_mut(N_COLUMNS).enumerate() {
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = cols[c][l];
+                }
+            }
         }
     }
 }
@@ -424,7 +433,7 @@ impl Cam {
     /// search's trial segment).
     #[inline]
     pub fn row_at(&self, theta: f64, sv: [f64; 4], out: &mut [f64]) {
-        let cols = self.geometry(&[theta], sv.map(|v| [v]));
+        let cols = self.geometry(&[theta], sv.map(|v| [v]), true);
         for (o, c) in out[..N_COLUMNS].iter_mut().zip(cols) {
             *o = c[0];
         }
@@ -434,19 +443,24 @@ impl Cam {
     /// [`Cam::geometry`]).
     #[inline(always)]
     fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
-        self.geometry(theta, self.program.eval_lanes(theta))
+        self.geometry(theta, self.program.eval_lanes(theta), false)
     }
 
     /// The rows of `L` cam angles θ [rad] for their [s, s′, s″, s‴] lanes `sv`,
     /// column by column: every step a loop across lanes without branches, so
     /// that [`Cam::solve_into`] (compiled per instruction set) runs several
-    /// angles per instruction. [`Cam::row_at`] is its one-lane case: every path
-    /// gives the same values.
+    /// angles per instruction. [`Cam::row_at`] is its one-lane case with
+    /// `platform_atan2`: the same values but for the pressure angle, which the
+    /// lanes take from the inlined [`atan2_lanes`] (within 2 ulp) and `row_at`
+    /// from the platform's `atan2` (correctly rounded, so monotone: the bound
+    /// searches built on `row_at` converge to the same float whatever their
+    /// starting bracket, as before).
     #[inline(always)]
     fn geometry<const L: usize>(
         &self,
         theta: &[f64; L],
         sv: [[f64; L]; 4],
+        platform_atan2: bool,
     ) -> [[f64; L]; N_COLUMNS] {
         // `each!(i => e)`: the lanes [e(0), …, e(L − 1)] by a plain loop (a
         // closure the compiler kept out of line would lose the instruction set).
@@ -555,7 +569,11 @@ impl Cam {
                 };
                 let cr = each!(i => v[0][i] * n[1][i] - v[1][i] * n[0][i]);
                 let dt = each!(i => v[0][i] * n[0][i] + v[1][i] * n[1][i]);
-                let phi = atan2_lanes(&cr, &dt);
+                let phi = if platform_atan2 {
+                    each!(i => cr[i].atan2(dt[i]))
+                } else {
+                    atan2_lanes(&cr, &dt)
+                };
                 let groove = self.groove;
                 let cusp = each!(i => {
                     let inner = (rr > 0.0) & (rho_p[i] > 0.0) & (rho_p[i] < rr);
