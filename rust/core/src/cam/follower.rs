@@ -1,12 +1,11 @@
 //! Followers and the exact geometry of the cam: pitch curve, profile (both flanks
 //! of a groove), pressure angle, signed radii of curvature and undercut.
 
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use rayon::prelude::*;
 
 use super::program::{CamError, Program};
-use crate::geom::{cross, dot, sin_cos, V2};
 use crate::parallel::{pool, resolve_threads};
 
 /// The columns of [`Cam::solve_into`]'s rows, in order.
@@ -88,11 +87,234 @@ fn roller(base: f64, r: f64) -> Result<(), CamError> {
     Ok(())
 }
 
-/// J v: v turned by +90°.
-#[inline]
-fn perp(v: V2) -> V2 {
-    [-v[1], v[0]]
+// fdlibm's atan (s_atan.c): atan(0.5), atan(1), atan(1.5), atan(∞) split hi + lo,
+// and the odd minimax polynomial on |x| < 7/16, digits as published.
+#[allow(clippy::excessive_precision)]
+const ATAN_HI: [f64; 4] = [
+    4.636_476_090_008_060_935_15e-01,
+    FRAC_PI_4,
+    9.827_937_232_473_290_540_82e-01,
+    FRAC_PI_2,
+];
+#[allow(clippy::excessive_precision)]
+const ATAN_LO: [f64; 4] = [
+    2.269_877_745_296_168_709_24e-17,
+    3.061_616_997_868_383_017_93e-17,
+    1.390_331_103_123_099_845_16e-17,
+    6.123_233_995_736_766_035_87e-17,
+];
+#[allow(clippy::excessive_precision)]
+const AT: [f64; 11] = [
+    3.333_333_333_333_293_180_27e-01,
+    -1.999_999_999_987_648_324_76e-01,
+    1.428_571_427_250_346_637_11e-01,
+    -1.111_111_040_546_235_578_80e-01,
+    9.090_887_133_436_506_561_96e-02,
+    -7.691_876_205_044_829_994_95e-02,
+    6.661_073_137_387_531_206_69e-02,
+    -5.833_570_133_790_573_486_45e-02,
+    4.976_877_994_615_932_360_17e-02,
+    -3.653_157_274_421_691_552_70e-02,
+    1.628_582_011_536_578_236_23e-02,
+];
+/// π − the f64 nearest π.
+#[allow(clippy::excessive_precision)]
+const PI_LO: f64 = 1.224_646_799_147_353_177_2e-16;
+
+/// `if m { a } else { b }` by bit masks: a blend in every lane, where an `if`
+/// in a lane loop can compile to a branch per lane.
+#[inline(always)]
+fn pick(m: bool, a: f64, b: f64) -> f64 {
+    let k = (m as u64).wrapping_neg();
+    f64::from_bits((a.to_bits() & k) | (b.to_bits() & !k))
 }
+
+/// atan2(y, x) [rad] in (−π, π] for `L` lanes: fdlibm's atan (its reduction
+/// to |w| < 7/16 written as one rational map whose constants each lane picks,
+/// and its polynomial) and fdlibm's quadrant rule, without branches; lanes with a
+/// zero, infinite or NaN argument or ratio take the platform's `atan2`. Within 2
+/// ulp of the platform (tested); glibc's out-of-line atan2 was a seventh of the
+/// kernel's time.
+#[inline(always)]
+fn atan2_lanes<const L: usize>(y: &[f64; L], x: &[f64; L]) -> [f64; L] {
+    let mut out = [0.0; L];
+    let mut special = false;
+    for l in 0..L {
+        let a = y[l].abs() / x[l].abs();
+        special |= !(y[l] != 0.0 && x[l] != 0.0 && a.is_finite() && a > 0.0);
+        // w = (p·a − q)/(r + s·a): a, (2a − 1)/(2 + a), (a − 1)/(a + 1),
+        // (a − 1.5)/(1 + 1.5a), −1/a; then atan a = hi − ((w·P(w²) − lo) − w),
+        // which for hi = lo = 0 is fdlibm's w − w·P(w²) exactly.
+        let (b0, b1, b2, b3) = (a >= 0.4375, a >= 0.6875, a >= 1.1875, a >= 2.4375);
+        let p = pick(b3, 0.0, pick(b0 & !b1, 2.0, 1.0));
+        let q = pick(b3, 1.0, pick(b2, 1.5, pick(b0, 1.0, 0.0)));
+        let r = pick(b3, 0.0, pick(b0 & !b1, 2.0, 1.0));
+        let s = pick(b3, 1.0, pick(b2, 1.5, pick(b0, 1.0, 0.0)));
+        let hi = pick(
+            b3,
+            ATAN_HI[3],
+            pick(
+                b2,
+                ATAN_HI[2],
+                pick(b1, ATAN_HI[1], pick(b0, ATAN_HI[0], 0.0)),
+            ),
+        );
+        let lo = pick(
+            b3,
+            ATAN_LO[3],
+            pick(
+                b2,
+                ATAN_LO[2],
+                pick(b1, ATAN_LO[1], pick(b0, ATAN_LO[0], 0.0)),
+            ),
+        );
+        let w = (p * a - q) / (r + s * a);
+        let z = w * w;
+        let v = z * z;
+        let s1 = z * (AT[0] + v * (AT[2] + v * (AT[4] + v * (AT[6] + v * (AT[8] + v * AT[10])))));
+        let s2 = v * (AT[1] + v * (AT[3] + v * (AT[5] + v * (AT[7] + v * AT[9]))));
+        let t = hi - ((w * (s1 + s2) - lo) - w);
+        let t = pick(x[l] > 0.0, t, PI - (t - PI_LO));
+        out[l] = pick(y[l] > 0.0, t, -t);
+    }
+    if special {
+        for l in 0..L {
+            let a = y[l].abs() / x[l].abs();
+            if !(y[l] != 0.0 && x[l] != 0.0 && a.is_finite() && a > 0.0) {
+                out[l] = platform_atan2(y[l], x[l]);
+            }
+        }
+    }
+    out
+}
+
+#[cold]
+#[inline(never)]
+fn platform_atan2(y: f64, x: f64) -> f64 {
+    y.atan2(x)
+}
+
+// geom::sin_cos's constants (fdlibm's, digits as published), for its lane form.
+#[allow(clippy::excessive_precision)]
+const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
+#[allow(clippy::excessive_precision)]
+const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
+#[allow(clippy::excessive_precision)]
+const PIO2_3: f64 = 2.022_266_248_711_166_455_8e-21;
+#[allow(clippy::excessive_precision)]
+const SIN: [f64; 6] = [
+    -1.666_666_666_666_663_243_48e-1,
+    8.333_333_333_322_489_461_24e-3,
+    -1.984_126_982_985_794_931_34e-4,
+    2.755_731_370_707_006_767_89e-6,
+    -2.505_076_025_340_686_341_95e-8,
+    1.589_690_995_211_550_102_21e-10,
+];
+#[allow(clippy::excessive_precision)]
+const COS: [f64; 6] = [
+    4.166_666_666_666_660_190_37e-2,
+    -1.388_888_888_887_410_957_49e-3,
+    2.480_158_728_947_672_941_78e-5,
+    -2.755_731_435_139_066_330_35e-7,
+    2.087_572_321_298_174_827_90e-9,
+    -1.135_964_755_778_819_482_65e-11,
+];
+
+/// `geom::sin_cos` for `L` lanes, bit for bit (tested), without branches: the
+/// same Cody–Waite reduction and fdlibm kernels, both kernels evaluated and each
+/// result's picked and signed by the quadrant's bits; lanes with |x| > 10⁶ or
+/// NaN take the platform's `sin_cos`, as `geom::sin_cos` does. (`geom` has the
+/// lane form of the sine alone; this belongs beside it.)
+#[inline(always)]
+fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let (mut sn, mut cs) = ([0.0; L], [0.0; L]);
+    let mut wide = false;
+    for l in 0..L {
+        let v = x[l];
+        wide |= (v.abs() > 1e6) | v.is_nan();
+        let shifted = v * std::f64::consts::FRAC_2_PI + ROUND;
+        let k = shifted - ROUND;
+        let r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
+        let q = shifted.to_bits() & 3;
+        let z = r * r;
+        let ks = r + r
+            * z
+            * (SIN[0] + z * (SIN[1] + z * (SIN[2] + z * (SIN[3] + z * (SIN[4] + z * SIN[5])))));
+        let p = z
+            * z
+            * (COS[0] + z * (COS[1] + z * (COS[2] + z * (COS[3] + z * (COS[4] + z * COS[5])))));
+        let hz = 0.5 * z;
+        let w = 1.0 - hz;
+        let kc = w + (((1.0 - w) - hz) + p);
+        // q = 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
+        let odd = (q & 1).wrapping_neg();
+        let (bs, bc) = (ks.to_bits(), kc.to_bits());
+        sn[l] = f64::from_bits(((bs & !odd) | (bc & odd)) ^ ((q & 2) << 62));
+        cs[l] = f64::from_bits(((bc & !odd) | (bs & odd)) ^ (((q + 1) & 2) << 62));
+    }
+    if wide {
+        for l in 0..L {
+            if x[l].abs() > 1e6 || x[l].is_nan() {
+                (sn[l], cs[l]) = platform_sin_cos(x[l]);
+            }
+        }
+    }
+    (sn, cs)
+}
+
+#[cold]
+#[inline(never)]
+fn platform_sin_cos(x: f64) -> (f64, f64) {
+    x.sin_cos()
+}
+
+/// Angles per lane group of [`Cam::solve_into`]: one AVX-512 register of f64.
+const GROUP: usize = 8;
+
+/// [`Cam::solve_into`]'s loop over one chunk, compiled once per instruction set
+/// (`pulp` picks AVX-512, AVX2 or baseline at run time).
+struct Rows<'a> {
+    cam: &'a Cam,
+    theta: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl pulp::WithSimd for Rows<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let Rows { cam, theta, out } = self;
+        let mut groups = theta.chunks_exact(GROUP);
+        let mut rows = out.chunks_exact_mut(GROUP * N_COLUMNS);
+        for (tg, og) in (&mut groups).zip(&mut rows) {
+            let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
+            let cols = cam.lanes(tg);
+            for (l, row) in og.chunks_exact_mut(N_COLUMNS).enumerate() {
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = cols[c][l];
+                }
+            }
+        }
+        // The tail (fewer than a group) padded to a whole group, so that every
+        // angle of a solve takes the same arithmetic.
+        let (tail, rest) = (groups.remainder(), rows.into_remainder());
+        if !tail.is_empty() {
+            let mut tg = [0.0; GROUP];
+            tg[..tail.len()].copy_from_slice(tail);
+            let cols = cam.lanes(&tg);
+            for (l, row) in rest.chunks_exact_mut(N_COLUMNS).enumerate() {
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = cols[c][l];
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod lane_tests;
 
 impl Cam {
     /// Validate the follower against the program; `groove` is form closure.
@@ -211,100 +433,160 @@ impl Cam {
     /// search's trial segment).
     #[inline]
     pub fn row_at(&self, theta: f64, sv: [f64; 4], out: &mut [f64]) {
+        let cols = self.geometry(&[theta], sv.map(|v| [v]), true);
+        for (o, c) in out[..N_COLUMNS].iter_mut().zip(cols) {
+            *o = c[0];
+        }
+    }
+
+    /// The rows of `L` cam angles θ [rad], column by column (see
+    /// [`Cam::geometry`]).
+    #[inline(always)]
+    fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
+        self.geometry(theta, self.program.eval_lanes(theta), false)
+    }
+
+    /// The rows of `L` cam angles θ [rad] for their [s, s′, s″, s‴] lanes `sv`,
+    /// column by column: every step a loop across lanes without branches, so
+    /// that [`Cam::solve_into`] (compiled per instruction set) runs several
+    /// angles per instruction. [`Cam::row_at`] is its one-lane case with
+    /// `platform_atan2`: the same values but for the pressure angle, which the
+    /// lanes take from the inlined [`atan2_lanes`] (within 2 ulp) and `row_at`
+    /// from the platform's `atan2` (correctly rounded, so monotone: the bound
+    /// searches built on `row_at` converge to the same float whatever their
+    /// starting bracket, as before).
+    #[inline(always)]
+    fn geometry<const L: usize>(
+        &self,
+        theta: &[f64; L],
+        sv: [[f64; L]; 4],
+        platform_atan2: bool,
+    ) -> [[f64; L]; N_COLUMNS] {
+        // `each!(i => e)`: the lanes [e(0), …, e(L − 1)] by a plain loop (a
+        // closure the compiler kept out of line would lose the instruction set).
+        macro_rules! each {
+            ($i:ident => $e:expr) => {{
+                let mut a = [0.0; L];
+                for $i in 0..L {
+                    a[$i] = $e;
+                }
+                a
+            }};
+        }
         let [s, ds, dds, ddds] = sv;
+        let st = self.start;
+        let (zero, one) = ([0.0; L], [1.0; L]);
         // Fixed frame: roller centre (or flat-face trace point) C, C', C'', and
         // the unit direction v of the follower's motion (increasing s).
+        let lift = each!(i => st + s[i]);
         let (c, c1, c2, v, rr) = match self.follower {
             Follower::TranslatingRoller {
                 roller_radius,
                 offset,
                 ..
             } => (
-                [offset, self.start + s],
-                [0.0, ds],
-                [0.0, dds],
-                [0.0, 1.0],
+                [[offset; L], lift],
+                [zero, ds],
+                [zero, dds],
+                [zero, one],
                 roller_radius,
             ),
-            Follower::FlatFaced { .. } => (
-                [0.0, self.start + s],
-                [0.0, ds],
-                [0.0, dds],
-                [0.0, 1.0],
-                0.0,
-            ),
+            Follower::FlatFaced { .. } => ([zero, lift], [zero, ds], [zero, dds], [zero, one], 0.0),
             Follower::OscillatingRoller {
                 pivot_distance: a,
                 arm_length: l,
                 roller_radius,
                 ..
             } => {
-                let (sn, cs) = sin_cos(self.start + s);
+                let (sn, cs) = sin_cos_lanes(&lift);
+                let dd = each!(i => ds[i] * ds[i]);
                 (
-                    [a - l * cs, l * sn],
-                    [l * ds * sn, l * ds * cs],
-                    [l * (dds * sn + ds * ds * cs), l * (dds * cs - ds * ds * sn)],
+                    [each!(i => a - l * cs[i]), each!(i => l * sn[i])],
+                    [each!(i => l * ds[i] * sn[i]), each!(i => l * ds[i] * cs[i])],
+                    [
+                        each!(i => l * (dds[i] * sn[i] + dd[i] * cs[i])),
+                        each!(i => l * (dds[i] * cs[i] - dd[i] * sn[i])),
+                    ],
                     [sn, cs],
                     roller_radius,
                 )
             }
         };
         // Pitch point in the cam frame P = R(−θ) C: dP/dθ = R(−θ) T and
-        // d²P/dθ² = R(−θ) A, with T = C' − J C and A = C'' − 2 J C' − C.
-        let jc = perp(c);
-        let jc1 = perp(c1);
-        let t = [c1[0] - jc[0], c1[1] - jc[1]];
-        let acc = [c2[0] - 2.0 * jc1[0] - c[0], c2[1] - 2.0 * jc1[1] - c[1]];
-        let speed = dot(t, t).sqrt();
-        let k = cross(t, acc);
+        // d²P/dθ² = R(−θ) A, with T = C' − J C and A = C'' − 2 J C' − C
+        // (J v = v turned by +90°: J (x, y) = (−y, x)).
+        let t = [
+            each!(i => c1[0][i] - -c[1][i]),
+            each!(i => c1[1][i] - c[0][i]),
+        ];
+        let acc = [
+            each!(i => c2[0][i] - 2.0 * -c1[1][i] - c[0][i]),
+            each!(i => c2[1][i] - 2.0 * c1[0][i] - c[1][i]),
+        ];
+        let speed = each!(i => (t[0][i] * t[0][i] + t[1][i] * t[1][i]).sqrt());
+        let k = each!(i => t[0][i] * acc[1][i] - t[1][i] * acc[0][i]);
         // The pitch point moves clockwise in the cam frame: convex is k < 0.
-        let rho_p = if k == 0.0 {
-            f64::INFINITY
-        } else {
-            -speed * speed * speed / k
-        };
-        let jt = perp(t);
-        let n = [jt[0] / speed, jt[1] / speed];
-        let (sn, cs) = sin_cos(theta);
-        let to_cam = |p: V2| [p[0] * cs + p[1] * sn, -p[0] * sn + p[1] * cs];
-        let pitch = to_cam(c);
-        let nan = [f64::NAN, f64::NAN];
+        let rho_p = each!(i => pick(
+            k[i] == 0.0,
+            f64::INFINITY,
+            -speed[i] * speed[i] * speed[i] / k[i]
+        ));
+        let n = [
+            each!(i => -t[1][i] / speed[i]),
+            each!(i => t[0][i] / speed[i]),
+        ];
+        let (sn, cs) = sin_cos_lanes(theta);
+        // P in the cam frame: R(−θ) p.
+        macro_rules! to_cam {
+            ($p:expr) => {{
+                let p: [[f64; L]; 2] = $p;
+                [
+                    each!(i => p[0][i] * cs[i] + p[1][i] * sn[i]),
+                    each!(i => -p[0][i] * sn[i] + p[1][i] * cs[i]),
+                ]
+            }};
+        }
+        let pitch = to_cam!(c);
+        let nan = [[f64::NAN; L]; 2];
         let (profile, outer, phi, rho_q, undercut) = match self.follower {
             Follower::FlatFaced { .. } => {
-                let rho = self.start + s + dds;
-                let q = to_cam([ds, self.start + s]);
-                (q, nan, 0.0, rho, rho < 0.0)
+                let rho = each!(i => lift[i] + dds[i]);
+                let q = to_cam!([ds, lift]);
+                (q, nan, zero, rho, each!(i => pick(rho[i] < 0.0, 1.0, 0.0)))
             }
             _ => {
-                let q = to_cam([c[0] - rr * n[0], c[1] - rr * n[1]]);
+                let q = to_cam!([
+                    each!(i => c[0][i] - rr * n[0][i]),
+                    each!(i => c[1][i] - rr * n[1][i])
+                ]);
                 let o = if self.groove {
-                    to_cam([c[0] + rr * n[0], c[1] + rr * n[1]])
+                    to_cam!([
+                        each!(i => c[0][i] + rr * n[0][i]),
+                        each!(i => c[1][i] + rr * n[1][i])
+                    ])
                 } else {
                     nan
                 };
-                let phi = cross(v, n).atan2(dot(v, n));
-                let cusp_inner = rr > 0.0 && rho_p > 0.0 && rho_p < rr;
-                let cusp_outer = self.groove && rr > 0.0 && rho_p < 0.0 && -rho_p < rr;
-                (q, o, phi, rho_p - rr, cusp_inner || cusp_outer)
+                let cr = each!(i => v[0][i] * n[1][i] - v[1][i] * n[0][i]);
+                let dt = each!(i => v[0][i] * n[0][i] + v[1][i] * n[1][i]);
+                let phi = if platform_atan2 {
+                    each!(i => cr[i].atan2(dt[i]))
+                } else {
+                    atan2_lanes(&cr, &dt)
+                };
+                let groove = self.groove;
+                let cusp = each!(i => {
+                    let inner = (rr > 0.0) & (rho_p[i] > 0.0) & (rho_p[i] < rr);
+                    let outer = groove & (rr > 0.0) & (rho_p[i] < 0.0) & (-rho_p[i] < rr);
+                    pick(inner | outer, 1.0, 0.0)
+                });
+                (q, o, phi, each!(i => rho_p[i] - rr), cusp)
             }
         };
-        let row = [
-            s,
-            ds,
-            dds,
-            ddds,
-            pitch[0],
-            pitch[1],
-            profile[0],
-            profile[1],
-            outer[0],
-            outer[1],
-            phi,
-            rho_p,
-            rho_q,
-            if undercut { 1.0 } else { 0.0 },
-        ];
-        out[..N_COLUMNS].copy_from_slice(&row);
+        [
+            s, ds, dds, ddds, pitch[0], pitch[1], profile[0], profile[1], outer[0], outer[1], phi,
+            rho_p, rho_q, undercut,
+        ]
     }
 
     /// Rows of [`COLUMNS`] for every cam angle [rad] into `out` (row-major,
@@ -315,24 +597,35 @@ impl Cam {
         out: &mut [f64],
         n_threads: Option<i64>,
     ) -> Result<(), CamError> {
-        if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
-            return Err(CamError::NotFinite {
-                field: "theta",
-                index,
-                value,
-            });
-        }
         debug_assert_eq!(out.len(), theta.len() * N_COLUMNS);
         let pool = pool(resolve_threads(n_threads)?)?;
-        pool.install(|| {
+        // The finite check runs inside each chunk's pass (one read of θ); a
+        // chunk with a bad angle is left unwritten and reported below.
+        let finite = pool.install(|| {
             out.par_chunks_mut(CHUNK * N_COLUMNS)
                 .zip(theta.par_chunks(CHUNK))
-                .for_each(|(rows, ts)| {
-                    for (row, &t) in rows.chunks_exact_mut(N_COLUMNS).zip(ts) {
-                        self.row(t, row);
+                .map(|(rows, ts)| {
+                    let ok = ts.iter().fold(true, |ok, t| ok & t.is_finite());
+                    if ok {
+                        pulp::Arch::new().dispatch(Rows {
+                            cam: self,
+                            theta: ts,
+                            out: rows,
+                        });
                     }
+                    ok
                 })
+                .reduce(|| true, |a, b| a & b)
         });
+        if !finite {
+            if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
+                return Err(CamError::NotFinite {
+                    field: "theta",
+                    index,
+                    value,
+                });
+            }
+        }
         Ok(())
     }
 }

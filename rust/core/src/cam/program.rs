@@ -186,7 +186,12 @@ impl Program {
     /// derivatives per radian of cam.
     #[inline]
     pub fn eval(&self, theta: f64) -> [f64; 4] {
-        let t = theta.rem_euclid(TAU);
+        // θ in [0, 2π) is its own remainder (bit for bit): skip the division.
+        let t = if (0.0..TAU).contains(&theta) {
+            theta
+        } else {
+            theta.rem_euclid(TAU)
+        };
         // Last segment starting at or before t (segments are few: linear scan).
         let mut k = 0;
         while k + 1 < self.segs.len() && self.segs[k + 1].start <= t {
@@ -198,15 +203,66 @@ impl Program {
             Some(law) => {
                 let x = ((t - g.start) / g.angle).clamp(0.0, 1.0);
                 let b = g.angle;
+                // All four orders from one piece lookup.
+                let [z0, z1, z2, z3] = law.z_all(x);
                 [
-                    g.s0 + g.h * law.z(x, 0),
-                    g.h * law.z(x, 1) / b,
-                    g.h * law.z(x, 2) / (b * b),
-                    g.h * law.z(x, 3) / (b * b * b),
+                    g.s0 + g.h * z0,
+                    g.h * z1 / b,
+                    g.h * z2 / (b * b),
+                    g.h * z3 / (b * b * b),
                 ]
             }
         }
     }
+
+    /// [`Program::eval`] for `L` angles at once, as four lanes [s, s′, s″, s‴]
+    /// (the same values, bit for bit): angles in [0, 2π) within one segment (the
+    /// common case for sorted angles) run as loops across lanes without branches
+    /// (see `Law::z_all_lanes`), others one by one.
+    #[inline(always)]
+    pub(super) fn eval_lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+        let segs = &self.segs;
+        let mut k = 0;
+        while k + 1 < segs.len() && segs[k + 1].start <= theta[0] {
+            k += 1;
+        }
+        let g = &segs[k];
+        // eval's lookup puts t in segment k iff start(k) ≤ t < start(k + 1).
+        let hi = segs.get(k + 1).map_or(TAU, |n| n.start.min(TAU));
+        let one_segment = theta
+            .iter()
+            .fold(true, |ok, &v| ok & (v >= 0.0) & (v >= g.start) & (v < hi));
+        if !one_segment {
+            let mut out = [[0.0; L]; 4];
+            for (l, &v) in theta.iter().enumerate() {
+                let e = self.eval(v);
+                for o in 0..4 {
+                    out[o][l] = e[o];
+                }
+            }
+            return out;
+        }
+        match &g.law {
+            None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
+            Some(law) => {
+                let b = g.angle;
+                let mut x = [0.0; L];
+                for l in 0..L {
+                    x[l] = ((theta[l] - g.start) / b).clamp(0.0, 1.0);
+                }
+                let [z0, z1, z2, z3] = law.z_all_lanes(&x);
+                let mut out = [[0.0; L]; 4];
+                for l in 0..L {
+                    out[0][l] = g.s0 + g.h * z0[l];
+                    out[1][l] = g.h * z1[l] / b;
+                    out[2][l] = g.h * z2[l] / (b * b);
+                    out[3][l] = g.h * z3[l] / (b * b * b);
+                }
+                out
+            }
+        }
+    }
+
     /// The number of segments.
     pub fn len(&self) -> usize {
         self.segs.len()

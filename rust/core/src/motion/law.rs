@@ -101,6 +101,26 @@ impl Fast {
     }
 }
 
+impl Fast {
+    /// [`Fast::eval`] for orders 0..=3 at once: the same arithmetic per order
+    /// (so the same values), `t` computed once.
+    #[inline(always)]
+    pub(super) fn eval_all(&self, x: f64) -> [f64; 4] {
+        let t = x - self.x0;
+        std::array::from_fn(|order| {
+            let mut p = 0.0;
+            for &ck in self.poly[order].iter().rev() {
+                p = p * t + ck;
+            }
+            let a = self.amp[order];
+            if a != 0.0 {
+                p += a * sin(self.freq * t + self.phase[order]);
+            }
+            p
+        })
+    }
+}
+
 /// An acceleration piece used to build a law: a(t) = Σ p_k t^k + A·sin(ω t + φ).
 struct AccelPiece {
     x1: f64,
@@ -304,6 +324,96 @@ impl Law {
             k += 1;
         }
         s[k].eval(x, order.min(3))
+    }
+
+    /// [Z, Z′, Z″, Z‴](x) for x in [0, 1]: bit for bit `z(x, k)` for k = 0..=3,
+    /// with one piece lookup for the four orders.
+    ///
+    /// ```
+    /// # use cyclomech_core::motion::Law;
+    /// let law = Law::rise("cycloidal").unwrap();
+    /// let z = law.z_all(0.25);
+    /// assert_eq!(z, [0, 1, 2, 3].map(|k| law.z(0.25, k)));
+    /// ```
+    #[inline]
+    pub fn z_all(&self, x: f64) -> [f64; 4] {
+        let s = &self.fast;
+        let mut k = 0;
+        while k + 1 < s.len() && x > s[k].x1 {
+            k += 1;
+        }
+        s[k].eval_all(x)
+    }
+
+    /// [`Law::z_all`] for `L` values x in [0, 1] at once, as four lanes [Z, Z′,
+    /// Z″, Z‴]: bit for bit `z_all` per value. Values in one piece (the common
+    /// case for sorted x) run as loops across lanes without branches, so that a
+    /// caller compiled for AVX2 or AVX-512 (through `pulp`, inlining this) runs
+    /// several values per instruction; otherwise each value goes alone.
+    ///
+    /// ```
+    /// # use cyclomech_core::motion::Law;
+    /// let law = Law::rise("modified_sine").unwrap();
+    /// let x = [0.1, 0.2, 0.5, 0.95];
+    /// let z = law.z_all_lanes(&x);
+    /// for (l, &v) in x.iter().enumerate() {
+    ///     assert_eq!([z[0][l], z[1][l], z[2][l], z[3][l]], law.z_all(v));
+    /// }
+    /// ```
+    #[inline(always)]
+    pub fn z_all_lanes<const L: usize>(&self, x: &[f64; L]) -> [[f64; L]; 4] {
+        let s = &self.fast;
+        let mut k = 0;
+        while k + 1 < s.len() && x[0] > s[k].x1 {
+            k += 1;
+        }
+        let f = &s[k];
+        // The lookup of `z` puts v in piece k iff v ≤ x1(k) (or k is last) and
+        // v > x1(k − 1) (or k is first).
+        let lo = if k == 0 {
+            f64::NEG_INFINITY
+        } else {
+            s[k - 1].x1
+        };
+        let hi = if k + 1 == s.len() {
+            f64::INFINITY
+        } else {
+            f.x1
+        };
+        let one_piece = x.iter().fold(true, |ok, &v| ok & (v > lo) & (v <= hi));
+        // The branch-free sine holds for |argument| ≤ 1e6; here |t| ≤ 1.
+        let sine_ok = (0..4).all(|o| f.amp[o] == 0.0 || f.freq.abs() + f.phase[o].abs() <= 1e5);
+        if !(one_piece && sine_ok) {
+            let mut out = [[0.0; L]; 4];
+            for (l, &v) in x.iter().enumerate() {
+                let z = self.z_all(v);
+                for o in 0..4 {
+                    out[o][l] = z[o];
+                }
+            }
+            return out;
+        }
+        // Plain loops, no closures: a closure the compiler keeps out of line
+        // would lose the caller's instruction set.
+        let mut t = [0.0; L];
+        for l in 0..L {
+            t[l] = x[l] - f.x0;
+        }
+        let mut out = [[0.0; L]; 4];
+        for (order, p) in out.iter_mut().enumerate() {
+            for &ck in f.poly[order].iter().rev() {
+                for l in 0..L {
+                    p[l] = p[l] * t[l] + ck;
+                }
+            }
+            let (a, w, phase) = (f.amp[order], f.freq, f.phase[order]);
+            if a != 0.0 {
+                for l in 0..L {
+                    p[l] += a * sin_lanes(w * t[l] + phase);
+                }
+            }
+        }
+        out
     }
 
     /// (x, max |Z^(order)|) over [0, 1].

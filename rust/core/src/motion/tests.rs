@@ -217,3 +217,66 @@ fn two_period_is_continuous_at_the_junction() {
     }
     assert!(close(law.at(a2, 0), p2, 1e-15) && law.at(0.0, 0).abs() < 1e-15);
 }
+
+#[test]
+fn all_orders_at_once_are_the_single_orders_bit_for_bit() {
+    // z_all shares the piece lookup; its values must be z(x, k)'s exactly, for
+    // every named rise and half law and a user polynomial, on a grid through
+    // every piece end (and one ulp either side of it) and both ends of [0, 1].
+    let laws: Vec<Law> = NAMES
+        .iter()
+        .flat_map(|n| [Law::rise(n).unwrap(), Law::half(n).unwrap()])
+        .chain([Law::polynomial(&[0.0, 0.0, 1.5, -0.5], false).unwrap()])
+        .collect();
+    for law in &laws {
+        let mut x: Vec<f64> = (0..=4001).map(|i| i as f64 / 4001.0).collect();
+        for s in &law.segments {
+            for e in [s.x0, s.x1] {
+                x.extend([e, e.next_down().max(0.0), e.next_up().min(1.0)]);
+            }
+        }
+        for xi in x {
+            let all = law.z_all(xi);
+            for (k, &v) in all.iter().enumerate() {
+                assert_eq!(v.to_bits(), law.z(xi, k).to_bits(), "x = {xi}, order {k}");
+            }
+        }
+    }
+}
+
+proptest! {
+    #[test]
+    fn all_orders_match_single_orders_anywhere(x in 0.0f64..=1.0, k in 0usize..6, half in any::<bool>()) {
+        let law = if half { Law::half(NAMES[k]) } else { Law::rise(NAMES[k]) }.unwrap();
+        let all = law.z_all(x);
+        for (order, &v) in all.iter().enumerate() {
+            prop_assert_eq!(v.to_bits(), law.z(x, order).to_bits());
+        }
+    }
+}
+
+#[test]
+fn lanes_of_all_orders_are_z_all_bit_for_bit() {
+    // Groups inside one piece (the branch-free path) and groups straddling piece
+    // ends (one by one), for every law: each lane must be z_all's value.
+    let laws: Vec<Law> = NAMES
+        .iter()
+        .flat_map(|n| [Law::rise(n).unwrap(), Law::half(n).unwrap()])
+        .chain([Law::polynomial(&[0.0, 0.0, 1.5, -0.5], false).unwrap()])
+        .collect();
+    let x: Vec<f64> = (0..=8001).map(|i| i as f64 / 8001.0).collect();
+    for law in &laws {
+        for start in 0..8 {
+            for g in x[start..].chunks_exact(8) {
+                let g: [f64; 8] = g.try_into().unwrap();
+                let z = law.z_all_lanes(&g);
+                for (l, &v) in g.iter().enumerate() {
+                    let want = law.z_all(v);
+                    for o in 0..4 {
+                        assert_eq!(z[o][l].to_bits(), want[o].to_bits(), "x = {v}, order {o}");
+                    }
+                }
+            }
+        }
+    }
+}
