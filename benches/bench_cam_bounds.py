@@ -80,10 +80,12 @@ def numpy_worst(seg: int, beta: float, omega: float) -> tuple[float, float, floa
     p = np.clip(n, 0, None) * kappa / (math.pi * WIDTH * c)
     # An undercut profile (κ < 0) carries no Hertz contact: a violation.
     sigma = np.sqrt(np.where(p >= 0, p, np.inf))
+    undercut = float(np.max(RR * kappa_p))
     return (
         float(np.abs(phi).max() / ALPHA),
-        float(np.max(RR * kappa_p)),
-        float(sigma.max() / LIMIT),
+        undercut,
+        # The rule: no Hertz contact on an undercut profile (violated).
+        float(sigma.max() / LIMIT) if undercut < 1.0 else math.inf,
     )
 
 
@@ -110,7 +112,9 @@ def peer(rpm: Array) -> Array:
         out[:, j, 0], out[:, j, 1] = p, u
         for i, n in enumerate(rpm):
             w = n * 2 * math.pi / 60
-            out[i, j, 2] = peer_root(lambda b, seg=seg, w=w: numpy_worst(seg, b, w)[2])
+            st = peer_root(lambda b, seg=seg, w=w: numpy_worst(seg, b, w)[2])
+            # Where it holds right above the undercut bound, the undercut binds: 0.
+            out[i, j, 2] = 0.0 if st <= u * (1 + 1e-9) else st
     return np.degrees(out)
 
 

@@ -134,12 +134,7 @@ impl Cam {
 
     /// The undercut ratio's worst value over segment `k` at angle `beta`.
     fn undercut_ratio(&self, k: usize, beta: f64) -> f64 {
-        max_unit(|x| {
-            let mut geo = [0.0; N_COLUMNS];
-            self.trial_row(k, x, beta, &mut geo);
-            self.undercut_of(&geo)
-        })
-        .0
+        max_unit(|x| self.undercut_of(&self.lean_row(self.program().trial(k, x, beta)))).0
     }
 
     /// β_min/ω for jump [s]: √(max m(−h z″)/K) over segment `k` (∞ if the
@@ -168,7 +163,9 @@ impl Cam {
     /// an undercut the stress stands in a narrow peak where the profile's radius
     /// is smallest, which a grid can step over: where the curvature ratio passes
     /// [`NEAR_UNDERCUT`], its peak is found (grid and Brent) and the stress is
-    /// also maximised on the two cells around it.
+    /// also maximised on the two cells around it. `grid`: the law's values at
+    /// the grid's points ([`Program::law_at`]), if the caller keeps them.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn stress_ratio(
         &self,
         k: usize,
@@ -177,20 +174,25 @@ impl Cam {
         loads: &Loads,
         hertz: (f64, f64),
         limit: f64,
+        grid: Option<&[[f64; 4]; GRID]>,
     ) -> f64 {
         let load = loads.segment_loads[k];
-        let at = |x: f64| {
-            let mut geo = [0.0; N_COLUMNS];
-            self.trial_row(k, x, beta, &mut geo);
-            geo
+        let at = |x: f64| self.lean_row(self.program().trial(k, x, beta));
+        let stress = |geo: &[f64; N_COLUMNS]| {
+            let lc = self.lever_times(geo[10]);
+            self.load_row_lc(geo, lc, omega, loads, load, Some(hertz))[2] / limit
         };
-        let f = |x: f64| self.load_row(&at(x), omega, loads, load, Some(hertz))[2] / limit;
+        let f = |x: f64| stress(&at(x));
         let u = |x: f64| self.undercut_of(&at(x));
         let h = 1.0 / (GRID - 1) as f64;
         let (mut vs, mut vu) = ([0.0; GRID], [0.0; GRID]);
         for i in 0..GRID {
-            let geo = at(i as f64 * h);
-            vs[i] = self.load_row(&geo, omega, loads, load, Some(hertz))[2] / limit;
+            let z = match grid {
+                Some(z) => z[i],
+                None => self.program().law_at(k, i as f64 * h),
+            };
+            let geo = self.lean_row(self.program().trial_from(k, z, beta));
+            vs[i] = stress(&geo);
             vu[i] = self.undercut_of(&geo);
         }
         let near = vu.iter().any(|v| v.is_nan() || *v >= NEAR_UNDERCUT);

@@ -167,6 +167,12 @@ impl Cam {
         self.lever() * phi.cos()
     }
 
+    /// l cos φ from a lean row's cos φ.
+    #[inline]
+    pub(super) fn lever_times(&self, cos_phi: f64) -> f64 {
+        self.lever() * cos_phi
+    }
+
     /// Check that the follower can carry a Hertz stress (a roller of radius
     /// > 0, or a flat face); the compliance of `contact`.
     pub fn hertz_compliance(&self, contact: &Contact) -> Result<f64, CamError> {
@@ -221,9 +227,23 @@ impl Cam {
         load: f64,
         hertz: Option<(f64, f64)>,
     ) -> [f64; N_LOAD_COLUMNS] {
+        let lc = self.lever_cos(geo[10]);
+        self.load_row_lc(geo, lc, omega, loads, load, hertz)
+    }
+
+    /// [`Cam::load_row`] given l cos φ `lc` (a lean row's cos φ times the lever).
+    #[inline]
+    pub(super) fn load_row_lc(
+        &self,
+        geo: &[f64],
+        lc: f64,
+        omega: f64,
+        loads: &Loads,
+        load: f64,
+        hertz: Option<(f64, f64)>,
+    ) -> [f64; N_LOAD_COLUMNS] {
         let (s, ds, dds) = (geo[0], geo[1], geo[2]);
         let q = loads.mass * dds * omega * omega + loads.spring_rate * s + loads.preload + load;
-        let lc = self.lever_cos(geo[10]);
         let n = if lc > 0.0 {
             q / lc
         } else {

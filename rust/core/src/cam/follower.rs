@@ -32,6 +32,18 @@ pub const N_COLUMNS: usize = COLUMNS.len();
 /// Angles per parallel chunk.
 const CHUNK: usize = 4096;
 
+/// How [`Cam::geometry`] finishes a row.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Every column; the pressure angle by the inlined [`atan2_lanes`].
+    Lanes,
+    /// Every column; the pressure angle by the platform's `atan2`.
+    Platform,
+    /// The bound searches' inner loop: no cam-frame points (NaN) and, in the
+    /// pressure angle's column, cos φ (what the loads need) instead of φ.
+    Lean,
+}
+
 /// The follower of a cam [m].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Follower {
@@ -433,17 +445,27 @@ impl Cam {
     /// search's trial segment).
     #[inline]
     pub fn row_at(&self, theta: f64, sv: [f64; 4], out: &mut [f64]) {
-        let cols = self.geometry(&[theta], sv.map(|v| [v]), true);
+        let cols = self.geometry(&[theta], sv.map(|v| [v]), Mode::Platform);
         for (o, c) in out[..N_COLUMNS].iter_mut().zip(cols) {
             *o = c[0];
         }
+    }
+
+    /// A row of [`COLUMNS`] for `sv` = [s, s′, s″, s‴] without the cam-frame
+    /// points (NaN there) and with cos φ in the pressure angle's column: what
+    /// the loads, the Hertz stress and the undercut need, for the bound
+    /// searches' inner loop (no sine, cosine or arctangent of an angle).
+    #[inline]
+    pub(super) fn lean_row(&self, sv: [f64; 4]) -> [f64; N_COLUMNS] {
+        self.geometry(&[0.0], sv.map(|v| [v]), Mode::Lean)
+            .map(|c| c[0])
     }
 
     /// The rows of `L` cam angles θ [rad], column by column (see
     /// [`Cam::geometry`]).
     #[inline(always)]
     fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
-        self.geometry(theta, self.program.eval_lanes(theta), false)
+        self.geometry(theta, self.program.eval_lanes(theta), Mode::Lanes)
     }
 
     /// The rows of `L` cam angles θ [rad] for their [s, s′, s″, s‴] lanes `sv`,
@@ -460,7 +482,7 @@ impl Cam {
         &self,
         theta: &[f64; L],
         sv: [[f64; L]; 4],
-        platform_atan2: bool,
+        mode: Mode,
     ) -> [[f64; L]; N_COLUMNS] {
         // `each!(i => e)`: the lanes [e(0), …, e(L − 1)] by a plain loop (a
         // closure the compiler kept out of line would lose the instruction set).
@@ -535,8 +557,13 @@ impl Cam {
             each!(i => -t[1][i] / speed[i]),
             each!(i => t[0][i] / speed[i]),
         ];
-        let (sn, cs) = sin_cos_lanes(theta);
-        // P in the cam frame: R(−θ) p.
+        let lean = mode == Mode::Lean;
+        let (sn, cs) = if lean {
+            ([f64::NAN; L], [f64::NAN; L])
+        } else {
+            sin_cos_lanes(theta)
+        };
+        // P in the cam frame: R(−θ) p (NaN when lean).
         macro_rules! to_cam {
             ($p:expr) => {{
                 let p: [[f64; L]; 2] = $p;
@@ -552,7 +579,8 @@ impl Cam {
             Follower::FlatFaced { .. } => {
                 let rho = each!(i => lift[i] + dds[i]);
                 let q = to_cam!([ds, lift]);
-                (q, nan, zero, rho, each!(i => pick(rho[i] < 0.0, 1.0, 0.0)))
+                let phi = if lean { one } else { zero };
+                (q, nan, phi, rho, each!(i => pick(rho[i] < 0.0, 1.0, 0.0)))
             }
             _ => {
                 let q = to_cam!([
@@ -569,10 +597,10 @@ impl Cam {
                 };
                 let cr = each!(i => v[0][i] * n[1][i] - v[1][i] * n[0][i]);
                 let dt = each!(i => v[0][i] * n[0][i] + v[1][i] * n[1][i]);
-                let phi = if platform_atan2 {
-                    each!(i => cr[i].atan2(dt[i]))
-                } else {
-                    atan2_lanes(&cr, &dt)
+                let phi = match mode {
+                    Mode::Platform => each!(i => cr[i].atan2(dt[i])),
+                    Mode::Lanes => atan2_lanes(&cr, &dt),
+                    Mode::Lean => dt,
                 };
                 let groove = self.groove;
                 let cusp = each!(i => {

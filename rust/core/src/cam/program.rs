@@ -291,6 +291,29 @@ impl Program {
         (g.start, g.angle, g.s0, g.h)
     }
 
+    /// Segment `k`'s law at `x`: [z, z′, z″, z‴] (zeros for a dwell), the part
+    /// of [`Program::trial`] that does not depend on the angle.
+    #[inline]
+    pub fn law_at(&self, k: usize, x: f64) -> [f64; 4] {
+        match &self.segs[k].law {
+            None => [0.0; 4],
+            Some(law) => law.z_all(x),
+        }
+    }
+
+    /// [`Program::trial`] from the law's values `z` = [`Program::law_at`].
+    #[inline]
+    pub fn trial_from(&self, k: usize, z: [f64; 4], beta: f64) -> [f64; 4] {
+        let g = &self.segs[k];
+        let [z0, z1, z2, z3] = z;
+        [
+            g.s0 + g.h * z0,
+            g.h * z1 / beta,
+            g.h * z2 / (beta * beta),
+            g.h * z3 / (beta * beta * beta),
+        ]
+    }
+
     /// [s, s′, s″, s‴] of segment `k` at the fraction `x` ∈ [0, 1] of its
     /// angle, were its angle `beta` [rad] instead of its own (a bound search's
     /// trial: the segment's start displacement and stroke are kept).
@@ -299,12 +322,15 @@ impl Program {
         let g = &self.segs[k];
         match &g.law {
             None => [g.s0, 0.0, 0.0, 0.0],
-            Some(law) => [
-                g.s0 + g.h * law.z(x, 0),
-                g.h * law.z(x, 1) / beta,
-                g.h * law.z(x, 2) / (beta * beta),
-                g.h * law.z(x, 3) / (beta * beta * beta),
-            ],
+            Some(law) => {
+                let [z, z1, z2, z3] = law.z_all(x);
+                [
+                    g.s0 + g.h * z,
+                    g.h * z1 / beta,
+                    g.h * z2 / (beta * beta),
+                    g.h * z3 / (beta * beta * beta),
+                ]
+            }
         }
     }
 }

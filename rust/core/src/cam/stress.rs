@@ -13,7 +13,7 @@ use std::f64::consts::TAU;
 
 use super::bounds::{CUT, FLOOR, NEAR_UNDERCUT, STEP};
 use super::contact::Loads;
-use super::follower::{Cam, N_COLUMNS};
+use super::follower::Cam;
 use super::search::{brent_zero, refine, GRID};
 
 /// A node of a trial angle's grid: Q = `a`·ω² + `b`; σ²/[σ]² = Q·`c_in` (Q ≥ 0)
@@ -30,6 +30,8 @@ struct Node {
 pub(super) struct ScanCache {
     beta: Vec<f64>,
     nodes: Vec<Vec<Node>>,
+    /// The law's values at the grid's points (they do not depend on the angle).
+    law: [[f64; 4]; GRID],
 }
 
 impl Cam {
@@ -48,12 +50,10 @@ impl Cam {
         let load = loads.segment_loads[k];
         let h = 1.0 / (GRID - 1) as f64;
         let scale = std::f64::consts::PI * hertz.0 * hertz.1 * limit * limit;
-        let start = self.program().segment(k).0;
         let node = |x: f64| {
-            let mut geo = [0.0; N_COLUMNS];
             let sv = self.program().trial(k, x, beta);
-            self.row_at(start + x * beta, sv, &mut geo);
-            let lc = self.lever_cos(geo[10]);
+            let geo = self.lean_row(sv);
+            let lc = self.lever_times(geo[10]);
             let c = |n: f64| {
                 if lc > 0.0 {
                     self.curvature(&geo, n) / (scale * lc)
@@ -108,7 +108,9 @@ impl Cam {
             .iter()
             .map(|&b| self.stress_nodes(k, b, loads, hertz, limit))
             .collect();
-        ScanCache { beta, nodes }
+        let h = 1.0 / (GRID - 1) as f64;
+        let law = std::array::from_fn(|i| self.program().law_at(k, i as f64 * h));
+        ScanCache { beta, nodes, law }
     }
 
     /// The smallest angle [rad] of segment `k` for the stress at each speed of
@@ -126,7 +128,8 @@ impl Cam {
     ) {
         let mut order: Vec<usize> = (0..omegas.len()).collect();
         order.sort_by(|&i, &j| omegas[i].total_cmp(&omegas[j]));
-        let exact = |b: f64, w: f64| self.stress_ratio(k, b, w, loads, hertz, limit);
+        let exact =
+            |b: f64, w: f64| self.stress_ratio(k, b, w, loads, hertz, limit, Some(&cache.law));
         // The last two roots (speed, angle): the next guess is their line's.
         let mut last: Option<f64> = None;
         let mut prev: Option<(f64, f64)> = None;
