@@ -209,7 +209,7 @@ impl Cam {
         match peak {
             Some(x) if main.is_finite() => {
                 let (lo, hi) = ((x - h).max(0.0), (x + h).min(1.0));
-                let (_, local) = brent_max(&f, lo, hi, 1e-12);
+                let (_, local) = brent_max(&f, lo, hi, 1e-10);
                 let v = main.max(local).max(f(x));
                 if v.is_nan() {
                     f64::INFINITY

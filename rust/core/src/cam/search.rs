@@ -11,7 +11,7 @@ const REFINE: usize = 4;
 /// Maximum of `f` over x ∈ [0, 1] and where it is, as (value, x): `f` on a
 /// grid of [`GRID`] points, then every local grid maximum within 5 % of the
 /// best (at most [`REFINE`]) refined by Brent's maximiser on its two
-/// neighbouring cells to 1e-12 in x. A NaN anywhere counts as +∞ (a violated
+/// neighbouring cells to 1e-10 in x. A NaN anywhere counts as +∞ (a violated
 /// criterion), so the result is +∞ there.
 pub fn max_unit(f: impl Fn(f64) -> f64) -> (f64, f64) {
     max_unit_cut(f, f64::NEG_INFINITY)
@@ -54,7 +54,7 @@ pub fn refine(f: &impl Fn(f64) -> f64, v: &[f64; GRID], cut: f64) -> (f64, f64) 
             continue;
         }
         refined += 1;
-        let (x, y) = brent_max(f, cell(i).0, cell(i).1, 1e-12);
+        let (x, y) = brent_max(f, cell(i).0, cell(i).1, 1e-10);
         if y.is_nan() {
             return (f64::INFINITY, x);
         }
