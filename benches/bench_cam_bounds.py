@@ -137,7 +137,9 @@ def test_the_peer_agrees() -> None:
 def test_min_phase_angles_cyclomech(benchmark, threads: int | None) -> None:
     n = speeds()
     benchmark.extra_info["tool"] = "cyclomech"
-    benchmark.extra_info["what"] = f"10 segments x {n.size} speeds, one call"
+    where = "all cores" if threads is None else f"{threads} thread"
+    benchmark.extra_info["what"] = f"10 segments x {n.size} speeds, one call, {where}"
+    benchmark.extra_info["items"] = 10 * n.size
     out = benchmark(cyclomech_bounds, n, threads)
     assert out.shape == (n.size, 10, 3)
 
@@ -146,7 +148,8 @@ def test_min_phase_angles_cyclomech(benchmark, threads: int | None) -> None:
 def test_min_phase_angles_scipy(benchmark) -> None:
     n = speeds()[:PEER_SPEEDS]
     benchmark.extra_info["tool"] = "scipy brentq loop"
-    benchmark.extra_info["what"] = f"10 segments x {n.size} speeds (x{N_SPEEDS / n.size:g})"
+    benchmark.extra_info["what"] = f"10 segments x {n.size} speeds (ratio per root)"
+    benchmark.extra_info["items"] = 10 * n.size
     out = benchmark(peer, n)
     assert out.shape == (n.size, 10, 3)
 

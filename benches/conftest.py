@@ -96,11 +96,17 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config)
         peers = [b for b in rows if _tool(b) != REFERENCE_TOOL]
         for peer in peers:
             for ref in refs:
-                r = peer.stats.median / ref.stats.median
+                # Per work item where a benchmark says how many it did (a peer
+                # timed on a subset): extra_info["items"].
+                r = _per_item(peer) / _per_item(ref)
                 tr.write_line(
                     f"    {_tool(peer)} / {REFERENCE_TOOL} = {_ratio(r):>6}"
                     f"   ({_what(peer)}  vs  {_what(ref)})"
                 )
+
+
+def _per_item(b: Any) -> float:
+    return float(b.stats.median) / float(b.extra_info.get("items", 1))
 
 
 def _tool(b: Any) -> str:
