@@ -378,14 +378,14 @@ class CamResult:
                 f"{self.max_stress_pa / 1e6:.4g}"
                 + ("" if d.max_stress is None else f" ({d.max_stress / 1e6:g})"),
             ],
-            ["jump speed [rpm]", self.jump_rpm],
+            ["jump speed [rpm]", "none (groove)" if d.cam.closure == "groove" else self.jump_rpm],
             ["undercut", ", ".join(f"{a:g}–{b:g}°" for a, b in self.undercut_deg) or "none"],
         ]
         if self.at_nominal is not None:
             for j, k in enumerate(self.at_nominal.segments):
                 row = self.at_nominal.angle_deg[0, j]
                 text = ", ".join(
-                    f"{WORDS[c]} {row[i]:.4g}"
+                    f"{WORDS[c]} " + ("none" if row[i] == 0 else f"{row[i]:.4g}")
                     for i, c in enumerate(CRITERIA)
                     if (k, c) in m.criteria
                 )

@@ -78,7 +78,7 @@ def plot_speed_sweep(
         "-",
         lw=1.8,
         color="C0",
-        label="with the stops' exact rebound bounds" if stops else "optimum",
+        label="with the mechanisms' exact bounds" if stops else "optimum",
         gid="limiting",
     )
     if linear is not None:
@@ -98,11 +98,17 @@ def plot_speed_sweep(
         low = axes[2]
         for i, (name, t) in enumerate(stops.items()):
             c = f"C{(i + 3) % 10}"
-            low.plot(n, upto(t), "-", lw=1.6, color=c, label=f"{name}: exact", gid=f"stop:{name}")
-            if linear is not None:
+            # 0 is "no bound" (a cam criterion another one covers): not drawn.
+            exact = np.where(np.asarray(t, dtype=float) > 0, t, np.nan)
+            low.plot(
+                n, upto(exact), "-", lw=1.6, color=c, label=f"{name}: exact", gid=f"stop:{name}"
+            )
+            lin = None if linear is None else np.asarray(linear.min_phase_deg[name], dtype=float)
+            if lin is not None and not np.array_equal(lin, np.asarray(t, float), equal_nan=True):
+                # (a bound without a linearised form, as a cam's, is drawn once)
                 low.plot(
                     n,
-                    upto(linear.min_phase_deg[name]),
+                    upto(lin),
                     "--",
                     lw=1.2,
                     color=c,
@@ -110,7 +116,11 @@ def plot_speed_sweep(
                     gid=f"stop:{name}:linear",
                 )
         low.set_ylabel("smallest phase angle  [deg]")
-        low.legend(fontsize=8, loc="upper left")
+        if len(low.get_lines()) > 6:  # many bounds: the legend beside the panel
+            low.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+            fig.set_size_inches(12.0, 7.5)
+        else:
+            low.legend(fontsize=8, loc="upper left")
     axes[-1].set_xlabel("main-shaft speed  [rpm]")
     by = f" ({limit_by})" if limit_by else ""
     for ax in axes:
