@@ -148,6 +148,44 @@ fn platform_sin_cos(x: f64) -> (f64, f64) {
     x.sin_cos()
 }
 
+/// [`sin_cos`] for `L` lanes, bit for bit (tested), without branches: the
+/// same Cody–Waite reduction and fdlibm kernels, both kernels evaluated and each
+/// result's picked and signed by the quadrant's bits; lanes with |x| > 10⁶ or
+/// NaN take the platform's `sin_cos`, as [`sin_cos`] does.
+#[inline(always)]
+pub(crate) fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let (mut sn, mut cs) = ([0.0; L], [0.0; L]);
+    let mut wide = false;
+    for l in 0..L {
+        let v = x[l];
+        wide |= (v.abs() > 1e6) | v.is_nan();
+        let shifted = v * std::f64::consts::FRAC_2_PI + ROUND;
+        let k = shifted - ROUND;
+        let r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
+        let q = shifted.to_bits() & 3;
+        let z = r * r;
+        let ks = r + r * z * (S[0] + z * (S[1] + z * (S[2] + z * (S[3] + z * (S[4] + z * S[5])))));
+        let p = z * z * (C[0] + z * (C[1] + z * (C[2] + z * (C[3] + z * (C[4] + z * C[5])))));
+        let hz = 0.5 * z;
+        let w = 1.0 - hz;
+        let kc = w + (((1.0 - w) - hz) + p);
+        // q = 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
+        let odd = (q & 1).wrapping_neg();
+        let (bs, bc) = (ks.to_bits(), kc.to_bits());
+        sn[l] = f64::from_bits(((bs & !odd) | (bc & odd)) ^ ((q & 2) << 62));
+        cs[l] = f64::from_bits(((bc & !odd) | (bs & odd)) ^ (((q + 1) & 2) << 62));
+    }
+    if wide {
+        for l in 0..L {
+            if x[l].abs() > 1e6 || x[l].is_nan() {
+                (sn[l], cs[l]) = platform_sin_cos(x[l]);
+            }
+        }
+    }
+    (sn, cs)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

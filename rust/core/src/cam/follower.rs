@@ -6,6 +6,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use rayon::prelude::*;
 
 use super::program::{CamError, Program};
+use crate::geom::sin_cos_lanes;
 use crate::parallel::{pool, resolve_threads};
 
 /// The columns of [`Cam::solve_into`]'s rows, in order.
@@ -204,81 +205,6 @@ fn atan2_lanes<const L: usize>(y: &[f64; L], x: &[f64; L]) -> [f64; L] {
 #[inline(never)]
 fn platform_atan2(y: f64, x: f64) -> f64 {
     y.atan2(x)
-}
-
-// geom::sin_cos's constants (fdlibm's, digits as published), for its lane form.
-#[allow(clippy::excessive_precision)]
-const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
-#[allow(clippy::excessive_precision)]
-const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
-#[allow(clippy::excessive_precision)]
-const PIO2_3: f64 = 2.022_266_248_711_166_455_8e-21;
-#[allow(clippy::excessive_precision)]
-const SIN: [f64; 6] = [
-    -1.666_666_666_666_663_243_48e-1,
-    8.333_333_333_322_489_461_24e-3,
-    -1.984_126_982_985_794_931_34e-4,
-    2.755_731_370_707_006_767_89e-6,
-    -2.505_076_025_340_686_341_95e-8,
-    1.589_690_995_211_550_102_21e-10,
-];
-#[allow(clippy::excessive_precision)]
-const COS: [f64; 6] = [
-    4.166_666_666_666_660_190_37e-2,
-    -1.388_888_888_887_410_957_49e-3,
-    2.480_158_728_947_672_941_78e-5,
-    -2.755_731_435_139_066_330_35e-7,
-    2.087_572_321_298_174_827_90e-9,
-    -1.135_964_755_778_819_482_65e-11,
-];
-
-/// `geom::sin_cos` for `L` lanes, bit for bit (tested), without branches: the
-/// same Cody–Waite reduction and fdlibm kernels, both kernels evaluated and each
-/// result's picked and signed by the quadrant's bits; lanes with |x| > 10⁶ or
-/// NaN take the platform's `sin_cos`, as `geom::sin_cos` does. (`geom` has the
-/// lane form of the sine alone; this belongs beside it.)
-#[inline(always)]
-fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let (mut sn, mut cs) = ([0.0; L], [0.0; L]);
-    let mut wide = false;
-    for l in 0..L {
-        let v = x[l];
-        wide |= (v.abs() > 1e6) | v.is_nan();
-        let shifted = v * std::f64::consts::FRAC_2_PI + ROUND;
-        let k = shifted - ROUND;
-        let r = ((v - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-        let q = shifted.to_bits() & 3;
-        let z = r * r;
-        let ks = r + r
-            * z
-            * (SIN[0] + z * (SIN[1] + z * (SIN[2] + z * (SIN[3] + z * (SIN[4] + z * SIN[5])))));
-        let p = z
-            * z
-            * (COS[0] + z * (COS[1] + z * (COS[2] + z * (COS[3] + z * (COS[4] + z * COS[5])))));
-        let hz = 0.5 * z;
-        let w = 1.0 - hz;
-        let kc = w + (((1.0 - w) - hz) + p);
-        // q = 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
-        let odd = (q & 1).wrapping_neg();
-        let (bs, bc) = (ks.to_bits(), kc.to_bits());
-        sn[l] = f64::from_bits(((bs & !odd) | (bc & odd)) ^ ((q & 2) << 62));
-        cs[l] = f64::from_bits(((bc & !odd) | (bs & odd)) ^ (((q + 1) & 2) << 62));
-    }
-    if wide {
-        for l in 0..L {
-            if x[l].abs() > 1e6 || x[l].is_nan() {
-                (sn[l], cs[l]) = platform_sin_cos(x[l]);
-            }
-        }
-    }
-    (sn, cs)
-}
-
-#[cold]
-#[inline(never)]
-fn platform_sin_cos(x: f64) -> (f64, f64) {
-    x.sin_cos()
 }
 
 /// Angles per lane group of [`Cam::solve_into`]: one AVX-512 register of f64.
