@@ -7,7 +7,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import cam, cyclogram, impact, linkage, machine, motion, press, transfer
+from . import cam, cyclogram, impact, linkage, machine, motion, press, shaft, transfer
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -65,6 +65,7 @@ __all__ = [
     "max_difference",
     "motion",
     "press",
+    "shaft",
     "sweep",
     "transfer",
 ]

@@ -12,6 +12,7 @@ import numpy.typing as npt
 __all__ = [
     "CAM_CRITERIA",
     "CAM_LOAD_COLUMNS",
+    "SHAFT_STATS",
     "DEG_PER_S_PER_RPM",
     "MOTION_LAWS",
     "PRESS_STATUS",
@@ -55,6 +56,8 @@ DEG_PER_S_PER_RPM: float
 CAM_CRITERIA: tuple[str, ...]
 #: The columns of CamKernel.loads.
 CAM_LOAD_COLUMNS: tuple[str, ...]
+#: The statistics of shaft_stats, in its columns' order.
+SHAFT_STATS: tuple[str, ...]
 
 # cyclogram: longest paths, event graphs, cycle ratios, difference constraints.
 
@@ -415,3 +418,19 @@ def cam_follower_response(
     zeta: float,
     theta: npt.NDArray[np.float64],
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+
+# shaft
+
+__all__ += ["shaft_stats", "shaft_sum"]
+
+def shaft_sum(
+    curves: npt.NDArray[np.float64], phase: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]: ...
+def shaft_stats(
+    a: npt.NDArray[np.float64],
+    b: npt.NDArray[np.float64],
+    omegas: npt.NDArray[np.float64],
+    delta: float,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...

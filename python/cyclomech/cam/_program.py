@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -16,6 +16,9 @@ from ..motion import NAMES
 from . import _loads
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import CamLoads, Contact, FollowerLoads, MinPhaseAngles
+
+if TYPE_CHECKING:
+    from ..shaft import ShaftTorque
 
 __all__ = ["KINDS", "Cam", "CamKinematics", "Segment"]
 
@@ -246,6 +249,33 @@ class Cam:
         ([50.0, 90.0], [148.448, 194.364])
         """
         return _loads.solve_loads(self, theta, rpm, loads, contact, n_threads=n_threads)
+
+    def shaft_torque(self, loads: FollowerLoads, samples: int = 3600) -> ShaftTorque:
+        """The torque [N·m] the cam's shaft must supply over one turn, as a
+        :class:`cyclomech.shaft.ShaftTorque` on ``samples`` cam angles (cam angle 0
+        at 0°): T = Q s′ by the power balance (friction neglected), so
+        T = ω²·m s″ s′ + (k s + F0 + F_L) s′ — its ω² part and its static part.
+
+        >>> import cyclomech as cm
+        >>> S = cm.cam.Segment
+        >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
+        ...                  cm.cam.TranslatingRoller(0.05, 0.01))
+        >>> t = cam.shaft_torque(cm.cam.FollowerLoads(1.0, 2000.0, 50.0))
+        >>> s = t.stats(300.0, 0.02)          # a conservative follower: no mean torque
+        >>> abs(float(s.mean_torque_nm)) < 1e-9, round(float(s.peak_torque_nm), 3)
+        (True, 0.891)
+        """
+        from ..shaft import ShaftTorque
+
+        if not isinstance(loads, FollowerLoads):
+            raise InputError(f"loads must be a cyclomech.cam.FollowerLoads; got {loads!r}")
+        if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 3:
+            raise InputError(f"samples must be an integer >= 3; got {samples!r}")
+        theta = np.arange(int(samples), dtype=np.float64) * (2.0 * math.pi / samples)
+        kin = self.solve(theta)
+        static = self._kernel.loads(theta, 0.0, loads._kernel_args(len(self.segments)))[:, 3]
+        inertial = loads.mass * kin.dds * kin.ds
+        return ShaftTorque.from_curves(inertial[None, :], static[None, :])
 
     def jump_rpm(self, loads: FollowerLoads) -> tuple[float, float]:
         """The speed [rpm] at which a spring-closed follower first leaves the cam

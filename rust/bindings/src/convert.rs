@@ -21,6 +21,7 @@ use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::press::PressError;
+use cyclomech_core::shaft::ShaftError;
 use numpy::ndarray::{Array2, Dimension, Ix2};
 use numpy::{Element, PyArray, PyReadonlyArray, PyReadwriteArray, PyUntypedArrayMethods};
 use pyo3::exceptions::PyMemoryError;
@@ -69,6 +70,16 @@ pub trait LayoutError: IntoPyErr + Sized {
 impl LayoutError for CamError {
     fn layout(field: &'static str) -> Self {
         CamError::BadFollower {
+            field,
+            value: f64::NAN,
+            why: "must be a C-contiguous array".into(),
+        }
+    }
+}
+
+impl LayoutError for ShaftError {
+    fn layout(field: &'static str) -> Self {
+        ShaftError::BadValue {
             field,
             value: f64::NAN,
             why: "must be a C-contiguous array".into(),

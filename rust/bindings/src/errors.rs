@@ -13,6 +13,7 @@ use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
 use cyclomech_core::press::ParetoError;
 use cyclomech_core::press::PressError;
+use cyclomech_core::shaft::ShaftError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -78,6 +79,15 @@ impl IntoPyErr for CamError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
             CamError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
+        }
+    }
+}
+
+impl IntoPyErr for ShaftError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            ShaftError::Threads(e) => e.into_pyerr(py),
             other => raise(py, "InputError", other.to_string(), None),
         }
     }

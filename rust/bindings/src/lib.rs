@@ -15,6 +15,7 @@ mod impact;
 mod linkage;
 mod motion;
 mod press;
+mod shaft;
 
 #[pymodule]
 mod _core {
@@ -35,6 +36,8 @@ mod _core {
     use super::motion::{MotionLaw, TwoPeriodKernel};
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
+    #[pymodule_export]
+    use super::shaft::{shaft_stats, shaft_sum};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -47,6 +50,7 @@ mod _core {
         m.add("DEG_PER_S_PER_RPM", units::DEG_PER_S_PER_RPM)?;
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
+        m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
         Ok(())
     }
 
@@ -54,6 +58,7 @@ mod _core {
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
     use cyclomech_core::motion::NAMES as LAW_NAMES;
     use cyclomech_core::press::Status;
+    use cyclomech_core::shaft::STATS as SHAFT_STATS;
     use cyclomech_core::units;
     use pyo3::types::PyTuple;
 }

@@ -65,4 +65,5 @@ pub mod linkage;
 pub mod motion;
 pub mod parallel;
 pub mod press;
+pub mod shaft;
 pub mod units;

@@ -1,0 +1,207 @@
+//! The main shaft (issue 19): the mechanisms' shaft torques over one cycle, each
+//! shifted by its phase in the cyclogram, summed; at each speed the mean, peak,
+//! lowest and RMS torque, the energy fluctuation, the flywheel and the motor.
+//!
+//! **Torques against speed.** At a constant shaft speed ω a mechanism's torque
+//! is T(θ) = ω²·a(θ) + b(θ): inertia gives the ω² part (its accelerations are
+//! ω² times the acceleration analogs), the loads, springs and gravity the rest.
+//! A curve is sampled at N points θ_k = 2πk/N over one turn [rad]; between
+//! samples it is linear (periodic). Mechanism i is shifted by its phase φ_i: the
+//! sum at θ_k reads each curve at θ_k − φ_i by periodic linear interpolation.
+//!
+//! **Statistics, exact for the piecewise-linear summed torque:** the mean
+//! T̄ = (1/2π)∮T (the samples' average), the peak and lowest (samples), the RMS
+//! √((1/2π)∮T²) (h(T₀² + T₀T₁ + T₁²)/3 a step), the energy fluctuation
+//! ΔE = max E − min E of E(θ) = ∫₀^θ (T − T̄) [J] (E is piecewise quadratic: its
+//! extrema inside a step, where T − T̄ crosses 0, are taken too), the flywheel
+//! inertia J = ΔE/(ω² δ) for a coefficient of speed fluctuation δ (the energy
+//! method: ΔE = J ω² δ with ω the mean speed) and the motor power T̄ ω [W].
+//!
+//! Files: this one (the kernels) and `tests`.
+
+use std::f64::consts::TAU;
+
+use rayon::prelude::*;
+
+use crate::parallel::{pool, resolve_threads, ThreadsError};
+
+#[cfg(test)]
+mod tests;
+
+/// The columns of [`stats_into`]'s rows, in order.
+pub const STATS: [&str; 7] = [
+    "mean_torque",
+    "peak_torque",
+    "lowest_torque",
+    "rms_torque",
+    "energy_fluctuation",
+    "flywheel_inertia",
+    "power",
+];
+
+/// Values per speed in [`stats_into`].
+pub const N_STATS: usize = STATS.len();
+
+/// Errors of the main shaft.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ShaftError {
+    #[error("{field} = {value} {why}")]
+    BadValue {
+        field: &'static str,
+        value: f64,
+        why: String,
+    },
+    #[error("{field}[{index}] = {value} is not finite")]
+    NotFinite {
+        field: &'static str,
+        index: usize,
+        value: f64,
+    },
+    #[error("{0}")]
+    Threads(#[from] ThreadsError),
+}
+
+fn finite(field: &'static str, v: &[f64]) -> Result<(), ShaftError> {
+    match v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        Some((index, &value)) => Err(ShaftError::NotFinite {
+            field,
+            index,
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The phase-shifted sum of M curves of N samples (row-major (M, N)) at the
+/// grid's points, by periodic linear interpolation at θ_k − φ_i (`phase` [rad]).
+pub fn shifted_sum(curves: &[f64], n: usize, phase: &[f64]) -> Result<Vec<f64>, ShaftError> {
+    if n < 3 {
+        return Err(ShaftError::BadValue {
+            field: "samples",
+            value: n as f64,
+            why: "must be >= 3 points over the turn".into(),
+        });
+    }
+    if curves.len() != n * phase.len() {
+        return Err(ShaftError::BadValue {
+            field: "curves",
+            value: curves.len() as f64,
+            why: format!(
+                "values given; need {} (one row of {n} per phase)",
+                n * phase.len()
+            ),
+        });
+    }
+    finite("curves", curves)?;
+    finite("phase", phase)?;
+    let mut out = vec![0.0; n];
+    let h = TAU / n as f64;
+    for (row, &p) in curves.chunks_exact(n).zip(phase) {
+        // θ_k − φ in steps: k − φ/h = k − (j0 + f), read between j and j + 1.
+        let s = (p / h).rem_euclid(n as f64);
+        let j0 = s.floor();
+        let f = s - j0;
+        let j0 = j0 as usize % n;
+        for (k, o) in out.iter_mut().enumerate() {
+            // index of θ_k − φ: k − j0 − f → between (k − j0 − 1) and (k − j0).
+            let hi = (k + n - j0) % n;
+            let lo = (hi + n - 1) % n;
+            *o += row[hi] * (1.0 - f) + row[lo] * f;
+        }
+    }
+    Ok(out)
+}
+
+/// [`STATS`] of T = ω²·a + b (N samples over one turn each) at each speed
+/// `omegas` [rad/s] for the coefficient of speed fluctuation `delta`, into
+/// `out` (row-major (speeds, [`N_STATS`])).
+pub fn stats_into(
+    a: &[f64],
+    b: &[f64],
+    omegas: &[f64],
+    delta: f64,
+    out: &mut [f64],
+    n_threads: Option<i64>,
+) -> Result<(), ShaftError> {
+    let n = a.len();
+    if n < 3 || b.len() != n {
+        return Err(ShaftError::BadValue {
+            field: "samples",
+            value: n as f64,
+            why: format!(
+                "must be >= 3, the same for both parts (the other has {})",
+                b.len()
+            ),
+        });
+    }
+    finite("per_omega2", a)?;
+    finite("static", b)?;
+    if let Some((index, &value)) = omegas
+        .iter()
+        .enumerate()
+        .find(|(_, w)| !(w.is_finite() && **w > 0.0))
+    {
+        return Err(ShaftError::BadValue {
+            field: "omega",
+            value,
+            why: format!("(at index {index}) [rad/s] must be finite and > 0"),
+        });
+    }
+    if !(delta.is_finite() && delta > 0.0) {
+        return Err(ShaftError::BadValue {
+            field: "speed_fluctuation",
+            value: delta,
+            why: "(δ) must be finite and > 0".into(),
+        });
+    }
+    debug_assert_eq!(out.len(), omegas.len() * N_STATS);
+    let pool = pool(resolve_threads(n_threads)?)?;
+    pool.install(|| {
+        out.par_chunks_mut(N_STATS)
+            .zip(omegas.par_iter())
+            .for_each(|(row, &w)| row.copy_from_slice(&stats_at(a, b, w, delta)));
+    });
+    Ok(())
+}
+
+/// [`STATS`] at one speed ω [rad/s].
+fn stats_at(a: &[f64], b: &[f64], w: f64, delta: f64) -> [f64; N_STATS] {
+    let n = a.len();
+    let h = TAU / n as f64;
+    let w2 = w * w;
+    let t = |k: usize| w2 * a[k % n] + b[k % n];
+    let (mut sum, mut peak, mut low) = (0.0, f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..n {
+        let v = t(k);
+        sum += v;
+        peak = peak.max(v);
+        low = low.min(v);
+    }
+    let mean = sum / n as f64;
+    let (mut sq, mut e, mut e_max, mut e_min) = (0.0, 0.0, 0.0f64, 0.0f64);
+    for k in 0..n {
+        let (t0, t1) = (t(k), t(k + 1));
+        sq += h * (t0 * t0 + t0 * t1 + t1 * t1) / 3.0;
+        let (d0, d1) = (t0 - mean, t1 - mean);
+        if (d0 < 0.0) != (d1 < 0.0) && d0 != d1 {
+            // E' = T − T̄ crosses 0 inside the step: E's extremum there.
+            let f = d0 / (d0 - d1);
+            let ex = e + 0.5 * d0 * f * h;
+            e_max = e_max.max(ex);
+            e_min = e_min.min(ex);
+        }
+        e += 0.5 * (d0 + d1) * h;
+        e_max = e_max.max(e);
+        e_min = e_min.min(e);
+    }
+    let de = e_max - e_min;
+    [
+        mean,
+        peak,
+        low,
+        (sq / TAU).sqrt(),
+        de,
+        de / (w2 * delta),
+        mean * w,
+    ]
+}
