@@ -14,7 +14,17 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "python" / "cyclomech"
-DOMAINS = ("linkage", "impact", "cyclogram", "motion", "press", "transfer", "machine", "cam", "shaft")
+DOMAINS = (
+    "linkage",
+    "impact",
+    "cyclogram",
+    "motion",
+    "press",
+    "transfer",
+    "machine",
+    "cam",
+    "shaft",
+)
 #: Lines a Python module may have (the issue's "~900").
 PY_LIMIT = 900
 #: Lines a Rust source may have outside its tests (the issue's "~1 200").

@@ -12,11 +12,11 @@ import numpy.typing as npt
 __all__ = [
     "CAM_CRITERIA",
     "CAM_LOAD_COLUMNS",
-    "SHAFT_STATS",
     "DEG_PER_S_PER_RPM",
     "MOTION_LAWS",
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
+    "SHAFT_STATS",
     "CamKernel",
     "EventGraph",
     "LinkageProgram",

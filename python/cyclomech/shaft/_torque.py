@@ -60,9 +60,7 @@ class ShaftTorque:
     static: Array
 
     @classmethod
-    def from_curves(
-        cls, per_omega2: Any, static: Any, phase_deg: Any = None
-    ) -> ShaftTorque:
+    def from_curves(cls, per_omega2: Any, static: Any, phase_deg: Any = None) -> ShaftTorque:
         """The sum of M mechanisms' curves (M, N) [N·m·s², N·m], each shifted by
         its phase ``phase_deg`` (M,) [deg] (0 by default): mechanism i's torque at
         θ is its curve's at θ − φ_i, by periodic linear interpolation. One Rust
