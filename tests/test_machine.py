@@ -284,6 +284,7 @@ def test_run_with_figures_embeds_them_in_the_report(run):
         "lifter_cam_svaj",
         "lifter_cam_along_cycle",
         "lifter_cam_min_phase",
+        "main_shaft",
     }
     page = (out / "report.html").read_text(encoding="utf-8")
     for p in pngs:

@@ -208,3 +208,56 @@ def test_bad_cam_tables_are_named(tmp_path, edit, needle):
     assert isinstance(e.value, ValueError)
     assert needle in str(e.value)
     assert "lifter cam" in str(e.value)
+
+
+def test_the_main_shaft_carries_the_cams_torque_at_its_phase():
+    """The loom's main shaft (issue 19): the lifter cam's torque at its phase in the
+    optimum. Its mean is the work of the rise's load per turn, F·h/(2π) (h the arm
+    rotation: the inertia and the groove do no work over a turn); at each cycle
+    angle θ the torque is the cam's own (Cam.loads) at cam angle θ − phase, where
+    the phase puts the lift's start at its operation's start."""
+    m = cm.Machine.from_toml(LOOM)
+    r = cm.machine.analyze(m, progress=False)
+    sh = r.shaft
+    assert list(sh.parts) == ["lifter cam"]
+    load = data()["mechanism"]["lifter cam"]["segment"][0]["load_nm"]
+    h = math.radians(data()["mechanism"]["lifter cam"]["segment"][0]["stroke_deg"])
+    # (the samples' mean: 3600 over the turn, ~270 on the lift)
+    assert float(sh.at_nominal.mean_torque_nm) == pytest.approx(load * h / (2 * math.pi), rel=1e-5)
+    res = r.mechanisms["lifter cam"]
+    cam, design = res.cam, res.mech.design
+    start = r.optimum.times["1"]
+    theta = np.radians(sh.torque.theta_deg)
+    ref = cam.loads(theta - math.radians(start), r.nominal_rpm, design.loads).shaft_torque
+    np.testing.assert_allclose(
+        sh.torque.at(r.nominal_rpm), ref, rtol=1e-6, atol=1e-6 * np.abs(ref).max()
+    )
+    # The flywheel by the energy method, and the motor's power, at every sweep speed.
+    o = sh.over_speed
+    w = o.rpm * 2 * math.pi / 60
+    np.testing.assert_allclose(o.flywheel_kg_m2, o.energy_fluctuation_j / (w**2 * 0.05), rtol=1e-12)
+    np.testing.assert_allclose(o.power_w, o.mean_torque_nm * w, rtol=1e-12)
+
+
+def test_the_main_shaft_in_the_report_and_only_where_a_mechanism_gives_torque(tmp_path):
+    import json
+
+    out = tmp_path / "out"
+    assert main(["run", str(LOOM), "--out", str(out), "--quiet", "--no-plot"]) == 0
+    r = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert r["shaft"]["contributors"] == ["lifter cam"] and r["shaft"]["speed_fluctuation"] == 0.05
+    assert "Main shaft" in (out / "report.html").read_text(encoding="utf-8")
+    knife = ROOT / "examples" / "knife_cutter.toml"
+    assert cm.machine.analyze(cm.Machine.from_toml(knife), progress=False).shaft is None
+
+
+@pytest.mark.parametrize("value", [0.0, 1.0, -0.1, "0.05"])
+def test_a_bad_speed_fluctuation_is_named(tmp_path, value):
+    text = LOOM.read_text(encoding="utf-8").replace(
+        "nominal_rpm = 300.0",
+        f"nominal_rpm = 300.0\nspeed_fluctuation = {value!r}".replace("'", '"'),
+    )
+    p = tmp_path / "bad.toml"
+    p.write_text(text, encoding="utf-8")
+    with pytest.raises(cm.CyclomechError, match="speed_fluctuation"):
+        cm.Machine.from_toml(p)

@@ -392,6 +392,21 @@ class CamResult:
                 rows.append([f"smallest angle of {m._where(k)} at {n:g} rpm [deg]", text])
         return ["quantity", "value"], rows
 
+    def shaft_torque(self) -> tuple[Array, Array, float] | None:
+        """Its torque on the main shaft for the machine's main shaft: (ω² part
+        [N·m·s²], static part [N·m], on 3600 cam angles; its phase [deg]: the
+        first bound segment starts at its operation's start in the optimum); None
+        without the follower's loads or an optimum."""
+        d, o = self.mech.design, self.ctx.optimum
+        if d.loads is None or o is None:
+            return None
+        t = self.cam.shaft_torque(d.loads, samples=3600)
+        k = next(i for i, a in enumerate(d.arcs) if a is not None)
+        arc = d.arcs[k]
+        assert arc is not None
+        start = sum(g.angle_deg for g in self.cam.segments[:k])
+        return t.per_omega2, t.static, float(o.times[arc[0]]) - start
+
     def csv_columns(self) -> list[tuple[str, Array]]:
         """Each bound's smallest phase angle on the sweep's speeds."""
         return [(f"min_phase_deg[{b.label}]", self.ctx.bounds[b.name]) for b in self.mech.bounds()]

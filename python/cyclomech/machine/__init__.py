@@ -14,6 +14,8 @@ say so (``_deg``, ``_rpm``). The layout::
                                     # (default: the top of the range, or the speed
                                     # limit if that is lower)
     angle_points = 361              # optional: crank angles per turn for mechanisms
+    speed_fluctuation = 0.05        # optional: the main shaft's δ = (ω_max − ω_min)/ω
+                                    # for its flywheel (default 0.05)
 
     [mechanism.lifter]              # a cam-driven lever that hits a limit stop
     kind = "cam_stop"

@@ -41,7 +41,20 @@ __all__ = [
 #: Version of the layout of ``results.json`` and of sweep files.
 SCHEMA = "cyclomech.machine/1"
 
-_MACHINE_KEYS = {"name", "speed_rpm", "speed_points", "nominal_rpm", "angle_points"}
+_MACHINE_KEYS = {
+    "name",
+    "speed_rpm",
+    "speed_points",
+    "nominal_rpm",
+    "angle_points",
+    "speed_fluctuation",
+}
+
+
+#: The main shaft's coefficient of speed fluctuation δ when the file gives none
+#: (``[machine] speed_fluctuation``): 1/20, a common value for machines with a
+#: flywheel on the main shaft.
+SPEED_FLUCTUATION = 0.05
 
 
 # --------------------------------------------------------------------- results
@@ -193,6 +206,12 @@ class Machine:
             raise InputError(
                 f"{source}: [machine]: nominal_rpm = {nominal!r} must be a speed in rpm, "
                 f"0 < nominal_rpm ≤ {SPEED_CAP_RPM:g}"
+            )
+        delta = head.get("speed_fluctuation", SPEED_FLUCTUATION)
+        if not (_toml.is_number(delta) and 0 < delta < 1):
+            raise InputError(
+                f"{source}: [machine]: speed_fluctuation = {delta!r} must be the coefficient "
+                "of speed fluctuation δ = (ω_max − ω_min)/ω of the main shaft, 0 < δ < 1"
             )
         if "cyclogram" not in data or "operation" not in data:
             raise InputError(

@@ -30,7 +30,8 @@ from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum, SpeedLimit
 from ._kinds import KINDS
-from ._model import SCHEMA, Machine, SpeedSweep
+from ._model import SCHEMA, SPEED_FLUCTUATION, Machine, SpeedSweep
+from ._shaft import MainShaft, main_shaft
 
 __all__ = ["MachineResult", "analyze", "write_report"]
 
@@ -60,6 +61,7 @@ class MachineResult:
     minimums: np.ndarray | None = None
     mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
+    shaft: MainShaft | None = None
 
 
 def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
@@ -120,7 +122,9 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         results = timed(
             "mechanisms", lambda: {k: mech.analyze(ctx) for k, mech in m.mechanisms.items()}
         )
-    return MachineResult(m, limit, nominal, opt, problem, sw, sw_lin, mins, results, seconds)
+        delta = float((m.data or {}).get("machine", {}).get("speed_fluctuation", SPEED_FLUCTUATION))
+        shaft = timed("main shaft", lambda: main_shaft(results, nominal, rpm, delta))
+    return MachineResult(m, limit, nominal, opt, problem, sw, sw_lin, mins, results, seconds, shaft)
 
 
 # --------------------------------------------------------------------- tables
@@ -185,6 +189,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         for g, entry in res.json().items():
             groups.setdefault(g, {})[k] = entry
     out.update(groups)
+    if r.shaft is not None:
+        out["shaft"] = r.shaft.json()
     sw = r.sweep
     out["speed_sweep"] = {
         "speed_rpm": sw.rpm,
@@ -280,6 +286,15 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
         )
     for k, res in r.mechanisms.items():
         res.figures(lambda fig, name, caption, k=k: save(fig, name, k, caption))  # type: ignore[misc]
+    if r.shaft is not None:
+        save(
+            r.shaft.figure(),
+            "main_shaft",
+            "shaft",
+            "The torque the main shaft must supply over the cycle at the nominal speed: each "
+            "mechanism's at its phase in the optimised cyclogram, stacked; dashed, the mean "
+            "(what the motor supplies; the flywheel takes up the rest).",
+        )
     return out
 
 
@@ -451,6 +466,13 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         parts.append(_table(header, rows))
         for sec, cap, p in figs:
             if sec == k:
+                parts.append(_img(p, cap))
+    if r.shaft is not None:
+        parts.append("<h2>Main shaft</h2>")
+        header, rows = r.shaft.table()
+        parts.append(_table(header, rows))
+        for sec, cap, p in figs:
+            if sec == "shaft":
                 parts.append(_img(p, cap))
     parts.append(
         "<h2>Files</h2><p><code>results.json</code> (schema "
