@@ -51,8 +51,20 @@ class _PerSpeed:
     column: int
 
     def __call__(self, rpm: Array) -> Array:
-        m = self.design.min_phase_angles(rpm, segments=[self.segment])
-        return m.angle_deg[:, 0, self.column]
+        # Each distinct speed once (the variants of a sweep that share this cam
+        # ask for the same speeds), without the speed-free criteria's vibration.
+        r = np.asarray(rpm, dtype=np.float64)
+        speeds, where = np.unique(r.reshape(-1), return_inverse=True)
+        d = self.design
+        m = d.cam.min_phase_angles(
+            speeds,
+            loads=d.loads,
+            contact=d.contact,
+            max_stress=d.max_stress,
+            max_pressure_angle_deg=d.max_pressure_angle_deg,
+            segments=[self.segment],
+        )
+        return m.angle_deg[:, 0, self.column][where].reshape(r.shape)
 
 
 @dataclass(frozen=True)
@@ -148,6 +160,9 @@ class CamMechanism:
         >>> [round(float(law(np.array([450.0]))[0]), 3) for law in cam.laws()][:4]
         [25.459, 27.058, 29.637, 30.978]
         """
+        cached = self.__dict__.get("_laws")
+        if cached is not None:  # (the same law objects: variants that share this
+            return list(cached)  # cam share its laws, evaluated together)
         segs = sorted({k for k, _ in self.criteria})
         base = self.design.min_phase_angles([1.0], segments=segs).angle_deg[0]
         out: list[BoundLaw] = []
@@ -160,6 +175,7 @@ class CamMechanism:
                 out.append(_PerSpeed(self.design, k, col))
             else:
                 out.append(_Constant(v))
+        object.__setattr__(self, "_laws", tuple(out))
         return out
 
     def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:

@@ -554,7 +554,18 @@ def _bounds_at(laws: Sequence[Sequence[BoundLaw]]) -> BoundsAt:
             if prop[k]:
                 out.append(Proportional.evaluate(rows, np.repeat(slopes[k][designs], m)))
             else:
-                out.append(np.concatenate([laws[d][k](rpm[i]) for i, d in enumerate(designs)]))
+                # Designs that share a law (a mechanism the variants did not change)
+                # are one call over all their speeds.
+                vals = np.empty(rows.size)
+                groups: dict[int, list[int]] = {}
+                for i, d in enumerate(designs):
+                    groups.setdefault(id(laws[d][k]), []).append(i)
+                for idx in groups.values():
+                    law = laws[designs[idx[0]]][k]
+                    got = np.asarray(law(rpm[idx].reshape(-1)), dtype=np.float64)
+                    for j, i in enumerate(idx):
+                        vals[i * m : (i + 1) * m] = got[j * m : (j + 1) * m]
+                out.append(vals)
         return out
 
     return at
