@@ -46,7 +46,10 @@ full_only = pytest.mark.skipif(
     not FULL, reason="the 100 000-point sweep and the Dask cluster: CYCLOMECH_BENCH_FULL=1"
 )
 
-LOOM = Path(__file__).resolve().parents[1] / "examples" / "stb_loom.toml"
+#: The loom as it was before its lifter cam (issue 18): the stop alone bounds it, so
+#: these rows stay comparable with BENCHMARKS.md's; the loom with its cam spends
+#: most of a sweep in the cam's stress bounds (see BENCHMARKS.md, "Cam bounds").
+LOOM = Path(__file__).resolve().parents[1] / "tests" / "data" / "stb_loom_stop_only.toml"
 #: Speeds [rpm] of the study: the loom's range, across its speed limit (421.4 rpm).
 SPEED_RANGE_RPM = (200.0, 500.0)
 N_SPEEDS = 2500 if FULL else 250
