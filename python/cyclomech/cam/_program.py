@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, float_array, positive, threads_arg
+from .._arrays import count, finite_number, float_array, positive, threads_arg
 from .._errors import InputError
 from ..motion import NAMES
 from . import _loads
@@ -269,9 +269,8 @@ class Cam:
 
         if not isinstance(loads, FollowerLoads):
             raise InputError(f"loads must be a cyclomech.cam.FollowerLoads; got {loads!r}")
-        if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 3:
-            raise InputError(f"samples must be an integer >= 3; got {samples!r}")
-        theta = np.arange(int(samples), dtype=np.float64) * (2.0 * math.pi / samples)
+        n = count("samples", samples, low=3)
+        theta = np.arange(n, dtype=np.float64) * (2.0 * math.pi / n)
         kin = self.solve(theta)
         static = self._kernel.loads(theta, 0.0, loads._kernel_args(len(self.segments)))[:, 3]
         inertial = loads.mass * kin.dds * kin.ds
@@ -352,21 +351,13 @@ class Cam:
         >>> len(runs) > 0 and 0 <= runs[0][0] < runs[0][1] < 30
         True
         """
-        if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
-            raise InputError(f"samples must be an integer >= 2; got {samples!r}")
-        deg = np.arange(int(samples)) * (360.0 / samples)
+        n = count("samples", samples, low=2)
+        deg = np.arange(n) * (360.0 / n)
         flags = self.solve(np.radians(deg)).undercut
-        runs: list[tuple[float, float]] = []
-        start = None
-        for i, f in enumerate(flags):
-            if f and start is None:
-                start = i
-            if not f and start is not None:
-                runs.append((float(deg[start]), float(deg[i - 1])))
-                start = None
-        if start is not None:
-            runs.append((float(deg[start]), float(deg[-1])))
-        return runs
+        # The runs' first and last samples, from where the flags change.
+        edges = np.diff(np.r_[0, flags.astype(np.int8), 0])
+        first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+        return [(float(deg[a]), float(deg[b])) for a, b in zip(first, last, strict=True)]
 
 
 def _check_program(segs: tuple[Segment, ...]) -> None:
