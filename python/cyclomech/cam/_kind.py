@@ -5,18 +5,28 @@ bounds on the phase angle; the pressure angle, undercut and jump besides)."""
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
-import numpy.typing as npt
 
 from .._errors import InputError
-from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
+from .._kind import (
+    Array,
+    Bound,
+    BoundLaw,
+    Context,
+    Proportional,
+    Save,
+    TableContext,
+    Unbounded,
+)
 from ..cyclogram import Arc, Constraint
 from ._design import CAM_KEYS, CamDesign
+from ._followers import FlatFaced
 from ._loads import CRITERIA
 from ._program import Cam
 
@@ -68,7 +78,7 @@ class _PerSpeed:
 
 
 @dataclass(frozen=True)
-class CamMechanism:
+class CamMechanism(Unbounded):
     """A cam of the machine: its :class:`CamDesign` and, for each bound, the
     segment and criterion (``criteria``, in the order of :meth:`bounds`). A bound
     is labelled ``<criterion>[<name> <kind> <from>→<to>]`` in the optimum's shadow
@@ -80,11 +90,12 @@ class CamMechanism:
     ('cam', ['pressure angle[lifter cam rise 1→3]', 'undercut[lifter cam rise 1→3]'])
     """
 
+    # (Unbounded's defaults only for what a cam does not add: sweep columns and
+    # their values; its bounds are its own, below.)
     kind: ClassVar[str] = "cam"
     keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind"})
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "follower", "closure", "segment"})
     json_groups: ClassVar[tuple[str, ...]] = ("cams",)
-    sweep_columns: ClassVar[tuple[str, ...]] = ()
     name: str
     design: CamDesign
     criteria: tuple[tuple[int, str], ...]
@@ -160,9 +171,12 @@ class CamMechanism:
         >>> [round(float(law(np.array([450.0]))[0]), 3) for law in cam.laws()][:4]
         [25.459, 27.058, 29.637, 30.978]
         """
-        cached = self.__dict__.get("_laws")
-        if cached is not None:  # (the same law objects: variants that share this
-            return list(cached)  # cam share its laws, evaluated together)
+        return list(self._laws)
+
+    @functools.cached_property
+    def _laws(self) -> tuple[BoundLaw, ...]:
+        # Worked out once: variants of a sweep that share this cam share these law
+        # objects, and the machine evaluates a shared law in one call.
         segs = sorted({k for k, _ in self.criteria})
         base = self.design.min_phase_angles([1.0], segments=segs).angle_deg[0]
         out: list[BoundLaw] = []
@@ -175,8 +189,7 @@ class CamMechanism:
                 out.append(_PerSpeed(self.design, k, col))
             else:
                 out.append(_Constant(v))
-        object.__setattr__(self, "_laws", tuple(out))
-        return out
+        return tuple(out)
 
     def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
         """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound (exact:
@@ -205,23 +218,6 @@ class CamMechanism:
         True
         """
         return [m.laws() for m in mechanisms]
-
-    @classmethod
-    def sweep_values(
-        cls,
-        mechanisms: Sequence[Any],
-        rpm: Array,
-        angle_deg: Sequence[Array],
-        fits: npt.NDArray[np.bool_],
-        *,
-        n_threads: int | None = None,
-    ) -> dict[str, Array]:
-        """Nothing: the sweep's ``min_phase_deg`` columns already hold its bounds.
-
-        >>> CamMechanism.sweep_values([], np.zeros((0, 1)), [], np.zeros(0, bool))
-        {}
-        """
-        return {}
 
     def speed_limit_rpm(self) -> float:
         """A cam limits the speed through the cyclogram's bounds only: inf.
@@ -310,8 +306,6 @@ class CamMechanism:
 
 def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
     """The (segment, criterion) pairs that bound a cam's operations."""
-    from ._followers import FlatFaced
-
     cam = design.cam
     flat = isinstance(cam.follower, FlatFaced)
     knife = not isinstance(cam.follower, FlatFaced) and cam.follower.roller_radius == 0.0
