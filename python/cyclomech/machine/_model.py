@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import SPEED_CAP_RPM, count, real, speeds_rpm, threads_arg
+from .._arrays import SPEED_CAP_RPM, count, finite_number, real, speeds_rpm, threads_arg
 from .._errors import CyclomechWarning, InfeasibleError, InputError
 from .._kind import Array, Bound, BoundLaw, Mechanism, Proportional, TableContext
 from .._units import DEG_PER_S_PER_RPM
@@ -116,6 +116,7 @@ class Machine:
         speed_points: int = 61,
         nominal_rpm: float | None = None,
         angle_points: int = 361,
+        speed_fluctuation: float = SPEED_FLUCTUATION,
         source: str = "<machine>",
         data: Mapping[str, Any] | None = None,
     ) -> None:
@@ -136,6 +137,10 @@ class Machine:
         self.speed_points = count("speed_points", speed_points, low=2, high=1_000_000)
         self.nominal_rpm = nominal_rpm
         self.angle_points = count("angle_points", angle_points, low=9, high=1_000_000)
+        delta = finite_number("speed_fluctuation", speed_fluctuation, "(δ)", low=0.0)
+        if not 0.0 < delta < 1.0:
+            raise InputError(f"speed_fluctuation = {delta!r} must be the main shaft's δ, 0 < δ < 1")
+        self.speed_fluctuation = delta
         self.source = source
         self.data = data
         self._bounded = _bounded(self.mechanisms)
@@ -247,6 +252,7 @@ class Machine:
             speed_points=speed_points,
             nominal_rpm=None if nominal is None else float(nominal),
             angle_points=angle_points,
+            speed_fluctuation=float(delta),
             source=source,
             data=copy.deepcopy(dict(data)),
         )

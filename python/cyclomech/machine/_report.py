@@ -30,7 +30,7 @@ from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum, SpeedLimit
 from ._kinds import KINDS
-from ._model import SCHEMA, SPEED_FLUCTUATION, Machine, SpeedSweep
+from ._model import SCHEMA, Machine, SpeedSweep
 from ._shaft import MainShaft, main_shaft
 
 __all__ = ["MachineResult", "analyze", "write_report"]
@@ -122,8 +122,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         results = timed(
             "mechanisms", lambda: {k: mech.analyze(ctx) for k, mech in m.mechanisms.items()}
         )
-        delta = float((m.data or {}).get("machine", {}).get("speed_fluctuation", SPEED_FLUCTUATION))
-        shaft = timed("main shaft", lambda: main_shaft(results, nominal, rpm, delta))
+        shaft = timed("main shaft", lambda: main_shaft(results, nominal, rpm, m.speed_fluctuation))
     return MachineResult(m, limit, nominal, opt, problem, sw, sw_lin, mins, results, seconds, shaft)
 
 

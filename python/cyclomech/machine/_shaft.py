@@ -121,9 +121,13 @@ def main_shaft(
     parts = {
         k: ShaftTorque.from_curves(a[None], b[None], [phase]) for k, (a, b, phase) in curves.items()
     }
-    a = np.array([c[0] for c in curves.values()])
-    b = np.array([c[1] for c in curves.values()])
-    total = ShaftTorque.from_curves(a, b, [c[2] for c in curves.values()])
+    # The sum of the phased parts (the shift is linear: no second interpolation).
+    first = next(iter(parts.values()))
+    total = ShaftTorque(
+        first.theta_deg,
+        np.sum([p.per_omega2 for p in parts.values()], axis=0),
+        np.sum([p.static for p in parts.values()], axis=0),
+    )
     return MainShaft(
         torque=total,
         parts=parts,
