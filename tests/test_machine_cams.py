@@ -261,3 +261,35 @@ def test_a_bad_speed_fluctuation_is_named(tmp_path, value):
     p.write_text(text, encoding="utf-8")
     with pytest.raises(cm.CyclomechError, match="speed_fluctuation"):
         cm.Machine.from_toml(p)
+
+
+def test_a_free_segment_that_fails_at_the_nominal_speed_is_loud(tmp_path):
+    """The bound segments hold their criteria by construction; a free one need
+    not: the loom's lift made free and squeezed into 10° fails its pressure angle
+    at 300 rpm, and the machine warns, naming the cam and the criterion."""
+    text = LOOM.read_text(encoding="utf-8")
+    old = "angle_deg = 70.0                 # the file's angle; the cyclogram's optimum sets it"
+    assert old in text
+    text = text.replace(old, "angle_deg = 10.0", 1)
+    text = text.replace(
+        "load_nm = 2.0                    # the microshuttle's drag, resisting the lift\n"
+        'arc = ["1", "3"]',
+        "load_nm = 2.0",
+        1,
+    )
+    text = text.replace("angle_deg = 180.0", "angle_deg = 240.0", 1)
+    p = tmp_path / "free.toml"
+    p.write_text(text, encoding="utf-8")
+    m = cm.Machine.from_toml(p)
+    assert m.mechanisms["lifter cam"].design.arcs[0] is None
+    with pytest.warns(
+        cm.CyclomechWarning, match=r"cam 'lifter cam' at 300 rpm: the pressure angle"
+    ):
+        r = cm.machine.analyze(m, progress=False)
+    assert r.mechanisms["lifter cam"].problems()
+    # The loom as it is: nothing to say.
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cm.CyclomechWarning)
+        cm.machine.analyze(cm.Machine.from_toml(LOOM), progress=False)

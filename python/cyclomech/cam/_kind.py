@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
 
-from .._errors import InputError
+from .._errors import CyclomechWarning, InputError
 from .._kind import (
     Array,
     Bound,
@@ -291,7 +292,7 @@ class CamMechanism(Unbounded):
             stress = math.inf  # an undercut profile: no Hertz contact there
         segs = sorted({k for k, _ in self.criteria})
         at = d.min_phase_angles([n], segments=segs) if segs else None
-        return CamResult(
+        result = CamResult(
             mech=self,
             ctx=ctx,
             cam=cam,
@@ -302,6 +303,14 @@ class CamMechanism(Unbounded):
             undercut_deg=cam.undercut_angles_deg(3600),
             at_nominal=at,
         )
+        problems = result.problems()
+        if problems:
+            warnings.warn(
+                f"cam {self.name!r} at {n:g} rpm: " + "; ".join(problems),
+                CyclomechWarning,
+                stacklevel=2,
+            )
+        return result
 
 
 def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
@@ -343,6 +352,37 @@ class CamResult:
     jump_rpm: float
     undercut_deg: list[tuple[float, float]]
     at_nominal: Any
+
+    def problems(self) -> list[str]:
+        """What fails at the nominal speed on the cam as laid out (the bound
+        segments hold their criteria by construction; the free ones, the dwells and
+        the layout may not): [] when nothing does. The machine warns with them.
+
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].problems()
+        []
+        """
+        d, out, tol = self.mech.design, [], 1.0 + 1e-9
+        if self.layout_note:
+            out.append(self.layout_note)
+        if self.max_pressure_angle_deg > d.max_pressure_angle_deg * tol:
+            out.append(
+                f"the pressure angle reaches {self.max_pressure_angle_deg:.4g}° "
+                f"> [α] = {d.max_pressure_angle_deg:g}°"
+            )
+        if d.max_stress is not None and not self.max_stress_pa <= d.max_stress * tol:
+            out.append(
+                f"σ_H reaches {self.max_stress_pa / 1e6:.4g} MPa "
+                f"> [σ_H] = {d.max_stress / 1e6:g} MPa"
+                + (" (an undercut profile)" if math.isinf(self.max_stress_pa) else "")
+            )
+        if self.undercut_deg:
+            runs = ", ".join(f"{a:g}–{b:g}°" for a, b in self.undercut_deg)
+            out.append(f"the profile is undercut at {runs}")
+        if self.jump_rpm < self.ctx.nominal_rpm:
+            out.append(f"the follower jumps off the cam above {self.jump_rpm:.4g} rpm")
+        return out
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry and its ``cams`` entry."""
