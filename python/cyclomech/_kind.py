@@ -41,6 +41,7 @@ __all__ = [
     "Context",
     "Mechanism",
     "MechanismResult",
+    "Phase",
     "PlainResult",
     "Proportional",
     "Save",
@@ -109,6 +110,67 @@ class TableContext:
         'loom.toml: [mechanism.lifter]'
         """
         return f"{self.source}: [mechanism.{name}]"
+
+
+@dataclass(frozen=True)
+class Phase:
+    """Where a mechanism driven by the main shaft sits in the cycle: at the
+    cyclogram event ``event`` its own angle (a linkage's absolute crank angle, a
+    press's carrier angle α) is ``crank_deg``; without an event, its angle is
+    ``crank_deg`` at cycle angle 0. Read from ``phase = {event = "…", crank_deg =
+    …}`` in a ``[mechanism.<name>]`` table (:meth:`from_table`).
+
+    The shift of its torque curve on the main shaft, :meth:`shift_deg`, is the
+    cycle angle at which its own angle is ``origin_deg`` (where its curve starts):
+    ``times[event] − (crank_deg − origin_deg)``.
+
+    >>> Phase("cut", 200.0).shift_deg({"cut": 90.0}, origin_deg=150.0)
+    40.0
+    """
+
+    event: str | None = None
+    crank_deg: float = 0.0
+
+    #: The keys of a ``phase`` table.
+    KEYS: ClassVar[frozenset[str]] = frozenset({"event", "crank_deg"})
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any], ctx: TableContext, name: str) -> Phase:
+        """The ``phase`` key of ``[mechanism.<name>]`` (absent: the mechanism's
+        angle is 0 at cycle angle 0); the event must be one of the cyclogram's.
+
+        >>> import cyclomech as cm
+        >>> ctx = TableContext(cm.Cyclogram.from_toml("examples/knife_cutter.toml"), "f", 361)
+        >>> Phase.from_table({"phase": {"event": "clamped", "crank_deg": 30}}, ctx, "knife")
+        Phase(event='clamped', crank_deg=30.0)
+        """
+        from . import _toml
+        from ._errors import InputError
+
+        where = f"{ctx.where(name)} phase"
+        spec = table.get("phase")
+        if spec is None:
+            return cls()
+        if not isinstance(spec, Mapping):
+            raise InputError(
+                f'{where} = {spec!r}: give a table {{event = "<event>", crank_deg = <angle>}}'
+            )
+        _toml.check_keys(spec, set(cls.KEYS), ctx.source, f"[mechanism.{name}.phase]")
+        crank = _toml.number(spec, "crank_deg", where, "[deg]") if "crank_deg" in spec else 0.0
+        event = spec.get("event")
+        if event is not None and event not in ctx.cyclogram.events:
+            known = ", ".join(repr(e) for e in ctx.cyclogram.events)
+            raise InputError(
+                f"{where}: event = {event!r} is not an event of the cyclogram; its events are "
+                f"{known}"
+            )
+        return cls(event, crank)
+
+    def shift_deg(self, times: Mapping[str, float], origin_deg: float = 0.0) -> float:
+        """The cycle angle [deg] at which the mechanism's angle is ``origin_deg``,
+        given the optimum's event ``times`` [deg]."""
+        at = 0.0 if self.event is None else float(times[self.event])
+        return at - (self.crank_deg - origin_deg)
 
 
 @dataclass(frozen=True)

@@ -442,11 +442,12 @@ class CamResult:
                 rows.append([f"smallest angle of {m._where(k)} at {n:g} rpm [deg]", text])
         return ["quantity", "value"], rows
 
-    def shaft_torque(self) -> tuple[Array, Array, float] | None:
+    def shaft_torque(self) -> tuple[Array, Array, float, str] | None:
         """Its torque on the main shaft for the machine's main shaft: (ω² part
         [N·m·s²], static part [N·m], on 3600 cam angles; its phase [deg]: the
-        first bound segment starts at its operation's start in the optimum); None
-        without the follower's loads or an optimum."""
+        first bound segment starts at its operation's start in the optimum; that
+        operation's start event, which the phase follows); None without the
+        follower's loads or an optimum."""
         d, o = self.mech.design, self.ctx.optimum
         if d.loads is None or o is None:
             return None
@@ -455,7 +456,7 @@ class CamResult:
         arc = d.arcs[k]
         assert arc is not None
         start = sum(g.angle_deg for g in self.cam.segments[:k])
-        return t.per_omega2, t.static, float(o.times[arc[0]]) - start
+        return t.per_omega2, t.static, float(o.times[arc[0]]) - start, arc[0]
 
     def csv_columns(self) -> list[tuple[str, Array]]:
         """Each bound's smallest phase angle on the sweep's speeds."""

@@ -102,8 +102,10 @@ def main_shaft(
     results: Mapping[str, Any], nominal_rpm: float, rpm: Any, speed_fluctuation: float
 ) -> MainShaft | None:
     """The main shaft from the mechanisms' results that give a shaft torque
-    (``shaft_torque()`` → (ω² part, static part, phase [deg]) on a common grid);
-    None when none does.
+    (``shaft_torque()`` → (ω² part [N·m·s²], static part [N·m], on a common grid
+    of the mechanism's own angle from 0 to 360°; phase [deg], the cycle angle
+    where that angle is 0; the cyclogram event the phase follows); None when none
+    does.
 
     >>> import cyclomech as cm
     >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
@@ -119,7 +121,8 @@ def main_shaft(
     if not curves:
         return None
     parts = {
-        k: ShaftTorque.from_curves(a[None], b[None], [phase]) for k, (a, b, phase) in curves.items()
+        k: ShaftTorque.from_curves(a[None], b[None], [phase])
+        for k, (a, b, phase, _event) in curves.items()
     }
     # The sum of the phased parts (the shift is linear: no second interpolation).
     first = next(iter(parts.values()))
