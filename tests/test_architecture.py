@@ -24,6 +24,7 @@ DOMAINS = (
     "machine",
     "cam",
     "shaft",
+    "forces",
 )
 #: Lines a Python module may have (the issue's "~900").
 PY_LIMIT = 900

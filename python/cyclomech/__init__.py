@@ -7,7 +7,7 @@ inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import cam, cyclogram, impact, linkage, machine, motion, press, shaft, transfer
+from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
 from ._core import __version__
 from ._errors import (
     CycleError,
@@ -57,6 +57,7 @@ __all__ = [
     "__version__",
     "cam",
     "cyclogram",
+    "forces",
     "impact",
     "linkage",
     "longest_path",

@@ -13,12 +13,14 @@ __all__ = [
     "CAM_CRITERIA",
     "CAM_LOAD_COLUMNS",
     "DEG_PER_S_PER_RPM",
+    "FORCE_PARTS",
     "MOTION_LAWS",
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
     "SHAFT_STATS",
     "CamKernel",
     "EventGraph",
+    "ForceModel",
     "LinkageProgram",
     "MotionLaw",
     "TwoPeriodKernel",
@@ -58,6 +60,8 @@ CAM_CRITERIA: tuple[str, ...]
 CAM_LOAD_COLUMNS: tuple[str, ...]
 #: The statistics of shaft_stats, in its columns' order.
 SHAFT_STATS: tuple[str, ...]
+#: The parts of every ForceModel result: per ω², per crank acceleration ε, static.
+FORCE_PARTS: tuple[str, ...]
 
 # cyclogram: longest paths, event graphs, cycle ratios, difference constraints.
 
@@ -434,3 +438,43 @@ def shaft_stats(
     *,
     n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
+
+# forces: kinetostatics of linkages.
+
+@final
+class ForceModel:
+    """A linkage's force model: bodies by their joints (body_ptr (B+1,) into
+    body_points), masses (B,) [kg], centres of mass in their frames (B, 2),
+    inertias (B,) [kg·m²]; ground joints; a mass per point (P,); guides
+    (guide_idx (G, 4): point, b, c, body; b = -1 for a frame guide along
+    guide_dir (G, 2)); the crank's body; gravity (2,) [m/s²]."""
+
+    def __new__(
+        cls,
+        n_points: int,
+        body_ptr: npt.NDArray[np.int64],
+        body_points: npt.NDArray[np.int64],
+        body_mass: npt.NDArray[np.float64],
+        body_com: npt.NDArray[np.float64],
+        body_inertia: npt.NDArray[np.float64],
+        ground: npt.NDArray[np.int64],
+        point_mass: npt.NDArray[np.float64],
+        guide_idx: npt.NDArray[np.int64],
+        guide_dir: npt.NDArray[np.float64],
+        driver: int,
+        gravity: npt.NDArray[np.float64],
+    ) -> ForceModel: ...
+    def pairs(self) -> list[tuple[int, int]]: ...
+    def block_sizes(self) -> list[int]: ...
+    def width(self, reactions: bool) -> int: ...
+    def solve(
+        self,
+        xy: npt.NDArray[np.float64],
+        vel: npt.NDArray[np.float64],
+        acc: npt.NDArray[np.float64],
+        force: npt.NDArray[np.float64] | None = None,
+        torque: npt.NDArray[np.float64] | None = None,
+        *,
+        reactions: bool = True,
+        n_threads: int | None = None,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...

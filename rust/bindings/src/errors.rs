@@ -7,6 +7,7 @@
 
 use cyclomech_core::cam::CamError;
 use cyclomech_core::cyclogram::CyclogramError;
+use cyclomech_core::forces::ForceError;
 use cyclomech_core::impact::ImpactError;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
@@ -157,6 +158,15 @@ where
                 format!("internal error in kernel {kernel}: {detail} (please report this with the input that caused it)"),
                 None,
             ))
+        }
+    }
+}
+
+impl IntoPyErr for ForceError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            ForceError::Threads(e) => e.into_pyerr(py),
+            other => raise(py, "InputError", other.to_string(), None),
         }
     }
 }

@@ -11,6 +11,7 @@ mod cam_vibration;
 mod convert;
 mod cyclogram;
 mod errors;
+mod forces;
 mod impact;
 mod linkage;
 mod motion;
@@ -25,6 +26,8 @@ mod _core {
     use super::cam_vibration::{cam_follower_response, cam_min_tau, cam_residual_ratio};
     #[pymodule_export]
     use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
+    #[pymodule_export]
+    use super::forces::ForceModel;
     #[pymodule_export]
     use super::impact::{
         contact_rebound_batch, contact_response, contact_sample, duhamel, duhamel_batch,
@@ -51,11 +54,13 @@ mod _core {
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
+        m.add("FORCE_PARTS", PyTuple::new(m.py(), FORCE_PARTS)?)?;
         Ok(())
     }
 
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
+    use cyclomech_core::forces::PARTS as FORCE_PARTS;
     use cyclomech_core::motion::NAMES as LAW_NAMES;
     use cyclomech_core::press::Status;
     use cyclomech_core::shaft::STATS as SHAFT_STATS;

@@ -59,6 +59,7 @@ macro_rules! on_each_isa {
 
 pub mod cam;
 pub mod cyclogram;
+pub mod forces;
 pub(crate) mod geom;
 pub mod impact;
 pub mod linkage;

@@ -1,0 +1,52 @@
+"""Forces in planar linkages: kinetostatics (issue 19).
+
+At every crank angle, the reaction at every joint, the normal force of every
+guide and the driving torque on the crank, for links with mass, centre of mass
+and moment of inertia, lumped point masses (a slider block, a knife), external
+forces on points and torques on links (constant or tables over the crank angle:
+a cutting force over the cut) and gravity.
+
+The positions and the velocity and acceleration analogs x', x'' come from the
+linkage solver (:meth:`cyclomech.Linkage.solve`). At crank speed ω and angular
+acceleration ε the accelerations are a = ω² x'' + ε x', so every force is
+ω²·(part 0) + ε·(part 1) + (part 2): one linear solve per angle with three
+right-hand sides gives the forces at every speed. Each moving link obeys
+Newton–Euler (ΣF = m a_c, ΣM_c = J α), each joint the balance of its pin; the
+system's pattern is the same at every angle, so its block-triangular order (the
+Assur groups, from the last placed to the crank) is found once and each block
+solved by LU in Rust, angles in parallel. A dead centre (a singular block) is
+flagged, not solved. Sliders: the block pinned at the point slides on its guide
+without friction and has no mass beyond the point's, so the guide's force is
+normal to it, through the point.
+
+Units: SI (N, N·m, kg, m, rad); crank speeds in rpm where named so.
+
+>>> import numpy as np, cyclomech as cm
+>>> sc = cm.Linkage({"A": (0, 0), "B": (0.1, 0), "C": (0.45, 0)},
+...                 [("A", "B"), ("B", "C")], ["A"], ("A", "B"),
+...                 sliders={"C": ("ground", (1, 0))})
+>>> k = cm.forces.kinetostatics(sc, np.radians([90.0]),
+...                             loads=[cm.forces.PointLoad("C", (-1000.0, 0.0))])
+>>> round(float(k.torque(rpm=0.0)[0]), 6)    # −F·r: the force drives the crank here
+-100.0
+
+The code lives in private modules beside this door: ``_model`` (the loads and
+:func:`kinetostatics`), ``_result`` (:class:`Kinetostatics`) and ``_file`` (the
+machine file's keys).
+"""
+
+from __future__ import annotations
+
+from ._file import DYNAMICS_KEYS, dynamics_from_table
+from ._model import LinkMass, LinkTorque, PointLoad, kinetostatics
+from ._result import Kinetostatics
+
+__all__ = [
+    "DYNAMICS_KEYS",
+    "Kinetostatics",
+    "LinkMass",
+    "LinkTorque",
+    "PointLoad",
+    "dynamics_from_table",
+    "kinetostatics",
+]

@@ -1,0 +1,99 @@
+"""The machine file's keys for a linkage's forces: ``mass`` (links),
+``point_mass_kg``, ``load`` and ``gravity_m_per_s2`` in a ``[mechanism.<name>]``
+table (units in the key names)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from .. import _toml
+from .._errors import InputError
+from ._model import LinkMass, LinkTorque, PointLoad
+
+__all__ = ["DYNAMICS_KEYS", "dynamics_from_table"]
+
+#: The keys of a linkage's table that describe its forces.
+DYNAMICS_KEYS = frozenset({"mass", "point_mass_kg", "load", "gravity_m_per_s2"})
+
+_MASS_KEYS = {"link", "mass_kg", "com_m", "inertia_kg_m2"}
+_LOAD_KEYS = {"point", "force_n", "link", "torque_nm", "angle_deg"}
+
+
+def _rows(table: Mapping[str, Any], key: str, where: str) -> list[Mapping[str, Any]]:
+    rows = table.get(key, [])
+    if not isinstance(rows, list) or not all(isinstance(r, Mapping) for r in rows):
+        raise InputError(f"{where}: {key} must be an array of tables ([[...{key}]]); got {rows!r}")
+    return rows
+
+
+def dynamics_from_table(table: Mapping[str, Any], source: str, where: str) -> dict[str, Any] | None:
+    """The keywords of :func:`~cyclomech.forces.kinetostatics` (masses,
+    point_masses, loads, gravity) from a linkage's table, or None when it has
+    none of :data:`DYNAMICS_KEYS`. Errors name ``source``, the table and the key.
+
+    ``[[<table>.mass]]``: ``link`` (its joints), ``mass_kg``, optional ``com_m`` =
+    [x, y] in the drawn pose (default: the centroid of its joints) and
+    ``inertia_kg_m2`` about it (default 0). ``point_mass_kg`` = {point = kg}.
+    ``[[<table>.load]]``: ``point`` and ``force_n`` = [fx, fy], or ``link`` and
+    ``torque_nm``; with ``angle_deg`` (crank angles) the force is a table, one
+    row per angle, zero outside it. ``gravity_m_per_s2`` = [gx, gy].
+
+    >>> d = dynamics_from_table({"point_mass_kg": {"C": 2.0},
+    ...                          "load": [{"point": "C", "force_n": [-100.0, 0.0]}]}, "f", "[m]")
+    >>> d["point_masses"], d["loads"][0].force_n.tolist()
+    ({'C': 2.0}, [-100.0, 0.0])
+    """
+    if not DYNAMICS_KEYS & set(table):
+        return None
+    masses: dict[tuple[str, ...], LinkMass] = {}
+    for i, row in enumerate(_rows(table, "mass", where)):
+        at = f"{source}: {where} mass[{i}]"
+        _toml.check_keys(row, _MASS_KEYS, source, f"{where} mass[{i}]")
+        _toml.require(row, ("link", "mass_kg"), at)
+        link = row["link"]
+        if not isinstance(link, list) or not all(isinstance(p, str) for p in link):
+            raise InputError(f'{at}: link = {link!r} must be the link\'s joints, e.g. ["B", "C"]')
+        com = row.get("com_m")
+        if com is not None and not (
+            isinstance(com, list) and len(com) == 2 and all(_toml.is_number(v) for v in com)
+        ):
+            raise InputError(f"{at}: com_m = {com!r} must be [x, y] [m]")
+        m = _toml.number(row, "mass_kg", at, "[kg]")
+        jz = _toml.number(row, "inertia_kg_m2", at, "[kg·m²]") if "inertia_kg_m2" in row else 0.0
+        for name, v, unit in (("mass_kg", m, "kg"), ("inertia_kg_m2", jz, "kg·m²")):
+            if v < 0:
+                raise InputError(f"{at}: {name} = {v!r} must be >= 0 [{unit}]")
+        masses[tuple(link)] = LinkMass(m, None if com is None else (com[0], com[1]), jz)
+    pm = table.get("point_mass_kg", {})
+    if not isinstance(pm, Mapping):
+        raise InputError(f"{source}: {where}: point_mass_kg must be a table {{point = kg}}")
+    point_masses: dict[str, float] = {}
+    for p, v in pm.items():
+        m = _toml.number(pm, p, f"{source}: {where} point_mass_kg", "[kg]")
+        if m < 0:
+            raise InputError(f"{source}: {where}: point_mass_kg.{p} = {v!r} must be >= 0 [kg]")
+        point_masses[p] = m
+    loads: list[PointLoad | LinkTorque] = []
+    for i, row in enumerate(_rows(table, "load", where)):
+        at = f"{source}: {where} load[{i}]"
+        _toml.check_keys(row, _LOAD_KEYS, source, f"{where} load[{i}]")
+        try:
+            if "point" in row and "force_n" in row and not {"link", "torque_nm"} & set(row):
+                loads.append(PointLoad(row["point"], row["force_n"], row.get("angle_deg")))
+            elif "link" in row and "torque_nm" in row and not {"point", "force_n"} & set(row):
+                loads.append(LinkTorque(row["link"], row["torque_nm"], row.get("angle_deg")))
+            else:
+                raise InputError(
+                    "give point and force_n [N] (a force), or link and torque_nm [N·m] (a "
+                    "torque), optionally with angle_deg (a table over the crank angle)"
+                )
+        except InputError as e:
+            raise InputError(f"{at}: {e}") from None
+    gravity = None
+    if "gravity_m_per_s2" in table:
+        g = table["gravity_m_per_s2"]
+        if not (isinstance(g, list) and len(g) == 2 and all(_toml.is_number(v) for v in g)):
+            raise InputError(f"{source}: {where}: gravity_m_per_s2 = {g!r} must be [gx, gy] [m/s²]")
+        gravity = (float(g[0]), float(g[1]))
+    return {"masses": masses, "point_masses": point_masses, "loads": loads, "gravity": gravity}

@@ -1,0 +1,168 @@
+"""The forces of a linkage over its crank angles (:class:`Kinetostatics`): the
+three parts of every result (per ω², per ε, static) and their sum at a speed."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .._arrays import finite_number
+from .._errors import InputError
+from .._units import RAD_PER_S_PER_RPM
+
+if TYPE_CHECKING:
+    from ..linkage import LinkageSolution
+
+__all__ = ["Kinetostatics"]
+
+Array = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Kinetostatics:
+    """A linkage's forces at the crank angles ``angles`` [rad] of its ``solution``.
+
+    Every result is ω²·(part 0) + ε·(part 1) + (part 2) for the crank speed ω
+    [rad/s] and angular acceleration ε [rad/s²]: ``torque_parts`` (3, N) is the
+    driving torque on the crank [N·m] (positive in the direction of increasing
+    crank angle: the torque the motor supplies), ``guide_parts`` (3, N, G) the
+    normal force of each guide (``guides``) [N] along its normal (the guide's
+    direction turned +90°), and ``reaction_parts`` (3, N, K, 2) the force [N]
+    each joint exerts on each part it joins (``pairs``: (point, link), the link
+    named by its joints, ``"frame"`` for the frame's bearing; empty when solved
+    with ``reactions=False``). ``singular`` is
+    True where a group is at a dead centre (the forces unbounded; NaN there);
+    ``ok`` where the linkage is assembled and not singular.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+    >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
+    >>> k.pairs
+    (('O', 'frame'), ('O', 'O-A'), ('A', 'O-A'))
+    >>> k.reaction("O", "frame", rpm=60.0).round(4).tolist()   # m ω² r, outwards
+    [[23.6871, 0.0]]
+    """
+
+    solution: LinkageSolution
+    pairs: tuple[tuple[str, str], ...]
+    guides: tuple[str, ...]
+    torque_parts: Array
+    guide_parts: Array
+    reaction_parts: Array
+    singular: npt.NDArray[np.bool_]
+
+    @classmethod
+    def from_values(
+        cls,
+        solution: LinkageSolution,
+        values: Array,
+        singular: npt.NDArray[np.bool_],
+        *,
+        pairs: tuple[tuple[str, str], ...],
+        guides: tuple[str, ...],
+    ) -> Kinetostatics:
+        """From the kernel's values (3, N, 1 + G [+ 2K]): views, no copies; no
+        reactions (shape (3, N, 0, 2)) when they were not asked for."""
+        n, g = values.shape[1], len(guides)
+        k = (values.shape[2] - 1 - g) // 2
+        return cls(
+            solution=solution,
+            pairs=pairs if k else (),
+            guides=guides,
+            torque_parts=values[:, :, 0],
+            guide_parts=values[:, :, 1 : 1 + g],
+            reaction_parts=values[:, :, 1 + g :].reshape(3, n, k, 2),
+            singular=singular | (solution.singular & solution.ok),
+        )
+
+    @property
+    def angles(self) -> Array:
+        """The crank angles [rad] (N,)."""
+        return self.solution.angles
+
+    @property
+    def ok(self) -> npt.NDArray[np.bool_]:
+        """True where the forces are finite: assembled and not at a dead centre."""
+        return self.solution.ok & ~self.singular
+
+    @staticmethod
+    def _weights(rpm: Any, crank_acceleration: Any) -> tuple[float, float]:
+        n = finite_number("rpm", rpm, "[rpm]")
+        eps = finite_number("crank_acceleration", crank_acceleration, "[rad/s²]")
+        return (n * RAD_PER_S_PER_RPM) ** 2, eps
+
+    def _at(self, parts: Array, rpm: Any, crank_acceleration: Any) -> Array:
+        w2, eps = self._weights(rpm, crank_acceleration)
+        out: Array = w2 * parts[0] + eps * parts[1] + parts[2]
+        return out
+
+    def torque(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
+        """The driving torque on the crank (N,) [N·m] at ``rpm`` [rpm] and
+        crank angular acceleration ``crank_acceleration`` [rad/s²].
+
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
+        >>> k.torque(100.0, crank_acceleration=10.0).round(9).tolist()   # m r² ε
+        [1.8]
+        """
+        return self._at(self.torque_parts, rpm, crank_acceleration)
+
+    def guide_forces(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
+        """The guides' normal forces (N, G) [N], in the order of ``guides``."""
+        return self._at(self.guide_parts, rpm, crank_acceleration)
+
+    def reactions(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
+        """Every joint's force on every part it joins (N, K, 2) [N], in the order
+        of ``pairs``."""
+        return self._at(self.reaction_parts, rpm, crank_acceleration)
+
+    def reaction(
+        self, point: str, link: str | None = None, *, rpm: Any, crank_acceleration: float = 0.0
+    ) -> Array:
+        """The force (N, 2) [N] joint ``point`` exerts on ``link`` (its joints
+        joined by "-", or ``"frame"``; None: the joint's only or first part)."""
+        for k, (p, ln) in enumerate(self.pairs):
+            if p == point and (link is None or ln == link):
+                return self.reactions(rpm, crank_acceleration)[:, k]
+        known = ", ".join(f"{p}/{ln}" for p, ln in self.pairs)
+        raise InputError(f"no joint {point!r} on {link!r}; the joints are {known}")
+
+    def joint_loads(self, rpm: Any, crank_acceleration: float = 0.0) -> dict[str, Array]:
+        """Each joint's load (N,) [N]: the largest force it exerts on any of the
+        parts it joins, angle by angle.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0}, gravity=(0, -9.81))
+        >>> k.joint_loads(0.0)["O"].round(6).tolist()
+        [19.62]
+        """
+        mag = np.hypot(*np.moveaxis(self.reactions(rpm, crank_acceleration), -1, 0))
+        out: dict[str, Array] = {}
+        for k, (p, _) in enumerate(self.pairs):
+            out[p] = mag[:, k] if p not in out else np.fmax(out[p], mag[:, k])
+        return out
+
+    def most_loaded(self, rpm: Any, crank_acceleration: float = 0.0) -> tuple[str, float, float]:
+        """(joint, its peak load [N], the crank angle [deg] of the peak) over the
+        angles where the forces are finite (NaN load where none is).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0, 1.0], point_masses={"A": 2.0})
+        >>> k.most_loaded(60.0)[0]
+        'O'
+        """
+        best: tuple[str, float, float] = ("", math.nan, math.nan)
+        for p, load in self.joint_loads(rpm, crank_acceleration).items():
+            if not np.isfinite(load).any():
+                continue
+            i = int(np.nanargmax(load))
+            if not load[i] <= best[1]:
+                best = (p, float(load[i]), float(np.degrees(self.angles[i])))
+        return best
