@@ -247,8 +247,8 @@ def test_the_main_shaft_in_the_report_and_only_where_a_mechanism_gives_torque(tm
     r = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert r["shaft"]["contributors"] == ["lifter cam"] and r["shaft"]["speed_fluctuation"] == 0.05
     assert "Main shaft" in (out / "report.html").read_text(encoding="utf-8")
-    knife = ROOT / "examples" / "knife_cutter.toml"
-    assert cm.machine.analyze(cm.Machine.from_toml(knife), progress=False).shaft is None
+    rotor = ROOT / "examples" / "rotor_line.toml"
+    assert cm.machine.analyze(cm.Machine.from_toml(rotor), progress=False).shaft is None
 
 
 @pytest.mark.parametrize("value", [0.0, 1.0, -0.1, "0.05"])

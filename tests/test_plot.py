@@ -350,7 +350,17 @@ def test_without_matplotlib(monkeypatch):
         plot_cyclogram(stb().schedule())
 
 
-DOMAINS = ("cam", "cyclogram", "impact", "linkage", "machine", "motion", "press", "transfer")
+DOMAINS = (
+    "cam",
+    "cyclogram",
+    "forces",
+    "impact",
+    "linkage",
+    "machine",
+    "motion",
+    "press",
+    "transfer",
+)
 
 
 @pytest.mark.parametrize("module", ["cyclomech.plot", *(f"cyclomech.{d}.plot" for d in DOMAINS)])
@@ -368,6 +378,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_cam",
         "plot_cyclogram",
         "plot_cyclogram_pair",
+        "plot_forces",
         "plot_law",
         "plot_linkage",
         "plot_min_phase",

@@ -140,7 +140,8 @@ class Phase:
         angle is 0 at cycle angle 0); the event must be one of the cyclogram's.
 
         >>> import cyclomech as cm
-        >>> ctx = TableContext(cm.Machine.from_toml("examples/knife_cutter.toml").cyclogram, "f", 361)
+        >>> cg = cm.Machine.from_toml("examples/knife_cutter.toml").cyclogram
+        >>> ctx = TableContext(cg, "f", 361)
         >>> Phase.from_table({"phase": {"event": "clamped", "crank_deg": 30}}, ctx, "knife")
         Phase(event='clamped', crank_deg=30.0)
         """

@@ -6,6 +6,8 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
 
 * :mod:`cyclomech.cyclogram.plot` — :func:`plot_cyclogram`, :func:`plot_cyclogram_pair`
   (a Gantt chart over the cycle and a circular diagram);
+* :mod:`cyclomech.forces.plot` — :func:`plot_forces` (a linkage's driving torque
+  and joint loads over the crank angle);
 * :mod:`cyclomech.linkage.plot` — :func:`plot_linkage`, :func:`plot_analogs`,
   :func:`animate_linkage` (the mechanism, a point's position and analogs, a GIF);
 * :mod:`cyclomech.motion.plot` — :func:`plot_law` (a motion law);
@@ -46,6 +48,7 @@ from .cyclogram.plot import LIMITING_COLOR as LIMITING_COLOR
 from .cyclogram.plot import MECHANISM_COLORS as MECHANISM_COLORS
 from .cyclogram.plot import OTHER_ROW as OTHER_ROW
 from .cyclogram.plot import plot_cyclogram, plot_cyclogram_pair
+from .forces.plot import plot_forces
 from .impact.plot import plot_min_phase, plot_rebound_vs_speed, plot_response
 from .linkage.plot import XY_COLORS as XY_COLORS
 from .linkage.plot import animate_linkage, plot_analogs, plot_linkage
@@ -62,6 +65,7 @@ __all__ = [
     "plot_cam",
     "plot_cyclogram",
     "plot_cyclogram_pair",
+    "plot_forces",
     "plot_law",
     "plot_linkage",
     "plot_min_phase",

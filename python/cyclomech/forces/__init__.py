@@ -38,7 +38,7 @@ machine file's keys).
 from __future__ import annotations
 
 from ._file import DYNAMICS_KEYS, dynamics_from_table
-from ._model import LinkMass, LinkTorque, PointLoad, kinetostatics
+from ._model import LinkMass, LinkTorque, PointLoad, check_dynamics, kinetostatics
 from ._result import Kinetostatics
 
 __all__ = [
@@ -47,6 +47,7 @@ __all__ = [
     "LinkMass",
     "LinkTorque",
     "PointLoad",
+    "check_dynamics",
     "dynamics_from_table",
     "kinetostatics",
 ]

@@ -20,7 +20,7 @@ from ._result import Kinetostatics
 if TYPE_CHECKING:
     from ..linkage import Linkage
 
-__all__ = ["LinkMass", "LinkTorque", "PointLoad", "kinetostatics"]
+__all__ = ["LinkMass", "LinkTorque", "PointLoad", "check_dynamics", "kinetostatics"]
 
 Array = npt.NDArray[np.float64]
 
@@ -147,41 +147,16 @@ def _link_index(links: list[list[str]], moving: list[int], joints: Sequence[str]
     )
 
 
-def kinetostatics(
+def _build(
     linkage: Linkage,
-    angles: Any,
-    *,
-    masses: Mapping[Sequence[str], LinkMass] | None = None,
-    point_masses: Mapping[str, float] | None = None,
-    loads: Sequence[PointLoad | LinkTorque] = (),
-    gravity: Sequence[float] | None = None,
-    reactions: bool = True,
-    n_threads: int | None = None,
-) -> Kinetostatics:
-    """Joint reactions, guide forces and the crank's driving torque of ``linkage``
-    at the absolute crank angles ``angles`` [rad], for any crank speed and
-    angular acceleration (:class:`Kinetostatics`).
-
-    ``masses`` maps a moving link (its joints, in any order) to its
-    :class:`LinkMass`; ``point_masses`` a point to a lumped mass [kg] (a slider
-    block, a knife); ``loads`` are :class:`PointLoad` and :class:`LinkTorque`;
-    ``gravity`` is (gx, gy) [m/s²] (None: no gravity). ``reactions=False``
-    computes the driving torque and the guide forces only (the joints' forces
-    are most of the output: 2 numbers per joint and part per angle). The
-    positions and analogs
-    come from :meth:`Linkage.solve`; each angle is one linear solve in Rust (see
-    :mod:`cyclomech.forces`), three right-hand sides (ω², ε, static), angles in
-    parallel, the GIL released.
-
-    A crank O–A of 0.3 m with 2 kg at A held against gravity needs m·g·r·cos φ:
-
-    >>> import numpy as np, cyclomech as cm
-    >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
-    >>> k = cm.forces.kinetostatics(crank, np.radians([0.0, 60.0]), point_masses={"A": 2.0},
-    ...                             gravity=(0, -9.81))
-    >>> k.torque(rpm=0.0).round(6).tolist()           # 2·9.81·0.3·cos φ
-    [5.886, 2.943]
-    """
+    masses: Mapping[Sequence[str], LinkMass] | None,
+    point_masses: Mapping[str, float] | None,
+    loads: Sequence[PointLoad | LinkTorque],
+    gravity: Sequence[float] | None,
+) -> tuple[Any, list[str], list[str], list[str], list[list[str]], list[int]]:
+    """The Rust force model of ``linkage`` with its masses and gravity, every
+    name checked (loads included); (model, point names, link names, guide
+    names, links, moving link indices)."""
     table = linkage.to_dict()
     names = list(linkage.names)
     idx = {n: i for i, n in enumerate(names)}
@@ -268,11 +243,6 @@ def kinetostatics(
         np.array(g, dtype=np.float64),
     )
 
-    sol = linkage.solve(angles, n_threads)
-    assert sol.vel is not None and sol.acc is not None
-    n = sol.angles.size
-    force = torque = None
-    body_names = ["-".join(links[k]) for k in moving]
     for load in loads:
         if isinstance(load, PointLoad):
             if load.point not in idx:
@@ -280,16 +250,67 @@ def kinetostatics(
                     f"loads: a force on {load.point!r}, which is not a point; the points are "
                     f"{', '.join(names)}"
                 )
+        elif isinstance(load, LinkTorque):
+            _link_index(links, moving, load.link, "loads: a torque")
+        else:
+            raise InputError(f"loads: {load!r} is neither a PointLoad nor a LinkTorque")
+    body_names = ["-".join(links[k]) for k in moving]
+    return model, names, body_names, guide_names, links, moving
+
+
+def kinetostatics(
+    linkage: Linkage,
+    angles: Any,
+    *,
+    masses: Mapping[Sequence[str], LinkMass] | None = None,
+    point_masses: Mapping[str, float] | None = None,
+    loads: Sequence[PointLoad | LinkTorque] = (),
+    gravity: Sequence[float] | None = None,
+    reactions: bool = True,
+    n_threads: int | None = None,
+) -> Kinetostatics:
+    """Joint reactions, guide forces and the crank's driving torque of ``linkage``
+    at the absolute crank angles ``angles`` [rad], for any crank speed and
+    angular acceleration (:class:`Kinetostatics`).
+
+    ``masses`` maps a moving link (its joints, in any order) to its
+    :class:`LinkMass`; ``point_masses`` a point to a lumped mass [kg] (a slider
+    block, a knife); ``loads`` are :class:`PointLoad` and :class:`LinkTorque`;
+    ``gravity`` is (gx, gy) [m/s²] (None: no gravity). ``reactions=False``
+    computes the driving torque and the guide forces only (the joints' forces
+    are most of the output: 2 numbers per joint and part per angle). The
+    positions and analogs
+    come from :meth:`Linkage.solve`; each angle is one linear solve in Rust (see
+    :mod:`cyclomech.forces`), three right-hand sides (ω², ε, static), angles in
+    parallel, the GIL released.
+
+    A crank O–A of 0.3 m with 2 kg at A held against gravity needs m·g·r·cos φ:
+
+    >>> import numpy as np, cyclomech as cm
+    >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+    >>> k = cm.forces.kinetostatics(crank, np.radians([0.0, 60.0]), point_masses={"A": 2.0},
+    ...                             gravity=(0, -9.81))
+    >>> k.torque(rpm=0.0).round(6).tolist()           # 2·9.81·0.3·cos φ
+    [5.886, 2.943]
+    """
+    model, names, body_names, guide_names, links, moving = _build(
+        linkage, masses, point_masses, loads, gravity
+    )
+    sol = linkage.solve(angles, n_threads)
+    assert sol.vel is not None and sol.acc is not None
+    n = sol.angles.size
+    force = torque = None
+    idx = {p: i for i, p in enumerate(names)}
+    for load in loads:
+        if isinstance(load, PointLoad):
             if force is None:
                 force = np.zeros((n, len(names), 2))
             force[:, idx[load.point]] += load.at(sol.angles)
-        elif isinstance(load, LinkTorque):
+        else:
             b = _link_index(links, moving, load.link, "loads: a torque")
             if torque is None:
                 torque = np.zeros((n, len(moving)))
             torque[:, b] += load.at(sol.angles)
-        else:
-            raise InputError(f"loads: {load!r} is neither a PointLoad nor a LinkTorque")
 
     values, singular = model.solve(
         np.ascontiguousarray(sol.xy),
@@ -302,3 +323,26 @@ def kinetostatics(
     )
     pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
     return Kinetostatics.from_values(sol, values, singular, pairs=pairs, guides=tuple(guide_names))
+
+
+def check_dynamics(
+    linkage: Linkage,
+    *,
+    masses: Mapping[Sequence[str], LinkMass] | None = None,
+    point_masses: Mapping[str, float] | None = None,
+    loads: Sequence[PointLoad | LinkTorque] = (),
+    gravity: Sequence[float] | None = None,
+) -> None:
+    """Check :func:`kinetostatics`'s keywords against ``linkage`` without solving
+    it: every link and point named exists, masses are ≥ 0, gravity is (gx, gy),
+    and the linkage's forces are statically determinate; raises the error
+    :func:`kinetostatics` would.
+
+    >>> import cyclomech as cm
+    >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+    >>> check_dynamics(crank, point_masses={"B": 1.0})
+    Traceback (most recent call last):
+      ...
+    cyclomech._errors.InputError: point_masses: no point 'B'; the points are O, A
+    """
+    _build(linkage, masses, point_masses, loads, gravity)

@@ -10,9 +10,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .. import _toml
+from .. import _toml, forces
 from .._errors import InputError
-from .._kind import Context, PlainResult, Save, TableContext, Unbounded
+from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._file import _LINKAGE_KEYS
 from ._linkage import Linkage
@@ -34,7 +34,9 @@ class LinkageMechanism(Unbounded):
     """
 
     kind: ClassVar[str] = "linkage"
-    keys: ClassVar[frozenset[str]] = frozenset(_LINKAGE_KEYS | {"kind", "max_acceleration"})
+    keys: ClassVar[frozenset[str]] = frozenset(
+        _LINKAGE_KEYS | forces.DYNAMICS_KEYS | {"kind", "max_acceleration", "phase"}
+    )
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "name"})
     name: str
     linkage: Linkage
@@ -43,7 +45,14 @@ class LinkageMechanism(Unbounded):
     #: Crank angles per turn (the machine's ``angle_points``): the grid of
     #: :meth:`solve`, :meth:`peaks` and :meth:`speed_limit_rpm` unless given another.
     points: int = 361
+    #: The keywords of :func:`cyclomech.forces.kinetostatics` (masses, loads,
+    #: gravity) when the table gives any, and where the crank sits in the cycle.
+    dynamics: dict[str, Any] | None = None
+    phase: Phase = field(default_factory=Phase)
     _solved: dict[int, tuple[LinkageSolution, tuple[float, float]]] = field(
+        default_factory=dict, init=False, repr=False, compare=False
+    )
+    _forces: dict[int, forces.Kinetostatics] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
 
@@ -61,12 +70,46 @@ class LinkageMechanism(Unbounded):
         """
         where = f"[mechanism.{name}]"
         _toml.check_keys(table, set(cls.keys), ctx.source, where)
-        own = {k: v for k, v in table.items() if k not in ("kind", "max_acceleration")}
+        extra = {"kind", "max_acceleration", "phase", *forces.DYNAMICS_KEYS}
+        own = {k: v for k, v in table.items() if k not in extra}
         lk = Linkage.from_dict(own, ctx.source, where)
         limit = _toml.optional_positive(table, "max_acceleration", ctx.where(name), "[m/s²]")
-        mech = cls(name, lk, lk.output or lk.names[-1], limit, ctx.angle_points)
+        dynamics = forces.dynamics_from_table(table, ctx.source, where)
+        phase = Phase.from_table(table, ctx, name)
+        mech = cls(name, lk, lk.output or lk.names[-1], limit, ctx.angle_points, dynamics, phase)
         mech.peaks()  # must assemble over the whole turn
+        if dynamics is not None:
+            try:  # names of links and points, checked against the linkage now
+                forces.check_dynamics(lk, **dynamics)
+            except InputError as e:
+                raise InputError(f"{ctx.where(name)}: {e}") from None
         return mech
+
+    def kinetostatics(self, samples: int = 3600) -> forces.Kinetostatics | None:
+        """The forces over one crank turn from the drawn angle, ``samples``
+        uniform angles (the last one short of a full turn), or None without masses
+        or loads; computed once per grid.
+
+        >>> import cyclomech as cm
+        >>> knife = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
+        >>> k = knife.kinetostatics(360)
+        >>> k.torque_parts.shape, k.pairs[0]
+        ((3, 360), ('A', 'frame'))
+        """
+        if self.dynamics is None:
+            return None
+        if samples not in self._forces:
+            angles = self.linkage.drawn_angle + np.arange(samples) * (2.0 * math.pi / samples)
+            k = forces.kinetostatics(self.linkage, angles, **self.dynamics)
+            if not k.ok.all():
+                bad = np.degrees(angles[~k.ok])[:6]
+                raise InputError(
+                    f"mechanism {self.name!r}: a group is at a dead centre at crank angles "
+                    f"{', '.join(f'{v:.1f}' for v in bad)} degrees: its forces are unbounded "
+                    "there"
+                )
+            self._forces[samples] = k
+        return self._forces[samples]
 
     def solve(self, points: int | None = None) -> LinkageSolution:
         """The mechanism over one crank turn from its drawn angle, ``points``
@@ -154,7 +197,7 @@ class LinkageMechanism(Unbounded):
         True
         """
         vmax, amax = self.peaks()
-        return LinkageResult(self, ctx, self.solve(), vmax, amax)
+        return LinkageResult(self, ctx, self.solve(), vmax, amax, self.kinetostatics())
 
 
 @dataclass(frozen=True)
@@ -167,6 +210,42 @@ class LinkageResult(PlainResult):
     solution: LinkageSolution
     max_velocity_analog: float
     max_acceleration_analog: float
+    #: Its forces over the turn (3600 angles from the drawn one), None without
+    #: masses or loads.
+    kinetostatics: forces.Kinetostatics | None = None
+
+    def shaft_torque(self) -> tuple[Array, Array, float, str | None] | None:
+        """Its driving torque for the machine's main shaft: (ω² part [N·m·s²],
+        static part [N·m] on 3600 crank angles from the drawn one; the cycle angle
+        [deg] where the crank is at its drawn angle, from its ``phase``; the event
+        the phase follows, None for a crank fixed at cycle angle 0); None without
+        masses or loads, or when the phase follows an event and there is no
+        optimum."""
+        k, phase, o = self.kinetostatics, self.mech.phase, self.ctx.optimum
+        if k is None or (phase.event is not None and o is None):
+            return None
+        origin = math.degrees(self.mech.linkage.drawn_angle)
+        shift = phase.shift_deg({} if o is None else o.times, origin)
+        return k.torque_parts[0], k.torque_parts[2], shift, phase.event
+
+    def cycle_csv(self) -> tuple[list[str], list[Array]] | None:
+        """Its forces over the turn at the nominal speed for ``<name>_forces.csv``:
+        the crank angle [deg], the driving torque [N·m], each guide's force and
+        each joint's force on each part (x, y) [N]; None without forces."""
+        k = self.kinetostatics
+        if k is None:
+            return None
+        n = self.ctx.nominal_rpm
+        header = ["crank_deg", "torque_nm"]
+        cols: list[Array] = [np.degrees(k.angles), k.torque(n)]
+        for j, g in enumerate(k.guides):
+            header.append(f"guide_n[{g}]")
+            cols.append(k.guide_forces(n)[:, j])
+        react = k.reactions(n)
+        for i, (p, part) in enumerate(k.pairs):
+            header += [f"fx_n[{p} on {part}]", f"fy_n[{p} on {part}]"]
+            cols += [react[:, i, 0], react[:, i, 1]]
+        return header, cols
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""
@@ -180,7 +259,26 @@ class LinkageResult(PlainResult):
                 "max_velocity_m_s": self.max_velocity_analog * w,
                 "max_acceleration_m_s2": self.max_acceleration_analog * w * w,
                 "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
+                **self._forces_json(),
             }
+        }
+
+    def _forces_json(self) -> dict[str, Any]:
+        k = self.kinetostatics
+        if k is None:
+            return {}
+        n = self.ctx.nominal_rpm
+        t = k.torque(n)
+        joint, peak, at = k.most_loaded(n)
+        loads = k.joint_loads(n)
+        return {
+            "peak_torque_nm": float(np.max(t)),
+            "lowest_torque_nm": float(np.min(t)),
+            "mean_torque_nm": float(np.mean(t)),
+            "most_loaded_joint": joint,
+            "most_loaded_joint_peak_n": peak,
+            "most_loaded_joint_at_crank_deg": at,
+            "joint_peak_loads_n": {p: float(np.max(v)) for p, v in loads.items()},
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
@@ -193,6 +291,21 @@ class LinkageResult(PlainResult):
             [f"max speed at {n:g} rpm [m/s]", info["max_velocity_m_s"]],
             [f"max acceleration at {n:g} rpm [m/s²]", info["max_acceleration_m_s2"]],
             ["speed limit [rpm]", info["speed_limit_rpm"]],
+            *(
+                [
+                    [
+                        f"driving torque at {n:g} rpm: peak / lowest [N·m]",
+                        f"{info['peak_torque_nm']:.4g} / {info['lowest_torque_nm']:.4g}",
+                    ],
+                    [
+                        f"most loaded joint at {n:g} rpm",
+                        f"{info['most_loaded_joint']}: {info['most_loaded_joint_peak_n']:.4g} N "
+                        f"at crank {info['most_loaded_joint_at_crank_deg']:.1f}°",
+                    ],
+                ]
+                if "peak_torque_nm" in info
+                else []
+            ),
         ]
 
     def figures(self, save: Save) -> None:
@@ -211,3 +324,13 @@ class LinkageResult(PlainResult):
             f"{k}_analogs",
             f"Position, velocity and acceleration analogs of {mech.output} over the turn.",
         )
+        if self.kinetostatics is not None:
+            from ..forces.plot import plot_forces
+
+            n = self.ctx.nominal_rpm
+            save(
+                plot_forces(self.kinetostatics, n, title=f"{k}: driving torque and joint loads"),
+                f"{k}_forces",
+                f"The torque the crank of {k} needs and each joint's load over the crank "
+                f"angle at {n:g} rpm (masses, loads and gravity of the machine file).",
+            )

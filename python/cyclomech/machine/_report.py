@@ -483,8 +483,12 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
 
 def write_report(result: MachineResult, out: str | Path, *, figures: bool = True) -> list[Path]:
     """Write ``report.html``, ``results.json``, ``speed_sweep.csv``,
-    ``operations.csv`` and ``figures/*.png`` to the folder ``out``; returns the
-    paths written (figures need matplotlib).
+    ``operations.csv``, ``main_shaft.csv`` (the torque over the cycle at the
+    nominal speed, total and each mechanism's, when a mechanism loads the
+    shaft), ``<mechanism>_forces.csv`` (a linkage's driving torque, guide forces
+    and joint forces over its crank turn, when it has masses or loads) and
+    ``figures/*.png`` to the folder ``out``; returns the paths written (figures
+    need matplotlib).
 
     >>> import pathlib, tempfile, cyclomech as cm
     >>> from cyclomech.machine import analyze, write_report
@@ -558,6 +562,19 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
             op_rows,
         )
     )
+    for k, res in result.mechanisms.items():
+        over = getattr(res, "cycle_csv", lambda: None)()
+        if over is not None:
+            head, columns = over
+            stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in k)
+            rows = [list(r) for r in zip(*columns, strict=True)]
+            written.append(_write_csv(folder / f"{stem}_forces.csv", head, rows))
+    if result.shaft is not None:
+        sh, n = result.shaft, result.nominal_rpm
+        head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
+        columns = [sh.torque.theta_deg, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
+        rows = [list(r) for r in zip(*columns, strict=True)]
+        written.append(_write_csv(folder / "main_shaft.csv", head, rows))
     figs: list[tuple[str, str, Path]] = []
     if figures:
         try:

@@ -92,6 +92,14 @@ def run_command(args: argparse.Namespace) -> int:
         priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
         if priced:
             print("Binding, with shadow prices: " + ", ".join(priced))
+    if r.shaft is not None:
+        s = r.shaft.at_nominal
+        print(
+            f"Main shaft at {r.nominal_rpm:g} rpm ({', '.join(r.shaft.parts)}): mean torque "
+            f"{float(s.mean_torque_nm):.4g} N·m, peak {float(s.peak_torque_nm):.4g} N·m; motor "
+            f"{float(s.power_w):.4g} W; flywheel {float(s.flywheel_kg_m2):.4g} kg·m² for "
+            f"δ = {r.shaft.speed_fluctuation:g} (ΔE = {float(s.energy_fluctuation_j):.4g} J)"
+        )
     use_fig = not args.no_plot and has_matplotlib("figures")
     if use_fig and not args.quiet:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds

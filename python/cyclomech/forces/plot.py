@@ -1,0 +1,62 @@
+"""Plots of a linkage's forces: the driving torque and the joints' loads over the
+crank angle (:func:`plot_forces`). matplotlib is imported only when drawing."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._arrays import finite_number
+from .._plotting import CRITICAL_COLOR, angle_axis, pyplot
+
+if TYPE_CHECKING:
+    from ._result import Kinetostatics
+
+__all__ = ["plot_forces"]
+
+
+def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> Any:
+    """The driving torque on the crank [N·m] (top) and each joint's load [N] (the
+    largest force it exerts on a part it joins; bottom) over the crank angle
+    [deg] at ``rpm`` [rpm], the most loaded joint's peak marked. Artists by gid:
+    ``"torque"``, ``"load[<joint>]"``, ``"peak"``.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.linkage import presets
+    >>> lk = presets.burg_trimmer()
+    >>> k = cm.forces.kinetostatics(lk, np.radians(np.arange(0.0, 360.0, 2.0)),
+    ...                             point_masses={"E": 50.0}, gravity=(0, -9.81))
+    >>> fig = plot_forces(k, 45.0)
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['torque  [N·m]', 'joint load  [N]']
+    """
+    n = finite_number("rpm", rpm, "[rpm]")
+    plt = pyplot()
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8.0, 5.6), sharex=True, layout="constrained")
+    deg = np.mod(np.degrees(k.angles), 360.0)
+    order = np.argsort(deg)
+    x = deg[order]
+    top.plot(x, k.torque(n)[order], color="k", lw=1.4, gid="torque")
+    top.axhline(0.0, color="0.6", lw=0.8)
+    top.set_ylabel("torque  [N·m]")
+    top.set_title(title or f"driving torque and joint loads at {n:g} rpm")
+    if k.pairs:
+        loads = k.joint_loads(n)
+        for i, (p, v) in enumerate(loads.items()):
+            bottom.plot(x, v[order], lw=1.1, color=f"C{i % 10}", label=p, gid=f"load[{p}]")
+        joint, peak, at = k.most_loaded(n)
+        if joint:
+            at = at % 360.0
+            bottom.plot([at], [peak], "o", color=CRITICAL_COLOR, gid="peak")
+            bottom.annotate(
+                f"{joint}: {peak:.4g} N", (at, peak), textcoords="offset points", xytext=(6, 4)
+            )
+        bottom.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0), title="joint")
+    bottom.set_ylabel("joint load  [N]")
+    angle_axis(bottom, 360.0, "crank angle  [deg]")
+    for ax in (top, bottom):
+        ax.grid(True, lw=0.4, alpha=0.5)
+    return fig
