@@ -409,3 +409,17 @@ def test_file_keys_name_the_file_table_and_key():
         with pytest.raises(cm.CyclomechError, match=match) as e:
             F.dynamics_from_table(table, "m.toml", "[mechanism.knife]")
         assert "m.toml" in str(e.value), str(e.value)
+
+
+def test_a_solution_is_used_as_given_and_checked():
+    lk = presets.burg_trimmer()
+    kw = loaded(lk)
+    sol = lk.solve(ANGLES)
+    a = F.kinetostatics(lk, sol, **kw)
+    b = F.kinetostatics(lk, ANGLES, **kw)
+    np.testing.assert_array_equal(a.reaction_parts, b.reaction_parts)
+    assert a.solution is sol
+    with pytest.raises(cm.CyclomechError, match="every point of the linkage"):
+        F.kinetostatics(lk, lk.solve(ANGLES, points=["E"]), **kw)
+    with pytest.raises(cm.CyclomechError, match="without analogs"):
+        F.kinetostatics(lk, lk.solve(ANGLES, analogs=False), **kw)

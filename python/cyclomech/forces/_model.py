@@ -18,7 +18,7 @@ from .._errors import InputError
 from ._result import Kinetostatics
 
 if TYPE_CHECKING:
-    from ..linkage import Linkage
+    from ..linkage import Linkage, LinkageSolution
 
 __all__ = ["LinkMass", "LinkTorque", "PointLoad", "check_dynamics", "kinetostatics"]
 
@@ -271,7 +271,9 @@ def kinetostatics(
 ) -> Kinetostatics:
     """Joint reactions, guide forces and the crank's driving torque of ``linkage``
     at the absolute crank angles ``angles`` [rad], for any crank speed and
-    angular acceleration (:class:`Kinetostatics`).
+    angular acceleration (:class:`Kinetostatics`). ``angles`` may also be a
+    :class:`~cyclomech.LinkageSolution` of ``linkage`` already solved (every
+    point, with analogs), which is then not solved again.
 
     ``masses`` maps a moving link (its joints, in any order) to its
     :class:`LinkMass`; ``point_masses`` a point to a lumped mass [kg] (a slider
@@ -296,8 +298,7 @@ def kinetostatics(
     model, names, body_names, guide_names, links, moving = _build(
         linkage, masses, point_masses, loads, gravity
     )
-    sol = linkage.solve(angles, n_threads)
-    assert sol.vel is not None and sol.acc is not None
+    sol = _solution(linkage, angles, n_threads)
     n = sol.angles.size
     force = torque = None
     idx = {p: i for i, p in enumerate(names)}
@@ -323,6 +324,23 @@ def kinetostatics(
     )
     pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
     return Kinetostatics.from_values(sol, values, singular, pairs=pairs, guides=tuple(guide_names))
+
+
+def _solution(linkage: Linkage, angles: Any, n_threads: int | None) -> LinkageSolution:
+    """``angles`` solved, or ``angles`` itself when it is a solution of every
+    point of ``linkage`` with analogs."""
+    if hasattr(angles, "names") and hasattr(angles, "xy"):
+        sol = angles
+        if tuple(sol.names) != tuple(linkage.names) or sol.vel is None or sol.xy.ndim != 3:
+            raise InputError(
+                "kinetostatics needs a solution of every point of the linkage, with analogs, "
+                f"of one geometry: solve it with linkage.solve(angles); got points {sol.names}"
+                f"{'' if sol.vel is not None else ' without analogs'}"
+            )
+        return sol
+    sol = linkage.solve(angles, n_threads)
+    assert sol.vel is not None and sol.acc is not None
+    return sol
 
 
 def check_dynamics(
