@@ -16,6 +16,7 @@ from .._units import RAD_PER_S_PER_RPM
 
 if TYPE_CHECKING:
     from ..linkage import LinkageSolution
+    from ..shaft import ShaftTorque
 
 __all__ = ["Kinetostatics"]
 
@@ -166,3 +167,39 @@ class Kinetostatics:
             if not load[i] <= best[1]:
                 best = (p, float(load[i]), float(np.degrees(self.angles[i])))
         return best
+
+    def shaft_torque(self) -> ShaftTorque:
+        """The driving torque as a :class:`~cyclomech.shaft.ShaftTorque` (its ω²
+        and static parts; θ = 0 at the first angle): for the flywheel, the motor
+        and the machine's main shaft. The angles must be N uniform steps over one
+        turn, the last one step short of the first plus 360°, all forces finite.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, np.radians(np.arange(0.0, 360.0, 1.0)),
+        ...                             point_masses={"A": 2.0}, gravity=(0, -9.81))
+        >>> s = k.shaft_torque().stats(60.0, speed_fluctuation=0.1)
+        >>> round(float(s.mean_torque_nm), 12), round(float(s.energy_fluctuation_j), 4)  # 2·m g r
+        (0.0, 11.772)
+        """
+        from ..shaft import ShaftTorque
+
+        a = self.angles
+        n = a.size
+        step = 2.0 * math.pi / n if n else math.nan
+        if n < 3 or not np.allclose(np.diff(a), step, rtol=0.0, atol=1e-9 * step):
+            raise InputError(
+                "shaft_torque needs the forces on N >= 3 uniform crank angles over one turn "
+                "(a + 2πk/N, k = 0 … N−1); solve them on such a grid"
+            )
+        if not self.ok.all():
+            bad = np.degrees(a[~self.ok])[:6]
+            raise InputError(
+                f"the forces are not finite at crank angles {', '.join(f'{v:.1f}' for v in bad)} "
+                "degrees (not assembled or a dead centre): no shaft torque over the turn"
+            )
+        return ShaftTorque(
+            np.degrees(a - a[0]),
+            np.ascontiguousarray(self.torque_parts[0]),
+            np.ascontiguousarray(self.torque_parts[2]),
+        )

@@ -128,8 +128,8 @@ class ShaftTorque:
         if delta <= 0.0 or math.isnan(delta):
             raise InputError(f"speed_fluctuation = {speed_fluctuation!r} must be > 0 (δ)")
         rows = _core.shaft_stats(
-            self.per_omega2,
-            self.static,
+            np.ascontiguousarray(self.per_omega2, dtype=np.float64),
+            np.ascontiguousarray(self.static, dtype=np.float64),
             n * RAD_PER_S_PER_RPM,
             delta,
             n_threads=threads_arg(n_threads),
