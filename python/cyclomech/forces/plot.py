@@ -52,7 +52,7 @@ def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> An
             at = at % 360.0
             bottom.plot([at], [peak], "o", color=CRITICAL_COLOR, gid="peak")
             bottom.annotate(
-                f"{joint}: {peak:.4g} N", (at, peak), textcoords="offset points", xytext=(6, 4)
+                f"{joint}: {peak:,.0f} N", (at, peak), textcoords="offset points", xytext=(8, -12)
             )
         bottom.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0), title="joint")
     bottom.set_ylabel("joint load  [N]")

@@ -299,7 +299,7 @@ class LinkageResult(PlainResult):
                     ],
                     [
                         f"most loaded joint at {n:g} rpm",
-                        f"{info['most_loaded_joint']}: {info['most_loaded_joint_peak_n']:.4g} N "
+                        f"{info['most_loaded_joint']}: {info['most_loaded_joint_peak_n']:,.0f} N "
                         f"at crank {info['most_loaded_joint_at_crank_deg']:.1f}°",
                     ],
                 ]

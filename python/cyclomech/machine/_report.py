@@ -205,6 +205,11 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     return jsonable(out)
 
 
+def _stem(name: str) -> str:
+    """A mechanism's name as a file-name stem."""
+    return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
+
+
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
     with path.open("w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
@@ -473,10 +478,18 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         for sec, cap, p in figs:
             if sec == "shaft":
                 parts.append(_img(p, cap))
+    cycle = [
+        f"<code>{_stem(k)}_forces.csv</code>"
+        for k, res in r.mechanisms.items()
+        if getattr(res, "cycle_csv", lambda: None)() is not None
+    ]
+    if r.shaft is not None:
+        cycle.insert(0, "<code>main_shaft.csv</code>")
+    over = f"; over the cycle at {r.nominal_rpm:g} rpm: {', '.join(cycle)}" if cycle else ""
     parts.append(
         "<h2>Files</h2><p><code>results.json</code> (schema "
         f"<code>{SCHEMA}</code>), <code>speed_sweep.csv</code>, <code>operations.csv</code>, "
-        "<code>figures/*.png</code>.</p></body></html>"
+        f"<code>figures/*.png</code>{over}.</p></body></html>"
     )
     return "\n".join(parts)
 
@@ -566,9 +579,8 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         over = getattr(res, "cycle_csv", lambda: None)()
         if over is not None:
             head, columns = over
-            stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in k)
             rows = [list(r) for r in zip(*columns, strict=True)]
-            written.append(_write_csv(folder / f"{stem}_forces.csv", head, rows))
+            written.append(_write_csv(folder / f"{_stem(k)}_forces.csv", head, rows))
     if result.shaft is not None:
         sh, n = result.shaft, result.nominal_rpm
         head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
