@@ -423,3 +423,32 @@ def test_a_solution_is_used_as_given_and_checked():
         F.kinetostatics(lk, lk.solve(ANGLES, points=["E"]), **kw)
     with pytest.raises(cm.CyclomechError, match="without analogs"):
         F.kinetostatics(lk, lk.solve(ANGLES, analogs=False), **kw)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "match"),
+    [
+        (
+            'point = "E"  ',
+            'point = "Z"  ',
+            r"\[mechanism.knife\] load\[0\]: point = 'Z' is not a point",
+        ),
+        ("mass_kg = 80.0", "mass_kg = -80.0", r"\[mechanism.knife\] mass\[0\]: mass_kg = -80.0"),
+        (
+            'link = ["B", "C", "E"]',
+            'link = ["B", "C", "Q"]',
+            r"mass\[0\]: link = \['B', 'C', 'Q'\]",
+        ),
+        ('event = "clamped"', 'event = "clampd"', r"phase: event = 'clampd' is not an event"),
+        ("crank_deg = 140.0", "crank_deg = true", r"phase: crank_deg"),
+        ("inertia_kg_m2 = 15.0", "inertia_kg_m2 = 15.0\ncolour = 1", r"mass\[0\].*colour"),
+    ],
+)
+def test_a_machine_file_error_names_the_file_table_and_key(tmp_path, old, new, match):
+    text = (Path(__file__).parents[1] / "examples" / "knife_cutter.toml").read_text("utf-8")
+    assert old in text
+    path = tmp_path / "cutter.toml"
+    path.write_text(text.replace(old, new, 1), "utf-8")
+    with pytest.raises(cm.CyclomechError, match=match) as e:
+        cm.Machine.from_toml(path)
+    assert str(e.value).startswith(str(path)), str(e.value)

@@ -5,11 +5,14 @@ table (units in the key names)."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .. import _toml
 from .._errors import InputError
 from ._model import LinkMass, LinkTorque, PointLoad
+
+if TYPE_CHECKING:
+    from ..linkage import Linkage
 
 __all__ = ["DYNAMICS_KEYS", "dynamics_from_table"]
 
@@ -27,7 +30,9 @@ def _rows(table: Mapping[str, Any], key: str, where: str) -> list[Mapping[str, A
     return rows
 
 
-def dynamics_from_table(table: Mapping[str, Any], source: str, where: str) -> dict[str, Any] | None:
+def dynamics_from_table(
+    table: Mapping[str, Any], source: str, where: str, linkage: Linkage | None = None
+) -> dict[str, Any] | None:
     """The keywords of :func:`~cyclomech.forces.kinetostatics` (masses,
     point_masses, loads, gravity) from a linkage's table, or None when it has
     none of :data:`DYNAMICS_KEYS`. Errors name ``source``, the table and the key.
@@ -37,7 +42,9 @@ def dynamics_from_table(table: Mapping[str, Any], source: str, where: str) -> di
     ``inertia_kg_m2`` about it (default 0). ``point_mass_kg`` = {point = kg}.
     ``[[<table>.load]]``: ``point`` and ``force_n`` = [fx, fy], or ``link`` and
     ``torque_nm``; with ``angle_deg`` (crank angles) the force is a table, one
-    row per angle, zero outside it. ``gravity_m_per_s2`` = [gx, gy].
+    row per angle, zero outside it. ``gravity_m_per_s2`` = [gx, gy]. With
+    ``linkage``, the points and links named are checked against it here, the
+    message naming the key.
 
     >>> d = dynamics_from_table({"point_mass_kg": {"C": 2.0},
     ...                          "load": [{"point": "C", "force_n": [-100.0, 0.0]}]}, "f", "[m]")
@@ -96,4 +103,47 @@ def dynamics_from_table(table: Mapping[str, Any], source: str, where: str) -> di
         if not (isinstance(g, list) and len(g) == 2 and all(_toml.is_number(v) for v in g)):
             raise InputError(f"{source}: {where}: gravity_m_per_s2 = {g!r} must be [gx, gy] [m/s²]")
         gravity = (float(g[0]), float(g[1]))
+    if linkage is not None:
+        _check_names(linkage, source, where, masses, point_masses, loads)
     return {"masses": masses, "point_masses": point_masses, "loads": loads, "gravity": gravity}
+
+
+def _check_names(
+    linkage: Linkage,
+    source: str,
+    where: str,
+    masses: Mapping[tuple[str, ...], Any],
+    point_masses: Mapping[str, float],
+    loads: list[PointLoad | LinkTorque],
+) -> None:
+    t = linkage.to_dict()
+    ground = set(t["ground"])
+    moving = [set(ln) for ln in t["links"] if not set(ln) <= ground]
+    names = ", ".join(linkage.names)
+    links = ", ".join(
+        "[" + ", ".join(map(repr, ln)) + "]" for ln in t["links"] if not set(ln) <= ground
+    )
+
+    def link_ok(joints: tuple[str, ...], at: str) -> None:
+        if set(joints) not in moving:
+            raise InputError(
+                f"{source}: {at}: link = {list(joints)!r} is not a moving link of the linkage; "
+                f"its moving links are {links}"
+            )
+
+    for i, joints in enumerate(masses):
+        link_ok(joints, f"{where} mass[{i}]")
+    for p in point_masses:
+        if p not in linkage.names:
+            raise InputError(
+                f"{source}: {where}: point_mass_kg.{p}: {p!r} is not a point; the points are "
+                f"{names}"
+            )
+    for i, load in enumerate(loads):
+        if isinstance(load, PointLoad) and load.point not in linkage.names:
+            raise InputError(
+                f"{source}: {where} load[{i}]: point = {load.point!r} is not a point; the points "
+                f"are {names}"
+            )
+        if isinstance(load, LinkTorque):
+            link_ok(load.link, f"{where} load[{i}]")

@@ -74,7 +74,7 @@ class LinkageMechanism(Unbounded):
         own = {k: v for k, v in table.items() if k not in extra}
         lk = Linkage.from_dict(own, ctx.source, where)
         limit = _toml.optional_positive(table, "max_acceleration", ctx.where(name), "[m/s²]")
-        dynamics = forces.dynamics_from_table(table, ctx.source, where)
+        dynamics = forces.dynamics_from_table(table, ctx.source, where, lk)
         phase = Phase.from_table(table, ctx, name)
         mech = cls(name, lk, lk.output or lk.names[-1], limit, ctx.angle_points, dynamics, phase)
         mech.peaks()  # must assemble over the whole turn

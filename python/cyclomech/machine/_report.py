@@ -373,6 +373,16 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
             f"<p class='warn'>At {r.nominal_rpm:g} rpm the cyclogram does not fit: "
             f"{e(r.problem)}</p>"
         )
+    if r.shaft is not None:
+        sh = r.shaft.at_nominal
+        key.append(
+            f"<p><b>Main shaft</b> at {r.nominal_rpm:g} rpm: motor "
+            f"<b>{float(sh.power_w) / 1e3:.3g} kW</b> (mean torque "
+            f"{float(sh.mean_torque_nm):.4g} N·m), peak torque "
+            f"<b>{float(sh.peak_torque_nm):.4g} N·m</b>, flywheel "
+            f"<b>{float(sh.flywheel_kg_m2):.4g} kg·m²</b> on the main shaft for δ = "
+            f"{r.shaft.speed_fluctuation:g} (ΔE = {float(sh.energy_fluctuation_j):.4g} J).</p>"
+        )
     parts.append("<div class='key'>" + "".join(key) + "</div>")
     cg_why = (
         lim.reason
