@@ -179,8 +179,8 @@ class Kinetostatics:
         >>> k = cm.forces.kinetostatics(crank, np.radians(np.arange(0.0, 360.0, 1.0)),
         ...                             point_masses={"A": 2.0}, gravity=(0, -9.81))
         >>> s = k.shaft_torque().stats(60.0, speed_fluctuation=0.1)
-        >>> round(float(s.mean_torque_nm), 12), round(float(s.energy_fluctuation_j), 4)  # 2·m g r
-        (0.0, 11.772)
+        >>> abs(float(s.mean_torque_nm)) < 1e-12, round(float(s.energy_fluctuation_j), 3)  # 2·m g r
+        (True, 11.772)
         """
         from ..shaft import ShaftTorque
 
