@@ -62,9 +62,10 @@ class PressCriteria:
     Lengths [m], speeds [m/s], accelerations [m/s²], angles [rad]; ``torque_arm``
     is the largest Π' over the working stroke [m] (crank torque per newton of
     constant deformation force: a lever arm, not a torque; the crank torque [N·m]
-    of a deformation-force diagram is :meth:`GearLeverPress.crank_torque`); ``theta_bdc`` the carrier angle of BDC. ``status``
-    says why a design fails (``ok`` False: its criteria are NaN, except for a
-    slider that moves back up during the working stroke, which keeps them).
+    of a deformation-force diagram is :meth:`GearLeverPress.crank_torque`);
+    ``theta_bdc`` the carrier angle of BDC. ``status`` says why a design fails
+    (``ok`` False: its criteria are NaN, except for a slider that moves back up
+    during the working stroke, which keeps them).
 
     The working stroke starts at the *first contact*: coming down from TDC, the first
     α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that then backs

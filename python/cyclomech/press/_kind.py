@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -69,7 +69,7 @@ class PressMechanism(Unbounded):
     force: DeformationForce | None = None
     slider_mass: float = 0.0
     rod_mass: float = 0.0
-    phase: Phase = Phase()
+    phase: Phase = field(default_factory=Phase)
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> PressMechanism:
@@ -142,7 +142,7 @@ class PressMechanism(Unbounded):
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"]
         >>> t = m.crank_torque()
         >>> t.alpha.shape, round(t.energy_per_stroke_j)
-        ((3600,), 1782)
+        ((3600,), 2312)
         """
         if not self.loaded:
             return None

@@ -180,7 +180,9 @@ class PressTorque:
         return w * w * self.per_omega2 + self.static
 
     def peak_torque_nm(self, omega: float) -> float:
-        """The largest M over the grid [N·m] at crank speed ``omega`` [rad/s].
+        """The largest M over the grid [N·m] at crank speed ``omega`` [rad/s]. It is
+        the grid's: where the diagram starts with a force at S_p, the peak may sit at
+        the first contact α_p, which the grid then must hold to see.
 
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
@@ -218,7 +220,9 @@ def crank_torque(
     k = press.solve(a, n_threads=n_threads)
     if not k.ok.all():
         bad = int((~k.ok).sum())
-        raise InputError(f"the press design does not work: the rod cannot reach the guide at {bad} of the angles")
+        raise InputError(
+            f"the press design does not work: the rod cannot reach the guide at {bad} of the angles"
+        )
     # The force acts on the approach to BDC only, α mod 2π in [0, α_p].
     on = np.mod(a, 2.0 * math.pi) <= c.alpha_p
     static = np.zeros_like(a)
