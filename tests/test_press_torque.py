@@ -307,6 +307,7 @@ def test_press_line_report_and_results_json(tmp_path):
     html = (out / "report.html").read_text()
     assert "energy per stroke" in html and "peak crank torque" in html
     assert (out / "figures" / "main_shaft.png").exists()
+    assert (out / "figures" / "drive_crank_torque.png").exists()
 
 
 def test_press_without_load_gives_no_shaft_torque(tmp_path):
@@ -410,3 +411,26 @@ def test_deformation_force_must_be_a_table(tmp_path):
     p.write_text(text[:start] + "deformation_force = [1.0, 2.0]" + text[end:], encoding="utf-8")
     with pytest.raises(cm.CyclomechError, match=r"force = \[1\.0, 2\.0\]: give a table"):
         cm.Machine.from_toml(p)
+
+
+def test_plot_crank_torque_draws_the_parts():
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from cyclomech.press.plot import plot_crank_torque
+
+    f = cm.press.DeformationForce([0.0, 0.012], [1e5, 1e5])
+    alpha = np.mod(-np.radians(np.arange(360.0)), 2 * math.pi)  # the kind's order
+    t = CRANK.crank_torque(alpha, force=f, slider_mass=40.0, k_Sp=0.1)
+    axes = plot_crank_torque(t, 5.0, force=f)
+    lines = {ln.get_gid(): ln for ln in axes[1].get_lines()}
+    x, y = lines["total"].get_xydata().T
+    assert np.all(np.diff(x) > 0)
+    np.testing.assert_allclose(y, t.torque_nm(5.0)[np.argsort(alpha)])
+    np.testing.assert_allclose(lines["force"].get_ydata(), t.static[np.argsort(alpha)])
+    force_line = next(ln for ln in axes[0].get_lines() if ln.get_gid() == "F(S)")
+    np.testing.assert_allclose(force_line.get_ydata(), f.force * 1e-3)
+    assert len(plot_crank_torque(t, 5.0)) == 1
+    with pytest.raises(cm.CyclomechError, match="PressTorque"):
+        plot_crank_torque("t", 5.0)
+    plt.close("all")

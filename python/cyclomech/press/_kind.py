@@ -400,3 +400,20 @@ class PressResult(PlainResult):
             "The drive at bottom dead centre with the pin's hypotrochoid, and the "
             "slider's motion and transfer functions.",
         )
+        if self.torque is not None:
+            from .plot import plot_crank_torque
+
+            axes = plot_crank_torque(self.torque, self.omega, force=mech.force)
+            save(
+                axes[0].figure,
+                f"{k}_crank_torque",
+                (
+                    "The deformation-force diagram over the working stroke and "
+                    if mech.force is not None
+                    else ""
+                )
+                + f"the crank torque over the turn at {self.ctx.nominal_rpm:g} rpm: the "
+                "force's part F·Π' on the working stroke, the slider's and the rod's "
+                "inertia, and their sum (the press's own angle α, from BDC against the "
+                "motion; on the main shaft it runs the other way).",
+            )
