@@ -30,10 +30,17 @@ and the dimensionless k_Sp, k_Vp = V_np/V_cp (→ 0), k_Vmax = V_pmax/V_cp
 (→ 1), k_M = torque_arm/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
 for a crank-slider).
 
+The crank torque [N·m] (:meth:`GearLeverPress.crank_torque`, a
+:class:`PressTorque`): M(α) = F(Π(α))·Π'(α) on the working stroke for a
+deformation-force diagram F(S) (:class:`DeformationForce`, S the slider's height
+above BDC inside [0, S_p]) minus ω²·(m_s·Π'·Π'' + a uniform rod's term), from the
+power balance; its energy per stroke ∫ F dS and its peak.
+
 The code lives in private modules beside this door, one per subject: ``_drive``
-(:class:`GearLeverPress`, kinematics and criteria of one design), ``_grid``
-(:func:`design_grid`), ``_optimize`` (:func:`pareto_mask`, :func:`optimize`) and
-``_study`` (the press file).
+(:class:`GearLeverPress`, kinematics and criteria of one design), ``_torque``
+(the crank torque), ``_grid`` (:func:`design_grid`), ``_optimize``
+(:func:`pareto_mask`, :func:`optimize`), ``_study`` (the press file) and ``_kind``
+(the machine file's ``press`` mechanism).
 """
 
 from __future__ import annotations
