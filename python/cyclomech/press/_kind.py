@@ -142,7 +142,7 @@ class PressMechanism(Unbounded):
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"]
         >>> t = m.crank_torque()
         >>> t.alpha.shape, round(t.energy_per_stroke_j)
-        ((3600,), 2312)
+        ((3600,), 2200)
         """
         if not self.loaded:
             return None
@@ -401,7 +401,7 @@ class PressResult(PlainResult):
             "slider's motion and transfer functions.",
         )
         if self.torque is not None:
-            from .plot import plot_crank_torque
+            from ._torque_plot import plot_crank_torque
 
             axes = plot_crank_torque(self.torque, self.omega, force=mech.force)
             save(
