@@ -176,7 +176,7 @@ def _numpy_criteria_chunk(
         "V_cp": v_cp * OMEGA,
         "V_pmax": v_max * OMEGA,
         "J_max": j_max * OMEGA**2,
-        "torque": v_max,
+        "torque_arm": v_max,
         "k_Sp": s_p / s_n,
         "k_Vp": v_np / v_cp,
         "k_Vmax": v_max / v_cp,
@@ -288,7 +288,7 @@ def check_sweep(
         "alpha_p": np.full_like(acc, 2 * h),
         "V_np": 2 * h * acc * OMEGA,
         "V_pmax": 2 * h * acc * OMEGA,
-        "torque": 2 * h * acc,
+        "torque_arm": 2 * h * acc,
         "J_max": h * g["J_max"],
         "theta_bdc": np.full_like(acc, h),
         "k_Sp": np.full_like(acc, 1e-12),
@@ -305,7 +305,7 @@ def check_sweep(
 
     tol["k_Vp"] = ratio("V_np", "V_cp", 1.0)
     tol["k_Vmax"] = ratio("V_pmax", "V_cp", 1.0)
-    tol["k_M"] = ratio("torque", "S_n", 2.0)
+    tol["k_M"] = ratio("torque_arm", "S_n", 2.0)
     tol["k_J"] = ratio("J_max", "S_n", 2.0 / OMEGA**2)
     for name in cm.press.CRITERIA:
         diff = np.abs(e[name] - g[name])

@@ -374,7 +374,7 @@ def brute_criteria(m: Model, k_sp: float, omega: float, n: int = 200_001) -> dic
         "V_cp": v_cp * omega,
         "V_pmax": v_max * omega,
         "J_max": acc * omega**2,
-        "torque": v_max,
+        "torque_arm": v_max,
         "k_Sp": k_sp,
         "k_Vp": v_np / v_cp,
         "k_Vmax": v_max / v_cp,
@@ -407,7 +407,7 @@ def _sampling_traps(m: Model, k_sp: float) -> set[str]:
     a_p = alpha[int(np.flatnonzero((alpha < a_t) & (s <= s_p)).max())]
     vpk = np.flatnonzero((ds > np.roll(ds, 1)) & (ds >= np.roll(ds, -1)))
     if ((alpha[vpk] < a_p) & (alpha[vpk] > a_p - 2 * H_LIB)).any():
-        traps |= {"V_pmax", "torque", "k_Vmax", "k_M"}
+        traps |= {"V_pmax", "torque_arm", "k_Vmax", "k_M"}
     return traps
 
 
@@ -419,7 +419,7 @@ FIELDS = (
     "V_cp",
     "V_pmax",
     "J_max",
-    "torque",
+    "torque_arm",
     "k_Sp",
     "k_Vp",
     "k_Vmax",
@@ -522,7 +522,7 @@ def test_omega_scales_speeds_and_accelerations():
     for f in ("V_np", "V_cp", "V_pmax"):
         assert getattr(b, f) == pytest.approx(7.5 * getattr(a, f), rel=1e-13)
     assert b.J_max == pytest.approx(7.5**2 * a.J_max, rel=1e-13)
-    for f in ("S_n", "S_p", "alpha_p", "torque", "k_Sp", "k_Vp", "k_Vmax", "k_M", "k_J"):
+    for f in ("S_n", "S_p", "alpha_p", "torque_arm", "k_Sp", "k_Vp", "k_Vmax", "k_M", "k_J"):
         assert getattr(b, f) == pytest.approx(getattr(a, f), rel=1e-13)
     assert (a.omega, b.omega) == (1.0, 7.5)
 

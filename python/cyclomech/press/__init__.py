@@ -24,16 +24,23 @@ constant crank speed ω the slider speed is |Π'|·ω and its acceleration Π''�
 Criteria (:class:`PressCriteria`, all from the Rust kernel): the nominal stroke
 S_n, the working stroke S_p = k_Sp·S_n and its crank angle α_p, the slider speed
 at its start V_np, its mean V_cp = S_p·ω/α_p and maximum V_pmax over it, the
-largest acceleration J_max over the turn, the torque arm (max Π' over the
+largest acceleration J_max over the turn, the torque arm ``torque_arm`` (max Π' over the
 working stroke: the crank torque per newton of a constant deformation force)
 and the dimensionless k_Sp, k_Vp = V_np/V_cp (→ 0), k_Vmax = V_pmax/V_cp
-(→ 1), k_M = torque/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
+(→ 1), k_M = torque_arm/(S_n/2) and k_J = J_max/(ω²·S_n/2) (→ min; both 1 + λ-ish
 for a crank-slider).
 
+The crank torque [N·m] (:meth:`GearLeverPress.crank_torque`, a
+:class:`PressTorque`): M(α) = F(Π(α))·Π'(α) on the working stroke for a
+deformation-force diagram F(S) (:class:`DeformationForce`, S the slider's height
+above BDC inside [0, S_p]) minus ω²·(m_s·Π'·Π'' + a uniform rod's term), from the
+power balance; its energy per stroke ∫ F dS and its peak.
+
 The code lives in private modules beside this door, one per subject: ``_drive``
-(:class:`GearLeverPress`, kinematics and criteria of one design), ``_grid``
-(:func:`design_grid`), ``_optimize`` (:func:`pareto_mask`, :func:`optimize`) and
-``_study`` (the press file).
+(:class:`GearLeverPress`, kinematics and criteria of one design), ``_torque``
+(the crank torque), ``_grid`` (:func:`design_grid`), ``_optimize``
+(:func:`pareto_mask`, :func:`optimize`), ``_study`` (the press file) and ``_kind``
+(the machine file's ``press`` mechanism).
 """
 
 from __future__ import annotations
@@ -43,12 +50,14 @@ from ._grid import PressGrid, design_grid
 from ._kind import PressMechanism
 from ._optimize import OBJECTIVES, PressOptimum, optimize, pareto_mask
 from ._study import PressStudy
+from ._torque import DeformationForce, PressTorque
 
 __all__ = [
     "CRITERIA",
     "OBJECTIVES",
     "SAMPLES",
     "STATUS",
+    "DeformationForce",
     "GearLeverPress",
     "PressCriteria",
     "PressGrid",
@@ -56,6 +65,7 @@ __all__ = [
     "PressMechanism",
     "PressOptimum",
     "PressStudy",
+    "PressTorque",
     "design_grid",
     "optimize",
     "pareto_mask",

@@ -35,7 +35,7 @@ _CRITERION_SHOWN: dict[str, tuple[float, str, str]] = {
     "V_cp": (MM, "mm/s", "mean speed over the working stroke V_cp"),
     "V_pmax": (MM, "mm/s", "top speed over the working stroke V_pmax"),
     "J_max": (1.0, "m/s²", "largest acceleration J_max"),
-    "torque": (MM, "mm", "torque arm (max Π' over the working stroke)"),
+    "torque_arm": (MM, "mm", "torque arm (max Π' over the working stroke)"),
     "k_Sp": (1.0, "", "k_Sp = S_p/S_n"),
     "k_Vp": (1.0, "", "k_Vp = V_np/V_cp  (→ 0)"),
     "k_Vmax": (1.0, "", "k_Vmax = V_pmax/V_cp  (→ 1)"),

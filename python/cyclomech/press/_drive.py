@@ -5,7 +5,7 @@ status codes."""
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -13,6 +13,9 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import finite_number, float_array, threads_arg
 from .._errors import InputError
+
+if TYPE_CHECKING:
+    from ._torque import DeformationForce, PressTorque
 
 __all__ = ["CRITERIA", "SAMPLES", "STATUS", "GearLeverPress", "PressCriteria", "PressKinematics"]
 
@@ -56,11 +59,13 @@ class PressKinematics:
 class PressCriteria:
     """Working-stroke criteria of one design at crank speed ``omega`` [rad/s].
 
-    Lengths [m], speeds [m/s], accelerations [m/s²], angles [rad]; ``torque`` is
-    the largest Π' over the working stroke [m] (crank torque per newton of
-    constant deformation force); ``theta_bdc`` the carrier angle of BDC. ``status``
-    says why a design fails (``ok`` False: its criteria are NaN, except for a
-    slider that moves back up during the working stroke, which keeps them).
+    Lengths [m], speeds [m/s], accelerations [m/s²], angles [rad]; ``torque_arm``
+    is the largest Π' over the working stroke [m] (crank torque per newton of
+    constant deformation force: a lever arm, not a torque; the crank torque [N·m]
+    of a deformation-force diagram is :meth:`GearLeverPress.crank_torque`);
+    ``theta_bdc`` the carrier angle of BDC. ``status`` says why a design fails
+    (``ok`` False: its criteria are NaN, except for a slider that moves back up
+    during the working stroke, which keeps them).
 
     The working stroke starts at the *first contact*: coming down from TDC, the first
     α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that then backs
@@ -93,7 +98,7 @@ class PressCriteria:
     V_cp: float
     V_pmax: float
     J_max: float
-    torque: float
+    torque_arm: float
     k_Sp: float
     k_Vp: float
     k_Vmax: float
@@ -251,6 +256,52 @@ class GearLeverPress:
             progress=False,
         )
         return sw.at(())
+
+    def crank_torque(
+        self,
+        alpha: npt.ArrayLike,
+        *,
+        force: DeformationForce | None = None,
+        slider_mass: float = 0.0,
+        rod_mass: float = 0.0,
+        k_Sp: float | None = None,
+        working_stroke: float | None = None,
+        n_threads: int | None = None,
+    ) -> PressTorque:
+        """The crank torque over α [rad] (shape (N,)) for the deformation-force
+        diagram ``force`` (:class:`DeformationForce`, heights above BDC inside the
+        working stroke [0, S_p]), the slider's mass ``slider_mass`` [kg] and a
+        uniform rod's ``rod_mass`` [kg], for a working stroke of ``k_Sp``·S_n or
+        ``working_stroke`` [m] (one of them):
+
+            M(α) = F(Π(α))·Π'(α) [on the working stroke, 0 ≤ α ≤ α_p]
+                   − ω²·(m_s·Π'·Π'' + m_r·(G_α·G_αα + L²/12·φ_α·φ_αα))
+
+        [N·m], the torque the drive puts into the crank in its turning direction,
+        from the power balance M·ω = dT/dt − F·v with v = dS/dt = −ω·Π' (α runs
+        against the motion); G is the rod's centre, φ its angle (derivation in
+        :mod:`cyclomech.press._torque`). The ω² part and the force part come
+        apart (:class:`PressTorque`).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> f = cm.press.DeformationForce([0.0, 0.012], [1e5, 1e5])
+        >>> t = p.crank_torque(np.radians([30.0]), force=f, slider_mass=20.0, k_Sp=0.1)
+        >>> t.torque_nm(4.0).round(2).tolist()
+        [3521.58]
+        """
+        from ._torque import crank_torque
+
+        return crank_torque(
+            self,
+            alpha,
+            force=force,
+            slider_mass=slider_mass,
+            rod_mass=rod_mass,
+            k_Sp=k_Sp,
+            working_stroke=working_stroke,
+            n_threads=n_threads,
+        )
 
     def baseline(self) -> GearLeverPress:
         """The plain crank-slider of this drive: the same gears, rod and guide with

@@ -5,19 +5,26 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
 import numpy as np
 
 from .. import _toml
 from .._errors import InputError
-from .._kind import Context, PlainResult, Save, TableContext, Unbounded
+from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
 from ._study import DRIVE_KEYS, drive_from_table
+from ._torque import DeformationForce, PressTorque, check_table
 
 __all__ = ["PressMechanism"]
+
+#: Carrier angles per turn of the press's torque curve on the main shaft.
+SHAFT_SAMPLES = 3600
+
+#: The keys of a ``deformation_force`` table.
+FORCE_KEYS = ("s_above_bdc_m", "force_n")
 
 
 @dataclass(frozen=True)
@@ -25,6 +32,14 @@ class PressMechanism(Unbounded):
     """A gear-lever press drive whose crank turns once per machine cycle; the
     working stroke is ``k_Sp``·S_n or ``working_stroke`` [m]; ``max_V_np`` [m/s]
     optionally limits the slider's speed at the start of the working stroke.
+
+    Its load on the main shaft (:meth:`GearLeverPress.crank_torque`): the
+    deformation-force diagram ``force``, the slider's mass ``slider_mass`` [kg] and
+    a uniform rod's ``rod_mass`` [kg]; ``phase`` places it in the cycle. The press's
+    own angle for :class:`~cyclomech._kind.Phase` is the carrier's angle turned
+    since BDC, in its direction of rotation (ψ = −α mod 360°): ``phase = {event =
+    "bottom", crank_deg = 0}`` puts BDC at the event ``bottom``, and the working
+    stroke then takes the α_p degrees of the cycle before it.
 
     >>> import cyclomech as cm
     >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"]
@@ -34,19 +49,41 @@ class PressMechanism(Unbounded):
 
     kind: ClassVar[str] = "press"
     keys: ClassVar[frozenset[str]] = frozenset(
-        DRIVE_KEYS | {"kind", "k_Sp", "working_stroke", "max_V_np"}
+        DRIVE_KEYS
+        | {
+            "kind",
+            "k_Sp",
+            "working_stroke",
+            "max_V_np",
+            "deformation_force",
+            "slider_mass_kg",
+            "rod_mass_kg",
+            "phase",
+        }
     )
     name: str
     press: GearLeverPress
     k_Sp: float | None = None
     working_stroke: float | None = None
     max_V_np: float | None = None
+    force: DeformationForce | None = None
+    slider_mass: float = 0.0
+    rod_mass: float = 0.0
+    phase: Phase = field(default_factory=Phase)
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> PressMechanism:
         """Its ``[mechanism.<name>]`` table: ``R``, ``r``, ``d``, ``L`` [m],
         ``phi0_deg`` [deg], optional ``offset`` [m]; one of ``k_Sp`` or
         ``working_stroke`` [m]; optional ``max_V_np`` [m/s]. The design must work.
+
+        Its load on the main shaft, all optional: ``deformation_force =
+        {s_above_bdc_m = [...], force_n = [...]}``, the force diagram (heights of the
+        slider above BDC [m], strictly increasing, inside the working stroke [0, S_p];
+        forces [N] ≥ 0; linear between the points, zero outside them);
+        ``slider_mass_kg`` and ``rod_mass_kg`` (a uniform rod) [kg] ≥ 0; ``phase =
+        {event = "...", crank_deg = ...}``, the carrier's angle past BDC [deg] at
+        that cyclogram event (see the class's docs).
 
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
@@ -71,11 +108,53 @@ class PressMechanism(Unbounded):
                 else None
             ),
             max_V_np=_toml.optional_positive(table, "max_V_np", where, "[m/s]"),
+            force=_force(table, name, ctx),
+            slider_mass=_mass(table, "slider_mass_kg", where),
+            rod_mass=_mass(table, "rod_mass_kg", where),
+            phase=Phase.from_table(table, ctx, name),
         )
         c = mech.criteria(60.0)
         if not c.ok:
             raise InputError(f"{where}: {mech._failure(c)}")
+        if mech.force is not None:
+            try:
+                mech.force.check_stroke(c.S_p, "deformation_force.s_above_bdc_m")
+            except InputError as e:
+                raise InputError(f"{where}: {e}") from None
         return mech
+
+    @property
+    def loaded(self) -> bool:
+        """True when it has a force diagram or a mass: a torque on the main shaft.
+
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"].loaded
+        True
+        """
+        return self.force is not None or self.slider_mass > 0 or self.rod_mass > 0
+
+    def crank_torque(self) -> PressTorque | None:
+        """Its crank torque (:meth:`GearLeverPress.crank_torque`) on
+        :data:`SHAFT_SAMPLES` carrier angles ψ = 0, 0.1°, … past BDC in the direction
+        of rotation (α = −ψ mod 2π); None when it has no load.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"]
+        >>> t = m.crank_torque()
+        >>> t.alpha.shape, round(t.energy_per_stroke_j)
+        ((3600,), 2200)
+        """
+        if not self.loaded:
+            return None
+        psi = 2.0 * math.pi * np.arange(SHAFT_SAMPLES) / SHAFT_SAMPLES
+        return self.press.crank_torque(
+            np.mod(-psi, 2.0 * math.pi),
+            force=self.force,
+            slider_mass=self.slider_mass,
+            rod_mass=self.rod_mass,
+            k_Sp=self.k_Sp,
+            working_stroke=self.working_stroke,
+        )
 
     def _failure(self, c: PressCriteria) -> str:
         """Why the design does not work (criteria ``c``), with the keys to change
@@ -171,24 +250,98 @@ class PressMechanism(Unbounded):
         >>> round(r.criteria.S_n, 4)
         0.1276
         """
-        return PressResult(self, ctx, self.criteria(ctx.nominal_rpm))
+        return PressResult(self, ctx, self.criteria(ctx.nominal_rpm), self.crank_torque())
+
+
+def _force(table: Mapping[str, Any], name: str, ctx: TableContext) -> DeformationForce | None:
+    """The ``deformation_force`` table of ``[mechanism.<name>]``, or None."""
+    spec = table.get("deformation_force")
+    if spec is None:
+        return None
+    where = ctx.where(name)
+    if not isinstance(spec, Mapping):
+        raise InputError(
+            f"{where} deformation_force = {spec!r}: give a table {{s_above_bdc_m = [...], "
+            "force_n = [...]}} (heights above BDC [m], forces [N])"
+        )
+    _toml.check_keys(spec, set(FORCE_KEYS), ctx.source, f"[mechanism.{name}.deformation_force]")
+    _toml.require(spec, FORCE_KEYS, f"{where} deformation_force")
+    try:
+        s, f = check_table(
+            spec["s_above_bdc_m"],
+            spec["force_n"],
+            "deformation_force.s_above_bdc_m",
+            "deformation_force.force_n",
+        )
+    except InputError as e:
+        raise InputError(f"{where}: {e}") from None
+    return DeformationForce(s, f)
+
+
+def _mass(table: Mapping[str, Any], key: str, where: str) -> float:
+    """The mass ``table[key]`` [kg] ≥ 0 (0 where absent)."""
+    if key not in table:
+        return 0.0
+    v = _toml.number(table, key, where, "[kg]")
+    if v < 0:
+        raise InputError(f"{where}: {key} = {v!r} must be ≥ 0 [kg]")
+    return v
 
 
 @dataclass(frozen=True)
 class PressResult(PlainResult):
-    """A press drive's working-stroke criteria at the machine's nominal speed."""
+    """A press drive's working-stroke criteria at the machine's nominal speed and
+    its crank torque (None without a force diagram or masses)."""
 
     mech: PressMechanism
     ctx: Context
     criteria: PressCriteria
+    torque: PressTorque | None = None
+
+    @property
+    def omega(self) -> float:
+        """The nominal crank speed [rad/s]."""
+        return self.ctx.nominal_rpm * RAD_PER_S_PER_RPM
+
+    def shaft_torque(self) -> tuple[np.ndarray, np.ndarray, float, str] | None:
+        """Its torque on the main shaft: (ω² part [N·m·s²], static part [N·m]) on
+        3600 carrier angles ψ from BDC in the direction of rotation over [0, 360°);
+        the cycle angle [deg] where BDC sits in the optimum (its ``phase``); the
+        event the phase follows ("" without one). None without a load or an optimum.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> r = cm.machine.analyze(m, progress=False)
+        >>> a, b, phase, event = r.mechanisms["drive"].shaft_torque()
+        >>> a.shape, event, phase == r.optimum.times["bottom"]
+        ((3600,), 'bottom', True)
+        """
+        t, o = self.torque, self.ctx.optimum
+        if t is None or o is None:
+            return None
+        phase = self.mech.phase
+        return t.per_omega2, t.static, phase.shift_deg(o.times, 0.0), phase.event or ""
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""
+        t, m = self.torque, self.mech
         return {
             "mechanisms": {
                 "kind": "press",
                 "criteria": self.criteria.as_dict(),
-                "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
+                "speed_limit_rpm": self.ctx.own_limit_rpm(m.name),
+                "crank_torque": None
+                if t is None
+                else {
+                    "nominal_rpm": self.ctx.nominal_rpm,
+                    "peak_torque_nm": t.peak_torque_nm(self.omega),
+                    "lowest_torque_nm": float(np.min(t.torque_nm(self.omega))),
+                    "peak_force_torque_nm": float(np.max(t.static)),
+                    "energy_per_stroke_j": t.energy_per_stroke_j,
+                    "peak_force_n": None if m.force is None else float(m.force.force.max()),
+                    "slider_mass_kg": m.slider_mass,
+                    "rod_mass_kg": m.rod_mass,
+                },
             }
         }
 
@@ -203,9 +356,30 @@ class PressResult(PlainResult):
             ["k_Vp = V_np/V_cp", c.k_Vp],
             ["k_Vmax = V_pmax/V_cp", c.k_Vmax],
             ["peak acceleration J_max [m/s²]", c.J_max],
-            ["torque factor (max Π' in the working stroke) [mm]", c.torque * 1e3],
+            ["torque arm (max Π' in the working stroke) [mm]", c.torque_arm * 1e3],
             ["speed limit [rpm]", self.ctx.own_limit_rpm(self.mech.name)],
+            *self._torque_rows(),
         ]
+
+    def _torque_rows(self) -> list[list[Any]]:
+        """The crank torque's rows of the report table (none without a load)."""
+        t, m = self.torque, self.mech
+        if t is None:
+            return []
+        M = t.torque_nm(self.omega)
+        rows: list[list[Any]] = []
+        if m.force is not None:
+            rows += [
+                ["peak deformation force [kN]", float(m.force.force.max()) * 1e-3],
+                ["energy per stroke ∫F dS [J]", t.energy_per_stroke_j],
+                ["peak torque of the force alone F·Π' [N·m]", float(np.max(t.static))],
+            ]
+        rows += [
+            ["slider / rod mass [kg]", f"{m.slider_mass:g} / {m.rod_mass:g}"],
+            ["peak crank torque (force + inertia) [N·m]", float(np.max(M))],
+            ["lowest crank torque [N·m]", float(np.min(M))],
+        ]
+        return rows
 
     def figures(self, save: Save) -> None:
         """The drive at bottom dead centre and the slider's motion."""
@@ -226,3 +400,20 @@ class PressResult(PlainResult):
             "The drive at bottom dead centre with the pin's hypotrochoid, and the "
             "slider's motion and transfer functions.",
         )
+        if self.torque is not None:
+            from ._torque_plot import plot_crank_torque
+
+            axes = plot_crank_torque(self.torque, self.omega, force=mech.force)
+            save(
+                axes[0].figure,
+                f"{k}_crank_torque",
+                (
+                    "The deformation-force diagram over the working stroke and "
+                    if mech.force is not None
+                    else ""
+                )
+                + f"the crank torque over the turn at {self.ctx.nominal_rpm:g} rpm: the "
+                "force's part F·Π' on the working stroke, the slider's and the rod's "
+                "inertia, and their sum (the press's own angle α, from BDC against the "
+                "motion; on the main shaft it runs the other way).",
+            )

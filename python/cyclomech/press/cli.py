@@ -70,7 +70,7 @@ def press_command(args: argparse.Namespace) -> int:
         "V_cp": ("mm/s", 1e3),
         "V_pmax": ("mm/s", 1e3),
         "J_max": ("m/s²", 1.0),
-        "torque": ("mm", 1e3),
+        "torque_arm": ("mm", 1e3),
         "theta_bdc": ("°", 180 / math.pi),
     }
     rows = []

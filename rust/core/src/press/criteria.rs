@@ -70,7 +70,7 @@ pub const CRITERIA: [&str; 14] = [
     "V_cp",
     "V_pmax",
     "J_max",
-    "torque",
+    "torque_arm",
     "k_Sp",
     "k_Vp",
     "k_Vmax",
