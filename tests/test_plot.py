@@ -376,6 +376,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_along_cycle",
         "plot_analogs",
         "plot_cam",
+        "plot_crank_torque",
         "plot_cyclogram",
         "plot_cyclogram_pair",
         "plot_forces",

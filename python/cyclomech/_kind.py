@@ -116,7 +116,8 @@ class TableContext:
 class Phase:
     """Where a mechanism driven by the main shaft sits in the cycle: at the
     cyclogram event ``event`` its own angle (a linkage's absolute crank angle, a
-    press's carrier angle α) is ``crank_deg``; without an event, its angle is
+    press's carrier angle turned past BDC in the turning direction, −α) is
+    ``crank_deg``; without an event, its angle is
     ``crank_deg`` at cycle angle 0. Read from ``phase = {event = "…", crank_deg =
     …}`` in a ``[mechanism.<name>]`` table (:meth:`from_table`).
 

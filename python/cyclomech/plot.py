@@ -11,8 +11,9 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
 * :mod:`cyclomech.linkage.plot` — :func:`plot_linkage`, :func:`plot_analogs`,
   :func:`animate_linkage` (the mechanism, a point's position and analogs, a GIF);
 * :mod:`cyclomech.motion.plot` — :func:`plot_law` (a motion law);
-* :mod:`cyclomech.press.plot` — :func:`plot_press`, :func:`plot_press_criteria`
-  (the gear-lever press and the maps of its working-stroke criteria);
+* :mod:`cyclomech.press.plot` — :func:`plot_press`, :func:`plot_press_criteria`,
+  :func:`plot_crank_torque` (the gear-lever press, the maps of its working-stroke
+  criteria, its deformation force and crank torque);
 * :mod:`cyclomech.impact.plot` — :func:`plot_response`, :func:`plot_rebound_vs_speed`,
   :func:`plot_min_phase` (a stop: the motion after contact, the first rebound and
   the smallest phase angle against speed);
@@ -55,7 +56,7 @@ from .linkage.plot import animate_linkage, plot_analogs, plot_linkage
 from .machine.plot import plot_speed_sweep
 from .motion.plot import plot_law
 from .press.plot import WORK_COLOR as WORK_COLOR
-from .press.plot import plot_press, plot_press_criteria
+from .press.plot import plot_crank_torque, plot_press, plot_press_criteria
 from .transfer.plot import plot_transfer
 
 __all__ = [
@@ -63,6 +64,7 @@ __all__ = [
     "plot_along_cycle",
     "plot_analogs",
     "plot_cam",
+    "plot_crank_torque",
     "plot_cyclogram",
     "plot_cyclogram_pair",
     "plot_forces",

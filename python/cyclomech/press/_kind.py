@@ -303,11 +303,11 @@ class PressResult(PlainResult):
         """The nominal crank speed [rad/s]."""
         return self.ctx.nominal_rpm * RAD_PER_S_PER_RPM
 
-    def shaft_torque(self) -> tuple[np.ndarray, np.ndarray, float, str] | None:
+    def shaft_torque(self) -> tuple[np.ndarray, np.ndarray, float, str | None] | None:
         """Its torque on the main shaft: (ω² part [N·m·s²], static part [N·m]) on
         3600 carrier angles ψ from BDC in the direction of rotation over [0, 360°);
         the cycle angle [deg] where BDC sits in the optimum (its ``phase``); the
-        event the phase follows ("" without one). None without a load or an optimum.
+        event the phase follows (None without one). None without a load or an optimum.
 
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
@@ -320,7 +320,7 @@ class PressResult(PlainResult):
         if t is None or o is None:
             return None
         phase = self.mech.phase
-        return t.per_omega2, t.static, phase.shift_deg(o.times, 0.0), phase.event or ""
+        return t.per_omega2, t.static, phase.shift_deg(o.times, 0.0), phase.event
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""

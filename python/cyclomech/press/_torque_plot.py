@@ -1,6 +1,6 @@
 """The press's crank torque drawn: the deformation-force diagram and M(α) with its
-force and inertia parts (the machine report's figure; not yet re-exported by
-:mod:`cyclomech.press.plot` and the :mod:`cyclomech.plot` facade)."""
+force and inertia parts (re-exported by :mod:`cyclomech.press.plot` and the
+:mod:`cyclomech.plot` facade)."""
 
 from __future__ import annotations
 

@@ -47,7 +47,7 @@ from . import GearLeverPress
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["plot_press", "plot_press_criteria"]
+__all__ = ["plot_crank_torque", "plot_press", "plot_press_criteria"]
 
 
 #: Colour of the working stroke (shading and the pin's path over it).
@@ -489,3 +489,4 @@ def plot_press(
 
 
 from ._criteria_plot import plot_press_criteria  # noqa: E402 (the criteria map, re-exported)
+from ._torque_plot import plot_crank_torque  # noqa: E402 (the crank torque, re-exported)
