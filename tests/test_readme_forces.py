@@ -47,3 +47,18 @@ def test_the_readme_knife_cutter_numbers():
     assert f"a {float(s.flywheel_kg_m2):.0f} kg·m² flywheel" in text
     joint, peak, at = r.mechanisms["knife"].kinetostatics.most_loaded(45.0)
     assert f"joint {joint} ({peak / 1e3:.1f} kN at crank {at:.0f}°)" in text
+
+
+def test_the_readme_press_torque_numbers():
+    text = README.read_text(encoding="utf-8").split("## Motion laws and press drives", 1)[1]
+    text = text.split("\n## ", 1)[0]
+    assert "≈ 2312.5 J, 1810.5 N·m" in text
+    p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.029, L=0.25, phi0=np.radians(55.95))
+    f = cm.press.DeformationForce(
+        [0, 0.001, 0.0105, 0.0115, 0.0127], [200e3, 200e3, 190e3, 150e3, 0]
+    )
+    t = p.crank_torque(
+        np.radians(np.arange(3600) / 10), force=f, slider_mass=60.0, rod_mass=15.0, k_Sp=0.1
+    )
+    assert t.energy_per_stroke_j == pytest.approx(2312.5, abs=0.05)
+    assert t.peak_torque_nm(2 * np.pi * 40 / 60) == pytest.approx(1810.5, abs=0.05)

@@ -30,6 +30,12 @@ say so (``_deg``, ``_rpm``). The layout::
     [mechanism.knife]               # a planar linkage, the table of Linkage.from_dict
     kind = "linkage"                # points, links, ground, driver, lengths, sliders, output
     max_acceleration = 50.0         # optional: limit on the output point's |a| [m/s²]
+    gravity_m_per_s2 = [0, -9.81]   # optional forces (cyclomech.forces): gravity,
+    point_mass_kg = {E = 5.0}       # lumped masses [kg], [[…mass]] (link, mass_kg,
+    phase = {event = "clamped", crank_deg = 140.0}   # com_m, inertia_kg_m2),
+                                    # [[…load]] (point + force_n or link + torque_nm,
+                                    # angle_deg for a table); phase: the crank angle
+                                    # at that event (its torque on the main shaft)
 
     [mechanism.drive]               # the planetary gear-lever press drive
     kind = "press"
@@ -37,6 +43,10 @@ say so (``_deg``, ``_rpm``). The layout::
     k_Sp = 0.1                      # or working_stroke [m]
     max_V_np = 0.05                 # optional: limit on the speed at the start of the
                                     # working stroke [m/s]
+    slider_mass_kg = 60.0           # optional crank torque: slider and rod masses, the
+    rod_mass_kg = 15.0              # deformation force over the height above BDC:
+    deformation_force = {s_above_bdc_m = [0.0, 0.012], force_n = [2e5, 0.0]}
+    phase = {event = "bottom", crank_deg = 0.0}      # BDC at that event
 
     [mechanism.line]                # a transfer between two rotors
     kind = "transfer"
