@@ -217,22 +217,22 @@ impl Model {
         for blk in &self.blocks {
             let k = blk.cols.len();
             let (m, b) = (&mut s.m[..k * k], &mut s.b[..k * 3]);
-            let mut scale: f64 = 0.0;
             for (i, &row) in blk.rows.iter().enumerate() {
-                for (j, &col) in blk.cols.iter().enumerate() {
-                    let v = a[row * n + col];
-                    m[i * k + j] = v;
-                    scale = scale.max(v.abs());
+                let from = &a[row * n..(row + 1) * n];
+                for (dst, &col) in m[i * k..(i + 1) * k].iter_mut().zip(&blk.cols) {
+                    *dst = from[col];
                 }
-                for part in 0..3 {
-                    let mut v = r[row * 3 + part];
-                    for &col in &blk.deps[i] {
-                        v -= a[row * n + col] * x[col * 3 + part];
-                    }
-                    b[i * 3 + part] = v;
+                let mut v = [r[row * 3], r[row * 3 + 1], r[row * 3 + 2]];
+                for &col in &blk.deps[i] {
+                    let c = from[col];
+                    let xs = &x[col * 3..col * 3 + 3];
+                    v[0] -= c * xs[0];
+                    v[1] -= c * xs[1];
+                    v[2] -= c * xs[2];
                 }
+                b[i * 3..i * 3 + 3].copy_from_slice(&v);
             }
-            if !lu_solve(m, b, k, SINGULAR_REL * scale) {
+            if !lu_solve(m, b, k, SINGULAR_REL * abs_max(m)) {
                 return false;
             }
             for (j, &col) in blk.cols.iter().enumerate() {
@@ -289,8 +289,31 @@ impl Model {
     }
 }
 
+/// The largest |v| of finite `v`, in four independent lanes (no serial chain
+/// of NaN-aware maxima).
+fn abs_max(v: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let mut chunks = v.chunks_exact(4);
+    for c in &mut chunks {
+        for (a, x) in acc.iter_mut().zip(c) {
+            let y = x.abs();
+            if y > *a {
+                *a = y;
+            }
+        }
+    }
+    for x in chunks.remainder() {
+        let y = x.abs();
+        if y > acc[0] {
+            acc[0] = y;
+        }
+    }
+    acc.iter().fold(0.0, |m, &x| if x > m { x } else { m })
+}
+
 /// Gaussian elimination with partial pivoting of the k×k `m` (row-major) on the
-/// three right-hand sides `b` (k×3), in place; false if a pivot is at most `tol`.
+/// three right-hand sides `b` (k×3), in place (the diagonal keeps the pivots'
+/// reciprocals); false if a pivot is at most `tol` (or not finite).
 fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> bool {
     for c in 0..k {
         let (mut piv, mut best) = (c, m[c * k + c].abs());
@@ -300,39 +323,46 @@ fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> bool {
                 (piv, best) = (r, v);
             }
         }
-        if best <= tol || best == 0.0 {
+        if best <= tol || best == 0.0 || !best.is_finite() {
             return false;
         }
         if piv != c {
-            for j in 0..k {
-                m.swap(c * k + j, piv * k + j);
-            }
-            for j in 0..3 {
-                b.swap(c * 3 + j, piv * 3 + j);
-            }
+            let (top, bottom) = m.split_at_mut(piv * k);
+            top[c * k..(c + 1) * k].swap_with_slice(&mut bottom[..k]);
+            let (top, bottom) = b.split_at_mut(piv * 3);
+            top[c * 3..c * 3 + 3].swap_with_slice(&mut bottom[..3]);
         }
-        let d = m[c * k + c];
-        for r in c + 1..k {
-            let f = m[r * k + c] / d;
+        let inv = 1.0 / m[c * k + c];
+        m[c * k + c] = inv;
+        let (top, bottom) = m.split_at_mut((c + 1) * k);
+        let prow = &top[c * k + c + 1..(c + 1) * k];
+        let (btop, bbottom) = b.split_at_mut((c + 1) * 3);
+        let bp = [btop[c * 3], btop[c * 3 + 1], btop[c * 3 + 2]];
+        for (row, br) in bottom.chunks_exact_mut(k).zip(bbottom.chunks_exact_mut(3)) {
+            let f = row[c] * inv;
             if f == 0.0 {
                 continue;
             }
-            for j in c + 1..k {
-                m[r * k + j] -= f * m[c * k + j];
+            for (x, p) in row[c + 1..].iter_mut().zip(prow) {
+                *x -= f * p;
             }
-            for j in 0..3 {
-                b[r * 3 + j] -= f * b[c * 3 + j];
-            }
+            br[0] -= f * bp[0];
+            br[1] -= f * bp[1];
+            br[2] -= f * bp[2];
         }
     }
     for c in (0..k).rev() {
-        for j in 0..3 {
-            let mut v = b[c * 3 + j];
-            for t in c + 1..k {
-                v -= m[c * k + t] * b[t * 3 + j];
-            }
-            b[c * 3 + j] = v / m[c * k + c];
+        let row = &m[c * k..(c + 1) * k];
+        let mut v = [b[c * 3], b[c * 3 + 1], b[c * 3 + 2]];
+        for (t, &coef) in row.iter().enumerate().skip(c + 1) {
+            v[0] -= coef * b[t * 3];
+            v[1] -= coef * b[t * 3 + 1];
+            v[2] -= coef * b[t * 3 + 2];
         }
+        let inv = row[c];
+        b[c * 3] = v[0] * inv;
+        b[c * 3 + 1] = v[1] * inv;
+        b[c * 3 + 2] = v[2] * inv;
     }
     true
 }
