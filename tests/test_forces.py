@@ -57,6 +57,18 @@ def shaper() -> cm.Linkage:
     )
 
 
+def cross_guides() -> cm.Linkage:
+    """A PRP dyad: P, on no link, slides on a vertical guide of the frame and along
+    the rod A–C of a slider-crank (two blocks pinned together at P)."""
+    return cm.Linkage(
+        {"O": (0, 0), "A": (0.1, 0.02), "C": (0.45, 0.0), "P": (0.3, 0.02 * 0.15 / 0.35)},
+        [("O", "A"), ("A", "C")],
+        ["O"],
+        ("O", "A"),
+        sliders={"C": ("ground", (1, 0)), "P": [("ground", (0, 1)), ("link", ("A", "C"))]},
+    )
+
+
 def loaded(lk: cm.Linkage, seed: int = 1) -> dict:
     """Masses, inertias and off-axis centres on every moving link, a point mass
     and a load table on the last point, gravity."""
@@ -101,7 +113,9 @@ def reference(lk: cm.Linkage, k: F.Kinetostatics, kw: dict) -> dict:
 ANGLES = np.radians(np.arange(0.0, 360.0, 2.5))
 
 
-@pytest.mark.parametrize("make", [four_bar, slider_crank, shaper, presets.burg_trimmer])
+@pytest.mark.parametrize(
+    "make", [four_bar, slider_crank, shaper, cross_guides, presets.burg_trimmer]
+)
 def test_matches_a_dense_pin_node_solve(make):
     lk = make()
     kw = loaded(lk)
@@ -148,7 +162,9 @@ def _fd(lk: cm.Linkage, phi: np.ndarray, h: float = 5e-3):
     return x[0], d1, d2
 
 
-@pytest.mark.parametrize("make", [four_bar, slider_crank, shaper, presets.burg_trimmer])
+@pytest.mark.parametrize(
+    "make", [four_bar, slider_crank, shaper, cross_guides, presets.burg_trimmer]
+)
 def test_power_balance_by_finite_differences(make):
     """M·ω equals the power of the loads and gravity plus the rate of change of
     kinetic energy: per part, M₂ = −Σ F·x' − Σ m g·c' and M₀ = Σ m c''·c' +
@@ -264,7 +280,9 @@ def test_slider_crank_textbook_with_reciprocating_mass():
     np.testing.assert_allclose(np.hypot(*rod.T), np.abs(push / np.cos(beta)), rtol=1e-9)
 
 
-@pytest.mark.parametrize("make", [four_bar, slider_crank, shaper, presets.burg_trimmer])
+@pytest.mark.parametrize(
+    "make", [four_bar, slider_crank, shaper, cross_guides, presets.burg_trimmer]
+)
 def test_static_equilibrium_of_the_whole_mechanism(make):
     """At rest the frame carries the weights and loads: the forces on the frame
     (bearings and frame guides) balance them, and so do the moments with the
@@ -301,13 +319,13 @@ def test_static_equilibrium_of_the_whole_mechanism(make):
         fl = load.at(phi)
         total += fl
         moment += sol[load.point][:, 0] * fl[:, 1] - sol[load.point][:, 1] * fl[:, 0]
-    # Frame guides push the pins along their normals.
+    # Frame guides push the pins along their normals (guides in the sliders' order).
     gf = k.guide_forces(0.0)
-    for j, name in enumerate(k.guides):
-        if name.endswith("on the frame"):
-            p = name.split(" on ")[0]
-            ((dx, dy),) = [next(iter(gd.values())) for gd in t["sliders"][p]]
-            n = np.array([-dy, dx]) / math.hypot(dx, dy)
+    order = [(p, *next(iter(gd.items()))) for p, gl in t.get("sliders", {}).items() for gd in gl]
+    assert len(order) == len(k.guides)
+    for j, (p, kind, arg) in enumerate(order):
+        if kind == "ground":
+            n = np.array([-arg[1], arg[0]]) / math.hypot(*arg)
             total += gf[:, j, None] * n
             moment += sol[p][:, 0] * gf[:, j] * n[1] - sol[p][:, 1] * gf[:, j] * n[0]
     scale = np.abs(react).max()
