@@ -470,3 +470,17 @@ def test_a_machine_file_error_names_the_file_table_and_key(tmp_path, old, new, m
     with pytest.raises(cm.CyclomechError, match=match) as e:
         cm.Machine.from_toml(path)
     assert str(e.value).startswith(str(path)), str(e.value)
+
+
+def test_most_loaded_ties_go_to_the_first_joint_and_angle():
+    """A point mass on a crank at constant speed loads O and A equally at every
+    angle: the rule picks O (first in pairs) at the first angle."""
+    crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+    k = F.kinetostatics(crank, np.radians([30.0, 210.0]), point_masses={"A": 2.0})
+    loads = k.joint_loads(60.0)
+    np.testing.assert_allclose(loads["O"], loads["A"], rtol=1e-14)
+    assert k.most_loaded(60.0)[0] == "O" and k.most_loaded(60.0)[2] == pytest.approx(30.0)
+    lk = slider_crank(0.1, 0.1)
+    none = F.kinetostatics(lk, np.radians([90.0]), point_masses={"C": 1.0})
+    joint, peak, at = none.most_loaded(60.0)
+    assert joint == "" and math.isnan(peak) and math.isnan(at)

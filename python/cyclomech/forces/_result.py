@@ -151,7 +151,9 @@ class Kinetostatics:
 
     def most_loaded(self, rpm: Any, crank_acceleration: float = 0.0) -> tuple[str, float, float]:
         """(joint, its peak load [N], the crank angle [deg] of the peak) over the
-        angles where the forces are finite (NaN load where none is).
+        angles where the forces are finite (``("", nan, nan)`` where none is).
+        Ties go to the joint first in ``pairs`` (the linkage's point order) and,
+        for one joint, to the first angle.
 
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
