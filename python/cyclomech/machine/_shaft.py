@@ -8,10 +8,17 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
+from scipy.optimize import linprog
 
+from .._arrays import finite_number
+from .._units import RAD_PER_S_PER_RPM
+from ..cyclogram import Cyclogram, Optimum
 from ..shaft import ShaftStats, ShaftTorque
 
-__all__ = ["MainShaft", "main_shaft"]
+__all__ = ["FLATTEN_STEP_DEG", "Flattening", "MainShaft", "flatten_phases", "main_shaft"]
+
+Array = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -27,6 +34,7 @@ class MainShaft:
     nominal_rpm: float
     at_nominal: ShaftStats
     over_speed: ShaftStats
+    flattening: Flattening | None = None
 
     def json(self) -> dict[str, Any]:
         """Its ``results.json`` entry (SI, angles in degrees)."""
@@ -48,11 +56,13 @@ class MainShaft:
             "speed_rpm": o.rpm,
             "peak_torque_nm_over_speed": o.peak_torque_nm,
             "flywheel_kg_m2_over_speed": o.flywheel_kg_m2,
+            "flattening": None if self.flattening is None else self.flattening.json(),
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """Its report table."""
         s, n = self.at_nominal, self.nominal_rpm
+        flat = [] if self.flattening is None else self.flattening.rows()
         return ["quantity", "value"], [
             ["contributing mechanisms", ", ".join(self.parts)],
             [f"mean torque at {n:g} rpm [N·m]", float(s.mean_torque_nm)],
@@ -67,6 +77,7 @@ class MainShaft:
                 float(s.flywheel_kg_m2),
             ],
             ["motor power (mean torque × ω) [W]", float(s.power_w)],
+            *flat,
         ]
 
     def figure(self) -> Any:
@@ -98,14 +109,474 @@ class MainShaft:
         return fig
 
 
+# --------------------------------------------------------------------- flattening
+#: The grid step of the sampled min–max over relative phases [deg].
+FLATTEN_STEP_DEG = 0.5
+#: Candidates of one local refinement around the best grid point (± one step).
+_REFINE = 201
+#: Coordinate-descent sweeps at most (three or more groups).
+_SWEEPS = 25
+#: How far the shifted times may miss a cyclogram row before they are refused [deg].
+_FEASIBLE_TOL_DEG = 1e-6
+
+Curve = tuple[Array, Array, float, str]
+
+
+@dataclass(frozen=True)
+class Flattening:
+    """The main shaft's parts moved within the cyclogram's slack so that the peak
+    torque magnitude max|T| at the nominal speed is lowest (:func:`flatten_phases`).
+
+    ``times``: every event's cycle angle [deg] after the move (the optimum's where
+    nothing moves); ``shifts_deg``: how far each contributing mechanism's curve
+    moved along the cycle [deg] (its anchor event's move); ``groups``: the
+    contributors that move as one (they share an event); ``peak_before_nm`` /
+    ``peak_after_nm``: max|T| [N·m] at the nominal speed at the optimum and after
+    (never higher); ``method``: how the min–max was searched, ``step_deg`` its grid
+    step [deg]; ``note``: why nothing moved, if nothing did.
+    """
+
+    times: dict[str, float]
+    shifts_deg: dict[str, float]
+    groups: tuple[tuple[str, ...], ...]
+    peak_before_nm: float
+    peak_after_nm: float
+    method: str
+    step_deg: float
+    note: str = ""
+
+    @property
+    def moved(self) -> bool:
+        """Whether any contributor moved."""
+        return any(v != 0.0 for v in self.shifts_deg.values())
+
+    def json(self) -> dict[str, Any]:
+        """Its ``results.json`` entry (angles in degrees)."""
+        return {
+            "peak_abs_torque_nm_before": self.peak_before_nm,
+            "peak_abs_torque_nm_after": self.peak_after_nm,
+            "shifts_deg": dict(self.shifts_deg),
+            "groups": [list(g) for g in self.groups],
+            "times_deg": dict(self.times),
+            "method": self.method,
+            "step_deg": self.step_deg,
+            "note": self.note,
+        }
+
+    def rows(self) -> list[list[Any]]:
+        """Its rows of the main shaft's report table."""
+        out: list[list[Any]] = [
+            ["peak |torque| before flattening [N·m]", self.peak_before_nm],
+            ["peak |torque| after flattening [N·m]", self.peak_after_nm],
+        ]
+        out += [[f"phase shift of {k} [deg]", v] for k, v in self.shifts_deg.items()]
+        how = f"{self.method}, {self.step_deg:g}° grid"
+        out.append(["flattening", f"{how}; {self.note}" if self.note else how])
+        return out
+
+
+class _Feasible:
+    """The cyclogram's LP feasible set at one speed over x = (p_0 … p_{V−1}, F),
+    rebuilt from its public description (the same rows as
+    :meth:`cyclomech.Cyclogram.optimize`): every operation's minimum angle at that
+    speed (so the mechanisms' bounds added by :meth:`~cyclomech.Machine.cyclogram_at`
+    too) and maximum, the added constraints, the span p_v ≤ F ≤ cycle, p ≥ 0; plus
+    the optimum's objective kept (the limiting angle ≥ its optimum, or the span ≤
+    the optimum's duration) and each rigid group's events at their spacing in the
+    optimum. Dense: cyclograms have tens of events."""
+
+    def __init__(self, cg: Cyclogram, opt: Optimum, rpm: float, groups: list[list[str]]) -> None:
+        ev = {e: i for i, e in enumerate(cg.events)}
+        V = len(ev)
+        self.V, self.n = V, V + 1
+        C = cg.cycle_deg
+        ops = cg.operations
+        xi = np.array([ev[o.src] for o in ops], dtype=np.int64)
+        yi = np.array([ev[o.dst] for o in ops], dtype=np.int64)
+        ch = C * np.array([o.height for o in ops], dtype=np.float64)
+        mins = cg.min_angles(rpm)
+        # angle = p_y − p_x + C·h ≥ min   ⇔   p_x − p_y ≤ C·h − min
+        A = [_diff(self.n, xi, yi)]
+        b = [ch - mins]
+        hi = [k for k, o in enumerate(ops) if o.max_angle_deg is not None]
+        if hi:
+            k = np.array(hi)
+            A.append(_diff(self.n, yi[k], xi[k]))
+            b.append(np.array([ops[j].max_angle_deg for j in hi], dtype=np.float64) - ch[k])
+        A_eq: list[Array] = [np.zeros((0, self.n))]
+        b_eq: list[Array] = [np.zeros(0)]
+        for con in cg.constraints:
+            row, shift = np.zeros(self.n), 0.0
+            for arc, c in con.coeffs:
+                o = cg.operation(arc)
+                row[ev[o.dst]] += c
+                row[ev[o.src]] -= c
+                shift += c * C * o.height
+            if con.sense == "==":
+                A_eq.append(row[None])
+                b_eq.append(np.array([con.rhs - shift]))
+            else:
+                sg = -1.0 if con.sense == ">=" else 1.0
+                A.append(sg * row[None])
+                b.append(np.array([sg * (con.rhs - shift)]))
+        span = np.zeros((V + 1, self.n))
+        span[np.arange(V), np.arange(V)] = 1.0
+        span[np.arange(V), V] = -1.0
+        span[V, V] = 1.0  # F ≤ cycle
+        A.append(span)
+        b.append(np.r_[np.zeros(V), C])
+        # The first objective kept: the shifts only use the slack. To round-off,
+        # as the optimum's own (tidied) times reach it.
+        t = np.array([opt.times[e] for e in cg.events])
+        self.t0 = t
+        tol = 1e-9 * max(1.0, abs(opt.objective))
+        keep = np.zeros((1, self.n))
+        if opt.limiting is not None:
+            o = cg.operation(opt.limiting)
+            keep[0, ev[o.src]], keep[0, ev[o.dst]] = 1.0, -1.0
+            got = t[ev[o.dst]] - t[ev[o.src]] + C * o.height
+            A.append(keep)
+            b.append(np.array([C * o.height - min(opt.objective, got) + tol]))
+        else:
+            keep[0, V] = 1.0
+            A.append(keep)
+            b.append(np.array([max(opt.objective, float(t.max() - t.min())) + tol]))
+        self.A, self.b = np.vstack(A), np.concatenate(b)
+        # Each rigid group: its events at their spacing in the optimum.
+        for g in groups:
+            r = ev[g[0]]
+            for e in g[1:]:
+                row = np.zeros((1, self.n))
+                row[0, ev[e]], row[0, r] = 1.0, -1.0
+                A_eq.append(row)
+                b_eq.append(np.array([t[ev[e]] - t[r]]))
+        self.A_eq, self.b_eq = np.vstack(A_eq), np.concatenate(b_eq)
+        self.ref = [ev[g[0]] for g in groups]
+
+    def violation(self, x: Array) -> float:
+        """The largest amount [deg] by which the point x misses a row."""
+        ub = float(np.max(self.A @ x - self.b, initial=0.0))
+        eq = float(np.max(np.abs(self.A_eq @ x - self.b_eq), initial=0.0))
+        return max(ub, eq, float(-x.min(initial=0.0)))
+
+    def _fix(self, s: Array, skip: int, base: int) -> tuple[Array, Array]:
+        """Rows holding every group but ``skip`` at its shift ``s`` relative to group ``base``."""
+        G = len(self.ref)
+        keep = [h for h in range(G) if h not in (skip, base)]
+        rows = np.zeros((len(keep), self.n))
+        rhs = np.zeros(len(keep))
+        rb = self.ref[base]
+        for i, h in enumerate(keep):
+            rh = self.ref[h]
+            rows[i, rh], rows[i, rb] = 1.0, -1.0
+            rhs[i] = self.t0[rh] - self.t0[rb] + s[h] - s[base]
+        return rows, rhs
+
+    def _solve(self, c: Array, rows: Array, rhs: Array) -> Any:
+        return linprog(
+            c,
+            A_ub=self.A,
+            b_ub=self.b,
+            A_eq=np.vstack([self.A_eq, rows]),
+            b_eq=np.r_[self.b_eq, rhs],
+            bounds=[(0, None)] * self.n,
+            method="highs",
+        )
+
+    def interval(self, g: int, s: Array) -> tuple[float, float]:
+        """The exact range of group ``g``'s shift with every other group held at
+        its shift in ``s`` (two LPs: the projection of a convex set on a line)."""
+        base = 1 if g == 0 else 0
+        rows, rhs = self._fix(s, g, base)
+        rg, rb = self.ref[g], self.ref[base]
+        c = np.zeros(self.n)
+        c[rg], c[rb] = 1.0, -1.0
+        off = self.t0[rg] - self.t0[rb] - s[base]
+        lo, hi = self._solve(c, rows, rhs), self._solve(-c, rows, rhs)
+        a = lo.fun - off if lo.status == 0 else s[g]
+        z = -hi.fun - off if hi.status == 0 else s[g]
+        return min(a, s[g]), max(z, s[g])
+
+    def place(self, s: Array) -> Array | None:
+        """Event angles with the groups at the relative shifts ``s``: the least
+        total |shift| of the groups' anchors from the optimum (an LP), then the
+        earliest events at that (a second LP, as the optimum's own tidying)."""
+        G, n = len(self.ref), self.n
+        rows, rhs = self._fix(s, -1, 0)
+        # Variables (x, u): u_g ≥ |p_{r_g} − t_{r_g}|.
+        U = np.zeros((2 * G, n + G))
+        bu = np.zeros(2 * G)
+        for g, r in enumerate(self.ref):
+            U[2 * g, r], U[2 * g, n + g], bu[2 * g] = 1.0, -1.0, self.t0[r]
+            U[2 * g + 1, r], U[2 * g + 1, n + g], bu[2 * g + 1] = -1.0, -1.0, -self.t0[r]
+        pad = np.zeros((len(self.A), G))
+        A_ub = np.vstack([np.hstack([self.A, pad]), U])
+        b_ub = np.r_[self.b, bu]
+        eq = np.vstack([self.A_eq, rows])
+        A_eq = np.hstack([eq, np.zeros((len(eq), G))])
+        b_eq = np.r_[self.b_eq, rhs]
+        c = np.r_[np.zeros(n), np.ones(G)]
+        kw = {"bounds": [(0, None)] * (n + G), "method": "highs"}
+        first = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, **kw)
+        if first.status != 0:
+            return None
+        pin = c[None]
+        second = linprog(
+            np.r_[np.ones(self.V), np.zeros(1 + G)],
+            A_ub=np.vstack([A_ub, pin]),
+            b_ub=np.r_[b_ub, first.fun * (1 + 1e-9) + 1e-9],
+            A_eq=A_eq,
+            b_eq=b_eq,
+            **kw,
+        )
+        x = second.x if second.status == 0 else first.x
+        return np.asarray(x[:n], dtype=np.float64)
+
+
+def _diff(n: int, i: npt.NDArray[np.int64], j: npt.NDArray[np.int64]) -> Array:
+    """Rows with +1 at column ``i`` and −1 at column ``j`` (one per entry)."""
+    out = np.zeros((len(i), n))
+    out[np.arange(len(i)), i] += 1.0
+    out[np.arange(len(i)), j] -= 1.0
+    return out
+
+
+def _peaks(T: Array, phase: Array, shifts: Array) -> Array:
+    """max_θ |Σ_i T_i(θ − φ_i − s_i)| [N·m] for each row of ``shifts`` (M, K)
+    [deg], exactly, for the curves T (K, N) linear between their samples
+    360°·k/N (periodic): the maximum of a piecewise-linear function is at a
+    breakpoint, so the sum is read at every part's samples, the others
+    interpolated there. So a common shift of all parts leaves it as it is (a
+    reading on one fixed grid would not: it would see the sum between the
+    breakpoints of a part moved off the grid). The candidates in chunks (numpy),
+    no loop over angles; K² reads of (M, N)."""
+    K, N = T.shape
+    M = len(shifts)
+    out = np.empty(M)
+    h = 360.0 / N
+    k = np.arange(N)
+    step = max(1, 2_000_000 // (N * K))
+    for a in range(0, M, step):
+        s = phase[None, :] + shifts[a : a + step]
+        best = np.zeros(len(s))
+        for i in range(K):  # the sum at part i's breakpoints θ = φ_i + s_i + k·h
+            total = np.zeros((len(s), N))
+            for j in range(K):
+                # T_j at θ − φ_j − s_j = k·h + (φ_i + s_i − φ_j − s_j): index k + u.
+                u = np.mod((s[:, i] - s[:, j]) / h, N)
+                j0 = np.floor(u)
+                f = (u - j0)[:, None]
+                lo = (k[None, :] + j0.astype(np.int64)[:, None]) % N
+                total += T[j, lo] * (1.0 - f) + T[j, (lo + 1) % N] * f
+            best = np.maximum(best, np.abs(total).max(axis=1))
+        out[a : a + step] = best
+    return out
+
+
+def _rigid_groups(
+    curves: Mapping[str, Curve], cg: Cyclogram, extra: Mapping[str, Any]
+) -> tuple[list[list[str]], list[int]]:
+    """The contributors' rigid event sets, merged where they share an event:
+    (the events of each group, its anchor first; each contributor's group)."""
+    names = list(curves)
+    own: list[set[str]] = []
+    for k in names:
+        s = {curves[k][3]}
+        s |= {e for o in cg.operations if o.mechanism == k for e in o.arc}
+        s |= {e for e in extra.get(k, ()) if e in cg.events}
+        own.append(s)
+    parent = list(range(len(names)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for i in range(len(names)):
+        for j in range(i):
+            if own[i] & own[j]:
+                parent[root(i)] = root(j)
+    roots = sorted({root(i) for i in range(len(names))})
+    of = [roots.index(root(i)) for i in range(len(names))]
+    groups = []
+    for g, r in enumerate(roots):
+        first = curves[names[r]][3]
+        evs = set().union(*(own[i] for i in range(len(names)) if of[i] == g)) - {first}
+        groups.append([first, *sorted(evs, key=cg.events.index)])
+    return groups, of
+
+
+def _best(peaks: Array, moves: Array, tol: float) -> int:
+    """The candidate of least peak; within ``tol`` of it, the least total move
+    (then the first)."""
+    near = peaks <= peaks.min() + tol
+    return int(np.flatnonzero(near)[np.argmin(moves[near])])
+
+
+def flatten_phases(
+    curves: Mapping[str, Curve],
+    cyclogram: Cyclogram,
+    optimum: Optimum,
+    nominal_rpm: float,
+    *,
+    rigid: Mapping[str, Any] | None = None,
+    step_deg: float = FLATTEN_STEP_DEG,
+) -> Flattening:
+    """Move the main shaft's parts within the cyclogram's slack so that the peak
+    torque magnitude max|T(θ)| [N·m] at ``nominal_rpm`` is lowest, keeping the
+    optimum's first objective (a second objective after it).
+
+    ``curves``: each contributor's ``shaft_torque()`` (ω² part [N·m·s²], static
+    part [N·m] on its own angle; phase [deg]; anchor event); ``cyclogram``: the
+    cyclogram at the nominal speed with the mechanisms' bounds
+    (:meth:`~cyclomech.Machine.cyclogram_at`); ``optimum``: its optimum there.
+
+    Rules:
+
+    * A contributor moves rigidly: its anchor event, the events of the operations
+      whose ``mechanism`` is it and the events in ``rigid[name]`` (the arcs it is
+      laid out on) keep their spacing, so its curve stays exact. Contributors that
+      share an event move as one group.
+    * The admissible moves are the LP's feasible set at the nominal speed (every
+      operation's minimum angle there, the mechanisms' bounds, maximum angles,
+      constraints, the cycle) with the limiting operation's angle at least its
+      optimum (without one: the span at most the optimum's duration). Events of
+      no contributor move as the LP lets them.
+    * Only the groups' relative phases change the peak; the search runs over them
+      (G − 1 dimensions for G groups), each move along one group's exact admissible
+      segment (two LPs, with the other groups held): a sampled min–max on a grid
+      of ``step_deg`` [deg] (0.5° by default) over the whole segment, the optimum's
+      own phase always a candidate, then a grid of step ``step_deg``/100 within one
+      step of the best. With two groups that is the whole admissible set; with
+      three or more, coordinate descent over the groups from the optimum until a
+      sweep improves nothing (a local method: it never raises the peak, it may
+      stop short of the global min–max). One group (or none): nothing to move.
+    * Peaks within 1e-9 of the scale Σ max|T_i| are ties: the smaller total move
+      Σ|s_g − median(s)| wins, so the optimum stands unless a move strictly lowers
+      the peak. The event angles of the chosen phases are then placed by an LP with
+      the least Σ|shift| of the groups' anchors, events earliest after that.
+    * Any LP failure, or shifted times that miss a cyclogram row by more than
+      1e-6°, leave the optimum unchanged (``note`` says why).
+
+    >>> import numpy as np, cyclomech as cm
+    >>> cg = cm.Cyclogram(limiting=("L0", "L1"))
+    >>> for x, y, m in (("L0", "L1", None), ("a0", "a1", "A"), ("b0", "b1", "B")):
+    ...     cg.add_operation(x, y, 10.0, mechanism=m)
+    >>> th = np.radians(np.arange(360.0))
+    >>> wave = (np.zeros(360), 5.0 + 2.0 * np.cos(th))
+    >>> f = flatten_phases({"A": (*wave, 0.0, "a0"), "B": (*wave, 0.0, "b0")},
+    ...                    cg, cg.optimize(), 100.0)
+    >>> round(f.peak_before_nm, 6), round(f.peak_after_nm, 6)
+    (14.0, 10.0)
+    >>> abs(f.shifts_deg["B"] - f.shifts_deg["A"])
+    180.0
+    """
+    step = finite_number("step_deg", step_deg, "[deg]", low=0.0, strict=True)
+    names = list(curves)
+    w2 = (float(nominal_rpm) * RAD_PER_S_PER_RPM) ** 2
+    T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
+    phase = np.array([float(c[2]) for c in curves.values()])
+    groups, of = _rigid_groups(curves, cyclogram, rigid or {})
+    G = len(groups)
+    before = _peak_of(curves, phase, w2)
+    tied = tuple(tuple(k for k, g in zip(names, of, strict=True) if g == j) for j in range(G))
+
+    def unchanged(note: str, method: str = "none") -> Flattening:
+        return Flattening(
+            times=dict(optimum.times),
+            shifts_deg={k: 0.0 for k in names},
+            groups=tied,
+            peak_before_nm=before,
+            peak_after_nm=before,
+            method=method,
+            step_deg=step,
+            note=note,
+        )
+
+    if G < 2:
+        return unchanged("one group of contributors: only a common shift, which leaves the peak")
+    lp = _Feasible(cyclogram, optimum, float(nominal_rpm), groups)
+    x0 = np.r_[lp.t0, lp.t0.max()]
+    if lp.violation(x0) > _FEASIBLE_TOL_DEG:
+        return unchanged("the optimum misses the rebuilt LP's rows; left as it is")
+    scale = float(np.abs(T).max(axis=1).sum())
+    tol = 1e-9 * scale
+    of_arr = np.array(of)
+
+    def evaluate(S: Array) -> tuple[Array, Array]:
+        moves = np.abs(S - np.median(S, axis=1, keepdims=True)).sum(axis=1)
+        return _peaks(T, phase, S[:, of_arr]), moves
+
+    s = np.zeros(G)
+    current = float(evaluate(s[None])[0][0])
+    method = "exact segment, sampled" if G == 2 else "coordinate descent, sampled"
+    for _ in range(_SWEEPS):
+        moved = False
+        for g in [1] if G == 2 else range(G):
+            lo, hi = lp.interval(g, s)
+            grid = np.unique(np.r_[np.arange(lo, hi, step), hi, s[g]])
+            S = np.repeat(s[None], len(grid), axis=0)
+            S[:, g] = grid
+            pk, mv = evaluate(S)
+            i = _best(pk, mv, tol)
+            fine = np.linspace(max(lo, grid[i] - step), min(hi, grid[i] + step), _REFINE)
+            S2 = np.repeat(s[None], len(fine), axis=0)
+            S2[:, g] = fine
+            pk2, mv2 = evaluate(S2)
+            S, pk, mv = np.vstack([S, S2]), np.r_[pk, pk2], np.r_[mv, mv2]
+            i = _best(pk, mv, tol)
+            if pk[i] < current - tol:
+                s, current, moved = S[i].copy(), float(pk[i]), True
+        if not moved or G == 2:
+            break
+    if not (s != 0.0).any():
+        return unchanged("no move within the slack lowers the peak", method)
+    x = lp.place(s)
+    if x is None:
+        return unchanged("the LP could not place the events at the chosen phases", method)
+    if lp.violation(x) > _FEASIBLE_TOL_DEG:
+        return unchanged("the placed events miss a cyclogram row; left as they were", method)
+    times = dict(zip(cyclogram.events, x[: lp.V].tolist(), strict=True))
+    shifts = {k: times[c[3]] - optimum.times[c[3]] for k, c in curves.items()}
+    after = _peak_of(curves, phase + np.array(list(shifts.values())), w2)
+    if after > before:  # (round-off: the placed shifts hold the chosen ones to ~1e-9°)
+        return unchanged("no move within the slack lowers the peak", method)
+    return Flattening(
+        times=times,
+        shifts_deg=shifts,
+        groups=tied,
+        peak_before_nm=before,
+        peak_after_nm=after,
+        method=method,
+        step_deg=step,
+    )
+
+
+def _peak_of(curves: Mapping[str, Curve], phase: Array, w2: float) -> float:
+    """max|T| [N·m] of the phased sum at ω² = ``w2`` (exact, :func:`_peaks`)."""
+    T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
+    return float(_peaks(T, phase, np.zeros((1, len(T))))[0])
+
+
 def main_shaft(
-    results: Mapping[str, Any], nominal_rpm: float, rpm: Any, speed_fluctuation: float
+    results: Mapping[str, Any],
+    nominal_rpm: float,
+    rpm: Any,
+    speed_fluctuation: float,
+    *,
+    cyclogram: Cyclogram | None = None,
+    optimum: Optimum | None = None,
 ) -> MainShaft | None:
     """The main shaft from the mechanisms' results that give a shaft torque
     (``shaft_torque()`` → (ω² part [N·m·s²], static part [N·m], on a common grid
     of the mechanism's own angle from 0 to 360°; phase [deg], the cycle angle
     where that angle is 0; the cyclogram event the phase follows); None when none
-    does.
+    does. With ``cyclogram`` (at the nominal speed, with the mechanisms' bounds)
+    and its ``optimum``, the parts are first moved within its slack to the lowest
+    peak torque (:func:`flatten_phases`; ``[machine] flatten_torque = true``): each
+    result's laid-out arcs are ``shaft_arcs()`` where it has one, else the
+    ``arcs`` of its ``mechanisms`` json entry (the cam's).
 
     >>> import cyclomech as cm
     >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
@@ -120,6 +591,13 @@ def main_shaft(
             curves[k] = c
     if not curves:
         return None
+    flat = None
+    if cyclogram is not None and optimum is not None:
+        laid = {k: _laid_out(results[k]) for k in curves}
+        flat = flatten_phases(curves, cyclogram, optimum, nominal_rpm, rigid=laid)
+        curves = {
+            k: (a, b, phase + flat.shifts_deg[k], ev) for k, (a, b, phase, ev) in curves.items()
+        }
     parts = {
         k: ShaftTorque.from_curves(a[None], b[None], [phase])
         for k, (a, b, phase, _event) in curves.items()
@@ -138,4 +616,18 @@ def main_shaft(
         nominal_rpm=nominal_rpm,
         at_nominal=total.stats(nominal_rpm, speed_fluctuation),
         over_speed=total.stats(rpm, speed_fluctuation),
+        flattening=flat,
     )
+
+
+def _laid_out(result: Any) -> list[str]:
+    """The events of the arcs a mechanism's curve is laid out on (it must move
+    rigidly with them): ``shaft_arcs()`` if its result has one, else the ``arcs``
+    its ``mechanisms`` json entry lists (the cam's segments); none otherwise."""
+    get = getattr(result, "shaft_arcs", None)
+    if get is not None:
+        arcs = get()
+    else:
+        entry = result.json().get("mechanisms", {}) if hasattr(result, "json") else {}
+        arcs = entry.get("arcs", []) if isinstance(entry, Mapping) else []
+    return [str(e) for arc in arcs or [] for e in arc]
