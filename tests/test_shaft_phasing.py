@@ -164,6 +164,23 @@ def test_a_second_harmonic_needs_only_a_quarter_turn():
     assert abs(f.shifts_deg["B"] - f.shifts_deg["A"]) == pytest.approx(90.0, abs=1e-9)
 
 
+def test_three_equal_sinusoids_end_a_third_of_a_turn_apart():
+    """Three equal cos θ + c: 120° apart they sum to 3c, which coordinate descent
+    alone from all three together misses (half a turn for one leaves the other two
+    cancelling, and neither can then move alone): the coarse grid of both relative
+    phases finds it."""
+    cg = free_pair()
+    cg.add_operation("c0", "c1", 10.0, mechanism="C")
+    curve = wave(360, 0.5, 2.0)
+    curves = {k: (*curve, 0.0, f"{k.lower()}0") for k in "ABC"}
+    f = flatten_phases(curves, cg, cg.optimize(), 100.0)
+    assert f.peak_before_nm == pytest.approx(7.5) and f.peak_after_nm == pytest.approx(1.5)
+    d = sorted(np.mod([f.shifts_deg[k] - f.shifts_deg["A"] for k in "BC"], 360.0))
+    assert d == pytest.approx([120.0, 240.0], abs=1e-9)
+    assert violations(cg, f.times, 100.0) == []
+    assert f.method.startswith("grid of both relative phases")
+
+
 def test_the_slack_limits_the_move_to_its_end():
     """B may start at most 40° after A ends: the best it can do is the end of
     that range, the peak exactly the closed form there."""
@@ -301,8 +318,10 @@ def test_flattening_never_raises_the_peak_and_keeps_every_constraint(problem):
                     moved = f.times[e] - opt.times[e]
                     assert moved == pytest.approx(f.shifts_deg[k], abs=1e-6)
     if len(f.groups) == 2 and len(curves) == 2:
-        # Against a brute force over the exact range (linprog here), 0.05° grid:
-        # the search's refined grid comes within its step's worth of slope.
+        # Against a brute force over the exact range (linprog here): the search's
+        # 0.5° grid has a point within 0.25° of the true minimiser, and the peak
+        # moves at most `slope` per degree, so it ends within slope·0.25 of it (a
+        # brute force on any grid is at least the true minimum).
         rigid = [
             list(
                 dict.fromkeys(
@@ -312,14 +331,14 @@ def test_flattening_never_raises_the_peak_and_keeps_every_constraint(problem):
             for k in curves
         ]
         lo, hi = relative_range(cg, opt, rpm, "A0", "B0", rigid)
-        d = np.arange(lo, hi + 1e-9, 0.05)
+        d = np.arange(lo, hi + 1e-9, 0.1) - (opt.times["B0"] - opt.times["A0"])  # moves of B
         brute = min(peak(curves, {"A": phases0["A"], "B": phases0["B"] + x}, rpm) for x in d)
         slope = sum(
             float(np.abs(np.diff(torque(c, 0.0, rpm), append=torque(c, 0.0, rpm)[0])).max())
             / (360.0 / len(c[1]))
             for c in curves.values()
         )
-        assert f.peak_after_nm <= brute + slope * 0.05 + 1e-9 * scale
+        assert f.peak_after_nm <= brute + slope * 0.25 + 1e-9 * scale
 
 
 def test_the_result_pickles():

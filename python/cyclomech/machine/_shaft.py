@@ -3,6 +3,7 @@ optimised cyclogram, summed; part of :mod:`cyclomech.machine` (issue 19)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -259,10 +260,9 @@ class _Feasible:
         eq = float(np.max(np.abs(self.A_eq @ x - self.b_eq), initial=0.0))
         return max(ub, eq, float(-x.min(initial=0.0)))
 
-    def _fix(self, s: Array, skip: int, base: int) -> tuple[Array, Array]:
-        """Rows holding every group but ``skip`` at its shift ``s`` relative to group ``base``."""
-        G = len(self.ref)
-        keep = [h for h in range(G) if h not in (skip, base)]
+    def _fix(self, s: Array, held: Any, base: int) -> tuple[Array, Array]:
+        """Rows holding the groups ``held`` at their shifts ``s`` relative to group ``base``."""
+        keep = [h for h in held if h != base]
         rows = np.zeros((len(keep), self.n))
         rhs = np.zeros(len(keep))
         rb = self.ref[base]
@@ -283,16 +283,26 @@ class _Feasible:
             method="highs",
         )
 
-    def interval(self, g: int, s: Array) -> tuple[float, float]:
-        """The exact range of group ``g``'s shift with every other group held at
-        its shift in ``s`` (two LPs: the projection of a convex set on a line)."""
+    def interval(
+        self, g: int, s: Array, held: Any = None, *, current: bool = True
+    ) -> tuple[float, float] | None:
+        """The exact range of group ``g``'s shift with the groups ``held`` (default:
+        all others) at their shifts in ``s``, the rest free (two LPs: the
+        projection of a convex set on a line); ``current``: ``s[g]`` is feasible,
+        kept inside the range against round-off. None if there is no such shift."""
         base = 1 if g == 0 else 0
-        rows, rhs = self._fix(s, g, base)
+        if held is None:
+            held = [h for h in range(len(self.ref)) if h not in (g, base)]
+        rows, rhs = self._fix(s, held, base)
         rg, rb = self.ref[g], self.ref[base]
         c = np.zeros(self.n)
         c[rg], c[rb] = 1.0, -1.0
         off = self.t0[rg] - self.t0[rb] - s[base]
         lo, hi = self._solve(c, rows, rhs), self._solve(-c, rows, rhs)
+        if not current:
+            if lo.status != 0 or hi.status != 0:
+                return None
+            return lo.fun - off, -hi.fun - off
         a = lo.fun - off if lo.status == 0 else s[g]
         z = -hi.fun - off if hi.status == 0 else s[g]
         return min(a, s[g]), max(z, s[g])
@@ -302,7 +312,7 @@ class _Feasible:
         total |shift| of the groups' anchors from the optimum (an LP), then the
         earliest events at that (a second LP, as the optimum's own tidying)."""
         G, n = len(self.ref), self.n
-        rows, rhs = self._fix(s, -1, 0)
+        rows, rhs = self._fix(s, range(1, G), 0)
         # Variables (x, u): u_g ≥ |p_{r_g} − t_{r_g}|.
         U = np.zeros((2 * G, n + G))
         bu = np.zeros(2 * G)
@@ -407,6 +417,56 @@ def _rigid_groups(
     return groups, of
 
 
+#: Divisors of a turn the coarse grid of three groups steps by [deg].
+_COARSE_STEPS = (0.5, 1, 2, 2.5, 3, 4, 5, 6, 7.5, 8, 9, 10, 12, 15, 18, 20, 24, 30, 36, 45, 60, 90)
+#: Points per axis of the coarse grid of three groups, at most.
+_COARSE_POINTS = 72
+#: Points of one line search, at most (a cycle of 10⁴ turns would otherwise ask for 10⁸).
+_LINE_POINTS = 20_000
+
+
+def _grid(lo: float, hi: float, step: float, *extra: float) -> Array:
+    """The multiples of ``step`` in [lo, hi] (the optimum's phase on the grid),
+    the ends and ``extra``; ``step`` grows if that would be over 20 000 points."""
+    step = max(step, (hi - lo) / _LINE_POINTS)
+    k = np.arange(math.ceil(lo / step), math.floor(hi / step) + 1) * step
+    return np.unique(np.r_[lo, k, hi, extra])
+
+
+def _plane(
+    lp: _Feasible, evaluate: Any, step: float, tol: float, current: float
+) -> tuple[Array, float, float]:
+    """Three groups: the peak on a grid of both relative phases (group 0 held)
+    over their exact admissible region — the range of group 1's shift (two LPs,
+    group 2 free), and on each of its grid values the range of group 2's (two
+    LPs each) — at most 72 points a side on a step that divides the turn, the
+    optimum among them. Returns the best shifts, their peak and the step; the
+    optimum's when nothing beats it (coordinate descent then polishes)."""
+    zero = np.zeros(3)
+    got = lp.interval(1, zero, held=[])
+    assert got is not None
+    lo1, hi1 = got
+
+    def coarse(width: float) -> float:
+        raw = max(step, width / _COARSE_POINTS)
+        return next((c for c in _COARSE_STEPS if c >= raw), raw)
+
+    c = coarse(hi1 - lo1)
+    cand = [zero[None]]
+    for v in _grid(lo1, hi1, c, 0.0):
+        row = lp.interval(2, np.array([0.0, v, 0.0]), held=[1], current=False)
+        if row is None:
+            continue
+        d2 = _grid(row[0], row[1], max(c, coarse(row[1] - row[0])))
+        cand.append(np.c_[np.zeros(len(d2)), np.full(len(d2), v), d2])
+    S = np.vstack(cand)
+    pk, mv = evaluate(S)
+    i = _best(pk, mv, tol)
+    if pk[i] < current - tol:
+        return S[i].copy(), float(pk[i]), c
+    return zero, current, c
+
+
 def _best(peaks: Array, moves: Array, tol: float) -> int:
     """The candidate of least peak; within ``tol`` of it, the least total move
     (then the first)."""
@@ -448,10 +508,14 @@ def flatten_phases(
       segment (two LPs, with the other groups held): a sampled min–max on a grid
       of ``step_deg`` [deg] (0.5° by default) over the whole segment, the optimum's
       own phase always a candidate, then a grid of step ``step_deg``/100 within one
-      step of the best. With two groups that is the whole admissible set; with
-      three or more, coordinate descent over the groups from the optimum until a
-      sweep improves nothing (a local method: it never raises the peak, it may
-      stop short of the global min–max). One group (or none): nothing to move.
+      step of the best. With two groups that is the whole admissible set. With
+      three, first a coarse grid of both relative phases over their exact
+      admissible region (the range of one, and on each of its grid values the
+      range of the other, by LPs; at most 72 points a side on a step that divides
+      the turn), then coordinate descent from its best point. With four or more,
+      coordinate descent over the groups from the optimum until a sweep improves
+      nothing (a local method: it never raises the peak, it may stop short of the
+      global min–max). One group (or none): nothing to move.
     * Peaks within 1e-9 of the scale Σ max|T_i| are ties: the smaller total move
       Σ|s_g − median(s)| wins, so the optimum stands unless a move strictly lowers
       the peak. The event angles of the chosen phases are then placed by an LP with
@@ -511,11 +575,16 @@ def flatten_phases(
     s = np.zeros(G)
     current = float(evaluate(s[None])[0][0])
     method = "exact segment, sampled" if G == 2 else "coordinate descent, sampled"
+    if G == 3:
+        s, current, coarse = _plane(lp, evaluate, step, tol, current)
+        method = f"grid of both relative phases ({coarse:g}°), then {method}"
     for _ in range(_SWEEPS):
         moved = False
         for g in [1] if G == 2 else range(G):
-            lo, hi = lp.interval(g, s)
-            grid = np.unique(np.r_[np.arange(lo, hi, step), hi, s[g]])
+            got = lp.interval(g, s)
+            assert got is not None
+            lo, hi = got
+            grid = _grid(lo, hi, step, s[g])
             S = np.repeat(s[None], len(grid), axis=0)
             S[:, g] = grid
             pk, mv = evaluate(S)
