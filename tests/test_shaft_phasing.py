@@ -245,6 +245,18 @@ def test_zero_slack_leaves_the_optimum():
     assert "no move" in f.note
 
 
+def test_an_optimum_of_another_cyclogram_is_left_as_it_is():
+    """The optimum must satisfy the cyclogram it is flattened in; one that does
+    not (here: of the cyclogram before a bound tightened) is returned unchanged."""
+    cg = free_pair()
+    opt = cg.optimize()
+    tight = free_pair()
+    tight.add_operation("a1", "b0", 30.0)  # b0 at least 30° after a1: not so in opt
+    curve = wave(36, 0.0, 1.0)
+    f = flatten_phases({"A": (*curve, 0.0, "a0"), "B": (*curve, 0.0, "b0")}, tight, opt, 100)
+    assert not f.moved and f.times == opt.times and "misses" in f.note
+
+
 def test_a_flat_torque_does_not_move():
     cg = free_pair()
     opt = cg.optimize()
@@ -256,16 +268,16 @@ def test_a_flat_torque_does_not_move():
 # --------------------------------------------------------------------- properties
 @st.composite
 def problems(draw):
-    """K = 2 or 3 contributors with random Fourier torques and a small random
+    """K = 2 to 4 contributors with random Fourier torques and a small random
     cyclogram: each contributor a chain of one or two operations; random
     operations between contributors' events, some with a maximum; one constraint."""
-    K = draw(st.integers(2, 3))
+    K = draw(st.integers(2, 4))
     n = draw(st.sampled_from([36, 60, 90]))
     cycle = draw(st.sampled_from([360.0, 300.0]))
     angle = st.floats(0.0, 60.0)
     cg = cm.Cyclogram(limiting=("L0", "L1"), cycle_deg=cycle)
     cg.add_operation("L0", "L1", draw(st.floats(10.0, 120.0)), name="limiting")
-    names = "ABC"[:K]
+    names = "ABCD"[:K]
     for k in names:
         cg.add_operation(f"{k}0", f"{k}1", draw(angle), mechanism=k)
         if draw(st.booleans()):
@@ -453,6 +465,33 @@ def test_the_machine_flattens_two_cams_within_the_slack(tmp_path):
 
     js = json.loads((out / "results.json").read_text(encoding="utf-8"))["shaft"]["flattening"]
     assert js["peak_abs_torque_nm_after"] == pytest.approx(f.peak_after_nm)
+
+
+def test_a_cam_moves_with_its_segments_arcs_whoever_names_the_operations(tmp_path):
+    """As in the loom, the operations a cam is laid out on may name another
+    mechanism (the stop it drives): the cam's curve is only exact if those arcs
+    move with it, so they are its rigid events too (its results list them)."""
+    text = machine_text().replace('mechanism = "cam A"', 'mechanism = "lever A"')
+    text = text.replace('mechanism = "cam B"', 'mechanism = "lever B"')
+    path = tmp_path / "levers.toml"
+    path.write_text(text, encoding="utf-8")
+    r = cm.machine.analyze(cm.Machine.from_toml(path), progress=False)
+    f = r.shaft.flattening
+    assert f.moved and f.groups == (("cam A",), ("cam B",))
+    for ev in "ab":
+        for e in (f"{ev}1", f"{ev}2"):
+            assert f.times[e] - f.times[f"{ev}0"] == pytest.approx(
+                r.optimum.times[e] - r.optimum.times[f"{ev}0"], abs=1e-6
+            )
+
+
+def test_no_optimum_no_flattening(tmp_path):
+    """Above the speed limit there is no optimum: no cam torque, no shaft."""
+    path = tmp_path / "fast.toml"
+    timed = '[[operation]]\nfrom = "x0"\nto = "x1"\nmin_duration_s = 0.1\n'
+    path.write_text(machine_text().replace("nominal_rpm = 200.0", "nominal_rpm = 1e4") + timed)
+    r = cm.machine.analyze(cm.Machine.from_toml(path), progress=False)
+    assert r.optimum is None and r.shaft is None
 
 
 @pytest.mark.parametrize("value", ['"yes"', "1", "[true]"])

@@ -359,25 +359,30 @@ def _peaks(T: Array, phase: Array, shifts: Array) -> Array:
     interpolated there. So a common shift of all parts leaves it as it is (a
     reading on one fixed grid would not: it would see the sum between the
     breakpoints of a part moved off the grid). The candidates in chunks (numpy),
-    no loop over angles; K² reads of (M, N)."""
+    no loop over angles; K(K − 1) interpolated reads of (M, N)."""
     K, N = T.shape
     M = len(shifts)
     out = np.empty(M)
     h = 360.0 / N
     k = np.arange(N)
-    step = max(1, 2_000_000 // (N * K))
+    # Two turns and one sample of each curve and of its steps: index k + j0 < 2N.
+    T2 = np.concatenate([T, T, T[:, :1]], axis=1)
+    D2 = np.diff(T2, axis=1)
+    step = max(1, 1_000_000 // N)
     for a in range(0, M, step):
         s = phase[None, :] + shifts[a : a + step]
         best = np.zeros(len(s))
         for i in range(K):  # the sum at part i's breakpoints θ = φ_i + s_i + k·h
-            total = np.zeros((len(s), N))
+            total = np.repeat(T[i][None], len(s), axis=0)
             for j in range(K):
+                if j == i:
+                    continue
                 # T_j at θ − φ_j − s_j = k·h + (φ_i + s_i − φ_j − s_j): index k + u.
                 u = np.mod((s[:, i] - s[:, j]) / h, N)
-                j0 = np.floor(u)
+                j0 = np.minimum(np.floor(u), N - 1)
                 f = (u - j0)[:, None]
-                lo = (k[None, :] + j0.astype(np.int64)[:, None]) % N
-                total += T[j, lo] * (1.0 - f) + T[j, (lo + 1) % N] * f
+                idx = k[None, :] + j0.astype(np.int64)[:, None]
+                total += np.take(T2[j], idx) + f * np.take(D2[j], idx)
             best = np.maximum(best, np.abs(total).max(axis=1))
         out[a : a + step] = best
     return out
@@ -440,8 +445,9 @@ def _plane(
     over their exact admissible region — the range of group 1's shift (two LPs,
     group 2 free), and on each of its grid values the range of group 2's (two
     LPs each) — at most 72 points a side on a step that divides the turn, the
-    optimum among them. Returns the best shifts, their peak and the step; the
-    optimum's when nothing beats it (coordinate descent then polishes)."""
+    optimum among them, ranked on the curves read every grid step. Returns the
+    best shifts, their exact peak and the step; the optimum's when nothing beats
+    it (coordinate descent then polishes)."""
     zero = np.zeros(3)
     got = lp.interval(1, zero, held=[])
     assert got is not None
@@ -460,10 +466,11 @@ def _plane(
         d2 = _grid(row[0], row[1], max(c, coarse(row[1] - row[0])))
         cand.append(np.c_[np.zeros(len(d2)), np.full(len(d2), v), d2])
     S = np.vstack(cand)
-    pk, mv = evaluate(S)
-    i = _best(pk, mv, tol)
-    if pk[i] < current - tol:
-        return S[i].copy(), float(pk[i]), c
+    pk, mv = evaluate(S, exact=False)
+    best = S[_best(pk, mv, tol)]
+    got = float(evaluate(best[None])[0][0])
+    if got < current - tol:
+        return best.copy(), got, c
     return zero, current, c
 
 
@@ -505,10 +512,11 @@ def flatten_phases(
       no contributor move as the LP lets them.
     * Only the groups' relative phases change the peak; the search runs over them
       (G − 1 dimensions for G groups), each move along one group's exact admissible
-      segment (two LPs, with the other groups held): a sampled min–max on a grid
-      of ``step_deg`` [deg] (0.5° by default) over the whole segment, the optimum's
-      own phase always a candidate, then a grid of step ``step_deg``/100 within one
-      step of the best. With two groups that is the whole admissible set. With
+      segment (two LPs, with the other groups held): a sampled min–max on the
+      multiples of ``step_deg`` [deg] (0.5° by default) over the whole segment
+      (ranked on the curves read every ``step_deg`` where they are finer), then,
+      exactly, a grid of step ``step_deg``/100 within one step of the best, the
+      current phase always a candidate. With two groups that is the whole admissible set. With
       three, first a coarse grid of both relative phases over their exact
       admissible region (the range of one, and on each of its grid values the
       range of the other, by LPs; at most 72 points a side on a step that divides
@@ -568,9 +576,19 @@ def flatten_phases(
     tol = 1e-9 * scale
     of_arr = np.array(of)
 
-    def evaluate(S: Array) -> tuple[Array, Array]:
+    # The grids rank candidates on the curves read every grid step (when finer);
+    # the refinement and every acceptance read them exactly.
+    n_grid = math.ceil(360.0 / step)
+    if T.shape[1] > n_grid:
+        own = np.arange(T.shape[1]) * 360.0 / T.shape[1]
+        at = np.arange(n_grid) * 360.0 / n_grid
+        T_grid = np.array([np.interp(at, own, t, period=360.0) for t in T])
+    else:
+        T_grid = T
+
+    def evaluate(S: Array, exact: bool = True) -> tuple[Array, Array]:
         moves = np.abs(S - np.median(S, axis=1, keepdims=True)).sum(axis=1)
-        return _peaks(T, phase, S[:, of_arr]), moves
+        return _peaks(T if exact else T_grid, phase, S[:, of_arr]), moves
 
     s = np.zeros(G)
     current = float(evaluate(s[None])[0][0])
@@ -587,13 +605,12 @@ def flatten_phases(
             grid = _grid(lo, hi, step, s[g])
             S = np.repeat(s[None], len(grid), axis=0)
             S[:, g] = grid
-            pk, mv = evaluate(S)
+            pk, mv = evaluate(S, exact=False)
             i = _best(pk, mv, tol)
             fine = np.linspace(max(lo, grid[i] - step), min(hi, grid[i] + step), _REFINE)
-            S2 = np.repeat(s[None], len(fine), axis=0)
-            S2[:, g] = fine
-            pk2, mv2 = evaluate(S2)
-            S, pk, mv = np.vstack([S, S2]), np.r_[pk, pk2], np.r_[mv, mv2]
+            S = np.repeat(s[None], len(fine) + 2, axis=0)
+            S[:, g] = np.r_[s[g], grid[i], fine]
+            pk, mv = evaluate(S)
             i = _best(pk, mv, tol)
             if pk[i] < current - tol:
                 s, current, moved = S[i].copy(), float(pk[i]), True
