@@ -27,7 +27,10 @@ class MainShaft:
     """The main shaft at the optimum: ``torque`` (the sum) and ``parts`` (each
     contributing mechanism's, at its phase), the statistics at the nominal speed
     (``at_nominal``) and at the sweep's speeds (``over_speed``) for the coefficient
-    of speed fluctuation ``speed_fluctuation``."""
+    of speed fluctuation ``speed_fluctuation``. With ``[machine] flatten_torque``,
+    ``flattening`` (:class:`Flattening`) says how the parts were moved within the
+    cyclogram's slack, and ``torque``, ``parts`` and the statistics are at the
+    moved phases (the rest of the report stays at the optimum)."""
 
     torque: ShaftTorque
     parts: dict[str, ShaftTorque]
@@ -38,9 +41,11 @@ class MainShaft:
     flattening: Flattening | None = None
 
     def json(self) -> dict[str, Any]:
-        """Its ``results.json`` entry (SI, angles in degrees)."""
+        """Its ``results.json`` entry (SI, angles in degrees); ``flattening`` only
+        with ``[machine] flatten_torque``."""
         n, s = self.nominal_rpm, self.at_nominal
         o = self.over_speed
+        flat = {} if self.flattening is None else {"flattening": self.flattening.json()}
         return {
             "contributors": list(self.parts),
             "speed_fluctuation": self.speed_fluctuation,
@@ -57,7 +62,7 @@ class MainShaft:
             "speed_rpm": o.rpm,
             "peak_torque_nm_over_speed": o.peak_torque_nm,
             "flywheel_kg_m2_over_speed": o.flywheel_kg_m2,
-            "flattening": None if self.flattening is None else self.flattening.json(),
+            **flat,
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
@@ -133,8 +138,18 @@ class Flattening:
     moved along the cycle [deg] (its anchor event's move); ``groups``: the
     contributors that move as one (they share an event); ``peak_before_nm`` /
     ``peak_after_nm``: max|T| [N·m] at the nominal speed at the optimum and after
-    (never higher); ``method``: how the min–max was searched, ``step_deg`` its grid
-    step [deg]; ``note``: why nothing moved, if nothing did.
+    (never higher), exact for the parts' piecewise-linear curves (the main
+    shaft's statistics read the sum on its own grid of angles, which may pass
+    between a moved part's samples: their peak is at most this one, and as close
+    as the curves are fine); ``method``: how the min–max was searched,
+    ``step_deg`` its grid step [deg]; ``note``: why nothing moved, if nothing did.
+
+    >>> import numpy as np, cyclomech as cm
+    >>> cg = cm.Cyclogram(limiting=("a", "b"))
+    >>> cg.add_operation("a", "b", 10.0, mechanism="cam")
+    >>> f = flatten_phases({"cam": (np.zeros(4), np.ones(4), 0.0, "a")}, cg, cg.optimize(), 60)
+    >>> f.moved, f.peak_before_nm, f.peak_after_nm, f.note
+    (False, 1.0, 1.0, 'one group of contributors: only a common shift, which leaves the peak')
     """
 
     times: dict[str, float]
@@ -230,7 +245,7 @@ class _Feasible:
         # as the optimum's own (tidied) times reach it.
         t = np.array([opt.times[e] for e in cg.events])
         self.t0 = t
-        tol = 1e-9 * max(1.0, abs(opt.objective))
+        tol = 1e-9
         keep = np.zeros((1, self.n))
         if opt.limiting is not None:
             o = cg.operation(opt.limiting)
@@ -468,9 +483,9 @@ def _plane(
     S = np.vstack(cand)
     pk, mv = evaluate(S, exact=False)
     best = S[_best(pk, mv, tol)]
-    got = float(evaluate(best[None])[0][0])
-    if got < current - tol:
-        return best.copy(), got, c
+    exact = float(evaluate(best[None])[0][0])
+    if exact < current - tol:
+        return best.copy(), exact, c
     return zero, current, c
 
 
@@ -545,8 +560,9 @@ def flatten_phases(
     180.0
     """
     step = finite_number("step_deg", step_deg, "[deg]", low=0.0, strict=True)
+    rpm = finite_number("nominal_rpm", nominal_rpm, "[rpm]", low=0.0)
     names = list(curves)
-    w2 = (float(nominal_rpm) * RAD_PER_S_PER_RPM) ** 2
+    w2 = (rpm * RAD_PER_S_PER_RPM) ** 2
     T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
     phase = np.array([float(c[2]) for c in curves.values()])
     groups, of = _rigid_groups(curves, cyclogram, rigid or {})
@@ -568,7 +584,7 @@ def flatten_phases(
 
     if G < 2:
         return unchanged("one group of contributors: only a common shift, which leaves the peak")
-    lp = _Feasible(cyclogram, optimum, float(nominal_rpm), groups)
+    lp = _Feasible(cyclogram, optimum, rpm, groups)
     x0 = np.r_[lp.t0, lp.t0.max()]
     if lp.violation(x0) > _FEASIBLE_TOL_DEG:
         return unchanged("the optimum misses the rebuilt LP's rows; left as it is")
