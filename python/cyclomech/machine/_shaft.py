@@ -186,7 +186,7 @@ class Flattening:
             ["peak |torque| after flattening [N·m]", self.peak_after_nm],
         ]
         out += [[f"phase shift of {k} [deg]", v] for k, v in self.shifts_deg.items()]
-        how = f"{self.method}, {self.step_deg:g}° grid"
+        how = f"{self.method}; {self.step_deg:g}° grid refined to {self.step_deg / 100:g}°"
         out.append(["flattening", f"{how}; {self.note}" if self.note else how])
         return out
 
@@ -608,10 +608,17 @@ def flatten_phases(
 
     s = np.zeros(G)
     current = float(evaluate(s[None])[0][0])
-    method = "exact segment, sampled" if G == 2 else "coordinate descent, sampled"
+    method = (
+        "sampled min–max over the whole admissible range of the relative phase"
+        if G == 2
+        else "coordinate descent from the optimum (local), sampled"
+    )
     if G == 3:
         s, current, coarse = _plane(lp, evaluate, step, tol, current)
-        method = f"grid of both relative phases ({coarse:g}°), then {method}"
+        method = (
+            f"grid of both relative phases over their admissible region ({coarse:g}°), "
+            "then coordinate descent, sampled"
+        )
     for _ in range(_SWEEPS):
         moved = False
         for g in [1] if G == 2 else range(G):
