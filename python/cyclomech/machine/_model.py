@@ -48,6 +48,7 @@ _MACHINE_KEYS = {
     "nominal_rpm",
     "angle_points",
     "speed_fluctuation",
+    "flatten_torque",
 }
 
 
@@ -117,6 +118,7 @@ class Machine:
         nominal_rpm: float | None = None,
         angle_points: int = 361,
         speed_fluctuation: float = SPEED_FLUCTUATION,
+        flatten_torque: bool = False,
         source: str = "<machine>",
         data: Mapping[str, Any] | None = None,
     ) -> None:
@@ -141,6 +143,12 @@ class Machine:
         if not 0.0 < delta < 1.0:
             raise InputError(f"speed_fluctuation = {delta!r} must be the main shaft's δ, 0 < δ < 1")
         self.speed_fluctuation = delta
+        if not isinstance(flatten_torque, bool | np.bool_):
+            raise InputError(
+                f"flatten_torque = {flatten_torque!r} must be True or False (move the main "
+                "shaft's parts within the cyclogram's slack to its lowest peak torque)"
+            )
+        self.flatten_torque = bool(flatten_torque)
         self.source = source
         self.data = data
         self._bounded = _bounded(self.mechanisms)
@@ -218,6 +226,13 @@ class Machine:
                 f"{source}: [machine]: speed_fluctuation = {delta!r} must be the coefficient "
                 "of speed fluctuation δ = (ω_max − ω_min)/ω of the main shaft, 0 < δ < 1"
             )
+        flatten = head.get("flatten_torque", False)
+        if not isinstance(flatten, bool):
+            raise InputError(
+                f"{source}: [machine]: flatten_torque = {flatten!r} must be true or false "
+                "(a TOML boolean, unquoted): whether to move the main shaft's parts within "
+                "the cyclogram's slack to its lowest peak torque"
+            )
         if "cyclogram" not in data or "operation" not in data:
             raise InputError(
                 f"{source}: a machine needs its cyclogram: a [cyclogram] table and "
@@ -253,6 +268,7 @@ class Machine:
             nominal_rpm=None if nominal is None else float(nominal),
             angle_points=angle_points,
             speed_fluctuation=float(delta),
+            flatten_torque=flatten,
             source=source,
             data=copy.deepcopy(dict(data)),
         )

@@ -122,7 +122,18 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         results = timed(
             "mechanisms", lambda: {k: mech.analyze(ctx) for k, mech in m.mechanisms.items()}
         )
-        shaft = timed("main shaft", lambda: main_shaft(results, nominal, rpm, m.speed_fluctuation))
+        flat = m.flatten_torque and opt is not None
+        shaft = timed(
+            "main shaft",
+            lambda: main_shaft(
+                results,
+                nominal,
+                rpm,
+                m.speed_fluctuation,
+                cyclogram=m.cyclogram_at(nominal) if flat else None,
+                optimum=opt if flat else None,
+            ),
+        )
     return MachineResult(m, limit, nominal, opt, problem, sw, sw_lin, mins, results, seconds, shaft)
 
 
