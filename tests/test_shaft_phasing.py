@@ -517,3 +517,18 @@ def test_the_loom_with_one_cam_is_unchanged():
     r = cm.machine.analyze(m, progress=False)
     f = r.shaft.flattening
     assert f is not None and not f.moved and f.times == r.optimum.times
+
+
+def test_a_part_that_follows_no_event_keeps_every_phase():
+    """A part fixed at a cycle angle (its phase follows no event) cannot be moved
+    relative to the others: nothing moves, and the note says why."""
+    cg = cm.Cyclogram.from_toml(
+        Path(__file__).resolve().parent.parent / "examples" / "stb_group1.toml"
+    )
+    opt = cg.optimize()
+    th = np.radians(np.arange(360.0))
+    wave = (np.zeros(360), 5.0 * np.cos(th))
+    ev = next(iter(opt.times))
+    f = flatten_phases({"A": (*wave, 0.0, ev), "B": (*wave, 0.0, None)}, cg, opt, 100.0)
+    assert f.shifts_deg == {"A": 0.0, "B": 0.0} and f.peak_after_nm == f.peak_before_nm
+    assert "follows no cyclogram event" in f.note

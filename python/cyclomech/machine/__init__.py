@@ -16,6 +16,8 @@ say so (``_deg``, ``_rpm``). The layout::
     angle_points = 361              # optional: crank angles per turn for mechanisms
     speed_fluctuation = 0.05        # optional: the main shaft's δ = (ω_max − ω_min)/ω
                                     # for its flywheel (default 0.05)
+    flatten_torque = false          # optional: move the main shaft's parts within the
+                                    # cyclogram's slack to the lowest peak |torque|
 
     [mechanism.lifter]              # a cam-driven lever that hits a limit stop
     kind = "cam_stop"

@@ -125,7 +125,7 @@ _SWEEPS = 25
 #: How far the shifted times may miss a cyclogram row before they are refused [deg].
 _FEASIBLE_TOL_DEG = 1e-6
 
-Curve = tuple[Array, Array, float, str]
+Curve = tuple[Array, Array, float, str | None]
 
 
 @dataclass(frozen=True)
@@ -411,7 +411,7 @@ def _rigid_groups(
     names = list(curves)
     own: list[set[str]] = []
     for k in names:
-        s = {curves[k][3]}
+        s = {str(curves[k][3])}
         s |= {e for o in cg.operations if o.mechanism == k for e in o.arc}
         s |= {e for e in extra.get(k, ()) if e in cg.events}
         own.append(s)
@@ -431,7 +431,7 @@ def _rigid_groups(
     of = [roots.index(root(i)) for i in range(len(names))]
     groups = []
     for g, r in enumerate(roots):
-        first = curves[names[r]][3]
+        first = str(curves[names[r]][3])
         evs = set().union(*(own[i] for i in range(len(names)) if of[i] == g)) - {first}
         groups.append([first, *sorted(evs, key=cg.events.index)])
     return groups, of
@@ -565,6 +565,24 @@ def flatten_phases(
     w2 = (rpm * RAD_PER_S_PER_RPM) ** 2
     T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
     phase = np.array([float(c[2]) for c in curves.values()])
+    fixed = [k for k, c in curves.items() if c[3] is None]
+    if fixed:
+        # A part whose phase follows no event sits at a fixed cycle angle: the
+        # others' moves would not be relative. Nothing moves; the note says why.
+        before = _peak_of(curves, phase, w2)
+        return Flattening(
+            times=dict(optimum.times),
+            shifts_deg={k: 0.0 for k in names},
+            groups=(tuple(names),),
+            peak_before_nm=before,
+            peak_after_nm=before,
+            method="none",
+            step_deg=step,
+            note=(
+                f"{', '.join(fixed)}: its phase follows no cyclogram event (phase = {{event = "
+                "…}} in its table), so the parts cannot be moved relative to each other"
+            ),
+        )
     groups, of = _rigid_groups(curves, cyclogram, rigid or {})
     G = len(groups)
     before = _peak_of(curves, phase, w2)
@@ -647,7 +665,8 @@ def flatten_phases(
     if lp.violation(x) > _FEASIBLE_TOL_DEG:
         return unchanged("the placed events miss a cyclogram row; left as they were", method)
     times = dict(zip(cyclogram.events, x[: lp.V].tolist(), strict=True))
-    shifts = {k: times[c[3]] - optimum.times[c[3]] for k, c in curves.items()}
+    anchor = {k: str(c[3]) for k, c in curves.items()}  # every part has one (see above)
+    shifts = {k: times[anchor[k]] - optimum.times[anchor[k]] for k in curves}
     after = _peak_of(curves, phase + np.array(list(shifts.values())), w2)
     if after > before:  # (round-off: the placed shifts hold the chosen ones to ~1e-9°)
         return unchanged("no move within the slack lowers the peak", method)

@@ -100,6 +100,12 @@ def run_command(args: argparse.Namespace) -> int:
             f"{float(s.power_w):.4g} W; flywheel {float(s.flywheel_kg_m2):.4g} kg·m² for "
             f"δ = {r.shaft.speed_fluctuation:g} (ΔE = {float(s.energy_fluctuation_j):.4g} J)"
         )
+        fl = r.shaft.flattening
+        if fl is not None:
+            print(
+                f"Flattening the main shaft's torque: peak |T| {fl.peak_before_nm:.4g} → "
+                f"{fl.peak_after_nm:.4g} N·m" + (f" ({fl.note})" if fl.note else "")
+            )
     use_fig = not args.no_plot and has_matplotlib("figures")
     if use_fig and not args.quiet:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds
