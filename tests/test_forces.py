@@ -484,3 +484,30 @@ def test_most_loaded_ties_go_to_the_first_joint_and_angle():
     none = F.kinetostatics(lk, np.radians([90.0]), point_masses={"C": 1.0})
     joint, peak, at = none.most_loaded(60.0)
     assert joint == "" and math.isnan(peak) and math.isnan(at)
+
+
+def test_engine_turning_moment_by_the_textbook_approximate_method():
+    """The reciprocating engine's turning moment by the textbook's analytical
+    method (R. S. Khurmi & J. K. Gupta, *Theory of Machines*, ch. 15 "Inertia
+    Forces in Reciprocating Parts": piston acceleration ω²r(cos θ + cos 2θ/n),
+    piston effort F_P = F_L − m a, turning moment F_P·r(sin θ + sin 2θ /
+    (2√(n² − sin²θ))), n = l/r, θ from the inner dead centre), for a horizontal
+    engine of stroke 0.5 m, rod 1 m, bore 0.75 m at 2.5 bar, 200 kg of
+    reciprocating parts, 350 rpm. The method truncates the acceleration's series
+    after the cos 2θ term, an error of order (r/l)³: the exact kinetostatics
+    agrees within 1 % of the peak (0.44 % at θ = 45°: 13 070 vs 13 127 N·m)."""
+    r, rod, m, rpm = 0.25, 1.0, 200.0, 350.0
+    f_l = 2.5e5 * math.pi / 4 * 0.75**2
+    lk = slider_crank(r, rod)  # θ = 0: the crank points at the piston (inner dead centre)
+    theta = np.radians(np.arange(0.0, 360.0, 5.0))
+    k = F.kinetostatics(lk, theta, point_masses={"C": m}, loads=[F.PointLoad("C", (-f_l, 0.0))])
+    w, n = rpm * RAD, rod / r
+    a = w**2 * r * (np.cos(theta) + np.cos(2 * theta) / n)
+    f_p = f_l - m * a
+    s = np.sin(theta)
+    turning = f_p * r * (s + np.sin(2 * theta) / (2 * np.sqrt(n**2 - s**2)))
+    got = -k.torque(rpm)  # the driving torque balances the engine's turning moment
+    assert np.abs(got - turning).max() < 0.01 * np.abs(turning).max()
+    i = 9  # θ = 45°
+    assert got[i] == pytest.approx(13069.70, abs=0.01)
+    assert turning[i] == pytest.approx(13127.08, abs=0.01)
