@@ -511,3 +511,38 @@ def test_engine_turning_moment_by_the_textbook_approximate_method():
     i = 9  # θ = 45°
     assert got[i] == pytest.approx(13069.70, abs=0.01)
     assert turning[i] == pytest.approx(13127.08, abs=0.01)
+
+
+def test_the_three_ways_to_place_a_centre_of_mass_agree():
+    """com_m (drawn pose), com_point (a joint) and com_offset_m (the link's frame)
+    describe one centre the same way; two at once is an error."""
+    lk = presets.burg_trimmer()
+    t = lk.to_dict()
+    e, b, c = (np.array(t["points"][p]) for p in ("E", "B", "C"))
+    d = c - b
+    u_hat = d / np.linalg.norm(d)
+    off = e - b
+    local = (float(off @ u_hat), float(off @ np.array([-u_hat[1], u_hat[0]])))
+    ways = [
+        F.LinkMass(40.0, tuple(e), 2.0),
+        F.LinkMass(40.0, inertia_kg_m2=2.0, com_point="E"),
+        F.LinkMass(40.0, inertia_kg_m2=2.0, com_offset_m=local),
+    ]
+    got = [
+        F.kinetostatics(lk, ANGLES, masses={("B", "C", "E"): w}, gravity=G).torque(50.0)
+        for w in ways
+    ]
+    np.testing.assert_allclose(got[1], got[0], rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(got[2], got[0], rtol=1e-9, atol=1e-9)
+    with pytest.raises(cm.CyclomechError, match="one way"):
+        F.kinetostatics(
+            lk, ANGLES, masses={("B", "C", "E"): F.LinkMass(1.0, (0, 0), com_point="E")}
+        )
+    with pytest.raises(cm.CyclomechError, match="not one of its joints"):
+        F.kinetostatics(lk, ANGLES, masses={("B", "C", "E"): F.LinkMass(1.0, com_point="F")})
+    with pytest.raises(cm.CyclomechError, match="one way"):
+        F.dynamics_from_table(
+            {"mass": [{"link": ["B", "C"], "mass_kg": 1.0, "com_m": [0, 0], "com_point": "B"}]},
+            "f.toml",
+            "[mechanism.k]",
+        )

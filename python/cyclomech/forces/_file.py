@@ -19,7 +19,7 @@ __all__ = ["DYNAMICS_KEYS", "dynamics_from_table"]
 #: The keys of a linkage's table that describe its forces.
 DYNAMICS_KEYS = frozenset({"mass", "point_mass_kg", "load", "gravity_m_per_s2"})
 
-_MASS_KEYS = {"link", "mass_kg", "com_m", "inertia_kg_m2"}
+_MASS_KEYS = {"link", "mass_kg", "com_m", "com_point", "com_offset_m", "inertia_kg_m2"}
 _LOAD_KEYS = {"point", "force_n", "link", "torque_nm", "angle_deg"}
 
 
@@ -37,8 +37,10 @@ def dynamics_from_table(
     point_masses, loads, gravity) from a linkage's table, or None when it has
     none of :data:`DYNAMICS_KEYS`. Errors name ``source``, the table and the key.
 
-    ``[[<table>.mass]]``: ``link`` (its joints), ``mass_kg``, optional ``com_m`` =
-    [x, y] in the drawn pose (default: the centroid of its joints) and
+    ``[[<table>.mass]]``: ``link`` (its joints), ``mass_kg``, optional centre of
+    mass — one of ``com_m`` = [x, y] in the drawn pose, ``com_point`` = a joint of
+    the link, ``com_offset_m`` = [u, v] in the link's frame (origin its first
+    joint, u towards its second); default the centroid of its joints — and
     ``inertia_kg_m2`` about it (default 0). ``point_mass_kg`` = {point = kg}.
     ``[[<table>.load]]``: ``point`` and ``force_n`` = [fx, fy], or ``link`` and
     ``torque_nm``; with ``angle_deg`` (crank angles) the force is a table, one
@@ -61,17 +63,28 @@ def dynamics_from_table(
         link = row["link"]
         if not isinstance(link, list) or not all(isinstance(p, str) for p in link):
             raise InputError(f'{at}: link = {link!r} must be the link\'s joints, e.g. ["B", "C"]')
-        com = row.get("com_m")
-        if com is not None and not (
-            isinstance(com, list) and len(com) == 2 and all(_toml.is_number(v) for v in com)
-        ):
-            raise InputError(f"{at}: com_m = {com!r} must be [x, y] [m]")
+        pair = {}
+        for key in ("com_m", "com_offset_m"):
+            v = row.get(key)
+            if v is not None and not (
+                isinstance(v, list) and len(v) == 2 and all(_toml.is_number(x) for x in v)
+            ):
+                raise InputError(f"{at}: {key} = {v!r} must be two numbers [m]")
+            pair[key] = None if v is None else (float(v[0]), float(v[1]))
+        point = row.get("com_point")
+        if point is not None and not isinstance(point, str):
+            raise InputError(f"{at}: com_point = {point!r} must be one of the link's joints")
+        given = [k for k in ("com_m", "com_point", "com_offset_m") if k in row]
+        if len(given) > 1:
+            raise InputError(f"{at}: give the centre of mass one way, not {' and '.join(given)}")
         m = _toml.number(row, "mass_kg", at, "[kg]")
         jz = _toml.number(row, "inertia_kg_m2", at, "[kg·m²]") if "inertia_kg_m2" in row else 0.0
         for name, v, unit in (("mass_kg", m, "kg"), ("inertia_kg_m2", jz, "kg·m²")):
             if v < 0:
                 raise InputError(f"{at}: {name} = {v!r} must be >= 0 [{unit}]")
-        masses[tuple(link)] = LinkMass(m, None if com is None else (com[0], com[1]), jz)
+        masses[tuple(link)] = LinkMass(
+            m, pair["com_m"], jz, com_point=point, com_offset_m=pair["com_offset_m"]
+        )
     pm = table.get("point_mass_kg", {})
     if not isinstance(pm, Mapping):
         raise InputError(f"{source}: {where}: point_mass_kg must be a table {{point = kg}}")

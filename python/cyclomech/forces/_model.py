@@ -27,9 +27,12 @@ Array = npt.NDArray[np.float64]
 
 @dataclass(frozen=True)
 class LinkMass:
-    """The inertia of one link: ``mass_kg`` [kg], its centre of mass ``com_m``
-    (x, y) [m] in the drawn pose (None: the centroid of the link's joints), and
-    ``inertia_kg_m2`` [kg·m²] about the centre of mass (0: the mass is a point).
+    """The inertia of one link: ``mass_kg`` [kg], its centre of mass and
+    ``inertia_kg_m2`` [kg·m²] about it (0: the mass is a point). The centre of
+    mass is given one way at most: ``com_m`` (x, y) [m] in the drawn pose,
+    ``com_point`` a joint of the link, or ``com_offset_m`` (u, v) [m] in the
+    link's frame (origin at its first joint, u towards its second, v to the
+    left); none: the centroid of the link's joints.
 
     >>> LinkMass(2.0, inertia_kg_m2=0.01).mass_kg
     2.0
@@ -38,6 +41,8 @@ class LinkMass:
     mass_kg: float
     com_m: tuple[float, float] | None = None
     inertia_kg_m2: float = 0.0
+    com_point: str | None = None
+    com_offset_m: tuple[float, float] | None = None
 
 
 def _table(what: str, angle_deg: Any, values: Any, width: int) -> tuple[Array | None, Array]:
@@ -147,6 +152,39 @@ def _link_index(links: list[list[str]], moving: list[int], joints: Sequence[str]
     )
 
 
+def _com_in_frame(
+    lm: LinkMass, ln: list[str], pts: Mapping[str, tuple[float, float]]
+) -> tuple[float, float]:
+    """The centre of mass as (u, v) with c = x₀ + u·d + v·d⊥, d = x₁ − x₀ (the
+    kernel's frame), from whichever way ``lm`` gives it."""
+    name = "-".join(ln)
+    given = [k for k in ("com_m", "com_point", "com_offset_m") if getattr(lm, k) is not None]
+    if len(given) > 1:
+        raise InputError(f"link {name}: give its centre of mass one way, not {' and '.join(given)}")
+    x0, x1 = np.array(pts[ln[0]]), np.array(pts[ln[1]])
+    d = x1 - x0
+    dd = float(d @ d)
+    if lm.com_offset_m is not None:
+        u = finite_number(f"com_offset_m of link {name}", lm.com_offset_m[0], "[m]")
+        v = finite_number(f"com_offset_m of link {name}", lm.com_offset_m[1], "[m]")
+        return u / math.sqrt(dd), v / math.sqrt(dd)
+    if lm.com_point is not None:
+        if lm.com_point not in ln:
+            raise InputError(
+                f"link {name}: com_point = {lm.com_point!r} is not one of its joints "
+                f"({', '.join(ln)})"
+            )
+        c: Any = pts[lm.com_point]
+    elif lm.com_m is not None:
+        c = lm.com_m
+    else:
+        c = tuple(np.mean([pts[p] for p in ln], axis=0))
+    cx = finite_number(f"com_m of link {name}", c[0], "[m]")
+    cy = finite_number(f"com_m of link {name}", c[1], "[m]")
+    r = np.array([cx, cy]) - x0
+    return float(r @ d) / dd, float(r @ np.array([-d[1], d[0]])) / dd
+
+
 def _build(
     linkage: Linkage,
     masses: Mapping[Sequence[str], LinkMass] | None,
@@ -184,16 +222,7 @@ def _build(
         m = finite_number(f"mass of link {'-'.join(ln)}", lm.mass_kg, "[kg]", low=0.0)
         jz = finite_number(f"inertia of link {'-'.join(ln)}", lm.inertia_kg_m2, "[kg·m²]", low=0.0)
         body_mass[b], body_inertia[b] = m, jz
-        c = lm.com_m
-        if c is None:
-            c = tuple(np.mean([pts[p] for p in ln], axis=0))
-        cx = finite_number(f"com_m of link {'-'.join(ln)}", c[0], "[m]")
-        cy = finite_number(f"com_m of link {'-'.join(ln)}", c[1], "[m]")
-        x0, x1 = np.array(pts[ln[0]]), np.array(pts[ln[1]])
-        d = x1 - x0
-        dd = float(d @ d)
-        r = np.array([cx, cy]) - x0
-        com[b] = (float(r @ d) / dd, float(r @ np.array([-d[1], d[0]])) / dd)
+        com[b] = _com_in_frame(lm, ln, pts)
 
     pmass = np.zeros(len(names))
     for p, m in (point_masses or {}).items():
