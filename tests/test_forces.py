@@ -82,7 +82,7 @@ def loaded(lk: cm.Linkage, seed: int = 1) -> dict:
         pts = np.array([t["points"][p] for p in ln])
         com = pts.mean(axis=0) + rng.uniform(-0.05, 0.05, 2)
         masses[tuple(ln)] = F.LinkMass(rng.uniform(1, 10), tuple(com), rng.uniform(0, 0.2))
-    last = lk.names[-1]
+    last = [p for p in lk.names if p not in ground][-1]  # a moving point
     table = F.PointLoad(last, [[0, -300.0], [100.0, -800.0], [0, -300.0]], angle_deg=[40, 120, 200])
     return {
         "masses": masses,
@@ -546,3 +546,55 @@ def test_the_three_ways_to_place_a_centre_of_mass_agree():
             "f.toml",
             "[mechanism.k]",
         )
+
+
+def test_near_a_dead_centre_is_flagged_and_a_machine_refuses_it(tmp_path):
+    """An offset slider-crank whose rod stands perpendicular to the guide at crank
+    90° (the circle of A just touches the guide): the force solve there is nearly
+    singular. The rule: conditioning < NEAR_DEAD_CENTRE flags the angle
+    (``near_dead_centre``), shaft_torque() warns, a machine refuses the mechanism
+    (exit 2) rather than report a 1 MW motor."""
+    lk = cm.Linkage(
+        {"O": (0, 0), "A": (0.1, 0), "C": (0.1 + math.sqrt(0.03), -0.1)},
+        [("O", "A"), ("A", "C")],
+        ["O"],
+        ("O", "A"),
+        sliders={"C": ("ground", (1, 0))},
+    )
+    phi = np.radians(np.arange(0.0, 360.0, 0.1))
+    k = F.kinetostatics(lk, phi, point_masses={"C": 20.0}, gravity=G)
+    flagged = np.degrees(phi[k.near_dead_centre])
+    assert flagged.size and np.all(np.abs(flagged - 90.0) < 1.0)
+    assert k.conditioning[~k.near_dead_centre].min() >= F.NEAR_DEAD_CENTRE
+    with pytest.warns(cm.CyclomechWarning, match="near a dead centre"):
+        k.shaft_torque()
+    # A well-built linkage stays far from the threshold (conditioning ≥ 0.1).
+    assert F.kinetostatics(presets.burg_trimmer(), ANGLES).conditioning.min() > 0.1
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        ({"masses": {("A", "B"): F.LinkMass(1.0), ("B", "A"): F.LinkMass(2.0)}}, "twice"),
+        ({"point_masses": {"A": 1.0}}, "ground joint"),
+        ({"loads": [F.PointLoad("D", (1.0, 0.0))]}, "ground joint"),
+        ({"loads": F.PointLoad("C", (1.0, 0.0))}, "must be a list"),
+        ({"masses": {("A", "B"): F.LinkMass(1.0, com_m=0.05)}}, "com_m"),
+        ({"masses": {("A", "B"): F.LinkMass(1.0, com_m=(0, 0, 1))}}, "com_m"),
+    ],
+)
+def test_more_bad_input(kw, match):
+    with pytest.raises(cm.CyclomechError, match=match):
+        F.kinetostatics(four_bar(), ANGLES, **kw)
+
+
+def test_without_reactions_the_joint_queries_say_so():
+    k = F.kinetostatics(four_bar(), ANGLES, reactions=False, point_masses={"C": 1.0})
+    for call in (
+        lambda: k.reaction("A", rpm=10),
+        lambda: k.most_loaded(10),
+        lambda: k.joint_loads(10),
+    ):
+        with pytest.raises(cm.CyclomechError, match="reactions=False"):
+            call()
+    assert "near a dead centre" in repr(k) and len(repr(k)) < 200

@@ -293,3 +293,23 @@ def test_a_free_segment_that_fails_at_the_nominal_speed_is_loud(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error", cm.CyclomechWarning)
         cm.machine.analyze(cm.Machine.from_toml(LOOM), progress=False)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "match"),
+    [
+        ('point = "E"  ', 'point = "A"  ', "ground joint"),
+        (
+            '[[mechanism.knife.mass]]\nlink = ["A", "B"]',
+            '[[mechanism.knife.mass]]\nlink = ["C", "E", "B"]',
+            "has a mass already",
+        ),
+    ],
+)
+def test_knife_file_mistakes_that_would_be_silent(tmp_path, old, new, match):
+    text = (ROOT / "examples" / "knife_cutter.toml").read_text("utf-8")
+    assert old in text
+    path = tmp_path / "k.toml"
+    path.write_text(text.replace(old, new, 1), "utf-8")
+    with pytest.raises(cm.CyclomechError, match=match):
+        cm.Machine.from_toml(path)

@@ -39,10 +39,11 @@ from __future__ import annotations
 
 from ._file import DYNAMICS_KEYS, dynamics_from_table
 from ._model import LinkMass, LinkTorque, PointLoad, check_dynamics, kinetostatics
-from ._result import Kinetostatics
+from ._result import NEAR_DEAD_CENTRE, Kinetostatics
 
 __all__ = [
     "DYNAMICS_KEYS",
+    "NEAR_DEAD_CENTRE",
     "Kinetostatics",
     "LinkMass",
     "LinkTorque",

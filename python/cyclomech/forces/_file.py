@@ -82,6 +82,11 @@ def dynamics_from_table(
         for name, v, unit in (("mass_kg", m, "kg"), ("inertia_kg_m2", jz, "kg·m²")):
             if v < 0:
                 raise InputError(f"{at}: {name} = {v!r} must be >= 0 [{unit}]")
+        twin = next((j for j, k in enumerate(masses) if set(k) == set(link)), None)
+        if twin is not None:
+            raise InputError(
+                f"{at}: link = {link!r} has a mass already in mass[{twin}]; give each link once"
+            )
         masses[tuple(link)] = LinkMass(
             m, pair["com_m"], jz, com_point=point, com_offset_m=pair["com_offset_m"]
         )
@@ -116,6 +121,11 @@ def dynamics_from_table(
         if not (isinstance(g, list) and len(g) == 2 and all(_toml.is_number(v) for v in g)):
             raise InputError(f"{source}: {where}: gravity_m_per_s2 = {g!r} must be [gx, gy] [m/s²]")
         gravity = (float(g[0]), float(g[1]))
+    if gravity is not None and not masses and not point_masses:
+        raise InputError(
+            f"{source}: {where}: gravity_m_per_s2 is given but no link or point has a mass; "
+            "give [[…mass]] rows or point_mass_kg (or drop gravity_m_per_s2)"
+        )
     if linkage is not None:
         _check_names(linkage, source, where, masses, point_masses, loads)
     return {"masses": masses, "point_masses": point_masses, "loads": loads, "gravity": gravity}
@@ -152,11 +162,21 @@ def _check_names(
                 f"{source}: {where}: point_mass_kg.{p}: {p!r} is not a point; the points are "
                 f"{names}"
             )
+        if p in ground:
+            raise InputError(
+                f"{source}: {where}: point_mass_kg.{p}: {p!r} is a ground joint, which does "
+                "not move; put the mass on a moving point"
+            )
     for i, load in enumerate(loads):
         if isinstance(load, PointLoad) and load.point not in linkage.names:
             raise InputError(
                 f"{source}: {where} load[{i}]: point = {load.point!r} is not a point; the points "
                 f"are {names}"
+            )
+        if isinstance(load, PointLoad) and load.point in ground:
+            raise InputError(
+                f"{source}: {where} load[{i}]: point = {load.point!r} is a ground joint: a force "
+                "there goes straight into the frame and loads no link; put it on a moving point"
             )
         if isinstance(load, LinkTorque):
             link_ok(load.link, f"{where} load[{i}]")

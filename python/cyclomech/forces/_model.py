@@ -165,6 +165,9 @@ def _com_in_frame(
     d = x1 - x0
     dd = float(d @ d)
     if lm.com_offset_m is not None:
+        off = lm.com_offset_m
+        if isinstance(off, str) or not isinstance(off, Sequence) or len(off) != 2:
+            raise InputError(f"link {name}: com_offset_m = {off!r} must be (u, v) [m]")
         u = finite_number(f"com_offset_m of link {name}", lm.com_offset_m[0], "[m]")
         v = finite_number(f"com_offset_m of link {name}", lm.com_offset_m[1], "[m]")
         return u / math.sqrt(dd), v / math.sqrt(dd)
@@ -177,6 +180,8 @@ def _com_in_frame(
         c: Any = pts[lm.com_point]
     elif lm.com_m is not None:
         c = lm.com_m
+        if isinstance(c, str) or not isinstance(c, Sequence) or len(c) != 2:
+            raise InputError(f"link {name}: com_m = {c!r} must be (x, y) [m]")
     else:
         c = tuple(np.mean([pts[p] for p in ln], axis=0))
     cx = finite_number(f"com_m of link {name}", c[0], "[m]")
@@ -209,13 +214,21 @@ def _build(
     body_inertia = np.zeros(len(moving))
     com = np.zeros((len(moving), 2))
     given: dict[int, LinkMass] = {}
+    if masses is not None and not isinstance(masses, Mapping):
+        raise InputError(f"masses = {masses!r} must map links (their joints) to LinkMass")
     for joints, lm in (masses or {}).items():
         if isinstance(joints, str):
             raise InputError(f"masses: key {joints!r} must be a link's joints, e.g. ('B', 'C')")
         what = f"masses[{'-'.join(joints)}]"
         if not isinstance(lm, LinkMass):
             raise InputError(f"{what} = {lm!r} must be a LinkMass")
-        given[_link_index(links, moving, joints, what)] = lm
+        b = _link_index(links, moving, joints, what)
+        if b in given:
+            raise InputError(
+                f"{what}: the link {'-'.join(links[moving[b]])} has a mass already (given "
+                "twice, in another order of its joints); give each link once"
+            )
+        given[b] = lm
     for b, k in enumerate(moving):
         ln = links[k]
         lm = given.get(b, LinkMass(0.0))
@@ -229,6 +242,11 @@ def _build(
         if p not in idx:
             raise InputError(f"point_masses: no point {p!r}; the points are {', '.join(names)}")
         pmass[idx[p]] = finite_number(f"point_masses[{p!r}]", m, "[kg]", low=0.0)
+        if p in ground and pmass[idx[p]] > 0:
+            raise InputError(
+                f"point_masses[{p!r}]: {p!r} is a ground joint, which does not move: a mass "
+                "there loads only the frame; put it on a moving point"
+            )
 
     guide_idx, guide_dir, guide_names = [], [], []
     for p, guides in (table.get("sliders") or {}).items():
@@ -272,12 +290,19 @@ def _build(
         np.array(g, dtype=np.float64),
     )
 
+    if isinstance(loads, PointLoad | LinkTorque) or not isinstance(loads, Sequence):
+        raise InputError(f"loads = {loads!r} must be a list of PointLoad and LinkTorque")
     for load in loads:
         if isinstance(load, PointLoad):
             if load.point not in idx:
                 raise InputError(
                     f"loads: a force on {load.point!r}, which is not a point; the points are "
                     f"{', '.join(names)}"
+                )
+            if load.point in ground:
+                raise InputError(
+                    f"loads: a force on {load.point!r}, a ground joint: it goes straight into "
+                    "the frame and loads no link; put it on a moving point"
                 )
         elif isinstance(load, LinkTorque):
             _link_index(links, moving, load.link, "loads: a torque")
@@ -342,7 +367,7 @@ def kinetostatics(
                 torque = np.zeros((n, len(moving)))
             torque[:, b] += load.at(sol.angles)
 
-    values, singular = model.solve(
+    values, conditioning = model.solve(
         np.ascontiguousarray(sol.xy),
         np.ascontiguousarray(sol.vel),
         np.ascontiguousarray(sol.acc),
@@ -352,7 +377,9 @@ def kinetostatics(
         n_threads=threads_arg(n_threads),
     )
     pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
-    return Kinetostatics.from_values(sol, values, singular, pairs=pairs, guides=tuple(guide_names))
+    return Kinetostatics.from_values(
+        sol, values, conditioning, pairs=pairs, guides=tuple(guide_names)
+    )
 
 
 def _solution(linkage: Linkage, angles: Any, n_threads: int | None) -> LinkageSolution:

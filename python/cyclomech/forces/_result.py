@@ -18,7 +18,12 @@ if TYPE_CHECKING:
     from ..linkage import LinkageSolution
     from ..shaft import ShaftTorque
 
-__all__ = ["Kinetostatics"]
+__all__ = ["NEAR_DEAD_CENTRE", "Kinetostatics"]
+
+#: Below this ``conditioning`` (the smallest pivot of the system's blocks over
+#: the block's largest entry) an angle is near a dead centre: its forces are
+#: large and change fast with the angle. Well-built linkages stay above 1e-2.
+NEAR_DEAD_CENTRE = 1e-3
 
 Array = npt.NDArray[np.float64]
 
@@ -32,12 +37,14 @@ class Kinetostatics:
     driving torque on the crank [N·m] (positive in the direction of increasing
     crank angle: the torque the motor supplies), ``guide_parts`` (3, N, G) the
     normal force of each guide (``guides``) [N] along its normal (the guide's
-    direction turned +90°), and ``reaction_parts`` (3, N, K, 2) the force [N]
+    direction turned +90°), ``conditioning`` (N,) how far each angle is from a
+    dead centre (0 at one; the forces grow as its inverse; see
+    :attr:`near_dead_centre`), and ``reaction_parts`` (3, N, K, 2) the force [N]
     each joint exerts on each part it joins (``pairs``: (point, link), the link
     named by its joints, ``"frame"`` for the frame's bearing; empty when solved
-    with ``reactions=False``). ``singular`` is
-    True where a group is at a dead centre (the forces unbounded; NaN there);
-    ``ok`` where the linkage is assembled and not singular.
+    with ``reactions=False``). ``singular`` is True where a group is at a dead
+    centre (the forces unbounded; NaN there); ``ok`` where the linkage is
+    assembled and not singular.
 
     >>> import numpy as np, cyclomech as cm
     >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
@@ -54,14 +61,14 @@ class Kinetostatics:
     torque_parts: Array
     guide_parts: Array
     reaction_parts: Array
-    singular: npt.NDArray[np.bool_]
+    conditioning: Array
 
     @classmethod
     def from_values(
         cls,
         solution: LinkageSolution,
         values: Array,
-        singular: npt.NDArray[np.bool_],
+        conditioning: Array,
         *,
         pairs: tuple[tuple[str, str], ...],
         guides: tuple[str, ...],
@@ -77,7 +84,14 @@ class Kinetostatics:
             torque_parts=values[:, :, 0],
             guide_parts=values[:, :, 1 : 1 + g],
             reaction_parts=values[:, :, 1 + g :].reshape(3, n, k, 2),
-            singular=singular | (solution.singular & solution.ok),
+            conditioning=np.where(solution.singular & solution.ok, 0.0, conditioning),
+        )
+
+    def __repr__(self) -> str:
+        n, bad = self.angles.size, int(self.near_dead_centre.sum())
+        return (
+            f"Kinetostatics({n} crank angles, {len(self.pairs)} joint forces, "
+            f"{len(self.guides)} guides, {int((~self.ok).sum())} not ok, {bad} near a dead centre)"
         )
 
     @property
@@ -86,9 +100,24 @@ class Kinetostatics:
         return self.solution.angles
 
     @property
+    def singular(self) -> npt.NDArray[np.bool_]:
+        """True at a dead centre (a group's kinematics or its forces singular):
+        the forces are unbounded there, NaN."""
+        out: npt.NDArray[np.bool_] = self.conditioning == 0.0
+        return out
+
+    @property
     def ok(self) -> npt.NDArray[np.bool_]:
         """True where the forces are finite: assembled and not at a dead centre."""
         return self.solution.ok & ~self.singular
+
+    @property
+    def near_dead_centre(self) -> npt.NDArray[np.bool_]:
+        """True where the forces are ill-conditioned: ``conditioning`` below
+        :data:`NEAR_DEAD_CENTRE` (a group within a hair of a dead centre, its
+        forces large and sensitive to the angle) or singular."""
+        out: npt.NDArray[np.bool_] = ~(self.conditioning >= NEAR_DEAD_CENTRE)
+        return out & self.solution.ok
 
     @staticmethod
     def _weights(rpm: Any, crank_acceleration: Any) -> tuple[float, float]:
@@ -122,16 +151,25 @@ class Kinetostatics:
         of ``pairs``."""
         return self._at(self.reaction_parts, rpm, crank_acceleration)
 
+    def _need_reactions(self) -> None:
+        if not self.pairs:
+            raise InputError(
+                "the joints' forces were not computed (kinetostatics(..., reactions=False)); "
+                "solve with reactions=True"
+            )
+
     def reaction(
         self, point: str, link: str | None = None, *, rpm: Any, crank_acceleration: float = 0.0
     ) -> Array:
         """The force (N, 2) [N] joint ``point`` exerts on ``link`` (its joints
         joined by "-", or ``"frame"``; None: the joint's only or first part)."""
+        self._need_reactions()
         for k, (p, ln) in enumerate(self.pairs):
             if p == point and (link is None or ln == link):
                 return self.reactions(rpm, crank_acceleration)[:, k]
-        known = ", ".join(f"{p}/{ln}" for p, ln in self.pairs)
-        raise InputError(f"no joint {point!r} on {link!r}; the joints are {known}")
+        known = ", ".join(f"{p} on {ln}" for p, ln in self.pairs)
+        on = f" on {link!r}" if link is not None else ""
+        raise InputError(f"no joint {point!r}{on}; the joints are {known}")
 
     def joint_loads(self, rpm: Any, crank_acceleration: float = 0.0) -> dict[str, Array]:
         """Each joint's load (N,) [N]: the largest force it exerts on any of the
@@ -143,6 +181,7 @@ class Kinetostatics:
         >>> k.joint_loads(0.0)["O"].round(6).tolist()
         [19.62]
         """
+        self._need_reactions()
         mag = np.hypot(*np.moveaxis(self.reactions(rpm, crank_acceleration), -1, 0))
         out: dict[str, Array] = {}
         for k, (p, _) in enumerate(self.pairs):
@@ -199,6 +238,20 @@ class Kinetostatics:
             raise InputError(
                 f"the forces are not finite at crank angles {', '.join(f'{v:.1f}' for v in bad)} "
                 "degrees (not assembled or a dead centre): no shaft torque over the turn"
+            )
+        if self.near_dead_centre.any():
+            import warnings
+
+            from .._errors import CyclomechWarning
+
+            bad = np.degrees(a[self.near_dead_centre])[:6]
+            warnings.warn(
+                f"the linkage is near a dead centre at crank angles "
+                f"{', '.join(f'{v:.2f}' for v in bad)} degrees (conditioning "
+                f"{float(np.nanmin(self.conditioning)):.2g} < {NEAR_DEAD_CENTRE:g}): its torque "
+                "there is large and depends on the grid",
+                CyclomechWarning,
+                stacklevel=2,
             )
         return ShaftTorque(
             np.degrees(a - a[0]),

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._arrays import finite_number
+from .._errors import InputError
 from .._plotting import CRITICAL_COLOR, angle_axis, pyplot
 
 if TYPE_CHECKING:
@@ -19,7 +20,9 @@ __all__ = ["plot_forces"]
 def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> Any:
     """The driving torque on the crank [N·m] (top) and each joint's load [N] (the
     largest force it exerts on a part it joins; bottom) over the crank angle
-    [deg] at ``rpm`` [rpm], the most loaded joint's peak marked. Artists by gid:
+    [deg] at ``rpm`` [rpm], the most loaded joint's peak marked and its curve
+    drawn on top (the ends of a two-force link carry one force: their curves
+    coincide). Artists by gid:
     ``"torque"``, ``"load[<joint>]"``, ``"peak"``.
 
     >>> import matplotlib
@@ -33,6 +36,12 @@ def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> An
     >>> [ax.get_ylabel() for ax in fig.axes]
     ['torque  [N·m]', 'joint load  [N]']
     """
+    from ._result import Kinetostatics
+
+    if not isinstance(k, Kinetostatics):
+        raise InputError(
+            f"plot_forces needs a Kinetostatics (cyclomech.forces.kinetostatics); got {k!r}"
+        )
     n = finite_number("rpm", rpm, "[rpm]")
     plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8.0, 5.6), sharex=True, layout="constrained")
@@ -45,9 +54,14 @@ def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> An
     top.set_title(title or f"driving torque and joint loads at {n:g} rpm")
     if k.pairs:
         loads = k.joint_loads(n)
-        for i, (p, v) in enumerate(loads.items()):
-            bottom.plot(x, v[order], lw=1.1, color=f"C{i % 10}", label=p, gid=f"load[{p}]")
         joint, peak, at = k.most_loaded(n)
+        # The most loaded joint drawn last and thicker: curves of joints that carry
+        # one force (a two-force link's ends) lie on each other.
+        keys = sorted(loads, key=lambda p: p == joint)
+        for p in keys:
+            i = list(loads).index(p)
+            lw = 2.2 if p == joint else 1.1
+            bottom.plot(x, loads[p][order], lw=lw, color=f"C{i % 10}", label=p, gid=f"load[{p}]")
         if joint:
             at = at % 360.0
             bottom.plot([at], [peak], "o", color=CRITICAL_COLOR, gid="peak")
@@ -55,6 +69,16 @@ def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> An
                 f"{joint}: {peak:,.0f} N", (at, peak), textcoords="offset points", xytext=(8, -12)
             )
         bottom.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0), title="joint")
+    else:
+        bottom.text(
+            0.5,
+            0.5,
+            "joint forces not computed (reactions=False)",
+            transform=bottom.transAxes,
+            ha="center",
+            va="center",
+            color="0.4",
+        )
     bottom.set_ylabel("joint load  [N]")
     angle_axis(bottom, 360.0, "crank angle  [deg]")
     for ax in (top, bottom):

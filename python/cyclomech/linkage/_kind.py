@@ -76,6 +76,11 @@ class LinkageMechanism(Unbounded):
         limit = _toml.optional_positive(table, "max_acceleration", ctx.where(name), "[m/s²]")
         dynamics = forces.dynamics_from_table(table, ctx.source, where, lk)
         phase = Phase.from_table(table, ctx, name)
+        if "phase" in table and dynamics is None:
+            raise InputError(
+                f"{ctx.where(name)}: phase places the linkage's torque on the main shaft, but "
+                "it has no masses or loads ([[…mass]], point_mass_kg, [[…load]]): nothing to place"
+            )
         mech = cls(name, lk, lk.output or lk.names[-1], limit, ctx.angle_points, dynamics, phase)
         mech.peaks()  # must assemble over the whole turn
         if dynamics is not None:
@@ -101,12 +106,14 @@ class LinkageMechanism(Unbounded):
         if samples not in self._forces:
             angles = self.linkage.drawn_angle + np.arange(samples) * (2.0 * math.pi / samples)
             k = forces.kinetostatics(self.linkage, angles, **self.dynamics)
-            if not k.ok.all():
-                bad = np.degrees(angles[~k.ok])[:6]
+            if not k.ok.all() or k.near_dead_centre.any():
+                bad = np.degrees(angles[~k.ok | k.near_dead_centre])[:6]
                 raise InputError(
-                    f"mechanism {self.name!r}: a group is at a dead centre at crank angles "
-                    f"{', '.join(f'{v:.1f}' for v in bad)} degrees: its forces are unbounded "
-                    "there"
+                    f"mechanism {self.name!r}: a group is at or near a dead centre at crank "
+                    f"angles {', '.join(f'{v:.2f}' for v in bad)} degrees (conditioning "
+                    f"{float(np.nanmin(k.conditioning)):.2g} < {forces.NEAR_DEAD_CENTRE:g}): its "
+                    "forces grow without bound there, so its crank cannot drive it through; "
+                    "change its dimensions"
                 )
             self._forces[samples] = k
         return self._forces[samples]

@@ -605,7 +605,8 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     if result.shaft is not None:
         sh, n = result.shaft, result.nominal_rpm
         head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
-        columns = [sh.torque.theta_deg, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
+        theta = np.round(sh.torque.theta_deg, 9)  # 0.1 steps, not 0.30000000000000004
+        columns = [theta, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
         rows = [list(r) for r in zip(*columns, strict=True)]
         written.append(_write_csv(folder / "main_shaft.csv", head, rows))
     figs: list[tuple[str, str, Path]] = []

@@ -262,7 +262,7 @@ def _force(table: Mapping[str, Any], name: str, ctx: TableContext) -> Deformatio
     if not isinstance(spec, Mapping):
         raise InputError(
             f"{where} deformation_force = {spec!r}: give a table {{s_above_bdc_m = [...], "
-            "force_n = [...]}} (heights above BDC [m], forces [N])"
+            "force_n = [...]} (heights above BDC [m], forces [N])"
         )
     _toml.check_keys(spec, set(FORCE_KEYS), ctx.source, f"[mechanism.{name}.deformation_force]")
     _toml.require(spec, FORCE_KEYS, f"{where} deformation_force")

@@ -214,6 +214,11 @@ def crank_torque(
     c = press.criteria(omega=1.0, k_Sp=k_Sp, working_stroke=working_stroke)
     if not (math.isfinite(c.S_p) and math.isfinite(c.alpha_p)):
         raise InputError(f"the press design has no working stroke: {c.status}")
+    if force is not None and not isinstance(force, DeformationForce):
+        raise InputError(
+            f"force = {force!r} must be a cyclomech.press.DeformationForce (the force diagram "
+            "over the slider's height above BDC), or None"
+        )
     if force is not None:
         force.check_stroke(c.S_p)
     a = float_array("alpha", alpha)

@@ -165,7 +165,7 @@ impl ForceModel {
         self.model.width(reactions)
     }
 
-    /// (values (3, N, width), singular (N,)) at the N angles of `xy`, `vel`, `acc`
+    /// (values (3, N, width), conditioning (N,): 0 at a dead centre, NaN where an input is not finite) at the N angles of `xy`, `vel`, `acc`
     /// (N, P, 2), with optional point forces (N, P, 2) [N] and link torques (N, B) [N·m].
     #[pyo3(signature = (xy, vel, acc, force=None, torque=None, *, reactions=true, n_threads=None))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -179,7 +179,7 @@ impl ForceModel {
         torque: Option<PyReadonlyArrayDyn<'py, f64>>,
         reactions: bool,
         n_threads: Option<i64>,
-    ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray1<bool>>)> {
+    ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray1<f64>>)> {
         let n = xy.shape().first().copied().unwrap_or(0);
         let inputs = Inputs {
             xy: ForceError::slice(py, "xy", &xy)?,
@@ -201,14 +201,14 @@ impl ForceModel {
             "kinetostatics",
             "solve fewer angles at a time",
         )?;
-        let singular =
-            convert::zeros::<bool, Ix1>(py, &[n], "kinetostatics", "solve fewer angles at a time")?;
+        let conditioning =
+            convert::zeros::<f64, Ix1>(py, &[n], "kinetostatics", "solve fewer angles at a time")?;
         {
             let mut vw = values.readwrite();
-            let mut sw = singular.readwrite();
+            let mut sw = conditioning.readwrite();
             let out = Outputs {
                 values: convert::output(py, &mut vw)?,
-                singular: convert::output(py, &mut sw)?,
+                conditioning: convert::output(py, &mut sw)?,
                 reactions,
             };
             let model = &self.model;
@@ -216,6 +216,6 @@ impl ForceModel {
                 solve_into(model, inputs, out, n_threads)
             })?;
         }
-        Ok((values, singular))
+        Ok((values, conditioning))
     }
 }

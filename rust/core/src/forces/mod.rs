@@ -34,7 +34,9 @@
 //! last placed to the crank: 6 unknowns for a dyad, 12 for a class III group, 3
 //! for the crank. Each block is an LU with partial pivoting; a pivot below 1e-10
 //! of the block's largest entry is a dead centre (the reactions are unbounded):
-//! that angle's results are NaN and flagged singular.
+//! that angle's results are NaN and flagged singular (its conditioning 0). Each
+//! angle's conditioning, the smallest pivot to its block's largest entry, says
+//! how near a dead centre it is: the forces grow as its inverse.
 //!
 //! Files: this one (the model, its analysis and errors), `solve` (the batched
 //! per-angle solve) and `tests`.

@@ -19,10 +19,13 @@ const CHUNK: usize = 256;
 /// Where [`solve_into`] writes: `values` (3, N, W) — for each part (ω², ε,
 /// static) and angle the driving torque [N·m], the G guide forces [N] and, when
 /// `reactions`, the K reactions (x, y) [N] of [`Model::pairs`] (W = 1 + G + 2K;
-/// 1 + G without them) — and `singular` (N,): a dead centre (values NaN).
+/// 1 + G without them) — and `conditioning` (N,): the smallest ratio, over the
+/// system's blocks, of a pivot to the block's largest entry (how far the pose is
+/// from a dead centre; 0 at one, where the values are NaN; NaN where the inputs
+/// are not finite).
 pub struct Outputs<'a> {
     pub values: &'a mut [f64],
-    pub singular: &'a mut [bool],
+    pub conditioning: &'a mut [f64],
     pub reactions: bool,
 }
 
@@ -143,7 +146,7 @@ type Task<'a> = (
     usize,
     (
         ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]),
-        &'a mut [bool],
+        &'a mut [f64],
     ),
 );
 
@@ -207,13 +210,15 @@ impl Model {
         1 + self.spec.guides.len() + if reactions { 2 * self.pairs().len() } else { 0 }
     }
 
-    /// Solve one pose into `out` (its row of each part); false at a dead centre.
-    fn solve_one(&self, s: &mut Scratch, out: [&mut [f64]; 3]) -> bool {
+    /// Solve one pose into `out` (its row of each part): its conditioning (see
+    /// [`Outputs`]), 0 at a dead centre (`out` untouched).
+    fn solve_one(&self, s: &mut Scratch, out: [&mut [f64]; 3]) -> f64 {
         let n = self.n;
         s.sys.a.fill(0.0);
         s.sys.r.fill(0.0);
         self.assemble(&s.pose, &mut s.sys);
         let (a, r, x) = (&s.sys.a, &s.sys.r, &mut s.x);
+        let mut cond = f64::INFINITY;
         for blk in &self.blocks {
             let k = blk.cols.len();
             let (m, b) = (&mut s.m[..k * k], &mut s.b[..k * 3]);
@@ -232,15 +237,17 @@ impl Model {
                 }
                 b[i * 3..i * 3 + 3].copy_from_slice(&v);
             }
-            if !lu_solve(m, b, k, SINGULAR_REL * abs_max(m)) {
-                return false;
+            let scale = abs_max(m);
+            match lu_solve(m, b, k, SINGULAR_REL * scale) {
+                Some(pivot) => cond = cond.min(pivot / scale),
+                None => return 0.0,
             }
             for (j, &col) in blk.cols.iter().enumerate() {
                 x[col * 3..col * 3 + 3].copy_from_slice(&b[j * 3..j * 3 + 3]);
             }
         }
         self.write(s, out);
-        true
+        cond
     }
 
     /// One angle's values from the solved unknowns: the torque, the guides and
@@ -313,8 +320,10 @@ fn abs_max(v: &[f64]) -> f64 {
 
 /// Gaussian elimination with partial pivoting of the k×k `m` (row-major) on the
 /// three right-hand sides `b` (k×3), in place (the diagonal keeps the pivots'
-/// reciprocals); false if a pivot is at most `tol` (or not finite).
-fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> bool {
+/// reciprocals): the smallest |pivot|, or None if a pivot is at most `tol` (or
+/// not finite).
+fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> Option<f64> {
+    let mut smallest = f64::INFINITY;
     for c in 0..k {
         let (mut piv, mut best) = (c, m[c * k + c].abs());
         for r in c + 1..k {
@@ -324,8 +333,9 @@ fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> bool {
             }
         }
         if best <= tol || best == 0.0 || !best.is_finite() {
-            return false;
+            return None;
         }
+        smallest = smallest.min(best);
         if piv != c {
             let (top, bottom) = m.split_at_mut(piv * k);
             top[c * k..(c + 1) * k].swap_with_slice(&mut bottom[..k]);
@@ -364,7 +374,7 @@ fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> bool {
         b[c * 3 + 1] = v[1] * inv;
         b[c * 3 + 2] = v[2] * inv;
     }
-    true
+    Some(smallest)
 }
 
 /// The inputs at N angles: `xy`, `vel`, `acc` (N, P, 2) the points' positions
@@ -395,7 +405,7 @@ pub fn solve_into(
     } = inputs;
     let p2 = 2 * model.spec.n_points;
     let nb = model.spec.bodies.len();
-    let n = out.singular.len();
+    let n = out.conditioning.len();
     let w = model.width(out.reactions);
     let sizes = [
         ("xy", xy.len(), n * p2),
@@ -418,14 +428,14 @@ pub fn solve_into(
     }
     let (part0, rest) = out.values.split_at_mut(n * w);
     let (part1, part2) = rest.split_at_mut(n * w);
-    let run = |(c, (((v0, v1), v2), sing)): Task<'_>| {
+    let run = |(c, (((v0, v1), v2), conds)): Task<'_>| {
         let mut s = model.scratch();
         let rows = v0
             .chunks_exact_mut(w)
             .zip(v1.chunks_exact_mut(w))
             .zip(v2.chunks_exact_mut(w))
-            .zip(sing.iter_mut());
-        for (i, (((r0, r1), r2), flag)) in rows.enumerate() {
+            .zip(conds.iter_mut());
+        for (i, (((r0, r1), r2), cond)) in rows.enumerate() {
             let a = c * CHUNK + i;
             let row = Row {
                 xy: &xy[a * p2..(a + 1) * p2],
@@ -434,10 +444,12 @@ pub fn solve_into(
                 force: force.map(|f| &f[a * p2..(a + 1) * p2]),
                 torque: torque.map(|t| &t[a * nb..(a + 1) * nb]),
             };
-            let filled = s.pose.fill(&model.spec, row);
-            let ok = filled && model.solve_one(&mut s, [&mut *r0, &mut *r1, &mut *r2]);
-            *flag = filled && !ok;
-            if !ok {
+            *cond = if s.pose.fill(&model.spec, row) {
+                model.solve_one(&mut s, [&mut *r0, &mut *r1, &mut *r2])
+            } else {
+                f64::NAN
+            };
+            if cond.is_nan() || *cond == 0.0 {
                 r0.fill(f64::NAN);
                 r1.fill(f64::NAN);
                 r2.fill(f64::NAN);
@@ -449,7 +461,7 @@ pub fn solve_into(
             .par_chunks_mut(CHUNK * w)
             .zip(part1.par_chunks_mut(CHUNK * w))
             .zip(part2.par_chunks_mut(CHUNK * w))
-            .zip(out.singular.par_chunks_mut(CHUNK))
+            .zip(out.conditioning.par_chunks_mut(CHUNK))
             .enumerate()
             .for_each(run)
     });
