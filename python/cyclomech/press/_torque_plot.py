@@ -87,8 +87,27 @@ def plot_crank_torque(
         label="working stroke",
         zorder=0.4,
     )
-    ax.plot(deg, torque.static[order], color=WORK_COLOR, lw=1.4, label="force F·Π'", gid="force")
-    ax.plot(deg, M_inertia[order], color="#4e79a7", lw=1.2, label="inertia", gid="inertia")
+    # The parts dashed over the total (the force part is most of it on the stroke).
+    ax.plot(
+        deg,
+        torque.static[order],
+        color=WORK_COLOR,
+        lw=1.6,
+        ls="--",
+        label="force F·Π'",
+        gid="force",
+        zorder=3,
+    )
+    ax.plot(
+        deg,
+        M_inertia[order],
+        color="#4e79a7",
+        lw=1.4,
+        ls="--",
+        label="inertia",
+        gid="inertia",
+        zorder=3,
+    )
     total = torque.torque_nm(omega)[order]
     ax.plot(deg, total, color="k", lw=1.6, label="crank torque M", gid="total")
     ax.axhline(0.0, color="0.55", linewidth=0.6, zorder=0.5)
