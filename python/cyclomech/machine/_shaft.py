@@ -26,8 +26,10 @@ Array = npt.NDArray[np.float64]
 class MainShaft:
     """The main shaft at the optimum: ``torque`` (the sum) and ``parts`` (each
     contributing mechanism's, at its phase), the statistics at the nominal speed
-    (``at_nominal``) and at the sweep's speeds (``over_speed``) for the coefficient
-    of speed fluctuation ``speed_fluctuation``. With ``[machine] flatten_torque``,
+    (``at_nominal``) and at the sweep's speeds (``over_speed``: the same curves and
+    phases, those of the nominal speed's optimum, at each speed — the ω² part
+    scales, the layout does not follow each speed's own optimum) for the
+    coefficient of speed fluctuation ``speed_fluctuation``. With ``[machine] flatten_torque``,
     ``flattening`` (:class:`Flattening`) says how the parts were moved within the
     cyclogram's slack, and ``torque``, ``parts`` and the statistics are at the
     moved phases (the rest of the report stays at the optimum)."""
