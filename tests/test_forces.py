@@ -598,3 +598,16 @@ def test_without_reactions_the_joint_queries_say_so():
         with pytest.raises(cm.CyclomechError, match="reactions=False"):
             call()
     assert "near a dead centre" in repr(k) and len(repr(k)) < 200
+
+
+def test_standalone_files_say_where_the_force_keys_belong(tmp_path):
+    lk = tmp_path / "lk.toml"
+    text = (Path(__file__).parents[1] / "examples" / "burg_trimmer.toml").read_text("utf-8")
+    lk.write_text(text.replace("[linkage]\n", "[linkage]\npoint_mass_kg = {E = 1.0}\n", 1), "utf-8")
+    with pytest.raises(cm.CyclomechError, match=r"belong in its \[mechanism\.<name>\]"):
+        cm.Linkage.from_toml(lk)
+    press = tmp_path / "p.toml"
+    text = (Path(__file__).parents[1] / "examples" / "extrusion_press.toml").read_text("utf-8")
+    press.write_text(text.replace("[press]\n", "[press]\nslider_mass_kg = 60.0\n", 1), "utf-8")
+    with pytest.raises(cm.CyclomechError, match=r"GearLeverPress\.crank_torque"):
+        cm.press.PressStudy.from_toml(press)

@@ -15,6 +15,8 @@ if TYPE_CHECKING:
     from ._linkage import Linkage
 
 _LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengths", "sliders"}
+#: Keys of a machine file's linkage table that a plain linkage file does not take.
+_MACHINE_KEYS = {"mass", "point_mass_kg", "load", "gravity_m_per_s2", "phase"}
 
 
 def linkage_table(lk: Linkage) -> dict[str, Any]:
@@ -47,6 +49,13 @@ def linkage_table(lk: Linkage) -> dict[str, Any]:
 def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where: str) -> Linkage:
     """What :meth:`Linkage.from_dict` does: check ``table``'s keys, read its
     lengths and sliders and build a ``cls``; errors name ``source`` and ``where``."""
+    machine_only = sorted(set(table) & _MACHINE_KEYS)
+    if machine_only:
+        raise InputError(
+            f"{source}: {where}: {', '.join(machine_only)} describe(s) the linkage's forces in a "
+            "machine: they belong in its [mechanism.<name>] table of a file for `cyclomech "
+            "run`; in Python, cyclomech.forces.kinetostatics takes them"
+        )
     _toml.check_keys(table, _LINKAGE_KEYS, source, where)
     for req in ("points", "links", "ground", "driver"):
         if req not in table:

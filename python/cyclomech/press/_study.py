@@ -110,6 +110,15 @@ class PressStudy:
             if t not in data:
                 raise InputError(f"{src}: missing table [{t}]")
         pt, wt = data["press"], data["working"]
+        machine_only = sorted(
+            set(pt) & {"deformation_force", "slider_mass_kg", "rod_mass_kg", "phase"}
+        )
+        if machine_only:
+            raise InputError(
+                f"{src}: [press]: {', '.join(machine_only)} give(s) the crank torque in a "
+                'machine: they belong in its [mechanism.<name>] (kind = "press") table of a '
+                "file for `cyclomech run`; in Python, GearLeverPress.crank_torque takes them"
+            )
         _toml.check_keys(pt, DRIVE_KEYS | {"name"}, src, "[press]")
         _toml.check_keys(wt, {"k_Sp", "working_stroke", "rpm"}, src, "[working]")
 
