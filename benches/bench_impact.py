@@ -62,11 +62,11 @@ one case 37 µs: lsim 1026x, lfilter 5.6x (63 of its 205 µs are lfilter itself,
 rest numpy setting up one case's coefficients), sdof 7.2x, eqsig 2233x. Batch 12 /
 19 ms: numpy FFT 50x / 32x, lfilter 8.5x / 5.4x, sdof 22x / 14x; numpy's
 ``forces * 1.0`` (the memory floor: read the forces, write a new array of their
-size) 12 ms. With a reused ``out=`` (issue 20; three runs, load 2.3-2.5, one
-thread): 13.4 ms against 20.1 ms fresh (1.5x), numpy's reused-buffer floor 11.9 ms
-and its fresh floor 17.6 ms. first_rebound 1e6 cases in 0.48 / 0.93 s (2.1e6 / 1.1e6 cases/s):
-numpy 4.4x / 2.3x; per case 0.93 µs, 21x less than the full history's 19 µs.
-StopImpact 60 / 117 ms: numpy 4.7x / 2.4x.
+size) 12 ms. With a reused ``out=`` (issue 20, Intel Xeon, 2 cores; three runs,
+load 2.3-2.5, one thread): 13.4 ms against 20.1 ms fresh (1.5x), numpy's
+reused-buffer floor 11.9 ms and its fresh floor 17.6 ms. first_rebound 1e6 cases
+in 0.48 / 0.93 s (2.1e6 / 1.1e6 cases/s): numpy 4.4x / 2.3x; per case 0.93 µs,
+21x less than the full history's 19 µs. StopImpact 60 / 117 ms: numpy 4.7x / 2.4x.
 
 sdof and eqsig are optional (``pip install sdof eqsig``): their rows skip when not
 installed. Default test run (``--benchmark-disable`` in addopts): each benchmark
