@@ -40,7 +40,11 @@ Groups (each prints one ratio table; ``cyclomech`` rows are the references):
   1000 of its Python loops (~80 s), timed only with ``CYCLOMECH_BENCH_FULL=1``.
   lsim is left out: 1000 cases as one block-diagonal system would step a
   2000-state matrix product. Also numpy's ``forces * 1.0``, not a solver: the
-  memory traffic any tool returning the histories as a new array pays.
+  memory traffic any tool returning the histories as a new array pays. And the
+  same two without the fresh array (issue 20, "no fresh-page tax"):
+  ``duhamel_batch(..., out=buf)`` into a reused buffer (bit for bit the fresh
+  call's results) and its floor ``np.multiply(forces, 1.0, out=buf)``; a new
+  80 MB array's pages are faulted in and zeroed by the OS on first touch.
 - peak only, 1e6 cases (amplitude and ζ as above, the 3-point pulse F, F/2 at τ,
   then 0): ``first_rebound`` (O(breakpoints), exact) against
   :func:`numpy_first_max`, the exact FOH recurrence vectorised over the cases and
@@ -58,9 +62,11 @@ one case 37 µs: lsim 1026x, lfilter 5.6x (63 of its 205 µs are lfilter itself,
 rest numpy setting up one case's coefficients), sdof 7.2x, eqsig 2233x. Batch 12 /
 19 ms: numpy FFT 50x / 32x, lfilter 8.5x / 5.4x, sdof 22x / 14x; numpy's
 ``forces * 1.0`` (the memory floor: read the forces, write a new array of their
-size) 12 ms. first_rebound 1e6 cases in 0.48 / 0.93 s (2.1e6 / 1.1e6 cases/s):
-numpy 4.4x / 2.3x; per case 0.93 µs, 21x less than the full history's 19 µs.
-StopImpact 60 / 117 ms: numpy 4.7x / 2.4x.
+size) 12 ms. With a reused ``out=`` (issue 20, Intel Xeon, 2 cores; three runs,
+load 2.3-2.5, one thread): 13.4 ms against 20.1 ms fresh (1.5x), numpy's
+reused-buffer floor 11.9 ms and its fresh floor 17.6 ms. first_rebound 1e6 cases
+in 0.48 / 0.93 s (2.1e6 / 1.1e6 cases/s): numpy 4.4x / 2.3x; per case 0.93 µs,
+21x less than the full history's 19 µs. StopImpact 60 / 117 ms: numpy 4.7x / 2.4x.
 
 sdof and eqsig are optional (``pip install sdof eqsig``): their rows skip when not
 installed. Default test run (``--benchmark-disable`` in addopts): each benchmark
@@ -494,6 +500,26 @@ def test_batch_cyclomech(benchmark, batch, threads) -> None:
     check_one(benchmark, q, batch, 0.0)
 
 
+@pytest.fixture(scope="module")
+def out_buffer(batch) -> Array:
+    """A caller's (B, N) output, its pages already faulted in (as after a first call)."""
+    return np.full_like(batch["forces"], np.nan)
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+@pytest.mark.parametrize("threads", [2, 1])
+def test_batch_cyclomech_out(benchmark, batch, out_buffer, threads) -> None:
+    """The same batch written into a reused ``out=`` buffer: no fresh pages to
+    fault in and zero; bit for bit the fresh call's results."""
+    _label(benchmark, "cyclomech", f"impact.duhamel_batch(out=reused), n_threads={threads}")
+    args = (T, batch["forces"], OMEGA, batch["zeta"], MASS)
+    kwargs = {"n_threads": threads, "out": out_buffer}
+    q = benchmark.pedantic(cm.impact.duhamel_batch, args=args, kwargs=kwargs, rounds=5)
+    assert q is out_buffer
+    assert_array_equal(q.view(np.uint64), batch["q"].view(np.uint64))
+    check_one(benchmark, q, batch, 0.0)
+
+
 @pytest.mark.benchmark(group=GROUP_BATCH)
 def test_batch_numpy_fft(benchmark, batch) -> None:
     _label(benchmark, "numpy", "FFT convolution, exact FOH kernels, 100 cases per chunk")
@@ -527,6 +553,18 @@ def test_batch_memory_floor(benchmark, batch) -> None:
     the forces and write a fresh array of their size (its pages faulted in)."""
     _label(benchmark, "numpy", "forces * 1.0, memory floor (read B*N, write new B*N)")
     q = benchmark.pedantic(np.multiply, args=(batch["forces"], 1.0), rounds=5)
+    assert_array_equal(q, batch["forces"])
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+def test_batch_memory_floor_out(benchmark, batch) -> None:
+    """The floor for the ``out=`` rows: read the forces, write an existing array
+    of their size (no page faults), ``np.multiply(forces, 1.0, out=buf)``."""
+    _label(benchmark, "numpy", "forces * 1.0 into a reused out=, floor without fresh pages")
+    buf = np.full_like(batch["forces"], np.nan)
+    kwargs = {"out": buf}
+    q = benchmark.pedantic(np.multiply, args=(batch["forces"], 1.0), kwargs=kwargs, rounds=5)
+    assert q is buf
     assert_array_equal(q, batch["forces"])
 
 

@@ -348,6 +348,7 @@ def duhamel_batch(
     v0: npt.NDArray[np.float64],
     *,
     n_threads: int | None = None,
+    out: npt.NDArray[np.float64] | None = None,
 ) -> npt.NDArray[np.float64]: ...
 def first_rebound_batch(
     t: npt.NDArray[np.float64],

@@ -101,22 +101,65 @@ def duhamel_batch(
     v0: npt.ArrayLike = 0.0,
     *,
     n_threads: int | None = None,
+    out: Array | None = None,
 ) -> Any:
-    """:func:`duhamel` for B cases on one time grid ``t`` (N,): ``forces`` (B, N)
-    [N], per-case ``omega_n``, ``zeta``, ``mass``, ``q0``, ``v0`` (scalars or
-    (B,)); returns q (B, N) [m], computed in parallel in Rust.
+    """:func:`duhamel` for B cases on one time grid ``t`` (N,) [s]: ``forces`` (B, N)
+    [N], per-case ``omega_n`` [rad/s], ``zeta``, ``mass`` [kg], ``q0`` [m], ``v0``
+    [m/s] (scalars or (B,)); returns q (B, N) [m], computed in parallel in Rust.
+
+    ``out``: a caller-owned array to write q into and return instead of a new
+    one — a writeable, C-contiguous float64 ndarray of shape (B, N) that shares no
+    memory with an input. A caller who runs batch after batch saves the new
+    array's page faults and zeroing (about a third of the time of a large batch).
+    Its old content is never read; the results are bit for bit those without
+    ``out``. If the call raises, ``out`` may be partly written.
 
     >>> import numpy as np, cyclomech as cm
     >>> t = np.linspace(0.0, 0.01, 101)
     >>> q = cm.impact.duhamel_batch(t, np.ones((3, 101)), 2 * np.pi * 297, [0.0, 0.05, 1.0], 0.01)
     >>> q.shape
     (3, 101)
+    >>> buf = np.empty((3, 101))                         # reused from call to call
+    >>> r = cm.impact.duhamel_batch(t, np.ones((3, 101)), 2 * np.pi * 297, [0.0, 0.05, 1.0], 0.01,
+    ...                             out=buf)
+    >>> r is buf, bool(np.array_equal(r, q))
+    (True, True)
     """
     ta = _grid("t", t)
     fa = float_array("forces", forces, ndims=(2,))
     b = fa.shape[0]
     cases = _cases(b, omega_n=omega_n, zeta=zeta, mass=mass, q0=q0, v0=v0)
-    return _core.duhamel_batch(ta, fa, *cases, n_threads=threads_arg(n_threads))
+    if out is not None:
+        given = [t, forces, omega_n, zeta, mass, q0, v0]
+        _check_out(out, (b, ta.size), [ta, fa, *cases, *given], "the responses q [m]")
+    return _core.duhamel_batch(ta, fa, *cases, n_threads=threads_arg(n_threads), out=out)
+
+
+def _check_out(out: Any, shape: tuple[int, ...], inputs: list[Any], what: str) -> None:
+    """Refuse an ``out`` the kernel cannot fill in place, naming what it is and
+    what is expected (``shape``; ``inputs`` are the arrays it must not overlap)."""
+    want = (
+        f"out must be a writeable C-contiguous float64 numpy array of shape {shape} "
+        f"({what}) sharing no memory with an input"
+    )
+    if not isinstance(out, np.ndarray):
+        raise InputError(f"{want}; got {type(out).__name__}")
+    got = f"got a {out.dtype} array of shape {out.shape}"
+    if out.dtype != np.float64:
+        raise InputError(f"{want}; {got}")
+    if out.shape != shape:
+        raise InputError(f"{want}; {got}")
+    if not out.flags.c_contiguous:
+        raise InputError(f"{want}; {got} that is not C-contiguous (strides {out.strides})")
+    if not out.flags.writeable:
+        raise InputError(f"{want}; {got} that is read-only")
+    for a in inputs:
+        # Bounds first (cheap); the exact test only when they overlap.
+        if isinstance(a, np.ndarray) and np.may_share_memory(out, a) and np.shares_memory(out, a):
+            raise InputError(
+                f"{want}; {got} that shares memory with an input of shape {a.shape} "
+                "(the kernel reads every input while it writes out)"
+            )
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,10 @@
 // Aliased: the Python function `duhamel` takes the module's name.
 use cyclomech_core::impact as kernel;
 use cyclomech_core::impact::{Cases, Contact, ContactHistory, ImpactError, Oscillator, MAX_EVENTS};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -142,9 +145,12 @@ pub fn duhamel<'py>(
 }
 
 /// Responses q (B, N) of B oscillators (ω, ζ, m, q0, v0 each (B,)) to the forces
-/// (B, N) on one grid `t` (N,), in parallel over the cases.
+/// (B, N) on one grid `t` (N,), in parallel over the cases; written into `out`
+/// (a writeable C-contiguous float64 (B, N) array that overlaps no input) and
+/// returned if it is given, else into a new array whose pages are first touched
+/// by the threads that write them.
 #[pyfunction]
-#[pyo3(signature = (t, forces, omega_n, zeta, mass, q0, v0, *, n_threads=None))]
+#[pyo3(signature = (t, forces, omega_n, zeta, mass, q0, v0, *, n_threads=None, out=None))]
 #[allow(clippy::too_many_arguments)] // the grid, the forces and five per-case arrays
 pub fn duhamel_batch<'py>(
     py: Python<'py>,
@@ -156,6 +162,7 @@ pub fn duhamel_batch<'py>(
     q0: PyReadonlyArray1<'py, f64>,
     v0: PyReadonlyArray1<'py, f64>,
     n_threads: Option<i64>,
+    out: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let ts = ImpactError::slice(py, "t", &t)?;
     let (fs, b, n) = ImpactError::rows(py, "forces", &forces)?;
@@ -168,15 +175,79 @@ pub fn duhamel_batch<'py>(
         v0,
     };
     let cases = arrays.view(py, b)?;
-    let out = convert::zeros(py, &[b, n], "duhamel_batch's responses", HINT)?;
+    let out = match out {
+        Some(a) => out_array(py, a, b, n)?,
+        // numpy.zeros takes fresh pages of the OS (calloc) without touching
+        // them: each is first touched, and faulted in, by the thread that
+        // writes its rows.
+        None => convert::zeros(py, &[b, n], "duhamel_batch's responses", HINT)?,
+    };
     {
-        let mut ow = out.readwrite();
-        let os = convert::output(py, &mut ow)?;
+        // The inputs are borrowed read-only above, so numpy's borrow checker
+        // refuses an `out` that overlaps one of them (or is read-only).
+        let mut ow = out.try_readwrite().map_err(|e| {
+            let got = format!("an array numpy will not lend for writing ({e})");
+            out_error(b, n, got).into_pyerr(py)
+        })?;
+        let os = ImpactError::slice_mut(py, "out", &mut ow)?;
         run(py, "duhamel_batch", || {
             kernel::response_batch_into(ts, fs, &cases, n_threads, os)
         })?;
     }
     Ok(out)
+}
+
+fn out_error(b: usize, n: usize, got: String) -> ImpactError {
+    ImpactError::Output {
+        field: "out",
+        want: format!(
+            "a writeable C-contiguous float64 array of shape (B, N) = ({b}, {n}) \
+             that overlaps no input"
+        ),
+        got,
+    }
+}
+
+/// A caller's `out` as a float64 (B, N) C-contiguous array, or an `InputError`
+/// naming what it is.
+fn out_array<'py>(
+    py: Python<'py>,
+    a: Bound<'py, PyAny>,
+    b: usize,
+    n: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let a = match a.cast_into::<PyArray2<f64>>() {
+        Ok(a) => a,
+        Err(e) => {
+            let a = e.into_inner();
+            let attr = |name: &str| {
+                a.getattr(name)
+                    .and_then(|v| v.str().map(|s| s.to_string()))
+                    .unwrap_or_else(|_| "none".into())
+            };
+            let got = format!(
+                "{} with dtype {} and shape {}",
+                a.get_type().name()?,
+                attr("dtype"),
+                attr("shape")
+            );
+            return Err(out_error(b, n, got).into_pyerr(py));
+        }
+    };
+    let shape = a.shape();
+    if shape == [b, n] && a.is_c_contiguous() {
+        return Ok(a);
+    }
+    let layout = if a.is_c_contiguous() {
+        "C-contiguous"
+    } else {
+        "non-contiguous"
+    };
+    let got = format!(
+        "a {layout} float64 array of shape ({}, {})",
+        shape[0], shape[1]
+    );
+    Err(out_error(b, n, got).into_pyerr(py))
 }
 
 fn check_columns(py: Python<'_>, columns: usize, times: usize) -> PyResult<()> {

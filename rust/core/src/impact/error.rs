@@ -51,6 +51,13 @@ pub enum ImpactError {
         got: usize,
         want: String,
     },
+    /// A caller's output array (`out=`) that the kernel cannot fill in place.
+    #[error("{field} must be {want}; got {got}")]
+    Output {
+        field: &'static str,
+        want: String,
+        got: String,
+    },
     #[error(
         "a step h = {h} with omega_n = {omega_n} and zeta = {zeta} gives non-finite \
          coefficients; rescale time so that omega_n*h and zeta*omega_n*h stay below ~1e150"
