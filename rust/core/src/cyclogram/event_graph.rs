@@ -152,7 +152,7 @@ impl EventGraph {
     }
 
     /// Earliest times, by event, into `t` (V,).
-    fn forward(&self, w: &[f64], t: &mut [f64]) {
+    pub(super) fn forward(&self, w: &[f64], t: &mut [f64]) {
         for (k, &v) in self.order.iter().enumerate() {
             let r = self.inc.range(k);
             let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
@@ -204,29 +204,7 @@ impl EventGraph {
         Ok(t)
     }
 
-    /// Earliest times for 8 rows at once: `wblk[j]` holds the weights of the arc at
-    /// `inc` position `j` for each lane; times by event into `t`.
-    fn forward_block(&self, wblk: &[[f64; LANES]], t: &mut [[f64; LANES]]) {
-        for (k, &v) in self.order.iter().enumerate() {
-            let r = self.inc.range(k);
-            let mut best = if r.is_empty() {
-                [0.0; LANES]
-            } else {
-                [f64::NEG_INFINITY; LANES]
-            };
-            for (&s, w) in self.inc.other[r.clone()].iter().zip(&wblk[r]) {
-                let ts = &t[s as usize];
-                for l in 0..LANES {
-                    // Inputs are finite, so no NaN: a plain compare-and-select.
-                    let c = ts[l] + w[l];
-                    best[l] = if c > best[l] { c } else { best[l] };
-                }
-            }
-            t[v as usize] = best;
-        }
-    }
-
-    /// One block of up to 8 rows starting at row `r0` into `out` (lanes × V).
+    /// One block of up to [`LANES`] rows starting at row `r0` into `out` (lanes × V).
     /// Returns false if a weight of the block is not finite (nothing is reported
     /// from here; the caller locates it).
     fn batch_block(
@@ -239,26 +217,22 @@ impl EventGraph {
     ) -> bool {
         let (n, m) = (self.n, self.n_arcs());
         let lanes = out.len() / n;
-        let rows: Vec<&[f64]> = (0..lanes)
-            .map(|l| &weights[(r0 + l) * m..(r0 + l + 1) * m])
-            .collect();
-        // Gather: the rows are read in order, each arc's 8 lanes written once at
-        // its position in the forward pass; the finite check rides along.
-        let mut ok = [true; LANES];
-        for (e, &j) in self.slot.iter().enumerate() {
-            let dst = &mut wblk[j as usize];
-            for l in 0..lanes {
-                let x = rows[l][e];
-                dst[l] = x;
-                ok[l] &= x.abs() <= MAX_ABS_VALUE;
-            }
-        }
-        if !ok.iter().all(|&b| b) {
+        // A short last block repeats its last row in the spare lanes (computed,
+        // never written out), so every block runs the full-width kernel.
+        let rows: [&[f64]; LANES] = std::array::from_fn(|l| {
+            let r = r0 + l.min(lanes - 1);
+            &weights[r * m..(r + 1) * m]
+        });
+        if !pulp::Arch::new().dispatch(Block {
+            graph: self,
+            rows,
+            wblk,
+            t,
+        }) {
             return false;
         }
-        self.forward_block(wblk, t);
-        for l in 0..lanes {
-            for (o, tv) in out[l * n..(l + 1) * n].iter_mut().zip(t.iter()) {
+        for (l, o) in out.chunks_exact_mut(n).enumerate() {
+            for (o, tv) in o.iter_mut().zip(t.iter()) {
                 *o = tv[l];
             }
         }
@@ -369,6 +343,80 @@ impl EventGraph {
             horizon,
             tolerance,
         })
+    }
+}
+
+/// The batch kernel for one block of [`LANES`] weight vectors, compiled once per
+/// instruction set (AVX-512, AVX2 + FMA, or plain SSE2) and picked at run time:
+/// the rows are gathered arc by arc into `wblk` (each arc's lanes side by side, at
+/// its position in the forward pass) with the finite check riding along, then the
+/// earliest times of all lanes go into `t` (by event).
+///
+/// Lane by lane the arithmetic is [`EventGraph`]'s single-row `forward`: an
+/// event's time starts at 0 (no incoming arc) or −∞, and each incoming arc in
+/// `inc` order replaces it by `t[src] + w` when that is greater (compare and
+/// select, so a NaN sum never wins and a tie keeps the earlier arc). Nothing is
+/// reassociated, so every instruction set gives the single-row results bit for
+/// bit. Returns whether every weight of the block is at most [`MAX_ABS_VALUE`]
+/// in magnitude (NaN fails); the times are computed either way.
+pub(super) struct Block<'a, 'b> {
+    pub(super) graph: &'a EventGraph,
+    /// The block's weight vectors, E entries each, by arc index.
+    pub(super) rows: [&'a [f64]; LANES],
+    /// Scratch (E,): the block's weights by `inc` position.
+    pub(super) wblk: &'b mut [[f64; LANES]],
+    /// Output (V,): earliest times by event, one lane per row.
+    pub(super) t: &'b mut [[f64; LANES]],
+}
+
+impl pulp::WithSimd for Block<'_, '_> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> bool {
+        let Block {
+            graph: g,
+            rows,
+            wblk,
+            t,
+        } = self;
+        let m = g.slot.len();
+        assert!(wblk.len() == m && t.len() == g.n && rows.iter().all(|r| r.len() == m));
+        let (limit, zero) = (simd.splat_f64s(MAX_ABS_VALUE), simd.splat_f64s(0.0));
+        // 1.0 in a lane while its weights are all within the limit, 0.0 after.
+        let mut ok = [1.0f64; LANES];
+        {
+            let okv = S::as_mut_simd_f64s(&mut ok).0;
+            for (e, &j) in g.slot.iter().enumerate() {
+                let x: [f64; LANES] = std::array::from_fn(|l| rows[l][e]);
+                wblk[j as usize] = x;
+                let xv = S::as_simd_f64s(&x).0;
+                for i in 0..okv.len() {
+                    let fine = simd.less_than_or_equal_f64s(simd.abs_f64s(xv[i]), limit);
+                    okv[i] = simd.select_f64s(fine, okv[i], zero);
+                }
+            }
+        }
+        for (k, &v) in g.order.iter().enumerate() {
+            let r = g.inc.range(k);
+            let mut best = if r.is_empty() {
+                [0.0; LANES]
+            } else {
+                [f64::NEG_INFINITY; LANES]
+            };
+            {
+                let bv = S::as_mut_simd_f64s(&mut best).0;
+                for (&s, w) in g.inc.other[r.clone()].iter().zip(&wblk[r]) {
+                    let (ts, ws) = (S::as_simd_f64s(&t[s as usize]).0, S::as_simd_f64s(w).0);
+                    for i in 0..bv.len() {
+                        let c = simd.add_f64s(ts[i], ws[i]);
+                        bv[i] = simd.select_f64s(simd.less_than_f64s(bv[i], c), c, bv[i]);
+                    }
+                }
+            }
+            t[v as usize] = best;
+        }
+        ok.iter().all(|&x| x == 1.0)
     }
 }
 
