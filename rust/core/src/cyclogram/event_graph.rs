@@ -223,20 +223,13 @@ impl EventGraph {
             let r = r0 + l.min(lanes - 1);
             &weights[r * m..(r + 1) * m]
         });
-        if !pulp::Arch::new().dispatch(Block {
+        pulp::Arch::new().dispatch(Block {
             graph: self,
             rows,
             wblk,
             t,
-        }) {
-            return false;
-        }
-        for (l, o) in out.chunks_exact_mut(n).enumerate() {
-            for (o, tv) in o.iter_mut().zip(t.iter()) {
-                *o = tv[l];
-            }
-        }
-        true
+            out,
+        })
     }
 
     /// Earliest times for `rows` weight vectors of `row_len` entries stored
@@ -347,10 +340,13 @@ impl EventGraph {
 }
 
 /// The batch kernel for one block of [`LANES`] weight vectors, compiled once per
-/// instruction set (AVX-512, AVX2 + FMA, or plain SSE2) and picked at run time:
-/// the rows are gathered arc by arc into `wblk` (each arc's lanes side by side, at
-/// its position in the forward pass) with the finite check riding along, then the
-/// earliest times of all lanes go into `t` (by event).
+/// instruction set (AVX-512, AVX2 + FMA, or plain SSE2) and picked at run time.
+/// Three passes:
+/// 1. gather: the rows, read in 8 × 8 tiles (8 rows × 8 consecutive arcs) and
+///    transposed in registers, go into `wblk` (each arc's lanes side by side, at
+///    its position in the forward pass); the finite check rides along;
+/// 2. forward: the earliest times of all lanes into `t` (by event);
+/// 3. scatter: `t`, transposed in 8 × 8 tiles again, into `out` (lanes × V).
 ///
 /// Lane by lane the arithmetic is [`EventGraph`]'s single-row `forward`: an
 /// event's time starts at 0 (no incoming arc) or −∞, and each incoming arc in
@@ -361,12 +357,107 @@ impl EventGraph {
 /// in magnitude (NaN fails); the times are computed either way.
 pub(super) struct Block<'a, 'b> {
     pub(super) graph: &'a EventGraph,
-    /// The block's weight vectors, E entries each, by arc index.
+    /// The block's weight vectors, E entries each, by arc index (a short block
+    /// repeats its last row).
     pub(super) rows: [&'a [f64]; LANES],
     /// Scratch (E,): the block's weights by `inc` position.
     pub(super) wblk: &'b mut [[f64; LANES]],
-    /// Output (V,): earliest times by event, one lane per row.
+    /// Scratch (V,): earliest times by event, one lane per row.
     pub(super) t: &'b mut [[f64; LANES]],
+    /// Output (lanes × V), row-major: the first `out.len() / V` lanes' times.
+    pub(super) out: &'b mut [f64],
+}
+
+/// `tile` (8 × 8) transposed, in explicit shuffles on AVX-512 and AVX2 (written
+/// element by element, LLVM assembles it from 128-bit pieces and single
+/// stores). The instruction set is known when the kernel is compiled for it, so
+/// the type test below is resolved then.
+#[inline(always)]
+pub(super) fn transpose<S: pulp::Simd>(
+    simd: S,
+    tile: &[[f64; LANES]; LANES],
+) -> [[f64; LANES]; LANES] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let any = &simd as &dyn std::any::Any;
+        if let Some(&v4) = any.downcast_ref::<pulp::x86::V4>() {
+            return transpose_v4(v4, tile);
+        }
+        if let Some(&v3) = any.downcast_ref::<pulp::x86::V3>() {
+            return transpose_v3(v3, tile);
+        }
+    }
+    let _ = simd;
+    std::array::from_fn(|i| std::array::from_fn(|j| tile[j][i]))
+}
+
+/// [`transpose`] in 24 AVX-512 shuffles: 2 × 2, 4 × 4 then 8 × 8 blocks.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn transpose_v4(simd: pulp::x86::V4, tile: &[[f64; LANES]; LANES]) -> [[f64; LANES]; LANES] {
+    use std::arch::x86_64::{__m512d, __m512i};
+    let a = simd.avx512f;
+    let r: [__m512d; 8] = tile.map(pulp::cast);
+    // t[2i] = rows 2i, 2i+1 interleaved at even columns, t[2i+1] at odd ones.
+    let t: [__m512d; 8] = std::array::from_fn(|k| {
+        let (x, y) = (r[k & !1], r[k | 1]);
+        if k % 2 == 0 {
+            a._mm512_unpacklo_pd(x, y)
+        } else {
+            a._mm512_unpackhi_pd(x, y)
+        }
+    });
+    // u[k], k < 4: column k (then k + 4) of rows 0-3; u[k + 4]: of rows 4-7.
+    let lo: __m512i = pulp::cast([0i64, 1, 8, 9, 4, 5, 12, 13]);
+    let hi: __m512i = pulp::cast([2i64, 3, 10, 11, 6, 7, 14, 15]);
+    let u: [__m512d; 8] = std::array::from_fn(|k| {
+        let base = (k / 4) * 4 + (k % 2);
+        let idx = if k % 4 < 2 { lo } else { hi };
+        a._mm512_permutex2var_pd(t[base], idx, t[base + 2])
+    });
+    let out: [__m512d; 8] = std::array::from_fn(|k| {
+        if k < 4 {
+            a._mm512_shuffle_f64x2::<0x44>(u[k], u[k + 4])
+        } else {
+            a._mm512_shuffle_f64x2::<0xEE>(u[k - 4], u[k])
+        }
+    });
+    out.map(pulp::cast)
+}
+
+/// [`transpose`] in AVX2: four 4 × 4 blocks, 8 shuffles each.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn transpose_v3(simd: pulp::x86::V3, tile: &[[f64; LANES]; LANES]) -> [[f64; LANES]; LANES] {
+    use std::arch::x86_64::__m256d;
+    let a = simd.avx;
+    // q[h][i]: columns 4h..4h+4 of row i.
+    let q: [[__m256d; 8]; 2] = std::array::from_fn(|h| {
+        std::array::from_fn(|i| {
+            pulp::cast::<[f64; 4], __m256d>(tile[i][4 * h..4 * h + 4].try_into().unwrap())
+        })
+    });
+    let block = |x: &[__m256d]| -> [__m256d; 4] {
+        let t0 = a._mm256_unpacklo_pd(x[0], x[1]);
+        let t1 = a._mm256_unpackhi_pd(x[0], x[1]);
+        let t2 = a._mm256_unpacklo_pd(x[2], x[3]);
+        let t3 = a._mm256_unpackhi_pd(x[2], x[3]);
+        [
+            a._mm256_permute2f128_pd::<0x20>(t0, t2),
+            a._mm256_permute2f128_pd::<0x20>(t1, t3),
+            a._mm256_permute2f128_pd::<0x31>(t0, t2),
+            a._mm256_permute2f128_pd::<0x31>(t1, t3),
+        ]
+    };
+    // b[h][v]: block (columns 4h.., rows 4v..) transposed.
+    let b: [[[__m256d; 4]; 2]; 2] =
+        std::array::from_fn(|h| std::array::from_fn(|v| block(&q[h][4 * v..4 * v + 4])));
+    std::array::from_fn(|k| {
+        let (h, i) = (k / 4, k % 4);
+        let lo: [f64; 4] = pulp::cast(b[h][0][i]);
+        let hi: [f64; 4] = pulp::cast(b[h][1][i]);
+        [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]]
+    })
 }
 
 impl pulp::WithSimd for Block<'_, '_> {
@@ -379,23 +470,34 @@ impl pulp::WithSimd for Block<'_, '_> {
             rows,
             wblk,
             t,
+            out,
         } = self;
-        let m = g.slot.len();
-        assert!(wblk.len() == m && t.len() == g.n && rows.iter().all(|r| r.len() == m));
+        let (n, m) = (g.n, g.slot.len());
+        assert!(wblk.len() == m && t.len() == n && rows.iter().all(|r| r.len() == m));
         let (limit, zero) = (simd.splat_f64s(MAX_ABS_VALUE), simd.splat_f64s(0.0));
-        // 1.0 in a lane while its weights are all within the limit, 0.0 after.
+        // 1.0 in a lane while every weight it has seen is within the limit.
         let mut ok = [1.0f64; LANES];
-        {
-            let okv = S::as_mut_simd_f64s(&mut ok).0;
-            for (e, &j) in g.slot.iter().enumerate() {
-                let x: [f64; LANES] = std::array::from_fn(|l| rows[l][e]);
-                wblk[j as usize] = x;
-                let xv = S::as_simd_f64s(&x).0;
-                for i in 0..okv.len() {
-                    let fine = simd.less_than_or_equal_f64s(simd.abs_f64s(xv[i]), limit);
-                    okv[i] = simd.select_f64s(fine, okv[i], zero);
-                }
+        let mut check = |x: &[f64; LANES]| {
+            let (okv, xv) = (S::as_mut_simd_f64s(&mut ok).0, S::as_simd_f64s(x).0);
+            for i in 0..okv.len() {
+                let fine = simd.less_than_or_equal_f64s(simd.abs_f64s(xv[i]), limit);
+                okv[i] = simd.select_f64s(fine, okv[i], zero);
             }
+        };
+        let full = m - m % LANES;
+        for (c, slots) in g.slot[..full].chunks_exact(LANES).enumerate() {
+            let e = c * LANES;
+            let tile: [[f64; LANES]; LANES] =
+                std::array::from_fn(|l| rows[l][e..e + LANES].try_into().unwrap());
+            tile.iter().for_each(&mut check);
+            for (&j, x) in slots.iter().zip(transpose(simd, &tile)) {
+                wblk[j as usize] = x;
+            }
+        }
+        for (e, &j) in g.slot.iter().enumerate().skip(full) {
+            let x: [f64; LANES] = std::array::from_fn(|l| rows[l][e]);
+            check(&x);
+            wblk[j as usize] = x;
         }
         for (k, &v) in g.order.iter().enumerate() {
             let r = g.inc.range(k);
@@ -415,6 +517,20 @@ impl pulp::WithSimd for Block<'_, '_> {
                 }
             }
             t[v as usize] = best;
+        }
+        let lanes = out.len() / n.max(1);
+        let mut outs: Vec<&mut [f64]> = out.chunks_exact_mut(n).take(lanes).collect();
+        let tiles = n - n % LANES;
+        for (c, tc) in t[..tiles].chunks_exact(LANES).enumerate() {
+            let tile: &[[f64; LANES]; LANES] = tc.try_into().unwrap();
+            for (o, x) in outs.iter_mut().zip(transpose(simd, tile)) {
+                o[c * LANES..(c + 1) * LANES].copy_from_slice(&x);
+            }
+        }
+        for (l, o) in outs.iter_mut().enumerate() {
+            for (o, tv) in o[tiles..].iter_mut().zip(&t[tiles..]) {
+                *o = tv[l];
+            }
         }
         ok.iter().all(|&x| x == 1.0)
     }

@@ -115,6 +115,7 @@ proptest! {
         (n, s, d, w) in dag(),
         special in prop::collection::vec((0usize..LANES, 0usize..120, 0usize..8), 0..12),
         scale in prop::array::uniform8(-3.0f64..3.0),
+        lanes in 1usize..=LANES,
     ) {
         use pulp::Simd;
         let g = EventGraph::new(n as i64, &s, &d).unwrap();
@@ -143,19 +144,26 @@ proptest! {
         let runs = on_each_isa!(|simd| {
             let mut wblk = vec![[0.0; LANES]; m];
             let mut t = vec![[0.0; LANES]; n];
+            // The first `lanes` rows are written out (NaN until then).
+            let mut out = vec![f64::NAN; lanes * n];
             let ok = Simd::vectorize(simd, Block {
                 graph: &g,
                 rows: std::array::from_fn(|l| &rows[l][..]),
                 wblk: &mut wblk,
                 t: &mut t,
+                out: &mut out,
             });
-            (ok, t)
+            (ok, t, out)
         });
-        for (isa, (ok, t)) in runs {
+        for (isa, (ok, t, out)) in runs {
             prop_assert_eq!(ok, want_ok, "{}", isa);
             for (l, want) in want.iter().enumerate() {
                 let got: Vec<u64> = t.iter().map(|x| x[l].to_bits()).collect();
                 prop_assert_eq!(&got, want, "{} lane {}", isa, l);
+                if l < lanes {
+                    let got: Vec<u64> = out[l * n..(l + 1) * n].iter().map(|x| x.to_bits()).collect();
+                    prop_assert_eq!(&got, want, "{} out row {}", isa, l);
+                }
             }
         }
     }
@@ -573,4 +581,27 @@ fn difference_bad_input_is_an_error_not_a_panic() {
         max_difference_batch(2, &[], &[], &[], (3, 0), 0, 1, Some(2)).unwrap(),
         (vec![f64::INFINITY; 3], vec![])
     );
+}
+
+#[test]
+fn tile_transpose_is_exact_on_every_instruction_set() {
+    // The batch kernel's 8 × 8 transposes (explicit shuffles on AVX2 and
+    // AVX-512): distinct entries, including a NaN payload and -0.0, land where
+    // the element-wise definition puts them, bit for bit.
+    let mut tile: [[f64; LANES]; LANES] =
+        std::array::from_fn(|i| std::array::from_fn(|j| (10 * i + j) as f64 + 0.5));
+    tile[3][5] = f64::from_bits(0x7ff8_0000_dead_beef);
+    tile[6][1] = -0.0;
+    let runs = on_each_isa!(|simd| transpose(simd, &tile));
+    for (isa, got) in runs {
+        for i in 0..LANES {
+            for j in 0..LANES {
+                assert_eq!(
+                    got[i][j].to_bits(),
+                    tile[j][i].to_bits(),
+                    "{isa} ({i}, {j})"
+                );
+            }
+        }
+    }
 }
