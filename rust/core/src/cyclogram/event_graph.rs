@@ -24,8 +24,6 @@ pub struct EventGraph {
     /// Incoming arcs grouped by the topological position of their head, in that
     /// order, so the forward pass reads them sequentially; `other` = tail event.
     inc: Csr,
-    /// `slot[e]`: where arc `e` sits in `inc` (the inverse of `inc.edge`).
-    slot: Vec<u32>,
     /// Outgoing arcs grouped by the topological position of their tail; `other` =
     /// head event. Only the backward pass needs them: built on first use.
     out: OnceLock<Csr>,
@@ -43,7 +41,6 @@ impl Clone for EventGraph {
             dst: self.dst.clone(),
             order: self.order.clone(),
             inc: self.inc.clone(),
-            slot: self.slot.clone(),
             out,
         }
     }
@@ -80,17 +77,12 @@ impl EventGraph {
             pos[v as usize] = k as u32;
         }
         let inc = Csr::build(n, |e| pos[dst[e] as usize] as usize, |e| src[e], src.len());
-        let mut slot = vec![0u32; src.len()];
-        for (j, &e) in inc.edge.iter().enumerate() {
-            slot[e as usize] = j as u32;
-        }
         Ok(EventGraph {
             n,
             src,
             dst,
             order,
             inc,
-            slot,
             out: OnceLock::new(),
         })
     }
@@ -343,9 +335,12 @@ impl EventGraph {
 /// instruction set (AVX-512, AVX2 + FMA, or plain SSE2) and picked at run time.
 /// Three passes:
 /// 1. gather: the rows, read in 8 × 8 tiles (8 rows × 8 consecutive arcs) and
-///    transposed in registers, go into `wblk` (each arc's lanes side by side, at
-///    its position in the forward pass); the finite check rides along;
-/// 2. forward: the earliest times of all lanes into `t` (by event);
+///    transposed in registers, go into `wblk` (each arc's lanes side by side, by
+///    arc index: written in order, where scattering them to their positions in
+///    the forward pass cost a store miss per arc); the finite check rides along;
+/// 2. forward: the earliest times of all lanes into `t` (by event), reading
+///    `wblk` through `inc.edge` (loads off the dependency chain, which the
+///    processor overlaps);
 /// 3. scatter: `t`, transposed in 8 × 8 tiles again, into `out` (lanes × V).
 ///
 /// Lane by lane the arithmetic is [`EventGraph`]'s single-row `forward`: an
@@ -360,7 +355,7 @@ pub(super) struct Block<'a, 'b> {
     /// The block's weight vectors, E entries each, by arc index (a short block
     /// repeats its last row).
     pub(super) rows: [&'a [f64]; LANES],
-    /// Scratch (E,): the block's weights by `inc` position.
+    /// Scratch (E,): the block's weights by arc index, lanes side by side.
     pub(super) wblk: &'b mut [[f64; LANES]],
     /// Scratch (V,): earliest times by event, one lane per row.
     pub(super) t: &'b mut [[f64; LANES]],
@@ -472,7 +467,7 @@ impl pulp::WithSimd for Block<'_, '_> {
             t,
             out,
         } = self;
-        let (n, m) = (g.n, g.slot.len());
+        let (n, m) = (g.n, g.src.len());
         assert!(wblk.len() == m && t.len() == n && rows.iter().all(|r| r.len() == m));
         let (limit, zero) = (simd.splat_f64s(MAX_ABS_VALUE), simd.splat_f64s(0.0));
         // 1.0 in a lane while every weight it has seen is within the limit.
@@ -485,19 +480,18 @@ impl pulp::WithSimd for Block<'_, '_> {
             }
         };
         let full = m - m % LANES;
-        for (c, slots) in g.slot[..full].chunks_exact(LANES).enumerate() {
+        for (c, dst) in wblk[..full].chunks_exact_mut(LANES).enumerate() {
             let e = c * LANES;
             let tile: [[f64; LANES]; LANES] =
                 std::array::from_fn(|l| rows[l][e..e + LANES].try_into().unwrap());
             tile.iter().for_each(&mut check);
-            for (&j, x) in slots.iter().zip(transpose(simd, &tile)) {
-                wblk[j as usize] = x;
-            }
+            let dst: &mut [[f64; LANES]; LANES] = dst.try_into().unwrap();
+            *dst = transpose(simd, &tile);
         }
-        for (e, &j) in g.slot.iter().enumerate().skip(full) {
+        for (e, dst) in wblk.iter_mut().enumerate().skip(full) {
             let x: [f64; LANES] = std::array::from_fn(|l| rows[l][e]);
             check(&x);
-            wblk[j as usize] = x;
+            *dst = x;
         }
         for (k, &v) in g.order.iter().enumerate() {
             let r = g.inc.range(k);
@@ -508,8 +502,11 @@ impl pulp::WithSimd for Block<'_, '_> {
             };
             {
                 let bv = S::as_mut_simd_f64s(&mut best).0;
-                for (&s, w) in g.inc.other[r.clone()].iter().zip(&wblk[r]) {
-                    let (ts, ws) = (S::as_simd_f64s(&t[s as usize]).0, S::as_simd_f64s(w).0);
+                for (&s, &e) in g.inc.other[r.clone()].iter().zip(&g.inc.edge[r]) {
+                    let (ts, ws) = (
+                        S::as_simd_f64s(&t[s as usize]).0,
+                        S::as_simd_f64s(&wblk[e as usize]).0,
+                    );
                     for i in 0..bv.len() {
                         let c = simd.add_f64s(ts[i], ws[i]);
                         bv[i] = simd.select_f64s(simd.less_than_f64s(bv[i], c), c, bv[i]);
