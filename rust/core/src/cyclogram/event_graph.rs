@@ -420,39 +420,52 @@ fn transpose_v4(simd: pulp::x86::V4, tile: &[[f64; LANES]; LANES]) -> [[f64; LAN
     out.map(pulp::cast)
 }
 
-/// [`transpose`] in AVX2: four 4 × 4 blocks, 8 shuffles each.
+/// [`transpose`] in AVX2: four 4 × 4 blocks, 8 shuffles each. (No
+/// `array::from_fn` here or in the kernel's loops: its closures were not
+/// inlined into the AVX2 instance and ran as calls to baseline code.)
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn transpose_v3(simd: pulp::x86::V3, tile: &[[f64; LANES]; LANES]) -> [[f64; LANES]; LANES] {
     use std::arch::x86_64::__m256d;
-    let a = simd.avx;
-    // q[h][i]: columns 4h..4h+4 of row i.
-    let q: [[__m256d; 8]; 2] = std::array::from_fn(|h| {
-        std::array::from_fn(|i| {
-            pulp::cast::<[f64; 4], __m256d>(tile[i][4 * h..4 * h + 4].try_into().unwrap())
-        })
-    });
-    let block = |x: &[__m256d]| -> [__m256d; 4] {
-        let t0 = a._mm256_unpacklo_pd(x[0], x[1]);
-        let t1 = a._mm256_unpackhi_pd(x[0], x[1]);
-        let t2 = a._mm256_unpacklo_pd(x[2], x[3]);
-        let t3 = a._mm256_unpackhi_pd(x[2], x[3]);
+    // q[i][h]: columns 4h..4h+4 of row i.
+    let q: [[__m256d; 2]; LANES] = pulp::cast(*tile);
+    // A function, not a closure: the closure was not inlined.
+    #[inline(always)]
+    fn block(
+        simd: pulp::x86::V3,
+        x0: __m256d,
+        x1: __m256d,
+        x2: __m256d,
+        x3: __m256d,
+    ) -> [__m256d; 4] {
+        let a = simd.avx;
+        let t0 = a._mm256_unpacklo_pd(x0, x1);
+        let t1 = a._mm256_unpackhi_pd(x0, x1);
+        let t2 = a._mm256_unpacklo_pd(x2, x3);
+        let t3 = a._mm256_unpackhi_pd(x2, x3);
         [
             a._mm256_permute2f128_pd::<0x20>(t0, t2),
             a._mm256_permute2f128_pd::<0x20>(t1, t3),
             a._mm256_permute2f128_pd::<0x31>(t0, t2),
             a._mm256_permute2f128_pd::<0x31>(t1, t3),
         ]
-    };
-    // b[h][v]: block (columns 4h.., rows 4v..) transposed.
-    let b: [[[__m256d; 4]; 2]; 2] =
-        std::array::from_fn(|h| std::array::from_fn(|v| block(&q[h][4 * v..4 * v + 4])));
-    std::array::from_fn(|k| {
-        let (h, i) = (k / 4, k % 4);
-        let lo: [f64; 4] = pulp::cast(b[h][0][i]);
-        let hi: [f64; 4] = pulp::cast(b[h][1][i]);
-        [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]]
-    })
+    }
+    // bhv: columns 4h.., rows 4v.. transposed: halves v of output rows 4h..4h+4.
+    let b00 = block(simd, q[0][0], q[1][0], q[2][0], q[3][0]);
+    let b01 = block(simd, q[4][0], q[5][0], q[6][0], q[7][0]);
+    let b10 = block(simd, q[0][1], q[1][1], q[2][1], q[3][1]);
+    let b11 = block(simd, q[4][1], q[5][1], q[6][1], q[7][1]);
+    let out: [[__m256d; 2]; LANES] = [
+        [b00[0], b01[0]],
+        [b00[1], b01[1]],
+        [b00[2], b01[2]],
+        [b00[3], b01[3]],
+        [b10[0], b11[0]],
+        [b10[1], b11[1]],
+        [b10[2], b11[2]],
+        [b10[3], b11[3]],
+    ];
+    pulp::cast(out)
 }
 
 impl pulp::WithSimd for Block<'_, '_> {
@@ -469,29 +482,37 @@ impl pulp::WithSimd for Block<'_, '_> {
         } = self;
         let (n, m) = (g.n, g.src.len());
         assert!(wblk.len() == m && t.len() == n && rows.iter().all(|r| r.len() == m));
-        let (limit, zero) = (simd.splat_f64s(MAX_ABS_VALUE), simd.splat_f64s(0.0));
+        // |x| <= MAX_ABS_VALUE as |x| < the next float up (false for NaN): pulp's
+        // AVX2 `<=` is a call to baseline code, its `<` one instruction.
+        let (limit, zero) = (
+            simd.splat_f64s(MAX_ABS_VALUE.next_up()),
+            simd.splat_f64s(0.0),
+        );
         // 1.0 in a lane while every weight it has seen is within the limit.
         let mut ok = [1.0f64; LANES];
         let mut check = |x: &[f64; LANES]| {
             let (okv, xv) = (S::as_mut_simd_f64s(&mut ok).0, S::as_simd_f64s(x).0);
             for i in 0..okv.len() {
-                let fine = simd.less_than_or_equal_f64s(simd.abs_f64s(xv[i]), limit);
+                let fine = simd.less_than_f64s(simd.abs_f64s(xv[i]), limit);
                 okv[i] = simd.select_f64s(fine, okv[i], zero);
             }
         };
         let full = m - m % LANES;
         for (c, dst) in wblk[..full].chunks_exact_mut(LANES).enumerate() {
             let e = c * LANES;
-            let tile: [[f64; LANES]; LANES] =
-                std::array::from_fn(|l| rows[l][e..e + LANES].try_into().unwrap());
+            let mut tile = [[0.0; LANES]; LANES];
+            for (x, r) in tile.iter_mut().zip(rows) {
+                x.copy_from_slice(&r[e..e + LANES]);
+            }
             tile.iter().for_each(&mut check);
             let dst: &mut [[f64; LANES]; LANES] = dst.try_into().unwrap();
             *dst = transpose(simd, &tile);
         }
         for (e, dst) in wblk.iter_mut().enumerate().skip(full) {
-            let x: [f64; LANES] = std::array::from_fn(|l| rows[l][e]);
-            check(&x);
-            *dst = x;
+            for (x, r) in dst.iter_mut().zip(rows) {
+                *x = r[e];
+            }
+            check(dst);
         }
         for (k, &v) in g.order.iter().enumerate() {
             let r = g.inc.range(k);

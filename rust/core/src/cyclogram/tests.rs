@@ -113,7 +113,7 @@ proptest! {
     #[test]
     fn block_kernel_is_the_single_row_pass_bit_for_bit(
         (n, s, d, w) in dag(),
-        special in prop::collection::vec((0usize..LANES, 0usize..120, 0usize..8), 0..12),
+        special in prop::collection::vec((0usize..LANES, 0usize..120, 0usize..9), 0..12),
         scale in prop::array::uniform8(-3.0f64..3.0),
         lanes in 1usize..=LANES,
     ) {
@@ -125,7 +125,18 @@ proptest! {
         let mut rows: Vec<Vec<f64>> = (0..LANES)
             .map(|l| w.iter().map(|x| (x * scale[l]).round() - l as f64).collect())
             .collect();
-        let values = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -0.0, 1e300, -1e300, MAX_ABS_VALUE];
+        // The last two: the largest accepted magnitude and the next float up.
+        let values = [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -0.0,
+            1e300,
+            -1e300,
+            MAX_ABS_VALUE,
+            -MAX_ABS_VALUE.next_up(),
+        ];
         for &(l, e, k) in &special {
             if m > 0 {
                 rows[l][e % m] = values[k];
