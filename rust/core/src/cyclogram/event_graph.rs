@@ -24,8 +24,6 @@ pub struct EventGraph {
     /// Incoming arcs grouped by the topological position of their head, in that
     /// order, so the forward pass reads them sequentially; `other` = tail event.
     inc: Csr,
-    /// `slot[e]`: where arc `e` sits in `inc` (the inverse of `inc.edge`).
-    slot: Vec<u32>,
     /// Outgoing arcs grouped by the topological position of their tail; `other` =
     /// head event. Only the backward pass needs them: built on first use.
     out: OnceLock<Csr>,
@@ -43,7 +41,6 @@ impl Clone for EventGraph {
             dst: self.dst.clone(),
             order: self.order.clone(),
             inc: self.inc.clone(),
-            slot: self.slot.clone(),
             out,
         }
     }
@@ -80,17 +77,12 @@ impl EventGraph {
             pos[v as usize] = k as u32;
         }
         let inc = Csr::build(n, |e| pos[dst[e] as usize] as usize, |e| src[e], src.len());
-        let mut slot = vec![0u32; src.len()];
-        for (j, &e) in inc.edge.iter().enumerate() {
-            slot[e as usize] = j as u32;
-        }
         Ok(EventGraph {
             n,
             src,
             dst,
             order,
             inc,
-            slot,
             out: OnceLock::new(),
         })
     }
@@ -152,7 +144,7 @@ impl EventGraph {
     }
 
     /// Earliest times, by event, into `t` (V,).
-    fn forward(&self, w: &[f64], t: &mut [f64]) {
+    pub(super) fn forward(&self, w: &[f64], t: &mut [f64]) {
         for (k, &v) in self.order.iter().enumerate() {
             let r = self.inc.range(k);
             let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
@@ -204,29 +196,7 @@ impl EventGraph {
         Ok(t)
     }
 
-    /// Earliest times for 8 rows at once: `wblk[j]` holds the weights of the arc at
-    /// `inc` position `j` for each lane; times by event into `t`.
-    fn forward_block(&self, wblk: &[[f64; LANES]], t: &mut [[f64; LANES]]) {
-        for (k, &v) in self.order.iter().enumerate() {
-            let r = self.inc.range(k);
-            let mut best = if r.is_empty() {
-                [0.0; LANES]
-            } else {
-                [f64::NEG_INFINITY; LANES]
-            };
-            for (&s, w) in self.inc.other[r.clone()].iter().zip(&wblk[r]) {
-                let ts = &t[s as usize];
-                for l in 0..LANES {
-                    // Inputs are finite, so no NaN: a plain compare-and-select.
-                    let c = ts[l] + w[l];
-                    best[l] = if c > best[l] { c } else { best[l] };
-                }
-            }
-            t[v as usize] = best;
-        }
-    }
-
-    /// One block of up to 8 rows starting at row `r0` into `out` (lanes × V).
+    /// One block of up to [`LANES`] rows starting at row `r0` into `out` (lanes × V).
     /// Returns false if a weight of the block is not finite (nothing is reported
     /// from here; the caller locates it).
     fn batch_block(
@@ -239,30 +209,19 @@ impl EventGraph {
     ) -> bool {
         let (n, m) = (self.n, self.n_arcs());
         let lanes = out.len() / n;
-        let rows: Vec<&[f64]> = (0..lanes)
-            .map(|l| &weights[(r0 + l) * m..(r0 + l + 1) * m])
-            .collect();
-        // Gather: the rows are read in order, each arc's 8 lanes written once at
-        // its position in the forward pass; the finite check rides along.
-        let mut ok = [true; LANES];
-        for (e, &j) in self.slot.iter().enumerate() {
-            let dst = &mut wblk[j as usize];
-            for l in 0..lanes {
-                let x = rows[l][e];
-                dst[l] = x;
-                ok[l] &= x.abs() <= MAX_ABS_VALUE;
-            }
-        }
-        if !ok.iter().all(|&b| b) {
-            return false;
-        }
-        self.forward_block(wblk, t);
-        for l in 0..lanes {
-            for (o, tv) in out[l * n..(l + 1) * n].iter_mut().zip(t.iter()) {
-                *o = tv[l];
-            }
-        }
-        true
+        // A short last block repeats its last row in the spare lanes (computed,
+        // never written out), so every block runs the full-width kernel.
+        let rows: [&[f64]; LANES] = std::array::from_fn(|l| {
+            let r = r0 + l.min(lanes - 1);
+            &weights[r * m..(r + 1) * m]
+        });
+        pulp::Arch::new().dispatch(Block {
+            graph: self,
+            rows,
+            wblk,
+            t,
+            out,
+        })
     }
 
     /// Earliest times for `rows` weight vectors of `row_len` entries stored
@@ -369,6 +328,229 @@ impl EventGraph {
             horizon,
             tolerance,
         })
+    }
+}
+
+/// The batch kernel for one block of [`LANES`] weight vectors, compiled once per
+/// instruction set (AVX-512, AVX2 + FMA, or plain SSE2) and picked at run time.
+/// Three passes:
+/// 1. gather: the rows, read in 8 × 8 tiles (8 rows × 8 consecutive arcs) and
+///    transposed in registers, go into `wblk` (each arc's lanes side by side, by
+///    arc index: written in order, where scattering them to their positions in
+///    the forward pass cost a store miss per arc); the finite check rides along;
+/// 2. forward: the earliest times of all lanes into `t` (by event), reading
+///    `wblk` through `inc.edge` (loads off the dependency chain, which the
+///    processor overlaps);
+/// 3. scatter: `t`, transposed in 8 × 8 tiles again, into `out` (lanes × V).
+///
+/// Lane by lane the arithmetic is [`EventGraph`]'s single-row `forward`: an
+/// event's time starts at 0 (no incoming arc) or −∞, and each incoming arc in
+/// `inc` order replaces it by `t[src] + w` when that is greater (compare and
+/// select, so a NaN sum never wins and a tie keeps the earlier arc). Nothing is
+/// reassociated, so every instruction set gives the single-row results bit for
+/// bit. Returns whether every weight of the block is at most [`MAX_ABS_VALUE`]
+/// in magnitude (NaN fails); the times are computed either way.
+pub(super) struct Block<'a, 'b> {
+    pub(super) graph: &'a EventGraph,
+    /// The block's weight vectors, E entries each, by arc index (a short block
+    /// repeats its last row).
+    pub(super) rows: [&'a [f64]; LANES],
+    /// Scratch (E,): the block's weights by arc index, lanes side by side.
+    pub(super) wblk: &'b mut [[f64; LANES]],
+    /// Scratch (V,): earliest times by event, one lane per row.
+    pub(super) t: &'b mut [[f64; LANES]],
+    /// Output (lanes × V), row-major: the first `out.len() / V` lanes' times.
+    pub(super) out: &'b mut [f64],
+}
+
+/// `tile` (8 × 8) transposed, in explicit shuffles on AVX-512 and AVX2 (written
+/// element by element, LLVM assembles it from 128-bit pieces and single
+/// stores). The instruction set is known when the kernel is compiled for it, so
+/// the type test below is resolved then.
+#[inline(always)]
+pub(super) fn transpose<S: pulp::Simd>(
+    simd: S,
+    tile: &[[f64; LANES]; LANES],
+) -> [[f64; LANES]; LANES] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let any = &simd as &dyn std::any::Any;
+        if let Some(&v4) = any.downcast_ref::<pulp::x86::V4>() {
+            return transpose_v4(v4, tile);
+        }
+        if let Some(&v3) = any.downcast_ref::<pulp::x86::V3>() {
+            return transpose_v3(v3, tile);
+        }
+    }
+    let _ = simd;
+    std::array::from_fn(|i| std::array::from_fn(|j| tile[j][i]))
+}
+
+/// [`transpose`] in 24 AVX-512 shuffles: 2 × 2, 4 × 4 then 8 × 8 blocks.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn transpose_v4(simd: pulp::x86::V4, tile: &[[f64; LANES]; LANES]) -> [[f64; LANES]; LANES] {
+    use std::arch::x86_64::{__m512d, __m512i};
+    let a = simd.avx512f;
+    let r: [__m512d; 8] = tile.map(pulp::cast);
+    // t[2i] = rows 2i, 2i+1 interleaved at even columns, t[2i+1] at odd ones.
+    let t: [__m512d; 8] = std::array::from_fn(|k| {
+        let (x, y) = (r[k & !1], r[k | 1]);
+        if k % 2 == 0 {
+            a._mm512_unpacklo_pd(x, y)
+        } else {
+            a._mm512_unpackhi_pd(x, y)
+        }
+    });
+    // u[k], k < 4: column k (then k + 4) of rows 0-3; u[k + 4]: of rows 4-7.
+    let lo: __m512i = pulp::cast([0i64, 1, 8, 9, 4, 5, 12, 13]);
+    let hi: __m512i = pulp::cast([2i64, 3, 10, 11, 6, 7, 14, 15]);
+    let u: [__m512d; 8] = std::array::from_fn(|k| {
+        let base = (k / 4) * 4 + (k % 2);
+        let idx = if k % 4 < 2 { lo } else { hi };
+        a._mm512_permutex2var_pd(t[base], idx, t[base + 2])
+    });
+    let out: [__m512d; 8] = std::array::from_fn(|k| {
+        if k < 4 {
+            a._mm512_shuffle_f64x2::<0x44>(u[k], u[k + 4])
+        } else {
+            a._mm512_shuffle_f64x2::<0xEE>(u[k - 4], u[k])
+        }
+    });
+    out.map(pulp::cast)
+}
+
+/// [`transpose`] in AVX2: four 4 × 4 blocks, 8 shuffles each. (No
+/// `array::from_fn` here or in the kernel's loops: its closures were not
+/// inlined into the AVX2 instance and ran as calls to baseline code.)
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn transpose_v3(simd: pulp::x86::V3, tile: &[[f64; LANES]; LANES]) -> [[f64; LANES]; LANES] {
+    use std::arch::x86_64::__m256d;
+    // q[i][h]: columns 4h..4h+4 of row i.
+    let q: [[__m256d; 2]; LANES] = pulp::cast(*tile);
+    // A function, not a closure: the closure was not inlined.
+    #[inline(always)]
+    fn block(
+        simd: pulp::x86::V3,
+        x0: __m256d,
+        x1: __m256d,
+        x2: __m256d,
+        x3: __m256d,
+    ) -> [__m256d; 4] {
+        let a = simd.avx;
+        let t0 = a._mm256_unpacklo_pd(x0, x1);
+        let t1 = a._mm256_unpackhi_pd(x0, x1);
+        let t2 = a._mm256_unpacklo_pd(x2, x3);
+        let t3 = a._mm256_unpackhi_pd(x2, x3);
+        [
+            a._mm256_permute2f128_pd::<0x20>(t0, t2),
+            a._mm256_permute2f128_pd::<0x20>(t1, t3),
+            a._mm256_permute2f128_pd::<0x31>(t0, t2),
+            a._mm256_permute2f128_pd::<0x31>(t1, t3),
+        ]
+    }
+    // bhv: columns 4h.., rows 4v.. transposed: halves v of output rows 4h..4h+4.
+    let b00 = block(simd, q[0][0], q[1][0], q[2][0], q[3][0]);
+    let b01 = block(simd, q[4][0], q[5][0], q[6][0], q[7][0]);
+    let b10 = block(simd, q[0][1], q[1][1], q[2][1], q[3][1]);
+    let b11 = block(simd, q[4][1], q[5][1], q[6][1], q[7][1]);
+    let out: [[__m256d; 2]; LANES] = [
+        [b00[0], b01[0]],
+        [b00[1], b01[1]],
+        [b00[2], b01[2]],
+        [b00[3], b01[3]],
+        [b10[0], b11[0]],
+        [b10[1], b11[1]],
+        [b10[2], b11[2]],
+        [b10[3], b11[3]],
+    ];
+    pulp::cast(out)
+}
+
+impl pulp::WithSimd for Block<'_, '_> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> bool {
+        let Block {
+            graph: g,
+            rows,
+            wblk,
+            t,
+            out,
+        } = self;
+        let (n, m) = (g.n, g.src.len());
+        assert!(wblk.len() == m && t.len() == n && rows.iter().all(|r| r.len() == m));
+        // |x| <= MAX_ABS_VALUE as |x| < the next float up (false for NaN): pulp's
+        // AVX2 `<=` is a call to baseline code, its `<` one instruction.
+        let (limit, zero) = (
+            simd.splat_f64s(MAX_ABS_VALUE.next_up()),
+            simd.splat_f64s(0.0),
+        );
+        // 1.0 in a lane while every weight it has seen is within the limit.
+        let mut ok = [1.0f64; LANES];
+        let mut check = |x: &[f64; LANES]| {
+            let (okv, xv) = (S::as_mut_simd_f64s(&mut ok).0, S::as_simd_f64s(x).0);
+            for i in 0..okv.len() {
+                let fine = simd.less_than_f64s(simd.abs_f64s(xv[i]), limit);
+                okv[i] = simd.select_f64s(fine, okv[i], zero);
+            }
+        };
+        let full = m - m % LANES;
+        for (c, dst) in wblk[..full].chunks_exact_mut(LANES).enumerate() {
+            let e = c * LANES;
+            let mut tile = [[0.0; LANES]; LANES];
+            for (x, r) in tile.iter_mut().zip(rows) {
+                x.copy_from_slice(&r[e..e + LANES]);
+            }
+            tile.iter().for_each(&mut check);
+            let dst: &mut [[f64; LANES]; LANES] = dst.try_into().unwrap();
+            *dst = transpose(simd, &tile);
+        }
+        for (e, dst) in wblk.iter_mut().enumerate().skip(full) {
+            for (x, r) in dst.iter_mut().zip(rows) {
+                *x = r[e];
+            }
+            check(dst);
+        }
+        for (k, &v) in g.order.iter().enumerate() {
+            let r = g.inc.range(k);
+            let mut best = if r.is_empty() {
+                [0.0; LANES]
+            } else {
+                [f64::NEG_INFINITY; LANES]
+            };
+            {
+                let bv = S::as_mut_simd_f64s(&mut best).0;
+                for (&s, &e) in g.inc.other[r.clone()].iter().zip(&g.inc.edge[r]) {
+                    let (ts, ws) = (
+                        S::as_simd_f64s(&t[s as usize]).0,
+                        S::as_simd_f64s(&wblk[e as usize]).0,
+                    );
+                    for i in 0..bv.len() {
+                        let c = simd.add_f64s(ts[i], ws[i]);
+                        bv[i] = simd.select_f64s(simd.less_than_f64s(bv[i], c), c, bv[i]);
+                    }
+                }
+            }
+            t[v as usize] = best;
+        }
+        let lanes = out.len() / n.max(1);
+        let mut outs: Vec<&mut [f64]> = out.chunks_exact_mut(n).take(lanes).collect();
+        let tiles = n - n % LANES;
+        for (c, tc) in t[..tiles].chunks_exact(LANES).enumerate() {
+            let tile: &[[f64; LANES]; LANES] = tc.try_into().unwrap();
+            for (o, x) in outs.iter_mut().zip(transpose(simd, tile)) {
+                o[c * LANES..(c + 1) * LANES].copy_from_slice(&x);
+            }
+        }
+        for (l, o) in outs.iter_mut().enumerate() {
+            for (o, tv) in o[tiles..].iter_mut().zip(&t[tiles..]) {
+                *o = tv[l];
+            }
+        }
+        ok.iter().all(|&x| x == 1.0)
     }
 }
 

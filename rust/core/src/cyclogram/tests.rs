@@ -100,7 +100,82 @@ proptest! {
         let batch = g.earliest_batch(&all, rows, m, Some(threads)).unwrap();
         for r in 0..rows {
             let single = g.earliest(&all[r * m..(r + 1) * m]).unwrap();
-            prop_assert_eq!(&batch[r * n..(r + 1) * n], &single[..]);
+            // Bit for bit (== would let -0.0 pass for 0.0).
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            prop_assert_eq!(bits(&batch[r * n..(r + 1) * n]), bits(&single));
+        }
+    }
+
+    /// Issue 20: the batch kernel in explicit SIMD (scalar, AVX2 and AVX-512, those
+    /// the processor has) gives every lane the single-row scalar pass's times bit
+    /// for bit, non-finite and signed-zero weights included (the public API
+    /// rejects the non-finite ones; the kernel's flag is what it rejects them by).
+    #[test]
+    fn block_kernel_is_the_single_row_pass_bit_for_bit(
+        (n, s, d, w) in dag(),
+        special in prop::collection::vec((0usize..LANES, 0usize..120, 0usize..9), 0..12),
+        scale in prop::array::uniform8(-3.0f64..3.0),
+        lanes in 1usize..=LANES,
+    ) {
+        use pulp::Simd;
+        let g = EventGraph::new(n as i64, &s, &d).unwrap();
+        let m = w.len();
+        // Lane l: the weights scaled and shifted (ties and sign changes), then
+        // some entries replaced by special values.
+        let mut rows: Vec<Vec<f64>> = (0..LANES)
+            .map(|l| w.iter().map(|x| (x * scale[l]).round() - l as f64).collect())
+            .collect();
+        // The last two: the largest accepted magnitude and the next float up.
+        let values = [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -0.0,
+            1e300,
+            -1e300,
+            MAX_ABS_VALUE,
+            -MAX_ABS_VALUE.next_up(),
+        ];
+        for &(l, e, k) in &special {
+            if m > 0 {
+                rows[l][e % m] = values[k];
+            }
+        }
+        let within = |r: &[f64]| r.iter().all(|x| x.abs() <= MAX_ABS_VALUE);
+        let want_ok = rows.iter().all(|r| within(r));
+        let want: Vec<Vec<u64>> = rows
+            .iter()
+            .map(|r| {
+                let mut t = vec![0.0; n];
+                g.forward(r, &mut t);
+                t.iter().map(|x| x.to_bits()).collect()
+            })
+            .collect();
+        let runs = on_each_isa!(|simd| {
+            let mut wblk = vec![[0.0; LANES]; m];
+            let mut t = vec![[0.0; LANES]; n];
+            // The first `lanes` rows are written out (NaN until then).
+            let mut out = vec![f64::NAN; lanes * n];
+            let ok = Simd::vectorize(simd, Block {
+                graph: &g,
+                rows: std::array::from_fn(|l| &rows[l][..]),
+                wblk: &mut wblk,
+                t: &mut t,
+                out: &mut out,
+            });
+            (ok, t, out)
+        });
+        for (isa, (ok, t, out)) in runs {
+            prop_assert_eq!(ok, want_ok, "{}", isa);
+            for (l, want) in want.iter().enumerate() {
+                let got: Vec<u64> = t.iter().map(|x| x[l].to_bits()).collect();
+                prop_assert_eq!(&got, want, "{} lane {}", isa, l);
+                if l < lanes {
+                    let got: Vec<u64> = out[l * n..(l + 1) * n].iter().map(|x| x.to_bits()).collect();
+                    prop_assert_eq!(&got, want, "{} out row {}", isa, l);
+                }
+            }
         }
     }
 
@@ -517,4 +592,27 @@ fn difference_bad_input_is_an_error_not_a_panic() {
         max_difference_batch(2, &[], &[], &[], (3, 0), 0, 1, Some(2)).unwrap(),
         (vec![f64::INFINITY; 3], vec![])
     );
+}
+
+#[test]
+fn tile_transpose_is_exact_on_every_instruction_set() {
+    // The batch kernel's 8 × 8 transposes (explicit shuffles on AVX2 and
+    // AVX-512): distinct entries, including a NaN payload and -0.0, land where
+    // the element-wise definition puts them, bit for bit.
+    let mut tile: [[f64; LANES]; LANES] =
+        std::array::from_fn(|i| std::array::from_fn(|j| (10 * i + j) as f64 + 0.5));
+    tile[3][5] = f64::from_bits(0x7ff8_0000_dead_beef);
+    tile[6][1] = -0.0;
+    let runs = on_each_isa!(|simd| transpose(simd, &tile));
+    for (isa, got) in runs {
+        for i in 0..LANES {
+            for j in 0..LANES {
+                assert_eq!(
+                    got[i][j].to_bits(),
+                    tile[j][i].to_bits(),
+                    "{isa} ({i}, {j})"
+                );
+            }
+        }
+    }
 }
