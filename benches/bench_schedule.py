@@ -253,6 +253,17 @@ def test_batch_cyclomech(benchmark, batch: Batch, n_threads: int | None) -> None
     assert_allclose(t[rows].max(axis=1), lengths, rtol=RTOL)
 
 
+@pytest.mark.benchmark(group=GROUP_BATCH)
+def test_batch_cyclomech_reused_out(benchmark, batch: Batch) -> None:
+    """The same batch on one thread into a reused buffer (issue 20: no fresh pages)."""
+    _label(benchmark, "cyclomech", "EventGraph.longest_path(W, out=reused), 1 thread")
+    graph = cm.EventGraph(batch.dag.n_events, batch.dag.src, batch.dag.dst)
+    buf = np.empty((BATCH_ROWS, batch.dag.n_events))
+    t = benchmark(graph.longest_path, batch.weights, n_threads=1, out=buf)
+    assert t is buf
+    assert buf.tobytes() == graph.longest_path(batch.weights, n_threads=1).tobytes()
+
+
 # The fastest rustworkx loop we found. The Python weight_fn call per arc (~0.1 µs, 4e3
 # per vector) is most of its time. Tried and dropped (median of 3, 1000 vectors, quiet
 # machine; this loop 0.43 s): the same with the row in a nonlocal instead of a closure

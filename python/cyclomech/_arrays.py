@@ -229,3 +229,41 @@ def flag(name: str, value: Any) -> bool:
     if isinstance(value, bool | np.bool_):
         return bool(value)
     raise InputError(f"{name} must be True or False; got {value!r}")
+
+
+def out_array(out: Any, shape: tuple[int, ...], inputs: list[Any], what: str) -> None:
+    """Refuse an ``out`` a kernel cannot fill in place, naming what it is and what
+    is expected: a writeable C-contiguous float64 ndarray of ``shape`` that shares
+    no memory with ``inputs`` (the arrays the kernel reads while it writes);
+    ``what`` says what it will hold. One rule for every ``out=`` of the library.
+
+    >>> import numpy as np
+    >>> out_array(np.zeros((2, 3)), (2, 3), [np.ones(3)], "times [deg]")
+    >>> try:
+    ...     out_array(np.zeros((3, 2)), (2, 3), [], "times [deg]")
+    ... except ValueError as e:
+    ...     print(str(e).split("; ")[1])
+    got a float64 array of shape (3, 2)
+    """
+    want = (
+        f"out must be a writeable C-contiguous float64 numpy array of shape {shape} "
+        f"({what}) sharing no memory with an input"
+    )
+    if not isinstance(out, np.ndarray):
+        raise InputError(f"{want}; got {type(out).__name__}")
+    got = f"got a {out.dtype} array of shape {out.shape}"
+    if out.dtype != np.float64:
+        raise InputError(f"{want}; {got}")
+    if out.shape != shape:
+        raise InputError(f"{want}; {got}")
+    if not out.flags.c_contiguous:
+        raise InputError(f"{want}; {got} that is not C-contiguous (strides {out.strides})")
+    if not out.flags.writeable:
+        raise InputError(f"{want}; {got} that is read-only")
+    for a in inputs:
+        # Bounds first (cheap); the exact test only when they overlap.
+        if isinstance(a, np.ndarray) and np.may_share_memory(out, a) and np.shares_memory(out, a):
+            raise InputError(
+                f"{want}; {got} that shares memory with an input of shape {a.shape} "
+                "(the kernel reads every input while it writes out)"
+            )

@@ -116,7 +116,11 @@ class EventGraph:
     @property
     def topological_order(self) -> npt.NDArray[np.int64]: ...
     def longest_path(
-        self, weights: npt.NDArray[np.float64], *, n_threads: int | None = None
+        self,
+        weights: npt.NDArray[np.float64],
+        *,
+        n_threads: int | None = None,
+        out: npt.NDArray[np.float64] | None = None,
     ) -> npt.NDArray[np.float64]: ...
     def latest(
         self, weights: npt.NDArray[np.float64], horizon: float

@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import flag, float_array, real, threads_arg
+from .._arrays import flag, float_array, out_array, real, threads_arg
 from .._errors import InputError
 from ._checks import Array
 
@@ -131,35 +131,8 @@ def duhamel_batch(
     cases = _cases(b, omega_n=omega_n, zeta=zeta, mass=mass, q0=q0, v0=v0)
     if out is not None:
         given = [t, forces, omega_n, zeta, mass, q0, v0]
-        _check_out(out, (b, ta.size), [ta, fa, *cases, *given], "the responses q [m]")
+        out_array(out, (b, ta.size), [ta, fa, *cases, *given], "the responses q [m]")
     return _core.duhamel_batch(ta, fa, *cases, n_threads=threads_arg(n_threads), out=out)
-
-
-def _check_out(out: Any, shape: tuple[int, ...], inputs: list[Any], what: str) -> None:
-    """Refuse an ``out`` the kernel cannot fill in place, naming what it is and
-    what is expected (``shape``; ``inputs`` are the arrays it must not overlap)."""
-    want = (
-        f"out must be a writeable C-contiguous float64 numpy array of shape {shape} "
-        f"({what}) sharing no memory with an input"
-    )
-    if not isinstance(out, np.ndarray):
-        raise InputError(f"{want}; got {type(out).__name__}")
-    got = f"got a {out.dtype} array of shape {out.shape}"
-    if out.dtype != np.float64:
-        raise InputError(f"{want}; {got}")
-    if out.shape != shape:
-        raise InputError(f"{want}; {got}")
-    if not out.flags.c_contiguous:
-        raise InputError(f"{want}; {got} that is not C-contiguous (strides {out.strides})")
-    if not out.flags.writeable:
-        raise InputError(f"{want}; {got} that is read-only")
-    for a in inputs:
-        # Bounds first (cheap); the exact test only when they overlap.
-        if isinstance(a, np.ndarray) and np.may_share_memory(out, a) and np.shares_memory(out, a):
-            raise InputError(
-                f"{want}; {got} that shares memory with an input of shape {a.shape} "
-                "(the kernel reads every input while it writes out)"
-            )
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,8 @@ use cyclomech_core::cyclogram::{self, CyclogramError, SpeedLimit};
 use cyclomech_core::parallel::resolve_threads;
 use numpy::ndarray::Array1;
 use numpy::{
-    IntoPyArray, PyArray1, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
+    PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -154,15 +155,44 @@ impl EventGraph {
             .into_pyarray(py)
     }
 
-    #[pyo3(signature = (weights, *, n_threads=None))]
+    #[pyo3(signature = (weights, *, n_threads=None, out=None))]
     fn longest_path<'py>(
         &self,
         py: Python<'py>,
         weights: PyReadonlyArrayDyn<'py, f64>,
         n_threads: Option<i64>,
-    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let (w, batch) = weights_view(py, &weights)?;
-        evaluate(py, &self.graph, w, batch, n_threads)
+        let Some(out) = out else {
+            return Ok(evaluate(py, &self.graph, w, batch, n_threads)?.into_any());
+        };
+        let (b, e) = batch.unwrap_or((1, w.len()));
+        let n = self.graph.n_events();
+        let want = || format!("a writeable C-contiguous float64 array of shape ({b}, {n})");
+        let bad = |got: String| CyclogramError::Output { want: want(), got }.into_pyerr(py);
+        let arr = out
+            .clone()
+            .cast_into::<PyArray2<f64>>()
+            .map_err(|_| bad("another object or dtype".into()))?;
+        if arr.shape() != [b, n] || !arr.is_c_contiguous() {
+            return Err(bad(format!(
+                "shape {:?}, C-contiguous {}",
+                arr.shape(),
+                arr.is_c_contiguous()
+            )));
+        }
+        {
+            // The weights are borrowed read-only above: numpy refuses to lend an
+            // `out` that overlaps them, or a read-only one.
+            let mut ow = arr.try_readwrite().map_err(|e| bad(format!("{e}")))?;
+            let os = CyclogramError::slice_mut(py, "out", &mut ow)?;
+            let g = &self.graph;
+            run(py, "longest_path", || {
+                g.earliest_batch_into(w, b, e, os, n_threads)
+            })?;
+        }
+        Ok(out)
     }
 
     fn latest<'py>(

@@ -249,11 +249,47 @@ impl EventGraph {
                 got: weights.len() / rows.max(1),
             });
         }
-        let threads = crate::parallel::resolve_threads(n_threads)?;
         check_memory(0, 0, rows.saturating_mul(n).saturating_mul(8))?;
         let mut out = vec![0.0; rows * n];
+        self.earliest_batch_into(weights, rows, row_len, &mut out, n_threads)?;
+        Ok(out)
+    }
+
+    /// [`earliest_batch`](Self::earliest_batch) into the caller's `out` (rows × V,
+    /// row-major), which is only written: a reused buffer skips the fresh pages'
+    /// faults and zeroing.
+    pub fn earliest_batch_into(
+        &self,
+        weights: &[f64],
+        rows: usize,
+        row_len: usize,
+        out: &mut [f64],
+        n_threads: Option<i64>,
+    ) -> Result<(), CyclogramError> {
+        let (n, m) = (self.n, self.n_arcs());
+        if row_len != m {
+            return Err(CyclogramError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: row_len,
+            });
+        }
+        if weights.len() != rows * m {
+            return Err(CyclogramError::WeightLength {
+                field: "weights",
+                expected: m,
+                got: weights.len() / rows.max(1),
+            });
+        }
+        if out.len() != rows * n {
+            return Err(CyclogramError::Output {
+                want: format!("{rows} × {n} = {} times (rows × events)", rows * n),
+                got: format!("{} values", out.len()),
+            });
+        }
+        let threads = crate::parallel::resolve_threads(n_threads)?;
         if n == 0 || rows == 0 {
-            return check_finite("weights", weights, m, "phase angles [deg]").map(|_| out);
+            return check_finite("weights", weights, m, "phase angles [deg]");
         }
         let buffers = || (vec![[0.0f64; LANES]; m], vec![[0.0f64; LANES]; n]);
         let all_ok = if threads == 1 || rows * m < PARALLEL_MIN_WORK {
@@ -275,7 +311,7 @@ impl EventGraph {
         if !all_ok {
             check_finite("weights", weights, m, "phase angles [deg]")?;
         }
-        Ok(out)
+        Ok(())
     }
 
     /// Earliest and latest times, total and free slack, and the critical arcs of

@@ -33,6 +33,8 @@ pub enum CyclogramError {
         value: i64,
         n_events: usize,
     },
+    #[error("out must be {want}; got {got}")]
+    Output { want: String, got: String },
     #[error("{field} must have {expected} entries per weight vector (one per arc); got {got}")]
     WeightLength {
         field: &'static str,
