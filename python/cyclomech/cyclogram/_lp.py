@@ -160,6 +160,26 @@ class _LP:
             self.sigma = -1.0
         self.c = c
 
+    def dense_rows(
+        self,
+    ) -> tuple[
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+    ]:
+        """Every row of the feasible set, dense: (A_ub, b_ub, A_eq, b_eq) over
+        x = (p_0 … p_{V−1}, F), the span rows p_v − F ≤ 0 included (p ≥ 0 is the
+        variables' bound)."""
+        ub, eq = ~self.eq, self.eq
+        a = self.A.toarray()
+        return (
+            np.vstack([a[ub], self._span.toarray()]),
+            np.r_[self.b[ub], np.zeros(self.V)],
+            a[eq],
+            self.b[eq],
+        )
+
     def solve(
         self,
         keep: npt.NDArray[np.bool_] | None = None,

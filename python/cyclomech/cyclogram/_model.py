@@ -446,6 +446,30 @@ class Cyclogram:
     ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
         return self._column("src"), self._column("dst"), self._column("height")
 
+    def feasible_rows(
+        self, speed_rpm: float | None = None
+    ) -> tuple[
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+    ]:
+        """The rows of :meth:`optimize`'s LP at ``speed_rpm``, dense: (A_ub, b_ub,
+        A_eq, b_eq) over x = (event angles p [deg] in the order of :attr:`events`,
+        the span F), with x ≥ 0: every operation's minimum and maximum angle, the
+        added constraints, p_v ≤ F and F ≤ the cycle. For a second objective
+        within the feasible set (the main shaft's flattening).
+
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", min_angle_deg=30)
+        >>> a_ub, b_ub, a_eq, b_eq = cg.feasible_rows()
+        >>> a_ub[0].tolist(), float(b_ub[0]), a_eq.shape   # p_a − p_b ≤ −30
+        ([1.0, -1.0, 0.0], -30.0, (0, 3))
+        """
+        self._require_ops()
+        return _LP(self, self.min_angles(speed_rpm), self.cycle_deg, None).dense_rows()
+
     def min_angles(self, speed_rpm: float | None = None) -> npt.NDArray[np.float64]:
         """Minimum angle of each operation [deg] at ``speed_rpm`` (default: the cyclogram's).
 

@@ -195,10 +195,10 @@ class Flattening:
 
 class _Feasible:
     """The cyclogram's LP feasible set at one speed over x = (p_0 … p_{V−1}, F),
-    rebuilt from its public description (the same rows as
-    :meth:`cyclomech.Cyclogram.optimize`): every operation's minimum angle at that
-    speed (so the mechanisms' bounds added by :meth:`~cyclomech.Machine.cyclogram_at`
-    too) and maximum, the added constraints, the span p_v ≤ F ≤ cycle, p ≥ 0; plus
+    the rows of :meth:`cyclomech.Cyclogram.feasible_rows` (those of its optimize:
+    every operation's minimum angle at that speed — so the mechanisms' bounds added
+    by :meth:`~cyclomech.Machine.cyclogram_at` too — and maximum, the added
+    constraints, the span p_v ≤ F ≤ cycle, p ≥ 0); plus
     the optimum's objective kept (the limiting angle ≥ its optimum, or the span ≤
     the optimum's duration) and each rigid group's events at their spacing in the
     optimum. Dense: cyclograms have tens of events."""
@@ -208,41 +208,9 @@ class _Feasible:
         V = len(ev)
         self.V, self.n = V, V + 1
         C = cg.cycle_deg
-        ops = cg.operations
-        xi = np.array([ev[o.src] for o in ops], dtype=np.int64)
-        yi = np.array([ev[o.dst] for o in ops], dtype=np.int64)
-        ch = C * np.array([o.height for o in ops], dtype=np.float64)
-        mins = cg.min_angles(rpm)
-        # angle = p_y − p_x + C·h ≥ min   ⇔   p_x − p_y ≤ C·h − min
-        A = [_diff(self.n, xi, yi)]
-        b = [ch - mins]
-        hi = [k for k, o in enumerate(ops) if o.max_angle_deg is not None]
-        if hi:
-            k = np.array(hi)
-            A.append(_diff(self.n, yi[k], xi[k]))
-            b.append(np.array([ops[j].max_angle_deg for j in hi], dtype=np.float64) - ch[k])
-        A_eq: list[Array] = [np.zeros((0, self.n))]
-        b_eq: list[Array] = [np.zeros(0)]
-        for con in cg.constraints:
-            row, shift = np.zeros(self.n), 0.0
-            for arc, c in con.coeffs:
-                o = cg.operation(arc)
-                row[ev[o.dst]] += c
-                row[ev[o.src]] -= c
-                shift += c * C * o.height
-            if con.sense == "==":
-                A_eq.append(row[None])
-                b_eq.append(np.array([con.rhs - shift]))
-            else:
-                sg = -1.0 if con.sense == ">=" else 1.0
-                A.append(sg * row[None])
-                b.append(np.array([sg * (con.rhs - shift)]))
-        span = np.zeros((V + 1, self.n))
-        span[np.arange(V), np.arange(V)] = 1.0
-        span[np.arange(V), V] = -1.0
-        span[V, V] = 1.0  # F ≤ cycle
-        A.append(span)
-        b.append(np.r_[np.zeros(V), C])
+        a_ub, b_ub, a_eq, b_eq = cg.feasible_rows(rpm)
+        A, b = [a_ub], [b_ub]
+        A_eq, b_eq_ = [a_eq], [b_eq]
         # The first objective kept: the shifts only use the slack. To round-off,
         # as the optimum's own (tidied) times reach it.
         t = np.array([opt.times[e] for e in cg.events])
@@ -267,8 +235,8 @@ class _Feasible:
                 row = np.zeros((1, self.n))
                 row[0, ev[e]], row[0, r] = 1.0, -1.0
                 A_eq.append(row)
-                b_eq.append(np.array([t[ev[e]] - t[r]]))
-        self.A_eq, self.b_eq = np.vstack(A_eq), np.concatenate(b_eq)
+                b_eq_.append(np.array([t[ev[e]] - t[r]]))
+        self.A_eq, self.b_eq = np.vstack(A_eq), np.concatenate(b_eq_)
         self.ref = [ev[g[0]] for g in groups]
 
     def violation(self, x: Array) -> float:
@@ -358,14 +326,6 @@ class _Feasible:
         )
         x = second.x if second.status == 0 else first.x
         return np.asarray(x[:n], dtype=np.float64)
-
-
-def _diff(n: int, i: npt.NDArray[np.int64], j: npt.NDArray[np.int64]) -> Array:
-    """Rows with +1 at column ``i`` and −1 at column ``j`` (one per entry)."""
-    out = np.zeros((len(i), n))
-    out[np.arange(len(i)), i] += 1.0
-    out[np.arange(len(i)), j] -= 1.0
-    return out
 
 
 def _peaks(T: Array, phase: Array, shifts: Array) -> Array:
