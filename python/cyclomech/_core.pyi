@@ -13,7 +13,6 @@ __all__ = [
     "CAM_CRITERIA",
     "CAM_LOAD_COLUMNS",
     "DEG_PER_S_PER_RPM",
-    "FORCE_PARTS",
     "MOTION_LAWS",
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
@@ -60,8 +59,6 @@ CAM_CRITERIA: tuple[str, ...]
 CAM_LOAD_COLUMNS: tuple[str, ...]
 #: The statistics of shaft_stats, in its columns' order.
 SHAFT_STATS: tuple[str, ...]
-#: The parts of every ForceModel result: per ω², per crank acceleration ε, static.
-FORCE_PARTS: tuple[str, ...]
 
 # cyclogram: longest paths, event graphs, cycle ratios, difference constraints.
 

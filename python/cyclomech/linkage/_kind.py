@@ -233,7 +233,8 @@ class LinkageResult(PlainResult):
             return None
         origin = math.degrees(self.mech.linkage.drawn_angle)
         shift = phase.shift_deg({} if o is None else o.times, origin)
-        return k.torque_parts[0], k.torque_parts[2], shift, phase.event
+        t = k.shaft_torque()
+        return t.per_omega2, t.static, shift, phase.event
 
     def cycle_csv(self) -> tuple[list[str], list[Array]] | None:
         """Its forces over the turn at the nominal speed for ``<name>_forces.csv``:
@@ -245,9 +246,10 @@ class LinkageResult(PlainResult):
         n = self.ctx.nominal_rpm
         header = ["crank_deg", "torque_nm"]
         cols: list[Array] = [np.degrees(k.angles), k.torque(n)]
+        guides = k.guide_forces(n)
         for j, g in enumerate(k.guides):
             header.append(f"guide_n[{g}]")
-            cols.append(k.guide_forces(n)[:, j])
+            cols.append(guides[:, j])
         react = k.reactions(n)
         for i, (p, part) in enumerate(k.pairs):
             header += [f"fx_n[{p} on {part}]", f"fy_n[{p} on {part}]"]

@@ -349,7 +349,12 @@ def _img(path: Path, caption: str) -> str:
     )
 
 
-def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, Path]]) -> str:
+def _html(
+    r: MachineResult,
+    summary: dict[str, Any],
+    figs: list[tuple[str, str, Path]],
+    cycle_files: list[str],
+) -> str:
     m = r.machine
     cg = m.cyclogram
     e = html.escape
@@ -499,13 +504,7 @@ def _html(r: MachineResult, summary: dict[str, Any], figs: list[tuple[str, str, 
         for sec, cap, p in figs:
             if sec == "shaft":
                 parts.append(_img(p, cap))
-    cycle = [
-        f"<code>{_stem(k)}_forces.csv</code>"
-        for k, res in r.mechanisms.items()
-        if getattr(res, "cycle_csv", lambda: None)() is not None
-    ]
-    if r.shaft is not None:
-        cycle.insert(0, "<code>main_shaft.csv</code>")
+    cycle = [f"<code>{name}</code>" for name in cycle_files]
     over = f"; over the cycle at {r.nominal_rpm:g} rpm: {', '.join(cycle)}" if cycle else ""
     parts.append(
         "<h2>Files</h2><p><code>results.json</code> (schema "
@@ -596,19 +595,22 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
             op_rows,
         )
     )
-    for k, res in result.mechanisms.items():
-        over = getattr(res, "cycle_csv", lambda: None)()
-        if over is not None:
-            head, columns = over
-            rows = [list(r) for r in zip(*columns, strict=True)]
-            written.append(_write_csv(folder / f"{_stem(k)}_forces.csv", head, rows))
+    cycle_files: list[str] = []  # over the cycle, for the report's Files section
     if result.shaft is not None:
+        cycle_files.append("main_shaft.csv")
         sh, n = result.shaft, result.nominal_rpm
         head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
         theta = np.round(sh.torque.theta_deg, 9)  # 0.1 steps, not 0.30000000000000004
         columns = [theta, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
         rows = [list(r) for r in zip(*columns, strict=True)]
         written.append(_write_csv(folder / "main_shaft.csv", head, rows))
+    for k, res in result.mechanisms.items():
+        over = getattr(res, "cycle_csv", lambda: None)()
+        if over is not None:
+            head, columns = over
+            rows = [list(r) for r in zip(*columns, strict=True)]
+            cycle_files.append(f"{_stem(k)}_forces.csv")
+            written.append(_write_csv(folder / cycle_files[-1], head, rows))
     figs: list[tuple[str, str, Path]] = []
     if figures:
         try:
@@ -618,7 +620,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         else:
             figs = _figures(result, folder / "figures")
     p = folder / "report.html"
-    p.write_text(_html(result, summary, figs), encoding="utf-8")
+    p.write_text(_html(result, summary, figs, cycle_files), encoding="utf-8")
     written.append(p)
     written += [f[2] for f in figs]
     return written

@@ -54,13 +54,11 @@ mod _core {
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
-        m.add("FORCE_PARTS", PyTuple::new(m.py(), FORCE_PARTS)?)?;
         Ok(())
     }
 
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
-    use cyclomech_core::forces::PARTS as FORCE_PARTS;
     use cyclomech_core::motion::NAMES as LAW_NAMES;
     use cyclomech_core::press::Status;
     use cyclomech_core::shaft::STATS as SHAFT_STATS;

@@ -234,23 +234,9 @@ impl EventGraph {
         row_len: usize,
         n_threads: Option<i64>,
     ) -> Result<Vec<f64>, CyclogramError> {
-        let (n, m) = (self.n, self.n_arcs());
-        if row_len != m {
-            return Err(CyclogramError::WeightLength {
-                field: "weights",
-                expected: m,
-                got: row_len,
-            });
-        }
-        if weights.len() != rows * m {
-            return Err(CyclogramError::WeightLength {
-                field: "weights",
-                expected: m,
-                got: weights.len() / rows.max(1),
-            });
-        }
-        check_memory(0, 0, rows.saturating_mul(n).saturating_mul(8))?;
-        let mut out = vec![0.0; rows * n];
+        // The weights are checked by earliest_batch_into; the output must fit first.
+        check_memory(0, 0, rows.saturating_mul(self.n).saturating_mul(8))?;
+        let mut out = vec![0.0; rows * self.n];
         self.earliest_batch_into(weights, rows, row_len, &mut out, n_threads)?;
         Ok(out)
     }

@@ -45,7 +45,7 @@ mod solve;
 #[cfg(test)]
 mod tests;
 
-pub use solve::{solve_into, Inputs, Outputs, PARTS};
+pub use solve::{solve_into, Inputs, Outputs};
 
 use crate::geom::V2;
 

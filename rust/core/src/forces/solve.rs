@@ -7,9 +7,6 @@ use super::{ForceError, Guide, Model, Sink, Spec};
 use crate::geom::{cross, dot, sub, V2};
 use crate::parallel::{pool, resolve_threads};
 
-/// The parts of every result: its coefficient of ω², of ε, and its static part.
-pub const PARTS: [&str; 3] = ["per_omega2", "per_crank_acceleration", "static"];
-
 /// A pivot below this fraction of its block's largest entry is a dead centre.
 const SINGULAR_REL: f64 = 1e-10;
 
