@@ -10,13 +10,15 @@ from typing import TYPE_CHECKING, Any
 
 from .. import _toml
 from .._errors import InputError
+from ..forces import DYNAMICS_KEYS
 
 if TYPE_CHECKING:
     from ._linkage import Linkage
 
 _LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengths", "sliders"}
-#: Keys of a machine file's linkage table that a plain linkage file does not take.
-_MACHINE_KEYS = {"mass", "point_mass_kg", "load", "gravity_m_per_s2", "phase"}
+#: Keys of a machine file's linkage table that a plain linkage file does not take:
+#: its forces (cyclomech.forces) and where its crank sits in the cycle.
+_MACHINE_KEYS = DYNAMICS_KEYS | {"phase"}
 
 
 def linkage_table(lk: Linkage) -> dict[str, Any]:
