@@ -158,6 +158,7 @@ designs = st.builds(
 @settings(max_examples=30, deadline=None)
 @given(designs)
 @example((0.09, 0.03, 0.028, 0.46, math.radians(56.0), 0.1))
+@example((0.09, 0.03, 0.03, 0.25, math.radians(50.0), 0.5))  # a cusp: reverses between samples
 @example((0.09, 0.03, 0.029, 0.25, math.radians(56.0), 0.1))
 def test_item1_first_contact_against_dense_sampling(design):
     """α_p is the first contact coming down from TDC and the status follows the
@@ -170,6 +171,30 @@ def test_item1_first_contact_against_dense_sampling(design):
     assert cm.press.STATUS[want] == c.status, (ref, c)
     assert c.alpha_p == pytest.approx(ref["alpha_c"], abs=1e-8)
     assert c.V_np == pytest.approx(ref["V_np"], rel=1e-6, abs=1e-12)
+
+
+def test_item1_a_reversal_between_two_samples_is_found():
+    """d = r puts a cusp on the planet point's path: within the working stroke the
+    slider stops and rises 8 nm (5.9e-8 of the stroke) over a stretch far narrower
+    than a sample step. Dense sampling of the kinematics sees the rise; the criteria
+    find it at every sample count from the local maximum of y' between samples
+    (status 2, criteria kept)."""
+    geo = (0.09, 0.03, 0.03, 0.25, math.radians(50.0))
+    p = cm.press.GearLeverPress(*geo)
+    c0 = p.criteria(k_Sp=0.5, omega=1.0)
+    s = p.solve(np.linspace(0.0, c0.alpha_p, 2_000_001)).s
+    rise = float(np.max(np.maximum.accumulate(s) - s))
+    assert 1e-9 * c0.S_n < rise < 1e-7 * c0.S_n
+    ref = reference(*geo, 0.5, 1.0, n=1 << 17)
+    assert ref_status(ref) == 2
+    for samples in (24, 90, 360, 2000):
+        c = p.criteria(k_Sp=0.5, omega=1.0, samples=samples)
+        assert c.status == cm.press.STATUS[2], samples
+        assert not c.ok and c.alpha_p == pytest.approx(ref["alpha_c"], abs=1e-8)
+    # Moving d off the cusp by 1 mm: the slider only slows down, no reversal.
+    ok = cm.press.GearLeverPress(0.09, 0.03, 0.029, 0.25, math.radians(50.0))
+    ref = reference(0.09, 0.03, 0.029, 0.25, math.radians(50.0), 0.5, 1.0, n=1 << 17)
+    assert ref_status(ref) == 0 and ok.criteria(k_Sp=0.5, omega=1.0).ok
 
 
 def test_item1_first_contact_does_not_depend_on_the_sampling():

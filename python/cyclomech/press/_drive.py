@@ -71,11 +71,14 @@ class PressCriteria:
     α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that then backs
     off above S_p (by more than 1e-9 of the stroke) and comes down on the blank again
     before BDC *re-contacts* (status 4, :data:`STATUS`); one that moves back up without
-    leaving the blank has status 2. Both keep their criteria (from the first contact)
-    and fail (``ok`` False): design grids mark them and :func:`optimize` drops them. S_p is
-    watched from TDC down to BDC only, the blank taken to be in place from TDC: a
-    slider that also dips below S_p on its way up (two strokes a turn; about 1 % of
-    i = 3 designs, near φ0 = 60°) is not flagged for it.
+    leaving the blank (rising faster than 1e-12 of the stroke per radian anywhere
+    in the working stroke, also between samples: near a cusp, d ≈ r, the rise can be a few
+    nanometres over a fraction of a sample step) has status 2. Both keep their
+    criteria (from the first contact) and fail (``ok`` False): design grids mark
+    them and :func:`optimize` drops them. S_p is watched from TDC down to BDC only,
+    the blank taken to be in place from TDC: a slider that also dips below S_p on
+    its way up (two strokes a turn; about 1 % of i = 3 designs, near φ0 = 60°) is
+    not flagged for it.
 
     >>> import math, cyclomech as cm
     >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.028, L=0.46, phi0=math.radians(56))

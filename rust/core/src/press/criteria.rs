@@ -845,6 +845,11 @@ pub(super) fn criteria_with(
     // Brackets (θ_lo, θ_hi, y''(θ_lo), y''(θ_hi)) of the speed peaks.
     let mut peaks: [(f64, f64, f64, f64); 8] = [(0.0, 0.0, 0.0, 0.0); 8];
     let mut n_peaks = 0;
+    // Brackets of the local maxima of y' (the slowest descent, or a rise: −y''
+    // turns from − to +), refined only if no sample has the slider rising: a
+    // reversal near a cusp of the planet point (d ≈ r) can lie between samples.
+    let mut lulls: [(f64, f64, f64, f64); 8] = [(0.0, 0.0, 0.0, 0.0); 8];
+    let mut n_lulls = 0;
     // The extremes of y' over the points passed (Π' = −y').
     let (mut dy_min, mut dy_max) = (f64::INFINITY, f64::NEG_INFINITY);
     let mut th_p = f64::NAN;
@@ -876,22 +881,17 @@ pub(super) fn criteria_with(
             peaks[n_peaks] = (th, nx_th, -g, -nx_g);
             n_peaks += 1;
         }
+        if g < 0.0 && nx_g > 0.0 && n_lulls < lulls.len() {
+            lulls[n_lulls] = (th, nx_th, -g, -nx_g);
+            n_lulls += 1;
+        }
         (nx_th, nx_s, nx_dy, nx_g) = (th, s, dy, g);
     }
     if th_p.is_nan() {
         // Unreachable: pass 2 walks the points of pass 1.
         return Status::LongStroke;
     }
-    let (best_v, status) = (
-        -dy_min,
-        if s_max > s_p + rc_tol {
-            Status::ReContacts
-        } else if -dy_max < -1e-12 * s_n {
-            Status::Reverses
-        } else {
-            Status::Ok
-        },
-    );
+    let best_v = -dy_min;
     let alpha_p = th_b - th_p;
     // y', y'' at the start of the working stroke, by Taylor from the last
     // evaluation of its search.
@@ -911,11 +911,19 @@ pub(super) fn criteria_with(
         peaks[n_peaks] = (th_p, nx_th, ddy_p, -nx_g);
         n_peaks += 1;
     }
-    // Speed peaks inside the working stroke: roots of y'' by Chebyshev steps
-    // from the secant of the bracket's ends; Π' there by Taylor from the last
-    // evaluation.
+    if -ddy_p < 0.0 && nx_g > 0.0 && n_lulls < lulls.len() {
+        lulls[n_lulls] = (th_p, nx_th, ddy_p, -nx_g);
+        n_lulls += 1;
+    }
+    // The slider rises during the working stroke when y' > 1e-12 of the stroke
+    // per radian at a sample or at a local maximum of y' between two samples.
+    let rising = 1e-12 * s_n;
+    let n_lulls = if dy_max > rising { 0 } else { n_lulls };
+    // Speed peaks (and the lulls) inside the working stroke: roots of y'' by
+    // Chebyshev steps from the secant of the bracket's ends; Π' there by Taylor
+    // from the last evaluation.
     let mut v_max = v_np.max(best_v);
-    for &(lo, hi, glo, ghi) in &peaks[..n_peaks] {
+    for (k, &(lo, hi, glo, ghi)) in peaks[..n_peaks].iter().chain(&lulls[..n_lulls]).enumerate() {
         if glo * ghi < 0.0 {
             let mut last = None;
             let g = |x: f64| {
@@ -939,9 +947,20 @@ pub(super) fn criteria_with(
                 }
                 None => at(t, 2).dy,
             };
-            v_max = v_max.max(-dy);
+            if k < n_peaks {
+                v_max = v_max.max(-dy);
+            } else {
+                dy_max = dy_max.max(dy);
+            }
         }
     }
+    let status = if s_max > s_p + rc_tol {
+        Status::ReContacts
+    } else if dy_max > rising {
+        Status::Reverses
+    } else {
+        Status::Ok
+    };
     // Acceleration peak over the turn: every sampled local maximum of |y''| within
     // 1 % of the largest, refined at a root of y'''. One evaluation each, at the
     // peak of the quartic through the five samples around it (off by ~h⁴·y⁽⁷⁾/
