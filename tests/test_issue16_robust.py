@@ -484,6 +484,49 @@ def test_item14_linkage_results_that_cannot_fit_are_refused_before_allocating(mo
     assert sol.ok.all()
 
 
+_HUGE = 10**10  # 80 GB as float64 or int64
+
+
+def _four_bar() -> cm.Linkage:
+    return cm.Linkage(
+        {"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
+        [("A", "B"), ("B", "C"), ("C", "D")],
+        ["A", "D"],
+        ("A", "B"),
+    )
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda f, i: _four_bar().solve(f), "a float64 copy of angles"),
+        (lambda f, i: _four_bar().solve(i), "a float64 copy of angles"),
+        (
+            lambda f, i: cm.impact.duhamel(f, f, omega_n=10.0, zeta=0.1, mass=1.0),
+            "a float64 copy of t",
+        ),
+        (lambda f, i: cm.cyclogram.longest_path(3, i, i, f), "a float64 copy of weights"),
+        (lambda f, i: cm.cyclogram.longest_path(3, i, i, f[:2]), "an int64 copy of src"),
+    ],
+    ids=["linkage angles", "linkage int angles", "duhamel t", "path weights", "path src"],
+)
+def test_an_input_copy_that_cannot_fit_is_refused_before_numpy_tries(call, message):
+    """A broadcast view of 1e10 values must be copied before a kernel can read it
+    (80 GB): an InputError naming the argument, its shape and the size, not numpy's
+    MemoryError (which is not a CyclomechError) or the OOM killer."""
+    f = np.broadcast_to(np.float64(0.1), (_HUGE,))
+    i = np.broadcast_to(np.int32(1), (_HUGE,))
+    with pytest.raises(cm.InputError, match=rf"{message} \(10000000000,\) needs 80 GB, more than"):
+        call(f, i)
+
+
+def test_a_small_broadcast_view_is_copied_and_solved():
+    angles = np.broadcast_to(np.float64(0.3), (4,))
+    np.testing.assert_array_equal(
+        _four_bar().solve(angles).xy, _four_bar().solve(np.full(4, 0.3)).xy
+    )
+
+
 def test_item14_press_solve_results_that_cannot_fit_are_refused(monkeypatch):
     designs = np.array([[0.09, 0.03, 0.028, 0.46, math.radians(56), 0.0]])
     monkeypatch.setenv("CYCLOMECH_MAX_BYTES", "1000")

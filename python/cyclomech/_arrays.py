@@ -33,7 +33,7 @@ def index_array(name: str, value: Any) -> npt.NDArray[np.int64]:
     if a.dtype.kind == "u" and a.size and a.max() > _I64_MAX:
         i = int(np.argmax(a > _I64_MAX))
         raise InputError(f"{name}[{i}] = {a[i]} is not an event index; it exceeds any event count")
-    return np.ascontiguousarray(a, dtype=np.int64)
+    return _contiguous(name, a, np.int64)
 
 
 def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDArray[np.float64]:
@@ -52,7 +52,19 @@ def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDA
     if a.ndim not in ndims:
         want = " or ".join(f"{d}-D" for d in ndims)
         raise InputError(f"{name} must be a {want} array; got shape {a.shape}")
-    return np.ascontiguousarray(a, dtype=np.float64)
+    return _contiguous(name, a, np.float64)
+
+
+def _contiguous(name: str, a: npt.NDArray[Any], dtype: type[np.generic]) -> Any:
+    """``a`` as a C-contiguous array of ``dtype``. A copy (of a broadcast view, a
+    strided slice, another dtype) that cannot fit is refused before numpy tries:
+    its MemoryError is not a CyclomechError."""
+    if a.dtype != dtype or not a.flags.c_contiguous:
+        size = np.dtype(dtype).itemsize * float(a.size)
+        kind = np.dtype(dtype).name
+        what = f"{'an' if kind[0] in 'aeiou' else 'a'} {kind} copy of {name} {a.shape}"
+        check_bytes(what, size, f"pass a smaller array for {name}")
+    return np.ascontiguousarray(a, dtype=dtype)
 
 
 def real(value: Any) -> float:
