@@ -1,0 +1,93 @@
+"""Sphinx configuration of cyclomech's documentation site.
+
+Build: ``pip install ".[docs]" && sphinx-build -W --keep-going -b html docs docs/_build/html``
+(warnings are errors: a broken reference or a gallery example that fails stops
+the build).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import cyclomech
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "_ext"))
+
+project = "cyclomech"
+author = "the cyclomech developers"
+copyright = "2026, the cyclomech developers"  # noqa: A001 (Sphinx's name)
+release = cyclomech.__version__
+version = ".".join(release.split(".")[:2])
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax served from the site itself, not a CDN
+    "numpydoc",
+    "sphinx_gallery.gen_gallery",
+]
+
+exclude_patterns = ["_build", "gallery/README.rst"]
+templates_path: list[str] = []
+html_static_path: list[str] = []
+
+# The API reference: numpydoc renders the docstrings' sections; members come
+# from each domain package's ``__all__`` (its door).
+autodoc_default_options = {"members": True, "member-order": "bysource"}
+autodoc_typehints = "none"  # numpydoc sections carry the types and units
+autosummary_generate = False
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+
+sphinx_gallery_conf = {
+    "examples_dirs": "gallery",
+    "gallery_dirs": "auto_gallery",
+    "filename_pattern": r"/plot_",
+    "abort_on_example_error": True,  # an example that fails fails the build
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "matplotlib_animations": False,
+    "within_subsection_order": "FileNameSortKey",
+}
+
+html_theme = "pydata_sphinx_theme"
+html_title = f"cyclomech {release}"
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "secondary_sidebar_items": ["page-toc"],
+}
+html_show_sourcelink = False
+
+
+# The docstrings are written to read well in a terminal (``help()``) as much as
+# here: |x| is a magnitude, not a reStructuredText substitution. Escape the bars
+# outside code (doctest lines and literal blocks are left as they are).
+def _bars_are_magnitudes(app, what, name, obj, options, lines: list[str]) -> None:
+    literal_indent: int | None = None
+    for i, line in enumerate(lines):
+        stripped = line.lstrip()
+        indent = len(line) - len(stripped)
+        if literal_indent is not None:
+            if stripped and indent <= literal_indent:
+                literal_indent = None
+            else:
+                continue
+        if stripped.startswith((">>>", "...")):
+            continue
+        if "|" in line and "``" not in line:
+            lines[i] = line.replace("|", r"\|")
+        elif "|" in line:
+            # Only outside inline literals.
+            parts = line.split("``")
+            lines[i] = "``".join(p if k % 2 else p.replace("|", r"\|") for k, p in enumerate(parts))
+        if stripped.endswith("::"):
+            literal_indent = indent
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _bars_are_magnitudes)
