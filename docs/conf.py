@@ -17,7 +17,7 @@ sys.path.insert(0, str(HERE / "_ext"))
 
 project = "cyclomech"
 author = "the cyclomech developers"
-copyright = "2026, the cyclomech developers"  # noqa: A001 (Sphinx's name)
+copyright = "2026, the cyclomech developers"
 release = cyclomech.__version__
 version = ".".join(release.split(".")[:2])
 
