@@ -511,7 +511,7 @@ def render_table(table: str) -> str:
     >>> print(render_table("phase").splitlines()[0])
     .. list-table::
     """
-    rows = [_HEADER]
+    rows: list[tuple[str, ...]] = [_HEADER]
     for k in TABLES[table]:
         cells = map(_text, (k.meaning, k.unit, k.type, k.default, k.valid))
         rows.append((f"``{k.name}``", *cells, _SWEEP[k.sweep]))
