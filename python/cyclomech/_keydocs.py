@@ -136,7 +136,8 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
     "constraint": (
         K("name", "The constraint's name in the optimum's results.", NO_UNIT, TEXT,
           "constraint <n> (n its position among the constraints)",
-          "unique; not cycle, and not starting with min[, max[ or duration[", False),
+          "any value, taken as text; unique; not cycle, and not starting with min[, max[ or "
+          "duration[", False),
         K("terms", "The sum Σ coeff·t(from, to) over operations.", NO_UNIT, ROWS, REQ,
           "at least one {from, to, coeff} table, each arc once", False),
         K("sense", "The comparison of the sum with rhs.", NO_UNIT, TEXT, REQ,
@@ -315,7 +316,8 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
         K("load", "External forces and torques, one [[…load]] row each.", NO_UNIT, ROWS,
           "none (no loads)", "an array of tables", True),
         K("gravity_m_per_s2", "The acceleration of gravity [gx, gy].", "m/s²", ARR,
-          "none (no gravity)", "two numbers; needs mass or point_mass_kg", True),
+          "none (no gravity)",
+          "two finite numbers; needs mass or point_mass_kg", True),
     ),
     "linkage.lengths": (
         K("joints", "The two joints the length joins.", NO_UNIT, ARR, REQ,
