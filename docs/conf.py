@@ -28,11 +28,13 @@ extensions = [
     "sphinx-mathjax-offline",  # MathJax served from the site itself, not a CDN
     "numpydoc",
     "sphinx_gallery.gen_gallery",
+    "keys_reference",  # docs/_ext: the machine-file format from cyclomech._keydocs
 ]
 
-exclude_patterns = ["_build", "gallery/README.rst"]
+exclude_patterns = ["_build", "gallery/README.rst", "reference/_generated"]
 templates_path: list[str] = []
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["cyclomech.css"]
 
 # The API reference: numpydoc renders the docstrings' sections; members come
 # from each domain package's ``__all__`` (its door).
@@ -59,7 +61,8 @@ html_title = f"cyclomech {release}"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "secondary_sidebar_items": ["page-toc"],
+    # The format reference's wide tables get the whole width.
+    "secondary_sidebar_items": {"**": ["page-toc"], "reference/machine_format": []},
 }
 html_show_sourcelink = False
 
