@@ -12,6 +12,7 @@ rotation and N·m (``stroke_deg``, ``inertia_kg_m2``, ``spring_rate_nm_per_rad``
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,6 +47,7 @@ _OSCILLATING = {
     "load": "load_nm",
     "vibration": "max_vibration_deg",
 }
+_ALL_GEOMETRY = frozenset(k for keys in _GEOMETRY.values() for k in keys)
 _CONTACT = ("width_m", "follower_modulus_pa", "follower_poisson", "cam_modulus_pa", "cam_poisson")
 #: The keys of a cam table (besides a machine's ``kind``; ``name`` and
 #: ``rpm`` in a cam file).
@@ -124,6 +126,25 @@ class CamDesign:
                 f"{at}: {stray[0]} is for the other kind of follower; a {kind} follower "
                 f"takes {', '.join(units.values())}"
             )
+        unused = sorted(k for k in table if k in _ALL_GEOMETRY and k not in _GEOMETRY[kind])
+        if unused:
+            raise InputError(
+                f"{at}: {unused[0]} is not used by a {kind} follower, which takes "
+                f"{', '.join(_GEOMETRY[kind])}; remove it"
+            )
+        # A key read only beside another is refused without it: never ignored.
+        needs = [
+            (k, units["mass"], "the follower's loads") for k in (units["spring"], units["preload"])
+        ]
+        needs += [(k, "width_m", "the contact") for k in _CONTACT[1:]]
+        rows = table["segment"] if isinstance(table["segment"], list) else []
+        if any(isinstance(r, dict) and units["load"] in r for r in rows):
+            needs.append((f"a segment's {units['load']}", units["mass"], "the follower's loads"))
+        for key, need, what in needs:
+            if (key.startswith("a segment") or key in table) and need not in table:
+                raise InputError(
+                    f"{at}: {key} is read only with {need} ({what}); add {need} or remove it"
+                )
         geometry = [k for k in _GEOMETRY[kind] if k != "offset_m"]
         _toml.require(table, geometry, at)
         g = {k: _toml.number(table, k, at, "[m]") for k in _GEOMETRY[kind] if k in table}
@@ -146,7 +167,7 @@ class CamDesign:
             segments, bound = _segments(table["segment"], at, units, arcs)
             cam = Cam(segments, follower, closure)
         except InputError as e:
-            raise InputError(f"{at}: {e}") from None
+            raise _keyed(at, e, units) from None
         loads = None
         if units["mass"] in table:
             try:
@@ -162,7 +183,7 @@ class CamDesign:
                     ),
                 )
             except InputError as e:
-                raise InputError(f"{at}: {e}") from None
+                raise _keyed(at, e, units) from None
         contact = None
         if "width_m" in table:
             c = {k: table[k] for k in _CONTACT if k in table}
@@ -175,7 +196,7 @@ class CamDesign:
                     c.get("cam_poisson", 0.3),
                 )
             except InputError as e:
-                raise InputError(f"{at}: {e}") from None
+                raise _keyed(at, e, units) from None
         max_stress = _toml.optional_positive(table, "max_stress_pa", at, "[Pa]")
         if max_stress is not None and (loads is None or contact is None):
             raise InputError(
@@ -235,6 +256,31 @@ class CamDesign:
             vibration=self.vibration,
             n_threads=n_threads,
         )
+
+
+def _keyed(at: str, e: InputError, units: Mapping[str, str]) -> InputError:
+    """``e`` from a constructor, located at ``at`` and naming the file's key (a
+    constructor names its argument: ``roller_radius`` is ``roller_radius_m`` in a
+    file)."""
+    keys = {
+        "base_radius": "base_radius_m",
+        "roller_radius": "roller_radius_m",
+        "offset": "offset_m",
+        "pivot_distance": "pivot_distance_m",
+        "arm_length": "arm_length_m",
+        "width": "width_m",
+        "follower_modulus": "follower_modulus_pa",
+        "cam_modulus": "cam_modulus_pa",
+        "mass": units["mass"],
+        "spring_rate": units["spring"],
+        "preload": units["preload"],
+        "segment_loads": f"the segments' {units['load']}",
+    }
+    text = str(e)
+    head = re.match(r"\w+", text)
+    if head and head.group(0) in keys:
+        text = keys[head.group(0)] + text[head.end() :]
+    return InputError(f"{at}: {text}")
 
 
 def _segments(
