@@ -130,31 +130,39 @@ impl WithSimd for Blocks<'_, '_, '_> {
                 }
             }
             let (ok, singular) = (st.ok, st.singular);
-            for l in 0..n {
-                let good = ok[l] != 0.0;
-                let i = start + l;
-                out.ok[i] = good;
-                out.singular[i] = good && singular[l] != 0.0;
-                out.branch[i] = false;
-                let pick = |v: &P2| {
-                    if good {
-                        [v[0][l], v[1][l]]
-                    } else {
-                        [f64::NAN; 2]
-                    }
-                };
-                let row = i * sel.len();
-                for (k, &j) in sel.iter().enumerate() {
-                    out.xy[row + k] = pick(&xy[j]);
-                }
+            let m = sel.len();
+            let rows = start * m..(start + n) * m;
+            for (k, &j) in sel.iter().enumerate() {
+                emit(simd, &ok, &xy[j], &mut out.xy[rows.clone()], m, k);
                 if analogs {
-                    for (k, &j) in sel.iter().enumerate() {
-                        out.vel[row + k] = pick(&vel[j]);
-                        out.acc[row + k] = pick(&acc[j]);
-                    }
+                    emit(simd, &ok, &vel[j], &mut out.vel[rows.clone()], m, k);
+                    emit(simd, &ok, &acc[j], &mut out.acc[rows.clone()], m, k);
                 }
             }
+            for l in 0..n {
+                let good = ok[l] != 0.0;
+                out.ok[start + l] = good;
+                out.singular[start + l] = good && singular[l] != 0.0;
+                out.branch[start + l] = false;
+            }
         }
+    }
+}
+
+/// Column `k` of the rows `dst` (`m` points a row, one row per lane of the
+/// block) from the point `src` over the block, NaN where the lane is not `ok`.
+#[inline(always)]
+fn emit<S: Simd>(simd: S, ok: &Lane, src: &P2, dst: &mut [[f64; 2]], m: usize, k: usize) {
+    let (one, nan) = (simd.splat_f64s(1.0), simd.splat_f64s(f64::NAN));
+    let (mut x, mut y) = ([0.0; LANES], [0.0; LANES]);
+    for i in 0..LANES / S::F64_LANES {
+        let good = simd.equal_f64s(ld::<S>(ok, i), one);
+        st::<S>(&mut x, i, simd.select_f64s(good, ld::<S>(&src[0], i), nan));
+        st::<S>(&mut y, i, simd.select_f64s(good, ld::<S>(&src[1], i), nan));
+    }
+    assert!(k < m);
+    for (l, row) in dst.chunks_exact_mut(m).enumerate().take(LANES) {
+        row[k] = [x[l], y[l]];
     }
 }
 
