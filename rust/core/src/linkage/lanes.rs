@@ -86,7 +86,7 @@ impl WithSimd for Blocks<'_, '_, '_> {
             out,
         } = self;
         // Registers of 1, 2, 4 or 8 doubles: a block is whole registers.
-        assert!(LANES % S::F64_LANES == 0 && an.len() == prog.steps.len());
+        assert!(LANES.is_multiple_of(S::F64_LANES) && an.len() == prog.steps.len());
         let p = prog.n_points;
         let (mut xy, mut vel, mut acc) = (vec![ZERO; p], vec![ZERO; p], vec![ZERO; p]);
         for &(k, q) in &prog.fixed {
@@ -183,7 +183,7 @@ struct Block<'s, S: Simd> {
 #[inline(never)]
 fn far_sin_cos(phi: &Lane, sn: &mut Lane, cs: &mut Lane) {
     for l in 0..LANES {
-        if !(phi[l].abs() <= 1e6) {
+        if phi[l].abs() > 1e6 || phi[l].is_nan() {
             (sn[l], cs[l]) = sin_cos(phi[l]);
         }
     }
@@ -314,7 +314,7 @@ impl<S: Simd> Block<'_, S> {
             st::<S>(&mut cs, i, c);
         }
         // Beyond the reduction's range (|φ| > 1e6): the platform's, as sin_cos.
-        if phi.iter().any(|v| !(v.abs() <= 1e6)) {
+        if phi.iter().any(|v| v.abs() > 1e6 || v.is_nan()) {
             far_sin_cos(phi, &mut sn, &mut cs);
         }
         let (r, nr) = (simd.k(radius), simd.k(-radius));

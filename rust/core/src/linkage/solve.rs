@@ -447,7 +447,7 @@ impl Program {
                     let h2 = ra * ra - x * x;
                     // Round-off can make a tangent position slightly negative;
                     // NaN (from an overflowed distance) does not assemble either.
-                    if !(h2 >= -1e-12 * ra * ra) {
+                    if h2.is_nan() || h2 < -1e-12 * ra * ra {
                         return Pose::FAILED;
                     }
                     let h = sqrt_pos(h2);
@@ -492,7 +492,7 @@ impl Program {
                     let ao = sub(xy[a], ln.o);
                     let (t0, off) = (dot(ao, e), cross(e, ao));
                     let q2 = r * r - off * off;
-                    if !(q2 >= -1e-12 * r * r) {
+                    if q2.is_nan() || q2 < -1e-12 * r * r {
                         return Pose::FAILED;
                     }
                     let t = t0 + sign * sqrt_pos(q2);
