@@ -11,11 +11,13 @@ use proptest::prelude::*;
 
 /// A crank-rocker A–B–C–D with a coupler point G (two circles from B and C), a
 /// block E at `le` from B on the rocker's line D–C (RRP on a moving guide) and a
-/// block F at `lf` from C on a fixed guide (RRP on the frame).
+/// block F at `lf` from C on a fixed guide (RRP on the frame), a point P where a
+/// frame guide crosses the coupler line B–C (PRP) and a link D–Q of length `le`
+/// aimed through a block at B (RPR).
 #[allow(clippy::too_many_arguments)]
 fn program(r: f64, l2: f64, l3: f64, d: f64, sign: f64, le: f64, lf: f64, tilt: f64) -> Program {
     Program {
-        n_points: 7,
+        n_points: 9,
         fixed: vec![(0, [0.0, 0.0]), (3, [d, 0.0])],
         steps: vec![
             Step::Driver {
@@ -55,6 +57,21 @@ fn program(r: f64, l2: f64, l3: f64, d: f64, sign: f64, le: f64, lf: f64, tilt: 
                 },
                 p: 5,
                 sign: -1.0,
+            },
+            Step::Cross {
+                l1: Line::Fixed {
+                    o: [0.0, 2.0],
+                    u: [1.0, tilt],
+                },
+                l2: Line::Through { b: 1, c: 2 },
+                p: 7,
+            },
+            Step::Aim {
+                b: 3,
+                s: 1,
+                c: 8,
+                len: le,
+                sign: 1.0,
             },
         ],
         drawn: None,
@@ -147,7 +164,7 @@ proptest! {
         sign in prop::sample::select(vec![1.0, -1.0]),
         le in 0.5f64..5.0, lf in 0.5f64..4.0, tilt in -0.5f64..0.5,
         phi0 in -10.0f64..10.0, step in 1e-3f64..0.3, n in 1usize..40,
-        sel in prop::sample::subsequence(vec![0usize, 1, 2, 3, 4, 5, 6], 1..=7),
+        sel in prop::sample::subsequence((0usize..9).collect::<Vec<_>>(), 1..=9),
         analogs in any::<bool>(),
     ) {
         let prog = program(r, l2, l3, d, sign, le, lf, tilt);
@@ -171,7 +188,7 @@ fn lanes_at_dead_centres_far_angles_and_exact_quadrants() {
         .collect();
     angles.extend([0.0, -0.0, 1e-300, 2e6, -3e7, 1e6, 1e6 + 1.0, 7.0e5]);
     for analogs in [true, false] {
-        let sel: Vec<usize> = (0..7).collect();
+        let sel: Vec<usize> = (0..9).collect();
         for (isa, got) in on_each(&prog, &angles, &sel, analogs) {
             assert_same_as_one_angle(isa, &prog, &angles, &sel, analogs, &got).unwrap();
             assert!(got.ok.iter().any(|&o| o), "{isa}");
@@ -182,20 +199,15 @@ fn lanes_at_dead_centres_far_angles_and_exact_quadrants() {
 #[test]
 fn only_the_analogs_asked_for_are_computed_and_the_flags_stay_the_mechanisms() {
     let prog = program(1.0, 3.5, 3.0, 3.5, 1.0, 3.0, 1.5, 0.2);
-    // G (6) reads B and C; E (4) reads B, D, C; F (5) reads C.
-    assert_eq!(
-        prog.analogs_needed(&[6]),
-        vec![true, true, true, false, false]
-    );
-    assert_eq!(
-        prog.analogs_needed(&[1]),
-        vec![true, false, false, false, false]
-    );
-    assert_eq!(prog.analogs_needed(&[0, 3]), vec![false; 5]);
-    assert_eq!(
-        prog.analogs_needed(&[5, 4]),
-        vec![true, true, false, true, true]
-    );
+    // G (6) reads B and C; E (4) reads B, D, C; F (5) reads C; P (7) reads B,
+    // C; Q (8) reads D, B.
+    let (t, f) = (true, false);
+    assert_eq!(prog.analogs_needed(&[6]), vec![t, t, t, f, f, f, f]);
+    assert_eq!(prog.analogs_needed(&[1]), vec![t, f, f, f, f, f, f]);
+    assert_eq!(prog.analogs_needed(&[0, 3]), vec![f; 7]);
+    assert_eq!(prog.analogs_needed(&[5, 4]), vec![t, t, f, t, t, f, f]);
+    assert_eq!(prog.analogs_needed(&[8]), vec![t, f, f, f, f, f, t]);
+    assert_eq!(prog.analogs_needed(&[7]), vec![t, t, f, f, f, t, f]);
     // A subset's rows are the full solve's columns, bit for bit, and its flags
     // the full solve's: F's guide cannot be reached at some angles, which fails
     // the whole pose even when only B is asked for.
@@ -203,13 +215,13 @@ fn only_the_analogs_asked_for_are_computed_and_the_flags_stay_the_mechanisms() {
     let full = prog.solve(
         &angles,
         &Request {
-            points: (0..7).collect(),
+            points: (0..9).collect(),
             analogs: true,
         },
         Some(1),
     );
     let full = full.unwrap();
-    for sel in [vec![1], vec![6, 2], vec![5], vec![3, 0]] {
+    for sel in [vec![1], vec![6, 2], vec![5], vec![3, 0], vec![8, 7]] {
         let req = Request {
             points: sel.clone(),
             analogs: true,
@@ -221,7 +233,7 @@ fn only_the_analogs_asked_for_are_computed_and_the_flags_stay_the_mechanisms() {
         for i in 0..angles.len() {
             for (k, &j) in sel.iter().enumerate() {
                 for c in 0..2 {
-                    let (a, b) = ((i * m + k) * 2 + c, (i * 7 + j) * 2 + c);
+                    let (a, b) = ((i * m + k) * 2 + c, (i * 9 + j) * 2 + c);
                     for (x, y) in [(&s.xy, &full.xy), (&s.vel, &full.vel), (&s.acc, &full.acc)] {
                         assert!(
                             x[a].to_bits() == y[b].to_bits() || (x[a].is_nan() && y[b].is_nan())

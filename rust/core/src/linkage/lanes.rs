@@ -3,6 +3,9 @@
 //! plain scalar code), and each step runs over the whole block before the next,
 //! so the angles' independent square roots and divisions fill the vector units.
 //!
+//! Every closed-form step has a lane form: the crank, RRR (and coupler points),
+//! RRP, PRP and RPR.
+//!
 //! Bit for bit [`Program::solve_one`] (tested on every instruction set): the same
 //! formulas, operation for operation, no fused multiply-adds, IEEE division and
 //! square root in every lane, sin/cos by [`sin_cos_simd`] (fdlibm's, bit for bit
@@ -28,15 +31,11 @@ type P2 = [Lane; 2];
 const ZERO: P2 = [[0.0; LANES]; 2];
 
 impl Program {
-    /// Every step has a lane form: cranks, two-circle (RRR) and circle-and-guide
-    /// (RRP) steps. Other programs go angle by angle ([`Program::solve_one`]).
+    /// Every step has a lane form: the crank and the closed-form class II groups
+    /// (RRR and coupler points, RRP, PRP, RPR). Programs with class III groups
+    /// are walked angle by angle ([`Program::solve_one`]).
     pub(super) fn has_lane_form(&self) -> bool {
-        self.steps.iter().all(|s| {
-            matches!(
-                s,
-                Step::Driver { .. } | Step::Circles { .. } | Step::Slide { .. }
-            )
-        })
+        !self.steps.iter().any(|s| matches!(s, Step::Triad { .. }))
     }
 
     /// Per step: whether its analogs are needed for those of the points `sel`
@@ -124,9 +123,11 @@ impl WithSimd for Blocks<'_, '_, '_> {
                         p,
                         sign,
                     } => st.slide(a, line, p, r, sign, an),
-                    // has_lane_form() holds: any other step would leave its point
-                    // unsolved, so fail rather than guess.
-                    _ => st.ok = [0.0; LANES],
+                    Step::Cross { l1, l2, p } => st.cross(l1, l2, p, an),
+                    Step::Aim { b, s, c, len, sign } => st.aim([b, s, c], len, sign, an),
+                    // has_lane_form() holds: a class III group would leave its
+                    // points unsolved, so fail rather than guess.
+                    Step::Triad { .. } => st.ok = [0.0; LANES],
                 }
             }
             let (ok, singular) = (st.ok, st.singular);
@@ -391,22 +392,20 @@ impl<S: Simd> Block<'_, S> {
         }
     }
 
-    /// [`Step::Slide`]: `p` at `r` from `a` on `line`, on side `sign` of the foot
-    /// of `a` along the line's direction.
+    /// A guide over the block: a point on it, its direction (not normalised),
+    /// and their first and second analogs (zero for a guide fixed to the frame),
+    /// as `Line::at`.
     #[inline(always)]
-    fn slide(&mut self, a: usize, line: Line, p: usize, r: f64, sign: f64, an: bool) {
-        let (s, o) = (self.simd, Ops(self.simd));
-        // The guide over the block: a point, its direction, and their analogs
-        // (zero for a guide fixed to the frame), as `Line::at`.
-        let (lo, le, lo1, le1, lo2, le2) = match line {
-            Line::Fixed { o: p0, u } => (
+    fn line(&self, line: Line, an: bool) -> [P2; 6] {
+        match line {
+            Line::Fixed { o: p0, u } => [
                 [[p0[0]; LANES], [p0[1]; LANES]],
                 [[u[0]; LANES], [u[1]; LANES]],
                 ZERO,
                 ZERO,
                 ZERO,
                 ZERO,
-            ),
+            ],
             Line::Through { b, c } => {
                 let sub = |x: &P2, y: &P2| -> P2 {
                     [
@@ -416,19 +415,136 @@ impl<S: Simd> Block<'_, S> {
                 };
                 let (xy, vel, acc) = (&*self.xy, &*self.vel, &*self.acc);
                 if an {
-                    (
+                    [
                         xy[b],
                         sub(&xy[c], &xy[b]),
                         vel[b],
                         sub(&vel[c], &vel[b]),
                         acc[b],
                         sub(&acc[c], &acc[b]),
-                    )
+                    ]
                 } else {
-                    (xy[b], sub(&xy[c], &xy[b]), ZERO, ZERO, ZERO, ZERO)
+                    [xy[b], sub(&xy[c], &xy[b]), ZERO, ZERO, ZERO, ZERO]
                 }
             }
-        };
+        }
+    }
+
+    /// [`Step::Cross`]: `p` where two guides cross; a lane where they are parallel
+    /// (or NaN) is not assembled.
+    #[inline(always)]
+    fn cross(&mut self, l1: Line, l2: Line, p: usize, an: bool) {
+        let (s, o) = (self.simd, Ops(self.simd));
+        let g1 = self.line(l1, an);
+        let g2 = self.line(l2, an);
+        let (rel, two, one) = (o.k(SINGULAR_REL), o.k(2.0), o.k(1.0));
+        let neg = o.k(-0.0);
+        let (mut q, mut v, mut ac) = (ZERO, ZERO, ZERO);
+        for i in 0..LANES / S::F64_LANES {
+            let (o1, e1) = (ld2::<S>(&g1[0], i), ld2::<S>(&g1[1], i));
+            let (o2, e2) = (ld2::<S>(&g2[0], i), ld2::<S>(&g2[1], i));
+            let n1 = [e1[1], s.xor_f64s(e1[0], neg)];
+            let n2 = [e2[1], s.xor_f64s(e2[0], neg)];
+            let det = o.cross(n1, n2);
+            let scale = o.mul(s.sqrt_f64s(o.dot(n1, n1)), s.sqrt_f64s(o.dot(n2, n2)));
+            let parallel = s.less_than_or_equal_f64s(s.abs_f64s(det), o.mul(rel, scale));
+            let nan = s.not_m64s(s.equal_f64s(det, det));
+            self.keep(i, s.not_m64s(s.or_m64s(parallel, nan)));
+            let inv = o.div(one, det);
+            let qq = o.solve2(n1, n2, inv, o.dot(n1, o1), o.dot(n2, o2));
+            st2::<S>(&mut q, i, qq);
+            if an {
+                let (o11, e11) = (ld2::<S>(&g1[2], i), ld2::<S>(&g1[3], i));
+                let (o12, e12) = (ld2::<S>(&g1[4], i), ld2::<S>(&g1[5], i));
+                let (o21, e21) = (ld2::<S>(&g2[2], i), ld2::<S>(&g2[3], i));
+                let (o22, e22) = (ld2::<S>(&g2[4], i), ld2::<S>(&g2[5], i));
+                let (p1, p2) = (o.sub2(qq, o1), o.sub2(qq, o2));
+                let rv1 = o.sub(o.dot(n1, o11), o.cross(p1, e11));
+                let rv2 = o.sub(o.dot(n2, o21), o.cross(p2, e21));
+                let vv = o.solve2(n1, n2, inv, rv1, rv2);
+                let ra1 = o.sub(
+                    o.sub(o.dot(n1, o12), o.mul(two, o.cross(o.sub2(vv, o11), e11))),
+                    o.cross(p1, e12),
+                );
+                let ra2 = o.sub(
+                    o.sub(o.dot(n2, o22), o.mul(two, o.cross(o.sub2(vv, o21), e21))),
+                    o.cross(p2, e22),
+                );
+                st2::<S>(&mut v, i, vv);
+                st2::<S>(&mut ac, i, o.solve2(n1, n2, inv, ra1, ra2));
+            }
+        }
+        self.xy[p] = q;
+        if an {
+            self.vel[p] = v;
+            self.acc[p] = ac;
+        }
+    }
+
+    /// [`Step::Aim`]: `c = b + sign·len·ŝ`, ŝ the unit vector from `b` to the
+    /// block `s`; a lane with the block on the pivot is not assembled.
+    #[inline(always)]
+    fn aim(&mut self, [b, sp, c]: [usize; 3], len: f64, sign: f64, an: bool) {
+        let (s, o) = (self.simd, Ops(self.simd));
+        let (tol, k, two) = (o.k(SINGULAR_REL * len), o.k(sign * len), o.k(2.0));
+        let neg = o.k(-0.0);
+        let (mut q, mut v, mut ac) = (ZERO, ZERO, ZERO);
+        for i in 0..LANES / S::F64_LANES {
+            let pb = ld2::<S>(&self.xy[b], i);
+            let w = o.sub2(ld2::<S>(&self.xy[sp], i), pb);
+            let l2 = o.dot(w, w);
+            let l = s.sqrt_f64s(l2);
+            self.keep(i, s.not_m64s(s.less_than_or_equal_f64s(l, tol)));
+            let e = [o.div(w[0], l), o.div(w[1], l)];
+            let en = [o.div(s.xor_f64s(w[1], neg), l), o.div(w[0], l)];
+            st2::<S>(
+                &mut q,
+                i,
+                [o.add(pb[0], o.mul(k, e[0])), o.add(pb[1], o.mul(k, e[1]))],
+            );
+            if an {
+                let (vb, ab) = (ld2::<S>(&self.vel[b], i), ld2::<S>(&self.acc[b], i));
+                let w1 = o.sub2(ld2::<S>(&self.vel[sp], i), vb);
+                let w2 = o.sub2(ld2::<S>(&self.acc[sp], i), ab);
+                let c1 = o.cross(w, w1);
+                let t1 = o.div(c1, l2);
+                let t2 = o.sub(
+                    o.div(o.cross(w, w2), l2),
+                    o.div(o.mul(o.mul(two, o.dot(w, w1)), c1), o.mul(l2, l2)),
+                );
+                let kt1 = o.mul(k, t1);
+                st2::<S>(
+                    &mut v,
+                    i,
+                    [
+                        o.add(vb[0], o.mul(kt1, en[0])),
+                        o.add(vb[1], o.mul(kt1, en[1])),
+                    ],
+                );
+                let tt = o.mul(t1, t1);
+                st2::<S>(
+                    &mut ac,
+                    i,
+                    [
+                        o.add(ab[0], o.mul(k, o.sub(o.mul(t2, en[0]), o.mul(tt, e[0])))),
+                        o.add(ab[1], o.mul(k, o.sub(o.mul(t2, en[1]), o.mul(tt, e[1])))),
+                    ],
+                );
+            }
+        }
+        self.xy[c] = q;
+        if an {
+            self.vel[c] = v;
+            self.acc[c] = ac;
+        }
+    }
+
+    /// [`Step::Slide`]: `p` at `r` from `a` on `line`, on side `sign` of the foot
+    /// of `a` along the line's direction.
+    #[inline(always)]
+    fn slide(&mut self, a: usize, line: Line, p: usize, r: f64, sign: f64, an: bool) {
+        let (s, o) = (self.simd, Ops(self.simd));
+        let [lo, le, lo1, le1, lo2, le2] = self.line(line, an);
         let (pa, va, aa) = (self.xy[a], self.vel[a], self.acc[a]);
         let floor = o.k(-1e-12 * r * r);
         let (r2, rel, sg, zero, one, two) = (
