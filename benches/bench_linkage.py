@@ -3,7 +3,9 @@
 Groups (each prints one ratio table; ``cyclomech`` rows are the references):
 
 - four-bar crank-rocker, 360 000 angles: cyclomech with analogs (default threads and
-  one thread) and positions only; the numpy vectorised closed form (positions of C);
+  one thread, into fresh arrays and into a previous solution's, ``out=``) and
+  positions only (1 and 2 threads, fresh and ``out=``); the numpy vectorised closed
+  form (positions of C, into its own fresh arrays);
   pylinkage's numba path, ``Linkage.step_fast`` (positions) and
   ``Linkage.step_fast_with_kinematics`` (positions, velocities, accelerations; with
   ω = 1 rad/s and α = 0 these are the analogs d/dφ, d²/dφ² that cyclomech returns).
@@ -104,6 +106,40 @@ def test_linkage_cyclomech_positions(benchmark, setup) -> None:
     _label(benchmark, "cyclomech", "Linkage.solve(points=['C'], analogs=False): positions of C")
     lk, phi = setup
     sol = benchmark(lk.solve, phi, points=["C"], analogs=False)
+    assert_allclose(sol["C"], numpy_closed_form(phi), atol=1e-12)
+
+
+@pytest.mark.benchmark(group=GROUP)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_linkage_cyclomech_out(benchmark, setup, threads) -> None:
+    _label(
+        benchmark,
+        "cyclomech",
+        f"Linkage.solve(out=previous), n_threads={threads}: analogs into reused arrays",
+    )
+    lk, phi = setup
+    prev = lk.solve(phi, n_threads=threads)
+    sol = benchmark(lk.solve, phi, n_threads=threads, out=prev)
+    assert sol.xy is prev.xy
+    assert_allclose(sol["C"], numpy_closed_form(phi), atol=1e-12)
+
+
+@pytest.mark.benchmark(group=GROUP)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_linkage_cyclomech_positions_threads(benchmark, setup, threads) -> None:
+    _label(benchmark, "cyclomech", f"solve(points=['C'], analogs=False), n_threads={threads}")
+    lk, phi = setup
+    sol = benchmark(lk.solve, phi, n_threads=threads, points=["C"], analogs=False)
+    assert_allclose(sol["C"], numpy_closed_form(phi), atol=1e-12)
+
+
+@pytest.mark.benchmark(group=GROUP)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_linkage_cyclomech_positions_out(benchmark, setup, threads) -> None:
+    _label(benchmark, "cyclomech", f"solve(points=['C'], analogs=False, out=), n_threads={threads}")
+    lk, phi = setup
+    prev = lk.solve(phi, points=["C"], analogs=False)
+    sol = benchmark(lk.solve, phi, n_threads=threads, points=["C"], analogs=False, out=prev)
     assert_allclose(sol["C"], numpy_closed_form(phi), atol=1e-12)
 
 

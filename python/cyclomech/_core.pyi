@@ -213,6 +213,7 @@ class LinkageProgram:
         *,
         analogs: bool = True,
         n_threads: int | None = None,
+        out: _LinkageArrays | None = None,
     ) -> _LinkageArrays: ...
     def solve_many(
         self,
@@ -222,6 +223,7 @@ class LinkageProgram:
         *,
         analogs: bool = True,
         n_threads: int | None = None,
+        out: _LinkageArrays | None = None,
     ) -> _LinkageArrays: ...
 
 # motion

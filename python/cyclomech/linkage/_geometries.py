@@ -3,7 +3,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -11,7 +12,7 @@ import numpy.typing as npt
 from .._arrays import flag, float_array, threads_arg
 from .._errors import InputError
 from ._linkage import Linkage
-from ._solution import LinkageSolution
+from ._solution import LinkageSolution, out_arrays
 
 __all__ = ["solve_geometries"]
 
@@ -24,6 +25,7 @@ def solve_geometries(
     points: Sequence[str] | None = None,
     analogs: bool = True,
     n_threads: int | None = None,
+    out: LinkageSolution | Mapping[str, Any] | None = None,
 ) -> LinkageSolution:
     """Solve K geometries of one linkage over one crank-angle grid in one call,
     in parallel over the geometries.
@@ -35,6 +37,9 @@ def solve_geometries(
     for every point or ``points`` only. A geometry whose drawn pose cannot be
     closed (class III groups start from it) is ``ok = False`` throughout.
 
+    ``out`` writes into existing arrays, as :meth:`Linkage.solve`'s: a previous
+    solution of this sweep's shape (K, N, M, 2), or a mapping of its arrays.
+
     >>> import numpy as np, cyclomech as cm
     >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
     ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
@@ -43,6 +48,10 @@ def solve_geometries(
     >>> sol = cm.linkage.solve_geometries(lk, np.linspace(0, 2 * np.pi, 73), L, points=["C"])
     >>> sol.xy.shape, bool(sol.ok.all())
     ((3, 73, 1, 2), True)
+    >>> L[:, 1] *= 1.01                                  # longer couplers, same arrays
+    >>> again = cm.linkage.solve_geometries(lk, sol.angles, L, points=["C"], out=sol)
+    >>> again.xy is sol.xy
+    True
     """
     if not isinstance(linkage, Linkage):
         raise InputError(f"linkage must be a cyclomech.Linkage; got {type(linkage).__name__}")
@@ -65,8 +74,11 @@ def solve_geometries(
     for row, col, j in linkage._slots:
         table[:, row, col] = dims[:, j] / linkage._kscale
     sel, names = linkage._select(points)
+    an = flag("analogs", analogs)
+    lead = (dims.shape[0], len(a))
+    bufs = None if out is None else out_arrays(out, lead, len(sel), an, [a, dims])
     xy, vel, acc, ok, singular, branch = linkage._program.solve_many(
-        table, a, sel, analogs=flag("analogs", analogs), n_threads=threads_arg(n_threads)
+        table, a, sel, analogs=an, n_threads=threads_arg(n_threads), out=bufs
     )
     xy, vel, acc = linkage._unscale(xy, vel, acc)
     return LinkageSolution(a, names, xy, vel, acc, ok, singular, branch)

@@ -27,7 +27,7 @@ from ._drawing import (
     _sliders,
 )
 from ._file import from_table, linkage_table, read_toml, write_toml
-from ._solution import LinkageSolution
+from ._solution import LinkageSolution, out_arrays
 
 __all__ = ["Linkage"]
 
@@ -189,34 +189,56 @@ class Linkage:
         *,
         points: Sequence[str] | None = None,
         analogs: bool = True,
+        out: LinkageSolution | Mapping[str, Any] | None = None,
     ) -> LinkageSolution:
         """Solve at absolute crank angles [rad] (any shape-(N,) grid), in parallel.
 
         Returns a :class:`LinkageSolution` of every point, or of ``points`` only;
         ``analogs=False`` skips the velocity and acceleration analogs (positions
-        only, about half the work and a third of the memory). Angles where the
-        linkage cannot be assembled are ``ok = False`` with NaN coordinates, not an
-        error.
+        only, about half the work and a third of the memory). Only what is asked
+        is computed: the analogs of the points asked for and of those they are
+        solved from; every group's positions are always solved, because the flags
+        ``ok`` and ``singular`` are the whole mechanism's at each angle (a subset's
+        flags equal the full solve's). Angles where the linkage cannot be
+        assembled are ``ok = False`` with NaN coordinates, not an error.
+
+        ``out`` writes the result into existing arrays instead of new ones (a
+        repeated solve then skips the first-touch cost of fresh memory): a previous
+        :class:`LinkageSolution` of the same shape (its arrays are overwritten and
+        the returned solution holds them), or a mapping of ``xy``, ``vel``, ``acc``,
+        ``ok``, ``singular``, ``branch_change`` to arrays (``xy`` always; ``vel`` and
+        ``acc`` exactly when ``analogs``; flags left out are allocated). Positions
+        and analogs are C-contiguous float64 (N, M, 2), flags bool (N,); the
+        results are bit for bit those of a fresh solve.
 
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (2, 0), "C": (3, 1.5), "D": (3, 0)},
         ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
-        >>> lk.solve([0.0, 3.14159]).ok.tolist()    # the crank is too long to turn
+        >>> first = lk.solve([0.0, 3.14159])
+        >>> first.ok.tolist()    # the crank is too long to turn
         [True, False]
+        >>> again = lk.solve([0.2, 0.3], out=first)    # into first's arrays
+        >>> again.xy is first.xy, again.ok.tolist()
+        (True, [True, True])
         """
         a = float_array("angles", angles)
         sel, names = self._select(points)
+        an = flag("analogs", analogs)
+        bufs = None if out is None else out_arrays(out, (len(a),), len(sel), an, [a])
         xy, vel, acc, ok, singular, branch = self._program.solve(
-            a, sel, analogs=flag("analogs", analogs), n_threads=threads_arg(n_threads)
+            a, sel, analogs=an, n_threads=threads_arg(n_threads), out=bufs
         )
         xy, vel, acc = self._unscale(xy, vel, acc)
         return LinkageSolution(a, names, xy, vel, acc, ok, singular, branch)
 
     def _unscale(self, *arrays: Any) -> tuple[Any, ...]:
-        """The kernel's positions and analogs in metres (see ``_kscale``; exact)."""
-        if self._kscale == 1.0:
-            return arrays
-        return tuple(None if v is None else v * self._kscale for v in arrays)
+        """The kernel's positions and analogs in metres (see ``_kscale``; exact),
+        in place: the arrays are the solve's own (new, or the caller's ``out``)."""
+        if self._kscale != 1.0:
+            for v in arrays:
+                if v is not None:
+                    np.multiply(v, self._kscale, out=v)
+        return arrays
 
     def _select(
         self, points: Sequence[str] | None

@@ -4,14 +4,27 @@ acceleration analogs of its points over a crank-angle grid."""
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
+from .._arrays import out_array
 from .._errors import InputError
 
 __all__ = ["LinkageSolution"]
+
+#: The arrays of a solution, in the kernel's order, and what each holds.
+_OUT_FIELDS = {
+    "xy": "positions [m]",
+    "vel": "velocity analogs d xy/dφ [m/rad]",
+    "acc": "acceleration analogs d²xy/dφ² [m/rad²]",
+    "ok": "assembled flags",
+    "singular": "dead-centre flags",
+    "branch_change": "branch-change flags",
+}
 
 
 @dataclass(frozen=True)
@@ -136,3 +149,77 @@ class LinkageSolution:
             return float(along.max() - along.min())
         d = pts[:, None, :] - pts[None, :, :]
         return float(np.sqrt((d**2).sum(axis=2)).max())
+
+
+def out_arrays(out: Any, lead: tuple[int, ...], m: int, analogs: bool, inputs: list[Any]) -> Any:
+    """The six arrays (xy, vel, acc, ok, singular, branch_change) a solve writes
+    into, from ``out``: a :class:`LinkageSolution` (all its arrays), or a mapping
+    of those names to arrays (``xy`` required; ``vel`` and ``acc`` exactly when
+    ``analogs``; flags not given are allocated). Positions and analogs must be
+    writeable C-contiguous float64 arrays of shape ``lead + (m, 2)``, flags bool
+    arrays of shape ``lead``, none sharing memory with another or with
+    ``inputs``; anything else is an :class:`InputError` naming the array.
+    """
+    if isinstance(out, LinkageSolution):
+        given: dict[str, Any] = {
+            "xy": out.xy,
+            "vel": out.vel,
+            "acc": out.acc,
+            "ok": out.ok,
+            "singular": out.singular,
+            "branch_change": out.branch_change,
+        }
+    elif isinstance(out, Mapping):
+        unknown = [k for k in out if k not in _OUT_FIELDS]
+        if unknown:
+            raise InputError(
+                f"out: unknown array {unknown[0]!r}; the arrays are {', '.join(_OUT_FIELDS)}"
+            )
+        given = {k: out.get(k) for k in _OUT_FIELDS}
+        for k in ("ok", "singular", "branch_change"):
+            if given[k] is None:
+                given[k] = np.zeros(lead, dtype=bool)
+    else:
+        raise InputError(
+            "out must be a LinkageSolution (a previous result of this shape) or a mapping "
+            f"of {', '.join(_OUT_FIELDS)} to arrays; got {type(out).__name__}"
+        )
+    shape = (*lead, m, 2)
+    for k in ("xy", "vel", "acc"):
+        arr = given[k]
+        if k != "xy" and not analogs:
+            if arr is not None:
+                raise InputError(
+                    f"out.{k} is given but this solve has analogs=False: pass a solution "
+                    "solved without analogs, or a mapping without vel and acc"
+                )
+            continue
+        if arr is None:
+            raise InputError(
+                f"out.{k} is missing: this solve writes {_OUT_FIELDS[k]} of shape {shape}"
+            )
+        out_array(arr, shape, inputs, f"out.{k}: {_OUT_FIELDS[k]}")
+    for k in ("ok", "singular", "branch_change"):
+        arr = given[k]
+        want = (
+            f"out.{k} ({_OUT_FIELDS[k]}) must be a writeable C-contiguous bool numpy array "
+            f"of shape {lead} sharing no memory with an input"
+        )
+        if not isinstance(arr, np.ndarray):
+            raise InputError(f"{want}; got {type(arr).__name__}")
+        got = f"got a {arr.dtype} array of shape {arr.shape}"
+        if arr.dtype != np.bool_ or arr.shape != lead:
+            raise InputError(f"{want}; {got}")
+        if not arr.flags.c_contiguous or not arr.flags.writeable:
+            raise InputError(f"{want}; {got} that is not C-contiguous or is read-only")
+    names = [k for k in _OUT_FIELDS if given[k] is not None]
+    for i, a in enumerate(names):
+        for b in names[i + 1 :]:
+            if np.may_share_memory(given[a], given[b]) and np.shares_memory(given[a], given[b]):
+                raise InputError(
+                    f"out.{a} and out.{b} share memory: each output needs its own array"
+                )
+        for x in inputs:
+            if np.may_share_memory(given[a], x) and np.shares_memory(given[a], x):
+                raise InputError(f"out.{a} shares memory with an input (the angles or lengths)")
+    return tuple(given[k] for k in _OUT_FIELDS)

@@ -3,8 +3,15 @@
 
 use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step, Triad};
 use numpy::ndarray::{ArrayView1, Axis};
-use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use numpy::Element;
+use numpy::{
+    PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::IntoPyDict;
 
 use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
@@ -117,6 +124,35 @@ type Arrays<'py> = (
     Bound<'py, PyArrayDyn<bool>>,
 );
 
+/// A new C-order array of `shape` whose memory nothing writes before the kernel
+/// (`numpy.empty`): fresh pages are cleared by the operating system when the
+/// solve's own threads first touch them, and memory the allocator reuses is not
+/// cleared at all. The kernels write every element. A failure to allocate is the
+/// `InputError` of `cyclomech._arrays.check_bytes`.
+fn empty<'py, T: Element>(
+    py: Python<'py>,
+    shape: &[usize],
+    what: &str,
+    hint: &str,
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let f = EMPTY.get_or_try_init(py, || {
+        py.import("numpy")?.getattr("empty").map(Bound::unbind)
+    })?;
+    match f.bind(py).call1((shape.to_vec(), T::get_dtype(py))) {
+        Ok(a) => Ok(a.cast_into::<PyArrayDyn<T>>()?),
+        Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
+            let bytes = convert::nbytes(&[(shape, std::mem::size_of::<T>())]);
+            let kwargs = [("failed", true)].into_py_dict(py)?;
+            py.import("cyclomech._arrays")?
+                .getattr("check_bytes")?
+                .call((what, bytes, hint), Some(&kwargs))?;
+            Err(e)
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// Output arrays allocated by numpy (which backs large ones with huge pages), of
 /// shape `lead + (M, 2)` for positions and analogs (None unless `analogs`) and
 /// `lead` for the flags. Sized before anything is allocated: a grid whose results
@@ -140,8 +176,8 @@ fn allocate<'py>(
     let what = format!("the linkage's results ({copies} arrays of {shape} float64 and 3 flags)");
     let hint = "solve fewer angles, points or geometries at a time";
     convert::check(py, &what, bytes, hint)?;
-    let big = || convert::zeros(py, &points, &what, hint);
-    let flag = || convert::zeros(py, lead, &what, hint);
+    let big = || empty(py, &points, &what, hint);
+    let flag = || empty(py, lead, &what, hint);
     let (vel, acc) = if analogs {
         (Some(big()?), Some(big()?))
     } else {
@@ -150,16 +186,35 @@ fn allocate<'py>(
     Ok((big()?, vel, acc, flag()?, flag()?, flag()?))
 }
 
-/// Run `kernel` (GIL released) writing into the arrays of `out`.
+/// Run `kernel` (GIL released) writing into the arrays of `out`. An array numpy
+/// will not lend for writing (read-only, or overlapping another argument) is an
+/// `InputError`.
 fn fill<'py, F>(py: Python<'py>, name: &'static str, out: &Arrays<'py>, kernel: F) -> PyResult<()>
 where
     F: FnOnce(Outputs<'_>) -> Result<(), LinkageError> + Send,
 {
-    let mut xy = out.0.readwrite();
-    let mut vel = out.1.as_ref().map(|a| a.readwrite());
-    let mut acc = out.2.as_ref().map(|a| a.readwrite());
-    let (mut ok, mut singular, mut branch) =
-        (out.3.readwrite(), out.4.readwrite(), out.5.readwrite());
+    let lend = |e: numpy::BorrowError| {
+        bad(
+            py,
+            format!("out: an output array cannot be written in place ({e}); pass arrays that share no memory with each other or with the angles"),
+        )
+    };
+    let mut xy = out.0.try_readwrite().map_err(lend)?;
+    let mut vel = out
+        .1
+        .as_ref()
+        .map(|a| a.try_readwrite())
+        .transpose()
+        .map_err(lend)?;
+    let mut acc = out
+        .2
+        .as_ref()
+        .map(|a| a.try_readwrite())
+        .transpose()
+        .map_err(lend)?;
+    let mut ok = out.3.try_readwrite().map_err(lend)?;
+    let mut singular = out.4.try_readwrite().map_err(lend)?;
+    let mut branch = out.5.try_readwrite().map_err(lend)?;
     let (mut no_vel, mut no_acc): ([f64; 0], [f64; 0]) = ([], []);
     let outputs = Outputs {
         xy: convert::output(py, &mut xy)?,
@@ -176,6 +231,38 @@ where
         branch: convert::output(py, &mut branch)?,
     };
     run(py, name, || kernel(outputs))
+}
+
+/// The caller's `out` arrays (the Python layer has checked them; this is the
+/// last line): shapes `lead + (M, 2)` and `lead`, C-contiguous, analogs given
+/// exactly when computed.
+fn reuse<'py>(
+    py: Python<'py>,
+    out: Arrays<'py>,
+    lead: &[usize],
+    m: usize,
+    analogs: bool,
+) -> PyResult<Arrays<'py>> {
+    let points: Vec<usize> = lead.iter().copied().chain([m, 2]).collect();
+    let fine = |shape: &[usize], want: &[usize], c: bool| shape == want && c;
+    let big = [Some(&out.0), out.1.as_ref(), out.2.as_ref()];
+    let floats = big.iter().enumerate().all(|(i, a)| match a {
+        Some(a) => (i == 0 || analogs) && fine(a.shape(), &points, a.is_c_contiguous()),
+        None => i > 0 && !analogs,
+    });
+    let flags = [&out.3, &out.4, &out.5]
+        .iter()
+        .all(|a| fine(a.shape(), lead, a.is_c_contiguous()));
+    if !(floats && flags) {
+        return Err(bad(
+            py,
+            format!(
+                "out must be C-contiguous arrays: xy of shape {points:?}, vel and acc {} and the flags of shape {lead:?}",
+                if analogs { "of that shape too" } else { "None" }
+            ),
+        ));
+    }
+    Ok(out)
 }
 
 fn request(py: Python<'_>, points: PyReadonlyArray1<'_, i64>, analogs: bool) -> PyResult<Request> {
@@ -253,7 +340,9 @@ impl LinkageProgram {
     /// Solve over absolute crank angles [rad]: (xy, vel, acc) of shape (N, M, 2)
     /// for the M chosen `points` (vel and acc None unless `analogs`), and the flags
     /// ok, singular and branch, each (N,).
-    #[pyo3(signature = (angles, points, *, analogs=true, n_threads=None))]
+    /// `out`, if given, is six arrays of those shapes (vel and acc None unless
+    /// `analogs`) written in place and returned.
+    #[pyo3(signature = (angles, points, *, analogs=true, n_threads=None, out=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
@@ -261,10 +350,15 @@ impl LinkageProgram {
         points: PyReadonlyArray1<'py, i64>,
         analogs: bool,
         n_threads: Option<i64>,
+        out: Option<Arrays<'py>>,
     ) -> PyResult<Arrays<'py>> {
         let a = LinkageError::slice(py, "angles", &angles)?;
         let req = request(py, points, analogs)?;
-        let out = allocate(py, &[a.len()], req.points.len(), analogs)?;
+        let (lead, m) = ([a.len()], req.points.len());
+        let out = match out {
+            Some(o) => reuse(py, o, &lead, m, analogs)?,
+            None => allocate(py, &lead, m, analogs)?,
+        };
         fill(py, "Linkage.solve", &out, |o| {
             self.program.solve_into(a, &req, n_threads, o)
         })?;
@@ -274,7 +368,9 @@ impl LinkageProgram {
     /// Solve K geometries of this program, `dims` (K, S, 8) replacing its
     /// dimensions row by row, over one angle grid, in parallel over the
     /// geometries: arrays of shape (K, N, M, 2) and flags (K, N).
-    #[pyo3(signature = (dims, angles, points, *, analogs=true, n_threads=None))]
+    /// `out` as in [`LinkageProgram::solve`].
+    #[pyo3(signature = (dims, angles, points, *, analogs=true, n_threads=None, out=None))]
+    #[allow(clippy::too_many_arguments)] // the solve's arguments and its outputs
     fn solve_many<'py>(
         &self,
         py: Python<'py>,
@@ -283,6 +379,7 @@ impl LinkageProgram {
         points: PyReadonlyArray1<'py, i64>,
         analogs: bool,
         n_threads: Option<i64>,
+        out: Option<Arrays<'py>>,
     ) -> PyResult<Arrays<'py>> {
         let dm = dims.as_array();
         let (k, s) = (dm.shape()[0], self.kind.len());
@@ -305,7 +402,11 @@ impl LinkageProgram {
         }
         let a = LinkageError::slice(py, "angles", &angles)?;
         let req = request(py, points, analogs)?;
-        let out = allocate(py, &[k, a.len()], req.points.len(), analogs)?;
+        let (lead, m) = ([k, a.len()], req.points.len());
+        let out = match out {
+            Some(o) => reuse(py, o, &lead, m, analogs)?,
+            None => allocate(py, &lead, m, analogs)?,
+        };
         fill(py, "linkage.sweep", &out, |o| {
             linkage::solve_many_into(&programs, a, &req, n_threads, o)
         })?;

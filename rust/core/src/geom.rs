@@ -186,6 +186,57 @@ pub(crate) fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]
     (sn, cs)
 }
 
+/// [`sin_cos`] on one SIMD register of angles, bit for bit (tested on every
+/// instruction set): the same Cody–Waite reduction and fdlibm kernels, in the
+/// same operation order and without fused multiply-adds, both kernels evaluated
+/// and each result picked and signed by the quadrant's bits. Lanes with
+/// |x| > 10⁶ or NaN are the caller's to redo with [`sin_cos`] (the platform's
+/// `sin_cos` there); their values here are meaningless.
+#[inline(always)]
+pub(crate) fn sin_cos_simd<S: pulp::Simd>(simd: S, x: S::f64s) -> (S::f64s, S::f64s) {
+    // Plain calls only: a closure would not inherit the caller's target
+    // features, and each operation would become a function call.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let shifted = simd.add_f64s(
+        simd.mul_f64s(x, simd.splat_f64s(std::f64::consts::FRAC_2_PI)),
+        simd.splat_f64s(ROUND),
+    );
+    let kq = simd.sub_f64s(shifted, simd.splat_f64s(ROUND));
+    let mut r = simd.sub_f64s(x, simd.mul_f64s(kq, simd.splat_f64s(PIO2_1)));
+    r = simd.sub_f64s(r, simd.mul_f64s(kq, simd.splat_f64s(PIO2_2)));
+    r = simd.sub_f64s(r, simd.mul_f64s(kq, simd.splat_f64s(PIO2_3)));
+    let bits = simd.transmute_u64s_f64s(shifted);
+    let (one, two) = (simd.splat_u64s(1), simd.splat_u64s(2));
+    // q = 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
+    let odd = simd.equal_u64s(simd.and_u64s(bits, one), one);
+    let neg_s = simd.equal_u64s(simd.and_u64s(bits, two), two);
+    let neg_c = simd.xor_m64s(odd, neg_s);
+    let z = simd.mul_f64s(r, r);
+    let ks = simd.add_f64s(r, simd.mul_f64s(simd.mul_f64s(r, z), horner(simd, z, &S)));
+    let p = simd.mul_f64s(simd.mul_f64s(z, z), horner(simd, z, &C));
+    let hz = simd.mul_f64s(simd.splat_f64s(0.5), z);
+    let w = simd.sub_f64s(simd.splat_f64s(1.0), hz);
+    let tail = simd.sub_f64s(simd.sub_f64s(simd.splat_f64s(1.0), w), hz);
+    let kc = simd.add_f64s(w, simd.add_f64s(tail, p));
+    let sign = simd.splat_f64s(-0.0);
+    let sn = simd.select_f64s(odd, kc, ks);
+    let cs = simd.select_f64s(odd, ks, kc);
+    (
+        simd.select_f64s(neg_s, simd.xor_f64s(sn, sign), sn),
+        simd.select_f64s(neg_c, simd.xor_f64s(cs, sign), cs),
+    )
+}
+
+/// c0 + z·(c1 + z·(c2 + z·(c3 + z·(c4 + z·c5)))), as the scalar kernels nest it.
+#[inline(always)]
+fn horner<S: pulp::Simd>(simd: S, z: S::f64s, c: &[f64; 6]) -> S::f64s {
+    let mut acc = simd.mul_f64s(z, simd.splat_f64s(c[5]));
+    for &ci in c[1..5].iter().rev() {
+        acc = simd.mul_f64s(z, simd.add_f64s(simd.splat_f64s(ci), acc));
+    }
+    simd.add_f64s(simd.splat_f64s(c[0]), acc)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -201,6 +252,50 @@ mod tests {
                 prop_assert!((c - c0).abs() <= f64::EPSILON, "cos({v}) = {c} vs {c0}");
                 prop_assert_eq!(sin(v).to_bits(), s.to_bits());
                 prop_assert_eq!(sin_lanes(v).to_bits(), s.to_bits());
+            }
+        }
+    }
+
+    /// [`sin_cos_simd`] over eight angles.
+    struct Lanes([f64; 8]);
+
+    impl pulp::WithSimd for Lanes {
+        type Output = ([f64; 8], [f64; 8]);
+
+        #[inline(always)]
+        fn with_simd<S: pulp::Simd>(self, simd: S) -> Self::Output {
+            let (mut sn, mut cs) = ([0.0; 8], [0.0; 8]);
+            let xv = S::as_simd_f64s(&self.0).0;
+            let (sv, cv) = (
+                S::as_mut_simd_f64s(&mut sn).0,
+                S::as_mut_simd_f64s(&mut cs).0,
+            );
+            for i in 0..xv.len() {
+                (sv[i], cv[i]) = sin_cos_simd(simd, xv[i]);
+            }
+            (sn, cs)
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn sin_cos_simd_is_sin_cos_bit_for_bit_on_every_isa(
+            xs in prop::array::uniform8(-1e6f64..1e6), small in -10.0f64..10.0,
+        ) {
+            let mut all = xs.to_vec();
+            all.extend([small, -small, small * 1e-9, 0.0, -0.0]);
+            all.extend((-8..=8).map(|k| k as f64 * std::f64::consts::FRAC_PI_2));
+            for chunk in all.chunks(8) {
+                let mut x = [0.0; 8];
+                x[..chunk.len()].copy_from_slice(chunk);
+                let got = on_each_isa!(|s| pulp::Simd::vectorize(s, Lanes(x)));
+                for (isa, (sn, cs)) in got {
+                    for l in 0..8 {
+                        let (s0, c0) = sin_cos(x[l]);
+                        prop_assert_eq!(sn[l].to_bits(), s0.to_bits(), "{} sin({})", isa, x[l]);
+                        prop_assert_eq!(cs[l].to_bits(), c0.to_bits(), "{} cos({})", isa, x[l]);
+                    }
+                }
             }
         }
     }

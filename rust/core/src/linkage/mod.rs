@@ -21,10 +21,14 @@
 //!
 //! Files: `model` (the compiled program: points, steps, lines, errors), `solve`
 //! (one program over an angle grid: class II in closed form, class III groups
-//! by [`Triad`] along a path), `batch` (many geometries at once, into
+//! by [`Triad`] along a path), `lanes` (the class II steps over blocks of angles
+//! in explicit SIMD), `batch` (many geometries at once, into
 //! caller-owned buffers) and `triad` (the class III group).
 
 mod batch;
+#[cfg(test)]
+mod lane_tests;
+mod lanes;
 mod model;
 mod solve;
 #[cfg(test)]

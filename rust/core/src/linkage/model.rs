@@ -157,6 +157,26 @@ pub enum Step {
     },
 }
 
+impl Step {
+    /// The points this step reads and the points it places.
+    pub(super) fn reads_writes(&self) -> (Vec<usize>, Vec<usize>) {
+        match *self {
+            Step::Triad {
+                anchors, joints, ..
+            } => (anchors.to_vec(), joints.to_vec()),
+            Step::Driver { pivot, tip, .. } => (vec![pivot], vec![tip]),
+            Step::Circles { a, b, p, .. } => (vec![a, b], vec![p]),
+            Step::Slide { a, line, p, .. } => {
+                let mut reads = line.reads();
+                reads.push(a);
+                (reads, vec![p])
+            }
+            Step::Cross { l1, l2, p } => ([l1.reads(), l2.reads()].concat(), vec![p]),
+            Step::Aim { b, s, c, .. } => (vec![b, s], vec![c]),
+        }
+    }
+}
+
 /// A compiled linkage: `n_points` points, the fixed ones with their coordinates,
 /// then the steps in solving order (each step reads only points placed before it).
 #[derive(Debug, Clone, PartialEq)]

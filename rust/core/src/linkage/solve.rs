@@ -6,17 +6,12 @@ use rayon::prelude::*;
 use crate::geom::{cross, dot, sub, V2};
 
 use super::batch::{check_angles, check_request, Buffers, Outputs};
+use super::lanes::Blocks;
 use super::model::{LinkageError, Program, Request, Solution, Step};
 
 /// A group whose determinant is below this fraction of its dimensions' product is
 /// at a dead centre.
-const SINGULAR_REL: f64 = 1e-9;
-
-/// Angles solved together by [`Program::solve_lanes`].
-const LANES: usize = 8;
-
-/// One coordinate of a point over a block of angles.
-type Lane = [f64; LANES];
+pub(super) const SINGULAR_REL: f64 = 1e-9;
 
 /// Angles per parallel task of a closed-form (class II) solve.
 const BLOCK: usize = 1024;
@@ -185,38 +180,6 @@ impl<'a> Out<'a> {
         }
     }
 
-    /// Row `i` from lane `l` of a block's state (chosen points `sel`).
-    #[inline(always)]
-    #[allow(clippy::type_complexity)]
-    fn write_lane(
-        &mut self,
-        i: usize,
-        sel: &[usize],
-        (xy, vel, acc): (&[[Lane; 2]], &[[Lane; 2]], &[[Lane; 2]]),
-        l: usize,
-        pose: Pose,
-    ) {
-        let m = sel.len();
-        self.ok[i] = pose.ok;
-        self.singular[i] = pose.ok && pose.singular;
-        self.branch[i] = false;
-        let an = !self.vel.is_empty();
-        let pick = |v: &[[Lane; 2]], j: usize| -> V2 {
-            if pose.ok {
-                [v[j][0][l], v[j][1][l]]
-            } else {
-                [f64::NAN; 2]
-            }
-        };
-        for (k, &j) in sel.iter().enumerate() {
-            self.xy[i * m + k] = pick(xy, j);
-            if an {
-                self.vel[i * m + k] = pick(vel, j);
-                self.acc[i * m + k] = pick(acc, j);
-            }
-        }
-    }
-
     pub(super) fn fail_all(&mut self) {
         for v in [&mut *self.xy, &mut *self.vel, &mut *self.acc] {
             v.fill([f64::NAN; 2]);
@@ -235,6 +198,17 @@ fn solve2(n1: V2, n2: V2, inv: f64, r1: f64, r2: f64) -> V2 {
         (r1 * n2[1] - r2 * n1[1]) * inv,
         (n1[0] * r2 - n2[0] * r1) * inv,
     ]
+}
+
+/// √x where x > 0, else 0: a tangent position's round-off below zero (the lane
+/// kernels take the same rule, bit for bit).
+#[inline(always)]
+fn sqrt_pos(x: f64) -> f64 {
+    if x > 0.0 {
+        x.sqrt()
+    } else {
+        0.0
+    }
 }
 
 impl Program {
@@ -471,11 +445,12 @@ impl Program {
                     let inv = 1.0 / l;
                     let x = (ra * ra - rb * rb + dd) * (0.5 * inv);
                     let h2 = ra * ra - x * x;
-                    // Round-off can make a tangent position slightly negative.
-                    if h2 < -1e-12 * ra * ra {
+                    // Round-off can make a tangent position slightly negative;
+                    // NaN (from an overflowed distance) does not assemble either.
+                    if h2.is_nan() || h2 < -1e-12 * ra * ra {
                         return Pose::FAILED;
                     }
-                    let h = h2.max(0.0).sqrt();
+                    let h = sqrt_pos(h2);
                     let (ex, ey) = (d[0] * inv, d[1] * inv);
                     let q = [
                         pa[0] + x * ex - sign * h * ey,
@@ -517,10 +492,10 @@ impl Program {
                     let ao = sub(xy[a], ln.o);
                     let (t0, off) = (dot(ao, e), cross(e, ao));
                     let q2 = r * r - off * off;
-                    if q2 < -1e-12 * r * r {
+                    if q2.is_nan() || q2 < -1e-12 * r * r {
                         return Pose::FAILED;
                     }
-                    let t = t0 + sign * q2.max(0.0).sqrt();
+                    let t = t0 + sign * sqrt_pos(q2);
                     let q = [ln.o[0] + t * e[0], ln.o[1] + t * e[1]];
                     xy[p] = q;
                     let (u, n) = (sub(q, xy[a]), ln.normal());
@@ -720,135 +695,35 @@ impl Program {
         Ok(())
     }
 
-    /// Closed-form groups only: every angle on its own (in blocks of [`LANES`]
-    /// angles when the program is cranks and two-circle steps only).
+    /// Closed-form groups only: every angle on its own, in blocks of
+    /// [`super::lanes::LANES`] angles in SIMD when every step has a lane form (see
+    /// [`super::lanes`]; the same bits), else one angle at a time. Only the
+    /// analogs the chosen points need are computed.
     fn solve_rows(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
-        if self
-            .steps
-            .iter()
-            .all(|s| matches!(s, Step::Driver { .. } | Step::Circles { .. }))
-        {
-            return if out.vel.is_empty() {
-                self.solve_lanes::<false>(angles, sel, out)
+        let analogs = !out.vel.is_empty();
+        if self.has_lane_form() {
+            let an = if analogs {
+                self.analogs_needed(sel)
             } else {
-                self.solve_lanes::<true>(angles, sel, out)
+                vec![false; self.steps.len()]
             };
+            pulp::Arch::new().dispatch(Blocks {
+                prog: self,
+                an: &an,
+                angles,
+                sel,
+                out,
+            });
+            return;
         }
         let mut state = State::new(self.n_points);
         for (i, &phi) in angles.iter().enumerate() {
-            let pose = if out.vel.is_empty() {
-                self.solve_one::<false>(phi, &mut state.xy, &mut [], &mut [], None)
-            } else {
+            let pose = if analogs {
                 self.solve_one::<true>(phi, &mut state.xy, &mut state.vel, &mut state.acc, None)
+            } else {
+                self.solve_one::<false>(phi, &mut state.xy, &mut [], &mut [], None)
             };
             out.write(i, sel, &state, pose, false);
-        }
-    }
-
-    /// [`Program::solve_rows`] for cranks and two-circle steps, [`LANES`] angles at
-    /// a time: every step runs over the block before the next, so the angles'
-    /// independent square roots and divisions overlap (one angle at a time they
-    /// form a dependent chain). The same formulas, operation for operation, as
-    /// [`Program::solve_one`]; a lane that cannot be assembled is masked, not
-    /// returned from.
-    fn solve_lanes<const AN: bool>(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
-        let p = self.n_points;
-        let zero = [[0.0; LANES]; 2];
-        let (mut xy, mut vel, mut acc) = (vec![zero; p], vec![zero; p], vec![zero; p]);
-        for &(k, q) in &self.fixed {
-            xy[k] = [[q[0]; LANES], [q[1]; LANES]];
-        }
-        for start in (0..angles.len()).step_by(LANES) {
-            let n = LANES.min(angles.len() - start);
-            // A short last block repeats its last angle in the unused lanes.
-            let phi: Lane = std::array::from_fn(|l| angles[start + l.min(n - 1)]);
-            let mut ok = [true; LANES];
-            let mut singular = [false; LANES];
-            for step in &self.steps {
-                match *step {
-                    Step::Driver { pivot, tip, radius } => {
-                        let o = xy[pivot];
-                        for l in 0..LANES {
-                            let (s, c) = crate::geom::sin_cos(phi[l]);
-                            xy[tip][0][l] = o[0][l] + radius * c;
-                            xy[tip][1][l] = o[1][l] + radius * s;
-                            if AN {
-                                vel[tip][0][l] = -radius * s;
-                                vel[tip][1][l] = radius * c;
-                                acc[tip][0][l] = -radius * c;
-                                acc[tip][1][l] = -radius * s;
-                            }
-                        }
-                    }
-                    Step::Circles {
-                        a,
-                        b,
-                        p: pt,
-                        ra,
-                        rb,
-                        sign,
-                    } => {
-                        let (pa, pb) = (xy[a], xy[b]);
-                        let mut q = zero;
-                        let (mut v, mut ac) = (zero, zero);
-                        for l in 0..LANES {
-                            let d = [pb[0][l] - pa[0][l], pb[1][l] - pa[1][l]];
-                            let dd = d[0] * d[0] + d[1] * d[1];
-                            let len = dd.sqrt();
-                            let inv = 1.0 / len;
-                            let x = (ra * ra - rb * rb + dd) * (0.5 * inv);
-                            let h2 = ra * ra - x * x;
-                            ok[l] &= len != 0.0 && h2 >= -1e-12 * ra * ra;
-                            let h = h2.max(0.0).sqrt();
-                            let (ex, ey) = (d[0] * inv, d[1] * inv);
-                            let qq = [
-                                pa[0][l] + x * ex - sign * h * ey,
-                                pa[1][l] + x * ey + sign * h * ex,
-                            ];
-                            q[0][l] = qq[0];
-                            q[1][l] = qq[1];
-                            let u = [qq[0] - pa[0][l], qq[1] - pa[1][l]];
-                            let w = [qq[0] - pb[0][l], qq[1] - pb[1][l]];
-                            let det = cross(u, w);
-                            let dead = det.abs() <= SINGULAR_REL * ra * rb;
-                            singular[l] |= dead;
-                            if AN {
-                                let va_ = [vel[a][0][l], vel[a][1][l]];
-                                let vb_ = [vel[b][0][l], vel[b][1][l]];
-                                let aa_ = [acc[a][0][l], acc[a][1][l]];
-                                let ab_ = [acc[b][0][l], acc[b][1][l]];
-                                let inv = 1.0 / det;
-                                let vv = solve2(u, w, inv, dot(u, va_), dot(w, vb_));
-                                let (ra_, rb_) = (sub(vv, va_), sub(vv, vb_));
-                                let r1 = dot(u, aa_) - dot(ra_, ra_);
-                                let aa = solve2(u, w, inv, r1, dot(w, ab_) - dot(rb_, rb_));
-                                let nan = f64::NAN;
-                                for c in 0..2 {
-                                    v[c][l] = if dead { nan } else { vv[c] };
-                                    ac[c][l] = if dead { nan } else { aa[c] };
-                                }
-                            }
-                        }
-                        xy[pt] = q;
-                        if AN {
-                            vel[pt] = v;
-                            acc[pt] = ac;
-                        }
-                    }
-                    // solve_rows sends only cranks and two-circle steps here; any
-                    // other step would leave its point unsolved: fail, don't guess.
-                    _ => ok = [false; LANES],
-                }
-            }
-            for l in 0..n {
-                let i = start + l;
-                let pose = Pose {
-                    ok: ok[l],
-                    singular: singular[l],
-                    branch: 0,
-                };
-                out.write_lane(i, sel, (&xy, &vel, &acc), l, pose);
-            }
         }
     }
 
