@@ -51,8 +51,8 @@ class Linkage:
     ground : the fixed joints.
     driver : ``(pivot, tip)``, the crank; its absolute angle is the input.
     lengths : optional ``{(a, b): length}`` [m] for pairs of joints on one link.
-    sliders : optional prismatic joints, ``{point: guide}`` or ``{point: [guide,
-        guide]}`` for a point on two guides (the PRP dyad). A guide is
+    sliders : optional prismatic joints, ``{point: guide}``, or
+        ``{point: [guide, guide]}`` for a point on two guides (the PRP dyad). A guide is
         ``("ground", (dx, dy))``, a straight line of the frame through the point's
         drawn position along (dx, dy), or ``("link", (b, c))``, the line through
         joints b and c of a moving link (the point slides along that link).
