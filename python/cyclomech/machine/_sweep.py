@@ -33,6 +33,7 @@ import numpy.typing as npt
 from .._arrays import check_bytes, speeds_rpm
 from .._errors import InputError
 from .._progress import progress as progress_bar
+from ._batch import batch_designs, batch_figures, plan
 from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
 
 __all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
@@ -249,12 +250,61 @@ def _run_chunk(
     designs: npt.NDArray[np.intp],
     speeds: npt.NDArray[np.float64],
     n_threads: int | None,
+    batch: bool = True,
+    base: Machine | None = None,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
     one task. The designs are variants of one file, so every kernel runs once for
-    the chunk: the stops' searches together, one shortest-path call for every
-    design at every speed, one per step of the speed-limit search."""
-    base = Machine.from_dict(data, source)
+    the chunk: with ``batch`` the swept stops of every design in one Rust call
+    (:mod:`cyclomech.machine._batch`; the designs it cannot take go the other
+    way), else one machine per design, the stops' searches together, one
+    shortest-path call for every design at every speed, one per step of the
+    speed-limit search. ``base``: the file's machine, when the caller has built it
+    (in-process: once for all the chunks)."""
+    base = Machine.from_dict(data, source) if base is None else base
+    D, S = len(designs), speeds.size
+    pl = plan(base, names) if batch else None
+    if pl is None:
+        cols = _per_design(base, names, axes, designs, speeds, n_threads)
+        return {k: cols[k].reshape(-1) for k in FIGURES}
+    values = {k: axes[j][designs[:, j]] for j, k in enumerate(names)}
+    tables, ok = batch_designs(base, pl, values)
+    cols = _empty(D, S)
+    if ok.any():
+        got = batch_figures(base, pl, {k: t[:, ok] for k, t in tables.items()}, speeds, n_threads)
+        for k, v in got.items():
+            cols[k][ok] = v
+    if not ok.all():
+        rest = _per_design(base, names, axes, designs[~ok], speeds, n_threads)
+        for k, v in rest.items():
+            cols[k][~ok] = v
+    return {k: cols[k].reshape(-1) for k in FIGURES}
+
+
+def _empty(D: int, S: int) -> dict[str, npt.NDArray[Any]]:
+    """The figures (D, S) of designs that do not fit (NaN, productivity 0)."""
+    return {
+        "fits": np.zeros((D, S), dtype=bool),
+        "limiting_deg": np.full((D, S), np.nan),
+        "limiting_s": np.full((D, S), np.nan),
+        "productivity": np.zeros((D, S)),
+        "max_rebound_m": np.full((D, S), np.nan),
+        "binding": np.full((D, S), "", dtype=object),
+        "speed_limit_rpm": np.full((D, S), np.nan),
+        "speed_limit_by": np.full((D, S), "", dtype=object),
+        "problem": np.full((D, S), "", dtype=object),
+    }
+
+
+def _per_design(
+    base: Machine,
+    names: Sequence[str],
+    axes: Sequence[npt.NDArray[Any]],
+    designs: npt.NDArray[np.intp],
+    speeds: npt.NDArray[np.float64],
+    n_threads: int | None,
+) -> dict[str, npt.NDArray[Any]]:
+    """The figures (D, S) of one machine per design (the reference path)."""
     machines: list[Machine] = []
     problems = np.full(len(designs), "", dtype=object)
     for d, row in enumerate(designs):
@@ -271,17 +321,8 @@ def _run_chunk(
     ok = problems == ""
     S = speeds.size
     per_speed = ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m", "binding")
-    cols: dict[str, npt.NDArray[Any]] = {
-        "fits": np.zeros((len(designs), S), dtype=bool),
-        "limiting_deg": np.full((len(designs), S), np.nan),
-        "limiting_s": np.full((len(designs), S), np.nan),
-        "productivity": np.zeros((len(designs), S)),
-        "max_rebound_m": np.full((len(designs), S), np.nan),
-        "binding": np.full((len(designs), S), "", dtype=object),
-        "speed_limit_rpm": np.full((len(designs), S), np.nan),
-        "speed_limit_by": np.full((len(designs), S), "", dtype=object),
-        "problem": np.repeat(problems[:, None], S, axis=1),
-    }
+    cols = _empty(len(designs), S)
+    cols["problem"] = np.repeat(problems[:, None], S, axis=1)
     if machines:
         sweeps = speed_sweeps(machines, speeds, n_threads=n_threads)
         limits = speed_limits(machines, n_threads=n_threads)
@@ -289,7 +330,7 @@ def _run_chunk(
             cols[k][ok] = np.stack([getattr(s, k) for s in sweeps])
         cols["speed_limit_rpm"][ok] = np.array([lim.rpm for lim in limits])[:, None]
         cols["speed_limit_by"][ok] = np.array([lim.by for lim in limits], dtype=object)[:, None]
-    return {k: cols[k].reshape(-1) for k in FIGURES}
+    return cols
 
 
 def _as_executor(executor: Any) -> cf.Executor | None:
@@ -313,6 +354,7 @@ def sweep(
     chunk: int | None = None,
     progress: bool | None = None,
     n_threads: int | None = None,
+    batch: bool = True,
 ) -> SweepResult:
     """Key figures of ``machine`` at every combination of the parameters in
     ``grid`` (``"<mechanism>.<key>"`` or ``"machine.<key>"`` → values, in the
@@ -323,7 +365,11 @@ def sweep(
     ``dask.distributed.Client`` or a ``concurrent.futures.Executor`` (one task per
     chunk of ``chunk`` designs, one thread per kernel inside). ``progress``: a
     bar on stderr (default: when stderr is a terminal). Ctrl-C cancels the
-    chunks not yet started and raises ``KeyboardInterrupt``.
+    chunks not yet started and raises ``KeyboardInterrupt``. ``batch``: a sweep
+    of pulse-model stops' numeric keys builds and solves each chunk's designs in
+    one Rust call (:mod:`cyclomech.machine._batch` lists what it takes); False
+    builds one machine per design (the reference: the same results, bit for
+    bit, slower).
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
@@ -333,6 +379,8 @@ def sweep(
     """
     if not isinstance(machine, Machine) or machine.data is None:
         raise InputError("machine must be a cyclomech.Machine read from a file or a dict")
+    if not isinstance(batch, bool):
+        raise InputError(f"batch must be True or False; got {batch!r}")
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
     speeds = (
@@ -361,15 +409,25 @@ def sweep(
     data, source = machine.data, machine.source
     try:
         if ex is None:
+            base = Machine.from_dict(data, source)
             for i, r in enumerate(ranges):
+                part = designs[r.start : r.stop]
                 parts[i] = _run_chunk(
-                    data, source, names, axes, designs[r.start : r.stop], speeds, n_threads
+                    data, source, names, axes, part, speeds, n_threads, batch, base
                 )
                 bar.update(len(r) * speeds.size)
         else:
             futures = {
                 ex.submit(
-                    _run_chunk, data, source, names, axes, designs[r.start : r.stop], speeds, 1
+                    _run_chunk,
+                    data,
+                    source,
+                    names,
+                    axes,
+                    designs[r.start : r.stop],
+                    speeds,
+                    1,
+                    batch,
                 ): i
                 for i, r in enumerate(ranges)
             }
