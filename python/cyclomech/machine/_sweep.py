@@ -23,7 +23,7 @@ import signal
 import threading
 import time
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
 
@@ -77,15 +77,24 @@ class SweepResult:
     columns: dict[str, npt.NDArray[Any]]
     parameters: tuple[str, ...]
     seconds: float = 0.0
+    #: Where the rows were streamed (``sweep(..., out=path)``); ``columns`` is then
+    #: empty and ``summary`` counts the rows: ``points``, ``fits`` (rows that fit),
+    #: ``invalid`` (rows of invalid designs) and the first ``problem``.
+    path: Path | None = None
+    summary: dict[str, Any] = field(default_factory=dict)
 
     @property
     def n_points(self) -> int:
         """Number of rows."""
+        if SPEED not in self.columns:
+            return int(self.summary.get("points", 0))
         return int(self.columns[SPEED].size)
 
     @property
     def n_invalid(self) -> int:
         """Number of rows whose design is invalid (a non-empty ``problem``)."""
+        if "problem" not in self.columns:
+            return int(self.summary.get("invalid", 0))
         return int((self.columns["problem"] != "").sum())
 
     def write(self, path: str | Path) -> Path:
@@ -213,17 +222,24 @@ def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
 _POINT_BYTES = 8 * len(FIGURES) + 3 * 8
 
 
-def _check_size(designs: int, speeds: int, params: int) -> None:
+def _check_size(designs: int, speeds: int, params: int, *, streamed: bool = False) -> None:
     """Refuse, before allocating, a sweep whose result cannot fit in memory (it
     used to die in a bare MemoryError, or be killed by the system, after
-    allocating its index grid): :func:`cyclomech._arrays.check_bytes`."""
-    need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
-    check_bytes(
-        f"the sweep's result ({designs:,} designs × {speeds:,} speeds = "
-        f"{designs * speeds:,} points)",
-        need,
-        "sweep fewer designs or speeds, or the grid in parts",
-    )
+    allocating its index grid): :func:`cyclomech._arrays.check_bytes`. A
+    streamed sweep (``out=``) holds its design index, one task's working set
+    (~0.6 KB a point) and the results of the tasks in flight, not its result."""
+    if streamed:
+        task = min(designs * speeds, _TASK_POINTS)
+        result = _POINT_BYTES + 8 * (params + 1)  # a point of a task's result
+        need = designs * 8 * (params + 1) + task * 600 + _IN_FLIGHT * task * result
+        what = f"the streamed sweep's index and tasks ({designs:,} designs)"
+    else:
+        need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
+        what = (
+            f"the sweep's result ({designs:,} designs × {speeds:,} speeds = "
+            f"{designs * speeds:,} points)"
+        )
+    check_bytes(what, need, "sweep fewer designs or speeds, or the grid in parts; out= streams")
 
 
 def _chunks(n_designs: int, size: int) -> Iterator[range]:
@@ -355,6 +371,7 @@ def sweep(
     progress: bool | None = None,
     n_threads: int | None = None,
     batch: bool = True,
+    out: str | Path | None = None,
 ) -> SweepResult:
     """Key figures of ``machine`` at every combination of the parameters in
     ``grid`` (``"<mechanism>.<key>"`` or ``"machine.<key>"`` → values, in the
@@ -369,7 +386,12 @@ def sweep(
     of pulse-model stops' numeric keys builds and solves each chunk's designs in
     one Rust call (:mod:`cyclomech.machine._batch` lists what it takes); False
     builds one machine per design (the reference: the same results, bit for
-    bit, slower).
+    bit, slower). ``out``: a ``.parquet`` path (needs pyarrow): the rows are
+    written to it task by task as they finish, in order, and dropped, so that a
+    sweep of any size runs in bounded memory; the result then holds no columns,
+    only ``path`` and ``summary`` (read the rows with :meth:`SweepResult.read`).
+    Without ``out`` a sweep whose result cannot fit in memory is refused before
+    it starts.
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
@@ -391,64 +413,183 @@ def sweep(
     for k in names:
         check_parameter(machine, k)
     shape = tuple(a.size for a in axes)
-    _check_size(math.prod(shape), speeds.size, len(names))
+    _check_size(math.prod(shape), speeds.size, len(names), streamed=out is not None)
     # Design d takes axes[j][designs[d, j]]: indices, so whole-number keys stay whole.
     designs = np.indices(shape).reshape(len(shape), -1).T if names else np.zeros((1, 0), np.intp)
     D = designs.shape[0]
     ex = _as_executor(executor)
+    S = speeds.size
     if chunk is None:
         # In-process: about 100 steps of the progress bar, but at least 64 designs a
-        # chunk (each chunk is one call per kernel); on an executor, 64 tasks.
+        # chunk (each chunk is one call per kernel); on an executor, 64 tasks. At
+        # most _TASK_POINTS points a task, so that a task's working set is bounded.
         chunk = math.ceil(D / 64) if ex is not None else max(math.ceil(D / 100), min(D, 64))
+        chunk = max(1, min(chunk, _TASK_POINTS // S))
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk must be a whole number of designs ≥ 1; got {chunk!r}")
-    bar = progress_bar(D * speeds.size, "sweep", progress)
+    stream = None if out is None else _Stream(out, names)
+    tasks = _tasks(D, S, chunk)
+    bar = progress_bar(D * S, "sweep", progress)
     t0 = time.perf_counter()
-    parts: dict[int, dict[str, npt.NDArray[Any]]] = {}
-    ranges = list(_chunks(D, chunk))
+    kept: list[dict[str, npt.NDArray[Any]]] = []
     data, source = machine.data, machine.source
+
+    def emit(i: int, part: dict[str, npt.NDArray[Any]]) -> None:
+        """Task i's rows, in order: kept, or written to ``out`` and dropped."""
+        r, sl = tasks[i]
+        cols: dict[str, npt.NDArray[Any]] = {}
+        for j, k in enumerate(names):
+            cols[k] = np.repeat(axes[j][designs[r, j]], sl.stop - sl.start)
+        cols[SPEED] = np.tile(speeds[sl], r.stop - r.start)
+        cols.update(part)
+        if stream is None:
+            kept.append(cols)
+        else:
+            stream.write(cols)
+        bar.update(cols[SPEED].size)
+
+    def args(i: int, threads: int | None) -> tuple[Any, ...]:
+        r, sl = tasks[i]
+        return (data, source, names, axes, designs[r], speeds[sl], threads, batch)
+
     try:
         if ex is None:
             base = Machine.from_dict(data, source)
-            for i, r in enumerate(ranges):
-                part = designs[r.start : r.stop]
-                parts[i] = _run_chunk(
-                    data, source, names, axes, part, speeds, n_threads, batch, base
-                )
-                bar.update(len(r) * speeds.size)
+            for i in range(len(tasks)):
+                emit(i, _run_chunk(*args(i, n_threads), base))
         else:
-            futures = {
-                ex.submit(
-                    _run_chunk,
-                    data,
-                    source,
-                    names,
-                    axes,
-                    designs[r.start : r.stop],
-                    speeds,
-                    1,
-                    batch,
-                ): i
-                for i, r in enumerate(ranges)
-            }
-            try:
-                for f in cf.as_completed(futures):
-                    i = futures[f]
-                    parts[i] = f.result()
-                    bar.update(len(ranges[i]) * speeds.size)
-            except BaseException:
-                for f in futures:
-                    f.cancel()
-                raise
+            _run_on(ex, len(tasks), lambda i: ex.submit(_run_chunk, *args(i, 1)), emit)
+    except BaseException:
+        if stream is not None:
+            stream.abort()
+        raise
     finally:
         bar.close()
-    cols: dict[str, npt.NDArray[Any]] = {}
-    for j, k in enumerate(names):
-        cols[k] = np.repeat(axes[j][designs[:, j]], speeds.size)
-    cols[SPEED] = np.tile(speeds, D)
-    for k in FIGURES:
-        cols[k] = np.concatenate([parts[i][k] for i in range(len(ranges))])
-    return SweepResult(cols, tuple(names), time.perf_counter() - t0)
+    seconds = time.perf_counter() - t0
+    if stream is not None:
+        return SweepResult({}, tuple(names), seconds, stream.close(), stream.summary)
+    cols = {k: np.concatenate([c[k] for c in kept]) for k in kept[0]}
+    return SweepResult(cols, tuple(names), seconds)
+
+
+#: Most points [design × speed] a task takes by default, and the speeds of one
+#: design a task takes at most: a task's working set (~0.6 KB a point) stays
+#: within ~80 MB, whatever the sweep's size.
+_TASK_POINTS = 1 << 17
+
+
+def _tasks(D: int, S: int, chunk: int) -> list[tuple[slice, slice]]:
+    """The tasks in row order: (designs, speeds) of ``chunk`` designs at every
+    speed, or, when one design has more than :data:`_TASK_POINTS` speeds, one
+    design at blocks of that many speeds (each block works out the design's
+    speed limit again: the same number)."""
+    if S > _TASK_POINTS:
+        return [
+            (slice(d, d + 1), slice(s, min(s + _TASK_POINTS, S)))
+            for d in range(D)
+            for s in range(0, S, _TASK_POINTS)
+        ]
+    return [(slice(r.start, r.stop), slice(0, S)) for r in _chunks(D, chunk)]
+
+
+#: Tasks an executor holds at once: submitted as earlier ones finish, so that the
+#: results waiting for their turn (rows are emitted in order) stay bounded.
+_IN_FLIGHT = 16
+
+
+def _run_on(
+    ex: cf.Executor,
+    n: int,
+    submit: Any,
+    emit: Any,
+) -> None:
+    """Run tasks 0..n-1 on ``ex`` (``submit(i)`` gives a future), at most
+    :data:`_IN_FLIGHT` at once, and ``emit(i, result)`` them in order."""
+    running: dict[cf.Future[Any], int] = {}
+    done: dict[int, Any] = {}
+    nxt = first = 0
+    try:
+        while first < n:
+            while nxt < n and len(running) + len(done) < _IN_FLIGHT:
+                running[submit(nxt)] = nxt
+                nxt += 1
+            finished, _ = cf.wait(list(running), return_when=cf.FIRST_COMPLETED)
+            for f in finished:
+                done[running.pop(f)] = f.result()
+            while first in done:
+                emit(first, done.pop(first))
+                first += 1
+    except BaseException:
+        for f in running:
+            f.cancel()
+        raise
+
+
+class _Stream:
+    """A sweep's rows written to a Parquet file as they come (one row group a
+    task) under a temporary name, renamed when complete; ``summary`` counts what
+    the caller would read from the columns."""
+
+    def __init__(self, path: str | Path, names: Sequence[str]) -> None:
+        p = Path(path)
+        if p.suffix != ".parquet":
+            raise InputError(
+                f"out = {str(path)!r} must name a .parquet file: the rows are streamed to it "
+                "as row groups (SweepResult.read reads it)"
+            )
+        try:
+            import pyarrow.parquet  # noqa: F401
+        except ImportError:
+            raise InputError(
+                "out=: streaming a sweep to Parquet needs pyarrow (`pip install pyarrow`)"
+            ) from None
+        self.path = p
+        self.tmp = p.with_name(f".{p.stem}.{os.getpid()}.partial{p.suffix}")
+        self.meta = {b"schema": SCHEMA.encode(), b"parameters": ",".join(names).encode()}
+        self.writer: Any = None
+        self.summary: dict[str, Any] = {"points": 0, "fits": 0, "invalid": 0, "problem": ""}
+        # Folders made for the file (at its first rows), removed again on an abort.
+        self.made: list[Path] = []
+
+    def _folder(self) -> None:
+        missing = [d for d in (self.path.parent, *self.path.parent.parents) if not d.exists()]
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise InputError(f"out = {str(self.path)!r}: cannot create its folder: {e}") from None
+        self.made = missing
+
+    def write(self, cols: Mapping[str, npt.NDArray[Any]]) -> None:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        table = pa.table({k: pa.array(v) for k, v in cols.items()})
+        if self.writer is None:
+            self._folder()
+            schema = table.schema.with_metadata(self.meta)
+            self.writer = pq.ParquetWriter(self.tmp, schema)
+        self.writer.write_table(table.replace_schema_metadata(self.meta))
+        sm, problem = self.summary, cols["problem"]
+        sm["points"] += int(problem.size)
+        sm["fits"] += int(cols["fits"].sum())
+        bad = problem != ""
+        sm["invalid"] += int(bad.sum())
+        if bad.any() and not sm["problem"]:
+            sm["problem"] = str(problem[bad][0])
+
+    def close(self) -> Path:
+        self.writer.close()  # a sweep has at least one point: one task was written
+        os.replace(self.tmp, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        with contextlib.suppress(Exception):
+            if self.writer is not None:
+                self.writer.close()
+        self.tmp.unlink(missing_ok=True)
+        for d in self.made:  # innermost first; only if still empty
+            with contextlib.suppress(OSError):
+                d.rmdir()
 
 
 @contextlib.contextmanager
