@@ -35,6 +35,7 @@ from .._errors import InputError
 from .._progress import progress as progress_bar
 from ._batch import batch_designs, batch_figures, plan
 from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
+from ._sweep_shaft import SHAFT_COLUMNS, has_shaft, shaft_columns
 
 __all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
 
@@ -65,7 +66,12 @@ class SweepResult:
     ``binding`` is text. ``problem`` is empty for a valid design; a design the
     file's rules refuse (a press whose rod cannot reach its guide, say) does not
     stop the sweep: its rows do not fit (NaN figures, productivity 0) and
-    ``problem`` holds the reason. ``seconds`` is the wall time of the sweep.
+    ``problem`` holds the reason. Then the main shaft's columns
+    (:data:`~cyclomech.machine._sweep_shaft.SHAFT_COLUMNS`: mean, peak and RMS
+    torque [N·m], motor power [W], flywheel [kg·m²]), the ``cyclomech run``
+    report's numbers for the design at each speed; NaN when no mechanism loads
+    the main shaft (and for invalid designs). ``seconds`` is the wall time of the
+    sweep.
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload": [2e-4, 3e-4],
@@ -180,13 +186,15 @@ class SweepResult:
             missing = []
         if missing:
             raise InputError(f"{p}: not {what}: missing the column(s) {', '.join(missing)}")
+        for k in SHAFT_COLUMNS:  # written before the main shaft's columns: none known
+            cols.setdefault(k, np.full(cols[SPEED].shape, np.nan))
         n = cols[SPEED].shape
         ragged = [k for k, v in cols.items() if v.ndim != 1 or v.shape != n]
         if ragged:
             raise InputError(f"{p}: not {what}: columns of different lengths ({ragged[0]!r})")
         for k in TEXT:
             cols[k] = cols[k].astype(object)
-        params = tuple(k for k in cols if k != SPEED and k not in FIGURES)
+        params = tuple(k for k in cols if k not in (SPEED, *FIGURES, *SHAFT_COLUMNS))
         return cls(cols, params)
 
 
@@ -268,6 +276,7 @@ def _run_chunk(
     n_threads: int | None,
     batch: bool = True,
     base: Machine | None = None,
+    shaft: bool = False,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
     one task. The designs are variants of one file, so every kernel runs once for
@@ -276,13 +285,14 @@ def _run_chunk(
     way), else one machine per design, the stops' searches together, one
     shortest-path call for every design at every speed, one per step of the
     speed-limit search. ``base``: the file's machine, when the caller has built it
-    (in-process: once for all the chunks)."""
+    (in-process: once for all the chunks). ``shaft``: the main-shaft columns too
+    (:mod:`cyclomech.machine._sweep_shaft`), else NaN."""
     base = Machine.from_dict(data, source) if base is None else base
     D, S = len(designs), speeds.size
     pl = plan(base, names) if batch else None
     if pl is None:
         cols = _per_design(base, names, axes, designs, speeds, n_threads)
-        return {k: cols[k].reshape(-1) for k in FIGURES}
+        return _flat(cols, base, names, axes, designs, speeds, shaft)
     values = {k: axes[j][designs[:, j]] for j, k in enumerate(names)}
     tables, ok = batch_designs(base, pl, values)
     cols = _empty(D, S)
@@ -294,7 +304,24 @@ def _run_chunk(
         rest = _per_design(base, names, axes, designs[~ok], speeds, n_threads)
         for k, v in rest.items():
             cols[k][~ok] = v
-    return {k: cols[k].reshape(-1) for k in FIGURES}
+    return _flat(cols, base, names, axes, designs, speeds, shaft)
+
+
+def _flat(
+    cols: dict[str, npt.NDArray[Any]],
+    base: Machine,
+    names: Sequence[str],
+    axes: Sequence[npt.NDArray[Any]],
+    designs: npt.NDArray[np.intp],
+    speeds: npt.NDArray[np.float64],
+    shaft: bool,
+) -> dict[str, npt.NDArray[Any]]:
+    """A task's columns in row order: the figures (D, S), then the main shaft's."""
+    if shaft:
+        cols.update(shaft_columns(base, names, axes, designs, speeds, cols["problem"][:, 0]))
+    else:
+        cols.update({c: np.full(cols["fits"].shape, np.nan) for c in SHAFT_COLUMNS})
+    return {k: cols[k].reshape(-1) for k in (*FIGURES, *SHAFT_COLUMNS)}
 
 
 def _empty(D: int, S: int) -> dict[str, npt.NDArray[Any]]:
@@ -448,17 +475,19 @@ def sweep(
             stream.write(cols)
         bar.update(cols[SPEED].size)
 
-    def args(i: int, threads: int | None) -> tuple[Any, ...]:
+    base = Machine.from_dict(data, source)
+    shaft = has_shaft(base)
+
+    def args(i: int, threads: int | None, own: Machine | None) -> tuple[Any, ...]:
         r, sl = tasks[i]
-        return (data, source, names, axes, designs[r], speeds[sl], threads, batch)
+        return (data, source, names, axes, designs[r], speeds[sl], threads, batch, own, shaft)
 
     try:
         if ex is None:
-            base = Machine.from_dict(data, source)
             for i in range(len(tasks)):
-                emit(i, _run_chunk(*args(i, n_threads), base))
+                emit(i, _run_chunk(*args(i, n_threads, base)))
         else:
-            _run_on(ex, len(tasks), lambda i: ex.submit(_run_chunk, *args(i, 1)), emit)
+            _run_on(ex, len(tasks), lambda i: ex.submit(_run_chunk, *args(i, 1, None)), emit)
     except BaseException:
         if stream is not None:
             stream.abort()
