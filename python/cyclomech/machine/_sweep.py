@@ -235,11 +235,11 @@ def _check_size(designs: int, speeds: int, params: int, *, streamed: bool = Fals
     used to die in a bare MemoryError, or be killed by the system, after
     allocating its index grid): :func:`cyclomech._arrays.check_bytes`. A
     streamed sweep (``out=``) holds its design index, one task's working set
-    (~0.6 KB a point) and the results of the tasks in flight, not its result."""
+    (~1.7 KB a point) and the results of the tasks in flight, not its result."""
     if streamed:
         task = min(designs * speeds, _TASK_POINTS)
         result = _POINT_BYTES + 8 * (params + 1)  # a point of a task's result
-        need = designs * 8 * (params + 1) + task * 600 + _IN_FLIGHT * task * result
+        need = designs * 8 * (params + 1) + task * 1700 + _IN_FLIGHT * task * result
         what = f"the streamed sweep's index and tasks ({designs:,} designs)"
     else:
         need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
@@ -502,9 +502,10 @@ def sweep(
 
 
 #: Most points [design × speed] a task takes by default, and the speeds of one
-#: design a task takes at most: a task's working set (~0.6 KB a point) stays
-#: within ~80 MB, whatever the sweep's size.
-_TASK_POINTS = 1 << 17
+#: design a task takes at most: a task's working set (~1.7 KB a point: the
+#: shortest paths' weights, minimums and chains) stays within ~60 MB, whatever
+#: the sweep's size.
+_TASK_POINTS = 1 << 15
 
 
 def _tasks(D: int, S: int, chunk: int) -> list[tuple[slice, slice]]:
