@@ -207,7 +207,9 @@ pub fn contact_point(law: &Law, target: f64) -> (f64, f64) {
         // One thread: the law's lanes give the same values at any thread count.
         law.eval_into(&grid, 0, Some(1), &mut z)
             .expect("the grid lies in [0, 1]");
-        let k = z.iter().position(|&v| !(v < target)).unwrap_or(64);
+        // The first value not below the target (NaN counts as not below).
+        let below = |v: f64| v.partial_cmp(&target) == Some(std::cmp::Ordering::Less);
+        let k = z.iter().position(|&v| !below(v)).unwrap_or(64);
         if k > 0 {
             lo = grid[k - 1];
         }
