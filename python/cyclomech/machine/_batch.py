@@ -39,8 +39,7 @@ import numpy.typing as npt
 from .. import _core
 from .._kind import Proportional
 from .._units import DEG_PER_S_PER_RPM
-from ..impact import CamStop
-from ..impact._lever import _propped_ratio
+from ..impact import CamStop, propped_lever_stiffness
 from ._kinds import KINDS
 from ._model import Machine, _bounds_at
 
@@ -178,8 +177,9 @@ def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, 
             for i in np.flatnonzero(ok).tolist():
                 key = (float(a[i]), float(b[i]))
                 if key not in pairs:
-                    try:
-                        pairs[key] = _propped_ratio(*key)
+                    try:  # StopImpact's ratio: E·J_x cancels, so at E = J_x = 1
+                        free, propped = propped_lever_stiffness(1.0, 1.0, *key)
+                        pairs[key] = propped / free
                     except ValueError:  # an InputError: out of range
                         pairs[key] = np.nan
                 ratio[i] = pairs[key]
