@@ -66,11 +66,12 @@ class SweepResult:
     ``binding`` is text. ``problem`` is empty for a valid design; a design the
     file's rules refuse (a press whose rod cannot reach its guide, say) does not
     stop the sweep: its rows do not fit (NaN figures, productivity 0) and
-    ``problem`` holds the reason. Then the main shaft's columns
-    (:data:`~cyclomech.machine._sweep_shaft.SHAFT_COLUMNS`: mean, peak and RMS
-    torque [N·m], motor power [W], flywheel [kg·m²]), the ``cyclomech run``
-    report's numbers for the design at each speed; NaN when no mechanism loads
-    the main shaft (and for invalid designs). ``seconds`` is the wall time of the
+    ``problem`` holds the reason. With ``sweep(..., shaft=True)`` the main
+    shaft's columns follow (:data:`~cyclomech.machine._sweep_shaft.SHAFT_COLUMNS`:
+    mean, peak and RMS torque [N·m], motor power [W], flywheel [kg·m²]), the
+    ``cyclomech run`` report's numbers for the design at each speed; NaN where
+    there is none (a machine whose mechanisms do not load its main shaft, an
+    invalid design, one without an optimum). ``seconds`` is the wall time of the
     sweep.
 
     >>> import cyclomech as cm
@@ -186,8 +187,6 @@ class SweepResult:
             missing = []
         if missing:
             raise InputError(f"{p}: not {what}: missing the column(s) {', '.join(missing)}")
-        for k in SHAFT_COLUMNS:  # written before the main shaft's columns: none known
-            cols.setdefault(k, np.full(cols[SPEED].shape, np.nan))
         n = cols[SPEED].shape
         ragged = [k for k, v in cols.items() if v.ndim != 1 or v.shape != n]
         if ragged:
@@ -274,9 +273,10 @@ def _run_chunk(
     designs: npt.NDArray[np.intp],
     speeds: npt.NDArray[np.float64],
     n_threads: int | None,
+    *,
     batch: bool = True,
     base: Machine | None = None,
-    shaft: bool = False,
+    shaft: bool | None = None,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
     one task. The designs are variants of one file, so every kernel runs once for
@@ -286,7 +286,7 @@ def _run_chunk(
     shortest-path call for every design at every speed, one per step of the
     speed-limit search. ``base``: the file's machine, when the caller has built it
     (in-process: once for all the chunks). ``shaft``: the main-shaft columns too
-    (:mod:`cyclomech.machine._sweep_shaft`), else NaN."""
+    (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None: none)."""
     base = Machine.from_dict(data, source) if base is None else base
     D, S = len(designs), speeds.size
     pl = plan(base, names) if batch else None
@@ -314,9 +314,12 @@ def _flat(
     axes: Sequence[npt.NDArray[Any]],
     designs: npt.NDArray[np.intp],
     speeds: npt.NDArray[np.float64],
-    shaft: bool,
+    shaft: bool | None,
 ) -> dict[str, npt.NDArray[Any]]:
-    """A task's columns in row order: the figures (D, S), then the main shaft's."""
+    """A task's columns in row order: the figures (D, S), then with ``shaft`` the
+    main shaft's (None: no such columns; False: NaN, the machine has no shaft)."""
+    if shaft is None:
+        return {k: cols[k].reshape(-1) for k in FIGURES}
     if shaft:
         cols.update(shaft_columns(base, names, axes, designs, speeds, cols["problem"][:, 0]))
     else:
@@ -399,6 +402,7 @@ def sweep(
     n_threads: int | None = None,
     batch: bool = True,
     out: str | Path | None = None,
+    shaft: bool = False,
 ) -> SweepResult:
     """Key figures of ``machine`` at every combination of the parameters in
     ``grid`` (``"<mechanism>.<key>"`` or ``"machine.<key>"`` → values, in the
@@ -418,7 +422,9 @@ def sweep(
     sweep of any size runs in bounded memory; the result then holds no columns,
     only ``path`` and ``summary`` (read the rows with :meth:`SweepResult.read`).
     Without ``out`` a sweep whose result cannot fit in memory is refused before
-    it starts.
+    it starts. ``shaft``: add the main shaft's columns
+    (:mod:`cyclomech.machine._sweep_shaft`: one ``cyclomech run`` analysis per
+    design, ~0.7 s for the loom with its cam; NaN where there is no main shaft).
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
@@ -428,8 +434,9 @@ def sweep(
     """
     if not isinstance(machine, Machine) or machine.data is None:
         raise InputError("machine must be a cyclomech.Machine read from a file or a dict")
-    if not isinstance(batch, bool):
-        raise InputError(f"batch must be True or False; got {batch!r}")
+    for flag, value in (("batch", batch), ("shaft", shaft)):
+        if not isinstance(value, bool):
+            raise InputError(f"{flag} must be True or False; got {value!r}")
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
     speeds = (
@@ -476,18 +483,23 @@ def sweep(
         bar.update(cols[SPEED].size)
 
     base = Machine.from_dict(data, source)
-    shaft = has_shaft(base)
+    loads = (has_shaft(base) if shaft else None) if isinstance(shaft, bool) else None
 
-    def args(i: int, threads: int | None, own: Machine | None) -> tuple[Any, ...]:
+    def args(i: int, threads: int | None) -> tuple[Any, ...]:
         r, sl = tasks[i]
-        return (data, source, names, axes, designs[r], speeds[sl], threads, batch, own, shaft)
+        return (data, source, names, axes, designs[r], speeds[sl], threads)
+
+    def submit(i: int) -> cf.Future[dict[str, npt.NDArray[Any]]]:
+        # n_threads=1 last among the positional arguments: the workers' own.
+        assert ex is not None
+        return ex.submit(_run_chunk, *args(i, 1), batch=batch, shaft=loads)
 
     try:
         if ex is None:
             for i in range(len(tasks)):
-                emit(i, _run_chunk(*args(i, n_threads, base)))
+                emit(i, _run_chunk(*args(i, n_threads), batch=batch, base=base, shaft=loads))
         else:
-            _run_on(ex, len(tasks), lambda i: ex.submit(_run_chunk, *args(i, 1, None)), emit)
+            _run_on(ex, len(tasks), submit, emit)
     except BaseException:
         if stream is not None:
             stream.abort()

@@ -1,19 +1,20 @@
 """The main-shaft columns of a sweep (issue 20): the `_sweep_shaft` part of
 :mod:`cyclomech.machine` (its door).
 
-A machine whose mechanisms load the main shaft (a cam with its follower's loads,
-a linkage with masses or loads, a press with its load: what ``cyclomech run``
-reports as "the main shaft") gets, at every point of a sweep, the statistics of
-its main-shaft torque: :data:`SHAFT_COLUMNS`. They are the ``cyclomech run``
+With ``sweep(..., shaft=True)`` (``cyclomech sweep --shaft``) a machine whose
+mechanisms load the main shaft (a cam with its follower's loads, a linkage with
+masses or loads, a press with its load: what ``cyclomech run`` reports as "the
+main shaft") gets, at every point of a sweep, the statistics of its main-shaft
+torque: :data:`SHAFT_COLUMNS`. They are the ``cyclomech run``
 report's: each design is analysed as ``run`` does (:func:`analyze`: its speed
 limit, its optimum at its nominal speed, each mechanism's results there, the
 phased sum of their torques, moved within the slack with ``flatten_torque``) and
 the torque's statistics taken at each of the sweep's speeds in one Rust call
 (:meth:`cyclomech.shaft.ShaftTorque.stats`: the ω² part scales with the speed, the
 layout stays that of the nominal optimum, as the report's ``over_speed``). That
-costs one analysis per design (~0.7 s for the loom with its cam). A machine
-without such a mechanism, an invalid design and a design whose cyclogram has no
-optimum at its nominal speed get NaN.
+costs one analysis per design (~0.7 s for the loom with its cam), which is why
+it is asked for, not automatic. A machine without such a mechanism, an invalid
+design and a design whose cyclogram has no optimum at its nominal speed get NaN.
 """
 
 from __future__ import annotations

@@ -67,6 +67,11 @@ def add_commands(commands: Any) -> None:
     )
     w.add_argument("--threads", type=int, help="Rust threads in this process (default: all)")
     w.add_argument("--quiet", action="store_true", help="no progress bar")
+    w.add_argument(
+        "--shaft",
+        action="store_true",
+        help="add the main shaft's torque statistics (one full analysis per design)",
+    )
     w.set_defaults(run=sweep_command, machine_file=True)
 
 
@@ -174,6 +179,7 @@ def sweep_command(args: argparse.Namespace) -> int:
                 progress=None if not args.quiet else False,
                 n_threads=args.threads,
                 out=target,
+                shaft=args.shaft,
             )
     finally:
         if client is not None:
