@@ -103,14 +103,23 @@ class _PerPointReport:
 
     @pytest.hookimpl(trylast=True)
     def pytest_terminal_summary(self, terminalreporter) -> None:
+        tr = terminalreporter
+        pairs = [(f"design-old-{n}", f"design-batch-{n}") for n in (1, 2)]
+        pairs.append(("stops-old", "stops-batch"))
+        for old, new in pairs:
+            if old in _PER_POINT and new in _PER_POINT:
+                a, b = _PER_POINT[old][1], _PER_POINT[new][1]
+                tr.write_line(
+                    f"  per design: {_PER_POINT[old][0]} {_us(a)}; {_PER_POINT[new][0]} "
+                    f"{_us(b)}: {a / b:.2f}x"
+                )
         lp = _PER_POINT.get("lp")
         if lp is None:
             return
-        tr = terminalreporter
         tr.write_sep("=", "cyclomech machine: per point")
         tr.write_line(f"  peer: {lp[0]}: {_us(lp[1])} per point")
         for key, (what, t) in _PER_POINT.items():
-            if key == "lp":
+            if key == "lp" or key.startswith(("design-", "stops-")):
                 continue
             n = N_PRELOADS * N_SPEEDS if key.startswith("sweep") else N_SPEEDS
             tr.write_line(
@@ -390,6 +399,102 @@ def test_wide_sweep_in_process(benchmark, loom, n_threads) -> None:
         assert np.array_equal(r.columns["limiting_deg"][rows], want, equal_nan=True)
 
 
+# --- issue 20: many stop designs in one Rust call ------------------------------------
+
+#: The design axis of issue 20: 10^4 preloads × 100 speeds (full), 200 × 10 (smoke).
+N_DESIGNS_BATCH = 10_000 if FULL else 200
+N_SPEEDS_BATCH = 100 if FULL else 10
+#: The per-design path runs on every BATCH_STRIDE-th design (1000 of the 10^4) and is
+#: extrapolated per design: all of them would take ~25 s a round.
+BATCH_STRIDE = 10
+GROUP_BATCH = (
+    f"cm.sweep, design axis: {N_DESIGNS_BATCH} preloads × {N_SPEEDS_BATCH} speeds "
+    f"(per-design path on every {BATCH_STRIDE}th design)"
+)
+
+
+def batch_grid(stride: int = 1) -> dict[str, Array]:
+    return {
+        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)[::stride],
+        "speed_rpm": np.linspace(*SPEED_RANGE_RPM, N_SPEEDS_BATCH),
+    }
+
+
+@pytest.fixture(scope="module")
+def batch_reference(loom: cm.Machine) -> cm.SweepResult:
+    """The per-design path on the subset: what the batch must give, bit for bit."""
+    return cm.sweep(loom, batch_grid(BATCH_STRIDE), progress=False, n_threads=1, batch=False)
+
+
+def _subset(r: cm.SweepResult, stride: int) -> cm.SweepResult:
+    rows = np.arange(r.n_points).reshape(-1, N_SPEEDS_BATCH)[::stride].reshape(-1)
+    return cm.SweepResult({k: v[rows] for k, v in r.columns.items()}, r.parameters)
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+@pytest.mark.parametrize("n_threads", [1, 2], ids=["1-thread", "2-threads"])
+def test_design_axis_batch(benchmark, loom, batch_reference, n_threads) -> None:
+    what = f"cm.sweep(batch=True), {n_threads} thread(s)"
+    _label(benchmark, "cyclomech", what)
+    kw = {"n_threads": n_threads, "progress": False}
+    r = benchmark.pedantic(cm.sweep, (loom, batch_grid()), kw, rounds=1)
+    _same_sweep(_subset(r, BATCH_STRIDE), batch_reference)
+    _record(benchmark, f"design-batch-{n_threads}", what, N_DESIGNS_BATCH)
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+@pytest.mark.parametrize("n_threads", [1, 2], ids=["1-thread", "2-threads"])
+def test_design_axis_per_design(benchmark, loom, batch_reference, n_threads) -> None:
+    what = f"cm.sweep(batch=False) on {N_DESIGNS_BATCH // BATCH_STRIDE} designs, {n_threads}"
+    _label(benchmark, "cyclomech (per design)", what)
+    kw = {"n_threads": n_threads, "progress": False, "batch": False}
+    r = benchmark.pedantic(cm.sweep, (loom, batch_grid(BATCH_STRIDE)), kw, rounds=1)
+    _same_sweep(r, batch_reference)
+    _record(benchmark, f"design-old-{n_threads}", what, N_DESIGNS_BATCH // BATCH_STRIDE)
+
+
+def _stop_designs_batch(loom: cm.Machine, preloads: Array) -> Array:
+    """What the batch replaced: every design's stop built and solved (v*, the phase
+    angle per rpm, the smallest phase angle at every speed) in one Rust call."""
+    from cyclomech import _core
+    from cyclomech.machine._batch import batch_designs, plan
+
+    pl = plan(loom, ["lifter.preload"])
+    assert pl is not None
+    tables, ok = batch_designs(loom, pl, {"lifter.preload": preloads})
+    assert ok.all()
+    law = loom.mechanisms["lifter"].stop.law  # type: ignore[attr-defined]
+    speeds = np.linspace(*SPEED_RANGE_RPM, N_SPEEDS_BATCH)
+    return _core.stop_design_batch(law.name, True, None, 0, tables["lifter"], speeds)[4]
+
+
+def _stop_designs_per_design(loom: cm.Machine, preloads: Array) -> Array:
+    """The same per design, as the per-design path does it: a machine with the
+    design's values (its StopImpact), then all the stops' laws in one search."""
+    ms = [loom.with_values({"lifter.preload": float(p)}) for p in preloads]
+    laws = cm.machine._model._laws(ms, False, None)
+    return np.array([law[0].per_rpm for law in laws])
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+def test_stop_designs_kernel(benchmark, loom) -> None:
+    _label(benchmark, "cyclomech", f"{N_DESIGNS_BATCH} stop designs built and solved, 1 call")
+    pre = np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)
+    k = benchmark(_stop_designs_batch, loom, pre)
+    want = _stop_designs_per_design(loom, pre[::BATCH_STRIDE])
+    assert np.array_equal(k[::BATCH_STRIDE], want)
+    _record(benchmark, "stops-batch", "stop designs, batch", N_DESIGNS_BATCH)
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH, min_rounds=SLOW_ROUNDS)
+def test_stop_designs_per_design(benchmark, loom) -> None:
+    n = N_DESIGNS_BATCH // BATCH_STRIDE
+    _label(benchmark, "cyclomech (per design)", f"{n} machines with_values + their stop laws")
+    pre = np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)[::BATCH_STRIDE]
+    benchmark(_stop_designs_per_design, loom, pre)
+    _record(benchmark, "stops-old", "stop designs, per design", n)
+
+
 def _start_cluster() -> tuple[Any, Any]:
     from dask.distributed import Client, LocalCluster
 
@@ -529,3 +634,39 @@ def test_chain_speed_limit_lp(benchmark, chain) -> None:
     _label(benchmark, "scipy", "one LP (HiGHS) over event angles and the speed")
     rpm = benchmark(chain_lp, chain)
     assert rpm == pytest.approx(CHAIN_LIMIT_RPM, rel=1e-7)
+
+
+# --- peak memory of a sweep by its size (issue 20): run in a fresh process each --------
+
+
+def peak_rss(points: int, out: str | None, designs: int = 1) -> tuple[float, float]:
+    """Sweep the loom over ``designs`` preloads × ``points // designs`` speeds,
+    streamed to ``out`` (a .parquet path) or held in memory: (seconds, peak RSS [MB]
+    of this process, its own start included)."""
+    import resource
+    import time
+
+    m = cm.Machine.from_toml(LOOM)
+    grid = {
+        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, designs),
+        "speed_rpm": np.linspace(*SPEED_RANGE_RPM, points // designs),
+    }
+    t = time.perf_counter()
+    r = cm.sweep(m, grid, progress=False, n_threads=1, out=out)
+    seconds = time.perf_counter() - t
+    assert r.n_points == points
+    return seconds, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+if __name__ == "__main__":
+    # python benches/bench_machine.py POINTS [DESIGNS] [OUT.parquet]
+    import sys
+
+    n = int(float(sys.argv[1]))
+    d = int(sys.argv[2]) if len(sys.argv) > 2 else 1
+    target = sys.argv[3] if len(sys.argv) > 3 else None
+    s, mb = peak_rss(n, target, d)
+    print(
+        f"{n:.0e} points ({d} designs), {'streamed' if target else 'in memory'}: "
+        f"{s:.2f} s, peak RSS {mb:.0f} MB"
+    )

@@ -482,3 +482,31 @@ class ForceModel:
         reactions: bool = True,
         n_threads: int | None = None,
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+
+# --- issue 20, machine sweeps: a batch of stop designs (rust/bindings/src/impact.rs) ---
+__all__ += ["stop_design_batch", "stop_design_rebounds"]
+
+def stop_design_batch(
+    law: str,
+    rise: bool,
+    coeffs: npt.NDArray[np.float64] | None,
+    pulse: int,
+    designs: npt.NDArray[np.float64],
+    rpm: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+]: ...
+def stop_design_rebounds(
+    pulse: int,
+    designs: npt.NDArray[np.float64],
+    v0: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...

@@ -23,7 +23,7 @@ import signal
 import threading
 import time
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, cast
 
@@ -33,7 +33,9 @@ import numpy.typing as npt
 from .._arrays import check_bytes, speeds_rpm
 from .._errors import InputError
 from .._progress import progress as progress_bar
+from ._batch import batch_designs, batch_figures, plan
 from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
+from ._sweep_shaft import SHAFT_COLUMNS, has_shaft, shaft_columns
 
 __all__ = ["SweepResult", "dask_client", "dask_workers", "parse_range", "sweep"]
 
@@ -64,7 +66,13 @@ class SweepResult:
     ``binding`` is text. ``problem`` is empty for a valid design; a design the
     file's rules refuse (a press whose rod cannot reach its guide, say) does not
     stop the sweep: its rows do not fit (NaN figures, productivity 0) and
-    ``problem`` holds the reason. ``seconds`` is the wall time of the sweep.
+    ``problem`` holds the reason. With ``sweep(..., shaft=True)`` the main
+    shaft's columns follow (:data:`~cyclomech.machine._sweep_shaft.SHAFT_COLUMNS`:
+    mean, peak and RMS torque [N·m], motor power [W], flywheel [kg·m²]), the
+    ``cyclomech run`` report's numbers for the design at each speed; NaN where
+    there is none (a machine whose mechanisms do not load its main shaft, an
+    invalid design, one without an optimum). ``seconds`` is the wall time of the
+    sweep.
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload": [2e-4, 3e-4],
@@ -76,15 +84,24 @@ class SweepResult:
     columns: dict[str, npt.NDArray[Any]]
     parameters: tuple[str, ...]
     seconds: float = 0.0
+    #: Where the rows were streamed (``sweep(..., out=path)``); ``columns`` is then
+    #: empty and ``summary`` counts the rows: ``points``, ``fits`` (rows that fit),
+    #: ``invalid`` (rows of invalid designs) and the first ``problem``.
+    path: Path | None = None
+    summary: dict[str, Any] = field(default_factory=dict)
 
     @property
     def n_points(self) -> int:
         """Number of rows."""
+        if SPEED not in self.columns:
+            return int(self.summary.get("points", 0))
         return int(self.columns[SPEED].size)
 
     @property
     def n_invalid(self) -> int:
         """Number of rows whose design is invalid (a non-empty ``problem``)."""
+        if "problem" not in self.columns:
+            return int(self.summary.get("invalid", 0))
         return int((self.columns["problem"] != "").sum())
 
     def write(self, path: str | Path) -> Path:
@@ -176,7 +193,7 @@ class SweepResult:
             raise InputError(f"{p}: not {what}: columns of different lengths ({ragged[0]!r})")
         for k in TEXT:
             cols[k] = cols[k].astype(object)
-        params = tuple(k for k in cols if k != SPEED and k not in FIGURES)
+        params = tuple(k for k in cols if k not in (SPEED, *FIGURES, *SHAFT_COLUMNS))
         return cls(cols, params)
 
 
@@ -212,17 +229,24 @@ def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
 _POINT_BYTES = 8 * len(FIGURES) + 3 * 8
 
 
-def _check_size(designs: int, speeds: int, params: int) -> None:
+def _check_size(designs: int, speeds: int, params: int, *, streamed: bool = False) -> None:
     """Refuse, before allocating, a sweep whose result cannot fit in memory (it
     used to die in a bare MemoryError, or be killed by the system, after
-    allocating its index grid): :func:`cyclomech._arrays.check_bytes`."""
-    need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
-    check_bytes(
-        f"the sweep's result ({designs:,} designs × {speeds:,} speeds = "
-        f"{designs * speeds:,} points)",
-        need,
-        "sweep fewer designs or speeds, or the grid in parts",
-    )
+    allocating its index grid): :func:`cyclomech._arrays.check_bytes`. A
+    streamed sweep (``out=``) holds its design index, one task's working set
+    (~1.7 KB a point) and the results of the tasks in flight, not its result."""
+    if streamed:
+        task = min(designs * speeds, _TASK_POINTS)
+        result = _POINT_BYTES + 8 * (params + 1)  # a point of a task's result
+        need = designs * 8 * (params + 1) + task * 1700 + _IN_FLIGHT * task * result
+        what = f"the streamed sweep's index and tasks ({designs:,} designs)"
+    else:
+        need = designs * (8 * params) + designs * speeds * (_POINT_BYTES + 8 * (params + 1))
+        what = (
+            f"the sweep's result ({designs:,} designs × {speeds:,} speeds = "
+            f"{designs * speeds:,} points)"
+        )
+    check_bytes(what, need, "sweep fewer designs or speeds, or the grid in parts; out= streams")
 
 
 def _chunks(n_designs: int, size: int) -> Iterator[range]:
@@ -249,12 +273,84 @@ def _run_chunk(
     designs: npt.NDArray[np.intp],
     speeds: npt.NDArray[np.float64],
     n_threads: int | None,
+    *,
+    batch: bool = True,
+    base: Machine | None = None,
+    shaft: bool | None = None,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
     one task. The designs are variants of one file, so every kernel runs once for
-    the chunk: the stops' searches together, one shortest-path call for every
-    design at every speed, one per step of the speed-limit search."""
-    base = Machine.from_dict(data, source)
+    the chunk: with ``batch`` the swept stops of every design in one Rust call
+    (:mod:`cyclomech.machine._batch`; the designs it cannot take go the other
+    way), else one machine per design, the stops' searches together, one
+    shortest-path call for every design at every speed, one per step of the
+    speed-limit search. ``base``: the file's machine, when the caller has built it
+    (in-process: once for all the chunks). ``shaft``: the main-shaft columns too
+    (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None: none)."""
+    base = Machine.from_dict(data, source) if base is None else base
+    D, S = len(designs), speeds.size
+    pl = plan(base, names) if batch else None
+    if pl is None:
+        cols = _per_design(base, names, axes, designs, speeds, n_threads)
+        return _flat(cols, base, names, axes, designs, speeds, shaft)
+    values = {k: axes[j][designs[:, j]] for j, k in enumerate(names)}
+    tables, ok = batch_designs(base, pl, values)
+    cols = _empty(D, S)
+    if ok.any():
+        got = batch_figures(base, pl, {k: t[:, ok] for k, t in tables.items()}, speeds, n_threads)
+        for k, v in got.items():
+            cols[k][ok] = v
+    if not ok.all():
+        rest = _per_design(base, names, axes, designs[~ok], speeds, n_threads)
+        for k, v in rest.items():
+            cols[k][~ok] = v
+    return _flat(cols, base, names, axes, designs, speeds, shaft)
+
+
+def _flat(
+    cols: dict[str, npt.NDArray[Any]],
+    base: Machine,
+    names: Sequence[str],
+    axes: Sequence[npt.NDArray[Any]],
+    designs: npt.NDArray[np.intp],
+    speeds: npt.NDArray[np.float64],
+    shaft: bool | None,
+) -> dict[str, npt.NDArray[Any]]:
+    """A task's columns in row order: the figures (D, S), then with ``shaft`` the
+    main shaft's (None: no such columns; False: NaN, the machine has no shaft)."""
+    if shaft is None:
+        return {k: cols[k].reshape(-1) for k in FIGURES}
+    if shaft:
+        cols.update(shaft_columns(base, names, axes, designs, speeds, cols["problem"][:, 0]))
+    else:
+        cols.update({c: np.full(cols["fits"].shape, np.nan) for c in SHAFT_COLUMNS})
+    return {k: cols[k].reshape(-1) for k in (*FIGURES, *SHAFT_COLUMNS)}
+
+
+def _empty(D: int, S: int) -> dict[str, npt.NDArray[Any]]:
+    """The figures (D, S) of designs that do not fit (NaN, productivity 0)."""
+    return {
+        "fits": np.zeros((D, S), dtype=bool),
+        "limiting_deg": np.full((D, S), np.nan),
+        "limiting_s": np.full((D, S), np.nan),
+        "productivity": np.zeros((D, S)),
+        "max_rebound_m": np.full((D, S), np.nan),
+        "binding": np.full((D, S), "", dtype=object),
+        "speed_limit_rpm": np.full((D, S), np.nan),
+        "speed_limit_by": np.full((D, S), "", dtype=object),
+        "problem": np.full((D, S), "", dtype=object),
+    }
+
+
+def _per_design(
+    base: Machine,
+    names: Sequence[str],
+    axes: Sequence[npt.NDArray[Any]],
+    designs: npt.NDArray[np.intp],
+    speeds: npt.NDArray[np.float64],
+    n_threads: int | None,
+) -> dict[str, npt.NDArray[Any]]:
+    """The figures (D, S) of one machine per design (the reference path)."""
     machines: list[Machine] = []
     problems = np.full(len(designs), "", dtype=object)
     for d, row in enumerate(designs):
@@ -271,17 +367,8 @@ def _run_chunk(
     ok = problems == ""
     S = speeds.size
     per_speed = ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m", "binding")
-    cols: dict[str, npt.NDArray[Any]] = {
-        "fits": np.zeros((len(designs), S), dtype=bool),
-        "limiting_deg": np.full((len(designs), S), np.nan),
-        "limiting_s": np.full((len(designs), S), np.nan),
-        "productivity": np.zeros((len(designs), S)),
-        "max_rebound_m": np.full((len(designs), S), np.nan),
-        "binding": np.full((len(designs), S), "", dtype=object),
-        "speed_limit_rpm": np.full((len(designs), S), np.nan),
-        "speed_limit_by": np.full((len(designs), S), "", dtype=object),
-        "problem": np.repeat(problems[:, None], S, axis=1),
-    }
+    cols = _empty(len(designs), S)
+    cols["problem"] = np.repeat(problems[:, None], S, axis=1)
     if machines:
         sweeps = speed_sweeps(machines, speeds, n_threads=n_threads)
         limits = speed_limits(machines, n_threads=n_threads)
@@ -289,7 +376,7 @@ def _run_chunk(
             cols[k][ok] = np.stack([getattr(s, k) for s in sweeps])
         cols["speed_limit_rpm"][ok] = np.array([lim.rpm for lim in limits])[:, None]
         cols["speed_limit_by"][ok] = np.array([lim.by for lim in limits], dtype=object)[:, None]
-    return {k: cols[k].reshape(-1) for k in FIGURES}
+    return cols
 
 
 def _as_executor(executor: Any) -> cf.Executor | None:
@@ -313,6 +400,9 @@ def sweep(
     chunk: int | None = None,
     progress: bool | None = None,
     n_threads: int | None = None,
+    batch: bool = True,
+    out: str | Path | None = None,
+    shaft: bool = False,
 ) -> SweepResult:
     """Key figures of ``machine`` at every combination of the parameters in
     ``grid`` (``"<mechanism>.<key>"`` or ``"machine.<key>"`` → values, in the
@@ -323,7 +413,18 @@ def sweep(
     ``dask.distributed.Client`` or a ``concurrent.futures.Executor`` (one task per
     chunk of ``chunk`` designs, one thread per kernel inside). ``progress``: a
     bar on stderr (default: when stderr is a terminal). Ctrl-C cancels the
-    chunks not yet started and raises ``KeyboardInterrupt``.
+    chunks not yet started and raises ``KeyboardInterrupt``. ``batch``: a sweep
+    of pulse-model stops' numeric keys builds and solves each chunk's designs in
+    one Rust call (:mod:`cyclomech.machine._batch` lists what it takes); False
+    builds one machine per design (the reference: the same results, bit for
+    bit, slower). ``out``: a ``.parquet`` path (needs pyarrow): the rows are
+    written to it task by task as they finish, in order, and dropped, so that a
+    sweep of any size runs in bounded memory; the result then holds no columns,
+    only ``path`` and ``summary`` (read the rows with :meth:`SweepResult.read`).
+    Without ``out`` a sweep whose result cannot fit in memory is refused before
+    it starts. ``shaft``: add the main shaft's columns
+    (:mod:`cyclomech.machine._sweep_shaft`: one ``cyclomech run`` analysis per
+    design, ~0.7 s for the loom with its cam; NaN where there is no main shaft).
 
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
@@ -333,6 +434,9 @@ def sweep(
     """
     if not isinstance(machine, Machine) or machine.data is None:
         raise InputError("machine must be a cyclomech.Machine read from a file or a dict")
+    for flag, value in (("batch", batch), ("shaft", shaft)):
+        if not isinstance(value, bool):
+            raise InputError(f"{flag} must be True or False; got {value!r}")
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
     speeds = (
@@ -343,54 +447,191 @@ def sweep(
     for k in names:
         check_parameter(machine, k)
     shape = tuple(a.size for a in axes)
-    _check_size(math.prod(shape), speeds.size, len(names))
+    _check_size(math.prod(shape), speeds.size, len(names), streamed=out is not None)
     # Design d takes axes[j][designs[d, j]]: indices, so whole-number keys stay whole.
     designs = np.indices(shape).reshape(len(shape), -1).T if names else np.zeros((1, 0), np.intp)
     D = designs.shape[0]
     ex = _as_executor(executor)
+    S = speeds.size
     if chunk is None:
         # In-process: about 100 steps of the progress bar, but at least 64 designs a
-        # chunk (each chunk is one call per kernel); on an executor, 64 tasks.
+        # chunk (each chunk is one call per kernel); on an executor, 64 tasks. At
+        # most _TASK_POINTS points a task, so that a task's working set is bounded.
         chunk = math.ceil(D / 64) if ex is not None else max(math.ceil(D / 100), min(D, 64))
+        chunk = max(1, min(chunk, _TASK_POINTS // S))
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise InputError(f"chunk must be a whole number of designs ≥ 1; got {chunk!r}")
-    bar = progress_bar(D * speeds.size, "sweep", progress)
+    stream = None if out is None else _Stream(out, names)
+    tasks = _tasks(D, S, chunk)
+    bar = progress_bar(D * S, "sweep", progress)
     t0 = time.perf_counter()
-    parts: dict[int, dict[str, npt.NDArray[Any]]] = {}
-    ranges = list(_chunks(D, chunk))
+    kept: list[dict[str, npt.NDArray[Any]]] = []
     data, source = machine.data, machine.source
+
+    def emit(i: int, part: dict[str, npt.NDArray[Any]]) -> None:
+        """Task i's rows, in order: kept, or written to ``out`` and dropped."""
+        r, sl = tasks[i]
+        cols: dict[str, npt.NDArray[Any]] = {}
+        for j, k in enumerate(names):
+            cols[k] = np.repeat(axes[j][designs[r, j]], sl.stop - sl.start)
+        cols[SPEED] = np.tile(speeds[sl], r.stop - r.start)
+        cols.update(part)
+        if stream is None:
+            kept.append(cols)
+        else:
+            stream.write(cols)
+        bar.update(cols[SPEED].size)
+
+    base = Machine.from_dict(data, source)
+    loads = (has_shaft(base) if shaft else None) if isinstance(shaft, bool) else None
+
+    def args(i: int, threads: int | None) -> tuple[Any, ...]:
+        r, sl = tasks[i]
+        return (data, source, names, axes, designs[r], speeds[sl], threads)
+
+    def submit(i: int) -> cf.Future[dict[str, npt.NDArray[Any]]]:
+        # n_threads=1 last among the positional arguments: the workers' own.
+        assert ex is not None
+        return ex.submit(_run_chunk, *args(i, 1), batch=batch, shaft=loads)
+
     try:
         if ex is None:
-            for i, r in enumerate(ranges):
-                parts[i] = _run_chunk(
-                    data, source, names, axes, designs[r.start : r.stop], speeds, n_threads
-                )
-                bar.update(len(r) * speeds.size)
+            for i in range(len(tasks)):
+                emit(i, _run_chunk(*args(i, n_threads), batch=batch, base=base, shaft=loads))
         else:
-            futures = {
-                ex.submit(
-                    _run_chunk, data, source, names, axes, designs[r.start : r.stop], speeds, 1
-                ): i
-                for i, r in enumerate(ranges)
-            }
-            try:
-                for f in cf.as_completed(futures):
-                    i = futures[f]
-                    parts[i] = f.result()
-                    bar.update(len(ranges[i]) * speeds.size)
-            except BaseException:
-                for f in futures:
-                    f.cancel()
-                raise
+            _run_on(ex, len(tasks), submit, emit)
+    except BaseException:
+        if stream is not None:
+            stream.abort()
+        raise
     finally:
         bar.close()
-    cols: dict[str, npt.NDArray[Any]] = {}
-    for j, k in enumerate(names):
-        cols[k] = np.repeat(axes[j][designs[:, j]], speeds.size)
-    cols[SPEED] = np.tile(speeds, D)
-    for k in FIGURES:
-        cols[k] = np.concatenate([parts[i][k] for i in range(len(ranges))])
-    return SweepResult(cols, tuple(names), time.perf_counter() - t0)
+    seconds = time.perf_counter() - t0
+    if stream is not None:
+        return SweepResult({}, tuple(names), seconds, stream.close(), stream.summary)
+    cols = {k: np.concatenate([c[k] for c in kept]) for k in kept[0]}
+    return SweepResult(cols, tuple(names), seconds)
+
+
+#: Most points [design × speed] a task takes by default, and the speeds of one
+#: design a task takes at most: a task's working set (~1.7 KB a point: the
+#: shortest paths' weights, minimums and chains) stays within ~60 MB, whatever
+#: the sweep's size.
+_TASK_POINTS = 1 << 15
+
+
+def _tasks(D: int, S: int, chunk: int) -> list[tuple[slice, slice]]:
+    """The tasks in row order: (designs, speeds) of ``chunk`` designs at every
+    speed, or, when one design has more than :data:`_TASK_POINTS` speeds, one
+    design at blocks of that many speeds (each block works out the design's
+    speed limit again: the same number)."""
+    if S > _TASK_POINTS:
+        return [
+            (slice(d, d + 1), slice(s, min(s + _TASK_POINTS, S)))
+            for d in range(D)
+            for s in range(0, S, _TASK_POINTS)
+        ]
+    return [(slice(r.start, r.stop), slice(0, S)) for r in _chunks(D, chunk)]
+
+
+#: Tasks an executor holds at once: submitted as earlier ones finish, so that the
+#: results waiting for their turn (rows are emitted in order) stay bounded.
+_IN_FLIGHT = 16
+
+
+def _run_on(
+    ex: cf.Executor,
+    n: int,
+    submit: Any,
+    emit: Any,
+) -> None:
+    """Run tasks 0..n-1 on ``ex`` (``submit(i)`` gives a future), at most
+    :data:`_IN_FLIGHT` at once, and ``emit(i, result)`` them in order."""
+    running: dict[cf.Future[Any], int] = {}
+    done: dict[int, Any] = {}
+    nxt = first = 0
+    try:
+        while first < n:
+            while nxt < n and len(running) + len(done) < _IN_FLIGHT:
+                running[submit(nxt)] = nxt
+                nxt += 1
+            finished, _ = cf.wait(list(running), return_when=cf.FIRST_COMPLETED)
+            for f in finished:
+                done[running.pop(f)] = f.result()
+            while first in done:
+                emit(first, done.pop(first))
+                first += 1
+    except BaseException:
+        for f in running:
+            f.cancel()
+        raise
+
+
+class _Stream:
+    """A sweep's rows written to a Parquet file as they come (one row group a
+    task) under a temporary name, renamed when complete; ``summary`` counts what
+    the caller would read from the columns."""
+
+    def __init__(self, path: str | Path, names: Sequence[str]) -> None:
+        p = Path(path)
+        if p.suffix != ".parquet":
+            raise InputError(
+                f"out = {str(path)!r} must name a .parquet file: the rows are streamed to it "
+                "as row groups (SweepResult.read reads it)"
+            )
+        try:
+            import pyarrow.parquet  # noqa: F401
+        except ImportError:
+            raise InputError(
+                "out=: streaming a sweep to Parquet needs pyarrow (`pip install pyarrow`)"
+            ) from None
+        self.path = p
+        self.tmp = p.with_name(f".{p.stem}.{os.getpid()}.partial{p.suffix}")
+        self.meta = {b"schema": SCHEMA.encode(), b"parameters": ",".join(names).encode()}
+        self.writer: Any = None
+        self.summary: dict[str, Any] = {"points": 0, "fits": 0, "invalid": 0, "problem": ""}
+        # Folders made for the file (at its first rows), removed again on an abort.
+        self.made: list[Path] = []
+
+    def _folder(self) -> None:
+        missing = [d for d in (self.path.parent, *self.path.parent.parents) if not d.exists()]
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise InputError(f"out = {str(self.path)!r}: cannot create its folder: {e}") from None
+        self.made = missing
+
+    def write(self, cols: Mapping[str, npt.NDArray[Any]]) -> None:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        table = pa.table({k: pa.array(v) for k, v in cols.items()})
+        if self.writer is None:
+            self._folder()
+            schema = table.schema.with_metadata(self.meta)
+            self.writer = pq.ParquetWriter(self.tmp, schema)
+        self.writer.write_table(table.replace_schema_metadata(self.meta))
+        sm, problem = self.summary, cols["problem"]
+        sm["points"] += int(problem.size)
+        sm["fits"] += int(cols["fits"].sum())
+        bad = problem != ""
+        sm["invalid"] += int(bad.sum())
+        if bad.any() and not sm["problem"]:
+            sm["problem"] = str(problem[bad][0])
+
+    def close(self) -> Path:
+        self.writer.close()  # a sweep has at least one point: one task was written
+        os.replace(self.tmp, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        with contextlib.suppress(Exception):
+            if self.writer is not None:
+                self.writer.close()
+        self.tmp.unlink(missing_ok=True)
+        for d in self.made:  # innermost first; only if still empty
+            with contextlib.suppress(OSError):
+                d.rmdir()
 
 
 @contextlib.contextmanager

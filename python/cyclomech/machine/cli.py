@@ -23,9 +23,18 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from pathlib import Path
 from typing import Any
 
-from .._cli import EXIT_FAILS, EXIT_OK, has_matplotlib, out_folder, plural, quiet_interrupt
+from .._cli import (
+    EXIT_FAILS,
+    EXIT_OK,
+    has_matplotlib,
+    out_folder,
+    out_path,
+    plural,
+    quiet_interrupt,
+)
 from .._errors import InputError
 
 __all__ = ["add_commands", "run_command", "sweep_command"]
@@ -58,6 +67,11 @@ def add_commands(commands: Any) -> None:
     )
     w.add_argument("--threads", type=int, help="Rust threads in this process (default: all)")
     w.add_argument("--quiet", action="store_true", help="no progress bar")
+    w.add_argument(
+        "--shaft",
+        action="store_true",
+        help="add the main shaft's torque statistics (one full analysis per design)",
+    )
     w.set_defaults(run=sweep_command, machine_file=True)
 
 
@@ -122,8 +136,6 @@ def run_command(args: argparse.Namespace) -> int:
 
 def sweep_command(args: argparse.Namespace) -> int:
     """Run ``cyclomech sweep`` with the parsed ``args``; return the exit status."""
-    import numpy as np
-
     from .._arrays import speeds_rpm
     from . import Machine, check_parameter, dask_client, dask_workers, parse_range, sweep
 
@@ -150,11 +162,24 @@ def sweep_command(args: argparse.Namespace) -> int:
     if workers:
         # Ctrl-C is ignored while the workers start (see _sweep._sigint_ignored).
         print(f"starting a Dask LocalCluster of {workers} worker processes …", flush=True)
+    out = out_path(args)  # made when the first rows are written (none on a Ctrl-C)
+    try:  # Parquet streams the rows as they come: any size in bounded memory
+        import pyarrow.parquet  # noqa: F401
+
+        target: Path | None = out / "sweep.parquet"
+    except ImportError:
+        target = None
     client = dask_client(args.dask) if args.dask else None
     try:
         with quiet_interrupt(client is not None):
             r = sweep(
-                m, grid, client, progress=None if not args.quiet else False, n_threads=args.threads
+                m,
+                grid,
+                client,
+                progress=None if not args.quiet else False,
+                n_threads=args.threads,
+                out=target,
+                shaft=args.shaft,
             )
     finally:
         if client is not None:
@@ -162,29 +187,30 @@ def sweep_command(args: argparse.Namespace) -> int:
             client.close()
             if cluster is not None and args.dask.startswith("local"):
                 cluster.close()
-    out = out_folder(args)
-    path = r.write(out / "sweep.parquet")
-    fits = r.columns["fits"]
-    n_speeds = int(np.unique(r.columns["speed_rpm"]).size)
+    path = r.path if r.path is not None else r.write(out_folder(args) / "sweep.parquet")
+    summary = r.summary or {
+        "points": r.n_points,
+        "fits": int(r.columns["fits"].sum()),
+        "invalid": r.n_invalid,
+        "problem": next((str(p) for p in r.columns["problem"] if p), ""),
+    }
     print(
-        f"{plural(r.n_points, 'point')} ({plural(r.n_points // n_speeds, 'design')} × "
-        f"{plural(n_speeds, 'speed')}) in "
+        f"{plural(r.n_points, 'point')} ({plural(designs, 'design')} × "
+        f"{plural(speeds, 'speed')}) in "
         f"{r.seconds:.2f} s"
         + (f" on Dask ({args.dask})" if args.dask else "")
-        + f"; the cyclogram fits at {int(fits.sum())} of them"
+        + f"; the cyclogram fits at {summary['fits']} of them"
     )
-    problem = r.columns["problem"]
-    bad = problem[::n_speeds] != ""
-    if bad.any():
-        first = str(problem[::n_speeds][bad][0])
+    bad = summary["invalid"] // speeds
+    if bad:
         print(
-            f"{plural(int(bad.sum()), 'design')} of {bad.size} are invalid and counted as not "
-            f"fitting (the 'problem' column says why); the first: {first}"
+            f"{plural(bad, 'design')} of {designs} are invalid and counted as not "
+            f"fitting (the 'problem' column says why); the first: {summary['problem']}"
         )
     print(f"Wrote {path}")
     if path.suffix == ".npz":
         print("(NumPy .npz: pyarrow is not installed; `pip install pyarrow` writes Parquet)")
-    if bad.all():
+    if bad == designs:
         print(
             f"cyclomech: {args.file}: every design of the sweep is invalid "
             f"(exit status {EXIT_FAILS})",

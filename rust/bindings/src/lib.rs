@@ -34,6 +34,8 @@ mod _core {
         first_rebound_batch,
     };
     #[pymodule_export]
+    use super::impact::{stop_design_batch, stop_design_rebounds};
+    #[pymodule_export]
     use super::linkage::LinkageProgram;
     #[pymodule_export]
     use super::motion::{MotionLaw, TwoPeriodKernel};

@@ -48,10 +48,12 @@
 //! rounding: an exact event-driven history.
 //!
 //! Files: `oscillator` (the recurrence for one case and for batches),
-//! `rebound` (the first rebound after a pulse), `contact` (the link on its stop)
-//! and `error` (the domain's error and its input checks).
+//! `rebound` (the first rebound after a pulse), `contact` (the link on its stop),
+//! `design_batch` (many designs of one stop built and solved at once, for
+//! machine sweeps) and `error` (the domain's error and its input checks).
 
 mod contact;
+mod design_batch;
 mod error;
 mod oscillator;
 mod rebound;
@@ -61,6 +63,10 @@ mod tests;
 pub use contact::{
     contact_rebound_batch_into, contact_response, contact_sample_into, Contact, ContactEnd,
     ContactHistory, MAX_EVENTS,
+};
+pub use design_batch::{
+    contact_point, design_rebounds_into, min_phase, stop_designs_into, DesignOut, PulseShape,
+    PulseStop, PulseTable, StopDesigns, SPEED_MARGIN,
 };
 pub use error::{ImpactError, MODE_RANGE};
 pub use oscillator::{response_batch_into, response_into, Cases, Oscillator};

@@ -1,0 +1,311 @@
+"""Sweeps of a cam stop's parameters in one Rust call per chunk (issue 20): the
+`_batch` part of :mod:`cyclomech.machine` (its door).
+
+A sweep that varies only numeric keys of pulse-model ``cam_stop`` mechanisms
+(:data:`BATCH_KEYS`: the stop's preload, stroke, lever, stiffness, damping,
+restitution, contact time, rebound limit …) does not build a
+:class:`~cyclomech.Machine` and a :class:`~cyclomech.impact.StopImpact` per design:
+the designs' parameters go to Rust as arrays (``_core.stop_design_batch``: each
+design's contact point, largest admissible impact speed, phase angle per rpm and
+smallest phase angle at every speed, rayon over designs, the GIL released), the
+cyclogram's shortest paths and speed-limit search take every design at once as
+before, and the rebounds at the optimum are one more call
+(``_core.stop_design_rebounds``). The results are bit for bit those of one machine
+per design (``sweep(..., batch=False)``, the reference the tests compare with).
+
+What stays on the per-design path (:func:`plan` returns None, or a design is
+left out of the batch):
+
+* a parameter of ``[machine]`` (it may change the speed range or the cyclogram)
+  or of any other kind of mechanism (cams, linkages, presses, transfers);
+* a stop in the contact model (its search is a different kernel) or with the
+  ``half_sine`` pulse (sampled with numpy's sine);
+* ``stroke`` or ``lever_length`` of a stop that takes its law and stroke from a
+  cam (``cam = "…"``);
+* a design the batch's checks refuse (a preload at or beyond the stroke, a
+  negative stiffness …): the per-design path builds it, so that its ``problem``
+  text is the file reader's own.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _core
+from .._kind import Proportional
+from .._units import DEG_PER_S_PER_RPM
+from ..impact import CamStop, propped_lever_stiffness
+from ._kinds import KINDS
+from ._model import Machine, _bounds_at
+
+__all__ = ["BATCH_KEYS", "Plan", "batch_figures", "plan"]
+
+#: The keys of a ``cam_stop`` table a batched sweep may vary (numbers only).
+BATCH_KEYS = frozenset(
+    {
+        "stroke",
+        "preload",
+        "lever_length",
+        "J_A",
+        "a",
+        "b",
+        "E",
+        "J_x",
+        "mass",
+        "restitution",
+        "zeta",
+        "contact_stiffness",
+        "contact_time",
+        "a_max",
+    }
+)
+
+#: The pulse shapes of the batch kernel, by their code.
+_PULSE_CODE = {"decaying": 0, "rectangular": 1, "triangular": 2}
+
+Array = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A sweep the batch can take: the swept stops (mechanism names, in the
+    machine's order) and, per parameter, its stop and key."""
+
+    stops: tuple[str, ...]
+    keys: dict[str, tuple[str, str]]
+
+
+def plan(machine: Machine, names: Sequence[str]) -> Plan | None:
+    """The batch plan of a sweep of ``names`` (``<mechanism>.<key>``) over
+    ``machine``, or None when a parameter needs the per-design path (see the
+    module's docstring).
+
+    >>> import cyclomech as cm
+    >>> from cyclomech.machine._batch import plan
+    >>> plan(cm.Machine.example(), ["lifter.preload"]).stops
+    ('lifter',)
+    >>> plan(cm.Machine.example(), ["machine.speed_points"]) is None
+    True
+    """
+    if not names or machine.data is None:
+        return None
+    keys: dict[str, tuple[str, str]] = {}
+    tables = machine.data.get("mechanism", {})
+    for path in names:
+        head, _, key = path.partition(".")
+        mech = machine.mechanisms.get(head)
+        if head == "machine" or not isinstance(mech, CamStop) or key not in BATCH_KEYS:
+            return None
+        stop = mech.stop
+        if stop.model != "pulse" or stop.pulse not in _PULSE_CODE:
+            return None
+        if "cam" in tables.get(head, {}) and key in ("stroke", "lever_length"):
+            return None
+        keys[path] = (head, key)
+    heads = {h for h, _ in keys.values()}
+    return Plan(tuple(k for k in machine.mechanisms if k in heads), keys)
+
+
+@dataclass(frozen=True)
+class _Designs:
+    """One swept stop's designs: the (8, D) table of the kernels (stroke,
+    preload, mass, stiffness, contact time, restitution, ζ, a_max) and which
+    designs passed the checks."""
+
+    table: Array
+    ok: npt.NDArray[np.bool_]
+
+
+def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, Array]) -> _Designs:
+    """The designs of one stop with ``values`` (key → (D,)) replacing its table's:
+    every quantity as :class:`~cyclomech.impact.StopImpact` computes it, in the
+    same order (so, bit for bit), and the checks it makes; a design that fails
+    one is left to the per-design path."""
+    st = mech.stop
+    D = next(iter(values.values())).size
+    base = {
+        "stroke": st.stroke,
+        "preload": st.preload,
+        "lever_length": st.lever_length,
+        "J_A": st.J_A,
+        "a": st.a,
+        "b": st.b,
+        "E": st.E,
+        "J_x": st.J_x,
+        "mass": st.mass,
+        "restitution": st.restitution,
+        "zeta": st.zeta,
+        "contact_stiffness": st.contact_stiffness,
+        "contact_time": st.contact_time,
+        "a_max": mech.a_max,
+    }
+    p = {
+        k: np.asarray(values[k], dtype=np.float64) if k in values else np.full(D, v)
+        for k, v in base.items()
+    }
+    ok = np.ones(D, dtype=bool)
+    with np.errstate(all="ignore"):
+        for k in ("stroke", "lever_length", "J_A", "a", "b", "E", "J_x", "a_max"):
+            ok &= np.isfinite(p[k]) & (p[k] > 0.0)
+        ok &= (p["preload"] >= 0.0) & (p["preload"] < p["stroke"])
+        ok &= (p["restitution"] >= 0.0) & (p["restitution"] <= 1.0)
+        ok &= p["zeta"] >= 0.0
+        E, J, a, b = p["E"], p["J_x"], p["a"], p["b"]
+        stiffness = 3.0 * E * J / ((a + b) * b * b)  # lever_stiffness
+        ok &= np.isfinite(stiffness) & (stiffness > 0.0)
+        # Given, or derived as StopImpact derives it when the table gives none.
+        derived = ("mass", "contact_stiffness", "contact_time")
+        given = {k: k in values or k in table for k in derived}
+        if given["mass"]:
+            mass = p["mass"]
+        else:
+            # J_A/l**2 as Python floats do it (a float power, not numpy's square).
+            pairs_jl = zip(p["J_A"].tolist(), p["lever_length"].tolist(), strict=True)
+            mass = np.array([j / ln**2 for j, ln in pairs_jl])
+        ok &= np.isfinite(mass) & (mass > 0.0)
+        if given["contact_stiffness"]:
+            contact = p["contact_stiffness"]
+            ok &= np.isfinite(contact) & (contact > stiffness)
+        else:
+            ratio = np.full(D, np.nan)
+            pairs: dict[tuple[float, float], float] = {}
+            for i in np.flatnonzero(ok).tolist():
+                key = (float(a[i]), float(b[i]))
+                if key not in pairs:
+                    try:  # StopImpact's ratio: E·J_x cancels, so at E = J_x = 1
+                        free, propped = propped_lever_stiffness(1.0, 1.0, *key)
+                        pairs[key] = propped / free
+                    except ValueError:  # an InputError: out of range
+                        pairs[key] = np.nan
+                ratio[i] = pairs[key]
+            contact = stiffness * ratio
+        ok &= np.isfinite(contact) & (contact > 0.0)
+        # contact_time(c, m) when not given: π·√(m/c).
+        tau = p["contact_time"] if given["contact_time"] else np.pi * np.sqrt(mass / contact)
+        ok &= np.isfinite(tau) & (tau > 0.0)
+    rows = [p["stroke"], p["preload"], mass, stiffness, tau]
+    rows += [p["restitution"], p["zeta"], p["a_max"]]
+    return _Designs(np.ascontiguousarray(np.stack(rows)), ok)
+
+
+def batch_designs(
+    machine: Machine, pl: Plan, values: Mapping[str, Array]
+) -> tuple[dict[str, Array], npt.NDArray[np.bool_]]:
+    """Each swept stop's (8, D) design table and the designs every stop's checks
+    passed (the others go to the per-design path)."""
+    assert machine.data is not None
+    tables = machine.data.get("mechanism", {})
+    out: dict[str, Array] = {}
+    ok: npt.NDArray[np.bool_] | None = None
+    for name in pl.stops:
+        own = {key: values[path] for path, (h, key) in pl.keys.items() if h == name}
+        mech = machine.mechanisms[name]
+        assert isinstance(mech, CamStop)
+        d = _stop_designs(mech, tables.get(name, {}), own)
+        out[name] = d.table
+        ok = d.ok if ok is None else ok & d.ok
+    assert ok is not None
+    return out, ok
+
+
+def batch_figures(
+    machine: Machine,
+    pl: Plan,
+    tables: Mapping[str, Array],
+    speeds: Array,
+    n_threads: int | None,
+) -> dict[str, npt.NDArray[Any]]:
+    """The sweep's figures (D, S) of the designs ``tables`` (from
+    :func:`batch_designs`, only designs that passed) at ``speeds`` [rpm]: what
+    :func:`~cyclomech.machine.speed_sweeps` and
+    :func:`~cyclomech.machine.speed_limits` give for one machine per design, bit
+    for bit, with the swept stops solved by the batch kernels."""
+    # C order (a boolean column selection of the caller's is Fortran-ordered).
+    tables = {k: np.ascontiguousarray(t, dtype=np.float64) for k, t in tables.items()}
+    D = next(iter(tables.values())).shape[1]
+    S = speeds.size
+    net = machine._network
+    bounded = machine._bounded
+    base_laws = machine.bound_laws(n_threads=n_threads)
+    solved: dict[str, tuple[Array, Array, Array]] = {}
+    for name, table in tables.items():
+        mech = machine.mechanisms[name]
+        assert isinstance(mech, CamStop)
+        law = mech.stop.law
+        coeffs = None if law.coeffs is None else np.asarray(law.coeffs, dtype=np.float64)
+        _, _, _, unit, per, mins = _core.stop_design_batch(
+            law.name,
+            law.form == "rise",
+            coeffs,
+            _PULSE_CODE[mech.stop.pulse],
+            table,
+            speeds,
+            n_threads=n_threads,
+        )
+        solved[name] = (unit, per, mins)
+    # Each design's bound laws: the swept stops' own, every other mechanism's shared.
+    per_mech: list[list[Any]] = []
+    k = 0
+    for m in bounded:
+        nb = len(m.bounds())
+        if m.name in solved:
+            per_mech.append([[Proportional(float(x))] for x in solved[m.name][1].tolist()])
+        else:
+            per_mech.append([base_laws[k : k + nb]] * D)
+        k += nb
+    laws = [[law for col in per_mech for law in col[d]] for d in range(D)]
+    at = _bounds_at(laws)
+    grid = np.tile(speeds, (D, 1))
+    rows = grid.reshape(-1)
+    t_bound = at(np.arange(D), grid)
+    value, fits, binding, mins = net.solve(rows, t_bound, n_threads)
+    columns = sorted({c for cls in KINDS.values() for c in cls.sweep_columns})
+    extra = {c: np.full(rows.shape, np.nan) for c in columns}
+    k = 0
+    for m in bounded:
+        nb = len(m.bounds())
+        angles = [mins[:, net.bound_op[k + i]] for i in range(nb)]
+        if m.name in solved:
+            per = np.repeat(solved[m.name][0], S)
+            t = angles[0]
+            # NaN where the machine does not fit: dropped, so not solved at all.
+            v0 = np.where(fits, rows * per / np.where(fits, t, 1.0), np.nan)
+            a = _core.stop_design_rebounds(
+                _PULSE_CODE[m.stop.pulse],  # type: ignore[attr-defined]
+                tables[m.name],
+                np.ascontiguousarray(v0.reshape(D, S)),
+                n_threads=n_threads,
+            ).reshape(-1)
+            got = {"max_rebound_m": np.where(fits, a, np.nan)}
+        else:
+            got = type(m).sweep_values([m] * D, grid, angles, fits, n_threads=n_threads)
+        for c, v in got.items():
+            extra[c] = np.fmax(extra.get(c, np.full(rows.shape, np.nan)), v)
+        k += nb
+    cols: dict[str, npt.NDArray[Any]] = {
+        "fits": fits,
+        "limiting_deg": value,
+        "limiting_s": value / (DEG_PER_S_PER_RPM * rows),
+        "productivity": np.where(fits, rows, 0.0),
+        "max_rebound_m": extra["max_rebound_m"],
+        "binding": binding,
+    }
+    cols = {c: v.reshape(D, S) for c, v in cols.items()}
+    # The speed limit: the cyclogram's search over every design at once, then
+    # each mechanism's own limit (shared by the designs: a stop has none).
+    cg = net.speed_limits(at, D, machine._search_start(), n_threads, 1e-10)
+    rpm = np.asarray(cg, dtype=np.float64).copy()
+    by = np.full(D, "cyclogram", dtype=object)
+    for name, x in machine.mechanisms.items():
+        own = float(x.speed_limit_rpm())
+        if np.isfinite(own):
+            lower = own < rpm
+            by[lower], rpm[lower] = name, own
+    cols["speed_limit_rpm"] = np.repeat(rpm[:, None], S, axis=1)
+    cols["speed_limit_by"] = np.repeat(by[:, None], S, axis=1)
+    return cols
