@@ -489,13 +489,15 @@ pub(super) fn atan(x: f64) -> f64 {
     let a = x.abs();
     let big = a > T3P8;
     let mid = !big && a > 0.66;
-    let r = if big {
-        -1.0 / a
+    // One division for the three ranges: −1/a, (a − 1)/(a + 1) or a/1.
+    let (num, den) = if big {
+        (-1.0, a)
     } else if mid {
-        (a - 1.0) / (a + 1.0)
+        (a - 1.0, a + 1.0)
     } else {
-        a
+        (a, 1.0)
     };
+    let r = num / den;
     let (y0, more) = if big {
         (FRAC_PI_2, MOREBITS)
     } else if mid {
