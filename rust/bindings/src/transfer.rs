@@ -7,9 +7,11 @@ use cyclomech_core::transfer::{
     kinematics_into, longest, peak_jerk, quintic, quintic_eval_into, sample_into, PathSpec,
     QuinticValue, SampleOut, SpeedLaw, TransferError, N_KINEMATICS,
 };
-use numpy::ndarray::{Ix1, Ix2};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use numpy::ndarray::{Dimension, Ix1, Ix2};
+use numpy::{Element, IntoPyArray, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::PyTuple;
 
 use crate::convert::{self, LayoutError};
@@ -42,12 +44,41 @@ fn input_error(py: Python<'_>, message: String) -> PyErr {
     }
 }
 
-fn new_f64<'py, D: numpy::ndarray::Dimension>(
+/// A new C-order array of `shape`, not zeroed: every kernel here writes every
+/// element of its outputs (a zeroed array would be written twice, and calloc's
+/// clearing of reused memory is a pass over the whole output). numpy's failure
+/// to allocate is the `InputError` of `convert::check` for a size that cannot
+/// fit, else an `InputError` saying so.
+fn empty<'py, T: Element, D: Dimension>(
     py: Python<'py>,
     shape: &[usize],
     what: &str,
-) -> PyResult<Bound<'py, numpy::PyArray<f64, D>>> {
-    convert::zeros::<f64, D>(py, shape, what, "ask for fewer points at a time")
+) -> PyResult<Bound<'py, PyArray<T, D>>> {
+    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let hint = "ask for fewer points at a time";
+    let f = EMPTY.get_or_try_init(py, || {
+        py.import("numpy")?.getattr("empty").map(Bound::unbind)
+    })?;
+    match f.bind(py).call1((shape.to_vec(), T::get_dtype(py))) {
+        Ok(a) => Ok(a.cast_into::<PyArray<T, D>>()?),
+        Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
+            let bytes = convert::nbytes(&[(shape, std::mem::size_of::<T>())]);
+            convert::check(py, what, bytes, hint)?;
+            Err(input_error(
+                py,
+                format!("{what} needs {bytes:.3e} bytes, which could not be allocated; {hint}"),
+            ))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+fn new_f64<'py, D: Dimension>(
+    py: Python<'py>,
+    shape: &[usize],
+    what: &str,
+) -> PyResult<Bound<'py, PyArray<f64, D>>> {
+    empty::<f64, D>(py, shape, what)
 }
 
 /// The quintic with coefficients `coeffs` (a0 … a5) at every `x` [m]: `what`

@@ -250,20 +250,13 @@ fn fill(
                 o: &mut o,
             });
         }
-        2 => {
-            let step = 1.0 / c as f64;
-            let (e, u, len) = (spec.end_t, spec.u, spec.straight);
-            for j in 0..o.s.len() {
-                let t = (i0 + j) as f64 * step;
-                let a = t * len;
-                o.points[2 * j] = e[0] + a * u[0];
-                o.points[2 * j + 1] = e[1] + a * u[1];
-                o.s[j] = s0 + t * len;
-                o.heading[j] = spec.head;
-                o.curvature[j] = 0.0;
-                o.rate[j] = 0.0;
-            }
-        }
+        2 => pulp::Arch::new().dispatch(Straight {
+            spec,
+            step: 1.0 / c as f64,
+            i0,
+            s0,
+            o: &mut o,
+        }),
         _ => {
             // Lead-out arc, clockwise about the process centre, from C; the
             // piece's last point is the path's end (u = 1 exactly).
@@ -293,6 +286,43 @@ fn fill(
         {
             *v = -*v;
         }
+    }
+}
+
+/// Points `i0 ..` of the straight segment, from B_t along u at
+/// t = i·`step` of its length, arc length from `s0` (a lane loop under
+/// `pulp`'s dispatch).
+struct Straight<'s, 'a, 'b> {
+    spec: &'s PathSpec,
+    step: f64,
+    i0: usize,
+    s0: f64,
+    o: &'a mut SampleOut<'b>,
+}
+
+impl pulp::WithSimd for Straight<'_, '_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let Straight {
+            spec,
+            step,
+            i0,
+            s0,
+            o,
+        } = self;
+        let (e, u, len) = (spec.end_t, spec.u, spec.straight);
+        for (j, (p, s)) in o.points.chunks_exact_mut(2).zip(o.s.iter_mut()).enumerate() {
+            let t = (i0 + j) as f64 * step;
+            let a = t * len;
+            p[0] = e[0] + a * u[0];
+            p[1] = e[1] + a * u[1];
+            *s = s0 + t * len;
+        }
+        o.heading.fill(spec.head);
+        o.curvature.fill(0.0);
+        o.rate.fill(0.0);
     }
 }
 
