@@ -188,12 +188,12 @@ pub fn peak_jerk(
 /// [`peak_jerk`] of one candidate: lane loops over each piece's points under
 /// `pulp`'s dispatch (the widest vectors the processor has; the same
 /// arithmetic on every instruction set).
-struct Candidate {
-    r: [f64; 2],
-    d: f64,
-    x2: f64,
-    speed: [f64; 2],
-    m: usize,
+pub(super) struct Candidate {
+    pub(super) r: [f64; 2],
+    pub(super) d: f64,
+    pub(super) x2: f64,
+    pub(super) speed: [f64; 2],
+    pub(super) m: usize,
 }
 
 /// The largest value, NaN if any is.

@@ -366,3 +366,28 @@ fn branchless_atan_is_within_two_ulps_of_the_library() {
         std::f64::consts::FRAC_PI_2
     );
 }
+
+#[test]
+fn scan_is_the_same_on_every_instruction_set() {
+    use pulp::WithSimd;
+    // The lane loops compile to scalar, AVX2 and AVX-512 code; no fused
+    // multiply-adds are introduced, so every one gives the same bits.
+    for (x2, speed) in [(0.03, [0.1, 0.3]), (0.07, [0.2, 0.2]), (0.005, [1.0, 0.4])] {
+        let all = on_each_isa!(|s| super::design::Candidate {
+            r: [0.15, 0.25],
+            d: 0.41,
+            x2,
+            speed,
+            m: 801,
+        }
+        .with_simd(s));
+        for (name, v) in &all {
+            assert_eq!(
+                v.to_bits(),
+                all[0].1.to_bits(),
+                "{name}: {v} vs {}",
+                all[0].1
+            );
+        }
+    }
+}
