@@ -1,19 +1,22 @@
-"""Rotor transfer (issue 6): sampling the composed path and scanning transition
-lengths, against what a user would write with numpy and scipy, in one run.
+"""Rotor transfer (issues 6 and 20): sampling the composed path and scanning
+transition lengths, the Rust kernels against what a user would write with numpy
+and scipy, in one run, on one thread and on two.
 
 - ``TransferPath.sample(1e6)`` — points, arc length, heading, signed curvature and
   its rate along the whole guide (arc → quintic → straight → quintic → arc) of the
-  README's example (0.15 and 0.25 m rotors, gap 10 mm, x2 = 40 mm), vectorised
-  numpy with Gauss–Legendre arc lengths. The peer (:func:`scipy_sample`) samples
-  the same two transitions with ``numpy.polynomial.Polynomial`` and its
-  derivatives, arc length by ``scipy.integrate.cumulative_trapezoid`` and
-  curvature from the closed form; the arcs and the straight are not timed for
-  it. Error: the arc length at the end of the second transition against
-  ``scipy.integrate.quad``.
-- ``design_transfer`` — 64 candidate lengths × 801 points per piece, all at once,
-  then scipy's bounded minimiser — against the same candidates through a loop of
-  ``TransferPath(...).max_jerk`` (the straightforward way, one path per
-  candidate).
+  README's example (0.15 and 0.25 m rotors, gap 10 mm, x2 = 40 mm): one Rust
+  call. Peers: the numpy code it replaced (``tests/transfer_reference.py``, the
+  same outputs, vectorised numpy with Gauss–Legendre arc lengths), and
+  :func:`scipy_sample`, which samples only the two transitions with
+  ``numpy.polynomial.Polynomial`` and its derivatives, arc length by
+  ``scipy.integrate.cumulative_trapezoid`` and curvature from the closed form
+  (less work: no arcs, no straight, no headings). Error: the arc length at the
+  end of the second transition against ``scipy.integrate.quad``.
+- ``design_transfer`` — 64 candidate lengths × 801 points per piece in one Rust
+  call, then scipy's bounded minimiser (one Rust call per step) — against the
+  numpy code it replaced (the same scan vectorised over candidates, the same
+  minimiser) and against a Python loop of that numpy code's ``TransferPath`` and
+  ``max_jerk`` per candidate (the straightforward way).
 
 Measured (AMD EPYC, 2 cores; medians): see BENCHMARKS.md. Run::
 
@@ -22,12 +25,18 @@ Measured (AMD EPYC, 2 cores; medians): see BENCHMARKS.md. Run::
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
 import scipy.integrate
 from numpy.polynomial import Polynomial
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
+import transfer_reference as ref
 
 Array = npt.NDArray[np.float64]
 
@@ -73,10 +82,11 @@ def scipy_sample(path: cm.transfer.TransferPath, n: int) -> tuple[Array, ...]:
     return tuple(np.concatenate(parts) for parts in zip(*out, strict=True))
 
 
-def test_sample_cyclomech(benchmark, path) -> None:
+@pytest.mark.parametrize("threads", [1, 2])
+def test_sample_cyclomech(benchmark, path, threads) -> None:
     benchmark.group = GROUP_SAMPLE
-    _label(benchmark, "cyclomech", "TransferPath.sample (whole path, Gauss-Legendre arc length)")
-    smp = benchmark(path.sample, N)
+    _label(benchmark, "cyclomech", f"TransferPath.sample (whole path, Rust), n_threads={threads}")
+    smp = benchmark(path.sample, N, n_threads=threads)
     assert smp.points.shape == (N, 2)
     ends = [np.flatnonzero(smp.piece == i)[-1] for i in (1, 3)]
     # The second transition ends at C: its arc length from A is the two
@@ -86,6 +96,14 @@ def test_sample_cyclomech(benchmark, path) -> None:
     err = abs(got - want) / want
     benchmark.extra_info["what"] += f"; err {err:.0e} vs quad"
     assert err < 1e-12
+
+
+def test_sample_numpy(benchmark, path) -> None:
+    benchmark.group = GROUP_SAMPLE
+    _label(benchmark, "numpy", "the numpy code it replaced (whole path, same outputs)")
+    smp = benchmark.pedantic(ref.sample, args=(path, N), rounds=5)
+    ours = path.sample(N)
+    assert np.allclose(smp.s, ours.s, rtol=0, atol=1e-12 * ours.s[-1])
 
 
 def test_sample_scipy(benchmark, path) -> None:
@@ -103,28 +121,41 @@ def test_sample_scipy(benchmark, path) -> None:
 def loop_design(speed: float, cands: Array) -> Array:
     return np.array(
         [
-            cm.transfer.TransferPath(
-                R_T, R_P, (0.0, 0.0), (R_T + R_P + GAP, 0.0), x2=float(x)
-            ).max_jerk(speed, n=2401)
+            ref.max_jerk(
+                cm.transfer.TransferPath(R_T, R_P, (0.0, 0.0), (R_T + R_P + GAP, 0.0), x2=float(x)),
+                speed,
+                n=2401,
+            )
             for x in cands
         ]
     )
 
 
-def test_design_cyclomech(benchmark) -> None:
+@pytest.mark.parametrize("threads", [1, 2])
+def test_design_cyclomech(benchmark, threads) -> None:
     benchmark.group = GROUP_DESIGN
-    _label(benchmark, "cyclomech", "design_transfer (candidates vectorised, then bounded)")
-    d = benchmark(cm.transfer.design_transfer, R_T, R_P, GAP, V)
+    _label(
+        benchmark, "cyclomech", f"design_transfer (Rust scan, then bounded), n_threads={threads}"
+    )
+    d = benchmark(cm.transfer.design_transfer, R_T, R_P, GAP, V, n_threads=threads)
     assert d.at_limit
-    # The vectorised scan agrees with the full sampler on a few candidates.
+    # The scan agrees with the full sampler on a few candidates.
     check = loop_design(V, d.candidates[::16])
     assert np.allclose(d.peak_jerk[::16], check, rtol=2e-2)
 
 
+def test_design_numpy(benchmark) -> None:
+    benchmark.group = GROUP_DESIGN
+    _label(benchmark, "numpy", "the numpy code it replaced (candidates vectorised, then bounded)")
+    want = benchmark.pedantic(ref.design_transfer, args=(R_T, R_P, GAP, V), rounds=5)
+    d = cm.transfer.design_transfer(R_T, R_P, GAP, V)
+    assert np.allclose(d.peak_jerk, want["peak_jerk"], rtol=1e-12)
+
+
 def test_design_loop(benchmark) -> None:
     benchmark.group = GROUP_DESIGN
-    _label(benchmark, "numpy", "a TransferPath and max_jerk per candidate (Python loop)")
+    _label(benchmark, "numpy", "a TransferPath and the numpy max_jerk per candidate (Python loop)")
     d = cm.transfer.design_transfer(R_T, R_P, GAP, V)
     cands = d.candidates[:-1]  # the last is the geometric limit (x2=None case)
-    peaks = benchmark(loop_design, V, cands)
+    peaks = benchmark.pedantic(loop_design, args=(V, cands), rounds=5)
     assert np.allclose(peaks, d.peak_jerk[:-1], rtol=2e-2)

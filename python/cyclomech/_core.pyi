@@ -510,3 +510,56 @@ def stop_design_rebounds(
     *,
     n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
+
+# transfer: rotor transfer (seed 002), cyclomech.transfer's kernels. Errors are
+# cyclomech.InputError.
+
+__all__ += [
+    "transfer_kinematics",
+    "transfer_longest",
+    "transfer_peak_jerk",
+    "transfer_quintic",
+    "transfer_sample",
+]
+
+def transfer_quintic(
+    coeffs: npt.NDArray[np.float64],
+    x: npt.NDArray[np.float64],
+    what: str,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def transfer_sample(
+    spec: npt.NDArray[np.float64],
+    counts: npt.NDArray[np.int64],
+    ccw: bool,
+    *,
+    n_threads: int | None = None,
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.int8],
+]: ...
+def transfer_kinematics(
+    s: npt.NDArray[np.float64],
+    curvature: npt.NDArray[np.float64],
+    curvature_rate: npt.NDArray[np.float64],
+    law: tuple[float, float, float, float],
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def transfer_peak_jerk(
+    radii: tuple[float, float],
+    distance: float,
+    x2: npt.NDArray[np.float64],
+    speed: tuple[float, float],
+    n_points: int,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def transfer_longest(
+    radii: tuple[float, float], distance: float, ratio: tuple[float, float]
+) -> tuple[float, float] | None: ...

@@ -22,8 +22,9 @@ transition → circle.
   :meth:`TransferPath.acceleration` along it for a workpiece speed law, and
   :meth:`TransferPath.max_jerk`.
 * :func:`design_transfer` — the transition length that minimises the peak jerk
-  for given rotors, gap and speeds, every candidate evaluated in one vectorised
-  pass, with the peak acceleration and jerk next to the jump without transitions.
+  for given rotors, gap and speeds, every candidate evaluated in one Rust call
+  (candidates in parallel), with the peak acceleration and jerk next to the jump
+  without transitions.
 
 Conventions: SI units (m, s, rad); the transport rotor turns counter-clockwise
 unless ``ccw=False`` (then the process rotor turns clockwise, as meshing rotors
@@ -33,7 +34,12 @@ path turns left: +1/R_t on the transport circle, −1/R_p on the process circle.
 The code lives in private modules beside this door, one per subject: ``_jump``,
 ``_quintic`` (the transitions and :func:`to_machine`), ``_path``
 (:class:`TransferPath`) and ``_design`` (:func:`design_transfer`), with the input
-checks they share in ``_checks``.
+checks they share in ``_checks``. The numeric kernels — the quintic's values,
+curvature and arc length, the composed path's sample, the kinematics along it
+and the design's candidate scan — are Rust (``rust/core/src/transfer``), one call
+each with the GIL released; the path's sample, kinematics and scan take
+``n_threads`` (default: every core, or ``CYCLOMECH_THREADS``) and give the same
+result on any thread count.
 """
 
 from __future__ import annotations

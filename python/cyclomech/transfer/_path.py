@@ -11,22 +11,21 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import available_bytes, check_bytes, count, finite_number
+from .. import _core
+from .._arrays import available_bytes, check_bytes, count, finite_number, threads_arg
 from .._errors import InfeasibleError, InputError
 from ._checks import _LENGTH_RANGE, Array, _finite_array, _point, _radius, _speeds
-from ._quintic import (
-    _NODES4,
-    _WEIGHTS4,
-    QuinticTransition,
-    _curvature,
-    smooth_k_b,
-    smooth_transition,
-)
+from ._quintic import smooth_k_b, smooth_transition
 
 __all__ = ["PathAcceleration", "PathSample", "TransferPath"]
 
 
-#: Peak bytes a point of :meth:`TransferPath.sample` takes while it is built.
+#: Bytes a point budgeted by :meth:`TransferPath.sample`'s size check. The Rust
+#: kernel writes straight into its outputs (49 bytes a point kept, nothing else);
+#: the budget stays at the numpy code's peak, 112, which is also about what
+#: :meth:`TransferPath.acceleration` holds (the sample and 64 bytes of kinematics
+#: rows, whose allocation the bindings check too). tests/test_issue16_robust.py
+#: pins the message.
 _SAMPLE_PEAK_BYTES = 112
 
 #: Pieces of a sampled path, in travel order.
@@ -276,11 +275,14 @@ class TransferPath:
         """Arc length at A [m] (the lead-in arc's length)."""
         return float(self._lengths[0])
 
-    def sample(self, n: int = 10_001) -> PathSample:
+    def sample(self, n: int = 10_001, *, n_threads: int | None = None) -> PathSample:
         """``n`` ≥ 10 points along the whole path (each piece sampled evenly in its
         own parameter, in proportion to its length; every piece gets ≥ 2), with arc
-        length, heading, signed curvature and its rate. Vectorised: 1e6 points in
-        well under a second.
+        length, heading, signed curvature and its rate. One Rust call with the GIL
+        released, blocks of points on ``n_threads`` threads (default: every core,
+        or ``CYCLOMECH_THREADS``); the result does not depend on the thread count.
+        Arc length on the transitions: 4-point Gauss–Legendre per interval,
+        restarted from a 16-point quadrature every 4096 points (exact to rounding).
 
         >>> import cyclomech as cm
         >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
@@ -289,62 +291,51 @@ class TransferPath:
         (True, True)
         """
         n = count("n", n, low=10, what="points along the path")
-        # Sized before anything is allocated: the pieces and their concatenation
-        # peak at ~104 bytes a point (49 kept); a size that cannot fit is an
+        threads = threads_arg(n_threads)
+        # Sized before anything is allocated: a size that cannot fit is an
         # InputError, not a MemoryError or the OOM killer.
         check_bytes(
             f"TransferPath.sample({n})",
             float(n) * _SAMPLE_PEAK_BYTES,
             f"sample fewer points (≤ {int(available_bytes() // _SAMPLE_PEAK_BYTES):,} fit)",
         )
-        counts = _allocate(n, self._lengths)
-        g = self._g
-        lead = math.radians(self.lead_deg)
-        parts = []
-        # Headings are carried on from piece to piece (each the last one's end
-        # angle), so they come out continuous without unwrapping.
-        # Lead-in arc: counter-clockwise about the transport centre, ending at A.
-        c_t, c_p = self._canonical_centres()
-        phi_a = math.atan2(*(g.origin[0] - c_t)[::-1])
-        u = np.linspace(0.0, 1.0, counts[0], endpoint=False)
-        phi = phi_a - lead + lead * u
-        parts.append(_arc_part(c_t, self.R_t, phi, 1.0, self.R_t * lead * u, 0))
-        s0 = self._lengths[0]
-        # Transport transition: x from 0 to x2_t in A's frame.
-        q = self.transitions[0]
-        x = np.linspace(0.0, q.x2, counts[1], endpoint=False)
-        base = phi_a + 0.5 * math.pi  # the heading at A
-        parts.append(_quintic_part(q, x, g.origin[0], g.t_a[0], base, s0, forward=True, piece=1))
-        s0 += self._lengths[1]
-        # Straight segment.
-        u = np.linspace(0.0, 1.0, counts[2], endpoint=False)
-        pts = g.ends[0] + (u * self.straight_length)[:, None] * g.u
-        head = base + math.atan(g.k[0])
-        zero = np.zeros_like(u)
-        parts.append((pts, s0 + u * self.straight_length, zero + head, zero, zero, 2))
-        s0 += self._lengths[2]
-        # Process transition, travelled backwards in C's frame: x from x2_p to 0.
-        q = self.transitions[1]
-        x = np.linspace(q.x2, 0.0, counts[3], endpoint=False)
-        # Its heading at B_p, atan(k_p) + base + π, is the straight's.
-        base = head - math.atan(g.k[1]) - math.pi
-        parts.append(_quintic_part(q, x, g.origin[1], g.t_a[1], base, s0, forward=False, piece=3))
-        s0 += self._lengths[3]
-        # Lead-out arc: clockwise about the process centre, from C (end included).
-        phi_c = base + 1.5 * math.pi  # C's angle about the centre: heading at C + π/2
-        u = np.linspace(0.0, 1.0, counts[4])
-        phi = phi_c - lead * u
-        parts.append(_arc_part(c_p, self.R_p, phi, -1.0, s0 + self.R_p * lead * u, 4))
-        points = np.concatenate([p[0] for p in parts])
-        s = np.concatenate([p[1] for p in parts])
-        heading = np.concatenate([p[2] for p in parts])
-        curv = np.concatenate([p[3] for p in parts])
-        rate = np.concatenate([p[4] for p in parts])
-        piece = np.concatenate([np.full(len(p[1]), p[5], dtype=np.int8) for p in parts])
-        if not self.ccw:
-            points = points * self._mirror
-            heading, curv, rate = -heading, -curv, -rate
+        counts = np.array(_allocate(n, self._lengths), dtype=np.int64)
+        points, s, heading, curv, rate, piece = _core.transfer_sample(
+            self._spec, counts, self.ccw, n_threads=threads
+        )
         return PathSample(points, s, heading, curv, rate, piece)
+
+    @property
+    def _spec(self) -> Array:
+        """The path for the Rust sampler (cyclomech_core::transfer::N_SPEC numbers),
+        in the counter-clockwise frame. Headings are carried on from piece to
+        piece (each the last one's end angle), so they come out continuous."""
+        g = self._g
+        c_t, c_p = self._canonical_centres()
+        phi_a = math.atan2(*(g.origin[0] - c_t)[::-1])  # A's angle about c_t
+        base_t = phi_a + 0.5 * math.pi  # the heading at A
+        head = base_t + math.atan(g.k[0])  # the straight's
+        # The process transition is travelled backwards in C's frame: its
+        # heading at B_p, atan(k_p) + base_p + π, is the straight's.
+        base_p = head - math.atan(g.k[1]) - math.pi
+        phi_c = base_p + 1.5 * math.pi  # C's angle about c_p: heading at C + π/2
+        return np.concatenate(
+            [
+                c_t,
+                c_p,
+                [self.R_t, self.R_p, math.radians(self.lead_deg)],
+                self.transitions[0].coeffs,
+                self.transitions[1].coeffs,
+                [self.x2_t, self.x2_p],
+                g.origin.ravel(),
+                g.t_a.ravel(),
+                g.ends[0],
+                g.u,
+                [self.straight_length],
+                self._lengths,
+                [phi_a, base_t, head, base_p, phi_c],
+            ]
+        ).astype(np.float64)
 
     def speed_law(self, speed: Any) -> Any:
         """The speed law ``speed`` as a function s ↦ (v, dv/ds, d²v/ds²) (see
@@ -358,14 +349,17 @@ class TransferPath:
         """
         return _speed_law(speed, self.start_of_transfer, self.transfer_length)
 
-    def acceleration(self, speed: Any, n: int = 20_001) -> PathAcceleration:
+    def acceleration(
+        self, speed: Any, n: int = 20_001, *, n_threads: int | None = None
+    ) -> PathAcceleration:
         """The workpiece's acceleration and jerk along the path sampled at ``n``
         points, for the speed law ``speed``: a number V [m/s] (constant, equal
         peripheral speeds), or a pair (V_t, V_p) [m/s] — the speed changes from V_t
         to V_p between A and C by a quintic smoothstep in arc length (its first two
         derivatives zero at both ends), as when rotors of different pitch turn at
         one workpiece rate. Normal acceleration v²κ, tangential v·dv/ds, and their
-        rates d/dt = v·d/ds.
+        rates d/dt = v·d/ds; the time by the trapezoid rule in 1/v. Two Rust calls
+        (the sample, then the kinematics), the GIL released, on ``n_threads``.
 
         >>> import cyclomech as cm
         >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
@@ -373,29 +367,27 @@ class TransferPath:
         >>> round(float(a.normal[0]), 6), round(float(a.normal[-1]), 6)  # V²/R_t, −V²/R_p
         (0.266667, -0.16)
         """
-        law = self.speed_law(speed)
-        smp = self.sample(n)
-        v, dv, ddv = law(smp.s)
-        a_n, a_t, an_rate, at_rate, jerk = _kinematics(
-            v, dv, ddv, smp.curvature, smp.curvature_rate
+        v_t, v_p = _speeds(speed)
+        smp = self.sample(n, n_threads=n_threads)
+        law = (v_t, v_p, self.start_of_transfer, self.transfer_length)
+        rows = _core.transfer_kinematics(
+            smp.s, smp.curvature, smp.curvature_rate, law, n_threads=threads_arg(n_threads)
         )
-        ds = np.diff(smp.s)
-        vm = 0.5 * (v[1:] + v[:-1])
-        time = np.concatenate([[0.0], np.cumsum(ds / vm)])
+        time, v, a_n, a_t, total, an_rate, at_rate, jerk = rows
         return PathAcceleration(
             s=smp.s,
             time=time,
             speed=v,
             normal=a_n,
             tangential=a_t,
-            total=np.hypot(a_n, a_t),
+            total=total,
             normal_rate=an_rate,
             tangential_rate=at_rate,
             jerk=jerk,
             piece=smp.piece,
         )
 
-    def max_jerk(self, speed: Any, n: int = 20_001) -> float:
+    def max_jerk(self, speed: Any, n: int = 20_001, *, n_threads: int | None = None) -> float:
         """Peak |da/dt| [m/s³] along the path for the speed law ``speed`` (see
         :meth:`acceleration`).
 
@@ -404,7 +396,7 @@ class TransferPath:
         >>> round(p.max_jerk(0.2), 3)                    # m/s³
         1.584
         """
-        return self.acceleration(speed, n).max_jerk
+        return self.acceleration(speed, n, n_threads=n_threads).max_jerk
 
     def __repr__(self) -> str:
         return (
@@ -425,53 +417,6 @@ def _allocate(n: int, lengths: Array) -> list[int]:
     return [2 + int(e) for e in extra]
 
 
-def _arc_part(
-    centre: Array, R: float, phi: Array, sign: float, s: Array, piece: int
-) -> tuple[Any, ...]:
-    pts = centre + R * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-    head = phi + sign * 0.5 * math.pi
-    return pts, s, head, np.full_like(phi, sign / R), np.zeros_like(phi), piece
-
-
-def _quintic_part(
-    q: QuinticTransition,
-    x: Array,
-    origin: Array,
-    t_a: Array,
-    base: float,
-    s0: float,
-    *,
-    forward: bool,
-    piece: int,
-) -> tuple[Any, ...]:
-    y, d1, d2, d3 = (q._poly(x, j) for j in range(4))
-    pts = origin + x[:, None] * t_a + y[:, None] * _left(t_a)
-    local = np.arctan(d1) + base  # base: the heading of the local x axis
-    kappa, rate = _curvature(d1, d2, d3)
-    s_local = _cumulative_arc(q, x)
-    if forward:
-        return pts, s0 + s_local, local, kappa, rate, piece
-    # Travelled from B to C: the arc length runs backwards, the heading turns
-    # round, the curvature changes sign and its rate (d/ds of −κ(S − s)) keeps it.
-    return pts, s0 + (q.length - s_local), local + math.pi, -kappa, rate, piece
-
-
-def _cumulative_arc(q: QuinticTransition, x: Array) -> Array:
-    """s(x) at a monotone grid x: the length from 0 to x[0] plus 4-point
-    Gauss–Legendre over each interval, where the tangent turns by at most
-    0.005 rad an interval (then the rule is exact to rounding); on a coarser grid,
-    each point's length from 0 by :meth:`QuinticTransition.arc_length`."""
-    if x.size < 2 or 10 * q._pieces(float(np.abs(x).max())) > x.size:
-        return np.asarray(q.arc_length(x), dtype=np.float64).reshape(x.shape)
-    first = np.atleast_1d(q.arc_length(x[:1]))
-    lo, hi = x[:-1], x[1:]
-    h = hi - lo
-    t = lo[:, None] + h[:, None] * _NODES4
-    f = np.sqrt(1.0 + q._poly(t, 1) ** 2)
-    steps = h * (f @ _WEIGHTS4)
-    return np.concatenate([first, first[0] + np.cumsum(steps)])
-
-
 def _speed_law(speed: Any, start: float, span: float) -> Any:
     """s ↦ (v, dv/ds, d²v/ds²) for a constant speed or a (V_t, V_p) pair."""
     v_t, v_p = _speeds(speed)
@@ -489,33 +434,14 @@ def _speed_law(speed: Any, start: float, span: float) -> Any:
     return law
 
 
-def _kinematics(v: Array, dv: Array, ddv: Array, kappa: Array, rate: Array) -> tuple[Array, ...]:
-    """(a_n, a_t, da_n/dt, da_t/dt, |da/dt|) of a point moving at v(s) (dv, ddv its
-    s-derivatives) along a curve of curvature κ(s) with rate dκ/ds; d/dt = v·d/ds."""
-    a_n = v * v * kappa
-    a_t = v * dv
-    an_rate = v * (2.0 * v * dv * kappa + v * v * rate)
-    at_rate = v * (dv * dv + v * ddv)
-    # da/dt of a = a_t·T + a_n·N, with dT/dt = v·κ·N, dN/dt = −v·κ·T.
-    jerk = np.hypot(at_rate - a_n * v * kappa, an_rate + a_t * v * kappa)
-    return a_n, a_t, an_rate, at_rate, jerk
-
-
 def _longest(r: Array, c_t: Array, c_p: Array, ratio: Array) -> Array:
     """The longest transitions in proportions ``ratio`` (x2 = λ·ratio) whose
-    straight segment is not negative: the root in λ by bisection on a vectorised
-    scan (the straight length falls as λ grows)."""
+    straight segment is not negative: λ on 257 geometric points, then eight
+    refinements on 65 even points of the last bracket (the straight length falls
+    as λ grows), in Rust."""
     d = float(np.hypot(*(c_p - c_t)))
-    hi = 2.0 * math.sqrt(max(d, 1e-300) * r.max()) * 4.0
-    lam = np.geomspace(1e-9 * d, hi, 257)
-    g = _geometry(r, c_t, c_p, lam[:, None] * ratio)
-    ok = np.flatnonzero(g.straight >= 0.0)
-    if ok.size == 0:
+    radii = (float(r[0]), float(r[1]))
+    got = _core.transfer_longest(radii, d, (float(ratio[0]), float(ratio[1])))
+    if got is None:
         raise InfeasibleError("no transition fits between these rotors")
-    lo, hi = lam[ok[-1]], lam[min(ok[-1] + 1, lam.size - 1)]
-    for _ in range(8):
-        grid = np.linspace(lo, hi, 65)
-        g = _geometry(r, c_t, c_p, grid[:, None] * ratio)
-        ok = np.flatnonzero(g.straight >= 0.0)
-        lo, hi = grid[ok[-1]], grid[min(ok[-1] + 1, grid.size - 1)]
-    return lo * ratio
+    return np.array(got)

@@ -6,30 +6,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, overload
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
+from .. import _core
 from .._arrays import finite_number, positive
 from .._errors import InputError
 from ._checks import _LENGTH_RANGE, Array, _broadcast, _finite_array, _radius, _scalar
 
 __all__ = ["QuinticTransition", "quintic_transition", "smooth_transition", "to_machine"]
-
-
-# Gauss–Legendre nodes and weights on [0, 1]: 16 for an arc length from 0 to any
-# x, 4 per interval for cumulative lengths along a sorted grid.
-_GL16 = np.polynomial.legendre.leggauss(16)
-
-
-_GL4 = np.polynomial.legendre.leggauss(4)
-
-
-_NODES16, _WEIGHTS16 = (_GL16[0] + 1.0) / 2.0, _GL16[1] / 2.0
-
-
-_NODES4, _WEIGHTS4 = (_GL4[0] + 1.0) / 2.0, _GL4[1] / 2.0
 
 
 @dataclass(frozen=True)
@@ -54,7 +41,7 @@ class QuinticTransition:
         >>> bool(abs(q.y(0.05) - (0.1 * 0.05 - 0.002)) < 1e-15)
         True
         """
-        return _scalar(self._poly(self._x(x), 0))
+        return self._eval(x, "y")
 
     def dy(self, x: npt.ArrayLike) -> Any:
         """y'(x), the slope.
@@ -63,7 +50,7 @@ class QuinticTransition:
         >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).dy(0.05), 12)
         0.1
         """
-        return _scalar(self._poly(self._x(x), 1))
+        return self._eval(x, "dy")
 
     def ddy(self, x: npt.ArrayLike) -> Any:
         """y''(x) [1/m].
@@ -72,7 +59,7 @@ class QuinticTransition:
         >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).ddy(0.0), 12)
         5.0
         """
-        return _scalar(self._poly(self._x(x), 2))
+        return self._eval(x, "ddy")
 
     def dddy(self, x: npt.ArrayLike) -> Any:
         """y'''(x) [1/m²].
@@ -82,7 +69,7 @@ class QuinticTransition:
         >>> bool(abs(q.dddy(0.0)) < 1e-9 and abs(q.dddy(0.05)) < 1e-9)
         True
         """
-        return _scalar(self._poly(self._x(x), 3))
+        return self._eval(x, "dddy")
 
     def curvature(self, x: npt.ArrayLike) -> Any:
         """κ = y''/(1 + y'²)^{3/2} [1/m]: 1/R at A, 0 at B.
@@ -92,8 +79,7 @@ class QuinticTransition:
         >>> round(q.curvature(0.0), 12), bool(abs(q.curvature(0.05)) < 1e-12)
         (5.0, True)
         """
-        x = self._x(x)
-        return _scalar(_curvature(self._poly(x, 1), self._poly(x, 2), None)[0])
+        return self._eval(x, "curvature")
 
     def curvature_rate(self, x: npt.ArrayLike) -> Any:
         """dκ/ds [1/m²], s the arc length: (y'''·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³.
@@ -104,9 +90,7 @@ class QuinticTransition:
         >>> bool(abs(q.curvature_rate(0.0)) < 1e-12), round(q.curvature_rate(0.025), 3)
         (True, -148.799)
         """
-        x = self._x(x)
-        d1, d2, d3 = (self._poly(x, j) for j in (1, 2, 3))
-        return _scalar(_curvature(d1, d2, d3)[1])
+        return self._eval(x, "curvature_rate")
 
     def arc_length(self, x: npt.ArrayLike) -> Any:
         """s(x) = ∫₀ˣ √(1 + y'²) dx [m]: 16-point Gauss–Legendre on sub-intervals
@@ -118,59 +102,22 @@ class QuinticTransition:
         >>> round(q.arc_length(0.05), 12)
         0.05
         """
-        x = self._x(x)
-        top = float(np.abs(x).max()) if x.size else 0.0
-        m = self._pieces(top) if top > 0 else 1
-        # Sub-interval j of [0, x]: x·(j + ξ)/m for the nodes ξ on [0, 1].
-        frac = ((np.arange(m)[:, None] + _NODES16) / m).ravel()
-        t = x[..., None] * frac
-        f = np.sqrt(1.0 + self._poly(t, 1) ** 2)
-        out = x * (f @ np.tile(_WEIGHTS16, m)) / m
-        return _scalar(out)
+        return self._eval(x, "arc_length")
 
     @property
     def length(self) -> float:
         """Arc length from A to B [m]."""
         return float(self.arc_length(self.x2))
 
+    def _eval(self, x: npt.ArrayLike, what: str) -> Any:
+        """``what`` at every x, one Rust call (the GIL released)."""
+        xs = self._x(x)
+        flat = np.ascontiguousarray(xs, dtype=np.float64).ravel()
+        out = _core.transfer_quintic(self.coeffs, flat, what)
+        return _scalar(out.reshape(xs.shape))
+
     def _x(self, x: npt.ArrayLike) -> Array:
         return _finite_array("x", x, "[m]")
-
-    def _poly(self, x: Array, order: int) -> Array:
-        """The order-th derivative at an array x (unchecked: the callers check)."""
-        return _horner(list(self.coeffs), x, order)
-
-    def _pieces(self, upto: float) -> int:
-        """Sub-intervals of [0, upto] for the arc-length quadrature: one per 0.05 rad
-        of turning of the tangent (a steep or wiggly quintic brings the integrand's
-        complex singularities close to the axis, and 16 nodes on the whole span lose
-        digits: 1e-3 relative on a quintic turning by 4 rad)."""
-        x = np.linspace(0.0, upto, 65)
-        turn = float(np.abs(np.diff(np.arctan(self._poly(x, 1)))).sum())
-        return int(min(max(1, math.ceil(turn / 0.05)), 512))
-
-
-def _horner(c: list[Any], x: Array, order: int) -> Array:
-    """The order-th derivative of Σ c[n]·xⁿ (n ≤ 5) at x; the c[n] are numbers or
-    arrays broadcasting with x."""
-    d = [c[n] * math.perm(n, order) for n in range(order, 6)]
-    out = np.zeros(np.broadcast_shapes(np.shape(x), np.shape(d[-1]))) + d[-1]
-    for a in reversed(d[:-1]):
-        out = out * x + a
-    return out
-
-
-@overload
-def _curvature(d1: Array, d2: Array, d3: Array) -> tuple[Array, Array]: ...
-@overload
-def _curvature(d1: Array, d2: Array, d3: None) -> tuple[Array, None]: ...
-def _curvature(d1: Array, d2: Array, d3: Array | None) -> tuple[Array, Array | None]:
-    """(κ, dκ/ds) of a graph from its first three derivatives (no rate without
-    the third): κ = y''/(1 + y'²)^{3/2}, dκ/ds = (y⁽³⁾·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³."""
-    g = 1.0 + d1 * d1
-    kappa = d2 / g**1.5
-    rate = None if d3 is None else (d3 * g - 3.0 * d1 * d2 * d2) / g**3
-    return kappa, rate
 
 
 def _coeffs(R: Any, k: Any, b: Any, x2: Any) -> tuple[Array, ...]:

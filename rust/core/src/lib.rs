@@ -67,4 +67,5 @@ pub mod motion;
 pub mod parallel;
 pub mod press;
 pub mod shaft;
+pub mod transfer;
 pub mod units;
