@@ -26,6 +26,9 @@
 //! * [`press`] — the planetary gear-lever press drive: kinematics over α grids,
 //!   working-stroke criteria, design grids in parallel, and the non-dominated
 //!   filtering of its optimiser.
+//! * [`transfer`] — rotor transfer (seed 002): the quintic transition's values,
+//!   curvature and arc length, the composed path sampled by arc length, the
+//!   kinematics of a speed law and the design's candidate scan.
 //!
 //! Shared by every domain: [`parallel`] (the rayon thread pools behind
 //! `n_threads=` and `CYCLOMECH_THREADS`), [`units`] (rpm to rad/s and deg/s) and
