@@ -27,6 +27,7 @@ mod cycle_ratio;
 mod difference;
 mod event_graph;
 mod graph;
+mod layout;
 #[cfg(test)]
 mod tests;
 
