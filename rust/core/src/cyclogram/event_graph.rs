@@ -3,13 +3,17 @@
 
 //! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
 
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
 
 use super::graph::{
     check_finite, check_memory, topological_order, validate_arcs, CyclogramError, LANES,
     MAX_ABS_VALUE, PARALLEL_MIN_WORK,
 };
-use super::layout::{layout, Layout};
+use super::layout::{
+    layout, outgoing, ByPosition, Layout, Partition, BLOCK_ARCS, PARTITION_MIN_ARCS,
+};
 
 /// The structure of an event network, analysed once and reused for any number of
 /// weight vectors.
@@ -19,12 +23,40 @@ use super::layout::{layout, Layout};
 /// position 0, 1, 2, … and writes the times in that order, the backward pass the
 /// outgoing arcs from the last position down. Every public result is by the
 /// caller's event and arc numbering.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct EventGraph {
     n: usize,
     src: Vec<u32>,
     dst: Vec<u32>,
     lay: Layout,
+    /// Outgoing arcs by their tail's position: only the backward pass needs
+    /// them, built on first use.
+    out: OnceLock<ByPosition>,
+    /// The weights' two-pass permutation of a graph of at least
+    /// [`PARTITION_MIN_ARCS`] arcs, built on its first single-row forward pass.
+    part: OnceLock<Partition>,
+}
+
+/// A copy of a lazily built part, built or not.
+fn copy_lazy<T: Clone>(c: &OnceLock<T>) -> OnceLock<T> {
+    let o = OnceLock::new();
+    if let Some(x) = c.get() {
+        let _ = o.set(x.clone());
+    }
+    o
+}
+
+impl Clone for EventGraph {
+    fn clone(&self) -> Self {
+        EventGraph {
+            n: self.n,
+            src: self.src.clone(),
+            dst: self.dst.clone(),
+            lay: self.lay.clone(),
+            out: copy_lazy(&self.out),
+            part: copy_lazy(&self.part),
+        }
+    }
 }
 
 /// Earliest and latest event times, slack and critical arcs of one weight vector.
@@ -52,7 +84,19 @@ impl EventGraph {
     pub fn new(n_events: i64, src: &[i64], dst: &[i64]) -> Result<Self, CyclogramError> {
         let (n, src, dst) = validate_arcs(n_events, src, dst)?;
         let lay = layout(n, &src, &dst).map_err(|events| CyclogramError::Cycle { events })?;
-        Ok(EventGraph { n, src, dst, lay })
+        Ok(EventGraph {
+            n,
+            src,
+            dst,
+            lay,
+            out: OnceLock::new(),
+            part: OnceLock::new(),
+        })
+    }
+
+    fn out(&self) -> &ByPosition {
+        self.out
+            .get_or_init(|| outgoing(self.n, &self.src, &self.dst, &self.lay.pos))
     }
 
     /// Number of events (vertices).
@@ -80,6 +124,12 @@ impl EventGraph {
         &self.lay.order
     }
 
+    /// The positional layout (tests).
+    #[cfg(test)]
+    pub(super) fn layout(&self) -> &Layout {
+        &self.lay
+    }
+
     /// Topological position of each event (the inverse of
     /// [`topological_order`](Self::topological_order)).
     pub fn positions(&self) -> &[u32] {
@@ -105,6 +155,9 @@ impl EventGraph {
     /// Earliest times into `t` by event (V,), with `tpos` (V,) as scratch: the
     /// times by topological position, which the pass reads back.
     pub(super) fn forward_into(&self, w: &[f64], t: &mut [f64], tpos: &mut [f64]) {
+        if w.len() >= PARTITION_MIN_ARCS {
+            return self.forward_partitioned(w, t, tpos);
+        }
         let (inc, order) = (&self.lay.inc, &self.lay.order);
         for k in 0..self.n {
             let r = inc.range(k);
@@ -119,6 +172,50 @@ impl EventGraph {
         }
     }
 
+    /// [`forward_into`](Self::forward_into) for large graphs: the same
+    /// arithmetic in the same order, the weights read through the [`Partition`]
+    /// (two streaming passes) instead of one random gather.
+    fn forward_partitioned(&self, w: &[f64], t: &mut [f64], tpos: &mut [f64]) {
+        let part = self
+            .part
+            .get_or_init(|| Partition::new(&self.lay, &self.dst, BLOCK_ARCS));
+        self.forward_through(part, w, t, tpos);
+    }
+
+    /// The forward pass with the weights permuted through `part`.
+    pub(super) fn forward_through(
+        &self,
+        part: &Partition,
+        w: &[f64],
+        t: &mut [f64],
+        tpos: &mut [f64],
+    ) {
+        let (inc, order) = (&self.lay.inc, &self.lay.order);
+        let mut bucketed = vec![0.0; w.len()];
+        for (&x, &i) in w.iter().zip(&part.bucket) {
+            bucketed[i as usize] = x;
+        }
+        let mut local = vec![0.0; part.widest];
+        for b in part.start.windows(2) {
+            let (k0, k1) = (b[0] as usize, b[1] as usize);
+            let (j0, j1) = (inc.ptr[k0] as usize, inc.ptr[k1] as usize);
+            for (&x, &q) in bucketed[j0..j1].iter().zip(&part.local[j0..j1]) {
+                local[q as usize] = x;
+            }
+            for k in k0..k1 {
+                let r = inc.range(k);
+                let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
+                let lw = &local[r.start - j0..r.end - j0];
+                for (&[s, _], &x) in inc.arcs[r].iter().zip(lw) {
+                    let c = tpos[s as usize] + x;
+                    best = if c > best { c } else { best };
+                }
+                tpos[k] = best;
+                t[order[k] as usize] = best;
+            }
+        }
+    }
+
     /// Earliest times, by event, into `t` (V,).
     pub(super) fn forward(&self, w: &[f64], t: &mut [f64]) {
         let mut tpos = vec![0.0; self.n];
@@ -127,7 +224,7 @@ impl EventGraph {
 
     /// Latest times, by event, for a horizon into `t` (V,).
     fn backward(&self, w: &[f64], horizon: f64, t: &mut [f64]) {
-        let (out, order) = (&self.lay.out, &self.lay.order);
+        let (out, order) = (self.out(), &self.lay.order);
         let mut tpos = vec![0.0; self.n];
         for k in (0..self.n).rev() {
             // Every event, not only the sinks, must occur by the horizon: with negative

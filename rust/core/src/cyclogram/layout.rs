@@ -40,8 +40,6 @@ pub(super) struct Layout {
     pub(super) pos: Vec<u32>,
     /// Incoming arcs grouped by their head's position; `[tail position, arc]`.
     pub(super) inc: ByPosition,
-    /// Outgoing arcs grouped by their tail's position; `[head position, arc]`.
-    pub(super) out: ByPosition,
 }
 
 /// Prefix sums of `counts` (length n) as group offsets (length n + 1). The arcs
@@ -108,28 +106,18 @@ pub(super) fn layout(n: usize, src: &[u32], dst: &[u32]) -> Result<Layout, Vec<u
     for (k, &v) in order.iter().enumerate() {
         pos[v as usize] = k as u32;
     }
-    // Outgoing arcs by tail position: the groups of `by_tail` copied in
-    // topological order (sequential writes), heads renumbered.
-    let optr = offsets(n, |k| outdeg[order[k] as usize]);
-    let mut out_arcs = Vec::with_capacity(m);
-    for &v in &order {
-        let v = v as usize;
-        out_arcs.extend(
-            by_tail[eptr[v] as usize..eptr[v + 1] as usize]
-                .iter()
-                .map(|&[h, e]| [pos[h as usize], e]),
-        );
-    }
-    drop(by_tail);
-    // Incoming arcs by head position (stable counting sort over the arcs in input
-    // order): [tail position, arc].
+    // Incoming arcs by head position (counting sort): `by_tail` read in order,
+    // tails renumbered. Within a group the arcs are in order of their tail's
+    // index, then input order.
     let iptr = offsets(n, |k| indeg[order[k] as usize]);
     let mut fill: Vec<u32> = iptr[..n].to_vec();
     let mut in_arcs = vec![[0u32; 2]; m];
-    for (e, (&a, &b)) in src.iter().zip(dst).enumerate() {
-        let f = &mut fill[pos[b as usize] as usize];
-        in_arcs[*f as usize] = [pos[a as usize], e as u32];
-        *f += 1;
+    for (v, &p) in pos.iter().enumerate() {
+        for &[h, e] in &by_tail[eptr[v] as usize..eptr[v + 1] as usize] {
+            let f = &mut fill[pos[h as usize] as usize];
+            in_arcs[*f as usize] = [p, e];
+            *f += 1;
+        }
     }
     Ok(Layout {
         order,
@@ -138,9 +126,103 @@ pub(super) fn layout(n: usize, src: &[u32], dst: &[u32]) -> Result<Layout, Vec<u
             ptr: iptr,
             arcs: in_arcs,
         },
-        out: ByPosition {
-            ptr: optr,
-            arcs: out_arcs,
-        },
     })
+}
+
+/// Outgoing arcs grouped by their tail's position (counting sort over the arcs
+/// in input order): `[head position, arc]`, input order within a group.
+pub(super) fn outgoing(n: usize, src: &[u32], dst: &[u32], pos: &[u32]) -> ByPosition {
+    let mut count = vec![0u32; n];
+    for &a in src {
+        count[pos[a as usize] as usize] += 1;
+    }
+    let ptr = offsets(n, |k| count[k]);
+    drop(count);
+    let mut fill: Vec<u32> = ptr[..n].to_vec();
+    let mut arcs = vec![[0u32; 2]; src.len()];
+    for (e, (&a, &b)) in src.iter().zip(dst).enumerate() {
+        let f = &mut fill[pos[a as usize] as usize];
+        arcs[*f as usize] = [pos[b as usize], e as u32];
+        *f += 1;
+    }
+    ByPosition { ptr, arcs }
+}
+
+/// Arcs at or above which the single-row forward pass reads the weights through
+/// a [`Partition`]: 2^20 arcs are 8 MiB of weights, four times a core's L2, and
+/// the gather by arc index turns into a cache and TLB miss per arc.
+pub(super) const PARTITION_MIN_ARCS: usize = 1 << 20;
+
+/// Incoming arcs per block of a [`Partition`] at most (1 MiB of weights, half a
+/// core's L2), unless one event alone has more.
+pub(super) const BLOCK_ARCS: usize = 1 << 17;
+
+/// A two-pass permutation of a weight vector into the order of [`Layout::inc`],
+/// for graphs too large for the caches. The positions are cut into blocks whose
+/// incoming arcs number at most [`BLOCK_ARCS`]. Pass 1 streams the weights in
+/// input order into one bucket per block (a few hundred sequential write streams
+/// at most); pass 2, block by block inside the forward pass, scatters a bucket
+/// into a block-sized buffer that stays in L2. Either pass reads and writes
+/// memory in order except within a block.
+#[derive(Debug, Clone)]
+pub(super) struct Partition {
+    /// Block `b` is positions `start[b]..start[b + 1]` (B + 1 entries).
+    pub(super) start: Vec<u32>,
+    /// Pass 1: where arc `e`'s weight goes in the bucketed buffer (E,). Bucket `b`
+    /// occupies the same range as block `b`'s incoming arcs in `inc`, arcs in
+    /// input order within it.
+    pub(super) bucket: Vec<u32>,
+    /// Pass 2: the slot in `inc`, relative to its block's first, of each entry of
+    /// the bucketed buffer (E,).
+    pub(super) local: Vec<u32>,
+    /// The largest number of incoming arcs of a block.
+    pub(super) widest: usize,
+}
+
+impl Partition {
+    /// Blocks of at most `block_arcs` incoming arcs ([`BLOCK_ARCS`] outside tests).
+    pub(super) fn new(lay: &Layout, dst: &[u32], block_arcs: usize) -> Partition {
+        let (n, m) = (lay.order.len(), dst.len());
+        let inc = &lay.inc;
+        // Blocks: greedy cuts at event boundaries.
+        let mut start = vec![0u32];
+        let mut block_of = vec![0u32; n];
+        let mut widest = 0;
+        let mut k = 0;
+        while k < n {
+            let j0 = inc.ptr[k] as usize;
+            let mut k1 = k + 1;
+            while k1 < n && inc.ptr[k1 + 1] as usize - j0 <= block_arcs {
+                k1 += 1;
+            }
+            widest = widest.max(inc.ptr[k1] as usize - j0);
+            block_of[k..k1].fill(start.len() as u32 - 1);
+            start.push(k1 as u32);
+            k = k1;
+        }
+        // The slot of each arc in `inc`.
+        let mut slot = vec![0u32; m];
+        for (j, &[_, e]) in inc.arcs.iter().enumerate() {
+            slot[e as usize] = j as u32;
+        }
+        let mut fill: Vec<u32> = start[..start.len() - 1]
+            .iter()
+            .map(|&k| inc.ptr[k as usize])
+            .collect();
+        let mut bucket = vec![0u32; m];
+        let mut local = vec![0u32; m];
+        for (e, (&d, &j)) in dst.iter().zip(&slot).enumerate() {
+            let b = block_of[lay.pos[d as usize] as usize] as usize;
+            let i = fill[b];
+            fill[b] += 1;
+            bucket[e] = i;
+            local[i as usize] = j - inc.ptr[start[b] as usize];
+        }
+        Partition {
+            start,
+            bucket,
+            local,
+            widest,
+        }
+    }
 }

@@ -29,6 +29,8 @@ mod event_graph;
 mod graph;
 mod layout;
 #[cfg(test)]
+mod order_tests;
+#[cfg(test)]
 mod tests;
 
 pub use cycle_ratio::{max_cycle_ratio, max_speed, CycleRatio, SpeedLimit, MIN_DIVISOR};
