@@ -398,9 +398,7 @@ def test_scale_solve_rustworkx(benchmark, scaled: Dag) -> None:
     graph = build_rustworkx(scaled)
     args = (graph, _edge_weight)
     if _slow(scaled):
-        length = benchmark.pedantic(
-            rx.dag_weighted_longest_path_length, args=args, **_slow(scaled)
-        )
+        length = benchmark.pedantic(rx.dag_weighted_longest_path_length, args=args, **_slow(scaled))
     else:
         length = benchmark(rx.dag_weighted_longest_path_length, *args)
     assert_allclose(scaled.cyclomech_length(), length, rtol=RTOL)

@@ -135,7 +135,7 @@ def test_a_large_random_dag_matches_networkx_and_pickles():
     src, dst = rank[lo], rank[hi]
     w = rng.integers(-5, 50, src.size).astype(float)
     g = cm.EventGraph(n, src, dst)
-    early, late, h = reference_times(n, src, dst, w)
+    early, late, _ = reference_times(n, src, dst, w)
     np.testing.assert_array_equal(g.longest_path(w), early)
     np.testing.assert_array_equal(g.analyze(w).latest, late)
     g2 = pickle.loads(pickle.dumps(g))
