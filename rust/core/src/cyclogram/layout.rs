@@ -11,13 +11,20 @@
 //! The build is O(V + E) with no comparison sort and no hash map: one counting
 //! pass for the degrees, one stable counting-sort scatter for the outgoing arcs,
 //! Kahn's algorithm over them (a cycle is detected there, when the queue runs
-//! dry before every event is placed), then the two positional layouts.
+//! dry before every event is placed), then the incoming arcs by position from
+//! the outgoing ones read in order. The outgoing arcs by position (backward pass
+//! only) are built on first use, by one more counting sort.
+//!
+//! Order within a group does not change a result: the forward pass takes the
+//! maximum of candidates `t + w` that are never NaN (finite weights) and never
+//! −0.0 (a time starts at +0.0 or −∞, and a sum is −0.0 only if both terms
+//! are), so any order gives the same bits; the backward pass, where a horizon
+//! of −0.0 could make the order matter, keeps the input order.
 
 use super::graph::topological_order;
 
 /// Arcs grouped by the topological position of one end: group `k` is
-/// `arcs[ptr[k]..ptr[k + 1]]`, each entry `[other end's position, arc index]`,
-/// arcs in input order within a group.
+/// `arcs[ptr[k]..ptr[k + 1]]`, each entry `[other end's position, arc index]`.
 #[derive(Debug, Clone)]
 pub(super) struct ByPosition {
     pub(super) ptr: Vec<u32>,
