@@ -147,7 +147,14 @@ impl EventGraph {
                 },
             });
         }
-        check_finite("weights", weights, m, "phase angles [deg]")
+        check_finite("weights", weights, m, "phase angles [deg]")?;
+        if m < PARTITION_MIN_ARCS {
+            return Ok(());
+        }
+        // A large graph's weight permutation (its indices kept, a bucketed copy of
+        // the weights, the slots while it is built) and one pass's scratch:
+        // refused here rather than aborting the process in the allocator.
+        check_memory(0, 0, (20 * m).saturating_add(24 * self.n))
     }
 
     /// Earliest times into `t` by event (V,), with `tpos` (V,) as scratch: the
