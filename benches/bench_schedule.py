@@ -11,10 +11,19 @@ a smoke test. For timings::
     python -m pytest benches/bench_schedule.py --benchmark-enable -q
 
 ``conftest.py`` then prints the median of every tool and its ratio to cyclomech.
+
+The scaling rows (issue 20: per-arc time flat from V = 1e3 to 1e6) are one group per
+size; for their time per arc::
+
+    python -m pytest benches/bench_schedule.py -k scale --benchmark-enable -q \
+        -p no:cacheprovider --benchmark-json=/tmp/scale.json
+    python benches/bench_schedule.py /tmp/scale.json
 """
 
 from __future__ import annotations
 
+import json
+import sys
 from dataclasses import dataclass
 
 import cyclomech as cm
@@ -50,6 +59,9 @@ GROUP_BATCH = (
     f"E={ARCS_PER_EVENT * BATCH_EVENTS:.0e}"
 )
 GROUP_CYCLOGRAM = f"cyclogram: V={CYCLOGRAM_EVENTS}, E={CYCLOGRAM_ARCS}"
+#: Scaling rows: V events, E = 4 V arcs. networkx (~5 µs an arc) only up to this V.
+SCALE_EVENTS = [1_000, 10_000, 100_000, 1_000_000]
+SCALE_NETWORKX_MAX = 100_000
 
 
 @dataclass(frozen=True)
@@ -331,3 +343,102 @@ def test_cyclogram_networkx(benchmark, cyclogram: Dag) -> None:
     graph = build_networkx(cyclogram)
     length = benchmark(nx.dag_longest_path_length, graph, weight="weight")
     assert_allclose(cyclogram.cyclomech_length(), length, rtol=RTOL)
+
+
+# --- scaling: V = 1e3 … 1e6, build and solve, time per arc (issue 20) ----------------
+
+
+def _scale_group(what: str, n_events: int) -> str:
+    return f"scale {what}: V={n_events:.0e}, E={ARCS_PER_EVENT * n_events:.0e}"
+
+
+@pytest.fixture(scope="module", params=SCALE_EVENTS, ids=lambda v: f"V{v:.0e}")
+def scaled(request) -> Dag:
+    n = request.param
+    return random_dag(n, ARCS_PER_EVENT * n, seed=20261120 + n)
+
+
+def _scale_label(benchmark, dag: Dag, tool: str, what: str) -> None:
+    _label(benchmark, tool, what)
+    # Build and solve apart, so that the ratios compare like with like.
+    benchmark.group = _scale_group(what.split(":")[0], dag.n_events)
+    benchmark.extra_info["arcs"] = dag.n_arcs
+
+
+def _slow(dag: Dag) -> dict[str, int]:
+    """Few rounds for the peers at the largest sizes (seconds a call)."""
+    return {"rounds": SLOW_ROUNDS, "iterations": 1} if dag.n_events >= 100_000 else {}
+
+
+def test_scale_build_cyclomech(benchmark, scaled: Dag) -> None:
+    _scale_label(benchmark, scaled, "cyclomech", "build: EventGraph(V, src, dst)")
+    graph = benchmark(cm.EventGraph, scaled.n_events, scaled.src, scaled.dst)
+    assert graph.n_arcs == scaled.n_arcs
+
+
+def test_scale_solve_cyclomech(benchmark, scaled: Dag) -> None:
+    _scale_label(benchmark, scaled, "cyclomech", "solve: EventGraph.longest_path(w)")
+    graph = cm.EventGraph(scaled.n_events, scaled.src, scaled.dst)
+    graph.longest_path(scaled.weights)  # a large graph's weight permutation is built once
+    t = benchmark(graph.longest_path, scaled.weights)
+    length = rx.dag_weighted_longest_path_length(build_rustworkx(scaled), _edge_weight)
+    assert_allclose(t.max(), length, rtol=RTOL)
+
+
+def test_scale_build_rustworkx(benchmark, scaled: Dag) -> None:
+    _scale_label(benchmark, scaled, "rustworkx", "build: PyDiGraph from the arrays")
+    if _slow(scaled):
+        graph = benchmark.pedantic(build_rustworkx, args=(scaled,), **_slow(scaled))
+    else:
+        graph = benchmark(build_rustworkx, scaled)
+    assert graph.num_edges() == scaled.n_arcs
+
+
+def test_scale_solve_rustworkx(benchmark, scaled: Dag) -> None:
+    _scale_label(benchmark, scaled, "rustworkx", "solve: dag_weighted_longest_path_length")
+    graph = build_rustworkx(scaled)
+    args = (graph, _edge_weight)
+    if _slow(scaled):
+        length = benchmark.pedantic(rx.dag_weighted_longest_path_length, args=args, **_slow(scaled))
+    else:
+        length = benchmark(rx.dag_weighted_longest_path_length, *args)
+    assert_allclose(scaled.cyclomech_length(), length, rtol=RTOL)
+
+
+def test_scale_solve_networkx(benchmark, scaled: Dag) -> None:
+    if scaled.n_events > SCALE_NETWORKX_MAX:
+        pytest.skip(f"networkx takes minutes above V = {SCALE_NETWORKX_MAX:.0e}")
+    _scale_label(benchmark, scaled, "networkx", "solve: dag_longest_path_length")
+    graph = build_networkx(scaled)
+    length = benchmark.pedantic(
+        nx.dag_longest_path_length,
+        args=(graph,),
+        kwargs={"weight": "weight"},
+        rounds=SLOW_ROUNDS,
+        iterations=1,
+    )
+    assert_allclose(scaled.cyclomech_length(), length, rtol=RTOL)
+
+
+def per_arc_table(path: str) -> str:
+    """The scaling rows of a ``--benchmark-json`` file as ns per arc (median)."""
+    with open(path, encoding="utf-8") as f:
+        benches = json.load(f)["benchmarks"]
+    rows: dict[str, dict[int, float]] = {}
+    for b in benches:
+        info = b.get("extra_info", {})
+        if "arcs" not in info:
+            continue
+        what = f"{info['tool']}: {info['what']}"
+        rows.setdefault(what, {})[info["arcs"]] = b["stats"]["median"] / info["arcs"] * 1e9
+    sizes = sorted({e for r in rows.values() for e in r})
+    lines = ["| ns per arc | " + " | ".join(f"E = {e:.0e}" for e in sizes) + " |"]
+    lines.append("|---" * (len(sizes) + 1) + "|")
+    for what, r in rows.items():
+        cells = [f"{r[e]:.3g}" if e in r else "—" for e in sizes]
+        lines.append(f"| {what} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    print(per_arc_table(sys.argv[1]))

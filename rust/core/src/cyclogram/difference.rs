@@ -1,8 +1,6 @@
 //! Systems of difference constraints: the optimum of a cyclogram LP by
 //! Bellman–Ford shortest paths (negative weights and cycles allowed).
 
-//! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
-
 use rayon::prelude::*;
 
 use super::graph::{

@@ -1,47 +1,58 @@
 //! Longest paths on a network analysed once: earliest and latest event times,
 //! slack, critical arcs, for one weight vector or a batch.
 
-//! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
-
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
 use super::graph::{
-    check_finite, check_memory, topological_order, validate_arcs, Csr, CyclogramError, LANES,
+    check_finite, check_memory, topological_order, validate_arcs, CyclogramError, LANES,
     MAX_ABS_VALUE, PARALLEL_MIN_WORK,
+};
+use super::layout::{
+    layout, outgoing, ByPosition, Layout, Partition, BLOCK_ARCS, PARTITION_MIN_ARCS,
 };
 
 /// The structure of an event network, analysed once and reused for any number of
 /// weight vectors.
+///
+/// Inside, events are numbered by their topological position and the arcs are
+/// stored by position ([`Layout`]): the forward pass reads the incoming arcs of
+/// position 0, 1, 2, … and writes the times in that order, the backward pass the
+/// outgoing arcs from the last position down. Every public result is by the
+/// caller's event and arc numbering.
 #[derive(Debug)]
 pub struct EventGraph {
     n: usize,
     src: Vec<u32>,
     dst: Vec<u32>,
-    /// `order[k]`: the event at topological position `k`.
-    order: Vec<u32>,
-    /// Incoming arcs grouped by the topological position of their head, in that
-    /// order, so the forward pass reads them sequentially; `other` = tail event.
-    inc: Csr,
-    /// Outgoing arcs grouped by the topological position of their tail; `other` =
-    /// head event. Only the backward pass needs them: built on first use.
-    out: OnceLock<Csr>,
+    lay: Layout,
+    /// Outgoing arcs by their tail's position: only the backward pass needs
+    /// them, built on first use.
+    out: OnceLock<ByPosition>,
+    /// The weights' two-pass permutation of a graph of at least
+    /// [`PARTITION_MIN_ARCS`] arcs, built on its first single-row forward pass.
+    part: OnceLock<Partition>,
+}
+
+/// A copy of a lazily built part, built or not.
+fn copy_lazy<T: Clone>(c: &OnceLock<T>) -> OnceLock<T> {
+    let o = OnceLock::new();
+    if let Some(x) = c.get() {
+        let _ = o.set(x.clone());
+    }
+    o
 }
 
 impl Clone for EventGraph {
     fn clone(&self) -> Self {
-        let out = OnceLock::new();
-        if let Some(o) = self.out.get() {
-            let _ = out.set(o.clone());
-        }
         EventGraph {
             n: self.n,
             src: self.src.clone(),
             dst: self.dst.clone(),
-            order: self.order.clone(),
-            inc: self.inc.clone(),
-            out,
+            lay: self.lay.clone(),
+            out: copy_lazy(&self.out),
+            part: copy_lazy(&self.part),
         }
     }
 }
@@ -67,39 +78,23 @@ pub struct Analysis {
 
 impl EventGraph {
     /// Analyse the structure: validate indices, find a topological order (or report
-    /// a cycle) and lay the incoming arcs out by topological position.
+    /// a cycle) and lay the arcs out by topological position, in O(V + E).
     pub fn new(n_events: i64, src: &[i64], dst: &[i64]) -> Result<Self, CyclogramError> {
         let (n, src, dst) = validate_arcs(n_events, src, dst)?;
-        let order =
-            topological_order(n, &src, &dst).map_err(|events| CyclogramError::Cycle { events })?;
-        let mut pos = vec![0u32; n];
-        for (k, &v) in order.iter().enumerate() {
-            pos[v as usize] = k as u32;
-        }
-        let inc = Csr::build(n, |e| pos[dst[e] as usize] as usize, |e| src[e], src.len());
+        let lay = layout(n, &src, &dst).map_err(|events| CyclogramError::Cycle { events })?;
         Ok(EventGraph {
             n,
             src,
             dst,
-            order,
-            inc,
+            lay,
             out: OnceLock::new(),
+            part: OnceLock::new(),
         })
     }
 
-    fn out(&self) -> &Csr {
-        self.out.get_or_init(|| {
-            let mut pos = vec![0u32; self.n];
-            for (k, &v) in self.order.iter().enumerate() {
-                pos[v as usize] = k as u32;
-            }
-            Csr::build(
-                self.n,
-                |e| pos[self.src[e] as usize] as usize,
-                |e| self.dst[e],
-                self.src.len(),
-            )
-        })
+    fn out(&self) -> &ByPosition {
+        self.out
+            .get_or_init(|| outgoing(self.n, &self.src, &self.dst, &self.lay.pos))
     }
 
     /// Number of events (vertices).
@@ -124,7 +119,19 @@ impl EventGraph {
 
     /// Events in a topological order.
     pub fn topological_order(&self) -> &[u32] {
-        &self.order
+        &self.lay.order
+    }
+
+    /// The positional layout (tests).
+    #[cfg(test)]
+    pub(super) fn layout(&self) -> &Layout {
+        &self.lay
+    }
+
+    /// Topological position of each event (the inverse of
+    /// [`topological_order`](Self::topological_order)).
+    pub fn positions(&self) -> &[u32] {
+        &self.lay.pos
     }
 
     fn check_weights(&self, weights: &[f64], rows: usize) -> Result<(), CyclogramError> {
@@ -140,36 +147,109 @@ impl EventGraph {
                 },
             });
         }
-        check_finite("weights", weights, m, "phase angles [deg]")
+        check_finite("weights", weights, m, "phase angles [deg]")?;
+        if m < PARTITION_MIN_ARCS {
+            return Ok(());
+        }
+        // A large graph's weight permutation (its indices kept, a bucketed copy of
+        // the weights, the slots while it is built) and one pass's scratch:
+        // refused here rather than aborting the process in the allocator.
+        check_memory(0, 0, (20 * m).saturating_add(24 * self.n))
+    }
+
+    /// Earliest times into `t` by event (V,), with `tpos` (V,) as scratch: the
+    /// times by topological position, which the pass reads back.
+    pub(super) fn forward_into(&self, w: &[f64], t: &mut [f64], tpos: &mut [f64]) {
+        if w.len() >= PARTITION_MIN_ARCS {
+            return self.forward_partitioned(w, t, tpos);
+        }
+        let inc = &self.lay.inc;
+        for k in 0..self.n {
+            let r = inc.range(k);
+            let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
+            for &[s, e] in &inc.arcs[r] {
+                // Finite inputs, no NaN: compare-and-select, not the NaN-aware max.
+                let c = tpos[s as usize] + w[e as usize];
+                best = if c > best { c } else { best };
+            }
+            tpos[k] = best;
+        }
+        self.by_event(tpos, t);
+    }
+
+    /// [`forward_into`](Self::forward_into) for large graphs: the same
+    /// arithmetic in the same order, the weights read through the [`Partition`]
+    /// (two streaming passes) instead of one random gather.
+    fn forward_partitioned(&self, w: &[f64], t: &mut [f64], tpos: &mut [f64]) {
+        let part = self
+            .part
+            .get_or_init(|| Partition::new(&self.lay, &self.dst, BLOCK_ARCS));
+        self.forward_through(part, w, t, tpos);
+    }
+
+    /// The forward pass with the weights permuted through `part`.
+    pub(super) fn forward_through(
+        &self,
+        part: &Partition,
+        w: &[f64],
+        t: &mut [f64],
+        tpos: &mut [f64],
+    ) {
+        let inc = &self.lay.inc;
+        let mut bucketed = vec![0.0; w.len()];
+        for (&x, &i) in w.iter().zip(&part.bucket) {
+            bucketed[i as usize] = x;
+        }
+        let mut local = vec![0.0; part.widest];
+        for b in part.start.windows(2) {
+            let (k0, k1) = (b[0] as usize, b[1] as usize);
+            let (j0, j1) = (inc.ptr[k0] as usize, inc.ptr[k1] as usize);
+            for (&x, &q) in bucketed[j0..j1].iter().zip(&part.local[j0..j1]) {
+                local[q as usize] = x;
+            }
+            for k in k0..k1 {
+                let r = inc.range(k);
+                let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
+                let lw = &local[r.start - j0..r.end - j0];
+                for (&[s, _], &x) in inc.arcs[r].iter().zip(lw) {
+                    let c = tpos[s as usize] + x;
+                    best = if c > best { c } else { best };
+                }
+                tpos[k] = best;
+            }
+        }
+        self.by_event(tpos, t);
+    }
+
+    /// Times by position -> by event, in one pass of its own: reading at random
+    /// (independent loads the processor overlaps) and writing in order costs a
+    /// fraction of a store miss per event inside the dependent pass.
+    fn by_event(&self, tpos: &[f64], t: &mut [f64]) {
+        for (x, &p) in t.iter_mut().zip(&self.lay.pos) {
+            *x = tpos[p as usize];
+        }
     }
 
     /// Earliest times, by event, into `t` (V,).
     pub(super) fn forward(&self, w: &[f64], t: &mut [f64]) {
-        for (k, &v) in self.order.iter().enumerate() {
-            let r = self.inc.range(k);
-            let mut best = if r.is_empty() { 0.0 } else { f64::NEG_INFINITY };
-            for (&s, &e) in self.inc.other[r.clone()].iter().zip(&self.inc.edge[r]) {
-                // Finite inputs, no NaN: compare-and-select, not the NaN-aware max.
-                let c = t[s as usize] + w[e as usize];
-                best = if c > best { c } else { best };
-            }
-            t[v as usize] = best;
-        }
+        let mut tpos = vec![0.0; self.n];
+        self.forward_into(w, t, &mut tpos);
     }
 
     /// Latest times, by event, for a horizon into `t` (V,).
     fn backward(&self, w: &[f64], horizon: f64, t: &mut [f64]) {
         let out = self.out();
-        for (k, &v) in self.order.iter().enumerate().rev() {
+        let mut tpos = vec![0.0; self.n];
+        for k in (0..self.n).rev() {
             // Every event, not only the sinks, must occur by the horizon: with negative
             // (overlapping) arcs an inner event can be the last one.
             let mut best = horizon;
-            let r = out.range(k);
-            for (&d, &e) in out.other[r.clone()].iter().zip(&out.edge[r]) {
-                best = best.min(t[d as usize] - w[e as usize]);
+            for &[d, e] in &out.arcs[out.range(k)] {
+                best = best.min(tpos[d as usize] - w[e as usize]);
             }
-            t[v as usize] = best;
+            tpos[k] = best;
         }
+        self.by_event(&tpos, t);
     }
 
     /// Earliest occurrence angle of every event for one weight vector (E,) -> (V,).
@@ -360,10 +440,11 @@ impl EventGraph {
 ///    transposed in registers, go into `wblk` (each arc's lanes side by side, by
 ///    arc index: written in order, where scattering them to their positions in
 ///    the forward pass cost a store miss per arc); the finite check rides along;
-/// 2. forward: the earliest times of all lanes into `t` (by event), reading
-///    `wblk` through `inc.edge` (loads off the dependency chain, which the
-///    processor overlaps);
-/// 3. scatter: `t`, transposed in 8 × 8 tiles again, into `out` (lanes × V).
+/// 2. forward: the earliest times of all lanes into `t` (by topological
+///    position), reading `wblk` through the arc indices of `inc` (loads off the
+///    dependency chain, which the processor overlaps);
+/// 3. scatter: `t`, gathered by event 8 rows at a time and transposed in 8 × 8
+///    tiles again, into `out` (lanes × V, by event).
 ///
 /// Lane by lane the arithmetic is [`EventGraph`]'s single-row `forward`: an
 /// event's time starts at 0 (no incoming arc) or −∞, and each incoming arc in
@@ -379,7 +460,7 @@ pub(super) struct Block<'a, 'b> {
     pub(super) rows: [&'a [f64]; LANES],
     /// Scratch (E,): the block's weights by arc index, lanes side by side.
     pub(super) wblk: &'b mut [[f64; LANES]],
-    /// Scratch (V,): earliest times by event, one lane per row.
+    /// Scratch (V,): earliest times by topological position, one lane per row.
     pub(super) t: &'b mut [[f64; LANES]],
     /// Output (lanes × V), row-major: the first `out.len() / V` lanes' times.
     pub(super) out: &'b mut [f64],
@@ -503,6 +584,7 @@ impl pulp::WithSimd for Block<'_, '_> {
             out,
         } = self;
         let (n, m) = (g.n, g.src.len());
+        let (inc, pos) = (&g.lay.inc, &g.lay.pos);
         assert!(wblk.len() == m && t.len() == n && rows.iter().all(|r| r.len() == m));
         // |x| <= MAX_ABS_VALUE as |x| < the next float up (false for NaN): pulp's
         // AVX2 `<=` is a call to baseline code, its `<` one instruction.
@@ -536,8 +618,8 @@ impl pulp::WithSimd for Block<'_, '_> {
             }
             check(dst);
         }
-        for (k, &v) in g.order.iter().enumerate() {
-            let r = g.inc.range(k);
+        for k in 0..n {
+            let r = inc.range(k);
             let mut best = if r.is_empty() {
                 [0.0; LANES]
             } else {
@@ -545,7 +627,7 @@ impl pulp::WithSimd for Block<'_, '_> {
             };
             {
                 let bv = S::as_mut_simd_f64s(&mut best).0;
-                for (&s, &e) in g.inc.other[r.clone()].iter().zip(&g.inc.edge[r]) {
+                for &[s, e] in &inc.arcs[r] {
                     let (ts, ws) = (
                         S::as_simd_f64s(&t[s as usize]).0,
                         S::as_simd_f64s(&wblk[e as usize]).0,
@@ -556,20 +638,25 @@ impl pulp::WithSimd for Block<'_, '_> {
                     }
                 }
             }
-            t[v as usize] = best;
+            t[k] = best;
         }
         let lanes = out.len() / n.max(1);
         let mut outs: Vec<&mut [f64]> = out.chunks_exact_mut(n).take(lanes).collect();
         let tiles = n - n % LANES;
-        for (c, tc) in t[..tiles].chunks_exact(LANES).enumerate() {
-            let tile: &[[f64; LANES]; LANES] = tc.try_into().unwrap();
-            for (o, x) in outs.iter_mut().zip(transpose(simd, tile)) {
+        // `t` is by topological position: each tile gathers the rows of 8
+        // consecutive events (the graphs batches are for keep `t` in cache).
+        for (c, pc) in pos[..tiles].chunks_exact(LANES).enumerate() {
+            let mut tile = [[0.0; LANES]; LANES];
+            for (x, &p) in tile.iter_mut().zip(pc) {
+                *x = t[p as usize];
+            }
+            for (o, x) in outs.iter_mut().zip(transpose(simd, &tile)) {
                 o[c * LANES..(c + 1) * LANES].copy_from_slice(&x);
             }
         }
         for (l, o) in outs.iter_mut().enumerate() {
-            for (o, tv) in o[tiles..].iter_mut().zip(&t[tiles..]) {
-                *o = tv[l];
+            for (o, &p) in o[tiles..].iter_mut().zip(&pos[tiles..]) {
+                *o = t[p as usize][l];
             }
         }
         ok.iter().all(|&x| x == 1.0)

@@ -1,8 +1,6 @@
 //! What every cyclogram kernel shares: the domain's error, the checks of arcs
 //! and values, the compressed adjacency and the topological order.
 
-//! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
-
 /// Errors of the cyclogram domain (event graphs, difference constraints, cycle ratios,
 /// speed limits).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -11,22 +11,28 @@
 //! ```
 //!
 //! computed in one pass over a topological order. [`EventGraph`] analyses the
-//! structure once (topological order, incoming and outgoing arc lists laid out by
-//! topological position) and then evaluates any number of weight vectors against it.
+//! structure once (topological order, events renumbered by their position in it,
+//! incoming and outgoing arc lists stored by position, all in O(V + E)) and then
+//! evaluates any number of weight vectors against it.
 //!
 //! [`max_difference`] and [`max_difference_batch`] solve the other problem a
 //! cyclogram poses once cycles are allowed: the largest `x[t] - x[s]` subject to
 //! difference constraints `x[dst] - x[src] <= w`, i.e. the optimum of a cyclogram
+//! LP, by Bellman–Ford shortest paths (negative weights and cycles allowed).
 //!
 //! Files: `graph` (the arcs' checks, the domain's error, topological order),
-//! `event_graph` (longest paths on a prepared network), `difference` (systems of
-//! difference constraints) and `cycle_ratio` (maximum cycle ratio and the speed
-//! limit of a cyclic schedule).
+//! `layout` (a network renumbered by topological position, built in linear
+//! time), `event_graph` (longest paths on a prepared network), `difference`
+//! (systems of difference constraints) and `cycle_ratio` (maximum cycle ratio and
+//! the speed limit of a cyclic schedule).
 
 mod cycle_ratio;
 mod difference;
 mod event_graph;
 mod graph;
+mod layout;
+#[cfg(test)]
+mod order_tests;
 #[cfg(test)]
 mod tests;
 
