@@ -70,3 +70,39 @@ def test_the_other_orders_and_the_plain_laws_check_too() -> None:
     j[999] = 1.5
     with pytest.raises(cm.CyclomechError, match=r"x\[999\]"):
         z.dz(j)
+
+
+def test_out_is_filled_in_place_bit_for_bit(law) -> None:
+    alpha = np.linspace(0.0, ANGLE, 7007).reshape(7, -1)[:, :1000].copy()
+    for f in (law.position, law.velocity, law.acceleration):
+        buf = np.full(alpha.shape, np.nan)
+        assert f(alpha, out=buf) is buf
+        np.testing.assert_array_equal(buf, f(alpha))
+        f(alpha, out=buf, n_threads=2)
+        np.testing.assert_array_equal(buf, f(alpha))
+
+
+@pytest.mark.parametrize(
+    ("out", "match"),
+    [
+        (np.zeros(9), "shape"),
+        (np.zeros(10, dtype=np.float32), "float32"),
+        (np.zeros(20)[::2], "not C-contiguous"),
+        ([0.0] * 10, "list"),
+    ],
+)
+def test_a_bad_out_is_refused(law, out, match) -> None:
+    with pytest.raises(cm.CyclomechError, match=match):
+        law.position(np.linspace(0.0, 1.0, 10), out=out)
+
+
+def test_out_may_not_be_the_angles_or_read_only(law) -> None:
+    alpha = np.linspace(0.0, 1.0, 10)
+    with pytest.raises(cm.CyclomechError, match="shares memory"):
+        law.position(alpha, out=alpha)
+    ro = np.zeros(10)
+    ro.flags.writeable = False
+    with pytest.raises(cm.CyclomechError, match="read-only"):
+        law.position(alpha, out=ro)
+    with pytest.raises(cm.CyclomechError, match="single angle"):
+        law.position(0.5, out=np.zeros(()))
