@@ -75,6 +75,13 @@ def duhamel(
     force that starts at full value at t[0] (an impact) is exact, and so is a
     rectangular pulse. ``velocity=True`` returns ``(q, q̇)``.
 
+    A uniform grid (steps equal to within 2⁻²⁷, as ``np.linspace`` or
+    ``h * np.arange`` give) of at least 1025 samples runs as a chunked scan:
+    eight blocks in vector lanes, stitched by the unforced motion's transition
+    in closed form. Its values differ from the step-by-step recurrence (which
+    other grids take) by rounding only: within 1e-12 of the state's peak
+    (max |q| + max |q̇|/ω), and as close to the exact solution.
+
     >>> import numpy as np, cyclomech as cm
     >>> t = np.linspace(0.0, 1.0, 11)                    # a step force, undamped
     >>> q = cm.impact.duhamel(t, np.ones(11), omega_n=2.0, zeta=0.0, mass=1.0)
