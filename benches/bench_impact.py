@@ -13,7 +13,8 @@ too).
 
 Groups (each prints one ratio table; ``cyclomech`` rows are the references):
 
-- one case: ``cm.impact.duhamel`` (6e-14) against ``scipy.signal.lsim`` (state space,
+- one case: ``cm.impact.duhamel`` (5e-14; a chunked scan in vector lanes since
+  issue 20, see BENCHMARKS.md) against ``scipy.signal.lsim`` (state space,
   its default ``interp=True``: the same exact first-order-hold recurrence, from the
   matrix exponential, stepped in a Python loop; 2e-13). So at equal step count lsim
   is as accurate, and the ratio is one at equal accuracy: neither pays for the jump

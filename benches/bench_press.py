@@ -13,6 +13,9 @@ and two threads; numpy's ufuncs run on one thread):
 - ``two_period(...).position`` on 1e6 angles, cycloidal + modified sine and
   cycloidal + cycloidal, against :func:`numpy_two_period` (``np.piecewise`` on the
   half laws' closed forms; the modified sine written from its acceleration pieces).
+  Also ``position(alpha, out=buf)`` into a reused buffer (issue 20): an 8 MB fresh
+  output's pages, faulted in and zeroed by the OS on first touch, cost about as
+  much as the law itself on this VM.
 - ``GearLeverPress.solve`` on 1e6 angles (positions of centre, pin and slider, Π,
   Π', Π''), against :func:`numpy_solve`.
 
@@ -474,6 +477,17 @@ def test_two_period_cyclomech(benchmark, two_period_law, threads) -> None:
     benchmark.group = _law_group(name)
     _label(benchmark, "cyclomech", f"TwoPeriodLaw.position, n_threads={threads}")
     benchmark(law.position, alpha, n_threads=threads)
+
+
+@pytest.mark.parametrize("threads", [1])
+def test_two_period_cyclomech_out(benchmark, two_period_law, threads) -> None:
+    """The same into a reused buffer (issue 20, no fresh-page tax): bit for bit."""
+    name, law, alpha = two_period_law
+    benchmark.group = _law_group(name)
+    _label(benchmark, "cyclomech", f"TwoPeriodLaw.position(out=buf), n_threads={threads}")
+    buf = np.empty_like(alpha)
+    benchmark(law.position, alpha, n_threads=threads, out=buf)
+    assert_array_equal(buf, law.position(alpha))
 
 
 def test_two_period_numpy(benchmark, two_period_law) -> None:

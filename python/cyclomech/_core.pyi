@@ -260,7 +260,12 @@ class TwoPeriodKernel:
         angle: float,
     ) -> TwoPeriodKernel: ...
     def eval(
-        self, alpha: npt.NDArray[np.float64], order: int, *, n_threads: int | None = None
+        self,
+        alpha: npt.NDArray[np.float64],
+        order: int,
+        *,
+        n_threads: int | None = None,
+        out: npt.NDArray[np.float64] | None = None,
     ) -> npt.NDArray[np.float64]: ...
 
 # press

@@ -18,7 +18,21 @@ from ._checks import Array
 __all__ = ["Rebound", "duhamel", "duhamel_batch", "first_rebound"]
 
 
+_F64 = np.dtype(np.float64)
+
+
 def _grid(name: str, value: Any) -> Array:
+    # The common case first, in a few attribute reads: a non-empty 1-D
+    # C-contiguous float64 array is taken as it is (issue 20: the checks below
+    # cost a few µs, a tenth of a 10 000-step call).
+    if (
+        type(value) is np.ndarray
+        and value.dtype is _F64
+        and value.ndim == 1
+        and value.size
+        and value.flags.c_contiguous
+    ):
+        return value
     a = float_array(name, value, ndims=(1,))
     if a.size < 1:
         raise InputError(f"{name} must hold at least one time [s]")
@@ -61,6 +75,13 @@ def duhamel(
     force that starts at full value at t[0] (an impact) is exact, and so is a
     rectangular pulse. ``velocity=True`` returns ``(q, q̇)``.
 
+    A uniform grid (steps equal to within 2⁻²⁷, as ``np.linspace`` or
+    ``h * np.arange`` give) of at least 1025 samples runs as a chunked scan:
+    eight blocks in vector lanes, stitched by the unforced motion's transition
+    in closed form. Its values differ from the step-by-step recurrence (which
+    other grids take) by rounding only: within 1e-12 of the state's peak
+    (max |q| + max |q̇|/ω), and as close to the exact solution.
+
     >>> import numpy as np, cyclomech as cm
     >>> t = np.linspace(0.0, 1.0, 11)                    # a step force, undamped
     >>> q = cm.impact.duhamel(t, np.ones(11), omega_n=2.0, zeta=0.0, mass=1.0)
@@ -78,13 +99,15 @@ def duhamel(
         _real("mass", mass, "[kg]"),
         _real("q0", q0, "[m]"),
         _real("v0", v0, "[m/s]"),
-        with_velocity=flag("velocity", velocity),
+        with_velocity=velocity if velocity is False else flag("velocity", velocity),
     )
 
 
 def _real(name: str, value: Any, unit: str) -> float:
     """``value`` as a float if it is a real number (NaN and inf included: the
     kernels name those), else :class:`InputError`."""
+    if type(value) is float:
+        return value
     try:
         return real(value)
     except (TypeError, ValueError):

@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import float_array, positive, threads_arg
+from .._arrays import float_array, out_array, positive, threads_arg
 from .._errors import InputError
 
 __all__ = ["NAMES", "MotionLaw", "TwoPeriodLaw", "law", "polynomial", "two_period"]
@@ -265,23 +265,44 @@ class TwoPeriodLaw:
         """
         return self.stroke1 / self.angle1 * self.law1.dz_max
 
-    def _eval(self, alpha: npt.ArrayLike, order: int, n_threads: int | None) -> Any:
+    def _eval(
+        self, alpha: npt.ArrayLike, order: int, n_threads: int | None, out: Any = None
+    ) -> Any:
         scalar = np.ndim(alpha) == 0
         a = float_array("alpha", alpha, ndims=(0, 1, 2, 3))
-        out = self._kernel.eval(a.ravel(), order, n_threads=threads_arg(n_threads))
-        return float(out[0]) if scalar else out.reshape(a.shape)
+        threads = threads_arg(n_threads)
+        if out is not None:
+            if scalar:
+                raise InputError("out is for arrays of angles; got a single angle")
+            out_array(out, a.shape, [a], "the law at each angle [m, m/rad or m/rad²]")
+            self._kernel.eval(a.reshape(-1), order, n_threads=threads, out=out.reshape(-1))
+            return out
+        res = self._kernel.eval(a.ravel(), order, n_threads=threads)
+        return float(res[0]) if scalar else res.reshape(a.shape)
 
-    def position(self, alpha: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
+    def position(
+        self, alpha: npt.ArrayLike, *, n_threads: int | None = None, out: Any = None
+    ) -> Any:
         """Π(α) [m] for α in [0, α2] [rad], counted from BDC against the motion.
 
-        >>> import cyclomech as cm
+        ``out``: a writeable C-contiguous float64 array of α's shape, filled in
+        place and returned (a caller that evaluates again reuses its pages; a
+        fresh array's are faulted in and zeroed by the OS on first touch).
+        velocity and acceleration take it too.
+
+        >>> import numpy as np, cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "modified_sine", asymmetry=1.5)
         >>> lw.position([0.0, lw.angle]).round(12).tolist()
         [0.0, 0.1]
+        >>> buf = np.empty(2)
+        >>> lw.position(np.array([0.0, lw.angle]), out=buf) is buf
+        True
         """
-        return self._eval(alpha, 0, n_threads)
+        return self._eval(alpha, 0, n_threads, out)
 
-    def velocity(self, alpha: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
+    def velocity(
+        self, alpha: npt.ArrayLike, *, n_threads: int | None = None, out: Any = None
+    ) -> Any:
         """Π'(α) = dΠ/dα [m/rad]; times ω [rad/s] it is the slider speed.
 
         >>> import cyclomech as cm
@@ -289,9 +310,11 @@ class TwoPeriodLaw:
         >>> bool(abs(lw.velocity(lw.angle1) - lw.max_speed) < 1e-14)
         True
         """
-        return self._eval(alpha, 1, n_threads)
+        return self._eval(alpha, 1, n_threads, out)
 
-    def acceleration(self, alpha: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
+    def acceleration(
+        self, alpha: npt.ArrayLike, *, n_threads: int | None = None, out: Any = None
+    ) -> Any:
         """Π''(α) = d²Π/dα² [m/rad²]; times ω² it is the slider acceleration.
 
         >>> import cyclomech as cm
@@ -299,7 +322,7 @@ class TwoPeriodLaw:
         >>> abs(lw.acceleration(0.0)) < 1e-15      # a half law starts at zero accel.
         True
         """
-        return self._eval(alpha, 2, n_threads)
+        return self._eval(alpha, 2, n_threads, out)
 
     def __reduce__(self) -> tuple[Any, ...]:
         # The cached Rust kernel is rebuilt on demand, not pickled.

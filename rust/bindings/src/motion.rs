@@ -133,19 +133,47 @@ impl TwoPeriodKernel {
         }
     }
 
-    /// Π^(order)(α) for order 0..=3 (α in [0, α2]).
-    #[pyo3(signature = (alpha, order, *, n_threads=None))]
+    /// Π^(order)(α) for order 0..=3 (α in [0, α2]); into `out` (a writeable
+    /// C-contiguous float64 array of α's length that overlaps no input,
+    /// checked by the Python layer) and returned, if it is given.
+    #[pyo3(signature = (alpha, order, *, n_threads=None, out=None))]
     fn eval<'py>(
         &self,
         py: Python<'py>,
         alpha: PyReadonlyArray1<'py, f64>,
         order: i64,
         n_threads: Option<i64>,
+        out: Option<Bound<'py, PyArray1<f64>>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let order = order_arg(py, order)?;
         let a = MotionError::slice(py, "alpha", &alpha)?;
-        evaluate(py, "TwoPeriodLaw.eval", a, |out| {
-            self.law.eval_into(a, order, n_threads, out)
-        })
+        let Some(out) = out else {
+            return evaluate(py, "TwoPeriodLaw.eval", a, |out| {
+                self.law.eval_into(a, order, n_threads, out)
+            });
+        };
+        {
+            let bad = |what: String| {
+                MotionError::BadLaw {
+                    what: format!(
+                        "out must be a writeable C-contiguous float64 array of {} values \
+                         that overlaps no input; got {what}",
+                        a.len()
+                    ),
+                }
+                .into_pyerr(py)
+            };
+            let mut rw = out
+                .try_readwrite()
+                .map_err(|e| bad(format!("an array numpy will not lend for writing ({e})")))?;
+            let slice = convert::output(py, &mut rw)?;
+            if slice.len() != a.len() {
+                return Err(bad(format!("{} values", slice.len())));
+            }
+            run(py, "TwoPeriodLaw.eval", || {
+                self.law.eval_into(a, order, n_threads, slice)
+            })?;
+        }
+        Ok(out)
     }
 }

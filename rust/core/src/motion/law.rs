@@ -574,24 +574,19 @@ fn check_range(
 /// Elements per parallel task: below it one thread is faster.
 const CHUNK: usize = 16_384;
 
-/// Fill `out` from `x` chunk by chunk with `f(xs, os)` on `n_threads` threads,
-/// after checking (in the same pass, by chunk) that every x is finite and in
-/// [0, `hi`]; the first offending value is then reported by [`check_range`].
+/// Fill `out` from `x` chunk by chunk with `f(xs, os)` on `n_threads` threads;
+/// `f` also checks (in the same pass, by chunk) that every x is finite and in
+/// [0, `hi`] and returns false if one is not: the first offending value is
+/// then reported by [`check_range`] (and `out` holds no result).
 pub(super) fn par_chunks(
     x: &[f64],
     out: &mut [f64],
     n_threads: Option<i64>,
     (field, hi, why): (&'static str, f64, &'static str),
-    f: impl Fn(&[f64], &mut [f64]) + Sync,
+    f: impl Fn(&[f64], &mut [f64]) -> bool + Sync,
 ) -> Result<(), MotionError> {
     let threads = resolve_threads(n_threads)?;
-    let one = |(xs, os): (&[f64], &mut [f64])| -> bool {
-        let inside = xs.iter().fold(true, |ok, &v| ok & (v >= 0.0) & (v <= hi));
-        if inside {
-            f(xs, os);
-        }
-        inside
-    };
+    let one = |(xs, os): (&[f64], &mut [f64])| -> bool { f(xs, os) };
     let inside = if threads == 1 || x.len() <= CHUNK {
         one((x, out))
     } else {
@@ -616,10 +611,15 @@ pub(super) fn par_fill(
     range: (&'static str, f64, &'static str),
     f: impl Fn(f64) -> f64 + Sync,
 ) -> Result<(), MotionError> {
+    let hi = range.1;
     par_chunks(x, out, n_threads, range, |xs, os| {
+        if !inside(xs, hi) {
+            return false;
+        }
         for (o, &v) in os.iter_mut().zip(xs) {
             *o = f(v);
         }
+        true
     })
 }
 
@@ -706,14 +706,24 @@ impl Lanes {
         })
     }
 
-    /// out[i] = the law at v[i], for a chunk of values.
-    pub(super) fn eval(&self, v: &[f64], out: &mut [f64]) {
+    /// out[i] = the law at v[i], for a chunk of values, after checking (in the
+    /// same pass, block by block while the values are in cache) that every v
+    /// lies in [0, `hi`]: false if one does not (the outputs are then not to
+    /// be used).
+    pub(super) fn eval(&self, v: &[f64], out: &mut [f64], hi: f64) -> bool {
         pulp::Arch::new().dispatch(LaneChunk {
             lanes: self,
             v,
             out,
-        });
+            hi,
+        })
     }
+}
+
+/// Every v in [0, hi] (NaN is not).
+#[inline(always)]
+fn inside(v: &[f64], hi: f64) -> bool {
+    v.iter().fold(true, |ok, &x| ok & (x >= 0.0) & (x <= hi))
 }
 
 /// [`Lanes::eval`]'s loops, compiled once per instruction set.
@@ -721,16 +731,21 @@ pub(super) struct LaneChunk<'a> {
     pub(super) lanes: &'a Lanes,
     pub(super) v: &'a [f64],
     pub(super) out: &'a mut [f64],
+    /// The values' upper bound (the lower is 0).
+    pub(super) hi: f64,
 }
 
 impl pulp::WithSimd for LaneChunk<'_> {
-    type Output = ();
+    /// Every value in [0, hi]?
+    type Output = bool;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let LaneChunk { lanes, v, out } = self;
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> bool {
+        let LaneChunk { lanes, v, out, hi } = self;
         let mut stage = Stage::default();
+        let mut ok = true;
         for (vb, ob) in v.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
+            ok &= inside(vb, hi);
             let m = vb.len();
             let whole = m - m % GROUP;
             for (g, vg) in vb[..whole].chunks_exact(GROUP).enumerate() {
@@ -744,6 +759,7 @@ impl pulp::WithSimd for LaneChunk<'_> {
             }
             stage.finish(lanes.has_sine, &mut ob[..m]);
         }
+        ok
     }
 }
 
@@ -868,7 +884,7 @@ impl Law {
         // One law: u = (x − 0)·1, value = 0 + 1·Z.
         let identity = [(0.0, 1.0); 2];
         match Lanes::new([self, self], order, f64::INFINITY, identity, identity) {
-            Some(l) => par_chunks(x, out, n_threads, range, |xs, os| l.eval(xs, os)),
+            Some(l) => par_chunks(x, out, n_threads, range, |xs, os| l.eval(xs, os, 1.0)),
             None => par_fill(x, out, n_threads, range, |v| self.z(v, order)),
         }
     }

@@ -157,14 +157,31 @@ fn every_instruction_set_gives_the_pointwise_values() {
             let lanes = law.lanes(order).unwrap();
             let runs = on_each_isa!(|simd| {
                 let mut out = vec![0.0; alpha.len()];
-                Simd::vectorize(
+                let inside = Simd::vectorize(
                     simd,
                     LaneChunk {
                         lanes: &lanes,
                         v: &alpha,
                         out: &mut out,
+                        hi: PI,
                     },
                 );
+                // The fused range check: a NaN, a value past α2, one below 0.
+                let outside =
+                    [(300, f64::NAN), (700, PI * (1.0 + 1e-15)), (997, -0.1)].map(|(i, bad)| {
+                        let mut a = alpha.clone();
+                        a[i] = bad;
+                        Simd::vectorize(
+                            simd,
+                            LaneChunk {
+                                lanes: &lanes,
+                                v: &a,
+                                out: &mut vec![0.0; a.len()],
+                                hi: PI,
+                            },
+                        )
+                    });
+                assert!(inside && outside == [false; 3]);
                 out
             });
             assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
@@ -277,6 +294,41 @@ fn lanes_of_all_orders_are_z_all_bit_for_bit() {
                     }
                 }
             }
+        }
+    }
+}
+
+/// Timing of the two-period law on the benchmark's 1e6 angles, one thread
+/// (ignored: `cargo test --release -p cyclomech-core two_period_timing --
+/// --ignored --nocapture`).
+#[test]
+#[ignore]
+fn two_period_timing() {
+    for second in ["cycloidal", "modified_sine"] {
+        let (law1, law2) = (Law::half("cycloidal").unwrap(), Law::half(second).unwrap());
+        // asymmetry 2: α1 = α2/3 … as the benchmark's two_period(0.2, π, …, asymmetry=2).
+        let tp = TwoPeriod {
+            law1,
+            law2,
+            stroke1: 0.2 / 3.0,
+            angle1: PI / 3.0,
+            stroke: 0.2,
+            angle: PI,
+        };
+        for n in [1_000_000, 50_000] {
+            let alpha: Vec<f64> = (0..n).map(|i| PI * i as f64 / (n - 1) as f64).collect();
+            let mut out = vec![0.0; n];
+            let best = (0..200)
+                .map(|_| {
+                    let s = std::time::Instant::now();
+                    tp.eval_into(&alpha, 0, Some(1), &mut out).unwrap();
+                    s.elapsed().as_secs_f64()
+                })
+                .fold(f64::INFINITY, f64::min);
+            eprintln!(
+                "cycloidal + {second}, {n} angles: {:.3} ns per angle (reused output)",
+                best * 1e9 / n as f64
+            );
         }
     }
 }

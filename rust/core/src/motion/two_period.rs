@@ -101,7 +101,9 @@ impl TwoPeriod {
         let why = " [rad] (the law runs from α = 0 to the full angle α2)";
         let range = ("alpha", self.angle, why);
         match self.lanes(order) {
-            Some(l) => par_chunks(alpha, out, n_threads, range, |xs, os| l.eval(xs, os)),
+            Some(l) => par_chunks(alpha, out, n_threads, range, |xs, os| {
+                l.eval(xs, os, self.angle)
+            }),
             None => par_fill(alpha, out, n_threads, range, self.evaluator(order)),
         }
     }
