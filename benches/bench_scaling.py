@@ -60,6 +60,8 @@ SIZES = {
     "sweep": [10**2, 10**3, 10**4, 10**5, 10**6],
 }
 ITEM = {"linkage": "angle", "longest_path": "arc", "duhamel": "step", "sweep": "point"}
+#: Items per unit of size: the longest path's size is V, its items the E = 4V arcs.
+PER_SIZE = {"linkage": 1, "longest_path": 4, "duhamel": 1, "sweep": 1}
 
 # A four-bar crank-rocker (crank 0.05, coupler 0.2, rocker 0.15, frame 0.18 m).
 _R, _L2, _L3, _D = 0.05, 0.2, 0.15, 0.18
@@ -196,13 +198,14 @@ def measure(kind: str, n: int, threads: int) -> dict[str, Any]:
         run()
         times.append(time.perf_counter() - t0)
     med = statistics.median(times)
+    items = n * PER_SIZE[kind]
     return {
         "kind": kind,
         "n": n,
         "threads": threads,
         "seconds": med,
-        "ns_per_item": med / n * 1e9,
-        "peak_bytes_per_item": max(peak - base, 0) / n,
+        "ns_per_item": med / items * 1e9,
+        "peak_bytes_per_item": max(peak - base, 0) / items,
     }
 
 
@@ -217,7 +220,8 @@ def _one_process(kind: str, n: int, threads: int) -> dict[str, Any]:
 def table(rows: list[dict[str, Any]]) -> str:
     """The Markdown table of :func:`main`."""
     lines = [
-        "| kernel | item | size | 1 thread: ns/item | 2 threads: ns/item | peak memory/item |",
+        "| kernel | item | size (angles, V, steps, points) | 1 thread: ns/item "
+        "| 2 threads: ns/item | peak memory/item |",
         "|---|---|---|---|---|---|",
     ]
     by = {(r["kind"], r["n"], r["threads"]): r for r in rows}
