@@ -1,9 +1,12 @@
-"""Shared test settings: headless matplotlib, reproducible hypothesis runs in CI."""
+"""Shared test settings: headless matplotlib, reproducible hypothesis runs in CI,
+and the repository's root as the working directory of every test."""
 
 import os
+from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 # CI machines are slow and shared: no per-example deadline, and a fixed seed so a
@@ -13,3 +16,14 @@ settings.register_profile(
 )
 settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(autouse=True)
+def _in_the_repository(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Docstring examples and tests name files as a user at the repository's root
+    does (``examples/stb_loom.toml``), also when pytest runs elsewhere: against an
+    installed wheel, tools/test_wheel.sh runs it from an empty directory so that
+    ``python/`` cannot be imported, and the package is imported before this runs."""
+    monkeypatch.chdir(ROOT)

@@ -6,12 +6,14 @@ text, and never read."""
 from __future__ import annotations
 
 import re
+from pathlib import Path
 from typing import Any
 
 import cyclomech as cm
 import pytest
 
 CamDesign = cm.cam.CamDesign
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 def _translating(**extra: Any) -> dict[str, Any]:
@@ -115,8 +117,8 @@ def test_geometry_the_follower_does_not_use_is_refused(table: dict[str, Any], ke
 
 def test_the_examples_still_read() -> None:
     """Every example with a cam reads as before (no example relied on an ignored key)."""
-    _, _, design = CamDesign.from_toml("examples/lifter_cam.toml")
+    _, _, design = CamDesign.from_toml(EXAMPLES / "lifter_cam.toml")
     assert design.loads is not None and design.contact is not None
-    for path in ("examples/stb_loom.toml", "examples/knife_cutter.toml"):
-        m = cm.Machine.from_toml(path)
+    for name in ("stb_loom.toml", "knife_cutter.toml"):
+        m = cm.Machine.from_toml(EXAMPLES / name)
         assert re.search(r"\w", m.name)

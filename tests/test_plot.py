@@ -8,6 +8,7 @@ import doctest
 import importlib
 import subprocess
 import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -23,6 +24,7 @@ from matplotlib.collections import LineCollection, PathCollection
 from matplotlib.colors import to_rgba
 from numpy.testing import assert_allclose
 
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 RED = to_rgba(cplot.CRITICAL_COLOR)
 ORANGE = to_rgba(cplot.LIMITING_COLOR)
 
@@ -447,7 +449,7 @@ def test_speed_sweep_curves_end_at_the_speed_limit_whatever_sets_it():
     """The rotor line's limit is its transfer's jerk, below the cyclogram's: the
     curves end there, the speeds above are shaded, and without stops there is no
     stop panel and no word of rebound bounds."""
-    m = cm.Machine.from_toml("examples/rotor_line.toml")
+    m = cm.Machine.from_toml(EXAMPLES / "rotor_line.toml")
     lim = m.speed_limit()
     assert lim.by == "line" and lim.rpm < lim.cyclogram_rpm
     s = m.speed_sweep()
@@ -464,7 +466,7 @@ def test_speed_sweep_curves_end_at_the_speed_limit_whatever_sets_it():
 
 
 def test_speed_sweep_with_stops_draws_their_smallest_phase_angles():
-    m = cm.Machine.from_toml("examples/stb_loom.toml")
+    m = cm.Machine.from_toml(EXAMPLES / "stb_loom.toml")
     s, lin = m.speed_sweep(), m.speed_sweep(linear=True)
     fig = cplot.plot_speed_sweep(s, linear=lin, limit_rpm=m.speed_limit().rpm)
     (exact,) = _gid(fig, "stop:lifter")
