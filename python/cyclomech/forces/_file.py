@@ -33,9 +33,7 @@ def _rows(table: Mapping[str, Any], key: str, where: str) -> list[Mapping[str, A
 def dynamics_from_table(
     table: Mapping[str, Any], source: str, where: str, linkage: Linkage | None = None
 ) -> dict[str, Any] | None:
-    """The keywords of :func:`~cyclomech.forces.kinetostatics` (masses,
-    point_masses, loads, gravity) from a linkage's table, or None when it has
-    none of :data:`DYNAMICS_KEYS`. Errors name ``source``, the table and the key.
+    """The keywords of :func:`~cyclomech.forces.kinetostatics` from a linkage's table.
 
     ``[[<table>.mass]]``: ``link`` (its joints), ``mass_kg``, optional centre of
     mass — one of ``com_m`` = [x, y] in the drawn pose, ``com_point`` = a joint of
@@ -44,10 +42,35 @@ def dynamics_from_table(
     ``inertia_kg_m2`` about it (default 0). ``point_mass_kg`` = {point = kg}.
     ``[[<table>.load]]``: ``point`` and ``force_n`` = [fx, fy], or ``link`` and
     ``torque_nm``; with ``angle_deg`` (crank angles) the force is a table, one
-    row per angle, zero outside it. ``gravity_m_per_s2`` = [gx, gy]. With
-    ``linkage``, the points and links named are checked against it here, the
-    message naming the key.
+    row per angle, zero outside it. ``gravity_m_per_s2`` = [gx, gy].
 
+    Parameters
+    ----------
+    table : mapping of str to object
+        The linkage's table of the machine file (units in the key names: [kg],
+        [m], [kg·m²], [N], [N·m], [deg], [m/s²]).
+    source : str
+        The file's name, for the error messages.
+    where : str
+        The table's name (e.g. ``"[mechanism.press]"``), for the error messages.
+    linkage : Linkage, optional
+        The linkage: with it, the points and links named are checked against it
+        here, the message naming the key; default None.
+
+    Returns
+    -------
+    dict of str to object or None
+        The keywords ``masses``, ``point_masses``, ``loads``, ``gravity``, or None
+        when the table has none of :data:`DYNAMICS_KEYS`.
+
+    Raises
+    ------
+    InputError
+        If a key is unknown or malformed, or (with ``linkage``) names a point or
+        link it does not have; the message names ``source``, the table and the key.
+
+    Examples
+    --------
     >>> d = dynamics_from_table({"point_mass_kg": {"C": 2.0},
     ...                          "load": [{"point": "C", "force_n": [-100.0, 0.0]}]}, "f", "[m]")
     >>> d["point_masses"], d["loads"][0].force_n.tolist()

@@ -27,13 +27,41 @@ Array = npt.NDArray[np.float64]
 
 @dataclass(frozen=True)
 class LinkMass:
-    """The inertia of one link: ``mass_kg`` [kg], its centre of mass and
-    ``inertia_kg_m2`` [kg·m²] about it (0: the mass is a point). The centre of
-    mass is given one way at most: ``com_m`` (x, y) [m] in the drawn pose,
-    ``com_point`` a joint of the link, or ``com_offset_m`` (u, v) [m] in the
-    link's frame (origin at its first joint, u towards its second, v to the
-    left); none: the centroid of the link's joints.
+    """The inertia of one link: its mass, centre of mass and moment of inertia.
 
+    The centre of mass is given one way at most: ``com_m`` in the drawn pose,
+    ``com_point`` a joint of the link, or ``com_offset_m`` in the link's frame;
+    none: the centroid of the link's joints. Each parameter is kept as the
+    attribute of the same name.
+
+    Parameters
+    ----------
+    mass_kg : float
+        The link's mass [kg] (≥ 0).
+    com_m : tuple of (float, float), optional
+        The centre of mass (x, y) [m] in the drawn pose; default None.
+    inertia_kg_m2 : float, default 0.0
+        The moment of inertia about the centre of mass [kg·m²] (0: the mass is a
+        point).
+    com_point : str, optional
+        A joint of the link at the centre of mass; default None.
+    com_offset_m : tuple of (float, float), optional
+        The centre of mass (u, v) [m] in the link's frame (origin at its first
+        joint, u towards its second, v to the left); default None.
+
+    See Also
+    --------
+    kinetostatics : Takes a mapping of links to their ``LinkMass``.
+
+    Notes
+    -----
+    The values are checked when the linkage's forces are built
+    (:func:`kinetostatics`, :func:`check_dynamics`), which raise
+    :class:`~cyclomech.InputError` for a negative mass or inertia, a centre of mass
+    given more than one way or a ``com_point`` not on the link.
+
+    Examples
+    --------
     >>> LinkMass(2.0, inertia_kg_m2=0.01).mass_kg
     2.0
     """
@@ -86,12 +114,31 @@ def _evaluate(table: Array | None, values: Array, phi_deg: Array) -> Array:
 
 @dataclass(frozen=True, init=False)
 class PointLoad:
-    """An external force [N] on a point: constant ``force_n`` = (fx, fy), or a
-    table over the absolute crank angle: ``angle_deg`` (M,) strictly increasing
-    over at most one turn and ``force_n`` (M, 2), linear between the rows and
-    **zero outside the table** (a cutting force acts only during the cut; an
-    angle is first moved by whole turns to the table's start).
+    """An external force [N] on a point, constant or a table over the crank angle.
 
+    A table is linear between its rows and **zero outside the table** (a cutting
+    force acts only during the cut; an angle is first moved by whole turns to the
+    table's start). Each parameter is kept as the attribute of the same name
+    (``force_n`` as a float array, ``angle_deg`` as a float array or None).
+
+    Parameters
+    ----------
+    point : str
+        The name of the (moving) point the force acts on.
+    force_n : array_like of float, shape (2,) or (M, 2)
+        The force (fx, fy) [N]: constant, or one row per angle of ``angle_deg``.
+    angle_deg : array_like of float, shape (M,), optional
+        The absolute crank angles of the table's rows [deg], M ≥ 2, strictly
+        increasing over at most one turn; default None (a constant force).
+
+    Raises
+    ------
+    InputError
+        If ``point`` is not a name, or the force or the table is malformed (not
+        finite, wrong shape, angles not strictly increasing over at most 360°).
+
+    Examples
+    --------
     >>> p = PointLoad("E", [[0, -500], [0, -500]], angle_deg=[200, 300])
     >>> p.at(np.radians([250.0, 100.0])).tolist()
     [[0.0, -500.0], [0.0, 0.0]]
@@ -110,15 +157,52 @@ class PointLoad:
         object.__setattr__(self, "force_n", v)
 
     def at(self, angles: Any) -> Array:
-        """The force (N, 2) [N] at crank angles ``angles`` [rad]."""
+        """The force at the crank angles ``angles`` [N].
+
+        Parameters
+        ----------
+        angles : array_like of float, shape (N,)
+            The absolute crank angles [rad].
+
+        Returns
+        -------
+        ndarray of float, shape (N, 2)
+            The force (fx, fy) at each angle [N] (zero outside a table).
+
+        Examples
+        --------
+        >>> PointLoad("C", (-1000.0, 0.0)).at(np.radians([0.0, 90.0])).tolist()
+        [[-1000.0, 0.0], [-1000.0, 0.0]]
+        """
         return _evaluate(self.angle_deg, self.force_n, np.degrees(float_array("angles", angles)))
 
 
 @dataclass(frozen=True, init=False)
 class LinkTorque:
-    """An external torque [N·m] on a link (counter-clockwise positive), constant
-    ``torque_nm`` or a table over the crank angle as :class:`PointLoad`'s.
+    """An external torque [N·m] on a link, constant or a table over the crank angle.
 
+    Counter-clockwise positive; a table works as :class:`PointLoad`'s (linear
+    between its rows, zero outside it). Each parameter is kept as the attribute of
+    the same name (``link`` as a tuple, ``torque_nm`` as a float array).
+
+    Parameters
+    ----------
+    link : sequence of str
+        The link, by its joints' names (in any order).
+    torque_nm : float or array_like of float, shape (M,)
+        The torque [N·m]: constant, or one value per angle of ``angle_deg``.
+    angle_deg : array_like of float, shape (M,), optional
+        The absolute crank angles of the table's rows [deg], M ≥ 2, strictly
+        increasing over at most one turn; default None (a constant torque).
+
+    Raises
+    ------
+    InputError
+        If ``link`` is not a sequence of joint names, or the torque or the table is
+        malformed.
+
+    Examples
+    --------
     >>> LinkTorque(("B", "C"), 5.0).at(np.zeros(2)).tolist()
     [5.0, 5.0]
     """
@@ -136,7 +220,24 @@ class LinkTorque:
         object.__setattr__(self, "torque_nm", v)
 
     def at(self, angles: Any) -> Array:
-        """The torque (N,) [N·m] at crank angles ``angles`` [rad]."""
+        """The torque at the crank angles ``angles`` [N·m].
+
+        Parameters
+        ----------
+        angles : array_like of float, shape (N,)
+            The absolute crank angles [rad].
+
+        Returns
+        -------
+        ndarray of float, shape (N,)
+            The torque at each angle [N·m] (zero outside a table).
+
+        Examples
+        --------
+        >>> t = LinkTorque(("B", "C"), [2.0, 4.0], angle_deg=[0.0, 90.0])
+        >>> t.at(np.radians([45.0, 180.0])).tolist()
+        [3.0, 0.0]
+        """
         deg = np.degrees(float_array("angles", angles))
         return _evaluate(self.angle_deg, self.torque_nm, deg)[:, 0]
 
@@ -323,23 +424,58 @@ def kinetostatics(
     reactions: bool = True,
     n_threads: int | None = None,
 ) -> Kinetostatics:
-    """Joint reactions, guide forces and the crank's driving torque of ``linkage``
-    at the absolute crank angles ``angles`` [rad], for any crank speed and
-    angular acceleration (:class:`Kinetostatics`). ``angles`` may also be a
-    :class:`~cyclomech.LinkageSolution` of ``linkage`` already solved (every
-    point, with analogs), which is then not solved again.
+    """Joint reactions, guide forces and the crank's driving torque of a linkage.
 
-    ``masses`` maps a moving link (its joints, in any order) to its
-    :class:`LinkMass`; ``point_masses`` a point to a lumped mass [kg] (a slider
-    block, a knife); ``loads`` are :class:`PointLoad` and :class:`LinkTorque`;
-    ``gravity`` is (gx, gy) [m/s²] (None: no gravity). ``reactions=False``
-    computes the driving torque and the guide forces only (the joints' forces
-    are most of the output: 2 numbers per joint and part per angle). The
-    positions and analogs
-    come from :meth:`Linkage.solve`; each angle is one linear solve in Rust (see
+    At the absolute crank angles ``angles``, for any crank speed and angular
+    acceleration (:class:`Kinetostatics`). The positions and analogs come from
+    :meth:`Linkage.solve`; each angle is one linear solve in Rust (see
     :mod:`cyclomech.forces`), three right-hand sides (ω², ε, static), angles in
     parallel, the GIL released.
 
+    Parameters
+    ----------
+    linkage : Linkage
+        The linkage.
+    angles : array_like of float, shape (N,), or LinkageSolution
+        The absolute crank angles [rad]; or a :class:`~cyclomech.LinkageSolution`
+        of ``linkage`` already solved (every point, with analogs), which is then
+        not solved again.
+    masses : mapping of tuple of str to LinkMass, optional
+        Maps a moving link (its joints, in any order) to its :class:`LinkMass`;
+        default None (massless links).
+    point_masses : mapping of str to float, optional
+        Maps a moving point to a lumped mass [kg] (a slider block, a knife);
+        default None.
+    loads : sequence of PointLoad and LinkTorque, default ()
+        The external forces [N] and torques [N·m].
+    gravity : tuple of (float, float), optional
+        The acceleration of gravity (gx, gy) [m/s²]; default None (no gravity).
+    reactions : bool, default True
+        False computes the driving torque and the guide forces only (the joints'
+        forces are most of the output: 2 numbers per joint and part per angle).
+    n_threads : int, optional
+        Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all
+        cores).
+
+    Returns
+    -------
+    Kinetostatics
+        The forces' three parts (per ω², per ε, static) at every angle.
+
+    Raises
+    ------
+    InputError
+        If a link or point named does not exist, a mass is negative, a load is on
+        a ground joint, ``gravity`` is not (gx, gy), the linkage's forces are not
+        statically determinate, or ``angles`` is a solution of another linkage or
+        without analogs.
+
+    See Also
+    --------
+    check_dynamics : The same checks without solving.
+
+    Examples
+    --------
     A crank O–A of 0.3 m with 2 kg at A held against gravity needs m·g·r·cos φ:
 
     >>> import numpy as np, cyclomech as cm
@@ -407,11 +543,31 @@ def check_dynamics(
     loads: Sequence[PointLoad | LinkTorque] = (),
     gravity: Sequence[float] | None = None,
 ) -> None:
-    """Check :func:`kinetostatics`'s keywords against ``linkage`` without solving
-    it: every link and point named exists, masses are ≥ 0, gravity is (gx, gy),
-    and the linkage's forces are statically determinate; raises the error
-    :func:`kinetostatics` would.
+    """Check :func:`kinetostatics`'s keywords against a linkage without solving it.
 
+    Every link and point named exists, masses are ≥ 0, gravity is (gx, gy), and
+    the linkage's forces are statically determinate.
+
+    Parameters
+    ----------
+    linkage : Linkage
+        The linkage.
+    masses : mapping of tuple of str to LinkMass, optional
+        As :func:`kinetostatics`'s: moving links to their :class:`LinkMass`.
+    point_masses : mapping of str to float, optional
+        As :func:`kinetostatics`'s: moving points to lumped masses [kg].
+    loads : sequence of PointLoad and LinkTorque, default ()
+        As :func:`kinetostatics`'s: the external forces [N] and torques [N·m].
+    gravity : tuple of (float, float), optional
+        As :func:`kinetostatics`'s: (gx, gy) [m/s²].
+
+    Raises
+    ------
+    InputError
+        The error :func:`kinetostatics` would raise.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
     >>> check_dynamics(crank, point_masses={"B": 1.0})

@@ -30,22 +30,44 @@ Array = npt.NDArray[np.float64]
 
 @dataclass(frozen=True)
 class Kinetostatics:
-    """A linkage's forces at the crank angles ``angles`` [rad] of its ``solution``.
+    """A linkage's forces at the crank angles of its ``solution``.
 
     Every result is ω²·(part 0) + ε·(part 1) + (part 2) for the crank speed ω
-    [rad/s] and angular acceleration ε [rad/s²]: ``torque_parts`` (3, N) is the
-    driving torque on the crank [N·m] (positive in the direction of increasing
-    crank angle: the torque the motor supplies), ``guide_parts`` (3, N, G) the
-    normal force of each guide (``guides``) [N] along its normal (the guide's
-    direction turned +90°), ``conditioning`` (N,) how far each angle is from a
-    dead centre (0 at one; the forces grow as its inverse; see
-    :attr:`near_dead_centre`), and ``reaction_parts`` (3, N, K, 2) the force [N]
-    each joint exerts on each part it joins (``pairs``: (point, link), the link
-    named by its joints, ``"frame"`` for the frame's bearing; empty when solved
-    with ``reactions=False``). ``singular`` is True where a group is at a dead
-    centre (the forces unbounded; NaN there); ``ok`` where the linkage is
-    assembled and not singular.
+    [rad/s] and angular acceleration ε [rad/s²]. ``singular`` is True where a group
+    is at a dead centre (the forces unbounded; NaN there); ``ok`` where the linkage
+    is assembled and not singular. Built by :func:`kinetostatics`; each parameter
+    is kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    solution : LinkageSolution
+        The solved linkage: positions and analogs at the crank angles
+        ``angles`` [rad] (N,).
+    pairs : tuple of tuple of (str, str)
+        The (point, link) of each joint force: the link named by its joints
+        joined by "-", ``"frame"`` for the frame's bearing; empty when solved with
+        ``reactions=False``.
+    guides : tuple of str
+        The guides' names (G), e.g. ``"C on the frame"``.
+    torque_parts : ndarray of float, shape (3, N)
+        The driving torque on the crank [N·m] (positive in the direction of
+        increasing crank angle: the torque the motor supplies).
+    guide_parts : ndarray of float, shape (3, N, G)
+        The normal force of each guide [N] along its normal (the guide's direction
+        turned +90°).
+    reaction_parts : ndarray of float, shape (3, N, K, 2)
+        The force [N] each joint exerts on each part it joins, in the order of
+        ``pairs``.
+    conditioning : ndarray of float, shape (N,)
+        How far each angle is from a dead centre (0 at one; the forces grow as its
+        inverse; see :attr:`near_dead_centre`).
+
+    See Also
+    --------
+    kinetostatics : Builds it.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
     >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
@@ -73,8 +95,37 @@ class Kinetostatics:
         pairs: tuple[tuple[str, str], ...],
         guides: tuple[str, ...],
     ) -> Kinetostatics:
-        """From the kernel's values (3, N, 1 + G [+ 2K]): views, no copies; no
-        reactions (shape (3, N, 0, 2)) when they were not asked for."""
+        """The forces from the Rust kernel's values: views, no copies.
+
+        Parameters
+        ----------
+        solution : LinkageSolution
+            The solved linkage at the N crank angles.
+        values : ndarray of float, shape (3, N, 1 + G [+ 2K])
+            The kernel's parts: the torque [N·m], the G guide forces [N] and, when
+            reactions were asked for, the K joint forces (x, y) [N].
+        conditioning : ndarray of float, shape (N,)
+            The kernel's conditioning at each angle (set to 0 where the linkage's
+            kinematics are singular).
+        pairs : tuple of tuple of (str, str)
+            The (point, link) of each joint force.
+        guides : tuple of str
+            The guides' names.
+
+        Returns
+        -------
+        Kinetostatics
+            The forces; no reactions (shape (3, N, 0, 2)) when they were not asked for.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> sol = crank.solve([0.0])
+        >>> k = Kinetostatics.from_values(sol, np.zeros((3, 1, 1)), np.ones(1), pairs=(), guides=())
+        >>> k.reaction_parts.shape
+        (3, 1, 0, 2)
+        """
         n, g = values.shape[1], len(guides)
         k = (values.shape[2] - 1 - g) // 2
         return cls(
@@ -96,26 +147,60 @@ class Kinetostatics:
 
     @property
     def angles(self) -> Array:
-        """The crank angles [rad] (N,)."""
+        """The crank angles (N,) [rad].
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> cm.forces.kinetostatics(crank, [0.0, 1.0]).angles.tolist()
+        [0.0, 1.0]
+        """
         return self.solution.angles
 
     @property
     def singular(self) -> npt.NDArray[np.bool_]:
-        """True at a dead centre (a group's kinematics or its forces singular):
-        the forces are unbounded there, NaN."""
+        """True at a dead centre (N,), where the forces are unbounded (NaN).
+
+        A group's kinematics or its forces are singular there.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> cm.forces.kinetostatics(crank, [0.0]).singular.tolist()
+        [False]
+        """
         out: npt.NDArray[np.bool_] = self.conditioning == 0.0
         return out
 
     @property
     def ok(self) -> npt.NDArray[np.bool_]:
-        """True where the forces are finite: assembled and not at a dead centre."""
+        """True where the forces are finite (N,): assembled and not at a dead centre.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> cm.forces.kinetostatics(crank, [0.0]).ok.tolist()
+        [True]
+        """
         return self.solution.ok & ~self.singular
 
     @property
     def near_dead_centre(self) -> npt.NDArray[np.bool_]:
-        """True where the forces are ill-conditioned: ``conditioning`` below
-        :data:`NEAR_DEAD_CENTRE` (a group within a hair of a dead centre, its
-        forces large and sensitive to the angle) or singular."""
+        """True where the forces are ill-conditioned (N,), or singular.
+
+        That is, ``conditioning`` below :data:`NEAR_DEAD_CENTRE`: a group within a hair
+        of a dead centre, its forces large and sensitive to the angle.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> cm.forces.kinetostatics(crank, [0.0]).near_dead_centre.tolist()
+        [False]
+        """
         out: npt.NDArray[np.bool_] = ~(self.conditioning >= NEAR_DEAD_CENTRE)
         return out & self.solution.ok
 
@@ -131,9 +216,27 @@ class Kinetostatics:
         return out
 
     def torque(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
-        """The driving torque on the crank (N,) [N·m] at ``rpm`` [rpm] and
-        crank angular acceleration ``crank_acceleration`` [rad/s²].
+        """The driving torque on the crank [N·m] at a crank speed and acceleration.
 
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration ε [rad/s²].
+
+        Returns
+        -------
+        ndarray of float, shape (N,)
+            The torque the motor supplies at each crank angle [N·m].
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
         >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
@@ -143,12 +246,67 @@ class Kinetostatics:
         return self._at(self.torque_parts, rpm, crank_acceleration)
 
     def guide_forces(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
-        """The guides' normal forces (N, G) [N], in the order of ``guides``."""
+        """The guides' normal forces [N] at a crank speed and acceleration.
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration ε [rad/s²].
+
+        Returns
+        -------
+        ndarray of float, shape (N, G)
+            Each guide's normal force at each crank angle [N], in the order of
+            ``guides``.
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> sc = cm.Linkage({"A": (0, 0), "B": (0.1, 0), "C": (0.45, 0)},
+        ...                 [("A", "B"), ("B", "C")], ["A"], ("A", "B"),
+        ...                 sliders={"C": ("ground", (1, 0))})
+        >>> k = cm.forces.kinetostatics(sc, np.radians([0.0]), point_masses={"C": 1.0},
+        ...                             gravity=(0, -9.81))
+        >>> k.guides, k.guide_forces(0.0).round(6).tolist()      # the guide carries m g
+        (('C on the frame',), [[9.81]])
+        """
         return self._at(self.guide_parts, rpm, crank_acceleration)
 
     def reactions(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
-        """Every joint's force on every part it joins (N, K, 2) [N], in the order
-        of ``pairs``."""
+        """Every joint's force on every part it joins [N], at a crank speed and acceleration.
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration ε [rad/s²].
+
+        Returns
+        -------
+        ndarray of float, shape (N, K, 2)
+            The forces (x, y) at each crank angle [N], in the order of ``pairs``.
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
+        >>> k.reactions(60.0).shape
+        (1, 3, 2)
+        """
         return self._at(self.reaction_parts, rpm, crank_acceleration)
 
     def _need_reactions(self) -> None:
@@ -161,8 +319,40 @@ class Kinetostatics:
     def reaction(
         self, point: str, link: str | None = None, *, rpm: Any, crank_acceleration: float = 0.0
     ) -> Array:
-        """The force (N, 2) [N] joint ``point`` exerts on ``link`` (its joints
-        joined by "-", or ``"frame"``; None: the joint's only or first part)."""
+        """The force [N] one joint exerts on one link, at a crank speed and acceleration.
+
+        Parameters
+        ----------
+        point : str
+            The joint's name.
+        link : str, optional
+            The link, its joints joined by "-", or ``"frame"``; default None (the
+            joint's only or first part).
+        rpm : float
+            The crank speed [rpm] (keyword-only).
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration ε [rad/s²].
+
+        Returns
+        -------
+        ndarray of float, shape (N, 2)
+            The force (x, y) at each crank angle [N].
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number, the joint
+            forces were not computed (``reactions=False``) or there is no such joint
+            on ``link``.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
+        >>> k.reaction("A", rpm=60.0).round(4).tolist()   # the mass at A pulls O-A outwards
+        [[23.6871, 0.0]]
+        """
         self._need_reactions()
         for k, (p, ln) in enumerate(self.pairs):
             if p == point and (link is None or ln == link):
@@ -172,9 +362,30 @@ class Kinetostatics:
         raise InputError(f"no joint {point!r}{on}; the joints are {known}")
 
     def joint_loads(self, rpm: Any, crank_acceleration: float = 0.0) -> dict[str, Array]:
-        """Each joint's load (N,) [N]: the largest force it exerts on any of the
-        parts it joins, angle by angle.
+        """Each joint's load [N]: the largest force it exerts on any part it joins.
 
+        Angle by angle.
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration ε [rad/s²].
+
+        Returns
+        -------
+        dict of str to ndarray of float, shape (N,)
+            Each joint's load at each crank angle [N].
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number or the joint
+            forces were not computed (``reactions=False``).
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
         >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0}, gravity=(0, -9.81))
@@ -189,11 +400,35 @@ class Kinetostatics:
         return out
 
     def most_loaded(self, rpm: Any, crank_acceleration: float = 0.0) -> tuple[str, float, float]:
-        """(joint, its peak load [N], the crank angle [deg] of the peak) over the
-        angles where the forces are finite (``("", nan, nan)`` where none is).
-        Ties go to the joint first in ``pairs`` (the linkage's point order) and,
-        for one joint, to the first angle.
+        """The joint with the largest load, over the angles where the forces are finite.
 
+        Ties go to the joint first in ``pairs`` (the linkage's point order) and, for
+        one joint, to the first angle.
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration ε [rad/s²].
+
+        Returns
+        -------
+        joint : str
+            The most loaded joint (``""`` where no angle has finite forces).
+        peak : float
+            Its peak load [N] (NaN where none is finite).
+        angle : float
+            The crank angle of the peak [deg] (NaN where none is finite).
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number or the joint
+            forces were not computed (``reactions=False``).
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
         >>> k = cm.forces.kinetostatics(crank, [0.0, 1.0], point_masses={"A": 2.0})
@@ -210,11 +445,31 @@ class Kinetostatics:
         return best
 
     def shaft_torque(self) -> ShaftTorque:
-        """The driving torque as a :class:`~cyclomech.shaft.ShaftTorque` (its ω²
-        and static parts; θ = 0 at the first angle): for the flywheel, the motor
+        """The driving torque as a :class:`~cyclomech.shaft.ShaftTorque`.
+
+        Its ω² and static parts, θ = 0 at the first angle: for the flywheel, the motor
         and the machine's main shaft. The angles must be N uniform steps over one
         turn, the last one step short of the first plus 360°, all forces finite.
 
+        Returns
+        -------
+        ShaftTorque
+            The driving torque T(θ) = ω²·a(θ) + b(θ) [N·m] over the turn.
+
+        Raises
+        ------
+        InputError
+            If the angles are not N ≥ 3 uniform steps over one turn or the forces are
+            not finite at every angle.
+
+        Warns
+        -----
+        CyclomechWarning
+            If the linkage is near a dead centre at some angle (its torque there is
+            large and depends on the grid).
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
         >>> k = cm.forces.kinetostatics(crank, np.radians(np.arange(0.0, 360.0, 1.0)),

@@ -21,13 +21,34 @@ _FORMS = ("half", "rise")
 
 
 class MotionLaw:
-    """A dimensionless law Z(j) on the unit square; build it with :func:`law` or
-    :func:`polynomial`.
+    """A dimensionless law Z(j) on the unit square.
 
-    ``z``, ``dz``, ``ddz``, ``dddz`` evaluate Z and its derivatives at j in
-    [0, 1] (arrays in, float64 arrays out); ``dz_max`` = max Z' and ``ddz_max`` =
-    max |Z''| are its dimensionless speed and acceleration peaks.
+    Build it with :func:`law` or :func:`polynomial`. ``z``, ``dz``, ``ddz``, ``dddz``
+    evaluate Z and its derivatives at j in [0, 1] (arrays in, float64 arrays out);
+    ``dz_max`` = max Z' and ``ddz_max`` = max |Z''| are its dimensionless speed and
+    acceleration peaks. Each parameter is kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    name : str
+        The law's name, one of :data:`NAMES`, or ``"polynomial"`` with ``coeffs``.
+    form : {"half", "rise"}
+        The half law (Z' peaking at j = 1) or the full rise (zero speed at both ends).
+    coeffs : tuple of float, optional
+        The polynomial's coefficients c0, c1, … of Z(j) = Σ c_k j^k; default None
+        (a named law).
+
+    Raises
+    ------
+    InputError
+        If ``form`` is neither ``"half"`` nor ``"rise"``.
+
+    See Also
+    --------
+    law, polynomial : The constructors to use.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> lw = cm.motion.law("cycloidal", form="rise")
     >>> round(lw.dz_max, 12), round(lw.ddz_max, 12)
@@ -50,8 +71,10 @@ class MotionLaw:
 
     @property
     def dz_max(self) -> float:
-        """Peak of Z' (the dimensionless speed peak: max speed / mean speed).
+        """Peak of Z' (the dimensionless speed peak: max speed / mean speed), dimensionless.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.motion.law("cycloidal").dz_max, 12)
         2.0
@@ -60,8 +83,10 @@ class MotionLaw:
 
     @property
     def ddz_max(self) -> float:
-        """Peak of |Z''| (the dimensionless acceleration peak).
+        """Peak of |Z''| (the dimensionless acceleration peak), dimensionless.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.motion.law("polynomial_345", form="rise").ddz_max, 4)
         5.7735
@@ -70,8 +95,10 @@ class MotionLaw:
 
     @property
     def breaks(self) -> tuple[float, ...]:
-        """Ends of the law's pieces on [0, 1] (where Z''' may jump).
+        """Ends of the law's pieces on [0, 1] (where Z''' may jump), dimensionless j.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.motion.law("modified_trapezoid", form="rise").breaks
         (0.0, 0.125, 0.375, 0.625, 0.875, 1.0)
@@ -85,8 +112,28 @@ class MotionLaw:
         return float(out[0]) if scalar else out.reshape(a.shape)
 
     def z(self, j: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
-        """Z(j), dimensionless, for j in [0, 1] (float for a scalar j).
+        """Z(j), dimensionless, for j in [0, 1].
 
+        Parameters
+        ----------
+        j : float or array_like of float
+            The dimensionless position(s) j in [0, 1] (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float or ndarray of float
+            Z(j), dimensionless: a float for a scalar ``j``, else an array of its shape.
+
+        Raises
+        ------
+        InputError
+            If ``j`` is not an array of numbers of at most 3 dimensions or ``n_threads``
+            is not None or a positive integer.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.motion.law("harmonic", form="rise").z([0.0, 0.5, 1.0]).round(12).tolist()
         [0.0, 0.5, 1.0]
@@ -94,8 +141,28 @@ class MotionLaw:
         return self._eval(j, 0, n_threads)
 
     def dz(self, j: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
-        """Z'(j) = dZ/dj.
+        """Z'(j) = dZ/dj, dimensionless.
 
+        Parameters
+        ----------
+        j : float or array_like of float
+            The dimensionless position(s) j in [0, 1] (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float or ndarray of float
+            Z'(j), dimensionless: a float for a scalar ``j``, else an array of its shape.
+
+        Raises
+        ------
+        InputError
+            If ``j`` is not an array of numbers of at most 3 dimensions or ``n_threads``
+            is not None or a positive integer.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.motion.law("cycloidal").dz(1.0), 12)
         2.0
@@ -103,8 +170,28 @@ class MotionLaw:
         return self._eval(j, 1, n_threads)
 
     def ddz(self, j: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
-        """Z''(j) = d²Z/dj².
+        """Z''(j) = d²Z/dj², dimensionless.
 
+        Parameters
+        ----------
+        j : float or array_like of float
+            The dimensionless position(s) j in [0, 1] (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float or ndarray of float
+            Z''(j), dimensionless: a float for a scalar ``j``, else an array of its shape.
+
+        Raises
+        ------
+        InputError
+            If ``j`` is not an array of numbers of at most 3 dimensions or ``n_threads``
+            is not None or a positive integer.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.motion.law("cycloidal").ddz(0.5), 12)   # π·sin(π/2)
         3.14159265359
@@ -112,8 +199,28 @@ class MotionLaw:
         return self._eval(j, 2, n_threads)
 
     def dddz(self, j: npt.ArrayLike, *, n_threads: int | None = None) -> Any:
-        """Z'''(j) = d³Z/dj³ (one-sided at the breaks, where it may jump).
+        """Z'''(j) = d³Z/dj³, dimensionless (one-sided at the breaks, where it may jump).
 
+        Parameters
+        ----------
+        j : float or array_like of float
+            The dimensionless position(s) j in [0, 1] (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float or ndarray of float
+            Z'''(j), dimensionless: a float for a scalar ``j``, else an array of its shape.
+
+        Raises
+        ------
+        InputError
+            If ``j`` is not an array of numbers of at most 3 dimensions or ``n_threads``
+            is not None or a positive integer.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.motion.law("polynomial_345", form="rise").dddz(0.0), 12)
         60.0
@@ -146,12 +253,32 @@ def _form(form: Any) -> str:
 def law(name: str | MotionLaw, form: str = "half") -> MotionLaw:
     """A named law: its half law (default) or its full rise (``form="rise"``).
 
-    Names: ``cycloidal``, ``harmonic``, ``polynomial_345``, ``polynomial_4567``,
-    ``modified_sine``, ``modified_trapezoid`` (see :data:`NAMES`). The modified
-    laws are built from their acceleration pieces (sine ramps of 1/8 with a
-    constant plateau, or a long sine through the middle) and integrated exactly.
-    A :class:`MotionLaw` passes through unchanged (its own form is kept).
+    The modified laws are built from their acceleration pieces (sine ramps of 1/8
+    with a constant plateau, or a long sine through the middle) and integrated
+    exactly.
 
+    Parameters
+    ----------
+    name : str or MotionLaw
+        The law's name: ``cycloidal``, ``harmonic``, ``polynomial_345``,
+        ``polynomial_4567``, ``modified_sine``, ``modified_trapezoid`` (see
+        :data:`NAMES`). A :class:`MotionLaw` passes through unchanged (its own form
+        is kept).
+    form : {"half", "rise"}, default "half"
+        The half law Z_h(j) = 2·Z(j/2) or the full rise Z(j).
+
+    Returns
+    -------
+    MotionLaw
+        The law.
+
+    Raises
+    ------
+    InputError
+        If the name is not known or ``form`` is neither ``"half"`` nor ``"rise"``.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> h = cm.motion.law("cycloidal")                  # Z = j − sin(πj)/π
     >>> round(h.z(0.5), 12), round(h.dz_max, 12), round(h.ddz_max, 12)
@@ -171,6 +298,26 @@ def polynomial(coeffs: npt.ArrayLike, form: str = "rise") -> MotionLaw:
     Checked to within 1e-9: Z(0) = 0, Z(1) = 1, Z'(0) = 0 and Z' ≥ 0 on [0, 1];
     as a rise also Z'(1) = 0, as a half law (``form="half"``) Z' largest at j = 1.
 
+    Parameters
+    ----------
+    coeffs : array_like of float, shape (K,)
+        The coefficients c0, c1, … of the powers of j, dimensionless (K ≤ 25).
+    form : {"rise", "half"}, default "rise"
+        Whether the polynomial is a full rise or a half law.
+
+    Returns
+    -------
+    MotionLaw
+        The law, named ``"polynomial"``.
+
+    Raises
+    ------
+    InputError
+        If ``form`` is neither ``"half"`` nor ``"rise"``, or the coefficients fail
+        the checks above.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> p = cm.motion.polynomial([0, 0, 0, 10, -15, 6])     # the 3-4-5 rise
     >>> round(p.dz_max, 6), round(p.ddz_max, 6)
@@ -198,14 +345,41 @@ def _half(name: str, value: Any) -> MotionLaw:
 
 @dataclass(frozen=True, eq=False)
 class TwoPeriodLaw:
-    """The two-period slider law of seed 003 (build it with :func:`two_period`).
+    """The two-period slider law Π(α) of seed 003.
 
     Period I, 0 ≤ α ≤ α1 (``angle1``): Π = Π1·Z1(α/α1), from BDC up to the speed
     peak; period II, α1 ≤ α ≤ α2 (``angle``): Π = Π2 − (Π2 − Π1)·Z2((α2 − α)/(α2 − α1)),
     up to the full stroke Π2 (``stroke``) [m]. Π' is continuous at α1 (condition 9
     of the seed) and peaks there at ``max_speed`` [m/rad]. ``asymmetry`` is
     f_A = (α2 − α1)/α1 and ``accel_ratio`` I = Π''1max/Π''2max, whichever complex
-    of input data built the law.
+    of input data built the law. Build it with :func:`two_period`; each parameter
+    is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    law1 : MotionLaw
+        The half law Z1 of period I.
+    law2 : MotionLaw
+        The half law Z2 of period II.
+    stroke : float
+        The full stroke Π2 [m].
+    angle : float
+        The crank angle α2 of the full stroke [rad].
+    stroke1 : float
+        The stroke Π1 at the end of period I [m].
+    angle1 : float
+        The crank angle α1 at the end of period I, the speed peak [rad].
+
+    See Also
+    --------
+    two_period : Builds it from one of the seed's complexes of data.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "cycloidal", asymmetry=1.0)
+    >>> round(lw.angle1, 12), round(lw.stroke1, 12)
+    (1.5, 0.05)
     """
 
     law1: MotionLaw
@@ -232,8 +406,10 @@ class TwoPeriodLaw:
 
     @property
     def asymmetry(self) -> float:
-        """f_A = (α2 − α1)/α1.
+        """The asymmetry f_A = (α2 − α1)/α1, dimensionless.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "cycloidal", asymmetry=2.0)
         >>> round(lw.asymmetry, 12)
@@ -243,8 +419,10 @@ class TwoPeriodLaw:
 
     @property
     def accel_ratio(self) -> float:
-        """I = Π''1max/Π''2max, the ratio of the periods' acceleration peaks.
+        """I = Π''1max/Π''2max, the ratio of the periods' acceleration peaks, dimensionless.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "cycloidal", accel_ratio=0.5)
         >>> round(lw.accel_ratio, 12)
@@ -258,6 +436,8 @@ class TwoPeriodLaw:
     def max_speed(self) -> float:
         """Π'max = (Π1/α1)·Z'1max [m/rad], reached at α1.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "modified_sine", max_speed=0.062)
         >>> round(lw.max_speed, 12)
@@ -285,11 +465,34 @@ class TwoPeriodLaw:
     ) -> Any:
         """Π(α) [m] for α in [0, α2] [rad], counted from BDC against the motion.
 
-        ``out``: a writeable C-contiguous float64 array of α's shape, filled in
-        place and returned (a caller that evaluates again reuses its pages; a
-        fresh array's are faulted in and zeroed by the OS on first touch).
-        velocity and acceleration take it too.
+        Parameters
+        ----------
+        alpha : float or array_like of float
+            The crank angle(s) α in [0, α2] [rad], counted from BDC against the motion
+            (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+        out : ndarray of float64, optional
+            A writeable C-contiguous array of ``alpha``'s shape, filled in place and
+            returned (a caller that evaluates again reuses its pages; a fresh array's
+            are faulted in and zeroed by the OS on first touch); default None (a new
+            array).
 
+        Returns
+        -------
+        float or ndarray of float
+            Π(α) [m]: a float for a scalar ``alpha``, else an array of its shape
+            (``out`` when given).
+
+        Raises
+        ------
+        InputError
+            If ``alpha`` is not an array of numbers of at most 3 dimensions, ``out`` is
+            given with a single angle or does not fit, or ``n_threads`` is not None or a
+            positive integer.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "modified_sine", asymmetry=1.5)
         >>> lw.position([0.0, lw.angle]).round(12).tolist()
@@ -305,6 +508,34 @@ class TwoPeriodLaw:
     ) -> Any:
         """Π'(α) = dΠ/dα [m/rad]; times ω [rad/s] it is the slider speed.
 
+        Parameters
+        ----------
+        alpha : float or array_like of float
+            The crank angle(s) α in [0, α2] [rad], counted from BDC against the motion
+            (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+        out : ndarray of float64, optional
+            A writeable C-contiguous array of ``alpha``'s shape, filled in place and
+            returned (a caller that evaluates again reuses its pages; a fresh array's
+            are faulted in and zeroed by the OS on first touch); default None (a new
+            array).
+
+        Returns
+        -------
+        float or ndarray of float
+            Π'(α) [m/rad]: a float for a scalar ``alpha``, else an array of its shape
+            (``out`` when given).
+
+        Raises
+        ------
+        InputError
+            If ``alpha`` is not an array of numbers of at most 3 dimensions, ``out`` is
+            given with a single angle or does not fit, or ``n_threads`` is not None or a
+            positive integer.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "modified_sine", asymmetry=1.5)
         >>> bool(abs(lw.velocity(lw.angle1) - lw.max_speed) < 1e-14)
@@ -317,6 +548,34 @@ class TwoPeriodLaw:
     ) -> Any:
         """Π''(α) = d²Π/dα² [m/rad²]; times ω² it is the slider acceleration.
 
+        Parameters
+        ----------
+        alpha : float or array_like of float
+            The crank angle(s) α in [0, α2] [rad], counted from BDC against the motion
+            (up to 3 dimensions).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+        out : ndarray of float64, optional
+            A writeable C-contiguous array of ``alpha``'s shape, filled in place and
+            returned (a caller that evaluates again reuses its pages; a fresh array's
+            are faulted in and zeroed by the OS on first touch); default None (a new
+            array).
+
+        Returns
+        -------
+        float or ndarray of float
+            Π''(α) [m/rad²]: a float for a scalar ``alpha``, else an array of its shape
+            (``out`` when given).
+
+        Raises
+        ------
+        InputError
+            If ``alpha`` is not an array of numbers of at most 3 dimensions, ``out`` is
+            given with a single angle or does not fit, or ``n_threads`` is not None or a
+            positive integer.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "cycloidal", asymmetry=1.0)
         >>> abs(lw.acceleration(0.0)) < 1e-15      # a half law starts at zero accel.
@@ -351,21 +610,45 @@ def two_period(
 ) -> TwoPeriodLaw:
     """The seed's two-period slider law from one of its three complexes of data.
 
-    ``stroke`` Π2 [m] and ``angle`` α2 [rad] (0 < α2 ≤ 2π) are the full stroke and
-    the crank angle it takes; ``law1`` and ``law2`` the half laws of period I
-    (0 ≤ α ≤ α1, ending at the speed peak) and period II (α1 ≤ α ≤ α2), by name or
-    as :class:`MotionLaw`. Exactly one of:
+    Give exactly one of ``asymmetry`` (complex 1), ``accel_ratio`` (complex 2) and
+    ``max_speed`` (complex 3). With n1 = Z'1max/Z'2max, n2 = Z''1max/Z''2max,
+    α1 = α2/(1 + f_A) and, from continuity of Π' at α1 (the seed's condition 9),
+    Π1 = Π2/(1 + n1·f_A). The printed (13) Π1 = Π2/(1 + f_A) is the n1 = 1 case.
 
-    * ``asymmetry`` f_A = (α2 − α1)/α1 > 0 (complex 1);
-    * ``accel_ratio`` I = Π''1max/Π''2max > 0 (complex 2), giving f_A = I·n1/n2;
-    * ``max_speed`` Π'max [m/rad] (complex 3), which must lie strictly between
-      Z'1max and Z'2max times the mean speed Π2/α2 (and the laws' speed peaks
-      must differ).
+    Parameters
+    ----------
+    stroke : float
+        The full stroke Π2 [m] (> 0).
+    angle : float
+        The crank angle α2 the stroke takes [rad] (0 < α2 ≤ 2π).
+    law1 : str or MotionLaw
+        The half law of period I (0 ≤ α ≤ α1, ending at the speed peak), by name
+        or as :class:`MotionLaw`.
+    law2 : str or MotionLaw
+        The half law of period II (α1 ≤ α ≤ α2), by name or as :class:`MotionLaw`.
+    asymmetry : float, optional
+        f_A = (α2 − α1)/α1 > 0 (complex 1), dimensionless.
+    accel_ratio : float, optional
+        I = Π''1max/Π''2max > 0 (complex 2), dimensionless, giving f_A = I·n1/n2.
+    max_speed : float, optional
+        Π'max [m/rad] (complex 3), which must lie strictly between Z'1max and
+        Z'2max times the mean speed Π2/α2 (and the laws' speed peaks must differ).
 
-    With n1 = Z'1max/Z'2max, n2 = Z''1max/Z''2max, α1 = α2/(1 + f_A) and, from
-    continuity of Π' at α1 (the seed's condition 9), Π1 = Π2/(1 + n1·f_A). The
-    printed (13) Π1 = Π2/(1 + f_A) is the n1 = 1 case.
+    Returns
+    -------
+    TwoPeriodLaw
+        The law.
 
+    Raises
+    ------
+    InputError
+        If ``stroke`` or ``angle`` is not positive or ``angle`` exceeds 2π, a law
+        is not known or is a rise, not exactly one of the three data is given, a
+        datum is out of its range, or the data give no 0 < Π1 < Π2 and
+        0 < α1 < α2.
+
+    Examples
+    --------
     >>> import cyclomech as cm, math
     >>> lw = cm.motion.two_period(0.2, math.pi, "cycloidal", "modified_sine", asymmetry=2.0)
     >>> round(lw.angle1, 6), round(lw.stroke1, 6)
