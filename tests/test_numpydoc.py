@@ -9,8 +9,9 @@ fails the test naming the object and the checks.
 
 Module constants (tuples, frozensets, floats) cannot carry a docstring of their
 own in Python (``__doc__`` is their type's), so numpydoc would read the built-in
-type's: they are documented with a ``#:`` comment above the assignment, which
-Sphinx's autodoc renders, and that comment is what is checked for them.
+type's: they are documented with a ``#:`` comment above the assignment in the
+module that defines them (where Sphinx's autodoc reads a constant's
+documentation), and that comment is what is checked for them.
 """
 
 from __future__ import annotations
