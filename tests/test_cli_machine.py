@@ -144,3 +144,19 @@ def test_output_read_by_a_pipe_that_closes_is_no_traceback(tmp_path):
         proc.wait(timeout=60)
     assert proc.returncode == 141
     assert b"Traceback" not in err and b"BrokenPipe" not in err, err
+
+
+def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
+    """nominal_rpm = 450 on the loom (limit 420.32 rpm): the report is written, the
+    screen says the cyclogram does not fit there, and the exit status is 3 (the
+    design fails), not 0. The file's own 300 rpm stays 0."""
+    text = LOOM.read_text(encoding="utf-8").replace("nominal_rpm = 300.0", "nominal_rpm = 450.0")
+    assert "nominal_rpm = 450.0" in text
+    fast = tmp_path / "fast_loom.toml"
+    fast.write_text(text, encoding="utf-8")
+    assert main(["run", str(fast), "--out", str(tmp_path / "fast"), "--no-plot", "--quiet"]) == 3
+    cap = capsys.readouterr()
+    assert "At 450 rpm the cyclogram does not fit" in cap.out
+    assert "does not fit at the nominal 450 rpm (speed limit 420.32 rpm; exit status 3)" in cap.err
+    assert (tmp_path / "fast" / "report.html").exists()
+    assert main(["run", str(LOOM), "--out", str(tmp_path / "ok"), "--no-plot", "--quiet"]) == 0

@@ -2,17 +2,28 @@
 The whole machine against speed
 ===============================
 
-The STB loom example machine: its mechanisms, the rebound at the lifter's stop
-and the optimised cyclogram at every speed of a sweep, with the speed limit.
-``cyclomech run examples/stb_loom.toml`` writes the same as an HTML report.
+The STB loom of seed 000 (``examples/stb_loom.toml``): its lifter cam, the
+rebound at the lifter's stop and the optimised cyclogram at every speed of a
+sweep, with the speed limit and what sets it. ``cyclomech run
+examples/stb_loom.toml`` writes the same, and much more, as an HTML report.
 """
+
+from pathlib import Path
 
 import cyclomech as cm
 import matplotlib.pyplot as plt
 from cyclomech.plot import plot_speed_sweep
 
-m = cm.Machine.example()
+# The examples folder of a clone: in the working directory or one above it (the
+# documentation build runs this script from docs/gallery/).
+here = Path.cwd().resolve()
+loom = next(
+    d / "examples" / "stb_loom.toml"
+    for d in (here, *here.parents)
+    if (d / "examples" / "stb_loom.toml").exists()
+)
+m = cm.Machine.from_toml(loom)
 limit = m.speed_limit()
-print(f"speed limit: {limit.rpm:.1f} rpm")
+print(f"speed limit: {limit.rpm:.2f} rpm, set by {limit.by}: {limit.reason}")
 plot_speed_sweep(m.speed_sweep(), limit_rpm=limit.rpm)
 plt.show()

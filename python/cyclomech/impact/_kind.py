@@ -439,5 +439,10 @@ def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext)
     if isinstance(design.cam.follower, OscillatingRoller):
         if "lever_length" not in table:
             raise InputError(f"{where}: missing key 'lever_length'")
-        stroke *= _toml.number(table, "lever_length", where, "[m]")
+        lever = _toml.number(table, "lever_length", where, "[m]")
+        if not lever > 0:
+            # Checked here, before it scales the cam's stroke: else the error would
+            # name the derived stroke, not the key the user wrote.
+            raise InputError(f"{where}: lever_length = {lever!r} must be finite and > 0 [m]")
+        stroke *= lever
     return {"law": seg.law, "stroke": stroke}

@@ -131,6 +131,15 @@ def run_command(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return EXIT_FAILS
+    if r.optimum is None:
+        # The file asked for a speed the cyclogram does not fit at: the report is
+        # written, but the design fails there, and that must not look like success.
+        print(
+            f"cyclomech: {args.file}: the cyclogram does not fit at the nominal "
+            f"{r.nominal_rpm:g} rpm (speed limit {lim.rpm:.2f} rpm; exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
     return EXIT_OK
 
 
