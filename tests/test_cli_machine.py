@@ -160,3 +160,16 @@ def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
     assert "does not fit at the nominal 450 rpm (speed limit 420.32 rpm; exit status 3)" in cap.err
     assert (tmp_path / "fast" / "report.html").exists()
     assert main(["run", str(LOOM), "--out", str(tmp_path / "ok"), "--no-plot", "--quiet"]) == 0
+
+
+def test_sweep_refuses_a_key_this_table_takes_from_elsewhere(tmp_path, capsys):
+    """The loom's lifter names its cam, which gives it law and stroke: sweeping
+    lifter.stroke is bad input (status 2) before any design runs. It used to run,
+    mark every design invalid and exit 3."""
+    for key in ("stroke", "law"):
+        argv = ["sweep", str(LOOM), "--set", f"lifter.{key}=0.008:0.01:2", "--speed", "200:300:3"]
+        assert main([*argv, "--out", str(tmp_path / key), "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert f"parameter 'lifter.{key}': [mechanism.lifter] cannot vary {key}" in err
+        assert "it comes from the cam 'lifter cam'" in err
+        assert not (tmp_path / key).exists()

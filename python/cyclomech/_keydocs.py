@@ -250,9 +250,9 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
           "the name of a kind = cam mechanism with a rise segment on arc; then law and "
           "stroke are refused", False),
         K("law", "The cam's rise law.", NO_UNIT, TEXT, "modified_sine (from the cam with cam)",
-          LAWS, True),
+          LAWS + "; refused with cam (a sweep too)", True),
         K("stroke", "The working point's travel.", "m", NUM, "required unless cam is given",
-          "finite, > 0; refused with cam", True),
+          "finite, > 0; refused with cam (a sweep too)", True),
         K("preload", "How far short of the end of the stroke the stop sits.", "m", NUM, REQ,
           "finite, 0 ≤ preload < stroke", True),
         K("lever_length", "The lever's length l.", "m", NUM, REQ, POS, True),

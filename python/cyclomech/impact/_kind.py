@@ -45,6 +45,21 @@ class CamStop:
         (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg", "cam"}
     )
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc", "cam"})
+
+    @classmethod
+    def sweep_refuses(cls, table: Mapping[str, Any]) -> dict[str, str]:
+        """Keys this table takes in general but a sweep may not set here, with why:
+        a stop that names its cam takes ``law`` and ``stroke`` from it.
+
+        >>> CamStop.sweep_refuses({"cam": "lifter cam"})["stroke"]
+        "it comes from the cam 'lifter cam'"
+        >>> CamStop.sweep_refuses({"stroke": 0.009})
+        {}
+        """
+        if "cam" not in table:
+            return {}
+        return {k: f"it comes from the cam {table['cam']!r}" for k in ("law", "stroke")}
+
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)
     name: str

@@ -818,6 +818,15 @@ def check_parameter(machine: Machine, path: str) -> None:
             "set; valid keys are "
             f"{', '.join(sorted(allowed))}"
         )
+    if head != "machine":
+        # A key the kind takes in general that this table refuses (a stop's stroke
+        # when it names its cam): refused before the sweep, not design by design.
+        refuses = getattr(type(machine.mechanisms[head]), "sweep_refuses", None)
+        why = refuses(machine.data["mechanism"][head]).get(key) if refuses else None
+        if why:
+            raise InputError(
+                f"{machine.source}: parameter {path!r}: {where} cannot vary {key}: {why}"
+            )
 
 
 def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:
