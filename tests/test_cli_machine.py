@@ -173,3 +173,22 @@ def test_sweep_refuses_a_key_this_table_takes_from_elsewhere(tmp_path, capsys):
         assert f"parameter 'lifter.{key}': [mechanism.lifter] cannot vary {key}" in err
         assert "it comes from the cam 'lifter cam'" in err
         assert not (tmp_path / key).exists()
+
+
+def test_version_and_one_line_warnings(tmp_path):
+    """`cyclomech --version` names the version; a warning for the user is one line
+    (`cyclomech: warning: …`), not Python's warning with a file, line and source."""
+    r = subprocess.run(
+        [sys.executable, "-m", "cyclomech", "--version"], capture_output=True, text=True
+    )
+    assert r.returncode == 0 and r.stdout.strip() == f"cyclomech {cm.__version__}"
+    src = LOOM.read_text(encoding="utf-8")
+    assert src.count('mechanism = "lifter"') >= 1
+    typo = tmp_path / "typo.toml"
+    typo.write_text(src.replace('mechanism = "lifter"', 'mechanism = "liftr"', 1))
+    cmd = [sys.executable, "-m", "cyclomech", "run", str(typo), "--out", str(tmp_path / "o")]
+    r = subprocess.run([*cmd, "--no-plot", "--quiet"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    lines = [ln for ln in r.stderr.splitlines() if "liftr" in ln]
+    assert len(lines) == 1 and lines[0].startswith("cyclomech: warning: "), r.stderr
+    assert "did you mean 'lifter'?" in lines[0] and "Warning:" not in r.stderr

@@ -21,7 +21,9 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from collections.abc import Sequence
+from typing import TextIO
 
 from ._cli import (
     EXIT_BROKEN_PIPE,
@@ -74,17 +76,41 @@ def _not_a_machine_file(args: argparse.Namespace) -> None:
         )
 
 
+def _one_line_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """``warnings.showwarning`` for the command: ``cyclomech: warning: <message>``."""
+    print(f"cyclomech: warning: {message}", file=sys.stderr if file is None else file)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
-    parser = argparse.ArgumentParser(prog="cyclomech", description="Design of cyclic machines.")
+    from . import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="cyclomech",
+        description="Design of cyclic machines.",
+        epilog="Exit statuses: 0 the job is done and the design works; 2 bad input; 3 the "
+        "job is done and its files written but the design fails; 130 interrupted.",
+    )
+    parser.add_argument("--version", action="version", version=f"cyclomech {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     for domain in COMMANDS:
         domain.add_commands(sub)
     args = parser.parse_args(argv)
+    # A warning for the user (a near-miss name, an angle a linkage cannot reach) is one
+    # line on stderr, like an error, not Python's warning with a source line.
     try:
-        out_path(args)  # a bad --out fails now, not after the work
-        _not_a_machine_file(args)
-        return int(args.run(args))
+        with warnings.catch_warnings():  # restores showwarning for an in-process caller
+            warnings.showwarning = _one_line_warning
+            out_path(args)  # a bad --out fails now, not after the work
+            _not_a_machine_file(args)
+            return int(args.run(args))
     except CyclomechError as e:
         # Errors from the file already name it; name it for the others too.
         msg = str(e) if args.file in str(e) else f"{args.file}: {e}"
