@@ -54,7 +54,7 @@ _STEPS = 1440
 COLOR_BY = ("pressure_angle", "contact_stress")
 #: Line styles of the criteria of :data:`cyclomech.cam.CRITERIA` in
 #: :func:`plot_min_phase_angles`.
-_CRITERION_STYLES = ("-", "--", ":", "-.")
+_CRITERION_STYLES: tuple[Any, ...] = ("-", "--", ":", "-.", (0, (5, 1.5, 1, 1.5, 1, 1.5)))
 #: Line style of a segment's own angle in :func:`plot_min_phase_angles`.
 _NOMINAL_STYLE = (0, (6, 2, 1, 2, 1, 2))
 _SEPARATION_COLOR = "#ff7f0e"
@@ -627,7 +627,7 @@ def plot_min_phase_angles(
                 y,
                 color=c,
                 lw=1.3,
-                ls=_CRITERION_STYLES[j % 4],
+                ls=_CRITERION_STYLES[j % len(_CRITERION_STYLES)],
                 marker=marker,
                 ms=3,
                 gid=f"{seg}:{crit}",
@@ -637,7 +637,8 @@ def plot_min_phase_angles(
     handles = [Line2D([], [], color=f"C{i % 10}", lw=5.0, alpha=0.45) for i in range(n_seg)]
     texts = [f"{names[i]}: bound" for i in range(n_seg)]
     handles += [
-        Line2D([], [], color="0.2", lw=1.3, ls=_CRITERION_STYLES[j % 4]) for j in sorted(used)
+        Line2D([], [], color="0.2", lw=1.3, ls=_CRITERION_STYLES[j % len(_CRITERION_STYLES)])
+        for j in sorted(used)
     ]
     texts += [m.criteria[j].replace("_", " ") for j in sorted(used)]
     if nominal is not None:

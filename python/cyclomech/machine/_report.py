@@ -393,7 +393,7 @@ def _html(
         sh = r.shaft.at_nominal
         key.append(
             f"<p><b>Main shaft</b> at {r.nominal_rpm:g} rpm: motor "
-            f"<b>{float(sh.power_w) / 1e3:.3g} kW</b> (mean torque "
+            f"<b>{_power(float(sh.power_w))}</b> (mean torque "
             f"{float(sh.mean_torque_nm):.4g} N·m), peak torque "
             f"<b>{float(sh.peak_torque_nm):.4g} N·m</b>, flywheel "
             f"<b>{float(sh.flywheel_kg_m2):.4g} kg·m²</b> on the main shaft for δ = "
@@ -465,7 +465,7 @@ def _html(
                 float(mn),
                 o_.angles[op.arc],
                 o_.times[op.src],
-                o_.stretch[op.arc],
+                _noise_free(o_.stretch[op.arc], 360.0),
                 "yes" if op.arc in crit else "",
             ]
             for op, mn in zip(cg.operations, mins, strict=True)
@@ -624,3 +624,23 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     written.append(p)
     written += [f[2] for f in figs]
     return written
+
+
+def _power(watts: float) -> str:
+    """A power for the report, in W below a kilowatt and kW above (the CLI's unit
+    below a kilowatt too).
+
+    >>> _power(2.0944), _power(2202.4)
+    ('2.094 W', '2.202 kW')
+    """
+    return f"{watts:.4g} W" if abs(watts) < 1e3 else f"{watts / 1e3:.4g} kW"
+
+
+def _noise_free(value: float, scale: float) -> float:
+    """``value``, or 0.0 when it is rounding noise (below 1e-12 of ``scale``): an LP's
+    7.1e-15° of slack is no gain.
+
+    >>> _noise_free(7.1054e-15, 360.0), _noise_free(7.06, 360.0)
+    (0.0, 7.06)
+    """
+    return 0.0 if abs(value) < 1e-12 * scale else value
