@@ -31,7 +31,7 @@ extensions = [
     "keys_reference",  # docs/_ext: the machine-file format from cyclomech._keydocs
 ]
 
-exclude_patterns = ["_build", "gallery/README.rst", "reference/_generated"]
+exclude_patterns = ["_build", "gallery/README.rst", "reference/_generated", "api/_generated"]
 templates_path: list[str] = []
 html_static_path = ["_static"]
 html_css_files = ["cyclomech.css"]
@@ -92,5 +92,41 @@ def _bars_are_magnitudes(app, what, name, obj, options, lines: list[str]) -> Non
             literal_indent = indent
 
 
+def _top_level_names(app) -> None:
+    """Write api/_generated/top_names.rst: each name ``cyclomech`` exports at its top
+    level, linked to where its domain's page documents it (from ``__all__``, so the
+    list cannot drift)."""
+    import importlib
+    import inspect
+
+    rows = []
+    for name in cyclomech.__all__:
+        obj = getattr(cyclomech, name)
+        if inspect.ismodule(obj) or name.startswith("_"):
+            continue
+        home = "cyclomech"
+        for domain in ("cyclogram", "linkage", "machine", "impact", "press", "cam"):
+            mod = importlib.import_module(f"cyclomech.{domain}")
+            if getattr(mod, name, None) is obj and name in getattr(mod, "__all__", ()):
+                home = mod.__name__
+                break
+        role = "func" if inspect.isfunction(obj) else "class"
+        if issubclass(obj, Warning) if isinstance(obj, type) else False:
+            role = "class"
+        elif isinstance(obj, type) and issubclass(obj, BaseException):
+            role = "exc"
+        summary = " ".join((inspect.getdoc(obj) or "").split("\n\n", 1)[0].split())
+        rows.append(f"   * - :{role}:`cm.{name} <{home}.{name}>`\n     - {summary}")
+    out = Path(app.srcdir) / "api" / "_generated" / "top_names.rst"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    text = (
+        ".. list-table::\n   :header-rows: 1\n   :widths: 30 70\n\n"
+        "   * - name\n     - what it is\n" + "\n".join(rows) + "\n"
+    )
+    if not out.exists() or out.read_text(encoding="utf-8") != text:
+        out.write_text(text, encoding="utf-8")
+
+
 def setup(app):
     app.connect("autodoc-process-docstring", _bars_are_magnitudes)
+    app.connect("builder-inited", _top_level_names)
