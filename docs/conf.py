@@ -54,6 +54,8 @@ sphinx_gallery_conf = {
     "remove_config_comments": True,
     "matplotlib_animations": False,
     "within_subsection_order": "FileNameSortKey",
+    # No computation-times page: it loads DataTables from a CDN (the site is offline).
+    "write_computation_times": False,
 }
 
 html_theme = "pydata_sphinx_theme"

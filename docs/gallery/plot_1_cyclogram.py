@@ -16,7 +16,9 @@ cg = cm.Cyclogram("group 1", limiting=("10.1", "10.2"))
 cg.add_operation("1", "3", min_angle_deg=45, name="lift", mechanism="lifter")
 cg.add_operation("3", "7", min_angle_deg=20, name="approach stop", mechanism="lifter")
 cg.add_operation("7", "10.1", min_angle_deg=20, mechanism="lifter")
-cg.add_operation("10.1", "10.2", min_angle_deg=120, min_duration_s=0.1, name="weft insertion")
+cg.add_operation(
+    "10.1", "10.2", min_angle_deg=120, min_duration_s=0.1, name="weft insertion", mechanism="weft"
+)
 cg.add_constraint({("3", "7"): -0.003}, "<=", 0.1 - 0.208, name="rebound")
 
 o = cg.optimize(speed_rpm=300)
