@@ -112,11 +112,8 @@ def _top_level_names(app) -> None:
             if getattr(mod, name, None) is obj and name in getattr(mod, "__all__", ()):
                 home = mod.__name__
                 break
-        role = "func" if inspect.isfunction(obj) else "class"
-        if issubclass(obj, Warning) if isinstance(obj, type) else False:
-            role = "class"
-        elif isinstance(obj, type) and issubclass(obj, BaseException):
-            role = "exc"
+        errors = isinstance(obj, type) and issubclass(obj, Exception)
+        role = "func" if inspect.isfunction(obj) else "exc" if errors else "class"
         summary = " ".join((inspect.getdoc(obj) or "").split("\n\n", 1)[0].split())
         rows.append(f"   * - :{role}:`cm.{name} <{home}.{name}>`\n     - {summary}")
     out = Path(app.srcdir) / "api" / "_generated" / "top_names.rst"

@@ -139,11 +139,12 @@ class CamDesign:
         needs += [(k, "width_m", "the contact") for k in _CONTACT[1:]]
         rows = table["segment"] if isinstance(table["segment"], list) else []
         if any(isinstance(r, dict) and units["load"] in r for r in rows):
-            needs.append((f"a segment's {units['load']}", units["mass"], "the follower's loads"))
+            needs.append((units["load"], units["mass"], "the follower's loads"))
         for key, need, what in needs:
-            if (key.startswith("a segment") or key in table) and need not in table:
+            if need not in table and (key in table or key == units["load"]):
+                where_ = f"a segment's {key}" if key == units["load"] else key
                 raise InputError(
-                    f"{at}: {key} is read only with {need} ({what}); add {need} or remove it"
+                    f"{at}: {where_} is read only with {need} ({what}); add {need} or remove it"
                 )
         geometry = [k for k in _GEOMETRY[kind] if k != "offset_m"]
         _toml.require(table, geometry, at)

@@ -45,25 +45,9 @@ from ._model import Machine, _bounds_at
 
 __all__ = ["BATCH_KEYS", "Plan", "batch_figures", "plan"]
 
-#: The keys of a ``cam_stop`` table a batched sweep may vary (numbers only).
-BATCH_KEYS = frozenset(
-    {
-        "stroke",
-        "preload",
-        "lever_length",
-        "J_A",
-        "a",
-        "b",
-        "E",
-        "J_x",
-        "mass",
-        "restitution",
-        "zeta",
-        "contact_stiffness",
-        "contact_time",
-        "a_max",
-    }
-)
+#: The keys of a ``cam_stop`` table a batched sweep may vary: every key a sweep may
+#: set (``CamStop.keys`` less its fixed keys) but the text ones and ``phase_deg``.
+BATCH_KEYS = CamStop.keys - CamStop.fixed_keys - {"law", "pulse", "model", "phase_deg"}
 
 #: The pulse shapes of the batch kernel, by their code.
 _PULSE_CODE = {"decaying": 0, "rectangular": 1, "triangular": 2}
