@@ -54,7 +54,7 @@ _STEPS = 1440
 COLOR_BY = ("pressure_angle", "contact_stress")
 #: Line styles of the criteria of :data:`cyclomech.cam.CRITERIA` in
 #: :func:`plot_min_phase_angles`.
-_CRITERION_STYLES: tuple[Any, ...] = ("-", "--", ":", "-.", (0, (5, 1.5, 1, 1.5, 1, 1.5)))
+_CRITERION_STYLES: tuple[Any, ...] = ("-", "--", ":", "-.", (0, (1.5, 4)))
 #: Line style of a segment's own angle in :func:`plot_min_phase_angles`.
 _NOMINAL_STYLE = (0, (6, 2, 1, 2, 1, 2))
 _SEPARATION_COLOR = "#ff7f0e"
