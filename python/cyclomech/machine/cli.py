@@ -37,7 +37,7 @@ from .._cli import (
 )
 from .._errors import InputError
 
-__all__ = ["add_commands", "run_command", "sweep_command"]
+__all__ = ["add_commands", "design_range", "run_command", "sweep_command"]
 
 
 def add_commands(commands: Any) -> None:
@@ -216,6 +216,10 @@ def sweep_command(args: argparse.Namespace) -> int:
             f"{plural(bad, 'design')} of {designs} are invalid and counted as not "
             f"fitting (the 'problem' column says why); the first: {summary['problem']}"
         )
+    if designs > 1:
+        line = design_range(path, r.columns, list(params))
+        if line:
+            print(line)
     print(f"Wrote {path}")
     if path.suffix == ".npz":
         print("(NumPy .npz: pyarrow is not installed; `pip install pyarrow` writes Parquet)")
@@ -227,3 +231,74 @@ def sweep_command(args: argparse.Namespace) -> int:
         )
         return EXIT_FAILS
     return EXIT_OK
+
+
+def design_range(path: Path, columns: dict[str, Any], params: list[str]) -> str:
+    """One line naming the designs of a sweep with the highest and the lowest speed
+    limit [rpm] and their parameters; empty when no design has one (all invalid).
+
+    The rows are read from ``columns`` when the sweep kept them, else from the
+    Parquet file at ``path`` in batches (a streamed sweep of any size). A design's
+    speed limit is the same on each of its rows; ties keep the first design in the
+    sweep's order. A design that fits up to the speed cap has an infinite limit.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The sweep's file (read only when ``columns`` is empty).
+    columns : dict of str to numpy.ndarray
+        The sweep's columns, or an empty dict for a streamed sweep.
+    params : list of str
+        The swept parameters, ``"mechanism.key"``.
+
+    Returns
+    -------
+    str
+        Three lines: the range of the designs' speed limits, then the design
+        with the highest and the one with the lowest.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> cols = {"lifter.preload": np.array([1e-4, 1e-4, 2e-4, 2e-4]),
+    ...         "speed_limit_rpm": np.array([441.7, 441.7, 402.1, 402.1])}
+    >>> print(design_range(Path("unused"), cols, ["lifter.preload"]))
+    speed limit over the designs: 402.1–441.7 rpm
+      highest 441.7 rpm at lifter.preload=0.0001
+      lowest  402.1 rpm at lifter.preload=0.0002
+    """
+    import numpy as np
+
+    names = [*params, "speed_limit_rpm"]
+    if columns:
+        batches: Any = [{k: np.asarray(columns[k]) for k in names}]
+    else:
+        import pyarrow.parquet as pq
+
+        batches = (
+            {k: b.column(k).to_numpy(zero_copy_only=False) for k in names}
+            for b in pq.ParquetFile(path).iter_batches(columns=names, batch_size=1 << 16)
+        )
+    best: tuple[float, list[Any]] | None = None
+    worst: tuple[float, list[Any]] | None = None
+    for b in batches:
+        lim = np.asarray(b["speed_limit_rpm"], dtype=np.float64)
+        ok = np.flatnonzero(~np.isnan(lim))
+        if not ok.size:
+            continue
+        hi, lo = ok[np.argmax(lim[ok])], ok[np.argmin(lim[ok])]
+        if best is None or lim[hi] > best[0]:
+            best = (float(lim[hi]), [b[k][hi] for k in params])
+        if worst is None or lim[lo] < worst[0]:
+            worst = (float(lim[lo]), [b[k][lo] for k in params])
+    if best is None or worst is None:
+        return ""
+
+    def at(values: list[Any]) -> str:
+        return ", ".join(f"{k}={v:g}" for k, v in zip(params, values, strict=True))
+
+    return (
+        f"speed limit over the designs: {worst[0]:.4g}–{best[0]:.4g} rpm\n"
+        f"  highest {best[0]:.4g} rpm at {at(best[1])}\n"
+        f"  lowest  {worst[0]:.4g} rpm at {at(worst[1])}"
+    )

@@ -1,0 +1,75 @@
+"""`cyclomech sweep`'s per-design summary: the designs with the highest and the
+lowest speed limit, read from the kept columns or streamed from the Parquet file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from cyclomech.cli import main
+from cyclomech.machine.cli import design_range
+
+LOOM = "examples/stb_loom.toml"
+PRELOADS = [1e-4, 2.5e-4, 4e-4]
+
+
+@pytest.fixture(scope="module")
+def kept() -> cm.SweepResult:
+    m = cm.Machine.from_toml(LOOM)
+    return cm.sweep(m, {"lifter.preload": PRELOADS, "speed_rpm": [250.0, 300.0]}, progress=False)
+
+
+def test_the_range_is_the_designs_own_speed_limits(kept: cm.SweepResult) -> None:
+    # Independent: each design's speed limit from a machine of its own.
+    limits = []
+    for p in PRELOADS:
+        m = cm.Machine.from_toml(LOOM).with_values({"lifter.preload": p})
+        limits.append(m.speed_limit().rpm)
+    hi, lo = int(np.argmax(limits)), int(np.argmin(limits))
+    assert hi != lo
+    text = design_range(Path("unused"), kept.columns, ["lifter.preload"])
+    first, high, low = text.splitlines()
+    assert f"{min(limits):.4g}–{max(limits):.4g} rpm" in first
+    assert high.split() == [
+        "highest",
+        f"{limits[hi]:.4g}",
+        "rpm",
+        "at",
+        f"lifter.preload={PRELOADS[hi]:g}",
+    ]
+    assert low.split() == [
+        "lowest",
+        f"{limits[lo]:.4g}",
+        "rpm",
+        "at",
+        f"lifter.preload={PRELOADS[lo]:g}",
+    ]
+
+
+def test_streamed_and_kept_give_the_same_line(kept: cm.SweepResult, tmp_path: Path) -> None:
+    pytest.importorskip("pyarrow")
+    path = kept.write(tmp_path / "s.parquet")
+    assert design_range(path, {}, ["lifter.preload"]) == design_range(
+        Path("unused"), kept.columns, ["lifter.preload"]
+    )
+
+
+def test_ties_keep_the_first_design_and_no_limit_gives_no_line() -> None:
+    cols = {
+        "a.x": np.array([1.0, 1.0, 2.0, 2.0, 3.0, 3.0]),
+        "speed_limit_rpm": np.array([5.0, 5.0, np.nan, np.nan, 5.0, 5.0]),
+    }
+    text = design_range(Path("unused"), cols, ["a.x"])
+    assert text.splitlines()[1].endswith("a.x=1") and text.splitlines()[2].endswith("a.x=1")
+    cols["speed_limit_rpm"][:] = np.nan
+    assert design_range(Path("unused"), cols, ["a.x"]) == ""
+
+
+def test_the_command_prints_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    argv = ["sweep", LOOM, "--set", "lifter.preload=1e-4:4e-4:2", "--speed", "250:300:2"]
+    assert main([*argv, "--out", str(tmp_path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "speed limit over the designs:" in out
+    assert "highest" in out and "lowest" in out
