@@ -29,9 +29,16 @@ extensions = [
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "keys_reference",  # docs/_ext: the machine-file format from cyclomech._keydocs
+    "machine_run",  # docs/_ext: the machine guide's transcripts of cyclomech run / sweep
 ]
 
-exclude_patterns = ["_build", "gallery/README.rst", "reference/_generated", "api/_generated"]
+exclude_patterns = [
+    "_build",
+    "gallery/README.rst",
+    "reference/_generated",
+    "api/_generated",
+    "guide/_generated",
+]
 templates_path: list[str] = []
 html_static_path = ["_static"]
 html_css_files = ["cyclomech.css"]
