@@ -345,6 +345,13 @@ class _LP:
     def result(self, res: Any, x: npt.NDArray[np.float64], speed: float | None) -> Optimum:
         """The :class:`Optimum` with duals from ``res`` and event angles from ``x``."""
         cg = self.cg
+        # Slack, binding rows and critical operations of the schedule reported (x),
+        # not of the first LP's vertex: on a degenerate optimum they differ (the
+        # loom's 'return' sat at its minimum in x with 227° of slack at the vertex).
+        # Priced rows are tight in every optimal x (complementary slackness).
+        resid = self.b - self.A @ x
+        resid[self.eq] = 0.0
+        res.resid_all = np.where(np.isnan(res.resid_all), np.nan, resid)
         p = x[: self.V] - x[: self.V].min()
         arcs = list(cg._arc_index)  # in operation order
         ang = p[self.yi] - p[self.xi] + self.ch
