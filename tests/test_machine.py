@@ -605,11 +605,23 @@ def test_csv_files_agree_with_results_json(run, name):
         assert float(row["angle_deg"]) == o["angles_deg"][arc]
         assert float(row["start_deg"]) == o["times_deg"][row["from"]]
         assert row["critical"] == str(arc in o["critical"])
-        minimum = max(
+        own = max(
             op.get("min_angle_deg", 0.0),
             DEG_PER_S_PER_RPM * r["nominal_rpm"] * op.get("min_duration_s", 0.0),
         )
-        assert float(row["gained_deg"]) == pytest.approx(o["angles_deg"][arc] - minimum, abs=1e-9)
+        minimum, by = float(row["minimum_deg"]), row["minimum_by"]
+        assert minimum == o["minimums_deg"][arc] and by == o["minimum_by"][arc]
+        if by.startswith(("min[", "duration[")):  # the operation's own minimum sets it
+            assert by.endswith(f"[{row['operation']}]")
+            assert minimum == pytest.approx(own, abs=1e-9)
+        else:  # a mechanism's bound, above the operation's own minimum
+            assert minimum > own
+        # The optimum honours it, and where it sits on it, that bound is binding.
+        beyond = float(row["beyond_minimum_deg"])
+        assert beyond == pytest.approx(o["angles_deg"][arc] - minimum, abs=1e-12)
+        assert beyond >= -1e-9
+        if abs(beyond) <= 1e-9:
+            assert by in o["binding"], (arc, by)
 
 
 # --------------------------------------------------------------------- 2. properties

@@ -44,9 +44,12 @@ class MachineResult:
 
     ``limit``: the speed limit; ``nominal_rpm``: the speed of ``optimum`` (the LP
     optimum with the mechanisms' exact bounds; None if it does not fit there, and
-    ``problem`` says why); ``minimums``: each operation's minimum angle there (with
-    the bounds); ``sweep`` / ``sweep_linear``: the key figures against speed with
-    the exact and the seed's linearised bounds; ``mechanisms``: each mechanism's
+    ``problem`` says why); ``minimums``: each operation's smallest angle there (its
+    own minimum angle or duration, or a mechanism's bound on it, whichever is
+    larger) and ``minimum_by`` the name of what sets it (``min[op]``,
+    ``duration[op]`` or the bound's label, as in the optimum's ``binding``);
+    ``sweep`` / ``sweep_linear``: the key figures against speed with the exact and
+    the seed's linearised bounds; ``mechanisms``: each mechanism's
     results (:meth:`~cyclomech._kind.Mechanism.analyze`); ``seconds``: the time of
     each step.
     """
@@ -59,6 +62,7 @@ class MachineResult:
     sweep: SpeedSweep
     sweep_linear: SpeedSweep
     minimums: np.ndarray | None = None
+    minimum_by: list[str] = field(default_factory=list)
     mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
     shaft: MainShaft | None = None
@@ -108,8 +112,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
             return m.speed_sweep(rpm), m.speed_sweep(rpm, linear=True)
 
         sw, sw_lin = timed("speed sweep", sweeps)
-        # (The bounds are constraints on top of the operations' own minimums.)
-        mins = None if opt is None else m.cyclogram.min_angles(nominal)
+        mins, mins_by = (None, []) if opt is None else _minimums(m, nominal)
         ctx = Context(
             limit=limit,
             nominal_rpm=nominal,
@@ -134,7 +137,29 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
                 optimum=opt if flat else None,
             ),
         )
-    return MachineResult(m, limit, nominal, opt, problem, sw, sw_lin, mins, results, seconds, shaft)
+    return MachineResult(
+        m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
+    )
+
+
+def _minimums(m: Machine, rpm: float) -> tuple[np.ndarray, list[str]]:
+    """Each operation's smallest angle [deg] at ``rpm`` with the mechanisms' bounds,
+    and what sets it; a tie keeps the operation's own minimum, then the first bound."""
+    cg = m.cyclogram
+    ops = cg.operations
+    own = cg.min_angles(rpm)
+    mins = own.copy()
+    by = [
+        f"min[{op.title}]" if v <= op.min_angle_deg else f"duration[{op.title}]"
+        for op, v in zip(ops, own, strict=True)
+    ]
+    index = {op.arc: e for e, op in enumerate(ops)}
+    angles = m.bound_angles([rpm])
+    for b in m.bounds():
+        e, v = index[cg.operation(b.arc).arc], float(angles[b.name][0])
+        if v > mins[e]:
+            mins[e], by[e] = v, b.label
+    return mins, by
 
 
 # --------------------------------------------------------------------- tables
@@ -146,6 +171,16 @@ def _f(v: Any, digits: int = 4) -> str:
             return "—" if math.isnan(v) else ("∞" if v > 0 else "−∞")
         return f"{v:.{digits}g}"
     return str(v)
+
+
+def _own(by: str) -> str:
+    """A minimum's source as the report says it: its own angle or duration in
+    words, a mechanism's bound by its label."""
+    if by.startswith("min["):
+        return "its minimum angle"
+    if by.startswith("duration["):
+        return "its minimum duration"
+    return by
 
 
 def _summary(r: MachineResult) -> dict[str, Any]:
@@ -184,6 +219,10 @@ def _summary(r: MachineResult) -> dict[str, Any]:
             "limiting_s": o.objective / (DEG_PER_S_PER_RPM * r.nominal_rpm),
             "times_deg": o.times,
             "angles_deg": o.angles,
+            "minimums_deg": {
+                op.arc: float(v) for op, v in zip(cg.operations, r.minimums, strict=True)
+            },
+            "minimum_by": {op.arc: by for op, by in zip(cg.operations, r.minimum_by, strict=True)},
             "binding": list(o.binding),
             "shadow_prices": {kk: v for kk, v in o.duals.items() if abs(v) > 1e-9},
             "shadow_prices_per_mm_rebound": prices,
@@ -324,7 +363,7 @@ td.n { text-align: right; font-variant-numeric: tabular-nums; }
 th { background: #f2f2f2; } .key { font-size: 1.1em; background: #f6f9ff;
        border: 1px solid #c9d7ef; padding: .8em 1em; border-radius: 6px; }
 figure { margin: 1em 0 2em; } figure img { max-width: 100%; }
-figcaption { color: #555; font-size: .9em; } .warn { color: #b00; }
+figcaption, .note { color: #555; font-size: .9em; } .warn { color: #b00; }
 """
 
 
@@ -463,12 +502,13 @@ def _html(
                 op.title,
                 f"{op.src}→{op.dst}",
                 float(mn),
+                _own(by),
                 o_.angles[op.arc],
                 o_.times[op.src],
-                _noise_free(o_.stretch[op.arc], 360.0),
+                _noise_free(o_.angles[op.arc] - float(mn), 360.0),
                 "yes" if op.arc in crit else "",
             ]
-            for op, mn in zip(cg.operations, mins, strict=True)
+            for op, mn, by in zip(cg.operations, mins, r.minimum_by, strict=True)
         ]
         parts.append(
             _table(
@@ -477,13 +517,19 @@ def _html(
                     "operation",
                     "arc",
                     "minimum [deg]",
+                    "minimum set by",
                     "angle [deg]",
                     "start [deg]",
-                    "gained [deg]",
+                    "beyond minimum [deg]",
                     "critical",
                 ],
                 rows,
             )
+        )
+        parts.append(
+            "<p class='note'>Minimum: the operation's own minimum angle or duration, or "
+            "the largest bound a mechanism puts on it at this speed; beyond minimum: "
+            "what the optimum gave it on top of that.</p>"
         )
     for sec, cap, p in figs:
         if sec == "cyclogram":
@@ -565,17 +611,21 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     written.append(_write_csv(folder / "speed_sweep.csv", header, rows))
     op_rows: list[list[Any]] = []
     if result.optimum is not None:
-        o = result.optimum
-        for op in result.machine.cyclogram.operations:
+        o, mins = result.optimum, result.minimums
+        assert mins is not None
+        ops = result.machine.cyclogram.operations
+        for op, mn, by in zip(ops, mins, result.minimum_by, strict=True):
             op_rows.append(
                 [
                     op.mechanism or "",
                     op.title,
                     op.src,
                     op.dst,
+                    float(mn),
+                    by,
                     o.angles[op.arc],
                     o.times[op.src],
-                    o.stretch[op.arc],
+                    o.angles[op.arc] - float(mn),
                     op.arc in set(o.critical),
                 ]
             )
@@ -587,9 +637,11 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
                 "operation",
                 "from",
                 "to",
+                "minimum_deg",
+                "minimum_by",
                 "angle_deg",
                 "start_deg",
-                "gained_deg",
+                "beyond_minimum_deg",
                 "critical",
             ],
             op_rows,
