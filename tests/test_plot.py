@@ -475,6 +475,18 @@ def test_speed_sweep_with_stops_draws_their_smallest_phase_angles():
     assert_allclose(exact.get_data()[1][ok], s.min_phase_deg["lifter"][ok])
     assert_allclose(linear.get_data()[1][ok], lin.min_phase_deg["lifter"][ok])
     assert fig.axes[2].get_ylabel() == "smallest phase angle  [deg]"
+    # 13 bounds (the stop and four criteria on each of the cam's three segments):
+    # no two curves look alike; one colour a segment, one line style a criterion.
+    lines = [ln for ln in fig.axes[2].get_lines() if str(ln.get_gid()).startswith("stop:")]
+    # (matplotlib reports every custom dash pattern as "--": compare the patterns)
+    looks = [(ln.get_color(), str(ln._unscaled_dash_pattern)) for ln in lines]
+    assert len(lines) == len(s.min_phase_deg) + 1 and len(set(looks)) == len(looks)
+    by_segment: dict[str, set[str]] = {}
+    for ln in lines:
+        seg = ln.get_label().partition("[")[2]
+        if seg:
+            by_segment.setdefault(seg.split("]")[0], set()).add(ln.get_color())
+    assert len(by_segment) == 3 and all(len(c) == 1 for c in by_segment.values())
     plt.close(fig)
 
 

@@ -96,12 +96,19 @@ def plot_speed_sweep(
     mid.set_ylabel("its time  [ms]")
     if stops:
         low = axes[2]
-        for i, (name, t) in enumerate(stops.items()):
-            c = f"C{(i + 3) % 10}"
+        styles = _bound_styles(list(stops))
+        for name, t in stops.items():
+            c, style = styles[name]
             # 0 is "no bound" (a cam criterion another one covers): not drawn.
             exact = np.where(np.asarray(t, dtype=float) > 0, t, np.nan)
             low.plot(
-                n, upto(exact), "-", lw=1.6, color=c, label=f"{name}: exact", gid=f"stop:{name}"
+                n,
+                upto(exact),
+                linestyle=style,
+                lw=1.6,
+                color=c,
+                label=f"{name}: exact",
+                gid=f"stop:{name}",
             )
             lin = None if linear is None else np.asarray(linear.min_phase_deg[name], dtype=float)
             if lin is not None and not np.array_equal(lin, np.asarray(t, float), equal_nan=True):
@@ -180,3 +187,45 @@ def plot_speed_sweep(
         top.legend(fontsize=8, loc="lower left")
     fig.suptitle(title or "the machine against speed", fontsize=11)
     return cast("Figure", fig)
+
+
+#: Line styles of a bound's criterion when the bounds are many (a cam's four
+#: criteria on each of its segments): solid, dotted, dash-dot, long dashes. The
+#: seed's linearised stop bounds keep "--".
+_CRITERION_STYLES = ("-", (0, (1, 1.5)), (0, (5, 1.5, 1, 1.5)), (0, (8, 2.5)))
+
+
+def _bound_styles(names: list[str]) -> dict[str, tuple[str, Any]]:
+    """(colour, line style) of each bound's curve, all pairs distinct. Up to ten
+    bounds: one colour each (C3, C4, …), solid. More: a colour per operation (what
+    the brackets of ``criterion[mechanism segment]`` name, or the bound's own name)
+    and a line style per criterion, so that 13 bounds do not reuse a colour for
+    unrelated curves; past 10 operations × 4 criteria, the colours repeat with the
+    next styles.
+
+    >>> s = _bound_styles(["lifter", "σ_H[cam rise 1→3]", "undercut[cam rise 1→3]"])
+    >>> s["lifter"]
+    ('C3', '-')
+    >>> len(set(map(str, s.values()))) == 3
+    True
+    """
+    if len(names) <= 10:
+        return {name: (f"C{(i + 3) % 10}", "-") for i, name in enumerate(names)}
+    groups: dict[str, int] = {}
+    criteria: dict[str, int] = {}
+    out: dict[str, tuple[str, Any]] = {}
+    used: set[tuple[str, str]] = set()
+    for name in names:
+        crit, bracket, rest = name.partition("[")
+        group = rest.rstrip("]") if bracket else name
+        g = groups.setdefault(group, len(groups))
+        k = criteria.setdefault(crit if bracket else "", len(criteria))
+        colour, step = f"C{(g + 3) % 10}", k + (g // 10) * len(_CRITERION_STYLES)
+        style = _CRITERION_STYLES[step % len(_CRITERION_STYLES)]
+        while (colour, str(style)) in used:  # only past 40 bounds
+            step += 1
+            colour = f"C{(g + 3 + step // len(_CRITERION_STYLES)) % 10}"
+            style = _CRITERION_STYLES[step % len(_CRITERION_STYLES)]
+        used.add((colour, str(style)))
+        out[name] = (colour, style)
+    return out
