@@ -7,6 +7,7 @@ the build).
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -101,6 +102,17 @@ def _bars_are_magnitudes(app, what, name, obj, options, lines: list[str]) -> Non
             literal_indent = indent
 
 
+_ROLE = re.compile(r":[\w:]+:`(~?)([^`<]*?)\s*(?:<([^>]*)>)?`")
+
+
+def _role_text(m: re.Match[str]) -> str:
+    """``text`` of a role: its title, or its target (the last part with ``~``)."""
+    tilde, text, target = m.groups()
+    if target:
+        return f"``{text}``"
+    return f"``{text.rsplit('.', 1)[-1] if tilde else text}``"
+
+
 def _top_level_names(app) -> None:
     """Write api/_generated/top_names.rst: each name ``cyclomech`` exports at its top
     level, linked to where its domain's page documents it (from ``__all__``, so the
@@ -122,6 +134,9 @@ def _top_level_names(app) -> None:
         errors = isinstance(obj, type) and issubclass(obj, Exception)
         role = "func" if inspect.isfunction(obj) else "exc" if errors else "class"
         summary = " ".join((inspect.getdoc(obj) or "").split("\n\n", 1)[0].split())
+        # Cross-references in a summary resolve in its own module, not here: keep
+        # their text as literals (the row's name links to the full entry).
+        summary = _ROLE.sub(_role_text, summary)
         rows.append(f"   * - :{role}:`cm.{name} <{home}.{name}>`\n     - {summary}")
     out = Path(app.srcdir) / "api" / "_generated" / "top_names.rst"
     out.parent.mkdir(parents=True, exist_ok=True)

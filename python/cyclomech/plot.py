@@ -4,28 +4,28 @@ Each domain owns its plots; this module only re-exports them under the names the
 have always had here, so ``from cyclomech.plot import plot_press`` and
 ``from cyclomech.press.plot import plot_press`` give the same function:
 
-* :mod:`cyclomech.cyclogram.plot` — :func:`plot_cyclogram`, :func:`plot_cyclogram_pair`
+* ``cyclomech.cyclogram.plot`` — :func:`plot_cyclogram`, :func:`plot_cyclogram_pair`
   (a Gantt chart over the cycle and a circular diagram);
-* :mod:`cyclomech.forces.plot` — :func:`plot_forces` (a linkage's driving torque
+* ``cyclomech.forces.plot`` — :func:`plot_forces` (a linkage's driving torque
   and joint loads over the crank angle);
-* :mod:`cyclomech.linkage.plot` — :func:`plot_linkage`, :func:`plot_analogs`,
+* ``cyclomech.linkage.plot`` — :func:`plot_linkage`, :func:`plot_analogs`,
   :func:`animate_linkage` (the mechanism, a point's position and analogs, a GIF);
-* :mod:`cyclomech.motion.plot` — :func:`plot_law` (a motion law);
-* :mod:`cyclomech.press.plot` — :func:`plot_press`, :func:`plot_press_criteria`,
+* ``cyclomech.motion.plot`` — :func:`plot_law` (a motion law);
+* ``cyclomech.press.plot`` — :func:`plot_press`, :func:`plot_press_criteria`,
   :func:`plot_crank_torque` (the gear-lever press, the maps of its working-stroke
   criteria, its deformation force and crank torque);
-* :mod:`cyclomech.impact.plot` — :func:`plot_response`, :func:`plot_rebound_vs_speed`,
+* ``cyclomech.impact.plot`` — :func:`plot_response`, :func:`plot_rebound_vs_speed`,
   :func:`plot_min_phase` (a stop: the motion after contact, the first rebound and
   the smallest phase angle against speed);
-* :mod:`cyclomech.cam.plot` — :func:`plot_cam`, :func:`plot_svaj`, :func:`plot_along_cycle`,
+* ``cyclomech.cam.plot`` — :func:`plot_cam`, :func:`plot_svaj`, :func:`plot_along_cycle`,
   :func:`plot_min_phase_angles` (a disc cam: the cam and its follower, the SVAJ
   diagram, the pressure angle, forces and stress along the cycle, and the smallest
   phase angles against speed per criterion);
-* :mod:`cyclomech.transfer.plot` — :func:`plot_transfer` (a rotor transfer path);
-* :mod:`cyclomech.machine.plot` — :func:`plot_speed_sweep` (the machine against speed).
+* ``cyclomech.transfer.plot`` — :func:`plot_transfer` (a rotor transfer path);
+* ``cyclomech.machine.plot`` — :func:`plot_speed_sweep` (the machine against speed).
 
-The colours the plots use are here too (:data:`CRITICAL_COLOR`,
-:data:`LIMITING_COLOR`, …). Lengths are metres in and millimetres on the axes where
+The colours the plots use are here too (``CRITICAL_COLOR``,
+``LIMITING_COLOR``, …). Lengths are metres in and millimetres on the axes where
 a function says so, angles degrees on the axes. matplotlib is an optional dependency
 (``pip install 'cyclomech[plot]'``), imported only when a function draws; the
 functions never call ``plt.show()``.
