@@ -270,7 +270,7 @@ class TransferPath:
         The straight segment's length [m].
     transitions : tuple of (QuinticTransition, QuinticTransition)
         The two transitions.
-    frames : tuple of (tuple of float, tuple of float)
+    frames : tuple of (tuple of (float, float, float), tuple of (float, float, float))
         The seed's (α [rad], x0 [m], y0 [m]) of each transition's frame, so that
         ``to_machine(x, q.y(x), *frames[i])`` places transition i (``q``) in the
         machine frame — with ``ccw=False`` the path is a mirror image and the seed's
@@ -426,7 +426,7 @@ class TransferPath:
 
         Parameters
         ----------
-        n : int, default 10_001
+        n : int, default 10001
             The number of points (≥ 10).
         n_threads : int, optional
             Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
@@ -544,7 +544,7 @@ class TransferPath:
         ----------
         speed : float or tuple of (float, float)
             The speed V [m/s] or the pair (V_t, V_p) [m/s].
-        n : int, default 20_001
+        n : int, default 20001
             The number of points the path is sampled at (≥ 10).
         n_threads : int, optional
             Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
@@ -594,7 +594,7 @@ class TransferPath:
         ----------
         speed : float or tuple of (float, float)
             The speed V [m/s] or the pair (V_t, V_p) [m/s].
-        n : int, default 20_001
+        n : int, default 20001
             The number of points the path is sampled at (≥ 10).
         n_threads : int, optional
             Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
