@@ -19,13 +19,52 @@ __all__ = ["ContactHistory", "contact_response", "contact_sample"]
 class ContactHistory:
     """The motion of a link on a unilateral stop (see :func:`contact_response`).
 
-    Per contact: ``contact_start``, ``contact_end`` [s], ``impact_velocity``,
-    ``exit_velocity`` [m/s], ``contact_duration`` [s], the deepest point
-    ``penetration`` [m] (x < 0) at ``penetration_time`` [s]; per free flight
-    after a contact: its top ``rebound_height`` [m] at ``rebound_time`` [s].
-    ``end`` says why the history stops: ``"rest_in_contact"``, ``"rest_free"``,
-    ``"t_end"``, ``"max_rebounds"`` or ``"max_events"`` (chattering capped);
-    ``t_stop``, ``x_stop``, ``v_stop`` the state there.
+    Built by :func:`contact_response`; each parameter is kept as the attribute of
+    the same name. The per-contact arrays have one entry per contact, the
+    per-flight arrays one per free flight after a contact.
+
+    Parameters
+    ----------
+    contact_start : ndarray of float
+        Per contact: the time it starts [s].
+    contact_end : ndarray of float
+        Per contact: the time it ends [s].
+    impact_velocity : ndarray of float
+        Per contact: the velocity at the start [m/s].
+    exit_velocity : ndarray of float
+        Per contact: the velocity at the end [m/s].
+    contact_duration : ndarray of float
+        Per contact: its duration [s].
+    penetration : ndarray of float
+        Per contact: the deepest point [m] (x < 0).
+    penetration_time : ndarray of float
+        Per contact: the time of the deepest point [s].
+    rebound_height : ndarray of float
+        Per free flight after a contact: its top [m].
+    rebound_time : ndarray of float
+        Per free flight after a contact: the time of its top [s].
+    n_events : int
+        The number of events (crossings of x = 0) located.
+    end : str
+        Why the history stops: ``"rest_in_contact"``, ``"rest_free"``, ``"t_end"``,
+        ``"max_rebounds"`` or ``"max_events"`` (chattering capped).
+    t_stop : float
+        The time where the history stops [s].
+    x_stop : float
+        The position there [m].
+    v_stop : float
+        The velocity there [m/s].
+
+    See Also
+    --------
+    contact_response : Builds it.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> h = cm.impact.contact_response(mass=1.0, k_free=1.0, k_stop=99.0, v0=-1.0, max_rebounds=1)
+    >>> h.end, h.contact_start.tolist(), h.x_stop
+    ('max_rebounds', [0.0], 1.0)
     """
 
     contact_start: Array
@@ -72,16 +111,52 @@ def contact_response(
 ) -> ContactHistory:
     """The link on its stop as a unilateral contact, solved exactly event by event.
 
-    The link (``mass`` [kg]) moves along x with the stop at x = 0: free for x > 0
-    under the spring −k_free·(x + preload) (its equilibrium ``preload`` [m]
-    inside the stop, so at rest it presses on it with k_free·preload [N]), in
-    contact for x < 0 with the stop's spring −k_stop·x added. Each regime is an
-    oscillator solved in closed form, damped by its own ratio (``zeta_free``,
-    ``zeta_contact``); every crossing of x = 0 is located on the closed form
-    (bracketed between its extrema, Newton with bisection), so the contact
-    times and the rebounds come out of the model instead of an assumed τ.
-    Starts at ``x0`` [m] with ``v0`` [m/s] (v0 < 0: arriving at the stop).
+    The link moves along x with the stop at x = 0: free for x > 0 under the spring
+    −k_free·(x + preload) (its equilibrium ``preload`` inside the stop, so at rest it
+    presses on it with k_free·preload [N]), in contact for x < 0 with the stop's
+    spring −k_stop·x added. Each regime is an oscillator solved in closed form,
+    damped by its own ratio (``zeta_free``, ``zeta_contact``); every crossing of
+    x = 0 is located on the closed form (bracketed between its extrema, Newton with
+    bisection), so the contact times and the rebounds come out of the model instead
+    of an assumed τ.
 
+    Parameters
+    ----------
+    mass : float
+        The link's mass [kg] (> 0). Keyword-only, as are all the parameters.
+    k_free : float
+        The stiffness of the free regime's spring [N/m] (> 0).
+    k_stop : float
+        The stop's stiffness, added in contact [N/m] (> 0).
+    preload : float, default 0.0
+        The free spring's equilibrium inside the stop [m] (≥ 0).
+    zeta_free : float, default 0.0
+        The damping ratio of the free regime (≥ 0).
+    zeta_contact : float, default 0.0
+        The damping ratio in contact (≥ 0).
+    x0 : float, default 0.0
+        The starting position [m].
+    v0 : float
+        The starting velocity [m/s] (v0 < 0: arriving at the stop).
+    t_end : float, default inf
+        The time to stop at [s] (> 0, or inf).
+    max_rebounds : int, default 1000
+        The number of rebounds to stop after.
+
+    Returns
+    -------
+    ContactHistory
+        The contacts, the rebounds, and why and where the history stops.
+
+    Raises
+    ------
+    InputError
+        If a stiffness or the mass is not finite and positive, ``preload`` or a
+        damping ratio is negative, ``x0`` or ``v0`` is not finite, ``t_end`` is not
+        positive or ``max_rebounds`` is not a count.
+
+    Examples
+    --------
     >>> import math, cyclomech as cm
     >>> h = cm.impact.contact_response(mass=1.0, k_free=1.0, k_stop=99.0, v0=-1.0, max_rebounds=1)
     >>> round(float(h.contact_duration[0]) / (math.pi / 10), 12)   # half period at √(100/1)
@@ -113,9 +188,46 @@ def contact_sample(
     x0: float = 0.0,
     v0: float,
 ) -> tuple[Array, Array]:
-    """x(t) [m] and ẋ(t) [m/s] of :func:`contact_response`'s motion at ``times``
-    [s] (non-decreasing, ≥ 0), by the same piecewise closed form.
+    """x(t) [m] and ẋ(t) [m/s] of :func:`contact_response`'s motion at given times.
 
+    By the same piecewise closed form.
+
+    Parameters
+    ----------
+    times : array_like of float, shape (N,)
+        The times [s] (non-decreasing, ≥ 0).
+    mass : float
+        The link's mass [kg] (> 0). Keyword-only, as are the parameters below.
+    k_free : float
+        The stiffness of the free regime's spring [N/m] (> 0).
+    k_stop : float
+        The stop's stiffness, added in contact [N/m] (> 0).
+    preload : float, default 0.0
+        The free spring's equilibrium inside the stop [m] (≥ 0).
+    zeta_free : float, default 0.0
+        The damping ratio of the free regime (≥ 0).
+    zeta_contact : float, default 0.0
+        The damping ratio in contact (≥ 0).
+    x0 : float, default 0.0
+        The starting position [m].
+    v0 : float
+        The starting velocity [m/s] (v0 < 0: arriving at the stop).
+
+    Returns
+    -------
+    x : ndarray of float, shape (N,)
+        The position at each time [m].
+    v : ndarray of float, shape (N,)
+        The velocity ẋ at each time [m/s].
+
+    Raises
+    ------
+    InputError
+        If an argument is out of range (as :func:`contact_response`) or ``times``
+        is not a 1-D array of non-decreasing times ≥ 0.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> x, v = cm.impact.contact_sample([0.0, np.pi / 20], mass=1.0, k_free=1.0, k_stop=99.0,
     ...                                 v0=-1.0)

@@ -29,11 +29,41 @@ _STOP_RTOL = 1e-9 / 360.0
 
 @dataclass(frozen=True)
 class CamStop:
-    """A cam-driven lever that hits a limit stop (seed 000), and the operation
-    ``arc`` of the cyclogram that brings it there: at n rpm that operation's phase
-    angle must keep the first rebound within ``a_max`` [m]. ``phase_deg`` are the
-    phase angles [deg] drawn in the report's rebound curves.
+    """A cam-driven lever that hits a limit stop (seed 000), and the operation that brings it there.
 
+    At n rpm the phase angle of the cyclogram's operation ``arc`` must keep the
+    first rebound within ``a_max``. The ``cam_stop`` kind of a machine file, read
+    by :meth:`from_table`; each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    name : str
+        The mechanism's name in the machine file.
+    stop : StopImpact
+        The lever with its stop.
+    arc : tuple of (str, str)
+        The cyclogram operation (from, to) that brings the lever to the stop.
+    a_max : float
+        The rebound limit [m].
+    phase_deg : ndarray of float
+        The phase angles [deg] drawn in the report's rebound curves.
+
+    Attributes
+    ----------
+    kind : str
+        ``"cam_stop"``, the ``kind`` key of its table.
+    keys : frozenset of str
+        The keys its table takes: those of :class:`StopImpact` plus ``kind``,
+        ``arc``, ``a_max``, ``phase_deg`` and ``cam``.
+    fixed_keys : frozenset of str
+        The keys a sweep may not vary (``kind``, ``arc``, ``cam``).
+    json_groups : tuple of str
+        The groups of the machine's JSON results it adds to (``"stops"``).
+    sweep_columns : tuple of str
+        The columns it adds to a speed sweep (``"max_rebound_m"``).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> lifter = cm.Machine.example().mechanisms["lifter"]
     >>> lifter.kind, lifter.arc, lifter.a_max
@@ -48,9 +78,22 @@ class CamStop:
 
     @classmethod
     def sweep_refuses(cls, table: Mapping[str, Any]) -> dict[str, str]:
-        """Keys this table takes in general but a sweep may not set here, with why:
-        a stop that names its cam takes ``law`` and ``stroke`` from it.
+        """Keys this table takes in general but a sweep may not set here, with why.
 
+        A stop that names its cam takes ``law`` and ``stroke`` from it.
+
+        Parameters
+        ----------
+        table : mapping of str to Any
+            The mechanism's table as read from the file.
+
+        Returns
+        -------
+        dict of str to str
+            Each refused key and the reason (empty if the table names no cam).
+
+        Examples
+        --------
         >>> CamStop.sweep_refuses({"cam": "lifter cam"})["stroke"]
         "it comes from the cam 'lifter cam'"
         >>> CamStop.sweep_refuses({"stroke": 0.009})
@@ -71,10 +114,38 @@ class CamStop:
     # ------------------------------------------------------------- the file
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamStop:
-        """Its ``[mechanism.<name>]`` table: the keys of
-        :class:`~cyclomech.impact.StopImpact` plus ``arc`` (the operation's two
-        events), ``a_max`` [m] and optionally ``phase_deg = [from, to, count]``.
+        """A cam stop from its ``[mechanism.<name>]`` table.
 
+        The table holds the keys of :class:`~cyclomech.impact.StopImpact` plus ``arc``
+        (the operation's two events), ``a_max`` [m] and optionally
+        ``phase_deg = [from, to, count]`` [deg]; or, with ``cam = "<name>"``, the law
+        and stroke from that cam's rise on the arc (a ``kind = "cam"`` mechanism of the
+        machine; an oscillating follower's rotation times ``lever_length``).
+
+        Parameters
+        ----------
+        name : str
+            The mechanism's name.
+        table : mapping of str to Any
+            Its table as read from the file.
+        ctx : TableContext
+            The machine's cyclogram (the arc must be one of its operations), the file's
+            name for messages and the machine's other tables.
+
+        Returns
+        -------
+        CamStop
+            The mechanism.
+
+        Raises
+        ------
+        InputError
+            If a key is missing or unknown, a value is malformed or out of range, the
+            arc is not an operation of the cyclogram, or the named cam has no rise on
+            the arc (or ``law`` or ``stroke`` is given besides it).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> spec = cm.Machine.example().data["mechanism"]["lifter"]
         >>> ctx = TableContext(cm.Machine.example().cyclogram, "<doc>", 361)
@@ -109,9 +180,24 @@ class CamStop:
 
     # ------------------------------------------------------------- its bound
     def min_phase_deg(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> Array:
-        """Exact smallest phase angle [deg] of the arc at each speed ``rpm``
-        (:meth:`StopImpact.min_phase_angle`; NaN where even 360° is too short).
+        """Exact smallest phase angle [deg] of the arc at each speed.
 
+        :meth:`StopImpact.min_phase_angle`; NaN where even 360° is too short.
+
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The main shaft's speeds [rpm] (> 0).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        ndarray of float
+            The smallest phase angle at each speed [deg] (0-d for a scalar speed).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lifter = cm.Machine.example().mechanisms["lifter"]
         >>> round(float(lifter.min_phase_deg(280.0)), 4)
@@ -124,9 +210,27 @@ class CamStop:
     def linear_min_phase_deg(
         self, rpm: npt.ArrayLike, *, points: int = 64, n_threads: int | None = None
     ) -> Array:
-        """The seed's linearised form at each speed ``rpm`` [deg]
-        (:meth:`StopImpact.linear_min_phase_angle`).
+        """The seed's linearised smallest phase angle [deg] at each speed.
 
+        :meth:`StopImpact.linear_min_phase_angle`.
+
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The main shaft's speeds [rpm] (> 0).
+        points : int, default 64
+            The number of phase angles each line is fitted to.
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        ndarray of float
+            The linearised smallest phase angle at each speed [deg] (0-d for a scalar
+            speed).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lifter = cm.Machine.example().mechanisms["lifter"]
         >>> round(float(lifter.linear_min_phase_deg(280.0)), 2)     # exact: 28.03
@@ -138,9 +242,30 @@ class CamStop:
         )
 
     def constraint(self, rpm: float, *, linear: bool = False) -> Constraint:
-        """The cyclogram constraint at ``rpm``, named ``rebound[<name>]``: exact, or
-        the seed's linearised form with ``linear=True``.
+        """The cyclogram constraint at a speed, named ``rebound[<name>]``.
 
+        Exact, or the seed's linearised form with ``linear=True``
+        (:meth:`StopImpact.constraint`).
+
+        Parameters
+        ----------
+        rpm : float
+            The main shaft's speed [rpm].
+        linear : bool, default False
+            The seed's linearised form instead of the exact one.
+
+        Returns
+        -------
+        Constraint
+            The constraint on the arc's phase angle [deg].
+
+        Raises
+        ------
+        InfeasibleError
+            If the rebound stays above ``a_max`` for every phase angle up to 360°.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.example().mechanisms["lifter"].constraint(280.0).describe()
         '1·t(3,7) >= 28.0271'
@@ -149,8 +274,22 @@ class CamStop:
         return Constraint(c.coeffs, c.sense, c.rhs, self.bounds()[0].label)
 
     def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
-        """Its bound at ``rpm`` as a cyclogram constraint (:meth:`constraint`).
+        """Its bound at a speed as cyclogram constraints (:meth:`constraint`).
 
+        Parameters
+        ----------
+        rpm : float
+            The main shaft's speed [rpm].
+        linear : bool, default False
+            The seed's linearised form instead of the exact one.
+
+        Returns
+        -------
+        tuple of Constraint
+            The one constraint, named ``rebound[<name>]``.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> [c.name for c in cm.Machine.example().mechanisms["lifter"].constraints(280.0)]
         ['rebound[lifter]']
@@ -160,6 +299,13 @@ class CamStop:
     def bounds(self) -> tuple[Bound, ...]:
         """Its one bound: the rebound bound on its arc.
 
+        Returns
+        -------
+        tuple of Bound
+            The bound, labelled ``rebound[<name>]``.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.example().mechanisms["lifter"].bounds()
         (Bound(arc=('3', '7'), label='rebound[lifter]', name='lifter'),)
@@ -170,11 +316,29 @@ class CamStop:
     def bound_laws(
         cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
     ) -> list[list[BoundLaw]]:
-        """Each stop's smallest phase angle at any speed: t_min = n·slope, the
-        slopes of all the stops from one search for their largest impact speeds
-        (the rebound depends on the impact speed alone, which grows as n/t); or the
-        seed's linearised form, one fit per call.
+        """Each stop's smallest phase angle [deg] at any speed, as a function of the speed.
 
+        t_min = n·slope, the slopes of all the stops from one search for their largest
+        impact speeds (the rebound depends on the impact speed alone, which grows as
+        n/t); or the seed's linearised form, one fit per call.
+
+        Parameters
+        ----------
+        mechanisms : sequence of CamStop
+            The stops.
+        linear : bool, default False
+            The seed's linearised form instead of the exact one.
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        list of list of callable
+            Per stop, its one bound law: speeds [rpm] (array) to the smallest phase
+            angle [deg].
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> lifter = cm.Machine.example().mechanisms["lifter"]
         >>> [[law]] = CamStop.bound_laws([lifter])
@@ -207,10 +371,33 @@ class CamStop:
         *,
         n_threads: int | None = None,
     ) -> dict[str, Array]:
-        """``max_rebound_m``: each stop's first rebound [m] with its arc at the
-        optimum's angle (its minimum there), one rebound call per pulse table; NaN
-        where the machine does not fit.
+        """The speed sweep's ``max_rebound_m`` column: each stop's first rebound [m] at the optimum.
 
+        The first rebound with its arc at the optimum's angle (its minimum there), one
+        rebound call per pulse table; NaN where the machine does not fit.
+
+        Parameters
+        ----------
+        mechanisms : sequence of CamStop
+            The same stop in D designs.
+        rpm : ndarray of float, shape (D, S)
+            The speeds of each design [rpm].
+        angle_deg : sequence of ndarray of float, shape (D·S,)
+            The optimum's angle of the stop's arc at each design and speed [deg] (one
+            array per bound; a stop has one).
+        fits : ndarray of bool, shape (D·S,)
+            Whether the machine fits at each design and speed.
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        dict of str to ndarray of float
+            ``{"max_rebound_m": ...}``, the first rebound at each design and speed [m],
+            shape (D·S,).
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> lifter = cm.Machine.example().mechanisms["lifter"]
         >>> n = np.array([[300.0]])
@@ -235,6 +422,13 @@ class CamStop:
     def speed_limit_rpm(self) -> float:
         """A stop limits the speed through the cyclogram only: inf here.
 
+        Returns
+        -------
+        float
+            ``inf`` [rpm].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.example().mechanisms["lifter"].speed_limit_rpm()
         inf
@@ -242,8 +436,15 @@ class CamStop:
         return math.inf
 
     def limit_reason(self) -> str:
-        """ "" (:meth:`speed_limit_rpm`).
+        """Why it limits the speed: "" (see :meth:`speed_limit_rpm`).
 
+        Returns
+        -------
+        str
+            The empty string.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.example().mechanisms["lifter"].limit_reason()
         ''
@@ -254,6 +455,21 @@ class CamStop:
     def analyze(self, ctx: Context) -> CamStopResult:
         """Its results at the machine's nominal speed and on the speed grid.
 
+        Parameters
+        ----------
+        ctx : Context
+            What the machine computed before: the nominal speed, the speed grid, the
+            optimum and each bound's smallest angles.
+
+        Returns
+        -------
+        CamStopResult
+            Its largest admissible impact speed [m/s], its smallest phase angle [deg] at
+            the nominal speed (exact and linearised) and on the speed grid, and its
+            bound's shadow price per mm of ``a_max``.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
         >>> round(r.nominal_rpm, 2), round(r.mechanisms["lifter"].min_phase_at_nominal, 4)

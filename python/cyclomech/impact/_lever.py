@@ -26,9 +26,33 @@ def lever_stiffness(E: float, J_x: float, a: float, b: float) -> float:
     """Reduced stiffness [N/m] of the lever at its working end, free of the stop.
 
     The lever as a beam on two supports a [m] apart (its axis and the cam
-    roller) with an overhang b [m] to the working point: c = 3·E·J_x/((a+b)·b²),
-    E [Pa], J_x [m⁴] the section's axial moment of inertia (seed 000).
+    roller) with an overhang b [m] to the working point: c = 3·E·J_x/((a+b)·b²)
+    (seed 000).
 
+    Parameters
+    ----------
+    E : float
+        Young's modulus of the lever's material [Pa].
+    J_x : float
+        The section's axial moment of inertia [m⁴].
+    a : float
+        Distance between the two supports (the lever's axis and the cam roller) [m].
+    b : float
+        The overhang from the roller support to the working point [m].
+
+    Returns
+    -------
+    float
+        The reduced stiffness c at the working end [N/m].
+
+    Raises
+    ------
+    InputError
+        If a value is not a finite positive number, or the values overflow or
+        underflow (scale the units).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> round(cm.impact.lever_stiffness(2.1e11, 6.1e-11, 0.05, 0.1))
     25620
@@ -75,15 +99,43 @@ def _flexibility(xi: float, xj: float, a: float, length: float, EJ: float) -> fl
 def propped_lever_stiffness(
     E: float, J_x: float, a: float, b: float, at: float | None = None
 ) -> tuple[float, float]:
-    """Stiffness [N/m] of the lever at a point of its overhang, free and with its
-    working end resting on the stop: ``(free, propped)``.
+    """Stiffness [N/m] of the lever at a point of its overhang, free and propped.
 
-    In contact the stop adds a support at the end of the overhang (seed 000,
-    fig. 6), so the reduced mass, now between two supports, vibrates faster. The
-    point lies ``at`` [m] from the roller support along the overhang (default
-    b/2); the beam is as in :func:`lever_stiffness`. Computed by the force
-    method: the overhanging beam is the base, the stop's reaction the redundant.
+    Free of the stop, and with its working end resting on the stop. In contact the
+    stop adds a support at the end of the overhang (seed 000, fig. 6), so the
+    reduced mass, now between two supports, vibrates faster. The beam is as in
+    :func:`lever_stiffness`. Computed by the force method: the overhanging beam is
+    the base, the stop's reaction the redundant.
 
+    Parameters
+    ----------
+    E : float
+        Young's modulus of the lever's material [Pa].
+    J_x : float
+        The section's axial moment of inertia [m⁴].
+    a : float
+        Distance between the two supports (the lever's axis and the cam roller) [m].
+    b : float
+        The overhang from the roller support to the working end [m].
+    at : float, optional
+        Distance of the point from the roller support along the overhang [m],
+        0 < at < b; default None (b/2).
+
+    Returns
+    -------
+    free : float
+        The stiffness at the point, free of the stop [N/m].
+    propped : float
+        The stiffness at the point with the working end resting on the stop [N/m].
+
+    Raises
+    ------
+    InputError
+        If a value is not a finite positive number, ``at`` does not lie inside the
+        overhang, or the values overflow or underflow (scale the units).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> free, propped = cm.impact.propped_lever_stiffness(2.1e11, 6.1e-11, 0.05, 0.1)
     >>> round(free), round(propped / free, 2)
@@ -120,9 +172,27 @@ def _propped_ratio(a: float, b: float) -> float:
 
 
 def natural_frequency(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
-    """Natural frequency f = √(c/m)/(2π) [Hz] of stiffness c [N/m] and mass m [kg]
-    (arrays broadcast).
+    """Natural frequency f = √(c/m)/(2π) [Hz] of a stiffness and a mass.
 
+    Parameters
+    ----------
+    stiffness : float or array_like of float
+        The stiffness c [N/m] (> 0); broadcasts with ``mass``.
+    mass : float or array_like of float
+        The mass m [kg] (> 0).
+
+    Returns
+    -------
+    float or ndarray of float
+        The natural frequency f [Hz], of the broadcast shape (a NumPy float for scalars).
+
+    Raises
+    ------
+    InputError
+        If a stiffness or a mass is not finite and positive.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> round(float(cm.impact.natural_frequency(25620.0, 7.4e-3)), 1)
     296.1
@@ -133,9 +203,29 @@ def natural_frequency(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
 
 
 def contact_time(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
-    """Half the period of the contact vibration, τ = π·√(m/c) [s]: the seed's
-    recommended duration of the impact (c [N/m] the in-contact stiffness).
+    """Half the period of the contact vibration, τ = π·√(m/c) [s].
 
+    The seed's recommended duration of the impact.
+
+    Parameters
+    ----------
+    stiffness : float or array_like of float
+        The in-contact stiffness c [N/m] (> 0); broadcasts with ``mass``.
+    mass : float or array_like of float
+        The mass m [kg] (> 0).
+
+    Returns
+    -------
+    float or ndarray of float
+        The contact time τ [s], of the broadcast shape (a NumPy float for scalars).
+
+    Raises
+    ------
+    InputError
+        If a stiffness or a mass is not finite and positive.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> round(float(cm.impact.contact_time(172e3, 7.4e-3)) * 1e3, 3)   # ms
     0.652
@@ -154,11 +244,37 @@ def impact_force(
 ) -> Any:
     """Mean force [N] of the impact at the stop: F = J_A·ω0·(1 + k)/(l·τ).
 
-    The impulse J_A·ω0·(1+k)/l [N·s] stops the lever (inertia J_A [kg·m²],
-    angular velocity ω0 [rad/s] at contact, length l [m]) and throws it back with
-    the restitution k ∈ [0, 1] (5/9 for steel), spread over the contact time τ
-    [s] (see :func:`contact_time`). ω0 and τ broadcast.
+    The impulse J_A·ω0·(1+k)/l [N·s] stops the lever and throws it back with the
+    restitution k, spread over the contact time τ (see :func:`contact_time`).
 
+    Parameters
+    ----------
+    J_A : float
+        The lever's moment of inertia about its axis [kg·m²].
+    omega0 : float or array_like of float
+        The lever's angular velocity at contact [rad/s] (≥ 0); broadcasts with
+        ``contact_time``.
+    restitution : float
+        The coefficient of restitution k ∈ [0, 1] (0 plastic, 1 elastic; 5/9 for
+        steel).
+    lever_length : float
+        The lever's length l [m].
+    contact_time : float or array_like of float
+        The contact time τ [s] (> 0).
+
+    Returns
+    -------
+    float or ndarray of float
+        The mean impact force F [N], of the broadcast shape (a NumPy float for scalars).
+
+    Raises
+    ------
+    InputError
+        If ``J_A``, ``lever_length`` or ``contact_time`` is not finite and positive,
+        ``omega0`` is negative or not finite, or ``restitution`` lies outside [0, 1].
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> round(float(cm.impact.impact_force(7.4e-5, 2.35, 5 / 9, 0.1, 6.52e-4)), 3)
     4.149

@@ -21,13 +21,27 @@ def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
 
 @dataclass(frozen=True)
 class Pulse:
-    """A force pulse as a piecewise-linear table: force ``f`` [N] at times ``t``
-    [s] (non-decreasing from 0; a repeated time is a jump of the force there),
-    zero after the last point unless the table says otherwise.
+    """A force pulse as a piecewise-linear table of force [N] over time [s].
 
-    Named shapes: :meth:`rectangular`, :meth:`decaying` (the seed's fig. 7 law),
-    :meth:`triangular`, :meth:`half_sine`; any table by :meth:`table`.
+    Zero after the last point unless the table says otherwise. Named shapes:
+    :meth:`rectangular`, :meth:`decaying` (the seed's fig. 7 law),
+    :meth:`triangular`, :meth:`half_sine`; any table by :meth:`table`, which checks
+    it (build a pulse with those rather than the constructor). Each parameter is
+    kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    t : ndarray of float, shape (N,)
+        The times [s], non-decreasing from 0; a repeated time is a jump of the force
+        there.
+    f : ndarray of float, shape (N,)
+        The force at each time [N].
+    shape : str, default "table"
+        The shape's name (``"rectangular"``, ``"decaying"``, ``"triangular"``,
+        ``"half_sine"`` or ``"table"``).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> p = cm.impact.Pulse.rectangular(2.0, 1e-3)
     >>> p.t.tolist(), p.f.tolist(), round(p.impulse, 12)
@@ -42,6 +56,8 @@ class Pulse:
     def duration(self) -> float:
         """Time of the last point [s].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.triangular(1.0, 2e-3).duration
         0.002
@@ -52,6 +68,8 @@ class Pulse:
     def peak(self) -> float:
         """Largest |force| [N].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.decaying(3.0, 1e-3).peak
         3.0
@@ -62,6 +80,8 @@ class Pulse:
     def impulse(self) -> float:
         """∫ F dt [N·s] (exact for the linear pieces).
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.impact.Pulse.decaying(3.0, 1e-3).impulse, 12)
         0.0015
@@ -71,6 +91,23 @@ class Pulse:
     def scaled(self, factor: float) -> Pulse:
         """The same shape with every force times ``factor``.
 
+        Parameters
+        ----------
+        factor : float
+            The factor on the force (finite).
+
+        Returns
+        -------
+        Pulse
+            The scaled pulse, of the same times and shape name.
+
+        Raises
+        ------
+        InputError
+            If ``factor`` is not a finite number.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.rectangular(1.0, 1e-3).scaled(4.0).peak
         4.0
@@ -79,8 +116,31 @@ class Pulse:
 
     @classmethod
     def table(cls, t: npt.ArrayLike, f: npt.ArrayLike, shape: str = "table") -> Pulse:
-        """A pulse from a user table; ``t`` [s] starts at 0 and never decreases.
+        """A pulse from a user table.
 
+        Parameters
+        ----------
+        t : array_like of float, shape (N,)
+            The times [s], N ≥ 2, starting at 0 (the instant of impact) and never
+            decreasing (repeat a time for a jump); the last > 0.
+        f : array_like of float, shape (N,)
+            The force at each time [N].
+        shape : str, default "table"
+            The shape's name, kept as :attr:`shape`.
+
+        Returns
+        -------
+        Pulse
+            The pulse (its arrays read-only).
+
+        Raises
+        ------
+        InputError
+            If ``t`` and ``f`` are not 1-D arrays of one length with at least 2 finite
+            points, ``t`` does not start at 0, decreases, or does not last.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.table([0, 1e-3, 2e-3], [0, 5, 0]).peak
         5.0
@@ -119,6 +179,25 @@ class Pulse:
     def rectangular(cls, peak: float, duration: float) -> Pulse:
         """Constant ``peak`` [N] for ``duration`` [s], then zero.
 
+        Parameters
+        ----------
+        peak : float
+            The force [N].
+        duration : float
+            The pulse's duration [s] (> 0).
+
+        Returns
+        -------
+        Pulse
+            The pulse, shape ``"rectangular"``.
+
+        Raises
+        ------
+        InputError
+            If ``peak`` is not finite or ``duration`` not positive.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.rectangular(1.0, 1e-3).f.tolist()
         [1.0, 1.0, 0.0]
@@ -128,10 +207,33 @@ class Pulse:
 
     @classmethod
     def decaying(cls, peak: float, duration: float, end: float = 0.0) -> Pulse:
-        """The seed's impact law (fig. 7): ``peak`` [N] at the instant of impact,
-        falling linearly to ``end``·peak at ``duration`` [s], then zero (``end`` =
-        0: a decaying triangle; the seed's printed F·(1 − t/2τ) is ``end`` = ½).
+        """The seed's impact law (fig. 7): a peak at the instant of impact, falling linearly.
 
+        ``peak`` at the instant of impact, falling linearly to ``end``·peak at
+        ``duration``, then zero (``end`` = 0: a decaying triangle; the seed's printed
+        F·(1 − t/2τ) is ``end`` = ½).
+
+        Parameters
+        ----------
+        peak : float
+            The force at the instant of impact [N].
+        duration : float
+            The pulse's duration [s] (> 0).
+        end : float, default 0.0
+            The force at ``duration`` as a fraction of the peak, in [0, 1].
+
+        Returns
+        -------
+        Pulse
+            The pulse, shape ``"decaying"``.
+
+        Raises
+        ------
+        InputError
+            If ``peak`` is not finite, ``duration`` not positive or ``end`` outside [0, 1].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.decaying(2.0, 1e-3, end=0.5).f.tolist()
         [2.0, 1.0, 0.0]
@@ -148,6 +250,25 @@ class Pulse:
     def triangular(cls, peak: float, duration: float) -> Pulse:
         """Rising linearly to ``peak`` [N] at half the ``duration`` [s], back to zero.
 
+        Parameters
+        ----------
+        peak : float
+            The force at half the duration [N].
+        duration : float
+            The pulse's duration [s] (> 0).
+
+        Returns
+        -------
+        Pulse
+            The pulse, shape ``"triangular"``.
+
+        Raises
+        ------
+        InputError
+            If ``peak`` is not finite or ``duration`` not positive.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.Pulse.triangular(1.0, 2e-3).t.tolist()
         [0.0, 0.001, 0.002]
@@ -157,10 +278,33 @@ class Pulse:
 
     @classmethod
     def half_sine(cls, peak: float, duration: float, points: int = 257) -> Pulse:
-        """``peak``·sin(πt/duration) over ``duration`` [s], sampled at ``points``
-        points (linear between them: the table's impulse falls short of the
-        sine's by about (π²/12)/(points−1)² relative).
+        """``peak``·sin(πt/duration) over ``duration`` [s], sampled at ``points`` points.
 
+        Linear between the points: the table's impulse falls short of the sine's by
+        about (π²/12)/(points−1)² relative.
+
+        Parameters
+        ----------
+        peak : float
+            The sine's amplitude [N].
+        duration : float
+            The pulse's duration [s] (> 0).
+        points : int, default 257
+            The number of samples (3 to 10⁷).
+
+        Returns
+        -------
+        Pulse
+            The pulse, shape ``"half_sine"``.
+
+        Raises
+        ------
+        InputError
+            If ``peak`` is not finite, ``duration`` not positive or ``points`` out of
+            range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.impact.Pulse.half_sine(1.0, 1e-3)
         >>> round(p.impulse / (2e-3 / 3.141592653589793), 5)

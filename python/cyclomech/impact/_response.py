@@ -65,23 +65,59 @@ def duhamel(
     v0: float = 0.0,
     velocity: bool = False,
 ) -> Any:
-    """Exact response q(t) [m] of m·q̈ + 2ζω·m·q̇ + ω²·m·q = F(t) to a force F [N]
-    linear between the samples of ``t`` [s] (first-order hold; the Duhamel
-    integral in closed form from step to step, Nigam–Jennings), from q(t[0]) =
-    ``q0`` [m], q̇(t[0]) = ``v0`` [m/s]; ``omega_n`` [rad/s] > 0, ``zeta`` ≥ 0
-    (over- and critically damped exactly too), ``mass`` [kg] > 0.
+    """Exact response q(t) [m] of m·q̈ + 2ζω·m·q̇ + ω²·m·q = F(t) to a piecewise-linear force.
 
-    ``t`` never decreases; a repeated time is a jump of the force there, so a
-    force that starts at full value at t[0] (an impact) is exact, and so is a
-    rectangular pulse. ``velocity=True`` returns ``(q, q̇)``.
+    The force F [N] is linear between the samples of ``t`` (first-order hold; the
+    Duhamel integral in closed form from step to step, Nigam–Jennings), from
+    q(t[0]) = ``q0``, q̇(t[0]) = ``v0``; over- and critically damped exactly too.
+
+    ``t`` never decreases; a repeated time is a jump of the force there, so a force
+    that starts at full value at t[0] (an impact) is exact, and so is a rectangular
+    pulse.
 
     A uniform grid (steps equal to within 2⁻²⁷, as ``np.linspace`` or
-    ``h * np.arange`` give) of at least 1025 samples runs as a chunked scan:
-    eight blocks in vector lanes, stitched by the unforced motion's transition
-    in closed form. Its values differ from the step-by-step recurrence (which
-    other grids take) by rounding only: within 1e-12 of the state's peak
-    (max |q| + max |q̇|/ω), and as close to the exact solution.
+    ``h * np.arange`` give) of at least 1025 samples runs as a chunked scan: eight
+    blocks in vector lanes, stitched by the unforced motion's transition in closed
+    form. Its values differ from the step-by-step recurrence (which other grids
+    take) by rounding only: within 1e-12 of the state's peak (max |q| + max |q̇|/ω),
+    and as close to the exact solution.
 
+    Parameters
+    ----------
+    t : array_like of float, shape (N,)
+        The time grid [s], non-decreasing (a repeated time is a jump of the force).
+    force : array_like of float, shape (N,)
+        The force F at each time [N].
+    omega_n : float
+        The natural angular frequency ω [rad/s] (> 0). Keyword-only, as are the
+        parameters below.
+    zeta : float
+        The damping ratio ζ (≥ 0).
+    mass : float
+        The mass m [kg] (> 0).
+    q0 : float, default 0.0
+        The displacement at t[0] [m].
+    v0 : float, default 0.0
+        The velocity at t[0] [m/s].
+    velocity : bool, default False
+        Return the velocity q̇ too.
+
+    Returns
+    -------
+    q : ndarray of float, shape (N,)
+        The displacement at each time [m].
+    v : ndarray of float, shape (N,)
+        The velocity q̇ at each time [m/s]; only with ``velocity=True`` (then the
+        result is the tuple ``(q, v)``).
+
+    Raises
+    ------
+    InputError
+        If ``t`` or ``force`` is not a non-empty 1-D array of numbers, their sizes
+        differ, ``t`` decreases, or a parameter is not a real number in its range.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> t = np.linspace(0.0, 1.0, 11)                    # a step force, undamped
     >>> q = cm.impact.duhamel(t, np.ones(11), omega_n=2.0, zeta=0.0, mass=1.0)
@@ -126,17 +162,48 @@ def duhamel_batch(
     n_threads: int | None = None,
     out: Array | None = None,
 ) -> Any:
-    """:func:`duhamel` for B cases on one time grid ``t`` (N,) [s]: ``forces`` (B, N)
-    [N], per-case ``omega_n`` [rad/s], ``zeta``, ``mass`` [kg], ``q0`` [m], ``v0``
-    [m/s] (scalars or (B,)); returns q (B, N) [m], computed in parallel in Rust.
+    """:func:`duhamel` for B cases on one time grid, computed in parallel in Rust.
 
-    ``out``: a caller-owned array to write q into and return instead of a new
-    one — a writeable, C-contiguous float64 ndarray of shape (B, N) that shares no
-    memory with an input. A caller who runs batch after batch saves the new
-    array's page faults and zeroing (about a third of the time of a large batch).
-    Its old content is never read; the results are bit for bit those without
-    ``out``. If the call raises, ``out`` may be partly written.
+    Parameters
+    ----------
+    t : array_like of float, shape (N,)
+        The time grid [s], non-decreasing (a repeated time is a jump of the force).
+    forces : array_like of float, shape (B, N)
+        The force of each case at each time [N].
+    omega_n : float or array_like of float, shape (B,)
+        The natural angular frequency of each case [rad/s] (> 0).
+    zeta : float or array_like of float, shape (B,)
+        The damping ratio of each case (≥ 0).
+    mass : float or array_like of float, shape (B,)
+        The mass of each case [kg] (> 0).
+    q0 : float or array_like of float, shape (B,), default 0.0
+        The displacement at t[0] [m].
+    v0 : float or array_like of float, shape (B,), default 0.0
+        The velocity at t[0] [m/s].
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+    out : ndarray of float, shape (B, N), optional
+        A caller-owned array to write q into and return instead of a new one — a
+        writeable, C-contiguous float64 ndarray that shares no memory with an
+        input. A caller who runs batch after batch saves the new array's page faults
+        and zeroing (about a third of the time of a large batch). Its old content is
+        never read; the results are bit for bit those without ``out``. If the call
+        raises, ``out`` may be partly written. Default None.
 
+    Returns
+    -------
+    ndarray of float, shape (B, N)
+        The displacement q of each case at each time [m] (``out`` if given).
+
+    Raises
+    ------
+    InputError
+        If an array has the wrong shape, a per-case value is neither a scalar nor
+        one per case, a value is out of its range, or ``out`` is not a suitable
+        buffer.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> t = np.linspace(0.0, 0.01, 101)
     >>> q = cm.impact.duhamel_batch(t, np.ones((3, 101)), 2 * np.pi * 297, [0.0, 0.05, 1.0], 0.01)
@@ -160,8 +227,28 @@ def duhamel_batch(
 
 @dataclass(frozen=True)
 class Rebound:
-    """First rebounds of a batch: ``time`` [s] (+inf where q never turns) and
-    ``q`` [m], each (B,)."""
+    """First rebounds of a batch (see :func:`first_rebound`).
+
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    time : ndarray of float, shape (B,)
+        The time of each case's first turn [s] (+inf where q never turns).
+    q : ndarray of float, shape (B,)
+        The displacement there [m].
+
+    See Also
+    --------
+    first_rebound : Builds it.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.impact.first_rebound([0.0], [0.0], 1.0, 0.0, 1.0, v0=1.0)
+    >>> r.time.round(6).tolist(), r.q.round(6).tolist()
+    ([1.570796], [1.0])
+    """
 
     time: Array
     q: Array
@@ -179,15 +266,48 @@ def first_rebound(
     maximum: bool = False,
     n_threads: int | None = None,
 ) -> Rebound:
-    """The first turn of q(t) after t[0] for each case, without histories: the
-    first extremum (``maximum=True``: the first local maximum), found exactly by
-    stepping from breakpoint to breakpoint of the pulse table and solving for
-    q̇ = 0 in closed form between them — O(breakpoints), not O(time steps).
+    """The first turn of q(t) after t[0] for each case, without histories.
 
-    Arguments as :func:`duhamel_batch` (``forces`` may be 1-D for one case); the
-    force is held at its last value after the table. Where q never turns,
-    ``time`` is inf and ``q`` the static deflection of the last force.
+    The first extremum (``maximum=True``: the first local maximum), found exactly by
+    stepping from breakpoint to breakpoint of the pulse table and solving for q̇ = 0
+    in closed form between them — O(breakpoints), not O(time steps). The force is
+    held at its last value after the table. Where q never turns, ``time`` is inf and
+    ``q`` the static deflection of the last force.
 
+    Parameters
+    ----------
+    t : array_like of float, shape (N,)
+        The pulse table's times [s], non-decreasing.
+    forces : array_like of float, shape (B, N) or (N,)
+        The force of each case at each time [N] (1-D for one case).
+    omega_n : float or array_like of float, shape (B,)
+        The natural angular frequency of each case [rad/s] (> 0).
+    zeta : float or array_like of float, shape (B,)
+        The damping ratio of each case (≥ 0).
+    mass : float or array_like of float, shape (B,)
+        The mass of each case [kg] (> 0).
+    q0 : float or array_like of float, shape (B,), default 0.0
+        The displacement at t[0] [m].
+    v0 : float or array_like of float, shape (B,), default 0.0
+        The velocity at t[0] [m/s].
+    maximum : bool, default False
+        Find the first local maximum instead of the first extremum.
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    Rebound
+        Each case's first turn: ``time`` [s] and ``q`` [m], each (B,).
+
+    Raises
+    ------
+    InputError
+        As :func:`duhamel_batch`: an array of the wrong shape or a value out of its
+        range.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> w = 2 * np.pi * 297
     >>> r = cm.impact.first_rebound([0.0], [0.0], w, 0.0, 1.0, v0=1.0)  # free vibration

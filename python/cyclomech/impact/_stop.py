@@ -52,11 +52,34 @@ _PULSES = ("decaying", "rectangular", "triangular", "half_sine")
 def rebounds(
     stops: Sequence[StopImpact], v0: npt.ArrayLike, *, n_threads: int | None = None
 ) -> Array:
-    """First rebound [m] of stop i hit at the speeds ``v0[i]`` [m/s], shape (S, W):
-    the rebound depends on the speed and phase angle only through the impact
-    speed. Pulse-model stops with the same pulse table go into one Rust call
-    (per-case frequency, damping and mass); a contact-model stop takes one call.
+    """First rebound [m] of each stop hit at given impact speeds.
 
+    The rebound depends on the speed and phase angle only through the impact speed.
+    Pulse-model stops with the same pulse table go into one Rust call (per-case
+    frequency, damping and mass); a contact-model stop takes one call.
+
+    Parameters
+    ----------
+    stops : sequence of StopImpact
+        The S stops.
+    v0 : array_like of float, shape (S, W)
+        The impact speeds of stop i in row i [m/s] (magnitudes: finite, ≥ 0).
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    ndarray of float, shape (S, W)
+        The first rebound of stop i at speed ``v0[i, j]`` [m].
+
+    Raises
+    ------
+    InputError
+        If ``v0`` is not 2-D with one row per stop or holds a speed that is not
+        finite and ≥ 0.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> a, b = cm.impact.StopImpact.example(), cm.impact.StopImpact.example(zeta=0.2)
     >>> r = cm.impact.rebounds([a, b], [[0.2, 0.3], [0.2, 0.3]])
@@ -124,18 +147,42 @@ def max_impact_speeds(
     rtol: float = 1e-12,
     n_threads: int | None = None,
 ) -> Array:
-    """The largest impact speed v* [m/s] of each stop whose first rebound is at most
-    its ``a_max`` [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to
-    ``rtol`` relative (in [1e-15, 0.5]: the rebounds' rounding is ~1e-16, and a
-    wider tolerance is none), shape (S,). The speed returned is admissible with a margin
-    of 1e-13 (relative), so that angles worked out from it are too: the rebounds'
-    rounding is ~1e-16, the angles' tolerance 1e-9°. The pulse
-    model's rebound is g·v0 (linear), so v* = a_max/g from one evaluation per
-    stop. The contact model's grows with v0, but not in proportion, so its v* is
-    bracketed on a grid of 64 speeds from 1e-9 to 1e9 m/s and the bracket
-    narrowed on grids of 64, about 8 steps. Each step evaluates all the stops in
-    one :func:`rebounds` call; results are remembered per stop and parameters.
+    """The largest impact speed v* [m/s] of each stop whose first rebound is at most its ``a_max``.
 
+    inf if every speed up to 1e9 m/s is admissible; 0 if none is. The speed
+    returned is admissible with a margin of 1e-13 (relative), so that angles worked
+    out from it are too: the rebounds' rounding is ~1e-16, the angles' tolerance
+    1e-9°. The pulse model's rebound is g·v0 (linear), so v* = a_max/g from one
+    evaluation per stop. The contact model's grows with v0, but not in proportion,
+    so its v* is bracketed on a grid of 64 speeds from 1e-9 to 1e9 m/s and the
+    bracket narrowed on grids of 64, about 8 steps. Each step evaluates all the
+    stops in one :func:`rebounds` call; results are remembered per stop and
+    parameters.
+
+    Parameters
+    ----------
+    stops : sequence of StopImpact
+        The S stops.
+    a_max : float or array_like of float, shape (S,)
+        The largest admissible rebound of each stop [m] (> 0; a scalar for all).
+    rtol : float, default 1e-12
+        The relative tolerance on v*, in [1e-15, 0.5] (the rebounds' rounding is
+        ~1e-16, and a wider tolerance is none). Keyword-only.
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    ndarray of float, shape (S,)
+        The largest admissible impact speed v* of each stop [m/s].
+
+    Raises
+    ------
+    InputError
+        If an ``a_max`` is not finite and positive or ``rtol`` lies outside its range.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> stops = [cm.impact.StopImpact.example(), cm.impact.StopImpact.example(zeta=0.2)]
     >>> v = cm.impact.max_impact_speeds(stops, 0.1e-3)
@@ -203,10 +250,30 @@ def max_impact_speeds(
 
 
 def min_phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
-    """Smallest phase angles [deg] n·``per_rpm`` at speeds ``rpm`` [rpm] (finite,
-    > 0; broadcast) with ``per_rpm`` [deg/rpm] finite and ≥ 0, at least 1e-9°, NaN
-    where over 360° (no phase angle of one turn will do).
+    """Smallest phase angles [deg] n·``per_rpm`` at speeds n.
 
+    At least 1e-9°, NaN where over 360° (no phase angle of one turn will do).
+
+    Parameters
+    ----------
+    rpm : float or array_like of float
+        The speeds n [rpm] (finite, > 0); broadcasts with ``per_rpm``.
+    per_rpm : float or array_like of float
+        The phase angle per rpm [deg/rpm] (finite, ≥ 0), e.g. from
+        :meth:`StopImpact.phase_per_rpm`.
+
+    Returns
+    -------
+    ndarray of float
+        The smallest phase angles [deg], of the broadcast shape.
+
+    Raises
+    ------
+    InputError
+        If a speed is not finite and positive or a ``per_rpm`` is not finite and ≥ 0.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cm.impact.min_phase_angles([100.0, 200.0, 400.0], 0.1).tolist()
     [10.0, 20.0, 40.0]
@@ -225,20 +292,16 @@ def min_phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
 class StopImpact:
     """A cam-driven lever that strikes its limit stop (seed 000).
 
-    The cam moves the lever's working point through ``stroke`` [m] by the rise
-    ``law`` (a name of :mod:`cyclomech.motion`, full-rise form) over the phase
-    angle t of the operation; the stop sits ``preload`` [m] short of the end of
-    the stroke, so the lever meets it where Z(j*) = 1 − preload/stroke, with the
-    working point's speed v0 = ω_shaft·stroke·Z'(j*)/t (ω0 = v0/l), which grows
-    with the speed n and shrinks as t grows.
+    The cam moves the lever's working point through ``stroke`` by the rise ``law``
+    (full-rise form) over the phase angle t of the operation; the stop sits
+    ``preload`` short of the end of the stroke, so the lever meets it where
+    Z(j*) = 1 − preload/stroke, with the working point's speed
+    v0 = ω_shaft·stroke·Z'(j*)/t (ω0 = v0/l), which grows with the speed n and
+    shrinks as t grows.
 
-    The lever: length ``lever_length`` l [m], inertia ``J_A`` [kg·m²] about its
-    axis, arms ``a``, ``b`` [m], ``E`` [Pa] and ``J_x`` [m⁴] (its free stiffness
-    c = 3EJ_x/((a+b)b²), :func:`lever_stiffness`), reduced ``mass`` at the
-    working point (default J_A/l² [kg]); ``restitution`` k (5/9 for steel);
-    damping ratio ``zeta`` of the free vibration. In contact the stop props the
-    lever: ``contact_stiffness`` [N/m] defaults to c times the stiffening that a
-    prop at the end of the overhang gives its middle
+    The lever's free stiffness is c = 3EJ_x/((a+b)b²) (:func:`lever_stiffness`).
+    In contact the stop props the lever: ``contact_stiffness`` defaults to c times
+    the stiffening that a prop at the end of the overhang gives its middle
     (:func:`propped_lever_stiffness`).
 
     Two models of the first rebound:
@@ -254,6 +317,72 @@ class StopImpact:
       contact damped so that a single impact has restitution k), solved exactly
       event by event; the rebound is the highest point of the first free flight.
 
+    Parameters
+    ----------
+    law : str, default "modified_sine"
+        The cam's rise law, a name of :mod:`cyclomech.motion` (full-rise form).
+        All the parameters are keyword-only.
+    stroke : float
+        The travel of the working point [m].
+    preload : float
+        How far short of the end of the stroke the stop sits [m] (0 ≤ preload <
+        stroke).
+    lever_length : float
+        The lever's length l [m].
+    J_A : float
+        The lever's moment of inertia about its axis [kg·m²].
+    a : float
+        The arm between the lever's axis and the cam roller [m].
+    b : float
+        The overhang from the roller to the working point [m].
+    E : float
+        Young's modulus of the lever [Pa].
+    J_x : float
+        The section's axial moment of inertia [m⁴].
+    mass : float, optional
+        The mass reduced to the working point [kg]; default None (J_A/l²).
+    restitution : float, default 5/9
+        The coefficient of restitution k ∈ [0, 1] (5/9 for steel).
+    zeta : float, default 0.05
+        The damping ratio of the free vibration (≥ 0).
+    contact_stiffness : float, optional
+        The stiffness in contact [N/m], above the free stiffness; default None (the
+        propped lever's, see above).
+    pulse : {"decaying", "rectangular", "triangular", "half_sine"}, default "decaying"
+        The impact pulse's shape (pulse model).
+    contact_time : float, optional
+        The pulse's duration [s]; default None (half the period of the contact
+        vibration, :func:`contact_time`).
+    model : {"pulse", "contact"}, default "pulse"
+        The model of the first rebound.
+
+    Attributes
+    ----------
+    law : MotionLaw
+        The rise law (full-rise form).
+    stiffness : float
+        The free stiffness c of the lever at its working end [N/m].
+    contact_stiffness : float
+        The stiffness in contact [N/m] (given or the default).
+    mass : float
+        The reduced mass [kg] (given or J_A/l²).
+    contact_time : float
+        The pulse's duration [s] (given or the default).
+    j_contact : float
+        Where the lever meets the stop, j* with Z(j*) = 1 − preload/stroke
+        (dimensionless).
+    dz_contact : float
+        Z'(j*), the law's dimensionless speed there.
+
+    Raises
+    ------
+    InputError
+        If a value is missing, not finite or out of range: ``preload`` not below
+        ``stroke``, ``contact_stiffness`` not above the free stiffness, an unknown
+        law, ``pulse`` or ``model``.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> lifter = cm.impact.StopImpact.example()
     >>> a = lifter.rebound([280, 420], 40.0)          # m, at a 40° phase angle
@@ -338,6 +467,8 @@ class StopImpact:
     def omega_free(self) -> float:
         """Natural angular frequency of the free lever, √(c/m) [rad/s].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.impact.StopImpact.example().omega_free / (2 * 3.141592653589793))
         297
@@ -348,6 +479,8 @@ class StopImpact:
     def omega_contact(self) -> float:
         """Natural angular frequency in contact, √(c_contact/m) [rad/s].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.impact.StopImpact.example().omega_contact / (2 * 3.141592653589793))
         752
@@ -366,9 +499,27 @@ class StopImpact:
         return make.scaled(1.0 / make.impulse)
 
     def impact_speed(self, rpm: npt.ArrayLike, phase_deg: npt.ArrayLike) -> Any:
-        """Speed v0 [m/s] of the working point as it meets the stop, at main-shaft
-        speed ``rpm`` and phase angle ``phase_deg`` [deg] (broadcast).
+        """Speed v0 [m/s] of the working point as it meets the stop.
 
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The main shaft's speed [rpm] (> 0); broadcasts with ``phase_deg``.
+        phase_deg : float or array_like of float
+            The phase angle of the operation [deg], in (0, 360].
+
+        Returns
+        -------
+        float or ndarray of float
+            The impact speed v0 [m/s], of the broadcast shape.
+
+        Raises
+        ------
+        InputError
+            If a speed is not finite and positive or a phase angle lies outside (0, 360].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(float(cm.impact.StopImpact.example().impact_speed(280, 40.0)), 4)
         0.2038
@@ -380,6 +531,25 @@ class StopImpact:
     def impact_force(self, rpm: npt.ArrayLike, phase_deg: npt.ArrayLike) -> Any:
         """Mean impact force F = J_A·ω0·(1+k)/(l·τ) [N] (the seed's F_уд).
 
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The main shaft's speed [rpm] (> 0); broadcasts with ``phase_deg``.
+        phase_deg : float or array_like of float
+            The phase angle of the operation [deg], in (0, 360].
+
+        Returns
+        -------
+        float or ndarray of float
+            The mean impact force [N], of the broadcast shape.
+
+        Raises
+        ------
+        InputError
+            If a speed is not finite and positive or a phase angle lies outside (0, 360].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(float(cm.impact.StopImpact.example().impact_force(280, 40.0)), 2)
         3.53
@@ -390,9 +560,31 @@ class StopImpact:
     def rebound(
         self, rpm: npt.ArrayLike, phase_deg: npt.ArrayLike, *, n_threads: int | None = None
     ) -> Any:
-        """First-rebound amplitude [m] at speeds ``rpm`` and phase angles
-        ``phase_deg`` [deg] (arrays broadcast; one Rust call for all of them).
+        """First-rebound amplitude [m] at given speeds and phase angles.
 
+        One Rust call for all of them.
+
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The main shaft's speeds [rpm] (> 0); broadcasts with ``phase_deg``.
+        phase_deg : float or array_like of float
+            The phase angles of the operation [deg], in (0, 360].
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        ndarray of float
+            The first rebound [m], of the broadcast shape.
+
+        Raises
+        ------
+        InputError
+            If a speed is not finite and positive or a phase angle lies outside (0, 360].
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> a = cm.impact.StopImpact.example().rebound(np.array([[280], [420]]), [40, 60])
         >>> a.shape, bool(a[1, 0] > a[0, 0] > a[0, 1])
@@ -404,12 +596,37 @@ class StopImpact:
     def response(
         self, rpm: float, phase_deg: float, *, duration: float | None = None, points: int = 2001
     ) -> tuple[Array, Array]:
-        """The motion after the impact at one speed and phase angle: ``(t [s], q
-        [m])``, q the displacement of the working point away from the stop, t from
-        the instant of contact over ``duration`` (default 6 free periods), with
-        the pulse's breakpoints on the grid (pulse model: exact Duhamel response;
-        contact model: the exact event-driven motion).
+        """The motion after the impact at one speed and phase angle.
 
+        q is the displacement of the working point away from the stop, t runs from the
+        instant of contact, with the pulse's breakpoints on the grid (pulse model: exact
+        Duhamel response; contact model: the exact event-driven motion).
+
+        Parameters
+        ----------
+        rpm : float
+            The main shaft's speed [rpm].
+        phase_deg : float
+            The phase angle of the operation [deg].
+        duration : float, optional
+            The time to cover [s]; default None (6 free periods).
+        points : int, default 2001
+            The number of samples (the pulse's breakpoints are added).
+
+        Returns
+        -------
+        t : ndarray of float
+            The times from the instant of contact [s].
+        q : ndarray of float
+            The displacement away from the stop at each time [m].
+
+        Raises
+        ------
+        InputError
+            If the speed, the phase angle, ``duration`` or ``points`` is out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> t, q = cm.impact.StopImpact.example().response(280, 40.0)
         >>> round(float(q.max()) * 1e3, 3)                   # mm: the first rebound
@@ -457,10 +674,32 @@ class StopImpact:
     def max_impact_speed(
         self, a_max: float, *, rtol: float = 1e-12, n_threads: int | None = None
     ) -> float:
-        """The largest impact speed v* [m/s] whose first rebound is at most ``a_max``
-        [m] (inf if every speed up to 1e9 m/s is; 0 if none is), to ``rtol``
-        relative (:func:`max_impact_speeds` for one stop).
+        """The largest impact speed v* [m/s] whose first rebound is at most ``a_max``.
 
+        inf if every speed up to 1e9 m/s is admissible; 0 if none is
+        (:func:`max_impact_speeds` for one stop).
+
+        Parameters
+        ----------
+        a_max : float
+            The largest admissible rebound [m] (> 0).
+        rtol : float, default 1e-12
+            The relative tolerance on v*, in [1e-15, 0.5].
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float
+            The largest admissible impact speed v* [m/s].
+
+        Raises
+        ------
+        InputError
+            If ``a_max`` is not finite and positive or ``rtol`` lies outside its range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
         >>> v = lifter.max_impact_speed(0.1e-3)        # the impact speed at t_min, any rpm
@@ -471,10 +710,23 @@ class StopImpact:
         return float(max_impact_speeds([self], a_max, rtol=rtol, n_threads=n_threads)[0])
 
     def phase_per_rpm(self, v_star: float) -> float:
-        """The phase angle per rpm [deg/rpm] at which the impact speed is ``v_star``
-        [m/s]: t = n·(360/60)·stroke·Z'/v* (degrees of a turn of 2π·n/60 rad/s);
-        0 for v* = inf, inf for v* = 0.
+        """The phase angle per rpm [deg/rpm] at which the impact speed is ``v_star``.
 
+        t = n·(360/60)·stroke·Z'/v* (degrees of a turn of 2π·n/60 rad/s); 0 for
+        v* = inf, inf for v* = 0.
+
+        Parameters
+        ----------
+        v_star : float
+            The impact speed v* [m/s] (≥ 0, may be inf).
+
+        Returns
+        -------
+        float
+            The phase angle per rpm [deg/rpm].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
         >>> round(280 * lifter.phase_per_rpm(lifter.max_impact_speed(0.1e-3)), 6)
@@ -492,16 +744,39 @@ class StopImpact:
         tol_deg: float = 1e-9,
         n_threads: int | None = None,
     ) -> Any:
-        """Smallest phase angle [deg] whose first rebound is at most ``a_max`` [m],
-        at each speed ``rpm``, to ``tol_deg`` (in [3.6e-13, 180]°: 360° times the
-        range of :func:`max_impact_speeds`' ``rtol``); NaN where even 360° is too short.
+        """Smallest phase angle [deg] whose first rebound is at most ``a_max``, at each speed.
 
         The rebound depends on the speed n and the phase angle t only through the
-        impact speed v0 = (2π·n/60)·stroke·Z'/t (:meth:`impact_speed`) and grows
-        with it, so t_min = (2π·n/60)·stroke·Z'/v* at every speed, with v* the
-        largest admissible impact speed (:meth:`max_impact_speed`): one search for
-        all speeds. At least 1e-9°.
+        impact speed v0 = (2π·n/60)·stroke·Z'/t (:meth:`impact_speed`) and grows with
+        it, so t_min = (2π·n/60)·stroke·Z'/v* at every speed, with v* the largest
+        admissible impact speed (:meth:`max_impact_speed`): one search for all speeds.
+        At least 1e-9°; NaN where even 360° is too short.
 
+        Parameters
+        ----------
+        a_max : float
+            The largest admissible rebound [m] (> 0).
+        rpm : float or array_like of float
+            The main shaft's speeds [rpm] (> 0).
+        tol_deg : float, default 1e-9
+            The tolerance on the angle [deg], in [3.6e-13, 180] (360° times the range of
+            :func:`max_impact_speeds`' ``rtol``).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float or ndarray of float
+            The smallest phase angle at each speed [deg] (a float for a scalar speed).
+
+        Raises
+        ------
+        InputError
+            If ``a_max`` or a speed is not finite and positive or ``tol_deg`` lies
+            outside its range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
         >>> t = lifter.min_phase_angle(0.1e-3, 280)
@@ -517,10 +792,34 @@ class StopImpact:
     def linearize(
         self, phase_deg_range: tuple[float, float], rpm: float, points: int = 64
     ) -> tuple[float, float]:
-        """Least-squares line a(t) ≈ slope·t + intercept over ``phase_deg_range``
-        [deg] at ``rpm``: ``(slope [m/deg], intercept [m])``, the seed's form
-        a(3,7) = −0.003·t + 0.208 (mm, deg).
+        """Least-squares line slope·t + intercept through the first rebound over phase angles.
 
+        The seed's form a(3,7) = −0.003·t + 0.208 (mm, deg).
+
+        Parameters
+        ----------
+        phase_deg_range : tuple of (float, float)
+            The phase angles (low, high) [deg], low < high, in (0, 360].
+        rpm : float
+            The main shaft's speed [rpm].
+        points : int, default 64
+            The number of phase angles the line is fitted to (≥ 2).
+
+        Returns
+        -------
+        slope : float
+            The line's slope [m/deg].
+        intercept : float
+            The line's intercept [m].
+
+        Raises
+        ------
+        InputError
+            If the range is not (low, high) with low < high inside (0, 360] or
+            ``points`` is out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> s, c = cm.impact.StopImpact.example().linearize((30, 45), 420)
         >>> round(s * 1e3, 4), round(c * 1e3, 3)                   # mm/deg, mm
@@ -551,12 +850,38 @@ class StopImpact:
     def linear_min_phase_angle(
         self, a_max: float, rpm: npt.ArrayLike, *, points: int = 64, n_threads: int | None = None
     ) -> Any:
-        """The seed's linearised smallest phase angle [deg] at each speed ``rpm``:
-        the rebound fitted by a line slope·t + intercept over 0.5…2 times the exact
-        angle (capped at 360°; as :meth:`constraint` with ``linear=True``), then
-        t = (a_max − intercept)/slope; NaN where the exact angle is. One rebound
-        call for all speeds.
+        """The seed's linearised smallest phase angle [deg] at each speed.
 
+        The rebound fitted by a line slope·t + intercept over 0.5…2 times the exact
+        angle (capped at 360°; as :meth:`constraint` with ``linear=True``), then
+        t = (a_max − intercept)/slope; NaN where the exact angle is. One rebound call
+        for all speeds.
+
+        Parameters
+        ----------
+        a_max : float
+            The largest admissible rebound [m] (> 0).
+        rpm : float or array_like of float
+            The main shaft's speeds [rpm] (> 0).
+        points : int, default 64
+            The number of phase angles each line is fitted to (2 to 10⁶).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float or ndarray of float
+            The linearised smallest phase angle at each speed [deg] (a float for a
+            scalar speed).
+
+        Raises
+        ------
+        InputError
+            If ``a_max`` or a speed is not finite and positive or ``points`` is out of
+            range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lifter = cm.impact.StopImpact.example()
         >>> round(float(lifter.linear_min_phase_angle(1e-4, 280.0)), 2)     # exact: 28.03
@@ -577,11 +902,37 @@ class StopImpact:
     def constraint(
         self, arc: tuple[str, str], a_max: float, rpm: float, *, linear: bool = False
     ) -> Constraint:
-        """The cyclogram constraint rebound(t(arc)) ≤ ``a_max`` [m] at ``rpm``:
-        exact, t(arc) ≥ :meth:`min_phase_angle` (default), or the seed's
-        linearised slope·t + intercept ≤ a_max over 0.5…2 times that angle
-        (``linear=True``). Pass it to :meth:`cyclomech.Cyclogram.add_constraint`.
+        """The cyclogram constraint rebound(t(arc)) ≤ ``a_max`` at a speed.
 
+        Exact, t(arc) ≥ :meth:`min_phase_angle` (default), or the seed's linearised
+        slope·t + intercept ≤ a_max over 0.5…2 times that angle (``linear=True``). Pass
+        it to :meth:`cyclomech.Cyclogram.add_constraint`.
+
+        Parameters
+        ----------
+        arc : tuple of (str, str)
+            The operation's two event names (from, to), e.g. ``("3", "7")``.
+        a_max : float
+            The largest admissible rebound [m] (> 0).
+        rpm : float
+            The main shaft's speed [rpm].
+        linear : bool, default False
+            The seed's linearised constraint instead of the exact one.
+
+        Returns
+        -------
+        Constraint
+            The constraint on the phase angle t(arc) [deg], named ``"rebound<from>-<to>"``.
+
+        Raises
+        ------
+        InputError
+            If ``arc`` is not two event names, or ``a_max`` or ``rpm`` is out of range.
+        InfeasibleError
+            If the rebound stays above ``a_max`` for every phase angle up to 360°.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> c = cm.impact.StopImpact.example().constraint(("3", "7"), 0.1e-3, 280)
         >>> c.describe()
@@ -611,15 +962,28 @@ class StopImpact:
 
     @classmethod
     def example(cls, **overrides: Any) -> StopImpact:
-        """An illustrative microshuttle lifter in the spirit of the STB loom's
-        (seed 000): not measured data. A steel lever 100 mm long (arms 50 and 100
-        mm, a section of 6.14e-11 m⁴, about 8 × 4.5 mm), 7.4 g reduced to its
-        working point, free at 297 Hz and 752 Hz in contact, a modified-sine rise of
-        9.4 mm with 0.25 mm preload. Its first rebound at a 40° phase angle is 0.070,
-        0.080, 0.093, 0.105 mm at 280, 320, 370, 420 rpm (the seed: 0.07, 0.078,
-        0.092, 0.105 mm), and its linearisation over 30–45° at 420 rpm is
-        −0.0031·t + 0.229 mm (the seed: −0.003·t + 0.208).
+        """An illustrative microshuttle lifter in the spirit of the STB loom's (seed 000).
 
+        Not measured data. A steel lever 100 mm long (arms 50 and 100 mm, a section of
+        6.14e-11 m⁴, about 8 × 4.5 mm), 7.4 g reduced to its working point, free at
+        297 Hz and 752 Hz in contact, a modified-sine rise of 9.4 mm with 0.25 mm
+        preload. Its first rebound at a 40° phase angle is 0.070, 0.080, 0.093,
+        0.105 mm at 280, 320, 370, 420 rpm (the seed: 0.07, 0.078, 0.092, 0.105 mm),
+        and its linearisation over 30–45° at 420 rpm is −0.0031·t + 0.229 mm (the seed:
+        −0.003·t + 0.208).
+
+        Parameters
+        ----------
+        **overrides
+            Constructor arguments that replace the example's (see :class:`StopImpact`).
+
+        Returns
+        -------
+        StopImpact
+            The lifter.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.impact.StopImpact.example().preload
         0.00025

@@ -66,10 +66,10 @@ def _stop_from_table(table: Mapping[str, Any], where: str, skip: Iterable[str] =
 
 @dataclass(frozen=True)
 class ImpactStudy:
-    """An impact file: a lever with its stop and the speeds and phase angles to
-    study (read with :meth:`from_toml`).
+    """An impact file: a lever with its stop and the speeds and phase angles to study.
 
-    The file::
+    Read with :meth:`from_toml`; each parameter is kept as the attribute of the
+    same name. The file::
 
         [stop]
         name = "microshuttle lifter"   # optional
@@ -90,6 +90,28 @@ class ImpactStudy:
         phase_deg = [20, 60, 41]       # from, to, count [deg]
         a_max = 1e-4                   # [m] rebound limit
         arc = ["3", "7"]               # optional: the cyclogram operation
+
+    Parameters
+    ----------
+    stop : StopImpact
+        The lever with its stop (the file's ``[stop]`` table).
+    rpm : ndarray of float
+        The machine speeds to study [rpm].
+    phase_deg : ndarray of float
+        The phase angles to study [deg].
+    a_max : float
+        The rebound limit [m].
+    arc : tuple of (str, str), optional
+        The cyclogram operation (two event names); default None.
+    name : str, default ""
+        The stop's name.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> st = cm.impact.ImpactStudy.from_toml("examples/stb_lifter.toml")
+    >>> st.arc, st.name
+    (('3', '7'), 'STB microshuttle lifter (illustrative)')
     """
 
     stop: StopImpact
@@ -103,6 +125,24 @@ class ImpactStudy:
     def from_toml(cls, path: Any) -> ImpactStudy:
         """Read an impact file; errors name the file, the table and the key.
 
+        Parameters
+        ----------
+        path : str or path-like
+            The impact file (TOML).
+
+        Returns
+        -------
+        ImpactStudy
+            The stop and the study's speeds, phase angles and rebound limit.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read, a table or a key is missing or unknown, or a
+            value is malformed or out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> st = cm.impact.ImpactStudy.from_toml("examples/stb_lifter.toml")
         >>> st.rpm.size, st.phase_deg.size, st.a_max

@@ -42,13 +42,39 @@ def plot_response(
 ) -> Axes:
     """Draw a response q(t) after an impact: q [mm] against t [ms]; return the axes.
 
-    ``t`` [s] and ``q`` [m] as from :func:`cyclomech.impact.duhamel` or
-    :meth:`cyclomech.impact.StopImpact.response`. ``force`` [N] on the same grid
-    adds the pulse on a second y axis (shaded); ``rebound`` = (time [s], q [m])
-    marks the first rebound with a dot and its value. The stop is q = 0 (a
-    dashed line). Artists, by gid: ``"q"``, ``"force"``, ``"rebound"``,
-    ``"label:rebound"``, ``"stop"``.
+    The stop is q = 0 (a dashed line). Artists, by gid: ``"q"``, ``"force"``,
+    ``"rebound"``, ``"label:rebound"``, ``"stop"``.
 
+    Parameters
+    ----------
+    t : array_like of float, shape (N,)
+        The times after contact [s], as from :func:`cyclomech.impact.duhamel` or
+        :meth:`cyclomech.impact.StopImpact.response`.
+    q : array_like of float, shape (N,)
+        The displacement away from the stop [m].
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; default None (a new figure).
+    force : array_like of float, shape (N,), optional
+        The pulse's force [N] on the same grid, drawn shaded on a second y axis.
+    rebound : tuple of (float, float), optional
+        The first rebound (time [s], q [m]), marked with a dot and its value.
+    label : str, optional
+        The legend label of q; default None ("q(t)").
+    title : str, optional
+        The axes' title.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+
+    Raises
+    ------
+    InputError
+        If ``t`` and ``q`` (or ``force``) are not 1-D arrays of one length.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import cyclomech as cm
@@ -111,14 +137,42 @@ def plot_rebound_vs_speed(
     responses: npt.ArrayLike | None = None,
     title: str | None = None,
 ) -> Figure:
-    """The seed's fig. 8 for a :class:`cyclomech.impact.StopImpact`: on the left
-    the motion after contact at a few speeds (``responses`` [rpm], default the
-    ends and middle of ``rpm``, at the first phase angle), on the right the first
-    rebound [mm] against speed ``rpm`` for each phase angle ``phase_deg`` [deg]
-    (one Rust call), with the limit ``a_max`` [m] as a dashed line and the
-    smallest admissible phase angle at the top speed noted. Returns the figure.
-    Artists, by gid: ``"response:<rpm>"``, ``"rebound:<phase>"``, ``"a_max"``.
+    """The seed's fig. 8 for a :class:`cyclomech.impact.StopImpact`: the rebound against speed.
 
+    On the left the motion after contact at a few speeds (at the first phase
+    angle), on the right the first rebound [mm] against speed for each phase angle
+    (one Rust call), with the limit ``a_max`` as a dashed line and the smallest
+    admissible phase angle at the top speed noted. Artists, by gid:
+    ``"response:<rpm>"``, ``"rebound:<phase>"``, ``"a_max"``.
+
+    Parameters
+    ----------
+    model : StopImpact
+        The lever with its stop.
+    rpm : array_like of float
+        The speeds [rpm], at least two, positive.
+    phase_deg : array_like of float, default (40.0,)
+        The phase angles [deg], one curve each.
+    a_max : float, optional
+        The rebound limit [m], drawn dashed; default None (no limit).
+    responses : array_like of float, optional
+        The speeds [rpm] whose motion is drawn on the left; default None (the ends
+        and the middle of ``rpm``).
+    title : str, optional
+        The figure's title; default None (names the model).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, of two axes.
+
+    Raises
+    ------
+    InputError
+        If ``rpm`` holds fewer than two positive speeds or ``phase_deg`` is empty.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import numpy as np, cyclomech as cm
@@ -191,11 +245,32 @@ def plot_min_phase(
     title: str | None = None,
     ax: Axes | None = None,
 ) -> Axes:
-    """A stop's smallest admissible phase angle [deg] against speed ``rpm``:
-    ``exact`` (solid) and the seed's ``linear`` form (dashed); ``minimum_deg`` is
-    the operation's own minimum angle (dotted). Returns the axes. Artists, by
-    gid: ``"exact"``, ``"linear"``, ``"minimum"``.
+    """A stop's smallest admissible phase angle [deg] against speed [rpm].
 
+    Artists, by gid: ``"exact"``, ``"linear"``, ``"minimum"``.
+
+    Parameters
+    ----------
+    rpm : array_like of float
+        The speeds [rpm].
+    exact : array_like of float
+        The exact smallest phase angle at each speed [deg] (solid).
+    linear : array_like of float, optional
+        The seed's linearised form at each speed [deg] (dashed).
+    minimum_deg : float, optional
+        The operation's own minimum angle [deg] (dotted).
+    title : str, optional
+        The axes' title.
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; default None (a new figure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import numpy as np, cyclomech as cm

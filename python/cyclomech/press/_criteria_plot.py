@@ -98,6 +98,35 @@ def plot_press_criteria(
     design), ``"best in map"``, ``"optimum"``; on the Pareto plot ``"pareto"``
     (offsets k_Vp, k_Vmax; array k_J), ``"baseline"``, ``"best"``, ``"ideal"``.
 
+    Parameters
+    ----------
+    sweep : PressGrid
+        A :func:`cyclomech.press.design_grid` (or ``optimum.grid``) with d and L
+        among its axes (two or more values each; R and r fixed or of one value).
+    ax : matplotlib.axes.Axes or tuple of (Axes, Axes), optional
+        The axes to draw on (two with ``optimum``); default None (a new figure).
+    criterion : str, default "k_Vp"
+        The criterion mapped, a name of :data:`cyclomech.press.CRITERIA`.
+        Keyword-only, as are the parameters below.
+    phi0 : float, optional
+        The map is at the grid's φ0 nearest this [rad]; default None (see above).
+    optimum : PressOptimum, optional
+        A :func:`cyclomech.press.optimize` result, drawn as the second plot.
+    title : str, optional
+        The title; default None (the criterion and φ0).
+
+    Returns
+    -------
+    matplotlib.axes.Axes or tuple of (Axes, Axes)
+        The map's axes, or the pair (map, Pareto plot) with ``optimum``.
+
+    Raises
+    ------
+    InputError
+        If ``sweep`` is not a :class:`~cyclomech.press.PressGrid` with d and L among
+        its axes, ``criterion`` is not known, or ``optimum`` is not a
+        :class:`~cyclomech.press.PressOptimum`.
+
     Examples
     --------
     >>> import matplotlib

@@ -39,10 +39,40 @@ _AXES = ("R", "r", "d", "L", "phi0")
 class PressKinematics:
     """The drive over a grid of α [rad] (from BDC against the motion).
 
-    ``s`` = Π(α) [m], ``ds`` = Π' [m/rad], ``dds`` = Π'' [m/rad²], shape (N,);
-    ``centre`` (planet centre), ``pin`` (rod pin) and ``slider`` (N, 2) [m] in
-    the frame of the guide gear's centre; ``ok`` is False where the rod cannot
-    reach the guide (NaN there; centre and pin are still given).
+    Built by :meth:`GearLeverPress.solve`; each parameter is kept as the attribute
+    of the same name.
+
+    Parameters
+    ----------
+    alpha : ndarray of float, shape (N,)
+        The crank angles α [rad].
+    s : ndarray of float, shape (N,)
+        Π(α), the slider's height above BDC [m].
+    ds : ndarray of float, shape (N,)
+        Π' [m/rad].
+    dds : ndarray of float, shape (N,)
+        Π'' [m/rad²].
+    centre : ndarray of float, shape (N, 2)
+        The planet's centre [m] in the frame of the guide gear's centre.
+    pin : ndarray of float, shape (N, 2)
+        The rod's pin [m], same frame.
+    slider : ndarray of float, shape (N, 2)
+        The slider [m], same frame.
+    ok : ndarray of bool, shape (N,)
+        False where the rod cannot reach the guide (NaN there; centre and pin are
+        still given).
+
+    See Also
+    --------
+    GearLeverPress.solve : Builds it.
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+    >>> k = p.solve(np.radians([0.0, 90.0]))
+    >>> k.ok.tolist(), k.ds.round(4).tolist(), k.slider.round(4).tolist()
+    ([True, True], [0.0, 0.06], [[0.0, -0.36], [0.0, -0.2939]])
     """
 
     alpha: npt.NDArray[np.float64]
@@ -57,34 +87,25 @@ class PressKinematics:
 
 @dataclass(frozen=True)
 class PressCriteria:
-    """Working-stroke criteria of one design at crank speed ``omega`` [rad/s].
+    """Working-stroke criteria of one design at a crank speed.
 
-    Lengths [m], speeds [m/s], accelerations [m/s²], angles [rad]; ``torque_arm``
-    is the largest Π' over the working stroke [m] (crank torque per newton of
-    constant deformation force: a lever arm, not a torque; the crank torque [N·m]
-    of a deformation-force diagram is :meth:`GearLeverPress.crank_torque`);
-    ``theta_bdc`` the carrier angle of BDC. ``status`` says why a design fails
-    (``ok`` False: its criteria are NaN, except for a slider that moves back up
-    during the working stroke, which keeps them).
+    Built by :meth:`GearLeverPress.criteria` (and :meth:`PressGrid.at`); each
+    parameter is kept as the attribute of the same name. ``status`` says why a
+    design fails (``ok`` False: its criteria are NaN, except for a slider that moves
+    back up during the working stroke, which keeps them).
 
-    The working stroke starts at the *first contact*: coming down from TDC, the first
-    α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that then backs
-    off above S_p (by more than 1e-9 of the stroke) and comes down on the blank again
-    before BDC *re-contacts* (status 4, :data:`STATUS`); one that moves back up without
-    leaving the blank (rising faster than 1e-12 of the stroke per radian anywhere
-    in the working stroke, also between samples: near a cusp, d ≈ r, the rise can be a few
-    nanometres over a fraction of a sample step) has status 2. Both keep their
-    criteria (from the first contact) and fail (``ok`` False): design grids mark
-    them and :func:`optimize` drops them. S_p is watched from TDC down to BDC only,
-    the blank taken to be in place from TDC: a slider that also dips below S_p on
-    its way up (two strokes a turn; about 1 % of i = 3 designs, near φ0 = 60°) is
-    not flagged for it.
-
-    >>> import math, cyclomech as cm
-    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.028, L=0.46, phi0=math.radians(56))
-    >>> c = p.criteria(k_Sp=0.1, omega=2 * math.pi * 40 / 60)
-    >>> c.status[:11], round(math.degrees(c.alpha_p), 1), round(c.V_np * 1e3, 1)
-    ('re-contacts', 126.2, 57.7)
+    The working stroke starts at the *first contact*: coming down from TDC, the
+    first α where S = S_p is ``alpha_p`` (``V_np`` the speed there). A slider that
+    then backs off above S_p (by more than 1e-9 of the stroke) and comes down on the
+    blank again before BDC *re-contacts* (status 4, :data:`STATUS`); one that moves
+    back up without leaving the blank (rising faster than 1e-12 of the stroke per
+    radian anywhere in the working stroke, also between samples: near a cusp,
+    d ≈ r, the rise can be a few nanometres over a fraction of a sample step) has
+    status 2. Both keep their criteria (from the first contact) and fail (``ok``
+    False): design grids mark them and :func:`optimize` drops them. S_p is watched
+    from TDC down to BDC only, the blank taken to be in place from TDC: a slider
+    that also dips below S_p on its way up (two strokes a turn; about 1 % of i = 3
+    designs, near φ0 = 60°) is not flagged for it.
 
     Mirror-symmetric designs (no offset, e.g. i = 3 with φ0 = π/3) have two equally
     low BDCs or two equally high TDCs. Dead centres within 1e-12 of the stroke tie;
@@ -92,6 +113,51 @@ class PressCriteria:
     TDCs the first reached going back from that BDC, so every way of writing φ0
     gives the same criteria (and :meth:`GearLeverPress.solve` counts α from the same
     BDC).
+
+    Parameters
+    ----------
+    S_n : float
+        The nominal stroke [m].
+    S_p : float
+        The working stroke [m], k_Sp·S_n.
+    alpha_p : float
+        The crank angle of the working stroke's start, the first contact [rad].
+    V_np : float
+        The slider's speed at the first contact [m/s].
+    V_cp : float
+        Its mean speed over the working stroke, S_p·ω/α_p [m/s].
+    V_pmax : float
+        Its largest speed over the working stroke [m/s].
+    J_max : float
+        Its largest acceleration over the turn [m/s²].
+    torque_arm : float
+        The largest Π' over the working stroke [m]: the crank torque per newton of
+        constant deformation force, a lever arm, not a torque (the crank torque
+        [N·m] of a deformation-force diagram is :meth:`GearLeverPress.crank_torque`).
+    k_Sp : float
+        S_p/S_n.
+    k_Vp : float
+        V_np/V_cp (→ 0).
+    k_Vmax : float
+        V_pmax/V_cp (→ 1).
+    k_M : float
+        torque_arm/(S_n/2) (→ min).
+    k_J : float
+        J_max/(ω²·S_n/2) (→ min).
+    theta_bdc : float
+        The carrier angle of BDC [rad].
+    omega : float
+        The crank speed ω [rad/s].
+    status : str
+        The design's status, a value of :data:`STATUS` (``"ok"`` if it works).
+
+    Examples
+    --------
+    >>> import math, cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.028, L=0.46, phi0=math.radians(56))
+    >>> c = p.criteria(k_Sp=0.1, omega=2 * math.pi * 40 / 60)
+    >>> c.status[:11], round(math.degrees(c.alpha_p), 1), round(c.V_np * 1e3, 1)
+    ('re-contacts', 126.2, 57.7)
     """
 
     S_n: float
@@ -113,12 +179,27 @@ class PressCriteria:
 
     @property
     def ok(self) -> bool:
-        """True when the design works over the whole turn and the working stroke."""
+        """True when the design works over the whole turn and the working stroke.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+        >>> p.criteria(k_Sp=0.1, omega=4.0).ok
+        True
+        """
         return self.status == STATUS[0]
 
     def as_dict(self) -> dict[str, float | str]:
         """The criteria by name (for tables and JSON).
 
+        Returns
+        -------
+        dict of str to float or str
+            Each criterion of :data:`CRITERIA`, ``omega`` and ``status``, by name.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> c = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> sorted(c.criteria(k_Sp=0.1, omega=4.0).as_dict())[:3]
@@ -161,13 +242,33 @@ def _samples(samples: Any) -> int:
 
 @dataclass(frozen=True)
 class GearLeverPress:
-    """A planetary gear-lever press drive (see the module docs for the geometry).
+    """A planetary gear-lever press drive (see :mod:`cyclomech.press` for the geometry).
 
-    ``R``, ``r`` pitch radii of the guide and planet gears [m] (R/r a whole number
-    ≥ 2), ``d`` the pin's eccentricity on the planet [m] (0: crank-slider), ``L``
-    the rod [m], ``phi0`` the guide gear's setting angle [rad], ``offset`` of the
-    slider's guide from the centre [m].
+    Each parameter is kept as the attribute of the same name (as a float).
 
+    Parameters
+    ----------
+    R : float
+        The guide gear's pitch radius [m].
+    r : float
+        The planet gear's pitch radius [m] (R/r a whole number from 2 to 64).
+    d : float
+        The pin's eccentricity on the planet [m] (0: crank-slider).
+    L : float
+        The rod's length [m].
+    phi0 : float
+        The guide gear's setting angle [rad].
+    offset : float, default 0.0
+        The slider's guide's offset from the centre [m].
+
+    Raises
+    ------
+    InputError
+        If a value is not finite or the geometry is impossible (R > r > 0, R/r
+        whole, d ≥ 0, L > 0).
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.025, L=0.3, phi0=0.3)
     >>> k = p.solve(np.radians([0.0, 90.0, 180.0]))
@@ -200,8 +301,10 @@ class GearLeverPress:
 
     @property
     def ratio(self) -> int:
-        """The gear ratio i = R/r.
+        """The gear ratio i = R/r (dimensionless, whole).
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0).ratio
         3
@@ -209,8 +312,27 @@ class GearLeverPress:
         return round(self.R / self.r)
 
     def solve(self, alpha: npt.ArrayLike, *, n_threads: int | None = None) -> PressKinematics:
-        """Positions and exact transfer functions over α [rad], shape (N,).
+        """Positions and exact transfer functions over a grid of crank angles.
 
+        Parameters
+        ----------
+        alpha : array_like of float, shape (N,)
+            The crank angles α [rad], from BDC against the motion.
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        PressKinematics
+            Π, Π', Π'' and the positions at each angle.
+
+        Raises
+        ------
+        InputError
+            If ``alpha`` is not a 1-D array of numbers.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> k = p.solve(np.array([np.pi]))      # crank-slider: TDC at α = π
@@ -231,12 +353,37 @@ class GearLeverPress:
         working_stroke: float | None = None,
         samples: int = SAMPLES,
     ) -> PressCriteria:
-        """Working-stroke criteria at crank speed ``omega`` [rad/s], for a working
-        stroke of ``k_Sp``·S_n or ``working_stroke`` [m] (one of them).
+        """Working-stroke criteria at a crank speed ``omega`` [rad/s].
 
-        ``samples`` carrier angles per turn bracket every extreme, which is then
-        found exactly (a root of the next derivative).
+        For a working stroke of ``k_Sp``·S_n or ``working_stroke`` [m] (one of them).
+        ``samples`` carrier angles per turn bracket every extreme, which is then found
+        exactly (a root of the next derivative).
 
+        Parameters
+        ----------
+        omega : float
+            The crank speed ω [rad/s] (> 0). Keyword-only, as are the parameters below.
+        k_Sp : float, optional
+            The working stroke as a fraction of the nominal stroke, in (0, 1]; give it
+            or ``working_stroke``.
+        working_stroke : float, optional
+            The working stroke S_p [m] (> 0).
+        samples : int, default SAMPLES
+            Carrier angles per turn (8 to 10⁶; :data:`SAMPLES` = 360).
+
+        Returns
+        -------
+        PressCriteria
+            The criteria (NaN and a failing ``status`` where the design does not work).
+
+        Raises
+        ------
+        InputError
+            If not exactly one of ``k_Sp`` and ``working_stroke`` is given, or a value
+            is out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> c = p.criteria(k_Sp=0.1, omega=4.0)
@@ -271,21 +418,53 @@ class GearLeverPress:
         working_stroke: float | None = None,
         n_threads: int | None = None,
     ) -> PressTorque:
-        """The crank torque over α [rad] (shape (N,)) for the deformation-force
-        diagram ``force`` (:class:`DeformationForce`, heights above BDC inside the
-        working stroke [0, S_p]), the slider's mass ``slider_mass`` [kg] and a
-        uniform rod's ``rod_mass`` [kg], for a working stroke of ``k_Sp``·S_n or
-        ``working_stroke`` [m] (one of them):
+        """The crank torque [N·m] over α for a deformation-force diagram and the moving masses.
+
+        For a working stroke of ``k_Sp``·S_n or ``working_stroke`` (one of them)::
 
             M(α) = F(Π(α))·Π'(α) [on the working stroke, 0 ≤ α ≤ α_p]
                    − ω²·(m_s·Π'·Π'' + m_r·(G_α·G_αα + L²/12·φ_α·φ_αα))
 
-        [N·m], the torque the drive puts into the crank in its turning direction,
-        from the power balance M·ω = dT/dt − F·v with v = dS/dt = −ω·Π' (α runs
-        against the motion); G is the rod's centre, φ its angle (derivation in
-        :mod:`cyclomech.press._torque`). The ω² part and the force part come
-        apart (:class:`PressTorque`).
+        [N·m], the torque the drive puts into the crank in its turning direction, from
+        the power balance M·ω = dT/dt − F·v with v = dS/dt = −ω·Π' (α runs against the
+        motion); G is the rod's centre, φ its angle (derivation in
+        :mod:`cyclomech.press._torque`). The ω² part and the force part come apart
+        (:class:`PressTorque`).
 
+        Parameters
+        ----------
+        alpha : array_like of float, shape (N,)
+            The crank angles α [rad], from BDC against the motion.
+        force : DeformationForce, optional
+            The deformation-force diagram, heights above BDC inside the working stroke
+            [0, S_p]; default None (no force). Keyword-only, as are the parameters
+            below.
+        slider_mass : float, default 0.0
+            The slider's mass m_s [kg] (≥ 0).
+        rod_mass : float, default 0.0
+            A uniform rod's mass m_r [kg] (≥ 0).
+        k_Sp : float, optional
+            The working stroke as a fraction of the nominal stroke, in (0, 1].
+        working_stroke : float, optional
+            The working stroke S_p [m] (> 0).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        PressTorque
+            The torque's ω² part and its force part over α, with S_p, α_p and the
+            energy per stroke.
+
+        Raises
+        ------
+        InputError
+            If not exactly one of ``k_Sp`` and ``working_stroke`` is given, a mass is
+            negative, the force diagram leaves the working stroke, the design does not
+            work at some angle, or a value is out of range.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> f = cm.press.DeformationForce([0.0, 0.012], [1e5, 1e5])
@@ -307,9 +486,18 @@ class GearLeverPress:
         )
 
     def baseline(self) -> GearLeverPress:
-        """The plain crank-slider of this drive: the same gears, rod and guide with
-        the pin on the planet's centre (d = 0).
+        """The plain crank-slider of this drive.
 
+        The same gears, rod and guide with the pin on the planet's centre (d = 0, and
+        φ0 = 0).
+
+        Returns
+        -------
+        GearLeverPress
+            The baseline design.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.4).baseline().d
         0.0
@@ -319,6 +507,13 @@ class GearLeverPress:
     def to_dict(self) -> dict[str, float]:
         """The design as a plain dict [m, rad].
 
+        Returns
+        -------
+        dict of str to float
+            ``R``, ``r``, ``d``, ``L`` [m], ``phi0`` [rad] and ``offset`` [m].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.4).to_dict()["L"]
         0.3

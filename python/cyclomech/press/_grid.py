@@ -35,11 +35,40 @@ __all__ = ["PressGrid", "design_grid"]
 class PressGrid:
     """Criteria over a Cartesian grid of designs (from :func:`design_grid`).
 
-    ``axes`` maps each swept parameter (in the order R, r, d, L, phi0; those given
-    as arrays) to its values; ``fixed`` holds the others. ``values[name]`` is an
-    array of the grid's shape for every name in :data:`CRITERIA`; ``status`` (same
-    shape, uint8) says why a design fails (see :data:`STATUS`); ``ok`` is status
-    0. ``sw["k_Vp"]`` is ``sw.values["k_Vp"]``.
+    ``ok`` is status 0. ``sw["k_Vp"]`` is ``sw.values["k_Vp"]`` (an unknown name is
+    an :class:`~cyclomech.InputError` listing the criteria). Each parameter is kept
+    as the attribute of the same name.
+
+    Parameters
+    ----------
+    axes : dict of str to ndarray of float
+        Each swept parameter (in the order R, r, d, L, phi0; those given as arrays)
+        to its values [m, rad].
+    fixed : dict of str to float
+        The other parameters (and ``offset``) [m, rad].
+    values : dict of str to ndarray of float
+        For every name in :data:`CRITERIA`, an array of the grid's shape (units as
+        :class:`PressCriteria`).
+    status : ndarray of uint8
+        Of the grid's shape: why a design fails (see :data:`STATUS`; 0 if it works).
+    omega : float
+        The crank speed ω [rad/s].
+    k_Sp : float or None
+        The working stroke as a fraction of the nominal stroke, if given so.
+    working_stroke : float or None
+        The working stroke S_p [m], if given so.
+    samples : int, default SAMPLES
+        Carrier angles per turn.
+    elapsed : float, default 0.0
+        The computing time [s] (not compared).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+    ...                     omega=4.0)
+    >>> list(sw.axes), sw.fixed["L"], sw["S_n"].shape
+    (['d'], 0.3, (2,))
     """
 
     axes: dict[str, npt.NDArray[np.float64]]
@@ -54,12 +83,30 @@ class PressGrid:
 
     @property
     def shape(self) -> tuple[int, ...]:
-        """Shape of the grid (one entry per swept axis)."""
+        """Shape of the grid (one entry per swept axis).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=[0.3, 0.4, 0.5], phi0=0.0,
+        ...                     k_Sp=0.1, omega=4.0)
+        >>> sw.shape
+        (2, 3)
+        """
         return self.status.shape
 
     @property
     def ok(self) -> npt.NDArray[np.bool_]:
-        """True where the design works (status 0)."""
+        """True where the design works (status 0), of the grid's shape.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
+        ...                     omega=4.0)
+        >>> sw.ok.tolist()
+        [True, True]
+        """
         return self.status == 0
 
     def __getitem__(self, name: str) -> npt.NDArray[np.float64]:
@@ -76,6 +123,23 @@ class PressGrid:
     def design(self, index: tuple[int, ...] | int) -> GearLeverPress:
         """The design at a grid index.
 
+        Parameters
+        ----------
+        index : int or tuple of int
+            A flat index over the grid, or one index per swept axis.
+
+        Returns
+        -------
+        GearLeverPress
+            The design there.
+
+        Raises
+        ------
+        InputError
+            If a tuple index has not one entry per swept axis.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
         ...                     omega=4.0)
@@ -93,6 +157,18 @@ class PressGrid:
     def at(self, index: tuple[int, ...] | int) -> PressCriteria:
         """The criteria of the design at a grid index.
 
+        Parameters
+        ----------
+        index : int or tuple of int
+            A flat index over the grid, or one index per swept axis.
+
+        Returns
+        -------
+        PressCriteria
+            The design's criteria, with its status.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=0.3, phi0=0.0, k_Sp=0.1,
         ...                     omega=4.0)
@@ -104,9 +180,16 @@ class PressGrid:
         return PressCriteria(**vals, omega=self.omega, status=STATUS[int(self.status[idx])])
 
     def table(self) -> dict[str, npt.NDArray[Any]]:
-        """Flat columns (one row per design): the swept parameters, the criteria and
-        the status code, for CSV or a data frame.
+        """Flat columns (one row per design), for CSV or a data frame.
 
+        Returns
+        -------
+        dict of str to ndarray
+            The swept parameters, the criteria (k_Vp, k_Vmax, k_J, k_M first) and the
+            status code, each a 1-D array of one entry per design.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=[0.0, 0.02], L=[0.3, 0.4], phi0=0.0,
         ...                     k_Sp=0.1, omega=4.0)
@@ -145,13 +228,54 @@ def design_grid(
 ) -> PressGrid:
     """Criteria over the full Cartesian grid of designs, in parallel in Rust.
 
-    Each of ``R``, ``r``, ``d``, ``L`` [m] and ``phi0`` [rad] is a scalar (fixed)
-    or a 1-D array (an axis of the grid, in that order). ``omega`` [rad/s] and the
-    working stroke (``k_Sp`` or ``working_stroke`` [m]) as in
-    :meth:`GearLeverPress.criteria`. A large grid runs in chunks of 250 000
-    designs, one Rust call each, with a progress bar on stderr (``progress=None``:
-    when stderr is a terminal and the grid is large); Ctrl-C stops between chunks.
+    A large grid runs in chunks of 250 000 designs, one Rust call each, with a
+    progress bar on stderr; Ctrl-C stops between chunks. All parameters are
+    keyword-only.
 
+    Parameters
+    ----------
+    d : float or array_like of float
+        The pin's eccentricity [m]: a scalar (fixed) or a 1-D array (an axis of the
+        grid; the axes in the order R, r, d, L, phi0).
+    L : float or array_like of float
+        The rod's length [m], fixed or an axis.
+    phi0 : float or array_like of float
+        The guide gear's setting angle [rad], fixed or an axis.
+    R : float or array_like of float
+        The guide gear's pitch radius [m], fixed or an axis.
+    r : float or array_like of float
+        The planet gear's pitch radius [m], fixed or an axis.
+    omega : float
+        The crank speed ω [rad/s] (> 0).
+    offset : float, default 0.0
+        The slider's guide's offset from the centre [m].
+    k_Sp : float, optional
+        The working stroke as a fraction of the nominal stroke, in (0, 1]; give it
+        or ``working_stroke`` (as in :meth:`GearLeverPress.criteria`).
+    working_stroke : float, optional
+        The working stroke S_p [m] (> 0).
+    samples : int, default SAMPLES
+        Carrier angles per turn (8 to 10⁶).
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+    progress : bool, optional
+        Show a progress bar; default None (when stderr is a terminal and the grid is
+        large).
+
+    Returns
+    -------
+    PressGrid
+        The criteria and status of every design, arrays of the grid's shape.
+
+    Raises
+    ------
+    InputError
+        If a value is not finite, an axis is empty, not exactly one of ``k_Sp`` and
+        ``working_stroke`` is given, a value is out of range, or the grid would not
+        fit in memory.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> sw = cm.press.design_grid(R=0.09, r=0.03, d=np.linspace(0, 0.04, 5), L=[0.3, 0.4],
     ...                     phi0=np.radians(np.arange(0, 120, 10)), k_Sp=0.1, omega=4.0)

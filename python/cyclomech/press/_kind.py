@@ -29,22 +29,55 @@ FORCE_KEYS = ("s_above_bdc_m", "force_n")
 
 @dataclass(frozen=True)
 class PressMechanism(Unbounded):
-    """A gear-lever press drive whose crank turns once per machine cycle; the
-    working stroke is ``k_Sp``·S_n or ``working_stroke`` [m]; ``max_V_np`` [m/s]
-    optionally limits the slider's speed at the start of the working stroke.
+    """A gear-lever press drive whose crank turns once per machine cycle (seed 003).
 
     Its load on the main shaft (:meth:`GearLeverPress.crank_torque`): the
-    deformation-force diagram ``force``, the slider's mass ``slider_mass`` [kg] and
-    a uniform rod's ``rod_mass`` [kg]; ``phase`` places it in the cycle. The press's
-    own angle for :class:`~cyclomech._kind.Phase` is the carrier's angle turned
-    since BDC, in its direction of rotation (ψ = −α mod 360°): ``phase = {event =
-    "bottom", crank_deg = 0}`` puts BDC at the event ``bottom``, and the working
-    stroke then takes the α_p degrees of the cycle before it.
+    deformation-force diagram ``force``, the slider's mass and a uniform rod's mass;
+    ``phase`` places it in the cycle. The press's own angle for
+    :class:`~cyclomech._kind.Phase` is the carrier's angle turned since BDC, in its
+    direction of rotation (ψ = −α mod 360°): ``phase = {event = "bottom", crank_deg
+    = 0}`` puts BDC at the event ``bottom``, and the working stroke then takes the
+    α_p degrees of the cycle before it. The ``press`` kind of a machine file, read
+    by :meth:`from_table`; each parameter is kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    name : str
+        The mechanism's name in the machine file.
+    press : GearLeverPress
+        The drive's design.
+    k_Sp : float, optional
+        The working stroke as a fraction of the nominal stroke S_n; default None.
+    working_stroke : float, optional
+        The working stroke S_p [m]; default None (one of the two is given).
+    max_V_np : float, optional
+        The limit on the slider's speed at the start of the working stroke [m/s];
+        default None (no limit).
+    force : DeformationForce, optional
+        The deformation-force diagram; default None.
+    slider_mass : float, default 0.0
+        The slider's mass [kg].
+    rod_mass : float, default 0.0
+        A uniform rod's mass [kg].
+    phase : Phase, optional
+        Where it sits in the cycle; default ``Phase()`` (its angle 0 at cycle angle
+        0).
+
+    Attributes
+    ----------
+    kind : str
+        ``"press"``, the ``kind`` key of its table.
+    keys : frozenset of str
+        The keys its table takes.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"]
     >>> m.kind, m.k_Sp
     ('press', 0.1)
+    >>> m.phase, m.slider_mass, m.rod_mass
+    (Phase(event='bottom', crank_deg=0.0), 60.0, 15.0)
     """
 
     kind: ClassVar[str] = "press"
@@ -73,18 +106,44 @@ class PressMechanism(Unbounded):
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> PressMechanism:
-        """Its ``[mechanism.<name>]`` table: ``R``, ``r``, ``d``, ``L`` [m],
-        ``phi0_deg`` [deg], optional ``offset`` [m]; one of ``k_Sp`` or
-        ``working_stroke`` [m]; optional ``max_V_np`` [m/s]. The design must work.
+        """A press from its ``[mechanism.<name>]`` table; the design must work.
+
+        The table holds ``R``, ``r``, ``d``, ``L`` [m], ``phi0_deg`` [deg], optional
+        ``offset`` [m]; one of ``k_Sp`` or ``working_stroke`` [m]; optional ``max_V_np``
+        [m/s].
 
         Its load on the main shaft, all optional: ``deformation_force =
         {s_above_bdc_m = [...], force_n = [...]}``, the force diagram (heights of the
         slider above BDC [m], strictly increasing, inside the working stroke [0, S_p];
         forces [N] ≥ 0; linear between the points, zero outside them);
         ``slider_mass_kg`` and ``rod_mass_kg`` (a uniform rod) [kg] ≥ 0; ``phase =
-        {event = "...", crank_deg = ...}``, the carrier's angle past BDC [deg] at
-        that cyclogram event (see the class's docs).
+        {event = "...", crank_deg = ...}``, the carrier's angle past BDC [deg] at that
+        cyclogram event (see the class's docs).
 
+        Parameters
+        ----------
+        name : str
+            The mechanism's name.
+        table : mapping of str to Any
+            Its table as read from the file.
+        ctx : TableContext
+            The machine's cyclogram (for the phase's event) and the file's name for
+            messages.
+
+        Returns
+        -------
+        PressMechanism
+            The mechanism.
+
+        Raises
+        ------
+        InputError
+            If a key is missing or unknown, a value is malformed or out of range, the
+            design does not work (the message says which keys to change and to what),
+            or the force diagram leaves the working stroke.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> ctx = TableContext(m.cyclogram, "<doc>", 361)
@@ -127,6 +186,8 @@ class PressMechanism(Unbounded):
     def loaded(self) -> bool:
         """True when it has a force diagram or a mass: a torque on the main shaft.
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"].loaded
         True
@@ -134,10 +195,18 @@ class PressMechanism(Unbounded):
         return self.force is not None or self.slider_mass > 0 or self.rod_mass > 0
 
     def crank_torque(self) -> PressTorque | None:
-        """Its crank torque (:meth:`GearLeverPress.crank_torque`) on
-        :data:`SHAFT_SAMPLES` carrier angles ψ = 0, 0.1°, … past BDC in the direction
-        of rotation (α = −ψ mod 2π); None when it has no load.
+        """Its crank torque on :data:`SHAFT_SAMPLES` carrier angles past BDC.
 
+        :meth:`GearLeverPress.crank_torque` at ψ = 0, 0.1°, … past BDC in the direction
+        of rotation (α = −ψ mod 2π).
+
+        Returns
+        -------
+        PressTorque or None
+            The crank torque [N·m] (ω² part and force part); None when it has no load.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml").mechanisms["drive"]
         >>> t = m.crank_torque()
@@ -197,8 +266,20 @@ class PressMechanism(Unbounded):
         )
 
     def criteria(self, rpm: float) -> PressCriteria:
-        """The working-stroke criteria at ``rpm`` (:meth:`GearLeverPress.criteria`).
+        """The working-stroke criteria at a machine speed (:meth:`GearLeverPress.criteria`).
 
+        Parameters
+        ----------
+        rpm : float
+            The machine speed, the crank's [rpm].
+
+        Returns
+        -------
+        PressCriteria
+            The criteria at ω = 2π·rpm/60.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> round(m.mechanisms["drive"].criteria(40.0).S_n, 4)
@@ -209,9 +290,20 @@ class PressMechanism(Unbounded):
         )
 
     def speed_limit_rpm(self) -> float:
-        """Speed [rpm] at which V_np reaches ``max_V_np`` (V_np grows as n; inf
-        without a limit).
+        """Speed [rpm] at which V_np reaches ``max_V_np`` (V_np grows as n).
 
+        Returns
+        -------
+        float
+            The speed limit [rpm]; inf without a limit.
+
+        Raises
+        ------
+        InputError
+            If the design does not work.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> round(m.mechanisms["drive"].speed_limit_rpm(), 1)
@@ -229,6 +321,13 @@ class PressMechanism(Unbounded):
     def limit_reason(self) -> str:
         """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
 
+        Returns
+        -------
+        str
+            The reason, "" without a limit.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> m.mechanisms["drive"].limit_reason()
@@ -242,8 +341,21 @@ class PressMechanism(Unbounded):
         )
 
     def analyze(self, ctx: Context) -> PressResult:
-        """Its criteria at the nominal speed.
+        """Its criteria and crank torque at the nominal speed.
 
+        Parameters
+        ----------
+        ctx : Context
+            What the machine computed before: the nominal speed among it.
+
+        Returns
+        -------
+        PressResult
+            The working-stroke criteria at the nominal speed and the crank torque (None
+            without a force diagram or masses).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
         >>> r = cm.machine.analyze(m, progress=False).mechanisms["drive"]

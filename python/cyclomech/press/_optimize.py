@@ -34,17 +34,47 @@ OBJECTIVES = {
 class PressOptimum:
     """The non-dominated designs of :func:`optimize`.
 
-    ``designs`` lists them as :class:`GearLeverPress`, ``criteria`` their
-    :class:`PressCriteria`, ``refined`` whether scipy moved each off the grid,
-    ``scores`` their weighted score (lower is better; 1 per objective is the
-    baseline's level; sorted, so ``best`` = 0 is the lowest). ``baseline`` are
-    the criteria of ``baseline_press``, the crank-slider (d = 0) of the same gears
-    with the grid's median rod, which every objective is divided by; ``grid`` the
-    design grid it started from. ``edges`` says, one sentence each, where the best design
-    lies on a bound of the grid (a swept axis's first or last value, to within half
-    a grid step; not d = 0, nor φ0 on an axis spanning a whole period 2π/i, which
-    wraps): a better design may lie beyond it, outside the grid. Empty when the best
-    design is inside.
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    designs : tuple of GearLeverPress
+        The non-dominated designs.
+    criteria : tuple of PressCriteria
+        Their criteria.
+    refined : tuple of bool
+        Whether scipy moved each off the grid.
+    scores : ndarray of float
+        Their weighted score (lower is better; 1 per objective is the baseline's
+        level), sorted.
+    best : int
+        The index of the lowest score (0, as the scores are sorted).
+    baseline : PressCriteria
+        The criteria of ``baseline_press``, which every objective is divided by.
+    baseline_press : GearLeverPress
+        The crank-slider (d = 0) of the same gears with the grid's median rod.
+    grid : PressGrid
+        The design grid it started from.
+    objectives : tuple of str
+        The objectives scored (names of :data:`OBJECTIVES`).
+    edges : tuple of str, default ()
+        One sentence each, where the best design lies on a bound of the grid (a
+        swept axis's first or last value, to within half a grid step; not d = 0, nor
+        φ0 on an axis spanning a whole period 2π/i, which wraps): a better design may
+        lie beyond it, outside the grid. Empty when the best design is inside.
+
+    See Also
+    --------
+    optimize : Builds it.
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> opt = cm.press.optimize(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
+    ...                         L=[0.3, 0.4], phi0=np.radians(np.arange(0, 120, 10)),
+    ...                         k_Sp=0.1, omega=4.0, refine=1)
+    >>> opt.best, opt.baseline_press.d, opt.baseline_press.L, len(opt.edges)
+    (0, 0.0, 0.35, 1)
     """
 
     designs: tuple[GearLeverPress, ...]
@@ -64,11 +94,29 @@ def _objective_matrix(values: Mapping[str, Any], objectives: Sequence[str]) -> A
 
 
 def pareto_mask(points: npt.ArrayLike) -> npt.NDArray[np.bool_]:
-    """True for the rows of ``points`` (n, m) that no other row dominates (every
-    objective lower or equal, one strictly lower); lower is better. Equal rows
-    are all kept. In Rust: rows in order of their sum, each compared with the
-    front found so far.
+    """True for the rows of ``points`` that no other row dominates; lower is better.
 
+    A row dominates another when every objective is lower or equal and one strictly
+    lower. Equal rows are all kept. In Rust: rows in order of their sum, each
+    compared with the front found so far.
+
+    Parameters
+    ----------
+    points : array_like of float, shape (n, m)
+        The objectives (m columns) of n designs.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        True for the non-dominated rows.
+
+    Raises
+    ------
+    InputError
+        If ``points`` is not a 2-D array of numbers.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> cm.press.pareto_mask(np.array([[1, 2], [2, 1], [2, 2], [1, 2]])).tolist()
     [True, True, False, True]
@@ -100,28 +148,84 @@ def optimize(
 
     Objectives (lower is better): ``k_Vp`` (→ 0), ``|k_Vmax − 1|``, ``k_J`` and
     ``k_M`` (the dimensionless peak acceleration and torque arm), or a subset.
-    ``limits`` bounds any criterion from above, e.g. ``{"V_np": 0.05}`` for a
-    start of the working stroke at most 50 mm/s at ``omega``. Designs that fail
-    (see :data:`STATUS`: a rod that cannot reach, a slider that moves back up or
-    re-contacts the blank) or break a limit are dropped. The score of a design is
-    the weighted sum of its objectives, each divided by the baseline crank-slider's.
+    Designs that fail (see :data:`STATUS`: a rod that cannot reach, a slider that
+    moves back up or re-contacts the blank) or break a limit are dropped. The score
+    of a design is the weighted sum of its objectives, each divided by the baseline
+    crank-slider's.
 
     The refinement (``refine`` > 0) is multi-start, with the limits inside it. A
     coarse grid is swept once more, finer (at most 100 000 designs, one Rust call),
     because the designs that meet a tight limit on V_np lie in a narrow band of φ0
-    that a coarse grid steps over. From that grid start the ``refine`` best
-    designs that meet the limits and the ``refine`` best working designs by score
-    plus a penalty of 1000 per unit of relative excess over a limit, the starts
-    spread (none within a grid step of another). Each start is refined by a zoom
-    (boxes of 9³ designs, ± one step around the best so far, a quarter the size
-    each time, 8 times; one Rust call each) and polished by scipy's Nelder–Mead on
-    the penalised score, within the grid's bounds; of every design met, the best
-    that meets the limits is kept. So a limit that no grid design meets can still
-    be met by a design between the grid's points; with ``refine = 0``, or when no
-    design is found, :class:`~cyclomech.InfeasibleError` names the limits. The
-    returned front is recomputed over the grid's front and the refined designs;
-    :attr:`PressOptimum.edges` says when the best design lies on the grid's bound.
+    that a coarse grid steps over. From that grid start the ``refine`` best designs
+    that meet the limits and the ``refine`` best working designs by score plus a
+    penalty of 1000 per unit of relative excess over a limit, the starts spread
+    (none within a grid step of another). Each start is refined by a zoom (boxes of
+    9³ designs, ± one step around the best so far, a quarter the size each time, 8
+    times; one Rust call each) and polished by scipy's Nelder–Mead on the penalised
+    score, within the grid's bounds; of every design met, the best that meets the
+    limits is kept. So a limit that no grid design meets can still be met by a
+    design between the grid's points. The returned front is recomputed over the
+    grid's front and the refined designs; :attr:`PressOptimum.edges` says when the
+    best design lies on the grid's bound.
 
+    Parameters
+    ----------
+    d : float or array_like of float
+        The pin's eccentricity [m], fixed or an axis of the grid. All the parameters
+        are keyword-only.
+    L : float or array_like of float
+        The rod's length [m], fixed or an axis.
+    phi0 : float or array_like of float
+        The guide gear's setting angle [rad], fixed or an axis.
+    R : float
+        The guide gear's pitch radius [m].
+    r : float
+        The planet gear's pitch radius [m].
+    omega : float
+        The crank speed ω [rad/s] (> 0).
+    offset : float, default 0.0
+        The slider's guide's offset from the centre [m].
+    k_Sp : float, optional
+        The working stroke as a fraction of the nominal stroke, in (0, 1]; give it
+        or ``working_stroke``.
+    working_stroke : float, optional
+        The working stroke S_p [m] (> 0).
+    limits : mapping of str to float, optional
+        Upper bounds on any criterion of :data:`CRITERIA`, in its unit, e.g.
+        ``{"V_np": 0.05}`` for a start of the working stroke at most 50 mm/s at
+        ``omega``; default None (no limits).
+    objectives : sequence of str, default ("k_Vp", "k_Vmax", "k_J", "k_M")
+        The objectives, names of :data:`OBJECTIVES`.
+    weights : sequence of float, optional
+        One finite non-negative weight per objective; default None (all 1).
+    refine : int, default 5
+        The number of starts of each kind for the refinement (0: none).
+    samples : int, default SAMPLES
+        Carrier angles per turn (8 to 10⁶).
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+    progress : bool, optional
+        Show a progress bar for the grid; default None (when stderr is a terminal
+        and the grid is large).
+
+    Returns
+    -------
+    PressOptimum
+        The non-dominated designs, their criteria and scores, the best, and the
+        baseline.
+
+    Raises
+    ------
+    InputError
+        If an objective or a limit's criterion is unknown, the weights are not one
+        finite non-negative number per objective, ``refine`` is negative, or a grid
+        parameter is out of range (as :func:`design_grid`).
+    InfeasibleError
+        If no design works within the limits (with ``refine = 0``, or when none is
+        found); it names the limits.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> opt = cm.press.optimize(R=0.09, r=0.03, d=np.linspace(0, 0.04, 9),
     ...                         L=[0.3, 0.4], phi0=np.radians(np.arange(0, 120, 10)),

@@ -45,10 +45,10 @@ def drive_from_table(table: Mapping[str, Any], where: str) -> GearLeverPress:
 
 @dataclass(frozen=True)
 class PressStudy:
-    """A press file: one design, its working stroke and speed, and optionally a
-    design grid with limits for :func:`optimize` (read with :meth:`from_toml`).
+    """A press file: one design, its working stroke and speed, and optionally a design grid.
 
-    The file::
+    The grid with limits is for :func:`optimize`. Read with :meth:`from_toml`; each
+    parameter is kept as the attribute of the same name. The file::
 
         [press]
         name = "extrusion press"     # optional
@@ -70,6 +70,32 @@ class PressStudy:
 
         [limits]                     # optional upper bounds on criteria (SI units)
         V_np = 0.05
+
+    Parameters
+    ----------
+    press : GearLeverPress
+        The design.
+    rpm : float
+        The crank speed [rpm].
+    k_Sp : float, optional
+        The working stroke as a fraction of the nominal stroke; default None.
+    working_stroke : float, optional
+        The working stroke S_p [m]; default None (one of the two is given).
+    grid : dict of str to ndarray of float, optional
+        The grid's ``d``, ``L`` [m] and ``phi0`` [rad] values (an axis not swept
+        holds the design's value); default None (no ``[sweep]``).
+    limits : dict of str to float, optional
+        Upper bounds on criteria of :data:`CRITERIA`, in SI units; default empty.
+    name : str, default ""
+        The press's name.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0)
+    >>> st = cm.press.PressStudy(p, rpm=60.0, k_Sp=0.1)
+    >>> st.working_stroke, st.grid, st.limits
+    (None, None, {})
     """
 
     press: GearLeverPress
@@ -84,6 +110,8 @@ class PressStudy:
     def omega(self) -> float:
         """Crank speed [rad/s].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.02, L=0.3, phi0=0.0)
         >>> round(cm.press.PressStudy(p, rpm=60.0, k_Sp=0.1).omega, 6)
@@ -95,6 +123,25 @@ class PressStudy:
     def from_toml(cls, path: str | Any) -> PressStudy:
         """Read a press file; errors name the file, the table and the key.
 
+        Parameters
+        ----------
+        path : str or path-like
+            The press file (TOML).
+
+        Returns
+        -------
+        PressStudy
+            The design, its working stroke and speed, and the grid and limits if given.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read, a table or a key is missing or unknown (a
+            machine's crank-torque keys in ``[press]`` among them), or a value is
+            malformed or out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm, pathlib, tempfile
         >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.toml"
         >>> _ = f.write_text('[press]\\nR = 0.09\\nr = 0.03\\nd = 0.02\\nL = 0.3\\n'

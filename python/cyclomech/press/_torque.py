@@ -85,13 +85,29 @@ def check_table(s: Any, force: Any, s_key: str, force_key: str) -> tuple[Array, 
 
 @dataclass(frozen=True)
 class DeformationForce:
-    """A deformation-force diagram: the force ``force`` [N] (≥ 0) the blank puts on
-    the slider at its height ``s`` [m] above BDC (the press's S = Π(α); strictly
-    increasing), linearly interpolated, and zero outside the table: the slider is
-    off the blank there. It acts only on the working stroke, the approach to BDC
-    (α from α_p down to 0); the table must lie inside [0, S_p] (see
-    :meth:`check_stroke`).
+    """A deformation-force diagram: the force the blank puts on the slider over its height.
 
+    Linearly interpolated, and zero outside the table: the slider is off the blank
+    there. It acts only on the working stroke, the approach to BDC (α from α_p down
+    to 0); the table must lie inside [0, S_p] (see :meth:`check_stroke`). Each
+    parameter is kept as the attribute of the same name (as a float array).
+
+    Parameters
+    ----------
+    s : array_like of float, shape (M,)
+        The slider's heights above BDC [m] (the press's S = Π(α)), M ≥ 2, ≥ 0 and
+        strictly increasing.
+    force : array_like of float, shape (M,)
+        The force at each height [N] (≥ 0: the blank pushes the slider up).
+
+    Raises
+    ------
+    InputError
+        If the arrays are not of one length ≥ 2, not finite, the heights are
+        negative or do not increase strictly, or a force is negative.
+
+    Examples
+    --------
     >>> f = DeformationForce([0.0, 0.004, 0.01], [2e5, 2e5, 0.0])
     >>> f.at([0.002, 0.007, 0.02]).tolist(), f.energy_j
     ([200000.0, 100000.0, 0.0], 1400.0)
@@ -106,8 +122,20 @@ class DeformationForce:
         object.__setattr__(self, "force", f)
 
     def at(self, s: npt.ArrayLike) -> Array:
-        """The force [N] at heights ``s`` [m] above BDC (0 outside the table).
+        """The force [N] at given heights above BDC (0 outside the table).
 
+        Parameters
+        ----------
+        s : float or array_like of float
+            The slider's heights above BDC [m].
+
+        Returns
+        -------
+        ndarray of float
+            The force at each height [N], of the shape of ``s``.
+
+        Examples
+        --------
         >>> DeformationForce([0.001, 0.002], [10.0, 20.0]).at([0.0, 0.0015]).tolist()
         [0.0, 15.0]
         """
@@ -118,19 +146,36 @@ class DeformationForce:
     def energy_j(self) -> float:
         """The energy per stroke ∫ F dS [J] (exact for the linear interpolation).
 
+        Examples
+        --------
         >>> DeformationForce([0.0, 0.01], [1e5, 1e5]).energy_j
         1000.0
         """
         return float(np.sum(0.5 * (self.force[1:] + self.force[:-1]) * np.diff(self.s)))
 
     def check_stroke(self, S_p: float, s_key: str = "s") -> None:
-        """:class:`InputError` (naming ``s_key``) unless the table lies inside the
-        working stroke [0, ``S_p``] [m] (to :data:`STROKE_TOL`·S_p).
+        """Check that the table lies inside the working stroke [0, ``S_p``] [m].
 
+        To :data:`STROKE_TOL`·S_p.
+
+        Parameters
+        ----------
+        S_p : float
+            The working stroke [m].
+        s_key : str, default "s"
+            The key the error names (the table's key in the file).
+
+        Raises
+        ------
+        InputError
+            Naming ``s_key``, if a height lies above the working stroke.
+
+        Examples
+        --------
         >>> DeformationForce([0.0, 0.02], [1.0, 1.0]).check_stroke(0.0128)
         Traceback (most recent call last):
-        cyclomech._errors.InputError: s[1] = 0.02 m lies above the working stroke: the force \
-diagram's heights above BDC must lie in [0, 0.0128] m (S_p = 0.0128 m)
+        cyclomech._errors.InputError: s[1] = 0.02 m lies above the working stroke: the force
+        diagram's heights above BDC must lie in [0, 0.0128] m (S_p = 0.0128 m)
         """
         top = S_p * (1.0 + STROKE_TOL)
         bad = np.flatnonzero(self.s > top)
@@ -144,14 +189,30 @@ diagram's heights above BDC must lie in [0, 0.0128] m (S_p = 0.0128 m)
 
 @dataclass(frozen=True)
 class PressTorque:
-    """The crank torque of a press drive over α [rad] (from BDC against the
-    motion, shape (N,)): M(α) = ω²·``per_omega2`` + ``static`` [N·m], the torque the
-    drive puts into the crank in its direction of rotation (see the module's
-    derivation). ``static`` = F(Π)·Π' on the working stroke (0 ≤ α mod 2π ≤ α_p), 0
-    elsewhere; ``per_omega2`` [N·m·s²] the inertia of the slider and the rod.
-    ``S_p`` [m] and ``alpha_p`` [rad] are the working stroke, ``energy_per_stroke_j``
-    [J] = ∫ F dS over it (0 without a force diagram).
+    """The crank torque of a press drive over α: M(α) = ω²·``per_omega2`` + ``static`` [N·m].
 
+    The torque the drive puts into the crank in its direction of rotation (see the
+    module's derivation), α from BDC against the motion. Built by
+    :meth:`GearLeverPress.crank_torque`; each parameter is kept as the attribute of
+    the same name.
+
+    Parameters
+    ----------
+    alpha : ndarray of float, shape (N,)
+        The crank angles α [rad], from BDC against the motion.
+    per_omega2 : ndarray of float, shape (N,)
+        The inertia of the slider and the rod, the torque per ω² [N·m·s²].
+    static : ndarray of float, shape (N,)
+        F(Π)·Π' on the working stroke (0 ≤ α mod 2π ≤ α_p), 0 elsewhere [N·m].
+    S_p : float
+        The working stroke [m].
+    alpha_p : float
+        The crank angle of the working stroke [rad].
+    energy_per_stroke_j : float
+        ∫ F dS over the working stroke [J] (0 without a force diagram).
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
     >>> f = cm.press.DeformationForce([0.0, 0.012], [1e5, 1e5])
@@ -168,8 +229,25 @@ class PressTorque:
     energy_per_stroke_j: float
 
     def torque_nm(self, omega: float) -> Array:
-        """M(α) [N·m] at crank speed ``omega`` [rad/s].
+        """M(α) [N·m] at a crank speed.
 
+        Parameters
+        ----------
+        omega : float
+            The crank speed ω [rad/s].
+
+        Returns
+        -------
+        ndarray of float, shape (N,)
+            The torque at each angle of :attr:`alpha` [N·m].
+
+        Raises
+        ------
+        InputError
+            If ``omega`` is not finite.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> t = p.crank_torque(np.radians([90.0]), slider_mass=10.0, k_Sp=0.1)
@@ -180,10 +258,28 @@ class PressTorque:
         return w * w * self.per_omega2 + self.static
 
     def peak_torque_nm(self, omega: float) -> float:
-        """The largest M over the grid [N·m] at crank speed ``omega`` [rad/s]. It is
-        the grid's: where the diagram starts with a force at S_p, the peak may sit at
-        the first contact α_p, which the grid then must hold to see.
+        """The largest M over the grid [N·m] at a crank speed.
 
+        It is the grid's: where the diagram starts with a force at S_p, the peak may sit
+        at the first contact α_p, which the grid then must hold to see.
+
+        Parameters
+        ----------
+        omega : float
+            The crank speed ω [rad/s].
+
+        Returns
+        -------
+        float
+            The peak torque over the grid [N·m].
+
+        Raises
+        ------
+        InputError
+            If ``omega`` is not finite.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> f = cm.press.DeformationForce([0.0, 0.012], [1e5, 1e5])

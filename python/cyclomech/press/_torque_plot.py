@@ -29,14 +29,40 @@ def plot_crank_torque(
     force: DeformationForce | None = None,
     title: str | None = None,
 ) -> list[Axes]:
-    """Draw the crank torque of :meth:`~cyclomech.press.GearLeverPress.crank_torque`
-    at crank speed ``omega`` [rad/s] over α [deg, from BDC against the motion]: the
-    force's part F·Π' (gid ``"force"``), the inertia's ω²·(…) (``"inertia"``) and
-    their sum (``"total"``) [N·m], the working stroke shaded; with ``force``, a
-    first plot of the deformation-force diagram F [kN] against the slider's height
-    above BDC S [mm] (gid ``"F(S)"``). Returns the axes (one or two), on a new
-    figure.
+    """Draw a press's crank torque M(α) [N·m] and its parts; return the axes.
 
+    The torque of :meth:`~cyclomech.press.GearLeverPress.crank_torque` at crank
+    speed ``omega`` over α [deg, from BDC against the motion]: the force's part
+    F·Π' (gid ``"force"``), the inertia's ω²·(…) (``"inertia"``) and their sum
+    (``"total"``) [N·m], the working stroke shaded; with ``force``, a first plot of
+    the deformation-force diagram F [kN] against the slider's height above BDC S
+    [mm] (gid ``"F(S)"``).
+
+    Parameters
+    ----------
+    torque : PressTorque
+        The crank torque.
+    omega : float
+        The crank speed ω [rad/s].
+    force : DeformationForce, optional
+        The deformation-force diagram, drawn as a first plot; default None.
+        Keyword-only.
+    title : str, optional
+        The figure's title. Keyword-only.
+
+    Returns
+    -------
+    list of matplotlib.axes.Axes
+        The axes (one, or two with ``force``), on a new figure.
+
+    Raises
+    ------
+    InputError
+        If ``torque`` is not a :class:`~cyclomech.press.PressTorque` or ``force`` not
+        a :class:`~cyclomech.press.DeformationForce`.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt

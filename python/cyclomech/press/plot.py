@@ -82,8 +82,10 @@ def plot_press(
     n: int = 720,
     title: str | None = None,
 ) -> Axes | tuple[Axes, Axes]:
-    """Draw the gear-lever press at crank angle ``alpha`` [rad, from BDC against
-    the motion, as :meth:`~cyclomech.press.GearLeverPress.solve`]; return the axes.
+    """Draw the gear-lever press at crank angle ``alpha`` [rad]; return the axes.
+
+    ``alpha`` counts from BDC against the motion, as
+    :meth:`~cyclomech.press.GearLeverPress.solve`.
 
     At equal scale in millimetres, in the frame of the guide gear's centre O: the
     fixed guide gear (a hatched ring on its pitch circle of radius R, drawn
@@ -113,6 +115,38 @@ def plot_press(
     ``"ground hatching"``, texts ``"label:O"`` …; on the motion plot the curves
     ``"S"``, ``"Π'"``, ``"Π''"`` (x data α [deg]), the line ``"α"`` and the
     shading ``"working stroke"``.
+
+    Parameters
+    ----------
+    press : GearLeverPress
+        The design to draw.
+    alpha : float, default 0.0
+        The crank angle [rad], from BDC against the motion.
+    ax : matplotlib.axes.Axes or tuple of (Axes, Axes), optional
+        The axes to draw on (two with ``show_motion=True``); default None (a new
+        figure).
+    show_motion : bool, default False
+        Add the plot of S, Π' and Π'' over the turn. Keyword-only, as are the
+        parameters below.
+    k_Sp : float, optional
+        The working stroke as a fraction of the nominal stroke, drawn in orange;
+        default None (not drawn).
+    n : int, default 720
+        The pin's path is drawn at ``n`` + 1 angles over the turn (≥ 8).
+    title : str, optional
+        The title; default None (the angle and the design's parameters).
+
+    Returns
+    -------
+    matplotlib.axes.Axes or tuple of (Axes, Axes)
+        The axes drawn on, or the pair (mechanism, motion) with
+        ``show_motion=True``.
+
+    Raises
+    ------
+    InputError
+        If ``alpha`` is not a finite angle, ``n`` is out of range, or the rod cannot
+        reach the slider's guide at ``alpha``.
 
     Examples
     --------

@@ -22,12 +22,43 @@ __all__ = ["TransferDesign", "design_transfer"]
 
 @dataclass(frozen=True)
 class TransferDesign:
-    """:func:`design_transfer`'s result: the chosen ``path`` and its ``x2`` [m];
-    ``candidates`` and ``peak_jerk`` of every candidate [m/s³]; on the chosen path
-    ``max_acceleration`` [m/s²] and ``max_jerk`` [m/s³]; ``jump`` the acceleration
-    jump without transitions [m/s²] (:func:`acceleration_jump`, infinite jerk);
-    ``transfer_time`` from A to C [s]; ``at_limit`` whether the best is the longest
-    transition the gap allows."""
+    """:func:`design_transfer`'s result: the transition length that minimises the peak jerk.
+
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    path : TransferPath
+        The chosen path.
+    x2 : float
+        Its transition length [m].
+    candidates : ndarray of float
+        The transition lengths evaluated [m].
+    peak_jerk : ndarray of float
+        The peak jerk of every candidate [m/s³].
+    max_acceleration : float
+        The largest acceleration on the chosen path [m/s²].
+    max_jerk : float
+        The largest jerk on the chosen path [m/s³].
+    jump : float
+        The acceleration jump without transitions [m/s²] (:func:`acceleration_jump`;
+        infinite jerk).
+    transfer_time : float
+        The time from A to C [s].
+    at_limit : bool
+        Whether the best is the longest transition the gap allows.
+
+    See Also
+    --------
+    design_transfer : Builds it.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> d = cm.transfer.design_transfer(0.15, 0.25, 0.01, 0.157)
+    >>> d.candidates.size, round(d.transfer_time, 4), round(d.max_acceleration, 4)
+    (64, 1.0168, 0.1643)
+    """
 
     path: TransferPath
     x2: float
@@ -51,16 +82,50 @@ def design_transfer(
     n_points: int = 801,
     n_threads: int | None = None,
 ) -> TransferDesign:
-    """The transition length x2 (the same on both sides) that minimises the peak
-    jerk |da/dt| of the workpiece, for pitch radii ``R_t``, ``R_p`` [m] set ``gap``
-    [m] apart (centre distance R_t + R_p + gap) and the speed law ``speed`` (V or
-    (V_t, V_p) [m/s], see :meth:`TransferPath.acceleration`). Every candidate,
-    from ``x2_min`` (default R_min/100) to the longest the gap allows, is evaluated
-    in one Rust call (the GIL released, candidates in parallel on ``n_threads``
-    threads) over ``n_points`` points on each transition and on the straight; the
-    best is refined by scipy's bounded scalar minimiser, each of its evaluations
-    one Rust call too.
+    """The transition length x2 that minimises the workpiece's peak jerk |da/dt| [m/s³].
 
+    The same x2 on both sides. Every candidate, from ``x2_min`` to the longest the
+    gap allows, is evaluated in one Rust call (the GIL released, candidates in
+    parallel on ``n_threads`` threads) over ``n_points`` points on each transition
+    and on the straight; the best is refined by scipy's bounded scalar minimiser,
+    each of its evaluations one Rust call too.
+
+    Parameters
+    ----------
+    R_t : float
+        The pitch radius of the first rotor [m] (> 0).
+    R_p : float
+        The pitch radius of the second rotor [m] (> 0).
+    gap : float
+        The gap between the pitch circles [m] (> 0): the centre distance is
+        R_t + R_p + gap.
+    speed : float or tuple of (float, float)
+        The speed law: V or (V_t, V_p) [m/s], see :meth:`TransferPath.acceleration`.
+    x2_min : float, optional
+        The shortest candidate [m]; default None (R_min/100). Keyword-only, as are
+        the parameters below.
+    n_candidates : int, default 64
+        The number of candidates (≥ 2), geometrically spaced.
+    n_points : int, default 801
+        The points on each transition and on the straight (≥ 16).
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    TransferDesign
+        The chosen path and its x2, every candidate's peak jerk, the chosen path's
+        peaks, the jump without transitions and the transfer time.
+
+    Raises
+    ------
+    InputError
+        If a radius, the gap, the speed or a count is malformed or out of range.
+    InfeasibleError
+        If ``x2_min`` is not below the longest transition the gap allows.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> d = cm.transfer.design_transfer(0.15, 0.25, 0.01, 0.157)
     >>> round(d.x2, 4), d.at_limit, round(d.max_jerk, 3), round(d.jump, 4)

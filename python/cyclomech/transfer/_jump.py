@@ -12,10 +12,36 @@ __all__ = ["acceleration_jump", "acceleration_jump_at_speed"]
 
 
 def acceleration_jump(R_t: Any, omega_t: Any, R_p: Any, omega_p: Any) -> Any:
-    """ΔW = R_p·ω_p² + R_t·ω_t² [m/s²]: the jump of the workpiece's acceleration
-    where the pitch circles touch (the two centripetal accelerations point at
-    opposite centres). Radii [m] and angular speeds [rad/s] broadcast as arrays.
+    """ΔW = R_p·ω_p² + R_t·ω_t² [m/s²]: the workpiece's acceleration jump at the contact.
 
+    The jump of the workpiece's acceleration where the pitch circles touch: the two
+    centripetal accelerations point at opposite centres, so they add.
+
+    Parameters
+    ----------
+    R_t : float or array_like of float
+        The pitch radius of the first rotor [m] (> 0). All four broadcast.
+    omega_t : float or array_like of float
+        Its angular speed [rad/s].
+    R_p : float or array_like of float
+        The pitch radius of the second rotor [m] (> 0).
+    omega_p : float or array_like of float
+        Its angular speed [rad/s].
+
+    Returns
+    -------
+    float or ndarray of float
+        The acceleration jump ΔW [m/s²]: a float for scalars, else an array of the
+        broadcast shape.
+
+    Raises
+    ------
+    InputError
+        If a value is not finite, a radius is not positive, or the shapes do not
+        broadcast.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> round(cm.transfer.acceleration_jump(0.15, 2.0, 0.25, 1.2), 6)   # 0.36 + 0.6
     0.96
@@ -32,9 +58,33 @@ def acceleration_jump(R_t: Any, omega_t: Any, R_p: Any, omega_p: Any) -> Any:
 
 
 def acceleration_jump_at_speed(speed: Any, R_t: Any, R_p: Any) -> Any:
-    """ΔW = V²/R_t + V²/R_p [m/s²]: :func:`acceleration_jump` for equal peripheral
-    speeds V = R_t·ω_t = R_p·ω_p [m/s].
+    """ΔW = V²/R_t + V²/R_p [m/s²]: :func:`acceleration_jump` at equal peripheral speeds.
 
+    The peripheral speeds V = R_t·ω_t = R_p·ω_p.
+
+    Parameters
+    ----------
+    speed : float or array_like of float
+        The peripheral speed V [m/s]. All three broadcast.
+    R_t : float or array_like of float
+        The pitch radius of the first rotor [m] (> 0).
+    R_p : float or array_like of float
+        The pitch radius of the second rotor [m] (> 0).
+
+    Returns
+    -------
+    float or ndarray of float
+        The acceleration jump ΔW [m/s²]: a float for scalars, else an array of the
+        broadcast shape.
+
+    Raises
+    ------
+    InputError
+        If a value is not finite, a radius is not positive, or the shapes do not
+        broadcast.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> round(cm.transfer.acceleration_jump_at_speed(0.3, 0.15, 0.25), 6)   # 0.6 + 0.36
     0.96

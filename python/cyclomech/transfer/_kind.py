@@ -21,12 +21,38 @@ __all__ = ["TransferMechanism"]
 
 @dataclass(frozen=True)
 class TransferMechanism(Unbounded):
-    """A transfer between a transfer rotor (pitch radius R_t, ``pockets_t``
-    pockets) and a process rotor (R_p, ``pockets_p``): each turns one pocket per
-    machine cycle, so at n rpm the peripheral speeds are V = 2π·R·n/(60·pockets)
-    [m/s]. Optional limits on the workpiece's peak jerk [m/s³] and acceleration
-    [m/s²].
+    """A transfer of workpieces between a transfer rotor and a process rotor (seed 002).
 
+    Each rotor turns one pocket per machine cycle, so at n rpm the peripheral speeds
+    are V = 2π·R·n/(60·pockets) [m/s]. Optional limits on the workpiece's peak jerk
+    and acceleration set its speed limit. The ``transfer`` kind of a machine file,
+    read by :meth:`from_table`; each parameter is kept as the attribute of the same
+    name.
+
+    Parameters
+    ----------
+    name : str
+        The mechanism's name in the machine file.
+    path : TransferPath
+        The workpiece's path (pitch radii R_t, R_p [m] and transitions).
+    pockets_t : int
+        The transfer rotor's pockets.
+    pockets_p : int
+        The process rotor's pockets.
+    max_jerk : float, optional
+        The limit on the workpiece's peak jerk [m/s³]; default None (no limit).
+    max_acceleration : float, optional
+        The limit on its peak acceleration [m/s²]; default None (no limit).
+
+    Attributes
+    ----------
+    kind : str
+        ``"transfer"``, the ``kind`` key of its table.
+    keys : frozenset of str
+        The keys its table takes.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
     >>> m.kind, m.pockets_t, m.pockets_p
@@ -58,11 +84,37 @@ class TransferMechanism(Unbounded):
     def from_table(
         cls, name: str, table: Mapping[str, Any], ctx: TableContext
     ) -> TransferMechanism:
-        """Its ``[mechanism.<name>]`` table: ``R_t``, ``R_p``, ``gap`` [m],
-        ``pockets_t``, ``pockets_p``; optional ``x2`` [m] (default: the length of
-        least jerk, :func:`cyclomech.transfer.design_transfer`), ``max_jerk``
-        [m/s³] and ``max_acceleration`` [m/s²].
+        """A transfer from its ``[mechanism.<name>]`` table.
 
+        The table holds ``R_t``, ``R_p``, ``gap`` [m], ``pockets_t``, ``pockets_p``;
+        optionally ``x2`` [m] (default: the length of least jerk,
+        :func:`cyclomech.transfer.design_transfer`), ``max_jerk`` [m/s³] and
+        ``max_acceleration`` [m/s²].
+
+        Parameters
+        ----------
+        name : str
+            The mechanism's name.
+        table : mapping of str to Any
+            Its table as read from the file.
+        ctx : TableContext
+            The machine's cyclogram and the file's name for messages.
+
+        Returns
+        -------
+        TransferMechanism
+            The mechanism.
+
+        Raises
+        ------
+        InputError
+            If a key is missing or unknown, or a value is malformed or out of range
+            (pockets a whole number from 1 to 10 000, the gap positive).
+        InfeasibleError
+            If the given ``x2`` is too long for the gap.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/rotor_line.toml")
         >>> ctx = TableContext(m.cyclogram, "<doc>", 361)
@@ -100,8 +152,27 @@ class TransferMechanism(Unbounded):
         )
 
     def speeds(self, rpm: float) -> tuple[float, float]:
-        """Peripheral speeds (V_t, V_p) [m/s] at ``rpm``.
+        """Peripheral speeds (V_t, V_p) [m/s] at a machine speed.
 
+        Parameters
+        ----------
+        rpm : float
+            The machine speed [rpm] (> 0).
+
+        Returns
+        -------
+        V_t : float
+            The transfer rotor's peripheral speed [m/s].
+        V_p : float
+            The process rotor's peripheral speed [m/s].
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` is not a finite positive speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
         >>> [round(v, 4) for v in m.speeds(60.0)]
@@ -111,9 +182,29 @@ class TransferMechanism(Unbounded):
         return (w * self.path.R_t / self.pockets_t, w * self.path.R_p / self.pockets_p)
 
     def peaks(self, rpm: float) -> tuple[float, float]:
-        """Peak |a| [m/s²] and |da/dt| [m/s³] of the workpiece at ``rpm``; they
-        grow as n² and n³ (the path is fixed, the speed law scales with n).
+        """Peak |a| [m/s²] and |da/dt| [m/s³] of the workpiece at a machine speed.
 
+        They grow as n² and n³ (the path is fixed, the speed law scales with n).
+
+        Parameters
+        ----------
+        rpm : float
+            The machine speed [rpm] (> 0).
+
+        Returns
+        -------
+        max_acceleration : float
+            The peak acceleration [m/s²].
+        max_jerk : float
+            The peak jerk [m/s³].
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` is not a finite positive speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
         >>> a1, j1 = m.peaks(60.0); a2, j2 = m.peaks(120.0)
@@ -136,6 +227,13 @@ class TransferMechanism(Unbounded):
     def speed_limit_rpm(self) -> float:
         """Speed [rpm] at which the first of the limits is reached (inf without).
 
+        Returns
+        -------
+        float
+            The speed limit [rpm]: jerk grows as n³, acceleration as n².
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"]
         >>> a, j = m.peaks(m.speed_limit_rpm())
@@ -147,9 +245,17 @@ class TransferMechanism(Unbounded):
         return min(self._limits_rpm())
 
     def limit_reason(self) -> str:
-        """What sets :meth:`speed_limit_rpm`: the first limit reached (jerk where
-        both are reached at the same speed).
+        """What sets :meth:`speed_limit_rpm`: the first limit reached.
 
+        Jerk where both are reached at the same speed.
+
+        Returns
+        -------
+        str
+            The reason, "" without limits.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.from_toml("examples/rotor_line.toml").mechanisms["line"].limit_reason()
         "the workpiece's peak jerk reaches max_jerk = 10 m/s³"
@@ -167,6 +273,19 @@ class TransferMechanism(Unbounded):
     def analyze(self, ctx: Context) -> TransferResult:
         """Its speeds and peaks at the nominal speed.
 
+        Parameters
+        ----------
+        ctx : Context
+            What the machine computed before: the nominal speed among it.
+
+        Returns
+        -------
+        TransferResult
+            The peripheral speeds [m/s] and the workpiece's peak acceleration [m/s²]
+            and jerk [m/s³] at the nominal speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/rotor_line.toml")
         >>> r = cm.machine.analyze(m, progress=False).mechanisms["line"]

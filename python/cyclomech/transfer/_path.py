@@ -34,10 +34,39 @@ PIECES = ("arc_t", "transition_t", "straight", "transition_p", "arc_p")
 
 @dataclass(frozen=True)
 class PathSample:
-    """A sampled :class:`TransferPath`, in travel order. ``points`` (n, 2) [m];
-    ``s`` arc length from the start [m]; ``heading`` the tangent's angle [rad],
-    unwrapped; ``curvature`` signed [1/m] (left turns positive); ``curvature_rate``
-    dκ/ds [1/m²]; ``piece`` the index into :data:`PIECES` of each point."""
+    """A sampled :class:`TransferPath`, in travel order.
+
+    Built by :meth:`TransferPath.sample`; each parameter is kept as the attribute of
+    the same name.
+
+    Parameters
+    ----------
+    points : ndarray of float, shape (n, 2)
+        The points (x, y) in the machine frame [m].
+    s : ndarray of float, shape (n,)
+        The arc length from the start [m].
+    heading : ndarray of float, shape (n,)
+        The tangent's angle [rad], unwrapped.
+    curvature : ndarray of float, shape (n,)
+        The signed curvature [1/m] (left turns positive).
+    curvature_rate : ndarray of float, shape (n,)
+        dκ/ds [1/m²].
+    piece : ndarray of int8, shape (n,)
+        The index into :data:`PIECES` (arc_t, transition_t, straight, transition_p,
+        arc_p) of each point.
+
+    See Also
+    --------
+    TransferPath.sample : Builds it.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
+    >>> s = p.sample(11)
+    >>> s.points.shape, s.piece.tolist()
+    ((11, 2), [0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4])
+    """
 
     points: Array
     s: Array
@@ -49,11 +78,47 @@ class PathSample:
 
 @dataclass(frozen=True)
 class PathAcceleration:
-    """The workpiece's motion along a sampled path for a speed law: ``s`` [m],
-    ``time`` [s] from the start, ``speed`` [m/s], ``normal`` = v²·κ and
-    ``tangential`` = v·dv/ds [m/s²], ``total`` = |a|, ``normal_rate`` = d(v²κ)/dt,
-    ``tangential_rate`` [m/s³] and ``jerk`` = |da/dt| [m/s³] (the acceleration
-    vector's rate, turning of the frame included)."""
+    """The workpiece's motion along a sampled path for a speed law.
+
+    Built by :meth:`TransferPath.acceleration`; each parameter is kept as the
+    attribute of the same name. All arrays are of the sample's shape (n,).
+
+    Parameters
+    ----------
+    s : ndarray of float
+        The arc length from the start [m].
+    time : ndarray of float
+        The time from the start [s].
+    speed : ndarray of float
+        The speed v [m/s].
+    normal : ndarray of float
+        The normal acceleration v²·κ [m/s²].
+    tangential : ndarray of float
+        The tangential acceleration v·dv/ds [m/s²].
+    total : ndarray of float
+        |a| [m/s²].
+    normal_rate : ndarray of float
+        d(v²κ)/dt [m/s³].
+    tangential_rate : ndarray of float
+        The tangential acceleration's rate [m/s³].
+    jerk : ndarray of float
+        |da/dt| [m/s³] (the acceleration vector's rate, turning of the frame
+        included).
+    piece : ndarray of int8
+        The index into :data:`PIECES` of each point.
+
+    See Also
+    --------
+    TransferPath.acceleration : Builds it.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
+    >>> a = p.acceleration(0.2)
+    >>> round(float(a.speed[0]), 12), round(float(a.tangential.max()), 12)
+    (0.2, 0.0)
+    """
 
     s: Array
     time: Array
@@ -68,12 +133,28 @@ class PathAcceleration:
 
     @property
     def max_jerk(self) -> float:
-        """Peak |da/dt| [m/s³]."""
+        """Peak |da/dt| [m/s³].
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
+        >>> round(p.acceleration(0.2).max_jerk, 3)
+        1.584
+        """
         return float(self.jerk.max())
 
     @property
     def max_acceleration(self) -> float:
-        """Peak |a| [m/s²]."""
+        """Peak |a| [m/s²].
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
+        >>> round(p.acceleration(0.2).max_acceleration, 6)        # V²/R_t
+        0.266667
+        """
         return float(self.total.max())
 
 
@@ -137,33 +218,76 @@ def _geometry(r: Array, c_t: Array, c_p: Array, x2: Array) -> _Geometry:
 
 
 class TransferPath:
-    """The guide of a workpiece from a transport rotor to a process rotor: the
-    transport pitch circle (a lead-in arc of ``lead_deg``), a smooth quintic
+    """The guide of a workpiece from a transport rotor to a process rotor.
+
+    The transport pitch circle (a lead-in arc of ``lead_deg``), a smooth quintic
     transition (:func:`smooth_transition`, length ``x2_t`` along its tangent), the
     straight segment, the mirror transition onto the process pitch circle (length
     ``x2_p``) and a lead-out arc. The straight line is the internal common tangent
-    of the two circles each widened by its transition's shift (≈ x2²/(40R)), so
-    the curvature runs continuously +1/R_t → 0 → −1/R_p, its rate too.
+    of the two circles each widened by its transition's shift (≈ x2²/(40R)), so the
+    curvature runs continuously +1/R_t → 0 → −1/R_p, its rate too.
 
-    ``R_t``, ``R_p`` pitch radii [m]; ``centre_t``, ``centre_p`` the rotor centres
-    (x, y) [m] in the machine frame, apart by more than R_t + R_p (the transitions
-    leave each pitch circle outwards, so they need a gap). ``x2`` [m]: one length
-    for both transitions, a pair (x2_t, x2_p), or None for the longest equal
-    transitions the gap allows (the straight segment shrinks to a point: the
-    guide is transition → transition, the seed's transfer with no common tangent
-    segment). ``ccw``: the transport rotor turns counter-clockwise (the process
-    rotor, meshing, clockwise); False mirrors the path.
+    Parameters
+    ----------
+    R_t : float
+        The transport rotor's pitch radius [m] (> 0).
+    R_p : float
+        The process rotor's pitch radius [m] (> 0).
+    centre_t : array_like of float, shape (2,)
+        The transport rotor's centre (x, y) in the machine frame [m].
+    centre_p : array_like of float, shape (2,)
+        The process rotor's centre (x, y) [m], apart from ``centre_t`` by more than
+        R_t + R_p (the transitions leave each pitch circle outwards, so they need a
+        gap).
+    x2 : float or tuple of (float, float), optional
+        One transition length for both [m], or a pair (x2_t, x2_p); default None:
+        the longest equal transitions the gap allows (the straight segment shrinks
+        to a point: the guide is transition → transition, the seed's transfer with
+        no common tangent segment).
+    ccw : bool, default True
+        The transport rotor turns counter-clockwise (the process rotor, meshing,
+        clockwise); False mirrors the path. Keyword-only.
+    lead_deg : float, default 30.0
+        The lead-in and lead-out arcs [deg of pitch circle], in [0, 180].
+        Keyword-only.
 
-    Attributes: ``k``, ``b`` and ``shift`` per side (transport, process); ``A`` and
-    ``C`` where the path leaves the transport circle and joins the process one,
-    ``B_t``, ``B_p`` the ends of the straight segment (machine frame, m);
-    ``straight_length``; ``transitions`` (the two :class:`QuinticTransition`);
-    ``frames`` the seed's (α, x0, y0) of each transition's frame, so that
-    ``to_machine(x, q.y(x), *frames[i])`` places transition i (``q``) in the
-    machine frame — with ``ccw=False`` the path is a mirror image and the seed's
-    rotation cannot mirror, so there ``to_machine(x, -q.y(x), *frames[i])``;
-    ``length`` of the whole path.
+    Attributes
+    ----------
+    x2_t, x2_p : float
+        The transition lengths [m] (given or the longest).
+    k, b, shift : tuple of (float, float)
+        Per side (transport, process): the line's slope and intercept [m] in the
+        transition's frame, and the line's distance from the centre minus the
+        radius [m].
+    gap : float
+        The gap between the pitch circles [m].
+    A, C : ndarray of float, shape (2,)
+        Where the path leaves the transport circle and joins the process one
+        (machine frame) [m].
+    B_t, B_p : ndarray of float, shape (2,)
+        The ends of the straight segment (machine frame) [m].
+    straight_length : float
+        The straight segment's length [m].
+    transitions : tuple of (QuinticTransition, QuinticTransition)
+        The two transitions.
+    frames : tuple of (tuple of (float, float, float), tuple of (float, float, float))
+        The seed's (α [rad], x0 [m], y0 [m]) of each transition's frame, so that
+        ``to_machine(x, q.y(x), *frames[i])`` places transition i (``q``) in the
+        machine frame — with ``ccw=False`` the path is a mirror image and the seed's
+        rotation cannot mirror, so there ``to_machine(x, -q.y(x), *frames[i])``.
+    length : float
+        The length of the whole path [m].
 
+    Raises
+    ------
+    InputError
+        If a radius, a centre, ``x2`` or ``lead_deg`` is malformed or out of range,
+        or the pitch circles touch or overlap.
+    InfeasibleError
+        If the transitions are too long for the gap (they would overlap).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> p = cm.transfer.TransferPath(0.15, 0.25, (0.0, 0.0), (0.41, 0.0), x2=0.05)
     >>> round(p.straight_length, 4), [round(s * 1e3, 3) for s in p.shift]   # m, mm
@@ -267,23 +391,58 @@ class TransferPath:
 
     @property
     def transfer_length(self) -> float:
-        """Arc length from A (leaving the transport circle) to C [m]."""
+        """Arc length from A (leaving the transport circle) to C [m].
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
+        >>> round(p.transfer_length, 6)
+        0.136641
+        """
         return float(self._lengths[1:4].sum())
 
     @property
     def start_of_transfer(self) -> float:
-        """Arc length at A [m] (the lead-in arc's length)."""
+        """Arc length at A [m] (the lead-in arc's length).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
+        >>> round(p.start_of_transfer, 6)                  # 0.15 m · 30°
+        0.07854
+        """
         return float(self._lengths[0])
 
     def sample(self, n: int = 10_001, *, n_threads: int | None = None) -> PathSample:
-        """``n`` ≥ 10 points along the whole path (each piece sampled evenly in its
-        own parameter, in proportion to its length; every piece gets ≥ 2), with arc
-        length, heading, signed curvature and its rate. One Rust call with the GIL
-        released, blocks of points on ``n_threads`` threads (default: every core,
-        or ``CYCLOMECH_THREADS``); the result does not depend on the thread count.
-        Arc length on the transitions: 4-point Gauss–Legendre per interval,
-        restarted from a 16-point quadrature every 4096 points (exact to rounding).
+        """Points along the whole path with arc length, heading, signed curvature and its rate.
 
+        Each piece is sampled evenly in its own parameter, in proportion to its length;
+        every piece gets ≥ 2. One Rust call with the GIL released, blocks of points on
+        ``n_threads`` threads; the result does not depend on the thread count. Arc
+        length on the transitions: 4-point Gauss–Legendre per interval, restarted from a
+        16-point quadrature every 4096 points (exact to rounding).
+
+        Parameters
+        ----------
+        n : int, default 10001
+            The number of points (≥ 10).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        PathSample
+            The sample, in travel order.
+
+        Raises
+        ------
+        InputError
+            If ``n`` is not a count ≥ 10, or the sample would not fit in memory.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
         >>> s = p.sample(10_001)
@@ -338,9 +497,28 @@ class TransferPath:
         ).astype(np.float64)
 
     def speed_law(self, speed: Any) -> Any:
-        """The speed law ``speed`` as a function s ↦ (v, dv/ds, d²v/ds²) (see
-        :meth:`acceleration`); v is V_t before A and V_p after C.
+        """The speed law ``speed`` as a function s ↦ (v, dv/ds, d²v/ds²).
 
+        See :meth:`acceleration`; v is V_t before A and V_p after C.
+
+        Parameters
+        ----------
+        speed : float or tuple of (float, float)
+            A constant speed V [m/s] or a pair (V_t, V_p) [m/s].
+
+        Returns
+        -------
+        callable
+            Arc lengths s [m] (array_like) to the tuple (v [m/s], dv/ds [1/s],
+            d²v/ds² [1/(m·s)]) of arrays of their shape.
+
+        Raises
+        ------
+        InputError
+            If ``speed`` is not a finite number or pair.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
         >>> v, dv, ddv = p.speed_law((0.15, 0.25))([0.0, p.length])
@@ -352,15 +530,37 @@ class TransferPath:
     def acceleration(
         self, speed: Any, n: int = 20_001, *, n_threads: int | None = None
     ) -> PathAcceleration:
-        """The workpiece's acceleration and jerk along the path sampled at ``n``
-        points, for the speed law ``speed``: a number V [m/s] (constant, equal
-        peripheral speeds), or a pair (V_t, V_p) [m/s] — the speed changes from V_t
-        to V_p between A and C by a quintic smoothstep in arc length (its first two
-        derivatives zero at both ends), as when rotors of different pitch turn at
-        one workpiece rate. Normal acceleration v²κ, tangential v·dv/ds, and their
-        rates d/dt = v·d/ds; the time by the trapezoid rule in 1/v. Two Rust calls
-        (the sample, then the kinematics), the GIL released, on ``n_threads``.
+        """The workpiece's acceleration and jerk along the path for a speed law.
 
+        The speed law is a number V (constant, equal peripheral speeds), or a pair
+        (V_t, V_p) — the speed changes from V_t to V_p between A and C by a quintic
+        smoothstep in arc length (its first two derivatives zero at both ends), as when
+        rotors of different pitch turn at one workpiece rate. Normal acceleration v²κ,
+        tangential v·dv/ds, and their rates d/dt = v·d/ds; the time by the trapezoid
+        rule in 1/v. Two Rust calls (the sample, then the kinematics), the GIL
+        released, on ``n_threads``.
+
+        Parameters
+        ----------
+        speed : float or tuple of (float, float)
+            The speed V [m/s] or the pair (V_t, V_p) [m/s].
+        n : int, default 20001
+            The number of points the path is sampled at (≥ 10).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        PathAcceleration
+            The speed, accelerations [m/s²] and their rates [m/s³] at each point.
+
+        Raises
+        ------
+        InputError
+            If ``speed`` is not a finite number or pair, or ``n`` is out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
         >>> a = p.acceleration(0.2)
@@ -388,9 +588,29 @@ class TransferPath:
         )
 
     def max_jerk(self, speed: Any, n: int = 20_001, *, n_threads: int | None = None) -> float:
-        """Peak |da/dt| [m/s³] along the path for the speed law ``speed`` (see
-        :meth:`acceleration`).
+        """Peak |da/dt| [m/s³] along the path for a speed law (see :meth:`acceleration`).
 
+        Parameters
+        ----------
+        speed : float or tuple of (float, float)
+            The speed V [m/s] or the pair (V_t, V_p) [m/s].
+        n : int, default 20001
+            The number of points the path is sampled at (≥ 10).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        float
+            The peak jerk [m/s³].
+
+        Raises
+        ------
+        InputError
+            If ``speed`` is not a finite number or pair, or ``n`` is out of range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> p = cm.transfer.TransferPath(0.15, 0.25, (0, 0), (0.41, 0), x2=0.05)
         >>> round(p.max_jerk(0.2), 3)                    # m/s³

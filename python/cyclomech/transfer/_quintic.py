@@ -21,11 +21,35 @@ __all__ = ["QuinticTransition", "quintic_transition", "smooth_transition", "to_m
 
 @dataclass(frozen=True)
 class QuinticTransition:
-    """y(x) = a2·x² + a3·x³ + a4·x⁴ + a5·x⁵ on 0 ≤ x ≤ x2, in the frame of A (origin
-    on the circle, x along its tangent in the direction of travel, y towards its
-    centre): from the circle of radius ``R`` [m] at A to the line y = k·x + b at
+    """The seed's quintic transition from a circle to a straight line.
+
+    y(x) = a2·x² + a3·x³ + a4·x⁴ + a5·x⁵ on 0 ≤ x ≤ x2, in the frame of A (origin on
+    the circle, x along its tangent in the direction of travel, y towards its
+    centre): from the circle of radius ``R`` at A to the line y = k·x + b at
     B = (x2, k·x2 + b). Build it with :func:`quintic_transition` or
-    :func:`smooth_transition`. Every method takes arrays of x [m] (any shape)."""
+    :func:`smooth_transition`. Every method takes arrays of x [m] (any shape). Each
+    parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    R : float
+        The circle's radius [m].
+    k : float
+        The line's slope in A's frame.
+    b : float
+        The line's intercept in A's frame [m].
+    x2 : float
+        B's abscissa in A's frame [m] (> 0).
+    coeffs : ndarray of float, shape (6,)
+        The coefficients a0 … a5 (a0 = a1 = 0, a2 = 1/(2R)).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> q = cm.transfer.smooth_transition(0.15, 0.06)
+    >>> q.R, q.k, round(q.b, 6)
+    (0.15, 0.2, -0.0036)
+    """
 
     R: float
     k: float
@@ -36,6 +60,24 @@ class QuinticTransition:
     def y(self, x: npt.ArrayLike) -> Any:
         """y(x) [m].
 
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            y(x) [m] at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> q = cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05)
         >>> bool(abs(q.y(0.05) - (0.1 * 0.05 - 0.002)) < 1e-15)
@@ -44,8 +86,26 @@ class QuinticTransition:
         return self._eval(x, "y")
 
     def dy(self, x: npt.ArrayLike) -> Any:
-        """y'(x), the slope.
+        """y'(x), the slope (dimensionless).
 
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            The slope y'(x) at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).dy(0.05), 12)
         0.1
@@ -55,6 +115,24 @@ class QuinticTransition:
     def ddy(self, x: npt.ArrayLike) -> Any:
         """y''(x) [1/m].
 
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            y''(x) [1/m] at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).ddy(0.0), 12)
         5.0
@@ -64,6 +142,24 @@ class QuinticTransition:
     def dddy(self, x: npt.ArrayLike) -> Any:
         """y'''(x) [1/m²].
 
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            y'''(x) [1/m²] at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> q = cm.transfer.smooth_transition(0.2, 0.05)
         >>> bool(abs(q.dddy(0.0)) < 1e-9 and abs(q.dddy(0.05)) < 1e-9)
@@ -74,6 +170,24 @@ class QuinticTransition:
     def curvature(self, x: npt.ArrayLike) -> Any:
         """κ = y''/(1 + y'²)^{3/2} [1/m]: 1/R at A, 0 at B.
 
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            The curvature κ [1/m] at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> q = cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05)
         >>> round(q.curvature(0.0), 12), bool(abs(q.curvature(0.05)) < 1e-12)
@@ -82,9 +196,29 @@ class QuinticTransition:
         return self._eval(x, "curvature")
 
     def curvature_rate(self, x: npt.ArrayLike) -> Any:
-        """dκ/ds [1/m²], s the arc length: (y'''·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³.
-        Times v³ it is the rate of the normal acceleration at constant speed v.
+        """dκ/ds [1/m²], s the arc length.
 
+        dκ/ds = (y'''·(1 + y'²) − 3·y'·y''²)/(1 + y'²)³. Times v³ it is the rate of
+        the normal acceleration at constant speed v.
+
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            dκ/ds [1/m²] at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> q = cm.transfer.smooth_transition(0.2, 0.05)
         >>> bool(abs(q.curvature_rate(0.0)) < 1e-12), round(q.curvature_rate(0.025), 3)
@@ -93,10 +227,30 @@ class QuinticTransition:
         return self._eval(x, "curvature_rate")
 
     def arc_length(self, x: npt.ArrayLike) -> Any:
-        """s(x) = ∫₀ˣ √(1 + y'²) dx [m]: 16-point Gauss–Legendre on sub-intervals
-        of [0, x], one per 0.05 rad that the tangent turns over [0, max x] (exact to
-        rounding against adaptive quadrature, steep quintics included).
+        """s(x) = ∫₀ˣ √(1 + y'²) dx [m], the arc length from A.
 
+        16-point Gauss–Legendre on sub-intervals of [0, x], one per 0.05 rad that the
+        tangent turns over [0, max x] (exact to rounding against adaptive quadrature,
+        steep quintics included).
+
+        Parameters
+        ----------
+        x : float or array_like of float
+            The abscissae x [m] in A's frame (any shape up to 3 dimensions).
+
+        Returns
+        -------
+        float or ndarray of float
+            The arc length s(x) [m] at each x: a float for a scalar ``x``, else an array of
+            its shape.
+
+        Raises
+        ------
+        InputError
+            If an x is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> q = cm.transfer.quintic_transition(1e9, 0.0, 0.0, 0.05)   # nearly straight
         >>> round(q.arc_length(0.05), 12)
@@ -106,7 +260,14 @@ class QuinticTransition:
 
     @property
     def length(self) -> float:
-        """Arc length from A to B [m]."""
+        """Arc length from A to B [m].
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> round(cm.transfer.quintic_transition(0.2, 0.1, -0.002, 0.05).length, 6)
+        0.050109
+        """
         return float(self.arc_length(self.x2))
 
     def _eval(self, x: npt.ArrayLike, what: str) -> Any:
@@ -136,14 +297,37 @@ def _coeffs(R: Any, k: Any, b: Any, x2: Any) -> tuple[Array, ...]:
 
 
 def quintic_transition(R: float, k: float, b: float, x2: float) -> QuinticTransition:
-    """The seed's quintic from the circle of radius ``R`` [m] (at the origin A, x
-    along its tangent, centre at (0, R)) to the line y = k·x + b (``k`` its slope,
-    ``b`` [m] its intercept) at x = ``x2`` [m] > 0, meeting y = 0, y' = 0,
-    y'' = 1/R at A and y = k·x2 + b, y' = k, y'' = 0 at B.
+    """The seed's quintic from a circle to a line, meeting both to the second derivative.
 
-    Raises :class:`~cyclomech.InputError` for R ≤ 0, x2 ≤ 0 (the 3×3 system is
-    singular at x2 = 0) or anything not finite.
+    From the circle of radius ``R`` (at the origin A, x along its tangent, centre at
+    (0, R)) to the line y = k·x + b at x = ``x2``, meeting y = 0, y' = 0, y'' = 1/R
+    at A and y = k·x2 + b, y' = k, y'' = 0 at B.
 
+    Parameters
+    ----------
+    R : float
+        The circle's radius [m] (> 0).
+    k : float
+        The line's slope in A's frame.
+    b : float
+        The line's intercept in A's frame [m].
+    x2 : float
+        B's abscissa in A's frame [m] (> 0: the 3×3 system of the conditions at B
+        is singular at x2 = 0).
+
+    Returns
+    -------
+    QuinticTransition
+        The transition.
+
+    Raises
+    ------
+    InputError
+        For R ≤ 0, x2 ≤ 0, anything not finite, lengths outside [1e-60, 1e60] m, or a
+        geometry whose coefficients overflow (scale it).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> q = cm.transfer.quintic_transition(R=0.15, k=0.2, b=-0.004, x2=0.06)
     >>> q.coeffs[:3].round(6).tolist()          # a0, a1, a2 = 1/(2R)
@@ -184,14 +368,33 @@ def smooth_k_b(R: Any, x2: Any) -> tuple[Any, Any]:
 
 
 def smooth_transition(R: float, x2: float) -> QuinticTransition:
-    """The quintic transition of length ``x2`` [m] from a circle of radius ``R`` [m]
-    whose curvature also starts and ends flat: y'' = (1 − 3s² + 2s³)/R with
-    s = x/x2, so y''' = 0 at A and at B and the rate of the normal acceleration is
-    continuous at both junctions too. It turns the tangent by atan(x2/(2R)) and
-    meets the line y = k·x + b with k = x2/(2R), b = −3·x2²/(20R); its line lies
-    farther from the centre than the circle, by the shift
-    (R − b)/√(1 + k²) − R ≈ x2²/(40R).
+    """The quintic transition whose curvature also starts and ends flat.
 
+    y'' = (1 − 3s² + 2s³)/R with s = x/x2, so y''' = 0 at A and at B and the rate of
+    the normal acceleration is continuous at both junctions too. It turns the
+    tangent by atan(x2/(2R)) and meets the line y = k·x + b with k = x2/(2R),
+    b = −3·x2²/(20R); its line lies farther from the centre than the circle, by the
+    shift (R − b)/√(1 + k²) − R ≈ x2²/(40R).
+
+    Parameters
+    ----------
+    R : float
+        The circle's radius [m] (> 0).
+    x2 : float
+        The transition's length along A's tangent [m] (> 0).
+
+    Returns
+    -------
+    QuinticTransition
+        The transition.
+
+    Raises
+    ------
+    InputError
+        If ``R`` or ``x2`` is not finite and positive, or the geometry overflows.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> q = cm.transfer.smooth_transition(0.15, 0.06)
     >>> q.coeffs[2:].round(4).tolist()   # a2 = 1/(2R), a3 = 0, a4 = −1/(4R·x2²), a5 = 1/(10R·x2³)
@@ -207,11 +410,37 @@ def smooth_transition(R: float, x2: float) -> QuinticTransition:
 
 
 def to_machine(x_local: Any, y_local: Any, alpha: float, x0: float, y0: float) -> Array:
-    """The seed's change of frame: x = x'·cos α + y'·sin α − x0,
-    y = −x'·sin α + y'·cos α − y0 (a rotation by −α [rad], then a shift by
-    −(x0, y0) [m]). Returns (..., 2) points. A rotation and a shift: lengths,
-    angles and curvature are kept.
+    """The seed's change of frame from a transition's local frame to the machine's.
 
+    x = x'·cos α + y'·sin α − x0, y = −x'·sin α + y'·cos α − y0: a rotation by −α,
+    then a shift by −(x0, y0). A rotation and a shift: lengths, angles and
+    curvature are kept.
+
+    Parameters
+    ----------
+    x_local : float or array_like of float
+        The local abscissae x' [m]; broadcasts with ``y_local``.
+    y_local : float or array_like of float
+        The local ordinates y' [m].
+    alpha : float
+        The rotation angle α [rad].
+    x0 : float
+        The shift's x [m].
+    y0 : float
+        The shift's y [m].
+
+    Returns
+    -------
+    ndarray of float, shape (..., 2)
+        The points (x, y) in the machine frame [m].
+
+    Raises
+    ------
+    InputError
+        If a value is not finite or the local coordinates do not broadcast.
+
+    Examples
+    --------
     >>> import cyclomech as cm, math
     >>> cm.transfer.to_machine(1.0, 0.0, math.pi / 2, -2.0, 0.0).round(12).tolist()
     [2.0, -1.0]

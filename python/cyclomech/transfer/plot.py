@@ -34,8 +34,7 @@ def plot_transfer(
     n: int = 4001,
     title: str | None = None,
 ) -> Figure:
-    """Draw a rotor transfer path (:class:`cyclomech.transfer.TransferPath`);
-    return the figure.
+    """Draw a rotor transfer path (:class:`cyclomech.transfer.TransferPath`); return the figure.
 
     Top left, the machine at equal scale [mm]: both rotors (light discs, their pitch
     circles dash-dot, centres marked), the path's ``n`` samples coloured by signed
@@ -44,15 +43,40 @@ def plot_transfer(
     A, B_t, B_p, C where it leaves the transport circle, meets and leaves the
     straight, and joins the process circle. Top right, the same zoomed on the
     transfer A → C. Below, the curvature against arc length [mm] with the pieces
-    shaded; with ``speed`` (V or (V_t, V_p) [m/s], see
-    :meth:`~cyclomech.transfer.TransferPath.acceleration`) a last plot of the normal
-    and tangential acceleration [m/s²] and the jerk |da/dt| [m/s³] (right axis), the
-    jump without transitions as a dotted step for comparison.
+    shaded; with ``speed`` a last plot of the normal and tangential acceleration
+    [m/s²] and the jerk |da/dt| [m/s³] (right axis), the jump without transitions as
+    a dotted step for comparison.
 
     Artists, by gid: ``"path"`` (a LineCollection on both maps), ``"rotor t"``,
     ``"rotor p"``, ``"pitch t"``, ``"pitch p"``, ``"points"``, ``"curvature"``,
     ``"normal"``, ``"tangential"``, ``"jerk"``, ``"jump"``.
 
+    Parameters
+    ----------
+    path : TransferPath
+        The path to draw.
+    speed : float or tuple of (float, float), optional
+        The speed law, V or (V_t, V_p) [m/s] (see
+        :meth:`~cyclomech.transfer.TransferPath.acceleration`); default None (no
+        acceleration plot). Keyword-only, as are the parameters below.
+    n : int, default 4001
+        The number of samples along the path (≥ 10).
+    title : str, optional
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A new figure.
+
+    Raises
+    ------
+    InputError
+        If ``path`` is not a :class:`~cyclomech.transfer.TransferPath` or ``n`` is out
+        of range.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt
