@@ -25,7 +25,14 @@ from pathlib import Path
 import pytest
 from numpydoc.validate import validate
 
-CONVERTED = ["cyclomech.forces", "cyclomech.shaft", "cyclomech.motion"]
+CONVERTED = [
+    "cyclomech.forces",
+    "cyclomech.shaft",
+    "cyclomech.motion",
+    "cyclomech.impact",
+    "cyclomech.press",
+    "cyclomech.transfer",
+]
 
 # PR01 parameter not documented, PR02 unknown parameter, RT01 no Returns section,
 # EX01 no Examples section, GL08 no docstring, SS01 no summary.
