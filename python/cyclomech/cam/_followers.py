@@ -25,10 +25,30 @@ def _roller(base_radius: Any, roller_radius: Any) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class TranslatingRoller:
-    """A roller follower translating along +y, its line offset ``offset`` [m]
-    along +x from the cam centre; ``roller_radius`` 0 is the knife edge. Radii
-    [m]: the pitch base circle is R_p = base_radius + roller_radius.
+    """A roller follower translating along +y, its line offset from the cam centre.
 
+    ``roller_radius`` 0 is the knife edge. The pitch base circle is
+    R_p = base_radius + roller_radius [m]. Each parameter is kept as the attribute of
+    the same name (as a float).
+
+    Parameters
+    ----------
+    base_radius : float
+        The base circle's radius [m] (> 0).
+    roller_radius : float
+        The roller's radius [m], in [0, base_radius) (0: a knife edge).
+    offset : float, default 0.0
+        The follower's line offset along +x from the cam centre [m];
+        |offset| < base_radius + roller_radius.
+
+    Raises
+    ------
+    InputError
+        If a radius is not finite, ``base_radius`` is not > 0, ``roller_radius`` is
+        negative or not smaller than ``base_radius``, or |offset| ≥ R_p.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cm.cam.TranslatingRoller(0.05, 0.01, offset=0.005).pitch_base_radius
     0.060000000000000005
@@ -55,8 +75,10 @@ class TranslatingRoller:
 
     @property
     def pitch_base_radius(self) -> float:
-        """R_p = base_radius + roller_radius [m].
+        """The pitch base circle's radius R_p = base_radius + roller_radius [m].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.cam.TranslatingRoller(0.04, 0.0).pitch_base_radius
         0.04
@@ -69,11 +91,25 @@ class TranslatingRoller:
 
 @dataclass(frozen=True)
 class FlatFaced:
-    """A translating flat-faced follower along +y, the face perpendicular to its
-    motion; ``base_radius`` [m]. Its pressure angle is 0; the contact point lies
-    s′ [m] off the follower's axis; the profile's radius of curvature is
-    R_b + s + s″ and the profile cusps (undercut) where it is < 0.
+    """A translating flat-faced follower along +y, the face perpendicular to its motion.
 
+    Its pressure angle is 0; the contact point lies s′ [m] off the follower's axis;
+    the profile's radius of curvature is R_b + s + s″ and the profile cusps
+    (undercut) where it is < 0. The parameter is kept as the attribute of the same
+    name (as a float).
+
+    Parameters
+    ----------
+    base_radius : float
+        The base circle's radius R_b [m] (> 0).
+
+    Raises
+    ------
+    InputError
+        If ``base_radius`` is not a finite number > 0.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cm.cam.FlatFaced(0.05).base_radius
     0.05
@@ -90,13 +126,34 @@ class FlatFaced:
 
 @dataclass(frozen=True)
 class OscillatingRoller:
-    """A roller on an arm of ``arm_length`` l [m] swinging about a pivot at
-    ``pivot_distance`` a [m] from the cam centre; radii [m]. The displacement of
-    its segments is the arm's rotation [rad]. The initial arm angle ψ0 is where
-    the roller centre lies on the pitch base circle R_p = base_radius +
-    roller_radius: cos ψ0 = (a² + l² − R_p²)/(2al), which needs
-    |a − l| < R_p < a + l.
+    """A roller on an arm swinging about a pivot.
 
+    The displacement of its segments is the arm's rotation [rad]. The initial arm
+    angle ψ0 is where the roller centre lies on the pitch base circle
+    R_p = base_radius + roller_radius: cos ψ0 = (a² + l² − R_p²)/(2al), which needs
+    |a − l| < R_p < a + l. Each parameter is kept as the attribute of the same name
+    (as a float).
+
+    Parameters
+    ----------
+    pivot_distance : float
+        The distance a from the cam centre to the arm's pivot [m] (> 0).
+    arm_length : float
+        The arm's length l, pivot to roller centre [m] (> 0).
+    base_radius : float
+        The base circle's radius [m] (> 0).
+    roller_radius : float
+        The roller's radius [m], in [0, base_radius).
+
+    Raises
+    ------
+    InputError
+        If a length is not finite and > 0, ``roller_radius`` is not in
+        [0, base_radius), or the roller cannot reach the pitch base circle
+        (not |a − l| < R_p < a + l).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> f = cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01)
     >>> round(f.initial_arm_angle_deg, 6)
@@ -124,8 +181,10 @@ class OscillatingRoller:
 
     @property
     def pitch_base_radius(self) -> float:
-        """R_p = base_radius + roller_radius [m].
+        """The pitch base circle's radius R_p = base_radius + roller_radius [m].
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01).pitch_base_radius
         0.05
@@ -134,9 +193,13 @@ class OscillatingRoller:
 
     @property
     def initial_arm_angle_deg(self) -> float:
-        """ψ0 [deg]: the arm angle from the line pivot → cam centre at which the
-        roller centre lies on the pitch base circle.
+        """The initial arm angle ψ0 [deg].
 
+        The arm angle from the line pivot → cam centre at which the roller centre lies
+        on the pitch base circle.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.cam.OscillatingRoller(0.1, 0.1, 0.04, 0.0).initial_arm_angle_deg, 6)
         23.073918
