@@ -74,12 +74,36 @@ def _zeta(value: Any) -> float:
 def residual_vibration(
     law: str, tau: Any, damping_ratio: float = 0.0, *, n_threads: int | None = None
 ) -> npt.NDArray[np.float64]:
-    """Residual vibration amplitude per unit stroke, R(τ, ζ), after one rise or
-    return of ``law`` started from rest, for each τ = ω_n·T [rad] in ``tau``
-    (any shape; T the segment's duration [s], ω_n the natural frequency
-    [rad/s]); ``damping_ratio`` ζ in [0, 1). Amplitude [m or rad] = stroke · R.
-    One Rust call, in parallel over τ, GIL released.
+    """Residual vibration amplitude per unit stroke R(τ, ζ) after one rise or return.
 
+    The rise or return of ``law`` starts from rest; amplitude [m or rad] =
+    stroke · R. One Rust call, in parallel over τ, GIL released.
+
+    Parameters
+    ----------
+    law : str
+        The motion law's name (one of :data:`cyclomech.motion.NAMES`).
+    tau : array_like of float, any shape
+        Each τ = ω_n·T [rad] (T the segment's duration [s], ω_n the natural
+        frequency [rad/s]), finite and > 0.
+    damping_ratio : float, default 0.0
+        The damping ratio ζ, in [0, 1).
+    n_threads : int, optional
+        Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    ndarray of float, shape of ``tau``
+        R(τ, ζ) for each τ (dimensionless, the amplitude per unit stroke).
+
+    Raises
+    ------
+    InputError
+        If ``law`` is not a known law, ``damping_ratio`` is not in [0, 1), or a τ is
+        not finite and > 0.
+
+    Examples
+    --------
     >>> import numpy as np
     >>> import cyclomech as cm
     >>> r = cm.cam.residual_vibration("cycloidal", [4 * np.pi, 10.0])
@@ -99,14 +123,37 @@ def residual_vibration(
 
 
 def min_vibration_tau(law: str, amplitude_ratio: float, damping_ratio: float = 0.0) -> float:
-    """τ* [rad]: the smallest τ = ω_n·T such that the residual amplitude per unit
-    stroke R(τ', ζ) ≤ ``amplitude_ratio`` ([a]/h) for every τ' ≥ τ* (the bound
-    rule: a feasible window below a violating lobe is ignored); 0 if R never
-    exceeds it. Exact: R(τ*) equals the limit to ~1e-12 (a bracketed root after a
-    scan of step 2π/64 that refines every lobe near the limit).
+    """The smallest τ = ω_n·T beyond which the residual vibration stays within a limit.
 
-    A segment of cam angle β at ``rpm`` then needs β ≥ τ*·ω/ω_n:
+    τ* [rad] is the smallest τ such that the residual amplitude per unit stroke
+    R(τ', ζ) ≤ ``amplitude_ratio`` for every τ' ≥ τ* (the bound rule: a feasible
+    window below a violating lobe is ignored); 0 if R never exceeds it. Exact:
+    R(τ*) equals the limit to ~1e-12 (a bracketed root after a scan of step 2π/64
+    that refines every lobe near the limit). A segment of cam angle β at ``rpm``
+    then needs β ≥ τ*·ω/ω_n.
 
+    Parameters
+    ----------
+    law : str
+        The motion law's name (one of :data:`cyclomech.motion.NAMES`).
+    amplitude_ratio : float
+        The largest residual amplitude per unit stroke, [a]/h (> 0).
+    damping_ratio : float, default 0.0
+        The damping ratio ζ, in [0, 1).
+
+    Returns
+    -------
+    float
+        τ* [rad] (0.0 if R never exceeds ``amplitude_ratio``).
+
+    Raises
+    ------
+    InputError
+        If ``law`` is not a known law, ``amplitude_ratio`` is not > 0 or
+        ``damping_ratio`` is not in [0, 1).
+
+    Examples
+    --------
     >>> import math
     >>> import cyclomech as cm
     >>> t = cm.cam.min_vibration_tau("cycloidal", 0.01)  # [a] = 1 % of the stroke
@@ -126,15 +173,26 @@ def min_vibration_tau(law: str, amplitude_ratio: float, damping_ratio: float = 0
 
 @dataclass(frozen=True)
 class FollowerResponse:
-    """The periodic steady-state dynamic error of a cam's follower at one speed:
+    """The periodic steady-state dynamic error of a cam's follower at one speed.
 
-    * ``theta`` [rad]: the cam angles asked for (any shape);
-    * ``error`` [m, or rad for an oscillating follower]: x = y − s there;
-    * ``rate`` [per s]: ẋ there;
-    * ``residual`` [m or rad], one per segment: the amplitude of the free
-      vibration of the state at the segment's end (the residual vibration after a
-      rise or return when a dwell follows).
+    Built by :func:`follower_response`; each parameter is kept as the attribute of
+    the same name.
 
+    Parameters
+    ----------
+    theta : ndarray of float
+        The cam angles asked for [rad] (any shape).
+    error : ndarray of float, shape of ``theta``
+        The dynamic error x = y − s there [m, or rad for an oscillating follower].
+    rate : ndarray of float, shape of ``theta``
+        Its rate ẋ there [m/s, or rad/s].
+    residual : ndarray of float, shape (segments,)
+        One per segment: the amplitude of the free vibration of the state at the
+        segment's end (the residual vibration after a rise or return when a dwell
+        follows) [m or rad].
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)],
@@ -157,16 +215,42 @@ def follower_response(
     damping_ratio: float = 0.0,
     theta: Any = None,
 ) -> FollowerResponse:
-    """The periodic steady state of ``cam``'s follower (natural frequency
-    ``natural_frequency_hz`` [Hz], damping ratio in [0, 1)) at ``rpm`` [rpm]:
-    the dynamic error and its rate at cam angles ``theta`` [rad] (default 721
-    angles from 0 to 2π; values in [0, 2π] as given, 2π the end of the turn,
-    others modulo 2π) and the residual amplitude after each segment. s̈ is
-    sampled on every segment, propagated exactly over one turn and the periodic
-    condition solved in closed form. An undamped follower at resonance (a turn
-    lasting a whole number of natural periods) has no steady state: an
-    :class:`cyclomech.InputError` naming the speed.
+    """The periodic steady state of ``cam``'s follower at one speed.
 
+    The dynamic error and its rate at cam angles ``theta``, and the residual
+    amplitude after each segment. s̈ is sampled on every segment, propagated exactly
+    over one turn and the periodic condition solved in closed form.
+
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    rpm : float
+        The cam speed [rpm] (> 0).
+    natural_frequency_hz : float
+        The follower's natural frequency [Hz] (> 0).
+    damping_ratio : float, default 0.0
+        The damping ratio ζ, in [0, 1).
+    theta : array_like of float, optional
+        The cam angles [rad] (any shape): values in [0, 2π] as given, 2π the end of
+        the turn, others modulo 2π; default None (721 angles from 0 to 2π).
+
+    Returns
+    -------
+    FollowerResponse
+        The dynamic error [m or rad] and its rate at ``theta``, and the residual
+        amplitude after each segment.
+
+    Raises
+    ------
+    InputError
+        If ``cam`` is not a :class:`Cam`, ``rpm`` or ``natural_frequency_hz`` is
+        not > 0, ``damping_ratio`` is not in [0, 1); or, for an undamped follower at
+        resonance (a turn lasting a whole number of natural periods), which has no
+        steady state, naming the speed.
+
+    Examples
+    --------
     >>> import numpy as np
     >>> import cyclomech as cm
     >>> S = cm.cam.Segment
