@@ -55,9 +55,13 @@ _MM = 1000.0
 
 
 class DxfUnavailableError(CyclomechError, ImportError):
-    """The DXF writer needs ezdxf, which is not installed (a
-    :class:`cyclomech.CyclomechError`, so a ``ValueError``, and an ``ImportError``).
+    """The DXF writer needs ezdxf, which is not installed.
 
+    A :class:`cyclomech.CyclomechError`, so a ``ValueError``, and an
+    ``ImportError``.
+
+    Examples
+    --------
     >>> issubclass(DxfUnavailableError, ValueError), issubclass(DxfUnavailableError, ImportError)
     (True, True)
     """
@@ -68,27 +72,45 @@ def _samples(samples: Any) -> int:
 
 
 def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
-    """The cam's exact geometry at ``samples`` (≥ 3) evenly spaced cam angles
-    over one turn, θ = 0, 360°/samples, … (the last is not 360°: the curves are
-    closed), one Rust call. Columns, lengths in **m** (the names carry the units):
+    """The cam's exact geometry at evenly spaced cam angles over one turn.
 
-    * ``theta_deg`` [deg]; ``s_m`` (``s_rad`` for an oscillating follower) the
-      follower displacement;
-    * ``pitch_x_m``, ``pitch_y_m``: the pitch curve; ``profile_x_m``,
-      ``profile_y_m``: the profile (a groove's inner flank); ``outer_x_m``,
-      ``outer_y_m``: a groove's outer flank (groove closure only);
-    * ``pressure_angle_deg`` [deg], signed;
-    * ``pitch_radius_m``, ``profile_radius_m``: the signed radii of curvature
-      (+ convex, − concave, inf straight), the profile's of the inner flank;
-    * ``chordal_error_m``: the distance from the chord to the next point to the
-      curve, h²/(8ρ) with ρ the smaller |radius| at its ends (the largest of the
-      flanks; 0 where straight, NaN at an undercut point);
-    * ``undercut``: bool.
+    θ = 0, 360°/samples, … (the last is not 360°: the curves are closed), one Rust
+    call. If the chordal error exceeds :data:`CHORDAL_TOLERANCE_MM` (1e-3 mm)
+    anywhere away from an undercut, a :class:`cyclomech.CyclomechWarning` says where
+    and how many samples would do.
 
-    If the chordal error exceeds :data:`CHORDAL_TOLERANCE_MM` (1e-3 mm) anywhere
-    away from an undercut, a :class:`cyclomech.CyclomechWarning` says where and how
-    many samples would do.
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    samples : int, default 3600
+        The number of cam angles over the turn (≥ 3).
 
+    Returns
+    -------
+    dict of str to ndarray, each shape (samples,)
+        The columns, lengths in **m** (the names carry the units):
+
+        * ``theta_deg`` [deg]; ``s_m`` (``s_rad`` for an oscillating follower) the
+          follower displacement;
+        * ``pitch_x_m``, ``pitch_y_m``: the pitch curve; ``profile_x_m``,
+          ``profile_y_m``: the profile (a groove's inner flank); ``outer_x_m``,
+          ``outer_y_m``: a groove's outer flank (groove closure only);
+        * ``pressure_angle_deg`` [deg], signed;
+        * ``pitch_radius_m``, ``profile_radius_m``: the signed radii of curvature
+          (+ convex, − concave, inf straight), the profile's of the inner flank;
+        * ``chordal_error_m``: the distance from the chord to the next point to the
+          curve, h²/(8ρ) with ρ the smaller |radius| at its ends (the largest of the
+          flanks; 0 where straight, NaN at an undercut point);
+        * ``undercut``: bool.
+
+    Raises
+    ------
+    InputError
+        If ``samples`` is not an integer ≥ 3.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
@@ -160,11 +182,33 @@ def _warn_chordal(table: dict[str, npt.NDArray[Any]], n: int) -> None:
 
 
 def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
-    """Write :func:`profile_table` to ``path`` as CSV: one header line of the
-    column names with their units (lengths in m, angles in deg, ``undercut`` 0 or
-    1), one row per cam angle, 17 significant digits (a float64 round trips).
-    Returns the path.
+    """Write :func:`profile_table` to ``path`` as CSV.
 
+    One header line of the column names with their units (lengths in m, angles in
+    deg, ``undercut`` 0 or 1), one row per cam angle, 17 significant digits (a
+    float64 round trips).
+
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    path : str or Path
+        The CSV file to write.
+    samples : int, default 3600
+        The number of cam angles over the turn (≥ 3).
+
+    Returns
+    -------
+    Path
+        The path written.
+
+    Raises
+    ------
+    InputError
+        If ``samples`` is not an integer ≥ 3 or the file cannot be written.
+
+    Examples
+    --------
     >>> import tempfile, pathlib, numpy as np, cyclomech as cm
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
@@ -192,16 +236,39 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
 
 
 def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
-    """Write the cam as a DXF drawing (R2013) to ``path``, lengths in **mm**
-    ($INSUNITS = 4, $MEASUREMENT metric), the cam centre at the origin in the cam
+    """Write the cam as a DXF drawing (R2013), lengths in **mm**.
+
+    $INSUNITS = 4, $MEASUREMENT metric, the cam centre at the origin in the cam
     frame of :mod:`cyclomech.cam`: the profile as a closed LWPOLYLINE of
     ``samples`` vertices on layer PROFILE (a groove's inner flank), a groove's
     outer flank on GROOVE_OUTER, the pitch curve on PITCH, the base circle (a
     CIRCLE) on BASE and the centre (a POINT) on CENTRE. Why a polyline and not a
     spline, and the chordal-error warning: see :mod:`cyclomech.cam._export` and
-    :func:`profile_table`. Needs ezdxf (``pip install 'cyclomech[dxf]'``); without
-    it :class:`DxfUnavailableError`, before the file is touched. Returns the path.
+    :func:`profile_table`. Needs ezdxf (``pip install 'cyclomech[dxf]'``).
 
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    path : str or Path
+        The DXF file to write.
+    samples : int, default 3600
+        The number of profile vertices over the turn (≥ 3).
+
+    Returns
+    -------
+    Path
+        The path written.
+
+    Raises
+    ------
+    DxfUnavailableError
+        If ezdxf is not installed (before the file is touched).
+    InputError
+        If ``samples`` is not an integer ≥ 3 or the file cannot be written.
+
+    Examples
+    --------
     >>> import tempfile, pathlib, cyclomech as cm
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
