@@ -47,12 +47,31 @@ CRITERIA: tuple[str, ...] = (*_core.CAM_CRITERIA, "vibration")
 
 @dataclass(frozen=True)
 class FollowerLoads:
-    """The follower's loads: ``mass`` [kg] (an oscillating follower: the arm's
-    moment of inertia about its pivot [kg·m²]), ``spring_rate`` [N/m, or N·m/rad],
-    ``preload`` [N, or N·m] (the spring's force at s = 0) and ``segment_loads``,
-    one external load per segment [N, or N·m] acting toward the cam as the spring
-    does (``None``: none). Gravity, if it matters, is a load or part of the preload.
+    """The follower's loads: its mass, spring and one external load per segment.
 
+    Gravity, if it matters, is a load or part of the preload. Each parameter is kept
+    as the attribute of the same name (as floats; ``segment_loads`` as a tuple).
+
+    Parameters
+    ----------
+    mass : float
+        The follower's mass [kg] (≥ 0); an oscillating follower: the arm's moment
+        of inertia about its pivot [kg·m²].
+    spring_rate : float, default 0.0
+        The spring's rate [N/m, or N·m/rad] (≥ 0).
+    preload : float, default 0.0
+        The spring's force at s = 0 [N, or N·m].
+    segment_loads : sequence of float, optional
+        One external load per segment [N, or N·m], acting toward the cam as the
+        spring does; default None (none).
+
+    Raises
+    ------
+    InputError
+        If ``mass`` or ``spring_rate`` is negative or a value is not finite.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cm.cam.FollowerLoads(mass=0.8, spring_rate=2000.0, preload=40.0).mass
     0.8
@@ -92,11 +111,32 @@ class FollowerLoads:
 
 @dataclass(frozen=True)
 class Contact:
-    """Hertz line contact of the follower (roller, or flat face) on the cam:
-    ``width`` [m] of the contact along the cam's axis, Young's moduli [Pa] and
-    Poisson's ratios (each in (−1, 0.5)) of the follower and the cam; the
-    defaults are steel (210 GPa, 0.3).
+    """Hertz line contact of the follower (roller, or flat face) on the cam.
 
+    The defaults are steel (210 GPa, 0.3). Each parameter is kept as the attribute
+    of the same name (as a float).
+
+    Parameters
+    ----------
+    width : float
+        The contact's width along the cam's axis [m] (> 0).
+    follower_modulus : float, default 2.1e11
+        The follower's Young's modulus [Pa] (> 0).
+    follower_poisson : float, default 0.3
+        The follower's Poisson's ratio, in (−1, 0.5).
+    cam_modulus : float, default 2.1e11
+        The cam's Young's modulus [Pa] (> 0).
+    cam_poisson : float, default 0.3
+        The cam's Poisson's ratio, in (−1, 0.5).
+
+    Raises
+    ------
+    InputError
+        If ``width`` or a modulus is not > 0, or a Poisson's ratio is not in
+        (−1, 0.5).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cm.cam.Contact(width=0.012).cam_modulus
     210000000000.0
@@ -134,13 +174,39 @@ class Contact:
 
 @dataclass(frozen=True)
 class CamLoads:
-    """Loads along the cycle at one speed (arrays of ``theta``'s shape):
-    ``force`` Q [N, or N·m], ``normal_force`` N [N] (signed: + on the inner
-    flank, − on a groove's outer flank or, with a spring, the pull the follower
-    would need: separation), ``contact_stress`` σ_H [Pa] (NaN without a
-    :class:`Contact`, or where the profile is undercut; 0 where separated),
-    ``shaft_torque`` [N·m] the cam shaft must supply, ``separated`` (spring
-    closure: the follower leaves the cam)."""
+    """Loads along the cycle at one speed (arrays of ``theta``'s shape).
+
+    Built by :meth:`Cam.loads`; each parameter is kept as the attribute of the same
+    name.
+
+    Parameters
+    ----------
+    theta : ndarray of float
+        The cam angles [rad].
+    rpm : float
+        The cam speed [rpm].
+    force : ndarray of float
+        The generalised force Q along the follower's coordinate [N, or N·m].
+    normal_force : ndarray of float
+        The normal force N [N], signed: + on the inner flank, − on a groove's outer
+        flank or, with a spring, the pull the follower would need (separation).
+    contact_stress : ndarray of float
+        The Hertz stress σ_H [Pa]: NaN without a :class:`Contact`, or where the
+        profile is undercut; 0 where separated.
+    shaft_torque : ndarray of float
+        The torque the cam shaft must supply [N·m].
+    separated : ndarray of bool
+        Spring closure: where the follower leaves the cam.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> l = cam.loads([0.0, 1.0], 100.0, cm.cam.FollowerLoads(1.0, preload=5.0))
+    >>> l.force.round(3).tolist(), l.separated.tolist()
+    ([5.0, 5.635], [False, False])
+    """
 
     theta: Array
     rpm: float
@@ -153,15 +219,27 @@ class CamLoads:
 
 @dataclass(frozen=True)
 class MinPhaseAngles:
-    """The smallest phase angle of each bound segment for each criterion:
-    ``angle_deg`` (speeds, segments, criteria) [deg] at ``rpm`` for the segment
-    indices ``segments`` and :data:`CRITERIA` ``criteria``. NaN: no angle up to a
-    whole turn will do; 0: the criterion does not bound the segment.
+    """The smallest phase angle of each bound segment for each criterion.
 
-    The rule (documented in the kernel): the bound is the smallest angle β such
-    that the criterion holds on all of [β, 360°]; a feasible window below a
-    violation is ignored.
+    NaN: no angle up to a whole turn will do; 0: the criterion does not bound the
+    segment. The rule (documented in the kernel): the bound is the smallest angle β
+    such that the criterion holds on all of [β, 360°]; a feasible window below a
+    violation is ignored. Built by :meth:`Cam.min_phase_angles`; each parameter is
+    kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    rpm : ndarray of float, shape (speeds,)
+        The cam speeds [rpm].
+    segments : tuple of int
+        The indices of the bound segments (rises and returns).
+    criteria : tuple of str
+        The criteria, :data:`CRITERIA`.
+    angle_deg : ndarray of float, shape (speeds, segments, criteria)
+        The smallest phase angles [deg].
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
@@ -178,8 +256,12 @@ class MinPhaseAngles:
 
     @property
     def bound_deg(self) -> Array:
-        """(speeds, segments) [deg]: the largest over the criteria (NaN if any is NaN).
+        """The bound of each segment, the largest over the criteria [deg], shape (speeds, segments).
 
+        NaN if any criterion's angle is NaN.
+
+        Examples
+        --------
         >>> import numpy as np
         >>> MinPhaseAngles(np.ones(1), (0,), ("a", "b"), np.array([[[10.0, 20.0]]])).bound_deg
         array([[20.]])
@@ -188,9 +270,12 @@ class MinPhaseAngles:
 
     @property
     def binding(self) -> npt.NDArray[np.str_]:
-        """(speeds, segments): the criterion that sets the bound ("" where none
-        does; the NaN one where no angle will do).
+        """The criterion that sets each bound, shape (speeds, segments).
 
+        "" where none does; the NaN one where no angle will do.
+
+        Examples
+        --------
         >>> import numpy as np
         >>> MinPhaseAngles(np.ones(1), (0,), ("a", "b"), np.array([[[10.0, 20.0]]])).binding
         array([['b']], dtype='<U1')
@@ -203,8 +288,20 @@ class MinPhaseAngles:
 
 
 def default_pressure_angle_deg(follower: Any) -> float:
-    """[α] by default [deg]: 45 for an oscillating follower, 30 for a translating one.
+    """The largest pressure angle [α] by default [deg].
 
+    Parameters
+    ----------
+    follower : TranslatingRoller or FlatFaced or OscillatingRoller
+        The follower.
+
+    Returns
+    -------
+    float
+        45.0 for an oscillating follower, 30.0 for a translating one [deg].
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> default_pressure_angle_deg(cm.cam.OscillatingRoller(0.1, 0.08, 0.04, 0.01))
     45.0
