@@ -33,13 +33,35 @@ _CLOSE_TOL = 1e-12
 
 @dataclass(frozen=True)
 class Segment:
-    """One segment of a cam program: ``kind`` "rise", "dwell" or "return" over
-    ``angle_deg`` [deg] of cam rotation, with ``stroke`` [m] (or [rad] for an
-    oscillating follower; 0 for a dwell) following ``law`` (a name of
-    :data:`cyclomech.motion.NAMES`, taken in its full rise form). ``operation``
-    optionally names the cyclogram operation the segment is bound to (stored
-    only, for now).
+    """One segment of a cam program: a rise, dwell or return over a cam angle.
 
+    Each parameter is kept as the attribute of the same name (``angle_deg`` and
+    ``stroke`` as floats).
+
+    Parameters
+    ----------
+    kind : {"rise", "dwell", "return"}
+        The segment's kind.
+    angle_deg : float
+        The cam rotation over which it lasts [deg] (> 0).
+    stroke : float, default 0.0
+        Its stroke [m] (or [rad] for an oscillating follower; 0 for a dwell).
+    law : str, default "cycloidal"
+        The motion law, a name of :data:`cyclomech.motion.NAMES`, taken in its full
+        rise form.
+    operation : str, optional
+        The cyclogram operation the segment is bound to (stored only, for now);
+        default None.
+
+    Raises
+    ------
+    InputError
+        If ``kind`` is not one of :data:`KINDS`, ``angle_deg`` is not > 0,
+        ``stroke`` is negative or not finite, ``law`` is not a string or
+        ``operation`` is neither None nor a string.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cm.cam.Segment("rise", 90, 0.01, law="modified_sine").law
     'modified_sine'
@@ -69,23 +91,46 @@ class Segment:
 
 @dataclass(frozen=True)
 class CamKinematics:
-    """The exact kinematics and geometry of a cam at cam angles ``theta`` [rad]
-    (every array has the shape of ``theta``, points one more axis of 2; the
-    arrays are views into one block the kernel filled):
+    """The exact kinematics and geometry of a cam at cam angles ``theta``.
 
-    * ``s``, ``ds``, ``dds``, ``ddds``: follower displacement [m, or rad for an
-      oscillating follower] and its 1st–3rd derivatives per radian of cam;
-    * ``pitch``: roller centre (flat face: the face's point on the follower's
-      axis) [m] in the cam frame; ``profile``: the contact point on the cam [m];
-      ``profile_outer``: the groove's outer flank [m] (``None`` for spring closure);
-    * ``pressure_angle`` [rad]: from the follower's direction of motion to the
-      contact normal, signed (translating roller: tan φ = (s′ − e)/(s + √(R_p² − e²)));
-    * ``pitch_radius_of_curvature``, ``profile_radius_of_curvature`` [m]: signed,
-      + convex, − concave, ``inf`` where straight (the profile's is the inner flank);
-    * ``undercut``: where the profile cusps (a convex pitch curve tighter than
-      the roller, or for a groove's outer flank a concave one; flat face:
-      R_b + s + s″ < 0).
+    Every array has the shape of ``theta``, points one more axis of 2; the arrays
+    are views into one block the kernel filled. Built by :meth:`Cam.solve`; each
+    parameter is kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    theta : ndarray of float
+        The cam angles [rad].
+    s : ndarray of float
+        The follower displacement [m, or rad for an oscillating follower].
+    ds : ndarray of float
+        Its 1st derivative per radian of cam, s′ [m/rad, or rad/rad].
+    dds : ndarray of float
+        Its 2nd derivative per radian of cam, s″ [m/rad², or rad/rad²].
+    ddds : ndarray of float
+        Its 3rd derivative per radian of cam, s‴ [m/rad³, or rad/rad³].
+    pitch : ndarray of float, shape (..., 2)
+        The roller centre (flat face: the face's point on the follower's axis) [m]
+        in the cam frame.
+    profile : ndarray of float, shape (..., 2)
+        The contact point on the cam [m].
+    profile_outer : ndarray of float, shape (..., 2) or None
+        The groove's outer flank [m] (None for spring closure).
+    pressure_angle : ndarray of float
+        From the follower's direction of motion to the contact normal [rad], signed
+        (translating roller: tan φ = (s′ − e)/(s + √(R_p² − e²))).
+    pitch_radius_of_curvature : ndarray of float
+        The pitch curve's radius of curvature [m]: signed, + convex, − concave,
+        ``inf`` where straight.
+    profile_radius_of_curvature : ndarray of float
+        The profile's (the inner flank's) radius of curvature [m], signed as the
+        pitch curve's.
+    undercut : ndarray of bool
+        Where the profile cusps (a convex pitch curve tighter than the roller, or
+        for a groove's outer flank a concave one; flat face: R_b + s + s″ < 0).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cam = cm.cam.Cam([cm.cam.Segment("rise", 180, 0.01), cm.cam.Segment("return", 180, 0.01)],
     ...                  cm.cam.FlatFaced(0.04))
@@ -108,14 +153,33 @@ class CamKinematics:
 
 
 class Cam:
-    """A disc cam: ``segments`` (:class:`Segment` s summing to 360°, the
-    displacement returning to its start), a ``follower``
-    (:class:`TranslatingRoller`, :class:`FlatFaced` or :class:`OscillatingRoller`)
-    and its ``closure``: "spring" (force closure, one flank) or "groove" (form
-    closure, both flanks; roller followers only). Invalid input raises
-    :class:`cyclomech.InputError` naming the segment (index and kind), the value
-    and what is valid.
+    """A disc cam: its segments, its follower and its closure.
 
+    Invalid input raises :class:`cyclomech.InputError` naming the segment (index and
+    kind), the value and what is valid. Each parameter is kept as the attribute of
+    the same name (``segments`` as a tuple).
+
+    Parameters
+    ----------
+    segments : sequence of Segment
+        The program: :class:`Segment` s whose angles sum to 360°, the displacement
+        returning to its start.
+    follower : TranslatingRoller or FlatFaced or OscillatingRoller
+        The follower.
+    closure : {"spring", "groove"}, default "spring"
+        "spring" (force closure, one flank) or "groove" (form closure, both flanks;
+        roller followers only).
+
+    Raises
+    ------
+    InputError
+        If there is no segment, an item is not a :class:`Segment`, the follower or
+        the closure is not one of the above, a groove has a flat-faced follower, a
+        dwell has a stroke or a rise or return none, a law is unknown, the angles do
+        not sum to 360° or the displacement does not return to its start.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
@@ -171,10 +235,31 @@ class Cam:
         return (Cam, (self.segments, self.follower, self.closure))
 
     def solve(self, theta: Any, *, n_threads: int | None = None) -> CamKinematics:
-        """The exact kinematics and geometry at cam angles ``theta`` [rad] (any
-        shape; taken modulo 2π) in one Rust call with the GIL released: see
-        :class:`CamKinematics`.
+        """The exact kinematics and geometry at cam angles ``theta``.
 
+        One Rust call with the GIL released.
+
+        Parameters
+        ----------
+        theta : array_like of float
+            The cam angles [rad] (any shape; taken modulo 2π).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        CamKinematics
+            The displacement and its derivatives, the pitch curve and profile [m],
+            pressure angle [rad], radii of curvature [m] and undercut flags, each of the
+            shape of ``theta``.
+
+        Raises
+        ------
+        InputError
+            If ``theta`` is not an array of numbers.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
@@ -212,8 +297,10 @@ class Cam:
 
     @property
     def initial_arm_angle_deg(self) -> float | None:
-        """ψ0 [deg] of an oscillating follower (None for a translating one).
+        """The initial arm angle ψ0 of an oscillating follower [deg] (None for a translating one).
 
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 180, 0.2), S("return", 180, 0.2)],
@@ -233,12 +320,40 @@ class Cam:
         *,
         n_threads: int | None = None,
     ) -> CamLoads:
-        """The follower's loads along the cycle at cam angles ``theta`` [rad]
-        (any shape) and speed ``rpm`` [rpm]: the generalised force, normal force,
-        Hertz stress on the loaded flank (with a :class:`Contact`), shaft torque
-        and separation; see :class:`CamLoads` and :mod:`cyclomech.cam`. One Rust
-        call, GIL released.
+        """The follower's loads along the cycle at one speed.
 
+        The generalised force, normal force, Hertz stress on the loaded flank (with a
+        :class:`Contact`), shaft torque and separation; see :class:`CamLoads` and
+        :mod:`cyclomech.cam`. One Rust call, GIL released.
+
+        Parameters
+        ----------
+        theta : array_like of float
+            The cam angles [rad] (any shape).
+        rpm : float
+            The cam speed [rpm] (one speed).
+        loads : FollowerLoads
+            The follower's mass, spring and loads.
+        contact : Contact, optional
+            The Hertz contact; default None (no stress: NaN).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        CamLoads
+            The force Q [N, or N·m], normal force [N], Hertz stress [Pa], shaft torque
+            [N·m] and separation at ``theta``.
+
+        Raises
+        ------
+        InputError
+            If ``loads`` is not a :class:`FollowerLoads`, ``contact`` not a
+            :class:`Contact`, ``rpm`` not one speed > 0 or ``segment_loads`` does not
+            hold one load per segment.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
@@ -251,11 +366,32 @@ class Cam:
         return _loads.solve_loads(self, theta, rpm, loads, contact, n_threads=n_threads)
 
     def shaft_torque(self, loads: FollowerLoads, samples: int = 3600) -> ShaftTorque:
-        """The torque [N·m] the cam's shaft must supply over one turn, as a
-        :class:`cyclomech.shaft.ShaftTorque` on ``samples`` cam angles (cam angle 0
-        at 0°): T = Q s′ by the power balance (friction neglected), so
+        """The torque the cam's shaft must supply over one turn [N·m].
+
+        T = Q s′ by the power balance (friction neglected), so
         T = ω²·m s″ s′ + (k s + F0 + F_L) s′ — its ω² part and its static part.
 
+        Parameters
+        ----------
+        loads : FollowerLoads
+            The follower's mass, spring and loads.
+        samples : int, default 3600
+            The number of cam angles over the turn (≥ 3; cam angle 0 at 0°).
+
+        Returns
+        -------
+        cyclomech.shaft.ShaftTorque
+            The torque on ``samples`` cam angles, its ω² part [N·m·s²] and its static
+            part [N·m].
+
+        Raises
+        ------
+        InputError
+            If ``loads`` is not a :class:`FollowerLoads` or ``samples`` is not an
+            integer ≥ 3.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
@@ -277,12 +413,31 @@ class Cam:
         return ShaftTorque.from_curves(inertial[None, :], static[None, :])
 
     def jump_rpm(self, loads: FollowerLoads) -> tuple[float, float]:
-        """The speed [rpm] at which a spring-closed follower first leaves the cam
-        (the smallest over the cycle of √((k s + F0 + F_L)/(m·(−s″))), each
-        segment's minimum found by a bracketed search) and the cam angle [deg]
-        where; (inf, nan) for a groove or a massless follower, (0, angle) where the
-        spring and loads do not hold the follower even at rest.
+        """The speed at which a spring-closed follower first leaves the cam, and where.
 
+        The smallest over the cycle of √((k s + F0 + F_L)/(m·(−s″))), each segment's
+        minimum found by a bracketed search.
+
+        Parameters
+        ----------
+        loads : FollowerLoads
+            The follower's mass, spring and loads.
+
+        Returns
+        -------
+        rpm : float
+            The jump speed [rpm]: inf for a groove or a massless follower, 0 where the
+            spring and loads do not hold the follower even at rest.
+        angle_deg : float
+            The cam angle where [deg] (nan with an infinite speed).
+
+        Raises
+        ------
+        InputError
+            If ``loads`` is not a :class:`FollowerLoads`.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
@@ -304,19 +459,56 @@ class Cam:
         vibration: tuple[float, float, float] | None = None,
         n_threads: int | None = None,
     ) -> MinPhaseAngles:
-        """The smallest phase angle [deg] of each rise and return (or of the
-        indices ``segments``) at each of the speeds ``rpm`` for each criterion of
-        :data:`CRITERIA`: the pressure angle ≤ ``max_pressure_angle_deg``
-        (default 30° translating, 45° oscillating), no undercut, no jump (spring
-        closure, with ``loads``), σ_H ≤ ``max_stress`` [Pa] (with ``loads`` and
-        ``contact``) and, with ``vibration`` = (natural frequency [Hz], damping
-        ratio, amplitude limit [m or rad]), the follower's residual vibration after
-        the segment ≤ the limit (β ≥ τ*·ω/ω_n, :func:`min_vibration_tau`). Each is
-        exact (a bracketed root on the segment's worst value,
-        itself refined by Brent's maximiser), the segment's start displacement,
-        stroke, law and load kept; all speeds in one Rust call (rayon over speeds
-        and segments). See :class:`MinPhaseAngles` for the rule, NaN and 0.
+        """The smallest phase angle of each rise and return at each speed, per criterion.
 
+        For each criterion of :data:`CRITERIA`: the pressure angle ≤
+        ``max_pressure_angle_deg``, no undercut, no jump (spring closure, with
+        ``loads``), σ_H ≤ ``max_stress`` (with ``loads`` and ``contact``) and, with
+        ``vibration``, the follower's residual vibration after the segment ≤ the limit
+        (β ≥ τ*·ω/ω_n, :func:`min_vibration_tau`). Each is exact (a bracketed root on
+        the segment's worst value, itself refined by Brent's maximiser), the segment's
+        start displacement, stroke, law and load kept; all speeds in one Rust call
+        (rayon over speeds and segments). See :class:`MinPhaseAngles` for the rule, NaN
+        and 0.
+
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The cam speeds [rpm].
+        loads : FollowerLoads, optional
+            The follower's mass, spring and loads (for the jump and the stress);
+            default None.
+        contact : Contact, optional
+            The Hertz contact (for the stress); default None.
+        max_stress : float, optional
+            The largest Hertz stress σ_H [Pa] (needs ``loads`` and ``contact``);
+            default None (not a criterion).
+        max_pressure_angle_deg : float, optional
+            The largest pressure angle [deg], in (0, 90); default None (30°
+            translating, 45° oscillating).
+        segments : int or sequence of int, optional
+            The indices of the rises and returns to bound; default None (all of them).
+        vibration : tuple of (float, float, float), optional
+            (natural frequency [Hz], damping ratio, amplitude limit [m or rad]);
+            default None (not a criterion).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        MinPhaseAngles
+            The angles [deg], shape (speeds, segments, criteria).
+
+        Raises
+        ------
+        InputError
+            If a speed is not > 0, ``loads`` or ``contact`` is of the wrong type,
+            ``max_stress`` lacks ``loads`` or ``contact``, ``max_pressure_angle_deg`` is
+            not in (0, 90), an index of ``segments`` is not a rise or return, or
+            ``vibration`` is malformed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
@@ -339,10 +531,26 @@ class Cam:
         )
 
     def undercut_angles_deg(self, samples: int = 7200) -> list[tuple[float, float]]:
-        """Runs of cam angles [deg] where the profile is undercut, as (first,
-        last) sampled angles on a grid of ``samples`` points over one turn; an
-        empty list when the profile is sound.
+        """Runs of cam angles where the profile is undercut [deg].
 
+        Parameters
+        ----------
+        samples : int, default 7200
+            The number of grid points over one turn (≥ 2).
+
+        Returns
+        -------
+        list of tuple of (float, float)
+            Each run's (first, last) sampled angle [deg]; an empty list when the profile
+            is sound.
+
+        Raises
+        ------
+        InputError
+            If ``samples`` is not an integer ≥ 2.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.cam.Segment
         >>> cam = cm.cam.Cam([S("rise", 30, 0.05), S("return", 330, 0.05)],
