@@ -67,14 +67,32 @@ SEGMENT_KEYS = frozenset(
 
 @dataclass(frozen=True)
 class CamDesign:
-    """A cam with what its bounds need: the :class:`Cam`, the follower's
-    :class:`FollowerLoads` (None without a mass), the :class:`Contact` (None without
-    a width), [σ_H] ``max_stress`` [Pa] (None: not checked), [α]
-    ``max_pressure_angle_deg`` [deg], the follower's vibration data
-    ``vibration`` = (natural frequency [Hz], damping ratio, amplitude limit [m or
-    rad]) or None, and ``arcs``: for each segment the cyclogram operation it is
-    bound to (``None`` where it is free).
+    """A cam with what its bounds need: the cam, its loads, contact and limits.
 
+    Built from a table by :meth:`from_table` (or a cam file by :meth:`from_toml`);
+    each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    loads : FollowerLoads or None
+        The follower's loads (None without a mass).
+    contact : Contact or None
+        The Hertz contact (None without a width).
+    max_stress : float or None
+        The largest Hertz stress [σ_H] [Pa] (None: not checked).
+    max_pressure_angle_deg : float
+        The largest pressure angle [α] [deg].
+    vibration : tuple of (float, float, float) or None
+        The follower's vibration data (natural frequency [Hz], damping ratio,
+        amplitude limit [m or rad]), or None.
+    arcs : tuple of (tuple of (str, str) or None)
+        For each segment the cyclogram operation it is bound to (None where it is
+        free).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> d = cm.cam.CamDesign.from_table({"follower": "translating", "base_radius_m": 0.05,
     ...     "roller_radius_m": 0.01, "segment": [
@@ -102,10 +120,35 @@ class CamDesign:
         extra: frozenset[str] = frozenset(),
         arcs: bool = False,
     ) -> CamDesign:
-        """Parse a cam table (see the module's units); ``where`` names it in
-        errors ("file.toml: [cam]"), ``extra`` are keys the caller reads itself,
-        ``arcs`` allows ``arc = [from, to]`` in segments (a machine file).
+        """Parse a cam table (see the module's units for its keys).
 
+        Parameters
+        ----------
+        table : Mapping of str to Any
+            The cam table (``[cam]`` of a cam file, or a machine file's
+            ``[mechanism.<name>]``), with its ``segment`` array of tables.
+        where : str
+            The table's name in errors ("file.toml: [cam]").
+        source : str, optional
+            The file, prefixed to ``where`` in errors; default None.
+        extra : frozenset of str, default frozenset()
+            Keys the caller reads itself (accepted, not read here).
+        arcs : bool, default False
+            Allow ``arc = [from, to]`` in segments (a machine file).
+
+        Returns
+        -------
+        CamDesign
+            The cam with its loads, contact and limits.
+
+        Raises
+        ------
+        InputError
+            If a key is unknown, missing, for the other kind of follower or read only
+            beside a missing one, or a value is invalid (naming the file's key).
+
+        Examples
+        --------
         >>> CamDesign.from_table({"follower": "disc", "segment": []}, "[cam]")
         ... # doctest: +ELLIPSIS
         Traceback (most recent call last):
@@ -214,9 +257,29 @@ class CamDesign:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> tuple[str, float | None, CamDesign]:
-        """A cam file: its ``[cam]`` table, with an optional ``name`` and the
-        speed ``rpm`` [rpm] of its loads; returns (name, rpm, design).
+        """A cam file: its ``[cam]`` table, with an optional ``name`` and the speed ``rpm``.
 
+        Parameters
+        ----------
+        path : str or Path
+            The cam file (TOML).
+
+        Returns
+        -------
+        name : str
+            The cam's ``name`` (default: the file's stem).
+        rpm : float or None
+            The speed ``rpm`` of its loads [rpm] (None if not given).
+        design : CamDesign
+            The cam with its loads, contact and limits.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read or its ``[cam]`` table is missing or invalid.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> name, rpm, d = cm.cam.CamDesign.from_toml("examples/lifter_cam.toml")
         >>> name, rpm, len(d.cam.segments)
@@ -238,10 +301,29 @@ class CamDesign:
     def min_phase_angles(
         self, rpm: Any, *, segments: Any = None, n_threads: int | None = None
     ) -> MinPhaseAngles:
-        """:meth:`Cam.min_phase_angles` of its rises and returns (or of the
-        indices ``segments``) with its loads, contact and limits, at the speeds
-        ``rpm`` [rpm].
+        """:meth:`Cam.min_phase_angles` with the design's loads, contact and limits.
 
+        Parameters
+        ----------
+        rpm : float or array_like of float
+            The cam speeds [rpm].
+        segments : int or sequence of int, optional
+            The indices of the rises and returns to bound; default None (all of them).
+        n_threads : int, optional
+            Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        MinPhaseAngles
+            The smallest phase angles [deg], shape (speeds, segments, criteria).
+
+        Raises
+        ------
+        InputError
+            If a speed is not > 0 or an index of ``segments`` is not a rise or return.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> _, _, d = cm.cam.CamDesign.from_toml("examples/lifter_cam.toml")
         >>> d.min_phase_angles([300.0]).angle_deg.shape
