@@ -27,6 +27,7 @@ import numpy.typing as npt
 if TYPE_CHECKING:
     from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
 
+#: A float64 NumPy array (the arrays of speeds [rpm] and angles [deg] here).
 Array = npt.NDArray[np.float64]
 #: The smallest angle [deg] of a bound at each speed [rpm] (same shape; NaN where
 #: even the whole cycle is too short).
@@ -52,10 +53,27 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Bound:
-    """A lower bound a mechanism puts on the angle of the cyclogram operation
-    ``arc``, named ``label`` in the optimum's bounds and shadow prices
-    (``"rebound[lifter]"``) and ``name`` in the speed sweep's
-    ``min_phase_deg`` (the mechanism's name where it has one bound)."""
+    """A lower bound a mechanism puts on the angle of one cyclogram operation.
+
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    arc : tuple of (str, str)
+        The operation (its start and end events) whose angle is bounded.
+    label : str
+        The bound's name in the optimum's bounds and shadow prices
+        (``"rebound[lifter]"``).
+    name : str
+        The bound's name in the speed sweep's ``min_phase_deg`` (the mechanism's
+        name where it has one bound).
+
+    Examples
+    --------
+    >>> from cyclomech._kind import Bound
+    >>> Bound(("3", "7"), "rebound[lifter]", "lifter").label
+    'rebound[lifter]'
+    """
 
     arc: tuple[str, str]
     label: str
@@ -64,11 +82,21 @@ class Bound:
 
 @dataclass(frozen=True)
 class Proportional:
-    """A bound law that grows in proportion to the speed: the smallest angle is
-    n·``per_rpm`` [deg] at n rpm (at least 1e-9°; NaN over 360°, where no phase
-    angle of one turn will do), as a stop's rebound bound (its impact speed grows
-    as n/t). The machine evaluates many of them in one vectorised step.
+    """A bound law that grows in proportion to the speed.
 
+    The smallest angle is n·``per_rpm`` [deg] at n rpm (at least 1e-9°; NaN over
+    360°, where no phase angle of one turn will do), as a stop's rebound bound (its
+    impact speed grows as n/t). Calling it evaluates the law at an array of speeds
+    [rpm]. The machine evaluates many of them in one vectorised step. The parameter
+    is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    per_rpm : float
+        The smallest angle per unit of speed [deg/rpm].
+
+    Examples
+    --------
     >>> import numpy as np
     >>> Proportional(0.1)(np.array([100.0, 4000.0])).tolist()
     [10.0, nan]
@@ -81,8 +109,22 @@ class Proportional:
 
     @staticmethod
     def evaluate(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
-        """n·per_rpm [deg] at least 1e-9, NaN over 360 (broadcast; no checks).
+        """The law n·per_rpm [deg], at least 1e-9, NaN over 360 (broadcast; no checks).
 
+        Parameters
+        ----------
+        rpm : array_like of float
+            The speeds n [rpm].
+        per_rpm : array_like of float
+            The smallest angle per unit of speed [deg/rpm], broadcast against ``rpm``.
+
+        Returns
+        -------
+        ndarray of float
+            The smallest angles [deg] (NaN over 360°), of the broadcast shape.
+
+        Examples
+        --------
         >>> Proportional.evaluate([100.0, 200.0], [0.1, 2.0]).tolist()
         [10.0, nan]
         """
@@ -92,10 +134,28 @@ class Proportional:
 
 @dataclass(frozen=True)
 class TableContext:
-    """What a kind's parser may use besides its own table: the machine's
-    cyclogram (to check the arcs it names), the file's name for messages, the
-    machine's crank angles per turn and the machine's ``[mechanism.*]`` tables as
-    read (``tables``: a cam stop takes its law and stroke from its cam's table)."""
+    """What a kind's parser may use besides its own table.
+
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    cyclogram : Cyclogram
+        The machine's cyclogram (to check the arcs a table names).
+    source : str
+        The file's name, for messages.
+    angle_points : int
+        The machine's crank angles per turn.
+    tables : Mapping of str to Any, optional
+        The machine's ``[mechanism.*]`` tables as read, by name (a cam stop takes
+        its law and stroke from its cam's table); default an empty dict.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> TableContext(cm.Cyclogram(), "loom.toml", 361).angle_points
+    361
+    """
 
     cyclogram: Cyclogram
     source: str
@@ -105,6 +165,18 @@ class TableContext:
     def where(self, name: str) -> str:
         """The place a message names: ``<file>: [mechanism.<name>]``.
 
+        Parameters
+        ----------
+        name : str
+            The mechanism's name.
+
+        Returns
+        -------
+        str
+            ``<source>: [mechanism.<name>]``.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> TableContext(cm.Cyclogram(), "loom.toml", 361).where("lifter")
         'loom.toml: [mechanism.lifter]'
@@ -114,17 +186,26 @@ class TableContext:
 
 @dataclass(frozen=True)
 class Phase:
-    """Where a mechanism driven by the main shaft sits in the cycle: at the
-    cyclogram event ``event`` its own angle (a linkage's absolute crank angle, a
-    press's carrier angle turned past BDC in the turning direction, −α) is
-    ``crank_deg``; without an event, its angle is
-    ``crank_deg`` at cycle angle 0. Read from ``phase = {event = "…", crank_deg =
-    …}`` in a ``[mechanism.<name>]`` table (:meth:`from_table`).
+    """Where a mechanism driven by the main shaft sits in the cycle.
 
-    The shift of its torque curve on the main shaft, :meth:`shift_deg`, is the
-    cycle angle at which its own angle is ``origin_deg`` (where its curve starts):
-    ``times[event] − (crank_deg − origin_deg)``.
+    At the cyclogram event ``event`` its own angle (a linkage's absolute crank
+    angle, a press's carrier angle turned past BDC in the turning direction, −α) is
+    ``crank_deg``; without an event, its angle is ``crank_deg`` at cycle angle 0.
+    Read from ``phase = {event = "…", crank_deg = …}`` in a ``[mechanism.<name>]``
+    table (:meth:`from_table`). The shift of its torque curve on the main shaft,
+    :meth:`shift_deg`, is the cycle angle at which its own angle is ``origin_deg``
+    (where its curve starts): ``times[event] − (crank_deg − origin_deg)``. Each
+    parameter is kept as the attribute of the same name.
 
+    Parameters
+    ----------
+    event : str, optional
+        A cyclogram event; default None (cycle angle 0).
+    crank_deg : float, default 0.0
+        The mechanism's own angle at that event [deg].
+
+    Examples
+    --------
     >>> Phase("cut", 200.0).shift_deg({"cut": 90.0}, origin_deg=150.0)
     40.0
     """
@@ -137,9 +218,30 @@ class Phase:
 
     @classmethod
     def from_table(cls, table: Mapping[str, Any], ctx: TableContext, name: str) -> Phase:
-        """The ``phase`` key of ``[mechanism.<name>]`` (absent: the mechanism's
-        angle is 0 at cycle angle 0); the event must be one of the cyclogram's.
+        """The ``phase`` key of ``[mechanism.<name>]``.
 
+        Parameters
+        ----------
+        table : Mapping of str to Any
+            The mechanism's table.
+        ctx : TableContext
+            The machine's cyclogram and file name.
+        name : str
+            The mechanism's name.
+
+        Returns
+        -------
+        Phase
+            Its phase (``phase`` absent: the mechanism's angle is 0 at cycle angle 0).
+
+        Raises
+        ------
+        InputError
+            If ``phase`` is not a table, has an unknown key, or its event is not one of
+            the cyclogram's.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Machine.from_toml("examples/knife_cutter.toml").cyclogram
         >>> ctx = TableContext(cg, "f", 361)
@@ -169,20 +271,62 @@ class Phase:
         return cls(event, crank)
 
     def shift_deg(self, times: Mapping[str, float], origin_deg: float = 0.0) -> float:
-        """The cycle angle [deg] at which the mechanism's angle is ``origin_deg``,
-        given the optimum's event ``times`` [deg]."""
+        """The cycle angle [deg] at which the mechanism's angle is ``origin_deg``.
+
+        Parameters
+        ----------
+        times : Mapping of str to float
+            The optimum's event times [deg].
+        origin_deg : float, default 0.0
+            The mechanism's own angle where its torque curve starts [deg].
+
+        Returns
+        -------
+        float
+            ``times[event] − (crank_deg − origin_deg)`` [deg] (``times[event]`` 0
+            without an event).
+
+        Examples
+        --------
+        >>> Phase(crank_deg=30.0).shift_deg({})
+        -30.0
+        """
         at = 0.0 if self.event is None else float(times[self.event])
         return at - (self.crank_deg - origin_deg)
 
 
 @dataclass(frozen=True)
 class Context:
-    """What the machine computed before its mechanisms' results, for
-    :meth:`Mechanism.analyze`: the speed limit, the report's nominal speed [rpm]
-    and the speed grid [rpm], the optimum there (None if it does not fit), the
-    cyclogram, and ``bounds`` / ``linear_bounds``: each bound's smallest angle
-    [deg] on the grid by the bound's name (the speed sweeps' ``min_phase_deg``),
-    exact and linearised."""
+    """What the machine computed before its mechanisms' results, for :meth:`Mechanism.analyze`.
+
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    limit : SpeedLimit
+        The machine's speed limit.
+    nominal_rpm : float
+        The report's nominal speed [rpm].
+    rpm : ndarray of float
+        The speed grid [rpm].
+    optimum : Optimum or None
+        The cyclogram's optimum at the nominal speed (None if it does not fit).
+    cyclogram : Cyclogram
+        The machine's cyclogram.
+    bounds : Mapping of str to ndarray, optional
+        Each bound's smallest angle [deg] on the grid by the bound's name (the
+        speed sweeps' ``min_phase_deg``), exact; default an empty dict.
+    linear_bounds : Mapping of str to ndarray, optional
+        The same, linearised; default an empty dict.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+    >>> ctx = r.mechanisms["lifter"].ctx
+    >>> ctx.nominal_rpm, ctx.bounds["lifter"].shape == ctx.rpm.shape
+    (300.0, True)
+    """
 
     limit: SpeedLimit
     nominal_rpm: float
@@ -193,9 +337,22 @@ class Context:
     linear_bounds: Mapping[str, Array] = field(default_factory=dict)
 
     def own_limit_rpm(self, name: str) -> float:
-        """The mechanism's own speed limit [rpm] as the machine's speed limit holds
-        it (inf where it has none): one value, computed once.
+        """A mechanism's own speed limit [rpm] as the machine's speed limit holds it.
 
+        One value, computed once.
+
+        Parameters
+        ----------
+        name : str
+            The mechanism's name.
+
+        Returns
+        -------
+        float
+            Its own speed limit [rpm] (inf where it has none).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
         >>> r = cm.machine.analyze(m, progress=False)
@@ -207,40 +364,144 @@ class Context:
 
 @runtime_checkable
 class MechanismResult(Protocol):
-    """A mechanism's results, computed once by :meth:`Mechanism.analyze`."""
+    """A mechanism's results, computed once by :meth:`Mechanism.analyze`.
+
+    A protocol: each kind's result class satisfies it (``isinstance`` checks the
+    methods); it is not instantiated itself.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        None: a protocol takes no arguments (it cannot be instantiated).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+    >>> isinstance(r.mechanisms["lifter"], MechanismResult)
+    True
+    """
 
     def json(self) -> dict[str, dict[str, Any]]:
-        """Its entries in ``results.json``: ``{group: entry}``, where the group is
-        ``"mechanisms"`` (always) or one of its kind's :attr:`Mechanism.json_groups`."""
+        """Its entries in ``results.json``.
+
+        Returns
+        -------
+        dict of str to dict
+            ``{group: entry}``, where the group is ``"mechanisms"`` (always) or one of
+            its kind's :attr:`Mechanism.json_groups`.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> sorted(r.mechanisms["lifter"].json())
+        ['mechanisms', 'stops']
+        """
         ...
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
-        """The header and rows of its section's table in the report."""
+        """The header and rows of its section's table in the report.
+
+        Returns
+        -------
+        header : list of str
+            The column names.
+        rows : list of list
+            One row per quantity.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter"].table()[0]
+        ['quantity', 'value']
+        """
         ...
 
     def csv_columns(self) -> list[tuple[str, Array]]:
-        """Columns it adds to ``speed_sweep.csv`` (on the sweep's speeds)."""
+        """Columns it adds to ``speed_sweep.csv`` (on the sweep's speeds).
+
+        Returns
+        -------
+        list of tuple of (str, ndarray)
+            (column name with its unit, values on the sweep's speeds).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> [name for name, _ in r.mechanisms["lifter"].csv_columns()]
+        ['min_phase_deg[lifter]', 'linear_min_phase_deg[lifter]']
+        """
         ...
 
     def prices(self) -> dict[str, float]:
-        """Shadow prices of its bounds per unit of its own limit (label: value),
-        for ``results.json``'s ``optimum`` (empty where it has none)."""
+        """Shadow prices of its bounds per unit of its own limit.
+
+        For ``results.json``'s ``optimum``.
+
+        Returns
+        -------
+        dict of str to float
+            label: value (empty where it has none).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> list(r.mechanisms["lifter"].prices())
+        ['rebound[lifter]']
+        """
         ...
 
     def figures(self, save: Save) -> None:
-        """Draw its figures and hand each to ``save``."""
+        """Draw its figures and hand each to ``save``.
+
+        Parameters
+        ----------
+        save : callable
+            ``save(figure, file stem, caption)``, called once per figure.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> stems = []
+        >>> r.mechanisms["lifter"].figures(lambda fig, stem, caption: stems.append(stem))
+        >>> stems
+        ['lifter_rebound', 'lifter_law', 'lifter_min_phase']
+        >>> plt.close("all")
+        """
         ...
 
 
 @runtime_checkable
 class Mechanism(Protocol):
-    """A mechanism kind (see the module's docstring). Class attributes: ``kind``
-    (the ``kind`` of its table), ``keys`` (every key its table takes, ``kind``
+    """A mechanism kind (see :mod:`cyclomech._kind`).
+
+    A protocol that each kind's class satisfies (``isinstance`` checks the
+    methods); it is not instantiated itself. Class attributes: ``kind`` (the
+    ``kind`` of its table), ``keys`` (every key its table takes, ``kind``
     included), ``fixed_keys`` (keys a sweep may not set: the ones that change the
-    cyclogram's shape), ``json_groups`` (the top-level groups of ``results.json`` it
-    adds to, besides ``mechanisms``) and ``sweep_columns`` (columns it adds to the
-    machine's speed sweep; several mechanisms' values of one column combine by their
-    maximum)."""
+    cyclogram's shape), ``json_groups`` (the top-level groups of ``results.json``
+    it adds to, besides ``mechanisms``) and ``sweep_columns`` (columns it adds to
+    the machine's speed sweep; several mechanisms' values of one column combine by
+    their maximum).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        None: a protocol takes no arguments (it cannot be instantiated).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> stop = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter"]
+    >>> isinstance(stop, Mechanism), stop.kind, stop.sweep_columns
+    (True, 'cam_stop', ('max_rebound_m',))
+    """
 
     kind: ClassVar[str]
     keys: ClassVar[frozenset[str]]
@@ -250,41 +511,158 @@ class Mechanism(Protocol):
 
     @property
     def name(self) -> str:
-        """Its name: the ``<name>`` of its table."""
+        """Its name: the ``<name>`` of its table.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter"].name
+        'lifter'
+        """
         ...
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> Mechanism:
-        """Parse and validate its table; errors name ``ctx.where(name)``, the key
-        and what is valid."""
+        """Parse and validate its table.
+
+        Parameters
+        ----------
+        name : str
+            The mechanism's name (the ``<name>`` of ``[mechanism.<name>]``).
+        table : Mapping of str to Any
+            Its table as read.
+        ctx : TableContext
+            The machine's cyclogram, file name, crank angles and tables.
+
+        Returns
+        -------
+        Mechanism
+            The mechanism.
+
+        Raises
+        ------
+        InputError
+            If the table is invalid; errors name ``ctx.where(name)``, the key and what
+            is valid.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
+        >>> ctx = TableContext(m.cyclogram, "stb_loom.toml", 361, m.data["mechanism"])
+        >>> table = m.data["mechanism"]["lifter"]
+        >>> cm.machine.KINDS["cam_stop"].from_table("lifter", table, ctx).name
+        'lifter'
+        """
         ...
 
     def speed_limit_rpm(self) -> float:
-        """Its own speed limit [rpm] (inf without one)."""
+        """Its own speed limit [rpm].
+
+        Returns
+        -------
+        float
+            The limit [rpm] (inf without one).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
+        >>> round(m.mechanisms["knife"].speed_limit_rpm(), 2)
+        76.83
+        """
         ...
 
     def limit_reason(self) -> str:
-        """What sets :meth:`speed_limit_rpm`, in words ("" without a limit)."""
+        """What sets :meth:`speed_limit_rpm`, in words.
+
+        Returns
+        -------
+        str
+            The reason ("" without a limit).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].limit_reason()
+        "the peak acceleration of point 'E' reaches max_acceleration = 8 m/s²"
+        """
         ...
 
     def bounds(self) -> tuple[Bound, ...]:
-        """The lower bounds it puts on cyclogram operations."""
+        """The lower bounds it puts on cyclogram operations.
+
+        Returns
+        -------
+        tuple of Bound
+            Its bounds (empty without any).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter"].bounds()
+        (Bound(arc=('3', '7'), label='rebound[lifter]', name='lifter'),)
+        """
         ...
 
     def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
-        """Its bounds at ``rpm`` [rpm] as cyclogram constraints named by their
-        labels (the seed's linearised forms with ``linear``, where it has them)."""
+        """Its bounds at one speed as cyclogram constraints named by their labels.
+
+        Parameters
+        ----------
+        rpm : float
+            The speed [rpm].
+        linear : bool, default False
+            The seed's linearised forms, where it has them.
+
+        Returns
+        -------
+        tuple of Constraint
+            One constraint per bound.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> stop = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter"]
+        >>> stop.constraints(300.0)[0].describe()
+        '1·t(3,7) >= 30.0306'
+        """
         ...
 
     @classmethod
     def bound_laws(
         cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
     ) -> list[list[BoundLaw]]:
-        """For each of ``mechanisms`` (all of this kind, e.g. the designs of a
-        sweep: one batched computation), for each of its bounds, the law that
-        gives its smallest angle at any speed; cheap to evaluate, as a speed-limit
-        search evaluates it many times. ``linear``: the seed's linearised form where
-        the kind has one (else the exact law)."""
+        """For each mechanism of this kind, for each of its bounds, its law against speed.
+
+        The law gives the bound's smallest angle at any speed; cheap to evaluate, as a
+        speed-limit search evaluates it many times. All mechanisms in one batched
+        computation.
+
+        Parameters
+        ----------
+        mechanisms : sequence of Mechanism
+            Mechanisms all of this kind (e.g. the designs of a sweep).
+        linear : bool, default False
+            The seed's linearised form where the kind has one (else the exact law).
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        list of list of BoundLaw
+            Per mechanism, per bound, the smallest angle [deg] as a function of the
+            speeds [rpm].
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import cyclomech as cm
+        >>> stop = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter"]
+        >>> (law,), = type(stop).bound_laws([stop])
+        >>> law(np.array([300.0])).round(4).tolist()
+        [30.0306]
+        """
         ...
 
     @classmethod
@@ -297,21 +675,71 @@ class Mechanism(Protocol):
         *,
         n_threads: int | None = None,
     ) -> dict[str, Array]:
-        """Its :attr:`sweep_columns` for design d of ``mechanisms`` at the speeds
-        ``rpm`` (D, S), given each of its bounds' operation angle at the optimum
-        (``angle_deg[k]``, (D·S,), row order of ``rpm.reshape(-1)``) and where the
-        machine fits; (D·S,) arrays."""
+        """Its :attr:`sweep_columns` for each design of ``mechanisms`` at each speed.
+
+        Parameters
+        ----------
+        mechanisms : sequence of Mechanism
+            D designs, all of this kind.
+        rpm : ndarray of float, shape (D, S)
+            The speeds of each design [rpm].
+        angle_deg : sequence of ndarray of float, each shape (D·S,)
+            Each of its bounds' operation angle at the optimum [deg] (``angle_deg[k]``
+            for bound k, in the row order of ``rpm.reshape(-1)``).
+        fits : ndarray of bool, shape (D·S,)
+            Where the machine fits.
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        dict of str to ndarray
+            Each of its sweep columns, a (D·S,) array.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import cyclomech as cm
+        >>> stop = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter"]
+        >>> v = type(stop).sweep_values([stop], np.array([[300.0]]), [np.array([40.0])],
+        ...                             np.array([True]))
+        >>> list(v), v["max_rebound_m"].shape
+        (['max_rebound_m'], (1,))
+        """
         ...
 
     def analyze(self, ctx: Context) -> MechanismResult:
-        """Its results, computed once."""
+        """Its results, computed once.
+
+        Parameters
+        ----------
+        ctx : Context
+            What the machine computed before (speed limit, nominal speed, grid,
+            optimum, bounds).
+
+        Returns
+        -------
+        MechanismResult
+            Its results, which the report, ``results.json``, the CSVs and the CLI only
+            read.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> type(r.mechanisms["lifter"]).__name__
+        'CamStopResult'
+        """
         ...
 
 
 class Unbounded:
-    """Defaults for a kind that puts no bound on the cyclogram and adds nothing to
-    the speed sweep (mix it into the kind's class).
+    """Defaults for a kind that puts no bound on the cyclogram and adds nothing to the speed sweep.
 
+    Mix it into the kind's class.
+
+    Examples
+    --------
     >>> Unbounded.bound_laws([object(), object()])
     [[], []]
     """
@@ -321,16 +749,37 @@ class Unbounded:
     sweep_columns: ClassVar[tuple[str, ...]] = ()
 
     def bounds(self) -> tuple[Bound, ...]:
-        """None.
+        """No bound.
 
+        Returns
+        -------
+        tuple
+            ``()``.
+
+        Examples
+        --------
         >>> Unbounded().bounds()
         ()
         """
         return ()
 
     def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
-        """None.
+        """No constraint.
 
+        Parameters
+        ----------
+        rpm : float
+            The speed [rpm] (unused).
+        linear : bool, default False
+            The linearised forms (unused).
+
+        Returns
+        -------
+        tuple
+            ``()``.
+
+        Examples
+        --------
         >>> Unbounded().constraints(300.0)
         ()
         """
@@ -342,6 +791,22 @@ class Unbounded:
     ) -> list[list[BoundLaw]]:
         """No law for any of ``mechanisms``.
 
+        Parameters
+        ----------
+        mechanisms : sequence of Mechanism
+            The mechanisms.
+        linear : bool, default False
+            The linearised forms (unused).
+        n_threads : int, optional
+            Threads (unused); default None.
+
+        Returns
+        -------
+        list of list
+            An empty list per mechanism.
+
+        Examples
+        --------
         >>> Unbounded.bound_laws([object()])
         [[]]
         """
@@ -357,8 +822,28 @@ class Unbounded:
         *,
         n_threads: int | None = None,
     ) -> dict[str, Array]:
-        """Nothing.
+        """No sweep column.
 
+        Parameters
+        ----------
+        mechanisms : sequence of Mechanism
+            The D designs.
+        rpm : ndarray of float, shape (D, S)
+            The speeds [rpm] (unused).
+        angle_deg : sequence of ndarray of float
+            The bounds' operation angles [deg] (unused).
+        fits : ndarray of bool
+            Where the machine fits (unused).
+        n_threads : int, optional
+            Threads (unused); default None.
+
+        Returns
+        -------
+        dict
+            ``{}``.
+
+        Examples
+        --------
         >>> import numpy as np
         >>> Unbounded.sweep_values([], np.zeros((0, 1)), [], np.zeros(0, bool))
         {}
@@ -367,19 +852,39 @@ class Unbounded:
 
 
 class PlainResult:
-    """Defaults for a result without CSV columns or priced bounds (mix it in)."""
+    """Defaults for a result without CSV columns or priced bounds (mix it in).
+
+    Examples
+    --------
+    >>> PlainResult().csv_columns(), PlainResult().prices()
+    ([], {})
+    """
 
     def csv_columns(self) -> list[tuple[str, Array]]:
-        """None.
+        """No CSV column.
 
+        Returns
+        -------
+        list
+            ``[]``.
+
+        Examples
+        --------
         >>> PlainResult().csv_columns()
         []
         """
         return []
 
     def prices(self) -> dict[str, float]:
-        """None.
+        """No priced bound.
 
+        Returns
+        -------
+        dict
+            ``{}``.
+
+        Examples
+        --------
         >>> PlainResult().prices()
         {}
         """
