@@ -80,11 +80,24 @@ class _PerSpeed:
 
 @dataclass(frozen=True)
 class CamMechanism(Unbounded):
-    """A cam of the machine: its :class:`CamDesign` and, for each bound, the
-    segment and criterion (``criteria``, in the order of :meth:`bounds`). A bound
-    is labelled ``<criterion>[<name> <kind> <from>→<to>]`` in the optimum's shadow
-    prices and the speed limit's reason.
+    """A cam of the machine: its design and, for each bound, the segment and criterion.
 
+    A bound is labelled ``<criterion>[<name> <kind> <from>→<to>]`` in the optimum's
+    shadow prices and the speed limit's reason. Built by :meth:`from_table`; each
+    parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    name : str
+        The mechanism's name (the ``<name>`` of ``[mechanism.<name>]``).
+    design : CamDesign
+        The cam with its loads, contact and limits.
+    criteria : tuple of tuple of (int, str)
+        For each bound, in the order of :meth:`bounds`, the segment's index and
+        the criterion (one of :data:`CRITERIA`).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
     >>> cam.kind, [b.label for b in cam.bounds()][:2]
@@ -103,10 +116,34 @@ class CamMechanism(Unbounded):
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamMechanism:
-        """Its ``[mechanism.<name>]`` table: a cam table (:class:`CamDesign`, units
-        in the key names) whose segments may carry ``arc = [from, to]``, an
-        operation of the cyclogram (one turn of the cam is one cycle).
+        """Its ``[mechanism.<name>]`` table.
 
+        A cam table (:class:`CamDesign`, units in the key names) whose segments may
+        carry ``arc = [from, to]``, an operation of the cyclogram (one turn of the cam
+        is one cycle).
+
+        Parameters
+        ----------
+        name : str
+            The mechanism's name.
+        table : Mapping of str to Any
+            Its table as read.
+        ctx : TableContext
+            The machine's cyclogram and file name.
+
+        Returns
+        -------
+        CamMechanism
+            The cam with a bound per (bound segment, criterion that applies to it).
+
+        Raises
+        ------
+        InputError
+            If the cam table is invalid, the cyclogram's ``cycle_deg`` is not 360, or
+            an ``arc`` is not an operation of the cyclogram or is bound twice.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
         >>> [c for c in m.mechanisms["lifter cam"].criteria if c[0] == 0]
@@ -151,6 +188,13 @@ class CamMechanism(Unbounded):
     def bounds(self) -> tuple[Bound, ...]:
         """One bound per (bound segment, criterion that applies to it).
 
+        Returns
+        -------
+        tuple of Bound
+            The bounds, labelled ``<criterion>[<name> <kind> <from>→<to>]``.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
         >>> cam.bounds()[2].arc, cam.bounds()[2].label
@@ -163,10 +207,19 @@ class CamMechanism(Unbounded):
         return tuple(out)
 
     def laws(self) -> list[BoundLaw]:
-        """Each bound's smallest angle [deg] against speed [rpm]: constant for the
-        pressure angle and undercut, proportional for jump (exact), solved per
-        speed for the stress, proportional for the residual vibration (exact).
+        """Each bound's smallest angle [deg] against speed [rpm].
 
+        Constant for the pressure angle and undercut, proportional for jump (exact),
+        solved per speed for the stress, proportional for the residual vibration
+        (exact).
+
+        Returns
+        -------
+        list of BoundLaw
+            One law per bound, in the order of :meth:`bounds`.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
         >>> [round(float(law(np.array([450.0]))[0]), 3) for law in cam.laws()][:4]
@@ -193,9 +246,24 @@ class CamMechanism(Unbounded):
         return tuple(out)
 
     def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
-        """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound (exact:
-        a cam has no linearised form).
+        """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound.
 
+        Exact: a cam has no linearised form.
+
+        Parameters
+        ----------
+        rpm : float
+            The speed [rpm].
+        linear : bool, default False
+            Unused (a cam's bounds are exact).
+
+        Returns
+        -------
+        tuple of Constraint
+            One constraint per bound, named by its label.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
         >>> cam.constraints(450.0)[2].describe()
@@ -211,8 +279,24 @@ class CamMechanism(Unbounded):
     def bound_laws(
         cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
     ) -> list[list[BoundLaw]]:
-        """:meth:`laws` of each cam (``linear`` has no meaning for a cam: exact).
+        """:meth:`laws` of each cam.
 
+        Parameters
+        ----------
+        mechanisms : sequence of CamMechanism
+            The cams.
+        linear : bool, default False
+            No meaning for a cam: its laws are exact.
+        n_threads : int, optional
+            Unused; default None.
+
+        Returns
+        -------
+        list of list of BoundLaw
+            Per cam, its :meth:`laws`.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
         >>> len(CamMechanism.bound_laws([cam])[0]) == len(cam.bounds())
@@ -221,8 +305,15 @@ class CamMechanism(Unbounded):
         return [m.laws() for m in mechanisms]
 
     def speed_limit_rpm(self) -> float:
-        """A cam limits the speed through the cyclogram's bounds only: inf.
+        """A cam limits the speed through the cyclogram's bounds only.
 
+        Returns
+        -------
+        float
+            inf [rpm].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
         >>> m.mechanisms["lifter cam"].speed_limit_rpm()
@@ -231,8 +322,15 @@ class CamMechanism(Unbounded):
         return math.inf
 
     def limit_reason(self) -> str:
-        """ "" (:meth:`speed_limit_rpm`).
+        """No reason: a cam has no own speed limit (:meth:`speed_limit_rpm`).
 
+        Returns
+        -------
+        str
+            "".
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"].limit_reason()
         ''
@@ -241,10 +339,25 @@ class CamMechanism(Unbounded):
 
     # ------------------------------------------------------------- results
     def laid_out(self, angles: Mapping[Arc, float]) -> tuple[Cam, str]:
-        """The cam with each bound segment at its operation's angle [deg] in
-        ``angles`` (the optimum's), the difference taken from the next dwell
-        (cyclically); the file's cam and the reason when that leaves no dwell.
+        """The cam with each bound segment at its operation's angle.
 
+        The difference is taken from the next dwell (cyclically).
+
+        Parameters
+        ----------
+        angles : Mapping of tuple of (str, str) to float
+            The operations' angles [deg] (the optimum's), by arc.
+
+        Returns
+        -------
+        cam : Cam
+            The cam laid out; the file's cam when that leaves no dwell or the cam is
+            invalid.
+        reason : str
+            Why the file's cam is returned ("" when laid out).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
         >>> c, why = cam.laid_out({("1", "3"): 60.0})
@@ -271,9 +384,24 @@ class CamMechanism(Unbounded):
             return self.design.cam, f"the cam at the optimum's angles is invalid ({e})"
 
     def analyze(self, ctx: Context) -> CamResult:
-        """Its results at the nominal speed (the cam laid out at the optimum's
-        angles) and its bounds on the speed grid.
+        """Its results at the nominal speed and its bounds on the speed grid.
 
+        The cam is laid out at the optimum's angles. A
+        :class:`cyclomech.CyclomechWarning` lists what fails at the nominal speed
+        (:meth:`CamResult.problems`).
+
+        Parameters
+        ----------
+        ctx : Context
+            What the machine computed before (nominal speed, optimum, bounds).
+
+        Returns
+        -------
+        CamResult
+            Its results.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
         >>> res = r.mechanisms["lifter cam"]
@@ -337,11 +465,42 @@ def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
 
 @dataclass(frozen=True)
 class CamResult:
-    """A cam's results: the cam laid out at the optimum (``cam``; ``layout_note``
-    says why not, if not), at the nominal speed its largest pressure angle [deg],
-    Hertz stress [Pa] (inf where undercut, NaN without contact data), jump speed
-    [rpm] and undercut angle runs [deg], and its bound segments' smallest phase
-    angles there (``at_nominal``)."""
+    """A cam's results.
+
+    Built by :meth:`CamMechanism.analyze`; each parameter is kept as the attribute
+    of the same name.
+
+    Parameters
+    ----------
+    mech : CamMechanism
+        The cam mechanism.
+    ctx : Context
+        What the machine computed before it.
+    cam : Cam
+        The cam laid out at the optimum.
+    layout_note : str
+        Why it is not laid out at the optimum, if not ("" when it is).
+    max_pressure_angle_deg : float
+        The largest pressure angle at the nominal speed [deg].
+    max_stress_pa : float
+        The largest Hertz stress at the nominal speed [Pa] (inf where undercut,
+        NaN without contact data).
+    jump_rpm : float
+        The jump speed [rpm] (inf for a groove or without loads).
+    undercut_deg : list of tuple of (float, float)
+        The undercut runs of cam angles [deg].
+    at_nominal : MinPhaseAngles or None
+        Its bound segments' smallest phase angles at the nominal speed (None
+        without a bound segment).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+    >>> res = r.mechanisms["lifter cam"]
+    >>> round(res.max_pressure_angle_deg, 3), res.jump_rpm, res.undercut_deg
+    (45.0, inf, [])
+    """
 
     mech: CamMechanism
     ctx: Context
@@ -354,10 +513,18 @@ class CamResult:
     at_nominal: Any
 
     def problems(self) -> list[str]:
-        """What fails at the nominal speed on the cam as laid out (the bound
-        segments hold their criteria by construction; the free ones, the dwells and
-        the layout may not): [] when nothing does. The machine warns with them.
+        """What fails at the nominal speed on the cam as laid out.
 
+        The bound segments hold their criteria by construction; the free ones, the
+        dwells and the layout may not. The machine warns with them.
+
+        Returns
+        -------
+        list of str
+            One sentence per problem ([] when nothing fails).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
         >>> r.mechanisms["lifter cam"].problems()
@@ -385,7 +552,21 @@ class CamResult:
         return out
 
     def json(self) -> dict[str, dict[str, Any]]:
-        """Its ``mechanisms`` entry and its ``cams`` entry."""
+        """Its ``mechanisms`` entry and its ``cams`` entry of ``results.json``.
+
+        Returns
+        -------
+        dict of str to dict
+            ``{"mechanisms": …, "cams": …}`` (angles in deg, stresses in Pa, speeds in
+            rpm).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].json()["mechanisms"]
+        {'kind': 'cam', 'arcs': [['1', '3'], ['3', '7'], ['7', '10.1']]}
+        """
         m, d = self.mech, self.mech.design
         bounds = {b.label: self.ctx.bounds[b.name] for b in m.bounds()}
         return {
@@ -407,7 +588,24 @@ class CamResult:
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
-        """Its report table."""
+        """Its report table.
+
+        Returns
+        -------
+        header : list of str
+            ``["quantity", "value"]``.
+        rows : list of list
+            The follower, segments at the optimum, largest pressure angle and Hertz
+            stress (with their limits), jump speed, undercut and the bound segments'
+            smallest angles.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].table()[1][0]
+        ['follower, closure', 'OscillatingRoller, groove']
+        """
         m, d, n = self.mech, self.mech.design, self.ctx.nominal_rpm
         rows: list[list[Any]] = [
             ["follower, closure", f"{type(d.cam.follower).__name__}, {d.cam.closure}"],
@@ -443,11 +641,24 @@ class CamResult:
         return ["quantity", "value"], rows
 
     def shaft_torque(self) -> tuple[Array, Array, float, str] | None:
-        """Its torque on the main shaft for the machine's main shaft: (ω² part
-        [N·m·s²], static part [N·m], on 3600 cam angles; its phase [deg]: the
-        first bound segment starts at its operation's start in the optimum; that
-        operation's start event, which the phase follows); None without the
-        follower's loads or an optimum."""
+        """Its torque on the main shaft, for the machine's main shaft.
+
+        Returns
+        -------
+        tuple of (ndarray, ndarray, float, str) or None
+            (ω² part [N·m·s²], static part [N·m], on 3600 cam angles; its phase [deg]:
+            the first bound segment starts at its operation's start in the optimum;
+            that operation's start event, which the phase follows); None without the
+            follower's loads or an optimum.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> per_omega2, static, phase_deg, event = r.mechanisms["lifter cam"].shaft_torque()
+        >>> per_omega2.shape, phase_deg, event
+        ((3600,), 0.0, '1')
+        """
         d, o = self.mech.design, self.ctx.optimum
         if d.loads is None or o is None:
             return None
@@ -459,16 +670,61 @@ class CamResult:
         return t.per_omega2, t.static, float(o.times[arc[0]]) - start, arc[0]
 
     def csv_columns(self) -> list[tuple[str, Array]]:
-        """Each bound's smallest phase angle on the sweep's speeds."""
+        """Each bound's smallest phase angle [deg] on the sweep's speeds.
+
+        Returns
+        -------
+        list of tuple of (str, ndarray)
+            (``min_phase_deg[<label>]``, values on the sweep's speeds [deg]).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].csv_columns()[0][0]
+        'min_phase_deg[pressure angle[lifter cam rise 1→3]]'
+        """
         return [(f"min_phase_deg[{b.label}]", self.ctx.bounds[b.name]) for b in self.mech.bounds()]
 
     def prices(self) -> dict[str, float]:
-        """None beyond the optimum's own (its bounds are priced there by label)."""
+        """None beyond the optimum's own (its bounds are priced there by label).
+
+        Returns
+        -------
+        dict
+            ``{}``.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].prices()
+        {}
+        """
         return {}
 
     def figures(self, save: Save) -> None:
-        """The cam, its SVAJ diagram, the stress and pressure angle along the cycle
-        and its smallest phase angles against speed."""
+        """Draw its figures and hand each to ``save``.
+
+        The cam, its SVAJ diagram, the stress and pressure angle along the cycle and
+        its smallest phase angles against speed.
+
+        Parameters
+        ----------
+        save : callable
+            ``save(figure, file stem, caption)``, called once per figure.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> stems = []
+        >>> r.mechanisms["lifter cam"].figures(lambda fig, stem, caption: stems.append(stem))
+        >>> stems
+        ['lifter_cam_cam', 'lifter_cam_svaj', 'lifter_cam_along_cycle', 'lifter_cam_min_phase']
+        >>> plt.close("all")
+        """
         from .plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
 
         m, d, k, n = self.mech, self.mech.design, self.mech.name, self.ctx.nominal_rpm
