@@ -141,21 +141,58 @@ def plot_cam(
 
     The profile (and a groove's outer flank) is a LineCollection coloured, with a
     colorbar, by |pressure angle| [deg] (``color_by="pressure_angle"``) or by the
-    Hertz stress σ_H [MPa] at ``rpm`` [rpm] with ``loads`` and ``contact``
+    Hertz stress σ_H [MPa] at ``rpm`` with ``loads`` and ``contact``
     (``color_by="contact_stress"``; the unloaded flank of a groove, and where the
     follower is separated, are grey). Each line segment takes the value at its
     middle cam angle, solved exactly (1440 segments a turn). The pitch curve is
     dashed, the base circle thin, the cam centre a cross; undercut stretches are
-    red. The follower is drawn at the cam angles ``positions_deg`` [deg] (default
-    six: 0°, 60°, … 300°) where it is in the cam frame at those angles: the roller
-    at the pitch point (a dot for a knife edge, the face for a flat-faced
-    follower), a translating follower's stem along its line of motion, an
-    oscillating follower's arm from its pivot, which is at R(−θ)·(a, 0).
+    red. The follower is drawn at the cam angles ``positions_deg`` where it is in
+    the cam frame at those angles: the roller at the pitch point (a dot for a knife
+    edge, the face for a flat-faced follower), a translating follower's stem along
+    its line of motion, an oscillating follower's arm from its pivot, which is at
+    R(−θ)·(a, 0).
 
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    positions_deg : array_like of float, optional
+        The cam angles at which the follower is drawn [deg]; default None (six:
+        0°, 60°, … 300°).
+    color_by : {"pressure_angle", "contact_stress"}, default "pressure_angle"
+        What colours the profile.
+    loads : FollowerLoads, optional
+        The follower's loads (needed for ``color_by="contact_stress"``); default None.
+    contact : Contact, optional
+        The Hertz contact (needed for ``color_by="contact_stress"``); default None.
+    rpm : float, optional
+        The cam speed of the stress [rpm] (needed for ``color_by="contact_stress"``);
+        default None.
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; default None (a new figure).
+    title : str, optional
+        The title; default None (the follower's kind and the closure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+
+    Raises
+    ------
+    InputError
+        If ``cam`` is not a :class:`~cyclomech.cam.Cam`, ``color_by`` is unknown, a
+        position is not finite, or ``color_by="contact_stress"`` lacks ``loads``,
+        ``contact`` or ``rpm``.
+
+    Notes
+    -----
     Artists, by gid: ``"profile"``, ``"profile_outer"`` (groove), ``"pitch"``,
     ``"base"``, ``"centre"``, ``"undercut"``, ``"follower:<deg>"`` (roller or face),
     ``"arm:<deg>"``, ``"pivot:<deg>"``, ``"stem:<deg>"``, ``"label:<deg>"``.
 
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import cyclomech as cm
@@ -382,19 +419,45 @@ def plot_svaj(
     axes: Any = None,
     title: str | None = None,
 ) -> npt.NDArray[Any]:
-    """The SVAJ diagram of ``cam``: the follower's displacement s, velocity v,
-    acceleration a and jerk j against cam angle [deg] over one turn, on four
-    stacked axes; returns them (an array of 4 Axes).
+    """The SVAJ diagram of ``cam`` on four stacked axes.
 
-    Without ``rpm`` the derivatives are per radian of cam: s [m], s′ [m/rad],
-    s″ [m/rad²], s‴ [m/rad³] (an oscillating follower: [rad/rad^k]); with ``rpm``
-    [rpm] they are per second at that speed: v = s′ω [m/s], a = s″ω² [m/s²],
-    j = s‴ω³ [m/s³] ([rad/s^k] for an oscillating follower). An oscillating
-    follower's s is shown in degrees of arm rotation. The segments' boundaries are
-    dotted and each segment's kind is written above the top axes. ``axes``: None
-    (a new figure) or 4 Axes. Artists, by gid: ``"s"``, ``"v"``, ``"a"``, ``"j"``,
-    ``"boundary"``, ``"kind:<i>"``.
+    The follower's displacement s, velocity v, acceleration a and jerk j against cam
+    angle [deg] over one turn. Without ``rpm`` the derivatives are per radian of
+    cam: s [m], s′ [m/rad], s″ [m/rad²], s‴ [m/rad³] (an oscillating follower:
+    [rad/rad^k]); with ``rpm`` they are per second at that speed: v = s′ω [m/s],
+    a = s″ω² [m/s²], j = s‴ω³ [m/s³] ([rad/s^k] for an oscillating follower). An
+    oscillating follower's s is shown in degrees of arm rotation. The segments'
+    boundaries are dotted and each segment's kind is written above the top axes.
 
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    rpm : float, optional
+        The cam speed [rpm]; default None (derivatives per radian of cam).
+    axes : sequence of 4 matplotlib.axes.Axes, optional
+        The axes to draw on; default None (a new figure).
+    title : str, optional
+        The figure's title; default None ("follower motion, …").
+
+    Returns
+    -------
+    ndarray of matplotlib.axes.Axes, shape (4,)
+        The axes of s, v, a and j.
+
+    Raises
+    ------
+    InputError
+        If ``cam`` is not a :class:`~cyclomech.cam.Cam`, ``axes`` is not 4 Axes or
+        ``rpm`` is not > 0.
+
+    Notes
+    -----
+    Artists, by gid: ``"s"``, ``"v"``, ``"a"``, ``"j"``, ``"boundary"``,
+    ``"kind:<i>"``.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import cyclomech as cm
@@ -451,18 +514,53 @@ def plot_along_cycle(
     axes: Any = None,
     title: str | None = None,
 ) -> npt.NDArray[Any]:
-    """What the cam and follower carry over one turn at ``rpm`` [rpm] with the
-    follower's ``loads``: the pressure angle [deg] with ±[α] dashed
-    (``max_pressure_angle_deg``, default 30° translating, 45° oscillating); the
-    normal force [N] (signed: − on a groove's outer flank, or with a spring the
-    pull the follower would need); with ``contact`` the Hertz stress σ_H [MPa]
-    with [σ_H] = ``max_stress`` [Pa] dashed; the shaft torque [N·m]. Where a
-    spring-closed follower leaves the cam the cycle is shaded on every axes.
-    Returns the axes (3, or 4 with ``contact``; ``axes`` may give as many).
+    """What the cam and follower carry over one turn at ``rpm`` with the follower's ``loads``.
+
+    The pressure angle [deg] with ±[α] dashed; the normal force [N] (signed: − on a
+    groove's outer flank, or with a spring the pull the follower would need); with
+    ``contact`` the Hertz stress σ_H [MPa] with [σ_H] = ``max_stress`` dashed; the
+    shaft torque [N·m]. Where a spring-closed follower leaves the cam the cycle is
+    shaded on every axes.
+
+    Parameters
+    ----------
+    cam : Cam
+        The cam.
+    rpm : float
+        The cam speed [rpm] (> 0).
+    loads : FollowerLoads
+        The follower's loads.
+    contact : Contact, optional
+        The Hertz contact; default None (no stress axes).
+    max_stress : float, optional
+        The allowed Hertz stress [σ_H] [Pa], dashed; default None (not drawn).
+    max_pressure_angle_deg : float, optional
+        The allowed pressure angle [α] [deg]; default None (30° translating, 45°
+        oscillating).
+    axes : sequence of matplotlib.axes.Axes, optional
+        3 axes, or 4 with ``contact``; default None (a new figure).
+    title : str, optional
+        The figure's title; default None.
+
+    Returns
+    -------
+    ndarray of matplotlib.axes.Axes, shape (3,) or (4,)
+        The axes: pressure angle, normal force, (Hertz stress,) shaft torque.
+
+    Raises
+    ------
+    InputError
+        If ``cam`` is not a :class:`~cyclomech.cam.Cam`, ``rpm`` or a limit is not
+        > 0, or ``axes`` does not hold as many Axes.
+
+    Notes
+    -----
     Artists, by gid: ``"pressure_angle"``, ``"alpha_max"``, ``"normal_force"``,
     ``"contact_stress"``, ``"sigma_max"``, ``"shaft_torque"``, ``"separated"``,
     ``"boundary"``.
 
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import cyclomech as cm
@@ -563,17 +661,46 @@ def plot_min_phase_angles(
     ax: Axes | None = None,
     title: str | None = None,
 ) -> Axes:
-    """The smallest phase angle [deg] of each segment of ``m`` (a
-    :class:`cyclomech.cam.MinPhaseAngles`) against speed [rpm]: one colour per
-    segment, one line style per criterion (solid pressure angle, dashed undercut,
-    dotted jump, dash-dot contact stress), the bound (the largest) bold and faint
-    under them. A criterion that is 0 at every speed (it does not bound the
-    segment) is left out; NaN (no angle up to a whole turn will do) is a gap, as
-    is the bound wherever one of its criteria is NaN. ``labels`` name the segments
-    (default "segment <i>"); ``nominal_deg`` [deg], one per segment, draws each
-    segment's own angle as a thin horizontal line of its colour. Returns the axes.
+    """The smallest phase angle [deg] of each segment of ``m`` against speed [rpm].
+
+    One colour per segment, one line style per criterion (solid pressure angle,
+    dashed undercut, dotted jump, dash-dot contact stress, sparse dots vibration),
+    the bound (the largest) bold and faint under them. A criterion that is 0 at
+    every speed (it does not bound the segment) is left out; NaN (no angle up to a
+    whole turn will do) is a gap, as is the bound wherever one of its criteria is
+    NaN.
+
+    Parameters
+    ----------
+    m : MinPhaseAngles
+        The smallest phase angles (:class:`cyclomech.cam.MinPhaseAngles`).
+    labels : sequence of str, optional
+        One name per segment; default None ("segment <i>").
+    nominal_deg : array_like of float, optional
+        Each segment's own angle [deg], one per segment, drawn as a thin
+        horizontal line of its colour; default None (not drawn).
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; default None (a new figure).
+    title : str, optional
+        The title; default None.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+
+    Raises
+    ------
+    InputError
+        If ``m`` is not a :class:`~cyclomech.cam.MinPhaseAngles`, or ``labels`` or
+        ``nominal_deg`` does not hold one item per segment.
+
+    Notes
+    -----
     Artists, by gid: ``"<i>:<criterion>"``, ``"<i>:bound"``, ``"<i>:nominal"``.
 
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import numpy as np, cyclomech as cm
