@@ -61,19 +61,42 @@ SPEED_FLUCTUATION = 0.05
 # --------------------------------------------------------------------- results
 @dataclass(frozen=True)
 class SpeedSweep:
-    """The machine's key figures at each speed ``rpm`` [rpm] (arrays of that shape).
+    """The machine's key figures at each speed ``rpm`` (arrays of that shape).
 
-    ``fits``: the cyclogram fits in the cycle with every mechanism's bound;
-    ``limiting_deg``: the limiting operation's optimal angle [deg] (NaN where it
-    does not fit); ``limiting_s``: the time it gets [s]; ``productivity``: machine
-    cycles per minute where it fits, else 0; ``binding``: the bounds and
-    constraints on the chain that sets the optimum (``; ``-joined);
-    ``min_phase_deg[name]``: each bound's smallest angle [deg] (by the bound's
-    name: a stop's is its mechanism's name); ``columns``: what the mechanism kinds
-    add (:attr:`~cyclomech._kind.Mechanism.sweep_columns`; ``max_rebound_m``, the
-    largest first rebound of the stops [m] with each stop's arc at its angle in the
-    optimum, NaN without stops). With ``linear=True``, the bounds are the seed's
-    linearised forms.
+    With ``linear=True`` (:meth:`Machine.speed_sweep`), the bounds are the seed's
+    linearised forms. Built by :meth:`Machine.speed_sweep` and
+    :func:`speed_sweeps`; each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    rpm : ndarray of float, shape (S,)
+        The speeds [rpm].
+    fits : ndarray of bool, shape (S,)
+        The cyclogram fits in the cycle with every mechanism's bound.
+    limiting_deg : ndarray of float, shape (S,)
+        The limiting operation's optimal angle [deg] (NaN where it does not fit).
+    limiting_s : ndarray of float, shape (S,)
+        The time it gets [s].
+    productivity : ndarray of float, shape (S,)
+        Machine cycles per minute where it fits, else 0 [1/min].
+    binding : ndarray of object, shape (S,)
+        The bounds and constraints on the chain that sets the optimum
+        (``; ``-joined).
+    min_phase_deg : dict of str to ndarray
+        Each bound's smallest angle [deg], by the bound's name (a stop's is its
+        mechanism's name).
+    columns : dict of str to ndarray, optional
+        What the mechanism kinds add
+        (:attr:`~cyclomech._kind.Mechanism.sweep_columns`; ``max_rebound_m``, the
+        largest first rebound of the stops [m] with each stop's arc at its angle in
+        the optimum, NaN without stops); default an empty dict.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> s = cm.Machine.example().speed_sweep([300.0, 900.0])
+    >>> s.productivity.tolist(), {k: v.round(2).tolist() for k, v in s.min_phase_deg.items()}
+    ([300.0, 0.0], {'lifter': [30.03, 90.09]})
     """
 
     rpm: Array
@@ -87,7 +110,15 @@ class SpeedSweep:
 
     @property
     def max_rebound_m(self) -> Array:
-        """The stops' column ``max_rebound_m`` [m] (NaN without stops)."""
+        """The stops' column ``max_rebound_m`` [m] (NaN without stops).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.Machine.example().speed_sweep([300.0, 900.0]).max_rebound_m
+        >>> (r * 1e6).round(6).tolist()   # [µm]: the bound a_max = 100 µm binds at 300 rpm
+        [100.0, nan]
+        """
         return self.columns["max_rebound_m"]
 
 
@@ -95,12 +126,51 @@ class SpeedSweep:
 class Machine:
     """A machine: its mechanisms and its cyclogram, over a speed range.
 
-    Read one with :meth:`from_toml` (the layout is in the module's docstring);
+    Read one with :meth:`from_toml` (the layout is in :mod:`cyclomech.machine`);
     :meth:`speed_sweep` gives the key figures at many speeds in one pass,
     :meth:`speed_limit` the highest speed at which it works, :meth:`optimize` the
     LP optimum of its cyclogram with the mechanisms' bounds at one speed. The
-    mechanisms are instances of the kinds in :data:`KINDS`.
+    mechanisms are instances of the kinds in :data:`KINDS`. Each parameter is kept
+    as the attribute of the same name (validated: the speed range as a tuple of
+    floats, the mechanisms as a dict).
 
+    Parameters
+    ----------
+    name : str
+        The machine's name.
+    cyclogram : Cyclogram
+        Its cyclogram.
+    mechanisms : Mapping of str to Mechanism
+        Its mechanisms by name.
+    speed_range_rpm : tuple of (float, float)
+        The speed range of the study (from, to) [rpm], 0 < from < to ≤ 1e6.
+    speed_points : int, default 61
+        Speeds in the report's sweep (≥ 2).
+    nominal_rpm : float, optional
+        The speed of the optimised cyclogram [rpm]; default None (the top of the
+        range, or the speed limit if that is lower).
+    angle_points : int, default 361
+        Crank angles per turn for mechanisms (≥ 9).
+    speed_fluctuation : float, default 0.05
+        The main shaft's coefficient of speed fluctuation δ = (ω_max − ω_min)/ω,
+        0 < δ < 1, for its flywheel.
+    flatten_torque : bool, default False
+        Move the main shaft's parts within the cyclogram's slack to its lowest peak
+        torque.
+    source : str, default "<machine>"
+        The file's name, in messages.
+    data : Mapping of str to Any, optional
+        The parsed file (needed by :meth:`with_values` and sweeps); default None.
+
+    Raises
+    ------
+    InputError
+        If ``cyclogram`` is not a :class:`~cyclomech.Cyclogram`, the speed range,
+        ``nominal_rpm``, a count or ``speed_fluctuation`` is out of range, or
+        ``flatten_torque`` is not a bool.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
     >>> sorted(m.mechanisms), m.speed_range_rpm
@@ -164,6 +234,23 @@ class Machine:
     def from_toml(cls, path: str | Path) -> Machine:
         """Read a machine file; every error names the file, the table and the key.
 
+        Parameters
+        ----------
+        path : str or Path
+            The machine file (TOML, the layout of :mod:`cyclomech.machine`).
+
+        Returns
+        -------
+        Machine
+            The machine.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read or a table or key is missing or invalid.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.from_toml("examples/stb_loom.toml").name
         'STB loom, group 1 (illustrative)'
@@ -173,9 +260,29 @@ class Machine:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Machine:
-        """A machine from the parsed layout of :meth:`from_toml` (``source`` names
-        it in messages).
+        """A machine from the parsed layout of :meth:`from_toml`.
 
+        Parameters
+        ----------
+        data : Mapping of str to Any
+            The parsed file: ``machine``, ``mechanism``, ``cyclogram``, ``operation``
+            and ``constraint``.
+        source : str, default "<dict>"
+            Its name in messages.
+
+        Returns
+        -------
+        Machine
+            The machine (holding a deep copy of ``data``).
+
+        Raises
+        ------
+        InputError
+            If a table or key is missing or invalid (or the layout is another
+            command's file).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.example()
         >>> cm.Machine.from_dict(m.data).speed_points
@@ -275,9 +382,18 @@ class Machine:
 
     @classmethod
     def example(cls) -> Machine:
-        """A small machine for examples: the STB lifter's stop on the arc (3, 7)
-        of a four-operation group with a time-bound weft insertion.
+        """A small machine for examples.
 
+        The STB lifter's stop on the arc (3, 7) of a four-operation group with a
+        time-bound weft insertion.
+
+        Returns
+        -------
+        Machine
+            The machine ``"example"``, speed range 200–500 rpm.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> len(cm.Machine.example().cyclogram.operations)
         4
@@ -321,10 +437,30 @@ class Machine:
         )
 
     def with_values(self, values: Mapping[str, Any]) -> Machine:
-        """A copy with mechanism keys replaced: ``{"lifter.preload": 2e-4}``
-        (``<mechanism>.<key>``) or machine keys (``machine.<key>``); the result is
-        validated like a file.
+        """A copy with mechanism or machine keys replaced.
 
+        The result is validated like a file.
+
+        Parameters
+        ----------
+        values : Mapping of str to Any
+            The new values by ``<mechanism>.<key>`` (``{"lifter.preload": 2e-4}``) or
+            ``machine.<key>``, in the file's units.
+
+        Returns
+        -------
+        Machine
+            The copy (sharing the cyclogram and its network where only mechanism
+            tables changed and the bounds stay on the same operations).
+
+        Raises
+        ------
+        InputError
+            If the machine was not read from a file or a dict, a path names no table,
+            or a new value is invalid.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.example().with_values({"lifter.preload": 3e-4})
         >>> m.mechanisms["lifter"].stop.preload
@@ -365,6 +501,13 @@ class Machine:
     def speed_grid(self) -> Array:
         """The report's speeds [rpm]: ``speed_points`` over ``speed_rpm``.
 
+        Returns
+        -------
+        ndarray of float, shape (speed_points,)
+            The speeds [rpm], evenly spaced over the speed range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.example().speed_grid()[[0, -1]].tolist()
         [200.0, 500.0]
@@ -372,9 +515,15 @@ class Machine:
         return np.linspace(*self.speed_range_rpm, self.speed_points)
 
     def bounds(self) -> list[Bound]:
-        """The lower bounds the mechanisms put on cyclogram operations, in the
-        order of the mechanisms.
+        """The lower bounds the mechanisms put on cyclogram operations.
 
+        Returns
+        -------
+        list of Bound
+            The bounds, in the order of the mechanisms.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> [b.label for b in cm.Machine.example().bounds()]
         ['rebound[lifter]']
@@ -382,10 +531,25 @@ class Machine:
         return [b for m in self._bounded for b in m.bounds()]
 
     def bound_laws(self, *, linear: bool = False, n_threads: int | None = None) -> list[BoundLaw]:
-        """The law of each of :meth:`bounds` (the smallest angle [deg] at any
-        speed), worked out once per machine (and once for all the machines of a
-        sweep, :func:`speed_sweeps`); ``linear``: the seed's linearised forms.
+        """The law of each of :meth:`bounds`: its smallest angle [deg] at any speed.
 
+        Worked out once per machine (and once for all the machines of a sweep,
+        :func:`speed_sweeps`).
+
+        Parameters
+        ----------
+        linear : bool, default False
+            The seed's linearised forms.
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        list of BoundLaw
+            One law per bound: the smallest angles [deg] at an array of speeds [rpm].
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> [law] = cm.Machine.example().bound_laws()
         >>> np.round(law(np.array([300.0])), 2).tolist()
@@ -398,10 +562,32 @@ class Machine:
     def bound_angles(
         self, rpm: npt.ArrayLike, *, linear: bool = False, n_threads: int | None = None
     ) -> dict[str, Array]:
-        """Each bound's smallest angle [deg] at each speed ``rpm``, by the bound's
-        name (:class:`~cyclomech._kind.Bound`): exact, or the seed's linearised form
-        with ``linear=True``.
+        """Each bound's smallest angle [deg] at each speed, by the bound's name.
 
+        Exact, or the seed's linearised form with ``linear=True``.
+
+        Parameters
+        ----------
+        rpm : array_like of float
+            The speeds [rpm].
+        linear : bool, default False
+            The seed's linearised forms.
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        dict of str to ndarray
+            By the bound's name (:class:`~cyclomech._kind.Bound`), the smallest angle
+            [deg] at each speed.
+
+        Raises
+        ------
+        InputError
+            If a speed is not in (0, 1e6].
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> t = cm.Machine.example().bound_angles([300.0])
         >>> {k: np.round(v, 2).tolist() for k, v in t.items()}
@@ -418,10 +604,33 @@ class Machine:
         linear: bool = False,
         n_threads: int | None = None,
     ) -> SpeedSweep:
-        """The key figures at each speed ``rpm`` (default :meth:`speed_grid`): one
-        search per stop for all speeds and one shortest-path call for all speeds
+        """The key figures at each speed.
+
+        One search per stop for all speeds and one shortest-path call for all speeds
         (:func:`speed_sweeps` for one machine).
 
+        Parameters
+        ----------
+        rpm : array_like of float, optional
+            The speeds [rpm]; default None (:meth:`speed_grid`).
+        linear : bool, default False
+            The bounds in the seed's linearised forms.
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        SpeedSweep
+            Whether it fits, the limiting operation's angle [deg] and time [s], the
+            productivity [1/min], the binding chain and the bounds [deg] at each speed.
+
+        Raises
+        ------
+        InputError
+            If a speed is not in (0, 1e6].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> s = cm.Machine.example().speed_sweep([300.0, 900.0])
         >>> s.fits.tolist(), round(float(s.limiting_deg[0]), 3)
@@ -433,6 +642,25 @@ class Machine:
     def fits(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> npt.NDArray[np.bool_]:
         """Whether the cyclogram with the mechanisms' bounds fits at each speed.
 
+        Parameters
+        ----------
+        rpm : array_like of float
+            The speeds [rpm].
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        ndarray of bool
+            One flag per speed.
+
+        Raises
+        ------
+        InputError
+            If a speed is not in (0, 1e6].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.example().fits([300.0, 900.0]).tolist()
         [True, False]
@@ -443,10 +671,30 @@ class Machine:
         return self._network.fits(at, n[None, :], threads)[0]
 
     def cyclogram_speed_limit(self, *, n_threads: int | None = None, rtol: float = 1e-10) -> float:
-        """The highest speed [rpm] at which the cyclogram with the mechanisms'
-        bounds fits (inf if it fits up to 1e6 rpm; 0 if it fits at no
-        speed from 1e-6 rpm up), to ``rtol`` (:func:`speed_limits`' search).
+        """The highest speed [rpm] at which the cyclogram with the mechanisms' bounds fits.
 
+        Found to ``rtol`` by :func:`speed_limits`' search.
+
+        Parameters
+        ----------
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+        rtol : float, default 1e-10
+            The search's relative tolerance, in [1e-14, 0.5].
+
+        Returns
+        -------
+        float
+            The speed [rpm]: inf if it fits up to 1e6 rpm; 0 if it fits at no speed
+            from 1e-6 rpm up.
+
+        Raises
+        ------
+        InputError
+            If ``rtol`` is not in [1e-14, 0.5].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
         421.37
@@ -457,9 +705,23 @@ class Machine:
         return float(self._network.speed_limits(at, 1, self._search_start(), threads, rtol)[0])
 
     def speed_limit(self, *, n_threads: int | None = None) -> SpeedLimit:
-        """The machine's speed limit: the cyclogram's and every mechanism's
-        (:func:`speed_limits` for one machine).
+        """The machine's speed limit: the cyclogram's and every mechanism's.
 
+        :func:`speed_limits` for one machine.
+
+        Parameters
+        ----------
+        n_threads : int, optional
+            Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        SpeedLimit
+            The limit [rpm], what sets it (``by``: "cyclogram" or a mechanism's name)
+            and why.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lim = cm.Machine.example().speed_limit()
         >>> round(lim.rpm, 3), lim.by
@@ -472,9 +734,21 @@ class Machine:
         return max(self.speed_range_rpm[1], 1.0)
 
     def nominal_speed(self, limit: SpeedLimit | None = None) -> float:
-        """The speed [rpm] of the report's optimised cyclogram: ``nominal_rpm``, or
-        the top of the speed range capped at the speed limit.
+        """The speed [rpm] of the report's optimised cyclogram.
 
+        Parameters
+        ----------
+        limit : SpeedLimit, optional
+            The machine's speed limit, if already known; default None (computed).
+
+        Returns
+        -------
+        float
+            ``nominal_rpm``, or the top of the speed range capped at the speed limit
+            (the bottom of the range if it fits at no speed) [rpm].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.Machine.example().nominal_speed(), 3)
         421.37
@@ -485,10 +759,23 @@ class Machine:
         return min(self.speed_range_rpm[1], lim.rpm) if lim.rpm > 0 else self.speed_range_rpm[0]
 
     def cyclogram_at(self, rpm: float, *, linear: bool = False) -> Cyclogram:
-        """A copy of the cyclogram at ``rpm`` with each bound added as a constraint
-        (exact, or the seed's linearised form with ``linear=True``, where the
-        mechanism has one).
+        """A copy of the cyclogram at ``rpm`` with each bound added as a constraint.
 
+        Parameters
+        ----------
+        rpm : float
+            The speed [rpm].
+        linear : bool, default False
+            The seed's linearised forms, where the mechanism has one (else exact).
+
+        Returns
+        -------
+        Cyclogram
+            The copy, its ``speed_rpm`` set, the bounds as constraints named by their
+            labels.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Machine.example().cyclogram_at(300.0)
         >>> [c.name for c in cg.constraints]
@@ -502,9 +789,26 @@ class Machine:
         return cg
 
     def optimize(self, rpm: float) -> Optimum:
-        """The LP optimum (HiGHS) of the cyclogram with the stops' exact
-        bounds at ``rpm``: angles, shadow prices, binding bounds.
+        """The LP optimum (HiGHS) of the cyclogram with the stops' exact bounds at ``rpm``.
 
+        Parameters
+        ----------
+        rpm : float
+            The speed [rpm].
+
+        Returns
+        -------
+        Optimum
+            The angles [deg], shadow prices and binding bounds.
+
+        Raises
+        ------
+        InfeasibleError
+            If the cyclogram with the bounds does not fit at ``rpm`` (naming the
+            machine and the speed).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> round(cm.Machine.example().optimize(300.0).objective, 3)
         264.971
@@ -600,12 +904,35 @@ def speed_sweeps(
     linear: bool = False,
     n_threads: int | None = None,
 ) -> list[SpeedSweep]:
-    """:meth:`Machine.speed_sweep` of many machines at the same speeds ``rpm``
-    [rpm]. Variants of one file (:meth:`Machine.with_values`) share their
-    cyclogram: their bounds are worked out together and every design at every
-    speed goes into one shortest-path call; each kind's sweep columns are one call
-    for all the designs.
+    """:meth:`Machine.speed_sweep` of many machines at the same speeds.
 
+    Variants of one file (:meth:`Machine.with_values`) share their cyclogram: their
+    bounds are worked out together and every design at every speed goes into one
+    shortest-path call; each kind's sweep columns are one call for all the designs.
+
+    Parameters
+    ----------
+    machines : sequence of Machine
+        The machines.
+    rpm : array_like of float
+        The speeds [rpm].
+    linear : bool, default False
+        The bounds in the seed's linearised forms.
+    n_threads : int, optional
+        Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    list of SpeedSweep
+        One per machine, in order.
+
+    Raises
+    ------
+    InputError
+        If a speed is not in (0, 1e6].
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
     >>> a, b = cm.machine.speed_sweeps([m, m.with_values({"lifter.a_max": 2e-4})], [300.0])
@@ -652,10 +979,26 @@ def speed_sweeps(
 
 
 def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -> list[SpeedLimit]:
-    """:meth:`Machine.speed_limit` of many machines: the cyclogram limits of the
-    variants of one file are searched together (one shortest-path call per step
-    for all of them); a mechanism shared by variants is evaluated once.
+    """:meth:`Machine.speed_limit` of many machines.
 
+    The cyclogram limits of the variants of one file are searched together (one
+    shortest-path call per step for all of them); a mechanism shared by variants is
+    evaluated once.
+
+    Parameters
+    ----------
+    machines : sequence of Machine
+        The machines.
+    n_threads : int, optional
+        Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    list of SpeedLimit
+        One per machine, in order: the limit [rpm], what sets it and why.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
     >>> both = cm.machine.speed_limits([m, m.with_values({"lifter.a_max": 2e-4})])
@@ -791,11 +1134,26 @@ def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
 
 
 def check_parameter(machine: Machine, path: str) -> None:
-    """Raise :class:`InputError` unless ``path`` (``<mechanism>.<key>`` or
-    ``machine.<key>``) names a key its table can take: what a sweep checks before
-    it starts, whatever the values (a value that makes a design invalid is that
-    design's problem, not the sweep's).
+    """Check that a sweep parameter names a key its table can take.
 
+    What a sweep checks before it starts, whatever the values (a value that makes a
+    design invalid is that design's problem, not the sweep's).
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine (read from a file or a dict).
+    path : str
+        The parameter: ``<mechanism>.<key>`` or ``machine.<key>``.
+
+    Raises
+    ------
+    InputError
+        Unless ``path`` names a key its table can take (not a fixed key, nor one
+        this table refuses), or if the machine has no parsed file.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> from cyclomech.machine import check_parameter
     >>> check_parameter(cm.Machine.example(), "lifter.preload")
