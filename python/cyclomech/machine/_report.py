@@ -38,20 +38,54 @@ __all__ = ["MachineResult", "analyze", "write_report"]
 
 @dataclass
 class MachineResult:
-    """Everything the report shows, computed once by :func:`analyze` (speeds
-    [rpm], angles [deg], SI otherwise): the report, ``results.json``, the CSVs and
-    the CLI's summary only read it.
+    """Everything the report shows, computed once by :func:`analyze`.
 
-    ``limit``: the speed limit; ``nominal_rpm``: the speed of ``optimum`` (the LP
-    optimum with the mechanisms' exact bounds; None if it does not fit there, and
-    ``problem`` says why); ``minimums``: each operation's smallest angle there (its
-    own minimum angle or duration, or a mechanism's bound on it, whichever is
-    larger) and ``minimum_by`` the name of what sets it (``min[op]``,
-    ``duration[op]`` or the bound's label, as in the optimum's ``binding``);
-    ``sweep`` / ``sweep_linear``: the key figures against speed with the exact and
-    the seed's linearised bounds; ``mechanisms``: each mechanism's
-    results (:meth:`~cyclomech._kind.Mechanism.analyze`); ``seconds``: the time of
-    each step.
+    Speeds [rpm], angles [deg], SI otherwise: the report, ``results.json``, the
+    CSVs and the CLI's summary only read it. Each parameter is kept as the
+    attribute of the same name.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine.
+    limit : SpeedLimit
+        The speed limit.
+    nominal_rpm : float
+        The speed of ``optimum`` [rpm].
+    optimum : Optimum or None
+        The LP optimum with the mechanisms' exact bounds (None if it does not fit
+        there, and ``problem`` says why).
+    problem : str
+        Why there is no optimum ("" when there is).
+    sweep : SpeedSweep
+        The key figures against speed with the exact bounds.
+    sweep_linear : SpeedSweep
+        The same with the seed's linearised bounds.
+    minimums : ndarray of float, optional
+        Each operation's smallest angle at the nominal speed [deg]: its own
+        minimum angle or duration, or a mechanism's bound on it, whichever is
+        larger; default None.
+    minimum_by : list of str, optional
+        The name of what sets each of ``minimums`` (``min[op]``, ``duration[op]``
+        or the bound's label, as in the optimum's ``binding``); default an empty
+        list.
+    mechanisms : dict of str to MechanismResult, optional
+        Each mechanism's results (:meth:`~cyclomech._kind.Mechanism.analyze`);
+        default an empty dict.
+    seconds : dict of str to float, optional
+        The time of each step [s]; default an empty dict.
+    shaft : MainShaft, optional
+        The main shaft's torque and statistics, when a mechanism loads it; default
+        None.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
+    >>> r.problem, r.minimums.round(3).tolist(), r.shaft is None
+    ('', [45.0, 42.178, 20.0, 252.822], True)
+    >>> r.minimum_by[1]      # the lifter's rebound bound exceeds (3, 7)'s own 20°
+    'rebound[lifter]'
     """
 
     machine: Machine
@@ -69,11 +103,25 @@ class MachineResult:
 
 
 def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
-    """Solve the machine once: its speed limit, the optimised cyclogram at the
-    nominal speed, the speed sweeps (exact and linearised bounds) and every
-    mechanism's results; ``progress``: a progress bar on stderr (default: when
-    stderr is a terminal).
+    """Solve the machine once.
 
+    Its speed limit, the optimised cyclogram at the nominal speed, the speed sweeps
+    (exact and linearised bounds) and every mechanism's results.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine.
+    progress : bool, optional
+        A progress bar on stderr; default None (when stderr is a terminal).
+
+    Returns
+    -------
+    MachineResult
+        Everything the report shows (speeds [rpm], angles [deg], SI otherwise).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> from cyclomech.machine import analyze
     >>> r = analyze(cm.Machine.example(), progress=False)
@@ -561,14 +609,30 @@ def _html(
 
 
 def write_report(result: MachineResult, out: str | Path, *, figures: bool = True) -> list[Path]:
-    """Write ``report.html``, ``results.json``, ``speed_sweep.csv``,
-    ``operations.csv``, ``main_shaft.csv`` (the torque over the cycle at the
-    nominal speed, total and each mechanism's, when a mechanism loads the
-    shaft), ``<mechanism>_forces.csv`` (a linkage's driving torque, guide forces
-    and joint forces over its crank turn, when it has masses or loads) and
-    ``figures/*.png`` to the folder ``out``; returns the paths written (figures
-    need matplotlib).
+    """Write the machine's report, results and tables to the folder ``out``.
 
+    ``report.html``, ``results.json``, ``speed_sweep.csv``, ``operations.csv``,
+    ``main_shaft.csv`` (the torque over the cycle at the nominal speed, total and
+    each mechanism's, when a mechanism loads the shaft), ``<mechanism>_forces.csv``
+    (a linkage's driving torque, guide forces and joint forces over its crank turn,
+    when it has masses or loads) and ``figures/*.png`` (figures need matplotlib).
+
+    Parameters
+    ----------
+    result : MachineResult
+        What :func:`analyze` computed.
+    out : str or Path
+        The folder (created if missing).
+    figures : bool, default True
+        Draw the figures (PNG files, embedded in the report).
+
+    Returns
+    -------
+    list of Path
+        The paths written.
+
+    Examples
+    --------
     >>> import pathlib, tempfile, cyclomech as cm
     >>> from cyclomech.machine import analyze, write_report
     >>> r = analyze(cm.Machine.example(), progress=False)
