@@ -32,17 +32,40 @@ def plot_speed_sweep(
     limit_by: str | None = None,
     title: str | None = None,
 ) -> Figure:
-    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`,
-    in panels sharing the speed axis [rpm]: the limiting operation's optimal angle
-    [deg] and the time it gets [ms], and where the machine has stops, each stop's
-    smallest phase angle [deg]; ``linear`` (a second sweep with the seed's
-    linearised rebound constraints) dashed. ``limit_rpm`` [rpm], the machine's
-    speed limit (set by ``limit_by``), is a vertical line: the curves end there
-    and the speeds above it are shaded; without it, the speeds where the
-    cyclogram does not fit are. Artists, by gid: ``"limiting"``,
-    ``"limiting:linear"``, ``"time"``, ``"stop:<name>"``, ``"stop:<name>:linear"``,
-    ``"limit"``, ``"above"``.
+    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`.
 
+    In panels sharing the speed axis [rpm]: the limiting operation's optimal angle
+    [deg] and the time it gets [ms], and where the machine has stops, each stop's
+    smallest phase angle [deg]; ``linear`` dashed. ``limit_rpm`` is a vertical
+    line: the curves end there and the speeds above it are shaded; without it, the
+    speeds where the cyclogram does not fit are.
+
+    Parameters
+    ----------
+    sweep : SpeedSweep
+        The machine's key figures against speed (exact bounds).
+    linear : SpeedSweep, optional
+        A second sweep with the seed's linearised rebound constraints, dashed;
+        default None.
+    limit_rpm : float, optional
+        The machine's speed limit [rpm]; default None.
+    limit_by : str, optional
+        What sets it (named in the limit's label); default None.
+    title : str, optional
+        The figure's title; default None.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A new figure of 2 panels, or 3 where the machine has stops.
+
+    Notes
+    -----
+    Artists, by gid: ``"limiting"``, ``"limiting:linear"``, ``"time"``,
+    ``"stop:<name>"``, ``"stop:<name>:linear"``, ``"limit"``, ``"above"``.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import cyclomech as cm
