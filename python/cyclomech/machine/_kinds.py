@@ -26,9 +26,27 @@ KINDS: dict[str, type[Mechanism]] = {
 
 
 def register(cls: type[Mechanism]) -> type[Mechanism]:
-    """Add a mechanism kind to :data:`KINDS` (usable as a class decorator); a kind
-    name already taken by another class is an error.
+    """Add a mechanism kind to :data:`KINDS` (usable as a class decorator).
 
+    Parameters
+    ----------
+    cls : type
+        The kind's class: it has a string ``kind`` and satisfies
+        :class:`~cyclomech._kind.Mechanism`.
+
+    Returns
+    -------
+    type
+        ``cls``, registered under ``cls.kind``.
+
+    Raises
+    ------
+    InputError
+        If ``cls`` is not a class with a string ``kind``, or its kind name is
+        already taken by another class.
+
+    Examples
+    --------
     >>> from cyclomech.machine import KINDS, register
     >>> register(KINDS["cam_stop"]) is KINDS["cam_stop"]
     True
