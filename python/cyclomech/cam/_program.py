@@ -162,7 +162,7 @@ class Cam:
     Parameters
     ----------
     segments : sequence of Segment
-        The program: :class:`Segment` s whose angles sum to 360°, the displacement
+        The program: segments (:class:`Segment`) whose angles sum to 360°, the displacement
         returning to its start.
     follower : TranslatingRoller or FlatFaced or OscillatingRoller
         The follower.
