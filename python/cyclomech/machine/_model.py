@@ -81,7 +81,7 @@ class SpeedSweep:
         Machine cycles per minute where it fits, else 0 [1/min].
     binding : ndarray of object, shape (S,)
         The bounds and constraints on the chain that sets the optimum
-        (``; ``-joined).
+        (joined by ``"; "``).
     min_phase_deg : dict of str to ndarray
         Each bound's smallest angle [deg], by the bound's name (a stop's is its
         mechanism's name).
