@@ -24,15 +24,40 @@ Array = npt.NDArray[np.float64]
 
 @dataclass(frozen=True)
 class MainShaft:
-    """The main shaft at the optimum: ``torque`` (the sum) and ``parts`` (each
-    contributing mechanism's, at its phase), the statistics at the nominal speed
-    (``at_nominal``) and at the sweep's speeds (``over_speed``: the same curves and
-    phases, those of the nominal speed's optimum, at each speed — the ω² part
-    scales, the layout does not follow each speed's own optimum) for the
-    coefficient of speed fluctuation ``speed_fluctuation``. With ``[machine] flatten_torque``,
-    ``flattening`` (:class:`Flattening`) says how the parts were moved within the
-    cyclogram's slack, and ``torque``, ``parts`` and the statistics are at the
-    moved phases (the rest of the report stays at the optimum)."""
+    """The main shaft at the optimum: the summed torque, its parts and statistics.
+
+    The statistics at the sweep's speeds use the same curves and phases, those of
+    the nominal speed's optimum, at each speed — the ω² part scales, the layout does
+    not follow each speed's own optimum. With ``[machine] flatten_torque``,
+    ``flattening`` says how the parts were moved within the cyclogram's slack, and
+    ``torque``, ``parts`` and the statistics are at the moved phases (the rest of the
+    report stays at the optimum). Built by :func:`main_shaft`; each parameter is kept
+    as the attribute of the same name.
+
+    Parameters
+    ----------
+    torque : ShaftTorque
+        The sum of the parts [N·m].
+    parts : dict of str to ShaftTorque
+        Each contributing mechanism's torque, at its phase [N·m].
+    speed_fluctuation : float
+        The coefficient of speed fluctuation δ of the statistics.
+    nominal_rpm : float
+        The nominal speed [rpm].
+    at_nominal : ShaftStats
+        The statistics at the nominal speed.
+    over_speed : ShaftStats
+        The statistics at the sweep's speeds.
+    flattening : Flattening, optional
+        How the parts were moved (``[machine] flatten_torque``); default None.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+    >>> list(r.shaft.parts), r.shaft.nominal_rpm, r.shaft.flattening is None
+    (['lifter cam'], 300.0, True)
+    """
 
     torque: ShaftTorque
     parts: dict[str, ShaftTorque]
@@ -43,8 +68,23 @@ class MainShaft:
     flattening: Flattening | None = None
 
     def json(self) -> dict[str, Any]:
-        """Its ``results.json`` entry (SI, angles in degrees); ``flattening`` only
-        with ``[machine] flatten_torque``."""
+        """Its ``results.json`` entry (SI, angles in degrees).
+
+        Returns
+        -------
+        dict of str to Any
+            The contributors, the statistics at the nominal speed, the torque over the
+            cycle (every 10th angle) and the peak torque and flywheel over speed;
+            ``flattening`` only with ``[machine] flatten_torque``.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> entry = r.shaft.json()
+        >>> entry["contributors"], "flattening" in entry
+        (['lifter cam'], False)
+        """
         n, s = self.nominal_rpm, self.at_nominal
         o = self.over_speed
         flat = {} if self.flattening is None else {"flattening": self.flattening.json()}
@@ -68,7 +108,24 @@ class MainShaft:
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
-        """Its report table."""
+        """Its report table.
+
+        Returns
+        -------
+        header : list of str
+            ``["quantity", "value"]``.
+        rows : list of list
+            The contributors, mean, peak, lowest and RMS torque [N·m], energy
+            fluctuation [J], flywheel [kg·m²] and motor power [W] (and the flattening's
+            rows).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.shaft.table()[1][0]
+        ['contributing mechanisms', 'lifter cam']
+        """
         s, n = self.at_nominal, self.nominal_rpm
         flat = [] if self.flattening is None else self.flattening.rows()
         return ["quantity", "value"], [
@@ -89,7 +146,22 @@ class MainShaft:
         ]
 
     def figure(self) -> Any:
-        """The torque over the cycle at the nominal speed, each contribution stacked."""
+        """The torque over the cycle at the nominal speed, each contribution stacked.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            A new figure: torque [N·m] against the main-shaft angle [deg].
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.shaft.figure().axes[0].get_ylabel()
+        'torque  [N·m]'
+        """
         from .._plotting import pyplot
 
         plt = pyplot()
@@ -132,20 +204,39 @@ Curve = tuple[Array, Array, float, str | None]
 
 @dataclass(frozen=True)
 class Flattening:
-    """The main shaft's parts moved within the cyclogram's slack so that the peak
-    torque magnitude max|T| at the nominal speed is lowest (:func:`flatten_phases`).
+    """The main shaft's parts moved within the cyclogram's slack to the lowest peak torque.
 
-    ``times``: every event's cycle angle [deg] after the move (the optimum's where
-    nothing moves); ``shifts_deg``: how far each contributing mechanism's curve
-    moved along the cycle [deg] (its anchor event's move); ``groups``: the
-    contributors that move as one (they share an event); ``peak_before_nm`` /
-    ``peak_after_nm``: max|T| [N·m] at the nominal speed at the optimum and after
-    (never higher), exact for the parts' piecewise-linear curves (the main
-    shaft's statistics read the sum on its own grid of angles, which may pass
-    between a moved part's samples: their peak is at most this one, and as close
-    as the curves are fine); ``method``: how the min–max was searched,
-    ``step_deg`` its grid step [deg]; ``note``: why nothing moved, if nothing did.
+    The peak torque magnitude max|T| at the nominal speed is lowest
+    (:func:`flatten_phases`). Each parameter is kept as the attribute of the same
+    name.
 
+    Parameters
+    ----------
+    times : dict of str to float
+        Every event's cycle angle after the move [deg] (the optimum's where
+        nothing moves).
+    shifts_deg : dict of str to float
+        How far each contributing mechanism's curve moved along the cycle [deg]
+        (its anchor event's move).
+    groups : tuple of tuple of str
+        The contributors that move as one (they share an event).
+    peak_before_nm : float
+        max|T| at the nominal speed at the optimum [N·m].
+    peak_after_nm : float
+        max|T| at the nominal speed after the move [N·m] (never higher), exact for
+        the parts' piecewise-linear curves (the main shaft's statistics read the
+        sum on its own grid of angles, which may pass between a moved part's
+        samples: their peak is at most this one, and as close as the curves are
+        fine).
+    method : str
+        How the min–max was searched.
+    step_deg : float
+        Its grid step [deg].
+    note : str, default ""
+        Why nothing moved, if nothing did.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> cg = cm.Cyclogram(limiting=("a", "b"))
     >>> cg.add_operation("a", "b", 10.0, mechanism="cam")
@@ -165,11 +256,31 @@ class Flattening:
 
     @property
     def moved(self) -> bool:
-        """Whether any contributor moved."""
+        """Whether any contributor moved.
+
+        Examples
+        --------
+        >>> Flattening({}, {"cam": 0.0, "press": 12.5}, (("cam",), ("press",)), 9.0, 7.0,
+        ...            "grid", 0.5).moved
+        True
+        """
         return any(v != 0.0 for v in self.shifts_deg.values())
 
     def json(self) -> dict[str, Any]:
-        """Its ``results.json`` entry (angles in degrees)."""
+        """Its ``results.json`` entry (angles in degrees).
+
+        Returns
+        -------
+        dict of str to Any
+            The peaks before and after [N·m], the shifts, groups and event times [deg],
+            the method, its step [deg] and the note.
+
+        Examples
+        --------
+        >>> f = Flattening({"a": 0.0}, {"cam": 0.0}, (("cam",),), 1.0, 1.0, "none", 0.5, "alone")
+        >>> f.json()["shifts_deg"], f.json()["note"]
+        ({'cam': 0.0}, 'alone')
+        """
         return {
             "peak_abs_torque_nm_before": self.peak_before_nm,
             "peak_abs_torque_nm_after": self.peak_after_nm,
@@ -182,7 +293,20 @@ class Flattening:
         }
 
     def rows(self) -> list[list[Any]]:
-        """Its rows of the main shaft's report table."""
+        """Its rows of the main shaft's report table.
+
+        Returns
+        -------
+        list of list
+            The peaks before and after [N·m], each contributor's phase shift [deg] and
+            how it was searched.
+
+        Examples
+        --------
+        >>> f = Flattening({"a": 0.0}, {"cam": 0.0}, (("cam",),), 1.0, 1.0, "none", 0.5, "alone")
+        >>> f.rows()[-1]
+        ['flattening', 'none; 0.5° grid refined to 0.005°; alone']
+        """
         out: list[list[Any]] = [
             ["peak |torque| before flattening [N·m]", self.peak_before_nm],
             ["peak |torque| after flattening [N·m]", self.peak_after_nm],
@@ -467,14 +591,10 @@ def flatten_phases(
     rigid: Mapping[str, Any] | None = None,
     step_deg: float = FLATTEN_STEP_DEG,
 ) -> Flattening:
-    """Move the main shaft's parts within the cyclogram's slack so that the peak
-    torque magnitude max|T(θ)| [N·m] at ``nominal_rpm`` is lowest, keeping the
-    optimum's first objective (a second objective after it).
+    """Move the main shaft's parts within the cyclogram's slack to the lowest peak torque.
 
-    ``curves``: each contributor's ``shaft_torque()`` (ω² part [N·m·s²], static
-    part [N·m] on its own angle; phase [deg]; anchor event); ``cyclogram``: the
-    cyclogram at the nominal speed with the mechanisms' bounds
-    (:meth:`~cyclomech.Machine.cyclogram_at`); ``optimum``: its optimum there.
+    The peak torque magnitude max|T(θ)| [N·m] at ``nominal_rpm`` is made lowest,
+    keeping the optimum's first objective (a second objective after it).
 
     Rules:
 
@@ -508,6 +628,37 @@ def flatten_phases(
     * Any LP failure, or shifted times that miss a cyclogram row by more than
       1e-6°, leave the optimum unchanged (``note`` says why).
 
+    Parameters
+    ----------
+    curves : Mapping of str to tuple
+        Each contributor's ``shaft_torque()``: (ω² part [N·m·s²], static part
+        [N·m] on its own angle; phase [deg]; anchor event).
+    cyclogram : Cyclogram
+        The cyclogram at the nominal speed with the mechanisms' bounds
+        (:meth:`~cyclomech.Machine.cyclogram_at`).
+    optimum : Optimum
+        Its optimum there.
+    nominal_rpm : float
+        The nominal speed [rpm].
+    rigid : Mapping of str to sequence of str, optional
+        For each contributor, the events of the arcs it is laid out on, which move
+        with it; default None (none).
+    step_deg : float, default 0.5
+        The grid step of the sampled min–max [deg] (> 0, :data:`FLATTEN_STEP_DEG`).
+
+    Returns
+    -------
+    Flattening
+        The moved event times and shifts [deg], the peaks before and after [N·m],
+        the method and the note.
+
+    Raises
+    ------
+    InputError
+        If ``step_deg`` is not > 0 or ``nominal_rpm`` is negative.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> cg = cm.Cyclogram(limiting=("L0", "L1"))
     >>> for x, y, m in (("L0", "L1", None), ("a0", "a1", "A"), ("b0", "b1", "B")):
@@ -658,16 +809,40 @@ def main_shaft(
     cyclogram: Cyclogram | None = None,
     optimum: Optimum | None = None,
 ) -> MainShaft | None:
-    """The main shaft from the mechanisms' results that give a shaft torque
-    (``shaft_torque()`` → (ω² part [N·m·s²], static part [N·m], on a common grid
-    of the mechanism's own angle from 0 to 360°; phase [deg], the cycle angle
-    where that angle is 0; the cyclogram event the phase follows); None when none
-    does. With ``cyclogram`` (at the nominal speed, with the mechanisms' bounds)
-    and its ``optimum``, the parts are first moved within its slack to the lowest
-    peak torque (:func:`flatten_phases`; ``[machine] flatten_torque = true``): each
-    result's laid-out arcs are ``shaft_arcs()`` where it has one, else the
-    ``arcs`` of its ``mechanisms`` json entry (the cam's).
+    """The main shaft from the mechanisms' results that give a shaft torque.
 
+    With ``cyclogram`` and its ``optimum``, the parts are first moved within its
+    slack to the lowest peak torque (:func:`flatten_phases`;
+    ``[machine] flatten_torque = true``): each result's laid-out arcs are
+    ``shaft_arcs()`` where it has one, else the ``arcs`` of its ``mechanisms`` json
+    entry (the cam's).
+
+    Parameters
+    ----------
+    results : Mapping of str to MechanismResult
+        The mechanisms' results; those with ``shaft_torque()`` → (ω² part
+        [N·m·s²], static part [N·m], on a common grid of the mechanism's own angle
+        from 0 to 360°; phase [deg], the cycle angle where that angle is 0; the
+        cyclogram event the phase follows) contribute.
+    nominal_rpm : float
+        The nominal speed [rpm].
+    rpm : array_like of float
+        The sweep's speeds [rpm].
+    speed_fluctuation : float
+        The coefficient of speed fluctuation δ, for the flywheel.
+    cyclogram : Cyclogram, optional
+        The cyclogram at the nominal speed, with the mechanisms' bounds; default
+        None (no flattening).
+    optimum : Optimum, optional
+        Its optimum; default None (no flattening).
+
+    Returns
+    -------
+    MainShaft or None
+        The main shaft; None when no result gives a shaft torque.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
     >>> list(r.shaft.parts), round(float(r.shaft.at_nominal.mean_torque_nm), 4)
