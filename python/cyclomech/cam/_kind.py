@@ -80,11 +80,13 @@ class _PerSpeed:
 
 @dataclass(frozen=True)
 class CamMechanism(Unbounded):
-    """A cam of the machine: its design and, for each bound, the segment and criterion.
+    """A disc cam on the main shaft whose rises and returns bound cyclogram operations.
 
-    A bound is labelled ``<criterion>[<name> <kind> <from>→<to>]`` in the optimum's
-    shadow prices and the speed limit's reason. Built by :meth:`from_table`; each
-    parameter is kept as the attribute of the same name.
+    It holds its :class:`CamDesign` and, for each bound, the segment and criterion
+    (``criteria``, in the order of :meth:`bounds`). A bound is labelled
+    ``<criterion>[<name> <kind> <from>→<to>]`` in the optimum's shadow prices and the
+    speed limit's reason. Built by :meth:`from_table`; each parameter is kept as the
+    attribute of the same name.
 
     Parameters
     ----------
