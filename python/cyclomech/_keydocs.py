@@ -31,10 +31,30 @@ __all__ = ["INTROS", "ORDER", "TABLES", "TITLES", "KeyDoc", "render_page", "rend
 
 @dataclass(frozen=True)
 class KeyDoc:
-    """One key of a machine-file table: its ``name``, ``meaning`` (one sentence),
-    ``unit``, ``type``, ``default``, ``valid`` (the rule its parser enforces) and
-    ``sweep`` (a sweep may set it; None for a sub-table's rows).
+    """One key of a machine-file table.
 
+    Each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    name : str
+        The key.
+    meaning : str
+        What it means (one sentence).
+    unit : str
+        Its unit as the file takes it ("—" for text, flags and counts).
+    type : str
+        number, integer, text, bool, array, table or array of tables.
+    default : str
+        The value taken when the key is absent, "required", "required unless …"
+        or "none" (the feature it turns on is off).
+    valid : str
+        The rule its parser enforces.
+    sweep : bool or None
+        Whether a sweep may set it (None for a sub-table's rows).
+
+    Examples
+    --------
     >>> KeyDoc("gap", "Distance between the pitch circles.", "m", "number", "required",
     ...        "finite, > 0", True).unit
     'm'
@@ -65,6 +85,8 @@ LAWS = (
 
 # The records are a table each: one key per record, aligned for reading.
 # fmt: off
+#: Every key of every table a user writes, by table (``"machine"``, ``"cam.segment"``,
+#: …): one :class:`KeyDoc` per key, in the order of the page.
 TABLES: dict[str, tuple[KeyDoc, ...]] = {
     "file": (
         K("machine", "The machine: its name, speed range and grids.", NO_UNIT, TAB, REQ,
@@ -512,8 +534,21 @@ def _text(s: str) -> str:
 
 
 def render_table(table: str) -> str:
-    """The keys of ``table`` (a key of :data:`TABLES`) as an rST ``list-table``.
+    """The keys of one table as an rST ``list-table``.
 
+    Parameters
+    ----------
+    table : str
+        A key of :data:`TABLES` (``"machine"``, ``"cam.segment"``, …).
+
+    Returns
+    -------
+    str
+        The ``list-table`` directive: key, meaning, unit, type, default, valid
+        values and sweep, one row per key.
+
+    Examples
+    --------
     >>> print(render_table("phase").splitlines()[0])
     .. list-table::
     """
@@ -540,9 +575,22 @@ def _intro(table: str) -> str:
 
 
 def render_page(title: str = "Machine-file format") -> str:
-    """The reference page in rST: a section per table of :data:`ORDER`, its
-    paragraph and its keys.
+    """The reference page in rST.
 
+    A section per table of :data:`ORDER`, its paragraph and its keys.
+
+    Parameters
+    ----------
+    title : str, default "Machine-file format"
+        The page's title.
+
+    Returns
+    -------
+    str
+        The page's reStructuredText.
+
+    Examples
+    --------
     >>> page = render_page()
     >>> page.splitlines()[0], "kind = transfer" in page
     ('Machine-file format', True)
