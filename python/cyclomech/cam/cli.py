@@ -57,7 +57,21 @@ _BOUND_RTOL = 1e-9
 
 
 def add_commands(commands: Any) -> None:
-    """Add the ``cam`` command to the sub-parsers ``commands`` of ``cyclomech``."""
+    """Add the ``cam`` command to the sub-parsers ``commands`` of ``cyclomech``.
+
+    Parameters
+    ----------
+    commands : argparse._SubParsersAction
+        The sub-parsers of the ``cyclomech`` argument parser.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> commands = argparse.ArgumentParser(prog="cyclomech").add_subparsers()
+    >>> add_commands(commands)
+    >>> sorted(commands.choices)
+    ['cam']
+    """
     c = commands.add_parser(
         "cam", help="a cam: profile (CSV, DXF), pressure angle, stress, smallest phase angles"
     )
@@ -106,7 +120,42 @@ def _where(values: np.ndarray, deg: np.ndarray) -> tuple[float, float]:
 
 
 def cam_command(args: argparse.Namespace) -> int:
-    """Run ``cyclomech cam`` with the parsed ``args``; return the exit status."""
+    """Run ``cyclomech cam`` with the parsed ``args``.
+
+    Prints the summary and writes the files to ``args.out`` (see the module's
+    docstring).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (``file``, ``out``, ``rpm`` [rpm], ``samples``,
+        ``no_plot``, ``no_dxf``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 when the design holds every criterion at its angles and
+        speed, 3 when it fails one (the files written).
+
+    Raises
+    ------
+    InputError
+        For bad input (the CLI exits with status 2): an invalid cam file, no speed
+        (neither the file's ``rpm`` nor ``--rpm``), or ``--samples`` < 3.
+
+    Examples
+    --------
+    >>> import argparse, contextlib, io, pathlib, tempfile
+    >>> commands = argparse.ArgumentParser(prog="cyclomech").add_subparsers()
+    >>> add_commands(commands)
+    >>> out = tempfile.mkdtemp()
+    >>> args = commands.choices["cam"].parse_args(
+    ...     ["examples/lifter_cam.toml", "--out", out, "--no-plot", "--no-dxf"])
+    >>> with contextlib.redirect_stdout(io.StringIO()):
+    ...     status = cam_command(args)
+    >>> status, sorted(p.name for p in pathlib.Path(out).iterdir())
+    (0, ['min_phase.csv', 'profile.csv', 'results.json'])
+    """
     name, file_rpm, d = CamDesign.from_toml(args.file)
     cam = d.cam
     if args.rpm is not None:
