@@ -75,7 +75,7 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
     """The cam's exact geometry at evenly spaced cam angles over one turn.
 
     θ = 0, 360°/samples, … (the last is not 360°: the curves are closed), one Rust
-    call. If the chordal error exceeds :data:`CHORDAL_TOLERANCE_MM` (1e-3 mm)
+    call. If the chordal error exceeds ``CHORDAL_TOLERANCE_MM`` (1e-3 mm)
     anywhere away from an undercut, a :class:`cyclomech.CyclomechWarning` says where
     and how many samples would do.
 
@@ -243,7 +243,7 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     ``samples`` vertices on layer PROFILE (a groove's inner flank), a groove's
     outer flank on GROOVE_OUTER, the pitch curve on PITCH, the base circle (a
     CIRCLE) on BASE and the centre (a POINT) on CENTRE. Why a polyline and not a
-    spline, and the chordal-error warning: see :mod:`cyclomech.cam._export` and
+    spline, and the chordal-error warning: see ``cyclomech.cam._export`` and
     :func:`profile_table`. Needs ezdxf (``pip install 'cyclomech[dxf]'``).
 
     Parameters

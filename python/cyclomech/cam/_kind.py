@@ -96,7 +96,7 @@ class CamMechanism(Unbounded):
         The cam with its loads, contact and limits.
     criteria : tuple of tuple of (int, str)
         For each bound, in the order of :meth:`bounds`, the segment's index and
-        the criterion (one of :data:`CRITERIA`).
+        the criterion (one of ``cyclomech.cam.CRITERIA``).
 
     Examples
     --------

@@ -234,7 +234,7 @@ class MinPhaseAngles:
     segments : tuple of int
         The indices of the bound segments (rises and returns).
     criteria : tuple of str
-        The criteria, :data:`CRITERIA`.
+        The criteria, ``cyclomech.cam.CRITERIA``.
     angle_deg : ndarray of float, shape (speeds, segments, criteria)
         The smallest phase angles [deg].
 

@@ -47,7 +47,7 @@ class Segment:
     stroke : float, default 0.0
         Its stroke [m] (or [rad] for an oscillating follower; 0 for a dwell).
     law : str, default "cycloidal"
-        The motion law, a name of :data:`cyclomech.motion.NAMES`, taken in its full
+        The motion law, a name of ``cyclomech.motion.NAMES``, taken in its full
         rise form.
     operation : str, optional
         The cyclogram operation the segment is bound to (stored only, for now);
@@ -56,7 +56,7 @@ class Segment:
     Raises
     ------
     InputError
-        If ``kind`` is not one of :data:`KINDS`, ``angle_deg`` is not > 0,
+        If ``kind`` is not one of ``cyclomech.cam.KINDS``, ``angle_deg`` is not > 0,
         ``stroke`` is negative or not finite, ``law`` is not a string or
         ``operation`` is neither None nor a string.
 
@@ -461,7 +461,7 @@ class Cam:
     ) -> MinPhaseAngles:
         """The smallest phase angle of each rise and return at each speed, per criterion.
 
-        For each criterion of :data:`CRITERIA`: the pressure angle ≤
+        For each criterion of ``cyclomech.cam.CRITERIA``: the pressure angle ≤
         ``max_pressure_angle_deg``, no undercut, no jump (spring closure, with
         ``loads``), σ_H ≤ ``max_stress`` (with ``loads`` and ``contact``) and, with
         ``vibration``, the follower's residual vibration after the segment ≤ the limit

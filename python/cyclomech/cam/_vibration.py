@@ -82,7 +82,7 @@ def residual_vibration(
     Parameters
     ----------
     law : str
-        The motion law's name (one of :data:`cyclomech.motion.NAMES`).
+        The motion law's name (one of ``cyclomech.motion.NAMES``).
     tau : array_like of float, any shape
         Each τ = ω_n·T [rad] (T the segment's duration [s], ω_n the natural
         frequency [rad/s]), finite and > 0.
@@ -135,7 +135,7 @@ def min_vibration_tau(law: str, amplitude_ratio: float, damping_ratio: float = 0
     Parameters
     ----------
     law : str
-        The motion law's name (one of :data:`cyclomech.motion.NAMES`).
+        The motion law's name (one of ``cyclomech.motion.NAMES``).
     amplitude_ratio : float
         The largest residual amplitude per unit stroke, [a]/h (> 0).
     damping_ratio : float, default 0.0
