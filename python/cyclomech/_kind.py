@@ -389,7 +389,7 @@ class MechanismResult(Protocol):
         -------
         dict of str to dict
             ``{group: entry}``, where the group is ``"mechanisms"`` (always) or one of
-            its kind's :attr:`Mechanism.json_groups`.
+            its kind's ``json_groups``.
 
         Examples
         --------
@@ -479,7 +479,7 @@ class MechanismResult(Protocol):
 
 @runtime_checkable
 class Mechanism(Protocol):
-    """A mechanism kind (see :mod:`cyclomech._kind`).
+    """A mechanism kind: the contract of the module ``cyclomech._kind``.
 
     A protocol that each kind's class satisfies (``isinstance`` checks the
     methods); it is not instantiated itself. Class attributes: ``kind`` (the
@@ -675,7 +675,7 @@ class Mechanism(Protocol):
         *,
         n_threads: int | None = None,
     ) -> dict[str, Array]:
-        """Its :attr:`sweep_columns` for each design of ``mechanisms`` at each speed.
+        """Its ``sweep_columns`` for each design of ``mechanisms`` at each speed.
 
         Parameters
         ----------

@@ -87,7 +87,7 @@ class SpeedSweep:
         mechanism's name).
     columns : dict of str to ndarray, optional
         What the mechanism kinds add
-        (:attr:`~cyclomech._kind.Mechanism.sweep_columns`; ``max_rebound_m``, the
+        (the kinds' ``sweep_columns``; ``max_rebound_m``, the
         largest first rebound of the stops [m] with each stop's arc at its angle in
         the optimum, NaN without stops); default an empty dict.
 
@@ -165,7 +165,7 @@ class Machine:
     Raises
     ------
     InputError
-        If ``cyclogram`` is not a :class:`~cyclomech.Cyclogram`, the speed range,
+        If ``cyclogram`` is not a :class:`~cyclomech.cyclogram.Cyclogram`, the speed range,
         ``nominal_rpm``, a count or ``speed_fluctuation`` is out of range, or
         ``flatten_torque`` is not a bool.
 

@@ -70,7 +70,7 @@ class MachineResult:
         or the bound's label, as in the optimum's ``binding``); default an empty
         list.
     mechanisms : dict of str to MechanismResult, optional
-        Each mechanism's results (:meth:`~cyclomech._kind.Mechanism.analyze`);
+        Each mechanism's results (:meth:`~cyclomech.machine.Mechanism.analyze`);
         default an empty dict.
     seconds : dict of str to float, optional
         The time of each step [s]; default an empty dict.

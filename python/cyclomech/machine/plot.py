@@ -1,7 +1,7 @@
 """Plot of the whole machine against speed: the limiting operation's angle and
 time, each stop's smallest phase angle, and the speed limit.
 
-:func:`plot_speed_sweep` takes the result of :meth:`cyclomech.Machine.speed_sweep`
+:func:`plot_speed_sweep` takes the result of :meth:`cyclomech.machine.Machine.speed_sweep`
 (speeds in rpm, angles in degrees, times shown in milliseconds).
 
 matplotlib is an optional dependency (``pip install 'cyclomech[plot]'``), imported
@@ -32,7 +32,7 @@ def plot_speed_sweep(
     limit_by: str | None = None,
     title: str | None = None,
 ) -> Figure:
-    """The whole machine against speed, from :meth:`cyclomech.Machine.speed_sweep`.
+    """The whole machine against speed, from :meth:`cyclomech.machine.Machine.speed_sweep`.
 
     In panels sharing the speed axis [rpm]: the limiting operation's optimal angle
     [deg] and the time it gets [ms], and where the machine has stops, each stop's
