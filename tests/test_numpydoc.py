@@ -32,6 +32,7 @@ CONVERTED = [
     "cyclomech.impact",
     "cyclomech.press",
     "cyclomech.transfer",
+    "cyclomech.cam",
 ]
 
 # PR01 parameter not documented, PR02 unknown parameter, RT01 no Returns section,
