@@ -85,6 +85,18 @@ class TranslatingRoller:
         """
         return self.base_radius + self.roller_radius
 
+    @property
+    def title(self) -> str:
+        """The follower in words, as reports and figures name it.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.cam.TranslatingRoller(0.04, 0.01).title, cm.cam.TranslatingRoller(0.04, 0.0).title
+        ('translating roller', 'knife edge')
+        """
+        return "translating roller" if self.roller_radius > 0.0 else "knife edge"
+
     def _kernel_args(self) -> tuple[str, list[float]]:
         return "translating", [self.base_radius, self.roller_radius, self.offset]
 
@@ -119,6 +131,18 @@ class FlatFaced:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "base_radius", positive("base_radius", self.base_radius, "[m]"))
+
+    @property
+    def title(self) -> str:
+        """The follower in words, as reports and figures name it.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.cam.FlatFaced(0.05).title
+        'flat-faced'
+        """
+        return "flat-faced"
 
     def _kernel_args(self) -> tuple[str, list[float]]:
         return "flat", [self.base_radius]
@@ -206,6 +230,18 @@ class OscillatingRoller:
         """
         a, arm, rp = self.pivot_distance, self.arm_length, self.pitch_base_radius
         return math.degrees(math.acos((a * a + arm * arm - rp * rp) / (2 * a * arm)))
+
+    @property
+    def title(self) -> str:
+        """The follower in words, as reports and figures name it.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.cam.OscillatingRoller(0.13, 0.1, 0.06, 0.012).title
+        'oscillating roller'
+        """
+        return "oscillating roller"
 
     def _kernel_args(self) -> tuple[str, list[float]]:
         return "oscillating", [

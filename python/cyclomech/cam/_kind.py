@@ -606,11 +606,11 @@ class CamResult:
         >>> import cyclomech as cm
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
         >>> r.mechanisms["lifter cam"].table()[1][0]
-        ['follower, closure', 'OscillatingRoller, groove']
+        ['follower, closure', 'oscillating roller, groove']
         """
         m, d, n = self.mech, self.mech.design, self.ctx.nominal_rpm
         rows: list[list[Any]] = [
-            ["follower, closure", f"{type(d.cam.follower).__name__}, {d.cam.closure}"],
+            ["follower, closure", f"{d.cam.follower.title}, {d.cam.closure}"],
             [
                 "segments at the optimum [deg]",
                 ", ".join(f"{g.kind} {g.angle_deg:.4g}" for g in self.cam.segments),

@@ -278,9 +278,7 @@ def plot_cam(
     frame_equal(ax, box, "mm", grid="0.92")
     assert lc is not None
     ax.figure.colorbar(lc, ax=ax, label=label, shrink=0.8)
-    kind = {"OscillatingRoller": "oscillating roller", "FlatFaced": "flat-faced"}.get(
-        type(cam.follower).__name__, "translating roller"
-    )
+    kind = cam.follower.title
     ax.set_title(title or f"cam, {kind} follower, {cam.closure} closure", fontsize=10)
     return ax
 
