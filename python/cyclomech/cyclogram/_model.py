@@ -83,9 +83,45 @@ def _cycle(value: Any, field_name: str = "cycle_deg") -> float:
 class Operation:
     """One operation (arc) of the cyclogram.
 
-    Angles in degrees of main-shaft rotation; ``min_duration_s`` in seconds;
-    ``height`` is the number of machine cycles the operation crosses (1 for an
-    operation that ends in the next cycle).
+    Angles in degrees of main-shaft rotation. Usually built by
+    :meth:`Cyclogram.add_operation`; every field is checked and normalised on
+    construction, and each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    src : str
+        The event x at which the operation starts.
+    dst : str
+        The event y at which it ends (another event than ``src``).
+    min_angle_deg : float, default 0.0
+        The smallest phase angle t(x, y) [deg], ≥ 0: the crank angle the operation
+        takes.
+    max_angle_deg : float, optional
+        The largest phase angle [deg], ≥ ``min_angle_deg``; None (default) for no
+        maximum.
+    min_duration_s : float, default 0.0
+        The shortest duration [s]: 0, or at least 1e-12 s; it takes 6·n·s degrees
+        at n rpm.
+    height : int, default 0
+        The number of machine cycles the operation crosses (1 for an operation that
+        ends in the next cycle), a whole number ≥ 0.
+    name : str, optional
+        A name for reports and for :meth:`Cyclogram.operation`.
+    mechanism : str, optional
+        The mechanism that performs it (a row of the cyclogram's plots).
+
+    Raises
+    ------
+    InputError
+        If the two events are the same, an angle or duration is not finite or out
+        of its range, or ``height`` is not a whole number ≥ 0.
+
+    Examples
+    --------
+    >>> from cyclomech import Operation
+    >>> op = Operation("a", "b", min_angle_deg=30, name="feed")
+    >>> op.arc, op.min_angle_deg, op.max_angle_deg, op.height
+    (('a', 'b'), 30.0, None, 0)
     """
 
     src: str
@@ -143,17 +179,50 @@ class Operation:
 
     @property
     def arc(self) -> Arc:
-        """The arc ``(src, dst)``."""
+        """The arc ``(src, dst)``: the operation's key in results.
+
+        Examples
+        --------
+        >>> from cyclomech import Operation
+        >>> Operation("a", "b").arc
+        ('a', 'b')
+        """
         return (self.src, self.dst)
 
     @property
     def title(self) -> str:
-        """The name, or ``"src→dst"``."""
+        """The name, or ``"src→dst"`` for an operation without one.
+
+        Examples
+        --------
+        >>> from cyclomech import Operation
+        >>> Operation("a", "b", name="feed").title, Operation("a", "b").title
+        ('feed', 'a→b')
+        """
         return self.name or f"{self.src}→{self.dst}"
 
     def min_angle_at(self, speed_rpm: float | None) -> float:
         """Minimum angle [deg] at a speed [rpm]: max(min_angle_deg, 6·n·min_duration_s).
 
+        Parameters
+        ----------
+        speed_rpm : float or None
+            The main-shaft speed n [rpm], ≥ 0; None for an operation without a
+            duration.
+
+        Returns
+        -------
+        float
+            The minimum phase angle [deg].
+
+        Raises
+        ------
+        InputError
+            If ``speed_rpm`` is negative or not finite, or is None for an operation
+            with a minimum duration.
+
+        Examples
+        --------
         >>> from cyclomech import Operation
         >>> Operation("a", "b", min_angle_deg=120, min_duration_s=0.1).min_angle_at(300)
         180.0
@@ -178,12 +247,23 @@ class Cyclogram:
 
     Parameters
     ----------
-    name : a title for reports.
-    cycle_deg : the machine cycle [deg], 360 for one main-shaft turn.
-    limiting : the limiting operation (an arc or an operation name), whose angle
+    name : str, default "cyclogram"
+        A title for reports.
+    cycle_deg : float, default 360.0
+        The machine cycle [deg], 360 for one main-shaft turn.
+    limiting : (str, str) or str, optional
+        The limiting operation (an arc or an operation name), whose angle
         :meth:`optimize` maximises by default.
-    speed_rpm : main-shaft speed [rpm] at which operations with a minimum duration
-        in seconds are converted to degrees, unless a method is given another.
+    speed_rpm : float, optional
+        Main-shaft speed [rpm] at which operations with a minimum duration in
+        seconds are converted to degrees, unless a method is given another.
+
+    Raises
+    ------
+    InputError
+        If ``cycle_deg`` is not a positive finite angle, ``speed_rpm`` is negative
+        or not finite, or ``limiting`` is neither a name nor an arc of two event
+        names.
 
     Examples
     --------
@@ -237,7 +317,18 @@ class Cyclogram:
 
     @property
     def speed_rpm(self) -> float | None:
-        """Main-shaft speed [rpm] for time-bound operations, or None."""
+        """Main-shaft speed [rpm] for time-bound operations, or None.
+
+        Settable; a negative or non-finite speed raises :class:`InputError`.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram(speed_rpm=300)
+        >>> cg.speed_rpm = 450
+        >>> cg.speed_rpm
+        450.0
+        """
         return self._speed_rpm
 
     @speed_rpm.setter
@@ -246,9 +337,28 @@ class Cyclogram:
 
     # ----------------------------------------------------------------- building
     def add_event(self, event: str) -> str:
-        """Add an event (idempotent) and return its id; events of operations are
-        added by :meth:`add_operation` anyway, this fixes their order for reports.
+        """Add an event (idempotent) and return its id.
 
+        Events of operations are added by :meth:`add_operation` anyway; this fixes
+        their order for reports.
+
+        Parameters
+        ----------
+        event : str
+            The event id (an integer is taken as its text).
+
+        Returns
+        -------
+        str
+            The event's id.
+
+        Raises
+        ------
+        InputError
+            If ``event`` is not a non-empty string (or an integer).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_event("10.1")
@@ -274,10 +384,39 @@ class Cyclogram:
     ) -> None:
         """Add the operation x → y.
 
-        ``min_angle_deg`` / ``max_angle_deg`` bound its phase angle [deg];
-        ``min_duration_s`` [s] makes it time-bound (6·n·s degrees at n rpm);
-        ``height = 1`` for an operation that ends in the next machine cycle.
+        Its events are added too, if new.
 
+        Parameters
+        ----------
+        x : str
+            The event at which the operation starts.
+        y : str
+            The event at which it ends.
+        min_angle_deg : float, default 0.0
+            The lower bound of its phase angle [deg], ≥ 0.
+        max_angle_deg : float, optional
+            The upper bound of its phase angle [deg]; None (default) for none.
+        name : str, optional
+            A name for reports, :meth:`operation` and ``limiting``.
+        mechanism : str, optional
+            The mechanism that performs it.
+        min_duration_s : float, default 0.0
+            Makes it time-bound [s]: 6·n·s degrees at n rpm.
+        height : int, default 0
+            1 for an operation that ends in the next machine cycle.
+
+        Raises
+        ------
+        InputError
+            If the operation is malformed (see :class:`Operation`) or an operation
+            x → y already exists.
+
+        See Also
+        --------
+        Operation : The operation added, and the checks of its fields.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("1", "3", 45, 90, name="lift", mechanism="lifter")
@@ -314,10 +453,33 @@ class Cyclogram:
     ) -> None:
         """Add Σ coeffs[(x, y)]·t(x, y) (sense) rhs, with sense ``"<="``, ``">="`` or ``"=="``.
 
-        Angles in degrees. The operations named in ``coeffs`` must exist. A
-        :class:`Constraint` (e.g. from :meth:`cyclomech.impact.StopImpact.constraint`)
-        may be passed alone.
+        Angles in degrees. The operations named in ``coeffs`` must exist.
 
+        Parameters
+        ----------
+        coeffs : mapping of (str, str) to float, or Constraint
+            Each operation's arc ``(x, y)`` and its coefficient; or a whole
+            :class:`Constraint` (e.g. from
+            :meth:`cyclomech.impact.StopImpact.constraint`), passed alone.
+        sense : {"<=", ">=", "=="}, optional
+            How the sum relates to ``rhs``; needed unless ``coeffs`` is a
+            :class:`Constraint`.
+        rhs : float, optional
+            The right-hand side; needed unless ``coeffs`` is a :class:`Constraint`.
+        name : str, optional
+            The constraint's name in results; default ``"constraint k"`` (k its
+            number), or the :class:`Constraint`'s own.
+
+        Raises
+        ------
+        InputError
+            If a part is missing, or given beside a :class:`Constraint`; the name is
+            taken or reserved (``cycle``, ``min[…]``, ``max[…]``, ``duration[…]``);
+            the sense is unknown; a key is not an arc of an existing operation; or a
+            number is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("3", "7", 20)
@@ -372,22 +534,61 @@ class Cyclogram:
     # ------------------------------------------------------------------ access
     @property
     def events(self) -> tuple[str, ...]:
-        """Event ids in the order they were added."""
+        """Event ids in the order they were added.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("b", "c", 30)
+        >>> cg.add_operation("a", "b", 20)
+        >>> cg.events
+        ('b', 'c', 'a')
+        """
         return tuple(self._events)
 
     @property
     def operations(self) -> tuple[Operation, ...]:
-        """The operations in the order they were added."""
+        """The operations in the order they were added.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30, name="feed")
+        >>> cg.add_operation("b", "c", 40)
+        >>> [op.title for op in cg.operations]
+        ['feed', 'b→c']
+        """
         return tuple(self._ops)
 
     @property
     def constraints(self) -> tuple[Constraint, ...]:
-        """The added linear constraints."""
+        """The added linear constraints, in the order added.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30)
+        >>> cg.add_constraint({("a", "b"): 1.0}, "<=", 90.0, name="short feed")
+        >>> [c.name for c in cg.constraints]
+        ['short feed']
+        """
         return tuple(self._constraints)
 
     @property
     def limiting(self) -> Arc | None:
-        """The limiting operation's arc, if one was set."""
+        """The limiting operation's arc, if one was set (None otherwise).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting="feed")
+        >>> cg.add_operation("a", "b", 30, name="feed")
+        >>> cg.limiting
+        ('a', 'b')
+        """
         return (
             None
             if self._limiting_spec is None
@@ -397,6 +598,23 @@ class Cyclogram:
     def operation(self, key: Arc | str) -> Operation:
         """The operation with this arc ``(x, y)`` or this name.
 
+        Parameters
+        ----------
+        key : (str, str) or str
+            The operation's arc or its name.
+
+        Returns
+        -------
+        Operation
+            The operation.
+
+        Raises
+        ------
+        InputError
+            If no operation has that arc or name, or several share the name.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("a", "b", 30, name="feed")
@@ -454,12 +672,38 @@ class Cyclogram:
         npt.NDArray[np.float64],
         npt.NDArray[np.float64],
     ]:
-        """The rows of :meth:`optimize`'s LP at ``speed_rpm``, dense: (A_ub, b_ub,
-        A_eq, b_eq) over x = (event angles p [deg] in the order of :attr:`events`,
-        the span F), with x ≥ 0: every operation's minimum and maximum angle, the
-        added constraints, p_v ≤ F and F ≤ the cycle. For a second objective
-        within the feasible set (the main shaft's flattening).
+        """The rows of :meth:`optimize`'s LP at ``speed_rpm``, dense.
 
+        Over x = (event angles p [deg] in the order of :attr:`events`, the span F),
+        with x ≥ 0: every operation's minimum and maximum angle, the added
+        constraints, p_v ≤ F and F ≤ the cycle. For a second objective within the
+        feasible set (the main shaft's flattening).
+
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] for time-bound operations; default the
+            cyclogram's.
+
+        Returns
+        -------
+        a_ub : ndarray of float, shape (R, V + 1)
+            The inequality rows A_ub (A_ub·x ≤ b_ub); V events.
+        b_ub : ndarray of float, shape (R,)
+            Their right-hand sides [deg].
+        a_eq : ndarray of float, shape (Q, V + 1)
+            The equality rows A_eq (A_eq·x = b_eq).
+        b_eq : ndarray of float, shape (Q,)
+            Their right-hand sides [deg].
+
+        Raises
+        ------
+        InputError
+            If the cyclogram has no operations, or a time-bound operation has no
+            speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("a", "b", min_angle_deg=30)
@@ -475,6 +719,24 @@ class Cyclogram:
 
         max(min_angle_deg, 6·n·min_duration_s) for each operation, in the order added.
 
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed n [rpm]; default the cyclogram's.
+
+        Returns
+        -------
+        ndarray of float, shape (E,)
+            The minimum angles [deg], one per operation.
+
+        Raises
+        ------
+        InputError
+            If a time-bound operation has no speed, or its angle at that speed is
+            beyond any machine cycle.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("a", "b", min_angle_deg=30)
@@ -525,11 +787,31 @@ class Cyclogram:
     ) -> Schedule:
         """The earliest schedule with every operation at its minimum angle.
 
-        ``horizon_deg`` [deg] is the angle by which every event must occur for the
-        latest times (default: the schedule's own end, so the critical operations
-        are those on the longest chains). Raises :class:`CycleError` when the
-        operations within one cycle form a cycle.
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] for time-bound operations; default the
+            cyclogram's.
+        horizon_deg : float, optional
+            The angle [deg] by which every event must occur for the latest times
+            (default: the schedule's own end, so the critical operations are those
+            on the longest chains).
 
+        Returns
+        -------
+        Schedule
+            Earliest and latest event angles, slacks and critical operations.
+
+        Raises
+        ------
+        CycleError
+            When the operations within one cycle form a cycle.
+        InputError
+            If the cyclogram has no operations, or a time-bound operation has no
+            speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("1", "2", 40)
@@ -605,13 +887,39 @@ class Cyclogram:
         from the first to the last event), subject to every operation's bounds, the
         added constraints and the span fitting in the cycle. With ``limiting`` (or
         the cyclogram's own): maximise that operation's angle instead, inside the
-        cycle. ``cycle_deg`` defaults to the cyclogram's; ``speed_rpm`` converts
-        time-bound operations to degrees.
+        cycle.
 
-        Raises :class:`InfeasibleError` naming the chain of operations whose minimum
-        angles exceed the cycle, or the smallest set of bounds and constraints that
-        conflict.
+        Parameters
+        ----------
+        cycle_deg : float, optional
+            The machine cycle [deg]; default the cyclogram's.
+        limiting : (str, str) or str, optional
+            The operation (arc or name) whose angle to maximise; default the
+            cyclogram's own, if any.
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] that converts time-bound operations to
+            degrees; default the cyclogram's.
 
+        Returns
+        -------
+        Optimum
+            The event and phase angles at the optimum [deg], the objective, and
+            every bound's and constraint's shadow price and slack.
+
+        Raises
+        ------
+        InfeasibleError
+            Naming the chain of operations whose minimum angles exceed the cycle,
+            or the smallest set of bounds and constraints that conflict.
+        SolverError
+            If the LP solver stops without an answer.
+        CycleError
+            When the operations within one cycle form a cycle.
+        InputError
+            If the cyclogram has no operations, or an argument is out of its range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("10.1", "10.2"))
         >>> cg.add_operation("1", "10.1", 100, name="group")
@@ -679,6 +987,28 @@ class Cyclogram:
         closed over one cycle, found by Howard's policy iteration with Newton steps
         in speed (Rust). When maximum angles or added constraints exist, an LP over
         the event angles and the speed itself gives the exact limit.
+
+        Parameters
+        ----------
+        cycle_deg : float, optional
+            The machine cycle [deg]; default the cyclogram's.
+
+        Returns
+        -------
+        SpeedLimit
+            The limit [rpm] (``inf`` when no time-bound operation limits it), the
+            critical chain in ``cycle``, the network bound in ``network_rpm`` and
+            the bounds that price it in ``binding``.
+
+        Raises
+        ------
+        InfeasibleError
+            If the cyclogram does not fit in the cycle at any speed (the chain
+            named), or its bounds and constraints conflict even at standstill.
+        SolverError
+            If the LP solver stops without an answer.
+        CycleError
+            When the operations within one cycle form a cycle.
 
         Examples
         --------
@@ -758,6 +1088,29 @@ class Cyclogram:
         ``terms = [{from, to, coeff}, …]``, ``sense``, ``rhs``). Every error names
         the file, the table and the key.
 
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The TOML file.
+
+        Returns
+        -------
+        Cyclogram
+            The cyclogram the file describes.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read or parsed, or an entry is malformed (naming
+            the file, the table and the key).
+
+        See Also
+        --------
+        from_dict : The same from the parsed tables.
+        to_toml : The inverse.
+
+        Examples
+        --------
         >>> import pathlib, tempfile, cyclomech as cm
         >>> path = pathlib.Path(tempfile.mkdtemp()) / "g.toml"
         >>> _ = path.write_text('[[operation]]\\nfrom = "a"\\nto = "b"\\nmin_angle_deg = 30.0\\n')
@@ -771,6 +1124,25 @@ class Cyclogram:
     def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Cyclogram:
         """Build a cyclogram from the parsed TOML layout of :meth:`from_toml`.
 
+        Parameters
+        ----------
+        data : mapping of str to object
+            The tables: ``cyclogram``, ``operation`` and ``constraint``.
+        source : str, default "<dict>"
+            Where the data came from, for error messages.
+
+        Returns
+        -------
+        Cyclogram
+            The cyclogram the tables describe.
+
+        Raises
+        ------
+        InputError
+            If an entry is malformed (naming the source, the table and the key).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> data = {"cyclogram": {"cycle_deg": 360.0},
         ...         "operation": [{"from": "a", "to": "b", "min_angle_deg": 30.0}]}
@@ -796,6 +1168,18 @@ class Cyclogram:
 
         Reads back with :meth:`from_toml` to an equal cyclogram.
 
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            A file to write the text to; None (default) to write nothing.
+
+        Returns
+        -------
+        str
+            The TOML text.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram("press")
         >>> cg.add_operation("a", "b", 30, name="feed")
