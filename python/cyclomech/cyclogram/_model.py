@@ -909,8 +909,9 @@ class Cyclogram:
         Raises
         ------
         InfeasibleError
-            Naming the chain of operations whose minimum angles exceed the cycle,
-            or the smallest set of bounds and constraints that conflict.
+            If the bounds cannot all hold, naming the chain of operations whose
+            minimum angles exceed the cycle, or the smallest set of bounds and
+            constraints that conflict.
         SolverError
             If the LP solver stops without an answer.
         CycleError

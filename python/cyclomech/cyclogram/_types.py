@@ -30,8 +30,8 @@ class Constraint:
     Parameters
     ----------
     coeffs : tuple of ((str, str), float)
-        The terms: each operation's arc ``(x, y)`` and its coefficient [1/deg of
-        the constraint's unit].
+        The terms: each operation's arc ``(x, y)`` and its coefficient (the
+        constraint's unit per degree).
     sense : {"<=", ">=", "=="}
         How the sum relates to ``rhs``.
     rhs : float
@@ -180,7 +180,8 @@ class Optimum:
         The optimum [deg]: the duration p(N) − p(1), or the limiting operation's
         angle.
     goal : {"min_duration", "max_limiting"}
-        What was optimised.
+        What was optimised: the shortest duration, or the limiting operation's
+        largest angle.
     limiting : (str, str) or None
         The limiting operation's arc when ``goal`` is ``"max_limiting"``.
     duration : float
