@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -12,18 +10,12 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core, _toml
-from .._arrays import real
 from .._errors import CycleError, InfeasibleError, InputError, SolverError
 from . import _file
-from ._lp import _LP, _MIN, _USER, _chain_after, _closed_over_cycle
-from ._types import (
-    Arc,
-    Constraint,
-    Optimum,
-    Schedule,
-    SpeedLimit,
-    minimum_angles,
-)
+from ._lp import _LP
+from ._operation import MAX_ANGLE_DEG, Operation, _cycle, _event_id, _finite
+from ._speed import check_fits, max_speed
+from ._types import Arc, Constraint, Optimum, Schedule, SpeedLimit, minimum_angles
 
 __all__ = [
     "Arc",
@@ -35,211 +27,6 @@ __all__ = [
     "SpeedLimit",
     "minimum_angles",
 ]
-
-
-#: Largest angle magnitude accepted anywhere [deg]: far beyond any machine cycle,
-#: and small enough that sums over millions of operations cannot overflow.
-MAX_ANGLE_DEG = 1e12
-
-
-def _event_id(value: Any, field_name: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, str | int):
-        raise InputError(f"{field_name} must be an event id (a string); got {value!r}")
-    text = str(value)
-    if not text.strip():
-        raise InputError(f"{field_name} must be a non-empty event id; got {value!r}")
-    return text
-
-
-def _finite(
-    value: Any, field_name: str, *, lower: float | None = None, limit: float | None = None
-) -> float:
-    try:
-        x = real(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{field_name} must be a real number; got {value!r}") from None
-    if not math.isfinite(x):
-        raise InputError(f"{field_name} must be finite; got {value!r}")
-    if lower is not None and x < lower:
-        raise InputError(f"{field_name} must be >= {lower:g}; got {value!r}")
-    limit = MAX_ANGLE_DEG if limit is None else limit
-    if abs(x) > limit:
-        raise InputError(
-            f"{field_name} = {value!r} is out of range: at most {limit:g} in magnitude"
-        )
-    return x
-
-
-def _cycle(value: Any, field_name: str = "cycle_deg") -> float:
-    x = _finite(value, field_name)
-    if x <= 0:
-        raise InputError(
-            f"{field_name} must be a positive angle in degrees (360 for one turn); got {value!r}"
-        )
-    return x
-
-
-@dataclass(frozen=True)
-class Operation:
-    """One operation (arc) of the cyclogram.
-
-    Angles in degrees of main-shaft rotation. Usually built by
-    :meth:`Cyclogram.add_operation`; every field is checked and normalised on
-    construction, and each parameter is kept as the attribute of the same name.
-
-    Parameters
-    ----------
-    src : str
-        The event x at which the operation starts.
-    dst : str
-        The event y at which it ends (another event than ``src``).
-    min_angle_deg : float, default 0.0
-        The smallest phase angle t(x, y) [deg], ≥ 0: the crank angle the operation
-        takes.
-    max_angle_deg : float, optional
-        The largest phase angle [deg], ≥ ``min_angle_deg``; None (default) for no
-        maximum.
-    min_duration_s : float, default 0.0
-        The shortest duration [s]: 0, or at least 1e-12 s; it takes 6·n·s degrees
-        at n rpm.
-    height : int, default 0
-        The number of machine cycles the operation crosses (1 for an operation that
-        ends in the next cycle), a whole number ≥ 0.
-    name : str, optional
-        A name for reports and for :meth:`Cyclogram.operation`.
-    mechanism : str, optional
-        The mechanism that performs it (a row of the cyclogram's plots).
-
-    Raises
-    ------
-    InputError
-        If the two events are the same, an angle or duration is not finite or out
-        of its range, or ``height`` is not a whole number ≥ 0.
-
-    Examples
-    --------
-    >>> from cyclomech import Operation
-    >>> op = Operation("a", "b", min_angle_deg=30, name="feed")
-    >>> op.arc, op.min_angle_deg, op.max_angle_deg, op.height
-    (('a', 'b'), 30.0, None, 0)
-    """
-
-    src: str
-    dst: str
-    min_angle_deg: float = 0.0
-    max_angle_deg: float | None = None
-    min_duration_s: float = 0.0
-    height: int = 0
-    name: str | None = None
-    mechanism: str | None = None
-
-    def __post_init__(self) -> None:
-        """Validate and normalise every field: an operation joins two different
-        events; its phase angle is the crank angle it takes, so ``min_angle_deg``
-        ≥ 0 (a negative one cannot be honoured: every event of a cycle lies in
-        [0, cycle], so the optimum would silently give the operation 0°); its
-        duration is 0 or at least 1e-12 s; ``height`` is a whole number ≥ 0."""
-        src, dst = _event_id(self.src, "x"), _event_id(self.dst, "y")
-        where = f"operation {self.name or f'{src}→{dst}'!r}"
-        if src == dst:
-            raise InputError(
-                f"{where}: an operation must join two different events; got {src!r} twice"
-            )
-        lo = _finite(self.min_angle_deg, f"{where}: min_angle_deg")
-        if lo < 0:
-            raise InputError(
-                f"{where}: min_angle_deg = {self.min_angle_deg!r} must be ≥ 0 [deg]: an "
-                "operation's phase angle is the crank angle it takes (to let one event come "
-                "before another, order the events differently or add a [[constraint]])"
-            )
-        hi = self.max_angle_deg
-        if hi is not None:
-            hi = _finite(hi, f"{where}: max_angle_deg")
-            if hi < lo:
-                raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
-        secs = _finite(self.min_duration_s, f"{where}: min_duration_s", lower=0.0)
-        if 0.0 < secs < 1e-12:
-            raise InputError(f"{where}: min_duration_s = {secs!r} s: 0, or at least 1e-12 s")
-        h = self.height
-        if isinstance(h, bool) or not isinstance(h, int | np.integer) or h < 0:
-            raise InputError(
-                f"{where}: height must be a non-negative integer (cycles crossed); got {h!r}"
-            )
-        for key, value in (
-            ("src", src),
-            ("dst", dst),
-            ("min_angle_deg", lo),
-            ("max_angle_deg", hi),
-            ("min_duration_s", secs),
-            ("height", int(h)),
-            ("name", None if self.name is None else str(self.name)),
-            ("mechanism", None if self.mechanism is None else str(self.mechanism)),
-        ):
-            object.__setattr__(self, key, value)
-
-    @property
-    def arc(self) -> Arc:
-        """The arc ``(src, dst)``: the operation's key in results.
-
-        Examples
-        --------
-        >>> from cyclomech import Operation
-        >>> Operation("a", "b").arc
-        ('a', 'b')
-        """
-        return (self.src, self.dst)
-
-    @property
-    def title(self) -> str:
-        """The name, or ``"src→dst"`` for an operation without one.
-
-        Examples
-        --------
-        >>> from cyclomech import Operation
-        >>> Operation("a", "b", name="feed").title, Operation("a", "b").title
-        ('feed', 'a→b')
-        """
-        return self.name or f"{self.src}→{self.dst}"
-
-    def min_angle_at(self, speed_rpm: float | None) -> float:
-        """Minimum angle [deg] at a speed [rpm]: max(min_angle_deg, 6·n·min_duration_s).
-
-        Parameters
-        ----------
-        speed_rpm : float or None
-            The main-shaft speed n [rpm], ≥ 0; None for an operation without a
-            duration.
-
-        Returns
-        -------
-        float
-            The minimum phase angle [deg].
-
-        Raises
-        ------
-        InputError
-            If ``speed_rpm`` is negative or not finite, or is None for an operation
-            with a minimum duration.
-
-        Examples
-        --------
-        >>> from cyclomech import Operation
-        >>> Operation("a", "b", min_angle_deg=120, min_duration_s=0.1).min_angle_at(300)
-        180.0
-        """
-        if speed_rpm is not None:
-            speed_rpm = _finite(speed_rpm, "speed_rpm", lower=0.0, limit=math.inf)
-        if self.min_duration_s == 0.0:
-            return self.min_angle_deg
-        if speed_rpm is None:
-            raise InputError(
-                f"operation {self.title!r} has a minimum duration of {self.min_duration_s:g} s; "
-                "pass speed_rpm to convert it to degrees"
-            )
-        mins, _ = minimum_angles(
-            np.array([self.min_angle_deg]), np.array([self.min_duration_s]), speed_rpm
-        )
-        return float(mins[0])
 
 
 class Cyclogram:
@@ -699,8 +486,7 @@ class Cyclogram:
         Raises
         ------
         InputError
-            If the cyclogram has no operations, or a time-bound operation has no
-            speed.
+            If there are no operations, or a time-bound operation has no speed.
 
         Examples
         --------
@@ -917,7 +703,7 @@ class Cyclogram:
         CycleError
             When the operations within one cycle form a cycle.
         InputError
-            If the cyclogram has no operations, or an argument is out of its range.
+            If there are no operations, or an argument is out of its range.
 
         Examples
         --------
@@ -935,7 +721,7 @@ class Cyclogram:
         lim = None if lim_spec is None else self._resolve_op(lim_spec, "limiting")
         n = self._speed(speed_rpm)
         mins = self.min_angles(n)
-        self._check_fits(mins, cycle, n)
+        check_fits(self, mins, cycle, n)
         lp = _LP(self, mins, cycle, lim)
         res = lp.solve()
         if res.status == 2:
@@ -950,34 +736,6 @@ class Cyclogram:
         if res.status != 0:
             raise SolverError(f"cyclogram {self.name!r}: the LP solver stopped: {res.message}")
         return lp.result(res, lp.earliest_at_optimum(res), n)
-
-    def _check_fits(self, mins: npt.NDArray[np.float64], cycle: float, speed: float | None) -> None:
-        """Raise if the minimum angles alone exceed the cycle, naming the chain."""
-        src, dst, h = self._arrays()
-        V = len(self._events)
-        # Closed on itself over one cycle: a cycle of this graph longer than
-        # cycle_deg per crossing is exactly a chain that does not fit.
-        n, s2, d2, h2, pad = _closed_over_cycle(src, dst, h, V)
-        w2 = np.concatenate([mins, np.zeros(pad)])
-        try:
-            found = _core.max_cycle_ratio(n, s2, d2, w2, h2)
-        except CycleError as e:
-            raise self._named_cycle(e) from None
-        if found is None:
-            return
-        ratio, arcs = found
-        if ratio <= cycle * (1 + 1e-12):
-            return
-        ops = [self._ops[e] for e in _chain_after(arcs, len(s2) - 1) if e < len(self._ops)]
-        at = "" if speed is None else f" at {speed:g} rpm"
-        parts = " + ".join(f"{op.title} {mins[self._arc_index[op.arc]]:g}°" for op in ops)
-        crossings = round(float(h2[arcs].sum()))
-        room = f"{cycle:g}°" if crossings == 1 else f"{crossings} × {cycle:g}°"
-        raise InfeasibleError(
-            f"cyclogram {self.name!r}: the minimum angles{at} do not fit in the cycle: "
-            f"{parts} = {ratio * crossings:g}° > {room}",
-            [op.arc for op in ops],
-        )
 
     # ---------------------------------------------------------------- speed
     def max_speed_rpm(self, cycle_deg: float | None = None) -> SpeedLimit:
@@ -1023,59 +781,7 @@ class Cyclogram:
         """
         self._require_ops()
         cycle = self.cycle_deg if cycle_deg is None else _cycle(cycle_deg)
-        src, dst, h = self._arrays()
-        V, E = len(self._events), len(self._ops)
-        angle = np.array([op.min_angle_deg for op in self._ops])
-        secs = np.array([op.min_duration_s for op in self._ops])
-        # Each operation is two parallel arcs, one per lower bound: its angle at
-        # rest and its duration (an angle of max(a, 6·n·s) at n rpm).
-        n, s2, d2, h2, pad = _closed_over_cycle(np.r_[src, src], np.r_[dst, dst], np.r_[h, h], V)
-        a2 = np.concatenate([angle, np.zeros(E + pad)])
-        t2 = np.concatenate([np.zeros(E), secs, np.zeros(pad)])
-        try:
-            status, rpm, _ratio, arcs = _core.max_speed(n, s2, d2, a2, t2, h2, cycle)
-        except CycleError as e:
-            raise self._named_cycle(e) from None
-        cyc = tuple(self._ops[e % E].arc for e in _chain_after(arcs, len(s2) - 1) if e < 2 * E)
-        if status == "infeasible":
-            self._check_fits(angle, cycle, 0.0)  # raises with the chain named
-            raise InfeasibleError(
-                f"cyclogram {self.name!r}: does not fit in {cycle:g}° at any speed", cyc
-            )
-        network = float(rpm)
-        has_extra = self._constraints or any(op.max_angle_deg is not None for op in self._ops)
-        if not has_extra:
-            return SpeedLimit(network, cyc, cycle, network)
-        lp = _LP(self, angle, cycle, None, speed_secs=secs)
-        res = lp.solve()
-        if res.status == 3:
-            return SpeedLimit(math.inf, (), cycle, network)
-        if res.status == 2:
-            conflict = lp.irreducible_conflict()
-            raise InfeasibleError(
-                f"cyclogram {self.name!r}: the bounds and constraints conflict even at standstill: "
-                + "; ".join(lp.describe(r) for r in conflict),
-                conflict,
-            )
-        if res.status != 0:
-            raise SolverError(f"cyclogram {self.name!r}: the LP solver stopped: {res.message}")
-        best = float(res.x[-1])
-        if best >= network * (1 - 1e-9):
-            return SpeedLimit(network, cyc, cycle, network)
-        # The rows with a non-zero shadow price are what limits the speed: the
-        # operations among them form the limiting chain (ordered by event angle),
-        # the rest are the maximum angles, constraints and cycle that bind.
-        priced = lp.priced(res)
-        p = res.x[:V]
-        chain_ops = {int(lp.op[i]) for i in priced if lp.kind[i] == _MIN}
-        # Operations held at a bound by a priced constraint belong to the chain too.
-        for i in priced:
-            if lp.kind[i] == _USER:
-                con = next(c for c in self._constraints if c.name == lp.names[i])
-                chain_ops.update(self._arc_index[a] for a, _ in con.coeffs)
-        chain = sorted((self._ops[e] for e in chain_ops), key=lambda op: p[self._events[op.src]])
-        others = tuple(lp.names[i] for i in priced if lp.kind[i] != _MIN)
-        return SpeedLimit(best, tuple(op.arc for op in chain), cycle, network, others)
+        return max_speed(self, cycle)
 
     # ---------------------------------------------------------------- TOML
     @classmethod
@@ -1151,18 +857,6 @@ class Cyclogram:
         30.0
         """
         return _file.read(cls, data, source)
-
-    def _check_order(self) -> None:
-        """:class:`CycleError` if the operations within one machine cycle (height
-        0) form a cycle: no schedule can order their events."""
-        if not self._ops:
-            return
-        src, dst, h = self._arrays()
-        inner = h == 0
-        try:
-            _core.EventGraph(len(self._events), src[inner], dst[inner])
-        except CycleError as e:
-            raise self._named_cycle(e) from None
 
     def to_toml(self, path: str | Path | None = None) -> str:
         """The cyclogram as TOML text, written to ``path`` if given.

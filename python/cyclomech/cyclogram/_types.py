@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .._units import DEG_PER_S_PER_RPM
 
 if TYPE_CHECKING:
-    from ._model import Operation
+    from ._operation import Operation
 
 Arc = tuple[str, str]
 Sense = Literal["<=", ">=", "=="]
