@@ -15,7 +15,10 @@ from .._units import DEG_PER_S_PER_RPM
 if TYPE_CHECKING:
     from ._operation import Operation
 
+#: An operation's key in results: its arc ``(x, y)``, the ids of its start and end
+#: events.
 Arc = tuple[str, str]
+#: How a :class:`Constraint`'s sum relates to its right-hand side.
 Sense = Literal["<=", ">=", "=="]
 
 
