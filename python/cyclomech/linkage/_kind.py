@@ -46,7 +46,8 @@ class LinkageMechanism(Unbounded):
         The keywords of :func:`cyclomech.forces.kinetostatics` (masses, loads,
         gravity) when the table gives any; None (default) without.
     phase : Phase, optional
-        Where the crank sits in the cycle (default: at cycle angle 0).
+        Where the crank sits in the cycle: its absolute angle [deg] at a cyclogram
+        event (default ``Phase()``: angle 0° at cycle angle 0).
 
     Examples
     --------
