@@ -199,9 +199,10 @@ class Optimum:
         per unit increase of that bound's value (a minimum angle, a maximum angle, a
         constraint's right-hand side, the cycle angle).
     slack : dict of str to float
-        How far each bound and constraint is from binding.
+        How far each bound and constraint is from binding in the schedule reported
+        (``times``).
     binding : tuple of str
-        The bounds and constraints with zero slack.
+        The bounds and constraints with zero slack there.
     stretch : dict of (str, str) to float
         How much each operation got beyond its minimum angle [deg].
     critical : tuple of (str, str)
