@@ -1,8 +1,9 @@
 """cyclomech: design of cyclic machines with a Rust core.
 
 Linkages, stops, press drives, rotor transfer, the machine's cyclogram, and the
-whole machine from one machine file (:class:`Machine`, :func:`sweep`). SI units
-inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
+whole machine from one machine file (:class:`~cyclomech.machine.Machine`,
+:func:`~cyclomech.machine.sweep`). SI units inside; arguments in degrees or rpm say
+so in their names (``_deg``, ``rpm``).
 """
 
 from __future__ import annotations

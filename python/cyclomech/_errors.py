@@ -42,7 +42,7 @@ class CyclomechWarning(UserWarning):
     """Something in the input is probably a mistake, but has a valid reading.
 
     For example a mechanism name on an operation one letter off a mechanism of the
-    machine. A ``UserWarning``: filter it with :mod:`warnings` as any other.
+    machine. A ``UserWarning``: filter it with ``warnings`` as any other.
 
     Examples
     --------
@@ -78,7 +78,7 @@ class CycleError(CyclomechError):
         What is wrong, in words.
     events : sequence, optional
         The events of one such cycle, in arc order (indices from the kernels, names
-        from :class:`cyclomech.Cyclogram`); kept as the tuple ``events``. Default
+        from :class:`~cyclomech.cyclogram.Cyclogram`); kept as the tuple ``events``. Default
         empty.
 
     Examples

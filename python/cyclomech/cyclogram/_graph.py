@@ -129,7 +129,7 @@ class EventGraph:
     """An event network whose structure is analysed once and reused.
 
     Building the graph validates the arcs, finds a topological order (or raises
-    :class:`CycleError` naming a cycle) and lays the arcs out for the kernels, in
+    :class:`~cyclomech.CycleError` naming a cycle) and lays the arcs out for the kernels, in
     time linear in V + E; every later call only evaluates weights. Inside, events
     are renumbered by their topological position so that the passes read memory in
     order; every result is by your event and arc numbers.

@@ -106,7 +106,7 @@ class Cyclogram:
     def speed_rpm(self) -> float | None:
         """Main-shaft speed [rpm] for time-bound operations, or None.
 
-        Settable; a negative or non-finite speed raises :class:`InputError`.
+        Settable; a negative or non-finite speed raises :class:`~cyclomech.InputError`.
 
         Examples
         --------

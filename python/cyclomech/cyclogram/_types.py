@@ -246,7 +246,7 @@ class SpeedLimit:
     """The highest main-shaft speed [rpm] at which a cyclogram, or a whole machine, works.
 
     One type for both (:meth:`Cyclogram.max_speed_rpm`,
-    :meth:`cyclomech.Machine.speed_limit`). For a cyclogram, when maximum angles or
+    :meth:`~cyclomech.machine.Machine.speed_limit`). For a cyclogram, when maximum angles or
     added constraints lower the network bound, ``rpm < network_rpm``. For a
     machine, ``rpm`` is the least of ``cyclogram_rpm`` and each mechanism's own
     limit in ``mechanisms_rpm``. Each parameter is kept as the attribute of the

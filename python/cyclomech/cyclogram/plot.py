@@ -254,7 +254,7 @@ def plot_cyclogram(
     kind: str = "gantt",
     title: str | None = None,
 ) -> Axes:
-    """Draw a cyclogram (a :class:`Schedule` or an :class:`Optimum`) and return the axes.
+    """Draw a cyclogram (a Schedule or an Optimum) and return the axes.
 
     With ``kind="gantt"``: main-shaft angle [deg] from 0 to ``result.cycle_deg`` across,
     one row per mechanism (in order of first appearance; operations without one in
@@ -262,9 +262,10 @@ def plot_cyclogram(
     wrapped modulo the cycle (a bar past the end continues from 0°, as does an
     operation that ends in the next cycle). Operations of one mechanism that
     overlap share its row in separate lanes. Critical operations have a red edge.
-    For a :class:`Schedule` a whisker from a bar's end shows its total slack [deg];
-    for an :class:`Optimum` the part of a bar beyond the operation's minimum angle
-    is hatched and the limiting operation is orange, labelled with its angle.
+    For a :class:`~cyclomech.cyclogram.Schedule` a whisker from a bar's end shows its
+    total slack [deg]; for an :class:`~cyclomech.cyclogram.Optimum` the part of a bar
+    beyond the operation's minimum angle is hatched and the limiting operation is
+    orange, labelled with its angle.
 
     With ``kind="circular"``: the same on a polar axes, 0° at the top, angles
     clockwise, one ring per mechanism (from the centre out).
@@ -272,8 +273,8 @@ def plot_cyclogram(
     Parameters
     ----------
     result : Schedule or Optimum
-        The result of :meth:`cyclomech.Cyclogram.schedule` or
-        :meth:`cyclomech.Cyclogram.optimize` (angles in degrees).
+        The result of :meth:`~cyclomech.cyclogram.Cyclogram.schedule` or
+        :meth:`~cyclomech.cyclogram.Cyclogram.optimize` (angles in degrees).
     ax : matplotlib.axes.Axes, optional
         The axes to draw on; None (default) makes a new figure. For
         ``kind="circular"`` it must be polar
@@ -357,8 +358,8 @@ def plot_cyclogram_pair(result: Schedule | Optimum, *, title: str | None = None)
     Parameters
     ----------
     result : Schedule or Optimum
-        The result of :meth:`cyclomech.Cyclogram.schedule` or
-        :meth:`cyclomech.Cyclogram.optimize` (angles in degrees).
+        The result of :meth:`~cyclomech.cyclogram.Cyclogram.schedule` or
+        :meth:`~cyclomech.cyclogram.Cyclogram.optimize` (angles in degrees).
     title : str, optional
         The figure's title, above both; default the duration [deg] or the limiting
         operation's angle [deg].

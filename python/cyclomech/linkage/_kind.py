@@ -84,7 +84,7 @@ class LinkageMechanism(Unbounded):
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> LinkageMechanism:
         """The mechanism of its ``[mechanism.<name>]`` table.
 
-        The table of :meth:`cyclomech.Linkage.from_dict` plus an optional
+        The table of :meth:`~cyclomech.linkage.Linkage.from_dict` plus an optional
         ``max_acceleration`` [m/s²], the forces' keys (masses, loads, gravity) and
         ``phase``; the linkage must assemble over the whole turn.
 

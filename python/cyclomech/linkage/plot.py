@@ -411,7 +411,7 @@ def plot_linkage(
     linkage : Linkage
         The linkage.
     solution : LinkageSolution
-        A :meth:`Linkage.solve` of every point of ``linkage`` (not a
+        A :meth:`~cyclomech.linkage.Linkage.solve` of every point of ``linkage`` (not a
         :func:`~cyclomech.linkage.solve_geometries`, not ``points=`` a subset),
         assembled at row ``index``.
     index : int, default 0
@@ -441,7 +441,7 @@ def plot_linkage(
     Notes
     -----
     Artists (for tests and restyling), by label and gid: ``"links"``, a
-    :class:`~matplotlib.collections.LineCollection` with one path per link in the
+    ``LineCollection`` with one path per link in the
     order of the linkage's links (the two joints of a binary link; the closed
     outline of a larger one), ``"plates"`` the fills of the larger links,
     ``"driver"`` the crank (a ``Line2D`` pivot → tip), ``"joints"`` the points in
@@ -497,7 +497,7 @@ def plot_analogs(solution: LinkageSolution, point: str, *, title: str | None = N
     Parameters
     ----------
     solution : LinkageSolution
-        A :meth:`Linkage.solve` with analogs (not a sweep).
+        A :meth:`~cyclomech.linkage.Linkage.solve` with analogs (not a sweep).
     point : str
         The point to plot.
     title : str, optional
@@ -623,14 +623,14 @@ def animate_linkage(
 
     One frame (as :func:`plot_linkage`, at fixed limits) for every ``every``-th row
     of ``solution`` where the mechanism is assembled. Uses matplotlib's
-    :class:`~matplotlib.animation.PillowWriter` (Pillow comes with matplotlib).
+    ``PillowWriter`` (Pillow comes with matplotlib).
 
     Parameters
     ----------
     linkage : Linkage
         The linkage.
     solution : LinkageSolution
-        A :meth:`Linkage.solve` of every point of ``linkage``.
+        A :meth:`~cyclomech.linkage.Linkage.solve` of every point of ``linkage``.
     path : str or os.PathLike
         The file to write; it must end in ``.gif``.
     fps : float, default 30
