@@ -1,14 +1,15 @@
 """cyclomech: design of cyclic machines with a Rust core.
 
 Linkages, stops, press drives, rotor transfer, the machine's cyclogram, and the
-whole machine from one machine file (:class:`Machine`, :func:`sweep`). SI units
-inside; arguments in degrees or rpm say so in their names (``_deg``, ``rpm``).
+whole machine from one machine file (:class:`~cyclomech.machine.Machine`,
+:func:`~cyclomech.machine.sweep`). SI units inside; arguments in degrees or rpm say
+so in their names (``_deg``, ``rpm``).
 """
 
 from __future__ import annotations
 
 from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
-from ._core import __version__
+from ._core import __version__ as _core_version
 from ._errors import (
     CycleError,
     CyclomechError,
@@ -33,6 +34,10 @@ from .cyclogram import (
 )
 from .linkage import Linkage, LinkageSolution
 from .machine import Machine, SweepResult, sweep
+
+#: The installed package's version (a string such as ``"0.1.0"``), read from the Rust
+#: core: written in one place, Cargo.toml's ``[workspace.package]``.
+__version__: str = _core_version
 
 __all__ = [
     "Constraint",

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .. import _toml
+from .. import _core, _toml
 from .._errors import CycleError, InputError
 
 if TYPE_CHECKING:
@@ -124,10 +124,23 @@ def read(cls: type[Cyclogram], data: Mapping[str, Any], source: str) -> Cyclogra
         except InputError as e:
             raise InputError(f"{source}: [cyclogram]: {e}") from None
     try:
-        cg._check_order()
+        _check_order(cg)
     except CycleError as e:
         raise CycleError(f"{source}: [[operation]]: {e}", e.events) from None
     return cg
+
+
+def _check_order(cg: Cyclogram) -> None:
+    """:class:`CycleError` if the operations within one machine cycle (height
+    0) form a cycle: no schedule can order their events."""
+    if not cg._ops:
+        return
+    src, dst, h = cg._arrays()
+    inner = h == 0
+    try:
+        _core.EventGraph(len(cg._events), src[inner], dst[inner])
+    except CycleError as e:
+        raise cg._named_cycle(e) from None
 
 
 def write(cg: Cyclogram, path: str | Path | None) -> str:

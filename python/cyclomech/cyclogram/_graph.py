@@ -36,24 +36,35 @@ def longest_path(
 ) -> npt.NDArray[np.float64]:
     """Earliest occurrence angle of every event, for one or many weight vectors.
 
+    The structure is analysed once per call; to evaluate the same network many
+    times, build an :class:`EventGraph` once.
+
     Parameters
     ----------
-    n_events : number of events V.
-    src, dst : (E,) integer arrays, the arc ``e`` goes from event ``src[e]`` to ``dst[e]``.
-    weights : (E,) or (B, E) float array of phase angles [deg]; negative values allowed.
-    n_threads : threads for a batch (default: ``CYCLOMECH_THREADS`` or all cores).
+    n_events : int
+        The number of events V.
+    src : array_like of int, shape (E,)
+        The tail event of each arc: arc ``e`` goes from event ``src[e]`` to
+        ``dst[e]``.
+    dst : array_like of int, shape (E,)
+        The head event of each arc.
+    weights : array_like of float, shape (E,) or (B, E)
+        The arcs' phase angles [deg], one vector or a batch of B; negative values
+        allowed.
+    n_threads : int, optional
+        Threads for a batch (default: ``CYCLOMECH_THREADS`` or all cores).
 
     Returns
     -------
-    (V,) or (B, V) float64 array of earliest event angles [deg].
+    ndarray of float, shape (V,) or (B, V)
+        The earliest event angles [deg].
 
     Raises
     ------
-    CycleError : the arcs contain a cycle (its events are in ``.events``).
-    InputError : out-of-range indices, NaN/inf weights, mismatched shapes.
-
-    The structure is analysed once per call; to evaluate the same network many
-    times, build an :class:`EventGraph` once.
+    CycleError
+        If the arcs contain a cycle (its events are in ``.events``).
+    InputError
+        For out-of-range indices, NaN/inf weights, mismatched shapes.
 
     Examples
     --------
@@ -75,8 +86,34 @@ def longest_path(
 class GraphAnalysis:
     """Earliest/latest event times, slack and critical arcs of one weight vector.
 
-    Angles in degrees. ``critical[e]`` is True for every arc with zero total slack
-    (all ties, not one arbitrary longest path).
+    Angles in degrees. Built by :meth:`EventGraph.analyze`; each parameter is kept
+    as the attribute of the same name.
+
+    Parameters
+    ----------
+    earliest : ndarray of float, shape (V,)
+        The earliest occurrence angle of each event [deg].
+    latest : ndarray of float, shape (V,)
+        The latest occurrence angle of each event that keeps every event at or
+        before the horizon [deg].
+    total_slack : ndarray of float, shape (E,)
+        Each arc's total slack, latest(y) − earliest(x) − w [deg].
+    free_slack : ndarray of float, shape (E,)
+        Each arc's free slack, earliest(y) − earliest(x) − w [deg].
+    critical : ndarray of bool, shape (E,)
+        True for every arc with zero total slack (within ``tolerance``): all ties,
+        not one arbitrary longest path.
+    horizon : float
+        The horizon the latest times were computed for [deg].
+    tolerance : float
+        The absolute tolerance used to call a slack zero [deg].
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> a = cm.EventGraph(3, [0, 1], [1, 2]).analyze([10.0, 20.0], horizon=40.0)
+    >>> a.latest, a.free_slack, a.horizon
+    (array([10., 20., 40.]), array([0., 0.]), 40.0)
     """
 
     earliest: npt.NDArray[np.float64]
@@ -92,10 +129,26 @@ class EventGraph:
     """An event network whose structure is analysed once and reused.
 
     Building the graph validates the arcs, finds a topological order (or raises
-    :class:`CycleError` naming a cycle) and lays the arcs out for the kernels, in
+    :class:`~cyclomech.CycleError` naming a cycle) and lays the arcs out for the kernels, in
     time linear in V + E; every later call only evaluates weights. Inside, events
     are renumbered by their topological position so that the passes read memory in
     order; every result is by your event and arc numbers.
+
+    Parameters
+    ----------
+    n_events : int
+        The number of events V; events are ``0 … V-1``.
+    src : array_like of int, shape (E,)
+        The tail event of each arc.
+    dst : array_like of int, shape (E,)
+        The head event of each arc.
+
+    Raises
+    ------
+    CycleError
+        If the arcs contain a cycle (its events are in ``.events``).
+    InputError
+        For out-of-range indices or mismatched lengths.
 
     Examples
     --------
@@ -121,27 +174,62 @@ class EventGraph:
 
     @property
     def n_events(self) -> int:
-        """Number of events V."""
+        """Number of events V.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [0, 1], [1, 2]).n_events
+        3
+        """
         return int(self._g.n_events)
 
     @property
     def n_arcs(self) -> int:
-        """Number of arcs E."""
+        """Number of arcs E.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [0, 1], [1, 2]).n_arcs
+        2
+        """
         return int(self._g.n_arcs)
 
     @property
     def src(self) -> npt.NDArray[np.int64]:
-        """Tail event of each arc (E,)."""
+        """Tail event of each arc, shape (E,).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [2, 0], [0, 1]).src
+        array([2, 0])
+        """
         return self._g.src
 
     @property
     def dst(self) -> npt.NDArray[np.int64]:
-        """Head event of each arc (E,)."""
+        """Head event of each arc, shape (E,).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [2, 0], [0, 1]).dst
+        array([0, 1])
+        """
         return self._g.dst
 
     @property
     def topological_order(self) -> npt.NDArray[np.int64]:
-        """The events in a topological order (V,)."""
+        """The events in a topological order, shape (V,).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.EventGraph(3, [2, 0], [0, 1]).topological_order
+        array([2, 0, 1])
+        """
         return self._g.topological_order
 
     def longest_path(
@@ -153,12 +241,33 @@ class EventGraph:
     ) -> npt.NDArray[np.float64]:
         """Earliest event angles [deg] for (E,) or (B, E) weights -> (V,) or (B, V).
 
-        Rows of a batch run in parallel (``n_threads``, default ``CYCLOMECH_THREADS``
-        or all cores). For a batch, ``out`` (a writeable C-contiguous float64 (B, V)
-        array, sharing no memory with the weights) is filled in place and returned:
-        a buffer reused across calls skips the fresh pages' cost; results are bit
-        for bit those without it.
+        Rows of a batch run in parallel.
 
+        Parameters
+        ----------
+        weights : array_like of float, shape (E,) or (B, E)
+            The arcs' phase angles [deg], one vector or a batch of B.
+        n_threads : int, optional
+            Threads for a batch (default ``CYCLOMECH_THREADS`` or all cores).
+        out : ndarray of float, shape (B, V), optional
+            For a batch: a writeable C-contiguous float64 array, sharing no memory
+            with the weights, filled in place and returned. A buffer reused across
+            calls skips the fresh pages' cost; results are bit for bit those
+            without it.
+
+        Returns
+        -------
+        ndarray of float, shape (V,) or (B, V)
+            The earliest event angles [deg] (``out`` itself when given).
+
+        Raises
+        ------
+        InputError
+            For NaN/inf weights or a wrong shape, or ``out`` given for one vector
+            or not of the required shape, dtype and layout.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> g = cm.EventGraph(3, [0, 1], [1, 2])
         >>> g.longest_path([[10.0, 20.0], [5.0, -1.0]])
@@ -182,6 +291,26 @@ class EventGraph:
     def latest(self, weights: npt.ArrayLike, horizon: float) -> npt.NDArray[np.float64]:
         """Latest event angles [deg] that keep every event at or before ``horizon`` [deg].
 
+        Parameters
+        ----------
+        weights : array_like of float, shape (E,)
+            The arcs' phase angles [deg].
+        horizon : float
+            The angle by which every event must occur [deg].
+
+        Returns
+        -------
+        ndarray of float, shape (V,)
+            The latest event angles [deg].
+
+        Raises
+        ------
+        InputError
+            For NaN/inf weights, a wrong shape, or a ``horizon`` that is not a
+            number.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.EventGraph(3, [0, 1], [1, 2]).latest([10.0, 20.0], horizon=40.0)
         array([10., 20., 40.])
@@ -191,9 +320,28 @@ class EventGraph:
     def analyze(self, weights: npt.ArrayLike, horizon: float | None = None) -> GraphAnalysis:
         """Earliest and latest times, total and free slack, critical arcs.
 
-        ``horizon`` [deg] defaults to the largest earliest time, so the critical arcs
-        are exactly those on longest paths.
+        Parameters
+        ----------
+        weights : array_like of float, shape (E,)
+            The arcs' phase angles [deg].
+        horizon : float, optional
+            The angle by which every event must occur [deg]; defaults to the
+            largest earliest time, so the critical arcs are exactly those on
+            longest paths.
 
+        Returns
+        -------
+        GraphAnalysis
+            The times [deg], slacks [deg] and critical arcs.
+
+        Raises
+        ------
+        InputError
+            For NaN/inf weights, a wrong shape, or a ``horizon`` that is not a
+            number.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> a = cm.EventGraph(4, [0, 1, 0, 2], [1, 3, 2, 3]).analyze([40.0, 30.0, 20.0, 30.0])
         >>> a.earliest, a.total_slack
@@ -232,8 +380,32 @@ def max_cycle_ratio(
     cycles each arc crosses, the result is the shortest cycle angle [deg] in which
     the operations can repeat. Arcs of height 0 must form a DAG.
 
-    Returns ``(ratio, arcs)`` for a cycle attaining the maximum (arc indices in
-    order), or ``None`` if the graph has no cycle.
+    Parameters
+    ----------
+    n_events : int
+        The number of events V.
+    src : array_like of int, shape (E,)
+        The tail event of each arc.
+    dst : array_like of int, shape (E,)
+        The head event of each arc.
+    weights : array_like of float, shape (E,)
+        The arcs' phase angles [deg].
+    heights : array_like of float, shape (E,)
+        The number of machine cycles each arc crosses.
+
+    Returns
+    -------
+    tuple of (float, ndarray of int) or None
+        ``(ratio, arcs)`` for a cycle attaining the maximum: the ratio [deg per
+        cycle] and the cycle's arc indices in order; ``None`` if the graph has no
+        cycle.
+
+    Raises
+    ------
+    CycleError
+        If the arcs of height 0 contain a cycle.
+    InputError
+        For out-of-range indices, NaN/inf values, mismatched lengths.
 
     Examples
     --------
@@ -285,20 +457,30 @@ def max_difference(
 
     Parameters
     ----------
-    n_nodes : number of nodes V (at least 1).
-    src, dst : (E,) integer arrays; arc ``e`` constrains ``x[dst[e]] - x[src[e]]``.
-    weights : (E,) or (B, E) float array of upper bounds ``w``; negative values allowed.
-    source, target : the node indices ``s`` and ``t``.
-    n_threads : threads for a batch (default: ``CYCLOMECH_THREADS`` or all cores).
+    n_nodes : int
+        The number of nodes V (at least 1).
+    src : array_like of int, shape (E,)
+        The tail node of each arc: arc ``e`` constrains ``x[dst[e]] - x[src[e]]``.
+    dst : array_like of int, shape (E,)
+        The head node of each arc.
+    weights : array_like of float, shape (E,) or (B, E)
+        The upper bounds ``w``, one vector or a batch of B; negative values allowed.
+    source : int
+        The node index ``s``.
+    target : int
+        The node index ``t``.
+    n_threads : int, optional
+        Threads for a batch (default: ``CYCLOMECH_THREADS`` or all cores).
 
     Returns
     -------
-    value : float for (E,) weights, (B,) float64 array for (B, E) weights.
-        The optimum (finite); ``nan`` if the constraints are infeasible, i.e. some
-        cycle anywhere in the graph (reachable from ``source`` or not) has negative
-        total weight; ``inf`` if they are feasible and ``target`` is unreachable
-        from ``source`` (the difference is unbounded). ``source == target`` gives 0.
-    on_path : (E,) or (B, E) bool array.
+    value : float or ndarray of float, shape (B,)
+        A float for (E,) weights, an array for (B, E) weights. The optimum
+        (finite); ``nan`` if the constraints are infeasible, i.e. some cycle
+        anywhere in the graph (reachable from ``source`` or not) has negative total
+        weight; ``inf`` if they are feasible and ``target`` is unreachable from
+        ``source`` (the difference is unbounded). ``source == target`` gives 0.
+    on_path : ndarray of bool, shape (E,) or (B, E)
         The arcs of one shortest path from ``source`` to ``target``, whose weights
         sum to ``value`` (summed from the source). All False for ``nan``, ``inf``
         and ``source == target``. The path is deterministic: Bellman–Ford passes
@@ -307,8 +489,10 @@ def max_difference(
 
     Raises
     ------
-    InputError : ``n_nodes < 1``, an index, ``source`` or ``target`` out of range,
-        NaN/inf weights (the row and column are named), mismatched lengths or shapes.
+    InputError
+        If ``n_nodes < 1``, an index, ``source`` or ``target`` is out of range, for
+        NaN/inf weights (the row and column are named), mismatched lengths or
+        shapes.
 
     Notes
     -----

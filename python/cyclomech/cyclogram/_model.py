@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -12,18 +10,12 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core, _toml
-from .._arrays import real
 from .._errors import CycleError, InfeasibleError, InputError, SolverError
 from . import _file
-from ._lp import _LP, _MIN, _USER, _chain_after, _closed_over_cycle
-from ._types import (
-    Arc,
-    Constraint,
-    Optimum,
-    Schedule,
-    SpeedLimit,
-    minimum_angles,
-)
+from ._lp import _LP
+from ._operation import MAX_ANGLE_DEG, Operation, _cycle, _event_id, _finite
+from ._speed import check_fits, max_speed
+from ._types import Arc, Constraint, Optimum, Schedule, SpeedLimit, minimum_angles
 
 __all__ = [
     "Arc",
@@ -37,153 +29,28 @@ __all__ = [
 ]
 
 
-#: Largest angle magnitude accepted anywhere [deg]: far beyond any machine cycle,
-#: and small enough that sums over millions of operations cannot overflow.
-MAX_ANGLE_DEG = 1e12
-
-
-def _event_id(value: Any, field_name: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, str | int):
-        raise InputError(f"{field_name} must be an event id (a string); got {value!r}")
-    text = str(value)
-    if not text.strip():
-        raise InputError(f"{field_name} must be a non-empty event id; got {value!r}")
-    return text
-
-
-def _finite(
-    value: Any, field_name: str, *, lower: float | None = None, limit: float | None = None
-) -> float:
-    try:
-        x = real(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{field_name} must be a real number; got {value!r}") from None
-    if not math.isfinite(x):
-        raise InputError(f"{field_name} must be finite; got {value!r}")
-    if lower is not None and x < lower:
-        raise InputError(f"{field_name} must be >= {lower:g}; got {value!r}")
-    limit = MAX_ANGLE_DEG if limit is None else limit
-    if abs(x) > limit:
-        raise InputError(
-            f"{field_name} = {value!r} is out of range: at most {limit:g} in magnitude"
-        )
-    return x
-
-
-def _cycle(value: Any, field_name: str = "cycle_deg") -> float:
-    x = _finite(value, field_name)
-    if x <= 0:
-        raise InputError(
-            f"{field_name} must be a positive angle in degrees (360 for one turn); got {value!r}"
-        )
-    return x
-
-
-@dataclass(frozen=True)
-class Operation:
-    """One operation (arc) of the cyclogram.
-
-    Angles in degrees of main-shaft rotation; ``min_duration_s`` in seconds;
-    ``height`` is the number of machine cycles the operation crosses (1 for an
-    operation that ends in the next cycle).
-    """
-
-    src: str
-    dst: str
-    min_angle_deg: float = 0.0
-    max_angle_deg: float | None = None
-    min_duration_s: float = 0.0
-    height: int = 0
-    name: str | None = None
-    mechanism: str | None = None
-
-    def __post_init__(self) -> None:
-        """Validate and normalise every field: an operation joins two different
-        events; its phase angle is the crank angle it takes, so ``min_angle_deg``
-        ≥ 0 (a negative one cannot be honoured: every event of a cycle lies in
-        [0, cycle], so the optimum would silently give the operation 0°); its
-        duration is 0 or at least 1e-12 s; ``height`` is a whole number ≥ 0."""
-        src, dst = _event_id(self.src, "x"), _event_id(self.dst, "y")
-        where = f"operation {self.name or f'{src}→{dst}'!r}"
-        if src == dst:
-            raise InputError(
-                f"{where}: an operation must join two different events; got {src!r} twice"
-            )
-        lo = _finite(self.min_angle_deg, f"{where}: min_angle_deg")
-        if lo < 0:
-            raise InputError(
-                f"{where}: min_angle_deg = {self.min_angle_deg!r} must be ≥ 0 [deg]: an "
-                "operation's phase angle is the crank angle it takes (to let one event come "
-                "before another, order the events differently or add a [[constraint]])"
-            )
-        hi = self.max_angle_deg
-        if hi is not None:
-            hi = _finite(hi, f"{where}: max_angle_deg")
-            if hi < lo:
-                raise InputError(f"{where}: max_angle_deg = {hi:g} is below min_angle_deg = {lo:g}")
-        secs = _finite(self.min_duration_s, f"{where}: min_duration_s", lower=0.0)
-        if 0.0 < secs < 1e-12:
-            raise InputError(f"{where}: min_duration_s = {secs!r} s: 0, or at least 1e-12 s")
-        h = self.height
-        if isinstance(h, bool) or not isinstance(h, int | np.integer) or h < 0:
-            raise InputError(
-                f"{where}: height must be a non-negative integer (cycles crossed); got {h!r}"
-            )
-        for key, value in (
-            ("src", src),
-            ("dst", dst),
-            ("min_angle_deg", lo),
-            ("max_angle_deg", hi),
-            ("min_duration_s", secs),
-            ("height", int(h)),
-            ("name", None if self.name is None else str(self.name)),
-            ("mechanism", None if self.mechanism is None else str(self.mechanism)),
-        ):
-            object.__setattr__(self, key, value)
-
-    @property
-    def arc(self) -> Arc:
-        """The arc ``(src, dst)``."""
-        return (self.src, self.dst)
-
-    @property
-    def title(self) -> str:
-        """The name, or ``"src→dst"``."""
-        return self.name or f"{self.src}→{self.dst}"
-
-    def min_angle_at(self, speed_rpm: float | None) -> float:
-        """Minimum angle [deg] at a speed [rpm]: max(min_angle_deg, 6·n·min_duration_s).
-
-        >>> from cyclomech import Operation
-        >>> Operation("a", "b", min_angle_deg=120, min_duration_s=0.1).min_angle_at(300)
-        180.0
-        """
-        if speed_rpm is not None:
-            speed_rpm = _finite(speed_rpm, "speed_rpm", lower=0.0, limit=math.inf)
-        if self.min_duration_s == 0.0:
-            return self.min_angle_deg
-        if speed_rpm is None:
-            raise InputError(
-                f"operation {self.title!r} has a minimum duration of {self.min_duration_s:g} s; "
-                "pass speed_rpm to convert it to degrees"
-            )
-        mins, _ = minimum_angles(
-            np.array([self.min_angle_deg]), np.array([self.min_duration_s]), speed_rpm
-        )
-        return float(mins[0])
-
-
 class Cyclogram:
     """The network cyclogram of a machine or of one group of its mechanisms.
 
     Parameters
     ----------
-    name : a title for reports.
-    cycle_deg : the machine cycle [deg], 360 for one main-shaft turn.
-    limiting : the limiting operation (an arc or an operation name), whose angle
+    name : str, default "cyclogram"
+        A title for reports.
+    cycle_deg : float, default 360.0
+        The machine cycle [deg], 360 for one main-shaft turn.
+    limiting : (str, str) or str, optional
+        The limiting operation (an arc or an operation name), whose angle
         :meth:`optimize` maximises by default.
-    speed_rpm : main-shaft speed [rpm] at which operations with a minimum duration
-        in seconds are converted to degrees, unless a method is given another.
+    speed_rpm : float, optional
+        Main-shaft speed [rpm] at which operations with a minimum duration in
+        seconds are converted to degrees, unless a method is given another.
+
+    Raises
+    ------
+    InputError
+        If ``cycle_deg`` is not a positive finite angle, ``speed_rpm`` is negative
+        or not finite, or ``limiting`` is neither a name nor an arc of two event
+        names.
 
     Examples
     --------
@@ -237,7 +104,18 @@ class Cyclogram:
 
     @property
     def speed_rpm(self) -> float | None:
-        """Main-shaft speed [rpm] for time-bound operations, or None."""
+        """Main-shaft speed [rpm] for time-bound operations, or None.
+
+        Settable; a negative or non-finite speed raises :class:`~cyclomech.InputError`.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram(speed_rpm=300)
+        >>> cg.speed_rpm = 450
+        >>> cg.speed_rpm
+        450.0
+        """
         return self._speed_rpm
 
     @speed_rpm.setter
@@ -246,9 +124,28 @@ class Cyclogram:
 
     # ----------------------------------------------------------------- building
     def add_event(self, event: str) -> str:
-        """Add an event (idempotent) and return its id; events of operations are
-        added by :meth:`add_operation` anyway, this fixes their order for reports.
+        """Add an event (idempotent) and return its id.
 
+        Events of operations are added by :meth:`add_operation` anyway; this fixes
+        their order for reports.
+
+        Parameters
+        ----------
+        event : str
+            The event id (an integer is taken as its text).
+
+        Returns
+        -------
+        str
+            The event's id.
+
+        Raises
+        ------
+        InputError
+            If ``event`` is not a non-empty string (or an integer).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_event("10.1")
@@ -274,10 +171,39 @@ class Cyclogram:
     ) -> None:
         """Add the operation x → y.
 
-        ``min_angle_deg`` / ``max_angle_deg`` bound its phase angle [deg];
-        ``min_duration_s`` [s] makes it time-bound (6·n·s degrees at n rpm);
-        ``height = 1`` for an operation that ends in the next machine cycle.
+        Its events are added too, if new.
 
+        Parameters
+        ----------
+        x : str
+            The event at which the operation starts.
+        y : str
+            The event at which it ends.
+        min_angle_deg : float, default 0.0
+            The lower bound of its phase angle [deg], ≥ 0.
+        max_angle_deg : float, optional
+            The upper bound of its phase angle [deg]; None (default) for none.
+        name : str, optional
+            A name for reports, :meth:`operation` and ``limiting``.
+        mechanism : str, optional
+            The mechanism that performs it.
+        min_duration_s : float, default 0.0
+            Makes it time-bound [s]: 6·n·s degrees at n rpm.
+        height : int, default 0
+            1 for an operation that ends in the next machine cycle.
+
+        Raises
+        ------
+        InputError
+            If the operation is malformed (see :class:`Operation`) or an operation
+            x → y already exists.
+
+        See Also
+        --------
+        Operation : The operation added, and the checks of its fields.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("1", "3", 45, 90, name="lift", mechanism="lifter")
@@ -314,10 +240,33 @@ class Cyclogram:
     ) -> None:
         """Add Σ coeffs[(x, y)]·t(x, y) (sense) rhs, with sense ``"<="``, ``">="`` or ``"=="``.
 
-        Angles in degrees. The operations named in ``coeffs`` must exist. A
-        :class:`Constraint` (e.g. from :meth:`cyclomech.impact.StopImpact.constraint`)
-        may be passed alone.
+        Angles in degrees. The operations named in ``coeffs`` must exist.
 
+        Parameters
+        ----------
+        coeffs : mapping of (str, str) to float, or Constraint
+            Each operation's arc ``(x, y)`` and its coefficient; or a whole
+            :class:`Constraint` (e.g. from
+            :meth:`cyclomech.impact.StopImpact.constraint`), passed alone.
+        sense : {"<=", ">=", "=="}, optional
+            How the sum relates to ``rhs``; needed unless ``coeffs`` is a
+            :class:`Constraint`.
+        rhs : float, optional
+            The right-hand side; needed unless ``coeffs`` is a :class:`Constraint`.
+        name : str, optional
+            The constraint's name in results; default ``"constraint k"`` (k its
+            number), or the :class:`Constraint`'s own.
+
+        Raises
+        ------
+        InputError
+            If a part is missing, or given beside a :class:`Constraint`; the name is
+            taken or reserved (``cycle``, ``min[…]``, ``max[…]``, ``duration[…]``);
+            the sense is unknown; a key is not an arc of an existing operation; or a
+            number is not finite.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("3", "7", 20)
@@ -372,22 +321,61 @@ class Cyclogram:
     # ------------------------------------------------------------------ access
     @property
     def events(self) -> tuple[str, ...]:
-        """Event ids in the order they were added."""
+        """Event ids in the order they were added.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("b", "c", 30)
+        >>> cg.add_operation("a", "b", 20)
+        >>> cg.events
+        ('b', 'c', 'a')
+        """
         return tuple(self._events)
 
     @property
     def operations(self) -> tuple[Operation, ...]:
-        """The operations in the order they were added."""
+        """The operations in the order they were added.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30, name="feed")
+        >>> cg.add_operation("b", "c", 40)
+        >>> [op.title for op in cg.operations]
+        ['feed', 'b→c']
+        """
         return tuple(self._ops)
 
     @property
     def constraints(self) -> tuple[Constraint, ...]:
-        """The added linear constraints."""
+        """The added linear constraints, in the order added.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30)
+        >>> cg.add_constraint({("a", "b"): 1.0}, "<=", 90.0, name="short feed")
+        >>> [c.name for c in cg.constraints]
+        ['short feed']
+        """
         return tuple(self._constraints)
 
     @property
     def limiting(self) -> Arc | None:
-        """The limiting operation's arc, if one was set."""
+        """The limiting operation's arc, if one was set (None otherwise).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting="feed")
+        >>> cg.add_operation("a", "b", 30, name="feed")
+        >>> cg.limiting
+        ('a', 'b')
+        """
         return (
             None
             if self._limiting_spec is None
@@ -397,6 +385,23 @@ class Cyclogram:
     def operation(self, key: Arc | str) -> Operation:
         """The operation with this arc ``(x, y)`` or this name.
 
+        Parameters
+        ----------
+        key : (str, str) or str
+            The operation's arc or its name.
+
+        Returns
+        -------
+        Operation
+            The operation.
+
+        Raises
+        ------
+        InputError
+            If no operation has that arc or name, or several share the name.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("a", "b", 30, name="feed")
@@ -454,12 +459,37 @@ class Cyclogram:
         npt.NDArray[np.float64],
         npt.NDArray[np.float64],
     ]:
-        """The rows of :meth:`optimize`'s LP at ``speed_rpm``, dense: (A_ub, b_ub,
-        A_eq, b_eq) over x = (event angles p [deg] in the order of :attr:`events`,
-        the span F), with x ≥ 0: every operation's minimum and maximum angle, the
-        added constraints, p_v ≤ F and F ≤ the cycle. For a second objective
-        within the feasible set (the main shaft's flattening).
+        """The rows of :meth:`optimize`'s LP at ``speed_rpm``, dense.
 
+        Over x = (event angles p [deg] in the order of :attr:`events`, the span F),
+        with x ≥ 0: every operation's minimum and maximum angle, the added
+        constraints, p_v ≤ F and F ≤ the cycle. For a second objective within the
+        feasible set (the main shaft's flattening).
+
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] for time-bound operations; default the
+            cyclogram's.
+
+        Returns
+        -------
+        a_ub : ndarray of float, shape (R, V + 1)
+            The inequality rows A_ub (A_ub·x ≤ b_ub); V events.
+        b_ub : ndarray of float, shape (R,)
+            Their right-hand sides [deg].
+        a_eq : ndarray of float, shape (Q, V + 1)
+            The equality rows A_eq (A_eq·x = b_eq).
+        b_eq : ndarray of float, shape (Q,)
+            Their right-hand sides [deg].
+
+        Raises
+        ------
+        InputError
+            If there are no operations, or a time-bound operation has no speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("a", "b", min_angle_deg=30)
@@ -475,6 +505,24 @@ class Cyclogram:
 
         max(min_angle_deg, 6·n·min_duration_s) for each operation, in the order added.
 
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed n [rpm]; default the cyclogram's.
+
+        Returns
+        -------
+        ndarray of float, shape (E,)
+            The minimum angles [deg], one per operation.
+
+        Raises
+        ------
+        InputError
+            If a time-bound operation has no speed, or its angle at that speed is
+            beyond any machine cycle.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("a", "b", min_angle_deg=30)
@@ -525,11 +573,31 @@ class Cyclogram:
     ) -> Schedule:
         """The earliest schedule with every operation at its minimum angle.
 
-        ``horizon_deg`` [deg] is the angle by which every event must occur for the
-        latest times (default: the schedule's own end, so the critical operations
-        are those on the longest chains). Raises :class:`CycleError` when the
-        operations within one cycle form a cycle.
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] for time-bound operations; default the
+            cyclogram's.
+        horizon_deg : float, optional
+            The angle [deg] by which every event must occur for the latest times
+            (default: the schedule's own end, so the critical operations are those
+            on the longest chains).
 
+        Returns
+        -------
+        Schedule
+            Earliest and latest event angles, slacks and critical operations.
+
+        Raises
+        ------
+        CycleError
+            When the operations within one cycle form a cycle.
+        InputError
+            If the cyclogram has no operations, or a time-bound operation has no
+            speed.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram()
         >>> cg.add_operation("1", "2", 40)
@@ -605,13 +673,40 @@ class Cyclogram:
         from the first to the last event), subject to every operation's bounds, the
         added constraints and the span fitting in the cycle. With ``limiting`` (or
         the cyclogram's own): maximise that operation's angle instead, inside the
-        cycle. ``cycle_deg`` defaults to the cyclogram's; ``speed_rpm`` converts
-        time-bound operations to degrees.
+        cycle.
 
-        Raises :class:`InfeasibleError` naming the chain of operations whose minimum
-        angles exceed the cycle, or the smallest set of bounds and constraints that
-        conflict.
+        Parameters
+        ----------
+        cycle_deg : float, optional
+            The machine cycle [deg]; default the cyclogram's.
+        limiting : (str, str) or str, optional
+            The operation (arc or name) whose angle to maximise; default the
+            cyclogram's own, if any.
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] that converts time-bound operations to
+            degrees; default the cyclogram's.
 
+        Returns
+        -------
+        Optimum
+            The event and phase angles at the optimum [deg], the objective, and
+            every bound's and constraint's shadow price and slack.
+
+        Raises
+        ------
+        InfeasibleError
+            If the bounds cannot all hold, naming the chain of operations whose
+            minimum angles exceed the cycle, or the smallest set of bounds and
+            constraints that conflict.
+        SolverError
+            If the LP solver stops without an answer.
+        CycleError
+            When the operations within one cycle form a cycle.
+        InputError
+            If there are no operations, or an argument is out of its range.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("10.1", "10.2"))
         >>> cg.add_operation("1", "10.1", 100, name="group")
@@ -626,7 +721,7 @@ class Cyclogram:
         lim = None if lim_spec is None else self._resolve_op(lim_spec, "limiting")
         n = self._speed(speed_rpm)
         mins = self.min_angles(n)
-        self._check_fits(mins, cycle, n)
+        check_fits(self, mins, cycle, n)
         lp = _LP(self, mins, cycle, lim)
         res = lp.solve()
         if res.status == 2:
@@ -642,34 +737,6 @@ class Cyclogram:
             raise SolverError(f"cyclogram {self.name!r}: the LP solver stopped: {res.message}")
         return lp.result(res, lp.earliest_at_optimum(res), n)
 
-    def _check_fits(self, mins: npt.NDArray[np.float64], cycle: float, speed: float | None) -> None:
-        """Raise if the minimum angles alone exceed the cycle, naming the chain."""
-        src, dst, h = self._arrays()
-        V = len(self._events)
-        # Closed on itself over one cycle: a cycle of this graph longer than
-        # cycle_deg per crossing is exactly a chain that does not fit.
-        n, s2, d2, h2, pad = _closed_over_cycle(src, dst, h, V)
-        w2 = np.concatenate([mins, np.zeros(pad)])
-        try:
-            found = _core.max_cycle_ratio(n, s2, d2, w2, h2)
-        except CycleError as e:
-            raise self._named_cycle(e) from None
-        if found is None:
-            return
-        ratio, arcs = found
-        if ratio <= cycle * (1 + 1e-12):
-            return
-        ops = [self._ops[e] for e in _chain_after(arcs, len(s2) - 1) if e < len(self._ops)]
-        at = "" if speed is None else f" at {speed:g} rpm"
-        parts = " + ".join(f"{op.title} {mins[self._arc_index[op.arc]]:g}°" for op in ops)
-        crossings = round(float(h2[arcs].sum()))
-        room = f"{cycle:g}°" if crossings == 1 else f"{crossings} × {cycle:g}°"
-        raise InfeasibleError(
-            f"cyclogram {self.name!r}: the minimum angles{at} do not fit in the cycle: "
-            f"{parts} = {ratio * crossings:g}° > {room}",
-            [op.arc for op in ops],
-        )
-
     # ---------------------------------------------------------------- speed
     def max_speed_rpm(self, cycle_deg: float | None = None) -> SpeedLimit:
         """The highest main-shaft speed [rpm] at which the cyclogram fits in its cycle.
@@ -679,6 +746,28 @@ class Cyclogram:
         closed over one cycle, found by Howard's policy iteration with Newton steps
         in speed (Rust). When maximum angles or added constraints exist, an LP over
         the event angles and the speed itself gives the exact limit.
+
+        Parameters
+        ----------
+        cycle_deg : float, optional
+            The machine cycle [deg]; default the cyclogram's.
+
+        Returns
+        -------
+        SpeedLimit
+            The limit [rpm] (``inf`` when no time-bound operation limits it), the
+            critical chain in ``cycle``, the network bound in ``network_rpm`` and
+            the bounds that price it in ``binding``.
+
+        Raises
+        ------
+        InfeasibleError
+            If the cyclogram does not fit in the cycle at any speed (the chain
+            named), or its bounds and constraints conflict even at standstill.
+        SolverError
+            If the LP solver stops without an answer.
+        CycleError
+            When the operations within one cycle form a cycle.
 
         Examples
         --------
@@ -692,59 +781,7 @@ class Cyclogram:
         """
         self._require_ops()
         cycle = self.cycle_deg if cycle_deg is None else _cycle(cycle_deg)
-        src, dst, h = self._arrays()
-        V, E = len(self._events), len(self._ops)
-        angle = np.array([op.min_angle_deg for op in self._ops])
-        secs = np.array([op.min_duration_s for op in self._ops])
-        # Each operation is two parallel arcs, one per lower bound: its angle at
-        # rest and its duration (an angle of max(a, 6·n·s) at n rpm).
-        n, s2, d2, h2, pad = _closed_over_cycle(np.r_[src, src], np.r_[dst, dst], np.r_[h, h], V)
-        a2 = np.concatenate([angle, np.zeros(E + pad)])
-        t2 = np.concatenate([np.zeros(E), secs, np.zeros(pad)])
-        try:
-            status, rpm, _ratio, arcs = _core.max_speed(n, s2, d2, a2, t2, h2, cycle)
-        except CycleError as e:
-            raise self._named_cycle(e) from None
-        cyc = tuple(self._ops[e % E].arc for e in _chain_after(arcs, len(s2) - 1) if e < 2 * E)
-        if status == "infeasible":
-            self._check_fits(angle, cycle, 0.0)  # raises with the chain named
-            raise InfeasibleError(
-                f"cyclogram {self.name!r}: does not fit in {cycle:g}° at any speed", cyc
-            )
-        network = float(rpm)
-        has_extra = self._constraints or any(op.max_angle_deg is not None for op in self._ops)
-        if not has_extra:
-            return SpeedLimit(network, cyc, cycle, network)
-        lp = _LP(self, angle, cycle, None, speed_secs=secs)
-        res = lp.solve()
-        if res.status == 3:
-            return SpeedLimit(math.inf, (), cycle, network)
-        if res.status == 2:
-            conflict = lp.irreducible_conflict()
-            raise InfeasibleError(
-                f"cyclogram {self.name!r}: the bounds and constraints conflict even at standstill: "
-                + "; ".join(lp.describe(r) for r in conflict),
-                conflict,
-            )
-        if res.status != 0:
-            raise SolverError(f"cyclogram {self.name!r}: the LP solver stopped: {res.message}")
-        best = float(res.x[-1])
-        if best >= network * (1 - 1e-9):
-            return SpeedLimit(network, cyc, cycle, network)
-        # The rows with a non-zero shadow price are what limits the speed: the
-        # operations among them form the limiting chain (ordered by event angle),
-        # the rest are the maximum angles, constraints and cycle that bind.
-        priced = lp.priced(res)
-        p = res.x[:V]
-        chain_ops = {int(lp.op[i]) for i in priced if lp.kind[i] == _MIN}
-        # Operations held at a bound by a priced constraint belong to the chain too.
-        for i in priced:
-            if lp.kind[i] == _USER:
-                con = next(c for c in self._constraints if c.name == lp.names[i])
-                chain_ops.update(self._arc_index[a] for a, _ in con.coeffs)
-        chain = sorted((self._ops[e] for e in chain_ops), key=lambda op: p[self._events[op.src]])
-        others = tuple(lp.names[i] for i in priced if lp.kind[i] != _MIN)
-        return SpeedLimit(best, tuple(op.arc for op in chain), cycle, network, others)
+        return max_speed(self, cycle)
 
     # ---------------------------------------------------------------- TOML
     @classmethod
@@ -758,6 +795,29 @@ class Cyclogram:
         ``terms = [{from, to, coeff}, …]``, ``sense``, ``rhs``). Every error names
         the file, the table and the key.
 
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The TOML file.
+
+        Returns
+        -------
+        Cyclogram
+            The cyclogram the file describes.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read or parsed, or an entry is malformed (naming
+            the file, the table and the key).
+
+        See Also
+        --------
+        from_dict : The same from the parsed tables.
+        to_toml : The inverse.
+
+        Examples
+        --------
         >>> import pathlib, tempfile, cyclomech as cm
         >>> path = pathlib.Path(tempfile.mkdtemp()) / "g.toml"
         >>> _ = path.write_text('[[operation]]\\nfrom = "a"\\nto = "b"\\nmin_angle_deg = 30.0\\n')
@@ -771,6 +831,25 @@ class Cyclogram:
     def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>") -> Cyclogram:
         """Build a cyclogram from the parsed TOML layout of :meth:`from_toml`.
 
+        Parameters
+        ----------
+        data : mapping of str to object
+            The tables: ``cyclogram``, ``operation`` and ``constraint``.
+        source : str, default "<dict>"
+            Where the data came from, for error messages.
+
+        Returns
+        -------
+        Cyclogram
+            The cyclogram the tables describe.
+
+        Raises
+        ------
+        InputError
+            If an entry is malformed (naming the source, the table and the key).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> data = {"cyclogram": {"cycle_deg": 360.0},
         ...         "operation": [{"from": "a", "to": "b", "min_angle_deg": 30.0}]}
@@ -779,23 +858,23 @@ class Cyclogram:
         """
         return _file.read(cls, data, source)
 
-    def _check_order(self) -> None:
-        """:class:`CycleError` if the operations within one machine cycle (height
-        0) form a cycle: no schedule can order their events."""
-        if not self._ops:
-            return
-        src, dst, h = self._arrays()
-        inner = h == 0
-        try:
-            _core.EventGraph(len(self._events), src[inner], dst[inner])
-        except CycleError as e:
-            raise self._named_cycle(e) from None
-
     def to_toml(self, path: str | Path | None = None) -> str:
         """The cyclogram as TOML text, written to ``path`` if given.
 
         Reads back with :meth:`from_toml` to an equal cyclogram.
 
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            A file to write the text to; None (default) to write nothing.
+
+        Returns
+        -------
+        str
+            The TOML text.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram("press")
         >>> cg.add_operation("a", "b", 30, name="feed")

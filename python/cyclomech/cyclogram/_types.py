@@ -13,15 +13,46 @@ import numpy.typing as npt
 from .._units import DEG_PER_S_PER_RPM
 
 if TYPE_CHECKING:
-    from ._model import Operation
+    from ._operation import Operation
 
+#: An operation's key in results: its arc ``(x, y)``, the ids of its start and end
+#: events.
 Arc = tuple[str, str]
+#: How a :class:`Constraint`'s sum relates to its right-hand side.
 Sense = Literal["<=", ">=", "=="]
 
 
 @dataclass(frozen=True)
 class Constraint:
-    """A linear constraint Σ coeffs[arc]·t(arc) (sense) rhs on phase angles [deg]."""
+    """A linear constraint Σ coeffs[arc]·t(arc) (sense) rhs on phase angles [deg].
+
+    Each parameter is kept as the attribute of the same name. Built by
+    :meth:`Cyclogram.add_constraint` (or, e.g.,
+    :meth:`cyclomech.impact.StopImpact.constraint`), which checks it.
+
+    Parameters
+    ----------
+    coeffs : tuple of ((str, str), float)
+        The terms: each operation's arc ``(x, y)`` and its coefficient (the
+        constraint's unit per degree).
+    sense : {"<=", ">=", "=="}
+        How the sum relates to ``rhs``.
+    rhs : float
+        The right-hand side, in the constraint's unit.
+    name : str
+        The constraint's name in results (``duals``, ``slack``, ``binding``).
+
+    See Also
+    --------
+    Cyclogram.add_constraint : Adds one to a cyclogram.
+
+    Examples
+    --------
+    >>> from cyclomech import Constraint
+    >>> c = Constraint(((("3", "7"), -0.003),), "<=", -0.108, "rebound")
+    >>> c.coeffs, c.sense, c.rhs
+    (((('3', '7'), -0.003),), '<=', -0.108)
+    """
 
     coeffs: tuple[tuple[Arc, float], ...]
     sense: Sense
@@ -31,6 +62,13 @@ class Constraint:
     def describe(self) -> str:
         """The constraint as text (angles in degrees).
 
+        Returns
+        -------
+        str
+            ``"c·t(x,y) + … (sense) rhs"``, numbers in the shortest form (``:g``).
+
+        Examples
+        --------
         >>> from cyclomech import Constraint
         >>> Constraint(((("3", "7"), -0.003),), "<=", -0.108, "rebound").describe()
         '-0.003·t(3,7) <= -0.108'
@@ -43,12 +81,54 @@ class Constraint:
 class Schedule:
     """Every operation at its minimum angle: the earliest schedule (angles in degrees).
 
-    ``slack[arc]`` is the total slack (how much the operation can grow without
-    moving the end of the schedule), ``free_slack[arc]`` how much it can grow
-    without moving any event; ``critical`` lists every operation with zero total
-    slack. Operations crossing into the next cycle (height > 0) do not order
-    events within the cycle; their ``slack`` is p(y) + cycle_deg·h − p(x) − angle,
-    negative when the schedule violates them; ``violated`` lists those.
+    Operations crossing into the next cycle (height h > 0) do not order events
+    within the cycle; their ``slack`` is p(y) + cycle_deg·h − p(x) − angle,
+    negative when the schedule violates them; ``violated`` lists those. Built by
+    :meth:`Cyclogram.schedule`; each parameter is kept as the attribute of the same
+    name.
+
+    Parameters
+    ----------
+    operations : tuple of Operation
+        The cyclogram's operations, in the order added.
+    events : tuple of str
+        The event ids, in the order added.
+    earliest : dict of str to float
+        Each event's earliest occurrence angle p [deg].
+    latest : dict of str to float
+        Each event's latest occurrence angle [deg] that keeps the schedule's end
+        (or the horizon of :meth:`Cyclogram.schedule`).
+    angles : dict of (str, str) to float
+        Each operation's angle in the schedule, its minimum [deg].
+    slack : dict of (str, str) to float
+        Each operation's total slack [deg]: how much it can grow without moving the
+        end of the schedule.
+    free_slack : dict of (str, str) to float
+        How much each operation can grow without moving any event [deg].
+    critical : tuple of (str, str)
+        The operations with zero total slack.
+    duration : float
+        The span from the first to the last event [deg].
+    cycle_deg : float
+        The machine cycle [deg].
+    speed_rpm : float or None
+        The main-shaft speed [rpm] at which time-bound operations were converted,
+        or None.
+    violated : tuple of (str, str), default ()
+        The operations into a later cycle that the schedule violates (negative
+        slack).
+    name : str, default "cyclogram"
+        The cyclogram's title.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> cg = cm.Cyclogram()
+    >>> cg.add_operation("1", "2", 40)
+    >>> cg.add_operation("1", "3", 20)
+    >>> s = cg.schedule()
+    >>> s.earliest, s.latest["3"], s.slack[("1", "3")], s.critical
+    ({'1': 0.0, '2': 40.0, '3': 20.0}, 40.0, 20.0, (('1', '2'),))
     """
 
     operations: tuple[Operation, ...]
@@ -67,7 +147,16 @@ class Schedule:
 
     @property
     def times(self) -> dict[str, float]:
-        """Occurrence angle of each event [deg] (the earliest times)."""
+        """Occurrence angle of each event [deg] (the earliest times).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30)
+        >>> cg.schedule().times
+        {'a': 0.0, 'b': 30.0}
+        """
         return self.earliest
 
 
@@ -75,15 +164,63 @@ class Schedule:
 class Optimum:
     """Result of :meth:`Cyclogram.optimize` (angles in degrees).
 
-    ``duals[name]`` is the shadow price of each bound and constraint: the change of
-    ``objective`` per unit increase of that bound's value (a minimum angle, a
-    maximum angle, a constraint's right-hand side, the cycle angle). ``slack[name]``
-    is how far each is from binding; ``binding`` names those with zero slack.
-    Bounds are named ``min[op]`` and ``max[op]``; the cycle bound ``cycle``.
-    ``stretch[arc]`` is how much an operation got beyond its minimum angle;
-    ``critical`` lists the operations on the chains that set the objective: those
-    whose minimum, or a constraint on them, has a non-zero shadow price, and every
-    operation at its minimum on a chain tied with them.
+    Bounds are named ``min[op]`` and ``max[op]`` (``op`` the operation's title); the
+    cycle bound ``cycle``; constraints by their names. Built by
+    :meth:`Cyclogram.optimize`; each parameter is kept as the attribute of the same
+    name.
+
+    Parameters
+    ----------
+    operations : tuple of Operation
+        The cyclogram's operations, in the order added.
+    events : tuple of str
+        The event ids, in the order added.
+    times : dict of str to float
+        Each event's occurrence angle p at the optimum [deg].
+    angles : dict of (str, str) to float
+        Each operation's phase angle t(x, y) at the optimum [deg].
+    objective : float
+        The optimum [deg]: the duration p(N) − p(1), or the limiting operation's
+        angle.
+    goal : {"min_duration", "max_limiting"}
+        What was optimised: the shortest duration, or the limiting operation's
+        largest angle.
+    limiting : (str, str) or None
+        The limiting operation's arc when ``goal`` is ``"max_limiting"``.
+    duration : float
+        The span from the first to the last event [deg].
+    cycle_deg : float
+        The machine cycle [deg].
+    speed_rpm : float or None
+        The main-shaft speed [rpm] at which time-bound operations were converted,
+        or None.
+    duals : dict of str to float
+        The shadow price of each bound and constraint: the change of ``objective``
+        per unit increase of that bound's value (a minimum angle, a maximum angle, a
+        constraint's right-hand side, the cycle angle).
+    slack : dict of str to float
+        How far each bound and constraint is from binding in the schedule reported
+        (``times``).
+    binding : tuple of str
+        The bounds and constraints with zero slack there.
+    stretch : dict of (str, str) to float
+        How much each operation got beyond its minimum angle [deg].
+    critical : tuple of (str, str)
+        The operations on the chains that set the objective: those whose minimum,
+        or a constraint on them, has a non-zero shadow price, and every operation
+        at its minimum on a chain tied with them.
+    name : str, default "cyclogram"
+        The cyclogram's title.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> cg = cm.Cyclogram()
+    >>> cg.add_operation("a", "b", 30)
+    >>> cg.add_operation("b", "c", 50)
+    >>> opt = cg.optimize()                  # no limiting operation: the shortest span
+    >>> opt.goal, opt.objective, opt.times, opt.slack["cycle"]
+    ('min_duration', 80.0, {'a': 0.0, 'b': 30.0, 'c': 80.0}, 280.0)
     """
 
     operations: tuple[Operation, ...]
@@ -106,21 +243,44 @@ class Optimum:
 
 @dataclass(frozen=True)
 class SpeedLimit:
-    """The highest main-shaft speed ``rpm`` [rpm] at which a cyclogram, or a whole
-    machine, works; one type for both (:meth:`Cyclogram.max_speed_rpm`,
-    :meth:`cyclomech.Machine.speed_limit`).
+    """The highest main-shaft speed [rpm] at which a cyclogram, or a whole machine, works.
 
-    ``binding`` names the bounds and constraints that price the limit (a tuple of
-    names everywhere; a list in ``results.json``); ``reason`` says why in words.
-    For a cyclogram: ``cycle`` lists the operations of the critical chain (whose
-    angles fill ``cycle_deg`` at that speed; ``inf`` when no time-bound operation
-    limits it); ``network_rpm`` is the bound from the operations' minimum angles and
-    durations alone (Howard's maximum cycle ratio); when maximum angles or added
-    constraints lower it, ``rpm < network_rpm``. For a machine: ``rpm`` is the least
-    of ``cyclogram_rpm`` (its cyclogram with the mechanisms' bounds still fits) and
-    each mechanism's own limit in ``mechanisms_rpm`` (``mechanisms_reason`` says
-    why for each); ``by`` names what sets it (``"cyclogram"`` or a mechanism).
+    One type for both (:meth:`Cyclogram.max_speed_rpm`,
+    :meth:`~cyclomech.machine.Machine.speed_limit`). For a cyclogram, when maximum angles or
+    added constraints lower the network bound, ``rpm < network_rpm``. For a
+    machine, ``rpm`` is the least of ``cyclogram_rpm`` and each mechanism's own
+    limit in ``mechanisms_rpm``. Each parameter is kept as the attribute of the
+    same name.
 
+    Parameters
+    ----------
+    rpm : float
+        The speed limit [rpm] (``inf`` when no time-bound operation limits it).
+    cycle : tuple of (str, str), default ()
+        For a cyclogram: the operations of the critical chain, whose angles fill
+        ``cycle_deg`` at that speed.
+    cycle_deg : float, default 360.0
+        The machine cycle [deg].
+    network_rpm : float, default inf
+        For a cyclogram: the bound from the operations' minimum angles and durations
+        alone (Howard's maximum cycle ratio) [rpm].
+    binding : tuple of str, default ()
+        The bounds and constraints that price the limit (a tuple of names
+        everywhere; a list in ``results.json``).
+    reason : str, default ""
+        Why, in words.
+    by : str, default "cyclogram"
+        What sets the limit: ``"cyclogram"`` or a mechanism's name.
+    cyclogram_rpm : float, optional
+        For a machine: the speed up to which its cyclogram, with the mechanisms'
+        bounds, still fits [rpm]. Default (NaN): ``rpm``, a cyclogram's own limit.
+    mechanisms_rpm : dict of str to float, optional
+        For a machine: each mechanism's own limit [rpm]. Default empty.
+    mechanisms_reason : dict of str to str, optional
+        For a machine: why each mechanism's limit, in words. Default empty.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> cg = cm.Cyclogram()
     >>> cg.add_operation("a", "b", min_duration_s=0.05)
@@ -149,11 +309,30 @@ class SpeedLimit:
 def minimum_angles(
     angle_deg: npt.NDArray[np.float64], secs: npt.NDArray[np.float64], rpm: npt.ArrayLike
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-    """Each operation's minimum angle [deg] at each speed: max(min_angle_deg,
-    6·n·min_duration_s) for the operations with a duration (``secs`` > 0), the angle
-    alone for the others; shape ``rpm.shape + angle_deg.shape``. Also whether the
-    duration sets it. The one place this rule is written.
+    """Each operation's minimum angle [deg] at each speed, and whether its duration sets it.
 
+    max(min_angle_deg, 6·n·min_duration_s) for the operations with a duration
+    (``secs`` > 0), the angle alone for the others. The one place this rule is
+    written.
+
+    Parameters
+    ----------
+    angle_deg : ndarray of float, shape (E,)
+        Each operation's minimum angle at rest [deg].
+    secs : ndarray of float, shape (E,)
+        Each operation's minimum duration [s] (0 for none).
+    rpm : float or array_like of float
+        The main-shaft speed(s) n [rpm].
+
+    Returns
+    -------
+    mins : ndarray of float, shape ``rpm.shape + (E,)``
+        The minimum angles [deg].
+    timed : ndarray of bool, shape ``rpm.shape + (E,)``
+        Whether the duration sets the minimum (6·n·s > the angle).
+
+    Examples
+    --------
     >>> import numpy as np
     >>> from cyclomech.cyclogram import minimum_angles
     >>> mins, timed = minimum_angles(np.array([120.0, 30.0]), np.array([0.1, 0.0]), [100.0, 300.0])

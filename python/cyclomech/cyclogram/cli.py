@@ -29,7 +29,23 @@ __all__ = ["add_commands", "cyclogram_command"]
 
 
 def add_commands(commands: Any) -> None:
-    """Add the ``cyclogram`` command to the sub-parsers ``commands`` of ``cyclomech``."""
+    """Add the ``cyclogram`` command to the sub-parsers ``commands`` of ``cyclomech``.
+
+    Parameters
+    ----------
+    commands : argparse._SubParsersAction
+        The sub-parsers of the ``cyclomech`` parser (``add_subparsers()``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from cyclomech.cyclogram import cli
+    >>> commands = argparse.ArgumentParser(prog="cyclomech").add_subparsers()
+    >>> cli.add_commands(commands)
+    >>> args = commands.choices["cyclogram"].parse_args(["g.toml", "--speed", "300"])
+    >>> args.speed, args.run is cli.cyclogram_command
+    (300.0, True)
+    """
     p = commands.add_parser("cyclogram", help="schedule, optimise and plot a cyclogram file (TOML)")
     p.add_argument("file", help="cyclogram file, e.g. examples/stb_group1.toml")
     p.add_argument("--out", help="output folder (default: out/<file name>)")
@@ -151,7 +167,47 @@ def _summary(
 
 
 def cyclogram_command(args: argparse.Namespace) -> int:
-    """Run ``cyclomech cyclogram`` with the parsed ``args``; return the exit status."""
+    """Run ``cyclomech cyclogram`` with the parsed ``args``; return the exit status.
+
+    Prints the schedule, the LP optimum and the speed limit, and writes
+    ``cyclogram.json`` and (unless ``--no-plot``) ``cyclogram.png`` to the output
+    folder.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of the ``cyclogram`` command (``file``, ``out``,
+        ``speed`` [rpm], ``no_plot``).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 1 when the cyclogram has no feasible optimum (its
+        files are written all the same).
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read or describes no valid cyclogram.
+    CycleError
+        When the operations within one cycle form a cycle.
+
+    Examples
+    --------
+    >>> import argparse, contextlib, io, pathlib, tempfile
+    >>> from cyclomech.cyclogram import cli
+    >>> parser = argparse.ArgumentParser(prog="cyclomech")
+    >>> cli.add_commands(parser.add_subparsers())
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> args = parser.parse_args(
+    ...     ["cyclogram", "examples/stb_group1.toml", "--out", str(out), "--no-plot"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as printed:
+    ...     status = cli.cyclogram_command(args)
+    >>> status, sorted(p.name for p in out.iterdir())
+    (0, ['cyclogram.json'])
+    >>> printed.getvalue().splitlines()[0]
+    'STB loom, group 1 (illustrative): 10 events, 11 operations, 1 constraints, cycle 360°'
+    """
     cg = Cyclogram.from_toml(args.file)
     if args.speed is not None:
         cg.speed_rpm = args.speed

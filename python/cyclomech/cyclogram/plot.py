@@ -254,24 +254,49 @@ def plot_cyclogram(
     kind: str = "gantt",
     title: str | None = None,
 ) -> Axes:
-    """Draw a cyclogram (a :class:`Schedule` or an :class:`Optimum`) and return the axes.
+    """Draw a cyclogram (a Schedule or an Optimum) and return the axes.
 
-    ``kind="gantt"``: main-shaft angle [deg] from 0 to ``result.cycle_deg`` across,
+    With ``kind="gantt"``: main-shaft angle [deg] from 0 to ``result.cycle_deg`` across,
     one row per mechanism (in order of first appearance; operations without one in
     a row ``"(other)"``), each operation a bar from p(src) to p(src) + angle,
     wrapped modulo the cycle (a bar past the end continues from 0°, as does an
     operation that ends in the next cycle). Operations of one mechanism that
     overlap share its row in separate lanes. Critical operations have a red edge.
-    For a :class:`Schedule` a whisker from a bar's end shows its total slack [deg];
-    for an :class:`Optimum` the part of a bar beyond the operation's minimum angle
-    is hatched and the limiting operation is orange, labelled with its angle.
+    For a :class:`~cyclomech.cyclogram.Schedule` a whisker from a bar's end shows its
+    total slack [deg]; for an :class:`~cyclomech.cyclogram.Optimum` the part of a bar
+    beyond the operation's minimum angle is hatched and the limiting operation is
+    orange, labelled with its angle.
 
-    ``kind="circular"``: the same on a polar axes, 0° at the top, angles clockwise,
-    one ring per mechanism (from the centre out). ``ax`` must then be polar
-    (``plt.subplots(subplot_kw={"projection": "polar"})``).
+    With ``kind="circular"``: the same on a polar axes, 0° at the top, angles
+    clockwise, one ring per mechanism (from the centre out).
 
-    With ``ax=None`` a new figure is made. ``title`` defaults to the duration of the
-    group, or to the angle the limiting operation gets.
+    Parameters
+    ----------
+    result : Schedule or Optimum
+        The result of :meth:`~cyclomech.cyclogram.Cyclogram.schedule` or
+        :meth:`~cyclomech.cyclogram.Cyclogram.optimize` (angles in degrees).
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; None (default) makes a new figure. For
+        ``kind="circular"`` it must be polar
+        (``plt.subplots(subplot_kw={"projection": "polar"})``).
+    kind : {"gantt", "circular"}, default "gantt"
+        A Gantt chart over the cycle, or the circular diagram.
+    title : str, optional
+        The axes' title; default the duration of the group [deg], or the angle the
+        limiting operation gets [deg].
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on (polar for ``kind="circular"``).
+
+    Raises
+    ------
+    InputError
+        If ``result`` is neither a Schedule nor an Optimum, ``kind`` is unknown, or
+        ``ax`` is not polar for ``kind="circular"``.
+    ImportError
+        If matplotlib is not installed.
 
     Examples
     --------
@@ -327,9 +352,34 @@ def plot_cyclogram(
 def plot_cyclogram_pair(result: Schedule | Optimum, *, title: str | None = None) -> Figure:
     """A figure with the Gantt chart (wide, left) and the circular diagram (right).
 
-    See :func:`plot_cyclogram`; ``title`` (default: the duration or the limiting
-    operation's angle) goes above both, and one legend, right of the circle, serves
-    both. The Gantt axes is ``fig.axes[0]``, the polar one ``fig.axes[1]``.
+    Drawn as by :func:`plot_cyclogram`; one legend, right of the circle, serves
+    both.
+
+    Parameters
+    ----------
+    result : Schedule or Optimum
+        The result of :meth:`~cyclomech.cyclogram.Cyclogram.schedule` or
+        :meth:`~cyclomech.cyclogram.Cyclogram.optimize` (angles in degrees).
+    title : str, optional
+        The figure's title, above both; default the duration [deg] or the limiting
+        operation's angle [deg].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure: the Gantt axes is ``fig.axes[0]``, the polar one
+        ``fig.axes[1]``.
+
+    Raises
+    ------
+    InputError
+        If ``result`` is neither a Schedule nor an Optimum.
+    ImportError
+        If matplotlib is not installed.
+
+    See Also
+    --------
+    plot_cyclogram : One of the two diagrams, on axes of your own.
 
     Examples
     --------

@@ -18,13 +18,40 @@ __all__ = ["plot_forces"]
 
 
 def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> Any:
-    """The driving torque on the crank [N·m] (top) and each joint's load [N] (the
-    largest force it exerts on a part it joins; bottom) over the crank angle
-    [deg] at ``rpm`` [rpm], the most loaded joint's peak marked and its curve
-    drawn on top (the ends of a two-force link carry one force: their curves
-    coincide). Artists by gid:
-    ``"torque"``, ``"load[<joint>]"``, ``"peak"``.
+    """The driving torque on the crank [N·m] and each joint's load [N] over the crank angle.
 
+    Top: the torque; bottom: each joint's load (the largest force it exerts on a
+    part it joins), against the crank angle [deg], the most loaded joint's peak
+    marked and its curve drawn on top (the ends of a two-force link carry one
+    force: their curves coincide).
+
+    Parameters
+    ----------
+    k : Kinetostatics
+        The forces over the turn (:func:`cyclomech.forces.kinetostatics`).
+    rpm : float
+        The crank speed [rpm] at which the inertia forces are evaluated.
+    title : str, optional
+        The top axes' title; default names the speed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, its two axes (torque, joint loads) in ``fig.axes``.
+
+    Raises
+    ------
+    InputError
+        If ``k`` is not a Kinetostatics or ``rpm`` is not a finite number.
+    ImportError
+        If matplotlib is not installed.
+
+    Notes
+    -----
+    Artists by gid: ``"torque"``, ``"load[<joint>]"``, ``"peak"``.
+
+    Examples
+    --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
     >>> import numpy as np, cyclomech as cm
@@ -35,6 +62,8 @@ def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> An
     >>> fig = plot_forces(k, 45.0)
     >>> [ax.get_ylabel() for ax in fig.axes]
     ['torque  [N·m]', 'joint load  [N]']
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close(fig)
     """
     from ._result import Kinetostatics
 

@@ -21,7 +21,7 @@ The code lives in private modules beside this door: ``_linkage``
 (:class:`Linkage`: the model, its compilation and solve), ``_file`` (its file
 format), ``_drawing`` (the checks of the drawing's parts), ``_solution``
 (:class:`LinkageSolution`) and ``_geometries`` (:func:`solve_geometries`);
-:mod:`~cyclomech.linkage.presets` holds the seed's knife drives.
+``cyclomech.linkage.presets`` holds the seed's knife drives.
 """
 
 from __future__ import annotations

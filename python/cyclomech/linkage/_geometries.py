@@ -27,19 +27,46 @@ def solve_geometries(
     n_threads: int | None = None,
     out: LinkageSolution | Mapping[str, Any] | None = None,
 ) -> LinkageSolution:
-    """Solve K geometries of one linkage over one crank-angle grid in one call,
-    in parallel over the geometries.
+    """Solve K geometries of one linkage over one crank-angle grid in one call.
 
-    ``lengths`` (K, D) gives each geometry's distances [m] in the order of
-    ``linkage.dimensions`` (start from ``linkage.dimension_values``); topology,
-    ground points and assembly mode stay those of ``linkage``. Returns a
-    :class:`LinkageSolution` with ``xy`` of shape (K, N, M, 2) and flags (K, N),
-    for every point or ``points`` only. A geometry whose drawn pose cannot be
-    closed (class III groups start from it) is ``ok = False`` throughout.
+    In parallel over the geometries. Topology, ground points and assembly mode stay
+    those of ``linkage``. A geometry whose drawn pose cannot be closed (class III
+    groups start from it) is ``ok = False`` throughout.
 
-    ``out`` writes into existing arrays, as :meth:`Linkage.solve`'s: a previous
-    solution of this sweep's shape (K, N, M, 2), or a mapping of its arrays.
+    Parameters
+    ----------
+    linkage : Linkage
+        The linkage whose geometry varies.
+    angles : array_like of float, shape (N,)
+        The absolute crank angles [rad].
+    lengths : array_like of float, shape (K, D)
+        Each geometry's distances [m] in the order of ``linkage.dimensions`` (start
+        from ``linkage.dimension_values``); finite and positive.
+    points : sequence of str, optional
+        The points to solve for; default every point.
+    analogs : bool, default True
+        False skips the velocity and acceleration analogs.
+    n_threads : int, optional
+        Threads (default: ``CYCLOMECH_THREADS`` or all cores).
+    out : LinkageSolution or mapping of str to ndarray, optional
+        Writes into existing arrays, as :meth:`Linkage.solve`'s: a previous
+        solution of this sweep's shape (K, N, M, 2), or a mapping of its arrays.
 
+    Returns
+    -------
+    LinkageSolution
+        Positions [m] and analogs with ``xy`` of shape (K, N, M, 2) and flags
+        (K, N), for every point or ``points`` only.
+
+    Raises
+    ------
+    InputError
+        If ``linkage`` is not a :class:`Linkage`, ``lengths`` is not (K, D) or holds
+        a length that is not finite and positive, a point is unknown, or ``out`` is
+        of the wrong arrays.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
     ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))

@@ -23,10 +23,34 @@ __all__ = ["LinkageMechanism"]
 
 @dataclass(frozen=True)
 class LinkageMechanism(Unbounded):
-    """A planar linkage driven by the main shaft (one crank turn per machine
-    cycle); ``output`` is the point whose motion is reported, and
-    ``max_acceleration`` [m/s²] an optional limit on its acceleration.
+    """A planar linkage driven by the main shaft (one crank turn per machine cycle).
 
+    The ``linkage`` mechanism kind of a machine file, usually built by
+    :meth:`from_table`; each parameter is kept as the attribute of the same name.
+
+    Parameters
+    ----------
+    name : str
+        The mechanism's name in the machine file.
+    linkage : Linkage
+        The linkage.
+    output : str
+        The point whose motion is reported (and limited).
+    max_acceleration : float, optional
+        A limit on the output point's acceleration [m/s²]; None (default) for none.
+    points : int, default 361
+        Crank angles per turn (the machine's ``angle_points``): the grid of
+        :meth:`solve`, :meth:`peaks` and :meth:`speed_limit_rpm` unless given
+        another.
+    dynamics : dict of str to object, optional
+        The keywords of :func:`cyclomech.forces.kinetostatics` (masses, loads,
+        gravity) when the table gives any; None (default) without.
+    phase : Phase, optional
+        Where the crank sits in the cycle: its absolute angle [deg] at a cyclogram
+        event (default ``Phase()``: angle 0° at cycle angle 0).
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> knife = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
     >>> knife.kind, knife.output
@@ -58,10 +82,37 @@ class LinkageMechanism(Unbounded):
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> LinkageMechanism:
-        """Its ``[mechanism.<name>]`` table: the table of
-        :meth:`cyclomech.Linkage.from_dict` plus an optional ``max_acceleration``
-        [m/s²]; it must assemble over the whole turn.
+        """The mechanism of its ``[mechanism.<name>]`` table.
 
+        The table of :meth:`~cyclomech.linkage.Linkage.from_dict` plus an optional
+        ``max_acceleration`` [m/s²], the forces' keys (masses, loads, gravity) and
+        ``phase``; the linkage must assemble over the whole turn.
+
+        Parameters
+        ----------
+        name : str
+            The mechanism's name (``<name>``).
+        table : mapping of str to object
+            The table as read from the machine file.
+        ctx : TableContext
+            The machine's cyclogram, the file's name for messages and its crank
+            angles per turn.
+
+        Returns
+        -------
+        LinkageMechanism
+            The mechanism, checked.
+
+        Raises
+        ------
+        InputError
+            If a key is unknown or a value malformed, ``phase`` is given without
+            masses or loads, the forces name unknown links or points, or the
+            linkage does not assemble over the whole turn (naming the file, the
+            table and the key).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
         >>> ctx = TableContext(m.cyclogram, "<doc>", 73)
@@ -91,10 +142,27 @@ class LinkageMechanism(Unbounded):
         return mech
 
     def kinetostatics(self, samples: int = 3600) -> forces.Kinetostatics | None:
-        """The forces over one crank turn from the drawn angle, ``samples``
-        uniform angles (the last one short of a full turn), or None without masses
-        or loads; computed once per grid.
+        """The forces over one crank turn from the drawn angle; computed once per grid.
 
+        Parameters
+        ----------
+        samples : int, default 3600
+            The number of uniform crank angles (the last one short of a full turn).
+
+        Returns
+        -------
+        Kinetostatics or None
+            The forces over the turn (:class:`cyclomech.forces.Kinetostatics`), or
+            None without masses or loads.
+
+        Raises
+        ------
+        InputError
+            If a group is at or near a dead centre at some crank angle, where its
+            forces grow without bound.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> knife = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
         >>> k = knife.kinetostatics(360)
@@ -119,10 +187,21 @@ class LinkageMechanism(Unbounded):
         return self._forces[samples]
 
     def solve(self, points: int | None = None) -> LinkageSolution:
-        """The mechanism over one crank turn from its drawn angle, ``points``
-        angles (default :attr:`points`; the last one repeats the first); solved
-        once per grid.
+        """The mechanism over one crank turn from its drawn angle; solved once per grid.
 
+        Parameters
+        ----------
+        points : int, optional
+            The number of crank angles (default :attr:`points`; the last one
+            repeats the first).
+
+        Returns
+        -------
+        LinkageSolution
+            Every point's positions [m] and analogs over the turn.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
         >>> bool(m.mechanisms["knife"].solve(73).ok.all())
@@ -135,11 +214,30 @@ class LinkageMechanism(Unbounded):
         return self.linkage.solve(angles)
 
     def peaks(self, points: int | None = None) -> tuple[float, float]:
-        """Largest |d xy/dφ| [m/rad] and |d² xy/dφ²| [m/rad²] of the output point
-        over the turn (``points`` angles, default :attr:`points`; computed once per
-        grid): at constant crank speed ω its speed and acceleration peak at ω and
-        ω² times these.
+        """Largest |d xy/dφ| [m/rad] and |d² xy/dφ²| [m/rad²] of the output point over the turn.
 
+        At constant crank speed ω its speed and acceleration peak at ω and ω² times
+        these. Computed once per grid.
+
+        Parameters
+        ----------
+        points : int, optional
+            The number of crank angles (default :attr:`points`).
+
+        Returns
+        -------
+        velocity : float
+            The largest velocity analog |d xy/dφ| [m/rad].
+        acceleration : float
+            The largest acceleration analog |d² xy/dφ²| [m/rad²].
+
+        Raises
+        ------
+        InputError
+            If the linkage cannot be assembled at some crank angle (naming them).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> v, a = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].peaks()
         >>> v > 0 and a > 0
@@ -166,10 +264,27 @@ class LinkageMechanism(Unbounded):
         return peaks
 
     def speed_limit_rpm(self, points: int | None = None) -> float:
-        """Speed [rpm] at which the output point's peak acceleration over
-        ``points`` crank angles (default :attr:`points`) reaches
-        ``max_acceleration`` (inf without a limit): ω² · max|d² xy/dφ²|.
+        """Speed [rpm] at which the output point's peak acceleration reaches ``max_acceleration``.
 
+        The peak acceleration is ω² · max|d² xy/dφ²| over the turn.
+
+        Parameters
+        ----------
+        points : int, optional
+            The number of crank angles (default :attr:`points`).
+
+        Returns
+        -------
+        float
+            The speed limit [rpm]; inf without a ``max_acceleration``.
+
+        Raises
+        ------
+        InputError
+            If the linkage cannot be assembled at some crank angle.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
         >>> round(m.speed_limit_rpm()) > 0
@@ -183,6 +298,13 @@ class LinkageMechanism(Unbounded):
     def limit_reason(self) -> str:
         """What sets :meth:`speed_limit_rpm`: the criterion and its limit.
 
+        Returns
+        -------
+        str
+            The reason in words; empty without a ``max_acceleration``.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].limit_reason()
         "the peak acceleration of point 'E' reaches max_acceleration = 8 m/s²"
@@ -197,6 +319,20 @@ class LinkageMechanism(Unbounded):
     def analyze(self, ctx: Context) -> LinkageResult:
         """Its solution over the turn and its peaks at the nominal speed.
 
+        Parameters
+        ----------
+        ctx : Context
+            What the machine computed before its mechanisms' results (the nominal
+            speed [rpm], the optimum, the speed limit).
+
+        Returns
+        -------
+        LinkageResult
+            The solution over the turn, the output point's largest analogs [m/rad,
+            m/rad²] and, with masses or loads, the forces.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
         >>> r = cm.machine.analyze(m, progress=False).mechanisms["knife"]

@@ -44,21 +44,38 @@ class Linkage:
 
     Parameters
     ----------
-    points : name → (x, y) [m] of an assembled pose. The pose fixes every link's
-        dimensions (unless ``lengths`` overrides a distance) and the assembly mode.
-    links : rigid bodies, each by its joints; a body with 3+ joints is rigid
-        (a ternary link with a coupler point, …).
-    ground : the fixed joints.
-    driver : ``(pivot, tip)``, the crank; its absolute angle is the input.
-    lengths : optional ``{(a, b): length}`` [m] for pairs of joints on one link.
-    sliders : optional prismatic joints, ``{point: guide}``, or
-        ``{point: [guide, guide]}`` for a point on two guides (the PRP dyad). A guide is
-        ``("ground", (dx, dy))``, a straight line of the frame through the point's
-        drawn position along (dx, dy), or ``("link", (b, c))``, the line through
-        joints b and c of a moving link (the point slides along that link).
-    name : optional name of the mechanism (reports, files).
-    output : optional working point (the knife, the slider) that reports and the
-        CLI show first.
+    points : mapping of str to (float, float)
+        Each point's name and (x, y) [m] in an assembled pose. The pose fixes every
+        link's dimensions (unless ``lengths`` overrides a distance) and the
+        assembly mode.
+    links : iterable of sequence of str
+        The rigid bodies, each by its joints; a body with 3+ joints is rigid (a
+        ternary link with a coupler point, …).
+    ground : iterable of str
+        The fixed joints.
+    driver : (str, str)
+        ``(pivot, tip)``, the crank; its absolute angle is the input.
+    lengths : mapping of (str, str) to float, optional
+        ``{(a, b): length}`` [m] for pairs of joints on one link, overriding the
+        drawn distance.
+    sliders : mapping of str to guide or [guide, guide], optional
+        Prismatic joints, ``{point: guide}``, or ``{point: [guide, guide]}`` for a
+        point on two guides (the PRP dyad). A guide is ``("ground", (dx, dy))``, a
+        straight line of the frame through the point's drawn position along
+        (dx, dy), or ``("link", (b, c))``, the line through joints b and c of a
+        moving link (the point slides along that link).
+    name : str, optional
+        The mechanism's name (reports, files); kept as ``name``.
+    output : str, optional
+        The working point (the knife, the slider) that reports and the CLI show
+        first; kept as ``output``.
+
+    Raises
+    ------
+    InputError
+        If a part is malformed (a point on no link, an unknown joint, a guide not
+        through its point), the mobility is not one, or the drawn pose does not
+        close with the lengths given.
 
     Examples
     --------
@@ -135,7 +152,14 @@ class Linkage:
     # ---------------------------------------------------------------- queries
     @property
     def names(self) -> tuple[str, ...]:
-        """Point names, in the order of the solution's columns."""
+        """Point names, in the order of the solution's columns.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B")).names
+        ('A', 'B')
+        """
         return self._names
 
     @property
@@ -146,14 +170,24 @@ class Linkage:
         joint p (RRR, RRP, PRP or RPR), ``("point", (p,))`` for a further joint of
         a rigid body already placed (a coupler point), ``("III", (j0, j1, j2))`` for
         a class III group.
+
+        Examples
+        --------
+        >>> from cyclomech.linkage import presets
+        >>> presets.burg_trimmer().structure     # a knife drive with a class III group
+        [('driver', ('F',)), ('III', ('B', 'C', 'E'))]
         """
         return list(self._structure)
 
     @property
     def dimensions(self) -> tuple[tuple[str, str], ...]:
-        """The joint pairs whose distances the solver uses, in the order of the
-        columns of :func:`solve_geometries`'s ``lengths`` (see :attr:`dimension_values`).
+        """The joint pairs whose distances the solver uses.
 
+        In the order of the columns of :func:`solve_geometries`'s ``lengths`` (see
+        :attr:`dimension_values`).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
         ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
@@ -164,12 +198,36 @@ class Linkage:
 
     @property
     def dimension_values(self) -> npt.NDArray[np.float64]:
-        """The lengths [m] of :attr:`dimensions` in this linkage, shape (D,)."""
+        """The lengths [m] of :attr:`dimensions` in this linkage, shape (D,).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
+        ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
+        >>> lk.dimension_values.round(6)
+        array([1.      , 3.535534, 2.54951 ])
+        """
         return np.array([self.length(a, b) for a, b in self._dims])
 
     def length(self, a: str, b: str) -> float:
         """Distance [m] between joints a and b of one link (drawn, or overridden).
 
+        Parameters
+        ----------
+        a : str
+            One joint's name.
+        b : str
+            The other joint's name.
+
+        Returns
+        -------
+        float
+            The length given in ``lengths`` for the pair, else the drawn distance
+            [m].
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> pts = {"A": (0, 0), "B": (3, 4)}
         >>> cm.Linkage(pts, [("A", "B")], ["A"], ("A", "B")).length("A", "B")
@@ -193,24 +251,47 @@ class Linkage:
     ) -> LinkageSolution:
         """Solve at absolute crank angles [rad] (any shape-(N,) grid), in parallel.
 
-        Returns a :class:`LinkageSolution` of every point, or of ``points`` only;
-        ``analogs=False`` skips the velocity and acceleration analogs (positions
-        only, about half the work and a third of the memory). Only what is asked
-        is computed: the analogs of the points asked for and of those they are
-        solved from; every group's positions are always solved, because the flags
-        ``ok`` and ``singular`` are the whole mechanism's at each angle (a subset's
-        flags equal the full solve's). Angles where the linkage cannot be
-        assembled are ``ok = False`` with NaN coordinates, not an error.
+        Only what is asked is computed: the analogs of the points asked for and of
+        those they are solved from; every group's positions are always solved,
+        because the flags ``ok`` and ``singular`` are the whole mechanism's at each
+        angle (a subset's flags equal the full solve's). Angles where the linkage
+        cannot be assembled are ``ok = False`` with NaN coordinates, not an error.
 
-        ``out`` writes the result into existing arrays instead of new ones (a
-        repeated solve then skips the first-touch cost of fresh memory): a previous
-        :class:`LinkageSolution` of the same shape (its arrays are overwritten and
-        the returned solution holds them), or a mapping of ``xy``, ``vel``, ``acc``,
-        ``ok``, ``singular``, ``branch_change`` to arrays (``xy`` always; ``vel`` and
-        ``acc`` exactly when ``analogs``; flags left out are allocated). Positions
-        and analogs are C-contiguous float64 (N, M, 2), flags bool (N,); the
-        results are bit for bit those of a fresh solve.
+        Parameters
+        ----------
+        angles : array_like of float, shape (N,)
+            The absolute crank angles [rad].
+        n_threads : int, optional
+            Threads (default: ``CYCLOMECH_THREADS`` or all cores).
+        points : sequence of str, optional
+            The points to solve for; default every point.
+        analogs : bool, default True
+            False skips the velocity and acceleration analogs (positions only, about
+            half the work and a third of the memory).
+        out : LinkageSolution or mapping of str to ndarray, optional
+            Writes the result into existing arrays instead of new ones (a repeated
+            solve then skips the first-touch cost of fresh memory): a previous
+            :class:`LinkageSolution` of the same shape (its arrays are overwritten
+            and the returned solution holds them), or a mapping of ``xy``, ``vel``,
+            ``acc``, ``ok``, ``singular``, ``branch_change`` to arrays (``xy``
+            always; ``vel`` and ``acc`` exactly when ``analogs``; flags left out are
+            allocated). Positions and analogs are C-contiguous float64 (N, M, 2),
+            flags bool (N,); the results are bit for bit those of a fresh solve.
 
+        Returns
+        -------
+        LinkageSolution
+            Positions [m] and analogs [m/rad, m/rad²] of every point, or of
+            ``points`` only, with the flags at each angle.
+
+        Raises
+        ------
+        InputError
+            For non-finite angles, an unknown point, or an ``out`` of the wrong
+            arrays, shapes or dtypes (the array named).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (2, 0), "C": (3, 1.5), "D": (3, 0)},
         ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
@@ -265,6 +346,14 @@ class Linkage:
     def to_dict(self) -> dict[str, Any]:
         """The linkage as the plain table :meth:`from_dict` reads (TOML layout).
 
+        Returns
+        -------
+        dict of str to object
+            ``points``, ``links``, ``ground``, ``driver`` and, where set, ``name``,
+            ``output``, ``lengths`` and ``sliders`` (lengths in metres).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> cm.Linkage.from_dict(lk.to_dict()).structure
@@ -276,12 +365,33 @@ class Linkage:
     def from_dict(
         cls, table: Mapping[str, Any], source: str = "<dict>", where: str = "[linkage]"
     ) -> Linkage:
-        """A linkage from its table: ``points`` (name → [x, y] [m]), ``links``,
-        ``ground``, ``driver``, and optional ``name``, ``output``, ``lengths``
-        (``[{joints = [a, b], length = …}]``) and ``sliders`` (point → ``{ground =
-        [dx, dy]}`` or ``{link = [b, c]}``, or a list of two for the PRP dyad).
-        Errors name ``source``, the table and the key.
+        """A linkage from its table (the TOML layout of a ``[linkage]`` table).
 
+        Parameters
+        ----------
+        table : mapping of str to object
+            ``points`` (name → [x, y] [m]), ``links``, ``ground``, ``driver``, and
+            optional ``name``, ``output``, ``lengths`` (``[{joints = [a, b], length
+            = …}]``, [m]) and ``sliders`` (point → ``{ground = [dx, dy]}`` or
+            ``{link = [b, c]}``, or a list of two for the PRP dyad).
+        source : str, default "<dict>"
+            Where the table came from, for error messages.
+        where : str, default "[linkage]"
+            The table's name, for error messages.
+
+        Returns
+        -------
+        Linkage
+            The linkage the table describes.
+
+        Raises
+        ------
+        InputError
+            If a key is unknown or a value malformed; errors name ``source``, the
+            table and the key.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lk = cm.Linkage.from_dict({
         ...     "points": {"A": [0, 0], "B": [0.1, 0], "C": [0.45, 0]},
@@ -294,9 +404,28 @@ class Linkage:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Linkage:
-        """Read a linkage from the ``[linkage]`` table of a TOML file (layout of
-        :meth:`from_dict`; see ``examples/crank_rocker.toml``).
+        """Read a linkage from the ``[linkage]`` table of a TOML file.
 
+        The layout is :meth:`from_dict`'s; see ``examples/crank_rocker.toml``.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The TOML file.
+
+        Returns
+        -------
+        Linkage
+            The linkage the file describes.
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read or parsed, or an entry is malformed (naming
+            the file, the table and the key).
+
+        Examples
+        --------
         >>> import pathlib, tempfile, cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> path = pathlib.Path(tempfile.mkdtemp()) / "crank.toml"
@@ -307,9 +436,22 @@ class Linkage:
         return read_toml(cls, path)
 
     def to_toml(self, path: str | Path | None = None) -> str:
-        """The linkage as TOML text (a ``[linkage]`` table), written to ``path`` if
-        given; :meth:`from_toml` reads it back to an equal linkage.
+        """The linkage as TOML text (a ``[linkage]`` table), written to ``path`` if given.
 
+        :meth:`from_toml` reads it back to an equal linkage.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            A file to write the text to; None (default) to write nothing.
+
+        Returns
+        -------
+        str
+            The TOML text.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> print(lk.to_toml())
@@ -385,9 +527,18 @@ class Linkage:
         )
 
     def mismatched_lengths(self) -> list[str]:
-        """The lengths given (``lengths=``) that differ from the drawing's by more
-        than 1e-9 of the linkage's size, as ``"BC drawn 0.360555 m, given 0.15 m"``.
+        """The lengths given (``lengths=``) that differ from the drawing's.
 
+        A length differs when it is off by more than 1e-9 of the linkage's size.
+
+        Returns
+        -------
+        list of str
+            One line per such pair, as ``"BC drawn 0.360555 m, given 0.15 m"``;
+            empty when every given length matches the drawing.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> pts = {"A": (0, 0), "B": (0, 0.1), "C": (0.3, 0.3), "D": (0.4, 0)}
         >>> lk = cm.Linkage(pts, [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"),

@@ -31,16 +31,12 @@ _OUT_FIELDS = {
 class LinkageSolution:
     """Positions and analogs of the solved points over a crank-angle grid.
 
-    ``xy``, ``vel`` = d xy/dφ and ``acc`` = d² xy/dφ² have shape (N, M, 2), the
-    points in the order of ``names``; for a :func:`solve_geometries` over K geometries they
-    have shape (K, N, M, 2) and the flags (K, N). Lengths in metres, φ the absolute
-    crank angle [rad]. ``vel`` and ``acc`` are None when solved with
-    ``analogs=False``.
-
-    Flags, one per angle: ``ok`` is False where the mechanism cannot be assembled
-    (its points NaN there); ``singular`` is True at a dead centre of a group, where
-    the analogs are infinite (NaN); ``branch_change`` is True where the pose of a
-    class III group is not continuous with the one solved before it.
+    Built by :meth:`Linkage.solve` and :func:`solve_geometries`; each parameter is
+    kept as the attribute of the same name. Lengths in metres, φ the absolute crank
+    angle [rad]. For a :func:`solve_geometries` over K geometries the arrays get a
+    leading axis K: positions and analogs (K, N, M, 2), the flags (K, N).
+    ``solution[name]`` gives one point's positions, shape (N, 2) (or (K, N, 2))
+    [m].
 
     Class III groups are walked from the drawn pose outwards, the short way: an
     angle is first moved by whole turns into half a turn of the drawn angle (θ and
@@ -52,6 +48,30 @@ class LinkageSolution:
     the drawn pose) nearest the last pose; the first angle re-acquired is flagged
     ``branch_change``, angles where nothing assembles are ``ok = False``.
 
+    Parameters
+    ----------
+    angles : ndarray of float, shape (N,)
+        The absolute crank angles φ [rad].
+    names : tuple of str
+        The solved points, in the order of the arrays' point axis (M).
+    xy : ndarray of float, shape (N, M, 2)
+        The positions [m].
+    vel : ndarray of float, shape (N, M, 2), or None
+        The velocity analogs d xy/dφ [m/rad]; None when solved with
+        ``analogs=False``.
+    acc : ndarray of float, shape (N, M, 2), or None
+        The acceleration analogs d² xy/dφ² [m/rad²]; None when solved with
+        ``analogs=False``.
+    ok : ndarray of bool, shape (N,)
+        False where the mechanism cannot be assembled (its points NaN there).
+    singular : ndarray of bool, shape (N,)
+        True at a dead centre of a group, where the analogs are infinite (NaN).
+    branch_change : ndarray of bool, shape (N,)
+        True where the pose of a class III group is not continuous with the one
+        solved before it.
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> from cyclomech.linkage import presets
     >>> lk = presets.burg_trimmer()
@@ -72,6 +92,23 @@ class LinkageSolution:
     def index(self, name: str) -> int:
         """Column of point ``name`` in ``xy``.
 
+        Parameters
+        ----------
+        name : str
+            A solved point's name.
+
+        Returns
+        -------
+        int
+            Its index on the point axis of ``xy``, ``vel`` and ``acc``.
+
+        Raises
+        ------
+        InputError
+            If the solution has no such point.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> lk.solve([0.0]).index("B")
@@ -101,6 +138,29 @@ class LinkageSolution:
         θ = atan2(d), θ' = d × d' / |d|², θ'' = d × d'' / |d|² − 2 (d·d')(d × d') / |d|⁴,
         with d = b − a; vectorised over the grid.
 
+        Parameters
+        ----------
+        a : str
+            The point the line starts at.
+        b : str
+            The point it points to.
+
+        Returns
+        -------
+        theta : ndarray of float, shape (N,) or (K, N)
+            The angle θ of a→b [rad], in [−π, π] (``numpy.arctan2``).
+        dtheta : ndarray of float, shape (N,) or (K, N)
+            Its first analog θ' = dθ/dφ [rad/rad].
+        ddtheta : ndarray of float, shape (N,) or (K, N)
+            Its second analog θ'' = d²θ/dφ² [rad/rad²].
+
+        Raises
+        ------
+        InputError
+            If a point is not in the solution, or it was solved without analogs.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> theta, dtheta, ddtheta = lk.solve([0.0, 0.5]).link_angle("A", "B")
@@ -120,12 +180,30 @@ class LinkageSolution:
         return theta, cross_v / n2, cross_a / n2 - 2.0 * dot_v * cross_v / n2**2
 
     def stroke(self, point: str) -> float:
-        """Stroke of point ``point`` [m]: the largest distance between two of its
-        positions over the angles where the linkage is assembled (the diameter of
-        its path), over the vertices of the path's convex hull; a straight path's
-        extent along its line. NaN where it is assembled at no angle. One
-        geometry's solution (not a :func:`solve_geometries` one).
+        """Stroke of point ``point`` [m]: the diameter of its path.
 
+        The largest distance between two of its positions over the angles where the
+        linkage is assembled, over the vertices of the path's convex hull; a
+        straight path's extent along its line.
+
+        Parameters
+        ----------
+        point : str
+            A solved point's name.
+
+        Returns
+        -------
+        float
+            The stroke [m]; NaN where the linkage is assembled at no angle.
+
+        Raises
+        ------
+        InputError
+            If the point is not in the solution, or the solution is a
+            :func:`solve_geometries` one (one geometry's solution only).
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> lk = cm.Linkage({"A": (0, 0), "B": (0.1, 0)}, [("A", "B")], ["A"], ("A", "B"))
         >>> round(lk.solve(np.radians(np.arange(0.0, 360.0, 1.0))).stroke("B"), 12)

@@ -29,7 +29,23 @@ __all__ = ["add_commands", "linkage_command"]
 
 
 def add_commands(commands: Any) -> None:
-    """Add the ``linkage`` command to the sub-parsers ``commands`` of ``cyclomech``."""
+    """Add the ``linkage`` command to the sub-parsers ``commands`` of ``cyclomech``.
+
+    Parameters
+    ----------
+    commands : argparse._SubParsersAction
+        The sub-parsers of the ``cyclomech`` parser (``add_subparsers()``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from cyclomech.linkage import cli
+    >>> commands = argparse.ArgumentParser(prog="cyclomech").add_subparsers()
+    >>> cli.add_commands(commands)
+    >>> args = commands.choices["linkage"].parse_args(["crank.toml", "--no-plot"])
+    >>> args.step_deg, args.no_plot, args.run is cli.linkage_command
+    (1.0, True, True)
+    """
     q = commands.add_parser("linkage", help="solve a linkage file (TOML) over a crank turn")
     q.add_argument("file", help="linkage file, e.g. examples/burg_trimmer.toml")
     q.add_argument("--out", help="output folder (default: out/<file name>)")
@@ -116,7 +132,43 @@ def _summary(lk: Linkage, sol: LinkageSolution, point: str, step: float) -> dict
 
 
 def linkage_command(args: argparse.Namespace) -> int:
-    """Run ``cyclomech linkage`` with the parsed ``args``; return the exit status."""
+    """Run ``cyclomech linkage`` with the parsed ``args``; return the exit status.
+
+    Prints a summary and writes ``analogs.csv``, ``linkage.json`` and (unless
+    ``--no-plot``) the figures to the output folder.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of the ``linkage`` command (``file``, ``out``,
+        ``step_deg`` [deg], ``no_plot``, ``require_full_turn``).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 3 when the linkage can be assembled at no angle, or
+        cannot make a full turn under ``--require-full-turn``.
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read or describes no valid linkage, or the step is
+        not a valid angle.
+
+    Examples
+    --------
+    >>> import argparse, contextlib, io, pathlib, tempfile
+    >>> from cyclomech.linkage import cli
+    >>> parser = argparse.ArgumentParser(prog="cyclomech")
+    >>> cli.add_commands(parser.add_subparsers())
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> args = parser.parse_args(
+    ...     ["linkage", "examples/crank_rocker.toml", "--out", str(out), "--no-plot"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as printed:
+    ...     status = cli.linkage_command(args)
+    >>> status, printed.getvalue().splitlines()[0], sorted(p.name for p in out.iterdir())
+    (0, 'crank-rocker: 4 points, structure driver – II(C)', ['analogs.csv', 'linkage.json'])
+    """
     import numpy as np
 
     lk = Linkage.from_toml(args.file)

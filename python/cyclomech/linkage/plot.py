@@ -398,22 +398,50 @@ def plot_linkage(
 ) -> Axes:
     """Draw the mechanism at crank-angle row ``index`` of ``solution``; return the axes.
 
-    The pose is ``solution.xy[index]`` [m] (``index`` negative counts from the end);
-    ``solution`` must be a :meth:`Linkage.solve` of every point of ``linkage`` (not
-    a :func:`~cyclomech.linkage.solve_geometries`, not ``points=`` a subset), assembled at
-    that row. Drawn at equal scale in metres: the links as lines between their
-    joints (a link with three or more joints as a light plate with its outline; a
-    link of ground joints only, the frame, is not drawn), the driving crank in
-    red, the joints as small circles (a point of a body that is no joint, a filled
-    dot), each ground joint on the ground symbol (a support on a hatched base), a
-    block at each sliding point along its guide and a ground guide as a dashed
-    line over the point's travel, every point labelled. ``trace`` lists points
-    whose paths over the whole solution are drawn as thin lines (broken where the
-    mechanism cannot be assembled). ``title`` defaults to the linkage's name and
-    the crank angle [deg].
+    The pose is ``solution.xy[index]`` [m]. Drawn at equal scale in metres: the
+    links as lines between their joints (a link with three or more joints as a
+    light plate with its outline; a link of ground joints only, the frame, is not
+    drawn), the driving crank in red, the joints as small circles (a point of a
+    body that is no joint, a filled dot), each ground joint on the ground symbol (a
+    support on a hatched base), a block at each sliding point along its guide and a
+    ground guide as a dashed line over the point's travel, every point labelled.
 
+    Parameters
+    ----------
+    linkage : Linkage
+        The linkage.
+    solution : LinkageSolution
+        A :meth:`~cyclomech.linkage.Linkage.solve` of every point of ``linkage`` (not a
+        :func:`~cyclomech.linkage.solve_geometries`, not ``points=`` a subset),
+        assembled at row ``index``.
+    index : int, default 0
+        The crank-angle row to draw (negative counts from the end).
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; None (default) makes a new figure.
+    trace : list of str, optional
+        Points whose paths over the whole solution are drawn as thin lines (broken
+        where the mechanism cannot be assembled).
+    title : str, optional
+        The axes' title; default the linkage's name and the crank angle [deg].
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on (x and y in metres).
+
+    Raises
+    ------
+    InputError
+        If the solution is not one of every point of ``linkage``, ``index`` is out
+        of range or the mechanism is not assembled there, a traced point is
+        unknown, or ``ax`` is not an Axes.
+    ImportError
+        If matplotlib is not installed.
+
+    Notes
+    -----
     Artists (for tests and restyling), by label and gid: ``"links"``, a
-    :class:`~matplotlib.collections.LineCollection` with one path per link in the
+    ``LineCollection`` with one path per link in the
     order of the linkage's links (the two joints of a binary link; the closed
     outline of a larger one), ``"plates"`` the fills of the larger links,
     ``"driver"`` the crank (a ``Line2D`` pivot → tip), ``"joints"`` the points in
@@ -455,19 +483,40 @@ def plot_linkage(
 
 
 def plot_analogs(solution: LinkageSolution, point: str, *, title: str | None = None) -> Figure:
-    """Position, velocity analog and acceleration analog of one point over the crank
-    angle: three stacked plots sharing the crank-angle axis [deg] (seed 001, fig. 4).
+    """Position, velocity analog and acceleration analog of one point over the crank angle.
 
+    Three stacked plots sharing the crank-angle axis [deg] (seed 001, fig. 4).
     Top: x and y of ``point`` [m]; middle: dx/dφ and dy/dφ [m/rad]; bottom:
     d²x/dφ² and d²y/dφ² [m/rad²] (φ the crank angle in radians; multiply by ω and
     ω² [rad/s, rad/s²] for the velocity and acceleration at a constant crank
     speed ω). The curves run in order of the angle. Angles where the mechanism
     cannot be assembled (``solution.ok`` False) are shaded grey, dead centres
     (``solution.singular``) marked by dotted lines, branch changes of a class III
-    group (``solution.branch_change``) by dash-dotted ones. ``solution`` must be a
-    :meth:`Linkage.solve` with analogs (not a sweep); ``title`` defaults to the
-    point's name.
+    group (``solution.branch_change``) by dash-dotted ones.
 
+    Parameters
+    ----------
+    solution : LinkageSolution
+        A :meth:`~cyclomech.linkage.Linkage.solve` with analogs (not a sweep).
+    point : str
+        The point to plot.
+    title : str, optional
+        The figure's title; default names the point.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, its three axes top to bottom in ``fig.axes``.
+
+    Raises
+    ------
+    InputError
+        If the solution is a sweep's or has no analogs, or has no such point.
+    ImportError
+        If matplotlib is not installed.
+
+    Notes
+    -----
     Artists, by gid: the curves ``"x"``, ``"y"``, ``"dx/dφ"``, ``"dy/dφ"``,
     ``"d²x/dφ²"``, ``"d²y/dφ²"`` (x data the angles [deg]), the shading
     ``"not assembled"``, the marks ``"singular"`` and ``"branch change"``.
@@ -573,11 +622,40 @@ def animate_linkage(
     """Write an animated GIF of the mechanism over the solution; return its path.
 
     One frame (as :func:`plot_linkage`, at fixed limits) for every ``every``-th row
-    of ``solution`` where the mechanism is assembled, shown for 1/``fps`` s each
-    (GIF stores whole hundredths of a second); ``trace`` as in :func:`plot_linkage`.
-    ``path`` must end in ``.gif``; the frames are ``dpi`` dots per inch. Uses
-    matplotlib's :class:`~matplotlib.animation.PillowWriter` (Pillow comes with
-    matplotlib).
+    of ``solution`` where the mechanism is assembled. Uses matplotlib's
+    ``PillowWriter`` (Pillow comes with matplotlib).
+
+    Parameters
+    ----------
+    linkage : Linkage
+        The linkage.
+    solution : LinkageSolution
+        A :meth:`~cyclomech.linkage.Linkage.solve` of every point of ``linkage``.
+    path : str or os.PathLike
+        The file to write; it must end in ``.gif``.
+    fps : float, default 30
+        Frames per second [1/s]: each frame is shown for 1/``fps`` s (GIF stores
+        whole hundredths of a second).
+    trace : list of str, optional
+        Points whose paths are drawn, as in :func:`plot_linkage`.
+    every : int, default 1
+        Take every n-th row of the solution.
+    dpi : float, default 100
+        The frames' resolution [dots per inch].
+
+    Returns
+    -------
+    pathlib.Path
+        The GIF written.
+
+    Raises
+    ------
+    InputError
+        If ``path`` does not end in ``.gif``, ``every``, ``fps`` or ``dpi`` is not
+        positive, a traced point is unknown, or the mechanism is assembled at none
+        of the rows taken.
+    ImportError
+        If matplotlib is not installed.
 
     Examples
     --------

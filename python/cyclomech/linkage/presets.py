@@ -63,9 +63,19 @@ def _knife(
 
 
 def burg_trimmer() -> Linkage:
-    """The Burg trimmer's knife drive from the seed's data (seed 001), crank angle
-    absolute about O; drawn at φ6 = 0 on the near-parallelogram assembly of the
-    hangers (the one whose hanger angle φ1 runs through 123°–154°).
+    """The Burg trimmer's knife drive from the seed's data (seed 001).
+
+    The crank angle is absolute about O; drawn at φ6 = 0 on the near-parallelogram
+    assembly of the hangers (the one whose hanger angle φ1 runs through
+    123°–154°).
+
+    Returns
+    -------
+    Linkage
+        The linkage (lengths in metres), named ``"Burg trimmer"``, output ``E``.
+
+    Examples
+    --------
 
     >>> import numpy as np
     >>> from cyclomech.linkage import presets
@@ -101,8 +111,17 @@ def burg_trimmer() -> Linkage:
 
 
 def br125() -> Linkage:
-    """BR-125 knife drive, structure 1–3 (crank + class III group); illustrative
-    dimensions (the Burg design scaled to a 1.25 m knife).
+    """BR-125 knife drive, structure 1–3 (crank + class III group).
+
+    Illustrative dimensions (the Burg design scaled to a 1.25 m knife).
+
+    Returns
+    -------
+    Linkage
+        The linkage (lengths in metres), named ``"BR-125"``, output ``E``.
+
+    Examples
+    --------
 
     >>> from cyclomech.linkage import presets
     >>> presets.br125().structure[-1]
@@ -133,8 +152,18 @@ def br125() -> Linkage:
 
 
 def br136() -> Linkage:
-    """BR-136 knife drive, structure 1–2–3: crank OJ, a dyad (rod JF, rocker GF)
-    driving the class III group; illustrative dimensions.
+    """BR-136 knife drive, structure 1–2–3.
+
+    Crank OJ, a dyad (rod JF, rocker GF) driving the class III group; illustrative
+    dimensions.
+
+    Returns
+    -------
+    Linkage
+        The linkage (lengths in metres), named ``"BR-136"``, output ``E``.
+
+    Examples
+    --------
 
     >>> from cyclomech.linkage import presets
     >>> [kind for kind, _ in presets.br136().structure]
@@ -168,9 +197,18 @@ def br136() -> Linkage:
 
 
 def brp4() -> Linkage:
-    """BRP-4 knife drive, the seed's generalized scheme with every parameter
-    non-zero: crank OJ, ternary coupler J–K–M with rocker PK, rod MF and rocker GF,
-    then the class III group (1–2–2–3); illustrative dimensions.
+    """BRP-4 knife drive, the seed's generalized scheme with every parameter non-zero.
+
+    Crank OJ, ternary coupler J–K–M with rocker PK, rod MF and rocker GF, then the
+    class III group (1–2–2–3); illustrative dimensions.
+
+    Returns
+    -------
+    Linkage
+        The linkage (lengths in metres), named ``"BRP-4"``, output ``E``.
+
+    Examples
+    --------
 
     >>> from cyclomech.linkage import presets
     >>> [kind for kind, _ in presets.brp4().structure]
@@ -206,6 +244,7 @@ def brp4() -> Linkage:
     )
 
 
+#: Each preset's name and the function that builds its :class:`~cyclomech.Linkage`.
 NAMES: dict[str, Callable[[], Linkage]] = {
     "burg_trimmer": burg_trimmer,
     "br125": br125,
@@ -216,6 +255,25 @@ NAMES: dict[str, Callable[[], Linkage]] = {
 
 def get(name: str) -> Linkage:
     """A preset by name (one of :data:`NAMES`).
+
+    Parameters
+    ----------
+    name : str
+        The preset's name: ``"burg_trimmer"``, ``"br125"``, ``"br136"`` or
+        ``"brp4"``.
+
+    Returns
+    -------
+    Linkage
+        A new linkage of that preset.
+
+    Raises
+    ------
+    InputError
+        If there is no preset of that name.
+
+    Examples
+    --------
 
     >>> from cyclomech.linkage import presets
     >>> presets.get("burg_trimmer").name

@@ -65,12 +65,36 @@ def plot_law(
     II (α1 … α2) spanned above the top plot, and Π'max and the two periods'
     acceleration peaks marked.
 
-    With ``ax=None`` a figure with three stacked plots sharing the angle axis is
-    made (position, speed, acceleration, top to bottom); ``ax`` may also be three
-    axes to draw them on, or one Axes, which then holds all three curves and a
-    legend. ``n`` is the number of points per curve (the law's breaks and α1 are
-    added). ``title`` defaults to the law's name.
+    Parameters
+    ----------
+    law : MotionLaw or TwoPeriodLaw
+        The law to draw (:func:`cyclomech.motion.law`,
+        :func:`cyclomech.motion.two_period`).
+    ax : matplotlib.axes.Axes or sequence of three Axes, optional
+        None (default) makes a figure with three stacked plots sharing the angle
+        axis (position, speed, acceleration, top to bottom); three axes to draw
+        them on; or one Axes, which then holds all three curves and a legend.
+    n : int, default 401
+        The number of points per curve, at least 3 (the law's breaks and α1 are
+        added).
+    title : str, optional
+        The title; default the law's name.
 
+    Returns
+    -------
+    tuple of matplotlib.axes.Axes
+        The axes drawn on: three (position, speed, acceleration), or the one given.
+
+    Raises
+    ------
+    InputError
+        If ``law`` is neither a MotionLaw nor a TwoPeriodLaw, ``n`` is below 3, or
+        ``ax`` is neither one Axes nor three.
+    ImportError
+        If matplotlib is not installed.
+
+    Notes
+    -----
     Artists, by gid: the curves ``"Z"``, ``"Z'"``, ``"Z''"`` (``"Π"``, ``"Π'"``,
     ``"Π''"`` for a two-period law; x data j, or α in degrees), the peak dots
     ``"Z'max"``, ``"Z''max"`` (``"Π'max"``, ``"Π''1max"``, ``"Π''2max"``) with
