@@ -18,8 +18,8 @@ the lever to the stop. This module holds the physics layer:
 
 The code lives in private modules beside this door, one per subject: ``_lever``
 (stiffness, frequency, contact time, impact force), ``_pulse``, ``_response``
-(the Duhamel kernels and first rebounds), ``_contact``, ``_stop`` (StopImpact and
-the batch functions over many stops) and ``_study`` (the file format).
+(the Duhamel kernels and first rebounds), ``_contact``, ``_stop`` (StopImpact),
+``_stops`` (the batch functions over many stops) and ``_study`` (the file format).
 
 SI units: m, kg, N, s, rad; speeds in rpm and phase angles in degrees where the
 names say so.
@@ -38,7 +38,8 @@ from ._lever import (
 )
 from ._pulse import Pulse
 from ._response import Rebound, duhamel, duhamel_batch, first_rebound
-from ._stop import StopImpact, max_impact_speeds, min_phase_angles, rebounds
+from ._stop import StopImpact
+from ._stops import max_impact_speeds, min_phase_angles, rebounds
 from ._study import ImpactStudy
 
 __all__ = [
