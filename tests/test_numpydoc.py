@@ -20,6 +20,7 @@ import importlib
 import inspect
 import pkgutil
 import re
+import types
 from pathlib import Path
 
 import pytest
@@ -33,6 +34,8 @@ CONVERTED = [
     "cyclomech.press",
     "cyclomech.transfer",
     "cyclomech.cam",
+    "cyclomech.linkage",
+    "cyclomech.plot",
 ]
 
 # PR01 parameter not documented, PR02 unknown parameter, RT01 no Returns section,
@@ -50,7 +53,10 @@ def _public(domain: str) -> tuple[list[str], list[str]]:
         if inspect.ismodule(obj):
             continue
         qual = f"{domain}.{name}"
-        if not (inspect.isclass(obj) or callable(obj)):
+        # A type alias (``Arc = tuple[str, str]``) is callable but is a constant: it
+        # cannot carry a docstring of its own.
+        alias = isinstance(obj, types.GenericAlias | types.UnionType)
+        if alias or not (inspect.isclass(obj) or callable(obj)):
             constants.append(qual)
             continue
         objects.append(qual)
@@ -80,9 +86,10 @@ def _doc_comment(domain: str, name: str) -> str:
     package = importlib.import_module(domain)
     pattern = re.compile(rf"((?:^#:.*\n)+)^{re.escape(name)}\b[^\n=]*=", re.MULTILINE)
     paths = [Path(package.__file__ or "")]
-    paths += [
-        Path(importlib.import_module(m.name).__file__ or "")
+    paths += [  # read as text, not imported: importing __main__ would run the CLI
+        Path(package.__file__ or "").parent / f"{m.name.rpartition('.')[2]}.py"
         for m in pkgutil.iter_modules(package.__path__, f"{domain}.")
+        if not m.ispkg
     ]
     for path in paths:
         match = pattern.search(path.read_text(encoding="utf-8"))
