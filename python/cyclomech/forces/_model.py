@@ -428,7 +428,7 @@ def kinetostatics(
 
     At the absolute crank angles ``angles``, for any crank speed and angular
     acceleration (:class:`Kinetostatics`). The positions and analogs come from
-    :meth:`Linkage.solve`; each angle is one linear solve in Rust (see
+    :meth:`~cyclomech.linkage.Linkage.solve`; each angle is one linear solve in Rust (see
     :mod:`cyclomech.forces`), three right-hand sides (ω², ε, static), angles in
     parallel, the GIL released.
 

@@ -126,7 +126,7 @@ class Pulse:
         f : array_like of float, shape (N,)
             The force at each time [N].
         shape : str, default "table"
-            The shape's name, kept as :attr:`shape`.
+            The shape's name, kept as ``shape``.
 
         Returns
         -------

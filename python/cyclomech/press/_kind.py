@@ -34,7 +34,7 @@ class PressMechanism(Unbounded):
     Its load on the main shaft (:meth:`GearLeverPress.crank_torque`): the
     deformation-force diagram ``force``, the slider's mass and a uniform rod's mass;
     ``phase`` places it in the cycle. The press's own angle for
-    :class:`~cyclomech._kind.Phase` is the carrier's angle turned since BDC, in its
+    ``Phase`` is the carrier's angle turned since BDC, in its
     direction of rotation (ψ = −α mod 360°): ``phase = {event = "bottom", crank_deg
     = 0}`` puts BDC at the event ``bottom``, and the working stroke then takes the
     α_p degrees of the cycle before it. The ``press`` kind of a machine file, read
@@ -195,7 +195,7 @@ class PressMechanism(Unbounded):
         return self.force is not None or self.slider_mass > 0 or self.rod_mass > 0
 
     def crank_torque(self) -> PressTorque | None:
-        """Its crank torque on :data:`SHAFT_SAMPLES` carrier angles past BDC.
+        """Its crank torque on ``SHAFT_SAMPLES`` (3600) carrier angles past BDC.
 
         :meth:`GearLeverPress.crank_torque` at ψ = 0, 0.1°, … past BDC in the direction
         of rotation (α = −ψ mod 2π).

@@ -165,7 +165,7 @@ def optimize(
     score, within the grid's bounds; of every design met, the best that meets the
     limits is kept. So a limit that no grid design meets can still be met by a
     design between the grid's points. The returned front is recomputed over the
-    grid's front and the refined designs; :attr:`PressOptimum.edges` says when the
+    grid's front and the refined designs; ``PressOptimum.edges`` says when the
     best design lies on the grid's bound.
 
     Parameters

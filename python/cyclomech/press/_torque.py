@@ -156,7 +156,7 @@ class DeformationForce:
     def check_stroke(self, S_p: float, s_key: str = "s") -> None:
         """Check that the table lies inside the working stroke [0, ``S_p``] [m].
 
-        To :data:`STROKE_TOL`·S_p.
+        To ``STROKE_TOL`` (1e-9)·S_p.
 
         Parameters
         ----------
@@ -239,7 +239,7 @@ class PressTorque:
         Returns
         -------
         ndarray of float, shape (N,)
-            The torque at each angle of :attr:`alpha` [N·m].
+            The torque at each angle of ``alpha`` [N·m].
 
         Raises
         ------

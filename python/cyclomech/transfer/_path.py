@@ -52,7 +52,7 @@ class PathSample:
     curvature_rate : ndarray of float, shape (n,)
         dκ/ds [1/m²].
     piece : ndarray of int8, shape (n,)
-        The index into :data:`PIECES` (arc_t, transition_t, straight, transition_p,
+        The index into ``PIECES`` (arc_t, transition_t, straight, transition_p,
         arc_p) of each point.
 
     See Also
@@ -105,7 +105,7 @@ class PathAcceleration:
         |da/dt| [m/s³] (the acceleration vector's rate, turning of the frame
         included).
     piece : ndarray of int8
-        The index into :data:`PIECES` of each point.
+        The index into ``PIECES`` of each point.
 
     See Also
     --------
