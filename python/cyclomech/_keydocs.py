@@ -599,11 +599,14 @@ def render_page(title: str = "Machine-file format") -> str:
         title,
         "=" * len(title),
         "",
-        "Every key of every table of a machine file (``cyclomech run <file>.toml``), "
-        "generated from ``cyclomech._keydocs``, whose tests hold it equal to the "
-        "parsers' own key sets. Units are SI as the file takes them; *Sweep* says "
-        "whether ``cyclomech.sweep`` may vary the key (``<mechanism>.<key>`` or "
-        "``machine.<key>``); — marks a sub-table's rows, set only through their parent key.",
+        "Every key of every table of a machine file (``cyclomech run <file>.toml``; "
+        "``examples/stb_loom.toml`` is a complete one, walked through in the user "
+        "guide's whole-machine page). Units are SI as the file takes them, angles in "
+        "degrees and speeds in rpm where the key's name says so. *Sweep* says whether "
+        "``cyclomech sweep --set`` (``cyclomech.sweep``) may vary the key, as "
+        "``<mechanism>.<key>`` or ``machine.<key>``; — marks a sub-table's rows, set "
+        "only through their parent key. The tables are generated from the same key "
+        "sets the file readers check, so a key listed here is one the reader takes.",
         "",
     ]
     for table in ORDER:
