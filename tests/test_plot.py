@@ -176,6 +176,26 @@ def test_height_one_operation_wraps_and_its_stretch_too():
     assert ax.get_title() == "press — duration 250°"
 
 
+def test_hatch_starts_at_the_minimum_in_force_when_given():
+    # The loom's lifter operations sit on their mechanisms' bounds (undercut,
+    # rebound, pressure angle) above the file's 20°: with the report's minimums
+    # nothing of them is hatched; without, 7.06°, 10.03° and 15.40° would be.
+    from cyclomech.machine import analyze
+
+    r = analyze(cm.Machine.from_toml(EXAMPLES / "stb_loom.toml"), progress=False)
+    o, ops = r.optimum, r.machine.cyclogram.operations
+    floors = {op.arc: float(v) for op, v in zip(ops, r.minimums, strict=True)}
+    want = sum(max(o.angles[a] - f, 0.0) for a, f in floors.items() if o.angles[a] - f > 1e-9)
+    for kind in ("gantt", "circular"):
+        ax = plot_cyclogram(o, kind=kind, minimums=floors)
+        if kind == "gantt":
+            got = sum(rect.get_width() for rect in bars(ax, "beyond minimum"))
+            assert got == pytest.approx(want, abs=1e-9)
+            plain = sum(rect.get_width() for rect in bars(plot_cyclogram(o), "beyond minimum"))
+            assert plain == pytest.approx(want + 7.0579 + 10.0306 + 15.3982, abs=1e-3)
+    plt.close("all")
+
+
 def test_schedule_whiskers_have_the_slack_as_length():
     cg = cm.Cyclogram()
     cg.add_operation("1", "2", 40, mechanism="m", name="long")

@@ -31,9 +31,11 @@ import numpy as np
 
 from .._errors import InputError
 from .._plotting import CRITICAL_COLOR, deg_text, degree_ticks, halo, pyplot, tick_step
-from . import Operation, Optimum, Schedule
+from . import Arc, Operation, Optimum, Schedule
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from matplotlib.projections.polar import PolarAxes
@@ -116,7 +118,7 @@ def _overlap(p: tuple[float, float], q: tuple[float, float], eps: float) -> bool
     return a + eps < s < b - eps
 
 
-def _layout(result: Schedule | Optimum) -> _Layout:
+def _layout(result: Schedule | Optimum, minimums: Mapping[Arc, float] | None = None) -> _Layout:
     if not isinstance(result, Schedule | Optimum):
         raise InputError(
             "result must be a cyclomech.Schedule (Cyclogram.schedule()) or a cyclomech.Optimum "
@@ -134,8 +136,10 @@ def _layout(result: Schedule | Optimum) -> _Layout:
         start = float(result.times[op.src]) % cycle
         angle = float(result.angles[op.arc])
         if isinstance(result, Optimum):
-            stretch = float(result.stretch[op.arc])
-            minimum, slack = angle - (stretch if stretch > eps else 0.0), 0.0
+            beyond = float(result.stretch[op.arc])
+            if minimums is not None and op.arc in minimums:  # the bounds in force
+                beyond = angle - float(minimums[op.arc])
+            minimum, slack = angle - (beyond if beyond > eps else 0.0), 0.0
         else:
             minimum, slack = angle, float(result.slack[op.arc])
         pieces = _pieces(start, angle, cycle)
@@ -253,6 +257,7 @@ def plot_cyclogram(
     *,
     kind: str = "gantt",
     title: str | None = None,
+    minimums: Mapping[Arc, float] | None = None,
 ) -> Axes:
     """Draw a cyclogram (a Schedule or an Optimum) and return the axes.
 
@@ -284,6 +289,11 @@ def plot_cyclogram(
     title : str, optional
         The axes' title; default the duration of the group [deg], or the angle the
         limiting operation gets [deg].
+    minimums : mapping of arc to float, optional
+        Each operation's smallest angle [deg] where it is larger than its own
+        minimum (a mechanism's bound in force, as the machine report's
+        ``minimums``): the hatch of an Optimum starts there. Default: each
+        operation's own minimum angle or duration.
 
     Returns
     -------
@@ -324,7 +334,7 @@ def plot_cyclogram(
     plt = pyplot()
     if kind not in ("gantt", "circular"):
         raise InputError(f"kind must be 'gantt' or 'circular'; got {kind!r}")
-    lay = _layout(result)
+    lay = _layout(result, minimums)
     if ax is not None and kind == "circular":
         _require_polar(ax)
     if ax is None:

@@ -362,7 +362,12 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
         # Two figures, each legible at the page's width (side by side they were
         # shrunk to half size).
         at = f"at {r.nominal_rpm:g} rpm"
-        ax = plot_cyclogram(r.optimum, kind="gantt", title=f"optimised cyclogram {at}")
+        assert r.minimums is not None
+        ops = m.cyclogram.operations
+        floors = {op.arc: float(v) for op, v in zip(ops, r.minimums, strict=True)}
+        ax = plot_cyclogram(
+            r.optimum, kind="gantt", title=f"optimised cyclogram {at}", minimums=floors
+        )
         save(
             ax.figure,
             "cyclogram",
@@ -370,7 +375,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
             "The optimised cyclogram, one row per mechanism over the main-shaft turn. The "
             "critical operations (red outline) form the chain that leaves the limiting "
             "operation (orange) its angle; the hatched parts are what each operation got "
-            "beyond its minimum.",
+            "beyond its minimum (its own, or the bound in force, as in the table below).",
         )
         _, polar = plt.subplots(
             figsize=(9.0, 7.2), layout="constrained", subplot_kw={"projection": "polar"}
@@ -378,7 +383,13 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
         engine = polar.figure.get_layout_engine()
         assert isinstance(engine, ConstrainedLayoutEngine)
         engine.set(w_pad=0.25, h_pad=0.1)
-        plot_cyclogram(r.optimum, polar, kind="circular", title=f"circular cyclogram {at}")
+        plot_cyclogram(
+            r.optimum,
+            polar,
+            kind="circular",
+            title=f"circular cyclogram {at}",
+            minimums=floors,
+        )
         save(
             polar.figure,
             "cyclogram_circular",
