@@ -127,8 +127,13 @@ class Proportional:
         --------
         >>> Proportional.evaluate([100.0, 200.0], [0.1, 2.0]).tolist()
         [10.0, nan]
+        >>> Proportional.evaluate(50.0, 1e307).tolist()       # past the float range
+        nan
         """
-        t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
+        # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
+        # over 360°: NaN like any other, not a warning.
+        with np.errstate(over="ignore"):
+            t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
         return np.where(t <= 360.0, t, np.nan)
 
 
