@@ -73,3 +73,29 @@ def test_the_command_prints_it(tmp_path: Path, capsys: pytest.CaptureFixture[str
     out = capsys.readouterr().out
     assert "speed limit over the designs:" in out
     assert "highest" in out and "lowest" in out
+
+
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        (["--speed", "500:200:7"], "cyclomech: error: --speed 500:200:7 must go from a lower"),
+        (["--threads", "0"], "cyclomech: error: --threads 0 must be between 1 and 1024"),
+    ],
+)
+def test_a_bad_option_is_named_not_the_file(
+    option: list[str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["sweep", LOOM, *option, "--out", str(tmp_path), "--quiet"]) == 2
+    assert capsys.readouterr().err.startswith(message)
+
+
+def test_a_sweep_that_fits_nowhere_exits_3_and_one_design_gets_its_limit(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["sweep", LOOM, "--out", str(tmp_path), "--quiet"]
+    assert main([*argv, "--speed", "900:1000:3"]) == 3
+    out, err = capsys.readouterr()
+    assert "fits at 0 of them" in out and "fits at no point of the sweep" in err
+    assert "speed limit of the design: 420.3 rpm" in out  # the file's own design
+    assert main([*argv, "--speed", "300:400:2"]) == 0
+    assert "speed limit of the design: 420.3 rpm" in capsys.readouterr().out

@@ -156,8 +156,16 @@ def sweep_command(args: argparse.Namespace) -> int:
         if not eq or not name:
             raise InputError(f"--set {item!r} must be <mechanism>.<key>=from:to:count")
         grid[name] = parse_range(text, f"--set {name}:")
+    if args.threads is not None and not 1 <= args.threads <= 1024:
+        raise InputError(f"--threads {args.threads} must be between 1 and 1024")
     if args.speed is not None:
-        grid["speed_rpm"] = speeds_rpm("--speed", parse_range(args.speed, "--speed"))
+        speeds = parse_range(args.speed, "--speed")
+        if speeds.size > 1 and not (speeds[0] < speeds[-1]):
+            raise InputError(
+                f"--speed {args.speed} must go from a lower to a higher speed "
+                "(FROM < TO, in rpm), as the file's speed_rpm does"
+            )
+        grid["speed_rpm"] = speeds_rpm("--speed", speeds)
     params = {k: v for k, v in grid.items() if k != "speed_rpm"}
     for k in params:  # a key the file cannot take fails before the work starts
         check_parameter(m, k)
@@ -213,13 +221,16 @@ def sweep_command(args: argparse.Namespace) -> int:
     bad = summary["invalid"] // speeds
     if bad:
         print(
-            f"{plural(bad, 'design')} of {designs} are invalid and counted as not "
-            f"fitting (the 'problem' column says why); the first: {summary['problem']}"
+            f"{plural(bad, 'design')} of {designs} {'is' if bad == 1 else 'are'} invalid "
+            f"and counted as not fitting (the 'problem' column says why); the first: "
+            f"{summary['problem']}"
         )
-    if designs > 1:
-        line = design_range(path, r.columns, list(params))
-        if line:
-            print(line)
+    line = design_range(path, r.columns, list(params)) if designs > 1 else ""
+    if line:
+        print(line)
+    elif designs == 1 and design_range(path, r.columns, []):
+        lim = design_range(path, r.columns, []).split("\n")[0].rpartition("–")[2]
+        print(f"speed limit of the design: {lim}")
     print(f"Wrote {path}")
     if path.suffix == ".npz":
         print("(NumPy .npz: pyarrow is not installed; `pip install pyarrow` writes Parquet)")
@@ -227,6 +238,14 @@ def sweep_command(args: argparse.Namespace) -> int:
         print(
             f"cyclomech: {args.file}: every design of the sweep is invalid "
             f"(exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
+    if not summary["fits"]:
+        print(
+            f"cyclomech: {args.file}: the cyclogram fits at no point of the sweep "
+            f"(its speed_limit_rpm and binding columns say where each design stops; "
+            f"exit status {EXIT_FAILS})",
             file=sys.stderr,
         )
         return EXIT_FAILS
