@@ -112,10 +112,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             _not_a_machine_file(args)
             return int(args.run(args))
     except CyclomechError as e:
-        # Errors from the file already name it; name it for the others too, but not
-        # for an option's (``--threads 0``), which is not the file's fault.
-        text = str(e)
-        msg = text if args.file in text or text.startswith("--") else f"{args.file}: {text}"
+        # Errors from the file already name it; name it for the others too.
+        msg = str(e) if args.file in str(e) else f"{args.file}: {e}"
         print(f"cyclomech: error: {msg}", file=sys.stderr)
         return EXIT_INPUT
     except KeyboardInterrupt:
