@@ -67,8 +67,9 @@ pub(super) struct ScanPass<'a, const WITH_V: bool> {
 }
 
 /// What a [`ScanPass`] leaves: each lane's final state, whether every step
-/// stayed within the drift's bound (NaN steps do not), and the largest
-/// |h_k − h̄| it met.
+/// stayed within the drift's bound, and the largest |h_k − h̄| it met. (A NaN
+/// or infinite time is not counted there: it leaves its lane's state
+/// non-finite, which the caller checks.)
 pub(super) struct PassEnd {
     pub(super) q: [f64; SCAN],
     pub(super) v: [f64; SCAN],
@@ -95,28 +96,50 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
         let fs: [&[f64]; SCAN] = std::array::from_fn(|l| &force[l * m..][..m + 1]);
         // Output rows of exactly m samples each (empty when not stored), as
         // arrays so that the lane stores need no bounds checks.
-        let qs = scan_rows(q_out, m, true);
-        let vs = scan_rows(v_out, m, WITH_V);
-        let (c0, c1, hbar, tol) = (drift.c0, drift.c1, drift.hbar, drift.tol);
+        let mut qs = scan_rows(q_out, m, true);
+        let mut vs = scan_rows(v_out, m, WITH_V);
+        let (c0, c1, hbar) = (drift.c0, drift.c1, drift.hbar);
         let (mut q, mut v) = (q0, v0);
         let mut tp: [f64; SCAN] = std::array::from_fn(|l| ts[l][0]);
         let mut f0: [f64; SCAN] = std::array::from_fn(|l| fs[l][0]);
-        let mut ok = [true; SCAN];
+        // Largest |d| so far, in one max a step (a NaN step makes the state
+        // NaN, which the caller sees).
         let mut dmax = [0.0f64; SCAN];
-        for j in 1..=m {
+        // Steps go in whole tiles of 8 × 8 (steps × lanes), stored transposed
+        // into each lane's row as one vector; the rest one sample at a time.
+        let tiles = m / TILE;
+        let (mut bq, mut bv) = ([[0.0; SCAN]; TILE], [[0.0; SCAN]; TILE]);
+        for tile in 0..tiles {
+            for (s, (bqs, bvs)) in bq.iter_mut().zip(bv.iter_mut()).enumerate() {
+                let j = tile * TILE + s + 1;
+                let tn: [f64; SCAN] = std::array::from_fn(|l| ts[l][j]);
+                let f1: [f64; SCAN] = std::array::from_fn(|l| fs[l][j]);
+                lane_step(
+                    &c0, &c1, hbar, &tn, &tp, &f0, &f1, &mut q, &mut v, &mut dmax,
+                );
+                *bqs = q;
+                *bvs = v;
+                tp = tn;
+                f0 = f1;
+            }
+            let at = tile * TILE;
+            let tq = transpose(_simd, &bq);
+            for (row, x) in qs.iter_mut().zip(&tq) {
+                row[at..at + TILE].copy_from_slice(x);
+            }
+            if WITH_V {
+                let tv = transpose(_simd, &bv);
+                for (row, x) in vs.iter_mut().zip(&tv) {
+                    row[at..at + TILE].copy_from_slice(x);
+                }
+            }
+        }
+        for j in tiles * TILE + 1..=m {
             let tn: [f64; SCAN] = std::array::from_fn(|l| ts[l][j]);
             let f1: [f64; SCAN] = std::array::from_fn(|l| fs[l][j]);
-            for l in 0..SCAN {
-                let d = (tn[l] - tp[l]) - hbar;
-                ok[l] &= d.abs() <= tol;
-                dmax[l] = dmax[l].max(d.abs());
-                let c: [f64; 8] = std::array::from_fn(|i| d.mul_add(c1[i], c0[i]));
-                let fq = c[4].mul_add(f0[l], c[6] * f1[l]);
-                let fv = c[5].mul_add(f0[l], c[7] * f1[l]);
-                let qn = c[0].mul_add(q[l], c[1].mul_add(v[l], fq));
-                v[l] = c[2].mul_add(q[l], c[3].mul_add(v[l], fv));
-                q[l] = qn;
-            }
+            lane_step(
+                &c0, &c1, hbar, &tn, &tp, &f0, &f1, &mut q, &mut v, &mut dmax,
+            );
             for l in 0..SCAN {
                 qs[l][j - 1] = q[l];
                 if WITH_V {
@@ -126,13 +149,150 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
             tp = tn;
             f0 = f1;
         }
+        let dmax = dmax.iter().fold(0.0, |a, &b| if b > a { b } else { a });
         PassEnd {
             q,
             v,
-            ok: ok.iter().all(|&o| o),
-            dmax: dmax.iter().fold(0.0, |a, &b| a.max(b)),
+            ok: dmax <= drift.tol,
+            dmax,
         }
     }
+}
+
+/// Steps per stored tile of the lane pass (square: the tile is transposed).
+const TILE: usize = 8;
+const _: () = assert!(TILE == SCAN);
+
+/// One step of every lane: the step h = tn − tp = h̄ + d, coefficients
+/// c0 + d·c1, forces f0 → f1; `dmax` keeps the largest |d|.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the step's coefficients, grid, forces, state
+fn lane_step(
+    c0: &[f64; 8],
+    c1: &[f64; 8],
+    hbar: f64,
+    tn: &[f64; SCAN],
+    tp: &[f64; SCAN],
+    f0: &[f64; SCAN],
+    f1: &[f64; SCAN],
+    q: &mut [f64; SCAN],
+    v: &mut [f64; SCAN],
+    dmax: &mut [f64; SCAN],
+) {
+    for l in 0..SCAN {
+        let d = (tn[l] - tp[l]) - hbar;
+        let ad = d.abs();
+        dmax[l] = if ad > dmax[l] { ad } else { dmax[l] };
+        let c: [f64; 8] = std::array::from_fn(|i| d.mul_add(c1[i], c0[i]));
+        let fq = c[4].mul_add(f0[l], c[6] * f1[l]);
+        let fv = c[5].mul_add(f0[l], c[7] * f1[l]);
+        let qn = c[0].mul_add(q[l], c[1].mul_add(v[l], fq));
+        v[l] = c[2].mul_add(q[l], c[3].mul_add(v[l], fv));
+        q[l] = qn;
+    }
+}
+
+/// `tile` (8 × 8) transposed (a copy of the cyclogram's longest-path tile
+/// transpose, `cyclogram::event_graph::transpose`), in explicit shuffles on AVX-512 and AVX2 (written
+/// element by element, LLVM assembles it from 128-bit pieces and single
+/// stores). The instruction set is known when the kernel is compiled for it, so
+/// the type test below is resolved then.
+#[inline(always)]
+fn transpose<S: pulp::Simd>(simd: S, tile: &[[f64; TILE]; TILE]) -> [[f64; TILE]; TILE] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let any = &simd as &dyn std::any::Any;
+        if let Some(&v4) = any.downcast_ref::<pulp::x86::V4>() {
+            return transpose_v4(v4, tile);
+        }
+        if let Some(&v3) = any.downcast_ref::<pulp::x86::V3>() {
+            return transpose_v3(v3, tile);
+        }
+    }
+    let _ = simd;
+    std::array::from_fn(|i| std::array::from_fn(|j| tile[j][i]))
+}
+
+/// [`transpose`] in 24 AVX-512 shuffles: 2 × 2, 4 × 4 then 8 × 8 blocks.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn transpose_v4(simd: pulp::x86::V4, tile: &[[f64; TILE]; TILE]) -> [[f64; TILE]; TILE] {
+    use std::arch::x86_64::{__m512d, __m512i};
+    let a = simd.avx512f;
+    let r: [__m512d; 8] = tile.map(pulp::cast);
+    // t[2i] = rows 2i, 2i+1 interleaved at even columns, t[2i+1] at odd ones.
+    let t: [__m512d; 8] = std::array::from_fn(|k| {
+        let (x, y) = (r[k & !1], r[k | 1]);
+        if k % 2 == 0 {
+            a._mm512_unpacklo_pd(x, y)
+        } else {
+            a._mm512_unpackhi_pd(x, y)
+        }
+    });
+    // u[k], k < 4: column k (then k + 4) of rows 0-3; u[k + 4]: of rows 4-7.
+    let lo: __m512i = pulp::cast([0i64, 1, 8, 9, 4, 5, 12, 13]);
+    let hi: __m512i = pulp::cast([2i64, 3, 10, 11, 6, 7, 14, 15]);
+    let u: [__m512d; 8] = std::array::from_fn(|k| {
+        let base = (k / 4) * 4 + (k % 2);
+        let idx = if k % 4 < 2 { lo } else { hi };
+        a._mm512_permutex2var_pd(t[base], idx, t[base + 2])
+    });
+    let out: [__m512d; 8] = std::array::from_fn(|k| {
+        if k < 4 {
+            a._mm512_shuffle_f64x2::<0x44>(u[k], u[k + 4])
+        } else {
+            a._mm512_shuffle_f64x2::<0xEE>(u[k - 4], u[k])
+        }
+    });
+    out.map(pulp::cast)
+}
+
+/// [`transpose`] in AVX2: four 4 × 4 blocks, 8 shuffles each. (No
+/// `array::from_fn` here or in the kernel's loops: its closures were not
+/// inlined into the AVX2 instance and ran as calls to baseline code.)
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn transpose_v3(simd: pulp::x86::V3, tile: &[[f64; TILE]; TILE]) -> [[f64; TILE]; TILE] {
+    use std::arch::x86_64::__m256d;
+    // q[i][h]: columns 4h..4h+4 of row i.
+    let q: [[__m256d; 2]; TILE] = pulp::cast(*tile);
+    // A function, not a closure: the closure was not inlined.
+    #[inline(always)]
+    fn block(
+        simd: pulp::x86::V3,
+        x0: __m256d,
+        x1: __m256d,
+        x2: __m256d,
+        x3: __m256d,
+    ) -> [__m256d; 4] {
+        let a = simd.avx;
+        let t0 = a._mm256_unpacklo_pd(x0, x1);
+        let t1 = a._mm256_unpackhi_pd(x0, x1);
+        let t2 = a._mm256_unpacklo_pd(x2, x3);
+        let t3 = a._mm256_unpackhi_pd(x2, x3);
+        [
+            a._mm256_permute2f128_pd::<0x20>(t0, t2),
+            a._mm256_permute2f128_pd::<0x20>(t1, t3),
+            a._mm256_permute2f128_pd::<0x31>(t0, t2),
+            a._mm256_permute2f128_pd::<0x31>(t1, t3),
+        ]
+    }
+    // bhv: columns 4h.., rows 4v.. transposed: halves v of output rows 4h..4h+4.
+    let b00 = block(simd, q[0][0], q[1][0], q[2][0], q[3][0]);
+    let b01 = block(simd, q[4][0], q[5][0], q[6][0], q[7][0]);
+    let b10 = block(simd, q[0][1], q[1][1], q[2][1], q[3][1]);
+    let b11 = block(simd, q[4][1], q[5][1], q[6][1], q[7][1]);
+    let out: [[__m256d; 2]; TILE] = [
+        [b00[0], b01[0]],
+        [b00[1], b01[1]],
+        [b00[2], b01[2]],
+        [b00[3], b01[3]],
+        [b10[0], b11[0]],
+        [b10[1], b11[1]],
+        [b10[2], b11[2]],
+        [b10[3], b11[3]],
+    ];
+    pulp::cast(out)
 }
 
 /// (Φ00, Φ01, Φ11) of the unforced motion's transitions (Φ10 = −ω²Φ01).
@@ -145,24 +305,23 @@ fn compose(w2: f64, a: Phi, b: Phi) -> Phi {
     (a.0 * b.0 - c, a.0 * b.1 + a.1 * b.2, a.2 * b.2 - c)
 }
 
-/// The unforced motion's transitions Φ(j·h̄) over offsets j = 0 … m of a block,
-/// as Φ(i·r·h̄)·Φ(s·h̄), j = i·r + s, s < r: the r `fine` ones Φ(s·h̄) and the
-/// m/r + 1 `coarse` ones Φ(i·r·h̄), each a chain of products from one closed-form
-/// transition, so that each is off by about (r + m/r)·ε ≈ 2√m·ε (r ≈ √m).
+/// The unforced motion's transitions Φ(j·h̄) over the offsets j = 0 … m of a
+/// block, built as Φ(i·r·h̄)·Φ(s·h̄), j = i·r + s, s < r: the r `fine` ones
+/// Φ(s·h̄) and the m/r + 1 `coarse` ones Φ(i·r·h̄) each a chain of products from
+/// one closed-form transition, so that each is off by about (r + m/r)·ε ≈
+/// 2√m·ε (r ≈ √m) where one chain of m products would be m·ε. The table
+/// itself (three arrays of m + 1) is filled in [`Correct`], in vectors.
 pub(super) struct Free {
     pub(super) r: usize,
     pub(super) f00: Vec<f64>,
     pub(super) f01: Vec<f64>,
     pub(super) f11: Vec<f64>,
-    /// s as f64, s = 0 … r − 1.
-    pub(super) s: Vec<f64>,
     pub(super) coarse: Vec<Phi>,
 }
 
 impl Free {
     pub(super) fn new(mode: &Mode, hbar: f64, m: usize) -> Free {
-        // r ≈ √m, a multiple of 8 (whole vectors).
-        let r = (((m as f64).sqrt() as usize).div_ceil(8) * 8).max(8);
+        let r = ((m as f64).sqrt() as usize).max(1);
         let w2 = mode.w2;
         let chain = |step: Phi, len: usize| {
             let mut all = Vec::with_capacity(len);
@@ -179,7 +338,6 @@ impl Free {
             f00: fine.iter().map(|x| x.0).collect(),
             f01: fine.iter().map(|x| x.1).collect(),
             f11: fine.iter().map(|x| x.2).collect(),
-            s: (0..r).map(|s| s as f64).collect(),
             coarse: chain(mode.phi(r as f64 * hbar), m / r + 1),
         }
     }
@@ -221,43 +379,47 @@ impl<const WITH_V: bool> pulp::WithSimd for Correct<'_, WITH_V> {
             v_out,
         } = self;
         let (w2, s2) = (mode.w2, 2.0 * mode.sigma);
+        // The table Φ(j·h̄), j = 0 ..= m, in whole runs of the fine ones.
+        let (mut a, mut b, mut d) = (vec![0.0; m + 1], vec![0.0; m + 1], vec![0.0; m + 1]);
         let r = free.r;
-        let (f00, f01, f11, so) = (&free.f00[..r], &free.f01[..r], &free.f11[..r], &free.s[..r]);
+        let (g00, g01, g11) = (&free.f00[..r], &free.f01[..r], &free.f11[..r]);
+        for (i, &(c00, c01, c11)) in free.coarse.iter().enumerate() {
+            let (lo, hi) = (i * r, ((i + 1) * r).min(m + 1));
+            let w01 = w2 * c01;
+            let rows = a[lo..hi]
+                .iter_mut()
+                .zip(&mut b[lo..hi])
+                .zip(&mut d[lo..hi])
+                .zip(g00.iter().zip(g01).zip(g11));
+            for (((x00, x01), x11), ((&f00, &f01), &f11)) in rows {
+                *x00 = c00 * f00 - w01 * f01;
+                *x01 = c00 * f01 + c01 * f11;
+                *x11 = c11 * f11 - w01 * f01;
+            }
+        }
+        let (a, b, d) = (&a[1..], &b[1..], &d[1..]);
         for l in 1..SCAN {
-            let base = l * m;
-            let tl = t[base];
-            for (i, &c) in free.coarse.iter().enumerate() {
-                // Offsets j = i·r + s in 1 ..= m.
-                let (lo, hi) = ((i * r).max(1), ((i + 1) * r).min(m + 1));
-                if lo >= hi {
-                    break;
+            let tl = t[l * m];
+            let ts = &t[l * m + 1..][..m];
+            let qs = &mut q_out[l * m + 1..][..m];
+            let (q0, v0) = (sq[l], sv[l]);
+            let wq0 = -w2 * q0;
+            if WITH_V {
+                let vs = &mut v_out[l * m + 1..][..m];
+                for k in 0..m {
+                    let dt = (-((k + 1) as u32 as f64)).mul_add(hbar, ts[k] - tl);
+                    let qc = a[k].mul_add(q0, b[k] * v0);
+                    let vc = b[k].mul_add(wq0, d[k] * v0);
+                    let ac = (-w2).mul_add(qc, -s2 * vc);
+                    qs[k] += dt.mul_add(vc, qc);
+                    vs[k] += dt.mul_add(ac, vc);
                 }
-                // y = Φ(i·r·h̄)·s_l.
-                let yq = c.0 * sq[l] + c.1 * sv[l];
-                let yv = c.2 * sv[l] - w2 * c.1 * sq[l];
-                let wyq = -w2 * yq;
-                let ir = (i * r) as f64;
-                let (s0, s1) = (lo - i * r, hi - i * r);
-                let ts = &t[base + lo..base + hi];
-                let qs = &mut q_out[base + lo..base + hi];
-                let (a, b, d, s) = (&f00[s0..s1], &f01[s0..s1], &f11[s0..s1], &so[s0..s1]);
-                if WITH_V {
-                    let vs = &mut v_out[base + lo..base + hi];
-                    for k in 0..ts.len() {
-                        let dt = (-(ir + s[k])).mul_add(hbar, ts[k] - tl);
-                        let qc = a[k].mul_add(yq, b[k] * yv);
-                        let vc = b[k].mul_add(wyq, d[k] * yv);
-                        let ac = (-w2).mul_add(qc, -s2 * vc);
-                        qs[k] += dt.mul_add(vc, qc);
-                        vs[k] += dt.mul_add(ac, vc);
-                    }
-                } else {
-                    for k in 0..ts.len() {
-                        let dt = (-(ir + s[k])).mul_add(hbar, ts[k] - tl);
-                        let qc = a[k].mul_add(yq, b[k] * yv);
-                        let vc = b[k].mul_add(wyq, d[k] * yv);
-                        qs[k] += dt.mul_add(vc, qc);
-                    }
+            } else {
+                for k in 0..m {
+                    let dt = (-((k + 1) as u32 as f64)).mul_add(hbar, ts[k] - tl);
+                    let qc = a[k].mul_add(q0, b[k] * v0);
+                    let vc = b[k].mul_add(wq0, d[k] * v0);
+                    qs[k] += dt.mul_add(vc, qc);
                 }
             }
         }
@@ -325,7 +487,8 @@ pub(super) fn scan<const WITH_V: bool>(
 ) -> bool {
     let n = t.len();
     let m = n.saturating_sub(1) / SCAN;
-    if m < SCAN_MIN_BLOCK || force.len() != n || q_out.len() != n {
+    // m < 2³¹: the second pass counts offsets in u32 (whole vectors).
+    if m < SCAN_MIN_BLOCK || m >= 1 << 31 || force.len() != n || q_out.len() != n {
         return false;
     }
     if WITH_V && v_out.len() != n {
