@@ -341,6 +341,30 @@ impl Free {
             coarse: chain(mode.phi(r as f64 * hbar), m / r + 1),
         }
     }
+
+    /// The table (Φ00, Φ01, Φ11)(j·h̄), j = 0 ..= m, in whole runs of the fine
+    /// ones (inlined into [`Correct`]'s vector code).
+    #[inline(always)]
+    pub(super) fn table(&self, w2: f64, m: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let (mut a, mut b, mut d) = (vec![0.0; m + 1], vec![0.0; m + 1], vec![0.0; m + 1]);
+        let r = self.r;
+        let (g00, g01, g11) = (&self.f00[..r], &self.f01[..r], &self.f11[..r]);
+        for (i, &(c00, c01, c11)) in self.coarse.iter().enumerate() {
+            let (lo, hi) = (i * r, ((i + 1) * r).min(m + 1));
+            let w01 = w2 * c01;
+            let rows = a[lo..hi]
+                .iter_mut()
+                .zip(&mut b[lo..hi])
+                .zip(&mut d[lo..hi])
+                .zip(g00.iter().zip(g01).zip(g11));
+            for (((x00, x01), x11), ((&f00, &f01), &f11)) in rows {
+                *x00 = c00 * f00 - w01 * f01;
+                *x01 = c00 * f01 + c01 * f11;
+                *x11 = c11 * f11 - w01 * f01;
+            }
+        }
+        (a, b, d)
+    }
 }
 
 /// The scan's second pass: each block l ≥ 1 ran from rest in the first, so its
@@ -379,24 +403,7 @@ impl<const WITH_V: bool> pulp::WithSimd for Correct<'_, WITH_V> {
             v_out,
         } = self;
         let (w2, s2) = (mode.w2, 2.0 * mode.sigma);
-        // The table Φ(j·h̄), j = 0 ..= m, in whole runs of the fine ones.
-        let (mut a, mut b, mut d) = (vec![0.0; m + 1], vec![0.0; m + 1], vec![0.0; m + 1]);
-        let r = free.r;
-        let (g00, g01, g11) = (&free.f00[..r], &free.f01[..r], &free.f11[..r]);
-        for (i, &(c00, c01, c11)) in free.coarse.iter().enumerate() {
-            let (lo, hi) = (i * r, ((i + 1) * r).min(m + 1));
-            let w01 = w2 * c01;
-            let rows = a[lo..hi]
-                .iter_mut()
-                .zip(&mut b[lo..hi])
-                .zip(&mut d[lo..hi])
-                .zip(g00.iter().zip(g01).zip(g11));
-            for (((x00, x01), x11), ((&f00, &f01), &f11)) in rows {
-                *x00 = c00 * f00 - w01 * f01;
-                *x01 = c00 * f01 + c01 * f11;
-                *x11 = c11 * f11 - w01 * f01;
-            }
-        }
+        let (a, b, d) = free.table(w2, m);
         let (a, b, d) = (&a[1..], &b[1..], &d[1..]);
         for l in 1..SCAN {
             let tl = t[l * m];
