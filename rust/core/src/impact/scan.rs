@@ -495,7 +495,7 @@ pub(super) fn scan<const WITH_V: bool>(
     let n = t.len();
     let m = n.saturating_sub(1) / SCAN;
     // m < 2³¹: the second pass counts offsets in u32 (whole vectors).
-    if m < SCAN_MIN_BLOCK || m >= 1 << 31 || force.len() != n || q_out.len() != n {
+    if !(SCAN_MIN_BLOCK..1 << 31).contains(&m) || force.len() != n || q_out.len() != n {
         return false;
     }
     if WITH_V && v_out.len() != n {
