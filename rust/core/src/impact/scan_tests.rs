@@ -333,6 +333,57 @@ fn every_instruction_set_agrees() {
     }
 }
 
+#[test]
+fn every_instruction_set_corrects_alike() {
+    // The free-motion pass on each instruction set (its vector code and the
+    // table's) against the scalar one, with and without v.
+    let osc = Oscillator::new(700.0, 0.03, 1.0).unwrap();
+    let (mode, n) = (osc.mode(), 4001);
+    let t = wobbly(n, 0.5, 1e-4, 2f64.powi(-45));
+    let m = (n - 1) / SCAN;
+    let free = Free::new(&mode, t[1] - t[0], m);
+    let sq: [f64; SCAN] = std::array::from_fn(|l| (l as f64 - 3.0) * 1e-3);
+    let sv: [f64; SCAN] = std::array::from_fn(|l| 0.1 * l as f64);
+    let all = on_each_isa!(|s| {
+        let (mut q, mut v) = (vec![1.0; n], vec![-1.0; n]);
+        pulp::WithSimd::with_simd(
+            Correct::<true> {
+                t: &t,
+                m,
+                free: &free,
+                mode: &mode,
+                hbar: t[1] - t[0],
+                sq,
+                sv,
+                q_out: &mut q,
+                v_out: &mut v,
+            },
+            s,
+        );
+        let mut q1 = vec![1.0; n];
+        pulp::WithSimd::with_simd(
+            Correct::<false> {
+                t: &t,
+                m,
+                free: &free,
+                mode: &mode,
+                hbar: t[1] - t[0],
+                sq,
+                sv,
+                q_out: &mut q1,
+                v_out: &mut [],
+            },
+            s,
+        );
+        assert_eq!(q1, q);
+        (q, v)
+    });
+    let (q_ref, v_ref) = &all[0].1;
+    for (isa, (q, v)) in &all {
+        assert!(rel(q, q_ref) < 1e-14 && rel(v, v_ref) < 1e-14, "{isa}");
+    }
+}
+
 /// Timing of the two paths on the benchmark's grid (ignored: run with
 /// `cargo test --release -p cyclomech-core scan_timing -- --ignored --nocapture`).
 #[test]
