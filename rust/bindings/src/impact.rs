@@ -8,7 +8,9 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
 };
+use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 
 use crate::convert::{self, LayoutError};
@@ -95,6 +97,25 @@ impl<'py> CaseArrays<'py> {
     }
 }
 
+/// A new float64 array of `n` samples for one case's response, not zeroed:
+/// `response_into` writes every sample before it returns Ok (and on an error
+/// the array is dropped unseen), so zeroing 8·N bytes first (numpy's calloc of
+/// a recycled block is a memset) would be wasted. An allocation failure goes
+/// through [`convert::zeros`], which words it as the usual `InputError`.
+fn unfilled(py: Python<'_>, n: usize) -> PyResult<Bound<'_, PyArray1<f64>>> {
+    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let empty = EMPTY.get_or_try_init(py, || {
+        py.import("numpy")?.getattr("empty").map(Bound::unbind)
+    })?;
+    match empty.bind(py).call1((n,)) {
+        Ok(a) => Ok(a.cast_into::<PyArray1<f64>>()?),
+        Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
+            convert::zeros(py, &[n], "duhamel's response", HINT)
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// Response q (N,) of m q̈ + 2ζω m q̇ + mω² q = F(t) to the piecewise-linear force
 /// `force` (N,) sampled at `t` (N,, non-decreasing; a repeated time is a jump),
 /// from q(t[0]) = q0, q̇(t[0]) = v0; with `with_velocity`, (q, q̇).
@@ -122,7 +143,7 @@ pub fn duhamel<'py>(
         mass,
     };
     let n = ts.len();
-    let q: Bound<PyArray1<f64>> = convert::zeros(py, &[n], "duhamel's response", HINT)?;
+    let q = unfilled(py, n)?;
     if !with_velocity {
         {
             let mut qw = q.readwrite();
@@ -133,7 +154,7 @@ pub fn duhamel<'py>(
         }
         return Ok(q.into_any());
     }
-    let v: Bound<PyArray1<f64>> = convert::zeros(py, &[n], "duhamel's response", HINT)?;
+    let v = unfilled(py, n)?;
     {
         let (mut qw, mut vw) = (q.readwrite(), v.readwrite());
         let (qs, vs) = (convert::output(py, &mut qw)?, convert::output(py, &mut vw)?);

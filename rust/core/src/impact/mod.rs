@@ -57,6 +57,7 @@ mod design_batch;
 mod error;
 mod oscillator;
 mod rebound;
+mod scan;
 #[cfg(test)]
 mod tests;
 

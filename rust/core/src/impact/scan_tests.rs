@@ -157,6 +157,145 @@ proptest! {
     }
 }
 
+/// A grid of steps h·(1 + jitter·sin k) from t0: each step within the drift's
+/// 2⁻²⁷ of h when |jitter| is, but the offsets within a block wander by up to
+/// about jitter·h·√m-ish amounts (sin k sums stay bounded by ~2).
+fn wobbly(n: usize, t0: f64, h: f64, jitter: f64) -> Vec<f64> {
+    let mut t = Vec::with_capacity(n);
+    let mut x = t0;
+    for k in 0..n {
+        t.push(x);
+        x += h * (1.0 + jitter * (k as f64 * 0.7).sin().signum());
+    }
+    t
+}
+
+#[test]
+fn the_free_table_is_the_closed_form_transition() {
+    // Φ(j·h̄) by the fine × coarse products against mode.phi(j·h̄) itself, on
+    // the state's scale (Φ01 times ω, as q against v/ω).
+    for (w, z, h, m) in [
+        (1866.0, 0.05, 2e-6, 1250),
+        (100.0, 0.0, 1e-2, 1250),
+        (100.0, 1.0, 1e-2, 5000),
+        (10.0, 3.0, 1e-2, 777),
+        (1866.0, 1e-4, 2e-6, 125_000),
+    ] {
+        let mode = Oscillator::new(w, z, 1.0).unwrap().mode();
+        let free = Free::new(&mode, h, m);
+        let (a, b, d) = free.table(mode.w2, m);
+        let mut worst = 0.0f64;
+        for j in 0..=m {
+            let (p00, p01, p11) = mode.phi(j as f64 * h);
+            let e = (a[j] - p00).abs() + w * (b[j] - p01).abs() + (d[j] - p11).abs();
+            // The reference's own argument j·h̄ rounds, by ε·rate·j·h̄ in the
+            // phase; the table's about 2√m rounding errors.
+            let tol = 3.0 * (4.0 * (m as f64).sqrt() + 2.0 * mode.rate * j as f64 * h);
+            worst = worst.max(e / (tol * f64::EPSILON));
+        }
+        assert!(worst < 1.0, "{w} {z} {m}: {worst}");
+    }
+}
+
+#[test]
+fn a_drifting_grid_reruns_its_blocks_and_stays_exact() {
+    // Steps within 2⁻²⁷ of h (so the scan runs) whose offsets drift past the
+    // first-order shift's 2⁻²⁶/rate: the second lane pass, same accuracy.
+    let osc = Oscillator::new(1000.0, 0.02, 0.5).unwrap();
+    let (mode, inv_m) = (osc.mode(), 2.0);
+    let n = 4001;
+    for jitter in [2f64.powi(-29), 2f64.powi(-45), 0.0] {
+        let t = wobbly(n, 0.25, 1e-4, jitter);
+        let f: Vec<f64> = t.iter().map(|&x| (900.0 * x).sin()).collect();
+        let [q, v, qs, vs] = both(&t, &f, &osc, 1e-3, 0.2);
+        let scale = peak(&q) + peak(&v) / 1000.0;
+        let (eq, ev) = (abs_err(&qs, &q, scale), abs_err(&vs, &v, 1000.0 * scale));
+        assert!(
+            eq < 1e-13 && ev < 1e-13,
+            "jitter {jitter:e}: q {eq:e}, v {ev:e}"
+        );
+        // Without v, q is the same bit for bit.
+        let mut q2 = vec![f64::NAN; n];
+        assert!(scan::<false>(
+            &t,
+            &f,
+            &mode,
+            inv_m,
+            (1e-3, 0.2),
+            &mut q2,
+            &mut []
+        ));
+        assert_eq!(q2, qs);
+    }
+    // Beyond 2⁻²⁷ a step: the sequential loop's.
+    let t = wobbly(n, 0.25, 1e-4, 2f64.powi(-26));
+    let f = vec![1.0; n];
+    let mut q = vec![0.0; n];
+    assert!(!scan::<false>(
+        &t,
+        &f,
+        &mode,
+        inv_m,
+        (0.0, 0.0),
+        &mut q,
+        &mut []
+    ));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The lane pass from rest plus the free-motion correction, around the
+    /// scan's threshold (N = 1025) and above, on rounded, slightly wobbly
+    /// (first-order shift) and drifting (second lane pass) grids, with and
+    /// without v: the sequential loop to 1e-12 of the state's scale; below the
+    /// threshold the scan declines.
+    #[test]
+    fn the_corrected_scan_is_the_sequential_loop(
+        zeta in prop_oneof![Just(0.0), Just(1.0), 0.0f64..0.3, 0.3f64..4.0],
+        wh in 1e-4f64..2.0,
+        log_omega in -1.0f64..5.0,
+        n in prop_oneof![1000usize..1050, 1050usize..6000],
+        jitter in prop_oneof![Just(0.0), 0.0f64..1e-13, 1e-9f64..7e-9],
+        seed in any::<u64>(),
+        q0 in -1.0f64..1.0,
+        v0 in -1.0f64..1.0,
+        t0 in -10.0f64..10.0,
+    ) {
+        let omega = 10f64.powf(log_omega);
+        let osc = Oscillator::new(omega, zeta, 2.0).unwrap();
+        let (mode, inv_m) = (osc.mode(), 0.5);
+        let t = wobbly(n, t0, wh / omega, jitter);
+        let mut state = seed | 1;
+        let f: Vec<f64> = (0..n)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            })
+            .collect();
+        let (q0, v0) = (q0 / omega, v0);
+        let (mut qs, mut vs) = (vec![f64::NAN; n], vec![f64::NAN; n]);
+        let ran = scan::<true>(&t, &f, &mode, inv_m, (q0, v0), &mut qs, &mut vs);
+        // Steps of the rounded grid itself differ from h̄ by ulps of t.
+        let hbar = t[1] - t[0];
+        let tol = hbar.min(1.0 / mode.rate) * 2f64.powi(-27);
+        let ragged = t.windows(2).any(|w| ((w[1] - w[0]) - hbar).abs() > tol);
+        prop_assert_eq!(ran, n > SCAN * SCAN_MIN_BLOCK && !ragged);
+        if ran {
+            let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+            run(&t, &f, &mode, inv_m, q0, v0, &mut q, Some(&mut v)).unwrap();
+            let scale = peak(&q) + peak(&v) / omega;
+            let (eq, ev) = (abs_err(&qs, &q, scale), abs_err(&vs, &v, omega * scale));
+            prop_assert!(eq < 1e-12 && ev < 1e-12, "q: {:e}, v: {:e}", eq, ev);
+            let mut q2 = vec![f64::NAN; n];
+            prop_assert!(scan::<false>(&t, &f, &mode, inv_m, (q0, v0), &mut q2, &mut []));
+            prop_assert_eq!(q2, qs);
+        }
+    }
+}
+
 #[test]
 fn every_instruction_set_agrees() {
     let osc = Oscillator::new(500.0, 0.02, 1.0).unwrap();
@@ -169,7 +308,7 @@ fn every_instruction_set_agrees() {
     let all = on_each_isa!(|s| {
         let mut q = vec![0.0; n];
         let out = pulp::WithSimd::with_simd(
-            ScanPass::<true, false> {
+            ScanPass::<false> {
                 t: &t,
                 force: &f,
                 m,
@@ -183,14 +322,65 @@ fn every_instruction_set_agrees() {
         );
         (q, out)
     });
-    let (q_ref, (_, _, ok)) = &all[0].1;
-    assert!(ok);
-    for (isa, (q, (_, _, ok))) in &all {
-        assert!(ok, "{isa}");
+    let (q_ref, end) = &all[0].1;
+    assert!(end.ok);
+    for (isa, (q, end)) in &all {
+        assert!(end.ok, "{isa}");
         assert!(
             rel(&q[1..SCAN * m + 1], &q_ref[1..SCAN * m + 1]) < 1e-13,
             "{isa}"
         );
+    }
+}
+
+#[test]
+fn every_instruction_set_corrects_alike() {
+    // The free-motion pass on each instruction set (its vector code and the
+    // table's) against the scalar one, with and without v.
+    let osc = Oscillator::new(700.0, 0.03, 1.0).unwrap();
+    let (mode, n) = (osc.mode(), 4001);
+    let t = wobbly(n, 0.5, 1e-4, 2f64.powi(-45));
+    let m = (n - 1) / SCAN;
+    let free = Free::new(&mode, t[1] - t[0], m);
+    let sq: [f64; SCAN] = std::array::from_fn(|l| (l as f64 - 3.0) * 1e-3);
+    let sv: [f64; SCAN] = std::array::from_fn(|l| 0.1 * l as f64);
+    let all = on_each_isa!(|s| {
+        let (mut q, mut v) = (vec![1.0; n], vec![-1.0; n]);
+        pulp::WithSimd::with_simd(
+            Correct::<true> {
+                t: &t,
+                m,
+                free: &free,
+                mode: &mode,
+                hbar: t[1] - t[0],
+                sq,
+                sv,
+                q_out: &mut q,
+                v_out: &mut v,
+            },
+            s,
+        );
+        let mut q1 = vec![1.0; n];
+        pulp::WithSimd::with_simd(
+            Correct::<false> {
+                t: &t,
+                m,
+                free: &free,
+                mode: &mode,
+                hbar: t[1] - t[0],
+                sq,
+                sv,
+                q_out: &mut q1,
+                v_out: &mut [],
+            },
+            s,
+        );
+        assert_eq!(q1, q);
+        (q, v)
+    });
+    let (q_ref, v_ref) = &all[0].1;
+    for (isa, (q, v)) in &all {
+        assert!(rel(q, q_ref) < 1e-14 && rel(v, v_ref) < 1e-14, "{isa}");
     }
 }
 
