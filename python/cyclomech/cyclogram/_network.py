@@ -11,6 +11,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
+from .. import _core
 from .._arrays import SPEED_CAP_RPM
 from .._errors import InputError
 from ._graph import max_difference
@@ -278,6 +279,69 @@ class SpeedNetwork:
                 k < grid.shape[1], grid[r, np.minimum(k, grid.shape[1] - 1)], hi[act]
             )
         return out
+
+    def speed_limits_proportional(
+        self,
+        per_rpm: Array,
+        start: float,
+        n_threads: int | None = None,
+        rtol: float = 1e-10,
+    ) -> Array:
+        """:meth:`speed_limits` where every extra bound is proportional to the
+        speed: bound k of design d is ``max(n·per_rpm[d, k], 1e-9)`` degrees at n rpm
+        (none over 360°; :class:`~cyclomech._kind.Proportional`), ``per_rpm``
+        (D, K) [deg/rpm]. The same search, bit for bit, in one Rust call for all
+        the designs (rayon over designs, the GIL released); with constraints over
+        several operations (the LP) the Python search itself.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_angle_deg=100)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg, [(("a", "b"), "rebound")])
+        >>> lim = net.speed_limits_proportional(np.array([[0.5], [1.0]]), 100.0)
+        >>> np.round(lim, 6).tolist()                  # n·0.5 = 300, n·1.0 = 300
+        [600.0, 300.0]
+        """
+        per = np.ascontiguousarray(per_rpm, dtype=np.float64)
+        if per.ndim != 2 or per.shape[1] != len(self.bound_op):
+            raise InputError(
+                f"per_rpm must be (designs, {len(self.bound_op)}) slopes [deg/rpm]; "
+                f"got shape {per.shape}"
+            )
+        if self.general or self.always_false:
+
+            def at(designs: npt.NDArray[np.int64], rpm: Array) -> list[Array]:
+                rows = rpm.reshape(-1)
+                m = rpm.shape[1]
+                return [
+                    np.where(t <= 360.0, t, np.nan)
+                    for t in (
+                        np.maximum(np.multiply(rows, np.repeat(per[designs, k], m)), 1e-9)
+                        for k in range(per.shape[1])
+                    )
+                ]
+
+            return self.speed_limits(at, per.shape[0], start, n_threads, rtol)
+        return _core.speed_limits_proportional(
+            self.n,
+            self.src,
+            self.dst,
+            self.base,
+            self.source,
+            self.target,
+            self.lim_shift,
+            self.min_edge,
+            self.angle,
+            self.secs,
+            np.asarray(self.bound_op, dtype=np.int64),
+            per,
+            float(start),
+            SPEED_FLOOR_RPM,
+            SPEED_CAP_RPM,
+            float(rtol),
+            n_threads=n_threads,
+        )
 
     def _lp(
         self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]

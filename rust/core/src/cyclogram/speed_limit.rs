@@ -1,0 +1,468 @@
+//! The speed limit of a cyclogram whose extra bounds are proportional to the
+//! speed, for many designs at once: the search of the Python layer's
+//! `SpeedNetwork.speed_limits` (`python/cyclomech/cyclogram/_network.py`), step
+//! for step and operation for operation, so that each design's limit is bit for
+//! bit the Python search's (tested there against it).
+//!
+//! A design's network is the cyclogram's system of difference constraints
+//! (see [`super::max_difference`]): fixed arcs (`base` weights) and, per
+//! operation, a minimum-angle arc whose weight is `base - min`, where the minimum
+//! angle at `n` rpm is `max(angle, 6·n·secs)` (the duration only where
+//! `secs > 0`) raised by the extra bounds on that operation, bound `k` being
+//! `t = max(n·per_rpm[k], 1e-9)` [deg], no angle at all (the row does not fit)
+//! above 360°. A row fits when the shortest path from the limiting operation's
+//! start to its end is finite (no negative cycle, the end reachable).
+//!
+//! The search, per design: not fitting at `floor` gives 0; otherwise the bracket
+//! grows 4× from `start` up to `cap` (fitting at `cap`: inf); then the bracket
+//! `[lo, hi]` is cut at the speeds `lo + i·(hi - lo)/65`, i = 1 … 64 (numpy's
+//! `linspace(lo, hi, 66)[1:-1]`: a product then a sum, never fused), `lo` moving to
+//! the last speed before the first that does not fit and `hi` to that one, until
+//! `hi - lo <= rtol·hi`. The first non-fitting speed is found by trying them in
+//! order and stopping there (the Python search tries all 64 and takes the first
+//! False: the same speed, even where round-off makes fitting non-monotone).
+
+use rayon::prelude::*;
+
+use super::difference::{DifferenceWork, Differences};
+use super::graph::{CyclogramError, MAX_ABS_VALUE};
+use crate::units::DEG_PER_S_PER_RPM;
+
+/// Smallest angle a proportional bound gives [deg] (the Python `Proportional`).
+pub const PROPORTIONAL_MIN_DEG: f64 = 1e-9;
+
+/// Largest angle of a proportional bound [deg]: above, no phase angle of one
+/// turn will do and the row does not fit.
+pub const PROPORTIONAL_MAX_DEG: f64 = 360.0;
+
+/// Speeds of one refinement step (numpy's `linspace(lo, hi, 66)` less its ends).
+const GRID: usize = 64;
+
+/// Refinement steps at most per design: rtol >= 1e-14 needs fewer than 20 (each
+/// step shrinks the bracket 65×); the cap only stops a bracket that round-off
+/// could no longer shrink (the Python search would loop there forever).
+const MAX_REFINEMENTS: usize = 200;
+
+/// The cyclogram's network with the operations' minimum-angle data and the extra
+/// bounds' operations (all slices borrowed from the caller).
+pub struct ProportionalNetwork<'a> {
+    /// Nodes of the difference system.
+    pub n_nodes: i64,
+    /// Arc tails and heads (E,).
+    pub src: &'a [i64],
+    pub dst: &'a [i64],
+    /// Each arc's constant weight [deg] (E,).
+    pub base: &'a [f64],
+    /// The limiting operation's start and end nodes.
+    pub source: i64,
+    pub target: i64,
+    /// Added to the shortest path for the limiting angle [deg] (360·height).
+    pub lim_shift: f64,
+    /// The minimum-angle arc of each operation (O,).
+    pub min_edge: &'a [i64],
+    /// Each operation's minimum angle [deg] and minimum duration [s] (O,).
+    pub angle: &'a [f64],
+    pub secs: &'a [f64],
+    /// The operation of each extra bound (K,).
+    pub bound_op: &'a [i64],
+}
+
+/// The search's speeds [rpm] and its relative tolerance.
+#[derive(Debug, Clone, Copy)]
+pub struct SpeedSearch {
+    /// The first speed tried.
+    pub start: f64,
+    /// The lowest speed tried: not fitting there gives 0.
+    pub floor: f64,
+    /// The highest speed tried: fitting there gives inf.
+    pub cap: f64,
+    /// The bracket's relative width at which the search stops.
+    pub rtol: f64,
+}
+
+/// A validated network: the difference system and the per-operation data as
+/// indices.
+struct Prepared<'a> {
+    sys: Differences,
+    /// Nodes of the system (validated by `Differences::new`).
+    n: usize,
+    base: &'a [f64],
+    lim_shift: f64,
+    min_edge: Vec<usize>,
+    angle: &'a [f64],
+    secs: &'a [f64],
+    bound_op: Vec<usize>,
+}
+
+/// One thread's scratch: weights (E,), minimum angles (O,) and the shortest-path
+/// work space.
+struct Scratch {
+    w: Vec<f64>,
+    mins: Vec<f64>,
+    work: DifferenceWork,
+}
+
+fn index(
+    field: &'static str,
+    values: &[i64],
+    len: usize,
+    what: &'static str,
+) -> Result<Vec<usize>, CyclogramError> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            if v < 0 || v as u64 >= len as u64 {
+                Err(CyclogramError::OutOfDomain {
+                    field,
+                    position: i,
+                    value: v as f64,
+                    what,
+                })
+            } else {
+                Ok(v as usize)
+            }
+        })
+        .collect()
+}
+
+fn scalar(
+    field: &'static str,
+    value: f64,
+    ok: bool,
+    what: &'static str,
+) -> Result<(), CyclogramError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(CyclogramError::BadScalar { field, value, what })
+    }
+}
+
+impl<'a> Prepared<'a> {
+    fn new(net: &ProportionalNetwork<'a>) -> Result<Self, CyclogramError> {
+        let sys = Differences::new(net.n_nodes, net.src, net.dst, net.source, net.target)?;
+        let m = net.src.len();
+        if net.base.len() != m {
+            return Err(CyclogramError::WeightLength {
+                field: "base",
+                expected: m,
+                got: net.base.len(),
+            });
+        }
+        let o = net.min_edge.len();
+        for (field, got) in [("angle", net.angle.len()), ("secs", net.secs.len())] {
+            if got != o {
+                return Err(CyclogramError::WeightLength {
+                    field,
+                    expected: o,
+                    got,
+                });
+            }
+        }
+        let min_edge = index(
+            "min_edge",
+            net.min_edge,
+            m,
+            "an arc index below the arc count",
+        )?;
+        let bound_op = index(
+            "bound_op",
+            net.bound_op,
+            o,
+            "an operation index below the count",
+        )?;
+        scalar(
+            "lim_shift",
+            net.lim_shift,
+            net.lim_shift.is_finite(),
+            "it must be finite",
+        )?;
+        Ok(Prepared {
+            sys,
+            n: net.n_nodes as usize,
+            base: net.base,
+            lim_shift: net.lim_shift,
+            min_edge,
+            angle: net.angle,
+            secs: net.secs,
+            bound_op,
+        })
+    }
+
+    fn scratch(&self) -> Scratch {
+        Scratch {
+            w: self.base.to_vec(),
+            mins: vec![0.0; self.min_edge.len()],
+            work: DifferenceWork::new(self.n),
+        }
+    }
+
+    /// Whether the cyclogram fits at `rpm` with the bounds' slopes `per_rpm`
+    /// (K,): `SpeedNetwork.solve(...)[1]` for one row. An error where the Python
+    /// search's shortest-path call would raise (a weight out of range).
+    fn fits(&self, rpm: f64, per_rpm: &[f64], s: &mut Scratch) -> Result<bool, CyclogramError> {
+        // minimum_angles: where(secs > 0, 6·n·secs, -inf), the larger of it and the angle.
+        for (e, m) in s.mins.iter_mut().enumerate() {
+            let dur = if self.secs[e] > 0.0 {
+                DEG_PER_S_PER_RPM * rpm * self.secs[e]
+            } else {
+                f64::NEG_INFINITY
+            };
+            *m = if dur > self.angle[e] {
+                dur
+            } else {
+                self.angle[e]
+            };
+        }
+        // The extra bounds in order, each raising its operation's minimum.
+        let mut bound_ok = true;
+        for (&op, &c) in self.bound_op.iter().zip(per_rpm) {
+            let x = rpm * c;
+            // np.maximum propagates NaN; NaN or over 360°: no angle will do.
+            let t = if x.is_nan() {
+                f64::NAN
+            } else if x > PROPORTIONAL_MIN_DEG {
+                x
+            } else {
+                PROPORTIONAL_MIN_DEG
+            };
+            if t <= PROPORTIONAL_MAX_DEG {
+                if t > s.mins[op] {
+                    s.mins[op] = t;
+                }
+            } else {
+                bound_ok = false;
+            }
+        }
+        for (&e, &m) in self.min_edge.iter().zip(&s.mins) {
+            s.w[e] = self.base[e] - m;
+        }
+        if let Some((col, &value)) =
+            s.w.iter()
+                .enumerate()
+                .find(|(_, v)| v.is_nan() || v.abs() > MAX_ABS_VALUE)
+        {
+            return Err(CyclogramError::NonFinite {
+                field: "weights",
+                location: format!("[{col}] (at {rpm} rpm)"),
+                value,
+                what: "difference bounds",
+            });
+        }
+        if !bound_ok {
+            return Ok(false);
+        }
+        let value = self.sys.solve_row(&s.w, &mut s.work);
+        Ok((value + self.lim_shift).is_finite())
+    }
+
+    /// One design's speed limit [rpm] (see the module's docs).
+    fn search(
+        &self,
+        per_rpm: &[f64],
+        sp: SpeedSearch,
+        s: &mut Scratch,
+    ) -> Result<f64, CyclogramError> {
+        if !self.fits(sp.floor, per_rpm, s)? {
+            return Ok(0.0);
+        }
+        let (mut lo, mut hi) = (sp.floor, sp.start);
+        while self.fits(hi, per_rpm, s)? {
+            if hi >= sp.cap {
+                return Ok(f64::INFINITY);
+            }
+            lo = hi;
+            hi = (4.0 * hi).min(sp.cap);
+        }
+        for _ in 0..MAX_REFINEMENTS {
+            if hi - lo <= sp.rtol * hi {
+                return Ok(lo);
+            }
+            let step = (hi - lo) / (GRID + 1) as f64;
+            let at = |i: usize| (i + 1) as f64 * step + lo;
+            let mut k = GRID; // the first grid speed (0-based) that does not fit
+            for i in 0..GRID {
+                if !self.fits(at(i), per_rpm, s)? {
+                    k = i;
+                    break;
+                }
+            }
+            let (new_lo, new_hi) = (
+                if k > 0 { at(k - 1) } else { lo },
+                if k < GRID { at(k) } else { hi },
+            );
+            lo = new_lo;
+            hi = new_hi;
+        }
+        Ok(lo)
+    }
+}
+
+/// Each of `designs` designs' speed limit [rpm] (D,): the highest speed at which the
+/// network fits with the extra bounds' slopes `per_rpm` (D·K, row-major, K =
+/// `net.bound_op.len()`; bound k of design d at n rpm is `n·per_rpm[d·K + k]`
+/// degrees); 0 if it does not fit at `search.floor`, inf if it fits at
+/// `search.cap`. Bit for bit the Python `SpeedNetwork.speed_limits` with
+/// proportional bounds (see the module's docs), whatever the thread count: rayon
+/// over designs on the pool chosen by `n_threads`.
+pub fn speed_limits_proportional(
+    net: &ProportionalNetwork<'_>,
+    per_rpm: &[f64],
+    designs: usize,
+    search: SpeedSearch,
+    n_threads: Option<i64>,
+) -> Result<Vec<f64>, CyclogramError> {
+    let prep = Prepared::new(net)?;
+    let k = prep.bound_op.len();
+    let threads = crate::parallel::resolve_threads(n_threads)?;
+    let sp = search;
+    scalar(
+        "floor",
+        sp.floor,
+        sp.floor.is_finite() && sp.floor > 0.0,
+        "it must be a positive speed",
+    )?;
+    scalar(
+        "start",
+        sp.start,
+        sp.start.is_finite() && sp.start >= sp.floor,
+        "it must be finite and at least the floor",
+    )?;
+    scalar(
+        "cap",
+        sp.cap,
+        sp.cap.is_finite() && sp.cap >= sp.start,
+        "it must be finite and at least start",
+    )?;
+    scalar(
+        "rtol",
+        sp.rtol,
+        (1e-14..=0.5).contains(&sp.rtol),
+        "it must be a relative tolerance in [1e-14, 0.5]",
+    )?;
+    if Some(per_rpm.len()) != designs.checked_mul(k) {
+        return Err(CyclogramError::WeightLength {
+            field: "per_rpm",
+            expected: designs.saturating_mul(k),
+            got: per_rpm.len(),
+        });
+    }
+    let row = |d: usize| &per_rpm[d * k..(d + 1) * k];
+    let mut out = vec![0.0; designs];
+    if threads == 1 || designs < 2 {
+        let mut s = prep.scratch();
+        for (d, o) in out.iter_mut().enumerate() {
+            *o = prep.search(row(d), sp, &mut s)?;
+        }
+    } else {
+        crate::parallel::pool(threads)?.install(|| {
+            out.par_iter_mut().enumerate().try_for_each_init(
+                || prep.scratch(),
+                |s, (d, o)| -> Result<(), CyclogramError> {
+                    *o = prep.search(row(d), sp, s)?;
+                    Ok(())
+                },
+            )
+        })?;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// a→b (min 100°, duration 0.05 s), b→c (60°, limiting), as the Python
+    /// `SpeedNetwork` builds it: events a, b, c = 0, 1, 2, z = 3, F = 4.
+    fn chain() -> (Vec<i64>, Vec<i64>, Vec<f64>) {
+        let mut src = vec![1, 2];
+        let mut dst = vec![0, 1];
+        let mut base = vec![0.0, 0.0];
+        for v in 0..3 {
+            src.extend([v, 4]);
+            dst.extend([3, v]);
+            base.extend([0.0, 0.0]);
+        }
+        src.push(3);
+        dst.push(4);
+        base.push(360.0);
+        (src, dst, base)
+    }
+
+    fn limits(per_rpm: &[f64], secs: f64, threads: i64) -> Vec<f64> {
+        let (src, dst, base) = chain();
+        let net = ProportionalNetwork {
+            n_nodes: 5,
+            src: &src,
+            dst: &dst,
+            base: &base,
+            source: 1,
+            target: 2,
+            lim_shift: 0.0,
+            min_edge: &[0, 1],
+            angle: &[100.0, 60.0],
+            secs: &[secs, 0.0],
+            bound_op: &[0],
+        };
+        let sp = SpeedSearch {
+            start: 100.0,
+            floor: 1e-6,
+            cap: 1e6,
+            rtol: 1e-10,
+        };
+        speed_limits_proportional(&net, per_rpm, per_rpm.len(), sp, Some(threads)).unwrap()
+    }
+
+    #[test]
+    fn closed_forms() {
+        // 6·n·0.05 = 300 at 1000 rpm; a bound n·0.5 = 300 at 600 rpm; 0.001 never binds.
+        let got = limits(&[0.001, 0.5, 400.0], 0.05, 1);
+        assert!((got[0] - 1000.0).abs() <= 1e-10 * 1000.0 * 2.0, "{got:?}");
+        assert!(got[0] <= 1000.0);
+        assert!((got[1] - 600.0).abs() <= 1e-10 * 600.0 * 2.0, "{got:?}");
+        // 400·1e-6 = 4e-4 deg fits at the floor; 300/400 = 0.75 rpm.
+        assert!((got[2] - 0.75).abs() <= 1e-10, "{got:?}");
+        assert_eq!(limits(&[0.001, 0.5, 400.0], 0.05, 2), got);
+    }
+
+    #[test]
+    fn ends_of_the_range() {
+        // No duration and a tiny slope: fits at the cap; a slope that passes 360°
+        // at the floor: fits nowhere.
+        let got = limits(&[1e-9, 1e9], 0.0, 1);
+        assert_eq!(got, vec![f64::INFINITY, 0.0]);
+    }
+
+    #[test]
+    fn bad_inputs_are_errors() {
+        let (src, dst, base) = chain();
+        let mut net = ProportionalNetwork {
+            n_nodes: 5,
+            src: &src,
+            dst: &dst,
+            base: &base,
+            source: 1,
+            target: 2,
+            lim_shift: 0.0,
+            min_edge: &[0, 99],
+            angle: &[100.0, 60.0],
+            secs: &[0.0, 0.0],
+            bound_op: &[0],
+        };
+        let sp = SpeedSearch {
+            start: 100.0,
+            floor: 1e-6,
+            cap: 1e6,
+            rtol: 1e-10,
+        };
+        let e = speed_limits_proportional(&net, &[0.1], 1, sp, Some(1)).unwrap_err();
+        assert!(e.to_string().contains("min_edge[1] = 99"), "{e}");
+        net.min_edge = &[0, 1];
+        let bad = SpeedSearch { rtol: 0.0, ..sp };
+        let e = speed_limits_proportional(&net, &[0.1], 1, bad, Some(1)).unwrap_err();
+        assert!(e.to_string().contains("rtol"), "{e}");
+        let e = speed_limits_proportional(&net, &[0.1, 0.2, 0.3], 3, sp, Some(0)).unwrap_err();
+        assert!(e.to_string().contains("n_threads"), "{e}");
+    }
+}
