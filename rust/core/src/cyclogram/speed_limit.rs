@@ -38,6 +38,19 @@ pub const PROPORTIONAL_MAX_DEG: f64 = 360.0;
 /// Speeds of one refinement step (numpy's `linspace(lo, hi, 66)` less its ends).
 const GRID: usize = 64;
 
+/// Relaxations a certificate may take, per (V + E): a potential of a network
+/// far from infeasible is found in a few passes; near the edge (within the core's
+/// tolerance) there may be none, and the speeds are tried one by one.
+const CERTIFICATE_WORK: usize = 8;
+
+/// The certificate's round-off bound, (|π| + V·max|w|) ≤ this·(1 + max |w| of the
+/// constant arcs): 4.4e-16·that is half of DIFFERENCE_RTOL (1e-12) at most.
+const CERTIFICATE_SCALE: f64 = 1000.0;
+
+/// Certificates tried per refinement step (at the bisection's last fitting speed
+/// and 2, 6, 14 … below it).
+const CERTIFICATE_TRIES: usize = 4;
+
 /// Refinement steps at most per design: rtol >= 1e-14 needs fewer than 20 (each
 /// step shrinks the bracket 65×); the cap only stops a bracket that round-off
 /// could no longer shrink (the Python search would loop there forever).
@@ -92,6 +105,16 @@ struct Prepared<'a> {
     angle: &'a [f64],
     secs: &'a [f64],
     bound_op: Vec<usize>,
+    /// Arc heads, and the arcs out of each node (CSR: `out_arcs[out_ptr[u]..out_ptr[u + 1]]`).
+    dst: Vec<u32>,
+    out_ptr: Vec<usize>,
+    out_arcs: Vec<u32>,
+    /// Whether the limiting operation's end is reachable from its start at all.
+    reachable: bool,
+    /// max |w| over the arcs whose weight is the same at every speed, and over
+    /// those and the minimum-angle arcs at their largest (base − angle).
+    max_const: f64,
+    max_static: f64,
 }
 
 /// One thread's scratch: weights (E,), minimum angles (O,) and the shortest-path
@@ -100,6 +123,10 @@ struct Scratch {
     w: Vec<f64>,
     mins: Vec<f64>,
     work: DifferenceWork,
+    /// The certificate's potential, queue and queue marks (V,).
+    pi: Vec<f64>,
+    queue: Vec<u32>,
+    queued: Vec<bool>,
 }
 
 fn index(
@@ -137,6 +164,45 @@ fn scalar(
     } else {
         Err(CyclogramError::BadScalar { field, value, what })
     }
+}
+
+/// The arcs out of each node: (ptr (V + 1,), arcs), by a counting sort of the
+/// (validated) tails.
+fn outgoing(n: usize, src: &[i64]) -> (Vec<usize>, Vec<u32>) {
+    let mut ptr = vec![0usize; n + 1];
+    for &u in src {
+        ptr[u as usize + 1] += 1;
+    }
+    for v in 0..n {
+        ptr[v + 1] += ptr[v];
+    }
+    let mut fill = ptr.clone();
+    let mut arcs = vec![0u32; src.len()];
+    for (e, &u) in src.iter().enumerate() {
+        arcs[fill[u as usize]] = e as u32;
+        fill[u as usize] += 1;
+    }
+    (ptr, arcs)
+}
+
+/// Whether `target` is reachable from `source` along the arcs.
+fn reaches(ptr: &[usize], arcs: &[u32], dst: &[i64], source: usize, target: usize) -> bool {
+    let mut seen = vec![false; ptr.len() - 1];
+    let mut stack = vec![source];
+    seen[source] = true;
+    while let Some(u) = stack.pop() {
+        if u == target {
+            return true;
+        }
+        for &e in &arcs[ptr[u]..ptr[u + 1]] {
+            let v = dst[e as usize] as usize;
+            if !seen[v] {
+                seen[v] = true;
+                stack.push(v);
+            }
+        }
+    }
+    false
 }
 
 impl<'a> Prepared<'a> {
@@ -178,9 +244,35 @@ impl<'a> Prepared<'a> {
             net.lim_shift.is_finite(),
             "it must be finite",
         )?;
+        let n = net.n_nodes as usize;
+        let (out_ptr, out_arcs) = outgoing(n, net.src);
+        let reachable = reaches(
+            &out_ptr,
+            &out_arcs,
+            net.dst,
+            net.source as usize,
+            net.target as usize,
+        );
+        let mut is_min = vec![false; m];
+        for &e in &min_edge {
+            is_min[e] = true;
+        }
+        let max_const = (0..m)
+            .filter(|&e| !is_min[e])
+            .fold(0.0f64, |a, e| a.max(net.base[e].abs()));
+        let max_static = min_edge
+            .iter()
+            .zip(net.angle)
+            .fold(max_const, |a, (&e, &t)| a.max((net.base[e] - t).abs()));
         Ok(Prepared {
+            max_const,
+            max_static,
+            dst: net.dst.iter().map(|&v| v as u32).collect(),
+            out_ptr,
+            out_arcs,
+            reachable,
             sys,
-            n: net.n_nodes as usize,
+            n,
             base: net.base,
             lim_shift: net.lim_shift,
             min_edge,
@@ -195,13 +287,17 @@ impl<'a> Prepared<'a> {
             w: self.base.to_vec(),
             mins: vec![0.0; self.min_edge.len()],
             work: DifferenceWork::new(self.n),
+            pi: vec![0.0; self.n],
+            queue: Vec::with_capacity(8 * self.n),
+            queued: vec![false; self.n],
         }
     }
 
-    /// Whether the cyclogram fits at `rpm` with the bounds' slopes `per_rpm`
-    /// (K,): `SpeedNetwork.solve(...)[1]` for one row. An error where the Python
-    /// search's shortest-path call would raise (a weight out of range).
-    fn fits(&self, rpm: f64, per_rpm: &[f64], s: &mut Scratch) -> Result<bool, CyclogramError> {
+    /// The weights at `rpm` into `s.w` (`SpeedNetwork.solve`'s: the minimum
+    /// angles, the extra bounds in order, base − minimum on each minimum-angle
+    /// arc) and whether every bound has an angle (≤ 360°). An error where the
+    /// Python search's shortest-path call would raise (a weight out of range).
+    fn weights(&self, rpm: f64, per_rpm: &[f64], s: &mut Scratch) -> Result<bool, CyclogramError> {
         // minimum_angles: where(secs > 0, 6·n·secs, -inf), the larger of it and the angle.
         for (e, m) in s.mins.iter_mut().enumerate() {
             let dur = if self.secs[e] > 0.0 {
@@ -250,11 +346,141 @@ impl<'a> Prepared<'a> {
                 what: "difference bounds",
             });
         }
-        if !bound_ok {
+        Ok(bound_ok)
+    }
+
+    /// Whether the cyclogram fits at `rpm` with the bounds' slopes `per_rpm`
+    /// (K,): `SpeedNetwork.solve(...)[1]` for one row, by the same shortest-path
+    /// core (`Differences::solve_row`) on the same weights.
+    fn fits(&self, rpm: f64, per_rpm: &[f64], s: &mut Scratch) -> Result<bool, CyclogramError> {
+        if !self.weights(rpm, per_rpm, s)? {
             return Ok(false);
         }
         let value = self.sys.solve_row(&s.w, &mut s.work);
         Ok((value + self.lim_shift).is_finite())
+    }
+
+    /// A proof that the cyclogram fits at `rpm` and at every lower speed, without
+    /// the shortest-path core: a potential π with π[v] ≤ fl(π[u] + w[e]) on every
+    /// arc (label-correcting shortest paths from a virtual source, strict
+    /// improvements only, at most `CERTIFICATE_WORK`·(V + E) relaxations).
+    ///
+    /// Why it decides `fits` exactly: every weight only falls as the speed grows
+    /// (the minimum angles only grow, in floating point too: products, maxima and
+    /// differences are monotone), so π satisfies the arcs at every lower speed;
+    /// then each cycle weighs at least −V·(a few ulps of the distances), far above
+    /// −eps (`DIFFERENCE_RTOL`·(1 + max|w|)·V), so the core's Bellman–Ford runs
+    /// settle without a predecessor cycle (which needs a cycle below −eps), the
+    /// target is reached when it is reachable at all (checked once), and the
+    /// bounds that have an angle here have one below. False says nothing.
+    fn certified(
+        &self,
+        rpm: f64,
+        per_rpm: &[f64],
+        s: &mut Scratch,
+    ) -> Result<bool, CyclogramError> {
+        if !self.reachable || !self.weights(rpm, per_rpm, s)? {
+            return Ok(false);
+        }
+        let n = self.n;
+        let Scratch {
+            w,
+            pi,
+            queue,
+            queued,
+            ..
+        } = s;
+        pi.fill(0.0);
+        queue.clear();
+        queue.extend(0..n as u32);
+        queued.fill(true);
+        let mut head = 0usize;
+        let mut budget = CERTIFICATE_WORK * (n + w.len());
+        while head < queue.len() {
+            let u = queue[head] as usize;
+            head += 1;
+            queued[u] = false;
+            for &e in &self.out_arcs[self.out_ptr[u]..self.out_ptr[u + 1]] {
+                if budget == 0 {
+                    return Ok(false);
+                }
+                budget -= 1;
+                let v = self.dst[e as usize] as usize;
+                let c = pi[u] + w[e as usize];
+                if c < pi[v] {
+                    pi[v] = c;
+                    if !queued[v] {
+                        queued[v] = true;
+                        queue.push(v as u32);
+                    }
+                }
+            }
+            if head > 4 * n {
+                // Keep the queue short: drop what was taken.
+                queue.drain(..head);
+                head = 0;
+            }
+        }
+        // The round-off bound: a cycle's weight is off by at most V ulps of
+        // (|π| + V·max|w|) here and in the core's own sums; it must stay far below
+        // the core's eps ≥ DIFFERENCE_RTOL·V·(1 + the constant arcs' max |w|).
+        let max_pi = pi.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+        let max_w = w.iter().fold(self.max_static, |a, &x| a.max(x.abs()));
+        Ok(max_pi + n as f64 * max_w <= CERTIFICATE_SCALE * (1.0 + self.max_const))
+    }
+
+    /// The first of the 64 grid speeds `at(0..64)` that does not fit (64 if all
+    /// do): what trying each in order gives. A bisection finds a speed that fits
+    /// followed by one that does not; below it, a certificate
+    /// ([`Self::certified`]) at that speed or a few lower ones proves a run of
+    /// speeds fits, and the speeds between are tried in order (in the last
+    /// refinements, where the bracket is within the core's tolerance, that is
+    /// most of them).
+    fn first_miss(
+        &self,
+        at: &dyn Fn(usize) -> f64,
+        per_rpm: &[f64],
+        s: &mut Scratch,
+    ) -> Result<usize, CyclogramError> {
+        // known[i]: 0 not tried, 1 fits, 2 does not.
+        let mut known = [0u8; GRID];
+        let (mut fit, mut miss) = (-1isize, GRID as isize);
+        while miss - fit > 1 {
+            let mid = (fit + miss) / 2;
+            if self.fits(at(mid as usize), per_rpm, s)? {
+                known[mid as usize] = 1;
+                fit = mid;
+            } else {
+                known[mid as usize] = 2;
+                miss = mid;
+            }
+        }
+        // Every speed up to `proven` fits.
+        let mut proven = -1isize;
+        let (mut p, mut gap) = (fit, 2isize);
+        for _ in 0..CERTIFICATE_TRIES {
+            if p < 1 {
+                break;
+            }
+            if self.certified(at(p as usize), per_rpm, s)? {
+                proven = p;
+                break;
+            }
+            p -= gap;
+            gap *= 2;
+        }
+        for i in (proven + 1).max(0)..fit {
+            let i = i as usize;
+            let ok = match known[i] {
+                1 => true,
+                2 => false,
+                _ => self.fits(at(i), per_rpm, s)?,
+            };
+            if !ok {
+                return Ok(i);
+            }
+        }
+        Ok(miss as usize)
     }
 
     /// One design's speed limit [rpm] (see the module's docs).
@@ -281,13 +507,7 @@ impl<'a> Prepared<'a> {
             }
             let step = (hi - lo) / (GRID + 1) as f64;
             let at = |i: usize| (i + 1) as f64 * step + lo;
-            let mut k = GRID; // the first grid speed (0-based) that does not fit
-            for i in 0..GRID {
-                if !self.fits(at(i), per_rpm, s)? {
-                    k = i;
-                    break;
-                }
-            }
+            let k = self.first_miss(&at, per_rpm, s)?;
             let (new_lo, new_hi) = (
                 if k > 0 { at(k - 1) } else { lo },
                 if k < GRID { at(k) } else { hi },
@@ -464,5 +684,45 @@ mod tests {
         assert!(e.to_string().contains("rtol"), "{e}");
         let e = speed_limits_proportional(&net, &[0.1, 0.2, 0.3], 3, sp, Some(0)).unwrap_err();
         assert!(e.to_string().contains("n_threads"), "{e}");
+    }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// The bisection with certificates finds the first grid speed that does
+        /// not fit, as trying all 64 in order does; and a certificate is never
+        /// wrong at its speed or below.
+        #[test]
+        fn first_miss_is_the_first_in_order(
+            a0 in 0.0f64..200.0, a1 in 0.0f64..200.0,
+            s0 in prop_oneof![Just(0.0), 1e-4f64..0.05],
+            per in prop_oneof![Just(0.0), 1e-4f64..2.0],
+            lo in 1e-6f64..900.0, width in prop_oneof![1e-9f64..1e-6, 1e-3f64..1e3],
+        ) {
+            let (src, dst, base) = chain();
+            let angle = [a0, a1];
+            let secs = [s0, 0.0];
+            let net = ProportionalNetwork {
+                n_nodes: 5, src: &src, dst: &dst, base: &base, source: 1, target: 2,
+                lim_shift: 0.0, min_edge: &[0, 1], angle: &angle, secs: &secs, bound_op: &[0],
+            };
+            let prep = Prepared::new(&net).unwrap();
+            let mut s = prep.scratch();
+            let step = width / 65.0;
+            let at = |i: usize| (i + 1) as f64 * step + lo;
+            let plain = (0..GRID)
+                .find(|&i| !prep.fits(at(i), &[per], &mut s).unwrap())
+                .unwrap_or(GRID);
+            prop_assert_eq!(prep.first_miss(&at, &[per], &mut s).unwrap(), plain);
+            for i in (0..GRID).step_by(7) {
+                if prep.certified(at(i), &[per], &mut s).unwrap() {
+                    for j in 0..=i {
+                        prop_assert!(prep.fits(at(j), &[per], &mut s).unwrap());
+                    }
+                }
+            }
+        }
     }
 }
