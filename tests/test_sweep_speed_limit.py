@@ -81,6 +81,24 @@ def test_bit_for_bit_the_python_search(case) -> None:
     assert np.array_equal(net.speed_limits_proportional(per, start, 2, rtol), want)
 
 
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(networks(), st.lists(st.floats(1e-6, 3e3) | st.sampled_from([1e-6, 1e6]), max_size=12))
+def test_solve_is_bit_for_bit_the_python_solve(case, speeds) -> None:
+    net, per, _, _ = case
+    rpm = np.array(speeds, dtype=np.float64)
+    rows = np.tile(rpm, per.shape[0])
+    t_bound = [
+        Proportional.evaluate(rows, np.repeat(per[:, k], rpm.size)) for k in range(per.shape[1])
+    ]
+    value, fits, named, mins = net.solve(rows, t_bound, 1)
+    for threads in (1, 2):
+        v, f, n, t = net.solve_proportional(per, rpm, threads)
+        assert np.array_equal(v, value, equal_nan=True)
+        assert np.array_equal(f, fits)
+        assert (n == named).all(), (n, named)
+        assert np.array_equal(t, mins[:, net.bound_op].reshape(rows.size, len(net.bound_op)))
+
+
 def loom_case(n_designs: int = 40) -> tuple[SpeedNetwork, np.ndarray, float]:
     loom = cm.Machine.from_toml("tests/data/stb_loom_stop_only.toml")
     per0 = loom.bound_laws()[0].per_rpm
@@ -192,6 +210,13 @@ def test_constraints_over_several_operations_take_the_python_search() -> None:
     assert np.array_equal(
         net.speed_limits_proportional(per, 100.0), python_limits(net, per, 100.0, 1e-10)
     )
+    rpm = np.array([100.0, 500.0, 900.0])
+    rows = np.tile(rpm, 2)
+    t_bound = [Proportional.evaluate(rows, np.repeat(per[:, 0], 3))]
+    value, _, named, mins = net.solve(rows, t_bound)
+    v, _, n, t = net.solve_proportional(per, rpm)
+    assert np.array_equal(v, value, equal_nan=True) and (n == named).all()
+    assert np.array_equal(t[:, 0], mins[:, 0])
 
 
 def test_bad_inputs_are_input_errors() -> None:

@@ -233,25 +233,25 @@ def batch_figures(
         )
         solved[name] = (unit, per, mins)
     # Each design's bound laws: the swept stops' own, every other mechanism's shared.
-    # All proportional (the usual case: stops only): their slopes (D, K), and the
-    # speed-limit search in one Rust call; else the laws and the Python search.
+    # All proportional (the usual case: stops only): their slopes (D, K), the
+    # solve at every speed and the speed-limit search each one Rust call; else
+    # the laws, SpeedNetwork.solve and the Python search.
     grid = np.tile(speeds, (D, 1))
     rows = grid.reshape(-1)
     slopes = _slopes(bounded, base_laws, solved, D)
     at: Any = None
     if slopes is not None:
-        # What _bounds_at gives for proportional laws, without a law object a design.
-        t_bound = [Proportional.evaluate(rows, np.repeat(c, S)) for c in slopes.T]
+        value, fits, binding, bound_mins = net.solve_proportional(slopes, speeds, n_threads)
     else:
         at = _bounds_at(_laws(bounded, base_laws, solved, D))
-        t_bound = at(np.arange(D), grid)
-    value, fits, binding, mins = net.solve(rows, t_bound, n_threads)
+        value, fits, binding, mins = net.solve(rows, at(np.arange(D), grid), n_threads)
+        bound_mins = mins[:, net.bound_op].reshape(rows.size, len(net.bound_op))
     columns = sorted({c for cls in KINDS.values() for c in cls.sweep_columns})
     extra = {c: np.full(rows.shape, np.nan) for c in columns}
     k = 0
     for m in bounded:
         nb = len(m.bounds())
-        angles = [mins[:, net.bound_op[k + i]] for i in range(nb)]
+        angles = [bound_mins[:, k + i] for i in range(nb)]
         if m.name in solved:
             per = np.repeat(solved[m.name][0], S)
             t = angles[0]

@@ -46,7 +46,7 @@ mod _core {
     #[pymodule_export]
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
-    use super::speed_limit::speed_limits_proportional;
+    use super::speed_limit::{solve_proportional, speed_limits_proportional};
     #[pymodule_export]
     use super::transfer::{
         transfer_kinematics, transfer_longest, transfer_peak_jerk, transfer_quintic,

@@ -42,6 +42,6 @@ pub use difference::{max_difference, max_difference_batch, DIFFERENCE_RTOL};
 pub use event_graph::{longest_path, Analysis, EventGraph};
 pub use graph::{CyclogramError, MAX_ABS_VALUE, MAX_SIZE};
 pub use speed_limit::{
-    speed_limits_proportional, ProportionalNetwork, SpeedSearch, PROPORTIONAL_MAX_DEG,
-    PROPORTIONAL_MIN_DEG,
+    solve_proportional_into, speed_limits_proportional, ProportionalNetwork, SolveOut, SpeedSearch,
+    PROPORTIONAL_MAX_DEG, PROPORTIONAL_MIN_DEG,
 };

@@ -122,6 +122,9 @@ struct Prepared<'a> {
 struct Scratch {
     w: Vec<f64>,
     mins: Vec<f64>,
+    /// Which lower bound sets each minimum: 0 its angle, 1 its duration, 2 + k
+    /// extra bound k (`SpeedNetwork.minimums`).
+    which: Vec<u8>,
     work: DifferenceWork,
     /// The certificate's potential, queue and queue marks (V,).
     pi: Vec<f64>,
@@ -286,6 +289,7 @@ impl<'a> Prepared<'a> {
         Scratch {
             w: self.base.to_vec(),
             mins: vec![0.0; self.min_edge.len()],
+            which: vec![0; self.min_edge.len()],
             work: DifferenceWork::new(self.n),
             pi: vec![0.0; self.n],
             queue: Vec::with_capacity(8 * self.n),
@@ -305,15 +309,13 @@ impl<'a> Prepared<'a> {
             } else {
                 f64::NEG_INFINITY
             };
-            *m = if dur > self.angle[e] {
-                dur
-            } else {
-                self.angle[e]
-            };
+            let by_time = dur > self.angle[e];
+            *m = if by_time { dur } else { self.angle[e] };
+            s.which[e] = u8::from(by_time);
         }
         // The extra bounds in order, each raising its operation's minimum.
         let mut bound_ok = true;
-        for (&op, &c) in self.bound_op.iter().zip(per_rpm) {
+        for (k, (&op, &c)) in self.bound_op.iter().zip(per_rpm).enumerate() {
             let x = rpm * c;
             // np.maximum propagates NaN; NaN or over 360°: no angle will do.
             let t = if x.is_nan() {
@@ -326,6 +328,7 @@ impl<'a> Prepared<'a> {
             if t <= PROPORTIONAL_MAX_DEG {
                 if t > s.mins[op] {
                     s.mins[op] = t;
+                    s.which[op] = 2 + k as u8;
                 }
             } else {
                 bound_ok = false;
@@ -587,6 +590,126 @@ pub fn speed_limits_proportional(
         })?;
     }
     Ok(out)
+}
+
+/// One row of [`solve_proportional_into`]: its index, value, codes and bound minima.
+type RowItem<'a> = (usize, (&'a mut f64, (&'a mut [i16], &'a mut [f64])));
+
+/// What [`solve_proportional_into`] gives per row (B = D·S rows, design-major).
+#[derive(Debug)]
+pub struct SolveOut<'a> {
+    /// The limiting operation's optimal angle [deg] (B,), NaN where it does not fit.
+    pub value: &'a mut [f64],
+    /// Per row and arc (B, E): 0 off the shortest path (or the row does not
+    /// fit), 1 on it; a minimum-angle arc on it: 1 + which bound sets it (1 its
+    /// angle, 2 its duration, 3 + k extra bound k). `SpeedNetwork._labels`' codes.
+    pub code: &'a mut [i16],
+    /// The minimum angle [deg] of each extra bound's operation (B, K).
+    pub bound_mins: &'a mut [f64],
+}
+
+/// `SpeedNetwork.solve` of every design at every speed: design d (of
+/// `designs`, bounds' slopes `per_rpm` (D·K,)) at `rpm[j]` is row d·S + j. The
+/// same weights and shortest-path core as the Python call, so the same values,
+/// paths and codes; rayon over rows on the pool chosen by `n_threads`.
+pub fn solve_proportional_into(
+    net: &ProportionalNetwork<'_>,
+    per_rpm: &[f64],
+    designs: usize,
+    rpm: &[f64],
+    n_threads: Option<i64>,
+    out: SolveOut<'_>,
+) -> Result<(), CyclogramError> {
+    let prep = Prepared::new(net)?;
+    let (k, m, s) = (prep.bound_op.len(), net.src.len(), rpm.len());
+    let threads = crate::parallel::resolve_threads(n_threads)?;
+    if Some(per_rpm.len()) != designs.checked_mul(k) {
+        return Err(CyclogramError::WeightLength {
+            field: "per_rpm",
+            expected: designs.saturating_mul(k),
+            got: per_rpm.len(),
+        });
+    }
+    let b = designs.saturating_mul(s);
+    for (field, got, want) in [
+        ("value", out.value.len(), b),
+        ("code", out.code.len(), b.saturating_mul(m)),
+        ("bound_mins", out.bound_mins.len(), b.saturating_mul(k)),
+    ] {
+        if got != want {
+            return Err(CyclogramError::Output {
+                want: format!("{field} of {want} entries"),
+                got: got.to_string(),
+            });
+        }
+    }
+    let row = |sc: &mut Scratch,
+               r: usize,
+               value: &mut f64,
+               code: &mut [i16],
+               mins: &mut [f64]|
+     -> Result<(), CyclogramError> {
+        let per = &per_rpm[(r / s) * k..(r / s + 1) * k];
+        let bound_ok = prep.weights(rpm[r % s], per, sc)?;
+        for (o, &op) in mins.iter_mut().zip(&prep.bound_op) {
+            *o = sc.mins[op];
+        }
+        code.fill(0);
+        *value = f64::NAN;
+        if !bound_ok {
+            return Ok(());
+        }
+        let v = prep.sys.solve_row(&sc.w, &mut sc.work);
+        if !v.is_finite() || !(v + prep.lim_shift).is_finite() {
+            return Ok(());
+        }
+        *value = v + prep.lim_shift;
+        for &e in &sc.work.path {
+            code[e as usize] = 1;
+        }
+        for (o, &e) in prep.min_edge.iter().enumerate() {
+            if code[e] > 0 {
+                code[e] = 1 + i16::from(sc.which[o]);
+            }
+        }
+        Ok(())
+    };
+    if b == 0 {
+        return Ok(());
+    }
+    let (mc, kc) = (m.max(1), k.max(1));
+    let SolveOut {
+        value,
+        code,
+        bound_mins,
+    } = out;
+    // Without arcs or bounds the chunks are empty: pad them so the zip holds.
+    let mut no_code = vec![0i16; if m == 0 { b } else { 0 }];
+    let mut no_mins = vec![0.0f64; if k == 0 { b } else { 0 }];
+    let code: &mut [i16] = if m == 0 { &mut no_code } else { code };
+    let bound_mins: &mut [f64] = if k == 0 { &mut no_mins } else { bound_mins };
+    let run =
+        |sc: &mut Scratch, (r, (v, (c, bm))): RowItem<'_>| row(sc, r, v, &mut c[..m], &mut bm[..k]);
+    if threads == 1 || b < 64 {
+        let mut sc = prep.scratch();
+        for item in value
+            .iter_mut()
+            .zip(code.chunks_mut(mc).zip(bound_mins.chunks_mut(kc)))
+            .enumerate()
+        {
+            run(&mut sc, item)?;
+        }
+        Ok(())
+    } else {
+        crate::parallel::pool(threads)?.install(|| {
+            value
+                .par_iter_mut()
+                .zip(code.par_chunks_mut(mc).zip(bound_mins.par_chunks_mut(kc)))
+                .enumerate()
+                .with_min_len(64)
+                .try_for_each_init(|| prep.scratch(), run)
+        })
+    }
 }
 
 #[cfg(test)]
