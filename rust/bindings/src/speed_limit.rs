@@ -1,9 +1,9 @@
-//! Binding of the cyclogram's speed-limit search with speed-proportional bounds
-//! (`cyclomech.cyclogram.SpeedNetwork.speed_limits_proportional`).
+//! Bindings of the cyclogram's kernels for designs with speed-proportional
+//! bounds: the speed-limit search and the solve at many speeds
+//! (`cyclomech.cyclogram.SpeedNetwork.speed_limits_proportional` and
+//! `solve_proportional`).
 
-use cyclomech_core::cyclogram::{
-    self, CyclogramError, ProportionalNetwork, SolveOut, SpeedSearch,
-};
+use cyclomech_core::cyclogram::{self, CyclogramError, ProportionalNetwork, SolveOut, SpeedSearch};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,

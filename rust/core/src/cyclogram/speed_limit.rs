@@ -20,7 +20,13 @@
 //! the last speed before the first that does not fit and `hi` to that one, until
 //! `hi - lo <= rtol·hi`. The first non-fitting speed is found by trying them in
 //! order and stopping there (the Python search tries all 64 and takes the first
-//! False: the same speed, even where round-off makes fitting non-monotone).
+//! False: the same speed, even where round-off makes fitting non-monotone),
+//! found faster by a bisection and a certificate for the speeds below it (see
+//! `Prepared::first_miss`).
+//!
+//! [`solve_proportional_into`] is `SpeedNetwork.solve` of every design at every
+//! speed of a sweep on the same weights: the limiting angles, the chains' codes
+//! and the bounds' minimum angles.
 
 use rayon::prelude::*;
 
