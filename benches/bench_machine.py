@@ -106,6 +106,7 @@ class _PerPointReport:
         tr = terminalreporter
         pairs = [(f"design-old-{n}", f"design-batch-{n}") for n in (1, 2)]
         pairs.append(("stops-old", "stops-batch"))
+        pairs.append(("limits-python", "limits-rust"))
         for old, new in pairs:
             if old in _PER_POINT and new in _PER_POINT:
                 a, b = _PER_POINT[old][1], _PER_POINT[new][1]
@@ -119,7 +120,7 @@ class _PerPointReport:
         tr.write_sep("=", "cyclomech machine: per point")
         tr.write_line(f"  peer: {lp[0]}: {_us(lp[1])} per point")
         for key, (what, t) in _PER_POINT.items():
-            if key == "lp" or key.startswith(("design-", "stops-")):
+            if key == "lp" or key.startswith(("design-", "stops-", "limits-")):
                 continue
             n = N_PRELOADS * N_SPEEDS if key.startswith("sweep") else N_SPEEDS
             tr.write_line(
@@ -493,6 +494,51 @@ def test_stop_designs_per_design(benchmark, loom) -> None:
     pre = np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)[::BATCH_STRIDE]
     benchmark(_stop_designs_per_design, loom, pre)
     _record(benchmark, "stops-old", "stop designs, per design", n)
+
+
+def _design_slopes(loom: cm.Machine) -> Array:
+    """The 10^4 designs' rebound bounds [deg/rpm] (D, 1), as the batch has them."""
+    pre = np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)
+    law = loom.mechanisms["lifter"].stop.law  # type: ignore[attr-defined]
+    from cyclomech import _core
+    from cyclomech.machine._batch import batch_designs, plan
+
+    pl = plan(loom, ["lifter.preload"])
+    assert pl is not None
+    tables, _ = batch_designs(loom, pl, {"lifter.preload": pre})
+    per = _core.stop_design_batch(law.name, True, None, 0, tables["lifter"], np.empty(0))[4]
+    return np.ascontiguousarray(per[:, None])
+
+
+def _python_limits(loom: cm.Machine, per: Array) -> Array:
+    """The Python search (SpeedNetwork.speed_limits, the per-design path's)."""
+    from cyclomech._kind import Proportional
+
+    def at(designs, rpm):
+        m = rpm.shape[1]
+        return [Proportional.evaluate(rpm.reshape(-1), np.repeat(per[designs, 0], m))]
+
+    return loom._network.speed_limits(at, per.shape[0], loom._search_start(), 1, 1e-10)
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH)
+def test_speed_limits_rust(benchmark, loom) -> None:
+    _label(benchmark, "cyclomech", f"{N_DESIGNS_BATCH} designs' speed limits, 1 Rust call")
+    per = _design_slopes(loom)
+    net, start = loom._network, loom._search_start()
+    got = benchmark(net.speed_limits_proportional, per, start, 1)
+    want = _python_limits(loom, per[::BATCH_STRIDE])
+    assert np.array_equal(got[::BATCH_STRIDE], want)
+    _record(benchmark, "limits-rust", "speed limits, Rust search", N_DESIGNS_BATCH)
+
+
+@pytest.mark.benchmark(group=GROUP_BATCH, min_rounds=SLOW_ROUNDS)
+def test_speed_limits_python(benchmark, loom) -> None:
+    n = N_DESIGNS_BATCH // BATCH_STRIDE
+    _label(benchmark, "cyclomech (Python search)", f"{n} designs' speed limits, Python search")
+    per = _design_slopes(loom)[::BATCH_STRIDE]
+    benchmark(_python_limits, loom, per)
+    _record(benchmark, "limits-python", "speed limits, Python search", n)
 
 
 def _start_cluster() -> tuple[Any, Any]:

@@ -516,6 +516,48 @@ def stop_design_rebounds(
     n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
 
+# --- issue 20, machine sweeps: the speed-limit search of many designs with
+# speed-proportional bounds (rust/bindings/src/speed_limit.rs) ---
+__all__ += ["solve_proportional", "speed_limits_proportional"]
+
+def solve_proportional(
+    n_nodes: int,
+    src: npt.NDArray[np.int64],
+    dst: npt.NDArray[np.int64],
+    base: npt.NDArray[np.float64],
+    source: int,
+    target: int,
+    lim_shift: float,
+    min_edge: npt.NDArray[np.int64],
+    angle: npt.NDArray[np.float64],
+    secs: npt.NDArray[np.float64],
+    bound_op: npt.NDArray[np.int64],
+    per_rpm: npt.NDArray[np.float64],
+    rpm: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int16], npt.NDArray[np.float64]]: ...
+def speed_limits_proportional(
+    n_nodes: int,
+    src: npt.NDArray[np.int64],
+    dst: npt.NDArray[np.int64],
+    base: npt.NDArray[np.float64],
+    source: int,
+    target: int,
+    lim_shift: float,
+    min_edge: npt.NDArray[np.int64],
+    angle: npt.NDArray[np.float64],
+    secs: npt.NDArray[np.float64],
+    bound_op: npt.NDArray[np.int64],
+    per_rpm: npt.NDArray[np.float64],
+    start: float,
+    floor: float,
+    cap: float,
+    rtol: float,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+
 # transfer: rotor transfer (seed 002), cyclomech.transfer's kernels. Errors are
 # cyclomech.InputError.
 

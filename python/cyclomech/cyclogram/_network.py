@@ -11,6 +11,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
+from .. import _core
 from .._arrays import SPEED_CAP_RPM
 from .._errors import InputError
 from ._graph import max_difference
@@ -24,6 +25,10 @@ Array = npt.NDArray[np.float64]
 #: there fits at no speed (its time bounds and speed-proportional bounds only shrink
 #: as the speed falls).
 SPEED_FLOOR_RPM = 1e-6
+_Ints = npt.NDArray[np.int64]
+#: The network as the proportional kernels take it (n, src, dst, base, source,
+#: target, lim_shift, min_edge, angle, secs, bound_op).
+_KernelArgs = tuple[int, _Ints, _Ints, Array, int, int, float, _Ints, Array, Array, _Ints]
 #: ``bounds_at(designs, rpm)``: each extra bound's smallest angle [deg] for the
 #: designs ``designs`` (indices) at their speeds ``rpm`` (D', M), one (D'·M,) array
 #: a bound in the row order of ``rpm.reshape(-1)``.
@@ -279,6 +284,120 @@ class SpeedNetwork:
             )
         return out
 
+    def solve_proportional(
+        self, per_rpm: Array, rpm: Array, n_threads: int | None = None
+    ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
+        """:meth:`solve` of every design at every speed ``rpm`` (S,) [rpm], design
+        d's extra bounds proportional to the speed (``per_rpm`` (D, K), as in
+        :meth:`speed_limits_proportional`): row d·S + j is design d at ``rpm[j]``.
+        The limiting angles [deg], the fit flags, the chains' names and the
+        minimum angle [deg] of each bound's operation (D·S, K); bit for bit
+        :meth:`solve` on the same rows, in one Rust call (the weights built per
+        row, rayon over rows, the GIL released).
+
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_angle_deg=100)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg, [(("a", "b"), "wear")])
+        >>> rpm = np.array([100.0, 400.0])
+        >>> angle, fits, binding, t = net.solve_proportional(np.array([[0.5]]), rpm)
+        >>> angle.tolist(), binding.tolist(), t[:, 0].tolist()     # 360 − max(100, n·0.5)
+        ([260.0, 160.0], ['min[a→b]; cycle', 'wear; cycle'], [100.0, 200.0])
+        """
+        per = self._slopes(per_rpm)
+        speeds = np.ascontiguousarray(rpm, dtype=np.float64).reshape(-1)
+        if self.general or self.always_false:
+            rows = np.tile(speeds, per.shape[0])
+            reps = speeds.size
+            t_bound = [
+                np.where(t <= 360.0, t, np.nan)
+                for t in (
+                    np.maximum(np.multiply(rows, np.repeat(per[:, k], reps)), 1e-9)
+                    for k in range(per.shape[1])
+                )
+            ]
+            value, fits, named, mins = self.solve(rows, t_bound, n_threads)
+            return value, fits, named, mins[:, self.bound_op].reshape(rows.size, len(self.bound_op))
+        value, code, bound_mins = _core.solve_proportional(
+            *self._kernel_args(), per, speeds, n_threads=n_threads
+        )
+        return value, np.isfinite(value), self._names(code), bound_mins
+
+    def _slopes(self, per_rpm: Array) -> Array:
+        """``per_rpm`` as a C-ordered (D, K) float64 array, K the bounds'."""
+        per = np.ascontiguousarray(per_rpm, dtype=np.float64)
+        if per.ndim != 2 or per.shape[1] != len(self.bound_op):
+            raise InputError(
+                f"per_rpm must be (designs, {len(self.bound_op)}) slopes [deg/rpm]; "
+                f"got shape {per.shape}"
+            )
+        return per
+
+    def _kernel_args(self) -> _KernelArgs:
+        """The network's arrays for the proportional kernels."""
+        return (
+            self.n,
+            self.src,
+            self.dst,
+            self.base,
+            self.source,
+            self.target,
+            float(self.lim_shift),
+            self.min_edge,
+            self.angle,
+            self.secs,
+            np.asarray(self.bound_op, dtype=np.int64),
+        )
+
+    def speed_limits_proportional(
+        self,
+        per_rpm: Array,
+        start: float,
+        n_threads: int | None = None,
+        rtol: float = 1e-10,
+    ) -> Array:
+        """:meth:`speed_limits` where every extra bound is proportional to the
+        speed: bound k of design d is ``max(n·per_rpm[d, k], 1e-9)`` degrees at n rpm
+        (none over 360°; :class:`~cyclomech._kind.Proportional`), ``per_rpm``
+        (D, K) [deg/rpm]. The same search, bit for bit, in one Rust call for all
+        the designs (rayon over designs, the GIL released); with constraints over
+        several operations (the LP) the Python search itself.
+
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_angle_deg=100)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg, [(("a", "b"), "rebound")])
+        >>> lim = net.speed_limits_proportional(np.array([[0.5], [1.0]]), 100.0)
+        >>> np.round(lim, 6).tolist()                  # n·0.5 = 300, n·1.0 = 300
+        [600.0, 300.0]
+        """
+        per = self._slopes(per_rpm)
+        if self.general or self.always_false:
+
+            def at(designs: npt.NDArray[np.int64], rpm: Array) -> list[Array]:
+                rows = rpm.reshape(-1)
+                m = rpm.shape[1]
+                return [
+                    np.where(t <= 360.0, t, np.nan)
+                    for t in (
+                        np.maximum(np.multiply(rows, np.repeat(per[designs, k], m)), 1e-9)
+                        for k in range(per.shape[1])
+                    )
+                ]
+
+            return self.speed_limits(at, per.shape[0], start, n_threads, rtol)
+        return _core.speed_limits_proportional(
+            *self._kernel_args(),
+            per,
+            float(start),
+            SPEED_FLOOR_RPM,
+            SPEED_CAP_RPM,
+            float(rtol),
+            n_threads=n_threads,
+        )
+
     def _lp(
         self, rpm: Array, mins: Array, ok: npt.NDArray[np.bool_]
     ) -> tuple[Array, npt.NDArray[np.bool_], list[list[str]]]:
@@ -316,17 +435,30 @@ class SpeedNetwork:
         which: npt.NDArray[np.int8],
         fits: npt.NDArray[np.bool_],
     ) -> npt.NDArray[np.object_]:
-        """``; ``-joined names of the bounds on each row's chain: the unique
-        patterns are named once. Neighbouring speeds mostly share a pattern, so
-        only the first row of each run of equal rows goes into the sort."""
+        """``; ``-joined names of the bounds on each row's chain (see
+        :meth:`_names`)."""
         code = np.zeros(on_path.shape, np.int16)
         code[on_path] = 1
         mins = code[:, self.min_edge]
         code[:, self.min_edge] = np.where(mins > 0, 1 + which.astype(np.int16), 0)
         code[~fits] = 0
-        starts = np.flatnonzero(np.r_[True, (code[1:] != code[:-1]).any(axis=1)])
-        found = np.unique(code[starts], axis=0, return_inverse=True)
-        patterns, of_run = cast(tuple[Any, Any], found)  # (numpy's stubs miss this overload)
+        return self._names(code)
+
+    def _names(self, code: npt.NDArray[np.int16]) -> npt.NDArray[np.object_]:
+        """The names of the rows' codes (B, E) (0: off the chain; 1: on it; a
+        minimum-angle arc: 1 + which bound sets it): the unique patterns are named
+        once. Neighbouring speeds mostly share a pattern, so only the first row of
+        each run of equal rows goes into the sort."""
+        if code.shape[0] == 0:
+            return np.empty(0, dtype=object)
+        code = np.ascontiguousarray(code, dtype=np.int16)
+        # Each row as one opaque value (its bytes): compared and sorted as a whole,
+        # far faster than numpy's unique over rows (axis=0).
+        rows = code.view(np.dtype((np.void, 2 * code.shape[1]))).reshape(-1)
+        starts = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])
+        found = np.unique(rows[starts], return_index=True, return_inverse=True)
+        _, first, of_run = cast(tuple[Any, Any, Any], found)  # (numpy's stubs miss this)
+        patterns = code[starts[first]]
         inverse = np.repeat(of_run.reshape(-1), np.diff(np.r_[starts, len(code)]))
         names = []
         for row in patterns:

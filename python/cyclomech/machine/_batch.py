@@ -233,27 +233,25 @@ def batch_figures(
         )
         solved[name] = (unit, per, mins)
     # Each design's bound laws: the swept stops' own, every other mechanism's shared.
-    per_mech: list[list[Any]] = []
-    k = 0
-    for m in bounded:
-        nb = len(m.bounds())
-        if m.name in solved:
-            per_mech.append([[Proportional(float(x))] for x in solved[m.name][1].tolist()])
-        else:
-            per_mech.append([base_laws[k : k + nb]] * D)
-        k += nb
-    laws = [[law for col in per_mech for law in col[d]] for d in range(D)]
-    at = _bounds_at(laws)
+    # All proportional (the usual case: stops only): their slopes (D, K), the
+    # solve at every speed and the speed-limit search each one Rust call; else
+    # the laws, SpeedNetwork.solve and the Python search.
     grid = np.tile(speeds, (D, 1))
     rows = grid.reshape(-1)
-    t_bound = at(np.arange(D), grid)
-    value, fits, binding, mins = net.solve(rows, t_bound, n_threads)
+    slopes = _slopes(bounded, base_laws, solved, D)
+    at: Any = None
+    if slopes is not None:
+        value, fits, binding, bound_mins = net.solve_proportional(slopes, speeds, n_threads)
+    else:
+        at = _bounds_at(_laws(bounded, base_laws, solved, D))
+        value, fits, binding, mins = net.solve(rows, at(np.arange(D), grid), n_threads)
+        bound_mins = mins[:, net.bound_op].reshape(rows.size, len(net.bound_op))
     columns = sorted({c for cls in KINDS.values() for c in cls.sweep_columns})
     extra = {c: np.full(rows.shape, np.nan) for c in columns}
     k = 0
     for m in bounded:
         nb = len(m.bounds())
-        angles = [mins[:, net.bound_op[k + i]] for i in range(nb)]
+        angles = [bound_mins[:, k + i] for i in range(nb)]
         if m.name in solved:
             per = np.repeat(solved[m.name][0], S)
             t = angles[0]
@@ -282,7 +280,10 @@ def batch_figures(
     cols = {c: v.reshape(D, S) for c, v in cols.items()}
     # The speed limit: the cyclogram's search over every design at once, then
     # each mechanism's own limit (shared by the designs: a stop has none).
-    cg = net.speed_limits(at, D, machine._search_start(), n_threads, 1e-10)
+    if slopes is not None:
+        cg = net.speed_limits_proportional(slopes, machine._search_start(), n_threads, 1e-10)
+    else:
+        cg = net.speed_limits(at, D, machine._search_start(), n_threads, 1e-10)
     rpm = np.asarray(cg, dtype=np.float64).copy()
     by = np.full(D, "cyclogram", dtype=object)
     for name, x in machine.mechanisms.items():
@@ -293,3 +294,48 @@ def batch_figures(
     cols["speed_limit_rpm"] = np.repeat(rpm[:, None], S, axis=1)
     cols["speed_limit_by"] = np.repeat(by[:, None], S, axis=1)
     return cols
+
+
+def _laws(
+    bounded: Sequence[Any],
+    base_laws: Sequence[Any],
+    solved: Mapping[str, tuple[Array, Array, Array]],
+    D: int,
+) -> list[list[Any]]:
+    """Each design's bound laws (D, K): the swept stops' own (proportional, from
+    the batch kernel), every other mechanism's shared."""
+    per_mech: list[list[Any]] = []
+    k = 0
+    for m in bounded:
+        nb = len(m.bounds())
+        if m.name in solved:
+            per_mech.append([[Proportional(float(x))] for x in solved[m.name][1].tolist()])
+        else:
+            per_mech.append([base_laws[k : k + nb]] * D)
+        k += nb
+    return [[law for col in per_mech for law in col[d]] for d in range(D)]
+
+
+def _slopes(
+    bounded: Sequence[Any],
+    base_laws: Sequence[Any],
+    solved: Mapping[str, tuple[Array, Array, Array]],
+    D: int,
+) -> Array | None:
+    """The bound laws of :func:`_laws` as slopes (D, K) [deg/rpm] when every one
+    is proportional, else None."""
+    cols: list[Array] = []
+    k = 0
+    for m in bounded:
+        nb = len(m.bounds())
+        if m.name in solved:
+            cols.append(solved[m.name][1])
+        else:
+            for law in base_laws[k : k + nb]:
+                if not isinstance(law, Proportional):
+                    return None
+                cols.append(np.full(D, law.per_rpm))
+        k += nb
+    if not cols:
+        return np.empty((D, 0))
+    return np.ascontiguousarray(np.stack(cols, axis=1), dtype=np.float64)

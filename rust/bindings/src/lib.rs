@@ -17,6 +17,7 @@ mod linkage;
 mod motion;
 mod press;
 mod shaft;
+mod speed_limit;
 mod transfer;
 
 #[pymodule]
@@ -44,6 +45,8 @@ mod _core {
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
     use super::shaft::{shaft_stats, shaft_sum};
+    #[pymodule_export]
+    use super::speed_limit::{solve_proportional, speed_limits_proportional};
     #[pymodule_export]
     use super::transfer::{
         transfer_kinematics, transfer_longest, transfer_peak_jerk, transfer_quintic,

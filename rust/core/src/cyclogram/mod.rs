@@ -33,6 +33,7 @@ mod graph;
 mod layout;
 #[cfg(test)]
 mod order_tests;
+mod speed_limit;
 #[cfg(test)]
 mod tests;
 
@@ -40,3 +41,7 @@ pub use cycle_ratio::{max_cycle_ratio, max_speed, CycleRatio, SpeedLimit, MIN_DI
 pub use difference::{max_difference, max_difference_batch, DIFFERENCE_RTOL};
 pub use event_graph::{longest_path, Analysis, EventGraph};
 pub use graph::{CyclogramError, MAX_ABS_VALUE, MAX_SIZE};
+pub use speed_limit::{
+    solve_proportional_into, speed_limits_proportional, ProportionalNetwork, SolveOut, SpeedSearch,
+    PROPORTIONAL_MAX_DEG, PROPORTIONAL_MIN_DEG,
+};
