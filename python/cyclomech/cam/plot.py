@@ -664,9 +664,9 @@ def plot_min_phase_angles(
     One colour per segment, one line style per criterion (solid pressure angle,
     dashed undercut, dotted jump, dash-dot contact stress, sparse dots vibration),
     the bound (the largest) bold and faint under them. A criterion that is 0 at
-    every speed (it does not bound the segment) is left out; NaN (no angle up to a
-    whole turn will do) is a gap, as is the bound wherever one of its criteria is
-    NaN.
+    every speed (it does not bound the segment) is left out, and where it is 0 at
+    some speeds its curve has a gap there; NaN (no angle up to a whole turn will
+    do) is a gap too, as is the bound wherever one of its criteria is NaN.
 
     Parameters
     ----------
@@ -747,9 +747,11 @@ def plot_min_phase_angles(
             if not (np.nan_to_num(y, nan=1.0) != 0.0).any():
                 continue  # does not bound this segment at any speed
             used.add(j)
+            # 0 is "does not bound the segment" at that speed: a gap, not a line at
+            # 0° with a jump where the criterion starts to bound.
             ax.plot(
                 rpm,
-                y,
+                np.where(y == 0.0, np.nan, y),
                 color=c,
                 lw=1.3,
                 ls=_CRITERION_STYLES[j % len(_CRITERION_STYLES)],
