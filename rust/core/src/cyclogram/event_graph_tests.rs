@@ -154,17 +154,21 @@ proptest! {
 /// it, the partition from [`PARTITION_MIN_ARCS`].
 #[test]
 fn plan_switches_at_its_thresholds() {
-    for (m, radix, part) in [
-        (RADIX_MIN_ARCS - 1, false, false),
-        (RADIX_MIN_ARCS, true, false),
-        (PARTITION_MIN_ARCS - 1, true, false),
-        (PARTITION_MIN_ARCS, true, true),
+    for m in [
+        RADIX_MIN_ARCS - 1,
+        RADIX_MIN_ARCS,
+        PARTITION_MIN_ARCS - 1,
+        PARTITION_MIN_ARCS,
     ] {
         let p = Plan::for_size(m / 4, m);
+        let radix = m >= RADIX_MIN_ARCS;
         assert_eq!(p.tail_shift.is_some(), radix, "{m}");
         assert_eq!(p.head_shift.is_some(), radix, "{m}");
-        assert_eq!(p.partition, part, "{m}");
+        assert_eq!(p.partition, radix && m >= PARTITION_MIN_ARCS, "{m}");
     }
+    // A million events: at most 256 buckets by tail, 64 by head position.
+    let p = Plan::for_size(1_000_000, 4_000_000);
+    assert_eq!((p.tail_shift, p.head_shift), (Some(12), Some(14)));
 }
 
 /// A chain-and-fan DAG of `m` arcs on `n` events (every event but 0 has an arc

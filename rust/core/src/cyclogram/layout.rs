@@ -11,8 +11,8 @@
 //! The build is O(V + E) with no comparison sort and no hash map: one counting
 //! pass for the in-degrees, a stable grouping of the arcs by tail event, Kahn's
 //! algorithm over them (a cycle is detected there, when the queue runs dry
-//! before every event is placed; the events a few places ahead in the queue are
-//! prefetched), then a stable grouping of the arcs, read in input order, by
+//! before every event is placed; in a large graph the events a few places ahead
+//! in the queue are prefetched), then a stable grouping of the arcs, read in input order, by
 //! their head's position. From [`RADIX_MIN_ARCS`] arcs each grouping is a radix
 //! partition in two cache-sized passes (at most 256 sequential streams into
 //! buckets of key ranges, then each bucket into its groups in L2) instead of one
@@ -69,17 +69,25 @@ fn offsets(n: usize, count: impl Fn(usize) -> u32) -> Vec<u32> {
 }
 
 /// Arcs from which the build groups them in two cache-sized passes (a radix
-/// partition) rather than one scatter over the whole output: 2^18 arcs are 2 MiB
-/// of `[u32; 2]` entries, a core's L2.
-pub(super) const RADIX_MIN_ARCS: usize = 1 << 18;
+/// partition) rather than one scatter over the whole output: 2^20 arcs are
+/// 8 MiB of `[u32; 2]` entries, four times a core's L2 (below, the one scatter
+/// stays in the L3 and measured as fast).
+pub(super) const RADIX_MIN_ARCS: usize = 1 << 20;
 
-/// Coarse buckets of a radix partition at most 2^8: as many sequential write
+/// Coarse buckets of the grouping by tail at most 2^8: as many sequential write
 /// streams as the first pass can keep in L1 and the TLB.
-const RADIX_BITS: u32 = 8;
+const TAIL_RADIX_BITS: u32 = 8;
 
-/// The shift of a radix partition of `n` keys: keys `k >> shift` share a bucket.
-fn radix_shift(n: usize) -> u32 {
-    (usize::BITS - n.leading_zeros()).saturating_sub(RADIX_BITS)
+/// Coarse buckets of the grouping by head position at most 2^6: they are the
+/// weights' [`Partition`] blocks too, whose first pass every solve repeats
+/// (fewer streams), and whose second pass wants a block in L2 (~64 Ki arcs for
+/// E = 4V).
+const HEAD_RADIX_BITS: u32 = 6;
+
+/// The shift of a radix partition of `n` keys into at most `2^bits` buckets:
+/// keys `k >> shift` share a bucket.
+fn radix_shift(n: usize, bits: u32) -> u32 {
+    (usize::BITS - n.leading_zeros()).saturating_sub(bits)
 }
 
 /// A hint that `x[i]` will be read soon (a prefetch into every cache level):
@@ -136,7 +144,7 @@ struct Scratch<T> {
 ///
 /// With `shift = None` one scatter over the whole output; with `Some(s)` two
 /// passes: the items in input order into the buckets of keys `k >> s` (at most
-/// 2^[`RADIX_BITS`] sequential streams), then each bucket into its groups (a
+/// 2^8 sequential streams), then each bucket into its groups (a
 /// range of the output that fits in L2; the bucket's counts are taken there,
 /// in cache). Both give the same output.
 fn group<T: Copy + Default>(
@@ -249,10 +257,9 @@ impl Plan {
     /// [`RADIX_MIN_ARCS`], the weights' partition from [`PARTITION_MIN_ARCS`].
     pub(super) fn for_size(n: usize, m: usize) -> Plan {
         let radix = m >= RADIX_MIN_ARCS;
-        let shift = radix.then(|| radix_shift(n));
         Plan {
-            tail_shift: shift,
-            head_shift: shift,
+            tail_shift: radix.then(|| radix_shift(n, TAIL_RADIX_BITS)),
+            head_shift: radix.then(|| radix_shift(n, HEAD_RADIX_BITS)),
             partition: radix && m >= PARTITION_MIN_ARCS,
         }
     }
@@ -296,22 +303,24 @@ pub(super) fn layout(
     // Kahn's algorithm; `left` counts each event's unplaced predecessors. The
     // events a few places ahead in the queue have their arcs and their heads'
     // counts prefetched (the queue is usually far ahead of the walk).
-    let pf = Prefetch::new();
+    let pf = plan.tail_shift.map(|_| Prefetch::new());
     let mut left = indeg.clone();
     let mut order: Vec<u32> = Vec::with_capacity(n);
     order.extend((0..n as u32).filter(|&v| left[v as usize] == 0));
     let mut next = 0;
     while next < order.len() {
-        if let Some(&u) = order.get(next + 16) {
-            pf.at(&eptr, u as usize);
-        }
-        if let Some(&u) = order.get(next + 8) {
-            pf.at(&by_tail, eptr[u as usize] as usize);
-        }
-        if let Some(&u) = order.get(next + 4) {
-            let u = u as usize;
-            for &[h, _] in &by_tail[eptr[u] as usize..eptr[u + 1] as usize] {
-                pf.at(&left, h as usize);
+        if let Some(pf) = pf {
+            if let Some(&u) = order.get(next + 16) {
+                pf.at(&eptr, u as usize);
+            }
+            if let Some(&u) = order.get(next + 8) {
+                pf.at(&by_tail, eptr[u as usize] as usize);
+            }
+            if let Some(&u) = order.get(next + 4) {
+                let u = u as usize;
+                for &[h, _] in &by_tail[eptr[u] as usize..eptr[u + 1] as usize] {
+                    pf.at(&left, h as usize);
+                }
             }
         }
         let v = order[next] as usize;
