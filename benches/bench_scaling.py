@@ -302,12 +302,12 @@ def main(argv: list[str] | None = None) -> int:
                 rows.append(r)
     print(table(rows))
     floor = {(r["n"], r["threads"]): r["ns_per_item"] for r in rows if r["kind"] == "lp_floor"}
-    ratios = [
-        f"| {r['n']:.0e} | {r['threads']} | {r['ns_per_item']:.3g} | "
-        f"{floor[r['n'], r['threads']]:.3g} | {r['ns_per_item'] / floor[r['n'], r['threads']]:.3g}× |"
-        for r in rows
-        if r["kind"] == "longest_path" and (r["n"], r["threads"]) in floor
-    ]
+    ratios = []
+    for r in rows:
+        f = floor.get((r["n"], r["threads"]))
+        if r["kind"] == "longest_path" and f:
+            x = r["ns_per_item"]
+            ratios.append(f"| {r['n']:.0e} | {r['threads']} | {x:.3g} | {f:.3g} | {x / f:.3g}× |")
     if ratios:
         print(
             "\n| V | threads | longest path ns/arc | floor ns/arc | ratio |\n|---|---|---|---|---|"
