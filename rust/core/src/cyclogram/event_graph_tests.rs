@@ -53,13 +53,13 @@ fn check_partition(lay: &Layout, part: &Partition, m: usize) -> Result<(), TestC
             inc.ptr[b[1] as usize] as usize,
         );
         widest = widest.max(j1 - j0);
-        for e in 0..m {
-            let i = part.bucket[e] as usize;
-            if (j0..j1).contains(&slot[e]) {
+        for (&i, &j) in part.bucket.iter().zip(&slot) {
+            let i = i as usize;
+            if (j0..j1).contains(&j) {
                 prop_assert!((j0..j1).contains(&i));
                 prop_assert!(!seen[i]);
                 seen[i] = true;
-                prop_assert_eq!(j0 + part.local[i] as usize, slot[e]);
+                prop_assert_eq!(j0 + part.local[i] as usize, j);
             }
         }
     }
@@ -166,9 +166,9 @@ fn plan_switches_at_its_thresholds() {
         assert_eq!(p.head_shift.is_some(), radix, "{m}");
         assert_eq!(p.partition, radix && m >= PARTITION_MIN_ARCS, "{m}");
     }
-    // A million events: at most 256 buckets by tail, 64 by head position.
+    // A million events: at most 64 buckets of 2^14 events.
     let p = Plan::for_size(1_000_000, 4_000_000);
-    assert_eq!((p.tail_shift, p.head_shift), (Some(12), Some(14)));
+    assert_eq!((p.tail_shift, p.head_shift), (Some(14), Some(14)));
 }
 
 /// A chain-and-fan DAG of `m` arcs on `n` events (every event but 0 has an arc

@@ -74,15 +74,12 @@ fn offsets(n: usize, count: impl Fn(usize) -> u32) -> Vec<u32> {
 /// stays in the L3 and measured as fast).
 pub(super) const RADIX_MIN_ARCS: usize = 1 << 20;
 
-/// Coarse buckets of the grouping by tail at most 2^8: as many sequential write
-/// streams as the first pass can keep in L1 and the TLB.
-const TAIL_RADIX_BITS: u32 = 8;
-
-/// Coarse buckets of the grouping by head position at most 2^6: they are the
-/// weights' [`Partition`] blocks too, whose first pass every solve repeats
-/// (fewer streams), and whose second pass wants a block in L2 (~64 Ki arcs for
-/// E = 4V).
-const HEAD_RADIX_BITS: u32 = 6;
+/// Coarse buckets of a radix partition at most 2^6: the first pass writes two
+/// sequential streams per bucket (keys and payloads), 128 in all, as many as L1
+/// and the TLB keep; a bucket (~64 Ki arcs for E = 4V) is sorted in L2. The
+/// buckets by head position are the weights' [`Partition`] blocks too, whose
+/// first pass every solve repeats.
+const RADIX_BITS: u32 = 6;
 
 /// The shift of a radix partition of `n` keys into at most `2^bits` buckets:
 /// keys `k >> shift` share a bucket.
@@ -144,7 +141,7 @@ struct Scratch<T> {
 ///
 /// With `shift = None` one scatter over the whole output; with `Some(s)` two
 /// passes: the items in input order into the buckets of keys `k >> s` (at most
-/// 2^8 sequential streams), then each bucket into its groups (a
+/// 2^[`RADIX_BITS`] buckets), then each bucket into its groups (a
 /// range of the output that fits in L2; the bucket's counts are taken there,
 /// in cache). Both give the same output.
 fn group<T: Copy + Default>(
@@ -258,8 +255,8 @@ impl Plan {
     pub(super) fn for_size(n: usize, m: usize) -> Plan {
         let radix = m >= RADIX_MIN_ARCS;
         Plan {
-            tail_shift: radix.then(|| radix_shift(n, TAIL_RADIX_BITS)),
-            head_shift: radix.then(|| radix_shift(n, HEAD_RADIX_BITS)),
+            tail_shift: radix.then(|| radix_shift(n, RADIX_BITS)),
+            head_shift: radix.then(|| radix_shift(n, RADIX_BITS)),
             partition: radix && m >= PARTITION_MIN_ARCS,
         }
     }
@@ -415,11 +412,6 @@ pub(super) fn outgoing(n: usize, src: &[u32], dst: &[u32], pos: &[u32]) -> ByPos
 /// the gather by arc index turns into a cache and TLB miss per arc.
 pub(super) const PARTITION_MIN_ARCS: usize = 1 << 20;
 
-/// Incoming arcs per block of a test's [`Partition::new`] at most (1 MiB of weights, half a
-/// core's L2), unless one event alone has more.
-#[cfg(test)]
-pub(super) const BLOCK_ARCS: usize = 1 << 17;
-
 /// A two-pass permutation of a weight vector into the order of [`Layout::inc`],
 /// for graphs too large for the caches. The positions are cut into blocks (the
 /// radix buckets of the build's grouping by head position: `1 << shift`
@@ -446,7 +438,8 @@ pub(super) struct Partition {
 
 #[cfg(test)]
 impl Partition {
-    /// Blocks of at most `block_arcs` incoming arcs ([`BLOCK_ARCS`] outside tests).
+    /// Blocks of at most `block_arcs` incoming arcs (unless one event alone has
+    /// more): the tests' partitions of any block size.
     pub(super) fn new(lay: &Layout, dst: &[u32], block_arcs: usize) -> Partition {
         let (n, m) = (lay.order.len(), dst.len());
         let inc = &lay.inc;
