@@ -415,10 +415,10 @@ pub(super) const PARTITION_MIN_ARCS: usize = 1 << 20;
 /// A two-pass permutation of a weight vector into the order of [`Layout::inc`],
 /// for graphs too large for the caches. The positions are cut into blocks (the
 /// radix buckets of the build's grouping by head position: `1 << shift`
-/// positions each, about 16 Ki arcs for E = 4V; [`Partition::new`] cuts blocks
+/// positions each, about 64 Ki arcs for E = 4V; `Partition::new` cuts blocks
 /// of a given number of arcs for the tests). Pass 1 streams the weights in
-/// input order into one bucket per block (a few hundred sequential write streams
-/// at most); pass 2, block by block inside the forward pass, scatters a bucket
+/// input order into one bucket per block (at most 64 sequential write streams);
+/// pass 2, block by block inside the forward pass, scatters a bucket
 /// into a block-sized buffer that stays in L2. Either pass reads and writes
 /// memory in order except within a block.
 #[derive(Debug, Clone)]
