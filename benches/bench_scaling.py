@@ -20,6 +20,10 @@ Kernels and items:
   and acceleration analogs of all 4 joints; item = one crank angle. 10³ … 10⁷.
 - ``longest_path``: ``EventGraph`` build and one ``longest_path`` on a random DAG
   with E = 4V; item = one arc. V = 10³ … 10⁶.
+- ``lp_floor``: the random accesses no longest path avoids, by numpy: a gather
+  ``t[i]`` of E = 4V random indices from V times and a scatter ``out[i] = w`` of
+  E values into V slots (at V = 10⁶: 4e6 indices into an 8 MB array); item = one
+  arc. ``--kinds longest_path,lp_floor`` prints the ratio per size.
 - ``duhamel``: ``cm.impact.duhamel`` of one oscillator under a piecewise-linear
   force; item = one time step. 10³ … 10⁶.
 - ``sweep``: ``cm.sweep`` of the example loom over a speed axis; item = one point.
@@ -56,12 +60,19 @@ from bench_schedule import random_dag
 SIZES = {
     "linkage": [10**3, 10**4, 10**5, 10**6, 10**7],
     "longest_path": [10**3, 10**4, 10**5, 10**6],
+    "lp_floor": [10**3, 10**4, 10**5, 10**6],
     "duhamel": [10**3, 10**4, 10**5, 10**6],
     "sweep": [10**2, 10**3, 10**4, 10**5, 10**6],
 }
-ITEM = {"linkage": "angle", "longest_path": "arc", "duhamel": "step", "sweep": "point"}
+ITEM = {
+    "linkage": "angle",
+    "longest_path": "arc",
+    "lp_floor": "arc",
+    "duhamel": "step",
+    "sweep": "point",
+}
 #: Items per unit of size: the longest path's size is V, its items the E = 4V arcs.
-PER_SIZE = {"linkage": 1, "longest_path": 4, "duhamel": 1, "sweep": 1}
+PER_SIZE = {"linkage": 1, "longest_path": 4, "lp_floor": 4, "duhamel": 1, "sweep": 1}
 
 # A four-bar crank-rocker (crank 0.05, coupler 0.2, rocker 0.15, frame 0.18 m).
 _R, _L2, _L3, _D = 0.05, 0.2, 0.15, 0.18
@@ -122,6 +133,30 @@ def _longest_path(n: int, threads: int) -> tuple[Callable[[], Any], Callable[[An
 _OMEGA, _ZETA, _MASS = 2 * np.pi * 300.0, 0.05, 0.01
 
 
+def _lp_floor(n: int, threads: int) -> tuple[Callable[[], Any], Callable[[Any], None]]:
+    rng = np.random.default_rng(20261126)
+    idx = rng.integers(0, n, 4 * n)
+    t = rng.uniform(0.0, 360.0, n)
+    w = rng.uniform(-10.0, 30.0, 4 * n)
+    got = np.empty(4 * n)
+    out = np.empty(n)
+
+    def run() -> Any:
+        np.take(t, idx, out=got)  # gather
+        out[idx] = w  # scatter
+        return got, out
+
+    def check(r: Any) -> None:
+        g, o = r
+        assert np.array_equal(g, t[idx])
+        last = np.full(n, -1)
+        last[idx] = np.arange(idx.size)  # numpy keeps the last write
+        hit = last >= 0
+        assert np.array_equal(o[hit], w[last[hit]])
+
+    return run, check
+
+
 def _duhamel(n: int, threads: int) -> tuple[Callable[[], Any], Callable[[Any], None]]:
     del threads  # one case is one sequential recurrence
     t = np.linspace(0.0, 0.05, n)
@@ -159,6 +194,7 @@ def _sweep(n: int, threads: int) -> tuple[Callable[[], Any], Callable[[Any], Non
 WORKLOADS = {
     "linkage": _linkage,
     "longest_path": _longest_path,
+    "lp_floor": _lp_floor,
     "duhamel": _duhamel,
     "sweep": _sweep,
 }
@@ -265,6 +301,18 @@ def main(argv: list[str] | None = None) -> int:
                 )
                 rows.append(r)
     print(table(rows))
+    floor = {(r["n"], r["threads"]): r["ns_per_item"] for r in rows if r["kind"] == "lp_floor"}
+    ratios = []
+    for r in rows:
+        f = floor.get((r["n"], r["threads"]))
+        if r["kind"] == "longest_path" and f:
+            x = r["ns_per_item"]
+            ratios.append(f"| {r['n']:.0e} | {r['threads']} | {x:.3g} | {f:.3g} | {x / f:.3g}× |")
+    if ratios:
+        print(
+            "\n| V | threads | longest path ns/arc | floor ns/arc | ratio |\n|---|---|---|---|---|"
+        )
+        print("\n".join(ratios))
     return 0
 
 

@@ -9,9 +9,7 @@ use super::graph::{
     check_finite, check_memory, topological_order, validate_arcs, CyclogramError, LANES,
     MAX_ABS_VALUE, PARALLEL_MIN_WORK,
 };
-use super::layout::{
-    layout, outgoing, ByPosition, Layout, Partition, BLOCK_ARCS, PARTITION_MIN_ARCS,
-};
+use super::layout::{layout, outgoing, ByPosition, Layout, Partition, Plan};
 
 /// The structure of an event network, analysed once and reused for any number of
 /// weight vectors.
@@ -31,8 +29,9 @@ pub struct EventGraph {
     /// them, built on first use.
     out: OnceLock<ByPosition>,
     /// The weights' two-pass permutation of a graph of at least
-    /// [`PARTITION_MIN_ARCS`] arcs, built on its first single-row forward pass.
-    part: OnceLock<Partition>,
+    /// [`PARTITION_MIN_ARCS`](super::layout::PARTITION_MIN_ARCS) arcs, a
+    /// by-product of the build (`None` below).
+    part: Option<Partition>,
 }
 
 /// A copy of a lazily built part, built or not.
@@ -52,7 +51,7 @@ impl Clone for EventGraph {
             dst: self.dst.clone(),
             lay: self.lay.clone(),
             out: copy_lazy(&self.out),
-            part: copy_lazy(&self.part),
+            part: self.part.clone(),
         }
     }
 }
@@ -81,14 +80,27 @@ impl EventGraph {
     /// a cycle) and lay the arcs out by topological position, in O(V + E).
     pub fn new(n_events: i64, src: &[i64], dst: &[i64]) -> Result<Self, CyclogramError> {
         let (n, src, dst) = validate_arcs(n_events, src, dst)?;
-        let lay = layout(n, &src, &dst).map_err(|events| CyclogramError::Cycle { events })?;
+        let plan = Plan::for_size(n, src.len());
+        Self::with_plan(n, src, dst, plan)
+    }
+
+    /// [`new`](Self::new) from checked arcs with the build's grouping chosen
+    /// (tests force the radix passes and the partition on small graphs).
+    pub(super) fn with_plan(
+        n: usize,
+        src: Vec<u32>,
+        dst: Vec<u32>,
+        plan: Plan,
+    ) -> Result<Self, CyclogramError> {
+        let (lay, part) =
+            layout(n, &src, &dst, plan).map_err(|events| CyclogramError::Cycle { events })?;
         Ok(EventGraph {
             n,
             src,
             dst,
             lay,
             out: OnceLock::new(),
-            part: OnceLock::new(),
+            part,
         })
     }
 
@@ -128,6 +140,12 @@ impl EventGraph {
         &self.lay
     }
 
+    /// The weights' partition, if the build made one (tests).
+    #[cfg(test)]
+    pub(super) fn partition(&self) -> Option<&Partition> {
+        self.part.as_ref()
+    }
+
     /// Topological position of each event (the inverse of
     /// [`topological_order`](Self::topological_order)).
     pub fn positions(&self) -> &[u32] {
@@ -148,20 +166,19 @@ impl EventGraph {
             });
         }
         check_finite("weights", weights, m, "phase angles [deg]")?;
-        if m < PARTITION_MIN_ARCS {
+        if self.part.is_none() {
             return Ok(());
         }
-        // A large graph's weight permutation (its indices kept, a bucketed copy of
-        // the weights, the slots while it is built) and one pass's scratch:
-        // refused here rather than aborting the process in the allocator.
-        check_memory(0, 0, (20 * m).saturating_add(24 * self.n))
+        // A large graph's pass: a bucketed copy of the weights and the times'
+        // scratch, refused here rather than aborting the process in the allocator.
+        check_memory(0, 0, (8 * m).saturating_add(24 * self.n))
     }
 
     /// Earliest times into `t` by event (V,), with `tpos` (V,) as scratch: the
     /// times by topological position, which the pass reads back.
     pub(super) fn forward_into(&self, w: &[f64], t: &mut [f64], tpos: &mut [f64]) {
-        if w.len() >= PARTITION_MIN_ARCS {
-            return self.forward_partitioned(w, t, tpos);
+        if let Some(part) = &self.part {
+            return self.forward_through(part, w, t, tpos);
         }
         let inc = &self.lay.inc;
         for k in 0..self.n {
@@ -175,16 +192,6 @@ impl EventGraph {
             tpos[k] = best;
         }
         self.by_event(tpos, t);
-    }
-
-    /// [`forward_into`](Self::forward_into) for large graphs: the same
-    /// arithmetic in the same order, the weights read through the [`Partition`]
-    /// (two streaming passes) instead of one random gather.
-    fn forward_partitioned(&self, w: &[f64], t: &mut [f64], tpos: &mut [f64]) {
-        let part = self
-            .part
-            .get_or_init(|| Partition::new(&self.lay, &self.dst, BLOCK_ARCS));
-        self.forward_through(part, w, t, tpos);
     }
 
     /// The forward pass with the weights permuted through `part`.

@@ -29,6 +29,8 @@
 mod cycle_ratio;
 mod difference;
 mod event_graph;
+#[cfg(test)]
+mod event_graph_tests;
 mod graph;
 mod layout;
 #[cfg(test)]
