@@ -79,7 +79,7 @@ html_show_sourcelink = False
 
 # Every cross-reference must resolve (with -W a broken one fails the build). The
 # types named in prose that are not cyclomech's own are not linked anywhere.
-nitpicky = False  # True once the sweep's docstrings are converted (issue 21)
+nitpicky = True
 nitpick_ignore_regex = [
     (r"py:.*", r"(numpy|matplotlib|scipy|pandas|pyarrow|dask|pathlib|collections|typing)\..*"),
 ]

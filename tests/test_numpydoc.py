@@ -36,6 +36,9 @@ CONVERTED = [
     "cyclomech.cam",
     "cyclomech.linkage",
     "cyclomech.plot",
+    "cyclomech.cyclogram",
+    "cyclomech.machine",
+    "cyclomech",
 ]
 
 # PR01 parameter not documented, PR02 unknown parameter, RT01 no Returns section,

@@ -29,25 +29,40 @@ _Ints = npt.NDArray[np.int64]
 #: The network as the proportional kernels take it (n, src, dst, base, source,
 #: target, lim_shift, min_edge, angle, secs, bound_op).
 _KernelArgs = tuple[int, _Ints, _Ints, Array, int, int, float, _Ints, Array, Array, _Ints]
-#: ``bounds_at(designs, rpm)``: each extra bound's smallest angle [deg] for the
-#: designs ``designs`` (indices) at their speeds ``rpm`` (D', M), one (D'·M,) array
-#: a bound in the row order of ``rpm.reshape(-1)``.
+#: The type of ``bounds_at(designs, rpm)``, the extra bounds of
+#: :meth:`SpeedNetwork.fits` and :meth:`SpeedNetwork.speed_limits`: each extra
+#: bound's smallest angle [deg] for the designs ``designs`` (int indices, (D',)) at
+#: their speeds ``rpm`` [rpm] (D', M), one (D'·M,) array a bound in the row order
+#: of ``rpm.reshape(-1)`` (NaN: no angle is enough).
 BoundsAt = Callable[[npt.NDArray[np.int64], Array], list[Array]]
 
 
 class SpeedNetwork:
-    """The cyclogram's LP as a system of difference constraints over the event
-    angles p, a zero node z and the span's end F, solved at many speeds (and
-    designs) in one shortest-path call: every operation's minimum (its angle, its
+    """A cyclogram's LP solved at many speeds (and designs) in one shortest-path call.
+
+    The LP is a system of difference constraints over the event angles p, a zero
+    node z and the span's end F: every operation's minimum (its angle, its
     duration, the extra ``bounds``) and maximum, every single-operation constraint,
     p ≥ 0, p ≤ F and F ≤ cycle. The limiting operation's optimal angle is the
     shortest path from its start to its end (plus the cycles it crosses).
     Constraints over several operations need the LP instead, one per speed.
 
-    ``bounds``: (arc, label) of each extra lower bound on an operation's angle that
-    mechanisms impose (a stop's rebound bound, ``"rebound[lifter]"``); their values
-    at each speed are given to :meth:`solve`.
+    Parameters
+    ----------
+    cg : Cyclogram
+        The cyclogram; it must name its limiting operation.
+    bounds : sequence of (tuple of (str, str), str), default ()
+        (arc, label) of each extra lower bound on an operation's angle that
+        mechanisms impose (a stop's rebound bound, ``"rebound[lifter]"``); their
+        values at each speed are given to :meth:`solve`.
 
+    Raises
+    ------
+    InputError
+        If the cyclogram has no limiting operation (``[cyclogram] limiting``).
+
+    Examples
+    --------
     >>> import numpy as np, cyclomech as cm
     >>> cg = cm.Cyclogram(limiting=("b", "c"))
     >>> cg.add_operation("a", "b", min_angle_deg=100, min_duration_s=0.05)
@@ -136,9 +151,26 @@ class SpeedNetwork:
         self.bound_labels = [label for _, label in bounds]
 
     def minimums(self, rpm: Array, t_bound: Sequence[Array]) -> tuple[Array, npt.NDArray[np.int8]]:
-        """Each operation's minimum angle [deg] at each speed (B, E) and which lower
-        bound sets it (0: its angle, 1: its duration, 2 + k: extra bound k).
+        """Each operation's minimum angle at each speed and which lower bound sets it.
 
+        Parameters
+        ----------
+        rpm : ndarray of float, shape (B,)
+            The speeds [rpm].
+        t_bound : sequence of ndarray of float, shape (B,)
+            The extra bounds' angles [deg], one array a bound (in the order of
+            ``bounds``); NaN: no angle is enough.
+
+        Returns
+        -------
+        mins : ndarray of float, shape (B, E)
+            Each operation's minimum angle [deg] at each speed.
+        which : ndarray of int8, shape (B, E)
+            The lower bound that sets it: 0 its angle, 1 its duration, 2 + k the
+            extra bound k.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("b", "c"))
         >>> cg.add_operation("a", "b", min_angle_deg=100)
@@ -164,14 +196,39 @@ class SpeedNetwork:
         *,
         labels: bool = True,
     ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
-        """At each speed ``rpm`` [rpm] (B,) with the extra bounds' angles
-        ``t_bound`` [deg] (one (B,) array a bound; NaN: no angle is enough): the
-        limiting operation's optimal angle [deg] (NaN where it does not fit), the
-        fit flags, the names of the bounds on the chain that sets it (``; ``-joined;
-        empty with ``labels=False``) and the minimum angles (B, E). One
-        shortest-path call for every speed (the LP per speed where constraints span
-        several operations).
+        """The limiting operation's optimal angle at each speed, and what sets it.
 
+        One shortest-path call for every speed (the LP per speed where constraints
+        span several operations).
+
+        Parameters
+        ----------
+        rpm : ndarray of float, shape (B,)
+            The speeds [rpm].
+        t_bound : sequence of ndarray of float, shape (B,)
+            The extra bounds' angles [deg], one array a bound; NaN: no angle is
+            enough.
+        n_threads : int, optional
+            Threads for the shortest paths (default: ``CYCLOMECH_THREADS`` or all
+            cores).
+        labels : bool, default True
+            Name the bounds on the chain; False leaves ``binding`` empty (faster).
+
+        Returns
+        -------
+        angle : ndarray of float, shape (B,)
+            The limiting operation's optimal angle [deg] (NaN where it does not
+            fit).
+        fits : ndarray of bool, shape (B,)
+            The fit flags.
+        binding : ndarray of object, shape (B,) or (0,)
+            The names of the bounds on the chain that sets it (joined by ``"; "``;
+            an empty array with ``labels=False``).
+        mins : ndarray of float, shape (B, E)
+            The minimum angles [deg].
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("b", "c"))
         >>> cg.add_operation("a", "b", min_angle_deg=100)
@@ -210,9 +267,26 @@ class SpeedNetwork:
     def fits(
         self, bounds_at: BoundsAt, rpm: Array, n_threads: int | None = None
     ) -> npt.NDArray[np.bool_]:
-        """Whether design d fits at the speeds ``rpm[d]`` (D, M), its extra bounds
-        from ``bounds_at``: one shortest-path call for all.
+        """Whether each design fits at each of its speeds: one shortest-path call for all.
 
+        Parameters
+        ----------
+        bounds_at : BoundsAt
+            ``bounds_at(designs, rpm)``: the extra bounds' angles [deg] of the
+            designs at their speeds (``BoundsAt``).
+        rpm : ndarray of float, shape (D, M)
+            The speeds of design d, ``rpm[d]`` [rpm].
+        n_threads : int, optional
+            Threads for the shortest paths (default: ``CYCLOMECH_THREADS`` or all
+            cores).
+
+        Returns
+        -------
+        ndarray of bool, shape (D, M)
+            Whether design d fits at the speed ``rpm[d, j]``.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("b", "c"))
         >>> cg.add_operation("a", "b", min_duration_s=0.05)
@@ -233,14 +307,38 @@ class SpeedNetwork:
         n_threads: int | None = None,
         rtol: float = 1e-10,
     ) -> Array:
-        """The highest speed [rpm] at which each of ``designs`` fits (its bounds
-        from ``bounds_at``), (D,): feasibility only shrinks as the speed grows, so
-        each is bracketed by speeds 4× apart from ``start`` up to
-        :data:`~cyclomech._arrays.SPEED_CAP_RPM` (inf if it fits there; 0 if it does
-        not fit at :data:`SPEED_FLOOR_RPM`) and the bracket refined on grids of 64
-        speeds to ``rtol``; every step is one shortest-path call for all the
-        designs still searching.
+        """The highest speed at which each design fits.
 
+        Feasibility only shrinks as the speed grows, so each design's limit is
+        bracketed by speeds 4× apart from ``start`` up to ``SPEED_CAP_RPM``
+        (inf if it fits there; 0 if it does not fit at
+        :data:`~cyclomech.cyclogram.SPEED_FLOOR_RPM`) and the bracket refined on
+        grids of 64 speeds to ``rtol``; every step is one shortest-path call for all
+        the designs still searching.
+
+        Parameters
+        ----------
+        bounds_at : BoundsAt
+            ``bounds_at(designs, rpm)``: the extra bounds' angles [deg] of the
+            designs at their speeds (``BoundsAt``).
+        designs : int
+            The number of designs D (indices 0 … D-1 to ``bounds_at``).
+        start : float
+            The first speed tried above the floor [rpm].
+        n_threads : int, optional
+            Threads for the shortest paths (default: ``CYCLOMECH_THREADS`` or all
+            cores).
+        rtol : float, default 1e-10
+            The relative width to which each bracket is refined.
+
+        Returns
+        -------
+        ndarray of float, shape (D,)
+            Each design's highest speed that fits [rpm] (inf: it fits at
+            ``SPEED_CAP_RPM``; 0: it fits at no speed).
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("b", "c"))
         >>> cg.add_operation("a", "b", min_duration_s=0.05)
@@ -287,14 +385,40 @@ class SpeedNetwork:
     def solve_proportional(
         self, per_rpm: Array, rpm: Array, n_threads: int | None = None
     ) -> tuple[Array, npt.NDArray[np.bool_], npt.NDArray[np.object_], Array]:
-        """:meth:`solve` of every design at every speed ``rpm`` (S,) [rpm], design
-        d's extra bounds proportional to the speed (``per_rpm`` (D, K), as in
-        :meth:`speed_limits_proportional`): row d·S + j is design d at ``rpm[j]``.
-        The limiting angles [deg], the fit flags, the chains' names and the
-        minimum angle [deg] of each bound's operation (D·S, K); bit for bit
-        :meth:`solve` on the same rows, in one Rust call (the weights built per
-        row, rayon over rows, the GIL released).
+        """:meth:`solve` of every design at every speed, extra bounds proportional to speed.
 
+        Row d·S + j is design d at ``rpm[j]``; bit for bit :meth:`solve` on the same
+        rows, in one Rust call (the weights built per row, rayon over rows, the GIL
+        released).
+
+        Parameters
+        ----------
+        per_rpm : ndarray of float, shape (D, K)
+            Design d's extra bounds' slopes [deg/rpm], as in
+            :meth:`speed_limits_proportional`.
+        rpm : ndarray of float, shape (S,)
+            The speeds [rpm].
+        n_threads : int, optional
+            Threads (default: ``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        angle : ndarray of float, shape (D·S,)
+            The limiting angles [deg] (NaN where it does not fit).
+        fits : ndarray of bool, shape (D·S,)
+            The fit flags.
+        binding : ndarray of object, shape (D·S,)
+            The chains' names (joined by ``"; "``).
+        bound_mins : ndarray of float, shape (D·S, K)
+            The minimum angle [deg] of each bound's operation.
+
+        Raises
+        ------
+        InputError
+            If ``per_rpm`` is not (D, K), K the number of extra bounds.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("b", "c"))
         >>> cg.add_operation("a", "b", min_angle_deg=100)
@@ -357,13 +481,38 @@ class SpeedNetwork:
         n_threads: int | None = None,
         rtol: float = 1e-10,
     ) -> Array:
-        """:meth:`speed_limits` where every extra bound is proportional to the
-        speed: bound k of design d is ``max(n·per_rpm[d, k], 1e-9)`` degrees at n rpm
-        (none over 360°; :class:`~cyclomech._kind.Proportional`), ``per_rpm``
-        (D, K) [deg/rpm]. The same search, bit for bit, in one Rust call for all
-        the designs (rayon over designs, the GIL released); with constraints over
-        several operations (the LP) the Python search itself.
+        """:meth:`speed_limits` where every extra bound is proportional to the speed.
 
+        Bound k of design d is ``max(n·per_rpm[d, k], 1e-9)`` degrees at n rpm (none
+        over 360°; :class:`~cyclomech.machine.Proportional`). The same search, bit
+        for bit, in one Rust call for all the designs (rayon over designs, the GIL
+        released); with constraints over several operations (the LP) the Python
+        search itself.
+
+        Parameters
+        ----------
+        per_rpm : ndarray of float, shape (D, K)
+            The bounds' slopes [deg/rpm], design d's bound k in ``per_rpm[d, k]``.
+        start : float
+            The first speed tried above the floor [rpm].
+        n_threads : int, optional
+            Threads (default: ``CYCLOMECH_THREADS`` or all cores).
+        rtol : float, default 1e-10
+            The relative width to which each bracket is refined.
+
+        Returns
+        -------
+        ndarray of float, shape (D,)
+            Each design's highest speed that fits [rpm] (inf: it fits at
+            ``SPEED_CAP_RPM``; 0: it fits at no speed).
+
+        Raises
+        ------
+        InputError
+            If ``per_rpm`` is not (D, K), K the number of extra bounds.
+
+        Examples
+        --------
         >>> import numpy as np, cyclomech as cm
         >>> cg = cm.Cyclogram(limiting=("b", "c"))
         >>> cg.add_operation("a", "b", min_angle_deg=100)

@@ -59,21 +59,44 @@ TEXT = ("speed_limit_by", "binding", "problem")
 
 @dataclass(frozen=True)
 class SweepResult:
-    """Key figures at every point of a sweep: ``columns`` maps the parameter names,
-    ``speed_rpm`` and :data:`FIGURES` to 1-D arrays of one row per point (the
-    parameters vary slowest, the speed fastest). ``speed_limit_rpm`` and
-    ``speed_limit_by`` belong to the design (the same at each of its speeds);
-    ``binding`` is text. ``problem`` is empty for a valid design; a design the
-    file's rules refuse (a press whose rod cannot reach its guide, say) does not
-    stop the sweep: its rows do not fit (NaN figures, productivity 0) and
-    ``problem`` holds the reason. With ``sweep(..., shaft=True)`` the main
-    shaft's columns follow (:data:`~cyclomech.machine._sweep_shaft.SHAFT_COLUMNS`:
-    mean, peak and RMS torque [N·m], motor power [W], flywheel [kg·m²]), the
-    ``cyclomech run`` report's numbers for the design at each speed; NaN where
-    there is none (a machine whose mechanisms do not load its main shaft, an
-    invalid design, one without an optimum). ``seconds`` is the wall time of the
-    sweep.
+    """Key figures at every point of a sweep, in columns of one row per point.
 
+    Built by :func:`sweep` and :meth:`read`; each parameter is kept as the
+    attribute of the same name. The rows: the parameters vary slowest, the speed
+    fastest. ``speed_limit_rpm`` and ``speed_limit_by`` belong to the design (the
+    same at each of its speeds); ``binding`` is text. ``problem`` is empty for a
+    valid design; a design the file's rules refuse (a press whose rod cannot reach
+    its guide, say) does not stop the sweep: its rows do not fit (NaN figures,
+    productivity 0) and ``problem`` holds the reason. With ``sweep(...,
+    shaft=True)`` the main shaft's columns follow (``SHAFT_COLUMNS``: mean, peak
+    and RMS torque [N·m], motor power [W], flywheel [kg·m²]), the ``cyclomech run``
+    report's numbers for the design at each speed; NaN where there is none (a
+    machine whose mechanisms do not load its main shaft, an invalid design, one
+    without an optimum).
+
+    Parameters
+    ----------
+    columns : dict of str to ndarray, shape (N,) each
+        The parameter names, ``speed_rpm`` [rpm] and the key figures (``FIGURES``:
+        ``fits``, ``limiting_deg`` [deg], ``limiting_s`` [s], ``productivity``
+        [1/min], ``max_rebound_m`` [m], ``speed_limit_rpm`` [rpm],
+        ``speed_limit_by``, ``binding``, ``problem``), then the shaft's columns if
+        any, each mapped to a 1-D array of one row per point; empty when the rows
+        were streamed to ``path``.
+    parameters : tuple of str
+        The swept parameters' names (``"<mechanism>.<key>"`` or
+        ``"machine.<key>"``), in the order of the columns.
+    seconds : float, default 0.0
+        The wall time of the sweep [s].
+    path : Path, optional
+        Where the rows were streamed (``sweep(..., out=path)``); ``columns`` is
+        then empty and ``summary`` counts the rows. Default None.
+    summary : dict of str to Any, optional
+        With ``path``: ``points`` (rows), ``fits`` (rows that fit), ``invalid``
+        (rows of invalid designs) and the first ``problem``; default an empty dict.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload": [2e-4, 3e-4],
     ...                                     "speed_rpm": [300.0, 400.0]})
@@ -92,23 +115,52 @@ class SweepResult:
 
     @property
     def n_points(self) -> int:
-        """Number of rows."""
+        """Number of rows (points), also of a sweep streamed to a file.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0, 400.0]}).n_points
+        2
+        """
         if SPEED not in self.columns:
             return int(self.summary.get("points", 0))
         return int(self.columns[SPEED].size)
 
     @property
     def n_invalid(self) -> int:
-        """Number of rows whose design is invalid (a non-empty ``problem``)."""
+        """Number of rows whose design is invalid (a non-empty ``problem``).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0]}).n_invalid
+        0
+        """
         if "problem" not in self.columns:
             return int(self.summary.get("invalid", 0))
         return int((self.columns["problem"] != "").sum())
 
     def write(self, path: str | Path) -> Path:
-        """Write the columns to ``path``: Parquet (pyarrow) when the name ends in
-        ``.parquet`` and pyarrow is installed, else NumPy ``.npz`` (the suffix is
-        changed to say which). Returns the path written.
+        """Write the columns to a Parquet or NumPy ``.npz`` file.
 
+        The file is written beside the target under a temporary name and renamed
+        when complete: an interrupted write leaves no file that looks like a result.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file: Parquet (pyarrow) when the name ends in ``.parquet`` and
+            pyarrow is installed, else NumPy ``.npz`` (the suffix is changed to say
+            which).
+
+        Returns
+        -------
+        Path
+            The path written.
+
+        Examples
+        --------
         >>> import pathlib, tempfile, cyclomech as cm
         >>> r = cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0]})
         >>> r.write(pathlib.Path(tempfile.mkdtemp()) / "s.npz").suffix
@@ -148,6 +200,28 @@ class SweepResult:
     def read(cls, path: str | Path) -> SweepResult:
         """Read a file written by :meth:`write`.
 
+        A file written before the ``problem`` column existed reads with an empty
+        ``problem`` (no invalid design).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file (``.parquet``, which needs pyarrow, or ``.npz``).
+
+        Returns
+        -------
+        SweepResult
+            Its columns, and the parameters (the columns that are neither
+            ``speed_rpm``, a key figure nor a shaft column).
+
+        Raises
+        ------
+        InputError
+            If the file cannot be read, Parquet is read without pyarrow, or it is
+            no sweep file (a missing column, columns of different lengths).
+
+        Examples
+        --------
         >>> import pathlib, tempfile, cyclomech as cm
         >>> r = cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0, 900.0]})
         >>> back = cm.SweepResult.read(r.write(pathlib.Path(tempfile.mkdtemp()) / "s.npz"))
@@ -200,6 +274,25 @@ class SweepResult:
 def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
     """``"from:to:count"`` → ``count`` evenly spaced values (``"v"`` → one value).
 
+    Parameters
+    ----------
+    text : str
+        ``"from:to:count"`` (a whole count ≥ 1) or one value ``"v"``.
+    what : str
+        What the text is (``"--speed"``), in messages.
+
+    Returns
+    -------
+    ndarray of float, shape (count,)
+        The values, from ``from`` to ``to`` inclusive (``[v]`` for one value).
+
+    Raises
+    ------
+    InputError
+        If the text is not of that form or a value is not finite.
+
+    Examples
+    --------
     >>> from cyclomech.machine import parse_range
     >>> parse_range("200:500:4", "--speed").tolist()
     [200.0, 300.0, 400.0, 500.0]
@@ -404,28 +497,68 @@ def sweep(
     out: str | Path | None = None,
     shaft: bool = False,
 ) -> SweepResult:
-    """Key figures of ``machine`` at every combination of the parameters in
-    ``grid`` (``"<mechanism>.<key>"`` or ``"machine.<key>"`` → values, in the
-    file's units) and of the speeds ``grid["speed_rpm"]`` [rpm] (default the
-    machine's speed grid).
+    """Key figures of a machine at every combination of parameters and speeds.
 
-    ``executor``: None (this process; ``n_threads`` rayon threads per kernel), a
-    ``dask.distributed.Client`` or a ``concurrent.futures.Executor`` (one task per
-    chunk of ``chunk`` designs, one thread per kernel inside). ``progress``: a
-    bar on stderr (default: when stderr is a terminal). Ctrl-C cancels the
-    chunks not yet started and raises ``KeyboardInterrupt``. ``batch``: a sweep
-    of pulse-model stops' numeric keys builds and solves each chunk's designs in
-    one Rust call (:mod:`cyclomech.machine._batch` lists what it takes); False
-    builds one machine per design (the reference: the same results, bit for
-    bit, slower). ``out``: a ``.parquet`` path (needs pyarrow): the rows are
-    written to it task by task as they finish, in order, and dropped, so that a
-    sweep of any size runs in bounded memory; the result then holds no columns,
-    only ``path`` and ``summary`` (read the rows with :meth:`SweepResult.read`).
-    Without ``out`` a sweep whose result cannot fit in memory is refused before
-    it starts. ``shaft``: add the main shaft's columns
-    (:mod:`cyclomech.machine._sweep_shaft`: one ``cyclomech run`` analysis per
-    design, ~0.7 s for the loom with its cam; NaN where there is no main shaft).
+    The designs are the Cartesian grid of the parameters' values; each is
+    evaluated at every speed. A value that makes a design invalid is that design's
+    problem (its rows do not fit, ``problem`` says why), not the sweep's. Ctrl-C
+    cancels the chunks not yet started and raises ``KeyboardInterrupt``. Without
+    ``out`` a sweep whose result cannot fit in memory is refused before it starts.
+    The results do not depend on where the chunks ran: bit for bit.
 
+    Parameters
+    ----------
+    machine : Machine
+        The machine, read from a file or a dict (:meth:`Machine.from_toml`,
+        :meth:`Machine.from_dict`).
+    grid : Mapping of str to array_like
+        The parameters (``"<mechanism>.<key>"`` or ``"machine.<key>"``) → values,
+        in the file's units, and the speeds ``grid["speed_rpm"]`` [rpm] (default
+        the machine's speed grid).
+    executor : dask.distributed.Client or concurrent.futures.Executor, optional
+        None (this process; ``n_threads`` rayon threads per kernel), a
+        ``dask.distributed.Client`` or a ``concurrent.futures.Executor`` (one task
+        per chunk of ``chunk`` designs, one thread per kernel inside).
+    chunk : int, optional
+        Designs a task (≥ 1); default about 100 steps of the progress bar but at
+        least 64 designs in this process, 64 tasks on an executor, and at most
+        2¹⁵ points a task.
+    progress : bool, optional
+        A bar on stderr (default: when stderr is a terminal).
+    n_threads : int, optional
+        Rayon threads per kernel in this process (default: ``CYCLOMECH_THREADS``
+        or all cores).
+    batch : bool, default True
+        A sweep of pulse-model stops' numeric keys builds and solves each chunk's
+        designs in one Rust call (``cyclomech.machine._batch`` lists what it
+        takes); False builds one machine per design (the reference: the same
+        results, bit for bit, slower).
+    out : str or Path, optional
+        A ``.parquet`` path (needs pyarrow): the rows are written to it task by
+        task as they finish, in order, and dropped, so that a sweep of any size
+        runs in bounded memory; the result then holds no columns, only ``path``
+        and ``summary`` (read the rows with :meth:`SweepResult.read`).
+    shaft : bool, default False
+        Add the main shaft's columns (``cyclomech.machine._sweep_shaft``: one
+        ``cyclomech run`` analysis per design, ~0.7 s for the loom with its cam;
+        NaN where there is no main shaft).
+
+    Returns
+    -------
+    SweepResult
+        The key figures at every point (the parameters vary slowest, the speed
+        fastest), or with ``out`` the file's path and a summary.
+
+    Raises
+    ------
+    InputError
+        If ``machine`` was not read from a file or a dict, a parameter names no key
+        its table can take, a value is not a finite number, ``batch``, ``shaft``,
+        ``chunk`` or ``executor`` is not of its kind, ``out`` is no ``.parquet``
+        path (or pyarrow is missing), or the result cannot fit in memory.
+
+    Examples
+    --------
     >>> import cyclomech as cm
     >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
     ...                                     "speed_rpm": [300.0]})
@@ -652,9 +785,27 @@ def _sigint_ignored() -> Iterator[None]:
 
 
 def dask_workers(spec: str) -> int:
-    """The ``--dask`` spec checked: the number of local worker processes for
-    ``local`` (2) or ``local:N``, 0 for a scheduler address ``tcp://HOST:PORT``.
+    """The ``--dask`` spec checked: the number of local worker processes it asks for.
 
+    Parameters
+    ----------
+    spec : str
+        ``local``, ``local:N`` or a scheduler address ``tcp://HOST:PORT`` (or
+        ``tls://``).
+
+    Returns
+    -------
+    int
+        The number of local worker processes: 2 for ``local``, N for
+        ``local:N``, 0 for a scheduler address.
+
+    Raises
+    ------
+    InputError
+        If N is not a whole number ≥ 1 or the spec is none of these.
+
+    Examples
+    --------
     >>> from cyclomech.machine import dask_workers
     >>> dask_workers("local:3"), dask_workers("tcp://10.0.0.5:8786")
     (3, 0)
@@ -677,11 +828,31 @@ def dask_workers(spec: str) -> int:
 
 
 def dask_client(spec: str) -> Any:
-    """A ``dask.distributed.Client`` for ``--dask``: ``local`` or ``local:N`` starts a
-    LocalCluster of N worker processes (default 2) with one thread each;
-    ``tcp://HOST:PORT`` connects to a running scheduler. Close it when done
-    (``client.close()``, and ``client.cluster.close()`` for a local one).
+    """A ``dask.distributed.Client`` for ``--dask``.
 
+    Close it when done (``client.close()``, and ``client.cluster.close()`` for a
+    local one).
+
+    Parameters
+    ----------
+    spec : str
+        ``local`` or ``local:N`` starts a LocalCluster of N worker processes
+        (default 2) with one thread each; ``tcp://HOST:PORT`` connects to a
+        running scheduler (see :func:`dask_workers`).
+
+    Returns
+    -------
+    dask.distributed.Client
+        The client.
+
+    Raises
+    ------
+    InputError
+        If the spec is invalid, dask.distributed is not installed, or no scheduler
+        answers at the address.
+
+    Examples
+    --------
     >>> from cyclomech.machine import dask_client
     >>> dask_client("udp://host:1")                        # doctest: +ELLIPSIS
     Traceback (most recent call last):
