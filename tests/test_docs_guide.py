@@ -51,7 +51,7 @@ def test_transcripts_are_the_commands_output() -> None:
     assert text.startswith("$ cyclomech sweep examples/stb_loom.toml")
     assert "4 designs × 31 speeds = 124 points" in text
     assert "speed limit over the designs:" in text
-    assert "/tmp" not in text and "Wrote out/stb_loom/sweep.parquet" in text
+    assert "/tmp" not in text and "Wrote out/stb_loom_sweep/sweep.parquet" in text
 
 
 def _machine_run() -> Any:

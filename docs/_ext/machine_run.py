@@ -29,7 +29,7 @@ COMMANDS = {
         "--speed",
         "200:500:31",
         "--out",
-        "out/stb_loom",
+        "out/stb_loom_sweep",
     ],
 }
 
