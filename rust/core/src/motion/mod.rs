@@ -16,6 +16,7 @@
 //! Files: `law` (the laws, named and polynomial, evaluated in SIMD lanes) and
 //! `two_period` (the two-period slider law).
 
+mod fused;
 mod law;
 #[cfg(test)]
 mod tests;
