@@ -8,8 +8,10 @@
 //! probe) and the store. The output scaling of each period is folded into its
 //! pieces' coefficients once, so a value is P(t) + A·sin(ωt + φ) with fused
 //! multiply-adds: a reassociation of the lane evaluator's off + sc·(p + a·sin),
-//! within a few ulp of its scale (tested), the same bits on every instruction set
-//! (tested). Used where the processor has FMA; elsewhere the lane evaluator runs.
+//! within 20 ε of the order's scale of the pointwise evaluator and a few ε of
+//! exact values (tested; BENCHMARKS.md, issue 20 session 3), the same bits on
+//! every instruction set (tested). Used where the processor has FMA; elsewhere
+//! the lane evaluator runs.
 
 use pulp::Simd;
 
@@ -95,6 +97,7 @@ impl Fused {
         for (l, law) in laws.iter().enumerate() {
             let (off, sc) = out[l];
             for (k, f) in law.fast.iter().enumerate() {
+                // t = u − x0 ≤ x1 − x0 ≤ 1 keeps |ωt + φ| ≤ ARG_MAX.
                 if f.freq.abs() + f.phase[order].abs() > ARG_MAX || f.x1 - f.x0 > 1.0 {
                     return None;
                 }
@@ -173,7 +176,8 @@ impl pulp::WithSimd for FusedChunk<'_> {
         }
         let mut ok = true;
         if whole < n {
-            // The last values, padded with zeros (inside every range).
+            // The last values, padded with zeros (inside every range); a
+            // register holds at most 8 f64 (AVX-512).
             let mut pad = [0.0; 8 * U];
             let rest = n - whole;
             pad[..rest].copy_from_slice(&v[whole..]);
