@@ -13,9 +13,11 @@
 //! Π = Π1·Z1(α/α1)) and a mirrored half law over α1 ≤ α ≤ α2 (period II,
 //! Π = Π2 − (Π2 − Π1)·Z2((α2 − α)/(α2 − α1))).
 //!
-//! Files: `law` (the laws, named and polynomial, evaluated in SIMD lanes) and
-//! `two_period` (the two-period slider law).
+//! Files: `law` (the laws, named and polynomial, evaluated in SIMD lanes),
+//! `two_period` (the two-period slider law) and `fused` (its one-pass FMA kernel
+//! for arrays of angles, where the processor has FMA).
 
+mod fused;
 mod law;
 #[cfg(test)]
 mod tests;

@@ -1,8 +1,16 @@
+use super::fused::{Fused, FusedChunk};
 use super::law::*;
 use super::two_period::*;
 use std::f64::consts::PI;
 
 use proptest::prelude::*;
+
+/// The fused two-period kernel against the pointwise evaluator: at most this
+/// many ε of the order's scale (its largest |value| on the law) apart. Both
+/// round: the widest gap, 16.5 ε, is the 4-5-6-7 half law's jerk, a degree-4
+/// Horner with cancellation evaluated with and without FMA; against exact
+/// values (tests/test_motion_fused.py, mpmath) each is within 14 ε.
+const FUSED_ULPS: f64 = 20.0;
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + b.abs())
@@ -124,8 +132,16 @@ fn arrays_take_the_pointwise_values() {
             for order in 0..=3 {
                 let mut out = vec![0.0; alpha.len()];
                 law.eval_into(&alpha, order, Some(2), &mut out).unwrap();
-                for (&a, &o) in alpha.iter().zip(&out) {
-                    assert_eq!(o, law.at(a, order), "α = {a}, order {order}");
+                // The fused kernel (FMA, its own sine) reassociates: within
+                // FUSED_ULPS of the order's scale of the pointwise values.
+                let want: Vec<f64> = alpha.iter().map(|&a| law.at(a, order)).collect();
+                let scale = want.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+                for ((&a, &o), &w) in alpha.iter().zip(&out).zip(&want) {
+                    assert!(
+                        (o - w).abs() <= FUSED_ULPS * f64::EPSILON * scale,
+                        "α = {a}, order {order}: {o} vs {w} ({} ulp of {scale})",
+                        (o - w).abs() / (f64::EPSILON * scale)
+                    );
                 }
             }
         }
@@ -189,6 +205,90 @@ fn every_instruction_set_gives_the_pointwise_values() {
                 for (&a, &o) in alpha.iter().zip(&out) {
                     assert_eq!(o, law.at(a, order), "{isa}: α = {a}, order {order}");
                 }
+            }
+        }
+    }
+}
+
+/// [`FusedChunk`] on one instruction set, α in [0, π].
+fn run_fused<S: pulp::Simd>(simd: S, fused: &Fused, v: &[f64], out: &mut [f64]) -> bool {
+    simd.vectorize(FusedChunk {
+        fused,
+        v,
+        out,
+        hi: PI,
+    })
+}
+
+#[test]
+fn the_fused_kernel_gives_the_same_bits_on_every_instruction_set() {
+    // FusedChunk compiled for scalar code (software fma), AVX2 and AVX-512
+    // (those the processor has): the same bits, whatever a value's place in the
+    // chunk (the body's registers or the padded tail), and the range check's
+    // verdict for a NaN, an infinity, a value past α2 and one below 0 in the body
+    // and in the tail. On a processor with FMA, `eval_into` runs this kernel.
+    let names = [
+        "cycloidal",
+        "modified_sine",
+        "harmonic",
+        "modified_trapezoid",
+        "polynomial_4567",
+    ];
+    let mut alpha: Vec<f64> = (0..=997).map(|i| i as f64 * (PI / 997.0)).collect();
+    alpha.extend([1.1, 1.1f64.next_up(), 1.1f64.next_down(), 0.0, -0.0, PI]);
+    for (n1, n2) in names.iter().zip(names.iter().cycle().skip(1)) {
+        let law = TwoPeriod {
+            stroke1: 0.04,
+            angle1: 1.1,
+            stroke: 0.1,
+            angle: PI,
+            law1: Law::half(n1).unwrap(),
+            law2: Law::half(n2).unwrap(),
+        };
+        for order in 0..=3 {
+            let fused = law.fused_any_cpu(order).unwrap();
+            let runs = on_each_isa!(|simd| {
+                let mut out = vec![0.0; alpha.len()];
+                assert!(run_fused(simd, &fused, &alpha, &mut out));
+                // Each value alone (in the tail) and the last few lengths.
+                for (i, &a) in alpha.iter().enumerate().step_by(7) {
+                    let mut one = [0.0];
+                    assert!(run_fused(simd, &fused, &[a], &mut one));
+                    assert_eq!(one[0].to_bits(), out[i].to_bits(), "α = {a}");
+                }
+                for n in 990..alpha.len() {
+                    let mut part = vec![0.0; n];
+                    assert!(run_fused(simd, &fused, &alpha[..n], &mut part));
+                    assert_eq!(part[..], out[..n]);
+                }
+                for at in [300, alpha.len() - 2] {
+                    for bad in [f64::NAN, f64::INFINITY, PI.next_up(), -1e-300] {
+                        let mut a = alpha.clone();
+                        a[at] = bad;
+                        assert!(
+                            !run_fused(simd, &fused, &a, &mut vec![0.0; a.len()]),
+                            "{bad} at {at}"
+                        );
+                    }
+                }
+                out
+            });
+            assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
+            let (_, first) = &runs[0];
+            for (isa, out) in &runs {
+                for (i, (&a, &b)) in out.iter().zip(first).enumerate() {
+                    assert_eq!(
+                        a.to_bits(),
+                        b.to_bits(),
+                        "{isa}: α = {}, order {order}",
+                        alpha[i]
+                    );
+                }
+            }
+            if law.fused(order).is_some() {
+                let mut out = vec![0.0; alpha.len()];
+                law.eval_into(&alpha, order, Some(1), &mut out).unwrap();
+                assert_eq!(&out, first);
             }
         }
     }

@@ -1,6 +1,10 @@
 //! The two-period slider law of seed 003: a half law then a mirrored half law.
 
+use super::fused::Fused;
 use super::law::{par_chunks, par_fill, Lanes, Law, MotionError};
+
+/// A pair of constants for each period (I, II).
+type PerPeriod = [(f64, f64); 2];
 
 /// The two-period law: Π1 = `stroke1` at α1 = `angle1`, Π2 = `stroke` at
 /// α2 = `angle`.
@@ -53,9 +57,10 @@ impl TwoPeriod {
         }
     }
 
-    /// [`TwoPeriod::evaluator`] in the lane-parallel form.
-    pub(super) fn lanes(&self, order: usize) -> Option<Lanes> {
-        let (p1, a1, p2, a2) = (self.stroke1, self.angle1, self.stroke, self.angle);
+    /// The periods' maps and output scalings of [`TwoPeriod::evaluator`]:
+    /// u = (α − c)·s and value = off + sc·Z, per period.
+    fn periods(&self, order: usize) -> (PerPeriod, PerPeriod) {
+        let (p1, p2, a2) = (self.stroke1, self.stroke, self.angle);
         let [ia1, ispan, s1, s2] = self.scales(order);
         // Period II: u = (α2 − α)/(α2 − α1) = (α − α2)·(−1/(α2 − α1)).
         let map = [(0.0, ia1), (a2, -ispan)];
@@ -64,13 +69,28 @@ impl TwoPeriod {
         } else {
             (0.0, s2)
         };
-        Lanes::new(
-            [&self.law1, &self.law2],
-            order,
-            a1,
-            map,
-            [(0.0, s1), second],
-        )
+        (map, [(0.0, s1), second])
+    }
+
+    /// [`TwoPeriod::evaluator`] in the lane-parallel form.
+    pub(super) fn lanes(&self, order: usize) -> Option<Lanes> {
+        let (map, out) = self.periods(order);
+        Lanes::new([&self.law1, &self.law2], order, self.angle1, map, out)
+    }
+
+    /// [`TwoPeriod::evaluator`] in the fused SIMD form, whatever the processor
+    /// (None beyond its sine's range).
+    #[cfg(test)]
+    pub(super) fn fused_any_cpu(&self, order: usize) -> Option<Fused> {
+        let (map, out) = self.periods(order);
+        Fused::build([&self.law1, &self.law2], order, self.angle1, map, out)
+    }
+
+    /// [`TwoPeriod::evaluator`] in the fused SIMD form, where the processor has
+    /// FMA.
+    pub(super) fn fused(&self, order: usize) -> Option<Fused> {
+        let (map, out) = self.periods(order);
+        Fused::new([&self.law1, &self.law2], order, self.angle1, map, out)
     }
 
     /// Check 0 < Π1 < Π2 and 0 < α1 < α2 (all finite).
@@ -100,10 +120,12 @@ impl TwoPeriod {
         let order = order.min(3);
         let why = " [rad] (the law runs from α = 0 to the full angle α2)";
         let range = ("alpha", self.angle, why);
+        let hi = self.angle;
+        if let Some(f) = self.fused(order) {
+            return par_chunks(alpha, out, n_threads, range, |xs, os| f.eval(xs, os, hi));
+        }
         match self.lanes(order) {
-            Some(l) => par_chunks(alpha, out, n_threads, range, |xs, os| {
-                l.eval(xs, os, self.angle)
-            }),
+            Some(l) => par_chunks(alpha, out, n_threads, range, |xs, os| l.eval(xs, os, hi)),
             None => par_fill(alpha, out, n_threads, range, self.evaluator(order)),
         }
     }
