@@ -159,13 +159,13 @@ def sweep_command(args: argparse.Namespace) -> int:
     if args.threads is not None and not 1 <= args.threads <= 1024:
         raise InputError(f"--threads {args.threads} must be between 1 and 1024")
     if args.speed is not None:
-        speeds = parse_range(args.speed, "--speed")
-        if speeds.size > 1 and not (speeds[0] < speeds[-1]):
+        values = parse_range(args.speed, "--speed")
+        if values.size > 1 and not (values[0] < values[-1]):
             raise InputError(
                 f"--speed {args.speed} must go from a lower to a higher speed "
                 "(FROM < TO, in rpm), as the file's speed_rpm does"
             )
-        grid["speed_rpm"] = speeds_rpm("--speed", speeds)
+        grid["speed_rpm"] = speeds_rpm("--speed", values)
     params = {k: v for k, v in grid.items() if k != "speed_rpm"}
     for k in params:  # a key the file cannot take fails before the work starts
         check_parameter(m, k)
