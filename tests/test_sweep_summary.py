@@ -11,7 +11,9 @@ import pytest
 from cyclomech.cli import main
 from cyclomech.machine.cli import design_range
 
-LOOM = "examples/stb_loom.toml"
+# Absolute: the module fixture runs before the tests' chdir to the repository root
+# (tests/conftest.py), and the installed-wheel job runs from elsewhere.
+LOOM = str(Path(__file__).resolve().parents[1] / "examples" / "stb_loom.toml")
 PRELOADS = [1e-4, 2.5e-4, 4e-4]
 
 
