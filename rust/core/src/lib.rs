@@ -33,7 +33,8 @@
 //! Shared by every domain: [`parallel`] (the rayon thread pools behind
 //! `n_threads=` and `CYCLOMECH_THREADS`), [`units`] (rpm to rad/s and deg/s) and
 //! the crate-private `geom` (plane vectors and the sine and cosine every kernel
-//! evaluates the same way).
+//! evaluates the same way) and `tile` (the 8 × 8 register transpose the batch
+//! longest path and the Duhamel scan share).
 
 /// Tests only: `$body` run once per instruction set the processor has (plain
 /// scalar code, AVX2 + FMA, AVX-512), with `$s` the `pulp::Simd` of each, as
@@ -70,5 +71,6 @@ pub mod motion;
 pub mod parallel;
 pub mod press;
 pub mod shaft;
+pub(crate) mod tile;
 pub mod transfer;
 pub mod units;

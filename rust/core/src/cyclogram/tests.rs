@@ -1,6 +1,7 @@
 use super::difference::*;
 use super::event_graph::*;
 use super::graph::*;
+use crate::tile::transpose;
 use proptest::prelude::*;
 
 /// Issue 16 item 20: a chain of constraints given head-first took one
