@@ -14,6 +14,7 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import SPEED_CAP_RPM
 from .._errors import InputError
+from .._kind import Proportional
 from ._graph import max_difference
 from ._lp import _LP
 from ._model import Arc, Constraint, Cyclogram, minimum_angles
@@ -435,11 +436,7 @@ class SpeedNetwork:
             rows = np.tile(speeds, per.shape[0])
             reps = speeds.size
             t_bound = [
-                np.where(t <= 360.0, t, np.nan)
-                for t in (
-                    np.maximum(np.multiply(rows, np.repeat(per[:, k], reps)), 1e-9)
-                    for k in range(per.shape[1])
-                )
+                Proportional.evaluate(rows, np.repeat(per[:, k], reps)) for k in range(per.shape[1])
             ]
             value, fits, named, mins = self.solve(rows, t_bound, n_threads)
             return value, fits, named, mins[:, self.bound_op].reshape(rows.size, len(self.bound_op))
@@ -529,11 +526,8 @@ class SpeedNetwork:
                 rows = rpm.reshape(-1)
                 m = rpm.shape[1]
                 return [
-                    np.where(t <= 360.0, t, np.nan)
-                    for t in (
-                        np.maximum(np.multiply(rows, np.repeat(per[designs, k], m)), 1e-9)
-                        for k in range(per.shape[1])
-                    )
+                    Proportional.evaluate(rows, np.repeat(per[designs, k], m))
+                    for k in range(per.shape[1])
                 ]
 
             return self.speed_limits(at, per.shape[0], start, n_threads, rtol)
