@@ -7,12 +7,12 @@ the build).
 
 from __future__ import annotations
 
-import re
 import sys
 import types
 from pathlib import Path
 
 import cyclomech
+from cyclomech._keydocs import doc_comment, roles_as_literals
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "_ext"))
@@ -110,17 +110,6 @@ def _bars_are_magnitudes(app, what, name, obj, options, lines: list[str]) -> Non
             literal_indent = indent
 
 
-_ROLE = re.compile(r":[\w:]+:`(~?)([^`<]*?)\s*(?:<([^>]*)>)?`")
-
-
-def _role_text(m: re.Match[str]) -> str:
-    """``text`` of a role: its title, or its target (the last part with ``~``)."""
-    tilde, text, target = m.groups()
-    if target:
-        return f"``{text}``"
-    return f"``{text.rsplit('.', 1)[-1] if tilde else text}``"
-
-
 def _top_level_names(app) -> None:
     """Write api/_generated/top_names.rst: each name ``cyclomech`` exports at its top
     level, linked to where its domain's page documents it (from ``__all__``, so the
@@ -144,7 +133,7 @@ def _top_level_names(app) -> None:
         summary = " ".join((inspect.getdoc(obj) or "").split("\n\n", 1)[0].split())
         # Cross-references in a summary resolve in its own module, not here: keep
         # their text as literals (the row's name links to the full entry).
-        summary = _ROLE.sub(_role_text, summary)
+        summary = roles_as_literals(summary)
         rows.append(f"   * - :{role}:`cm.{name} <{home}.{name}>`\n     - {summary}")
     out = Path(app.srcdir) / "api" / "_generated" / "top_names.rst"
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -208,7 +197,7 @@ def _door_constants(app) -> None:
                     alias = str(value).replace("typing.", "")
                     text += f".. py:data:: cyclomech.{page}.{n}\n"
                     text += f"   :value: {alias}\n\n" if len(alias) <= 60 else "\n"
-                    text += "".join(f"   {ln}\n" for ln in _comment(f"cyclomech.{page}", n))
+                    text += "".join(f"   {ln}\n" for ln in doc_comment(f"cyclomech.{page}", n))
                     text += "\n"
                     continue
                 text += f".. autodata:: cyclomech.{page}.{n}\n"
@@ -227,22 +216,9 @@ def _constant_comment(app, what, name, obj, options, lines: list[str]) -> None:
     found = _door_constant(name)
     if found is None:
         return
-    comment = _comment(*found)
+    comment = doc_comment(*found)
     if comment:
         lines[:] = comment
-
-
-def _comment(door: str, short: str) -> list[str]:
-    """The ``#:`` comment above ``short``'s assignment in ``door``'s modules."""
-    import importlib
-
-    package = Path(importlib.import_module(door).__file__ or "").parent
-    pattern = re.compile(rf"((?:^#:.*\n)+)^{re.escape(short)}\b[^\n=]*=", re.MULTILINE)
-    for path in sorted(package.glob("*.py")):
-        match = pattern.search(path.read_text(encoding="utf-8"))
-        if match:
-            return [ln[2:].strip() for ln in match.group(1).splitlines()]
-    return []
 
 
 def _top_level_targets(app, env, node, contnode):

@@ -18,12 +18,10 @@ from __future__ import annotations
 
 import importlib
 import inspect
-import pkgutil
-import re
 import types
-from pathlib import Path
 
 import pytest
+from cyclomech._keydocs import doc_comment
 from numpydoc.validate import validate
 
 CONVERTED = [
@@ -84,27 +82,10 @@ def test_numpydoc_sections(name: str) -> None:
     assert not errors, f"{name} fails numpydoc " + "; ".join(f"{c}: {m}" for c, m in errors)
 
 
-def _doc_comment(domain: str, name: str) -> str:
-    """The ``#:`` comment above ``name``'s assignment in ``domain``'s modules."""
-    package = importlib.import_module(domain)
-    pattern = re.compile(rf"((?:^#:.*\n)+)^{re.escape(name)}\b[^\n=]*=", re.MULTILINE)
-    paths = [Path(package.__file__ or "")]
-    paths += [  # read as text, not imported: importing __main__ would run the CLI
-        Path(package.__file__ or "").parent / f"{m.name.rpartition('.')[2]}.py"
-        for m in pkgutil.iter_modules(package.__path__, f"{domain}.")
-        if not m.ispkg
-    ]
-    for path in paths:
-        match = pattern.search(path.read_text(encoding="utf-8"))
-        if match:
-            return match.group(1)
-    return ""
-
-
 @pytest.mark.parametrize("name", CONSTANTS)
 def test_constants_have_doc_comments(name: str) -> None:
     domain, _, short = name.rpartition(".")
-    assert _doc_comment(domain, short).strip(), (
+    assert doc_comment(domain, short), (
         f"{name}: a module constant is documented by a '#:' comment above its assignment"
     )
 

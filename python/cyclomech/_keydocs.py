@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from pathlib import Path
 
 __all__ = ["INTROS", "ORDER", "TABLES", "TITLES", "KeyDoc", "render_page", "render_table"]
 
@@ -525,7 +526,78 @@ ORDER: tuple[str, ...] = (
 
 _HEADER = ("Key", "Meaning", "Unit", "Type", "Default", "Valid values", "Sweep")
 _SWEEP = {True: "yes", False: "no", None: "—"}
-_ROLE = re.compile(r":[a-z]+:`~?([^`]+)`")
+_ROLE = re.compile(r":[\w:]+:`(~?)([^`<]*?)\s*(?:<([^>]*)>)?`")
+
+
+def doc_comment(package: str, name: str) -> list[str]:
+    """The ``#:`` comment above ``name``'s assignment in the modules of
+    ``package`` (its own files, read as text: importing ``__main__`` would run the
+    CLI), where Sphinx's autodoc reads a constant's documentation.
+
+    Parameters
+    ----------
+    package : str
+        A package's dotted name, e.g. ``"cyclomech.press"``.
+    name : str
+        The constant's name.
+
+    Returns
+    -------
+    list of str
+        The comment's lines without ``#:``; empty if there is none.
+
+    Examples
+    --------
+    >>> doc_comment("cyclomech.press", "CRITERIA")
+    ["Names of the criteria, in the kernel's column order."]
+    """
+    import importlib
+
+    folder = Path(importlib.import_module(package).__file__ or "").parent
+    pattern = re.compile(rf"((?:^#:.*\n)+)^{re.escape(name)}\b[^\n=]*=", re.MULTILINE)
+    for path in sorted(folder.glob("*.py")):
+        match = pattern.search(path.read_text(encoding="utf-8"))
+        if match:
+            return [ln[2:].strip() for ln in match.group(1).splitlines()]
+    return []
+
+
+def roles_as_literals(text: str, *, last: bool = False) -> str:
+    """``text`` with its Sphinx cross-reference roles as inline literals, for text
+    shown where the references would not resolve (a copied summary, a page built
+    from docstrings).
+
+    A role with a title keeps the title; ``~target`` keeps the target's last part,
+    as Sphinx shows it; a plain target stays whole, or its last part too with
+    ``last=True``.
+
+    Parameters
+    ----------
+    text : str
+        reStructuredText.
+    last : bool, default False
+        Show every target by its last dotted part.
+
+    Returns
+    -------
+    str
+        The text, each role replaced by ````text````.
+
+    Examples
+    --------
+    >>> roles_as_literals(":class:`~cyclomech.Cam` and :meth:`Cam.solve`")
+    '``Cam`` and ``Cam.solve``'
+    >>> roles_as_literals(":func:`the sweep <cyclomech.sweep>`", last=True)
+    '``the sweep``'
+    """
+
+    def literal(m: re.Match[str]) -> str:
+        tilde, shown, target = m.groups()
+        if not target and (tilde or last):
+            shown = shown.rsplit(".", 1)[-1]
+        return f"``{shown}``"
+
+    return _ROLE.sub(literal, text)
 
 
 def _text(s: str) -> str:
@@ -571,7 +643,7 @@ def _intro(table: str) -> str:
     from .machine import KINDS
 
     doc = (KINDS[table].__doc__ or "").strip().split("\n\n")[0]
-    return _ROLE.sub(lambda m: f"``{m.group(1).rsplit('.', 1)[-1]}``", " ".join(doc.split()))
+    return roles_as_literals(" ".join(doc.split()), last=True)
 
 
 def render_page(title: str = "Machine-file format") -> str:
