@@ -489,7 +489,7 @@ class ForceModel:
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 
 # --- issue 20, machine sweeps: a batch of stop designs (rust/bindings/src/impact.rs) ---
-__all__ += ["stop_design_batch", "stop_design_rebounds"]
+__all__ += ["stop_design_batch"]
 
 def stop_design_batch(
     law: str,
@@ -507,14 +507,8 @@ def stop_design_batch(
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
 ]: ...
-def stop_design_rebounds(
-    pulse: int,
-    designs: npt.NDArray[np.float64],
-    v0: npt.NDArray[np.float64],
-    *,
-    n_threads: int | None = None,
-) -> npt.NDArray[np.float64]: ...
 
 # --- issue 20, machine sweeps: the speed-limit search of many designs with
 # speed-proportional bounds (rust/bindings/src/speed_limit.rs) ---

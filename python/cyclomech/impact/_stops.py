@@ -48,8 +48,11 @@ def rebounds(
     """First rebound [m] of each stop hit at given impact speeds.
 
     The rebound depends on the speed and phase angle only through the impact speed.
-    Pulse-model stops with the same pulse table go into one Rust call (per-case
-    frequency, damping and mass); a contact-model stop takes one call.
+    The pulse model is linear in it (the lever starts at q = 0 and the pulse's
+    impulse is ∝ the speed), so a pulse-model stop's rebound is g·v0, g its rebound
+    at 1 m/s: one exact solve per stop (stops with the same pulse table in one Rust
+    call), whatever the number of speeds. A contact-model stop is solved at every
+    speed (one call per stop).
 
     Parameters
     ----------
@@ -107,26 +110,31 @@ def rebounds(
         else:
             groups.setdefault((s.pulse, s.contact_time), []).append(i)
     for rows in groups.values():
-        pulse = stops[rows[0]]._shape()
-        w = v.shape[1]
-        case = {
-            k: np.repeat([getattr(stops[i], k) for i in rows], w)
-            for k in ("omega_free", "zeta", "mass", "restitution")
-        }
-        speed = v[rows].reshape(-1)
-        impulse = case["mass"] * (1.0 + case["restitution"]) * speed  # J_A·ω0·(1+k)/l
-        out[rows] = first_rebound(
-            pulse.t,
-            np.multiply.outer(impulse, pulse.f),
-            case["omega_free"],
-            case["zeta"],
-            case["mass"],
-            0.0,
-            -speed,
-            maximum=True,
-            n_threads=threads,
-        ).q.reshape(len(rows), w)
+        out[rows] = _rebound_per_speed([stops[i] for i in rows], threads)[:, None] * v[rows]
     return out
+
+
+def _rebound_per_speed(stops: Sequence[StopImpact], threads: int | None) -> Array:
+    """g [m per m/s] of pulse-model stops sharing one pulse table: the first
+    rebound after an impact at 1 m/s, one Rust call for all (``batch_figures``
+    takes the same g from ``_core.stop_design_batch``, bit for bit)."""
+    pulse = stops[0]._shape()
+    case = {
+        k: np.array([getattr(s, k) for s in stops], dtype=np.float64)
+        for k in ("omega_free", "zeta", "mass", "restitution")
+    }
+    impulse = case["mass"] * (1.0 + case["restitution"]) * 1.0  # J_A·ω0·(1+k)/l at 1 m/s
+    return first_rebound(
+        pulse.t,
+        np.multiply.outer(impulse, pulse.f),
+        case["omega_free"],
+        case["zeta"],
+        case["mass"],
+        0.0,
+        -np.ones(len(stops)),
+        maximum=True,
+        n_threads=threads,
+    ).q
 
 
 #: Relative margin below the largest admissible impact speed (see max_impact_speeds).
@@ -205,14 +213,11 @@ def max_impact_speeds(
     lin = [i for i in todo if stops[i].model == "pulse"]
     if lin:
         g = rebounds([stops[i] for i in lin], np.ones((len(lin), 1)), n_threads=n_threads)[:, 0]
+        al = a[lin]
         with np.errstate(divide="ignore"):
-            vl = np.where(g > 0.0, a[lin] / g * (1.0 - _SPEED_MARGIN), np.inf)
+            vl = np.where(g > 0.0, al / g * (1.0 - _SPEED_MARGIN), np.inf)
         for _ in range(8):
-            fin = np.flatnonzero(np.isfinite(vl))
-            if not fin.size:
-                break
-            at = rebounds([stops[lin[j]] for j in fin], vl[fin, None], n_threads=n_threads)
-            over = fin[at[:, 0] > a[np.array(lin)[fin]]]
+            over = np.flatnonzero(np.isfinite(vl) & (g * vl > al))
             if not over.size:
                 break
             vl[over] = np.nextafter(vl[over], 0.0) * (1.0 - 2.0 * np.finfo(float).eps)

@@ -6,12 +6,13 @@ A sweep that varies only numeric keys of pulse-model ``cam_stop`` mechanisms
 restitution, contact time, rebound limit …) does not build a
 :class:`~cyclomech.Machine` and a :class:`~cyclomech.impact.StopImpact` per design:
 the designs' parameters go to Rust as arrays (``_core.stop_design_batch``: each
-design's contact point, largest admissible impact speed, phase angle per rpm and
-smallest phase angle at every speed, rayon over designs, the GIL released), the
-cyclogram's shortest paths and speed-limit search take every design at once as
-before, and the rebounds at the optimum are one more call
-(``_core.stop_design_rebounds``). The results are bit for bit those of one machine
-per design (``sweep(..., batch=False)``, the reference the tests compare with).
+design's contact point, rebound per unit impact speed g, largest admissible impact
+speed, phase angle per rpm and smallest phase angle at every speed, rayon over
+designs, the GIL released), the cyclogram's shortest paths and speed-limit search
+take every design at once as before, and the rebounds at the optimum are g times
+the impact speed there (the pulse model is linear in it, and
+:func:`~cyclomech.impact.rebounds` takes it so too). The results are bit for bit
+those of one machine per design (``sweep(..., batch=False)``, the reference the tests compare with).
 
 What stays on the per-design path (:func:`plan` returns None, or a design is
 left out of the batch):
@@ -216,13 +217,13 @@ def batch_figures(
     net = machine._network
     bounded = machine._bounded
     base_laws = machine.bound_laws(n_threads=n_threads)
-    solved: dict[str, tuple[Array, Array, Array]] = {}
+    solved: dict[str, tuple[Array, Array, Array, Array]] = {}
     for name, table in tables.items():
         mech = machine.mechanisms[name]
         assert isinstance(mech, CamStop)
         law = mech.stop.law
         coeffs = None if law.coeffs is None else np.asarray(law.coeffs, dtype=np.float64)
-        _, _, _, unit, per, mins = _core.stop_design_batch(
+        _, _, _, unit, per, mins, g = _core.stop_design_batch(
             law.name,
             law.form == "rise",
             coeffs,
@@ -231,7 +232,7 @@ def batch_figures(
             speeds,
             n_threads=n_threads,
         )
-        solved[name] = (unit, per, mins)
+        solved[name] = (unit, per, mins, g)
     # Each design's bound laws: the swept stops' own, every other mechanism's shared.
     # All proportional (the usual case: stops only): their slopes (D, K), the
     # solve at every speed and the speed-limit search each one Rust call; else
@@ -253,16 +254,13 @@ def batch_figures(
         nb = len(m.bounds())
         angles = [bound_mins[:, k + i] for i in range(nb)]
         if m.name in solved:
-            per = np.repeat(solved[m.name][0], S)
-            t = angles[0]
-            # NaN where the machine does not fit: dropped, so not solved at all.
-            v0 = np.where(fits, rows * per / np.where(fits, t, 1.0), np.nan)
-            a = _core.stop_design_rebounds(
-                _PULSE_CODE[m.stop.pulse],  # type: ignore[attr-defined]
-                tables[m.name],
-                np.ascontiguousarray(v0.reshape(D, S)),
-                n_threads=n_threads,
-            ).reshape(-1)
+            unit, g = solved[m.name][0], solved[m.name][3]
+            t = angles[0].reshape(D, S)
+            # The impact speed at the optimum's angle t: n·unit/t; its rebound g·v0
+            # (rebounds' arithmetic; NaN where the machine does not fit).
+            ok = fits.reshape(D, S)
+            v0 = grid * unit[:, None] / np.where(ok, t, 1.0)
+            a = (g[:, None] * v0).reshape(-1)
             got = {"max_rebound_m": np.where(fits, a, np.nan)}
         else:
             got = type(m).sweep_values([m] * D, grid, angles, fits, n_threads=n_threads)
@@ -299,7 +297,7 @@ def batch_figures(
 def _laws(
     bounded: Sequence[Any],
     base_laws: Sequence[Any],
-    solved: Mapping[str, tuple[Array, Array, Array]],
+    solved: Mapping[str, tuple[Array, Array, Array, Array]],
     D: int,
 ) -> list[list[Any]]:
     """Each design's bound laws (D, K): the swept stops' own (proportional, from
@@ -319,7 +317,7 @@ def _laws(
 def _slopes(
     bounded: Sequence[Any],
     base_laws: Sequence[Any],
-    solved: Mapping[str, tuple[Array, Array, Array]],
+    solved: Mapping[str, tuple[Array, Array, Array, Array]],
     D: int,
 ) -> Array | None:
     """The bound laws of :func:`_laws` as slopes (D, K) [deg/rpm] when every one

@@ -511,13 +511,15 @@ type DesignFigures<'py> = (
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
 );
 
 /// D pulse-model stop designs (`designs` (8, D), see `design_view`) of one rise
 /// law (its name, form and coefficients as `MotionLaw`) and pulse shape (0
 /// decaying, 1 rectangular, 2 triangular), built and solved in one call:
-/// (j_contact, dz_contact, v_star, per_rpm_unit, per_rpm) (D,) and the smallest
-/// phase angles (D, S) [deg] at the speeds `rpm` (S,).
+/// (j_contact, dz_contact, v_star, per_rpm_unit, per_rpm) (D,), the smallest
+/// phase angles (D, S) [deg] at the speeds `rpm` (S,) and the rebound per unit
+/// impact speed g (D,) [m per m/s] (the rebound at speed v is g·v).
 #[pyfunction]
 #[pyo3(signature = (law, rise, coeffs, pulse, designs, rpm, *, n_threads=None))]
 #[allow(clippy::too_many_arguments)] // the law, the pulse, the designs and the speeds
@@ -544,11 +546,12 @@ pub fn stop_design_batch<'py>(
     let d = view.len().map_err(|e| e.into_pyerr(py))?;
     let what = "stop_design_batch's results";
     let one = || convert::zeros::<f64, _>(py, &[d], what, HINT);
-    let (j, dz, v, unit, per) = (one()?, one()?, one()?, one()?, one()?);
+    let (j, dz, v, unit, per, g) = (one()?, one()?, one()?, one()?, one()?, one()?);
     let mins = convert::zeros(py, &[d, ns.len()], what, HINT)?;
     {
         let (mut jw, mut dzw, mut vw) = (j.readwrite(), dz.readwrite(), v.readwrite());
         let (mut uw, mut pw, mut mw) = (unit.readwrite(), per.readwrite(), mins.readwrite());
+        let mut gw = g.readwrite();
         let out = kernel::DesignOut {
             j_contact: convert::output(py, &mut jw)?,
             dz_contact: convert::output(py, &mut dzw)?,
@@ -556,38 +559,11 @@ pub fn stop_design_batch<'py>(
             per_rpm_unit: convert::output(py, &mut uw)?,
             per_rpm: convert::output(py, &mut pw)?,
             min_phase_deg: convert::output(py, &mut mw)?,
+            rebound_per_speed: convert::output(py, &mut gw)?,
         };
         run(py, "stop_design_batch", || {
             kernel::stop_designs_into(&law, shape, &view, ns, n_threads, out)
         })?;
     }
-    Ok((j, dz, v, unit, per, mins))
-}
-
-/// First rebounds [m] (D, S) of D pulse-model stop designs (`designs` (8, D))
-/// hit at the speeds `v0` (D, S) [m/s], one pulse table per design.
-#[pyfunction]
-#[pyo3(signature = (pulse, designs, v0, *, n_threads=None))]
-pub fn stop_design_rebounds<'py>(
-    py: Python<'py>,
-    pulse: i64,
-    designs: PyReadonlyArray2<'py, f64>,
-    v0: PyReadonlyArray2<'py, f64>,
-    n_threads: Option<i64>,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let shape = kernel::PulseShape::from_code(pulse).map_err(|e| e.into_pyerr(py))?;
-    let view = design_view(py, &designs)?;
-    if !v0.is_c_contiguous() {
-        return Err(ImpactError::Layout { field: "v0" }.into_pyerr(py));
-    }
-    let (vs, b, s) = ImpactError::rows(py, "v0", &v0)?;
-    let out = convert::zeros(py, &[b, s], "stop_design_rebounds' results", HINT)?;
-    {
-        let mut ow = out.readwrite();
-        let os = convert::output(py, &mut ow)?;
-        run(py, "stop_design_rebounds", || {
-            kernel::design_rebounds_into(shape, &view, vs, n_threads, os)
-        })?;
-    }
-    Ok(out)
+    Ok((j, dz, v, unit, per, mins, g))
 }

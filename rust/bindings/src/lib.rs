@@ -31,12 +31,12 @@ mod _core {
     #[pymodule_export]
     use super::forces::ForceModel;
     #[pymodule_export]
+    use super::impact::stop_design_batch;
+    #[pymodule_export]
     use super::impact::{
         contact_rebound_batch, contact_response, contact_sample, duhamel, duhamel_batch,
         first_rebound_batch,
     };
-    #[pymodule_export]
-    use super::impact::{stop_design_batch, stop_design_rebounds};
     #[pymodule_export]
     use super::linkage::LinkageProgram;
     #[pymodule_export]

@@ -11,7 +11,9 @@
 //!   same 16 rounds of 64-point grids as `StopImpact`, and Z'(j*);
 //! * the unit-impulse pulse table of duration τ (decaying, rectangular or
 //!   triangular), as `Pulse.<shape>(1, τ).scaled(1/impulse)`;
-//! * the largest admissible impact speed v* = a_max/g (g the rebound at 1 m/s)
+//! * the rebound per unit impact speed g (the rebound at 1 m/s: the model is
+//!   linear, so the rebound at v is g·v, in both paths) and the largest
+//!   admissible impact speed v* = a_max/g
 //!   less a 1e-13 margin, stepped down by ulps while its rebound exceeds a_max,
 //!   as `max_impact_speeds`;
 //! * the phase angle per rpm k = (360/2π)·(2π/60)·stroke·Z'/v* [deg/rpm] and the
@@ -128,44 +130,38 @@ impl PulseStop {
         }
     }
 
-    /// The first rebound [m] after an impact at `speed` [m/s] (≥ 0): the first
-    /// maximum of q from q = 0, q̇ = −speed under the pulse of impulse
-    /// m·(1 + k)·speed.
-    pub fn rebound(&self, speed: f64) -> Result<f64, ImpactError> {
+    /// The first rebound per unit impact speed g [m per m/s]: the first maximum
+    /// of q from q = 0, q̇ = −1 m/s under the pulse of impulse m·(1 + k)·1 m/s.
+    /// The model is linear (the lever starts at q = 0 and the impulse is ∝ the
+    /// speed), so the rebound at speed v is g·v: both paths take it so
+    /// (`rebounds` of the Python layer), one solve per stop.
+    pub fn rebound_per_speed(&self) -> Result<f64, ImpactError> {
         let n = self.table.n;
-        let impulse = self.impulse_per_speed * speed;
+        let impulse = self.impulse_per_speed * 1.0;
         let mut force = [0.0; 3];
         for (o, &f) in force.iter_mut().zip(&self.table.f[..n]) {
             *o = impulse * f;
         }
-        first_turn(
-            &self.table.t[..n],
-            &force[..n],
-            &self.osc,
-            0.0,
-            -speed,
-            true,
-        )
-        .map(|r| r.q)
+        first_turn(&self.table.t[..n], &force[..n], &self.osc, 0.0, -1.0, true).map(|r| r.q)
     }
+}
 
-    /// The largest impact speed [m/s] whose rebound is at most `a_max` [m]: a_max/g
-    /// less the margin, stepped down while over (inf when g ≤ 0).
-    pub fn max_speed(&self, a_max: f64) -> Result<f64, ImpactError> {
-        let g = self.rebound(1.0)?;
-        let mut v = if g > 0.0 {
-            a_max / g * (1.0 - SPEED_MARGIN)
-        } else {
-            f64::INFINITY
-        };
-        for _ in 0..STEP_DOWN_ROUNDS {
-            if !v.is_finite() || self.rebound(v)? <= a_max {
-                break;
-            }
-            v = next_down(v) * (1.0 - 2.0 * f64::EPSILON);
+/// The largest impact speed [m/s] whose rebound g·v is at most `a_max` [m], g
+/// the rebound per unit speed: a_max/g less the margin, stepped down while over
+/// (inf when g ≤ 0), as `max_impact_speeds`.
+pub fn max_speed(g: f64, a_max: f64) -> f64 {
+    let mut v = if g > 0.0 {
+        a_max / g * (1.0 - SPEED_MARGIN)
+    } else {
+        f64::INFINITY
+    };
+    for _ in 0..STEP_DOWN_ROUNDS {
+        if !v.is_finite() || g * v <= a_max {
+            break;
         }
-        Ok(v)
+        v = next_down(v) * (1.0 - 2.0 * f64::EPSILON);
     }
+    v
 }
 
 /// The next double towards 0 (numpy's `nextafter(v, 0)` for finite v > 0).
@@ -291,6 +287,9 @@ pub struct DesignOut<'a> {
     pub per_rpm: &'a mut [f64],
     /// (D, S) smallest phase angles [deg] at the speeds.
     pub min_phase_deg: &'a mut [f64],
+    /// g [m per m/s]: the first rebound per unit impact speed (the rebound at
+    /// speed v is g·v).
+    pub rebound_per_speed: &'a mut [f64],
 }
 
 /// The smallest phase angle [deg] n·k, at least 1e-9°, NaN over 360°.
@@ -323,23 +322,30 @@ pub fn stop_designs_into(
     length("per_rpm_unit", out.per_rpm_unit.len(), d, "one per design")?;
     length("per_rpm", out.per_rpm.len(), d, "one per design")?;
     length(
+        "rebound_per_speed",
+        out.rebound_per_speed.len(),
+        d,
+        "one per design",
+    )?;
+    length(
         "min_phase_deg",
         out.min_phase_deg.len(),
         d * s,
         "D*S: one row per design",
     )?;
-    let one = |i: usize| -> Result<[f64; 5], ImpactError> {
+    let one = |i: usize| -> Result<[f64; 6], ImpactError> {
         let (stroke, preload) = (designs.stroke[i], designs.preload[i]);
         let (j, dz) = contact_point(law, 1.0 - preload / stroke);
-        let v = designs
+        let g = designs
             .stop(shape, i)
-            .max_speed(designs.a_max[i])
+            .rebound_per_speed()
             .map_err(ImpactError::case(i))?;
+        let v = max_speed(g, designs.a_max[i]);
         let unit = RAD_PER_S_PER_RPM * stroke * dz * (180.0 / std::f64::consts::PI);
-        Ok([j, dz, v, unit, unit / v])
+        Ok([j, dz, v, unit, unit / v, g])
     };
     let block =
-        |j0: usize, rows: &mut [[f64; 5]], mins: &mut [f64]| -> Option<(usize, ImpactError)> {
+        |j0: usize, rows: &mut [[f64; 6]], mins: &mut [f64]| -> Option<(usize, ImpactError)> {
             for (r, row) in rows.iter_mut().enumerate() {
                 let i = j0 * TASK + r;
                 match one(i) {
@@ -354,7 +360,7 @@ pub fn stop_designs_into(
             }
             None
         };
-    let mut rows = vec![[0.0; 5]; d];
+    let mut rows = vec![[0.0; 6]; d];
     let threads = resolve_threads(n_threads)?;
     let first_error = if threads == 1 || d <= TASK {
         block(0, &mut rows, out.min_phase_deg)
@@ -385,64 +391,9 @@ pub fn stop_designs_into(
         out.v_star[i] = row[2];
         out.per_rpm_unit[i] = row[3];
         out.per_rpm[i] = row[4];
+        out.rebound_per_speed[i] = row[5];
     }
     Ok(())
-}
-
-/// First rebounds [m] of the designs hit at the speeds `v0` (D, S) [m/s] (each
-/// ≥ 0, or NaN for a point not wanted: NaN out, no work): `rebounds` of the
-/// Python layer for pulse-model stops, one pulse table per design, rayon over
-/// designs.
-pub fn design_rebounds_into(
-    shape: PulseShape,
-    designs: &StopDesigns<'_>,
-    v0: &[f64],
-    n_threads: Option<i64>,
-    out: &mut [f64],
-) -> Result<(), ImpactError> {
-    let d = designs.len()?;
-    length("out", out.len(), v0.len(), "one per impact speed")?;
-    if d == 0 {
-        return length("v0", v0.len(), 0, "D*S: one row per design");
-    }
-    let s = v0.len() / d;
-    length("v0", v0.len(), d * s, "D*S: one row per design")?;
-    if s == 0 {
-        return Ok(());
-    }
-    let block = |j0: usize, v: &[f64], o: &mut [f64]| -> Option<(usize, ImpactError)> {
-        for (r, (vr, or)) in v.chunks(s).zip(o.chunks_mut(s)).enumerate() {
-            let i = j0 * TASK + r;
-            let stop = designs.stop(shape, i);
-            for (x, &speed) in or.iter_mut().zip(vr) {
-                if speed.is_nan() {
-                    *x = f64::NAN; // a point the caller drops (the machine does not fit)
-                    continue;
-                }
-                match stop.rebound(speed) {
-                    Ok(q) => *x = q,
-                    Err(e) => return Some((i, ImpactError::case(i)(e))),
-                }
-            }
-        }
-        None
-    };
-    let threads = resolve_threads(n_threads)?;
-    let first_error = if threads == 1 || d <= TASK {
-        block(0, v0, out)
-    } else {
-        pool(threads)?.install(|| {
-            v0.par_chunks(TASK * s)
-                .zip(out.par_chunks_mut(TASK * s))
-                .enumerate()
-                .filter_map(|(j, (v, o))| block(j, v, o))
-                .min_by_key(|(i, _)| *i)
-        })
-    };
-    match first_error {
-        Some((_, e)) => Err(e),
-        None => Ok(()),
-    }
 }
 
 #[cfg(test)]
@@ -499,12 +450,24 @@ mod tests {
     fn the_admissible_speed_meets_a_max() {
         let (_, p) = lifter(2.5e-4);
         let stop = PulseStop::new(PulseShape::Decaying, p[3], p[2], p[4], p[5], p[6]);
-        let v = stop.max_speed(p[7]).unwrap();
-        let at = stop.rebound(v).unwrap();
+        let g = stop.rebound_per_speed().unwrap();
+        let v = max_speed(g, p[7]);
+        let at = g * v;
         assert!(at <= p[7] && at > p[7] * (1.0 - 1e-12), "{at}");
-        // The pulse model is linear in the impact speed.
-        let g = stop.rebound(1.0).unwrap();
-        assert!((stop.rebound(2.0).unwrap() / g - 2.0).abs() < 1e-12);
+        // The pulse model is linear in the impact speed: the rebound solved at
+        // 2 m/s and 0.37 m/s (not scaled) is g times the speed.
+        for speed in [2.0, 0.37] {
+            let n = stop.table.n;
+            let force: Vec<f64> = stop.table.f[..n]
+                .iter()
+                .map(|f| stop.impulse_per_speed * speed * f)
+                .collect();
+            let q = first_turn(&stop.table.t[..n], &force, &stop.osc, 0.0, -speed, true)
+                .unwrap()
+                .q;
+            assert!((q / (g * speed) - 1.0).abs() < 1e-14, "{speed}: {q}");
+        }
+        assert_eq!(max_speed(0.0, 1e-4), f64::INFINITY);
     }
 
     #[test]
@@ -531,9 +494,9 @@ mod tests {
             zeta: &zeta,
             a_max: &amax,
         };
-        let mut o: Vec<Vec<f64>> = vec![vec![0.0; d]; 5];
+        let mut o: Vec<Vec<f64>> = vec![vec![0.0; d]; 6];
         let mut mins = vec![0.0; d * rpm.len()];
-        let [a, b, c, e, f] = &mut o[..] else {
+        let [a, b, c, e, f, g] = &mut o[..] else {
             unreachable!()
         };
         stop_designs_into(
@@ -549,6 +512,7 @@ mod tests {
                 per_rpm_unit: e,
                 per_rpm: f,
                 min_phase_deg: &mut mins,
+                rebound_per_speed: g,
             },
         )
         .unwrap();
@@ -571,10 +535,10 @@ mod tests {
             let s = rpm.len();
             for (i, &p) in preloads.iter().enumerate() {
                 let alone = run(&[p], &rpm, 1);
-                for k in 0..5 {
+                for k in 0..6 {
                     prop_assert_eq!(alone[k][0].to_bits(), one[k][i].to_bits());
                 }
-                prop_assert_eq!(&alone[5][..], &one[5][i * s..(i + 1) * s]);
+                prop_assert_eq!(&alone[6][..], &one[6][i * s..(i + 1) * s]);
             }
         }
     }

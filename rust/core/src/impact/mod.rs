@@ -67,8 +67,8 @@ pub use contact::{
     ContactHistory, MAX_EVENTS,
 };
 pub use design_batch::{
-    contact_point, design_rebounds_into, min_phase, stop_designs_into, DesignOut, PulseShape,
-    PulseStop, PulseTable, StopDesigns, SPEED_MARGIN,
+    contact_point, max_speed, min_phase, stop_designs_into, DesignOut, PulseShape, PulseStop,
+    PulseTable, StopDesigns, SPEED_MARGIN,
 };
 pub use error::{ImpactError, MODE_RANGE};
 pub use oscillator::{response_batch_into, response_into, Cases, Oscillator};
