@@ -67,6 +67,7 @@ pub mod forces;
 pub(crate) mod geom;
 pub mod impact;
 pub mod linkage;
+mod memory;
 pub mod motion;
 pub mod parallel;
 pub mod press;

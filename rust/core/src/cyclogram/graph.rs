@@ -99,14 +99,14 @@ pub(crate) fn check_memory(n: usize, m: usize, extra_bytes: usize) -> Result<(),
         .saturating_mul(BYTES_PER_EVENT)
         .saturating_add(m.saturating_mul(BYTES_PER_ARC))
         .saturating_add(extra_bytes);
-    let mut probe: Vec<u8> = Vec::new();
-    probe
-        .try_reserve_exact(bytes)
-        .map_err(|_| CyclogramError::TooLarge {
-            n_events: n,
-            n_arcs: m,
-            gib: bytes as f64 / (1u64 << 30) as f64,
-        })
+    if crate::memory::can_allocate(bytes) {
+        return Ok(());
+    }
+    Err(CyclogramError::TooLarge {
+        n_events: n,
+        n_arcs: m,
+        gib: bytes as f64 / (1u64 << 30) as f64,
+    })
 }
 
 /// Largest number of events or arcs (indices are stored as `u32`).

@@ -69,11 +69,9 @@ impl Buffers {
         // for large buffers is fresh pages touched first by the (parallel) kernel
         // rather than a serial memset here.
         let bytes = (len + 2 * an).saturating_mul(8).saturating_add(3 * rows);
-        let mut probe: Vec<u8> = Vec::new();
-        probe
-            .try_reserve_exact(bytes)
-            .map_err(|_| LinkageError::Memory { bytes })?;
-        drop(probe);
+        if !crate::memory::can_allocate(bytes) {
+            return Err(LinkageError::Memory { bytes });
+        }
         Ok(Buffers {
             xy: vec![0.0; len],
             vel: vec![0.0; an],
