@@ -242,3 +242,29 @@ def test_kernel_errors_are_input_errors_naming_the_field():
         p.sample(100, n_threads=0)
     with pytest.raises(ValueError):
         cm.transfer.design_transfer(0.15, 0.25, 0.01, 0.1, n_threads=-1)
+
+
+def test_an_overlap_of_rounding_size_fits_in_both_layers() -> None:
+    """The straight length is not monotone in x2 at the ulp: one ulp under the
+    longest transition that fits, it is −1.6e-16 m. Both the path
+    (``TransferPath``) and the candidate scan (``transfer_peak_jerk``, which
+    ``design_transfer`` uses) take an overlap within 1e-12·d as rounding (the
+    straight is 0): the path is built and the jerk is finite; a real overlap
+    (the longest + 1e-6 relative) is refused by both."""
+    from cyclomech import _core
+    from cyclomech.transfer._path import _STRAIGHT_RTOL
+
+    rt, rp, gap = 0.4816596191697546, 0.39349413550424783, 0.04701661543068728
+    d = rt + rp + gap
+    top = _core.transfer_longest((rt, rp), d, (1.0, 1.0))
+    assert top is not None
+    below = top[0] * 7.0 / 7.0  # one ulp under
+    assert below < top[0]
+    path = cm.transfer.TransferPath(rt, rp, (0.0, 0.0), (d, 0.0), below)
+    assert path.straight_length == 0.0
+    over = top[0] * (1.0 + 1e-6)
+    jerk = _core.transfer_peak_jerk((rt, rp), d, np.array([below, over]), (0.05, 0.05), 64)
+    assert np.isfinite(jerk[0]) and jerk[0] > 0.0 and jerk[1] == np.inf
+    with pytest.raises(cm.InfeasibleError, match="too long"):
+        cm.transfer.TransferPath(rt, rp, (0.0, 0.0), (d, 0.0), over)
+    assert _STRAIGHT_RTOL == 1e-12  # STRAIGHT_RTOL of rust/core/src/transfer/design.rs

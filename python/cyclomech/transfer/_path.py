@@ -28,6 +28,11 @@ __all__ = ["PathAcceleration", "PathSample", "TransferPath"]
 #: pins the message.
 _SAMPLE_PEAK_BYTES = 112
 
+#: An overlap of the transitions up to this times the centre distance is rounding:
+#: the straight counts as 0 m (the Rust candidate scan, ``STRAIGHT_RTOL`` in
+#: rust/core/src/transfer/design.rs, takes the same rule; a test holds them equal).
+_STRAIGHT_RTOL = 1e-12
+
 #: Pieces of a sampled path, in travel order.
 PIECES = ("arc_t", "transition_t", "straight", "transition_p", "arc_p")
 
@@ -344,7 +349,7 @@ class TransferPath:
                 )
         self.x2_t, self.x2_p = float(x2v[0]), float(x2v[1])
         g = _geometry(r, *self._canonical_centres(), x2v)
-        if not g.feasible or g.straight < -1e-12 * d:
+        if not g.feasible or g.straight < -_STRAIGHT_RTOL * d:
             longest = _longest(r, *self._canonical_centres(), ratio=x2v / x2v.max())
             raise InfeasibleError(
                 f"x2 = ({self.x2_t:.6g}, {self.x2_p:.6g}) m is too long for a gap of "

@@ -28,6 +28,12 @@ fn rot(v: [f64; 2], angle: f64) -> [f64; 2] {
     [c * v[0] - s * v[1], s * v[0] + c * v[1]]
 }
 
+/// An overlap of the transitions up to this times the centre distance is
+/// rounding, not an overlap: the straight counts as 0 m (`TransferPath` takes
+/// the same rule). The straight is not monotone in x2 at the ulp: a candidate
+/// one ulp shorter than the longest that fits had −1.6e-16 m, and its jerk was inf.
+pub const STRAIGHT_RTOL: f64 = 1e-12;
+
 /// The geometry, the operations in the Python layer's order: smooth lines
 /// k = x2/(2R), b = −3·x2²/(20R), their distances from the centres, the
 /// internal common tangent's direction u at ψ = asin(span/d), each transition's
@@ -226,7 +232,7 @@ impl pulp::WithSimd for Candidate {
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> f64 {
         let Candidate { r, d, x2, speed, m } = self;
         let g = geometry(r, d, [x2, x2]);
-        if !(g.feasible && g.straight >= 0.0) {
+        if !(g.feasible && g.straight >= -STRAIGHT_RTOL * d) {
             return f64::INFINITY;
         }
         let straight = g.straight.max(0.0);

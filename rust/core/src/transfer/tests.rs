@@ -391,3 +391,33 @@ fn scan_is_the_same_on_every_instruction_set() {
         }
     }
 }
+
+/// The ambiguous case: a candidate an ulp shorter than the longest that fits
+/// has a straight of −1.6e-16 m by rounding (the straight is not monotone at
+/// the ulp). An overlap within 1e-12·d is rounding, as `TransferPath` takes
+/// it: the jerk is finite. A real overlap (the longest + 1e-6) is inf.
+#[test]
+fn an_overlap_of_rounding_size_fits_a_real_one_does_not() {
+    let (rt, rp, gap) = (0.4816596191697546, 0.39349413550424783, 0.04701661543068728);
+    let (r, d) = ([rt, rp], rt + rp + gap);
+    let top = longest(r, d, [1.0, 1.0]).unwrap().unwrap()[0];
+    let below = top * 7.0 / 7.0; // one ulp under top
+    assert!(below < top);
+    let g = geometry(r, d, [below, below]);
+    assert!(
+        g.feasible && g.straight < 0.0 && g.straight > -1e-15,
+        "{g:?}"
+    );
+    let j = peak_jerk(
+        r,
+        d,
+        &[below, top, top * (1.0 + 1e-6)],
+        [0.05, 0.05],
+        64,
+        Some(1),
+    )
+    .unwrap();
+    assert!(j[0].is_finite() && j[1].is_finite(), "{j:?}");
+    assert!((j[0] / j[1] - 1.0).abs() < 1e-9, "{j:?}");
+    assert_eq!(j[2], f64::INFINITY);
+}
