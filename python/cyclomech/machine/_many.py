@@ -67,8 +67,10 @@ class SpeedSweep:
     --------
     >>> import cyclomech as cm
     >>> s = cm.Machine.example().speed_sweep([300.0, 900.0])
-    >>> s.productivity_per_min.tolist(), {k: v.round(2).tolist() for k, v in s.min_phase_deg.items()}
-    ([300.0, 0.0], {'lifter': [30.03, 90.09]})
+    >>> s.productivity_per_min.tolist()
+    [300.0, 0.0]
+    >>> {k: v.round(2).tolist() for k, v in s.min_phase_deg.items()}
+    {'lifter': [30.03, 90.09]}
     """
 
     rpm: Array
