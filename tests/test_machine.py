@@ -928,11 +928,25 @@ def test_machine_and_speed_sweep_pickle(name):
     assert list(back.mechanisms) == list(m.mechanisms)
     rpm = m.speed_grid()[::10]
     s, s2 = m.speed_sweep(rpm), back.speed_sweep(rpm)
-    for key in ("rpm", "fits", "limiting_deg", "limiting_s", "productivity_per_min", "max_rebound_m"):
+    for key in (
+        "rpm",
+        "fits",
+        "limiting_deg",
+        "limiting_s",
+        "productivity_per_min",
+        "max_rebound_m",
+    ):
         assert same_bits(getattr(s2, key), getattr(s, key)), key
     s3 = pickle.loads(pickle.dumps(s))
     assert type(s3) is type(s)
-    for key in ("rpm", "fits", "limiting_deg", "limiting_s", "productivity_per_min", "max_rebound_m"):
+    for key in (
+        "rpm",
+        "fits",
+        "limiting_deg",
+        "limiting_s",
+        "productivity_per_min",
+        "max_rebound_m",
+    ):
         assert same_bits(getattr(s3, key), getattr(s, key)), key
     assert s3.binding.tolist() == s.binding.tolist()
     assert list(s3.min_phase_deg) == list(s.min_phase_deg)
