@@ -139,6 +139,38 @@ def optional_positive(table: Mapping[str, Any], key: str, where: str, unit: str)
     return v
 
 
+def event(table: Mapping[str, Any], key: str, where: str) -> str:
+    """The event name ``table[key]``: a string, not blank. A number is refused, not
+    read as its text (``from = 1`` could name "1" or "1.0"): event names are strings
+    in every file, as :func:`events` reads them in arrays."""
+    return _event_name(table[key], key, where, None, "")
+
+
+def events(table: Mapping[str, Any], key: str, where: str, *, arc: bool = False) -> list[str]:
+    """The event names of the array ``table[key]`` (as :func:`event`); with ``arc``
+    exactly two, an operation's ``[from, to]``."""
+    v = table[key]
+    what = "[from, to], two event names" if arc else "an array of event names"
+    if not isinstance(v, list) or (arc and len(v) != 2):
+        raise InputError(f"{where}: {key} = {v!r} must be {what} (strings)")
+    return [_event_name(x, key, where, v, what) for x in v]
+
+
+def _event_name(v: Any, key: str, where: str, array: list[Any] | None, what: str) -> str:
+    if isinstance(v, str) and v.strip():
+        return v
+    shown = f"{key} = {v!r}" if array is None else f"{key} = {array!r} must be {what}: {v!r}"
+    fix = ""
+    if is_number(v):
+        quoted = str(v) if array is None else [str(x) if is_number(x) else x for x in array]
+        names = "that is the name" if array is None else "those are the names"
+        fix = f"; write {key} = {value(quoted)} if {names}"
+    raise InputError(
+        f"{where}: {shown} must be an event name, a string that is not blank "
+        f"(event names are strings{fix})"
+    )
+
+
 def require(table: Mapping[str, Any], keys: Iterable[str], where: str) -> None:
     """Every key of ``keys`` is in ``table``."""
     for k in keys:

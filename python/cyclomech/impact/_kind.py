@@ -155,9 +155,7 @@ class CamStop:
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         _toml.require(table, ("arc", "a_max"), where)
-        arc = table["arc"]
-        if not (isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)):
-            raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+        arc = _toml.events(table, "arc", where, arc=True)
         if "cam" in table:
             table = {**table, **_from_cam(table, (arc[0], arc[1]), where, ctx)}
         _toml.require(
