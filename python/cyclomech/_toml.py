@@ -8,7 +8,7 @@ from __future__ import annotations
 import codecs
 import math
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
 from pathlib import Path
 from typing import Any
@@ -168,6 +168,31 @@ def _event_name(v: Any, key: str, where: str, array: list[Any] | None, what: str
     raise InputError(
         f"{where}: {shown} must be an event name, a string that is not blank "
         f"(event names are strings{fix})"
+    )
+
+
+def operation(
+    arc: Sequence[str], key: str, where: str, operations: Sequence[tuple[str, str]]
+) -> tuple[str, str]:
+    """``arc`` (read by :func:`events`) as a tuple if it is one of ``operations``
+    (the cyclogram's arcs); else the error names it, the operations that share an
+    event with it (or the one that goes the other way) and all of them."""
+    a, b = arc[0], arc[1]
+    if (a, b) in operations:
+        return a, b
+
+    def listing(arcs: Iterable[tuple[str, str]]) -> str:
+        return ", ".join(f"[{x!r}, {y!r}]" for x, y in arcs)
+
+    if (b, a) in operations:
+        hint = f"; the operation goes the other way: {key} = {[b, a]!r}"
+    else:
+        near = [o for o in operations if {a, b} & set(o)]
+        hint = f"; the operations from or to {a!r} or {b!r}: {listing(near)}" if near else ""
+    raise InputError(
+        f"{where}: {key} = {[a, b]!r} is not an operation of the cyclogram (no [[operation]] "
+        f"has from = {value(a)}, to = {value(b)}){hint}; the operations are "
+        f"{listing(operations) or 'none'}"
     )
 
 
