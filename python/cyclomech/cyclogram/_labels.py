@@ -3,6 +3,15 @@
 A label is never cut short: a title that fits neither on its bar nor beside it is
 replaced there by a number, and the numbers are keyed, with the whole titles, in a
 legend beside the axes. matplotlib is imported only inside the functions.
+
+>>> fit_label("lift", "45°", 60.0, 20.0, 7.5)           # a bar 60 pt × 20 pt, 7.5 pt text
+'lift 45°'
+>>> fit_label("carry the weft across", None, 60.0, 20.0, 7.5)   # on two lines
+'carry the\\nweft across'
+>>> print(fit_label("carry the weft across the whole loom web", None, 60.0, 20.0, 7.5))
+None
+>>> key_entries(["carry the weft across the whole loom web"], heading=True)[1]
+['numbered operations', '1  carry the weft across the whole loom web']
 """
 
 from __future__ import annotations
@@ -92,7 +101,12 @@ def key_legend(ax: Axes, titles: Sequence[str], **where: Any) -> Legend | None:
     if not titles:
         return None
     handles, labels = key_entries(titles)
-    style = {"alignment": "left", "title": KEY_TITLE, "title_fontsize": 8, "fontsize": 8}
+    style: dict[str, Any] = {
+        "alignment": "left",
+        "title": KEY_TITLE,
+        "title_fontsize": 8,
+        "fontsize": 8,
+    }
     key = Legend(ax, handles, labels, **style, handlelength=0, handletextpad=0, **where)
     key.set_clip_on(False)  # else add_artist clips it to the axes: out of the layout
     key.set_gid("key")
