@@ -185,7 +185,7 @@ def _sweep(n: int, threads: int) -> tuple[Callable[[], Any], Callable[[Any], Non
         # The same points one by one, at three speeds, from the machine itself.
         for j in (0, n // 2, n - 1):
             one = cm.sweep(machine, {"speed_rpm": [float(speeds[j])]}, n_threads=1)
-            for key in ("fits", "limiting_deg", "productivity"):
+            for key in ("fits", "limiting_deg", "productivity_per_min"):
                 np.testing.assert_array_equal(one.columns[key], r.columns[key][j : j + 1])
 
     return (lambda: cm.sweep(machine, {"speed_rpm": speeds}, n_threads=threads)), check

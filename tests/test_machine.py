@@ -718,7 +718,7 @@ def test_speed_sweep_is_the_lp_optimum_at_every_speed(data, rpm):
             assert sw.fits[k], (n, ref)
             assert abs(sw.limiting_deg[k] - ref) <= 1e-7 * (1 + abs(ref)), (n, ref)
     np.testing.assert_array_equal(sw.fits, np.isfinite(sw.limiting_deg))
-    np.testing.assert_array_equal(sw.productivity, np.where(sw.fits, rpm, 0.0))
+    np.testing.assert_array_equal(sw.productivity_per_min, np.where(sw.fits, rpm, 0.0))
     assert np.isnan(sw.max_rebound_m).all() and sw.min_phase_deg == {}
 
 
@@ -781,7 +781,7 @@ def test_sweep_rows_are_the_speed_sweep_of_each_design(loom_sweep):
         lim = design.speed_limit()
         assert same_bits(cols["lifter.preload"][rows], np.full(S, p))
         assert same_bits(cols["speed_rpm"][rows], s.rpm)
-        for key in ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m"):
+        for key in ("fits", "limiting_deg", "limiting_s", "productivity_per_min", "max_rebound_m"):
             assert same_bits(cols[key][rows], getattr(s, key)), key
         assert cols["binding"][rows].tolist() == s.binding.tolist()
         assert same_bits(cols["speed_limit_rpm"][rows], np.full(S, lim.rpm))
@@ -806,7 +806,7 @@ def test_sweep_columns_and_their_order():
         "fits",
         "limiting_deg",
         "limiting_s",
-        "productivity",
+        "productivity_per_min",
         "max_rebound_m",
         "speed_limit_rpm",
         "speed_limit_by",
@@ -905,7 +905,7 @@ def test_many_machines_together_are_each_alone():
     limits = cm.machine.speed_limits(ms)
     for m, s, lim in zip(ms, sweeps, limits, strict=True):
         one = m.speed_sweep(rpm)
-        for k in ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m"):
+        for k in ("fits", "limiting_deg", "limiting_s", "productivity_per_min", "max_rebound_m"):
             assert np.array_equal(getattr(s, k), getattr(one, k), equal_nan=k != "fits"), k
         assert s.binding.tolist() == one.binding.tolist()
         assert lim == m.speed_limit()
@@ -928,11 +928,25 @@ def test_machine_and_speed_sweep_pickle(name):
     assert list(back.mechanisms) == list(m.mechanisms)
     rpm = m.speed_grid()[::10]
     s, s2 = m.speed_sweep(rpm), back.speed_sweep(rpm)
-    for key in ("rpm", "fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m"):
+    for key in (
+        "rpm",
+        "fits",
+        "limiting_deg",
+        "limiting_s",
+        "productivity_per_min",
+        "max_rebound_m",
+    ):
         assert same_bits(getattr(s2, key), getattr(s, key)), key
     s3 = pickle.loads(pickle.dumps(s))
     assert type(s3) is type(s)
-    for key in ("rpm", "fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m"):
+    for key in (
+        "rpm",
+        "fits",
+        "limiting_deg",
+        "limiting_s",
+        "productivity_per_min",
+        "max_rebound_m",
+    ):
         assert same_bits(getattr(s3, key), getattr(s, key)), key
     assert s3.binding.tolist() == s.binding.tolist()
     assert list(s3.min_phase_deg) == list(s.min_phase_deg)

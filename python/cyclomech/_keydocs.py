@@ -133,15 +133,16 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
           "refused in a machine file: give [machine] speed_rpm and nominal_rpm", False),
         K("events", "The events in the order reports show them.", NO_UNIT, ARR,
           "the events in the order the operations name them",
-          "event ids (strings, or integers taken as text), none blank; when given, every "
-          "operation's from and to must be listed", False),
+          "event names (strings, in quotes: a number is refused), none blank; when given, "
+          "every operation's from and to must be listed", False),
     ),
     "operation": (
         K("from", "The event the operation starts at.", NO_UNIT, TEXT, REQ,
-          "an event id (a string, or an integer taken as text), not blank, other than to",
+          "an event name (a string, in quotes: from = 1 is refused), not blank, other than to",
           False),
         K("to", "The event the operation ends at.", NO_UNIT, TEXT, REQ,
-          "an event id, not blank, other than from; each arc from → to once", False),
+          "an event name (a string), not blank, other than from; each arc from → to once",
+          False),
         K("min_angle_deg", "The smallest phase angle of the operation.", "deg", NUM, "0",
           "finite, 0 ≤ min_angle_deg ≤ 1e12", False),
         K("max_angle_deg", "The largest phase angle of the operation.", "deg", NUM,
@@ -169,16 +170,16 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
     ),
     "constraint.terms": (
         K("from", "The first event of the term's operation.", NO_UNIT, TEXT, REQ,
-          "an event id; from → to must be an operation", None),
+          "an event name (a string); from → to must be an operation", None),
         K("to", "The second event of the term's operation.", NO_UNIT, TEXT, REQ,
-          "an event id; from → to must be an operation", None),
+          "an event name (a string); from → to must be an operation", None),
         K("coeff", "The coefficient of the operation's phase angle.", NO_UNIT, NUM, REQ,
           "finite, magnitude ≤ 1e12", None),
     ),
     "phase": (
         K("event", "The cyclogram event at which the mechanism's angle is crank_deg.",
           NO_UNIT, TEXT, "none (crank_deg at cycle angle 0)",
-          "one of the cyclogram's events", None),
+          "one of the cyclogram's events (a string)", None),
         K("crank_deg", "The mechanism's own angle at that event.", "deg", NUM, "0", FIN, None),
     ),
     "cam": (

@@ -266,7 +266,7 @@ class Phase:
             )
         _toml.check_keys(spec, set(cls.KEYS), ctx.source, f"[mechanism.{name}.phase]")
         crank = _toml.number(spec, "crank_deg", where, "[deg]") if "crank_deg" in spec else 0.0
-        event = spec.get("event")
+        event = _toml.event(spec, "event", where) if "event" in spec else None
         if event is not None and event not in ctx.cyclogram.events:
             known = ", ".join(repr(e) for e in ctx.cyclogram.events)
             raise InputError(

@@ -8,7 +8,7 @@ from __future__ import annotations
 import codecs
 import math
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
 from pathlib import Path
 from typing import Any
@@ -137,6 +137,63 @@ def optional_positive(table: Mapping[str, Any], key: str, where: str, unit: str)
     if v <= 0:
         raise InputError(f"{where}: {key} = {v!r} must be positive {unit}".rstrip())
     return v
+
+
+def event(table: Mapping[str, Any], key: str, where: str) -> str:
+    """The event name ``table[key]``: a string, not blank. A number is refused, not
+    read as its text (``from = 1`` could name "1" or "1.0"): event names are strings
+    in every file, as :func:`events` reads them in arrays."""
+    return _event_name(table[key], key, where, None, "")
+
+
+def events(table: Mapping[str, Any], key: str, where: str, *, arc: bool = False) -> list[str]:
+    """The event names of the array ``table[key]`` (as :func:`event`); with ``arc``
+    exactly two, an operation's ``[from, to]``."""
+    v = table[key]
+    what = "[from, to], two event names" if arc else "an array of event names"
+    if not isinstance(v, list) or (arc and len(v) != 2):
+        raise InputError(f"{where}: {key} = {v!r} must be {what} (strings)")
+    return [_event_name(x, key, where, v, what) for x in v]
+
+
+def _event_name(v: Any, key: str, where: str, array: list[Any] | None, what: str) -> str:
+    if isinstance(v, str) and v.strip():
+        return v
+    shown = f"{key} = {v!r}" if array is None else f"{key} = {array!r} must be {what}: {v!r}"
+    fix = ""
+    if is_number(v):
+        quoted = str(v) if array is None else [str(x) if is_number(x) else x for x in array]
+        names = "that is the name" if array is None else "those are the names"
+        fix = f"; write {key} = {value(quoted)} if {names}"
+    raise InputError(
+        f"{where}: {shown} must be an event name, a string that is not blank "
+        f"(event names are strings{fix})"
+    )
+
+
+def operation(
+    arc: Sequence[str], key: str, where: str, operations: Sequence[tuple[str, str]]
+) -> tuple[str, str]:
+    """``arc`` (read by :func:`events`) as a tuple if it is one of ``operations``
+    (the cyclogram's arcs); else the error names it, the operations that share an
+    event with it (or the one that goes the other way) and all of them."""
+    a, b = arc[0], arc[1]
+    if (a, b) in operations:
+        return a, b
+
+    def listing(arcs: Iterable[tuple[str, str]]) -> str:
+        return ", ".join(f"[{x!r}, {y!r}]" for x, y in arcs)
+
+    if (b, a) in operations:
+        hint = f"; the operation goes the other way: {key} = {[b, a]!r}"
+    else:
+        near = [o for o in operations if {a, b} & set(o)]
+        hint = f"; the operations from or to {a!r} or {b!r}: {listing(near)}" if near else ""
+    raise InputError(
+        f"{where}: {key} = {[a, b]!r} is not an operation of the cyclogram (no [[operation]] "
+        f"has from = {value(a)}, to = {value(b)}){hint}; the operations are "
+        f"{listing(operations) or 'none'}"
+    )
 
 
 def require(table: Mapping[str, Any], keys: Iterable[str], where: str) -> None:

@@ -386,11 +386,7 @@ def _segments(
         segs.append(
             Segment(row["kind"], _toml.number(row, "angle_deg", where, "[deg]"), stroke, law)
         )
-        arc = row.get("arc")
-        if arc is not None and not (
-            isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)
-        ):
-            raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+        arc = _toml.events(row, "arc", where, arc=True) if "arc" in row else None
         if arc is not None and row["kind"] == "dwell":
             raise InputError(f"{where}: a dwell has no phase-angle bound; arc = {arc!r}")
         bound.append(None if arc is None else (arc[0], arc[1]))

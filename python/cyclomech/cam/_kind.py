@@ -14,6 +14,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from .. import _toml
 from .._errors import CyclomechWarning, InputError
 from .._kind import (
     Array,
@@ -166,12 +167,7 @@ class CamMechanism(Unbounded):
         for i, arc in enumerate(design.arcs):
             if arc is None:
                 continue
-            if arc not in known:
-                listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
-                raise InputError(
-                    f"{at} segment {i}: arc = {list(arc)!r} is not an operation of the "
-                    f"cyclogram; the operations are {listing}"
-                )
+            _toml.operation(arc, "arc", f"{at} segment {i}", known)
             if arc in seen:
                 raise InputError(f"{at} segment {i}: arc = {list(arc)!r} is bound twice")
             seen.add(arc)

@@ -30,26 +30,25 @@ _TERM_KEYS = {"from", "to", "coeff"}
 
 def read(cls: type[Cyclogram], data: Mapping[str, Any], source: str) -> Cyclogram:
     """The cyclogram of the parsed layout ``data`` (:meth:`Cyclogram.from_dict`)."""
-    from ._model import _event_id
-
     _toml.check_keys(data, {"cyclogram", "operation", "constraint"}, source, "top level")
     head = data.get("cyclogram", {})
     _toml.check_keys(head, _CG_KEYS, source, "[cyclogram]")
+    at = f"{source}: [cyclogram]"
+    lim = head.get("limiting")
+    if isinstance(lim, list):  # else a name, or refused by the constructor
+        lim = tuple(_toml.events(head, "limiting", at, arc=True))
+    events = _toml.events(head, "events", at) if "events" in head else []
     try:
-        lim = head.get("limiting")
         cg = cls(
             head.get("name", Path(source).stem),
             cycle_deg=head.get("cycle_deg", 360.0),
-            limiting=tuple(lim) if isinstance(lim, list) else lim,
+            limiting=lim,
             speed_rpm=head.get("speed_rpm"),
         )
-        events = head.get("events", [])
-        if not isinstance(events, list):
-            raise InputError(f"events must be an array of event ids; got {events!r}")
         for ev in events:
             cg.add_event(ev)
     except InputError as e:
-        raise InputError(f"{source}: [cyclogram]: {e}") from None
+        raise InputError(f"{at}: {e}") from None
     declared = set(cg.events) if "events" in head else None
     ops = data.get("operation", [])
     if not isinstance(ops, list):
@@ -62,8 +61,8 @@ def read(cls: type[Cyclogram], data: Mapping[str, Any], source: str) -> Cyclogra
                 raise InputError(
                     f"{where}: missing key {req!r} (the event the operation goes {req})"
                 )
+        src, dst = _toml.event(op, "from", where), _toml.event(op, "to", where)
         try:
-            src, dst = _event_id(op["from"], "from"), _event_id(op["to"], "to")
             for key, ev in (("from", src), ("to", dst)):
                 if declared is not None and ev not in declared:
                     raise InputError(
@@ -104,10 +103,8 @@ def read(cls: type[Cyclogram], data: Mapping[str, Any], source: str) -> Cyclogra
             missing = _TERM_KEYS - set(t)
             if missing:
                 raise InputError(f"{where}: terms #{j} is missing {sorted(missing)}")
-            try:
-                arc = (_event_id(t["from"], "from"), _event_id(t["to"], "to"))
-            except InputError as e:
-                raise InputError(f"{where}: terms #{j}: {e}") from None
+            term = f"{where}: terms #{j}"
+            arc = (_toml.event(t, "from", term), _toml.event(t, "to", term))
             if arc in coeffs:
                 raise InputError(
                     f"{where}: terms #{j} repeats the arc {arc[0]}→{arc[1]}; "

@@ -15,6 +15,9 @@ The artists are findable for tests and restyling: the operation bars are the
 ``result.operations``; a bar that wraps is two pieces), the hatched parts beyond
 the minimum angle the one labelled ``"beyond minimum"``, and the slack whiskers
 the :class:`~matplotlib.collections.LineCollection` labelled ``"total slack"``.
+A title is never cut short: one that fits neither on its bar nor beside it is
+replaced there by a number, keyed with the whole title under "numbered
+operations" (in the legend of a Gantt chart, beside the rings of a circular one).
 
 matplotlib is an optional dependency (``pip install 'cyclomech[plot]'``), imported
 only when a function draws; the functions draw on the axes they are given (or on a
@@ -32,9 +35,10 @@ import numpy as np
 from .._errors import InputError
 from .._plotting import CRITICAL_COLOR, deg_text, degree_ticks, halo, pyplot, tick_step
 from . import Arc, Operation, Optimum, Schedule
+from ._labels import fit_label, key_entries, key_legend, text_width_pt
 
 if TYPE_CHECKING:
-    from collections.abc import Mapping
+    from collections.abc import Callable, Mapping, Sequence
 
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -183,65 +187,6 @@ def _default_title(result: Schedule | Optimum) -> str:
     return f"{head} — duration {deg_text(result.duration)}"
 
 
-def _text_width_pt(text: str, size: float, bold: bool = False) -> float:
-    """Width [pt] of one line of text at ``size`` pt in the default font."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import TextPath
-
-    prop = FontProperties(size=size, weight="bold" if bold else "normal")
-    return float(TextPath((0, 0), text, prop=prop).get_extents().width)
-
-
-def _two_lines(text: str) -> str | None:
-    """``text`` broken at the space nearest its middle, or None without a space."""
-    spaces = [i for i, c in enumerate(text) if c == " "]
-    if not spaces:
-        return None
-    k = min(spaces, key=lambda i: abs(2 * i - len(text)))
-    return text[:k] + "\n" + text[k + 1 :]
-
-
-def _candidates(title: str, angle: str | None) -> list[str]:
-    """Labels from the most to the least informative: title and angle, on one or two
-    lines, then the title alone, on one or two lines."""
-    out = [] if angle is None else [f"{title} {angle}", f"{title}\n{angle}"]
-    out.append(title)
-    wrapped = _two_lines(title)
-    if wrapped is not None:
-        out.append(wrapped)
-    return out
-
-
-def _fit_label(
-    title: str,
-    angle: str | None,
-    width_pt: float,
-    height_pt: float,
-    size: float,
-    bold: bool = False,
-    *,
-    truncate: bool = True,
-    lines: int = 2,
-) -> str | None:
-    """The first of :func:`_candidates` (of at most ``lines`` lines) that fits in a box
-    ``width_pt`` × ``height_pt``, else (with ``truncate``) the title cut short with
-    an ellipsis, else None."""
-    line_pt = 1.2 * size
-    for text in _candidates(title, angle):
-        rows = text.split("\n")
-        if len(rows) > lines or len(rows) * line_pt > height_pt:
-            continue
-        if max(_text_width_pt(row, size, bold) for row in rows) <= width_pt:
-            return text
-    if not truncate or line_pt > height_pt:
-        return None
-    for n in range(len(title) - 1, 2, -1):
-        cut = title[:n].rstrip() + "…"
-        if _text_width_pt(cut, size, bold) <= width_pt:
-            return cut
-    return None
-
-
 def _settle_layout(ax: Axes) -> None:
     """Let a layout engine (constrained layout) place the axes before text is fitted."""
     from matplotlib.figure import Figure
@@ -348,14 +293,21 @@ def plot_cyclogram(
             fig.get_layout_engine().set(w_pad=0.25, h_pad=0.1)
     ax.set_title(_default_title(result) if title is None else title)
     handles = _draw(ax, result, lay, kind)
-    ax.legend(
-        handles=handles,
-        loc="upper left",
-        frameon=False,
-        fontsize=8,
-        **(_POLAR_LEGEND if kind == "circular" else {"bbox_to_anchor": (1.01, 1.0)}),
-    )
-    _label(ax, lay, kind)
+
+    def legend(keyed: Sequence[str] = ()) -> None:
+        """The legend, then (a Gantt chart's) numbered titles under their heading."""
+        more, titles = key_entries(keyed, heading=True)
+        ax.legend(
+            handles=[*handles, *more],
+            labels=[*(h.get_label() for h in handles), *titles],
+            loc="upper left",
+            frameon=False,
+            fontsize=8,
+            **(_POLAR_LEGEND if kind == "circular" else {"bbox_to_anchor": (1.01, 1.0)}),
+        )
+
+    legend()
+    _label(ax, lay, kind, legend)
     return ax
 
 
@@ -418,7 +370,8 @@ def plot_cyclogram_pair(result: Schedule | Optimum, *, title: str | None = None)
     labels = {h.get_label() for h in handles}
     handles += [h for h in _draw(gantt, result, lay, "gantt") if h.get_label() not in labels]
     polar.legend(handles=handles, loc="upper left", frameon=False, fontsize=8, **_POLAR_LEGEND)
-    _label(gantt, lay, "gantt")
+    where = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "frameon": False}
+    _label(gantt, lay, "gantt", lambda keyed: key_legend(gantt, keyed, **where))
     _label(polar, lay, "circular")
     return fig
 
@@ -737,10 +690,33 @@ def _circular(ax: PolarAxes, result: Schedule | Optimum, lay: _Layout) -> list[A
 
 
 # -------------------------------------------------------------------- labels
-def _label_gantt(ax: Axes, lay: _Layout, pt_per_deg: float, pt_y: float) -> None:
+def _label_gantt(ax: Axes, lay: _Layout, key: Callable[[list[str]], Any] | None = None) -> None:
     """Label each bar inside if its title fits, else beside it where its lane is free
-    (on one or two lines, as inside), else inside cut short; zero-angle operations
-    (diamonds) are not labelled."""
+    (on one or two lines, as inside), else with a number keyed by ``key`` (called
+    with the numbered titles; the limiting operation's title goes above its bar
+    instead); zero-angle operations (diamonds) are not labelled. A label is never
+    cut short. The key takes room from the axes, which can number more bars: the
+    plan is made again until the numbered bars stay the same."""
+    keyed: list[int] = []  # bars numbered, in the order of their numbers
+    while True:
+        _settle_layout(ax)
+        fig = ax.figure
+        pt_x = ax.bbox.width * 72.0 / fig.dpi  # axes size [pt]
+        pt_y = ax.bbox.height * 72.0 / fig.dpi
+        n = len(keyed)
+        plan = _gantt_plan(ax, lay, pt_x / lay.cycle, pt_y, keyed)
+        if len(keyed) == n or key is None:
+            break
+        key([lay.bars[i].op.title for i in keyed])
+    for method, args, kw in plan:
+        getattr(ax, method)(*args, **kw)
+
+
+def _gantt_plan(
+    ax: Axes, lay: _Layout, pt_per_deg: float, pt_y: float, keyed: list[int]
+) -> list[tuple[str, tuple[Any, ...], dict[str, Any]]]:
+    """The labels of :func:`_label_gantt` as ``(ax method, args, kwargs)``; a bar in
+    ``keyed`` keeps its number, a bar newly numbered is appended to it."""
     cycle = lay.cycle
     eps = 1e-9 * cycle
     _, y_of = _lane_y(lay)
@@ -751,7 +727,8 @@ def _label_gantt(ax: Axes, lay: _Layout, pt_per_deg: float, pt_y: float) -> None
         if b.angle > eps:
             lane_pieces.setdefault(y, []).extend(_pieces(b.start, b.angle, cycle))
     gap = 1.5 / pt_per_deg  # 1.5 pt between a bar and a label beside it [deg]
-    for b, y in zip(lay.bars, y_of, strict=True):
+    plan: list[tuple[str, tuple[Any, ...], dict[str, Any]]] = []
+    for i, (b, y) in enumerate(zip(lay.bars, y_of, strict=True)):
         if b.angle <= eps:
             continue
         pieces = _pieces(b.start, b.angle, cycle)
@@ -765,73 +742,87 @@ def _label_gantt(ax: Axes, lay: _Layout, pt_per_deg: float, pt_y: float) -> None
             "multialignment": "center",
             "clip_on": True,
         }
-        for a2, w2 in pieces:  # the other pieces of a wrapped bar say whose they are
-            cont = _fit_label(
-                f"… {b.op.title}",
-                None,
-                w2 * pt_per_deg - 4.0,
-                bar_h,
-                _FONT,
-                b.limiting,
-                truncate=False,
-                lines=1,
-            )
-            if (a2, w2) != (a, w) and cont is not None:
-                ax.text(a2 + w2 / 2, y, cont, ha="center", **style)
-        angle = deg_text(b.angle)
-        text = _fit_label(
-            b.op.title, angle, w * pt_per_deg - 4.0, bar_h, _FONT, b.limiting, truncate=False
-        )
-        if text is not None:
-            ax.text(a + w / 2, y, text, ha="center", **style)
-            continue
         others = [p for p in lane_pieces[y] if p != (a, w)]
         right = min([p[0] for p in others if p[0] >= a + w - eps], default=cycle) - (a + w)
         left = a - max([p[0] + p[1] for p in others if p[0] + p[1] <= a + eps], default=0.0)
-        for room, x, ha in ((right, a + w + gap, "left"), (left, a - gap, "right")):
-            text = _fit_label(
-                b.op.title,
-                angle,
-                (room - 3 * gap) * pt_per_deg,
-                bar_h,
-                _FONT,
-                b.limiting,
-                truncate=False,
-            )
-            if text is not None:
-                ax.text(x, y, text, ha=ha, **style)
-                break
-        else:
-            text = _fit_label(b.op.title, angle, w * pt_per_deg - 4.0, bar_h, _FONT, b.limiting)
-            if text is not None:
-                ax.text(a + w / 2, y, text, ha="center", **style)
-            elif b.limiting:
-                del style["va"], style["clip_on"]
-                ax.annotate(
-                    f"{b.op.title} {angle}",
-                    (a + w / 2, y - _BAR_H / 2),
-                    xytext=(0, 6),
-                    textcoords="offset points",
-                    va="bottom",
-                    ha="center",
-                    arrowprops={"arrowstyle": "-", "color": _EDGE, "linewidth": 0.7},
-                    **style,
+        spots = [
+            (a + w / 2, "center", w * pt_per_deg - 4.0),
+            (a + w + gap, "left", (right - 3 * gap) * pt_per_deg),
+            (a - gap, "right", (left - 3 * gap) * pt_per_deg),
+        ]
+
+        def place(title: str, angle: str | None) -> tuple[float, str, str] | None:
+            for x, ha, room in spots:  # noqa: B023 (called at once, in this iteration)
+                text = fit_label(title, angle, room, bar_h, _FONT, b.limiting)  # noqa: B023
+                if text is not None:
+                    return x, ha, text
+            return None
+
+        angle = deg_text(b.angle)
+        got = None if i in keyed else place(b.op.title, angle)
+        name = b.op.title
+        if got is None and b.limiting and i not in keyed:
+            del style["va"], style["clip_on"]
+            xy = (a + w / 2, y - _BAR_H / 2)
+            arrow = {"arrowstyle": "-", "color": _EDGE, "linewidth": 0.7}
+            kw = {"xytext": (0, 6), "textcoords": "offset points", "va": "bottom"}
+            plan.append(
+                (
+                    "annotate",
+                    (f"{b.op.title} {angle}", xy),
+                    {**kw, "ha": "center", "arrowprops": arrow, **style},
                 )
+            )
+            continue
+        if got is None:
+            name = str(keyed.index(i) + 1 if i in keyed else len(keyed) + 1)
+            got = place(name, None)
+            if got is None:
+                continue  # a bar too short to hold even its number stays bare
+            if i not in keyed:
+                keyed.append(i)
+        plan.append(("text", (got[0], y, got[2]), {"ha": got[1], **style}))
+        for a2, w2 in pieces:  # the other pieces of a wrapped bar say whose they are
+            room = w2 * pt_per_deg - 4.0
+            cont = fit_label(f"… {name}", None, room, bar_h, _FONT, b.limiting, lines=1)
+            if (a2, w2) != (a, w) and cont is not None:
+                plan.append(("text", (a2 + w2 / 2, y, cont), {"ha": "center", **style}))
+    return plan
 
 
-def _label(ax: Axes, lay: _Layout, kind: str) -> None:
+def _label(
+    ax: Axes, lay: _Layout, kind: str, key: Callable[[list[str]], Any] | None = None
+) -> None:
     """Write the operations' titles (and angles) on the bars where they fit; the
     limiting operation's, in bold, always (above its bar on a Gantt chart if need be).
+    A title that does not fit gets a number, keyed beside the axes (a Gantt chart's
+    by ``key``, called with the numbered titles).
 
     Text is fitted to the axes as laid out, so this runs after everything else."""
-    _settle_layout(ax)
+    if kind == "gantt":
+        _label_gantt(ax, lay, key)
+        return
+    # The key takes room from the axes: label again until the numbered titles stay.
+    before, keyed = list(ax.texts), None
+    for _ in range(4):
+        _settle_layout(ax)
+        for text in [t for t in ax.texts if t not in before]:
+            text.remove()
+        now = _label_circular(ax, lay)
+        if now == keyed:
+            break
+        key_legend(ax, now, loc="lower left", bbox_to_anchor=(1.08, 0.0))
+        keyed = now
+        if not now:
+            break
+
+
+def _label_circular(ax: Axes, lay: _Layout) -> list[str]:
+    """Label the rings' bars (:func:`_label`); return the titles numbered."""
     fig = ax.figure
     pt_x = ax.bbox.width * 72.0 / fig.dpi  # axes size [pt]
     pt_y = ax.bbox.height * 72.0 / fig.dpi
     cycle = lay.cycle
-    if kind == "gantt":
-        _label_gantt(ax, lay, pt_x / cycle, pt_y)
-        return
     base, r_of = _ring_r(lay)
     radius_pt = min(pt_x, pt_y) / 2  # of the outer circle, r = base[-1]
     size = _FONT - 0.5
@@ -842,17 +833,16 @@ def _label(ax: Axes, lay: _Layout, kind: str) -> None:
     for b, r in zip(lay.bars, r_of, strict=True):
         arc_pt = b.angle / cycle * 2.0 * math.pi * r / base[-1] * radius_pt
         # A chord is shorter than its arc: leave room for straight text on a curved bar.
-        text = _fit_label(
+        text = fit_label(
             b.op.title,
             deg_text(b.angle) if b.limiting else None,
             0.85 * arc_pt - 4.0,
             thick - 1.0,
             size,
             bold=b.limiting,
-            truncate=False,
         )
         if text is None:
-            if 0.85 * arc_pt - 2.0 < _text_width_pt(str(len(keyed) + 1), size):
+            if 0.85 * arc_pt - 2.0 < text_width_pt(str(len(keyed) + 1), size):
                 continue  # a bar too short to hold even its number stays bare
             keyed.append(b.op.title)
             text = str(len(keyed))
@@ -875,22 +865,4 @@ def _label(ax: Axes, lay: _Layout, kind: str) -> None:
             zorder=4,
             gid=f"key:{len(keyed)}" if text == str(len(keyed)) and keyed else None,
         )
-    if keyed:
-        from matplotlib.legend import Legend
-        from matplotlib.patches import Patch
-
-        key = Legend(
-            ax,
-            [Patch(visible=False) for _ in keyed],
-            [f"{k}  {title}" for k, title in enumerate(keyed, 1)],
-            loc="lower left",
-            bbox_to_anchor=(1.08, 0.0),
-            alignment="left",
-            title="numbered operations",
-            title_fontsize=8,
-            fontsize=8,
-            handlelength=0,
-            handletextpad=0,
-        )
-        key.set_gid("key")
-        ax.add_artist(key)
+    return keyed

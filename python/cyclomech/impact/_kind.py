@@ -155,28 +155,22 @@ class CamStop:
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         _toml.require(table, ("arc", "a_max"), where)
-        arc = table["arc"]
-        if not (isinstance(arc, list) and len(arc) == 2 and all(isinstance(x, str) for x in arc)):
-            raise InputError(f"{where}: arc = {arc!r} must be two event names [from, to]")
+        # The arc is checked against the cyclogram before the cam: an arc that is no
+        # operation at all is the arc's mistake, not the cam's.
+        known = [op.arc for op in ctx.cyclogram.operations]
+        arc = _toml.operation(_toml.events(table, "arc", where, arc=True), "arc", where, known)
         if "cam" in table:
-            table = {**table, **_from_cam(table, (arc[0], arc[1]), where, ctx)}
+            table = {**table, **_from_cam(table, arc, where, ctx)}
         _toml.require(
             table, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where
         )
         stop = _stop_from_table(table, where, skip=("kind", "arc", "a_max", "phase_deg", "cam"))
-        known = [op.arc for op in ctx.cyclogram.operations]
-        if (arc[0], arc[1]) not in known:
-            listing = ", ".join(f"[{a!r}, {b!r}]" for a, b in known)
-            raise InputError(
-                f"{where}: arc = {arc!r} is not an operation of the cyclogram; the operations "
-                f"are {listing}"
-            )
         a_max = _toml.number(table, "a_max", where, "[m]")
         if a_max <= 0:
             raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
         shown = {"phase_deg": table.get("phase_deg", [20.0, 60.0, 5])}
         grid = _toml.span(shown, "phase_deg", where, within=(0.0, 360.0), most=50, unit="deg")
-        return cls(name, stop, (arc[0], arc[1]), a_max, grid)
+        return cls(name, stop, arc, a_max, grid)
 
     # ------------------------------------------------------------- its bound
     def min_phase_deg(self, rpm: npt.ArrayLike, *, n_threads: int | None = None) -> Array:
@@ -656,9 +650,11 @@ def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext)
         other, f"[mechanism.{name}]", source=ctx.source, extra=frozenset({"kind"}), arcs=True
     )
     if arc not in design.arcs:
+        bound = ", ".join(repr(list(a)) for a in design.arcs if a is not None) or "none"
         raise InputError(
-            f"{where}: the cam {name!r} has no segment bound to the stop's arc {list(arc)!r}; "
-            "give that rise arc = [from, to]"
+            f"{where}: the cam {name!r} has no segment bound to the stop's arc {list(arc)!r} "
+            f"(an operation of the cyclogram; the cam's segments are bound to {bound}); give "
+            f"the cam's rise on it arc = {list(arc)!r} in [mechanism.{name}]"
         )
     seg = design.cam.segments[design.arcs.index(arc)]
     if seg.kind != "rise":

@@ -171,9 +171,7 @@ class ImpactStudy:
             raise InputError(f"{src}: [study]: {e}") from None
         arc = None
         if "arc" in sd:
-            v = sd["arc"]
-            if not (isinstance(v, list) and len(v) == 2 and all(isinstance(x, str) for x in v)):
-                raise InputError(f"{src}: [study]: arc = {v!r} must be two event names")
+            v = _toml.events(sd, "arc", at, arc=True)
             arc = (v[0], v[1])
         name = sp.get("name", "")
         if not isinstance(name, str):

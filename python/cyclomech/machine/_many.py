@@ -49,7 +49,7 @@ class SpeedSweep:
         The limiting operation's optimal angle [deg] (NaN where it does not fit).
     limiting_s : ndarray of float, shape (S,)
         The time it gets [s].
-    productivity : ndarray of float, shape (S,)
+    productivity_per_min : ndarray of float, shape (S,)
         Machine cycles per minute where it fits, else 0 [1/min].
     binding : ndarray of object, shape (S,)
         The bounds and constraints on the chain that sets the optimum
@@ -67,15 +67,17 @@ class SpeedSweep:
     --------
     >>> import cyclomech as cm
     >>> s = cm.Machine.example().speed_sweep([300.0, 900.0])
-    >>> s.productivity.tolist(), {k: v.round(2).tolist() for k, v in s.min_phase_deg.items()}
-    ([300.0, 0.0], {'lifter': [30.03, 90.09]})
+    >>> s.productivity_per_min.tolist()
+    [300.0, 0.0]
+    >>> {k: v.round(2).tolist() for k, v in s.min_phase_deg.items()}
+    {'lifter': [30.03, 90.09]}
     """
 
     rpm: Array
     fits: npt.NDArray[np.bool_]
     limiting_deg: Array
     limiting_s: Array
-    productivity: Array
+    productivity_per_min: Array
     binding: npt.NDArray[np.object_]
     min_phase_deg: dict[str, Array]
     columns: dict[str, Array] = field(default_factory=dict)
@@ -243,7 +245,7 @@ def speed_sweeps(
                 fits=fits[r],
                 limiting_deg=value[r],
                 limiting_s=value[r] / (DEG_PER_S_PER_RPM * n),
-                productivity=np.where(fits[r], n, 0.0),
+                productivity_per_min=np.where(fits[r], n, 0.0),
                 binding=binding[r],
                 min_phase_deg={name: t[r] for name, t in zip(names, t_bound, strict=True)},
                 columns={c: v[r] for c, v in extra.items()},

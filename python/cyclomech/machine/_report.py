@@ -295,7 +295,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         "limiting_deg": sw.limiting_deg,
         "limiting_deg_linear": r.sweep_linear.limiting_deg,
         "limiting_s": sw.limiting_s,
-        "productivity_per_min": sw.productivity,
+        "productivity_per_min": sw.productivity_per_min,
         **{c: v for c, v in sw.columns.items()},
         "binding": list(sw.binding),
     }
@@ -673,7 +673,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         sw.limiting_deg,
         result.sweep_linear.limiting_deg,
         sw.limiting_s,
-        sw.productivity,
+        sw.productivity_per_min,
         *sw.columns.values(),
     ]
     for res in result.mechanisms.values():

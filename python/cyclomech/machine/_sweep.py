@@ -46,7 +46,7 @@ FIGURES = (
     "fits",
     "limiting_deg",
     "limiting_s",
-    "productivity",
+    "productivity_per_min",
     "max_rebound_m",
     "speed_limit_rpm",
     "speed_limit_by",
@@ -55,6 +55,8 @@ FIGURES = (
 )
 #: The text columns.
 TEXT = ("speed_limit_by", "binding", "problem")
+#: Former names of key figures → their names now (files written before, the batch path).
+RENAMED = {"productivity": "productivity_per_min"}
 
 
 @dataclass(frozen=True)
@@ -78,11 +80,10 @@ class SweepResult:
     ----------
     columns : dict of str to ndarray, shape (N,) each
         The parameter names, ``speed_rpm`` [rpm] and the key figures (``FIGURES``:
-        ``fits``, ``limiting_deg`` [deg], ``limiting_s`` [s], ``productivity``
-        [1/min], ``max_rebound_m`` [m], ``speed_limit_rpm`` [rpm],
-        ``speed_limit_by``, ``binding``, ``problem``), then the shaft's columns if
-        any, each mapped to a 1-D array of one row per point; empty when the rows
-        were streamed to ``path``.
+        ``fits``, ``limiting_deg`` [deg], ``limiting_s`` [s], ``productivity_per_min``
+        [1/min], ``max_rebound_m`` [m], ``speed_limit_rpm`` [rpm], ``speed_limit_by``,
+        ``binding``, ``problem``), then the shaft's columns if any, each mapped to a
+        1-D array of one row per point; empty when the rows were streamed to ``path``.
     parameters : tuple of str
         The swept parameters' names (``"<mechanism>.<key>"`` or
         ``"machine.<key>"``), in the order of the columns.
@@ -201,7 +202,8 @@ class SweepResult:
         """Read a file written by :meth:`write`.
 
         A file written before the ``problem`` column existed reads with an empty
-        ``problem`` (no invalid design).
+        ``problem`` (no invalid design); one written before ``productivity_per_min``
+        was so named (``productivity``) reads with the column renamed.
 
         Parameters
         ----------
@@ -255,6 +257,7 @@ class SweepResult:
             raise
         except Exception as e:  # OSError, a broken archive, pyarrow's ArrowInvalid, …
             raise InputError(f"{p}: cannot be read as {what}: {e}") from None
+        cols = {RENAMED.get(k, k): v for k, v in cols.items()}
         missing = [k for k in (SPEED, *FIGURES) if k not in cols]
         if missing == ["problem"]:  # written before the column existed: no invalid design
             cols["problem"] = np.full(cols[SPEED].shape, "", dtype=object)
@@ -392,7 +395,7 @@ def _run_chunk(
     if ok.any():
         got = batch_figures(base, pl, {k: t[:, ok] for k, t in tables.items()}, speeds, n_threads)
         for k, v in got.items():
-            cols[k][ok] = v
+            cols[RENAMED.get(k, k)][ok] = v
     if not ok.all():
         rest = _per_design(base, names, axes, designs[~ok], speeds, n_threads)
         for k, v in rest.items():
@@ -426,7 +429,7 @@ def _empty(D: int, S: int) -> dict[str, npt.NDArray[Any]]:
         "fits": np.zeros((D, S), dtype=bool),
         "limiting_deg": np.full((D, S), np.nan),
         "limiting_s": np.full((D, S), np.nan),
-        "productivity": np.zeros((D, S)),
+        "productivity_per_min": np.zeros((D, S)),
         "max_rebound_m": np.full((D, S), np.nan),
         "binding": np.full((D, S), "", dtype=object),
         "speed_limit_rpm": np.full((D, S), np.nan),
@@ -459,7 +462,7 @@ def _per_design(
             problems[d] = f"{at}: {e}"
     ok = problems == ""
     S = speeds.size
-    per_speed = ("fits", "limiting_deg", "limiting_s", "productivity", "max_rebound_m", "binding")
+    per_speed = (*FIGURES[:5], "binding")  # fits … max_rebound_m: SpeedSweep attributes
     cols = _empty(len(designs), S)
     cols["problem"] = np.repeat(problems[:, None], S, axis=1)
     if machines:
