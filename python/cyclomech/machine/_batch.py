@@ -271,7 +271,7 @@ def batch_figures(
         "fits": fits,
         "limiting_deg": value,
         "limiting_s": value / (DEG_PER_S_PER_RPM * rows),
-        "productivity": np.where(fits, rows, 0.0),
+        "productivity_per_min": np.where(fits, rows, 0.0),
         "max_rebound_m": extra["max_rebound_m"],
         "binding": binding,
     }

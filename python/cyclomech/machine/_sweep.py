@@ -55,7 +55,7 @@ FIGURES = (
 )
 #: The text columns.
 TEXT = ("speed_limit_by", "binding", "problem")
-#: Former names of key figures → their names now (files written before, the batch path).
+#: Former names of key figures → their names now (files written before the rename).
 RENAMED = {"productivity": "productivity_per_min"}
 
 
@@ -395,7 +395,7 @@ def _run_chunk(
     if ok.any():
         got = batch_figures(base, pl, {k: t[:, ok] for k, t in tables.items()}, speeds, n_threads)
         for k, v in got.items():
-            cols[RENAMED.get(k, k)][ok] = v
+            cols[k][ok] = v
     if not ok.all():
         rest = _per_design(base, names, axes, designs[~ok], speeds, n_threads)
         for k, v in rest.items():
