@@ -27,12 +27,19 @@ pub(super) struct Drift {
 }
 
 impl Drift {
-    /// None if h̄ is no valid step or a coefficient is not finite.
+    /// None if h̄ is no valid step, the bound `tol` is below 2⁻⁵⁰⁰ or a
+    /// coefficient is not finite.
     pub(super) fn new(mode: &Mode, hbar: f64, inv_m: f64) -> Option<Drift> {
         if !(step_ok(hbar) && hbar > 0.0) {
             return None;
         }
         let scale = hbar.min(1.0 / mode.rate);
+        // tol ≥ 2⁻⁵⁰⁰ (so rate ≤ 2⁴⁷³): a |d| whose square underflows in the
+        // lane pass's Σ d² (below 2⁻⁵³⁷) is within tol, and m·|d|·rate ≤ 2⁻³³
+        // meets the first-order shift's 2⁻²⁶, so √(Σ d²) still decides both.
+        if scale < 2f64.powi(-473) {
+            return None;
+        }
         let eta = scale * 2f64.powi(-17);
         let (hp, hm) = (hbar + eta, hbar - eta);
         let all = |s: Step| [s.p00, s.p01, s.p10, s.p11, s.g0q, s.g0v, s.g1q, s.g1v];
@@ -68,9 +75,12 @@ pub(super) struct ScanPass<'a, const WITH_V: bool> {
 }
 
 /// What a [`ScanPass`] leaves: each lane's final state, whether every step
-/// stayed within the drift's bound, and the largest |h_k − h̄| it met. (A NaN
-/// or infinite time is not counted there: it leaves its lane's state
-/// non-finite, which the caller checks.)
+/// surely stayed within the drift's bound, and a bound on the largest
+/// |d| = |h_k − h̄| it met: √(Σ d²) over a lane's steps (one FMA a step where
+/// the largest |d| took two operations), at most √m times too large, so `ok`
+/// false is not yet a step out of bounds (see [`largest_drift`]). (A NaN or
+/// infinite time makes the bound NaN and leaves its lane's state non-finite,
+/// which the caller checks.)
 pub(super) struct PassEnd {
     pub(super) q: [f64; SCAN],
     pub(super) v: [f64; SCAN],
@@ -103,9 +113,9 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
         let (mut q, mut v) = (q0, v0);
         let mut tp: [f64; SCAN] = std::array::from_fn(|l| ts[l][0]);
         let mut f0: [f64; SCAN] = std::array::from_fn(|l| fs[l][0]);
-        // Largest |d| so far, in one max a step (a NaN step makes the state
-        // NaN, which the caller sees).
-        let mut dmax = [0.0f64; SCAN];
+        // Σ d² so far, one FMA a step (a NaN step makes the state NaN, which
+        // the caller sees).
+        let mut dd = [0.0f64; SCAN];
         // Steps go in whole tiles of 8 × 8 (steps × lanes), stored transposed
         // into each lane's row as one vector; the rest one sample at a time.
         let tiles = m / TILE;
@@ -115,9 +125,7 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
                 let j = tile * TILE + s + 1;
                 let tn: [f64; SCAN] = std::array::from_fn(|l| ts[l][j]);
                 let f1: [f64; SCAN] = std::array::from_fn(|l| fs[l][j]);
-                lane_step(
-                    &c0, &c1, hbar, &tn, &tp, &f0, &f1, &mut q, &mut v, &mut dmax,
-                );
+                lane_step(&c0, &c1, hbar, &tn, &tp, &f0, &f1, &mut q, &mut v, &mut dd);
                 *bqs = q;
                 *bvs = v;
                 tp = tn;
@@ -138,9 +146,7 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
         for j in tiles * TILE + 1..=m {
             let tn: [f64; SCAN] = std::array::from_fn(|l| ts[l][j]);
             let f1: [f64; SCAN] = std::array::from_fn(|l| fs[l][j]);
-            lane_step(
-                &c0, &c1, hbar, &tn, &tp, &f0, &f1, &mut q, &mut v, &mut dmax,
-            );
+            lane_step(&c0, &c1, hbar, &tn, &tp, &f0, &f1, &mut q, &mut v, &mut dd);
             for l in 0..SCAN {
                 qs[l][j - 1] = q[l];
                 if WITH_V {
@@ -150,7 +156,7 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
             tp = tn;
             f0 = f1;
         }
-        let dmax = dmax.iter().fold(0.0, |a, &b| if b > a { b } else { a });
+        let dmax = dd.iter().fold(0.0, |a: f64, &b| a.max(b)).sqrt();
         PassEnd {
             q,
             v,
@@ -164,7 +170,7 @@ impl<const WITH_V: bool> pulp::WithSimd for ScanPass<'_, WITH_V> {
 const _: () = assert!(TILE == SCAN);
 
 /// One step of every lane: the step h = tn − tp = h̄ + d, coefficients
-/// c0 + d·c1, forces f0 → f1; `dmax` keeps the largest |d|.
+/// c0 + d·c1, forces f0 → f1; `dd` sums d².
 #[inline(always)]
 #[allow(clippy::too_many_arguments)] // the step's coefficients, grid, forces, state
 fn lane_step(
@@ -177,12 +183,11 @@ fn lane_step(
     f1: &[f64; SCAN],
     q: &mut [f64; SCAN],
     v: &mut [f64; SCAN],
-    dmax: &mut [f64; SCAN],
+    dd: &mut [f64; SCAN],
 ) {
     for l in 0..SCAN {
         let d = (tn[l] - tp[l]) - hbar;
-        let ad = d.abs();
-        dmax[l] = if ad > dmax[l] { ad } else { dmax[l] };
+        dd[l] = d.mul_add(d, dd[l]);
         let c: [f64; 8] = std::array::from_fn(|i| d.mul_add(c1[i], c0[i]));
         let fq = c[4].mul_add(f0[l], c[6] * f1[l]);
         let fv = c[5].mul_add(f0[l], c[7] * f1[l]);
@@ -433,6 +438,19 @@ fn fused_multiply_add() -> bool {
     }
 }
 
+/// The largest |(t[k] − t[k−1]) − h̄| over the grid (a NaN step is not
+/// counted: it leaves a non-finite state, which the caller checks).
+fn largest_drift(t: &[f64], hbar: f64) -> f64 {
+    t.windows(2).fold(0.0, |a, w| {
+        let d = ((w[1] - w[0]) - hbar).abs();
+        if d > a {
+            d
+        } else {
+            a
+        }
+    })
+}
+
 /// Output rows of exactly m samples each from sample 1 on (empty unless
 /// `keep`), as an array so that the lane stores need no bounds checks.
 fn scan_rows(out: &mut [f64], m: usize, keep: bool) -> [&mut [f64]; SCAN] {
@@ -508,12 +526,17 @@ pub(super) fn scan<const WITH_V: bool>(
         q_out,
         v_out,
     });
-    if !end.ok {
-        return false;
-    }
     // |Δ| ≤ m·max|h_k − h̄| within a block: the first-order shift holds.
-    let free =
-        (m as f64 * end.dmax * mode.rate <= 2f64.powi(-26)).then(|| Free::new(mode, drift.hbar, m));
+    let shift_ok = |dmax: f64| m as f64 * dmax * mode.rate <= 2f64.powi(-26);
+    let mut dmax = end.dmax;
+    if !(end.ok && shift_ok(dmax)) {
+        // The bound decides nothing: the steps' own largest |d|.
+        dmax = largest_drift(&t[..=SCAN * m], drift.hbar);
+        if !(dmax <= drift.tol) {
+            return false;
+        }
+    }
+    let free = shift_ok(dmax).then(|| Free::new(mode, drift.hbar, m));
     let (mut sq, mut sv) = ([0.0; SCAN], [0.0; SCAN]);
     let (mut q, mut v) = (q0, v0);
     for l in 0..SCAN {
