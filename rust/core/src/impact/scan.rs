@@ -16,9 +16,10 @@ pub(super) const SCAN_MIN_BLOCK: usize = 128;
 
 /// The step coefficients near a reference step h̄ as c(h̄ + δ) = c0 + δ·c1, in
 /// [`Step`]'s field order. δ is bounded by `tol` = 2⁻²⁷·min(h̄, 1/rate), so the
-/// dropped δ²c''/2 is below 2⁻⁵⁴ of c (half an ulp); c1 is the central
-/// difference over ±η, η = 2⁻¹⁷·min(h̄, 1/rate), whose own error (η² c‴/6,
-/// and rounding ε·c/η) enters multiplied by δ: below 1e-18 of c.
+/// dropped δ²c''/2 is below 2⁻⁵⁴ of c (half an ulp); c1 = dc/dh from c0 by
+/// the equation of motion itself ([`derivative`]: a few operations where a
+/// central difference took two more steps' closed forms), whose rounding
+/// (a few ε of the terms) enters multiplied by δ.
 pub(super) struct Drift {
     pub(super) hbar: f64,
     pub(super) tol: f64,
@@ -40,23 +41,46 @@ impl Drift {
         if scale < 2f64.powi(-473) {
             return None;
         }
-        let eta = scale * 2f64.powi(-17);
-        let (hp, hm) = (hbar + eta, hbar - eta);
-        let all = |s: Step| [s.p00, s.p01, s.p10, s.p11, s.g0q, s.g0v, s.g1q, s.g1v];
         let s0 = Step::new(mode, hbar, inv_m);
-        let (sp, sm) = (Step::new(mode, hp, inv_m), Step::new(mode, hm, inv_m));
-        if !(s0.is_finite() && sp.is_finite() && sm.is_finite()) {
+        if !s0.is_finite() {
             return None;
         }
-        let (a, b) = (all(sp), all(sm));
-        let c1 = std::array::from_fn(|i| (a[i] - b[i]) / (hp - hm));
+        let c1 = derivative(&s0, mode, hbar, inv_m);
         c1.iter().all(|c: &f64| c.is_finite()).then(|| Drift {
             hbar,
             tol: scale * 2f64.powi(-27),
-            c0: all(s0),
+            c0: [
+                s0.p00, s0.p01, s0.p10, s0.p11, s0.g0q, s0.g0v, s0.g1q, s0.g1v,
+            ],
             c1,
         })
     }
+}
+
+/// dc/dh of the step coefficients `s` at h, exactly from ẋ = A·x + b·u(τ),
+/// A = [[0, 1], [−ω², −2σ]], b = (0, 1/m), u linear from f0 to f1 over the
+/// step: P = e^{Ah} gives P′ = A·P; with J0 = ∫₀ʰ e^{A(h−τ)}b dτ and
+/// J1 = ∫₀ʰ e^{A(h−τ)}b·τ dτ, g1 = J1/h and g0 = J0 − g1, so (Leibniz)
+/// g1′ = b + A·g1 − g1/h and g0′ = A·g0 + g1/h. In [`Step`]'s field order.
+fn derivative(s: &Step, mode: &Mode, h: f64, inv_m: f64) -> [f64; 8] {
+    let (w2, s2) = (mode.w2, 2.0 * mode.sigma);
+    // A·(x, y) = (y, −ω²x − 2σy).
+    let a = |x: f64, y: f64| (y, (-w2).mul_add(x, -s2 * y));
+    let (p00, p10) = a(s.p00, s.p10);
+    let (p01, p11) = a(s.p01, s.p11);
+    let (a0q, a0v) = a(s.g0q, s.g0v);
+    let (a1q, a1v) = a(s.g1q, s.g1v);
+    let (r1q, r1v) = (s.g1q / h, s.g1v / h);
+    [
+        p00,
+        p01,
+        p10,
+        p11,
+        a0q + r1q,
+        a0v + r1v,
+        a1q - r1q,
+        inv_m + a1v - r1v,
+    ]
 }
 
 /// One pass of the chunked scan over blocks of `m` steps: lane l runs steps

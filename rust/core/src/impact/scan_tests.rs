@@ -465,3 +465,39 @@ fn steps_too_short_for_the_drift_bound_go_the_sequential_way() {
         &mut []
     ));
 }
+
+#[test]
+fn the_drift_derivative_is_the_central_difference() {
+    // dc/dh by the equation of motion against the central difference of two
+    // closed-form steps at h ± η (the earlier way), each coefficient on its
+    // own scale: |Δc1|·h against max(|c|, |c(h+η)−c(h−η)|·h/2η).
+    let all = |s: Step| [s.p00, s.p01, s.p10, s.p11, s.g0q, s.g0v, s.g1q, s.g1v];
+    for (w, z, h, m) in [
+        (1866.0, 0.05, 2e-6, 7.4e-3),
+        (100.0, 0.0, 1e-2, 1.0),
+        (100.0, 1.0, 1e-2, 2.0),
+        (10.0, 3.0, 5e-2, 0.3),
+        (1.0, 0.01, 1.9, 1.0),
+        (1e4, 0.7, 1e-7, 1e-3),
+    ] {
+        let mode = Oscillator::new(w, z, m).unwrap().mode();
+        let drift = Drift::new(&mode, h, 1.0 / m).unwrap();
+        let eta = h.min(1.0 / mode.rate) * 2f64.powi(-17);
+        let (a, b) = (
+            all(Step::new(&mode, h + eta, 1.0 / m)),
+            all(Step::new(&mode, h - eta, 1.0 / m)),
+        );
+        let c = all(Step::new(&mode, h, 1.0 / m));
+        assert_eq!(drift.c0, c);
+        for i in 0..8 {
+            let cd = (a[i] - b[i]) / (2.0 * eta);
+            let scale = c[i].abs().max(cd.abs() * h);
+            let e = (drift.c1[i] - cd).abs() * h / scale;
+            assert!(
+                e < 1e-7,
+                "{w} {z} {h}: c1[{i}] {} vs {cd}: {e:e}",
+                drift.c1[i]
+            );
+        }
+    }
+}
