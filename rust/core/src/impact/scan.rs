@@ -345,7 +345,9 @@ impl<const WITH_V: bool> pulp::WithSimd for Correct<'_, WITH_V> {
             v_out,
         } = self;
         let (w2, s2, r) = (mode.w2, 2.0 * mode.sigma, free.r);
-        for l in 1..SCAN {
+        // Last block first, each from its end: the lane pass has just left
+        // the blocks' ends in the cache.
+        for l in (1..SCAN).rev() {
             let tl = t[l * m];
             let ts = &t[l * m + 1..][..m];
             let qs = &mut q_out[l * m + 1..][..m];
@@ -354,7 +356,7 @@ impl<const WITH_V: bool> pulp::WithSimd for Correct<'_, WITH_V> {
             } else {
                 &mut []
             };
-            for i in 0..m.div_ceil(r) {
+            for i in (0..m.div_ceil(r)).rev() {
                 let (lo, hi) = (i * r, ((i + 1) * r).min(m));
                 let (y0, y1) = free.coarse_state(w2, i, sq[l], sv[l]);
                 let c = Shift {
@@ -426,7 +428,7 @@ impl Shift {
         );
         let (nw2, ns2) = (sp(-self.w2), sp(-self.s2));
         let fma = |a, b, c| simd.mul_add_e_f64s(a, b, c);
-        for j in 0..t_v.len() {
+        for j in (0..t_v.len()).rev() {
             let dt = fma(simd.sub_f64s(k_v[j], o), hbar, simd.sub_f64s(t_v[j], tl));
             let qc = fma(a_v[j], y0, simd.mul_f64s(b_v[j], y1));
             let vc = fma(b_v[j], wy0, simd.mul_f64s(d_v[j], y1));
