@@ -525,7 +525,8 @@ pub(super) fn scan<const WITH_V: bool>(
 ) -> bool {
     let n = t.len();
     let m = n.saturating_sub(1) / SCAN;
-    // m < 2³¹: the second pass counts offsets in u32 (whole vectors).
+    // m < 2³¹: a bound on the block (the free-motion pass counts its offsets
+    // in floats, exact to 2⁵³).
     if !(SCAN_MIN_BLOCK..1 << 31).contains(&m) || force.len() != n || q_out.len() != n {
         return false;
     }
@@ -558,7 +559,7 @@ pub(super) fn scan<const WITH_V: bool>(
     if !(end.ok && shift_ok(dmax)) {
         // The bound decides nothing: the steps' own largest |d|.
         dmax = largest_drift(&t[..=SCAN * m], drift.hbar);
-        if !(dmax <= drift.tol) {
+        if dmax > drift.tol {
             return false;
         }
     }
