@@ -28,7 +28,7 @@ import cyclomech as cm
 import networkx as nx
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
@@ -566,6 +566,45 @@ def test_shadow_prices_are_finite_differences(
     assert set(opt.critical) == held
 
 
+@settings(max_examples=80, deadline=None)
+@given(spec=specs(back=True, maxima=True, constraints=1, limiting=True))
+def test_the_cycle_price_is_its_finite_difference_with_heights(spec: Spec) -> None:
+    """The cycle enters every row of an operation with a height (C·h), and a
+    limiting operation's angle itself: its price is d(objective)/d(cycle) through
+    all of them, not the row F ≤ cycle alone (which priced a press line's cycle 0
+    where +1 °/° is right). Checked where the optimum is smooth in the cycle (the
+    one-sided differences agree)."""
+    try:
+        opt = spec.build().optimize()
+    except cm.CyclomechError:
+        return  # infeasible: no price
+    h = 1e-3
+    try:
+        up = spec.bump("cycle", h).build().optimize().objective
+        down = spec.bump("cycle", -h).build().optimize().objective
+    except cm.CyclomechError:
+        return  # the cycle sits at the edge of feasibility
+    right, left = (up - opt.objective) / h, (opt.objective - down) / h
+    assume(abs(right - left) < 1e-6)
+    assert opt.duals["cycle"] == pytest.approx(right, abs=1e-6)
+
+
+def test_press_line_cycle_price_counts_the_feed_in_the_next_cycle() -> None:
+    """The review's case: extrusion_press_line.toml's feed (height 1) binds, so one
+    more degree of cycle is one more degree for the limiting operation."""
+    ops = (
+        Op("top", "contact", 100.0, name="approach"),
+        Op("blank in", "contact", 20.0, name="settles"),
+        Op("contact", "bottom", 103.3, name="extrude"),
+        Op("bottom", "die open", 90.0, name="eject"),
+        Op("die open", "blank in", 40.0, h=1, name="feed"),
+    )
+    spec = Spec(ops, limiting="feed")
+    opt = spec.build().optimize()
+    assert opt.duals["cycle"] == pytest.approx(1.0, abs=1e-12)
+    assert opt.duals["cycle"] == pytest.approx(central_difference(spec, "cycle", 1e-2), abs=1e-9)
+
+
 def test_tied_chains_are_all_critical() -> None:
     # s -> a -> f and s -> b -> f both take 100°; the LP prices one of them only,
     # but lengthening either delays f and shortens the limiting f -> g.
@@ -675,7 +714,10 @@ def test_slack_and_binding_describe_the_reported_schedule(spec: Spec) -> None:
     for name in opt.binding:
         assert abs(opt.slack[name]) <= 1e-9 * scale, name
     for name, price in opt.duals.items():
-        if abs(price) > 1e-9:
+        # The cycle's price is d(objective)/d(cycle) through every row of an
+        # operation with a height, not the row F ≤ cycle's own marginal: that row
+        # may have slack while the cycle is priced.
+        if abs(price) > 1e-9 and name != "cycle":
             assert abs(opt.slack[name]) <= 1e-7 * scale, name
 
 

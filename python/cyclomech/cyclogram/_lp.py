@@ -71,6 +71,9 @@ class _LP:
         # angle = p_y − p_x + C·h ≥ min   ⇔   p_x − p_y ≤ C·h − min
         block([xi, yi], [1.0, -1.0])
         rhs = [self.ch - mins]
+        # ∂rhs/∂cycle of each row: the cycle enters every row of an operation with a
+        # height (C·h), not only the row F ≤ cycle, and its price is the sum.
+        d_cycle = [h.astype(np.float64)]
         kind = [np.full(E, _MIN)]
         opi = [ops]
         sign = [np.full(E, -1.0)]
@@ -83,6 +86,7 @@ class _LP:
                 [1.0, -1.0, DEG_PER_S_PER_RPM * speed_secs[dur_ops]],
             )
             rhs.append(self.ch[dur_ops])
+            d_cycle.append(h[dur_ops].astype(np.float64))
             kind.append(np.full(len(dur_ops), _MIN))
             opi.append(dur_ops)
             sign.append(np.full(len(dur_ops), -1.0))
@@ -91,6 +95,7 @@ class _LP:
         if len(max_ops):
             block([yi[max_ops], xi[max_ops]], [1.0, -1.0])
             rhs.append(maxs - self.ch[max_ops])
+            d_cycle.append(-h[max_ops].astype(np.float64))
             kind.append(np.full(len(max_ops), _MAX))
             opi.append(max_ops)
             sign.append(np.ones(len(max_ops)))
@@ -100,17 +105,20 @@ class _LP:
         for con in cg._constraints:
             acc: dict[int, float] = {}
             shift = 0.0
+            per_cycle = 0.0
             for arc, coeff in con.coeffs:
                 op = cg._ops[cg._arc_index[arc]]
                 acc[idx[op.dst]] = acc.get(idx[op.dst], 0.0) + coeff
                 acc[idx[op.src]] = acc.get(idx[op.src], 0.0) - coeff
                 shift += coeff * cycle * op.height
+                per_cycle += coeff * op.height
             sg = -1.0 if con.sense == ">=" else 1.0  # ">=" is negated into "<="
             rows.append(np.full(len(acc), n_rows))
             cols.append(np.fromiter(acc, np.int64, len(acc)))
             vals.append(sg * np.fromiter(acc.values(), np.float64, len(acc)))
             n_rows += 1
             rhs.append(np.array([sg * (con.rhs - shift)]))
+            d_cycle.append(np.array([-sg * per_cycle]))
             kind.append(np.array([_USER]))
             opi.append(np.array([-1]))
             sign.append(np.array([sg]))
@@ -122,6 +130,7 @@ class _LP:
         vals.append(np.array([1.0]))
         n_rows += 1
         rhs.append(np.array([cycle]))
+        d_cycle.append(np.array([1.0]))
         kind.append(np.array([_CYCLE]))
         opi.append(np.array([-1]))
         sign.append(np.array([1.0]))
@@ -133,6 +142,7 @@ class _LP:
             shape=(n_rows, self.n_var),
         )
         self.b = np.concatenate(rhs).astype(np.float64)
+        self.d_cycle = np.concatenate(d_cycle)
         self.kind = np.concatenate(kind)
         self.op = np.concatenate(opi).astype(np.int64)
         self.sign = np.concatenate(sign)
@@ -356,6 +366,17 @@ class _LP:
         arcs = list(cg._arc_index)  # in operation order
         ang = p[self.yi] - p[self.xi] + self.ch
         duals = self.sigma * self.sign * res.dual_all + 0.0  # + 0.0: no -0.0 in reports
+        # The cycle's price is d(objective)/d(cycle) through every row it enters
+        # (F ≤ cycle and each row of an operation with a height) and, for a
+        # limiting operation with a height, through the objective itself (whose
+        # angle adds C·h): the row F ≤ cycle alone priced it 0 on a press line
+        # whose feed (height 1) binds, when +1 °/° is right.
+        d_cycle = float(np.nansum(res.dual_all * self.d_cycle))
+        if self.limiting is not None:
+            d_cycle = self.sigma * d_cycle + cg.operation(self.limiting).height
+        else:
+            d_cycle = self.sigma * d_cycle
+        duals[self.names.index("cycle")] = d_cycle + 0.0
         critical = self._critical_ops(res)
         # The objective is the first LP's optimum, not re-derived from the tidied angles.
         goal: Literal["min_duration", "max_limiting"]

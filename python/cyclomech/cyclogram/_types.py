@@ -197,10 +197,13 @@ class Optimum:
     duals : dict of str to float
         The shadow price of each bound and constraint: the change of ``objective``
         per unit increase of that bound's value (a minimum angle, a maximum angle, a
-        constraint's right-hand side, the cycle angle).
+        constraint's right-hand side, the cycle angle). The cycle's (``"cycle"``)
+        counts every place the cycle enters: the span F ≤ cycle, each operation with
+        a height (its angle is p_y − p_x + cycle·height) and the limiting
+        operation's own angle.
     slack : dict of str to float
         How far each bound and constraint is from binding in the schedule reported
-        (``times``).
+        (``times``); ``"cycle"``'s is the span's (cycle − F).
     binding : tuple of str
         The bounds and constraints with zero slack there.
     stretch : dict of (str, str) to float
