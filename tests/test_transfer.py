@@ -1008,3 +1008,13 @@ def test_quintic_methods_refuse_nan_arrays(method):
 def test_non_broadcasting_arrays_are_refused(call):
     with pytest.raises(cm.InputError, match=r"R_t|omega_t|x_local|y_local"):
         call()
+
+
+@pytest.mark.parametrize(
+    "kw", [{"n_points": 10**12}, {"n_candidates": 10**12}], ids=["points", "candidates"]
+)
+def test_design_transfer_refuses_a_size_that_cannot_fit(kw) -> None:
+    """A new user's n_points=10**9 filled 24 GB and was OOM-killed: the size is
+    checked before anything is allocated, as TransferPath.sample's is."""
+    with pytest.raises(cm.InputError, match=r"design_transfer\(.*needs .* GB.*lower n_points"):
+        cm.transfer.design_transfer(0.15, 0.25, gap=0.01, speed=0.15708, **kw)

@@ -5,13 +5,14 @@ m points of each piece, candidates in parallel)."""
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .. import _core
-from .._arrays import positive, threads_arg
+from .._arrays import check_bytes, positive, threads_arg
 from .._errors import InfeasibleError, InputError
 from ._checks import Array, _radius, _speeds
 from ._jump import acceleration_jump
@@ -138,6 +139,15 @@ def design_transfer(
     for name, value, lo in (("n_candidates", n_candidates, 2), ("n_points", n_points, 16)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
             raise InputError(f"{name} must be an integer ≥ {lo}; got {value!r}")
+    threads = threads_arg(n_threads)
+    # Sized before anything is allocated: each candidate in flight holds 15 work
+    # arrays of n_points doubles (one a thread), the scan 3 of n_candidates.
+    busy = min(threads or os.cpu_count() or 1, int(n_candidates))
+    check_bytes(
+        f"design_transfer(n_candidates={n_candidates}, n_points={n_points})",
+        busy * 15.0 * 8.0 * float(n_points) + 3 * 8.0 * float(n_candidates),
+        "lower n_points (801 by default) or n_candidates (64 by default)",
+    )
     r = np.array([R_t, R_p])
     c_t, c_p = np.zeros(2), np.array([R_t + R_p + gap, 0.0])
     top = float(_longest(r, c_t, c_p, np.ones(2))[0])
@@ -148,7 +158,6 @@ def design_transfer(
             f"{gap:.6g} m allows ({top:.6g} m)"
         )
     speeds = _speeds(speed)  # checked before the scan
-    threads = threads_arg(n_threads)
     d = float(c_p[0])
 
     def scan(x2: Array) -> Array:
