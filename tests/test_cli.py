@@ -106,7 +106,7 @@ def test_default_output_folder(
     assert read_summary(tmp_path / "out" / "stb_group1")["schema"] == "cyclomech.cyclogram/1"
 
 
-def test_infeasible_optimum_is_reported_with_exit_code_1(
+def test_infeasible_optimum_is_reported_with_exit_code_3(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     # 1 -> 2 -> 3 takes 100 + 100 = 200° of a 150° cycle.
@@ -118,8 +118,9 @@ def test_infeasible_optimum_is_reported_with_exit_code_1(
         encoding="utf-8",
     )
     code, out, err = run(["cyclogram", str(path), "--out", str(tmp_path)], capsys)
-    # Reported, the schedule still written, but a script must see it failed.
-    assert code == 1 and "no feasible optimum" in err
+    # Reported, the schedule still written, but a script must see it failed: the
+    # status every command gives a design that fails (a new user's script tested 3).
+    assert code == 3 and "no feasible optimum" in err
     assert "Optimum: none" in out and "200° > 150°" in out
     # A 200° schedule wrapped onto a 150° axis would mislead: no figure, and why.
     assert not (tmp_path / "cyclogram.png").exists() and "no figure" in out

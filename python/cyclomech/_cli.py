@@ -34,7 +34,6 @@ __all__ = [
     "EXIT_FAILS",
     "EXIT_INPUT",
     "EXIT_INTERRUPTED",
-    "EXIT_NOT_OK",
     "EXIT_OK",
     "MIN_STEP_DEG",
     "check_step",
@@ -49,13 +48,11 @@ __all__ = [
 
 #: Exit status of a job that is done and whose design works.
 EXIT_OK = 0
-#: Exit status of the cyclogram and press commands whose job is done (files
-#: written) but whose result is not usable: no feasible optimum, a press design
-#: that does not work.
-EXIT_NOT_OK = 1
 #: Exit status for bad input: the message names the file, the table and the key.
 EXIT_INPUT = 2
-#: Exit status of a job that ran and wrote its files, but whose design fails.
+#: Exit status of a job that ran and wrote its files, but whose design fails (a
+#: machine that works at no speed, a cyclogram with no feasible optimum, a press
+#: design that does not work): every command's.
 EXIT_FAILS = 3
 #: Exit status when interrupted (Ctrl-C).
 EXIT_INTERRUPTED = 130

@@ -30,7 +30,6 @@ from ._cli import (
     EXIT_FAILS,
     EXIT_INPUT,
     EXIT_INTERRUPTED,
-    EXIT_NOT_OK,
     EXIT_OK,
     out_path,
 )
@@ -47,7 +46,6 @@ __all__ = [
     "EXIT_FAILS",
     "EXIT_INPUT",
     "EXIT_INTERRUPTED",
-    "EXIT_NOT_OK",
     "EXIT_OK",
     "main",
 ]

@@ -1,7 +1,7 @@
 """``cyclomech cyclogram FILE.toml [--out DIR] [--speed RPM]``: the cyclogram's command.
 
 Prints the schedule (every operation at its minimum), the LP optimum and the speed
-limit, and writes a figure and a JSON summary to ``--out``. Exit status 1 when the
+limit, and writes a figure and a JSON summary to ``--out``. Exit status 3 when the
 cyclogram has no feasible optimum (its files are written all the same).
 
 >>> import argparse
@@ -20,7 +20,7 @@ import math
 import sys
 from typing import Any
 
-from .._cli import EXIT_NOT_OK, EXIT_OK, has_matplotlib, out_folder, save, table
+from .._cli import EXIT_FAILS, EXIT_OK, has_matplotlib, out_folder, save, table
 from .._errors import InfeasibleError
 from .._json import jsonable
 from . import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
@@ -182,7 +182,7 @@ def cyclogram_command(args: argparse.Namespace) -> int:
     Returns
     -------
     int
-        The exit status: 0, or 1 when the cyclogram has no feasible optimum (its
+        The exit status: 0, or 3 when the cyclogram has no feasible optimum (its
         files are written all the same).
 
     Raises
@@ -248,5 +248,5 @@ def cyclogram_command(args: argparse.Namespace) -> int:
     print("\nWrote " + ", ".join(str(p) for p in written))
     if o is None:
         print("cyclomech: the cyclogram has no feasible optimum (see above)", file=sys.stderr)
-        return EXIT_NOT_OK
+        return EXIT_FAILS
     return EXIT_OK

@@ -3,7 +3,7 @@
 Kinematics, criteria and design sweep of a gear-lever press file: prints the
 criteria of the design beside the crank-slider's, writes the kinematics and
 criteria tables (CSV), the sweep and its Pareto front when the file has a
-``[sweep]``, a JSON summary and figures. Exit status 1 when the design does not
+``[sweep]``, a JSON summary and figures. Exit status 3 when the design does not
 work (its files are written all the same).
 
 >>> import argparse
@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .._cli import EXIT_NOT_OK, EXIT_OK, check_step, has_matplotlib, out_folder, save, table
+from .._cli import EXIT_FAILS, EXIT_OK, check_step, has_matplotlib, out_folder, save, table
 from .._json import jsonable
 
 __all__ = ["add_commands", "press_command"]
@@ -174,7 +174,7 @@ def press_command(args: argparse.Namespace) -> int:
     if not args.no_plot:
         written += _figures(st, c, opt, out)
     print("\nWrote " + ", ".join(str(q) for q in written))
-    return EXIT_OK if c.ok else EXIT_NOT_OK
+    return EXIT_OK if c.ok else EXIT_FAILS
 
 
 def _figures(st: Any, c: Any, opt: Any, out: Path) -> list[Path]:
