@@ -136,3 +136,15 @@ def test_the_one_check(bad: object) -> None:
     assert _toml.events({"arc": ["1", "b"]}, "arc", "w", arc=True) == ["1", "b"]
     with pytest.raises(cm.InputError, match=re.escape("arc = ['a'] must be [from, to]")):
         _toml.events({"arc": ["a"]}, "arc", "w", arc=True)
+
+
+def test_an_event_listed_twice_is_refused(tmp_path) -> None:
+    """A new user's typo, events = ["1", "2", "3", "3", …], ran with exit 0: a
+    repeated event is a mistake the file's reader names (exit 2 from the CLI)."""
+    text = (EXAMPLES / "stb_loom.toml").read_text("utf-8")
+    head = 'events = ["1", "2", "3",'
+    assert head in text
+    bad = tmp_path / "twice.toml"
+    bad.write_text(text.replace(head, 'events = ["1", "2", "3", "3",', 1), "utf-8")
+    with pytest.raises(cm.InputError, match=r"\[cyclogram\].*events = .*names the event '3' twice"):
+        cm.Machine.from_toml(bad)

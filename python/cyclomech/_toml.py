@@ -153,7 +153,17 @@ def events(table: Mapping[str, Any], key: str, where: str, *, arc: bool = False)
     what = "[from, to], two event names" if arc else "an array of event names"
     if not isinstance(v, list) or (arc and len(v) != 2):
         raise InputError(f"{where}: {key} = {v!r} must be {what} (strings)")
-    return [_event_name(x, key, where, v, what) for x in v]
+    names = [_event_name(x, key, where, v, what) for x in v]
+    if not arc:
+        seen: dict[str, int] = {}
+        for i, n in enumerate(names):
+            if n in seen:
+                raise InputError(
+                    f"{where}: {key} = {v!r} names the event {n!r} twice (at {seen[n]} "
+                    f"and {i}); each event once"
+                )
+            seen[n] = i
+    return names
 
 
 def _event_name(v: Any, key: str, where: str, array: list[Any] | None, what: str) -> str:
