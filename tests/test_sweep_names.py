@@ -85,3 +85,14 @@ def test_a_file_with_the_old_name_still_reads(tmp_path: Path, suffix: str) -> No
     np.testing.assert_array_equal(
         back.columns["productivity_per_min"], r.columns["productivity_per_min"]
     )
+
+
+def test_write_refuses_a_suffix_it_would_change(tmp_path) -> None:
+    """A new user's r.write("loom_sweep.csv") wrote loom_sweep.npz over an existing
+    file: a suffix other than .parquet or .npz is an InputError, nothing written."""
+    r = cm.sweep(cm.Machine.example(), {"speed_rpm": [300.0]}, progress=False)
+    (tmp_path / "x.npz").write_bytes(b"keep")
+    with pytest.raises(cm.InputError, match=r"x\.csv: SweepResult.write writes .parquet or .npz"):
+        r.write(tmp_path / "x.csv")
+    assert (tmp_path / "x.npz").read_bytes() == b"keep"
+    assert r.write(tmp_path / "y.npz").suffix == ".npz"

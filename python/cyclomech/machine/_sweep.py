@@ -151,14 +151,19 @@ class SweepResult:
         Parameters
         ----------
         path : str or Path
-            The file: Parquet (pyarrow) when the name ends in ``.parquet`` and
-            pyarrow is installed, else NumPy ``.npz`` (the suffix is changed to say
-            which).
+            The file, ending in ``.parquet`` or ``.npz``: Parquet (pyarrow) for
+            ``.parquet`` when pyarrow is installed, else NumPy ``.npz`` (the suffix
+            is changed to say which).
 
         Returns
         -------
         Path
             The path written.
+
+        Raises
+        ------
+        InputError
+            If the name ends in neither ``.parquet`` nor ``.npz``.
 
         Examples
         --------
@@ -168,6 +173,11 @@ class SweepResult:
         '.npz'
         """
         p = Path(path)
+        if p.suffix not in (".parquet", ".npz"):
+            raise InputError(
+                f"{p}: SweepResult.write writes .parquet or .npz files; got the suffix "
+                f"{p.suffix!r} (for CSV, pandas: pd.DataFrame(r.columns).to_csv(...))"
+            )
         parquet = p.suffix == ".parquet"
         if parquet:
             try:
