@@ -18,10 +18,18 @@ from cyclomech.plot import plot_speed_sweep
 # documentation build runs this script from docs/gallery/).
 here = Path.cwd().resolve()
 loom = next(
-    d / "examples" / "stb_loom.toml"
-    for d in (here, *here.parents)
-    if (d / "examples" / "stb_loom.toml").exists()
+    (
+        d / "examples" / "stb_loom.toml"
+        for d in (here, *here.parents)
+        if (d / "examples" / "stb_loom.toml").exists()
+    ),
+    None,
 )
+if loom is None:
+    raise SystemExit(
+        "this script reads examples/stb_loom.toml of a cyclomech clone: run it from the "
+        "clone (or a folder in it), or copy the file from the repository's examples/"
+    )
 m = cm.Machine.from_toml(loom)
 limit = m.speed_limit()
 print(f"speed limit: {limit.rpm:.2f} rpm, set by {limit.by}: {limit.reason}")
