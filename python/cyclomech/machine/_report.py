@@ -652,11 +652,12 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     """
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
+    # results.json and report.html are written last, and an earlier run's removed
+    # first: a run interrupted on the way leaves neither, not a folder that looks done.
+    for name in ("report.html", "results.json"):
+        (folder / name).unlink(missing_ok=True)
     summary = _summary(result)
     written = []
-    p = folder / "results.json"
-    p.write_text(json.dumps(summary, indent=2, ensure_ascii=False), encoding="utf-8")
-    written.append(p)
     sw = result.sweep
     header = [
         "speed_rpm",
@@ -746,6 +747,9 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
             figs = []
         else:
             figs = _figures(result, folder / "figures")
+    p = folder / "results.json"
+    p.write_text(json.dumps(summary, indent=2, ensure_ascii=False), encoding="utf-8")
+    written.append(p)
     p = folder / "report.html"
     p.write_text(_html(result, summary, figs, cycle_files), encoding="utf-8")
     written.append(p)
