@@ -8,6 +8,7 @@ from __future__ import annotations
 import io
 
 import matplotlib
+import matplotlib.legend
 
 matplotlib.use("Agg")
 
@@ -68,11 +69,13 @@ def test_a_long_title_on_a_short_gantt_bar_is_keyed_whole():
     assert len(LONG) == 40
     ax = plot_cyclogram(loom())
     holding = whole_and_inside(ax.figure, LONG)
-    assert [t.get_text() for t in holding] == [f"1  {LONG}"]  # in the legend's key
+    # Numbered by its position in the cyclogram (the second operation), in every
+    # figure alike.
+    assert [t.get_text() for t in holding] == [f"2  {LONG}"]  # in the legend's key
     on_bars = [t.get_text() for t in ax.texts]
-    assert "1" in on_bars  # the bar's number
+    assert "2" in on_bars  # the bar's number
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert legend[-2:] == ["numbered operations", f"1  {LONG}"]
+    assert legend[-2:] == ["numbered operations", f"2  {LONG}"]
 
 
 def test_a_title_that_fits_is_not_keyed():
@@ -90,3 +93,21 @@ def test_the_pair_keys_both_diagrams_inside_the_figure():
     assert gantt.get_legend() is None  # the Gantt's key is an artist of its own
     keys = [a for ax in fig.axes for a in ax.artists if a.get_gid() == "key"]
     assert len(keys) == 2  # one key per diagram, not one per layout pass
+
+
+def test_the_pair_numbers_an_operation_alike_in_both_diagrams():
+    """A new user's loom figures numbered 'open gripper spring' 2 on the Gantt chart
+    and 'approach upper stop' 2 on the circular diagram: an operation's number is
+    its position in the cyclogram, in both keys."""
+    fig = plot_cyclogram_pair(loom(gripper=True))
+    titles = [op.title for op in loom(gripper=True).operations]
+    keyed = [
+        t.get_text()
+        for leg in fig.findobj(matplotlib.legend.Legend)
+        for t in leg.get_texts()
+        if t.get_text()[:1].isdigit()
+    ]
+    assert keyed, "nothing numbered: the test needs a keyed title"
+    for entry in keyed:
+        k, title = entry.split("  ", 1)
+        assert titles[int(k) - 1] == title, entry

@@ -10,8 +10,8 @@ legend beside the axes. matplotlib is imported only inside the functions.
 'carry the\\nweft across'
 >>> print(fit_label("carry the weft across the whole loom web", None, 60.0, 20.0, 7.5))
 None
->>> key_entries(["carry the weft across the whole loom web"], heading=True)[1]
-['numbered operations', '1  carry the weft across the whole loom web']
+>>> key_entries([(3, "carry the weft across the whole loom web")], heading=True)[1]
+['numbered operations', '3  carry the weft across the whole loom web']
 """
 
 from __future__ import annotations
@@ -79,19 +79,23 @@ def fit_label(
     return None
 
 
-def key_entries(titles: Sequence[str], heading: bool = False) -> tuple[list[Any], list[str]]:
-    """Legend handles (invisible) and labels ``"k  title"`` of numbered operations,
-    with ``heading`` after a first entry :data:`KEY_TITLE` (none without titles)."""
+def key_entries(
+    titles: Sequence[tuple[int, str]], heading: bool = False
+) -> tuple[list[Any], list[str]]:
+    """Legend handles (invisible) and labels ``"k  title"`` of numbered operations
+    ``(k, title)`` (k: the operation's position in the cyclogram, the same in every
+    figure), with ``heading`` after a first entry :data:`KEY_TITLE` (none without
+    titles)."""
     from matplotlib.patches import Patch
 
-    labels = [f"{k}  {t}" for k, t in enumerate(titles, 1)]
+    labels = [f"{k}  {t}" for k, t in sorted(titles)]
     if heading and titles:
         labels.insert(0, KEY_TITLE)
     return [Patch(visible=False) for _ in labels], labels
 
 
-def key_legend(ax: Axes, titles: Sequence[str], **where: Any) -> Legend | None:
-    """The key of the numbered operations (``titles`` in the order of their numbers),
+def key_legend(ax: Axes, titles: Sequence[tuple[int, str]], **where: Any) -> Legend | None:
+    """The key of the numbered operations (``(number, title)``, see :func:`key_entries`),
     added to ``ax`` at ``where`` (``loc``, ``bbox_to_anchor``, …) in place of a key
     drawn before (none without titles); its gid is ``"key"``."""
     from matplotlib.legend import Legend

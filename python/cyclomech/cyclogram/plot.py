@@ -294,7 +294,7 @@ def plot_cyclogram(
     ax.set_title(_default_title(result) if title is None else title)
     handles = _draw(ax, result, lay, kind)
 
-    def legend(keyed: Sequence[str] = ()) -> None:
+    def legend(keyed: Sequence[tuple[int, str]] = ()) -> None:
         """The legend, then (a Gantt chart's) numbered titles under their heading."""
         more, titles = key_entries(keyed, heading=True)
         ax.legend(
@@ -690,7 +690,9 @@ def _circular(ax: PolarAxes, result: Schedule | Optimum, lay: _Layout) -> list[A
 
 
 # -------------------------------------------------------------------- labels
-def _label_gantt(ax: Axes, lay: _Layout, key: Callable[[list[str]], Any] | None = None) -> None:
+def _label_gantt(
+    ax: Axes, lay: _Layout, key: Callable[[list[tuple[int, str]]], Any] | None = None
+) -> None:
     """Label each bar inside if its title fits, else beside it where its lane is free
     (on one or two lines, as inside), else with a number keyed by ``key`` (called
     with the numbered titles; the limiting operation's title goes above its bar
@@ -707,7 +709,7 @@ def _label_gantt(ax: Axes, lay: _Layout, key: Callable[[list[str]], Any] | None 
         plan = _gantt_plan(ax, lay, pt_x / lay.cycle, pt_y, keyed)
         if len(keyed) == n or key is None:
             break
-        key([lay.bars[i].op.title for i in keyed])
+        key([(i + 1, lay.bars[i].op.title) for i in keyed])
     for method, args, kw in plan:
         getattr(ax, method)(*args, **kw)
 
@@ -775,7 +777,7 @@ def _gantt_plan(
             )
             continue
         if got is None:
-            name = str(keyed.index(i) + 1 if i in keyed else len(keyed) + 1)
+            name = str(i + 1)  # its position in the cyclogram, as on the circular diagram
             got = place(name, None)
             if got is None:
                 continue  # a bar too short to hold even its number stays bare
@@ -791,7 +793,7 @@ def _gantt_plan(
 
 
 def _label(
-    ax: Axes, lay: _Layout, kind: str, key: Callable[[list[str]], Any] | None = None
+    ax: Axes, lay: _Layout, kind: str, key: Callable[[list[tuple[int, str]]], Any] | None = None
 ) -> None:
     """Write the operations' titles (and angles) on the bars where they fit; the
     limiting operation's, in bold, always (above its bar on a Gantt chart if need be).
@@ -817,8 +819,8 @@ def _label(
             break
 
 
-def _label_circular(ax: Axes, lay: _Layout) -> list[str]:
-    """Label the rings' bars (:func:`_label`); return the titles numbered."""
+def _label_circular(ax: Axes, lay: _Layout) -> list[tuple[int, str]]:
+    """Label the rings' bars (:func:`_label`); return the numbered (number, title)."""
     fig = ax.figure
     pt_x = ax.bbox.width * 72.0 / fig.dpi  # axes size [pt]
     pt_y = ax.bbox.height * 72.0 / fig.dpi
@@ -829,8 +831,8 @@ def _label_circular(ax: Axes, lay: _Layout) -> list[str]:
     thick = (_BAR_H + 0.1) * radius_pt / base[-1]
     # A title that does not fit whole on its bar gets a number there, and the
     # numbers are keyed beside the rings: a name is never cut short.
-    keyed: list[str] = []
-    for b, r in zip(lay.bars, r_of, strict=True):
+    keyed: list[tuple[int, str]] = []
+    for i, (b, r) in enumerate(zip(lay.bars, r_of, strict=True)):
         arc_pt = b.angle / cycle * 2.0 * math.pi * r / base[-1] * radius_pt
         # A chord is shorter than its arc: leave room for straight text on a curved bar.
         text = fit_label(
@@ -842,10 +844,11 @@ def _label_circular(ax: Axes, lay: _Layout) -> list[str]:
             bold=b.limiting,
         )
         if text is None:
-            if 0.85 * arc_pt - 2.0 < text_width_pt(str(len(keyed) + 1), size):
+            # Its number is its position in the cyclogram, as on the Gantt chart.
+            if 0.85 * arc_pt - 2.0 < text_width_pt(str(i + 1), size):
                 continue  # a bar too short to hold even its number stays bare
-            keyed.append(b.op.title)
-            text = str(len(keyed))
+            keyed.append((i + 1, b.op.title))
+            text = str(i + 1)
         mid = b.start + b.angle / 2
         rot = (-mid * 360.0 / cycle) % 360.0  # the tangent, in display degrees
         if 90.0 < rot <= 270.0:
@@ -863,6 +866,6 @@ def _label_circular(ax: Axes, lay: _Layout) -> list[str]:
             fontweight="bold" if b.limiting else "normal",
             path_effects=halo(),
             zorder=4,
-            gid=f"key:{len(keyed)}" if text == str(len(keyed)) and keyed else None,
+            gid=f"key:{i + 1}" if keyed and keyed[-1][0] == i + 1 and text == str(i + 1) else None,
         )
     return keyed
