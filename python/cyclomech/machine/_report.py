@@ -375,7 +375,7 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
             "The optimised cyclogram, one row per mechanism over the main-shaft turn. The "
             "critical operations (red outline) form the chain that leaves the limiting "
             "operation (orange) its angle; the hatched parts are what each operation got "
-            "beyond its minimum (its own, or the bound in force, as in the table below).",
+            "beyond its minimum (its own, or the bound in force, as in the operations table).",
         )
         _, polar = plt.subplots(
             figsize=(9.0, 7.2), layout="constrained", subplot_kw={"projection": "polar"}
