@@ -73,6 +73,17 @@ def _analog_table(sol: LinkageSolution) -> tuple[list[str], Any]:
     return cols, np.hstack([np.asarray(p, dtype=np.float64) for p in parts])
 
 
+def _turn_range(a: float, b: float) -> str:
+    """A range of crank angles [deg] walked from the drawn angle (up to 360° past
+    it), shown within one turn: 343…377° reads 343…17° (through 0°).
+
+    >>> _turn_range(38.0, 322.0), _turn_range(343.0, 377.0)
+    ('38…322°', '343…17° (through 0°)')
+    """
+    lo, hi = a % 360.0, b % 360.0
+    return f"{lo:.6g}…{hi:.6g}°" + (" (through 0°)" if hi < lo else "")
+
+
 def _runs(bad: Any, deg: Any, step: float) -> list[tuple[float, float]]:
     """The ranges [from, to] of crank angle [deg] where ``bad`` holds, on a grid of
     one turn: runs of neighbours, a run that wraps past the last angle joined to
@@ -195,7 +206,7 @@ def linkage_command(args: argparse.Namespace) -> int:
     )
     full = bool(sol.ok.all())
     if not full and sol.ok.any():
-        ranges = ", ".join(f"{a:.6g}…{b:.6g}°" for a, b in summary["unreachable_deg"])
+        ranges = ", ".join(_turn_range(a, b) for a, b in summary["unreachable_deg"])
         why = lk.mismatched_lengths()
         print(
             f"cyclomech: warning: {args.file}: the linkage cannot make a full turn: it cannot "
