@@ -6,6 +6,7 @@ against the closed form of the crank-slider press (S_n = 2a, J_max = ω²a(1 + a
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 from pathlib import Path
@@ -59,11 +60,15 @@ def test_design_tables_match_direct_calls(tmp_path, capsys):
     assert_allclose(design["k_Vp"], c.k_Vp, rtol=1e-10)
     # The baseline column is the crank-slider of the same gears and rod.
     a, L = 0.06, 0.25
-    assert_allclose(base["S_n"], 2 * a, rtol=1e-12)
-    assert_allclose(base["J_max"], w * w * a * (1 + a / L), rtol=1e-10)
+    assert_allclose(base["S_n_m"], 2 * a, rtol=1e-12)
+    assert_allclose(base["J_max_m_per_s2"], w * w * a * (1 + a / L), rtol=1e-10)
+    # Angles in degrees, as the screen shows them, with the unit in the name.
+    assert_allclose(design["alpha_p_deg"], math.degrees(c.alpha_p), rtol=1e-11)
+    assert_allclose(design["theta_bdc_deg"], math.degrees(c.theta_bdc), rtol=1e-11)
     summary = json.loads((tmp_path / "out" / "press.json").read_text())
-    assert summary["schema"] == "cyclomech.press/1"
-    assert summary["design"]["d"] == 0.029 and "optimum" not in summary
+    assert summary["schema"] == "cyclomech.press/2"
+    assert summary["design"]["d_m"] == 0.029 and "optimum" not in summary
+    assert summary["criteria"]["alpha_p_deg"] == pytest.approx(math.degrees(c.alpha_p))
     # The slow start of the working stroke that the drive is for.
     assert c.k_Vp < 0.15 < 1.9 < summary["crank_slider"]["k_Vp"]
 
@@ -85,11 +90,17 @@ def test_example_with_sweep_writes_front_and_figures(tmp_path, capsys):
     assert "non-dominated designs within the limits" in out
     for name in ("sweep.csv", "pareto.csv", "press.png", "criteria.png", "press.json"):
         assert (tmp_path / "o" / name).stat().st_size > 0
-    sweep = np.genfromtxt(tmp_path / "o" / "sweep.csv", delimiter=",", names=True)
+    with (tmp_path / "o" / "sweep.csv").open(newline="", encoding="utf-8") as fh:
+        sweep = list(csv.DictReader(fh))
     assert len(sweep) == 11 * 6 * 60
+    # Units in the names, φ0 in degrees as the file gives it, the status as text.
+    assert {"d_m", "L_m", "phi0_deg", "alpha_p_deg", "V_np_m_per_s", "status"} <= set(sweep[0])
+    phi0 = sorted({float(r["phi0_deg"]) for r in sweep})
+    assert phi0[0] == 0.0 and phi0[-1] == pytest.approx(118.0)
+    assert {r["status"] for r in sweep} <= set(cm.press.STATUS.values())
     front = np.genfromtxt(tmp_path / "o" / "pareto.csv", delimiter=",", names=True, ndmin=1)
     # Every design of the front meets the limit V_np <= 50 mm/s.
-    assert (front["V_np"] <= 0.05 + 1e-15).all()
+    assert (front["V_np_m_per_s"] <= 0.05 + 1e-15).all()
     summary = json.loads((tmp_path / "o" / "press.json").read_text())
     assert summary["optimum"]["non_dominated"] == len(front)
     assert summary["optimum"]["designs_swept"] == 11 * 6 * 60

@@ -3,7 +3,9 @@
 Kinematics, criteria and design sweep of a gear-lever press file: prints the
 criteria of the design beside the crank-slider's, writes the kinematics and
 criteria tables (CSV), the sweep and its Pareto front when the file has a
-``[sweep]``, a JSON summary and figures. Exit status 3 when the design does not
+``[sweep]``, a JSON summary and figures. The files are SI with the unit in each
+column's name and angles in degrees (``alpha_p_deg``, ``S_n_m``, ``V_np_m_per_s``;
+the ratios k_* have none); a status is its text. Exit status 3 when the design does not
 work (its files are written all the same).
 
 >>> import argparse
@@ -17,6 +19,7 @@ True
 from __future__ import annotations
 
 import argparse
+import csv
 import json
 import math
 import sys
@@ -27,6 +30,48 @@ from .._cli import EXIT_FAILS, EXIT_OK, check_step, has_matplotlib, out_folder, 
 from .._json import jsonable
 
 __all__ = ["add_commands", "press_command"]
+
+
+#: The files' names of the criteria and design values, SI with the unit in the name
+#: and angles in degrees, as the machine report's files: name → (column, factor
+#: from the value in SI/radians). Dimensionless ratios (k_*) keep their names.
+FILE_COLUMNS: dict[str, tuple[str, float]] = {
+    "S_n": ("S_n_m", 1.0),
+    "S_p": ("S_p_m", 1.0),
+    "alpha_p": ("alpha_p_deg", 180.0 / math.pi),
+    "V_np": ("V_np_m_per_s", 1.0),
+    "V_cp": ("V_cp_m_per_s", 1.0),
+    "V_pmax": ("V_pmax_m_per_s", 1.0),
+    "J_max": ("J_max_m_per_s2", 1.0),
+    "torque_arm": ("torque_arm_m", 1.0),
+    "theta_bdc": ("theta_bdc_deg", 180.0 / math.pi),
+    "omega": ("omega_rad_per_s", 1.0),
+    "R": ("R_m", 1.0),
+    "r": ("r_m", 1.0),
+    "d": ("d_m", 1.0),
+    "L": ("L_m", 1.0),
+    "phi0": ("phi0_deg", 180.0 / math.pi),
+    "offset": ("offset_m", 1.0),
+}
+
+
+def file_values(values: dict[str, Any]) -> dict[str, Any]:
+    """``values`` (criteria or a design, SI and radians) under the files' names and
+    units (:data:`FILE_COLUMNS`); other keys (ratios, ``status``) as they are.
+
+    >>> file_values({"alpha_p": math.pi / 2, "k_Vp": 0.12, "d": 0.029})
+    {'alpha_p_deg': 90.0, 'k_Vp': 0.12, 'd_m': 0.029}
+    """
+    out: dict[str, Any] = {}
+    for k, v in values.items():
+        name, f = FILE_COLUMNS.get(k, (k, 1.0))
+        out[name] = v * f if f != 1.0 else v
+    return out
+
+
+def _columns(names: Any) -> list[str]:
+    """The files' column names of criteria or design values ``names``."""
+    return [FILE_COLUMNS.get(k, (k, 1.0))[0] for k in names]
 
 
 def add_commands(commands: Any) -> None:
@@ -45,7 +90,7 @@ def press_command(args: argparse.Namespace) -> int:
     """Run ``cyclomech press`` with the parsed ``args``; return the exit status."""
     import numpy as np
 
-    from . import CRITERIA, PressStudy, optimize
+    from . import CRITERIA, STATUS, PressStudy, optimize
 
     st = PressStudy.from_toml(args.file)
     p, w = st.press, st.omega
@@ -78,7 +123,7 @@ def press_command(args: argparse.Namespace) -> int:
         u, f = units.get(k, ("", 1.0))
         a, b = getattr(c, k) * f, getattr(base, k) * f
         rows.append([k + (f" [{u}]" if u else ""), f"{a:.6g}", f"{b:.6g}"])
-    print(table(rows, ["criterion", "design", "crank-slider (d = 0)"]))
+    print(table(rows, ["criterion", "design", f"crank-slider (d = 0, L = {p.L * 1e3:g} mm)"]))
     out = out_folder(args)
     n = round(360.0 / step)
     alpha = np.radians(np.arange(n + 1) * step)
@@ -94,19 +139,22 @@ def press_command(args: argparse.Namespace) -> int:
         fmt="%.12g",
         header="alpha_deg,S_m,dS_m_per_rad,d2S_m_per_rad2,V_m_per_s,J_m_per_s2",
     )
-    with (out / "criteria.csv").open("w", encoding="utf-8") as fh:
-        fh.write("design," + ",".join(CRITERIA) + ",status\n")
+    factor = [FILE_COLUMNS.get(k_, (k_, 1.0))[1] for k_ in CRITERIA]
+    with (out / "criteria.csv").open("w", encoding="utf-8", newline="") as fh:
+        wr = csv.writer(fh)  # a status text may hold a comma: quoted
+        wr.writerow(["design", *_columns(CRITERIA), "status"])
         for label, cc in (("design", c), ("crank_slider", base)):
-            fh.write(label + "," + ",".join(f"{getattr(cc, k_):.12g}" for k_ in CRITERIA))
-            fh.write(f",{cc.status}\n")
+            vals = (getattr(cc, k_) * f for k_, f in zip(CRITERIA, factor, strict=True))
+            wr.writerow([label, *(f"{v:.12g}" for v in vals), cc.status])
     summary: dict[str, Any] = {
-        "schema": "cyclomech.press/1",
+        "schema": "cyclomech.press/2",
         "name": name,
-        "design": p.to_dict(),
+        "design": file_values(p.to_dict()),
         "rpm": st.rpm,
         "omega_rad_per_s": w,
-        "criteria": c.as_dict(),
-        "crank_slider": base.as_dict(),
+        "criteria": file_values(c.as_dict()),
+        "crank_slider": file_values(base.as_dict()),
+        "crank_slider_design": file_values(p.baseline().to_dict()),
     }
     written = [out / "kinematics.csv", out / "criteria.csv"]
     opt = None
@@ -132,39 +180,40 @@ def press_command(args: argparse.Namespace) -> int:
             + (f" within the limits {st.limits}" if st.limits else "")
             + f"; the best by score: d = {best.d * 1e3:.4g} mm, L = {best.L * 1e3:.4g} mm, "
             f"φ0 = {math.degrees(best.phi0):.4g}°: k_Vp {cb.k_Vp:.4g}, k_Vmax {cb.k_Vmax:.4g}, "
-            f"k_J {cb.k_J:.4g}, k_M {cb.k_M:.4g} (crank-slider: k_Vp {opt.baseline.k_Vp:.4g}, "
+            f"k_J {cb.k_J:.4g}, k_M {cb.k_M:.4g} (the optimiser's crank-slider, "
+            f"L = {opt.baseline_press.L * 1e3:.4g} mm: k_Vp {opt.baseline.k_Vp:.4g}, "
             f"k_Vmax {opt.baseline.k_Vmax:.4g}, k_J {opt.baseline.k_J:.4g}, "
             f"k_M {opt.baseline.k_M:.4g})"
         )
         for edge in opt.edges:
             print(f"warning: the best design is on the edge of the grid: {edge}; widen [sweep]")
-        cols = opt.grid.table()
-        names = list(cols)
-        np.savetxt(
-            out / "sweep.csv",
-            np.column_stack([cols[k_] for k_ in names]),
-            delimiter=",",
-            header=",".join(names),
-            comments="",
-            fmt="%.10g",
-        )
+        cols = file_values({k_: v for k_, v in opt.grid.table().items() if k_ != "status"})
+        status = np.array([STATUS[int(v)] for v in opt.grid.table()["status"]], dtype=object)
+        with (out / "sweep.csv").open("w", encoding="utf-8", newline="") as fh:
+            wr = csv.writer(fh)  # the status texts hold commas: quoted
+            wr.writerow([*cols, "status"])
+            body = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
+            wr.writerows(
+                [*(f"{v:.10g}" for v in row), stat] for row, stat in zip(body, status, strict=True)
+            )
         with (out / "pareto.csv").open("w", encoding="utf-8") as fh:
-            fh.write("d,L,phi0_deg,refined,score," + ",".join(CRITERIA) + "\n")
+            fh.write("d_m,L_m,phi0_deg,refined,score," + ",".join(_columns(CRITERIA)) + "\n")
             for q, cq, rf, sc in zip(
                 opt.designs, opt.criteria, opt.refined, opt.scores, strict=True
             ):
                 fh.write(f"{q.d:.10g},{q.L:.10g},{math.degrees(q.phi0):.10g},{int(rf)},{sc:.10g},")
-                fh.write(",".join(f"{getattr(cq, k_):.10g}" for k_ in CRITERIA) + "\n")
+                vals = (getattr(cq, k_) * f for k_, f in zip(CRITERIA, factor, strict=True))
+                fh.write(",".join(f"{v:.10g}" for v in vals) + "\n")
         summary["optimum"] = {
             "designs_swept": n_designs,
             "non_dominated": len(opt.designs),
             "objectives": list(opt.objectives),
             "limits": st.limits,
-            "best": best.to_dict(),
-            "best_criteria": cb.as_dict(),
+            "best": file_values(best.to_dict()),
+            "best_criteria": file_values(cb.as_dict()),
             "best_on_grid_edge": list(opt.edges),
-            "baseline": opt.baseline_press.to_dict(),
-            "baseline_criteria": opt.baseline.as_dict(),
+            "baseline": file_values(opt.baseline_press.to_dict()),
+            "baseline_criteria": file_values(opt.baseline.as_dict()),
         }
         written += [out / "sweep.csv", out / "pareto.csv"]
     (out / "press.json").write_text(
