@@ -172,6 +172,25 @@ def available_bytes() -> int:
         return _I64_MAX
 
 
+def broadcast(**arrays: Any) -> list[Any]:
+    """The arrays broadcast together, or :class:`InputError` naming them and their
+    shapes.
+
+    >>> import numpy as np
+    >>> [a.shape for a in broadcast(x=np.ones(3), y=np.ones((2, 1)))]
+    [(2, 3), (2, 3)]
+    >>> broadcast(stiffness=np.ones(3), mass=np.ones(4))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    cyclomech._errors.InputError: stiffness (3,), mass (4,): these shapes do not broadcast together
+    """
+    try:
+        return list(np.broadcast_arrays(*arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
+        raise InputError(f"{shapes}: these shapes do not broadcast together") from None
+
+
 def check_bytes(what: str, nbytes: float, hint: str, *, failed: bool = False) -> None:
     """Refuse, before allocating, a result of ``nbytes`` bytes that cannot fit.
 

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import positive
+from .._arrays import broadcast, positive
 from .._errors import InputError
 from ._checks import Array, _positive_array
 
@@ -197,8 +197,10 @@ def natural_frequency(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
     >>> round(float(cm.impact.natural_frequency(25620.0, 7.4e-3)), 1)
     296.1
     """
-    c = _positive_array("stiffness", stiffness, "[N/m]")
-    m = _positive_array("mass", mass, "[kg]")
+    c, m = broadcast(
+        stiffness=_positive_array("stiffness", stiffness, "[N/m]"),
+        mass=_positive_array("mass", mass, "[kg]"),
+    )
     return np.sqrt(c / m) / (2.0 * np.pi)
 
 
@@ -230,8 +232,10 @@ def contact_time(stiffness: npt.ArrayLike, mass: npt.ArrayLike) -> Any:
     >>> round(float(cm.impact.contact_time(172e3, 7.4e-3)) * 1e3, 3)   # ms
     0.652
     """
-    c = _positive_array("stiffness", stiffness, "[N/m]")
-    m = _positive_array("mass", mass, "[kg]")
+    c, m = broadcast(
+        stiffness=_positive_array("stiffness", stiffness, "[N/m]"),
+        mass=_positive_array("mass", mass, "[kg]"),
+    )
     return np.pi * np.sqrt(m / c)
 
 

@@ -19,15 +19,54 @@ def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
     return finite_number(name, value, unit)
 
 
+def _checked_table(t: Any, f: Any) -> tuple[Array, Array]:
+    """``t`` and ``f`` as read-only float arrays, checked as :meth:`Pulse.table`
+    documents, or :class:`InputError`."""
+    try:
+        ta = np.array(t, dtype=np.float64, ndmin=1)
+        fa = np.array(f, dtype=np.float64, ndmin=1)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"a pulse table needs t and f as arrays of numbers; got t = {t!r}, f = {f!r}"
+        ) from None
+    if ta.ndim != 1 or fa.shape != ta.shape:
+        raise InputError(
+            f"a pulse table needs t and f as 1-D arrays of one length; "
+            f"got shapes {ta.shape} and {fa.shape}"
+        )
+    if ta.size < 2:
+        raise InputError(f"a pulse table needs at least 2 points; got {ta.size}")
+    for name, a in (("t", ta), ("f", fa)):
+        bad = ~np.isfinite(a)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise InputError(f"pulse {name}[{i}] = {float(a[i])!r} must be finite")
+    if ta[0] != 0.0:
+        raise InputError(f"pulse t[0] = {float(ta[0])!r} must be 0 (the instant of impact)")
+    down = np.diff(ta) < 0
+    if down.any():
+        i = int(np.argmax(down)) + 1
+        raise InputError(
+            f"pulse t must not decrease: t[{i}] = {float(ta[i])!r} < "
+            f"t[{i - 1}] = {float(ta[i - 1])!r} "
+            "(repeat a time for a jump)"
+        )
+    if ta[-1] <= 0.0:
+        raise InputError("a pulse must last: its last time must be > 0 s")
+    ta.flags.writeable = False
+    fa.flags.writeable = False
+    return ta, fa
+
+
 @dataclass(frozen=True)
 class Pulse:
     """A force pulse as a piecewise-linear table of force [N] over time [s].
 
     Zero after the last point unless the table says otherwise. Named shapes:
     :meth:`rectangular`, :meth:`decaying` (the seed's fig. 7 law),
-    :meth:`triangular`, :meth:`half_sine`; any table by :meth:`table`, which checks
-    it (build a pulse with those rather than the constructor). Each parameter is
-    kept as the attribute of the same name.
+    :meth:`triangular`, :meth:`half_sine`; any table by :meth:`table`. Every pulse
+    is checked as :meth:`table` documents, the constructor's too. Each parameter is
+    kept as the attribute of the same name (as a read-only float array).
 
     Parameters
     ----------
@@ -51,6 +90,12 @@ class Pulse:
     t: Array
     f: Array
     shape: str = "table"
+
+    def __post_init__(self) -> None:
+        # Every pulse is checked, built by a named shape, by table or directly.
+        ta, fa = _checked_table(self.t, self.f)
+        object.__setattr__(self, "t", ta)
+        object.__setattr__(self, "f", fa)
 
     @property
     def duration(self) -> float:
@@ -145,34 +190,7 @@ class Pulse:
         >>> cm.impact.Pulse.table([0, 1e-3, 2e-3], [0, 5, 0]).peak
         5.0
         """
-        ta = np.array(t, dtype=np.float64, ndmin=1)
-        fa = np.array(f, dtype=np.float64, ndmin=1)
-        if ta.ndim != 1 or fa.shape != ta.shape:
-            raise InputError(
-                f"a pulse table needs t and f as 1-D arrays of one length; "
-                f"got shapes {ta.shape} and {fa.shape}"
-            )
-        if ta.size < 2:
-            raise InputError(f"a pulse table needs at least 2 points; got {ta.size}")
-        for name, a in (("t", ta), ("f", fa)):
-            bad = ~np.isfinite(a)
-            if bad.any():
-                i = int(np.argmax(bad))
-                raise InputError(f"pulse {name}[{i}] = {float(a[i])!r} must be finite")
-        if ta[0] != 0.0:
-            raise InputError(f"pulse t[0] = {float(ta[0])!r} must be 0 (the instant of impact)")
-        down = np.diff(ta) < 0
-        if down.any():
-            i = int(np.argmax(down)) + 1
-            raise InputError(
-                f"pulse t must not decrease: t[{i}] = {float(ta[i])!r} < "
-                f"t[{i - 1}] = {float(ta[i - 1])!r} "
-                "(repeat a time for a jump)"
-            )
-        if ta[-1] <= 0.0:
-            raise InputError("a pulse must last: its last time must be > 0 s")
-        ta.flags.writeable = False
-        fa.flags.writeable = False
+        ta, fa = _checked_table(t, f)
         return cls(ta, fa, shape)
 
     @classmethod

@@ -47,15 +47,6 @@ def _finite_array(name: str, value: Any, unit: str) -> Array:
     return a
 
 
-def _broadcast(**arrays: Array) -> list[Array]:
-    """The arrays broadcast together, or :class:`InputError` naming them."""
-    try:
-        return list(np.broadcast_arrays(*arrays.values()))
-    except ValueError:
-        shapes = ", ".join(f"{k} {v.shape}" for k, v in arrays.items())
-        raise InputError(f"{shapes}: these shapes do not broadcast together") from None
-
-
 def _point(name: str, value: Any) -> Array:
     a = float_array(name, value, ndims=(1,))
     if a.shape != (2,) or not np.isfinite(a).all():

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from .._arrays import broadcast as _broadcast
 from .._errors import InputError
-from ._checks import _broadcast, _finite_array, _scalar
+from ._checks import _finite_array, _scalar
 
 __all__ = ["acceleration_jump", "acceleration_jump_at_speed"]
 

@@ -12,9 +12,10 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
+from .._arrays import broadcast as _broadcast
 from .._arrays import finite_number, positive
 from .._errors import InputError
-from ._checks import _LENGTH_RANGE, Array, _broadcast, _finite_array, _radius, _scalar
+from ._checks import _LENGTH_RANGE, Array, _finite_array, _radius, _scalar
 
 __all__ = ["QuinticTransition", "quintic_transition", "smooth_transition", "to_machine"]
 

@@ -1,0 +1,40 @@
+"""A second new user's review: inputs the API took without a word, now refused by
+name (each case the review's own)."""
+
+from __future__ import annotations
+
+import cyclomech as cm
+import numpy as np
+import pytest
+
+
+def test_natural_frequency_names_shapes_that_do_not_broadcast() -> None:
+    # Was numpy's raw "operands could not be broadcast together" from deep inside.
+    with pytest.raises(cm.InputError, match=r"stiffness \(3,\), mass \(4,\): these shapes"):
+        cm.impact.natural_frequency(np.ones(3) * 1e5, np.ones(4) * 1e-3)
+    with pytest.raises(cm.InputError, match=r"stiffness \(2,\), mass \(3,\)"):
+        cm.impact.contact_time(np.ones(2), np.ones(3))
+    # Broadcasting still works, and the value is the closed form √(c/m)/2π.
+    f = cm.impact.natural_frequency(np.array([1e5, 4e5]), 1e-3)
+    np.testing.assert_allclose(f, np.sqrt(np.array([1e5, 4e5]) / 1e-3) / (2 * np.pi))
+
+
+@pytest.mark.parametrize(
+    ("t", "f", "match"),
+    [
+        ("abc", [1.0, 0.0], "arrays of numbers"),
+        ([0.0, np.nan], [1.0, 0.0], r"t\[1\] = nan must be finite"),
+        ([0.0, 1e-3, 2e-3], [1.0, 2.0], "one length"),
+        ([1e-3, 2e-3], [1.0, 0.0], r"t\[0\] = 0.001 must be 0"),
+    ],
+)
+def test_a_pulse_built_directly_is_checked_as_a_table(t, f, match) -> None:
+    # Pulse(...) took all of these; only Pulse.table checked.
+    with pytest.raises(cm.InputError, match=match):
+        cm.impact.Pulse(t, f)
+
+
+def test_a_pulse_built_directly_is_read_only_floats() -> None:
+    p = cm.impact.Pulse([0, 1e-3, 2e-3], [0, 5, 0])
+    assert p.t.dtype == np.float64 and not p.t.flags.writeable and p.peak == 5.0
+    assert cm.impact.Pulse.rectangular(2.0, 1e-3).t.tolist() == [0.0, 1e-3, 1e-3]
