@@ -38,3 +38,11 @@ def test_a_pulse_built_directly_is_read_only_floats() -> None:
     p = cm.impact.Pulse([0, 1e-3, 2e-3], [0, 5, 0])
     assert p.t.dtype == np.float64 and not p.t.flags.writeable and p.peak == 5.0
     assert cm.impact.Pulse.rectangular(2.0, 1e-3).t.tolist() == [0.0, 1e-3, 1e-3]
+
+
+def test_residual_vibration_refuses_a_size_that_cannot_fit() -> None:
+    # 1e9 broadcast values ran to 9.8 GB and ~70 minutes without a word.
+    with pytest.raises(cm.InputError, match=r"residual_vibration of 1000000000000 values needs"):
+        cm.cam.residual_vibration("cycloidal", np.broadcast_to(1.0, (10**12,)))
+    with pytest.raises(cm.InputError, match=r"tau\[1\] = nan must be finite"):
+        cm.cam.residual_vibration("cycloidal", [1.0, np.nan])

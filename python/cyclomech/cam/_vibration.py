@@ -47,7 +47,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, float_array, positive, threads_arg
+from .._arrays import check_bytes, finite_number, float_array, positive, threads_arg
 from .._errors import InputError
 from ..motion import NAMES
 from ._program import Cam
@@ -112,12 +112,15 @@ def residual_vibration(
     """
     _law(law)
     z = _zeta(damping_ratio)
+    # Sized before the copy: the input as float64, its checks' masks and the output.
+    n = float(np.prod(np.shape(tau), dtype=np.float64))
+    check_bytes(f"residual_vibration of {n:.0f} values", 26.0 * n, "pass fewer values of tau")
     t = float_array("tau", tau, ndims=tuple(range(33)))
     bad = ~(np.isfinite(t) & (t > 0.0))
     if bad.any():
         i = np.unravel_index(int(np.argmax(bad)), t.shape)
         where = ", ".join(str(int(k)) for k in i)
-        raise InputError(f"tau[{where}] = {t[i]!r} must be finite and > 0 [rad]")
+        raise InputError(f"tau[{where}] = {float(t[i])!r} must be finite and > 0 [rad]")
     out = _core.cam_residual_ratio(law, t.reshape(-1), z, n_threads=threads_arg(n_threads))
     return out.reshape(np.shape(tau))
 
