@@ -88,7 +88,8 @@ def finite_number(
         raise InputError(f"{name} must be a number{bound} {unit}; got {value!r}") from None
     inside = low is None or (v > low if strict else v >= low)
     if not (math.isfinite(v) and inside):
-        raise InputError(f"{name} = {value!r} must be finite{bound} {unit}")
+        # v, not value: a numpy scalar would print as np.float64(-0.0001).
+        raise InputError(f"{name} = {v!r} must be finite{bound} {unit}")
     return v
 
 

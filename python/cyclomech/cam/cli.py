@@ -357,18 +357,24 @@ def _print_min_phase(
             }
         )
         if short:
-            need = f"{b:.4g}°" if math.isfinite(b) else "more than a whole turn"
-            fails.append(
-                f"segment {seg} ({g.kind}): {g.angle_deg:g}° < {need}, the smallest phase angle "
-                f"for {why.replace('_', ' ')} at {rpm:g} rpm"
-            )
+            what = why.replace("_", " ")
+            if math.isfinite(b):
+                fails.append(
+                    f"segment {seg} ({g.kind}): {g.angle_deg:g}° < {b:.4g}°, the smallest "
+                    f"phase angle for {what} at {rpm:g} rpm"
+                )
+            else:
+                fails.append(
+                    f"segment {seg} ({g.kind}): {g.angle_deg:g}°, but no phase angle up to a "
+                    f"whole turn meets {what} at {rpm:g} rpm"
+                )
     results["min_phase"] = entries
     if not rows:
         print("\n  no rise or return: no smallest phase angles")
         return fails
     print(f"\n  smallest phase angles at {rpm:g} rpm [deg] (0: the criterion does not bound it)")
     crit = [c.replace("_", " ") for c in m.criteria]
-    print(table(rows, ["segment", "kind", *crit, "bound", "binding", "in file", ""]))
+    print(table(rows, ["segment", "kind", *crit, "bound", "binding", "in file", "verdict"]))
     return fails
 
 

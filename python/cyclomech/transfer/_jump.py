@@ -66,7 +66,8 @@ def acceleration_jump_at_speed(speed: Any, R_t: Any, R_p: Any) -> Any:
     Parameters
     ----------
     speed : float or array_like of float
-        The peripheral speed V [m/s]. All three broadcast.
+        The peripheral speed V [m/s]; its sign (the direction of travel) does not
+        change the jump, V²·(1/R_t + 1/R_p). All three broadcast.
     R_t : float or array_like of float
         The pitch radius of the first rotor [m] (> 0).
     R_p : float or array_like of float
