@@ -133,6 +133,16 @@ class Linkage:
                 f"output = {output!r} is not a point; the points are {', '.join(self._names)}"
             )
         self.name, self.output = name, output
+        # A drawn link (or side of a ternary link) of zero length, not given one.
+        for a, b in (pair for ln in self._links for pair in itertools.combinations(ln, 2)):
+            if (a, b) not in self._lengths and (b, a) not in self._lengths:
+                (xa, ya), (xb, yb) = self._points[a], self._points[b]
+                if xa == xb and ya == yb:
+                    raise InputError(
+                        f"link {a}{b} has zero length: {a} and {b} are drawn at the same "
+                        f"point ({xa:g}, {ya:g}); draw them apart or give lengths={{({a!r}, "
+                        f"{b!r}): ...}}"
+                    )
         # Geometric checks and the kernel work in units of a power of two near the
         # drawing's size: exact scaling, so that a linkage drawn at 1e200 m or
         # 1e-200 m is neither overflowed nor underflowed into a false dead centre.
