@@ -46,3 +46,35 @@ def test_residual_vibration_refuses_a_size_that_cannot_fit() -> None:
         cm.cam.residual_vibration("cycloidal", np.broadcast_to(1.0, (10**12,)))
     with pytest.raises(cm.InputError, match=r"tau\[1\] = nan must be finite"):
         cm.cam.residual_vibration("cycloidal", [1.0, np.nan])
+
+
+def test_a_bad_number_prints_as_a_plain_float() -> None:
+    # Was "a_max = np.float64(-0.0001) must be ...".
+    with pytest.raises(cm.InputError, match=r"^a_max = -0\.0001 must be finite and > 0 \[m\]"):
+        cm.impact.max_impact_speeds([cm.impact.StopImpact.example()], np.array([-1e-4]))
+
+
+def test_a_cam_segment_no_angle_can_carry_is_said_so(tmp_path, capsys) -> None:
+    from pathlib import Path
+
+    from cyclomech.cli import main
+
+    lifter = Path(__file__).resolve().parents[1] / "examples" / "lifter_cam.toml"
+    code = main(["cam", str(lifter), "--rpm", "5000", "--no-plot", "--out", str(tmp_path)])
+    out, err = capsys.readouterr()
+    text = out + err
+    assert code == 3
+    # Was "70° < more than a whole turn, the smallest phase angle …".
+    assert "segment 0 (rise): 70°, but no phase angle up to a whole turn meets" in text
+    assert "more than a whole turn" not in text and "verdict" in out
+
+
+def test_a_link_drawn_with_zero_length_is_named() -> None:
+    # Was "step 0 of the program is invalid: lengths must be finite and positive".
+    with pytest.raises(cm.InputError, match=r"link AB has zero length: A and B are drawn"):
+        cm.Linkage(
+            points={"A": (0, 0), "B": (0, 0), "C": (3.5, 2.5), "D": (4, 0)},
+            links=[("A", "B"), ("B", "C"), ("C", "D")],
+            ground=["A", "D"],
+            driver=("A", "B"),
+        )
