@@ -774,7 +774,8 @@ def _random_cams(draw: Any) -> tuple[cm.cam.Cam, Limits, int]:
         if kind == "flat":
             follower = cm.cam.FlatFaced(rb)
         else:
-            rr = draw(st.floats(0.0, 0.02))
+            # A roller smaller than the base circle (rb ≥ 0.02 ≥ rr could tie: refused).
+            rr = draw(st.floats(0.0, 0.02, exclude_max=True))
             follower = cm.cam.TranslatingRoller(rb, rr, offset=draw(st.floats(-0.3, 0.3)) * rb)
     if kind != "flat" and follower.roller_radius > 0:
         closure = draw(st.sampled_from(["spring", "groove"]))
