@@ -78,3 +78,14 @@ def test_a_link_drawn_with_zero_length_is_named() -> None:
             ground=["A", "D"],
             driver=("A", "B"),
         )
+
+
+def test_a_reversed_phase_grid_of_a_stop_is_refused() -> None:
+    import tomllib
+    from pathlib import Path
+
+    loom = Path(__file__).resolve().parents[1] / "examples" / "stb_loom.toml"
+    data = tomllib.loads(loom.read_text("utf-8"))
+    data["mechanism"]["lifter"]["phase_deg"] = [55.0, 25.0, 4]
+    with pytest.raises(cm.InputError, match=r"phase_deg = \[55.0, 25.0, 4\] must go up"):
+        cm.Machine.from_dict(data, "loom.toml")

@@ -170,6 +170,11 @@ class CamStop:
             raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
         shown = {"phase_deg": table.get("phase_deg", [20.0, 60.0, 5])}
         grid = _toml.span(shown, "phase_deg", where, within=(0.0, 360.0), most=50, unit="deg")
+        if grid[0] > grid[-1]:
+            raise InputError(
+                f"{where}: phase_deg = {shown['phase_deg']!r} must go up: [from, to, count] "
+                "with from ≤ to (the phase angles [deg] of the report's rebound curves)"
+            )
         return cls(name, stop, arc, a_max, grid)
 
     # ------------------------------------------------------------- its bound
