@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -190,8 +190,8 @@ class Pulse:
         >>> cm.impact.Pulse.table([0, 1e-3, 2e-3], [0, 5, 0]).peak
         5.0
         """
-        ta, fa = _checked_table(t, f)
-        return cls(ta, fa, shape)
+        # Checked once, by __post_init__ (which takes any array-like).
+        return cls(cast(Array, t), cast(Array, f), shape)
 
     @classmethod
     def rectangular(cls, peak: float, duration: float) -> Pulse:

@@ -187,8 +187,10 @@ def press_command(args: argparse.Namespace) -> int:
         )
         for edge in opt.edges:
             print(f"warning: the best design is on the edge of the grid: {edge}; widen [sweep]")
-        cols = file_values({k_: v for k_, v in opt.grid.table().items() if k_ != "status"})
-        status = np.array([STATUS[int(v)] for v in opt.grid.table()["status"]], dtype=object)
+        grid_cols = opt.grid.table()
+        codes = grid_cols.pop("status")
+        cols = file_values(grid_cols)
+        status = [STATUS[int(v)] for v in codes]
         with (out / "sweep.csv").open("w", encoding="utf-8", newline="") as fh:
             wr = csv.writer(fh)  # the status texts hold commas: quoted
             wr.writerow([*cols, "status"])
