@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -299,3 +301,37 @@ def out_array(out: Any, shape: tuple[int, ...], inputs: list[Any], what: str) ->
                 f"{want}; {got} that shares memory with an input of shape {a.shape} "
                 "(the kernel reads every input while it writes out)"
             )
+
+
+@contextlib.contextmanager
+def plain_pages() -> Iterator[None]:
+    """Arrays numpy allocates inside the block get no transparent-huge-page advice.
+
+    numpy advises the kernel to back every array of 4 MB or more with huge pages
+    (``madvise(MADV_HUGEPAGE)``). Where the kernel honours only advised regions but
+    finds no free huge page, it compacts memory on the first touch instead: on the
+    VMs we measured, first touching a 10⁶-point sweep's columns (88 MB) took
+    ~150 ms more in most trials (BENCHMARKS.md, issue 20). A result written once
+    and handed to the user gains nothing from huge pages, so its columns are
+    allocated plainly. This is numpy's own switch (the one
+    ``NUMPY_MADVISE_HUGEPAGE=0`` sets at import), set for the block and restored
+    after it; a numpy without it allocates as usual.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> with plain_pages():
+    ...     a = np.zeros(10**6)
+    >>> a.size
+    1000000
+    """
+    core = getattr(np, "_core", None) or getattr(np, "core", None)
+    toggle = getattr(getattr(core, "multiarray", None), "_set_madvise_hugepage", None)
+    if toggle is None:
+        yield
+        return
+    was = toggle(False)
+    try:
+        yield
+    finally:
+        toggle(was)

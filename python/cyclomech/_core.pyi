@@ -530,7 +530,9 @@ def solve_proportional(
     rpm: npt.NDArray[np.float64],
     *,
     n_threads: int | None = None,
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int16], npt.NDArray[np.float64]]: ...
+) -> tuple[
+    npt.NDArray[np.float64], npt.NDArray[np.int16], npt.NDArray[np.float64], npt.NDArray[np.bool_]
+]: ...
 def speed_limits_proportional(
     n_nodes: int,
     src: npt.NDArray[np.int64],

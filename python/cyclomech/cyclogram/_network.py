@@ -440,10 +440,10 @@ class SpeedNetwork:
             ]
             value, fits, named, mins = self.solve(rows, t_bound, n_threads)
             return value, fits, named, mins[:, self.bound_op].reshape(rows.size, len(self.bound_op))
-        value, code, bound_mins = _core.solve_proportional(
+        value, code, bound_mins, starts = _core.solve_proportional(
             *self._kernel_args(), per, speeds, n_threads=n_threads
         )
-        return value, np.isfinite(value), self._names(code), bound_mins
+        return value, np.isfinite(value), self._names(code, starts), bound_mins
 
     def _slopes(self, per_rpm: Array) -> Array:
         """``per_rpm`` as a C-ordered (D, K) float64 array, K the bounds'."""
@@ -587,18 +587,23 @@ class SpeedNetwork:
         code[~fits] = 0
         return self._names(code)
 
-    def _names(self, code: npt.NDArray[np.int16]) -> npt.NDArray[np.object_]:
+    def _names(
+        self, code: npt.NDArray[np.int16], new_run: npt.NDArray[np.bool_] | None = None
+    ) -> npt.NDArray[np.object_]:
         """The names of the rows' codes (B, E) (0: off the chain; 1: on it; a
         minimum-angle arc: 1 + which bound sets it): the unique patterns are named
         once. Neighbouring speeds mostly share a pattern, so only the first row of
-        each run of equal rows goes into the sort."""
+        each run of equal rows goes into the sort. ``new_run`` (B,): which rows
+        differ from the previous one, when the kernel has found them."""
         if code.shape[0] == 0:
             return np.empty(0, dtype=object)
         code = np.ascontiguousarray(code, dtype=np.int16)
         # Each row as one opaque value (its bytes): compared and sorted as a whole,
         # far faster than numpy's unique over rows (axis=0).
         rows = code.view(np.dtype((np.void, 2 * code.shape[1]))).reshape(-1)
-        starts = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])
+        if new_run is None:
+            new_run = np.r_[True, rows[1:] != rows[:-1]]
+        starts = np.flatnonzero(new_run)
         found = np.unique(rows[starts], return_index=True, return_inverse=True)
         _, first, of_run = cast(tuple[Any, Any, Any], found)  # (numpy's stubs miss this)
         patterns = code[starts[first]]

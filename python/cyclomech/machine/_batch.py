@@ -30,6 +30,7 @@ left out of the batch):
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -41,7 +42,6 @@ from .. import _core
 from .._kind import Proportional
 from .._units import DEG_PER_S_PER_RPM
 from ..impact import CamStop, propped_lever_stiffness
-from ._kinds import KINDS
 from ._model import Machine, _bounds_at
 
 __all__ = ["BATCH_KEYS", "Plan", "batch_figures", "plan"]
@@ -106,6 +106,22 @@ class _Designs:
     ok: npt.NDArray[np.bool_]
 
 
+#: An empty speed grid for ``_core.stop_design_batch``.
+_NO_SPEEDS = np.empty(0)
+
+
+@functools.lru_cache(maxsize=4096)
+def _propped_ratio(a: float, b: float) -> float:
+    """StopImpact's contact-stiffness ratio of a lever of arms ``a``, ``b`` [m]
+    (E·J_x cancels, so at E = J_x = 1), NaN out of range; remembered, since a
+    sweep's chunks mostly share their levers."""
+    try:
+        free, propped = propped_lever_stiffness(1.0, 1.0, a, b)
+    except ValueError:  # an InputError: out of range
+        return float("nan")
+    return float(propped / free)
+
+
 def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, Array]) -> _Designs:
     """The designs of one stop with ``values`` (key → (D,)) replacing its table's:
     every quantity as :class:`~cyclomech.impact.StopImpact` computes it, in the
@@ -158,16 +174,8 @@ def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, 
             ok &= np.isfinite(contact) & (contact > stiffness)
         else:
             ratio = np.full(D, np.nan)
-            pairs: dict[tuple[float, float], float] = {}
             for i in np.flatnonzero(ok).tolist():
-                key = (float(a[i]), float(b[i]))
-                if key not in pairs:
-                    try:  # StopImpact's ratio: E·J_x cancels, so at E = J_x = 1
-                        free, propped = propped_lever_stiffness(1.0, 1.0, *key)
-                        pairs[key] = propped / free
-                    except ValueError:  # an InputError: out of range
-                        pairs[key] = np.nan
-                ratio[i] = pairs[key]
+                ratio[i] = _propped_ratio(float(a[i]), float(b[i]))
             contact = stiffness * ratio
         ok &= np.isfinite(contact) & (contact > 0.0)
         # contact_time(c, m) when not given: π·√(m/c).
@@ -217,22 +225,24 @@ def batch_figures(
     net = machine._network
     bounded = machine._bounded
     base_laws = machine.bound_laws(n_threads=n_threads)
-    solved: dict[str, tuple[Array, Array, Array, Array]] = {}
+    solved: dict[str, tuple[Array, Array, Array]] = {}
     for name, table in tables.items():
         mech = machine.mechanisms[name]
         assert isinstance(mech, CamStop)
         law = mech.stop.law
         coeffs = None if law.coeffs is None else np.asarray(law.coeffs, dtype=np.float64)
-        _, _, _, unit, per, mins, g = _core.stop_design_batch(
+        # No speeds: the smallest phase angles per speed are not needed here (the
+        # shortest paths take the slopes).
+        _, _, _, unit, per, _, g = _core.stop_design_batch(
             law.name,
             law.form == "rise",
             coeffs,
             _PULSE_CODE[mech.stop.pulse],
             table,
-            speeds,
+            _NO_SPEEDS,
             n_threads=n_threads,
         )
-        solved[name] = (unit, per, mins, g)
+        solved[name] = (unit, per, g)
     # Each design's bound laws: the swept stops' own, every other mechanism's shared.
     # All proportional (the usual case: stops only): their slopes (D, K), the
     # solve at every speed and the speed-limit search each one Rust call; else
@@ -247,14 +257,13 @@ def batch_figures(
         at = _bounds_at(_laws(bounded, base_laws, solved, D))
         value, fits, binding, mins = net.solve(rows, at(np.arange(D), grid), n_threads)
         bound_mins = mins[:, net.bound_op].reshape(rows.size, len(net.bound_op))
-    columns = sorted({c for cls in KINDS.values() for c in cls.sweep_columns})
-    extra = {c: np.full(rows.shape, np.nan) for c in columns}
+    extra: dict[str, Array] = {}  # the mechanisms' own columns, largest of each
     k = 0
     for m in bounded:
         nb = len(m.bounds())
         angles = [bound_mins[:, k + i] for i in range(nb)]
         if m.name in solved:
-            unit, g = solved[m.name][0], solved[m.name][3]
+            unit, g = solved[m.name][0], solved[m.name][2]
             t = angles[0].reshape(D, S)
             # The impact speed at the optimum's angle t: n·unit/t; its rebound g·v0
             # (rebounds' arithmetic; NaN where the machine does not fit).
@@ -265,14 +274,15 @@ def batch_figures(
         else:
             got = type(m).sweep_values([m] * D, grid, angles, fits, n_threads=n_threads)
         for c, v in got.items():
-            extra[c] = np.fmax(extra.get(c, np.full(rows.shape, np.nan)), v)
+            prev = extra.get(c)
+            extra[c] = np.fmax(np.full(rows.shape, np.nan) if prev is None else prev, v)
         k += nb
     cols: dict[str, npt.NDArray[Any]] = {
         "fits": fits,
         "limiting_deg": value,
         "limiting_s": value / (DEG_PER_S_PER_RPM * rows),
         "productivity_per_min": np.where(fits, rows, 0.0),
-        "max_rebound_m": extra["max_rebound_m"],
+        "max_rebound_m": extra.get("max_rebound_m", np.full(rows.shape, np.nan)),
         "binding": binding,
     }
     cols = {c: v.reshape(D, S) for c, v in cols.items()}
@@ -297,7 +307,7 @@ def batch_figures(
 def _laws(
     bounded: Sequence[Any],
     base_laws: Sequence[Any],
-    solved: Mapping[str, tuple[Array, Array, Array, Array]],
+    solved: Mapping[str, tuple[Array, Array, Array]],
     D: int,
 ) -> list[list[Any]]:
     """Each design's bound laws (D, K): the swept stops' own (proportional, from
@@ -317,7 +327,7 @@ def _laws(
 def _slopes(
     bounded: Sequence[Any],
     base_laws: Sequence[Any],
-    solved: Mapping[str, tuple[Array, Array, Array, Array]],
+    solved: Mapping[str, tuple[Array, Array, Array]],
     D: int,
 ) -> Array | None:
     """The bound laws of :func:`_laws` as slopes (D, K) [deg/rpm] when every one

@@ -30,7 +30,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import check_bytes, speeds_rpm
+from .._arrays import check_bytes, plain_pages, speeds_rpm
 from .._errors import InputError
 from .._progress import progress as progress_bar
 from ._batch import batch_designs, batch_figures, plan
@@ -385,13 +385,10 @@ def _run_chunk(
     shaft: bool | None = None,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
-    one task. The designs are variants of one file, so every kernel runs once for
-    the chunk: with ``batch`` the swept stops of every design in one Rust call
-    (:mod:`cyclomech.machine._batch`; the designs it cannot take go the other
-    way), else one machine per design, the stops' searches together, one
-    shortest-path call for every design at every speed, one per step of the
-    speed-limit search. ``base``: the file's machine, when the caller has built it
-    (in-process: once for all the chunks). ``shaft``: the main-shaft columns too
+    one task, each kernel once: with ``batch`` the swept stops of every design in
+    one Rust call (:mod:`cyclomech.machine._batch`; the designs it cannot take go
+    the other way), else one machine per design. ``base``: the file's machine, if
+    built. ``shaft``: the main-shaft columns too
     (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None: none)."""
     base = Machine.from_dict(data, source) if base is None else base
     D, S = len(designs), speeds.size
@@ -402,7 +399,9 @@ def _run_chunk(
     values = {k: axes[j][designs[:, j]] for j, k in enumerate(names)}
     tables, ok = batch_designs(base, pl, values)
     cols = _empty(D, S)
-    if ok.any():
+    if ok.all():  # the usual case: the batch's columns as they are, no masked copies
+        cols.update(batch_figures(base, pl, tables, speeds, n_threads))
+    elif ok.any():
         got = batch_figures(base, pl, {k: t[:, ok] for k, t in tables.items()}, speeds, n_threads)
         for k, v in got.items():
             cols[k][ok] = v
@@ -655,7 +654,8 @@ def sweep(
     seconds = time.perf_counter() - t0
     if stream is not None:
         return SweepResult({}, tuple(names), seconds, stream.close(), stream.summary)
-    cols = {k: np.concatenate([c[k] for c in kept]) for k in kept[0]}
+    with plain_pages():  # the result's columns, written once (see plain_pages)
+        cols = {k: np.concatenate([c[k] for c in kept]) for k in kept[0]}
     return SweepResult(cols, tuple(names), seconds)
 
 

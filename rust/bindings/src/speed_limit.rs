@@ -16,11 +16,13 @@ use crate::errors::{run, IntoPyErr};
 /// What to do when a result does not fit in memory.
 const HINT: &str = "sweep fewer designs or speeds per chunk";
 
-/// (value (B,), code (B, E) int16, bound minima (B, K)) of `solve_proportional`.
+/// (value (B,), code (B, E) int16, bound minima (B, K), run starts (B,) bool) of
+/// `solve_proportional`.
 type Solved<'py> = (
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray2<i16>>,
     Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<bool>>,
 );
 
 /// The network's arrays, borrowed (shared by both functions).
@@ -157,16 +159,19 @@ pub fn solve_proportional<'py>(
     let value = convert::zeros::<f64, _>(py, &[b], what, HINT)?;
     let code = convert::zeros::<i16, _>(py, &[b, m], what, HINT)?;
     let mins = convert::zeros::<f64, _>(py, &[b, k], what, HINT)?;
+    let starts = convert::zeros::<bool, _>(py, &[b], what, HINT)?;
     {
         let (mut vw, mut cw, mut mw) = (value.readwrite(), code.readwrite(), mins.readwrite());
+        let mut sw = starts.readwrite();
         let out = SolveOut {
             value: convert::output(py, &mut vw)?,
             code: convert::output(py, &mut cw)?,
             bound_mins: convert::output(py, &mut mw)?,
+            new_run: convert::output(py, &mut sw)?,
         };
         run(py, "solve_proportional", || {
             cyclogram::solve_proportional_into(&net, slopes, designs, speeds, n_threads, out)
         })?;
     }
-    Ok((value, code, mins))
+    Ok((value, code, mins, starts))
 }

@@ -35,7 +35,6 @@ pub(super) const DIFFERENCE_PASSES: usize = 4;
 pub(super) struct Differences {
     n: usize,
     src: Vec<u32>,
-    dst: Vec<u32>,
     source: usize,
     target: usize,
     /// The arcs in the order the relaxation passes take them: by the tail's rank in
@@ -43,6 +42,12 @@ pub(super) struct Differences {
     /// settles every path along that order and each further pass one more back arc.
     /// In input order a chain given tail-first needed one pass per arc: quadratic.
     order: Vec<u32>,
+    /// The tails and heads of the arcs in that order (`src[order[i]]`, `dst[order[i]]`):
+    /// read in sequence by the passes.
+    ord_src: Vec<u32>,
+    ord_dst: Vec<u32>,
+    /// The runs of `order` that share a tail: (tail, end of the run) in order.
+    groups: Vec<(u32, u32)>,
 }
 
 /// Arc indices sorted (stably) by their tail's position in the reverse postorder
@@ -91,6 +96,15 @@ pub(super) struct DifferenceWork {
     pub(super) path: Vec<u32>,
     /// Passes over the arcs made by the last row (both runs): its cost, in passes.
     pub(super) passes: usize,
+    /// After a row whose first run settled, if that run's distances π are a
+    /// potential of the row's weights exactly (π[v] ≤ fl(π[u] + w[e]) on every
+    /// arc): (max |π|, max |w|), for a caller's certificate; else None.
+    pub(super) potential: Option<(f64, f64)>,
+    /// The arcs of the last cycle of predecessors a first run stopped at (a cycle
+    /// below `-eps` at that row's weights): a candidate for [`Differences::cycle_below`].
+    pub(super) cycle: Vec<u32>,
+    /// When each vertex's distance last fell, in steps of the run (V,).
+    changed: Vec<usize>,
 }
 
 impl DifferenceWork {
@@ -101,6 +115,9 @@ impl DifferenceWork {
             mark: vec![0; n],
             path: Vec::new(),
             passes: 0,
+            potential: None,
+            cycle: Vec::new(),
+            changed: vec![0; n],
         }
     }
 }
@@ -154,13 +171,24 @@ impl Differences {
             }
         }
         let order = arc_order(n, &src, &dst);
+        let ord_src: Vec<u32> = order.iter().map(|&e| src[e as usize]).collect();
+        let ord_dst = order.iter().map(|&e| dst[e as usize]).collect();
+        let mut groups: Vec<(u32, u32)> = Vec::new();
+        for (i, &u) in ord_src.iter().enumerate() {
+            match groups.last_mut() {
+                Some((tail, end)) if *tail == u => *end = i as u32 + 1,
+                _ => groups.push((u, i as u32 + 1)),
+            }
+        }
         Ok(Differences {
             n,
             src,
-            dst,
             source: source as usize,
             target: target as usize,
             order,
+            ord_src,
+            ord_dst,
+            groups,
         })
     }
 
@@ -177,11 +205,14 @@ impl Differences {
     /// pass n - 1 each is within (n - 1)·eps of that bound, so at most n(n - 1)
     /// more improvements can happen before a predecessor cycle must appear. The
     /// cap of n² + n + 1 passes is therefore never reached in practice.
+    /// `check_cycles = false` skips the search for a cycle of predecessors, for a
+    /// caller that has proved there is none to find (the run then settles).
     fn relax(
         &self,
         w: &[f64],
         eps: f64,
         start: Option<usize>,
+        check_cycles: bool,
         work: &mut DifferenceWork,
     ) -> Relaxation {
         let DifferenceWork {
@@ -189,6 +220,7 @@ impl Differences {
             pred,
             mark,
             passes: done,
+            changed: changed_at,
             ..
         } = work;
         match start {
@@ -199,24 +231,44 @@ impl Differences {
             }
         }
         pred.fill(NO_ARC);
+        changed_at.fill(0);
         let passes = self.n.saturating_mul(self.n).saturating_add(self.n + 1);
-        for _ in 0..passes {
+        // A tail's arcs are relaxed at step t (one step per run of arcs sharing
+        // a tail, counted from 1); the last time at t - G. If the tail's distance
+        // has not fallen since, each of them gives the same sum as then, which
+        // was not below the head's distance less eps then (or became it), and
+        // the head's distance has only fallen: the arcs would change nothing and
+        // are passed over. The same distances, predecessors and passes.
+        let g = self.groups.len();
+        let mut t = 0usize;
+        for p in 0..passes {
             *done += 1;
             let mut changed = false;
-            for &e in &self.order {
-                let (u, v) = (self.src[e as usize] as usize, self.dst[e as usize] as usize);
-                // inf + w = inf is never below anything: unreached tails do nothing.
-                let c = dist[u] + w[e as usize];
-                if c < dist[v] - eps {
-                    dist[v] = c;
-                    pred[v] = e;
-                    changed = true;
+            let mut begin = 0usize;
+            for &(u, end) in &self.groups {
+                t += 1;
+                let (u, end) = (u as usize, end as usize);
+                if p > 0 && changed_at[u] + g < t {
+                    begin = end;
+                    continue;
                 }
+                for (&e, &v) in self.order[begin..end].iter().zip(&self.ord_dst[begin..end]) {
+                    // inf + w = inf is never below anything: unreached tails do nothing.
+                    let v = v as usize;
+                    let c = dist[u] + w[e as usize];
+                    if c < dist[v] - eps {
+                        dist[v] = c;
+                        pred[v] = e;
+                        changed_at[v] = t;
+                        changed = true;
+                    }
+                }
+                begin = end;
             }
             if !changed {
                 return Relaxation::Settled;
             }
-            if predecessor_cycle(&self.src, pred, mark) {
+            if check_cycles && predecessor_cycle(&self.src, pred, mark).is_some() {
                 return Relaxation::NegativeCycle;
             }
         }
@@ -227,13 +279,58 @@ impl Differences {
     /// cycle is negative, +inf if the target is unreachable); the arcs of one
     /// shortest path, source to target, are left in `work.path`.
     pub(super) fn solve_row(&self, w: &[f64], work: &mut DifferenceWork) -> f64 {
+        self.solve_row_as(w, work, false)
+    }
+
+    /// [`Self::solve_row`], told with `feasible` whether the caller has proved that
+    /// no cycle weighs less than `-eps` (a potential π with π[v] ≤ fl(π[u] + w[e])
+    /// on every arc and small round-off: `speed_limit`'s certificate). Then no
+    /// predecessor cycle can form (it needs a cycle below `-eps`) and both runs
+    /// settle (see [`Self::relax`]): the first run, which only looks for such a
+    /// cycle, is skipped and the second runs without looking for one. The same
+    /// result bit for bit, at about half the work.
+    pub(super) fn solve_row_as(&self, w: &[f64], work: &mut DifferenceWork, feasible: bool) -> f64 {
+        match self.start_row(w, work, feasible) {
+            Some(eps) => self.finish_row(w, eps, feasible, work),
+            None => f64::NAN,
+        }
+    }
+
+    /// The first part of [`Self::solve_row_as`]: the row's tolerance `eps`, and
+    /// unless `feasible` the first run (None: it found a cycle below `-eps`, the
+    /// row's value is NaN). Leaves `work.potential` set when that run settled on
+    /// an exact potential.
+    pub(super) fn start_row(
+        &self,
+        w: &[f64],
+        work: &mut DifferenceWork,
+        feasible: bool,
+    ) -> Option<f64> {
         let scale = w.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
         let eps = DIFFERENCE_RTOL * (1.0 + scale) * self.n as f64;
         work.path.clear();
         work.passes = 0;
-        if self.relax(w, eps, None, work) == Relaxation::NegativeCycle
-            || self.relax(w, eps, Some(self.source), work) == Relaxation::NegativeCycle
-        {
+        work.potential = None;
+        if !feasible {
+            if self.relax(w, eps, None, true, work) == Relaxation::NegativeCycle {
+                self.keep_cycle(work);
+                return None;
+            }
+            work.potential = self.potential(w, &work.dist).map(|pi| (pi, scale));
+        }
+        Some(eps)
+    }
+
+    /// The rest of [`Self::solve_row_as`] after [`Self::start_row`]: the run from
+    /// the source, the path and the value.
+    pub(super) fn finish_row(
+        &self,
+        w: &[f64],
+        eps: f64,
+        feasible: bool,
+        work: &mut DifferenceWork,
+    ) -> f64 {
+        if self.relax(w, eps, Some(self.source), !feasible, work) == Relaxation::NegativeCycle {
             return f64::NAN;
         }
         if work.dist[self.target] == f64::INFINITY {
@@ -259,9 +356,70 @@ impl Differences {
     }
 }
 
+impl Differences {
+    /// Nodes up to which [`Self::cycle_below`] decides: its round-off margin holds
+    /// while n·2⁻⁵³ is far below `DIFFERENCE_RTOL` (see there).
+    const CYCLE_TEST_MAX_NODES: usize = 1000;
+
+    /// Whether the first run of a row with weights `w` cannot settle because the
+    /// cycle `cycle` (arc indices, a candidate from an earlier row) weighs less
+    /// than `-2·|C|·eps` here: then that run ends at a cycle of predecessors or at
+    /// its cap, and the row's value is NaN whatever else it would do.
+    ///
+    /// Why: a settled first run leaves distances d (sums of at most n weights,
+    /// |d| ≤ n·max|w|) with fl(d[u] + w[e]) ≥ fl(d[v] − eps) on every arc; summed
+    /// around the cycle, W(C) ≥ −|C|·eps − |C|·(n + 2)·max|w|·2⁻⁵³. With n ≤
+    /// [`Self::CYCLE_TEST_MAX_NODES`] the last term (and the round-off of W's own
+    /// sum) is below 1e-12·|C|·(1 + max|w|)·n/4 ≤ |C|·eps/4, so W < −2·|C|·eps
+    /// contradicts it. False says nothing.
+    pub(super) fn cycle_below(&self, w: &[f64], cycle: &[u32]) -> bool {
+        if cycle.is_empty() || self.n > Self::CYCLE_TEST_MAX_NODES {
+            return false;
+        }
+        let scale = w.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+        let eps = DIFFERENCE_RTOL * (1.0 + scale) * self.n as f64;
+        let weight = cycle.iter().fold(0.0, |s, &e| s + w[e as usize]);
+        weight < -2.0 * cycle.len() as f64 * eps
+    }
+
+    /// After a first run stopped at a cycle of predecessors: its arcs into
+    /// `work.cycle` (left as it was when the run stopped at its cap instead).
+    fn keep_cycle(&self, work: &mut DifferenceWork) {
+        let Some(start) = predecessor_cycle(&self.src, &work.pred, &mut work.mark) else {
+            return;
+        };
+        work.cycle.clear();
+        let mut v = start;
+        while let Some(&e) = work.pred.get(v) {
+            if e == NO_ARC || work.cycle.len() > self.n {
+                work.cycle.clear();
+                return;
+            }
+            work.cycle.push(e);
+            v = self.src[e as usize] as usize;
+            if v == start {
+                return;
+            }
+        }
+    }
+
+    /// max |π| if `pi` is a potential of `w` exactly (π[v] ≤ fl(π[u] + w[e]) on
+    /// every arc), else None.
+    fn potential(&self, w: &[f64], pi: &[f64]) -> Option<f64> {
+        let ok = self
+            .order
+            .iter()
+            .zip(&self.ord_src)
+            .zip(&self.ord_dst)
+            .all(|((&e, &u), &v)| pi[v as usize] <= pi[u as usize] + w[e as usize]);
+        ok.then(|| pi.iter().fold(0.0f64, |a, &x| a.max(x.abs())))
+    }
+}
+
 /// True if following predecessor arcs from some vertex leads back to a vertex of
 /// the same walk. `mark` (V,) is scratch space.
-fn predecessor_cycle(src: &[u32], pred: &[u32], mark: &mut [u32]) -> bool {
+/// Returns a vertex on such a cycle.
+fn predecessor_cycle(src: &[u32], pred: &[u32], mark: &mut [u32]) -> Option<usize> {
     mark.fill(0);
     for start in 0..pred.len() {
         if mark[start] != 0 {
@@ -279,13 +437,13 @@ fn predecessor_cycle(src: &[u32], pred: &[u32], mark: &mut [u32]) -> bool {
             v = src[e as usize] as usize;
             if mark[v] != 0 {
                 if mark[v] == stamp {
-                    return true;
+                    return Some(v);
                 }
                 break;
             }
         }
     }
-    false
+    None
 }
 
 /// Largest `x[target] - x[source]` over all real `x` with

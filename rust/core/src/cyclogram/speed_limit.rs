@@ -121,6 +121,11 @@ struct Prepared<'a> {
     /// those and the minimum-angle arcs at their largest (base − angle).
     max_const: f64,
     max_static: f64,
+    /// The operations whose minimum angle depends on the speed (a duration or an
+    /// extra bound; all of them if two share an arc), in order; the others' weights
+    /// are set once per scratch. And whether every weight set once is in range.
+    dynamic: Vec<usize>,
+    static_ok: bool,
 }
 
 /// One thread's scratch: weights (E,), minimum angles (O,) and the shortest-path
@@ -273,9 +278,32 @@ impl<'a> Prepared<'a> {
             .iter()
             .zip(net.angle)
             .fold(max_const, |a, (&e, &t)| a.max((net.base[e] - t).abs()));
+        let mut dynamic_op: Vec<bool> = net.secs.iter().map(|&t| t > 0.0).collect();
+        for &op in &bound_op {
+            dynamic_op[op] = true;
+        }
+        let mut seen = vec![false; m];
+        if min_edge
+            .iter()
+            .any(|&e| std::mem::replace(&mut seen[e], true))
+        {
+            dynamic_op.fill(true);
+        }
+        let dynamic: Vec<usize> = (0..o).filter(|&op| dynamic_op[op]).collect();
+        let mut w = net.base.to_vec();
+        for (op, &e) in min_edge.iter().enumerate() {
+            if !dynamic_op[op] {
+                w[e] = net.base[e] - net.angle[op];
+            }
+        }
+        let static_ok = (0..m)
+            .filter(|&e| !dynamic.iter().any(|&op| min_edge[op] == e))
+            .all(|e| w[e].abs() <= MAX_ABS_VALUE);
         Ok(Prepared {
             max_const,
             max_static,
+            dynamic,
+            static_ok,
             dst: net.dst.iter().map(|&v| v as u32).collect(),
             out_ptr,
             out_arcs,
@@ -292,9 +320,14 @@ impl<'a> Prepared<'a> {
     }
 
     fn scratch(&self) -> Scratch {
+        // The operations that are not dynamic keep their angle (and its weight).
+        let mut w = self.base.to_vec();
+        for (&e, &a) in self.min_edge.iter().zip(self.angle) {
+            w[e] = self.base[e] - a;
+        }
         Scratch {
-            w: self.base.to_vec(),
-            mins: vec![0.0; self.min_edge.len()],
+            w,
+            mins: self.angle.to_vec(),
             which: vec![0; self.min_edge.len()],
             work: DifferenceWork::new(self.n),
             pi: vec![0.0; self.n],
@@ -303,20 +336,30 @@ impl<'a> Prepared<'a> {
         }
     }
 
+    /// Whether the last row's first run left a certificate ([`Self::certified`]'s:
+    /// an exact potential with the same round-off bound) for every lower speed.
+    fn left_certificate(&self, work: &DifferenceWork) -> bool {
+        matches!(work.potential, Some((pi, max_w))
+            if pi + self.n as f64 * max_w.max(self.max_static)
+                <= CERTIFICATE_SCALE * (1.0 + self.max_const))
+    }
+
     /// The weights at `rpm` into `s.w` (`SpeedNetwork.solve`'s: the minimum
     /// angles, the extra bounds in order, base − minimum on each minimum-angle
     /// arc) and whether every bound has an angle (≤ 360°). An error where the
     /// Python search's shortest-path call would raise (a weight out of range).
     fn weights(&self, rpm: f64, per_rpm: &[f64], s: &mut Scratch) -> Result<bool, CyclogramError> {
-        // minimum_angles: where(secs > 0, 6·n·secs, -inf), the larger of it and the angle.
-        for (e, m) in s.mins.iter_mut().enumerate() {
+        // minimum_angles: where(secs > 0, 6·n·secs, -inf), the larger of it and the
+        // angle; only the dynamic operations' (the others' are their angles, set
+        // by `scratch` and never changed).
+        for &e in &self.dynamic {
             let dur = if self.secs[e] > 0.0 {
                 DEG_PER_S_PER_RPM * rpm * self.secs[e]
             } else {
                 f64::NEG_INFINITY
             };
             let by_time = dur > self.angle[e];
-            *m = if by_time { dur } else { self.angle[e] };
+            s.mins[e] = if by_time { dur } else { self.angle[e] };
             s.which[e] = u8::from(by_time);
         }
         // The extra bounds in order, each raising its operation's minimum.
@@ -340,20 +383,26 @@ impl<'a> Prepared<'a> {
                 bound_ok = false;
             }
         }
-        for (&e, &m) in self.min_edge.iter().zip(&s.mins) {
-            s.w[e] = self.base[e] - m;
+        let mut dynamic_ok = true;
+        for &o in &self.dynamic {
+            let e = self.min_edge[o];
+            s.w[e] = self.base[e] - s.mins[o];
+            dynamic_ok &= s.w[e].abs() <= MAX_ABS_VALUE; // NaN fails too
         }
-        if let Some((col, &value)) =
-            s.w.iter()
-                .enumerate()
-                .find(|(_, v)| v.is_nan() || v.abs() > MAX_ABS_VALUE)
-        {
-            return Err(CyclogramError::NonFinite {
-                field: "weights",
-                location: format!("[{col}] (at {rpm} rpm)"),
-                value,
-                what: "difference bounds",
-            });
+        if !(self.static_ok && dynamic_ok) {
+            // Out of range somewhere: the first such column, as one pass over all finds it.
+            if let Some((col, &value)) =
+                s.w.iter()
+                    .enumerate()
+                    .find(|(_, v)| v.is_nan() || v.abs() > MAX_ABS_VALUE)
+            {
+                return Err(CyclogramError::NonFinite {
+                    field: "weights",
+                    location: format!("[{col}] (at {rpm} rpm)"),
+                    value,
+                    what: "difference bounds",
+                });
+            }
         }
         Ok(bound_ok)
     }
@@ -361,11 +410,21 @@ impl<'a> Prepared<'a> {
     /// Whether the cyclogram fits at `rpm` with the bounds' slopes `per_rpm`
     /// (K,): `SpeedNetwork.solve(...)[1]` for one row, by the same shortest-path
     /// core (`Differences::solve_row`) on the same weights.
+    ///
+    /// When the first run settles on a certificate (`left_certificate`), the
+    /// second cannot meet a cycle below `-eps` and settles too, so the value is
+    /// finite exactly when the end is reachable at all: that run is skipped.
     fn fits(&self, rpm: f64, per_rpm: &[f64], s: &mut Scratch) -> Result<bool, CyclogramError> {
-        if !self.weights(rpm, per_rpm, s)? {
+        if !self.weights(rpm, per_rpm, s)? || self.sys.cycle_below(&s.w, &s.work.cycle) {
             return Ok(false);
         }
-        let value = self.sys.solve_row(&s.w, &mut s.work);
+        let Some(eps) = self.sys.start_row(&s.w, &mut s.work, false) else {
+            return Ok(false);
+        };
+        if self.left_certificate(&s.work) {
+            return Ok(self.reachable);
+        }
+        let value = self.sys.finish_row(&s.w, eps, false, &mut s.work);
         Ok((value + self.lim_shift).is_finite())
     }
 
@@ -454,21 +513,25 @@ impl<'a> Prepared<'a> {
         // known[i]: 0 not tried, 1 fits, 2 does not.
         let mut known = [0u8; GRID];
         let (mut fit, mut miss) = (-1isize, GRID as isize);
+        // Every speed up to `proven` fits: a fitting speed whose check left a
+        // certificate, or one of the certificates tried below.
+        let mut proven = -1isize;
         while miss - fit > 1 {
             let mid = (fit + miss) / 2;
             if self.fits(at(mid as usize), per_rpm, s)? {
                 known[mid as usize] = 1;
                 fit = mid;
+                if self.left_certificate(&s.work) {
+                    proven = mid;
+                }
             } else {
                 known[mid as usize] = 2;
                 miss = mid;
             }
         }
-        // Every speed up to `proven` fits.
-        let mut proven = -1isize;
         let (mut p, mut gap) = (fit, 2isize);
         for _ in 0..CERTIFICATE_TRIES {
-            if p < 1 {
+            if p < 1 || p <= proven {
                 break;
             }
             if self.certified(at(p as usize), per_rpm, s)? {
@@ -598,8 +661,9 @@ pub fn speed_limits_proportional(
     Ok(out)
 }
 
-/// One row of [`solve_proportional_into`]: its index, value, codes and bound minima.
-type RowItem<'a> = (usize, (&'a mut f64, (&'a mut [i16], &'a mut [f64])));
+/// One task of [`solve_proportional_into`]: its index, its rows' values, codes and
+/// bound minima.
+type TaskItem<'a> = (usize, (&'a mut [f64], (&'a mut [i16], &'a mut [f64])));
 
 /// What [`solve_proportional_into`] gives per row (B = D·S rows, design-major).
 #[derive(Debug)]
@@ -612,6 +676,10 @@ pub struct SolveOut<'a> {
     pub code: &'a mut [i16],
     /// The minimum angle [deg] of each extra bound's operation (B, K).
     pub bound_mins: &'a mut [f64],
+    /// Per row (B,): whether its codes differ from the previous row's (true for
+    /// row 0): the starts of the runs of equal chains, which the caller names
+    /// once each (neighbouring speeds mostly share a chain).
+    pub new_run: &'a mut [bool],
 }
 
 /// `SpeedNetwork.solve` of every design at every speed: design d (of
@@ -641,6 +709,7 @@ pub fn solve_proportional_into(
         ("value", out.value.len(), b),
         ("code", out.code.len(), b.saturating_mul(m)),
         ("bound_mins", out.bound_mins.len(), b.saturating_mul(k)),
+        ("new_run", out.new_run.len(), b),
     ] {
         if got != want {
             return Err(CyclogramError::Output {
@@ -649,14 +718,20 @@ pub fn solve_proportional_into(
             });
         }
     }
+    // Each design's rows are solved from its highest speed down: the first row
+    // whose first run settles on an exact potential certifies every lower speed
+    // (the weights only grow as the speed falls, see `Prepared::certified`), and
+    // there `solve_row_as` skips that run. `cover`: the lowest such speed so far.
     let row = |sc: &mut Scratch,
                r: usize,
+               cover: &mut f64,
                value: &mut f64,
                code: &mut [i16],
                mins: &mut [f64]|
      -> Result<(), CyclogramError> {
-        let per = &per_rpm[(r / s) * k..(r / s + 1) * k];
-        let bound_ok = prep.weights(rpm[r % s], per, sc)?;
+        let (d, x) = (r / s, rpm[r % s]);
+        let per = &per_rpm[d * k..(d + 1) * k];
+        let bound_ok = prep.weights(x, per, sc)?;
         for (o, &op) in mins.iter_mut().zip(&prep.bound_op) {
             *o = sc.mins[op];
         }
@@ -665,7 +740,15 @@ pub fn solve_proportional_into(
         if !bound_ok {
             return Ok(());
         }
-        let v = prep.sys.solve_row(&sc.w, &mut sc.work);
+        // Only positive speeds: below 0 a bound n·per_rpm < 0 is not monotone.
+        let certified = x > 0.0 && x <= *cover;
+        if !certified && prep.sys.cycle_below(&sc.w, &sc.work.cycle) {
+            return Ok(()); // NaN: an earlier row's negative cycle is one here too
+        }
+        let v = prep.sys.solve_row_as(&sc.w, &mut sc.work, certified);
+        if x > 0.0 && !certified && prep.left_certificate(&sc.work) {
+            *cover = x;
+        }
         if !v.is_finite() || !(v + prep.lim_shift).is_finite() {
             return Ok(());
         }
@@ -683,39 +766,98 @@ pub fn solve_proportional_into(
     if b == 0 {
         return Ok(());
     }
-    let (mc, kc) = (m.max(1), k.max(1));
     let SolveOut {
         value,
         code,
         bound_mins,
+        new_run,
     } = out;
-    // Without arcs or bounds the chunks are empty: pad them so the zip holds.
+    // Without arcs or bounds the rows are empty: pad them so the chunks hold.
     let mut no_code = vec![0i16; if m == 0 { b } else { 0 }];
     let mut no_mins = vec![0.0f64; if k == 0 { b } else { 0 }];
     let code: &mut [i16] = if m == 0 { &mut no_code } else { code };
     let bound_mins: &mut [f64] = if k == 0 { &mut no_mins } else { bound_mins };
-    let run =
-        |sc: &mut Scratch, (r, (v, (c, bm))): RowItem<'_>| row(sc, r, v, &mut c[..m], &mut bm[..k]);
+    let (mc, kc) = (m.max(1), k.max(1));
+    // Each speed's rank from the highest down (ties in row order).
+    let mut desc: Vec<usize> = (0..s).collect();
+    desc.sort_by(|&i, &j| rpm[j].total_cmp(&rpm[i]));
+    let mut rank = vec![0usize; s];
+    for (i, &j) in desc.iter().enumerate() {
+        rank[j] = i;
+    }
+    // A task: `rows` consecutive rows; each design's part of it from the top speed.
+    let rows = s.clamp(64, 4096);
+    let task = |sc: &mut Scratch, (t, (v, (c, bm))): TaskItem<'_>| -> Result<(), CyclogramError> {
+        let r0 = t * rows;
+        let mut order: Vec<usize> = Vec::new();
+        let mut start = r0;
+        while start < r0 + v.len() {
+            let d = start / s;
+            let end = ((d + 1) * s).min(r0 + v.len());
+            order.clear();
+            if end - start == s {
+                order.extend(desc.iter().map(|&j| d * s + j));
+            } else {
+                order.extend(start..end);
+                order.sort_unstable_by_key(|&r| rank[r % s]);
+            }
+            let mut cover = f64::NEG_INFINITY;
+            for &r in &order {
+                let i = r - r0;
+                let (ci, bi) = (&mut c[i * mc..i * mc + m], &mut bm[i * kc..i * kc + k]);
+                if let Err(e) = row(sc, r, &mut cover, &mut v[i], ci, bi) {
+                    // Report the task's first bad row in row order, as a loop would.
+                    for r in r0..r0 + v.len() {
+                        prep.weights(rpm[r % s], &per_rpm[(r / s) * k..(r / s + 1) * k], sc)?;
+                    }
+                    return Err(e);
+                }
+            }
+            start = end;
+        }
+        Ok(())
+    };
     if threads == 1 || b < 64 {
         let mut sc = prep.scratch();
         for item in value
-            .iter_mut()
-            .zip(code.chunks_mut(mc).zip(bound_mins.chunks_mut(kc)))
+            .chunks_mut(rows)
+            .zip(
+                code.chunks_mut(rows * mc)
+                    .zip(bound_mins.chunks_mut(rows * kc)),
+            )
             .enumerate()
         {
-            run(&mut sc, item)?;
+            task(&mut sc, item)?;
         }
-        Ok(())
     } else {
         crate::parallel::pool(threads)?.install(|| {
             value
-                .par_iter_mut()
-                .zip(code.par_chunks_mut(mc).zip(bound_mins.par_chunks_mut(kc)))
+                .par_chunks_mut(rows)
+                .zip(
+                    code.par_chunks_mut(rows * mc)
+                        .zip(bound_mins.par_chunks_mut(rows * kc)),
+                )
                 .enumerate()
-                .with_min_len(64)
-                .try_for_each_init(|| prep.scratch(), run)
-        })
+                .try_for_each_init(|| prep.scratch(), task)
+        })?;
     }
+    // Row r starts a run unless its codes are row r - 1's (m = 0: one run).
+    let code: &[i16] = code;
+    let starts = |(r, x): (usize, &mut bool)| {
+        *x = r == 0 || (m > 0 && code[r * m..(r + 1) * m] != code[(r - 1) * m..r * m]);
+    };
+    if threads == 1 || b < 4096 {
+        new_run.iter_mut().enumerate().for_each(starts);
+    } else {
+        crate::parallel::pool(threads)?.install(|| {
+            new_run
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(4096)
+                .for_each(starts)
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -815,10 +957,140 @@ mod tests {
         assert!(e.to_string().contains("n_threads"), "{e}");
     }
 
+    /// A weight out of range is an error naming its column and the first row in
+    /// row order that has it (the rows are solved from the top speed down): a
+    /// static one (an angle) at the first row, a dynamic one (a duration at a huge
+    /// speed) at the first speed that makes it.
+    #[test]
+    fn weight_errors_name_the_first_bad_row() {
+        let (src, dst, base) = chain();
+        let solve = |angle: [f64; 2], secs: [f64; 2], speeds: &[f64]| {
+            let net = ProportionalNetwork {
+                n_nodes: 5,
+                src: &src,
+                dst: &dst,
+                base: &base,
+                source: 1,
+                target: 2,
+                lim_shift: 0.0,
+                min_edge: &[0, 1],
+                angle: &angle,
+                secs: &secs,
+                bound_op: &[0],
+            };
+            let b = speeds.len();
+            let (mut value, mut code) = (vec![0.0; b], vec![0i16; b * src.len()]);
+            let (mut mins, mut new_run) = (vec![0.0; b], vec![false; b]);
+            let out = SolveOut {
+                value: &mut value,
+                code: &mut code,
+                bound_mins: &mut mins,
+                new_run: &mut new_run,
+            };
+            solve_proportional_into(&net, &[0.1], 1, speeds, Some(1), out)
+                .unwrap_err()
+                .to_string()
+        };
+        let e = solve([100.0, 2e12], [0.0, 0.0], &[100.0, 300.0]);
+        assert!(e.contains("[1] (at 100 rpm)"), "{e}");
+        let e = solve([100.0, 60.0], [1e4, 0.0], &[10.0, 1e9, 2e9]);
+        assert!(e.contains("[0] (at 1000000000 rpm)"), "{e}");
+    }
+
     use proptest::prelude::*;
+
+    /// `fits` by the plain core alone: the weights and both runs, no certificate
+    /// and no earlier row's cycle (fresh scratch).
+    fn plain_fits(prep: &Prepared<'_>, rpm: f64, per: &[f64]) -> bool {
+        let mut s = prep.scratch();
+        prep.weights(rpm, per, &mut s).unwrap()
+            && (prep.sys.solve_row(&s.w, &mut s.work) + prep.lim_shift).is_finite()
+    }
+
+    /// A speed for the row tests: negative, zero, a repeated one, or 1e-6…3000 rpm.
+    fn speed() -> impl Strategy<Value = f64> {
+        prop_oneof![-100.0f64..0.0, Just(0.0), Just(250.0), 1e-6f64..3000.0]
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// `fits` (which skips the second run under a certificate and the whole
+        /// row under an earlier row's negative cycle) is the plain core's verdict,
+        /// whatever speeds the scratch saw before.
+        #[test]
+        fn fits_is_the_plain_core(
+            a0 in 0.0f64..200.0, a1 in 0.0f64..200.0,
+            s0 in prop_oneof![Just(0.0), 1e-4f64..0.05],
+            per in prop_oneof![Just(0.0), 1e-4f64..2.0, -1.0f64..0.0],
+            speeds in prop::collection::vec(speed(), 1..40),
+        ) {
+            let (src, dst, base) = chain();
+            let (angle, secs) = ([a0, a1], [s0, 0.0]);
+            let net = ProportionalNetwork {
+                n_nodes: 5, src: &src, dst: &dst, base: &base, source: 1, target: 2,
+                lim_shift: 0.0, min_edge: &[0, 1], angle: &angle, secs: &secs, bound_op: &[0],
+            };
+            let prep = Prepared::new(&net).unwrap();
+            let mut s = prep.scratch();
+            for &x in &speeds {
+                prop_assert_eq!(prep.fits(x, &[per], &mut s).unwrap(), plain_fits(&prep, x, &[per]));
+            }
+        }
+
+        /// Every row of `solve_proportional_into` (each design's rows from its top
+        /// speed down, the first run skipped below a certificate, a row NaN by an
+        /// earlier row's cycle, tasks cut inside designs) is what the plain core
+        /// gives that row alone: value, path and codes; and the run starts.
+        #[test]
+        fn rows_are_the_plain_core_rows(
+            a0 in 0.0f64..200.0, a1 in 0.0f64..200.0,
+            s0 in prop_oneof![Just(0.0), 1e-4f64..0.05],
+            pers in prop::collection::vec(prop_oneof![Just(0.0), 1e-4f64..2.0, -1.0f64..0.0], 1..5),
+            speeds in prop::collection::vec(speed(), 1..150),
+            threads in 1i64..3,
+        ) {
+            let (src, dst, base) = chain();
+            let (angle, secs) = ([a0, a1], [s0, 0.0]);
+            let net = ProportionalNetwork {
+                n_nodes: 5, src: &src, dst: &dst, base: &base, source: 1, target: 2,
+                lim_shift: 0.0, min_edge: &[0, 1], angle: &angle, secs: &secs, bound_op: &[0],
+            };
+            let (d, n, m) = (pers.len(), speeds.len(), src.len());
+            let b = d * n;
+            let (mut value, mut code) = (vec![0.0; b], vec![0i16; b * m]);
+            let (mut mins, mut new_run) = (vec![0.0; b], vec![false; b]);
+            let out = SolveOut {
+                value: &mut value, code: &mut code, bound_mins: &mut mins, new_run: &mut new_run,
+            };
+            solve_proportional_into(&net, &pers, d, &speeds, Some(threads), out).unwrap();
+            let prep = Prepared::new(&net).unwrap();
+            for r in 0..b {
+                let mut s = prep.scratch();
+                let ok = prep.weights(speeds[r % n], &pers[r / n..r / n + 1], &mut s).unwrap();
+                prop_assert_eq!(mins[r].to_bits(), s.mins[0].to_bits());
+                let v = if ok { prep.sys.solve_row(&s.w, &mut s.work) } else { f64::NAN };
+                let row = &code[r * m..(r + 1) * m];
+                if v.is_finite() {
+                    prop_assert_eq!(value[r].to_bits(), v.to_bits(), "row {}", r);
+                    let mut want = vec![0i16; m];
+                    for &e in &s.work.path {
+                        want[e as usize] = 1;
+                    }
+                    for (o, &e) in [0usize, 1].iter().enumerate() {
+                        if want[e] > 0 {
+                            want[e] = 1 + i16::from(s.which[o]);
+                        }
+                    }
+                    prop_assert_eq!(row, &want[..], "row {}", r);
+                } else {
+                    prop_assert!(value[r].is_nan(), "row {}: {} for {}", r, value[r], v);
+                    prop_assert!(row.iter().all(|&c| c == 0));
+                }
+                let starts = r == 0 || row != &code[(r - 1) * m..r * m];
+                prop_assert_eq!(new_run[r], starts, "row {}", r);
+            }
+        }
 
         /// The bisection with certificates finds the first grid speed that does
         /// not fit, as trying all 64 in order does; and a certificate is never
@@ -842,7 +1114,7 @@ mod tests {
             let step = width / 65.0;
             let at = |i: usize| (i + 1) as f64 * step + lo;
             let plain = (0..GRID)
-                .find(|&i| !prep.fits(at(i), &[per], &mut s).unwrap())
+                .find(|&i| !plain_fits(&prep, at(i), &[per]))
                 .unwrap_or(GRID);
             prop_assert_eq!(prep.first_miss(&at, &[per], &mut s).unwrap(), plain);
             for i in (0..GRID).step_by(7) {

@@ -40,6 +40,35 @@ fn item20_a_chain_settles_in_two_passes_whatever_its_order() {
     }
 }
 
+/// A cycle a little below 0 but above -eps settles (the core's tolerance), yet has
+/// no exact potential: its first run leaves no certificate (the speed kernels would
+/// otherwise skip the first run at lower speeds on a false proof). A cycle far
+/// below -eps stops the run at a cycle of predecessors, which is kept, and
+/// `cycle_below` takes it for the row's verdict only below -2·|C|·eps.
+#[test]
+fn a_tolerated_cycle_leaves_no_certificate_and_the_cycle_test_keeps_its_margin() {
+    let sys = Differences::new(2, &[0, 1], &[1, 0], 0, 1).unwrap();
+    let mut work = DifferenceWork::new(2);
+    // eps of these rows: DIFFERENCE_RTOL·(1 + max|w|)·n, max|w| ≈ 1.
+    let eps = DIFFERENCE_RTOL * 2.0 * 2.0;
+    let row = |d: f64| [1.0, -1.0 - d];
+    let v = sys.solve_row(&row(0.0), &mut work);
+    assert_eq!(v, 1.0);
+    assert!(work.potential.is_some(), "an exact cycle has a potential");
+    let v = sys.solve_row(&row(eps / 4.0), &mut work);
+    assert_eq!(v, 1.0, "tolerated");
+    assert_eq!(work.potential, None, "no exact potential: no certificate");
+    assert!(!sys.cycle_below(&row(eps / 4.0), &[0, 1]));
+    assert!(sys.solve_row(&row(10.0 * eps), &mut work).is_nan());
+    let mut cycle = work.cycle.clone();
+    cycle.sort_unstable();
+    assert_eq!(cycle, [0, 1], "the cycle the run stopped at");
+    assert!(sys.cycle_below(&row(10.0 * eps), &work.cycle));
+    // -3·eps: the run finds the cycle, but the test (−4·eps for two arcs) says nothing.
+    assert!(sys.solve_row(&row(3.0 * eps), &mut work).is_nan());
+    assert!(!sys.cycle_below(&row(3.0 * eps), &work.cycle));
+}
+
 /// Independent reference: relax every arc V times (Bellman–Ford style).
 fn reference(n: usize, src: &[i64], dst: &[i64], w: &[f64]) -> Vec<f64> {
     let mut has_in = vec![false; n];
