@@ -326,7 +326,13 @@ def test_properties(prog, which, scale, rb, rr_frac, e_frac, groove) -> None:  #
         step = 1e-6
         t = (cam.solve(theta + step).pitch - cam.solve(theta - step).pitch) / (2 * step)
         cosang = np.sum(d * t, axis=-1) / np.linalg.norm(t, axis=-1)
-        np.testing.assert_allclose(cosang, 0.0, atol=1e-6 * max(rr, 1e-3))
+        # At a segment's ends the acceleration may jump (harmonic, …): there the
+        # central difference is off by O(step·Δa) (4e-8 found at θ = 0), so the
+        # points within two steps of an end are left out.
+        ends = np.radians(np.cumsum([0.0] + [g.angle_deg for g in prog]))
+        gap = np.abs(np.mod(theta[:, None] - ends[None, :] + np.pi, TAU) - np.pi).min(axis=1)
+        away = gap > 2 * step
+        np.testing.assert_allclose(cosang[away], 0.0, atol=1e-6 * max(rr, 1e-3))
         if groove:
             assert k.profile_outer is not None
             np.testing.assert_allclose(k.profile_outer - k.pitch, -d, atol=1e-12)
