@@ -721,7 +721,7 @@ pub fn solve_proportional_into(
     // Each design's rows are solved from its highest speed down: the first row
     // whose first run settles on an exact potential certifies every lower speed
     // (the weights only grow as the speed falls, see `Prepared::certified`), and
-    // there `solve_row_as` skips that run. `cover`: the lowest such speed so far.
+    // there `solve_row_as` skips that run. `cover`: the speed of that row (-inf: none yet).
     let row = |sc: &mut Scratch,
                r: usize,
                cover: &mut f64,
@@ -885,21 +885,31 @@ mod tests {
         (src, dst, base)
     }
 
-    fn limits(per_rpm: &[f64], secs: f64, threads: i64) -> Vec<f64> {
-        let (src, dst, base) = chain();
-        let net = ProportionalNetwork {
+    /// The `chain` network with the operations' angles and durations and one
+    /// extra bound on a→b.
+    fn chain_net<'a>(
+        (src, dst, base): &'a (Vec<i64>, Vec<i64>, Vec<f64>),
+        angle: &'a [f64; 2],
+        secs: &'a [f64; 2],
+    ) -> ProportionalNetwork<'a> {
+        ProportionalNetwork {
             n_nodes: 5,
-            src: &src,
-            dst: &dst,
-            base: &base,
+            src,
+            dst,
+            base,
             source: 1,
             target: 2,
             lim_shift: 0.0,
             min_edge: &[0, 1],
-            angle: &[100.0, 60.0],
-            secs: &[secs, 0.0],
+            angle,
+            secs,
             bound_op: &[0],
-        };
+        }
+    }
+
+    fn limits(per_rpm: &[f64], secs: f64, threads: i64) -> Vec<f64> {
+        let (chain, secs) = (chain(), [secs, 0.0]);
+        let net = chain_net(&chain, &[100.0, 60.0], &secs);
         let sp = SpeedSearch {
             start: 100.0,
             floor: 1e-6,
@@ -967,23 +977,11 @@ mod tests {
     /// speed) at the first speed that makes it.
     #[test]
     fn weight_errors_name_the_first_bad_row() {
-        let (src, dst, base) = chain();
+        let chain = chain();
         let solve = |angle: [f64; 2], secs: [f64; 2], speeds: &[f64]| {
-            let net = ProportionalNetwork {
-                n_nodes: 5,
-                src: &src,
-                dst: &dst,
-                base: &base,
-                source: 1,
-                target: 2,
-                lim_shift: 0.0,
-                min_edge: &[0, 1],
-                angle: &angle,
-                secs: &secs,
-                bound_op: &[0],
-            };
+            let net = chain_net(&chain, &angle, &secs);
             let b = speeds.len();
-            let (mut value, mut code) = (vec![0.0; b], vec![0i16; b * src.len()]);
+            let (mut value, mut code) = (vec![0.0; b], vec![0i16; b * net.src.len()]);
             let (mut mins, mut new_run) = (vec![0.0; b], vec![false; b]);
             let out = SolveOut {
                 value: &mut value,
@@ -1029,12 +1027,9 @@ mod tests {
             per in prop_oneof![Just(0.0), 1e-4f64..2.0, -1.0f64..0.0],
             speeds in prop::collection::vec(speed(), 1..40),
         ) {
-            let (src, dst, base) = chain();
+            let chain = chain();
             let (angle, secs) = ([a0, a1], [s0, 0.0]);
-            let net = ProportionalNetwork {
-                n_nodes: 5, src: &src, dst: &dst, base: &base, source: 1, target: 2,
-                lim_shift: 0.0, min_edge: &[0, 1], angle: &angle, secs: &secs, bound_op: &[0],
-            };
+            let net = chain_net(&chain, &angle, &secs);
             let prep = Prepared::new(&net).unwrap();
             let mut s = prep.scratch();
             for &x in &speeds {
@@ -1058,13 +1053,10 @@ mod tests {
             if ascending {
                 speeds.sort_by(f64::total_cmp);
             }
-            let (src, dst, base) = chain();
+            let chain = chain();
             let (angle, secs) = ([a0, a1], [s0, 0.0]);
-            let net = ProportionalNetwork {
-                n_nodes: 5, src: &src, dst: &dst, base: &base, source: 1, target: 2,
-                lim_shift: 0.0, min_edge: &[0, 1], angle: &angle, secs: &secs, bound_op: &[0],
-            };
-            let (d, n, m) = (pers.len(), speeds.len(), src.len());
+            let net = chain_net(&chain, &angle, &secs);
+            let (d, n, m) = (pers.len(), speeds.len(), net.src.len());
             let b = d * n;
             let (mut value, mut code) = (vec![0.0; b], vec![0i16; b * m]);
             let (mut mins, mut new_run) = (vec![0.0; b], vec![false; b]);
@@ -1110,13 +1102,9 @@ mod tests {
             per in prop_oneof![Just(0.0), 1e-4f64..2.0],
             lo in 1e-6f64..900.0, width in prop_oneof![1e-9f64..1e-6, 1e-3f64..1e3],
         ) {
-            let (src, dst, base) = chain();
-            let angle = [a0, a1];
-            let secs = [s0, 0.0];
-            let net = ProportionalNetwork {
-                n_nodes: 5, src: &src, dst: &dst, base: &base, source: 1, target: 2,
-                lim_shift: 0.0, min_edge: &[0, 1], angle: &angle, secs: &secs, bound_op: &[0],
-            };
+            let chain = chain();
+            let (angle, secs) = ([a0, a1], [s0, 0.0]);
+            let net = chain_net(&chain, &angle, &secs);
             let prep = Prepared::new(&net).unwrap();
             let mut s = prep.scratch();
             let step = width / 65.0;
