@@ -311,9 +311,10 @@ def plain_pages() -> Iterator[None]:
     (``madvise(MADV_HUGEPAGE)``). Where the kernel honours only advised regions but
     finds no free huge page, it compacts memory on the first touch instead: on the
     VMs we measured, first touching a 10⁶-point sweep's columns (88 MB) took
-    ~150 ms more in most trials (BENCHMARKS.md, issue 20). A result written once
-    and handed to the user gains nothing from huge pages, so its columns are
-    allocated plainly. This is numpy's own switch (the one
+    ~150 ms more in most trials (BENCHMARKS.md, issue 20), so the sweep's result
+    is allocated plainly. Not the kernels' outputs: their threads write them while
+    the kernel runs, and there the advice, when the kernel finds huge pages, makes
+    the call up to 2× faster (measured side by side). This is numpy's own switch (the one
     ``NUMPY_MADVISE_HUGEPAGE=0`` sets at import), set for the block and restored
     after it; a numpy without it allocates as usual.
 

@@ -182,11 +182,44 @@ pub fn zeros<'py, T: Element, D: Dimension>(
     what: &str,
     hint: &str,
 ) -> PyResult<Bound<'py, PyArray<T, D>>> {
+    allocate(py, shape, true, what, hint)
+}
+
+/// A new C-order array whose memory nothing writes before the kernel
+/// (`numpy.empty`): fresh pages are cleared by the operating system when the
+/// kernel's own threads first touch them, and memory the allocator reuses is not
+/// cleared at all. For outputs the kernel writes in full; a failure to allocate
+/// is the `InputError` of [`check`] with `hint`.
+pub fn empty<'py, T: Element, D: Dimension>(
+    py: Python<'py>,
+    shape: &[usize],
+    what: &str,
+    hint: &str,
+) -> PyResult<Bound<'py, PyArray<T, D>>> {
+    allocate(py, shape, false, what, hint)
+}
+
+/// The one way outputs are allocated: `numpy.zeros` or `numpy.empty` (numpy's
+/// allocator, so numpy owns the memory; from 4 MiB up with its huge-page advice,
+/// which makes the kernels' first touch of a large output faster where the
+/// kernel finds huge pages).
+fn allocate<'py, T: Element, D: Dimension>(
+    py: Python<'py>,
+    shape: &[usize],
+    zeroed: bool,
+    what: &str,
+    hint: &str,
+) -> PyResult<Bound<'py, PyArray<T, D>>> {
     static ZEROS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
-    let f = ZEROS.get_or_try_init(py, || {
-        py.import("numpy")?.getattr("zeros").map(Bound::unbind)
-    })?;
-    match f.bind(py).call1((shape.to_vec(), T::get_dtype(py))) {
+    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let (cell, name) = if zeroed {
+        (&ZEROS, "zeros")
+    } else {
+        (&EMPTY, "empty")
+    };
+    let f = cell.get_or_try_init(py, || py.import("numpy")?.getattr(name).map(Bound::unbind))?;
+    let made = f.bind(py).call1((shape.to_vec(), T::get_dtype(py)));
+    match made {
         Ok(a) => Ok(a.cast_into::<PyArray<T, D>>()?),
         Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
             // Numpy could not allocate: report it as a size that does not fit.

@@ -8,9 +8,7 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
 };
-use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
-use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 
 use crate::convert::{self, LayoutError};
@@ -100,20 +98,9 @@ impl<'py> CaseArrays<'py> {
 /// A new float64 array of `n` samples for one case's response, not zeroed:
 /// `response_into` writes every sample before it returns Ok (and on an error
 /// the array is dropped unseen), so zeroing 8·N bytes first (numpy's calloc of
-/// a recycled block is a memset) would be wasted. An allocation failure goes
-/// through [`convert::zeros`], which words it as the usual `InputError`.
+/// a recycled block is a memset) would be wasted.
 fn unfilled(py: Python<'_>, n: usize) -> PyResult<Bound<'_, PyArray1<f64>>> {
-    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
-    let empty = EMPTY.get_or_try_init(py, || {
-        py.import("numpy")?.getattr("empty").map(Bound::unbind)
-    })?;
-    match empty.bind(py).call1((n,)) {
-        Ok(a) => Ok(a.cast_into::<PyArray1<f64>>()?),
-        Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
-            convert::zeros(py, &[n], "duhamel's response", HINT)
-        }
-        Err(e) => Err(e),
-    }
+    convert::empty(py, &[n], "duhamel's response", HINT)
 }
 
 /// Response q (N,) of m q̈ + 2ζω m q̇ + mω² q = F(t) to the piecewise-linear force

@@ -3,15 +3,11 @@
 
 use cyclomech_core::linkage::{self, Line, LinkageError, Outputs, Request, Step, Triad};
 use numpy::ndarray::{ArrayView1, Axis};
-use numpy::Element;
 use numpy::{
     PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
     PyUntypedArrayMethods,
 };
-use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
-use pyo3::sync::PyOnceLock;
-use pyo3::types::IntoPyDict;
 
 use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
@@ -124,35 +120,6 @@ type Arrays<'py> = (
     Bound<'py, PyArrayDyn<bool>>,
 );
 
-/// A new C-order array of `shape` whose memory nothing writes before the kernel
-/// (`numpy.empty`): fresh pages are cleared by the operating system when the
-/// solve's own threads first touch them, and memory the allocator reuses is not
-/// cleared at all. The kernels write every element. A failure to allocate is the
-/// `InputError` of `cyclomech._arrays.check_bytes`.
-fn empty<'py, T: Element>(
-    py: Python<'py>,
-    shape: &[usize],
-    what: &str,
-    hint: &str,
-) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
-    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
-    let f = EMPTY.get_or_try_init(py, || {
-        py.import("numpy")?.getattr("empty").map(Bound::unbind)
-    })?;
-    match f.bind(py).call1((shape.to_vec(), T::get_dtype(py))) {
-        Ok(a) => Ok(a.cast_into::<PyArrayDyn<T>>()?),
-        Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
-            let bytes = convert::nbytes(&[(shape, std::mem::size_of::<T>())]);
-            let kwargs = [("failed", true)].into_py_dict(py)?;
-            py.import("cyclomech._arrays")?
-                .getattr("check_bytes")?
-                .call((what, bytes, hint), Some(&kwargs))?;
-            Err(e)
-        }
-        Err(e) => Err(e),
-    }
-}
-
 /// Output arrays allocated by numpy (which backs large ones with huge pages), of
 /// shape `lead + (M, 2)` for positions and analogs (None unless `analogs`) and
 /// `lead` for the flags. Sized before anything is allocated: a grid whose results
@@ -176,8 +143,8 @@ fn allocate<'py>(
     let what = format!("the linkage's results ({copies} arrays of {shape} float64 and 3 flags)");
     let hint = "solve fewer angles, points or geometries at a time";
     convert::check(py, &what, bytes, hint)?;
-    let big = || empty(py, &points, &what, hint);
-    let flag = || empty(py, lead, &what, hint);
+    let big = || convert::empty(py, &points, &what, hint);
+    let flag = || convert::empty(py, lead, &what, hint);
     let (vel, acc) = if analogs {
         (Some(big()?), Some(big()?))
     } else {

@@ -9,9 +9,7 @@ use cyclomech_core::transfer::{
 };
 use numpy::ndarray::{Dimension, Ix1, Ix2};
 use numpy::{Element, IntoPyArray, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
-use pyo3::sync::PyOnceLock;
 use pyo3::types::PyTuple;
 
 use crate::convert::{self, LayoutError};
@@ -46,31 +44,13 @@ fn input_error(py: Python<'_>, message: String) -> PyErr {
 
 /// A new C-order array of `shape`, not zeroed: every kernel here writes every
 /// element of its outputs (a zeroed array would be written twice, and calloc's
-/// clearing of reused memory is a pass over the whole output). numpy's failure
-/// to allocate is the `InputError` of `convert::check` for a size that cannot
-/// fit, else an `InputError` saying so.
+/// clearing of reused memory is a pass over the whole output).
 fn empty<'py, T: Element, D: Dimension>(
     py: Python<'py>,
     shape: &[usize],
     what: &str,
 ) -> PyResult<Bound<'py, PyArray<T, D>>> {
-    static EMPTY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
-    let hint = "ask for fewer points at a time";
-    let f = EMPTY.get_or_try_init(py, || {
-        py.import("numpy")?.getattr("empty").map(Bound::unbind)
-    })?;
-    match f.bind(py).call1((shape.to_vec(), T::get_dtype(py))) {
-        Ok(a) => Ok(a.cast_into::<PyArray<T, D>>()?),
-        Err(e) if e.is_instance_of::<PyMemoryError>(py) => {
-            let bytes = convert::nbytes(&[(shape, std::mem::size_of::<T>())]);
-            convert::check(py, what, bytes, hint)?;
-            Err(input_error(
-                py,
-                format!("{what} needs {bytes:.3e} bytes, which could not be allocated; {hint}"),
-            ))
-        }
-        Err(e) => Err(e),
-    }
+    convert::empty(py, shape, what, "ask for fewer points at a time")
 }
 
 fn new_f64<'py, D: Dimension>(
