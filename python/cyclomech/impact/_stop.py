@@ -12,6 +12,7 @@ import numpy.typing as npt
 
 from .._arrays import count, positive
 from .._errors import InfeasibleError, InputError
+from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
 from ..cyclogram import Constraint
 from ..motion import law as motion_law
@@ -153,7 +154,8 @@ class StopImpact:
         self.preload = _nonnegative("preload", preload, "[m]")
         if self.preload >= self.stroke:
             raise InputError(
-                f"preload = {preload!r} m must be smaller than stroke = {stroke!r} m "
+                f"preload = {preload!r} m must be smaller than stroke = "
+                f"{number_text(self.stroke, self.preload)} m "
                 "(the lever meets the stop before the end of its stroke)"
             )
         self.lever_length = positive("lever_length", lever_length, "[m]")
