@@ -83,7 +83,9 @@ class StopImpact:
     restitution : float, default 5/9
         The coefficient of restitution k ∈ [0, 1] (5/9 for steel).
     zeta : float, default 0.05
-        The damping ratio of the free vibration (≥ 0).
+        The damping ratio of the free vibration (≥ 0; ζ ≥ 1, a critically or
+        over-damped lever, is valid too: the response is exact for every ζ, and the
+        first rebound is then the first extremum of q, as for ζ < 1).
     contact_stiffness : float, optional
         The stiffness in contact [N/m], above the free stiffness; default None (the
         propped lever's, see above).
