@@ -25,6 +25,7 @@ def _members(version: str = VERSION) -> dict[str, str]:
     pkg = ROOT / "python" / "cyclomech"
     files = {f"cyclomech/{p.relative_to(pkg)}": "" for p in pkg.rglob("*.py")}
     files |= {"cyclomech/_core.abi3.so": "", "cyclomech/_core.pyi": "", "cyclomech/py.typed": ""}
+    files["_cyclomech_entry/__init__.py"] = ""  # the console script's entry point
     meta = f"Metadata-Version: 2.4\nName: cyclomech\nVersion: {version}\nRequires-Python: >=3.11\n"
     files[f"cyclomech-{version}.dist-info/METADATA"] = meta
     return files

@@ -409,6 +409,11 @@ def _vibration(
     a = _toml.optional_positive(table, key, at, "[deg]" if angular else "[m]")
     zeta = _toml.number(table, "damping_ratio", at, "") if "damping_ratio" in table else 0.0
     if not 0.0 <= zeta < 1.0:
-        raise InputError(f"{at}: damping_ratio = {zeta!r} must be in [0, 1)")
+        # The residual vibration (cam._vibration) is the amplitude of a damped free
+        # oscillation, R = √(q² + ((q' + ζτq)/(τ√(1 − ζ²)))²): it exists for ζ < 1 only.
+        raise InputError(
+            f"{at}: damping_ratio = {zeta!r} must be in [0, 1) (an under-damped follower: "
+            "the residual vibration's amplitude is that of a damped free oscillation)"
+        )
     assert f is not None and a is not None
     return f, zeta, math.radians(a) if angular else a

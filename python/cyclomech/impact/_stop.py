@@ -12,6 +12,7 @@ import numpy.typing as npt
 
 from .._arrays import count, positive
 from .._errors import InfeasibleError, InputError
+from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
 from ..cyclogram import Constraint
 from ..motion import law as motion_law
@@ -82,7 +83,9 @@ class StopImpact:
     restitution : float, default 5/9
         The coefficient of restitution k ∈ [0, 1] (5/9 for steel).
     zeta : float, default 0.05
-        The damping ratio of the free vibration (≥ 0).
+        The damping ratio of the free vibration (≥ 0; ζ ≥ 1, a critically or
+        over-damped lever, is valid too: the response is exact for every ζ, and the
+        first rebound is then the first extremum of q, as for ζ < 1).
     contact_stiffness : float, optional
         The stiffness in contact [N/m], above the free stiffness; default None (the
         propped lever's, see above).
@@ -153,7 +156,8 @@ class StopImpact:
         self.preload = _nonnegative("preload", preload, "[m]")
         if self.preload >= self.stroke:
             raise InputError(
-                f"preload = {preload!r} m must be smaller than stroke = {stroke!r} m "
+                f"preload = {preload!r} m must be smaller than stroke = "
+                f"{number_text(self.stroke, self.preload)} m "
                 "(the lever meets the stop before the end of its stroke)"
             )
         self.lever_length = positive("lever_length", lever_length, "[m]")
