@@ -173,9 +173,11 @@ def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, 
             contact = p["contact_stiffness"]
             ok &= np.isfinite(contact) & (contact > stiffness)
         else:
+            # One ratio per distinct lever (a sweep's designs mostly share one).
             ratio = np.full(D, np.nan)
-            for i in np.flatnonzero(ok).tolist():
-                ratio[i] = _propped_ratio(float(a[i]), float(b[i]))
+            levers, which = np.unique(np.stack([a[ok], b[ok]]), axis=1, return_inverse=True)
+            per_lever = [_propped_ratio(float(x), float(y)) for x, y in levers.T.tolist()]
+            ratio[ok] = np.asarray(per_lever, dtype=np.float64)[which.reshape(-1)]
             contact = stiffness * ratio
         ok &= np.isfinite(contact) & (contact > 0.0)
         # contact_time(c, m) when not given: π·√(m/c).

@@ -398,17 +398,17 @@ def _run_chunk(
         return _flat(cols, base, names, axes, designs, speeds, shaft)
     values = {k: axes[j][designs[:, j]] for j, k in enumerate(names)}
     tables, ok = batch_designs(base, pl, values)
-    cols = _empty(D, S)
     if ok.all():  # the usual case: the batch's columns as they are, no masked copies
-        cols.update(batch_figures(base, pl, tables, speeds, n_threads))
-    elif ok.any():
+        cols = batch_figures(base, pl, tables, speeds, n_threads)
+        cols["problem"] = np.full((D, S), "", dtype=object)
+        return _flat(cols, base, names, axes, designs, speeds, shaft)
+    cols = _empty(D, S)
+    if ok.any():
         got = batch_figures(base, pl, {k: t[:, ok] for k, t in tables.items()}, speeds, n_threads)
         for k, v in got.items():
             cols[k][ok] = v
-    if not ok.all():
-        rest = _per_design(base, names, axes, designs[~ok], speeds, n_threads)
-        for k, v in rest.items():
-            cols[k][~ok] = v
+    for k, v in _per_design(base, names, axes, designs[~ok], speeds, n_threads).items():
+        cols[k][~ok] = v
     return _flat(cols, base, names, axes, designs, speeds, shaft)
 
 

@@ -339,9 +339,17 @@ impl<'a> Prepared<'a> {
     /// Whether the last row's first run left a certificate ([`Self::certified`]'s:
     /// an exact potential with the same round-off bound) for every lower speed.
     fn left_certificate(&self, work: &DifferenceWork) -> bool {
-        matches!(work.potential, Some((pi, max_w))
-            if pi + self.n as f64 * max_w.max(self.max_static)
-                <= CERTIFICATE_SCALE * (1.0 + self.max_const))
+        matches!(work.potential, Some((pi, max_w)) if self.small_round_off(pi, max_w))
+    }
+
+    /// The certificates' round-off bound, for a potential of largest magnitude
+    /// `max_pi` of weights of largest magnitude `max_w` (the static ones at their
+    /// largest counted too): a cycle's weight is off by at most V ulps of
+    /// (|π| + V·max|w|) here and in the core's own sums; it must stay far below the
+    /// core's eps ≥ DIFFERENCE_RTOL·V·(1 + the constant arcs' max |w|).
+    fn small_round_off(&self, max_pi: f64, max_w: f64) -> bool {
+        max_pi + self.n as f64 * max_w.max(self.max_static)
+            <= CERTIFICATE_SCALE * (1.0 + self.max_const)
     }
 
     /// The weights at `rpm` into `s.w` (`SpeedNetwork.solve`'s: the minimum
@@ -489,12 +497,9 @@ impl<'a> Prepared<'a> {
                 head = 0;
             }
         }
-        // The round-off bound: a cycle's weight is off by at most V ulps of
-        // (|π| + V·max|w|) here and in the core's own sums; it must stay far below
-        // the core's eps ≥ DIFFERENCE_RTOL·V·(1 + the constant arcs' max |w|).
         let max_pi = pi.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
-        let max_w = w.iter().fold(self.max_static, |a, &x| a.max(x.abs()));
-        Ok(max_pi + n as f64 * max_w <= CERTIFICATE_SCALE * (1.0 + self.max_const))
+        let max_w = w.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+        Ok(self.small_round_off(max_pi, max_w))
     }
 
     /// The first of the 64 grid speeds `at(0..64)` that does not fit (64 if all
@@ -778,15 +783,11 @@ pub fn solve_proportional_into(
     let code: &mut [i16] = if m == 0 { &mut no_code } else { code };
     let bound_mins: &mut [f64] = if k == 0 { &mut no_mins } else { bound_mins };
     let (mc, kc) = (m.max(1), k.max(1));
-    // Each speed's rank from the highest down (ties in row order).
+    // The speeds from the highest down (ties in row order), for a whole design.
     let mut desc: Vec<usize> = (0..s).collect();
     desc.sort_by(|&i, &j| rpm[j].total_cmp(&rpm[i]));
     // (Any order gives the same rows; from the top down only saves work.)
     let ascending = rpm.windows(2).all(|p| p[0] <= p[1]);
-    let mut rank = vec![0usize; s];
-    for (i, &j) in desc.iter().enumerate() {
-        rank[j] = i;
-    }
     // A task: `rows` consecutive rows; each design's part of it from the top speed.
     let rows = s.clamp(64, 4096);
     let task = |sc: &mut Scratch, (t, (v, (c, bm))): TaskItem<'_>| -> Result<(), CyclogramError> {
@@ -803,7 +804,7 @@ pub fn solve_proportional_into(
                 order.extend((start..end).rev());
             } else {
                 order.extend(start..end);
-                order.sort_unstable_by_key(|&r| rank[r % s]);
+                order.sort_unstable_by(|&a, &b| rpm[b % s].total_cmp(&rpm[a % s]));
             }
             let mut cover = f64::NEG_INFINITY;
             for &r in &order {
