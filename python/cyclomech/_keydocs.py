@@ -289,8 +289,8 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
           POS, True),
         K("restitution", "The coefficient of restitution k.", NO_UNIT, NUM, "5/9",
           "0 ≤ k ≤ 1", True),
-        K("zeta", "The damping ratio of the lever's free vibration.", NO_UNIT, NUM, "0.05",
-          NONNEG, True),
+        K("zeta", "The damping ratio of the lever's free vibration (any ζ ≥ 0; ζ ≥ 1 "
+          "is overdamped).", NO_UNIT, NUM, "0.05", NONNEG, True),
         K("contact_stiffness", "The lever's stiffness while propped by the stop.", "N/m",
           NUM, "the free stiffness 3·E·J_x/((a + b)·b²) times the prop's stiffening",
           "finite, > the free stiffness 3·E·J_x/((a + b)·b²)", True),

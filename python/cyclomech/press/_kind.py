@@ -13,6 +13,7 @@ import numpy as np
 from .. import _toml
 from .._errors import InputError
 from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
+from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
 from ._study import DRIVE_KEYS, drive_from_table
@@ -239,21 +240,21 @@ class PressMechanism(Unbounded):
             lo, hi = float(x.min()), float(x.max())
             reach = max(hi - press.offset, press.offset - lo)
             text = (
-                f"the rod (L = {press.L:g} m) cannot reach the slider's guide x = offset = "
-                f"{press.offset:g} m all the turn: the pin runs over x = {lo:.4g} … {hi:.4g} m, "
-                f"so L must exceed {reach:.4g} m at this offset"
+                f"the rod (L = {press.L!r} m) cannot reach the slider's guide x = offset = "
+                f"{press.offset!r} m all the turn: the pin runs over x = {number_text(lo)} … "
+                f"{number_text(hi)} m, so L must exceed {number_text(reach, press.L)} m at "
+                "this offset"
             )
             if hi - lo < 2.0 * press.L:
-                text += (
-                    f", or offset must lie in ({hi - press.L:.4g}, {lo + press.L:.4g}) m for this L"
-                )
+                bounds = (number_text(v, press.offset) for v in (hi - press.L, lo + press.L))
+                text += ", or offset must lie in ({}, {}) m for this L".format(*bounds)
             return text
         if c.status == STATUS[3]:
             S_n = press.criteria(omega=1.0, k_Sp=1.0).S_n
+            sn = number_text(S_n, self.working_stroke or 0.0)
             return (
                 f"working_stroke = {self.working_stroke!r} m exceeds the nominal stroke "
-                f"S_n = {S_n:.4g} m of this design; give working_stroke < {S_n:.4g} m or k_Sp "
-                "in (0, 1]"
+                f"S_n = {sn} m of this design; give working_stroke < {sn} m or k_Sp in (0, 1]"
             )
         given = (
             f"k_Sp = {self.k_Sp!r}"
