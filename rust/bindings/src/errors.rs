@@ -6,6 +6,7 @@
 //! itself a `ValueError`.
 
 use cyclomech_core::cam::CamError;
+use cyclomech_core::cancel;
 use cyclomech_core::cyclogram::CyclogramError;
 use cyclomech_core::forces::ForceError;
 use cyclomech_core::impact::ImpactError;
@@ -135,14 +136,27 @@ impl IntoPyErr for ThreadsError {
 }
 
 /// Run a kernel with the GIL released, turning both its error and any panic into
-/// a `CyclomechError` so that nothing unwinds into the interpreter.
+/// a `CyclomechError` so that nothing unwinds into the interpreter. A call cut
+/// short by Ctrl-C raises KeyboardInterrupt and drops its output, whatever the
+/// kernel returned (`cyclomech_core::cancel`).
 pub fn run<T, E, F>(py: Python<'_>, kernel: &'static str, f: F) -> PyResult<T>
 where
     F: FnOnce() -> Result<T, E> + Send,
     T: Send,
     E: IntoPyErr + Send,
 {
+    // Ctrl-C: a main-thread call is armed; any other is watched (crate::interrupt).
+    let main = crate::interrupt::on_main_thread(py);
+    let armed = main.then(cancel::arm);
+    let watch = cancel::watch();
     let outcome = py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+    let cut = match armed {
+        Some(armed) => armed.finish(),
+        None => watch.cut_short(),
+    };
+    if cut {
+        return Err(crate::interrupt::interrupted(py, kernel, main));
+    }
     match outcome {
         Ok(Ok(value)) => Ok(value),
         Ok(Err(e)) => Err(e.into_pyerr(py)),

@@ -31,7 +31,8 @@
 //!   kinematics of a speed law and the design's candidate scan.
 //!
 //! Shared by every domain: [`parallel`] (the rayon thread pools behind
-//! `n_threads=` and `CYCLOMECH_THREADS`), [`units`] (rpm to rad/s and deg/s) and
+//! `n_threads=` and `CYCLOMECH_THREADS`), [`cancel`] (the Ctrl-C flag every
+//! parallel loop polls at the start of a chunk), [`units`] (rpm to rad/s and deg/s) and
 //! the crate-private `geom` (plane vectors and the sine and cosine every kernel
 //! evaluates the same way) and `tile` (the 8 × 8 register transpose the batch
 //! longest path and the Duhamel scan share).
@@ -62,6 +63,7 @@ macro_rules! on_each_isa {
 }
 
 pub mod cam;
+pub mod cancel;
 pub mod cyclogram;
 pub mod forces;
 pub(crate) mod geom;

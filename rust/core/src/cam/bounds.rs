@@ -358,7 +358,11 @@ impl Cam {
                     let k = segments[ki];
                     col.par_chunks_mut(SPEEDS)
                         .zip(omegas.par_chunks(SPEEDS))
-                        .for_each(|(o, w)| self.stress_bounds(k, &caches[ki], w, l, h, m, o));
+                        .for_each(|(o, w)| {
+                            if !crate::cancel::requested() {
+                                self.stress_bounds(k, &caches[ki], w, l, h, m, o)
+                            }
+                        });
                 });
             }
             out.par_chunks_mut(nc).enumerate().for_each(|(i, row)| {

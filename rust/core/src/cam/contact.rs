@@ -294,6 +294,9 @@ impl Cam {
             out.par_chunks_mut(CHUNK * N_LOAD_COLUMNS)
                 .zip(theta.par_chunks(CHUNK))
                 .for_each(|(rows, ts)| {
+                    if crate::cancel::requested() {
+                        return;
+                    }
                     let mut geo = [0.0; N_COLUMNS];
                     for (row, &t) in rows.chunks_exact_mut(N_LOAD_COLUMNS).zip(ts) {
                         self.row(t, &mut geo);

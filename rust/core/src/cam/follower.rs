@@ -559,6 +559,9 @@ impl Cam {
             out.par_chunks_mut(CHUNK * N_COLUMNS)
                 .zip(theta.par_chunks(CHUNK))
                 .map(|(rows, ts)| {
+                    if crate::cancel::requested() {
+                        return true;
+                    }
                     let ok = ts.iter().fold(true, |ok, t| ok & t.is_finite());
                     if ok {
                         pulp::Arch::new().dispatch(Rows {

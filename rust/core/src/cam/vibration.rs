@@ -281,6 +281,9 @@ pub fn residual_ratio_batch(
             .zip(tau.par_chunks(CHUNK))
             .enumerate()
             .filter_map(|(c, (o, t))| {
+                if crate::cancel::requested() {
+                    return None;
+                }
                 let mut buf = Vec::new();
                 for (j, (oj, &tj)) in o.iter_mut().zip(t).enumerate() {
                     match force.ratio(tj, zeta, &mut buf) {
@@ -403,6 +406,9 @@ pub fn min_tau(law: &str, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationE
     let block = 4 * CHUNK * pool.current_num_threads();
     let mut checked = 1; // samples whose local-maximum test is done: 1..checked
     loop {
+        if crate::cancel::requested() {
+            return Ok(f64::NAN); // dropped by the caller (crate::cancel)
+        }
         let j0 = taus.len();
         let new: Vec<f64> = (j0..j0 + block).map(|j| j as f64 * SCAN_STEP).collect();
         let vals: Result<Vec<f64>, ImpactError> = pool.install(|| {

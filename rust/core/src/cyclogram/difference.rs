@@ -542,6 +542,9 @@ pub fn max_difference_batch(
     let mut values = vec![0.0; rows];
     let mut on_path = vec![false; rows * m];
     let solve = |work: &mut DifferenceWork, r: usize, value: &mut f64, marks: &mut [bool]| {
+        if crate::cancel::requested() {
+            return;
+        }
         *value = sys.solve_row(&weights[r * m..(r + 1) * m], work);
         for &e in &work.path {
             marks[e as usize] = true;

@@ -373,14 +373,18 @@ impl EventGraph {
             let (mut wblk, mut t) = buffers();
             out.chunks_mut(LANES * n)
                 .enumerate()
-                .map(|(b, chunk)| self.batch_block(weights, b * LANES, chunk, &mut wblk, &mut t))
+                .map(|(b, chunk)| {
+                    crate::cancel::requested()
+                        || self.batch_block(weights, b * LANES, chunk, &mut wblk, &mut t)
+                })
                 .fold(true, |a, b| a & b)
         } else {
             crate::parallel::pool(threads)?.install(|| {
                 out.par_chunks_mut(LANES * n)
                     .enumerate()
                     .map_init(buffers, |(wblk, t), (b, chunk)| {
-                        self.batch_block(weights, b * LANES, chunk, wblk, t)
+                        crate::cancel::requested()
+                            || self.batch_block(weights, b * LANES, chunk, wblk, t)
                     })
                     .reduce(|| true, |a, b| a & b)
             })

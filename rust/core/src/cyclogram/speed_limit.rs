@@ -650,6 +650,9 @@ pub fn speed_limits_proportional(
     if threads == 1 || designs < 2 {
         let mut s = prep.scratch();
         for (d, o) in out.iter_mut().enumerate() {
+            if d % 64 == 0 && crate::cancel::requested() {
+                break;
+            }
             *o = prep.search(row(d), sp, &mut s)?;
         }
     } else {
@@ -657,7 +660,9 @@ pub fn speed_limits_proportional(
             out.par_iter_mut().enumerate().try_for_each_init(
                 || prep.scratch(),
                 |s, (d, o)| -> Result<(), CyclogramError> {
-                    *o = prep.search(row(d), sp, s)?;
+                    if !crate::cancel::requested() {
+                        *o = prep.search(row(d), sp, s)?;
+                    }
                     Ok(())
                 },
             )
@@ -791,6 +796,9 @@ pub fn solve_proportional_into(
     // A task: `rows` consecutive rows; each design's part of it from the top speed.
     let rows = s.clamp(64, 4096);
     let task = |sc: &mut Scratch, (t, (v, (c, bm))): TaskItem<'_>| -> Result<(), CyclogramError> {
+        if crate::cancel::requested() {
+            return Ok(());
+        }
         let r0 = t * rows;
         let mut order: Vec<usize> = Vec::new();
         let mut start = r0;

@@ -426,6 +426,9 @@ pub fn solve_into(
     let (part0, rest) = out.values.split_at_mut(n * w);
     let (part1, part2) = rest.split_at_mut(n * w);
     let run = |(c, (((v0, v1), v2), conds)): Task<'_>| {
+        if crate::cancel::requested() {
+            return;
+        }
         let mut s = model.scratch();
         let rows = v0
             .chunks_exact_mut(w)

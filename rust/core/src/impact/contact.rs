@@ -304,6 +304,9 @@ pub fn contact_rebound_batch_into(
     let threads = resolve_threads(n_threads)?;
     if threads == 1 || x0.len() < 2 * REBOUND_TASK {
         for (i, o) in out.iter_mut().enumerate() {
+            if i % REBOUND_TASK == 0 && crate::cancel::requested() {
+                return Ok(());
+            }
             *o = one(i)?;
         }
         return Ok(());
@@ -312,6 +315,9 @@ pub fn contact_rebound_batch_into(
         out.par_chunks_mut(REBOUND_TASK)
             .enumerate()
             .filter_map(|(j, os)| {
+                if crate::cancel::requested() {
+                    return None;
+                }
                 for (r, o) in os.iter_mut().enumerate() {
                     let i = j * REBOUND_TASK + r;
                     match one(i) {

@@ -347,6 +347,9 @@ pub fn stop_designs_into(
     let block =
         |j0: usize, rows: &mut [[f64; 6]], mins: &mut [f64]| -> Option<(usize, ImpactError)> {
             for (r, row) in rows.iter_mut().enumerate() {
+                if r % TASK == 0 && crate::cancel::requested() {
+                    return None;
+                }
                 let i = j0 * TASK + r;
                 match one(i) {
                     Ok(v) => *row = v,

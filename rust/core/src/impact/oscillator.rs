@@ -834,6 +834,9 @@ pub fn response_batch_into(
     let span = LOCK * n;
     if threads == 1 || b <= LOCK {
         for (g, (f, qo)) in forces.chunks(span).zip(q_out.chunks_mut(span)).enumerate() {
+            if crate::cancel::requested() {
+                return Ok(());
+            }
             group(g * LOCK, f, qo)?;
         }
         return Ok(());
@@ -844,7 +847,12 @@ pub fn response_batch_into(
             .zip(q_out.par_chunks_mut(span))
             .enumerate()
             .with_min_len(TASK_STEPS.div_ceil(span))
-            .filter_map(|(g, (f, qo))| group(g * LOCK, f, qo).err().map(|e| (g, e)))
+            .filter_map(|(g, (f, qo))| {
+                if crate::cancel::requested() {
+                    return None;
+                }
+                group(g * LOCK, f, qo).err().map(|e| (g, e))
+            })
             .min_by_key(|(g, _)| *g)
     });
     match first_error {

@@ -353,6 +353,9 @@ pub fn first_rebound_batch_into(
     };
     let block = |j: usize, f: &[f64], to: &mut [f64], qo: &mut [f64]| {
         for (r, (fr, (tt, qq))) in f.chunks(k).zip(to.iter_mut().zip(qo)).enumerate() {
+            if r % REBOUND_TASK == 0 && crate::cancel::requested() {
+                return None;
+            }
             let i = j * REBOUND_TASK + r;
             match one(i, fr) {
                 Ok(reb) => (*tt, *qq) = (reb.time, reb.q),

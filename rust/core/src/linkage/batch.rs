@@ -188,6 +188,9 @@ pub fn solve_many_into(
         rest = tail;
     }
     let one = |(prog, mut slab): (&Program, Out<'_>)| {
+        if crate::cancel::requested() {
+            return;
+        }
         if prog
             .solve_serial(angles, &request.points, &mut slab)
             .is_err()

@@ -632,7 +632,10 @@ impl Program {
             let (mut at, mut last) = (phi0, start);
             let mut ended = false;
             let mut h = MAX_PATH_STEP;
-            for i in walk {
+            for (k, i) in walk.into_iter().enumerate() {
+                if k % 256 == 0 && crate::cancel::requested() {
+                    return Ok(());
+                }
                 let target = reduced[i];
                 // An angle equal to the current one is the pose already solved.
                 let mut pose = last;
@@ -771,7 +774,7 @@ impl Program {
         let threads = crate::parallel::resolve_threads(n_threads)?;
         let sel = &request.points;
         let mut out = outputs.view(angles.len(), sel.len(), request.analogs)?;
-        if self.has_triads() || threads == 1 || angles.len() < 2 * BLOCK {
+        if self.has_triads() || angles.len() < 2 * BLOCK {
             self.solve_serial(angles, sel, &mut out)?;
         } else {
             let mut blocks = Vec::with_capacity(angles.len().div_ceil(BLOCK));
@@ -782,12 +785,20 @@ impl Program {
                 blocks.push((start, head));
                 rest = tail;
             }
-            crate::parallel::pool(threads)?.install(|| {
-                blocks.into_par_iter().for_each(|(start, mut block)| {
-                    let run = &angles[start..start + block.ok.len()];
-                    self.solve_rows(run, sel, &mut block);
-                })
-            });
+            // One thread walks the same blocks in order: the rows are independent,
+            // so the bits are the same, and Ctrl-C is seen between blocks.
+            let one = |(start, mut block): (usize, Out<'_>)| {
+                if crate::cancel::requested() {
+                    return;
+                }
+                let run = &angles[start..start + block.ok.len()];
+                self.solve_rows(run, sel, &mut block);
+            };
+            if threads == 1 {
+                blocks.into_iter().for_each(one);
+            } else {
+                crate::parallel::pool(threads)?.install(|| blocks.into_par_iter().for_each(one));
+            }
         }
         Ok(())
     }

@@ -593,7 +593,7 @@ pub(super) fn par_chunks(
         pool(threads)?.install(|| {
             x.par_chunks(CHUNK)
                 .zip(out.par_chunks_mut(CHUNK))
-                .map(one)
+                .map(|c| crate::cancel::requested() || one(c))
                 .reduce(|| true, |a, b| a & b)
         })
     };

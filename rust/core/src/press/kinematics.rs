@@ -468,10 +468,15 @@ pub fn solve_into(
         .enumerate()
         .map(|(c, ((((((a, b), cc), d), e), g), h))| (c * CHUNK, (a, b, cc, d, e, g, h)))
         .collect();
+    let one = |(st, c)| {
+        if !crate::cancel::requested() {
+            one(st, c)
+        }
+    };
     if threads == 1 || chunks.len() <= 1 {
-        chunks.into_iter().for_each(|(st, c)| one(st, c));
+        chunks.into_iter().for_each(one);
     } else {
-        pool(threads)?.install(|| chunks.into_par_iter().for_each(|(st, c)| one(st, c)));
+        pool(threads)?.install(|| chunks.into_par_iter().for_each(one));
     }
     Ok(())
 }

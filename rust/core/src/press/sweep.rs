@@ -128,6 +128,9 @@ pub fn sweep_into(
         let mut scan = PinScan::default();
         for (b, (rb, sb)) in blocks {
             for p in 0..np {
+                if crate::cancel::requested() {
+                    return Ok(());
+                }
                 let res = group(b, p, &mut scan);
                 place(rb, sb, p, res);
             }
@@ -136,6 +139,9 @@ pub fn sweep_into(
         let blocks: Vec<_> = blocks.collect();
         pool(threads)?.install(|| {
             blocks.into_par_iter().for_each(|(b, (rb, sb))| {
+                if crate::cancel::requested() {
+                    return;
+                }
                 let res: Vec<_> = (0..np)
                     .into_par_iter()
                     .map_init(PinScan::default, |scan, p| group(b, p, scan))

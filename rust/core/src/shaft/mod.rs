@@ -159,7 +159,11 @@ pub fn stats_into(
     pool.install(|| {
         out.par_chunks_mut(N_STATS)
             .zip(omegas.par_iter())
-            .for_each(|(row, &w)| row.copy_from_slice(&stats_at(a, b, w, delta)));
+            .for_each(|(row, &w)| {
+                if !crate::cancel::requested() {
+                    row.copy_from_slice(&stats_at(a, b, w, delta))
+                }
+            });
     });
     Ok(())
 }

@@ -95,6 +95,11 @@ where
     T: Send,
     F: Fn(T) + Sync + Send,
 {
+    let f = |t| {
+        if !crate::cancel::requested() {
+            f(t)
+        }
+    };
     if threads <= 1 || tasks.len() <= 1 {
         tasks.into_iter().for_each(f);
     } else {
