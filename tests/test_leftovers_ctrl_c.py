@@ -1,8 +1,10 @@
-"""Ctrl-C while the ``cyclomech`` console script starts (the package and the Rust core
-take ~0.6 s to load) exits 130 with one line, no traceback, like Ctrl-C later.
+"""Ctrl-C while the ``cyclomech`` console script or ``python -m cyclomech`` starts (the
+package and the Rust core take ~0.6 s to load) exits 130 with one line, no traceback,
+like Ctrl-C later.
 
 The console script's entry point is ``_cyclomech_entry:main``, a module outside the
-package that catches the KeyboardInterrupt of ``import cyclomech``. No timing is
+package that catches the KeyboardInterrupt of ``import cyclomech``; under ``python -m
+cyclomech`` the package's ``__init__`` catches it itself (and only then). No timing is
 asserted: SIGINT is sent at several delays after the entry point has started; any of
 them may land during or after the import, and every one must end the command quietly.
 
@@ -12,7 +14,7 @@ SIGINT there is CPython's to handle (it may print "Fatal Python error:
 init_import_site" and its traceback) and no code of ours can run. So the delays are
 counted from a point past that window: a byte the child writes once the entry module
 is imported (``python -c``), or numpy's core library mapped into the process (the
-installed script; only ``import cyclomech`` inside the entry point imports numpy).
+installed script and ``python -m``: only ``import cyclomech`` imports numpy).
 A CI run sent SIGINT 50 ms after the process started, while ``site`` was still
 importing, and got CPython's fatal error: that window is what this rule leaves out.
 """
@@ -78,22 +80,75 @@ def _numpy_mapped(pid: int) -> bool:
     return "_multiarray_umath" in Path(f"/proc/{pid}/maps").read_text()
 
 
+def _interrupt_in_import(cmd: list[str], delay: float, tmp_path: Path) -> tuple[int, str]:
+    proc = _start(cmd, tmp_path)
+    deadline = time.monotonic() + 60.0
+    while not _numpy_mapped(proc.pid):  # inside the import of cyclomech
+        assert proc.poll() is None and time.monotonic() < deadline, "numpy never loaded"
+        time.sleep(0.001)
+    return _interrupt(proc, delay)
+
+
+needs_proc = pytest.mark.skipif(not Path("/proc/self/maps").is_file(), reason="needs Linux's /proc")
+
+
 @pytest.mark.slow
 @pytest.mark.skipif(
     not SCRIPT.is_file() or shutil.which("cyclomech") is None,
     reason="the cyclomech console script is not installed beside this Python",
 )
-@pytest.mark.skipif(not Path("/proc/self/maps").is_file(), reason="needs Linux's /proc")
+@needs_proc
 @pytest.mark.parametrize("delay", [0.0, 0.1, 0.4])
 def test_the_installed_console_script_does_the_same(tmp_path, delay):
-    proc = _start([str(SCRIPT)], tmp_path)
-    deadline = time.monotonic() + 60.0
-    while not _numpy_mapped(proc.pid):  # inside the entry point's import
-        assert proc.poll() is None and time.monotonic() < deadline, "numpy never loaded"
-        time.sleep(0.001)
-    status, err = _interrupt(proc, delay)
+    status, err = _interrupt_in_import([str(SCRIPT)], delay, tmp_path)
     assert "Traceback" not in err, err
     assert (status, err) == (130, "cyclomech: interrupted\n")
+
+
+@pytest.mark.slow
+@needs_proc
+@pytest.mark.parametrize("form", [["-m", "cyclomech"], ["-mcyclomech"]])
+@pytest.mark.parametrize("delay", [0.0, 0.1, 0.4])
+def test_python_dash_m_does_the_same(tmp_path, delay, form):
+    # The package's own __init__ catches it (python -m imports the package first).
+    status, err = _interrupt_in_import([sys.executable, *form], delay, tmp_path)
+    assert "Traceback" not in err, err
+    assert (status, err) == (130, "cyclomech: interrupted\n")
+
+
+@pytest.mark.parametrize(
+    ("argv0", "orig", "quiet"),
+    [
+        ("-m", ["-m", "cyclomech", "sweep"], True),  # python -m cyclomech, locating
+        ("-m", ["-mcyclomech"], True),
+        ("-m", ["-m", "other"], False),  # another module's import of cyclomech
+        ("-c", ["-c", "import cyclomech"], False),
+        ("script.py", ["script.py", "-m", "cyclomech"], False),  # "-m" as a script's argument
+    ],
+)
+def test_only_python_dash_m_cyclomech_ends_quietly(argv0, orig, quiet):
+    # The interrupt raised from inside the import at once (no timing): numpy's
+    # import raises it; sys.argv / orig_argv as that command line would set them.
+    code = (
+        "import builtins, sys\n"
+        "real = builtins.__import__\n"
+        "def fake(name, *a, **k):\n"
+        "    if name == 'numpy':\n"
+        "        raise KeyboardInterrupt\n"
+        "    return real(name, *a, **k)\n"
+        "builtins.__import__ = fake\n"
+        f"sys.argv[0] = {argv0!r}\n"
+        f"sys.orig_argv = [sys.executable, *{orig!r}]\n"
+        "try:\n"
+        "    import cyclomech\n"
+        "except KeyboardInterrupt:\n"
+        "    print('raised')\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    if quiet:
+        assert (proc.returncode, proc.stdout, proc.stderr) == (130, "", "cyclomech: interrupted\n")
+    else:
+        assert (proc.returncode, proc.stdout) == (0, "raised\n"), proc.stderr
 
 
 def test_the_entry_point_runs_the_command(capsys):

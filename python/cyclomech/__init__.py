@@ -8,7 +8,23 @@ so in their names (``_deg``, ``rpm``).
 
 from __future__ import annotations
 
-from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
+import sys as _sys
+
+try:  # every domain, numpy and the Rust core: ~0.6 s
+    from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
+except KeyboardInterrupt:
+    # ``python -m cyclomech`` imports this package before its __main__ can catch a
+    # Ctrl-C: end as the command does (one line, status 130; _cyclomech_entry does
+    # the same for the console script). While -m locates its module, sys.argv[0] is
+    # "-m"; orig_argv says which module. Any other import re-raises.
+    _argv = _sys.orig_argv
+    _ours = "-mcyclomech" in _argv or any(
+        _argv[i : i + 2] == ["-m", "cyclomech"] for i in range(len(_argv))
+    )
+    if _sys.argv[:1] == ["-m"] and _ours:
+        print("cyclomech: interrupted", file=_sys.stderr)
+        raise SystemExit(130) from None
+    raise
 from ._core import __version__ as _core_version
 from ._errors import (
     CycleError,
