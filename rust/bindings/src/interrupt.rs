@@ -21,20 +21,21 @@ use std::cell::Cell;
 
 /// Route SIGINT to the cancel flag (module doc). A failure only leaves kernels
 /// uninterruptible, as they were: it is not an import error.
-pub fn install(py: Python<'_>) -> PyResult<()> {
+pub fn install(py: Python<'_>) {
     #[cfg(unix)]
     {
-        let signal = py.import("signal")?;
-        let number = signal.getattr("SIGINT")?;
-        let current = signal.call_method1("getsignal", (&number,))?;
-        if on_main_thread(py) && current.is(&signal.getattr("default_int_handler")?) {
+        let default_handler = || -> PyResult<bool> {
+            let signal = py.import("signal")?;
+            let current = signal.call_method1("getsignal", (signal.getattr("SIGINT")?,))?;
+            Ok(current.is(&signal.getattr("default_int_handler")?))
+        };
+        if on_main_thread(py) && default_handler().unwrap_or(false) {
             let flag = std::sync::Arc::clone(cyclomech_core::cancel::flag());
             let _ = signal_hook::flag::register(signal_hook::consts::SIGINT, flag);
         }
     }
     #[cfg(not(unix))]
     let _ = py;
-    Ok(())
 }
 
 /// Is this the interpreter's main thread (the one SIGINT's KeyboardInterrupt is

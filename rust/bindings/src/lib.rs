@@ -66,7 +66,7 @@ mod _core {
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
-        crate::interrupt::install(m.py())?;
+        crate::interrupt::install(m.py());
         Ok(())
     }
 
