@@ -22,8 +22,13 @@ except KeyboardInterrupt:
         _argv[i : i + 2] == ["-m", "cyclomech"] for i in range(len(_argv))
     )
     if _sys.argv[:1] == ["-m"] and _ours:
-        print("cyclomech: interrupted", file=_sys.stderr)
-        raise SystemExit(130) from None
+        print("cyclomech: interrupted", file=_sys.stderr, flush=True)
+        # Not SystemExit: under -m, CPython 3.11-3.12 die by SIGINT at exit when the
+        # interrupt was raised inside a string exec (a dataclass's generated code,
+        # say), even though it was caught. Nothing is open yet to close.
+        import os as _os
+
+        _os._exit(130)
     raise
 from ._core import __version__ as _core_version
 from ._errors import (

@@ -88,6 +88,14 @@ def _one_line_warning(
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
+    try:  # from its first line: building the parser takes a while too
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("cyclomech: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+def _main(argv: Sequence[str] | None) -> int:
     from . import __version__
 
     parser = argparse.ArgumentParser(
@@ -114,9 +122,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         msg = str(e) if args.file in str(e) else f"{args.file}: {e}"
         print(f"cyclomech: error: {msg}", file=sys.stderr)
         return EXIT_INPUT
-    except KeyboardInterrupt:
-        print("cyclomech: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
     except BrokenPipeError:
         # Whoever read the output stopped (`| head`): no traceback, and none at exit.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
