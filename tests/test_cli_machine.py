@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import cyclomech as cm
@@ -192,3 +194,46 @@ def test_version_and_one_line_warnings(tmp_path):
     lines = [ln for ln in r.stderr.splitlines() if "liftr" in ln]
     assert len(lines) == 1 and lines[0].startswith("cyclomech: warning: "), r.stderr
     assert "did you mean 'lifter'?" in lines[0] and "Warning:" not in r.stderr
+
+
+@pytest.mark.parametrize(
+    ("example", "old", "new", "by"),
+    [
+        # The transfer line's own limit (its peak jerk): 221.76 rpm; nominal 230.
+        ("rotor_line", "nominal_rpm = 120.0", "nominal_rpm = 230.0", "line"),
+        # The same limit, brought under the file's nominal 120 rpm by max_jerk.
+        ("rotor_line", "max_jerk = 10.0", "max_jerk = 1.0", "line"),
+    ],
+)
+def test_a_nominal_speed_above_a_mechanisms_own_limit_fails(
+    tmp_path, capsys, example, old, new, by
+):
+    """The cyclogram fits there, so there is an optimum; but the mechanism does not
+    work that fast. That is a failing design (exit 3, a warning, the report and
+    results.json say so), not a quiet 0: found by a new user's trial."""
+    text = (ROOT / "examples" / f"{example}.toml").read_text(encoding="utf-8")
+    assert old in text
+    path = tmp_path / "m.toml"
+    path.write_text(text.replace(old, new), encoding="utf-8")
+    m = cm.Machine.from_toml(path)
+    lim = m.speed_limit()
+    assert lim.by == by and lim.rpm < m.nominal_speed(lim)
+    with pytest.warns(cm.CyclomechWarning, match=f"above the speed limit of mechanism '{by}'"):
+        r = analyze(m, progress=False)
+    assert r.optimum is not None and r.problem == ""
+    assert f"{lim.rpm:.2f} rpm" in r.above_speed_limit
+    out = tmp_path / "out"
+    with warnings.catch_warnings():  # the command shows it as one line
+        warnings.simplefilter("always", cm.CyclomechWarning)
+        assert main(["run", str(path), "--out", str(out), "--no-plot", "--quiet"]) == 3
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("cyclomech: warning: ") and err[0].endswith(r.above_speed_limit)
+    assert err[1] == f"cyclomech: {path}: {r.above_speed_limit} (exit status 3)"
+    results = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert results["above_speed_limit"] == r.above_speed_limit
+    assert "Above the speed limit" in (out / "report.html").read_text(encoding="utf-8")
+
+
+def test_a_nominal_speed_under_every_limit_is_no_failure():
+    r = analyze(cm.Machine.from_toml(ROOT / "examples" / "rotor_line.toml"), progress=False)
+    assert r.above_speed_limit == "" and r.nominal_rpm < r.limit.rpm

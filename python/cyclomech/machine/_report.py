@@ -16,6 +16,7 @@ import html
 import json
 import math
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from .._errors import InfeasibleError
+from .._errors import CyclomechWarning, InfeasibleError
 from .._json import jsonable
 from .._kind import Context, MechanismResult
 from .._progress import progress as progress_bar
@@ -100,6 +101,28 @@ class MachineResult:
     mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
     shaft: MainShaft | None = None
+
+    @property
+    def above_speed_limit(self) -> str:
+        """Why the nominal speed is above a mechanism's own speed limit ("" if it is
+        not). The cyclogram may still fit there (its optimum is then computed), but
+        that mechanism does not work: :func:`analyze` warns, ``cyclomech run`` exits 3.
+        (Above the cyclogram's own limit there is no optimum: see ``problem``.)
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.machine.analyze(cm.Machine.example(), progress=False).above_speed_limit
+        ''
+        """
+        over = {k: v for k, v in self.limit.mechanisms_rpm.items() if self.nominal_rpm > v}
+        if not over:
+            return ""
+        k = min(over, key=over.__getitem__)
+        return (
+            f"the nominal speed {self.nominal_rpm:g} rpm is above the speed limit of "
+            f"mechanism {k!r}, {over[k]:.2f} rpm ({self.limit.mechanisms_reason.get(k, '')})"
+        )
 
 
 def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
@@ -185,9 +208,12 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
                 optimum=opt if flat else None,
             ),
         )
-    return MachineResult(
+    r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
+    if r.above_speed_limit:
+        warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
+    return r
 
 
 def _minimums(m: Machine, rpm: float) -> tuple[np.ndarray, list[str]]:
@@ -279,6 +305,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     else:
         out["optimum"] = None
         out["problem"] = r.problem
+    out["above_speed_limit"] = r.above_speed_limit or None
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
     groups["mechanisms"] = {}
@@ -482,7 +509,9 @@ def _html(
             f"<b>{o['gained_deg']:.2f}° more</b> than its minimum of "
             f"{o['limiting_min_deg']:.2f}°.</p>"
         )
-    elif lim.rpm > 0:  # at no speed, said above: no speed is to blame
+    if r.above_speed_limit:
+        key.append(f"<p class='warn'><b>Above the speed limit</b>: {e(r.above_speed_limit)}.</p>")
+    if o is None and lim.rpm > 0:  # at no speed, said above: no speed is to blame
         key.append(
             f"<p class='warn'>At {r.nominal_rpm:g} rpm the cyclogram does not fit: "
             f"{e(r.problem)}</p>"

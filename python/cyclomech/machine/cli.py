@@ -140,6 +140,13 @@ def run_command(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return EXIT_FAILS
+    if r.above_speed_limit:
+        # The cyclogram fits, but a mechanism does not work that fast (analyze warned).
+        print(
+            f"cyclomech: {args.file}: {r.above_speed_limit} (exit status {EXIT_FAILS})",
+            file=sys.stderr,
+        )
+        return EXIT_FAILS
     return EXIT_OK
 
 
