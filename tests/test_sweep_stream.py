@@ -116,3 +116,16 @@ def _raise_over(limit: float):
             raise cm.InputError(f"{what} needs {need:g} bytes; {hint}")
 
     return check
+
+
+def test_writing_parquet_without_pyarrow_says_so(loom, tmp_path, monkeypatch) -> None:
+    # Found by a new user's trial: write("x.parquet") wrote x.npz in silence.
+    import sys
+
+    r = cm.sweep(loom, {"speed_rpm": [300.0, 400.0]})
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow: ImportError
+    with pytest.warns(cm.CyclomechWarning, match=r"pyarrow is not installed, so s\.npz"):
+        path = r.write(tmp_path / "s.parquet")
+    assert path == tmp_path / "s.npz" and not (tmp_path / "s.parquet").exists()
+    back = cm.SweepResult.read(path)
+    assert np.array_equal(back.columns["limiting_deg"], r.columns["limiting_deg"])

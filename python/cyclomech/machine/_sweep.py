@@ -22,6 +22,7 @@ import os
 import signal
 import threading
 import time
+import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +32,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._arrays import check_bytes, plain_pages, speeds_rpm
-from .._errors import InputError
+from .._errors import CyclomechWarning, InputError
 from .._progress import progress as progress_bar
 from ._batch import batch_designs, batch_figures, plan
 from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
@@ -108,9 +109,6 @@ class SweepResult:
     columns: dict[str, npt.NDArray[Any]]
     parameters: tuple[str, ...]
     seconds: float = 0.0
-    #: Where the rows were streamed (``sweep(..., out=path)``); ``columns`` is then
-    #: empty and ``summary`` counts the rows: ``points``, ``fits`` (rows that fit),
-    #: ``invalid`` (rows of invalid designs) and the first ``problem``.
     path: Path | None = None
     summary: dict[str, Any] = field(default_factory=dict)
 
@@ -153,7 +151,7 @@ class SweepResult:
         path : str or Path
             The file, ending in ``.parquet`` or ``.npz``: Parquet (pyarrow) for
             ``.parquet`` when pyarrow is installed, else NumPy ``.npz`` (the suffix
-            is changed to say which).
+            is changed to say which, with a CyclomechWarning).
 
         Returns
         -------
@@ -183,11 +181,13 @@ class SweepResult:
             try:
                 import pyarrow as pa
                 import pyarrow.parquet as pq
-            except ImportError:
+            except ImportError:  # written all the same, but said: the suffix changes
                 parquet = False
+                npz = p.with_suffix(".npz").name
+                msg = f"{p}: pyarrow is not installed, so {npz} (NumPy) is written instead"
+                warnings.warn(msg + " (pip install pyarrow)", CyclomechWarning, stacklevel=2)
         p = p if parquet else p.with_suffix(".npz")
-        # Written beside the target under a temporary name and renamed when complete:
-        # an interrupted write leaves no file that looks like a result.
+        # Under a temporary name, renamed when complete: an interrupt leaves no result.
         tmp = p.with_name(f".{p.stem}.{os.getpid()}.partial{p.suffix}")
         try:
             if parquet:

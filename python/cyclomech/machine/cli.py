@@ -211,7 +211,8 @@ def sweep_command(args: argparse.Namespace) -> int:
             client.close()
             if cluster is not None and args.dask.startswith("local"):
                 cluster.close()
-    path = r.path if r.path is not None else r.write(out_folder(args) / "sweep.parquet")
+    name = "sweep.npz" if target is None else "sweep.parquet"  # npz without pyarrow
+    path = r.path if r.path is not None else r.write(out_folder(args) / name)
     summary = r.summary or {
         "points": r.n_points,
         "fits": int(r.columns["fits"].sum()),
