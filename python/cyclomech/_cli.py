@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from ._errors import InputError
+from ._files import whole
 
 __all__ = [
     "EXIT_BROKEN_PIPE",
@@ -127,7 +128,8 @@ def save(fig: Any, path: Path, written: list[Path]) -> None:
     """Write ``fig`` to ``path``, close it, and note the file."""
     import matplotlib.pyplot as plt
 
-    fig.savefig(path, dpi=130, bbox_inches="tight")
+    with whole(path) as tmp:  # a Ctrl-C leaves no half-written figure
+        fig.savefig(tmp, dpi=130, bbox_inches="tight")
     plt.close(fig)
     written.append(path)
 

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from .._errors import CyclomechWarning, InfeasibleError
+from .._files import whole
 from .._json import jsonable
 from .._kind import Context, MechanismResult
 from .._progress import progress as progress_bar
@@ -336,7 +337,7 @@ def _stem(name: str) -> str:
 
 
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
-    with path.open("w", newline="", encoding="utf-8") as f:
+    with whole(path) as tmp, tmp.open("w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow(header)
         for row in rows:
@@ -362,7 +363,8 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
 
     def save(fig: Any, name: str, section: str, caption: str) -> None:
         p = folder / f"{name}.png"
-        fig.savefig(p, dpi=110, bbox_inches="tight")
+        with whole(p) as tmp:
+            fig.savefig(tmp, dpi=110, bbox_inches="tight")
         plt.close(fig)
         out.append((section, caption, p))
 
@@ -776,12 +778,13 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
             figs = []
         else:
             figs = _figures(result, folder / "figures")
-    p = folder / "results.json"
-    p.write_text(json.dumps(summary, indent=2, ensure_ascii=False), encoding="utf-8")
-    written.append(p)
-    p = folder / "report.html"
-    p.write_text(_html(result, summary, figs, cycle_files), encoding="utf-8")
-    written.append(p)
+    for p, text in [
+        (folder / "results.json", json.dumps(summary, indent=2, ensure_ascii=False)),
+        (folder / "report.html", _html(result, summary, figs, cycle_files)),
+    ]:
+        with whole(p) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+        written.append(p)
     written += [f[2] for f in figs]
     return written
 
