@@ -237,3 +237,19 @@ def test_a_nominal_speed_above_a_mechanisms_own_limit_fails(
 def test_a_nominal_speed_under_every_limit_is_no_failure():
     r = analyze(cm.Machine.from_toml(ROOT / "examples" / "rotor_line.toml"), progress=False)
     assert r.above_speed_limit == "" and r.nominal_rpm < r.limit.rpm
+
+
+def test_a_bad_threads_variable_is_the_environments_error(tmp_path, capsys, monkeypatch):
+    # Found by a new user's trial: CYCLOMECH_THREADS=0 was reported as an error of
+    # the file's [mechanism.lifter] table, and --threads did not override it.
+    monkeypatch.setenv("CYCLOMECH_THREADS", "0")
+    assert main(["run", str(LOOM), "--out", str(tmp_path / "a"), "--no-plot", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("cyclomech: error: environment variable CYCLOMECH_THREADS = '0'")
+    assert str(LOOM) not in err
+    argv = ["sweep", str(LOOM), "--speed", "300:400:3", "--threads", "2", "--quiet"]
+    assert main([*argv, "--out", str(tmp_path / "b")]) == 0
+    assert os.environ["CYCLOMECH_THREADS"] == "0"  # the command's own, restored after
+    monkeypatch.delenv("CYCLOMECH_THREADS")
+    assert main([*argv, "--out", str(tmp_path / "c")]) == 0
+    assert "CYCLOMECH_THREADS" not in os.environ

@@ -867,3 +867,21 @@ def test_a_mistake_on_the_command_line_is_one_line_on_stderr(tmp_path, capsys, m
     missing = [p for p in parts if p not in err]
     assert not missing, f"{missing} not in: {err}"
     assert not (tmp_path / "out").exists(), "an output folder for a run that failed"
+
+
+@pytest.mark.parametrize("rpm", [-300.0, 0.0, float("nan"), 2e6])
+def test_optimize_takes_the_machines_speeds_and_says_so(rpm):
+    # Found by a new user's trial: -300 read "speed_rpm must be >= 0", then 0 was
+    # refused with "> 0". One rule, one message, for every bad speed.
+    with pytest.raises(cm.InputError, match=r"rpm must hold positive speeds in rpm, each in \(0, "):
+        cm.Machine.example().optimize(rpm)
+
+
+def test_a_mechanism_without_its_kind_says_the_key_is_missing(tmp_path):
+    text = (EXAMPLES / "stb_loom.toml").read_text("utf-8").replace('kind = "cam_stop"\n', "", 1)
+    path = tmp_path / "m.toml"
+    path.write_text(text, "utf-8")
+    with pytest.raises(
+        cm.InputError, match=r"\[mechanism.lifter\]: the key kind is missing; it must"
+    ):
+        cm.Machine.from_toml(path)

@@ -25,6 +25,7 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
+from ._arrays import MAX_THREADS
 from ._cli import (
     EXIT_BROKEN_PIPE,
     EXIT_FAILS,
@@ -40,6 +41,9 @@ from .impact import cli as impact_cli
 from .linkage import cli as linkage_cli
 from .machine import cli as machine_cli
 from .press import cli as press_cli
+
+#: The environment variable of the Rust kernels' default thread count.
+THREADS_ENV = "CYCLOMECH_THREADS"
 
 __all__ = [
     "EXIT_BROKEN_PIPE",
@@ -88,11 +92,31 @@ def _one_line_warning(
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
+    threads_env = os.environ.get(THREADS_ENV)  # --threads sets it for the command only
     try:  # from its first line: building the parser takes a while too
         return _main(argv)
     except KeyboardInterrupt:
         print("cyclomech: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    finally:
+        if threads_env is None:
+            os.environ.pop(THREADS_ENV, None)
+        else:
+            os.environ[THREADS_ENV] = threads_env
+
+
+def _threads_env(threads: int | None) -> str:
+    """Why ``CYCLOMECH_THREADS`` is unusable ("" if it is fine). ``--threads N``
+    (validated by its command) sets it, so that every kernel of the command takes N."""
+    if threads is not None and 1 <= threads <= MAX_THREADS:
+        os.environ[THREADS_ENV] = str(threads)
+    raw = os.environ.get(THREADS_ENV, "").strip()
+    if not raw or (raw.isdigit() and 1 <= int(raw) <= MAX_THREADS):
+        return ""
+    return (
+        f"environment variable {THREADS_ENV} = {raw!r} must be an integer between 1 and "
+        f"{MAX_THREADS} (the Rust kernels' threads), or unset for all cores"
+    )
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -109,6 +133,10 @@ def _main(argv: Sequence[str] | None) -> int:
     for domain in COMMANDS:
         domain.add_commands(sub)
     args = parser.parse_args(argv)
+    bad = _threads_env(getattr(args, "threads", None))
+    if bad:  # the environment's, not the file's: said before the file is read
+        print(f"cyclomech: error: {bad}", file=sys.stderr)
+        return EXIT_INPUT
     # A warning for the user (a near-miss name, an angle a linkage cannot reach) is one
     # line on stderr, like an error, not Python's warning with a source line.
     try:

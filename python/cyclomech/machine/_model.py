@@ -714,10 +714,13 @@ class Machine:
         >>> [c.name for c in cg.constraints]
         ['rebound[lifter]']
         """
+        if np.ndim(rpm) != 0:
+            raise InputError(f"rpm must be one speed [rpm]; got {rpm!r}")
+        rpm = float(speeds_rpm("rpm", rpm)[0])  # the machine's rule: (0, 1e6] rpm
         cg = copy.deepcopy(self.cyclogram)
-        cg.speed_rpm = float(rpm)
+        cg.speed_rpm = rpm
         for m in self._bounded:
-            for c in m.constraints(float(rpm), linear=linear):
+            for c in m.constraints(rpm, linear=linear):
                 cg.add_constraint(dict(c.coeffs), c.sense, c.rhs, name=c.name)
         return cg
 
@@ -880,7 +883,8 @@ def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:
         raise InputError(f"{where} must be a table; got {spec!r}")
     kind = spec.get("kind")
     if kind not in KINDS:
-        raise InputError(f"{where}: kind = {kind!r} must be one of {', '.join(KINDS)}")
+        said = "the key kind is missing; it" if kind is None else f"kind = {kind!r}"
+        raise InputError(f"{where}: {said} must be one of {', '.join(KINDS)}")
     try:
         return KINDS[kind].from_table(key, spec, ctx)
     except (InputError, InfeasibleError) as e:
