@@ -253,3 +253,20 @@ def test_a_bad_threads_variable_is_the_environments_error(tmp_path, capsys, monk
     monkeypatch.delenv("CYCLOMECH_THREADS")
     assert main([*argv, "--out", str(tmp_path / "c")]) == 0
     assert "CYCLOMECH_THREADS" not in os.environ
+
+
+def test_a_speed_range_where_the_machine_works_nowhere_is_said(tmp_path, capsys):
+    # Found by a new user's trial: a range above the speed limit gave an all-NaN
+    # speed sweep and no word. The nominal speed (300 rpm) still works: exit 0.
+    text = LOOM.read_text(encoding="utf-8").replace(
+        "speed_rpm = [200.0, 500.0]", "speed_rpm = [900000.0, 1000000.0]"
+    )
+    path = tmp_path / "m.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.warns(cm.CyclomechWarning, match="works at none of the .* speeds"):
+        r = analyze(cm.Machine.from_toml(path), progress=False)
+    assert not r.sweep.fits.any() and r.optimum is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", cm.CyclomechWarning)
+        assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 0
+    assert "cyclomech: warning: " in capsys.readouterr().err

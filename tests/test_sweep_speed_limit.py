@@ -9,6 +9,7 @@ per_rpm/6 s), and by fitting just below and not just above."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import cyclomech as cm
 import numpy as np
@@ -227,3 +228,20 @@ def test_bad_inputs_are_input_errors() -> None:
         net.speed_limits_proportional(per, start, rtol=0.0)
     with pytest.raises(cm.InputError, match="n_threads"):
         net.speed_limits_proportional(per, start, n_threads=0)
+
+
+@pytest.mark.parametrize("batch", [True, False])
+def test_no_productivity_above_a_mechanisms_own_limit(batch):
+    # Found by a new user's trial: the rotor line's sweep gave productivity 240/min
+    # at 240 rpm, above its transfer's jerk limit (221.76 rpm), where fits (the
+    # cyclogram's alone) is True. The machine does not work there: productivity 0.
+    m = cm.Machine.from_toml(
+        Path(__file__).resolve().parent.parent / "examples" / "rotor_line.toml"
+    )
+    own = m.speed_limit().mechanisms_rpm["line"]
+    rpm = [200.0, own * (1 - 1e-12), own * (1 + 1e-12), 240.0]
+    r = cm.sweep(m, {"speed_rpm": rpm}, batch=batch)
+    assert r.columns["fits"].tolist() == [True] * 4
+    assert r.columns["productivity_per_min"].tolist() == [200.0, rpm[1], 0.0, 0.0]
+    s = m.speed_sweep(rpm)
+    assert s.productivity_per_min.tolist() == [200.0, rpm[1], 0.0, 0.0]

@@ -42,6 +42,7 @@ from .. import _core
 from .._kind import Proportional
 from .._units import DEG_PER_S_PER_RPM
 from ..impact import CamStop, propped_lever_stiffness
+from ._many import _own_limit_rpm
 from ._model import Machine, _bounds_at
 
 __all__ = ["BATCH_KEYS", "Plan", "batch_figures", "plan"]
@@ -283,7 +284,7 @@ def batch_figures(
         "fits": fits,
         "limiting_deg": value,
         "limiting_s": value / (DEG_PER_S_PER_RPM * rows),
-        "productivity_per_min": np.where(fits, rows, 0.0),
+        "productivity_per_min": np.where(fits & (rows <= _own_limit_rpm(machine)), rows, 0.0),
         "max_rebound_m": extra.get("max_rebound_m", np.full(rows.shape, np.nan)),
         "binding": binding,
     }

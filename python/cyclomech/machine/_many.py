@@ -50,7 +50,9 @@ class SpeedSweep:
     limiting_s : ndarray of float, shape (S,)
         The time it gets [s].
     productivity_per_min : ndarray of float, shape (S,)
-        Machine cycles per minute where it fits, else 0 [1/min].
+        Machine cycles per minute where the machine works, else 0 [1/min]: the
+        cyclogram fits and the speed is within every mechanism's own speed limit
+        (``fits`` is the cyclogram's alone).
     binding : ndarray of object, shape (S,)
         The bounds and constraints on the chain that sets the optimum
         (joined by ``"; "``).
@@ -94,6 +96,20 @@ class SpeedSweep:
         [100.0, nan]
         """
         return self.columns["max_rebound_m"]
+
+
+def _own_limit_rpm(machine: Machine) -> float:
+    """The lowest of the machine's mechanisms' own speed limits [rpm] (a transfer's
+    jerk, say; inf if none has one). Above it the machine does not work even where
+    its cyclogram fits: its productivity there is 0.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> _own_limit_rpm(cm.Machine.example())   # a stop has no speed limit of its own
+    inf
+    """
+    return min((float(x.speed_limit_rpm()) for x in machine.mechanisms.values()), default=math.inf)
 
 
 # --------------------------------------------------------------------- many machines
@@ -245,7 +261,7 @@ def speed_sweeps(
                 fits=fits[r],
                 limiting_deg=value[r],
                 limiting_s=value[r] / (DEG_PER_S_PER_RPM * n),
-                productivity_per_min=np.where(fits[r], n, 0.0),
+                productivity_per_min=np.where(fits[r] & (n <= _own_limit_rpm(ms[j])), n, 0.0),
                 binding=binding[r],
                 min_phase_deg={name: t[r] for name, t in zip(names, t_bound, strict=True)},
                 columns={c: v[r] for c, v in extra.items()},

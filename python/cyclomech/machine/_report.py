@@ -214,6 +214,15 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     )
     if r.above_speed_limit:
         warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
+    if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
+        lo, hi = m.speed_range_rpm
+        warnings.warn(
+            f"{m.source}: the machine works at none of the {rpm.size} speeds of its speed "
+            f"range {lo:g}–{hi:g} rpm (speed limit {limit.rpm:.2f} rpm): the speed sweep "
+            "is empty",
+            CyclomechWarning,
+            stacklevel=2,
+        )
     return r
 
 
