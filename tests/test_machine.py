@@ -18,6 +18,7 @@ import math
 import pickle
 import re
 import tomllib
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -877,14 +878,17 @@ def test_rebound_price_per_mm_is_the_optimum_s_slope_in_a_max(run):
     assert price > 0  # more allowed rebound leaves the weft insertion more angle
 
 
-def test_a_speed_range_above_the_limit_is_reported_as_such(tmp_path):
+def test_a_speed_range_above_the_limit_is_reported_as_such(tmp_path, capsys):
     """A loom whose speed range lies wholly above its speed limit: the report says
     the machine works at no speed of the range, and draws the figure anyway."""
     path = tmp_path / "fast.toml"
     text = (EXAMPLES / PLOTTED).read_text(encoding="utf-8")
     path.write_text(text.replace("speed_rpm = [200.0, 500.0]", "speed_rpm = [600.0, 900.0]"))
     out = tmp_path / "out"
-    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    with warnings.catch_warnings():  # said on the console too, as one line
+        warnings.simplefilter("always", cm.CyclomechWarning)
+        assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    assert "works at none of the 61 speeds" in capsys.readouterr().err
     r = results(out)
     assert r["speed_limit"]["rpm"] == pytest.approx(420.32, abs=0.01)
     assert not any(r["speed_sweep"]["fits"])

@@ -885,3 +885,11 @@ def test_a_mechanism_without_its_kind_says_the_key_is_missing(tmp_path):
         cm.InputError, match=r"\[mechanism.lifter\]: the key kind is missing; it must"
     ):
         cm.Machine.from_toml(path)
+
+
+@pytest.mark.parametrize(("omega", "text"), [(1e-200, "got 1e-200"), (1e200, "got 1e200")])
+def test_numbers_in_rust_messages_are_short(omega, text):
+    # Found by a new user's trial: Rust printed 1e-200 as "0." and 199 zeros.
+    with pytest.raises(cm.InputError) as e:
+        cm.impact.first_rebound([0.0], [0.0], omega, 0.0, 1.0, v0=1.0)
+    assert str(e.value).endswith(text)

@@ -71,6 +71,7 @@ pub mod impact;
 pub mod linkage;
 mod memory;
 pub mod motion;
+pub(crate) mod num_text;
 pub mod parallel;
 pub mod press;
 pub mod shaft;

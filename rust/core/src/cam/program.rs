@@ -14,7 +14,7 @@ pub const CLOSE_TOL: f64 = 1e-12;
 /// Errors of the cam domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CamError {
-    #[error("segment {index} ({kind}): {field} = {value} {why}")]
+    #[error("segment {index} ({kind}): {field} = {} {why}", crate::num_text::Num(*value))]
     BadSegment {
         index: usize,
         kind: &'static str,
@@ -31,17 +31,17 @@ pub enum CamError {
     },
     #[error("the segments' angles sum to {sum_deg}°, not 360°")]
     NotOneTurn { sum_deg: f64 },
-    #[error("the displacement does not return to its start: rises − returns = {net}")]
+    #[error("the displacement does not return to its start: rises − returns = {}", crate::num_text::Num(*net))]
     NotClosed { net: f64 },
     #[error("the program has no segment")]
     Empty,
-    #[error("follower {field} = {value} {why}")]
+    #[error("follower {field} = {} {why}", crate::num_text::Num(*value))]
     BadFollower {
         field: &'static str,
         value: f64,
         why: String,
     },
-    #[error("{field} = {value} {why}")]
+    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
     BadValue {
         field: &'static str,
         value: f64,

@@ -49,14 +49,14 @@ pub enum CyclogramError {
         value: f64,
         what: &'static str,
     },
-    #[error("{field}[{position}] = {value} is invalid: {what}")]
+    #[error("{field}[{position}] = {} is invalid: {what}", crate::num_text::Num(*value))]
     OutOfDomain {
         field: &'static str,
         position: usize,
         value: f64,
         what: &'static str,
     },
-    #[error("{field} = {value} is invalid: {what}")]
+    #[error("{field} = {} is invalid: {what}", crate::num_text::Num(*value))]
     BadScalar {
         field: &'static str,
         value: f64,

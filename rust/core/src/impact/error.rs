@@ -3,7 +3,7 @@
 /// Errors of the impact domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ImpactError {
-    #[error("{field} must be {want}; got {value}")]
+    #[error("{field} must be {want}; got {}", crate::num_text::Num(*value))]
     Param {
         field: &'static str,
         value: f64,

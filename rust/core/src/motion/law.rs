@@ -27,7 +27,7 @@ pub enum MotionError {
         index: usize,
         value: f64,
     },
-    #[error("{field}[{index}] = {value} lies outside [{lo}, {hi}]{why}")]
+    #[error("{field}[{index}] = {} lies outside [{lo}, {hi}]{why}", crate::num_text::Num(*value))]
     OutOfRange {
         field: &'static str,
         index: usize,

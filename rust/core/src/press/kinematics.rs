@@ -13,7 +13,7 @@ use super::criteria::{wrap, DEFAULT_SAMPLES, TIE};
 /// Errors of the press domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PressError {
-    #[error("{field} = {value} {why}")]
+    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
     BadDesign {
         field: &'static str,
         value: f64,

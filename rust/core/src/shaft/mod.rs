@@ -45,7 +45,7 @@ pub const N_STATS: usize = STATS.len();
 /// Errors of the main shaft.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ShaftError {
-    #[error("{field} = {value} {why}")]
+    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
     BadValue {
         field: &'static str,
         value: f64,

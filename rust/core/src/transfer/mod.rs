@@ -52,7 +52,7 @@ pub const BLOCK: usize = 4096;
 /// Errors of the rotor transfer kernels.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TransferError {
-    #[error("{field} = {value} {why}")]
+    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
     BadValue {
         field: &'static str,
         value: f64,
