@@ -893,3 +893,25 @@ def test_numbers_in_rust_messages_are_short(omega, text):
     with pytest.raises(cm.InputError) as e:
         cm.impact.first_rebound([0.0], [0.0], omega, 0.0, 1.0, v0=1.0)
     assert str(e.value).endswith(text)
+
+
+def test_a_bound_no_angle_meets_makes_the_machine_work_at_no_speed(tmp_path, capsys):
+    # Found by a new user's trial: natural_frequency_hz = 1e-9 made the cam's
+    # vibration bound exceed any turn, and the run failed with "constraint
+    # 'vibration[…]': rhs must be finite; got nan" (exit 2, no key named). It is a
+    # design that fits at no speed: exit 3, the bound named.
+    text = (EXAMPLES / "stb_loom.toml").read_text("utf-8")
+    text = text.replace("natural_frequency_hz = 400.0", "natural_frequency_hz = 1e-9", 1)
+    path = tmp_path / "m.toml"
+    path.write_text(text, "utf-8")
+    m = cm.Machine.from_toml(path)
+    lim = m.speed_limit()
+    assert (
+        lim.rpm == 0 and "vibration[lifter cam rise 1→3] cannot be met by any angle" in lim.reason
+    )
+    with pytest.raises(cm.InfeasibleError) as e:
+        m.optimize(300.0)
+    assert e.value.conflict == ("vibration[lifter cam rise 1→3]",)
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out), "--no-plot", "--quiet"]) == 3
+    assert "works at no speed" in capsys.readouterr().err

@@ -49,9 +49,8 @@ _MACHINE_KEYS = {
 }
 
 
-#: The main shaft's coefficient of speed fluctuation δ when the file gives none
-#: (``[machine] speed_fluctuation``): 1/20, a common value for machines with a
-#: flywheel on the main shaft.
+#: The main shaft's speed fluctuation δ without ``[machine] speed_fluctuation``:
+#: 1/20, a common value for machines with a flywheel on the main shaft.
 SPEED_FLUCTUATION = 0.05
 
 
@@ -704,8 +703,12 @@ class Machine:
         Returns
         -------
         Cyclogram
-            The copy, its ``speed_rpm`` set, the bounds as constraints named by their
-            labels.
+            The copy, its ``speed_rpm`` set, each bound a constraint named by its label.
+
+        Raises
+        ------
+        InfeasibleError
+            If a bound cannot be met by any angle at ``rpm`` (it exceeds a turn).
 
         Examples
         --------
@@ -721,6 +724,9 @@ class Machine:
         cg.speed_rpm = rpm
         for m in self._bounded:
             for c in m.constraints(rpm, linear=linear):
+                if not math.isfinite(c.rhs):  # no angle meets it: the design fails there
+                    why = f"{c.name} cannot be met by any angle at {rpm:g} rpm"
+                    raise InfeasibleError(f"{why} (its bound exceeds a full turn)", (c.name,))
                 cg.add_constraint(dict(c.coeffs), c.sense, c.rhs, name=c.name)
         return cg
 
