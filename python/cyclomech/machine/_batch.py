@@ -42,7 +42,7 @@ from .. import _core
 from .._kind import Proportional
 from .._units import DEG_PER_S_PER_RPM
 from ..impact import CamStop, propped_lever_stiffness
-from ._many import _own_limit_rpm
+from ._many import _own_limits
 from ._model import Machine, _bounds_at
 
 __all__ = ["BATCH_KEYS", "Plan", "batch_figures", "plan"]
@@ -280,11 +280,13 @@ def batch_figures(
             prev = extra.get(c)
             extra[c] = np.fmax(np.full(rows.shape, np.nan) if prev is None else prev, v)
         k += nb
+    own = _own_limits(machine)  # shared by the designs (a stop has none)
+    lowest = min(own.values(), default=np.inf)
     cols: dict[str, npt.NDArray[Any]] = {
         "fits": fits,
         "limiting_deg": value,
         "limiting_s": value / (DEG_PER_S_PER_RPM * rows),
-        "productivity_per_min": np.where(fits & (rows <= _own_limit_rpm(machine)), rows, 0.0),
+        "productivity_per_min": np.where(fits & (rows <= lowest), rows, 0.0),
         "max_rebound_m": extra.get("max_rebound_m", np.full(rows.shape, np.nan)),
         "binding": binding,
     }
@@ -297,11 +299,9 @@ def batch_figures(
         cg = net.speed_limits(at, D, machine._search_start(), n_threads, 1e-10)
     rpm = np.asarray(cg, dtype=np.float64).copy()
     by = np.full(D, "cyclogram", dtype=object)
-    for name, x in machine.mechanisms.items():
-        own = float(x.speed_limit_rpm())
-        if np.isfinite(own):
-            lower = own < rpm
-            by[lower], rpm[lower] = name, own
+    for name, limit in own.items():
+        lower = limit < rpm  # never for inf
+        by[lower], rpm[lower] = name, limit
     cols["speed_limit_rpm"] = np.repeat(rpm[:, None], S, axis=1)
     cols["speed_limit_by"] = np.repeat(by[:, None], S, axis=1)
     return cols

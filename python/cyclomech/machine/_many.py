@@ -98,18 +98,23 @@ class SpeedSweep:
         return self.columns["max_rebound_m"]
 
 
-def _own_limit_rpm(machine: Machine) -> float:
-    """The lowest of the machine's mechanisms' own speed limits [rpm] (a transfer's
-    jerk, say; inf if none has one). Above it the machine does not work even where
-    its cyclogram fits: its productivity there is 0.
+def _own_limits(machine: Machine, cache: dict[int, float] | None = None) -> dict[str, float]:
+    """Each mechanism's own speed limit [rpm] (a transfer's jerk, say; inf without),
+    by name; with ``cache``, worked out once per mechanism object (a sweep's variants
+    share theirs, and one can take a millisecond). Above the lowest the machine does
+    not work even where its cyclogram fits: its productivity there is 0.
 
     Examples
     --------
     >>> import cyclomech as cm
-    >>> _own_limit_rpm(cm.Machine.example())   # a stop has no speed limit of its own
-    inf
+    >>> _own_limits(cm.Machine.example())   # a stop has no speed limit of its own
+    {'lifter': inf}
     """
-    return min((float(x.speed_limit_rpm()) for x in machine.mechanisms.values()), default=math.inf)
+    cache = {} if cache is None else cache
+    for x in machine.mechanisms.values():
+        if id(x) not in cache:
+            cache[id(x)] = float(x.speed_limit_rpm())
+    return {k: cache[id(x)] for k, x in machine.mechanisms.items()}
 
 
 # --------------------------------------------------------------------- many machines
@@ -235,6 +240,7 @@ def speed_sweeps(
     out: list[SpeedSweep | None] = [None] * len(machines)
     S = n.size
     columns = sorted({c for cls in KINDS.values() for c in cls.sweep_columns})
+    cache: dict[int, float] = {}  # the mechanisms' own limits (_own_limits)
     for idx in _networks(machines).values():
         ms = [machines[i] for i in idx]
         net, D = ms[0]._network, len(ms)
@@ -254,6 +260,7 @@ def speed_sweeps(
                 extra[c] = np.fmax(extra.get(c, np.full(rows.shape, np.nan)), v)
             k += nb
         names = [b.name for b in ms[0].bounds()]
+        lowest = [min(_own_limits(m, cache).values(), default=math.inf) for m in ms]
         for j, i in enumerate(idx):
             r = slice(j * S, (j + 1) * S)
             out[i] = SpeedSweep(
@@ -261,7 +268,7 @@ def speed_sweeps(
                 fits=fits[r],
                 limiting_deg=value[r],
                 limiting_s=value[r] / (DEG_PER_S_PER_RPM * n),
-                productivity_per_min=np.where(fits[r] & (n <= _own_limit_rpm(ms[j])), n, 0.0),
+                productivity_per_min=np.where(fits[r] & (n <= lowest[j]), n, 0.0),
                 binding=binding[r],
                 min_phase_deg={name: t[r] for name, t in zip(names, t_bound, strict=True)},
                 columns={c: v[r] for c, v in extra.items()},
@@ -298,7 +305,7 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
     """
     threads = threads_arg(n_threads)
     out: list[SpeedLimit | None] = [None] * len(machines)
-    own: dict[int, float] = {}  # a mechanism's own limit, by object
+    cache: dict[int, float] = {}  # the mechanisms' own limits (_own_limits)
     for idx in _networks(machines).values():
         ms = [machines[i] for i in idx]
         net = ms[0]._network
@@ -310,13 +317,8 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
         if ok.size:
             binding[ok] = net.solve(cg[ok], at(ok, cg[ok, None]), threads)[2]
         for j, (i, m) in enumerate(zip(idx, ms, strict=True)):
-            mech, why = {}, {}
-            for k, x in m.mechanisms.items():
-                if id(x) not in own:
-                    own[id(x)] = float(x.speed_limit_rpm())
-                if math.isfinite(own[id(x)]):
-                    mech[k] = own[id(x)]
-                    why[k] = x.limit_reason()
+            mech = {k: v for k, v in _own_limits(m, cache).items() if math.isfinite(v)}
+            why = {k: m.mechanisms[k].limit_reason() for k in mech}
             by, rpm = "cyclogram", float(cg[j])
             for k, v in mech.items():
                 if v < rpm:
