@@ -22,7 +22,31 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["whole"]
+__all__ = ["partial", "whole"]
+
+
+def partial(path: Path) -> Path:
+    """The temporary name of ``path`` while it is written: hidden, beside it, with
+    this process's id and the same suffix (for a writer that renames it itself, as a
+    streamed sweep does over many calls).
+
+    Parameters
+    ----------
+    path : Path
+        The file to write.
+
+    Returns
+    -------
+    Path
+        Where to write it until it is whole.
+
+    Examples
+    --------
+    >>> import os, pathlib
+    >>> partial(pathlib.Path("out/s.parquet")).name == f".s.{os.getpid()}.partial.parquet"
+    True
+    """
+    return path.with_name(f".{path.stem}.{os.getpid()}.partial{path.suffix}")
 
 
 @contextlib.contextmanager
@@ -54,7 +78,7 @@ def whole(path: Path) -> Iterator[Path]:
     >>> p.exists(), list(p.parent.iterdir())
     (False, [])
     """
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.partial{path.suffix}")
+    tmp = partial(path)
     try:
         yield tmp
         os.replace(tmp, path)

@@ -33,6 +33,7 @@ import numpy.typing as npt
 
 from .._arrays import check_bytes, plain_pages, speeds_rpm
 from .._errors import CyclomechWarning, InputError
+from .._files import partial, whole
 from .._progress import progress as progress_bar
 from ._batch import batch_designs, batch_figures, plan
 from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
@@ -187,9 +188,7 @@ class SweepResult:
                 msg = f"{p}: pyarrow is not installed, so {npz} (NumPy) is written instead"
                 warnings.warn(msg + " (pip install pyarrow)", CyclomechWarning, stacklevel=2)
         p = p if parquet else p.with_suffix(".npz")
-        # Under a temporary name, renamed when complete: an interrupt leaves no result.
-        tmp = p.with_name(f".{p.stem}.{os.getpid()}.partial{p.suffix}")
-        try:
+        with whole(p) as tmp:  # an interrupt leaves no file that looks like a result
             if parquet:
                 table = pa.table({k: pa.array(v) for k, v in self.columns.items()})
                 meta = {
@@ -202,9 +201,6 @@ class SweepResult:
                     k: (v.astype(str) if v.dtype == object else v) for k, v in self.columns.items()
                 }
                 np.savez_compressed(tmp, **cast(dict[str, Any], cols))
-            os.replace(tmp, p)
-        finally:
-            tmp.unlink(missing_ok=True)
         return p
 
     @classmethod
@@ -732,7 +728,7 @@ class _Stream:
                 "out=: streaming a sweep to Parquet needs pyarrow (`pip install pyarrow`)"
             ) from None
         self.path = p
-        self.tmp = p.with_name(f".{p.stem}.{os.getpid()}.partial{p.suffix}")
+        self.tmp = partial(p)
         self.meta = {b"schema": SCHEMA.encode(), b"parameters": ",".join(names).encode()}
         self.writer: Any = None
         self.summary: dict[str, Any] = {"points": 0, "fits": 0, "invalid": 0, "problem": ""}
