@@ -8,6 +8,7 @@ here against literal values, not against the core that now supplies them.
 import math
 
 import cyclomech as cm
+import pytest
 from cyclomech import _core, _units
 
 
@@ -49,3 +50,15 @@ def test_rpm_factors_come_from_the_core() -> None:
     assert _units.DEG_PER_S_PER_RPM is _core.DEG_PER_S_PER_RPM
     assert type(_units.RAD_PER_S_PER_RPM) is float
     assert type(_units.DEG_PER_S_PER_RPM) is float
+
+
+def test_the_thread_rule_is_the_cores(monkeypatch):
+    assert _core.THREADS_ENV == "CYCLOMECH_THREADS"
+    assert _core.threads(3) == 3
+    with pytest.raises(cm.InputError, match="n_threads must be an integer between 1 and 1024"):
+        _core.threads(0)
+    monkeypatch.setenv("CYCLOMECH_THREADS", " 2 ")
+    assert _core.threads() == 2
+    monkeypatch.setenv("CYCLOMECH_THREADS", "x")
+    with pytest.raises(cm.InputError, match=r'CYCLOMECH_THREADS must be .* got "x"'):
+        _core.threads()

@@ -606,3 +606,11 @@ def transfer_peak_jerk(
 def transfer_longest(
     radii: tuple[float, float], distance: float, ratio: tuple[float, float]
 ) -> tuple[float, float] | None: ...
+
+# threads
+
+__all__ += ["THREADS_ENV", "threads"]
+
+THREADS_ENV: str
+
+def threads(n_threads: int | None = None) -> int: ...

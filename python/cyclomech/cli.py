@@ -25,6 +25,7 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
+from . import _core
 from ._arrays import MAX_THREADS
 from ._cli import (
     EXIT_BROKEN_PIPE,
@@ -43,7 +44,7 @@ from .machine import cli as machine_cli
 from .press import cli as press_cli
 
 #: The environment variable of the Rust kernels' default thread count.
-THREADS_ENV = "CYCLOMECH_THREADS"
+THREADS_ENV = _core.THREADS_ENV
 
 __all__ = [
     "EXIT_BROKEN_PIPE",
@@ -106,17 +107,16 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _threads_env(threads: int | None) -> str:
-    """Why ``CYCLOMECH_THREADS`` is unusable ("" if it is fine). ``--threads N``
-    (validated by its command) sets it, so that every kernel of the command takes N."""
+    """Why ``CYCLOMECH_THREADS`` is unusable ("" if it is fine), by the Rust core's
+    rule. ``--threads N`` (validated by its command) sets it for the command, so that
+    every kernel takes N."""
     if threads is not None and 1 <= threads <= MAX_THREADS:
         os.environ[THREADS_ENV] = str(threads)
-    raw = os.environ.get(THREADS_ENV, "").strip()
-    if not raw or (raw.isdigit() and 1 <= int(raw) <= MAX_THREADS):
-        return ""
-    return (
-        f"environment variable {THREADS_ENV} = {raw!r} must be an integer between 1 and "
-        f"{MAX_THREADS} (the Rust kernels' threads), or unset for all cores"
-    )
+    try:
+        _core.threads()
+    except InputError as e:
+        return str(e)
+    return ""
 
 
 def _main(argv: Sequence[str] | None) -> int:

@@ -49,6 +49,8 @@ mod _core {
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
     #[pymodule_export]
+    use super::threads;
+    #[pymodule_export]
     use super::transfer::{
         transfer_kinematics, transfer_longest, transfer_peak_jerk, transfer_quintic,
         transfer_sample,
@@ -66,6 +68,7 @@ mod _core {
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
+        m.add("THREADS_ENV", parallel::THREADS_ENV)?;
         crate::interrupt::install(m.py());
         Ok(())
     }
@@ -75,6 +78,15 @@ mod _core {
     use cyclomech_core::motion::NAMES as LAW_NAMES;
     use cyclomech_core::press::Status;
     use cyclomech_core::shaft::STATS as SHAFT_STATS;
-    use cyclomech_core::units;
+    use cyclomech_core::{parallel, units};
     use pyo3::types::PyTuple;
+}
+
+/// The thread count the kernels take for `n_threads` (None: `CYCLOMECH_THREADS`,
+/// else every core), by the core's one rule; an `InputError` names what is wrong.
+#[pyfunction]
+#[pyo3(signature = (n_threads=None))]
+fn threads(py: Python<'_>, n_threads: Option<i64>) -> PyResult<usize> {
+    use errors::IntoPyErr;
+    cyclomech_core::parallel::resolve_threads(n_threads).map_err(|e| e.into_pyerr(py))
 }
