@@ -271,3 +271,18 @@ def test_a_speed_range_where_the_machine_works_nowhere_is_said(tmp_path, capsys)
         warnings.simplefilter("always", cm.CyclomechWarning)
         assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 0
     assert "cyclomech: warning: " in capsys.readouterr().err
+
+
+def test_a_nominal_speed_exactly_at_a_mechanisms_limit_works(tmp_path, capsys):
+    # The rule at the edge: at the limit works, above it does not. Without
+    # nominal_rpm the report's speed is the range's top capped at the speed limit,
+    # here the transfer's own 221.76 rpm exactly: no failure, and it is productive.
+    text = (ROOT / "examples" / "rotor_line.toml").read_text(encoding="utf-8")
+    path = tmp_path / "m.toml"
+    path.write_text(text.replace("nominal_rpm = 120.0\n", ""), encoding="utf-8")
+    r = analyze(cm.Machine.from_toml(path), progress=False)
+    assert r.nominal_rpm == r.limit.rpm == r.limit.mechanisms_rpm["line"]
+    assert r.above_speed_limit == ""
+    s = r.machine.speed_sweep([r.nominal_rpm])
+    assert s.productivity_per_min.tolist() == [r.nominal_rpm]
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 0
