@@ -255,7 +255,7 @@ FILE_CASES = [
     case("a cyclogram file", "stb_group1", unchanged, None, None, "cyclomech cyclogram"),
     case("a press file", "extrusion_press", unchanged, None, None, "cyclomech press"),
     case("a key twice", "rotor_line", replace("gap = 0.01", "gap = 0.01\ngap = 0.02"), None,
-         None, "not valid TOML", "line 28"),
+         None, "not valid TOML", "line 31"),
 ]  # fmt: skip
 
 TOP_CASES = [
