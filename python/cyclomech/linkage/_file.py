@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from .. import _toml
 from .._errors import InputError
+from .._files import file_target, write_text
 from ..forces import DYNAMICS_KEYS
 
 if TYPE_CHECKING:
@@ -137,5 +138,5 @@ def write_toml(lk: Linkage, path: str | Path | None) -> str:
         lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in sliders.items()]
     text = "\n".join(lines) + "\n"
     if path is not None:
-        Path(path).write_text(text, encoding="utf-8")
+        write_text(file_target("path", path), text)  # whole or not at all
     return text
