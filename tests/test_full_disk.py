@@ -21,7 +21,6 @@ import uuid
 from pathlib import Path
 
 import pytest
-
 from cyclomech._cli import EXIT_WRITE
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

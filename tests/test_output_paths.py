@@ -11,9 +11,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import pytest
-
 import cyclomech as cm
+import pytest
 from cyclomech.machine import analyze, write_report
 
 

@@ -52,6 +52,7 @@ def linkage_table(lk: Linkage) -> dict[str, Any]:
 def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where: str) -> Linkage:
     """What :meth:`Linkage.from_dict` does: check ``table``'s keys, read its
     lengths and sliders and build a ``cls``; errors name ``source`` and ``where``."""
+    _toml.must_be_table(table, source, where)
     machine_only = sorted(set(table) & _MACHINE_KEYS)
     if machine_only:
         raise InputError(
@@ -74,8 +75,14 @@ def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where:
         for i, item in enumerate(items, 1):
             _toml.check_keys(item, {"joints", "length"}, None, f"lengths #{i}")
             joints = item.get("joints")
-            if not (isinstance(joints, list) and len(joints) == 2):
-                raise InputError(f"lengths #{i}: joints must be [a, b]; got {joints!r}")
+            if not (
+                isinstance(joints, list)
+                and len(joints) == 2
+                and all(isinstance(j, str) for j in joints)
+            ):
+                raise InputError(
+                    f"lengths #{i}: joints must be [a, b], two joint names; got {joints!r}"
+                )
             lengths[(joints[0], joints[1])] = item.get("length")
         sliders: dict[str, Any] = {}
         guides_of = table.get("sliders", {})

@@ -919,7 +919,7 @@ def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:
     if not isinstance(spec, Mapping):
         raise InputError(f"{where} must be a table; got {spec!r}")
     kind = spec.get("kind")
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         said = "the key kind is missing; it" if kind is None else f"kind = {kind!r}"
         raise InputError(f"{where}: {said} must be one of {', '.join(KINDS)}")
     try:
