@@ -26,10 +26,11 @@ __all__ = ["NEAR_DEAD_CENTRE", "Kinetostatics"]
 #: and rocker lining up, a slider-crank's rod across its guide) the inertia torque
 #: grows as 1/δ² with the crank angle δ to it: where the flag turns on it is about
 #: (0.1/0.02)² = 25 times its size 0.1 rad (5.7°) away, and under 50 times the
-#: largest torque 0.1 rad or more from the fold (38 for the four-bar of the forces
-#: guide). Well-built linkages stay far above it: a slider-crank of rod 3 cranks
-#: at 0.375 rad (its top dead centre), the presets above 0.29 rad, Grashof
-#: crank-rockers whose transmission angle falls to 5° above 0.04 rad.
+#: largest torque 0.1 rad or more from the fold (36 and 40 times at the two
+#: toggles of the four-bar of the forces guide). Well-built linkages stay far
+#: above it: a slider-crank of rod 3 cranks at 0.375 rad (its top dead centre),
+#: the presets above 0.29 rad, Grashof crank-rockers whose transmission angle
+#: falls to 5° above 0.04 rad.
 NEAR_DEAD_CENTRE = 0.02
 
 # Below this ``conditioning`` [rad] an angle is at the dead centre (singular, its
@@ -54,9 +55,9 @@ def _conditioning(solution: LinkageSolution, kernel: Array) -> Array:
     the crank speed does not enter) and bounded away from 0 elsewhere: the crank
     pin alone has |x'| = |x''| = r, so a pose far from any dead centre gives
     O(1) rad (1 / (2 (1 + r/l)) at the top dead centre of a slider-crank of crank
-    r and rod l). The force
-    block's pivots, the kernel's own measure, only fall as δ^½ (and with the
-    links' size), while the torque grows as δ^-2: they flag a fold far too late.
+    r and rod l). The force block's pivots, the kernel's own measure, only fall
+    as δ^½ (and with the links' size), while the torque grows as δ^-2: they flag
+    a fold far too late.
     0 where the kernel or the kinematics are singular or the analogs put the
     crank within ``_AT_DEAD_CENTRE`` of a dead centre, NaN where not assembled.
     """
@@ -163,8 +164,8 @@ class Kinetostatics:
         -------
         Kinetostatics
             The forces; no reactions (shape (3, N, 0, 2)) when they were not asked for.
-            NaN at every angle at a dead centre, which the kernel leaves finite
-            where only the analogs show it (then they are a copy).
+            NaN at every dead centre: where only the analogs show one (the kernel's
+            values finite), the values are copied with NaN there.
 
         Examples
         --------
