@@ -57,7 +57,7 @@ def _sliders(
                 f"{where} = {spec!r}: give a guide, ('ground', (dx, dy)) or ('link', (b, c)), "
                 "or a list of two guides"
             )
-        guides = []
+        guides: list[tuple[str, tuple[Any, ...]]] = []
         for g in specs:
             if not (isinstance(g, tuple | list) and len(g) == 2 and g[0] in ("ground", "link")):
                 raise InputError(
