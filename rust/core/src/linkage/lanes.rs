@@ -17,7 +17,7 @@ use pulp::{Simd, WithSimd};
 use crate::geom::{sin_cos, sin_cos_simd};
 
 use super::model::{Line, Program, Step};
-use super::solve::{Out, SINGULAR_REL};
+use super::solve::{Out, FOLD_H2_REL, SINGULAR_REL};
 
 /// Angles solved together.
 pub(super) const LANES: usize = 32;
@@ -345,6 +345,7 @@ impl<S: Simd> Block<'_, S> {
         let (c0, ra2) = (o.k(ra * ra - rb * rb), o.k(ra * ra));
         let floor = o.k(-1e-12 * ra * ra);
         let tol = o.k(SINGULAR_REL * ra * rb);
+        let fold = o.k(FOLD_H2_REL * ra * ra);
         let (one, half, sg, zero) = (o.k(1.0), o.k(0.5), o.k(sign), o.k(0.0));
         let (mut q, mut v, mut ac) = (ZERO, ZERO, ZERO);
         for i in 0..LANES / S::F64_LANES {
@@ -370,7 +371,10 @@ impl<S: Simd> Block<'_, S> {
             st2::<S>(&mut q, i, qq);
             let (u, w) = (o.sub2(qq, pa), o.sub2(qq, pb));
             let det = o.cross(u, w);
-            let dead = s.less_than_or_equal_f64s(s.abs_f64s(det), tol);
+            let dead = s.or_m64s(
+                s.less_than_or_equal_f64s(s.abs_f64s(det), tol),
+                s.less_than_or_equal_f64s(s.abs_f64s(h2), fold),
+            );
             self.mark_singular(i, dead);
             if an {
                 let (va, vb) = (ld2::<S>(&self.vel[a], i), ld2::<S>(&self.vel[b], i));

@@ -12,6 +12,10 @@ use super::model::{LinkageError, Program, Request, Solution, Step};
 /// A group whose determinant is below this fraction of its dimensions' product is
 /// at a dead centre.
 pub(super) const SINGULAR_REL: f64 = 1e-9;
+/// A two-circle (RRR) dyad is at its fold when its height² h² is within this
+/// fraction of ra² of zero, the same round-off floor below which it does not
+/// assemble: h ≤ 1e-6·ra, a crank angle of about 1e-12 rad from a toggle.
+pub(super) const FOLD_H2_REL: f64 = 1e-12;
 
 /// Angles per parallel task of a closed-form (class II) solve.
 const BLOCK: usize = 1024;
@@ -459,7 +463,11 @@ impl Program {
                     xy[p] = q;
                     let (u, w) = (sub(q, pa), sub(q, pb));
                     let det = cross(u, w);
-                    if det.abs() <= SINGULAR_REL * ra * rb {
+                    // At a fold (the two links in line) h² is round-off, and h its
+                    // square root: ~1e-8 of the links, a determinant far above the
+                    // 1e-9 tolerance and analogs of 1e22 (issue 31, item 2). An h²
+                    // within the round-off floor is the fold itself: singular.
+                    if det.abs() <= SINGULAR_REL * ra * rb || h2.abs() <= FOLD_H2_REL * ra * ra {
                         singular = true;
                         if AN {
                             vel[p] = NAN2;
