@@ -17,6 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._errors import InputError
+from ._keyrules import renamed
 
 #: Deepest nesting of arrays and tables accepted [levels]: cyclomech's files need
 #: five; far deeper ones would exhaust Python's recursion in the parser or later.
@@ -65,11 +66,14 @@ def load(path: str | Path) -> tuple[dict[str, Any], str]:
 
 def check_keys(table: Any, allowed: AbstractSet[str], source: str | None, where: str) -> None:
     """``table`` must be a table whose keys are all in ``allowed``; messages start
-    with ``source`` (None: the caller adds the file's name)."""
+    with ``source`` (None: the caller adds the file's name). A key renamed to say
+    its unit (:data:`cyclomech._keyrules.RENAMED`) is an error naming its new name."""
     at = where if source is None else f"{source}: {where}"
     if not isinstance(table, Mapping):
         raise InputError(f"{at} must be a table; got {table!r}")
     for k in table:
+        if k not in allowed and (new := renamed(k, allowed)):
+            raise InputError(f"{at}: {new}")
         if k not in allowed:
             raise InputError(
                 f"{at}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._errors import InputError
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
@@ -253,6 +253,11 @@ class CamDesign:
             if not 0 < alpha < 90:
                 raise InputError(f"{at}: max_pressure_angle_deg = {alpha!r} must be in (0, 90)")
         vibration = _vibration(table, at, units["vibration"], kind == "oscillating")
+        # Valid values a user may not have meant (a length in mm, an angle in
+        # radians, a stress in MPa): the rules of every key by its unit suffix.
+        _keyrules.check(table, (), at)
+        for i, row in enumerate(table["segment"]):
+            _keyrules.check(row, (), f"{at} segment {i}")
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
 
     @classmethod
