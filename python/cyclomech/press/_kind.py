@@ -190,7 +190,11 @@ class PressMechanism(Unbounded):
             phase=Phase.from_table(table, ctx, name),
         )
         _keyrules.check(table, cls.rules, where)
-        c = mech.criteria(60.0)
+        try:
+            c = mech.criteria(60.0)
+        except InputError as e:
+            named = _keyrules.file_names(str(e), {"working_stroke_m": "working_stroke"})
+            raise InputError(f"{where}: {named}") from None
         if not c.ok:
             raise InputError(f"{where}: {mech._failure(c)}")
         if mech.force is not None:

@@ -10,7 +10,7 @@ from typing import Any, ClassVar
 
 from .. import _keyrules, _toml
 from .._arrays import speeds_rpm
-from .._errors import InputError
+from .._errors import InfeasibleError, InputError
 from .._keyrules import Rule
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
@@ -18,6 +18,10 @@ from ._design import design_transfer
 from ._path import TransferPath
 
 __all__ = ["TransferMechanism"]
+
+#: The keys of a transfer's table that set a parameter of its path, by that
+#: parameter's name in :class:`TransferPath` (for messages).
+_PARAMS = {"R_t_m": "R_t", "R_p_m": "R_p", "gap_m": "gap", "x2_m": "x2"}
 
 
 @dataclass(frozen=True)
@@ -147,10 +151,19 @@ class TransferMechanism(Unbounded):
             raise InputError(f"{where}: gap_m = {gap!r} must be positive [m] (pitch circles apart)")
         _keyrules.check(table, cls.rules, where)
         x2 = _toml.number(table, "x2_m", where, "[m]") if "x2_m" in table else None
-        if x2 is None:
-            w = RAD_PER_S_PER_RPM
-            x2 = design_transfer(R_t, R_p, gap, (w * R_t / pockets[0], w * R_p / pockets[1])).x2
-        path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
+        try:
+            if x2 is None:
+                w = RAD_PER_S_PER_RPM
+                speeds = (w * R_t / pockets[0], w * R_p / pockets[1])
+                x2 = design_transfer(R_t, R_p, gap, speeds).x2
+            path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
+        except (InputError, InfeasibleError) as e:
+            # The path names its parameters (R_p, x2); the message names the file's keys.
+            text = str(e).replace("x2=None takes it", "without x2_m it is taken")
+            named = f"{where}: {_keyrules.file_names(text, _PARAMS)}"
+            if isinstance(e, InfeasibleError):
+                raise InfeasibleError(named, e.conflict) from None
+            raise InputError(named) from None
         return cls(
             name,
             path,
