@@ -37,7 +37,7 @@ def test_run_and_sweep_show_progress_on_stderr(tmp_path, capsys):
     err = capsys.readouterr().err
     # One tqdm bar over the run's four steps, naming the step it is on.
     assert "100.0% 4/4" in err and "speed limit" in err and "mechanisms" in err
-    cm.sweep(m, {"lifter.preload": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
+    cm.sweep(m, {"lifter.preload_m": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
     err = capsys.readouterr().err
     assert "sweep [" in err and "100.0% 4/4" in err
 
@@ -52,7 +52,7 @@ def test_ctrl_c_stops_a_long_sweep_cleanly(tmp_path):
         "sweep",
         str(LOOM),
         "--set",
-        "lifter.preload=0.0001:0.0005:2000",
+        "lifter.preload_m=0.0001:0.0005:2000",
         "--speed",
         "200:500:301",
         "--out",
@@ -81,7 +81,7 @@ def test_ctrl_c_stops_a_dask_sweep_cleanly(tmp_path):
     and status 130, no traceback from the workers, and leave no process behind."""
     pytest.importorskip("dask.distributed")
     cmd = [sys.executable, "-m", "cyclomech", "sweep", str(LOOM)]
-    cmd += ["--set", "lifter.preload=0.0001:0.0005:4000", "--speed", "200:500:3001"]
+    cmd += ["--set", "lifter.preload_m=0.0001:0.0005:4000", "--speed", "200:500:3001"]
     cmd += ["--out", str(tmp_path / "sweep"), "--quiet", "--dask", "local:2"]
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     proc = subprocess.Popen(
@@ -121,7 +121,7 @@ def test_ctrl_c_stops_a_dask_sweep_cleanly(tmp_path):
 
 def test_sweep_command_writes_the_grid(tmp_path, capsys):
     out = tmp_path / "s"
-    argv = ["sweep", str(LOOM), "--set", "lifter.preload=0.0002:0.0003:2"]
+    argv = ["sweep", str(LOOM), "--set", "lifter.preload_m=0.0002:0.0003:2"]
     argv += ["--speed", "300:400:3", "--out", str(out), "--quiet"]
     assert main(argv) == 0
     text = capsys.readouterr().out
@@ -129,7 +129,7 @@ def test_sweep_command_writes_the_grid(tmp_path, capsys):
     files = list(out.glob("sweep.*"))
     assert len(files) == 1
     r = cm.SweepResult.read(files[0])
-    direct = cm.Machine.from_toml(LOOM).with_values({"lifter.preload": 0.0003})
+    direct = cm.Machine.from_toml(LOOM).with_values({"lifter.preload_m": 0.0003})
     s = direct.speed_sweep([300.0, 350.0, 400.0])
     np.testing.assert_array_equal(r.columns["limiting_deg"][3:], s.limiting_deg)
 

@@ -769,22 +769,22 @@ SWEEP_SPEEDS = [250.0, 350.0, 420.0, 450.0]
 @pytest.fixture(scope="module")
 def loom_sweep():
     m = cm.Machine.from_toml(EXAMPLES / LOOM)
-    return m, cm.sweep(m, {"lifter.preload": PRELOADS, "speed_rpm": SWEEP_SPEEDS}, progress=False)
+    return m, cm.sweep(m, {"lifter.preload_m": PRELOADS, "speed_rpm": SWEEP_SPEEDS}, progress=False)
 
 
 def test_sweep_rows_are_the_speed_sweep_of_each_design(loom_sweep):
     m, r = loom_sweep
     S = len(SWEEP_SPEEDS)
     assert r.n_points == len(PRELOADS) * S
-    assert r.parameters == ("lifter.preload",)
+    assert r.parameters == ("lifter.preload_m",)
     cols = r.columns
     for d, p in enumerate(PRELOADS):
         rows = slice(d * S, (d + 1) * S)
-        design = m.with_values({"lifter.preload": p})
+        design = m.with_values({"lifter.preload_m": p})
         assert design.mechanisms["lifter"].stop.preload == p
         s = design.speed_sweep(SWEEP_SPEEDS)
         lim = design.speed_limit()
-        assert same_bits(cols["lifter.preload"][rows], np.full(S, p))
+        assert same_bits(cols["lifter.preload_m"][rows], np.full(S, p))
         assert same_bits(cols["speed_rpm"][rows], s.rpm)
         for key in ("fits", "limiting_deg", "limiting_s", "productivity_per_min", "max_rebound_m"):
             assert same_bits(cols[key][rows], getattr(s, key)), key
@@ -801,12 +801,12 @@ def test_sweep_columns_and_their_order():
     speeds = [300.0, 400.0, 500.0]
     r = cm.sweep(
         m,
-        {"lifter.preload": PRELOADS[:2], "lifter.a_max": a_max, "speed_rpm": speeds},
+        {"lifter.preload_m": PRELOADS[:2], "lifter.a_max_m": a_max, "speed_rpm": speeds},
         progress=False,
     )
     assert list(r.columns) == [
-        "lifter.preload",
-        "lifter.a_max",
+        "lifter.preload_m",
+        "lifter.a_max_m",
         "speed_rpm",
         "fits",
         "limiting_deg",
@@ -818,16 +818,18 @@ def test_sweep_columns_and_their_order():
         "binding",
         "problem",
     ]
-    assert r.parameters == ("lifter.preload", "lifter.a_max")
+    assert r.parameters == ("lifter.preload_m", "lifter.a_max_m")
     # The first parameter slowest, the speed fastest.
-    assert r.columns["lifter.preload"].tolist() == [p for p in PRELOADS[:2] for _ in range(6)]
-    assert r.columns["lifter.a_max"].tolist() == [
+    assert r.columns["lifter.preload_m"].tolist() == [p for p in PRELOADS[:2] for _ in range(6)]
+    assert r.columns["lifter.a_max_m"].tolist() == [
         a for _ in range(2) for a in a_max for _ in range(3)
     ]
     assert r.columns["speed_rpm"].tolist() == speeds * 4
     assert all(v.ndim == 1 and v.size == 12 for v in r.columns.values())
     # Row 5: preload 2e-4, a_max 2e-4, 500 rpm.
-    s = m.with_values({"lifter.preload": PRELOADS[0], "lifter.a_max": 2e-4}).speed_sweep([500.0])
+    s = m.with_values({"lifter.preload_m": PRELOADS[0], "lifter.a_max_m": 2e-4}).speed_sweep(
+        [500.0]
+    )
     assert same_bits(r.columns["limiting_deg"][5:6], s.limiting_deg)
 
 
@@ -836,7 +838,11 @@ def test_sweep_on_an_executor_is_bit_for_bit_the_same(loom_sweep):
     m, r = loom_sweep
     with cf.ThreadPoolExecutor(2) as ex:
         r2 = cm.sweep(
-            m, {"lifter.preload": PRELOADS, "speed_rpm": SWEEP_SPEEDS}, ex, chunk=1, progress=False
+            m,
+            {"lifter.preload_m": PRELOADS, "speed_rpm": SWEEP_SPEEDS},
+            ex,
+            chunk=1,
+            progress=False,
         )
     assert list(r2.columns) == list(r.columns)
     for k, v in r.columns.items():
@@ -873,7 +879,9 @@ def test_rebound_price_per_mm_is_the_optimum_s_slope_in_a_max(run):
     m = cm.Machine.from_toml(EXAMPLES / PLOTTED)
     n = r["nominal_rpm"]
     a = m.mechanisms["lifter"].a_max
-    up, down = (m.with_values({"lifter.a_max": a + d}).optimize(n).objective for d in (1e-8, -1e-8))
+    up, down = (
+        m.with_values({"lifter.a_max_m": a + d}).optimize(n).objective for d in (1e-8, -1e-8)
+    )
     assert price == pytest.approx((up - down) / 2e-5, rel=1e-3)  # deg per mm
     assert price > 0  # more allowed rebound leaves the weft insertion more angle
 
@@ -903,7 +911,7 @@ def test_many_machines_together_are_each_alone():
     machine of another file in the same call too."""
     loom = cm.Machine.from_toml(EXAMPLES / "stb_loom.toml")
     others = [
-        loom.with_values({"lifter.preload": p, "lifter.a_max": a})
+        loom.with_values({"lifter.preload_m": p, "lifter.a_max_m": a})
         for p, a in ((1e-4, 1e-4), (3e-4, 5e-5), (5e-4, 2e-4))
     ]
     rotor = cm.Machine.from_toml(EXAMPLES / ROTOR)
