@@ -354,7 +354,8 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      ("mechanism", "drive"), lambda m: m.mechanisms["drive"].force, None),
     ("transfer", "max_jerk_m_per_s3", "none (no limit)", "rotor_line", ("mechanism", "line"),
      lambda m: m.mechanisms["line"].max_jerk, None),
-    ("transfer", "max_acceleration_m_per_s2", "none (no limit)", "rotor_line", ("mechanism", "line"),
+    ("transfer", "max_acceleration_m_per_s2", "none (no limit)", "rotor_line",
+     ("mechanism", "line"),
      lambda m: m.mechanisms["line"].max_acceleration, None),
 ]  # fmt: skip
 
