@@ -49,7 +49,7 @@ min_duration_s = 0.01
 def _knife(points: int, limit: float) -> cm.Machine:
     data = tomllib.loads((EXAMPLES / "knife_cutter.toml").read_text("utf-8"))
     data["machine"]["angle_points"] = points
-    data["mechanism"]["knife"]["max_acceleration"] = limit
+    data["mechanism"]["knife"]["max_acceleration_m_per_s2"] = limit
     return cm.Machine.from_dict(data, "knife.toml")
 
 

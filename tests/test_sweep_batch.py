@@ -54,20 +54,20 @@ def test_the_loom_with_its_cam_is_bit_for_bit() -> None:
 
 # Each key with values around the loom's lifter, some of them invalid.
 _VALUES = {
-    "preload": st.floats(-1e-4, 1.2e-2),
-    "stroke": st.floats(2e-3, 2e-2),
-    "a_max": st.floats(-1e-5, 5e-4),
+    "preload_m": st.floats(-1e-4, 1.2e-2),
+    "stroke_m": st.floats(2e-3, 2e-2),
+    "a_max_m": st.floats(-1e-5, 5e-4),
     "zeta": st.floats(-0.01, 0.5),
     "restitution": st.floats(0.0, 1.05),
-    "E": st.floats(5e10, 3e11),
-    "a": st.floats(0.01, 0.2),
-    "b": st.floats(0.02, 0.2),
-    "J_A": st.floats(1e-5, 3e-4),
-    "J_x": st.floats(1e-11, 2e-10),
-    "lever_length": st.floats(0.05, 0.2),
-    "mass": st.floats(1e-3, 2e-2),
-    "contact_time": st.floats(1e-4, 3e-3),
-    "contact_stiffness": st.floats(1e4, 5e5),
+    "E_pa": st.floats(5e10, 3e11),
+    "a_m": st.floats(0.01, 0.2),
+    "b_m": st.floats(0.02, 0.2),
+    "J_A_kg_m2": st.floats(1e-5, 3e-4),
+    "J_x_m4": st.floats(1e-11, 2e-10),
+    "lever_length_m": st.floats(0.05, 0.2),
+    "mass_kg": st.floats(1e-3, 2e-2),
+    "contact_time_s": st.floats(1e-4, 3e-3),
+    "contact_stiffness_n_per_m": st.floats(1e4, 5e5),
 }
 
 
@@ -139,7 +139,7 @@ def test_what_falls_back_to_the_per_design_path(loom) -> None:
     assert plan(loom, ["machine.speed_points"]) is None
     assert plan(loom, ["lifter.phase_deg"]) is None
     assert plan(loom, []) is None
-    assert {"preload", "a_max", "contact_time"} <= BATCH_KEYS
+    assert {"preload_m", "a_max_m", "contact_time_s"} <= BATCH_KEYS
     contact = cm.Machine.example()
     data = dict(contact.data)
     data["mechanism"] = {"lifter": {**data["mechanism"]["lifter"], "model": "contact"}}

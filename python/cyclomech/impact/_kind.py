@@ -94,7 +94,7 @@ class CamStop:
     def sweep_refuses(cls, table: Mapping[str, Any]) -> dict[str, str]:
         """Keys this table takes in general but a sweep may not set here, with why.
 
-        A stop that names its cam takes ``law`` and ``stroke`` from it.
+        A stop that names its cam takes ``law`` and ``stroke_m`` from it.
 
         Parameters
         ----------

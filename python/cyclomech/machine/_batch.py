@@ -21,8 +21,8 @@ left out of the batch):
   or of any other kind of mechanism (cams, linkages, presses, transfers);
 * a stop in the contact model (its search is a different kernel) or with the
   ``half_sine`` pulse (sampled with numpy's sine);
-* ``stroke`` or ``lever_length`` of a stop that takes its law and stroke from a
-  cam (``cam = "…"``);
+* ``stroke_m`` or ``lever_length_m`` of a stop that takes its law and stroke from
+  a cam (``cam = "…"``);
 * a design the batch's checks refuse (a preload at or beyond the stroke, a
   negative stiffness …): the per-design path builds it, so that its ``problem``
   text is the file reader's own.
@@ -155,6 +155,8 @@ def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, 
         for k in ("stroke", "lever_length", "J_A", "a", "b", "E", "J_x", "a_max"):
             ok &= np.isfinite(p[k]) & (p[k] > 0.0)
         ok &= (p["preload"] >= 0.0) & (p["preload"] < p["stroke"])
+        # A rebound limit not below the stroke is the reader's error (CamStop.rules).
+        ok &= p["a_max"] < p["stroke"]
         ok &= (p["restitution"] >= 0.0) & (p["restitution"] <= 1.0)
         ok &= p["zeta"] >= 0.0
         E, J, a, b = p["E"], p["J_x"], p["a"], p["b"]

@@ -291,8 +291,8 @@ def design_range(path: Path, columns: dict[str, Any], params: list[str]) -> str:
     ...         "speed_limit_rpm": np.array([441.7, 441.7, 402.1, 402.1])}
     >>> print(design_range(Path("unused"), cols, ["lifter.preload_m"]))
     speed limit over the designs: 402.1–441.7 rpm
-      highest 441.7 rpm at lifter.preload=0.0001
-      lowest  402.1 rpm at lifter.preload=0.0002
+      highest 441.7 rpm at lifter.preload_m=0.0001
+      lowest  402.1 rpm at lifter.preload_m=0.0002
     """
     import numpy as np
 
