@@ -171,3 +171,12 @@ def test_an_old_key_in_a_python_table_names_the_new_one():
     data["mechanism"] = {"lifter": lifter}
     with pytest.raises(cm.InputError, match=r"`a_max` is now `a_max_m` \(metres\)"):
         cm.Machine.from_dict(data, "loom")
+
+
+def test_a_sweep_of_an_old_key_names_the_new_one(tmp_path, capsys):
+    m = cm.Machine.from_toml(LOOM)
+    with pytest.raises(cm.InputError, match=r"`a_max` is now `a_max_m` \(metres\)"):
+        cm.sweep(m, {"lifter.a_max": [1e-4, 2e-4]}, progress=False)
+    argv = ["sweep", str(LOOM), "--set", "lifter.a_max=1e-4:2e-4:2", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "`a_max` is now `a_max_m`" in capsys.readouterr().err

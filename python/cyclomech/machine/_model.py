@@ -16,6 +16,7 @@ import numpy.typing as npt
 from .. import _toml
 from .._arrays import SPEED_CAP_RPM, count, finite_number, real, speeds_rpm, threads_arg
 from .._errors import CyclomechWarning, InfeasibleError, InputError
+from .._keyrules import renamed
 from .._kind import Array, Bound, BoundLaw, Mechanism, TableContext
 from ..cyclogram import (
     Cyclogram,
@@ -865,6 +866,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     else:
         kind = type(machine.mechanisms[head])
         allowed, where = set(kind.keys - kind.fixed_keys), f"[mechanism.{head}]"
+    if key not in allowed and (new := renamed(key, allowed)):
+        raise InputError(f"{machine.source}: parameter {path!r}: {where}: {new}")
     if key not in allowed:
         raise InputError(
             f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
