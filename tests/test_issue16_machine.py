@@ -184,7 +184,7 @@ def test_item6_a_sweep_goes_on_past_invalid_designs(tmp_path, capsys):
 
 def test_item6_a_key_the_file_cannot_take_still_fails_first(tmp_path):
     press = EXAMPLES / "extrusion_press_line.toml"
-    with pytest.raises(cm.InputError, match=r"'drive\.LL'.*has no key 'LL'.*L, R, d"):
+    with pytest.raises(cm.InputError, match=r"'drive\.LL'.*has no key 'LL'.*L_m, R_m, d_m"):
         cm.sweep(cm.Machine.from_toml(press), {"drive.LL": [0.4]}, progress=False)
 
 

@@ -25,6 +25,7 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
+from cyclomech._keyrules import RENAMED
 from cyclomech.cli import main
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -47,7 +48,9 @@ RAD_PER_RPM = 2.0 * math.pi / 60.0
 #: Degrees of main-shaft rotation per second at 1 rpm.
 DEG_PER_S_PER_RPM = 6.0
 #: Keys of a cam_stop table that are not StopImpact's.
-CAM_ONLY = {"kind", "arc", "a_max", "phase_deg"}
+CAM_ONLY = {"kind", "arc", "a_max_m", "phase_deg"}
+#: A file key → the Python parameter it sets (the keys carry their units).
+PARAM = {new: old for old, (new, _) in RENAMED.items()}
 
 
 # --------------------------------------------------------------------- helpers
@@ -72,8 +75,8 @@ def stops_of(data: dict[str, Any]) -> list[tuple[str, cm.impact.StopImpact, tupl
     out = []
     for name, spec in data.get("mechanism", {}).items():
         if spec["kind"] == "cam_stop":
-            keys = {k: v for k, v in spec.items() if k not in CAM_ONLY}
-            out.append((name, cm.impact.StopImpact(**keys), tuple(spec["arc"]), spec["a_max"]))
+            keys = {PARAM.get(k, k): v for k, v in spec.items() if k not in CAM_ONLY}
+            out.append((name, cm.impact.StopImpact(**keys), tuple(spec["arc"]), spec["a_max_m"]))
     return out
 
 
@@ -411,7 +414,7 @@ def test_knife_speed_limit_from_the_linkage_analogs(run):
         {
             k: v
             for k, v in spec.items()
-            if k not in {"kind", "max_acceleration", "phase", *cm.forces.DYNAMICS_KEYS}
+            if k not in {"kind", "max_acceleration_m_per_s2", "phase", *cm.forces.DYNAMICS_KEYS}
         }
     )
     points = data["machine"].get("angle_points", 361)
@@ -426,7 +429,7 @@ def test_knife_speed_limit_from_the_linkage_analogs(run):
     xy = fine.xy[:, k]
     dd = (xy[2:] - 2.0 * xy[1:-1] + xy[:-2]) / h**2
     np.testing.assert_allclose(dd, fine.acc[1:-1, k], rtol=0, atol=1e-5 * acc)
-    limit = math.sqrt(spec["max_acceleration"] / acc) / RAD_PER_RPM
+    limit = math.sqrt(spec["max_acceleration_m_per_s2"] / acc) / RAD_PER_RPM
     m = r["mechanisms"]["knife"]
     assert m["max_acceleration_analog_m_per_rad2"] == pytest.approx(acc, rel=1e-12)
     assert m["max_velocity_analog_m_per_rad"] == pytest.approx(vel, rel=1e-12)
@@ -434,7 +437,9 @@ def test_knife_speed_limit_from_the_linkage_analogs(run):
     w = r["nominal_rpm"] * RAD_PER_RPM
     assert m["max_acceleration_m_s2"] == pytest.approx(acc * w * w, rel=1e-12)
     # At the limit speed the peak acceleration is the limit.
-    assert acc * (limit * RAD_PER_RPM) ** 2 == pytest.approx(spec["max_acceleration"], rel=1e-12)
+    assert acc * (limit * RAD_PER_RPM) ** 2 == pytest.approx(
+        spec["max_acceleration_m_per_s2"], rel=1e-12
+    )
     lim = r["speed_limit"]
     assert lim["mechanisms_rpm"] == {"knife": pytest.approx(limit, rel=1e-12)}
     assert limit > CHAIN_LIMIT[KNIFE]
@@ -447,14 +452,18 @@ def test_press_speed_limit_from_the_start_of_the_working_stroke(run):
     r = results(run(PRESS))
     spec = load(PRESS)["mechanism"]["drive"]
     press = cm.press.GearLeverPress(
-        R=spec["R"], r=spec["r"], d=spec["d"], L=spec["L"], phi0=math.radians(spec["phi0_deg"])
+        R=spec["R_m"],
+        r=spec["r_m"],
+        d=spec["d_m"],
+        L=spec["L_m"],
+        phi0=math.radians(spec["phi0_deg"]),
     )
     nominal = r["nominal_rpm"]
     c1 = press.criteria(omega=nominal * RAD_PER_RPM, k_Sp=spec["k_Sp"])
     c2 = press.criteria(omega=2 * nominal * RAD_PER_RPM, k_Sp=spec["k_Sp"])
     assert c1.ok and c2.ok
     assert c2.V_np / c1.V_np == pytest.approx(2.0, rel=1e-9)
-    limit = spec["max_V_np"] * nominal / c1.V_np
+    limit = spec["max_V_np_m_per_s"] * nominal / c1.V_np
     crit = r["mechanisms"]["drive"]["criteria"]
     assert crit["V_np"] == pytest.approx(c1.V_np, rel=1e-12)
     assert crit["S_n"] == pytest.approx(c1.S_n, rel=1e-12)
@@ -471,7 +480,7 @@ def test_transfer_speed_limit_from_jerk_and_acceleration(run):
     peak acceleration grows as n² and the peak jerk as n³."""
     r = results(run(ROTOR))
     spec = load(ROTOR)["mechanism"]["line"]
-    R_t, R_p, gap = spec["R_t"], spec["R_p"], spec["gap"]
+    R_t, R_p, gap = spec["R_t_m"], spec["R_p_m"], spec["gap_m"]
     nominal = r["nominal_rpm"]
 
     def speeds(rpm: float) -> tuple[float, float]:
@@ -484,8 +493,8 @@ def test_transfer_speed_limit_from_jerk_and_acceleration(run):
     a2 = path.acceleration(speeds(2 * nominal))
     assert a2.max_acceleration / a1.max_acceleration == pytest.approx(4.0, rel=1e-9)
     assert a2.max_jerk / a1.max_jerk == pytest.approx(8.0, rel=1e-9)
-    by_jerk = nominal * (spec["max_jerk"] / a1.max_jerk) ** (1 / 3)
-    by_acc = nominal * math.sqrt(spec["max_acceleration"] / a1.max_acceleration)
+    by_jerk = nominal * (spec["max_jerk_m_per_s3"] / a1.max_jerk) ** (1 / 3)
+    by_acc = nominal * math.sqrt(spec["max_acceleration_m_per_s2"] / a1.max_acceleration)
     limit = min(by_jerk, by_acc)
     m = r["mechanisms"]["line"]
     assert m["x2_m"] == pytest.approx([x2, x2], rel=1e-12)

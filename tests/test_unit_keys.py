@@ -180,3 +180,14 @@ def test_a_sweep_of_an_old_key_names_the_new_one(tmp_path, capsys):
     argv = ["sweep", str(LOOM), "--set", "lifter.a_max=1e-4:2e-4:2", "--out", str(tmp_path)]
     assert main(argv) == 2
     assert "`a_max` is now `a_max_m`" in capsys.readouterr().err
+
+
+def test_a_rate_per_metre_is_not_a_length():
+    # the suffix rules go by the unit's last word: N/m is no length in metres
+    from cyclomech._keyrules import check
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check({"contact_stiffness_n_per_m": 1e4, "gravity_m_per_s2": 9.81}, (), "f")
+    with pytest.warns(cm.CyclomechWarning, match="base_radius_m = 60"):
+        check({"base_radius_m": 60}, (), "f")

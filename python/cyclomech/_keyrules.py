@@ -30,7 +30,7 @@ import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeGuard
 
 from ._errors import CyclomechWarning, InputError
 
@@ -196,7 +196,7 @@ class Rule:
         return f"{where}: {self.key} = {value!r} {self.why(value, table)}"
 
 
-def _number(v: Any) -> bool:
+def _number(v: Any) -> TypeGuard[float]:
     return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
 
 
@@ -267,7 +267,13 @@ def check(table: Mapping[str, Any], rules: Iterable[Rule], where: str) -> None:
     own = tuple(rules)
     warned: set[str] = set()
     pending: list[str] = []
-    suffixed = [make(k) for k in table for suffix, make in SUFFIX_RULES if k.endswith(suffix)]
+    # By the unit's last word: ``contact_stiffness_n_per_m`` is no length.
+    suffixed = [
+        make(k)
+        for k in table
+        for suffix, make in SUFFIX_RULES
+        if k.endswith(suffix) and not k.endswith("_per" + suffix)
+    ]
     # Errors first: a value that cannot be meant stops the file before any warning.
     for rule in sorted((*own, *suffixed), key=lambda r: not r.error):
         v = table.get(rule.key)
