@@ -166,9 +166,9 @@ def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
 
 def test_sweep_refuses_a_key_this_table_takes_from_elsewhere(tmp_path, capsys):
     """The loom's lifter names its cam, which gives it law and stroke: sweeping
-    lifter.stroke is bad input (status 2) before any design runs. It used to run,
+    lifter.stroke_m is bad input (status 2) before any design runs. It used to run,
     mark every design invalid and exit 3."""
-    for key in ("stroke", "law"):
+    for key in ("stroke_m", "law"):
         argv = ["sweep", str(LOOM), "--set", f"lifter.{key}=0.008:0.01:2", "--speed", "200:300:3"]
         assert main([*argv, "--out", str(tmp_path / key), "--quiet"]) == 2
         err = capsys.readouterr().err

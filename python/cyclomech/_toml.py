@@ -80,6 +80,14 @@ def check_keys(table: Any, allowed: AbstractSet[str], source: str | None, where:
             )
 
 
+def renamed_hint(key: str, allowed: AbstractSet[str]) -> str:
+    """`` (`a_max` is now `a_max_m` (metres): …)`` where ``key`` is the old name of
+    an allowed key (:data:`cyclomech._keyrules.RENAMED`), else ``""``: for a
+    message that names an unknown key in its own words (a sweep's parameter)."""
+    new = renamed(key, allowed)
+    return f" ({new})" if new else ""
+
+
 def string(text: str) -> str:
     """A TOML basic string: quotes, backslashes and every control character
     (U+0000-U+001F and U+007F, which TOML forbids raw) escaped."""

@@ -16,7 +16,6 @@ import numpy.typing as npt
 from .. import _toml
 from .._arrays import SPEED_CAP_RPM, count, finite_number, real, speeds_rpm, threads_arg
 from .._errors import CyclomechWarning, InfeasibleError, InputError
-from .._keyrules import renamed
 from .._kind import Array, Bound, BoundLaw, Mechanism, TableContext
 from ..cyclogram import (
     Cyclogram,
@@ -855,7 +854,7 @@ def check_parameter(machine: Machine, path: str) -> None:
     >>> check_parameter(cm.Machine.example(), "lifter.preload_m")
     >>> check_parameter(cm.Machine.example(), "lifter.preloud_m")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    cyclomech._errors.InputError: <example>: parameter 'lifter.preloud': [mechanism.lifter] has ...
+    cyclomech._errors.InputError: <example>: parameter 'lifter.preloud_m': [mechanism.lifter] ...
     """
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
@@ -866,12 +865,10 @@ def check_parameter(machine: Machine, path: str) -> None:
     else:
         kind = type(machine.mechanisms[head])
         allowed, where = set(kind.keys - kind.fixed_keys), f"[mechanism.{head}]"
-    if key not in allowed and (new := renamed(key, allowed)):
-        raise InputError(f"{machine.source}: parameter {path!r}: {where}: {new}")
     if key not in allowed:
         raise InputError(
             f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
-            "set; valid keys are "
+            f"set{_toml.renamed_hint(key, allowed)}; valid keys are "
             f"{', '.join(sorted(allowed))}"
         )
     if head != "machine":
