@@ -201,8 +201,8 @@ def test_version_and_one_line_warnings(tmp_path):
     [
         # The transfer line's own limit (its peak jerk): 221.76 rpm; nominal 230.
         ("rotor_line", "nominal_rpm = 120.0", "nominal_rpm = 230.0", "line"),
-        # The same limit, brought under the file's nominal 120 rpm by max_jerk.
-        ("rotor_line", "max_jerk = 10.0", "max_jerk = 1.0", "line"),
+        # The same limit, brought under the file's nominal 120 rpm by max_jerk_m_per_s3.
+        ("rotor_line", "max_jerk_m_per_s3 = 10.0", "max_jerk_m_per_s3 = 1.0", "line"),
     ],
 )
 def test_a_nominal_speed_above_a_mechanisms_own_limit_fails(
