@@ -5,9 +5,11 @@ names; doors import no plotting; no source file grows past its size limit."""
 from __future__ import annotations
 
 import ast
+import io
 import re
 import subprocess
 import sys
+import tokenize
 from pathlib import Path
 
 import pytest
@@ -26,8 +28,12 @@ DOMAINS = (
     "shaft",
     "forces",
 )
-#: Lines a Python module may have (the issue's "~900").
-PY_LIMIT = 900
+#: Lines of code a Python module may have: its statements and expressions, not its
+#: docstrings, comments or blank lines. The rule serves readability of the code;
+#: counting documentation made sessions trim docstrings to fit (issue 32), so the
+#: documentation is not counted. 650: the two largest modules (the machine's
+#: report, the cyclogram's plots) hold 610-620 lines of code, to be cut by subject.
+PY_LIMIT = 650
 #: Lines a Rust source may have outside its tests (the issue's "~1 200").
 RS_LIMIT = 1200
 
@@ -140,8 +146,55 @@ def test_doors_do_not_import_matplotlib():
 
 @pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PKG)))
 def test_python_modules_stay_small(path):
-    lines = len(path.read_text(encoding="utf-8").splitlines())
-    assert lines <= PY_LIMIT, f"{path.relative_to(ROOT)} has {lines} lines (limit {PY_LIMIT})"
+    lines = code_lines(path.read_text(encoding="utf-8"))
+    assert lines <= PY_LIMIT, (
+        f"{path.relative_to(ROOT)} has {lines} lines of code (limit {PY_LIMIT}; docstrings, "
+        "comments and blank lines are not counted): cut it by subject, never its docs"
+    )
+
+
+def code_lines(text: str) -> int:
+    """Lines holding code: not docstrings (module, class, function), comments or
+    blank lines (tested by :func:`test_code_lines_counts_code_only`).
+    """
+    docstrings: set[int] = set()
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef):
+            first = node.body[0] if node.body else None
+            if (
+                isinstance(first, ast.Expr)
+                and isinstance(first.value, ast.Constant)
+                and isinstance(first.value.value, str)
+            ):
+                docstrings.update(range(first.lineno, (first.end_lineno or first.lineno) + 1))
+    skip = {tokenize.COMMENT, tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT}
+    lines: set[int] = set()
+    for tok in tokenize.generate_tokens(io.StringIO(text).readline):
+        if tok.type in skip or tok.type == tokenize.ENDMARKER:
+            continue
+        lines.update(n for n in range(tok.start[0], tok.end[0] + 1) if n not in docstrings)
+    return len(lines)
+
+
+def test_code_lines_counts_code_only():
+    text = "\n".join(
+        [
+            '"""Module.',
+            "",
+            'Long."""',
+            "",
+            "# c",
+            "x = (",
+            "    1,  # one",
+            ")",
+            "",
+            "",
+            "def f():",
+            '    """D."""',
+            "    return x",
+        ]
+    )
+    assert code_lines(text) == 5  # x = (, 1, ), def f, return x
 
 
 def _rust_sources() -> list[Path]:

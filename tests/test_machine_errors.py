@@ -255,7 +255,7 @@ FILE_CASES = [
     case("a cyclogram file", "stb_group1", unchanged, None, None, "cyclomech cyclogram"),
     case("a press file", "extrusion_press", unchanged, None, None, "cyclomech press"),
     case("a key twice", "rotor_line", replace("gap_m = 0.01", "gap_m = 0.01\ngap_m = 0.02"), None,
-         None, "not valid TOML", "line 28"),
+         None, "not valid TOML", "line 31"),
 ]  # fmt: skip
 
 TOP_CASES = [
@@ -585,7 +585,9 @@ MECHANISM_CASES = [
          "(pivot, tip)"),
     case("linkage driver not a link", "knife_cutter", knife(driver=["O", "E"]), KNIFE,
          "driver", "F"),
-    case("linkage lengths on no link", "knife_cutter", knife(lengths__1__joints=["A", "Q"]),
+    case("linkage lengths on no point", "knife_cutter", knife(lengths__1__joints=["A", "Q"]),
+         KNIFE, "lengths", "no point 'Q'"),
+    case("linkage lengths on no link", "knife_cutter", knife(lengths__1__joints=["A", "E"]),
          KNIFE, "lengths", "not joints of one link"),
     case("linkage slider guide mistyped", "knife_cutter",
          knife(sliders={"E": {"grund": [1.0, 0.0]}}), KNIFE, "sliders", "{ground = [dx, dy]}"),

@@ -473,6 +473,7 @@ def test_a_cam_moves_with_its_segments_arcs_whoever_names_the_operations(tmp_pat
     move with it, so they are its rigid events too (its results list them)."""
     text = machine_text().replace('mechanism = "cam A"', 'mechanism = "lever A"')
     text = text.replace('mechanism = "cam B"', 'mechanism = "lever B"')
+    text = text.replace("[machine]\n", '[machine]\nunmodelled = ["lever A", "lever B"]\n', 1)
     path = tmp_path / "levers.toml"
     path.write_text(text, encoding="utf-8")
     r = cm.machine.analyze(cm.Machine.from_toml(path), progress=False)

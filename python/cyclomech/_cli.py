@@ -55,6 +55,10 @@ EXIT_INPUT = 2
 #: machine that works at no speed, a cyclogram with no feasible optimum, a press
 #: design that does not work): every command's.
 EXIT_FAILS = 3
+#: Exit status when an output file could not be written (a full disk, no
+#: permission, a quota): the message names the file and the system's reason; the
+#: file is not left half-written (:func:`cyclomech._files.whole`).
+EXIT_WRITE = 4
 #: Exit status when interrupted (Ctrl-C).
 EXIT_INTERRUPTED = 130
 #: Exit status when whoever read the output stopped reading (``| head``).

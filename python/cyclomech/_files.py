@@ -21,8 +21,90 @@ import contextlib
 import os
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
-__all__ = ["partial", "whole"]
+from ._errors import InputError
+
+__all__ = ["file_target", "folder_target", "partial", "savetxt", "whole", "write_text"]
+
+
+def _path(name: str, value: Any) -> Path:
+    """``value`` as a Path: a non-blank str or an ``os.PathLike``, else InputError."""
+    if isinstance(value, os.PathLike):
+        value = os.fspath(value)
+    if not isinstance(value, str) or not value.strip():
+        raise InputError(f"{name} must be a path (a non-empty str or Path); got {value!r}")
+    return Path(value)
+
+
+def file_target(name: str, value: Any) -> Path:
+    """The file a public writer is asked to write, checked before any work: a
+    non-empty path whose folder exists and which is not itself a folder; else
+    :class:`~cyclomech.InputError` naming the argument ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : str or os.PathLike
+        The path given.
+
+    Returns
+    -------
+    Path
+        The path.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> file_target("path", tempfile.gettempdir() + "/x.csv").name
+    'x.csv'
+    >>> file_target("path", "")
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: path must be a path (a non-empty str or Path); got ''
+    """
+    p = _path(name, value)
+    if p.is_dir():
+        raise InputError(f"{name} = {str(p)!r} is a folder; give a file name in it")
+    if not p.parent.is_dir():
+        raise InputError(
+            f"{name} = {str(p)!r}: the folder {str(p.parent)!r} does not exist; make it first"
+        )
+    return p
+
+
+def folder_target(name: str, value: Any) -> Path:
+    """The folder a public writer is asked to fill, checked before any work: a
+    non-empty path that is a folder or can be made one (``""`` would mean the
+    current folder, a slip); else :class:`~cyclomech.InputError` naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : str or os.PathLike
+        The path given.
+
+    Returns
+    -------
+    Path
+        The path (not yet made).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder_target("out", tempfile.gettempdir()).is_dir()
+    True
+    >>> folder_target("out", "  ")
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: out must be a path (a non-empty str or Path); got '  '
+    """
+    p = _path(name, value)
+    near = next((q for q in (p, *p.parents) if q.exists()), Path("."))
+    if not near.is_dir():
+        what = "is a file" if near == p else f"cannot be made: {near} is a file"
+        raise InputError(f"{name} = {str(p)!r} {what}, not a folder; give a folder")
+    return p
 
 
 def partial(path: Path) -> Path:
@@ -53,7 +135,9 @@ def partial(path: Path) -> Path:
 def whole(path: Path) -> Iterator[Path]:
     """A temporary path beside ``path`` (same suffix, so writers that read the
     format from it still can), renamed to ``path`` when the block ends normally and
-    removed when it does not.
+    removed when it does not. An ``OSError`` while it is written or renamed (a full
+    disk) is raised again naming ``path``, not the temporary name, with the
+    system's errno and reason.
 
     Parameters
     ----------
@@ -80,7 +164,69 @@ def whole(path: Path) -> Iterator[Path]:
     """
     tmp = partial(path)
     try:
-        yield tmp
-        os.replace(tmp, path)
+        try:
+            yield tmp
+            os.replace(tmp, path)
+        except OSError as e:
+            # The writer names the temporary file, or nothing (a write() on an open
+            # file); the user asked for ``path``: name it, keep the system's reason.
+            raise OSError(e.errno, e.strerror or str(e), str(path)) from e
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def write_text(path: Path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` whole or not at all (:func:`whole`).
+
+    Parameters
+    ----------
+    path : Path
+        The file to write.
+    text : str
+        Its content.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> write_text(pathlib.Path(tempfile.mkdtemp()) / "r.json", "{}").read_text()
+    '{}'
+    """
+    with whole(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return path
+
+
+def savetxt(path: Path, table: Any, **options: Any) -> Path:
+    """``numpy.savetxt(path, table, **options)``, whole or not at all (:func:`whole`).
+
+    Parameters
+    ----------
+    path : Path
+        The file to write.
+    table : array_like
+        The rows.
+    **options
+        What :func:`numpy.savetxt` takes (``delimiter``, ``header``, ``fmt``, …).
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> p = savetxt(pathlib.Path(tempfile.mkdtemp()) / "t.csv", [[1, 2]], delimiter=",", fmt="%d")
+    >>> p.read_text().split()
+    ['1,2']
+    """
+    import numpy as np
+
+    with whole(path) as tmp:
+        np.savetxt(tmp, table, **options)
+    return path

@@ -118,10 +118,16 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
           NO_UNIT, NUM, "0.05", "0 < δ < 1", True),
         K("flatten_torque", "Move mechanisms within the cyclogram's slack to lower the "
           "main shaft's peak torque.", NO_UNIT, BOOL, "false", "true or false", True),
+        K("unmodelled", "The mechanisms the operations name that the file does not model "
+          "(a clamp, a back gauge: Gantt rows only). Every operation's mechanism is a "
+          "[mechanism.<name>] table or listed here; anything else is an error (a typo "
+          "would silently drop a mechanism's bounds).", NO_UNIT, ARR, "[] (none)",
+          "a list of names, each named by an operation's mechanism and none a "
+          "[mechanism.<name>] table", False),
     ),
     "cyclogram": (
         K("name", "The cyclogram's name in the report.", NO_UNIT, TEXT,
-          "the file's name without its extension", "any value, taken as text", False),
+          "the file's name without its extension", "a string (a number is refused)", False),
         K("cycle_deg", "The angle of one machine cycle.", "deg", NUM, "360",
           "finite, 0 < cycle_deg ≤ 1e12; 360 in a machine with a cam", False),
         K("limiting", "The operation that gets what the others leave of the cycle.", NO_UNIT,
@@ -152,15 +158,16 @@ TABLES: dict[str, tuple[KeyDoc, ...]] = {
         K("height", "Machine cycles the operation crosses (1: it ends in the next cycle).",
           NO_UNIT, INT, "0", "a whole number ≥ 0", False),
         K("name", "The operation's name in reports and in limiting.", NO_UNIT, TEXT,
-          "none (shown as from→to)", "any value, taken as text", False),
+          "none (shown as from→to)", "a string (a number is refused)", False),
         K("mechanism", "The mechanism that performs it (a Gantt row of the report).",
           NO_UNIT, TEXT, NONE,
-          "any value, taken as text; a name close to a mechanism's but not one warns", False),
+          "a [mechanism.<name>] table's name, or a name listed in [machine] unmodelled; "
+          "anything else is an error naming the nearest mechanism", False),
     ),
     "constraint": (
         K("name", "The constraint's name in the optimum's results.", NO_UNIT, TEXT,
           "constraint <n> (n its position among the constraints)",
-          "any value, taken as text; unique; not cycle, and not starting with min[, max[ or "
+          "a string (a number is refused); unique; not cycle, and not starting with min[, max[ or "
           "duration[", False),
         K("terms", "The sum Σ coeff·t(from, to) over operations.", NO_UNIT, ROWS, REQ,
           "at least one {from, to, coeff} table, each arc once", False),

@@ -64,13 +64,27 @@ def load(path: str | Path) -> tuple[dict[str, Any], str]:
         raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
 
 
+def must_be_table(table: Any, source: str | None, where: str) -> None:
+    """``table`` must be a table (a Mapping), else :class:`InputError` naming
+    ``source`` and ``where``: checked before a reader looks at its keys (a list
+    there once ended in ``TypeError: unhashable type``).
+
+    >>> must_be_table({"a": 1}, "f.toml", "[press]")
+    >>> must_be_table([1], "f.toml", "[press]")
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: f.toml: [press] must be a table; got [1]
+    """
+    if not isinstance(table, Mapping):
+        at = where if source is None else f"{source}: {where}"
+        raise InputError(f"{at} must be a table; got {table!r}")
+
+
 def check_keys(table: Any, allowed: AbstractSet[str], source: str | None, where: str) -> None:
     """``table`` must be a table whose keys are all in ``allowed``; messages start
     with ``source`` (None: the caller adds the file's name). A key renamed to say
     its unit (:data:`cyclomech._keyrules.RENAMED`) is an error naming its new name."""
+    must_be_table(table, source, where)
     at = where if source is None else f"{source}: {where}"
-    if not isinstance(table, Mapping):
-        raise InputError(f"{at} must be a table; got {table!r}")
     for k in table:
         if k not in allowed and (new := renamed(k, allowed)):
             raise InputError(f"{at}: {new}")

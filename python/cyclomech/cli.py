@@ -33,6 +33,7 @@ from ._cli import (
     EXIT_INPUT,
     EXIT_INTERRUPTED,
     EXIT_OK,
+    EXIT_WRITE,
     out_path,
 )
 from ._errors import CyclomechError, InputError
@@ -126,7 +127,8 @@ def _main(argv: Sequence[str] | None) -> int:
         prog="cyclomech",
         description="Design of cyclic machines.",
         epilog="Exit statuses: 0 the job is done and the design works; 2 bad input; 3 the "
-        "job is done and its files written but the design fails; 130 interrupted.",
+        "job is done and its files written but the design fails; 4 an output file could "
+        "not be written (a full disk); 130 interrupted.",
     )
     parser.add_argument("--version", action="version", version=f"cyclomech {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -154,6 +156,20 @@ def _main(argv: Sequence[str] | None) -> int:
         # Whoever read the output stopped (`| head`): no traceback, and none at exit.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_BROKEN_PIPE
+    except OSError as e:
+        # A file the command writes could not be written (ENOSPC, EACCES, EDQUOT):
+        # one line naming it and why. The files are written whole or not at all, so
+        # nothing half-written is left (the input file's errors are InputErrors).
+        print(f"cyclomech: error: {_write_failure(e)}", file=sys.stderr)
+        return EXIT_WRITE
+
+
+def _write_failure(e: OSError) -> str:
+    """One line for an output file that could not be written: the file (when the
+    system names it) and the system's reason."""
+    reason = e.strerror or str(e)
+    where = f"cannot write {e.filename}" if e.filename else "cannot write an output file"
+    return f"{where}: {reason} (no half-written file is left)"
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -158,7 +158,7 @@ class CamDesign:
         at = where if source is None else f"{source}: {where}"
         _toml.require(table, ("follower", "segment"), at)
         kind = table["follower"]
-        if kind not in _GEOMETRY:
+        if not isinstance(kind, str) or kind not in _GEOMETRY:
             options = ", ".join(repr(k) for k in _GEOMETRY)
             raise InputError(f"{at}: follower = {kind!r} must be one of {options}")
         units = _OSCILLATING if kind == "oscillating" else _TRANSLATING

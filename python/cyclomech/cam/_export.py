@@ -27,7 +27,8 @@ import numpy as np
 import numpy.typing as npt
 
 from .._arrays import count
-from .._errors import CyclomechError, CyclomechWarning, InputError
+from .._errors import CyclomechError, CyclomechWarning
+from .._files import file_target, whole
 from ._followers import OscillatingRoller
 
 if TYPE_CHECKING:
@@ -205,7 +206,10 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     Raises
     ------
     InputError
-        If ``samples`` is not an integer ≥ 3 or the file cannot be written.
+        If ``samples`` is not an integer ≥ 3.
+    OSError
+        If the file cannot be written (a full disk, no permission), naming the
+        file; no half-written file is left.
 
     Examples
     --------
@@ -218,20 +222,18 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     'theta_deg,s_m,pitch_x_m,pitch_y_m,profile_'
     """
     table = profile_table(cam, samples)
-    p = Path(path)
+    p = file_target("path", path)
     cols = [v.astype(np.float64) for v in table.values()]
     fmt = ["%.17g"] * (len(cols) - 1) + ["%d"]
-    try:
+    with whole(p) as tmp:  # a full disk or a Ctrl-C leaves no half-written profile
         np.savetxt(
-            p,
+            tmp,
             np.column_stack(cols),
             delimiter=",",
             comments="",
             header=",".join(table),
             fmt=fmt,
         )
-    except OSError as e:
-        raise InputError(f"{p}: cannot write the profile: {e.strerror or e}") from None
     return p
 
 
@@ -265,7 +267,10 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     DxfUnavailableError
         If ezdxf is not installed (before the file is touched).
     InputError
-        If ``samples`` is not an integer ≥ 3 or the file cannot be written.
+        If ``samples`` is not an integer ≥ 3.
+    OSError
+        If the file cannot be written (a full disk, no permission), naming the
+        file; no half-written file is left.
 
     Examples
     --------
@@ -304,9 +309,7 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     polyline("pitch_x_m", "pitch_y_m", "PITCH")
     msp.add_circle((0.0, 0.0), cam.follower.base_radius * _MM, dxfattribs={"layer": "BASE"})
     msp.add_point((0.0, 0.0), dxfattribs={"layer": "CENTRE"})
-    p = Path(path)
-    try:
-        doc.saveas(p)
-    except OSError as e:
-        raise InputError(f"{p}: cannot write the DXF: {e.strerror or e}") from None
+    p = file_target("path", path)
+    with whole(p) as tmp:  # a full disk or a Ctrl-C leaves no half-written drawing
+        doc.saveas(tmp)
     return p

@@ -38,6 +38,7 @@ import numpy as np
 from .._arrays import count, positive
 from .._cli import EXIT_FAILS, EXIT_OK, has_matplotlib, out_folder, save, table
 from .._errors import CyclomechWarning, InputError
+from .._files import savetxt, write_text
 from .._json import jsonable
 from ._design import CamDesign
 from ._export import DxfUnavailableError, profile_table, write_profile_csv, write_profile_dxf
@@ -296,8 +297,8 @@ def cam_command(args: argparse.Namespace) -> int:
     for note in notes:
         print(f"\nnote: {note}")
     results["fails"] = fails
-    (out / "results.json").write_text(
-        json.dumps(jsonable(results), indent=2, ensure_ascii=False) + "\n", encoding="utf-8"
+    write_text(
+        out / "results.json", json.dumps(jsonable(results), indent=2, ensure_ascii=False) + "\n"
     )
     written.append(out / "results.json")
     if not args.no_plot and has_matplotlib():
@@ -390,7 +391,7 @@ def _write_min_phase_csv(path: Path, cam: Cam, m: MinPhaseAngles) -> None:
             head.append(f"{tag}_{c}_deg")
         cols.append(bound[:, i])
         head.append(f"{tag}_bound_deg")
-    np.savetxt(
+    savetxt(
         path, np.column_stack(cols), delimiter=",", comments="", fmt="%.12g", header=",".join(head)
     )
 

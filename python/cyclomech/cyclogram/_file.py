@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 from .. import _core, _toml
 from .._errors import CycleError, InputError
+from .._files import file_target, write_text
 
 if TYPE_CHECKING:
     from ._model import Arc, Cyclogram
@@ -182,5 +183,5 @@ def write(cg: Cyclogram, path: str | Path | None) -> str:
         ]
     text = "\n".join(lines) + "\n"
     if path is not None:
-        Path(path).write_text(text, encoding="utf-8")
+        write_text(file_target("path", path), text)  # whole or not at all
     return text

@@ -75,7 +75,9 @@ class Cyclogram:
         limiting: Arc | str | None = None,
         speed_rpm: float | None = None,
     ) -> None:
-        self.name = str(name)
+        if not isinstance(name, str):
+            raise InputError(f"name must be the cyclogram's name (a string); got {name!r}")
+        self.name = name
         self.cycle_deg = _cycle(cycle_deg)
         self.speed_rpm = speed_rpm
         self._events: dict[str, int] = {}
@@ -282,7 +284,9 @@ class Cyclogram:
             name = con.name if name is None else name
         if sense is None or rhs is None:
             raise InputError("add_constraint needs coeffs, sense and rhs (or one Constraint)")
-        name = str(name) if name is not None else f"constraint {len(self._constraints) + 1}"
+        if name is not None and not isinstance(name, str):
+            raise InputError(f"a constraint's name must be a string; got {name!r}")
+        name = name if name is not None else f"constraint {len(self._constraints) + 1}"
         if any(c.name == name for c in self._constraints):
             raise InputError(
                 f"constraint {name!r} already exists; give each constraint its own name"

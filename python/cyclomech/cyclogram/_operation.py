@@ -30,6 +30,17 @@ def _event_id(value: Any, field_name: str) -> str:
     return text
 
 
+def _label(value: Any, field_name: str) -> str | None:
+    """A name (an operation's ``name`` or ``mechanism``): None or a string. A
+    number is refused: ``mechanism = 1.0`` in a file is a slip (a value
+    typed into the wrong key), and read as the text "1.0" it named nothing."""
+    if value is None:
+        return None
+    if not isinstance(value, str):
+        raise InputError(f"{field_name} must be a name (a string); got {value!r}")
+    return value
+
+
 def _finite(
     value: Any, field_name: str, *, lower: float | None = None, limit: float | None = None
 ) -> float:
@@ -119,7 +130,9 @@ class Operation:
         [0, cycle], so the optimum would silently give the operation 0°); its
         duration is 0 or at least 1e-12 s; ``height`` is a whole number ≥ 0."""
         src, dst = _event_id(self.src, "x"), _event_id(self.dst, "y")
-        where = f"operation {self.name or f'{src}→{dst}'!r}"
+        name = _label(self.name, f"operation {src}→{dst}: name")
+        where = f"operation {name or f'{src}→{dst}'!r}"
+        mechanism = _label(self.mechanism, f"{where}: mechanism")
         if src == dst:
             raise InputError(
                 f"{where}: an operation must join two different events; got {src!r} twice"
@@ -151,8 +164,8 @@ class Operation:
             ("max_angle_deg", hi),
             ("min_duration_s", secs),
             ("height", int(h)),
-            ("name", None if self.name is None else str(self.name)),
-            ("mechanism", None if self.mechanism is None else str(self.mechanism)),
+            ("name", name),
+            ("mechanism", mechanism),
         ):
             object.__setattr__(self, key, value)
 

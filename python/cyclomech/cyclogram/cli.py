@@ -22,6 +22,7 @@ from typing import Any
 
 from .._cli import EXIT_FAILS, EXIT_OK, has_matplotlib, out_folder, save, table
 from .._errors import InfeasibleError
+from .._files import write_text
 from .._json import jsonable
 from . import Arc, Cyclogram, Optimum, Schedule, SpeedLimit
 
@@ -232,8 +233,8 @@ def cyclogram_command(args: argparse.Namespace) -> int:
         except InfeasibleError as e:
             print(f"\nSpeed limit: none, {e}")
     out = out_folder(args)
-    (out / "cyclogram.json").write_text(
-        json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False), encoding="utf-8"
+    write_text(
+        out / "cyclogram.json", json.dumps(_summary(cg, s, o, lim), indent=2, ensure_ascii=False)
     )
     written = [out / "cyclogram.json"]
     if not args.no_plot and has_matplotlib("figure"):

@@ -15,9 +15,12 @@ Newton–Euler (ΣF = m a_c, ΣM_c = J α), each joint the balance of its pin; t
 system's pattern is the same at every angle, so its block-triangular order (the
 Assur groups, from the last placed to the crank) is found once and each block
 solved by LU in Rust, angles in parallel. A dead centre (a singular block) is
-flagged, not solved. Sliders: the block pinned at the point slides on its guide
-without friction and has no mass beyond the point's, so the guide's force is
-normal to it, through the point.
+flagged, not solved, and so is an angle near one: where the analogs put the crank
+within ``NEAR_DEAD_CENTRE`` (0.02 rad) of it (``Kinetostatics.near_dead_centre``,
+scale-free; the torque there grows as the inverse square of that angle).
+Sliders: the block pinned at the point slides on its guide without friction and
+has no mass beyond the point's, so the guide's force is normal to it, through
+the point.
 
 Units: SI (N, N·m, kg, m, rad); crank speeds in rpm where named so.
 

@@ -20,12 +20,55 @@ if TYPE_CHECKING:
 
 __all__ = ["NEAR_DEAD_CENTRE", "Kinetostatics"]
 
-#: Below this ``conditioning`` (the smallest pivot of the system's blocks over
-#: the block's largest entry) an angle is near a dead centre: its forces are
-#: large and change fast with the angle. Well-built linkages stay above 1e-2.
-NEAR_DEAD_CENTRE = 1e-3
+#: Below this ``conditioning`` [rad] an angle is near a dead centre: the crank is
+#: within about 0.02 rad (1.15°) of a pose where the analogs, and with them the
+#: torque and the forces, grow without bound. Near a fold (a four-bar's coupler
+#: and rocker lining up, a slider-crank's rod across its guide) the inertia torque
+#: grows as 1/δ² with the crank angle δ to it: where the flag turns on it is about
+#: (0.1/0.02)² = 25 times its size 0.1 rad (5.7°) away, and under 50 times the
+#: largest torque 0.1 rad or more from the fold (36 and 40 times at the two
+#: toggles of the four-bar of the forces guide). Well-built linkages stay far
+#: above it: a slider-crank of rod 3 cranks at 0.375 rad (its top dead centre),
+#: the presets above 0.29 rad, Grashof crank-rockers whose transmission angle
+#: falls to 5° above 0.04 rad.
+NEAR_DEAD_CENTRE = 0.02
+
+# Below this ``conditioning`` [rad] an angle is at the dead centre (singular, its
+# forces NaN). Double precision places a fold only to ~1e-15 rad (a dyad's h² =
+# r² − x² carries a few ulps of r², and h² ~ δ r²): within 1e-12 rad the
+# analogs are mostly that round-off magnified (at the exact toggle of a four-bar
+# they came out 1e22 times the crank's, its torque 1e30 N·m), never a value to
+# show. The linkage solver's own test (the dyad's determinant under 1e-9 of its
+# sides' product) misses such a pose: at a fold h is √(round-off), ~1e-8.
+_AT_DEAD_CENTRE = 1e-12
 
 Array = npt.NDArray[np.float64]
+
+
+def _conditioning(solution: LinkageSolution, kernel: Array) -> Array:
+    """The crank angle [rad] from each pose to a dead centre, from the analogs.
+
+    Near a fold, where a dyad's two links line up and the crank can go no
+    further (δ the crank angle to it), a point moves as x* + c·√δ: its analogs
+    grow as x' ~ δ^-½ and x'' ~ δ^-3/2, and |x'| / (2|x''|) → δ. Taking the
+    largest analogs over the points makes the ratio scale-free (lengths cancel,
+    the crank speed does not enter) and bounded away from 0 elsewhere: the crank
+    pin alone has |x'| = |x''| = r, so a pose far from any dead centre gives
+    O(1) rad (1 / (2 (1 + r/l)) at the top dead centre of a slider-crank of crank
+    r and rod l). The force block's pivots, the kernel's own measure, only fall
+    as δ^½ (and with the links' size), while the torque grows as δ^-2: they flag
+    a fold far too late.
+    0 where the kernel or the kinematics are singular or the analogs put the
+    crank within ``_AT_DEAD_CENTRE`` of a dead centre, NaN where not assembled.
+    """
+    assert solution.vel is not None and solution.acc is not None
+    v = np.hypot(solution.vel[..., 0], solution.vel[..., 1]).max(axis=1, initial=0.0)
+    a = np.hypot(solution.acc[..., 0], solution.acc[..., 1]).max(axis=1, initial=0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out: Array = np.where(a > 0.0, v / (2.0 * a), np.inf)
+    out = np.where(np.isnan(kernel) | np.isnan(v) | np.isnan(a), np.nan, out)
+    dead = (kernel == 0.0) | (solution.singular & solution.ok) | (out < _AT_DEAD_CENTRE)
+    return np.where(dead, 0.0, out)
 
 
 @dataclass(frozen=True)
@@ -59,8 +102,10 @@ class Kinetostatics:
         The force [N] each joint exerts on each part it joins, in the order of
         ``pairs``.
     conditioning : ndarray of float, shape (N,)
-        How far each angle is from a dead centre (0 at one; the forces grow as its
-        inverse; see :attr:`near_dead_centre`).
+        How far each angle is from a dead centre, as a crank angle [rad]:
+        max|x'| / (2 max|x''|) over the points' velocity and acceleration analogs,
+        0 at a dead centre, NaN where the linkage is not assembled (see
+        :attr:`near_dead_centre`).
 
     See Also
     --------
@@ -105,8 +150,11 @@ class Kinetostatics:
             The kernel's parts: the torque [N·m], the G guide forces [N] and, when
             reactions were asked for, the K joint forces (x, y) [N].
         conditioning : ndarray of float, shape (N,)
-            The kernel's conditioning at each angle (set to 0 where the linkage's
-            kinematics are singular).
+            The kernel's conditioning at each angle: 0 where a block of the force
+            system is singular, NaN where an input is not finite. Only those two
+            are kept; elsewhere the attribute ``conditioning`` is the scale-free
+            crank angle to a dead centre that the solution's analogs give (0 where
+            the linkage's kinematics are singular).
         pairs : tuple of tuple of (str, str)
             The (point, link) of each joint force.
         guides : tuple of str
@@ -116,6 +164,8 @@ class Kinetostatics:
         -------
         Kinetostatics
             The forces; no reactions (shape (3, N, 0, 2)) when they were not asked for.
+            NaN at every dead centre: where only the analogs show one (the kernel's
+            values finite), the values are copied with NaN there.
 
         Examples
         --------
@@ -128,6 +178,10 @@ class Kinetostatics:
         """
         n, g = values.shape[1], len(guides)
         k = (values.shape[2] - 1 - g) // 2
+        cond = _conditioning(solution, conditioning)
+        dead = (cond == 0.0) & ~np.isnan(values[0, :, 0])
+        if dead.any():
+            values = np.where(dead[None, :, None], np.nan, values)
         return cls(
             solution=solution,
             pairs=pairs if k else (),
@@ -135,7 +189,7 @@ class Kinetostatics:
             torque_parts=values[:, :, 0],
             guide_parts=values[:, :, 1 : 1 + g],
             reaction_parts=values[:, :, 1 + g :].reshape(3, n, k, 2),
-            conditioning=np.where(solution.singular & solution.ok, 0.0, conditioning),
+            conditioning=cond,
         )
 
     def __repr__(self) -> str:
@@ -162,7 +216,10 @@ class Kinetostatics:
     def singular(self) -> npt.NDArray[np.bool_]:
         """True at a dead centre (N,), where the forces are unbounded (NaN).
 
-        A group's kinematics or its forces are singular there.
+        A group's kinematics or its forces are singular there, or the analogs put
+        the crank within 1e-12 rad of a dead centre (``conditioning`` 0): closer
+        than that, double precision cannot tell the pose from the dead centre
+        itself, and its analogs (and forces) are round-off magnified.
 
         Examples
         --------
@@ -189,10 +246,16 @@ class Kinetostatics:
 
     @property
     def near_dead_centre(self) -> npt.NDArray[np.bool_]:
-        """True where the forces are ill-conditioned (N,), or singular.
+        """True where the linkage is assembled and at or near a dead centre (N,).
 
-        That is, ``conditioning`` below :data:`NEAR_DEAD_CENTRE`: a group within a hair
-        of a dead centre, its forces large and sensitive to the angle.
+        That is, ``conditioning`` below :data:`NEAR_DEAD_CENTRE` (0.02 rad): the
+        velocity and acceleration analogs say the crank is within about 0.02 rad of
+        a pose where they grow without bound (x' ~ δ^-½, x'' ~ δ^-3/2 at a crank
+        angle δ from a fold), and the torque and the forces with them (~ δ^-2): they
+        are large and change fast with the angle. The rule reads the kinematics
+        only, so it is the same at every speed, mass and load, and for a linkage of
+        any size (the ratio of two analogs has no unit of length). Singular angles
+        are near a dead centre too.
 
         Examples
         --------
@@ -502,9 +565,9 @@ class Kinetostatics:
             bad = np.degrees(a[self.near_dead_centre])[:6]
             warnings.warn(
                 f"the linkage is near a dead centre at crank angles "
-                f"{', '.join(f'{v:.2f}' for v in bad)} degrees (conditioning "
-                f"{float(np.nanmin(self.conditioning)):.2g} < {NEAR_DEAD_CENTRE:g}): its torque "
-                "there is large and depends on the grid",
+                f"{', '.join(f'{v:.2f}' for v in bad)} degrees (its analogs put the crank "
+                f"{float(np.nanmin(self.conditioning)):.2g} rad from one, under "
+                f"{NEAR_DEAD_CENTRE:g} rad): its torque there is large and depends on the grid",
                 CyclomechWarning,
                 stacklevel=2,
             )

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from .._cli import EXIT_OK, has_matplotlib, out_folder, save, table
+from .._files import savetxt, write_text
 
 __all__ = ["add_commands", "impact_command"]
 
@@ -84,7 +85,7 @@ def impact_command(args: argparse.Namespace) -> int:
     )
     out = out_folder(args)
     grid_rpm, grid_phase = np.meshgrid(rpm, phase, indexing="ij")
-    np.savetxt(
+    savetxt(
         out / "rebound.csv",
         np.column_stack(
             [grid_rpm.ravel(), grid_phase.ravel(), v0.ravel(), force.ravel(), a.ravel() * 1e3]
@@ -94,7 +95,7 @@ def impact_command(args: argparse.Namespace) -> int:
         fmt="%.12g",
         header="rpm,phase_deg,impact_speed_m_per_s,impact_force_N,rebound_mm",
     )
-    np.savetxt(
+    savetxt(
         out / "min_phase.csv",
         np.column_stack([rpm, t_min]),
         delimiter=",",
@@ -120,7 +121,7 @@ def impact_command(args: argparse.Namespace) -> int:
         c = m.constraint(st.arc, st.a_max, top)
         summary["constraint"] = {"at_rpm": top, "text": c.describe()}
         print(f"  cyclogram constraint at {top:g} rpm: {c.describe()}")
-    (out / "impact.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    write_text(out / "impact.json", json.dumps(summary, indent=2) + "\n")
     written.append(out / "impact.json")
     if not args.no_plot and has_matplotlib():
         from .plot import plot_rebound_vs_speed, plot_response

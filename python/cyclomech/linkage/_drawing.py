@@ -13,6 +13,28 @@ from .._errors import InputError
 Point = tuple[float, float]
 
 
+def _joint(value: Any, where: str, points: Mapping[str, Any]) -> str:
+    """``value`` as the name of one of ``points``, or :class:`InputError` naming
+    ``where``: a name is a string (a list, a number or a table is not one; a
+    file's ``ground = [["A", "D"]]`` once ended in ``TypeError: unhashable``).
+
+    >>> from cyclomech.linkage._drawing import _joint
+    >>> _joint("A", "ground[0]", {"A": 0})
+    'A'
+    >>> _joint(["A"], "ground", {"A": 0})
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: ground = ['A'] must be a joint name (a string); the points are A
+    """
+    if not isinstance(value, str):
+        raise InputError(
+            f"{where} = {value!r} must be a joint name (a string); the points are "
+            f"{', '.join(points)}"
+        )
+    if value not in points:
+        raise InputError(f"{where}: no point {value!r}; known points are {', '.join(points)}")
+    return value
+
+
 def _sliders(
     sliders: Any, points: Mapping[str, Any], ground: set[str], links: list[tuple[str, ...]]
 ) -> dict[str, list[tuple[str, tuple[Any, ...]]]]:
@@ -24,8 +46,7 @@ def _sliders(
     out: dict[str, list[tuple[str, tuple[Any, ...]]]] = {}
     for p, spec in sliders.items():
         where = f"sliders[{p!r}]"
-        if p not in points:
-            raise InputError(f"{where}: no point {p!r}; known points are {', '.join(points)}")
+        _joint(p, where, points)
         if p in ground:
             raise InputError(f"{where}: {p!r} is a ground joint; a fixed point cannot slide")
         specs = (
@@ -58,7 +79,8 @@ def _sliders(
             else:
                 if not (isinstance(arg, tuple | list) and len(arg) == 2):
                     raise InputError(f"{where}: a link guide is ('link', (b, c)); got {g!r}")
-                b, c = arg
+                b = _joint(arg[0], f"{where}: the guide's first joint", points)
+                c = _joint(arg[1], f"{where}: the guide's second joint", points)
                 if not any(b in ln and c in ln for ln in links) or b == c:
                     raise InputError(
                         f"{where}: ({b!r}, {c!r}) are not two joints of one link; the guide "
@@ -113,14 +135,10 @@ def _links(links: Any, points: Mapping[str, Any]) -> list[tuple[str, ...]]:
     for k, ln in enumerate(links):
         if isinstance(ln, str) or not isinstance(ln, Sequence) or len(ln) < 2:
             raise InputError(f"links[{k}] = {ln!r} must list at least two joints")
-        if len(set(ln)) != len(ln):
+        joints = tuple(_joint(p, f"links[{k}][{i}]", points) for i, p in enumerate(ln))
+        if len(set(joints)) != len(joints):
             raise InputError(f"links[{k}] = {ln!r} lists a joint twice")
-        for p in ln:
-            if p not in points:
-                raise InputError(
-                    f"links[{k}] = {ln!r}: no point {p!r}; known points are {', '.join(points)}"
-                )
-        out.append(tuple(ln))
+        out.append(joints)
     if not out:
         raise InputError("links must list at least the crank")
     return out
@@ -133,10 +151,7 @@ def _ground(ground: Any, points: Mapping[str, Any]) -> set[str]:
             if isinstance(ground, str)
             else f"ground = {ground!r} must be an array of joint names"
         )
-    g = set(ground)
-    for p in g:
-        if p not in points:
-            raise InputError(f"ground: no point {p!r}; known points are {', '.join(points)}")
+    g = {_joint(p, f"ground[{i}]", points) for i, p in enumerate(ground)}
     if not g:
         raise InputError("ground must list at least the crank's pivot")
     return g
@@ -147,10 +162,8 @@ def _driver(
 ) -> tuple[str, str]:
     if not (isinstance(driver, tuple | list) and len(driver) == 2):
         raise InputError(f"driver must be (pivot, tip); got {driver!r}")
-    pivot, tip = driver
-    for p in (pivot, tip):
-        if p not in points:
-            raise InputError(f"driver = {driver!r}: no point {p!r}")
+    pivot = _joint(driver[0], f"driver = {driver!r}: the pivot", points)
+    tip = _joint(driver[1], f"driver = {driver!r}: the tip", points)
     if pivot not in ground:
         raise InputError(f"driver = {driver!r}: the crank's pivot {pivot!r} must be a ground joint")
     if tip in ground:
@@ -169,7 +182,14 @@ def _driver(
 
 def _lengths(lengths: Any, links: list[tuple[str, ...]]) -> dict[tuple[str, str], float]:
     out: dict[tuple[str, str], float] = {}
-    for (a, b), value in (lengths or {}).items():
+    if lengths is not None and not isinstance(lengths, Mapping):
+        raise InputError(f"lengths must map joint pairs (a, b) to lengths [m]; got {lengths!r}")
+    joints = {p: None for ln in links for p in ln}
+    for pair, value in (lengths or {}).items():
+        if not (isinstance(pair, tuple) and len(pair) == 2):
+            raise InputError(f"lengths: a key must be a pair of joints (a, b); got {pair!r}")
+        a = _joint(pair[0], f"lengths[{pair!r}]", joints)
+        b = _joint(pair[1], f"lengths[{pair!r}]", joints)
         if not any(a in ln and b in ln for ln in links):
             raise InputError(f"lengths[{(a, b)!r}]: {a!r} and {b!r} are not joints of one link")
         try:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from .. import _toml
 from .._errors import InputError
+from .._files import file_target, write_text
 from ..forces import DYNAMICS_KEYS
 
 if TYPE_CHECKING:
@@ -51,6 +52,7 @@ def linkage_table(lk: Linkage) -> dict[str, Any]:
 def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where: str) -> Linkage:
     """What :meth:`Linkage.from_dict` does: check ``table``'s keys, read its
     lengths and sliders and build a ``cls``; errors name ``source`` and ``where``."""
+    _toml.must_be_table(table, source, where)
     machine_only = sorted(set(table) & _MACHINE_KEYS)
     if machine_only:
         raise InputError(
@@ -73,8 +75,14 @@ def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where:
         for i, item in enumerate(items, 1):
             _toml.check_keys(item, {"joints", "length"}, None, f"lengths #{i}")
             joints = item.get("joints")
-            if not (isinstance(joints, list) and len(joints) == 2):
-                raise InputError(f"lengths #{i}: joints must be [a, b]; got {joints!r}")
+            if not (
+                isinstance(joints, list)
+                and len(joints) == 2
+                and all(isinstance(j, str) for j in joints)
+            ):
+                raise InputError(
+                    f"lengths #{i}: joints must be [a, b], two joint names; got {joints!r}"
+                )
             lengths[(joints[0], joints[1])] = item.get("length")
         sliders: dict[str, Any] = {}
         guides_of = table.get("sliders", {})
@@ -137,5 +145,5 @@ def write_toml(lk: Linkage, path: str | Path | None) -> str:
         lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in sliders.items()]
     text = "\n".join(lines) + "\n"
     if path is not None:
-        Path(path).write_text(text, encoding="utf-8")
+        write_text(file_target("path", path), text)  # whole or not at all
     return text

@@ -182,13 +182,22 @@ class LinkageMechanism(Unbounded):
             angles = self.linkage.drawn_angle + np.arange(samples) * (2.0 * math.pi / samples)
             k = forces.kinetostatics(self.linkage, angles, **self.dynamics)
             if not k.ok.all() or k.near_dead_centre.any():
-                bad = np.degrees(angles[~k.ok | k.near_dead_centre])[:6]
+                flagged = ~k.ok | k.near_dead_centre
+                bad = np.degrees(angles[flagged])[:6]
+                # The closest the analogs put the crank to a dead centre (0 at one);
+                # angles where it does not assemble have none.
+                near = k.conditioning[flagged & k.solution.ok]
+                why = (
+                    f"its analogs put the crank {float(near.min()):.2g} rad from one, under "
+                    f"{forces.NEAR_DEAD_CENTRE:g} rad"
+                    if near.size
+                    else "it does not assemble there"
+                )
                 raise InputError(
                     f"mechanism {self.name!r}: a group is at or near a dead centre at crank "
-                    f"angles {', '.join(f'{v:.2f}' for v in bad)} degrees (conditioning "
-                    f"{float(np.nanmin(k.conditioning)):.2g} < {forces.NEAR_DEAD_CENTRE:g}): its "
-                    "forces grow without bound there, so its crank cannot drive it through; "
-                    "change its dimensions"
+                    f"angles {', '.join(f'{v:.2f}' for v in bad)} degrees ({why}): its forces "
+                    "grow without bound there, so its crank cannot drive it through; change "
+                    "its dimensions"
                 )
             self._forces[samples] = k
         return self._forces[samples]

@@ -128,7 +128,7 @@ class Linkage:
                 )
         if name is not None and not isinstance(name, str):
             raise InputError(f"name must be a string; got {name!r}")
-        if output is not None and output not in self._points:
+        if output is not None and (not isinstance(output, str) or output not in self._points):
             raise InputError(
                 f"output = {output!r} is not a point; the points are {', '.join(self._names)}"
             )

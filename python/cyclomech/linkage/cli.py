@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from .._cli import EXIT_FAILS, EXIT_OK, check_step, has_matplotlib, out_folder, plural, save
+from .._files import savetxt, write_text
 from . import Linkage, LinkageSolution
 
 __all__ = ["add_commands", "linkage_command"]
@@ -231,12 +232,10 @@ def linkage_command(args: argparse.Namespace) -> int:
         )
     out = out_folder(args)
     cols, table = _analog_table(sol)
-    np.savetxt(
+    savetxt(
         out / "analogs.csv", table, delimiter=",", header=",".join(cols), comments="", fmt="%.12g"
     )
-    (out / "linkage.json").write_text(
-        json.dumps(summary, indent=2, ensure_ascii=False), encoding="utf-8"
-    )
+    write_text(out / "linkage.json", json.dumps(summary, indent=2, ensure_ascii=False))
     written = [out / "analogs.csv", out / "linkage.json"]
     if not args.no_plot:
         written += _figures(lk, sol, point, out)

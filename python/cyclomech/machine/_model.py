@@ -5,7 +5,6 @@ from __future__ import annotations
 import copy
 import difflib
 import math
-import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -15,7 +14,7 @@ import numpy.typing as npt
 
 from .. import _toml
 from .._arrays import SPEED_CAP_RPM, count, finite_number, real, speeds_rpm, threads_arg
-from .._errors import CyclomechWarning, InfeasibleError, InputError
+from .._errors import InfeasibleError, InputError
 from .._kind import Array, Bound, BoundLaw, Mechanism, TableContext
 from ..cyclogram import (
     Cyclogram,
@@ -46,6 +45,7 @@ _MACHINE_KEYS = {
     "angle_points",
     "speed_fluctuation",
     "flatten_torque",
+    "unmodelled",
 }
 
 
@@ -297,7 +297,7 @@ class Machine:
         ctx = TableContext(cg, source, angle_points, table)
         for key, spec in table.items():
             mechs[key] = _mechanism(key, spec, ctx)
-        _near_misses(cg, mechs, source)
+        _check_mechanism_names(cg, mechs, head.get("unmodelled", []), source)
         return cls(
             name,
             cg,
@@ -764,25 +764,56 @@ class Machine:
 
 
 # --------------------------------------------------------------------- parsing
-def _near_misses(cg: Cyclogram, mechs: Mapping[str, Mechanism], source: str) -> None:
-    """Warn when an operation's ``mechanism`` is not one of the machine's but nearly
-    is (``"liftr"`` for ``"lifter"``: difflib ratio ≥ 0.75): probably a typo that
-    would draw a Gantt row of its own. A name far from every mechanism is a
-    mechanism the file does not model (a clamp, a back gauge), and stays quiet."""
-    seen: set[str] = set()
+def _check_mechanism_names(
+    cg: Cyclogram, mechs: Mapping[str, Mechanism], unmodelled: Any, source: str
+) -> None:
+    """Every operation's ``mechanism`` is a ``[mechanism.<name>]`` table of the
+    machine or is listed in ``[machine] unmodelled``; else :class:`InputError`.
+
+    The rule is strict because a misspelt name is a silent change of design: the
+    operation gets a Gantt row of its own and the file's author believes a
+    mechanism's bounds and loads are on it when they are not (renaming
+    ``[mechanism.lifter]`` to ``[mechanism.lifterx]`` in the loom once passed with a
+    warning). A mechanism the file does not model (a clamp, a back gauge) is
+    declared by name in ``[machine] unmodelled``; a name listed there must be used
+    by an operation and must not also be a mechanism table. The message names the
+    operation, the name, the nearest mechanism (difflib) and both ways out.
+    """
+    at = f"{source}: [machine]: unmodelled"
+    if not (isinstance(unmodelled, list) and all(isinstance(u, str) and u for u in unmodelled)):
+        raise InputError(
+            f"{at} = {unmodelled!r} must be a list of mechanism names (non-empty strings): "
+            'the mechanisms the operations name that the file does not model, e.g. ["clamp"]'
+        )
+    extra = set(unmodelled)
+    both = sorted(extra & set(mechs))
+    if both:
+        raise InputError(
+            f"{at} lists {both[0]!r}, which is also a [mechanism.{both[0]}] table: a "
+            "mechanism is either modelled (its table) or listed as unmodelled, not both"
+        )
+    used = {op.mechanism for op in cg.operations if op.mechanism is not None}
+    for u in unmodelled:
+        if u not in used:
+            near = difflib.get_close_matches(u, sorted(used - extra), n=1, cutoff=0.6)
+            hint = f"; did you mean {near[0]!r}?" if near else ""
+            raise InputError(
+                f"{at} lists {u!r}, which no operation names as its mechanism{hint} "
+                "(remove it, or correct the spelling)"
+            )
+    known = set(mechs) | extra
     for op in cg.operations:
         name = op.mechanism
-        if name is None or name in mechs or name in seen:
+        if name is None or name in known:
             continue
-        seen.add(name)
-        near = difflib.get_close_matches(name, list(mechs), n=1, cutoff=0.75)
-        if near:
-            warnings.warn(
-                f"{source}: operation {op.title!r}: mechanism = {name!r} is not a mechanism "
-                f"of the machine; did you mean {near[0]!r}? (it gets a Gantt row of its own)",
-                CyclomechWarning,
-                stacklevel=4,
-            )
+        near = difflib.get_close_matches(name, sorted(mechs), n=1, cutoff=0.6)
+        hint = f" Did you mean {near[0]!r}?" if near else ""
+        tables = ", ".join(repr(k) for k in mechs) or "none"
+        raise InputError(
+            f"{source}: operation {op.title!r}: mechanism = {name!r} is not a mechanism of "
+            f"the machine (its [mechanism.<name>] tables: {tables}).{hint} A mechanism the "
+            f"file does not model is listed in [machine] unmodelled = [{name!r}, …]."
+        )
 
 
 def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
@@ -861,7 +892,7 @@ def check_parameter(machine: Machine, path: str) -> None:
     _, key = _split_key(path, dict(machine.data))  # a copy: it may add a [machine] table
     head = path.split(".", 1)[0]
     if head == "machine":
-        allowed, where = _MACHINE_KEYS - {"name", "speed_rpm"}, "[machine]"
+        allowed, where = _MACHINE_KEYS - {"name", "speed_rpm", "unmodelled"}, "[machine]"
     else:
         kind = type(machine.mechanisms[head])
         allowed, where = set(kind.keys - kind.fixed_keys), f"[mechanism.{head}]"
@@ -888,7 +919,7 @@ def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:
     if not isinstance(spec, Mapping):
         raise InputError(f"{where} must be a table; got {spec!r}")
     kind = spec.get("kind")
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         said = "the key kind is missing; it" if kind is None else f"kind = {kind!r}"
         raise InputError(f"{where}: {said} must be one of {', '.join(KINDS)}")
     try:

@@ -24,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from .._errors import CyclomechWarning, InfeasibleError
-from .._files import whole
+from .._errors import CyclomechWarning, InfeasibleError, InputError
+from .._files import folder_target, whole
 from .._json import jsonable
 from .._kind import Context, MechanismResult
 from .._progress import progress as progress_bar
@@ -682,6 +682,16 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     list of Path
         The paths written.
 
+    Raises
+    ------
+    InputError
+        If ``out`` is empty (``""`` would fill the current folder), not a path, or
+        a file; if ``result`` is not a :class:`MachineResult`.
+    OSError
+        If a file cannot be written (a full disk, no permission), naming it; each
+        file is written whole or not at all, and ``report.html`` and
+        ``results.json`` last.
+
     Examples
     --------
     >>> import pathlib, tempfile, cyclomech as cm
@@ -690,7 +700,12 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     >>> sorted(p.name for p in write_report(r, tempfile.mkdtemp(), figures=False))
     ['operations.csv', 'report.html', 'results.json', 'speed_sweep.csv']
     """
-    folder = Path(out)
+    if not isinstance(result, MachineResult):
+        raise InputError(
+            f"result must be the MachineResult of cyclomech.machine.analyze; got "
+            f"{type(result).__name__}"
+        )
+    folder = folder_target("out", out)  # "" would fill the current folder: refused
     folder.mkdir(parents=True, exist_ok=True)
     # results.json and report.html are written last, and an earlier run's removed
     # first: a run interrupted on the way leaves neither, not a folder that looks done.

@@ -33,7 +33,7 @@ import numpy.typing as npt
 
 from .._arrays import check_bytes, plain_pages, speeds_rpm
 from .._errors import CyclomechWarning, InputError
-from .._files import partial, whole
+from .._files import file_target, partial, whole
 from .._progress import progress as progress_bar
 from ._batch import batch_designs, batch_figures, plan
 from ._model import SCHEMA, Machine, check_parameter, speed_limits, speed_sweeps
@@ -171,7 +171,7 @@ class SweepResult:
         >>> r.write(pathlib.Path(tempfile.mkdtemp()) / "s.npz").suffix
         '.npz'
         """
-        p = Path(path)
+        p = file_target("path", path)
         if p.suffix not in (".parquet", ".npz"):
             raise InputError(
                 f"{p}: SweepResult.write writes .parquet or .npz files; got the suffix "

@@ -175,6 +175,7 @@ class PressStudy:
             if t not in data:
                 raise InputError(f"{src}: missing table [{t}]")
         pt, wt = data["press"], data["working"]
+        _toml.must_be_table(pt, src, "[press]")
         machine_only = sorted(
             set(pt) & {"deformation_force", "slider_mass_kg", "rod_mass_kg", "phase"}
         )

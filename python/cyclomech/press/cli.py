@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from .._cli import EXIT_FAILS, EXIT_OK, check_step, has_matplotlib, out_folder, save, table
+from .._files import savetxt, whole, write_text
 from .._json import jsonable
 
 __all__ = ["add_commands", "press_command"]
@@ -131,7 +132,7 @@ def press_command(args: argparse.Namespace) -> int:
     kinematics = np.column_stack(
         [np.degrees(alpha), kin.s, kin.ds, kin.dds, kin.ds * w, kin.dds * w * w]
     )
-    np.savetxt(
+    savetxt(
         out / "kinematics.csv",
         kinematics,
         delimiter=",",
@@ -140,7 +141,7 @@ def press_command(args: argparse.Namespace) -> int:
         header="alpha_deg,S_m,dS_m_per_rad,d2S_m_per_rad2,V_m_per_s,J_m_per_s2",
     )
     factor = [FILE_COLUMNS.get(k_, (k_, 1.0))[1] for k_ in CRITERIA]
-    with (out / "criteria.csv").open("w", encoding="utf-8", newline="") as fh:
+    with whole(out / "criteria.csv") as tmp, tmp.open("w", encoding="utf-8", newline="") as fh:
         wr = csv.writer(fh)  # a status text may hold a comma: quoted
         wr.writerow(["design", *_columns(CRITERIA), "status"])
         for label, cc in (("design", c), ("crank_slider", base)):
@@ -191,14 +192,14 @@ def press_command(args: argparse.Namespace) -> int:
         codes = grid_cols.pop("status")
         cols = file_values(grid_cols)
         status = [STATUS[int(v)] for v in codes]
-        with (out / "sweep.csv").open("w", encoding="utf-8", newline="") as fh:
+        with whole(out / "sweep.csv") as tmp, tmp.open("w", encoding="utf-8", newline="") as fh:
             wr = csv.writer(fh)  # the status texts hold commas: quoted
             wr.writerow([*cols, "status"])
             body = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
             wr.writerows(
                 [*(f"{v:.10g}" for v in row), stat] for row, stat in zip(body, status, strict=True)
             )
-        with (out / "pareto.csv").open("w", encoding="utf-8") as fh:
+        with whole(out / "pareto.csv") as tmp, tmp.open("w", encoding="utf-8") as fh:
             fh.write("d_m,L_m,phi0_deg,refined,score," + ",".join(_columns(CRITERIA)) + "\n")
             for q, cq, rf, sc in zip(
                 opt.designs, opt.criteria, opt.refined, opt.scores, strict=True
@@ -218,9 +219,7 @@ def press_command(args: argparse.Namespace) -> int:
             "baseline_criteria": file_values(opt.baseline.as_dict()),
         }
         written += [out / "sweep.csv", out / "pareto.csv"]
-    (out / "press.json").write_text(
-        json.dumps(jsonable(summary), indent=2, ensure_ascii=False), encoding="utf-8"
-    )
+    write_text(out / "press.json", json.dumps(jsonable(summary), indent=2, ensure_ascii=False))
     written.append(out / "press.json")
     if not args.no_plot:
         written += _figures(st, c, opt, out)

@@ -71,17 +71,44 @@ pub fn cores() -> usize {
     })
 }
 
-fn pools() -> &'static Mutex<HashMap<usize, Arc<ThreadPool>>> {
-    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
-    POOLS.get_or_init(|| Mutex::new(HashMap::new()))
+/// The cached pools, with the process that built them.
+struct Pools {
+    /// `std::process::id()` when these pools were built.
+    pid: u32,
+    by_threads: HashMap<usize, Arc<ThreadPool>>,
+}
+
+fn pools() -> &'static Mutex<Pools> {
+    static POOLS: OnceLock<Mutex<Pools>> = OnceLock::new();
+    POOLS.get_or_init(|| {
+        Mutex::new(Pools {
+            pid: std::process::id(),
+            by_threads: HashMap::new(),
+        })
+    })
 }
 
 /// The cached pool with `threads` threads.
+///
+/// **After `fork`.** A child made by `fork` (Python's `multiprocessing` default
+/// on Linux, joblib, some Dask set-ups) inherits the parent's pools but not their
+/// threads: work sent to them would wait forever. So the cache remembers the
+/// process id that built it, and a call from another process id drops the
+/// inherited pools and builds fresh ones in the child. The inherited pools are
+/// leaked, not dropped: their drop would signal worker threads that do not exist
+/// in the child, and their memory is the parent's copy anyway.
 pub fn pool(threads: usize) -> Result<Arc<ThreadPool>, ThreadsError> {
     // A poisoned lock only means another thread panicked while holding it; the map
     // itself is still valid, so recover it instead of propagating the panic.
-    let mut map = pools().lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(p) = map.get(&threads) {
+    let mut cache = pools().lock().unwrap_or_else(|e| e.into_inner());
+    let pid = std::process::id();
+    if cache.pid != pid {
+        for (_, inherited) in cache.by_threads.drain() {
+            std::mem::forget(inherited);
+        }
+        cache.pid = pid;
+    }
+    if let Some(p) = cache.by_threads.get(&threads) {
         return Ok(Arc::clone(p));
     }
     let built = ThreadPoolBuilder::new()
@@ -93,7 +120,7 @@ pub fn pool(threads: usize) -> Result<Arc<ThreadPool>, ThreadsError> {
             reason: e.to_string(),
         })?;
     let built = Arc::new(built);
-    map.insert(threads, Arc::clone(&built));
+    cache.by_threads.insert(threads, Arc::clone(&built));
     Ok(built)
 }
 

@@ -35,8 +35,11 @@
 //! for the crank. Each block is an LU with partial pivoting; a pivot below 1e-10
 //! of the block's largest entry is a dead centre (the reactions are unbounded):
 //! that angle's results are NaN and flagged singular (its conditioning 0). Each
-//! angle's conditioning, the smallest pivot to its block's largest entry, says
-//! how near a dead centre it is: the forces grow as its inverse.
+//! angle's conditioning is the smallest pivot to its block's largest entry. It
+//! is no measure of how near a dead centre a pose is: at a crank angle δ from a
+//! fold it falls only as √δ (and it changes with the links' size) while the
+//! analogs grow as δ^-3/2 and the torque as δ^-2; the Python layer flags poses
+//! near a dead centre from the analogs (`Kinetostatics.near_dead_centre`).
 //!
 //! Files: this one (the model, its analysis and errors), `solve` (the batched
 //! per-angle solve) and `tests`.

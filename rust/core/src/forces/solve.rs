@@ -17,9 +17,9 @@ const CHUNK: usize = 256;
 /// static) and angle the driving torque [N·m], the G guide forces [N] and, when
 /// `reactions`, the K reactions (x, y) [N] of [`Model::pairs`] (W = 1 + G + 2K;
 /// 1 + G without them) — and `conditioning` (N,): the smallest ratio, over the
-/// system's blocks, of a pivot to the block's largest entry (how far the pose is
-/// from a dead centre; 0 at one, where the values are NaN; NaN where the inputs
-/// are not finite).
+/// system's blocks, of a pivot to the block's largest entry (0 at a dead centre,
+/// where the values are NaN; NaN where the inputs are not finite; near a fold it
+/// falls only as the square root of the crank angle to it: see the module).
 pub struct Outputs<'a> {
     pub values: &'a mut [f64],
     pub conditioning: &'a mut [f64],
