@@ -128,6 +128,10 @@ def test_the_renamed_loom_keeps_its_speed_limit():
         ("max_vibration_deg = 0.0573       # residual vibration after a rise or return: ±0.1 mm",
          "max_vibration_deg = 0.001", r"max_vibration_deg = 0.001 ° is under 0.01° — did you "
          r"give radians \(max_vibration_deg = 0.0573 if so\)"),
+        # a pressure-angle limit of 0.785 is 45° in radians
+        ("max_pressure_angle_deg = 45.0", "max_pressure_angle_deg = 0.785",
+         r"max_pressure_angle_deg = 0.785 ° admits almost no cam — did you give radians "
+         r"\(max_pressure_angle_deg = 45\)"),
         # [σ_H] = 900 is 900 MPa
         ("max_stress_pa = 9e8              # [σ_H] of a hardened steel cam",
          "max_stress_pa = 900", r"max_stress_pa = 900 Pa is under 1e\+06 Pa .* did you give "
