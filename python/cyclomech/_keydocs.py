@@ -693,4 +693,30 @@ def render_page(title: str = "Machine-file format") -> str:
     for table in ORDER:
         head = TITLES[table]
         out += [head, "-" * len(head), "", _intro(table), "", render_table(table)]
+    out += _renamed_section()
     return "\n".join(out)
+
+
+def _renamed_section() -> list[str]:
+    """The page's last section: every key renamed to say its unit, old → new
+    (:data:`cyclomech._keyrules.RENAMED`), which the readers refuse by the old name."""
+    from ._keyrules import RENAMED
+
+    head = "Renamed keys"
+    lines = [
+        head,
+        "-" * len(head),
+        "",
+        "Keys with a unit say it in their names. A file that still uses an old name is "
+        "refused with a message naming the new one; the value stays as it was.",
+        "",
+        ".. list-table::",
+        "   :header-rows: 1",
+        "",
+        "   * - Old name",
+        "     - New name",
+        "     - Unit",
+    ]
+    for old, (new, unit) in RENAMED.items():
+        lines += [f"   * - ``{old}``", f"     - ``{new}``", f"     - {_text(unit)}"]
+    return [*lines, ""]
