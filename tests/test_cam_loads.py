@@ -134,7 +134,8 @@ def _ratio(
     criterion: str, cam: cm.cam.Cam, theta: np.ndarray, lim: Limits, loads: Any = None
 ) -> np.ndarray:
     """The criterion's value over its limit at cam angles ``theta`` (≤ 1 holds),
-    from ``Cam.solve`` / ``Cam.loads``; NaN (an undercut profile under load) is +∞."""
+    from ``Cam.solve`` / ``Cam.loads``; NaN (an undercut profile under load) is +∞,
+    a separated follower's σ_H (NaN: no contact) is 0."""
     loads = lim.loads if loads is None else loads
     if criterion == "pressure_angle":
         r = np.abs(cam.solve(theta).pressure_angle) / lim.alpha(cam)
@@ -158,7 +159,9 @@ def _ratio(
         r = 1.0 - q / hold  # m(−s″)ω²/K
     elif criterion == "contact_stress":
         assert lim.max_stress is not None
-        r = cam.loads(theta, lim.rpm, loads, lim.contact).contact_stress / lim.max_stress
+        ld = cam.loads(theta, lim.rpm, loads, lim.contact)
+        # Separated: no contact, no stress (NaN), and nothing the bound can exceed.
+        r = np.where(ld.separated, 0.0, ld.contact_stress) / lim.max_stress
     else:  # pragma: no cover
         raise AssertionError(criterion)
     return np.where(np.isnan(r), np.inf, r)
@@ -470,7 +473,8 @@ def test_hertz_printed_worked_example_two_parallel_steel_rollers() -> None:
 def test_hertz_stress_along_the_cycle_on_the_solved_curvature(follower: Any, closure: str) -> None:
     """Away from dwells: κ = 1/r_r + 1/ρ_profile on the inner flank (N ≥ 0),
     1/r_r − 1/(ρ_pitch + r_r) on a groove's outer flank (N < 0), 1/ρ for a flat
-    face, from ``Cam.solve``; NaN where κ < 0 (undercut), 0 where separated."""
+    face, from ``Cam.solve``; NaN where κ < 0 (undercut) and where separated
+    (no contact, so no stress: issue 31 item 5; the kernel said 0 before)."""
     h = 0.3 if isinstance(follower, cm.cam.OscillatingRoller) else 0.02
     cam = cm.cam.Cam(_program(h, "modified_trapezoid"), follower, closure)
     if h == 0.3:  # kg·m², N·m/rad, N·m
@@ -496,9 +500,30 @@ def test_hertz_stress_along_the_cycle_on_the_solved_curvature(follower: Any, clo
             )
     want = np.sqrt(np.abs(n) * kappa / (math.pi * BRONZE_ON_STEEL.width * c))
     separated = (closure == "spring") & (n < 0)
-    want = np.where(separated, 0.0, np.where(kappa < 0, np.nan, want))
+    want = np.where(separated, np.nan, np.where(kappa < 0, np.nan, want))
     assert (n < 0).any() and (n > 0).any()  # both flanks (or separation) exercised
     np.testing.assert_allclose(ld.contact_stress, want, rtol=1e-12)
+    np.testing.assert_array_equal(ld.separated, separated)  # the flag is kept
+
+
+def test_no_stress_where_the_follower_has_left_the_cam() -> None:
+    """Issue 31 item 5: a spring-closed cam above its jump speed. Where the normal
+    force is negative the follower has left the cam: σ_H is NaN there (it read
+    as a stress a designer could compare with [σ_H]), the flag says why, and the
+    maximum stress the cam command and the machine report is the contact's."""
+    cam = cm.cam.Cam(_program(0.02, "cycloidal"), cm.cam.TranslatingRoller(0.05, 0.01))
+    fl = cm.cam.FollowerLoads(1.0, 2000.0, 20.0)
+    jump_rpm = cam.jump_rpm(fl)[0]
+    theta = np.linspace(0.0, TAU, 7201)
+    ld = cam.loads(theta, 1.5 * jump_rpm, fl, BRONZE_ON_STEEL)
+    assert ld.separated.any() and not ld.separated.all()
+    np.testing.assert_array_equal(ld.separated, ld.normal_force < 0)
+    assert np.isnan(ld.contact_stress[ld.separated]).all()
+    assert np.isfinite(ld.contact_stress[~ld.separated]).all()
+    assert (ld.contact_stress[~ld.separated] > 0).all()
+    # Below the jump speed the follower never leaves: a stress everywhere.
+    below = cam.loads(theta, 0.5 * jump_rpm, fl, BRONZE_ON_STEEL)
+    assert not below.separated.any() and np.isfinite(below.contact_stress).all()
 
 
 # --- jump -----------------------------------------------------------------------

@@ -414,8 +414,11 @@ class CamMechanism(Unbounded):
         kin = cam.solve(theta)
         loads = None if d.loads is None else cam.loads(theta, n, d.loads, d.contact)
         stress = math.nan if loads is None or d.contact is None else np.nanmax(loads.contact_stress)
-        if loads is not None and np.isnan(loads.contact_stress).any() and d.contact is not None:
-            stress = math.inf  # an undercut profile: no Hertz contact there
+        undercut = loads is not None and np.isnan(loads.contact_stress[~loads.separated]).any()
+        if undercut and d.contact is not None:
+            # NaN where the follower touches the cam: an undercut profile, no Hertz
+            # contact (NaN where it has left the cam only says there is no contact).
+            stress = math.inf
         segs = sorted({k for k, _ in self.criteria})
         at = d.min_phase_angles([n], segments=segs) if segs else None
         result = CamResult(

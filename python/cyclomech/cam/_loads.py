@@ -191,8 +191,9 @@ class CamLoads:
         The normal force N [N], signed: + on the inner flank, − on a groove's outer
         flank or, with a spring, the pull the follower would need (separation).
     contact_stress : ndarray of float
-        The Hertz stress σ_H [Pa]: NaN without a :class:`Contact`, or where the
-        profile is undercut; 0 where separated.
+        The Hertz stress σ_H [Pa]: NaN without a :class:`Contact`, where the
+        profile is undercut, and where the follower has left the cam (``separated``:
+        no contact, so no stress to compare with [σ_H]).
     shaft_torque : ndarray of float
         The torque the cam shaft must supply [N·m].
     separated : ndarray of bool

@@ -48,6 +48,16 @@ class LinkageSolution:
     the drawn pose) nearest the last pose; the first angle re-acquired is flagged
     ``branch_change``, angles where nothing assembles are ``ok = False``.
 
+    A drawn branch that spans more than a turn (it folds at 247° going up from the
+    drawing and at −129° going down, say) has two poses at the angles of the
+    overlap; the short way decides which, so a grid wider than half a turn shows
+    the fold *going down* inside it (at 231° in that example), flagged, although
+    a crank turned up from the drawing would pass 231° regularly and fold at 247°.
+    That flag is a real fold of the branch as walked, not a regular pose left
+    (checked against an independent Newton continuation in
+    ``tests/test_class3_branch.py``); to follow the crank one way past half a
+    turn, draw the linkage nearer the angles of interest.
+
     Parameters
     ----------
     angles : ndarray of float, shape (N,)

@@ -218,6 +218,12 @@ impl Cam {
     /// One row of [`LOAD_COLUMNS`] from a geometry row `geo` (of
     /// [`super::COLUMNS`]) at speed `omega` [rad/s] with the segment's load
     /// `load`; `hertz` = (width, compliance) when the stress is wanted.
+    ///
+    /// Where the follower has left the cam (spring closure, N < 0) there is no
+    /// contact and so no stress: σ_H is NaN there, with the `separated` column
+    /// saying why (a number would read as a stress a designer could compare with
+    /// [σ_H]). The bounds use [`Cam::load_row_lc`], where such an angle counts as
+    /// stress 0: no contact cannot exceed the limit (separation is its own check).
     #[inline]
     pub(super) fn load_row(
         &self,
@@ -228,7 +234,11 @@ impl Cam {
         hertz: Option<(f64, f64)>,
     ) -> [f64; N_LOAD_COLUMNS] {
         let lc = self.lever_cos(geo[10]);
-        self.load_row_lc(geo, lc, omega, loads, load, hertz)
+        let mut row = self.load_row_lc(geo, lc, omega, loads, load, hertz);
+        if row[4] != 0.0 {
+            row[2] = f64::NAN; // separated: no contact, no stress
+        }
+        row
     }
 
     /// [`Cam::load_row`] given l cos φ `lc` (a lean row's cos φ times the lever).

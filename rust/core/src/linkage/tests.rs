@@ -373,6 +373,118 @@ fn a_class_iii_walk_never_jumps_silently_at_a_fold() {
     }
 }
 
+/// The six-bar's group anchors (A, D and the crank tip F) at crank angle `deg` [°].
+fn stephenson_anchors(deg: f64) -> [V2; 3] {
+    let phi = deg.to_radians();
+    [
+        [0.0, 0.0],
+        [4.0, 0.0],
+        [1.0 + 0.15 * phi.cos(), 5.6 + 0.15 * phi.sin()],
+    ]
+}
+
+/// The test's own continuation of the drawn branch: Newton from a secant predictor
+/// at each angle of `degs` (from the drawn 0°, monotonic, 0.01° apart), `None` from
+/// the first angle where no root stays within 0.01 m of the predictor on the drawn
+/// determinant sign (the branch has ended).
+fn continued(triad: &Triad, degs: &[f64]) -> Vec<Option<[V2; 3]>> {
+    let drawn = stephenson();
+    let pts = &drawn.drawn.as_ref().unwrap().1;
+    let mut pose = [pts[1], pts[3], pts[4]];
+    let mut back: Option<[V2; 3]> = None;
+    let sign = triad.det_sign(&stephenson_anchors(0.0), &pose);
+    let mut out = Vec::new();
+    let mut alive = true;
+    for &deg in degs {
+        if alive {
+            let k = stephenson_anchors(deg);
+            let pred = match back {
+                Some(b) => std::array::from_fn(|i| {
+                    [2.0 * pose[i][0] - b[i][0], 2.0 * pose[i][1] - b[i][1]]
+                }),
+                None => pose,
+            };
+            let near =
+                |j: &[V2; 3]| (0..3).all(|i| dot(sub(j[i], pred[i]), sub(j[i], pred[i])) < 1e-4);
+            match triad.newton(&k, pred) {
+                Some(j) if near(&j) && triad.det_sign(&k, &j) == sign => {
+                    back = Some(pose);
+                    pose = j;
+                }
+                _ => alive = false,
+            }
+        }
+        out.push(alive.then_some(pose));
+    }
+    out
+}
+
+#[test]
+fn the_six_bar_walk_flags_only_where_its_branch_folds() {
+    // Issue 31 item 1 read the flag at 230.82° as a regular branch dropped. The
+    // walk reaches 230.83° the short way, down from 360°, and the drawn branch
+    // has a fold there (at 230.823°); the smooth pose of the issue is the same
+    // circuit reached upwards from 0°, where the walk lands when it re-acquires.
+    let prog = stephenson();
+    let Step::Triad { triad, .. } = &prog.steps[1] else {
+        unreachable!()
+    };
+    let degs: Vec<f64> = (0..=30000).map(|i| i as f64 * 0.01).collect();
+    let angles: Vec<f64> = degs.iter().map(|d| d.to_radians()).collect();
+    let s = prog.solve(&angles, &all(7), Some(1)).unwrap();
+    assert!(s.ok.iter().all(|&o| o));
+    let flags: Vec<usize> = (0..degs.len()).filter(|&i| s.branch[i]).collect();
+    assert_eq!(flags, vec![23082], "flagged at {flags:?}");
+    let walked = |i: usize| [point(&s, i, 7, 1), point(&s, i, 7, 3), point(&s, i, 7, 4)];
+    let gap = |a: [V2; 3], b: [V2; 3]| {
+        (0..3)
+            .map(|i| dot(sub(a[i], b[i]), sub(a[i], b[i])).sqrt())
+            .fold(0.0, f64::max)
+    };
+    // Upwards from 0° the branch is regular through the near-fold at 9.5° and
+    // beyond 230.83°: the walk's up half (to 180°) and its re-acquired poses (from
+    // 230.82° down to 180°) both lie on it.
+    let up = continued(triad, &degs[..=23083]);
+    for i in 0..=23082 {
+        let j = up[i].unwrap_or_else(|| panic!("no upward branch at {}°", degs[i]));
+        assert!(
+            gap(j, walked(i)) < 1e-9,
+            "{}°: {}",
+            degs[i],
+            gap(j, walked(i))
+        );
+    }
+    // Downwards from 360° the walk agrees with the branch down to 230.83°, where it
+    // ends: at 230.82° no root continues it (by Newton from the secant predictor),
+    // and the seed's bracketing finds none near its last pose just below the fold.
+    // −n·0.01° is 360° − n·0.01°, the grid's index 36000 − n; 230.83° is n = 12917.
+    let down_degs: Vec<f64> = (0..=12918).map(|n| -(n as f64) * 0.01).collect();
+    let down = continued(triad, &down_degs);
+    for (n, j) in down.iter().enumerate().take(12918) {
+        let i = 36000 - n;
+        if i <= 30000 {
+            let j = j.unwrap_or_else(|| panic!("no downward branch at {}°", degs[i]));
+            assert!(
+                gap(j, walked(i)) < 1e-9,
+                "{}°: {}",
+                degs[i],
+                gap(j, walked(i))
+            );
+        }
+    }
+    assert!(down[12917].is_some() && down[12918].is_none());
+    let last = down[12917].unwrap();
+    let below = triad.bracket_all(&stephenson_anchors(230.825));
+    assert!(
+        below.iter().all(|r| gap(*r, last) > 0.05),
+        "a root continues the branch"
+    );
+    // The flagged pose is 0.6 m from the one before it in the walk's order: the
+    // upward branch, regular there (the walk re-acquired it, it did not invent it).
+    assert!(gap(walked(23082), walked(23083)) > 0.6);
+    assert!(gap(up[23083].unwrap(), walked(23083)) > 0.6);
+}
+
 #[test]
 fn unassemblable_angles_are_flagged() {
     // Non-Grashof: the crank (2) cannot turn fully; with l2 = l3 = 2, d = 3 the
