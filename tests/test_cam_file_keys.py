@@ -129,8 +129,8 @@ def test_a_stop_on_a_cam_names_its_bad_lever_length(tmp_path, value: str) -> Non
     """The loom's lifter takes its stroke from the cam's rotation times lever_length;
     a bad lever_length is named as such, not as the derived stroke."""
     src = (EXAMPLES / "stb_loom.toml").read_text(encoding="utf-8")
-    assert "lever_length = 0.1 " in src
+    assert "lever_length_m = 0.1 " in src
     bad = tmp_path / "bad.toml"
-    bad.write_text(src.replace("lever_length = 0.1 ", f"lever_length = {value} ", 1))
-    with pytest.raises(cm.InputError, match=r"\[mechanism.lifter\]: lever_length\b"):
+    bad.write_text(src.replace("lever_length_m = 0.1 ", f"lever_length_m = {value} ", 1))
+    with pytest.raises(cm.InputError, match=r"\[mechanism.lifter\]: lever_length_m\b"):
         cm.Machine.from_toml(bad)

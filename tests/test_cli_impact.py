@@ -22,19 +22,19 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SMALL = """
 [stop]
 name = "small lifter"
-stroke = 0.0094
-preload = 0.00025
-lever_length = 0.1
-J_A = 7.4e-5
-a = 0.05
-b = 0.1
-E = 2.1e11
-J_x = 6.14e-11
+stroke_m = 0.0094
+preload_m = 0.00025
+lever_length_m = 0.1
+J_A_kg_m2 = 7.4e-5
+a_m = 0.05
+b_m = 0.1
+E_pa = 2.1e11
+J_x_m4 = 6.14e-11
 
 [study]
 rpm = [280, 420, 3]
 phase_deg = [30, 50, 5]
-a_max = 1e-4
+a_max_m = 1e-4
 arc = ["3", "7"]
 """
 
@@ -82,14 +82,15 @@ def test_example_runs_with_figures(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("edit", "words"),
     [
-        (("stroke = 0.0094", "strok = 0.0094"), ["[stop]", "unknown key 'strok'"]),
-        (("stroke = 0.0094\n", ""), ["[stop]", "missing key 'stroke'"]),
+        (("stroke_m = 0.0094", "strok_m = 0.0094"), ["[stop]", "unknown key 'strok_m'"]),
+        (("stroke_m = 0.0094\n", ""), ["[stop]", "missing key 'stroke_m'"]),
+        (("stroke_m = 0.0094", "stroke = 0.0094"), ["[stop]", "`stroke` is now `stroke_m`"]),
         (("restitution", "x"), []),  # absent key: not an edit, default used (checked below)
-        (("J_A = 7.4e-5", 'J_A = "heavy"'), ["[stop]", "J_A", "must be a number"]),
-        (("preload = 0.00025", "preload = 0.02"), ["[stop]", "preload", "smaller than stroke"]),
+        (("J_A_kg_m2 = 7.4e-5", 'J_A_kg_m2 = "heavy"'), ["[stop]", "J_A_kg_m2", "a number"]),
+        (("preload_m = 0.00025", "preload_m = 0.02"), ["[stop]", "preload_m", "than stroke_m"]),
         (("rpm = [280, 420, 3]", "rpm = [280, 420]"), ["[study]", "rpm", "[from, to, count]"]),
         (("phase_deg = [30, 50, 5]", "phase_deg = [30, 400, 5]"), ["[study]", "phase_deg"]),
-        (("a_max = 1e-4", "a_max = -1e-4"), ["[study]", "a_max"]),
+        (("a_max_m = 1e-4", "a_max_m = -1e-4"), ["[study]", "a_max_m"]),
         (('arc = ["3", "7"]', 'arc = ["3"]'), ["[study]", "arc"]),
     ],
 )

@@ -37,7 +37,7 @@ def test_run_and_sweep_show_progress_on_stderr(tmp_path, capsys):
     err = capsys.readouterr().err
     # One tqdm bar over the run's four steps, naming the step it is on.
     assert "100.0% 4/4" in err and "speed limit" in err and "mechanisms" in err
-    cm.sweep(m, {"lifter.preload": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
+    cm.sweep(m, {"lifter.preload_m": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
     err = capsys.readouterr().err
     assert "sweep [" in err and "100.0% 4/4" in err
 
@@ -52,7 +52,7 @@ def test_ctrl_c_stops_a_long_sweep_cleanly(tmp_path):
         "sweep",
         str(LOOM),
         "--set",
-        "lifter.preload=0.0001:0.0005:2000",
+        "lifter.preload_m=0.0001:0.0005:2000",
         "--speed",
         "200:500:301",
         "--out",
@@ -81,7 +81,7 @@ def test_ctrl_c_stops_a_dask_sweep_cleanly(tmp_path):
     and status 130, no traceback from the workers, and leave no process behind."""
     pytest.importorskip("dask.distributed")
     cmd = [sys.executable, "-m", "cyclomech", "sweep", str(LOOM)]
-    cmd += ["--set", "lifter.preload=0.0001:0.0005:4000", "--speed", "200:500:3001"]
+    cmd += ["--set", "lifter.preload_m=0.0001:0.0005:4000", "--speed", "200:500:3001"]
     cmd += ["--out", str(tmp_path / "sweep"), "--quiet", "--dask", "local:2"]
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     proc = subprocess.Popen(
@@ -121,7 +121,7 @@ def test_ctrl_c_stops_a_dask_sweep_cleanly(tmp_path):
 
 def test_sweep_command_writes_the_grid(tmp_path, capsys):
     out = tmp_path / "s"
-    argv = ["sweep", str(LOOM), "--set", "lifter.preload=0.0002:0.0003:2"]
+    argv = ["sweep", str(LOOM), "--set", "lifter.preload_m=0.0002:0.0003:2"]
     argv += ["--speed", "300:400:3", "--out", str(out), "--quiet"]
     assert main(argv) == 0
     text = capsys.readouterr().out
@@ -129,7 +129,7 @@ def test_sweep_command_writes_the_grid(tmp_path, capsys):
     files = list(out.glob("sweep.*"))
     assert len(files) == 1
     r = cm.SweepResult.read(files[0])
-    direct = cm.Machine.from_toml(LOOM).with_values({"lifter.preload": 0.0003})
+    direct = cm.Machine.from_toml(LOOM).with_values({"lifter.preload_m": 0.0003})
     s = direct.speed_sweep([300.0, 350.0, 400.0])
     np.testing.assert_array_equal(r.columns["limiting_deg"][3:], s.limiting_deg)
 
@@ -166,9 +166,9 @@ def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
 
 def test_sweep_refuses_a_key_this_table_takes_from_elsewhere(tmp_path, capsys):
     """The loom's lifter names its cam, which gives it law and stroke: sweeping
-    lifter.stroke is bad input (status 2) before any design runs. It used to run,
+    lifter.stroke_m is bad input (status 2) before any design runs. It used to run,
     mark every design invalid and exit 3."""
-    for key in ("stroke", "law"):
+    for key in ("stroke_m", "law"):
         argv = ["sweep", str(LOOM), "--set", f"lifter.{key}=0.008:0.01:2", "--speed", "200:300:3"]
         assert main([*argv, "--out", str(tmp_path / key), "--quiet"]) == 2
         err = capsys.readouterr().err
@@ -202,8 +202,8 @@ def test_version_and_one_line_warnings(tmp_path):
     [
         # The transfer line's own limit (its peak jerk): 221.76 rpm; nominal 230.
         ("rotor_line", "nominal_rpm = 120.0", "nominal_rpm = 230.0", "line"),
-        # The same limit, brought under the file's nominal 120 rpm by max_jerk.
-        ("rotor_line", "max_jerk = 10.0", "max_jerk = 1.0", "line"),
+        # The same limit, brought under the file's nominal 120 rpm by max_jerk_m_per_s3.
+        ("rotor_line", "max_jerk_m_per_s3 = 10.0", "max_jerk_m_per_s3 = 1.0", "line"),
     ],
 )
 def test_a_nominal_speed_above_a_mechanisms_own_limit_fails(

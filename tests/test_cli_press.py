@@ -22,10 +22,10 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SMALL = """
 [press]
 name = "small"
-R = 0.09
-r = 0.03
-d = 0.029
-L = 0.25
+R_m = 0.09
+r_m = 0.03
+d_m = 0.029
+L_m = 0.25
 phi0_deg = 55.95
 
 [working]
@@ -109,13 +109,14 @@ def test_example_with_sweep_writes_front_and_figures(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        (("R = 0.09", "R = 0.1"), "R/r"),
-        (("d = 0.029", "d = -0.01"), "[press]: d = -0.01"),
+        (("R_m = 0.09", "R_m = 0.1"), "R/r"),
+        (("d_m = 0.029", "d_m = -0.01"), "[press]: d_m = -0.01"),
         (("rpm = 40.0", "rpm = 0"), "[working]: rpm = 0"),
         (("k_Sp = 0.1", "k_Sp = 1.5"), "k_Sp = 1.5"),
-        (("k_Sp = 0.1", "working_stroke = 0.01\nk_Sp = 0.1"), "exactly one of k_Sp"),
+        (("k_Sp = 0.1", "working_stroke_m = 0.01\nk_Sp = 0.1"), "exactly one of k_Sp"),
         (("phi0_deg = 55.95", "phi0 = 55.95"), "unknown key 'phi0'"),
-        (("L = 0.25", 'L = "long"'), "L = 'long' must be a finite number"),
+        (("L_m = 0.25", 'L_m = "long"'), "L_m = 'long' must be a finite number"),
+        (("L_m = 0.25", "L = 0.25"), "[press]: `L` is now `L_m` (metres)"),
         (("[working]", "[work]"), "unknown key 'work'"),
     ],
 )
@@ -128,16 +129,16 @@ def test_bad_files_exit_2_naming_file_table_and_key(tmp_path, capsys, change, me
 
 
 def test_bad_sweep_spec_and_limits(tmp_path, capsys):
-    f = _write(tmp_path, SMALL + "[sweep]\nd = [0.0, 0.04]\n")
+    f = _write(tmp_path, SMALL + "[sweep]\nd_m = [0.0, 0.04]\n")
     assert main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")]) == 2
-    assert "[sweep]: d = [0.0, 0.04] must be [from, to, count]" in capsys.readouterr().err
+    assert "[sweep]: d_m = [0.0, 0.04] must be [from, to, count]" in capsys.readouterr().err
     f = _write(tmp_path, SMALL + "[limits]\nV_start = 0.01\n")
     assert main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")]) == 2
     assert "[limits]: unknown key 'V_start'" in capsys.readouterr().err
 
 
 def test_limits_no_design_meets_exit_2(tmp_path, capsys):
-    f = _write(tmp_path, SMALL + "[sweep]\nd = [0.0, 0.01, 3]\n[limits]\nV_np = 0.001\n")
+    f = _write(tmp_path, SMALL + "[sweep]\nd_m = [0.0, 0.01, 3]\n[limits]\nV_np = 0.001\n")
     assert main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert "no design of the grid works within the limits {'V_np': 0.001}" in err
@@ -145,7 +146,7 @@ def test_limits_no_design_meets_exit_2(tmp_path, capsys):
 
 def test_a_design_that_cannot_be_assembled_exits_3(tmp_path, capsys):
     # The rod is shorter than the pin's sideways reach: it cannot reach the guide.
-    f = _write(tmp_path, SMALL.replace("L = 0.25", "L = 0.05"))
+    f = _write(tmp_path, SMALL.replace("L_m = 0.25", "L_m = 0.05"))
     code = main(["press", str(f), "--no-plot", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == 3  # a design that fails, as every command's

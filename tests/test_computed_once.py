@@ -36,7 +36,7 @@ def test_one_speed_limit_per_mechanism_in_results(tmp_path):
     # With a coarse grid and a low limit the knife's limit once came out twice,
     # from two grids (60.736 and 60.960 rpm): one value now, the speed limit's.
     m = cm.Machine.from_toml(EXAMPLES / "knife_cutter.toml").with_values(
-        {"machine.angle_points": 13, "knife.max_acceleration": 5.0}
+        {"machine.angle_points": 13, "knife.max_acceleration_m_per_s2": 5.0}
     )
     r = analyze(m, progress=False)
     write_report(r, tmp_path, figures=False)

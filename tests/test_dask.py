@@ -28,11 +28,11 @@ LOOM = ROOT / "examples" / "stb_loom.toml"
 #: 3 × 2 designs × 25 speeds = 150 points; the speeds straddle the loom's speed limit
 #: (421.4 rpm), so NaNs, non-fitting points and several binding chains all appear.
 GRID: dict[str, npt.NDArray[np.float64]] = {
-    "lifter.preload": np.array([2e-4, 2.5e-4, 3e-4]),
-    "lifter.a_max": np.array([1e-4, 1.2e-4]),
+    "lifter.preload_m": np.array([2e-4, 2.5e-4, 3e-4]),
+    "lifter.a_max_m": np.array([1e-4, 1.2e-4]),
     SPEED: np.linspace(200.0, 500.0, 25),
 }
-COLUMNS = ("lifter.preload", "lifter.a_max", SPEED, *FIGURES)
+COLUMNS = ("lifter.preload_m", "lifter.a_max_m", SPEED, *FIGURES)
 TEXT = ("speed_limit_by", "binding")
 
 
@@ -144,7 +144,7 @@ def test_run_chunk_one_thread_equals_all_threads(loom, n_threads) -> None:
     axes = [np.array([2e-4, 3e-4]), np.array([1e-4, 1.2e-4])]
     designs = np.array([[0, 0], [1, 1]])
     speeds = np.linspace(200.0, 500.0, 401)  # big enough for the kernels to go parallel
-    names = ["lifter.preload", "lifter.a_max"]
+    names = ["lifter.preload_m", "lifter.a_max_m"]
     args = (loom.data, loom.source, names, axes, designs, speeds)
     one = _run_chunk(*args, 1)
     many = _run_chunk(*args, n_threads)
@@ -173,7 +173,7 @@ def test_cli_sweep_on_dask(tmp_path: Path, capsys, monkeypatch) -> None:
         "sweep",
         "examples/stb_loom.toml",
         "--set",
-        "lifter.preload=0.0002:0.0003:3",
+        "lifter.preload_m=0.0002:0.0003:3",
         "--speed",
         "250:450:9",
         "--quiet",
@@ -184,12 +184,12 @@ def test_cli_sweep_on_dask(tmp_path: Path, capsys, monkeypatch) -> None:
     assert "3 designs × 9 speeds = 27 points on Dask (local:2)" in out
     want = cm.SweepResult.read(tmp_path / "local" / "sweep.parquet")
     got = cm.SweepResult.read(tmp_path / "dask" / "sweep.parquet")
-    assert got.parameters == want.parameters == ("lifter.preload",)
+    assert got.parameters == want.parameters == ("lifter.preload_m",)
     assert got.n_points == 27
     assert_bitwise_equal(got.columns, want.columns)
     # and the file holds what the API computes in this process
     m = cm.Machine.from_toml(LOOM)
-    grid = {"lifter.preload": np.linspace(2e-4, 3e-4, 3), SPEED: np.linspace(250, 450, 9)}
+    grid = {"lifter.preload_m": np.linspace(2e-4, 3e-4, 3), SPEED: np.linspace(250, 450, 9)}
     assert_bitwise_equal(got.columns, cm.sweep(m, grid, progress=False).columns)
 
 

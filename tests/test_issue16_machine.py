@@ -49,7 +49,7 @@ min_duration_s = 0.01
 def _knife(points: int, limit: float) -> cm.Machine:
     data = tomllib.loads((EXAMPLES / "knife_cutter.toml").read_text("utf-8"))
     data["machine"]["angle_points"] = points
-    data["mechanism"]["knife"]["max_acceleration"] = limit
+    data["mechanism"]["knife"]["max_acceleration_m_per_s2"] = limit
     return cm.Machine.from_dict(data, "knife.toml")
 
 
@@ -139,7 +139,7 @@ def test_item12_cyclogram_limit_names_its_chain():
 
 
 def test_item6_a_sweep_goes_on_past_invalid_designs(tmp_path, capsys):
-    """`cyclomech sweep … --set drive.L=0.3:0.5:5` aborted at L = 0.35 (invalid) and
+    """`cyclomech sweep … --set drive.L_m=0.3:0.5:5` aborted at L = 0.35 (invalid) and
     did not say which design. Now it records the invalid designs as not fitting,
     with the reason in a 'problem' column, goes on, and counts them. Reference:
     each L read on its own as a machine file (valid or refused)."""
@@ -148,41 +148,43 @@ def test_item6_a_sweep_goes_on_past_invalid_designs(tmp_path, capsys):
     valid = []
     for L in Ls:
         try:
-            cm.Machine.from_toml(press).with_values({"drive.L": float(L)})
+            cm.Machine.from_toml(press).with_values({"drive.L_m": float(L)})
             valid.append(True)
         except cm.InputError:
             valid.append(False)
     assert not all(valid) and any(valid)  # the case the issue names has both kinds
     r = cm.sweep(
-        cm.Machine.from_toml(press), {"drive.L": Ls, "speed_rpm": [30.0, 40.0]}, progress=False
+        cm.Machine.from_toml(press), {"drive.L_m": Ls, "speed_rpm": [30.0, 40.0]}, progress=False
     )
     problem = r.columns["problem"].reshape(5, 2)
     assert ((problem == "").all(axis=1) == np.array(valid)).all()
-    assert all("drive.L = " in p and "[mechanism.drive]" in p for p in problem[~np.array(valid), 0])
+    assert all(
+        "drive.L_m = " in p and "[mechanism.drive]" in p for p in problem[~np.array(valid), 0]
+    )
     fits = r.columns["fits"].reshape(5, 2)
     assert not fits[~np.array(valid)].any()
     assert np.isnan(r.columns["limiting_deg"].reshape(5, 2)[~np.array(valid)]).all()
     assert r.n_invalid == 2 * (5 - sum(valid))
     # A valid design's rows are what the design alone gives.
     k = int(np.flatnonzero(valid)[0])
-    alone = cm.Machine.from_toml(press).with_values({"drive.L": float(Ls[k])})
+    alone = cm.Machine.from_toml(press).with_values({"drive.L_m": float(Ls[k])})
     s = alone.speed_sweep([30.0, 40.0])
     assert np.array_equal(r.columns["limiting_deg"].reshape(5, 2)[k], s.limiting_deg)
     # The command: exit 0, a summary line counting them, the file has the column.
-    code = main(["sweep", str(press), "--set", "drive.L=0.2:0.3:5", "--out", str(tmp_path)])
+    code = main(["sweep", str(press), "--set", "drive.L_m=0.2:0.3:5", "--out", str(tmp_path)])
     out = capsys.readouterr().out
     assert code == 0
     assert f"{5 - sum(valid)} designs of 5 are invalid" in out
     back = cm.SweepResult.read(tmp_path / "sweep.parquet")
     assert back.n_invalid == (5 - sum(valid)) * 81
     # Every design invalid: the files are written, and the exit status says so.
-    code = main(["sweep", str(press), "--set", "drive.L=0.3:0.4:2", "--out", str(tmp_path)])
+    code = main(["sweep", str(press), "--set", "drive.L_m=0.3:0.4:2", "--out", str(tmp_path)])
     assert code == EXIT_FAILS
 
 
 def test_item6_a_key_the_file_cannot_take_still_fails_first(tmp_path):
     press = EXAMPLES / "extrusion_press_line.toml"
-    with pytest.raises(cm.InputError, match=r"'drive\.LL'.*has no key 'LL'.*L, R, d"):
+    with pytest.raises(cm.InputError, match=r"'drive\.LL'.*has no key 'LL'.*L_m, R_m, d_m"):
         cm.sweep(cm.Machine.from_toml(press), {"drive.LL": [0.4]}, progress=False)
 
 
@@ -468,8 +470,8 @@ def test_item13_a_sweep_too_large_for_memory_is_refused_before_allocating():
     allocating its index grid; it is refused first, naming the sizes."""
     m = cm.Machine.example()
     grid = {
-        "lifter.preload": np.linspace(1e-4, 3e-4, 100_000),
-        "lifter.a_max": np.linspace(1e-4, 2e-4, 10_000),
+        "lifter.preload_m": np.linspace(1e-4, 3e-4, 100_000),
+        "lifter.a_max_m": np.linspace(1e-4, 2e-4, 10_000),
         "speed_rpm": [300.0],
     }
     with pytest.raises(cm.InputError, match=r"1,000,000,000 designs × 1 speeds.*GB"):
@@ -479,9 +481,9 @@ def test_item13_a_sweep_too_large_for_memory_is_refused_before_allocating():
 def test_item6_one_invalid_value_is_a_problem_row_not_an_error():
     """A preload above the lifter's stroke used to abort cm.sweep; it is the
     design's problem now, named in its rows, and the sweep returns."""
-    r = cm.sweep(cm.Machine.example(), {"lifter.preload": [0.02, 2e-4]}, progress=False)
+    r = cm.sweep(cm.Machine.example(), {"lifter.preload_m": [0.02, 2e-4]}, progress=False)
     rows = r.columns["problem"].reshape(2, -1)
-    assert all("lifter.preload = 0.02" in p and "smaller than stroke" in p for p in rows[0])
+    assert all("lifter.preload_m = 0.02" in p and "smaller than stroke" in p for p in rows[0])
     assert (rows[1] == "").all()
     assert not r.columns["fits"].reshape(2, -1)[0].any()
 

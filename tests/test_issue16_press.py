@@ -510,17 +510,17 @@ def test_item11_cli_warns_when_the_best_design_is_on_the_edge(tmp_path, capsys):
 
     text = """
 [press]
-R = 0.09
-r = 0.03
-d = 0.029
-L = 0.25
+R_m = 0.09
+r_m = 0.03
+d_m = 0.029
+L_m = 0.25
 phi0_deg = 55.95
 [working]
 k_Sp = 0.1
 rpm = 40.0
 [sweep]
-d = [0.0, 0.04, 41]
-L = [0.25, 0.5, 26]
+d_m = [0.0, 0.04, 41]
+L_m = [0.25, 0.5, 26]
 phi0_deg = [0.0, 118.0, 60]
 [limits]
 V_np = 0.01

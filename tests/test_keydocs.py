@@ -328,13 +328,13 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      lambda m: m.mechanisms["lifter"].stop.pulse, "decaying"),
     ("cam_stop", "model", "pulse", "example", ("mechanism", "lifter"),
      lambda m: m.mechanisms["lifter"].stop.model, "pulse"),
-    ("cam_stop", "mass", "J_A / lever_length²", "example", ("mechanism", "lifter"),
+    ("cam_stop", "mass_kg", "J_A_kg_m2 / lever_length_m²", "example", ("mechanism", "lifter"),
      lambda m: m.mechanisms["lifter"].stop.mass, 7.4e-5 / 0.1**2),
     ("cam_stop", "phase_deg", "[20, 60, 5]", "stb_loom", ("mechanism", "lifter"),
      lambda m: m.mechanisms["lifter"].phase_deg.tolist(), [20.0, 30.0, 40.0, 50.0, 60.0]),
     ("linkage", "output", "the last point of points", "knife_cutter",
      ("mechanism", "knife"), lambda m: m.mechanisms["knife"].output, "F"),
-    ("linkage", "max_acceleration", "none (no speed limit)", "knife_cutter",
+    ("linkage", "max_acceleration_m_per_s2", "none (no speed limit)", "knife_cutter",
      ("mechanism", "knife"), lambda m: m.mechanisms["knife"].speed_limit_rpm(), math.inf),
     ("linkage", "name", "none", "knife_cutter", ("mechanism", "knife"),
      lambda m: m.mechanisms["knife"].linkage.name, None),
@@ -342,19 +342,20 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      lambda m: m.mechanisms["knife"].dynamics["masses"][("B", "C", "E")].inertia_kg_m2, 0.0),
     ("linkage", "gravity_m_per_s2", "none (no gravity)", "knife_cutter",
      ("mechanism", "knife"), lambda m: m.mechanisms["knife"].dynamics["gravity"], None),
-    ("press", "offset", "0", "extrusion_press_line", ("mechanism", "drive"),
+    ("press", "offset_m", "0", "extrusion_press_line", ("mechanism", "drive"),
      lambda m: m.mechanisms["drive"].press.offset, 0.0),
     ("press", "slider_mass_kg", "0", "extrusion_press_line", ("mechanism", "drive"),
      lambda m: m.mechanisms["drive"].slider_mass, 0.0),
     ("press", "rod_mass_kg", "0", "extrusion_press_line", ("mechanism", "drive"),
      lambda m: m.mechanisms["drive"].rod_mass, 0.0),
-    ("press", "max_V_np", "none (no speed limit)", "extrusion_press_line",
+    ("press", "max_V_np_m_per_s", "none (no speed limit)", "extrusion_press_line",
      ("mechanism", "drive"), lambda m: m.mechanisms["drive"].speed_limit_rpm(), math.inf),
     ("press", "deformation_force", "none (no force)", "extrusion_press_line",
      ("mechanism", "drive"), lambda m: m.mechanisms["drive"].force, None),
-    ("transfer", "max_jerk", "none (no limit)", "rotor_line", ("mechanism", "line"),
+    ("transfer", "max_jerk_m_per_s3", "none (no limit)", "rotor_line", ("mechanism", "line"),
      lambda m: m.mechanisms["line"].max_jerk, None),
-    ("transfer", "max_acceleration", "none (no limit)", "rotor_line", ("mechanism", "line"),
+    ("transfer", "max_acceleration_m_per_s2", "none (no limit)", "rotor_line",
+     ("mechanism", "line"),
      lambda m: m.mechanisms["line"].max_acceleration, None),
 ]  # fmt: skip
 
@@ -417,7 +418,7 @@ def test_required_keys_are_required() -> None:
                 d["constraint"] = [
                     {"terms": [{"from": "1", "to": "3", "coeff": 1.0}], "sense": ">=", "rhs": 5.0}
                 ]
-            if (table, k.name) == ("cam_stop", "stroke"):
+            if (table, k.name) == ("cam_stop", "stroke_m"):
                 continue  # required unless cam: the example's lifter gives law and stroke
             at(d, path).pop(k.name)
             assert k.name in refused(d), (table, k.name)
@@ -447,22 +448,22 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("cam", ("mechanism", "c", "segment", 0), "law", "linear", "harmonic"),
     ("example", ("mechanism", "lifter"), "restitution", 1.01, 1.0),
     ("example", ("mechanism", "lifter"), "zeta", -1e-9, 0.0),
-    ("example", ("mechanism", "lifter"), "preload", 9.4e-3, 0.0),
-    ("example", ("mechanism", "lifter"), "a_max", 0.0, 1e-9),
+    ("example", ("mechanism", "lifter"), "preload_m", 9.4e-3, 0.0),
+    ("example", ("mechanism", "lifter"), "a_max_m", 0.0, 1e-9),
     ("example", ("mechanism", "lifter"), "pulse", "square", "half_sine"),
     ("example", ("mechanism", "lifter"), "model", "spring", "contact"),
     ("example", ("mechanism", "lifter"), "phase_deg", [20.0, 60.0, 51], [20.0, 360.0, 50]),
-    ("knife_cutter", ("mechanism", "knife"), "max_acceleration", 0.0, 1e-9),
+    ("knife_cutter", ("mechanism", "knife"), "max_acceleration_m_per_s2", 0.0, 1e-9),
     ("knife_cutter", ("mechanism", "knife", "mass", 0), "mass_kg", -1e-9, 0.0),
     ("knife_cutter", ("mechanism", "knife", "lengths", 0), "length", 0.0, 0.425),
     ("extrusion_press_line", ("mechanism", "drive"), "k_Sp", 1.01, 0.1),
     ("extrusion_press_line", ("mechanism", "drive"), "slider_mass_kg", -1e-9, 0.0),
     ("extrusion_press_line", ("mechanism", "drive"), "rod_mass_kg", -1.0, 0.0),
-    ("extrusion_press_line", ("mechanism", "drive"), "max_V_np", 0.0, 0.005),
+    ("extrusion_press_line", ("mechanism", "drive"), "max_V_np_m_per_s", 0.0, 0.005),
     ("rotor_line", ("mechanism", "line"), "pockets_t", 0, 1),
     ("rotor_line", ("mechanism", "line"), "pockets_p", 10_001, 10_000),
-    ("rotor_line", ("mechanism", "line"), "gap", 0.0, 0.01),
-    ("rotor_line", ("mechanism", "line"), "max_jerk", 0.0, 1e-9),
+    ("rotor_line", ("mechanism", "line"), "gap_m", 0.0, 0.01),
+    ("rotor_line", ("mechanism", "line"), "max_jerk_m_per_s3", 0.0, 1e-9),
 ]
 
 

@@ -41,7 +41,7 @@ ENTRY = (
 )
 
 
-ARGS = ["--set", "lifter.preload=0.0001:0.0005:2000", "--speed", "200:500:301", "--quiet"]
+ARGS = ["--set", "lifter.preload_m=0.0001:0.0005:2000", "--speed", "200:500:301", "--quiet"]
 
 
 def _start(cmd: list[str], tmp_path: Path, fds: tuple[int, ...] = ()) -> subprocess.Popen[bytes]:

@@ -25,6 +25,7 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
+from cyclomech._keyrules import RENAMED
 from cyclomech.cli import main
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -47,7 +48,9 @@ RAD_PER_RPM = 2.0 * math.pi / 60.0
 #: Degrees of main-shaft rotation per second at 1 rpm.
 DEG_PER_S_PER_RPM = 6.0
 #: Keys of a cam_stop table that are not StopImpact's.
-CAM_ONLY = {"kind", "arc", "a_max", "phase_deg"}
+CAM_ONLY = {"kind", "arc", "a_max_m", "phase_deg"}
+#: A file key → the Python parameter it sets (the keys carry their units).
+PARAM = {new: old for old, (new, _) in RENAMED.items()}
 
 
 # --------------------------------------------------------------------- helpers
@@ -72,8 +75,8 @@ def stops_of(data: dict[str, Any]) -> list[tuple[str, cm.impact.StopImpact, tupl
     out = []
     for name, spec in data.get("mechanism", {}).items():
         if spec["kind"] == "cam_stop":
-            keys = {k: v for k, v in spec.items() if k not in CAM_ONLY}
-            out.append((name, cm.impact.StopImpact(**keys), tuple(spec["arc"]), spec["a_max"]))
+            keys = {PARAM.get(k, k): v for k, v in spec.items() if k not in CAM_ONLY}
+            out.append((name, cm.impact.StopImpact(**keys), tuple(spec["arc"]), spec["a_max_m"]))
     return out
 
 
@@ -411,7 +414,7 @@ def test_knife_speed_limit_from_the_linkage_analogs(run):
         {
             k: v
             for k, v in spec.items()
-            if k not in {"kind", "max_acceleration", "phase", *cm.forces.DYNAMICS_KEYS}
+            if k not in {"kind", "max_acceleration_m_per_s2", "phase", *cm.forces.DYNAMICS_KEYS}
         }
     )
     points = data["machine"].get("angle_points", 361)
@@ -426,7 +429,7 @@ def test_knife_speed_limit_from_the_linkage_analogs(run):
     xy = fine.xy[:, k]
     dd = (xy[2:] - 2.0 * xy[1:-1] + xy[:-2]) / h**2
     np.testing.assert_allclose(dd, fine.acc[1:-1, k], rtol=0, atol=1e-5 * acc)
-    limit = math.sqrt(spec["max_acceleration"] / acc) / RAD_PER_RPM
+    limit = math.sqrt(spec["max_acceleration_m_per_s2"] / acc) / RAD_PER_RPM
     m = r["mechanisms"]["knife"]
     assert m["max_acceleration_analog_m_per_rad2"] == pytest.approx(acc, rel=1e-12)
     assert m["max_velocity_analog_m_per_rad"] == pytest.approx(vel, rel=1e-12)
@@ -434,7 +437,9 @@ def test_knife_speed_limit_from_the_linkage_analogs(run):
     w = r["nominal_rpm"] * RAD_PER_RPM
     assert m["max_acceleration_m_s2"] == pytest.approx(acc * w * w, rel=1e-12)
     # At the limit speed the peak acceleration is the limit.
-    assert acc * (limit * RAD_PER_RPM) ** 2 == pytest.approx(spec["max_acceleration"], rel=1e-12)
+    assert acc * (limit * RAD_PER_RPM) ** 2 == pytest.approx(
+        spec["max_acceleration_m_per_s2"], rel=1e-12
+    )
     lim = r["speed_limit"]
     assert lim["mechanisms_rpm"] == {"knife": pytest.approx(limit, rel=1e-12)}
     assert limit > CHAIN_LIMIT[KNIFE]
@@ -447,14 +452,18 @@ def test_press_speed_limit_from_the_start_of_the_working_stroke(run):
     r = results(run(PRESS))
     spec = load(PRESS)["mechanism"]["drive"]
     press = cm.press.GearLeverPress(
-        R=spec["R"], r=spec["r"], d=spec["d"], L=spec["L"], phi0=math.radians(spec["phi0_deg"])
+        R=spec["R_m"],
+        r=spec["r_m"],
+        d=spec["d_m"],
+        L=spec["L_m"],
+        phi0=math.radians(spec["phi0_deg"]),
     )
     nominal = r["nominal_rpm"]
     c1 = press.criteria(omega=nominal * RAD_PER_RPM, k_Sp=spec["k_Sp"])
     c2 = press.criteria(omega=2 * nominal * RAD_PER_RPM, k_Sp=spec["k_Sp"])
     assert c1.ok and c2.ok
     assert c2.V_np / c1.V_np == pytest.approx(2.0, rel=1e-9)
-    limit = spec["max_V_np"] * nominal / c1.V_np
+    limit = spec["max_V_np_m_per_s"] * nominal / c1.V_np
     crit = r["mechanisms"]["drive"]["criteria"]
     assert crit["V_np"] == pytest.approx(c1.V_np, rel=1e-12)
     assert crit["S_n"] == pytest.approx(c1.S_n, rel=1e-12)
@@ -471,7 +480,7 @@ def test_transfer_speed_limit_from_jerk_and_acceleration(run):
     peak acceleration grows as n² and the peak jerk as n³."""
     r = results(run(ROTOR))
     spec = load(ROTOR)["mechanism"]["line"]
-    R_t, R_p, gap = spec["R_t"], spec["R_p"], spec["gap"]
+    R_t, R_p, gap = spec["R_t_m"], spec["R_p_m"], spec["gap_m"]
     nominal = r["nominal_rpm"]
 
     def speeds(rpm: float) -> tuple[float, float]:
@@ -484,8 +493,8 @@ def test_transfer_speed_limit_from_jerk_and_acceleration(run):
     a2 = path.acceleration(speeds(2 * nominal))
     assert a2.max_acceleration / a1.max_acceleration == pytest.approx(4.0, rel=1e-9)
     assert a2.max_jerk / a1.max_jerk == pytest.approx(8.0, rel=1e-9)
-    by_jerk = nominal * (spec["max_jerk"] / a1.max_jerk) ** (1 / 3)
-    by_acc = nominal * math.sqrt(spec["max_acceleration"] / a1.max_acceleration)
+    by_jerk = nominal * (spec["max_jerk_m_per_s3"] / a1.max_jerk) ** (1 / 3)
+    by_acc = nominal * math.sqrt(spec["max_acceleration_m_per_s2"] / a1.max_acceleration)
     limit = min(by_jerk, by_acc)
     m = r["mechanisms"]["line"]
     assert m["x2_m"] == pytest.approx([x2, x2], rel=1e-12)
@@ -769,22 +778,22 @@ SWEEP_SPEEDS = [250.0, 350.0, 420.0, 450.0]
 @pytest.fixture(scope="module")
 def loom_sweep():
     m = cm.Machine.from_toml(EXAMPLES / LOOM)
-    return m, cm.sweep(m, {"lifter.preload": PRELOADS, "speed_rpm": SWEEP_SPEEDS}, progress=False)
+    return m, cm.sweep(m, {"lifter.preload_m": PRELOADS, "speed_rpm": SWEEP_SPEEDS}, progress=False)
 
 
 def test_sweep_rows_are_the_speed_sweep_of_each_design(loom_sweep):
     m, r = loom_sweep
     S = len(SWEEP_SPEEDS)
     assert r.n_points == len(PRELOADS) * S
-    assert r.parameters == ("lifter.preload",)
+    assert r.parameters == ("lifter.preload_m",)
     cols = r.columns
     for d, p in enumerate(PRELOADS):
         rows = slice(d * S, (d + 1) * S)
-        design = m.with_values({"lifter.preload": p})
+        design = m.with_values({"lifter.preload_m": p})
         assert design.mechanisms["lifter"].stop.preload == p
         s = design.speed_sweep(SWEEP_SPEEDS)
         lim = design.speed_limit()
-        assert same_bits(cols["lifter.preload"][rows], np.full(S, p))
+        assert same_bits(cols["lifter.preload_m"][rows], np.full(S, p))
         assert same_bits(cols["speed_rpm"][rows], s.rpm)
         for key in ("fits", "limiting_deg", "limiting_s", "productivity_per_min", "max_rebound_m"):
             assert same_bits(cols[key][rows], getattr(s, key)), key
@@ -801,12 +810,12 @@ def test_sweep_columns_and_their_order():
     speeds = [300.0, 400.0, 500.0]
     r = cm.sweep(
         m,
-        {"lifter.preload": PRELOADS[:2], "lifter.a_max": a_max, "speed_rpm": speeds},
+        {"lifter.preload_m": PRELOADS[:2], "lifter.a_max_m": a_max, "speed_rpm": speeds},
         progress=False,
     )
     assert list(r.columns) == [
-        "lifter.preload",
-        "lifter.a_max",
+        "lifter.preload_m",
+        "lifter.a_max_m",
         "speed_rpm",
         "fits",
         "limiting_deg",
@@ -818,16 +827,18 @@ def test_sweep_columns_and_their_order():
         "binding",
         "problem",
     ]
-    assert r.parameters == ("lifter.preload", "lifter.a_max")
+    assert r.parameters == ("lifter.preload_m", "lifter.a_max_m")
     # The first parameter slowest, the speed fastest.
-    assert r.columns["lifter.preload"].tolist() == [p for p in PRELOADS[:2] for _ in range(6)]
-    assert r.columns["lifter.a_max"].tolist() == [
+    assert r.columns["lifter.preload_m"].tolist() == [p for p in PRELOADS[:2] for _ in range(6)]
+    assert r.columns["lifter.a_max_m"].tolist() == [
         a for _ in range(2) for a in a_max for _ in range(3)
     ]
     assert r.columns["speed_rpm"].tolist() == speeds * 4
     assert all(v.ndim == 1 and v.size == 12 for v in r.columns.values())
     # Row 5: preload 2e-4, a_max 2e-4, 500 rpm.
-    s = m.with_values({"lifter.preload": PRELOADS[0], "lifter.a_max": 2e-4}).speed_sweep([500.0])
+    s = m.with_values({"lifter.preload_m": PRELOADS[0], "lifter.a_max_m": 2e-4}).speed_sweep(
+        [500.0]
+    )
     assert same_bits(r.columns["limiting_deg"][5:6], s.limiting_deg)
 
 
@@ -836,7 +847,11 @@ def test_sweep_on_an_executor_is_bit_for_bit_the_same(loom_sweep):
     m, r = loom_sweep
     with cf.ThreadPoolExecutor(2) as ex:
         r2 = cm.sweep(
-            m, {"lifter.preload": PRELOADS, "speed_rpm": SWEEP_SPEEDS}, ex, chunk=1, progress=False
+            m,
+            {"lifter.preload_m": PRELOADS, "speed_rpm": SWEEP_SPEEDS},
+            ex,
+            chunk=1,
+            progress=False,
         )
     assert list(r2.columns) == list(r.columns)
     for k, v in r.columns.items():
@@ -873,7 +888,9 @@ def test_rebound_price_per_mm_is_the_optimum_s_slope_in_a_max(run):
     m = cm.Machine.from_toml(EXAMPLES / PLOTTED)
     n = r["nominal_rpm"]
     a = m.mechanisms["lifter"].a_max
-    up, down = (m.with_values({"lifter.a_max": a + d}).optimize(n).objective for d in (1e-8, -1e-8))
+    up, down = (
+        m.with_values({"lifter.a_max_m": a + d}).optimize(n).objective for d in (1e-8, -1e-8)
+    )
     assert price == pytest.approx((up - down) / 2e-5, rel=1e-3)  # deg per mm
     assert price > 0  # more allowed rebound leaves the weft insertion more angle
 
@@ -903,7 +920,7 @@ def test_many_machines_together_are_each_alone():
     machine of another file in the same call too."""
     loom = cm.Machine.from_toml(EXAMPLES / "stb_loom.toml")
     others = [
-        loom.with_values({"lifter.preload": p, "lifter.a_max": a})
+        loom.with_values({"lifter.preload_m": p, "lifter.a_max_m": a})
         for p, a in ((1e-4, 1e-4), (3e-4, 5e-5), (5e-4, 2e-4))
     ]
     rotor = cm.Machine.from_toml(EXAMPLES / ROTOR)

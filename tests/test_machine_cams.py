@@ -94,7 +94,7 @@ def test_the_cam_stop_takes_its_law_and_stroke_from_the_cam():
     k = design.arcs.index(("3", "7"))
     seg = design.cam.segments[k]
     assert stop.law.name == seg.law
-    lever = data()["mechanism"]["lifter"]["lever_length"]
+    lever = data()["mechanism"]["lifter"]["lever_length_m"]
     assert stop.stroke == pytest.approx(seg.stroke * lever, rel=1e-15)
     assert stop.stroke == pytest.approx(0.0094, rel=1e-9)
 

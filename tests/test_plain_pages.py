@@ -66,7 +66,7 @@ sys.path.insert(0, "tests")
 from test_plain_pages import advice_on, advised
 
 loom = cm.Machine.from_toml("tests/data/stb_loom_stop_only.toml")
-grid = {"lifter.preload": np.linspace(1e-4, 5e-4, 6000), "speed_rpm": np.linspace(200, 500, 100)}
+grid = {"lifter.preload_m": np.linspace(1e-4, 5e-4, 6000), "speed_rpm": np.linspace(200, 500, 100)}
 col = cm.sweep(loom, grid, progress=False).columns["limiting_deg"]
 assert col.nbytes > 1 << 22 and advice_on() is True
 print(advised(col), advised(np.zeros(10**6)))

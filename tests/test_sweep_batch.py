@@ -35,7 +35,7 @@ def loom() -> cm.Machine:
 
 
 def test_preload_sweep_is_bit_for_bit(loom) -> None:
-    grid = {"lifter.preload": np.linspace(1e-4, 5e-4, 70), "speed_rpm": np.linspace(200, 500, 9)}
+    grid = {"lifter.preload_m": np.linspace(1e-4, 5e-4, 70), "speed_rpm": np.linspace(200, 500, 9)}
     a = cm.sweep(loom, grid, progress=False, chunk=16)
     b = cm.sweep(loom, grid, progress=False, n_threads=1, batch=False)
     same(a, b)
@@ -45,7 +45,7 @@ def test_preload_sweep_is_bit_for_bit(loom) -> None:
 def test_the_loom_with_its_cam_is_bit_for_bit() -> None:
     # The cam's bounds are shared by the designs; the stop takes its law from the cam.
     m = cm.Machine.from_toml(LOOM_CAM)
-    grid = {"lifter.preload": [1e-4, 3e-4, 9.5e-3], "speed_rpm": [250.0, 400.0, 480.0]}
+    grid = {"lifter.preload_m": [1e-4, 3e-4, 9.5e-3], "speed_rpm": [250.0, 400.0, 480.0]}
     a = cm.sweep(m, grid, progress=False)
     same(a, cm.sweep(m, grid, progress=False, batch=False))
     assert a.n_invalid == 3  # preload beyond the stroke: the reader's own message
@@ -54,20 +54,20 @@ def test_the_loom_with_its_cam_is_bit_for_bit() -> None:
 
 # Each key with values around the loom's lifter, some of them invalid.
 _VALUES = {
-    "preload": st.floats(-1e-4, 1.2e-2),
-    "stroke": st.floats(2e-3, 2e-2),
-    "a_max": st.floats(-1e-5, 5e-4),
+    "preload_m": st.floats(-1e-4, 1.2e-2),
+    "stroke_m": st.floats(2e-3, 2e-2),
+    "a_max_m": st.floats(-1e-5, 5e-4),
     "zeta": st.floats(-0.01, 0.5),
     "restitution": st.floats(0.0, 1.05),
-    "E": st.floats(5e10, 3e11),
-    "a": st.floats(0.01, 0.2),
-    "b": st.floats(0.02, 0.2),
-    "J_A": st.floats(1e-5, 3e-4),
-    "J_x": st.floats(1e-11, 2e-10),
-    "lever_length": st.floats(0.05, 0.2),
-    "mass": st.floats(1e-3, 2e-2),
-    "contact_time": st.floats(1e-4, 3e-3),
-    "contact_stiffness": st.floats(1e4, 5e5),
+    "E_pa": st.floats(5e10, 3e11),
+    "a_m": st.floats(0.01, 0.2),
+    "b_m": st.floats(0.02, 0.2),
+    "J_A_kg_m2": st.floats(1e-5, 3e-4),
+    "J_x_m4": st.floats(1e-11, 2e-10),
+    "lever_length_m": st.floats(0.05, 0.2),
+    "mass_kg": st.floats(1e-3, 2e-2),
+    "contact_time_s": st.floats(1e-4, 3e-3),
+    "contact_stiffness_n_per_m": st.floats(1e4, 5e5),
 }
 
 
@@ -98,8 +98,8 @@ def test_random_grids_are_bit_for_bit(case) -> None:
 
 def test_the_kernel_against_stopimpact_and_the_closed_form(loom) -> None:
     preloads = np.linspace(1e-5, 9e-3, 57)
-    pl = plan(loom, ["lifter.preload"])
-    tables, ok = batch_designs(loom, pl, {"lifter.preload": preloads})
+    pl = plan(loom, ["lifter.preload_m"])
+    tables, ok = batch_designs(loom, pl, {"lifter.preload_m": preloads})
     assert ok.all()
     rpm = np.array([100.0, 300.0, 5000.0])
     stop = loom.mechanisms["lifter"].stop
@@ -122,8 +122,8 @@ def test_the_kernel_against_stopimpact_and_the_closed_form(loom) -> None:
 
 
 def test_binding_errors_are_input_errors(loom) -> None:
-    pl = plan(loom, ["lifter.preload"])
-    tables, _ = batch_designs(loom, pl, {"lifter.preload": np.array([1e-4, 2e-4, 3e-4])})
+    pl = plan(loom, ["lifter.preload_m"])
+    tables, _ = batch_designs(loom, pl, {"lifter.preload_m": np.array([1e-4, 2e-4, 3e-4])})
     t = tables["lifter"]
     with pytest.raises(cm.InputError, match="designs must have 8 rows"):
         _core.stop_design_batch("modified_sine", True, None, 0, t[:7].copy(), np.ones(1))
@@ -139,17 +139,17 @@ def test_what_falls_back_to_the_per_design_path(loom) -> None:
     assert plan(loom, ["machine.speed_points"]) is None
     assert plan(loom, ["lifter.phase_deg"]) is None
     assert plan(loom, []) is None
-    assert {"preload", "a_max", "contact_time"} <= BATCH_KEYS
+    assert {"preload_m", "a_max_m", "contact_time_s"} <= BATCH_KEYS
     contact = cm.Machine.example()
     data = dict(contact.data)
     data["mechanism"] = {"lifter": {**data["mechanism"]["lifter"], "model": "contact"}}
-    assert plan(cm.Machine.from_dict(data), ["lifter.preload"]) is None
+    assert plan(cm.Machine.from_dict(data), ["lifter.preload_m"]) is None
     data["mechanism"] = {"lifter": {**contact.data["mechanism"]["lifter"], "pulse": "half_sine"}}
-    assert plan(cm.Machine.from_dict(data), ["lifter.preload"]) is None
+    assert plan(cm.Machine.from_dict(data), ["lifter.preload_m"]) is None
     cam = cm.Machine.from_toml(LOOM_CAM)
-    assert plan(cam, ["lifter.lever_length"]) is None  # the stroke follows the cam's lever
-    assert plan(cam, ["lifter.preload", "lifter cam.base_radius_m"]) is None
-    assert plan(cam, ["lifter.preload"]) is not None
+    assert plan(cam, ["lifter.lever_length_m"]) is None  # the stroke follows the cam's lever
+    assert plan(cam, ["lifter.preload_m", "lifter cam.base_radius_m"]) is None
+    assert plan(cam, ["lifter.preload_m"]) is not None
     # A fallback still sweeps: a machine key, the per-design way.
     r = cm.sweep(loom, {"machine.speed_fluctuation": [0.05], "speed_rpm": [300.0]}, progress=False)
     assert r.n_points == 1
@@ -158,7 +158,7 @@ def test_what_falls_back_to_the_per_design_path(loom) -> None:
 
 
 def test_results_do_not_depend_on_chunks_or_threads(loom) -> None:
-    grid = {"lifter.preload": np.linspace(1e-4, 5e-4, 23), "speed_rpm": np.linspace(300, 450, 5)}
+    grid = {"lifter.preload_m": np.linspace(1e-4, 5e-4, 23), "speed_rpm": np.linspace(300, 450, 5)}
     ref = cm.sweep(loom, grid, progress=False, n_threads=1)
     for chunk, threads in ((1, 2), (7, 1), (23, 2)):
         same(cm.sweep(loom, grid, progress=False, chunk=chunk, n_threads=threads), ref)

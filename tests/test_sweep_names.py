@@ -56,7 +56,7 @@ def test_the_report_and_the_sweep_use_the_same_names(report: Path, tmp_path: Pat
 def test_the_sweep_command_writes_the_name(tmp_path: Path) -> None:
     pq = pytest.importorskip("pyarrow.parquet")
     out = tmp_path / "sweep"
-    argv = ["sweep", LOOM, "--set", "lifter.preload=1e-4:2e-4:2", "--speed", "300:400:2"]
+    argv = ["sweep", LOOM, "--set", "lifter.preload_m=1e-4:2e-4:2", "--speed", "300:400:2"]
     assert main([*argv, "--out", str(out), "--quiet"]) == 0
     names = pq.read_schema(out / "sweep.parquet").names
     assert set(SHARED) <= set(names) and "productivity" not in names

@@ -42,10 +42,10 @@ def test_the_columns_are_the_run_reports(loom, tmp_path) -> None:
 
 
 def test_each_design_is_its_own_analysis(loom) -> None:
-    g = {"lifter.preload": [2e-4, 3e-4, 2e-2], "speed_rpm": [250.0, 350.0]}
+    g = {"lifter.preload_m": [2e-4, 3e-4, 2e-2], "speed_rpm": [250.0, 350.0]}
     r = cm.sweep(loom, g, progress=False, shaft=True)
-    for d, p in enumerate(g["lifter.preload"][:2]):
-        m = loom.with_values({"lifter.preload": p})
+    for d, p in enumerate(g["lifter.preload_m"][:2]):
+        m = loom.with_values({"lifter.preload_m": p})
         st = analyze(m, progress=False).shaft.torque.stats(g["speed_rpm"], m.speed_fluctuation)
         for col, key in SHAFT_COLUMNS.items():
             assert np.array_equal(r.columns[col][2 * d : 2 * d + 2], getattr(st, key)), col

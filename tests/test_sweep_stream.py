@@ -24,7 +24,7 @@ def loom() -> cm.Machine:
 
 def grid(designs: int = 13, speeds: int = 11) -> dict[str, np.ndarray]:
     return {
-        "lifter.preload": np.linspace(1e-4, 5e-4, designs),
+        "lifter.preload_m": np.linspace(1e-4, 5e-4, designs),
         "speed_rpm": np.linspace(200.0, 500.0, speeds),
     }
 
@@ -48,7 +48,7 @@ def test_streamed_rows_read_back_bit_for_bit(loom, tmp_path) -> None:
     assert r.n_invalid == 0
     back = cm.SweepResult.read(r.path)
     same(back, want)
-    assert back.parameters == ("lifter.preload",)
+    assert back.parameters == ("lifter.preload_m",)
     assert not list((tmp_path / "a").glob(".*partial*"))
 
 
@@ -70,7 +70,7 @@ def test_one_design_of_many_speeds_is_cut_into_speed_blocks(loom, tmp_path, monk
 
 
 def test_invalid_designs_are_counted(loom, tmp_path) -> None:
-    g = {"lifter.preload": [1e-4, 2e-2], "speed_rpm": [300.0, 400.0]}
+    g = {"lifter.preload_m": [1e-4, 2e-2], "speed_rpm": [300.0, 400.0]}
     r = cm.sweep(loom, g, progress=False, out=tmp_path / "s.parquet")
     assert r.n_invalid == 2 and "must be smaller than stroke" in r.summary["problem"]
 
@@ -101,7 +101,7 @@ def test_bad_out_and_sizes(loom, tmp_path, monkeypatch) -> None:
         cm.sweep(loom, grid(), progress=False, out=tmp_path / "s.npz")
     # 10^9 points do not fit in memory, but stream (refused only for its tasks).
     big = {
-        "lifter.preload": np.linspace(1e-4, 5e-4, 10_000),
+        "lifter.preload_m": np.linspace(1e-4, 5e-4, 10_000),
         "speed_rpm": np.linspace(1, 2, 100_000),
     }
     monkeypatch.setattr(_sweep, "check_bytes", _raise_over(2e9))

@@ -20,18 +20,18 @@ PRELOADS = [1e-4, 2.5e-4, 4e-4]
 @pytest.fixture(scope="module")
 def kept() -> cm.SweepResult:
     m = cm.Machine.from_toml(LOOM)
-    return cm.sweep(m, {"lifter.preload": PRELOADS, "speed_rpm": [250.0, 300.0]}, progress=False)
+    return cm.sweep(m, {"lifter.preload_m": PRELOADS, "speed_rpm": [250.0, 300.0]}, progress=False)
 
 
 def test_the_range_is_the_designs_own_speed_limits(kept: cm.SweepResult) -> None:
     # Independent: each design's speed limit from a machine of its own.
     limits = []
     for p in PRELOADS:
-        m = cm.Machine.from_toml(LOOM).with_values({"lifter.preload": p})
+        m = cm.Machine.from_toml(LOOM).with_values({"lifter.preload_m": p})
         limits.append(m.speed_limit().rpm)
     hi, lo = int(np.argmax(limits)), int(np.argmin(limits))
     assert hi != lo
-    text = design_range(Path("unused"), kept.columns, ["lifter.preload"])
+    text = design_range(Path("unused"), kept.columns, ["lifter.preload_m"])
     first, high, low = text.splitlines()
     assert f"{min(limits):.4g}–{max(limits):.4g} rpm" in first
     assert high.split() == [
@@ -39,22 +39,22 @@ def test_the_range_is_the_designs_own_speed_limits(kept: cm.SweepResult) -> None
         f"{limits[hi]:.4g}",
         "rpm",
         "at",
-        f"lifter.preload={PRELOADS[hi]:g}",
+        f"lifter.preload_m={PRELOADS[hi]:g}",
     ]
     assert low.split() == [
         "lowest",
         f"{limits[lo]:.4g}",
         "rpm",
         "at",
-        f"lifter.preload={PRELOADS[lo]:g}",
+        f"lifter.preload_m={PRELOADS[lo]:g}",
     ]
 
 
 def test_streamed_and_kept_give_the_same_line(kept: cm.SweepResult, tmp_path: Path) -> None:
     pytest.importorskip("pyarrow")
     path = kept.write(tmp_path / "s.parquet")
-    assert design_range(path, {}, ["lifter.preload"]) == design_range(
-        Path("unused"), kept.columns, ["lifter.preload"]
+    assert design_range(path, {}, ["lifter.preload_m"]) == design_range(
+        Path("unused"), kept.columns, ["lifter.preload_m"]
     )
 
 
@@ -70,7 +70,7 @@ def test_ties_keep_the_first_design_and_no_limit_gives_no_line() -> None:
 
 
 def test_the_command_prints_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    argv = ["sweep", LOOM, "--set", "lifter.preload=1e-4:4e-4:2", "--speed", "250:300:2"]
+    argv = ["sweep", LOOM, "--set", "lifter.preload_m=1e-4:4e-4:2", "--speed", "250:300:2"]
     assert main([*argv, "--out", str(tmp_path), "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "speed limit over the designs:" in out

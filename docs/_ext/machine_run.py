@@ -25,7 +25,7 @@ COMMANDS = {
         "sweep",
         "examples/stb_loom.toml",
         "--set",
-        "lifter.preload=1e-4:4e-4:4",
+        "lifter.preload_m=1e-4:4e-4:4",
         "--speed",
         "200:500:31",
         "--out",

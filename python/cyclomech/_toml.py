@@ -17,6 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._errors import InputError
+from ._keyrules import renamed
 
 #: Deepest nesting of arrays and tables accepted [levels]: cyclomech's files need
 #: five; far deeper ones would exhaust Python's recursion in the parser or later.
@@ -80,14 +81,25 @@ def must_be_table(table: Any, source: str | None, where: str) -> None:
 
 def check_keys(table: Any, allowed: AbstractSet[str], source: str | None, where: str) -> None:
     """``table`` must be a table whose keys are all in ``allowed``; messages start
-    with ``source`` (None: the caller adds the file's name)."""
+    with ``source`` (None: the caller adds the file's name). A key renamed to say
+    its unit (:data:`cyclomech._keyrules.RENAMED`) is an error naming its new name."""
     must_be_table(table, source, where)
     at = where if source is None else f"{source}: {where}"
     for k in table:
+        if k not in allowed and (new := renamed(k, allowed)):
+            raise InputError(f"{at}: {new}")
         if k not in allowed:
             raise InputError(
                 f"{at}: unknown key {k!r}; valid keys are {', '.join(sorted(allowed))}"
             )
+
+
+def renamed_hint(key: str, allowed: AbstractSet[str]) -> str:
+    """`` (`a_max` is now `a_max_m` (metres): …)`` where ``key`` is the old name of
+    an allowed key (:data:`cyclomech._keyrules.RENAMED`), else ``""``: for a
+    message that names an unknown key in its own words (a sweep's parameter)."""
+    new = renamed(key, allowed)
+    return f" ({new})" if new else ""
 
 
 def string(text: str) -> str:

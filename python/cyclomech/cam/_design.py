@@ -18,8 +18,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._errors import InputError
+from .._keyrules import Rule
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
 from ._program import Cam, Segment
@@ -62,6 +63,19 @@ CAM_KEYS = frozenset(
 #: The keys of one ``segment`` table (``arc`` only in a machine file).
 SEGMENT_KEYS = frozenset(
     {"kind", "angle_deg", "stroke_m", "stroke_deg", "law", "load_n", "load_nm"}
+)
+#: The plausibility rules of a cam table besides every key's by its unit suffix
+#: (:func:`cyclomech._keyrules.check`): a pressure-angle limit of a degree or two
+#: admits almost no cam; 0.52 is far likelier 30° given in radians.
+CAM_RULES = (
+    Rule(
+        "max_pressure_angle_deg",
+        lambda v, t: v < 2.0,
+        lambda v, t: (
+            f"° admits almost no cam — did you give radians "
+            f"(max_pressure_angle_deg = {math.degrees(v):.3g})?"
+        ),
+    ),
 )
 
 
@@ -253,6 +267,11 @@ class CamDesign:
             if not 0 < alpha < 90:
                 raise InputError(f"{at}: max_pressure_angle_deg = {alpha!r} must be in (0, 90)")
         vibration = _vibration(table, at, units["vibration"], kind == "oscillating")
+        # Valid values a user may not have meant (a length in mm, an angle in
+        # radians, a stress in MPa): the rules of every key by its unit suffix.
+        _keyrules.check(table, CAM_RULES, at)
+        for i, row in enumerate(table["segment"]):
+            _keyrules.check(row, (), f"{at} segment {i}")
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
 
     @classmethod

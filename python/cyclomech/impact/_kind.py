@@ -12,13 +12,14 @@ from typing import Any, ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._arrays import threads_arg
 from .._errors import InputError
+from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
 from ._stop import StopImpact, max_impact_speeds, rebounds
-from ._study import _STOP_KEYS, _stop_from_table
+from ._study import _STOP_KEYS, A_MAX_RULES, STOP_PARAMS, STOP_RULES, _stop_from_table
 
 __all__ = ["CamStop"]
 
@@ -33,7 +34,8 @@ class CamStop:
 
     At n rpm the phase angle of the cyclogram's operation ``arc`` must keep the
     first rebound within ``a_max``. The ``cam_stop`` kind of a machine file, read
-    by :meth:`from_table`; each parameter is kept as the attribute of the same name.
+    by :meth:`from_table` (its keys say their units: ``a_max_m``, ``stroke_m``,
+    ``preload_m``, …); each parameter is kept as the attribute of the same name.
 
     Parameters
     ----------
@@ -53,8 +55,15 @@ class CamStop:
     kind : str
         ``"cam_stop"``, the ``kind`` key of its table.
     keys : frozenset of str
-        The keys its table takes: those of :class:`StopImpact` plus ``kind``,
-        ``arc``, ``a_max``, ``phase_deg`` and ``cam``.
+        The keys its table takes: a stop's (``stroke_m``, ``preload_m``, …, each
+        setting the :class:`StopImpact` parameter of :attr:`params`) plus ``kind``,
+        ``arc``, ``a_max_m``, ``phase_deg`` and ``cam``.
+    params : dict of str to str
+        Each key that sets a :class:`StopImpact` parameter or ``a_max``, and that
+        parameter's name (``"preload_m": "preload"``).
+    rules : tuple of Rule
+        Its plausibility rules (:func:`cyclomech._keyrules.check`): a rebound limit
+        not below the stroke is an error, a damping ratio ζ ≥ 1 a warning.
     fixed_keys : frozenset of str
         The keys a sweep may not vary (``kind``, ``arc``, ``cam``).
     json_groups : tuple of str
@@ -72,15 +81,20 @@ class CamStop:
 
     kind: ClassVar[str] = "cam_stop"
     keys: ClassVar[frozenset[str]] = frozenset(
-        (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max", "phase_deg", "cam"}
+        (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max_m", "phase_deg", "cam"}
     )
+    params: ClassVar[dict[str, str]] = {
+        **{k: p for k, p in STOP_PARAMS.items() if k not in ("name", "law", "pulse", "model")},
+        "a_max_m": "a_max",
+    }
+    rules: ClassVar[tuple[Rule, ...]] = (*STOP_RULES, *A_MAX_RULES)
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc", "cam"})
 
     @classmethod
     def sweep_refuses(cls, table: Mapping[str, Any]) -> dict[str, str]:
         """Keys this table takes in general but a sweep may not set here, with why.
 
-        A stop that names its cam takes ``law`` and ``stroke`` from it.
+        A stop that names its cam takes ``law`` and ``stroke_m`` from it.
 
         Parameters
         ----------
@@ -94,14 +108,14 @@ class CamStop:
 
         Examples
         --------
-        >>> CamStop.sweep_refuses({"cam": "lifter cam"})["stroke"]
+        >>> CamStop.sweep_refuses({"cam": "lifter cam"})["stroke_m"]
         "it comes from the cam 'lifter cam'"
-        >>> CamStop.sweep_refuses({"stroke": 0.009})
+        >>> CamStop.sweep_refuses({"stroke_m": 0.009})
         {}
         """
         if "cam" not in table:
             return {}
-        return {k: f"it comes from the cam {table['cam']!r}" for k in ("law", "stroke")}
+        return {k: f"it comes from the cam {table['cam']!r}" for k in ("law", "stroke_m")}
 
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)
@@ -116,11 +130,13 @@ class CamStop:
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamStop:
         """A cam stop from its ``[mechanism.<name>]`` table.
 
-        The table holds the keys of :class:`~cyclomech.impact.StopImpact` plus ``arc``
-        (the operation's two events), ``a_max`` [m] and optionally
-        ``phase_deg = [from, to, count]`` [deg]; or, with ``cam = "<name>"``, the law
-        and stroke from that cam's rise on the arc (a ``kind = "cam"`` mechanism of the
-        machine; an oscillating follower's rotation times ``lever_length``).
+        The table holds the keys of a stop (:attr:`params`: those of
+        :class:`~cyclomech.impact.StopImpact` with their units, ``stroke_m``,
+        ``preload_m``, …) plus ``arc`` (the operation's two events), ``a_max_m`` [m]
+        and optionally ``phase_deg = [from, to, count]`` [deg]; or, with ``cam =
+        "<name>"``, the law and stroke from that cam's rise on the arc (a ``kind =
+        "cam"`` mechanism of the machine; an oscillating follower's rotation times
+        ``lever_length_m``). The values are then checked against :attr:`rules`.
 
         Parameters
         ----------
@@ -141,8 +157,15 @@ class CamStop:
         ------
         InputError
             If a key is missing or unknown, a value is malformed or out of range, the
-            arc is not an operation of the cyclogram, or the named cam has no rise on
-            the arc (or ``law`` or ``stroke`` is given besides it).
+            arc is not an operation of the cyclogram, the named cam has no rise on
+            the arc (or ``law`` or ``stroke_m`` is given besides it), a key has its old
+            name (``a_max`` for ``a_max_m``), or the rebound limit is not below the
+            stroke.
+
+        Warns
+        -----
+        CyclomechWarning
+            If a value is unusual (ζ ≥ 1; see :attr:`rules`).
 
         Examples
         --------
@@ -154,20 +177,20 @@ class CamStop:
         """
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
-        _toml.require(table, ("arc", "a_max"), where)
+        _toml.require(table, ("arc", "a_max_m"), where)
         # The arc is checked against the cyclogram before the cam: an arc that is no
         # operation at all is the arc's mistake, not the cam's.
         known = [op.arc for op in ctx.cyclogram.operations]
         arc = _toml.operation(_toml.events(table, "arc", where, arc=True), "arc", where, known)
         if "cam" in table:
             table = {**table, **_from_cam(table, arc, where, ctx)}
-        _toml.require(
-            table, ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"), where
+        stop = _stop_from_table(
+            table, where, skip=("kind", "arc", "a_max_m", "phase_deg", "cam"), rules=()
         )
-        stop = _stop_from_table(table, where, skip=("kind", "arc", "a_max", "phase_deg", "cam"))
-        a_max = _toml.number(table, "a_max", where, "[m]")
+        a_max = _toml.number(table, "a_max_m", where, "[m]")
         if a_max <= 0:
-            raise InputError(f"{where}: a_max = {a_max!r} must be a positive rebound limit [m]")
+            raise InputError(f"{where}: a_max_m = {a_max!r} must be a positive rebound limit [m]")
+        _keyrules.check(table, cls.rules, where)
         shown = {"phase_deg": table.get("phase_deg", [20.0, 60.0, 5])}
         grid = _toml.span(shown, "phase_deg", where, within=(0.0, 360.0), most=50, unit="deg")
         if grid[0] > grid[-1]:
@@ -630,15 +653,15 @@ class CamStopResult:
 
 
 def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext) -> dict[str, Any]:
-    """``law`` and ``stroke`` of a cam stop that names its cam (``cam = "<name>"``, a
+    """``law`` and ``stroke_m`` of a cam stop that names its cam (``cam = "<name>"``, a
     ``kind = "cam"`` mechanism of the machine): the law of the cam's rise bound to
     the stop's arc, and its stroke at the working point [m] (an oscillating
-    follower's rotation times ``lever_length``). One description of the motion,
-    not two: giving ``law`` or ``stroke`` as well is an error."""
+    follower's rotation times ``lever_length_m``). One description of the motion,
+    not two: giving ``law`` or ``stroke_m`` as well is an error."""
     from ..cam import CamDesign, OscillatingRoller
 
     name = table["cam"]
-    twice = sorted(k for k in ("law", "stroke") if k in table)
+    twice = sorted(k for k in ("law", "stroke_m") if k in table)
     if twice:
         raise InputError(
             f"{where}: {twice[0]} comes from the cam {name!r}; give either cam or law and stroke"
@@ -669,12 +692,12 @@ def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext)
         )
     stroke = seg.stroke
     if isinstance(design.cam.follower, OscillatingRoller):
-        if "lever_length" not in table:
-            raise InputError(f"{where}: missing key 'lever_length'")
-        lever = _toml.number(table, "lever_length", where, "[m]")
+        if "lever_length_m" not in table:
+            raise InputError(f"{where}: missing key 'lever_length_m'")
+        lever = _toml.number(table, "lever_length_m", where, "[m]")
         if not lever > 0:
             # Checked here, before it scales the cam's stroke: else the error would
             # name the derived stroke, not the key the user wrote.
-            raise InputError(f"{where}: lever_length = {lever!r} must be finite and > 0 [m]")
+            raise InputError(f"{where}: lever_length_m = {lever!r} must be finite and > 0 [m]")
         stroke *= lever
-    return {"law": seg.law, "stroke": stroke}
+    return {"law": seg.law, "stroke_m": stroke}

@@ -7,43 +7,96 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from .. import _keyrules, _toml
 from .._arrays import positive
 from .._errors import InputError
+from .._keyrules import Rule
 from ._checks import Array
 from ._stop import StopImpact
 
 __all__ = ["ImpactStudy"]
 
 
-_STOP_KEYS = {
-    "name",
-    "law",
-    "stroke",
-    "preload",
-    "lever_length",
-    "J_A",
-    "a",
-    "b",
-    "E",
-    "J_x",
-    "mass",
-    "restitution",
-    "zeta",
-    "contact_stiffness",
-    "pulse",
-    "contact_time",
-    "model",
+#: The keys of a stop's table (an impact file's ``[stop]``, a machine's ``cam_stop``
+#: mechanism) → the :class:`StopImpact` parameter each sets. A key with a unit says
+#: it in its name (the old names, ``stroke`` and the like, are refused naming these:
+#: :data:`cyclomech._keyrules.RENAMED`).
+STOP_PARAMS: dict[str, str] = {
+    "name": "name",
+    "law": "law",
+    "stroke_m": "stroke",
+    "preload_m": "preload",
+    "lever_length_m": "lever_length",
+    "J_A_kg_m2": "J_A",
+    "a_m": "a",
+    "b_m": "b",
+    "E_pa": "E",
+    "J_x_m4": "J_x",
+    "mass_kg": "mass",
+    "restitution": "restitution",
+    "zeta": "zeta",
+    "contact_stiffness_n_per_m": "contact_stiffness",
+    "pulse": "pulse",
+    "contact_time_s": "contact_time",
+    "model": "model",
 }
+_STOP_KEYS = set(STOP_PARAMS)
+#: The keys a stop's table must give (a cam stop that names its cam takes the
+#: stroke from it).
+STOP_REQUIRED = (
+    "stroke_m",
+    "preload_m",
+    "lever_length_m",
+    "J_A_kg_m2",
+    "a_m",
+    "b_m",
+    "E_pa",
+    "J_x_m4",
+)
+
+#: The plausibility rules of a stop's table (:func:`cyclomech._keyrules.check`): a
+#: damping ratio of 1 or more is valid (overdamped) but far likelier a percentage.
+STOP_RULES = (
+    Rule(
+        "zeta",
+        lambda v, t: v >= 1.0,
+        lambda v, t: (
+            "is overdamped (ζ ≥ 1: the lever would creep back without vibrating) — did you "
+            f"mean {v / 100:g}? zeta is a ratio, not a percentage"
+        ),
+    ),
+)
+#: The rule of a rebound limit: a first rebound as large as the whole stroke cannot
+#: be meant; it is likelier a limit in millimetres.
+A_MAX_RULES = (
+    Rule(
+        "a_max_m",
+        lambda v, t: _toml.is_number(t.get("stroke_m")) and v >= t["stroke_m"],
+        lambda v, t: (
+            f"is not below the stroke (stroke_m = {t['stroke_m']:g} m): a rebound limit of "
+            f"the whole stroke or more cannot be meant — did you give millimetres "
+            f"(a_max_m = {v / 1000:g})?"
+        ),
+        error=True,
+    ),
+)
 
 
 _STRING_KEYS = {"name", "law", "pulse", "model"}
 
 
-def _stop_from_table(table: Mapping[str, Any], where: str, skip: Iterable[str] = ()) -> StopImpact:
+def _stop_from_table(
+    table: Mapping[str, Any],
+    where: str,
+    skip: Iterable[str] = (),
+    rules: Iterable[Rule] = STOP_RULES,
+) -> StopImpact:
     """A :class:`StopImpact` from a file's table (its keys are checked by the
     caller; ``skip`` are the caller's own keys): the one reader of a stop, for
     ``cyclomech impact``'s [stop] and a machine's cam_stop mechanisms. Errors start
-    with ``where``."""
+    with ``where`` and name the file's keys; the values are then checked against
+    ``rules`` (:data:`STOP_RULES`: a warning for a damping ratio given in percent;
+    a cam stop checks its own, with its rebound limit, itself)."""
     skip = {"name", *skip}
     kwargs: dict[str, Any] = {}
     for k, v in table.items():
@@ -54,14 +107,14 @@ def _stop_from_table(table: Mapping[str, Any], where: str, skip: Iterable[str] =
                 raise InputError(f"{where}: {k} = {v!r} must be a string")
         elif isinstance(v, bool) or not isinstance(v, int | float):
             raise InputError(f"{where}: {k} = {v!r} must be a number")
-        kwargs[k] = v
-    for k in ("stroke", "preload", "lever_length", "J_A", "a", "b", "E", "J_x"):
-        if k not in kwargs:
-            raise InputError(f"{where}: missing key {k!r}")
+        kwargs[STOP_PARAMS[k]] = v
+    _toml.require(table, STOP_REQUIRED, where)
     try:
-        return StopImpact(**kwargs)
+        stop = StopImpact(**kwargs)
     except InputError as e:
-        raise InputError(f"{where}: {e}") from None
+        raise InputError(f"{where}: {_keyrules.file_names(str(e), STOP_PARAMS)}") from None
+    _keyrules.check(table, rules, where)
+    return stop
 
 
 @dataclass(frozen=True)
@@ -74,21 +127,21 @@ class ImpactStudy:
         [stop]
         name = "microshuttle lifter"   # optional
         law = "modified_sine"          # rise law of the cam (cyclomech.motion)
-        stroke = 0.0094                # [m] travel of the working point
-        preload = 0.00025              # [m]
-        lever_length = 0.1             # [m]
-        J_A = 7.4e-5                   # [kg m²]
-        a = 0.05                       # [m] lever arms
-        b = 0.1
-        E = 2.1e11                     # [Pa]
-        J_x = 6.14e-11                 # [m⁴]
-        restitution = 0.5556           # optional (5/9), also: mass, zeta, pulse,
-                                       # contact_stiffness, contact_time, model
+        stroke_m = 0.0094              # travel of the working point
+        preload_m = 0.00025
+        lever_length_m = 0.1
+        J_A_kg_m2 = 7.4e-5             # lever inertia about its axis
+        a_m = 0.05                     # lever arms
+        b_m = 0.1
+        E_pa = 2.1e11
+        J_x_m4 = 6.14e-11
+        restitution = 0.5556           # optional (5/9), also: mass_kg, zeta, pulse,
+                                       # contact_stiffness_n_per_m, contact_time_s, model
 
         [study]
         rpm = [200, 450, 26]           # from, to, count
         phase_deg = [20, 60, 41]       # from, to, count [deg]
-        a_max = 1e-4                   # [m] rebound limit
+        a_max_m = 1e-4                 # rebound limit
         arc = ["3", "7"]               # optional: the cyclogram operation
 
     Parameters
@@ -157,18 +210,19 @@ class ImpactStudy:
                 raise InputError(f"{src}: missing table [{t}]")
         sp, sd = data["stop"], data["study"]
         _toml.check_keys(sp, _STOP_KEYS, src, "[stop]")
-        _toml.check_keys(sd, {"rpm", "phase_deg", "a_max", "arc"}, src, "[study]")
+        _toml.check_keys(sd, {"rpm", "phase_deg", "a_max_m", "arc"}, src, "[study]")
         stop = _stop_from_table(sp, f"{src}: [stop]")
 
         at = f"{src}: [study]"
         rpm = _toml.span(sd, "rpm", at, within=(0.0, 1e6), unit="rpm")
         phase = _toml.span(sd, "phase_deg", at, within=(0.0, 360.0), unit="deg")
-        if "a_max" not in sd:
-            raise InputError(f"{src}: [study]: missing key 'a_max'")
+        if "a_max_m" not in sd:
+            raise InputError(f"{src}: [study]: missing key 'a_max_m'")
         try:
-            a_max = positive("a_max", sd["a_max"], "[m]")
+            a_max = positive("a_max_m", sd["a_max_m"], "[m]")
         except InputError as e:
             raise InputError(f"{src}: [study]: {e}") from None
+        _keyrules.check({"a_max_m": a_max, "stroke_m": stop.stroke}, A_MAX_RULES, at)
         arc = None
         if "arc" in sd:
             v = _toml.events(sd, "arc", at, arc=True)

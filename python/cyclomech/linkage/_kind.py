@@ -10,8 +10,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .. import _toml, forces
+from .. import _keyrules, _toml, forces
 from .._errors import InputError
+from .._keyrules import Rule
 from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._file import _LINKAGE_KEYS
@@ -59,8 +60,11 @@ class LinkageMechanism(Unbounded):
 
     kind: ClassVar[str] = "linkage"
     keys: ClassVar[frozenset[str]] = frozenset(
-        _LINKAGE_KEYS | forces.DYNAMICS_KEYS | {"kind", "max_acceleration", "phase"}
+        _LINKAGE_KEYS | forces.DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}
     )
+    #: Its plausibility rules besides the suffix rules of every key: none of its own
+    #: (its lengths are the drawn points', whose table the linkage file reads).
+    rules: ClassVar[tuple[Rule, ...]] = ()
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "name"})
     name: str
     linkage: Linkage
@@ -85,7 +89,7 @@ class LinkageMechanism(Unbounded):
         """The mechanism of its ``[mechanism.<name>]`` table.
 
         The table of :meth:`~cyclomech.linkage.Linkage.from_dict` plus an optional
-        ``max_acceleration`` [m/s²], the forces' keys (masses, loads, gravity) and
+        ``max_acceleration_m_per_s2`` [m/s²], the forces' keys (masses, loads, gravity) and
         ``phase``; the linkage must assemble over the whole turn.
 
         Parameters
@@ -121,10 +125,13 @@ class LinkageMechanism(Unbounded):
         """
         where = f"[mechanism.{name}]"
         _toml.check_keys(table, set(cls.keys), ctx.source, where)
-        extra = {"kind", "max_acceleration", "phase", *forces.DYNAMICS_KEYS}
+        extra = {"kind", "max_acceleration_m_per_s2", "phase", *forces.DYNAMICS_KEYS}
         own = {k: v for k, v in table.items() if k not in extra}
         lk = Linkage.from_dict(own, ctx.source, where)
-        limit = _toml.optional_positive(table, "max_acceleration", ctx.where(name), "[m/s²]")
+        limit = _toml.optional_positive(
+            table, "max_acceleration_m_per_s2", ctx.where(name), "[m/s²]"
+        )
+        _keyrules.check(table, cls.rules, ctx.where(name))
         dynamics = forces.dynamics_from_table(table, ctx.source, where, lk)
         phase = Phase.from_table(table, ctx, name)
         if "phase" in table and dynamics is None:

@@ -3,8 +3,12 @@
 A machine file (TOML) holds a ``[machine]`` table, its mechanisms as
 ``[mechanism.<name>]`` tables with a ``kind``, and its cyclogram in the layout of
 :meth:`cyclomech.Cyclogram.from_toml` (``[cyclogram]``, ``[[operation]]``,
-``[[constraint]]``). Units: SI (m, s, kg, Pa, N/m); keys that take degrees or rpm
-say so (``_deg``, ``_rpm``). The layout::
+``[[constraint]]``). Units: SI (m, s, kg, Pa, N/m), and every key with a unit says
+it in its name (``_m``, ``_kg``, ``_pa``, ``_deg``, ``_rpm``, …; an old name such
+as ``a_max`` is an error naming the new one). Values a user is unlikely to mean
+are an error (a rebound limit not below the stroke) or a
+:class:`~cyclomech.CyclomechWarning` naming the likely slip (``zeta = 5``: did you
+mean 0.05?; a length over 10 m; an angle under 0.01°). The layout::
 
     [machine]
     name = "STB loom, group 1"
@@ -21,17 +25,18 @@ say so (``_deg``, ``_rpm``). The layout::
 
     [mechanism.lifter]              # a cam-driven lever that hits a limit stop
     kind = "cam_stop"
-    law = "modified_sine"           # and the other keys of cyclomech.impact.StopImpact:
-    stroke = 0.0094                 # stroke, preload, lever_length, J_A, a, b, E, J_x
-    ...                             # [m, kg m², Pa, m⁴]; optional mass, restitution, zeta,
-                                    # contact_stiffness, contact_time, pulse, model
+    law = "modified_sine"           # and cyclomech.impact.StopImpact's values, by keys
+    stroke_m = 0.0094               # with units: stroke_m, preload_m, lever_length_m,
+    ...                             # J_A_kg_m2, a_m, b_m, E_pa, J_x_m4; optional mass_kg,
+                                    # restitution, zeta, contact_stiffness_n_per_m,
+                                    # contact_time_s, pulse, model
     arc = ["3", "7"]                # the operation that brings it to the stop
-    a_max = 1e-4                    # first-rebound limit [m]
+    a_max_m = 1e-4                  # first-rebound limit
     phase_deg = [20.0, 60.0, 5]     # optional: phase angles drawn in the report
 
     [mechanism.knife]               # a planar linkage, the table of Linkage.from_dict
     kind = "linkage"                # points, links, ground, driver, lengths, sliders, output
-    max_acceleration = 50.0         # optional: limit on the output point's |a| [m/s²]
+    max_acceleration_m_per_s2 = 50.0   # optional: limit on the output point's |a|
     gravity_m_per_s2 = [0, -9.81]   # optional forces (cyclomech.forces): gravity,
     point_mass_kg = {E = 5.0}       # lumped masses [kg], [[…mass]] (link, mass_kg,
     phase = {event = "clamped", crank_deg = 140.0}   # com_m, inertia_kg_m2),
@@ -41,10 +46,10 @@ say so (``_deg``, ``_rpm``). The layout::
 
     [mechanism.drive]               # the planetary gear-lever press drive
     kind = "press"
-    R = 0.09                        # R, r, d, L [m], phi0_deg [deg], offset [m]
-    k_Sp = 0.1                      # or working_stroke [m]
-    max_V_np = 0.05                 # optional: limit on the speed at the start of the
-                                    # working stroke [m/s]
+    R_m = 0.09                      # R_m, r_m, d_m, L_m, phi0_deg, offset_m
+    k_Sp = 0.1                      # or working_stroke_m
+    max_V_np_m_per_s = 0.05         # optional: limit on the speed at the start of the
+                                    # working stroke
     slider_mass_kg = 60.0           # optional crank torque: slider and rod masses, the
     rod_mass_kg = 15.0              # deformation force over the height above BDC:
     deformation_force = {s_above_bdc_m = [0.0, 0.012], force_n = [2e5, 0.0]}
@@ -52,18 +57,18 @@ say so (``_deg``, ``_rpm``). The layout::
 
     [mechanism.line]                # a transfer between two rotors
     kind = "transfer"
-    R_t = 0.15                      # pitch radii [m], the gap between the pitch circles [m]
-    R_p = 0.25
-    gap = 0.01
+    R_t_m = 0.15                    # pitch radii, the gap between the pitch circles
+    R_p_m = 0.25
+    gap_m = 0.01
     pockets_t = 8                   # pockets of each rotor: one workpiece per machine cycle
     pockets_p = 12
-    x2 = 0.04                       # optional transition length [m] (default: the
-                                    # length of least jerk, cyclomech.transfer.design_transfer)
-    max_jerk = 5.0                  # optional limits [m/s³], [m/s²]
-    max_acceleration = 2.0
+    x2_m = 0.04                     # optional transition length (default: the length
+                                    # of least jerk, cyclomech.transfer.design_transfer)
+    max_jerk_m_per_s3 = 5.0         # optional limits
+    max_acceleration_m_per_s2 = 2.0
 
 A cam stop constrains the cyclogram: at n rpm the phase angle of its arc must be
-at least the smallest one whose first rebound is within ``a_max`` (exact, by
+at least the smallest one whose first rebound is within ``a_max_m`` (exact, by
 :meth:`~cyclomech.impact.StopImpact.min_phase_angle`). The other mechanisms limit
 the speed directly where given a limit (their peaks grow as n, n² or n³).
 

@@ -21,8 +21,8 @@ left out of the batch):
   or of any other kind of mechanism (cams, linkages, presses, transfers);
 * a stop in the contact model (its search is a different kernel) or with the
   ``half_sine`` pulse (sampled with numpy's sine);
-* ``stroke`` or ``lever_length`` of a stop that takes its law and stroke from a
-  cam (``cam = "…"``);
+* ``stroke_m`` or ``lever_length_m`` of a stop that takes its law and stroke from
+  a cam (``cam = "…"``);
 * a design the batch's checks refuse (a preload at or beyond the stroke, a
   negative stiffness …): the per-design path builds it, so that its ``problem``
   text is the file reader's own.
@@ -73,7 +73,7 @@ def plan(machine: Machine, names: Sequence[str]) -> Plan | None:
 
     >>> import cyclomech as cm
     >>> from cyclomech.machine._batch import plan
-    >>> plan(cm.Machine.example(), ["lifter.preload"]).stops
+    >>> plan(cm.Machine.example(), ["lifter.preload_m"]).stops
     ('lifter',)
     >>> plan(cm.Machine.example(), ["machine.speed_points"]) is None
     True
@@ -90,7 +90,7 @@ def plan(machine: Machine, names: Sequence[str]) -> Plan | None:
         stop = mech.stop
         if stop.model != "pulse" or stop.pulse not in _PULSE_CODE:
             return None
-        if "cam" in tables.get(head, {}) and key in ("stroke", "lever_length"):
+        if "cam" in tables.get(head, {}) and key in ("stroke_m", "lever_length_m"):
             return None
         keys[path] = (head, key)
     heads = {h for h, _ in keys.values()}
@@ -155,6 +155,8 @@ def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, 
         for k in ("stroke", "lever_length", "J_A", "a", "b", "E", "J_x", "a_max"):
             ok &= np.isfinite(p[k]) & (p[k] > 0.0)
         ok &= (p["preload"] >= 0.0) & (p["preload"] < p["stroke"])
+        # A rebound limit not below the stroke is the reader's error (CamStop.rules).
+        ok &= p["a_max"] < p["stroke"]
         ok &= (p["restitution"] >= 0.0) & (p["restitution"] <= 1.0)
         ok &= p["zeta"] >= 0.0
         E, J, a, b = p["E"], p["J_x"], p["a"], p["b"]
@@ -162,7 +164,8 @@ def _stop_designs(mech: CamStop, table: Mapping[str, Any], values: Mapping[str, 
         ok &= np.isfinite(stiffness) & (stiffness > 0.0)
         # Given, or derived as StopImpact derives it when the table gives none.
         derived = ("mass", "contact_stiffness", "contact_time")
-        given = {k: k in values or k in table for k in derived}
+        file_key = {p: k for k, p in CamStop.params.items()}
+        given = {k: k in values or file_key[k] in table for k in derived}
         if given["mass"]:
             mass = p["mass"]
         else:
@@ -199,7 +202,8 @@ def batch_designs(
     out: dict[str, Array] = {}
     ok: npt.NDArray[np.bool_] | None = None
     for name in pl.stops:
-        own = {key: values[path] for path, (h, key) in pl.keys.items() if h == name}
+        # By StopImpact's parameter names (the file's keys carry their units).
+        own = {CamStop.params[key]: values[path] for path, (h, key) in pl.keys.items() if h == name}
         mech = machine.mechanisms[name]
         assert isinstance(mech, CamStop)
         d = _stop_designs(mech, tables.get(name, {}), own)

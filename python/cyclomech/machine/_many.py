@@ -231,7 +231,7 @@ def speed_sweeps(
     --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
-    >>> a, b = cm.machine.speed_sweeps([m, m.with_values({"lifter.a_max": 2e-4})], [300.0])
+    >>> a, b = cm.machine.speed_sweeps([m, m.with_values({"lifter.a_max_m": 2e-4})], [300.0])
     >>> round(float(a.limiting_deg[0]), 3), round(float(b.limiting_deg[0]), 3)
     (264.971, 275.0)
     """
@@ -299,7 +299,7 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
     --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
-    >>> both = cm.machine.speed_limits([m, m.with_values({"lifter.a_max": 2e-4})])
+    >>> both = cm.machine.speed_limits([m, m.with_values({"lifter.a_max_m": 2e-4})])
     >>> [round(x.rpm, 2) for x in both]
     [421.37, 453.81]
     """

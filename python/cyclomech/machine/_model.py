@@ -333,18 +333,18 @@ class Machine:
         lifter = {
             "kind": "cam_stop",
             "law": "modified_sine",
-            "stroke": 9.4e-3,
-            "preload": 0.25e-3,
-            "lever_length": 0.1,
-            "J_A": 7.4e-5,
-            "a": 0.05,
-            "b": 0.1,
-            "E": 2.1e11,
-            "J_x": 6.14e-11,
+            "stroke_m": 9.4e-3,
+            "preload_m": 0.25e-3,
+            "lever_length_m": 0.1,
+            "J_A_kg_m2": 7.4e-5,
+            "a_m": 0.05,
+            "b_m": 0.1,
+            "E_pa": 2.1e11,
+            "J_x_m4": 6.14e-11,
             "restitution": 5.0 / 9.0,
             "zeta": 0.05,
             "arc": ["3", "7"],
-            "a_max": 1e-4,
+            "a_max_m": 1e-4,
         }
         ops = [
             {"from": "1", "to": "3", "min_angle_deg": 45.0, "mechanism": "lifter"},
@@ -376,7 +376,7 @@ class Machine:
         Parameters
         ----------
         values : Mapping of str to Any
-            The new values by ``<mechanism>.<key>`` (``{"lifter.preload": 2e-4}``) or
+            The new values by ``<mechanism>.<key>`` (``{"lifter.preload_m": 2e-4}``) or
             ``machine.<key>``, in the file's units.
 
         Returns
@@ -394,7 +394,7 @@ class Machine:
         Examples
         --------
         >>> import cyclomech as cm
-        >>> m = cm.Machine.example().with_values({"lifter.preload": 3e-4})
+        >>> m = cm.Machine.example().with_values({"lifter.preload_m": 3e-4})
         >>> m.mechanisms["lifter"].stop.preload
         0.0003
         """
@@ -882,10 +882,10 @@ def check_parameter(machine: Machine, path: str) -> None:
     --------
     >>> import cyclomech as cm
     >>> from cyclomech.machine import check_parameter
-    >>> check_parameter(cm.Machine.example(), "lifter.preload")
-    >>> check_parameter(cm.Machine.example(), "lifter.preloud")  # doctest: +ELLIPSIS
+    >>> check_parameter(cm.Machine.example(), "lifter.preload_m")
+    >>> check_parameter(cm.Machine.example(), "lifter.preloud_m")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    cyclomech._errors.InputError: <example>: parameter 'lifter.preloud': [mechanism.lifter] has ...
+    cyclomech._errors.InputError: <example>: parameter 'lifter.preloud_m': [mechanism.lifter] ...
     """
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
@@ -899,7 +899,7 @@ def check_parameter(machine: Machine, path: str) -> None:
     if key not in allowed:
         raise InputError(
             f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
-            "set; valid keys are "
+            f"set{_toml.renamed_hint(key, allowed)}; valid keys are "
             f"{', '.join(sorted(allowed))}"
         )
     if head != "machine":

@@ -101,9 +101,9 @@ class SweepResult:
     Examples
     --------
     >>> import cyclomech as cm
-    >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload": [2e-4, 3e-4],
+    >>> r = cm.sweep(cm.Machine.example(), {"lifter.preload_m": [2e-4, 3e-4],
     ...                                     "speed_rpm": [300.0, 400.0]})
-    >>> r.n_points, r.columns["lifter.preload"].tolist()
+    >>> r.n_points, r.columns["lifter.preload_m"].tolist()
     (4, [0.0002, 0.0002, 0.0003, 0.0003])
     """
 
@@ -568,7 +568,7 @@ def sweep(
     Examples
     --------
     >>> import cyclomech as cm
-    >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max": [1e-4, 2e-4],
+    >>> r = cm.sweep(cm.Machine.example(), {"lifter.a_max_m": [1e-4, 2e-4],
     ...                                     "speed_rpm": [300.0]})
     >>> r.columns["limiting_deg"].round(2).tolist()
     [264.97, 275.0]

@@ -14,8 +14,8 @@ sweep is invalid.
 >>> cli.add_commands(commands)
 >>> sorted(commands.choices)
 ['run', 'sweep']
->>> commands.choices["sweep"].parse_args(["loom.toml", "--set", "lifter.preload=1e-4:2e-4:3"]).set
-['lifter.preload=1e-4:2e-4:3']
+>>> commands.choices["sweep"].parse_args(["loom.toml", "--set", "lifter.preload_m=1e-4:2e-4:3"]).set
+['lifter.preload_m=1e-4:2e-4:3']
 """
 
 from __future__ import annotations
@@ -287,12 +287,12 @@ def design_range(path: Path, columns: dict[str, Any], params: list[str]) -> str:
     Examples
     --------
     >>> import numpy as np
-    >>> cols = {"lifter.preload": np.array([1e-4, 1e-4, 2e-4, 2e-4]),
+    >>> cols = {"lifter.preload_m": np.array([1e-4, 1e-4, 2e-4, 2e-4]),
     ...         "speed_limit_rpm": np.array([441.7, 441.7, 402.1, 402.1])}
-    >>> print(design_range(Path("unused"), cols, ["lifter.preload"]))
+    >>> print(design_range(Path("unused"), cols, ["lifter.preload_m"]))
     speed limit over the designs: 402.1–441.7 rpm
-      highest 441.7 rpm at lifter.preload=0.0001
-      lowest  402.1 rpm at lifter.preload=0.0002
+      highest 441.7 rpm at lifter.preload_m=0.0001
+      lowest  402.1 rpm at lifter.preload_m=0.0002
     """
     import numpy as np
 

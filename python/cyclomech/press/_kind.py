@@ -10,8 +10,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._errors import InputError
+from .._keyrules import Rule
 from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
@@ -69,7 +70,10 @@ class PressMechanism(Unbounded):
     kind : str
         ``"press"``, the ``kind`` key of its table.
     keys : frozenset of str
-        The keys its table takes.
+        The keys its table takes (their names say their units: ``R_m``,
+        ``working_stroke_m``, ``max_V_np_m_per_s``, …).
+    rules : tuple of Rule
+        Its plausibility rules (:func:`cyclomech._keyrules.check`).
 
     Examples
     --------
@@ -87,13 +91,24 @@ class PressMechanism(Unbounded):
         | {
             "kind",
             "k_Sp",
-            "working_stroke",
-            "max_V_np",
+            "working_stroke_m",
+            "max_V_np_m_per_s",
             "deformation_force",
             "slider_mass_kg",
             "rod_mass_kg",
             "phase",
         }
+    )
+    #: Its plausibility rules (besides every ``_m`` key's): a press slider meets
+    #: the workpiece at mm/s to a few m/s; a limit over 10 m/s is likelier mm/s.
+    rules: ClassVar[tuple[Rule, ...]] = (
+        Rule(
+            "max_V_np_m_per_s",
+            lambda v, t: v > 10.0,
+            lambda v, t: (
+                f"m/s is over 10 m/s — did you give mm/s (max_V_np_m_per_s = {v / 1000:g})?"
+            ),
+        ),
     )
     name: str
     press: GearLeverPress
@@ -109,9 +124,10 @@ class PressMechanism(Unbounded):
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> PressMechanism:
         """A press from its ``[mechanism.<name>]`` table; the design must work.
 
-        The table holds ``R``, ``r``, ``d``, ``L`` [m], ``phi0_deg`` [deg], optional
-        ``offset`` [m]; one of ``k_Sp`` or ``working_stroke`` [m]; optional ``max_V_np``
-        [m/s].
+        The table holds ``R_m``, ``r_m``, ``d_m``, ``L_m`` [m], ``phi0_deg`` [deg],
+        optional ``offset_m`` [m]; one of ``k_Sp`` or ``working_stroke_m`` [m];
+        optional ``max_V_np_m_per_s`` [m/s]. The values are then checked against
+        :attr:`rules`.
 
         Its load on the main shaft, all optional: ``deformation_force =
         {s_above_bdc_m = [...], force_n = [...]}``, the force diagram (heights of the
@@ -153,9 +169,9 @@ class PressMechanism(Unbounded):
         """
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
-        if ("k_Sp" in table) == ("working_stroke" in table):
+        if ("k_Sp" in table) == ("working_stroke_m" in table):
             raise InputError(
-                f"{where}: give one of k_Sp (a fraction of the stroke) or working_stroke [m]"
+                f"{where}: give one of k_Sp (a fraction of the stroke) or working_stroke_m [m]"
             )
         press = drive_from_table(table, where)
         mech = cls(
@@ -163,17 +179,22 @@ class PressMechanism(Unbounded):
             press,
             k_Sp=_toml.number(table, "k_Sp", where, "") if "k_Sp" in table else None,
             working_stroke=(
-                _toml.number(table, "working_stroke", where, "[m]")
-                if "working_stroke" in table
+                _toml.number(table, "working_stroke_m", where, "[m]")
+                if "working_stroke_m" in table
                 else None
             ),
-            max_V_np=_toml.optional_positive(table, "max_V_np", where, "[m/s]"),
+            max_V_np=_toml.optional_positive(table, "max_V_np_m_per_s", where, "[m/s]"),
             force=_force(table, name, ctx),
             slider_mass=_mass(table, "slider_mass_kg", where),
             rod_mass=_mass(table, "rod_mass_kg", where),
             phase=Phase.from_table(table, ctx, name),
         )
-        c = mech.criteria(60.0)
+        _keyrules.check(table, cls.rules, where)
+        try:
+            c = mech.criteria(60.0)
+        except InputError as e:
+            named = _keyrules.file_names(str(e), {"working_stroke_m": "working_stroke"})
+            raise InputError(f"{where}: {named}") from None
         if not c.ok:
             raise InputError(f"{where}: {mech._failure(c)}")
         if mech.force is not None:
@@ -240,30 +261,30 @@ class PressMechanism(Unbounded):
             lo, hi = float(x.min()), float(x.max())
             reach = max(hi - press.offset, press.offset - lo)
             text = (
-                f"the rod (L = {press.L!r} m) cannot reach the slider's guide x = offset = "
+                f"the rod (L_m = {press.L!r}) cannot reach the slider's guide x = offset_m = "
                 f"{press.offset!r} m all the turn: the pin runs over x = {number_text(lo)} … "
-                f"{number_text(hi)} m, so L must exceed {number_text(reach, press.L)} m at "
+                f"{number_text(hi)} m, so L_m must exceed {number_text(reach, press.L)} at "
                 "this offset"
             )
             if hi - lo < 2.0 * press.L:
                 bounds = (number_text(v, press.offset) for v in (hi - press.L, lo + press.L))
-                text += ", or offset must lie in ({}, {}) m for this L".format(*bounds)
+                text += ", or offset_m must lie in ({}, {}) for this L_m".format(*bounds)
             return text
         if c.status == STATUS[3]:
             S_n = press.criteria(omega=1.0, k_Sp=1.0).S_n
             sn = number_text(S_n, self.working_stroke or 0.0)
             return (
-                f"working_stroke = {self.working_stroke!r} m exceeds the nominal stroke "
-                f"S_n = {sn} m of this design; give working_stroke < {sn} m or k_Sp in (0, 1]"
+                f"working_stroke_m = {self.working_stroke!r} exceeds the nominal stroke "
+                f"S_n = {sn} m of this design; give working_stroke_m < {sn} or k_Sp in (0, 1]"
             )
         given = (
             f"k_Sp = {self.k_Sp!r}"
             if self.working_stroke is None
-            else f"working_stroke = {self.working_stroke!r} m"
+            else f"working_stroke_m = {self.working_stroke!r}"
         )
         return (
             f"{c.status} ({given}): give a shorter working stroke, or change the design "
-            "(d, L, phi0_deg)"
+            "(d_m, L_m, phi0_deg)"
         )
 
     def criteria(self, rpm: float) -> PressCriteria:

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import CRITERIA, GearLeverPress, _stroke
@@ -19,28 +19,46 @@ from ._drive import CRITERIA, GearLeverPress, _stroke
 __all__ = ["PressStudy"]
 
 
-#: The keys of a press drive's design in a file: [press] here, [mechanism.<name>]
-#: of kind press in a machine file.
-DRIVE_KEYS = frozenset({"R", "r", "d", "L", "phi0_deg", "offset"})
+#: The keys of a press drive's design in a file ([press] here, [mechanism.<name>]
+#: of kind press in a machine file) → the :class:`GearLeverPress` parameter each
+#: sets (``phi0_deg`` in degrees sets ``phi0`` in radians). The names carry their
+#: units; the old ones (``R``, ``L``, …) are refused naming these
+#: (:data:`cyclomech._keyrules.RENAMED`).
+DRIVE_PARAMS: dict[str, str] = {
+    "R_m": "R",
+    "r_m": "r",
+    "d_m": "d",
+    "L_m": "L",
+    "phi0_deg": "phi0",
+    "offset_m": "offset",
+}
+DRIVE_KEYS = frozenset(DRIVE_PARAMS)
 
 
 def drive_from_table(table: Mapping[str, Any], where: str) -> GearLeverPress:
-    """The design of a table's ``R``, ``r``, ``d``, ``L`` [m], ``phi0_deg`` [deg]
-    and optional ``offset`` [m]: the one reader of a press drive, for ``cyclomech
-    press`` files and machines' press mechanisms. Errors start with ``where``.
+    """The design of a table's ``R_m``, ``r_m``, ``d_m``, ``L_m`` [m], ``phi0_deg``
+    [deg] and optional ``offset_m`` [m]: the one reader of a press drive, for
+    ``cyclomech press`` files and machines' press mechanisms. Errors start with
+    ``where`` and name the file's keys; the values are then checked by
+    :func:`cyclomech._keyrules.check` (a length over 10 m warns).
 
-    >>> d = drive_from_table({"R": 0.09, "r": 0.03, "d": 0.02, "L": 0.3, "phi0_deg": 15}, "x")
+    >>> d = drive_from_table({"R_m": 0.09, "r_m": 0.03, "d_m": 0.02, "L_m": 0.3,
+    ...                       "phi0_deg": 15}, "x")
     >>> round(d.phi0, 6), d.offset
     (0.261799, 0.0)
     """
-    _toml.require(table, ("R", "r", "d", "L", "phi0_deg"), where)
-    geo = {k: _toml.number(table, k, where, "[m]") for k in ("R", "r", "d", "L")}
+    _toml.require(table, ("R_m", "r_m", "d_m", "L_m", "phi0_deg"), where)
+    geo = {
+        DRIVE_PARAMS[k]: _toml.number(table, k, where, "[m]") for k in ("R_m", "r_m", "d_m", "L_m")
+    }
     phi0 = math.radians(_toml.number(table, "phi0_deg", where, "[deg]"))
-    offset = _toml.number(table, "offset", where, "[m]") if "offset" in table else 0.0
+    offset = _toml.number(table, "offset_m", where, "[m]") if "offset_m" in table else 0.0
     try:
-        return GearLeverPress(phi0=phi0, offset=offset, **geo)
+        press = GearLeverPress(phi0=phi0, offset=offset, **geo)
     except InputError as e:
-        raise InputError(f"{where}: {e}") from None
+        raise InputError(f"{where}: {_keyrules.file_names(str(e), DRIVE_PARAMS)}") from None
+    _keyrules.check({k: table[k] for k in DRIVE_KEYS if k in table}, (), where)
+    return press
 
 
 @dataclass(frozen=True)
@@ -52,20 +70,20 @@ class PressStudy:
 
         [press]
         name = "extrusion press"     # optional
-        R = 0.09                     # guide gear pitch radius [m]
-        r = 0.03                     # planet pitch radius [m] (R/r whole)
-        d = 0.025                    # pin eccentricity [m]
-        L = 0.30                     # rod [m]
-        phi0_deg = 17.0              # guide gear setting angle [°]
-        offset = 0.0                 # optional, guide offset [m]
+        R_m = 0.09                   # guide gear pitch radius
+        r_m = 0.03                   # planet pitch radius (R_m/r_m whole)
+        d_m = 0.025                  # pin eccentricity
+        L_m = 0.30                   # rod
+        phi0_deg = 17.0              # guide gear setting angle
+        offset_m = 0.0               # optional, guide offset
 
         [working]
-        k_Sp = 0.1                   # or working_stroke = 0.012 [m]
+        k_Sp = 0.1                   # or working_stroke_m = 0.012
         rpm = 40.0                   # crank speed [rpm]
 
         [sweep]                      # optional: a grid of (d, L, φ0), [from, to, count]
-        d = [0.0, 0.04, 41]
-        L = [0.25, 0.5, 26]
+        d_m = [0.0, 0.04, 41]
+        L_m = [0.25, 0.5, 26]
         phi0_deg = [0.0, 118.0, 60]
 
         [limits]                     # optional upper bounds on criteria (SI units)
@@ -144,7 +162,7 @@ class PressStudy:
         --------
         >>> import cyclomech as cm, pathlib, tempfile
         >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.toml"
-        >>> _ = f.write_text('[press]\\nR = 0.09\\nr = 0.03\\nd = 0.02\\nL = 0.3\\n'
+        >>> _ = f.write_text('[press]\\nR_m = 0.09\\nr_m = 0.03\\nd_m = 0.02\\nL_m = 0.3\\n'
         ...                  'phi0_deg = 15\\n[working]\\nk_Sp = 0.1\\nrpm = 40\\n')
         >>> st = cm.press.PressStudy.from_toml(f)
         >>> round(st.press.phi0, 6), st.grid is None
@@ -168,7 +186,7 @@ class PressStudy:
                 "file for `cyclomech run`; in Python, GearLeverPress.crank_torque takes them"
             )
         _toml.check_keys(pt, DRIVE_KEYS | {"name"}, src, "[press]")
-        _toml.check_keys(wt, {"k_Sp", "working_stroke", "rpm"}, src, "[working]")
+        _toml.check_keys(wt, {"k_Sp", "working_stroke_m", "rpm"}, src, "[working]")
 
         def num(table: Mapping[str, Any], where: str, key: str, default: Any = None) -> float:
             if key not in table:
@@ -185,17 +203,19 @@ class PressStudy:
         if rpm <= 0:
             raise InputError(f"{src}: [working]: rpm = {rpm!r} must be > 0")
         k = num(wt, "[working]", "k_Sp") if "k_Sp" in wt else None
-        s = num(wt, "[working]", "working_stroke") if "working_stroke" in wt else None
+        s = num(wt, "[working]", "working_stroke_m") if "working_stroke_m" in wt else None
         try:
             _stroke(k, s)
         except InputError as e:
-            raise InputError(f"{src}: [working]: {e}") from None
+            named = _keyrules.file_names(str(e), {"working_stroke_m": "working_stroke"})
+            raise InputError(f"{src}: [working]: {named}") from None
         grid = None
         if "sweep" in data:
             st = data["sweep"]
-            _toml.check_keys(st, {"d", "L", "phi0_deg"}, src, "[sweep]")
+            _toml.check_keys(st, {"d_m", "L_m", "phi0_deg"}, src, "[sweep]")
             grid = {}
-            for key, name, scale in (("d", "d", 1.0), ("L", "L", 1.0), ("phi0_deg", "phi0", None)):
+            axes = (("d_m", "d", 1.0), ("L_m", "L", 1.0), ("phi0_deg", "phi0", None))
+            for key, name, scale in axes:
                 if key not in st:
                     grid[name] = np.array([getattr(press, name)])
                     continue

@@ -8,15 +8,20 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._arrays import speeds_rpm
-from .._errors import InputError
+from .._errors import InfeasibleError, InputError
+from .._keyrules import Rule
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._design import design_transfer
 from ._path import TransferPath
 
 __all__ = ["TransferMechanism"]
+
+#: The keys of a transfer's table that set a parameter of its path, by that
+#: parameter's name in :class:`TransferPath` (for messages).
+_PARAMS = {"R_t_m": "R_t", "R_p_m": "R_p", "gap_m": "gap", "x2_m": "x2"}
 
 
 @dataclass(frozen=True)
@@ -49,7 +54,10 @@ class TransferMechanism(Unbounded):
     kind : str
         ``"transfer"``, the ``kind`` key of its table.
     keys : frozenset of str
-        The keys its table takes.
+        The keys its table takes (their names say their units: ``R_t_m``,
+        ``gap_m``, ``max_jerk_m_per_s3``, …).
+    rules : tuple of Rule
+        Its own plausibility rules (:func:`cyclomech._keyrules.check`).
 
     Examples
     --------
@@ -63,16 +71,19 @@ class TransferMechanism(Unbounded):
     keys: ClassVar[frozenset[str]] = frozenset(
         {
             "kind",
-            "R_t",
-            "R_p",
-            "gap",
+            "R_t_m",
+            "R_p_m",
+            "gap_m",
             "pockets_t",
             "pockets_p",
-            "x2",
-            "max_jerk",
-            "max_acceleration",
+            "x2_m",
+            "max_jerk_m_per_s3",
+            "max_acceleration_m_per_s2",
         }
     )
+    #: Its plausibility rules besides every ``_m`` key's (a length over 10 m warns):
+    #: none of its own.
+    rules: ClassVar[tuple[Rule, ...]] = ()
     name: str
     path: TransferPath
     pockets_t: int
@@ -86,10 +97,11 @@ class TransferMechanism(Unbounded):
     ) -> TransferMechanism:
         """A transfer from its ``[mechanism.<name>]`` table.
 
-        The table holds ``R_t``, ``R_p``, ``gap`` [m], ``pockets_t``, ``pockets_p``;
-        optionally ``x2`` [m] (default: the length of least jerk,
-        :func:`cyclomech.transfer.design_transfer`), ``max_jerk`` [m/s³] and
-        ``max_acceleration`` [m/s²].
+        The table holds ``R_t_m``, ``R_p_m``, ``gap_m`` [m], ``pockets_t``,
+        ``pockets_p``; optionally ``x2_m`` [m] (default: the length of least jerk,
+        :func:`cyclomech.transfer.design_transfer`), ``max_jerk_m_per_s3`` [m/s³]
+        and ``max_acceleration_m_per_s2`` [m/s²]. The values are then checked by
+        :func:`cyclomech._keyrules.check`.
 
         Parameters
         ----------
@@ -111,7 +123,7 @@ class TransferMechanism(Unbounded):
             If a key is missing or unknown, or a value is malformed or out of range
             (pockets a whole number from 1 to 10 000, the gap positive).
         InfeasibleError
-            If the given ``x2`` is too long for the gap.
+            If the given ``x2_m`` is too long for the gap.
 
         Examples
         --------
@@ -123,12 +135,12 @@ class TransferMechanism(Unbounded):
         """
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
-        _toml.require(table, ("R_t", "R_p", "gap", "pockets_t", "pockets_p"), where)
+        _toml.require(table, ("R_t_m", "R_p_m", "gap_m", "pockets_t", "pockets_p"), where)
         R_t, R_p = (
-            _toml.number(table, "R_t", where, "[m]"),
-            _toml.number(table, "R_p", where, "[m]"),
+            _toml.number(table, "R_t_m", where, "[m]"),
+            _toml.number(table, "R_p_m", where, "[m]"),
         )
-        gap = _toml.number(table, "gap", where, "[m]")
+        gap = _toml.number(table, "gap_m", where, "[m]")
         pockets = []
         for k in ("pockets_t", "pockets_p"):
             v = table[k]
@@ -136,19 +148,29 @@ class TransferMechanism(Unbounded):
                 raise InputError(f"{where}: {k} = {v!r} must be a whole number of pockets ≥ 1")
             pockets.append(v)
         if gap <= 0:
-            raise InputError(f"{where}: gap = {gap!r} must be positive [m] (pitch circles apart)")
-        x2 = _toml.number(table, "x2", where, "[m]") if "x2" in table else None
-        if x2 is None:
-            w = RAD_PER_S_PER_RPM
-            x2 = design_transfer(R_t, R_p, gap, (w * R_t / pockets[0], w * R_p / pockets[1])).x2
-        path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
+            raise InputError(f"{where}: gap_m = {gap!r} must be positive [m] (pitch circles apart)")
+        _keyrules.check(table, cls.rules, where)
+        x2 = _toml.number(table, "x2_m", where, "[m]") if "x2_m" in table else None
+        try:
+            if x2 is None:
+                w = RAD_PER_S_PER_RPM
+                speeds = (w * R_t / pockets[0], w * R_p / pockets[1])
+                x2 = design_transfer(R_t, R_p, gap, speeds).x2
+            path = TransferPath(R_t, R_p, (0.0, 0.0), (R_t + R_p + gap, 0.0), x2)
+        except (InputError, InfeasibleError) as e:
+            # The path names its parameters (R_p, x2); the message names the file's keys.
+            text = str(e).replace("x2=None takes it", "without x2_m it is taken")
+            named = f"{where}: {_keyrules.file_names(text, _PARAMS)}"
+            if isinstance(e, InfeasibleError):
+                raise InfeasibleError(named, e.conflict) from None
+            raise InputError(named) from None
         return cls(
             name,
             path,
             pockets[0],
             pockets[1],
-            _toml.optional_positive(table, "max_jerk", where, "[m/s³]"),
-            _toml.optional_positive(table, "max_acceleration", where, "[m/s²]"),
+            _toml.optional_positive(table, "max_jerk_m_per_s3", where, "[m/s³]"),
+            _toml.optional_positive(table, "max_acceleration_m_per_s2", where, "[m/s²]"),
         )
 
     def speeds(self, rpm: float) -> tuple[float, float]:
