@@ -807,7 +807,11 @@ def _check_mechanism_names(
         if name is None or name in known:
             continue
         near = difflib.get_close_matches(name, sorted(mechs), n=1, cutoff=0.6)
-        hint = f" Did you mean {near[0]!r}?" if near else ""
+        hint = (
+            f" Did you mean {near[0]!r}? (Or is the heading [mechanism.{near[0]}] misspelt?)"
+            if near
+            else ""
+        )
         tables = ", ".join(repr(k) for k in mechs) or "none"
         raise InputError(
             f"{source}: operation {op.title!r}: mechanism = {name!r} is not a mechanism of "
