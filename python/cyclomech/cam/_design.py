@@ -65,7 +65,7 @@ SEGMENT_KEYS = frozenset(
     {"kind", "angle_deg", "stroke_m", "stroke_deg", "law", "load_n", "load_nm"}
 )
 #: The plausibility rules of a cam table besides every key's by its unit suffix
-#: (:func:`cyclomech._keyrules.check`): a pressure-angle limit of a degree or two
+#: (``cyclomech._keyrules.check``): a pressure-angle limit of a degree or two
 #: admits almost no cam; 0.52 is far likelier 30° given in radians.
 CAM_RULES = (
     Rule(

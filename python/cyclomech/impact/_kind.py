@@ -56,13 +56,13 @@ class CamStop:
         ``"cam_stop"``, the ``kind`` key of its table.
     keys : frozenset of str
         The keys its table takes: a stop's (``stroke_m``, ``preload_m``, …, each
-        setting the :class:`StopImpact` parameter of :attr:`params`) plus ``kind``,
+        setting the :class:`StopImpact` parameter of ``params``) plus ``kind``,
         ``arc``, ``a_max_m``, ``phase_deg`` and ``cam``.
     params : dict of str to str
         Each key that sets a :class:`StopImpact` parameter or ``a_max``, and that
         parameter's name (``"preload_m": "preload"``).
     rules : tuple of Rule
-        Its plausibility rules (:func:`cyclomech._keyrules.check`): a rebound limit
+        Its plausibility rules (``cyclomech._keyrules.check``): a rebound limit
         not below the stroke is an error, a damping ratio ζ ≥ 1 a warning.
     fixed_keys : frozenset of str
         The keys a sweep may not vary (``kind``, ``arc``, ``cam``).
@@ -130,13 +130,13 @@ class CamStop:
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamStop:
         """A cam stop from its ``[mechanism.<name>]`` table.
 
-        The table holds the keys of a stop (:attr:`params`: those of
+        The table holds the keys of a stop (``params``: those of
         :class:`~cyclomech.impact.StopImpact` with their units, ``stroke_m``,
         ``preload_m``, …) plus ``arc`` (the operation's two events), ``a_max_m`` [m]
         and optionally ``phase_deg = [from, to, count]`` [deg]; or, with ``cam =
         "<name>"``, the law and stroke from that cam's rise on the arc (a ``kind =
         "cam"`` mechanism of the machine; an oscillating follower's rotation times
-        ``lever_length_m``). The values are then checked against :attr:`rules`.
+        ``lever_length_m``). The values are then checked against ``rules``.
 
         Parameters
         ----------
@@ -165,7 +165,7 @@ class CamStop:
         Warns
         -----
         CyclomechWarning
-            If a value is unusual (ζ ≥ 1; see :attr:`rules`).
+            If a value is unusual (ζ ≥ 1; see ``rules``).
 
         Examples
         --------

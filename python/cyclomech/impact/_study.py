@@ -54,7 +54,7 @@ STOP_REQUIRED = (
     "J_x_m4",
 )
 
-#: The plausibility rules of a stop's table (:func:`cyclomech._keyrules.check`): a
+#: The plausibility rules of a stop's table (``cyclomech._keyrules.check``): a
 #: damping ratio of 1 or more is valid (overdamped) but far likelier a percentage.
 STOP_RULES = (
     Rule(

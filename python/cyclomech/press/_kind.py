@@ -73,7 +73,7 @@ class PressMechanism(Unbounded):
         The keys its table takes (their names say their units: ``R_m``,
         ``working_stroke_m``, ``max_V_np_m_per_s``, …).
     rules : tuple of Rule
-        Its plausibility rules (:func:`cyclomech._keyrules.check`).
+        Its plausibility rules (``cyclomech._keyrules.check``).
 
     Examples
     --------
@@ -127,7 +127,7 @@ class PressMechanism(Unbounded):
         The table holds ``R_m``, ``r_m``, ``d_m``, ``L_m`` [m], ``phi0_deg`` [deg],
         optional ``offset_m`` [m]; one of ``k_Sp`` or ``working_stroke_m`` [m];
         optional ``max_V_np_m_per_s`` [m/s]. The values are then checked against
-        :attr:`rules`.
+        ``rules``.
 
         Its load on the main shaft, all optional: ``deformation_force =
         {s_above_bdc_m = [...], force_n = [...]}``, the force diagram (heights of the

@@ -40,7 +40,7 @@ def drive_from_table(table: Mapping[str, Any], where: str) -> GearLeverPress:
     [deg] and optional ``offset_m`` [m]: the one reader of a press drive, for
     ``cyclomech press`` files and machines' press mechanisms. Errors start with
     ``where`` and name the file's keys; the values are then checked by
-    :func:`cyclomech._keyrules.check` (a length over 10 m warns).
+    ``cyclomech._keyrules.check`` (a length over 10 m warns).
 
     >>> d = drive_from_table({"R_m": 0.09, "r_m": 0.03, "d_m": 0.02, "L_m": 0.3,
     ...                       "phi0_deg": 15}, "x")

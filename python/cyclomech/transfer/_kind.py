@@ -57,7 +57,7 @@ class TransferMechanism(Unbounded):
         The keys its table takes (their names say their units: ``R_t_m``,
         ``gap_m``, ``max_jerk_m_per_s3``, …).
     rules : tuple of Rule
-        Its own plausibility rules (:func:`cyclomech._keyrules.check`).
+        Its own plausibility rules (``cyclomech._keyrules.check``).
 
     Examples
     --------
@@ -101,7 +101,7 @@ class TransferMechanism(Unbounded):
         ``pockets_p``; optionally ``x2_m`` [m] (default: the length of least jerk,
         :func:`cyclomech.transfer.design_transfer`), ``max_jerk_m_per_s3`` [m/s³]
         and ``max_acceleration_m_per_s2`` [m/s²]. The values are then checked by
-        :func:`cyclomech._keyrules.check`.
+        ``cyclomech._keyrules.check``.
 
         Parameters
         ----------
