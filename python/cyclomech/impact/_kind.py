@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import threads_arg
+from .._arrays import flag, threads_arg
 from .._errors import InputError
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
@@ -345,7 +345,7 @@ class CamStop:
         [28.0271, 30.0291]
         """
         threads = threads_arg(n_threads)
-        if linear:
+        if flag("linear", linear):
             return [
                 [functools.partial(m.linear_min_phase_deg, n_threads=threads)] for m in mechanisms
             ]
