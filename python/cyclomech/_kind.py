@@ -24,6 +24,9 @@ from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 import numpy.typing as npt
 
+from ._arrays import real
+from ._errors import InputError
+
 if TYPE_CHECKING:
     from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
 
@@ -103,6 +106,19 @@ class Proportional:
     """
 
     per_rpm: float
+
+    def __post_init__(self) -> None:
+        # +inf is a bound no speed meets (a stop whose v* is 0); NaN, a negative,
+        # a string or a bool is not a slope (it would make every angle NaN).
+        try:
+            v = real(self.per_rpm)
+        except (TypeError, ValueError):
+            v = float("nan")
+        if not v >= 0.0:
+            raise InputError(
+                f"per_rpm = {self.per_rpm!r} must be a number ≥ 0 [deg/rpm] (inf: no speed)"
+            )
+        object.__setattr__(self, "per_rpm", v)
 
     def __call__(self, rpm: Array) -> Array:
         return self.evaluate(rpm, self.per_rpm)
