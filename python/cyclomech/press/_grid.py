@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import check_bytes, finite_number, float_array, threads_arg
+from .._arrays import check_bytes, finite_number, flag, float_array, threads_arg
 from .._errors import InputError
 from .._progress import progress as progress_bar
 from ._drive import (
@@ -310,7 +310,9 @@ def design_grid(
     inner = n // len(flat[lead])
     step = max(1, _CHUNK // max(inner, 1))
     # By default a bar only for a grid of several calls, on a terminal.
-    show = (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress)
+    show = (
+        (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else flag("progress", progress)
+    )
     bar = progress_bar(n, "press.design_grid", show)
     threads = threads_arg(n_threads)
     check_bytes(
