@@ -14,7 +14,15 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import SPEED_CAP_RPM, count, finite_number, real, speeds_rpm, threads_arg
+from .._arrays import (
+    SPEED_CAP_RPM,
+    count,
+    finite_number,
+    instance,
+    real,
+    speeds_rpm,
+    threads_arg,
+)
 from .._errors import CyclomechWarning, InfeasibleError, InputError
 from .._kind import Array, Bound, BoundLaw, Mechanism, TableContext
 from ..cyclogram import (
@@ -856,6 +864,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     Traceback (most recent call last):
     cyclomech._errors.InputError: <example>: parameter 'lifter.preloud': [mechanism.lifter] has ...
     """
+    instance("machine", machine, Machine)
+    instance("path", path, str)
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
     _, key = _split_key(path, dict(machine.data))  # a copy: it may add a [machine] table

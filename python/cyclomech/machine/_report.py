@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from .._arrays import flag, instance
 from .._errors import CyclomechWarning, InfeasibleError
 from .._files import whole
 from .._json import jsonable
@@ -152,7 +153,9 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     >>> round(r.limit.rpm, 3), round(r.optimum.objective, 3)    # 6 · 421.37 rpm · 0.1 s
     (421.37, 252.822)
     """
-    m = machine
+    from ._model import Machine
+
+    m = instance("machine", machine, Machine)
     steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms"]
     seconds: dict[str, float] = {}
     with progress_bar(len(steps), m.name, progress) as bar:
@@ -690,6 +693,9 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     >>> sorted(p.name for p in write_report(r, tempfile.mkdtemp(), figures=False))
     ['operations.csv', 'report.html', 'results.json', 'speed_sweep.csv']
     """
+    instance("result", result, MachineResult)
+    instance("out", out, (str, Path))
+    figures = flag("figures", figures)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     # results.json and report.html are written last, and an earlier run's removed
