@@ -125,17 +125,24 @@ def real(value: Any) -> float:
 
 
 def finite_number(
-    name: str, value: Any, unit: str, *, low: float | None = None, strict: bool = False
+    name: str,
+    value: Any,
+    unit: str,
+    *,
+    low: float | None = None,
+    strict: bool = False,
+    inf: bool = False,
 ) -> float:
     """``value`` as a finite float, or :class:`InputError` naming ``name``, the value
-    and ``unit``; with ``low``, it must be ≥ ``low`` (> ``low`` if ``strict``)."""
+    and ``unit``; with ``low``, it must be ≥ ``low`` (> ``low`` if ``strict``); with
+    ``inf``, +inf is taken too (where it means "no bound"), NaN and -inf never."""
     bound = "" if low is None else f" and {'>' if strict else '≥'} {low:g}"
     try:
         v = real(value)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a number{bound} {unit}; got {value!r}") from None
     inside = low is None or (v > low if strict else v >= low)
-    if not (math.isfinite(v) and inside):
+    if not ((math.isfinite(v) or (inf and v == math.inf)) and inside):
         # v, not value: a numpy scalar would print as np.float64(-0.0001).
         raise InputError(f"{name} = {v!r} must be finite{bound} {unit}")
     return v

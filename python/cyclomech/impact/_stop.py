@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import broadcast, count, finite_number, flag, float_array, positive, real, real_array
+from .._arrays import broadcast, count, finite_number, flag, float_array, positive, real_array
 from .._errors import InfeasibleError, InputError
 from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
@@ -477,7 +477,12 @@ class StopImpact:
         """
         with np.errstate(divide="ignore"):
             per_rpm = np.degrees(RAD_PER_S_PER_RPM * self.stroke * self.dz_contact)
-            return float(per_rpm / np.float64(_impact_speed_bound(v_star)))
+            return float(
+                per_rpm
+                / np.float64(
+                    finite_number("v_star", v_star, "[m/s] (inf: no bound)", low=0.0, inf=True)
+                )
+            )
 
     def min_phase_angle(
         self,
@@ -760,17 +765,6 @@ class StopImpact:
             f"f_free={self.omega_free / (2 * math.pi):.4g} Hz, "
             f"f_contact={self.omega_contact / (2 * math.pi):.4g} Hz, model={self.model!r})"
         )
-
-
-def _impact_speed_bound(value: Any) -> float:
-    """An impact speed v* [m/s]: a number ≥ 0, +inf allowed (no bound)."""
-    try:
-        v = real(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if not v >= 0.0:
-        raise InputError(f"v_star = {value!r} must be a number ≥ 0 [m/s] (inf for no bound)")
-    return v
 
 
 def _phase(value: Any) -> Any:
