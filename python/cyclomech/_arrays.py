@@ -425,3 +425,43 @@ def instances(name: str, value: Any, cls: type | tuple[type, ...]) -> list[Any]:
         want = " or ".join(c.__name__ for c in (cls if isinstance(cls, tuple) else (cls,)))
         raise TypeError(f"{name} must be a sequence of {want}; got {type(value).__name__}")
     return [instance(f"{name}[{i}]", v, cls) for i, v in enumerate(value)]
+
+
+def tolerance(name: str, value: Any, low: float, high: float, unit: str = "(relative)") -> float:
+    """A tolerance: a finite number in [``low``, ``high``], or :class:`InputError`
+    naming ``name``, the value and the range (a string or a bool is not one).
+
+    >>> tolerance("rtol", 1e-10, 1e-14, 0.5)
+    1e-10
+    >>> tolerance("rtol", "1e-10", 1e-14, 0.5)
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: rtol = '1e-10' must lie in [1e-14, 0.5] (relative)
+    """
+    try:
+        v = real(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not low <= v <= high:
+        raise InputError(f"{name} = {value!r} must lie in [{low:g}, {high:g}] {unit}")
+    return v
+
+
+#: Relative tolerances a speed search can meet: below 1e-14 the 64-speed
+#: refinement cannot shrink its bracket in float64; at 1 and above it would stop
+#: at once, at the search's floor.
+SPEED_RTOL = (1e-14, 0.5)
+
+
+def speed_rtol(value: Any) -> float:
+    """The relative tolerance ``rtol`` of a speed search, in :data:`SPEED_RTOL`.
+
+    >>> speed_rtol(1e-10)
+    1e-10
+    """
+    try:
+        return tolerance("rtol", value, *SPEED_RTOL)
+    except InputError:
+        lo, hi = SPEED_RTOL
+        raise InputError(
+            f"rtol = {value!r} must be a relative tolerance in [{lo:g}, {hi:g}]"
+        ) from None

@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, float_array, positive, threads_arg
+from .._arrays import float_array, positive, threads_arg, tolerance
 from .._errors import InputError
 from .._kind import Proportional
 from ._checks import Array, _positive_array
@@ -32,11 +32,7 @@ _RTOL_RANGE = (1e-15, 0.5)
 
 def _rtol(name: str, value: Any, scale: float = 1.0, unit: str = "(relative)") -> float:
     """A tolerance in [1e-15, 0.5]·``scale``, or :class:`InputError` with the range."""
-    lo, hi = _RTOL_RANGE[0] * scale, _RTOL_RANGE[1] * scale
-    v = finite_number(name, value, unit, low=0.0, strict=True)
-    if not lo <= v <= hi:
-        raise InputError(f"{name} = {value!r} must lie in [{lo:g}, {hi:g}] {unit}")
-    return v
+    return tolerance(name, value, _RTOL_RANGE[0] * scale, _RTOL_RANGE[1] * scale, unit)
 
 
 _PULSES = ("decaying", "rectangular", "triangular", "half_sine")

@@ -19,7 +19,7 @@ from .._arrays import (
     count,
     finite_number,
     instance,
-    real,
+    speed_rtol,
     speeds_rpm,
     threads_arg,
 )
@@ -639,7 +639,7 @@ class Machine:
         >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
         421.37
         """
-        rtol = _rtol(rtol)
+        rtol = speed_rtol(rtol)
         threads = threads_arg(n_threads)
         at = _bounds_at([self.bound_laws(n_threads=threads)])
         return float(self._network.speed_limits(at, 1, self._search_start(), threads, rtol)[0])
@@ -804,19 +804,6 @@ def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     if "mechanism" not in data and ("cyclogram" in data or "operation" in data):
         return "a cyclogram file ([cyclogram], [[operation]])", "cyclogram"
     return None
-
-
-def _rtol(value: Any) -> float:
-    """A relative tolerance of a speed search: finite, in [1e-14, 0.5] (below, the
-    64-speed refinement cannot shrink its bracket in float64; at 1 and above it
-    would stop at once, at the search's floor)."""
-    try:
-        v = real(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if not 1e-14 <= v <= 0.5:
-        raise InputError(f"rtol = {value!r} must be a relative tolerance in [1e-14, 0.5]")
-    return v
 
 
 def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
