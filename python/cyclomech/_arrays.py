@@ -6,6 +6,7 @@ import contextlib
 import math
 import os
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -465,3 +466,16 @@ def speed_rtol(value: Any) -> float:
         raise InputError(
             f"rtol = {value!r} must be a relative tolerance in [{lo:g}, {hi:g}]"
         ) from None
+
+
+def file_path(name: str, value: Any) -> Path:
+    """``value`` (a str or a path-like object) as a :class:`~pathlib.Path`, else a
+    ``TypeError`` naming ``name``: :func:`instance` for a file argument.
+
+    >>> file_path("path", "examples/stb_loom.toml").name
+    'stb_loom.toml'
+    >>> file_path("path", None)
+    Traceback (most recent call last):
+    TypeError: path must be a str or PathLike; got NoneType
+    """
+    return Path(instance(name, value, (str, os.PathLike)))

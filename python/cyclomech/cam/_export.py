@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import count
+from .._arrays import count, file_path, instance
 from .._errors import CyclomechError, CyclomechWarning, InputError
 from ._followers import OscillatingRoller
 
@@ -119,6 +119,9 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
     >>> t["theta_deg"][:3].tolist(), round(float(t["profile_y_m"][0]), 12)
     ([0.0, 0.5, 1.0], 0.05)
     """
+    from ._program import Cam  # at call time, as the type-only import above
+
+    instance("cam", cam, Cam)
     n = _samples(samples)
     deg = np.arange(n) * (360.0 / n)
     k = cam.solve(np.radians(deg))
@@ -218,7 +221,7 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     'theta_deg,s_m,pitch_x_m,pitch_y_m,profile_'
     """
     table = profile_table(cam, samples)
-    p = Path(path)
+    p = file_path("path", path)
     cols = [v.astype(np.float64) for v in table.values()]
     fmt = ["%.17g"] * (len(cols) - 1) + ["%d"]
     try:
@@ -304,7 +307,7 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     polyline("pitch_x_m", "pitch_y_m", "PITCH")
     msp.add_circle((0.0, 0.0), cam.follower.base_radius * _MM, dxfattribs={"layer": "BASE"})
     msp.add_point((0.0, 0.0), dxfattribs={"layer": "CENTRE"})
-    p = Path(path)
+    p = file_path("path", path)
     try:
         doc.saveas(p)
     except OSError as e:

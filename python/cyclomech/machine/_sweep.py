@@ -31,7 +31,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import check_bytes, plain_pages, speeds_rpm
+from .._arrays import check_bytes, file_path, plain_pages, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._files import partial, whole
 from .._progress import progress as progress_bar
@@ -171,7 +171,7 @@ class SweepResult:
         >>> r.write(pathlib.Path(tempfile.mkdtemp()) / "s.npz").suffix
         '.npz'
         """
-        p = Path(path)
+        p = file_path("path", path)
         if p.suffix not in (".parquet", ".npz"):
             raise InputError(
                 f"{p}: SweepResult.write writes .parquet or .npz files; got the suffix "
@@ -236,7 +236,7 @@ class SweepResult:
         >>> back.columns["fits"].tolist()
         [True, False]
         """
-        p = Path(path)
+        p = file_path("path", path)
         what = "a sweep file written by SweepResult.write (.parquet or .npz)"
         try:
             if p.suffix == ".parquet":
