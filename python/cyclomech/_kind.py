@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 import numpy.typing as npt
 
+from ._arrays import flag, instances, positive, real_array, threads_arg
 from ._errors import InputError
 from ._proportional import Proportional
 
@@ -733,6 +734,8 @@ class Unbounded:
         >>> Unbounded().constraints(300.0)
         ()
         """
+        positive("rpm", rpm, "[rpm]")  # unused, but the same rule as every kind's
+        flag("linear", linear)
         return ()
 
     @classmethod
@@ -760,6 +763,9 @@ class Unbounded:
         >>> Unbounded.bound_laws([object()])
         [[]]
         """
+        flag("linear", linear)
+        threads_arg(n_threads)
+        mechanisms = instances("mechanisms", mechanisms, object)
         return [[] for _ in mechanisms]
 
     @classmethod
@@ -798,6 +804,8 @@ class Unbounded:
         >>> Unbounded.sweep_values([], np.zeros((0, 1)), [], np.zeros(0, bool))
         {}
         """
+        real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(2,))
+        threads_arg(n_threads)
         return {}
 
 

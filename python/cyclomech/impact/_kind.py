@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import flag, threads_arg
+from .._arrays import flag, instance, instances, real_array, threads_arg
 from .._errors import InputError
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
@@ -344,6 +344,7 @@ class CamStop:
         >>> np.round(law(np.array([280.0, 300.0])), 4).tolist()
         [28.0271, 30.0291]
         """
+        mechanisms = instances("mechanisms", mechanisms, cls)
         threads = threads_arg(n_threads)
         if flag("linear", linear):
             return [
@@ -405,6 +406,8 @@ class CamStop:
         >>> bool(abs(a[0] - lifter.a_max) < 1e-9)
         True
         """
+        mechanisms = instances("mechanisms", mechanisms, cls)
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(2,))
         D, S = rpm.shape
         rows = rpm.reshape(-1)
         stops = [m.stop for m in mechanisms]
@@ -474,6 +477,7 @@ class CamStop:
         >>> round(r.nominal_rpm, 2), round(r.mechanisms["lifter"].min_phase_at_nominal, 4)
         (421.37, 42.1779)
         """
+        instance("ctx", ctx, Context)
         bound = self.bounds()[0]
         label = bound.label
         n = ctx.nominal_rpm

@@ -11,6 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml, forces
+from .._arrays import instance
 from .._errors import InputError
 from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
@@ -339,6 +340,7 @@ class LinkageMechanism(Unbounded):
         >>> r.solution.xy.shape[0] == m.angle_points
         True
         """
+        instance("ctx", ctx, Context)
         vmax, amax = self.peaks()
         return LinkageResult(self, ctx, self.solve(), vmax, amax, self.kinetostatics())
 

@@ -11,6 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
+from .._arrays import instance
 from .._errors import InputError
 from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._numtext import number_text
@@ -363,6 +364,7 @@ class PressMechanism(Unbounded):
         >>> round(r.criteria.S_n, 4)
         0.1276
         """
+        instance("ctx", ctx, Context)
         return PressResult(self, ctx, self.criteria(ctx.nominal_rpm), self.crank_torque())
 
 

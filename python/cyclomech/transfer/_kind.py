@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .. import _toml
-from .._arrays import speeds_rpm
+from .._arrays import instance, speeds_rpm
 from .._errors import InputError
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
@@ -292,6 +292,7 @@ class TransferMechanism(Unbounded):
         >>> r.max_jerk <= m.mechanisms["line"].max_jerk * (1 + 1e-9)
         True
         """
+        instance("ctx", ctx, Context)
         a, j = self.peaks(ctx.nominal_rpm)
         return TransferResult(self, ctx, self.speeds(ctx.nominal_rpm), a, j)
 
