@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import flag, instance, instances, real_array, threads_arg
+from .._arrays import flag, instance, instances, positive, real_array, threads_arg
 from .._errors import InputError
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
@@ -110,6 +110,13 @@ class CamStop:
     arc: Arc
     a_max: float
     phase_deg: Array
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("stop", self.stop, StopImpact)
+        object.__setattr__(self, "a_max", positive("a_max", self.a_max, "[m]"))
+        phase = real_array("phase_deg", self.phase_deg, "[deg]", low=0.0, strict=True)
+        object.__setattr__(self, "phase_deg", phase)
 
     # ------------------------------------------------------------- the file
     @classmethod

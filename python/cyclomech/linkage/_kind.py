@@ -11,7 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml, forces
-from .._arrays import instance
+from .._arrays import count, instance, positive
 from .._errors import InputError
 from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
@@ -80,6 +80,15 @@ class LinkageMechanism(Unbounded):
     _forces: dict[int, forces.Kinetostatics] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("linkage", self.linkage, Linkage)
+        instance("output", self.output, str)
+        object.__setattr__(self, "points", count("points", self.points, low=2, what="angles"))
+        if self.max_acceleration is not None:
+            a = positive("max_acceleration", self.max_acceleration, "[m/s²]")
+            object.__setattr__(self, "max_acceleration", a)
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> LinkageMechanism:

@@ -11,7 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
-from .._arrays import instance
+from .._arrays import finite_number, instance, positive
 from .._errors import InputError
 from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._numtext import number_text
@@ -105,6 +105,20 @@ class PressMechanism(Unbounded):
     slider_mass: float = 0.0
     rod_mass: float = 0.0
     phase: Phase = field(default_factory=Phase)
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("press", self.press, GearLeverPress)
+        if self.k_Sp is not None:
+            k_Sp = positive("k_Sp", self.k_Sp, "(a fraction of the stroke, in (0, 1])")
+            if k_Sp > 1.0:
+                raise InputError(f"k_Sp = {k_Sp!r} must lie in (0, 1] (a fraction of the stroke)")
+            object.__setattr__(self, "k_Sp", k_Sp)
+        for k, unit in (("working_stroke", "[m]"), ("max_V_np", "[m/s]")):
+            if getattr(self, k) is not None:
+                object.__setattr__(self, k, positive(k, getattr(self, k), unit))
+        for k in ("slider_mass", "rod_mass"):
+            object.__setattr__(self, k, finite_number(k, getattr(self, k), "[kg]", low=0.0))
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> PressMechanism:

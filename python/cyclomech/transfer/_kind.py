@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .. import _toml
-from .._arrays import instance, speeds_rpm
+from .._arrays import count, instance, positive, speeds_rpm
 from .._errors import InputError
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
@@ -79,6 +79,15 @@ class TransferMechanism(Unbounded):
     pockets_p: int
     max_jerk: float | None = None
     max_acceleration: float | None = None
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("path", self.path, TransferPath)
+        for k in ("pockets_t", "pockets_p"):
+            object.__setattr__(self, k, count(k, getattr(self, k), high=10_000, what="pockets"))
+        for k, unit in (("max_jerk", "[m/s³]"), ("max_acceleration", "[m/s²]")):
+            if getattr(self, k) is not None:
+                object.__setattr__(self, k, positive(k, getattr(self, k), unit))
 
     @classmethod
     def from_table(
