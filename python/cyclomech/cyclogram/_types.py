@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import real_array
+from .._arrays import finite_number, real_array
 from .._errors import InputError
 from .._units import DEG_PER_S_PER_RPM
 
@@ -60,6 +60,10 @@ class Constraint:
     sense: Sense
     rhs: float
     name: str
+
+    def __post_init__(self) -> None:
+        # A NaN or a string rhs would reach the LP (or print as "nan" in a report).
+        object.__setattr__(self, "rhs", finite_number("rhs", self.rhs, "[deg]"))
 
     def describe(self) -> str:
         """The constraint as text (angles in degrees).
