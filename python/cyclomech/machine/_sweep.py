@@ -31,7 +31,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import check_bytes, file_path, plain_pages, speeds_rpm
+from .._arrays import check_bytes, file_path, instance, plain_pages, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._files import partial, whole
 from .._progress import progress as progress_bar
@@ -306,7 +306,7 @@ def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
     >>> parse_range("200:500:4", "--speed").tolist()
     [200.0, 300.0, 400.0, 500.0]
     """
-    parts = text.split(":")
+    parts = instance("text", text, str).split(":")
     try:
         if len(parts) == 1:
             vals = np.array([float(parts[0])])
