@@ -413,6 +413,8 @@ ALLOWED = {
     # NaN: no phase angle of one turn will do at that speed (a gap in the curve)
     ("cyclomech.plot.plot_min_phase", "exact", "nan entry"),
     ("cyclomech.plot.plot_min_phase", "linear", "nan entry"),
+    # a constraint's rhs of NaN: a bound no angle meets (add_constraint refuses it)
+    ("cyclomech.Constraint", "rhs", "nan"),
     # a speed limit of +inf: the machine is not limited (drawn as no line)
     ("cyclomech.plot.plot_speed_sweep", "limit_rpm", "inf"),
 }

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number, real_array
+from .._arrays import real, real_array
 from .._errors import InputError
 from .._units import DEG_PER_S_PER_RPM
 
@@ -62,8 +62,16 @@ class Constraint:
     name: str
 
     def __post_init__(self) -> None:
-        # A NaN or a string rhs would reach the LP (or print as "nan" in a report).
-        object.__setattr__(self, "rhs", finite_number("rhs", self.rhs, "[deg]"))
+        # A string, a bool or None is not a number; NaN is a bound no angle meets (a
+        # mechanism's at a speed it cannot reach), refused by add_constraint and
+        # turned into an InfeasibleError by Machine.cyclogram_at.
+        try:
+            rhs = real(self.rhs)
+        except (TypeError, ValueError):
+            rhs = math.inf
+        if math.isinf(rhs):
+            raise InputError(f"rhs = {self.rhs!r} must be a number [deg] (NaN: no angle meets it)")
+        object.__setattr__(self, "rhs", rhs)
 
     def describe(self) -> str:
         """The constraint as text (angles in degrees).
