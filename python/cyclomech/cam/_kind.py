@@ -367,6 +367,7 @@ class CamMechanism(Unbounded):
         >>> c.segments[0].angle_deg, c.segments[3].angle_deg, why
         (60.0, 190.0, '')
         """
+        instance("angles", angles, Mapping)
         segs = list(self.design.cam.segments)
         n = len(segs)
         for k, arc in enumerate(self.design.arcs):

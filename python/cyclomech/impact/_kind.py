@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import flag, instance, instances, positive, real_array, threads_arg
+from .._arrays import flag, float_array, instance, instances, positive, real_array, threads_arg
 from .._errors import InputError
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
@@ -422,7 +422,13 @@ class CamStop:
         # phase_per_rpm(1), so v0 = n·that/t; 1 m/s where the machine does not fit
         # (dropped).
         per = np.repeat([s.phase_per_rpm(1.0) for s in stops], S)
-        t = angle_deg[0]
+        if isinstance(angle_deg, str | Mapping) or not isinstance(angle_deg, Sequence):
+            raise TypeError(
+                f"angle_deg must be a sequence of arrays (one a bound); got {angle_deg!r}"
+            )
+        if not len(angle_deg):
+            raise InputError("angle_deg must hold the bounds' operation angles [deg]; got none")
+        t = float_array("angle_deg[0]", angle_deg[0], ndims=None)
         v0 = np.where(fits, rows * per / np.where(fits, t, 1.0), 1.0)
         a = rebounds(stops, v0.reshape(D, S), n_threads=n_threads).reshape(-1)
         return {"max_rebound_m": np.where(fits, a, np.nan)}

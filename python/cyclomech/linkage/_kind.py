@@ -179,6 +179,7 @@ class LinkageMechanism(Unbounded):
         >>> k.torque_parts.shape, k.pairs[0]
         ((3, 360), ('A', 'frame'))
         """
+        samples = count("samples", samples, low=2, what="angles")
         if self.dynamics is None:
             return None
         if samples not in self._forces:
@@ -217,7 +218,7 @@ class LinkageMechanism(Unbounded):
         >>> bool(m.mechanisms["knife"].solve(73).ok.all())
         True
         """
-        n = self.points if points is None else points
+        n = self.points if points is None else count("points", points, low=2, what="angles")
         if n in self._solved:
             return self._solved[n][0]
         angles = self.linkage.drawn_angle + np.linspace(0.0, 2.0 * math.pi, n)
@@ -253,7 +254,7 @@ class LinkageMechanism(Unbounded):
         >>> v > 0 and a > 0
         True
         """
-        n = self.points if points is None else points
+        n = self.points if points is None else count("points", points, low=2, what="angles")
         if n in self._solved:
             return self._solved[n][1]
         sol = self.solve(n)

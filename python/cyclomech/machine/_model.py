@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import difflib
 import math
+import os
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
@@ -144,7 +145,7 @@ class Machine:
             nominal_rpm = float(speeds_rpm("nominal_rpm", nominal_rpm)[0])
         self.name = str(name)
         self.cyclogram = cyclogram
-        self.mechanisms = dict(mechanisms)
+        self.mechanisms = dict(instance("mechanisms", mechanisms, Mapping))
         self.speed_range_rpm = (float(rng[0]), float(rng[1]))
         self.speed_points = count("speed_points", speed_points, low=2, high=1_000_000)
         self.nominal_rpm = nominal_rpm
@@ -228,6 +229,7 @@ class Machine:
         >>> cm.Machine.from_dict(m.data).speed_points
         61
         """
+        instance("source", source, (str, os.PathLike))
         if isinstance(data, Mapping) and "machine" not in data:
             other = _other_command(data)
             if other:
@@ -412,7 +414,7 @@ class Machine:
         data = dict(self.data)
         data["mechanism"] = dict(data.get("mechanism", {}))
         touched: set[str] = set()
-        for path, value in values.items():
+        for path, value in instance("values", values, Mapping).items():
             head = path.split(".", 1)[0]
             if head not in touched:
                 if head == "machine":

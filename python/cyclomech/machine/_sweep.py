@@ -578,6 +578,7 @@ def sweep(
     for flag, value in (("batch", batch), ("shaft", shaft)):
         if not isinstance(value, bool):
             raise InputError(f"{flag} must be True or False; got {value!r}")
+    instance("grid", grid, Mapping)
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
     speeds = (

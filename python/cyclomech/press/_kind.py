@@ -302,7 +302,9 @@ class PressMechanism(Unbounded):
         0.1276
         """
         return self.press.criteria(
-            omega=float(rpm) * RAD_PER_S_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
+            omega=positive("rpm", rpm, "[rpm]") * RAD_PER_S_PER_RPM,
+            k_Sp=self.k_Sp,
+            working_stroke=self.working_stroke,
         )
 
     def speed_limit_rpm(self) -> float:
