@@ -22,8 +22,13 @@ def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
 def _checked_table(t: Any, f: Any) -> tuple[Array, Array]:
     """``t`` and ``f`` as read-only float arrays, checked as :meth:`Pulse.table`
     documents, or :class:`InputError`."""
-    ta = np.array(float_array("pulse t", t, ndims=None), ndmin=1)
-    fa = np.array(float_array("pulse f", f, ndims=None), ndmin=1)
+    try:  # float_array: strings and bools are not numbers, as np.array(float) had it
+        ta = np.array(float_array("pulse t", t, ndims=None), ndmin=1)
+        fa = np.array(float_array("pulse f", f, ndims=None), ndmin=1)
+    except InputError:
+        raise InputError(
+            f"a pulse table needs t and f as arrays of numbers; got t = {t!r}, f = {f!r}"
+        ) from None
     if ta.ndim != 1 or fa.shape != ta.shape:
         raise InputError(
             f"a pulse table needs t and f as 1-D arrays of one length; "
