@@ -370,7 +370,6 @@ _READERS = "the kinds' table readers (another branch): a ctx or table of the wro
 _HOT_PATH = "the vectorised law of the speed sweeps, documented as unchecked"
 _LINKAGE_FILE = "linkage/_file.py (another branch): table and path of the wrong type"
 _NO_LIMIT = "an unknown mechanism name reads as no limit (inf)"
-_SLOW = "trace={} draws for more than a second before failing"
 
 #: Public callables that still take some bad value without a CyclomechError (issue
 #: 31, items 10 and 11, left for later), and why: each must still have a finding,
@@ -392,7 +391,6 @@ KNOWN_GAPS: dict[str, str] = {
     "cyclomech.linkage.LinkageMechanism.from_table": _READERS,
     "cyclomech.machine.Context.own_limit_rpm": _NO_LIMIT,
     "cyclomech.machine.Proportional.evaluate": _HOT_PATH,
-    "cyclomech.plot.animate_linkage": _SLOW,
     "cyclomech.press.PressMechanism.from_table": _READERS,
     "cyclomech.transfer.TransferMechanism.from_table": _READERS,
 }
