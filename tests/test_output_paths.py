@@ -21,12 +21,22 @@ def result() -> cm.machine.MachineResult:
     return analyze(cm.Machine.example(), progress=False)
 
 
-@pytest.mark.parametrize("out", ["", "   ", None, 3, b"out"])
+@pytest.mark.parametrize(
+    ("out", "error", "match"),
+    [
+        ("", cm.InputError, r"out must be a path \(a non-empty str or Path\); got ''"),
+        ("   ", cm.InputError, r"out must be a path"),
+        # A wrong object is a TypeError naming the argument (the library's rule).
+        (None, TypeError, r"out must be a str or PathLike; got NoneType"),
+        (3, TypeError, r"out must be a str or PathLike; got int"),
+        (b"out", TypeError, r"out must be a str or PathLike; got bytes"),
+    ],
+)
 def test_write_report_refuses_a_path_that_cannot_be_meant(
-    result, tmp_path, monkeypatch, out
+    result, tmp_path, monkeypatch, out, error, match
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    with pytest.raises(cm.InputError, match=r"out must be a path"):
+    with pytest.raises(error, match=match):
         write_report(result, out, figures=False)
     assert list(tmp_path.iterdir()) == []  # nothing written in the current folder
 
@@ -40,7 +50,7 @@ def test_write_report_refuses_a_file_as_its_folder(result, tmp_path) -> None:
 
 
 def test_write_report_refuses_what_is_not_a_result(tmp_path) -> None:
-    with pytest.raises(cm.InputError, match="result must be the MachineResult"):
+    with pytest.raises(TypeError, match="result must be a MachineResult; got dict"):
         write_report({"speed_limit": 1}, tmp_path, figures=False)  # type: ignore[arg-type]
 
 

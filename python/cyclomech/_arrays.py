@@ -6,6 +6,7 @@ import contextlib
 import math
 import os
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -38,11 +39,17 @@ def index_array(name: str, value: Any) -> npt.NDArray[np.int64]:
     return _contiguous(name, a, np.int64)
 
 
-def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDArray[np.float64]:
-    """A C-contiguous float64 array with one of ``ndims`` dimensions, or :class:`InputError`.
+def float_array(
+    name: str, value: Any, ndims: tuple[int, ...] | None = (1,)
+) -> npt.NDArray[np.float64]:
+    """A C-contiguous float64 array with one of ``ndims`` dimensions (any number of
+    dimensions if None), or :class:`InputError`.
 
-    Finiteness is checked by the kernels, which name the first bad entry.
+    Finiteness is checked by the kernels, which name the first bad entry (or by
+    :func:`real_array`).
     """
+    if value is None:
+        raise InputError(f"{name} must be an array of real numbers; got None")
     try:
         a = np.asarray(value)
     except (TypeError, ValueError) as e:
@@ -51,10 +58,50 @@ def float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> npt.NDA
     # or complex numbers (whose imaginary part would be dropped).
     if a.dtype.kind not in "iuf":
         raise InputError(f"{name} must be an array of real numbers; got dtype {a.dtype}")
-    if a.ndim not in ndims:
+    if ndims is not None and a.ndim not in ndims:
         want = " or ".join(f"{d}-D" for d in ndims)
         raise InputError(f"{name} must be a {want} array; got shape {a.shape}")
     return _contiguous(name, a, np.float64)
+
+
+def real_array(
+    name: str,
+    value: Any,
+    unit: str,
+    *,
+    low: float | None = None,
+    strict: bool = False,
+    ndims: tuple[int, ...] | None = None,
+) -> npt.NDArray[np.float64]:
+    """``value`` as a float64 array of finite real numbers (≥ ``low``, > ``low`` if
+    ``strict``), of any shape unless ``ndims`` says, or :class:`InputError` naming
+    the first bad entry and ``unit``. The array form of :func:`finite_number`: a
+    string, a bool, None or a complex number is not a number, nor is NaN or ±inf.
+
+    >>> from cyclomech._arrays import real_array
+    >>> real_array("rpm", [280, 420], "[rpm]", low=0.0, strict=True).tolist()
+    [280.0, 420.0]
+    >>> real_array("rpm", [280, 0], "[rpm]", low=0.0, strict=True)
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: rpm[1] = 0.0 must be finite and > 0 [rpm]
+    >>> real_array("rpm", "280", "[rpm]")
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: rpm must be an array of real numbers; got dtype <U3
+    """
+    # ascontiguousarray makes a 0-d array 1-d: keep the shape given.
+    a = float_array(name, value, ndims).reshape(np.shape(value))
+    ok = np.isfinite(a)
+    if low is not None:
+        ok &= (a > low) if strict else (a >= low)
+    if not ok.all():
+        bound = "" if low is None else f" and {'>' if strict else '≥'} {low:g}"
+        if a.ndim:
+            i = tuple(int(k) for k in np.unravel_index(int(np.argmax(~ok)), a.shape))
+            where, v = f"{name}{list(i)}", float(a[i])
+        else:
+            where, v = name, float(a)
+        raise InputError(f"{where} = {v!r} must be finite{bound} {unit}")
+    return a
 
 
 def _contiguous(name: str, a: npt.NDArray[Any], dtype: type[np.generic]) -> Any:
@@ -79,17 +126,24 @@ def real(value: Any) -> float:
 
 
 def finite_number(
-    name: str, value: Any, unit: str, *, low: float | None = None, strict: bool = False
+    name: str,
+    value: Any,
+    unit: str,
+    *,
+    low: float | None = None,
+    strict: bool = False,
+    inf: bool = False,
 ) -> float:
     """``value`` as a finite float, or :class:`InputError` naming ``name``, the value
-    and ``unit``; with ``low``, it must be ≥ ``low`` (> ``low`` if ``strict``)."""
+    and ``unit``; with ``low``, it must be ≥ ``low`` (> ``low`` if ``strict``); with
+    ``inf``, +inf is taken too (where it means "no bound"), NaN and -inf never."""
     bound = "" if low is None else f" and {'>' if strict else '≥'} {low:g}"
     try:
         v = real(value)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a number{bound} {unit}; got {value!r}") from None
     inside = low is None or (v > low if strict else v >= low)
-    if not (math.isfinite(v) and inside):
+    if not ((math.isfinite(v) or (inf and v == math.inf)) and inside):
         # v, not value: a numpy scalar would print as np.float64(-0.0001).
         raise InputError(f"{name} = {v!r} must be finite{bound} {unit}")
     return v
@@ -238,8 +292,8 @@ def speeds_rpm(name: str, value: Any) -> npt.NDArray[np.float64]:
     cyclomech._errors.InputError: rpm must hold positive speeds in rpm, each in (0, 1e+06]; got -1
     """
     try:
-        n = np.asarray(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
+        n = float_array(name, value, ndims=None).reshape(-1)
+    except InputError:
         raise InputError(f"{name} must be speeds in rpm; got {value!r}") from None
     bad = ~(np.isfinite(n) & (n > 0) & (n <= SPEED_CAP_RPM))
     if n.size == 0 or bad.any():
@@ -336,3 +390,92 @@ def plain_pages() -> Iterator[None]:
         yield
     finally:
         toggle(was)
+
+
+def instance(name: str, value: Any, cls: type | tuple[type, ...]) -> Any:
+    """``value`` if it is a ``cls``, else a ``TypeError`` naming ``name``, the type
+    expected and the type given: the one rule for an argument that is an object of
+    the library (a Machine, a result), so that a dict or a str given in its place
+    fails here, by name, not as a ``KeyError`` or ``AttributeError`` deep inside.
+
+    >>> from pathlib import Path
+    >>> instance("out", Path("."), Path)
+    PosixPath('.')
+    >>> instance("machine", {}, Path)
+    Traceback (most recent call last):
+    TypeError: machine must be a Path; got dict
+    """
+    if not isinstance(value, cls):
+        want = " or ".join(c.__name__ for c in (cls if isinstance(cls, tuple) else (cls,)))
+        raise TypeError(f"{name} must be a {want}; got {type(value).__name__}")
+    return value
+
+
+def instances(name: str, value: Any, cls: type | tuple[type, ...]) -> list[Any]:
+    """``value`` as a list of ``cls`` (any sequence of them), else a ``TypeError``
+    naming ``name[i]`` (or ``name`` when it is not a sequence): :func:`instance`
+    for a list of objects.
+
+    >>> instances("paths", ("a", "b"), str)
+    ['a', 'b']
+    >>> instances("machines", None, str)
+    Traceback (most recent call last):
+    TypeError: machines must be a sequence of str; got NoneType
+    """
+    if isinstance(value, str | bytes | dict) or not hasattr(value, "__len__"):
+        want = " or ".join(c.__name__ for c in (cls if isinstance(cls, tuple) else (cls,)))
+        raise TypeError(f"{name} must be a sequence of {want}; got {type(value).__name__}")
+    return [instance(f"{name}[{i}]", v, cls) for i, v in enumerate(value)]
+
+
+def tolerance(name: str, value: Any, low: float, high: float, unit: str = "(relative)") -> float:
+    """A tolerance: a finite number in [``low``, ``high``], or :class:`InputError`
+    naming ``name``, the value and the range (a string or a bool is not one).
+
+    >>> tolerance("rtol", 1e-10, 1e-14, 0.5)
+    1e-10
+    >>> tolerance("rtol", "1e-10", 1e-14, 0.5)
+    Traceback (most recent call last):
+    cyclomech._errors.InputError: rtol = '1e-10' must lie in [1e-14, 0.5] (relative)
+    """
+    try:
+        v = real(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not low <= v <= high:
+        raise InputError(f"{name} = {value!r} must lie in [{low:g}, {high:g}] {unit}")
+    return v
+
+
+#: Relative tolerances a speed search can meet: below 1e-14 the 64-speed
+#: refinement cannot shrink its bracket in float64; at 1 and above it would stop
+#: at once, at the search's floor.
+SPEED_RTOL = (1e-14, 0.5)
+
+
+def speed_rtol(value: Any) -> float:
+    """The relative tolerance ``rtol`` of a speed search, in :data:`SPEED_RTOL`.
+
+    >>> speed_rtol(1e-10)
+    1e-10
+    """
+    try:
+        return tolerance("rtol", value, *SPEED_RTOL)
+    except InputError:
+        lo, hi = SPEED_RTOL
+        raise InputError(
+            f"rtol = {value!r} must be a relative tolerance in [{lo:g}, {hi:g}]"
+        ) from None
+
+
+def file_path(name: str, value: Any) -> Path:
+    """``value`` (a str or a path-like object) as a :class:`~pathlib.Path`, else a
+    ``TypeError`` naming ``name``: :func:`instance` for a file argument.
+
+    >>> file_path("path", "examples/stb_loom.toml").name
+    'stb_loom.toml'
+    >>> file_path("path", None)
+    Traceback (most recent call last):
+    TypeError: path must be a str or PathLike; got NoneType
+    """
+    return Path(instance(name, value, (str, os.PathLike)))

@@ -23,18 +23,20 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from ._arrays import file_path
 from ._errors import InputError
 
 __all__ = ["file_target", "folder_target", "partial", "savetxt", "whole", "write_text"]
 
 
 def _path(name: str, value: Any) -> Path:
-    """``value`` as a Path: a non-blank str or an ``os.PathLike``, else InputError."""
-    if isinstance(value, os.PathLike):
-        value = os.fspath(value)
-    if not isinstance(value, str) or not value.strip():
+    """``value`` as a Path: a str or ``os.PathLike`` (else ``TypeError`` naming
+    ``name``, by :func:`cyclomech._arrays.file_path`), and not blank (else
+    :class:`InputError`: ``""`` would mean the current folder, a slip)."""
+    p = file_path(name, value)
+    if not str(value if isinstance(value, str) else os.fspath(value)).strip():
         raise InputError(f"{name} must be a path (a non-empty str or Path); got {value!r}")
-    return Path(value)
+    return p
 
 
 def file_target(name: str, value: Any) -> Path:

@@ -24,6 +24,10 @@ from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 import numpy.typing as npt
 
+from ._arrays import flag, instances, positive, real_array, threads_arg
+from ._errors import InputError
+from ._proportional import Proportional
+
 if TYPE_CHECKING:
     from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
 
@@ -78,63 +82,6 @@ class Bound:
     arc: tuple[str, str]
     label: str
     name: str
-
-
-@dataclass(frozen=True)
-class Proportional:
-    """A bound law that grows in proportion to the speed.
-
-    The smallest angle is n·``per_rpm`` [deg] at n rpm (at least 1e-9°; NaN over
-    360°, where no phase angle of one turn will do), as a stop's rebound bound (its
-    impact speed grows as n/t). Calling it evaluates the law at an array of speeds
-    [rpm]. The machine evaluates many of them in one vectorised step. The parameter
-    is kept as the attribute of the same name.
-
-    Parameters
-    ----------
-    per_rpm : float
-        The smallest angle per unit of speed [deg/rpm].
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> Proportional(0.1)(np.array([100.0, 4000.0])).tolist()
-    [10.0, nan]
-    """
-
-    per_rpm: float
-
-    def __call__(self, rpm: Array) -> Array:
-        return self.evaluate(rpm, self.per_rpm)
-
-    @staticmethod
-    def evaluate(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
-        """The law n·per_rpm [deg], at least 1e-9, NaN over 360 (broadcast; no checks).
-
-        Parameters
-        ----------
-        rpm : array_like of float
-            The speeds n [rpm].
-        per_rpm : array_like of float
-            The smallest angle per unit of speed [deg/rpm], broadcast against ``rpm``.
-
-        Returns
-        -------
-        ndarray of float
-            The smallest angles [deg] (NaN over 360°), of the broadcast shape.
-
-        Examples
-        --------
-        >>> Proportional.evaluate([100.0, 200.0], [0.1, 2.0]).tolist()
-        [10.0, nan]
-        >>> Proportional.evaluate(50.0, 1e307).tolist()       # past the float range
-        nan
-        """
-        # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
-        # over 360°: NaN like any other, not a warning.
-        with np.errstate(over="ignore"):
-            t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
-        return np.where(t <= 360.0, t, np.nan)
 
 
 @dataclass(frozen=True)
@@ -254,7 +201,6 @@ class Phase:
         Phase(event='clamped', crank_deg=30.0)
         """
         from . import _toml
-        from ._errors import InputError
 
         where = f"{ctx.where(name)} phase"
         spec = table.get("phase")
@@ -788,6 +734,8 @@ class Unbounded:
         >>> Unbounded().constraints(300.0)
         ()
         """
+        positive("rpm", rpm, "[rpm]")  # unused, but the same rule as every kind's
+        flag("linear", linear)
         return ()
 
     @classmethod
@@ -815,6 +763,9 @@ class Unbounded:
         >>> Unbounded.bound_laws([object()])
         [[]]
         """
+        flag("linear", linear)
+        threads_arg(n_threads)
+        mechanisms = instances("mechanisms", mechanisms, object)
         return [[] for _ in mechanisms]
 
     @classmethod
@@ -853,6 +804,8 @@ class Unbounded:
         >>> Unbounded.sweep_values([], np.zeros((0, 1)), [], np.zeros(0, bool))
         {}
         """
+        real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(2,))
+        threads_arg(n_threads)
         return {}
 
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING
 
+from ._arrays import flag
+
 if TYPE_CHECKING:
     from tqdm import tqdm
 
@@ -36,7 +38,8 @@ def progress(total: int, label: str, enabled: bool | None = None) -> tqdm:
     """
     from tqdm import tqdm  # on first use: importing cyclomech stays light
 
-    show = sys.stderr.isatty() if enabled is None else bool(enabled)
+    # "false" or 0 is not a switch: one rule for every flag (_arrays.flag).
+    show = sys.stderr.isatty() if enabled is None else flag("progress", enabled)
     return tqdm(
         total=total,
         desc=label,

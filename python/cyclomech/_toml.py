@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ._arrays import file_path
 from ._errors import InputError
 from ._keyrules import renamed
 
@@ -42,7 +43,7 @@ def load(path: str | Path) -> tuple[dict[str, Any], str]:
     """The parsed file and its name for messages, or :class:`InputError`. A UTF-8
     byte order mark (written by some Windows editors) is skipped; arrays and
     tables nested more than :data:`MAX_DEPTH` deep are refused."""
-    p = Path(path)
+    p = file_path("path", path)
     deep = f"{p}: arrays or tables nested more than {MAX_DEPTH} levels deep"
     try:
         text = p.read_bytes().removeprefix(codecs.BOM_UTF8).decode("utf-8")

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import _keyrules, _toml
+from .._arrays import flag, instances
 from .._errors import InputError
 from .._keyrules import Rule
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
@@ -168,6 +169,8 @@ class CamDesign:
         Traceback (most recent call last):
         cyclomech._errors.InputError: [cam]: follower = 'disc' must be one of 'translating', ...
         """
+        extra = frozenset(instances("extra", extra, str))
+        arcs = flag("arcs", arcs)
         _toml.check_keys(table, CAM_KEYS | extra, source, where)
         at = where if source is None else f"{source}: {where}"
         _toml.require(table, ("follower", "segment"), at)

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import count
+from .._arrays import count, instance
 from .._errors import CyclomechError, CyclomechWarning
 from .._files import file_target, whole
 from ._followers import OscillatingRoller
@@ -120,6 +120,9 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
     >>> t["theta_deg"][:3].tolist(), round(float(t["profile_y_m"][0]), 12)
     ([0.0, 0.5, 1.0], 0.05)
     """
+    from ._program import Cam  # at call time, as the type-only import above
+
+    instance("cam", cam, Cam)
     n = _samples(samples)
     deg = np.arange(n) * (360.0 / n)
     k = cam.solve(np.radians(deg))

@@ -15,6 +15,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
+from .._arrays import flag, instance, instances, positive
 from .._errors import CyclomechWarning, InputError
 from .._kind import (
     Array,
@@ -267,6 +268,8 @@ class CamMechanism(Unbounded):
         >>> cam.constraints(450.0)[2].describe()
         '1·t(1,3) >= 29.6374'
         """
+        rpm = positive("rpm", rpm, "[rpm]")
+        flag("linear", linear)  # a cam's bounds have one form only
         n = np.array([float(rpm)])
         return tuple(
             Constraint(((b.arc, 1.0),), ">=", float(law(n)[0]), b.label)
@@ -300,6 +303,8 @@ class CamMechanism(Unbounded):
         >>> len(CamMechanism.bound_laws([cam])[0]) == len(cam.bounds())
         True
         """
+        flag("linear", linear)
+        mechanisms = instances("mechanisms", mechanisms, cls)
         return [m.laws() for m in mechanisms]
 
     def speed_limit_rpm(self) -> float:
@@ -362,6 +367,7 @@ class CamMechanism(Unbounded):
         >>> c.segments[0].angle_deg, c.segments[3].angle_deg, why
         (60.0, 190.0, '')
         """
+        instance("angles", angles, Mapping)
         segs = list(self.design.cam.segments)
         n = len(segs)
         for k, arc in enumerate(self.design.arcs):
@@ -406,6 +412,7 @@ class CamMechanism(Unbounded):
         >>> res.max_stress_pa < res.mech.design.max_stress
         True
         """
+        instance("ctx", ctx, Context)
         n = ctx.nominal_rpm
         angles = {} if ctx.optimum is None else ctx.optimum.angles
         cam, note = self.laid_out(angles)

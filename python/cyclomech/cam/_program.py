@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import count, finite_number, float_array, positive, threads_arg
+from .._arrays import count, finite_number, float_array, instances, positive, threads_arg
 from .._errors import InputError
 from ..motion import NAMES
 from . import _loads
@@ -200,7 +200,7 @@ class Cam:
         follower: TranslatingRoller | FlatFaced | OscillatingRoller,
         closure: str = "spring",
     ) -> None:
-        segs = tuple(segments)
+        segs = tuple(instances("segments", segments, object))  # each a Segment, below
         if not segs:
             raise InputError("segments must hold at least one Segment")
         for i, g in enumerate(segs):

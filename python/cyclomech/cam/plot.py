@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import float_array, positive
+from .._arrays import float_array, positive, real_array
 from .._errors import InputError
 from .._plotting import (
     CRITICAL_COLOR,
@@ -712,12 +712,14 @@ def plot_min_phase_angles(
     if not isinstance(m, MinPhaseAngles):
         raise InputError(f"m must be a cyclomech.cam.MinPhaseAngles; got {m!r}")
     n_seg = len(m.segments)
+    if labels is not None and (isinstance(labels, str) or not hasattr(labels, "__len__")):
+        raise InputError(f"labels must be one name per segment; got {labels!r}")
     names = [f"segment {i}" for i in m.segments] if labels is None else [str(x) for x in labels]
     if len(names) != n_seg:
         raise InputError(f"labels holds {len(names)} names; m has {n_seg} segments")
     nominal = None
     if nominal_deg is not None:
-        nominal = float_array("nominal_deg", nominal_deg).reshape(-1)
+        nominal = real_array("nominal_deg", nominal_deg, "[deg]", ndims=(1,))
         if nominal.size != n_seg:
             raise InputError(f"nominal_deg holds {nominal.size} angles; m has {n_seg} segments")
     plt = pyplot()

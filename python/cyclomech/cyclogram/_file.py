@@ -3,11 +3,13 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .. import _core, _toml
+from .._arrays import instance
 from .._errors import CycleError, InputError
 from .._files import file_target, write_text
 
@@ -31,6 +33,7 @@ _TERM_KEYS = {"from", "to", "coeff"}
 
 def read(cls: type[Cyclogram], data: Mapping[str, Any], source: str) -> Cyclogram:
     """The cyclogram of the parsed layout ``data`` (:meth:`Cyclogram.from_dict`)."""
+    instance("source", source, (str, os.PathLike))  # the name its messages give
     _toml.check_keys(data, {"cyclogram", "operation", "constraint"}, source, "top level")
     head = data.get("cyclogram", {})
     _toml.check_keys(head, _CG_KEYS, source, "[cyclogram]")

@@ -18,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import count, float_array, index_array, out_array, threads_arg
+from .._arrays import count, float_array, index_array, out_array, real, threads_arg
 from .._errors import InputError
 
 __all__ = ["EventGraph", "GraphAnalysis", "longest_path", "max_cycle_ratio", "max_difference"]
@@ -362,7 +362,7 @@ class EventGraph:
 
 def _scalar(name: str, value: Any) -> float:
     try:
-        return float(value)
+        return real(value)  # not float(): "360" and True are not numbers
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a real number; got {value!r}") from None
 

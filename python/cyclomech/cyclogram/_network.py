@@ -5,14 +5,23 @@ cyclogram is optimised against speed and its speed limit searched; part of
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import SPEED_CAP_RPM
+from .._arrays import (
+    SPEED_CAP_RPM,
+    count,
+    flag,
+    float_array,
+    instance,
+    positive,
+    real_array,
+    speed_rtol,
+)
 from .._errors import InputError
 from .._kind import Proportional
 from ._graph import max_difference
@@ -75,6 +84,9 @@ class SpeedNetwork:
     """
 
     def __init__(self, cg: Cyclogram, bounds: Sequence[tuple[Arc, str]] = ()) -> None:
+        instance("cg", cg, Cyclogram)
+        if isinstance(bounds, str | bytes | Mapping) or not isinstance(bounds, Sequence):
+            raise TypeError(f"bounds must be a sequence of (arc, label); got {bounds!r}")
         if cg.limiting is None:
             raise InputError(
                 f"cyclogram {cg.name!r}: a machine needs its limiting operation "
@@ -181,6 +193,8 @@ class SpeedNetwork:
         >>> mins.tolist(), which.tolist()
         ([[100.0, 60.0], [120.0, 60.0]], [[0, 0], [2, 0]])
         """
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(1,))
+        t_bound = self._bound_angles(t_bound, rpm.shape)
         mins, by_time = minimum_angles(self.angle, self.secs, rpm)
         which = by_time.astype(np.int8)
         for k, (e, t) in enumerate(zip(self.bound_op, t_bound, strict=True)):
@@ -239,6 +253,9 @@ class SpeedNetwork:
         >>> angle.tolist(), binding.tolist()
         ([260.0, 240.0], ['min[a→b]; cycle', 'wear; cycle'])
         """
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(1,))
+        t_bound = self._bound_angles(t_bound, rpm.shape)
+        labels = flag("labels", labels)
         mins, which = self.minimums(rpm, t_bound)
         w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
         w[:, self.min_edge] -= mins
@@ -296,6 +313,7 @@ class SpeedNetwork:
         >>> net.fits(lambda d, n: [], np.array([[900.0, 1100.0]])).tolist()   # 6·n·0.05 ≤ 300
         [[True, False]]
         """
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(2,))
         designs = np.arange(rpm.shape[0])
         t_bound = bounds_at(designs, rpm)
         return self.solve(rpm.reshape(-1), t_bound, n_threads, labels=False)[1].reshape(rpm.shape)
@@ -348,6 +366,9 @@ class SpeedNetwork:
         >>> round(float(net.speed_limits(lambda d, n: [], 1, 100.0)[0]), 6)     # 6·n·0.05 = 300
         1000.0
         """
+        designs = count("designs", designs, low=0)
+        start = positive("start", start, "[rpm]")
+        rtol = speed_rtol(rtol)
 
         def fit(idx: npt.NDArray[np.int64], rpm: Array) -> npt.NDArray[np.bool_]:
             t_bound = bounds_at(idx, rpm)
@@ -430,6 +451,7 @@ class SpeedNetwork:
         >>> angle.tolist(), binding.tolist(), t[:, 0].tolist()     # 360 − max(100, n·0.5)
         ([260.0, 160.0], ['min[a→b]; cycle', 'wear; cycle'], [100.0, 200.0])
         """
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True)
         per = self._slopes(per_rpm)
         speeds = np.ascontiguousarray(rpm, dtype=np.float64).reshape(-1)
         if self.general or self.always_false:
@@ -445,14 +467,36 @@ class SpeedNetwork:
         )
         return value, np.isfinite(value), self._names(code, starts), bound_mins
 
+    def _bound_angles(self, t_bound: Any, shape: tuple[int, ...]) -> list[Array]:
+        """``t_bound`` as one float64 array of ``shape`` a bound (NaN: no angle will
+        do), or :class:`InputError` naming the bad one."""
+        if isinstance(t_bound, str | bytes | Mapping) or not isinstance(t_bound, Sequence):
+            raise InputError(
+                f"t_bound must be a sequence of {len(self.bound_op)} arrays of angles [deg]; "
+                f"got {type(t_bound).__name__}"
+            )
+        if len(t_bound) != len(self.bound_op):
+            raise InputError(
+                f"t_bound must hold {len(self.bound_op)} arrays (one a bound); got {len(t_bound)}"
+            )
+        out = [float_array(f"t_bound[{k}]", t, ndims=None) for k, t in enumerate(t_bound)]
+        for k, t in enumerate(out):
+            if t.shape != shape:
+                raise InputError(f"t_bound[{k}] must have the speeds' shape {shape}; got {t.shape}")
+        return out
+
     def _slopes(self, per_rpm: Array) -> Array:
-        """``per_rpm`` as a C-ordered (D, K) float64 array, K the bounds'."""
-        per = np.ascontiguousarray(per_rpm, dtype=np.float64)
+        """``per_rpm`` as a C-ordered (D, K) float64 array of slopes ≥ 0 [deg/rpm]
+        (+inf allowed), K the bounds'."""
+        per = float_array("per_rpm", per_rpm, ndims=None)
         if per.ndim != 2 or per.shape[1] != len(self.bound_op):
             raise InputError(
                 f"per_rpm must be (designs, {len(self.bound_op)}) slopes [deg/rpm]; "
                 f"got shape {per.shape}"
             )
+        if not (per >= 0.0).all():  # +inf is a bound no speed meets; NaN is none
+            i, k = (int(x) for x in np.argwhere(~(per >= 0.0))[0])
+            raise InputError(f"per_rpm[{i}, {k}] = {per[i, k]!r} must be ≥ 0 [deg/rpm]")
         return per
 
     def _kernel_args(self) -> _KernelArgs:
@@ -519,6 +563,8 @@ class SpeedNetwork:
         >>> np.round(lim, 6).tolist()                  # n·0.5 = 300, n·1.0 = 300
         [600.0, 300.0]
         """
+        start = positive("start", start, "[rpm]")
+        rtol = speed_rtol(rtol)
         per = self._slopes(per_rpm)
         if self.general or self.always_false:
 

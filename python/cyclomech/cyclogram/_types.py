@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
+from .._arrays import real, real_array
+from .._errors import InputError
 from .._units import DEG_PER_S_PER_RPM
 
 if TYPE_CHECKING:
@@ -58,6 +60,18 @@ class Constraint:
     sense: Sense
     rhs: float
     name: str
+
+    def __post_init__(self) -> None:
+        # A string, a bool or None is not a number; NaN is a bound no angle meets (a
+        # mechanism's at a speed it cannot reach), refused by add_constraint and
+        # turned into an InfeasibleError by Machine.cyclogram_at.
+        try:
+            rhs = real(self.rhs)
+        except (TypeError, ValueError):
+            rhs = math.inf
+        if math.isinf(rhs):
+            raise InputError(f"rhs = {self.rhs!r} must be a number [deg] (NaN: no angle meets it)")
+        object.__setattr__(self, "rhs", rhs)
 
     def describe(self) -> str:
         """The constraint as text (angles in degrees).
@@ -342,7 +356,13 @@ def minimum_angles(
     >>> mins.tolist(), timed.tolist()
     ([[120.0, 30.0], [180.0, 30.0]], [[False, False], [True, False]])
     """
-    n = np.asarray(rpm, dtype=np.float64)[..., None]
+    # One rule for every public number (issue 31): NaN, a string or a bool is
+    # refused by name, never carried into the minimum angles.
+    angle_deg = real_array("angle_deg", angle_deg, "[deg]", low=0.0, ndims=(1,))
+    secs = real_array("secs", secs, "[s]", low=0.0, ndims=(1,))
+    if secs.shape != angle_deg.shape:
+        raise InputError(f"secs {secs.shape} must have the shape of angle_deg {angle_deg.shape}")
+    n = real_array("rpm", rpm, "[rpm]", low=0.0)[..., None]
     dur = np.where(secs > 0, DEG_PER_S_PER_RPM * n * secs, -np.inf)
     by_time = dur > angle_deg
     return np.where(by_time, dur, angle_deg), by_time

@@ -8,8 +8,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number
-from .._errors import InputError
+from .._arrays import finite_number, real_array
 
 Array = npt.NDArray[np.float64]
 
@@ -36,16 +35,4 @@ def _positive_array(name: str, value: Any, unit: str) -> Array:
     Traceback (most recent call last):
     cyclomech._errors.InputError: rpm[1] = 0.0 must be finite and > 0 [rpm]
     """
-    try:
-        a = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be positive numbers {unit}; got {value!r}") from None
-    bad = ~(np.isfinite(a) & (a > 0.0))
-    if bad.any():
-        if a.ndim:
-            i = tuple(int(k) for k in np.unravel_index(int(np.argmax(bad)), a.shape))
-            where, v = f"{name}{list(i)}", float(a[i])
-        else:
-            where, v = name, float(a)
-        raise InputError(f"{where} = {v!r} must be finite and > 0 {unit}")
-    return a
+    return real_array(name, value, unit, low=0.0, strict=True)

@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _keyrules, _toml
-from .._arrays import threads_arg
+from .._arrays import flag, float_array, instance, instances, positive, real_array, threads_arg
 from .._errors import InputError
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
@@ -124,6 +124,13 @@ class CamStop:
     arc: Arc
     a_max: float
     phase_deg: Array
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("stop", self.stop, StopImpact)
+        object.__setattr__(self, "a_max", positive("a_max", self.a_max, "[m]"))
+        phase = real_array("phase_deg", self.phase_deg, "[deg]", low=0.0, strict=True)
+        object.__setattr__(self, "phase_deg", phase)
 
     # ------------------------------------------------------------- the file
     @classmethod
@@ -367,8 +374,9 @@ class CamStop:
         >>> np.round(law(np.array([280.0, 300.0])), 4).tolist()
         [28.0271, 30.0291]
         """
+        mechanisms = instances("mechanisms", mechanisms, cls)
         threads = threads_arg(n_threads)
-        if linear:
+        if flag("linear", linear):
             return [
                 [functools.partial(m.linear_min_phase_deg, n_threads=threads)] for m in mechanisms
             ]
@@ -428,6 +436,8 @@ class CamStop:
         >>> bool(abs(a[0] - lifter.a_max) < 1e-9)
         True
         """
+        mechanisms = instances("mechanisms", mechanisms, cls)
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(2,))
         D, S = rpm.shape
         rows = rpm.reshape(-1)
         stops = [m.stop for m in mechanisms]
@@ -435,7 +445,13 @@ class CamStop:
         # phase_per_rpm(1), so v0 = n·that/t; 1 m/s where the machine does not fit
         # (dropped).
         per = np.repeat([s.phase_per_rpm(1.0) for s in stops], S)
-        t = angle_deg[0]
+        if isinstance(angle_deg, str | Mapping) or not isinstance(angle_deg, Sequence):
+            raise TypeError(
+                f"angle_deg must be a sequence of arrays (one a bound); got {angle_deg!r}"
+            )
+        if not len(angle_deg):
+            raise InputError("angle_deg must hold the bounds' operation angles [deg]; got none")
+        t = float_array("angle_deg[0]", angle_deg[0], ndims=None)
         v0 = np.where(fits, rows * per / np.where(fits, t, 1.0), 1.0)
         a = rebounds(stops, v0.reshape(D, S), n_threads=n_threads).reshape(-1)
         return {"max_rebound_m": np.where(fits, a, np.nan)}
@@ -497,6 +513,7 @@ class CamStop:
         >>> round(r.nominal_rpm, 2), round(r.mechanisms["lifter"].min_phase_at_nominal, 4)
         (421.37, 42.1779)
         """
+        instance("ctx", ctx, Context)
         bound = self.bounds()[0]
         label = bound.label
         n = ctx.nominal_rpm

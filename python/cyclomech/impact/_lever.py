@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import broadcast, positive
+from .._arrays import broadcast, finite_number, positive, real_array
 from .._errors import InputError
 from ._checks import Array, _positive_array
 
@@ -286,19 +286,14 @@ def impact_force(
     J = positive("J_A", J_A, "[kg·m²]")
     k = _restitution(restitution)
     length = positive("lever_length", lever_length, "[m]")
-    w = np.asarray(omega0, dtype=np.float64)
-    if not np.isfinite(w).all() or (w < 0).any():
-        raise InputError(f"omega0 must be finite and ≥ 0 [rad/s]; got {omega0!r}")
+    w = real_array("omega0", omega0, "[rad/s]", low=0.0)
     tau = _positive_array("contact_time", contact_time, "[s]")
     return J * w * (1.0 + k) / (length * tau)
 
 
 def _restitution(value: Any) -> float:
-    try:
-        k = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"restitution must be a number in [0, 1]; got {value!r}") from None
-    if not 0.0 <= k <= 1.0:
+    k = finite_number("restitution", value, "(0 plastic, 1 elastic; 5/9 for steel)", low=0.0)
+    if not k <= 1.0:
         raise InputError(
             f"restitution = {value!r} must lie in [0, 1] (0 plastic, 1 elastic; 5/9 for steel)"
         )

@@ -8,7 +8,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import count, finite_number, positive
+from .._arrays import count, finite_number, float_array, positive
 from .._errors import InputError
 from ._checks import Array
 
@@ -22,10 +22,10 @@ def _force(value: Any, name: str = "peak", unit: str = "[N]") -> float:
 def _checked_table(t: Any, f: Any) -> tuple[Array, Array]:
     """``t`` and ``f`` as read-only float arrays, checked as :meth:`Pulse.table`
     documents, or :class:`InputError`."""
-    try:
-        ta = np.array(t, dtype=np.float64, ndmin=1)
-        fa = np.array(f, dtype=np.float64, ndmin=1)
-    except (TypeError, ValueError):
+    try:  # float_array: strings and bools are not numbers, as np.array(float) had it
+        ta = np.array(float_array("pulse t", t, ndims=None), ndmin=1)
+        fa = np.array(float_array("pulse f", f, ndims=None), ndmin=1)
+    except InputError:
         raise InputError(
             f"a pulse table needs t and f as arrays of numbers; got t = {t!r}, f = {f!r}"
         ) from None

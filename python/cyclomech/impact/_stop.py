@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import count, positive
+from .._arrays import broadcast, count, finite_number, flag, float_array, positive, real_array
 from .._errors import InfeasibleError, InputError
 from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
@@ -266,8 +266,7 @@ class StopImpact:
         >>> round(float(cm.impact.StopImpact.example().impact_speed(280, 40.0)), 4)
         0.2038
         """
-        n = _positive_array("rpm", rpm, "[rpm]")
-        t = _phase(phase_deg)
+        n, t = broadcast(rpm=_positive_array("rpm", rpm, "[rpm]"), phase_deg=_phase(phase_deg))
         return n * RAD_PER_S_PER_RPM * self.stroke * self.dz_contact / np.radians(t)
 
     def impact_force(self, rpm: npt.ArrayLike, phase_deg: npt.ArrayLike) -> Any:
@@ -374,7 +373,9 @@ class StopImpact:
         >>> round(float(q.max()) * 1e3, 3)                   # mm: the first rebound
         0.07
         """
-        v0 = float(self.impact_speed(float(rpm), float(phase_deg)))
+        rpm = positive("rpm", rpm, "[rpm]")
+        phase_deg = finite_number("phase_deg", phase_deg, "[deg]")
+        v0 = float(self.impact_speed(rpm, phase_deg))
         span = 12.0 * math.pi / self.omega_free if duration is None else float(duration)
         span = positive("duration", span, "[s]")
         points = count("points", points, low=2, high=10**8)
@@ -476,7 +477,12 @@ class StopImpact:
         """
         with np.errstate(divide="ignore"):
             per_rpm = np.degrees(RAD_PER_S_PER_RPM * self.stroke * self.dz_contact)
-            return float(per_rpm / np.float64(v_star))
+            return float(
+                per_rpm
+                / np.float64(
+                    finite_number("v_star", v_star, "[m/s] (inf: no bound)", low=0.0, inf=True)
+                )
+            )
 
     def min_phase_angle(
         self,
@@ -567,14 +573,19 @@ class StopImpact:
         >>> round(s * 1e3, 4), round(c * 1e3, 3)                   # mm/deg, mm
         (-0.0031, 0.229)
         """
-        lo, hi = (_phase(v) for v in phase_deg_range)
+        pair = real_array("phase_deg_range", phase_deg_range, "[deg]", ndims=(1,))
+        if pair.shape != (2,):
+            raise InputError(
+                f"phase_deg_range = {phase_deg_range!r} must be (low, high) with low < high"
+            )
+        lo, hi = (float(_phase(v)) for v in pair)
         if not hi > lo:
             raise InputError(
                 f"phase_deg_range = {phase_deg_range!r} must be (low, high) with low < high"
             )
         points = count("points", points, low=2, high=10**7)
         slope, intercept = self._lines(
-            np.array([float(rpm)]), np.array([lo]), np.array([hi]), points
+            np.array([positive("rpm", rpm, "[rpm]")]), np.array([lo]), np.array([hi]), points
         )
         return float(slope[0]), float(intercept[0])
 
@@ -630,7 +641,7 @@ class StopImpact:
         32.67
         """
         points = count("points", points, low=2, high=1_000_000)
-        n = np.asarray(rpm, dtype=np.float64)
+        n = _positive_array("rpm", rpm, "[rpm]")
         flat = n.reshape(-1)
         exact = np.asarray(self.min_phase_angle(a_max, flat, n_threads=n_threads)).reshape(-1)
         ok = np.isfinite(exact)
@@ -689,7 +700,9 @@ class StopImpact:
                 f'arc = {arc!r} must be an operation\'s two event names (from, to), e.g. ("3", "7")'
             )
         arc = (arc[0], arc[1])
-        t_min = float(self.min_phase_angle(a_max, float(rpm)))
+        rpm = positive("rpm", rpm, "[rpm]")
+        linear = flag("linear", linear)
+        t_min = float(self.min_phase_angle(a_max, rpm))
         if not math.isfinite(t_min):
             raise InfeasibleError(
                 f"rebound stays above a_max = {a_max!r} m at {rpm!r} rpm for every phase "
@@ -755,10 +768,7 @@ class StopImpact:
 
 
 def _phase(value: Any) -> Any:
-    try:
-        t = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"phase_deg must be angles in degrees; got {value!r}") from None
+    t = float_array("phase_deg", value, ndims=None).reshape(np.shape(value))
     bad = ~(np.isfinite(t) & (t > 0.0) & (t <= 360.0))
     if bad.any():
         v = t.reshape(-1)[int(np.argmax(bad.reshape(-1)))]

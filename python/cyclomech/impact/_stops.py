@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, float_array, positive, threads_arg
+from .._arrays import float_array, instances, positive, threads_arg, tolerance
 from .._errors import InputError
 from .._kind import Proportional
 from ._checks import Array, _positive_array
@@ -32,11 +32,14 @@ _RTOL_RANGE = (1e-15, 0.5)
 
 def _rtol(name: str, value: Any, scale: float = 1.0, unit: str = "(relative)") -> float:
     """A tolerance in [1e-15, 0.5]·``scale``, or :class:`InputError` with the range."""
-    lo, hi = _RTOL_RANGE[0] * scale, _RTOL_RANGE[1] * scale
-    v = finite_number(name, value, unit, low=0.0, strict=True)
-    if not lo <= v <= hi:
-        raise InputError(f"{name} = {value!r} must lie in [{lo:g}, {hi:g}] {unit}")
-    return v
+    return tolerance(name, value, _RTOL_RANGE[0] * scale, _RTOL_RANGE[1] * scale, unit)
+
+
+def _stops(value: Any) -> list[StopImpact]:
+    """``stops`` as a list of StopImpact, or a TypeError naming the bad one."""
+    from ._stop import StopImpact  # at call time: _stop imports this module
+
+    return instances("stops", value, StopImpact)
 
 
 _PULSES = ("decaying", "rectangular", "triangular", "half_sine")
@@ -82,6 +85,7 @@ def rebounds(
     >>> r.shape, bool(r[1, 0] < r[0, 0]), bool(np.isclose(r[0, 1] / r[0, 0], 1.5))
     ((2, 2), True, True)
     """
+    stops = _stops(stops)
     v = float_array("v0", v0, ndims=(2,))
     bad = ~(np.isfinite(v) & (v >= 0.0))
     if bad.any():
@@ -190,8 +194,12 @@ def max_impact_speeds(
     >>> [round(float(x), 4) for x in v]
     [0.2909, 0.3657]
     """
+    stops = _stops(stops)
     n = len(stops)
-    a = np.broadcast_to(float_array("a_max", a_max, ndims=(0, 1)), (n,)).copy()
+    a = float_array("a_max", a_max, ndims=(0, 1))
+    if a.size not in (1, n):
+        raise InputError(f"a_max must be one limit or one a stop ({n}); got {a.size}")
+    a = np.broadcast_to(a, (n,)).copy()
     for i, ai in enumerate(a):
         positive(f"a_max[{i}]" if n > 1 else "a_max", ai, "[m]")
     r = _rtol("rtol", rtol)

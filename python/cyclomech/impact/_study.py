@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import _keyrules, _toml
-from .._arrays import positive
+from .._arrays import positive, real_array
 from .._errors import InputError
 from .._keyrules import Rule
 from ._checks import Array
@@ -173,6 +173,17 @@ class ImpactStudy:
     a_max: float
     arc: tuple[str, str] | None = None
     name: str = ""
+
+    def __post_init__(self) -> None:
+        # One rule for every public number (issue 31): a string, a bool, NaN or
+        # ±inf is refused here too, not only by the file reader.
+        if not isinstance(self.stop, StopImpact):
+            raise TypeError(f"stop must be a StopImpact; got {type(self.stop).__name__}")
+        rpm = real_array("rpm", self.rpm, "[rpm]", low=0.0, strict=True)
+        phase = real_array("phase_deg", self.phase_deg, "[deg]", low=0.0, strict=True)
+        object.__setattr__(self, "rpm", rpm)
+        object.__setattr__(self, "phase_deg", phase)
+        object.__setattr__(self, "a_max", positive("a_max", self.a_max, "[m]"))
 
     @classmethod
     def from_toml(cls, path: Any) -> ImpactStudy:

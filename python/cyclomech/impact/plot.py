@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 import numpy.typing as npt
 
+from .._arrays import finite_number, float_array, instance, positive, real_array
 from .._errors import InputError
 from .._plotting import CRITICAL_COLOR, pyplot
 
@@ -86,8 +87,8 @@ def plot_response(
     ('t after contact  [ms]', 'q, away from the stop  [mm]')
     """
     plt = pyplot()
-    ta = np.asarray(t, dtype=np.float64)
-    qa = np.asarray(q, dtype=np.float64)
+    ta = real_array("t", t, "[s]")
+    qa = real_array("q", q, "[m]")
     if ta.ndim != 1 or qa.shape != ta.shape:
         raise InputError(
             f"t and q must be 1-D arrays of one length; got shapes {ta.shape} and {qa.shape}"
@@ -97,7 +98,7 @@ def plot_response(
     ax.axhline(0.0, color="0.4", lw=0.8, ls="--", gid="stop")
     ax.plot(ta * 1e3, qa * 1e3, color="C0", lw=1.4, label=label or "q(t)", gid="q")
     if force is not None:
-        fa = np.asarray(force, dtype=np.float64)
+        fa = real_array("force", force, "[N]")
         if fa.shape != ta.shape:
             raise InputError(f"force must have the shape of t {ta.shape}; got {fa.shape}")
         tw = ax.twinx()
@@ -107,7 +108,10 @@ def plot_response(
         tw.tick_params(axis="y", colors="C3")
         tw.set_ylim(bottom=min(0.0, float(fa.min())) * 1.1, top=float(fa.max()) * 3.0 or 1.0)
     if rebound is not None:
-        tr, qr = float(rebound[0]), float(rebound[1])
+        pair = float_array("rebound", rebound, ndims=(1,))
+        if pair.shape != (2,) or np.isnan(pair).any():
+            raise InputError(f"rebound must be (t [s], q [m]), t inf for none; got {rebound!r}")
+        tr, qr = float(pair[0]), float(pair[1])
         if math.isfinite(tr):
             ax.plot([tr * 1e3], [qr * 1e3], "o", color="C1", ms=6, zorder=5, gid="rebound")
             ax.annotate(
@@ -183,16 +187,21 @@ def plot_rebound_vs_speed(
     (2, 'main-shaft speed  [rpm]')
     """
     plt = pyplot()
-    n = np.asarray(rpm, dtype=np.float64).reshape(-1)
+    from ._stop import StopImpact  # at call time: plotting stays out of the model's imports
+
+    instance("model", model, StopImpact)
+    if a_max is not None:
+        a_max = positive("a_max", a_max, "[m]")
+    n = float_array("rpm", rpm, ndims=None).reshape(-1)
     if n.size < 2 or not np.isfinite(n).all() or (n <= 0).any():
         raise InputError("rpm must hold at least two positive speeds [rpm]")
-    phases = np.asarray(phase_deg, dtype=np.float64).reshape(-1)
+    phases = real_array("phase_deg", phase_deg, "[deg]", low=0.0, strict=True).reshape(-1)
     if phases.size < 1:
         raise InputError("phase_deg must hold at least one phase angle [deg]")
     shown = (
         np.array([n.min(), np.median(n), n.max()])
         if responses is None
-        else np.asarray(responses, dtype=np.float64).reshape(-1)
+        else real_array("responses", responses, "[rpm]", low=0.0, strict=True).reshape(-1)
     )
     fig, (left, right) = plt.subplots(
         1, 2, figsize=(11.0, 4.0), layout="constrained", width_ratios=(1.25, 1.0)
@@ -281,6 +290,12 @@ def plot_min_phase(
     >>> ax.get_xlabel()
     'main-shaft speed  [rpm]'
     """
+    rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(1,))
+    # NaN where no phase angle of one turn will do: a gap in the curve.
+    exact = _curve("exact", exact, rpm.shape)
+    linear = None if linear is None else _curve("linear", linear, rpm.shape)
+    if minimum_deg is not None:
+        minimum_deg = finite_number("minimum_deg", minimum_deg, "[deg]")
     plt = pyplot()
     if ax is None:
         _, ax = plt.subplots(figsize=(7.0, 4.0), layout="constrained")
@@ -300,3 +315,11 @@ def plot_min_phase(
         title or "smallest phase angle that keeps the rebound within its limit", fontsize=10
     )
     return ax
+
+
+def _curve(name: str, value: Any, shape: tuple[int, ...]) -> Any:
+    """Angles [deg] at each speed: numbers of the speeds' shape, NaN for none."""
+    a = float_array(name, value, ndims=(1,))
+    if a.shape != shape or np.isinf(a).any():
+        raise InputError(f"{name} must hold one angle [deg] a speed {shape} (NaN: none)")
+    return a

@@ -11,6 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _keyrules, _toml, forces
+from .._arrays import count, instance, positive
 from .._errors import InputError
 from .._keyrules import Rule
 from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
@@ -83,6 +84,15 @@ class LinkageMechanism(Unbounded):
     _forces: dict[int, forces.Kinetostatics] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("linkage", self.linkage, Linkage)
+        instance("output", self.output, str)
+        object.__setattr__(self, "points", count("points", self.points, low=2, what="angles"))
+        if self.max_acceleration is not None:
+            a = positive("max_acceleration", self.max_acceleration, "[m/s²]")
+            object.__setattr__(self, "max_acceleration", a)
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> LinkageMechanism:
@@ -176,6 +186,7 @@ class LinkageMechanism(Unbounded):
         >>> k.torque_parts.shape, k.pairs[0]
         ((3, 360), ('A', 'frame'))
         """
+        samples = count("samples", samples, low=2, what="angles")
         if self.dynamics is None:
             return None
         if samples not in self._forces:
@@ -223,7 +234,7 @@ class LinkageMechanism(Unbounded):
         >>> bool(m.mechanisms["knife"].solve(73).ok.all())
         True
         """
-        n = self.points if points is None else points
+        n = self.points if points is None else count("points", points, low=2, what="angles")
         if n in self._solved:
             return self._solved[n][0]
         angles = self.linkage.drawn_angle + np.linspace(0.0, 2.0 * math.pi, n)
@@ -259,7 +270,7 @@ class LinkageMechanism(Unbounded):
         >>> v > 0 and a > 0
         True
         """
-        n = self.points if points is None else points
+        n = self.points if points is None else count("points", points, low=2, what="angles")
         if n in self._solved:
             return self._solved[n][1]
         sol = self.solve(n)
@@ -355,6 +366,7 @@ class LinkageMechanism(Unbounded):
         >>> r.solution.xy.shape[0] == m.angle_points
         True
         """
+        instance("ctx", ctx, Context)
         vmax, amax = self.peaks()
         return LinkageResult(self, ctx, self.solve(), vmax, amax, self.kinetostatics())
 

@@ -243,6 +243,12 @@ class Linkage:
         >>> cm.Linkage(pts, [("A", "B")], ["A"], ("A", "B")).length("A", "B")
         5.0
         """
+        for name, p in (("a", a), ("b", b)):
+            if not isinstance(p, str) or p not in self._points:
+                raise InputError(
+                    f"{name} = {p!r} is not a point of the linkage; its points: "
+                    f"{', '.join(self._names)}"
+                )
         key = (a, b) if (a, b) in self._lengths else (b, a)
         if key in self._lengths:
             return self._lengths[key]

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
@@ -121,6 +122,8 @@ def _trace_names(trace: Any, solution: LinkageSolution) -> list[str]:
     if trace is None:
         return []
     names = [trace] if isinstance(trace, str) else trace
+    if isinstance(names, Mapping):  # its keys are no list of names
+        raise InputError(f"trace must be a list of point names; got {trace!r}")
     try:
         names = list(names)
     except TypeError:

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import SPEED_CAP_RPM, speeds_rpm, threads_arg
+from .._arrays import SPEED_CAP_RPM, flag, instances, speeds_rpm, threads_arg
 from .._errors import InfeasibleError
 from .._kind import Array, BoundLaw, Mechanism, Proportional
 from .._units import DEG_PER_S_PER_RPM
@@ -28,6 +28,13 @@ if TYPE_CHECKING:
     from ._model import Machine
 
 __all__ = ["SpeedSweep", "speed_limits", "speed_sweeps"]
+
+
+def _machines(value: Sequence[Machine]) -> list[Machine]:
+    """``machines`` as a list of Machine, or a TypeError naming the bad one."""
+    from ._model import Machine
+
+    return instances("machines", value, Machine)
 
 
 # --------------------------------------------------------------------- results
@@ -235,7 +242,9 @@ def speed_sweeps(
     >>> round(float(a.limiting_deg[0]), 3), round(float(b.limiting_deg[0]), 3)
     (264.971, 275.0)
     """
+    machines = _machines(machines)
     n = speeds_rpm("rpm", rpm)
+    linear = flag("linear", linear)
     threads = threads_arg(n_threads)
     out: list[SpeedSweep | None] = [None] * len(machines)
     S = n.size
@@ -303,6 +312,7 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
     >>> [round(x.rpm, 2) for x in both]
     [421.37, 453.81]
     """
+    machines = _machines(machines)
     threads = threads_arg(n_threads)
     out: list[SpeedLimit | None] = [None] * len(machines)
     cache: dict[int, float] = {}  # the mechanisms' own limits (_own_limits)

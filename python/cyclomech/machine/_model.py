@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import difflib
 import math
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -13,7 +14,15 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
-from .._arrays import SPEED_CAP_RPM, count, finite_number, real, speeds_rpm, threads_arg
+from .._arrays import (
+    SPEED_CAP_RPM,
+    count,
+    finite_number,
+    instance,
+    speed_rtol,
+    speeds_rpm,
+    threads_arg,
+)
 from .._errors import InfeasibleError, InputError
 from .._kind import Array, Bound, BoundLaw, Mechanism, TableContext
 from ..cyclogram import (
@@ -136,7 +145,7 @@ class Machine:
             nominal_rpm = float(speeds_rpm("nominal_rpm", nominal_rpm)[0])
         self.name = str(name)
         self.cyclogram = cyclogram
-        self.mechanisms = dict(mechanisms)
+        self.mechanisms = dict(instance("mechanisms", mechanisms, Mapping))
         self.speed_range_rpm = (float(rng[0]), float(rng[1]))
         self.speed_points = count("speed_points", speed_points, low=2, high=1_000_000)
         self.nominal_rpm = nominal_rpm
@@ -220,6 +229,7 @@ class Machine:
         >>> cm.Machine.from_dict(m.data).speed_points
         61
         """
+        instance("source", source, (str, os.PathLike))
         if isinstance(data, Mapping) and "machine" not in data:
             other = _other_command(data)
             if other:
@@ -404,7 +414,7 @@ class Machine:
         data = dict(self.data)
         data["mechanism"] = dict(data.get("mechanism", {}))
         touched: set[str] = set()
-        for path, value in values.items():
+        for path, value in instance("values", values, Mapping).items():
             head = path.split(".", 1)[0]
             if head not in touched:
                 if head == "machine":
@@ -631,7 +641,7 @@ class Machine:
         >>> round(cm.Machine.example().cyclogram_speed_limit(), 3)
         421.37
         """
-        rtol = _rtol(rtol)
+        rtol = speed_rtol(rtol)
         threads = threads_arg(n_threads)
         at = _bounds_at([self.bound_laws(n_threads=threads)])
         return float(self._network.speed_limits(at, 1, self._search_start(), threads, rtol)[0])
@@ -833,19 +843,6 @@ def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     return None
 
 
-def _rtol(value: Any) -> float:
-    """A relative tolerance of a speed search: finite, in [1e-14, 0.5] (below, the
-    64-speed refinement cannot shrink its bracket in float64; at 1 and above it
-    would stop at once, at the search's floor)."""
-    try:
-        v = real(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if not 1e-14 <= v <= 0.5:
-        raise InputError(f"rtol = {value!r} must be a relative tolerance in [1e-14, 0.5]")
-    return v
-
-
 def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
     """The table and key a sweep parameter ``<mechanism>.<key>`` or
     ``machine.<key>`` names in the parsed file."""
@@ -891,6 +888,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     Traceback (most recent call last):
     cyclomech._errors.InputError: <example>: parameter 'lifter.preloud_m': [mechanism.lifter] ...
     """
+    instance("machine", machine, Machine)
+    instance("path", path, str)
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
     _, key = _split_key(path, dict(machine.data))  # a copy: it may add a [machine] table

@@ -24,7 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from .._errors import CyclomechWarning, InfeasibleError, InputError
+from .._arrays import flag, instance
+from .._errors import CyclomechWarning, InfeasibleError
 from .._files import folder_target, whole
 from .._json import jsonable
 from .._kind import Context, MechanismResult
@@ -152,7 +153,9 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     >>> round(r.limit.rpm, 3), round(r.optimum.objective, 3)    # 6 · 421.37 rpm · 0.1 s
     (421.37, 252.822)
     """
-    m = machine
+    from ._model import Machine
+
+    m = instance("machine", machine, Machine)
     steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms"]
     seconds: dict[str, float] = {}
     with progress_bar(len(steps), m.name, progress) as bar:
@@ -700,11 +703,8 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     >>> sorted(p.name for p in write_report(r, tempfile.mkdtemp(), figures=False))
     ['operations.csv', 'report.html', 'results.json', 'speed_sweep.csv']
     """
-    if not isinstance(result, MachineResult):
-        raise InputError(
-            f"result must be the MachineResult of cyclomech.machine.analyze; got "
-            f"{type(result).__name__}"
-        )
+    instance("result", result, MachineResult)
+    figures = flag("figures", figures)
     folder = folder_target("out", out)  # "" would fill the current folder: refused
     folder.mkdir(parents=True, exist_ok=True)
     # results.json and report.html are written last, and an earlier run's removed

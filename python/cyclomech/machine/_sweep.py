@@ -31,7 +31,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import check_bytes, plain_pages, speeds_rpm
+from .._arrays import check_bytes, file_path, instance, plain_pages, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._files import file_target, partial, whole
 from .._progress import progress as progress_bar
@@ -236,7 +236,7 @@ class SweepResult:
         >>> back.columns["fits"].tolist()
         [True, False]
         """
-        p = Path(path)
+        p = file_path("path", path)
         what = "a sweep file written by SweepResult.write (.parquet or .npz)"
         try:
             if p.suffix == ".parquet":
@@ -306,7 +306,7 @@ def parse_range(text: str, what: str) -> npt.NDArray[np.float64]:
     >>> parse_range("200:500:4", "--speed").tolist()
     [200.0, 300.0, 400.0, 500.0]
     """
-    parts = text.split(":")
+    parts = instance("text", text, str).split(":")
     try:
         if len(parts) == 1:
             vals = np.array([float(parts[0])])
@@ -578,6 +578,7 @@ def sweep(
     for flag, value in (("batch", batch), ("shaft", shaft)):
         if not isinstance(value, bool):
             raise InputError(f"{flag} must be True or False; got {value!r}")
+    instance("grid", grid, Mapping)
     names = [k for k in grid if k != SPEED]
     axes = [_axis(k, grid[k]) for k in names]
     speeds = (

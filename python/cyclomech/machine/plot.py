@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
+from .._arrays import finite_number, instance
 from .._plotting import CRITICAL_COLOR, pyplot
 
 if TYPE_CHECKING:
@@ -75,6 +76,13 @@ def plot_speed_sweep(
     >>> [ax.get_ylabel() for ax in fig.axes]
     ['limiting operation  [deg]', 'its time  [ms]', 'smallest phase angle  [deg]']
     """
+    from ._many import SpeedSweep  # at call time, as pyplot: importing stays light
+
+    instance("sweep", sweep, SpeedSweep)
+    if linear is not None:
+        instance("linear", linear, SpeedSweep)
+    if limit_rpm is not None:  # +inf: no limit (above the speed cap)
+        limit_rpm = finite_number("limit_rpm", limit_rpm, "[rpm]", low=0.0, inf=True)
     plt = pyplot()
     stops = dict(sweep.min_phase_deg)
     rows = 3 if stops else 2

@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import float_array, out_array, positive, threads_arg
+from .._arrays import float_array, instance, out_array, positive, real_array, threads_arg
 from .._errors import InputError
 
 __all__ = ["NAMES", "MotionLaw", "TwoPeriodLaw", "law", "polynomial", "two_period"]
@@ -60,6 +60,7 @@ class MotionLaw:
     def __init__(self, name: str, form: str, coeffs: tuple[float, ...] | None = None) -> None:
         # The form is checked here too: any other string was the half law, silently.
         form = _form(form)
+        instance("name", name, str)
         self.name = name
         self.form = form
         self.coeffs = coeffs
@@ -67,7 +68,8 @@ class MotionLaw:
         if coeffs is None:
             self._kernel = _core.MotionLaw.named(name, rise)
         else:
-            self._kernel = _core.MotionLaw.polynomial(np.asarray(coeffs, dtype=np.float64), rise)
+            c = real_array("coeffs", coeffs, "(polynomial coefficients)", ndims=(1,))
+            self._kernel = _core.MotionLaw.polynomial(c, rise)
 
     @property
     def dz_max(self) -> float:
@@ -388,6 +390,25 @@ class TwoPeriodLaw:
     angle: float
     stroke1: float
     angle1: float
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only by two_period: the same rule for its numbers
+        # (a NaN stroke would reach the kernel and give NaN positions).
+        instance("law1", self.law1, MotionLaw)
+        instance("law2", self.law2, MotionLaw)
+        p2 = positive("stroke", self.stroke, "[m]")
+        a2 = positive("angle", self.angle, "[rad]")
+        p1 = positive("stroke1", self.stroke1, "[m]")
+        a1 = positive("angle1", self.angle1, "[rad]")
+        if a2 > 2 * math.pi * (1 + 1e-12):
+            raise InputError(f"angle = {self.angle!r} [rad] must not exceed one crank turn, 2π")
+        if not (p1 < p2 and a1 < a2):
+            raise InputError(
+                f"stroke1 = {p1!r} m and angle1 = {a1!r} rad must lie below stroke = {p2!r} m "
+                f"and angle = {a2!r} rad"
+            )
+        for k, v in (("stroke", p2), ("angle", a2), ("stroke1", p1), ("angle1", a1)):
+            object.__setattr__(self, k, v)
 
     @property
     def _kernel(self) -> Any:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from .._arrays import real
 from .._errors import InputError
 from .._plotting import (
     CRITICAL_COLOR,
@@ -155,7 +156,7 @@ def plot_press_criteria(
             f"sweep must be a cyclomech.press.PressGrid (cm.press.design_grid(...)); "
             f"got {type(sweep).__name__}"
         )
-    if criterion not in _CRITERION_SHOWN:
+    if not isinstance(criterion, str) or criterion not in _CRITERION_SHOWN:
         raise InputError(
             f"criterion = {criterion!r} is not known; criteria are {', '.join(_CRITERION_SHOWN)}"
         )
@@ -189,7 +190,7 @@ def plot_press_criteria(
         grid_phi = sweep.axes["phi0"]
         if phi0 is not None:
             try:
-                target = float(phi0)
+                target = real(phi0)  # not float(): "0.5" and True are not angles
             except (TypeError, ValueError):
                 raise InputError(f"phi0 must be an angle [rad] or None; got {phi0!r}") from None
             if not math.isfinite(target):

@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import check_bytes, finite_number, float_array, threads_arg
+from .._arrays import check_bytes, count, finite_number, flag, float_array, threads_arg
 from .._errors import InputError
 from .._progress import progress as progress_bar
 from ._drive import (
@@ -118,7 +118,17 @@ class PressGrid:
     def _index(self, index: Any) -> tuple[Any, ...]:
         """A grid index as a tuple of per-axis indices: a flat index (a scalar)
         unravelled over the grid's shape, else the index's own entries."""
-        return np.unravel_index(index, self.shape) if np.ndim(index) == 0 else tuple(index)
+        size = int(np.prod(self.shape))
+        if np.ndim(index) == 0:
+            i = count("index", index, low=0, high=size - 1, what="a flat index over the grid")
+            return np.unravel_index(i, self.shape)
+        idx = tuple(index)
+        if len(idx) != len(self.axes):
+            raise InputError(f"index {index!r} must have {len(self.axes)} entries")
+        return tuple(
+            count(f"index[{k}]", v, low=0, high=n - 1)
+            for k, (v, n) in enumerate(zip(idx, self.shape, strict=True))
+        )
 
     def design(self, index: tuple[int, ...] | int) -> GearLeverPress:
         """The design at a grid index.
@@ -310,7 +320,9 @@ def design_grid(
     inner = n // len(flat[lead])
     step = max(1, _CHUNK // max(inner, 1))
     # By default a bar only for a grid of several calls, on a terminal.
-    show = (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else bool(progress)
+    show = (
+        (n > 2 * _CHUNK and sys.stderr.isatty()) if progress is None else flag("progress", progress)
+    )
     bar = progress_bar(n, "press.design_grid", show)
     threads = threads_arg(n_threads)
     check_bytes(

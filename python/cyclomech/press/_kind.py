@@ -11,6 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _keyrules, _toml
+from .._arrays import finite_number, instance, positive
 from .._errors import InputError
 from .._keyrules import Rule
 from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
@@ -119,6 +120,20 @@ class PressMechanism(Unbounded):
     slider_mass: float = 0.0
     rod_mass: float = 0.0
     phase: Phase = field(default_factory=Phase)
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("press", self.press, GearLeverPress)
+        if self.k_Sp is not None:
+            k_Sp = positive("k_Sp", self.k_Sp, "(a fraction of the stroke, in (0, 1])")
+            if k_Sp > 1.0:
+                raise InputError(f"k_Sp = {k_Sp!r} must lie in (0, 1] (a fraction of the stroke)")
+            object.__setattr__(self, "k_Sp", k_Sp)
+        for k, unit in (("working_stroke", "[m]"), ("max_V_np", "[m/s]")):
+            if getattr(self, k) is not None:
+                object.__setattr__(self, k, positive(k, getattr(self, k), unit))
+        for k in ("slider_mass", "rod_mass"):
+            object.__setattr__(self, k, finite_number(k, getattr(self, k), "[kg]", low=0.0))
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> PressMechanism:
@@ -308,7 +323,9 @@ class PressMechanism(Unbounded):
         0.1276
         """
         return self.press.criteria(
-            omega=float(rpm) * RAD_PER_S_PER_RPM, k_Sp=self.k_Sp, working_stroke=self.working_stroke
+            omega=positive("rpm", rpm, "[rpm]") * RAD_PER_S_PER_RPM,
+            k_Sp=self.k_Sp,
+            working_stroke=self.working_stroke,
         )
 
     def speed_limit_rpm(self) -> float:
@@ -384,6 +401,7 @@ class PressMechanism(Unbounded):
         >>> round(r.criteria.S_n, 4)
         0.1276
         """
+        instance("ctx", ctx, Context)
         return PressResult(self, ctx, self.criteria(ctx.nominal_rpm), self.crank_torque())
 
 

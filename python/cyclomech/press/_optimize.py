@@ -236,6 +236,10 @@ def optimize(
     """
     from scipy.optimize import minimize
 
+    if isinstance(objectives, str) or not isinstance(objectives, Sequence):
+        raise InputError(
+            f"objectives must be a sequence of names of OBJECTIVES; got {objectives!r}"
+        )
     objectives = tuple(objectives)
     for o in objectives:
         if o not in OBJECTIVES:

@@ -12,6 +12,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _keyrules, _toml
+from .._arrays import finite_number, instance, positive, speeds_rpm
 from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import CRITERIA, GearLeverPress, _stroke
@@ -123,6 +124,18 @@ class PressStudy:
     grid: dict[str, npt.NDArray[np.float64]] | None = None
     limits: dict[str, float] = field(default_factory=dict)
     name: str = ""
+
+    def __post_init__(self) -> None:
+        # One rule for every public number (issue 31): rpm = NaN would give ω = NaN
+        # and rpm = -40 a backwards crank, silently.
+        instance("press", self.press, GearLeverPress)
+        rpm = float(speeds_rpm("rpm", finite_number("rpm", self.rpm, "[rpm]"))[0])
+        object.__setattr__(self, "rpm", rpm)
+        if self.k_Sp is not None:
+            object.__setattr__(self, "k_Sp", positive("k_Sp", self.k_Sp, "(a fraction)"))
+        if self.working_stroke is not None:
+            ws = positive("working_stroke", self.working_stroke, "[m]")
+            object.__setattr__(self, "working_stroke", ws)
 
     @property
     def omega(self) -> float:

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number, float_array
+from .._arrays import finite_number, float_array, positive, real_array
 from .._errors import InputError
 
 if TYPE_CHECKING:
@@ -139,7 +139,7 @@ class DeformationForce:
         >>> DeformationForce([0.001, 0.002], [10.0, 20.0]).at([0.0, 0.0015]).tolist()
         [0.0, 15.0]
         """
-        x = np.asarray(s, dtype=np.float64)
+        x = real_array("s", s, "[m]")
         return np.interp(x, self.s, self.force, left=0.0, right=0.0)
 
     @property
@@ -177,6 +177,7 @@ class DeformationForce:
         cyclomech._errors.InputError: s[1] = 0.02 m lies above the working stroke: the force
         diagram's heights above BDC must lie in [0, 0.0128] m (S_p = 0.0128 m)
         """
+        S_p = positive("S_p", S_p, "[m]")
         top = S_p * (1.0 + STROKE_TOL)
         bad = np.flatnonzero(self.s > top)
         if bad.size:

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._arrays import count
+from .._arrays import count, flag, real
 from .._errors import InputError
 from .._plotting import (
     DRIVER_COLOR,
@@ -174,13 +174,13 @@ def plot_press(
 
     press = _press_arg(press)
     try:
-        a0 = float(alpha)
+        a0 = real(alpha)  # not float(): "0.5" and True are not angles
     except (TypeError, ValueError):
         raise InputError(f"alpha must be a crank angle [rad]; got {alpha!r}") from None
     if not math.isfinite(a0):
         raise InputError(f"alpha = {alpha!r} must be a finite crank angle [rad]")
     n = count("n", n, low=8)
-    show_motion = bool(show_motion)
+    show_motion = flag("show_motion", show_motion)
     given = axes_arg(
         ax,
         (2,) if show_motion else (1,),

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .. import _keyrules, _toml
-from .._arrays import speeds_rpm
+from .._arrays import count, instance, positive, speeds_rpm
 from .._errors import InfeasibleError, InputError
 from .._keyrules import Rule
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
@@ -90,6 +90,15 @@ class TransferMechanism(Unbounded):
     pockets_p: int
     max_jerk: float | None = None
     max_acceleration: float | None = None
+
+    def __post_init__(self) -> None:
+        # Built directly too, not only from a file: the same rule for its numbers.
+        instance("path", self.path, TransferPath)
+        for k in ("pockets_t", "pockets_p"):
+            object.__setattr__(self, k, count(k, getattr(self, k), high=10_000, what="pockets"))
+        for k, unit in (("max_jerk", "[m/s³]"), ("max_acceleration", "[m/s²]")):
+            if getattr(self, k) is not None:
+                object.__setattr__(self, k, positive(k, getattr(self, k), unit))
 
     @classmethod
     def from_table(
@@ -314,6 +323,7 @@ class TransferMechanism(Unbounded):
         >>> r.max_jerk <= m.mechanisms["line"].max_jerk * (1 + 1e-9)
         True
         """
+        instance("ctx", ctx, Context)
         a, j = self.peaks(ctx.nominal_rpm)
         return TransferResult(self, ctx, self.speeds(ctx.nominal_rpm), a, j)
 

@@ -12,7 +12,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import available_bytes, check_bytes, count, finite_number, threads_arg
+from .._arrays import available_bytes, check_bytes, count, finite_number, flag, threads_arg
 from .._errors import InfeasibleError, InputError
 from ._checks import _LENGTH_RANGE, Array, _finite_array, _point, _radius, _speeds
 from ._quintic import smooth_k_b, smooth_transition
@@ -317,7 +317,7 @@ class TransferPath:
         self.R_p = _radius("R_p", R_p)
         self.centre_t = _point("centre_t", centre_t)
         self.centre_p = _point("centre_p", centre_p)
-        self.ccw = bool(ccw)
+        self.ccw = flag("ccw", ccw)
         self.lead_deg = finite_number(
             "lead_deg", lead_deg, "degrees of pitch circle before and after", low=0.0
         )
