@@ -366,15 +366,11 @@ def _finite(result: Any, depth: int = 0) -> bool:
 
 
 _FORCES = "forces/ is being reworked on another branch"
-_READERS = "the kinds' table readers (another branch): a ctx or table of the wrong type"
-_HOT_PATH = "the vectorised law of the speed sweeps, documented as unchecked"
-_NO_LIMIT = "an unknown mechanism name reads as no limit (inf)"
 
 #: Public callables that still take some bad value without a CyclomechError (issue
 #: 31, items 10 and 11, left for later), and why: each must still have a finding,
 #: so that a fix strikes it from here.
 KNOWN_GAPS: dict[str, str] = {
-    "cyclomech.cam.CamMechanism.from_table": _READERS,
     "cyclomech.forces.Kinetostatics.from_values": _FORCES,
     "cyclomech.forces.LinkMass": _FORCES,
     "cyclomech.forces.LinkTorque": _FORCES,
@@ -383,13 +379,6 @@ KNOWN_GAPS: dict[str, str] = {
     "cyclomech.forces.check_dynamics": _FORCES,
     "cyclomech.forces.dynamics_from_table": _FORCES,
     "cyclomech.forces.kinetostatics": _FORCES,
-    "cyclomech.impact.CamStop.from_table": _READERS,
-    "cyclomech.impact.CamStop.sweep_refuses": _READERS,
-    "cyclomech.linkage.LinkageMechanism.from_table": _READERS,
-    "cyclomech.machine.Context.own_limit_rpm": _NO_LIMIT,
-    "cyclomech.machine.Proportional.evaluate": _HOT_PATH,
-    "cyclomech.press.PressMechanism.from_table": _READERS,
-    "cyclomech.transfer.TransferMechanism.from_table": _READERS,
 }
 
 #: (callable, argument, bad-value kind) whose acceptance is the documented meaning.
@@ -398,6 +387,7 @@ ALLOWED = {
     ("cyclomech.impact.StopImpact.phase_per_rpm", "v_star", "inf"),
     # a slope of +inf is a bound no speed meets (a stop whose v* is 0)
     ("cyclomech.machine.Proportional", "per_rpm", "inf"),
+    ("cyclomech.machine.Proportional.evaluate", "per_rpm", "inf"),
     # NaN: no phase angle of one turn will do at that speed (a gap in the curve)
     ("cyclomech.plot.plot_min_phase", "exact", "nan entry"),
     ("cyclomech.plot.plot_min_phase", "linear", "nan entry"),

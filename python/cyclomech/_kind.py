@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import flag, instances, positive, real_array, threads_arg
+from ._arrays import flag, instance, instances, positive, real_array, threads_arg
 from ._errors import InputError
 from ._proportional import Proportional
 
@@ -269,6 +269,9 @@ class Context:
         speed sweeps' ``min_phase_deg``), exact; default an empty dict.
     linear_bounds : Mapping of str to ndarray, optional
         The same, linearised; default an empty dict.
+    mechanisms : tuple of str, optional
+        The machine's mechanisms by name (what :meth:`own_limit_rpm` may be
+        asked); default empty (any name).
 
     Examples
     --------
@@ -286,6 +289,7 @@ class Context:
     cyclogram: Cyclogram
     bounds: Mapping[str, Array] = field(default_factory=dict)
     linear_bounds: Mapping[str, Array] = field(default_factory=dict)
+    mechanisms: tuple[str, ...] = ()
 
     def own_limit_rpm(self, name: str) -> float:
         """A mechanism's own speed limit [rpm] as the machine's speed limit holds it.
@@ -302,6 +306,14 @@ class Context:
         float
             Its own speed limit [rpm] (inf where it has none).
 
+        Raises
+        ------
+        TypeError
+            If ``name`` is not a string.
+        InputError
+            If ``name`` is not one of :attr:`mechanisms` (when the context lists
+            them): a misspelt name would otherwise read as "no limit".
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -310,6 +322,12 @@ class Context:
         >>> round(r.mechanisms["knife"].ctx.own_limit_rpm("knife"), 2)
         76.83
         """
+        instance("name", name, str)
+        if self.mechanisms and name not in self.mechanisms:
+            raise InputError(
+                f"name = {name!r} is not a mechanism of the machine; its mechanisms are "
+                f"{', '.join(repr(k) for k in self.mechanisms)}"
+            )
         return self.limit.mechanisms_rpm.get(name, float("inf"))
 
 

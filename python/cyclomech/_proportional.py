@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import finite_number
+from ._arrays import broadcast, finite_number, float_array, real_array
+from ._errors import InputError
 
 #: A float64 NumPy array (speeds [rpm], angles [deg]).
 Array = npt.NDArray[np.float64]
@@ -50,19 +51,26 @@ class Proportional:
 
     @staticmethod
     def evaluate(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
-        """The law n·per_rpm [deg], at least 1e-9, NaN over 360 (broadcast; no checks).
+        """The law n·per_rpm [deg], at least 1e-9, NaN over 360 (broadcast).
 
         Parameters
         ----------
         rpm : array_like of float
-            The speeds n [rpm].
+            The speeds n [rpm], each finite and > 0.
         per_rpm : array_like of float
-            The smallest angle per unit of speed [deg/rpm], broadcast against ``rpm``.
+            The smallest angle per unit of speed [deg/rpm], each ≥ 0 (+inf: no
+            speed will do), broadcast against ``rpm``.
 
         Returns
         -------
         ndarray of float
             The smallest angles [deg] (NaN over 360°), of the broadcast shape.
+
+        Raises
+        ------
+        InputError
+            If a speed is not a finite number > 0, a slope is NaN, negative or not
+            a number, or the shapes do not broadcast.
 
         Examples
         --------
@@ -71,8 +79,27 @@ class Proportional:
         >>> Proportional.evaluate(50.0, 1e307).tolist()       # past the float range
         nan
         """
-        # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
-        # over 360°: NaN like any other, not a warning.
-        with np.errstate(over="ignore"):
-            t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
-        return np.where(t <= 360.0, t, np.nan)
+        n = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True)
+        k = float_array("per_rpm", per_rpm, tuple(range(33))).reshape(np.shape(per_rpm))
+        bad = np.isnan(k) | (k < 0.0)
+        if bad.any():
+            i = int(np.argmax(bad.ravel()))
+            raise InputError(
+                f"per_rpm entry {i} = {k.ravel()[i]!r} must be ≥ 0 [deg/rpm] (inf: no speed)"
+            )
+        return evaluate(*broadcast(rpm=n, per_rpm=k))
+
+
+def evaluate(rpm: Array, per_rpm: Array) -> Array:
+    """:meth:`Proportional.evaluate` without its checks, for the machine's sweeps,
+    whose slopes were checked when their laws were built (one pass less over
+    arrays of a million speeds).
+
+    >>> evaluate(np.array([100.0]), np.array([0.1])).tolist()
+    [10.0]
+    """
+    # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
+    # over 360°: NaN like any other, not a warning.
+    with np.errstate(over="ignore"):
+        t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
+    return np.where(t <= 360.0, t, np.nan)

@@ -153,6 +153,7 @@ class CamMechanism(Unbounded):
         >>> [c for c in m.mechanisms["lifter cam"].criteria if c[0] == 0]
         [(0, 'pressure_angle'), (0, 'undercut'), (0, 'contact_stress'), (0, 'vibration')]
         """
+        instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         design = CamDesign.from_table(
             table, where, source=ctx.source, extra=frozenset({"kind"}), arcs=True

@@ -23,7 +23,7 @@ from .._arrays import (
     speed_rtol,
 )
 from .._errors import InputError
-from .._kind import Proportional
+from .._proportional import evaluate as proportional_law
 from ._graph import max_difference
 from ._lp import _LP
 from ._model import Arc, Constraint, Cyclogram, minimum_angles
@@ -458,7 +458,7 @@ class SpeedNetwork:
             rows = np.tile(speeds, per.shape[0])
             reps = speeds.size
             t_bound = [
-                Proportional.evaluate(rows, np.repeat(per[:, k], reps)) for k in range(per.shape[1])
+                proportional_law(rows, np.repeat(per[:, k], reps)) for k in range(per.shape[1])
             ]
             value, fits, named, mins = self.solve(rows, t_bound, n_threads)
             return value, fits, named, mins[:, self.bound_op].reshape(rows.size, len(self.bound_op))
@@ -572,7 +572,7 @@ class SpeedNetwork:
                 rows = rpm.reshape(-1)
                 m = rpm.shape[1]
                 return [
-                    Proportional.evaluate(rows, np.repeat(per[designs, k], m))
+                    proportional_law(rows, np.repeat(per[designs, k], m))
                     for k in range(per.shape[1])
                 ]
 

@@ -113,6 +113,7 @@ class CamStop:
         >>> CamStop.sweep_refuses({"stroke_m": 0.009})
         {}
         """
+        _toml.must_be_table(table, None, "table")
         if "cam" not in table:
             return {}
         return {k: f"it comes from the cam {table['cam']!r}" for k in ("law", "stroke_m")}
@@ -182,6 +183,7 @@ class CamStop:
         >>> CamStop.from_table("lifter", spec, ctx).phase_deg.tolist()
         [20.0, 30.0, 40.0, 50.0, 60.0]
         """
+        instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         _toml.require(table, ("arc", "a_max_m"), where)

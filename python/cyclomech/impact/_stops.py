@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import float_array, instances, positive, threads_arg, tolerance
 from .._errors import InputError
-from .._kind import Proportional
+from .._proportional import evaluate as proportional_law
 from ._checks import Array, _positive_array
 from ._contact import _restitution_damping
 from ._response import first_rebound
@@ -292,4 +292,4 @@ def min_phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
     if bad.any():
         v = k.reshape(-1)[int(np.argmax(bad.reshape(-1)))]
         raise InputError(f"per_rpm = {float(v)!r} must be finite and ≥ 0 [deg/rpm]")
-    return Proportional.evaluate(n, k)
+    return proportional_law(n, k)

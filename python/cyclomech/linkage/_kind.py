@@ -133,6 +133,7 @@ class LinkageMechanism(Unbounded):
         >>> LinkageMechanism.from_table("knife", m.data["mechanism"]["knife"], ctx).points
         73
         """
+        instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         _toml.check_keys(table, set(cls.keys), ctx.source, where)
         extra = {"kind", "max_acceleration_m_per_s2", "phase", *forces.DYNAMICS_KEYS}

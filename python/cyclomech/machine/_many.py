@@ -16,6 +16,7 @@ import numpy.typing as npt
 from .._arrays import SPEED_CAP_RPM, flag, instances, speeds_rpm, threads_arg
 from .._errors import InfeasibleError
 from .._kind import Array, BoundLaw, Mechanism, Proportional
+from .._proportional import evaluate as proportional_law
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import (
     SPEED_FLOOR_RPM,
@@ -181,7 +182,7 @@ def _bounds_at(laws: Sequence[Sequence[BoundLaw]]) -> BoundsAt:
         out = []
         for k in range(K):
             if prop[k]:
-                out.append(Proportional.evaluate(rows, np.repeat(slopes[k][designs], m)))
+                out.append(proportional_law(rows, np.repeat(slopes[k][designs], m)))
             else:
                 # Designs that share a law (a mechanism the variants did not change)
                 # are one call over all their speeds.

@@ -196,6 +196,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
             cyclogram=m.cyclogram,
             bounds=sw.min_phase_deg,
             linear_bounds=sw_lin.min_phase_deg,
+            mechanisms=tuple(m.mechanisms),
         )
         results = timed(
             "mechanisms", lambda: {k: mech.analyze(ctx) for k, mech in m.mechanisms.items()}

@@ -182,6 +182,7 @@ class PressMechanism(Unbounded):
         >>> PressMechanism.from_table("drive", m.data["mechanism"]["drive"], ctx).max_V_np
         0.005
         """
+        instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         if ("k_Sp" in table) == ("working_stroke_m" in table):

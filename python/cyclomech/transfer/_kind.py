@@ -142,6 +142,7 @@ class TransferMechanism(Unbounded):
         >>> TransferMechanism.from_table("line", m.data["mechanism"]["line"], ctx).max_jerk
         10.0
         """
+        instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         _toml.require(table, ("R_t_m", "R_p_m", "gap_m", "pockets_t", "pockets_p"), where)
