@@ -53,12 +53,18 @@ class LinkMass:
     --------
     kinetostatics : Takes a mapping of links to their ``LinkMass``.
 
+    Raises
+    ------
+    InputError
+        If ``mass_kg`` or ``inertia_kg_m2`` is not a finite number ≥ 0 (a string,
+        a bool, None, NaN, ±inf or a negative number).
+
     Notes
     -----
-    The values are checked when the linkage's forces are built
+    The centre of mass is checked when the linkage's forces are built
     (:func:`kinetostatics`, :func:`check_dynamics`), which raise
-    :class:`~cyclomech.InputError` for a negative mass or inertia, a centre of mass
-    given more than one way or a ``com_point`` not on the link.
+    :class:`~cyclomech.InputError` for a centre of mass given more than one way or
+    a ``com_point`` not on the link.
 
     Examples
     --------
@@ -71,6 +77,12 @@ class LinkMass:
     inertia_kg_m2: float = 0.0
     com_point: str | None = None
     com_offset_m: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        # Each number once, here: the mass of every link the forces are built from.
+        for name, unit in (("mass_kg", "[kg]"), ("inertia_kg_m2", "[kg·m²]")):
+            v = finite_number(name, getattr(self, name), unit, low=0.0)
+            object.__setattr__(self, name, v)
 
 
 def _table(what: str, angle_deg: Any, values: Any, width: int) -> tuple[Array | None, Array]:
@@ -333,9 +345,7 @@ def _build(
     for b, k in enumerate(moving):
         ln = links[k]
         lm = given.get(b, LinkMass(0.0))
-        m = finite_number(f"mass of link {'-'.join(ln)}", lm.mass_kg, "[kg]", low=0.0)
-        jz = finite_number(f"inertia of link {'-'.join(ln)}", lm.inertia_kg_m2, "[kg·m²]", low=0.0)
-        body_mass[b], body_inertia[b] = m, jz
+        body_mass[b], body_inertia[b] = lm.mass_kg, lm.inertia_kg_m2  # checked by LinkMass
         com[b] = _com_in_frame(lm, ln, pts)
 
     pmass = np.zeros(len(names))
