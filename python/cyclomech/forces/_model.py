@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, flag, float_array, threads_arg
+from .._arrays import finite_number, flag, float_array, real_array, threads_arg
 from .._errors import InputError
 from ._result import Kinetostatics
 
@@ -181,12 +181,18 @@ class PointLoad:
         ndarray of float, shape (N, 2)
             The force (fx, fy) at each angle [N] (zero outside a table).
 
+        Raises
+        ------
+        InputError
+            If ``angles`` is not a 1-D array of finite real numbers.
+
         Examples
         --------
         >>> PointLoad("C", (-1000.0, 0.0)).at(np.radians([0.0, 90.0])).tolist()
         [[-1000.0, 0.0], [-1000.0, 0.0]]
         """
-        return _evaluate(self.angle_deg, self.force_n, np.degrees(float_array("angles", angles)))
+        deg = np.degrees(real_array("angles", angles, "[rad]", ndims=(1,)))
+        return _evaluate(self.angle_deg, self.force_n, deg)
 
 
 @dataclass(frozen=True, init=False)
@@ -224,8 +230,12 @@ class LinkTorque:
     torque_nm: Array
 
     def __init__(self, link: Sequence[str], torque_nm: Any, angle_deg: Any = None) -> None:
-        if isinstance(link, str) or not all(isinstance(p, str) for p in link):
+        # A number or None is no sequence of names either: an InputError, which a
+        # machine file's reader prefixes with the file, table and key.
+        names = () if isinstance(link, str) or not hasattr(link, "__iter__") else tuple(link)
+        if not names or not all(isinstance(p, str) for p in names):
             raise InputError(f"LinkTorque: link must be its joints' names; got {link!r}")
+        link = names
         a, v = _table(f"torque on {'-'.join(link)}: torque_nm", angle_deg, torque_nm, 1)
         object.__setattr__(self, "link", tuple(link))
         object.__setattr__(self, "angle_deg", a)
@@ -244,13 +254,18 @@ class LinkTorque:
         ndarray of float, shape (N,)
             The torque at each angle [N·m] (zero outside a table).
 
+        Raises
+        ------
+        InputError
+            If ``angles`` is not a 1-D array of finite real numbers.
+
         Examples
         --------
         >>> t = LinkTorque(("B", "C"), [2.0, 4.0], angle_deg=[0.0, 90.0])
         >>> t.at(np.radians([45.0, 180.0])).tolist()
         [3.0, 0.0]
         """
-        deg = np.degrees(float_array("angles", angles))
+        deg = np.degrees(real_array("angles", angles, "[rad]", ndims=(1,)))
         return _evaluate(self.angle_deg, self.torque_nm, deg)[:, 0]
 
 
