@@ -376,9 +376,6 @@ _NO_LIMIT = "an unknown mechanism name reads as no limit (inf)"
 KNOWN_GAPS: dict[str, str] = {
     "cyclomech.cam.CamMechanism.from_table": _READERS,
     "cyclomech.forces.Kinetostatics.from_values": _FORCES,
-    "cyclomech.forces.check_dynamics": _FORCES,
-    "cyclomech.forces.dynamics_from_table": _FORCES,
-    "cyclomech.forces.kinetostatics": _FORCES,
     "cyclomech.impact.CamStop.from_table": _READERS,
     "cyclomech.impact.CamStop.sweep_refuses": _READERS,
     "cyclomech.linkage.LinkageMechanism.from_table": _READERS,

@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, flag, float_array, real_array, threads_arg
+from .._arrays import finite_number, flag, float_array, instance, real_array, threads_arg
 from .._errors import InputError
 from ._result import Kinetostatics
 
@@ -328,7 +328,9 @@ def _build(
     """The Rust force model of ``linkage`` with its masses and gravity, every
     name checked (loads included); (model, point names, link names, guide
     names, links, moving link indices)."""
-    table = linkage.to_dict()
+    from ..linkage import Linkage  # here: the linkage package imports this one
+
+    table = instance("linkage", linkage, Linkage).to_dict()
     names = list(linkage.names)
     idx = {n: i for i, n in enumerate(names)}
     pts = {n: (float(x), float(y)) for n, (x, y) in table["points"].items()}
@@ -364,6 +366,8 @@ def _build(
         com[b] = _com_in_frame(lm, ln, pts)
 
     pmass = np.zeros(len(names))
+    if point_masses is not None and not isinstance(point_masses, Mapping):
+        raise InputError(f"point_masses = {point_masses!r} must map points to masses [kg]")
     for p, m in (point_masses or {}).items():
         if p not in idx:
             raise InputError(f"point_masses: no point {p!r}; the points are {', '.join(names)}")
@@ -490,10 +494,12 @@ def kinetostatics(
     Raises
     ------
     InputError
-        If a link or point named does not exist, a mass is negative, a load is on
-        a ground joint, ``gravity`` is not (gx, gy), the linkage's forces are not
-        statically determinate, or ``angles`` is a solution of another linkage or
-        without analogs.
+        If a link or point named does not exist, a mass is negative, ``masses`` or
+        ``point_masses`` is not a mapping, a load is on a ground joint, ``gravity``
+        is not (gx, gy), the linkage's forces are not statically determinate, or
+        ``angles`` is a solution of another linkage or without analogs.
+    TypeError
+        If ``linkage`` is not a :class:`~cyclomech.Linkage`.
 
     See Also
     --------
@@ -590,6 +596,8 @@ def check_dynamics(
     ------
     InputError
         The error :func:`kinetostatics` would raise.
+    TypeError
+        If ``linkage`` is not a :class:`~cyclomech.Linkage`.
 
     Examples
     --------
