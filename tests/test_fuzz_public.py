@@ -365,7 +365,6 @@ def _finite(result: Any, depth: int = 0) -> bool:
     return True
 
 
-_FORCES = "forces/ is being reworked on another branch"
 _READERS = "the kinds' table readers (another branch): a ctx or table of the wrong type"
 _HOT_PATH = "the vectorised law of the speed sweeps, documented as unchecked"
 _NO_LIMIT = "an unknown mechanism name reads as no limit (inf)"
@@ -375,7 +374,6 @@ _NO_LIMIT = "an unknown mechanism name reads as no limit (inf)"
 #: so that a fix strikes it from here.
 KNOWN_GAPS: dict[str, str] = {
     "cyclomech.cam.CamMechanism.from_table": _READERS,
-    "cyclomech.forces.Kinetostatics.from_values": _FORCES,
     "cyclomech.impact.CamStop.from_table": _READERS,
     "cyclomech.impact.CamStop.sweep_refuses": _READERS,
     "cyclomech.linkage.LinkageMechanism.from_table": _READERS,

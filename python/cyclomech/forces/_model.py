@@ -544,7 +544,7 @@ def kinetostatics(
         n_threads=threads_arg(n_threads),
     )
     pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
-    return Kinetostatics.from_values(
+    return Kinetostatics._from_kernel(  # the kernel's output: checked by its tests, not per call
         sol, values, conditioning, pairs=pairs, guides=tuple(guide_names)
     )
 
