@@ -365,21 +365,10 @@ def _finite(result: Any, depth: int = 0) -> bool:
     return True
 
 
-_FORCES = "forces/ is being reworked on another branch"
-
 #: Public callables that still take some bad value without a CyclomechError (issue
 #: 31, items 10 and 11, left for later), and why: each must still have a finding,
 #: so that a fix strikes it from here.
-KNOWN_GAPS: dict[str, str] = {
-    "cyclomech.forces.Kinetostatics.from_values": _FORCES,
-    "cyclomech.forces.LinkMass": _FORCES,
-    "cyclomech.forces.LinkTorque": _FORCES,
-    "cyclomech.forces.LinkTorque.at": _FORCES,
-    "cyclomech.forces.PointLoad.at": _FORCES,
-    "cyclomech.forces.check_dynamics": _FORCES,
-    "cyclomech.forces.dynamics_from_table": _FORCES,
-    "cyclomech.forces.kinetostatics": _FORCES,
-}
+KNOWN_GAPS: dict[str, str] = {}
 
 #: (callable, argument, bad-value kind) whose acceptance is the documented meaning.
 ALLOWED = {

@@ -8,6 +8,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from .. import _toml
+from .._arrays import instance
 from .._errors import InputError
 from ._model import LinkMass, LinkTorque, PointLoad
 
@@ -68,6 +69,9 @@ def dynamics_from_table(
     InputError
         If a key is unknown or malformed, or (with ``linkage``) names a point or
         link it does not have; the message names ``source``, the table and the key.
+    TypeError
+        If ``table`` is not a mapping or ``linkage`` is not a
+        :class:`~cyclomech.Linkage`.
 
     Examples
     --------
@@ -76,8 +80,12 @@ def dynamics_from_table(
     >>> d["point_masses"], d["loads"][0].force_n.tolist()
     ({'C': 2.0}, [-100.0, 0.0])
     """
-    if not DYNAMICS_KEYS & set(table):
+    if not DYNAMICS_KEYS & set(instance("table", table, Mapping)):
         return None
+    if linkage is not None:
+        from ..linkage import Linkage  # here: the linkage package imports this one
+
+        instance("linkage", linkage, Linkage)
     masses: dict[tuple[str, ...], LinkMass] = {}
     for i, row in enumerate(_rows(table, "mass", where)):
         at = f"{source}: {where} mass[{i}]"

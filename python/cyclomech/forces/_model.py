@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, flag, float_array, threads_arg
+from .._arrays import finite_number, flag, float_array, instance, real_array, threads_arg
 from .._errors import InputError
 from ._result import Kinetostatics
 
@@ -53,12 +53,18 @@ class LinkMass:
     --------
     kinetostatics : Takes a mapping of links to their ``LinkMass``.
 
+    Raises
+    ------
+    InputError
+        If ``mass_kg`` or ``inertia_kg_m2`` is not a finite number ≥ 0 (a string,
+        a bool, None, NaN, ±inf or a negative number).
+
     Notes
     -----
-    The values are checked when the linkage's forces are built
+    The centre of mass is checked when the linkage's forces are built
     (:func:`kinetostatics`, :func:`check_dynamics`), which raise
-    :class:`~cyclomech.InputError` for a negative mass or inertia, a centre of mass
-    given more than one way or a ``com_point`` not on the link.
+    :class:`~cyclomech.InputError` for a centre of mass given more than one way or
+    a ``com_point`` not on the link.
 
     Examples
     --------
@@ -71,6 +77,12 @@ class LinkMass:
     inertia_kg_m2: float = 0.0
     com_point: str | None = None
     com_offset_m: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        # Each number once, here: the mass of every link the forces are built from.
+        for name, unit in (("mass_kg", "[kg]"), ("inertia_kg_m2", "[kg·m²]")):
+            v = finite_number(name, getattr(self, name), unit, low=0.0)
+            object.__setattr__(self, name, v)
 
 
 def _table(what: str, angle_deg: Any, values: Any, width: int) -> tuple[Array | None, Array]:
@@ -169,12 +181,18 @@ class PointLoad:
         ndarray of float, shape (N, 2)
             The force (fx, fy) at each angle [N] (zero outside a table).
 
+        Raises
+        ------
+        InputError
+            If ``angles`` is not a 1-D array of finite real numbers.
+
         Examples
         --------
         >>> PointLoad("C", (-1000.0, 0.0)).at(np.radians([0.0, 90.0])).tolist()
         [[-1000.0, 0.0], [-1000.0, 0.0]]
         """
-        return _evaluate(self.angle_deg, self.force_n, np.degrees(float_array("angles", angles)))
+        deg = np.degrees(real_array("angles", angles, "[rad]", ndims=(1,)))
+        return _evaluate(self.angle_deg, self.force_n, deg)
 
 
 @dataclass(frozen=True, init=False)
@@ -212,8 +230,12 @@ class LinkTorque:
     torque_nm: Array
 
     def __init__(self, link: Sequence[str], torque_nm: Any, angle_deg: Any = None) -> None:
-        if isinstance(link, str) or not all(isinstance(p, str) for p in link):
+        # A number or None is no sequence of names either: an InputError, which a
+        # machine file's reader prefixes with the file, table and key.
+        names = () if isinstance(link, str) or not hasattr(link, "__iter__") else tuple(link)
+        if not names or not all(isinstance(p, str) for p in names):
             raise InputError(f"LinkTorque: link must be its joints' names; got {link!r}")
+        link = names
         a, v = _table(f"torque on {'-'.join(link)}: torque_nm", angle_deg, torque_nm, 1)
         object.__setattr__(self, "link", tuple(link))
         object.__setattr__(self, "angle_deg", a)
@@ -232,13 +254,18 @@ class LinkTorque:
         ndarray of float, shape (N,)
             The torque at each angle [N·m] (zero outside a table).
 
+        Raises
+        ------
+        InputError
+            If ``angles`` is not a 1-D array of finite real numbers.
+
         Examples
         --------
         >>> t = LinkTorque(("B", "C"), [2.0, 4.0], angle_deg=[0.0, 90.0])
         >>> t.at(np.radians([45.0, 180.0])).tolist()
         [3.0, 0.0]
         """
-        deg = np.degrees(float_array("angles", angles))
+        deg = np.degrees(real_array("angles", angles, "[rad]", ndims=(1,)))
         return _evaluate(self.angle_deg, self.torque_nm, deg)[:, 0]
 
 
@@ -301,7 +328,9 @@ def _build(
     """The Rust force model of ``linkage`` with its masses and gravity, every
     name checked (loads included); (model, point names, link names, guide
     names, links, moving link indices)."""
-    table = linkage.to_dict()
+    from ..linkage import Linkage  # here: the linkage package imports this one
+
+    table = instance("linkage", linkage, Linkage).to_dict()
     names = list(linkage.names)
     idx = {n: i for i, n in enumerate(names)}
     pts = {n: (float(x), float(y)) for n, (x, y) in table["points"].items()}
@@ -333,12 +362,12 @@ def _build(
     for b, k in enumerate(moving):
         ln = links[k]
         lm = given.get(b, LinkMass(0.0))
-        m = finite_number(f"mass of link {'-'.join(ln)}", lm.mass_kg, "[kg]", low=0.0)
-        jz = finite_number(f"inertia of link {'-'.join(ln)}", lm.inertia_kg_m2, "[kg·m²]", low=0.0)
-        body_mass[b], body_inertia[b] = m, jz
+        body_mass[b], body_inertia[b] = lm.mass_kg, lm.inertia_kg_m2  # checked by LinkMass
         com[b] = _com_in_frame(lm, ln, pts)
 
     pmass = np.zeros(len(names))
+    if point_masses is not None and not isinstance(point_masses, Mapping):
+        raise InputError(f"point_masses = {point_masses!r} must map points to masses [kg]")
     for p, m in (point_masses or {}).items():
         if p not in idx:
             raise InputError(f"point_masses: no point {p!r}; the points are {', '.join(names)}")
@@ -465,10 +494,12 @@ def kinetostatics(
     Raises
     ------
     InputError
-        If a link or point named does not exist, a mass is negative, a load is on
-        a ground joint, ``gravity`` is not (gx, gy), the linkage's forces are not
-        statically determinate, or ``angles`` is a solution of another linkage or
-        without analogs.
+        If a link or point named does not exist, a mass is negative, ``masses`` or
+        ``point_masses`` is not a mapping, a load is on a ground joint, ``gravity``
+        is not (gx, gy), the linkage's forces are not statically determinate, or
+        ``angles`` is a solution of another linkage or without analogs.
+    TypeError
+        If ``linkage`` is not a :class:`~cyclomech.Linkage`.
 
     See Also
     --------
@@ -513,7 +544,7 @@ def kinetostatics(
         n_threads=threads_arg(n_threads),
     )
     pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
-    return Kinetostatics.from_values(
+    return Kinetostatics._from_kernel(  # the kernel's output: checked by its tests, not per call
         sol, values, conditioning, pairs=pairs, guides=tuple(guide_names)
     )
 
@@ -565,6 +596,8 @@ def check_dynamics(
     ------
     InputError
         The error :func:`kinetostatics` would raise.
+    TypeError
+        If ``linkage`` is not a :class:`~cyclomech.Linkage`.
 
     Examples
     --------

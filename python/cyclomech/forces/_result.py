@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number
+from .._arrays import finite_number, float_array, instance, instances
 from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
 
@@ -69,6 +69,31 @@ def _conditioning(solution: LinkageSolution, kernel: Array) -> Array:
     out = np.where(np.isnan(kernel) | np.isnan(v) | np.isnan(a), np.nan, out)
     dead = (kernel == 0.0) | (solution.singular & solution.ok) | (out < _AT_DEAD_CENTRE)
     return np.where(dead, 0.0, out)
+
+
+def _check_kernel_values(solution: LinkageSolution, values: Array, conditioning: Array) -> None:
+    """The kernel's contract, for values given by hand: ``conditioning`` is ≥ 0
+    (NaN only where the solution's positions or analogs are not), the values
+    finite where the solution is finite and ``conditioning`` > 0."""
+    assert solution.vel is not None and solution.acc is not None
+    given = np.ones(values.shape[1], dtype=bool)
+    for a in (solution.xy, solution.vel, solution.acc):
+        given &= np.isfinite(a).all(axis=tuple(range(1, a.ndim)))
+    bad = given & ~(conditioning >= 0.0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError(
+            f"conditioning[{i}] = {float(conditioning[i])!r} must be ≥ 0 where the solution "
+            "is finite (NaN marks an angle whose positions or analogs are not) [rad]"
+        )
+    bad = ~np.isfinite(values) & (given & (conditioning > 0.0))[None, :, None]
+    if bad.any():
+        i, j, k = (int(x) for x in np.unravel_index(int(np.argmax(bad)), values.shape))
+        raise InputError(
+            f"values[{i}, {j}, {k}] = {float(values[i, j, k])!r} must be finite where the "
+            "solution is finite and conditioning > 0 (the kernel's NaN marks a singular or "
+            "not finite angle)"
+        )
 
 
 @dataclass(frozen=True)
@@ -167,6 +192,19 @@ class Kinetostatics:
             NaN at every dead centre: where only the analogs show one (the kernel's
             values finite), the values are copied with NaN there.
 
+        Raises
+        ------
+        InputError
+            If ``values`` is not of shape (3, N, 1 + G) or (3, N, 1 + G + 2K) (G
+            guides, K pairs) or ``conditioning`` of shape (N,), either holds other
+            than real numbers, ``conditioning`` is negative or NaN where the
+            solution is finite, a value is not finite where the solution is finite
+            and ``conditioning`` > 0 (the kernel's NaN marks only those angles), or
+            ``solution`` has no analogs.
+        TypeError
+            If ``solution`` is not a :class:`~cyclomech.LinkageSolution`, ``guides``
+            not a sequence of str or ``pairs`` not a sequence of tuples.
+
         Examples
         --------
         >>> import numpy as np, cyclomech as cm
@@ -176,6 +214,41 @@ class Kinetostatics:
         >>> k.reaction_parts.shape
         (3, 1, 0, 2)
         """
+        from ..linkage import LinkageSolution  # here: the linkage package imports this one
+
+        sol = instance("solution", solution, LinkageSolution)
+        if sol.vel is None or sol.acc is None or sol.xy.ndim != 3:
+            raise InputError(
+                "solution must be a linkage's solution with analogs, of one geometry "
+                "(linkage.solve(angles))"
+            )
+        guides = tuple(instances("guides", guides, str))
+        for i, pair in enumerate(instances("pairs", pairs, tuple)):
+            if len(pair) != 2 or not all(isinstance(p, str) for p in pair):
+                raise InputError(f"pairs[{i}] = {pair!r} must be a (point, link) of names")
+        n, g = sol.angles.size, len(guides)
+        v = float_array("values", values, ndims=(3,))
+        widths = sorted({1 + g, 1 + g + 2 * len(pairs)})
+        if v.shape[:2] != (3, n) or v.shape[2] not in widths:
+            want = " or ".join(f"(3, {n}, {w})" for w in widths)
+            raise InputError(f"values must be of shape {want}; got {v.shape}")
+        c = float_array("conditioning", conditioning)
+        if c.shape != (n,):
+            raise InputError(f"conditioning must be of shape ({n},); got {c.shape}")
+        _check_kernel_values(sol, v, c)
+        return cls._from_kernel(sol, v, c, pairs=pairs, guides=guides)
+
+    @classmethod
+    def _from_kernel(
+        cls,
+        solution: LinkageSolution,
+        values: Array,
+        conditioning: Array,
+        *,
+        pairs: tuple[tuple[str, str], ...],
+        guides: tuple[str, ...],
+    ) -> Kinetostatics:
+        """:meth:`from_values` of the kernel's own output, unchecked."""
         n, g = values.shape[1], len(guides)
         k = (values.shape[2] - 1 - g) // 2
         cond = _conditioning(solution, conditioning)
