@@ -41,7 +41,10 @@ def main() -> None:
     loom_file, knife_file = EXAMPLES / "stb_loom.toml", EXAMPLES / "knife_cutter.toml"
     loom = cm.Machine.from_toml(loom_file)
     rpm = np.linspace(200.0, 500.0, 100_000)
-    grid = {"lifter.preload": np.linspace(1e-4, 5e-4, 400), "speed_rpm": np.linspace(200, 500, 51)}
+    grid = {
+        "lifter.preload_m": np.linspace(1e-4, 5e-4, 400),
+        "speed_rpm": np.linspace(200, 500, 51),
+    }
     calls = {
         "parse loom": lambda: cm.Machine.from_toml(loom_file),
         "loom speed_sweep 1e5 speeds": lambda: loom.speed_sweep(rpm, n_threads=1),

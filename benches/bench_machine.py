@@ -158,7 +158,7 @@ def reference(loom: cm.Machine, speeds: Array) -> SpeedSweep:
 
 def grid() -> dict[str, Array]:
     return {
-        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, N_PRELOADS),
+        "lifter.preload_m": np.linspace(*PRELOAD_RANGE_M, N_PRELOADS),
         "speed_rpm": np.linspace(*SPEED_RANGE_RPM, N_SPEEDS),
     }
 
@@ -379,7 +379,7 @@ GROUP_WIDE = (
 
 def wide_grid() -> dict[str, Array]:
     return {
-        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_WIDE),
+        "lifter.preload_m": np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_WIDE),
         "speed_rpm": np.linspace(*SPEED_RANGE_RPM, N_SPEEDS_WIDE),
     }
 
@@ -394,7 +394,7 @@ def test_wide_sweep_in_process(benchmark, loom, n_threads) -> None:
     assert r.n_points == N_DESIGNS_WIDE * N_SPEEDS_WIDE
     # Every row is its design's own speed sweep (spot checks: first, middle, last).
     for d in (0, N_DESIGNS_WIDE // 2, N_DESIGNS_WIDE - 1):
-        m = loom.with_values({"lifter.preload": wide_grid()["lifter.preload"][d]})
+        m = loom.with_values({"lifter.preload_m": wide_grid()["lifter.preload_m"][d]})
         rows = slice(d * N_SPEEDS_WIDE, (d + 1) * N_SPEEDS_WIDE)
         want = m.speed_sweep(wide_grid()["speed_rpm"]).limiting_deg
         assert np.array_equal(r.columns["limiting_deg"][rows], want, equal_nan=True)
@@ -423,7 +423,7 @@ GROUP_BATCH = (
 
 def batch_grid(stride: int = 1) -> dict[str, Array]:
     return {
-        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)[::stride],
+        "lifter.preload_m": np.linspace(*PRELOAD_RANGE_M, N_DESIGNS_BATCH)[::stride],
         "speed_rpm": np.linspace(*SPEED_RANGE_RPM, N_SPEEDS_BATCH),
     }
 
@@ -468,9 +468,9 @@ def _stop_designs_batch(loom: cm.Machine, preloads: Array) -> Array:
     from cyclomech import _core
     from cyclomech.machine._batch import batch_designs, plan
 
-    pl = plan(loom, ["lifter.preload"])
+    pl = plan(loom, ["lifter.preload_m"])
     assert pl is not None
-    tables, ok = batch_designs(loom, pl, {"lifter.preload": preloads})
+    tables, ok = batch_designs(loom, pl, {"lifter.preload_m": preloads})
     assert ok.all()
     law = loom.mechanisms["lifter"].stop.law  # type: ignore[attr-defined]
     speeds = np.linspace(*SPEED_RANGE_RPM, N_SPEEDS_BATCH)
@@ -480,7 +480,7 @@ def _stop_designs_batch(loom: cm.Machine, preloads: Array) -> Array:
 def _stop_designs_per_design(loom: cm.Machine, preloads: Array) -> Array:
     """The same per design, as the per-design path does it: a machine with the
     design's values (its StopImpact), then all the stops' laws in one search."""
-    ms = [loom.with_values({"lifter.preload": float(p)}) for p in preloads]
+    ms = [loom.with_values({"lifter.preload_m": float(p)}) for p in preloads]
     laws = cm.machine._model._laws(ms, False, None)
     return np.array([law[0].per_rpm for law in laws])
 
@@ -511,9 +511,9 @@ def _design_slopes(loom: cm.Machine) -> Array:
     from cyclomech import _core
     from cyclomech.machine._batch import batch_designs, plan
 
-    pl = plan(loom, ["lifter.preload"])
+    pl = plan(loom, ["lifter.preload_m"])
     assert pl is not None
-    tables, _ = batch_designs(loom, pl, {"lifter.preload": pre})
+    tables, _ = batch_designs(loom, pl, {"lifter.preload_m": pre})
     per = _core.stop_design_batch(law.name, True, None, 0, tables["lifter"], np.empty(0))[4]
     return np.ascontiguousarray(per[:, None])
 
@@ -702,7 +702,7 @@ def peak_rss(points: int, out: str | None, designs: int = 1) -> tuple[float, flo
 
     m = cm.Machine.from_toml(LOOM)
     grid = {
-        "lifter.preload": np.linspace(*PRELOAD_RANGE_M, designs),
+        "lifter.preload_m": np.linspace(*PRELOAD_RANGE_M, designs),
         "speed_rpm": np.linspace(*SPEED_RANGE_RPM, points // designs),
     }
     t = time.perf_counter()

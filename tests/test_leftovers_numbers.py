@@ -18,7 +18,7 @@ STROKE = cm.Machine.from_toml(LOOM).mechanisms["lifter"].stop.stroke
 
 
 def _loom(tmp_path: Path, preload: str) -> Path:
-    text = LOOM.read_text().replace("preload = 0.00025 ", f"preload = {preload} ", 1)
+    text = LOOM.read_text().replace("preload_m = 0.00025 ", f"preload_m = {preload} ", 1)
     assert text != LOOM.read_text()
     path = tmp_path / "loom.toml"
     path.write_text(text)
@@ -33,16 +33,16 @@ def test_a_computed_stroke_prints_with_six_digits(tmp_path, capsys):
     path = _loom(tmp_path, "0.5")
     assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 2
     err = capsys.readouterr().err
-    assert f"preload = 0.5 m must be smaller than stroke = {STROKE:.6g} m" in err
+    assert f"preload_m = 0.5 m must be smaller than stroke_m = {STROKE:.6g} m" in err
     assert repr(STROKE) not in err
 
 
 def test_a_stroke_that_would_read_equal_to_the_preload_prints_in_full(tmp_path, capsys):
-    # 6 digits would say "preload = 0.0094 m must be smaller than stroke = 0.0094 m".
+    # 6 digits would say "preload_m = 0.0094 m must be smaller than stroke_m = 0.0094 m".
     path = _loom(tmp_path, "0.0094")
     assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 2
     err = capsys.readouterr().err
-    assert f"preload = 0.0094 m must be smaller than stroke = {STROKE!r} m" in err
+    assert f"preload_m = 0.0094 m must be smaller than stroke_m = {STROKE!r} m" in err
 
 
 @pytest.mark.parametrize(

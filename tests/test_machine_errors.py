@@ -517,7 +517,7 @@ MECHANISM_CASES = [
     case("press max_V_np 0", "extrusion_press_line", drive(max_V_np_m_per_s=0.0), DRIVE,
          "max_V_np_m_per_s", "positive"),
     case("press working_stroke 0", "extrusion_press_line",
-         drive(k_Sp=DELETE, working_stroke_m=0.0), DRIVE, "working_stroke_m", "> 0"),
+         drive(k_Sp=DELETE, working_stroke_m=0.0), DRIVE, "working_stroke_m", "must be positive"),
     case("press k_Sp 0", "extrusion_press_line", drive(k_Sp=0.0), DRIVE, "k_Sp", "(0, 1]"),
     case("press k_Sp 1.5", "extrusion_press_line", drive(k_Sp=1.5), DRIVE, "k_Sp",
          "(0, 1]"),

@@ -194,11 +194,7 @@ class PressMechanism(Unbounded):
             name,
             press,
             k_Sp=_toml.number(table, "k_Sp", where, "") if "k_Sp" in table else None,
-            working_stroke=(
-                _toml.number(table, "working_stroke_m", where, "[m]")
-                if "working_stroke_m" in table
-                else None
-            ),
+            working_stroke=_toml.optional_positive(table, "working_stroke_m", where, "[m]"),
             max_V_np=_toml.optional_positive(table, "max_V_np_m_per_s", where, "[m/s]"),
             force=_force(table, name, ctx),
             slider_mass=_mass(table, "slider_mass_kg", where),
