@@ -311,7 +311,7 @@ class Context:
         TypeError
             If ``name`` is not a string.
         InputError
-            If ``name`` is not one of :attr:`mechanisms` (when the context lists
+            If ``name`` is not one of ``mechanisms`` (when the context lists
             them): a misspelt name would otherwise read as "no limit".
 
         Examples
