@@ -20,7 +20,6 @@ import argparse
 import contextlib
 import logging
 import math
-import os
 import signal
 import threading
 from collections.abc import Iterator
@@ -28,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from ._errors import InputError
-from ._files import whole
+from ._files import folder_problem, whole
 
 __all__ = [
     "EXIT_BROKEN_PIPE",
@@ -96,12 +95,9 @@ def out_path(args: argparse.Namespace) -> Path:
     """The output folder of a command, checked before any work: it, or the nearest
     of its parents that exists, must be a writable folder."""
     out = Path(args.out) if args.out else Path("out") / Path(args.file).stem
-    near = next((q for q in (out, *out.parents) if q.exists()), Path("."))
-    if not near.is_dir():
-        what = "is a file" if near == out else f"cannot be made: {near} is a file"
-        raise InputError(f"--out {out}: {what}, not a folder; give a folder for the results")
-    if not os.access(near, os.W_OK | os.X_OK):
-        raise InputError(f"--out {out}: the folder {near} is not writable")
+    why = folder_problem(out)
+    if why:
+        raise InputError(f"--out {out}: {why}; give a folder for the results")
     return out
 
 

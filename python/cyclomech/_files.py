@@ -26,7 +26,15 @@ from typing import Any
 from ._arrays import file_path
 from ._errors import InputError
 
-__all__ = ["file_target", "folder_target", "partial", "savetxt", "whole", "write_text"]
+__all__ = [
+    "file_target",
+    "folder_problem",
+    "folder_target",
+    "partial",
+    "savetxt",
+    "whole",
+    "write_text",
+]
 
 
 def _path(name: str, value: Any) -> Path:
@@ -34,7 +42,7 @@ def _path(name: str, value: Any) -> Path:
     ``name``, by :func:`cyclomech._arrays.file_path`), and not blank (else
     :class:`InputError`: ``""`` would mean the current folder, a slip)."""
     p = file_path(name, value)
-    if not str(value if isinstance(value, str) else os.fspath(value)).strip():
+    if not str(os.fspath(value)).strip():
         raise InputError(f"{name} must be a path (a non-empty str or Path); got {value!r}")
     return p
 
@@ -102,11 +110,28 @@ def folder_target(name: str, value: Any) -> Path:
     cyclomech._errors.InputError: out must be a path (a non-empty str or Path); got '  '
     """
     p = _path(name, value)
-    near = next((q for q in (p, *p.parents) if q.exists()), Path("."))
-    if not near.is_dir():
-        what = "is a file" if near == p else f"cannot be made: {near} is a file"
-        raise InputError(f"{name} = {str(p)!r} {what}, not a folder; give a folder")
+    why = folder_problem(p)
+    if why:
+        raise InputError(f"{name} = {str(p)!r}: {why}; give a folder")
     return p
+
+
+def folder_problem(folder: Path) -> str:
+    """Why ``folder`` cannot take a command's results ("" if it can): it, or the
+    nearest of its parents that exists, must be a writable folder. The one rule
+    of :func:`folder_target` and the commands' ``--out``.
+
+    >>> import tempfile, pathlib
+    >>> folder_problem(pathlib.Path(tempfile.gettempdir()) / "new")
+    ''
+    """
+    near = next((q for q in (folder, *folder.parents) if q.exists()), Path("."))
+    if not near.is_dir():
+        what = "is a file" if near == folder else f"cannot be made: {near} is a file"
+        return f"{what}, not a folder"
+    if not os.access(near, os.W_OK | os.X_OK):
+        return f"the folder {near} is not writable"
+    return ""
 
 
 def partial(path: Path) -> Path:
