@@ -127,6 +127,25 @@ def test_python_dash_m_does_the_same(tmp_path, delay, form):
     assert (status, err) == (130, "cyclomech: interrupted\n")
 
 
+# How a Ctrl-C reaches an import: as itself, or (when it lands inside an extension
+# module's initialisation, as CI saw in scipy's HiGHS module) as the ImportError
+# CPython raises from it.
+RAISES = {
+    "interrupt": "raise KeyboardInterrupt",
+    "broken init": "raise ImportError('initialization failed') from KeyboardInterrupt()",
+}
+FAKE_IMPORT = (
+    "import builtins, sys\n"
+    "real = builtins.__import__\n"
+    "def fake(name, *a, **k):\n"
+    "    if name == {name!r}:\n"
+    "        {raise_}\n"
+    "    return real(name, *a, **k)\n"
+    "builtins.__import__ = fake\n"
+)
+
+
+@pytest.mark.parametrize("how", RAISES)
 @pytest.mark.parametrize(
     ("argv0", "orig", "quiet"),
     [
@@ -137,22 +156,15 @@ def test_python_dash_m_does_the_same(tmp_path, delay, form):
         ("script.py", ["script.py", "-m", "cyclomech"], False),  # "-m" as a script's argument
     ],
 )
-def test_only_python_dash_m_cyclomech_ends_quietly(argv0, orig, quiet):
+def test_only_python_dash_m_cyclomech_ends_quietly(argv0, orig, quiet, how):
     # The interrupt raised from inside the import at once (no timing): numpy's
     # import raises it; sys.argv / orig_argv as that command line would set them.
-    code = (
-        "import builtins, sys\n"
-        "real = builtins.__import__\n"
-        "def fake(name, *a, **k):\n"
-        "    if name == 'numpy':\n"
-        "        raise KeyboardInterrupt\n"
-        "    return real(name, *a, **k)\n"
-        "builtins.__import__ = fake\n"
+    code = FAKE_IMPORT.format(name="numpy", raise_=RAISES[how]) + (
         f"sys.argv[0] = {argv0!r}\n"
         f"sys.orig_argv = [sys.executable, *{orig!r}]\n"
         "try:\n"
         "    import cyclomech\n"
-        "except KeyboardInterrupt:\n"
+        "except (KeyboardInterrupt, ImportError):\n"
         "    print('raised')\n"
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
@@ -160,6 +172,26 @@ def test_only_python_dash_m_cyclomech_ends_quietly(argv0, orig, quiet):
         assert (proc.returncode, proc.stdout, proc.stderr) == (130, "", "cyclomech: interrupted\n")
     else:
         assert (proc.returncode, proc.stdout) == (0, "raised\n"), proc.stderr
+
+
+@pytest.mark.parametrize("how", RAISES)
+@pytest.mark.parametrize("module", ["numpy", "scipy.optimize", "cyclomech.cli"])
+def test_the_entry_point_ends_quietly_however_the_interrupt_arrives(module, how):
+    code = FAKE_IMPORT.format(name=module, raise_=RAISES[how]) + (
+        "import _cyclomech_entry\nsys.exit(_cyclomech_entry.main())\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code, "--version"], capture_output=True, text=True)
+    assert (proc.returncode, proc.stderr) == (130, "cyclomech: interrupted\n")
+
+
+def test_an_import_error_of_another_cause_is_not_an_interrupt():
+    # The rule is the chain, not the class: a missing module still shows its error.
+    code = FAKE_IMPORT.format(name="scipy.optimize", raise_="raise ImportError('no scipy')") + (
+        "import _cyclomech_entry\nsys.exit(_cyclomech_entry.main())\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code, "--version"], capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert "ImportError: no scipy" in proc.stderr
 
 
 def test_the_entry_point_runs_the_command(capsys):
@@ -185,5 +217,20 @@ def test_ctrl_c_while_the_command_line_is_parsed(monkeypatch, capsys):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(cli.COMMANDS[0], "add_commands", interrupted)
+    assert cli.main(["run", str(LOOM)]) == 130
+    assert capsys.readouterr().err == "cyclomech: interrupted\n"
+
+
+def test_an_import_a_ctrl_c_broke_inside_the_command_is_an_interrupt(monkeypatch, capsys):
+    # A lazy import inside a command (ezdxf, matplotlib) can be broken the same way.
+    from cyclomech import cli
+
+    def broken(sub: object) -> None:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as e:
+            raise ImportError("initialization failed") from e
+
+    monkeypatch.setattr(cli.COMMANDS[0], "add_commands", broken)
     assert cli.main(["run", str(LOOM)]) == 130
     assert capsys.readouterr().err == "cyclomech: interrupted\n"

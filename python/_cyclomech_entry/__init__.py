@@ -5,6 +5,12 @@ time would print the import's traceback, since :func:`cyclomech.cli.main` catche
 KeyboardInterrupt only once it runs. This module imports nothing at the top but
 :mod:`sys`, so the console script can catch it and exit like the rest of the command
 line: one line on stderr, exit status 130.
+
+A Ctrl-C that lands inside an extension module's initialisation does not arrive as a
+KeyboardInterrupt: CPython raises ``ImportError("initialization failed")`` *from* it
+(seen in CI with scipy's HiGHS module). The rule, in :func:`interrupted`: an error
+whose chain of causes holds a KeyboardInterrupt is a Ctrl-C. The package's
+``__init__`` (under ``python -m``) and :func:`cyclomech.cli.main` use the same rule.
 """
 
 from __future__ import annotations
@@ -15,12 +21,41 @@ import sys
 EXIT_INTERRUPTED = 130
 
 
+def interrupted(error: BaseException) -> bool:
+    """Whether ``error`` is a Ctrl-C: a KeyboardInterrupt, or an error raised while
+    one was propagating (its ``__cause__`` / ``__context__`` chain holds one).
+
+    >>> interrupted(KeyboardInterrupt())
+    True
+    >>> try:
+    ...     try:
+    ...         raise KeyboardInterrupt
+    ...     except KeyboardInterrupt as e:
+    ...         raise ImportError("initialization failed") from e
+    ... except ImportError as e:
+    ...     interrupted(e)
+    True
+    >>> interrupted(ImportError("No module named 'scipy'"))
+    False
+    """
+    seen: set[int] = set()
+    link: BaseException | None = error
+    while link is not None and id(link) not in seen:
+        if isinstance(link, KeyboardInterrupt):
+            return True
+        seen.add(id(link))
+        link = link.__cause__ or link.__context__
+    return False
+
+
 def main() -> int:
     """Run the ``cyclomech`` command; 130 with one line on stderr if interrupted while
     the package loads (after, :func:`cyclomech.cli.main` handles it)."""
     try:
         from cyclomech.cli import main as run
-    except KeyboardInterrupt:
+    except BaseException as error:  # only a Ctrl-C is handled (re-raised otherwise)
+        if not interrupted(error):
+            raise
         print("cyclomech: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     return run()

@@ -12,7 +12,11 @@ import sys as _sys
 
 try:  # every domain, numpy and the Rust core: ~0.6 s
     from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
-except KeyboardInterrupt:
+except BaseException as _error:
+    from _cyclomech_entry import interrupted as _interrupted
+
+    if not _interrupted(_error):  # a Ctrl-C, or an import it broke (its rule)
+        raise
     # ``python -m cyclomech`` imports this package before its __main__ can catch a
     # Ctrl-C: end as the command does (one line, status 130; _cyclomech_entry does
     # the same for the console script). While -m locates its module, sys.argv[0] is

@@ -25,6 +25,8 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
+from _cyclomech_entry import interrupted
+
 from . import _core
 from ._arrays import MAX_THREADS
 from ._cli import (
@@ -97,7 +99,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     threads_env = os.environ.get(THREADS_ENV)  # --threads sets it for the command only
     try:  # from its first line: building the parser takes a while too
         return _main(argv)
-    except KeyboardInterrupt:
+    except BaseException as error:  # a Ctrl-C, or an import it broke (its rule)
+        if not interrupted(error):
+            raise
         print("cyclomech: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     finally:
