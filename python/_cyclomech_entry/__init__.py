@@ -17,35 +17,10 @@ from __future__ import annotations
 
 import sys
 
+from ._interrupt import interrupted
+
 #: The exit status of an interrupted command (128 + SIGINT), as cyclomech._cli's.
 EXIT_INTERRUPTED = 130
-
-
-def interrupted(error: BaseException) -> bool:
-    """Whether ``error`` is a Ctrl-C: a KeyboardInterrupt, or an error raised while
-    one was propagating (its ``__cause__`` / ``__context__`` chain holds one).
-
-    >>> interrupted(KeyboardInterrupt())
-    True
-    >>> try:
-    ...     try:
-    ...         raise KeyboardInterrupt
-    ...     except KeyboardInterrupt as e:
-    ...         raise ImportError("initialization failed") from e
-    ... except ImportError as e:
-    ...     interrupted(e)
-    True
-    >>> interrupted(ImportError("No module named 'scipy'"))
-    False
-    """
-    seen: set[int] = set()
-    link: BaseException | None = error
-    while link is not None and id(link) not in seen:
-        if isinstance(link, KeyboardInterrupt):
-            return True
-        seen.add(id(link))
-        link = link.__cause__ or link.__context__
-    return False
 
 
 def main() -> int:

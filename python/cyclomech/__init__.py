@@ -13,7 +13,7 @@ import sys as _sys
 try:  # every domain, numpy and the Rust core: ~0.6 s
     from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
 except BaseException as _error:
-    from _cyclomech_entry import interrupted as _interrupted
+    from _cyclomech_entry._interrupt import interrupted as _interrupted
 
     if not _interrupted(_error):  # a Ctrl-C, or an import it broke (its rule)
         raise

@@ -25,7 +25,7 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
-from _cyclomech_entry import interrupted
+from _cyclomech_entry._interrupt import interrupted
 
 from . import _core
 from ._arrays import MAX_THREADS
