@@ -1,6 +1,7 @@
 """The house reads naturally (issue 17): each domain is one package whose
 ``__init__`` is its only door; no module reaches into another domain's private
-names; doors import no plotting; no source file grows past its size limit."""
+names; doors import no plotting; no source file grows past its size limit, nor a
+function past its own (issue 32)."""
 
 from __future__ import annotations
 
