@@ -1,6 +1,7 @@
 """The house reads naturally (issue 17): each domain is one package whose
 ``__init__`` is its only door; no module reaches into another domain's private
-names; doors import no plotting; no source file grows past its size limit."""
+names; doors import no plotting; no source file grows past its size limit, nor a
+function past its own (issue 32)."""
 
 from __future__ import annotations
 
@@ -157,6 +158,12 @@ def code_lines(text: str) -> int:
     """Lines holding code: not docstrings (module, class, function), comments or
     blank lines (tested by :func:`test_code_lines_counts_code_only`).
     """
+    return len(_code_line_numbers(text))
+
+
+def _code_line_numbers(text: str) -> set[int]:
+    """The numbers of the lines :func:`code_lines` counts (one set, so that a
+    function's size, :func:`function_sizes`, is counted by the same rule)."""
     docstrings: set[int] = set()
     for node in ast.walk(ast.parse(text)):
         if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef):
@@ -173,7 +180,7 @@ def code_lines(text: str) -> int:
         if tok.type in skip or tok.type == tokenize.ENDMARKER:
             continue
         lines.update(n for n in range(tok.start[0], tok.end[0] + 1) if n not in docstrings)
-    return len(lines)
+    return lines
 
 
 def test_code_lines_counts_code_only():
@@ -195,6 +202,134 @@ def test_code_lines_counts_code_only():
         ]
     )
     assert code_lines(text) == 5  # x = (, 1, ), def f, return x
+
+
+#: Lines of code a function may have, counted as :func:`code_lines` counts a module
+#: (from its ``def`` line to its end, without its docstring, comments or blank lines;
+#: a nested function counts in its parent too). A function longer than a screen
+#: does several things; cut it into helpers named for what they do (issue 32).
+FUNCTION_LIMIT = 80
+
+#: The functions longer than FUNCTION_LIMIT when the rule came in (issue 32), each
+#: with its size then; each is to be cut by what it does. The list may only shrink:
+#: a function here may not grow past its size, none may be added, and one cut to
+#: the limit or removed must leave the list (``test_known_long_functions_are_
+#: still_long`` says so). Keys are ``path in cyclomech:qualified name``.
+KNOWN_LONG = {
+    "linkage/plot.py:_draw_linkage": 174,
+    "machine/_report.py:_html": 168,  # being cut by subject at the same time (issue 32)
+    "motion/plot.py:plot_law": 153,
+    "cam/cli.py:cam_command": 149,
+    "machine/plot.py:plot_speed_sweep": 145,  # being cut at the same time (issue 32)
+    "press/cli.py:press_command": 135,
+    "transfer/plot.py:plot_transfer": 129,
+    "cyclogram/_lp.py:_LP.__init__": 128,
+    "machine/_shaft.py:flatten_phases": 120,
+    "cam/_design.py:CamDesign.from_table": 113,
+    "forces/_model.py:_build": 112,
+    "machine/_report.py:write_report": 107,
+    "machine/cli.py:sweep_command": 104,
+    "cyclogram/plot.py:_gantt": 102,
+    "linkage/_linkage.py:Linkage._place_dyad": 99,
+    "cyclogram/_file.py:read": 97,
+    "impact/cli.py:impact_command": 96,
+    "machine/_model.py:Machine.from_dict": 93,
+    "cam/plot.py:plot_along_cycle": 92,
+    "machine/_report.py:_figures": 84,
+    "cam/plot.py:plot_cam": 84,
+    "transfer/_path.py:TransferPath.__init__": 82,
+    "forces/_file.py:dynamics_from_table": 82,
+}
+
+
+def function_sizes(text: str) -> dict[str, int]:
+    """Lines of code of each function (and method) of a module's ``text``, by
+    qualified name (``Class.method``, ``outer.inner``), counted as
+    :func:`code_lines` counts (tested by :func:`test_function_sizes_count_code_only`)."""
+    code = _code_line_numbers(text)
+    sizes: dict[str, int] = {}
+
+    def visit(node: ast.AST, prefix: str) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+                name = prefix + child.name
+                if not isinstance(child, ast.ClassDef):
+                    end = child.end_lineno or child.lineno
+                    n = sum(1 for ln in code if child.lineno <= ln <= end)
+                    sizes[name] = max(n, sizes.get(name, 0))  # a def repeated: the longer
+                visit(child, name + ".")
+            else:
+                visit(child, prefix)
+
+    visit(ast.parse(text), "")
+    return sizes
+
+
+def _function_sizes_in_package() -> dict[str, int]:
+    return {
+        f"{path.relative_to(PKG).as_posix()}:{name}": n
+        for path in _modules()
+        for name, n in function_sizes(path.read_text(encoding="utf-8")).items()
+    }
+
+
+def test_function_sizes_count_code_only():
+    text = "\n".join(
+        [
+            "class A:",
+            '    """Doc."""',
+            "",
+            "    def m(self):",
+            '        """Doc',
+            '        more."""',
+            "        # c",
+            "        x = 1",
+            "",
+            "        def inner():",
+            "            return x",
+            "",
+            "        return inner",
+            "",
+            "",
+            "def f(",
+            "    a,",
+            "):",
+            "    return a",
+        ]
+    )
+    # m: def, x = 1, def inner, return x, return inner; inner: 2; f: 4 lines.
+    assert function_sizes(text) == {"A.m": 5, "A.m.inner": 2, "f": 4}
+
+
+def test_functions_stay_short():
+    """No function of cyclomech has more than FUNCTION_LIMIT lines of code, but those
+    of KNOWN_LONG, which may not grow."""
+    too_long = [
+        f"{name} has {n} lines of code (limit {FUNCTION_LIMIT})"
+        for name, n in sorted(_function_sizes_in_package().items())
+        if n > FUNCTION_LIMIT and name not in KNOWN_LONG
+    ]
+    grown = [
+        f"{name} has {n} lines of code, more than the {KNOWN_LONG[name]} it had"
+        for name, n in sorted(_function_sizes_in_package().items())
+        if name in KNOWN_LONG and n > KNOWN_LONG[name]
+    ]
+    assert too_long + grown == [], (
+        "cut these functions into helpers named for what they do (docstrings and comments "
+        "are not counted: never trim them): " + "; ".join(too_long + grown)
+    )
+
+
+def test_known_long_functions_are_still_long():
+    """KNOWN_LONG only shrinks: an entry whose function was cut to the limit (or is
+    gone) must leave it, so that the function cannot grow back unnoticed."""
+    sizes = _function_sizes_in_package()
+    stale = [
+        f"{name} ({'gone' if name not in sizes else f'{sizes[name]} lines'})"
+        for name in KNOWN_LONG
+        if sizes.get(name, 0) <= FUNCTION_LIMIT
+    ]
+    assert stale == [], "remove from KNOWN_LONG: " + ", ".join(stale)
 
 
 def _rust_sources() -> list[Path]:
