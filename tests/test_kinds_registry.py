@@ -16,6 +16,7 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech import _toml
+from cyclomech._keydoc import KeyDoc, KeyTable
 from cyclomech.cli import main
 from cyclomech.machine import (
     KINDS,
@@ -41,6 +42,20 @@ class Dwell:
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc"})
     json_groups: ClassVar[tuple[str, ...]] = ()
     sweep_columns: ClassVar[tuple[str, ...]] = ()
+    # Its keys for the format reference: a kind carries its own documentation.
+    key_docs: ClassVar[tuple[KeyTable, ...]] = (
+        KeyTable(
+            "dwell",
+            "kind = dwell",
+            (
+                KeyDoc("kind", "The mechanism's kind.", "—", "text", "required", "dwell", False),
+                KeyDoc("arc", "The operation it rests on.", "—", "array", "required",
+                       "[from, to], an operation of the cyclogram", False),
+                KeyDoc("dwell_s", "How long it rests.", "s", "number", "required",
+                       "finite, > 0", True),
+            ),
+        ),
+    )  # fmt: skip
     name: str
     arc: tuple[str, str]
     dwell_s: float

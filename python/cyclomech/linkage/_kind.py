@@ -13,10 +13,12 @@ import numpy as np
 from .. import _keyrules, _toml, forces
 from .._arrays import count, instance, positive
 from .._errors import InputError
+from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._file import _LINKAGE_KEYS
+from ._keys import KEY_DOCS
 from ._linkage import Linkage
 from ._solution import LinkageSolution
 
@@ -60,6 +62,9 @@ class LinkageMechanism(Unbounded):
     """
 
     kind: ClassVar[str] = "linkage"
+    # Its tables' keys, its own first, for the machine-file format reference
+    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         _LINKAGE_KEYS | forces.DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}
     )
