@@ -79,8 +79,7 @@ TOY_KIND = '''
 """The toy kind."""
 from typing import ClassVar
 
-from cyclomech._keydoc import NO_UNIT, NUM, REQ, TEXT, KeyDoc, KeyTable
-from cyclomech.machine import Unbounded
+from cyclomech.machine import KeyDoc, KeyTable, Unbounded
 
 
 class Rest(Unbounded):
@@ -93,13 +92,15 @@ class Rest(Unbounded):
     keys: ClassVar[frozenset[str]] = frozenset({"kind", "rest_s", "pad"})
     key_docs: ClassVar[tuple[KeyTable, ...]] = (
         KeyTable("rest", "kind = rest", (
-            KeyDoc("kind", "The mechanism's kind.", NO_UNIT, TEXT, REQ, "rest", False),
-            KeyDoc("rest_s", "How long the tool rests.", "s", NUM, REQ, "finite, > 0", True),
-            KeyDoc("pad", "The pad under the tool.", NO_UNIT, "table", "none (no pad)",
+            KeyDoc("kind", "The mechanism's kind.", "—", "text", "required", "rest", False),
+            KeyDoc("rest_s", "How long the tool rests.", "s", "number", "required",
+                   "finite, > 0", True),
+            KeyDoc("pad", "The pad under the tool.", "—", "table", "none (no pad)",
                    "a table {thickness_m}", True),
         )),
         KeyTable("rest.pad", "pad of a rest", (
-            KeyDoc("thickness_m", "The pad's thickness.", "m", NUM, REQ, "finite, > 0", None),
+            KeyDoc("thickness_m", "The pad's thickness.", "m", "number", "required",
+                   "finite, > 0", None),
         ), intro="The pad under a resting tool."),
     )
 '''

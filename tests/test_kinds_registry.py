@@ -16,12 +16,13 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech import _toml
-from cyclomech._keydoc import KeyDoc, KeyTable
 from cyclomech.cli import main
 from cyclomech.machine import (
     KINDS,
     Bound,
     Context,
+    KeyDoc,
+    KeyTable,
     Mechanism,
     MechanismResult,
     PlainResult,

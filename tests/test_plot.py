@@ -373,9 +373,7 @@ def test_without_matplotlib(monkeypatch):
 
 
 #: Every domain with its own plots (a ``<domain>/plot.py``), found, not listed.
-DOMAINS = tuple(
-    sorted(p.parent.name for p in Path(cm.__file__).parent.glob("*/plot.py"))
-)
+DOMAINS = tuple(sorted(p.parent.name for p in Path(cm.__file__).parent.glob("*/plot.py")))
 
 
 @pytest.mark.parametrize("module", ["cyclomech.plot", *(f"cyclomech.{d}.plot" for d in DOMAINS)])

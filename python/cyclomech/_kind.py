@@ -473,7 +473,7 @@ class Mechanism(Protocol):
     it adds to, besides ``mechanisms``), ``sweep_columns`` (columns it adds to
     the machine's speed sweep; several mechanisms' values of one column combine by
     their maximum) and ``key_docs`` (its tables' keys for the machine-file format
-    reference: a tuple of :class:`~cyclomech._keydoc.KeyTable`, its own table first,
+    reference: a tuple of :class:`~cyclomech.machine.KeyTable`, its own table first,
     named after its kind, then its sub-tables; the reference lists every registered
     kind's, so a kind's documentation lives with the kind).
 
