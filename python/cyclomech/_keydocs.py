@@ -1,7 +1,7 @@
 """The machine-file format reference: every key of every table a user writes.
 
-Each table's owner carries its records (:class:`~cyclomech._keydoc.KeyTable` of
-:class:`~cyclomech._keydoc.KeyDoc`) beside its parser: each mechanism kind in its
+Each table's owner carries its records (:class:`~cyclomech.machine.KeyTable` of
+:class:`~cyclomech.machine.KeyDoc`) beside its parser: each mechanism kind in its
 class attribute ``key_docs``, :class:`cyclomech.Machine` and
 :class:`cyclomech.Cyclogram` in theirs. This module only gathers and renders them:
 :func:`tables` lists the page's tables, the machine's and the cyclogram's first,
