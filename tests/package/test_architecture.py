@@ -1,0 +1,283 @@
+"""The house reads naturally (issue 17): each domain is one package whose
+``__init__`` is its only door; no module reaches into another domain's private
+names; doors import no plotting; no source file grows past its size limit."""
+
+from __future__ import annotations
+
+import ast
+import io
+import re
+import subprocess
+import sys
+import tokenize
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PKG = ROOT / "python" / "cyclomech"
+DOMAINS = (
+    "linkage",
+    "impact",
+    "cyclogram",
+    "motion",
+    "press",
+    "transfer",
+    "machine",
+    "cam",
+    "shaft",
+    "forces",
+)
+#: Lines of code a Python module may have: its statements and expressions, not its
+#: docstrings, comments or blank lines. The rule serves readability of the code;
+#: counting documentation made sessions trim docstrings to fit (issue 32), so the
+#: documentation is not counted. 650: the two largest modules (the machine's
+#: report, the cyclogram's plots) hold 610-620 lines of code, to be cut by subject.
+PY_LIMIT = 650
+#: Lines a Rust source may have outside its tests (the issue's "~1 200").
+RS_LIMIT = 1200
+
+
+def _modules() -> list[Path]:
+    return sorted(p for p in PKG.rglob("*.py") if "__pycache__" not in p.parts)
+
+
+def _name(path: Path) -> str:
+    rel = path.relative_to(PKG.parent).with_suffix("")
+    parts = list(rel.parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def _domain(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in DOMAINS else None
+
+
+def _imports(path: Path, me: str) -> list[tuple[int, str, list[str]]]:
+    """(line, absolute module, imported names) of every import in ``path``, the
+    module ``me``."""
+    package = me if path.name == "__init__.py" else me.rsplit(".", 1)[0]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                mod = ".".join([*base, node.module] if node.module else base)
+            else:
+                mod = node.module or ""
+            out.append((node.lineno, mod, [a.name for a in node.names]))
+        elif isinstance(node, ast.Import):
+            out += [(node.lineno, a.name, []) for a in node.names]
+    return out
+
+
+def cross_domain_private_imports(modules: list[tuple[Path, str]]) -> list[str]:
+    """Every import, in ``modules`` (path, module name), of a private module or a
+    private name of a domain other than the importer's (a module outside every
+    domain, such as the CLI or the plot facade, counts as another domain to all of
+    them)."""
+    bad = []
+    for path, me in modules:
+        mine = _domain(me)
+        for line, mod, names in _imports(path, me):
+            if not mod.startswith("cyclomech"):
+                continue
+            theirs = _domain(mod)
+            if theirs is None or theirs == mine:
+                continue
+            private_module = any(p.startswith("_") for p in mod.split(".")[2:])
+            # `from cyclomech.impact import _model` names a private module too.
+            private_names = [n for n in names if n.startswith("_")]
+            if private_module or private_names:
+                what = mod + (f" ({', '.join(private_names)})" if private_names else "")
+                bad.append(f"{me}:{line}: {what}")
+    return bad
+
+
+def test_every_domain_is_a_package_with_one_door():
+    for d in DOMAINS:
+        door = PKG / d / "__init__.py"
+        assert door.is_file(), f"{d} is not a package"
+        tree = ast.parse(door.read_text(encoding="utf-8"))
+        names = [
+            t.id
+            for node in tree.body
+            if isinstance(node, ast.Assign)
+            for t in node.targets
+            if isinstance(t, ast.Name)
+        ]
+        assert "__all__" in names, f"cyclomech.{d} has no explicit __all__"
+        # The door only re-exports: no function or class is defined in it.
+        defined = [n.name for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef)]
+        assert not defined, f"cyclomech.{d}.__init__ defines {defined}; it should only re-export"
+
+
+def test_no_module_imports_a_private_name_of_another_domain():
+    assert cross_domain_private_imports([(p, _name(p)) for p in _modules()]) == []
+
+
+def test_the_import_rule_catches_a_reach_into_another_domain(tmp_path):
+    # The checker itself, on modules written for it: a machine module that takes
+    # private names from impact and press, and one that takes public names from a
+    # door and private ones from its own domain.
+    bad, good = tmp_path / "bad.py", tmp_path / "good.py"
+    bad.write_text("from ..impact._model import _STOP_KEYS\nfrom ..press import _edges\n")
+    good.write_text("from ..impact import StopImpact\nfrom ._model import _speeds\n")
+    found = cross_domain_private_imports(
+        [(bad, "cyclomech.machine._bad"), (good, "cyclomech.machine._good")]
+    )
+    assert len(found) == 2
+    assert "cyclomech.impact._model (_STOP_KEYS)" in found[0]
+    assert "cyclomech.press (_edges)" in found[1]
+
+
+def test_doors_do_not_import_matplotlib():
+    code = (
+        "import sys, cyclomech, cyclomech.machine, cyclomech.impact, cyclomech.press, "
+        "cyclomech.transfer, cyclomech.linkage, cyclomech.motion, cyclomech.cyclogram\n"
+        "print('matplotlib' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+#: The folder of the tests of the package as a whole (architecture, docs, stubs,
+#: types, the wheel, CLI plumbing, files, fuzzing, fork, interrupts); every other
+#: test folder is named after a domain package of ``python/cyclomech``.
+PACKAGE_TESTS = "package"
+#: A test file named after when it was written (an issue, a review, leftovers)
+#: says nothing of what it tests: a maintainer looks for a domain's tests by subject.
+HISTORY_NAME = re.compile(r"issue\d|review|leftover")
+
+
+def allowed_folders() -> set[str]:
+    """The folders a test file may live in: one per subpackage of the package
+    (read from the source tree, so a new domain gets its folder without an edit
+    here), and the package-wide one."""
+    return {p.parent.name for p in PKG.glob("*/__init__.py")} | {PACKAGE_TESTS}
+
+
+def misplaced_tests(tests: Path, folders: set[str]) -> list[str]:
+    """Every test file under ``tests`` that is not in ``tests/<folder>/`` for one
+    of ``folders``, is named after history, or shares its name with another (the
+    tests' folders are not packages: pytest's default import mode needs each test
+    module's name to be unique)."""
+    bad, seen = [], {}
+    for path in sorted(tests.rglob("test_*.py")):
+        rel = path.relative_to(tests)
+        where = rel.parts[0] if len(rel.parts) == 2 else None
+        if where not in folders:
+            bad.append(f"{rel.as_posix()}: not in tests/<folder>/ of one of {sorted(folders)}")
+        if HISTORY_NAME.search(path.name):
+            bad.append(f"{rel.as_posix()}: named after history, not its subject")
+        if path.name in seen:
+            bad.append(f"{rel.as_posix()}: the same name as {seen[path.name]}")
+        seen.setdefault(path.name, rel.as_posix())
+    return bad
+
+
+def test_every_test_file_lives_in_its_domains_folder():
+    folders = allowed_folders()
+    assert set(DOMAINS) | {PACKAGE_TESTS} <= folders
+    assert misplaced_tests(ROOT / "tests", folders) == []
+
+
+def test_the_test_layout_rule_catches_a_flat_or_historical_file(tmp_path):
+    # The checker itself, on a tree written for it: a test at the top, one in a
+    # folder that is no domain, one named after an issue, and a name used twice.
+    for rel in (
+        "test_flat.py",
+        "stuff/test_x.py",
+        "cam/test_cam.py",
+        "cam/test_issue16_cam.py",
+        "press/test_review3.py",
+        "package/test_leftovers_a.py",
+        "press/test_cam.py",
+        "cam/data/stop.toml",
+    ):
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text("")
+    found = misplaced_tests(tmp_path, {"cam", "press", "package"})
+    assert [f.split(":")[0] for f in found] == [
+        "cam/test_issue16_cam.py",
+        "package/test_leftovers_a.py",
+        "press/test_cam.py",
+        "press/test_review3.py",
+        "stuff/test_x.py",
+        "test_flat.py",
+    ]
+    assert "the same name as cam/test_cam.py" in found[2]
+    assert "named after history" in found[3]
+    assert "not in tests/<folder>/" in found[5]
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PKG)))
+def test_python_modules_stay_small(path):
+    lines = code_lines(path.read_text(encoding="utf-8"))
+    assert lines <= PY_LIMIT, (
+        f"{path.relative_to(ROOT)} has {lines} lines of code (limit {PY_LIMIT}; docstrings, "
+        "comments and blank lines are not counted): cut it by subject, never its docs"
+    )
+
+
+def code_lines(text: str) -> int:
+    """Lines holding code: not docstrings (module, class, function), comments or
+    blank lines (tested by :func:`test_code_lines_counts_code_only`).
+    """
+    docstrings: set[int] = set()
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef):
+            first = node.body[0] if node.body else None
+            if (
+                isinstance(first, ast.Expr)
+                and isinstance(first.value, ast.Constant)
+                and isinstance(first.value.value, str)
+            ):
+                docstrings.update(range(first.lineno, (first.end_lineno or first.lineno) + 1))
+    skip = {tokenize.COMMENT, tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT}
+    lines: set[int] = set()
+    for tok in tokenize.generate_tokens(io.StringIO(text).readline):
+        if tok.type in skip or tok.type == tokenize.ENDMARKER:
+            continue
+        lines.update(n for n in range(tok.start[0], tok.end[0] + 1) if n not in docstrings)
+    return len(lines)
+
+
+def test_code_lines_counts_code_only():
+    text = "\n".join(
+        [
+            '"""Module.',
+            "",
+            'Long."""',
+            "",
+            "# c",
+            "x = (",
+            "    1,  # one",
+            ")",
+            "",
+            "",
+            "def f():",
+            '    """D."""',
+            "    return x",
+        ]
+    )
+    assert code_lines(text) == 5  # x = (, 1, ), def f, return x
+
+
+def _rust_sources() -> list[Path]:
+    return sorted(p for p in (ROOT / "rust").rglob("*.rs") if p.name != "tests.rs")
+
+
+def _lines_outside_tests(text: str) -> int:
+    """Lines before a trailing ``#[cfg(test)] mod tests`` block."""
+    m = re.search(r"^#\[cfg\(test\)\]\s*\nmod tests\b", text, flags=re.M)
+    return len(text[: m.start()].splitlines()) if m else len(text.splitlines())
+
+
+@pytest.mark.parametrize("path", _rust_sources(), ids=lambda p: str(p.relative_to(ROOT)))
+def test_rust_sources_stay_small_outside_their_tests(path):
+    lines = _lines_outside_tests(path.read_text(encoding="utf-8"))
+    assert lines <= RS_LIMIT, f"{path.relative_to(ROOT)} has {lines} lines (limit {RS_LIMIT})"
