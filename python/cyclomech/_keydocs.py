@@ -4,7 +4,7 @@ One :class:`KeyDoc` per key, grouped by table in :data:`TABLES` (its titles in
 :data:`TITLES`, a sentence on each in :data:`INTROS`, the page's order in
 :data:`ORDER`). Each record states what the parsers enforce (``from_table`` of
 each kind, the readers of :mod:`cyclomech._toml`, the cyclogram's file format);
-``tests/test_keydocs.py`` holds the key sets equal to the parsers' own, so a key
+``tests/package/test_keydocs.py`` holds the key sets equal to the parsers' own, so a key
 added to a parser without a record here fails the tests. :func:`render_table`
 and :func:`render_page` write reStructuredText for the documentation site
 (``docs/_ext/keys_reference.py``).
