@@ -13,11 +13,15 @@ central differences of the positions.
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import cyclomech as cm
 import numpy as np
 import pytest
+
+# The issue's four-bar and its toggle angle by the cosine law, shared with the forces' test.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "forces"))
 from test_forces_dead_centre import toggle_angle, toggle_four_bar
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
