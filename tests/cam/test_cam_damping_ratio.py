@@ -16,7 +16,6 @@ from cyclomech.cli import main
 ROOT = Path(__file__).resolve().parents[2]
 LOOM = ROOT / "examples" / "stb_loom.toml"
 LIFTER_CAM = ROOT / "examples" / "lifter_cam.toml"
-PULSES = ("decaying", "rectangular", "triangular", "half_sine")
 
 
 def _edit(tmp_path: Path, src: Path, old: str, new: str) -> Path:

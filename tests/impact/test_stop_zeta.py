@@ -20,7 +20,6 @@ from scipy.integrate import solve_ivp
 
 ROOT = Path(__file__).resolve().parents[2]
 LOOM = ROOT / "examples" / "stb_loom.toml"
-LIFTER_CAM = ROOT / "examples" / "lifter_cam.toml"
 PULSES = ("decaying", "rectangular", "triangular", "half_sine")
 
 

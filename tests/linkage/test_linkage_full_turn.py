@@ -14,7 +14,6 @@ from cyclomech.cli import EXIT_FAILS, main
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
-RAD_PER_RPM = 2.0 * math.pi / 60.0
 
 NON_GRASHOF = """\
 [linkage]

@@ -13,12 +13,9 @@ import cyclomech.plot as cplot
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
-from matplotlib.colors import to_rgba
 from numpy.testing import assert_allclose
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-RED = to_rgba(cplot.CRITICAL_COLOR)
-ORANGE = to_rgba(cplot.LIMITING_COLOR)
 
 
 @pytest.fixture(autouse=True)

@@ -35,11 +35,6 @@ def lines(ax, gid):
     return [ln for ln in ax.get_lines() if ln.get_gid() == gid]
 
 
-def artist(ax, gid):
-    (a,) = [a for a in [*ax.collections, *ax.patches] if a.get_gid() == gid]
-    return a
-
-
 def texts(ax) -> dict[str, str]:
     return {t.get_gid(): t.get_text() for t in ax.texts if t.get_gid()}
 

@@ -7,19 +7,21 @@ import doctest
 import importlib
 import subprocess
 import sys
-from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 
 import cyclomech.plot as cplot
+import matplotlib.pyplot as plt
 import pytest
-from matplotlib.colors import to_rgba
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-RED = to_rgba(cplot.CRITICAL_COLOR)
-ORANGE = to_rgba(cplot.LIMITING_COLOR)
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
 
 DOMAINS = (
     "cam",

@@ -31,10 +31,6 @@ def line(ax, gid):
     return ln
 
 
-def lines(ax, gid):
-    return [ln for ln in ax.get_lines() if ln.get_gid() == gid]
-
-
 def artist(ax, gid):
     (a,) = [a for a in [*ax.collections, *ax.patches] if a.get_gid() == gid]
     return a
