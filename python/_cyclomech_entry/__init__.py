@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import sys
 
-from ._interrupt import interrupted
+from ._interrupt import interrupted, swallowed_interrupts_raised
 
 #: The exit status of an interrupted command (128 + SIGINT), as cyclomech._cli's.
 EXIT_INTERRUPTED = 130
@@ -27,7 +27,8 @@ def main() -> int:
     """Run the ``cyclomech`` command; 130 with one line on stderr if interrupted while
     the package loads (after, :func:`cyclomech.cli.main` handles it)."""
     try:
-        from cyclomech.cli import main as run
+        with swallowed_interrupts_raised():
+            from cyclomech.cli import main as run
     except BaseException as error:  # only a Ctrl-C is handled (re-raised otherwise)
         if not interrupted(error):
             raise

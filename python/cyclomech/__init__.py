@@ -10,11 +10,24 @@ from __future__ import annotations
 
 import sys as _sys
 
-try:  # every domain, numpy and the Rust core: ~0.6 s
-    from . import cam, cyclogram, forces, impact, linkage, machine, motion, press, shaft, transfer
-except BaseException as _error:
-    from _cyclomech_entry._interrupt import interrupted as _interrupted
+from _cyclomech_entry._interrupt import interrupted as _interrupted
+from _cyclomech_entry._interrupt import swallowed_interrupts_raised as _swallowed
 
+try:  # every domain, numpy and the Rust core: ~0.6 s
+    with _swallowed():  # a Ctrl-C CPython swallows in a callback is not lost
+        from . import (
+            cam,
+            cyclogram,
+            forces,
+            impact,
+            linkage,
+            machine,
+            motion,
+            press,
+            shaft,
+            transfer,
+        )
+except BaseException as _error:
     if not _interrupted(_error):  # a Ctrl-C, or an import it broke (its rule)
         raise
     # ``python -m cyclomech`` imports this package before its __main__ can catch a

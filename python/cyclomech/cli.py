@@ -25,7 +25,7 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
-from _cyclomech_entry._interrupt import interrupted
+from _cyclomech_entry._interrupt import interrupted, swallowed_interrupts_raised
 
 from . import _core
 from ._arrays import MAX_THREADS
@@ -98,7 +98,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
     threads_env = os.environ.get(THREADS_ENV)  # --threads sets it for the command only
     try:  # from its first line: building the parser takes a while too
-        return _main(argv)
+        with swallowed_interrupts_raised():
+            return _main(argv)
     except BaseException as error:  # a Ctrl-C, or an import it broke (its rule)
         if not interrupted(error):
             raise

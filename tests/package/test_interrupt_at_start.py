@@ -133,9 +133,15 @@ def test_python_dash_m_does_the_same(tmp_path, delay, form):
 RAISES = {
     "interrupt": "raise KeyboardInterrupt",
     "broken init": "raise ImportError('initialization failed') from KeyboardInterrupt()",
+    # In a weakref callback or __del__ (CI saw it in an import's module lock), where
+    # CPython prints "Exception ignored in ..." and goes on: the Ctrl-C was lost.
+    "swallowed": "Dropped()",
 }
 FAKE_IMPORT = (
     "import builtins, sys\n"
+    "class Dropped:\n"
+    "    def __del__(self):\n"
+    "        raise KeyboardInterrupt\n"
     "real = builtins.__import__\n"
     "def fake(name, *a, **k):\n"
     "    if name == {name!r}:\n"
@@ -232,5 +238,25 @@ def test_an_import_a_ctrl_c_broke_inside_the_command_is_an_interrupt(monkeypatch
             raise ImportError("initialization failed") from e
 
     monkeypatch.setattr(cli.COMMANDS[0], "add_commands", broken)
+    assert cli.main(["run", str(LOOM)]) == 130
+    assert capsys.readouterr().err == "cyclomech: interrupted\n"
+
+
+def test_a_ctrl_c_swallowed_inside_the_command_still_stops_it(monkeypatch, capsys):
+    # CPython prints "Exception ignored in ..." for a KeyboardInterrupt in a __del__
+    # and goes on; the command ends 130 with one line when the step it was in ends.
+    from cyclomech import cli
+
+    class Dropped:
+        def __del__(self) -> None:
+            raise KeyboardInterrupt
+
+    real = cli.COMMANDS[0].add_commands
+
+    def dropping(sub: object) -> None:
+        Dropped()
+        real(sub)
+
+    monkeypatch.setattr(cli.COMMANDS[0], "add_commands", dropping)
     assert cli.main(["run", str(LOOM)]) == 130
     assert capsys.readouterr().err == "cyclomech: interrupted\n"
