@@ -9,15 +9,17 @@ line: one line on stderr, exit status 130.
 A Ctrl-C that lands inside an extension module's initialisation does not arrive as a
 KeyboardInterrupt: CPython raises ``ImportError("initialization failed")`` *from* it
 (seen in CI with scipy's HiGHS module). The rule, in :func:`interrupted`: an error
-whose chain of causes holds a KeyboardInterrupt is a Ctrl-C. The package's
-``__init__`` (under ``python -m``) and :func:`cyclomech.cli.main` use the same rule.
+whose chain of causes holds a KeyboardInterrupt is a Ctrl-C, and so is any error
+while SIGINT arrived (:class:`~_cyclomech_entry._interrupt.CtrlC`, which also keeps a
+Ctrl-C CPython swallows from being lost). The package's ``__init__`` (under ``python
+-m``) and :func:`cyclomech.cli.main` use the same rule.
 """
 
 from __future__ import annotations
 
 import sys
 
-from ._interrupt import interrupted, swallowed_interrupts_raised
+from ._interrupt import CtrlC
 
 #: The exit status of an interrupted command (128 + SIGINT), as cyclomech._cli's.
 EXIT_INTERRUPTED = 130
@@ -26,11 +28,12 @@ EXIT_INTERRUPTED = 130
 def main() -> int:
     """Run the ``cyclomech`` command; 130 with one line on stderr if interrupted while
     the package loads (after, :func:`cyclomech.cli.main` handles it)."""
+    watch = CtrlC()
     try:
-        with swallowed_interrupts_raised():
+        with watch:
             from cyclomech.cli import main as run
     except BaseException as error:  # only a Ctrl-C is handled (re-raised otherwise)
-        if not interrupted(error):
+        if not watch.explains(error):
             raise
         print("cyclomech: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -10,11 +10,10 @@ from __future__ import annotations
 
 import sys as _sys
 
-from _cyclomech_entry._interrupt import interrupted as _interrupted
-from _cyclomech_entry._interrupt import swallowed_interrupts_raised as _swallowed
+from _cyclomech_entry._interrupt import CtrlC as _CtrlC
 
 try:  # every domain, numpy and the Rust core: ~0.6 s
-    with _swallowed():  # a Ctrl-C CPython swallows in a callback is not lost
+    with _CtrlC() as _watch:  # a Ctrl-C CPython swallows in a callback is not lost
         from . import (
             cam,
             cyclogram,
@@ -28,7 +27,7 @@ try:  # every domain, numpy and the Rust core: ~0.6 s
             transfer,
         )
 except BaseException as _error:
-    if not _interrupted(_error):  # a Ctrl-C, or an import it broke (its rule)
+    if not _watch.explains(_error):  # a Ctrl-C, or an import it broke (its rule)
         raise
     # ``python -m cyclomech`` imports this package before its __main__ can catch a
     # Ctrl-C: end as the command does (one line, status 130; _cyclomech_entry does

@@ -25,7 +25,7 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
-from _cyclomech_entry._interrupt import interrupted, swallowed_interrupts_raised
+from _cyclomech_entry._interrupt import CtrlC
 
 from . import _core
 from ._arrays import MAX_THREADS
@@ -97,11 +97,12 @@ def _one_line_warning(
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cyclomech`` command."""
     threads_env = os.environ.get(THREADS_ENV)  # --threads sets it for the command only
+    watch = CtrlC()
     try:  # from its first line: building the parser takes a while too
-        with swallowed_interrupts_raised():
+        with watch:
             return _main(argv)
-    except BaseException as error:  # a Ctrl-C, or an import it broke (its rule)
-        if not interrupted(error):
+    except BaseException as error:  # a Ctrl-C, or an error it caused (its rule)
+        if not watch.explains(error):
             raise
         print("cyclomech: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
