@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -18,6 +18,7 @@ from .._errors import InputError
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
+from ._batch import StopBatch, stop_batch
 from ._stop import StopImpact, max_impact_speeds, rebounds
 from ._study import _STOP_KEYS, A_MAX_RULES, STOP_PARAMS, STOP_RULES, _stop_from_table
 
@@ -117,6 +118,45 @@ class CamStop:
         if "cam" not in table:
             return {}
         return {k: f"it comes from the cam {table['cam']!r}" for k in ("law", "stroke_m")}
+
+    @classmethod
+    def batch_designs(
+        cls, mechanism: CamStop, table: Mapping[str, Any], keys: Collection[str]
+    ) -> StopBatch | None:
+        """The kind's batch path for sweeps (the optional hook of
+        :class:`cyclomech._kind.Mechanism`): the designs of ``mechanism`` that vary
+        ``keys`` in one Rust call per chunk, or None when the sweep must build one
+        machine per design (a contact-model or half-sine stop, a key that is not a
+        number of the stop, the stroke or lever of a stop that names its cam).
+
+        Parameters
+        ----------
+        mechanism : CamStop
+            The machine's stop.
+        table : Mapping of str to Any
+            Its table as read.
+        keys : collection of str
+            The keys of its table the sweep varies.
+
+        Returns
+        -------
+        StopBatch or None
+            The batch (its ``designs`` and ``solve``; :mod:`cyclomech.impact._batch`),
+            or None.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> table = m.data["mechanism"]["lifter"]
+        >>> CamStop.batch_designs(m.mechanisms["lifter"], table, ["preload_m"]) is not None
+        True
+        >>> CamStop.batch_designs(m.mechanisms["lifter"], table, ["phase_deg"]) is None
+        True
+        """
+        return stop_batch(
+            instance("mechanism", mechanism, cls), instance("table", table, Mapping), keys
+        )
 
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)
