@@ -383,8 +383,8 @@ def _run_chunk(
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
     one task, each kernel once: with ``batch`` the swept stops of every design in
     one Rust call (:mod:`cyclomech.machine._batch`, through the kind's hook; the
-    designs it cannot take go the other way), else one machine per design. ``base``: the file's machine, if
-    built. ``shaft``: the main-shaft columns too
+    designs it cannot take go the other way), else one machine per design.
+    ``base``: the file's machine, if built. ``shaft``: the main-shaft columns too
     (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None: none)."""
     base = Machine.from_dict(data, source) if base is None else base
     D, S = len(designs), speeds.size
@@ -539,7 +539,7 @@ def sweep(
     batch : bool, default True
         A sweep of pulse-model stops' numeric keys builds and solves each chunk's
         designs in one Rust call (``cyclomech.machine._batch`` says when a
-        kind's batch path is taken, ``cyclomech.impact._batch`` what the stops'
+        kind's batch path is taken, ``cyclomech.impact._batch`` what a stop's batch
         takes); False builds one machine per design (the reference: the same
         results, bit for bit, slower).
     out : str or Path, optional
