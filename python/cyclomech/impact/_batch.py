@@ -36,17 +36,15 @@ from __future__ import annotations
 import functools
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from .. import _core
 from ._lever import propped_lever_stiffness
+from ._stop import StopImpact
 from ._study import STOP_PARAMS
-
-if TYPE_CHECKING:
-    from ._kind import CamStop
 
 __all__ = ["BATCH_KEYS", "StopBatch", "StopSolution", "stop_batch"]
 
@@ -67,16 +65,25 @@ _NO_SPEEDS = np.empty(0)
 
 
 def stop_batch(
-    mechanism: CamStop, table: Mapping[str, Any], keys: Collection[str]
+    stop: StopImpact,
+    a_max: float,
+    params: Mapping[str, str],
+    table: Mapping[str, Any],
+    keys: Collection[str],
 ) -> StopBatch | None:
-    """The batch of designs of ``mechanism`` that vary ``keys`` (its table's keys),
+    """The batch of designs of a cam stop that vary ``keys`` (its table's keys),
     or None when one of them needs the per-design path (see the module's
-    docstring).
+    docstring). :meth:`CamStop.batch_designs <cyclomech.impact.CamStop.batch_designs>`
+    with the stop's parts (this module does not import the kind, which imports it).
 
     Parameters
     ----------
-    mechanism : CamStop
+    stop : StopImpact
         The machine's stop.
+    a_max : float
+        Its rebound limit [m].
+    params : Mapping of str to str
+        Its table's keys → the parameters they set (``CamStop.params``).
     table : Mapping of str to Any
         Its table as read (whether it names a cam, which keys it gives).
     keys : collection of str
@@ -91,13 +98,12 @@ def stop_batch(
     --------
     >>> import cyclomech as cm
     >>> m = cm.Machine.example()
-    >>> table = m.data["mechanism"]["lifter"]
-    >>> stop_batch(m.mechanisms["lifter"], table, ["preload_m"]).keys
+    >>> lifter, table = m.mechanisms["lifter"], m.data["mechanism"]["lifter"]
+    >>> stop_batch(lifter.stop, lifter.a_max, lifter.params, table, ["preload_m"]).keys
     ('preload_m',)
-    >>> stop_batch(m.mechanisms["lifter"], table, ["phase_deg"]) is None
+    >>> stop_batch(lifter.stop, lifter.a_max, lifter.params, table, ["phase_deg"]) is None
     True
     """
-    stop = mechanism.stop
     if stop.model != "pulse" or stop.pulse not in _PULSE_CODE:
         return None
     for key in keys:
@@ -105,7 +111,7 @@ def stop_batch(
             return None
         if "cam" in table and key in ("stroke_m", "lever_length_m"):
             return None
-    return StopBatch(mechanism, table, tuple(keys))
+    return StopBatch(stop, a_max, params, table, tuple(keys))
 
 
 @dataclass(frozen=True)
@@ -115,8 +121,13 @@ class StopBatch:
 
     Parameters
     ----------
-    mechanism : CamStop
+    stop : StopImpact
         The machine's stop, whose other parameters the designs share.
+    a_max : float
+        Its rebound limit [m].
+    params : Mapping of str to str
+        Each key of its table that sets a parameter of ``stop`` or ``a_max`` → that
+        parameter's name (``CamStop.params``).
     table : Mapping of str to Any
         Its table as read (which derived quantities it gives).
     keys : tuple of str
@@ -126,13 +137,16 @@ class StopBatch:
     --------
     >>> import numpy as np, cyclomech as cm
     >>> m = cm.Machine.example()
-    >>> b = stop_batch(m.mechanisms["lifter"], m.data["mechanism"]["lifter"], ["preload_m"])
+    >>> lifter, table = m.mechanisms["lifter"], m.data["mechanism"]["lifter"]
+    >>> b = stop_batch(lifter.stop, lifter.a_max, lifter.params, table, ["preload_m"])
     >>> designs, ok = b.designs({"preload_m": np.array([1e-4, 2e-2])})
     >>> designs.shape, ok.tolist()   # a preload beyond the stroke: the per-design path
     ((8, 2), [True, False])
     """
 
-    mechanism: CamStop
+    stop: StopImpact
+    a_max: float
+    params: Mapping[str, str]
     table: Mapping[str, Any]
     keys: tuple[str, ...]
 
@@ -159,14 +173,14 @@ class StopBatch:
         --------
         >>> import numpy as np, cyclomech as cm
         >>> m = cm.Machine.example()
-        >>> b = stop_batch(m.mechanisms["lifter"], m.data["mechanism"]["lifter"], ["a_max_m"])
+        >>> lifter, table = m.mechanisms["lifter"], m.data["mechanism"]["lifter"]
+        >>> b = stop_batch(lifter.stop, lifter.a_max, lifter.params, table, ["a_max_m"])
         >>> b.designs({"a_max_m": np.array([1e-4, -1.0])})[0][7].tolist()
         [0.0001, -1.0]
         """
-        params = type(self.mechanism).params
         # By StopImpact's parameter names (the file's keys carry their units).
-        own = {params[k]: values[k] for k in self.keys}
-        return _stop_designs(self.mechanism, self.table, own)
+        own = {self.params[k]: values[k] for k in self.keys}
+        return _stop_designs(self.stop, self.a_max, self.params, self.table, own)
 
     def solve(self, designs: Array, n_threads: int | None) -> StopSolution:
         """Each design's bound, solved by the batch kernel.
@@ -189,12 +203,13 @@ class StopBatch:
         >>> import numpy as np, cyclomech as cm
         >>> m = cm.Machine.example()
         >>> lifter = m.mechanisms["lifter"]
-        >>> b = stop_batch(lifter, m.data["mechanism"]["lifter"], ["preload_m"])
+        >>> table = m.data["mechanism"]["lifter"]
+        >>> b = stop_batch(lifter.stop, lifter.a_max, lifter.params, table, ["preload_m"])
         >>> s = b.solve(b.designs({"preload_m": np.array([lifter.stop.preload])})[0], 1)
         >>> bool(s.per_rpm[0, 0] == lifter.bound_laws([lifter])[0][0].per_rpm)
         True
         """
-        st = self.mechanism.stop
+        st = self.stop
         law = st.law
         coeffs = None if law.coeffs is None else np.asarray(law.coeffs, dtype=np.float64)
         # No speeds: the smallest phase angles per speed are not needed here (the
@@ -308,14 +323,18 @@ def _propped_ratio(a: float, b: float) -> float:
 
 
 def _stop_designs(
-    mech: CamStop, table: Mapping[str, Any], values: Mapping[str, Array]
+    st: StopImpact,
+    a_max: float,
+    params: Mapping[str, str],
+    table: Mapping[str, Any],
+    values: Mapping[str, Array],
 ) -> tuple[Array, npt.NDArray[np.bool_]]:
-    """The designs (8, D) of one stop with ``values`` (StopImpact's parameter →
-    (D,)) replacing its table's, and which pass: every quantity as
+    """The designs (8, D) of the stop ``st`` (rebound limit ``a_max`` [m], its
+    table's keys ``params``) with ``values`` (StopImpact's parameter → (D,))
+    replacing its table's, and which pass: every quantity as
     :class:`~cyclomech.impact.StopImpact` computes it, in the same order (so, bit
     for bit), and the checks it makes; a design that fails one is left to the
     per-design path."""
-    st = mech.stop
     D = next(iter(values.values())).size
     base = {
         "stroke": st.stroke,
@@ -331,7 +350,7 @@ def _stop_designs(
         "zeta": st.zeta,
         "contact_stiffness": st.contact_stiffness,
         "contact_time": st.contact_time,
-        "a_max": mech.a_max,
+        "a_max": a_max,
     }
     p = {
         k: np.asarray(values[k], dtype=np.float64) if k in values else np.full(D, v)
@@ -351,7 +370,7 @@ def _stop_designs(
         ok &= np.isfinite(stiffness) & (stiffness > 0.0)
         # Given, or derived as StopImpact derives it when the table gives none.
         derived = ("mass", "contact_stiffness", "contact_time")
-        file_key = {p: k for k, p in type(mech).params.items()}
+        file_key = {p: k for k, p in params.items()}
         given = {k: k in values or file_key[k] in table for k in derived}
         if given["mass"]:
             mass = p["mass"]

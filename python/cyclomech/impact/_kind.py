@@ -154,9 +154,8 @@ class CamStop:
         >>> CamStop.batch_designs(m.mechanisms["lifter"], table, ["phase_deg"]) is None
         True
         """
-        return stop_batch(
-            instance("mechanism", mechanism, cls), instance("table", table, Mapping), keys
-        )
+        m = instance("mechanism", mechanism, cls)
+        return stop_batch(m.stop, m.a_max, cls.params, instance("table", table, Mapping), keys)
 
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)

@@ -15,14 +15,12 @@ import base64
 import html
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from ._model import SCHEMA
-
-if TYPE_CHECKING:
-    from ._report import MachineResult
+from ._result import MachineResult
 
 __all__ = ["page"]
 
