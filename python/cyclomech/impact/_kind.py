@@ -144,6 +144,11 @@ class CamStop:
             The batch (its ``designs`` and ``solve``; :mod:`cyclomech.impact._batch`),
             or None.
 
+        Raises
+        ------
+        InputError
+            If ``keys`` is not a collection of str.
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -153,9 +158,17 @@ class CamStop:
         True
         >>> CamStop.batch_designs(m.mechanisms["lifter"], table, ["phase_deg"]) is None
         True
+        >>> CamStop.batch_designs(m.mechanisms["lifter"], table, "preload_m")
+        Traceback (most recent call last):
+        cyclomech._errors.InputError: keys must be a collection of its table's keys; got 'preload_m'
         """
         m = instance("mechanism", mechanism, cls)
-        return stop_batch(m.stop, m.a_max, cls.params, instance("table", table, Mapping), keys)
+        table = instance("table", table, Mapping)
+        if isinstance(keys, str) or not isinstance(keys, Collection):
+            raise InputError(f"keys must be a collection of its table's keys; got {keys!r}")
+        if not all(isinstance(k, str) for k in keys):
+            raise InputError(f"keys must be its table's keys (str); got {keys!r}")
+        return stop_batch(m.stop, m.a_max, cls.params, table, keys)
 
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)
