@@ -473,11 +473,11 @@ class Mechanism(Protocol):
     keys)`` offers the machine's sweeps a batch path for a mechanism of the kind
     whose table's ``keys`` (a collection of str) vary. ``mechanism`` is the
     machine's mechanism and ``table`` its table as read. It returns a
-    :class:`BatchDesigns` (the designs of that mechanism, built and solved many at
-    once, bit for bit what one machine per design gives), or None where those keys
-    need one machine per design. The sweep asks each swept mechanism's class for
-    the hook and calls it; it knows no kind by name (``cam_stop`` has one:
-    :meth:`cyclomech.impact.CamStop.batch_designs`).
+    ``cyclomech._kind.BatchDesigns`` (the designs of that mechanism, built and
+    solved many at once, bit for bit what one machine per design gives), or None
+    where those keys need one machine per design. The sweep asks each swept
+    mechanism's class for the hook and calls it; it knows no kind by name
+    (``cam_stop`` has one: :meth:`cyclomech.impact.CamStop.batch_designs`).
 
     Examples
     --------

@@ -124,7 +124,7 @@ class CamStop:
         cls, mechanism: CamStop, table: Mapping[str, Any], keys: Collection[str]
     ) -> StopBatch | None:
         """The kind's batch path for sweeps (the optional hook of
-        :class:`cyclomech._kind.Mechanism`): the designs of ``mechanism`` that vary
+        :class:`~cyclomech.machine.Mechanism`): the designs of ``mechanism`` that vary
         ``keys`` in one Rust call per chunk, or None when the sweep must build one
         machine per design (a contact-model or half-sine stop, a key that is not a
         number of the stop, the stroke or lever of a stop that names its cam).
@@ -141,7 +141,7 @@ class CamStop:
         Returns
         -------
         StopBatch or None
-            The batch (its ``designs`` and ``solve``; :mod:`cyclomech.impact._batch`),
+            The batch (its ``designs`` and ``solve``; ``cyclomech.impact._batch``),
             or None.
 
         Raises
