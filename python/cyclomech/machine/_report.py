@@ -397,88 +397,14 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     for name in ("report.html", "results.json"):
         (folder / name).unlink(missing_ok=True)
     summary = _summary(result)
-    written = []
-    sw = result.sweep
-    header = [
-        "speed_rpm",
-        "fits",
-        "limiting_deg",
-        "limiting_deg_linear",
-        "limiting_s",
-        "productivity_per_min",
-        *sw.columns,
+    written = [
+        _write_csv(folder / "speed_sweep.csv", *_sweep_table(result)),
+        _write_csv(folder / "operations.csv", *_operations_table(result)),
     ]
-    cols: list[Any] = [
-        sw.rpm,
-        sw.fits,
-        sw.limiting_deg,
-        result.sweep_linear.limiting_deg,
-        sw.limiting_s,
-        sw.productivity_per_min,
-        *sw.columns.values(),
-    ]
-    for res in result.mechanisms.values():
-        for name, column in res.csv_columns():
-            header.append(name)
-            cols.append(column)
-    header.append("binding")
-    cols.append(sw.binding)
-    rows = [list(r) for r in zip(*cols, strict=True)]
-    written.append(_write_csv(folder / "speed_sweep.csv", header, rows))
-    op_rows: list[list[Any]] = []
-    if result.optimum is not None:
-        o, mins = result.optimum, result.minimums
-        assert mins is not None
-        ops = result.machine.cyclogram.operations
-        for op, mn, by in zip(ops, mins, result.minimum_by, strict=True):
-            op_rows.append(
-                [
-                    op.mechanism or "",
-                    op.title,
-                    op.src,
-                    op.dst,
-                    float(mn),
-                    by,
-                    o.angles[op.arc],
-                    o.times[op.src],
-                    o.angles[op.arc] - float(mn),
-                    op.arc in set(o.critical),
-                ]
-            )
-    written.append(
-        _write_csv(
-            folder / "operations.csv",
-            [
-                "mechanism",
-                "operation",
-                "from",
-                "to",
-                "minimum_deg",
-                "minimum_by",
-                "angle_deg",
-                "start_deg",
-                "beyond_minimum_deg",
-                "critical",
-            ],
-            op_rows,
-        )
-    )
     cycle_files: list[str] = []  # over the cycle, for the report's Files section
-    if result.shaft is not None:
-        cycle_files.append("main_shaft.csv")
-        sh, n = result.shaft, result.nominal_rpm
-        head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
-        theta = np.round(sh.torque.theta_deg, 9)  # 0.1 steps, not 0.30000000000000004
-        columns = [theta, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
-        rows = [list(r) for r in zip(*columns, strict=True)]
-        written.append(_write_csv(folder / "main_shaft.csv", head, rows))
-    for k, res in result.mechanisms.items():
-        over = getattr(res, "cycle_csv", lambda: None)()
-        if over is not None:
-            head, columns = over
-            rows = [list(r) for r in zip(*columns, strict=True)]
-            cycle_files.append(f"{_stem(k)}_forces.csv")
-            written.append(_write_csv(folder / cycle_files[-1], head, rows))
+    for name, header, rows in _cycle_tables(result):
+        cycle_files.append(name)
+        written.append(_write_csv(folder / name, header, rows))
     figs: list[tuple[str, str, Path]] = []
     if figures:
         try:
@@ -496,3 +422,114 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         written.append(p)
     written += [f[2] for f in figs]
     return written
+
+
+def _sweep_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
+    """``speed_sweep.csv``: the key figures at each speed [rpm] (the limiting
+    operation's angle [deg], exact and linearised, its time [s], the productivity
+    [1/min]), the kinds' sweep columns, each mechanism's CSV columns and what
+    binds.
+
+    >>> import cyclomech as cm
+    >>> header, rows = _sweep_table(cm.machine.analyze(cm.Machine.example(), progress=False))
+    >>> header[:3], len(rows)
+    (['speed_rpm', 'fits', 'limiting_deg'], 61)
+    """
+    sw = r.sweep
+    header = [
+        "speed_rpm",
+        "fits",
+        "limiting_deg",
+        "limiting_deg_linear",
+        "limiting_s",
+        "productivity_per_min",
+        *sw.columns,
+    ]
+    cols: list[Any] = [
+        sw.rpm,
+        sw.fits,
+        sw.limiting_deg,
+        r.sweep_linear.limiting_deg,
+        sw.limiting_s,
+        sw.productivity_per_min,
+        *sw.columns.values(),
+    ]
+    for res in r.mechanisms.values():
+        for name, column in res.csv_columns():
+            header.append(name)
+            cols.append(column)
+    header.append("binding")
+    cols.append(sw.binding)
+    return header, [list(row) for row in zip(*cols, strict=True)]
+
+
+def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
+    """``operations.csv``: each operation of the optimum at the nominal speed,
+    its minimum [deg] and what sets it, its angle and start [deg], what it got
+    beyond its minimum [deg] and whether it is critical (no rows without an
+    optimum).
+
+    >>> import cyclomech as cm
+    >>> header, rows = _operations_table(cm.machine.analyze(cm.Machine.example(), progress=False))
+    >>> header[4], [round(row[4], 3) for row in rows]
+    ('minimum_deg', [45.0, 42.178, 20.0, 252.822])
+    """
+    header = [
+        "mechanism",
+        "operation",
+        "from",
+        "to",
+        "minimum_deg",
+        "minimum_by",
+        "angle_deg",
+        "start_deg",
+        "beyond_minimum_deg",
+        "critical",
+    ]
+    rows: list[list[Any]] = []
+    if r.optimum is not None:
+        o, mins = r.optimum, r.minimums
+        assert mins is not None
+        for op, mn, by in zip(r.machine.cyclogram.operations, mins, r.minimum_by, strict=True):
+            rows.append(
+                [
+                    op.mechanism or "",
+                    op.title,
+                    op.src,
+                    op.dst,
+                    float(mn),
+                    by,
+                    o.angles[op.arc],
+                    o.times[op.src],
+                    o.angles[op.arc] - float(mn),
+                    op.arc in set(o.critical),
+                ]
+            )
+    return header, rows
+
+
+def _cycle_tables(r: MachineResult) -> list[tuple[str, list[str], list[list[Any]]]]:
+    """(file name, header, rows) of each table over the cycle at the nominal
+    speed: ``main_shaft.csv`` (the shaft's torque [N·m], total and each
+    mechanism's, at each angle [deg]) when a mechanism loads the shaft, and each
+    mechanism's own (``<mechanism>_forces.csv``: a linkage's forces).
+
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"), progress=False)
+    >>> [name for name, _, _ in _cycle_tables(r)]
+    ['main_shaft.csv', 'knife_forces.csv']
+    """
+    out: list[tuple[str, list[str], list[list[Any]]]] = []
+    if r.shaft is not None:
+        sh, n = r.shaft, r.nominal_rpm
+        head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
+        theta = np.round(sh.torque.theta_deg, 9)  # 0.1 steps, not 0.30000000000000004
+        columns = [theta, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
+        out.append(("main_shaft.csv", head, [list(row) for row in zip(*columns, strict=True)]))
+    for k, res in r.mechanisms.items():
+        over = getattr(res, "cycle_csv", lambda: None)()
+        if over is not None:
+            head, columns = over
+            rows = [list(row) for row in zip(*columns, strict=True)]
+            out.append((f"{_stem(k)}_forces.csv", head, rows))
+    return out
