@@ -18,6 +18,7 @@
 use cyclomech_core::cam::CamError;
 use cyclomech_core::cyclogram::CyclogramError;
 use cyclomech_core::impact::ImpactError;
+use cyclomech_core::input::InvalidInput;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::press::PressError;
@@ -79,11 +80,7 @@ impl LayoutError for CamError {
 
 impl LayoutError for ShaftError {
     fn layout(field: &'static str) -> Self {
-        ShaftError::BadValue {
-            field,
-            value: f64::NAN,
-            why: "must be a C-contiguous array".into(),
-        }
+        InvalidInput::bad_value(field, f64::NAN, "must be a C-contiguous array").into()
     }
 }
 
@@ -118,11 +115,7 @@ impl LayoutError for PressError {
 
 impl LayoutError for CyclogramError {
     fn layout(field: &'static str) -> Self {
-        CyclogramError::BadScalar {
-            field,
-            value: f64::NAN,
-            what: "the array must be C-contiguous",
-        }
+        CyclogramError::bad_scalar(field, f64::NAN, "the array must be C-contiguous")
     }
 }
 

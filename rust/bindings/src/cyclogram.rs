@@ -2,6 +2,7 @@
 //! difference constraints.
 
 use cyclomech_core::cyclogram::{self, CyclogramError, SpeedLimit};
+use cyclomech_core::input::InvalidInput;
 use cyclomech_core::parallel::resolve_threads;
 use numpy::ndarray::Array1;
 use numpy::{
@@ -170,7 +171,14 @@ impl EventGraph {
         let (b, e) = batch.unwrap_or((1, w.len()));
         let n = self.graph.n_events();
         let want = || format!("a writeable C-contiguous float64 array of shape ({b}, {n})");
-        let bad = |got: String| CyclogramError::Output { want: want(), got }.into_pyerr(py);
+        let bad = |got: String| {
+            InvalidInput::Output {
+                field: "out",
+                want: want(),
+                got,
+            }
+            .into_pyerr(py)
+        };
         let arr = out
             .clone()
             .cast_into::<PyArray2<f64>>()

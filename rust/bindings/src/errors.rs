@@ -10,12 +10,14 @@ use cyclomech_core::cancel;
 use cyclomech_core::cyclogram::CyclogramError;
 use cyclomech_core::forces::ForceError;
 use cyclomech_core::impact::ImpactError;
+use cyclomech_core::input::InvalidInput;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
 use cyclomech_core::press::ParetoError;
 use cyclomech_core::press::PressError;
 use cyclomech_core::shaft::ShaftError;
+use cyclomech_core::transfer::TransferError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -54,6 +56,57 @@ pub trait IntoPyErr {
     fn into_pyerr(self, py: Python<'_>) -> PyErr;
 }
 
+/// The invalid inputs every domain shares (`cyclomech_core::input`): an
+/// `InputError` whichever domain wraps them, mapped here once.
+impl IntoPyErr for InvalidInput {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        input_error(py, self.to_string())
+    }
+}
+
+impl IntoPyErr for ThreadsError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        InvalidInput::from(self).into_pyerr(py)
+    }
+}
+
+/// An `InputError(message)`: the caller's input, refused with `message`.
+pub fn input_error(py: Python<'_>, message: String) -> PyErr {
+    raise(py, "InputError", message, None)
+}
+
+/// Domains whose own variants are all the caller's mistakes too: the shared part
+/// goes through [`InvalidInput`]'s mapping, the rest is an `InputError`.
+macro_rules! input_errors {
+    ($($domain:ident),+ $(,)?) => {$(
+        impl IntoPyErr for $domain {
+            fn into_pyerr(self, py: Python<'_>) -> PyErr {
+                match self {
+                    $domain::Input(e) => e.into_pyerr(py),
+                    other => input_error(py, other.to_string()),
+                }
+            }
+        }
+    )+};
+}
+
+input_errors!(
+    CamError,
+    ForceError,
+    LinkageError,
+    MotionError,
+    PressError,
+    TransferError
+);
+
+impl IntoPyErr for ShaftError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            ShaftError::Input(e) => e.into_pyerr(py),
+        }
+    }
+}
+
 impl IntoPyErr for CyclogramError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         let message = self.to_string();
@@ -62,44 +115,8 @@ impl IntoPyErr for CyclogramError {
                 raise(py, "CycleError", message, Some(events))
             }
             CyclogramError::NotConverged { .. } => raise(py, "SolverError", message, None),
-            CyclogramError::Threads(e) => e.into_pyerr(py),
-            _ => raise(py, "InputError", message, None),
-        }
-    }
-}
-
-impl IntoPyErr for LinkageError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            LinkageError::Threads(e) => e.into_pyerr(py),
-            other => raise(py, "InputError", other.to_string(), None),
-        }
-    }
-}
-
-impl IntoPyErr for CamError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            CamError::Threads(e) => e.into_pyerr(py),
-            other => raise(py, "InputError", other.to_string(), None),
-        }
-    }
-}
-
-impl IntoPyErr for ShaftError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            ShaftError::Threads(e) => e.into_pyerr(py),
-            other => raise(py, "InputError", other.to_string(), None),
-        }
-    }
-}
-
-impl IntoPyErr for MotionError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            MotionError::Threads(e) => e.into_pyerr(py),
-            other => raise(py, "InputError", other.to_string(), None),
+            CyclogramError::Input(e) => e.into_pyerr(py),
+            _ => input_error(py, message),
         }
     }
 }
@@ -107,31 +124,16 @@ impl IntoPyErr for MotionError {
 impl IntoPyErr for ImpactError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
         match self {
-            ImpactError::Threads(e) => e.into_pyerr(py),
+            ImpactError::Input(e) => e.into_pyerr(py),
             ImpactError::Stalled { .. } => raise(py, "SolverError", self.to_string(), None),
-            other => raise(py, "InputError", other.to_string(), None),
-        }
-    }
-}
-
-impl IntoPyErr for PressError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            PressError::Threads(e) => e.into_pyerr(py),
-            other => raise(py, "InputError", other.to_string(), None),
+            other => input_error(py, other.to_string()),
         }
     }
 }
 
 impl IntoPyErr for ParetoError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        raise(py, "InputError", self.to_string(), None)
-    }
-}
-
-impl IntoPyErr for ThreadsError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        raise(py, "InputError", self.to_string(), None)
+        input_error(py, self.to_string())
     }
 }
 
@@ -172,15 +174,6 @@ where
                 format!("internal error in kernel {kernel}: {detail} (please report this with the input that caused it)"),
                 None,
             ))
-        }
-    }
-}
-
-impl IntoPyErr for ForceError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            ForceError::Threads(e) => e.into_pyerr(py),
-            other => raise(py, "InputError", other.to_string(), None),
         }
     }
 }

@@ -4,6 +4,7 @@
 // Aliased: the Python function `duhamel` takes the module's name.
 use cyclomech_core::impact as kernel;
 use cyclomech_core::impact::{Cases, Contact, ContactHistory, ImpactError, Oscillator, MAX_EVENTS};
+use cyclomech_core::input::InvalidInput;
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
@@ -205,8 +206,8 @@ pub fn duhamel_batch<'py>(
     Ok(out)
 }
 
-fn out_error(b: usize, n: usize, got: String) -> ImpactError {
-    ImpactError::Output {
+fn out_error(b: usize, n: usize, got: String) -> InvalidInput {
+    InvalidInput::Output {
         field: "out",
         want: format!(
             "a writeable C-contiguous float64 array of shape (B, N) = ({b}, {n}) \

@@ -13,32 +13,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::convert::{self, LayoutError};
-use crate::errors::{run, IntoPyErr};
-
-impl IntoPyErr for TransferError {
-    fn into_pyerr(self, py: Python<'_>) -> PyErr {
-        match self {
-            TransferError::Threads(e) => e.into_pyerr(py),
-            other => input_error(py, other.to_string()),
-        }
-    }
-}
+use crate::errors::{input_error, run, IntoPyErr};
 
 impl LayoutError for TransferError {
     fn layout(field: &'static str) -> Self {
         TransferError::Layout { field }
-    }
-}
-
-/// `cyclomech._errors.InputError(message)` as a `PyErr`.
-fn input_error(py: Python<'_>, message: String) -> PyErr {
-    let made = py
-        .import("cyclomech._errors")
-        .and_then(|m| m.getattr("InputError"))
-        .and_then(|cls| cls.call1((message,)));
-    match made {
-        Ok(exc) => PyErr::from_value(exc),
-        Err(e) => e,
     }
 }
 

@@ -1,7 +1,8 @@
 //! Pure-Rust kernels of cyclomech.
 //!
 //! No Python types here: every kernel takes slices and returns owned vectors or a
-//! typed error (one `thiserror` enum per domain). The pyo3 layer in `rust/bindings`
+//! typed error (one `thiserror` enum per domain, wrapping the mistakes every
+//! domain shares, [`input::InvalidInput`]). The pyo3 layer in `rust/bindings`
 //! only converts arrays and maps these errors to `cyclomech.CyclomechError`
 //! subclasses. No kernel may panic on user input: inputs are validated up front.
 //!
@@ -30,7 +31,9 @@
 //!   curvature and arc length, the composed path sampled by arc length, the
 //!   kinematics of a speed law and the design's candidate scan.
 //!
-//! Shared by every domain: [`parallel`] (the rayon thread pools behind
+//! Shared by every domain: [`input`] (the invalid inputs every domain refuses the
+//! same way: a bad scalar, a non-finite entry, a bad thread count, an output
+//! array that cannot be filled), [`parallel`] (the rayon thread pools behind
 //! `n_threads=` and `CYCLOMECH_THREADS`), [`cancel`] (the Ctrl-C flag every
 //! parallel loop polls at the start of a chunk), [`units`] (rpm to rad/s and deg/s) and
 //! the crate-private `geom` (plane vectors and the sine and cosine every kernel
@@ -68,6 +71,7 @@ pub mod cyclogram;
 pub mod forces;
 pub(crate) mod geom;
 pub mod impact;
+pub mod input;
 pub mod linkage;
 mod memory;
 pub mod motion;

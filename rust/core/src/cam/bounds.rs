@@ -40,6 +40,7 @@ pub(super) const NEAR_UNDERCUT: f64 = 0.5;
 /// limit is admissible without refining the maximum: a peak would have to stand
 /// 25 % above the two grid samples around it (1/48 of the segment apart).
 pub(super) const CUT: f64 = 0.8;
+use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
 /// The criteria of [`Cam::min_angles_into`], in the order of its output.
@@ -273,18 +274,20 @@ impl Cam {
         let n = self.program().len();
         for &k in segments {
             if k >= n {
-                return Err(CamError::BadValue {
+                return Err(InvalidInput::BadValue {
                     field: "segments",
                     value: k as f64,
-                    why: format!("is not a segment index (the program has {n} segments)"),
-                });
+                    why: format!("is not a segment index (the program has {n} segments)").into(),
+                }
+                .into());
             }
             if self.program().segment(k).3 == 0.0 {
-                return Err(CamError::BadValue {
+                return Err(InvalidInput::BadValue {
                     field: "segments",
                     value: k as f64,
                     why: "is a dwell: only a rise or return has a phase-angle bound".into(),
-                });
+                }
+                .into());
             }
         }
         if let Some((index, &value)) = omegas
@@ -292,19 +295,21 @@ impl Cam {
             .enumerate()
             .find(|(_, w)| !(w.is_finite() && **w >= 0.0))
         {
-            return Err(CamError::BadValue {
+            return Err(InvalidInput::BadValue {
                 field: "omega",
                 value,
-                why: format!("(at index {index}) [rad/s] must be finite and >= 0"),
-            });
+                why: format!("(at index {index}) [rad/s] must be finite and >= 0").into(),
+            }
+            .into());
         }
         let a = limits.max_pressure_angle;
         if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
-            return Err(CamError::BadValue {
+            return Err(InvalidInput::BadValue {
                 field: "max_pressure_angle",
                 value: a,
                 why: "[rad] must be in (0, π/2)".into(),
-            });
+            }
+            .into());
         }
         if let Some(l) = loads {
             l.validate(n)?;
@@ -312,19 +317,21 @@ impl Cam {
         let stress = match (limits.max_stress, loads, contact) {
             (None, _, _) => None,
             (Some(m), _, _) if !(m.is_finite() && m > 0.0) => {
-                return Err(CamError::BadValue {
+                return Err(InvalidInput::BadValue {
                     field: "max_stress",
                     value: m,
                     why: "[Pa] must be finite and > 0".into(),
-                })
+                }
+                .into())
             }
             (Some(m), Some(l), Some(c)) => Some((m, l, (c.width, self.hertz_compliance(c)?))),
             (Some(m), _, _) => {
-                return Err(CamError::BadValue {
+                return Err(InvalidInput::BadValue {
                     field: "max_stress",
                     value: m,
                     why: "needs the follower's loads and the contact's data".into(),
-                })
+                }
+                .into())
             }
         };
         let (ns, nk, nc) = (omegas.len(), segments.len(), CRITERIA.len());

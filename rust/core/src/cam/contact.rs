@@ -26,6 +26,7 @@ use rayon::prelude::*;
 
 use super::follower::{Cam, Follower, N_COLUMNS};
 use super::program::CamError;
+use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
 /// The columns of [`Cam::loads_into`]'s rows, in order.
@@ -68,11 +69,7 @@ pub struct Contact {
 }
 
 fn bad(field: &'static str, value: f64, why: &str) -> CamError {
-    CamError::BadValue {
-        field,
-        value,
-        why: why.into(),
-    }
+    InvalidInput::bad_value(field, value, why.to_owned()).into()
 }
 
 impl Loads {
@@ -104,11 +101,12 @@ impl Loads {
             .enumerate()
             .find(|(_, v)| !v.is_finite())
         {
-            return Err(CamError::NotFinite {
+            return Err(InvalidInput::NotFinite {
                 field: "segment_loads",
                 index,
                 value,
-            });
+            }
+            .into());
         }
         Ok(())
     }
@@ -292,11 +290,12 @@ impl Cam {
             None => None,
         };
         if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
-            return Err(CamError::NotFinite {
+            return Err(InvalidInput::NotFinite {
                 field: "theta",
                 index,
                 value,
-            });
+            }
+            .into());
         }
         debug_assert_eq!(out.len(), theta.len() * N_LOAD_COLUMNS);
         let pool = pool(resolve_threads(n_threads)?)?;

@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use super::program::{CamError, Program};
 use crate::geom::sin_cos_lanes;
+use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
 /// The columns of [`Cam::solve_into`]'s rows, in order.
@@ -576,11 +577,12 @@ impl Cam {
         });
         if !finite {
             if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
-                return Err(CamError::NotFinite {
+                return Err(InvalidInput::NotFinite {
                     field: "theta",
                     index,
                     value,
-                });
+                }
+                .into());
             }
         }
         Ok(())

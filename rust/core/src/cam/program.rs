@@ -2,8 +2,8 @@
 
 use std::f64::consts::TAU;
 
+use crate::input::InvalidInput;
 use crate::motion::{Law, NAMES};
-use crate::parallel::ThreadsError;
 
 /// Tolerance on the segments' angles summing to one turn [rad].
 pub const ANGLE_TOL: f64 = 1e-9 * TAU;
@@ -41,21 +41,11 @@ pub enum CamError {
         value: f64,
         why: String,
     },
-    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
-    BadValue {
-        field: &'static str,
-        value: f64,
-        why: String,
-    },
-    #[error("{field}[{index}] = {value} is not finite")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
+    #[error(transparent)]
+    Input(#[from] InvalidInput),
 }
+
+crate::input::wraps_invalid_input!(CamError);
 
 /// The kind of a segment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

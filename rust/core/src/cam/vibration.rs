@@ -77,6 +77,7 @@ use rayon::prelude::*;
 
 use super::program::{CamError, Kind, Program, SegmentSpec};
 use crate::impact::{response_into, ImpactError, Oscillator, MODE_RANGE};
+use crate::input::InvalidInput;
 use crate::motion::{Law, MotionError};
 use crate::parallel::{pool, resolve_threads, ThreadsError};
 
@@ -111,7 +112,7 @@ pub enum VibrationError {
 
 impl From<ThreadsError> for VibrationError {
     fn from(e: ThreadsError) -> Self {
-        VibrationError::Cam(CamError::Threads(e))
+        VibrationError::Cam(e.into())
     }
 }
 
@@ -445,15 +446,16 @@ pub fn min_tau(law: &str, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationE
             break;
         }
         if last > SCAN_MAX {
-            return Err(CamError::BadValue {
+            return Err(CamError::from(InvalidInput::BadValue {
                 field: "ratio_limit",
                 value: ratio_limit,
                 why: format!(
                     "is still exceeded at tau = {SCAN_MAX:e} (R = {:e}): too small a residual \
                      amplitude to reach",
                     rs[checked - 1]
-                ),
-            }
+                )
+                .into(),
+            })
             .into());
         }
     }
@@ -589,14 +591,7 @@ pub fn steady_response(
     )?;
     param("omega_n", omega_n, omega_n > 0.0, "finite and > 0 [rad/s]")?;
     check_zeta(zeta)?;
-    if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
-        return Err(CamError::NotFinite {
-            field: "theta",
-            index,
-            value,
-        }
-        .into());
-    }
+    InvalidInput::check_finite("theta", theta).map_err(CamError::from)?;
     let ratio = omega_n / omega;
     let osc = Oscillator::new(ratio, zeta, 1.0)?;
     let mut pieces = Vec::with_capacity(specs.len());
@@ -666,15 +661,16 @@ pub fn steady_response(
     let det = a * e - b * c;
     if det.is_nan() || det <= RESONANCE_DET {
         let rpm = omega * 30.0 / std::f64::consts::PI;
-        return Err(CamError::BadValue {
+        return Err(CamError::from(InvalidInput::BadValue {
             field: "speed",
             value: rpm,
             why: format!(
                 "rpm puts the follower at resonance: one turn lasts omega_n/omega = {ratio} \
                  natural periods (a whole number) and zeta = {zeta} leaves no steady state \
                  (det(I - Phi) = {det:e}); add damping or change the speed"
-            ),
-        }
+            )
+            .into(),
+        })
         .into());
     }
     let x0 = (e * d[0] - b * d[1]) / det;

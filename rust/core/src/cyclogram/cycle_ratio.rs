@@ -391,11 +391,11 @@ pub fn max_speed(
         });
     }
     if !(cycle_deg > 0.0 && cycle_deg <= super::graph::MAX_ABS_VALUE) {
-        return Err(CyclogramError::BadScalar {
-            field: "cycle_deg",
-            value: cycle_deg,
-            what: "the cycle must be a finite positive number of degrees (360 for one revolution)",
-        });
+        return Err(CyclogramError::bad_scalar(
+            "cycle_deg",
+            cycle_deg,
+            "the cycle must be a finite positive number of degrees (360 for one revolution)",
+        ));
     }
     check_heights(n, &s, &d, heights)?;
     let g = Graph::new(n, &s, &d, heights);

@@ -10,6 +10,7 @@ use super::graph::{
     MAX_ABS_VALUE, PARALLEL_MIN_WORK,
 };
 use super::layout::{layout, outgoing, ByPosition, Layout, Partition, Plan};
+use crate::input::InvalidInput;
 use crate::tile::{transpose, TILE};
 
 // The batch kernel's lanes are the shared tile's side.
@@ -276,11 +277,11 @@ impl EventGraph {
     pub fn latest(&self, weights: &[f64], horizon: f64) -> Result<Vec<f64>, CyclogramError> {
         self.check_weights(weights, 1)?;
         if !horizon.is_finite() {
-            return Err(CyclogramError::BadScalar {
-                field: "horizon",
-                value: horizon,
-                what: "the horizon must be a finite angle in degrees",
-            });
+            return Err(CyclogramError::bad_scalar(
+                "horizon",
+                horizon,
+                "the horizon must be a finite angle in degrees",
+            ));
         }
         let mut t = vec![0.0; self.n];
         self.backward(weights, horizon, &mut t);
@@ -359,10 +360,12 @@ impl EventGraph {
             });
         }
         if out.len() != rows * n {
-            return Err(CyclogramError::Output {
+            return Err(InvalidInput::Output {
+                field: "out",
                 want: format!("{rows} × {n} = {} times (rows × events)", rows * n),
                 got: format!("{} values", out.len()),
-            });
+            }
+            .into());
         }
         let threads = crate::parallel::resolve_threads(n_threads)?;
         if n == 0 || rows == 0 {
@@ -408,11 +411,11 @@ impl EventGraph {
         self.forward(weights, &mut early);
         let horizon = match horizon {
             Some(h) if !h.is_finite() => {
-                return Err(CyclogramError::BadScalar {
-                    field: "horizon",
-                    value: h,
-                    what: "the horizon must be a finite angle in degrees",
-                })
+                return Err(CyclogramError::bad_scalar(
+                    "horizon",
+                    h,
+                    "the horizon must be a finite angle in degrees",
+                ))
             }
             Some(h) => h,
             None => early.iter().copied().fold(0.0f64, f64::max),

@@ -1,6 +1,8 @@
 //! What every cyclogram kernel shares: the domain's error, the checks of arcs
 //! and values, the compressed adjacency and the topological order.
 
+use crate::input::InvalidInput;
+
 /// Errors of the cyclogram domain (event graphs, difference constraints, cycle ratios,
 /// speed limits).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -31,8 +33,6 @@ pub enum CyclogramError {
         value: i64,
         n_events: usize,
     },
-    #[error("out must be {want}; got {got}")]
-    Output { want: String, got: String },
     #[error("{field} must have {expected} entries per weight vector (one per arc); got {got}")]
     WeightLength {
         field: &'static str,
@@ -56,12 +56,6 @@ pub enum CyclogramError {
         value: f64,
         what: &'static str,
     },
-    #[error("{field} = {} is invalid: {what}", crate::num_text::Num(*value))]
-    BadScalar {
-        field: &'static str,
-        value: f64,
-        what: &'static str,
-    },
     #[error(
         "the arcs contain a cycle through events {events:?}; the operations of one machine \
          cycle must form an acyclic graph"
@@ -75,7 +69,7 @@ pub enum CyclogramError {
     #[error("policy iteration did not converge in {iterations} iterations")]
     NotConverged { iterations: usize },
     #[error(transparent)]
-    Threads(#[from] crate::parallel::ThreadsError),
+    Input(#[from] InvalidInput),
     #[error(
         "n_events = {n_events} with {n_arcs} arcs needs about {gib:.1} GiB of working memory, \
          more than can be allocated here"
@@ -85,6 +79,16 @@ pub enum CyclogramError {
         n_arcs: usize,
         gib: f64,
     },
+}
+
+crate::input::wraps_invalid_input!(CyclogramError);
+
+impl CyclogramError {
+    /// A scalar outside its valid values, said the cyclogram's way:
+    /// "`field` = `value` is invalid: `what`".
+    pub fn bad_scalar(field: &'static str, value: f64, what: &str) -> Self {
+        InvalidInput::bad_value(field, value, format!("is invalid: {what}")).into()
+    }
 }
 
 /// Upper bound of the working memory per event and per arc of any schedule kernel

@@ -32,6 +32,7 @@ use rayon::prelude::*;
 
 use super::difference::{DifferenceWork, Differences};
 use super::graph::{CyclogramError, MAX_ABS_VALUE};
+use crate::input::InvalidInput;
 use crate::units::DEG_PER_S_PER_RPM;
 
 /// Smallest angle a proportional bound gives [deg] (the Python `Proportional`).
@@ -176,7 +177,7 @@ fn scalar(
     if ok {
         Ok(())
     } else {
-        Err(CyclogramError::BadScalar { field, value, what })
+        Err(CyclogramError::bad_scalar(field, value, what))
     }
 }
 
@@ -722,10 +723,12 @@ pub fn solve_proportional_into(
         ("new_run", out.new_run.len(), b),
     ] {
         if got != want {
-            return Err(CyclogramError::Output {
+            return Err(InvalidInput::Output {
+                field: "out",
                 want: format!("{field} of {want} entries"),
                 got: got.to_string(),
-            });
+            }
+            .into());
         }
     }
     // Each design's rows are solved from its highest speed down: the first row

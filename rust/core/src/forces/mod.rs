@@ -57,16 +57,11 @@ use crate::geom::V2;
 pub enum ForceError {
     #[error("{0}")]
     BadModel(String),
-    #[error("{field}[{index}] = {value} is not a finite number{what}")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-        what: &'static str,
-    },
     #[error(transparent)]
-    Threads(#[from] crate::parallel::ThreadsError),
+    Input(#[from] crate::input::InvalidInput),
 }
+
+crate::input::wraps_invalid_input!(ForceError);
 
 /// A moving link: its joints (indices of points; the first two fix its frame),
 /// its mass [kg], its centre of mass c = x₀ + u·d + v·d⊥ with d = x₁ − x₀ and

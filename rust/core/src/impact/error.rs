@@ -1,5 +1,7 @@
 //! The impact domain's error and the checks of its inputs.
 
+use crate::input::InvalidInput;
+
 /// Errors of the impact domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ImpactError {
@@ -51,13 +53,6 @@ pub enum ImpactError {
         got: usize,
         want: String,
     },
-    /// A caller's output array (`out=`) that the kernel cannot fill in place.
-    #[error("{field} must be {want}; got {got}")]
-    Output {
-        field: &'static str,
-        want: String,
-        got: String,
-    },
     #[error(
         "a step h = {h} with omega_n = {omega_n} and zeta = {zeta} gives non-finite \
          coefficients; rescale time so that omega_n*h and zeta*omega_n*h stay below ~1e150"
@@ -80,9 +75,11 @@ pub enum ImpactError {
          rounding of zero); refine or rescale the pulse table"
     )]
     Stalled { time: f64 },
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
+    #[error(transparent)]
+    Input(#[from] InvalidInput),
 }
+
+crate::input::wraps_invalid_input!(ImpactError);
 
 impl ImpactError {
     pub(super) fn case(row: usize) -> impl Fn(ImpactError) -> ImpactError {
@@ -92,8 +89,6 @@ impl ImpactError {
         }
     }
 }
-
-use crate::parallel::ThreadsError;
 
 pub(super) fn param(
     field: &'static str,

@@ -4,6 +4,7 @@ use super::contact::*;
 use super::error::*;
 use super::oscillator::*;
 use super::*;
+use crate::input::InvalidInput;
 
 /// Issue 16 item 15: a ramp of 1e9 N/s over 1 ns (c = slope/(mω²) = 1e9
 /// against q̇ ~ 1e-10) hung with `maximum` and put the minimum inside the
@@ -577,7 +578,10 @@ fn batch_errors_name_the_case() {
         .unwrap_err();
     assert!(matches!(e, ImpactError::Decreasing { index: 2, .. }), "{e}");
     let e = response_batch_into(&t, &[0.0; 12], &cases, Some(0), &mut [0.0; 12]).unwrap_err();
-    assert!(matches!(e, ImpactError::Threads(_)), "{e}");
+    assert!(
+        matches!(e, ImpactError::Input(InvalidInput::Threads(_))),
+        "{e}"
+    );
 }
 
 #[test]

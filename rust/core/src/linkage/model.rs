@@ -18,8 +18,10 @@ pub enum LinkageError {
     #[error("the solution would need {bytes} bytes of memory, more than this machine can allocate; solve fewer angles, geometries or points at a time")]
     Memory { bytes: usize },
     #[error(transparent)]
-    Threads(#[from] crate::parallel::ThreadsError),
+    Input(#[from] crate::input::InvalidInput),
 }
+
+crate::input::wraps_invalid_input!(LinkageError);
 
 /// The straight guide of a prismatic joint.
 #[derive(Debug, Clone, Copy, PartialEq)]

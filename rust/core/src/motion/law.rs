@@ -6,7 +6,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use rayon::prelude::*;
 
 use crate::geom::{sin, sin_lanes};
-use crate::parallel::{pool, resolve_threads, ThreadsError};
+use crate::input::InvalidInput;
+use crate::parallel::{pool, resolve_threads};
 
 /// Highest polynomial degree accepted for a user law.
 pub const MAX_DEGREE: usize = 24;
@@ -21,12 +22,6 @@ pub enum MotionError {
     UnknownLaw { name: String, known: String },
     #[error("{what}")]
     BadLaw { what: String },
-    #[error("{field}[{index}] = {value} is not finite")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
     #[error("{field}[{index}] = {} lies outside [{lo}, {hi}]{why}", crate::num_text::Num(*value))]
     OutOfRange {
         field: &'static str,
@@ -36,9 +31,11 @@ pub enum MotionError {
         hi: f64,
         why: &'static str,
     },
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
+    #[error(transparent)]
+    Input(#[from] InvalidInput),
 }
+
+crate::input::wraps_invalid_input!(MotionError);
 
 /// One piece of a law: Z = Σ c_k t^k + amp·sin(freq·t + phase), t = x − x0.
 #[derive(Debug, Clone, PartialEq)]
@@ -255,13 +252,7 @@ impl Law {
     /// Z'(0) = Z'(1) = 0) or as a half law (Z(0) = 0, Z(1) = 1, Z'(0) = 0, Z'
     /// largest at x = 1); in both forms Z' ≥ 0 (the law never runs backwards).
     pub fn polynomial(coeffs: &[f64], rise: bool) -> Result<Law, MotionError> {
-        if let Some((i, &v)) = coeffs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(MotionError::NotFinite {
-                field: "coeffs",
-                index: i,
-                value: v,
-            });
-        }
+        InvalidInput::check_finite("coeffs", coeffs)?;
         if coeffs.len() < 2 || coeffs.len() > MAX_DEGREE + 1 {
             return Err(MotionError::BadLaw {
                 what: format!(
@@ -551,11 +542,12 @@ fn check_range(
 ) -> Result<(), MotionError> {
     for (i, &v) in x.iter().enumerate() {
         if !v.is_finite() {
-            return Err(MotionError::NotFinite {
+            return Err(InvalidInput::NotFinite {
                 field,
                 index: i,
                 value: v,
-            });
+            }
+            .into());
         }
         if !(0.0..=hi).contains(&v) {
             return Err(MotionError::OutOfRange {

@@ -6,30 +6,21 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 use rayon::prelude::*;
 
 use crate::geom::sin_cos;
-use crate::parallel::{pool, resolve_threads, ThreadsError};
+use crate::input::InvalidInput;
+use crate::parallel::{pool, resolve_threads};
 
 use super::criteria::{wrap, DEFAULT_SAMPLES, TIE};
 
 /// Errors of the press domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PressError {
-    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
-    BadDesign {
-        field: &'static str,
-        value: f64,
-        why: String,
-    },
-    #[error("{field}[{index}] = {value} is not finite")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
+    #[error(transparent)]
+    Input(#[from] InvalidInput),
     #[error("{0}")]
     BadSpec(String),
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
 }
+
+crate::input::wraps_invalid_input!(PressError);
 
 /// One gear-lever press: lengths [m], angle [rad].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,11 +47,7 @@ impl Design {
     /// drive repeats every crank turn only then).
     pub fn validate(&self) -> Result<f64, PressError> {
         let bad = |field, value, why: &str| {
-            Err(PressError::BadDesign {
-                field,
-                value,
-                why: why.to_string(),
-            })
+            Err(InvalidInput::bad_value(field, value, why.to_owned()).into())
         };
         for (field, v) in [
             ("R", self.big_r),
@@ -89,15 +76,17 @@ impl Design {
         }
         let i = self.big_r / self.r;
         if (i - i.round()).abs() > 1e-9 * i || i.round() > MAX_RATIO {
-            return Err(PressError::BadDesign {
+            return Err(InvalidInput::BadValue {
                 field: "R/r",
                 value: i,
                 why: format!(
                     "must be a whole number between 2 and {MAX_RATIO} (R = {}, r = {}): only then \
                      does the drive repeat every crank turn; the seed uses 3",
                     self.big_r, self.r
-                ),
-            });
+                )
+                .into(),
+            }
+            .into());
         }
         if self.d < 0.0 {
             return bad(
@@ -385,13 +374,7 @@ pub fn solve_into(
     for d in designs {
         d.validate()?;
     }
-    if let Some((i, &v)) = alpha.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(PressError::NotFinite {
-            field: "alpha",
-            index: i,
-            value: v,
-        });
-    }
+    InvalidInput::check_finite("alpha", alpha)?;
     let (k, n) = (designs.len(), alpha.len());
     if out.s.len() != k * n
         || out.ds.len() != k * n

@@ -23,7 +23,8 @@ use std::f64::consts::TAU;
 
 use rayon::prelude::*;
 
-use crate::parallel::{pool, resolve_threads, ThreadsError};
+use crate::input::InvalidInput;
+use crate::parallel::{pool, resolve_threads};
 
 #[cfg(test)]
 mod tests;
@@ -42,58 +43,40 @@ pub const STATS: [&str; 7] = [
 /// Values per speed in [`stats_into`].
 pub const N_STATS: usize = STATS.len();
 
-/// Errors of the main shaft.
+/// Errors of the main shaft: all of them the invalid inputs every domain shares.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ShaftError {
-    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
-    BadValue {
-        field: &'static str,
-        value: f64,
-        why: String,
-    },
-    #[error("{field}[{index}] = {value} is not finite")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
+    #[error(transparent)]
+    Input(#[from] InvalidInput),
 }
 
-fn finite(field: &'static str, v: &[f64]) -> Result<(), ShaftError> {
-    match v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-        Some((index, &value)) => Err(ShaftError::NotFinite {
-            field,
-            index,
-            value,
-        }),
-        None => Ok(()),
-    }
-}
+crate::input::wraps_invalid_input!(ShaftError);
 
 /// The phase-shifted sum of M curves of N samples (row-major (M, N)) at the
 /// grid's points, by periodic linear interpolation at θ_k − φ_i (`phase` [rad]).
 pub fn shifted_sum(curves: &[f64], n: usize, phase: &[f64]) -> Result<Vec<f64>, ShaftError> {
     if n < 3 {
-        return Err(ShaftError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "samples",
             value: n as f64,
             why: "must be >= 3 points over the turn".into(),
-        });
+        }
+        .into());
     }
     if curves.len() != n * phase.len() {
-        return Err(ShaftError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "curves",
             value: curves.len() as f64,
             why: format!(
                 "values given; need {} (one row of {n} per phase)",
                 n * phase.len()
-            ),
-        });
+            )
+            .into(),
+        }
+        .into());
     }
-    finite("curves", curves)?;
-    finite("phase", phase)?;
+    InvalidInput::check_finite("curves", curves)?;
+    InvalidInput::check_finite("phase", phase)?;
     let mut out = vec![0.0; n];
     let h = TAU / n as f64;
     for (row, &p) in curves.chunks_exact(n).zip(phase) {
@@ -125,34 +108,38 @@ pub fn stats_into(
 ) -> Result<(), ShaftError> {
     let n = a.len();
     if n < 3 || b.len() != n {
-        return Err(ShaftError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "samples",
             value: n as f64,
             why: format!(
                 "must be >= 3, the same for both parts (the other has {})",
                 b.len()
-            ),
-        });
+            )
+            .into(),
+        }
+        .into());
     }
-    finite("per_omega2", a)?;
-    finite("static", b)?;
+    InvalidInput::check_finite("per_omega2", a)?;
+    InvalidInput::check_finite("static", b)?;
     if let Some((index, &value)) = omegas
         .iter()
         .enumerate()
         .find(|(_, w)| !(w.is_finite() && **w > 0.0))
     {
-        return Err(ShaftError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "omega",
             value,
-            why: format!("(at index {index}) [rad/s] must be finite and > 0"),
-        });
+            why: format!("(at index {index}) [rad/s] must be finite and > 0").into(),
+        }
+        .into());
     }
     if !(delta.is_finite() && delta > 0.0) {
-        return Err(ShaftError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "speed_fluctuation",
             value: delta,
             why: "(δ) must be finite and > 0".into(),
-        });
+        }
+        .into());
     }
     debug_assert_eq!(out.len(), omegas.len() * N_STATS);
     let pool = pool(resolve_threads(n_threads)?)?;

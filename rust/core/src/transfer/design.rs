@@ -4,7 +4,8 @@
 
 use super::path::{parts, SpeedLaw};
 use super::quintic::{coefficients, curvature, Quintic};
-use super::{finite, map_tasks, norms, TransferError};
+use super::{map_tasks, norms, TransferError};
+use crate::input::InvalidInput;
 use crate::parallel::resolve_threads;
 
 /// The guide for transition lengths (x2_t, x2_p) between circles of radii
@@ -82,22 +83,24 @@ pub fn geometry(r: [f64; 2], d: f64, x2: [f64; 2]) -> Geometry {
 }
 
 fn check_rotors(r: [f64; 2], d: f64) -> Result<(), TransferError> {
-    finite("radii", &r)?;
+    InvalidInput::check_finite("radii", &r)?;
     for (field, value) in [("R_t", r[0]), ("R_p", r[1])] {
         if value <= 0.0 {
-            return Err(TransferError::BadValue {
+            return Err(InvalidInput::BadValue {
                 field,
                 value,
-                why: "must be > 0 m (a pitch radius)",
-            });
+                why: "must be > 0 m (a pitch radius)".into(),
+            }
+            .into());
         }
     }
     if !(d.is_finite() && d > r[0] + r[1]) {
-        return Err(TransferError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "distance",
             value: d,
-            why: "must be finite and above R_t + R_p (the centres' distance)",
-        });
+            why: "must be finite and above R_t + R_p (the centres' distance)".into(),
+        }
+        .into());
     }
     Ok(())
 }
@@ -114,13 +117,14 @@ fn linspace(a: f64, b: f64, num: usize) -> impl Iterator<Item = f64> {
 /// bracket (as the Python layer). None when no candidate fits.
 pub fn longest(r: [f64; 2], d: f64, ratio: [f64; 2]) -> Result<Option<[f64; 2]>, TransferError> {
     check_rotors(r, d)?;
-    finite("ratio", &ratio)?;
+    InvalidInput::check_finite("ratio", &ratio)?;
     if ratio.iter().any(|&v| v <= 0.0) {
-        return Err(TransferError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "ratio",
             value: ratio[0].min(ratio[1]),
-            why: "must be > 0 (the transitions' proportions)",
-        });
+            why: "must be > 0 (the transitions' proportions)".into(),
+        }
+        .into());
     }
     let fits = |lam: f64| geometry(r, d, [lam * ratio[0], lam * ratio[1]]).straight >= 0.0;
     let hi = 2.0 * (d.max(1e-300) * r[0].max(r[1])).sqrt() * 4.0;
@@ -162,21 +166,23 @@ pub fn peak_jerk(
     n_threads: Option<i64>,
 ) -> Result<Vec<f64>, TransferError> {
     check_rotors(r, d)?;
-    finite("x2", x2)?;
+    InvalidInput::check_finite("x2", x2)?;
     if let Some(&bad) = x2.iter().find(|&&v| v <= 0.0) {
-        return Err(TransferError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "x2",
             value: bad,
-            why: "must be > 0 m (a transition length)",
-        });
+            why: "must be > 0 m (a transition length)".into(),
+        }
+        .into());
     }
     SpeedLaw::new(speed[0], speed[1], 0.0, 1.0)?;
     if m < 2 {
-        return Err(TransferError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "n_points",
             value: m as f64,
-            why: "must be ≥ 2",
-        });
+            why: "must be ≥ 2".into(),
+        }
+        .into());
     }
     let threads = resolve_threads(n_threads)?;
     let one = |x: &f64| {

@@ -31,7 +31,8 @@
 
 use rayon::prelude::*;
 
-use crate::parallel::{pool, resolve_threads, ThreadsError};
+use crate::input::InvalidInput;
+use crate::parallel::{pool, resolve_threads};
 
 mod design;
 mod path;
@@ -49,21 +50,12 @@ pub use quintic::{coefficients, quintic, quintic_eval_into, Quintic, QuinticValu
 /// the running sums (arc length, time) accumulate rounding.
 pub const BLOCK: usize = 4096;
 
-/// Errors of the rotor transfer kernels.
+/// Errors of the rotor transfer kernels: the invalid inputs every domain shares,
+/// and the transfer's own (an array's length, its layout).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TransferError {
-    #[error("{field} = {} {why}", crate::num_text::Num(*value))]
-    BadValue {
-        field: &'static str,
-        value: f64,
-        why: &'static str,
-    },
-    #[error("{field}[{index}] = {value} is not finite")]
-    NotFinite {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
+    #[error(transparent)]
+    Input(#[from] InvalidInput),
     #[error("{field} has {got} values; it needs {want}")]
     BadLength {
         field: &'static str,
@@ -72,20 +64,9 @@ pub enum TransferError {
     },
     #[error("{field} must be a C-contiguous array")]
     Layout { field: &'static str },
-    #[error("{0}")]
-    Threads(#[from] ThreadsError),
 }
 
-pub(crate) fn finite(field: &'static str, v: &[f64]) -> Result<(), TransferError> {
-    match v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-        Some((index, &value)) => Err(TransferError::NotFinite {
-            field,
-            index,
-            value,
-        }),
-        None => Ok(()),
-    }
-}
+crate::input::wraps_invalid_input!(TransferError);
 
 /// `f` on every task: inline on the calling thread when one thread is asked
 /// for or there is one task (no hop to a pool thread, which on a loaded machine

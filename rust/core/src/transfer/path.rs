@@ -5,7 +5,8 @@
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use super::quintic::{curvature, Quintic};
-use super::{finite, map_tasks, run_tasks, TransferError, BLOCK};
+use super::{map_tasks, run_tasks, TransferError, BLOCK};
+use crate::input::InvalidInput;
 use crate::parallel::resolve_threads;
 
 /// Numbers in a [`PathSpec`]'s flat form, in this order: transport centre (2),
@@ -49,7 +50,7 @@ impl PathSpec {
                 want: "44 numbers (see cyclomech_core::transfer::N_SPEC)",
             });
         }
-        finite("spec", v)?;
+        InvalidInput::check_finite("spec", v)?;
         let p = |i: usize| [v[i], v[i + 1]];
         let q = |i: usize| Quintic {
             c: [v[i], v[i + 1], v[i + 2], v[i + 3], v[i + 4], v[i + 5]],
@@ -79,19 +80,21 @@ impl PathSpec {
             ("x2_p", spec.x2[1]),
         ] {
             if value <= 0.0 {
-                return Err(TransferError::BadValue {
+                return Err(InvalidInput::BadValue {
                     field,
                     value,
-                    why: "must be > 0 m",
-                });
+                    why: "must be > 0 m".into(),
+                }
+                .into());
             }
         }
         if spec.lead < 0.0 || spec.straight < 0.0 || spec.lengths.iter().any(|&l| l < 0.0) {
-            return Err(TransferError::BadValue {
+            return Err(InvalidInput::BadValue {
                 field: "spec",
                 value: spec.lead.min(spec.straight),
-                why: "has a negative length (lead, straight or a piece)",
-            });
+                why: "has a negative length (lead, straight or a piece)".into(),
+            }
+            .into());
         }
         Ok(spec)
     }
@@ -159,11 +162,12 @@ pub fn sample_into(
 ) -> Result<(), TransferError> {
     let n: usize = counts.iter().sum();
     if counts.iter().any(|&c| c < 2) {
-        return Err(TransferError::BadValue {
+        return Err(InvalidInput::BadValue {
             field: "counts",
             value: counts.iter().copied().min().unwrap_or(0) as f64,
-            why: "must give every piece ≥ 2 points",
-        });
+            why: "must give every piece ≥ 2 points".into(),
+        }
+        .into());
     }
     if out.len() != n || out.points.len() != 2 * n || out.heading.len() != n {
         return Err(TransferError::BadLength {
@@ -557,14 +561,15 @@ pub struct SpeedLaw {
 impl SpeedLaw {
     /// Checked: finite, speeds > 0, span > 0.
     pub fn new(v_t: f64, v_p: f64, start: f64, span: f64) -> Result<Self, TransferError> {
-        finite("law", &[v_t, v_p, start, span])?;
+        InvalidInput::check_finite("law", &[v_t, v_p, start, span])?;
         for (field, value) in [("v_t", v_t), ("v_p", v_p), ("span", span)] {
             if value <= 0.0 {
-                return Err(TransferError::BadValue {
+                return Err(InvalidInput::BadValue {
                     field,
                     value,
-                    why: "must be > 0",
-                });
+                    why: "must be > 0".into(),
+                }
+                .into());
             }
         }
         Ok(SpeedLaw {
@@ -653,9 +658,9 @@ pub fn kinematics_into(
             want: "8 rows of len(s)",
         });
     }
-    finite("s", s)?;
-    finite("curvature", kappa)?;
-    finite("curvature_rate", rate)?;
+    InvalidInput::check_finite("s", s)?;
+    InvalidInput::check_finite("curvature", kappa)?;
+    InvalidInput::check_finite("curvature_rate", rate)?;
     let threads = resolve_threads(n_threads)?;
     // The time at each block's first point: the blocks' sums of dt, in order.
     let totals = map_tasks((0..n.div_ceil(BLOCK)).collect(), threads, |b| {

@@ -3,6 +3,7 @@
 //! pieces from 0, 4-point Gauss–Legendre per interval along a grid).
 
 use super::TransferError;
+use crate::input::InvalidInput;
 
 /// 16-point Gauss–Legendre nodes on [0, 1] (numpy's `leggauss(16)`, mapped).
 pub(super) const NODES16: [f64; 16] = [
@@ -202,7 +203,7 @@ pub fn quintic(c: &[f64]) -> Result<Quintic, TransferError> {
             want: "6 (a0 … a5)",
         });
     }
-    super::finite("coeffs", c)?;
+    InvalidInput::check_finite("coeffs", c)?;
     Ok(Quintic {
         c: [c[0], c[1], c[2], c[3], c[4], c[5]],
     })
@@ -216,7 +217,7 @@ pub fn quintic_eval_into(
     out: &mut [f64],
     n_threads: Option<i64>,
 ) -> Result<(), TransferError> {
-    super::finite("x", x)?;
+    InvalidInput::check_finite("x", x)?;
     if out.len() != x.len() {
         return Err(TransferError::BadLength {
             field: "out",

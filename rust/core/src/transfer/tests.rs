@@ -279,7 +279,10 @@ fn bad_inputs_are_errors_not_panics() {
     flat[10] = f64::NAN;
     assert!(matches!(
         PathSpec::from_flat(&flat),
-        Err(TransferError::NotFinite { index: 10, .. })
+        Err(TransferError::Input(InvalidInput::NotFinite {
+            index: 10,
+            ..
+        }))
     ));
     assert!(peak_jerk([0.15, 0.25], 0.3, &[0.01], [0.1, 0.1], 101, Some(1)).is_err());
     assert!(peak_jerk([0.15, 0.25], 0.41, &[-0.01], [0.1, 0.1], 101, Some(1)).is_err());
