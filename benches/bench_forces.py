@@ -7,7 +7,7 @@ part, the guide forces and the driving torque, as ω², ε and static parts), on
 thread and all cores; and with ``reactions=False`` (torque only, what the main
 shaft needs). numpy: the same Newton–Euler equations with every joint kept as a
 pin node (29 unknowns), assembled over all angles at once and solved by
-``numpy.linalg.solve`` (LAPACK's LU per angle; ``tests/forces_reference.py``,
+``numpy.linalg.solve`` (LAPACK's LU per angle; ``tests/forces/forces_reference.py``,
 which the tests also use as an independent check), given the positions and
 analogs from cyclomech's solver (not timed: numpy's row is favoured). numpy runs
 on 36 000 angles to bound its memory (A is 29×29 per angle); the ratio table is
@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 from cyclomech.linkage import presets
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "forces"))
 from forces_reference import dense_kinetostatics
 
 GROUP = "kinetostatics, Burg trimmer (class III), per crank angle"

@@ -49,7 +49,9 @@ full_only = pytest.mark.skipif(
 #: The loom as it was before its lifter cam (issue 18): the stop alone bounds it, so
 #: these rows stay comparable with BENCHMARKS.md's; the loom with its cam spends
 #: most of a sweep in the cam's stress bounds (see BENCHMARKS.md, "Cam bounds").
-LOOM = Path(__file__).resolve().parents[1] / "tests" / "data" / "stb_loom_stop_only.toml"
+LOOM = (
+    Path(__file__).resolve().parents[1] / "tests" / "machine" / "data" / "stb_loom_stop_only.toml"
+)
 #: Speeds [rpm] of the study: the loom's range, across its speed limit (421.4 rpm).
 SPEED_RANGE_RPM = (200.0, 500.0)
 N_SPEEDS = 2500 if FULL else 250
@@ -556,7 +558,7 @@ def _start_cluster() -> tuple[Any, Any]:
         n_workers=DASK_WORKERS,
         processes=True,
         threads_per_worker=1,
-        dashboard_address=":0",  # None still binds port 8787 (see tests/test_dask.py)
+        dashboard_address=":0",  # None still binds port 8787 (see tests/machine/test_dask.py)
     )
     client = Client(cluster)
     client.run(importlib.import_module, "cyclomech")  # what the first task would pay

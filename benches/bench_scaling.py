@@ -341,7 +341,7 @@ def test_a_size_that_cannot_fit_is_refused_before_allocating(
     """With the memory limit below a size's results, the call raises InputError
     before the process grows (the results of 1e5 angles are 19 MB; of 1e5 sweep
     points, several MB). Longest path and one Duhamel case return less than they
-    are given, so their inputs' copies carry the rule (tests/test_issue16_robust.py)."""
+    are given, so their inputs' copies carry the rule (tests/package/test_size_limits.py)."""
     run, _ = WORKLOADS[kind](n, 1)
     monkeypatch.setenv("CYCLOMECH_MAX_BYTES", "1e5")
     _reset_peak()

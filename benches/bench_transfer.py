@@ -5,7 +5,7 @@ and scipy, in one run, on one thread and on two.
 - ``TransferPath.sample(1e6)`` — points, arc length, heading, signed curvature and
   its rate along the whole guide (arc → quintic → straight → quintic → arc) of the
   README's example (0.15 and 0.25 m rotors, gap 10 mm, x2 = 40 mm): one Rust
-  call. Peers: the numpy code it replaced (``tests/transfer_reference.py``, the
+  call. Peers: the numpy code it replaced (``tests/transfer/transfer_reference.py``, the
   same outputs, vectorised numpy with Gauss–Legendre arc lengths), and
   :func:`scipy_sample`, which samples only the two transitions with
   ``numpy.polynomial.Polynomial`` and its derivatives, arc length by
@@ -35,7 +35,7 @@ import pytest
 import scipy.integrate
 from numpy.polynomial import Polynomial
 
-sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
+sys.path.insert(0, str(Path(__file__).parents[1] / "tests" / "transfer"))
 import transfer_reference as ref
 
 Array = npt.NDArray[np.float64]

@@ -224,7 +224,7 @@ def _door_constants(app) -> None:
 
 def _constant_comment(app, what, name, obj, options, lines: list[str]) -> None:
     """A door constant's documentation: the ``#:`` comment above its assignment in
-    the door's modules (what tests/test_numpydoc.py checks is there)."""
+    the door's modules (what tests/package/test_numpydoc.py checks is there)."""
     if what != "data":
         return
     found = _door_constant(name)

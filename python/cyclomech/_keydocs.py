@@ -6,7 +6,7 @@ class attribute ``key_docs``, :class:`cyclomech.Machine` and
 :class:`cyclomech.Cyclogram` in theirs. This module only gathers and renders them:
 :func:`tables` lists the page's tables, the machine's and the cyclogram's first,
 then each kind of the registry (:data:`cyclomech.machine.KINDS`) in its order, so a
-registered kind is on the page with no edit here. ``tests/test_keydocs.py`` holds
+registered kind is on the page with no edit here. ``tests/package/test_keydocs.py`` holds
 the records' key sets equal to the parsers' own, so a key added to a parser without
 a record fails the tests. :func:`render_table` and :func:`render_page` write
 reStructuredText for the documentation site (``docs/_ext/keys_reference.py``).

@@ -1,5 +1,5 @@
 """The keys of a ``kind = "cam"`` table and of its segments, for the machine-file
-format reference (:attr:`CamMechanism.key_docs`; ``tests/test_keydocs.py`` holds
+format reference (:attr:`CamMechanism.key_docs`; ``tests/package/test_keydocs.py`` holds
 them equal to the parser's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]

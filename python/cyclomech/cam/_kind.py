@@ -114,7 +114,7 @@ class CamMechanism(Unbounded):
     # their values; its bounds are its own, below.)
     kind: ClassVar[str] = "cam"
     # Its tables' keys, its own first, for the machine-file format reference
-    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind"})
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "follower", "closure", "segment"})

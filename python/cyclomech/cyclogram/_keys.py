@@ -1,6 +1,6 @@
 """The keys of a cyclogram's tables in a machine file (``[cyclogram]``,
 ``[[operation]]``, ``[[constraint]]`` and a constraint's terms), for the
-machine-file format reference (:attr:`Cyclogram.key_docs`; ``tests/test_keydocs.py``
+machine-file format reference (:attr:`Cyclogram.key_docs`; ``tests/package/test_keydocs.py``
 holds them equal to the file reader's key sets).
 
 >>> [t.name for t in KEY_DOCS]

@@ -1,5 +1,5 @@
 """The keys of a ``kind = "cam_stop"`` table, for the machine-file format reference
-(:attr:`CamStop.key_docs`; ``tests/test_keydocs.py`` holds them equal to the
+(:attr:`CamStop.key_docs`; ``tests/package/test_keydocs.py`` holds them equal to the
 parser's key set and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]

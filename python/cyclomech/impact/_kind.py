@@ -84,7 +84,7 @@ class CamStop:
 
     kind: ClassVar[str] = "cam_stop"
     # Its tables' keys, its own first, for the machine-file format reference
-    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max_m", "phase_deg", "cam"}

@@ -1,6 +1,6 @@
 """The keys of a ``kind = "linkage"`` table and of its sub-tables (lengths, slider
 guides, masses, loads, phase), for the machine-file format reference
-(:attr:`LinkageMechanism.key_docs`; ``tests/test_keydocs.py`` holds them equal to the
+(:attr:`LinkageMechanism.key_docs`; ``tests/package/test_keydocs.py`` holds them equal to the
 parsers' key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS][:2]

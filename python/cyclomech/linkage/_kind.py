@@ -63,7 +63,7 @@ class LinkageMechanism(Unbounded):
 
     kind: ClassVar[str] = "linkage"
     # Its tables' keys, its own first, for the machine-file format reference
-    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         _LINKAGE_KEYS | DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}

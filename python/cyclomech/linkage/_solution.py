@@ -55,7 +55,7 @@ class LinkageSolution:
     a crank turned up from the drawing would pass 231° regularly and fold at 247°.
     That flag is a real fold of the branch as walked, not a regular pose left
     (checked against an independent Newton continuation in
-    ``tests/test_class3_branch.py``); to follow the crank one way past half a
+    ``tests/linkage/test_class3_branch.py``); to follow the crank one way past half a
     turn, draw the linkage nearer the angles of interest.
 
     Parameters

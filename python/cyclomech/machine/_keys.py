@@ -1,5 +1,5 @@
 """The keys of a machine file's top level and of its ``[machine]`` table, for the
-machine-file format reference (:attr:`Machine.key_docs`; ``tests/test_keydocs.py``
+machine-file format reference (:attr:`Machine.key_docs`; ``tests/package/test_keydocs.py``
 holds them equal to the reader's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]

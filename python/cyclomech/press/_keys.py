@@ -1,6 +1,6 @@
 """The keys of a ``kind = "press"`` table and of its sub-tables (the deformation
 force, phase), for the machine-file format reference (:attr:`PressMechanism.key_docs`;
-``tests/test_keydocs.py`` holds them equal to the parser's key sets and checks their
+``tests/package/test_keydocs.py`` holds them equal to the parser's key sets and checks their
 defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]

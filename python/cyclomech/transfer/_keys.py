@@ -1,5 +1,5 @@
 """The keys of a ``kind = "transfer"`` table, for the machine-file format reference
-(:attr:`TransferMechanism.key_docs`; ``tests/test_keydocs.py`` holds them equal to
+(:attr:`TransferMechanism.key_docs`; ``tests/package/test_keydocs.py`` holds them equal to
 the parser's key set and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]

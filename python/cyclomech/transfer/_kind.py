@@ -71,7 +71,7 @@ class TransferMechanism(Unbounded):
 
     kind: ClassVar[str] = "transfer"
     # Its tables' keys, its own first, for the machine-file format reference
-    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         {

@@ -24,7 +24,7 @@ __all__ = ["PathAcceleration", "PathSample", "TransferPath"]
 #: kernel writes straight into its outputs (49 bytes a point kept, nothing else);
 #: the budget stays at the numpy code's peak, 112, which is also about what
 #: :meth:`TransferPath.acceleration` holds (the sample and 64 bytes of kinematics
-#: rows, whose allocation the bindings check too). tests/test_issue16_robust.py
+#: rows, whose allocation the bindings check too). tests/package/test_size_limits.py
 #: pins the message.
 _SAMPLE_PEAK_BYTES = 112
 

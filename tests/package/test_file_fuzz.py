@@ -1,0 +1,109 @@
+"""Every file reader checks the types of what it reads (issue 31, item 8).
+
+A linkage file with ``ground = [["A", "D"]]`` ended in ``TypeError: unhashable
+type: 'list'`` with a traceback. The rule: whatever a TOML file holds at any
+key, table or array entry, reading it either succeeds or raises a
+:class:`cyclomech.CyclomechError` naming what is wrong, never another exception.
+
+The test replaces, one at a time, every value of every example file (tables,
+arrays and their entries included, down to the cam's segments) by each of a
+set of values of the wrong type or range, and reads the result with the reader
+the command would use (about 11 000 files).
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+import warnings
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import cyclomech as cm
+import pytest
+from cyclomech import _toml
+from cyclomech.cam import CamDesign
+from cyclomech.cli import main
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+#: Values of the wrong type (or range) for some key of every file.
+BAD: list[Any] = [
+    1, 1.5, -1.0, float("nan"), float("inf"), True, "x", "", [], [1], [["A", "D"]],
+    {"a": 1}, [{"a": 1}], [1.0, "x"],
+]  # fmt: skip
+
+
+def _through_load(read: Callable[[str], Any], data: dict[str, Any]) -> Any:
+    """``read("f.toml")`` with the file's parsed content ``data`` (the readers that
+    take a path load it through ``_toml.load``)."""
+    load = _toml.load
+    _toml.load = lambda path: (data, "f.toml")
+    try:
+        return read("f.toml")
+    finally:
+        _toml.load = load
+
+
+def _reader(data: dict[str, Any]) -> Callable[[dict[str, Any]], Any]:
+    """The reader of the command that takes a file of this layout."""
+    if "machine" in data:
+        return lambda d: cm.Machine.from_dict(d, "f.toml")
+    if "linkage" in data:
+        return lambda d: _through_load(cm.Linkage.from_toml, d)
+    if "stop" in data:
+        return lambda d: _through_load(cm.impact.ImpactStudy.from_toml, d)
+    if "press" in data:
+        return lambda d: _through_load(cm.press.PressStudy.from_toml, d)
+    if "cyclogram" in data:
+        return lambda d: cm.Cyclogram.from_dict(d, "f.toml")
+    assert "cam" in data
+    return lambda d: _through_load(CamDesign.from_toml, d)
+
+
+def _paths(node: Any, prefix: tuple[Any, ...] = ()) -> Iterator[tuple[Any, ...]]:
+    items = node.items() if isinstance(node, dict) else enumerate(node)
+    for key, value in items:
+        yield (*prefix, key)
+        if isinstance(value, dict | list):
+            yield from _paths(value, (*prefix, key))
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.name)
+def test_any_wrong_value_is_a_cyclomech_error(path: Path) -> None:
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    read = _reader(data)
+    read(copy.deepcopy(data))  # the file itself reads
+    others: list[str] = []
+    calls = 0
+    for where in _paths(data):
+        for bad in BAD:
+            changed = copy.deepcopy(data)
+            node = changed
+            for key in where[:-1]:
+                node = node[key]
+            node[where[-1]] = bad
+            calls += 1
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # a warning has a valid reading
+                    read(changed)
+            except cm.CyclomechError:
+                pass
+            except Exception as e:
+                others.append(f"{'.'.join(map(str, where))} = {bad!r}: {type(e).__name__}: {e}")
+    assert calls > 300
+    assert not others, f"{len(others)} of {calls}:\n" + "\n".join(others[:20])
+
+
+def test_the_issues_linkage_file_is_exit_2(tmp_path, capsys) -> None:
+    text = (EXAMPLES / "crank_rocker.toml").read_text(encoding="utf-8")
+    start = text.index("ground = ")
+    end = text.index("\n", start)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text[:start] + 'ground = [["A", "D"]]' + text[end:], encoding="utf-8")
+    assert main(["linkage", str(bad), "--out", str(tmp_path / "o"), "--no-plot"]) == 2
+    err = capsys.readouterr().err
+    assert "ground[0] = ['A', 'D'] must be a joint name (a string)" in err
+    assert "Traceback" not in err
