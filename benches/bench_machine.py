@@ -250,7 +250,7 @@ class Network:
 def network(loom: cm.Machine, speeds: Array) -> Network:
     # cyclogram.SpeedNetwork.solve's weights, from its own tables (on purpose:
     # this is the exact call speed_sweep makes).
-    net = loom._network
+    net = loom.speed_network
     mins, _ = net.minimums(speeds, list(loom.bound_angles(speeds).values()))
     w = np.broadcast_to(net.base, (speeds.size, net.base.size)).copy()
     w[:, net.min_edge] -= mins
@@ -528,14 +528,14 @@ def _python_limits(loom: cm.Machine, per: Array) -> Array:
         m = rpm.shape[1]
         return [Proportional.evaluate(rpm.reshape(-1), np.repeat(per[designs, 0], m))]
 
-    return loom._network.speed_limits(at, per.shape[0], loom._search_start(), 1, 1e-10)
+    return loom.speed_network.speed_limits(at, per.shape[0], loom.search_start_rpm, 1, 1e-10)
 
 
 @pytest.mark.benchmark(group=GROUP_BATCH)
 def test_speed_limits_rust(benchmark, loom) -> None:
     _label(benchmark, "cyclomech", f"{N_DESIGNS_BATCH} designs' speed limits, 1 Rust call")
     per = _design_slopes(loom)
-    net, start = loom._network, loom._search_start()
+    net, start = loom.speed_network, loom.search_start_rpm
     got = benchmark(net.speed_limits_proportional, per, start, 1)
     want = _python_limits(loom, per[::BATCH_STRIDE])
     assert np.array_equal(got[::BATCH_STRIDE], want)

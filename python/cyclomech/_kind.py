@@ -42,6 +42,8 @@ Save = Callable[[Any, str, str], None]
 
 __all__ = [
     "Array",
+    "BatchDesigns",
+    "BatchSolution",
     "Bound",
     "BoundLaw",
     "Context",
@@ -482,6 +484,19 @@ class Mechanism(Protocol):
     *args, **kwargs
         None: a protocol takes no arguments (it cannot be instantiated).
 
+    Notes
+    -----
+    Optional hook, outside the protocol's ``isinstance`` check (a kind without it
+    is a kind all the same): a classmethod ``batch_designs(mechanism, table,
+    keys)`` offers the machine's sweeps a batch path for a mechanism of the kind
+    whose table's ``keys`` (a collection of str) vary. ``mechanism`` is the
+    machine's mechanism and ``table`` its table as read. It returns a
+    ``cyclomech._kind.BatchDesigns`` (the designs of that mechanism, built and
+    solved many at once, bit for bit what one machine per design gives), or None
+    where those keys need one machine per design. The sweep asks each swept
+    mechanism's class for the hook and calls it; it knows no kind by name
+    (``cam_stop`` has one: :meth:`cyclomech.impact.CamStop.batch_designs`).
+
     Examples
     --------
     >>> import cyclomech as cm
@@ -884,3 +899,160 @@ class PlainResult:
         {}
         """
         return {}
+
+
+class BatchSolution(Protocol):
+    """A batch of designs of one mechanism, solved: what the sweep takes from it.
+
+    Returned by :meth:`BatchDesigns.solve`. Its bounds are proportional to the
+    speed (the smallest angle of bound k of design d is ``per_rpm[d, k]`` times
+    the speed), which lets the sweep solve every design at every speed, and
+    search every design's speed limit, in one shortest-path call.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        None: a protocol takes no arguments (it cannot be instantiated).
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> m = cm.Machine.example()
+    >>> lifter = m.mechanisms["lifter"]
+    >>> batch = type(lifter).batch_designs(lifter, m.data["mechanism"]["lifter"], ["a_max_m"])
+    >>> solved = batch.solve(batch.designs({"a_max_m": np.array([1e-4, 2e-4])})[0], 1)
+    >>> solved.per_rpm.shape
+    (2, 1)
+    """
+
+    @property
+    def per_rpm(self) -> Array:
+        """Each design's bounds' smallest angles per rpm [deg/rpm].
+
+        Returns
+        -------
+        ndarray of float, shape (D, K)
+            Per design, per bound of the mechanism (in the order of its ``bounds()``).
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> lifter = m.mechanisms["lifter"]
+        >>> batch = type(lifter).batch_designs(lifter, m.data["mechanism"]["lifter"], ["zeta"])
+        >>> solved = batch.solve(batch.designs({"zeta": np.array([lifter.stop.zeta])})[0], 1)
+        >>> (solved.per_rpm * 300).round(4).tolist()   # [deg] at 300 rpm: its bound law's
+        [[30.0291]]
+        """
+        ...
+
+    def sweep_values(
+        self, rpm: Array, angle_deg: Sequence[Array], fits: npt.NDArray[np.bool_]
+    ) -> dict[str, Array]:
+        """Its kind's ``sweep_columns`` for each design at each speed.
+
+        :meth:`Mechanism.sweep_values` of the designs, computed from the batch.
+
+        Parameters
+        ----------
+        rpm : ndarray of float, shape (D, S)
+            The speeds of each design [rpm].
+        angle_deg : sequence of ndarray of float, each shape (D·S,)
+            Each of its bounds' operation angle at the optimum [deg].
+        fits : ndarray of bool, shape (D·S,)
+            Where the machine fits.
+
+        Returns
+        -------
+        dict of str to ndarray
+            Each of its sweep columns, a (D·S,) array.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> lifter = m.mechanisms["lifter"]
+        >>> batch = type(lifter).batch_designs(lifter, m.data["mechanism"]["lifter"], ["zeta"])
+        >>> solved = batch.solve(batch.designs({"zeta": np.array([0.05])})[0], 1)
+        >>> list(solved.sweep_values(np.array([[300.0]]), [np.array([40.0])], np.array([True])))
+        ['max_rebound_m']
+        """
+        ...
+
+
+class BatchDesigns(Protocol):
+    """The designs of one mechanism that a sweep varies, in one batch.
+
+    What a kind's optional hook ``batch_designs`` returns (see the Notes of
+    :class:`Mechanism`): it builds the designs from the swept values and solves
+    them, each step for every design at once.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        None: a protocol takes no arguments (it cannot be instantiated).
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> m = cm.Machine.example()
+    >>> lifter = m.mechanisms["lifter"]
+    >>> batch = type(lifter).batch_designs(lifter, m.data["mechanism"]["lifter"], ["preload_m"])
+    >>> batch.designs({"preload_m": np.array([1e-4, 2e-4])})[1].tolist()
+    [True, True]
+    """
+
+    def designs(self, values: Mapping[str, Array]) -> tuple[Array, npt.NDArray[np.bool_]]:
+        """The designs' table and which designs its checks pass.
+
+        Parameters
+        ----------
+        values : Mapping of str to ndarray of float
+            Each swept key of the mechanism's table → its D values, in the file's
+            units.
+
+        Returns
+        -------
+        designs : ndarray of float, shape (P, D)
+            The kind's table of the designs (designs along the last axis: the sweep
+            keeps the columns of the designs every swept mechanism passed).
+        ok : ndarray of bool, shape (D,)
+            The designs it takes; the others go to the per-design path, whose
+            reader names what is wrong with them.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> lifter = m.mechanisms["lifter"]
+        >>> batch = type(lifter).batch_designs(lifter, m.data["mechanism"]["lifter"], ["zeta"])
+        >>> batch.designs({"zeta": np.array([0.05, -1.0])})[1].tolist()
+        [True, False]
+        """
+        ...
+
+    def solve(self, designs: Array, n_threads: int | None) -> BatchSolution:
+        """Solve the designs (columns of :meth:`designs`' table that passed).
+
+        Parameters
+        ----------
+        designs : ndarray of float, shape (P, D)
+            The designs.
+        n_threads : int or None
+            Threads for the Rust kernels (None: ``CYCLOMECH_THREADS`` or all cores).
+
+        Returns
+        -------
+        BatchSolution
+            Their bounds' slopes and sweep columns.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> lifter = m.mechanisms["lifter"]
+        >>> batch = type(lifter).batch_designs(lifter, m.data["mechanism"]["lifter"], ["zeta"])
+        >>> batch.solve(batch.designs({"zeta": np.array([0.05, 0.1])})[0], 1).per_rpm.shape
+        (2, 1)
+        """
+        ...

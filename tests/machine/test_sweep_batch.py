@@ -10,7 +10,8 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech import _core
-from cyclomech.machine._batch import BATCH_KEYS, batch_designs, plan
+from cyclomech.impact._batch import BATCH_KEYS
+from cyclomech.machine._batch import batch_designs, plan
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

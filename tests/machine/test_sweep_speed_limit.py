@@ -104,7 +104,7 @@ def loom_case(n_designs: int = 40) -> tuple[SpeedNetwork, np.ndarray, float]:
     loom = cm.Machine.from_toml("tests/machine/data/stb_loom_stop_only.toml")
     per0 = loom.bound_laws()[0].per_rpm
     per = per0 * np.geomspace(0.05, 20.0, n_designs)[:, None]
-    return loom._network, per, loom._search_start()
+    return loom.speed_network, per, loom.search_start_rpm
 
 
 def test_the_loom_bit_for_bit_and_threads() -> None:

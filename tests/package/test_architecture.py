@@ -361,17 +361,14 @@ FUNCTION_LIMIT = 80
 #: still_long`` says so). Keys are ``path in cyclomech:qualified name``.
 KNOWN_LONG = {
     "linkage/plot.py:_draw_linkage": 174,
-    "machine/_report.py:_html": 168,  # being cut by subject at the same time (issue 32)
     "motion/plot.py:plot_law": 153,
     "cam/cli.py:cam_command": 149,
-    "machine/plot.py:plot_speed_sweep": 145,  # being cut at the same time (issue 32)
     "press/cli.py:press_command": 135,
     "transfer/plot.py:plot_transfer": 129,
     "cyclogram/_lp.py:_LP.__init__": 128,
     "machine/_shaft.py:flatten_phases": 120,
     "cam/_design.py:CamDesign.from_table": 113,
     "forces/_model.py:_build": 112,
-    "machine/_report.py:write_report": 107,
     "machine/cli.py:sweep_command": 104,
     "cyclogram/plot.py:_gantt": 102,
     "linkage/_linkage.py:Linkage._place_dyad": 99,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -19,6 +19,7 @@ from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
+from ._batch import StopBatch, stop_batch
 from ._keys import KEY_DOCS
 from ._stop import StopImpact, max_impact_speeds, rebounds
 from ._study import _STOP_KEYS, A_MAX_RULES, STOP_PARAMS, STOP_RULES, _stop_from_table
@@ -122,6 +123,57 @@ class CamStop:
         if "cam" not in table:
             return {}
         return {k: f"it comes from the cam {table['cam']!r}" for k in ("law", "stroke_m")}
+
+    @classmethod
+    def batch_designs(
+        cls, mechanism: CamStop, table: Mapping[str, Any], keys: Collection[str]
+    ) -> StopBatch | None:
+        """The kind's batch path for sweeps (the optional hook of
+        :class:`~cyclomech.machine.Mechanism`): the designs of ``mechanism`` that vary
+        ``keys`` in one Rust call per chunk, or None when the sweep must build one
+        machine per design (a contact-model or half-sine stop, a key that is not a
+        number of the stop, the stroke or lever of a stop that names its cam).
+
+        Parameters
+        ----------
+        mechanism : CamStop
+            The machine's stop.
+        table : Mapping of str to Any
+            Its table as read.
+        keys : collection of str
+            The keys of its table the sweep varies.
+
+        Returns
+        -------
+        StopBatch or None
+            The batch (its ``designs`` and ``solve``; ``cyclomech.impact._batch``),
+            or None.
+
+        Raises
+        ------
+        InputError
+            If ``keys`` is not a collection of str.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> table = m.data["mechanism"]["lifter"]
+        >>> CamStop.batch_designs(m.mechanisms["lifter"], table, ["preload_m"]) is not None
+        True
+        >>> CamStop.batch_designs(m.mechanisms["lifter"], table, ["phase_deg"]) is None
+        True
+        >>> CamStop.batch_designs(m.mechanisms["lifter"], table, "preload_m")
+        Traceback (most recent call last):
+        cyclomech._errors.InputError: keys must be a collection of its table's keys; got 'preload_m'
+        """
+        m = instance("mechanism", mechanism, cls)
+        table = instance("table", table, Mapping)
+        if isinstance(keys, str) or not isinstance(keys, Collection):
+            raise InputError(f"keys must be a collection of its table's keys; got {keys!r}")
+        if not all(isinstance(k, str) for k in keys):
+            raise InputError(f"keys must be its table's keys (str); got {keys!r}")
+        return stop_batch(m.stop, m.a_max, cls.params, table, keys)
 
     json_groups: ClassVar[tuple[str, ...]] = ("stops",)
     sweep_columns: ClassVar[tuple[str, ...]] = ("max_rebound_m",)

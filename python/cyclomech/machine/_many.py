@@ -136,7 +136,7 @@ def _networks(machines: Sequence[Machine]) -> dict[int, list[int]]:
     one file made by :meth:`Machine.with_values`), in order."""
     groups: dict[int, list[int]] = {}
     for i, m in enumerate(machines):
-        groups.setdefault(id(m._network), []).append(i)
+        groups.setdefault(id(m.speed_network), []).append(i)
     return groups
 
 
@@ -147,8 +147,8 @@ def _laws(machines: Sequence[Machine], linear: bool, n_threads: int | None) -> l
     if not machines:
         return []
     out: list[list[BoundLaw]] = [[] for _ in machines]
-    for j, first in enumerate(machines[0]._bounded):
-        same = [m._bounded[j] for m in machines]
+    for j, first in enumerate(machines[0].bounded_mechanisms):
+        same = [m.bounded_mechanisms[j] for m in machines]
         for d, laws in enumerate(type(first).bound_laws(same, linear=linear, n_threads=n_threads)):
             out[d].extend(laws)
     return out
@@ -253,7 +253,7 @@ def speed_sweeps(
     cache: dict[int, float] = {}  # the mechanisms' own limits (_own_limits)
     for idx in _networks(machines).values():
         ms = [machines[i] for i in idx]
-        net, D = ms[0]._network, len(ms)
+        net, D = ms[0].speed_network, len(ms)
         laws = _group_laws(ms, linear, threads)
         grid = np.tile(n, (D, 1))
         t_bound = _bounds_at(laws)(np.arange(D), grid)
@@ -261,10 +261,10 @@ def speed_sweeps(
         value, fits, binding, mins = net.solve(rows, t_bound, threads)
         extra = {c: np.full(rows.shape, np.nan) for c in columns}
         k = 0
-        for j, first in enumerate(ms[0]._bounded):
+        for j, first in enumerate(ms[0].bounded_mechanisms):
             nb = len(first.bounds())
             angles = [mins[:, net.bound_op[k + i]] for i in range(nb)]
-            same = [m._bounded[j] for m in ms]
+            same = [m.bounded_mechanisms[j] for m in ms]
             got = type(first).sweep_values(same, grid, angles, fits, n_threads=threads)
             for c, v in got.items():
                 extra[c] = np.fmax(extra.get(c, np.full(rows.shape, np.nan)), v)
@@ -319,10 +319,10 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
     cache: dict[int, float] = {}  # the mechanisms' own limits (_own_limits)
     for idx in _networks(machines).values():
         ms = [machines[i] for i in idx]
-        net = ms[0]._network
+        net = ms[0].speed_network
         laws = _group_laws(ms, False, threads)
         at = _bounds_at(laws)
-        cg = net.speed_limits(at, len(ms), ms[0]._search_start(), threads, 1e-10)
+        cg = net.speed_limits(at, len(ms), ms[0].search_start_rpm, threads, 1e-10)
         ok = np.flatnonzero((cg > 0.0) & np.isfinite(cg))
         binding = np.full(len(ms), "", dtype=object)
         if ok.size:

@@ -444,6 +444,73 @@ class Machine:
         other.mechanisms, other.data, other._bounded, other._laws = mechs, data, bounded, {}
         return other
 
+    # ----------------------------------------------------------------- its parts
+    @property
+    def bounded_mechanisms(self) -> list[Mechanism]:
+        """The mechanisms that bound cyclogram operations, in the machine's order.
+
+        Their bounds, in this order, are :meth:`bounds` and the columns of
+        :meth:`bound_laws`; the sweeps over many machines go through them kind by
+        kind. Read-only: a new list each time (the machine keeps its own).
+
+        Returns
+        -------
+        list of Mechanism
+            The mechanisms with at least one bound (a stop; not a press, say).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> [m.name for m in cm.Machine.example().bounded_mechanisms]
+        ['lifter']
+        """
+        return list(self._bounded)
+
+    @property
+    def speed_network(self) -> SpeedNetwork:
+        """The cyclogram's LP with the mechanisms' bounds, solved at many speeds at once.
+
+        Built once with the machine; the variants of :meth:`with_values` that keep
+        the bounds on the same operations share it (the sweeps group machines by
+        it and solve each group in one shortest-path call). The bounds' values are
+        given at each speed [rpm] to its ``solve`` and ``speed_limits``.
+
+        Returns
+        -------
+        SpeedNetwork
+            The network: the operations' minimum angles [deg] and durations [s],
+            the constraints and one extra lower bound per entry of :meth:`bounds`.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.example()
+        >>> other = m.with_values({"lifter.a_max_m": 2e-4})
+        >>> len(m.speed_network.bound_op), other.speed_network is m.speed_network
+        (1, True)
+        """
+        return self._network
+
+    @property
+    def search_start_rpm(self) -> float:
+        """The first speed [rpm] the speed-limit search tries.
+
+        The top of the speed range (at least 1 rpm): the search goes up from there
+        while the cyclogram fits and down while it does not.
+
+        Returns
+        -------
+        float
+            The speed [rpm].
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.example().search_start_rpm
+        500.0
+        """
+        return max(self.speed_range_rpm[1], 1.0)
+
     # ----------------------------------------------------------------- results
     def speed_grid(self) -> Array:
         """The report's speeds [rpm]: ``speed_points`` over ``speed_rpm``.
@@ -649,7 +716,7 @@ class Machine:
         rtol = speed_rtol(rtol)
         threads = threads_arg(n_threads)
         at = _bounds_at([self.bound_laws(n_threads=threads)])
-        return float(self._network.speed_limits(at, 1, self._search_start(), threads, rtol)[0])
+        return float(self._network.speed_limits(at, 1, self.search_start_rpm, threads, rtol)[0])
 
     def speed_limit(self, *, n_threads: int | None = None) -> SpeedLimit:
         """The machine's speed limit: the cyclogram's and every mechanism's.
@@ -675,10 +742,6 @@ class Machine:
         (421.37, 'cyclogram')
         """
         return speed_limits([self], n_threads=n_threads)[0]
-
-    def _search_start(self) -> float:
-        """The first speed [rpm] the speed-limit search tries."""
-        return max(self.speed_range_rpm[1], 1.0)
 
     def nominal_speed(self, limit: SpeedLimit | None = None) -> float:
         """The speed [rpm] of the report's optimised cyclogram.

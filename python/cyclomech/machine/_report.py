@@ -6,19 +6,19 @@ and the figures as PNG files.
 stop's rebound against speed and phase angle, the cyclogram's optimum and speed
 limit, the speed sweep) and returns a :class:`MachineResult`; :func:`write_report`
 writes it. ``cyclomech run MACHINE.toml --out DIR`` does both.
+
+This module gathers what the report shows (the results, ``results.json``'s
+summary, the CSV tables, the figures) and writes the files; the HTML page that
+lays them out is :mod:`cyclomech.machine._page`.
 """
 
 from __future__ import annotations
 
-import base64
 import csv
-import html
 import json
-import math
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -28,103 +28,17 @@ from .._arrays import flag, instance
 from .._errors import CyclomechWarning, InfeasibleError
 from .._files import folder_target, whole
 from .._json import jsonable
-from .._kind import Context, MechanismResult
+from .._kind import Context
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
-from ..cyclogram import Optimum, SpeedLimit
+from ..cyclogram import Optimum
+from . import _page
 from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
-from ._shaft import MainShaft, main_shaft
+from ._result import MachineResult
+from ._shaft import main_shaft
 
 __all__ = ["MachineResult", "analyze", "write_report"]
-
-
-@dataclass
-class MachineResult:
-    """Everything the report shows, computed once by :func:`analyze`.
-
-    Speeds [rpm], angles [deg], SI otherwise: the report, ``results.json``, the
-    CSVs and the CLI's summary only read it. Each parameter is kept as the
-    attribute of the same name.
-
-    Parameters
-    ----------
-    machine : Machine
-        The machine.
-    limit : SpeedLimit
-        The speed limit.
-    nominal_rpm : float
-        The speed of ``optimum`` [rpm].
-    optimum : Optimum or None
-        The LP optimum with the mechanisms' exact bounds (None if it does not fit
-        there, and ``problem`` says why).
-    problem : str
-        Why there is no optimum ("" when there is).
-    sweep : SpeedSweep
-        The key figures against speed with the exact bounds.
-    sweep_linear : SpeedSweep
-        The same with the seed's linearised bounds.
-    minimums : ndarray of float, optional
-        Each operation's smallest angle at the nominal speed [deg]: its own
-        minimum angle or duration, or a mechanism's bound on it, whichever is
-        larger; default None.
-    minimum_by : list of str, optional
-        The name of what sets each of ``minimums`` (``min[op]``, ``duration[op]``
-        or the bound's label, as in the optimum's ``binding``); default an empty
-        list.
-    mechanisms : dict of str to MechanismResult, optional
-        Each mechanism's results (:meth:`~cyclomech.machine.Mechanism.analyze`);
-        default an empty dict.
-    seconds : dict of str to float, optional
-        The time of each step [s]; default an empty dict.
-    shaft : MainShaft, optional
-        The main shaft's torque and statistics, when a mechanism loads it; default
-        None.
-
-    Examples
-    --------
-    >>> import cyclomech as cm
-    >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
-    >>> r.problem, r.minimums.round(3).tolist(), r.shaft is None
-    ('', [45.0, 42.178, 20.0, 252.822], True)
-    >>> r.minimum_by[1]      # the lifter's rebound bound exceeds (3, 7)'s own 20°
-    'rebound[lifter]'
-    """
-
-    machine: Machine
-    limit: SpeedLimit
-    nominal_rpm: float
-    optimum: Optimum | None
-    problem: str
-    sweep: SpeedSweep
-    sweep_linear: SpeedSweep
-    minimums: np.ndarray | None = None
-    minimum_by: list[str] = field(default_factory=list)
-    mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
-    seconds: dict[str, float] = field(default_factory=dict)
-    shaft: MainShaft | None = None
-
-    @property
-    def above_speed_limit(self) -> str:
-        """Why the nominal speed is above a mechanism's own speed limit ("" if it is
-        not). The cyclogram may still fit there (its optimum is then computed), but
-        that mechanism does not work: :func:`analyze` warns, ``cyclomech run`` exits 3.
-        (Above the cyclogram's own limit there is no optimum: see ``problem``.)
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> cm.machine.analyze(cm.Machine.example(), progress=False).above_speed_limit
-        ''
-        """
-        over = {k: v for k, v in self.limit.mechanisms_rpm.items() if self.nominal_rpm > v}
-        if not over:
-            return ""
-        k = min(over, key=over.__getitem__)
-        return (
-            f"the nominal speed {self.nominal_rpm:g} rpm is above the speed limit of "
-            f"mechanism {k!r}, {over[k]:.2f} rpm ({self.limit.mechanisms_reason.get(k, '')})"
-        )
 
 
 def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
@@ -250,27 +164,7 @@ def _minimums(m: Machine, rpm: float) -> tuple[np.ndarray, list[str]]:
     return mins, by
 
 
-# --------------------------------------------------------------------- tables
-def _f(v: Any, digits: int = 4) -> str:
-    if v is None:
-        return "—"
-    if isinstance(v, float | np.floating):
-        if not math.isfinite(v):
-            return "—" if math.isnan(v) else ("∞" if v > 0 else "−∞")
-        return f"{v:.{digits}g}"
-    return str(v)
-
-
-def _own(by: str) -> str:
-    """A minimum's source as the report says it: its own angle or duration in
-    words, a mechanism's bound by its label."""
-    if by.startswith("min["):
-        return "its minimum angle"
-    if by.startswith("duration["):
-        return "its minimum duration"
-    return by
-
-
+# --------------------------------------------------------------------- files
 def _summary(r: MachineResult) -> dict[str, Any]:
     m = r.machine
     cg = m.cyclogram
@@ -453,216 +347,6 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     return out
 
 
-# --------------------------------------------------------------------- HTML
-_CSS = """
-body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto;
-       padding: 0 1em; color: #222; line-height: 1.45; }
-h1 { font-size: 1.6em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: .2em; }
-table { border-collapse: collapse; margin: .6em 0 1.2em; font-size: .92em; }
-th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: left; }
-td.n { text-align: right; font-variant-numeric: tabular-nums; }
-th { background: #f2f2f2; } .key { font-size: 1.1em; background: #f6f9ff;
-       border: 1px solid #c9d7ef; padding: .8em 1em; border-radius: 6px; }
-figure { margin: 1em 0 2em; } figure img { max-width: 100%; }
-figcaption, .note { color: #555; font-size: .9em; } .warn { color: #b00; }
-"""
-
-
-def _table(header: list[str], rows: list[list[Any]]) -> str:
-    th = "".join(f"<th>{html.escape(h)}</th>" for h in header)
-    body = []
-    for row in rows:
-        cells = []
-        for v in row:
-            num = isinstance(v, int | float | np.floating) and not isinstance(v, bool)
-            cls = ' class="n"' if num else ""
-            cells.append(f"<td{cls}>{html.escape(_f(v, 5))}</td>")
-        body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><tr>{th}</tr>{''.join(body)}</table>"
-
-
-def _img(path: Path, caption: str) -> str:
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return (
-        f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}">'
-        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
-    )
-
-
-def _html(
-    r: MachineResult,
-    summary: dict[str, Any],
-    figs: list[tuple[str, str, Path]],
-    cycle_files: list[str],
-) -> str:
-    m = r.machine
-    cg = m.cyclogram
-    e = html.escape
-    parts = [
-        f"<!doctype html><html lang='en'><head><meta charset='utf-8'>"
-        f"<title>{e(m.name)}: design report</title><style>{_CSS}</style></head><body>",
-        f"<h1>{e(m.name)}</h1>",
-        f"<p>Design report by cyclomech from <code>{e(m.source)}</code>: speed range "
-        f"{m.speed_range_rpm[0]:g}–{m.speed_range_rpm[1]:g} rpm, cycle {cg.cycle_deg:g}°. "
-        "Angles are degrees of main-shaft rotation, speeds in rpm, lengths in metres "
-        "unless a column says otherwise.</p>",
-        "<h2>Summary</h2>",
-    ]
-    lim = r.limit
-    lim_op = cg.operation(cg.limiting)  # type: ignore[arg-type]
-    by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
-    if lim.rpm > 0:
-        key = [f"<p><b>Speed limit: {_f(lim.rpm, 5)} rpm</b>, set by {e(by)}: {e(lim.reason)}.</p>"]
-    else:
-        key = [f"<p class='warn'><b>The machine works at no speed</b>: {e(lim.reason)}.</p>"]
-    o = summary.get("optimum")
-    if o is not None:
-        key.append(
-            f"<p><b>Limiting operation “{e(lim_op.title)}” ({e(lim_op.src)}→{e(lim_op.dst)})</b> "
-            f"at {r.nominal_rpm:g} rpm gets <b>{o['limiting_deg']:.2f}°</b> "
-            f"({1e3 * o['limiting_s']:.1f} ms) of the {cg.cycle_deg:g}° cycle: "
-            f"<b>{o['gained_deg']:.2f}° more</b> than its minimum of "
-            f"{o['limiting_min_deg']:.2f}°.</p>"
-        )
-    if r.above_speed_limit:
-        key.append(f"<p class='warn'><b>Above the speed limit</b>: {e(r.above_speed_limit)}.</p>")
-    if o is None and lim.rpm > 0:  # at no speed, said above: no speed is to blame
-        key.append(
-            f"<p class='warn'>At {r.nominal_rpm:g} rpm the cyclogram does not fit: "
-            f"{e(r.problem)}</p>"
-        )
-    if r.shaft is not None:
-        sh = r.shaft.at_nominal
-        key.append(
-            f"<p><b>Main shaft</b> at {r.nominal_rpm:g} rpm: motor "
-            f"<b>{_power(float(sh.power_w))}</b> (mean torque "
-            f"{float(sh.mean_torque_nm):.4g} N·m), peak torque "
-            f"<b>{float(sh.peak_torque_nm):.4g} N·m</b>, flywheel "
-            f"<b>{float(sh.flywheel_kg_m2):.4g} kg·m²</b> on the main shaft for δ = "
-            f"{r.shaft.speed_fluctuation:g} (ΔE = {float(sh.energy_fluctuation_j):.4g} J).</p>"
-        )
-    parts.append("<div class='key'>" + "".join(key) + "</div>")
-    cg_why = (
-        lim.reason
-        if lim.by == "cyclogram"
-        else "the cyclogram fills the cycle"
-        if math.isfinite(lim.cyclogram_rpm)
-        else ""
-    )
-    mech_rows = [["cyclogram (with the mechanisms' bounds)", lim.cyclogram_rpm, cg_why]]
-    mech_rows += [
-        [f"mechanism {k}", v, lim.mechanisms_reason.get(k, "")]
-        for k, v in lim.mechanisms_rpm.items()
-    ]
-    parts.append(
-        "<h3>Speed limits</h3>" + _table(["what", "speed limit [rpm]", "criterion"], mech_rows)
-    )
-    if r.optimum is not None:
-        o_ = r.optimum
-        priced = [(k, float(v)) for k, v in o_.duals.items() if abs(v) > 1e-9]
-        per_mm = summary["optimum"]["shadow_prices_per_mm_rebound"]
-        # The price per unit of a mechanism's own limit, where a kind gives one (a
-        # stop's, per mm of its rebound limit): a column only if some bound has it.
-        header = ["bound or constraint", "shadow price [deg/deg]"]
-        rows = [[k, v] for k, v in priced]
-        extra = ""
-        if per_mm:
-            header.append("per mm of rebound limit [deg/mm]")
-            rows = [[k, v, per_mm.get(k, "")] for k, v in priced]
-            extra = " For a stop's rebound bound also per millimetre added to its rebound limit."
-        free = [k for k in o_.binding if k not in dict(priced)]
-        parts.append(
-            "<h3>What sets the optimum at the nominal speed</h3>"
-            "<p>The bounds and constraints with a shadow price: the change of the limiting "
-            "operation's angle per degree added to the bound (negative: raising that "
-            f"minimum takes angle from the limiting operation).{extra}</p>"
-            + _table(header, rows)
-            + (
-                f"<p>Also binding, at zero price (the optimum is degenerate there): "
-                f"{e(', '.join(free))}.</p>"
-                if free
-                else ""
-            )
-        )
-    for sec, cap, p in figs:
-        if sec == "summary":
-            parts.append(_img(p, cap))
-    # The cyclogram
-    parts.append("<h2>Optimised cyclogram</h2>")
-    if r.optimum is None:
-        parts.append(
-            f"<p class='warn'>No optimised cyclogram: at {r.nominal_rpm:g} rpm it does not "
-            f"fit. {e(r.problem)}</p>"
-        )
-    else:
-        o_ = r.optimum
-        crit = set(o_.critical)
-        mins = r.minimums
-        assert mins is not None
-        rows = [
-            [
-                op.mechanism or "",
-                op.title,
-                f"{op.src}→{op.dst}",
-                float(mn),
-                _own(by),
-                o_.angles[op.arc],
-                o_.times[op.src],
-                _noise_free(o_.angles[op.arc] - float(mn), 360.0),
-                "yes" if op.arc in crit else "",
-            ]
-            for op, mn, by in zip(cg.operations, mins, r.minimum_by, strict=True)
-        ]
-        parts.append(
-            _table(
-                [
-                    "mechanism",
-                    "operation",
-                    "arc",
-                    "minimum [deg]",
-                    "minimum set by",
-                    "angle [deg]",
-                    "start [deg]",
-                    "beyond minimum [deg]",
-                    "critical",
-                ],
-                rows,
-            )
-        )
-        parts.append(
-            "<p class='note'>Minimum: the operation's own minimum angle or duration, or "
-            "the largest bound a mechanism puts on it at this speed; beyond minimum: "
-            "what the optimum gave it on top of that.</p>"
-        )
-    for sec, cap, p in figs:
-        if sec == "cyclogram":
-            parts.append(_img(p, cap))
-    # Mechanisms
-    for k in m.mechanisms:
-        info = summary["mechanisms"][k]
-        parts.append(f"<h2>Mechanism “{e(k)}” ({e(info['kind'].replace('_', ' '))})</h2>")
-        header, rows = r.mechanisms[k].table()
-        parts.append(_table(header, rows))
-        for sec, cap, p in figs:
-            if sec == k:
-                parts.append(_img(p, cap))
-    if r.shaft is not None:
-        parts.append("<h2>Main shaft</h2>")
-        header, rows = r.shaft.table()
-        parts.append(_table(header, rows))
-        for sec, cap, p in figs:
-            if sec == "shaft":
-                parts.append(_img(p, cap))
-    cycle = [f"<code>{name}</code>" for name in cycle_files]
-    over = f"; over the cycle at {r.nominal_rpm:g} rpm: {', '.join(cycle)}" if cycle else ""
-    parts.append(
-        "<h2>Files</h2><p><code>results.json</code> (schema "
-        f"<code>{SCHEMA}</code>), <code>speed_sweep.csv</code>, <code>operations.csv</code>, "
-        f"<code>figures/*.png</code>{over}.</p></body></html>"
-    )
-    return "\n".join(parts)
-
-
 def write_report(result: MachineResult, out: str | Path, *, figures: bool = True) -> list[Path]:
     """Write the machine's report, results and tables to the folder ``out``.
 
@@ -713,8 +397,45 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     for name in ("report.html", "results.json"):
         (folder / name).unlink(missing_ok=True)
     summary = _summary(result)
-    written = []
-    sw = result.sweep
+    written = [
+        _write_csv(folder / "speed_sweep.csv", *_sweep_table(result)),
+        _write_csv(folder / "operations.csv", *_operations_table(result)),
+    ]
+    cycle_files: list[str] = []  # over the cycle, for the report's Files section
+    for name, header, rows in _cycle_tables(result):
+        cycle_files.append(name)
+        written.append(_write_csv(folder / name, header, rows))
+    figs: list[tuple[str, str, Path]] = []
+    if figures:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            figs = []
+        else:
+            figs = _figures(result, folder / "figures")
+    for p, text in [
+        (folder / "results.json", json.dumps(summary, indent=2, ensure_ascii=False)),
+        (folder / "report.html", _page.page(result, summary, figs, cycle_files)),
+    ]:
+        with whole(p) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+        written.append(p)
+    written += [f[2] for f in figs]
+    return written
+
+
+def _sweep_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
+    """``speed_sweep.csv``: the key figures at each speed [rpm] (the limiting
+    operation's angle [deg], exact and linearised, its time [s], the productivity
+    [1/min]), the kinds' sweep columns, each mechanism's CSV columns and what
+    binds.
+
+    >>> import cyclomech as cm
+    >>> header, rows = _sweep_table(cm.machine.analyze(cm.Machine.example(), progress=False))
+    >>> header[:3], len(rows)
+    (['speed_rpm', 'fits', 'limiting_deg'], 61)
+    """
+    sw = r.sweep
     header = [
         "speed_rpm",
         "fits",
@@ -728,26 +449,49 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         sw.rpm,
         sw.fits,
         sw.limiting_deg,
-        result.sweep_linear.limiting_deg,
+        r.sweep_linear.limiting_deg,
         sw.limiting_s,
         sw.productivity_per_min,
         *sw.columns.values(),
     ]
-    for res in result.mechanisms.values():
+    for res in r.mechanisms.values():
         for name, column in res.csv_columns():
             header.append(name)
             cols.append(column)
     header.append("binding")
     cols.append(sw.binding)
-    rows = [list(r) for r in zip(*cols, strict=True)]
-    written.append(_write_csv(folder / "speed_sweep.csv", header, rows))
-    op_rows: list[list[Any]] = []
-    if result.optimum is not None:
-        o, mins = result.optimum, result.minimums
+    return header, [list(row) for row in zip(*cols, strict=True)]
+
+
+def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
+    """``operations.csv``: each operation of the optimum at the nominal speed,
+    its minimum [deg] and what sets it, its angle and start [deg], what it got
+    beyond its minimum [deg] and whether it is critical (no rows without an
+    optimum).
+
+    >>> import cyclomech as cm
+    >>> header, rows = _operations_table(cm.machine.analyze(cm.Machine.example(), progress=False))
+    >>> header[4], [round(row[4], 3) for row in rows]
+    ('minimum_deg', [45.0, 42.178, 20.0, 252.822])
+    """
+    header = [
+        "mechanism",
+        "operation",
+        "from",
+        "to",
+        "minimum_deg",
+        "minimum_by",
+        "angle_deg",
+        "start_deg",
+        "beyond_minimum_deg",
+        "critical",
+    ]
+    rows: list[list[Any]] = []
+    if r.optimum is not None:
+        o, mins = r.optimum, r.minimums
         assert mins is not None
-        ops = result.machine.cyclogram.operations
-        for op, mn, by in zip(ops, mins, result.minimum_by, strict=True):
-            op_rows.append(
+        for op, mn, by in zip(r.machine.cyclogram.operations, mins, r.minimum_by, strict=True):
+            rows.append(
                 [
                     op.mechanism or "",
                     op.title,
@@ -761,74 +505,31 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
                     op.arc in set(o.critical),
                 ]
             )
-    written.append(
-        _write_csv(
-            folder / "operations.csv",
-            [
-                "mechanism",
-                "operation",
-                "from",
-                "to",
-                "minimum_deg",
-                "minimum_by",
-                "angle_deg",
-                "start_deg",
-                "beyond_minimum_deg",
-                "critical",
-            ],
-            op_rows,
-        )
-    )
-    cycle_files: list[str] = []  # over the cycle, for the report's Files section
-    if result.shaft is not None:
-        cycle_files.append("main_shaft.csv")
-        sh, n = result.shaft, result.nominal_rpm
+    return header, rows
+
+
+def _cycle_tables(r: MachineResult) -> list[tuple[str, list[str], list[list[Any]]]]:
+    """(file name, header, rows) of each table over the cycle at the nominal
+    speed: ``main_shaft.csv`` (the shaft's torque [N·m], total and each
+    mechanism's, at each angle [deg]) when a mechanism loads the shaft, and each
+    mechanism's own (``<mechanism>_forces.csv``: a linkage's forces).
+
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"), progress=False)
+    >>> [name for name, _, _ in _cycle_tables(r)]
+    ['main_shaft.csv', 'knife_forces.csv']
+    """
+    out: list[tuple[str, list[str], list[list[Any]]]] = []
+    if r.shaft is not None:
+        sh, n = r.shaft, r.nominal_rpm
         head = ["cycle_deg", "torque_nm", *(f"torque_nm[{k}]" for k in sh.parts)]
         theta = np.round(sh.torque.theta_deg, 9)  # 0.1 steps, not 0.30000000000000004
         columns = [theta, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
-        rows = [list(r) for r in zip(*columns, strict=True)]
-        written.append(_write_csv(folder / "main_shaft.csv", head, rows))
-    for k, res in result.mechanisms.items():
+        out.append(("main_shaft.csv", head, [list(row) for row in zip(*columns, strict=True)]))
+    for k, res in r.mechanisms.items():
         over = getattr(res, "cycle_csv", lambda: None)()
         if over is not None:
             head, columns = over
-            rows = [list(r) for r in zip(*columns, strict=True)]
-            cycle_files.append(f"{_stem(k)}_forces.csv")
-            written.append(_write_csv(folder / cycle_files[-1], head, rows))
-    figs: list[tuple[str, str, Path]] = []
-    if figures:
-        try:
-            import matplotlib  # noqa: F401
-        except ImportError:
-            figs = []
-        else:
-            figs = _figures(result, folder / "figures")
-    for p, text in [
-        (folder / "results.json", json.dumps(summary, indent=2, ensure_ascii=False)),
-        (folder / "report.html", _html(result, summary, figs, cycle_files)),
-    ]:
-        with whole(p) as tmp:
-            tmp.write_text(text, encoding="utf-8")
-        written.append(p)
-    written += [f[2] for f in figs]
-    return written
-
-
-def _power(watts: float) -> str:
-    """A power for the report, in W below a kilowatt and kW above (the CLI's unit
-    below a kilowatt too).
-
-    >>> _power(2.0944), _power(2202.4)
-    ('2.094 W', '2.202 kW')
-    """
-    return f"{watts:.4g} W" if abs(watts) < 1e3 else f"{watts / 1e3:.4g} kW"
-
-
-def _noise_free(value: float, scale: float) -> float:
-    """``value``, or 0.0 when it is rounding noise (below 1e-12 of ``scale``): an LP's
-    7.1e-15° of slack is no gain.
-
-    >>> _noise_free(7.1054e-15, 360.0), _noise_free(7.06, 360.0)
-    (0.0, 7.06)
-    """
-    return 0.0 if abs(value) < 1e-12 * scale else value
+            rows = [list(row) for row in zip(*columns, strict=True)]
+            out.append((f"{_stem(k)}_forces.csv", head, rows))
+    return out

@@ -382,9 +382,9 @@ def _run_chunk(
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
     one task, each kernel once: with ``batch`` the swept stops of every design in
-    one Rust call (:mod:`cyclomech.machine._batch`; the designs it cannot take go
-    the other way), else one machine per design. ``base``: the file's machine, if
-    built. ``shaft``: the main-shaft columns too
+    one Rust call (:mod:`cyclomech.machine._batch`, through the kind's hook; the
+    designs it cannot take go the other way), else one machine per design.
+    ``base``: the file's machine, if built. ``shaft``: the main-shaft columns too
     (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None: none)."""
     base = Machine.from_dict(data, source) if base is None else base
     D, S = len(designs), speeds.size
@@ -538,7 +538,8 @@ def sweep(
         or all cores).
     batch : bool, default True
         A sweep of pulse-model stops' numeric keys builds and solves each chunk's
-        designs in one Rust call (``cyclomech.machine._batch`` lists what it
+        designs in one Rust call (``cyclomech.machine._batch`` says when a
+        kind's batch path is taken, ``cyclomech.impact._batch`` what a stop's batch
         takes); False builds one machine per design (the reference: the same
         results, bit for bit, slower).
     out : str or Path, optional

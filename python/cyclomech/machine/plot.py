@@ -97,12 +97,30 @@ def plot_speed_sweep(
     top, mid = axes[0], axes[1]
     n = np.asarray(sweep.rpm)
     limited = limit_rpm is not None and math.isfinite(limit_rpm)
-    lim = math.nan if limit_rpm is None else float(limit_rpm)
     runs = n <= limit_rpm if limited else np.asarray(sweep.fits)
 
     def upto(y: Any) -> Any:  # the curve where the machine runs
         return np.where(runs, np.asarray(y, dtype=float), np.nan)
 
+    _limiting(top, mid, n, upto, sweep, linear, bool(stops))
+    if stops:
+        _bounds(fig, axes[2], n, upto, stops, linear)
+    axes[-1].set_xlabel("main-shaft speed  [rpm]")
+    by = f" ({limit_by})" if limit_by else ""
+    for ax in axes:
+        _speed_range(ax, ax is top, n, runs, limit_rpm if limited else None, by)
+    if not runs.any():
+        _works_at_no_speed(top, mid, limit_rpm if limited else None, by)
+    else:  # with nothing drawn, a legend would only name empty lines
+        top.legend(fontsize=8, loc="lower left")
+    fig.suptitle(title or "the machine against speed", fontsize=11)
+    return cast("Figure", fig)
+
+
+def _limiting(top: Any, mid: Any, n: Any, upto: Any, sweep: Any, linear: Any, stops: bool) -> None:
+    """The top two panels: the limiting operation's optimal angle [deg] (exact
+    solid; with ``linear``, the seed's linearised bounds dashed) and its time [ms];
+    ``upto`` blanks a curve where the machine does not run."""
     top.plot(
         n,
         upto(sweep.limiting_deg),
@@ -125,99 +143,111 @@ def plot_speed_sweep(
     top.set_ylabel("limiting operation  [deg]")
     mid.plot(n, upto(sweep.limiting_s * 1e3), "-", lw=1.6, color="C2", gid="time")
     mid.set_ylabel("its time  [ms]")
-    if stops:
-        low = axes[2]
-        styles = _bound_styles(list(stops))
-        for name, t in stops.items():
-            c, style = styles[name]
-            # 0 is "no bound" (a cam criterion another one covers): not drawn.
-            exact = np.where(np.asarray(t, dtype=float) > 0, t, np.nan)
+
+
+def _bounds(fig: Any, low: Any, n: Any, upto: Any, stops: dict[str, Any], linear: Any) -> None:
+    """The bottom panel: each bound's smallest phase angle [deg] against speed,
+    exact, and linearised (dashed) where ``linear`` gives another curve; with many
+    bounds the legend goes beside the panel and the figure widens."""
+    styles = _bound_styles(list(stops))
+    for name, t in stops.items():
+        c, style = styles[name]
+        # 0 is "no bound" (a cam criterion another one covers): not drawn.
+        exact = np.where(np.asarray(t, dtype=float) > 0, t, np.nan)
+        low.plot(
+            n,
+            upto(exact),
+            linestyle=style,
+            lw=1.6,
+            color=c,
+            label=f"{name}: exact",
+            gid=f"stop:{name}",
+        )
+        lin = None if linear is None else np.asarray(linear.min_phase_deg[name], dtype=float)
+        if lin is not None and not np.array_equal(lin, np.asarray(t, float), equal_nan=True):
+            # (a bound without a linearised form, as a cam's, is drawn once)
             low.plot(
                 n,
-                upto(exact),
-                linestyle=style,
-                lw=1.6,
+                upto(lin),
+                "--",
+                lw=1.2,
                 color=c,
-                label=f"{name}: exact",
-                gid=f"stop:{name}",
+                label=f"{name}: linearised",
+                gid=f"stop:{name}:linear",
             )
-            lin = None if linear is None else np.asarray(linear.min_phase_deg[name], dtype=float)
-            if lin is not None and not np.array_equal(lin, np.asarray(t, float), equal_nan=True):
-                # (a bound without a linearised form, as a cam's, is drawn once)
-                low.plot(
-                    n,
-                    upto(lin),
-                    "--",
-                    lw=1.2,
-                    color=c,
-                    label=f"{name}: linearised",
-                    gid=f"stop:{name}:linear",
-                )
-        low.set_ylabel("smallest phase angle  [deg]")
-        if len(low.get_lines()) > 6:  # many bounds: the legend beside the panel
-            low.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-            fig.set_size_inches(12.0, 7.5)
-        else:
-            low.legend(fontsize=8, loc="upper left")
-    axes[-1].set_xlabel("main-shaft speed  [rpm]")
-    by = f" ({limit_by})" if limit_by else ""
-    for ax in axes:
-        ax.grid(True, lw=0.4, alpha=0.5)
-        ax.set_xlim(float(n.min()), float(n.max()))
-        if limited and limit_rpm < n.max():
-            ax.axvspan(
-                max(lim, float(n.min())),
-                float(n.max()),
-                color="0.85",
-                alpha=0.6,
-                lw=0,
-                label="above the speed limit" if ax is top else None,
-                gid="above" if ax is top else None,
-            )
-        elif not limited and not runs.all():
-            ax.fill_between(
-                n,
-                0,
-                1,
-                where=~runs,
-                transform=ax.get_xaxis_transform(),
-                color="0.85",
-                alpha=0.6,
-                lw=0,
-                label="the cyclogram does not fit" if ax is top else None,
-                gid="above" if ax is top else None,
-            )
-        if limited and n.min() <= limit_rpm <= n.max():
-            ax.axvline(
-                lim,
-                color=CRITICAL_COLOR,
-                ls="--",
-                lw=1.0,
-                gid="limit" if ax is top else None,
-                label=f"speed limit {limit_rpm:.1f} rpm{by}" if ax is top else None,
-            )
-    if not runs.any():
-        top.text(
-            0.5,
-            0.5,
-            (
-                "the machine works at no speed:\nits cyclogram does not fit even at standstill"
-                if limited and limit_rpm == 0
-                else "the machine works at no speed of this range"
-                + (f": its speed limit is {limit_rpm:.4g} rpm{by}" if limited else "")
-            ),
-            transform=top.transAxes,
-            ha="center",
-            va="center",
-            fontsize=10,
-            color=CRITICAL_COLOR,
+    low.set_ylabel("smallest phase angle  [deg]")
+    if len(low.get_lines()) > 6:  # many bounds: the legend beside the panel
+        low.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        fig.set_size_inches(12.0, 7.5)
+    else:
+        low.legend(fontsize=8, loc="upper left")
+
+
+def _speed_range(ax: Any, top: bool, n: Any, runs: Any, limit_rpm: float | None, by: str) -> None:
+    """One panel's grid and speed range, with where the machine does not run
+    shaded: above the speed limit ``limit_rpm`` [rpm] (its dashed red line, when in
+    range), or without a finite limit where the cyclogram does not fit. The labels
+    and gids go on the ``top`` panel only."""
+    limited = limit_rpm is not None
+    lim = math.nan if limit_rpm is None else float(limit_rpm)
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.set_xlim(float(n.min()), float(n.max()))
+    if limit_rpm is not None and limit_rpm < n.max():
+        ax.axvspan(
+            max(lim, float(n.min())),
+            float(n.max()),
+            color="0.85",
+            alpha=0.6,
+            lw=0,
+            label="above the speed limit" if top else None,
+            gid="above" if top else None,
         )
-        top.set_yticks([])
-        mid.set_yticks([])
-    else:  # with nothing drawn, a legend would only name empty lines
-        top.legend(fontsize=8, loc="lower left")
-    fig.suptitle(title or "the machine against speed", fontsize=11)
-    return cast("Figure", fig)
+    elif not limited and not runs.all():
+        ax.fill_between(
+            n,
+            0,
+            1,
+            where=~runs,
+            transform=ax.get_xaxis_transform(),
+            color="0.85",
+            alpha=0.6,
+            lw=0,
+            label="the cyclogram does not fit" if top else None,
+            gid="above" if top else None,
+        )
+    if limit_rpm is not None and n.min() <= limit_rpm <= n.max():
+        ax.axvline(
+            lim,
+            color=CRITICAL_COLOR,
+            ls="--",
+            lw=1.0,
+            gid="limit" if top else None,
+            label=f"speed limit {limit_rpm:.1f} rpm{by}" if top else None,
+        )
+
+
+def _works_at_no_speed(top: Any, mid: Any, limit_rpm: float | None, by: str) -> None:
+    """Where the machine runs at no speed of the range: the reason in the top
+    panel (at standstill, or its speed limit ``limit_rpm`` [rpm] below the range)
+    and no angle or time ticks."""
+    limited = limit_rpm is not None
+    top.text(
+        0.5,
+        0.5,
+        (
+            "the machine works at no speed:\nits cyclogram does not fit even at standstill"
+            if limited and limit_rpm == 0
+            else "the machine works at no speed of this range"
+            + (f": its speed limit is {limit_rpm:.4g} rpm{by}" if limited else "")
+        ),
+        transform=top.transAxes,
+        ha="center",
+        va="center",
+        fontsize=10,
+        color=CRITICAL_COLOR,
+    )
+    top.set_yticks([])
+    mid.set_yticks([])
 
 
 #: Line styles of a bound's criterion when the bounds are many (a cam's four

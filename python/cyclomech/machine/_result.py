@@ -1,0 +1,110 @@
+"""What the machine's report shows, computed once: :class:`MachineResult`, the
+`_result` part of :mod:`cyclomech.machine` (its door).
+
+:func:`~cyclomech.machine.analyze` (``_report``) fills it; the page
+(``_page``), ``results.json``, the CSVs (``_report``) and the CLI only read it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .._kind import MechanismResult
+from ..cyclogram import Optimum, SpeedLimit
+from ._model import Machine, SpeedSweep
+
+if TYPE_CHECKING:
+    from ._shaft import MainShaft
+
+__all__ = ["MachineResult"]
+
+
+@dataclass
+class MachineResult:
+    """Everything the report shows, computed once by :func:`analyze`.
+
+    Speeds [rpm], angles [deg], SI otherwise: the report, ``results.json``, the
+    CSVs and the CLI's summary only read it. Each parameter is kept as the
+    attribute of the same name.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine.
+    limit : SpeedLimit
+        The speed limit.
+    nominal_rpm : float
+        The speed of ``optimum`` [rpm].
+    optimum : Optimum or None
+        The LP optimum with the mechanisms' exact bounds (None if it does not fit
+        there, and ``problem`` says why).
+    problem : str
+        Why there is no optimum ("" when there is).
+    sweep : SpeedSweep
+        The key figures against speed with the exact bounds.
+    sweep_linear : SpeedSweep
+        The same with the seed's linearised bounds.
+    minimums : ndarray of float, optional
+        Each operation's smallest angle at the nominal speed [deg]: its own
+        minimum angle or duration, or a mechanism's bound on it, whichever is
+        larger; default None.
+    minimum_by : list of str, optional
+        The name of what sets each of ``minimums`` (``min[op]``, ``duration[op]``
+        or the bound's label, as in the optimum's ``binding``); default an empty
+        list.
+    mechanisms : dict of str to MechanismResult, optional
+        Each mechanism's results (:meth:`~cyclomech.machine.Mechanism.analyze`);
+        default an empty dict.
+    seconds : dict of str to float, optional
+        The time of each step [s]; default an empty dict.
+    shaft : MainShaft, optional
+        The main shaft's torque and statistics, when a mechanism loads it; default
+        None.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
+    >>> r.problem, r.minimums.round(3).tolist(), r.shaft is None
+    ('', [45.0, 42.178, 20.0, 252.822], True)
+    >>> r.minimum_by[1]      # the lifter's rebound bound exceeds (3, 7)'s own 20°
+    'rebound[lifter]'
+    """
+
+    machine: Machine
+    limit: SpeedLimit
+    nominal_rpm: float
+    optimum: Optimum | None
+    problem: str
+    sweep: SpeedSweep
+    sweep_linear: SpeedSweep
+    minimums: np.ndarray | None = None
+    minimum_by: list[str] = field(default_factory=list)
+    mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
+    seconds: dict[str, float] = field(default_factory=dict)
+    shaft: MainShaft | None = None
+
+    @property
+    def above_speed_limit(self) -> str:
+        """Why the nominal speed is above a mechanism's own speed limit ("" if it is
+        not). The cyclogram may still fit there (its optimum is then computed), but
+        that mechanism does not work: :func:`analyze` warns, ``cyclomech run`` exits 3.
+        (Above the cyclogram's own limit there is no optimum: see ``problem``.)
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.machine.analyze(cm.Machine.example(), progress=False).above_speed_limit
+        ''
+        """
+        over = {k: v for k, v in self.limit.mechanisms_rpm.items() if self.nominal_rpm > v}
+        if not over:
+            return ""
+        k = min(over, key=over.__getitem__)
+        return (
+            f"the nominal speed {self.nominal_rpm:g} rpm is above the speed limit of "
+            f"mechanism {k!r}, {over[k]:.2f} rpm ({self.limit.mechanisms_reason.get(k, '')})"
+        )
