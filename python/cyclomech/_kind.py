@@ -26,16 +26,16 @@ import numpy.typing as npt
 
 from ._arrays import flag, instance, instances, positive, real_array, threads_arg
 from ._errors import InputError
-from ._proportional import Proportional
+from .cyclogram import BoundLaw, Proportional
 
 if TYPE_CHECKING:
     from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
 
 #: A float64 NumPy array (the arrays of speeds [rpm] and angles [deg] here).
 Array = npt.NDArray[np.float64]
-#: The smallest angle [deg] of a bound at each speed [rpm] (same shape; NaN where
-#: even the whole cycle is too short).
-BoundLaw = Callable[[Array], Array]
+#: :func:`Proportional`'s law without its checks, for the machine's sweeps (the
+#: bound laws live with the cyclogram, :mod:`cyclomech.cyclogram`).
+proportional_law = Proportional.unchecked
 #: ``save(figure, file stem, caption)``: how a result hands the report a figure.
 Save = Callable[[Any, str, str], None]
 

@@ -19,6 +19,7 @@ which takes 6·n·seconds degrees at n rpm.
 
 from __future__ import annotations
 
+from ._bounds import BoundLaw, Proportional
 from ._graph import (
     EventGraph,
     GraphAnalysis,
@@ -41,6 +42,7 @@ from ._network import SPEED_FLOOR_RPM, BoundsAt, SpeedNetwork
 __all__ = [
     "SPEED_FLOOR_RPM",
     "Arc",
+    "BoundLaw",
     "BoundsAt",
     "Constraint",
     "Cyclogram",
@@ -48,6 +50,7 @@ __all__ = [
     "GraphAnalysis",
     "Operation",
     "Optimum",
+    "Proportional",
     "Schedule",
     "SpeedLimit",
     "SpeedNetwork",

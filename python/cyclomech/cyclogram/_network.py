@@ -23,7 +23,7 @@ from .._arrays import (
     speed_rtol,
 )
 from .._errors import InputError
-from .._proportional import evaluate as proportional_law
+from ._bounds import evaluate as proportional_law
 from ._graph import max_difference
 from ._lp import _LP
 from ._model import Arc, Constraint, Cyclogram, minimum_angles
