@@ -112,4 +112,3 @@ class Proportional:
                 f"per_rpm entry {i} = {k.ravel()[i]!r} must be ≥ 0 [deg/rpm] (inf: no speed)"
             )
         return evaluate(*broadcast(rpm=n, per_rpm=k))
-
