@@ -17,7 +17,7 @@ from pathlib import Path
 import cyclomech as cm
 import numpy as np
 import pytest
-from cyclomech.machine._shaft import Flattening, flatten_phases
+from cyclomech.shaft import Flattening, flatten_phases
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog

@@ -15,11 +15,16 @@ which takes 6·n·seconds degrees at n rpm.
   constraint; infeasibility explained.
 * :meth:`Cyclogram.max_speed_rpm` — the highest main-shaft speed at which the
   cyclogram still fits in its cycle (maximum cycle ratio, Howard's policy iteration).
+* :meth:`Cyclogram.feasible_set` — the LP's feasible set, for a second objective
+  within it (:class:`FeasibleSet`; the main shaft's flattening).
+* :data:`BoundLaw`, :class:`Proportional` — the laws of the lower bounds that
+  mechanisms put on operations against speed, which :class:`SpeedNetwork` evaluates.
 """
 
 from __future__ import annotations
 
 from ._bounds import BoundLaw, Proportional
+from ._feasible import FeasibleSet
 from ._graph import (
     EventGraph,
     GraphAnalysis,
@@ -47,6 +52,7 @@ __all__ = [
     "Constraint",
     "Cyclogram",
     "EventGraph",
+    "FeasibleSet",
     "GraphAnalysis",
     "Operation",
     "Optimum",

@@ -13,6 +13,7 @@ from .. import _core, _toml
 from .._errors import CycleError, InfeasibleError, InputError, SolverError
 from . import _file
 from ._angles import Arc, minimum_angles
+from ._feasible import FeasibleSet
 from ._layout import Layout
 from ._lp import LP
 from ._operation import MAX_ANGLE_DEG, Operation, _cycle, _event_id, _finite
@@ -493,6 +494,41 @@ class Cyclogram:
         """
         self._require_ops()
         return LP(self._layout(), self.min_angles(speed_rpm), self.cycle_deg, None).dense_rows()
+
+    def feasible_set(self, speed_rpm: float | None = None) -> FeasibleSet:
+        """The feasible set of :meth:`optimize`'s LP at ``speed_rpm``, to optimise
+        a second objective within it (the main shaft's flattening).
+
+        Its rows are :meth:`feasible_rows`; rows may be added to it, and it
+        minimises a linear objective over x = (event angles p [deg] in the order
+        of :attr:`events`, the span F) ≥ 0.
+
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] for time-bound operations; default the
+            cyclogram's.
+
+        Returns
+        -------
+        FeasibleSet
+            The set, its rows and its solve.
+
+        Raises
+        ------
+        InputError
+            If there are no operations, or a time-bound operation has no speed.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", min_angle_deg=30)
+        >>> res = cg.feasible_set().minimize(np.array([0.0, 1.0, 0.0]))   # p_b earliest
+        >>> res.status, round(float(res.x[1]), 9)
+        (0, 30.0)
+        """
+        return FeasibleSet(*self.feasible_rows(speed_rpm))
 
     def min_angles(self, speed_rpm: float | None = None) -> npt.NDArray[np.float64]:
         """Minimum angle of each operation [deg] at ``speed_rpm`` (default: the cyclogram's).

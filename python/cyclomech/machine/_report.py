@@ -32,9 +32,9 @@ from .._kind import Context, MechanismResult
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum, SpeedLimit
+from ..shaft import MainShaft, main_shaft
 from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
-from ._shaft import MainShaft, main_shaft
 
 __all__ = ["MachineResult", "analyze", "write_report"]
 
