@@ -33,8 +33,8 @@ if TYPE_CHECKING:
 
 #: A float64 NumPy array (the arrays of speeds [rpm] and angles [deg] here).
 Array = npt.NDArray[np.float64]
-#: :func:`Proportional`'s law without its checks, for the machine's sweeps (the
-#: bound laws live with the cyclogram, :mod:`cyclomech.cyclogram`).
+#: The law of :class:`~cyclomech.cyclogram.Proportional` without its checks, for
+#: the machine's sweeps (the bound laws live with the cyclogram).
 proportional_law = Proportional.unchecked
 #: ``save(figure, file stem, caption)``: how a result hands the report a figure.
 Save = Callable[[Any, str, str], None]

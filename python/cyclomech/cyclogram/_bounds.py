@@ -61,9 +61,6 @@ class Proportional:
 
     per_rpm: float
 
-    #: :func:`evaluate`: the law without its checks, for the machine's sweeps.
-    unchecked = staticmethod(evaluate)
-
     def __post_init__(self) -> None:
         # NaN would make every angle NaN, and a string or a bool is not a slope;
         # +inf is a bound that no speed meets (a stop whose v* is 0).
@@ -112,3 +109,30 @@ class Proportional:
                 f"per_rpm entry {i} = {k.ravel()[i]!r} must be ≥ 0 [deg/rpm] (inf: no speed)"
             )
         return evaluate(*broadcast(rpm=n, per_rpm=k))
+
+    @staticmethod
+    def unchecked(rpm: Array, per_rpm: Array) -> Array:
+        """:meth:`~cyclomech.cyclogram.Proportional.evaluate` without its checks, for the
+        machine's sweeps, whose slopes were checked when their laws were built (one
+        pass less over arrays of a million speeds).
+
+        Parameters
+        ----------
+        rpm : ndarray of float
+            The speeds n [rpm], each finite and > 0.
+        per_rpm : ndarray of float
+            The smallest angle per unit of speed [deg/rpm], each ≥ 0, of the shape
+            of ``rpm``.
+
+        Returns
+        -------
+        ndarray of float
+            The smallest angles [deg] (NaN over 360°).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> Proportional.unchecked(np.array([100.0, 200.0]), np.array([0.1, 2.0])).tolist()
+        [10.0, nan]
+        """
+        return evaluate(rpm, per_rpm)

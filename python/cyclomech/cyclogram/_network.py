@@ -530,7 +530,7 @@ class SpeedNetwork:
         """:meth:`speed_limits` where every extra bound is proportional to the speed.
 
         Bound k of design d is ``max(n·per_rpm[d, k], 1e-9)`` degrees at n rpm (none
-        over 360°; :class:`~cyclomech.machine.Proportional`). The same search, bit
+        over 360°; :class:`~cyclomech.cyclogram.Proportional`). The same search, bit
         for bit, in one Rust call for all the designs (rayon over designs, the GIL
         released); with constraints over several operations (the LP) the Python
         search itself.
