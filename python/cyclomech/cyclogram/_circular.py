@@ -1,5 +1,15 @@
 """The circular diagram of a cyclogram: its rings of bars round the cycle and
-their labels; part of :mod:`cyclomech.cyclogram.plot`."""
+their labels; part of :mod:`cyclomech.cyclogram.plot`.
+
+>>> from cyclomech.cyclogram._lanes import _layout
+>>> import cyclomech as cm
+>>> cg = cm.Cyclogram()
+>>> cg.add_operation("a", "b", 300, mechanism="cam")
+>>> cg.add_operation("b", "c", 100, mechanism="cam")   # 300° to 400°: wraps round to 0°
+>>> cg.add_operation("a", "d", 90)
+>>> _ring_r(_layout(cg.schedule()))[0]   # each row's inner radius, from the hole out
+[1.2, 3.5, 4.8]
+"""
 
 from __future__ import annotations
 

@@ -54,7 +54,14 @@ class FeasibleSet:
         self.n = a_ub.shape[1]
 
     def add_ub(self, rows: _Rows, rhs: _Rows) -> None:
-        """Append the rows ``rows``·x ≤ ``rhs`` (shape (k, n), (k,)).
+        """Append the rows ``rows``·x ≤ ``rhs``.
+
+        Parameters
+        ----------
+        rows : ndarray of float, shape (k, n)
+            The rows' coefficients.
+        rhs : ndarray of float, shape (k,)
+            Their right-hand sides [deg].
 
         Examples
         --------
@@ -68,7 +75,14 @@ class FeasibleSet:
         self.b_ub = np.concatenate([self.b_ub, rhs])
 
     def add_eq(self, rows: _Rows, rhs: _Rows) -> None:
-        """Append the rows ``rows``·x = ``rhs`` (shape (k, n), (k,)).
+        """Append the rows ``rows``·x = ``rhs``.
+
+        Parameters
+        ----------
+        rows : ndarray of float, shape (k, n)
+            The rows' coefficients.
+        rhs : ndarray of float, shape (k,)
+            Their right-hand sides [deg].
 
         Examples
         --------
@@ -83,6 +97,16 @@ class FeasibleSet:
 
     def violation(self, x: _Rows) -> float:
         """The largest amount [deg] by which the point x misses a row (or x ≥ 0).
+
+        Parameters
+        ----------
+        x : ndarray of float, shape (n,)
+            The point (event angles [deg], then the span's end).
+
+        Returns
+        -------
+        float
+            The largest violation [deg]; 0 for a point of the set.
 
         Examples
         --------

@@ -1,6 +1,19 @@
 """The Gantt chart of a cyclogram over its cycle: the bars, the parts beyond the
 minimum, the slack whiskers and the labels; part of
-:mod:`cyclomech.cyclogram.plot`."""
+:mod:`cyclomech.cyclogram.plot`.
+
+>>> from cyclomech.cyclogram._lanes import _layout
+>>> import cyclomech as cm
+>>> cg = cm.Cyclogram()
+>>> cg.add_operation("a", "b", 300, mechanism="cam")
+>>> cg.add_operation("b", "c", 100, mechanism="cam")   # 300° to 400°: wraps round to 0°
+>>> cg.add_operation("a", "d", 90)
+>>> lay = _layout(cg.schedule())
+>>> _lane_y(lay)[0]                     # each row's first lane: the cam's two, then a gap
+[0.0, 2.3, 3.5999999999999996]
+>>> round(_gantt_size(lay)[1], 6)        # figure height [in]: 1.3 + 0.42·3 lanes + 0.15·2 rows
+2.86
+"""
 
 from __future__ import annotations
 

@@ -1,7 +1,19 @@
 """The bars of a cyclogram's chart laid out in lanes (a row for each mechanism,
 an operation that runs past the end of the cycle cut in two) and the style that
 the Gantt chart and the circular diagram share; part of
-:mod:`cyclomech.cyclogram.plot`."""
+:mod:`cyclomech.cyclogram.plot`.
+
+>>> import cyclomech as cm
+>>> cg = cm.Cyclogram()
+>>> cg.add_operation("a", "b", 300, mechanism="cam")
+>>> cg.add_operation("b", "c", 100, mechanism="cam")   # 300° to 400°: wraps round to 0°
+>>> cg.add_operation("a", "d", 90)
+>>> lay = _layout(cg.schedule())
+>>> lay.rows, lay.lanes                 # the cam's two operations overlap at 0-40°
+(('cam', '(other)'), (2, 1))
+>>> _pieces(300.0, 100.0, 360.0)
+[(300.0, 60.0), (0.0, 40.0)]
+"""
 
 from __future__ import annotations
 
