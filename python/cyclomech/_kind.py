@@ -27,15 +27,13 @@ import numpy.typing as npt
 from ._arrays import flag, instance, instances, positive, real_array, threads_arg
 from ._errors import InputError
 from .cyclogram import BoundLaw, Proportional
+from .cyclogram import proportional_law as proportional_law  # for the kinds and the machine
 
 if TYPE_CHECKING:
     from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
 
 #: A float64 NumPy array (the arrays of speeds [rpm] and angles [deg] here).
 Array = npt.NDArray[np.float64]
-#: The law of :class:`~cyclomech.cyclogram.Proportional` without its checks, for
-#: the machine's sweeps (the bound laws live with the cyclogram).
-proportional_law = Proportional.unchecked
 #: ``save(figure, file stem, caption)``: how a result hands the report a figure.
 Save = Callable[[Any, str, str], None]
 

@@ -16,7 +16,7 @@ which takes 6·n·seconds degrees at n rpm.
 * :meth:`Cyclogram.max_speed_rpm` — the highest main-shaft speed at which the
   cyclogram still fits in its cycle (maximum cycle ratio, Howard's policy iteration).
 * :meth:`Cyclogram.feasible_set` — the LP's feasible set, for a second objective
-  within it (:class:`FeasibleSet`; the main shaft's flattening).
+  within it (the main shaft's flattening).
 * :data:`BoundLaw`, :class:`Proportional` — the laws of the lower bounds that
   mechanisms put on operations against speed, which :class:`SpeedNetwork` evaluates.
 """
@@ -24,7 +24,11 @@ which takes 6·n·seconds degrees at n rpm.
 from __future__ import annotations
 
 from ._bounds import BoundLaw, Proportional
-from ._feasible import FeasibleSet
+
+# The unchecked law for the machine's sweeps, whose slopes were checked when their
+# laws were built: at the door for the mechanism-kind contract (cyclomech._kind),
+# not in __all__ (not a user's function: it checks nothing).
+from ._bounds import proportional_law as proportional_law
 from ._graph import (
     EventGraph,
     GraphAnalysis,
@@ -52,7 +56,6 @@ __all__ = [
     "Constraint",
     "Cyclogram",
     "EventGraph",
-    "FeasibleSet",
     "GraphAnalysis",
     "Operation",
     "Optimum",

@@ -22,12 +22,12 @@ Array = npt.NDArray[np.float64]
 BoundLaw = Callable[[Array], Array]
 
 
-def evaluate(rpm: Array, per_rpm: Array) -> Array:
+def proportional_law(rpm: Array, per_rpm: Array) -> Array:
     """:meth:`Proportional.evaluate` without its checks, for the machine's sweeps,
     whose slopes were checked when their laws were built (one pass less over
     arrays of a million speeds).
 
-    >>> evaluate(np.array([100.0]), np.array([0.1])).tolist()
+    >>> proportional_law(np.array([100.0]), np.array([0.1])).tolist()
     [10.0]
     """
     # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
@@ -108,31 +108,4 @@ class Proportional:
             raise InputError(
                 f"per_rpm entry {i} = {k.ravel()[i]!r} must be ≥ 0 [deg/rpm] (inf: no speed)"
             )
-        return evaluate(*broadcast(rpm=n, per_rpm=k))
-
-    @staticmethod
-    def unchecked(rpm: Array, per_rpm: Array) -> Array:
-        """:meth:`~cyclomech.cyclogram.Proportional.evaluate` without its checks, for the
-        machine's sweeps, whose slopes were checked when their laws were built (one
-        pass less over arrays of a million speeds).
-
-        Parameters
-        ----------
-        rpm : ndarray of float
-            The speeds n [rpm], each finite and > 0.
-        per_rpm : ndarray of float
-            The smallest angle per unit of speed [deg/rpm], each ≥ 0, of the shape
-            of ``rpm``.
-
-        Returns
-        -------
-        ndarray of float
-            The smallest angles [deg] (NaN over 360°).
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> Proportional.unchecked(np.array([100.0, 200.0]), np.array([0.1, 2.0])).tolist()
-        [10.0, nan]
-        """
-        return evaluate(rpm, per_rpm)
+        return proportional_law(*broadcast(rpm=n, per_rpm=k))

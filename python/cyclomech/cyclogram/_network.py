@@ -24,7 +24,7 @@ from .._arrays import (
 )
 from .._errors import InputError
 from ._angles import Arc, minimum_angles
-from ._bounds import evaluate as proportional_law
+from ._bounds import proportional_law
 from ._graph import max_difference
 from ._layout import Layout
 from ._lp import LP

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from .._arrays import instance
 from ..cyclogram import Cyclogram, Optimum
 from ._flatten import Flattening, flatten_phases
 from ._torque import ShaftStats, ShaftTorque
@@ -225,6 +226,11 @@ def main_shaft(
     MainShaft or None
         The main shaft; None when no result gives a shaft torque.
 
+    Raises
+    ------
+    TypeError
+        If ``results`` is not a mapping.
+
     Examples
     --------
     >>> import cyclomech as cm
@@ -232,6 +238,7 @@ def main_shaft(
     >>> list(r.shaft.parts), round(float(r.shaft.at_nominal.mean_torque_nm), 4)
     (['lifter cam'], 0.0667)
     """
+    instance("results", results, Mapping)  # a wrong object fails here, by name
     curves = {}
     for k, res in results.items():
         get = getattr(res, "shaft_torque", None)

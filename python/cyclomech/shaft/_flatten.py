@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number
+from .._arrays import finite_number, instance
 from .._units import RAD_PER_S_PER_RPM
-from ..cyclogram import Cyclogram, FeasibleSet, Optimum
+from ..cyclogram import Cyclogram, Optimum
 
 __all__ = ["FLATTEN_STEP_DEG", "Flattening", "flatten_phases"]
 
@@ -165,7 +165,7 @@ class _Feasible:
         V = len(ev)
         self.V, self.n = V, V + 1
         C = cg.cycle_deg
-        self.set: FeasibleSet = cg.feasible_set(rpm)
+        self.set = cg.feasible_set(rpm)
         # The first objective kept: the shifts only use the slack. To round-off,
         # as the optimum's own (tidied) times reach it.
         t = np.array([opt.times[e] for e in cg.events])
@@ -462,6 +462,9 @@ def flatten_phases(
     ------
     InputError
         If ``step_deg`` is not > 0 or ``nominal_rpm`` is negative.
+    TypeError
+        If ``curves`` is not a mapping, ``cyclogram`` not a :class:`Cyclogram` or
+        ``optimum`` not an :class:`Optimum`.
 
     Examples
     --------
@@ -480,6 +483,21 @@ def flatten_phases(
     """
     step = finite_number("step_deg", step_deg, "[deg]", low=0.0, strict=True)
     rpm = finite_number("nominal_rpm", nominal_rpm, "[rpm]", low=0.0)
+    # Objects of the wrong type fail here, by name (not deep inside the search).
+    instance("curves", curves, Mapping)
+    instance("cyclogram", cyclogram, Cyclogram)
+    instance("optimum", optimum, Optimum)
+    if not curves:  # no contributor: nothing to move, and no torque to peak
+        return Flattening(
+            times=dict(optimum.times),
+            shifts_deg={},
+            groups=(),
+            peak_before_nm=0.0,
+            peak_after_nm=0.0,
+            method="none",
+            step_deg=step,
+            note="no contributors: nothing to move",
+        )
     names = list(curves)
     w2 = (rpm * RAD_PER_S_PER_RPM) ** 2
     T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
