@@ -7,6 +7,7 @@ the build).
 
 from __future__ import annotations
 
+import re
 import sys
 import types
 from pathlib import Path
@@ -123,7 +124,7 @@ def _top_level_names(app) -> None:
         if inspect.ismodule(obj) or name.startswith("_"):
             continue
         home = "cyclomech"
-        for domain in ("cyclogram", "linkage", "machine", "impact", "press", "cam"):
+        for domain in _domains():
             mod = importlib.import_module(f"cyclomech.{domain}")
             if getattr(mod, name, None) is obj and name in getattr(mod, "__all__", ()):
                 home = mod.__name__
@@ -163,13 +164,26 @@ def _door_constant(name: str) -> tuple[str, str] | None:
     return door, short
 
 
-#: The API pages that list a door's members with automodule (the others list
-#: theirs by hand) get a generated "Constants" section: autodoc does not document
-#: constants a door imports, their ``#:`` comments being where they are defined.
-_CONSTANT_PAGES = (
-    "cam", "cyclogram", "forces", "impact", "linkage", "motion", "plot", "press",
-    "shaft", "transfer",
-)  # fmt: skip
+def _domains() -> list[str]:
+    """The domain packages of cyclomech (its subpackages), found, not listed: a new
+    domain's door is searched with no edit here."""
+    import pkgutil
+
+    return sorted(m.name for m in pkgutil.iter_modules(cyclomech.__path__) if m.ispkg)
+
+
+def _constant_pages(srcdir: str | Path) -> list[str]:
+    """The API pages that list a door's members with automodule (the others list
+    theirs by hand) and so include a generated "Constants" section: autodoc does not
+    document constants a door imports, their ``#:`` comments being where they are
+    defined. Read from the pages themselves (each includes
+    ``_generated/constants_<page>.rst``), so a new page needs no edit here."""
+    pattern = re.compile(r"^\.\. include:: _generated/constants_(\w+)\.rst$", re.MULTILINE)
+    return sorted(
+        m.group(1)
+        for page in sorted((Path(srcdir) / "api").glob("*.rst"))
+        for m in pattern.finditer(page.read_text(encoding="utf-8"))
+    )
 
 
 def _door_constants(app) -> None:
@@ -178,7 +192,7 @@ def _door_constants(app) -> None:
     import importlib
     import inspect
 
-    for page in _CONSTANT_PAGES:
+    for page in _constant_pages(app.srcdir):
         door = importlib.import_module(f"cyclomech.{page}")
         names = [
             n

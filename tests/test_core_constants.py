@@ -21,10 +21,13 @@ def test_motion_law_names_come_from_the_core() -> None:
         "modified_sine",
         "modified_trapezoid",
     )
-    assert expected == _core.MOTION_LAWS
-    assert expected == cm.motion.NAMES
+    # The published names keep their places; a new law of the core follows them
+    # (one Rust arm), with no edit here.
+    assert expected == _core.MOTION_LAWS[: len(expected)]
+    assert _core.MOTION_LAWS == cm.motion.NAMES
+    assert len(set(cm.motion.NAMES)) == len(cm.motion.NAMES)
     assert type(cm.motion.NAMES) is tuple
-    for name in expected:  # each one names a law the core builds
+    for name in cm.motion.NAMES:  # each one names a law the core builds
         assert cm.motion.law(name).dz_max > 0
 
 

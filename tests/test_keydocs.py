@@ -16,6 +16,7 @@ from typing import Any
 import cyclomech as cm
 import pytest
 from cyclomech import _keydocs
+from cyclomech._keydoc import KeyDoc
 from cyclomech._kind import Phase
 from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
@@ -25,6 +26,8 @@ from cyclomech.machine._model import _MACHINE_KEYS
 from cyclomech.press._kind import FORCE_KEYS
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: Every table of the reference by name: its keys' records (from their owners).
+TABLES = {name: t.keys for name, t in _keydocs.tables().items()}
 #: An example machine of each kind, and the name of its mechanism of that kind.
 KIND_EXAMPLES = {
     "cam": ("stb_loom", "lifter cam"),
@@ -100,17 +103,17 @@ def valid_keys(d: dict[str, Any]) -> set[str]:
 
 
 def documented(table: str) -> set[str]:
-    return {k.name for k in _keydocs.TABLES[table]}
+    return {k.name for k in TABLES[table]}
 
 
-def doc(table: str, key: str) -> _keydocs.KeyDoc:
-    (k,) = [k for k in _keydocs.TABLES[table] if k.name == key]
+def doc(table: str, key: str) -> KeyDoc:
+    (k,) = [k for k in TABLES[table] if k.name == key]
     return k
 
 
 # ---------------------------------------------------------------- the key sets
 def test_every_kind_is_documented() -> None:
-    assert set(KINDS) <= set(_keydocs.TABLES)
+    assert set(KINDS) <= set(TABLES)
     assert set(KIND_EXAMPLES) == set(KINDS)
 
 
@@ -184,16 +187,20 @@ def test_slider_guide_keys() -> None:
 
 
 def test_no_key_twice_and_every_table_titled() -> None:
-    for table, keys in _keydocs.TABLES.items():
+    for table, keys in TABLES.items():
         names = [k.name for k in keys]
         assert len(names) == len(set(names)), table
-    assert set(_keydocs.ORDER) == set(_keydocs.TABLES) == set(_keydocs.TITLES)
-    assert set(_keydocs.INTROS) == set(_keydocs.TABLES) - set(KINDS)
+    titles = [t.title for t in _keydocs.tables().values()]
+    assert all(titles) and len(titles) == len(set(titles))
+    # A kind's own table takes its paragraph from the kind's docstring; every other
+    # table has its own.
+    own = {name for name, t in _keydocs.tables().items() if t.intro is None}
+    assert own == set(KINDS)
 
 
 def test_records_are_complete() -> None:
     types = {"number", "integer", "text", "bool", "array", "table", "array of tables"}
-    for table, keys in _keydocs.TABLES.items():
+    for table, keys in TABLES.items():
         for k in keys:
             assert k.meaning.endswith(".") and k.unit and k.default and k.valid, (table, k)
             assert set(k.type.split(" or ")) <= types, (table, k)
@@ -208,7 +215,7 @@ def test_sweep_column_is_what_a_sweep_takes(kind: str) -> None:
     # its cam) are refused for this table only; the docs say so in their rule.
     refuses = getattr(KINDS[kind], "sweep_refuses", None)
     here = refuses(m.data["mechanism"][name]) if refuses else {}
-    for k in _keydocs.TABLES[kind]:
+    for k in TABLES[kind]:
         if k.name in here:
             assert k.sweep and "cam" in k.valid, k
             with pytest.raises(cm.CyclomechError, match="cannot vary"):
@@ -222,17 +229,17 @@ def test_sweep_column_is_what_a_sweep_takes(kind: str) -> None:
 
 def test_sweep_column_of_the_other_tables() -> None:
     m = cm.Machine.example()
-    for k in _keydocs.TABLES["machine"]:
+    for k in TABLES["machine"]:
         if k.sweep:
             check_parameter(m, f"machine.{k.name}")
         else:
             with pytest.raises(cm.CyclomechError):
                 check_parameter(m, f"machine.{k.name}")
     for table in ("file", "cyclogram", "operation", "constraint"):
-        assert all(k.sweep is False for k in _keydocs.TABLES[table]), table
-    for table in _keydocs.TABLES:
+        assert all(k.sweep is False for k in TABLES[table]), table
+    for table in TABLES:
         if "." in table or table == "phase":
-            assert all(k.sweep is None for k in _keydocs.TABLES[table]), table
+            assert all(k.sweep is None for k in TABLES[table]), table
 
 
 # ---------------------------------------------------------------- defaults
@@ -410,7 +417,7 @@ def test_required_keys_are_required() -> None:
     }
     seen = 0
     for table, (source, path) in cases.items():
-        for k in _keydocs.TABLES[table]:
+        for k in TABLES[table]:
             if k.default != "required" or k.name == "kind":
                 continue
             d = data(source)
@@ -512,8 +519,8 @@ def test_page_is_valid_restructuredtext() -> None:
     )
     assert warnings.getvalue() == ""
     text = tree.astext()
-    for table, keys in _keydocs.TABLES.items():
-        assert _keydocs.TITLES[table] in text
+    for table, keys in TABLES.items():
+        assert _keydocs.tables()[table].title in text
         for k in keys:
             assert k.name in text
     for kind, cls in KINDS.items():
@@ -521,10 +528,10 @@ def test_page_is_valid_restructuredtext() -> None:
         assert first in text, kind
 
 
-@pytest.mark.parametrize("table", sorted(_keydocs.TABLES))
+@pytest.mark.parametrize("table", sorted(TABLES))
 def test_each_table_renders_one_row_per_key(table: str) -> None:
     text = _keydocs.render_table(table)
-    assert text.count("   * - ") == len(_keydocs.TABLES[table]) + 1
+    assert text.count("   * - ") == len(TABLES[table]) + 1
 
 
 def _extension() -> Any:

@@ -21,6 +21,8 @@ from cyclomech.machine import (
     KINDS,
     Bound,
     Context,
+    KeyDoc,
+    KeyTable,
     Mechanism,
     MechanismResult,
     PlainResult,
@@ -41,6 +43,20 @@ class Dwell:
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "arc"})
     json_groups: ClassVar[tuple[str, ...]] = ()
     sweep_columns: ClassVar[tuple[str, ...]] = ()
+    # Its keys for the format reference: a kind carries its own documentation.
+    key_docs: ClassVar[tuple[KeyTable, ...]] = (
+        KeyTable(
+            "dwell",
+            "kind = dwell",
+            (
+                KeyDoc("kind", "The mechanism's kind.", "—", "text", "required", "dwell", False),
+                KeyDoc("arc", "The operation it rests on.", "—", "array", "required",
+                       "[from, to], an operation of the cyclogram", False),
+                KeyDoc("dwell_s", "How long it rests.", "s", "number", "required",
+                       "finite, > 0", True),
+            ),
+        ),
+    )  # fmt: skip
     name: str
     arc: tuple[str, str]
     dwell_s: float

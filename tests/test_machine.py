@@ -187,20 +187,22 @@ def closed_form_limiting(name: str, rpm: np.ndarray) -> np.ndarray:
     * rotor: the process gets 360 − (40 + 30 + 50) = 240; it needs max(120, 6·n·0.15).
     """
     n = np.asarray(rpm, dtype=np.float64)
-    if name == LOOM:
-        free = 360.0 - np.maximum(95.0, 65.0 + loom_slope() * n)
-        need = np.maximum(120.0, DEG_PER_S_PER_RPM * n * 0.1)
-    elif name == KNIFE:
-        free = np.full(n.shape, 120.0)
-        need = np.maximum(60.0, DEG_PER_S_PER_RPM * n * 0.35)
-    elif name == PRESS:
-        free = np.full(n.shape, 146.7)
-        need = np.maximum(40.0, DEG_PER_S_PER_RPM * n * 0.2)
-    else:
-        assert name == ROTOR
-        free = np.full(n.shape, 240.0)
-        need = np.maximum(120.0, DEG_PER_S_PER_RPM * n * 0.15)
+    free_deg, min_deg, min_s = CLOSED_FORMS[name]
+    free = free_deg(n) if callable(free_deg) else np.full(n.shape, free_deg)
+    need = np.maximum(min_deg, DEG_PER_S_PER_RPM * n * min_s)
     return np.where(free >= need, free, np.nan)
+
+
+#: The reference numbers of :func:`closed_form_limiting`, worked out by hand from
+#: each machine file: (the angle [deg] the chain leaves the limiting operation, a
+#: number or a law of the speed [rpm]; its min_angle_deg; its min_duration_s). A
+#: machine without its entry is a KeyError, not another machine's numbers.
+CLOSED_FORMS: dict[str, tuple[Any, float, float]] = {
+    LOOM: (lambda n: 360.0 - np.maximum(95.0, 65.0 + loom_slope() * n), 120.0, 0.1),
+    KNIFE: (120.0, 60.0, 0.35),
+    PRESS: (146.7, 40.0, 0.2),
+    ROTOR: (240.0, 120.0, 0.15),
+}
 
 
 #: The cyclogram's speed limit [rpm] where the time-bound limiting operation's

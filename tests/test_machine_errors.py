@@ -210,7 +210,8 @@ def _in(mechanism: str) -> Callable[..., Edit]:
 
 lifter, drive, line, knife = _in("lifter"), _in("drive"), _in("line"), _in("knife")
 LIFTER, DRIVE, LINE, KNIFE = (f"[mechanism.{k}]" for k in ("lifter", "drive", "line", "knife"))
-KINDS = "cam, cam_stop, linkage, press, transfer"
+#: The kinds a refused ``kind`` lists: the registry, in its order (found, not typed).
+KINDS = ", ".join(cm.machine.KINDS)
 VALID = "valid keys are"
 SPEED_RANGE = "0 < from < to"
 STRING_NUMBER = "a string where a number belongs is taken as the number (float(value))"

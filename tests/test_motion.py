@@ -85,26 +85,37 @@ def _modified(kind: str):
     return f
 
 
+def _polynomial(c: list[float]):
+    """(Z, Z', Z'') of the rise Z = Σ c_k j^k."""
+    p = Polynomial(c)
+    ps = (p, p.deriv(), p.deriv(2))
+    return lambda j: tuple(q(np.asarray(j, dtype=float)) for q in ps)
+
+
+#: Each law of the core (:data:`cyclomech.motion.NAMES`), written out here: its rise
+#: j ↦ (Z, Z', Z''). A new law is its Rust arm plus its reference here and in
+#: PUBLISHED; a law without one fails test_every_law_has_its_references.
+RISES = {
+    "cycloidal": lambda j: (
+        j - np.sin(2 * PI * j) / (2 * PI),
+        1 - np.cos(2 * PI * j),
+        2 * PI * np.sin(2 * PI * j),
+    ),
+    "harmonic": lambda j: (
+        (1 - np.cos(PI * j)) / 2,
+        PI / 2 * np.sin(PI * j),
+        PI**2 / 2 * np.cos(PI * j),
+    ),
+    "polynomial_345": _polynomial([0, 0, 0, 10, -15, 6]),
+    "polynomial_4567": _polynomial([0, 0, 0, 0, 35, -84, 70, -20]),
+    "modified_sine": _modified("sine"),
+    "modified_trapezoid": _modified("trapezoid"),
+}
+
+
 def rise(name: str):
     """The named rise, written out here: j ↦ (Z, Z', Z'')."""
-    if name == "cycloidal":
-        return lambda j: (
-            j - np.sin(2 * PI * j) / (2 * PI),
-            1 - np.cos(2 * PI * j),
-            2 * PI * np.sin(2 * PI * j),
-        )
-    if name == "harmonic":
-        return lambda j: (
-            (1 - np.cos(PI * j)) / 2,
-            PI / 2 * np.sin(PI * j),
-            PI**2 / 2 * np.cos(PI * j),
-        )
-    if name in ("polynomial_345", "polynomial_4567"):
-        c = [0, 0, 0, 10, -15, 6] if name == "polynomial_345" else [0, 0, 0, 0, 35, -84, 70, -20]
-        p = Polynomial(c)
-        ps = (p, p.deriv(), p.deriv(2))
-        return lambda j: tuple(q(np.asarray(j, dtype=float)) for q in ps)
-    return _modified("sine" if name == "modified_sine" else "trapezoid")
+    return RISES[name]
 
 
 def half(name: str):
@@ -185,6 +196,11 @@ PUBLISHED = {
     "modified_sine": (1.76, 5e-3, 5.528, 5e-4),
     "modified_trapezoid": (2.0, 1e-12, 4.888, 5e-4),
 }
+
+
+def test_every_law_has_its_references():
+    """The law lists here come from the core; only the references are by hand."""
+    assert set(RISES) == set(NAMES) == set(PUBLISHED)
 
 
 @pytest.mark.parametrize("name", NAMES)

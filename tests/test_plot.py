@@ -372,17 +372,8 @@ def test_without_matplotlib(monkeypatch):
         plot_cyclogram(stb().schedule())
 
 
-DOMAINS = (
-    "cam",
-    "cyclogram",
-    "forces",
-    "impact",
-    "linkage",
-    "machine",
-    "motion",
-    "press",
-    "transfer",
-)
+#: Every domain with its own plots (a ``<domain>/plot.py``), found, not listed.
+DOMAINS = tuple(sorted(p.parent.name for p in Path(cm.__file__).parent.glob("*/plot.py")))
 
 
 @pytest.mark.parametrize("module", ["cyclomech.plot", *(f"cyclomech.{d}.plot" for d in DOMAINS)])

@@ -26,6 +26,7 @@ import numpy.typing as npt
 
 from ._arrays import flag, instance, instances, positive, real_array, threads_arg
 from ._errors import InputError
+from ._keydoc import FIN, NO_UNIT, NUM, TEXT, KeyDoc, KeyTable
 from .cyclogram import BoundLaw, Proportional
 from .cyclogram import proportional_law as proportional_law  # for the kinds and the machine
 
@@ -165,6 +166,20 @@ class Phase:
 
     #: The keys of a ``phase`` table.
     KEYS: ClassVar[frozenset[str]] = frozenset({"event", "crank_deg"})
+    # Its keys' documentation for the machine-file format reference (a linkage's
+    # and a press's ``key_docs`` end with it).
+    # fmt: off
+    key_docs: ClassVar[KeyTable] = KeyTable("phase", "phase of a linkage or press", (
+        KeyDoc("event", "The cyclogram event at which the mechanism's angle is crank_deg.",
+               NO_UNIT, TEXT, "none (crank_deg at cycle angle 0)",
+               "one of the cyclogram's events (a string)", None),
+        KeyDoc("crank_deg", "The mechanism's own angle at that event.", "deg", NUM, "0", FIN,
+               None),
+    ), intro=(
+        "``phase = {event = …, crank_deg = …}`` in a linkage's or press's table places "
+        "its torque on the main shaft."
+    ))
+    # fmt: on
 
     @classmethod
     def from_table(cls, table: Mapping[str, Any], ctx: TableContext, name: str) -> Phase:
@@ -453,9 +468,12 @@ class Mechanism(Protocol):
     ``kind`` of its table), ``keys`` (every key its table takes, ``kind``
     included), ``fixed_keys`` (keys a sweep may not set: the ones that change the
     cyclogram's shape), ``json_groups`` (the top-level groups of ``results.json``
-    it adds to, besides ``mechanisms``) and ``sweep_columns`` (columns it adds to
+    it adds to, besides ``mechanisms``), ``sweep_columns`` (columns it adds to
     the machine's speed sweep; several mechanisms' values of one column combine by
-    their maximum).
+    their maximum) and ``key_docs`` (its tables' keys for the machine-file format
+    reference: a tuple of :class:`~cyclomech.machine.KeyTable`, its own table first,
+    named after its kind, then its sub-tables; the reference lists every registered
+    kind's, so a kind's documentation lives with the kind).
 
     Parameters
     ----------
@@ -475,6 +493,7 @@ class Mechanism(Protocol):
     fixed_keys: ClassVar[frozenset[str]]
     json_groups: ClassVar[tuple[str, ...]]
     sweep_columns: ClassVar[tuple[str, ...]]
+    key_docs: ClassVar[tuple[KeyTable, ...]]
 
     @property
     def name(self) -> str:

@@ -17,6 +17,7 @@ import numpy as np
 from .. import _toml
 from .._arrays import flag, instance, instances, positive
 from .._errors import CyclomechWarning, InputError
+from .._keydoc import KeyTable
 from .._kind import (
     Array,
     Bound,
@@ -30,6 +31,7 @@ from .._kind import (
 from ..cyclogram import Arc, Constraint
 from ._design import CAM_KEYS, CamDesign
 from ._followers import FlatFaced
+from ._keys import KEY_DOCS
 from ._loads import CRITERIA
 from ._program import Cam
 
@@ -111,6 +113,9 @@ class CamMechanism(Unbounded):
     # (Unbounded's defaults only for what a cam does not add: sweep columns and
     # their values; its bounds are its own, below.)
     kind: ClassVar[str] = "cam"
+    # Its tables' keys, its own first, for the machine-file format reference
+    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind"})
     fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "follower", "closure", "segment"})
     json_groups: ClassVar[tuple[str, ...]] = ("cams",)

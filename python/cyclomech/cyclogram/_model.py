@@ -4,16 +4,18 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from .. import _core, _toml
 from .._errors import CycleError, InfeasibleError, InputError, SolverError
+from .._keydoc import KeyTable
 from . import _file
 from ._angles import Arc, minimum_angles
 from ._feasible import FeasibleSet
+from ._keys import KEY_DOCS
 from ._layout import Layout
 from ._lp import LP
 from ._operation import MAX_ANGLE_DEG, Operation, _cycle, _event_id, _finite
@@ -69,6 +71,9 @@ class Cyclogram:
     >>> round(opt.angles[("3", "7")], 6), round(opt.objective, 6), opt.binding
     (36.0, 76.0, ('min[1→3]', 'rebound'))
     """
+
+    # Its tables' keys, for the machine-file format reference (cyclomech._keydocs).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
 
     def __init__(
         self,

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 from .. import _toml
 from .._arrays import instance
 from .._errors import InputError
+from ..linkage import DYNAMICS_KEYS as LINKAGE_DYNAMICS_KEYS
 from ._model import LinkMass, LinkTorque, PointLoad
 
 if TYPE_CHECKING:
@@ -17,8 +18,9 @@ if TYPE_CHECKING:
 
 __all__ = ["DYNAMICS_KEYS", "dynamics_from_table"]
 
-#: The keys of a linkage's table that describe its forces.
-DYNAMICS_KEYS = frozenset({"mass", "point_mass_kg", "load", "gravity_m_per_s2"})
+#: The keys of a linkage's table that describe its forces: the linkage's table
+#: format owns them (:data:`cyclomech.linkage.DYNAMICS_KEYS`, the same set).
+DYNAMICS_KEYS = LINKAGE_DYNAMICS_KEYS
 
 _MASS_KEYS = {"link", "mass_kg", "com_m", "com_point", "com_offset_m", "inertia_kg_m2"}
 _LOAD_KEYS = {"point", "force_n", "link", "torque_nm", "angle_deg"}

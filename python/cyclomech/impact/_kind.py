@@ -15,9 +15,11 @@ import numpy.typing as npt
 from .. import _keyrules, _toml
 from .._arrays import flag, float_array, instance, instances, positive, real_array, threads_arg
 from .._errors import InputError
+from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
 from ..cyclogram import Arc, Constraint
+from ._keys import KEY_DOCS
 from ._stop import StopImpact, max_impact_speeds, rebounds
 from ._study import _STOP_KEYS, A_MAX_RULES, STOP_PARAMS, STOP_RULES, _stop_from_table
 
@@ -80,6 +82,9 @@ class CamStop:
     """
 
     kind: ClassVar[str] = "cam_stop"
+    # Its tables' keys, its own first, for the machine-file format reference
+    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         (_STOP_KEYS - {"name"}) | {"kind", "arc", "a_max_m", "phase_deg", "cam"}
     )

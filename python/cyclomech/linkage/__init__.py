@@ -27,12 +27,14 @@ format), ``_drawing`` (the checks of the drawing's parts), ``_solution``
 from __future__ import annotations
 
 from . import presets
+from ._file import DYNAMICS_KEYS
 from ._geometries import solve_geometries
 from ._kind import LinkageMechanism
 from ._linkage import Linkage
 from ._solution import LinkageSolution
 
 __all__ = [
+    "DYNAMICS_KEYS",
     "Linkage",
     "LinkageMechanism",
     "LinkageSolution",

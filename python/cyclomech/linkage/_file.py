@@ -11,12 +11,16 @@ from typing import TYPE_CHECKING, Any
 from .. import _toml
 from .._errors import InputError
 from .._files import file_target, write_text
-from ..forces import DYNAMICS_KEYS
 
 if TYPE_CHECKING:
     from ._linkage import Linkage
 
 _LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengths", "sliders"}
+#: The keys of a machine file's linkage table that describe its forces (masses,
+#: loads, gravity), which :func:`cyclomech.forces.dynamics_from_table` reads. The
+#: linkage's table format owns them, so the forces package imports the linkage
+#: package and not the reverse (:data:`cyclomech.forces.DYNAMICS_KEYS` is this set).
+DYNAMICS_KEYS = frozenset({"mass", "point_mass_kg", "load", "gravity_m_per_s2"})
 #: Keys of a machine file's linkage table that a plain linkage file does not take:
 #: its forces (cyclomech.forces) and where its crank sits in the cycle.
 _MACHINE_KEYS = DYNAMICS_KEYS | {"phase"}

@@ -13,10 +13,12 @@ import numpy as np
 from .. import _keyrules, _toml, forces
 from .._arrays import count, instance, positive
 from .._errors import InputError
+from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
-from ._file import _LINKAGE_KEYS
+from ._file import _LINKAGE_KEYS, DYNAMICS_KEYS
+from ._keys import KEY_DOCS
 from ._linkage import Linkage
 from ._solution import LinkageSolution
 
@@ -60,8 +62,11 @@ class LinkageMechanism(Unbounded):
     """
 
     kind: ClassVar[str] = "linkage"
+    # Its tables' keys, its own first, for the machine-file format reference
+    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
-        _LINKAGE_KEYS | forces.DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}
+        _LINKAGE_KEYS | DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}
     )
     #: Its plausibility rules besides the suffix rules of every key: none of its own
     #: (its lengths are the drawn points', whose table the linkage file reads).
@@ -136,7 +141,7 @@ class LinkageMechanism(Unbounded):
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         _toml.check_keys(table, set(cls.keys), ctx.source, where)
-        extra = {"kind", "max_acceleration_m_per_s2", "phase", *forces.DYNAMICS_KEYS}
+        extra = {"kind", "max_acceleration_m_per_s2", "phase", *DYNAMICS_KEYS}
         own = {k: v for k, v in table.items() if k not in extra}
         lk = Linkage.from_dict(own, ctx.source, where)
         limit = _toml.optional_positive(

@@ -80,6 +80,7 @@ Constraints over several operations need the LP, one per speed.
 
 from __future__ import annotations
 
+from .._keydoc import KeyDoc, KeyTable
 from .._kind import (
     Bound,
     Context,
@@ -117,6 +118,8 @@ __all__ = [
     "SCHEMA",
     "Bound",
     "Context",
+    "KeyDoc",
+    "KeyTable",
     "Machine",
     "MachineResult",
     "Mechanism",

@@ -8,7 +8,7 @@ import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -24,6 +24,7 @@ from .._arrays import (
     threads_arg,
 )
 from .._errors import InfeasibleError, InputError
+from .._keydoc import KeyTable
 from .._kind import Array, Bound, BoundLaw, Mechanism, TableContext
 from ..cyclogram import (
     Cyclogram,
@@ -31,6 +32,7 @@ from ..cyclogram import (
     SpeedLimit,
     SpeedNetwork,
 )
+from ._keys import KEY_DOCS
 from ._kinds import KINDS
 from ._many import SpeedSweep, _bounded, _bounds_at, _laws, speed_limits, speed_sweeps
 
@@ -117,6 +119,9 @@ class Machine:
     >>> sorted(m.mechanisms), m.speed_range_rpm
     (['lifter'], (200.0, 500.0))
     """
+
+    # Its tables' keys, for the machine-file format reference (cyclomech._keydocs).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
 
     def __init__(
         self,

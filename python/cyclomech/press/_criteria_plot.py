@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -146,11 +147,38 @@ def plot_press_criteria(
     (6, 9)
     >>> plt.close("all")
     """
-    plt = pyplot()
-    from matplotlib.collections import PolyCollection
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
+    pyplot()  # before the arguments: without matplotlib, that is the error to see
+    given = _criteria_args(sweep, ax, criterion, optimum)
+    k, phi_shown = _map_phi(sweep, criterion, phi0, optimum)
+    mp = _criteria_map(sweep, criterion, k)
+    axes = _criteria_axes(optimum) if given is None else given
+    m = axes[0]
 
+    # The map's layers, in the order they were always added (artists of equal
+    # zorder overlap in that order, and the legend lists them in it).
+    _draw_colours(m, mp)
+    handles: list[Any] = _draw_failed(m, mp)
+    if mp.data.compressed().size:
+        handles.append(_mark_best_in_map(m, mp))
+    if optimum is not None:
+        handles.append(_mark_optimum(m, optimum))
+    _frame_map(m, mp, handles)
+    _title_map(m, sweep, criterion, phi_shown, title)
+    if optimum is None:
+        return m
+
+    p = axes[1]
+    top = _draw_pareto_front(p, optimum)
+    _mark_pareto_references(p, optimum, top)
+    _frame_pareto(p, optimum, top)
+    return m, p
+
+
+def _criteria_args(sweep: Any, ax: Any, criterion: Any, optimum: Any) -> list[Axes] | None:
+    """:func:`plot_press_criteria`'s arguments checked, in the order it always
+    checked them (so the first bad one is the one named); the given axes or None.
+    The sweep must vary d and L (the map's two axes) and hold R and r at one value
+    each (a map at several gears would mix designs of different strokes)."""
     if not isinstance(sweep, PressGrid):
         raise InputError(
             f"sweep must be a cyclomech.press.PressGrid (cm.press.design_grid(...)); "
@@ -177,12 +205,19 @@ def plot_press_criteria(
                 f"the sweep varies {name} over {len(vals)} values; map a sweep at one {name} "
                 "(sweep it again with a scalar)"
             )
-    given = axes_arg(
+    return axes_arg(
         ax,
         (2,) if optimum is not None else (1,),
         "plot_press_criteria with optimum" if optimum is not None else "plot_press_criteria",
     )
 
+
+def _map_phi(
+    sweep: PressGrid, criterion: str, phi0: Any, optimum: PressOptimum | None
+) -> tuple[int, float]:
+    """The index on the sweep's φ0 axis of the map (0 when φ0 is fixed) and that φ0
+    [rad]: the grid's nearest ``phi0``; else the nearest the optimum's best design;
+    else the φ0 of the sweep's best working design by ``criterion``."""
     values = sweep.values[criterion]
     ok = sweep.ok
     names = list(sweep.axes)
@@ -211,6 +246,33 @@ def plot_press_criteria(
             raise InputError(
                 f"the sweep holds φ0 fixed at {phi_shown!r} rad; phi0 = {phi0!r} is not in it"
             )
+    return k, phi_shown
+
+
+@dataclass(frozen=True)
+class _Map:
+    """One map of :func:`plot_press_criteria`, shared by its layers: the criterion's
+    values at one φ0 in display units, rows L and columns d, and the cells' centres
+    and edges [mm]."""
+
+    criterion: str
+    scale: float  # display unit per SI unit of the criterion
+    shown: npt.NDArray[np.float64]  # the values shown, rows L, columns d
+    good: npt.NDArray[np.bool_]  # the designs that work (status 0)
+    data: Any  # ``shown`` masked where a design fails or its value is not finite
+    d_mm: npt.NDArray[np.float64]  # the cells' centres across
+    l_mm: npt.NDArray[np.float64]  # and up
+    de: npt.NDArray[np.float64]  # the cells' edges across
+    le: npt.NDArray[np.float64]  # and up
+
+
+def _criteria_map(sweep: PressGrid, criterion: str, k: int) -> _Map:
+    """The :class:`_Map` of ``criterion`` at the ``k``-th φ0 of ``sweep`` (R and r at
+    their one value), transposed to rows L and columns d whatever the order of the
+    sweep's axes."""
+    values = sweep.values[criterion]
+    ok = sweep.ok
+    names = list(sweep.axes)
     idx = tuple(slice(None) if nm in ("d", "L") else (k if nm == "phi0" else 0) for nm in names)
     scale = _CRITERION_SHOWN[criterion][0]
     shown = values[idx] * scale  # (d, L): the axes' order
@@ -221,18 +283,22 @@ def plot_press_criteria(
     data = np.ma.masked_array(shown, mask=~good | ~np.isfinite(shown))
     d_mm, l_mm = sweep.axes["d"] * MM, sweep.axes["L"] * MM
     de, le = _edges(d_mm), _edges(l_mm)
+    return _Map(criterion, scale, shown, good, data, d_mm, l_mm, de, le)
 
-    if given is None:
-        size = (14.0, 6.0) if optimum is not None else (7.8, 6.0)
-        _, arr = plt.subplots(
-            1, 2 if optimum is not None else 1, figsize=size, layout="constrained"
-        )
-        axes = list(np.atleast_1d(arr))
-    else:
-        axes = given
-    m = axes[0]
 
-    vis = data.compressed()
+def _criteria_axes(optimum: PressOptimum | None) -> list[Axes]:
+    """A new figure for :func:`plot_press_criteria`: the map, and with ``optimum``
+    the Pareto plot beside it."""
+    plt = pyplot()
+    size = (14.0, 6.0) if optimum is not None else (7.8, 6.0)
+    _, arr = plt.subplots(1, 2 if optimum is not None else 1, figsize=size, layout="constrained")
+    return list(np.atleast_1d(arr))
+
+
+def _colour_range(vis: npt.NDArray[np.float64]) -> tuple[float, float, str]:
+    """The colour bar's range (lo, hi) over the values shown ``vis``, and its
+    ``extend``: clipped at the 98th percentile ("max") when a few designs are so
+    much worse that they would wash out the rest of the map."""
     extend = "neither"
     if vis.size:
         lo, hi = float(vis.min()), float(vis.max())
@@ -243,21 +309,38 @@ def plot_press_criteria(
         lo, hi = 0.0, 1.0
     if hi <= lo:
         hi = lo + 1.0
+    return lo, hi, extend
+
+
+def _draw_colours(m: Axes, mp: _Map) -> None:
+    """The map's colours: one cell per design (failed ones masked), its colour bar
+    labelled with the criterion and unit, and a few labelled white contour lines at
+    the colour bar's ticks when the map has enough working designs to draw them."""
+    vis = mp.data.compressed()
+    lo, hi, extend = _colour_range(vis)
     mesh = m.pcolormesh(
-        de, le, data, cmap="viridis", vmin=lo, vmax=hi, shading="flat", gid="criterion", zorder=0.5
+        mp.de,
+        mp.le,
+        mp.data,
+        cmap="viridis",
+        vmin=lo,
+        vmax=hi,
+        shading="flat",
+        gid="criterion",
+        zorder=0.5,
     )
     cbar = m.figure.colorbar(mesh, ax=m, extend=extend, pad=0.02)
-    cbar.set_label(_criterion_label(criterion))
-    if vis.size > 3 and good.sum() >= 4:
+    cbar.set_label(_criterion_label(mp.criterion))
+    if vis.size > 3 and mp.good.sum() >= 4:
         from matplotlib.ticker import MaxNLocator
 
         ticks = np.asarray(MaxNLocator(6).tick_values(lo, hi), dtype=float)
         levels = ticks[(ticks > lo) & (ticks < hi)]
         if levels.size:
             cs = m.contour(
-                d_mm,
-                l_mm,
-                np.ma.filled(data.astype(float), np.nan),
+                mp.d_mm,
+                mp.l_mm,
+                np.ma.filled(mp.data.astype(float), np.nan),
                 levels=levels,
                 colors="white",
                 linewidths=0.7,
@@ -266,9 +349,18 @@ def plot_press_criteria(
             )
             m.clabel(cs, fontsize=7.5, fmt=lambda v: num_text(float(v)))
             cs.set_gid("contours")
+
+
+def _draw_failed(m: Axes, mp: _Map) -> list[Any]:
+    """A hatched grey square over each design that fails (status ≠ 0); returns the
+    legend's handle for them (none when every design works)."""
+    from matplotlib.collections import PolyCollection
+    from matplotlib.patches import Patch
+
+    de, le = mp.de, mp.le
     failed = [
         [(de[j], le[i]), (de[j + 1], le[i]), (de[j + 1], le[i + 1]), (de[j], le[i + 1])]
-        for i, j in zip(*np.nonzero(~good), strict=True)
+        for i, j in zip(*np.nonzero(~mp.good), strict=True)
     ]
     m.add_collection(
         PolyCollection(
@@ -286,62 +378,77 @@ def plot_press_criteria(
         handles.append(
             Patch(facecolor="0.88", edgecolor="0.45", hatch="xxx", label="fails (status ≠ 0)")
         )
-    if vis.size:
-        bad = np.ma.masked_array(_badness(criterion, shown / scale), mask=data.mask)
-        i, j = np.unravel_index(int(np.ma.argmin(bad)), bad.shape)
-        m.plot(
-            [d_mm[j]],
-            [l_mm[i]],
-            linestyle="none",
-            marker="*",
-            markersize=13,
-            markerfacecolor="white",
-            markeredgecolor="black",
-            markeredgewidth=0.8,
-            gid="best in map",
-            zorder=3.0,
-        )
-        handles.append(
-            Line2D(
-                [],
-                [],
-                linestyle="none",
-                marker="*",
-                markersize=11,
-                markerfacecolor="white",
-                markeredgecolor="black",
-                label=f"best in this map: {criterion} = {num_text(float(shown[i, j]))}",
-            )
-        )
-    if optimum is not None:
-        best = optimum.designs[optimum.best]
-        m.plot(
-            [best.d * MM],
-            [best.L * MM],
-            linestyle="none",
-            marker="o",
-            markersize=12,
-            markerfacecolor="none",
-            markeredgecolor=CRITICAL_COLOR,
-            markeredgewidth=2.0,
-            gid="optimum",
-            zorder=3.1,
-        )
-        handles.append(
-            Line2D(
-                [],
-                [],
-                linestyle="none",
-                marker="o",
-                markersize=10,
-                markerfacecolor="none",
-                markeredgecolor=CRITICAL_COLOR,
-                markeredgewidth=2.0,
-                label=f"best design (φ0 = {deg_text(math.degrees(best.phi0))})",
-            )
-        )
-    m.set_xlim(de[0], de[-1])
-    m.set_ylim(le[0], le[-1])
+    return handles
+
+
+def _mark_best_in_map(m: Axes, mp: _Map) -> Any:
+    """A white star on the best working design of the map (the lowest value, or
+    |k_Vmax − 1| for k_Vmax, compared in SI units); returns its legend handle, which
+    gives the value."""
+    from matplotlib.lines import Line2D
+
+    bad = np.ma.masked_array(_badness(mp.criterion, mp.shown / mp.scale), mask=mp.data.mask)
+    i, j = np.unravel_index(int(np.ma.argmin(bad)), bad.shape)
+    m.plot(
+        [mp.d_mm[j]],
+        [mp.l_mm[i]],
+        linestyle="none",
+        marker="*",
+        markersize=13,
+        markerfacecolor="white",
+        markeredgecolor="black",
+        markeredgewidth=0.8,
+        gid="best in map",
+        zorder=3.0,
+    )
+    return Line2D(
+        [],
+        [],
+        linestyle="none",
+        marker="*",
+        markersize=11,
+        markerfacecolor="white",
+        markeredgecolor="black",
+        label=f"best in this map: {mp.criterion} = {num_text(float(mp.shown[i, j]))}",
+    )
+
+
+def _mark_optimum(m: Axes, optimum: PressOptimum) -> Any:
+    """A red circle on the map at the optimiser's best design (d, L; it may lie off
+    the grid and at another φ0); returns its legend handle, which gives its φ0."""
+    from matplotlib.lines import Line2D
+
+    best = optimum.designs[optimum.best]
+    m.plot(
+        [best.d * MM],
+        [best.L * MM],
+        linestyle="none",
+        marker="o",
+        markersize=12,
+        markerfacecolor="none",
+        markeredgecolor=CRITICAL_COLOR,
+        markeredgewidth=2.0,
+        gid="optimum",
+        zorder=3.1,
+    )
+    return Line2D(
+        [],
+        [],
+        linestyle="none",
+        marker="o",
+        markersize=10,
+        markerfacecolor="none",
+        markeredgecolor=CRITICAL_COLOR,
+        markeredgewidth=2.0,
+        label=f"best design (φ0 = {deg_text(math.degrees(best.phi0))})",
+    )
+
+
+def _frame_map(m: Axes, mp: _Map, handles: list[Any]) -> None:
+    """The map's limits (the outer cells' edges), axis labels, and the legend of
+    ``handles`` under it."""
+    m.set_xlim(mp.de[0], mp.de[-1])
+    m.set_ylim(mp.le[0], mp.le[-1])
     m.set_xlabel("eccentricity d [mm]  (d = 0: crank-slider)")
     m.set_ylabel("rod length L [mm]")
     if handles:
@@ -353,6 +460,13 @@ def plot_press_criteria(
             frameon=False,
             fontsize=8,
         )
+
+
+def _title_map(
+    m: Axes, sweep: PressGrid, criterion: str, phi_shown: float, title: str | None
+) -> None:
+    """The map's title: ``title`` (by default the criterion and the φ0 shown), then a
+    line with what the map holds fixed: the gears, the working stroke and ω."""
     fixed: dict[str, float] = dict(sweep.fixed)
     fixed.update({nm: float(sweep.axes[nm][0]) for nm in ("R", "r") if nm in sweep.axes})
     stroke = (
@@ -367,10 +481,13 @@ def plot_press_criteria(
         f"ω = {num_text(sweep.omega)} rad/s",
         fontsize=10.5,
     )
-    if optimum is None:
-        return m
 
-    p = axes[1]
+
+def _draw_pareto_front(p: Axes, optimum: PressOptimum) -> float:
+    """The optimum's non-dominated designs: k_Vp across, k_Vmax up, coloured by k_J
+    (on one scale with the baseline's), the refined ones larger and in a diamond,
+    and the k_J colour bar. Returns the largest k_Vp or k_Vmax of the designs and the
+    baseline, which sizes the reference lines and the x range."""
     crit = optimum.criteria
     kv = np.array([c.k_Vp for c in crit])
     km = np.array([c.k_Vmax for c in crit])
@@ -408,7 +525,16 @@ def plot_press_criteria(
         )
     cb = p.figure.colorbar(sc, ax=p, pad=0.02)
     cb.set_label(_criterion_label("k_J"))
-    top = max(float(kv.max()), float(km.max()), base.k_Vp, base.k_Vmax)
+    return max(float(kv.max()), float(km.max()), base.k_Vp, base.k_Vmax)
+
+
+def _mark_pareto_references(p: Axes, optimum: PressOptimum, top: float) -> None:
+    """What the Pareto plot's designs are read against: the diagonal k_Vmax = k_Vp
+    (up to ``top``), the baseline crank-slider (a black square), the best design
+    (circled in red), the ideal (0, 1), and a legend entry for the refined designs'
+    diamonds."""
+    base = optimum.baseline
+    best = optimum.designs[optimum.best]
     # V_pmax ≥ V_np and V_pmax ≥ V_cp: no design lies below this line or below 1.
     p.plot(
         [1.0, top * 1.05],
@@ -431,7 +557,7 @@ def plot_press_criteria(
         zorder=3.0,
         label=f"crank-slider, d = 0 (k_Vp = {num_text(base.k_Vp)}, k_J = {num_text(base.k_J)})",
     )
-    bc = crit[optimum.best]
+    bc = optimum.criteria[optimum.best]
     p.plot(
         [bc.k_Vp],
         [bc.k_Vmax],
@@ -457,7 +583,7 @@ def plot_press_criteria(
         zorder=3.0,
         label="ideal (k_Vp = 0, k_Vmax = 1)",
     )
-    if refined.any():
+    if any(optimum.refined):
         p.plot(
             [],
             [],
@@ -467,6 +593,11 @@ def plot_press_criteria(
             markeredgecolor="black",
             label="refined off the grid by scipy",
         )
+
+
+def _frame_pareto(p: Axes, optimum: PressOptimum, top: float) -> None:
+    """The Pareto plot's axis labels, x range from just left of k_Vp = 0 (``top``
+    sets the margin), grid, legend under it, and title naming the objectives."""
     p.set_xlabel(_criterion_label("k_Vp"))
     p.set_ylabel(_criterion_label("k_Vmax"))
     p.set_xlim(left=-0.03 * top)
@@ -474,7 +605,7 @@ def plot_press_criteria(
     p.set_axisbelow(True)
     p.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), ncols=1, frameon=False, fontsize=8)
     p.set_title(
-        f"Non-dominated designs ({len(crit)}), objectives " + ", ".join(optimum.objectives),
+        f"Non-dominated designs ({len(optimum.criteria)}), objectives "
+        + ", ".join(optimum.objectives),
         fontsize=10.5,
     )
-    return m, p

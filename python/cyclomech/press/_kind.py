@@ -13,11 +13,13 @@ import numpy as np
 from .. import _keyrules, _toml
 from .._arrays import finite_number, instance, positive
 from .._errors import InputError
+from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
+from ._keys import KEY_DOCS
 from ._study import DRIVE_KEYS, drive_from_table
 from ._torque import DeformationForce, PressTorque, check_table
 
@@ -87,6 +89,9 @@ class PressMechanism(Unbounded):
     """
 
     kind: ClassVar[str] = "press"
+    # Its tables' keys, its own first, for the machine-file format reference
+    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         DRIVE_KEYS
         | {

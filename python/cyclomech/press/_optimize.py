@@ -234,8 +234,67 @@ def optimize(
     >>> c.k_Vp < opt.baseline.k_Vp, len(opt.designs) >= 1
     (True, True)
     """
-    from scipy.optimize import minimize
+    objectives, wts, lim = _optimize_args(objectives, weights, limits, refine, R, r)
+    # What every grid of this optimisation shares: gears, stroke, speed, sampling.
+    common: dict[str, Any] = {
+        "R": R,
+        "r": r,
+        "offset": offset,
+        "k_Sp": k_Sp,
+        "working_stroke": working_stroke,
+        "omega": omega,
+        "samples": samples,
+        "n_threads": n_threads,
+    }
+    grid = design_grid(d=d, L=L, phi0=phi0, progress=progress, **common)
+    flat, usable = _usable(grid, lim, refine)
+    base_press, base = _baseline(L, common)
+    score = _Score.against(base, objectives, wts, lim)
+    designs, crits = _grid_front(grid, flat, usable, score)
+    refined = [False] * len(designs)
+    rf = _refinement(grid, score, common, refine)
+    starts: list[int] = []
+    if rf.names and refine:
+        starts, more = _refine(rf, refine)
+        for q, c in more:
+            designs.append(q)
+            crits.append(c)
+            refined.append(True)
+    if not designs:
+        raise InfeasibleError(
+            f"no design of the grid works within the limits {lim}, nor any refined from its "
+            f"{len(starts)} designs nearest to them: widen or refine the grid, or relax the "
+            "limits",
+            tuple(lim),
+        )
+    return _optimum(designs, crits, refined, score, base, base_press, grid)
 
+
+#: Weight of the limits' relative excess in the refinement's score (the score is
+#: about 1 per objective): large enough that no gain in score pays for breaking a
+#: limit.
+_PENALTY = 1e3
+
+
+#: Points per axis of each box of the refinement's zoom, and the number of boxes
+#: (each a quarter the size of the one before: 8 boxes narrow one grid step
+#: 65 536-fold).
+_ZOOM = 9
+
+
+_LEVELS = 8
+
+
+#: Designs of the finer grid a coarse grid's refinement starts from.
+_DENSE = 100_000
+
+
+def _optimize_args(
+    objectives: Any, weights: Any, limits: Any, refine: Any, R: Any, r: Any
+) -> tuple[tuple[str, ...], npt.NDArray[np.float64], dict[str, float]]:
+    """:func:`optimize`'s objectives, weights, limits, ``refine`` and gears checked,
+    in the order it always checked them (so the first bad one is the one named):
+    (objectives, one weight each, limits by criterion)."""
     if isinstance(objectives, str) or not isinstance(objectives, Sequence):
         raise InputError(
             f"objectives must be a sequence of names of OBJECTIVES; got {objectives!r}"
@@ -263,18 +322,15 @@ def optimize(
             raise InputError(
                 f"{name} must be a scalar for optimize; give a grid of it to cm.press.design_grid"
             )
-    # What every grid of this optimisation shares: gears, stroke, speed, sampling.
-    common: dict[str, Any] = {
-        "R": R,
-        "r": r,
-        "offset": offset,
-        "k_Sp": k_Sp,
-        "working_stroke": working_stroke,
-        "omega": omega,
-        "samples": samples,
-        "n_threads": n_threads,
-    }
-    grid = design_grid(d=d, L=L, phi0=phi0, progress=progress, **common)
+    return objectives, wts, lim
+
+
+def _usable(
+    grid: PressGrid, lim: Mapping[str, float], refine: int
+) -> tuple[dict[str, npt.NDArray[np.float64]], npt.NDArray[np.bool_]]:
+    """The grid's criteria, flattened, and which of its designs work and meet the
+    limits. Raises :class:`InfeasibleError` when none works at all, or none meets
+    the limits and there is no refinement to look between the grid's points."""
     flat = {k: v.ravel() for k, v in grid.values.items()}
     ok = grid.ok.ravel()
     # How far each grid design breaks the limits (relative; 0: meets them all).
@@ -288,32 +344,129 @@ def optimize(
             f"no design of the grid works{why}: widen or refine the grid, or relax the limits",
             tuple(lim),
         )
+    return flat, usable
+
+
+def _baseline(L: npt.ArrayLike, common: Mapping[str, Any]) -> tuple[GearLeverPress, PressCriteria]:
+    """The design every objective is divided by, and its criteria: the crank-slider
+    (d = 0) of the same gears with the grid's median rod, at the optimisation's
+    stroke, speed and sampling."""
     # Score relative to one baseline: the crank-slider (d = 0) of the same gears
     # with the grid's median rod.
     base_press = GearLeverPress(
-        R=float(R),
-        r=float(r),
+        R=float(common["R"]),
+        r=float(common["r"]),
         d=0.0,
         L=float(np.median(np.atleast_1d(L))),
         phi0=0.0,
-        offset=offset,
+        offset=common["offset"],
     )
     base = base_press.criteria(
-        k_Sp=k_Sp, working_stroke=working_stroke, omega=omega, samples=samples
+        k_Sp=common["k_Sp"],
+        working_stroke=common["working_stroke"],
+        omega=common["omega"],
+        samples=common["samples"],
     )
-    bvals = _objective_matrix(base.as_dict(), objectives)
-    norm = np.where(np.abs(bvals) > 1e-12, np.abs(bvals), 1.0)
-    obj = _objective_matrix(flat, objectives) / norm
+    return base_press, base
+
+
+@dataclass(frozen=True)
+class _Score:
+    """How :func:`optimize` scores designs: each objective divided by the baseline's
+    (``norm``; 1 where the baseline's is 0), weighted and summed, and the limits'
+    relative excess as a penalty. One object, so that the grid's front, the
+    refinement and the returned scores use one and the same arithmetic."""
+
+    objectives: tuple[str, ...]
+    norm: npt.NDArray[np.float64]  # the baseline's objectives, in magnitude
+    wts: npt.NDArray[np.float64]  # one weight per objective
+    lim: dict[str, float]  # upper bounds by criterion
+
+    @classmethod
+    def against(
+        cls,
+        base: PressCriteria,
+        objectives: tuple[str, ...],
+        wts: npt.NDArray[np.float64],
+        lim: dict[str, float],
+    ) -> _Score:
+        """The score relative to the baseline's criteria ``base``."""
+        bvals = _objective_matrix(base.as_dict(), objectives)
+        norm = np.where(np.abs(bvals) > 1e-12, np.abs(bvals), 1.0)
+        return cls(objectives, norm, wts, lim)
+
+    def objective(self, values: Mapping[str, Any]) -> Any:
+        """The objectives of ``values`` (criteria by name, arrays or scalars), each
+        divided by the baseline's: a last axis of one column per objective."""
+        return _objective_matrix(values, self.objectives) / self.norm
+
+    def penalised(
+        self, values: Mapping[str, Any], status: Any, mu: float = _PENALTY
+    ) -> tuple[Any, Any]:
+        """(score, score + mu·the limits' excess); inf where a design fails."""
+        sc = (_objective_matrix(values, self.objectives) / self.norm) @ self.wts
+        over = np.zeros(np.shape(sc))
+        for k_, v in self.lim.items():
+            over = over + np.maximum(np.asarray(values[k_]) - v, 0.0) / _limit_scale(v)
+        bad = np.asarray(status) != 0
+        return np.where(bad | (over > 0), np.inf, sc), np.where(bad, np.inf, sc + mu * over)
+
+
+def _grid_front(
+    grid: PressGrid,
+    flat: Mapping[str, npt.NDArray[np.float64]],
+    usable: npt.NDArray[np.bool_],
+    score: _Score,
+) -> tuple[list[GearLeverPress], list[PressCriteria]]:
+    """The grid stage: the non-dominated designs among the grid's usable ones (they
+    work and meet the limits), best score first, and their criteria."""
+    obj = score.objective(flat)
     cand = np.flatnonzero(usable)
     front = cand[pareto_mask(obj[cand])] if cand.size else cand
-    score = obj @ wts
-    ranked = front[np.argsort(score[front], kind="stable")]
-
+    weighted = obj @ score.wts
+    ranked = front[np.argsort(weighted[front], kind="stable")]
     designs: list[GearLeverPress] = [grid.design(int(i)) for i in ranked]
     crits: list[PressCriteria] = [grid.at(int(i)) for i in ranked]
-    refined = [False] * len(designs)
+    return designs, crits
+
+
+@dataclass(frozen=True)
+class _Refinement:
+    """What the refinement of :func:`optimize` works with: the score, the settings
+    every grid shares (``common``), the axes refined (``names``, those of d, L, φ0
+    that the grid sweeps over a range) with their bounds, the grid its starts come
+    from (``dense``: the user's grid or a finer sweep of it, ``factor`` times denser)
+    and that grid's steps, which size the zoom's first box."""
+
+    score: _Score
+    common: dict[str, Any]
+    grid: PressGrid  # the user's grid
+    dense: PressGrid  # the grid the starts are taken from
+    factor: int  # how many times denser ``dense`` is on each refined axis
+    names: list[str]
+    bounds: list[tuple[float, float]]
+    steps: npt.NDArray[np.float64]  # ``dense``'s step on each refined axis
+    lo_b: npt.NDArray[np.float64]  # the bounds' lower ends
+    hi_b: npt.NDArray[np.float64]  # and upper ends
+
+    def evaluate(self, p: GearLeverPress) -> PressCriteria:
+        """The criteria of one design at the optimisation's stroke, speed, sampling."""
+        c = self.common
+        return p.criteria(
+            k_Sp=c["k_Sp"],
+            working_stroke=c["working_stroke"],
+            omega=c["omega"],
+            samples=c["samples"],
+        )
+
+
+def _refinement(grid: PressGrid, score: _Score, common: dict[str, Any], refine: int) -> _Refinement:
+    """The :class:`_Refinement` of ``grid``: its refined axes and their bounds, and
+    (when there is a refinement) the finer sweep the starts come from."""
     # Refine along the swept axes that span a range.
-    names = [n_ for n_ in ("d", "L", "phi0") if n_ in grid.axes and np.ptp(grid.axes[n_]) > 0]
+    names: list[str] = [
+        n_ for n_ in ("d", "L", "phi0") if n_ in grid.axes and np.ptp(grid.axes[n_]) > 0
+    ]
     bounds = [(float(grid.axes[n_].min()), float(grid.axes[n_].max())) for n_ in names]
     # Where the refinement starts: a coarse grid is swept again first, finer
     # (each refined axis `factor` times denser, at most _DENSE designs, one Rust
@@ -334,139 +487,153 @@ def optimize(
         else:
             factor = 1
     steps = np.array([np.ptp(dense.axes[n_]) / max(len(dense.axes[n_]) - 1, 1) for n_ in names])
-
-    def evaluate(p: GearLeverPress) -> PressCriteria:
-        return p.criteria(k_Sp=k_Sp, working_stroke=working_stroke, omega=omega, samples=samples)
-
     lo_b = np.array([b_[0] for b_ in bounds])
     hi_b = np.array([b_[1] for b_ in bounds])
+    return _Refinement(score, common, grid, dense, factor, names, bounds, steps, lo_b, hi_b)
 
-    def penalised(values: Mapping[str, Any], status: Any, mu: float = _PENALTY) -> tuple[Any, Any]:
-        """(score, score + mu·the limits' excess); inf where a design fails."""
-        sc = (_objective_matrix(values, objectives) / norm) @ wts
-        over = np.zeros(np.shape(sc))
-        for k_, v in lim.items():
-            over = over + np.maximum(np.asarray(values[k_]) - v, 0.0) / _limit_scale(v)
-        bad = np.asarray(status) != 0
-        return np.where(bad | (over > 0), np.inf, sc), np.where(bad, np.inf, sc + mu * over)
 
-    def zoom(p0: GearLeverPress, best: list[Any]) -> npt.NDArray[np.float64]:
-        """A box of _ZOOM points per axis, ± one grid step around the start, swept
-        in one Rust call; its best design (by penalised score) the centre of the
-        next box, a quarter the size, _LEVELS times. Every design of every box
-        counts: the best one that meets the limits is kept in ``best``. A box
-        search, not a descent: a feasible sliver thinner than the grid's step, or
-        bordered by designs that fail, is found as long as a box point lands in it,
-        and the penalty leads the boxes towards it otherwise."""
-        x = np.array([float(getattr(p0, n_)) for n_ in names])
-        c0 = evaluate(p0)
-        half = steps.copy()
-        for level in range(_LEVELS):
-            mu = _PENALTY ** ((level + 1) / _LEVELS)
-            x_pen = penalised(c0.as_dict(), 0 if c0.ok else 1, mu)[1]
-            axes = [
-                np.linspace(max(lo, c - h), min(hi, c + h), _ZOOM)
-                for lo, hi, c, h in zip(lo_b, hi_b, x, half, strict=True)
-            ]
-            kw = {n_: getattr(p0, n_) for n_ in ("d", "L", "phi0")}
-            kw.update(zip(names, axes, strict=True))
-            box = design_grid(progress=False, **common, **kw)  # p0 shares R, r, offset
-            feas, pen = penalised(box.values, box.status, mu)
-            i = int(np.argmin(feas))
-            if feas.flat[i] < best[0]:
-                q = box.design(i)
-                best[:] = [float(feas.flat[i]), np.array([getattr(q, n_) for n_ in names]), None]
-            j = int(np.argmin(pen))
-            if pen.flat[j] < x_pen:
-                q = box.design(j)
-                c0 = box.at(j)
-                x = np.array([float(getattr(q, n_)) for n_ in names])
-            half = half / (_ZOOM - 1) * 2
-        return x
+def _refine(
+    rf: _Refinement, refine: int
+) -> tuple[list[int], list[tuple[GearLeverPress, PressCriteria]]]:
+    """The refinement stage: from each start (``refine`` of each kind, see
+    :func:`_starts`) a zoom (:func:`_zoom`) then a polish (:func:`_polish`); of
+    each, the best design met that meets the limits, kept when it is new. Returns
+    the starts (their indices in ``rf.dense``) and the designs kept with their
+    criteria."""
+    d_feas, d_pen = rf.score.penalised(rf.dense.values, rf.dense.status)
+    d_feas, d_pen = d_feas.ravel(), d_pen.ravel()
+    d_usable = np.flatnonzero(np.isfinite(d_feas))
+    d_ranked = d_usable[np.argsort(d_feas[d_usable], kind="stable")]
+    starts = _starts(rf.dense, d_ranked, d_pen, refine, reach=rf.factor)
+    found: list[tuple[float, npt.NDArray[np.float64], PressCriteria]] = []
+    kept: list[tuple[GearLeverPress, PressCriteria]] = []
+    for start in starts:
+        p0 = rf.dense.design(int(start))
+        best: list[Any] = [math.inf, None, None]
+        x0 = _zoom(rf, p0, best)
+        _polish(rf, p0, x0, best)
+        if best[1] is None:
+            continue
+        # On the user's grid, keep a move only when it is a real improvement
+        # on a start that met the limits, not rounding (off it, every design
+        # is new).
+        s0 = float(d_feas[start])
+        if rf.dense is rf.grid and math.isfinite(s0) and best[0] >= s0 - 1e-6 * max(abs(s0), 1.0):
+            continue
+        # Starts that converge to one design keep it once.
+        span = np.array([hi - lo for lo, hi in rf.bounds]) + 1e-300
+        if any(np.all(np.abs(best[1] - x) <= 1e-6 * span) for _, x, _ in found):
+            continue
+        q = replace(p0, **dict(zip(rf.names, best[1].tolist(), strict=True)))
+        c = best[2] if best[2] is not None else rf.evaluate(q)
+        found.append((best[0], best[1], c))
+        kept.append((q, c))
+    return starts, kept
 
-    starts: list[int] = []
-    if names and refine:
-        d_feas, d_pen = penalised(dense.values, dense.status)
-        d_feas, d_pen = d_feas.ravel(), d_pen.ravel()
-        d_usable = np.flatnonzero(np.isfinite(d_feas))
-        d_ranked = d_usable[np.argsort(d_feas[d_usable], kind="stable")]
-        starts = _starts(dense, d_ranked, d_pen, refine, reach=factor)
-        found: list[tuple[float, npt.NDArray[np.float64], PressCriteria]] = []
-        for start in starts:
-            p0 = dense.design(int(start))
-            best: list[Any] = [math.inf, None, None]
-            x0 = zoom(p0, best)
 
-            def f(
-                x: npt.NDArray[np.float64], best: list[Any] = best, p0: GearLeverPress = p0
-            ) -> float:
-                # The limits inside the refinement: an exact penalty on their
-                # excess, so that a start that breaks them moves towards them
-                # and one that meets them is not walled in; the best design met
-                # that meets them is kept whatever the simplex ends on.
-                x = np.clip(x, lo_b, hi_b)
-                try:
-                    c = evaluate(replace(p0, **dict(zip(names, x.tolist(), strict=True))))
-                except InputError:
-                    return math.inf
-                feas, pen = penalised(c.as_dict(), 0 if c.ok else 1)
-                if feas < best[0]:
-                    best[:] = [float(feas), x.copy(), c]
-                return float(pen)
+def _zoom(rf: _Refinement, p0: GearLeverPress, best: list[Any]) -> npt.NDArray[np.float64]:
+    """A box of _ZOOM points per axis, ± one grid step around the start, swept
+    in one Rust call; its best design (by penalised score) the centre of the
+    next box, a quarter the size, _LEVELS times. Every design of every box
+    counts: the best one that meets the limits is kept in ``best``. A box
+    search, not a descent: a feasible sliver thinner than the grid's step, or
+    bordered by designs that fail, is found as long as a box point lands in it,
+    and the penalty leads the boxes towards it otherwise."""
+    names, penalised = rf.names, rf.score.penalised
+    x = np.array([float(getattr(p0, n_)) for n_ in names])
+    c0 = rf.evaluate(p0)
+    half = rf.steps.copy()
+    for level in range(_LEVELS):
+        mu = _PENALTY ** ((level + 1) / _LEVELS)
+        x_pen = penalised(c0.as_dict(), 0 if c0.ok else 1, mu)[1]
+        axes = [
+            np.linspace(max(lo, c - h), min(hi, c + h), _ZOOM)
+            for lo, hi, c, h in zip(rf.lo_b, rf.hi_b, x, half, strict=True)
+        ]
+        kw = {n_: getattr(p0, n_) for n_ in ("d", "L", "phi0")}
+        kw.update(zip(names, axes, strict=True))
+        box = design_grid(progress=False, **rf.common, **kw)  # p0 shares R, r, offset
+        feas, pen = penalised(box.values, box.status, mu)
+        i = int(np.argmin(feas))
+        if feas.flat[i] < best[0]:
+            q = box.design(i)
+            best[:] = [float(feas.flat[i]), np.array([getattr(q, n_) for n_ in names]), None]
+        j = int(np.argmin(pen))
+        if pen.flat[j] < x_pen:
+            q = box.design(j)
+            c0 = box.at(j)
+            x = np.array([float(getattr(q, n_)) for n_ in names])
+        half = half / (_ZOOM - 1) * 2
+    return x
 
-            # Nelder–Mead polishes the boxes' best, its first simplex a last box
-            # step on each axis.
-            h = steps * (2 / (_ZOOM - 1)) ** _LEVELS
-            simplex = np.vstack(
-                [x0]
-                + [
-                    x0
-                    + np.where(np.arange(len(names)) == j, hj, 0.0)
-                    * (1.0 if x0[j] + hj <= hi_b[j] else -1.0)
-                    for j, hj in enumerate(h)
-                ]
-            )
-            minimize(
-                f,
-                x0,
-                method="Nelder-Mead",
-                bounds=bounds,
-                options={
-                    "xatol": 1e-9,
-                    "fatol": 1e-10,
-                    "maxfev": 200,
-                    "initial_simplex": simplex,
-                },
-            )
-            if best[1] is None:
-                continue
-            # On the user's grid, keep a move only when it is a real improvement
-            # on a start that met the limits, not rounding (off it, every design
-            # is new).
-            s0 = float(d_feas[start])
-            if dense is grid and math.isfinite(s0) and best[0] >= s0 - 1e-6 * max(abs(s0), 1.0):
-                continue
-            # Starts that converge to one design keep it once.
-            span = np.array([hi - lo for lo, hi in bounds]) + 1e-300
-            if any(np.all(np.abs(best[1] - x) <= 1e-6 * span) for _, x, _ in found):
-                continue
-            q = replace(p0, **dict(zip(names, best[1].tolist(), strict=True)))
-            c = best[2] if best[2] is not None else evaluate(q)
-            found.append((best[0], best[1], c))
-            designs.append(q)
-            crits.append(c)
-            refined.append(True)
-    if not designs:
-        raise InfeasibleError(
-            f"no design of the grid works within the limits {lim}, nor any refined from its "
-            f"{len(starts)} designs nearest to them: widen or refine the grid, or relax the "
-            "limits",
-            tuple(lim),
-        )
-    allobj = np.array([_objective_matrix(c.as_dict(), objectives) / norm for c in crits])
+
+def _polish(
+    rf: _Refinement, p0: GearLeverPress, x0: npt.NDArray[np.float64], best: list[Any]
+) -> None:
+    """scipy's Nelder–Mead from the zoom's end ``x0`` on the penalised score, within
+    the grid's bounds (at most 200 evaluations); every design it meets that meets
+    the limits and beats ``best`` replaces it (score, x, criteria)."""
+    from scipy.optimize import minimize
+
+    names, lo_b, hi_b = rf.names, rf.lo_b, rf.hi_b
+
+    def f(x: npt.NDArray[np.float64]) -> float:
+        # The limits inside the refinement: an exact penalty on their
+        # excess, so that a start that breaks them moves towards them
+        # and one that meets them is not walled in; the best design met
+        # that meets them is kept whatever the simplex ends on.
+        x = np.clip(x, lo_b, hi_b)
+        try:
+            c = rf.evaluate(replace(p0, **dict(zip(names, x.tolist(), strict=True))))
+        except InputError:
+            return math.inf
+        feas, pen = rf.score.penalised(c.as_dict(), 0 if c.ok else 1)
+        if feas < best[0]:
+            best[:] = [float(feas), x.copy(), c]
+        return float(pen)
+
+    # Nelder–Mead polishes the boxes' best, its first simplex a last box
+    # step on each axis.
+    h = rf.steps * (2 / (_ZOOM - 1)) ** _LEVELS
+    simplex = np.vstack(
+        [x0]
+        + [
+            x0
+            + np.where(np.arange(len(names)) == j, hj, 0.0)
+            * (1.0 if x0[j] + hj <= hi_b[j] else -1.0)
+            for j, hj in enumerate(h)
+        ]
+    )
+    minimize(
+        f,
+        x0,
+        method="Nelder-Mead",
+        bounds=rf.bounds,
+        options={
+            "xatol": 1e-9,
+            "fatol": 1e-10,
+            "maxfev": 200,
+            "initial_simplex": simplex,
+        },
+    )
+
+
+def _optimum(
+    designs: list[GearLeverPress],
+    crits: list[PressCriteria],
+    refined: list[bool],
+    score: _Score,
+    base: PressCriteria,
+    base_press: GearLeverPress,
+    grid: PressGrid,
+) -> PressOptimum:
+    """The report of the optimum: the front recomputed over the grid's front and the
+    refined designs, sorted by score (the best first), with the baseline, the grid
+    and where the best design lies on the grid's bound."""
+    allobj = np.array([score.objective(c.as_dict()) for c in crits])
     keep = pareto_mask(allobj)
     sel = np.flatnonzero(keep)
-    scores = allobj[sel] @ wts
+    scores = allobj[sel] @ score.wts
     order = sel[np.argsort(scores, kind="stable")]
     out_designs = tuple(designs[i] for i in order)
     return PressOptimum(
@@ -478,28 +645,9 @@ def optimize(
         baseline=base,
         baseline_press=base_press,
         grid=grid,
-        objectives=objectives,
+        objectives=score.objectives,
         edges=_edges(grid, out_designs[0], ratio=base_press.ratio),
     )
-
-
-#: Weight of the limits' relative excess in the refinement's score (the score is
-#: about 1 per objective): large enough that no gain in score pays for breaking a
-#: limit.
-_PENALTY = 1e3
-
-
-#: Points per axis of each box of the refinement's zoom, and the number of boxes
-#: (each a quarter the size of the one before: 8 boxes narrow one grid step
-#: 65 536-fold).
-_ZOOM = 9
-
-
-_LEVELS = 8
-
-
-#: Designs of the finer grid a coarse grid's refinement starts from.
-_DENSE = 100_000
 
 
 def _limit_scale(v: float) -> float:

@@ -15,9 +15,11 @@ new figure), return what they drew on, and never call ``plt.show()``.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from .._arrays import count, flag, real
 from .._errors import InputError
@@ -168,10 +170,49 @@ def plot_press(
     ['S', "Π'", "Π''"]
     >>> plt.close("all")
     """
-    plt = pyplot()
-    from matplotlib.collections import LineCollection, PolyCollection
-    from matplotlib.patches import Annulus, Circle
+    pyplot()  # before the arguments: without matplotlib, that is the error to see
+    press, a0, n, show_motion, given, now = _pose_args(press, alpha, ax, n, show_motion)
+    turn = np.linspace(0.0, 2.0 * math.pi, n + 1)
+    kin = press.solve(turn)
+    alpha_p, k_text, why = _working_stroke(press, k_Sp)
+    sc = _scene(press, now, kin)
+    axes = _press_axes(sc.box, show_motion) if given is None else given
+    mech = axes[0]
 
+    # The layers, in the order they were always added (artists of equal zorder
+    # overlap in that order, and the legend lists them in it).
+    _draw_gears(mech, sc)
+    _draw_pin_path(mech, press, sc, n, alpha_p, k_text)
+    _draw_guide(mech, sc)
+    _draw_ground(mech, sc)
+    _draw_links(mech, sc)
+    u = _draw_rotation(mech, sc)
+    _label_joints(mech, press, sc, u)
+
+    frame_equal(mech, sc.box, "mm", grid="0.92")
+    mech.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), frameon=False, fontsize=8)
+    if title is None:
+        title = (
+            f"Gear-lever press at α = {deg_text(math.degrees(a0))} from BDC\n"
+            f"{_design_text(press)}{why}"
+        )
+    mech.set_title(title, fontsize=10.5)
+    if not show_motion:
+        return mech
+
+    motion = axes[1]
+    _draw_motion(motion, kin, turn, a0, alpha_p, k_text)
+    return mech, motion
+
+
+def _pose_args(
+    press: Any, alpha: Any, ax: Any, n: Any, show_motion: Any
+) -> tuple[GearLeverPress, float, int, bool, list[Axes] | None, Any]:
+    """:func:`plot_press`'s arguments checked, in the order it always checked them
+    (so the first bad one is the one named), and the pose at ``alpha`` solved:
+    (press, α [rad], n, show_motion, the given axes or None, the pose). The pose
+    must be assembled: a drawing of a rod that cannot reach its guide would show a
+    mechanism that does not exist."""
     press = _press_arg(press)
     try:
         a0 = real(alpha)  # not float(): "0.5" and True are not angles
@@ -193,8 +234,13 @@ def plot_press(
             f"(L = {num_text(press.L * MM)} mm) cannot reach the slider's guide at this angle; "
             "pick an angle where press.solve(alpha).ok is True"
         )
-    turn = np.linspace(0.0, 2.0 * math.pi, n + 1)
-    kin = press.solve(turn)
+    return press, a0, n, show_motion, given, now
+
+
+def _working_stroke(press: GearLeverPress, k_Sp: float | None) -> tuple[float, str, str]:
+    """The working stroke's end α_p [rad] (nan without ``k_Sp`` or without a working
+    stroke), its text for the legends, and the title's line saying why there is
+    none; α_p does not depend on ω, so the criteria are taken at ω = 1."""
     alpha_p = math.nan
     why = ""
     k_text = ""
@@ -204,7 +250,35 @@ def plot_press(
         k_text = f"k_Sp = {num_text(crit.k_Sp)}"
         if not math.isfinite(alpha_p):
             why = f"\nno working stroke: {crit.status}"
+    return alpha_p, k_text, why
 
+
+@dataclass(frozen=True)
+class _Scene:
+    """The pose at the angle drawn and the drawing's sizes [mm], shared by the layers
+    of :func:`plot_press`: computed once from the pose and the whole turn, so that
+    every layer draws its symbols at one size inside one frame."""
+
+    o: npt.NDArray[np.float64]  # the guide gear's centre O
+    c: npt.NDArray[np.float64]  # the planet's centre C
+    pin: npt.NDArray[np.float64]  # the rod's pin P
+    b: npt.NDArray[np.float64]  # the slider's joint
+    big: float  # the guide gear's pitch radius R
+    small: float  # the planet's pitch radius r
+    off: float  # the slider guide's x
+    path: npt.NDArray[np.float64]  # the pin's path over the turn, (n + 1, 2)
+    y_lo: float  # the slider's lowest y over the turn
+    y_hi: float  # and its highest
+    s: float  # size of the symbols
+    ring: float  # width of the guide gear's ring
+    box: tuple[float, float, float, float]  # (x0, x1, y0, y1) holding everything drawn
+
+
+def _scene(press: GearLeverPress, now: Any, kin: Any) -> _Scene:
+    """The :class:`_Scene` of the pose ``now`` (a one-angle solution) and the turn
+    ``kin``: symbols sized by the span of everything drawn (the pin's path, the
+    slider's travel, the guide gear's ring), and a frame round all of it with room
+    for the symbols and labels."""
     o = np.zeros(2)  # the guide gear's centre O
     c, pin, b = now.centre[0] * MM, now.pin[0] * MM, now.slider[0] * MM
     big, small, off = press.R * MM, press.r * MM, press.offset * MM
@@ -222,28 +296,37 @@ def plot_press(
         min(-big - ring, float(allp[:, 1].min()), y_lo - 2.0 * s) - pad,
         max(big + ring, float(allp[:, 1].max()), y_hi + 2.0 * s) + pad,
     )
+    return _Scene(o, c, pin, b, big, small, off, path, y_lo, y_hi, s, ring, box)
 
-    if given is None:
+
+def _press_axes(box: tuple[float, float, float, float], show_motion: bool) -> list[Axes]:
+    """A new figure for :func:`plot_press`: the mechanism's axes sized to ``box`` at
+    equal scale, and with ``show_motion`` the motion plot beside it, the mechanism's
+    width following its aspect within bounds so that neither plot is squeezed."""
+    if show_motion:
+        plt = pyplot()
         w, h = box[1] - box[0], box[3] - box[2]
-        if show_motion:
-            height = 7.4
-            mech_w = min(max(height * w / h + 0.9, 3.6), 8.0)
-            fig = plt.figure(figsize=(mech_w + 7.8, height), layout="constrained")
-            grid = fig.add_gridspec(1, 2, width_ratios=(mech_w, 7.8))
-            axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
-        else:
-            _, ax0 = mechanism_figure(box)
-            axes = [ax0]
-    else:
-        axes = given
-    mech = axes[0]
+        height = 7.4
+        mech_w = min(max(height * w / h + 0.9, 3.6), 8.0)
+        fig = plt.figure(figsize=(mech_w + 7.8, height), layout="constrained")
+        grid = fig.add_gridspec(1, 2, width_ratios=(mech_w, 7.8))
+        return [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
+    _, ax0 = mechanism_figure(box)
+    return [ax0]
+
+
+def _draw_gears(mech: Axes, sc: _Scene) -> None:
+    """The gears: the fixed guide gear (a hatched ring outside its dash-dot pitch
+    circle, radius R) and the planet (a plate under its pitch circle, radius r,
+    round C). The pitch circles carry the legend's entry for both radii."""
+    from matplotlib.patches import Annulus, Circle
 
     # The fixed guide gear: a hatched ring outside its pitch circle.
     mech.add_patch(
         Annulus(
             (0.0, 0.0),
-            big + ring,
-            ring,
+            sc.big + sc.ring,
+            sc.ring,
             facecolor="0.93",
             edgecolor="0.45",
             hatch="////",
@@ -255,20 +338,20 @@ def plot_press(
     mech.add_patch(
         Circle(
             (0.0, 0.0),
-            big,
+            sc.big,
             fill=False,
             edgecolor="0.25",
             linestyle=_CHAIN,
             linewidth=0.9,
             gid="guide pitch circle",
-            label=f"pitch circles (R = {num_text(big)} mm, r = {num_text(small)} mm)",
+            label=f"pitch circles (R = {num_text(sc.big)} mm, r = {num_text(sc.small)} mm)",
             zorder=0.9,
         )
     )
     mech.add_patch(
         Circle(
-            tuple(c),
-            small,
+            tuple(sc.c),
+            sc.small,
             facecolor=PLATE_COLOR,
             edgecolor="none",
             alpha=0.85,
@@ -278,8 +361,8 @@ def plot_press(
     )
     mech.add_patch(
         Circle(
-            tuple(c),
-            small,
+            tuple(sc.c),
+            sc.small,
             fill=False,
             edgecolor="0.25",
             linestyle=_CHAIN,
@@ -288,6 +371,16 @@ def plot_press(
             zorder=1.1,
         )
     )
+
+
+def _draw_pin_path(
+    mech: Axes, press: GearLeverPress, sc: _Scene, n: int, alpha_p: float, k_text: str
+) -> None:
+    """The pin's path over the turn (a hypotrochoid), and, when there is a working
+    stroke (α_p finite), its part over the working stroke and the slider's working
+    stroke beside the guide in orange. The working part is solved again at its own
+    angles (about as dense as the path's) so that it ends exactly at α_p."""
+    path = sc.path
     mech.plot(
         path[:, 0],
         path[:, 1],
@@ -311,7 +404,7 @@ def plot_press(
             zorder=1.35,
         )
         ys = work.slider[work.ok, 1] * MM
-        xw = off + 1.9 * s
+        xw = sc.off + 1.9 * sc.s
         mech.plot(
             [xw, xw],
             [float(ys.min()), float(ys.max())],
@@ -322,9 +415,16 @@ def plot_press(
             zorder=1.35,
         )
 
+
+def _draw_guide(mech: Axes, sc: _Scene) -> None:
+    """The slider's vertical guide at x = offset (two rails over its travel, hatched
+    on the outside) and the slider's block on it."""
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    s, off = sc.s, sc.off
     # The slider's guide: two rails over its travel, hatched on the outside.
     half = 0.75 * s + 0.12 * s
-    y0, y1 = y_lo - 1.8 * s, y_hi + 1.8 * s
+    y0, y1 = sc.y_lo - 1.8 * s, sc.y_hi + 1.8 * s
     rails = [[(off - half, y0), (off - half, y1)], [(off + half, y0), (off + half, y1)]]
     mech.add_collection(
         LineCollection(rails, colors=LINK_COLOR, linewidths=1.0, gid="guides", zorder=1.4)
@@ -338,7 +438,7 @@ def plot_press(
     )
     mech.add_collection(
         PolyCollection(
-            [slider_block(b, (0.0, 1.0), s)],
+            [slider_block(sc.b, (0.0, 1.0), s)],
             facecolors="#f4f4f4",
             edgecolors=LINK_COLOR,
             linewidths=1.2,
@@ -347,8 +447,14 @@ def plot_press(
         )
     )
 
+
+def _draw_ground(mech: Axes, sc: _Scene) -> None:
+    """The ground symbol under O (the guide gear's fixed centre): a support triangle
+    on a hatched base, smaller than the linkages' as the planet passes close to O."""
+    from matplotlib.collections import LineCollection, PolyCollection
+
     # The ground symbol under O: a support triangle on a hatched base.
-    corners, hatch = ground_symbol(0.0, 0.0, 0.7 * s)  # smaller: the planet passes close to O
+    corners, hatch = ground_symbol(0.0, 0.0, 0.7 * sc.s)  # smaller: the planet passes close to O
     mech.add_collection(
         PolyCollection(
             [corners],
@@ -363,6 +469,12 @@ def plot_press(
         LineCollection(hatch, colors=LINK_COLOR, linewidths=0.8, gid="ground hatching", zorder=1.8)
     )
 
+
+def _draw_links(mech: Axes, sc: _Scene) -> None:
+    """The links at the pose: the carrier O → C (the crank, in red), the planet's
+    arm C → P and the rod P → slider, and the joints O, C, P and the slider's on
+    top of them."""
+    o, c, pin, b = sc.o, sc.c, sc.pin, sc.b
     mech.plot(
         [o[0], c[0]],
         [o[1], c[1]],
@@ -403,11 +515,17 @@ def plot_press(
         zorder=4.0,
     )
 
+
+def _draw_rotation(mech: Axes, sc: _Scene) -> npt.NDArray[np.float64]:
+    """The carrier's (counterclockwise) sense of rotation: an arc with an arrow head
+    and "ω" round O, in the freest direction (away from the carrier and the ground
+    symbol); returns that direction, which O's label must then avoid."""
+    o, c = sc.o, sc.c
     # The carrier's sense of rotation, in the freest direction round O.
     down = np.array([0.0, -1.0])
     u = label_direction([c - o, down, np.array([-0.7, -0.7]), np.array([0.7, -0.7])])
     mid = math.atan2(u[1], u[0])
-    rho = 0.45 * (big - small)
+    rho = 0.45 * (sc.big - sc.small)
     t = np.linspace(mid - 0.6, mid + 0.6, 40)
     arc = rho * np.column_stack([np.cos(t), np.sin(t)])
     mech.plot(arc[:-3, 0], arc[:-3, 1], color=DRIVER_COLOR, linewidth=1.1, gid="rotation")
@@ -424,8 +542,10 @@ def plot_press(
             "mutation_scale": 11.0,
         },
     )
+    wx, wy = 1.3 * rho * u  # where "ω" goes: beyond the arc, on its middle
     mech.text(
-        *(1.3 * rho * u),
+        wx,
+        wy,
         "ω",
         color=DRIVER_COLOR,
         fontsize=11,
@@ -434,7 +554,17 @@ def plot_press(
         path_effects=halo(),
         gid="label:ω",
     )
+    return u
 
+
+def _label_joints(
+    mech: Axes, press: GearLeverPress, sc: _Scene, u: npt.NDArray[np.float64]
+) -> None:
+    """The joints' names O, C, P and "slider", each in the widest gap between the
+    links and symbols at it (``u``: the rotation arrow's direction at O); for a
+    crank-slider (d = 0) the pin is the planet's centre, labelled once "C = P"."""
+    o, c, pin, b = sc.o, sc.c, sc.pin, sc.b
+    down = np.array([0.0, -1.0])
     blocked = {
         "O": [c - o, down, np.array([-0.7, -0.7]), np.array([0.7, -0.7]), u],
         "C": [o - c, pin - c, b - pin],
@@ -446,22 +576,17 @@ def plot_press(
         named.pop(2)
     for name, q in named:
         d = label_direction(blocked[name])
-        edge = 1.3 * s if name == "slider" else 0.0
+        edge = 1.3 * sc.s if name == "slider" else 0.0
         text = "C = P" if name == "C" and press.d == 0.0 else name
         point_label(mech, name, q + edge * np.array([d[0] * 0.6, d[1]]), d, text=text)
 
-    frame_equal(mech, box, "mm", grid="0.92")
-    mech.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), frameon=False, fontsize=8)
-    if title is None:
-        title = (
-            f"Gear-lever press at α = {deg_text(math.degrees(a0))} from BDC\n"
-            f"{_design_text(press)}{why}"
-        )
-    mech.set_title(title, fontsize=10.5)
-    if not show_motion:
-        return mech
 
-    motion = axes[1]
+def _draw_motion(
+    motion: Axes, kin: Any, turn: npt.NDArray[np.float64], a0: float, alpha_p: float, k_text: str
+) -> None:
+    """The slider's motion over the turn: S, Π' and Π'' [mm, mm/rad, mm/rad²]
+    against α [deg], the working stroke (0 … α_p) shaded, the angles where the rod
+    cannot reach the guide shaded grey, and the angle drawn as a dotted line."""
     deg = np.degrees(turn)
     curves = (
         ("S", kin.s, "S = Π(α)  [mm]"),
@@ -502,6 +627,21 @@ def plot_press(
         gid="α",
     )
     motion.axhline(0.0, color="0.55", linewidth=0.6, zorder=0.5, gid="zero")
+    _motion_ylim(motion, kin)
+    angle_axis(motion, 360.0, "crank angle α from BDC (against the motion)")
+    motion.set_ylabel("S [mm], Π' [mm/rad], Π'' [mm/rad²]")
+    motion.grid(color="0.9", linewidth=0.6)
+    motion.set_axisbelow(True)
+    motion.legend(
+        loc="upper center", bbox_to_anchor=(0.5, -0.09), ncols=2, frameon=False, fontsize=8
+    )
+    motion.set_title("Slider over one crank turn", fontsize=10.5)
+
+
+def _motion_ylim(motion: Axes, kin: Any) -> None:
+    """The motion plot's y range: matplotlib's own, unless a few values run far off
+    the rest (near an angle where the rod cannot reach the guide Π'' runs off to
+    infinity); then the 2nd to 98th percentiles of S, Π' and Π'' with a margin."""
     # Near an angle where the rod cannot reach the guide Π'' runs off to infinity:
     # keep the scale of the rest of the turn.
     every = np.concatenate([kin.s, kin.ds, kin.dds]) * MM
@@ -511,15 +651,6 @@ def plot_press(
         full_lo, full_hi = float(every.min()), float(every.max())
         if full_hi - full_lo > 4.0 * (hi - lo) > 0.0:
             motion.set_ylim(lo - 0.5 * (hi - lo), hi + 0.5 * (hi - lo))
-    angle_axis(motion, 360.0, "crank angle α from BDC (against the motion)")
-    motion.set_ylabel("S [mm], Π' [mm/rad], Π'' [mm/rad²]")
-    motion.grid(color="0.9", linewidth=0.6)
-    motion.set_axisbelow(True)
-    motion.legend(
-        loc="upper center", bbox_to_anchor=(0.5, -0.09), ncols=2, frameon=False, fontsize=8
-    )
-    motion.set_title("Slider over one crank turn", fontsize=10.5)
-    return mech, motion
 
 
 from ._criteria_plot import plot_press_criteria  # noqa: E402 (the criteria map, re-exported)

@@ -488,16 +488,7 @@ def flatten_phases(
     instance("cyclogram", cyclogram, Cyclogram)
     instance("optimum", optimum, Optimum)
     if not curves:  # no contributor: nothing to move, and no torque to peak
-        return Flattening(
-            times=dict(optimum.times),
-            shifts_deg={},
-            groups=(),
-            peak_before_nm=0.0,
-            peak_after_nm=0.0,
-            method="none",
-            step_deg=step,
-            note="no contributors: nothing to move",
-        )
+        return _unmoved(optimum, [], (), 0.0, step, "no contributors: nothing to move")
     names = list(curves)
     w2 = (rpm * RAD_PER_S_PER_RPM) ** 2
     T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
@@ -506,36 +497,18 @@ def flatten_phases(
     if fixed:
         # A part whose phase follows no event sits at a fixed cycle angle: the
         # others' moves would not be relative. Nothing moves; the note says why.
-        before = _peak_of(curves, phase, w2)
-        return Flattening(
-            times=dict(optimum.times),
-            shifts_deg={k: 0.0 for k in names},
-            groups=(tuple(names),),
-            peak_before_nm=before,
-            peak_after_nm=before,
-            method="none",
-            step_deg=step,
-            note=(
-                f"{', '.join(fixed)}: its phase follows no cyclogram event (phase = {{event = "
-                "…}} in its table), so the parts cannot be moved relative to each other"
-            ),
+        note = (
+            f"{', '.join(fixed)}: its phase follows no cyclogram event (phase = {{event = "
+            "…}} in its table), so the parts cannot be moved relative to each other"
         )
+        return _unmoved(optimum, names, (tuple(names),), _peak_of(curves, phase, w2), step, note)
     groups, of = _rigid_groups(curves, cyclogram, rigid or {})
     G = len(groups)
     before = _peak_of(curves, phase, w2)
     tied = tuple(tuple(k for k, g in zip(names, of, strict=True) if g == j) for j in range(G))
 
     def unchanged(note: str, method: str = "none") -> Flattening:
-        return Flattening(
-            times=dict(optimum.times),
-            shifts_deg={k: 0.0 for k in names},
-            groups=tied,
-            peak_before_nm=before,
-            peak_after_nm=before,
-            method=method,
-            step_deg=step,
-            note=note,
-        )
+        return _unmoved(optimum, names, tied, before, step, note, method)
 
     if G < 2:
         return unchanged("one group of contributors: only a common shift, which leaves the peak")
@@ -615,6 +588,29 @@ def flatten_phases(
         peak_after_nm=after,
         method=method,
         step_deg=step,
+    )
+
+
+def _unmoved(
+    optimum: Optimum,
+    names: list[str],
+    groups: tuple[tuple[str, ...], ...],
+    peak: float,
+    step: float,
+    note: str,
+    method: str = "none",
+) -> Flattening:
+    """The optimum left as it is: no part of ``names`` moved, the peak ``peak``
+    [N·m] unchanged; ``note`` says why."""
+    return Flattening(
+        times=dict(optimum.times),
+        shifts_deg={k: 0.0 for k in names},
+        groups=groups,
+        peak_before_nm=peak,
+        peak_after_nm=peak,
+        method=method,
+        step_deg=step,
+        note=note,
     )
 
 

@@ -11,10 +11,12 @@ from typing import Any, ClassVar
 from .. import _keyrules, _toml
 from .._arrays import count, instance, positive, speeds_rpm
 from .._errors import InfeasibleError, InputError
+from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Context, PlainResult, Save, TableContext, Unbounded
 from .._units import RAD_PER_S_PER_RPM
 from ._design import design_transfer
+from ._keys import KEY_DOCS
 from ._path import TransferPath
 
 __all__ = ["TransferMechanism"]
@@ -68,6 +70,9 @@ class TransferMechanism(Unbounded):
     """
 
     kind: ClassVar[str] = "transfer"
+    # Its tables' keys, its own first, for the machine-file format reference
+    # (cyclomech._keydocs renders them; tests/test_keydocs.py holds them to the parser).
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
         {
             "kind",

@@ -1,0 +1,122 @@
+"""The keys of a ``kind = "cam"`` table and of its segments, for the machine-file
+format reference (:attr:`CamMechanism.key_docs`; ``tests/test_keydocs.py`` holds
+them equal to the parser's key sets and checks their defaults and ranges).
+
+>>> [t.name for t in KEY_DOCS]
+['cam', 'cam.segment']
+"""
+
+from __future__ import annotations
+
+from .._keydoc import (
+    ARR,
+    FIN,
+    LAWS,
+    NO_UNIT,
+    NONNEG,
+    NUM,
+    POS,
+    REQ,
+    ROWS,
+    TEXT,
+    KeyTable,
+)
+from .._keydoc import KeyDoc as K
+
+# The rules of a key that only one kind of follower takes.
+TR = "; refused with an oscillating follower"
+OS = "; refused with a translating or flat follower"
+STROKE = "finite, ≥ 0: 0 for a dwell, > 0 for a rise or return"
+
+# The records are a table each: one key per record, aligned for reading.
+# fmt: off
+#: A cam's table and its segments' keys, in the page's order.
+KEY_DOCS: tuple[KeyTable, ...] = (
+    KeyTable("cam", "kind = cam", (
+        K("kind", "The mechanism's kind.", NO_UNIT, TEXT, REQ, "cam", False),
+        K("follower", "The follower's kind.", NO_UNIT, TEXT, REQ,
+          "one of translating, flat, oscillating", False),
+        K("closure", "How the follower is kept on the cam: a spring, or a groove.", NO_UNIT,
+          TEXT, "spring", "one of spring, groove; groove needs a roller (not flat) follower",
+          False),
+        K("segment", "The cam's program: rises, dwells and returns in turn.", NO_UNIT, ROWS,
+          REQ, "at least one row; angles summing to 360; rises − returns = 0", False),
+        K("base_radius_m", "The radius of the cam's base circle.", "m", NUM, REQ, POS, True),
+        K("roller_radius_m", "The roller's radius (0: a knife edge).", "m", NUM,
+          "required for translating and oscillating followers (a flat one refuses it)",
+          "finite, 0 ≤ roller_radius_m < base_radius_m", True),
+        K("offset_m", "The translating follower's offset from the cam centre.", "m", NUM,
+          "0 (translating only; other followers refuse it)",
+          "finite, magnitude < base_radius_m + roller_radius_m", True),
+        K("pivot_distance_m", "The distance from the cam centre to the arm's pivot.", "m",
+          NUM, "required for an oscillating follower (others refuse it)",
+          "finite, > 0; abs(pivot_distance_m − arm_length_m) < base_radius_m + "
+          "roller_radius_m < pivot_distance_m + arm_length_m", True),
+        K("arm_length_m", "The oscillating arm's length, pivot to roller centre.", "m", NUM,
+          "required for an oscillating follower (others refuse it)",
+          "finite, > 0; as pivot_distance_m", True),
+        K("mass_kg", "The follower's mass at the cam (translating and flat followers).", "kg",
+          NUM, "none (no loads: no σ_H, jump or vibration from loads)",
+          "finite, ≥ 0; refused with an oscillating follower", True),
+        K("spring_rate_n_per_m", "The closing spring's rate (translating and flat).", "N/m",
+          NUM, "0", NONNEG + TR + "; needs mass_kg", True),
+        K("preload_n", "The closing spring's force at the base circle (translating, flat).",
+          "N", NUM, "0", FIN + TR + "; needs mass_kg", True),
+        K("inertia_kg_m2", "The oscillating arm's inertia about its pivot.", "kg·m²", NUM,
+          "none (no loads)", NONNEG + OS, True),
+        K("spring_rate_nm_per_rad", "The closing spring's torsional rate (oscillating).",
+          "N·m/rad", NUM, "0", NONNEG + OS + "; needs inertia_kg_m2", True),
+        K("preload_nm", "The closing spring's torque at the base circle (oscillating).",
+          "N·m", NUM, "0", FIN + OS + "; needs inertia_kg_m2", True),
+        K("max_vibration_m", "The follower's vibration amplitude limit (translating, flat).",
+          "m", NUM, "none (no vibration bound)",
+          "finite, > 0; needs natural_frequency_hz" + TR, True),
+        K("max_vibration_deg", "The arm's vibration amplitude limit (oscillating).", "deg",
+          NUM, "none (no vibration bound)", "finite, > 0; needs natural_frequency_hz" + OS, True),
+        K("natural_frequency_hz", "The follower's natural frequency.", "Hz", NUM,
+          "none (no vibration bound)",
+          "finite, > 0; needs max_vibration_m (max_vibration_deg when oscillating)", True),
+        K("damping_ratio", "The follower's damping ratio ζ.", NO_UNIT, NUM, "0",
+          "0 ≤ ζ < 1; needs natural_frequency_hz and the vibration limit", True),
+        K("width_m", "The contact's width along the cam's axis.", "m", NUM,
+          "none (no contact stress)", POS, True),
+        K("follower_modulus_pa", "The follower's Young's modulus.", "Pa", NUM,
+          "2.1e11", POS + "; needs width_m", True),
+        K("follower_poisson", "The follower's Poisson's ratio.", NO_UNIT, NUM,
+          "0.3", "a number, −1 < ν < 0.5" + "; needs width_m", True),
+        K("cam_modulus_pa", "The cam's Young's modulus.", "Pa", NUM,
+          "2.1e11", POS + "; needs width_m", True),
+        K("cam_poisson", "The cam's Poisson's ratio.", NO_UNIT, NUM,
+          "0.3", "a number, −1 < ν < 0.5" + "; needs width_m", True),
+        K("max_stress_pa", "The allowed Hertz contact stress [σ_H].", "Pa", NUM,
+          "none (σ_H not bounded)",
+          "finite, > 0; needs mass_kg (inertia_kg_m2 when oscillating) and width_m", True),
+        K("max_pressure_angle_deg", "The allowed pressure angle [α].", "deg", NUM,
+          "45 for an oscillating follower, 30 otherwise", "finite, 0 < α < 90", True),
+    )),
+    KeyTable("cam.segment", "[[mechanism.<name>.segment]] of a cam", (
+        K("kind", "The segment's kind.", NO_UNIT, TEXT, REQ, "one of rise, dwell, return",
+          None),
+        K("angle_deg", "The cam angle the segment takes.", "deg", NUM, REQ,
+          "finite, > 0; the segments' angles sum to 360", None),
+        K("stroke_m", "The follower's travel (translating and flat followers).", "m", NUM,
+          "0", STROKE + TR, None),
+        K("stroke_deg", "The arm's rotation (oscillating follower).", "deg", NUM, "0",
+          STROKE + OS, None),
+        K("law", "The motion law of a rise or return.", NO_UNIT, TEXT, "cycloidal",
+          "a string; for a rise or return " + LAWS, None),
+        K("load_n", "The external force on the follower during the segment.", "N", NUM,
+          "0", FIN + TR + "; needs mass_kg", None),
+        K("load_nm", "The external torque on the arm during the segment.", "N·m", NUM,
+          "0", FIN + OS + "; needs inertia_kg_m2", None),
+        K("arc", "The cyclogram operation whose phase angle the segment takes.", NO_UNIT,
+          ARR, "none (the segment bounds no operation)",
+          "[from, to], two event names of an operation of the cyclogram, each bound once; "
+          "not on a dwell", None),
+    ), intro=(
+        "One row of a cam's program; the stroke and load keys follow the follower "
+        "(``_m`` and ``_n`` for translating and flat followers, ``_deg`` and ``_nm`` for "
+        "an oscillating one; the other pair is refused)."
+    )),
+)
+# fmt: on

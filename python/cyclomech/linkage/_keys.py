@@ -1,0 +1,125 @@
+"""The keys of a ``kind = "linkage"`` table and of its sub-tables (lengths, slider
+guides, masses, loads, phase), for the machine-file format reference
+(:attr:`LinkageMechanism.key_docs`; ``tests/test_keydocs.py`` holds them equal to the
+parsers' key sets and checks their defaults and ranges).
+
+>>> [t.name for t in KEY_DOCS][:2]
+['linkage', 'linkage.lengths']
+"""
+
+from __future__ import annotations
+
+from .._keydoc import (
+    ARR,
+    NO_UNIT,
+    NONE,
+    NONNEG,
+    NUM,
+    POS,
+    REQ,
+    ROWS,
+    TAB,
+    TEXT,
+    KeyTable,
+)
+from .._keydoc import KeyDoc as K
+from .._kind import Phase
+
+# The records are a table each: one key per record, aligned for reading.
+# fmt: off
+#: A linkage's table and its sub-tables' keys, in the page's order; the phase
+#: table, which a press shares, last.
+KEY_DOCS: tuple[KeyTable, ...] = (
+    KeyTable("linkage", "kind = linkage", (
+        K("kind", "The mechanism's kind.", NO_UNIT, TEXT, REQ, "linkage", False),
+        K("name", "The linkage's name.", NO_UNIT, TEXT, NONE, "a string", False),
+        K("points", "The joints in the drawn pose {joint = [x, y]} (it picks the assembly "
+          "mode).", "m", TAB, REQ,
+          "non-empty names, two finite coordinates each; every point on a link or with "
+          "two guides", True),
+        K("links", "The rigid links, each an array of its joints (3 or more: a ternary link).",
+          NO_UNIT, ARR, REQ,
+          "at least one link of at least two distinct points; mobility 1", True),
+        K("ground", "The joints fixed to the frame.", NO_UNIT, ARR, REQ,
+          "at least one point name", True),
+        K("driver", "The crank [pivot, tip], turning once per machine cycle.", NO_UNIT, ARR,
+          REQ, "two points of one link: the pivot a ground joint, the tip not", True),
+        K("output", "The point whose motion is reported.", NO_UNIT, TEXT,
+          "the last point of points", "a point's name", True),
+        K("lengths", "Link lengths that replace the drawn distances.", NO_UNIT, ROWS,
+          "none (lengths from the drawn points)",
+          "an array of {joints, length} tables", True),
+        K("sliders", "Prismatic joints {point = guide, or [guide, guide]}.", NO_UNIT, TAB,
+          "none (no sliders)",
+          "each point a moving point with one guide or two, the point drawn on its guide",
+          True),
+        K("max_acceleration_m_per_s2", "The limit on the output point's peak acceleration.",
+          "m/s²", NUM, "none (no speed limit)", POS, True),
+        K("phase", "Where the crank sits in the cycle {event, crank_deg}.", NO_UNIT, TAB,
+          "the crank at 0 at cycle angle 0",
+          "a phase table; needs mass, point_mass_kg or load", True),
+        K("mass", "The links' masses, one [[…mass]] row per link.", NO_UNIT, ROWS,
+          "none (no link masses)", "an array of tables, each link once", True),
+        K("point_mass_kg", "Masses concentrated at points {point = kg}.", "kg", TAB,
+          "none (no point masses)", "finite, ≥ 0, each at a moving point", True),
+        K("load", "External forces and torques, one [[…load]] row each.", NO_UNIT, ROWS,
+          "none (no loads)", "an array of tables", True),
+        K("gravity_m_per_s2", "The acceleration of gravity [gx, gy].", "m/s²", ARR,
+          "none (no gravity)",
+          "two finite numbers; needs mass or point_mass_kg", True),
+    )),
+    KeyTable("linkage.lengths", "[[mechanism.<name>.lengths]] of a linkage", (
+        K("joints", "The two joints the length joins.", NO_UNIT, ARR, REQ,
+          "[a, b], two joints of one link", None),
+        K("length", "The distance between them.", "m", NUM, REQ, POS, None),
+    ), intro=(
+        "One length of a linkage's ``lengths`` array."
+    )),
+    KeyTable("linkage.sliders", "a guide in sliders of a linkage", (
+        K("ground", "A guide fixed to the frame, by its direction [dx, dy].", NO_UNIT, ARR,
+          "none (give ground or link)", "two finite numbers, not both 0", None),
+        K("link", "A guide along a link, through two of its joints [b, c].", NO_UNIT, ARR,
+          "none (give ground or link)",
+          "two joints of one link, the sliding point not on that link", None),
+    ), intro=(
+        "A guide of ``sliders``: a table with exactly one of these keys; a point takes "
+        "one guide, or an array of two (a PRP dyad)."
+    )),
+    KeyTable("linkage.mass", "[[mechanism.<name>.mass]] of a linkage", (
+        K("link", "The link, by its joints.", NO_UNIT, ARR, REQ,
+          "joint names of a moving link of the linkage", None),
+        K("mass_kg", "The link's mass.", "kg", NUM, REQ, NONNEG, None),
+        K("com_m", "The centre of mass in the drawn pose [x, y].", "m", ARR,
+          "the centroid of the link's joints",
+          "two numbers; at most one of com_m, com_point, com_offset_m", None),
+        K("com_point", "The centre of mass at one of the link's joints.", NO_UNIT, TEXT,
+          "the centroid of the link's joints", "a joint of the link", None),
+        K("com_offset_m", "The centre of mass [u, v] in the link's frame (origin its first "
+          "joint, u towards its second).", "m", ARR, "the centroid of the link's joints",
+          "two numbers", None),
+        K("inertia_kg_m2", "The link's inertia about its centre of mass.", "kg·m²", NUM, "0",
+          NONNEG, None),
+    ), intro=(
+        "One link's mass; give its centre of mass one way at most."
+    )),
+    KeyTable("linkage.load", "[[mechanism.<name>.load]] of a linkage", (
+        K("point", "The point a force acts on (with force_n).", NO_UNIT, TEXT,
+          "none (give point and force_n, or link and torque_nm)",
+          "a moving point of the linkage", None),
+        K("force_n", "The force [fx, fy], or one [fx, fy] row per angle_deg.", "N", ARR,
+          "none (with point: required)", "finite numbers", None),
+        K("link", "The link a torque acts on (with torque_nm).", NO_UNIT, ARR,
+          "none (give point and force_n, or link and torque_nm)",
+          "joint names of a moving link", None),
+        K("torque_nm", "The torque, or one value per angle_deg.", "N·m", "number or array",
+          "none (with link: required)", "finite numbers", None),
+        K("angle_deg", "Crank angles of a load table (zero outside it).", "deg", ARR,
+          "none (a constant load)",
+          "at least 2 finite angles, strictly increasing over at most 360", None),
+    ), intro=(
+        "One external load: ``point`` with ``force_n``, or ``link`` with ``torque_nm``, "
+        "optionally as a table over the crank angle ``angle_deg``."
+    )),
+    Phase.key_docs,
+)
+# fmt: on
