@@ -27,16 +27,14 @@ import numpy.typing as npt
 from ._arrays import flag, instance, instances, positive, real_array, threads_arg
 from ._errors import InputError
 from ._keydoc import FIN, NO_UNIT, NUM, TEXT, KeyDoc, KeyTable
-from ._proportional import Proportional
+from .cyclogram import BoundLaw, Proportional
+from .cyclogram import proportional_law as proportional_law  # for the kinds and the machine
 
 if TYPE_CHECKING:
     from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
 
 #: A float64 NumPy array (the arrays of speeds [rpm] and angles [deg] here).
 Array = npt.NDArray[np.float64]
-#: The smallest angle [deg] of a bound at each speed [rpm] (same shape; NaN where
-#: even the whole cycle is too short).
-BoundLaw = Callable[[Array], Array]
 #: ``save(figure, file stem, caption)``: how a result hands the report a figure.
 Save = Callable[[Any, str, str], None]
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import cyclomech as cm
 import numpy as np
 import pytest
-from cyclomech.machine._shaft import Flattening, flatten_phases
+from cyclomech.shaft import Flattening, flatten_phases, main_shaft
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
@@ -533,3 +533,23 @@ def test_a_part_that_follows_no_event_keeps_every_phase():
     f = flatten_phases({"A": (*wave, 0.0, ev), "B": (*wave, 0.0, None)}, cg, opt, 100.0)
     assert f.shifts_deg == {"A": 0.0, "B": 0.0} and f.peak_after_nm == f.peak_before_nm
     assert "follows no cyclogram event" in f.note
+
+
+def test_flattening_refuses_wrong_objects_by_name_and_moves_no_contributor() -> None:
+    # Public in cyclomech.shaft (issue 32): a wrong object fails by name, not as an
+    # AttributeError deep inside; no contributor leaves the optimum as it is.
+    cg = cm.Cyclogram(limiting=("a", "b"))
+    cg.add_operation("a", "b", 10.0)
+    opt = cg.optimize()
+    for kw, name in (
+        ({"curves": "x"}, "curves"),
+        ({"cyclogram": {}}, "cyclogram"),
+        ({"optimum": None}, "optimum"),
+    ):
+        args = {"curves": {}, "cyclogram": cg, "optimum": opt, "nominal_rpm": 100.0} | kw
+        with pytest.raises(TypeError, match=name):
+            flatten_phases(**args)
+    f = flatten_phases({}, cg, opt, 100.0)
+    assert not f.moved and f.times == opt.times and f.peak_after_nm == 0.0
+    with pytest.raises(TypeError, match="results"):
+        main_shaft(None, 100.0, [100.0], 0.05)  # type: ignore[arg-type]

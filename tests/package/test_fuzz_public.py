@@ -93,6 +93,8 @@ RESULT_CLASSES = {
     "cyclomech.press.PressKinematics",
     "cyclomech.press.PressOptimum",
     "cyclomech.press.PressTorque",
+    "cyclomech.shaft.Flattening",
+    "cyclomech.shaft.MainShaft",
     "cyclomech.shaft.ShaftStats",
     "cyclomech.shaft.ShaftTorque",
     "cyclomech.transfer.PathAcceleration",
@@ -375,8 +377,8 @@ ALLOWED = {
     # v* = inf is "no bound on the impact speed": a phase angle of 0 per rpm
     ("cyclomech.impact.StopImpact.phase_per_rpm", "v_star", "inf"),
     # a slope of +inf is a bound no speed meets (a stop whose v* is 0)
-    ("cyclomech.machine.Proportional", "per_rpm", "inf"),
-    ("cyclomech.machine.Proportional.evaluate", "per_rpm", "inf"),
+    ("cyclomech.cyclogram.Proportional", "per_rpm", "inf"),
+    ("cyclomech.cyclogram.Proportional.evaluate", "per_rpm", "inf"),
     # NaN: no phase angle of one turn will do at that speed (a gap in the curve)
     ("cyclomech.plot.plot_min_phase", "exact", "nan entry"),
     ("cyclomech.plot.plot_min_phase", "linear", "nan entry"),

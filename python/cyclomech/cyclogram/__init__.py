@@ -15,10 +15,20 @@ which takes 6·n·seconds degrees at n rpm.
   constraint; infeasibility explained.
 * :meth:`Cyclogram.max_speed_rpm` — the highest main-shaft speed at which the
   cyclogram still fits in its cycle (maximum cycle ratio, Howard's policy iteration).
+* :meth:`Cyclogram.feasible_set` — the LP's feasible set, for a second objective
+  within it (the main shaft's flattening).
+* :data:`BoundLaw`, :class:`Proportional` — the laws of the lower bounds that
+  mechanisms put on operations against speed, which :class:`SpeedNetwork` evaluates.
 """
 
 from __future__ import annotations
 
+from ._bounds import BoundLaw, Proportional
+
+# The unchecked law for the machine's sweeps, whose slopes were checked when their
+# laws were built: at the door for the mechanism-kind contract (cyclomech._kind),
+# not in __all__ (not a user's function: it checks nothing).
+from ._bounds import proportional_law as proportional_law
 from ._graph import (
     EventGraph,
     GraphAnalysis,
@@ -41,6 +51,7 @@ from ._network import SPEED_FLOOR_RPM, BoundsAt, SpeedNetwork
 __all__ = [
     "SPEED_FLOOR_RPM",
     "Arc",
+    "BoundLaw",
     "BoundsAt",
     "Constraint",
     "Cyclogram",
@@ -48,6 +59,7 @@ __all__ = [
     "GraphAnalysis",
     "Operation",
     "Optimum",
+    "Proportional",
     "Schedule",
     "SpeedLimit",
     "SpeedNetwork",

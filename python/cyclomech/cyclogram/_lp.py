@@ -1,9 +1,13 @@
 """The cyclogram's LP (scipy's HiGHS) over event angles: optimum, shadow prices and
-the irreducible conflict of an infeasible set; part of :mod:`cyclomech.cyclogram`."""
+the irreducible conflict of an infeasible set; part of :mod:`cyclomech.cyclogram`.
+
+:class:`LP` builds every row of the cyclogram's LP from a :class:`~._layout.Layout`
+(the one place rows are built) and owns them; every solve of them, the main
+shaft's flattening's included (:meth:`LP.minimize`), is here."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -12,16 +16,15 @@ from scipy.optimize import linprog
 from scipy.sparse.csgraph import breadth_first_order
 
 from .._units import DEG_PER_S_PER_RPM
-from ._types import Arc, Optimum
-
-if TYPE_CHECKING:
-    from ._model import Cyclogram
+from ._angles import Arc
+from ._layout import Layout
+from ._types import Optimum
 
 # Kinds of named LP rows.
 _MIN, _MAX, _USER, _CYCLE = 0, 1, 2, 3
 
 
-class _LP:
+class LP:
     """The cyclogram LP over event angles p (and the finish F, and the speed n).
 
     Variables: p_0 … p_{V-1} ≥ 0, F (the span's end; the start is 0), and with
@@ -34,23 +37,23 @@ class _LP:
 
     def __init__(
         self,
-        cg: Cyclogram,
+        lay: Layout,
         mins: npt.NDArray[np.float64],
         cycle: float,
         limiting: Arc | None,
         speed_secs: npt.NDArray[np.float64] | None = None,
     ) -> None:
-        self.cg, self.cycle, self.limiting, self.mins = cg, cycle, limiting, mins
-        V = len(cg._events)
+        self.lay, self.cycle, self.limiting, self.mins = lay, cycle, limiting, mins
+        V = len(lay.events)
         self.V = self.F = V
         self.n_var = V + 1 + (speed_secs is not None)
-        xi, yi, h = cg._arrays()
+        xi, yi, h = lay.src, lay.dst, lay.height
         self.xi, self.yi, self.ch = xi, yi, cycle * h
         E = len(xi)
-        label = cg._bound_labels()
+        label = lay.labels
         ops = np.arange(E)
-        max_ops = np.array([e for e, op in enumerate(cg._ops) if op.max_angle_deg is not None], int)
-        maxs = np.array([cg._ops[e].max_angle_deg for e in max_ops], dtype=np.float64)
+        max_ops = np.array([e for e, op in enumerate(lay.ops) if op.max_angle_deg is not None], int)
+        maxs = np.array([lay.ops[e].max_angle_deg for e in max_ops], dtype=np.float64)
         dur_ops = np.flatnonzero(speed_secs > 0) if speed_secs is not None else np.zeros(0, int)
         rows: list[npt.NDArray[np.int64]] = []
         cols: list[npt.NDArray[np.int64]] = []
@@ -101,13 +104,13 @@ class _LP:
             sign.append(np.ones(len(max_ops)))
             names += [f"max[{label[e]}]" for e in max_ops]
         eq = [np.zeros(n_rows, bool)]
-        idx = cg._events
-        for con in cg._constraints:
+        idx = lay.index
+        for con in lay.constraints:
             acc: dict[int, float] = {}
             shift = 0.0
             per_cycle = 0.0
             for arc, coeff in con.coeffs:
-                op = cg._ops[cg._arc_index[arc]]
+                op = lay.op(arc)
                 acc[idx[op.dst]] = acc.get(idx[op.dst], 0.0) + coeff
                 acc[idx[op.src]] = acc.get(idx[op.src], 0.0) - coeff
                 shift += coeff * cycle * op.height
@@ -164,7 +167,7 @@ class _LP:
             c[self.F] = 1.0  # minimise the span
             self.sigma = 1.0
         else:
-            op = cg._ops[cg._arc_index[limiting]]
+            op = lay.op(limiting)
             c[idx[op.src]] += 1.0  # maximise p_y − p_x  ⇔  minimise p_x − p_y
             c[idx[op.dst]] -= 1.0
             self.sigma = -1.0
@@ -238,6 +241,22 @@ class _LP:
         """Named rows with a non-zero shadow price."""
         return np.flatnonzero(np.abs(np.nan_to_num(res.dual_all)) > 1e-9)
 
+    def priced_ops(self, res: Any) -> set[int]:
+        """Operations (their numbers) whose minimum angle or duration has a shadow
+        price, and those held at a bound by a priced constraint (the seed's rebound
+        bound): the chains that set the objective."""
+        rows = self.priced(res)
+        ops = {int(e) for e in self.op[rows[self.kind[rows] == _MIN]]}
+        for i in rows[self.kind[rows] == _USER]:
+            con = self.lay.constraint(self.names[i])
+            ops.update(self.lay.arc_index[a] for a, _ in con.coeffs)
+        return ops
+
+    def priced_others(self, res: Any) -> tuple[str, ...]:
+        """Names of the priced rows that are not an operation's minimum: the
+        maximum angles, constraints and cycle that bind."""
+        return tuple(self.names[i] for i in self.priced(res) if self.kind[i] != _MIN)
+
     def irreducible_conflict(self) -> list[str]:
         """Rows that are infeasible together and feasible without any one of them.
 
@@ -288,7 +307,7 @@ class _LP:
         i = self.names.index(name)
         kind = self.kind[i]
         if kind in (_MIN, _MAX):
-            op = self.cg._ops[self.op[i]]
+            op = self.lay.ops[self.op[i]]
             t = f"t({op.src},{op.dst})"
             if kind == _MAX:
                 return f"{name}: {t} <= {self.max_of[int(self.op[i])]:g}°"
@@ -297,8 +316,7 @@ class _LP:
                 return f"{name}: {t} >= 6·n·{self.speed_secs[self.op[i]]:g} s"
             return f"{name}: {t} >= {self.mins[self.op[i]]:g}°"
         if kind == _USER:
-            con = next(c for c in self.cg._constraints if c.name == name)
-            return f"{name}: {con.describe()}"
+            return f"{name}: {self.lay.constraint(name).describe()}"
         return f"{name}: span p(N) - p(1) <= {self.cycle:g}°"
 
     def earliest_at_optimum(self, res: Any) -> npt.NDArray[np.float64]:
@@ -326,12 +344,7 @@ class _LP:
         """
         E, V = len(self.xi), self.V
         priced = np.zeros(E, bool)
-        rows = self.priced(res)
-        priced[self.op[rows[self.kind[rows] == _MIN]]] = True
-        # Operations held by a priced constraint (the seed's rebound bound) too.
-        for i in rows[self.kind[rows] == _USER]:
-            con = next(c for c in self.cg._constraints if c.name == self.names[i])
-            priced[[self.cg._arc_index[a] for a, _ in con.coeffs]] = True
+        priced[sorted(self.priced_ops(res))] = True
         if not priced.any():
             return priced
         # The first E rows are the minimum-angle rows, in operation order.
@@ -354,7 +367,7 @@ class _LP:
 
     def result(self, res: Any, x: npt.NDArray[np.float64], speed: float | None) -> Optimum:
         """The :class:`Optimum` with duals from ``res`` and event angles from ``x``."""
-        cg = self.cg
+        lay = self.lay
         # Slack, binding rows and critical operations of the schedule reported (x),
         # not of the first LP's vertex: on a degenerate optimum they differ (the
         # loom's 'return' sat at its minimum in x with 227° of slack at the vertex).
@@ -363,7 +376,7 @@ class _LP:
         resid[self.eq] = 0.0
         res.resid_all = np.where(np.isnan(res.resid_all), np.nan, resid)
         p = x[: self.V] - x[: self.V].min()
-        arcs = list(cg._arc_index)  # in operation order
+        arcs = list(lay.arc_index)  # in operation order
         ang = p[self.yi] - p[self.xi] + self.ch
         duals = self.sigma * self.sign * res.dual_all + 0.0  # + 0.0: no -0.0 in reports
         # The cycle's price is d(objective)/d(cycle) through every row it enters
@@ -373,7 +386,7 @@ class _LP:
         # whose feed (height 1) binds, when +1 °/° is right.
         d_cycle = float(np.nansum(res.dual_all * self.d_cycle))
         if self.limiting is not None:
-            d_cycle = self.sigma * d_cycle + cg.operation(self.limiting).height
+            d_cycle = self.sigma * d_cycle + lay.op(self.limiting).height
         else:
             d_cycle = self.sigma * d_cycle
         duals[self.names.index("cycle")] = d_cycle + 0.0
@@ -383,12 +396,12 @@ class _LP:
         if self.limiting is None:
             objective, goal = float(res.fun), "min_duration"
         else:
-            height = cg.operation(self.limiting).height
+            height = lay.op(self.limiting).height
             objective, goal = -float(res.fun) + self.cycle * height, "max_limiting"
         return Optimum(
-            operations=cg.operations,
-            events=cg.events,
-            times=dict(zip(cg.events, p.tolist(), strict=True)),
+            operations=lay.ops,
+            events=lay.events,
+            times=dict(zip(lay.events, p.tolist(), strict=True)),
             angles=dict(zip(arcs, ang.tolist(), strict=True)),
             objective=objective,
             goal=goal,
@@ -401,35 +414,5 @@ class _LP:
             binding=tuple(self.names[i] for i in self.tight(res)),
             stretch=dict(zip(arcs, (ang - self.mins).tolist(), strict=True)),
             critical=tuple(arcs[e] for e in np.flatnonzero(critical)),
-            name=cg.name,
+            name=lay.name,
         )
-
-
-def _closed_over_cycle(
-    src: npt.NDArray[np.int64],
-    dst: npt.NDArray[np.int64],
-    heights: npt.NDArray[np.float64],
-    n_events: int,
-) -> tuple[int, npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64], int]:
-    """The arcs closed over one machine cycle, for the cycle-ratio kernels.
-
-    A virtual start S before and finish F after every event, and F → S crossing
-    into the next cycle. Returns (number of events, src, dst, heights, number of
-    virtual arcs appended, all of weight 0); the closure F → S is the last arc.
-    """
-    S, F = n_events, n_events + 1
-    ev = np.arange(n_events, dtype=np.int64)
-    s2 = np.concatenate([src, np.full(n_events, S), ev, [F]])
-    d2 = np.concatenate([dst, ev, np.full(n_events, F), [S]])
-    h2 = np.concatenate([heights, np.zeros(2 * n_events), [1.0]])
-    return n_events + 2, s2, d2, h2, 2 * n_events + 1
-
-
-def _chain_after(arcs: npt.NDArray[np.int64], closure: int) -> list[int]:
-    """Rotate a cycle's arcs to start right after the closure arc F → S, so that
-    the operations read as a chain from the first event to the last."""
-    a = [int(e) for e in arcs]
-    if closure in a:
-        k = a.index(closure)
-        a = a[k + 1 :] + a[: k + 1]
-    return a

@@ -13,11 +13,14 @@ from .. import _core, _toml
 from .._errors import CycleError, InfeasibleError, InputError, SolverError
 from .._keydoc import KeyTable
 from . import _file
+from ._angles import Arc, minimum_angles
+from ._feasible import FeasibleSet
 from ._keys import KEY_DOCS
-from ._lp import _LP
+from ._layout import Layout
+from ._lp import LP
 from ._operation import MAX_ANGLE_DEG, Operation, _cycle, _event_id, _finite
 from ._speed import check_fits, max_speed
-from ._types import Arc, Constraint, Optimum, Schedule, SpeedLimit, minimum_angles
+from ._types import Constraint, Optimum, Schedule, SpeedLimit
 
 __all__ = [
     "Arc",
@@ -102,12 +105,9 @@ class Cyclogram:
                 "two event names"
             )
         self._limiting_spec = limiting
-        # Per-operation columns, appended as operations are added and turned into
-        # arrays once per change, so no method loops over operations in Python.
-        self._columns: dict[str, list[float]] = {
-            k: [] for k in ("src", "dst", "height", "angle", "secs")
-        }
-        self._column_arrays: dict[str, npt.NDArray[Any]] = {}
+        # The solvers' view (numbered events, per-operation arrays), built once per
+        # change, so no method loops over operations in Python.
+        self._lay: Layout | None = None
 
     @property
     def speed_rpm(self) -> float | None:
@@ -161,7 +161,9 @@ class Cyclogram:
         ('10.1',)
         """
         e = _event_id(event, "event")
-        self._events.setdefault(e, len(self._events))
+        if e not in self._events:
+            self._events[e] = len(self._events)
+            self._lay = None
         return e
 
     def add_operation(
@@ -228,15 +230,7 @@ class Cyclogram:
         self.add_event(op.dst)
         self._arc_index[op.arc] = len(self._ops)
         self._ops.append(op)
-        for key, value in (
-            ("src", self._events[op.src]),
-            ("dst", self._events[op.dst]),
-            ("height", float(op.height)),
-            ("angle", op.min_angle_deg),
-            ("secs", op.min_duration_s),
-        ):
-            self._columns[key].append(value)
-        self._column_arrays.clear()
+        self._lay = None
 
     def add_constraint(
         self,
@@ -326,6 +320,7 @@ class Cyclogram:
         self._constraints.append(
             Constraint(tuple(terms), sense, _finite(rhs, f"constraint {name!r}: rhs"), name)  # type: ignore[arg-type]
         )
+        self._lay = None
 
     # ------------------------------------------------------------------ access
     @property
@@ -449,16 +444,12 @@ class Cyclogram:
             return self.speed_rpm
         return _finite(speed_rpm, "speed_rpm", lower=0.0)
 
-    def _column(self, key: str) -> npt.NDArray[Any]:
-        if key not in self._column_arrays:
-            dtype = np.int64 if key in ("src", "dst") else np.float64
-            self._column_arrays[key] = np.array(self._columns[key], dtype=dtype)
-        return self._column_arrays[key]
-
-    def _arrays(
-        self,
-    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
-        return self._column("src"), self._column("dst"), self._column("height")
+    def _layout(self) -> Layout:
+        """The cyclogram as the solvers read it, rebuilt after a change (a new
+        name too: their messages name the cyclogram)."""
+        if self._lay is None or self._lay.name != self.name:
+            self._lay = Layout(self.name, self.events, self._ops, self._constraints)
+        return self._lay
 
     def feasible_rows(
         self, speed_rpm: float | None = None
@@ -507,7 +498,42 @@ class Cyclogram:
         ([1.0, -1.0, 0.0], -30.0, (0, 3))
         """
         self._require_ops()
-        return _LP(self, self.min_angles(speed_rpm), self.cycle_deg, None).dense_rows()
+        return LP(self._layout(), self.min_angles(speed_rpm), self.cycle_deg, None).dense_rows()
+
+    def feasible_set(self, speed_rpm: float | None = None) -> FeasibleSet:
+        """The feasible set of :meth:`optimize`'s LP at ``speed_rpm``, to optimise
+        a second objective within it (the main shaft's flattening).
+
+        Its rows are :meth:`feasible_rows`; rows may be added to it, and it
+        minimises a linear objective over x = (event angles p [deg] in the order
+        of :attr:`events`, the span F) ≥ 0.
+
+        Parameters
+        ----------
+        speed_rpm : float, optional
+            The main-shaft speed [rpm] for time-bound operations; default the
+            cyclogram's.
+
+        Returns
+        -------
+        FeasibleSet
+            The set, its rows and its solve.
+
+        Raises
+        ------
+        InputError
+            If there are no operations, or a time-bound operation has no speed.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", min_angle_deg=30)
+        >>> res = cg.feasible_set().minimize(np.array([0.0, 1.0, 0.0]))   # p_b earliest
+        >>> res.status, round(float(res.x[1]), 9)
+        (0, 30.0)
+        """
+        return FeasibleSet(*self.feasible_rows(speed_rpm))
 
     def min_angles(self, speed_rpm: float | None = None) -> npt.NDArray[np.float64]:
         """Minimum angle of each operation [deg] at ``speed_rpm`` (default: the cyclogram's).
@@ -540,7 +566,8 @@ class Cyclogram:
         [30.0, 60.0]
         """
         n = self._speed(speed_rpm)
-        angle, secs = self._column("angle"), self._column("secs")
+        lay = self._layout()
+        angle, secs = lay.angle, lay.secs
         timed = secs > 0
         if not timed.any():
             return angle.copy()
@@ -557,18 +584,6 @@ class Cyclogram:
                 f"(at most {MAX_ANGLE_DEG:g}°); give a realistic speed"
             )
         return out
-
-    def _bound_labels(self) -> list[str]:
-        """The label of each operation's bounds in results (``min[label]``, ``max[label]``):
-        its title, with the arc added where several operations share a title."""
-        titles = [op.title for op in self._ops]
-        seen: dict[str, int] = {}
-        for t in titles:
-            seen[t] = seen.get(t, 0) + 1
-        return [
-            t if seen[t] == 1 else f"{t} ({op.src}→{op.dst})"
-            for t, op in zip(titles, self._ops, strict=True)
-        ]
 
     def _require_ops(self) -> None:
         if not self._ops:
@@ -620,12 +635,13 @@ class Cyclogram:
         self._require_ops()
         n = self._speed(speed_rpm)
         w = self.min_angles(n)
-        src, dst, h = self._arrays()
+        lay = self._layout()
+        src, dst, h = lay.src, lay.dst, lay.height
         inner = h == 0
         try:
             g = _core.EventGraph(len(self._events), src[inner], dst[inner])
         except CycleError as e:
-            raise self._named_cycle(e) from None
+            raise lay.named_cycle(e) from None
         horizon = None if horizon_deg is None else _finite(horizon_deg, "horizon_deg")
         a = g.analyze(np.ascontiguousarray(w[inner]), horizon)
         names = self.events
@@ -659,15 +675,17 @@ class Cyclogram:
             name=self.name,
         )
 
-    def _named_cycle(self, e: CycleError) -> CycleError:
-        names = self.events
-        ev = [names[i] for i in e.events]
-        chain = " → ".join([*ev, ev[0]])
-        return CycleError(
-            f"cyclogram {self.name!r}: the operations {chain} form a cycle within one machine "
-            "cycle; an operation that ends in the next cycle needs height=1",
-            ev,
-        )
+    def _check_order(self) -> None:
+        """:class:`CycleError` if the operations within one machine cycle (height
+        0) form a cycle: no schedule can order their events."""
+        if not self._ops:
+            return
+        lay = self._layout()
+        inner = lay.height == 0
+        try:
+            _core.EventGraph(len(lay.events), lay.src[inner], lay.dst[inner])
+        except CycleError as e:
+            raise lay.named_cycle(e) from None
 
     # ---------------------------------------------------------------- optimize
     def optimize(
@@ -730,8 +748,9 @@ class Cyclogram:
         lim = None if lim_spec is None else self._resolve_op(lim_spec, "limiting")
         n = self._speed(speed_rpm)
         mins = self.min_angles(n)
-        check_fits(self, mins, cycle, n)
-        lp = _LP(self, mins, cycle, lim)
+        lay = self._layout()
+        check_fits(lay, mins, cycle, n)
+        lp = LP(lay, mins, cycle, lim)
         res = lp.solve()
         if res.status == 2:
             conflict = lp.irreducible_conflict()
@@ -790,7 +809,7 @@ class Cyclogram:
         """
         self._require_ops()
         cycle = self.cycle_deg if cycle_deg is None else _cycle(cycle_deg)
-        return max_speed(self, cycle)
+        return max_speed(self._layout(), cycle)
 
     # ---------------------------------------------------------------- TOML
     @classmethod
@@ -865,7 +884,12 @@ class Cyclogram:
         >>> cm.Cyclogram.from_dict(data).operations[0].min_angle_deg
         30.0
         """
-        return _file.read(cls, data, source)
+        cg = _file.read(cls, data, source)
+        try:
+            cg._check_order()
+        except CycleError as e:
+            raise CycleError(f"{source}: [[operation]]: {e}", e.events) from None
+        return cg
 
     def to_toml(self, path: str | Path | None = None) -> str:
         """The cyclogram as TOML text, written to ``path`` if given.

@@ -23,10 +23,13 @@ from .._arrays import (
     speed_rtol,
 )
 from .._errors import InputError
-from .._proportional import evaluate as proportional_law
+from ._angles import Arc, minimum_angles
+from ._bounds import proportional_law
 from ._graph import max_difference
-from ._lp import _LP
-from ._model import Arc, Constraint, Cyclogram, minimum_angles
+from ._layout import Layout
+from ._lp import LP
+from ._model import Cyclogram
+from ._types import Constraint
 
 __all__ = ["SPEED_FLOOR_RPM", "BoundsAt", "SpeedNetwork"]
 
@@ -93,12 +96,14 @@ class SpeedNetwork:
                 "([cyclogram] limiting = [from, to])"
             )
         self.cg = cg
-        ev = cg._events
+        # The solvers' view of the cyclogram, from its public contents.
+        self.lay = lay = Layout(cg.name, cg.events, cg.operations, cg.constraints)
+        ev = lay.index
         V = len(ev)
         z, F = V, V + 1
         self.n = V + 2
         C = cg.cycle_deg
-        labels = cg._bound_labels()
+        labels = lay.labels
         src: list[int] = []
         dst: list[int] = []
         base: list[float] = []  # constant part of each edge's weight
@@ -114,7 +119,7 @@ class SpeedNetwork:
             self.label.append(label)
             self.op.append(op)
 
-        ops = cg._ops
+        ops = lay.ops
         self.min_edge = np.empty(len(ops), np.int64)
         for e, op in enumerate(ops):
             x, y = ev[op.src], ev[op.dst]
@@ -139,7 +144,7 @@ class SpeedNetwork:
                 continue
             (arc, c), bound = terms[0], con.rhs / terms[0][1]
             op = cg.operation(arc)
-            e = cg._arc_index[op.arc]
+            e = lay.arc_index[op.arc]
             x, y = ev[op.src], ev[op.dst]
             upper = (con.sense == "<=") == (c > 0)
             senses = ("upper", "lower") if con.sense == "==" else ("upper" if upper else "lower",)
@@ -160,7 +165,7 @@ class SpeedNetwork:
         self.lim_shift = C * lim.height
         self.angle = np.array([op.min_angle_deg for op in ops], np.float64)
         self.secs = np.array([op.min_duration_s for op in ops], np.float64)
-        self.bound_op = [cg._arc_index[cg.operation(arc).arc] for arc, _ in bounds]
+        self.bound_op = [lay.arc_index[cg.operation(arc).arc] for arc, _ in bounds]
         self.bound_labels = [label for _, label in bounds]
 
     def minimums(self, rpm: Array, t_bound: Sequence[Array]) -> tuple[Array, npt.NDArray[np.int8]]:
@@ -525,7 +530,7 @@ class SpeedNetwork:
         """:meth:`speed_limits` where every extra bound is proportional to the speed.
 
         Bound k of design d is ``max(n·per_rpm[d, k], 1e-9)`` degrees at n rpm (none
-        over 360°; :class:`~cyclomech.machine.Proportional`). The same search, bit
+        over 360°; :class:`~cyclomech.cyclogram.Proportional`). The same search, bit
         for bit, in one Rust call for all the designs (rayon over designs, the GIL
         released); with constraints over several operations (the LP) the Python
         search itself.
@@ -605,7 +610,7 @@ class SpeedNetwork:
             elif kind:
                 edge[lab] = k
         for i in np.flatnonzero(ok):
-            lp = _LP(cg, mins[i], cg.cycle_deg, lim.arc)
+            lp = LP(self.lay, mins[i], cg.cycle_deg, lim.arc)
             res = lp.solve()
             if res.status != 0:
                 continue

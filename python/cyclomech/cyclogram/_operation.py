@@ -11,7 +11,7 @@ import numpy as np
 
 from .._arrays import real
 from .._errors import InputError
-from ._types import Arc, minimum_angles
+from ._angles import Arc, minimum_angles
 
 __all__ = ["Operation"]
 

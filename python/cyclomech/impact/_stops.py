@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import float_array, instances, positive, threads_arg, tolerance
 from .._errors import InputError
-from .._proportional import evaluate as proportional_law
+from .._kind import proportional_law
 from ._checks import Array, _positive_array
 from ._contact import _restitution_damping
 from ._response import first_rebound

@@ -15,8 +15,7 @@ import numpy.typing as npt
 
 from .._arrays import SPEED_CAP_RPM, flag, instances, speeds_rpm, threads_arg
 from .._errors import InfeasibleError
-from .._kind import Array, BoundLaw, Mechanism, Proportional
-from .._proportional import evaluate as proportional_law
+from .._kind import Array, BoundLaw, Mechanism, Proportional, proportional_law
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import (
     SPEED_FLOOR_RPM,

@@ -32,11 +32,11 @@ from .._kind import Context
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum
+from ..shaft import main_shaft
 from . import _page
 from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
 from ._result import MachineResult
-from ._shaft import main_shaft
 
 __all__ = ["MachineResult", "analyze", "write_report"]
 

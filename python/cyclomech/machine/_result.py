@@ -17,7 +17,7 @@ from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
 
 if TYPE_CHECKING:
-    from ._shaft import MainShaft
+    from ..shaft import MainShaft
 
 __all__ = ["MachineResult"]
 

@@ -9,6 +9,12 @@ sampled at N points θ_k = 360°·k/N over one turn and linear between them
 (periodic); a phase φ reads a curve at θ − φ. The statistics are exact for that
 piecewise-linear torque; the flywheel is the energy method's J = ΔE/(ω²δ).
 
+A machine's main shaft (:func:`main_shaft`, :class:`MainShaft`) sums its
+mechanisms' torques at their phases in the optimised cyclogram; with
+``[machine] flatten_torque`` they are first moved within the cyclogram's slack to
+the lowest peak torque (:func:`flatten_phases`, :class:`Flattening`), over the
+cyclogram's own LP feasible set (:meth:`cyclomech.Cyclogram.feasible_set`).
+
 >>> import numpy as np
 >>> import cyclomech as cm
 >>> theta = np.radians(np.arange(360.0))
@@ -20,6 +26,17 @@ piecewise-linear torque; the flywheel is the energy method's J = ΔE/(ω²δ).
 
 from __future__ import annotations
 
+from ._assembly import MainShaft, main_shaft
+from ._flatten import FLATTEN_STEP_DEG, Flattening, flatten_phases
 from ._torque import STATS, ShaftStats, ShaftTorque
 
-__all__ = ["STATS", "ShaftStats", "ShaftTorque"]
+__all__ = [
+    "FLATTEN_STEP_DEG",
+    "STATS",
+    "Flattening",
+    "MainShaft",
+    "ShaftStats",
+    "ShaftTorque",
+    "flatten_phases",
+    "main_shaft",
+]

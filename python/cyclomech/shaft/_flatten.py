@@ -1,5 +1,7 @@
-"""The machine's main shaft: each mechanism's shaft torque at its phase in the
-optimised cyclogram, summed; part of :mod:`cyclomech.machine` (issue 19)."""
+"""The main shaft's flattening: its parts moved within the cyclogram's slack to
+the lowest peak torque (:func:`flatten_phases`, ``[machine] flatten_torque``);
+part of :mod:`cyclomech.shaft` (issue 19). Its LPs are solved over the cyclogram's
+own feasible set (:meth:`cyclomech.Cyclogram.feasible_set`)."""
 
 from __future__ import annotations
 
@@ -10,183 +12,14 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import linprog
 
-from .._arrays import finite_number
+from .._arrays import finite_number, instance
 from .._units import RAD_PER_S_PER_RPM
 from ..cyclogram import Cyclogram, Optimum
-from ..shaft import ShaftStats, ShaftTorque
 
-__all__ = ["FLATTEN_STEP_DEG", "Flattening", "MainShaft", "flatten_phases", "main_shaft"]
+__all__ = ["FLATTEN_STEP_DEG", "Flattening", "flatten_phases"]
 
 Array = npt.NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class MainShaft:
-    """The main shaft at the optimum: the summed torque, its parts and statistics.
-
-    The statistics at the sweep's speeds use the same curves and phases, those of
-    the nominal speed's optimum, at each speed — the ω² part scales, the layout does
-    not follow each speed's own optimum. With ``[machine] flatten_torque``,
-    ``flattening`` says how the parts were moved within the cyclogram's slack, and
-    ``torque``, ``parts`` and the statistics are at the moved phases (the rest of the
-    report stays at the optimum). Built by :func:`main_shaft`; each parameter is kept
-    as the attribute of the same name.
-
-    Parameters
-    ----------
-    torque : ShaftTorque
-        The sum of the parts [N·m].
-    parts : dict of str to ShaftTorque
-        Each contributing mechanism's torque, at its phase [N·m].
-    speed_fluctuation : float
-        The coefficient of speed fluctuation δ of the statistics.
-    nominal_rpm : float
-        The nominal speed [rpm].
-    at_nominal : ShaftStats
-        The statistics at the nominal speed.
-    over_speed : ShaftStats
-        The statistics at the sweep's speeds.
-    flattening : Flattening, optional
-        How the parts were moved (``[machine] flatten_torque``); default None.
-
-    Examples
-    --------
-    >>> import cyclomech as cm
-    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-    >>> list(r.shaft.parts), r.shaft.nominal_rpm, r.shaft.flattening is None
-    (['lifter cam'], 300.0, True)
-    """
-
-    torque: ShaftTorque
-    parts: dict[str, ShaftTorque]
-    speed_fluctuation: float
-    nominal_rpm: float
-    at_nominal: ShaftStats
-    over_speed: ShaftStats
-    flattening: Flattening | None = None
-
-    def json(self) -> dict[str, Any]:
-        """Its ``results.json`` entry (SI, angles in degrees).
-
-        Returns
-        -------
-        dict of str to Any
-            The contributors, the statistics at the nominal speed, the torque over the
-            cycle (every 10th angle) and the peak torque and flywheel over speed;
-            ``flattening`` only with ``[machine] flatten_torque``.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-        >>> entry = r.shaft.json()
-        >>> entry["contributors"], "flattening" in entry
-        (['lifter cam'], False)
-        """
-        n, s = self.nominal_rpm, self.at_nominal
-        o = self.over_speed
-        flat = {} if self.flattening is None else {"flattening": self.flattening.json()}
-        return {
-            "contributors": list(self.parts),
-            "speed_fluctuation": self.speed_fluctuation,
-            "nominal_rpm": n,
-            "mean_torque_nm": float(s.mean_torque_nm),
-            "peak_torque_nm": float(s.peak_torque_nm),
-            "lowest_torque_nm": float(s.lowest_torque_nm),
-            "rms_torque_nm": float(s.rms_torque_nm),
-            "energy_fluctuation_j": float(s.energy_fluctuation_j),
-            "flywheel_kg_m2": float(s.flywheel_kg_m2),
-            "power_w": float(s.power_w),
-            "theta_deg": self.torque.theta_deg[::10],
-            "torque_nm_at_nominal": self.torque.at(n)[::10],
-            "speed_rpm": o.rpm,
-            "peak_torque_nm_over_speed": o.peak_torque_nm,
-            "flywheel_kg_m2_over_speed": o.flywheel_kg_m2,
-            **flat,
-        }
-
-    def table(self) -> tuple[list[str], list[list[Any]]]:
-        """Its report table.
-
-        Returns
-        -------
-        header : list of str
-            ``["quantity", "value"]``.
-        rows : list of list
-            The contributors, mean, peak, lowest and RMS torque [N·m], energy
-            fluctuation [J], flywheel [kg·m²] and motor power [W] (and the flattening's
-            rows).
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-        >>> r.shaft.table()[1][0]
-        ['contributing mechanisms', 'lifter cam']
-        """
-        s, n = self.at_nominal, self.nominal_rpm
-        flat = [] if self.flattening is None else self.flattening.rows()
-        return ["quantity", "value"], [
-            ["contributing mechanisms", ", ".join(self.parts)],
-            [f"mean torque at {n:g} rpm [N·m]", float(s.mean_torque_nm)],
-            [
-                "peak / lowest torque [N·m]",
-                f"{float(s.peak_torque_nm):.4g} / {float(s.lowest_torque_nm):.4g}",
-            ],
-            ["RMS torque [N·m]", float(s.rms_torque_nm)],
-            ["energy fluctuation ΔE over the cycle [J]", float(s.energy_fluctuation_j)],
-            [
-                f"flywheel for δ = {self.speed_fluctuation:g} [kg·m²] (J = ΔE/(ω²δ))",
-                float(s.flywheel_kg_m2),
-            ],
-            ["motor power (mean torque × ω) [W]", float(s.power_w)],
-            *flat,
-        ]
-
-    def figure(self) -> Any:
-        """The torque over the cycle at the nominal speed, each contribution stacked.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-            A new figure: torque [N·m] against the main-shaft angle [deg].
-
-        Examples
-        --------
-        >>> import matplotlib
-        >>> matplotlib.use("Agg")
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-        >>> r.shaft.figure().axes[0].get_ylabel()
-        'torque  [N·m]'
-        """
-        from .._plotting import pyplot
-
-        plt = pyplot()
-        fig, ax = plt.subplots(figsize=(8.0, 3.6), layout="constrained")
-        th, n = self.torque.theta_deg, self.nominal_rpm
-        base = np.zeros_like(th)
-        for i, (k, t) in enumerate(self.parts.items()):
-            v = t.at(n)
-            ax.fill_between(th, base, base + v, alpha=0.35, color=f"C{i}", lw=0, label=k)
-            base = base + v
-        ax.plot(th, self.torque.at(n), color="k", lw=1.4, label="main shaft")
-        ax.axhline(
-            float(self.at_nominal.mean_torque_nm),
-            color="0.4",
-            ls="--",
-            lw=1,
-            label="mean (the motor's)",
-        )
-        ax.set_xlim(0, 360)
-        ax.set_xlabel("main-shaft angle  [deg]")
-        ax.set_ylabel("torque  [N·m]")
-        ax.set_title(f"main shaft torque at {n:g} rpm")
-        ax.grid(True, lw=0.4, alpha=0.5)
-        ax.legend(fontsize=8, loc="upper right")
-        return fig
 
 
 # --------------------------------------------------------------------- flattening
@@ -319,7 +152,7 @@ class Flattening:
 
 class _Feasible:
     """The cyclogram's LP feasible set at one speed over x = (p_0 … p_{V−1}, F),
-    the rows of :meth:`cyclomech.Cyclogram.feasible_rows` (those of its optimize:
+    :meth:`cyclomech.Cyclogram.feasible_set` (the rows of its optimize:
     every operation's minimum angle at that speed — so the mechanisms' bounds added
     by :meth:`~cyclomech.Machine.cyclogram_at` too — and maximum, the added
     constraints, the span p_v ≤ F ≤ cycle, p ≥ 0); plus
@@ -332,9 +165,7 @@ class _Feasible:
         V = len(ev)
         self.V, self.n = V, V + 1
         C = cg.cycle_deg
-        a_ub, b_ub, a_eq, b_eq = cg.feasible_rows(rpm)
-        A, b = [a_ub], [b_ub]
-        A_eq, b_eq_ = [a_eq], [b_eq]
+        self.set = cg.feasible_set(rpm)
         # The first objective kept: the shifts only use the slack. To round-off,
         # as the optimum's own (tidied) times reach it.
         t = np.array([opt.times[e] for e in cg.events])
@@ -345,29 +176,22 @@ class _Feasible:
             o = cg.operation(opt.limiting)
             keep[0, ev[o.src]], keep[0, ev[o.dst]] = 1.0, -1.0
             got = t[ev[o.dst]] - t[ev[o.src]] + C * o.height
-            A.append(keep)
-            b.append(np.array([C * o.height - min(opt.objective, got) + tol]))
+            self.set.add_ub(keep, np.array([C * o.height - min(opt.objective, got) + tol]))
         else:
             keep[0, V] = 1.0
-            A.append(keep)
-            b.append(np.array([max(opt.objective, float(t.max() - t.min())) + tol]))
-        self.A, self.b = np.vstack(A), np.concatenate(b)
+            self.set.add_ub(keep, np.array([max(opt.objective, float(t.max() - t.min())) + tol]))
         # Each rigid group: its events at their spacing in the optimum.
         for g in groups:
             r = ev[g[0]]
             for e in g[1:]:
                 row = np.zeros((1, self.n))
                 row[0, ev[e]], row[0, r] = 1.0, -1.0
-                A_eq.append(row)
-                b_eq_.append(np.array([t[ev[e]] - t[r]]))
-        self.A_eq, self.b_eq = np.vstack(A_eq), np.concatenate(b_eq_)
+                self.set.add_eq(row, np.array([t[ev[e]] - t[r]]))
         self.ref = [ev[g[0]] for g in groups]
 
     def violation(self, x: Array) -> float:
         """The largest amount [deg] by which the point x misses a row."""
-        ub = float(np.max(self.A @ x - self.b, initial=0.0))
-        eq = float(np.max(np.abs(self.A_eq @ x - self.b_eq), initial=0.0))
-        return max(ub, eq, float(-x.min(initial=0.0)))
+        return self.set.violation(x)
 
     def _fix(self, s: Array, held: Any, base: int) -> tuple[Array, Array]:
         """Rows holding the groups ``held`` at their shifts ``s`` relative to group ``base``."""
@@ -382,15 +206,7 @@ class _Feasible:
         return rows, rhs
 
     def _solve(self, c: Array, rows: Array, rhs: Array) -> Any:
-        return linprog(
-            c,
-            A_ub=self.A,
-            b_ub=self.b,
-            A_eq=np.vstack([self.A_eq, rows]),
-            b_eq=np.r_[self.b_eq, rhs],
-            bounds=[(0, None)] * self.n,
-            method="highs",
-        )
+        return self.set.minimize(c, eq=(rows, rhs))
 
     def interval(
         self, g: int, s: Array, held: Any = None, *, current: bool = True
@@ -428,25 +244,15 @@ class _Feasible:
         for g, r in enumerate(self.ref):
             U[2 * g, r], U[2 * g, n + g], bu[2 * g] = 1.0, -1.0, self.t0[r]
             U[2 * g + 1, r], U[2 * g + 1, n + g], bu[2 * g + 1] = -1.0, -1.0, -self.t0[r]
-        pad = np.zeros((len(self.A), G))
-        A_ub = np.vstack([np.hstack([self.A, pad]), U])
-        b_ub = np.r_[self.b, bu]
-        eq = np.vstack([self.A_eq, rows])
-        A_eq = np.hstack([eq, np.zeros((len(eq), G))])
-        b_eq = np.r_[self.b_eq, rhs]
         c = np.r_[np.zeros(n), np.ones(G)]
-        kw = {"bounds": [(0, None)] * (n + G), "method": "highs"}
-        first = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, **kw)
+        first = self.set.minimize(c, ub=(U, bu), eq=(rows, rhs))
         if first.status != 0:
             return None
         pin = c[None]
-        second = linprog(
+        second = self.set.minimize(
             np.r_[np.ones(self.V), np.zeros(1 + G)],
-            A_ub=np.vstack([A_ub, pin]),
-            b_ub=np.r_[b_ub, first.fun * (1 + 1e-9) + 1e-9],
-            A_eq=A_eq,
-            b_eq=b_eq,
-            **kw,
+            ub=(np.vstack([U, pin]), np.r_[bu, first.fun * (1 + 1e-9) + 1e-9]),
+            eq=(rows, rhs),
         )
         x = second.x if second.status == 0 else first.x
         return np.asarray(x[:n], dtype=np.float64)
@@ -656,6 +462,9 @@ def flatten_phases(
     ------
     InputError
         If ``step_deg`` is not > 0 or ``nominal_rpm`` is negative.
+    TypeError
+        If ``curves`` is not a mapping, ``cyclogram`` not a :class:`Cyclogram` or
+        ``optimum`` not an :class:`Optimum`.
 
     Examples
     --------
@@ -674,6 +483,12 @@ def flatten_phases(
     """
     step = finite_number("step_deg", step_deg, "[deg]", low=0.0, strict=True)
     rpm = finite_number("nominal_rpm", nominal_rpm, "[rpm]", low=0.0)
+    # Objects of the wrong type fail here, by name (not deep inside the search).
+    instance("curves", curves, Mapping)
+    instance("cyclogram", cyclogram, Cyclogram)
+    instance("optimum", optimum, Optimum)
+    if not curves:  # no contributor: nothing to move, and no torque to peak
+        return _unmoved(optimum, [], (), 0.0, step, "no contributors: nothing to move")
     names = list(curves)
     w2 = (rpm * RAD_PER_S_PER_RPM) ** 2
     T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
@@ -682,36 +497,18 @@ def flatten_phases(
     if fixed:
         # A part whose phase follows no event sits at a fixed cycle angle: the
         # others' moves would not be relative. Nothing moves; the note says why.
-        before = _peak_of(curves, phase, w2)
-        return Flattening(
-            times=dict(optimum.times),
-            shifts_deg={k: 0.0 for k in names},
-            groups=(tuple(names),),
-            peak_before_nm=before,
-            peak_after_nm=before,
-            method="none",
-            step_deg=step,
-            note=(
-                f"{', '.join(fixed)}: its phase follows no cyclogram event (phase = {{event = "
-                "…}} in its table), so the parts cannot be moved relative to each other"
-            ),
+        note = (
+            f"{', '.join(fixed)}: its phase follows no cyclogram event (phase = {{event = "
+            "…}} in its table), so the parts cannot be moved relative to each other"
         )
+        return _unmoved(optimum, names, (tuple(names),), _peak_of(curves, phase, w2), step, note)
     groups, of = _rigid_groups(curves, cyclogram, rigid or {})
     G = len(groups)
     before = _peak_of(curves, phase, w2)
     tied = tuple(tuple(k for k, g in zip(names, of, strict=True) if g == j) for j in range(G))
 
     def unchanged(note: str, method: str = "none") -> Flattening:
-        return Flattening(
-            times=dict(optimum.times),
-            shifts_deg={k: 0.0 for k in names},
-            groups=tied,
-            peak_before_nm=before,
-            peak_after_nm=before,
-            method=method,
-            step_deg=step,
-            note=note,
-        )
+        return _unmoved(optimum, names, tied, before, step, note, method)
 
     if G < 2:
         return unchanged("one group of contributors: only a common shift, which leaves the peak")
@@ -794,105 +591,30 @@ def flatten_phases(
     )
 
 
+def _unmoved(
+    optimum: Optimum,
+    names: list[str],
+    groups: tuple[tuple[str, ...], ...],
+    peak: float,
+    step: float,
+    note: str,
+    method: str = "none",
+) -> Flattening:
+    """The optimum left as it is: no part of ``names`` moved, the peak ``peak``
+    [N·m] unchanged; ``note`` says why."""
+    return Flattening(
+        times=dict(optimum.times),
+        shifts_deg={k: 0.0 for k in names},
+        groups=groups,
+        peak_before_nm=peak,
+        peak_after_nm=peak,
+        method=method,
+        step_deg=step,
+        note=note,
+    )
+
+
 def _peak_of(curves: Mapping[str, Curve], phase: Array, w2: float) -> float:
     """max|T| [N·m] of the phased sum at ω² = ``w2`` (exact, :func:`_peaks`)."""
     T = np.array([w2 * np.asarray(c[0]) + np.asarray(c[1]) for c in curves.values()])
     return float(_peaks(T, phase, np.zeros((1, len(T))))[0])
-
-
-def main_shaft(
-    results: Mapping[str, Any],
-    nominal_rpm: float,
-    rpm: Any,
-    speed_fluctuation: float,
-    *,
-    cyclogram: Cyclogram | None = None,
-    optimum: Optimum | None = None,
-) -> MainShaft | None:
-    """The main shaft from the mechanisms' results that give a shaft torque.
-
-    With ``cyclogram`` and its ``optimum``, the parts are first moved within its
-    slack to the lowest peak torque (:func:`flatten_phases`;
-    ``[machine] flatten_torque = true``): each result's laid-out arcs are
-    ``shaft_arcs()`` where it has one, else the ``arcs`` of its ``mechanisms`` json
-    entry (the cam's).
-
-    Parameters
-    ----------
-    results : Mapping of str to MechanismResult
-        The mechanisms' results; those with ``shaft_torque()`` → (ω² part
-        [N·m·s²], static part [N·m], on a common grid of the mechanism's own angle
-        from 0 to 360°; phase [deg], the cycle angle where that angle is 0; the
-        cyclogram event the phase follows) contribute.
-    nominal_rpm : float
-        The nominal speed [rpm].
-    rpm : array_like of float
-        The sweep's speeds [rpm].
-    speed_fluctuation : float
-        The coefficient of speed fluctuation δ, for the flywheel.
-    cyclogram : Cyclogram, optional
-        The cyclogram at the nominal speed, with the mechanisms' bounds; default
-        None (no flattening).
-    optimum : Optimum, optional
-        Its optimum; default None (no flattening).
-
-    Returns
-    -------
-    MainShaft or None
-        The main shaft; None when no result gives a shaft torque.
-
-    Examples
-    --------
-    >>> import cyclomech as cm
-    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-    >>> list(r.shaft.parts), round(float(r.shaft.at_nominal.mean_torque_nm), 4)
-    (['lifter cam'], 0.0667)
-    """
-    curves = {}
-    for k, res in results.items():
-        get = getattr(res, "shaft_torque", None)
-        c = None if get is None else get()
-        if c is not None:
-            curves[k] = c
-    if not curves:
-        return None
-    flat = None
-    if cyclogram is not None and optimum is not None:
-        laid = {k: _laid_out(results[k]) for k in curves}
-        flat = flatten_phases(curves, cyclogram, optimum, nominal_rpm, rigid=laid)
-        curves = {
-            k: (a, b, phase + flat.shifts_deg[k], ev) for k, (a, b, phase, ev) in curves.items()
-        }
-    parts = {
-        k: ShaftTorque.from_curves(a[None], b[None], [phase])
-        for k, (a, b, phase, _event) in curves.items()
-    }
-    # The sum of the phased parts (the shift is linear: no second interpolation).
-    first = next(iter(parts.values()))
-    total = ShaftTorque(
-        first.theta_deg,
-        np.sum([p.per_omega2 for p in parts.values()], axis=0),
-        np.sum([p.static for p in parts.values()], axis=0),
-    )
-    return MainShaft(
-        torque=total,
-        parts=parts,
-        speed_fluctuation=speed_fluctuation,
-        nominal_rpm=nominal_rpm,
-        at_nominal=total.stats(nominal_rpm, speed_fluctuation),
-        over_speed=total.stats(rpm, speed_fluctuation),
-        flattening=flat,
-    )
-
-
-def _laid_out(result: Any) -> list[str]:
-    """The events of the arcs a mechanism's curve is laid out on (it must move
-    rigidly with them): ``shaft_arcs()`` if its result has one, else the ``arcs``
-    its ``mechanisms`` json entry lists (the cam's segments); none otherwise."""
-    get = getattr(result, "shaft_arcs", None)
-    if get is not None:
-        arcs = get()
-    else:
-        entry = result.json().get("mechanisms", {}) if hasattr(result, "json") else {}
-        arcs = entry.get("arcs", []) if isinstance(entry, Mapping) else []
-    return [str(e) for arc in arcs or [] for e in arc]

@@ -1,19 +1,40 @@
-"""The bound law of a mechanism whose smallest angle grows in proportion to the
-speed (a stop's rebound bound): :class:`Proportional`, part of the mechanism-kind
-contract of :mod:`cyclomech._kind`."""
+"""The bound laws a mechanism puts on a cyclogram operation: :data:`BoundLaw` (the
+smallest angle at each speed) and the law of a bound that grows in proportion to
+the speed (a stop's rebound bound), :class:`Proportional`; part of
+:mod:`cyclomech.cyclogram`, whose speed network evaluates them (the mechanism-kind
+contract of :mod:`cyclomech._kind` re-exports them)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import broadcast, finite_number, float_array, real_array
-from ._errors import InputError
+from .._arrays import broadcast, finite_number, float_array, real_array
+from .._errors import InputError
 
 #: A float64 NumPy array (speeds [rpm], angles [deg]).
 Array = npt.NDArray[np.float64]
+#: The smallest angle [deg] of a bound at each speed [rpm] (same shape; NaN where
+#: even the whole cycle is too short).
+BoundLaw = Callable[[Array], Array]
+
+
+def proportional_law(rpm: Array, per_rpm: Array) -> Array:
+    """:meth:`Proportional.evaluate` without its checks, for the machine's sweeps,
+    whose slopes were checked when their laws were built (one pass less over
+    arrays of a million speeds).
+
+    >>> proportional_law(np.array([100.0]), np.array([0.1])).tolist()
+    [10.0]
+    """
+    # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
+    # over 360°: NaN like any other, not a warning.
+    with np.errstate(over="ignore"):
+        t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
+    return np.where(t <= 360.0, t, np.nan)
 
 
 @dataclass(frozen=True)
@@ -87,19 +108,4 @@ class Proportional:
             raise InputError(
                 f"per_rpm entry {i} = {k.ravel()[i]!r} must be ≥ 0 [deg/rpm] (inf: no speed)"
             )
-        return evaluate(*broadcast(rpm=n, per_rpm=k))
-
-
-def evaluate(rpm: Array, per_rpm: Array) -> Array:
-    """:meth:`Proportional.evaluate` without its checks, for the machine's sweeps,
-    whose slopes were checked when their laws were built (one pass less over
-    arrays of a million speeds).
-
-    >>> evaluate(np.array([100.0]), np.array([0.1])).tolist()
-    [10.0]
-    """
-    # A product past the float range (a rebound limit of 1e-313 m, say) is inf,
-    # over 360°: NaN like any other, not a warning.
-    with np.errstate(over="ignore"):
-        t = np.maximum(np.multiply(rpm, per_rpm), 1e-9)
-    return np.where(t <= 360.0, t, np.nan)
+        return proportional_law(*broadcast(rpm=n, per_rpm=k))
