@@ -60,8 +60,9 @@ _MACHINE_KEYS = {
 }
 
 
-#: The main shaft's speed fluctuation δ without ``[machine] speed_fluctuation``:
-#: 1/20, a common value for machines with a flywheel on the main shaft.
+#: The main shaft's coefficient of speed fluctuation δ when the file gives none
+#: (``[machine] speed_fluctuation``): 1/20, a common value for machines with a
+#: flywheel on the main shaft.
 SPEED_FLUCTUATION = 0.05
 
 

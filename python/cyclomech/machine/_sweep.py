@@ -381,11 +381,15 @@ def _run_chunk(
     shaft: bool | None = None,
 ) -> dict[str, npt.NDArray[Any]]:
     """The key figures of the designs (k, P) (indices into ``axes``) at ``speeds``:
-    one task, each kernel once: with ``batch`` the swept stops of every design in
-    one Rust call (:mod:`cyclomech.machine._batch`, through the kind's hook; the
-    designs it cannot take go the other way), else one machine per design.
-    ``base``: the file's machine, if built. ``shaft``: the main-shaft columns too
-    (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None: none)."""
+    one task. The designs are variants of one file, so every kernel runs once for
+    the chunk: with ``batch`` the swept stops of every design in one Rust call
+    (:mod:`cyclomech.machine._batch`, through the kind's hook; the designs it cannot
+    take go the other way), else one machine per design, their bounds worked out
+    together, one shortest-path call for every design at every speed, one per step
+    of the speed-limit search. ``base``: the file's machine, when the caller has
+    built it (in-process: once for all the chunks). ``shaft``: the main-shaft
+    columns too (:mod:`cyclomech.machine._sweep_shaft`; False: NaN ones; None:
+    none)."""
     base = Machine.from_dict(data, source) if base is None else base
     D, S = len(designs), speeds.size
     pl = plan(base, names) if batch else None
