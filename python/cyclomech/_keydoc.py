@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ._arrays import flag
 from ._core import MOTION_LAWS
 
 __all__ = [
@@ -89,6 +90,11 @@ class KeyDoc:
     valid: str
     sweep: bool | None
 
+    def __post_init__(self) -> None:
+        _texts(self, ("name", "meaning", "unit", "type", "default", "valid"))
+        if self.sweep is not None:
+            flag("KeyDoc.sweep", self.sweep)
+
 
 @dataclass(frozen=True)
 class KeyTable:
@@ -121,6 +127,21 @@ class KeyTable:
     title: str
     keys: tuple[KeyDoc, ...]
     intro: str | None = None
+
+    def __post_init__(self) -> None:
+        _texts(self, ("name", "title") if self.intro is None else ("name", "title", "intro"))
+        if not isinstance(self.keys, tuple) or not all(isinstance(k, KeyDoc) for k in self.keys):
+            raise TypeError(f"KeyTable.keys must be a tuple of KeyDoc; got {self.keys!r:.80}")
+
+
+def _texts(record: object, fields: tuple[str, ...]) -> None:
+    """TypeError naming the first of ``fields`` of ``record`` that is not a string
+    (the page prints them as they are)."""
+    for field in fields:
+        value = getattr(record, field)
+        if not isinstance(value, str):
+            kind = type(record).__name__
+            raise TypeError(f"{kind}.{field} must be a string; got {value!r:.80}")
 
 
 # The column values the owners' records share.

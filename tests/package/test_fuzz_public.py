@@ -374,6 +374,8 @@ KNOWN_GAPS: dict[str, str] = {}
 
 #: (callable, argument, bad-value kind) whose acceptance is the documented meaning.
 ALLOWED = {
+    # sweep=None: a sub-table's row, which a sweep sets only through its parent key
+    ("cyclomech.machine.KeyDoc", "sweep", "None"),
     # v* = inf is "no bound on the impact speed": a phase angle of 0 per rpm
     ("cyclomech.impact.StopImpact.phase_per_rpm", "v_star", "inf"),
     # a slope of +inf is a bound no speed meets (a stop whose v* is 0)
