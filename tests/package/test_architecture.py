@@ -23,9 +23,10 @@ DOMAINS = tuple(sorted(p.parent.name for p in PKG.glob("*/__init__.py")))
 #: Lines of code a Python module may have: its statements and expressions, not its
 #: docstrings, comments or blank lines. The rule serves readability of the code;
 #: counting documentation made sessions trim docstrings to fit (issue 32), so the
-#: documentation is not counted. 650: the two largest modules (the machine's
-#: report, the cyclogram's plots) hold 610-620 lines of code, to be cut by subject.
-PY_LIMIT = 650
+#: documentation is not counted. 600, as issue 32 set it: the largest module (the
+#: machine's sweep) holds ~500 lines of code since the report and the cyclogram's
+#: plots were cut by subject.
+PY_LIMIT = 600
 #: Lines a Rust source may have outside its tests (the issue's "~1 200").
 RS_LIMIT = 1200
 
