@@ -17,7 +17,7 @@ which takes 6·n·seconds degrees at n rpm.
   cyclogram still fits in its cycle (maximum cycle ratio, Howard's policy iteration).
 * :meth:`Cyclogram.feasible_set` — the LP's feasible set, for a second objective
   within it (the main shaft's flattening).
-* :data:`BoundLaw`, :class:`Proportional` — the laws of the lower bounds that
+* ``BoundLaw`` (a callable of speeds), :class:`Proportional` — the laws of the lower bounds that
   mechanisms put on operations against speed, which :class:`SpeedNetwork` evaluates.
 """
 

@@ -439,10 +439,10 @@ def flatten_phases(
     curves : Mapping of str to tuple
         Each contributor's ``shaft_torque()``: (ω² part [N·m·s²], static part
         [N·m] on its own angle; phase [deg]; anchor event).
-    cyclogram : Cyclogram
+    cyclogram : ~cyclomech.Cyclogram
         The cyclogram at the nominal speed with the mechanisms' bounds
         (:meth:`~cyclomech.Machine.cyclogram_at`).
-    optimum : Optimum
+    optimum : ~cyclomech.Optimum
         Its optimum there.
     nominal_rpm : float
         The nominal speed [rpm].
@@ -463,8 +463,8 @@ def flatten_phases(
     InputError
         If ``step_deg`` is not > 0 or ``nominal_rpm`` is negative.
     TypeError
-        If ``curves`` is not a mapping, ``cyclogram`` not a :class:`Cyclogram` or
-        ``optimum`` not an :class:`Optimum`.
+        If ``curves`` is not a mapping, ``cyclogram`` not a :class:`~cyclomech.Cyclogram` or
+        ``optimum`` not an :class:`~cyclomech.Optimum`.
 
     Examples
     --------
