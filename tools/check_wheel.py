@@ -44,7 +44,11 @@ def problems(wheel: Path) -> list[str]:
         for p in (REPO / "python" / "cyclomech").rglob("*.py")
     }
     needed = package | {"cyclomech/_core.abi3.so", "cyclomech/_core.pyi", "cyclomech/py.typed"}
-    needed.add("_cyclomech_entry/__init__.py")  # the console script's entry, outside the package
+    # The console script's entry point, outside the package: every module of it.
+    needed |= {
+        "_cyclomech_entry/" + str(p.relative_to(REPO / "python" / "_cyclomech_entry"))
+        for p in (REPO / "python" / "_cyclomech_entry").rglob("*.py")
+    }
     out += [f"missing {n}" for n in sorted(needed - names)]
     dist_info = f"cyclomech-{m.group(1)}.dist-info/"
     extra = sorted(n for n in names - needed if not n.startswith(dist_info))

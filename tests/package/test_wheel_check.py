@@ -25,7 +25,8 @@ def _members(version: str = VERSION) -> dict[str, str]:
     pkg = ROOT / "python" / "cyclomech"
     files = {f"cyclomech/{p.relative_to(pkg)}": "" for p in pkg.rglob("*.py")}
     files |= {"cyclomech/_core.abi3.so": "", "cyclomech/_core.pyi": "", "cyclomech/py.typed": ""}
-    files["_cyclomech_entry/__init__.py"] = ""  # the console script's entry point
+    entry = ROOT / "python" / "_cyclomech_entry"  # the console script's entry point
+    files |= {f"_cyclomech_entry/{p.relative_to(entry)}": "" for p in entry.rglob("*.py")}
     meta = f"Metadata-Version: 2.4\nName: cyclomech\nVersion: {version}\nRequires-Python: >=3.11\n"
     files[f"cyclomech-{version}.dist-info/METADATA"] = meta
     return files
@@ -49,6 +50,10 @@ def test_a_complete_wheel_passes(tmp_path):
         (lambda f: f.pop("cyclomech/_core.pyi"), "missing cyclomech/_core.pyi"),
         (lambda f: f.pop("cyclomech/py.typed"), "missing cyclomech/py.typed"),
         (lambda f: f.pop("cyclomech/machine/_sweep.py"), "missing cyclomech/machine/_sweep.py"),
+        (
+            lambda f: f.pop("_cyclomech_entry/_interrupt.py"),
+            "missing _cyclomech_entry/_interrupt.py",
+        ),
         (lambda f: f.update({"tests/test_x.py": ""}), "unexpected file tests/test_x.py"),
         (lambda f: f.update({"cyclomech/data.csv": ""}), "unexpected file cyclomech/data.csv"),
     ],
