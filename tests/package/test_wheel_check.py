@@ -57,7 +57,7 @@ def test_a_complete_wheel_passes(tmp_path):
         (lambda f: f.update({"tests/test_x.py": ""}), "unexpected file tests/test_x.py"),
         (lambda f: f.update({"cyclomech/data.csv": ""}), "unexpected file cyclomech/data.csv"),
     ],
-    ids=["no stub", "no py.typed", "no module", "tests", "data"],
+    ids=["no stub", "no py.typed", "no module", "no entry module", "tests", "data"],
 )
 def test_each_content_problem_is_named(tmp_path, change, problem):
     files = _members()
