@@ -296,7 +296,8 @@ _NEVER_ACCEPTED = {
 
 def _bad_values(valid: Any, default: Any, annotation: str) -> list[tuple[str, Any]]:
     """The bad values for an argument whose valid value is ``valid`` (its
-    annotation tells a count, ``int``, from a number given as an int, ``float``)."""
+    annotation tells a count, ``int``, from a number given as an int, ``float``;
+    a default of None, or an annotation that admits None, makes None valid)."""
     out: list[tuple[str, Any]] = []
     is_count = "int" in annotation and "float" not in annotation and "Like" not in annotation
     if isinstance(valid, bool | np.bool_):
@@ -344,7 +345,7 @@ def _bad_values(valid: Any, default: Any, annotation: str) -> list[tuple[str, An
             ("wrong object None", None),
             ("wrong object number", 1.5),
         ]
-    if default is None:
+    if default is None or "None" in annotation:
         out = [(k, b) for k, b in out if b is not None]
     if isinstance(default, float) and math.isinf(default):
         out = [(k, b) for k, b in out if k not in ("inf", "-inf")]
@@ -374,8 +375,6 @@ KNOWN_GAPS: dict[str, str] = {}
 
 #: (callable, argument, bad-value kind) whose acceptance is the documented meaning.
 ALLOWED = {
-    # sweep=None: a sub-table's row, which a sweep sets only through its parent key
-    ("cyclomech.machine.KeyDoc", "sweep", "None"),
     # v* = inf is "no bound on the impact speed": a phase angle of 0 per rpm
     ("cyclomech.impact.StopImpact.phase_per_rpm", "v_star", "inf"),
     # a slope of +inf is a bound no speed meets (a stop whose v* is 0)
