@@ -2,9 +2,10 @@
 
 ``import cyclomech`` loads every domain and the Rust core (~0.6 s): a Ctrl-C in that
 time would print the import's traceback, since :func:`cyclomech.cli.main` catches
-KeyboardInterrupt only once it runs. This module imports nothing at the top but
-:mod:`sys`, so the console script can catch it and exit like the rest of the command
-line: one line on stderr, exit status 130.
+KeyboardInterrupt only once it runs. This module imports nothing at the top but its
+own :mod:`~_cyclomech_entry._interrupt` (the standard library only), so the console
+script can catch it and exit like the rest of the command line: one line on stderr,
+exit status 130.
 
 A Ctrl-C that lands inside an extension module's initialisation does not arrive as a
 KeyboardInterrupt: CPython raises ``ImportError("initialization failed")`` *from* it
@@ -17,12 +18,7 @@ Ctrl-C CPython swallows from being lost). The package's ``__init__`` (under ``py
 
 from __future__ import annotations
 
-import sys
-
-from ._interrupt import CtrlC
-
-#: The exit status of an interrupted command (128 + SIGINT), as cyclomech._cli's.
-EXIT_INTERRUPTED = 130
+from ._interrupt import CtrlC, report
 
 
 def main() -> int:
@@ -35,6 +31,5 @@ def main() -> int:
     except BaseException as error:  # only a Ctrl-C is handled (re-raised otherwise)
         if not watch.explains(error):
             raise
-        print("cyclomech: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return report()
     return run()

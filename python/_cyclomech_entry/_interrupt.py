@@ -12,6 +12,24 @@ import sys
 import time
 from typing import Any
 
+#: The exit status of an interrupted command (128 + SIGINT): the entry point's, the
+#: package's under ``python -m`` and every command's (``cyclomech._cli`` takes it).
+EXIT_INTERRUPTED = 130
+
+
+def report() -> int:
+    """Say that the command was interrupted (one line on stderr) and give its exit
+    status, :data:`EXIT_INTERRUPTED`.
+
+    >>> import contextlib, io, sys
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     status = report()
+    >>> status, err.getvalue()
+    (130, 'cyclomech: interrupted\\n')
+    """
+    print("cyclomech: interrupted", file=sys.stderr, flush=True)
+    return EXIT_INTERRUPTED
+
 
 def interrupted(error: BaseException) -> bool:
     """Whether ``error`` is a Ctrl-C: a KeyboardInterrupt, or an error raised while

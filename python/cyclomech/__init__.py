@@ -11,6 +11,7 @@ from __future__ import annotations
 import sys as _sys
 
 from _cyclomech_entry._interrupt import CtrlC as _CtrlC
+from _cyclomech_entry._interrupt import report as _report
 
 try:  # every domain, numpy and the Rust core: ~0.6 s
     with _CtrlC() as _watch:  # a Ctrl-C CPython swallows in a callback is not lost
@@ -38,13 +39,13 @@ except BaseException as _error:
         _argv[i : i + 2] == ["-m", "cyclomech"] for i in range(len(_argv))
     )
     if _sys.argv[:1] == ["-m"] and _ours:
-        print("cyclomech: interrupted", file=_sys.stderr, flush=True)
+        _status = _report()
         # Not SystemExit: under -m, CPython 3.11-3.12 die by SIGINT at exit when the
         # interrupt was raised inside a string exec (a dataclass's generated code,
         # say), even though it was caught. Nothing is open yet to close.
         import os as _os
 
-        _os._exit(130)
+        _os._exit(_status)
     raise
 from ._core import __version__ as _core_version
 from ._errors import (

@@ -26,6 +26,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from _cyclomech_entry._interrupt import EXIT_INTERRUPTED
+
 from ._errors import InputError
 from ._files import folder_problem, whole
 
@@ -58,8 +60,6 @@ EXIT_FAILS = 3
 #: permission, a quota): the message names the file and the system's reason; the
 #: file is not left half-written (:func:`cyclomech._files.whole`).
 EXIT_WRITE = 4
-#: Exit status when interrupted (Ctrl-C).
-EXIT_INTERRUPTED = 130
 #: Exit status when whoever read the output stopped reading (``| head``).
 EXIT_BROKEN_PIPE = 141
 #: Finest crank-angle step of the linkage and press commands [deg]: 360 000 angles a

@@ -25,7 +25,7 @@ import warnings
 from collections.abc import Sequence
 from typing import TextIO
 
-from _cyclomech_entry._interrupt import CtrlC
+from _cyclomech_entry._interrupt import CtrlC, report
 
 from . import _core
 from ._arrays import MAX_THREADS
@@ -104,8 +104,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BaseException as error:  # a Ctrl-C, or an error it caused (its rule)
         if not watch.explains(error):
             raise
-        print("cyclomech: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return report()
     finally:
         if threads_env is None:
             os.environ.pop(THREADS_ENV, None)
