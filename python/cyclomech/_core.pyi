@@ -16,12 +16,14 @@ __all__ = [
     "MOTION_LAWS",
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
+    "SEGMENT_LAWS",
     "SHAFT_STATS",
     "CamKernel",
     "EventGraph",
     "ForceModel",
     "LinkageProgram",
     "MotionLaw",
+    "ProgramKernel",
     "TwoPeriodKernel",
     "__version__",
     "contact_rebound_batch",
@@ -47,6 +49,7 @@ __version__: str
 
 #: Names of the built-in motion laws (cyclomech.motion.NAMES).
 MOTION_LAWS: tuple[str, ...]
+SEGMENT_LAWS: tuple[str, ...]
 #: What each press status code means, indexed by code (cyclomech.press.STATUS).
 PRESS_STATUS: tuple[str, ...]
 #: Angular speed [rad/s] of a shaft turning at 1 rpm: 2π/60.
@@ -245,6 +248,30 @@ class MotionLaw:
     def eval(
         self, x: npt.NDArray[np.float64], order: int, *, n_threads: int | None = None
     ) -> npt.NDArray[np.float64]: ...
+
+@final
+class ProgramKernel:
+    """A motion program over one master cycle."""
+
+    def __new__(
+        cls,
+        laws: list[str],
+        angles: npt.NDArray[np.float64],
+        start: npt.NDArray[np.float64],
+        end: npt.NDArray[np.float64],
+        points: list[list[tuple[float, float]]],
+        degrees: list[int],
+        continuity: int,
+        advance: float,
+    ) -> ProgramKernel: ...
+    def eval(
+        self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
+    ) -> npt.NDArray[np.float64]: ...
+    @property
+    def spans(
+        self,
+    ) -> list[tuple[float, float, list[float], list[float], bool]]: ...
+    def characteristics(self, i: int) -> list[float]: ...
 
 @final
 class TwoPeriodKernel:

@@ -182,6 +182,12 @@ CASES: list[tuple[str, Callable[[], object], type[Exception], str]] = [
         "x[1] = inf is not finite",
     ),
     (
+        "motion program not finite",
+        lambda: cm.motion.Program([cm.motion.Segment("dwell", 360)])._kernel.eval(f64(0.0, np.nan)),
+        cm.InputError,
+        "theta[1] = NaN is not finite",
+    ),
+    (
         "motion two-period not finite",
         lambda: two_period().eval(f64(0.0, np.nan), 0),
         cm.InputError,

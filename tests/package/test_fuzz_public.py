@@ -88,6 +88,8 @@ RESULT_CLASSES = {
     "cyclomech.machine.PlainResult",
     "cyclomech.machine.SpeedSweep",
     "cyclomech.machine.TableContext",
+    "cyclomech.motion.Characteristics",
+    "cyclomech.motion.MotionValues",
     "cyclomech.press.PressCriteria",
     "cyclomech.press.PressGrid",
     "cyclomech.press.PressKinematics",

@@ -10,6 +10,14 @@ Two forms of each named law:
   j = 1 — the dimensionless characteristic of seed 003 (cycloidal half law
   Z = j − sin(πj)/π, Z'max = 2, Z''max = π).
 
+A **motion program** (:class:`Program`) is what a cam or a servo axis follows over
+one master cycle: :class:`Segment` s in VDI 2143's sense, each a law over a master
+angle between end values (position, velocity, acceleration, jerk per radian of
+master) that may be in motion — rest–rest, rest–velocity, velocity–velocity,
+motion–motion — with constant velocity, polynomials from end conditions and splines
+through point tables beside the named laws. :meth:`Program.evaluate` gives s and its
+derivatives in closed form; joins are checked to the order asked.
+
 :func:`two_period` synthesises the slider law Π(α) of seed 003 from a half law
 for each period and one of the seed's three complexes of input data.
 Everything is evaluated in Rust, vectorised and exact (no finite differences).
@@ -25,10 +33,24 @@ from ._laws import (
     polynomial,
     two_period,
 )
+from ._program import (
+    CONTINUITY,
+    SEGMENT_LAWS,
+    Characteristics,
+    MotionValues,
+    Program,
+    Segment,
+)
 
 __all__ = [
+    "CONTINUITY",
     "NAMES",
+    "SEGMENT_LAWS",
+    "Characteristics",
     "MotionLaw",
+    "MotionValues",
+    "Program",
+    "Segment",
     "TwoPeriodLaw",
     "law",
     "polynomial",

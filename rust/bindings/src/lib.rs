@@ -41,7 +41,7 @@ mod _core {
     #[pymodule_export]
     use super::linkage::LinkageProgram;
     #[pymodule_export]
-    use super::motion::{MotionLaw, TwoPeriodKernel};
+    use super::motion::{MotionLaw, ProgramKernel, TwoPeriodKernel};
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
@@ -61,6 +61,7 @@ mod _core {
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         // Constants the Python layer needs too: read from the core, not copied.
         m.add("MOTION_LAWS", PyTuple::new(m.py(), LAW_NAMES)?)?;
+        m.add("SEGMENT_LAWS", PyTuple::new(m.py(), SEGMENT_LAWS)?)?;
         let status = Status::ALL.map(Status::text);
         m.add("PRESS_STATUS", PyTuple::new(m.py(), status)?)?;
         m.add("RAD_PER_S_PER_RPM", units::RAD_PER_S_PER_RPM)?;
@@ -75,7 +76,7 @@ mod _core {
 
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
-    use cyclomech_core::motion::NAMES as LAW_NAMES;
+    use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
     use cyclomech_core::shaft::STATS as SHAFT_STATS;
     use cyclomech_core::{parallel, units};

@@ -1,7 +1,7 @@
 //! Bindings of the motion domain: dimensionless laws and the two-period law.
 
-use cyclomech_core::motion::{Law, MotionError, TwoPeriod};
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use cyclomech_core::motion::{Law, MotionError, Program, SegmentSpec, TwoPeriod};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
@@ -175,5 +175,110 @@ impl TwoPeriodKernel {
             })?;
         }
         Ok(out)
+    }
+}
+
+/// One built segment for Python: (start, angle, at start, at end, scalable).
+type SpanRow = (f64, f64, [f64; 4], [f64; 4], bool);
+
+/// A motion program over one master cycle (see `cyclomech.motion.Program`).
+#[pyclass(module = "cyclomech._core", frozen)]
+pub struct ProgramKernel {
+    pub(crate) program: Program,
+}
+
+#[pymethods]
+impl ProgramKernel {
+    /// Segments as parallel lists: law names, angles [rad], start and end
+    /// values (N × 4: s, v, a, j; NaN = free), point tables ((angle [rad], s)
+    /// pairs; empty but for a spline) and spline degrees.
+    #[new]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        laws: Vec<String>,
+        angles: PyReadonlyArray1<'_, f64>,
+        start: PyReadonlyArray2<'_, f64>,
+        end: PyReadonlyArray2<'_, f64>,
+        points: Vec<Vec<[f64; 2]>>,
+        degrees: Vec<usize>,
+        continuity: usize,
+        advance: f64,
+    ) -> PyResult<Self> {
+        let angles = MotionError::slice(py, "angles", &angles)?;
+        let (start, end) = (start.as_array(), end.as_array());
+        let n = laws.len();
+        let shape_ok = angles.len() == n
+            && start.shape() == [n, 4]
+            && end.shape() == [n, 4]
+            && points.len() == n
+            && degrees.len() == n;
+        if !shape_ok {
+            return Err(MotionError::BadLaw {
+                what:
+                    "laws, angles, start, end, points and degrees must have one entry per segment"
+                        .into(),
+            }
+            .into_pyerr(py));
+        }
+        let free = |v: f64| (!v.is_nan()).then_some(v);
+        let specs: Vec<SegmentSpec> = (0..n)
+            .map(|i| SegmentSpec {
+                law: laws[i].clone(),
+                angle: angles[i],
+                start: std::array::from_fn(|k| free(start[[i, k]])),
+                end: std::array::from_fn(|k| free(end[[i, k]])),
+                points: points[i].clone(),
+                degree: degrees[i],
+            })
+            .collect();
+        run(py, "Program", || Program::new(&specs, continuity, advance))
+            .map(|program| ProgramKernel { program })
+    }
+
+    /// [s, v, a, j] at master angles θ [rad]: a (4, N) array.
+    #[pyo3(signature = (theta, *, n_threads=None))]
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        theta: PyReadonlyArray1<'py, f64>,
+        n_threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let th = MotionError::slice(py, "theta", &theta)?;
+        let out = convert::empty(
+            py,
+            &[4, th.len()],
+            "Program.evaluate",
+            "evaluate fewer angles at a time",
+        )?;
+        {
+            let mut rw = out.readwrite();
+            let slice = convert::output(py, &mut rw)?;
+            run(py, "Program.evaluate", || {
+                self.program.eval_into(th, n_threads, slice)
+            })?;
+        }
+        Ok(out)
+    }
+
+    /// Per segment: (start [rad], angle [rad], [s, v, a, j] at its start and
+    /// at its end, scalable).
+    #[getter]
+    fn spans(&self) -> Vec<SpanRow> {
+        self.program
+            .spans()
+            .iter()
+            .map(|s| (s.start, s.angle, s.at_start, s.at_end, s.scalable))
+            .collect()
+    }
+
+    /// Segment `i`'s (stroke, max |v|, max |a|, max |j|, C_v, C_a, C_j, C_m).
+    fn characteristics(&self, i: usize) -> [f64; 8] {
+        let c = self
+            .program
+            .characteristics(i.min(self.program.spans().len() - 1));
+        [
+            c.stroke, c.peaks[0], c.peaks[1], c.peaks[2], c.cv, c.ca, c.cj, c.cm,
+        ]
     }
 }

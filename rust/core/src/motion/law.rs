@@ -22,6 +22,26 @@ pub enum MotionError {
     UnknownLaw { name: String, known: String },
     #[error("{what}")]
     BadLaw { what: String },
+    #[error("segment {index} ({law}): {what}")]
+    BadSegment {
+        index: usize,
+        law: String,
+        what: String,
+    },
+    #[error(
+        "segment {left} ({left_law}) → segment {right} ({right_law}) at {}°: the {what} jumps from {} to {}",
+        crate::num_text::Num(*at_deg), crate::num_text::Num(*from), crate::num_text::Num(*to)
+    )]
+    Join {
+        left: usize,
+        left_law: String,
+        right: usize,
+        right_law: String,
+        at_deg: f64,
+        what: &'static str,
+        from: f64,
+        to: f64,
+    },
     #[error("{field}[{index}] = {} lies outside [{lo}, {hi}]{why}", crate::num_text::Num(*value))]
     OutOfRange {
         field: &'static str,
@@ -149,7 +169,7 @@ pub const NAMES: [&str; 6] = [
 ];
 
 impl Law {
-    fn from_segments(segments: Vec<Segment>) -> Law {
+    pub(crate) fn from_segments(segments: Vec<Segment>) -> Law {
         let fast = segments.iter().map(Fast::new).collect();
         let mut law = Law {
             segments,
@@ -418,39 +438,46 @@ impl Law {
         }
     }
 
-    /// (x, extreme of Z^(order)): its maximum for `sign` = 1, its minimum for −1.
-    /// Dense samples on every segment, then golden-section refinement around the
-    /// best sample (the value is then exact to rounding: the error is quadratic
-    /// in the abscissa's).
+    /// (x, extreme of Z^(order)): its maximum for `sign` = 1, its minimum for −1
+    /// (see [`extreme`]).
     fn peak_signed(&self, order: usize, sign: f64) -> (f64, f64) {
-        const SAMPLES: usize = 256;
-        let mut best = (0.0, f64::NEG_INFINITY);
-        for s in &self.fast {
-            let f = |x: f64| sign * s.eval(x, order);
-            let h = (s.x1 - s.x0) / SAMPLES as f64;
-            let mut at = 0;
-            let mut top = f64::NEG_INFINITY;
-            for i in 0..=SAMPLES {
-                let v = f(s.x0 + h * i as f64);
-                if v > top {
-                    top = v;
-                    at = i;
-                }
-            }
-            let lo = s.x0 + h * at.saturating_sub(1) as f64;
-            let hi = (s.x0 + h * (at + 1) as f64).min(s.x1);
-            let (x, v) = golden_max(f, lo, hi);
-            let (x, v) = if v >= top {
-                (x, v)
-            } else {
-                (s.x0 + h * at as f64, top)
-            };
-            if v > best.1 {
-                best = (x, v);
+        let (x, v) = extreme(&self.fast, |s, x| sign * s.eval(x, order));
+        (x, sign * v)
+    }
+}
+
+/// (x, max f(piece, x)) over the pieces, each on its own [x0, x1]: dense
+/// samples on every piece, then golden-section refinement around the best
+/// sample (the value is then exact to rounding: the error is quadratic in the
+/// abscissa's). `f` must be smooth on each piece.
+pub(super) fn extreme(pieces: &[Fast], f: impl Fn(&Fast, f64) -> f64) -> (f64, f64) {
+    const SAMPLES: usize = 256;
+    let mut best = (0.0, f64::NEG_INFINITY);
+    for s in pieces {
+        let f = |x: f64| f(s, x);
+        let h = (s.x1 - s.x0) / SAMPLES as f64;
+        let mut at = 0;
+        let mut top = f64::NEG_INFINITY;
+        for i in 0..=SAMPLES {
+            let v = f(s.x0 + h * i as f64);
+            if v > top {
+                top = v;
+                at = i;
             }
         }
-        (best.0, sign * best.1)
+        let lo = s.x0 + h * at.saturating_sub(1) as f64;
+        let hi = (s.x0 + h * (at + 1) as f64).min(s.x1);
+        let (x, v) = golden_max(f, lo, hi);
+        let (x, v) = if v >= top {
+            (x, v)
+        } else {
+            (s.x0 + h * at as f64, top)
+        };
+        if v > best.1 {
+            best = (x, v);
+        }
     }
+    best
 }
 
 /// Maximum of a unimodal f on [lo, hi] by golden sections.

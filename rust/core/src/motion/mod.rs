@@ -13,15 +13,26 @@
 //! Π = Π1·Z1(α/α1)) and a mirrored half law over α1 ≤ α ≤ α2 (period II,
 //! Π = Π2 − (Π2 − Π1)·Z2((α2 − α)/(α2 − α1))).
 //!
+//! A **motion program** (VDI 2143) is a list of segments over one master cycle,
+//! each a law between boundary values (position, velocity, acceleration, jerk)
+//! that may be in motion: `segment` turns each law into pieces, `program`
+//! resolves free values, checks given ones and the joins, and evaluates.
+//!
 //! Files: `law` (the laws, named and polynomial, evaluated in SIMD lanes),
 //! `two_period` (the two-period slider law) and `fused` (its one-pass FMA kernel
 //! for arrays of angles, where the processor has FMA).
 
 mod fused;
 mod law;
+mod program;
+#[cfg(test)]
+mod program_tests;
+mod segment;
 #[cfg(test)]
 mod tests;
 mod two_period;
 
 pub use law::{Law, MotionError, Segment, LAW_TOL, MAX_DEGREE, NAMES};
+pub use program::{Characteristics, Program, Span, CYCLE_TOL};
+pub use segment::{SegmentSpec, BOUNDARY_TOL, ORDER_NAMES, SEGMENT_LAWS};
 pub use two_period::TwoPeriod;

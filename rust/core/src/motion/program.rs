@@ -1,0 +1,398 @@
+//! A motion program: segments over one master cycle (2π), free values
+//! resolved, given values and joins checked, evaluated over angle grids.
+//!
+//! Position at any master angle θ: s(θ) = s_cycle(θ mod 2π) + advance·⌊θ/2π⌋,
+//! so that an axis that moves on by `advance` each cycle (a film feed, a
+//! rotating knife) is one program, and a cam (advance 0) repeats.
+
+use std::f64::consts::TAU;
+
+use rayon::prelude::*;
+
+use super::law::{extreme, Fast, Law, MotionError, Segment as Piece};
+use super::segment::{
+    bad, law_fixed_start, pieces, validate, SegmentSpec, BOUNDARY_TOL, ORDER_NAMES,
+};
+use crate::parallel::{pool, resolve_threads};
+
+/// Tolerance on the segments' angles summing to one cycle [rad].
+pub const CYCLE_TOL: f64 = 1e-9 * TAU;
+
+/// One segment of a built program.
+#[derive(Debug, Clone)]
+pub struct Span {
+    /// Its start angle on the cycle [rad].
+    pub start: f64,
+    /// Its angle [rad].
+    pub angle: f64,
+    /// [s, v, a, j] at its start and at its end (as built).
+    pub at_start: [f64; 4],
+    pub at_end: [f64; 4],
+    /// Its pieces' indices in the program: first..last.
+    pub first: usize,
+    pub last: usize,
+    /// Does its shape scale with its angle (rest to rest, no point table), so
+    /// that the segment at another angle is the same law stretched?
+    pub scalable: bool,
+}
+
+/// A validated motion program over one master cycle.
+#[derive(Debug, Clone)]
+pub struct Program {
+    specs: Vec<SegmentSpec>,
+    spans: Vec<Span>,
+    /// Every piece, in absolute angle on [0, 2π], and their start angles.
+    fast: Vec<Fast>,
+    starts: Vec<f64>,
+    advance: f64,
+}
+
+/// The characteristic values of one segment (VDI 2143): with h its stroke and
+/// β its angle, C_v = max|s′|·β/|h|, C_a = max|s″|·β²/|h|, C_j = max|s‴|·β³/|h|,
+/// C_m = max|s′·s″|·β³/h² (the dynamic torque's); NaN where h = 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Characteristics {
+    pub stroke: f64,
+    pub peaks: [f64; 3],
+    pub cv: f64,
+    pub ca: f64,
+    pub cj: f64,
+    pub cm: f64,
+}
+
+impl Program {
+    /// Build a program: every segment validated, free values resolved (the
+    /// rule of the `segment` module), given values checked, the angles summing
+    /// to 2π and every join (the last to the first across `advance`) continuous
+    /// up to the derivative `continuity` (0 position … 3 jerk).
+    pub fn new(
+        specs: &[SegmentSpec],
+        continuity: usize,
+        advance: f64,
+    ) -> Result<Program, MotionError> {
+        if specs.is_empty() {
+            return Err(MotionError::BadLaw {
+                what: "a program needs at least one segment".to_string(),
+            });
+        }
+        if !advance.is_finite() {
+            return Err(crate::input::InvalidInput::bad_value(
+                "advance",
+                advance,
+                "[m or rad] must be finite",
+            )
+            .into());
+        }
+        if continuity > 3 {
+            return Err(MotionError::BadLaw {
+                what: format!(
+                    "continuity = {continuity} must be 0 (position), 1 (velocity), 2 (acceleration) or 3 (jerk)"
+                ),
+            });
+        }
+        for (i, s) in specs.iter().enumerate() {
+            validate(i, s)?;
+        }
+        let total: f64 = specs.iter().map(|s| s.angle).sum();
+        if (total - TAU).abs() > CYCLE_TOL {
+            return Err(MotionError::BadLaw {
+                what: format!(
+                    "the segments' angles sum to {}°, not 360°",
+                    crate::num_text::Num(total.to_degrees())
+                ),
+            });
+        }
+        let mut program = Program {
+            specs: specs.to_vec(),
+            spans: Vec::with_capacity(specs.len()),
+            fast: Vec::new(),
+            starts: Vec::new(),
+            advance,
+        };
+        let mut prev_end = [0.0; 4];
+        let mut start = 0.0;
+        for (i, spec) in specs.iter().enumerate() {
+            let s0: [f64; 4] = std::array::from_fn(|k| spec.start[k].unwrap_or(prev_end[k]));
+            let next = specs.get(i + 1);
+            let mut s1 = spec.end;
+            for (k, v) in s1.iter_mut().enumerate().skip(1) {
+                if v.is_none() {
+                    *v = next.and_then(|n| n.start[k].or(law_fixed_start(n)[k - 1]));
+                }
+            }
+            let local = pieces(i, spec, s0, s1)?;
+            program.push(i, start, local)?;
+            prev_end = program.spans[i].at_end;
+            start += spec.angle;
+        }
+        program.check_joins(continuity)?;
+        Ok(program)
+    }
+
+    /// Add segment `i` (its pieces in t from its start) at `start`, checking
+    /// the values its spec gives at each end.
+    fn push(
+        &mut self,
+        i: usize,
+        start: f64,
+        (local, scalable): (Vec<Piece>, bool),
+    ) -> Result<(), MotionError> {
+        let spec = &self.specs[i];
+        let first = self.fast.len();
+        for p in local {
+            let abs = Piece {
+                x0: start + p.x0,
+                x1: start + p.x1,
+                ..p
+            };
+            self.starts.push(abs.x0);
+            self.fast.push(Fast::new(&abs));
+        }
+        let last = self.fast.len() - 1;
+        let end = start + spec.angle;
+        let at_start = self.fast[first].eval_all(start);
+        let at_end = self.fast[last].eval_all(end);
+        let scale = (at_end[0] - at_start[0])
+            .abs()
+            .max(at_start[0].abs())
+            .max(at_end[0].abs());
+        for (which, given, law) in [
+            ("start", &spec.start, &at_start),
+            ("end", &spec.end, &at_end),
+        ] {
+            for k in 0..4 {
+                let Some(g) = given[k] else { continue };
+                let tol =
+                    BOUNDARY_TOL * (scale / spec.angle.powi(k as i32)).max(g.abs()).max(1e-300);
+                if (law[k] - g).abs() > tol {
+                    // The law's own value, with rounding's crumbs shown as 0.
+                    let own = if law[k].abs() <= tol { 0.0 } else { law[k] };
+                    let hint = match spec.law.as_str() {
+                        "polynomial_345" | "polynomial_4567" => {
+                            " (this law is rest to rest; for moving ends use poly5 or poly7)"
+                        }
+                        "dwell" | "constant_velocity" => "",
+                        _ if k >= 2 => " (for a given end acceleration or jerk use poly5 or poly7)",
+                        _ => "",
+                    };
+                    return Err(bad(
+                        i,
+                        spec,
+                        format!(
+                            "the law cannot meet its {which} {} = {} (its own is {}){hint}",
+                            ORDER_NAMES[k],
+                            crate::num_text::Num(g),
+                            crate::num_text::Num(own)
+                        ),
+                    ));
+                }
+            }
+        }
+        self.spans.push(Span {
+            start,
+            angle: spec.angle,
+            at_start,
+            at_end,
+            first,
+            last,
+            scalable,
+        });
+        Ok(())
+    }
+
+    /// Every join continuous up to the derivative `order` (module docs).
+    fn check_joins(&self, order: usize) -> Result<(), MotionError> {
+        let n = self.spans.len();
+        // Per order, the program's scale: the largest |h|/β^k of its segments.
+        let scale: [f64; 4] = std::array::from_fn(|k| {
+            self.spans
+                .iter()
+                .map(|s| (s.at_end[0] - s.at_start[0]).abs() / s.angle.powi(k as i32))
+                .chain(self.spans.iter().map(|s| s.at_start[k].abs()))
+                .fold(1e-300, f64::max)
+        });
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let (left, right) = (&self.spans[i], &self.spans[j]);
+            for k in 0..=order {
+                let mut from = left.at_end[k];
+                if j == 0 && k == 0 {
+                    from -= self.advance;
+                }
+                let to = right.at_start[k];
+                let tol = BOUNDARY_TOL * scale[k];
+                if (from - to).abs() > tol {
+                    // Rounding's crumbs shown as 0.
+                    let snap = |x: f64| if x.abs() <= tol { 0.0 } else { x };
+                    let (from, to) = (snap(from), snap(to));
+                    return Err(MotionError::Join {
+                        left: i,
+                        left_law: self.specs[i].law.clone(),
+                        right: j,
+                        right_law: self.specs[j].law.clone(),
+                        // Degrees to 1e-9 (the sum of radians is not exact).
+                        at_deg: ((left.start + left.angle).to_degrees() * 1e9).round() / 1e9,
+                        what: ORDER_NAMES[k],
+                        from,
+                        to,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The segments as built.
+    pub fn spans(&self) -> &[Span] {
+        &self.spans
+    }
+
+    /// The segments as given.
+    pub fn specs(&self) -> &[SegmentSpec] {
+        &self.specs
+    }
+
+    /// Position gained per cycle [m or rad].
+    pub fn advance(&self) -> f64 {
+        self.advance
+    }
+
+    /// [s, v, a, j] at master angle θ [rad] (any real; module docs).
+    #[inline]
+    pub fn eval(&self, theta: f64) -> [f64; 4] {
+        let (cycles, t) = if (0.0..TAU).contains(&theta) {
+            (0.0, theta)
+        } else {
+            let c = (theta / TAU).floor();
+            (c, (theta - c * TAU).clamp(0.0, TAU))
+        };
+        let k = self.starts.partition_point(|&x0| x0 <= t).max(1) - 1;
+        let mut out = self.fast[k].eval_all(t);
+        if cycles != 0.0 {
+            out[0] += cycles * self.advance;
+        }
+        out
+    }
+
+    /// [s, v, a, j] at every θ into the four rows of `out` (4 × N, row-major),
+    /// on `n_threads` threads.
+    pub fn eval_into(
+        &self,
+        theta: &[f64],
+        n_threads: Option<i64>,
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
+        crate::input::InvalidInput::check_finite("theta", theta)?;
+        let n = theta.len();
+        assert_eq!(out.len(), 4 * n, "eval_into: out must hold 4 × N values");
+        let (s, rest) = out.split_at_mut(n);
+        let (v, rest) = rest.split_at_mut(n);
+        let (a, j) = rest.split_at_mut(n);
+        const CHUNK: usize = 8192;
+        type Chunk<'a> = (
+            ((&'a [f64], &'a mut [f64]), &'a mut [f64]),
+            (&'a mut [f64], &'a mut [f64]),
+        );
+        let fill = |(((th, s), v), (a, j)): Chunk<'_>| {
+            for i in 0..th.len() {
+                let e = self.eval(th[i]);
+                s[i] = e[0];
+                v[i] = e[1];
+                a[i] = e[2];
+                j[i] = e[3];
+            }
+        };
+        let threads = resolve_threads(n_threads)?;
+        if threads == 1 || n <= CHUNK {
+            fill((((theta, s), v), (a, j)));
+        } else {
+            pool(threads)?.install(|| {
+                theta
+                    .par_chunks(CHUNK)
+                    .zip(s.par_chunks_mut(CHUNK))
+                    .zip(v.par_chunks_mut(CHUNK))
+                    .zip(a.par_chunks_mut(CHUNK).zip(j.par_chunks_mut(CHUNK)))
+                    .for_each(|c| {
+                        if !crate::cancel::requested() {
+                            fill(c)
+                        }
+                    })
+            });
+        }
+        Ok(())
+    }
+
+    /// The characteristic values of segment `i` (see [`Characteristics`]).
+    pub fn characteristics(&self, i: usize) -> Characteristics {
+        let span = &self.spans[i];
+        let pieces = &self.fast[span.first..=span.last];
+        let peak = |order: usize| {
+            let hi = extreme(pieces, |p, x| p.eval(x, order)).1;
+            let lo = extreme(pieces, |p, x| -p.eval(x, order)).1;
+            hi.max(lo)
+        };
+        let peaks = [peak(1), peak(2), peak(3)];
+        let cm = {
+            let hi = extreme(pieces, |p, x| p.eval(x, 1) * p.eval(x, 2)).1;
+            let lo = extreme(pieces, |p, x| -p.eval(x, 1) * p.eval(x, 2)).1;
+            hi.max(lo)
+        };
+        let h = span.at_end[0] - span.at_start[0];
+        let b = span.angle;
+        let per = |value: f64, power: i32| {
+            if h == 0.0 {
+                f64::NAN
+            } else {
+                value * b.powi(power) / h.abs()
+            }
+        };
+        Characteristics {
+            stroke: h,
+            peaks,
+            cv: per(peaks[0], 1),
+            ca: per(peaks[1], 2),
+            cj: per(peaks[2], 3),
+            cm: if h == 0.0 {
+                f64::NAN
+            } else {
+                cm * b.powi(3) / (h * h)
+            },
+        }
+    }
+
+    /// Segment `i` as a law on the unit square with its start position and
+    /// scale: s = s0 + scale·Z(x), x = (θ − start)/angle, where scale is its
+    /// stroke (1 where the stroke is 0). The cam's program holds it so.
+    pub fn unit_law(&self, i: usize) -> (f64, f64, Law) {
+        let span = &self.spans[i];
+        let s0 = span.at_start[0];
+        let h = span.at_end[0] - s0;
+        let scale = if h == 0.0 { 1.0 } else { h };
+        let b = span.angle;
+        let segments = (span.first..=span.last)
+            .map(|k| {
+                let f = &self.fast[k];
+                // Back from t to x = t/β: c_k t^k = c_k β^k x^k.
+                let mut m = 1.0;
+                let poly = f.poly[0]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &c)| {
+                        let v = (c - if i == 0 { s0 } else { 0.0 }) * m / scale;
+                        m *= b;
+                        v
+                    })
+                    .collect();
+                Piece {
+                    x0: (f.x0 - span.start) / b,
+                    x1: (f.x1 - span.start) / b,
+                    poly,
+                    amp: f.amp[0] / scale,
+                    freq: f.freq * b,
+                    phase: f.phase[0],
+                }
+            })
+            .collect();
+        (s0, scale, Law::from_segments(segments))
+    }
+}
