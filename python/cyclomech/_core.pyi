@@ -145,6 +145,7 @@ class CamKernel:
         follower: str,
         params: list[float],
         groove: bool,
+        program: ProgramKernel | None = None,
     ) -> CamKernel: ...
     @property
     def initial_arm_angle(self) -> float | None: ...
@@ -447,7 +448,13 @@ def cam_residual_ratio(
     *,
     n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
-def cam_min_tau(law: str, ratio_limit: float, zeta: float) -> float: ...
+def cam_min_tau(
+    law: str,
+    ratio_limit: float,
+    zeta: float,
+    program: ProgramKernel | None = None,
+    index: int = 0,
+) -> float: ...
 def cam_follower_response(
     kinds: list[str],
     angles: list[float],
@@ -457,6 +464,7 @@ def cam_follower_response(
     omega_n: float,
     zeta: float,
     theta: npt.NDArray[np.float64],
+    program: ProgramKernel | None = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 
 # shaft

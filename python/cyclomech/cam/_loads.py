@@ -411,14 +411,23 @@ def solve_min_angles(
         if not 0.0 < alpha < 90.0:
             raise InputError(f"max_pressure_angle_deg must be in (0, 90) [deg]; got {alpha!r}")
     moving = tuple(i for i, g in enumerate(cam.segments) if g.kind != "dwell")
+    # A program's segment whose shape changes with its angle (moving ends, a
+    # constant velocity, a spline) has no minimum angle of its own.
+    scalable = (True,) * len(cam.segments) if cam.program is None else cam.program.scalable
     if segments is None:
-        idx = moving
+        idx = tuple(i for i in moving if scalable[i])
     else:
         idx = tuple(int(i) for i in np.atleast_1d(np.asarray(segments)).reshape(-1))
         for i in idx:
             if i not in moving:
                 raise InputError(
                     f"segments: {i} is not the index of a rise or return; those are {list(moving)}"
+                )
+            if not scalable[i]:
+                raise InputError(
+                    f"segments: {i} ({cam.segments[i].law}) has moving ends, a constant "
+                    "velocity or a point table: its shape changes with its angle, so it has "
+                    "no minimum phase angle; bound rest-to-rest segments only"
                 )
     out = cam._kernel.min_angles(
         list(idx),
@@ -458,8 +467,14 @@ def _vibration_deg(cam: Cam, idx: tuple[int, ...], rpm: Array, vibration: Any) -
     positive("natural frequency", f, "[Hz]")
     positive("amplitude limit", a, "[m or rad]")
     wn = 2.0 * math.pi * f
-    tau = np.array(
-        [min_vibration_tau(cam.segments[k].law, a / cam.segments[k].stroke, zeta) for k in idx]
-    )
+    if cam.program is None:
+        tau = np.array(
+            [min_vibration_tau(cam.segments[k].law, a / cam.segments[k].stroke, zeta) for k in idx]
+        )
+    else:  # the program's own law of each segment on the unit square
+        kernel = cam.program._kernel
+        tau = np.array(
+            [_core.cam_min_tau("", a / cam.segments[k].stroke, zeta, kernel, k) for k in idx]
+        )
     beta = np.degrees(np.outer(rpm * RAD_PER_S_PER_RPM, tau / wn))
     return np.where(beta <= 360.0, beta, np.nan)

@@ -12,7 +12,7 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import count, finite_number, float_array, instances, positive, threads_arg
 from .._errors import InputError
-from ..motion import NAMES
+from ..motion import NAMES, Program
 from . import _loads
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import CamLoads, Contact, FollowerLoads, MinPhaseAngles
@@ -161,9 +161,13 @@ class Cam:
 
     Parameters
     ----------
-    segments : sequence of Segment
+    segments : sequence of Segment, or cyclomech.motion.Program
         The program: segments (:class:`Segment`) whose angles sum to 360°, the displacement
-        returning to its start.
+        returning to its start; or any motion program (:class:`cyclomech.motion.Program`,
+        moving ends, polynomials, splines) that starts at s = 0 and returns to it
+        (``advance`` 0), each moving segment with a net stroke. Its segments are then
+        summarised as :class:`Segment` s in ``segments`` (kind by the stroke's sign,
+        ``law`` the motion law's name) and the program kept as ``program``.
     follower : TranslatingRoller or FlatFaced or OscillatingRoller
         The follower.
     closure : {"spring", "groove"}, default "spring"
@@ -180,7 +184,17 @@ class Cam:
 
     Examples
     --------
+    A velocity–velocity program: a constant-velocity stretch between two transitions.
+
     >>> import cyclomech as cm
+    >>> M = cm.motion.Segment
+    >>> prog = cm.motion.Program([M("cycloidal", 90, end=(0.01, 0.01)),
+    ...                           M("constant_velocity", 90),
+    ...                           M("cycloidal", 60, end=0.03), M("poly5", 120, end=0.0)])
+    >>> cam = cm.cam.Cam(prog, cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> [g.kind for g in cam.segments], round(float(cam.solve(math.pi / 2 + 0.3).ds), 12)
+    (['rise', 'rise', 'rise', 'return'], 0.01)
+
     >>> S = cm.cam.Segment
     >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
     ...                   S("dwell", 60)], cm.cam.TranslatingRoller(0.05, 0.01))
@@ -192,7 +206,7 @@ class Cam:
     cyclomech._errors.InputError: the segments' angles sum to 350.0°, not 360° ...
     """
 
-    __slots__ = ("_kernel", "closure", "follower", "segments")
+    __slots__ = ("_kernel", "closure", "follower", "program", "segments")
 
     def __init__(
         self,
@@ -200,12 +214,16 @@ class Cam:
         follower: TranslatingRoller | FlatFaced | OscillatingRoller,
         closure: str = "spring",
     ) -> None:
-        segs = tuple(instances("segments", segments, object))  # each a Segment, below
-        if not segs:
-            raise InputError("segments must hold at least one Segment")
-        for i, g in enumerate(segs):
-            if not isinstance(g, Segment):
-                raise InputError(f"segment {i} must be a cyclomech.cam.Segment; got {g!r}")
+        program = segments if isinstance(segments, Program) else None
+        if program is not None:
+            segs = _summary(program)
+        else:
+            segs = tuple(instances("segments", segments, object))  # each a Segment, below
+            if not segs:
+                raise InputError("segments must hold at least one Segment")
+            for i, g in enumerate(segs):
+                if not isinstance(g, Segment):
+                    raise InputError(f"segment {i} must be a cyclomech.cam.Segment; got {g!r}")
         if not isinstance(follower, TranslatingRoller | FlatFaced | OscillatingRoller):
             raise InputError(
                 "follower must be a TranslatingRoller, FlatFaced or OscillatingRoller; "
@@ -215,7 +233,8 @@ class Cam:
             raise InputError(f"closure must be one of {_CLOSURES}; got {closure!r}")
         if closure == "groove" and isinstance(follower, FlatFaced):
             raise InputError("closure 'groove' needs a roller follower, not FlatFaced")
-        _check_program(segs)
+        if program is None:
+            _check_program(segs)
         kind, params = follower._kernel_args()
         self._kernel = _core.CamKernel(
             [g.kind for g in segs],
@@ -225,14 +244,17 @@ class Cam:
             kind,
             params,
             closure == "groove",
+            None if program is None else program._kernel,
         )
+        self.program = program
         self.segments = segs
         self.follower = follower
         self.closure = closure
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Rebuilt from its parts (the kernel is not picklable): Dask ships machines.
-        return (Cam, (self.segments, self.follower, self.closure))
+        program = self.segments if self.program is None else self.program
+        return (Cam, (program, self.follower, self.closure))
 
     def solve(self, theta: Any, *, n_threads: int | None = None) -> CamKinematics:
         """The exact kinematics and geometry at cam angles ``theta``.
@@ -566,6 +588,41 @@ class Cam:
         edges = np.diff(np.r_[0, flags.astype(np.int8), 0])
         first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
         return [(float(deg[a]), float(deg[b])) for a, b in zip(first, last, strict=True)]
+
+
+def _summary(program: Program) -> tuple[Segment, ...]:
+    """A cam's segments from a motion program (see :class:`Cam`), checked for a cam.
+
+    >>> import cyclomech as cm
+    >>> M = cm.motion.Segment
+    >>> p = cm.motion.Program([M("poly5", 180, end=0.02), M("dwell", 60), M("poly5", 120, end=0)])
+    >>> [(g.kind, g.stroke) for g in _summary(p)]
+    [('rise', 0.02), ('dwell', 0.0), ('return', 0.02)]
+    """
+    if program.advance != 0.0:
+        raise InputError(
+            f"a cam's program must return to its start: advance = {program.advance!r} "
+            "[m or rad] must be 0"
+        )
+    out = []
+    for i, (g, (_, _, s0, s1)) in enumerate(zip(program.segments, program.boundaries, strict=True)):
+        if i == 0 and s0[0] != 0.0:
+            raise InputError(
+                f"a cam's program must start at s = 0 (the displacement from the base "
+                f"circle at cam angle 0); segment 0 ({g.law}) starts at s = {s0[0]!r}"
+            )
+        h = s1[0] - s0[0]
+        if g.law == "dwell":
+            out.append(Segment("dwell", g.angle_deg, operation=g.operation))
+            continue
+        if h == 0.0:
+            raise InputError(
+                f"segment {i} ({g.law}) moves but ends where it starts; a cam's moving "
+                "segment needs a net stroke: split it in two"
+            )
+        kind = "rise" if h > 0 else "return"
+        out.append(Segment(kind, g.angle_deg, abs(h), law=g.law, operation=g.operation))
+    return tuple(out)
 
 
 def _check_program(segs: tuple[Segment, ...]) -> None:

@@ -284,6 +284,7 @@ def follower_response(
         2.0 * math.pi * fn,
         z,
         t.reshape(-1),
+        None if cam.program is None else cam.program._kernel,
     )
     return FollowerResponse(
         theta=t.reshape(shape).copy(),

@@ -332,6 +332,24 @@ class Program:
         )
 
     @property
+    def scalable(self) -> tuple[bool, ...]:
+        """Per segment: does its shape stay the same when its angle changes?
+
+        True for a rest-to-rest segment of a named law or a polynomial (the same law
+        stretched: what a cam's minimum phase angle assumes) and a dwell; False for
+        moving ends, a constant velocity and a spline (its table is in angles).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> S = cm.motion.Segment
+        >>> cm.motion.Program([S("poly5", 180, end=0.1), S("cycloidal", 90, end=(0.05, -0.1)),
+        ...                    S("poly5", 90, end=0.0)]).scalable
+        (True, False, False)
+        """
+        return tuple(bool(row[4]) for row in self._kernel.spans)
+
+    @property
     def boundaries(self) -> tuple[tuple[float, float, tuple[float, ...], tuple[float, ...]], ...]:
         """Each segment as built: (start [deg], angle [deg], (s, v, a, j) at its start, at its end).
 

@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
+use crate::motion::ProgramKernel;
 
 fn kind(py: Python<'_>, index: usize, name: &str) -> PyResult<Kind> {
     match name {
@@ -25,6 +26,36 @@ fn kind(py: Python<'_>, index: usize, name: &str) -> PyResult<Kind> {
     }
 }
 
+/// The cam's segment specs from parallel lists; with a motion `program`,
+/// each moving segment's law is the program's own on the unit square.
+pub(crate) fn specs(
+    py: Python<'_>,
+    kinds: &[String],
+    angles: &[f64],
+    strokes: &[f64],
+    laws: &[String],
+    program: Option<&ProgramKernel>,
+) -> PyResult<Vec<SegmentSpec>> {
+    let mut specs = Vec::with_capacity(kinds.len());
+    for i in 0..kinds.len() {
+        let kind = kind(py, i, &kinds[i])?;
+        let unit = match program {
+            Some(p) if kind != Kind::Dwell && i < p.program.spans().len() => {
+                Some(p.program.unit_law(i).2)
+            }
+            _ => None,
+        };
+        specs.push(SegmentSpec {
+            kind,
+            angle: angles[i],
+            stroke: strokes[i],
+            law: laws[i].clone(),
+            unit,
+        });
+    }
+    Ok(specs)
+}
+
 /// A validated cam: program, follower and closure (see `cyclomech.cam`).
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct CamKernel {
@@ -36,6 +67,7 @@ impl CamKernel {
     /// `follower` is "translating" (params base, roller, offset), "flat" (base)
     /// or "oscillating" (pivot distance, arm length, base, roller); angles in rad.
     #[new]
+    #[pyo3(signature = (kinds, angles, strokes, laws, follower, params, groove, program=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -46,6 +78,7 @@ impl CamKernel {
         follower: &str,
         params: Vec<f64>,
         groove: bool,
+        program: Option<PyRef<'_, ProgramKernel>>,
     ) -> PyResult<Self> {
         let n = kinds.len();
         if angles.len() != n || strokes.len() != n || laws.len() != n {
@@ -56,15 +89,7 @@ impl CamKernel {
             }
             .into_pyerr(py));
         }
-        let mut specs = Vec::with_capacity(n);
-        for i in 0..n {
-            specs.push(SegmentSpec {
-                kind: kind(py, i, &kinds[i])?,
-                angle: angles[i],
-                stroke: strokes[i],
-                law: laws[i].clone(),
-            });
-        }
+        let specs = specs(py, &kinds, &angles, &strokes, &laws, program.as_deref())?;
         let follower = match (follower, params.as_slice()) {
             ("translating", &[b, r, e]) => Follower::TranslatingRoller {
                 base_radius: b,

@@ -2,7 +2,7 @@
 //! law, its bound τ*, and the periodic steady state of a whole cam.
 
 use cyclomech_core::cam::{
-    min_tau, residual_ratio_batch, steady_response, CamError, Kind, SegmentSpec, VibrationError,
+    min_tau, min_tau_of, residual_ratio_batch, steady_response, CamError, LawForce, VibrationError,
 };
 use numpy::ndarray::Ix1;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
+use crate::motion::ProgramKernel;
 
 /// Each wrapped error keeps its own domain's mapping (errors.rs).
 impl IntoPyErr for VibrationError {
@@ -50,10 +51,27 @@ pub fn cam_residual_ratio<'py>(
     Ok(out)
 }
 
-/// τ*: the smallest τ [rad] with R(τ') ≤ `ratio_limit` for every τ' ≥ τ*.
+/// τ*: the smallest τ [rad] with R(τ') ≤ `ratio_limit` for every τ' ≥ τ*, for
+/// the named `law`, or for segment `index` of a motion `program` (its law on
+/// the unit square; a rest-to-rest one).
 #[pyfunction]
-pub fn cam_min_tau(py: Python<'_>, law: &str, ratio_limit: f64, zeta: f64) -> PyResult<f64> {
-    run(py, "cam_min_tau", || min_tau(law, ratio_limit, zeta))
+#[pyo3(signature = (law, ratio_limit, zeta, program=None, index=0))]
+pub fn cam_min_tau(
+    py: Python<'_>,
+    law: &str,
+    ratio_limit: f64,
+    zeta: f64,
+    program: Option<PyRef<'_, ProgramKernel>>,
+    index: usize,
+) -> PyResult<f64> {
+    match program {
+        None => run(py, "cam_min_tau", || min_tau(law, ratio_limit, zeta)),
+        Some(p) => {
+            let index = index.min(p.program.spans().len() - 1);
+            let force = LawForce::of(&p.program.unit_law(index).2);
+            run(py, "cam_min_tau", || min_tau_of(&force, ratio_limit, zeta))
+        }
+    }
 }
 
 /// Three float64 arrays: the error, its rate and the per-segment residual.
@@ -68,6 +86,7 @@ type Triple<'py> = (
 /// natural frequency `omega_n` [rad/s], damping ratio `zeta`, at cam angles
 /// `theta` [rad]: (x, ẋ [per s], residual amplitude after each segment).
 #[pyfunction]
+#[pyo3(signature = (kinds, angles, strokes, laws, omega, omega_n, zeta, theta, program=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn cam_follower_response<'py>(
     py: Python<'py>,
@@ -79,6 +98,7 @@ pub fn cam_follower_response<'py>(
     omega_n: f64,
     zeta: f64,
     theta: PyReadonlyArray1<'py, f64>,
+    program: Option<PyRef<'py, ProgramKernel>>,
 ) -> PyResult<Triple<'py>> {
     let n = kinds.len();
     let bad = |field: &'static str, value: f64, why: String| {
@@ -91,27 +111,7 @@ pub fn cam_follower_response<'py>(
             "kinds, angles, strokes and laws must have one entry per segment".into(),
         ));
     }
-    let mut specs = Vec::with_capacity(n);
-    for i in 0..n {
-        let kind = match kinds[i].as_str() {
-            "rise" => Kind::Rise,
-            "dwell" => Kind::Dwell,
-            "return" => Kind::Return,
-            other => {
-                return Err(bad(
-                    "kind",
-                    i as f64,
-                    format!("{other:?} must be rise, dwell or return"),
-                ))
-            }
-        };
-        specs.push(SegmentSpec {
-            kind,
-            angle: angles[i],
-            stroke: strokes[i],
-            law: laws[i].clone(),
-        });
-    }
+    let specs = crate::cam::specs(py, &kinds, &angles, &strokes, &laws, program.as_deref())?;
     let ts = CamError::slice(py, "theta", &theta)?;
     let st = run(py, "cam_follower_response", || {
         steady_response(&specs, omega, omega_n, zeta, ts)

@@ -67,13 +67,26 @@ impl Kind {
 }
 
 /// A segment as given: its kind, angle [rad], stroke [m or rad] and law name
-/// (ignored for a dwell).
+/// (ignored for a dwell); `unit`, if given, is its law on the unit square
+/// (s = s0 ± stroke·Z(x)) instead of the named rise: a segment of a motion
+/// program (`motion::Program::unit_law`), whose ends may be in motion.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SegmentSpec {
     pub kind: Kind,
     pub angle: f64,
     pub stroke: f64,
     pub law: String,
+    pub unit: Option<Law>,
+}
+
+impl SegmentSpec {
+    /// Its law on the unit square: `unit`, else the named rise.
+    pub fn unit_law(&self) -> Result<Law, crate::motion::MotionError> {
+        match &self.unit {
+            Some(law) => Ok(law.clone()),
+            None => Law::rise(&self.law),
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -128,7 +141,7 @@ impl Program {
                     return Err(bad("stroke", sp.stroke, "must be > 0 for a rise or return"))
                 }
                 k => {
-                    let law = Law::rise(&sp.law).map_err(|_| CamError::UnknownLaw {
+                    let law = sp.unit_law().map_err(|_| CamError::UnknownLaw {
                         index,
                         kind,
                         name: sp.law.clone(),
@@ -145,6 +158,19 @@ impl Program {
                 h,
                 law,
             });
+            // A program's segment may overshoot its ends (moving ends): its
+            // law's own range; a named rise stays within them.
+            if let Some(law) = segs
+                .last()
+                .and_then(|g: &Seg| g.law.as_ref())
+                .filter(|_| sp.unit.is_some())
+            {
+                let (lo, hi) = law.z_range();
+                for v in [s0 + h * lo, s0 + h * hi] {
+                    s_max = s_max.max(v);
+                    s_min = s_min.min(v);
+                }
+            }
             start += sp.angle;
             s0 += h;
             s_max = s_max.max(s0);

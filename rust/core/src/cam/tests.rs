@@ -11,6 +11,7 @@ fn program() -> Program {
         angle: deg.to_radians(),
         stroke,
         law: "cycloidal".into(),
+        unit: None,
     };
     Program::new(&[
         seg(Kind::Rise, 120.0, 0.02),
@@ -44,6 +45,7 @@ fn bad_inputs_are_errors() {
         angle: PI,
         stroke: 0.01,
         law: "nope".into(),
+        unit: None,
     };
     assert!(matches!(
         Program::new(std::slice::from_ref(&seg)),
@@ -51,6 +53,7 @@ fn bad_inputs_are_errors() {
     ));
     let ok = SegmentSpec {
         law: "cycloidal".into(),
+        unit: None,
         ..seg
     };
     assert!(matches!(

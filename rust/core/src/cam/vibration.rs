@@ -192,14 +192,19 @@ pub struct LawForce {
 impl LawForce {
     /// The law's force on its grids; an unknown name is an error.
     pub fn new(law: &str) -> Result<LawForce, VibrationError> {
-        let law = Law::rise(law)?;
+        Ok(LawForce::of(&Law::rise(law)?))
+    }
+
+    /// The force of any law on the unit square (a rest-to-rest one: the
+    /// residual vibration is after a segment started from rest).
+    pub fn of(law: &Law) -> LawForce {
         let coarse = law_nodes(&law, GRID_PER_UNIT);
         let fine = bisect(&coarse);
         let force = |xs: &[f64]| xs.iter().map(|&x| -law.z(x, 2)).collect::<Vec<f64>>();
         let (fc, ff) = (force(&coarse), force(&fine));
-        Ok(LawForce {
+        LawForce {
             grids: [(coarse, fc), (fine, ff)],
-        })
+        }
     }
 
     /// The end state (q, q') at u = 1 from rest, Richardson-extrapolated.
@@ -387,6 +392,11 @@ fn maximise(
 /// The smallest τ* ≥ 0 such that R(τ) ≤ `ratio_limit` for every τ ≥ τ* (the
 /// bound rule; see the module docs), for the named law and damping ratio ζ.
 pub fn min_tau(law: &str, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationError> {
+    min_tau_of(&LawForce::new(law)?, ratio_limit, zeta)
+}
+
+/// [`min_tau`] for a law's force ([`LawForce::of`] any rest-to-rest law).
+pub fn min_tau_of(force: &LawForce, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationError> {
     check_zeta(zeta)?;
     param(
         "ratio_limit",
@@ -394,7 +404,6 @@ pub fn min_tau(law: &str, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationE
         ratio_limit > 0.0,
         "finite and > 0 (amplitude per unit stroke)",
     )?;
-    let force = LawForce::new(law)?;
     let r = |tau: f64, buf: &mut Vec<f64>| force.ratio(tau, zeta, buf);
     // R(0+) = 1/√(1 − ζ²) (module docs).
     let r0 = 1.0 / ((1.0 - zeta) * (1.0 + zeta)).sqrt();
@@ -606,7 +615,7 @@ pub fn steady_response(
             Kind::Dwell => (0.0, None),
             k => {
                 let sign = if k == Kind::Rise { 1.0 } else { -1.0 };
-                (sign * sp.stroke, Some(Law::rise(&sp.law)?))
+                (sign * sp.stroke, Some(sp.unit_law()?))
             }
         };
         pieces.push(Piece {

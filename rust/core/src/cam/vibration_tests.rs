@@ -91,6 +91,7 @@ fn steady_state_is_periodic_and_matches_the_residual() {
         angle: deg.to_radians(),
         stroke,
         law: "cycloidal".into(),
+        unit: None,
     };
     let specs = [
         seg(Kind::Dwell, 200.0, 0.0),
@@ -119,6 +120,7 @@ fn resonance_is_an_error() {
         angle: deg.to_radians(),
         stroke: 0.01,
         law: "harmonic".into(),
+        unit: None,
     };
     let specs = [seg(Kind::Rise, 180.0), seg(Kind::Return, 180.0)];
     let e = steady_response(&specs, 10.0, 30.0, 0.0, &[0.0]).unwrap_err();

@@ -427,6 +427,11 @@ impl Law {
         out
     }
 
+    /// (min Z, max Z) over [0, 1].
+    pub fn z_range(&self) -> (f64, f64) {
+        (self.peak_signed(0, -1.0).1, self.peak_signed(0, 1.0).1)
+    }
+
     /// (x, max |Z^(order)|) over [0, 1].
     fn peak(&self, order: usize) -> (f64, f64) {
         let (xa, a) = self.peak_signed(order, 1.0);

@@ -122,6 +122,19 @@ impl Program {
             }
             let local = pieces(i, spec, s0, s1)?;
             program.push(i, start, local)?;
+            // The start values it was built from, where met to rounding, are
+            // its values (joins then compare exact numbers).
+            let span = &mut program.spans[i];
+            let scale = span.at_end[0]
+                .abs()
+                .max(span.at_start[0].abs())
+                .max(s0[0].abs());
+            for (k, (v, want)) in span.at_start.iter_mut().zip(s0).enumerate() {
+                let tol = BOUNDARY_TOL * (scale / spec.angle.powi(k as i32)).max(want.abs());
+                if (*v - want).abs() <= tol {
+                    *v = want;
+                }
+            }
             prev_end = program.spans[i].at_end;
             start += spec.angle;
         }
@@ -150,15 +163,25 @@ impl Program {
         }
         let last = self.fast.len() - 1;
         let end = start + spec.angle;
-        let at_start = self.fast[first].eval_all(start);
-        let at_end = self.fast[last].eval_all(end);
-        let scale = (at_end[0] - at_start[0])
-            .abs()
-            .max(at_start[0].abs())
-            .max(at_end[0].abs());
+        let mut at_start = self.fast[first].eval_all(start);
+        let mut at_end = self.fast[last].eval_all(end);
+        // The segment's scale of position: its stroke, its ends, and each
+        // end derivative times β^k (a motion that returns to where it started).
+        let scale = (0..4)
+            .flat_map(|k| [at_start[k], at_end[k]].map(|v| v.abs() * spec.angle.powi(k as i32)))
+            .fold((at_end[0] - at_start[0]).abs(), f64::max);
+        // Rounding's crumbs at an end (a derivative of 1e-17 where the law
+        // stops) are 0, so that the next segment starts truly at rest.
+        for values in [&mut at_start, &mut at_end] {
+            for (k, v) in values.iter_mut().enumerate().skip(1) {
+                if v.abs() <= BOUNDARY_TOL * 1e-3 * scale / spec.angle.powi(k as i32) {
+                    *v = 0.0;
+                }
+            }
+        }
         for (which, given, law) in [
-            ("start", &spec.start, &at_start),
-            ("end", &spec.end, &at_end),
+            ("start", &spec.start, &mut at_start),
+            ("end", &spec.end, &mut at_end),
         ] {
             for k in 0..4 {
                 let Some(g) = given[k] else { continue };
@@ -186,6 +209,8 @@ impl Program {
                         ),
                     ));
                 }
+                // Met to the tolerance: the value given is the value.
+                law[k] = g;
             }
         }
         self.spans.push(Span {

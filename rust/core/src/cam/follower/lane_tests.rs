@@ -45,6 +45,7 @@ fn cams() -> Vec<Cam> {
             angle: deg.to_radians(),
             stroke,
             law: law.into(),
+            unit: None,
         };
         let prog = |h: f64| {
             Program::new(&[
