@@ -198,7 +198,7 @@ impl LawForce {
     /// The force of any law on the unit square (a rest-to-rest one: the
     /// residual vibration is after a segment started from rest).
     pub fn of(law: &Law) -> LawForce {
-        let coarse = law_nodes(&law, GRID_PER_UNIT);
+        let coarse = law_nodes(law, GRID_PER_UNIT);
         let fine = bisect(&coarse);
         let force = |xs: &[f64]| xs.iter().map(|&x| -law.z(x, 2)).collect::<Vec<f64>>();
         let (fc, ff) = (force(&coarse), force(&fine));
