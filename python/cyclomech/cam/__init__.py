@@ -41,6 +41,7 @@ from ._program import KINDS, Cam, CamKinematics, Segment
 from ._vibration import (
     FollowerResponse,
     follower_response,
+    polydyne,
     min_vibration_tau,
     residual_vibration,
 )
@@ -67,6 +68,7 @@ __all__ = [
     "Segment",
     "TranslatingRoller",
     "follower_response",
+    "polydyne",
     "min_vibration_tau",
     "profile_table",
     "residual_vibration",

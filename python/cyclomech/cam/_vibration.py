@@ -35,6 +35,13 @@ move τ out of it). A segment's cam angle must then satisfy
 **A whole cam.** :func:`follower_response` gives the periodic steady state at a
 constant speed: x and ẋ at cam angles, and the residual amplitude after each
 segment (the free-vibration amplitude of the state at its end).
+
+**Polydyne.** :func:`polydyne` inverts the model: for the working member to
+follow a program y(θ) exactly at one speed ω, the cam must impose
+s = y + ÿ/ω_n² = y + (ω/ω_n)²·y″ (undamped model; y″ per rad² of cam), with
+ω_n² = k/m. The program must be continuous to its jerk for s to be continuous to
+its velocity. At other speeds the output departs from the program: the follower's
+response to the polydyne cam (:func:`follower_response`) shows by how much.
 """
 
 from __future__ import annotations
@@ -49,10 +56,16 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import check_bytes, finite_number, float_array, positive, threads_arg
 from .._errors import InputError
-from ..motion import NAMES
+from ..motion import NAMES, Program
 from ._program import Cam
 
-__all__ = ["FollowerResponse", "follower_response", "min_vibration_tau", "residual_vibration"]
+__all__ = [
+    "FollowerResponse",
+    "follower_response",
+    "min_vibration_tau",
+    "polydyne",
+    "residual_vibration",
+]
 
 #: Cam angles of the default response grid (every half degree, 0 and 360° both).
 _DEFAULT_SAMPLES = 721
@@ -292,3 +305,69 @@ def follower_response(
         rate=v.reshape(shape),
         residual=residual,
     )
+
+
+def polydyne(
+    program: Program,
+    follower_mass: float,
+    stiffness: float,
+    rpm: float,
+    *,
+    continuity: str = "velocity",
+) -> Program:
+    """The polydyne cam motion: the cam displacement whose follower output follows ``program``.
+
+    For a follower of mass m on an elastic link of stiffness k (ω_n² = k/m, the
+    model of the module docs, undamped), the cam displacement
+    s(θ) = y(θ) + (m·ω²/k)·y″(θ) makes the working member follow y exactly at
+    ``rpm`` (ω = 2π·rpm/60). Closed form per piece: s stays a polynomial plus a sine.
+
+    Parameters
+    ----------
+    program : cyclomech.motion.Program
+        The motion the working member must follow, y(θ) [m or rad], continuous to
+        its jerk (so that s is continuous to its velocity).
+    follower_mass : float
+        m [kg] (for an oscillating arm: its inertia [kg·m²]).
+    stiffness : float
+        k [N/m] (oscillating: [N·m/rad]) of the link between cam and member.
+    rpm : float
+        The design speed [rpm].
+    continuity : {"position", "velocity", "acceleration", "jerk"}, default "velocity"
+        The order to which the cam motion's joins must be continuous.
+
+    Returns
+    -------
+    cyclomech.motion.Program
+        The cam motion, its ``shift`` = m·ω²/k [rad²]; a :class:`Cam` takes it.
+
+    Raises
+    ------
+    InputError
+        If ``program`` is not a plain motion program, a number is not > 0, or the
+        cam motion jumps at a join (the program's own continuity is too low: named).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> M = cm.motion.Segment
+    >>> y = cm.motion.Program([M("poly7", 120, end=0.02), M("dwell", 60),
+    ...                        M("poly7", 120, end=0.0), M("dwell", 60)], continuity="jerk")
+    >>> s = cm.cam.polydyne(y, follower_mass=0.5, stiffness=2e5, rpm=600)
+    >>> round(s.shift, 9)  # m ω² / k [rad²]
+    0.009869604
+    >>> cam = cm.cam.Cam(s, cm.cam.TranslatingRoller(0.06, 0.01))
+    """
+    if not isinstance(program, Program):
+        raise InputError(f"program must be a cyclomech.motion.Program; got {program!r}")
+    m = positive("follower_mass", follower_mass, "[kg or kg·m²]")
+    k = positive("stiffness", stiffness, "[N/m or N·m/rad]")
+    w = positive("rpm", rpm, "[rpm]") * _core.RAD_PER_S_PER_RPM
+    try:
+        return program._plus_second_derivative(m * w * w / k, continuity)
+    except InputError as e:
+        raise InputError(
+            f"the polydyne cam motion at {rpm!r} rpm: {e}; its program must be continuous "
+            "two derivatives higher than the cam motion (e.g. poly7 or polynomial_4567 "
+            "segments for a cam continuous to its velocity)"
+        ) from None

@@ -134,6 +134,13 @@ class Segment:
             raise InputError(f"operation must be None or a name; got {self.operation!r}")
 
 
+def _shifted(segments: Any, continuity: str, advance: float, shift: float) -> Program:
+    """A program s + shift·s″ rebuilt from its parts (unpickling)."""
+    return Program(segments, continuity="position", advance=advance)._plus_second_derivative(
+        shift, continuity
+    )
+
+
 @dataclass(frozen=True)
 class MotionValues:
     """A program evaluated: position and derivatives per radian of master.
@@ -224,6 +231,12 @@ class Program:
         Position gained per cycle [m or rad]: 0 for a cam or a reciprocating axis,
         the feed length of a film feed, 2π for a rotating knife.
 
+    Attributes
+    ----------
+    shift : float
+        c [rad²]: this program is the motion s + c·s″ of its segments (a polydyne
+        cam's, see :func:`cyclomech.cam.polydyne`); 0 for a plain program.
+
     Raises
     ------
     InputError
@@ -245,7 +258,7 @@ class Program:
     cyclomech._errors.InputError: segment 0 (harmonic) → segment 1 (dwell) at 90°: the ...
     """
 
-    __slots__ = ("_kernel", "advance", "continuity", "segments")
+    __slots__ = ("_kernel", "advance", "continuity", "segments", "shift")
 
     def __init__(self, segments: Any, continuity: str = "velocity", advance: float = 0.0) -> None:
         segs = tuple(instances("segments", segments, Segment))
@@ -269,10 +282,37 @@ class Program:
         self.segments = segs
         self.continuity = continuity
         self.advance = adv
+        self.shift = 0.0
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Rebuilt from its parts (the kernel is not picklable): Dask ships programs.
+        if self.shift:
+            return (_shifted, (self.segments, self.continuity, self.advance, self.shift))
         return (Program, (self.segments, self.continuity, self.advance))
+
+    def _plus_second_derivative(self, c: float, continuity: str) -> Program:
+        """s + c·s″ of this program (c [rad²]), joins checked to ``continuity``.
+
+        >>> import cyclomech as cm
+        >>> S = cm.motion.Segment
+        >>> p = cm.motion.Program([S("poly7", 180, end=0.1), S("poly7", 180, end=0.0)])
+        >>> q = p._plus_second_derivative(0.01, "velocity")
+        >>> m, n = p.evaluate(1.0), q.evaluate(1.0)
+        >>> bool(abs(n.s - (m.s + 0.01 * m.a)) < 1e-15), q.shift
+        (True, 0.01)
+        """
+        if continuity not in CONTINUITY:
+            raise InputError(f"continuity must be one of {CONTINUITY}; got {continuity!r}")
+        if self.shift:
+            raise InputError("this program is already a polydyne motion (shift ≠ 0)")
+        kernel = self._kernel.plus_second_derivative(float(c), CONTINUITY.index(continuity))
+        out = object.__new__(Program)
+        out._kernel = kernel
+        out.segments = self.segments
+        out.continuity = continuity
+        out.advance = self.advance
+        out.shift = float(c)
+        return out
 
     def __repr__(self) -> str:
         laws = ", ".join(f"{g.law} {g.angle_deg:g}°" for g in self.segments)

@@ -236,6 +236,15 @@ impl ProgramKernel {
             .map(|program| ProgramKernel { program })
     }
 
+    /// s + c·s″: the polydyne cam motion of this program (core docs), joins
+    /// checked to `continuity`.
+    fn plus_second_derivative(&self, py: Python<'_>, c: f64, continuity: usize) -> PyResult<Self> {
+        run(py, "Program.plus_second_derivative", || {
+            self.program.plus_second_derivative(c, continuity)
+        })
+        .map(|program| ProgramKernel { program })
+    }
+
     /// [s, v, a, j] at master angles θ [rad]: a (4, N) array.
     #[pyo3(signature = (theta, *, n_threads=None))]
     fn eval<'py>(

@@ -267,6 +267,57 @@ impl Program {
         Ok(())
     }
 
+    /// s + c·s″ over the whole program: the cam motion whose spring-mass
+    /// follower (m, k) follows this program exactly at master speed ω when
+    /// c = m·ω²/k (the polydyne cam: m·ÿ + k·(y − s) = 0 is met by y = this
+    /// program's s). Every piece stays a polynomial plus a sine (the sine's
+    /// amplitude becomes A·(1 − c·ω_p²)); its joins are checked to the
+    /// derivative `continuity`, which the shifted motion keeps only where this
+    /// program is continuous two derivatives higher.
+    pub fn plus_second_derivative(
+        &self,
+        c: f64,
+        continuity: usize,
+    ) -> Result<Program, MotionError> {
+        if !c.is_finite() {
+            return Err(
+                crate::input::InvalidInput::bad_value("c", c, "[rad²] must be finite").into(),
+            );
+        }
+        let mut out = Program {
+            specs: self.specs.clone(),
+            spans: Vec::with_capacity(self.spans.len()),
+            fast: Vec::with_capacity(self.fast.len()),
+            starts: self.starts.clone(),
+            advance: self.advance,
+        };
+        for f in &self.fast {
+            let mut poly = f.poly[0].clone();
+            for (k, &d2) in f.poly[2].iter().enumerate() {
+                poly[k] += c * d2;
+            }
+            out.fast.push(Fast::new(&Piece {
+                x0: f.x0,
+                x1: f.x1,
+                poly,
+                amp: f.amp[0] * (1.0 - c * f.freq * f.freq),
+                freq: f.freq,
+                phase: f.phase[0],
+            }));
+        }
+        for span in &self.spans {
+            let end = span.start + span.angle;
+            out.spans.push(Span {
+                at_start: out.fast[span.first].eval_all(span.start),
+                at_end: out.fast[span.last].eval_all(end),
+                scalable: false,
+                ..span.clone()
+            });
+        }
+        out.check_joins(continuity)?;
+        Ok(out)
+    }
+
     /// The segments as built.
     pub fn spans(&self) -> &[Span] {
         &self.spans
