@@ -41,8 +41,8 @@ from ._program import KINDS, Cam, CamKinematics, Segment
 from ._vibration import (
     FollowerResponse,
     follower_response,
-    polydyne,
     min_vibration_tau,
+    polydyne,
     residual_vibration,
 )
 
@@ -68,8 +68,8 @@ __all__ = [
     "Segment",
     "TranslatingRoller",
     "follower_response",
-    "polydyne",
     "min_vibration_tau",
+    "polydyne",
     "profile_table",
     "residual_vibration",
     "write_profile_csv",
