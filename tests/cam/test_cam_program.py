@@ -65,7 +65,7 @@ def _velocity_velocity():
         [
             M("cycloidal", 90, end=(0.01, 0.01)),
             M("constant_velocity", 90),
-            M("modified_sine", 60, end=(0.03, 0.0)),
+            M("modified_sine", 60, end=(0.032, 0.0)),
             M("poly5", 120, end=0.0),
         ]
     )

@@ -7,6 +7,17 @@ in m and N (``stroke_m``, ``mass_kg``, ``spring_rate_n_per_m``, ``preload_n``,
 ``load_n``, ``max_vibration_m``); an oscillating follower's in degrees of arm
 rotation and N·m (``stroke_deg``, ``inertia_kg_m2``, ``spring_rate_nm_per_rad``,
 ``preload_nm``, ``load_nm``, ``max_vibration_deg``).
+
+**Motion programs.** A segment may take any law of
+:data:`cyclomech.motion.SEGMENT_LAWS`, moving ends (``start_velocity_m_per_rad``,
+``end_velocity_m_per_rad``: follower travel per radian of cam; an oscillating
+follower's ``_deg_per_rad``) and a spline's point table (``points_m`` or
+``points_deg``: rows [cam angle from the segment's start in degrees, displacement
+from the cam's start]); ``kind`` still says which way the stroke goes. Such a cam
+is built as a :class:`cyclomech.motion.Program` (joins continuous to the cam
+table's ``continuity``, default velocity), and ``polydyne_rpm`` turns it into the
+polydyne cam for that speed and the follower's ``mass_kg`` (``inertia_kg_m2``)
+and natural frequency (stiffness = m·ω_n²).
 """
 
 from __future__ import annotations
@@ -22,6 +33,8 @@ from .. import _keyrules, _toml
 from .._arrays import flag, instances
 from .._errors import InputError
 from .._keyrules import Rule
+from ..motion import CONTINUITY, NAMES, Program
+from ..motion import Segment as MotionSegment
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
 from ._program import Cam, Segment
@@ -34,6 +47,8 @@ _GEOMETRY = {
     "oscillating": ("pivot_distance_m", "arm_length_m", "base_radius_m", "roller_radius_m"),
 }
 _TRANSLATING = {
+    "velocity": "_m_per_rad",
+    "points": "points_m",
     "mass": "mass_kg",
     "spring": "spring_rate_n_per_m",
     "preload": "preload_n",
@@ -42,6 +57,8 @@ _TRANSLATING = {
     "vibration": "max_vibration_m",
 }
 _OSCILLATING = {
+    "velocity": "_deg_per_rad",
+    "points": "points_deg",
     "mass": "inertia_kg_m2",
     "spring": "spring_rate_nm_per_rad",
     "preload": "preload_nm",
@@ -55,15 +72,18 @@ _CONTACT = ("width_m", "follower_modulus_pa", "follower_poisson", "cam_modulus_p
 #: ``rpm`` in a cam file).
 CAM_KEYS = frozenset(
     {"follower", "closure", "segment", "max_stress_pa", "max_pressure_angle_deg"}
+    | {"continuity", "polydyne_rpm"}
     | {k for keys in _GEOMETRY.values() for k in keys}
-    | set(_TRANSLATING.values()) - {"stroke_m", "load_n"}
-    | set(_OSCILLATING.values()) - {"stroke_deg", "load_nm"}
+    | set(_TRANSLATING.values()) - {"stroke_m", "load_n", "_m_per_rad", "points_m"}
+    | set(_OSCILLATING.values()) - {"stroke_deg", "load_nm", "_deg_per_rad", "points_deg"}
     | set(_CONTACT)
     | {"natural_frequency_hz", "damping_ratio"}
 )
 #: The keys of one ``segment`` table (``arc`` only in a machine file).
 SEGMENT_KEYS = frozenset(
     {"kind", "angle_deg", "stroke_m", "stroke_deg", "law", "load_n", "load_nm"}
+    | {f"{end}_velocity{u}" for end in ("start", "end") for u in ("_m_per_rad", "_deg_per_rad")}
+    | {"points_m", "points_deg", "degree"}
 )
 #: The plausibility rules of a cam table besides every key's by its unit suffix
 #: (``cyclomech._keyrules.check``): a pressure-angle limit of a degree or two
@@ -180,11 +200,12 @@ class CamDesign:
             raise InputError(f"{at}: follower = {kind!r} must be one of {options}")
         units = _OSCILLATING if kind == "oscillating" else _TRANSLATING
         wrong = set(_OSCILLATING.values() if kind != "oscillating" else _TRANSLATING.values())
+        wrong -= {"_m_per_rad", "_deg_per_rad", "points_m", "points_deg"}
         stray = sorted(k for k in table if k in wrong)
         if stray:
             raise InputError(
                 f"{at}: {stray[0]} is for the other kind of follower; a {kind} follower "
-                f"takes {', '.join(units.values())}"
+                f"takes {', '.join(v for v in units.values() if not v.startswith('_'))}"
             )
         unused = sorted(k for k in table if k in _ALL_GEOMETRY and k not in _GEOMETRY[kind])
         if unused:
@@ -226,7 +247,8 @@ class CamDesign:
                     g["roller_radius_m"],
                 )
             segments, bound = _segments(table["segment"], at, units, arcs)
-            cam = Cam(segments, follower, closure)
+            program = _program(table, table["segment"], segments, units, at)
+            cam = Cam(segments if program is None else program, follower, closure)
         except InputError as e:
             raise _keyed(at, e, units) from None
         loads = None
@@ -270,11 +292,22 @@ class CamDesign:
             if not 0 < alpha < 90:
                 raise InputError(f"{at}: max_pressure_angle_deg = {alpha!r} must be in (0, 90)")
         vibration = _vibration(table, at, units["vibration"], kind == "oscillating")
+        if "polydyne_rpm" in table:
+            cam = _polydyne(table, at, units, cam, loads, follower, closure)
         # Valid values a user may not have meant (a length in mm, an angle in
         # radians, a stress in MPa): the rules of every key by its unit suffix.
         _keyrules.check(table, CAM_RULES, at)
         for i, row in enumerate(table["segment"]):
             _keyrules.check(row, (), f"{at} segment {i}")
+        if cam.program is not None:
+            for i, arc in enumerate(bound):
+                if arc is not None and not cam.program.scalable[i]:
+                    raise InputError(
+                        f"{at} segment {i}: arc = {list(arc)!r}, but its law "
+                        f"({cam.segments[i].law}) has moving ends, a constant velocity or a "
+                        "point table (or the cam is polydyne): its shape changes with its "
+                        "angle, so it cannot take a phase angle from the cyclogram"
+                    )
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
 
     @classmethod
@@ -396,6 +429,10 @@ def _segments(
     allowed = set(SEGMENT_KEYS) | ({"arc"} if arcs else set())
     stroke_key, load_key = units["stroke"], units["load"]
     other = {"stroke_m", "stroke_deg", "load_n", "load_nm"} - {stroke_key, load_key}
+    # The other follower's velocity and point keys.
+    mine = {units["points"], *(f"{e}_velocity{units['velocity']}" for e in ("start", "end"))}
+    other |= {"points_m", "points_deg"} - mine
+    other |= {k for k in SEGMENT_KEYS if "_velocity_" in k} - mine
     segs, bound = [], []
     for i, row in enumerate(rows):
         where = f"segment {i}"
@@ -413,6 +450,104 @@ def _segments(
             raise InputError(f"{where}: a dwell has no phase-angle bound; arc = {arc!r}")
         bound.append(None if arc is None else (arc[0], arc[1]))
     return segs, tuple(bound)
+
+
+def _program(
+    table: Mapping[str, Any],
+    rows: list[Any],
+    segs: list[Segment],
+    units: Mapping[str, str],
+    at: str,
+) -> Program | None:
+    """The cam's motion program when its table or a segment asks for one (module
+    docs), else None (the classic segments)."""
+    angular = units["stroke"] == "stroke_deg"
+    vel = [f"{e}_velocity{units['velocity']}" for e in ("start", "end")]
+    keys = {*vel, units["points"], "degree"}
+    if (
+        all(g.law in NAMES for g in segs)
+        and not any(k in row for row in rows for k in keys)
+        and not {"continuity", "polydyne_rpm"} & set(table)
+    ):
+        return None
+    continuity = table.get("continuity", "velocity")
+    if continuity not in CONTINUITY:
+        raise InputError(f"continuity = {continuity!r} must be one of {', '.join(CONTINUITY)}")
+    scale = math.radians(1.0) if angular else 1.0  # the file's stroke unit to the program's
+    out, s, prev_v1 = [], 0.0, None
+    for i, (row, g) in enumerate(zip(rows, segs, strict=True)):
+        where = f"segment {i}"
+        v0, v1 = (_toml.number(row, k, where, "") * scale if k in row else None for k in vel)
+        stroke = g.stroke
+        if g.law == "constant_velocity" and units["stroke"] not in row:
+            # Its stroke is its velocity times its angle, exactly; its velocity
+            # given, or the previous segment's given end velocity.
+            v = next((x for x in (v0, v1, prev_v1) if x is not None), None)
+            if v is None:
+                raise InputError(
+                    f"{where}: a constant_velocity segment needs {units['stroke']}, "
+                    f"{vel[0]} or {vel[1]}, or the previous segment's {vel[1]}"
+                )
+            stroke = abs(v) * math.radians(g.angle_deg)
+        prev_v1 = v1
+        s += {"rise": stroke, "return": -stroke}.get(g.kind, 0.0)
+        if i == len(rows) - 1 and abs(s) <= 1e-9 * max(g.stroke for g in segs):
+            s = 0.0  # back to the start, to the strokes' rounding
+        points = None
+        if units["points"] in row:
+            table_ = row[units["points"]]
+            if not isinstance(table_, list) or not all(
+                isinstance(p, list) and len(p) == 2 for p in table_
+            ):
+                raise InputError(
+                    f"{where}: {units['points']} must be rows [angle_deg, s]; got {table_!r}"
+                )
+            points = [(p[0], p[1] * scale) for p in table_]
+        law = "dwell" if g.kind == "dwell" else g.law
+        try:
+            out.append(
+                MotionSegment(
+                    law,
+                    g.angle_deg,
+                    start=(None, v0),
+                    end=(s, v1),
+                    points=points,
+                    degree=row.get("degree", 3),
+                    operation=g.operation,
+                )
+            )
+        except InputError as e:
+            raise InputError(f"{where}: {e}") from None
+    return Program(out, continuity=continuity)
+
+
+def _polydyne(
+    table: Mapping[str, Any],
+    at: str,
+    units: Mapping[str, str],
+    cam: Cam,
+    loads: FollowerLoads | None,
+    follower: Any,
+    closure: str,
+) -> Cam:
+    """The polydyne cam of ``cam``'s program at ``polydyne_rpm`` (module docs)."""
+    from ._vibration import polydyne
+
+    rpm = _toml.number(table, "polydyne_rpm", at, "[rpm]")
+    if loads is None or "natural_frequency_hz" not in table or cam.program is None:
+        raise InputError(
+            f"{at}: polydyne_rpm needs the follower's {units['mass']} and "
+            "natural_frequency_hz (the stiffness is m·(2π·f_n)²)"
+        )
+    wn = 2.0 * math.pi * _toml.number(table, "natural_frequency_hz", at, "[Hz]")
+    motion = polydyne(
+        cam.program,
+        follower_mass=loads.mass,
+        stiffness=loads.mass * wn * wn,
+        rpm=rpm,
+        continuity=table.get("continuity", "velocity"),
+    )
+    return Cam(motion, follower, closure)
 
 
 def _vibration(

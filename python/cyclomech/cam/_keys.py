@@ -93,6 +93,12 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "finite, > 0; needs mass_kg (inertia_kg_m2 when oscillating) and width_m", True),
         K("max_pressure_angle_deg", "The allowed pressure angle [α].", "deg", NUM,
           "45 for an oscillating follower, 30 otherwise", "finite, 0 < α < 90", True),
+        K("continuity", "How smooth the motion program's joins must be (a cam built as a "
+          "motion program).", NO_UNIT, TEXT, "velocity",
+          "one of position, velocity, acceleration, jerk", False),
+        K("polydyne_rpm", "Make the cam polydyne for this speed: the follower's output "
+          "follows the program.", "rpm", NUM, "none (the cam follows the program)",
+          "finite, > 0; needs mass_kg (inertia_kg_m2) and natural_frequency_hz", True),
     )),
     KeyTable("cam.segment", "[[mechanism.<name>.segment]] of a cam", (
         K("kind", "The segment's kind.", NO_UNIT, TEXT, REQ, "one of rise, dwell, return",
@@ -104,7 +110,27 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("stroke_deg", "The arm's rotation (oscillating follower).", "deg", NUM, "0",
           STROKE + OS, None),
         K("law", "The motion law of a rise or return.", NO_UNIT, TEXT, "cycloidal",
-          "a string; for a rise or return " + LAWS, None),
+          "a string; for a rise or return " + LAWS + ", or of cyclomech.motion.SEGMENT_LAWS "
+          "(the cam is then a motion program)", None),
+        K("start_velocity_m_per_rad", "The follower's velocity at the segment's start "
+          "(a moving end; translating and flat).", "m/rad", NUM,
+          "none (the previous segment's end; rest for the first)", FIN + TR, None),
+        K("end_velocity_m_per_rad", "The follower's velocity at the segment's end.",
+          "m/rad", NUM, "none (the next segment's start, else rest)", FIN + TR, None),
+        K("start_velocity_deg_per_rad", "The arm's angular velocity at the segment's start "
+          "(oscillating).", "deg/rad", NUM,
+          "none (the previous segment's end; rest for the first)", FIN + OS, None),
+        K("end_velocity_deg_per_rad", "The arm's angular velocity at the segment's end "
+          "(oscillating).", "deg/rad", NUM, "none (the next segment's start, else rest)",
+          FIN + OS, None),
+        K("points_m", "A spline segment's table: rows [cam angle from its start in deg, "
+          "displacement in m].", "deg, m", ARR, "none (law spline needs it)",
+          "rows of 2 numbers, the first at 0, the last at angle_deg" + TR, None),
+        K("points_deg", "A spline segment's table (oscillating): rows [cam angle from its "
+          "start in deg, arm angle in deg].", "deg, deg", ARR, "none (law spline needs it)",
+          "rows of 2 numbers, the first at 0, the last at angle_deg" + OS, None),
+        K("degree", "A spline segment's degree.", NO_UNIT, NUM, "3", "3 (C2 cubic) or 5 "
+          "(C4 quintic)", None),
         K("load_n", "The external force on the follower during the segment.", "N", NUM,
           "0", FIN + TR + "; needs mass_kg", None),
         K("load_nm", "The external torque on the arm during the segment.", "N·m", NUM,

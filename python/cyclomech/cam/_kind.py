@@ -117,7 +117,9 @@ class CamMechanism(Unbounded):
     # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind"})
-    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "follower", "closure", "segment"})
+    fixed_keys: ClassVar[frozenset[str]] = frozenset(
+        {"kind", "follower", "closure", "segment", "continuity"}
+    )
     json_groups: ClassVar[tuple[str, ...]] = ("cams",)
     name: str
     design: CamDesign

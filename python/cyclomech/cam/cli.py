@@ -45,6 +45,7 @@ from ._export import DxfUnavailableError, profile_table, write_profile_csv, writ
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import MinPhaseAngles
 from ._program import Cam
+from ._vibration import follower_response
 
 __all__ = ["SPEED_POINTS", "SPEED_RANGE", "add_commands", "cam_command"]
 
@@ -282,6 +283,7 @@ def cam_command(args: argparse.Namespace) -> int:
     here = both.angle_deg[0]
     sweep = MinPhaseAngles(speeds, both.segments, both.criteria, both.angle_deg[1:])
     fails += _print_min_phase(cam, both, here, rpm, results)
+    fails += _print_residual(d, both, rpm, results)
 
     out = out_folder(args)
     with warnings.catch_warnings():
@@ -371,11 +373,56 @@ def _print_min_phase(
                 )
     results["min_phase"] = entries
     if not rows:
-        print("\n  no rise or return: no smallest phase angles")
+        print(
+            "\n  no smallest phase angles: no rise or return whose shape scales with its "
+            "angle (a rest-to-rest one)"
+        )
         return fails
     print(f"\n  smallest phase angles at {rpm:g} rpm [deg] (0: the criterion does not bound it)")
     crit = [c.replace("_", " ") for c in m.criteria]
     print(table(rows, ["segment", "kind", *crit, "bound", "binding", "in file", "verdict"]))
+    return fails
+
+
+def _print_residual(
+    d: CamDesign, m: MinPhaseAngles, rpm: float, results: dict[str, Any]
+) -> list[str]:
+    """With a vibration limit: the follower's residual vibration after each moving
+    segment that has no smallest phase angle (a program segment whose shape changes
+    with its angle, a polydyne cam), from the periodic steady state at ``rpm``
+    (segments with one are checked by their bound); returns the failures."""
+    cam = d.cam
+    if d.vibration is None:
+        return []
+    f_n, zeta, limit = d.vibration
+    rest = [i for i, g in enumerate(cam.segments) if g.kind != "dwell" and i not in m.segments]
+    if not rest:
+        return []
+    r = follower_response(cam, rpm, f_n, zeta)
+    angular = isinstance(cam.follower, OscillatingRoller)
+    unit, scale = ("°", 180 / math.pi) if angular else (" µm", 1e6)
+    print(f"\n  residual vibration at {rpm:g} rpm (segments without a smallest phase angle)")
+    rows, fails, entries = [], [], []
+    for i in rest:
+        a = float(r.residual[i])
+        bad = a > limit
+        rows.append(
+            [
+                str(i),
+                cam.segments[i].law,
+                f"{a * scale:.4g}{unit}",
+                f"{limit * scale:.4g}{unit}",
+                "FAILS" if bad else "ok",
+            ]
+        )
+        entries.append({"segment": i, "residual": a, "limit": limit, "ok": not bad})
+        if bad:
+            fails.append(
+                f"segment {i} ({cam.segments[i].law}): residual vibration "
+                f"{a * scale:.4g}{unit} > {limit * scale:.4g}{unit} at {rpm:g} rpm"
+            )
+    print(table(rows, ["segment", "law", "residual", "limit", "verdict"]))
+    results["residual_vibration"] = entries
     return fails
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -12,7 +13,7 @@ import numpy.typing as npt
 
 from .. import _core
 from .._arrays import count, finite_number, float_array, instances, positive, threads_arg
-from .._errors import InputError
+from .._errors import CyclomechWarning, InputError
 
 __all__ = [
     "CONTINUITY",
@@ -283,6 +284,16 @@ class Program:
         self.continuity = continuity
         self.advance = adv
         self.shift = 0.0
+        for i, row in enumerate(self._kernel.spans):
+            if row[5] is not None:
+                at, v = row[5]
+                warnings.warn(
+                    f"segment {i} ({segs[i].law}) runs backwards: v = {v:.4g} per rad at "
+                    f"{math.degrees(at):.4g}°, against its stroke; its stroke is short for "
+                    "its end velocities (lengthen it, or shorten the angle)",
+                    CyclomechWarning,
+                    stacklevel=2,
+                )
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Rebuilt from its parts (the kernel is not picklable): Dask ships programs.
@@ -406,5 +417,5 @@ class Program:
         """
         return tuple(
             (math.degrees(b), math.degrees(w), tuple(s0), tuple(s1))
-            for b, w, s0, s1, _ in self._kernel.spans
+            for b, w, s0, s1, *_ in self._kernel.spans
         )

@@ -178,8 +178,9 @@ impl TwoPeriodKernel {
     }
 }
 
-/// One built segment for Python: (start, angle, at start, at end, scalable).
-type SpanRow = (f64, f64, [f64; 4], [f64; 4], bool);
+/// One built segment for Python: (start, angle, at start, at end, scalable,
+/// (angle, velocity) where it runs backwards).
+type SpanRow = (f64, f64, [f64; 4], [f64; 4], bool, Option<(f64, f64)>);
 
 /// A motion program over one master cycle (see `cyclomech.motion.Program`).
 #[pyclass(module = "cyclomech._core", frozen)]
@@ -277,7 +278,16 @@ impl ProgramKernel {
         self.program
             .spans()
             .iter()
-            .map(|s| (s.start, s.angle, s.at_start, s.at_end, s.scalable))
+            .map(|s| {
+                (
+                    s.start,
+                    s.angle,
+                    s.at_start,
+                    s.at_end,
+                    s.scalable,
+                    s.backwards,
+                )
+            })
             .collect()
     }
 

@@ -34,6 +34,9 @@ pub struct Span {
     /// Does its shape scale with its angle (rest to rest, no point table), so
     /// that the segment at another angle is the same law stretched?
     pub scalable: bool,
+    /// Where it runs backwards (against its stroke although neither end
+    /// moves so): the angle [rad] of the worst reversal, and its velocity.
+    pub backwards: Option<(f64, f64)>,
 }
 
 /// A validated motion program over one master cycle.
@@ -213,6 +216,15 @@ impl Program {
                 law[k] = g;
             }
         }
+        let h = at_end[0] - at_start[0];
+        let sign = h.signum();
+        let backwards = if h != 0.0 && sign * at_start[1] >= 0.0 && sign * at_end[1] >= 0.0 {
+            let (x, worst) = extreme(&self.fast[first..=last], |p, x| -sign * p.eval(x, 1));
+            let tol = BOUNDARY_TOL * h.abs() / spec.angle;
+            (worst > tol).then_some((x, -sign * worst))
+        } else {
+            None
+        };
         self.spans.push(Span {
             start,
             angle: spec.angle,
@@ -221,6 +233,7 @@ impl Program {
             first,
             last,
             scalable,
+            backwards,
         });
         Ok(())
     }
@@ -311,6 +324,7 @@ impl Program {
                 at_start: out.fast[span.first].eval_all(span.start),
                 at_end: out.fast[span.last].eval_all(end),
                 scalable: false,
+                backwards: None,
                 ..span.clone()
             });
         }
