@@ -157,7 +157,11 @@ def test_key_sets_the_parsers_list() -> None:
     assert valid_keys(d) == documented("operation")
     d = data("stb_loom")
     d["mechanism"]["lifter cam"]["segment"][0]["bogus"] = 1
-    assert valid_keys(d) | {"stroke_m", "load_n"} == documented("cam.segment")
+    # (The loom's lifter cam is oscillating: the translating follower's keys are
+    # the other follower's, refused there.)
+    translating = {"stroke_m", "load_n", "points_m"}
+    translating |= {"start_velocity_m_per_rad", "end_velocity_m_per_rad"}
+    assert valid_keys(d) | translating == documented("cam.segment")
 
 
 def test_slider_guide_keys() -> None:
