@@ -357,7 +357,7 @@ impl Program {
             (c, (theta - c * TAU).clamp(0.0, TAU))
         };
         let k = self.starts.partition_point(|&x0| x0 <= t).max(1) - 1;
-        let mut out = self.fast[k].eval_all(t);
+        let mut out = piece_all(&self.fast[k], t);
         if cycles != 0.0 {
             out[0] += cycles * self.advance;
         }
@@ -384,13 +384,11 @@ impl Program {
             (&'a mut [f64], &'a mut [f64]),
         );
         let fill = |(((th, s), v), (a, j)): Chunk<'_>| {
-            for i in 0..th.len() {
-                let e = self.eval(th[i]);
-                s[i] = e[0];
-                v[i] = e[1];
-                a[i] = e[2];
-                j[i] = e[3];
-            }
+            pulp::Arch::new().dispatch(LaneFill {
+                program: self,
+                th,
+                out: [s, v, a, j],
+            })
         };
         let threads = resolve_threads(n_threads)?;
         if threads == 1 || n <= CHUNK {
@@ -485,4 +483,122 @@ impl Program {
             .collect();
         (s0, scale, Law::from_segments(segments))
     }
+}
+
+/// Values per lane group: two AVX2 registers of f64.
+const GROUP: usize = 8;
+
+/// [`Program::eval_into`]'s loop over one chunk, compiled once per instruction
+/// set (`pulp`): groups of [`GROUP`] angles in one piece (the common case on a
+/// sorted grid) run as loops across lanes without branches; others one by one.
+/// The same arithmetic as [`Program::eval`] per value, so the same values.
+struct LaneFill<'a> {
+    program: &'a Program,
+    th: &'a [f64],
+    out: [&'a mut [f64]; 4],
+}
+
+impl pulp::WithSimd for LaneFill<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let LaneFill { program, th, out } = self;
+        let [s, v, a, j] = out;
+        let whole = th.len() - th.len() % GROUP;
+        for (g, tg) in th[..whole].chunks_exact(GROUP).enumerate() {
+            let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
+            let e = program.eval_lanes(tg);
+            let at = g * GROUP;
+            s[at..at + GROUP].copy_from_slice(&e[0]);
+            v[at..at + GROUP].copy_from_slice(&e[1]);
+            a[at..at + GROUP].copy_from_slice(&e[2]);
+            j[at..at + GROUP].copy_from_slice(&e[3]);
+        }
+        for i in whole..th.len() {
+            let e = program.eval(th[i]);
+            s[i] = e[0];
+            v[i] = e[1];
+            a[i] = e[2];
+            j[i] = e[3];
+        }
+    }
+}
+
+impl Program {
+    /// [`Program::eval`] for `L` angles at once, as four lanes [s, v, a, j]: the
+    /// same values, bit for bit. Angles in [0, 2π) within one piece run as
+    /// branch-free loops (one sine and cosine per value for the four orders, as
+    /// the pointwise path computes them); others one by one.
+    #[inline(always)]
+    fn eval_lanes<const L: usize>(&self, th: &[f64; L]) -> [[f64; L]; 4] {
+        let t0 = th[0];
+        let k = self.starts.partition_point(|&x0| x0 <= t0).max(1) - 1;
+        let f = &self.fast[k];
+        let lo = self.starts[k];
+        let hi = self.starts.get(k + 1).copied().unwrap_or(TAU);
+        let one_piece = th
+            .iter()
+            .fold(true, |ok, &v| ok & (v >= lo) & (v < hi) & (v < TAU));
+        // (sin_cos_lanes takes any argument: wide ones as sin_cos does.)
+        if !(one_piece && t0 >= 0.0) {
+            let mut out = [[0.0; L]; 4];
+            for (l, &v) in th.iter().enumerate() {
+                let e = self.eval(v);
+                for o in 0..4 {
+                    out[o][l] = e[o];
+                }
+            }
+            return out;
+        }
+        let mut t = [0.0; L];
+        for l in 0..L {
+            t[l] = th[l] - f.x0;
+        }
+        let mut out = [[0.0; L]; 4];
+        for (order, p) in out.iter_mut().enumerate() {
+            for &ck in f.poly[order].iter().rev() {
+                for l in 0..L {
+                    p[l] = p[l] * t[l] + ck;
+                }
+            }
+        }
+        if f.amp[0] != 0.0 {
+            let mut u = [0.0; L];
+            for l in 0..L {
+                u[l] = f.freq * t[l] + f.phase[0];
+            }
+            let (sn, cs) = crate::geom::sin_cos_lanes(&u);
+            for l in 0..L {
+                out[0][l] += f.amp[0] * sn[l];
+                out[1][l] += f.amp[1] * cs[l];
+                out[2][l] -= f.amp[2] * sn[l];
+                out[3][l] -= f.amp[3] * cs[l];
+            }
+        }
+        out
+    }
+}
+
+/// [s, v, a, j] of one piece at x: the four Horner passes and one sine and
+/// cosine (d^k/dt^k A·sin(ωt + φ) = A·ω^k·(sin, cos, −sin, −cos)), the
+/// arithmetic of the lane path value for value.
+#[inline(always)]
+fn piece_all(f: &Fast, x: f64) -> [f64; 4] {
+    let t = x - f.x0;
+    let mut out: [f64; 4] = std::array::from_fn(|order| {
+        let mut p = 0.0;
+        for &ck in f.poly[order].iter().rev() {
+            p = p * t + ck;
+        }
+        p
+    });
+    if f.amp[0] != 0.0 {
+        let (sn, cs) = crate::geom::sin_cos(f.freq * t + f.phase[0]);
+        out[0] += f.amp[0] * sn;
+        out[1] += f.amp[1] * cs;
+        out[2] -= f.amp[2] * sn;
+        out[3] -= f.amp[3] * cs;
+    }
+    out
 }

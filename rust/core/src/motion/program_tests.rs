@@ -354,3 +354,47 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn the_lane_path_is_the_pointwise_path_bit_for_bit() {
+    let p = Program::new(
+        &[
+            seg(
+                "cycloidal",
+                90.0,
+                [None, Some(0.01), None, None],
+                [Some(0.03), Some(0.02), None, None],
+            ),
+            seg("constant_velocity", 30.0, FREE, FREE),
+            seg("modified_trapezoid", 60.0, FREE, at(0.06)),
+            seg(
+                "poly7",
+                180.0,
+                FREE,
+                [Some(0.0), Some(0.01), Some(0.0), Some(0.0)],
+            ),
+        ],
+        2,
+        0.0,
+    )
+    .unwrap();
+    // A sorted grid (groups within one piece), a shuffled one (groups across
+    // pieces), and angles outside one cycle.
+    let n = 4099;
+    let mut theta: Vec<f64> = (0..n).map(|i| i as f64 * TAU / n as f64).collect();
+    theta.extend((0..n).map(|i| ((i * 7919) % n) as f64 * TAU / n as f64));
+    theta.extend([-1.0, 7.0, 100.0, TAU, 0.0]);
+    let mut out = vec![0.0; 4 * theta.len()];
+    p.eval_into(&theta, Some(2), &mut out).unwrap();
+    let m = theta.len();
+    for (i, &t) in theta.iter().enumerate() {
+        let e = p.eval(t);
+        for k in 0..4 {
+            assert_eq!(
+                out[k * m + i].to_bits(),
+                e[k].to_bits(),
+                "θ = {t}, order {k}"
+            );
+        }
+    }
+}
