@@ -25,6 +25,12 @@ Everything is evaluated in Rust, vectorised and exact (no finite differences).
 
 from __future__ import annotations
 
+from ._export import (
+    COEFFICIENT_COLUMNS,
+    TABLE_COLUMNS,
+    write_cam_coefficients,
+    write_cam_table,
+)
 from ._laws import (
     NAMES,
     MotionLaw,
@@ -43,9 +49,11 @@ from ._program import (
 )
 
 __all__ = [
+    "COEFFICIENT_COLUMNS",
     "CONTINUITY",
     "NAMES",
     "SEGMENT_LAWS",
+    "TABLE_COLUMNS",
     "Characteristics",
     "MotionLaw",
     "MotionValues",
@@ -55,4 +63,6 @@ __all__ = [
     "law",
     "polynomial",
     "two_period",
+    "write_cam_coefficients",
+    "write_cam_table",
 ]

@@ -394,7 +394,7 @@ class Program:
         --------
         >>> import cyclomech as cm
         >>> S = cm.motion.Segment
-        >>> cm.motion.Program([S("poly5", 180, end=0.1), S("cycloidal", 90, end=(0.05, -0.1)),
+        >>> cm.motion.Program([S("poly5", 180, end=0.1), S("cycloidal", 90, end=(0.02, -0.02)),
         ...                    S("poly5", 90, end=0.0)]).scalable
         (True, False, False)
         """

@@ -182,6 +182,9 @@ impl TwoPeriodKernel {
 /// (angle, velocity) where it runs backwards).
 type SpanRow = (f64, f64, [f64; 4], [f64; 4], bool, Option<(f64, f64)>);
 
+/// One piece for Python (see `Program::pieces`).
+type PieceRow = (usize, f64, f64, Vec<f64>, f64, f64, f64);
+
 /// A motion program over one master cycle (see `cyclomech.motion.Program`).
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct ProgramKernel {
@@ -289,6 +292,12 @@ impl ProgramKernel {
                 )
             })
             .collect()
+    }
+
+    /// Every piece: (segment, start [rad], end [rad], coefficients, A, ω, φ).
+    #[getter]
+    fn pieces(&self) -> Vec<PieceRow> {
+        self.program.pieces()
     }
 
     /// Segment `i`'s (stroke, max |v|, max |a|, max |j|, C_v, C_a, C_j, C_m).

@@ -332,6 +332,27 @@ impl Program {
         Ok(out)
     }
 
+    /// Every piece as (segment index, start [rad], end [rad], polynomial
+    /// coefficients c_k of s in t = θ − start [per rad^k], A, ω [per rad], φ):
+    /// s = Σ c_k t^k + A·sin(ω t + φ) exactly (a drive's cam table rebuilt).
+    pub fn pieces(&self) -> Vec<(usize, f64, f64, Vec<f64>, f64, f64, f64)> {
+        let mut out = Vec::with_capacity(self.fast.len());
+        for (i, span) in self.spans.iter().enumerate() {
+            for f in &self.fast[span.first..=span.last] {
+                out.push((
+                    i,
+                    f.x0,
+                    f.x1,
+                    f.poly[0].clone(),
+                    f.amp[0],
+                    f.freq,
+                    f.phase[0],
+                ));
+            }
+        }
+        out
+    }
+
     /// The segments as built.
     pub fn spans(&self) -> &[Span] {
         &self.spans
