@@ -1,6 +1,6 @@
 //! Bindings of the motion domain: dimensionless laws and the two-period law.
 
-use cyclomech_core::motion::{Law, MotionError, Program, SegmentSpec, TwoPeriod};
+use cyclomech_core::motion::{Law, MotionError, PieceRow, Program, SegmentSpec, TwoPeriod};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
@@ -181,9 +181,6 @@ impl TwoPeriodKernel {
 /// One built segment for Python: (start, angle, at start, at end, scalable,
 /// (angle, velocity) where it runs backwards).
 type SpanRow = (f64, f64, [f64; 4], [f64; 4], bool, Option<(f64, f64)>);
-
-/// One piece for Python (see `Program::pieces`).
-type PieceRow = (usize, f64, f64, Vec<f64>, f64, f64, f64);
 
 /// A motion program over one master cycle (see `cyclomech.motion.Program`).
 #[pyclass(module = "cyclomech._core", frozen)]

@@ -33,6 +33,6 @@ mod tests;
 mod two_period;
 
 pub use law::{Law, MotionError, Segment, LAW_TOL, MAX_DEGREE, NAMES};
-pub use program::{Characteristics, Program, Span, CYCLE_TOL};
+pub use program::{Characteristics, PieceRow, Program, Span, CYCLE_TOL};
 pub use segment::{SegmentSpec, BOUNDARY_TOL, ORDER_NAMES, SEGMENT_LAWS};
 pub use two_period::TwoPeriod;

@@ -15,6 +15,10 @@ use super::segment::{
 };
 use crate::parallel::{pool, resolve_threads};
 
+/// One piece of [`Program::pieces`]: (segment, start [rad], end [rad],
+/// coefficients, A, ω, φ).
+pub type PieceRow = (usize, f64, f64, Vec<f64>, f64, f64, f64);
+
 /// Tolerance on the segments' angles summing to one cycle [rad].
 pub const CYCLE_TOL: f64 = 1e-9 * TAU;
 
@@ -335,7 +339,7 @@ impl Program {
     /// Every piece as (segment index, start [rad], end [rad], polynomial
     /// coefficients c_k of s in t = θ − start [per rad^k], A, ω [per rad], φ):
     /// s = Σ c_k t^k + A·sin(ω t + φ) exactly (a drive's cam table rebuilt).
-    pub fn pieces(&self) -> Vec<(usize, f64, f64, Vec<f64>, f64, f64, f64)> {
+    pub fn pieces(&self) -> Vec<PieceRow> {
         let mut out = Vec::with_capacity(self.fast.len());
         for (i, span) in self.spans.iter().enumerate() {
             for f in &self.fast[span.first..=span.last] {
