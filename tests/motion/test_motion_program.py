@@ -39,6 +39,12 @@ def _sympy_moving(F, s0, h, v0, v1, beta):
     return t, s0 + v0 * t + (v1 - v0) * beta * H.subs(x, t / beta) + K * F(t / beta)
 
 
+# Some of these ends make a segment run backwards on purpose (a short stroke
+# for its end velocities): warned about, and not what is tested here.
+BACKWARDS_OK = pytest.mark.filterwarnings("ignore:segment .* runs backwards")
+
+
+@BACKWARDS_OK
 @pytest.mark.parametrize(
     ("law", "F"),
     [
@@ -87,6 +93,7 @@ def _sympy_hermite(conds, beta):
     return t, p.subs(sol)
 
 
+@BACKWARDS_OK
 @pytest.mark.parametrize(
     ("law", "start", "end", "conds"),
     [
@@ -222,6 +229,7 @@ def test_an_advancing_axis_and_pickling():
 _LAWS = ("cycloidal", "modified_sine", "modified_trapezoid", "harmonic", "poly5", "poly7")
 
 
+@BACKWARDS_OK
 @settings(max_examples=40, deadline=None)
 @given(
     st.lists(st.sampled_from(_LAWS), min_size=1, max_size=5),
@@ -249,3 +257,17 @@ def test_derivatives_are_the_positions(laws, angles, ends, v):
         scale = np.abs(f).max() + np.abs(df).max()
         # (Trapezoids err by h·Δ/2 at a jump of the integrand: 1e-5 of the scale.)
         assert np.abs(f - f[0] - integral).max() <= 2e-5 * scale
+
+
+def test_a_segment_that_runs_backwards_is_warned_about():
+    # From rest to 0.04 per rad over 70° (1.22 rad) with a stroke of 0.018 m: a
+    # cycloid carrying the change of velocity would go back first (below 0).
+    with pytest.warns(cm.CyclomechWarning, match=r"segment 0 \(cycloidal\) runs backwards"):
+        prog = P([S("cycloidal", 70, end=(0.018, 0.04)), S("poly5", 290, end=0.0)])
+    assert prog.evaluate(np.radians(10.0)).s < 0.0
+    # With the stroke of the velocity change alone (0.04 × 1.22 / 2) it does not.
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        P([S("cycloidal", 70, end=(0.0245, 0.04)), S("poly5", 290, end=0.0)])

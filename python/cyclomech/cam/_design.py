@@ -33,7 +33,7 @@ from .. import _keyrules, _toml
 from .._arrays import flag, instances
 from .._errors import InputError
 from .._keyrules import Rule
-from ..motion import CONTINUITY, NAMES, Program
+from ..motion import CONTINUITY, NAMES, SEGMENT_LAWS, Program
 from ..motion import Segment as MotionSegment
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
@@ -251,22 +251,7 @@ class CamDesign:
             cam = Cam(segments if program is None else program, follower, closure)
         except InputError as e:
             raise _keyed(at, e, units) from None
-        loads = None
-        if units["mass"] in table:
-            try:
-                loads = FollowerLoads(
-                    _toml.number(table, units["mass"], at, "[kg]"),
-                    table.get(units["spring"], 0.0),
-                    table.get(units["preload"], 0.0),
-                    tuple(
-                        _toml.number(row, units["load"], f"{at} segment {i}", "")
-                        if units["load"] in row
-                        else 0.0
-                        for i, row in enumerate(table["segment"])
-                    ),
-                )
-            except InputError as e:
-                raise _keyed(at, e, units) from None
+        loads = _follower_loads(table, units, at)
         contact = None
         if "width_m" in table:
             c = {k: table[k] for k in _CONTACT if k in table}
@@ -299,15 +284,7 @@ class CamDesign:
         _keyrules.check(table, CAM_RULES, at)
         for i, row in enumerate(table["segment"]):
             _keyrules.check(row, (), f"{at} segment {i}")
-        if cam.program is not None:
-            for i, arc in enumerate(bound):
-                if arc is not None and not cam.program.scalable[i]:
-                    raise InputError(
-                        f"{at} segment {i}: arc = {list(arc)!r}, but its law "
-                        f"({cam.segments[i].law}) has moving ends, a constant velocity or a "
-                        "point table (or the cam is polydyne): its shape changes with its "
-                        "angle, so it cannot take a phase angle from the cyclogram"
-                    )
+        _check_arcs(cam, bound, at)
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
 
     @classmethod
@@ -452,6 +429,42 @@ def _segments(
     return segs, tuple(bound)
 
 
+def _follower_loads(
+    table: Mapping[str, Any], units: Mapping[str, str], at: str
+) -> FollowerLoads | None:
+    """The follower's mass, spring and segment loads, if the table gives its mass."""
+    if units["mass"] not in table:
+        return None
+    try:
+        return FollowerLoads(
+            _toml.number(table, units["mass"], at, "[kg]"),
+            table.get(units["spring"], 0.0),
+            table.get(units["preload"], 0.0),
+            tuple(
+                _toml.number(row, units["load"], f"{at} segment {i}", "")
+                if units["load"] in row
+                else 0.0
+                for i, row in enumerate(table["segment"])
+            ),
+        )
+    except InputError as e:
+        raise _keyed(at, e, units) from None
+
+
+def _check_arcs(cam: Cam, bound: tuple[tuple[str, str] | None, ...], at: str) -> None:
+    """A program's segment whose shape changes with its angle takes no arc."""
+    if cam.program is None:
+        return
+    for i, arc in enumerate(bound):
+        if arc is not None and not cam.program.scalable[i]:
+            raise InputError(
+                f"{at} segment {i}: arc = {list(arc)!r}, but its law "
+                f"({cam.segments[i].law}) has moving ends, a constant velocity or a "
+                "point table (or the cam is polydyne): its shape changes with its "
+                "angle, so it cannot take a phase angle from the cyclogram"
+            )
+
+
 def _program(
     table: Mapping[str, Any],
     rows: list[Any],
@@ -504,6 +517,10 @@ def _program(
                 )
             points = [(p[0], p[1] * scale) for p in table_]
         law = "dwell" if g.kind == "dwell" else g.law
+        if law not in SEGMENT_LAWS:
+            raise InputError(
+                f"{where} ({g.kind}): unknown law {law!r}; known laws: {', '.join(SEGMENT_LAWS)}"
+            )
         try:
             out.append(
                 MotionSegment(

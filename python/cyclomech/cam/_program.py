@@ -190,7 +190,7 @@ class Cam:
     >>> M = cm.motion.Segment
     >>> prog = cm.motion.Program([M("cycloidal", 90, end=(0.01, 0.01)),
     ...                           M("constant_velocity", 90),
-    ...                           M("cycloidal", 60, end=0.03), M("poly5", 120, end=0.0)])
+    ...                           M("cycloidal", 60, end=0.032), M("poly5", 120, end=0.0)])
     >>> cam = cm.cam.Cam(prog, cm.cam.TranslatingRoller(0.05, 0.01))
     >>> [g.kind for g in cam.segments], round(float(cam.solve(math.pi / 2 + 0.3).ds), 12)
     (['rise', 'rise', 'rise', 'return'], 0.01)

@@ -364,7 +364,7 @@ def polydyne(
     k = positive("stiffness", stiffness, "[N/m or N·m/rad]")
     w = positive("rpm", rpm, "[rpm]") * _core.RAD_PER_S_PER_RPM
     try:
-        return program._plus_second_derivative(m * w * w / k, continuity)
+        return program.plus_second_derivative(m * w * w / k, continuity)
     except InputError as e:
         raise InputError(
             f"the polydyne cam motion at {rpm!r} rpm: {e}; its program must be continuous "

@@ -282,8 +282,7 @@ def cam_command(args: argparse.Namespace) -> int:
     both = d.min_phase_angles(np.concatenate([[rpm], speeds]))  # one Rust call
     here = both.angle_deg[0]
     sweep = MinPhaseAngles(speeds, both.segments, both.criteria, both.angle_deg[1:])
-    fails += _print_min_phase(cam, both, here, rpm, results)
-    fails += _print_residual(d, both, rpm, results)
+    fails += _print_phase_checks(d, both, here, rpm, results)
 
     out = out_folder(args)
     with warnings.catch_warnings():
@@ -382,6 +381,14 @@ def _print_min_phase(
     crit = [c.replace("_", " ") for c in m.criteria]
     print(table(rows, ["segment", "kind", *crit, "bound", "binding", "in file", "verdict"]))
     return fails
+
+
+def _print_phase_checks(
+    d: CamDesign, m: MinPhaseAngles, here: np.ndarray, rpm: float, results: dict[str, Any]
+) -> list[str]:
+    """The smallest phase angles, then the residual vibration of the segments they
+    do not bound; returns the failures of both."""
+    return _print_min_phase(d.cam, m, here, rpm, results) + _print_residual(d, m, rpm, results)
 
 
 def _print_residual(

@@ -137,7 +137,7 @@ class Segment:
 
 def _shifted(segments: Any, continuity: str, advance: float, shift: float) -> Program:
     """A program s + shift·s″ rebuilt from its parts (unpickling)."""
-    return Program(segments, continuity="position", advance=advance)._plus_second_derivative(
+    return Program(segments, continuity="position", advance=advance).plus_second_derivative(
         shift, continuity
     )
 
@@ -301,13 +301,38 @@ class Program:
             return (_shifted, (self.segments, self.continuity, self.advance, self.shift))
         return (Program, (self.segments, self.continuity, self.advance))
 
-    def _plus_second_derivative(self, c: float, continuity: str) -> Program:
-        """s + c·s″ of this program (c [rad²]), joins checked to ``continuity``.
+    def plus_second_derivative(self, c: float, continuity: str = "velocity") -> Program:
+        """The program s + c·s″ (c [rad²]): a polydyne cam's motion, joins checked.
 
+        Each piece stays a polynomial plus a sine (closed form). The new program is
+        continuous to ``continuity`` only where this one is two orders higher; a
+        join that jumps raises, naming it. :func:`cyclomech.cam.polydyne` calls it
+        with c = m·ω²/k.
+
+        Parameters
+        ----------
+        c : float
+            The factor of s″ [rad²].
+        continuity : {"position", "velocity", "acceleration", "jerk"}, default "velocity"
+            The order every join of the new program must keep continuous.
+
+        Returns
+        -------
+        Program
+            The new program, its ``shift`` = ``c``.
+
+        Raises
+        ------
+        InputError
+            If this program is already shifted, ``c`` is not finite, ``continuity``
+            is not a name of :data:`CONTINUITY` or a join jumps.
+
+        Examples
+        --------
         >>> import cyclomech as cm
         >>> S = cm.motion.Segment
         >>> p = cm.motion.Program([S("poly7", 180, end=0.1), S("poly7", 180, end=0.0)])
-        >>> q = p._plus_second_derivative(0.01, "velocity")
+        >>> q = p.plus_second_derivative(0.01, "velocity")
         >>> m, n = p.evaluate(1.0), q.evaluate(1.0)
         >>> bool(abs(n.s - (m.s + 0.01 * m.a)) < 1e-15), q.shift
         (True, 0.01)
@@ -316,13 +341,14 @@ class Program:
             raise InputError(f"continuity must be one of {CONTINUITY}; got {continuity!r}")
         if self.shift:
             raise InputError("this program is already a polydyne motion (shift ≠ 0)")
-        kernel = self._kernel.plus_second_derivative(float(c), CONTINUITY.index(continuity))
+        shift = finite_number("c", c, "[rad²]")
+        kernel = self._kernel.plus_second_derivative(shift, CONTINUITY.index(continuity))
         out = object.__new__(Program)
         out._kernel = kernel
         out.segments = self.segments
         out.continuity = continuity
         out.advance = self.advance
-        out.shift = float(c)
+        out.shift = shift
         return out
 
     def __repr__(self) -> str:
