@@ -42,9 +42,9 @@ def _sample(program: Any, points: int) -> tuple[Array, Array, Array, Array, Arra
             "program must have a method evaluate(theta) (a cyclomech.motion.Program); "
             f"got {type(program).__name__}"
         )
-    theta = np.arange(points) * (2.0 * math.pi / points)
+    theta: Array = np.arange(points, dtype=np.float64) * (2.0 * math.pi / points)
     got = evaluate(theta)
-    out = [theta]
+    out: list[Array] = [theta]
     for key in ("s", "v", "a", "j"):
         if not hasattr(got, key):
             raise InputError(f"program.evaluate(theta) must return .s .v .a .j; it has no .{key}")
@@ -58,7 +58,7 @@ def _sample(program: Any, points: int) -> tuple[Array, Array, Array, Array, Arra
         if bad.any():
             i = int(np.argmax(bad))
             raise InputError(
-                f"program.evaluate(theta).{key}[{i}] = {values[i]!r} must be finite "
+                f"program.evaluate(theta).{key}[{i}] = {float(values[i])!r} must be finite "
                 f"(at θ = {math.degrees(theta[i]):g}°)"
             )
         out.append(values)
@@ -222,7 +222,7 @@ class ServoAxis:
         self._vel, self._acc = self.v * k, self.a * k
         self._load = (j_load, t_ext, eta)
 
-    def _kernel_load(self, gearbox: Gearbox) -> tuple[Any, ...]:
+    def _kernel_load(self, gearbox: Gearbox) -> tuple[Array, Array, float, float, float]:
         """The load arguments of the kernels through ``gearbox``: φ_L′, φ_L″, J_L,
         T_ext and the whole drive's efficiency η_screw·η_gear."""
         j_load, t_ext, eta = self._load

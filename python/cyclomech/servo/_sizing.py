@@ -87,7 +87,8 @@ class Sizing:
     choice : SizingRow
         The chosen pair's margins, or the nearest candidate's if none passes.
     runners_up : tuple of SizingRow
-        The pairs ranked next (passing pairs if any pass, else the next nearest).
+        The pairs ranked next: passing pairs (fewer than asked if fewer pass) or,
+        if none passes, the next nearest.
     rpm : ndarray of float
         The machine's speeds checked [rpm].
     ratios : ndarray of float, shape (R,)
@@ -148,8 +149,9 @@ def _motors(catalogue: Any) -> tuple[Motor, ...]:
 
 def _row(motor: Motor, ratio: float, margins: Array) -> SizingRow:
     c = int(np.argmin(margins))
-    values = [float(v) for v in margins]
-    return SizingRow(motor.name, float(ratio), *values, CHECKS[c], bool(margins.min() >= 0.0))
+    peak, rms, speed, inertia = (float(v) for v in margins)
+    passes = bool(margins.min() >= 0.0)
+    return SizingRow(motor.name, float(ratio), peak, rms, speed, inertia, CHECKS[c], passes)
 
 
 def _ranked(motors: tuple[Motor, ...], ratios: Array, margins: Array) -> list[tuple[int, int]]:
@@ -266,6 +268,8 @@ def size(
     order = _ranked(motors, ratio, margins)
     rows = [_row(motors[m], ratio[r], margins[m, r]) for m, r in order[: keep + 1]]
     first = rows[0]
+    if first.passes:  # the runners-up of a choice pass too; failing pairs only when none does
+        rows = [row for row in rows if row.passes]
     chosen = motors[order[0][0]]
     if not first.passes:
         c = CHECKS.index(first.binding)
