@@ -62,35 +62,42 @@ pub fn size_into(
                 || Reduced::new(m * r),
                 |mut acc, (s, &w)| {
                     if !crate::cancel::requested() {
-                        batch.at_speed(w, &mut acc.scratch);
-                        acc.keep(s as i64);
+                        batch.at_speed(w, s as i64, &mut acc);
                     }
                     acc
                 },
             )
             .reduce(|| Reduced::new(m * r), Reduced::merge)
     });
-    margins.copy_from_slice(&best.margins);
-    worst.copy_from_slice(&best.worst);
+    // Back from the order of J′ to the candidates' (m·R + r), the inertia ratio's
+    // margin beside (it holds at every speed: the first speed is the worst).
+    for (q, &c) in batch.by_jp.iter().enumerate() {
+        for k in 0..N_CHECKS - 1 {
+            margins[c * N_CHECKS + k] = best.margins[q * 3 + k];
+            worst[c * N_CHECKS + k] = best.worst[q * 3 + k];
+        }
+        margins[c * N_CHECKS + 3] = batch.inertia_margin[c];
+        worst[c * N_CHECKS + 3] = 0;
+    }
     Ok(())
 }
 
-/// What every speed shares: the load, the candidates' J′ = (J_motor + J_gear)·i²
-/// in ascending order, the envelope's line order.
+/// What every speed shares: the load, the candidates in ascending order of
+/// J′ = (J_motor + J_gear)·i² with the factors that turn the envelope, the RMS
+/// sum and the speed into margins, and the envelope's line order.
 struct Batch<'a> {
     load: &'a Load<'a>,
-    ratios: &'a [f64],
-    motors: &'a Motors<'a>,
-    /// J′ per candidate (m·R + r).
-    jp: Vec<f64>,
-    /// Candidates by ascending J′.
+    /// Candidates (m·R + r) by ascending J′.
     by_jp: Vec<usize>,
+    /// In that order: J′, 1/(i·T_peak), 1/(i·T_rated·√N), i·max|φ_L′|/ω_max.
+    jp: Vec<f64>,
+    per_peak: Vec<f64>,
+    per_rms: Vec<f64>,
+    per_speed: Vec<f64>,
     /// The 2N lines ±(ã_k + J′·b̃_k) by ascending slope: (k, sign).
     lines: Vec<(usize, f64)>,
-    /// Inertia ratio margin per candidate (no speed in it).
+    /// Inertia ratio margin per candidate (m·R + r): no speed in it.
     inertia_margin: Vec<f64>,
-    /// max_k |φ_L′|.
-    max_vel: f64,
 }
 
 impl<'a> Batch<'a> {
@@ -103,73 +110,96 @@ impl<'a> Batch<'a> {
     ) -> Self {
         let r = ratios.len();
         let m = motors.inertia.len();
-        let mut jp = Vec::with_capacity(m * r);
-        let mut inertia_margin = Vec::with_capacity(m * r);
-        for &jm in motors.inertia {
-            for &i in ratios {
-                jp.push((jm + gear_inertia) * i * i);
-                let ratio = (load.inertia / (i * i) + gear_inertia) / jm;
-                inertia_margin.push(1.0 - ratio / limit);
-            }
-        }
+        let jp_of = |c: usize| {
+            let i = ratios[c % r];
+            (motors.inertia[c / r] + gear_inertia) * i * i
+        };
         let mut by_jp: Vec<usize> = (0..m * r).collect();
-        by_jp.sort_by(|&a, &b| jp[a].total_cmp(&jp[b]));
+        by_jp.sort_by(|&a, &b| jp_of(a).total_cmp(&jp_of(b)));
+        let max_vel = load.vel.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let root_n = (load.vel.len() as f64).sqrt();
+        let (mut jp, mut per_peak, mut per_rms, mut per_speed) = (vec![], vec![], vec![], vec![]);
+        for &c in &by_jp {
+            let (mi, i) = (c / r, ratios[c % r]);
+            jp.push(jp_of(c));
+            per_peak.push(1.0 / (i * motors.peak_torque[mi]));
+            per_rms.push(1.0 / (i * motors.rated_torque[mi] * root_n));
+            per_speed.push(i * max_vel / motors.max_speed[mi]);
+        }
+        let inertia_margin = (0..m * r)
+            .map(|c| {
+                let i = ratios[c % r];
+                let ratio = (load.inertia / (i * i) + gear_inertia) / motors.inertia[c / r];
+                1.0 - ratio / limit
+            })
+            .collect();
         // The slope of line (k, ±) is ±φ_L″_k·ω²: ω² > 0 keeps the order of ±φ_L″_k.
         let mut lines: Vec<(usize, f64)> = (0..load.acc.len())
             .flat_map(|k| [(k, 1.0), (k, -1.0)])
             .collect();
         lines.sort_by(|a, b| (a.1 * load.acc[a.0]).total_cmp(&(b.1 * load.acc[b.0])));
-        let max_vel = load.vel.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         Batch {
             load,
-            ratios,
-            motors,
-            jp,
             by_jp,
+            jp,
+            per_peak,
+            per_rms,
+            per_speed,
             lines,
             inertia_margin,
-            max_vel,
         }
     }
 
-    /// Every candidate's margins at the master speed `w` into `scratch.margins`.
-    fn at_speed(&self, w: f64, scratch: &mut Scratch) {
+    /// Every candidate's margins of the peak torque, the RMS torque and the
+    /// speed at the master speed `w` (index `s`), kept in `acc` where smaller.
+    fn at_speed(&self, w: f64, s: i64, acc: &mut Reduced) {
         let load = self.load;
-        let n = load.acc.len();
         let w2 = w * w;
         let (mut saa, mut sab, mut sbb) = (0.0, 0.0, 0.0);
-        scratch.a.clear();
-        for k in 0..n {
+        acc.a.clear();
+        for k in 0..load.acc.len() {
             let a = load.reduced(k, w2);
             let b = load.acc[k] * w2;
             saa += a * a;
             sab += a * b;
             sbb += b * b;
-            scratch.a.push(a);
+            acc.a.push(a);
         }
-        self.envelope(w2, scratch);
-        let r = self.ratios.len();
-        for (c, out) in scratch.margins.chunks_exact_mut(N_CHECKS).enumerate() {
-            let (mi, ri) = (c / r, c % r);
-            let i = self.ratios[ri];
-            let jp = self.jp[c];
-            let peak = scratch.peak[c] / i;
-            let rms = ((saa + jp * (2.0 * sab + jp * sbb)).max(0.0) / n as f64).sqrt() / i;
-            let speed = i * w * self.max_vel;
-            out[0] = 1.0 - peak / self.motors.peak_torque[mi];
-            out[1] = 1.0 - rms / self.motors.rated_torque[mi];
-            out[2] = 1.0 - speed / self.motors.max_speed[mi];
-            out[3] = self.inertia_margin[c];
+        self.envelope(w2, &acc.a, &mut acc.hull);
+        let hull = &acc.hull;
+        let value = |(slope, c): (f64, f64), x: f64| c + slope * x;
+        let mut p = 0;
+        let rows = acc
+            .margins
+            .chunks_exact_mut(3)
+            .zip(acc.worst.chunks_exact_mut(3));
+        for (q, (m, at)) in rows.enumerate() {
+            let x = self.jp[q];
+            // The walk: the envelope's line on top moves right as J′ grows.
+            while p + 1 < hull.len() && value(hull[p + 1], x) >= value(hull[p], x) {
+                p += 1;
+            }
+            let sq = (saa + x * (2.0 * sab + x * sbb)).max(0.0);
+            let new = [
+                1.0 - value(hull[p], x) * self.per_peak[q],
+                1.0 - sq.sqrt() * self.per_rms[q],
+                1.0 - w * self.per_speed[q],
+            ];
+            for k in 0..3 {
+                if new[k] < m[k] || at[k] < 0 {
+                    m[k] = new[k];
+                    at[k] = s;
+                }
+            }
         }
     }
 
-    /// max_k |ã_k + J′·b̃_k| for every candidate's J′ into `scratch.peak`: the
-    /// upper envelope of the 2N lines (slopes ascending), walked at ascending J′.
-    fn envelope(&self, w2: f64, scratch: &mut Scratch) {
-        let hull = &mut scratch.hull;
+    /// The upper envelope of the 2N lines ±(ã_k + J′·b̃_k) into `hull` as
+    /// (slope, intercept), slopes ascending.
+    fn envelope(&self, w2: f64, a: &[f64], hull: &mut Vec<(f64, f64)>) {
         hull.clear();
         for &(k, sign) in &self.lines {
-            let (slope, c) = (sign * self.load.acc[k] * w2, sign * scratch.a[k]);
+            let (slope, c) = (sign * self.load.acc[k] * w2, sign * a[k]);
             if let Some(&(s2, c2)) = hull.last() {
                 if s2 == slope {
                     if c2 >= c {
@@ -191,56 +221,26 @@ impl<'a> Batch<'a> {
             }
             hull.push((slope, c));
         }
-        let mut p = 0;
-        let value = |(s, c): (f64, f64), x: f64| c + s * x;
-        for &cand in &self.by_jp {
-            let x = self.jp[cand];
-            while p + 1 < hull.len() && value(hull[p + 1], x) >= value(hull[p], x) {
-                p += 1;
-            }
-            scratch.peak[cand] = value(hull[p], x);
-        }
     }
 }
 
-/// Working arrays of one thread.
-struct Scratch {
-    a: Vec<f64>,
-    hull: Vec<(f64, f64)>,
-    peak: Vec<f64>,
-    margins: Vec<f64>,
-}
-
-/// The smallest margins so far and the speeds where they are (one per thread's
-/// share of the speeds, merged at the end).
+/// The smallest margins so far of the peak torque, RMS torque and speed checks
+/// (candidates in the order of J′) and the speeds where they are, with the working
+/// arrays of one thread (one per thread's share of the speeds, merged at the end).
 struct Reduced {
     margins: Vec<f64>,
     worst: Vec<i64>,
-    scratch: Scratch,
+    a: Vec<f64>,
+    hull: Vec<(f64, f64)>,
 }
 
 impl Reduced {
     fn new(candidates: usize) -> Self {
         Reduced {
-            margins: vec![f64::INFINITY; candidates * N_CHECKS],
-            worst: vec![-1; candidates * N_CHECKS],
-            scratch: Scratch {
-                a: Vec::new(),
-                hull: Vec::new(),
-                peak: vec![0.0; candidates],
-                margins: vec![0.0; candidates * N_CHECKS],
-            },
-        }
-    }
-
-    /// Keep the smaller of the margins so far and the scratch's (at speed index `s`).
-    fn keep(&mut self, s: i64) {
-        let new = &self.scratch.margins;
-        for ((m, w), &v) in self.margins.iter_mut().zip(&mut self.worst).zip(new) {
-            if v < *m || *w < 0 {
-                *m = v;
-                *w = s;
-            }
+            margins: vec![f64::INFINITY; candidates * 3],
+            worst: vec![-1; candidates * 3],
+            a: Vec::new(),
+            hull: Vec::new(),
         }
     }
 
