@@ -9,6 +9,12 @@ use pyo3::prelude::*;
 use crate::convert::{self, LayoutError};
 use crate::errors::run;
 
+/// `servo_duty`'s result: the statistics per speed and the torque curves.
+type DutyArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// `servo_size`'s result: the smallest margins and the speeds where they are.
+type SizeArrays<'py> = (Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<i64>>);
+
 /// (S, 4) duty statistics (peak |T_m| [N·m], RMS T_m [N·m], peak |ω_m| [rad/s],
 /// regenerated energy per cycle [J]) of the load `vel`, `acc` (φ_L′, φ_L″ at N
 /// uniform master angles) with inertia `inertia` [kg·m²], torque `torque` [N·m]
@@ -30,7 +36,7 @@ pub fn servo_duty<'py>(
     omegas: PyReadonlyArray1<'py, f64>,
     curves: bool,
     n_threads: Option<i64>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+) -> PyResult<DutyArrays<'py>> {
     let load = Load {
         vel: ServoError::slice(py, "vel", &vel)?,
         acc: ServoError::slice(py, "acc", &acc)?,
@@ -82,7 +88,7 @@ pub fn servo_size<'py>(
     omegas: PyReadonlyArray1<'py, f64>,
     inertia_limit: f64,
     n_threads: Option<i64>,
-) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray3<i64>>)> {
+) -> PyResult<SizeArrays<'py>> {
     let load = Load {
         vel: ServoError::slice(py, "vel", &vel)?,
         acc: ServoError::slice(py, "acc", &acc)?,
