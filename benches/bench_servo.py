@@ -55,12 +55,12 @@ class Cycloidal:
         return SimpleNamespace(s=s, v=v, a=a, j=np.zeros_like(t))
 
 
-def problem(n_speeds: int = N_SPEEDS) -> tuple[cm.servo.ServoAxis, list[cm.servo.Motor], Array, Array]:
+def problem(
+    n_speeds: int = N_SPEEDS,
+) -> tuple[cm.servo.ServoAxis, list[cm.servo.Motor], Array, Array]:
     """The axis (a ball screw with a process force), motors, ratios and speeds."""
     load = cm.servo.LinearLoad(10.0, 0.1, force_n=100.0, efficiency=0.9)
-    axis = cm.servo.ServoAxis(
-        Cycloidal(), load, cm.servo.Gearbox(1.0, 0.95, 2e-5), points=POINTS
-    )
+    axis = cm.servo.ServoAxis(Cycloidal(), load, cm.servo.Gearbox(1.0, 0.95, 2e-5), points=POINTS)
     rated = np.geomspace(0.3, 30.0, N_MOTORS)
     motors = [
         cm.servo.Motor(t, 3 * t, 2000, 6000 - 30 * k, 8e-5 * t**1.3, name=f"M{k:03d}")
@@ -106,7 +106,7 @@ def _margins(p: SimpleNamespace, ratios: Array, a: Array, b: Array, peak: Array)
     q = saa[:, None, None] + jp * (2 * sab[:, None, None] + jp * sbb[:, None, None])
     rms = np.sqrt(np.maximum(q, 0) / n) / ratios
     speed = ratios * p.w[:, None, None] * np.abs(p.vel).max()
-    out = np.empty(jp.shape + (4,))
+    out = np.empty((*jp.shape, 4))
     out[..., 0] = (1 - peak / ratios / p.peak[:, None]).min(0)
     out[..., 1] = (1 - rms / p.rated[:, None]).min(0)
     out[..., 2] = (1 - speed / p.wmax[:, None]).min(0)
@@ -118,7 +118,7 @@ def numpy_dense(p: SimpleNamespace, ratios: Array) -> Array:
     """The peak by broadcasting over (candidates, θ), a speed at a time."""
     a, b = _load_side(p)
     jp = ((p.jm[:, None] + p.jg) * ratios[None, :] ** 2).ravel()
-    peak = np.empty((len(p.w),) + jp.shape)
+    peak = np.empty((len(p.w), *jp.shape))
     chunk = 500  # candidates at a time: (500, 3600) floats = 14 MB
     for s in range(len(p.w)):
         for c in range(0, jp.size, chunk):
@@ -131,7 +131,7 @@ def numpy_hull(p: SimpleNamespace, ratios: Array) -> Array:
     """The peak from the convex hull's vertices of the points ±(b̃_k, ã_k)."""
     a, b = _load_side(p)
     jp = ((p.jm[:, None] + p.jg) * ratios[None, :] ** 2).ravel()
-    peak = np.empty((len(p.w),) + jp.shape)
+    peak = np.empty((len(p.w), *jp.shape))
     for s in range(len(p.w)):
         pts = np.concatenate([np.c_[b[s], a[s]], -np.c_[b[s], a[s]]])
         v = pts[ConvexHull(pts).vertices]

@@ -173,6 +173,16 @@ class ServoAxis:
         default 10 (the common 10:1 rule of servo selection guides; 1–5 for a
         stiff, fast axis).
 
+    Attributes
+    ----------
+    theta : ndarray of float, shape (N,)
+        The master angles of the samples, 2π·k/N [rad].
+    s, v, a, j : ndarray of float, shape (N,)
+        The program there: position [m or rad] and its derivatives per radian of
+        master (one ``evaluate`` call, at construction).
+    program, load, gearbox, motor, points, inertia_ratio_limit
+        The arguments, as given (``gearbox`` made a direct drive if None).
+
     Raises
     ------
     InputError
@@ -233,8 +243,9 @@ class ServoAxis:
 
         Everything the motor drives, brought to its shaft, over the rotor's
         inertia: the load's reflected through the gearbox (and the screw) plus
-        the gearbox's own, as servo selection guides define the "load to motor
-        inertia ratio".
+        the gearbox's own. Without a gearbox inertia it is the load-to-motor
+        inertia ratio λ = J_L/(i²·J_motor) of servo sizing guides (Kollmorgen's,
+        Yaskawa's), whose rule of thumb keeps it ≤ 10:1 (the default limit).
 
         Parameters
         ----------

@@ -98,7 +98,8 @@ class Sizing:
     margins : ndarray of float, shape (M, R, 4)
         Every candidate's smallest margin of each of :data:`CHECKS` over the speeds.
     worst_rpm : ndarray of float, shape (M, R, 4)
-        The speed at which each of those margins is smallest [rpm].
+        The speed at which each of those margins is smallest [rpm] (the first such
+        speed; the inertia ratio's, the same at every speed, is the first speed).
 
     Examples
     --------

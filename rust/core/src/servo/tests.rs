@@ -132,3 +132,45 @@ fn bad_inputs_are_named() {
         "ratio = 0 (motor speed / load speed) must be finite and > 0"
     );
 }
+
+#[test]
+fn a_load_at_rest_is_held_on_the_motoring_side() {
+    // No motion: every line of the envelope has slope 0 (one survives); the motor
+    // holds T_ext/(i·η) at every angle, whatever its inertia.
+    let (v, a) = (vec![0.0; 16], vec![0.0; 16]);
+    let load = Load {
+        vel: &v,
+        acc: &a,
+        inertia: 0.3,
+        torque: -2.0,
+        efficiency: 0.8,
+    };
+    let s = duty(&load, 4.0, 1e-3, &[5.0]);
+    let hold = 2.0 / (4.0 * 0.8);
+    assert!((s[0] - hold).abs() < 1e-15 && (s[1] - hold).abs() < 1e-15);
+    assert_eq!((s[2], s[3]), (0.0, 0.0));
+    let motors = Motors {
+        inertia: &[1e-3, 2e-3],
+        peak_torque: &[1.0, 1.0],
+        rated_torque: &[0.5, 2.0],
+        max_speed: &[100.0, 100.0],
+    };
+    let (mut m, mut w) = (vec![0.0; 2 * N_CHECKS], vec![0; 2 * N_CHECKS]);
+    size_into(
+        &load,
+        &[4.0],
+        0.0,
+        &motors,
+        &[5.0, 7.0],
+        10.0,
+        &mut m,
+        &mut w,
+        Some(1),
+    )
+    .unwrap();
+    let want = margins_by_duty(&load, &[4.0], 0.0, &motors, &[5.0, 7.0], 10.0);
+    for (g, w) in m.iter().zip(&want) {
+        assert!((g - w).abs() < 1e-12, "{g} vs {w}");
+    }
+    assert!((m[1] - (1.0 - hold / 0.5)).abs() < 1e-12);
+}
