@@ -16,16 +16,18 @@ picks the smallest motor that passes and its best ratio, with the runners-up.
 
 A servo's torque does not load the main shaft: its motor has its own drive.
 
->>> import numpy as np
 >>> import cyclomech as cm
->>> from types import SimpleNamespace
->>> class Swing:  # a stand-in program: the load shaft swings ±0.5 rad
-...     def evaluate(self, t):
-...         c, s = np.cos(t), np.sin(t)
-...         return SimpleNamespace(s=0.5 * s, v=0.5 * c, a=-0.5 * s, j=-0.5 * c)
->>> ax = cm.servo.ServoAxis(Swing(), cm.servo.RotaryLoad(0.05), points=360)
->>> cm.servo.size(ax, "examples/motors.csv", [3.0, 5.0, 10.0], 120.0).motor.name
-'AC-080-239'
+>>> S = cm.motion.Segment   # a 100 mm rise and return on a ball screw of 20 mm lead
+>>> prog = cm.motion.Program([S("cycloidal", 120, end=0.1), S("dwell", 60),
+...                           S("cycloidal", 120, end=0.0), S("dwell", 60)])
+>>> ax = cm.servo.ServoAxis(prog, cm.servo.LinearLoad(mass_kg=8.0, lead_m=0.02, force_n=30.0),
+...                         cm.servo.Gearbox(1.0, efficiency=0.9))
+>>> best = cm.servo.size(ax, "examples/motors.csv", [1.0, 2.0, 3.0, 5.0], [60.0, 100.0])
+>>> best.motor.name, best.gearbox.ratio
+('AC-040-032', 2.0)
+>>> d = ax.duty(100.0, motor=best.motor, gearbox=best.gearbox)
+>>> d.status, d.binding
+('ok', 'speed')
 """
 
 from __future__ import annotations

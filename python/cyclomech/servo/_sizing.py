@@ -103,14 +103,12 @@ class Sizing:
 
     Examples
     --------
-    >>> import numpy as np, cyclomech as cm
-    >>> from types import SimpleNamespace
-    >>> class Swing:  # the load shaft swings ±0.5 rad
-    ...     def evaluate(self, t):
-    ...         c, s = np.cos(t), np.sin(t)
-    ...         return SimpleNamespace(s=0.5 * s, v=0.5 * c, a=-0.5 * s, j=-0.5 * c)
-    >>> ax = cm.servo.ServoAxis(Swing(), cm.servo.RotaryLoad(0.05), points=360)
-    >>> result = cm.servo.size(ax, "examples/motors.csv", [3.0, 5.0, 10.0], 120.0)
+    >>> import cyclomech as cm
+    >>> S = cm.motion.Segment
+    >>> prog = cm.motion.Program([S("cycloidal", 120, end=0.1), S("dwell", 60),
+    ...                           S("cycloidal", 120, end=0.0), S("dwell", 60)])
+    >>> ax = cm.servo.ServoAxis(prog, cm.servo.LinearLoad(mass_kg=8.0, lead_m=0.02))
+    >>> result = cm.servo.size(ax, "examples/motors.csv", [1.0, 2.0, 3.0], 100.0)
     >>> result.margins.shape, result.status
     ((16, 3, 4), 'ok')
     """
@@ -234,16 +232,17 @@ def size(
 
     Examples
     --------
-    >>> import numpy as np, cyclomech as cm
-    >>> from types import SimpleNamespace
-    >>> class Swing:  # the load shaft swings ±0.5 rad
-    ...     def evaluate(self, t):
-    ...         c, s = np.cos(t), np.sin(t)
-    ...         return SimpleNamespace(s=0.5 * s, v=0.5 * c, a=-0.5 * s, j=-0.5 * c)
-    >>> ax = cm.servo.ServoAxis(Swing(), cm.servo.RotaryLoad(0.05), points=360)
-    >>> best = cm.servo.size(ax, "examples/motors.csv", [3.0, 5.0, 10.0], [60.0, 120.0])
+    >>> import cyclomech as cm
+    >>> S = cm.motion.Segment   # a 100 mm rise and return on a ball screw, 20 mm lead
+    >>> prog = cm.motion.Program([S("cycloidal", 120, end=0.1), S("dwell", 60),
+    ...                           S("cycloidal", 120, end=0.0), S("dwell", 60)])
+    >>> ax = cm.servo.ServoAxis(prog, cm.servo.LinearLoad(mass_kg=8.0, lead_m=0.02, force_n=30.0),
+    ...                         cm.servo.Gearbox(1.0, efficiency=0.9))
+    >>> best = cm.servo.size(ax, "examples/motors.csv", [1.0, 2.0, 3.0, 5.0], [60.0, 100.0])
     >>> best.motor.name, best.gearbox.ratio, best.choice.binding
-    ('AC-080-239', 10.0, 'inertia_ratio')
+    ('AC-040-032', 2.0, 'speed')
+    >>> [(row.motor, row.ratio) for row in best.runners_up[:2]]
+    [('AC-060-064', 1.0), ('AC-060-064', 2.0)]
     """
     if not isinstance(axis, ServoAxis):
         raise TypeError(f"axis must be a ServoAxis; got {type(axis).__name__}")
