@@ -174,3 +174,32 @@ fn a_load_at_rest_is_held_on_the_motoring_side() {
     }
     assert!((m[1] - (1.0 - hold / 0.5)).abs() < 1e-12);
 }
+
+proptest! {
+    /// Arbitrary samples with many ties (piecewise-constant accelerations, dwells,
+    /// equal slopes in the envelope): the batch still matches the reference.
+    #[test]
+    fn the_batch_matches_the_reference_on_ties(
+        samples in proptest::collection::vec((-2i32..=2, -2i32..=2), 2..60),
+        torque in -3.0f64..3.0,
+        efficiency in 0.5f64..=1.0,
+        ratios in proptest::collection::vec(0.5f64..10.0, 1..4),
+        omegas in proptest::collection::vec(0.5f64..30.0, 1..4),
+    ) {
+        let v: Vec<f64> = samples.iter().map(|s| s.0 as f64 * 0.5).collect();
+        let a: Vec<f64> = samples.iter().map(|s| s.1 as f64 * 0.25).collect();
+        let load = Load { vel: &v, acc: &a, inertia: 0.2, torque, efficiency };
+        let jm = [1e-3, 5e-3, 2e-2];
+        let motors = Motors {
+            inertia: &jm, peak_torque: &[5.0, 10.0, 20.0],
+            rated_torque: &[2.0, 4.0, 8.0], max_speed: &[100.0, 200.0, 300.0],
+        };
+        let c = jm.len() * ratios.len() * N_CHECKS;
+        let (mut got, mut worst) = (vec![0.0; c], vec![0; c]);
+        size_into(&load, &ratios, 0.0, &motors, &omegas, 5.0, &mut got, &mut worst, Some(1)).unwrap();
+        let want = margins_by_duty(&load, &ratios, 0.0, &motors, &omegas, 5.0);
+        for (g, w) in got.iter().zip(&want) {
+            prop_assert!((g - w).abs() <= 1e-9 * (1.0 + w.abs()), "{g} vs {w}");
+        }
+    }
+}
