@@ -24,6 +24,7 @@ try:  # every domain, numpy and the Rust core: ~0.6 s
             machine,
             motion,
             press,
+            servo,
             shaft,
             transfer,
         )
@@ -109,6 +110,7 @@ __all__ = [
     "max_difference",
     "motion",
     "press",
+    "servo",
     "shaft",
     "sweep",
     "transfer",

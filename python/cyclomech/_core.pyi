@@ -17,6 +17,8 @@ __all__ = [
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
     "SEGMENT_LAWS",
+    "SERVO_CHECKS",
+    "SERVO_DUTY",
     "SHAFT_STATS",
     "CamKernel",
     "EventGraph",
@@ -62,6 +64,10 @@ CAM_CRITERIA: tuple[str, ...]
 CAM_LOAD_COLUMNS: tuple[str, ...]
 #: The statistics of shaft_stats, in its columns' order.
 SHAFT_STATS: tuple[str, ...]
+#: The checks of a servo motor, in the order of servo_size's last axis.
+SERVO_CHECKS: tuple[str, ...]
+#: The statistics of servo_duty, in its columns' order.
+SERVO_DUTY: tuple[str, ...]
 
 # cyclogram: longest paths, event graphs, cycle ratios, difference constraints.
 
@@ -469,6 +475,41 @@ def cam_follower_response(
     theta: npt.NDArray[np.float64],
     program: ProgramKernel | None = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+
+# servo: motor torque and speed of a servo axis, and the sizing batch.
+
+__all__ += ["servo_duty", "servo_size"]
+
+def servo_duty(
+    vel: npt.NDArray[np.float64],
+    acc: npt.NDArray[np.float64],
+    inertia: float,
+    torque: float,
+    efficiency: float,
+    ratio: float,
+    drive_inertia: float,
+    omegas: npt.NDArray[np.float64],
+    *,
+    curves: bool = False,
+    n_threads: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def servo_size(
+    vel: npt.NDArray[np.float64],
+    acc: npt.NDArray[np.float64],
+    inertia: float,
+    torque: float,
+    efficiency: float,
+    ratios: npt.NDArray[np.float64],
+    gear_inertia: float,
+    motor_inertia: npt.NDArray[np.float64],
+    peak_torque: npt.NDArray[np.float64],
+    rated_torque: npt.NDArray[np.float64],
+    max_speed: npt.NDArray[np.float64],
+    omegas: npt.NDArray[np.float64],
+    inertia_limit: float,
+    *,
+    n_threads: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]: ...
 
 # shaft
 

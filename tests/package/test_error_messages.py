@@ -29,6 +29,10 @@ def i64(*values: int) -> np.ndarray:
     return np.array(values, dtype=np.int64)
 
 
+#: A servo load (φ_L′, φ_L″ at 4 angles, J_L, T_ext, η) for the servo kernels.
+SERVO = (f64(0.0, 1.0, 0.0, -1.0), f64(1.0, 0.0, -1.0, 0.0), 0.1, 0.0, 1.0)
+
+
 def cam() -> _core.CamKernel:
     """A rise and a return of 10 mm over half a turn each, flat-faced follower."""
     return _core.CamKernel(
@@ -104,6 +108,12 @@ CASES: list[tuple[str, Callable[[], object], type[Exception], str]] = [
         THREADS,
     ),
     (
+        "servo threads",
+        lambda: _core.servo_duty(*SERVO, 1.0, 1.0, f64(1.0), n_threads=0),
+        cm.InputError,
+        THREADS,
+    ),
+    (
         "shaft threads",
         lambda: _core.shaft_stats(np.ones(4), np.ones(4), f64(1.0), 0.1, n_threads=0),
         cm.InputError,
@@ -170,6 +180,14 @@ CASES: list[tuple[str, Callable[[], object], type[Exception], str]] = [
         "theta[1] = NaN is not finite",
     ),
     (
+        "servo not finite",
+        lambda: _core.servo_duty(
+            f64(0.0, np.nan), f64(0.0, 0.0), 1.0, 0.0, 1.0, 1.0, 1.0, f64(1.0)
+        ),
+        cm.InputError,
+        "vel[1] = NaN is not finite",
+    ),
+    (
         "shaft not finite",
         lambda: _core.shaft_sum(np.array([[1.0, 2.0, np.nan]]), f64(0.0)),
         cm.InputError,
@@ -213,6 +231,26 @@ CASES: list[tuple[str, Callable[[], object], type[Exception], str]] = [
         "omega = NaN [rad/s] must be finite",
     ),
     (
+        "servo bad value (efficiency)",
+        lambda: _core.servo_duty(f64(0.0, 1.0), f64(0.0, 0.0), 1.0, 0.0, 1.5, 1.0, 1.0, f64(1.0)),
+        cm.InputError,
+        "efficiency = 1.5 must be in (0, 1]",
+    ),
+    (
+        "servo bad value (a ratio)",
+        lambda: _core.servo_size(
+            *SERVO, f64(2.0, -1.0), 0.0, f64(1.0), f64(3.0), f64(1.0), f64(300.0), f64(1.0), 10.0
+        ),
+        cm.InputError,
+        "ratio = -1 (at index 1) must be > 0",
+    ),
+    (
+        "servo bad value (a count)",
+        lambda: _core.servo_duty(f64(0.0), f64(0.0), 1.0, 0.0, 1.0, 1.0, 1.0, f64(1.0)),
+        cm.InputError,
+        "samples = 1 must be >= 2 angles over the cycle, the same for vel and acc (acc has 1)",
+    ),
+    (
         "shaft bad value (a count)",
         lambda: _core.shaft_sum(np.array([[1.0, 2.0]]), f64(0.0)),
         cm.InputError,
@@ -250,6 +288,12 @@ CASES: list[tuple[str, Callable[[], object], type[Exception], str]] = [
         " (360 for one revolution)",
     ),
     # An array that is not C-contiguous (said through each domain's own variant).
+    (
+        "servo layout",
+        lambda: _core.servo_duty(np.ones(8)[::2], np.ones(4), 1.0, 0.0, 1.0, 1.0, 1.0, f64(1.0)),
+        cm.InputError,
+        "vel = NaN must be a C-contiguous array",
+    ),
     (
         "shaft layout",
         lambda: _core.shaft_sum(np.ones((1, 8))[:, ::2], f64(0.0)),

@@ -224,6 +224,12 @@ TARGETS = {
     "_core.MotionLaw.polynomial": st.tuples(arr(0, 7), st.booleans(), arr(0, 4)).map(
         lambda a: [(C + "MotionLaw.polynomial", (a[0], a[1]), {}), (".eval", (a[2], 1), {})]
     ),
+    "_core.servo_duty": st.tuples(arr(0, 5), arr(0, 5), floats(5), arr(0, 3), st.booleans()).map(
+        lambda a: one(C + "servo_duty", a[0], a[1], *a[2], a[3], curves=a[4])
+    ),
+    "_core.servo_size": st.tuples(
+        arr(0, 5), arr(0, 5), floats(3), arr(0, 3), F, *[arr(0, 3)] * 5, F
+    ).map(lambda a: one(C + "servo_size", *a)),
     # --- cm.impact
     "impact.lever_stiffness": floats(4).map(lambda a: one(IM + "lever_stiffness", *a)),
     "impact.propped_lever_stiffness": floats(5).map(

@@ -54,6 +54,7 @@ PACKAGES = [
     "cyclomech.machine",
     "cyclomech.motion",
     "cyclomech.press",
+    "cyclomech.servo",
     "cyclomech.shaft",
     "cyclomech.transfer",
 ]
@@ -95,6 +96,9 @@ RESULT_CLASSES = {
     "cyclomech.press.PressKinematics",
     "cyclomech.press.PressOptimum",
     "cyclomech.press.PressTorque",
+    "cyclomech.servo.Duty",
+    "cyclomech.servo.Sizing",
+    "cyclomech.servo.SizingRow",
     "cyclomech.shaft.Flattening",
     "cyclomech.shaft.MainShaft",
     "cyclomech.shaft.ShaftStats",

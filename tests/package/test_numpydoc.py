@@ -27,6 +27,7 @@ from numpydoc.validate import validate
 CONVERTED = [
     "cyclomech.forces",
     "cyclomech.shaft",
+    "cyclomech.servo",
     "cyclomech.motion",
     "cyclomech.impact",
     "cyclomech.press",

@@ -22,6 +22,7 @@ use cyclomech_core::input::InvalidInput;
 use cyclomech_core::linkage::LinkageError;
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::press::PressError;
+use cyclomech_core::servo::ServoError;
 use cyclomech_core::shaft::ShaftError;
 use numpy::ndarray::{Array2, Dimension, Ix2};
 use numpy::{Element, PyArray, PyReadonlyArray, PyReadwriteArray, PyUntypedArrayMethods};
@@ -79,6 +80,12 @@ impl LayoutError for CamError {
 }
 
 impl LayoutError for ShaftError {
+    fn layout(field: &'static str) -> Self {
+        InvalidInput::bad_value(field, f64::NAN, "must be a C-contiguous array").into()
+    }
+}
+
+impl LayoutError for ServoError {
     fn layout(field: &'static str) -> Self {
         InvalidInput::bad_value(field, f64::NAN, "must be a C-contiguous array").into()
     }

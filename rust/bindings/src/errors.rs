@@ -16,6 +16,7 @@ use cyclomech_core::motion::MotionError;
 use cyclomech_core::parallel::ThreadsError;
 use cyclomech_core::press::ParetoError;
 use cyclomech_core::press::PressError;
+use cyclomech_core::servo::ServoError;
 use cyclomech_core::shaft::ShaftError;
 use cyclomech_core::transfer::TransferError;
 use pyo3::prelude::*;
@@ -98,6 +99,14 @@ input_errors!(
     PressError,
     TransferError
 );
+
+impl IntoPyErr for ServoError {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            ServoError::Input(e) => e.into_pyerr(py),
+        }
+    }
+}
 
 impl IntoPyErr for ShaftError {
     fn into_pyerr(self, py: Python<'_>) -> PyErr {

@@ -17,6 +17,7 @@ mod interrupt;
 mod linkage;
 mod motion;
 mod press;
+mod servo;
 mod shaft;
 mod speed_limit;
 mod transfer;
@@ -45,6 +46,8 @@ mod _core {
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
+    use super::servo::{servo_duty, servo_size};
+    #[pymodule_export]
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
@@ -69,6 +72,8 @@ mod _core {
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
+        m.add("SERVO_CHECKS", PyTuple::new(m.py(), SERVO_CHECKS)?)?;
+        m.add("SERVO_DUTY", PyTuple::new(m.py(), SERVO_DUTY)?)?;
         m.add("THREADS_ENV", parallel::THREADS_ENV)?;
         crate::interrupt::install(m.py());
         Ok(())
@@ -78,6 +83,7 @@ mod _core {
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
     use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
+    use cyclomech_core::servo::{CHECKS as SERVO_CHECKS, DUTY as SERVO_DUTY};
     use cyclomech_core::shaft::STATS as SHAFT_STATS;
     use cyclomech_core::{parallel, units};
     use pyo3::types::PyTuple;

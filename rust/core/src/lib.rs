@@ -27,6 +27,10 @@
 //! * [`press`] — the planetary gear-lever press drive: kinematics over α grids,
 //!   working-stroke criteria, design grids in parallel, and the non-dominated
 //!   filtering of its optimiser.
+//! * [`servo`] — servo axes: the motor torque and speed of an electronic cam
+//!   on the (virtual) main shaft through a gearbox, the checks of a motor
+//!   (peak and RMS torque, speed, inertia ratio) and the sizing batch over
+//!   motors × gear ratios × speeds.
 //! * [`transfer`] — rotor transfer (seed 002): the quintic transition's values,
 //!   curvature and arc length, the composed path sampled by arc length, the
 //!   kinematics of a speed law and the design's candidate scan.
@@ -78,6 +82,7 @@ pub mod motion;
 pub(crate) mod num_text;
 pub mod parallel;
 pub mod press;
+pub mod servo;
 pub mod shaft;
 pub(crate) mod tile;
 pub mod transfer;

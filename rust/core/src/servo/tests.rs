@@ -1,0 +1,205 @@
+//! Unit tests of the servo kernels: the batch against the sample-by-sample
+//! reference, and a closed form (the Python tests check against independent
+//! references too).
+
+use std::f64::consts::{PI, TAU};
+
+use proptest::prelude::*;
+
+use super::*;
+
+/// A cycloidal rise of `h` [rad] over half the cycle and a dwell: φ′, φ″.
+fn rise_dwell(n: usize, h: f64) -> (Vec<f64>, Vec<f64>) {
+    let beta = PI;
+    let (mut v, mut a) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..n {
+        let t = TAU * k as f64 / n as f64;
+        if t < beta {
+            let x = TAU * t / beta;
+            v[k] = h / beta * (1.0 - x.cos());
+            a[k] = TAU * h / (beta * beta) * x.sin();
+        }
+    }
+    (v, a)
+}
+
+fn duty(load: &Load<'_>, ratio: f64, j: f64, omegas: &[f64]) -> Vec<f64> {
+    let mut stats = vec![0.0; omegas.len() * N_DUTY];
+    duty_into(load, ratio, j, omegas, &mut stats, None, Some(1)).unwrap();
+    stats
+}
+
+#[test]
+fn a_pure_inertia_peaks_at_the_cycloids_acceleration() {
+    // T_m = (J_m + J_L/i²)·i·φ″ω²; the cycloid's φ″ peaks at 2πh/β².
+    let (n, h) = (3600, 2.0);
+    let (v, a) = rise_dwell(n, h);
+    let load = Load {
+        vel: &v,
+        acc: &a,
+        inertia: 0.5,
+        torque: 0.0,
+        efficiency: 1.0,
+    };
+    let (i, jm, w) = (4.0, 0.01, 10.0);
+    let s = duty(&load, i, jm, &[w]);
+    let want = (jm + 0.5 / (i * i)) * i * TAU * h / (PI * PI) * w * w;
+    assert!((s[0] - want).abs() < 1e-9 * want);
+    // Peak motor speed: i·ω·2h/β.
+    assert!((s[2] - i * w * 2.0 * h / PI).abs() < 1e-9);
+}
+
+fn margins_by_duty(
+    load: &Load<'_>,
+    ratios: &[f64],
+    jg: f64,
+    motors: &Motors<'_>,
+    omegas: &[f64],
+    limit: f64,
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    for m in 0..motors.inertia.len() {
+        for &i in ratios {
+            let s = duty(load, i, motors.inertia[m] + jg, omegas);
+            let mut worst = [f64::INFINITY; N_CHECKS];
+            for row in s.chunks_exact(N_DUTY) {
+                let used = [row[0], row[1], row[2]];
+                let avail = [
+                    motors.peak_torque[m],
+                    motors.rated_torque[m],
+                    motors.max_speed[m],
+                ];
+                for c in 0..3 {
+                    worst[c] = worst[c].min(1.0 - used[c] / avail[c]);
+                }
+            }
+            worst[3] = 1.0 - (load.inertia / (i * i) + jg) / motors.inertia[m] / limit;
+            out.extend(worst);
+        }
+    }
+    out
+}
+
+proptest! {
+    #[test]
+    fn the_batch_matches_the_reference(
+        inertia in 0.0f64..2.0,
+        torque in -5.0f64..5.0,
+        efficiency in 0.3f64..=1.0,
+        jm in proptest::collection::vec(1e-4f64..1e-1, 1..5),
+        ratios in proptest::collection::vec(0.5f64..20.0, 1..4),
+        omegas in proptest::collection::vec(1.0f64..60.0, 1..4),
+        h in 0.1f64..4.0,
+        n in 8usize..200,
+    ) {
+        let (v, a) = rise_dwell(n, h);
+        let load = Load { vel: &v, acc: &a, inertia, torque, efficiency };
+        let peak: Vec<f64> = jm.iter().map(|j| 100.0 * j.sqrt()).collect();
+        let rated: Vec<f64> = peak.iter().map(|p| p / 3.0).collect();
+        let max_speed = vec![300.0; jm.len()];
+        let motors = Motors { inertia: &jm, peak_torque: &peak, rated_torque: &rated, max_speed: &max_speed };
+        let c = jm.len() * ratios.len() * N_CHECKS;
+        let (mut got, mut worst) = (vec![0.0; c], vec![0; c]);
+        size_into(&load, &ratios, 1e-4, &motors, &omegas, 10.0, &mut got, &mut worst, Some(2)).unwrap();
+        let want = margins_by_duty(&load, &ratios, 1e-4, &motors, &omegas, 10.0);
+        for (g, w) in got.iter().zip(&want) {
+            prop_assert!((g - w).abs() <= 1e-9 * (1.0 + w.abs()), "{g} vs {w}");
+        }
+        prop_assert!(worst.iter().all(|&s| s >= 0 && (s as usize) < omegas.len()));
+    }
+}
+
+#[test]
+fn bad_inputs_are_named() {
+    let (v, a) = rise_dwell(8, 1.0);
+    let load = Load {
+        vel: &v,
+        acc: &a,
+        inertia: 1.0,
+        torque: 0.0,
+        efficiency: 1.5,
+    };
+    let mut s = vec![0.0; N_DUTY];
+    let e = duty_into(&load, 1.0, 1.0, &[1.0], &mut s, None, Some(1)).unwrap_err();
+    assert_eq!(e.to_string(), "efficiency = 1.5 must be in (0, 1]");
+    let load = Load {
+        efficiency: 1.0,
+        ..load
+    };
+    let e = duty_into(&load, 0.0, 1.0, &[1.0], &mut s, None, Some(1)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "ratio = 0 (motor speed / load speed) must be finite and > 0"
+    );
+}
+
+#[test]
+fn a_load_at_rest_is_held_on_the_motoring_side() {
+    // No motion: every line of the envelope has slope 0 (one survives); the motor
+    // holds T_ext/(i·η) at every angle, whatever its inertia.
+    let (v, a) = (vec![0.0; 16], vec![0.0; 16]);
+    let load = Load {
+        vel: &v,
+        acc: &a,
+        inertia: 0.3,
+        torque: -2.0,
+        efficiency: 0.8,
+    };
+    let s = duty(&load, 4.0, 1e-3, &[5.0]);
+    let hold = 2.0 / (4.0 * 0.8);
+    assert!((s[0] - hold).abs() < 1e-15 && (s[1] - hold).abs() < 1e-15);
+    assert_eq!((s[2], s[3]), (0.0, 0.0));
+    let motors = Motors {
+        inertia: &[1e-3, 2e-3],
+        peak_torque: &[1.0, 1.0],
+        rated_torque: &[0.5, 2.0],
+        max_speed: &[100.0, 100.0],
+    };
+    let (mut m, mut w) = (vec![0.0; 2 * N_CHECKS], vec![0; 2 * N_CHECKS]);
+    size_into(
+        &load,
+        &[4.0],
+        0.0,
+        &motors,
+        &[5.0, 7.0],
+        10.0,
+        &mut m,
+        &mut w,
+        Some(1),
+    )
+    .unwrap();
+    let want = margins_by_duty(&load, &[4.0], 0.0, &motors, &[5.0, 7.0], 10.0);
+    for (g, w) in m.iter().zip(&want) {
+        assert!((g - w).abs() < 1e-12, "{g} vs {w}");
+    }
+    assert!((m[1] - (1.0 - hold / 0.5)).abs() < 1e-12);
+}
+
+proptest! {
+    /// Arbitrary samples with many ties (piecewise-constant accelerations, dwells,
+    /// equal slopes in the envelope): the batch still matches the reference.
+    #[test]
+    fn the_batch_matches_the_reference_on_ties(
+        samples in proptest::collection::vec((-2i32..=2, -2i32..=2), 2..60),
+        torque in -3.0f64..3.0,
+        efficiency in 0.5f64..=1.0,
+        ratios in proptest::collection::vec(0.5f64..10.0, 1..4),
+        omegas in proptest::collection::vec(0.5f64..30.0, 1..4),
+    ) {
+        let v: Vec<f64> = samples.iter().map(|s| s.0 as f64 * 0.5).collect();
+        let a: Vec<f64> = samples.iter().map(|s| s.1 as f64 * 0.25).collect();
+        let load = Load { vel: &v, acc: &a, inertia: 0.2, torque, efficiency };
+        let jm = [1e-3, 5e-3, 2e-2];
+        let motors = Motors {
+            inertia: &jm, peak_torque: &[5.0, 10.0, 20.0],
+            rated_torque: &[2.0, 4.0, 8.0], max_speed: &[100.0, 200.0, 300.0],
+        };
+        let c = jm.len() * ratios.len() * N_CHECKS;
+        let (mut got, mut worst) = (vec![0.0; c], vec![0; c]);
+        size_into(&load, &ratios, 0.0, &motors, &omegas, 5.0, &mut got, &mut worst, Some(1)).unwrap();
+        let want = margins_by_duty(&load, &ratios, 0.0, &motors, &omegas, 5.0);
+        for (g, w) in got.iter().zip(&want) {
+            prop_assert!((g - w).abs() <= 1e-9 * (1.0 + w.abs()), "{g} vs {w}");
+        }
+    }
+}
