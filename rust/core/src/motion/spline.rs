@@ -2,13 +2,10 @@
 //! program, and the user's own table of s(θ).
 //!
 //! The spline of odd degree k = 2m − 1 (cubic: m = 2, quintic: m = 3) with its
-//! knots at the data points x_0 < … < x_{n−1} is, on each interval, the Hermite
-//! polynomial of degree k fixed by the values y_i, y_{i+1} and the derivatives
-//! of orders 1 … m − 1 at its two ends (the slope s′, and for the quintic the
-//! curvature s″ too). Those derivatives are the unknowns, d = m − 1 of them per
-//! knot; values and derivatives up to m − 1 are then continuous by construction,
-//! and the equations ask that the derivatives of orders m … 2m − 2 (s″; s‴ and
-//! s⁗) be continuous at every interior knot, with d end conditions at each end:
+//! knots at the data points x_0 < … < x_{n−1} is a polynomial of degree k on
+//! each interval, with derivatives up to k − 1 continuous at every interior
+//! knot; it interpolates the n values, and d = m − 1 conditions at each end
+//! fix it:
 //!
 //! * [`SplineEnd::Given`]: the derivatives 1 … m − 1 at the end (clamped);
 //! * [`SplineEnd::Natural`]: the derivatives m … 2m − 2 vanish at the end (the
@@ -16,23 +13,27 @@
 //!   quintic, which minimises ∫ (s^(m))² and reproduces polynomials of degree
 //!   < m);
 //! * [`SplineEnd::Periodic`] at both ends: the table spans one period (y_0 =
-//!   y_{n−1}) and the derivatives 1 … 2m − 2 are periodic, so that a table over
+//!   y_{n−1}) and the derivatives 1 … k − 1 are periodic, so that a table over
 //!   one machine cycle runs smoothly into the next.
 //!
-//! The space (piecewise polynomials of degree k, C^(k−1), knots at the data) and
-//! the conditions are those of scipy's `CubicSpline(x, y, bc_type=…)` and
-//! `make_interp_spline(x, y, k=5, bc_type=…)`, so the spline is the same
-//! function (the quintic's `Natural` is scipy's `bc_type=([(3, 0.0), (4, 0.0)],
-//! [(3, 0.0), (4, 0.0)])`; scipy 1.17's string "natural" sets s″ = 0 only, which
-//! is one condition short for k = 5, and it refuses it).
+//! The space and the conditions are those of scipy's `CubicSpline(x, y,
+//! bc_type=…)` and `make_interp_spline(x, y, k=5, bc_type=…)`, so the spline
+//! is the same function (the quintic's `Natural` is scipy's `bc_type=([(3,
+//! 0.0), (4, 0.0)], [(3, 0.0), (4, 0.0)])`; scipy 1.17's string "natural" sets
+//! s″ = 0 only, one condition short for k = 5, and scipy refuses it).
 //!
-//! The unknowns form a banded system (bandwidth 2d − 1 either side), solved by
-//! Gaussian elimination with partial pivoting in O(n) after scaling each
-//! curvature by its knot's shorter interval and each row by its largest entry,
-//! so that neighbouring intervals of very different lengths (ratios of 1e3 and
-//! more) do not spoil the pivots. The periodic system is the same band plus two
-//! corners; it is solved bordered: the first knot's derivatives are eliminated
-//! through the band's solution for d + 1 right-hand sides and a d × d system.
+//! It is solved as scipy's `make_interp_spline` does, in the B-spline basis:
+//! the coefficients of the n + k − 1 B-splines on the data knots (the ends of
+//! multiplicity k + 1) from the n values and the 2d end conditions, a banded
+//! system (k sub- and super-diagonals) by Gaussian elimination with partial
+//! pivoting, in O(n). The B-splines are local and well conditioned whatever the
+//! spacing; a first version solved for the knots' derivatives (Hermite form)
+//! and lost five digits of the quintic where neighbouring intervals differ by
+//! 1e3, because there s⁗ over the short interval lives only in the differences
+//! of the derivatives at its ends. The periodic spline identifies c_{j+n−1} =
+//! c_j on knots continued by the period: a band plus two corners, solved
+//! bordered. Each piece's coefficients are then the spline's derivatives at
+//! the start of its interval over j!.
 
 use super::{MotionError, Segment};
 use crate::input::InvalidInput;
@@ -183,13 +184,18 @@ pub fn spline(
         }
         y[n - 1] = a;
     }
-    let sys = System::new(d, &h, &y, periodic.0);
-    let derivs = if periodic.0 {
-        sys.solve_periodic()
+    let k = degree;
+    let basis = if periodic.0 {
+        Basis::periodic(x, k)
     } else {
-        sys.solve(&start, &end)
+        Basis::clamped(x, k)
     };
-    let segments = derivs.map(|u| sys.segments(x, &u));
+    let coef = if periodic.0 {
+        basis.solve_periodic(&y)
+    } else {
+        basis.solve(&y, &start, &end)
+    };
+    let segments = coef.map(|c| basis.segments(&c));
     match segments {
         Some(s) if s.iter().all(|p| p.poly.iter().all(|c| c.is_finite())) => Ok(s),
         _ => bad(format!(
@@ -200,195 +206,209 @@ pub fn spline(
     }
 }
 
-/// K such that the derivative of order `order` at an end of an interval of
-/// length h is Σ_j K_j·D_j / h^(order − j), over D = [Δy, derivatives 1 … d at
-/// the start, derivatives 1 … d at the end] (j the derivative's order, 0 for
-/// Δy): CUBIC for s″ (order 2), QUINTIC for s‴ and s⁗ (orders 3, 4), each
-/// [at the start, at the end]. From the Hermite forms: for the quintic, with
-/// Δ = y1 − y0, a5 h⁵ = 6Δ − 3h(p0 + p1) + h²(q1 − q0)/2 and its kin.
-const CUBIC: [[[f64; 5]; 2]; 1] = [[[6.0, -4.0, -2.0, 0.0, 0.0], [-6.0, 2.0, 4.0, 0.0, 0.0]]];
-const QUINTIC: [[[f64; 5]; 2]; 2] = [
-    [
-        [60.0, -36.0, -9.0, -24.0, 3.0],
-        [60.0, -24.0, -3.0, -36.0, 9.0],
-    ],
-    [
-        [-360.0, 192.0, 36.0, 168.0, -24.0],
-        [360.0, -168.0, -24.0, -192.0, 36.0],
-    ],
-];
+/// Highest degree of a spline here, and the size of its arrays of B-splines.
+const K_MAX: usize = 5;
 
-/// The spline's equations before the end conditions: interval lengths, values,
-/// and each knot's scale H_i (its shorter neighbouring interval), by which its
-/// derivative of order j is carried as D_j·H_i^(j − 1).
-struct System<'a> {
-    d: usize,
-    h: &'a [f64],
-    y: &'a [f64],
-    scale: Vec<f64>,
+/// The B-spline basis of degree k on knots `t` over the data x_0 … x_{n−1}:
+/// x_i = t[k + i], so interval i (x_i ≤ x < x_{i+1}) is knot span k + i, where
+/// B_i … B_{i+k} are the nonzero ones.
+struct Basis<'a> {
+    x: &'a [f64],
+    k: usize,
+    t: Vec<f64>,
 }
 
-/// One scaled equation: coefficients on (knot, derivative order 1 … d) and its
-/// right-hand side.
-struct Row {
-    terms: Vec<(usize, usize, f64)>,
-    rhs: f64,
-}
+impl<'a> Basis<'a> {
+    /// Knots x_0 and x_{n−1} of multiplicity k + 1, the interior data simple:
+    /// n + k − 1 B-splines (scipy's `_augknt`).
+    fn clamped(x: &'a [f64], k: usize) -> Basis<'a> {
+        let n = x.len();
+        let mut t = vec![x[0]; k];
+        t.extend_from_slice(x);
+        t.extend(std::iter::repeat_n(x[n - 1], k));
+        Basis { x, k, t }
+    }
 
-impl Row {
-    /// The same equation divided by its largest coefficient.
-    fn normalised(mut self) -> Row {
-        let big = self.terms.iter().fold(0.0f64, |m, t| m.max(t.2.abs()));
-        if big > 0.0 && big.is_finite() {
-            for t in &mut self.terms {
-                t.2 /= big;
+    /// The data as knots, continued by the period's intervals on both sides
+    /// (scipy's `_periodic_knots` for odd k): B_j and B_{j+n−1} are then one
+    /// function shifted by the period, and the periodic spline is Σ c_j B_j
+    /// with c_{j+n−1} = c_j.
+    fn periodic(x: &'a [f64], k: usize) -> Basis<'a> {
+        let n = x.len();
+        let m = n - 1;
+        let dx: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+        let mut t = vec![0.0; n + 2 * k];
+        t[k..k + n].copy_from_slice(x);
+        for i in 0..k {
+            t[k - i - 1] = t[k - i] - dx[m - 1 - i % m];
+            t[k + n + i] = t[k + n + i - 1] + dx[i % m];
+        }
+        Basis { x, k, t }
+    }
+
+    /// The knot span of interval i and the point x_i or x_{i+1} in it: the
+    /// span's B-splines are polynomials, so at its right end they give the
+    /// limits from the left (the last data point lies in the last interval).
+    fn span(&self, i: usize) -> usize {
+        self.k + i.min(self.x.len() - 2)
+    }
+
+    /// ders[j][l] = the j-th derivative of B_{span−k+l} at u, j ≤ `nd`, l ≤ k,
+    /// for t[span] ≤ u ≤ t[span + 1] (The NURBS Book, algorithm A2.3; every
+    /// divisor is a difference of knots across the span, so positive).
+    fn ders(&self, span: usize, u: f64, nd: usize) -> [[f64; K_MAX + 1]; K_MAX + 1] {
+        let (p, t) = (self.k, &self.t);
+        let mut ndu = [[0.0; K_MAX + 1]; K_MAX + 1];
+        let (mut left, mut right) = ([0.0; K_MAX + 1], [0.0; K_MAX + 1]);
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = u - t[span + 1 - j];
+            right[j] = t[span + j] - u;
+            let mut saved = 0.0;
+            for r in 0..j {
+                // Lower triangle: the knot differences; upper: the B-splines.
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
             }
-            self.rhs /= big;
+            ndu[j][j] = saved;
         }
-        self
-    }
-}
-
-impl System<'_> {
-    /// `periodic`: knots 0 and n − 1 are one knot, with one scale.
-    fn new<'a>(d: usize, h: &'a [f64], y: &'a [f64], periodic: bool) -> System<'a> {
-        let n = y.len();
-        let mut scale: Vec<f64> = (0..n)
-            .map(|i| {
-                let left = if i > 0 { h[i - 1] } else { f64::INFINITY };
-                let right = if i + 1 < n { h[i] } else { f64::INFINITY };
-                left.min(right)
-            })
-            .collect();
-        if periodic {
-            let s = scale[0].min(scale[n - 1]);
-            scale[0] = s;
-            scale[n - 1] = s;
+        let mut ders = [[0.0; K_MAX + 1]; K_MAX + 1];
+        for (l, row) in ndu.iter().enumerate().take(p + 1) {
+            ders[0][l] = row[p];
         }
-        System { d, h, y, scale }
-    }
-
-    /// Add to `row` the derivative of order d + 1 + `a` at the start (`at_end`
-    /// false) or end of interval `k` (from knot `k` to knot `k + 1`, knot
-    /// indices taken modulo `wrap`), times `sign`, scaled by H_i^order with H_i
-    /// the row's knot scale: every term is then a ratio of lengths to a power
-    /// (no overflow for tiny or huge intervals).
-    fn add_end(&self, row: &mut Row, k: usize, a: usize, at_end: bool, sign: f64, wrap: usize) {
-        let d = self.d;
-        let order = (d + 1 + a) as i32;
-        let table = if d == 1 { &CUBIC[a] } else { &QUINTIC[a] };
-        let coef = &table[at_end as usize];
-        let hk = self.h[k];
-        let knot = if at_end { k + 1 } else { k };
-        let hi = self.scale[knot % wrap];
-        let r = hi / hk;
-        // Δy term: K·Δ/h^order·H^order = K·r^order·Δ.
-        let dy = self.y[k + 1] - self.y[k];
-        row.rhs -= sign * coef[0] * r.powi(order) * dy;
-        for (end, knot) in [(0, k), (1, k + 1)] {
-            let knot = knot % wrap;
-            for j in 1..=d {
-                // K·D_j/h^(order − j)·H^order with D_j = D̃_j/H_knot^(j − 1).
-                let c = coef[end * d + j] * r.powi(order - j as i32) * hi.powi(j as i32)
-                    / self.scale[knot].powi(j as i32 - 1);
-                row.terms.push((knot, j, sign * c));
-            }
-        }
-    }
-
-    /// The continuity row of order d + 1 + a at interior knot i (between
-    /// intervals i − 1 and i, modulo `wrap`): left end minus right start = 0.
-    fn continuity(&self, i: usize, a: usize, left: usize, wrap: usize) -> Row {
-        let mut row = Row {
-            terms: Vec::with_capacity(4 * self.d),
-            rhs: 0.0,
-        };
-        self.add_end(&mut row, left, a, true, 1.0, wrap);
-        self.add_end(&mut row, i, a, false, -1.0, wrap);
-        row.normalised()
-    }
-
-    /// The d rows of one end's condition at `knot` (0 or n − 1).
-    fn end_rows(&self, e: &SplineEnd, knot: usize) -> Vec<Row> {
-        let n = self.y.len();
-        (0..self.d)
-            .map(|a| match e {
-                SplineEnd::Given(v) => Row {
-                    terms: vec![(knot, a + 1, 1.0)],
-                    rhs: v[a] * self.scale[knot].powi(a as i32),
-                },
-                _ => {
-                    // Natural: the derivative of order d + 1 + a vanishes.
-                    let mut row = Row {
-                        terms: Vec::with_capacity(2 * self.d),
-                        rhs: 0.0,
-                    };
-                    let (k, at_end) = if knot == 0 { (0, false) } else { (n - 2, true) };
-                    self.add_end(&mut row, k, a, at_end, 1.0, n);
-                    row.normalised()
+        let (p_i, nd_i) = (p as isize, nd.min(p) as isize);
+        let mut a = [[0.0; K_MAX + 1]; 2];
+        for r in 0..=p_i {
+            let (mut s1, mut s2) = (0, 1);
+            a[0][0] = 1.0;
+            for kk in 1..=nd_i {
+                let mut d = 0.0;
+                let (rk, pk) = (r - kk, p_i - kk);
+                let (pk1, pku) = ((pk + 1) as usize, pk as usize);
+                if r >= kk {
+                    a[s2][0] = a[s1][0] / ndu[pk1][rk as usize];
+                    d = a[s2][0] * ndu[rk as usize][pku];
                 }
+                let j1 = if rk >= -1 { 1 } else { -rk };
+                let j2 = if r - 1 <= pk { kk - 1 } else { p_i - r };
+                for j in j1..=j2 {
+                    let (ju, rkj) = (j as usize, (rk + j) as usize);
+                    a[s2][ju] = (a[s1][ju] - a[s1][ju - 1]) / ndu[pk1][rkj];
+                    d += a[s2][ju] * ndu[rkj][pku];
+                }
+                if r <= pk {
+                    let (ku, ru) = (kk as usize, r as usize);
+                    a[s2][ku] = -a[s1][ku - 1] / ndu[pk1][ru];
+                    d += a[s2][ku] * ndu[ru][pku];
+                }
+                ders[kk as usize][r as usize] = d;
+                std::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        // The derivatives of order j carry p!/(p − j)!.
+        let mut f = p as f64;
+        for (j, row) in ders.iter_mut().enumerate().take(nd.min(p) + 1).skip(1) {
+            for v in row.iter_mut().take(p + 1) {
+                *v *= f;
+            }
+            f *= (p - j) as f64;
+        }
+        ders
+    }
+
+    /// The rows of one end's conditions at x_0 (`first`) or x_{n−1}, as (first
+    /// column, the k + 1 entries, right-hand side), each divided by its
+    /// largest entry (derivative rows grow as h^(−order); the pivots compare
+    /// rows).
+    fn end_rows(&self, e: &SplineEnd, first: bool) -> Vec<(usize, [f64; K_MAX + 1], f64)> {
+        let (k, n) = (self.k, self.x.len());
+        let d = (k - 1) / 2;
+        let (span, u) = if first {
+            (self.span(0), self.x[0])
+        } else {
+            (self.span(n - 2), self.x[n - 1])
+        };
+        let ders = self.ders(span, u, k - 1);
+        (0..d)
+            .map(|a| {
+                let (order, rhs) = match e {
+                    SplineEnd::Given(v) => (a + 1, v[a]),
+                    _ => (d + 1 + a, 0.0),
+                };
+                let mut row = ders[order];
+                let big = row.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for v in &mut row {
+                    *v /= big;
+                }
+                (span - k, row, rhs / big)
             })
             .collect()
     }
 
-    /// The scaled derivatives (row-major: knot, order) of the spline with the
-    /// given ends; None if the system is singular.
-    fn solve(&self, start: &SplineEnd, end: &SplineEnd) -> Option<Vec<f64>> {
-        let (n, d) = (self.y.len(), self.d);
-        let mut band = Banded::new(n * d, 2 * d - 1, 2 * d - 1);
-        let mut rhs = vec![0.0; n * d];
-        for i in 0..n {
-            let rows = if i == 0 {
-                self.end_rows(start, 0)
-            } else if i + 1 == n {
-                self.end_rows(end, n - 1)
-            } else {
-                (0..d).map(|a| self.continuity(i, a, i - 1, n)).collect()
-            };
-            for (a, row) in rows.into_iter().enumerate() {
-                let r = i * d + a;
-                for (knot, j, c) in row.terms {
-                    band.add(r, knot * d + j - 1, c);
+    /// The B-spline coefficients of the spline with these ends: d rows of the
+    /// start's conditions, the n values, d rows of the end's (scipy's order),
+    /// a band of k sub- and k super-diagonals.
+    fn solve(&self, y: &[f64], start: &SplineEnd, end: &SplineEnd) -> Option<Vec<f64>> {
+        let (k, n) = (self.k, self.x.len());
+        let size = n + k - 1;
+        let mut band = Banded::new(size, k, k);
+        let mut rhs = Vec::with_capacity(size);
+        let mut rows = self.end_rows(start, true);
+        for (i, &yi) in y.iter().enumerate() {
+            let span = self.span(i.min(n - 2));
+            let ders = self.ders(span, self.x[i], 0);
+            rows.push((span - k, ders[0], yi));
+        }
+        rows.extend(self.end_rows(end, false));
+        for (r, (col, entries, b)) in rows.into_iter().enumerate() {
+            for (l, v) in entries.iter().enumerate().take(k + 1) {
+                if *v != 0.0 {
+                    band.add(r, col + l, *v);
                 }
-                rhs[r] = row.rhs;
             }
+            rhs.push(b);
         }
         band.factor()?;
         band.solve(&mut rhs);
         Some(rhs)
     }
 
-    /// [`System::solve`] for a periodic spline: knot n − 1 is knot 0; the
-    /// unknowns of knots 1 … n − 2 form a band (the clamped system, given knot
-    /// 0's derivatives v), bordered by knot 0's: with A u + B v = f (rows of
-    /// knots 1 … n − 2) and C u + D v = g (knot 0's rows), v solves
-    /// (D − C A⁻¹B) v = g − C A⁻¹f.
-    fn solve_periodic(&self) -> Option<Vec<f64>> {
-        let (n, d) = (self.y.len(), self.d);
-        let m = n - 1; // distinct knots
-        let inner = (m - 1) * d;
-        let mut band = Banded::new(inner, 2 * d - 1, 2 * d - 1);
-        let mut b = vec![vec![0.0; inner]; d]; // B by columns
-        let mut c = vec![vec![0.0; inner]; d]; // C by rows
-        let mut dd = Banded::new(d, d - 1, d - 1);
-        let (mut f, mut g) = (vec![0.0; inner], vec![0.0; d]);
-        for i in 0..m {
-            let left = if i == 0 { m - 1 } else { i - 1 };
-            for a in 0..d {
-                let row = self.continuity(i, a, left, m);
-                for (knot, j, v) in row.terms {
-                    match (i, knot) {
-                        (0, 0) => dd.add(a, j - 1, v),
-                        (0, k) => c[a][(k - 1) * d + j - 1] += v,
-                        (i, 0) => b[j - 1][(i - 1) * d + a] += v,
-                        (i, k) => band.add((i - 1) * d + a, (k - 1) * d + j - 1, v),
-                    }
+    /// [`Basis::solve`] for the periodic spline: m = n − 1 coefficients, one
+    /// value row per distinct point x_0 … x_{m−1}, each B_{i+l} (l < k: B_{i+k}
+    /// vanishes at x_i) in column (i + l − d) mod m, d = (k − 1)/2, so that the
+    /// band is centred (kl = ku = d, its diagonal the middle B-spline, largest)
+    /// and the wrapped entries fall in the corners. Bordered solve: with the
+    /// last b = k − 1 columns and rows as the border, A u + B v = f, C u + D v
+    /// = g and v from (D − C A⁻¹B) v = g − C A⁻¹f. A is a block of consecutive
+    /// rows and columns of a collocation matrix, totally positive with a
+    /// positive diagonal, so nonsingular (Schoenberg–Whitney).
+    fn solve_periodic(&self, y: &[f64]) -> Option<Vec<f64>> {
+        let (k, n) = (self.k, self.x.len());
+        let (m, d) = (n - 1, (k - 1) / 2);
+        let inner = m.saturating_sub(k - 1);
+        let border = m - inner;
+        let mut band = Banded::new(inner, d, d);
+        let mut b = vec![vec![0.0; inner]; border]; // B by columns
+        let mut c = vec![vec![0.0; inner]; border]; // C by rows
+        let mut dd = Banded::new(border, border - 1, border - 1);
+        let (mut f, mut g) = (vec![0.0; inner], vec![0.0; border]);
+        for (i, &yi) in y.iter().enumerate().take(m) {
+            let ders = self.ders(self.span(i), self.x[i], 0);
+            for (l, &v) in ders[0].iter().enumerate().take(k) {
+                let col = (i + l + m - d % m) % m;
+                match (i < inner, col < inner) {
+                    (true, true) => band.add(i, col, v),
+                    (true, false) => b[col - inner][i] += v,
+                    (false, true) => c[i - inner][col] += v,
+                    (false, false) => dd.add(i - inner, col - inner, v),
                 }
-                if i == 0 {
-                    g[a] = row.rhs;
-                } else {
-                    f[(i - 1) * d + a] = row.rhs;
-                }
+            }
+            if i < inner {
+                f[i] = yi;
+            } else {
+                g[i - inner] = yi;
             }
         }
         if inner > 0 {
@@ -398,8 +418,7 @@ impl System<'_> {
                 band.solve(col);
             }
         }
-        // S = D − C·X with X = A⁻¹B; g − C·w with w = A⁻¹f.
-        for a in 0..d {
+        for a in 0..border {
             for (j, col) in b.iter().enumerate() {
                 dd.add(a, j, -dot(&c[a], col));
             }
@@ -407,54 +426,37 @@ impl System<'_> {
         }
         dd.factor()?;
         dd.solve(&mut g);
-        let mut u = vec![0.0; n * d];
-        u[..d].copy_from_slice(&g);
-        for (k, uk) in u[d..d + inner].iter_mut().enumerate() {
-            *uk = f[k] - b.iter().zip(&g).map(|(col, v)| col[k] * v).sum::<f64>();
+        // Column q holds c_{(q + d) mod m}; then c_{j+m} = c_j for all n + k − 1.
+        let mut shifted = vec![0.0; m];
+        for q in 0..m {
+            let v = if q < inner {
+                f[q] - b.iter().zip(&g).map(|(col, v)| col[q] * v).sum::<f64>()
+            } else {
+                g[q - inner]
+            };
+            shifted[(q + d) % m] = v;
         }
-        // Knot n − 1 is knot 0.
-        u.copy_within(..d, m * d);
-        Some(u)
+        Some((0..n + k - 1).map(|j| shifted[j % m]).collect())
     }
 
-    /// The pieces from the scaled derivatives `u` at the knots.
-    fn segments(&self, x: &[f64], u: &[f64]) -> Vec<Segment> {
-        let d = self.d;
-        let deriv =
-            |knot: usize, j: usize| u[knot * d + j - 1] / self.scale[knot].powi(j as i32 - 1);
+    /// The pieces: on interval i, the derivatives 0 … k at x_i from its span's
+    /// B-splines, divided by j!, are the coefficients in t = x − x_i.
+    fn segments(&self, c: &[f64]) -> Vec<Segment> {
+        let (k, x) = (self.k, self.x);
         (0..x.len() - 1)
             .map(|i| {
-                let h = self.h[i];
-                let (y0, y1) = (self.y[i], self.y[i + 1]);
-                let (p0, p1) = (deriv(i, 1), deriv(i + 1, 1));
-                let poly = if d == 1 {
-                    let delta = (y1 - y0) / h;
-                    vec![
-                        y0,
-                        p0,
-                        (3.0 * delta - 2.0 * p0 - p1) / h,
-                        (p0 + p1 - 2.0 * delta) / (h * h),
-                    ]
-                } else {
-                    let (q0, q1) = (deriv(i, 2), deriv(i + 1, 2));
-                    // The remainders of y, s′, s″ at t = h after the known
-                    // terms, made dimensionless-by-h: a_k h^k solve a 3 × 3
-                    // system whose inverse is these integers.
-                    let r0 = y1 - y0 - h * (p0 + 0.5 * h * q0);
-                    let r1 = h * (p1 - p0 - h * q0);
-                    let r2 = h * h * (q1 - q0);
-                    let a3 = 10.0 * r0 - 4.0 * r1 + 0.5 * r2;
-                    let a4 = -15.0 * r0 + 7.0 * r1 - r2;
-                    let a5 = 6.0 * r0 - 3.0 * r1 + 0.5 * r2;
-                    vec![
-                        y0,
-                        p0,
-                        0.5 * q0,
-                        a3 / h.powi(3),
-                        a4 / h.powi(4),
-                        a5 / h.powi(5),
-                    ]
-                };
+                let span = self.span(i);
+                let ders = self.ders(span, x[i], k);
+                let mut factorial = 1.0;
+                let poly = (0..=k)
+                    .map(|j| {
+                        if j > 0 {
+                            factorial *= j as f64;
+                        }
+                        let s: f64 = (0..=k).map(|l| c[span - k + l] * ders[j][l]).sum();
+                        s / factorial
+                    })
+                    .collect();
                 Segment {
                     x0: x[i],
                     x1: x[i + 1],
