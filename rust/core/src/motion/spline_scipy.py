@@ -25,6 +25,9 @@ EVEN_Y = [0.0, 0.2, 0.9, 1.4, 1.1, 0.5, 0.3]
 # Neighbouring intervals in ratios up to 2e3.
 UNEVEN = [0.0, 0.001, 1.0, 1.0005, 1.8, 3.0, 3.002, 4.0]
 UNEVEN_Y = [0.0, 0.3, 1.0, 0.8, -0.5, 0.2, 0.25, 1.0]
+# The same table mirrored: its short interval at the end.
+MIRRORED = [4.0 - v for v in reversed(UNEVEN)]
+MIRRORED_Y = list(reversed(UNEVEN_Y))
 PERIODIC_Y = [0.0, 0.3, 1.0, 0.8, -0.5, 0.2, 0.25, 0.0]
 EVEN_PERIODIC_Y = [0.5, 0.2, 0.9, 1.4, 1.1, -0.5, 0.5]
 
@@ -42,6 +45,14 @@ CASES = [
     ("quintic_even_natural", 5, EVEN, EVEN_Y, ("natural", []), ("natural", [])),
     ("quintic_uneven_given_natural", 5, UNEVEN, UNEVEN_Y, ("given", [0.2, -1.0]), ("natural", [])),
     ("quintic_uneven_natural_given", 5, UNEVEN, UNEVEN_Y, ("natural", []), ("given", [0.7, 0.0])),
+    (
+        "quintic_mirrored_given_natural",
+        5,
+        MIRRORED,
+        MIRRORED_Y,
+        ("given", [-0.7, 0.0]),
+        ("natural", []),
+    ),
     ("quintic_even_periodic", 5, EVEN, EVEN_PERIODIC_Y, ("periodic", []), ("periodic", [])),
     ("quintic_uneven_periodic", 5, UNEVEN, PERIODIC_Y, ("periodic", []), ("periodic", [])),
     (
