@@ -209,6 +209,16 @@ pub fn spline(
 /// Highest degree of a spline here, and the size of its arrays of B-splines.
 const K_MAX: usize = 5;
 
+/// A row of a spline's system: its first column, its k + 1 entries from
+/// there, and its right-hand side.
+type Row = (usize, [f64; K_MAX + 1], f64);
+
+/// [`Basis::triangle`]'s B-splines of every degree and knot differences.
+struct Triangle {
+    ndu: [[f64; K_MAX + 1]; K_MAX + 1],
+    inv: [[f64; K_MAX + 1]; K_MAX + 1],
+}
+
 /// The B-spline basis of degree k on knots `t` over the data x_0 … x_{n−1}:
 /// x_i = t[k + i], so interval i (x_i ≤ x < x_{i+1}) is knot span k + i, where
 /// B_i … B_{i+k} are the nonzero ones.
@@ -253,12 +263,15 @@ impl<'a> Basis<'a> {
         self.k + i.min(self.x.len() - 2)
     }
 
-    /// ders[j][l] = the j-th derivative of B_{span−k+l} at u, j ≤ `nd`, l ≤ k,
-    /// for t[span] ≤ u ≤ t[span + 1] (The NURBS Book, algorithm A2.3; every
-    /// divisor is a difference of knots across the span, so positive).
-    fn ders(&self, span: usize, u: f64, nd: usize) -> [[f64; K_MAX + 1]; K_MAX + 1] {
+    /// The triangle of The NURBS Book's algorithm A2.2 at u, t[span] ≤ u ≤
+    /// t[span + 1]: above the diagonal ndu[r][q] = B_{span−q+r} of degree q
+    /// (r ≤ q ≤ k), below it the knot differences across the span, and their
+    /// reciprocals in `inv` (each divided once; all positive).
+    #[inline(always)]
+    fn triangle(&self, span: usize, u: f64) -> Triangle {
         let (p, t) = (self.k, &self.t);
         let mut ndu = [[0.0; K_MAX + 1]; K_MAX + 1];
+        let mut inv = [[0.0; K_MAX + 1]; K_MAX + 1];
         let (mut left, mut right) = ([0.0; K_MAX + 1], [0.0; K_MAX + 1]);
         ndu[0][0] = 1.0;
         for j in 1..=p {
@@ -266,14 +279,28 @@ impl<'a> Basis<'a> {
             right[j] = t[span + j] - u;
             let mut saved = 0.0;
             for r in 0..j {
-                // Lower triangle: the knot differences; upper: the B-splines.
                 ndu[j][r] = right[r + 1] + left[j - r];
-                let temp = ndu[r][j - 1] / ndu[j][r];
+                inv[j][r] = 1.0 / ndu[j][r];
+                let temp = ndu[r][j - 1] * inv[j][r];
                 ndu[r][j] = saved + right[r + 1] * temp;
                 saved = left[j - r] * temp;
             }
             ndu[j][j] = saved;
         }
+        Triangle { ndu, inv }
+    }
+
+    /// B_{span−k+l}(u) for l = 0 … k.
+    fn values(&self, span: usize, u: f64) -> [f64; K_MAX + 1] {
+        let tr = self.triangle(span, u);
+        std::array::from_fn(|l| if l <= self.k { tr.ndu[l][self.k] } else { 0.0 })
+    }
+
+    /// ders[j][l] = the j-th derivative of B_{span−k+l} at u, j ≤ `nd`, l ≤ k,
+    /// for t[span] ≤ u ≤ t[span + 1] (The NURBS Book, algorithm A2.3).
+    fn ders(&self, span: usize, u: f64, nd: usize) -> [[f64; K_MAX + 1]; K_MAX + 1] {
+        let p = self.k;
+        let Triangle { ndu, inv } = self.triangle(span, u);
         let mut ders = [[0.0; K_MAX + 1]; K_MAX + 1];
         for (l, row) in ndu.iter().enumerate().take(p + 1) {
             ders[0][l] = row[p];
@@ -288,19 +315,19 @@ impl<'a> Basis<'a> {
                 let (rk, pk) = (r - kk, p_i - kk);
                 let (pk1, pku) = ((pk + 1) as usize, pk as usize);
                 if r >= kk {
-                    a[s2][0] = a[s1][0] / ndu[pk1][rk as usize];
+                    a[s2][0] = a[s1][0] * inv[pk1][rk as usize];
                     d = a[s2][0] * ndu[rk as usize][pku];
                 }
                 let j1 = if rk >= -1 { 1 } else { -rk };
                 let j2 = if r - 1 <= pk { kk - 1 } else { p_i - r };
                 for j in j1..=j2 {
                     let (ju, rkj) = (j as usize, (rk + j) as usize);
-                    a[s2][ju] = (a[s1][ju] - a[s1][ju - 1]) / ndu[pk1][rkj];
+                    a[s2][ju] = (a[s1][ju] - a[s1][ju - 1]) * inv[pk1][rkj];
                     d += a[s2][ju] * ndu[rkj][pku];
                 }
                 if r <= pk {
                     let (ku, ru) = (kk as usize, r as usize);
-                    a[s2][ku] = -a[s1][ku - 1] / ndu[pk1][ru];
+                    a[s2][ku] = -a[s1][ku - 1] * inv[pk1][ru];
                     d += a[s2][ku] * ndu[ru][pku];
                 }
                 ders[kk as usize][r as usize] = d;
@@ -331,7 +358,7 @@ impl<'a> Basis<'a> {
     /// s⁗ at one point are nearly parallel when the end interval is short (both
     /// are ruled by the first two B-splines, mostly inside it): next to an
     /// interval 1e3 times longer they lost 1e-11 of the spline, these 1e-14.
-    fn end_rows(&self, e: &SplineEnd, first: bool) -> Vec<(usize, [f64; K_MAX + 1], f64)> {
+    fn end_rows(&self, e: &SplineEnd, first: bool) -> Vec<Row> {
         let (k, n) = (self.k, self.x.len());
         let d = (k - 1) / 2;
         let (span, u, other) = if first {
@@ -369,26 +396,21 @@ impl<'a> Basis<'a> {
         let size = n + k - 1;
         let mut band = Banded::new(size, k, k);
         let mut rhs = Vec::with_capacity(size);
-        let mut rows = self.end_rows(start, true);
-        for (i, &yi) in y.iter().enumerate() {
-            let span = self.span(i.min(n - 2));
-            let ders = self.ders(span, self.x[i], 0);
-            rows.push((span - k, ders[0], yi));
-        }
-        rows.extend(self.end_rows(end, false));
-        if std::env::var("SPLINE_DEBUG").is_ok() {
-            for (c, e, b) in &rows {
-                println!("ROW {c} {:?} {b:?}", &e[..=k]);
-            }
-        }
-        for (r, (col, entries, b)) in rows.into_iter().enumerate() {
-            for (l, v) in entries.iter().enumerate().take(k + 1) {
-                if *v != 0.0 {
-                    band.add(r, col + l, *v);
+        let mut put = |(col, entries, b): Row| {
+            let r = rhs.len();
+            for (l, &v) in entries.iter().enumerate().take(k + 1) {
+                if v != 0.0 {
+                    band.add(r, col + l, v);
                 }
             }
             rhs.push(b);
+        };
+        self.end_rows(start, true).into_iter().for_each(&mut put);
+        for (i, &yi) in y.iter().enumerate() {
+            let span = self.span(i.min(n - 2));
+            put((span - k, self.values(span, self.x[i]), yi));
         }
+        self.end_rows(end, false).into_iter().for_each(&mut put);
         band.factor()?;
         band.solve(&mut rhs);
         Some(rhs)
@@ -414,8 +436,8 @@ impl<'a> Basis<'a> {
         let mut dd = Banded::new(border, border - 1, border - 1);
         let (mut f, mut g) = (vec![0.0; inner], vec![0.0; border]);
         for (i, &yi) in y.iter().enumerate().take(m) {
-            let ders = self.ders(self.span(i), self.x[i], 0);
-            for (l, &v) in ders[0].iter().enumerate().take(k) {
+            let values = self.values(self.span(i), self.x[i]);
+            for (l, &v) in values.iter().enumerate().take(k) {
                 let col = (i + l + m - d % m) % m;
                 match (i < inner, col < inner) {
                     (true, true) => band.add(i, col, v),
@@ -458,24 +480,37 @@ impl<'a> Basis<'a> {
         Some((0..n + k - 1).map(|j| shifted[j % m]).collect())
     }
 
-    /// The pieces: on interval i, the derivatives 0 … k at x_i from its span's
-    /// B-splines, divided by j!, are the coefficients in t = x − x_i.
+    /// The pieces: on interval i, the derivatives 0 … k at x_i over j! are the
+    /// coefficients in t = x − x_i. The j-th derivative of Σ c_l B_l is Σ
+    /// d^(j)_l B_l of degree k − j, with d^(j)_l = (k − j + 1)(d^(j−1)_l −
+    /// d^(j−1)_{l−1}) / (t_{l+k−j+1} − t_l) (de Boor): the knot differences and
+    /// the B-splines of every degree are in the span's triangle, so a piece
+    /// costs one triangle and ~k² products.
     fn segments(&self, c: &[f64]) -> Vec<Segment> {
         let (k, x) = (self.k, self.x);
         (0..x.len() - 1)
             .map(|i| {
                 let span = self.span(i);
-                let ders = self.ders(span, x[i], k);
+                let Triangle { ndu, inv } = self.triangle(span, x[i]);
+                // d[l] for l = j … k, the span's coefficients differenced j times.
+                let mut d = [0.0; K_MAX + 1];
+                d[..=k].copy_from_slice(&c[span - k..=span]);
+                let mut poly = Vec::with_capacity(k + 1);
                 let mut factorial = 1.0;
-                let poly = (0..=k)
-                    .map(|j| {
-                        if j > 0 {
-                            factorial *= j as f64;
+                for j in 0..=k {
+                    if j > 0 {
+                        factorial *= j as f64;
+                        let scale = (k - j + 1) as f64;
+                        for l in (j..=k).rev() {
+                            // t_{l+k−j+1} − t_l across the span: ndu[k − j + 1][l − j].
+                            d[l] = scale * (d[l] - d[l - 1]) * inv[k - j + 1][l - j];
                         }
-                        let s: f64 = (0..=k).map(|l| c[span - k + l] * ders[j][l]).sum();
-                        s / factorial
-                    })
-                    .collect();
+                    }
+                    // Degree k − j: B_{span−(k−j)+r} = ndu[r][k − j], coefficient d[r + j].
+                    let q = k - j;
+                    let s: f64 = (0..=q).map(|r| d[r + j] * ndu[r][q]).sum();
+                    poly.push(s / factorial);
+                }
                 Segment {
                     x0: x[i],
                     x1: x[i + 1],
@@ -532,7 +567,7 @@ impl Banded {
 
     /// Factor in place; None if a pivot column is all zero (singular).
     fn factor(&mut self) -> Option<()> {
-        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        let (n, kl, ku, w) = (self.n, self.kl, self.ku, self.width);
         for j in 0..n {
             let last = (j + kl).min(n - 1);
             let mut p = j;
@@ -546,21 +581,23 @@ impl Banded {
                 return None;
             }
             self.pivot[j] = p;
-            let cols = (j + kl + ku).min(n - 1);
+            // Columns j … j + m of row j sit at kl …, of row r at j + kl − r ….
+            let m = (j + kl + ku).min(n - 1) - j;
             if p != j {
-                for c in j..=cols {
-                    let (x, y) = (self.at(j, c), self.at(p, c));
-                    self.a.swap(x, y);
-                }
+                let (top, bottom) = self.a.split_at_mut(p * w);
+                let row_j = &mut top[j * w + kl..j * w + kl + m + 1];
+                let at_p = j + kl - p;
+                row_j.swap_with_slice(&mut bottom[at_p..at_p + m + 1]);
             }
             for r in j + 1..=last {
-                let k = self.at(r, j);
-                let l = self.a[k] / piv;
-                self.a[k] = l;
+                let (top, bottom) = self.a.split_at_mut(r * w);
+                let row_j = &top[j * w + kl + 1..j * w + kl + 1 + m];
+                let at_r = j + kl - r;
+                let l = bottom[at_r] / piv;
+                bottom[at_r] = l;
                 if l != 0.0 {
-                    for c in j + 1..=cols {
-                        let (x, y) = (self.at(r, c), self.at(j, c));
-                        self.a[x] -= l * self.a[y];
+                    for (x, y) in bottom[at_r + 1..at_r + 1 + m].iter_mut().zip(row_j) {
+                        *x -= l * y;
                     }
                 }
             }
@@ -577,13 +614,15 @@ impl Banded {
                 b[r] -= self.a[self.at(r, j)] * b[j];
             }
         }
+        let w = self.width;
         for j in (0..n).rev() {
-            let hi = (j + kl + ku).min(n - 1);
-            let mut s = b[j];
-            for (c, bc) in b.iter().enumerate().take(hi + 1).skip(j + 1) {
-                s -= self.a[self.at(j, c)] * bc;
-            }
-            b[j] = s / self.a[self.at(j, j)];
+            let m = (j + kl + ku).min(n - 1) - j;
+            let row = &self.a[j * w + kl..j * w + kl + 1 + m];
+            let s = row[1..]
+                .iter()
+                .zip(&b[j + 1..=j + m])
+                .fold(b[j], |s, (a, x)| s - a * x);
+            b[j] = s / row[0];
         }
     }
 }
