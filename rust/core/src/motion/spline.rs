@@ -30,10 +30,17 @@
 //! spacing; a first version solved for the knots' derivatives (Hermite form)
 //! and lost five digits of the quintic where neighbouring intervals differ by
 //! 1e3, because there s⁗ over the short interval lives only in the differences
-//! of the derivatives at its ends. The periodic spline identifies c_{j+n−1} =
-//! c_j on knots continued by the period: a band plus two corners, solved
-//! bordered. Each piece's coefficients are then the spline's derivatives at
-//! the start of its interval over j!.
+//! of the derivatives at its ends. The quintic's natural end is asked in an
+//! equivalent form whose rows are not nearly parallel ([`Basis::end_rows`]).
+//! The periodic spline identifies c_{j+n−1} = c_j on knots continued by the
+//! period: a band plus two corners, solved bordered. Each piece's coefficients
+//! are then the spline's derivatives at the start of its interval over j!.
+//!
+//! Accuracy (`spline_tests.rs`, against an exact solve in 50 digits): 1e-15
+//! to 1e-13 of each derivative's scale on even and uneven tables (interval
+//! ratios to 2e3), 4e-12 to 7e-12 for a natural quintic end next to an
+//! interval 1e3 times longer, where rounding the table itself to f64 moves
+//! the spline by 2e-13 to 4e-13. Time: 1e5 points in tens of milliseconds.
 
 use super::{MotionError, Segment};
 use crate::input::InvalidInput;

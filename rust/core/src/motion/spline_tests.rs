@@ -1072,3 +1072,37 @@ fn spline_time() {
         println!("degree {k}: allocating the pieces alone {best:?}");
     }
 }
+
+/// Two points: the cubic and quintic Hermite polynomials when the ends are
+/// given (closed forms), the line for a natural cubic, a constant when
+/// periodic; the one- and two-knot periodic systems (all border, no band).
+#[test]
+fn two_point_tables() {
+    let (x, y) = ([1.0, 3.0], [2.0, -1.0]);
+    // Natural cubic: the line.
+    let p = spline(&x, &y, 3, SplineEnd::Natural, SplineEnd::Natural).unwrap();
+    for (c, want) in p[0].poly.iter().zip([2.0, -1.5, 0.0, 0.0]) {
+        assert!((c - want).abs() < 1e-15, "{:?}", p[0].poly);
+    }
+    // Quintic with s′, s″ given at both ends: on t ∈ [0, 2], s = 2 + 0.5 t +
+    // 0.5 t² + a3 t³ + a4 t⁴ + a5 t⁵ with s(2) = −1, s′(2) = 0, s″(2) = 1:
+    // the 3 × 3 system for a3, a4, a5 solved by hand: a3 = −5, a4 = 3.4375,
+    // a5 = −0.65625 (check: s(2) = 2 + 1 + 2 − 40 + 55 − 21 = −1, s′(2) =
+    // 0.5 + 2 − 60 + 110 − 52.5 = 0, s″(2) = 1 − 60 + 165 − 105 = 1).
+    let given = |v: [f64; 2]| SplineEnd::Given(v.to_vec());
+    let p = spline(&x, &y, 5, given([0.5, 1.0]), given([0.0, 1.0])).unwrap();
+    let want = [2.0, 0.5, 0.5, -5.0, 3.4375, -0.65625];
+    for (c, w) in p[0].poly.iter().zip(want) {
+        assert!((c - w).abs() < 1e-14, "{:?}", p[0].poly);
+    }
+    for k in [3, 5] {
+        let p = spline(&x, &[0.7, 0.7], k, SplineEnd::Periodic, SplineEnd::Periodic).unwrap();
+        assert_eq!(p.len(), 1);
+        assert!((p[0].poly[0] - 0.7).abs() < 1e-15);
+        assert!(
+            p[0].poly[1..].iter().all(|c| c.abs() < 1e-14),
+            "{:?}",
+            p[0].poly
+        );
+    }
+}
