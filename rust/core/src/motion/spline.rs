@@ -22,25 +22,26 @@
 //! 0.0), (4, 0.0)], [(3, 0.0), (4, 0.0)])`; scipy 1.17's string "natural" sets
 //! s″ = 0 only, one condition short for k = 5, and scipy refuses it).
 //!
-//! It is solved as scipy's `make_interp_spline` does, in the B-spline basis:
-//! the coefficients of the n + k − 1 B-splines on the data knots (the ends of
-//! multiplicity k + 1) from the n values and the 2d end conditions, a banded
-//! system (k sub- and super-diagonals) by Gaussian elimination with partial
-//! pivoting, in O(n). The B-splines are local and well conditioned whatever the
-//! spacing; a first version solved for the knots' derivatives (Hermite form)
-//! and lost five digits of the quintic where neighbouring intervals differ by
-//! 1e3, because there s⁗ over the short interval lives only in the differences
-//! of the derivatives at its ends. The quintic's natural end is asked in an
-//! equivalent form whose rows are not nearly parallel ([`Basis::end_rows`]).
-//! The periodic spline identifies c_{j+n−1} = c_j on knots continued by the
-//! period: a band plus two corners, solved bordered. Each piece's coefficients
-//! are then the spline's derivatives at the start of its interval over j!.
+//! It is solved in the B-spline basis, much as scipy's `make_interp_spline`
+//! does: the coefficients of the B-splines on the data knots from the n values
+//! and the end conditions, a banded system (k sub- and super-diagonals) by
+//! Gaussian elimination with partial pivoting, in O(n). The B-splines are
+//! local and well conditioned whatever the spacing; a first version solved
+//! for the knots' derivatives (Hermite form) and lost five digits of the
+//! quintic where neighbouring intervals differ by 1e3, because there s⁗ over
+//! the short interval lives only in the differences of the derivatives at its
+//! ends. A given end is the end knot of multiplicity k + 1 and its derivative
+//! rows (scipy's `_augknt`); a natural end is not (scipy's way loses up to six
+//! digits next to a short end interval): the spline is continued over an
+//! outer span by a polynomial of degree < m ([`Basis::end_rows`]). The
+//! periodic spline identifies c_{j+n−1} = c_j on knots continued by the
+//! period: a band plus two corners, solved bordered. Each piece's
+//! coefficients are then the spline's derivatives at the start of its
+//! interval over j!.
 //!
-//! Accuracy (`spline_tests.rs`, against an exact solve in 50 digits): 1e-15
-//! to 1e-13 of each derivative's scale on even and uneven tables (interval
-//! ratios to 2e3), 4e-12 to 7e-12 for a natural quintic end next to an
-//! interval 1e3 times longer, where rounding the table itself to f64 moves
-//! the spline by 2e-13 to 4e-13. Time: 1e5 points in tens of milliseconds.
+//! Accuracy (`spline_tests.rs`, against an exact solve in 50 digits): 2e-16
+//! to 6e-14 of each derivative's scale on even and uneven tables (interval
+//! ratios to 2e3), every end kind. Time: 1e5 points in tens of milliseconds.
 
 use super::{MotionError, Segment};
 use crate::input::InvalidInput;
@@ -195,7 +196,8 @@ pub fn spline(
     let basis = if periodic.0 {
         Basis::periodic(x, k)
     } else {
-        Basis::clamped(x, k)
+        let natural = (start == SplineEnd::Natural, end == SplineEnd::Natural);
+        Basis::open(x, k, natural)
     };
     let coef = if periodic.0 {
         basis.solve_periodic(&y)
@@ -233,17 +235,32 @@ struct Basis<'a> {
     x: &'a [f64],
     k: usize,
     t: Vec<f64>,
+    /// x_i = t[off + i]: k, or k + 1 after a natural end's outer span.
+    off: usize,
 }
 
 impl<'a> Basis<'a> {
-    /// Knots x_0 and x_{n−1} of multiplicity k + 1, the interior data simple:
-    /// n + k − 1 B-splines (scipy's `_augknt`).
-    fn clamped(x: &'a [f64], k: usize) -> Basis<'a> {
+    /// The data as simple knots, and at each end either the end knot of
+    /// multiplicity k + 1 (scipy's `_augknt`: a given end) or, for a natural
+    /// end (`natural`: start, end), an outer span of the mean interval's
+    /// length with k more simple knots beyond it, on which the spline is asked
+    /// to be a polynomial of degree < m ([`Basis::end_rows`]).
+    fn open(x: &'a [f64], k: usize, natural: (bool, bool)) -> Basis<'a> {
         let n = x.len();
-        let mut t = vec![x[0]; k];
+        let step = (x[n - 1] - x[0]) / (n - 1) as f64;
+        let mut t: Vec<f64> = if natural.0 {
+            (0..=k).map(|j| x[0] - (k + 1 - j) as f64 * step).collect()
+        } else {
+            vec![x[0]; k]
+        };
+        let off = t.len();
         t.extend_from_slice(x);
-        t.extend(std::iter::repeat_n(x[n - 1], k));
-        Basis { x, k, t }
+        if natural.1 {
+            t.extend((1..=k + 1).map(|j| x[n - 1] + j as f64 * step));
+        } else {
+            t.extend(std::iter::repeat_n(x[n - 1], k));
+        }
+        Basis { x, k, t, off }
     }
 
     /// The data as knots, continued by the period's intervals on both sides
@@ -260,14 +277,14 @@ impl<'a> Basis<'a> {
             t[k - i - 1] = t[k - i] - dx[m - 1 - i % m];
             t[k + n + i] = t[k + n + i - 1] + dx[i % m];
         }
-        Basis { x, k, t }
+        Basis { x, k, t, off: k }
     }
 
     /// The knot span of interval i and the point x_i or x_{i+1} in it: the
     /// span's B-splines are polynomials, so at its right end they give the
     /// limits from the left (the last data point lies in the last interval).
     fn span(&self, i: usize) -> usize {
-        self.k + i.min(self.x.len() - 2)
+        self.off + i.min(self.x.len() - 2)
     }
 
     /// The triangle of The NURBS Book's algorithm A2.2 at u, t[span] ≤ u ≤
@@ -355,44 +372,55 @@ impl<'a> Basis<'a> {
     /// The rows of one end's conditions at x_0 (`first`) or x_{n−1}, as (first
     /// column, the k + 1 entries, right-hand side), each divided by its
     /// largest entry (derivative rows grow as h^(−order); the pivots compare
-    /// rows).
+    /// rows): a given end's d derivatives at the end, or a natural end's d + 1
+    /// conditions that the spline be a polynomial of degree < m on the outer
+    /// span (its derivatives of orders m … k vanish there).
     ///
-    /// The quintic's natural end, s‴ = s⁗ = 0, is asked as s‴ = 0 at the end
-    /// and s‴ − (h²/2)·s⁽⁵⁾ = 0 at the other end of the end interval (h its
-    /// length): on that interval s‴ is a quadratic, so that s‴(x ± h) equals
-    /// s‴(x) ± h·s⁗(x) + (h²/2)·s⁽⁵⁾, and the two pairs are the same
-    /// conditions. Rows of s‴ and
-    /// s⁗ at one point are nearly parallel when the end interval is short (both
-    /// are ruled by the first two B-splines, mostly inside it): next to an
-    /// interval 1e3 times longer they lost 1e-11 of the spline, these 1e-14.
+    /// That is the natural end: a spline C^(k−1) at x_0 that is of degree < m
+    /// beyond it has s^(m) … s^(2m−2) = 0 at x_0, and the natural spline
+    /// continued by its Taylor polynomial of degree m − 1 is such a spline.
+    /// Asked at x_0 itself instead, on the end knot of multiplicity k + 1 as
+    /// scipy does, the rows of s‴ and s⁗ are nearly parallel when the end
+    /// interval is short (both ruled by the two B-splines living mostly
+    /// inside it): a natural quintic through (0, 0), (1, c), (1.00106, ·)
+    /// lost 2e-6 of its value (scipy 8e-6), and next to an interval 1e3 times
+    /// longer 1.8e-11; on the outer span every knot difference is at least
+    /// its length.
     fn end_rows(&self, e: &SplineEnd, first: bool) -> Vec<Row> {
         let (k, n) = (self.k, self.x.len());
         let d = (k - 1) / 2;
-        let (span, u, other) = if first {
-            (self.span(0), self.x[0], self.x[1])
-        } else {
-            (self.span(n - 2), self.x[n - 1], self.x[n - 2])
-        };
-        let ders = self.ders(span, u, k);
-        let normalised = |mut row: [f64; K_MAX + 1], rhs: f64| {
+        let normalised = |span: usize, mut row: [f64; K_MAX + 1], rhs: f64| {
             let big = row.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             for v in &mut row {
                 *v /= big;
             }
             (span - k, row, rhs / big)
         };
-        (0..d)
-            .map(|a| match e {
-                SplineEnd::Given(v) => normalised(ders[a + 1], v[a]),
-                _ if a == 1 => {
-                    let there = self.ders(span, other, k);
-                    let half_h2 = 0.5 * (other - u) * (other - u);
-                    let row = std::array::from_fn(|l| there[3][l] - half_h2 * there[5][l]);
-                    normalised(row, 0.0)
-                }
-                _ => normalised(ders[d + 1 + a], 0.0),
-            })
-            .collect()
+        match e {
+            SplineEnd::Given(v) => {
+                let (span, u) = if first {
+                    (self.span(0), self.x[0])
+                } else {
+                    (self.span(n - 2), self.x[n - 1])
+                };
+                let ders = self.ders(span, u, d);
+                (0..d)
+                    .map(|a| normalised(span, ders[a + 1], v[a]))
+                    .collect()
+            }
+            _ => {
+                let span = if first {
+                    self.off - 1
+                } else {
+                    self.off + n - 1
+                };
+                let u = 0.5 * (self.t[span] + self.t[span + 1]);
+                let ders = self.ders(span, u, k);
+                (d + 1..=k)
+                    .map(|o| normalised(span, ders[o], 0.0))
+                    .collect()
+            }
+        }
     }
 
     /// The B-spline coefficients of the spline with these ends: d rows of the
@@ -400,7 +428,7 @@ impl<'a> Basis<'a> {
     /// a band of k sub- and k super-diagonals.
     fn solve(&self, y: &[f64], start: &SplineEnd, end: &SplineEnd) -> Option<Vec<f64>> {
         let (k, n) = (self.k, self.x.len());
-        let size = n + k - 1;
+        let size = self.t.len() - k - 1;
         let mut band = Banded::new(size, k, k);
         let mut rhs = Vec::with_capacity(size);
         let mut put = |(col, entries, b): Row| {
