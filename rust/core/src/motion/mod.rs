@@ -19,8 +19,9 @@
 //! resolves free values, checks given ones and the joins, and evaluates.
 //!
 //! Files: `law` (the laws, named and polynomial, evaluated in SIMD lanes),
-//! `two_period` (the two-period slider law) and `fused` (its one-pass FMA kernel
-//! for arrays of angles, where the processor has FMA).
+//! `two_period` (the two-period slider law), `fused` (its one-pass FMA kernel
+//! for arrays of angles, where the processor has FMA), and `spline` (cubic
+//! and quintic interpolating splines through a point table, as pieces).
 
 mod fused;
 mod law;
@@ -28,6 +29,9 @@ mod program;
 #[cfg(test)]
 mod program_tests;
 mod segment;
+mod spline;
+#[cfg(test)]
+mod spline_tests;
 #[cfg(test)]
 mod tests;
 mod two_period;
@@ -35,4 +39,5 @@ mod two_period;
 pub use law::{Law, MotionError, Segment, LAW_TOL, MAX_DEGREE, NAMES};
 pub use program::{Characteristics, PieceRow, Program, Span, CYCLE_TOL};
 pub use segment::{SegmentSpec, BOUNDARY_TOL, ORDER_NAMES, SEGMENT_LAWS};
+pub use spline::{spline, SplineEnd, PERIODIC_TOL};
 pub use two_period::TwoPeriod;
