@@ -39,6 +39,8 @@ use std::f64::consts::FRAC_PI_2;
 use nalgebra::{DMatrix, DVector};
 
 use super::law::{Fast, Law, MotionError, Segment as Piece};
+use super::SplineEnd;
+use crate::num_text::Num;
 
 /// Laws a motion segment can take.
 pub const SEGMENT_LAWS: [&str; 12] = [
@@ -223,11 +225,7 @@ pub(super) fn pieces(
             let c = hermite(&conds, beta).map_err(|what| bad(index, spec, what))?;
             Ok((line(c), rest))
         }
-        "spline" => Err(bad(
-            index,
-            spec,
-            "the spline law is not built yet".to_string(),
-        )),
+        "spline" => Ok((spline_pieces(index, spec)?, false)),
         name => {
             let e = need_end()?;
             let rise = Law::rise(name)?;
@@ -241,6 +239,48 @@ pub(super) fn pieces(
             Ok((shaped(&rise, s0[0], e - s0[0], v0, v1, beta), rest))
         }
     }
+}
+
+/// The spline through the segment's point table (angles from its start, first
+/// at 0, last at its angle), its end derivatives the values given at each end
+/// (a quintic's velocity and acceleration together) or natural where free.
+fn spline_pieces(index: usize, spec: &SegmentSpec) -> Result<Vec<Piece>, MotionError> {
+    let beta = spec.angle;
+    let mut x: Vec<f64> = spec.points.iter().map(|p| p[0]).collect();
+    let y: Vec<f64> = spec.points.iter().map(|p| p[1]).collect();
+    let n = x.len();
+    let tol = 1e-9 * beta;
+    if x[0].abs() > tol || (x[n - 1] - beta).abs() > tol {
+        return Err(bad(
+            index,
+            spec,
+            format!(
+                "its points must run from 0° to its angle {}°; they run from {}° to {}°",
+                Num(beta.to_degrees()),
+                Num(x[0].to_degrees()),
+                Num(x[n - 1].to_degrees())
+            ),
+        ));
+    }
+    (x[0], x[n - 1]) = (0.0, beta);
+    let end = |which: &str, given: &[Option<f64>; 4]| match (spec.degree, given[1], given[2]) {
+        (3, None, _) | (5, None, None) => Ok(SplineEnd::Natural),
+        (3, Some(v), _) => Ok(SplineEnd::Given(vec![v])),
+        (_, Some(v), Some(a)) => Ok(SplineEnd::Given(vec![v, a])),
+        _ => Err(bad(
+            index,
+            spec,
+            format!(
+                "a quintic spline's {which} takes its velocity and acceleration together, \
+                 or neither (natural)"
+            ),
+        )),
+    };
+    let (s0, s1) = (end("start", &spec.start)?, end("end", &spec.end)?);
+    super::spline(&x, &y, spec.degree, s0, s1).map_err(|e| match e {
+        MotionError::BadLaw { what } => bad(index, spec, what),
+        other => other,
+    })
 }
 
 /// s = s0 + V0·t + (V1 − V0)·β·H(t/β) + K·F(t/β) (module docs) as pieces in t.

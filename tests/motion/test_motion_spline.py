@@ -1,0 +1,104 @@
+"""Spline segments of a motion program against scipy's splines through the same table.
+
+A segment's table is (angle from its start [deg], s); the program's spline in
+master angle [rad] must be scipy's ``CubicSpline`` (natural or clamped) or
+``make_interp_spline(k=5)`` (given or natural ends: s‴ = s⁗ = 0) through the same
+points, with its first three derivatives, to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy.interpolate import CubicSpline, make_interp_spline
+
+S = cm.motion.Segment
+P = cm.motion.Program
+DEG = np.array([0.0, 20.0, 35.0, 60.0, 100.0, 140.0, 180.0])
+Y = np.array([0.0, 0.004, 0.011, 0.022, 0.030, 0.033, 0.035])
+X = np.radians(DEG)
+
+
+def _program(degree: int, start=None, end=None) -> cm.motion.Program:
+    return P(
+        [
+            S(
+                "spline",
+                180,
+                start=start,
+                end=end,
+                points=list(zip(DEG, Y, strict=True)),
+                degree=degree,
+            ),
+            S("poly7", 180, end=(0.0, 0.0, 0.0, 0.0)),
+        ],
+        continuity="position",
+    )
+
+
+def _check(prog: cm.motion.Program, ref) -> None:
+    u = np.linspace(0.0, X[-1] * (1 - 1e-12), 301)
+    m = prog.evaluate(u)
+    for k, got in enumerate((m.s, m.v, m.a, m.j)):
+        want = ref(u, k)
+        assert_allclose(got, want, rtol=1e-9, atol=1e-11 * (1 + np.abs(want).max()))
+
+
+def test_natural_cubic_is_scipys():
+    _check(_program(3), CubicSpline(X, Y, bc_type="natural"))
+
+
+def test_clamped_cubic_is_scipys():
+    prog = _program(3, start=(None, 0.01), end=(None, 0.0))
+    _check(prog, CubicSpline(X, Y, bc_type=((1, 0.01), (1, 0.0))))
+    b = prog.boundaries[0]
+    assert b[2][1] == pytest.approx(0.01) and b[3][1] == pytest.approx(0.0, abs=1e-15)
+
+
+def test_quintic_with_given_ends_is_scipys():
+    prog = _program(5, start=(None, 0.01, 0.0), end=(None, 0.0, -0.02))
+    ref = make_interp_spline(X, Y, k=5, bc_type=([(1, 0.01), (2, 0.0)], [(1, 0.0), (2, -0.02)]))
+    _check(prog, ref)
+
+
+def test_natural_quintic_is_scipys():
+    # scipy's "natural" for k = 5 is s″ = 0 only; the natural quintic (s‴ = s⁗ = 0
+    # at both ends) is asked of it by its derivatives.
+    ref = make_interp_spline(X, Y, k=5, bc_type=([(3, 0.0), (4, 0.0)], [(3, 0.0), (4, 0.0)]))
+    _check(_program(5), ref)
+
+
+def test_a_spline_joins_and_its_table_is_checked():
+    # Joined to the velocity by a poly5 that starts with the spline's end values.
+    prog = P(
+        [
+            S("spline", 180, points=list(zip(DEG, Y, strict=True)), start=(0, 0), end=(None, 0)),
+            S("poly5", 180, end=0.0),
+        ],
+        continuity="velocity",
+    )
+    # (The poly5 starts with the spline's end acceleration: not rest to rest either.)
+    assert prog.scalable == (False, False)
+    with pytest.raises(cm.InputError, match=r"segment 0 \(spline\): its points must run from 0°"):
+        P([S("spline", 180, points=[(0, 0), (170, 0.01)]), S("poly5", 180, end=0.0)])
+    with pytest.raises(cm.InputError, match=r"velocity and acceleration together"):
+        P(
+            [
+                S("spline", 180, points=list(zip(DEG, Y, strict=True)), degree=5, end=(None, 0.0)),
+                S("poly5", 180, end=0.0),
+            ]
+        )
+    with pytest.raises(cm.InputError, match=r"segment 0 \(spline\): .*increas"):
+        P(
+            [
+                S("spline", 180, points=[(0, 0), (90, 0.01), (60, 0.0), (180, 0.02)]),
+                S("poly5", 180, end=0.0),
+            ]
+        )
+    with pytest.raises(cm.InputError, match=r"a spline needs its point table"):
+        P([S("spline", 360)])
+    assert math.isfinite(prog.characteristics[0].cv)
