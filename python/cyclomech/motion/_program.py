@@ -179,8 +179,9 @@ class MotionValues:
 class Characteristics:
     """A segment's peaks and characteristic values (VDI 2143).
 
-    With h its stroke and β its angle [rad]: C_v = max|v|·β/|h|, C_a = max|a|·β²/|h|,
-    C_j = max|j|·β³/|h|, C_m = max|v·a|·β³/h² (NaN where h = 0). Each parameter is
+    With h its stroke and β its angle [rad]: C_v = max ``|v|``·β/``|h|``, C_a = max
+    ``|a|``·β²/``|h|``, C_j = max ``|j|``·β³/``|h|``, C_m = max ``|v·a|``·β³/h² (NaN where
+    h = 0). Each parameter is
     kept as the attribute of the same name.
 
     Parameters

@@ -21,8 +21,8 @@ __all__ = ["CHECKS", "Duty", "ServoAxis"]
 Array = npt.NDArray[np.float64]
 
 #: The checks of a motor and drive, in the order of every margin array: the peak
-#: |torque| against the motor's peak torque, the RMS torque against its rated torque
-#: (thermal), the peak |speed| against its maximum speed, the inertia ratio against
+#: ``|torque|`` against the motor's peak torque, the RMS torque against its rated torque
+#: (thermal), the peak ``|speed|`` against its maximum speed, the inertia ratio against
 #: the axis's limit. A margin is 1 − used/available: ≥ 0 passes, < 0 fails.
 CHECKS: tuple[str, ...] = tuple(_core.SERVO_CHECKS)
 

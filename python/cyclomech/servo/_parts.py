@@ -34,8 +34,8 @@ class Motor:
 
     The rated torque is the continuous (thermal) torque, checked against the RMS
     torque over the cycle; the peak torque the largest the drive may command,
-    checked against the peak |torque|; the maximum speed against the peak
-    |speed|. The rated speed is kept for the reader (the corner of the
+    checked against the peak ``|torque|``; the maximum speed against the peak
+    ``|speed|``. The rated speed is kept for the reader (the corner of the
     torque-speed curve) and checked only against ``max_rpm``: the torque-speed
     curve itself is not modelled. Each parameter is kept as the attribute of
     the same name.

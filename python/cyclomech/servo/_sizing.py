@@ -38,11 +38,11 @@ class SizingRow:
     ratio : float
         The gear ratio (motor speed / load speed).
     peak_torque_margin : float
-        Of the peak |torque| against the motor's peak torque.
+        Of the peak ``|torque|`` against the motor's peak torque.
     rms_torque_margin : float
         Of the RMS torque against the motor's rated torque (thermal).
     speed_margin : float
-        Of the peak |speed| against the motor's maximum speed.
+        Of the peak ``|speed|`` against the motor's maximum speed.
     inertia_ratio_margin : float
         Of the inertia ratio against the axis's limit.
     binding : str
@@ -78,7 +78,7 @@ class Sizing:
     ----------
     status : str
         "ok", or "no motor passes" (then ``choice`` is the nearest candidate, the
-        pair with the largest smallest margin, and a :class:`CyclomechWarning`
+        pair with the largest smallest margin, and a :class:`~cyclomech.CyclomechWarning`
         was issued naming its binding check).
     motor : Motor or None
         The chosen motor (None if no motor passes).
@@ -195,7 +195,7 @@ def size(
     the lower ratio on a tie). The runners-up are the pairs ranked next by the
     same rules (the chosen motor's other passing ratios first). If no pair
     passes, the result says so in ``status``, ``choice`` is the nearest pair (the
-    largest smallest margin) and a :class:`CyclomechWarning` names its binding
+    largest smallest margin) and a :class:`~cyclomech.CyclomechWarning` names its binding
     check: never an empty answer.
 
     Parameters
