@@ -17,6 +17,7 @@ __all__ = [
     "PRESS_STATUS",
     "RAD_PER_S_PER_RPM",
     "SEGMENT_LAWS",
+    "SERVO_BOUNDS",
     "SERVO_CHECKS",
     "SERVO_DUTY",
     "SHAFT_STATS",
@@ -66,6 +67,8 @@ CAM_LOAD_COLUMNS: tuple[str, ...]
 SHAFT_STATS: tuple[str, ...]
 #: The checks of a servo motor, in the order of servo_size's last axis.
 SERVO_CHECKS: tuple[str, ...]
+#: The criteria of servo_min_angles, in its last axis' order.
+SERVO_BOUNDS: tuple[str, ...]
 #: The statistics of servo_duty, in its columns' order.
 SERVO_DUTY: tuple[str, ...]
 
@@ -478,7 +481,7 @@ def cam_follower_response(
 
 # servo: motor torque and speed of a servo axis, and the sizing batch.
 
-__all__ += ["servo_duty", "servo_size"]
+__all__ += ["servo_duty", "servo_min_angles", "servo_size"]
 
 def servo_duty(
     vel: npt.NDArray[np.float64],
@@ -493,6 +496,19 @@ def servo_duty(
     curves: bool = False,
     n_threads: int | None = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def servo_min_angles(
+    program: ProgramKernel,
+    segments: list[int],
+    shaft: float,
+    inertia: float,
+    torque: float,
+    efficiency: float,
+    ratio: float,
+    drive_inertia: float,
+    peak_torque: float,
+    max_speed: float,
+    omegas: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
 def servo_size(
     vel: npt.NDArray[np.float64],
     acc: npt.NDArray[np.float64],

@@ -46,7 +46,7 @@ mod _core {
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
-    use super::servo::{servo_duty, servo_size};
+    use super::servo::{servo_duty, servo_min_angles, servo_size};
     #[pymodule_export]
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
@@ -74,6 +74,7 @@ mod _core {
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
         m.add("SERVO_CHECKS", PyTuple::new(m.py(), SERVO_CHECKS)?)?;
         m.add("SERVO_DUTY", PyTuple::new(m.py(), SERVO_DUTY)?)?;
+        m.add("SERVO_BOUNDS", PyTuple::new(m.py(), SERVO_BOUNDS)?)?;
         m.add("THREADS_ENV", parallel::THREADS_ENV)?;
         crate::interrupt::install(m.py());
         Ok(())
@@ -83,7 +84,9 @@ mod _core {
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
     use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
-    use cyclomech_core::servo::{CHECKS as SERVO_CHECKS, DUTY as SERVO_DUTY};
+    use cyclomech_core::servo::{
+        BOUND_CRITERIA as SERVO_BOUNDS, CHECKS as SERVO_CHECKS, DUTY as SERVO_DUTY,
+    };
     use cyclomech_core::shaft::STATS as SHAFT_STATS;
     use cyclomech_core::{parallel, units};
     use pyo3::types::PyTuple;

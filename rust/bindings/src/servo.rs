@@ -1,13 +1,17 @@
 //! Bindings of the servo axes: one motor and ratio at many speeds, and the
 //! sizing batch over motors × ratios × speeds (see `cyclomech.servo`).
 
-use cyclomech_core::servo::{duty_into, size_into, Load, Motors, ServoError, N_CHECKS, N_DUTY};
+use cyclomech_core::motion::MotionError;
+use cyclomech_core::servo::{
+    duty_into, min_angles_into, size_into, Drive, Load, Motors, ServoError, Shape, N_CHECKS, N_DUTY,
+};
 use numpy::ndarray::{Ix2, Ix3};
 use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
-use crate::errors::run;
+use crate::errors::{run, IntoPyErr};
+use crate::motion::ProgramKernel;
 
 /// `servo_duty`'s result: the statistics per speed and the torque curves.
 type DutyArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
@@ -129,3 +133,103 @@ pub fn servo_size<'py>(
     }
     Ok((margins, worst))
 }
+
+/// (S, K, 2) smallest phase angles [rad] of the segments `segments` of the
+/// motion `program` at master speeds `omegas` [rad/s], per
+/// `cyclomech_core::servo::BOUND_CRITERIA` (peak torque, speed): each segment's
+/// law on the unit square sampled on [`BOUND_SAMPLES`] intervals per piece, its
+/// stroke brought to the load shaft by `shaft` (2π/lead for a screw, 1 for a
+/// rotary load). A segment whose shape changes with its angle is refused.
+#[pyfunction]
+#[pyo3(signature = (program, segments, shaft, inertia, torque, efficiency, ratio, drive_inertia, peak_torque, max_speed, omegas))]
+#[allow(clippy::too_many_arguments)]
+pub fn servo_min_angles<'py>(
+    py: Python<'py>,
+    program: PyRef<'py, ProgramKernel>,
+    segments: Vec<usize>,
+    shaft: f64,
+    inertia: f64,
+    torque: f64,
+    efficiency: f64,
+    ratio: f64,
+    drive_inertia: f64,
+    peak_torque: f64,
+    max_speed: f64,
+    omegas: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let w = ServoError::slice(py, "omegas", &omegas)?;
+    let spans = program.program.spans();
+    let drive = Drive {
+        load_inertia: inertia,
+        load_torque: torque,
+        efficiency,
+        ratio,
+        drive_inertia,
+        peak_torque,
+        max_speed,
+    };
+    let mut shapes = Vec::with_capacity(segments.len());
+    for &k in &segments {
+        let law_name = program.program.specs().get(k).map(|s| s.law.clone());
+        let refuse = |why: &str| {
+            MotionError::BadSegment {
+                index: k,
+                law: law_name.clone().unwrap_or_default(),
+                what: why.to_string(),
+            }
+            .into_pyerr(py)
+        };
+        let Some(span) = spans.get(k) else {
+            return Err(refuse("no such segment"));
+        };
+        if !span.scalable || span.at_end[0] == span.at_start[0] {
+            return Err(refuse(
+                "its shape changes with its angle (moving ends, a constant velocity, a point \
+                 table) or it does not move: it has no smallest phase angle",
+            ));
+        }
+        let (_, h, law) = program.program.unit_law(k);
+        let mut x = Vec::new();
+        for s in &law.segments {
+            let d = (s.x1 - s.x0) / BOUND_SAMPLES as f64;
+            // Each piece's own start (just inside it, where Z″ may jump) to its end.
+            x.push(s.x0 + 1e-12 * (s.x1 - s.x0));
+            x.extend((1..=BOUND_SAMPLES).map(|j| s.x0 + d * j as f64));
+        }
+        let dz: Vec<f64> = x.iter().map(|&u| law.z(u, 1)).collect();
+        let ddz: Vec<f64> = x.iter().map(|&u| law.z(u, 2)).collect();
+        shapes.push((dz, ddz, law.dz_max, shaft * h));
+    }
+    let out = convert::zeros(
+        py,
+        &[w.len(), segments.len(), 2],
+        "servo_min_angles",
+        "fewer speeds",
+    )?;
+    {
+        let mut rw = out.readwrite();
+        let slice = convert::output(py, &mut rw)?;
+        run(py, "servo_min_angles", || -> Result<(), ServoError> {
+            let k = shapes.len();
+            let mut row = vec![0.0; 2 * w.len()];
+            for (j, (dz, ddz, dz_max, stroke)) in shapes.iter().enumerate() {
+                let shape = Shape {
+                    dz,
+                    ddz,
+                    dz_max: *dz_max,
+                    stroke: *stroke,
+                };
+                min_angles_into(&shape, &drive, w, &mut row)?;
+                for (s, pair) in row.chunks(2).enumerate() {
+                    slice[(s * k + j) * 2..(s * k + j) * 2 + 2].copy_from_slice(pair);
+                }
+            }
+            Ok(())
+        })?;
+    }
+    Ok(out)
+}
+
+/// Intervals per piece of a segment's law in [`servo_min_angles`]: the peak
+/// torque's error is quadratic in the spacing (below 1e-5 relative).
+const BOUND_SAMPLES: usize = 1024;

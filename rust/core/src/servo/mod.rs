@@ -28,15 +28,18 @@
 //! speed, queried at the sorted J′) and the RMS is √((Σã² + 2J′Σãb̃ + J′²Σb̃²)/N)/i.
 //!
 //! Files: this one (the door: the load, the motors, the errors), `duty` (one
-//! motor and ratio, every sample: the reference), `size` (the batch) and `tests`.
+//! motor and ratio, every sample: the reference), `size` (the batch), `bounds`
+//! (a segment's smallest phase angle for the cyclogram) and `tests`.
 
 use crate::input::InvalidInput;
 
+mod bounds;
 mod duty;
 mod size;
 #[cfg(test)]
 mod tests;
 
+pub use bounds::{min_angles_into, Drive, Shape, BOUND_CRITERIA};
 pub use duty::{duty_into, DUTY, N_DUTY};
 pub use size::size_into;
 

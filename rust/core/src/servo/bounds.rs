@@ -1,0 +1,183 @@
+//! The smallest phase angle of a servo segment: the cyclogram's bound (issue 33,
+//! item 3).
+//!
+//! A rest-to-rest segment whose shape scales with its angle β (a named law or a
+//! polynomial: `motion::Program::unit_law`) moves the load shaft by H [rad]
+//! along H·Z(u), u = (θ − θ₀)/β, so that φ_L′ = H·Z′(u)/β and
+//! φ_L″ = H·Z″(u)/β². With t = 1/β², at master speed ω each sample u gives the
+//! motor torque as a function of t (module docs of `servo` for the drive):
+//!
+//!   T_m(u; t) = J·i·H·Z″·ω²·t + T_L(u; t)·(1/(i·η) or η/i),
+//!   T_L(u; t) = J_L·H·Z″·ω²·t + T_ext,
+//!
+//! linear in t but for the efficiency's kink where T_L changes sign (the side
+//! of the power flow: T_L·Z′·H ≥ 0 motoring or holding, else regenerating).
+//!
+//! **The bound rule**, as the cams': the smallest β such that the motor's peak
+//! torque holds at every β′ ≥ β — the first t ≥ 0 at which some sample's
+//! |T_m| exceeds the peak, found exactly on each linear piece (a window of
+//! admissible angles below a violation is ignored). NaN when even a segment
+//! lasting forever (t = 0: the static torque) exceeds the peak; 0 when no angle
+//! does. The speed: the motor's peak speed i·|H|·max|Z′|·ω/β reaches its
+//! maximum speed at β = i·|H|·max|Z′|·ω/ω_max. The RMS torque couples every
+//! segment of the cycle: it is the duty's check on the timing, not a bound of
+//! one segment.
+
+use super::ServoError;
+use crate::input::InvalidInput;
+
+/// The criteria of [`min_angles_into`]'s rows, in order.
+pub const BOUND_CRITERIA: [&str; 2] = ["peak_torque", "speed"];
+
+/// A drive for the bounds: the load at its shaft, the gearbox and the motor.
+#[derive(Debug, Clone, Copy)]
+pub struct Drive {
+    /// J_L [kg·m²] and T_ext [N·m] at the load shaft.
+    pub load_inertia: f64,
+    pub load_torque: f64,
+    /// η of screw and gearbox together, in (0, 1].
+    pub efficiency: f64,
+    /// i = motor speed / load speed (> 0).
+    pub ratio: f64,
+    /// J = J_motor + J_gearbox [kg·m²] at the motor shaft.
+    pub drive_inertia: f64,
+    /// The motor's peak torque [N·m] and maximum speed [rad/s] (> 0).
+    pub peak_torque: f64,
+    pub max_speed: f64,
+}
+
+/// One segment's shape: Z′ and Z″ of its unit law at samples of u ∈ [0, 1],
+/// max |Z′| (exact), and its stroke at the load shaft H [rad].
+#[derive(Debug, Clone, Copy)]
+pub struct Shape<'a> {
+    pub dz: &'a [f64],
+    pub ddz: &'a [f64],
+    pub dz_max: f64,
+    pub stroke: f64,
+}
+
+/// The smallest angles [rad] of one segment at each master speed `omegas`
+/// [rad/s]: rows of ([`BOUND_CRITERIA`]) into `out` (speeds × 2).
+pub fn min_angles_into(
+    shape: &Shape<'_>,
+    drive: &Drive,
+    omegas: &[f64],
+    out: &mut [f64],
+) -> Result<(), ServoError> {
+    check(shape, drive)?;
+    super::positive_entries("omega", omegas)?;
+    debug_assert_eq!(out.len(), 2 * omegas.len());
+    for (row, &w) in out.chunks_mut(2).zip(omegas) {
+        row[0] = torque_angle(shape, drive, w);
+        row[1] = drive.ratio * shape.stroke.abs() * shape.dz_max * w / drive.max_speed;
+    }
+    Ok(())
+}
+
+fn check(shape: &Shape<'_>, d: &Drive) -> Result<(), InvalidInput> {
+    InvalidInput::check_finite("dz", shape.dz)?;
+    InvalidInput::check_finite("ddz", shape.ddz)?;
+    let positive = [
+        ("ratio", d.ratio, "must be finite and > 0"),
+        ("peak_torque", d.peak_torque, "[N·m] must be finite and > 0"),
+        ("max_speed", d.max_speed, "[rad/s] must be finite and > 0"),
+    ];
+    for (field, v, why) in positive {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(InvalidInput::bad_value(field, v, why));
+        }
+    }
+    for (field, v) in [
+        ("load_inertia", d.load_inertia),
+        ("drive_inertia", d.drive_inertia),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(InvalidInput::bad_value(
+                field,
+                v,
+                "[kg·m²] must be finite and >= 0",
+            ));
+        }
+    }
+    if !d.load_torque.is_finite() || !shape.stroke.is_finite() || !shape.dz_max.is_finite() {
+        return Err(InvalidInput::bad_value(
+            "load_torque",
+            d.load_torque,
+            "[N·m] must be finite (and the stroke and max |Z′| too)",
+        ));
+    }
+    if !(d.efficiency > 0.0 && d.efficiency <= 1.0) {
+        return Err(InvalidInput::bad_value(
+            "efficiency",
+            d.efficiency,
+            "must be in (0, 1]",
+        ));
+    }
+    Ok(())
+}
+
+/// The peak-torque bound at master speed `w` (module docs): 1/√t* with t* the
+/// first t ≥ 0 where a sample's |T_m| exceeds the peak.
+fn torque_angle(shape: &Shape<'_>, d: &Drive, w: f64) -> f64 {
+    let w2 = w * w;
+    let (i, eta, limit) = (d.ratio, d.efficiency, d.peak_torque);
+    let mut first = f64::INFINITY;
+    for (&z1, &z2) in shape.dz.iter().zip(shape.ddz) {
+        let acc = shape.stroke * z2 * w2; // φ_L″ per t
+        let moving = shape.stroke * z1; // the sign of φ_L′
+        let (p, q) = (d.load_inertia * acc, d.load_torque); // T_L = p·t + q
+        let inertia = d.drive_inertia * i * acc;
+        let tm = |t: f64| {
+            let tl = p * t + q;
+            let out = if tl * moving < 0.0 {
+                tl * eta / i
+            } else {
+                tl / (i * eta)
+            };
+            inertia * t + out
+        };
+        // The pieces of t ≥ 0 between the kink (T_L = 0) and infinity.
+        let kink = if p != 0.0 { -q / p } else { f64::NAN };
+        let mut edges = vec![0.0];
+        if kink > 0.0 && kink.is_finite() {
+            edges.push(kink);
+        }
+        edges.push(f64::INFINITY);
+        for piece in edges.windows(2) {
+            let (a, b) = (piece[0], piece[1]);
+            if a >= first {
+                break;
+            }
+            let fa = tm(a);
+            if fa.abs() > limit {
+                first = first.min(a);
+                break;
+            }
+            // The slope on this piece, from a point inside it.
+            let probe = if b.is_finite() {
+                0.5 * (a + b)
+            } else {
+                a + 1.0
+            };
+            let slope = (tm(probe) - fa) / (probe - a);
+            let cross = if slope > 0.0 {
+                a + (limit - fa) / slope
+            } else if slope < 0.0 {
+                a + (-limit - fa) / slope
+            } else {
+                f64::INFINITY
+            };
+            if cross < b {
+                first = first.min(cross);
+                break;
+            }
+        }
+    }
+    if first == 0.0 {
+        f64::NAN // the static torque alone exceeds the peak: no angle will do
+    } else if first.is_infinite() {
+        0.0
+    } else {
+        1.0 / first.sqrt()
+    }
+}
