@@ -143,3 +143,17 @@ def test_a_program_cam_pickles():
     again = pickle.loads(pickle.dumps(cam))
     assert again.program is not None
     assert float(again.solve(1.0).s) == float(cam.solve(1.0).s)
+
+
+def test_the_design_contract_spelling():
+    """``cm.cam.Cam(program=prog, follower=…)`` as DESIGN.md writes it, and its misuses."""
+    prog = _velocity_velocity()
+    a = cm.cam.Cam(program=prog, follower=FOLLOWER)
+    b = cm.cam.Cam(prog, FOLLOWER)
+    assert float(a.solve(2.0).s) == float(b.solve(2.0).s)
+    with pytest.raises(cm.InputError, match="not both"):
+        cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], FOLLOWER, program=prog)
+    with pytest.raises(cm.InputError, match="needs its segments"):
+        cm.cam.Cam(program=prog)
+    with pytest.raises(cm.InputError, match=r"program must be a cyclomech\.motion\.Program"):
+        cm.cam.Cam(program="cycloidal", follower=FOLLOWER)

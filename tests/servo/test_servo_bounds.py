@@ -79,3 +79,18 @@ def test_no_angle_and_refusals():
     assert ax.min_phase_angles(60.0).segments == ()
     with pytest.raises(cm.InputError, match=r"segment 0 \(cycloidal\): its shape changes"):
         ax.min_phase_angles(60.0, segments=[0])
+
+
+def test_the_design_contract_spelling():
+    """DESIGN.md's ``Motor(rated_torque_nm=…, peak_torque_nm=…, max_rpm=…,
+    inertia_kg_m2=…)`` and ``ax.cam_table(points=…)``."""
+    m = cm.servo.Motor(rated_torque_nm=1.3, peak_torque_nm=3.9, max_rpm=6000, inertia_kg_m2=1e-4)
+    assert m.rated_rpm == 6000.0
+    with pytest.raises(cm.InputError, match="inertia_kg_m2 is required"):
+        cm.servo.Motor(rated_torque_nm=1.3, peak_torque_nm=3.9, max_rpm=6000)
+    ax = cm.servo.ServoAxis(_program(90), cm.servo.RotaryLoad(0.02), cm.servo.Gearbox(2.0), m)
+    t = ax.cam_table(points=8)
+    want = _program(90).evaluate(np.linspace(0.0, 2 * math.pi, 9))
+    np.testing.assert_array_equal(t.s, want.s)
+    np.testing.assert_array_equal(t.a, want.a)
+    assert t.theta[-1] == 2 * math.pi

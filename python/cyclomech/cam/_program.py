@@ -163,7 +163,8 @@ class Cam:
     ----------
     segments : sequence of Segment, or cyclomech.motion.Program
         The program: segments (:class:`Segment`) whose angles sum to 360°, the displacement
-        returning to its start; or any motion program (:class:`cyclomech.motion.Program`,
+        returning to its start; or (here or as ``program=``) any motion program
+        (:class:`cyclomech.motion.Program`,
         moving ends, polynomials, splines) that starts at s = 0 and returns to it
         (``advance`` 0), each moving segment with a net stroke. Its segments are then
         summarised as :class:`Segment` s in ``segments`` (kind by the stroke's sign,
@@ -191,7 +192,7 @@ class Cam:
     >>> prog = cm.motion.Program([M("cycloidal", 90, end=(0.01, 0.01)),
     ...                           M("constant_velocity", 90),
     ...                           M("cycloidal", 60, end=0.032), M("poly5", 120, end=0.0)])
-    >>> cam = cm.cam.Cam(prog, cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> cam = cm.cam.Cam(program=prog, follower=cm.cam.TranslatingRoller(0.05, 0.01))
     >>> [g.kind for g in cam.segments], round(float(cam.solve(math.pi / 2 + 0.3).ds), 12)
     (['rise', 'rise', 'rise', 'return'], 0.01)
 
@@ -210,10 +211,20 @@ class Cam:
 
     def __init__(
         self,
-        segments: Any,
-        follower: TranslatingRoller | FlatFaced | OscillatingRoller,
+        segments: Any = None,
+        follower: TranslatingRoller | FlatFaced | OscillatingRoller | None = None,
         closure: str = "spring",
+        *,
+        program: Program | None = None,
     ) -> None:
+        if program is not None:
+            if segments is not None:
+                raise InputError("give the cam's segments or its program=, not both")
+            if not isinstance(program, Program):
+                raise InputError(f"program must be a cyclomech.motion.Program; got {program!r}")
+            segments = program
+        if segments is None or follower is None:
+            raise InputError("a Cam needs its segments (or program=) and its follower")
         program = segments if isinstance(segments, Program) else None
         if program is not None:
             segs = _summary(program)

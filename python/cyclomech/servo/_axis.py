@@ -381,6 +381,43 @@ class ServoAxis:
             **_verdict(margins, n),
         )
 
+    def cam_table(self, points: int = 3600) -> Any:
+        """The axis's electronic cam table: master angle → slave s, v, a, j.
+
+        At ``points`` steps over the cycle, both ends included (the last row is the
+        next cycle's start); one ``evaluate`` call of the program. To write it for a
+        drive: :func:`cyclomech.motion.write_cam_table` (or its closed form,
+        :func:`cyclomech.motion.write_cam_coefficients`).
+
+        Parameters
+        ----------
+        points : int, default 3600
+            Steps over the cycle, at least 2.
+
+        Returns
+        -------
+        cyclomech.motion.MotionValues
+            ``theta`` [rad of master] from 0 to 2π, ``s`` [m or rad] and ``v``, ``a``,
+            ``j`` per rad^k of master.
+
+        Raises
+        ------
+        InputError
+            If ``points`` is not an integer ≥ 2.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> S = cm.motion.Segment
+        >>> prog = cm.motion.Program([S("cycloidal", 180, end=0.1), S("cycloidal", 180, end=0.0)])
+        >>> ax = cm.servo.ServoAxis(prog, cm.servo.LinearLoad(mass_kg=5.0, lead_m=0.02))
+        >>> t = ax.cam_table(points=4)
+        >>> t.s.round(6).tolist()
+        [0.0, 0.05, 0.1, 0.05, 0.0]
+        """
+        n = count("points", points, low=2)
+        return self.program.evaluate(np.linspace(0.0, 2.0 * math.pi, n + 1))
+
     def min_phase_angles(
         self,
         rpm: Any,

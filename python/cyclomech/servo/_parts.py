@@ -28,6 +28,10 @@ def _name(value: Any) -> str:
     return value
 
 
+#: A Motor's speed or inertia not given (a dataclass default that no number is).
+_MISSING: Any = type("Missing", (), {"__repr__": lambda self: "<not given>"})()
+
+
 @dataclass(frozen=True)
 class Motor:
     """A servo motor from a catalogue: its torques, speeds and rotor inertia.
@@ -46,20 +50,22 @@ class Motor:
         Rated (continuous) torque [N·m], > 0.
     peak_torque_nm : float
         Peak torque [N·m], ≥ ``rated_torque_nm``.
-    rated_rpm : float
-        Rated speed [rpm], > 0.
+    rated_rpm : float, optional
+        Rated speed [rpm], > 0; default: not given (taken as ``max_rpm``).
     max_rpm : float
-        Maximum speed [rpm], ≥ ``rated_rpm``.
+        Maximum speed [rpm], ≥ ``rated_rpm`` (required; a keyword when ``rated_rpm``
+        is not given).
     inertia_kg_m2 : float
-        Rotor inertia [kg·m²], > 0.
+        Rotor inertia [kg·m²], > 0 (required).
     name : str, optional
         The catalogue's name of the motor; default "".
 
     Raises
     ------
     InputError
-        If a value is not a finite positive number, the peak torque is below the
-        rated one or the maximum speed below the rated one.
+        If a value is not a finite positive number, ``max_rpm`` or ``inertia_kg_m2``
+        is missing, the peak torque is below the rated one or the maximum speed below
+        the rated one.
 
     Examples
     --------
@@ -67,20 +73,31 @@ class Motor:
     >>> m = cm.servo.Motor(1.3, 3.9, 3000, 6000, 1.4e-4, name="M130")
     >>> m.peak_torque_nm / m.rated_torque_nm
     3.0
+    >>> cm.servo.Motor(rated_torque_nm=1.3, peak_torque_nm=3.9, max_rpm=6000,
+    ...                inertia_kg_m2=1.4e-4).rated_rpm
+    6000.0
     """
 
     rated_torque_nm: float
     peak_torque_nm: float
-    rated_rpm: float
-    max_rpm: float
-    inertia_kg_m2: float
+    # (_MISSING: not given; the dataclass needs defaults after the first optional one.)
+    rated_rpm: float = _MISSING
+    max_rpm: float = _MISSING
+    inertia_kg_m2: float = _MISSING
     name: str = ""
 
     def __post_init__(self) -> None:
+        for key in ("max_rpm", "inertia_kg_m2"):
+            if getattr(self, key) is _MISSING:
+                raise InputError(
+                    f"{key} is required: a finite number (a Motor needs its maximum speed and "
+                    "rotor inertia)"
+                )
         rated = positive("rated_torque_nm", self.rated_torque_nm, "[N·m]")
         peak = positive("peak_torque_nm", self.peak_torque_nm, "[N·m]")
-        rated_rpm = positive("rated_rpm", self.rated_rpm, "[rpm]")
         max_rpm = positive("max_rpm", self.max_rpm, "[rpm]")
+        given = self.rated_rpm
+        rated_rpm = max_rpm if given is _MISSING else positive("rated_rpm", given, "[rpm]")
         inertia = positive("inertia_kg_m2", self.inertia_kg_m2, "[kg·m²]")
         if peak < rated:
             raise InputError(
