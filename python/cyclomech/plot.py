@@ -22,6 +22,8 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
   diagram, the pressure angle, forces and stress along the cycle, and the smallest
   phase angles against speed per criterion);
 * ``cyclomech.transfer.plot`` — :func:`plot_transfer` (a rotor transfer path);
+* ``cyclomech.servo.plot`` — :func:`plot_duty` (a servo motor's torque and speed
+  over the cycle, with its limits);
 * ``cyclomech.machine.plot`` — :func:`plot_speed_sweep` (the machine against speed).
 
 The colours the plots use are here too (``CRITICAL_COLOR``,
@@ -57,6 +59,7 @@ from .machine.plot import plot_speed_sweep
 from .motion.plot import plot_law
 from .press.plot import WORK_COLOR as WORK_COLOR
 from .press.plot import plot_crank_torque, plot_press, plot_press_criteria
+from .servo.plot import plot_duty
 from .transfer.plot import plot_transfer
 
 __all__ = [
@@ -67,6 +70,7 @@ __all__ = [
     "plot_crank_torque",
     "plot_cyclogram",
     "plot_cyclogram_pair",
+    "plot_duty",
     "plot_forces",
     "plot_law",
     "plot_linkage",

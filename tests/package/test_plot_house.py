@@ -45,6 +45,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_crank_torque",
         "plot_cyclogram",
         "plot_cyclogram_pair",
+        "plot_duty",
         "plot_forces",
         "plot_law",
         "plot_linkage",

@@ -174,6 +174,9 @@ class Cam:
     closure : {"spring", "groove"}, default "spring"
         "spring" (force closure, one flank) or "groove" (form closure, both flanks;
         roller followers only).
+    program : cyclomech.motion.Program, optional
+        The motion program by keyword (``Cam(program=prog, follower=…)``) instead of
+        ``segments``; default None.
 
     Raises
     ------
