@@ -271,3 +271,14 @@ def test_a_segment_that_runs_backwards_is_warned_about():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         P([S("cycloidal", 70, end=(0.0245, 0.04)), S("poly5", 290, end=0.0)])
+
+
+def test_the_last_segment_ends_as_the_first_starts():
+    """A free end of the last segment takes what the first fixes at its start."""
+    v, feed = 0.05, 0.3
+    prog = P(
+        [S("constant_velocity", 120, start=(0.0, v)), S("cycloidal", 240, end=feed)],
+        advance=feed,
+        continuity="acceleration",
+    )
+    assert prog.boundaries[1][3][1] == pytest.approx(v, abs=1e-15)

@@ -120,7 +120,8 @@ impl Program {
         let mut start = 0.0;
         for (i, spec) in specs.iter().enumerate() {
             let s0: [f64; 4] = std::array::from_fn(|k| spec.start[k].unwrap_or(prev_end[k]));
-            let next = specs.get(i + 1);
+            // After the last segment comes the first (the cycle repeats).
+            let next = specs.get((i + 1) % specs.len());
             let mut s1 = spec.end;
             for (k, v) in s1.iter_mut().enumerate().skip(1) {
                 if v.is_none() {

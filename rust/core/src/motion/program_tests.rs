@@ -82,13 +82,14 @@ fn velocity_ends_are_met_and_the_derivatives_are_exact() {
             seg("cycloidal", 60.0, FREE, [Some(0.06), Some(v2), None, None]),
             seg("constant_velocity", 60.0, FREE, FREE),
             seg("modified_sine", 60.0, FREE, at(0.2)),
-            seg("poly5", 120.0, FREE, at(0.0)),
+            seg("poly5", 120.0, FREE, [Some(0.0), Some(0.0), None, None]),
         ],
         2,
         0.0,
     );
-    // The last poly5 ends at rest, the first segment starts moving: the wrap
-    // joins rest to v1 — a velocity jump.
+    // The last poly5 is asked to end at rest, the first segment starts moving:
+    // the wrap joins rest to v1 — a velocity jump. (Left free, its end would
+    // take the first segment's start, v1.)
     let e = p.unwrap_err().to_string();
     assert!(
         e.contains("segment 4 (poly5) → segment 0 (constant_velocity) at 360°"),

@@ -29,8 +29,9 @@
 //! **Free values** (None) are resolved once, by one rule: a free start value is
 //! the previous segment's end value (position; and velocity, acceleration, jerk
 //! where the law takes them), 0 for the first segment; a free end value is what
-//! the next segment fixes at its start (given there, or fixed by its law: a dwell
-//! starts at rest, a constant velocity at its velocity), else 0. **Given values
+//! the next segment (the first, after the last) fixes at its start (given there,
+//! or fixed by its law: a dwell starts at rest, a constant velocity at its
+//! velocity), else 0. **Given values
 //! are checked**: a law that cannot meet a value the user gave is an error naming
 //! the segment, the end, the order, the value given and the law's own.
 
