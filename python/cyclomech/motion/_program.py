@@ -60,9 +60,10 @@ class Segment:
     ``None`` is free and resolved by one rule: a free start value is the previous
     segment's end value (0 for the first segment); a free end value is what the next
     segment (the first, after the last) fixes at its start (a value given there, a
-    dwell's rest, a constant velocity's speed), else 0. A value given that the law cannot meet is an error
-    naming the segment and the value. Each parameter is kept as the attribute of the
-    same name (``start`` and ``end`` as 4-tuples, ``points`` as a tuple of pairs).
+    dwell's rest, a constant velocity's speed), else 0. A value given that the law
+    cannot meet is an error naming the segment and the value. Each parameter is kept
+    as the attribute of the same name (``start`` and ``end`` as 4-tuples, ``points``
+    as a tuple of pairs).
 
     The laws (:data:`SEGMENT_LAWS`; the math is in the guide, *Motion programs*):
 
