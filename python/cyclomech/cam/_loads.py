@@ -472,7 +472,7 @@ def _vibration_deg(cam: Cam, idx: tuple[int, ...], rpm: Array, vibration: Any) -
             [min_vibration_tau(cam.segments[k].law, a / cam.segments[k].stroke, zeta) for k in idx]
         )
     else:  # the program's own law of each segment on the unit square
-        kernel = cam.program._kernel
+        kernel = cam.program.kernel
         tau = np.array(
             [_core.cam_min_tau("", a / cam.segments[k].stroke, zeta, kernel, k) for k in idx]
         )

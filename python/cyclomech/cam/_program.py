@@ -258,7 +258,7 @@ class Cam:
             kind,
             params,
             closure == "groove",
-            None if program is None else program._kernel,
+            None if program is None else program.kernel,
         )
         self.program = program
         self.segments = segs

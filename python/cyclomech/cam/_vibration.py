@@ -297,7 +297,7 @@ def follower_response(
         2.0 * math.pi * fn,
         z,
         t.reshape(-1),
-        None if cam.program is None else cam.program._kernel,
+        None if cam.program is None else cam.program.kernel,
     )
     return FollowerResponse(
         theta=t.reshape(shape).copy(),

@@ -411,6 +411,22 @@ class Program:
         )
 
     @property
+    def kernel(self) -> Any:
+        """The compiled program, as the Rust kernels of other domains take it.
+
+        A cam (:class:`cyclomech.cam.Cam`) and a servo axis hand it to their own
+        kernels, which read each segment's law there instead of rebuilding it.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> p = cm.motion.Program([cm.motion.Segment("dwell", 360)])
+        >>> type(p.kernel).__name__
+        'ProgramKernel'
+        """
+        return self._kernel
+
+    @property
     def scalable(self) -> tuple[bool, ...]:
         """Per segment: does its shape stay the same when its angle changes?
 

@@ -499,7 +499,7 @@ class ServoAxis:
             idx = tuple(int(i) for i in np.atleast_1d(np.asarray(segments)).reshape(-1))
         k, j_load, t_ext, eta = self.load._shaft()
         out = _core.servo_min_angles(
-            self.program._kernel,
+            self.program.kernel,
             list(idx),
             k,
             j_load,
