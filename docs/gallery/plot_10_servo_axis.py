@@ -10,10 +10,29 @@ angles — what the cyclogram would get as bounds on the two strokes — grow wi
 machine's speed.
 """
 
+from pathlib import Path
+
 import cyclomech as cm
 import matplotlib.pyplot as plt
 import numpy as np
 from cyclomech.servo.plot import plot_duty
+
+# The examples folder of a clone: in the working directory or one above it (the
+# documentation build runs this script from docs/gallery/).
+here = Path.cwd().resolve()
+motors = next(
+    (
+        d / "examples" / "motors.csv"
+        for d in (here, *here.parents)
+        if (d / "examples" / "motors.csv").exists()
+    ),
+    None,
+)
+if motors is None:
+    raise SystemExit(
+        "this script reads examples/motors.csv of a cyclomech clone: run it from the "
+        "clone (or a folder in it), or copy the file from the repository's examples/"
+    )
 
 S = cm.motion.Segment
 prog = cm.motion.Program(
@@ -24,7 +43,7 @@ ax = cm.servo.ServoAxis(
     cm.servo.LinearLoad(mass_kg=12.0, lead_m=0.02, force_n=60.0, efficiency=0.9),
     cm.servo.Gearbox(1.0, efficiency=0.95),
 )
-best = cm.servo.size(ax, "examples/motors.csv", [1.0, 1.5, 2.0, 3.0, 5.0], [60.0, 90.0])
+best = cm.servo.size(ax, motors, [1.0, 1.5, 2.0, 3.0, 5.0], [60.0, 90.0])
 print(f"{best.motor.name} on ratio {best.gearbox.ratio:g}: {best.status}")
 duty = ax.duty(90.0, motor=best.motor, gearbox=best.gearbox)
 plot_duty(duty, best.motor)

@@ -38,10 +38,10 @@ def plot_duty(
 
     Parameters
     ----------
-    duty : Duty
-        The duty at one speed (:meth:`ServoAxis.duty` with a scalar ``rpm``: it has
+    duty : cyclomech.servo.Duty
+        The duty at one speed (:meth:`cyclomech.servo.ServoAxis.duty` with a scalar ``rpm``: it has
         the curves).
-    motor : Motor, optional
+    motor : cyclomech.servo.Motor, optional
         The motor whose limits to draw; default None (none drawn).
     axes : sequence of 2 matplotlib.axes.Axes, optional
         The axes to draw on; default None (a new figure).
@@ -56,8 +56,8 @@ def plot_duty(
     Raises
     ------
     InputError
-        If ``duty`` is not a :class:`Duty` with curves, ``motor`` is neither None nor a
-        :class:`Motor`, or ``axes`` is not two Axes.
+        If ``duty`` is not a :class:`~cyclomech.servo.Duty` with curves, ``motor`` is
+        neither None nor a :class:`~cyclomech.servo.Motor`, or ``axes`` is not two Axes.
     ImportError
         If matplotlib is not installed.
 
