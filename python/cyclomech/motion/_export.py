@@ -79,9 +79,7 @@ def write_cam_table(program: Program, path: Any, *, points: int = 3600) -> Any:
     deg = np.linspace(0.0, 360.0, n + 1)
     m = program.evaluate(np.radians(deg))
     table = np.column_stack([deg, m.s, m.v, m.a, m.j])
-    return savetxt(
-        target, table, delimiter=",", header=",".join(TABLE_COLUMNS), comments="", fmt="%.17g"
-    )
+    return _write(target, table, TABLE_COLUMNS)
 
 
 def write_cam_coefficients(program: Program, path: Any) -> Any:
@@ -130,11 +128,11 @@ def write_cam_coefficients(program: Program, path: Any) -> Any:
         c = np.zeros(_DEGREES)
         c[: len(poly)] = poly
         rows.append([seg, np.degrees(x0), np.degrees(x1), *c, amp, omega, phase])
-    return savetxt(
-        target,
-        np.array(rows, dtype=float),
-        delimiter=",",
-        header=",".join(COEFFICIENT_COLUMNS),
-        comments="",
-        fmt=["%d", *(["%.17g"] * (len(COEFFICIENT_COLUMNS) - 1))],
-    )
+    return _write(target, np.array(rows, dtype=float), COEFFICIENT_COLUMNS, first="%d")
+
+
+def _write(target: Any, table: Any, columns: tuple[str, ...], first: str = "%.17g") -> Any:
+    """A CSV with one header line of ``columns``, numbers in ``%.17g`` (exact), the
+    first column in ``first``."""
+    fmt = [first, *(["%.17g"] * (len(columns) - 1))]
+    return savetxt(target, table, delimiter=",", header=",".join(columns), comments="", fmt=fmt)

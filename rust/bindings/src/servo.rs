@@ -3,7 +3,8 @@
 
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::servo::{
-    duty_into, min_angles_into, size_into, Drive, Load, Motors, ServoError, Shape, N_CHECKS, N_DUTY,
+    duty_into, law_samples, min_angles_into, size_into, Drive, Load, Motors, ServoError, Shape,
+    N_CHECKS, N_DUTY,
 };
 use numpy::ndarray::{Ix2, Ix3};
 use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
@@ -137,7 +138,7 @@ pub fn servo_size<'py>(
 /// (S, K, 2) smallest phase angles [rad] of the segments `segments` of the
 /// motion `program` at master speeds `omegas` [rad/s], per
 /// `cyclomech_core::servo::BOUND_CRITERIA` (peak torque, speed): each segment's
-/// law on the unit square sampled on [`BOUND_SAMPLES`] intervals per piece, its
+/// law on the unit square sampled by `law_samples`, its
 /// stroke brought to the load shaft by `shaft` (2π/lead for a screw, 1 for a
 /// rotary load). A segment whose shape changes with its angle is refused.
 #[pyfunction]
@@ -189,15 +190,7 @@ pub fn servo_min_angles<'py>(
             ));
         }
         let (_, h, law) = program.program.unit_law(k);
-        let mut x = Vec::new();
-        for s in &law.segments {
-            let d = (s.x1 - s.x0) / BOUND_SAMPLES as f64;
-            // Each piece's own start (just inside it, where Z″ may jump) to its end.
-            x.push(s.x0 + 1e-12 * (s.x1 - s.x0));
-            x.extend((1..=BOUND_SAMPLES).map(|j| s.x0 + d * j as f64));
-        }
-        let dz: Vec<f64> = x.iter().map(|&u| law.z(u, 1)).collect();
-        let ddz: Vec<f64> = x.iter().map(|&u| law.z(u, 2)).collect();
+        let (dz, ddz) = law_samples(&law);
         shapes.push((dz, ddz, law.dz_max, shaft * h));
     }
     let out = convert::zeros(
@@ -229,7 +222,3 @@ pub fn servo_min_angles<'py>(
     }
     Ok(out)
 }
-
-/// Intervals per piece of a segment's law in [`servo_min_angles`]: the peak
-/// torque's error is quadratic in the spacing (below 1e-5 relative).
-const BOUND_SAMPLES: usize = 1024;

@@ -400,7 +400,14 @@ impl Program {
     ) -> Result<(), MotionError> {
         crate::input::InvalidInput::check_finite("theta", theta)?;
         let n = theta.len();
-        assert_eq!(out.len(), 4 * n, "eval_into: out must hold 4 × N values");
+        if out.len() != 4 * n {
+            return Err(crate::input::InvalidInput::Output {
+                field: "out",
+                want: format!("4 × {n} values (s, v, a, j at each angle)"),
+                got: format!("{} values", out.len()),
+            }
+            .into());
+        }
         let (s, rest) = out.split_at_mut(n);
         let (v, rest) = rest.split_at_mut(n);
         let (a, j) = rest.split_at_mut(n);

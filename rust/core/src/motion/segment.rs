@@ -200,11 +200,8 @@ pub(super) fn pieces(
         "poly5" | "poly7" | "polynomial" => {
             let e = need_end()?;
             let mut conds = Vec::new();
-            let orders = match spec.law.as_str() {
-                "poly5" => 3,
-                "poly7" => 4,
-                _ => 4,
-            };
+            // s, v, a at each end for poly5; and j for poly7 and the general one.
+            let orders = if spec.law == "poly5" { 3 } else { 4 };
             for k in 0..orders {
                 let general = spec.law == "polynomial";
                 let at0 = if general && k > 0 {

@@ -39,7 +39,7 @@ mod size;
 #[cfg(test)]
 mod tests;
 
-pub use bounds::{min_angles_into, Drive, Shape, BOUND_CRITERIA};
+pub use bounds::{law_samples, min_angles_into, Drive, Shape, BOUND_CRITERIA, BOUND_SAMPLES};
 pub use duty::{duty_into, DUTY, N_DUTY};
 pub use size::size_into;
 
