@@ -246,12 +246,20 @@ impl Program {
     /// Every join continuous up to the derivative `order` (module docs).
     fn check_joins(&self, order: usize) -> Result<(), MotionError> {
         let n = self.spans.len();
-        // Per order, the program's scale: the largest |h|/β^k of its segments.
+        // Per order, the program's scale: the largest extent/β^k of its segments,
+        // the extent a segment's stroke or an end value times β^m (so that a
+        // segment that comes back to where it started still has its size).
+        let extent = |s: &Span| {
+            (0..4)
+                .flat_map(|m| {
+                    [s.at_start[m], s.at_end[m]].map(|v| v.abs() * s.angle.powi(m as i32))
+                })
+                .fold((s.at_end[0] - s.at_start[0]).abs(), f64::max)
+        };
         let scale: [f64; 4] = std::array::from_fn(|k| {
             self.spans
                 .iter()
-                .map(|s| (s.at_end[0] - s.at_start[0]).abs() / s.angle.powi(k as i32))
-                .chain(self.spans.iter().map(|s| s.at_start[k].abs()))
+                .map(|s| extent(s) / s.angle.powi(k as i32))
                 .fold(1e-300, f64::max)
         });
         for i in 0..n {

@@ -399,3 +399,32 @@ fn the_lane_path_is_the_pointwise_path_bit_for_bit() {
         }
     }
 }
+
+#[test]
+fn a_segment_that_comes_back_keeps_its_size_in_the_join_tolerance() {
+    // One poly5 out and back over the whole cycle: its stroke is 0, its ends
+    // move (v = 0.05): rounding at the wrap (~1e-18) is not a jump.
+    let p = Program::new(
+        &[seg(
+            "poly5",
+            360.0,
+            [Some(0.0), Some(0.05), None, None],
+            [Some(1e-18), Some(0.05), None, None],
+        )],
+        1,
+        0.0,
+    );
+    assert!(p.is_ok(), "{p:?}");
+    // A real jump still is one.
+    let e = Program::new(
+        &[seg(
+            "poly5",
+            360.0,
+            [Some(0.0), Some(0.05), None, None],
+            [Some(1e-3), Some(0.05), None, None],
+        )],
+        0,
+        0.0,
+    );
+    assert!(e.unwrap_err().to_string().contains("the position jumps"));
+}
