@@ -481,7 +481,7 @@ def cam_follower_response(
 
 # servo: motor torque and speed of a servo axis, and the sizing batch.
 
-__all__ += ["servo_duty", "servo_min_angles", "servo_size"]
+__all__ += ["servo_duty", "servo_min_angles", "servo_size", "servo_speed_limit"]
 
 def servo_duty(
     vel: npt.NDArray[np.float64],
@@ -526,6 +526,18 @@ def servo_size(
     *,
     n_threads: int | None = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]: ...
+def servo_speed_limit(
+    program: ProgramKernel,
+    segments: list[int],
+    shaft: float,
+    inertia: float,
+    torque: float,
+    efficiency: float,
+    ratio: float,
+    drive_inertia: float,
+    peak_torque: float,
+    max_speed: float,
+) -> tuple[float, float]: ...
 
 # shaft
 

@@ -3,8 +3,8 @@
 
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::servo::{
-    duty_into, law_samples, min_angles_into, size_into, Drive, Load, Motors, ServoError, Shape,
-    N_CHECKS, N_DUTY,
+    duty_into, law_samples, min_angles_into, segment_samples, size_into, speed_limit, Drive, Load,
+    Motors, ServoError, Shape, N_CHECKS, N_DUTY,
 };
 use numpy::ndarray::{Ix2, Ix3};
 use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
@@ -221,4 +221,49 @@ pub fn servo_min_angles<'py>(
         })?;
     }
     Ok(out)
+}
+
+/// The highest master speeds [rad/s] the fixed-shape `segments` of a program
+/// allow through a drive (`cyclomech_core::servo::speed_limit`): (peak torque,
+/// speed). `shaft` turns the program's units into the load shaft's radians.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn servo_speed_limit(
+    py: Python<'_>,
+    program: PyRef<'_, ProgramKernel>,
+    segments: Vec<usize>,
+    shaft: f64,
+    inertia: f64,
+    torque: f64,
+    efficiency: f64,
+    ratio: f64,
+    drive_inertia: f64,
+    peak_torque: f64,
+    max_speed: f64,
+) -> PyResult<(f64, f64)> {
+    let n = program.program.spans().len();
+    if let Some(&k) = segments.iter().find(|&&k| k >= n) {
+        return Err(MotionError::BadSegment {
+            index: k,
+            law: String::new(),
+            what: format!("no such segment (the program has {n})"),
+        }
+        .into_pyerr(py));
+    }
+    let drive = Drive {
+        load_inertia: inertia,
+        load_torque: torque,
+        efficiency,
+        ratio,
+        drive_inertia,
+        peak_torque,
+        max_speed,
+    };
+    let kernel = &program.program;
+    run(py, "servo_speed_limit", || {
+        let (v, a) = segment_samples(kernel, &segments);
+        let v: Vec<f64> = v.iter().map(|x| x * shaft).collect();
+        let a: Vec<f64> = a.iter().map(|x| x * shaft).collect();
+        speed_limit(&v, &a, &drive)
+    })
 }

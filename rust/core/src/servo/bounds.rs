@@ -94,6 +94,80 @@ pub fn min_angles_into(
     Ok(())
 }
 
+/// Samples per segment in [`speed_limit`]'s callers: the intervals of a
+/// fixed-shape segment's span at which its φ_L′ and φ_L″ are taken.
+pub const LIMIT_SAMPLES: usize = 4096;
+
+/// The highest master speeds [rad/s] a motion of fixed shape allows (a
+/// segment whose angle the cyclogram does not set: moving ends, a constant
+/// velocity, a point table): (peak torque, speed).
+///
+/// `dz`, `ddz` are the load shaft's φ_L′ and φ_L″ per radian of master at
+/// samples of the motion. At master speed ω its accelerations are φ_L″·ω², so
+/// with t = ω² the motor torque is the module's T_m(u; t) for a unit angle
+/// (β = 1): the peak-torque limit is √t* with t* the first t ≥ 0 at which a
+/// sample's |T_m| exceeds the peak, the same rule as the bound's (every
+/// speed below the limit holds); 0 when the static torque alone exceeds it, inf
+/// when no speed does. The speed limit is ω_max/(i·max|φ_L′|) (inf standing).
+pub fn speed_limit(dz: &[f64], ddz: &[f64], drive: &Drive) -> Result<(f64, f64), ServoError> {
+    if dz.len() != ddz.len() {
+        return Err(InvalidInput::bad_value(
+            "ddz",
+            ddz.len() as f64,
+            "must have one entry per dz sample",
+        )
+        .into());
+    }
+    let dz_max = dz.iter().fold(0.0_f64, |m, &x| m.max(x.abs()));
+    let shape = Shape {
+        dz,
+        ddz,
+        dz_max,
+        stroke: 1.0,
+    };
+    check(&shape, drive)?;
+    let beta = torque_angle(&shape, drive, 1.0);
+    let torque = if beta.is_nan() {
+        0.0
+    } else if beta == 0.0 {
+        f64::INFINITY
+    } else {
+        1.0 / beta
+    };
+    let speed = if dz_max == 0.0 {
+        f64::INFINITY
+    } else {
+        drive.max_speed / (drive.ratio * dz_max)
+    };
+    Ok((torque, speed))
+}
+
+/// φ′ and φ″ per radian of master of a program's `segments` at
+/// [`LIMIT_SAMPLES`] intervals per piece, each piece's start taken just inside
+/// it (where φ″ may jump), for [`speed_limit`]. Unknown segment indices are
+/// skipped (the caller names them).
+pub fn segment_samples(
+    program: &crate::motion::Program,
+    segments: &[usize],
+) -> (Vec<f64>, Vec<f64>) {
+    let (mut v, mut a) = (Vec::new(), Vec::new());
+    for (k, x0, x1, ..) in program.pieces() {
+        if !segments.contains(&k) {
+            continue;
+        }
+        let d = (x1 - x0) / LIMIT_SAMPLES as f64;
+        let at = std::iter::once(x0 + 1e-12 * (x1 - x0))
+            .chain((1..LIMIT_SAMPLES).map(|j| x0 + d * j as f64))
+            .chain(std::iter::once(x1 - 1e-12 * (x1 - x0)));
+        for t in at {
+            let e = program.eval(t);
+            v.push(e[1]);
+            a.push(e[2]);
+        }
+    }
+    (v, a)
+}
+
 fn check(shape: &Shape<'_>, d: &Drive) -> Result<(), InvalidInput> {
     InvalidInput::check_finite("dz", shape.dz)?;
     InvalidInput::check_finite("ddz", shape.ddz)?;

@@ -39,7 +39,10 @@ mod size;
 #[cfg(test)]
 mod tests;
 
-pub use bounds::{law_samples, min_angles_into, Drive, Shape, BOUND_CRITERIA, BOUND_SAMPLES};
+pub use bounds::{
+    law_samples, min_angles_into, segment_samples, speed_limit, Drive, Shape, BOUND_CRITERIA,
+    BOUND_SAMPLES, LIMIT_SAMPLES,
+};
 pub use duty::{duty_into, DUTY, N_DUTY};
 pub use size::size_into;
 

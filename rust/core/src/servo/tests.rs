@@ -203,3 +203,41 @@ proptest! {
         }
     }
 }
+
+/// A swing φ_L = sin θ against a constant torque T0 (η = 1, i = 1): the motor
+/// torque is −J·ω²·sin θ + T0, its peak J·ω² + |T0|, so the peak torque holds
+/// up to ω = √((T_pk − |T0|)/J), and the speed up to ω_max/max|φ_L′| = ω_max.
+#[test]
+fn the_speed_limit_of_a_swing_is_its_closed_form() {
+    let n = 20_000;
+    let th: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
+    let dz: Vec<f64> = th.iter().map(|t| t.cos()).collect();
+    let ddz: Vec<f64> = th.iter().map(|t| -t.sin()).collect();
+    let drive = Drive {
+        load_inertia: 0.02,
+        load_torque: 0.5,
+        efficiency: 1.0,
+        ratio: 1.0,
+        drive_inertia: 0.01,
+        peak_torque: 3.5,
+        max_speed: 300.0,
+    };
+    let (torque, speed) = speed_limit(&dz, &ddz, &drive).unwrap();
+    let exact = ((3.5_f64 - 0.5) / 0.03).sqrt();
+    assert!((torque - exact).abs() < 1e-6 * exact, "{torque} vs {exact}");
+    assert!((speed - 300.0).abs() < 1e-9);
+    // The static torque alone above the peak: no speed holds.
+    let stuck = Drive {
+        load_torque: 4.0,
+        ..drive
+    };
+    assert_eq!(speed_limit(&dz, &ddz, &stuck).unwrap().0, 0.0);
+    // Standing still: no limit.
+    let zero = vec![0.0; n];
+    assert_eq!(
+        speed_limit(&zero, &zero, &drive).unwrap(),
+        (f64::INFINITY, f64::INFINITY)
+    );
+    // Mismatched samples are an error, not a panic.
+    assert!(speed_limit(&dz, &ddz[1..], &drive).is_err());
+}
