@@ -38,6 +38,7 @@ from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRolle
 from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
+from ._rows import UNITS, read_program, read_segments
 from ._vibration import (
     FollowerResponse,
     follower_response,
@@ -51,6 +52,7 @@ __all__ = [
     "CRITERIA",
     "KINDS",
     "SEGMENT_KEYS",
+    "UNITS",
     "Cam",
     "CamDesign",
     "CamKinematics",
@@ -71,6 +73,8 @@ __all__ = [
     "min_vibration_tau",
     "polydyne",
     "profile_table",
+    "read_program",
+    "read_segments",
     "residual_vibration",
     "write_profile_csv",
     "write_profile_dxf",

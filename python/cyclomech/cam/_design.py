@@ -33,11 +33,10 @@ from .. import _keyrules, _toml
 from .._arrays import flag, instances
 from .._errors import InputError
 from .._keyrules import Rule
-from ..motion import CONTINUITY, NAMES, SEGMENT_LAWS, Program
-from ..motion import Segment as MotionSegment
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
-from ._program import Cam, Segment
+from ._program import Cam
+from ._rows import SEGMENT_KEYS, read_program, read_segments
 
 __all__ = ["CAM_KEYS", "SEGMENT_KEYS", "CamDesign"]
 
@@ -78,12 +77,6 @@ CAM_KEYS = frozenset(
     | set(_OSCILLATING.values()) - {"stroke_deg", "load_nm", "_deg_per_rad", "points_deg"}
     | set(_CONTACT)
     | {"natural_frequency_hz", "damping_ratio"}
-)
-#: The keys of one ``segment`` table (``arc`` only in a machine file).
-SEGMENT_KEYS = frozenset(
-    {"kind", "angle_deg", "stroke_m", "stroke_deg", "law", "load_n", "load_nm"}
-    | {f"{end}_velocity{u}" for end in ("start", "end") for u in ("_m_per_rad", "_deg_per_rad")}
-    | {"points_m", "points_deg", "degree"}
 )
 #: The plausibility rules of a cam table besides every key's by its unit suffix
 #: (``cyclomech._keyrules.check``): a pressure-angle limit of a degree or two
@@ -246,8 +239,8 @@ class CamDesign:
                     g["base_radius_m"],
                     g["roller_radius_m"],
                 )
-            segments, bound = _segments(table["segment"], at, units, arcs)
-            program = _program(table, table["segment"], segments, units, at)
+            segments, bound = read_segments(table["segment"], units, arcs)
+            program = read_program(table, table["segment"], segments, units)
             cam = Cam(segments if program is None else program, follower, closure)
         except InputError as e:
             raise _keyed(at, e, units) from None
@@ -398,37 +391,6 @@ def _keyed(at: str, e: InputError, units: Mapping[str, str]) -> InputError:
     return InputError(f"{at}: {text}")
 
 
-def _segments(
-    rows: Any, at: str, units: Mapping[str, str], arcs: bool
-) -> tuple[list[Segment], tuple[tuple[str, str] | None, ...]]:
-    if not isinstance(rows, list) or not rows or not all(isinstance(r, dict) for r in rows):
-        raise InputError("segment must be an array of tables [[...segment]] with at least one")
-    allowed = set(SEGMENT_KEYS) | ({"arc"} if arcs else set())
-    stroke_key, load_key = units["stroke"], units["load"]
-    other = {"stroke_m", "stroke_deg", "load_n", "load_nm"} - {stroke_key, load_key}
-    # The other follower's velocity and point keys.
-    mine = {units["points"], *(f"{e}_velocity{units['velocity']}" for e in ("start", "end"))}
-    other |= {"points_m", "points_deg"} - mine
-    other |= {k for k in SEGMENT_KEYS if "_velocity_" in k} - mine
-    segs, bound = [], []
-    for i, row in enumerate(rows):
-        where = f"segment {i}"
-        _toml.check_keys(row, allowed - other, None, where)
-        _toml.require(row, ("kind", "angle_deg"), where)
-        stroke = _toml.number(row, stroke_key, where, "") if stroke_key in row else 0.0
-        if stroke_key == "stroke_deg":
-            stroke = math.radians(stroke)
-        law = row.get("law", "cycloidal")
-        segs.append(
-            Segment(row["kind"], _toml.number(row, "angle_deg", where, "[deg]"), stroke, law)
-        )
-        arc = _toml.events(row, "arc", where, arc=True) if "arc" in row else None
-        if arc is not None and row["kind"] == "dwell":
-            raise InputError(f"{where}: a dwell has no phase-angle bound; arc = {arc!r}")
-        bound.append(None if arc is None else (arc[0], arc[1]))
-    return segs, tuple(bound)
-
-
 def _follower_loads(
     table: Mapping[str, Any], units: Mapping[str, str], at: str
 ) -> FollowerLoads | None:
@@ -463,79 +425,6 @@ def _check_arcs(cam: Cam, bound: tuple[tuple[str, str] | None, ...], at: str) ->
                 "point table (or the cam is polydyne): its shape changes with its "
                 "angle, so it cannot take a phase angle from the cyclogram"
             )
-
-
-def _program(
-    table: Mapping[str, Any],
-    rows: list[Any],
-    segs: list[Segment],
-    units: Mapping[str, str],
-    at: str,
-) -> Program | None:
-    """The cam's motion program when its table or a segment asks for one (module
-    docs), else None (the classic segments)."""
-    angular = units["stroke"] == "stroke_deg"
-    vel = [f"{e}_velocity{units['velocity']}" for e in ("start", "end")]
-    keys = {*vel, units["points"], "degree"}
-    if (
-        all(g.law in NAMES for g in segs)
-        and not any(k in row for row in rows for k in keys)
-        and not {"continuity", "polydyne_rpm"} & set(table)
-    ):
-        return None
-    continuity = table.get("continuity", "velocity")
-    if continuity not in CONTINUITY:
-        raise InputError(f"continuity = {continuity!r} must be one of {', '.join(CONTINUITY)}")
-    scale = math.radians(1.0) if angular else 1.0  # the file's stroke unit to the program's
-    out, s, prev_v1 = [], 0.0, None
-    for i, (row, g) in enumerate(zip(rows, segs, strict=True)):
-        where = f"segment {i}"
-        v0, v1 = (_toml.number(row, k, where, "") * scale if k in row else None for k in vel)
-        stroke = g.stroke
-        if g.law == "constant_velocity" and units["stroke"] not in row:
-            # Its stroke is its velocity times its angle, exactly; its velocity
-            # given, or the previous segment's given end velocity.
-            v = next((x for x in (v0, v1, prev_v1) if x is not None), None)
-            if v is None:
-                raise InputError(
-                    f"{where}: a constant_velocity segment needs {units['stroke']}, "
-                    f"{vel[0]} or {vel[1]}, or the previous segment's {vel[1]}"
-                )
-            stroke = abs(v) * math.radians(g.angle_deg)
-        prev_v1 = v1
-        s += {"rise": stroke, "return": -stroke}.get(g.kind, 0.0)
-        if i == len(rows) - 1 and abs(s) <= 1e-9 * max(g.stroke for g in segs):
-            s = 0.0  # back to the start, to the strokes' rounding
-        points = None
-        if units["points"] in row:
-            table_ = row[units["points"]]
-            if not isinstance(table_, list) or not all(
-                isinstance(p, list) and len(p) == 2 for p in table_
-            ):
-                raise InputError(
-                    f"{where}: {units['points']} must be rows [angle_deg, s]; got {table_!r}"
-                )
-            points = [(p[0], p[1] * scale) for p in table_]
-        law = "dwell" if g.kind == "dwell" else g.law
-        if law not in SEGMENT_LAWS:
-            raise InputError(
-                f"{where} ({g.kind}): unknown law {law!r}; known laws: {', '.join(SEGMENT_LAWS)}"
-            )
-        try:
-            out.append(
-                MotionSegment(
-                    law,
-                    g.angle_deg,
-                    start=(None, v0),
-                    end=(s, v1),
-                    points=points,
-                    degree=row.get("degree", 3),
-                    operation=g.operation,
-                )
-            )
-        except InputError as e:
-            raise InputError(f"{where}: {e}") from None
-    return Program(out, continuity=continuity)
 
 
 def _polydyne(
