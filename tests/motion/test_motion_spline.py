@@ -102,3 +102,44 @@ def test_a_spline_joins_and_its_table_is_checked():
     with pytest.raises(cm.InputError, match=r"a spline needs its point table"):
         P([S("spline", 360)])
     assert math.isfinite(prog.characteristics[0].cv)
+
+
+# ---------------------------------------------------------------- periodic
+PDEG = np.array([0.0, 45.0, 100.0, 170.0, 230.0, 300.0, 360.0])
+PY = np.array([0.0, 0.01, 0.03, 0.02, 0.035, 0.012, 0.0])
+
+
+@pytest.mark.parametrize("degree", [3, 5])
+def test_a_whole_cycle_table_is_periodic(degree: int) -> None:
+    """One spline segment over the cycle with free ends runs into the next cycle:
+    scipy's periodic spline through the same table, and its joins hold to the
+    acceleration (natural ends would leave a kink in s′ at the wrap)."""
+    prog = P([S("spline", 360, points=list(zip(PDEG, PY, strict=True)), degree=degree)])
+    ref = make_interp_spline(np.radians(PDEG), PY, k=degree, bc_type="periodic")
+    u = np.linspace(0.0, 2 * math.pi * (1 - 1e-12), 401)
+    m = prog.evaluate(u)
+    for k, got in enumerate((m.s, m.v, m.a, m.j)):
+        want = ref(u, k)
+        assert_allclose(got, want, rtol=1e-9, atol=1e-11 * (1 + np.abs(want).max()))
+    P(prog.segments, continuity="acceleration")  # continuous across the wrap
+    ends = prog.evaluate(np.array([0.0, 2 * math.pi * (1 - 1e-15)]))
+    assert ends.v[0] == pytest.approx(ends.v[1], abs=1e-9)
+
+
+def test_a_whole_cycle_table_with_an_advance() -> None:
+    """A feed's table moves on by its advance each cycle: periodic about the line
+    from its first to its last value (the line's slope a constant velocity)."""
+    advance = 0.25
+    y = PY + advance * PDEG / 360.0
+    prog = P(
+        [S("spline", 360, points=list(zip(PDEG, y, strict=True)))],
+        continuity="acceleration",
+        advance=advance,
+    )
+    slope = advance / (2 * math.pi)
+    ref = CubicSpline(np.radians(PDEG), PY, bc_type="periodic")
+    u = np.linspace(0.0, 2 * math.pi * (1 - 1e-12), 401)
+    m = prog.evaluate(u)
+    assert_allclose(m.s, ref(u) + slope * u, atol=1e-14)
+    assert_allclose(m.v, ref(u, 1) + slope, atol=1e-13)
+    assert_allclose(m.a, ref(u, 2), atol=1e-12)

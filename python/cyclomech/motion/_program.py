@@ -74,7 +74,9 @@ class Segment:
       shape); ``"polynomial_345"``, ``"polynomial_4567"``: rest to rest only;
     - ``"poly5"`` / ``"poly7"``: through s, v, a (and j) at both ends;
     - ``"polynomial"``: through exactly the values given (degree = their count − 1);
-    - ``"spline"``: through ``points`` (C2 cubic, or C4 quintic with ``degree=5``).
+    - ``"spline"``: through ``points`` (C2 cubic, or C4 quintic with ``degree=5``);
+      ends given or natural, or periodic for one segment over the whole cycle with
+      free ends (about the line from its first to its last value: the advance).
 
     Parameters
     ----------

@@ -223,13 +223,17 @@ impl Program {
         }
         let h = at_end[0] - at_start[0];
         let sign = h.signum();
-        let backwards = if h != 0.0 && sign * at_start[1] >= 0.0 && sign * at_end[1] >= 0.0 {
-            let (x, worst) = extreme(&self.fast[first..=last], |p, x| -sign * p.eval(x, 1));
-            let tol = BOUNDARY_TOL * h.abs() / spec.angle;
-            (worst > tol).then_some((x, -sign * worst))
-        } else {
-            None
-        };
+        // (A spline runs where its table goes: going back is the table's, and a
+        // periodic table's stroke is 0 but for rounding.)
+        let shaped = spec.law != "spline";
+        let backwards =
+            if shaped && h != 0.0 && sign * at_start[1] >= 0.0 && sign * at_end[1] >= 0.0 {
+                let (x, worst) = extreme(&self.fast[first..=last], |p, x| -sign * p.eval(x, 1));
+                let tol = BOUNDARY_TOL * h.abs() / spec.angle;
+                (worst > tol).then_some((x, -sign * worst))
+            } else {
+                None
+            };
         self.spans.push(Span {
             start,
             angle: spec.angle,

@@ -241,7 +241,9 @@ pub(super) fn pieces(
 
 /// The spline through the segment's point table (angles from its start, first
 /// at 0, last at its angle), its end derivatives the values given at each end
-/// (a quintic's velocity and acceleration together) or natural where free.
+/// (a quintic's velocity and acceleration together) or natural where free; a
+/// segment over the whole cycle with free ends is periodic (about the line
+/// through its first and last values, whose slope carries the advance).
 fn spline_pieces(index: usize, spec: &SegmentSpec) -> Result<Vec<Piece>, MotionError> {
     let beta = spec.angle;
     let mut x: Vec<f64> = spec.points.iter().map(|p| p[0]).collect();
@@ -274,11 +276,36 @@ fn spline_pieces(index: usize, spec: &SegmentSpec) -> Result<Vec<Piece>, MotionE
             ),
         )),
     };
-    let (s0, s1) = (end("start", &spec.start)?, end("end", &spec.end)?);
-    super::spline(&x, &y, spec.degree, s0, s1).map_err(|e| match e {
+    let free = |g: &[Option<f64>; 4]| g[1].is_none() && g[2].is_none();
+    let whole = (beta - std::f64::consts::TAU).abs() <= 1e-9 * std::f64::consts::TAU;
+    let map = |e| match e {
         MotionError::BadLaw { what } => bad(index, spec, what),
         other => other,
-    })
+    };
+    if whole && free(&spec.start) && free(&spec.end) {
+        // A table over the whole cycle with free ends runs into the next cycle:
+        // periodic ends (s′ … s^(k−1) equal at both), about the straight line from
+        // its first to its last value (a feed's advance per cycle: the slope adds
+        // a constant velocity and nothing to the higher derivatives).
+        let slope = (y[n - 1] - y[0]) / beta;
+        let flat: Vec<f64> = x.iter().zip(&y).map(|(t, v)| v - slope * t).collect();
+        let mut pieces = super::spline(
+            &x,
+            &flat,
+            spec.degree,
+            SplineEnd::Periodic,
+            SplineEnd::Periodic,
+        )
+        .map_err(map)?;
+        for p in &mut pieces {
+            p.poly.resize(p.poly.len().max(2), 0.0);
+            p.poly[0] += slope * p.x0;
+            p.poly[1] += slope;
+        }
+        return Ok(pieces);
+    }
+    let (s0, s1) = (end("start", &spec.start)?, end("end", &spec.end)?);
+    super::spline(&x, &y, spec.degree, s0, s1).map_err(map)
 }
 
 /// s = s0 + V0·t + (V1 − V0)·β·H(t/β) + K·F(t/β) (module docs) as pieces in t.
