@@ -179,7 +179,7 @@ class Phase:
                None),
     ), intro=(
         "``phase = {event = …, crank_deg = …}`` in a linkage's or press's table places "
-        "its torque on the main shaft."
+        "its torque on the main shaft; in a servo axis's, its program in the cycle."
     ))
     # fmt: on
 

@@ -49,7 +49,8 @@ def _through_load(read: Callable[[str], Any], data: dict[str, Any]) -> Any:
 def _reader(data: dict[str, Any]) -> Callable[[dict[str, Any]], Any]:
     """The reader of the command that takes a file of this layout."""
     if "machine" in data:
-        return lambda d: cm.Machine.from_dict(d, "f.toml")
+        # (as if read from the examples' folder: a servo's catalogue is beside it)
+        return lambda d: cm.Machine.from_dict(d, str(EXAMPLES / "f.toml"))
     if "linkage" in data:
         return lambda d: _through_load(cm.Linkage.from_toml, d)
     if "stop" in data:

@@ -97,6 +97,7 @@ RESULT_CLASSES = {
     "cyclomech.press.PressOptimum",
     "cyclomech.press.PressTorque",
     "cyclomech.servo.Duty",
+    "cyclomech.servo.ServoResult",
     "cyclomech.servo.Sizing",
     "cyclomech.servo.SizingRow",
     "cyclomech.shaft.Flattening",

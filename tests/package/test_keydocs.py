@@ -24,6 +24,7 @@ from cyclomech.forces._file import _LOAD_KEYS, _MASS_KEYS
 from cyclomech.machine import KINDS, check_parameter
 from cyclomech.machine._model import _MACHINE_KEYS
 from cyclomech.press._kind import FORCE_KEYS
+from cyclomech.servo._kind import MOTOR_KEYS
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: Every table of the reference by name: its keys' records (from their owners).
@@ -34,6 +35,7 @@ KIND_EXAMPLES = {
     "cam_stop": ("stb_loom", "lifter"),
     "linkage": ("knife_cutter", "knife"),
     "press": ("extrusion_press_line", "drive"),
+    "servo": ("flow_wrapper", "film feed"),
     "transfer": ("rotor_line", "line"),
 }
 #: A cam with a translating follower (the examples' cam is oscillating).
@@ -74,7 +76,13 @@ def data(source: str) -> dict[str, Any]:
         if source == "slider":
             d["mechanism"]["s"] = copy.deepcopy(SLIDER_CRANK)
         return d
-    return copy.deepcopy(dict(cm.Machine.from_toml(EXAMPLES / f"{source}.toml").data or {}))
+    d = copy.deepcopy(dict(cm.Machine.from_toml(EXAMPLES / f"{source}.toml").data or {}))
+    for table in d.get("mechanism", {}).values():
+        # A catalogue's path is relative to the machine file, which build() does not
+        # read from: give it whole.
+        if "catalogue" in table:
+            table["catalogue"] = str(EXAMPLES / table["catalogue"])
+    return d
 
 
 def at(d: Any, path: tuple[Any, ...]) -> Any:
@@ -136,6 +144,8 @@ def test_kind_keys(kind: str) -> None:
         ("linkage.mass", _MASS_KEYS),
         ("linkage.load", _LOAD_KEYS),
         ("press.deformation_force", set(FORCE_KEYS)),
+        ("servo.motor", MOTOR_KEYS),
+        ("servo.segment", SEGMENT_KEYS - {"load_n", "load_nm"} | {"arc"}),
     ],
 )
 def test_constant_key_sets(table: str, keys: Any) -> None:
@@ -363,6 +373,38 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      ("mechanism", "drive"), lambda m: m.mechanisms["drive"].speed_limit_rpm(), math.inf),
     ("press", "deformation_force", "none (no force)", "extrusion_press_line",
      ("mechanism", "drive"), lambda m: m.mechanisms["drive"].force, None),
+    ("servo", "force_n", "0", "flow_wrapper", ("mechanism", "film feed"),
+     lambda m: m.mechanisms["film feed"].axis.load.force_n, 0.0),
+    ("servo", "drive_efficiency", "1", "flow_wrapper", ("mechanism", "film feed"),
+     lambda m: m.mechanisms["film feed"].axis.load.efficiency, 1.0),
+    ("servo", "torque_nm", "0", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].axis.load.torque_nm, 0.0),
+    ("servo", "gear_ratio", "1 (a direct drive)", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].axis.gearbox.ratio, 1.0),
+    ("servo", "gear_efficiency", "1", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].axis.gearbox.efficiency, 1.0),
+    ("servo", "gear_inertia_kg_m2", "0", "flow_wrapper", ("mechanism", "film feed"),
+     lambda m: m.mechanisms["film feed"].axis.gearbox.inertia_kg_m2, 0.0),
+    ("servo", "gear_ratios", "[gear_ratio]", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].ratios == (m.mechanisms["jaw"].axis.gearbox.ratio,), True),
+    ("servo", "inertia_ratio_limit", "10", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].axis.inertia_ratio_limit, 10.0),
+    ("servo", "continuity", "velocity", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].axis.program.continuity, "velocity"),
+    ("servo", "table_points", "3600", "flow_wrapper", ("mechanism", "jaw"),
+     lambda m: m.mechanisms["jaw"].table_points, 3600),
+    ("servo", "phase", "the first bound segment at its operation's start, else cycle angle 0",
+     "flow_wrapper", ("mechanism", "jaw"), lambda m: m.mechanisms["jaw"].phase, None),
+    ("servo", "motor", "none (with catalogue: sized only, no bound on the cyclogram)",
+     "flow_wrapper", ("mechanism", "film feed"),
+     lambda m: (m.mechanisms["film feed"].axis.motor, m.mechanisms["film feed"].bounds()),
+     (None, ())),
+    ("servo.segment", "law", "cycloidal", "flow_wrapper",
+     ("mechanism", "film feed", "segment", 0),
+     lambda m: m.mechanisms["film feed"].axis.program.segments[0].law, "cycloidal"),
+    ("servo.segment", "arc", "none (the segment bounds no operation)", "flow_wrapper",
+     ("mechanism", "film feed", "segment", 0),
+     lambda m: m.mechanisms["film feed"].arcs[0], None),
     ("transfer", "max_jerk_m_per_s3", "none (no limit)", "rotor_line", ("mechanism", "line"),
      lambda m: m.mechanisms["line"].max_jerk, None),
     ("transfer", "max_acceleration_m_per_s2", "none (no limit)", "rotor_line",
@@ -414,6 +456,8 @@ def test_required_keys_are_required() -> None:
             ("mechanism", "drive", "deformation_force"),
         ),
         "transfer": ("rotor_line", ("mechanism", "line")),
+        "servo": ("flow_wrapper", ("mechanism", "film feed")),
+        "servo.segment": ("flow_wrapper", ("mechanism", "film feed", "segment", 0)),
         "operation": ("example", ("operation", 0)),
         "constraint": ("example", ("constraint", 0)),
         "constraint.terms": ("example", ("constraint", 0, "terms", 0)),
@@ -475,6 +519,14 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("rotor_line", ("mechanism", "line"), "pockets_p", 10_001, 10_000),
     ("rotor_line", ("mechanism", "line"), "gap_m", 0.0, 0.01),
     ("rotor_line", ("mechanism", "line"), "max_jerk_m_per_s3", 0.0, 1e-9),
+    ("flow_wrapper", ("mechanism", "film feed"), "gear_ratio", 0.0, 0.5),
+    ("flow_wrapper", ("mechanism", "film feed"), "drive_efficiency", 1.01, 1.0),
+    ("flow_wrapper", ("mechanism", "film feed"), "lead_m", 0.0, 0.3),
+    ("flow_wrapper", ("mechanism", "jaw"), "gear_efficiency", 0.0, 0.5),
+    ("flow_wrapper", ("mechanism", "jaw"), "gear_inertia_kg_m2", -1e-9, 0.0),
+    ("flow_wrapper", ("mechanism", "jaw"), "inertia_ratio_limit", 0.0, 1.0),
+    ("flow_wrapper", ("mechanism", "jaw"), "table_points", 1, 2),
+    ("flow_wrapper", ("mechanism", "jaw"), "gear_ratios", [0.0, 1.0], [1.0]),
 ]
 
 
@@ -494,7 +546,8 @@ def test_documented_range_is_enforced(
     if table is None:
         kind = at(data(source), path[:2]).get("kind")
         sub = {"segment": "cam.segment", "mass": "linkage.mass", "lengths": "linkage.lengths"}
-        table = sub[path[2]] if len(path) > 2 else kind
+        table = f"{kind}.{path[2]}" if kind == "servo" and len(path) > 2 else None
+        table = table or (sub[path[2]] if len(path) > 2 else kind)
     assert key in documented(table)
     d = data(source)
     at(d, path)[key] = outside

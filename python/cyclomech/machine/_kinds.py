@@ -11,6 +11,7 @@ from ..cam import CamMechanism
 from ..impact import CamStop
 from ..linkage import LinkageMechanism
 from ..press import PressMechanism
+from ..servo import ServoMechanism
 from ..transfer import TransferMechanism
 
 __all__ = ["KINDS", "register"]
@@ -21,6 +22,7 @@ KINDS: dict[str, type[Mechanism]] = {
     CamStop.kind: CamStop,
     LinkageMechanism.kind: LinkageMechanism,
     PressMechanism.kind: PressMechanism,
+    ServoMechanism.kind: ServoMechanism,
     TransferMechanism.kind: TransferMechanism,
 }
 

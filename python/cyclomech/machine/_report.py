@@ -354,7 +354,9 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     ``main_shaft.csv`` (the torque over the cycle at the nominal speed, total and
     each mechanism's, when a mechanism loads the shaft), ``<mechanism>_forces.csv``
     (a linkage's driving torque, guide forces and joint forces over its crank turn,
-    when it has masses or loads) and ``figures/*.png`` (figures need matplotlib).
+    when it has masses or loads), a mechanism's own files (a servo axis's cam
+    tables and motor curve: ``<axis>_cam_table.csv``, ``<axis>_cam_coefficients.csv``,
+    ``<axis>_motor.csv``) and ``figures/*.png`` (figures need matplotlib).
 
     Parameters
     ----------
@@ -405,6 +407,12 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     for name, header, rows in _cycle_tables(result):
         cycle_files.append(name)
         written.append(_write_csv(folder / name, header, rows))
+    for res in result.mechanisms.values():
+        # A kind's own files (a servo axis's cam tables), by an optional hook.
+        own = getattr(res, "files", None)
+        for p in own(folder) if own is not None else ():
+            cycle_files.append(p.name)
+            written.append(p)
     figs: list[tuple[str, str, Path]] = []
     if figures:
         try:

@@ -34,7 +34,9 @@ from __future__ import annotations
 
 from ._axis import CHECKS, Duty, ServoAxis
 from ._catalogue import CATALOGUE_COLUMNS, load_catalogue
+from ._kind import ServoMechanism
 from ._parts import Gearbox, LinearLoad, Motor, RotaryLoad
+from ._result import ServoResult
 from ._sizing import Sizing, SizingRow, size
 
 __all__ = [
@@ -46,6 +48,8 @@ __all__ = [
     "Motor",
     "RotaryLoad",
     "ServoAxis",
+    "ServoMechanism",
+    "ServoResult",
     "Sizing",
     "SizingRow",
     "load_catalogue",
