@@ -481,7 +481,13 @@ def cam_follower_response(
 
 # servo: motor torque and speed of a servo axis, and the sizing batch.
 
-__all__ += ["servo_duty", "servo_min_angles", "servo_size", "servo_speed_limit"]
+__all__ += [
+    "servo_duty",
+    "servo_min_angles",
+    "servo_rms_angles",
+    "servo_size",
+    "servo_speed_limit",
+]
 
 def servo_duty(
     vel: npt.NDArray[np.float64],
@@ -537,7 +543,22 @@ def servo_speed_limit(
     drive_inertia: float,
     peak_torque: float,
     max_speed: float,
-) -> tuple[float, float]: ...
+    rated: float,
+    rms: bool,
+) -> tuple[float, float, float]: ...
+def servo_rms_angles(
+    program: ProgramKernel,
+    segment: int,
+    dwell: int,
+    shaft: float,
+    inertia: float,
+    torque: float,
+    efficiency: float,
+    ratio: float,
+    drive_inertia: float,
+    rated: float,
+    omegas: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
 
 # shaft
 

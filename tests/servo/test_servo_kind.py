@@ -69,7 +69,7 @@ def test_bounds_are_met_with_equality_at_their_angle(machine: cm.Machine) -> Non
     feed = machine.mechanisms["film feed"]
     motor = feed.axis.motor
     for rpm in (60.0, 140.0):
-        torque, speed = (c.rhs for c in feed.constraints(rpm))
+        torque, speed, _ = (c.rhs for c in feed.constraints(rpm))
         # Alone on its angle the index segment sets the peaks (the rest of the
         # program is slower): at the torque bound's angle the peak torque is the
         # motor's, at the speed bound's angle the peak speed.
@@ -97,24 +97,86 @@ def test_laws_are_the_per_speed_solve(machine: cm.Machine) -> None:
     assert laws[0](rpm)[2] == pytest.approx(4.0 * laws[0](rpm)[0], rel=1e-12)
 
 
+def test_rms_bound_is_met_with_equality_at_its_angle(machine: cm.Machine) -> None:
+    feed = machine.mechanisms["film feed"]
+    motor = feed.axis.motor
+    assert feed.criteria() == ("peak_torque", "speed", "rms_torque")
+    for rpm in (120.0, 160.0):
+        rms = feed.constraints(rpm)[2].rhs
+        at, why = feed.program_at({("2", "3"): rms})
+        assert why == ""
+        # The RMS over the whole cycle (the dwell after the index took up the
+        # change) is the rated torque: a dense duty, not the bound's trapezoids.
+        d = dense(at, feed).duty(rpm)
+        assert float(d.rms_torque_nm) == pytest.approx(motor.rated_torque_nm, rel=2e-4)
+        longer, _ = feed.program_at({("2", "3"): rms * 1.01})
+        assert float(dense(longer, feed).duty(rpm).rms_torque_nm) < motor.rated_torque_nm
+        shorter, _ = feed.program_at({("2", "3"): rms * 0.99})
+        assert float(dense(shorter, feed).duty(rpm).rms_torque_nm) > motor.rated_torque_nm
+    # Not proportional to the speed (the fixed segments' share grows too), but
+    # rising with it.
+    law = feed.laws()[2]
+    a = law(np.array([80.0, 120.0, 160.0]))
+    assert np.all(np.diff(a) > 0) and a[2] != pytest.approx(2.0 * a[0], rel=1e-3)
+
+
+def test_no_rms_bound_with_two_bound_segments(machine: cm.Machine) -> None:
+    # The RMS couples the cycle: exact for one bound segment only; with two it is
+    # the duty's check on the optimised timing.
+    d = data(machine)
+    d["mechanism"]["film feed"]["segment"] = [
+        {"kind": "rise", "angle_deg": 60.0, "stroke_m": 0.1, "arc": ["2", "3"]},
+        {"kind": "dwell", "angle_deg": 120.0},
+        {"kind": "rise", "angle_deg": 60.0, "stroke_m": 0.15, "arc": ["1", "2"]},
+        {"kind": "dwell", "angle_deg": 120.0},
+    ]
+    feed = build(d).mechanisms["film feed"]
+    assert feed.criteria() == ("peak_torque", "speed")
+    assert len(feed.bounds()) == 4
+
+
 def test_speed_limit_names_the_motor(result: Any) -> None:
     lim = result.limit
-    assert "peak torque[film feed (AC-060-127) rise 2→3]" in lim.reason
+    assert lim.by == "jaw" and "'AC-130-955'" in lim.reason and "RMS" in lim.reason
+    feed = result.mechanisms["film feed"].mech
+    n = result.nominal_rpm
     assert result.optimum.angles[("2", "3")] == pytest.approx(
-        result.mechanisms["film feed"].mech.constraints(result.nominal_rpm)[0].rhs, rel=1e-9
+        max(c.rhs for c in feed.constraints(n)), rel=1e-9
     )
+    assert "peak torque[film feed (AC-060-127) rise 2→3]" in result.optimum.duals
 
 
-def test_own_speed_limit_is_where_the_duty_reaches_the_peak(machine: cm.Machine) -> None:
+def test_own_speed_limit_is_where_the_duty_reaches_the_rated_torque(
+    machine: cm.Machine,
+) -> None:
     jaw = machine.mechanisms["jaw"]
     limit = jaw.speed_limit_rpm()
     assert 100.0 < limit < 1000.0
-    assert "AC-130-955" in jaw.limit_reason() and "peak torque" in jaw.limit_reason()
+    assert "AC-130-955" in jaw.limit_reason() and "RMS" in jaw.limit_reason()
     ax = dense(jaw.axis.program, jaw)
-    peak = jaw.axis.motor.peak_torque_nm
-    assert float(ax.duty(limit).peak_torque_nm) == pytest.approx(peak, rel=2e-4)
-    assert float(ax.duty(0.99 * limit).peak_torque_nm) < peak
-    assert float(ax.duty(1.01 * limit).peak_torque_nm) > peak
+    rated = jaw.axis.motor.rated_torque_nm
+    assert float(ax.duty(limit).rms_torque_nm) == pytest.approx(rated, rel=2e-4)
+    assert float(ax.duty(0.99 * limit).rms_torque_nm) < rated
+    assert float(ax.duty(1.01 * limit).rms_torque_nm) > rated
+
+
+def test_own_speed_limit_by_the_peak_torque(machine: cm.Machine) -> None:
+    # A motor with torque to spare thermally: the peak torque binds.
+    d = data(machine)
+    d["mechanism"]["jaw"]["motor"] = {
+        "rated_torque_nm": 30.0,
+        "peak_torque_nm": 30.0,
+        "max_rpm": 3000.0,
+        "inertia_kg_m2": 0.0165,
+        "name": "cool",
+    }
+    jaw = build(d).mechanisms["jaw"]
+    limit = jaw.speed_limit_rpm()
+    assert "peak torque 30 N·m" in jaw.limit_reason()
+    ax = dense(jaw.axis.program, jaw)
+    assert float(ax.duty(limit).peak_torque_nm) == pytest.approx(30.0, rel=2e-4)
+    assert float(ax.duty(0.99 * limit).peak_torque_nm) < 30.0
+    assert float(ax.duty(1.01 * limit).peak_torque_nm) > 30.0
 
 
 def test_own_limit_is_a_closed_form_for_a_constant_velocity(machine: cm.Machine) -> None:
@@ -171,18 +233,25 @@ def test_results_at_the_optimum(result: Any) -> None:
     assert "main_shaft" not in str(result.shaft.parts) and set(result.shaft.parts) == {"pusher"}
 
 
-def test_rms_failure_warns(machine: cm.Machine) -> None:
+def test_a_failing_check_warns_and_exits_3(
+    machine: cm.Machine, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # A heavier rotor: the inertia ratio fails at any speed, on any timing.
     d = data(machine)
-    d["mechanism"]["jaw"]["motor"] = {
-        "rated_torque_nm": 0.5,
-        "peak_torque_nm": 30.0,
-        "max_rpm": 3000.0,
-        "inertia_kg_m2": 0.002,
-        "name": "hot",
-    }
-    with pytest.warns(cm.CyclomechWarning, match=r"servo axis 'jaw'.*RMS torque"):
+    d["mechanism"]["jaw"]["inertia_kg_m2"] = 0.5
+    with pytest.warns(cm.CyclomechWarning, match=r"servo axis 'jaw'.*inertia ratio"):
         r = cm.machine.analyze(build(d), progress=False)
-    assert not r.mechanisms["jaw"].duty.passes
+    assert r.failures == ["jaw: its motor fails the inertia ratio check (margin -0.212)"]
+    text = EXAMPLE.read_text().replace("inertia_kg_m2 = 0.4 ", "inertia_kg_m2 = 0.5 ")
+    (tmp_path / "m.toml").write_text(text)
+    (tmp_path / "motors.csv").write_text((EXAMPLE.parent / "motors.csv").read_text())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        code = main(["run", str(tmp_path / "m.toml"), "--out", str(tmp_path / "o"), "--no-plot"])
+    assert code == 3
+    err = capsys.readouterr().err
+    assert "jaw: its motor fails the inertia ratio check" in err
+    assert "Fails at 100 rpm" in (tmp_path / "o" / "report.html").read_text()
 
 
 def test_run_writes_cam_tables(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -227,7 +296,7 @@ def test_run_writes_cam_tables(tmp_path: Path, capsys: pytest.CaptureFixture[str
         (lambda t: t["segment"][2].update(arc=["1", "2"]), "cannot take a phase angle"),
         (lambda t: t["segment"][0].update(arc=["1", "4"]), "arc"),
         (lambda t: t["segment"][0].update(load_n=3.0), "load_n"),
-        (lambda t: t.update(advance_m=0.3), "segment"),
+        (lambda t: t.update(advance_m=0.3), "the strokes sum to 0.25 m"),
         (lambda t: t["segment"][0].update(law="bouncy"), "bouncy"),
         (lambda t: t.update(motor={"rated_torque_nm": 1.0, "peak_torque_nm": 3.0}), "max_rpm"),
     ],

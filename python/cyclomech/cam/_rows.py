@@ -216,16 +216,16 @@ def read_program(
         s += {"rise": stroke, "return": -stroke}.get(g.kind, 0.0)
         if i == len(rows) - 1 and abs(s - end) <= 1e-9 * max(g.stroke for g in segs):
             s = end  # back to the start (or on by the advance), to the strokes' rounding
-        points = None
-        if units["points"] in row:
-            table_ = row[units["points"]]
-            if not isinstance(table_, list) or not all(
-                isinstance(p, list) and len(p) == 2 for p in table_
-            ):
-                raise InputError(
-                    f"{where}: {units['points']} must be rows [angle_deg, s]; got {table_!r}"
-                )
-            points = [(p[0], p[1] * scale) for p in table_]
+        elif i == len(rows) - 1 and always:
+            # (A cam's program says where its last segment jumps; an axis that
+            # moves on says it in its own keys.)
+            unit = units["stroke"].removeprefix("stroke_")
+            raise InputError(
+                f"the strokes sum to {s / scale:.10g} {unit} (rises − returns) but "
+                f"advance_{unit} = {advance:g}: the program must end where the next cycle "
+                f"starts, one advance on"
+            )
+        points = _points(row, units["points"], scale, where)
         law = "dwell" if g.kind == "dwell" else g.law
         if law not in SEGMENT_LAWS:
             raise InputError(
@@ -254,3 +254,13 @@ def _units(units: Any) -> None:
         all(units.get(k) == v for k, v in u.items()) for u in UNITS.values()
     ):
         raise InputError(f"units must be one of cyclomech.cam.UNITS' values; got {units!r:.80}")
+
+
+def _points(row: Mapping[str, Any], key: str, scale: float, where: str) -> Any:
+    """A segment's point table ``key`` in the program's units, or None."""
+    if key not in row:
+        return None
+    table = row[key]
+    if not isinstance(table, list) or not all(isinstance(p, list) and len(p) == 2 for p in table):
+        raise InputError(f"{where}: {key} must be rows [angle_deg, s]; got {table!r}")
+    return [(p[0], p[1] * scale) for p in table]

@@ -269,6 +269,10 @@ class SpeedNetwork:
             bound_ok &= np.isfinite(t)
         if self.always_false:
             bound_ok[:] = False
+        # A bound no angle meets (+inf: a servo's RMS beyond what any angle
+        # gives) means no fit at that speed: its row is not solved (value NaN
+        # below), so give it finite weights.
+        w[~bound_ok] = self.base
         extra: list[list[str]] = []
         if self.general:
             value, on_path, extra = self._lp(rpm, mins, bound_ok)

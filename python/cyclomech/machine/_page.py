@@ -130,6 +130,8 @@ def _key_figures(r: MachineResult, summary: dict[str, Any]) -> list[str]:
         )
     if r.above_speed_limit:
         key.append(f"<p class='warn'><b>Above the speed limit</b>: {e(r.above_speed_limit)}.</p>")
+    for text in r.failures:
+        key.append(f"<p class='warn'><b>Fails at {r.nominal_rpm:g} rpm</b>: {e(text)}.</p>")
     if o is None and lim.rpm > 0:  # at no speed, said above: no speed is to blame
         key.append(
             f"<p class='warn'>At {r.nominal_rpm:g} rpm the cyclogram does not fit: "

@@ -88,6 +88,26 @@ class MachineResult:
     shaft: MainShaft | None = None
 
     @property
+    def failures(self) -> list[str]:
+        """What fails at the nominal speed in a mechanism's own checks, by mechanism.
+
+        A kind whose results have ``failures()`` (a servo axis whose motor fails
+        a check on the optimised timing) says what must not ship: ``cyclomech
+        run`` exits 3 and the report shows it. Empty when nothing fails.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.machine.analyze(cm.Machine.example(), progress=False).failures
+        []
+        """
+        out = []
+        for k, res in self.mechanisms.items():
+            own = getattr(res, "failures", None)
+            out += [f"{k}: {text}" for text in (own() if own is not None else [])]
+        return out
+
+    @property
     def above_speed_limit(self) -> str:
         """Why the nominal speed is above a mechanism's own speed limit ("" if it is
         not). The cyclogram may still fit there (its optimum is then computed), but

@@ -2,11 +2,12 @@
 
 ``cyclomech run FILE.toml [--out DIR]`` reads a machine file, analyses it over its
 speed range and writes the report (HTML, results.json, CSVs, figures); exit status
-3 when the machine works at no speed. ``cyclomech sweep FILE.toml --set
-MECH.KEY=FROM:TO:COUNT [--speed FROM:TO:COUNT] [--dask …]`` computes the machine's
-key figures over a grid of its parameters and speeds and writes them as a table
-(Parquet, or NumPy .npz without pyarrow); exit status 3 when every design of the
-sweep is invalid.
+3 when the machine works at no speed, its nominal speed does not fit or is above a
+mechanism's limit, or a mechanism fails its own checks there (a servo's motor).
+``cyclomech sweep FILE.toml --set MECH.KEY=FROM:TO:COUNT [--speed FROM:TO:COUNT]
+[--dask …]`` computes the machine's key figures over a grid of its parameters and
+speeds and writes them as a table (Parquet, or NumPy .npz without pyarrow); exit
+status 3 when every design of the sweep is invalid.
 
 >>> import argparse
 >>> from cyclomech.machine import cli
@@ -146,6 +147,13 @@ def run_command(args: argparse.Namespace) -> int:
             f"cyclomech: {args.file}: {r.above_speed_limit} (exit status {EXIT_FAILS})",
             file=sys.stderr,
         )
+        return EXIT_FAILS
+    if r.failures:
+        # The timing fits, but a mechanism fails its own checks there (a servo
+        # motor too hot or too weak): the design does not work as it stands.
+        for text in r.failures:
+            print(f"cyclomech: {args.file}: at {r.nominal_rpm:g} rpm {text}", file=sys.stderr)
+        print(f"cyclomech: {args.file}: exit status {EXIT_FAILS}", file=sys.stderr)
         return EXIT_FAILS
     return EXIT_OK
 

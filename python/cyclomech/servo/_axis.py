@@ -229,8 +229,12 @@ class ServoAxis:
         self.theta, self.s, self.v, self.a, self.j = _sample(program, self.points)
         k, j_load, t_ext, eta = load._shaft()
         # The load shaft's φ_L′, φ_L″ [rad/rad, rad/rad²]; J_L [kg·m²], T_ext [N·m]
-        # and the screw's efficiency (1 for a rotary load).
-        self._vel, self._acc = self.v * k, self.a * k
+        # and the screw's efficiency (1 for a rotary load). A velocity within
+        # rounding of 0 (1e-12 of the largest: a dwell's join) is a load at rest,
+        # held on the motoring side, not a sign for the efficiency to flip on.
+        vel = self.v * k
+        vel[np.abs(vel) <= 1e-12 * np.abs(vel).max(initial=0.0)] = 0.0
+        self._vel, self._acc = vel, self.a * k
         self._load = (j_load, t_ext, eta)
 
     def _kernel_load(self, gearbox: Gearbox) -> tuple[Array, Array, float, float, float]:

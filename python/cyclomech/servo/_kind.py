@@ -3,19 +3,21 @@ machine's (virtual) main shaft, its rest-to-rest segments bound to cyclogram
 operations by what the motor can do (issue 33, items 3 and 5).
 
 **Bounds.** Each segment with ``arc = [from, to]`` (a rest-to-rest rise or return:
-its shape scales with its angle) puts two lower bounds on its operation, from
-:meth:`ServoAxis.min_phase_angles`: the motor's peak torque and its maximum speed.
-Both are exactly proportional to the machine's speed (the torque is linear in
-(ω/β)² and the speed in ω/β), so the cyclogram's speed limit treats them as
-the cam's jump bound. **Own speed limit.** The segments without an arc keep their
-shape and angle (a constant velocity, moving ends, a dwell holding the load): the
-highest speed at which the motor's peak torque and maximum speed hold on them
-(:func:`cyclomech._core.servo_speed_limit`, the same rule as the bounds': every
-lower speed holds too). The reason names the motor. **RMS.** The RMS torque couples
-the whole cycle's timing: it is checked on the optimised timing at the nominal
-speed, and a failure warns (:meth:`ServoResult.problems`), as a cam's free
-segments do. A servo's torque does not load the main shaft: its motor has its own
-drive.
+its shape scales with its angle) puts lower bounds on its operation: the motor's
+peak torque and maximum speed (:meth:`ServoAxis.min_phase_angles`), exactly
+proportional to the machine's speed (the torque is linear in (ω/β)² and the speed
+in ω/β), so the cyclogram's speed limit treats them as the cam's jump bound; and,
+when it is the axis's one bound segment with a dwell after it, the RMS torque
+(``cyclomech._core.servo_rms_angles``: exact, the dwell taking up its change, solved
+per speed). **Own speed limit.** The segments without an arc keep their shape and
+angle (a constant velocity, moving ends, a dwell holding the load): the highest
+speed at which the motor's peak torque and maximum speed hold on them, and its RMS
+when no segment is bound (:func:`cyclomech._core.servo_speed_limit`, the bounds'
+rule: every lower speed holds too). The reason names the motor. **Failures.** A
+check that fails at the nominal speed on the optimised timing (the RMS with several
+bound segments, the inertia ratio) warns and makes ``cyclomech run`` exit 3
+(:meth:`ServoResult.failures`). A servo's torque does not load the main shaft: its
+motor has its own drive.
 """
 
 from __future__ import annotations
@@ -46,7 +48,7 @@ from ._parts import Gearbox, LinearLoad, Motor, RotaryLoad
 __all__ = ["ServoMechanism"]
 
 #: How each bound's criterion reads in labels and reasons.
-WORDS = {"peak_torque": "peak torque", "speed": "motor speed"}
+WORDS = {"peak_torque": "peak torque", "speed": "motor speed", "rms_torque": "RMS torque"}
 #: The keys of a ``motor = {…}`` table.
 MOTOR_KEYS = frozenset(
     {"rated_torque_nm", "peak_torque_nm", "rated_rpm", "max_rpm", "inertia_kg_m2", "name"}
@@ -226,7 +228,8 @@ class ServoMechanism(Unbounded):
                 _number(table, "gear_inertia_kg_m2", at, 0.0),
             )
         except InputError as e:
-            raise InputError(f"{at}: {_file_key(str(e))}") from None
+            msg = _file_key(str(e))
+            raise InputError(msg if msg.startswith(at) else f"{at}: {msg}") from None
         catalogue, motor = _motor(table, at, ctx.source)
         ratios = _ratios(table, at, gearbox.ratio, bool(catalogue))
         limit = _number(table, "inertia_ratio_limit", at, DEFAULT_INERTIA_LIMIT)
@@ -371,8 +374,42 @@ class ServoMechanism(Unbounded):
         who = "motor" if motor is None else (motor.name or "motor")
         return f"{self.name} ({who}) {self.rows[k]['kind']} {arc[0]}→{arc[1]}"
 
+    def _rms_dwell(self) -> int | None:
+        """The dwell that takes up the bound segment's change when the RMS is a
+        bound (one bound segment, a dwell after it: module docs), else None."""
+        segs = self._bound_segments()
+        if self.axis.motor is None or len(segs) != 1:
+            return None
+        k, n = segs[0], len(self.rows)
+        return next(
+            (i % n for i in range(k + 1, k + n) if self.rows[i % n]["kind"] == "dwell"), None
+        )
+
+    def criteria(self) -> tuple[str, ...]:
+        """The criteria of each bound segment, in the order of :meth:`bounds`.
+
+        The motor's peak torque and maximum speed; and its RMS torque when the
+        axis has one bound segment with a dwell after it (the RMS couples the
+        cycle: exact for one segment whose change a dwell takes up).
+
+        Returns
+        -------
+        tuple of str
+            Of ``("peak_torque", "speed", "rms_torque")``; empty without a motor.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["film feed"].criteria()
+        ('peak_torque', 'speed', 'rms_torque')
+        """
+        if self.axis.motor is None:
+            return ()
+        rms = ("rms_torque",) if self._rms_dwell() is not None else ()
+        return (*_core.SERVO_BOUNDS, *rms)
+
     def bounds(self) -> tuple[Bound, ...]:
-        """Two bounds per bound segment: the motor's peak torque and maximum speed.
+        """The bounds of each bound segment, one per criterion (:meth:`criteria`).
 
         None without a motor (a catalogue only: the axis is sized on the timing,
         it does not bound it).
@@ -389,30 +426,38 @@ class ServoMechanism(Unbounded):
         >>> [b.label for b in feed.bounds()][1]
         'motor speed[film feed (AC-060-127) rise 2→3]'
         """
-        if self.axis.motor is None:
-            return ()
         out = []
         for k in self._bound_segments():
             arc = self.arcs[k]
             assert arc is not None
-            for c in _core.SERVO_BOUNDS:
+            for c in self.criteria():
                 label = f"{WORDS[c]}[{self._where(k)}]"
                 out.append(Bound(arc, label, label))
         return tuple(out)
 
     @functools.cached_property
     def _laws(self) -> tuple[BoundLaw, ...]:
-        # Both criteria are proportional to the speed (module docs): their angle
-        # at 1 rpm is the law's slope; NaN (even the static torque exceeds the
-        # peak) is an infinite bound, as a cam's.
+        # The peak torque and speed are proportional to the speed (module docs):
+        # their angle at 1 rpm is the law's slope; NaN (even the static torque
+        # exceeds the peak) is an infinite bound, as a cam's. The RMS is solved
+        # at each speed asked.
         segs = self._bound_segments()
         if self.axis.motor is None or not segs:
             return ()
         per = self.axis.min_phase_angles([1.0], segments=segs).angle_deg[0]
-        return tuple(Proportional(math.inf if math.isnan(v) else float(v)) for v in per.reshape(-1))
+        out: list[BoundLaw] = []
+        for j, k in enumerate(segs):
+            out += [Proportional(math.inf if math.isnan(v) else float(v)) for v in per[j]]
+            dwell = self._rms_dwell()
+            if dwell is not None:
+                out.append(_RmsLaw(self.axis, k, dwell))
+        return tuple(out)
 
     def laws(self) -> list[BoundLaw]:
-        """Each bound's smallest angle [deg] against speed [rpm]: proportional.
+        """Each bound's smallest angle [deg] against speed [rpm].
+
+        Proportional for the peak torque and speed (exact), solved per speed for
+        the RMS torque.
 
         Returns
         -------
@@ -424,7 +469,7 @@ class ServoMechanism(Unbounded):
         >>> import numpy as np, cyclomech as cm
         >>> feed = cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["film feed"]
         >>> [round(float(law(np.array([100.0]))[0]), 3) for law in feed.laws()]
-        [51.327, 34.89]
+        [51.327, 34.89, 46.011]
         """
         return list(self._laws)
 
@@ -483,7 +528,7 @@ class ServoMechanism(Unbounded):
         >>> import cyclomech as cm
         >>> feed = cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["film feed"]
         >>> len(ServoMechanism.bound_laws([feed])[0])
-        2
+        3
         """
         flag("linear", linear)
         mechanisms = instances("mechanisms", mechanisms, cls)
@@ -497,7 +542,7 @@ class ServoMechanism(Unbounded):
             return math.inf, ""
         k, j_load, t_ext, eta = ax.load._shaft()
         gear = ax.gearbox
-        torque, speed = _core.servo_speed_limit(
+        limits = _core.servo_speed_limit(
             ax.program.kernel,
             free,
             k,
@@ -508,27 +553,28 @@ class ServoMechanism(Unbounded):
             motor.inertia_kg_m2 + gear.inertia_kg_m2,
             motor.peak_torque_nm,
             motor.max_rpm * RAD_PER_S_PER_RPM,
+            motor.rated_torque_nm,
+            len(free) == len(self.arcs),  # the RMS: over the whole cycle only
         )
-        rpm = min(torque, speed) / RAD_PER_S_PER_RPM
+        rpm = min(limits) / RAD_PER_S_PER_RPM
         if math.isinf(rpm):
             return rpm, ""
         who = f"motor {motor.name!r}" if motor.name else "the motor"
-        where = ", ".join(str(i) for i in free)
-        if torque == 0.0:
+        where = ", ".join(f"{i} ({self.axis.program.segments[i].law})" for i in free)
+        c = int(np.argmin(limits))
+        if rpm == 0.0:
+            what = ("peak", motor.peak_torque_nm) if c == 0 else ("rated", motor.rated_torque_nm)
             why = (
-                f"{who} cannot hold the load: its static torque on segment(s) {where} exceeds "
-                f"the peak torque {motor.peak_torque_nm:g} N·m"
-            )
-        elif torque <= speed:
-            why = (
-                f"{who} reaches its peak torque {motor.peak_torque_nm:g} N·m on the segment(s) "
-                f"without an operation ({where})"
+                f"{who} cannot hold the load: its static torque exceeds the {what[0]} torque "
+                f"{what[1]:g} N·m"
             )
         else:
-            why = (
-                f"{who} reaches its maximum speed {motor.max_rpm:g} rpm on the segment(s) "
-                f"without an operation ({where})"
-            )
+            what_ = (
+                f"its peak torque {motor.peak_torque_nm:g} N·m",
+                f"its maximum speed {motor.max_rpm:g} rpm",
+                f"its rated torque {motor.rated_torque_nm:g} N·m by the RMS over the cycle",
+            )[c]
+            why = f"{who} reaches {what_} on the segments no operation times: {where}"
         return rpm, why
 
     def speed_limit_rpm(self) -> float:
@@ -544,7 +590,7 @@ class ServoMechanism(Unbounded):
         >>> import cyclomech as cm
         >>> jaw = cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["jaw"]
         >>> round(jaw.speed_limit_rpm(), 2)
-        188.21
+        137.59
         """
         return self._own_limit[0]
 
@@ -561,7 +607,7 @@ class ServoMechanism(Unbounded):
         >>> import cyclomech as cm
         >>> jaw = cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["jaw"]
         >>> jaw.limit_reason()[:38]
-        "motor 'AC-130-955' reaches its peak to"
+        "motor 'AC-130-955' reaches its rated t"
         """
         return self._own_limit[1]
 
@@ -732,3 +778,37 @@ def _program(
     )
     assert program is not None
     return program, arcs
+
+
+@dataclass(frozen=True)
+class _RmsLaw:
+    """The RMS bound of an axis's one bound segment: one Rust call per call."""
+
+    axis: ServoAxis
+    segment: int
+    dwell: int
+
+    def __call__(self, rpm: Any) -> Any:
+        # Each distinct speed once (the variants of a sweep that share this axis
+        # ask for the same speeds); NaN (no angle will do) an infinite bound.
+        r = np.asarray(rpm, dtype=np.float64)
+        speeds, where = np.unique(r.reshape(-1), return_inverse=True)
+        ax, motor = self.axis, self.axis.motor
+        assert motor is not None
+        k, j_load, t_ext, eta = ax.load._shaft()
+        gear = ax.gearbox
+        rad = _core.servo_rms_angles(
+            ax.program.kernel,
+            self.segment,
+            self.dwell,
+            k,
+            j_load,
+            t_ext,
+            eta * gear.efficiency,
+            gear.ratio,
+            motor.inertia_kg_m2 + gear.inertia_kg_m2,
+            motor.rated_torque_nm,
+            speeds * RAD_PER_S_PER_RPM,
+        )
+        deg = np.where(np.isnan(rad), np.inf, np.degrees(rad))
+        return deg[where].reshape(r.shape)

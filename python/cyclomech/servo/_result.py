@@ -16,6 +16,7 @@ from .._arrays import instance
 from .._errors import CyclomechWarning
 from .._files import folder_target, savetxt
 from .._kind import Array, Context, Save
+from ..cam import MinPhaseAngles
 from ..motion import Program, write_cam_coefficients, write_cam_table
 from ._axis import CHECKS, Duty, ServoAxis
 from ._kind import WORDS, ServoMechanism
@@ -23,6 +24,10 @@ from ._parts import Gearbox, LinearLoad
 from ._sizing import Sizing, size
 
 __all__ = ["ServoResult"]
+
+#: How far below 0 a margin may read and pass: the duty's 3600 samples against the
+#: bounds' finer solvers (a bound met with equality reads within it).
+MARGIN_TOL = 1e-4
 
 #: How each check reads in the report.
 CHECK_WORDS = {
@@ -132,15 +137,49 @@ class ServoResult:
             )
         return result
 
-    def problems(self) -> list[str]:
-        """What fails at the nominal speed on the timing as laid out.
+    def failures(self) -> list[str]:
+        """What fails at the nominal speed and must not ship: ``cyclomech run`` exits 3.
+
+        A check of the motor that fails on the optimised timing (its margin below
+        −:data:`MARGIN_TOL`: the duty samples the cycle at 3600 angles, the bounds'
+        solvers finer, so a bound met with equality reads within it), or a
+        catalogue with no motor that passes.
 
         Returns
         -------
         list of str
-            One sentence per problem ([] when nothing fails): the layout, a check
-            of the motor that fails (its margin), a catalogue with no motor that
-            passes.
+            One sentence per failure ([] when nothing fails).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/flow_wrapper.toml"),
+        ...                        progress=False)
+        >>> r.mechanisms["film feed"].failures()
+        []
+        """
+        out = []
+        if self.duty is not None:
+            margins = np.asarray(self.duty.margins).reshape(-1)
+            for c, m in zip(CHECKS, margins, strict=True):
+                if m < -MARGIN_TOL:
+                    out.append(f"its motor fails the {CHECK_WORDS[c]} check (margin {m:.3g})")
+        if self.sizing is not None and self.sizing.motor is None:
+            row = self.sizing.choice
+            out.append(
+                f"no motor of the catalogue passes with any ratio; the nearest, {row.motor!r} "
+                f"with ratio {row.ratio:g}, fails {row.binding}"
+            )
+        return out
+
+    def problems(self) -> list[str]:
+        """What fails or is not as asked at the nominal speed: :meth:`failures` and
+        the layout (a bound segment the next dwell cannot take up).
+
+        Returns
+        -------
+        list of str
+            One sentence per problem ([] when nothing fails).
 
         Examples
         --------
@@ -150,19 +189,7 @@ class ServoResult:
         >>> r.mechanisms["film feed"].problems()
         []
         """
-        out = [self.layout_note] if self.layout_note else []
-        if self.duty is not None:
-            margins = np.asarray(self.duty.margins).reshape(-1)
-            for c, m in zip(CHECKS, margins, strict=True):
-                if m < -1e-9:
-                    out.append(f"its motor fails the {CHECK_WORDS[c]} check (margin {m:.3g})")
-        if self.sizing is not None and self.sizing.motor is None:
-            row = self.sizing.choice
-            out.append(
-                f"no motor of the catalogue passes with any ratio; the nearest, {row.motor!r} "
-                f"with ratio {row.ratio:g}, fails {row.binding}"
-            )
-        return out
+        return ([self.layout_note] if self.layout_note else []) + self.failures()
 
     @property
     def master_offset_deg(self) -> float:
@@ -212,7 +239,7 @@ class ServoResult:
         """
         m, d, a = self.mech, self.duty, self.axis
         entry: dict[str, Any] = {
-            "load": type(a.load).__name__,
+            "load": "linear" if isinstance(a.load, LinearLoad) else "rotary",
             "gear_ratio": a.gearbox.ratio,
             "motor": None if a.motor is None else a.motor.name,
             "loads_main_shaft": False,
@@ -242,7 +269,12 @@ class ServoResult:
                 "ratio": s.choice.ratio,
                 "binding": s.choice.binding,
                 "passes": s.choice.passes,
-                "runners_up": [[r.motor, r.ratio, r.binding] for r in s.runners_up],
+                "margins": _row_margins(s.choice),
+                "runners_up": [
+                    {"motor": r.motor, "ratio": r.ratio, "binding": r.binding}
+                    | {"margins": _row_margins(r)}
+                    for r in s.runners_up
+                ],
             }
         arcs = [list(x) for x in m.arcs if x is not None]
         return {"mechanisms": {"kind": "servo", "arcs": arcs}, "servo_axes": entry}
@@ -296,9 +328,10 @@ class ServoResult:
             for c in CHECKS:
                 used, avail, unit = limits[c]
                 u = f" [{unit}]" if unit else ""
+                at = "" if c == "inertia_ratio" else f" at {n:g} rpm"  # (no speed in it)
                 rows.append(
                     [
-                        f"{CHECK_WORDS[c]} at {n:g} rpm{u} (limit, margin)",
+                        f"{CHECK_WORDS[c]}{at}{u} (limit, margin)",
                         f"{used:.4g} ({avail:.4g}, {margins[c]:+.3f})",
                     ]
                 )
@@ -316,14 +349,21 @@ class ServoResult:
             s = self.sizing
             rows.append(
                 [
-                    f"sizing at {n:g} rpm ({s.status})",
-                    f"{s.choice.motor}, ratio {s.choice.ratio:g} (binding {s.choice.binding})",
+                    f"sizing at {n:g} rpm on this timing ({s.status})",
+                    _row_text(s.choice),
                 ]
             )
             for i, r in enumerate(s.runners_up, 1):
-                rows.append(
-                    [f"runner-up {i}", f"{r.motor}, ratio {r.ratio:g} (binding {r.binding})"]
-                )
+                rows.append([f"runner-up {i}", _row_text(r)])
+        rows.append(
+            [
+                "files",
+                "cam tables: master angle [deg] from the program's start (the master offset "
+                "above), s "
+                + ("[m]" if isinstance(a.load, LinearLoad) else "[rad of the load shaft]")
+                + " and its derivatives per rad of master",
+            ]
+        )
         return ["quantity", "value"], rows
 
     def csv_columns(self) -> list[tuple[str, Array]]:
@@ -455,6 +495,17 @@ class ServoResult:
         segs = tuple(k for k, a in enumerate(m.arcs) if a is not None)
         if segs and m.axis.motor is not None:
             mins = m.axis.min_phase_angles(self.ctx.rpm, segments=segs)
+            if "rms_torque" in m.criteria():  # one bound segment: its RMS law too
+                rms = m.laws()[2](self.ctx.rpm)
+                mins = MinPhaseAngles(
+                    rpm=mins.rpm,
+                    segments=mins.segments,
+                    criteria=m.criteria(),
+                    angle_deg=np.concatenate(
+                        [mins.angle_deg, np.where(np.isinf(rms), np.nan, rms)[:, None, None]],
+                        axis=2,
+                    ),
+                )
             ax = plot_min_phase_angles(
                 mins,
                 labels=[m._where(k) for k in segs],
@@ -466,8 +517,9 @@ class ServoResult:
                 ax.figure,
                 f"{stem}_min_phase",
                 "Each bound segment's smallest phase angle against speed by the motor's "
-                f"{WORDS['peak_torque']} and {WORDS['speed']} (the bound bold); horizontal: "
-                "its angle at the optimum.",
+                + ", ".join(WORDS[c] for c in m.criteria())
+                + " (the bound bold; a gap where no angle will do); horizontal: its angle at "
+                "the optimum.",
             )
 
 
@@ -484,3 +536,19 @@ def _load_text(load: Any) -> str:
 def _gear_text(gear: Gearbox) -> str:
     """A gearbox in the report's words."""
     return f"ratio {gear.ratio:g}, η {gear.efficiency:g}, {gear.inertia_kg_m2:g} kg·m² at the motor"
+
+
+def _row_margins(row: Any) -> dict[str, float]:
+    """A sizing row's margins by check."""
+    return {
+        "peak_torque": row.peak_torque_margin,
+        "rms_torque": row.rms_torque_margin,
+        "speed": row.speed_margin,
+        "inertia_ratio": row.inertia_ratio_margin,
+    }
+
+
+def _row_text(row: Any) -> str:
+    """A sizing row in the report's words: motor, ratio, its margins."""
+    m = ", ".join(f"{CHECK_WORDS[c]} {v:+.3f}" for c, v in _row_margins(row).items())
+    return f"{row.motor}, ratio {row.ratio:g}: margins {m} (binding {row.binding})"

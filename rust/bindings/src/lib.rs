@@ -46,7 +46,9 @@ mod _core {
     #[pymodule_export]
     use super::press::{pareto_mask, press_check, press_criteria_names, press_solve, press_sweep};
     #[pymodule_export]
-    use super::servo::{servo_duty, servo_min_angles, servo_size, servo_speed_limit};
+    use super::servo::{
+        servo_duty, servo_min_angles, servo_rms_angles, servo_size, servo_speed_limit,
+    };
     #[pymodule_export]
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]

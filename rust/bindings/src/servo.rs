@@ -3,11 +3,12 @@
 
 use cyclomech_core::motion::MotionError;
 use cyclomech_core::servo::{
-    duty_into, law_samples, min_angles_into, segment_samples, size_into, speed_limit, Drive, Load,
-    Motors, ServoError, Shape, N_CHECKS, N_DUTY,
+    duty_into, law_samples, law_weights, min_angles_into, rms_angles_into, rms_speed_limit,
+    segment_samples, size_into, speed_limit, Drive, Load, Motors, RmsProgram, ServoError, Shape,
+    N_CHECKS, N_DUTY,
 };
-use numpy::ndarray::{Ix2, Ix3};
-use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
+use numpy::ndarray::{Ix1, Ix2, Ix3};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
@@ -225,7 +226,9 @@ pub fn servo_min_angles<'py>(
 
 /// The highest master speeds [rad/s] the fixed-shape `segments` of a program
 /// allow through a drive (`cyclomech_core::servo::speed_limit`): (peak torque,
-/// speed). `shaft` turns the program's units into the load shaft's radians.
+/// speed, RMS torque against `rated`; the last inf unless `rms`, the segments
+/// then being the whole cycle). `shaft` turns the program's units into the load
+/// shaft's radians.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn servo_speed_limit(
@@ -240,16 +243,10 @@ pub fn servo_speed_limit(
     drive_inertia: f64,
     peak_torque: f64,
     max_speed: f64,
-) -> PyResult<(f64, f64)> {
-    let n = program.program.spans().len();
-    if let Some(&k) = segments.iter().find(|&&k| k >= n) {
-        return Err(MotionError::BadSegment {
-            index: k,
-            law: String::new(),
-            what: format!("no such segment (the program has {n})"),
-        }
-        .into_pyerr(py));
-    }
+    rated: f64,
+    rms: bool,
+) -> PyResult<(f64, f64, f64)> {
+    check_segments(py, &program, &segments)?;
     let drive = Drive {
         load_inertia: inertia,
         load_torque: torque,
@@ -261,9 +258,109 @@ pub fn servo_speed_limit(
     };
     let kernel = &program.program;
     run(py, "servo_speed_limit", || {
-        let (v, a) = segment_samples(kernel, &segments);
+        let (v, a, w) = segment_samples(kernel, &segments);
         let v: Vec<f64> = v.iter().map(|x| x * shaft).collect();
         let a: Vec<f64> = a.iter().map(|x| x * shaft).collect();
-        speed_limit(&v, &a, &drive)
+        let (t, s) = speed_limit(&v, &a, &drive)?;
+        let cap = t.min(s);
+        let r = if rms && cap > 0.0 {
+            rms_speed_limit(
+                &v,
+                &a,
+                &w,
+                &drive,
+                rated,
+                if cap.is_finite() { cap } else { 1e6 },
+            )?
+        } else {
+            f64::INFINITY
+        };
+        Ok::<_, ServoError>((t, s, r))
     })
+}
+
+/// Refuse a segment index the program does not have, naming it.
+fn check_segments(py: Python<'_>, program: &ProgramKernel, segments: &[usize]) -> PyResult<()> {
+    let n = program.program.spans().len();
+    if let Some(&k) = segments.iter().find(|&&k| k >= n) {
+        return Err(MotionError::BadSegment {
+            index: k,
+            law: String::new(),
+            what: format!("no such segment (the program has {n})"),
+        }
+        .into_pyerr(py));
+    }
+    Ok(())
+}
+
+/// The smallest angle [rad] of `segment` by the motor's RMS torque `rated`
+/// [N·m] at each master speed `omegas` [rad/s], the dwell `dwell` taking up its
+/// change and the rest of the program fixed (`cyclomech_core::servo::rms`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn servo_rms_angles<'py>(
+    py: Python<'py>,
+    program: PyRef<'py, ProgramKernel>,
+    segment: usize,
+    dwell: usize,
+    shaft: f64,
+    inertia: f64,
+    torque: f64,
+    efficiency: f64,
+    ratio: f64,
+    drive_inertia: f64,
+    rated: f64,
+    omegas: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    check_segments(py, &program, &[segment, dwell])?;
+    let w = ServoError::slice(py, "omegas", &omegas)?;
+    let spans = program.program.spans();
+    if segment == dwell || !spans[segment].scalable {
+        return Err(MotionError::BadSegment {
+            index: segment,
+            law: program.program.specs()[segment].law.clone(),
+            what: "its shape changes with its angle, or it is its own dwell: it has no RMS bound"
+                .to_string(),
+        }
+        .into_pyerr(py));
+    }
+    let drive = Drive {
+        load_inertia: inertia,
+        load_torque: torque,
+        efficiency,
+        ratio,
+        drive_inertia,
+        peak_torque: 1.0, // (not read by the RMS bound)
+        max_speed: 1.0,
+    };
+    let kernel = &program.program;
+    let fixed: Vec<usize> = (0..spans.len())
+        .filter(|&i| i != segment && i != dwell)
+        .collect();
+    let out = convert::zeros::<f64, Ix1>(py, &[w.len()], "servo_rms_angles", "fewer speeds")?;
+    {
+        let mut rw = out.readwrite();
+        let slice = convert::output(py, &mut rw)?;
+        run(py, "servo_rms_angles", || -> Result<(), ServoError> {
+            let (_, h, law) = kernel.unit_law(segment);
+            let (dz, ddz) = law_samples(&law);
+            let weights = law_weights(&law);
+            let (v, a, fw) = segment_samples(kernel, &fixed);
+            let v: Vec<f64> = v.iter().map(|x| x * shaft).collect();
+            let a: Vec<f64> = a.iter().map(|x| x * shaft).collect();
+            let p = RmsProgram {
+                dz: &dz,
+                ddz: &ddz,
+                weights: &weights,
+                stroke: shaft * h,
+                fixed_v: &v,
+                fixed_a: &a,
+                fixed_w: &fw,
+                angle: spans[segment].angle,
+                dwell: spans[dwell].angle,
+            };
+            rms_angles_into(&p, &drive, rated, w, slice)
+        })?;
+    }
+    Ok(out)
 }

@@ -46,6 +46,23 @@ pub fn law_samples(law: &Law) -> (Vec<f64>, Vec<f64>) {
     (dz, ddz)
 }
 
+/// The trapezoid weights on u ∈ [0, 1] of [`law_samples`]' samples (summing
+/// to 1): half an interval at each piece's ends, a whole one inside.
+pub fn law_weights(law: &Law) -> Vec<f64> {
+    let mut w = Vec::with_capacity(law.segments.len() * (BOUND_SAMPLES + 1));
+    for s in &law.segments {
+        trapezoid(&mut w, (s.x1 - s.x0) / BOUND_SAMPLES as f64, BOUND_SAMPLES);
+    }
+    w
+}
+
+/// `n` intervals of width `d`: n + 1 trapezoid weights.
+fn trapezoid(w: &mut Vec<f64>, d: f64, n: usize) {
+    w.push(0.5 * d);
+    w.extend(std::iter::repeat_n(d, n - 1));
+    w.push(0.5 * d);
+}
+
 /// The criteria of [`min_angles_into`]'s rows, in order.
 pub const BOUND_CRITERIA: [&str; 2] = ["peak_torque", "speed"];
 
@@ -143,19 +160,21 @@ pub fn speed_limit(dz: &[f64], ddz: &[f64], drive: &Drive) -> Result<(f64, f64),
 }
 
 /// φ′ and φ″ per radian of master of a program's `segments` at
-/// [`LIMIT_SAMPLES`] intervals per piece, each piece's start taken just inside
-/// it (where φ″ may jump), for [`speed_limit`]. Unknown segment indices are
-/// skipped (the caller names them).
+/// [`LIMIT_SAMPLES`] intervals per piece, each piece's ends taken just inside
+/// it (where φ″ may jump), and their trapezoid weights [rad of master], for
+/// [`speed_limit`] and the RMS bound. Unknown segment indices are skipped (the
+/// caller names them).
 pub fn segment_samples(
     program: &crate::motion::Program,
     segments: &[usize],
-) -> (Vec<f64>, Vec<f64>) {
-    let (mut v, mut a) = (Vec::new(), Vec::new());
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let (mut v, mut a, mut w) = (Vec::new(), Vec::new(), Vec::new());
     for (k, x0, x1, ..) in program.pieces() {
         if !segments.contains(&k) {
             continue;
         }
         let d = (x1 - x0) / LIMIT_SAMPLES as f64;
+        trapezoid(&mut w, d, LIMIT_SAMPLES);
         let at = std::iter::once(x0 + 1e-12 * (x1 - x0))
             .chain((1..LIMIT_SAMPLES).map(|j| x0 + d * j as f64))
             .chain(std::iter::once(x1 - 1e-12 * (x1 - x0)));
@@ -165,12 +184,37 @@ pub fn segment_samples(
             a.push(e[2]);
         }
     }
-    (v, a)
+    (v, a, w)
+}
+
+/// The motor torque [N·m] at the load shaft's acceleration `acc` [rad/s²]
+/// with its velocity's sign that of `moving` (module docs: the efficiency on the
+/// side of the power flow, a load at rest held on the motoring side).
+pub(super) fn motor_torque(d: &Drive, acc: f64, moving: f64) -> f64 {
+    let tl = d.load_inertia * acc + d.load_torque;
+    let out = if tl * moving < 0.0 {
+        tl * d.efficiency / d.ratio
+    } else {
+        tl / (d.ratio * d.efficiency)
+    };
+    d.drive_inertia * d.ratio * acc + out
 }
 
 fn check(shape: &Shape<'_>, d: &Drive) -> Result<(), InvalidInput> {
     InvalidInput::check_finite("dz", shape.dz)?;
     InvalidInput::check_finite("ddz", shape.ddz)?;
+    if !shape.stroke.is_finite() || !shape.dz_max.is_finite() {
+        return Err(InvalidInput::bad_value(
+            "stroke",
+            shape.stroke,
+            "must be finite (and the max |Z′| too)",
+        ));
+    }
+    check_drive(d)
+}
+
+/// The drive's numbers in their ranges.
+pub(super) fn check_drive(d: &Drive) -> Result<(), InvalidInput> {
     let positive = [
         ("ratio", d.ratio, "must be finite and > 0"),
         ("peak_torque", d.peak_torque, "[N·m] must be finite and > 0"),
@@ -193,11 +237,11 @@ fn check(shape: &Shape<'_>, d: &Drive) -> Result<(), InvalidInput> {
             ));
         }
     }
-    if !d.load_torque.is_finite() || !shape.stroke.is_finite() || !shape.dz_max.is_finite() {
+    if !d.load_torque.is_finite() {
         return Err(InvalidInput::bad_value(
             "load_torque",
             d.load_torque,
-            "[N·m] must be finite (and the stroke and max |Z′| too)",
+            "[N·m] must be finite",
         ));
     }
     if !(d.efficiency > 0.0 && d.efficiency <= 1.0) {

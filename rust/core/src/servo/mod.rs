@@ -35,15 +35,17 @@ use crate::input::InvalidInput;
 
 mod bounds;
 mod duty;
+mod rms;
 mod size;
 #[cfg(test)]
 mod tests;
 
 pub use bounds::{
-    law_samples, min_angles_into, segment_samples, speed_limit, Drive, Shape, BOUND_CRITERIA,
-    BOUND_SAMPLES, LIMIT_SAMPLES,
+    law_samples, law_weights, min_angles_into, segment_samples, speed_limit, Drive, Shape,
+    BOUND_CRITERIA, BOUND_SAMPLES, LIMIT_SAMPLES,
 };
 pub use duty::{duty_into, DUTY, N_DUTY};
+pub use rms::{rms_angles_into, rms_speed_limit, RmsProgram, RMS_GRID};
 pub use size::size_into;
 
 /// The checks of a motor and drive, in the order of every margin array: the peak

@@ -241,3 +241,96 @@ fn the_speed_limit_of_a_swing_is_its_closed_form() {
     // Mismatched samples are an error, not a panic.
     assert!(speed_limit(&dz, &ddz[1..], &drive).is_err());
 }
+
+/// A cycloidal rise on a pure inertia (η = 1, i = 1, no load torque): the
+/// energy over the cycle is J²H²ω⁴/β³·∫Z″² du with ∫Z″² = 2π², so the RMS
+/// holds from β = (J²H²ω⁴π/T_rated²)^(1/3) up; its dwell holds nothing.
+#[test]
+fn the_rms_bound_of_a_cycloid_is_its_closed_form() {
+    let n = 20_000;
+    let u: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+    let dz: Vec<f64> = u.iter().map(|x| 1.0 - (TAU * x).cos()).collect();
+    let ddz: Vec<f64> = u.iter().map(|x| TAU * (TAU * x).sin()).collect();
+    let mut weights = vec![1.0 / n as f64; n + 1];
+    (weights[0], weights[n]) = (0.5 / n as f64, 0.5 / n as f64);
+    let program = RmsProgram {
+        dz: &dz,
+        ddz: &ddz,
+        weights: &weights,
+        stroke: 2.0,
+        fixed_v: &[],
+        fixed_a: &[],
+        fixed_w: &[],
+        angle: 1.0,
+        dwell: 5.0,
+    };
+    let drive = Drive {
+        load_inertia: 0.05,
+        load_torque: 0.0,
+        efficiency: 1.0,
+        ratio: 1.0,
+        drive_inertia: 0.0,
+        peak_torque: 100.0,
+        max_speed: 300.0,
+    };
+    let (rated, omegas) = (2.0, [2.0, 4.0, 6.0]);
+    let mut out = [0.0; 3];
+    rms_angles_into(&program, &drive, rated, &omegas, &mut out).unwrap();
+    for (got, w) in out.iter().zip(omegas) {
+        let exact = (0.05_f64.powi(2) * 4.0 * w.powi(4) * PI / (rated * rated)).cbrt();
+        assert!((got - exact).abs() < 1e-7 * exact, "{got} vs {exact}");
+    }
+    // Too fast for any angle the dwell can give: NaN; standing: 0.
+    let mut far = [0.0];
+    rms_angles_into(&program, &drive, rated, &[200.0], &mut far).unwrap();
+    assert!(far[0].is_nan());
+    let slow = RmsProgram {
+        stroke: 0.0,
+        ..program
+    };
+    rms_angles_into(&slow, &drive, rated, &[5.0], &mut far).unwrap();
+    assert_eq!(far[0], 0.0);
+    // A held load above the rated torque over the whole cycle: no angle.
+    let held = Drive {
+        load_torque: 3.0,
+        ..drive
+    };
+    rms_angles_into(&slow, &held, rated, &[5.0], &mut far).unwrap();
+    assert!(far[0].is_nan());
+    assert!(rms_angles_into(&program, &drive, -1.0, &[5.0], &mut far).is_err());
+}
+
+/// A swing φ_L = sin θ on a pure inertia (η = 1, i = 1): T_m = −J·ω²·sin θ,
+/// RMS = J·ω²/√2, so the RMS holds up to ω = √(√2·T_rated/J); a held load of
+/// T0 adds T0² to the mean square: ω = (2·(T_rated² − T0²)/J²)^(1/4).
+#[test]
+fn the_rms_speed_limit_of_a_swing_is_its_closed_form() {
+    let n = 20_000;
+    let th: Vec<f64> = (0..n).map(|k| TAU * k as f64 / n as f64).collect();
+    let v: Vec<f64> = th.iter().map(|t| t.cos()).collect();
+    let a: Vec<f64> = th.iter().map(|t| -t.sin()).collect();
+    let w = vec![TAU / n as f64; n];
+    let drive = Drive {
+        load_inertia: 0.03,
+        load_torque: 0.0,
+        efficiency: 1.0,
+        ratio: 1.0,
+        drive_inertia: 0.0,
+        peak_torque: 100.0,
+        max_speed: 300.0,
+    };
+    let got = rms_speed_limit(&v, &a, &w, &drive, 1.5, 1e3).unwrap();
+    let exact = (2.0_f64.sqrt() * 1.5 / 0.03).sqrt();
+    assert!((got - exact).abs() < 1e-9 * exact, "{got} vs {exact}");
+    // Below the cap only: a cap under the crossing is no limit.
+    assert_eq!(
+        rms_speed_limit(&v, &a, &w, &drive, 1.5, 0.5 * exact).unwrap(),
+        f64::INFINITY
+    );
+    // A held torque the rated one cannot carry: 0.
+    let held = Drive {
+        load_torque: 2.0,
+        ..drive
+    };
+    assert_eq!(rms_speed_limit(&v, &a, &w, &held, 1.5, 1e3).unwrap(), 0.0);
+}
