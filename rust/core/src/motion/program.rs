@@ -14,6 +14,9 @@ use super::segment::{
     bad, law_fixed_start, pieces, validate, SegmentSpec, BOUNDARY_TOL, ORDER_NAMES,
 };
 use crate::parallel::{pool, resolve_threads};
+use lanes::LaneFill;
+
+mod lanes;
 
 /// One piece of [`Program::pieces`]: (segment, start [rad], end [rad],
 /// coefficients, A, ω, φ).
@@ -406,7 +409,6 @@ impl Program {
         n_threads: Option<i64>,
         out: &mut [f64],
     ) -> Result<(), MotionError> {
-        crate::input::InvalidInput::check_finite("theta", theta)?;
         let n = theta.len();
         if out.len() != 4 * n {
             return Err(crate::input::InvalidInput::Output {
@@ -424,6 +426,8 @@ impl Program {
             ((&'a [f64], &'a mut [f64]), &'a mut [f64]),
             (&'a mut [f64], &'a mut [f64]),
         );
+        // Each chunk says whether its angles were all finite (the lane loop
+        // sees that for free); a non-finite angle is then found and named here.
         let fill = |(((th, s), v), (a, j)): Chunk<'_>| {
             pulp::Arch::new().dispatch(LaneFill {
                 program: self,
@@ -432,8 +436,8 @@ impl Program {
             })
         };
         let threads = resolve_threads(n_threads)?;
-        if threads == 1 || n <= CHUNK {
-            fill((((theta, s), v), (a, j)));
+        let finite = if threads == 1 || n <= CHUNK {
+            fill((((theta, s), v), (a, j)))
         } else {
             pool(threads)?.install(|| {
                 theta
@@ -441,12 +445,12 @@ impl Program {
                     .zip(s.par_chunks_mut(CHUNK))
                     .zip(v.par_chunks_mut(CHUNK))
                     .zip(a.par_chunks_mut(CHUNK).zip(j.par_chunks_mut(CHUNK)))
-                    .for_each(|c| {
-                        if !crate::cancel::requested() {
-                            fill(c)
-                        }
-                    })
-            });
+                    .map(|c| crate::cancel::requested() || fill(c))
+                    .reduce(|| true, |x, y| x & y)
+            })
+        };
+        if !finite {
+            crate::input::InvalidInput::check_finite("theta", theta)?;
         }
         Ok(())
     }
@@ -523,101 +527,6 @@ impl Program {
             })
             .collect();
         (s0, scale, Law::from_segments(segments))
-    }
-}
-
-/// Values per lane group: two AVX2 registers of f64.
-const GROUP: usize = 8;
-
-/// [`Program::eval_into`]'s loop over one chunk, compiled once per instruction
-/// set (`pulp`): groups of [`GROUP`] angles in one piece (the common case on a
-/// sorted grid) run as loops across lanes without branches; others one by one.
-/// The same arithmetic as [`Program::eval`] per value, so the same values.
-struct LaneFill<'a> {
-    program: &'a Program,
-    th: &'a [f64],
-    out: [&'a mut [f64]; 4],
-}
-
-impl pulp::WithSimd for LaneFill<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let LaneFill { program, th, out } = self;
-        let [s, v, a, j] = out;
-        let whole = th.len() - th.len() % GROUP;
-        for (g, tg) in th[..whole].chunks_exact(GROUP).enumerate() {
-            let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
-            let e = program.eval_lanes(tg);
-            let at = g * GROUP;
-            s[at..at + GROUP].copy_from_slice(&e[0]);
-            v[at..at + GROUP].copy_from_slice(&e[1]);
-            a[at..at + GROUP].copy_from_slice(&e[2]);
-            j[at..at + GROUP].copy_from_slice(&e[3]);
-        }
-        for i in whole..th.len() {
-            let e = program.eval(th[i]);
-            s[i] = e[0];
-            v[i] = e[1];
-            a[i] = e[2];
-            j[i] = e[3];
-        }
-    }
-}
-
-impl Program {
-    /// [`Program::eval`] for `L` angles at once, as four lanes [s, v, a, j]: the
-    /// same values, bit for bit. Angles in [0, 2π) within one piece run as
-    /// branch-free loops (one sine and cosine per value for the four orders, as
-    /// the pointwise path computes them); others one by one.
-    #[inline(always)]
-    fn eval_lanes<const L: usize>(&self, th: &[f64; L]) -> [[f64; L]; 4] {
-        let t0 = th[0];
-        let k = self.starts.partition_point(|&x0| x0 <= t0).max(1) - 1;
-        let f = &self.fast[k];
-        let lo = self.starts[k];
-        let hi = self.starts.get(k + 1).copied().unwrap_or(TAU);
-        let one_piece = th
-            .iter()
-            .fold(true, |ok, &v| ok & (v >= lo) & (v < hi) & (v < TAU));
-        // (sin_cos_lanes takes any argument: wide ones as sin_cos does.)
-        if !(one_piece && t0 >= 0.0) {
-            let mut out = [[0.0; L]; 4];
-            for (l, &v) in th.iter().enumerate() {
-                let e = self.eval(v);
-                for o in 0..4 {
-                    out[o][l] = e[o];
-                }
-            }
-            return out;
-        }
-        let mut t = [0.0; L];
-        for l in 0..L {
-            t[l] = th[l] - f.x0;
-        }
-        let mut out = [[0.0; L]; 4];
-        for (order, p) in out.iter_mut().enumerate() {
-            for &ck in f.poly[order].iter().rev() {
-                for l in 0..L {
-                    p[l] = p[l] * t[l] + ck;
-                }
-            }
-        }
-        if f.amp[0] != 0.0 {
-            let mut u = [0.0; L];
-            for l in 0..L {
-                u[l] = f.freq * t[l] + f.phase[0];
-            }
-            let (sn, cs) = crate::geom::sin_cos_lanes(&u);
-            for l in 0..L {
-                out[0][l] += f.amp[0] * sn[l];
-                out[1][l] += f.amp[1] * cs[l];
-                out[2][l] -= f.amp[2] * sn[l];
-                out[3][l] -= f.amp[3] * cs[l];
-            }
-        }
-        out
     }
 }
 
