@@ -409,6 +409,37 @@ impl Program {
         n_threads: Option<i64>,
         out: &mut [f64],
     ) -> Result<(), MotionError> {
+        self.fill_rows(theta, n_threads, None, out)
+    }
+
+    /// [`Program::eval_into`] and a copy of θ into `copy` (N), written as the
+    /// angles are read (cheaper than a separate copy, which reads them again).
+    pub fn eval_with_theta_into(
+        &self,
+        theta: &[f64],
+        n_threads: Option<i64>,
+        copy: &mut [f64],
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
+        let n = theta.len();
+        if copy.len() != n {
+            return Err(crate::input::InvalidInput::Output {
+                field: "copy",
+                want: format!("{n} values (the angles)"),
+                got: format!("{} values", copy.len()),
+            }
+            .into());
+        }
+        self.fill_rows(theta, n_threads, Some(copy), out)
+    }
+
+    fn fill_rows(
+        &self,
+        theta: &[f64],
+        n_threads: Option<i64>,
+        mut copy: Option<&mut [f64]>,
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
         let n = theta.len();
         if out.len() != 4 * n {
             return Err(crate::input::InvalidInput::Output {
@@ -418,34 +449,32 @@ impl Program {
             }
             .into());
         }
-        let (s, rest) = out.split_at_mut(n);
-        let (v, rest) = rest.split_at_mut(n);
-        let (a, j) = rest.split_at_mut(n);
+        let threads = resolve_threads(n_threads)?;
+        let (mut s, rest) = out.split_at_mut(n);
+        let (mut v, rest) = rest.split_at_mut(n);
+        let (mut a, mut j) = rest.split_at_mut(n);
+        // Chunks of the rows, one job each; on one thread, one chunk.
         const CHUNK: usize = 8192;
-        type Chunk<'a> = (
-            ((&'a [f64], &'a mut [f64]), &'a mut [f64]),
-            (&'a mut [f64], &'a mut [f64]),
-        );
-        // Each chunk says whether its angles were all finite (the lane loop
-        // sees that for free); a non-finite angle is then found and named here.
-        let fill = |(((th, s), v), (a, j)): Chunk<'_>| {
-            pulp::Arch::new().dispatch(LaneFill {
+        let size = if threads == 1 { n.max(1) } else { CHUNK };
+        let mut jobs = Vec::with_capacity(n.div_ceil(size));
+        for th in theta.chunks(size) {
+            let m = th.len();
+            jobs.push(LaneFill {
                 program: self,
                 th,
-                out: [s, v, a, j],
-            })
-        };
-        let threads = resolve_threads(n_threads)?;
-        let finite = if threads == 1 || n <= CHUNK {
-            fill((((theta, s), v), (a, j)))
+                out: [&mut s, &mut v, &mut a, &mut j].map(|r| split_off(r, m)),
+                copy: copy.as_mut().map(|r| split_off(r, m)),
+            });
+        }
+        // Each chunk says whether its angles were all finite (the lane loop
+        // sees that for free); a non-finite angle is then found and named here.
+        let fill = |job: LaneFill<'_>| pulp::Arch::new().dispatch(job);
+        let finite = if jobs.len() <= 1 {
+            jobs.into_iter().all(fill)
         } else {
             pool(threads)?.install(|| {
-                theta
-                    .par_chunks(CHUNK)
-                    .zip(s.par_chunks_mut(CHUNK))
-                    .zip(v.par_chunks_mut(CHUNK))
-                    .zip(a.par_chunks_mut(CHUNK).zip(j.par_chunks_mut(CHUNK)))
-                    .map(|c| crate::cancel::requested() || fill(c))
+                jobs.into_par_iter()
+                    .map(|job| crate::cancel::requested() || fill(job))
                     .reduce(|| true, |x, y| x & y)
             })
         };
@@ -528,6 +557,13 @@ impl Program {
             .collect();
         (s0, scale, Law::from_segments(segments))
     }
+}
+
+/// The first `m` values of `rest`, which keeps the others.
+fn split_off<'a>(rest: &mut &'a mut [f64], m: usize) -> &'a mut [f64] {
+    let (head, tail) = std::mem::take(rest).split_at_mut(m);
+    *rest = tail;
+    head
 }
 
 /// [s, v, a, j] of one piece at x: the four Horner passes and one sine and

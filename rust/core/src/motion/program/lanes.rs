@@ -28,11 +28,13 @@ use crate::geom::sin_cos_simd;
 /// exactly (it is exact to 10⁶; a margin for the rounding of ω·t + φ).
 const SINE_RANGE: f64 = 5e5;
 
-/// The four output rows of one chunk and its angles.
+/// One chunk of angles and its output rows: s, v, a, j, and a copy of the
+/// angles where `copy` is given.
 pub(super) struct LaneFill<'a> {
     pub(super) program: &'a Program,
     pub(super) th: &'a [f64],
     pub(super) out: [&'a mut [f64]; 4],
+    pub(super) copy: Option<&'a mut [f64]>,
 }
 
 impl pulp::WithSimd for LaneFill<'_> {
@@ -41,78 +43,111 @@ impl pulp::WithSimd for LaneFill<'_> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, simd: S) -> bool {
-        let LaneFill { program, th, out } = self;
-        let [s, v, a, j] = out;
-        let w = S::F64_LANES;
-        // Up to the first angle whose s lands on a register-aligned address,
-        // one by one: aligned stores do not straddle cache lines (the four
-        // rows share that alignment when N is a multiple of the lanes).
-        let bytes = w * std::mem::size_of::<f64>();
-        let head = ((bytes - s.as_ptr() as usize % bytes) % bytes / 8).min(th.len());
-        let mut finite = true;
-        for i in 0..head {
-            let x = th[i];
-            finite &= x.is_finite();
-            let value = program.eval(x);
-            s[i] = value[0];
-            v[i] = value[1];
-            a[i] = value[2];
-            j[i] = value[3];
+        let LaneFill {
+            program,
+            th,
+            out: [s, v, a, j],
+            copy,
+        } = self;
+        match copy {
+            Some(c) => fill::<S, true>(simd, program, th, [c, s, v, a, j]),
+            None => fill::<S, false>(simd, program, th, [&mut [], s, v, a, j]),
         }
-        let (th, s, v, a, j) = (
-            &th[head..],
-            &mut s[head..],
-            &mut v[head..],
-            &mut a[head..],
-            &mut j[head..],
-        );
-        let (thv, th_tail) = S::as_simd_f64s(th);
-        let (sv, s_tail) = S::as_mut_simd_f64s(s);
-        let (vv, v_tail) = S::as_mut_simd_f64s(v);
-        let (av, a_tail) = S::as_mut_simd_f64s(a);
-        let (jv, j_tail) = S::as_mut_simd_f64s(j);
-        let mut b = 0;
-        while b < thv.len() {
-            let done = match program.piece_of(th[b * w]) {
-                Some(k) => run(
-                    simd,
-                    program,
-                    k,
-                    &thv[b..],
-                    [&mut sv[b..], &mut vv[b..], &mut av[b..], &mut jv[b..]],
-                ),
-                None => 0,
-            };
-            if done > 0 {
-                b += done;
-                continue;
-            }
-            // One by one: this block leaves its first angle's piece.
-            let mut e = [[0.0; 16]; 4];
-            for l in 0..w {
-                let x = th[b * w + l];
-                finite &= x.is_finite();
-                let value = program.eval(x);
-                for o in 0..4 {
-                    e[o][l] = value[o];
-                }
-            }
-            sv[b] = simd.partial_load_f64s(&e[0][..w]);
-            vv[b] = simd.partial_load_f64s(&e[1][..w]);
-            av[b] = simd.partial_load_f64s(&e[2][..w]);
-            jv[b] = simd.partial_load_f64s(&e[3][..w]);
-            b += 1;
-        }
-        for (i, &x) in th_tail.iter().enumerate() {
-            finite &= x.is_finite();
-            let value = program.eval(x);
-            s_tail[i] = value[0];
-            v_tail[i] = value[1];
-            a_tail[i] = value[2];
-            j_tail[i] = value[3];
-        }
-        finite
     }
+}
+
+/// [`LaneFill`] into `rows` = [copy of θ (empty unless COPY), s, v, a, j].
+#[inline(always)]
+fn fill<S: pulp::Simd, const COPY: bool>(
+    simd: S,
+    program: &Program,
+    th: &[f64],
+    rows: [&mut [f64]; 5],
+) -> bool {
+    let [c, s, v, a, j] = rows;
+    let w = S::F64_LANES;
+    // Up to the first angle whose s lands on a register-aligned address, one
+    // by one: aligned stores do not straddle cache lines (the rows share that
+    // alignment when N is a multiple of the lanes).
+    let bytes = w * std::mem::size_of::<f64>();
+    let head = ((bytes - s.as_ptr() as usize % bytes) % bytes / 8).min(th.len());
+    let mut finite = true;
+    // Angle i one by one into the rows (`at` its index in them).
+    let mut one = |x: f64, at: usize, rows: [&mut [f64]; 5]| {
+        finite &= x.is_finite();
+        let value = program.eval(x);
+        let [c, s, v, a, j] = rows;
+        if COPY {
+            c[at] = x;
+        }
+        s[at] = value[0];
+        v[at] = value[1];
+        a[at] = value[2];
+        j[at] = value[3];
+    };
+    for (i, &x) in th[..head].iter().enumerate() {
+        one(x, i, [&mut *c, &mut *s, &mut *v, &mut *a, &mut *j]);
+    }
+    let th = &th[head..];
+    let c: &mut [f64] = if COPY { &mut c[head..] } else { c };
+    let (thv, th_tail) = S::as_simd_f64s(th);
+    let (cv, c_tail) = S::as_mut_simd_f64s(c);
+    let (sv, s_tail) = S::as_mut_simd_f64s(&mut s[head..]);
+    let (vv, v_tail) = S::as_mut_simd_f64s(&mut v[head..]);
+    let (av, a_tail) = S::as_mut_simd_f64s(&mut a[head..]);
+    let (jv, j_tail) = S::as_mut_simd_f64s(&mut j[head..]);
+    let mut b = 0;
+    while b < thv.len() {
+        let done = match program.piece_of(th[b * w]) {
+            Some(k) => run::<S, COPY>(
+                simd,
+                program,
+                k,
+                &thv[b..],
+                [
+                    if COPY { &mut cv[b..] } else { &mut [] },
+                    &mut sv[b..],
+                    &mut vv[b..],
+                    &mut av[b..],
+                    &mut jv[b..],
+                ],
+            ),
+            None => 0,
+        };
+        if done > 0 {
+            b += done;
+            continue;
+        }
+        // One by one: this block leaves its first angle's piece.
+        let mut e = [[0.0; 16]; 5];
+        for l in 0..w {
+            let x = th[b * w + l];
+            let [c, s, v, a, j] = &mut e;
+            one(x, l, [c, s, v, a, j]);
+        }
+        if COPY {
+            cv[b] = thv[b];
+        }
+        sv[b] = simd.partial_load_f64s(&e[1][..w]);
+        vv[b] = simd.partial_load_f64s(&e[2][..w]);
+        av[b] = simd.partial_load_f64s(&e[3][..w]);
+        jv[b] = simd.partial_load_f64s(&e[4][..w]);
+        b += 1;
+    }
+    for (i, &x) in th_tail.iter().enumerate() {
+        one(
+            x,
+            i,
+            [
+                &mut *c_tail,
+                &mut *s_tail,
+                &mut *v_tail,
+                &mut *a_tail,
+                &mut *j_tail,
+            ],
+        );
+    }
+    finite
 }
 
 impl Program {
@@ -129,12 +164,12 @@ impl Program {
 /// Blocks of `th` from the first while all their lanes lie in piece `k`, into
 /// `out`: how many blocks (0 if the first does not).
 #[inline(always)]
-fn run<S: pulp::Simd>(
+fn run<S: pulp::Simd, const COPY: bool>(
     simd: S,
     program: &Program,
     k: usize,
     th: &[S::f64s],
-    out: [&mut [S::f64s]; 4],
+    out: [&mut [S::f64s]; 5],
 ) -> usize {
     let f = &program.fast[k];
     let lo = program.starts[k];
@@ -155,11 +190,11 @@ fn run<S: pulp::Simd>(
         ($($d:literal)*) => {
             match (f.poly[0].len(), sine) {
                 $(
-                    ($d, false) => blocks::<S, $d, false>(simd, f, lo, hi, th, out),
-                    ($d, true) => blocks::<S, $d, true>(simd, f, lo, hi, th, out),
+                    ($d, false) => blocks::<S, $d, false, COPY>(simd, f, lo, hi, th, out),
+                    ($d, true) => blocks::<S, $d, true, COPY>(simd, f, lo, hi, th, out),
                 )*
-                (_, false) => blocks::<S, 9, false>(simd, f, lo, hi, th, out),
-                (_, true) => blocks::<S, 9, true>(simd, f, lo, hi, th, out),
+                (_, false) => blocks::<S, 9, false, COPY>(simd, f, lo, hi, th, out),
+                (_, true) => blocks::<S, 9, true, COPY>(simd, f, lo, hi, th, out),
             }
         };
     }
@@ -169,15 +204,15 @@ fn run<S: pulp::Simd>(
 /// [`run`] for a piece of `D` coefficients of s (D = 9: any number ≥ 9), with
 /// or without its sine term.
 #[inline(always)]
-fn blocks<S: pulp::Simd, const D: usize, const SINE: bool>(
+fn blocks<S: pulp::Simd, const D: usize, const SINE: bool, const COPY: bool>(
     simd: S,
     f: &Fast,
     lo: f64,
     hi: f64,
     th: &[S::f64s],
-    out: [&mut [S::f64s]; 4],
+    out: [&mut [S::f64s]; 5],
 ) -> usize {
-    let [s, v, a, j] = out;
+    let [copy, s, v, a, j] = out;
     let (lo_v, hi_v, x0) = (
         simd.splat_f64s(lo),
         simd.splat_f64s(hi),
@@ -196,6 +231,7 @@ fn blocks<S: pulp::Simd, const D: usize, const SINE: bool>(
     let (freq, phase) = (simd.splat_f64s(f.freq), simd.splat_f64s(f.phase[0]));
     let amp = f.amp.map(|x| simd.splat_f64s(x));
     let n = th.len().min(s.len()).min(v.len()).min(a.len()).min(j.len());
+    let n = if COPY { n.min(copy.len()) } else { n };
     for b in 0..n {
         let x = th[b];
         let inside = simd.and_m64s(
@@ -242,6 +278,9 @@ fn blocks<S: pulp::Simd, const D: usize, const SINE: bool>(
             p[1] = simd.add_f64s(p[1], simd.mul_f64s(amp[1], cs));
             p[2] = simd.sub_f64s(p[2], simd.mul_f64s(amp[2], sn));
             p[3] = simd.sub_f64s(p[3], simd.mul_f64s(amp[3], cs));
+        }
+        if COPY {
+            copy[b] = x;
         }
         s[b] = p[0];
         v[b] = p[1];
@@ -296,41 +335,48 @@ mod tests {
     }
 
     /// Every instruction set's lane loop against [`Program::eval`], bit for bit,
-    /// at every offset of the angles into the output rows.
+    /// at every offset of the angles into the output rows, with and without
+    /// the copy of the angles.
     fn check(program: &Program) {
         let theta = angles(program);
         for offset in 0..9 {
             let th = &theta[offset..];
             let m = th.len();
-            let runs = on_each_isa!(|simd| {
-                let mut out = vec![f64::NAN; 4 * m + 3];
-                // Rows that start at every alignment: out[1..] too.
-                let (s, rest) = out[1..].split_at_mut(m);
-                let (v, rest) = rest.split_at_mut(m);
-                let (a, rest) = rest.split_at_mut(m);
-                let finite = Simd::vectorize(
-                    simd,
-                    LaneFill {
-                        program,
-                        th,
-                        out: [s, v, a, &mut rest[..m]],
-                    },
-                );
-                assert!(finite);
-                out
-            });
-            assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
-            for (isa, out) in runs {
-                for (i, &x) in th.iter().enumerate() {
-                    let want = program.eval(x);
-                    for k in 0..4 {
-                        assert_eq!(
-                            out[1 + k * m + i].to_bits(),
-                            want[k].to_bits(),
-                            "{isa}: θ = {x}, order {k}, offset {offset}: {} vs {}",
-                            out[1 + k * m + i],
-                            want[k]
-                        );
+            for copy in [false, true] {
+                let runs = on_each_isa!(|simd| {
+                    let mut out = vec![f64::NAN; 5 * m + 3];
+                    // Rows that start at every alignment: out[1..] too.
+                    let (c, rest) = out[1..].split_at_mut(m);
+                    let (s, rest) = rest.split_at_mut(m);
+                    let (v, rest) = rest.split_at_mut(m);
+                    let (a, rest) = rest.split_at_mut(m);
+                    let finite = Simd::vectorize(
+                        simd,
+                        LaneFill {
+                            program,
+                            th,
+                            out: [s, v, a, &mut rest[..m]],
+                            copy: copy.then_some(c),
+                        },
+                    );
+                    assert!(finite);
+                    out
+                });
+                assert!(runs.len() >= 2 || !cfg!(target_arch = "x86_64"));
+                for (isa, out) in runs {
+                    for (i, &x) in th.iter().enumerate() {
+                        let want = program.eval(x);
+                        let copied = if copy { x } else { f64::NAN };
+                        assert_eq!(out[1 + i].to_bits(), copied.to_bits(), "{isa}: θ = {x}");
+                        for k in 0..4 {
+                            let got = out[1 + (k + 1) * m + i];
+                            assert_eq!(
+                                got.to_bits(),
+                                want[k].to_bits(),
+                                "{isa}: θ = {x}, order {k}, offset {offset}: {got} vs {}",
+                                want[k]
+                            );
+                        }
                     }
                 }
             }
@@ -347,10 +393,27 @@ mod tests {
             for sine in [false, true] {
                 let x0 = pieces.len() as f64 * TAU / n as f64;
                 let poly = (0..d)
-                    .map(|k| if k == d - 1 && d % 3 == 0 { -0.0 } else { 0.3 - 0.07 * k as f64 })
+                    .map(|k| {
+                        if k == d - 1 && d % 3 == 0 {
+                            -0.0
+                        } else {
+                            0.3 - 0.07 * k as f64
+                        }
+                    })
                     .collect();
-                let (amp, freq) = if sine { (0.02, 3.0 + d as f64) } else { (0.0, 0.0) };
-                pieces.push(piece(x0, x0 + TAU / n as f64, poly, amp, freq, 0.1 * d as f64));
+                let (amp, freq) = if sine {
+                    (0.02, 3.0 + d as f64)
+                } else {
+                    (0.0, 0.0)
+                };
+                pieces.push(piece(
+                    x0,
+                    x0 + TAU / n as f64,
+                    poly,
+                    amp,
+                    freq,
+                    0.1 * d as f64,
+                ));
             }
         }
         check(&of_pieces(&pieces));
@@ -374,13 +437,39 @@ mod tests {
             for (n, at) in [(7, 3), (20_000, 17_777)] {
                 let mut theta: Vec<f64> = (0..n).map(|i| i as f64 * 6.0 / n as f64).collect();
                 theta[at] = bad;
-                let mut out = vec![0.0; 4 * n];
                 for threads in [1, 2] {
+                    let mut out = vec![0.0; 4 * n];
                     let e = p.eval_into(&theta, Some(threads), &mut out).unwrap_err();
-                    let e = e.to_string();
-                    assert!(e.contains("theta") && e.contains(&format!("{at}")), "{e}");
+                    let (mut copy, mut out) = (vec![0.0; n], vec![0.0; 4 * n]);
+                    let f = p.eval_with_theta_into(&theta, Some(threads), &mut copy, &mut out);
+                    for e in [e.to_string(), f.unwrap_err().to_string()] {
+                        assert!(e.contains("theta") && e.contains(&format!("{at}")), "{e}");
+                    }
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_copy_of_the_angles_is_row_zero_on_every_thread_count() {
+        let p = of_pieces(&[
+            piece(0.0, 2.0, vec![0.1, 0.2, 0.3], 0.01, 1.0, 0.0),
+            piece(2.0, TAU, vec![0.5], 0.0, 0.0, 0.0),
+        ]);
+        let n = 30_001;
+        let theta: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin() * 9.0).collect();
+        let mut four = vec![0.0; 4 * n];
+        p.eval_into(&theta, Some(1), &mut four).unwrap();
+        for threads in [1, 2] {
+            let (mut copy, mut out) = (vec![f64::NAN; n], vec![f64::NAN; 4 * n]);
+            p.eval_with_theta_into(&theta, Some(threads), &mut copy, &mut out)
+                .unwrap();
+            assert_eq!(copy, theta);
+            assert_eq!(out, four);
+        }
+        let (mut short, mut out) = (vec![0.0; n - 1], vec![0.0; 4 * n]);
+        let e = p.eval_with_theta_into(&theta, Some(1), &mut short, &mut out);
+        let e = e.unwrap_err().to_string();
+        assert!(e.contains("copy") && e.contains("30001 values"), "{e}");
     }
 }
