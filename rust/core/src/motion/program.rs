@@ -402,7 +402,9 @@ impl Program {
     }
 
     /// [s, v, a, j] at every θ into the four rows of `out` (4 × N, row-major),
-    /// on `n_threads` threads.
+    /// on `n_threads` threads: bit for bit [`Program::eval`] at each θ, in SIMD
+    /// lanes over the runs of a sorted grid that stay in one piece (the
+    /// `lanes` module); a non-finite θ is an error naming the first.
     pub fn eval_into(
         &self,
         theta: &[f64],
@@ -568,7 +570,7 @@ fn split_off<'a>(rest: &mut &'a mut [f64], m: usize) -> &'a mut [f64] {
 
 /// [s, v, a, j] of one piece at x: the four Horner passes and one sine and
 /// cosine (d^k/dt^k A·sin(ωt + φ) = A·ω^k·(sin, cos, −sin, −cos)), the
-/// arithmetic of the lane path value for value.
+/// arithmetic of the lane loop (`program/lanes.rs`) value for value.
 #[inline(always)]
 fn piece_all(f: &Fast, x: f64) -> [f64; 4] {
     let t = x - f.x0;
