@@ -277,6 +277,9 @@ class ProgramKernel:
     def eval(
         self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
     ) -> npt.NDArray[np.float64]: ...
+    def eval_with_theta(
+        self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
     @property
     def spans(
         self,

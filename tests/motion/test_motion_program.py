@@ -282,3 +282,58 @@ def test_the_last_segment_ends_as_the_first_starts():
         continuity="acceleration",
     )
     assert prog.boundaries[1][3][1] == pytest.approx(v, abs=1e-15)
+
+
+def test_evaluate_keeps_its_own_copy_of_the_angles():
+    """``MotionValues.theta`` is the kernel's copy of the angles (written as they
+    are read), not the caller's array: the same values and shape, untouched by a
+    later change to the input, and s, v, a, j the rows of the plain kernel call.
+    At sizes on one thread and on two (several chunks), and for int input."""
+    prog = P([S("cycloidal", 200, end=0.02), S("poly5", 160, end=(0.0, 0.0, 0.0))])
+    for theta in (
+        np.linspace(-7.0, 20.0, 30_011).reshape(30_011),
+        np.linspace(0.0, 2 * PI, 24).reshape(2, 3, 4),
+        np.arange(-3, 9),
+        np.float64(1.25),
+    ):
+        want = np.asarray(theta, dtype=float).copy()
+        rows = prog.kernel.eval(want.reshape(-1), n_threads=1)
+        for threads in (1, 2):
+            given_ = np.array(theta, copy=True)
+            m = prog.evaluate(given_, n_threads=threads)
+            assert m.theta.shape == want.shape and not np.shares_memory(m.theta, given_)
+            assert np.array_equal(m.theta, want)
+            if given_.ndim:
+                given_[...] = 99  # the caller's array changes, the result does not
+            assert np.array_equal(m.theta, want)
+            for k, got in enumerate((m.s, m.v, m.a, m.j)):
+                assert got.shape == want.shape
+                assert np.array_equal(got.reshape(-1), rows[k])
+
+
+def test_a_grid_over_many_cycles_is_each_angle_alone():
+    """A sorted grid over several cycles either side (the SIMD runs on cycles
+    other than the first, s lifted by the advance) gives, bit for bit, what each
+    angle gives alone (a 0-d call: the pointwise path); the advance itself is
+    checked against the closed form by ``test_an_advancing_axis_and_pickling``."""
+    feed = 0.25
+    prog = P(
+        [
+            S("cycloidal", 150, start=(0.0, 0.0), end=(0.2, 0.0)),
+            S("dwell", 30),
+            S("poly5", 180, end=(feed, 0.0, 0.0)),
+        ],
+        continuity="acceleration",
+        advance=feed,
+    )
+    theta = np.concatenate(
+        [np.linspace(-4 * PI - 0.3, 9 * PI, 40_009), 2 * PI * np.arange(-2, 5) + 1e-15]
+    )
+    for threads in (1, 2):
+        m = prog.evaluate(theta, n_threads=threads)
+        alone = [prog.evaluate(x) for x in theta[::37]]
+        for name in "svaj":
+            want = np.array([getattr(e, name) for e in alone])
+            got = getattr(m, name)[::37]
+            assert np.array_equal(got, want), name
+    assert m.s.max() > 4 * feed  # several cycles up

@@ -392,9 +392,11 @@ class Program:
         """
         t = float_array("theta", theta, ndims=tuple(range(33)))
         shape = np.shape(theta)
-        rows = self._kernel.eval(t.reshape(-1), n_threads=threads_arg(n_threads))
+        # The kernel copies θ as it reads it: cheaper than a copy here, which
+        # would read the angles a second time.
+        copy, rows = self._kernel.eval_with_theta(t.reshape(-1), n_threads=threads_arg(n_threads))
         s, v, a, j = (rows[k].reshape(shape) for k in range(4))
-        return MotionValues(theta=t.reshape(shape).copy(), s=s, v=v, a=a, j=j)
+        return MotionValues(theta=copy.reshape(shape), s=s, v=v, a=a, j=j)
 
     @property
     def characteristics(self) -> tuple[Characteristics, ...]:

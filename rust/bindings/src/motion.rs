@@ -188,6 +188,16 @@ pub struct ProgramKernel {
     pub(crate) program: Program,
 }
 
+/// The (4, N) output of [`ProgramKernel::eval`], numpy's memory.
+fn program_rows(py: Python<'_>, n: usize) -> PyResult<Bound<'_, PyArray2<f64>>> {
+    convert::empty(
+        py,
+        &[4, n],
+        "Program.evaluate",
+        "evaluate fewer angles at a time",
+    )
+}
+
 #[pymethods]
 impl ProgramKernel {
     /// Segments as parallel lists: law names, angles [rad], start and end
@@ -255,12 +265,7 @@ impl ProgramKernel {
         n_threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let th = MotionError::slice(py, "theta", &theta)?;
-        let out = convert::empty(
-            py,
-            &[4, th.len()],
-            "Program.evaluate",
-            "evaluate fewer angles at a time",
-        )?;
+        let out = program_rows(py, th.len())?;
         {
             let mut rw = out.readwrite();
             let slice = convert::output(py, &mut rw)?;
@@ -269,6 +274,39 @@ impl ProgramKernel {
             })?;
         }
         Ok(out)
+    }
+
+    /// [`ProgramKernel::eval`] and a copy of θ (N), written in the same pass as
+    /// the angles are read (`Program.evaluate` keeps one): (copy, rows). Two
+    /// arrays, not one (5, N): each stays under the allocator's threshold for
+    /// fresh pages at a million angles (32 MiB), so that repeated calls reuse
+    /// memory as numpy's own arrays of that size do.
+    #[pyo3(signature = (theta, *, n_threads=None))]
+    #[allow(clippy::type_complexity)]
+    fn eval_with_theta<'py>(
+        &self,
+        py: Python<'py>,
+        theta: PyReadonlyArray1<'py, f64>,
+        n_threads: Option<i64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let th = MotionError::slice(py, "theta", &theta)?;
+        let copy = convert::empty(
+            py,
+            &[th.len()],
+            "Program.evaluate",
+            "evaluate fewer angles at a time",
+        )?;
+        let out = program_rows(py, th.len())?;
+        {
+            let (mut rc, mut rw) = (copy.readwrite(), out.readwrite());
+            let copy_slice = convert::output(py, &mut rc)?;
+            let slice = convert::output(py, &mut rw)?;
+            run(py, "Program.evaluate", || {
+                self.program
+                    .eval_with_theta_into(th, n_threads, copy_slice, slice)
+            })?;
+        }
+        Ok((copy, out))
     }
 
     /// Per segment: (start [rad], angle [rad], [s, v, a, j] at its start and

@@ -14,6 +14,9 @@ use super::segment::{
     bad, law_fixed_start, pieces, validate, SegmentSpec, BOUNDARY_TOL, ORDER_NAMES,
 };
 use crate::parallel::{pool, resolve_threads};
+use lanes::LaneFill;
+
+mod lanes;
 
 /// One piece of [`Program::pieces`]: (segment, start [rad], end [rad],
 /// coefficients, A, ω, φ).
@@ -403,14 +406,46 @@ impl Program {
     }
 
     /// [s, v, a, j] at every θ into the four rows of `out` (4 × N, row-major),
-    /// on `n_threads` threads.
+    /// on `n_threads` threads: bit for bit [`Program::eval`] at each θ, in SIMD
+    /// lanes over the runs of a sorted grid that stay in one piece (the
+    /// `lanes` module); a non-finite θ is an error naming the first.
     pub fn eval_into(
         &self,
         theta: &[f64],
         n_threads: Option<i64>,
         out: &mut [f64],
     ) -> Result<(), MotionError> {
-        crate::input::InvalidInput::check_finite("theta", theta)?;
+        self.fill_rows(theta, n_threads, None, out)
+    }
+
+    /// [`Program::eval_into`] and a copy of θ into `copy` (N), written as the
+    /// angles are read (cheaper than a separate copy, which reads them again).
+    pub fn eval_with_theta_into(
+        &self,
+        theta: &[f64],
+        n_threads: Option<i64>,
+        copy: &mut [f64],
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
+        let n = theta.len();
+        if copy.len() != n {
+            return Err(crate::input::InvalidInput::Output {
+                field: "copy",
+                want: format!("{n} values (the angles)"),
+                got: format!("{} values", copy.len()),
+            }
+            .into());
+        }
+        self.fill_rows(theta, n_threads, Some(copy), out)
+    }
+
+    fn fill_rows(
+        &self,
+        theta: &[f64],
+        n_threads: Option<i64>,
+        mut copy: Option<&mut [f64]>,
+        out: &mut [f64],
+    ) -> Result<(), MotionError> {
         let n = theta.len();
         if out.len() != 4 * n {
             return Err(crate::input::InvalidInput::Output {
@@ -420,37 +455,37 @@ impl Program {
             }
             .into());
         }
-        let (s, rest) = out.split_at_mut(n);
-        let (v, rest) = rest.split_at_mut(n);
-        let (a, j) = rest.split_at_mut(n);
+        let threads = resolve_threads(n_threads)?;
+        let (mut s, rest) = out.split_at_mut(n);
+        let (mut v, rest) = rest.split_at_mut(n);
+        let (mut a, mut j) = rest.split_at_mut(n);
+        // Chunks of the rows, one job each; on one thread, one chunk.
         const CHUNK: usize = 8192;
-        type Chunk<'a> = (
-            ((&'a [f64], &'a mut [f64]), &'a mut [f64]),
-            (&'a mut [f64], &'a mut [f64]),
-        );
-        let fill = |(((th, s), v), (a, j)): Chunk<'_>| {
-            pulp::Arch::new().dispatch(LaneFill {
+        let size = if threads == 1 { n.max(1) } else { CHUNK };
+        let mut jobs = Vec::with_capacity(n.div_ceil(size));
+        for th in theta.chunks(size) {
+            let m = th.len();
+            jobs.push(LaneFill {
                 program: self,
                 th,
-                out: [s, v, a, j],
-            })
-        };
-        let threads = resolve_threads(n_threads)?;
-        if threads == 1 || n <= CHUNK {
-            fill((((theta, s), v), (a, j)));
+                out: [&mut s, &mut v, &mut a, &mut j].map(|r| split_off(r, m)),
+                copy: copy.as_mut().map(|r| split_off(r, m)),
+            });
+        }
+        // Each chunk says whether its angles were all finite (the lane loop
+        // sees that for free); a non-finite angle is then found and named here.
+        let fill = |job: LaneFill<'_>| pulp::Arch::new().dispatch(job);
+        let finite = if jobs.len() <= 1 {
+            jobs.into_iter().all(fill)
         } else {
             pool(threads)?.install(|| {
-                theta
-                    .par_chunks(CHUNK)
-                    .zip(s.par_chunks_mut(CHUNK))
-                    .zip(v.par_chunks_mut(CHUNK))
-                    .zip(a.par_chunks_mut(CHUNK).zip(j.par_chunks_mut(CHUNK)))
-                    .for_each(|c| {
-                        if !crate::cancel::requested() {
-                            fill(c)
-                        }
-                    })
-            });
+                jobs.into_par_iter()
+                    .map(|job| crate::cancel::requested() || fill(job))
+                    .reduce(|| true, |x, y| x & y)
+            })
+        };
+        if !finite {
+            crate::input::InvalidInput::check_finite("theta", theta)?;
         }
         Ok(())
     }
@@ -530,104 +565,16 @@ impl Program {
     }
 }
 
-/// Values per lane group: two AVX2 registers of f64.
-const GROUP: usize = 8;
-
-/// [`Program::eval_into`]'s loop over one chunk, compiled once per instruction
-/// set (`pulp`): groups of [`GROUP`] angles in one piece (the common case on a
-/// sorted grid) run as loops across lanes without branches; others one by one.
-/// The same arithmetic as [`Program::eval`] per value, so the same values.
-struct LaneFill<'a> {
-    program: &'a Program,
-    th: &'a [f64],
-    out: [&'a mut [f64]; 4],
-}
-
-impl pulp::WithSimd for LaneFill<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let LaneFill { program, th, out } = self;
-        let [s, v, a, j] = out;
-        let whole = th.len() - th.len() % GROUP;
-        for (g, tg) in th[..whole].chunks_exact(GROUP).enumerate() {
-            let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
-            let e = program.eval_lanes(tg);
-            let at = g * GROUP;
-            s[at..at + GROUP].copy_from_slice(&e[0]);
-            v[at..at + GROUP].copy_from_slice(&e[1]);
-            a[at..at + GROUP].copy_from_slice(&e[2]);
-            j[at..at + GROUP].copy_from_slice(&e[3]);
-        }
-        for i in whole..th.len() {
-            let e = program.eval(th[i]);
-            s[i] = e[0];
-            v[i] = e[1];
-            a[i] = e[2];
-            j[i] = e[3];
-        }
-    }
-}
-
-impl Program {
-    /// [`Program::eval`] for `L` angles at once, as four lanes [s, v, a, j]: the
-    /// same values, bit for bit. Angles in [0, 2π) within one piece run as
-    /// branch-free loops (one sine and cosine per value for the four orders, as
-    /// the pointwise path computes them); others one by one.
-    #[inline(always)]
-    fn eval_lanes<const L: usize>(&self, th: &[f64; L]) -> [[f64; L]; 4] {
-        let t0 = th[0];
-        let k = self.starts.partition_point(|&x0| x0 <= t0).max(1) - 1;
-        let f = &self.fast[k];
-        let lo = self.starts[k];
-        let hi = self.starts.get(k + 1).copied().unwrap_or(TAU);
-        let one_piece = th
-            .iter()
-            .fold(true, |ok, &v| ok & (v >= lo) & (v < hi) & (v < TAU));
-        // (sin_cos_lanes takes any argument: wide ones as sin_cos does.)
-        if !(one_piece && t0 >= 0.0) {
-            let mut out = [[0.0; L]; 4];
-            for (l, &v) in th.iter().enumerate() {
-                let e = self.eval(v);
-                for o in 0..4 {
-                    out[o][l] = e[o];
-                }
-            }
-            return out;
-        }
-        let mut t = [0.0; L];
-        for l in 0..L {
-            t[l] = th[l] - f.x0;
-        }
-        let mut out = [[0.0; L]; 4];
-        for (order, p) in out.iter_mut().enumerate() {
-            for &ck in f.poly[order].iter().rev() {
-                for l in 0..L {
-                    p[l] = p[l] * t[l] + ck;
-                }
-            }
-        }
-        if f.amp[0] != 0.0 {
-            let mut u = [0.0; L];
-            for l in 0..L {
-                u[l] = f.freq * t[l] + f.phase[0];
-            }
-            let (sn, cs) = crate::geom::sin_cos_lanes(&u);
-            for l in 0..L {
-                out[0][l] += f.amp[0] * sn[l];
-                out[1][l] += f.amp[1] * cs[l];
-                out[2][l] -= f.amp[2] * sn[l];
-                out[3][l] -= f.amp[3] * cs[l];
-            }
-        }
-        out
-    }
+/// The first `m` values of `rest`, which keeps the others.
+fn split_off<'a>(rest: &mut &'a mut [f64], m: usize) -> &'a mut [f64] {
+    let (head, tail) = std::mem::take(rest).split_at_mut(m);
+    *rest = tail;
+    head
 }
 
 /// [s, v, a, j] of one piece at x: the four Horner passes and one sine and
 /// cosine (d^k/dt^k A·sin(ωt + φ) = A·ω^k·(sin, cos, −sin, −cos)), the
-/// arithmetic of the lane path value for value.
+/// arithmetic of the lane loop (`program/lanes.rs`) value for value.
 #[inline(always)]
 fn piece_all(f: &Fast, x: f64) -> [f64; 4] {
     let t = x - f.x0;
