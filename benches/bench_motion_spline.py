@@ -54,10 +54,12 @@ def scipy_spline(theta: np.ndarray) -> list[np.ndarray]:
 
 def test_scipy_agrees() -> None:
     """Two solvers of a 1e4-point spline: s and v agree to rounding, the higher
-    derivatives (rounding amplified by the table's 1e4 knots) to 1e-8 of their scale."""
+    derivatives to the rounding the table's 1e4 knots amplify: the k-th derivative by
+    about (n/2π)^k·ε of its scale, 1e-6 for the jerk (the periodic system's and
+    scipy's solves round differently)."""
     theta = grid()[::101]
     m = ours(theta)
-    tol = (1e-12, 1e-11, 1e-8, 1e-7)
+    tol = (1e-12, 1e-11, 1e-8, 1e-5)
     for got, want, t in zip((m.s, m.v, m.a, m.j), scipy_spline(theta), tol, strict=True):
         np.testing.assert_allclose(got, want, rtol=0, atol=t * np.abs(want).max())
 
