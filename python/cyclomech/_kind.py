@@ -27,11 +27,11 @@ import numpy.typing as npt
 from ._arrays import flag, instance, instances, positive, real_array, threads_arg
 from ._errors import InputError
 from ._keydoc import FIN, NO_UNIT, NUM, TEXT, KeyDoc, KeyTable
-from .cyclogram import BoundLaw, Proportional
+from .cyclogram import BoundLaw, Constraint, Proportional
 from .cyclogram import proportional_law as proportional_law  # for the kinds and the machine
 
 if TYPE_CHECKING:
-    from .cyclogram import Constraint, Cyclogram, Optimum, SpeedLimit
+    from .cyclogram import Cyclogram, Optimum, SpeedLimit
 
 #: A float64 NumPy array (the arrays of speeds [rpm] and angles [deg] here).
 Array = npt.NDArray[np.float64]
@@ -45,6 +45,7 @@ __all__ = [
     "Bound",
     "BoundLaw",
     "Context",
+    "ExactBounds",
     "Mechanism",
     "MechanismResult",
     "Phase",
@@ -857,6 +858,97 @@ class Unbounded:
         real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(2,))
         threads_arg(n_threads)
         return {}
+
+
+class ExactBounds(Unbounded):
+    """Defaults for a kind whose bounds are exact laws of the speed (a cam's, a servo axis's).
+
+    Mix it in: the kind gives ``bounds()`` and ``laws()`` (one law per bound, in
+    the same order); :meth:`constraints` and :meth:`bound_laws` follow from them,
+    one way for every such kind. A law has no linearised form.
+
+    Examples
+    --------
+    >>> ExactBounds().constraints(300.0), ExactBounds.bound_laws([])
+    ((), [])
+    """
+
+    def laws(self) -> list[BoundLaw]:
+        """Each bound's smallest angle [deg] against speed [rpm]: none by default.
+
+        Returns
+        -------
+        list of BoundLaw
+            One law per bound of ``bounds()``, in its order.
+
+        Examples
+        --------
+        >>> ExactBounds().laws()
+        []
+        """
+        return []
+
+    def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
+        """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound.
+
+        Parameters
+        ----------
+        rpm : float
+            The speed [rpm].
+        linear : bool, default False
+            Unused (the laws are exact).
+
+        Returns
+        -------
+        tuple of Constraint
+            One constraint per bound, named by its label.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> cam.constraints(450.0)[2].describe()
+        '1·t(1,3) >= 29.6374'
+        """
+        rpm = positive("rpm", rpm, "[rpm]")
+        flag("linear", linear)  # exact laws have one form only
+        n = np.array([float(rpm)])
+        return tuple(
+            Constraint(((b.arc, 1.0),), ">=", float(law(n)[0]), b.label)
+            for b, law in zip(self.bounds(), self.laws(), strict=True)
+        )
+
+    @classmethod
+    def bound_laws(
+        cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
+    ) -> list[list[BoundLaw]]:
+        """:meth:`laws` of each mechanism.
+
+        Parameters
+        ----------
+        mechanisms : sequence of the kind's mechanisms
+            The mechanisms (each of this class).
+        linear : bool, default False
+            No meaning: the laws are exact.
+        n_threads : int, optional
+            Unused; default None.
+
+        Returns
+        -------
+        list of list of BoundLaw
+            Per mechanism, its :meth:`laws`.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+        >>> len(type(cam).bound_laws([cam])[0]) == len(cam.bounds())
+        True
+        """
+        flag("linear", linear)
+        threads_arg(n_threads)
+        mechanisms = instances("mechanisms", mechanisms, cls)
+        return [m.laws() for m in mechanisms]
 
 
 class PlainResult:

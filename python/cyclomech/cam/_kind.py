@@ -8,14 +8,14 @@ from __future__ import annotations
 import functools
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
 
 from .. import _toml
-from .._arrays import flag, instance, instances, positive
+from .._arrays import instance
 from .._errors import CyclomechWarning, InputError
 from .._keydoc import KeyTable
 from .._kind import (
@@ -23,12 +23,12 @@ from .._kind import (
     Bound,
     BoundLaw,
     Context,
+    ExactBounds,
     Proportional,
     Save,
     TableContext,
-    Unbounded,
 )
-from ..cyclogram import Arc, Constraint
+from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
 from ._followers import FlatFaced
 from ._keys import KEY_DOCS
@@ -83,7 +83,7 @@ class _PerSpeed:
 
 
 @dataclass(frozen=True)
-class CamMechanism(Unbounded):
+class CamMechanism(ExactBounds):
     """A disc cam on the main shaft whose rises and returns bound cyclogram operations.
 
     It holds its :class:`CamDesign` and, for each bound, the segment and criterion
@@ -110,7 +110,8 @@ class CamMechanism(Unbounded):
     ('cam', ['pressure angle[lifter cam rise 1→3]', 'undercut[lifter cam rise 1→3]'])
     """
 
-    # (Unbounded's defaults only for what a cam does not add: sweep columns and
+    # (ExactBounds: constraints and bound_laws from its bounds and laws; Unbounded's
+    # defaults for what a cam does not add: sweep columns and
     # their values; its bounds are its own, below.)
     kind: ClassVar[str] = "cam"
     # Its tables' keys, its own first, for the machine-file format reference
@@ -251,69 +252,6 @@ class CamMechanism(Unbounded):
             else:
                 out.append(_Constant(v))
         return tuple(out)
-
-    def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
-        """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound.
-
-        Exact: a cam has no linearised form.
-
-        Parameters
-        ----------
-        rpm : float
-            The speed [rpm].
-        linear : bool, default False
-            Unused (a cam's bounds are exact).
-
-        Returns
-        -------
-        tuple of Constraint
-            One constraint per bound, named by its label.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
-        >>> cam.constraints(450.0)[2].describe()
-        '1·t(1,3) >= 29.6374'
-        """
-        rpm = positive("rpm", rpm, "[rpm]")
-        flag("linear", linear)  # a cam's bounds have one form only
-        n = np.array([float(rpm)])
-        return tuple(
-            Constraint(((b.arc, 1.0),), ">=", float(law(n)[0]), b.label)
-            for b, law in zip(self.bounds(), self.laws(), strict=True)
-        )
-
-    @classmethod
-    def bound_laws(
-        cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
-    ) -> list[list[BoundLaw]]:
-        """:meth:`laws` of each cam.
-
-        Parameters
-        ----------
-        mechanisms : sequence of CamMechanism
-            The cams.
-        linear : bool, default False
-            No meaning for a cam: its laws are exact.
-        n_threads : int, optional
-            Unused; default None.
-
-        Returns
-        -------
-        list of list of BoundLaw
-            Per cam, its :meth:`laws`.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
-        >>> len(CamMechanism.bound_laws([cam])[0]) == len(cam.bounds())
-        True
-        """
-        flag("linear", linear)
-        mechanisms = instances("mechanisms", mechanisms, cls)
-        return [m.laws() for m in mechanisms]
 
     def speed_limit_rpm(self) -> float:
         """A cam limits the speed through the cyclogram's bounds only.

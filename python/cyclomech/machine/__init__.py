@@ -84,6 +84,7 @@ from .._keydoc import KeyDoc, KeyTable
 from .._kind import (
     Bound,
     Context,
+    ExactBounds,
     Mechanism,
     MechanismResult,
     PlainResult,
@@ -118,6 +119,7 @@ __all__ = [
     "SCHEMA",
     "Bound",
     "Context",
+    "ExactBounds",
     "KeyDoc",
     "KeyTable",
     "Machine",

@@ -237,6 +237,22 @@ class ServoAxis:
         self._vel, self._acc = vel, self.a * k
         self._load = (j_load, t_ext, eta)
 
+    def _drive(
+        self, motor: Motor, gearbox: Gearbox
+    ) -> tuple[float, float, float, float, float, float]:
+        """The drive arguments of the program kernels (bounds, limits) in order: the
+        load shaft's radians per program unit, J_L, T_ext, η_screw·η_gear, the ratio
+        and J_motor + J_gear."""
+        k, j_load, t_ext, eta = self.load._shaft()
+        return (
+            k,
+            j_load,
+            t_ext,
+            eta * gearbox.efficiency,
+            gearbox.ratio,
+            motor.inertia_kg_m2 + gearbox.inertia_kg_m2,
+        )
+
     def _kernel_load(self, gearbox: Gearbox) -> tuple[Array, Array, float, float, float]:
         """The load arguments of the kernels through ``gearbox``: φ_L′, φ_L″, J_L,
         T_ext and the whole drive's efficiency η_screw·η_gear."""
@@ -501,16 +517,10 @@ class ServoAxis:
             idx = tuple(i for i in moving if self.program.scalable[i])
         else:
             idx = tuple(int(i) for i in np.atleast_1d(np.asarray(segments)).reshape(-1))
-        k, j_load, t_ext, eta = self.load._shaft()
         out = _core.servo_min_angles(
             self.program.kernel,
             list(idx),
-            k,
-            j_load,
-            t_ext,
-            eta * gearbox.efficiency,
-            gearbox.ratio,
-            motor.inertia_kg_m2 + gearbox.inertia_kg_m2,
+            *self._drive(motor, gearbox),
             motor.peak_torque_nm,
             motor.max_rpm * RAD_PER_S_PER_RPM,
             n * RAD_PER_S_PER_RPM,

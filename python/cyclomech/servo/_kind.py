@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
@@ -32,13 +32,13 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _core, _keyrules, _toml
-from .._arrays import count, flag, instance, instances, positive, real_array
+from .._arrays import count, instance, instances, real_array
 from .._errors import InputError
 from .._keydoc import KeyTable
-from .._kind import Bound, BoundLaw, Context, Phase, Proportional, TableContext, Unbounded
+from .._kind import Bound, BoundLaw, Context, ExactBounds, Phase, Proportional, TableContext
 from .._units import RAD_PER_S_PER_RPM
 from ..cam import UNITS, read_program, read_segments
-from ..cyclogram import Arc, Constraint
+from ..cyclogram import Arc
 from ..motion import Program
 from ._axis import DEFAULT_INERTIA_LIMIT, ServoAxis
 from ._catalogue import load_catalogue
@@ -70,7 +70,7 @@ def _number(table: Mapping[str, Any], key: str, at: str, default: float) -> floa
 
 
 @dataclass(frozen=True)
-class ServoMechanism(Unbounded):
+class ServoMechanism(ExactBounds):
     """A servo axis on the machine's master whose rest-to-rest segments bound operations.
 
     Built by :meth:`from_table`; each parameter is kept as the attribute of the
@@ -473,84 +473,16 @@ class ServoMechanism(Unbounded):
         """
         return list(self._laws)
 
-    def constraints(self, rpm: float, *, linear: bool = False) -> tuple[Constraint, ...]:
-        """Its bounds at ``rpm`` as cyclogram constraints t(arc) ≥ bound (exact).
-
-        Parameters
-        ----------
-        rpm : float
-            The speed [rpm].
-        linear : bool, default False
-            Unused (the bounds are exact).
-
-        Returns
-        -------
-        tuple of Constraint
-            One per bound, named by its label.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> feed = cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["film feed"]
-        >>> feed.constraints(100.0)[0].describe()
-        '1·t(2,3) >= 51.3271'
-        """
-        rpm = positive("rpm", rpm, "[rpm]")
-        flag("linear", linear)
-        n = np.array([float(rpm)])
-        return tuple(
-            Constraint(((b.arc, 1.0),), ">=", float(law(n)[0]), b.label)
-            for b, law in zip(self.bounds(), self.laws(), strict=True)
-        )
-
-    @classmethod
-    def bound_laws(
-        cls, mechanisms: Sequence[Any], *, linear: bool = False, n_threads: int | None = None
-    ) -> list[list[BoundLaw]]:
-        """:meth:`laws` of each axis.
-
-        Parameters
-        ----------
-        mechanisms : sequence of ServoMechanism
-            The axes.
-        linear : bool, default False
-            No meaning: the laws are exact.
-        n_threads : int, optional
-            Unused; default None.
-
-        Returns
-        -------
-        list of list of BoundLaw
-            Per axis, its :meth:`laws`.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> feed = cm.Machine.from_toml("examples/flow_wrapper.toml").mechanisms["film feed"]
-        >>> len(ServoMechanism.bound_laws([feed])[0])
-        3
-        """
-        flag("linear", linear)
-        mechanisms = instances("mechanisms", mechanisms, cls)
-        return [m.laws() for m in mechanisms]
-
     @functools.cached_property
     def _own_limit(self) -> tuple[float, str]:
         motor, ax = self.axis.motor, self.axis
         free = [k for k, a in enumerate(self.arcs) if a is None]
         if motor is None or not free:
             return math.inf, ""
-        k, j_load, t_ext, eta = ax.load._shaft()
-        gear = ax.gearbox
         limits = _core.servo_speed_limit(
             ax.program.kernel,
             free,
-            k,
-            j_load,
-            t_ext,
-            eta * gear.efficiency,
-            gear.ratio,
-            motor.inertia_kg_m2 + gear.inertia_kg_m2,
+            *ax._drive(motor, ax.gearbox),
             motor.peak_torque_nm,
             motor.max_rpm * RAD_PER_S_PER_RPM,
             motor.rated_torque_nm,
@@ -795,18 +727,11 @@ class _RmsLaw:
         speeds, where = np.unique(r.reshape(-1), return_inverse=True)
         ax, motor = self.axis, self.axis.motor
         assert motor is not None
-        k, j_load, t_ext, eta = ax.load._shaft()
-        gear = ax.gearbox
         rad = _core.servo_rms_angles(
             ax.program.kernel,
             self.segment,
             self.dwell,
-            k,
-            j_load,
-            t_ext,
-            eta * gear.efficiency,
-            gear.ratio,
-            motor.inertia_kg_m2 + gear.inertia_kg_m2,
+            *ax._drive(motor, ax.gearbox),
             motor.rated_torque_nm,
             speeds * RAD_PER_S_PER_RPM,
         )
