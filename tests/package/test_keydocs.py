@@ -391,6 +391,8 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      lambda m: m.mechanisms["jaw"].axis.inertia_ratio_limit, 10.0),
     ("servo", "continuity", "velocity", "flow_wrapper", ("mechanism", "jaw"),
      lambda m: m.mechanisms["jaw"].axis.program.continuity, "velocity"),
+    ("servo", "torque_reserve", "0 (the motor's full torques)", "flow_wrapper",
+     ("mechanism", "jaw"), lambda m: m.mechanisms["jaw"].torque_reserve, 0.0),
     ("servo", "table_points", "3600", "flow_wrapper", ("mechanism", "jaw"),
      lambda m: m.mechanisms["jaw"].table_points, 3600),
     ("servo", "phase", "the first bound segment at its operation's start, else cycle angle 0",
@@ -526,6 +528,7 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("flow_wrapper", ("mechanism", "jaw"), "gear_inertia_kg_m2", -1e-9, 0.0),
     ("flow_wrapper", ("mechanism", "jaw"), "inertia_ratio_limit", 0.0, 1.0),
     ("flow_wrapper", ("mechanism", "jaw"), "table_points", 1, 2),
+    ("flow_wrapper", ("mechanism", "jaw"), "torque_reserve", 1.0, 0.5),
     ("flow_wrapper", ("mechanism", "jaw"), "gear_ratios", [0.0, 1.0], [1.0]),
 ]
 

@@ -325,3 +325,35 @@ def test_catalogue_relative_to_the_file(tmp_path: Path) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert cm.Machine.from_toml(tmp_path / "m.toml").mechanisms["jaw"].catalogue
+
+
+def test_torque_reserve_is_the_motor_derated(machine: cm.Machine) -> None:
+    """A 20 % reserve is the same axis with a motor of 80 % of its torques: the same
+    bounds (an independent build from an inline motor table)."""
+    d = data(machine)
+    d["mechanism"]["film feed"]["torque_reserve"] = 0.2
+    kept = build(d).mechanisms["film feed"]
+    m = machine.mechanisms["film feed"].axis.motor
+    d = data(machine)
+    d["mechanism"]["film feed"]["motor"] = {
+        "rated_torque_nm": 0.8 * m.rated_torque_nm,
+        "peak_torque_nm": 0.8 * m.peak_torque_nm,
+        "rated_rpm": m.rated_rpm,
+        "max_rpm": m.max_rpm,
+        "inertia_kg_m2": m.inertia_kg_m2,
+        "name": m.name,
+    }
+    derated = build(d).mechanisms["film feed"]
+    rpm = np.array([60.0, 120.0])
+    for a, b in zip(kept.laws(), derated.laws(), strict=True):
+        np.testing.assert_allclose(a(rpm), b(rpm), rtol=1e-12)
+    assert kept.torque_reserve == 0.2
+    assert all(
+        k.peak_torque_nm == pytest.approx(0.8 * c.peak_torque_nm)
+        for k, c in zip(kept.catalogue, machine.mechanisms["film feed"].catalogue, strict=True)
+    )
+    # More reserve, a longer index at the same speed.
+    assert kept.laws()[0](rpm)[0] > machine.mechanisms["film feed"].laws()[0](rpm)[0]
+    d = data(machine)
+    d["mechanism"]["film feed"]["torque_reserve"] = 1.0
+    assert "torque_reserve = 1.0 must be in [0, 1)" in refused(d)

@@ -51,6 +51,9 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "a CSV file with the columns of cyclomech.servo.CATALOGUE_COLUMNS", False),
         K("gear_ratios", "The gear ratios the sizing tries.", NO_UNIT, ARR,
           "[gear_ratio]", "a non-empty array of finite numbers > 0; needs catalogue", False),
+        K("torque_reserve", "The fraction of each motor's peak and rated torque kept in "
+          "reserve: bounds, limits, checks and sizing use the rest.", NO_UNIT, NUM,
+          "0 (the motor's full torques)", "finite, 0 ≤ torque_reserve < 1", True),
         K("inertia_ratio_limit", "The largest inertia ratio (load and gearbox at the motor "
           "over the rotor's inertia) that passes.", NO_UNIT, NUM, "10", POS, True),
         K("advance_m", "The linear load's travel per cycle (a film or web fed on).", "m",

@@ -25,14 +25,14 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
 
 from .. import _core, _keyrules, _toml
-from .._arrays import count, instance, instances, real_array
+from .._arrays import count, finite_number, instance, instances, real_array
 from .._errors import InputError
 from .._keydoc import KeyTable
 from .._kind import Bound, BoundLaw, Context, ExactBounds, Phase, Proportional, TableContext
@@ -59,7 +59,7 @@ _ROTARY = frozenset({"inertia_kg_m2", "torque_nm", "advance_deg"})
 SERVO_KEYS = frozenset(
     {"kind", "load", "segment", "motor", "catalogue", "gear_ratios", "continuity"}
     | {"gear_ratio", "gear_efficiency", "gear_inertia_kg_m2", "inertia_ratio_limit"}
-    | {"table_points", "phase"}
+    | {"table_points", "phase", "torque_reserve"}
     | _LINEAR
     | _ROTARY
 )
@@ -107,6 +107,9 @@ class ServoMechanism(ExactBounds):
         bound (``phase = {event, crank_deg}``: the program's angle at that event);
         default None (the first bound segment starts at its operation's start, or
         the program starts at cycle angle 0).
+    torque_reserve : float, default 0.0
+        The fraction of the motor's torques kept back, in [0, 1) (the motor and
+        catalogue are already derated by it; kept for the report).
 
     Examples
     --------
@@ -135,6 +138,7 @@ class ServoMechanism(ExactBounds):
     source: str
     program_keys: dict[str, Any] = field(default_factory=dict)
     phase: Phase | None = None
+    torque_reserve: float = 0.0
 
     def __post_init__(self) -> None:
         # Built by from_table; checked here too, as a constructor's arguments.
@@ -157,12 +161,16 @@ class ServoMechanism(ExactBounds):
         instance("program_keys", self.program_keys, dict)
         if self.phase is not None:
             instance("phase", self.phase, Phase)
+        reserve = finite_number("torque_reserve", self.torque_reserve, "(fraction)")
+        if not 0.0 <= reserve < 1.0:
+            raise InputError(f"torque_reserve = {reserve!r} must be in [0, 1)")
         for key, value in (
             ("rows", rows),
             ("arcs", arcs),
             ("catalogue", catalogue),
             ("ratios", tuple(float(x) for x in ratios)),
             ("table_points", points),
+            ("torque_reserve", reserve),
         ):
             object.__setattr__(self, key, value)
 
@@ -231,6 +239,7 @@ class ServoMechanism(ExactBounds):
             msg = _file_key(str(e))
             raise InputError(msg if msg.startswith(at) else f"{at}: {msg}") from None
         catalogue, motor = _motor(table, at, ctx.source)
+        reserve, (catalogue, motor) = _reserved(table, at, catalogue, motor)
         ratios = _ratios(table, at, gearbox.ratio, bool(catalogue))
         limit = _number(table, "inertia_ratio_limit", at, DEFAULT_INERTIA_LIMIT)
         points = int(_number(table, "table_points", at, 3600))
@@ -268,6 +277,7 @@ class ServoMechanism(ExactBounds):
             "linear" if linear else "angular",
             keys,
             phase,
+            reserve,
         )
 
     # ------------------------------------------------------------- its program
@@ -654,6 +664,30 @@ def _motor(
         return catalogue, Motor(**dict(spec))
     except (InputError, TypeError) as e:
         raise InputError(f"{at} motor: {e}") from None
+
+
+def _reserved(
+    table: Mapping[str, Any], at: str, catalogue: tuple[Motor, ...], motor: Motor | None
+) -> tuple[float, tuple[tuple[Motor, ...], Motor | None]]:
+    """The motors with ``torque_reserve`` of their peak and rated torque kept back:
+    every bound, limit, check and sizing then uses (1 − reserve) of them."""
+    reserve = _number(table, "torque_reserve", at, 0.0)
+    if not 0.0 <= reserve < 1.0:
+        raise InputError(
+            f"{at}: torque_reserve = {table['torque_reserve']!r} must be in [0, 1): the "
+            "fraction of the motor's torques kept back (0.2 for 20 %)"
+        )
+    if reserve == 0.0:
+        return reserve, (catalogue, motor)
+
+    def keep(m: Motor) -> Motor:
+        return replace(
+            m,
+            rated_torque_nm=m.rated_torque_nm * (1.0 - reserve),
+            peak_torque_nm=m.peak_torque_nm * (1.0 - reserve),
+        )
+
+    return reserve, (tuple(keep(m) for m in catalogue), None if motor is None else keep(motor))
 
 
 def _ratios(table: Mapping[str, Any], at: str, ratio: float, sized: bool) -> tuple[float, ...]:

@@ -324,7 +324,9 @@ class ServoResult:
                 "speed": (float(d.peak_speed_rpm), motor.max_rpm, "rpm"),
                 "inertia_ratio": (d.inertia_ratio, a.inertia_ratio_limit, ""),
             }
-            rows.append(["motor", motor.name or str(motor)])
+            reserve = self.mech.torque_reserve
+            kept = f" (torques with {100 * reserve:g} % kept in reserve)" if reserve else ""
+            rows.append(["motor", (motor.name or str(motor)) + kept])
             for c in CHECKS:
                 used, avail, unit = limits[c]
                 u = f" [{unit}]" if unit else ""
