@@ -44,6 +44,7 @@ __all__ = [
     "BatchSolution",
     "Bound",
     "BoundLaw",
+    "BoundsResult",
     "Context",
     "ExactBounds",
     "Mechanism",
@@ -54,6 +55,7 @@ __all__ = [
     "Save",
     "TableContext",
     "Unbounded",
+    "per_distinct_speed",
 ]
 
 
@@ -989,6 +991,88 @@ class PlainResult:
         {}
         """
         return {}
+
+
+class BoundsResult:
+    """Defaults for the result of a kind whose bounds stand in the speed sweep (mix it in).
+
+    The result has ``mech`` (its mechanism, with ``bounds()``) and ``ctx`` (the
+    :class:`Context`): each bound's smallest phase angle is a column of the sweep's
+    CSV, and its price is the optimum's own (by label).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+    >>> isinstance(r.mechanisms["lifter cam"], BoundsResult)
+    True
+    """
+
+    mech: Any
+    ctx: Context
+
+    def csv_columns(self) -> list[tuple[str, Array]]:
+        """Each bound's smallest phase angle [deg] on the sweep's speeds.
+
+        Returns
+        -------
+        list of tuple of (str, ndarray)
+            (``min_phase_deg[<label>]``, values on the sweep's speeds [deg]).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].csv_columns()[0][0]
+        'min_phase_deg[pressure angle[lifter cam rise 1→3]]'
+        """
+        return [(f"min_phase_deg[{b.label}]", self.ctx.bounds[b.name]) for b in self.mech.bounds()]
+
+    def prices(self) -> dict[str, float]:
+        """None beyond the optimum's own (its bounds are priced there by label).
+
+        Returns
+        -------
+        dict
+            ``{}``.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].prices()
+        {}
+        """
+        return {}
+
+
+def per_distinct_speed(rpm: Any, solve: Callable[[Array], Array]) -> Array:
+    """``solve`` at each distinct speed of ``rpm`` once, spread back to its shape.
+
+    A bound law solved per speed (a cam's Hertz stress, a servo's RMS) is asked by
+    the variants of a sweep that share a mechanism for the same speeds: one call on
+    the distinct ones.
+
+    Parameters
+    ----------
+    rpm : array_like of float
+        The speeds [rpm], any shape.
+    solve : callable
+        ``solve(speeds)`` → values, for a sorted 1-d array of distinct speeds.
+
+    Returns
+    -------
+    ndarray of float
+        ``solve``'s values in ``rpm``'s shape.
+
+    Examples
+    --------
+    >>> per_distinct_speed([[2.0, 1.0], [2.0, 2.0]], lambda n: 10 * n).tolist()
+    [[20.0, 10.0], [20.0, 20.0]]
+    """
+    r = np.asarray(rpm, dtype=np.float64)
+    speeds, where = np.unique(r.reshape(-1), return_inverse=True)
+    return np.asarray(solve(speeds), dtype=np.float64)[where].reshape(r.shape)
 
 
 class BatchSolution(Protocol):

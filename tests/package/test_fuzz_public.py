@@ -83,6 +83,7 @@ RESULT_CLASSES = {
     "cyclomech.forces.Kinetostatics",
     "cyclomech.impact.ContactHistory",
     "cyclomech.impact.Rebound",
+    "cyclomech.machine.BoundsResult",
     "cyclomech.machine.Context",
     "cyclomech.machine.MachineResult",
     "cyclomech.machine.MechanismResult",

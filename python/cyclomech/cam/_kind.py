@@ -22,11 +22,13 @@ from .._kind import (
     Array,
     Bound,
     BoundLaw,
+    BoundsResult,
     Context,
     ExactBounds,
     Proportional,
     Save,
     TableContext,
+    per_distinct_speed,
 )
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
@@ -66,20 +68,21 @@ class _PerSpeed:
     column: int
 
     def __call__(self, rpm: Array) -> Array:
-        # Each distinct speed once (the variants of a sweep that share this cam
-        # ask for the same speeds), without the speed-free criteria's vibration.
-        r = np.asarray(rpm, dtype=np.float64)
-        speeds, where = np.unique(r.reshape(-1), return_inverse=True)
+        # Without the speed-free criteria's vibration.
         d = self.design
-        m = d.cam.min_phase_angles(
-            speeds,
-            loads=d.loads,
-            contact=d.contact,
-            max_stress=d.max_stress,
-            max_pressure_angle_deg=d.max_pressure_angle_deg,
-            segments=[self.segment],
-        )
-        return m.angle_deg[:, 0, self.column][where].reshape(r.shape)
+
+        def solve(speeds: Array) -> Array:
+            m = d.cam.min_phase_angles(
+                speeds,
+                loads=d.loads,
+                contact=d.contact,
+                max_stress=d.max_stress,
+                max_pressure_angle_deg=d.max_pressure_angle_deg,
+                segments=[self.segment],
+            )
+            return m.angle_deg[:, 0, self.column]
+
+        return per_distinct_speed(rpm, solve)
 
 
 @dataclass(frozen=True)
@@ -418,7 +421,7 @@ def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
 
 
 @dataclass(frozen=True)
-class CamResult:
+class CamResult(BoundsResult):
     """A cam's results.
 
     Built by :meth:`CamMechanism.analyze`; each parameter is kept as the attribute
@@ -622,40 +625,6 @@ class CamResult:
         assert arc is not None
         start = sum(g.angle_deg for g in self.cam.segments[:k])
         return t.per_omega2, t.static, float(o.times[arc[0]]) - start, arc[0]
-
-    def csv_columns(self) -> list[tuple[str, Array]]:
-        """Each bound's smallest phase angle [deg] on the sweep's speeds.
-
-        Returns
-        -------
-        list of tuple of (str, ndarray)
-            (``min_phase_deg[<label>]``, values on the sweep's speeds [deg]).
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-        >>> r.mechanisms["lifter cam"].csv_columns()[0][0]
-        'min_phase_deg[pressure angle[lifter cam rise 1→3]]'
-        """
-        return [(f"min_phase_deg[{b.label}]", self.ctx.bounds[b.name]) for b in self.mech.bounds()]
-
-    def prices(self) -> dict[str, float]:
-        """None beyond the optimum's own (its bounds are priced there by label).
-
-        Returns
-        -------
-        dict
-            ``{}``.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
-        >>> r.mechanisms["lifter cam"].prices()
-        {}
-        """
-        return {}
 
     def figures(self, save: Save) -> None:
         """Draw its figures and hand each to ``save``.

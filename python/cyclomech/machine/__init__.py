@@ -83,6 +83,7 @@ from __future__ import annotations
 from .._keydoc import KeyDoc, KeyTable
 from .._kind import (
     Bound,
+    BoundsResult,
     Context,
     ExactBounds,
     Mechanism,
@@ -118,6 +119,7 @@ __all__ = [
     "KINDS",
     "SCHEMA",
     "Bound",
+    "BoundsResult",
     "Context",
     "ExactBounds",
     "KeyDoc",

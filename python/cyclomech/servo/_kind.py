@@ -35,7 +35,16 @@ from .. import _core, _keyrules, _toml
 from .._arrays import count, finite_number, instance, instances, real_array
 from .._errors import InputError
 from .._keydoc import KeyTable
-from .._kind import Bound, BoundLaw, Context, ExactBounds, Phase, Proportional, TableContext
+from .._kind import (
+    Bound,
+    BoundLaw,
+    Context,
+    ExactBounds,
+    Phase,
+    Proportional,
+    TableContext,
+    per_distinct_speed,
+)
 from .._units import RAD_PER_S_PER_RPM
 from ..cam import UNITS, read_program, read_segments
 from ..cyclogram import Arc
@@ -755,19 +764,19 @@ class _RmsLaw:
     dwell: int
 
     def __call__(self, rpm: Any) -> Any:
-        # Each distinct speed once (the variants of a sweep that share this axis
-        # ask for the same speeds); NaN (no angle will do) an infinite bound.
-        r = np.asarray(rpm, dtype=np.float64)
-        speeds, where = np.unique(r.reshape(-1), return_inverse=True)
+        # NaN (no angle will do) is an infinite bound.
         ax, motor = self.axis, self.axis.motor
         assert motor is not None
-        rad = _core.servo_rms_angles(
-            ax.program.kernel,
-            self.segment,
-            self.dwell,
-            *ax._drive(motor, ax.gearbox),
-            motor.rated_torque_nm,
-            speeds * RAD_PER_S_PER_RPM,
-        )
-        deg = np.where(np.isnan(rad), np.inf, np.degrees(rad))
-        return deg[where].reshape(r.shape)
+
+        def solve(speeds: Any) -> Any:
+            rad = _core.servo_rms_angles(
+                ax.program.kernel,
+                self.segment,
+                self.dwell,
+                *ax._drive(motor, ax.gearbox),
+                motor.rated_torque_nm,
+                speeds * RAD_PER_S_PER_RPM,
+            )
+            return np.where(np.isnan(rad), np.inf, np.degrees(rad))
+
+        return per_distinct_speed(rpm, solve)

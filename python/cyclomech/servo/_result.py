@@ -15,7 +15,7 @@ import numpy as np
 from .._arrays import instance
 from .._errors import CyclomechWarning
 from .._files import folder_target, savetxt
-from .._kind import Array, Context, Save
+from .._kind import BoundsResult, Context, Save
 from ..cam import MinPhaseAngles
 from ..motion import Program, write_cam_coefficients, write_cam_table
 from ._axis import CHECKS, Duty, ServoAxis
@@ -43,7 +43,7 @@ def _stem(name: str) -> str:
 
 
 @dataclass(frozen=True)
-class ServoResult:
+class ServoResult(BoundsResult):
     """A servo axis's results at the nominal speed on the optimised timing.
 
     Built by :meth:`ServoMechanism.analyze` (:meth:`of`); each parameter is kept
@@ -367,42 +367,6 @@ class ServoResult:
             ]
         )
         return ["quantity", "value"], rows
-
-    def csv_columns(self) -> list[tuple[str, Array]]:
-        """Each bound's smallest phase angle [deg] on the sweep's speeds.
-
-        Returns
-        -------
-        list of tuple of (str, ndarray)
-            (``min_phase_deg[<label>]``, values on the sweep's speeds [deg]).
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/flow_wrapper.toml"),
-        ...                        progress=False)
-        >>> r.mechanisms["film feed"].csv_columns()[1][0]
-        'min_phase_deg[motor speed[film feed (AC-060-127) rise 2→3]]'
-        """
-        return [(f"min_phase_deg[{b.label}]", self.ctx.bounds[b.name]) for b in self.mech.bounds()]
-
-    def prices(self) -> dict[str, float]:
-        """None beyond the optimum's own (its bounds are priced there by label).
-
-        Returns
-        -------
-        dict
-            ``{}``.
-
-        Examples
-        --------
-        >>> import cyclomech as cm
-        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/flow_wrapper.toml"),
-        ...                        progress=False)
-        >>> r.mechanisms["jaw"].prices()
-        {}
-        """
-        return {}
 
     def files(self, folder: Path) -> list[Path]:
         """Write its files for a drive into ``folder``.
