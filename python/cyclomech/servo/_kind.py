@@ -105,12 +105,12 @@ class ServoMechanism(ExactBounds):
         The gear ratios the sizing tries.
     table_points : int
         Steps over the cycle of the cam table.
-    source : str
-        The ``segment`` rows' unit family (``"linear"`` or ``"angular"``) and
-        what :func:`cyclomech.cam.read_program` needs besides: kept with the
-        continuity and advance in ``program_keys``.
+    family : str
+        The ``segment`` rows' unit family, a key of :data:`cyclomech.cam.UNITS`
+        (``"linear"`` for a linear load, ``"angular"`` for a rotary one).
     program_keys : dict
-        ``continuity`` and ``advance`` as the file gives them.
+        ``continuity`` and ``advance`` as the file gives them (with ``family``,
+        what :func:`cyclomech.cam.read_program` needs to rebuild the program).
     phase : Phase or None, optional
         Where the program's master angle 0 sits in the cycle when no segment is
         bound (``phase = {event, crank_deg}``: the program's angle at that event);
@@ -144,7 +144,7 @@ class ServoMechanism(ExactBounds):
     catalogue: tuple[Motor, ...]
     ratios: tuple[float, ...]
     table_points: int
-    source: str
+    family: str
     program_keys: dict[str, Any] = field(default_factory=dict)
     phase: Phase | None = None
     torque_reserve: float = 0.0
@@ -165,8 +165,8 @@ class ServoMechanism(ExactBounds):
         if ratios.ndim != 1 or ratios.size == 0:
             raise InputError(f"ratios must hold at least one gear ratio; got {self.ratios!r}")
         points = count("table_points", self.table_points, low=2, high=10**7)
-        if not isinstance(self.source, str) or self.source not in UNITS:
-            raise InputError(f"source = {self.source!r} must be one of {', '.join(UNITS)}")
+        if not isinstance(self.family, str) or self.family not in UNITS:
+            raise InputError(f"family = {self.family!r} must be one of {', '.join(UNITS)}")
         instance("program_keys", self.program_keys, dict)
         if self.phase is not None:
             instance("phase", self.phase, Phase)
@@ -333,7 +333,7 @@ class ServoMechanism(ExactBounds):
             rows[k]["angle_deg"] = float(angles[arc])
             rows[j]["angle_deg"] = float(rows[j]["angle_deg"]) - delta
         try:
-            return _program(rows, UNITS[self.source], self.program_keys)[0], ""
+            return _program(rows, UNITS[self.family], self.program_keys)[0], ""
         except InputError as e:
             return self.axis.program, f"the program at the optimum's angles is invalid ({e})"
 
@@ -365,17 +365,12 @@ class ServoMechanism(ExactBounds):
         instance("times", times, Mapping)
         program = self.axis.program if program is None else instance("program", program, Program)
         k = next((i for i, a in enumerate(self.arcs) if a is not None), None)
-        need = [a[0] for a in self.arcs if a is not None][:1] or (
-            [self.phase.event] if self.phase is not None and self.phase.event else []
-        )
-        for event in need:
-            if event not in times:
-                raise InputError(f"times has no event {event!r}: give the optimum's times")
-        if k is not None:
-            arc = self.arcs[k]
-            assert arc is not None
-            start = sum(g.angle_deg for g in program.segments[:k])
-            at = float(times[arc[0]]) - start
+        arc = None if k is None else self.arcs[k]
+        event = arc[0] if arc is not None else (self.phase.event if self.phase else None)
+        if event is not None and event not in times:
+            raise InputError(f"times has no event {event!r}: give the optimum's times")
+        if arc is not None:
+            at = float(times[arc[0]]) - sum(g.angle_deg for g in program.segments[:k])
         elif self.phase is not None:
             at = self.phase.shift_deg(times)
         else:

@@ -258,9 +258,7 @@ pub fn servo_speed_limit(
     };
     let kernel = &program.program;
     run(py, "servo_speed_limit", || {
-        let (v, a, w) = segment_samples(kernel, &segments);
-        let v: Vec<f64> = v.iter().map(|x| x * shaft).collect();
-        let a: Vec<f64> = a.iter().map(|x| x * shaft).collect();
+        let (v, a, w) = segment_samples(kernel, &segments, shaft);
         let (t, s) = speed_limit(&v, &a, &drive)?;
         let cap = t.min(s);
         let r = if rms && cap > 0.0 {
@@ -345,9 +343,7 @@ pub fn servo_rms_angles<'py>(
             let (_, h, law) = kernel.unit_law(segment);
             let (dz, ddz) = law_samples(&law);
             let weights = law_weights(&law);
-            let (v, a, fw) = segment_samples(kernel, &fixed);
-            let v: Vec<f64> = v.iter().map(|x| x * shaft).collect();
-            let a: Vec<f64> = a.iter().map(|x| x * shaft).collect();
+            let (v, a, fw) = segment_samples(kernel, &fixed, shaft);
             let p = RmsProgram {
                 dz: &dz,
                 ddz: &ddz,

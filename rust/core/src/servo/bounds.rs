@@ -159,7 +159,8 @@ pub fn speed_limit(dz: &[f64], ddz: &[f64], drive: &Drive) -> Result<(f64, f64),
     Ok((torque, speed))
 }
 
-/// φ′ and φ″ per radian of master of a program's `segments` at
+/// The load shaft's φ_L′ and φ_L″ per radian of master (the program's s′ and s″
+/// times `shaft`, its radians per program unit) on a program's `segments` at
 /// [`LIMIT_SAMPLES`] intervals per piece, each piece's ends taken just inside
 /// it (where φ″ may jump), and their trapezoid weights [rad of master], for
 /// [`speed_limit`] and the RMS bound. Unknown segment indices are skipped (the
@@ -167,6 +168,7 @@ pub fn speed_limit(dz: &[f64], ddz: &[f64], drive: &Drive) -> Result<(f64, f64),
 pub fn segment_samples(
     program: &crate::motion::Program,
     segments: &[usize],
+    shaft: f64,
 ) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let (mut v, mut a, mut w) = (Vec::new(), Vec::new(), Vec::new());
     for (k, x0, x1, ..) in program.pieces() {
@@ -180,8 +182,8 @@ pub fn segment_samples(
             .chain(std::iter::once(x1 - 1e-12 * (x1 - x0)));
         for t in at {
             let e = program.eval(t);
-            v.push(e[1]);
-            a.push(e[2]);
+            v.push(shaft * e[1]);
+            a.push(shaft * e[2]);
         }
     }
     (v, a, w)
