@@ -561,6 +561,8 @@ def servo_rms_angles(
     drive_inertia: float,
     rated: float,
     omegas: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
 
 # shaft

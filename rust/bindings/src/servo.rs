@@ -295,6 +295,7 @@ fn check_segments(py: Python<'_>, program: &ProgramKernel, segments: &[usize]) -
 /// [N·m] at each master speed `omegas` [rad/s], the dwell `dwell` taking up its
 /// change and the rest of the program fixed (`cyclomech_core::servo::rms`).
 #[pyfunction]
+#[pyo3(signature = (program, segment, dwell, shaft, inertia, torque, efficiency, ratio, drive_inertia, rated, omegas, *, n_threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn servo_rms_angles<'py>(
     py: Python<'py>,
@@ -309,6 +310,7 @@ pub fn servo_rms_angles<'py>(
     drive_inertia: f64,
     rated: f64,
     omegas: PyReadonlyArray1<'py, f64>,
+    n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     check_segments(py, &program, &[segment, dwell])?;
     let w = ServoError::slice(py, "omegas", &omegas)?;
@@ -355,7 +357,7 @@ pub fn servo_rms_angles<'py>(
                 angle: spans[segment].angle,
                 dwell: spans[dwell].angle,
             };
-            rms_angles_into(&p, &drive, rated, w, slice)
+            rms_angles_into(&p, &drive, rated, w, slice, n_threads)
         })?;
     }
     Ok(out)

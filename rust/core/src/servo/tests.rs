@@ -275,29 +275,29 @@ fn the_rms_bound_of_a_cycloid_is_its_closed_form() {
     };
     let (rated, omegas) = (2.0, [2.0, 4.0, 6.0]);
     let mut out = [0.0; 3];
-    rms_angles_into(&program, &drive, rated, &omegas, &mut out).unwrap();
+    rms_angles_into(&program, &drive, rated, &omegas, &mut out, None).unwrap();
     for (got, w) in out.iter().zip(omegas) {
         let exact = (0.05_f64.powi(2) * 4.0 * w.powi(4) * PI / (rated * rated)).cbrt();
         assert!((got - exact).abs() < 1e-7 * exact, "{got} vs {exact}");
     }
     // Too fast for any angle the dwell can give: NaN; standing: 0.
     let mut far = [0.0];
-    rms_angles_into(&program, &drive, rated, &[200.0], &mut far).unwrap();
+    rms_angles_into(&program, &drive, rated, &[200.0], &mut far, None).unwrap();
     assert!(far[0].is_nan());
     let slow = RmsProgram {
         stroke: 0.0,
         ..program
     };
-    rms_angles_into(&slow, &drive, rated, &[5.0], &mut far).unwrap();
+    rms_angles_into(&slow, &drive, rated, &[5.0], &mut far, None).unwrap();
     assert_eq!(far[0], 0.0);
     // A held load above the rated torque over the whole cycle: no angle.
     let held = Drive {
         load_torque: 3.0,
         ..drive
     };
-    rms_angles_into(&slow, &held, rated, &[5.0], &mut far).unwrap();
+    rms_angles_into(&slow, &held, rated, &[5.0], &mut far, None).unwrap();
     assert!(far[0].is_nan());
-    assert!(rms_angles_into(&program, &drive, -1.0, &[5.0], &mut far).is_err());
+    assert!(rms_angles_into(&program, &drive, -1.0, &[5.0], &mut far, None).is_err());
 }
 
 /// A swing φ_L = sin θ on a pure inertia (η = 1, i = 1): T_m = −J·ω²·sin θ,
@@ -333,4 +333,192 @@ fn the_rms_speed_limit_of_a_swing_is_its_closed_form() {
         ..drive
     };
     assert_eq!(rms_speed_limit(&v, &a, &w, &held, 1.5, 1e3).unwrap(), 0.0);
+}
+
+/// Σ w·T_m² summed sample by sample with `motor_torque` (the reference the
+/// piecewise quadratic must equal).
+fn square_sum_direct(d: &Drive, acc: &[f64], moving: &[f64], w: &[f64], x: f64) -> f64 {
+    acc.iter()
+        .zip(moving)
+        .zip(w)
+        .map(|((&a, &m), &wt)| {
+            let t = bounds::motor_torque(d, a * x, m);
+            wt * t * t
+        })
+        .sum()
+}
+
+/// The RMS rule of `rms::Rule` with every energy summed sample by sample: the
+/// reference for the piecewise-quadratic kernel.
+fn rms_angle_direct(p: &RmsProgram<'_>, d: &Drive, rated: f64, w: f64) -> f64 {
+    let moving: Vec<f64> = p.dz.iter().map(|&z| p.stroke * z).collect();
+    let acc: Vec<f64> = p.ddz.iter().map(|&z| p.stroke * z).collect();
+    let hold = bounds::motor_torque(d, 0.0, 0.0);
+    let fixed = square_sum_direct(d, p.fixed_a, p.fixed_v, p.fixed_w, w * w);
+    let top = p.angle + p.dwell;
+    let fails = |beta: f64| {
+        let seg = square_sum_direct(d, &acc, &moving, p.weights, w * w / (beta * beta));
+        beta * seg + (top - beta) * hold * hold + fixed > rated * rated * TAU
+    };
+    if fails(top) {
+        return f64::NAN;
+    }
+    let ratio = (1e-9_f64).powf(1.0 / RMS_GRID as f64);
+    let (mut hi, mut lo, mut beta) = (top, f64::NAN, top);
+    for _ in 0..RMS_GRID {
+        let next = beta * ratio;
+        if fails(next) {
+            (lo, hi) = (next, beta);
+            break;
+        }
+        beta = next;
+    }
+    if lo.is_nan() {
+        return 0.0;
+    }
+    while hi - lo > 1e-13 * hi {
+        let mid = 0.5 * (lo + hi);
+        if fails(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The piecewise quadratic equals the sample-by-sample sum at every x, on
+    /// both sides of every sample's switch of the power flow, for loads that
+    /// resist, assist or vanish.
+    #[test]
+    fn square_sum_is_the_sum_of_squares(
+        samples in proptest::collection::vec((-3.0f64..3.0, -2.0f64..2.0, 0.0f64..1.0), 1..40),
+        load_inertia in prop_oneof![Just(0.0), 1e-3f64..1.0],
+        load_torque in prop_oneof![Just(0.0), -5.0f64..5.0],
+        efficiency in 0.3f64..1.0,
+        ratio in 0.2f64..20.0,
+        drive_inertia in 0.0f64..1e-2,
+        xs in proptest::collection::vec(0.0f64..1e3, 1..12),
+    ) {
+        let d = Drive {
+            load_inertia, load_torque, efficiency, ratio, drive_inertia,
+            peak_torque: 1.0, max_speed: 1.0,
+        };
+        let acc: Vec<f64> = samples.iter().map(|s| s.0).collect();
+        let moving: Vec<f64> = samples.iter().map(|s| s.1).collect();
+        let w: Vec<f64> = samples.iter().map(|s| s.2).collect();
+        let sum = rms::SquareSum::new(&d, &acc, &moving, &w);
+        // The switches themselves, where the sides meet.
+        let switches = acc.iter().map(|&a| -load_torque / (load_inertia * a));
+        for x in xs.iter().copied().chain(switches.filter(|x| x.is_finite() && *x > 0.0)) {
+            let direct = square_sum_direct(&d, &acc, &moving, &w, x);
+            // Scale: the sum of the squares of each torque's two parts.
+            let scale: f64 = acc.iter().zip(&w).map(|(&a, &wt)| {
+                let p = (drive_inertia * ratio + load_inertia / (ratio * efficiency)) * a * x;
+                let q = load_torque / (ratio * efficiency);
+                wt * (p.abs() + q.abs()).powi(2)
+            }).sum();
+            prop_assert!((sum.at(x) - direct).abs() <= 1e-12 * scale.max(1e-300),
+                "x {x}: {} vs {direct} (scale {scale})", sum.at(x));
+        }
+    }
+
+    /// The RMS bound through the piecewise quadratic equals the same rule with
+    /// every energy summed sample by sample (a random law on the unit square,
+    /// random fixed segments, loads of either sign).
+    #[test]
+    fn rms_angles_equal_the_sample_by_sample_rule(
+        law in proptest::collection::vec((-4.0f64..4.0, -30.0f64..30.0), 3..30),
+        fixed in proptest::collection::vec((-2.0f64..2.0, -5.0f64..5.0), 0..20),
+        load_torque in prop_oneof![Just(0.0), -0.5f64..0.5],
+        efficiency in 0.5f64..1.0,
+        stroke in prop_oneof![-3.0f64..-0.1, 0.1f64..3.0],
+        omegas in proptest::collection::vec(0.5f64..40.0, 1..6),
+        rated in 0.05f64..3.0,
+    ) {
+        let n = law.len();
+        let dz: Vec<f64> = law.iter().map(|s| s.0).collect();
+        let ddz: Vec<f64> = law.iter().map(|s| s.1).collect();
+        let weights = vec![1.0 / n as f64; n];
+        let fv: Vec<f64> = fixed.iter().map(|s| s.0).collect();
+        let fa: Vec<f64> = fixed.iter().map(|s| s.1).collect();
+        let fw = vec![0.01; fixed.len()];
+        let p = RmsProgram {
+            dz: &dz, ddz: &ddz, weights: &weights, stroke,
+            fixed_v: &fv, fixed_a: &fa, fixed_w: &fw, angle: 1.2, dwell: 2.0,
+        };
+        let d = Drive {
+            load_inertia: 0.02, load_torque, efficiency, ratio: 3.0, drive_inertia: 1e-3,
+            peak_torque: 1.0, max_speed: 1.0,
+        };
+        let mut out = vec![0.0; omegas.len()];
+        rms_angles_into(&p, &d, rated, &omegas, &mut out, Some(2)).unwrap();
+        for (&got, &w) in out.iter().zip(&omegas) {
+            let want = rms_angle_direct(&p, &d, rated, w);
+            prop_assert!(
+                (got.is_nan() && want.is_nan()) || (got - want).abs() <= 1e-9 * want.max(1e-12),
+                "ω {w}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+/// The RMS rule where the energy is not monotone in the angle: an assisting
+/// load (T_ext < 0) regenerating at long angles and driven at short ones makes
+/// E(β) rise, fall and rise again as β shrinks. With the budget between, the
+/// angles that hold are [5.694, 6] (up to β_max), a window [0.863, 3.875] and
+/// nothing below; the rule gives the top of the highest failing band, 5.694,
+/// ignoring the window. Checked against E(β) in closed form on a dense grid
+/// (η = 0.98, J_L = 1, i = 1, the law's Z′ = Z″ = 1, ω = 1, β_max = 6).
+#[test]
+fn the_rms_bound_ignores_a_window_below_a_violation() {
+    let eta = 0.98;
+    let budget = 5.455;
+    let program = RmsProgram {
+        dz: &[1.0, 1.0],
+        ddz: &[1.0, 1.0],
+        weights: &[0.5, 0.5],
+        stroke: 1.0,
+        fixed_v: &[],
+        fixed_a: &[],
+        fixed_w: &[],
+        angle: 1.0,
+        dwell: 5.0,
+    };
+    let drive = Drive {
+        load_inertia: 1.0,
+        load_torque: -1.0,
+        efficiency: eta,
+        ratio: 1.0,
+        drive_inertia: 0.0,
+        peak_torque: 1.0,
+        max_speed: 1.0,
+    };
+    // E(β): the load torque 1/β² − 1 regenerates (×η) while negative, else
+    // drives (×1/η); the dwell holds 1/η.
+    let energy = |b: f64| {
+        let tl = 1.0 / (b * b) - 1.0;
+        let t = if tl < 0.0 { tl * eta } else { tl / eta };
+        b * t * t + (6.0 - b) / (eta * eta)
+    };
+    let n = 2_000_000;
+    let betas: Vec<f64> = (0..=n)
+        .map(|k| 6.0 * (1e-3f64).powf(k as f64 / n as f64))
+        .collect();
+    let highest = betas.iter().copied().find(|&b| energy(b) > budget).unwrap();
+    let mut got = [0.0];
+    let rated = (budget / TAU).sqrt();
+    rms_angles_into(&program, &drive, rated, &[1.0], &mut got, None).unwrap();
+    // The dense grid's step there is 2e-5 relative.
+    assert!(
+        (got[0] - highest).abs() < 3e-5 * highest,
+        "{} vs {highest}",
+        got[0]
+    );
+    assert!((got[0] - 5.694).abs() < 1e-3, "{}", got[0]);
+    // The window exists: angles well below the bound hold, and shorter ones fail.
+    assert!(energy(2.0) < budget && energy(3.8) < budget && energy(0.5) > budget);
 }
