@@ -73,14 +73,19 @@ def _shaft_torque(w):
     return 15 * (0.9 if mm >= 0 else 1 / 0.9) * mm
 
 
-def _rhs(_t, y):
-    extra = FLYWHEEL + 15**2 * 2e-3
-    p, w = y
-    # The Lagrangian's φ̈ is for J without the constant inertias: add them.
-    j = J_OF(p)
-    acc_bare = ACC(p, w, _shaft_torque(w))
-    # J_bare·φ̈_bare = rest ⇒ (J_bare + extra)·φ̈ = rest.
-    return [w, acc_bare * j / (j + extra)]
+def _rhs_for(torque, extra):
+    """The Lagrangian's φ̈ (for J without the constant inertias) with the constant
+    inertia ``extra`` added: J_bare·φ̈_bare = rest ⇒ (J_bare + extra)·φ̈ = rest."""
+
+    def rhs(_t, y):
+        p, w = y
+        j = J_OF(p)
+        return [w, ACC(p, w, torque(w)) * j / (j + extra)]
+
+    return rhs
+
+
+_rhs = _rhs_for(_shaft_torque, FLYWHEEL + 15**2 * 2e-3)
 
 
 def test_the_steady_state_is_the_lagrangian_one_and_one_more_cycle_returns_to_it():
@@ -124,29 +129,35 @@ def test_the_start_up_is_the_lagrangian_one():
 
 def test_the_simulated_flywheel_tends_to_the_energy_methods_as_delta_falls():
     d = _machine()
+    # A soft DC motor: it barely steadies the speed itself.
+    motor = cm.dynamics.LinearMotor(20.0, 3000.0, ratio=15.0)
     errs = []
     for delta in (0.1, 0.01, 0.001):
-        f = cm.dynamics.size_flywheel(d, MOTOR, delta)
+        f = cm.dynamics.size_flywheel(d, motor, delta)
         assert f.steady.speed_fluctuation == pytest.approx(delta, rel=1e-7)
         assert f.difference == pytest.approx(
             (f.flywheel_kg_m2 - f.energy_method_kg_m2) / f.energy_method_kg_m2, rel=1e-12
         )
         errs.append(abs(f.flywheel_kg_m2 / f.energy_method_kg_m2 - 1))
         if delta == 0.1:
-            # At δ = 0.1 the two differ (the motor's slip and the mechanism's own
-            # inertia); the simulated one is checked by solve_ivp.
-            global FLYWHEEL
-            keep, FLYWHEEL = FLYWHEEL, f.flywheel_kg_m2
-            try:
-                sol = solve_ivp(
-                    _rhs, (0, f.steady.period_s), [0.0, f.steady.omega[0]], rtol=1e-11,
-                    atol=1e-12, dense_output=True, method="DOP853",
-                )
-            finally:
-                FLYWHEEL = keep
+            # At δ = 0.1 the two differ by half (the motor's slope and the mechanism's
+            # own inertia steady the speed too); solve_ivp checks the simulated one.
+            rhs = _rhs_for(lambda w: 300.0 * (1 - 15 * w / (100 * np.pi)), f.flywheel_kg_m2)
+            sol = solve_ivp(
+                rhs, (0, f.steady.period_s), [0.0, f.steady.omega[0]], rtol=1e-11,
+                atol=1e-12, dense_output=True, method="DOP853",
+            )
             ww = sol.sol(np.linspace(0, f.steady.period_s, 40001))[1]
             real = (ww.max() - ww.min()) / (2 * np.pi / f.steady.period_s)
             assert real == pytest.approx(0.1, rel=1e-6)
-            assert abs(f.difference) > 0.02
+            assert f.difference == pytest.approx(-0.5, abs=0.1)
     assert errs[0] > errs[1] > errs[2]
     assert errs[2] < 0.01
+
+
+def test_a_stiff_motor_needs_no_flywheel_and_says_so():
+    # The induction motor through a 15:1 gear holds δ < 0.01 alone: no flywheel.
+    f = cm.dynamics.size_flywheel(_machine(), MOTOR, 0.05)
+    assert f.flywheel_kg_m2 == 0.0
+    assert f.steady.speed_fluctuation < 0.05
+    assert f.difference == -1.0

@@ -142,8 +142,9 @@ def steady_state(
     with y = ω², shooting on y(0) with Newton (sensitivity equation) until
     |y(2π) − y(0)| ≤ ``tol``·y(0); a fixed-step RK4 of step 2·(360°/N) on the
     samples themselves, the odd samples by cubic Hermite (error O(h⁴): at
-    N = 3600, ~1e-10 relative for smooth curves). A constant-torque motor runs
-    through the nominal speed at φ = 0.
+    N = 3600, ~1e-10 relative for smooth curves; where a gear with η < 1 switches
+    between driving and braking the torque has a kink, and the error there is
+    ~1e-6). A constant-torque motor runs through the nominal speed at φ = 0.
 
     Parameters
     ----------
@@ -499,7 +500,9 @@ class FlywheelSizing:
     speed_fluctuation : float
         The target δ.
     flywheel_kg_m2 : float
-        The flywheel whose simulated steady state has δ = target [kg·m²].
+        The flywheel whose simulated steady state has δ = target [kg·m²]; 0 when
+        the machine without one already stays within the target (the motor's
+        slope and the mechanisms' inertia steady the speed).
     energy_method_kg_m2 : float
         The energy method's J = ΔE/(ω²δ) at the simulated mean speed [kg·m²]
         (:class:`cyclomech.shaft.ShaftStats`: constant speed, the mechanisms'
@@ -600,6 +603,11 @@ def size_flywheel(
     scale = float(stats.flywheel_kg_m2)
     if not (scale > 0 and math.isfinite(scale)):
         scale = max(float(np.mean(d.inertia_kg_m2)), 1e-6)
+    if deltas(np.array([0.0]))[0] <= target:
+        # The motor's slope and the mechanisms' own inertia hold δ alone.
+        ss = steady_state(d, motor)
+        energy = float(d.torque().stats(ss.mean_rpm, target).flywheel_kg_m2)
+        return FlywheelSizing(target, 0.0, energy, -1.0, ss)
     hi = scale
     for _ in range(80):
         if deltas(np.array([hi]))[0] <= target:
