@@ -146,7 +146,7 @@ def test_properties_of_the_steady_state(j0, j1, q0, q1, k, induction, ratio, eff
     # motor turns from driving to braking (i·η·M against i·M/η): first order there.
     mt = motor.torque_nm(w * motor.ratio * 30 / math.pi)
     kink = eff < 1 and mt.min() < 0 < mt.max()
-    assert abs(np.mean(net)) <= (1e-5 if kink else 1e-7) * scale
+    assert abs(np.mean(net)) <= (1e-4 if kink else 1e-7) * scale
     # And pointwise: ½(J + J_F)ω² − ½(J + J_F)ω0² = ∫(M − Q), trapezoid on the grid.
     e = 0.5 * (jj + 0.1) * w**2
     work = np.concatenate([[0.0], np.cumsum(0.5 * (net[1:] + net[:-1]))]) * (2 * np.pi / N)

@@ -143,8 +143,8 @@ def steady_state(
     |y(2π) − y(0)| ≤ ``tol``·y(0); a fixed-step RK4 of step 2·(360°/N) on the
     samples themselves, the odd samples by cubic Hermite (error O(h⁴): at
     N = 3600, ~1e-10 relative for smooth curves; where a gear with η < 1 switches
-    between driving and braking the torque has a kink, and the error there is
-    ~1e-6). A constant-torque motor runs through the nominal speed at φ = 0.
+    between driving and braking the torque has a kink, and the error grows to
+    ~1e-5). A constant-torque motor runs through the nominal speed at φ = 0.
 
     Parameters
     ----------
