@@ -65,8 +65,9 @@ def scipy_steady(d: cm.dynamics.Reduced, motor: cm.dynamics.InductionMotor, fw: 
         return [(2 * (m - at(q, p)) - at(dj, p) * y[0]) / at(j, p)]
 
     def cycle(y0: float) -> Array:
-        return solve_ivp(rhs, (0, 2 * np.pi), [y0], rtol=1e-10, atol=1e-10, max_step=0.05,
-                         t_eval=grid)
+        return solve_ivp(
+            rhs, (0, 2 * np.pi), [y0], rtol=1e-10, atol=1e-10, max_step=0.05, t_eval=grid
+        )
 
     def f(y0: float) -> float:
         return float(cycle(y0).y[0, -1] - y0)

@@ -6,12 +6,11 @@ Q(φ)."""
 
 import math
 
+import cyclomech as cm
 import numpy as np
 import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
-
-import cyclomech as cm
 
 R, L, M_S, M_R, J_C, F0, Q0 = 0.08, 0.3, 6.0, 2.0, 0.02, 300.0, 25.0
 N = 3600
@@ -28,10 +27,7 @@ def _lagrangian():
     gx, gy = (R * sp.cos(phi) + x) / 2, R * sp.sin(phi) / 2
     v2 = lambda e: sp.diff(e, t) ** 2  # noqa: E731
     kin = sp.Rational(1, 2) * (
-        J_C * v2(phi)
-        + M_S * v2(x)
-        + M_R * (v2(gx) + v2(gy))
-        + M_R * L**2 / 12 * v2(beta)
+        J_C * v2(phi) + M_S * v2(x) + M_R * (v2(gx) + v2(gy)) + M_R * L**2 / 12 * v2(beta)
     )
     # Generalised force of the loads on φ: the slider's F0·(−ẋ)·sign — take a smooth
     # load F0·(1 + cos φ)/2 pushing against +x, and the process torque Q0.
@@ -94,7 +90,12 @@ def test_the_steady_state_is_the_lagrangian_one_and_one_more_cycle_returns_to_it
     assert s.residual <= 1e-13
     w0 = s.omega[0]
     sol = solve_ivp(
-        _rhs, (0, s.period_s * 1.0000001), [0.0, w0], rtol=1e-11, atol=1e-12, dense_output=True,
+        _rhs,
+        (0, s.period_s * 1.0000001),
+        [0.0, w0],
+        rtol=1e-11,
+        atol=1e-12,
+        dense_output=True,
         method="DOP853",
     )
     p, w = sol.sol(s.time_s)
@@ -115,7 +116,12 @@ def test_the_start_up_is_the_lagrangian_one():
     s = cm.dynamics.start_up(d, MOTOR, flywheel_kg_m2=FLYWHEEL, rtol=1e-11, settle=1e-3)
     assert math.isfinite(s.settle_time_s) and s.settle_time_s > 0
     sol = solve_ivp(
-        _rhs, (0, s.time_s[-1]), [0.0, 0.0], rtol=1e-11, atol=1e-12, dense_output=True,
+        _rhs,
+        (0, s.time_s[-1]),
+        [0.0, 0.0],
+        rtol=1e-11,
+        atol=1e-12,
+        dense_output=True,
         method="DOP853",
     )
     p, w = sol.sol(s.time_s)
@@ -144,8 +150,13 @@ def test_the_simulated_flywheel_tends_to_the_energy_methods_as_delta_falls():
             # own inertia steady the speed too); solve_ivp checks the simulated one.
             rhs = _rhs_for(lambda w: 300.0 * (1 - 15 * w / (100 * np.pi)), f.flywheel_kg_m2)
             sol = solve_ivp(
-                rhs, (0, f.steady.period_s), [0.0, f.steady.omega[0]], rtol=1e-11,
-                atol=1e-12, dense_output=True, method="DOP853",
+                rhs,
+                (0, f.steady.period_s),
+                [0.0, f.steady.omega[0]],
+                rtol=1e-11,
+                atol=1e-12,
+                dense_output=True,
+                method="DOP853",
             )
             ww = sol.sol(np.linspace(0, f.steady.period_s, 40001))[1]
             real = (ww.max() - ww.min()) / (2 * np.pi / f.steady.period_s)

@@ -6,13 +6,12 @@ independently)."""
 
 import math
 
+import cyclomech as cm
 import numpy as np
 import pytest
+from cyclomech._errors import InputError, SolverError
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-import cyclomech as cm
-from cyclomech._errors import InputError, SolverError
 
 N = 3600
 PHI = 2 * np.pi * np.arange(N) / N
@@ -35,8 +34,11 @@ def machines():
 
 @pytest.mark.parametrize(
     ("example", "mechanism", "rtol"),
-    [("knife_cutter", "knife", 1e-6), ("stb_loom", "lifter cam", 1e-3),
-     ("extrusion_press_line", "drive", 1e-6)],
+    [
+        ("knife_cutter", "knife", 1e-6),
+        ("stb_loom", "lifter cam", 1e-3),
+        ("extrusion_press_line", "drive", 1e-6),
+    ],
 )
 def test_each_kinds_inertia_differentiates_to_twice_its_omega2_part(
     machines, example, mechanism, rtol
@@ -127,8 +129,9 @@ def test_properties_of_the_steady_state(j0, j1, q0, q1, k, induction, ratio, eff
     d = cm.dynamics.Reduced.from_curves(jj, dj, q, nominal_rpm=100.0)
     top = 2 * q0 * (1 + q1) / ratio / eff
     motor = (
-        cm.dynamics.InductionMotor(1450.0, 1500.0, 2.5, rated_torque_nm=top, ratio=ratio,
-                                   efficiency=eff)
+        cm.dynamics.InductionMotor(
+            1450.0, 1500.0, 2.5, rated_torque_nm=top, ratio=ratio, efficiency=eff
+        )
         if induction
         else cm.dynamics.LinearMotor(3 * top, 3000.0, ratio=ratio, efficiency=eff)
     )

@@ -139,7 +139,11 @@ class ConstantTorque(Motor):
     _KIND = 0
 
     def __init__(
-        self, torque_nm: float, *, ratio: float = 1.0, efficiency: float = 1.0,
+        self,
+        torque_nm: float,
+        *,
+        ratio: float = 1.0,
+        efficiency: float = 1.0,
         rotor_kg_m2: float = 0.0,
     ) -> None:
         i, eta, j = _drive(ratio, efficiency, rotor_kg_m2)
@@ -187,11 +191,18 @@ class LinearMotor(Motor):
     _KIND = 1
 
     def __init__(
-        self, stall_torque_nm: float, no_load_rpm: float, *, ratio: float = 1.0,
-        efficiency: float = 1.0, rotor_kg_m2: float = 0.0,
+        self,
+        stall_torque_nm: float,
+        no_load_rpm: float,
+        *,
+        ratio: float = 1.0,
+        efficiency: float = 1.0,
+        rotor_kg_m2: float = 0.0,
     ) -> None:
         i, eta, j = _drive(ratio, efficiency, rotor_kg_m2)
-        object.__setattr__(self, "stall_torque_nm", positive("stall_torque_nm", stall_torque_nm, "[N·m]"))
+        object.__setattr__(
+            self, "stall_torque_nm", positive("stall_torque_nm", stall_torque_nm, "[N·m]")
+        )
         object.__setattr__(self, "no_load_rpm", positive("no_load_rpm", no_load_rpm, "[rpm]"))
         object.__setattr__(self, "ratio", i)
         object.__setattr__(self, "efficiency", eta)
@@ -252,9 +263,16 @@ class InductionMotor(Motor):
     _KIND = 2
 
     def __init__(
-        self, rated_rpm: float, synchronous_rpm: float, breakdown_ratio: float, *,
-        rated_power_w: float | None = None, rated_torque_nm: float | None = None,
-        ratio: float = 1.0, efficiency: float = 1.0, rotor_kg_m2: float = 0.0,
+        self,
+        rated_rpm: float,
+        synchronous_rpm: float,
+        breakdown_ratio: float,
+        *,
+        rated_power_w: float | None = None,
+        rated_torque_nm: float | None = None,
+        ratio: float = 1.0,
+        efficiency: float = 1.0,
+        rotor_kg_m2: float = 0.0,
     ) -> None:
         i, eta, j = _drive(ratio, efficiency, rotor_kg_m2)
         n_s = positive("synchronous_rpm", synchronous_rpm, "[rpm]")
@@ -279,9 +297,15 @@ class InductionMotor(Motor):
             m_n = positive("rated_torque_nm", rated_torque_nm, "[N·m]")
         else:
             m_n = positive("rated_power_w", rated_power_w, "[W]") / (n_n * RAD_PER_S_PER_RPM)
-        for k, v in (("rated_rpm", n_n), ("synchronous_rpm", n_s), ("breakdown_ratio", lam),
-                     ("rated_torque_nm", m_n), ("ratio", i), ("efficiency", eta),
-                     ("rotor_kg_m2", j)):
+        for k, v in (
+            ("rated_rpm", n_n),
+            ("synchronous_rpm", n_s),
+            ("breakdown_ratio", lam),
+            ("rated_torque_nm", m_n),
+            ("ratio", i),
+            ("efficiency", eta),
+            ("rotor_kg_m2", j),
+        ):
             object.__setattr__(self, k, v)
 
     @property
@@ -333,7 +357,8 @@ class TableMotor(Motor):
 
     Examples
     --------
-    >>> TableMotor([0.0, 1000.0, 1500.0], [20.0, 15.0, 0.0]).torque_nm([500.0, 1600.0]).round(9).tolist()
+    >>> m = TableMotor([0.0, 1000.0, 1500.0], [20.0, 15.0, 0.0])
+    >>> m.torque_nm([500.0, 1600.0]).round(9).tolist()
     [17.5, -3.0]
     """
 
@@ -343,7 +368,12 @@ class TableMotor(Motor):
     _KIND = 3
 
     def __init__(
-        self, speed_rpm: Any, torque_nm: Any, *, ratio: float = 1.0, efficiency: float = 1.0,
+        self,
+        speed_rpm: Any,
+        torque_nm: Any,
+        *,
+        ratio: float = 1.0,
+        efficiency: float = 1.0,
         rotor_kg_m2: float = 0.0,
     ) -> None:
         i, eta, j = _drive(ratio, efficiency, rotor_kg_m2)
@@ -359,8 +389,13 @@ class TableMotor(Motor):
                 raise InputError(f"{k} must be finite; got {v.tolist()!r}")
         if (np.diff(n) <= 0).any():
             raise InputError(f"speed_rpm must increase strictly [rpm]; got {n.tolist()!r}")
-        for k, v in (("speed_rpm", n), ("torque", t), ("ratio", i), ("efficiency", eta),
-                     ("rotor_kg_m2", j)):
+        for k, v in (
+            ("speed_rpm", n),
+            ("torque", t),
+            ("ratio", i),
+            ("efficiency", eta),
+            ("rotor_kg_m2", j),
+        ):
             object.__setattr__(self, k, v)
 
     def _params(self) -> tuple[list[float], Array, Array]:

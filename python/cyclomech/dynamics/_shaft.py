@@ -191,7 +191,13 @@ def steady_state(
     tol = tolerance("tol", tol, 1e-14, 0.1)
     iters = count("max_iter", max_iter, low=1, high=10_000)
     row, w, t, m = _core.dynamics_steady(
-        c["j"], c["dj"], c["q"], extra, **pack([motor]), tol=tol, max_iter=iters,
+        c["j"],
+        c["dj"],
+        c["q"],
+        extra,
+        **pack([motor]),
+        tol=tol,
+        max_iter=iters,
         omega_start=d.nominal_rpm * RAD_PER_S_PER_RPM,
     )
     status = int(row[0])
@@ -349,8 +355,15 @@ def steady_states(
     tol = tolerance("tol", tol, 1e-14, 0.1)
     iters = count("max_iter", max_iter, low=1, high=10_000)
     rows = _core.dynamics_steady_batch(
-        c["j"], c["dj"], c["q"], extra, **pack(ms), tol=tol, max_iter=iters,
-        omega_start=d.nominal_rpm * RAD_PER_S_PER_RPM, n_threads=threads_arg(n_threads),
+        c["j"],
+        c["dj"],
+        c["q"],
+        extra,
+        **pack(ms),
+        tol=tol,
+        max_iter=iters,
+        omega_start=d.nominal_rpm * RAD_PER_S_PER_RPM,
+        n_threads=threads_arg(n_threads),
     )
     status = tuple(_STATUS[int(s)] for s in rows[:, 0])
     bad = int(np.sum(rows[:, 0] != 0))
@@ -471,8 +484,16 @@ def start_up(
     tm = positive("t_max_s", t_max_s, "[s]")
     steps = count("max_steps", max_steps, low=1, high=10**9)
     status, when, t, phi, w, m = _core.dynamics_start_up(
-        c["j"], c["dj"], c["q"], ss.constant_inertia_kg_m2, **pack([motor]), steady=ss.omega,
-        rtol=rt, settle=band, t_max=tm, max_steps=steps,
+        c["j"],
+        c["dj"],
+        c["q"],
+        ss.constant_inertia_kg_m2,
+        **pack([motor]),
+        steady=ss.omega,
+        rtol=rt,
+        settle=band,
+        t_max=tm,
+        max_steps=steps,
     )
     if status == 2:
         raise SolverError(
