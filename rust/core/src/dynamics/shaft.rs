@@ -239,7 +239,7 @@ impl Curves<'_> {
     /// Check the shapes, finiteness and J + `extra` > 0 everywhere.
     fn check(&self, extra: f64) -> Result<usize, DriveError> {
         let n = self.j.len();
-        if n < 4 || n % 2 != 0 || self.dj.len() != n || self.q.len() != n {
+        if n < 4 || !n.is_multiple_of(2) || self.dj.len() != n || self.q.len() != n {
             return Err(bad(
                 "samples",
                 n as f64,
@@ -257,7 +257,11 @@ impl Curves<'_> {
         if !(extra.is_finite() && extra >= 0.0) {
             return Err(bad("flywheel", extra, "[kg·m²] must be finite and >= 0"));
         }
-        if let Some(k) = self.j.iter().position(|&v| !(v + extra > 0.0)) {
+        if let Some(k) = self
+            .j
+            .iter()
+            .position(|&v| (v + extra).is_nan() || v + extra <= 0.0)
+        {
             return Err(bad(
                 "inertia",
                 self.j[k] + extra,
@@ -348,7 +352,7 @@ struct Pass {
 
 #[inline]
 fn rhs(c: &Curves<'_>, extra: f64, motor: &Motor, k: usize, y: f64, z: f64) -> Option<[f64; 3]> {
-    if !(y > 0.0) {
+    if y.is_nan() || y <= 0.0 {
         return None;
     }
     let w = y.sqrt();
@@ -576,7 +580,7 @@ fn solve(
         let (d0, d1) = (1.0 / p.y[s].sqrt(), 1.0 / p.y[s + 1].sqrt());
         t[2 * s + 1] = 0.5 * (p.t[s] + p.t[s + 1]) + h / 8.0 * (d0 - d1);
     }
-    if y.iter().any(|&v| !(v > 0.0)) {
+    if y.iter().any(|&v| v.is_nan() || v <= 0.0) {
         return fail(Status::Stalls, iterations, residual);
     }
     let period = p.t[p.t.len() - 1];
