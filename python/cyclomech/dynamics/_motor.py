@@ -389,13 +389,14 @@ class TableMotor(Motor):
                 raise InputError(f"{k} must be finite; got {v.tolist()!r}")
         if (np.diff(n) <= 0).any():
             raise InputError(f"speed_rpm must increase strictly [rpm]; got {n.tolist()!r}")
-        for k, v in (
+        fields: tuple[tuple[str, Any], ...] = (
             ("speed_rpm", n),
             ("torque", t),
             ("ratio", i),
             ("efficiency", eta),
             ("rotor_kg_m2", j),
-        ):
+        )
+        for k, v in fields:
             object.__setattr__(self, k, v)
 
     def _params(self) -> tuple[list[float], Array, Array]:

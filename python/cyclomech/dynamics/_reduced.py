@@ -122,7 +122,7 @@ class Reduced:
                 "energy is never negative)"
             )
         rpm = positive("nominal_rpm", nominal_rpm, "[rpm]")
-        return cls(np.arange(n) * (360.0 / n), j, dj, q, rpm)
+        return cls(np.arange(n, dtype=np.float64) * (360.0 / n), j, dj, q, rpm)
 
     def torque(self) -> ShaftTorque:
         """The torque at constant speed T = ω²·½J′ + Q, for the energy method.
