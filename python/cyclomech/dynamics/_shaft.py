@@ -13,7 +13,15 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import count, finite_number, instance, positive, threads_arg, tolerance
+from .._arrays import (
+    count,
+    finite_number,
+    instance,
+    instances,
+    positive,
+    threads_arg,
+    tolerance,
+)
 from .._errors import CyclomechWarning, InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
 from ._motor import Motor, pack
@@ -252,7 +260,13 @@ class SteadyBatch:
 
     @property
     def ok(self) -> npt.NDArray[np.bool_]:
-        """True where the design has a periodic steady state."""
+        """True where the design has a periodic steady state.
+
+        Examples
+        --------
+        >>> SteadyBatch(np.array([[0.0] * 12, [2.0] + [np.nan] * 11]), ("periodic", "stall")).ok
+        array([ True, False])
+        """
         return np.asarray(self.values[:, 0] == 0)
 
     def column(self, name: str) -> Array:
@@ -341,7 +355,7 @@ def steady_states(
     if isinstance(motors, Motor):
         ms = [motors] * max(fw.size, 1)
     else:
-        ms = [instance(f"motors[{i}]", m, Motor) for i, m in enumerate(motors)]
+        ms = instances("motors", motors, Motor)
     if fw.size == 1:
         fw = np.repeat(fw, len(ms))
     if fw.ndim != 1 or fw.size != len(ms):
