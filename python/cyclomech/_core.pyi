@@ -752,6 +752,14 @@ def threads(n_threads: int | None = None) -> int: ...
 
 # dynamics: the main shaft's steady state and start-up under a motor.
 
+__all__ += [
+    "DYNAMICS_STEADY_COLUMNS",
+    "DYNAMICS_STEADY_STATUS",
+    "dynamics_start_up",
+    "dynamics_steady",
+    "dynamics_steady_batch",
+]
+
 def dynamics_steady(
     j: npt.NDArray[np.float64],
     dj: npt.NDArray[np.float64],
