@@ -65,6 +65,10 @@ CAM_CRITERIA: tuple[str, ...]
 CAM_LOAD_COLUMNS: tuple[str, ...]
 #: The statistics of shaft_stats, in its columns' order.
 SHAFT_STATS: tuple[str, ...]
+#: The columns of dynamics_steady_batch's rows, in order.
+DYNAMICS_STEADY_COLUMNS: tuple[str, ...]
+#: The steady state's outcomes, by status code.
+DYNAMICS_STEADY_STATUS: tuple[str, ...]
 #: The checks of a servo motor, in the order of servo_size's last axis.
 SERVO_CHECKS: tuple[str, ...]
 #: The criteria of servo_min_angles, in its last axis' order.
@@ -747,3 +751,80 @@ __all__ += ["THREADS_ENV", "threads"]
 THREADS_ENV: str
 
 def threads(n_threads: int | None = None) -> int: ...
+
+# dynamics: the main shaft's steady state and start-up under a motor.
+
+__all__ += [
+    "DYNAMICS_STEADY_COLUMNS",
+    "DYNAMICS_STEADY_STATUS",
+    "dynamics_start_up",
+    "dynamics_steady",
+    "dynamics_steady_batch",
+]
+
+def dynamics_steady(
+    j: npt.NDArray[np.float64],
+    dj: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    extra: float,
+    kinds: npt.NDArray[np.int64],
+    params: npt.NDArray[np.float64],
+    ratio: npt.NDArray[np.float64],
+    efficiency: npt.NDArray[np.float64],
+    table_offsets: npt.NDArray[np.int64],
+    table_speed: npt.NDArray[np.float64],
+    table_torque: npt.NDArray[np.float64],
+    *,
+    tol: float,
+    max_iter: int,
+    omega_start: float,
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+]: ...
+def dynamics_steady_batch(
+    j: npt.NDArray[np.float64],
+    dj: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    extra: npt.NDArray[np.float64],
+    kinds: npt.NDArray[np.int64],
+    params: npt.NDArray[np.float64],
+    ratio: npt.NDArray[np.float64],
+    efficiency: npt.NDArray[np.float64],
+    table_offsets: npt.NDArray[np.int64],
+    table_speed: npt.NDArray[np.float64],
+    table_torque: npt.NDArray[np.float64],
+    *,
+    tol: float,
+    max_iter: int,
+    omega_start: float,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def dynamics_start_up(
+    j: npt.NDArray[np.float64],
+    dj: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    extra: float,
+    kinds: npt.NDArray[np.int64],
+    params: npt.NDArray[np.float64],
+    ratio: npt.NDArray[np.float64],
+    efficiency: npt.NDArray[np.float64],
+    table_offsets: npt.NDArray[np.int64],
+    table_speed: npt.NDArray[np.float64],
+    table_torque: npt.NDArray[np.float64],
+    steady: npt.NDArray[np.float64],
+    *,
+    rtol: float,
+    settle: float,
+    t_max: float,
+    max_steps: int,
+) -> tuple[
+    int,
+    float,
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+]: ...

@@ -27,6 +27,7 @@ from numpydoc.validate import validate
 CONVERTED = [
     "cyclomech.forces",
     "cyclomech.shaft",
+    "cyclomech.dynamics",
     "cyclomech.servo",
     "cyclomech.motion",
     "cyclomech.impact",

@@ -616,15 +616,53 @@ class CamResult(BoundsResult):
         >>> per_omega2.shape, phase_deg, event
         ((3600,), 0.0, '1')
         """
-        d, o = self.mech.design, self.ctx.optimum
-        if d.loads is None or o is None:
+        d, at = self.mech.design, self._shaft_phase()
+        if d.loads is None or at is None:
             return None
         t = self.cam.shaft_torque(d.loads, samples=3600)
+        return t.per_omega2, t.static, at[0], at[1]
+
+    def shaft_inertia(self) -> tuple[Array, float, str] | None:
+        """Its reduced moment of inertia about the cam shaft, for the machine's
+        main shaft (:func:`cyclomech.dynamics.reduced`).
+
+        The follower's kinetic energy is ½·m·ṡ² = ½·(m·s′(θ)²)·ω², so
+        J(θ) = m·s′² (the follower's mass, or its moment of inertia for an
+        oscillating one, as :meth:`shaft_torque` takes it), and ½·dJ/dθ = m·s′·s″
+        is the ω² part of the torque.
+
+        Returns
+        -------
+        tuple of (ndarray, float, str) or None
+            (J [kg·m²] on the 3600 cam angles of :meth:`shaft_torque`, its phase
+            [deg], the event); None where :meth:`shaft_torque` is None.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> j, phase_deg, event = r.mechanisms["lifter cam"].shaft_inertia()
+        >>> j.shape, bool(j.min() >= 0), phase_deg, event
+        ((3600,), True, 0.0, '1')
+        """
+        d, at = self.mech.design, self._shaft_phase()
+        if d.loads is None or at is None:
+            return None
+        theta = np.arange(3600, dtype=np.float64) * (2.0 * math.pi / 3600)
+        ds = self.cam.solve(theta).ds
+        return d.loads.mass * ds * ds, at[0], at[1]
+
+    def _shaft_phase(self) -> tuple[float, str] | None:
+        """(its phase [deg]: the first bound segment starts at its operation's start
+        in the optimum; that operation's start event); None without an optimum."""
+        d, o = self.mech.design, self.ctx.optimum
+        if o is None:
+            return None
         k = next(i for i, a in enumerate(d.arcs) if a is not None)
         arc = d.arcs[k]
         assert arc is not None
         start = sum(g.angle_deg for g in self.cam.segments[:k])
-        return t.per_omega2, t.static, float(o.times[arc[0]]) - start, arc[0]
+        return float(o.times[arc[0]]) - start, arc[0]
 
     def figures(self, save: Save) -> None:
         """Draw its figures and hand each to ``save``.

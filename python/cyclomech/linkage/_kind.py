@@ -398,13 +398,45 @@ class LinkageResult(PlainResult):
         the phase follows, None for a crank fixed at cycle angle 0); None without
         masses or loads, or when the phase follows an event and there is no
         optimum."""
-        k, phase, o = self.kinetostatics, self.mech.phase, self.ctx.optimum
-        if k is None or (phase.event is not None and o is None):
+        k, at = self.kinetostatics, self._shaft_phase()
+        if k is None or at is None:
+            return None
+        t = k.shaft_torque()
+        return t.per_omega2, t.static, at[0], at[1]
+
+    def shaft_inertia(self) -> tuple[Array, float, str | None] | None:
+        """Its reduced moment of inertia about the crank, for the machine's main
+        shaft (:func:`cyclomech.dynamics.reduced`): (J(φ) [kg·m²] on the grid,
+        phase and event of :meth:`shaft_torque`); None where that is None.
+
+        J is the kinetostatics' crank-acceleration part (the torque per unit ε at
+        rest is Σ m·|v_G/ω|² + J_G·(ω_link/ω)², the kinetic energy's ½·J·ω²), so
+        ½·dJ/dφ is its ω² part.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> j, phase, event = r.shaft_inertia()
+        >>> j.shape, bool(j.min() > 0)
+        ((3600,), True)
+        """
+        k, at = self.kinetostatics, self._shaft_phase()
+        if k is None or at is None:
+            return None
+        k.shaft_torque()  # the same checks: a uniform grid, finite everywhere
+        return np.array(k.torque_parts[1]), at[0], at[1]
+
+    def _shaft_phase(self) -> tuple[float, str | None] | None:
+        """(the cycle angle [deg] where the crank is at its drawn angle, the event
+        its ``phase`` follows); None when it follows an event and there is no
+        optimum."""
+        phase, o = self.mech.phase, self.ctx.optimum
+        if phase.event is not None and o is None:
             return None
         origin = math.degrees(self.mech.linkage.drawn_angle)
-        shift = phase.shift_deg({} if o is None else o.times, origin)
-        t = k.shaft_torque()
-        return t.per_omega2, t.static, shift, phase.event
+        return phase.shift_deg({} if o is None else o.times, origin), phase.event
 
     def cycle_csv(self) -> tuple[list[str], list[Array]] | None:
         """Its forces over the turn at the nominal speed for ``<name>_forces.csv``:

@@ -476,6 +476,29 @@ class PressResult(PlainResult):
         phase = self.mech.phase
         return t.per_omega2, t.static, phase.shift_deg(o.times, 0.0), phase.event
 
+    def shaft_inertia(self) -> tuple[np.ndarray, float, str | None] | None:
+        """Its reduced moment of inertia about the crank, for the machine's main
+        shaft (:func:`cyclomech.dynamics.reduced`): (J [kg·m²] of the slider and the
+        rod on the 3600 angles ψ of :meth:`shaft_torque`, its phase [deg], the
+        event); None where :meth:`shaft_torque` is None. ½·dJ/dψ is the ω² part of
+        the torque.
+
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> r = cm.machine.analyze(m, progress=False)
+        >>> j, phase, event = r.mechanisms["drive"].shaft_inertia()
+        >>> j.shape, event
+        ((3600,), 'bottom')
+        """
+        from ._torque import crank_inertia
+
+        t, o = self.torque, self.ctx.optimum
+        if t is None or o is None:
+            return None
+        m = self.mech
+        j = crank_inertia(m.press, t.alpha, slider_mass=m.slider_mass, rod_mass=m.rod_mass)
+        return j, m.phase.shift_deg(o.times, 0.0), m.phase.event
+
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""
         t, m = self.torque, self.mech

@@ -341,6 +341,73 @@ def _rod_term(press: GearLeverPress, k: Any) -> Array:
     """G_α·G_αα + L²/12·φ_α·φ_αα of a uniform rod per unit mass [m²] (α-derivatives,
     θ = θ_B − α): the pin P = C + q with C = (R − r)·e^{iθ}, q = d·e^{iβ},
     β = β0 − kθ, so P_θ = i(C − k·q), P_θθ = −(C + k²·q); P_α = −P_θ, P_αα = P_θθ."""
+    g1, g2, phi1, phi2 = _rod_analogs(press, k)
+    out: Array = (g1.real * g2.real + g1.imag * g2.imag) + press.L**2 / 12.0 * phi1 * phi2
+    return out
+
+
+def crank_inertia(
+    press: GearLeverPress,
+    alpha: npt.ArrayLike,
+    *,
+    slider_mass: float = 0.0,
+    rod_mass: float = 0.0,
+    n_threads: int | None = None,
+) -> Array:
+    """The reduced moment of inertia about the crank of the slider and the rod [kg·m²].
+
+    The kinetic energy ½·J(α)·ω² of the parts whose speed varies over the turn:
+    J = m_s·Π′² + m_r·(|G_α|² + L²/12·φ_α²) (the carrier and the planet add a
+    constant, left out as :func:`crank_torque` leaves it out). Half its
+    α-derivative is minus the ω² part of :func:`crank_torque` (dα/dt = −ω).
+
+    Parameters
+    ----------
+    press : GearLeverPress
+        The drive.
+    alpha : array_like of float, shape (N,)
+        The crank angles α [rad] from BDC against the motion.
+    slider_mass, rod_mass : float, default 0.0
+        The slider's and the uniform rod's masses [kg] (≥ 0).
+    n_threads : int, optional
+        Threads for the kinematics; default None.
+
+    Returns
+    -------
+    ndarray of float, shape (N,)
+        J at each angle [kg·m²].
+
+    Raises
+    ------
+    InputError
+        If a mass is negative or the rod cannot reach the guide at some angle.
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.press._torque import crank_inertia
+    >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
+    >>> bool(crank_inertia(p, np.radians([0.0, 90.0]), slider_mass=10.0)[0] < 1e-12)
+    True
+    """
+    m_s, m_r = _mass("slider_mass", slider_mass), _mass("rod_mass", rod_mass)
+    a = float_array("alpha", alpha)
+    k = press.solve(a, n_threads=n_threads)
+    if not k.ok.all():
+        bad = int((~k.ok).sum())
+        raise InputError(
+            f"the press design does not work: the rod cannot reach the guide at {bad} of the angles"
+        )
+    out: Array = m_s * k.ds * k.ds
+    if m_r > 0:
+        g1, _g2, phi1, _phi2 = _rod_analogs(press, k)
+        out = out + m_r * (np.abs(g1) ** 2 + press.L**2 / 12.0 * phi1 * phi1)
+    return out
+
+
+def _rod_analogs(press: GearLeverPress, k: Any) -> tuple[Any, Any, Array, Array]:
+    """The rod's centre of mass G_α, G_αα (complex) and its angle's φ_α, φ_αα
+    (α-derivatives; see :func:`_rod_term`)."""
     kk = press.ratio - 1.0
     c = k.centre[:, 0] + 1j * k.centre[:, 1]
     q = (k.pin[:, 0] + 1j * k.pin[:, 1]) - c
@@ -353,5 +420,4 @@ def _rod_term(press: GearLeverPress, k: Any) -> Array:
     u1, u2 = p1.real, p2.real
     phi1 = u1 / w
     phi2 = u2 / w + u * u1 * u1 / w**3
-    out: Array = (g1.real * g2.real + g1.imag * g2.imag) + press.L**2 / 12.0 * phi1 * phi2
-    return out
+    return g1, g2, phi1, phi2

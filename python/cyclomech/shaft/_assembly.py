@@ -5,7 +5,7 @@ optimised cyclogram, summed, and its flywheel (:class:`MainShaft`,
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -46,6 +46,11 @@ class MainShaft:
         The statistics at the sweep's speeds.
     flattening : Flattening, optional
         How the parts were moved (``[machine] flatten_torque``); default None.
+    phases_deg : dict of str to float, optional
+        The phase [deg] each part was read at (its ``shaft_torque()`` phase, plus
+        the flattening's shift): the cycle angle where the mechanism's own angle
+        is 0; other curves of the mechanism (its reduced inertia,
+        :func:`cyclomech.dynamics.reduced`) are phased by it; default empty.
 
     Examples
     --------
@@ -62,6 +67,7 @@ class MainShaft:
     at_nominal: ShaftStats
     over_speed: ShaftStats
     flattening: Flattening | None = None
+    phases_deg: dict[str, float] = field(default_factory=dict)
 
     def json(self) -> dict[str, Any]:
         """Its ``results.json`` entry (SI, angles in degrees).
@@ -273,6 +279,7 @@ def main_shaft(
         at_nominal=total.stats(nominal_rpm, speed_fluctuation),
         over_speed=total.stats(rpm, speed_fluctuation),
         flattening=flat,
+        phases_deg={k: float(phase) for k, (_a, _b, phase, _event) in curves.items()},
     )
 
 

@@ -17,6 +17,9 @@
 //!   constraints (the cyclogram LP); the maximum cycle ratio (Howard's policy
 //!   iteration) and the highest main-shaft speed at which a cyclic schedule fits
 //!   in its cycle.
+//! * [`dynamics`] — machine dynamics: the main shaft's forward dynamics with a
+//!   variable reduced inertia and a motor (periodic steady state by shooting,
+//!   start-up from rest, batches of designs).
 //! * [`impact`] — stops (seed 000): the exact forced-oscillator recurrence
 //!   (Duhamel integral of a piecewise-linear force), the first rebound after a
 //!   pulse, and the link on its stop as an exact event-driven unilateral contact.
@@ -72,6 +75,7 @@ macro_rules! on_each_isa {
 pub mod cam;
 pub mod cancel;
 pub mod cyclogram;
+pub mod dynamics;
 pub mod forces;
 pub(crate) mod geom;
 pub mod impact;

@@ -1,0 +1,174 @@
+"""The main shaft's forward dynamics against an independent reference: a
+slider-crank with a flywheel and an induction motor whose equation of motion is
+derived here from its Lagrangian with sympy and integrated with scipy's
+``solve_ivp`` (rtol 1e-11). cyclomech only sees the sampled J(φ), J′(φ) and
+Q(φ)."""
+
+import math
+
+import cyclomech as cm
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+R, L, M_S, M_R, J_C, F0, Q0 = 0.08, 0.3, 6.0, 2.0, 0.02, 300.0, 25.0
+N = 3600
+
+
+def _lagrangian():
+    """(J(φ), J′(φ), Q(φ)) as numpy functions and the right-hand side φ̈(φ, ω, M)
+    from the Lagrangian of the slider-crank (uniform rod, slider load F0 while it
+    moves, a constant process torque Q0 on the crank)."""
+    t = sp.symbols("t")
+    phi = sp.Function("phi")(t)
+    x = R * sp.cos(phi) + sp.sqrt(L**2 - R**2 * sp.sin(phi) ** 2)
+    beta = sp.asin(R * sp.sin(phi) / L)
+    gx, gy = (R * sp.cos(phi) + x) / 2, R * sp.sin(phi) / 2
+    v2 = lambda e: sp.diff(e, t) ** 2  # noqa: E731
+    kin = sp.Rational(1, 2) * (
+        J_C * v2(phi) + M_S * v2(x) + M_R * (v2(gx) + v2(gy)) + M_R * L**2 / 12 * v2(beta)
+    )
+    # Generalised force of the loads on φ: the slider's F0·(−ẋ)·sign — take a smooth
+    # load F0·(1 + cos φ)/2 pushing against +x, and the process torque Q0.
+    p, w, a, m = sp.symbols("p w a m")
+    load = Q0 + F0 * (1 + sp.cos(phi)) / 2 * sp.diff(x, phi)
+    eq = sp.diff(sp.diff(kin, sp.diff(phi, t)), t) - sp.diff(kin, phi) - (m - load)
+    sub = {sp.diff(phi, t, 2): a, sp.diff(phi, t): w}
+    eq = eq.subs(sub).subs(phi, p)
+    acc = sp.solve(eq, a)[0]
+    jj = sp.simplify(2 * kin.subs(sp.diff(phi, t), 1).subs(phi, p))
+    f = lambda e: sp.lambdify(p, e, "numpy")  # noqa: E731
+    return f(jj), f(sp.diff(jj, p)), f(load.subs(phi, p)), sp.lambdify((p, w, m), acc, "numpy")
+
+
+J_OF, DJ_OF, Q_OF, ACC = _lagrangian()
+PHI = 2 * np.pi * np.arange(N) / N
+
+
+def _machine():
+    return cm.dynamics.Reduced.from_curves(
+        J_OF(PHI) * np.ones(N), DJ_OF(PHI) * np.ones(N), Q_OF(PHI) * np.ones(N), nominal_rpm=100.0
+    )
+
+
+MOTOR = cm.dynamics.InductionMotor(
+    1440.0, 1500.0, 2.3, rated_power_w=1500.0, ratio=15.0, efficiency=0.9, rotor_kg_m2=2e-3
+)
+FLYWHEEL = 1.5
+
+
+def _shaft_torque(w):
+    """The motor's torque on the shaft, written here from Kloss's formula."""
+    ws = 1500 * math.pi / 30
+    mn = 1500.0 / (1440 * math.pi / 30)
+    sn = 60 / 1500
+    sk = sn * (2.3 + math.sqrt(2.3**2 - 1))
+    s = (ws - 15 * w) / ws
+    mm = 2 * 2.3 * mn / (s / sk + sk / s)
+    return 15 * (0.9 if mm >= 0 else 1 / 0.9) * mm
+
+
+def _rhs_for(torque, extra):
+    """The Lagrangian's φ̈ (for J without the constant inertias) with the constant
+    inertia ``extra`` added: J_bare·φ̈_bare = rest ⇒ (J_bare + extra)·φ̈ = rest."""
+
+    def rhs(_t, y):
+        p, w = y
+        j = J_OF(p)
+        return [w, ACC(p, w, torque(w)) * j / (j + extra)]
+
+    return rhs
+
+
+_rhs = _rhs_for(_shaft_torque, FLYWHEEL + 15**2 * 2e-3)
+
+
+def test_the_steady_state_is_the_lagrangian_one_and_one_more_cycle_returns_to_it():
+    d = _machine()
+    s = cm.dynamics.steady_state(d, MOTOR, flywheel_kg_m2=FLYWHEEL, tol=1e-13)
+    assert s.residual <= 1e-13
+    w0 = s.omega[0]
+    sol = solve_ivp(
+        _rhs,
+        (0, s.period_s * 1.0000001),
+        [0.0, w0],
+        rtol=1e-11,
+        atol=1e-12,
+        dense_output=True,
+        method="DOP853",
+    )
+    p, w = sol.sol(s.time_s)
+    assert np.max(np.abs(p - PHI)) < 1e-8
+    assert np.max(np.abs(w - s.omega)) / np.mean(s.omega) < 1e-8
+    # One more cycle from the steady state returns to it (solve_ivp's own period).
+    p_end, w_end = sol.sol(s.period_s)
+    assert abs(p_end - 2 * np.pi) < 1e-8
+    assert abs(w_end - w0) / w0 < 1e-8
+    # The real δ and mean speed, from solve_ivp's solution.
+    ww = sol.sol(np.linspace(0, s.period_s, 20001))[1]
+    mean = 2 * np.pi / s.period_s
+    assert abs((ww.max() - ww.min()) / mean - s.speed_fluctuation) < 1e-6
+
+
+def test_the_start_up_is_the_lagrangian_one():
+    d = _machine()
+    s = cm.dynamics.start_up(d, MOTOR, flywheel_kg_m2=FLYWHEEL, rtol=1e-11, settle=1e-3)
+    assert math.isfinite(s.settle_time_s) and s.settle_time_s > 0
+    sol = solve_ivp(
+        _rhs,
+        (0, s.time_s[-1]),
+        [0.0, 0.0],
+        rtol=1e-11,
+        atol=1e-12,
+        dense_output=True,
+        method="DOP853",
+    )
+    p, w = sol.sol(s.time_s)
+    scale = s.steady.mean_rpm * math.pi / 30
+    assert np.max(np.abs(w - s.omega)) / scale < 1e-8
+    assert np.max(np.abs(p - s.phi_rad)) < 1e-7
+    # It ends near the steady state, as it says.
+    end = np.interp(s.phi_rad[-1] % (2 * np.pi), PHI, s.steady.omega, period=2 * np.pi)
+    assert abs(s.omega[-1] - end) <= 1e-3 * scale
+
+
+def test_the_simulated_flywheel_tends_to_the_energy_methods_as_delta_falls():
+    d = _machine()
+    # A soft DC motor: it barely steadies the speed itself.
+    motor = cm.dynamics.LinearMotor(20.0, 3000.0, ratio=15.0)
+    errs = []
+    for delta in (0.1, 0.01, 0.001):
+        f = cm.dynamics.size_flywheel(d, motor, delta)
+        assert f.steady.speed_fluctuation == pytest.approx(delta, rel=1e-7)
+        assert f.difference == pytest.approx(
+            (f.flywheel_kg_m2 - f.energy_method_kg_m2) / f.energy_method_kg_m2, rel=1e-12
+        )
+        errs.append(abs(f.flywheel_kg_m2 / f.energy_method_kg_m2 - 1))
+        if delta == 0.1:
+            # At δ = 0.1 the two differ by half (the motor's slope and the mechanism's
+            # own inertia steady the speed too); solve_ivp checks the simulated one.
+            rhs = _rhs_for(lambda w: 300.0 * (1 - 15 * w / (100 * np.pi)), f.flywheel_kg_m2)
+            sol = solve_ivp(
+                rhs,
+                (0, f.steady.period_s),
+                [0.0, f.steady.omega[0]],
+                rtol=1e-11,
+                atol=1e-12,
+                dense_output=True,
+                method="DOP853",
+            )
+            ww = sol.sol(np.linspace(0, f.steady.period_s, 40001))[1]
+            real = (ww.max() - ww.min()) / (2 * np.pi / f.steady.period_s)
+            assert real == pytest.approx(0.1, rel=1e-6)
+            assert f.difference == pytest.approx(-0.5, abs=0.1)
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[2] < 0.01
+
+
+def test_a_stiff_motor_needs_no_flywheel_and_says_so():
+    # The induction motor through a 15:1 gear holds δ < 0.01 alone: no flywheel.
+    f = cm.dynamics.size_flywheel(_machine(), MOTOR, 0.05)
+    assert f.flywheel_kg_m2 == 0.0
+    assert f.steady.speed_fluctuation < 0.05
+    assert f.difference == -1.0
