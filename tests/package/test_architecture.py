@@ -377,7 +377,6 @@ KNOWN_LONG = {
     "impact/cli.py:impact_command": 96,
     "machine/_model.py:Machine.from_dict": 93,
     "cam/plot.py:plot_along_cycle": 92,
-    "machine/_report.py:_figures": 84,
     "cam/plot.py:plot_cam": 84,
     "transfer/_path.py:TransferPath.__init__": 82,
     "forces/_file.py:dynamics_from_table": 82,

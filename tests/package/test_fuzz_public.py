@@ -82,6 +82,7 @@ RESULT_CLASSES = {
     "cyclomech.cam.FollowerResponse",
     "cyclomech.cam.MinPhaseAngles",
     "cyclomech.dynamics.FlywheelSizing",
+    "cyclomech.dynamics.MachineDynamics",
     "cyclomech.dynamics.Reduced",
     "cyclomech.dynamics.StartUp",
     "cyclomech.dynamics.SteadyBatch",

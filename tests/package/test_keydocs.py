@@ -20,6 +20,7 @@ from cyclomech._keydoc import KeyDoc
 from cyclomech._kind import Phase
 from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
+from cyclomech.dynamics._drive import DRIVE_KEYS
 from cyclomech.forces._file import _LOAD_KEYS, _MASS_KEYS
 from cyclomech.machine import KINDS, check_parameter
 from cyclomech.machine._model import _MACHINE_KEYS
@@ -146,6 +147,7 @@ def test_kind_keys(kind: str) -> None:
         ("press.deformation_force", set(FORCE_KEYS)),
         ("servo.motor", MOTOR_KEYS),
         ("servo.segment", SEGMENT_KEYS - {"load_n", "load_nm"} | {"arc"}),
+        ("drive", DRIVE_KEYS),
     ],
 )
 def test_constant_key_sets(table: str, keys: Any) -> None:
@@ -412,6 +414,14 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
     ("transfer", "max_acceleration_m_per_s2", "none (no limit)", "rotor_line",
      ("mechanism", "line"),
      lambda m: m.mechanisms["line"].max_acceleration, None),
+    ("drive", "gear_ratio", "1 (a direct drive)", "knife_cutter", ("drive",),
+     lambda m: m.drive.motor.ratio, 1.0),
+    ("drive", "gear_efficiency", "1", "knife_cutter", ("drive",),
+     lambda m: m.drive.motor.efficiency, 1.0),
+    ("drive", "rotor_inertia_kg_m2", "0", "knife_cutter", ("drive",),
+     lambda m: m.drive.motor.rotor_kg_m2, 0.0),
+    ("drive", "flywheel_kg_m2", "none: sized by simulation for [machine] speed_fluctuation",
+     "knife_cutter", ("drive",), lambda m: m.drive.flywheel_kg_m2, None),
 ]  # fmt: skip
 
 
@@ -464,6 +474,7 @@ def test_required_keys_are_required() -> None:
         "constraint": ("example", ("constraint", 0)),
         "constraint.terms": ("example", ("constraint", 0, "terms", 0)),
         "linkage.lengths": ("knife_cutter", ("mechanism", "knife", "lengths", 0)),
+        "drive": ("knife_cutter", ("drive",)),
     }
     seen = 0
     for table, (source, path) in cases.items():
@@ -530,6 +541,13 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("flow_wrapper", ("mechanism", "jaw"), "table_points", 1, 2),
     ("flow_wrapper", ("mechanism", "jaw"), "torque_reserve", 1.0, 0.5),
     ("flow_wrapper", ("mechanism", "jaw"), "gear_ratios", [0.0, 1.0], [1.0]),
+    ("knife_cutter", ("drive",), "gear_ratio", 0.0, 1e-3),
+    ("knife_cutter", ("drive",), "gear_efficiency", 1.01, 1.0),
+    ("knife_cutter", ("drive",), "rotor_inertia_kg_m2", -1e-9, 0.0),
+    ("knife_cutter", ("drive",), "flywheel_kg_m2", -1e-9, 0.0),
+    ("knife_cutter", ("drive",), "breakdown_ratio", 1.0, 1.01),
+    ("knife_cutter", ("drive",), "rated_rpm", 1500.0, 1499.0),
+    ("knife_cutter", ("drive",), "motor", "diesel", "induction"),
 ]
 
 
@@ -545,6 +563,7 @@ def test_documented_range_is_enforced(
         ("machine",): "machine",
         ("cyclogram",): "cyclogram",
         ("operation",): "operation",
+        ("drive",): "drive",
     }.get(path[:1])
     if table is None:
         kind = at(data(source), path[:2]).get("kind")

@@ -48,6 +48,8 @@ in parallel.
 
 from __future__ import annotations
 
+from ._drive import Drive, MachineDynamics, machine_dynamics
+from ._keys import KEY_DOCS as DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
 from ._shaft import (
@@ -63,17 +65,21 @@ from ._shaft import (
 )
 
 __all__ = [
+    "DRIVE_KEY_DOCS",
     "STEADY_COLUMNS",
     "ConstantTorque",
+    "Drive",
     "FlywheelSizing",
     "InductionMotor",
     "LinearMotor",
+    "MachineDynamics",
     "Motor",
     "Reduced",
     "StartUp",
     "SteadyBatch",
     "SteadyState",
     "TableMotor",
+    "machine_dynamics",
     "reduced",
     "size_flywheel",
     "start_up",

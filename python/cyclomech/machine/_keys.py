@@ -38,6 +38,8 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           ROWS, REQ, "an array of tables", False),
         K("constraint", "Linear constraints on the operations' phase angles.", NO_UNIT, ROWS,
           "none (no constraints)", "an array of tables", False),
+        K("drive", "The main shaft's motor, gear and flywheel, for its real speed.", NO_UNIT,
+          TAB, "none (the main shaft at constant speed)", "a table", False),
     ), intro=(
         "A machine file is TOML; these are its top-level tables."
     )),

@@ -32,6 +32,7 @@ from ..cyclogram import (
     SpeedLimit,
     SpeedNetwork,
 )
+from ..dynamics import DRIVE_KEY_DOCS, Drive
 from ._keys import KEY_DOCS
 from ._kinds import KINDS
 from ._many import SpeedSweep, _bounded, _bounds_at, _laws, speed_limits, speed_sweeps
@@ -64,6 +65,25 @@ _MACHINE_KEYS = {
 #: (``[machine] speed_fluctuation``): 1/20, a common value for machines with a
 #: flywheel on the main shaft.
 SPEED_FLUCTUATION = 0.05
+
+
+def _main_shaft_keys(head: Mapping[str, Any], source: str) -> tuple[float, bool]:
+    """``[machine]``'s keys for the main shaft: its target coefficient of speed
+    fluctuation δ and whether to flatten its torque, checked."""
+    delta = head.get("speed_fluctuation", SPEED_FLUCTUATION)
+    if not (_toml.is_number(delta) and 0 < delta < 1):
+        raise InputError(
+            f"{source}: [machine]: speed_fluctuation = {delta!r} must be the coefficient "
+            "of speed fluctuation δ = (ω_max − ω_min)/ω of the main shaft, 0 < δ < 1"
+        )
+    flatten = head.get("flatten_torque", False)
+    if not isinstance(flatten, bool):
+        raise InputError(
+            f"{source}: [machine]: flatten_torque = {flatten!r} must be true or false "
+            "(a TOML boolean, unquoted): whether to move the main shaft's parts within "
+            "the cyclogram's slack to its lowest peak torque"
+        )
+    return float(delta), flatten
 
 
 # --------------------------------------------------------------------- the machine
@@ -101,6 +121,9 @@ class Machine:
     flatten_torque : bool, default False
         Move the main shaft's parts within the cyclogram's slack to its lowest peak
         torque.
+    drive : cyclomech.dynamics.Drive, optional
+        The main shaft's motor and flywheel (``[drive]``); default None (the shaft
+        turns at constant speed: no real speed, no simulated flywheel).
     source : str, default "<machine>"
         The file's name, in messages.
     data : Mapping of str to Any, optional
@@ -110,8 +133,9 @@ class Machine:
     ------
     InputError
         If ``cyclogram`` is not a :class:`~cyclomech.cyclogram.Cyclogram`, the speed range,
-        ``nominal_rpm``, a count or ``speed_fluctuation`` is out of range, or
-        ``flatten_torque`` is not a bool.
+        ``nominal_rpm``, a count or ``speed_fluctuation`` is out of range,
+        ``flatten_torque`` is not a bool or ``drive`` not a
+        :class:`~cyclomech.dynamics.Drive`.
 
     Examples
     --------
@@ -122,7 +146,7 @@ class Machine:
     """
 
     # Its tables' keys, for the machine-file format reference (cyclomech._keydocs).
-    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
+    key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS + DRIVE_KEY_DOCS
 
     def __init__(
         self,
@@ -136,6 +160,7 @@ class Machine:
         angle_points: int = 361,
         speed_fluctuation: float = SPEED_FLUCTUATION,
         flatten_torque: bool = False,
+        drive: Drive | None = None,
         source: str = "<machine>",
         data: Mapping[str, Any] | None = None,
     ) -> None:
@@ -166,6 +191,9 @@ class Machine:
                 "shaft's parts within the cyclogram's slack to its lowest peak torque)"
             )
         self.flatten_torque = bool(flatten_torque)
+        if drive is not None and not isinstance(drive, Drive):
+            raise InputError(f"drive must be a cyclomech.dynamics.Drive or None; got {drive!r}")
+        self.drive = drive
         self.source = source
         self.data = data
         self._bounded = _bounded(self.mechanisms)
@@ -245,7 +273,7 @@ class Machine:
                 )
         _toml.check_keys(
             data,
-            {"machine", "mechanism", "cyclogram", "operation", "constraint"},
+            {"machine", "mechanism", "cyclogram", "operation", "constraint", "drive"},
             source,
             "top level",
         )
@@ -275,19 +303,7 @@ class Machine:
                 f"{source}: [machine]: nominal_rpm = {nominal!r} must be a speed in rpm, "
                 f"0 < nominal_rpm ≤ {SPEED_CAP_RPM:g}"
             )
-        delta = head.get("speed_fluctuation", SPEED_FLUCTUATION)
-        if not (_toml.is_number(delta) and 0 < delta < 1):
-            raise InputError(
-                f"{source}: [machine]: speed_fluctuation = {delta!r} must be the coefficient "
-                "of speed fluctuation δ = (ω_max − ω_min)/ω of the main shaft, 0 < δ < 1"
-            )
-        flatten = head.get("flatten_torque", False)
-        if not isinstance(flatten, bool):
-            raise InputError(
-                f"{source}: [machine]: flatten_torque = {flatten!r} must be true or false "
-                "(a TOML boolean, unquoted): whether to move the main shaft's parts within "
-                "the cyclogram's slack to its lowest peak torque"
-            )
+        delta, flatten = _main_shaft_keys(head, source)
         if "cyclogram" not in data or "operation" not in data:
             raise InputError(
                 f"{source}: a machine needs its cyclogram: a [cyclogram] table and "
@@ -322,8 +338,9 @@ class Machine:
             speed_points=speed_points,
             nominal_rpm=None if nominal is None else float(nominal),
             angle_points=angle_points,
-            speed_fluctuation=float(delta),
+            speed_fluctuation=delta,
             flatten_torque=flatten,
+            drive=None if "drive" not in data else Drive.from_table(data["drive"], source),
             source=source,
             data=copy.deepcopy(dict(data)),
         )

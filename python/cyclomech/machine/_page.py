@@ -90,6 +90,10 @@ def page(
         parts.append("<h2>Main shaft</h2>")
         header, rows = r.shaft.table()
         parts.append(_table(header, rows))
+        if r.dynamics is not None:
+            parts.append("<h3>Under its motor</h3>")
+            header, rows = r.dynamics.table()
+            parts.append(_table(header, rows))
         parts += _images(figs, "shaft")
     parts.append(_files_section(r, cycle_files))
     return "\n".join(parts)
@@ -147,6 +151,8 @@ def _key_figures(r: MachineResult, summary: dict[str, Any]) -> list[str]:
             f"<b>{float(sh.flywheel_kg_m2):.4g} kg·m²</b> on the main shaft for δ = "
             f"{r.shaft.speed_fluctuation:g} (ΔE = {float(sh.energy_fluctuation_j):.4g} J).</p>"
         )
+    if r.dynamics is not None:
+        key.append(f"<p>{e(r.dynamics.line())}.</p>")
     return key
 
 

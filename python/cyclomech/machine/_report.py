@@ -32,6 +32,7 @@ from .._kind import Context
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum
+from ..dynamics import machine_dynamics
 from ..shaft import main_shaft
 from . import _page
 from ._kinds import KINDS
@@ -130,6 +131,17 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
+    if m.drive is not None and shaft is not None:
+        t = time.perf_counter()
+        r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, limit.rpm)
+        seconds["main shaft's real speed"] = time.perf_counter() - t
+    elif m.drive is not None:
+        warnings.warn(
+            f"{m.source}: [drive]: nothing loads the main shaft (no mechanism has masses or "
+            "loads): no real speed and no flywheel to size",
+            CyclomechWarning,
+            stacklevel=2,
+        )
     if r.above_speed_limit:
         warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
     if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
@@ -223,6 +235,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     out.update(groups)
     if r.shaft is not None:
         out["shaft"] = r.shaft.json()
+    if r.dynamics is not None:
+        out["dynamics"] = r.dynamics.json()
     sw = r.sweep
     out["speed_sweep"] = {
         "speed_rpm": sw.rpm,
@@ -335,6 +349,13 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
         )
     for k, res in r.mechanisms.items():
         res.figures(lambda fig, name, caption, k=k: save(fig, name, k, caption))  # type: ignore[misc]
+    _shaft_figures(r, save)
+    return out
+
+
+def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None]) -> None:
+    """The main shaft's figures, handed to ``save``: its torque at the nominal speed
+    and, under the file's drive, its real speed and the motor's torque."""
     if r.shaft is not None:
         save(
             r.shaft.figure(),
@@ -344,7 +365,17 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
             "mechanism's at its phase in the optimised cyclogram, stacked; dashed, the mean "
             "(what the motor supplies; the flywheel takes up the rest).",
         )
-    return out
+    fig = None if r.dynamics is None else r.dynamics.figure()
+    if fig is not None:
+        save(
+            fig,
+            "main_shaft_speed",
+            "shaft",
+            "The main shaft's real speed over the cycle under its motor, and the motor's "
+            "torque: the machine's equation of motion with its reduced inertia (the "
+            "mechanisms' masses at their phases, the flywheel, the rotor through the gear) "
+            "in its periodic steady state.",
+        )
 
 
 def write_report(result: MachineResult, out: str | Path, *, figures: bool = True) -> list[Path]:
@@ -534,6 +565,9 @@ def _cycle_tables(r: MachineResult) -> list[tuple[str, list[str], list[list[Any]
         theta = np.round(sh.torque.theta_deg, 9)  # 0.1 steps, not 0.30000000000000004
         columns = [theta, sh.torque.at(n), *(p.at(n) for p in sh.parts.values())]
         out.append(("main_shaft.csv", head, [list(row) for row in zip(*columns, strict=True)]))
+    speed = None if r.dynamics is None else r.dynamics.csv()
+    if speed is not None:
+        out.append(("main_shaft_speed.csv", *speed))
     for k, res in r.mechanisms.items():
         over = getattr(res, "cycle_csv", lambda: None)()
         if over is not None:

@@ -17,6 +17,7 @@ from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
 
 if TYPE_CHECKING:
+    from ..dynamics import MachineDynamics
     from ..shaft import MainShaft
 
 __all__ = ["MachineResult"]
@@ -63,6 +64,9 @@ class MachineResult:
     shaft : MainShaft, optional
         The main shaft's torque and statistics, when a mechanism loads it; default
         None.
+    dynamics : cyclomech.dynamics.MachineDynamics, optional
+        The main shaft's real speed under the file's ``[drive]``, when it has one and
+        a mechanism loads the shaft; default None.
 
     Examples
     --------
@@ -86,14 +90,18 @@ class MachineResult:
     mechanisms: dict[str, MechanismResult] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
     shaft: MainShaft | None = None
+    dynamics: MachineDynamics | None = None
 
     @property
     def failures(self) -> list[str]:
-        """What fails at the nominal speed in a mechanism's own checks, by mechanism.
+        """What fails at the nominal speed in a mechanism's own checks, by mechanism,
+        and in the main shaft's drive.
 
         A kind whose results have ``failures()`` (a servo axis whose motor fails
-        a check on the optimised timing) says what must not ship: ``cyclomech
-        run`` exits 3 and the report shows it. Empty when nothing fails.
+        a check on the optimised timing) and the drive
+        (:meth:`cyclomech.dynamics.MachineDynamics.failures`: a motor that cannot
+        drive the machine, a real δ above the target) say what must not ship:
+        ``cyclomech run`` exits 3 and the report shows it. Empty when nothing fails.
 
         Examples
         --------
@@ -105,6 +113,8 @@ class MachineResult:
         for k, res in self.mechanisms.items():
             own = getattr(res, "failures", None)
             out += [f"{k}: {text}" for text in (own() if own is not None else [])]
+        if self.dynamics is not None:
+            out += self.dynamics.failures()
         return out
 
     @property

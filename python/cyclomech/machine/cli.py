@@ -115,6 +115,8 @@ def run_command(args: argparse.Namespace) -> int:
             f"{float(s.power_w):.4g} W; flywheel {float(s.flywheel_kg_m2):.4g} kg·m² for "
             f"δ = {r.shaft.speed_fluctuation:g} (ΔE = {float(s.energy_fluctuation_j):.4g} J)"
         )
+        if r.dynamics is not None:
+            print(r.dynamics.line())
         fl = r.shaft.flattening
         if fl is not None:
             print(

@@ -1,0 +1,64 @@
+"""The keys of a machine file's ``[drive]`` table (the main shaft's motor, gear and
+flywheel), for the machine-file format reference (:attr:`cyclomech.Machine.key_docs`;
+``tests/package/test_keydocs.py`` holds them equal to the reader's key sets and checks
+their defaults and ranges).
+
+>>> [t.name for t in KEY_DOCS]
+['drive']
+"""
+
+from __future__ import annotations
+
+from .._keydoc import ARR, NO_UNIT, NUM, POS, REQ, TEXT, KeyTable
+from .._keydoc import KeyDoc as K
+
+# The rule of a key only one kind of motor takes.
+IND = "; induction motors only"
+LIN = "; linear motors only"
+CON = "; constant-torque motors only"
+TAB_ = "; table motors only"
+
+# The records are a table each: one key per record, aligned for reading.
+# fmt: off
+#: ``[drive]``'s keys, in the page's order.
+KEY_DOCS: tuple[KeyTable, ...] = (
+    KeyTable("drive", "[drive]", (
+        K("motor", "The motor's characteristic: torque against speed.", NO_UNIT, TEXT, REQ,
+          "one of induction, linear, constant, table", False),
+        K("rated_rpm", "The induction motor's rated speed.", "rpm", NUM,
+          "required for an induction motor", "0 < rated_rpm < synchronous_rpm" + IND, False),
+        K("synchronous_rpm", "The induction motor's synchronous speed (60·f/pole pairs).",
+          "rpm", NUM, "required for an induction motor", POS + IND, False),
+        K("breakdown_ratio", "The breakdown torque over the rated torque, λ = M_k/M_n (Kloss's "
+          "formula).", NO_UNIT, NUM, "required for an induction motor", "finite, > 1" + IND,
+          False),
+        K("rated_power_w", "The induction motor's rated power (its rated torque is P/ω).",
+          "W", NUM, "none: give this or rated_torque_nm", POS + IND, False),
+        K("rated_torque_nm", "The induction motor's rated torque.", "N·m", NUM,
+          "none: give this or rated_power_w", POS + IND, False),
+        K("stall_torque_nm", "The linear (DC, servo) motor's torque at rest.", "N·m", NUM,
+          "required for a linear motor", POS + LIN, False),
+        K("no_load_rpm", "The linear motor's speed at zero torque.", "rpm", NUM,
+          "required for a linear motor", POS + LIN, False),
+        K("torque_nm", "The constant motor's torque, or the table motor's torque at each of "
+          "speed_rpm.", "N·m", "number or array", "required for a constant or table motor",
+          "finite" + CON + "; for a table, one finite number per speed" + TAB_, False),
+        K("speed_rpm", "The table motor's speeds.", "rpm", ARR, "required for a table motor",
+          "two or more finite numbers, strictly increasing" + TAB_, False),
+        K("gear_ratio", "The gear between motor and main shaft: motor speed over shaft "
+          "speed.", NO_UNIT, NUM, "1 (a direct drive)", POS, False),
+        K("gear_efficiency", "The gear's efficiency.", NO_UNIT, NUM, "1",
+          "finite, 0 < η ≤ 1", False),
+        K("rotor_inertia_kg_m2", "The rotor's (and the motor-side gears') inertia; the "
+          "shaft sees gear_ratio² times it.", "kg·m²", NUM, "0", "finite, ≥ 0", False),
+        K("flywheel_kg_m2", "The flywheel on the main shaft.", "kg·m²", NUM,
+          "none: sized by simulation for [machine] speed_fluctuation", "finite, ≥ 0", False),
+    ), intro=(
+        "The main shaft's motor, gear and flywheel: with it the report gives the shaft's "
+        "real speed over the cycle (the machine's equation of motion with its reduced "
+        "inertia, not the constant speed of the kinetostatics), the real coefficient of "
+        "speed fluctuation and the flywheel sized by simulation beside the energy "
+        "method's. Optional; without it the main shaft turns at constant speed."
+    )),
+)
+# fmt: on
