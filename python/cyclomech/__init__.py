@@ -18,6 +18,7 @@ try:  # every domain, numpy and the Rust core: ~0.6 s
         from . import (
             cam,
             cyclogram,
+            dynamics,
             forces,
             impact,
             linkage,
@@ -101,6 +102,7 @@ __all__ = [
     "__version__",
     "cam",
     "cyclogram",
+    "dynamics",
     "forces",
     "impact",
     "linkage",

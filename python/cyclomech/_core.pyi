@@ -65,6 +65,8 @@ CAM_CRITERIA: tuple[str, ...]
 CAM_LOAD_COLUMNS: tuple[str, ...]
 #: The statistics of shaft_stats, in its columns' order.
 SHAFT_STATS: tuple[str, ...]
+#: The statistics of shaking_batch, in its columns' order.
+SHAKING_STATS: tuple[str, ...]
 #: The checks of a servo motor, in the order of servo_size's last axis.
 SERVO_CHECKS: tuple[str, ...]
 #: The criteria of servo_min_angles, in its last axis' order.
@@ -577,6 +579,25 @@ def shaft_stats(
     delta: float,
     *,
     n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+
+# dynamics: the shaking force of counterweight designs (issue 34, item 4).
+
+__all__ += ["shaking_batch", "shaking_channels"]
+
+def shaking_batch(
+    base: npt.NDArray[np.float64],
+    lin: npt.NDArray[np.float64],
+    nrm: npt.NDArray[np.float64],
+    designs: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def shaking_channels(
+    base: npt.NDArray[np.float64],
+    lin: npt.NDArray[np.float64],
+    nrm: npt.NDArray[np.float64],
+    w: npt.NDArray[np.float64],
 ) -> npt.NDArray[np.float64]: ...
 
 # forces: kinetostatics of linkages.

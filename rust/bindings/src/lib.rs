@@ -10,6 +10,7 @@ mod cam;
 mod cam_vibration;
 mod convert;
 mod cyclogram;
+mod dynamics_shaking;
 mod errors;
 mod forces;
 mod impact;
@@ -30,6 +31,8 @@ mod _core {
     use super::cam_vibration::{cam_follower_response, cam_min_tau, cam_residual_ratio};
     #[pymodule_export]
     use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
+    #[pymodule_export]
+    use super::dynamics_shaking::{shaking_batch, shaking_channels};
     #[pymodule_export]
     use super::forces::ForceModel;
     #[pymodule_export]
@@ -74,6 +77,7 @@ mod _core {
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
+        m.add("SHAKING_STATS", PyTuple::new(m.py(), SHAKING_STATS)?)?;
         m.add("SERVO_CHECKS", PyTuple::new(m.py(), SERVO_CHECKS)?)?;
         m.add("SERVO_DUTY", PyTuple::new(m.py(), SERVO_DUTY)?)?;
         m.add("SERVO_BOUNDS", PyTuple::new(m.py(), SERVO_BOUNDS)?)?;
@@ -84,6 +88,7 @@ mod _core {
 
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
+    use cyclomech_core::dynamics::shaking::STATS as SHAKING_STATS;
     use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
     use cyclomech_core::servo::{

@@ -72,6 +72,7 @@ macro_rules! on_each_isa {
 pub mod cam;
 pub mod cancel;
 pub mod cyclogram;
+pub mod dynamics;
 pub mod forces;
 pub(crate) mod geom;
 pub mod impact;
