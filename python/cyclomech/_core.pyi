@@ -21,6 +21,7 @@ __all__ = [
     "SERVO_CHECKS",
     "SERVO_DUTY",
     "SHAFT_STATS",
+    "SHAKING_STATS",
     "CamKernel",
     "EventGraph",
     "ForceModel",

@@ -113,12 +113,14 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
             fontsize=8,
         )
     polar.set_title("shaking force  [N] (direction on the frame)", fontsize=9)
+    polar.set_rlabel_position(112.5)  # radial labels off the 0° axis the curves often cross
+    polar.tick_params(axis="y", labelsize=7)
     right.axhline(0.0, color="0.6", lw=0.8)
     right.set_ylabel("shaking moment  [N·m]")
     angle_axis(right, 360.0, "angle  [deg]")
     right.grid(True, lw=0.4, alpha=0.5)
     if before is not None:
-        polar.legend(fontsize=8, loc="upper right", bbox_to_anchor=(1.15, 1.1))
+        polar.legend(fontsize=8, loc="upper left", bbox_to_anchor=(-0.25, 0.02))
         right.legend(fontsize=8)
     fig.suptitle(title or f"shaking of the frame at {n:g} rpm")
     return fig

@@ -85,19 +85,99 @@ fn check(
         return Err(bad_len("nrm", nrm.len(), C * j * n, "4 × J × N"));
     }
     let per = 2 * j;
-    if (per == 0 && !designs.is_empty()) || (per > 0 && designs.len() % per != 0) {
-        return Err(bad_len(
-            "designs",
-            designs.len(),
-            per,
-            "a multiple of J × 2",
-        ));
-    }
+    let count = match designs.len().checked_div(per) {
+        Some(d) if d * per == designs.len() => d,
+        None if designs.is_empty() => 0,
+        _ => {
+            return Err(bad_len(
+                "designs",
+                designs.len(),
+                per,
+                "a multiple of J × 2",
+            ))
+        }
+    };
     InvalidInput::check_finite("base", base)?;
     InvalidInput::check_finite("lin", lin)?;
     InvalidInput::check_finite("nrm", nrm)?;
     InvalidInput::check_finite("designs", designs)?;
-    Ok(if per == 0 { 0 } else { designs.len() / per })
+    Ok(count)
+}
+
+/// Designs evaluated together: each angle's row of the form is read once for
+/// all of them, and the arithmetic runs across them in SIMD lanes.
+const BLOCK: usize = 8;
+
+/// The form packed by angle: for angle n and channel c, the 3J coefficients
+/// (lin_x, lin_y, nrm) of every counterweight in a row, so that a block of
+/// designs reads one contiguous row per (n, c).
+fn pack(lin: &[f64], nrm: &[f64], shape: FormShape) -> Vec<f64> {
+    let FormShape { n, j } = shape;
+    let mut out = vec![0.0; n * C * 3 * j];
+    for k in 0..n {
+        for c in 0..C {
+            let row = &mut out[(k * C + c) * 3 * j..(k * C + c + 1) * 3 * j];
+            for jj in 0..j {
+                let at = (c * j + jj) * n + k;
+                row[3 * jj] = lin[2 * at];
+                row[3 * jj + 1] = lin[2 * at + 1];
+                row[3 * jj + 2] = nrm[at];
+            }
+        }
+    }
+    out
+}
+
+/// [`STATS`] of up to [`BLOCK`] designs (`w` row-major, one per row of `out`)
+/// into `out` (rows × [`N_STATS`]), from the packed form.
+fn block_stats(base: &[f64], packed: &[f64], w: &[f64], shape: FormShape, out: &mut [f64]) {
+    let FormShape { n, j } = shape;
+    let rows = out.len() / N_STATS;
+    // x[k][b]: design b's k-th coefficient (w_x, w_y, |w| per counterweight);
+    // the lanes past `rows` stay 0 and are not written out.
+    let mut x = vec![[0.0f64; BLOCK]; 3 * j];
+    for b in 0..rows {
+        for jj in 0..j {
+            let (w0, w1) = (w[(b * j + jj) * 2], w[(b * j + jj) * 2 + 1]);
+            x[3 * jj][b] = w0;
+            x[3 * jj + 1][b] = w1;
+            x[3 * jj + 2][b] = w0.hypot(w1);
+        }
+    }
+    let zero = [0.0f64; BLOCK];
+    let (mut sf, mut pf, mut sm, mut pm, mut st, mut pt) = (zero, zero, zero, zero, zero, zero);
+    for k in 0..n {
+        let mut v = [zero; C];
+        for (c, vc) in v.iter_mut().enumerate() {
+            *vc = [base[c * n + k]; BLOCK];
+            let row = &packed[(k * C + c) * 3 * j..(k * C + c + 1) * 3 * j];
+            for (coef, xk) in row.iter().zip(&x) {
+                for (o, xb) in vc.iter_mut().zip(xk) {
+                    *o += coef * xb;
+                }
+            }
+        }
+        for b in 0..BLOCK {
+            let f2 = v[0][b] * v[0][b] + v[1][b] * v[1][b];
+            sf[b] += f2;
+            pf[b] = pf[b].max(f2);
+            sm[b] += v[2][b] * v[2][b];
+            pm[b] = pm[b].max(v[2][b].abs());
+            st[b] += v[3][b] * v[3][b];
+            pt[b] = pt[b].max(v[3][b].abs());
+        }
+    }
+    let nf = n as f64;
+    for (b, row) in out.chunks_exact_mut(N_STATS).enumerate() {
+        row.copy_from_slice(&[
+            (sf[b] / nf).sqrt(),
+            pf[b].sqrt(),
+            (sm[b] / nf).sqrt(),
+            pm[b],
+            (st[b] / nf).sqrt(),
+            pt[b],
+        ]);
+    }
 }
 
 /// The four channels of one design `w` (J × 2) into `buf` (4 × N).
@@ -116,30 +196,6 @@ fn channels(base: &[f64], lin: &[f64], nrm: &[f64], w: &[f64], shape: FormShape,
             }
         }
     }
-}
-
-/// [`STATS`] of the channels in `buf` (4 × N).
-fn stats(buf: &[f64], n: usize) -> [f64; N_STATS] {
-    let (fx, rest) = buf.split_at(n);
-    let (fy, rest) = rest.split_at(n);
-    let (m, t) = rest.split_at(n);
-    let (mut sf, mut pf) = (0.0, 0.0f64);
-    for (&x, &y) in fx.iter().zip(fy) {
-        let s = x * x + y * y;
-        sf += s;
-        pf = pf.max(s);
-    }
-    let rms_peak = |v: &[f64]| {
-        let (mut s, mut p) = (0.0, 0.0f64);
-        for &x in v {
-            s += x * x;
-            p = p.max(x.abs());
-        }
-        ((s / n as f64).sqrt(), p)
-    };
-    let (rm, pm) = rms_peak(m);
-    let (rt, pt) = rms_peak(t);
-    [(sf / n as f64).sqrt(), pf.sqrt(), rm, pm, rt, pt]
 }
 
 /// The four channels (4 × N, row-major) of one counterweight design `w`
@@ -186,25 +242,21 @@ pub fn balance_stats_into(
         return Ok(());
     }
     let per = 2 * shape.j;
+    let packed = pack(lin, nrm, shape);
     let pool = pool(resolve_threads(n_threads)?)?;
     pool.install(|| {
-        // Chunks of designs share one buffer of the four channels.
-        out.par_chunks_mut(N_STATS * 64)
+        // A task is 8 blocks of designs; each block reads the form once.
+        out.par_chunks_mut(N_STATS * BLOCK * 8)
             .enumerate()
-            .for_each(|(ci, rows)| {
-                if crate::cancel::requested() {
-                    return;
-                }
-                let mut buf = vec![0.0; C * shape.n];
-                for (r, row) in rows.chunks_exact_mut(N_STATS).enumerate() {
-                    let i = ci * 64 + r;
-                    let w = if per == 0 {
-                        &[][..]
-                    } else {
-                        &designs[i * per..(i + 1) * per]
-                    };
-                    channels(base, lin, nrm, w, shape, &mut buf);
-                    row.copy_from_slice(&stats(&buf, shape.n));
+            .for_each(|(ci, task)| {
+                for (bi, rows) in task.chunks_mut(N_STATS * BLOCK).enumerate() {
+                    if crate::cancel::requested() {
+                        return;
+                    }
+                    let first = (ci * 8 + bi) * BLOCK;
+                    let count = rows.len() / N_STATS;
+                    let w = &designs[first * per..(first + count) * per];
+                    block_stats(base, &packed, w, shape, rows);
                 }
             });
     });
