@@ -194,3 +194,30 @@ def test_the_example_machine_shakes_as_its_linkage_at_its_phase():
     moved = np.roll(own.force_parts, round(steps), axis=1)
     np.testing.assert_allclose(s.force_parts, moved, atol=1e-9 * np.abs(moved).max())
     assert s.stats(300.0)["rms_force_n"] == pytest.approx(own.stats(300.0)["rms_force_n"], rel=1e-9)
+
+
+def test_the_hodograph_draws_the_force_vector_tip(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from cyclomech.dynamics.plot import plot_shaking
+
+    lk = slider_crank()
+    phi = np.radians(np.arange(0.0, 360.0, 2.0))
+    k = cm.forces.kinetostatics(lk, phi, point_masses={"C": 3.0, "B": 1.0})
+    b = cm.dynamics.balance(k, counterweights=[("A", "B")], rpm=300.0, linkage=lk)
+    fig = plot_shaking(b, 300.0)
+    polar = fig.axes[0]
+    (after,) = [ln for ln in polar.lines if ln.get_gid() == "force"]
+    (before,) = [ln for ln in polar.lines if ln.get_gid() == "force before"]
+    for line, s in ((after, b.shaking_after), (before, b.shaking_before)):
+        ang, mag = line.get_data()
+        f = s.force(300.0)
+        # The closed curve's points are the force's tips (x, y) = mag (cos, sin).
+        np.testing.assert_allclose(mag[:-1] * np.cos(ang[:-1]), f[:, 0], atol=1e-9 * mag.max())
+        np.testing.assert_allclose(mag[:-1] * np.sin(ang[:-1]), f[:, 1], atol=1e-9 * mag.max())
+    fig.savefig(tmp_path / "shaking.png")
+    assert (tmp_path / "shaking.png").stat().st_size > 10_000
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

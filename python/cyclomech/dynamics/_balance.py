@@ -71,6 +71,12 @@ class Counterweight:
     vector_kg_m : tuple of (float, float)
         (m r cos α, m r sin α) in the link's frame [kg·m].
 
+    Raises
+    ------
+    InputError
+        If a name is not a str, ``radius_m`` is not a finite number > 0 or
+        ``vector_kg_m`` not two finite numbers.
+
     Examples
     --------
     >>> c = Counterweight("O-A", "O", "A", 0.1, (-0.6, 0.0))
@@ -83,6 +89,20 @@ class Counterweight:
     towards: str
     radius_m: float
     vector_kg_m: tuple[float, float]
+
+    def __post_init__(self) -> None:
+        for name in ("link", "pivot", "towards"):
+            if not isinstance(getattr(self, name), str):
+                raise InputError(f"{name} = {getattr(self, name)!r} must be a name (str)")
+        object.__setattr__(self, "radius_m", positive("radius_m", self.radius_m, "[m]"))
+        v = self.vector_kg_m
+        if isinstance(v, str) or not hasattr(v, "__len__") or len(v) != 2:
+            raise InputError(f"vector_kg_m = {v!r} must be (m r cos α, m r sin α) [kg·m]")
+        vec = (
+            finite_number("vector_kg_m[0]", v[0], "[kg·m]"),
+            finite_number("vector_kg_m[1]", v[1], "[kg·m]"),
+        )
+        object.__setattr__(self, "vector_kg_m", vec)
 
     @property
     def mass_radius_kg_m(self) -> float:
