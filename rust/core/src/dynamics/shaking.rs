@@ -157,14 +157,17 @@ fn block_stats(base: &[f64], packed: &[f64], w: &[f64], shape: FormShape, out: &
                 }
             }
         }
+        // Maxima as selects (the inputs are finite): the lanes stay in SIMD
+        // registers, where f64::max's NaN rule would split them.
         for b in 0..BLOCK {
             let f2 = v[0][b] * v[0][b] + v[1][b] * v[1][b];
             sf[b] += f2;
-            pf[b] = pf[b].max(f2);
-            sm[b] += v[2][b] * v[2][b];
-            pm[b] = pm[b].max(v[2][b].abs());
-            st[b] += v[3][b] * v[3][b];
-            pt[b] = pt[b].max(v[3][b].abs());
+            pf[b] = if f2 > pf[b] { f2 } else { pf[b] };
+            let (m2, t2) = (v[2][b] * v[2][b], v[3][b] * v[3][b]);
+            sm[b] += m2;
+            pm[b] = if m2 > pm[b] { m2 } else { pm[b] };
+            st[b] += t2;
+            pt[b] = if t2 > pt[b] { t2 } else { pt[b] };
         }
     }
     let nf = n as f64;
@@ -173,9 +176,9 @@ fn block_stats(base: &[f64], packed: &[f64], w: &[f64], shape: FormShape, out: &
             (sf[b] / nf).sqrt(),
             pf[b].sqrt(),
             (sm[b] / nf).sqrt(),
-            pm[b],
+            pm[b].sqrt(),
             (st[b] / nf).sqrt(),
-            pt[b],
+            pt[b].sqrt(),
         ]);
     }
 }
