@@ -221,3 +221,34 @@ def test_the_hodograph_draws_the_force_vector_tip(tmp_path):
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+def test_a_translating_cam_follower_shakes_the_machine_by_its_inertia_along_its_axis():
+    m = cm.Machine.from_toml("examples/flow_wrapper.toml")
+    r = cm.machine.analyze(m, progress=False)
+    s = cm.dynamics.shaking(r, about_m=(0.01, 0.0))
+    cams = [
+        k for k, res in r.mechanisms.items() if isinstance(getattr(res, "cam", None), cm.cam.Cam)
+    ]
+    translating = [
+        k for k in cams if isinstance(r.mechanisms[k].cam.follower, cm.cam.TranslatingRoller)
+    ]
+    assert translating and set(translating) <= set(s.parts)
+    assert set(cams) - set(translating) <= set(s.skipped)
+    for k in translating:
+        res = r.mechanisms[k]
+        mass = res.mech.design.loads.mass
+        e = res.cam.follower.offset
+        phase = res.shaft_torque()[2]
+        # −m s″ by central differences of the displacement at the cam angle θ − phase.
+        theta = np.radians(s.angles_deg[::37] - phase)
+        h = 1e-4
+        sv = [res.cam.solve(theta + d).s for d in (-h, 0.0, h)]
+        ref = -mass * (sv[2] - 2 * sv[1] + sv[0]) / h**2
+        got = s.parts[k].force_parts[0, ::37]
+        scale = np.abs(ref).max()
+        np.testing.assert_allclose(got[:, 1], ref, atol=2e-4 * scale)
+        assert np.abs(got[:, 0]).max() == 0.0
+        np.testing.assert_allclose(
+            s.parts[k].moment_parts[0, ::37], (e - 0.01) * ref, atol=2e-4 * scale
+        )

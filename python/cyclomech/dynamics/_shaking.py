@@ -33,6 +33,7 @@ import numpy.typing as npt
 from .._arrays import finite_number, instance
 from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
+from ..cam import Cam, FlatFaced, TranslatingRoller
 from ..forces import Kinetostatics
 from ..linkage import Linkage
 
@@ -370,8 +371,24 @@ def _phased(s: Shaking, phase_deg: float) -> Shaking:
     return Shaking(theta, f, m, s.about_m)
 
 
+def _of_cam(cam: Cam, mass: float, about: tuple[float, float], n: int) -> Shaking:
+    """A translating follower's shaking: −m s̈ along +y (the follower's axis as
+    :mod:`cyclomech.cam` draws it, at x = its offset), on ``n`` cam angles from 0.
+    The spring, the loads and the cam's contact force act between the follower,
+    the cam and the frame: they close inside the machine (no static part)."""
+    theta = np.arange(n, dtype=np.float64) * (2.0 * math.pi / n)
+    kin = cam.solve(theta)
+    e = cam.follower.offset if isinstance(cam.follower, TranslatingRoller) else 0.0
+    force = np.zeros((3, n, 2))
+    force[0, :, 1] = -mass * kin.dds
+    force[1, :, 1] = -mass * kin.ds
+    moment = (e - about[0]) * force[:, :, 1]  # the axis x = e: (r − Q) × F
+    return Shaking(np.degrees(theta), force, moment, about)
+
+
 def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, Any]) -> Shaking:
-    """Each linkage's shaking at its phase (the phase its shaft torque takes), summed."""
+    """Each linkage's and translating cam follower's shaking at its phase (the phase
+    its shaft torque takes), summed."""
     parts: dict[str, Shaking] = {}
     skipped: dict[str, str] = {}
     for name in offsets:
@@ -384,19 +401,32 @@ def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, A
         k = getattr(res, "kinetostatics", None)
         get = getattr(res, "shaft_torque", None)
         curve = None if get is None else get()
-        if not isinstance(k, Kinetostatics) or curve is None:
-            skipped[name] = (
-                "no linkage forces at a phase in the cyclogram (a linkage with masses "
-                "is needed; cams, presses and servo axes are not included yet)"
-            )
-            continue
         off = _point(f"offsets_m[{name!r}]", offsets.get(name, (0.0, 0.0)))
         # The mechanism's own coordinates sit at `off` in the machine's frame.
-        own = _of_kinetostatics(k, res.mech.linkage, (about[0] - off[0], about[1] - off[1]))
+        own_about = (about[0] - off[0], about[1] - off[1])
+        cam = getattr(res, "cam", None)
+        if isinstance(k, Kinetostatics) and curve is not None:
+            own = _of_kinetostatics(k, res.mech.linkage, own_about)
+        elif isinstance(cam, Cam) and curve is not None:
+            if not isinstance(cam.follower, TranslatingRoller | FlatFaced):
+                skipped[name] = (
+                    "an oscillating follower: its arm's centre of mass is not given (its "
+                    "mass is a moment of inertia about the pivot)"
+                )
+                continue
+            own = _of_cam(cam, res.mech.design.loads.mass, own_about, curve[0].size)
+        else:
+            skipped[name] = (
+                "no inertia forces at a phase in the cyclogram (a linkage with masses or "
+                "a cam with its follower's loads is needed; presses and servo axes are "
+                "not included yet)"
+            )
+            continue
         parts[name] = _phased(own, float(curve[2]))
     if not parts:
         raise InputError(
-            "mechanism: the machine has no linkage with masses at a phase in the cyclogram; "
+            "mechanism: the machine has no linkage with masses nor translating cam follower "
+            "with loads at a phase in the cyclogram; "
             f"left out: {'; '.join(f'{k}: {v}' for k, v in skipped.items()) or 'none'}"
         )
     first = next(iter(parts.values()))
@@ -423,17 +453,22 @@ def shaking(
 
     Of one linkage (its :class:`~cyclomech.forces.Kinetostatics`, or a machine's
     linkage result) or of a whole machine (a :class:`~cyclomech.machine.MachineResult`):
-    each linkage with masses at the phase its driving torque takes on the main
-    shaft, summed. The force is taken from the ground joints' reactions and the
-    frame guides' normal forces, the moment adds the driving torque's reaction on
-    the motor; see :mod:`cyclomech.dynamics` for what is included (gravity and the
-    working loads only in the static part).
+    each linkage with masses and each translating cam follower with loads at the
+    phase its driving torque takes on the main shaft, summed (the rest listed in
+    ``skipped`` with the reason: oscillating followers, presses, servo axes). A
+    linkage's force is taken from its ground joints' reactions and frame guides'
+    normal forces, the moment adds the driving torque's reaction on the motor; see
+    :mod:`cyclomech.dynamics` for what is included (gravity and the working loads
+    only in the static part). A cam follower of mass m shakes the frame by −m s̈
+    along +y, its axis as :mod:`cyclomech.cam` draws it (at x = its offset from the
+    cam's centre, the origin of the cam's coordinates).
 
     Parameters
     ----------
     mechanism : Kinetostatics, LinkageResult or MachineResult
         The forces of one linkage (with reactions), a machine's linkage result
-        (``result.mechanisms[name]``) or the machine's result.
+        (``result.mechanisms[name]``) or the machine's result (each mechanism in
+        its own coordinates, placed by ``offsets_m``).
     linkage : Linkage, optional
         The linkage a ``Kinetostatics`` was solved for: needed when it has guides
         (their directions); default None.
