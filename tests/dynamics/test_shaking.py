@@ -6,6 +6,7 @@ closed form and its series."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import cyclomech as cm
 import numpy as np
@@ -14,6 +15,7 @@ import sympy as sp
 from cyclomech.forces import LinkMass, PointLoad
 
 W = 300.0 * math.pi / 30.0  # 300 rpm [rad/s]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def fourbar() -> cm.Linkage:
@@ -181,7 +183,7 @@ def test_a_crank_counterweight_only_moves_the_primary_force_between_x_and_y():
 
 
 def test_the_example_machine_shakes_as_its_linkage_at_its_phase():
-    m = cm.Machine.from_toml("examples/knife_cutter.toml")
+    m = cm.Machine.from_toml(ROOT / "examples" / "knife_cutter.toml")
     r = cm.machine.analyze(m, progress=False)
     s = cm.dynamics.shaking(r)
     (name,) = s.parts
@@ -224,7 +226,7 @@ def test_the_hodograph_draws_the_force_vector_tip(tmp_path):
 
 
 def test_a_translating_cam_follower_shakes_the_machine_by_its_inertia_along_its_axis():
-    m = cm.Machine.from_toml("examples/flow_wrapper.toml")
+    m = cm.Machine.from_toml(ROOT / "examples" / "flow_wrapper.toml")
     r = cm.machine.analyze(m, progress=False)
     s = cm.dynamics.shaking(r, about_m=(0.01, 0.0))
     cams = [
@@ -252,3 +254,46 @@ def test_a_translating_cam_follower_shakes_the_machine_by_its_inertia_along_its_
         np.testing.assert_allclose(
             s.parts[k].moment_parts[0, ::37], (e - 0.01) * ref, atol=2e-4 * scale
         )
+
+
+def _press_line(tmp_path, slider_kg: float, rod_kg: float):
+    text = (ROOT / "examples" / "extrusion_press_line.toml").read_text(encoding="utf-8")
+    text = text.replace("slider_mass_kg = 60.0", f"slider_mass_kg = {slider_kg}")
+    text = text.replace("rod_mass_kg = 15.0", f"rod_mass_kg = {rod_kg}")
+    path = tmp_path / "press_line.toml"
+    path.write_text(text, encoding="utf-8")
+    r = cm.machine.analyze(cm.Machine.from_toml(path), progress=False)
+    return r, r.mechanisms["drive"]
+
+
+@pytest.mark.parametrize(("slider_kg", "rod_kg"), [(60.0, 0.0), (0.0, 15.0)])
+def test_a_press_shakes_as_its_crank_torque_says_by_the_power_balance(tmp_path, slider_kg, rod_kg):
+    # The press's own crank torque (its kernel's exact Π′, Π″ and the rod's terms)
+    # is the power of the inertia forces: per ω², T = −F·X_ψ − (−J φ_ψψ)·φ_ψ over the
+    # carrier angle ψ, X the slider or the rod's centre G. The velocities here by
+    # np.gradient on the drive's positions; −J φ_ψψ from the shaking moment about G.
+    r, res = _press_line(tmp_path, slider_kg, rod_kg)
+    part = cm.dynamics.shaking(r).parts["drive"]
+    phase = res.shaft_torque()[2]
+    n = part.angles_deg.size
+    steps = round(phase / (360.0 / n))
+    assert phase == pytest.approx(steps * 360.0 / n, abs=1e-9)  # whole steps: no interpolation
+    force = np.roll(part.force_parts[0], -steps, axis=0)
+    moment = np.roll(part.moment_parts[0], -steps, axis=0)
+    psi = np.radians(np.arange(n) * (360.0 / n))
+    kin = res.mech.press.solve(np.mod(-psi, 2 * np.pi))
+    g = 0.5 * (kin.slider + kin.pin)
+    d = kin.slider - kin.pin
+    phi = np.arctan2(d[:, 1], d[:, 0])  # the rod swings: no wrap over the turn
+
+    def grad(x):
+        wrapped = np.concatenate([x[-2:], x, x[:2]])
+        return np.gradient(wrapped, psi[1], axis=0, edge_order=2)[2:-2]
+
+    if rod_kg == 0.0:
+        got = -np.einsum("ni,ni->n", force, grad(kin.slider))
+    else:
+        about_g = moment - (g[:, 0] * force[:, 1] - g[:, 1] * force[:, 0])  # −J φ_ψψ
+        got = -np.einsum("ni,ni->n", force, grad(g)) - about_g * grad(phi)
+    want = res.shaft_torque()[0]
+    np.testing.assert_allclose(got, want, atol=1e-5 * np.abs(want).max())
