@@ -427,8 +427,8 @@ def _of_press(
 
 
 def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, Any]) -> Shaking:
-    """Each linkage's and translating cam follower's shaking at its phase (the phase
-    its shaft torque takes), summed."""
+    """Each linkage's, translating cam follower's and loaded press's shaking at its
+    phase (the phase its shaft torque takes, on the same samples), summed."""
     parts: dict[str, Shaking] = {}
     skipped: dict[str, str] = {}
     for name in offsets:
