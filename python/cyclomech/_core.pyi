@@ -21,6 +21,7 @@ __all__ = [
     "SERVO_CHECKS",
     "SERVO_DUTY",
     "SHAFT_STATS",
+    "SHAKING_STATS",
     "CamKernel",
     "EventGraph",
     "ForceModel",
@@ -69,6 +70,8 @@ SHAFT_STATS: tuple[str, ...]
 DYNAMICS_STEADY_COLUMNS: tuple[str, ...]
 #: The steady state's outcomes, by status code.
 DYNAMICS_STEADY_STATUS: tuple[str, ...]
+#: The statistics of shaking_batch, in its columns' order.
+SHAKING_STATS: tuple[str, ...]
 #: The checks of a servo motor, in the order of servo_size's last axis.
 SERVO_CHECKS: tuple[str, ...]
 #: The criteria of servo_min_angles, in its last axis' order.
@@ -583,6 +586,25 @@ def shaft_stats(
     delta: float,
     *,
     n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+
+# dynamics: the shaking force of counterweight designs (issue 34, item 4).
+
+__all__ += ["shaking_batch", "shaking_channels"]
+
+def shaking_batch(
+    base: npt.NDArray[np.float64],
+    lin: npt.NDArray[np.float64],
+    nrm: npt.NDArray[np.float64],
+    designs: npt.NDArray[np.float64],
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def shaking_channels(
+    base: npt.NDArray[np.float64],
+    lin: npt.NDArray[np.float64],
+    nrm: npt.NDArray[np.float64],
+    w: npt.NDArray[np.float64],
 ) -> npt.NDArray[np.float64]: ...
 
 # forces: kinetostatics of linkages.

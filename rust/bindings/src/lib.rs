@@ -11,6 +11,7 @@ mod cam_vibration;
 mod convert;
 mod cyclogram;
 mod dynamics_shaft;
+mod dynamics_shaking;
 mod errors;
 mod forces;
 mod impact;
@@ -33,6 +34,7 @@ mod _core {
     use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
     #[pymodule_export]
     use super::dynamics_shaft::{dynamics_start_up, dynamics_steady, dynamics_steady_batch};
+    use super::dynamics_shaking::{shaking_batch, shaking_channels};
     #[pymodule_export]
     use super::forces::ForceModel;
     #[pymodule_export]
@@ -85,6 +87,7 @@ mod _core {
             "DYNAMICS_STEADY_STATUS",
             PyTuple::new(m.py(), STEADY_STATUS)?,
         )?;
+        m.add("SHAKING_STATS", PyTuple::new(m.py(), SHAKING_STATS)?)?;
         m.add("SERVO_CHECKS", PyTuple::new(m.py(), SERVO_CHECKS)?)?;
         m.add("SERVO_DUTY", PyTuple::new(m.py(), SERVO_DUTY)?)?;
         m.add("SERVO_BOUNDS", PyTuple::new(m.py(), SERVO_BOUNDS)?)?;
@@ -96,6 +99,7 @@ mod _core {
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
     use cyclomech_core::dynamics::{STEADY_COLUMNS, STEADY_STATUS};
+    use cyclomech_core::dynamics::shaking::STATS as SHAKING_STATS;
     use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
     use cyclomech_core::servo::{

@@ -1,0 +1,126 @@
+"""Plots of the frame's shaking (:func:`plot_shaking`): the shaking force's
+hodograph, before and after balancing, and the shaking moment over the cycle.
+matplotlib is imported only when drawing."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .._arrays import finite_number
+from .._errors import InputError
+from .._plotting import angle_axis, pyplot
+from ._balance import Balance
+from ._shaking import Shaking
+
+__all__ = ["plot_shaking"]
+
+
+def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
+    """The shaking force's hodograph (a polar plot) and the shaking moment over the cycle.
+
+    Left: the tip of the force vector (F_x, F_y) [N] over the cycle, as a closed
+    curve around the origin (the frame sees this force turn and pulse), its peak
+    marked; right: the shaking moment [N·m] against the angle. Given a
+    :class:`Balance`, both before (grey) and after balancing.
+
+    Parameters
+    ----------
+    shaking : Shaking or Balance
+        A mechanism's or machine's shaking (:func:`cyclomech.dynamics.shaking`), or a
+        balance (:func:`cyclomech.dynamics.balance`).
+    rpm : float
+        The speed [rpm] of the inertia forces.
+    title : str, optional
+        The figure's title; default names the speed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure; ``fig.axes`` the hodograph (polar) and the moment axes.
+
+    Raises
+    ------
+    InputError
+        If ``shaking`` is neither a Shaking nor a Balance or ``rpm`` is not a finite
+        number.
+    ImportError
+        If matplotlib is not installed.
+
+    Notes
+    -----
+    Artists by gid: ``"force"``, ``"force before"``, ``"peak"``, ``"moment"``,
+    ``"moment before"``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, cyclomech as cm
+    >>> crank = cm.Linkage({"O": (0, 0), "A": (0.1, 0)}, [("O", "A")], ["O"], ("O", "A"))
+    >>> k = cm.forces.kinetostatics(crank, np.radians(np.arange(0.0, 360.0, 5.0)),
+    ...                             point_masses={"A": 2.0})
+    >>> fig = plot_shaking(cm.dynamics.shaking(k), 300.0)
+    >>> fig.axes[0].name, fig.axes[1].get_ylabel()
+    ('polar', 'shaking moment  [N·m]')
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close(fig)
+    """
+    if isinstance(shaking, Balance):
+        after, before = shaking.shaking_after, shaking.shaking_before
+    elif isinstance(shaking, Shaking):
+        after, before = shaking, None
+    else:
+        raise InputError(
+            "plot_shaking needs a Shaking (cyclomech.dynamics.shaking) or a Balance "
+            f"(cyclomech.dynamics.balance); got {type(shaking).__name__}"
+        )
+    n = finite_number("rpm", rpm, "[rpm]")
+    plt = pyplot()
+    fig = plt.figure(figsize=(10.0, 4.4), layout="constrained")
+    polar = fig.add_subplot(1, 2, 1, projection="polar")
+    right = fig.add_subplot(1, 2, 2)
+
+    def closed(v: Any) -> Any:
+        return np.concatenate([v, v[:1]])
+
+    for s, name, style in (
+        (before, "before", {"color": "0.55", "lw": 1.0, "ls": "--"}),
+        (after, "", {"color": "C0", "lw": 1.6}),
+    ):
+        if s is None:
+            continue
+        f = s.force(n)
+        mag, ang = np.hypot(f[:, 0], f[:, 1]), np.arctan2(f[:, 1], f[:, 0])
+        gid = f"force {name}".strip()
+        label = "balanced" if before is not None and not name else (name or "shaking force")
+        polar.plot(closed(ang), closed(mag), gid=gid, label=label, **style)
+        x = np.mod(s.angles_deg, 360.0)
+        order = np.argsort(x)
+        m = s.moment(n)
+        right.plot(x[order], m[order], gid=f"moment {name}".strip(), label=label, **style)
+    f = after.force(n)
+    mag = np.hypot(f[:, 0], f[:, 1])
+    if mag.size:
+        i = int(np.argmax(mag))
+        polar.plot([np.arctan2(f[i, 1], f[i, 0])], [mag[i]], "o", color="C3", gid="peak")
+        polar.annotate(
+            f"peak {mag[i]:,.0f} N at {after.angles_deg[i] % 360:.0f}°",
+            (np.arctan2(f[i, 1], f[i, 0]), mag[i]),
+            textcoords="offset points",
+            xytext=(6, 6),
+            fontsize=8,
+        )
+    polar.set_title("shaking force  [N] (direction on the frame)", fontsize=9)
+    polar.set_rlabel_position(112.5)  # radial labels off the 0° axis the curves often cross
+    polar.tick_params(axis="y", labelsize=7)
+    right.axhline(0.0, color="0.6", lw=0.8)
+    right.set_ylabel("shaking moment  [N·m]")
+    angle_axis(right, 360.0, "angle  [deg]")
+    right.grid(True, lw=0.4, alpha=0.5)
+    if before is not None:
+        polar.legend(fontsize=8, loc="upper left", bbox_to_anchor=(-0.25, 0.02))
+        right.legend(fontsize=8)
+    fig.suptitle(title or f"shaking of the frame at {n:g} rpm")
+    return fig
