@@ -84,6 +84,7 @@ RESULT_CLASSES = {
     "cyclomech.dynamics.Balance",
     "cyclomech.dynamics.FlywheelSizing",
     "cyclomech.dynamics.MachineDynamics",
+    "cyclomech.dynamics.MachineShaking",
     "cyclomech.dynamics.Reduced",
     "cyclomech.dynamics.Shaking",
     "cyclomech.dynamics.StartUp",

@@ -89,6 +89,7 @@ from __future__ import annotations
 
 from ._balance import OBJECTIVES, Balance, Counterweight, balance
 from ._drive import Drive, MachineDynamics, machine_dynamics
+from ._frame import MachineShaking, machine_shaking
 from ._keys import KEY_DOCS as DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
@@ -117,6 +118,7 @@ __all__ = [
     "InductionMotor",
     "LinearMotor",
     "MachineDynamics",
+    "MachineShaking",
     "Motor",
     "Reduced",
     "Shaking",
@@ -126,6 +128,7 @@ __all__ = [
     "TableMotor",
     "balance",
     "machine_dynamics",
+    "machine_shaking",
     "reduced",
     "shaking",
     "size_flywheel",

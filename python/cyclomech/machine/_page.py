@@ -95,6 +95,11 @@ def page(
             header, rows = r.dynamics.table()
             parts.append(_table(header, rows))
         parts += _images(figs, "shaft")
+    if r.shaking is not None:
+        parts.append("<h2>Frame: the shaking force</h2>")
+        header, rows = r.shaking.table()
+        parts.append(_table(header, rows))
+        parts += _images(figs, "frame")
     parts.append(_files_section(r, cycle_files))
     return "\n".join(parts)
 

@@ -32,7 +32,7 @@ from .._kind import Context
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum
-from ..dynamics import machine_dynamics
+from ..dynamics import machine_dynamics, machine_shaking
 from ..shaft import main_shaft
 from . import _page
 from ._kinds import KINDS
@@ -131,6 +131,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
+    r.shaking = machine_shaking(r)
     if m.drive is not None and shaft is not None:
         t = time.perf_counter()
         r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, limit.rpm)
@@ -237,6 +238,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["shaft"] = r.shaft.json()
     if r.dynamics is not None:
         out["dynamics"] = r.dynamics.json()
+    if r.shaking is not None:
+        out["shaking"] = r.shaking.json()
     sw = r.sweep
     out["speed_sweep"] = {
         "speed_rpm": sw.rpm,
@@ -355,7 +358,18 @@ def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
 
 def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None]) -> None:
     """The main shaft's figures, handed to ``save``: its torque at the nominal speed
-    and, under the file's drive, its real speed and the motor's torque."""
+    and, under the file's drive, its real speed and the motor's torque; and the
+    frame's shaking force and moment."""
+    if r.shaking is not None:
+        save(
+            r.shaking.figure(),
+            "shaking",
+            "frame",
+            "The force the machine's moving parts put on the frame over the cycle at the "
+            "nominal speed (inertia only: −Σ m·a_G, each mechanism at its phase in the "
+            "optimised cyclogram): left, the tip of the force vector (its hodograph); "
+            "right, the moment.",
+        )
     if r.shaft is not None:
         save(
             r.shaft.figure(),

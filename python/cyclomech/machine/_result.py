@@ -17,7 +17,7 @@ from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
 
 if TYPE_CHECKING:
-    from ..dynamics import MachineDynamics
+    from ..dynamics import MachineDynamics, MachineShaking
     from ..shaft import MainShaft
 
 __all__ = ["MachineResult"]
@@ -67,6 +67,10 @@ class MachineResult:
     dynamics : cyclomech.dynamics.MachineDynamics, optional
         The main shaft's real speed under the file's ``[drive]``, when it has one and
         a mechanism loads the shaft; default None.
+    shaking : cyclomech.dynamics.MachineShaking, optional
+        The shaking force and moment the moving parts put on the frame at the
+        nominal speed, when a mechanism gives inertia forces at a phase; default
+        None.
 
     Examples
     --------
@@ -91,6 +95,7 @@ class MachineResult:
     seconds: dict[str, float] = field(default_factory=dict)
     shaft: MainShaft | None = None
     dynamics: MachineDynamics | None = None
+    shaking: MachineShaking | None = None
 
     @property
     def failures(self) -> list[str]:

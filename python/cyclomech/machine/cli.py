@@ -123,6 +123,13 @@ def run_command(args: argparse.Namespace) -> int:
                 f"Flattening the main shaft's torque: peak |T| {fl.peak_before_nm:.4g} → "
                 f"{fl.peak_after_nm:.4g} N·m" + (f" ({fl.note})" if fl.note else "")
             )
+    if r.shaking is not None:
+        st = r.shaking.stats()
+        print(
+            f"Shaking force on the frame at {r.nominal_rpm:g} rpm: peak "
+            f"{st['peak_force_n']:.4g} N, RMS {st['rms_force_n']:.4g} N; moment peak "
+            f"{st['peak_moment_nm']:.4g} N·m"
+        )
     use_fig = not args.no_plot and has_matplotlib("figures")
     if use_fig and not args.quiet:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds

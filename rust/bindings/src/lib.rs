@@ -34,6 +34,7 @@ mod _core {
     use super::cyclogram::{longest_path, max_cycle_ratio, max_difference, max_speed, EventGraph};
     #[pymodule_export]
     use super::dynamics_shaft::{dynamics_start_up, dynamics_steady, dynamics_steady_batch};
+    #[pymodule_export]
     use super::dynamics_shaking::{shaking_batch, shaking_channels};
     #[pymodule_export]
     use super::forces::ForceModel;
@@ -98,8 +99,8 @@ mod _core {
 
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
-    use cyclomech_core::dynamics::{STEADY_COLUMNS, STEADY_STATUS};
     use cyclomech_core::dynamics::shaking::STATS as SHAKING_STATS;
+    use cyclomech_core::dynamics::{STEADY_COLUMNS, STEADY_STATUS};
     use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
     use cyclomech_core::servo::{

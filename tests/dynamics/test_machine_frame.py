@@ -1,0 +1,87 @@
+"""The machine's shaking force in ``cyclomech run`` (issue 34 item 6, the frame's
+part): what the report, results.json and the CLI carry. The force itself is checked
+against the momentum balance and closed forms in ``test_shaking*.py``; here, that the
+machine's figures are the phased sum of its mechanisms' own (each mechanism's
+shaking at its phase in the optimised cyclogram, from :func:`cyclomech.dynamics.shaking`
+of its kinetostatics, rolled by hand), and what a machine without inertia forces
+at a phase gets.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import cyclomech as cm
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def knife() -> Any:
+    return cm.machine.analyze(
+        cm.Machine.from_toml(ROOT / "examples/knife_cutter.toml"), progress=False
+    )
+
+
+def test_the_machine_is_its_linkage_at_its_phase(knife: Any) -> None:
+    res = knife.mechanisms["knife"]
+    own = cm.dynamics.shaking(res.kinetostatics, linkage=res.mech.linkage)
+    phase = res.shaft_torque()[2]
+    n = knife.nominal_rpm
+    # The machine's cycle angle θ sees the crank at θ − phase: roll by hand on the
+    # 3600-sample grid (the phase is a whole number of samples here).
+    steps = phase / 0.1
+    assert abs(steps - round(steps)) < 1e-9
+    want = np.roll(own.force(n), int(round(steps)) % 3600, axis=0)
+    got = knife.shaking.shaking.force(n)
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-9 * np.abs(want).max())
+    st = knife.shaking.stats()
+    f = np.hypot(*want.T)
+    assert st["peak_force_n"] == pytest.approx(f.max(), rel=1e-12)
+    assert st["rms_force_n"] == pytest.approx(np.sqrt(np.mean(f**2)), rel=1e-12)
+
+
+def test_report_json_and_cli(knife: Any, tmp_path: Path) -> None:
+    files = cm.machine.write_report(knife, tmp_path, figures=True)
+    assert "shaking.png" in {p.name for p in files}
+    g = json.loads((tmp_path / "results.json").read_text())["shaking"]
+    assert g["rpm"] == 45.0 and list(g["mechanisms"]) == ["knife"]
+    assert g["peak_force_n"] == pytest.approx(knife.shaking.stats()["peak_force_n"], rel=1e-12)
+    assert len(g["force_x_n"]) == 360
+    page = (tmp_path / "report.html").read_text()
+    assert "Frame: the shaking force" in page and "shaking.png" in page
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "cyclomech",
+            "run",
+            str(ROOT / "examples/knife_cutter.toml"),
+            "--out",
+            str(tmp_path / "o"),
+            "--no-plot",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert run.returncode == 0, run.stderr
+    assert "Shaking force on the frame at 45 rpm: peak" in run.stdout
+
+
+def test_without_inertia_forces_at_a_phase() -> None:
+    """The loom's lifter cam has an oscillating follower (no centre of mass given):
+    the machine has no shaking figure and says nothing false about it."""
+    r = cm.machine.analyze(cm.Machine.example(), progress=False)
+    assert r.shaking is None
+    assert cm.dynamics.machine_shaking(r) is None
+    with pytest.raises(TypeError, match="MachineResult"):
+        cm.dynamics.machine_shaking({"mechanisms": {}})
+    with pytest.raises(cm.InputError, match="rpm"):
+        cm.dynamics.machine_shaking(r, rpm=-1.0)
