@@ -206,3 +206,21 @@ def test_a_motor_too_weak_or_stalling_is_said_loudly():
     d = cm.dynamics.Reduced.from_curves(np.full(N, 1e-3), np.zeros(N), q, nominal_rpm=60.0)
     with pytest.raises(SolverError):
         cm.dynamics.steady_state(d, cm.dynamics.LinearMotor(100.0, 100.0))
+
+
+def test_a_kind_without_an_inertia_is_named_and_only_its_static_torque_counts(machines):
+    import dataclasses
+
+    r = machines["knife_cutter"]
+
+    class NoInertia:
+        """A mechanism's result that loads the shaft but has no shaft_inertia()."""
+
+        def __init__(self, res):
+            self.shaft_torque = res.shaft_torque
+
+    mechs = {k: NoInertia(v) for k, v in r.mechanisms.items()}
+    d = cm.dynamics.reduced(dataclasses.replace(r, mechanisms=mechs))
+    assert d.parts == () and d.without_inertia == ("knife",)
+    assert not d.inertia_kg_m2.any() and not d.d_inertia.any()
+    np.testing.assert_array_equal(d.load_torque_nm, r.shaft.torque.static)
