@@ -131,6 +131,14 @@ def test_the_start_up_is_the_lagrangian_one():
     # It ends near the steady state, as it says.
     end = np.interp(s.phi_rad[-1] % (2 * np.pi), PHI, s.steady.omega, period=2 * np.pi)
     assert abs(s.omega[-1] - end) <= 1e-3 * scale
+    # Its settle time: the last time solve_ivp's speed is outside the band around
+    # the steady state (sampled densely), to within the integrator's step there.
+    tt = np.linspace(0, s.time_s[-1], 400_001)
+    pp, ww = sol.sol(tt)
+    ss = np.interp(pp % (2 * np.pi), PHI, s.steady.omega, period=2 * np.pi)
+    last = tt[np.flatnonzero(np.abs(ww - ss) > 1e-3 * scale).max()]
+    step = np.max(np.diff(s.time_s))
+    assert abs(last - s.settle_time_s) <= step + tt[1]
 
 
 def test_the_simulated_flywheel_tends_to_the_energy_methods_as_delta_falls():

@@ -224,3 +224,28 @@ def test_a_kind_without_an_inertia_is_named_and_only_its_static_torque_counts(ma
     assert d.parts == () and d.without_inertia == ("knife",)
     assert not d.inertia_kg_m2.any() and not d.d_inertia.any()
     np.testing.assert_array_equal(d.load_torque_nm, r.shaft.torque.static)
+
+
+def test_a_table_motor_is_the_characteristic_it_tabulates():
+    jj = 0.3 * (1 + 0.4 * np.cos(2 * PHI))
+    d = cm.dynamics.Reduced.from_curves(
+        jj, -0.24 * np.sin(2 * PHI), 8 + 6 * np.sin(PHI), nominal_rpm=100.0
+    )
+    lin = cm.dynamics.LinearMotor(2.0, 3000.0, ratio=12.0, efficiency=0.95)
+    tab = cm.dynamics.TableMotor([0.0, 3000.0], [2.0, 0.0], ratio=12.0, efficiency=0.95)
+    a = cm.dynamics.steady_state(d, lin, flywheel_kg_m2=0.5, tol=1e-13)
+    b = cm.dynamics.steady_state(d, tab, flywheel_kg_m2=0.5, tol=1e-13)
+    np.testing.assert_allclose(b.omega, a.omega, rtol=1e-12)
+    # A dense table of Kloss's curve: the induction motor's steady state.
+    ind = cm.dynamics.InductionMotor(1440.0, 1500.0, 2.5, rated_torque_nm=0.8, ratio=12.0)
+    n = np.linspace(0.0, 1600.0, 160_001)
+    dense = cm.dynamics.TableMotor(n, ind.torque_nm(n), ratio=12.0)
+    a = cm.dynamics.steady_state(d, ind, flywheel_kg_m2=0.5)
+    b = cm.dynamics.steady_state(d, dense, flywheel_kg_m2=0.5)
+    np.testing.assert_allclose(b.omega, a.omega, rtol=1e-7)
+    # One batch of mixed motors (tables among them) gives each single call's state.
+    motors = [lin, tab, ind, dense]
+    batch = cm.dynamics.steady_states(d, motors, [0.5, 1.0, 2.0, 0.5])
+    for m, fw, delta in zip(motors, [0.5, 1.0, 2.0, 0.5], batch.column("delta"), strict=True):
+        s = cm.dynamics.steady_state(d, m, flywheel_kg_m2=fw)
+        assert delta == pytest.approx(s.speed_fluctuation, rel=1e-9)
