@@ -249,3 +249,33 @@ def test_a_table_motor_is_the_characteristic_it_tabulates():
     for m, fw, delta in zip(motors, [0.5, 1.0, 2.0, 0.5], batch.column("delta"), strict=True):
         s = cm.dynamics.steady_state(d, m, flywheel_kg_m2=fw)
         assert delta == pytest.approx(s.speed_fluctuation, rel=1e-9)
+
+
+def test_a_flattened_machines_inertia_follows_the_moved_phases(tmp_path):
+    # The two-cam machine of the flattening's tests (tests/shaft/test_shaft_phasing.py):
+    # J read without the flattening's shifts would not differentiate to the d_inertia
+    # of the moved torques.
+    import importlib.util
+
+    from conftest import ROOT
+
+    spec = importlib.util.spec_from_file_location(
+        "shaft_phasing", ROOT / "tests" / "shaft" / "test_shaft_phasing.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    path = tmp_path / "two_cams.toml"
+    path.write_text(mod.machine_text(), encoding="utf-8")
+    r = cm.machine.analyze(cm.Machine.from_toml(path), progress=False)
+    assert r.shaft.flattening is not None and r.shaft.flattening.moved
+    d = cm.dynamics.reduced(r)
+    assert d.parts == ("cam A", "cam B")
+    err = np.abs(_derivative(d.inertia_kg_m2) - d.d_inertia)
+    assert np.median(err) <= 1e-5 * np.max(np.abs(d.d_inertia))
+    # Each cam's J read at its own shaft_torque() phase plus its shift, by np.interp.
+    total = np.zeros(N)
+    for k in d.parts:
+        j, phase, _ = r.mechanisms[k].shaft_inertia()
+        at = phase + r.shaft.flattening.shifts_deg[k]
+        total += np.interp((np.degrees(PHI) - at) % 360, np.arange(N) * 0.1, j, period=360)
+    np.testing.assert_allclose(d.inertia_kg_m2, total, atol=1e-12 * total.max())
