@@ -256,11 +256,11 @@ def test_a_flattened_machines_inertia_follows_the_moved_phases(tmp_path):
     # J read without the flattening's shifts would not differentiate to the d_inertia
     # of the moved torques.
     import importlib.util
+    from pathlib import Path
 
-    from conftest import ROOT
-
+    here = Path(__file__).resolve().parents[1]
     spec = importlib.util.spec_from_file_location(
-        "shaft_phasing", ROOT / "tests" / "shaft" / "test_shaft_phasing.py"
+        "shaft_phasing", here / "shaft" / "test_shaft_phasing.py"
     )
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
