@@ -206,3 +206,76 @@ def test_a_motor_too_weak_or_stalling_is_said_loudly():
     d = cm.dynamics.Reduced.from_curves(np.full(N, 1e-3), np.zeros(N), q, nominal_rpm=60.0)
     with pytest.raises(SolverError):
         cm.dynamics.steady_state(d, cm.dynamics.LinearMotor(100.0, 100.0))
+
+
+def test_a_kind_without_an_inertia_is_named_and_only_its_static_torque_counts(machines):
+    import dataclasses
+
+    r = machines["knife_cutter"]
+
+    class NoInertia:
+        """A mechanism's result that loads the shaft but has no shaft_inertia()."""
+
+        def __init__(self, res):
+            self.shaft_torque = res.shaft_torque
+
+    mechs = {k: NoInertia(v) for k, v in r.mechanisms.items()}
+    d = cm.dynamics.reduced(dataclasses.replace(r, mechanisms=mechs))
+    assert d.parts == () and d.without_inertia == ("knife",)
+    assert not d.inertia_kg_m2.any() and not d.d_inertia.any()
+    np.testing.assert_array_equal(d.load_torque_nm, r.shaft.torque.static)
+
+
+def test_a_table_motor_is_the_characteristic_it_tabulates():
+    jj = 0.3 * (1 + 0.4 * np.cos(2 * PHI))
+    d = cm.dynamics.Reduced.from_curves(
+        jj, -0.24 * np.sin(2 * PHI), 8 + 6 * np.sin(PHI), nominal_rpm=100.0
+    )
+    lin = cm.dynamics.LinearMotor(2.0, 3000.0, ratio=12.0, efficiency=0.95)
+    tab = cm.dynamics.TableMotor([0.0, 3000.0], [2.0, 0.0], ratio=12.0, efficiency=0.95)
+    a = cm.dynamics.steady_state(d, lin, flywheel_kg_m2=0.5, tol=1e-13)
+    b = cm.dynamics.steady_state(d, tab, flywheel_kg_m2=0.5, tol=1e-13)
+    np.testing.assert_allclose(b.omega, a.omega, rtol=1e-12)
+    # A dense table of Kloss's curve: the induction motor's steady state.
+    ind = cm.dynamics.InductionMotor(1440.0, 1500.0, 2.5, rated_torque_nm=0.8, ratio=12.0)
+    n = np.linspace(0.0, 1600.0, 160_001)
+    dense = cm.dynamics.TableMotor(n, ind.torque_nm(n), ratio=12.0)
+    a = cm.dynamics.steady_state(d, ind, flywheel_kg_m2=0.5)
+    b = cm.dynamics.steady_state(d, dense, flywheel_kg_m2=0.5)
+    np.testing.assert_allclose(b.omega, a.omega, rtol=1e-7)
+    # One batch of mixed motors (tables among them) gives each single call's state.
+    motors = [lin, tab, ind, dense]
+    batch = cm.dynamics.steady_states(d, motors, [0.5, 1.0, 2.0, 0.5])
+    for m, fw, delta in zip(motors, [0.5, 1.0, 2.0, 0.5], batch.column("delta"), strict=True):
+        s = cm.dynamics.steady_state(d, m, flywheel_kg_m2=fw)
+        assert delta == pytest.approx(s.speed_fluctuation, rel=1e-9)
+
+
+def test_a_flattened_machines_inertia_follows_the_moved_phases(tmp_path):
+    # The two-cam machine of the flattening's tests (tests/shaft/test_shaft_phasing.py):
+    # J read without the flattening's shifts would not differentiate to the d_inertia
+    # of the moved torques.
+    import importlib.util
+    from pathlib import Path
+
+    here = Path(__file__).resolve().parents[1]
+    spec = importlib.util.spec_from_file_location(
+        "shaft_phasing", here / "shaft" / "test_shaft_phasing.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    path = tmp_path / "two_cams.toml"
+    path.write_text(mod.machine_text(), encoding="utf-8")
+    r = cm.machine.analyze(cm.Machine.from_toml(path), progress=False)
+    assert r.shaft.flattening is not None and r.shaft.flattening.moved
+    d = cm.dynamics.reduced(r)
+    assert d.parts == ("cam A", "cam B")
+    err = np.abs(_derivative(d.inertia_kg_m2) - d.d_inertia)
+    assert np.median(err) <= 1e-5 * np.max(np.abs(d.d_inertia))
+    # Each cam's J read at its own shaft_torque() phase plus its shift, by np.interp.
+    total = np.zeros(N)
+    for k in d.parts:
+        j, phase, _ = r.mechanisms[k].shaft_inertia()
+        at = phase + r.shaft.flattening.shifts_deg[k]
+        total += np.interp((np.degrees(PHI) - at) % 360, np.arange(N) * 0.1, j, period=360)
+    np.testing.assert_allclose(d.inertia_kg_m2, total, atol=1e-12 * total.max())

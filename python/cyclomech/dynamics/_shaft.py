@@ -474,8 +474,8 @@ def start_up(
     InputError
         Naming the argument.
     SolverError
-        If the motor cannot start the machine (it turns backwards) or there is no
-        steady state to settle on.
+        If the motor cannot start the machine (its speed falls back through 0:
+        the message says when and where) or there is no steady state to settle on.
 
     Warns
     -----
@@ -511,8 +511,10 @@ def start_up(
     )
     if status == 2:
         raise SolverError(
-            "the motor cannot start the machine: from rest it turns backwards (its torque at "
-            "standstill is below the load's); a stronger motor or another gear ratio may help"
+            f"the motor cannot start the machine: its speed falls back through 0 at "
+            f"t = {float(t[-1]):.4g} s, shaft angle {math.degrees(float(phi[-1])):.1f}° (the "
+            "load's torque there exceeds what the motor gives before the machine has gathered "
+            "speed); a stronger motor, another gear ratio or an unloaded start may help"
         )
     if status == 1:
         warnings.warn(

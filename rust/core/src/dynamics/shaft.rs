@@ -350,23 +350,24 @@ struct Pass {
     z: f64,
 }
 
+/// The right-hand sides (y′, t′, z′) at sample `k`; `inv` is 1/(J + constant).
 #[inline]
-fn rhs(c: &Curves<'_>, extra: f64, motor: &Motor, k: usize, y: f64, z: f64) -> Option<[f64; 3]> {
+fn rhs(c: &Curves<'_>, inv: &[f64], motor: &Motor, k: usize, y: f64, z: f64) -> Option<[f64; 3]> {
     if y.is_nan() || y <= 0.0 {
         return None;
     }
     let w = y.sqrt();
+    let iw = 1.0 / w;
     let (m, dm, _) = motor.on_shaft(w);
-    let j = c.j[k] + extra;
-    let dj = c.dj[k];
+    let (ij, dj) = (inv[k], c.dj[k]);
     Some([
-        (2.0 * (m - c.q[k]) - dj * y) / j,
-        1.0 / w,
-        (dm / w - dj) / j * z,
+        (2.0 * (m - c.q[k]) - dj * y) * ij,
+        iw,
+        (dm * iw - dj) * ij * z,
     ])
 }
 
-fn pass(c: &Curves<'_>, extra: f64, motor: &Motor, y0: f64, keep: bool) -> Option<Pass> {
+fn pass(c: &Curves<'_>, inv: &[f64], motor: &Motor, y0: f64, keep: bool) -> Option<Pass> {
     let n = c.j.len();
     let h = 2.0 * TAU / n as f64;
     let steps = n / 2;
@@ -379,20 +380,20 @@ fn pass(c: &Curves<'_>, extra: f64, motor: &Motor, y0: f64, keep: bool) -> Optio
     let (mut y, mut t, mut z) = (y0, 0.0, 1.0);
     for s in 0..steps {
         let (k0, k1, k2) = (2 * s, 2 * s + 1, (2 * s + 2) % n);
-        let a = rhs(c, extra, motor, k0, y, z)?;
+        let a = rhs(c, inv, motor, k0, y, z)?;
         if keep {
             ys.push(y);
             ts.push(t);
             dys.push(a[0]);
         }
-        let b = rhs(c, extra, motor, k1, y + 0.5 * h * a[0], z + 0.5 * h * a[2])?;
-        let d = rhs(c, extra, motor, k1, y + 0.5 * h * b[0], z + 0.5 * h * b[2])?;
-        let e = rhs(c, extra, motor, k2, y + h * d[0], z + h * d[2])?;
+        let b = rhs(c, inv, motor, k1, y + 0.5 * h * a[0], z + 0.5 * h * a[2])?;
+        let d = rhs(c, inv, motor, k1, y + 0.5 * h * b[0], z + 0.5 * h * b[2])?;
+        let e = rhs(c, inv, motor, k2, y + h * d[0], z + h * d[2])?;
         y += h / 6.0 * (a[0] + 2.0 * b[0] + 2.0 * d[0] + e[0]);
         t += h / 6.0 * (a[1] + 2.0 * b[1] + 2.0 * d[1] + e[1]);
         z += h / 6.0 * (a[2] + 2.0 * b[2] + 2.0 * d[2] + e[2]);
     }
-    let end = rhs(c, extra, motor, 0, y, z)?;
+    let end = rhs(c, inv, motor, 0, y, z)?;
     ys.push(y);
     ts.push(t);
     dys.push(end[0]);
@@ -500,6 +501,8 @@ fn solve(
         row: nan_row(status, it, res),
     };
     let q_mean = c.q.iter().sum::<f64>() / n as f64;
+    // 1/J once per design: each shot then multiplies (4 evaluations a step).
+    let inv: Vec<f64> = c.j.iter().map(|j| 1.0 / (j + extra)).collect();
     let mut iterations = 0;
     let mut residual = f64::NAN;
     let found: Option<(f64, Pass)>;
@@ -510,7 +513,7 @@ fn solve(
         }
         let y0 = w0 * w0;
         iterations = 1;
-        let Some(p) = pass(c, extra, motor, y0, true) else {
+        let Some(p) = pass(c, &inv, motor, y0, true) else {
             return fail(Status::Stalls, 1, f64::NAN);
         };
         residual = (p.y[p.y.len() - 1] - y0).abs() / y0;
@@ -527,7 +530,7 @@ fn solve(
         let mut stalled = 0;
         while iterations < opt.max_iter {
             iterations += 1;
-            let Some(p) = pass(c, extra, motor, y0, true) else {
+            let Some(p) = pass(c, &inv, motor, y0, true) else {
                 // Too slow to carry the machine through its peak: try faster.
                 stalled += 1;
                 if stalled > 40 {
