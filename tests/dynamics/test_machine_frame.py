@@ -38,7 +38,7 @@ def test_the_machine_is_its_linkage_at_its_phase(knife: Any) -> None:
     # 3600-sample grid (the phase is a whole number of samples here).
     steps = phase / 0.1
     assert abs(steps - round(steps)) < 1e-9
-    want = np.roll(own.force(n), int(round(steps)) % 3600, axis=0)
+    want = np.roll(own.force(n), round(steps) % 3600, axis=0)
     got = knife.shaking.shaking.force(n)
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-9 * np.abs(want).max())
     st = knife.shaking.stats()
@@ -55,7 +55,8 @@ def test_report_json_and_cli(knife: Any, tmp_path: Path) -> None:
     assert g["peak_force_n"] == pytest.approx(knife.shaking.stats()["peak_force_n"], rel=1e-12)
     assert len(g["force_x_n"]) == 360
     page = (tmp_path / "report.html").read_text()
-    assert "Frame: the shaking force" in page and "shaking.png" in page
+    assert "Frame: the shaking force" in page and "its hodograph" in page  # the figure
+    assert "knife balanced (rms_force)" in page
     run = subprocess.run(
         [
             sys.executable,
@@ -85,3 +86,65 @@ def test_without_inertia_forces_at_a_phase() -> None:
         cm.dynamics.machine_shaking({"mechanisms": {}})
     with pytest.raises(cm.InputError, match="rpm"):
         cm.dynamics.machine_shaking(r, rpm=-1.0)
+
+
+def _knife_data() -> dict[str, Any]:
+    import tomllib
+
+    with open(ROOT / "examples/knife_cutter.toml", "rb") as f:
+        return tomllib.load(f)
+
+
+def test_balance_rows_balance_the_knife(knife: Any) -> None:
+    """The file's three counterweights (on the links pivoted to the frame) are the
+    least-RMS-force ones: the same as balance() called on the knife's result, and
+    the force they leave is the balance's after-shaking (the force's linear part
+    vanishes: a planar linkage whose every moving mass can be balanced by its
+    ground-pivoted links' counterweights)."""
+    b = knife.shaking.balances["knife"]
+    res = knife.mechanisms["knife"]
+    direct = cm.dynamics.balance(
+        res, counterweights=[("O", "F"), ("A", "B"), ("D", "C")], rpm=45.0, gravity=(0, -9.81)
+    )
+    for got, want in zip(b.counterweights, direct.counterweights, strict=True):
+        assert got.mass_radius_kg_m == pytest.approx(want.mass_radius_kg_m, rel=1e-12)
+        assert got.angle_deg == pytest.approx(want.angle_deg, abs=1e-9)
+    assert b.before["rms_force_n"] == pytest.approx(knife.shaking.stats()["rms_force_n"], rel=1e-9)
+    assert b.after["rms_force_n"] < 1e-6 * b.before["rms_force_n"]
+    g = knife.shaking.json()["balance"]["knife"]
+    assert [c["link"] for c in g["counterweights"]] == [c.link for c in b.counterweights]
+
+
+@pytest.mark.parametrize(
+    ("row", "words"),
+    [
+        ({"mechanism": "knfe", "links": [["O", "F"]]}, ["[[balance]]", "'knfe'", "'knife'"]),
+        ({"mechanism": "knife", "links": [["O"]]}, ["[[balance]] 1", "links"]),
+        ({"mechanism": "knife", "links": []}, ["[[balance]] 1", "links"]),
+        (
+            {"mechanism": "knife", "links": [["O", "F"]], "objective": "min"},
+            ["[[balance]] 1", "objective", "rms_force"],
+        ),
+        (
+            {"mechanism": "knife", "links": [["O", "F"]], "torque_weight": -1.0},
+            ["[[balance]] 1", "torque_weight"],
+        ),
+        ({"mechanism": 3, "links": [["O", "F"]]}, ["[[balance]] 1", "mechanism"]),
+        ({"links": [["O", "F"]]}, ["[[balance]] 1", "mechanism"]),
+        ({"mechanism": "knife", "links": [["O", "F"]], "bogus": 1}, ["[[balance]] 1", "bogus"]),
+    ],
+)
+def test_bad_balance_rows_are_named(row: dict[str, Any], words: list[str]) -> None:
+    d = _knife_data()
+    d["balance"] = [row]
+    with pytest.raises(cm.InputError) as e:
+        cm.Machine.from_dict(d, "dir/knife.toml")
+    for w in ["dir/knife.toml", *words]:
+        assert w in str(e.value), (w, str(e.value))
+
+
+def test_a_link_not_on_the_frame_is_refused_by_name() -> None:
+    d = _knife_data()
+    d["balance"] = [{"mechanism": "knife", "links": [["B", "C"]]}]
+    with pytest.raises(cm.InputError, match=r"\[\[balance\]\] 1: .*B"):
+        cm.machine.analyze(cm.Machine.from_dict(d, "dir/knife.toml"), progress=False)

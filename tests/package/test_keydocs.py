@@ -21,6 +21,7 @@ from cyclomech._kind import Phase
 from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
 from cyclomech.dynamics._drive import DRIVE_KEYS
+from cyclomech.dynamics._frame import BALANCE_KEYS
 from cyclomech.forces._file import _LOAD_KEYS, _MASS_KEYS
 from cyclomech.machine import KINDS, check_parameter
 from cyclomech.machine._model import _MACHINE_KEYS
@@ -148,6 +149,7 @@ def test_kind_keys(kind: str) -> None:
         ("servo.motor", MOTOR_KEYS),
         ("servo.segment", SEGMENT_KEYS - {"load_n", "load_nm"} | {"arc"}),
         ("drive", DRIVE_KEYS),
+        ("balance", BALANCE_KEYS),
     ],
 )
 def test_constant_key_sets(table: str, keys: Any) -> None:
@@ -422,6 +424,10 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      lambda m: m.drive.motor.rotor_kg_m2, 0.0),
     ("drive", "flywheel_kg_m2", "none: sized by simulation for [machine] speed_fluctuation",
      "knife_cutter", ("drive",), lambda m: m.drive.flywheel_kg_m2, None),
+    ("balance", "objective", "rms_force", "knife_cutter", ("balance", 0),
+     lambda m: m.balance[0].objective, "rms_force"),
+    ("balance", "torque_weight", "1", "knife_cutter", ("balance", 0),
+     lambda m: m.balance[0].torque_weight, 1.0),
 ]  # fmt: skip
 
 
@@ -475,6 +481,7 @@ def test_required_keys_are_required() -> None:
         "constraint.terms": ("example", ("constraint", 0, "terms", 0)),
         "linkage.lengths": ("knife_cutter", ("mechanism", "knife", "lengths", 0)),
         "drive": ("knife_cutter", ("drive",)),
+        "balance": ("knife_cutter", ("balance", 0)),
     }
     seen = 0
     for table, (source, path) in cases.items():
@@ -548,6 +555,8 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("knife_cutter", ("drive",), "breakdown_ratio", 1.0, 1.01),
     ("knife_cutter", ("drive",), "rated_rpm", 1500.0, 1499.0),
     ("knife_cutter", ("drive",), "motor", "diesel", "induction"),
+    ("knife_cutter", ("balance", 0), "objective", "min", "peak_force"),
+    ("knife_cutter", ("balance", 0), "torque_weight", -1e-9, 0.0),
 ]
 
 
@@ -564,6 +573,7 @@ def test_documented_range_is_enforced(
         ("cyclogram",): "cyclogram",
         ("operation",): "operation",
         ("drive",): "drive",
+        ("balance",): "balance",
     }.get(path[:1])
     if table is None:
         kind = at(data(source), path[:2]).get("kind")

@@ -89,7 +89,7 @@ from __future__ import annotations
 
 from ._balance import OBJECTIVES, Balance, Counterweight, balance
 from ._drive import Drive, MachineDynamics, machine_dynamics
-from ._frame import MachineShaking, machine_shaking
+from ._frame import BalanceRequest, MachineShaking, machine_balances, machine_shaking
 from ._keys import KEY_DOCS as DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
@@ -111,6 +111,7 @@ __all__ = [
     "OBJECTIVES",
     "STEADY_COLUMNS",
     "Balance",
+    "BalanceRequest",
     "ConstantTorque",
     "Counterweight",
     "Drive",
@@ -127,6 +128,7 @@ __all__ = [
     "SteadyState",
     "TableMotor",
     "balance",
+    "machine_balances",
     "machine_dynamics",
     "machine_shaking",
     "reduced",

@@ -8,14 +8,24 @@ out, and the force's hodograph.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
+from .. import _toml
 from .._arrays import positive
 from .._errors import InputError
+from ._balance import OBJECTIVES, Balance, balance
 from ._shaking import Shaking, shaking
 
-__all__ = ["MachineShaking", "machine_shaking"]
+__all__ = [
+    "BALANCE_KEYS",
+    "BalanceRequest",
+    "MachineShaking",
+    "machine_balances",
+    "machine_shaking",
+]
 
 
 @dataclass(frozen=True)
@@ -31,6 +41,8 @@ class MachineShaking:
         The machine's (its ``parts`` each mechanism's, at its phase).
     rpm : float
         The main shaft's speed of the statistics [rpm].
+    balances : dict of str to Balance, default {}
+        The linkages balanced by the file's ``[[balance]]`` rows, by mechanism.
 
     Examples
     --------
@@ -44,6 +56,7 @@ class MachineShaking:
 
     shaking: Shaking
     rpm: float
+    balances: dict[str, Balance] = field(default_factory=dict)
 
     def stats(self) -> dict[str, float]:
         """Peak and RMS of the force [N] and moment [N·m] at :attr:`rpm`
@@ -93,6 +106,7 @@ class MachineShaking:
             "force_x_n": f[::10, 0],
             "force_y_n": f[::10, 1],
             "moment_nm": s.moment(n)[::10],
+            "balance": {k: _balance_json(b) for k, b in self.balances.items()},
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
@@ -157,8 +171,54 @@ class MachineShaking:
             self.shaking, self.rpm, title=f"the machine's shaking force at {self.rpm:g} rpm"
         )
 
+    def balance_figures(self) -> list[tuple[str, Any]]:
+        """Each balanced linkage's hodograph and moment before and after, with its
+        mechanism's name.
 
-def machine_shaking(result: Any, rpm: Any = None) -> MachineShaking | None:
+        Returns
+        -------
+        list of tuple of (str, matplotlib.figure.Figure)
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> [k for k, _ in r.shaking.balance_figures()]
+        ['knife']
+        """
+        from .plot import plot_shaking
+
+        return [
+            (k, plot_shaking(b, self.rpm, title=f"{k}: before and after balancing"))
+            for k, b in self.balances.items()
+        ]
+
+
+def _balance_json(b: Balance) -> dict[str, Any]:
+    """A balance's ``results.json`` entry."""
+    return {
+        "objective": b.objective,
+        "before": b.before,
+        "after": b.after,
+        "counterweights": [
+            {
+                "link": c.link,
+                "radius_m": c.radius_m,
+                "mass_radius_kg_m": c.mass_radius_kg_m,
+                "angle_deg": c.angle_deg,
+                "mass_kg": c.mass_kg,
+            }
+            for c in b.counterweights
+        ],
+    }
+
+
+def machine_shaking(
+    result: Any, rpm: Any = None, requests: Sequence[BalanceRequest] = ()
+) -> MachineShaking | None:
     """The machine's shaking force and moment on its frame, or None when no
     mechanism gives one (no linkage with masses, translating cam follower with
     loads or loaded press at a phase in the cyclogram).
@@ -169,6 +229,8 @@ def machine_shaking(result: Any, rpm: Any = None) -> MachineShaking | None:
         :func:`cyclomech.machine.analyze`'s result.
     rpm : float, optional
         The speed of the statistics [rpm]; default the result's nominal speed.
+    requests : sequence of BalanceRequest, default ()
+        Linkages to balance (:func:`machine_balances`, at the nominal speed).
 
     Returns
     -------
@@ -195,4 +257,151 @@ def machine_shaking(result: Any, rpm: Any = None) -> MachineShaking | None:
         s = shaking(result)
     except InputError:
         return None
-    return MachineShaking(s, n)
+    return MachineShaking(s, n, machine_balances(result, requests))
+
+
+#: The keys of a ``[[balance]]`` row.
+BALANCE_KEYS: frozenset[str] = frozenset({"mechanism", "links", "objective", "torque_weight"})
+
+
+@dataclass(frozen=True)
+class BalanceRequest:
+    """A machine file's ``[[balance]]`` row: counterweights to find for one linkage.
+
+    Parameters
+    ----------
+    mechanism : str
+        The linkage's name in the machine.
+    links : tuple of tuple of (str, str)
+        The links to counterweight, each by two of its joints, one pivoted to the
+        frame.
+    objective : str, default "rms_force"
+        One of :data:`~cyclomech.dynamics.OBJECTIVES`.
+    torque_weight : float, default 1.0
+        The RMS torque's weight in ``"rms_force+torque"`` [1/m].
+
+    Examples
+    --------
+    >>> BalanceRequest.from_row({"mechanism": "knife", "links": [["O", "F"]]}, "m.toml", 0).links
+    (('O', 'F'),)
+    """
+
+    mechanism: str
+    links: tuple[tuple[str, str], ...]
+    objective: str = "rms_force"
+    torque_weight: float = 1.0
+
+    @classmethod
+    def from_row(cls, row: Any, source: str, index: int) -> BalanceRequest:
+        """The request of one ``[[balance]]`` row.
+
+        Parameters
+        ----------
+        row : Mapping
+            The row as read.
+        source : str
+            The file's name, for messages.
+        index : int
+            The row's place among the ``[[balance]]`` rows (from 0).
+
+        Returns
+        -------
+        BalanceRequest
+
+        Raises
+        ------
+        InputError
+            Naming the file, the row and the key: an unknown key, a missing mechanism
+            or links, links that are not pairs of joint names, an unknown objective,
+            a negative torque weight.
+
+        Examples
+        --------
+        >>> r = BalanceRequest.from_row({"mechanism": "knife", "links": [["O", "F"]],
+        ...                              "objective": "peak_force"}, "m.toml", 0)
+        >>> r.objective
+        'peak_force'
+        """
+        where = f"{source}: [[balance]] {index + 1}"
+        _toml.must_be_table(row, source, f"[[balance]] {index + 1}")
+        _toml.check_keys(row, BALANCE_KEYS, source, f"[[balance]] {index + 1}")
+        name = row.get("mechanism")
+        if not isinstance(name, str):
+            raise InputError(f"{where}: mechanism = {name!r} must name a linkage of the machine")
+        links = row.get("links")
+        if not (
+            isinstance(links, list)
+            and links
+            and all(
+                isinstance(p, list) and len(p) == 2 and all(isinstance(j, str) for j in p)
+                for p in links
+            )
+        ):
+            raise InputError(
+                f"{where}: links = {links!r} must be a non-empty array of links, each two "
+                'joint names, one pivoted to the frame (e.g. [["O", "F"], ["A", "B"]])'
+            )
+        objective = row.get("objective", "rms_force")
+        if objective not in OBJECTIVES:
+            raise InputError(
+                f"{where}: objective = {objective!r} must be one of {', '.join(OBJECTIVES)}"
+            )
+        weight = row.get("torque_weight", 1.0)
+        if not (_toml.is_number(weight) and math.isfinite(weight) and weight >= 0):
+            raise InputError(f"{where}: torque_weight = {weight!r} must be finite and ≥ 0 [1/m]")
+        return cls(name, tuple((p[0], p[1]) for p in links), objective, float(weight))
+
+
+def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
+    """Each requested linkage balanced at the machine's nominal speed
+    (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity).
+
+    Parameters
+    ----------
+    result : MachineResult
+        :func:`cyclomech.machine.analyze`'s result.
+    requests : sequence of BalanceRequest
+        The ``[[balance]]`` rows.
+
+    Returns
+    -------
+    dict of str to Balance
+        By mechanism.
+
+    Raises
+    ------
+    InputError
+        If a request names no linkage with masses of the machine, or a link the
+        balance refuses (not pivoted to the frame, unknown), naming the row.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+    ...                        progress=False)
+    >>> b = machine_balances(r, r.machine.balance)["knife"]
+    >>> round(b.before["rms_force_n"], 1), round(b.after["rms_force_n"], 6)
+    (176.1, 0.0)
+    """
+    out: dict[str, Balance] = {}
+    for i, req in enumerate(requests):
+        res = result.mechanisms.get(req.mechanism)
+        where = f"[[balance]] {i + 1}"
+        if getattr(res, "kinetostatics", None) is None:
+            raise InputError(
+                f"{where}: mechanism = {req.mechanism!r} must be a linkage of the machine "
+                "with masses (its kinetostatics gives the shaking force)"
+            )
+        gravity = (res.mech.dynamics or {}).get("gravity")
+        try:
+            out[req.mechanism] = balance(
+                res,
+                counterweights=list(req.links),
+                rpm=result.nominal_rpm,
+                objective=req.objective,
+                torque_weight=req.torque_weight,
+                gravity=gravity,
+            )
+        except InputError as e:
+            raise InputError(f"{where}: {e}") from None
+    return out

@@ -1,10 +1,10 @@
 """The keys of a machine file's ``[drive]`` table (the main shaft's motor, gear and
-flywheel), for the machine-file format reference (:attr:`cyclomech.Machine.key_docs`;
-``tests/package/test_keydocs.py`` holds them equal to the reader's key sets and checks
-their defaults and ranges).
+flywheel) and ``[[balance]]`` rows (counterweights to find), for the machine-file
+format reference (:attr:`cyclomech.Machine.key_docs`; ``tests/package/test_keydocs.py``
+holds them equal to the reader's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]
-['drive']
+['drive', 'balance']
 """
 
 from __future__ import annotations
@@ -59,6 +59,22 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         "inertia, not the constant speed of the kinetostatics), the real coefficient of "
         "speed fluctuation and the flywheel sized by simulation beside the energy "
         "method's. Optional; without it the main shaft turns at constant speed."
+    )),
+    KeyTable("balance", "[[balance]]", (
+        K("mechanism", "The linkage to balance.", NO_UNIT, TEXT, REQ,
+          "a linkage of the machine with masses", False),
+        K("links", "The links to counterweight, each by two of its joints.", NO_UNIT, ARR,
+          REQ, "a non-empty array of [joint, joint] pairs, each link pivoted to the frame",
+          False),
+        K("objective", "What the counterweights minimise: the shaking force's RMS or peak, "
+          "or the RMS force plus torque_weight times the driving torque's RMS.", NO_UNIT,
+          TEXT, "rms_force", "one of rms_force, peak_force, rms_force+torque", False),
+        K("torque_weight", "The RMS driving torque's weight in rms_force+torque.", "1/m",
+          NUM, "1", "finite, ≥ 0", False),
+    ), intro=(
+        "Counterweights to find for a linkage, one row each: the report gives their "
+        "mass·radius and angle on each link and the shaking force before and after, at "
+        "the nominal speed. Optional."
     )),
 )
 # fmt: on

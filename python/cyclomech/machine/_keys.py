@@ -40,6 +40,8 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "none (no constraints)", "an array of tables", False),
         K("drive", "The main shaft's motor, gear and flywheel, for its real speed.", NO_UNIT,
           TAB, "none (the main shaft at constant speed)", "a table", False),
+        K("balance", "Linkages to balance by counterweights, one [[balance]] row each.",
+          NO_UNIT, ROWS, "none (no balancing)", "an array of tables", False),
     ), intro=(
         "A machine file is TOML; these are its top-level tables."
     )),

@@ -6,7 +6,7 @@ import copy
 import difflib
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -19,6 +19,7 @@ from .._arrays import (
     count,
     finite_number,
     instance,
+    instances,
     speed_rtol,
     speeds_rpm,
     threads_arg,
@@ -32,7 +33,7 @@ from ..cyclogram import (
     SpeedLimit,
     SpeedNetwork,
 )
-from ..dynamics import DRIVE_KEY_DOCS, Drive
+from ..dynamics import DRIVE_KEY_DOCS, BalanceRequest, Drive
 from ._keys import KEY_DOCS
 from ._kinds import KINDS
 from ._many import SpeedSweep, _bounded, _bounds_at, _laws, speed_limits, speed_sweeps
@@ -65,6 +66,13 @@ _MACHINE_KEYS = {
 #: (``[machine] speed_fluctuation``): 1/20, a common value for machines with a
 #: flywheel on the main shaft.
 SPEED_FLUCTUATION = 0.05
+
+
+def _balance_rows(rows: Any, source: str) -> list[BalanceRequest]:
+    """The ``[[balance]]`` rows, each checked."""
+    if not isinstance(rows, list):
+        raise InputError(f"{source}: balance must be [[balance]] rows (an array of tables)")
+    return [BalanceRequest.from_row(row, source, i) for i, row in enumerate(rows)]
 
 
 def _main_shaft_keys(head: Mapping[str, Any], source: str) -> tuple[float, bool]:
@@ -124,6 +132,9 @@ class Machine:
     drive : cyclomech.dynamics.Drive, optional
         The main shaft's motor and flywheel (``[drive]``); default None (the shaft
         turns at constant speed: no real speed, no simulated flywheel).
+    balance : sequence of cyclomech.dynamics.BalanceRequest, default ()
+        Linkages to balance by counterweights (``[[balance]]``), each naming one of
+        ``mechanisms``.
     source : str, default "<machine>"
         The file's name, in messages.
     data : Mapping of str to Any, optional
@@ -161,6 +172,7 @@ class Machine:
         speed_fluctuation: float = SPEED_FLUCTUATION,
         flatten_torque: bool = False,
         drive: Drive | None = None,
+        balance: Sequence[BalanceRequest] = (),
         source: str = "<machine>",
         data: Mapping[str, Any] | None = None,
     ) -> None:
@@ -194,6 +206,15 @@ class Machine:
         if drive is not None and not isinstance(drive, Drive):
             raise InputError(f"drive must be a cyclomech.dynamics.Drive or None; got {drive!r}")
         self.drive = drive
+        self.balance = tuple(instances("balance", balance, BalanceRequest))
+        for b in self.balance:
+            if b.mechanism not in self.mechanisms:
+                near = difflib.get_close_matches(b.mechanism, self.mechanisms, 1)
+                hint = f" (did you mean {near[0]!r}?)" if near else ""
+                raise InputError(
+                    f"{source}: [[balance]]: mechanism = {b.mechanism!r} is not a mechanism "
+                    f"of the machine{hint}; its mechanisms: {', '.join(self.mechanisms)}"
+                )
         self.source = source
         self.data = data
         self._bounded = _bounded(self.mechanisms)
@@ -273,7 +294,7 @@ class Machine:
                 )
         _toml.check_keys(
             data,
-            {"machine", "mechanism", "cyclogram", "operation", "constraint", "drive"},
+            {"machine", "mechanism", "cyclogram", "operation", "constraint", "drive", "balance"},
             source,
             "top level",
         )
@@ -341,6 +362,7 @@ class Machine:
             speed_fluctuation=delta,
             flatten_torque=flatten,
             drive=None if "drive" not in data else Drive.from_table(data["drive"], source),
+            balance=_balance_rows(data.get("balance", []), source),
             source=source,
             data=copy.deepcopy(dict(data)),
         )

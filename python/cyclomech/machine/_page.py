@@ -99,6 +99,10 @@ def page(
         parts.append("<h2>Frame: the shaking force</h2>")
         header, rows = r.shaking.table()
         parts.append(_table(header, rows))
+        for k, b in r.shaking.balances.items():
+            parts.append(f"<h3>{html.escape(k)} balanced ({html.escape(b.objective)})</h3>")
+            header, rows = b.table()
+            parts.append(_table(header, rows))
         parts += _images(figs, "frame")
     parts.append(_files_section(r, cycle_files))
     return "\n".join(parts)

@@ -131,7 +131,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
-    r.shaking = machine_shaking(r)
+    r.shaking = machine_shaking(r, requests=m.balance)
     if m.drive is not None and shaft is not None:
         t = time.perf_counter()
         r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, limit.rpm)
@@ -370,6 +370,14 @@ def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None])
             "optimised cyclogram): left, the tip of the force vector (its hodograph); "
             "right, the moment.",
         )
+        for k, fig in r.shaking.balance_figures():
+            save(
+                fig,
+                f"balance_{_stem(k)}",
+                "frame",
+                f"The shaking force of {k} before (grey) and after the counterweights of "
+                "its [[balance]] row, at the nominal speed.",
+            )
     if r.shaft is not None:
         save(
             r.shaft.figure(),
