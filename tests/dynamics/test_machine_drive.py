@@ -244,3 +244,50 @@ def test_a_drive_without_masses_warns() -> None:
         r = cm.machine.analyze(cm.Machine.from_dict(d, "ex.toml"), progress=False)
     assert r.dynamics is None
     assert any("[drive]: nothing loads the main shaft" in str(x.message) for x in w)
+
+
+def test_the_loaded_start_is_reported(result: Any) -> None:
+    """The report's start-up note: the knife's 3 kW motor cannot start it under load
+    (its speed falls back through 0): scipy's integration from rest in time on the
+    same reduced machine finds the same fall-back time and angle."""
+    dyn = result.dynamics
+    assert dyn.start.startswith("the motor cannot start the machine")
+    t_said = float(dyn.start.split("at t = ")[1].split(" s")[0])
+    red, motor = dyn.reduced, dyn.drive.motor
+    phi = np.append(np.radians(red.theta_deg), 2 * math.pi)
+    jc = dyn.flywheel_kg_m2 + motor.ratio**2 * motor.rotor_kg_m2
+    i, eta = motor.ratio, motor.efficiency
+
+    def at(y: np.ndarray, x: float) -> float:
+        return float(np.interp(x % (2 * math.pi), phi, np.append(y, y[0])))
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        x, w = y
+        m = float(motor.torque_nm(w * i * 30 / math.pi))
+        m_shaft = m * i * (eta if m >= 0 else 1 / eta)
+        j = at(red.inertia_kg_m2, x) + jc
+        return [w, (m_shaft - at(red.load_torque_nm, x) - 0.5 * at(red.d_inertia, x) * w * w) / j]
+
+    def stops(t: float, y: np.ndarray) -> float:
+        return y[1] if t > 0.05 else 1.0
+
+    stops.terminal = True  # type: ignore[attr-defined]
+    stops.direction = -1  # type: ignore[attr-defined]
+    sol = solve_ivp(rhs, (0, 60), [0.0, 0.0], events=stops, rtol=1e-9, atol=1e-12)
+    assert sol.t_events[0].size == 1
+    assert sol.t_events[0][0] == pytest.approx(t_said, rel=2e-3)
+    assert math.degrees(sol.y_events[0][0][0]) == pytest.approx(74.6, abs=0.2)
+
+
+def test_a_strong_motor_starts_the_knife() -> None:
+    d = knife()
+    d["drive"] = {
+        "motor": "linear",
+        "stall_torque_nm": 200.0,
+        "no_load_rpm": 1500.0,
+        "gear_ratio": 32.0,
+        "flywheel_kg_m2": 1500.0,
+    }
+    r = cm.machine.analyze(build(d), progress=False)
+    assert r.dynamics.start.startswith("within 1 % of the steady speed after")
+    assert "start-up from rest under load" in dict(r.dynamics.table()[1])

@@ -26,7 +26,7 @@ from .._errors import InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
-from ._shaft import FlywheelSizing, SteadyState, size_flywheel, steady_state
+from ._shaft import FlywheelSizing, SteadyState, size_flywheel, start_up, steady_state
 
 __all__ = ["DRIVE_KEYS", "Drive", "MachineDynamics", "machine_dynamics"]
 
@@ -217,6 +217,12 @@ class MachineDynamics:
         None when the motor cannot drive the machine.
     problem : str
         Why there is no steady state ("" when there is).
+    start : str
+        The start-up from rest under load with the steady state's flywheel
+        (:func:`~cyclomech.dynamics.start_up`, until within 1 % of the steady
+        speed for a turn): its settle time, or why the motor cannot start the
+        machine loaded (a note, not a failure: machines often start unloaded); ""
+        without a steady state.
 
     Examples
     --------
@@ -235,6 +241,7 @@ class MachineDynamics:
     steady: SteadyState | None
     sizing: FlywheelSizing | None
     problem: str = ""
+    start: str = ""
 
     @property
     def flywheel_kg_m2(self) -> float:
@@ -375,6 +382,7 @@ class MachineDynamics:
                 "theta_deg": s.theta_deg[::10],
                 "speed_rpm": s.omega[::10] / RAD_PER_S_PER_RPM,
                 "motor_torque_nm": s.motor_torque_nm[::10],
+                "start_up": self.start,
             }
         return out
 
@@ -433,6 +441,7 @@ class MachineDynamics:
                 f"{s.peak_motor_torque_nm:.4g} / {s.lowest_motor_torque_nm:.4g} / "
                 f"{s.rms_motor_torque_nm:.4g}",
             ],
+            ["start-up from rest under load", self.start],
         ]
 
     def figure(self) -> Any:
@@ -564,4 +573,16 @@ def machine_dynamics(
             problem = f"the motor cannot drive the machine: {e}"
     elif sizing is not None:
         steady = sizing.steady
-    return MachineDynamics(drive, d, delta, limit, steady, sizing, problem)
+    start = "" if steady is None else _start(d, drive.motor, steady.flywheel_kg_m2)
+    return MachineDynamics(drive, d, delta, limit, steady, sizing, problem, start)
+
+
+def _start(d: Reduced, motor: Motor, flywheel: float) -> str:
+    """The start-up from rest under load, in words."""
+    try:
+        s = start_up(d, motor, flywheel_kg_m2=flywheel, settle=0.01)
+    except SolverError as e:
+        return str(e)
+    if math.isnan(s.settle_time_s):
+        return "not within 1 % of the steady speed by the integration's time limit"
+    return f"within 1 % of the steady speed after {s.settle_time_s:.3g} s"

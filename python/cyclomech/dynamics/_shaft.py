@@ -510,9 +510,15 @@ def start_up(
         max_steps=steps,
     )
     if status == 2:
+        # The step that ended below 0: where the speed crossed 0 inside it (linear
+        # between its ends; the step's end alone overshoots by up to a step).
+        t0, t1, w0, w1 = (float(v) for v in (t[-2], t[-1], w[-2], w[-1]))
+        f = w0 / (w0 - w1) if w0 > 0 > w1 else 1.0
+        t_stop = t0 + f * (t1 - t0)
+        phi_stop = float(phi[-2]) + f * (float(phi[-1]) - float(phi[-2]))
         raise SolverError(
             f"the motor cannot start the machine: its speed falls back through 0 at "
-            f"t = {float(t[-1]):.4g} s, shaft angle {math.degrees(float(phi[-1])):.1f}° (the "
+            f"t = {t_stop:.4g} s, shaft angle {math.degrees(phi_stop):.1f}° (the "
             "load's torque there exceeds what the motor gives before the machine has gathered "
             "speed); a stronger motor, another gear ratio or an unloaded start may help"
         )
