@@ -52,7 +52,7 @@ def tables() -> dict[str, KeyTable]:
     Examples
     --------
     >>> list(tables())[:3]
-    ['file', 'machine', 'cyclogram']
+    ['file', 'machine', 'drive']
     """
     from .cyclogram import Cyclogram
     from .machine import KINDS, Machine

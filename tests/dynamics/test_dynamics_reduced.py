@@ -149,11 +149,15 @@ def test_properties_of_the_steady_state(j0, j1, q0, q1, k, induction, ratio, eff
     # motor turns from driving to braking (i·η·M against i·M/η): first order there.
     mt = motor.torque_nm(w * motor.ratio * 30 / math.pi)
     kink = eff < 1 and mt.min() < 0 < mt.max()
-    assert abs(np.mean(net)) <= (1e-4 if kink else 1e-7) * scale
+    # Both errors (RK4's on the samples and this check's own trapezoid) grow with how
+    # fast J varies against itself: k lobes, J_max/J_min = (1 + j1)/(1 − j1). The
+    # tolerances hold for gentle variation (rough = 1) and widen as its square.
+    rough = max(1.0, (k * (1 + j1) / (1 - j1) / 4) ** 2)
+    assert abs(np.mean(net)) <= (1e-4 if kink else 1e-7) * rough * scale
     # And pointwise: ½(J + J_F)ω² − ½(J + J_F)ω0² = ∫(M − Q), trapezoid on the grid.
     e = 0.5 * (jj + 0.1) * w**2
     work = np.concatenate([[0.0], np.cumsum(0.5 * (net[1:] + net[:-1]))]) * (2 * np.pi / N)
-    assert np.max(np.abs(e - e[0] - work)) <= 1e-5 * (scale * 2 * np.pi + e.max())
+    assert np.max(np.abs(e - e[0] - work)) <= 1e-5 * rough * (scale * 2 * np.pi + e.max())
     # The batch gives the same steady state.
     b = cm.dynamics.steady_states(d, [motor], [0.1], tol=1e-12)
     assert b.column("delta")[0] == pytest.approx(s.speed_fluctuation, rel=1e-12, abs=1e-15)

@@ -262,7 +262,7 @@ FILE_CASES = [
 TOP_CASES = [
     case("unknown top-level table", "stb_loom",
          replace("[mechanism.lifter]", "[mechanisms.lifter]"), "top level", "mechanisms",
-         VALID, "constraint, cyclogram, machine, mechanism, operation"),
+         VALID, "balance, constraint, cyclogram, drive, machine, mechanism, operation"),
     case("top-level key", "rotor_line", replace("[machine]", "speed = 3\n[machine]"),
          "top level", "speed", VALID),
     case("missing [machine]", "stb_loom", setting(machine=DELETE), "[machine]", None,

@@ -131,18 +131,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
-    r.shaking = machine_shaking(r, requests=m.balance)
-    if m.drive is not None and shaft is not None:
-        t = time.perf_counter()
-        r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, limit.rpm)
-        seconds["main shaft's real speed"] = time.perf_counter() - t
-    elif m.drive is not None:
-        warnings.warn(
-            f"{m.source}: [drive]: nothing loads the main shaft (no mechanism has masses or "
-            "loads): no real speed and no flywheel to size",
-            CyclomechWarning,
-            stacklevel=2,
-        )
+    _drive_and_frame(r)
     if r.above_speed_limit:
         warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
     if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
@@ -155,6 +144,24 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
             stacklevel=2,
         )
     return r
+
+
+def _drive_and_frame(r: MachineResult) -> None:
+    """What the machine's motor and frame see, into ``r``: the main shaft's real speed
+    under the file's ``[drive]`` and the shaking force with its ``[[balance]]`` rows."""
+    m = r.machine
+    r.shaking = machine_shaking(r, requests=m.balance)
+    if m.drive is not None and r.shaft is not None:
+        t = time.perf_counter()
+        r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, r.limit.rpm)
+        r.seconds["main shaft's real speed"] = time.perf_counter() - t
+    elif m.drive is not None:
+        warnings.warn(
+            f"{m.source}: [drive]: nothing loads the main shaft (no mechanism has masses or "
+            "loads): no real speed and no flywheel to size",
+            CyclomechWarning,
+            stacklevel=3,
+        )
 
 
 def _minimums(m: Machine, rpm: float) -> tuple[np.ndarray, list[str]]:
@@ -405,7 +412,9 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
 
     ``report.html``, ``results.json``, ``speed_sweep.csv``, ``operations.csv``,
     ``main_shaft.csv`` (the torque over the cycle at the nominal speed, total and
-    each mechanism's, when a mechanism loads the shaft), ``<mechanism>_forces.csv``
+    each mechanism's, when a mechanism loads the shaft), ``main_shaft_speed.csv``
+    (its real speed and the motor's torque over the cycle, with a ``[drive]``),
+    ``<mechanism>_forces.csv``
     (a linkage's driving torque, guide forces and joint forces over its crank turn,
     when it has masses or loads), a mechanism's own files (a servo axis's cam
     tables and motor curve: ``<axis>_cam_table.csv``, ``<axis>_cam_coefficients.csv``,
@@ -572,13 +581,15 @@ def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
 def _cycle_tables(r: MachineResult) -> list[tuple[str, list[str], list[list[Any]]]]:
     """(file name, header, rows) of each table over the cycle at the nominal
     speed: ``main_shaft.csv`` (the shaft's torque [N·m], total and each
-    mechanism's, at each angle [deg]) when a mechanism loads the shaft, and each
+    mechanism's, at each angle [deg]) when a mechanism loads the shaft,
+    ``main_shaft_speed.csv`` (its real speed [rpm], time [s] and the motor's torque
+    [N·m]) under a ``[drive]``, and each
     mechanism's own (``<mechanism>_forces.csv``: a linkage's forces).
 
     >>> import cyclomech as cm
     >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"), progress=False)
     >>> [name for name, _, _ in _cycle_tables(r)]
-    ['main_shaft.csv', 'knife_forces.csv']
+    ['main_shaft.csv', 'main_shaft_speed.csv', 'knife_forces.csv']
     """
     out: list[tuple[str, list[str], list[list[Any]]]] = []
     if r.shaft is not None:

@@ -76,6 +76,34 @@ def add_commands(commands: Any) -> None:
     w.set_defaults(run=sweep_command, machine_file=True)
 
 
+def _print_shaft_and_frame(r: Any) -> None:
+    """The run's lines on the main shaft (its torque, its real speed under the drive,
+    the flattening) and on the frame (the shaking force)."""
+    if r.shaft is not None:
+        s = r.shaft.at_nominal
+        print(
+            f"Main shaft at {r.nominal_rpm:g} rpm ({', '.join(r.shaft.parts)}): mean torque "
+            f"{float(s.mean_torque_nm):.4g} N·m, peak {float(s.peak_torque_nm):.4g} N·m; motor "
+            f"{float(s.power_w):.4g} W; flywheel {float(s.flywheel_kg_m2):.4g} kg·m² for "
+            f"δ = {r.shaft.speed_fluctuation:g} (ΔE = {float(s.energy_fluctuation_j):.4g} J)"
+        )
+        if r.dynamics is not None:
+            print(r.dynamics.line())
+        fl = r.shaft.flattening
+        if fl is not None:
+            print(
+                f"Flattening the main shaft's torque: peak |T| {fl.peak_before_nm:.4g} → "
+                f"{fl.peak_after_nm:.4g} N·m" + (f" ({fl.note})" if fl.note else "")
+            )
+    if r.shaking is not None:
+        st = r.shaking.stats()
+        print(
+            f"Shaking force on the frame at {r.nominal_rpm:g} rpm: peak "
+            f"{st['peak_force_n']:.4g} N, RMS {st['rms_force_n']:.4g} N; moment peak "
+            f"{st['peak_moment_nm']:.4g} N·m"
+        )
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Run ``cyclomech run`` with the parsed ``args``; return the exit status."""
     from . import Machine, analyze, write_report
@@ -107,29 +135,7 @@ def run_command(args: argparse.Namespace) -> int:
         priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
         if priced:
             print("Binding, with shadow prices: " + ", ".join(priced))
-    if r.shaft is not None:
-        s = r.shaft.at_nominal
-        print(
-            f"Main shaft at {r.nominal_rpm:g} rpm ({', '.join(r.shaft.parts)}): mean torque "
-            f"{float(s.mean_torque_nm):.4g} N·m, peak {float(s.peak_torque_nm):.4g} N·m; motor "
-            f"{float(s.power_w):.4g} W; flywheel {float(s.flywheel_kg_m2):.4g} kg·m² for "
-            f"δ = {r.shaft.speed_fluctuation:g} (ΔE = {float(s.energy_fluctuation_j):.4g} J)"
-        )
-        if r.dynamics is not None:
-            print(r.dynamics.line())
-        fl = r.shaft.flattening
-        if fl is not None:
-            print(
-                f"Flattening the main shaft's torque: peak |T| {fl.peak_before_nm:.4g} → "
-                f"{fl.peak_after_nm:.4g} N·m" + (f" ({fl.note})" if fl.note else "")
-            )
-    if r.shaking is not None:
-        st = r.shaking.stats()
-        print(
-            f"Shaking force on the frame at {r.nominal_rpm:g} rpm: peak "
-            f"{st['peak_force_n']:.4g} N, RMS {st['rms_force_n']:.4g} N; moment peak "
-            f"{st['peak_moment_nm']:.4g} N·m"
-        )
+    _print_shaft_and_frame(r)
     use_fig = not args.no_plot and has_matplotlib("figures")
     if use_fig and not args.quiet:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds
