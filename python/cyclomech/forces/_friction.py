@@ -150,9 +150,7 @@ class Friction:
         for what, cls in (("pins", PinFriction), ("guides", GuideFriction)):
             given = getattr(self, what)
             if not isinstance(given, Mapping):
-                raise InputError(
-                    f"Friction: {what} = {given!r} must map names to {cls.__name__}"
-                )
+                raise InputError(f"Friction: {what} = {given!r} must map names to {cls.__name__}")
             for k, v in given.items():
                 if not isinstance(k, str) or not isinstance(v, cls):
                     raise InputError(
