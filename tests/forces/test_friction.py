@@ -205,7 +205,7 @@ def test_power_balance_over_a_turn(viscous: float) -> None:
     def ddphi(x: np.ndarray) -> np.ndarray:  # periodic central difference in the crank angle
         return (np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0)) / (2 * h)
 
-    th_crank, th_rocker = theta("O", "A"), theta("B", "C")
+    th_rocker = theta("B", "C")
     # Unwrapped angles are periodic up to whole turns: difference them as such.
     d_crank = np.full(n, 1.0)
     d_rocker = ddphi(np.exp(1j * th_rocker)) / (1j * np.exp(1j * th_rocker))
@@ -277,7 +277,8 @@ def test_four_bar_efficiency_at_one_pose() -> None:
     """A massless four-bar driving a load torque M on its rocker with friction μ·r
     at all four pins: with one force F through the links (F_A = F_B = F_C =
     −F_D), its three moment equations (crank about A, coupler about B, rocker
-    about D) in F and T, solved by scipy's root (MINPACK's hybrid Newton); efficiency = −M ω4 / (T ω2)."""
+    about D) in F and T, solved by scipy's root (MINPACK's hybrid Newton);
+    efficiency = −M ω4 / (T ω2)."""
     phi, mu_r, big_m = math.radians(50.0), 0.15 * 0.01, -25.0
     a0, b, c, d0, om = _four_bar_kinematics(phi)
     rel = {"A": om[0], "B": om[0] - om[1], "C": om[1] - om[2], "D": om[2]}
@@ -377,7 +378,7 @@ def test_bad_names_and_speeds() -> None:
         )
     with pytest.raises(cm.InputError, match="rpm must hold positive speeds"):
         F.kinetostatics_with_friction(link, [0.0], F.Friction(), [60.0, -1.0])
-    with pytest.raises(cm.InputError, match="must be a cyclomech.forces.Friction"):
+    with pytest.raises(cm.InputError, match=r"must be a cyclomech\.forces\.Friction"):
         F.kinetostatics_with_friction(link, [0.0], {"pins": {}}, 60.0)
     cross = cm.Linkage(
         {"A": (0, 0), "B": (0.1, 0), "C": (0.3, 0.2), "D": (0.4, 0), "E": (0.3, 0.4)},

@@ -80,6 +80,7 @@ RESULT_CLASSES = {
     "cyclomech.cam.CamResult",
     "cyclomech.cam.FollowerResponse",
     "cyclomech.cam.MinPhaseAngles",
+    "cyclomech.forces.FrictionForces",
     "cyclomech.forces.Kinetostatics",
     "cyclomech.impact.ContactHistory",
     "cyclomech.impact.Rebound",

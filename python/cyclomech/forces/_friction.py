@@ -319,7 +319,8 @@ class FrictionForces:
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
         >>> f = cm.forces.kinetostatics_with_friction(
-        ...     crank, [np.pi / 2], cm.forces.Friction(pins={"O": cm.forces.PinFriction(0.01, 0.2)}),
+        ...     crank, [np.pi / 2],
+        ...     cm.forces.Friction(pins={"O": cm.forces.PinFriction(0.01, 0.2)}),
         ...     rpm=60.0, loads=[cm.forces.PointLoad("A", (100.0, 0.0))])
         >>> f.efficiency.round(6).tolist()      # 30 / (30 + 0.2·0.01·100)
         [[0.993377]]
@@ -340,7 +341,8 @@ class FrictionForces:
         >>> import numpy as np, cyclomech as cm
         >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
         >>> f = cm.forces.kinetostatics_with_friction(
-        ...     crank, [np.pi / 2], cm.forces.Friction(pins={"O": cm.forces.PinFriction(0.01, 0.2)}),
+        ...     crank, [np.pi / 2],
+        ...     cm.forces.Friction(pins={"O": cm.forces.PinFriction(0.01, 0.2)}),
         ...     rpm=60.0, loads=[cm.forces.PointLoad("A", (100.0, 0.0))])
         >>> f.mean_efficiency.round(6).tolist()
         [0.993377]
@@ -433,13 +435,14 @@ def kinetostatics_with_friction(
     is a limit of neither side, and a linkage held at rest (or started) needs
     the static range, which this does not give.
 
-    **Self-locking.** Where friction grows faster than the reactions causing it
-    (the fixed point's contraction factor, near μ·r over the links' lever arms,
-    or μ·tan of a slider's pushing angle, is 1 or more) no finite torque drives
-    the linkage: the pose is self-locking, its forces NaN, ``status`` −1,
-    ``self_locking`` True, and a :class:`~cyclomech.CyclomechWarning` says so.
-    A pose within about 1 % of it (the iteration not converged in 2000 solves)
-    is reported the same way.
+    **Self-locking.** Where friction grows as fast as the reactions causing it,
+    or faster (the fixed point's contraction factor, near μ·r over the links'
+    lever arms, or μ·tan of a slider's pushing angle, is 1 or more), the
+    rigid-body Coulomb model has no finite driving torque (the linkage jams) or
+    no unique one (where friction would help the motion): the pose is reported
+    self-locking, its forces NaN, ``status`` −1, ``self_locking`` True, and a
+    :class:`~cyclomech.CyclomechWarning` says so. A pose within about 1 % of it
+    (the iteration not converged in 2000 solves) is reported the same way.
 
     Parameters
     ----------
@@ -500,6 +503,55 @@ def kinetostatics_with_friction(
     model, names, body_names, guide_names, links, moving = _build(
         linkage, masses, point_masses, loads, gravity
     )
+    pins, guides, elements = _elements(friction, model, names, guide_names)
+    sol = _solution(linkage, angles, n_threads)
+    force, torque = _load_arrays(loads, sol.angles, names, links, moving)
+    values, losses, status, cond = model.solve_friction(
+        np.ascontiguousarray(sol.xy),
+        np.ascontiguousarray(sol.vel),
+        np.ascontiguousarray(sol.acc),
+        force,
+        torque,
+        n_rpm * RAD_PER_S_PER_RPM,
+        *pins,
+        *guides,
+        n_threads=threads_arg(n_threads),
+    )
+    pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
+    cond = _conditioning(sol, cond)
+    values = np.moveaxis(values, 0, 1)  # (S, N, W)
+    losses = np.moveaxis(losses, 0, 1)
+    status = np.ascontiguousarray(status.T)
+    dead = cond == 0.0
+    if dead.any():
+        values = np.where(dead[None, :, None], np.nan, values)
+        losses = np.where(dead[None, :, None], np.nan, losses)
+        status = np.where(dead[None, :], 0, status)
+    g, k = len(guide_names), len(pairs)
+    s_n, n = n_rpm.size, sol.angles.size
+    out = FrictionForces(
+        solution=sol,
+        rpm=n_rpm,
+        pairs=pairs,
+        guides=tuple(guide_names),
+        elements=tuple(elements),
+        torque=values[:, :, 0],
+        guide_forces=values[:, :, 1 : 1 + g],
+        reactions=values[:, :, 1 + g :].reshape(s_n, n, k, 2),
+        losses=losses,
+        status=status,
+        conditioning=cond,
+    )
+    _warn_self_locking(out)
+    return out
+
+
+def _elements(
+    friction: Friction, model: Any, names: list[str], guide_names: list[str]
+) -> tuple[tuple[Any, Any, Any], tuple[Any, Any, Any], list[str]]:
+    """The kernel's friction arrays, each name checked against the linkage: the
+    joints' (points, μ·r [m], viscous), the guides' (indices, μ, viscous), and
+    the elements' names in the kernel's order (joints, then guides)."""
     idx = {p: i for i, p in enumerate(names)}
     joints = sorted({p for p, _ in model.pairs()})
     slider_of = [name.split(" ", 1)[0] for name in guide_names]
@@ -538,57 +590,30 @@ def kinetostatics_with_friction(
             g_visc.append(gf.viscous)
             elements.append(guide_names[g])
 
-    sol = _solution(linkage, angles, n_threads)
-    force, torque = _load_arrays(loads, sol.angles, names, links, moving)
-    values, losses, status, cond = model.solve_friction(
-        np.ascontiguousarray(sol.xy),
-        np.ascontiguousarray(sol.vel),
-        np.ascontiguousarray(sol.acc),
-        force,
-        torque,
-        n_rpm * RAD_PER_S_PER_RPM,
+    pins = (
         np.array(pin_pts, dtype=np.int64),
         np.array(pin_mu_r, dtype=np.float64),
         np.array(pin_visc, dtype=np.float64),
+    )
+    guides = (
         np.array(g_idx, dtype=np.int64),
         np.array(g_mu, dtype=np.float64),
         np.array(g_visc, dtype=np.float64),
-        n_threads=threads_arg(n_threads),
     )
-    pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
-    cond = _conditioning(sol, cond)
-    values = np.moveaxis(values, 0, 1)  # (S, N, W)
-    losses = np.moveaxis(losses, 0, 1)
-    status = np.ascontiguousarray(status.T)
-    dead = cond == 0.0
-    if dead.any():
-        values = np.where(dead[None, :, None], np.nan, values)
-        losses = np.where(dead[None, :, None], np.nan, losses)
-        status = np.where(dead[None, :], 0, status)
-    g, k = len(guide_names), len(pairs)
-    s_n, n = n_rpm.size, sol.angles.size
-    out = FrictionForces(
-        solution=sol,
-        rpm=n_rpm,
-        pairs=pairs,
-        guides=tuple(guide_names),
-        elements=tuple(elements),
-        torque=values[:, :, 0],
-        guide_forces=values[:, :, 1 : 1 + g],
-        reactions=values[:, :, 1 + g :].reshape(s_n, n, k, 2),
-        losses=losses,
-        status=status,
-        conditioning=cond,
-    )
+    return pins, guides, elements
+
+
+def _warn_self_locking(out: FrictionForces) -> None:
+    """A :class:`~cyclomech.CyclomechWarning` naming the self-locking poses, if any."""
     if out.self_locking.any():
         s, i = (int(x) for x in np.argwhere(out.self_locking)[0])
-        bad = np.degrees(sol.angles[out.self_locking.any(axis=0)])[:6]
+        bad = np.degrees(out.angles[out.self_locking.any(axis=0)])[:6]
         warnings.warn(
             f"the linkage is self-locking at crank angles {', '.join(f'{v:.1f}' for v in bad)} "
-            f"degrees (first at {n_rpm[s]:g} rpm, {math.degrees(sol.angles[i]):.1f}°): friction "
-            "there grows faster than the reactions that cause it, so no finite driving torque "
-            "moves the linkage; its forces are NaN (FrictionForces.self_locking)",
+            f"degrees (first at {out.rpm[s]:g} rpm, {math.degrees(out.angles[i]):.1f}°): "
+            "friction there grows as fast as the reactions that cause it, or faster, so the "
+            "rigid-body Coulomb model gives no finite (or no unique) driving torque; its "
+            "forces are NaN (FrictionForces.self_locking)",
             CyclomechWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
-    return out

@@ -25,8 +25,10 @@
 //! until the friction magnitudes change by less than 1e-12 of the largest. The
 //! map's contraction factor is, near enough, μ·r over the links' lever arms (for
 //! a slider, μ·tan of the pushing angle): where it is 1 or more, friction grows
-//! faster than the reactions that cause it and no finite driving torque moves
-//! the linkage, a *self-locking* pose. One flagged (status −1, its values NaN)
+//! as fast as the reactions that cause it, or faster: the rigid-body Coulomb
+//! model then has no finite driving torque (the linkage jams) or no unique one
+//! (where friction would help the motion, x = a − q|x| with q > 1 has two
+//! roots), a *self-locking* pose. One flagged (status −1, its values NaN)
 //! where the iteration has not converged in `MAX_ITER` solves or the friction
 //! magnitudes have grown past 1e10 times the frictionless forces (a factor
 //! within about 1 % below 1 also exhausts the solves: a pose that near self-locking
@@ -262,6 +264,7 @@ fn sgn(x: f64) -> f64 {
 /// The friction loads at speed `omega` [rad/s] with Coulomb magnitudes `mags`
 /// (joints' μ·r·|R| [N·m], then guides' μ·|N| [N]) into the pose's extra loads;
 /// each element's power loss [W] into `loss`.
+#[allow(clippy::too_many_arguments)]
 fn load(
     model: &Model,
     joints: &[Joint],
@@ -335,6 +338,16 @@ fn magnitudes(joints: &[Joint], friction: &Friction, row: &[f64], mags: &mut [f6
     }
 }
 
+/// One parallel task: its chunk's index, its values, losses, status and
+/// conditioning.
+type Task<'a> = (
+    usize,
+    (
+        ((&'a mut [f64], &'a mut [f64]), &'a mut [i64]),
+        &'a mut [f64],
+    ),
+);
+
 /// Kinetostatics of `model` with `friction` at the N angles of `inputs` and each
 /// crank speed of `omegas` [rad/s] (steady), into `out`.
 pub fn solve_friction_into(
@@ -389,10 +402,7 @@ pub fn solve_friction_into(
         status,
         conditioning,
     } = out;
-    let run = |(c, (((vals, loss), stat), conds)): (
-        usize,
-        (((&mut [f64], &mut [f64]), &mut [i64]), &mut [f64]),
-    )| {
+    let run = |(c, (((vals, loss), stat), conds)): Task<'_>| {
         if crate::cancel::requested() {
             return;
         }
