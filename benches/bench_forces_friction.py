@@ -5,8 +5,10 @@ A four-bar with mass in every link, gravity, a load torque on its rocker and
 Coulomb friction in its four pins, over 3600 crank angles at a batch of 8 steady
 speeds (28 800 fixed points). cyclomech:
 :func:`cyclomech.forces.kinetostatics_with_friction`, end to end (positions and
-analogs, then per angle and speed the fixed point R⁽ᵏ⁺¹⁾ = solve(… +
-friction(R⁽ᵏ⁾)) on the block-triangular LU), one thread and all cores. numpy:
+analogs, then per angle the frictionless forces and each pin's response to a
+unit friction torque on the block-triangular LU, and per speed the fixed point
+R⁽ᵏ⁺¹⁾ = solve(… + friction(R⁽ᵏ⁾)) on the four friction sizes), one thread and
+all cores. numpy:
 the same fixed point on the dense pin-node system of
 ``tests/forces/forces_reference.py`` (which the tests use as an independent
 check), every angle at once, a stacked ``numpy.linalg.solve`` per iteration (LAPACK's

@@ -19,20 +19,26 @@
 //! that one angle is a limit of neither side.
 //!
 //! **Solving.** The friction loads are extra loads in the static part: the
-//! system's matrix does not change. At each angle and speed ω (ε = 0: a steady
-//! crank speed) the reactions are iterated to a fixed point, R⁽ᵏ⁺¹⁾ =
-//! solve(ω² part 0 + part 2 + friction(R⁽ᵏ⁾)), from the frictionless forces,
-//! until the friction magnitudes change by less than 1e-12 of the largest. The
+//! system's matrix does not change. So at each angle the frictionless forces
+//! (three parts) and each friction element's response to a load of unit size
+//! (a torque of 1 N·m on a joint's two members, a force of 1 N along a guide)
+//! are solved once, and the forces at any friction are the frictionless ones
+//! plus each element's size times its response (the response is taken as the
+//! change of the static part, so it carries a rounding of order 1e-16 of the
+//! static forces). At each steady crank speed ω (ε = 0) the sizes are iterated
+//! to a fixed point, R⁽ᵏ⁺¹⁾ = solve(ω² part 0 + part 2 + friction(R⁽ᵏ⁾)), from
+//! the frictionless forces, until the friction magnitudes change by less than
+//! 1e-12 of the largest: each step costs the F responses, not a solve. The
 //! map's contraction factor is, near enough, μ·r over the links' lever arms (for
 //! a slider, μ·tan of the pushing angle): where it is 1 or more, friction grows
 //! as fast as the reactions that cause it, or faster: the rigid-body Coulomb
 //! model then has no finite driving torque (the linkage jams) or no unique one
 //! (where friction would help the motion, x = a − q|x| with q > 1 has two
 //! roots), a *self-locking* pose. One flagged (status −1, its values NaN)
-//! where the iteration has not converged in `MAX_ITER` solves or the friction
+//! where the iteration has not converged in `MAX_ITER` steps or the friction
 //! magnitudes have grown past 1e10 times the frictionless forces (a factor
-//! within about 1 % below 1 also exhausts the solves: a pose that near self-locking
-//! is flagged too).
+//! within about 0.3 % below 1 also exhausts the steps: a pose that near
+//! self-locking is flagged too).
 
 use rayon::prelude::*;
 
@@ -41,8 +47,10 @@ use super::{ForceError, Guide, Inputs, Model, Side};
 use crate::geom::{cross, dot, sub};
 use crate::parallel::{pool, resolve_threads};
 
-/// Solves per angle and speed before a pose is flagged self-locking.
-const MAX_ITER: usize = 2000;
+/// Fixed-point steps per angle and speed before a pose is flagged self-locking
+/// (a contraction factor q needs about 28 / −ln q steps to 1e-12: 10 000 up
+/// to q ≈ 0.997).
+const MAX_ITER: usize = 10_000;
 /// Converged when the friction magnitudes change by less than this fraction of
 /// the largest.
 const TOL: f64 = 1e-12;
@@ -261,31 +269,23 @@ fn sgn(x: f64) -> f64 {
     }
 }
 
-/// The friction loads at speed `omega` [rad/s] with Coulomb magnitudes `mags`
-/// (joints' μ·r·|R| [N·m], then guides' μ·|N| [N]) into the pose's extra loads;
-/// each element's power loss [W] into `loss`.
-#[allow(clippy::too_many_arguments)]
-fn load(
+/// Element `e`'s load of unit size into the pose's extra loads: a joint's
+/// torque of 1 N·m on member `a` and −1 N·m on the other; a guide's force of 1 N
+/// along it on the block (and −1 N on the guide's carrier, at the point).
+fn unit_load(
     model: &Model,
     joints: &[Joint],
     friction: &Friction,
     rel: &Relative,
-    omega: f64,
-    mags: &[f64],
+    e: usize,
     pose: &mut super::solve::Pose,
-    loss: &mut [f64],
 ) {
     let spec = &model.spec;
     pose.extra = true;
     pose.extra_force.fill([0.0; 2]);
     pose.extra_body.fill([0.0; 3]);
-    let nj = joints.len();
-    for (i, j) in joints.iter().enumerate() {
-        let w = omega * rel.joint[i];
-        // The torque on member a; the other member gets −t.
-        let t = -(mags[i] * sgn(w) + j.viscous * w);
-        loss[i] = -t * w;
-        pose.extra_body[j.a][2] += t;
+    if let Some(j) = joints.get(e) {
+        pose.extra_body[j.a][2] += 1.0;
         let other = match j.other {
             Other::Frame => None,
             Other::Body(b) => Some(b),
@@ -295,30 +295,57 @@ fn load(
             },
         };
         if let Some(b) = other {
-            pose.extra_body[b][2] -= t;
+            pose.extra_body[b][2] -= 1.0;
+        }
+        return;
+    }
+    let k = e - joints.len();
+    let force = rel.dir[k];
+    match spec.guides[friction.guides[k].guide] {
+        Guide::Fixed { point, .. } => {
+            pose.extra_force[point][0] += force[0];
+            pose.extra_force[point][1] += force[1];
+        }
+        Guide::Link { point, body, .. } => {
+            pose.extra_force[point][0] += force[0];
+            pose.extra_force[point][1] += force[1];
+            let arm = pose.arm(body, pose.xy[point]);
+            let b = &mut pose.extra_body[body];
+            b[0] -= force[0];
+            b[1] -= force[1];
+            b[2] -= cross(arm, force);
         }
     }
-    for (k, g) in friction.guides.iter().enumerate() {
-        let v = omega * rel.slide[k];
-        let f = -(mags[nj + k] * sgn(v) + g.viscous * v);
-        loss[nj + k] = -f * v;
-        let d = rel.dir[k];
-        let force = [f * d[0], f * d[1]];
-        match spec.guides[g.guide] {
-            Guide::Fixed { point, .. } => {
-                pose.extra_force[point][0] += force[0];
-                pose.extra_force[point][1] += force[1];
-            }
-            Guide::Link { point, body, .. } => {
-                pose.extra_force[point][0] += force[0];
-                pose.extra_force[point][1] += force[1];
-                let arm = pose.arm(body, pose.xy[point]);
-                let e = &mut pose.extra_body[body];
-                e[0] -= force[0];
-                e[1] -= force[1];
-                e[2] -= cross(arm, force);
-            }
-        }
+}
+
+/// Each element's signed size at speed `omega` [rad/s] with Coulomb magnitudes
+/// `mags` (joints' μ·r·|R| [N·m], then guides' μ·|N| [N]): against its relative
+/// velocity, with the viscous part (the torque on a joint's member `a` [N·m],
+/// the force along a guide on its block [N]); and its power loss [W] into `loss`.
+fn signed_sizes(
+    joints: &[Joint],
+    friction: &Friction,
+    rel: &Relative,
+    omega: f64,
+    mags: &[f64],
+    sized: &mut [f64],
+    loss: &mut [f64],
+) {
+    let viscous = joints
+        .iter()
+        .map(|j| j.viscous)
+        .chain(friction.guides.iter().map(|g| g.viscous));
+    let speeds = rel.joint.iter().chain(&rel.slide);
+    for ((((f, l), &m), c), &v) in sized
+        .iter_mut()
+        .zip(loss)
+        .zip(mags)
+        .zip(viscous)
+        .zip(speeds)
+    {
+        let v = omega * v;
+        *f = -(m * sgn(v) + c * v);
+        *l = -*f * v;
     }
 }
 
@@ -408,8 +435,11 @@ pub fn solve_friction_into(
         }
         let mut s = model.scratch();
         let mut parts = vec![0.0; 3 * w];
+        let mut unit = vec![0.0; 3 * w];
+        let mut units = vec![0.0; nf * w];
         let mut prev = vec![0.0; nf];
         let mut next = vec![0.0; nf];
+        let mut sized = vec![0.0; nf];
         let mut rel = Relative {
             joint: vec![0.0; joints.len()],
             slide: vec![0.0; friction.guides.len()],
@@ -430,45 +460,51 @@ pub fn solve_friction_into(
                 torque: torque.map(|t| &t[a * nb..(a + 1) * nb]),
             };
             s.pose.extra = false;
-            if !s.pose.fill(&model.spec, row) {
-                *cond = f64::NAN;
+            *cond = if s.pose.fill(&model.spec, row) {
+                let (p0, rest) = parts.split_at_mut(w);
+                let (p1, p2_) = rest.split_at_mut(w);
+                model.solve_one(&mut s, [p0, p1, p2_])
+            } else {
+                f64::NAN
+            };
+            if cond.is_nan() || *cond == 0.0 {
                 vrow.fill(f64::NAN);
                 lrow.fill(f64::NAN);
                 srow.fill(0);
                 continue;
             }
             rel.fill(model, &joints, friction, &s.pose);
+            // The matrix is the same for every load: each element's response to
+            // a load of unit size, once per angle (the static part's change),
+            // and the forces at any friction are the frictionless ones plus
+            // the elements' sizes times their responses.
+            for (e, resp) in units.chunks_exact_mut(w).enumerate() {
+                unit_load(model, &joints, friction, &rel, e, &mut s.pose);
+                let (u0, rest) = unit.split_at_mut(w);
+                let (u1, u2) = rest.split_at_mut(w);
+                model.solve_one(&mut s, [u0, u1, u2]);
+                for ((r, x), y) in resp.iter_mut().zip(&unit[2 * w..]).zip(&parts[2 * w..]) {
+                    *r = x - y;
+                }
+            }
+            s.pose.extra = false;
             for (k, &omega) in omegas.iter().enumerate() {
                 let out = &mut vrow[k * w..(k + 1) * w];
                 let lo = &mut lrow[k * nf..(k + 1) * nf];
+                let w2 = omega * omega;
                 prev.fill(0.0);
                 let mut scale = f64::NAN;
                 let mut state = -1;
                 for it in 1..=MAX_ITER {
-                    load(
-                        model,
-                        &joints,
-                        friction,
-                        &rel,
-                        omega,
-                        &prev,
-                        &mut s.pose,
-                        lo,
-                    );
-                    let (p0, rest) = parts.split_at_mut(w);
-                    let (p1, p2_) = rest.split_at_mut(w);
-                    let cnd = model.solve_one(&mut s, [p0, p1, p2_]);
-                    if it == 1 {
-                        *cond = cnd;
-                    }
-                    if cnd == 0.0 {
-                        state = 0;
-                        break;
-                    }
-                    let w2 = omega * omega;
+                    signed_sizes(&joints, friction, &rel, omega, &prev, &mut sized, lo);
                     for (o, (a0, a2)) in out.iter_mut().zip(parts[..w].iter().zip(&parts[2 * w..]))
                     {
                         *o = w2 * a0 + a2;
+                    }
+                    for (&f, resp) in sized.iter().zip(units.chunks_exact(w)) {
+                        for (o, r) in out.iter_mut().zip(resp) {
+                            *o += f * r;
+                        }
                     }
                     magnitudes(&joints, friction, out, &mut next);
                     let big = next.iter().fold(0.0f64, |m, &x| m.max(x));
