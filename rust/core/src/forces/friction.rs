@@ -550,3 +550,165 @@ pub fn solve_friction_into(
     });
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    //! The kernel alone: a journal against μ·r·|R|, no friction equal to
+    //! [`super::super::solve_into`], bad friction refused, an angle not
+    //! assembled left unsolved.
+    use super::*;
+    use crate::forces::{solve_into, Body, Outputs, Spec};
+
+    /// A crank O–A (0.3 m) with 2 kg at A, driven at angle `phi`.
+    fn crank() -> (Model, [f64; 4], [f64; 4], [f64; 4]) {
+        let spec = Spec {
+            n_points: 2,
+            bodies: vec![Body {
+                points: vec![0, 1],
+                mass: 0.0,
+                com_uv: [0.5, 0.0],
+                inertia: 0.0,
+            }],
+            ground: vec![0],
+            point_mass: vec![0.0, 2.0],
+            guides: vec![],
+            driver: 0,
+            gravity: [0.0, -9.81],
+        };
+        let phi = 0.7_f64;
+        let (c, s) = (phi.cos(), phi.sin());
+        let r = 0.3;
+        (
+            Model::new(spec).unwrap(),
+            [0.0, 0.0, r * c, r * s],
+            [0.0, 0.0, -r * s, r * c],
+            [0.0, 0.0, -r * c, -r * s],
+        )
+    }
+
+    fn run(
+        model: &Model,
+        friction: &Friction,
+        omegas: &[f64],
+        xy: &[f64],
+    ) -> (Vec<f64>, Vec<f64>, Vec<i64>) {
+        let (_, _, vel, acc) = crank();
+        let w = model.width(true);
+        let nf = friction.pins.len() + friction.guides.len();
+        let (mut values, mut losses) = (vec![0.0; omegas.len() * w], vec![0.0; omegas.len() * nf]);
+        let (mut status, mut cond) = (vec![0; omegas.len()], vec![0.0]);
+        let inputs = Inputs {
+            xy,
+            vel: &vel,
+            acc: &acc,
+            force: None,
+            torque: None,
+        };
+        let out = FrictionOutputs {
+            values: &mut values,
+            losses: &mut losses,
+            status: &mut status,
+            conditioning: &mut cond,
+        };
+        solve_friction_into(model, inputs, friction, omegas, out, Some(1)).unwrap();
+        (values, losses, status)
+    }
+
+    #[test]
+    fn journal_closed_form_and_no_friction() {
+        let (model, xy, vel, acc) = crank();
+        let (mu_r, c) = (0.002, 0.01);
+        let friction = Friction {
+            pins: vec![PinFriction {
+                point: 0,
+                mu_r,
+                viscous: c,
+            }],
+            guides: vec![],
+        };
+        let omegas = [5.0, 50.0];
+        let (values, losses, status) = run(&model, &friction, &omegas, &xy);
+        let w = model.width(true);
+        let (m, g, phi, r) = (2.0, 9.81, 0.7_f64, 0.3);
+        for (k, &om) in omegas.iter().enumerate() {
+            // The bearing carries m g down and m ω² r outwards.
+            let load = [
+                m * om * om * r * phi.cos(),
+                m * om * om * r * phi.sin() - m * g,
+            ];
+            let big_r = load[0].hypot(load[1]);
+            let torque = m * g * r * phi.cos() + mu_r * big_r + c * om;
+            assert!(
+                (values[k * w] - torque).abs() < 1e-12 * torque.abs(),
+                "{}",
+                values[k * w]
+            );
+            assert!((losses[k] - (mu_r * big_r + c * om) * om).abs() < 1e-12 * losses[k]);
+            assert!(status[k] >= 1);
+        }
+        // No friction: today's solve, exactly.
+        let (values, losses, status) = run(&model, &Friction::default(), &omegas, &xy);
+        let mut parts = vec![0.0; 3 * w];
+        let mut cond = vec![0.0];
+        let inputs = Inputs {
+            xy: &xy,
+            vel: &vel,
+            acc: &acc,
+            force: None,
+            torque: None,
+        };
+        let out = Outputs {
+            values: &mut parts,
+            conditioning: &mut cond,
+            reactions: true,
+        };
+        solve_into(&model, inputs, out, Some(1)).unwrap();
+        for (k, &om) in omegas.iter().enumerate() {
+            for j in 0..w {
+                assert_eq!(values[k * w + j], om * om * parts[j] + parts[2 * w + j]);
+            }
+        }
+        assert!(losses.is_empty() && status == [1, 1]);
+    }
+
+    #[test]
+    fn bad_friction_is_refused_and_nan_left_unsolved() {
+        let (model, mut xy, _, _) = crank();
+        for (mu_r, viscous, point) in [(-1.0, 0.0, 0), (0.1, f64::NAN, 0), (0.1, 0.0, 1)] {
+            let friction = Friction {
+                pins: vec![PinFriction {
+                    point,
+                    mu_r,
+                    viscous,
+                }],
+                guides: vec![],
+            };
+            let inputs = Inputs {
+                xy: &xy,
+                vel: &xy,
+                acc: &xy,
+                force: None,
+                torque: None,
+            };
+            let (mut v, mut l, mut s, mut c) = (vec![0.0; 5], vec![0.0; 1], vec![0; 1], vec![0.0]);
+            let out = FrictionOutputs {
+                values: &mut v,
+                losses: &mut l,
+                status: &mut s,
+                conditioning: &mut c,
+            };
+            assert!(solve_friction_into(&model, inputs, &friction, &[1.0], out, Some(1)).is_err());
+        }
+        xy[2] = f64::NAN;
+        let friction = Friction {
+            pins: vec![PinFriction {
+                point: 0,
+                mu_r: 0.01,
+                viscous: 0.0,
+            }],
+            guides: vec![],
+        };
+        let (values, losses, status) = run(&model, &friction, &[1.0], &xy);
+        assert!(values.iter().all(|v| v.is_nan()) && losses[0].is_nan() && status == [0]);
+    }
+}
