@@ -12,7 +12,8 @@ all cores. numpy:
 the same fixed point on the dense pin-node system of
 ``tests/forces/forces_reference.py`` (which the tests use as an independent
 check), every angle at once, a stacked ``numpy.linalg.solve`` per iteration (LAPACK's
-LU per angle) until every angle has converged, speed by speed, given the
+LU per angle) until every angle has converged, speed by speed; and the same with
+the matrices inverted once and a stacked product per step; given the
 positions and analogs from cyclomech's solver (not timed: numpy's row is
 favoured). The ratio table is per (angle, speed) (``extra_info["items"]``).
 
@@ -76,10 +77,12 @@ def ours(n: int, n_threads: int | None = None, sol=None):
     )
 
 
-def peer(sol) -> np.ndarray:
+def peer(sol, inverse: bool = False) -> np.ndarray:
     """The driving torque (S, N) by the fixed point on the dense system, every
     angle at once: friction torques ∓μ·r·|R| on the two members of each pin
-    (|R| the larger of the forces on them), added to their moment rows."""
+    (|R| the larger of the forces on them), added to their moment rows. With
+    ``inverse``, the matrices are inverted once and each step is a stacked
+    matrix-vector product (the matrix does not change)."""
     A, R, info = dense_system(four_bar(), sol.xy, sol.vel, sol.acc, masses=MASSES, gravity=G)
     n = sol.xy.shape[0]
     om, sides, col_m = info["omega"], info["sides"], info["col_m"]
@@ -94,6 +97,7 @@ def peer(sol) -> np.ndarray:
         # The kernel's rule: kinetic friction with sign(0) = 0 within 1e-12 rad/rad
         # (at 0° the coupler and the rocker of this four-bar turn alike).
         pins.append((s[0], s[1], k0, k0 + 1, np.where(np.abs(rel) <= 1e-12, 0.0, np.sign(rel))))
+    a_inv = np.linalg.inv(A) if inverse else None
     out = np.empty((RPM.size, n))
     for i, rpm in enumerate(RPM):
         w = rpm * RAD
@@ -106,7 +110,10 @@ def peer(sol) -> np.ndarray:
                 rhs[:, 3 * b1 + 2] -= t
                 if b0 >= 0:
                     rhs[:, 3 * b0 + 2] += t
-            x = np.linalg.solve(A, rhs[:, :, None])[:, :, 0]
+            if inverse:
+                x = np.einsum("nij,nj->ni", a_inv, rhs)
+            else:
+                x = np.linalg.solve(A, rhs[:, :, None])[:, :, 0]
             forces = x[:, : 2 * len(sides)].reshape(n, len(sides), 2)
             size = np.hypot(forces[..., 0], forces[..., 1])
             new = np.array(
@@ -122,9 +129,10 @@ def peer(sol) -> np.ndarray:
 
 def test_numpy_agrees() -> None:
     f = ours(360)
-    ref = peer(f.solution)
     assert f.ok.all()
-    assert np.abs(f.torque - ref).max() < 1e-9 * np.abs(ref).max()
+    for inverse in (False, True):
+        ref = peer(f.solution, inverse)
+        assert np.abs(f.torque - ref).max() < 1e-9 * np.abs(ref).max()
 
 
 @pytest.mark.benchmark(group=GROUP)
@@ -156,4 +164,14 @@ def test_friction_numpy(benchmark) -> None:
     benchmark.extra_info["what"] = "dense pin-node fixed point, stacked numpy.linalg.solve"
     benchmark.extra_info["items"] = N * RPM.size
     ref = benchmark(peer, sol)
+    assert ref.shape == (RPM.size, N)
+
+
+@pytest.mark.benchmark(group=GROUP)
+def test_friction_numpy_inverse(benchmark) -> None:
+    sol = four_bar().solve(angles(N))
+    benchmark.extra_info["tool"] = "numpy"
+    benchmark.extra_info["what"] = "dense fixed point, numpy.linalg.inv once, einsum per step"
+    benchmark.extra_info["items"] = N * RPM.size
+    ref = benchmark(peer, sol, True)
     assert ref.shape == (RPM.size, N)

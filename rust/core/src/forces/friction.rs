@@ -354,10 +354,11 @@ fn signed_sizes(
 fn magnitudes(joints: &[Joint], friction: &Friction, row: &[f64], mags: &mut [f64]) {
     let nj = joints.len();
     for (m, j) in mags.iter_mut().zip(joints) {
-        let r = j
-            .offsets
-            .iter()
-            .fold(0.0f64, |m, &o| m.max(row[o].hypot(row[o + 1])));
+        let r = j.offsets.iter().fold(0.0f64, |m, &o| {
+            // √(x² + y²), not hypot: libm's hypot, guarding against an
+            // overflow no force reaches, was the fixed point's main cost.
+            m.max((row[o] * row[o] + row[o + 1] * row[o + 1]).sqrt())
+        });
         *m = j.mu_r * r;
     }
     for (k, g) in friction.guides.iter().enumerate() {
