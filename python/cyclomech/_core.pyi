@@ -646,6 +646,28 @@ class ForceModel:
         reactions: bool = True,
         n_threads: int | None = None,
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    def solve_friction(
+        self,
+        xy: npt.NDArray[np.float64],
+        vel: npt.NDArray[np.float64],
+        acc: npt.NDArray[np.float64],
+        force: npt.NDArray[np.float64] | None,
+        torque: npt.NDArray[np.float64] | None,
+        omegas: npt.NDArray[np.float64],
+        pin_points: npt.NDArray[np.int64],
+        pin_mu_r: npt.NDArray[np.float64],
+        pin_viscous: npt.NDArray[np.float64],
+        guides: npt.NDArray[np.int64],
+        guide_mu: npt.NDArray[np.float64],
+        guide_viscous: npt.NDArray[np.float64],
+        *,
+        n_threads: int | None = None,
+    ) -> tuple[
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.int64],
+        npt.NDArray[np.float64],
+    ]: ...
 
 # --- issue 20, machine sweeps: a batch of stop designs (rust/bindings/src/impact.rs) ---
 __all__ += ["stop_design_batch"]

@@ -36,6 +36,42 @@ def dense_kinetostatics(
 ) -> dict[str, Array]:
     """Parts (3, ...) of the torque (3, N), the guides (3, N, G) and the pairs'
     forces (3, N, K, 2) from positions and analogs (N, P, 2) of every point."""
+    A, R, info = dense_system(
+        linkage,
+        xy,
+        vel,
+        acc,
+        masses=masses,
+        point_masses=point_masses,
+        force=force,
+        gravity=gravity,
+    )
+    n, col_g, col_m, sides = xy.shape[0], info["col_g"], info["col_m"], info["sides"]
+    x = np.linalg.solve(A, R)  # (N, nu, 3)
+    return {
+        "torque": x[:, col_m, :].T,
+        "guides": np.moveaxis(x[:, col_g:col_m, :], 2, 0),
+        "reactions": np.moveaxis(x[:, :col_g, :].reshape(n, len(sides), 2, 3), 3, 0),
+        "pairs": np.array(sides),
+    }
+
+
+def dense_system(
+    linkage: Any,
+    xy: Array,
+    vel: Array,
+    acc: Array,
+    *,
+    masses: dict[tuple[str, ...], tuple[float, tuple[float, float] | None, float]] | None = None,
+    point_masses: dict[str, float] | None = None,
+    force: Array | None = None,
+    gravity: tuple[float, float] = (0.0, 0.0),
+) -> tuple[Array, Array, dict[str, Any]]:
+    """The dense system A (N, n, n) and its three right-hand sides R (N, n, 3)
+    (ω², ε, static), and what a solver needs to read it: ``col_g``, ``col_m``
+    (the first guide's and the torque's column), ``sides`` (the pairs), ``pins``
+    ((point, sides, guides) with body −1 the frame; rows 3 b … 3 b + 2 are body
+    b's), ``omega`` (each body's angular velocity analog, (B, N))."""
     t = linkage.to_dict()
     names = list(linkage.names)
     idx = {n: i for i, n in enumerate(names)}
@@ -141,10 +177,5 @@ def dense_kinetostatics(
             A[:, 3 * body, col_g + q] = -nn[:, 0]
             A[:, 3 * body + 1, col_g + q] = -nn[:, 1]
             A[:, 3 * body + 2, col_g + q] = -_cross(arm, nn)
-    x = np.linalg.solve(A, R)  # (N, nu, 3)
-    return {
-        "torque": x[:, col_m, :].T,
-        "guides": np.moveaxis(x[:, col_g : col_g + len(guides), :], 2, 0),
-        "reactions": np.moveaxis(x[:, :col_g, :].reshape(n, len(sides), 2, 3), 3, 0),
-        "pairs": np.array(sides),
-    }
+    info = {"col_g": col_g, "col_m": col_m, "sides": sides, "pins": pins, "omega": np.array(w1)}
+    return A, R, info

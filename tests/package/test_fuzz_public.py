@@ -90,6 +90,7 @@ RESULT_CLASSES = {
     "cyclomech.dynamics.StartUp",
     "cyclomech.dynamics.SteadyBatch",
     "cyclomech.dynamics.SteadyState",
+    "cyclomech.forces.FrictionForces",
     "cyclomech.forces.Kinetostatics",
     "cyclomech.impact.ContactHistory",
     "cyclomech.impact.Rebound",

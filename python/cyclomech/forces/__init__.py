@@ -20,7 +20,9 @@ within ``NEAR_DEAD_CENTRE`` (0.02 rad) of it (``Kinetostatics.near_dead_centre``
 scale-free; the torque there grows as the inverse square of that angle).
 Sliders: the block pinned at the point slides on its guide without friction and
 has no mass beyond the point's, so the guide's force is normal to it, through
-the point.
+the point. Friction in the joints and guides (Coulomb and viscous) is solved
+per steady speed by :func:`kinetostatics_with_friction` (:class:`Friction`,
+:class:`PinFriction`, :class:`GuideFriction`, :class:`FrictionForces`).
 
 Units: SI (N, N·m, kg, m, rad); crank speeds in rpm where named so.
 
@@ -34,24 +36,36 @@ Units: SI (N, N·m, kg, m, rad); crank speeds in rpm where named so.
 -100.0
 
 The code lives in private modules beside this door: ``_model`` (the loads and
-:func:`kinetostatics`), ``_result`` (:class:`Kinetostatics`) and ``_file`` (the
-machine file's keys).
+:func:`kinetostatics`), ``_result`` (:class:`Kinetostatics`), ``_friction``
+(friction per speed) and ``_file`` (the machine file's keys).
 """
 
 from __future__ import annotations
 
 from ._file import DYNAMICS_KEYS, dynamics_from_table
+from ._friction import (
+    Friction,
+    FrictionForces,
+    GuideFriction,
+    PinFriction,
+    kinetostatics_with_friction,
+)
 from ._model import LinkMass, LinkTorque, PointLoad, check_dynamics, kinetostatics
 from ._result import NEAR_DEAD_CENTRE, Kinetostatics
 
 __all__ = [
     "DYNAMICS_KEYS",
     "NEAR_DEAD_CENTRE",
+    "Friction",
+    "FrictionForces",
+    "GuideFriction",
     "Kinetostatics",
     "LinkMass",
     "LinkTorque",
+    "PinFriction",
     "PointLoad",
     "check_dynamics",
     "dynamics_from_table",
     "kinetostatics",
+    "kinetostatics_with_friction",
 ]

@@ -520,20 +520,7 @@ def kinetostatics(
         linkage, masses, point_masses, loads, gravity
     )
     sol = _solution(linkage, angles, n_threads)
-    n = sol.angles.size
-    force = torque = None
-    idx = {p: i for i, p in enumerate(names)}
-    for load in loads:
-        if isinstance(load, PointLoad):
-            if force is None:
-                force = np.zeros((n, len(names), 2))
-            force[:, idx[load.point]] += load.at(sol.angles)
-        else:
-            b = _link_index(links, moving, load.link, "loads: a torque")
-            if torque is None:
-                torque = np.zeros((n, len(moving)))
-            torque[:, b] += load.at(sol.angles)
-
+    force, torque = _load_arrays(loads, sol.angles, names, links, moving)
     values, conditioning = model.solve(
         np.ascontiguousarray(sol.xy),
         np.ascontiguousarray(sol.vel),
@@ -547,6 +534,31 @@ def kinetostatics(
     return Kinetostatics._from_kernel(  # the kernel's output: checked by its tests, not per call
         sol, values, conditioning, pairs=pairs, guides=tuple(guide_names)
     )
+
+
+def _load_arrays(
+    loads: Sequence[PointLoad | LinkTorque],
+    angles: Array,
+    names: list[str],
+    links: list[list[str]],
+    moving: list[int],
+) -> tuple[Array | None, Array | None]:
+    """The loads (checked by :func:`_build`) at the crank angles ``angles``: the
+    point forces (N, P, 2) [N] and the link torques (N, B) [N·m], None for none."""
+    n = angles.size
+    force = torque = None
+    idx = {p: i for i, p in enumerate(names)}
+    for load in loads:
+        if isinstance(load, PointLoad):
+            if force is None:
+                force = np.zeros((n, len(names), 2))
+            force[:, idx[load.point]] += load.at(angles)
+        else:
+            b = _link_index(links, moving, load.link, "loads: a torque")
+            if torque is None:
+                torque = np.zeros((n, len(moving)))
+            torque[:, b] += load.at(angles)
+    return force, torque
 
 
 def _solution(linkage: Linkage, angles: Any, n_threads: int | None) -> LinkageSolution:

@@ -2,12 +2,13 @@
 //! of a linkage solution.
 
 use cyclomech_core::forces::{
-    solve_into, Body, ForceError, Guide, Inputs, Model, Outputs, Side, Spec,
+    solve_friction_into, solve_into, Body, ForceError, Friction, FrictionOutputs, Guide,
+    GuideFriction, Inputs, Model, Outputs, PinFriction, Side, Spec,
 };
-use numpy::ndarray::{Ix1, Ix3};
+use numpy::ndarray::{Ix1, Ix2, Ix3};
 use numpy::{
-    PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArrayDyn,
-    PyUntypedArrayMethods,
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 
@@ -217,5 +218,111 @@ impl ForceModel {
             })?;
         }
         Ok((values, conditioning))
+    }
+
+    /// With friction, at the N angles of `xy`, `vel`, `acc` (as `solve`) and the
+    /// S steady crank speeds `omegas` [rad/s]: joints' friction at points
+    /// `pin_points` (J,) with μ·r `pin_mu_r` [m] and viscous `pin_viscous`
+    /// [N·m·s/rad], guides `guides` (H,) with `guide_mu` and viscous
+    /// `guide_viscous` [N·s/m]. (values (N, S, width with reactions), losses
+    /// (N, S, J + H) [W], status (N, S): solves taken, 0 not solved, −1
+    /// self-locking; conditioning (N,)).
+    #[pyo3(signature = (xy, vel, acc, force, torque, omegas, pin_points, pin_mu_r, pin_viscous, guides, guide_mu, guide_viscous, *, n_threads=None))]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    fn solve_friction<'py>(
+        &self,
+        py: Python<'py>,
+        xy: PyReadonlyArrayDyn<'py, f64>,
+        vel: PyReadonlyArrayDyn<'py, f64>,
+        acc: PyReadonlyArrayDyn<'py, f64>,
+        force: Option<PyReadonlyArrayDyn<'py, f64>>,
+        torque: Option<PyReadonlyArrayDyn<'py, f64>>,
+        omegas: PyReadonlyArray1<'py, f64>,
+        pin_points: PyReadonlyArray1<'py, i64>,
+        pin_mu_r: PyReadonlyArray1<'py, f64>,
+        pin_viscous: PyReadonlyArray1<'py, f64>,
+        guides: PyReadonlyArray1<'py, i64>,
+        guide_mu: PyReadonlyArray1<'py, f64>,
+        guide_viscous: PyReadonlyArray1<'py, f64>,
+        n_threads: Option<i64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray3<f64>>,
+        Bound<'py, PyArray3<f64>>,
+        Bound<'py, PyArray2<i64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
+        let n = xy.shape().first().copied().unwrap_or(0);
+        let inputs = Inputs {
+            xy: ForceError::slice(py, "xy", &xy)?,
+            vel: ForceError::slice(py, "vel", &vel)?,
+            acc: ForceError::slice(py, "acc", &acc)?,
+            force: force
+                .as_ref()
+                .map(|f| ForceError::slice(py, "force", f))
+                .transpose()?,
+            torque: torque
+                .as_ref()
+                .map(|t| ForceError::slice(py, "torque", t))
+                .transpose()?,
+        };
+        let omegas = ForceError::slice(py, "omegas", &omegas)?;
+        let pp = ForceError::slice(py, "pin_points", &pin_points)?;
+        let pm = ForceError::slice(py, "pin_mu_r", &pin_mu_r)?;
+        let pv = ForceError::slice(py, "pin_viscous", &pin_viscous)?;
+        let gg = ForceError::slice(py, "guides", &guides)?;
+        let gm = ForceError::slice(py, "guide_mu", &guide_mu)?;
+        let gv = ForceError::slice(py, "guide_viscous", &guide_viscous)?;
+        if pm.len() != pp.len()
+            || pv.len() != pp.len()
+            || gm.len() != gg.len()
+            || gv.len() != gg.len()
+        {
+            return Err(ForceError::BadModel(
+                "pin_points, pin_mu_r, pin_viscous are (J,) and guides, guide_mu, guide_viscous (H,)"
+                    .into(),
+            )
+            .into_pyerr(py));
+        }
+        let np = self.model.spec().n_points;
+        let ng = self.model.spec().guides.len();
+        let mut friction = Friction::default();
+        for ((&p, &mu_r), &viscous) in pp.iter().zip(pm).zip(pv) {
+            friction.pins.push(PinFriction {
+                point: index(py, "pin point", p, np)?,
+                mu_r,
+                viscous,
+            });
+        }
+        for ((&g, &mu), &viscous) in gg.iter().zip(gm).zip(gv) {
+            friction.guides.push(GuideFriction {
+                guide: index(py, "guide", g, ng)?,
+                mu,
+                viscous,
+            });
+        }
+        let (ns, w, nf) = (omegas.len(), self.model.width(true), pp.len() + gg.len());
+        let hint = "solve fewer angles or speeds at a time";
+        let values = convert::zeros::<f64, Ix3>(py, &[n, ns, w], "friction", hint)?;
+        let losses = convert::zeros::<f64, Ix3>(py, &[n, ns, nf], "friction", hint)?;
+        let status = convert::zeros::<i64, Ix2>(py, &[n, ns], "friction", hint)?;
+        let conditioning = convert::zeros::<f64, Ix1>(py, &[n], "friction", hint)?;
+        {
+            let mut vw = values.readwrite();
+            let mut lw = losses.readwrite();
+            let mut stw = status.readwrite();
+            let mut cw = conditioning.readwrite();
+            let out = FrictionOutputs {
+                values: convert::output(py, &mut vw)?,
+                losses: convert::output(py, &mut lw)?,
+                status: convert::output(py, &mut stw)?,
+                conditioning: convert::output(py, &mut cw)?,
+            };
+            let model = &self.model;
+            let friction = &friction;
+            run(py, "friction", || {
+                solve_friction_into(model, inputs, friction, omegas, out, n_threads)
+            })?;
+        }
+        Ok((values, losses, status, conditioning))
     }
 }

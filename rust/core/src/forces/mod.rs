@@ -44,10 +44,12 @@
 //! Files: this one (the model, its analysis and errors), `solve` (the batched
 //! per-angle solve) and `tests`.
 
+mod friction;
 mod solve;
 #[cfg(test)]
 mod tests;
 
+pub use friction::{solve_friction_into, Friction, FrictionOutputs, GuideFriction, PinFriction};
 pub use solve::{solve_into, Inputs, Outputs};
 
 use crate::geom::V2;
@@ -312,6 +314,12 @@ impl Model {
             s.rhs(r, 2, -m * spec.gravity[0]);
             s.rhs(r + 1, 2, -m * spec.gravity[1]);
             s.rhs(r + 2, 2, -pose.torque(i));
+            if pose.extra {
+                let [fx, fy, mz] = pose.extra_body[i];
+                s.rhs(r, 2, -fx);
+                s.rhs(r + 1, 2, -fy);
+                s.rhs(r + 2, 2, -mz);
+            }
         }
         s.a(3 * spec.driver + 2, self.torque_col, 1.0);
         for pin in &self.pins {

@@ -11,7 +11,7 @@ use crate::parallel::{pool, resolve_threads};
 const SINGULAR_REL: f64 = 1e-10;
 
 /// Angles per parallel task.
-const CHUNK: usize = 256;
+pub(super) const CHUNK: usize = 256;
 
 /// Where [`solve_into`] writes: `values` (3, N, W) — for each part (ω², ε,
 /// static) and angle the driving torque [N·m], the G guide forces [N] and, when
@@ -29,7 +29,7 @@ pub struct Outputs<'a> {
 /// The kinematic quantities of one pose, for [`Model::assemble`].
 pub(super) struct Pose {
     pub(super) xy: Vec<V2>,
-    vel: Vec<V2>,
+    pub(super) vel: Vec<V2>,
     acc: Vec<V2>,
     com: Vec<V2>,
     pub(super) com_v: Vec<V2>,
@@ -39,6 +39,12 @@ pub(super) struct Pose {
     pub(super) normal: Vec<V2>,
     force: Vec<V2>,
     torques: Vec<f64>,
+    /// Friction's loads (see `friction`), read only when `extra` is set: a
+    /// force on each point [N] and a force and moment about the centre of mass
+    /// on each body [N, N·m], all in the static part.
+    pub(super) extra: bool,
+    pub(super) extra_force: Vec<V2>,
+    pub(super) extra_body: Vec<[f64; 3]>,
 }
 
 impl Pose {
@@ -57,6 +63,9 @@ impl Pose {
             normal: vec![[0.0; 2]; g],
             force: vec![[0.0; 2]; p],
             torques: vec![0.0; b],
+            extra: false,
+            extra_force: vec![[0.0; 2]; p],
+            extra_body: vec![[0.0; 3]; b],
         }
     }
 
@@ -129,7 +138,10 @@ impl Pose {
     /// The known part of pin `p`'s equation, F_ext + m_p g − m_p a_p, by part.
     pub(super) fn pin_load(&self, spec: &Spec, p: usize) -> [V2; 3] {
         let m = spec.point_mass[p];
-        let (v, a, f, g) = (self.vel[p], self.acc[p], self.force[p], spec.gravity);
+        let (v, a, mut f, g) = (self.vel[p], self.acc[p], self.force[p], spec.gravity);
+        if self.extra {
+            f = [f[0] + self.extra_force[p][0], f[1] + self.extra_force[p][1]];
+        }
         [
             [-m * a[0], -m * a[1]],
             [-m * v[0], -m * v[1]],
@@ -150,11 +162,11 @@ type Task<'a> = (
 /// One angle's inputs (flat (x, y) pairs).
 #[derive(Clone, Copy)]
 pub(super) struct Row<'a> {
-    xy: &'a [f64],
-    vel: &'a [f64],
-    acc: &'a [f64],
-    force: Option<&'a [f64]>,
-    torque: Option<&'a [f64]>,
+    pub(super) xy: &'a [f64],
+    pub(super) vel: &'a [f64],
+    pub(super) acc: &'a [f64],
+    pub(super) force: Option<&'a [f64]>,
+    pub(super) torque: Option<&'a [f64]>,
 }
 
 /// The dense system of one pose.
@@ -176,8 +188,8 @@ impl Sink for Dense {
 }
 
 /// Per-task buffers.
-struct Scratch {
-    pose: Pose,
+pub(super) struct Scratch {
+    pub(super) pose: Pose,
     sys: Dense,
     x: Vec<f64>,
     m: Vec<f64>,
@@ -185,7 +197,7 @@ struct Scratch {
 }
 
 impl Model {
-    fn scratch(&self) -> Scratch {
+    pub(super) fn scratch(&self) -> Scratch {
         let n = self.n;
         let big = self.blocks.iter().map(|b| b.cols.len()).max().unwrap_or(0);
         Scratch {
@@ -209,7 +221,7 @@ impl Model {
 
     /// Solve one pose into `out` (its row of each part): its conditioning (see
     /// [`Outputs`]), 0 at a dead centre (`out` untouched).
-    fn solve_one(&self, s: &mut Scratch, out: [&mut [f64]; 3]) -> f64 {
+    pub(super) fn solve_one(&self, s: &mut Scratch, out: [&mut [f64]; 3]) -> f64 {
         let n = self.n;
         s.sys.a.fill(0.0);
         s.sys.r.fill(0.0);
