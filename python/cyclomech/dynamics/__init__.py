@@ -82,7 +82,7 @@ degrees.
 
 The code lives in private modules beside this door: ``_shaking``
 (:func:`shaking`) and ``_balance`` (:func:`balance`); plots in
-:mod:`cyclomech.dynamics.plot`.
+``cyclomech.dynamics.plot`` (in :mod:`cyclomech.plot`).
 """
 
 from __future__ import annotations

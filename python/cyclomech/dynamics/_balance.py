@@ -61,7 +61,7 @@ class Counterweight:
     Parameters
     ----------
     link : str
-        The link, its joints joined by "-" (as :attr:`Kinetostatics.pairs` names it).
+        The link, its joints joined by "-" (as ``Kinetostatics.pairs`` names it).
     pivot : str
         Its ground joint, the origin of the link's frame.
     towards : str
@@ -288,7 +288,7 @@ def _torque_after(torque: Array, sites: list[_Site], w: Array, g: Array) -> Arra
 class Balance:
     """A linkage balanced by counterweights: where they go, before and after.
 
-    ``before`` and ``after`` hold the statistics at ``rpm`` (:data:`STATS` with
+    ``before`` and ``after`` hold the statistics at ``rpm`` (``STATS`` with
     units: ``rms_force_n``, ``peak_force_n``, ``rms_moment_nm``, ``peak_moment_nm``,
     ``rms_torque_nm``, ``peak_torque_nm``; the force and moment are the shaking
     ones, inertia only, the torque the driving torque with the static loads).

@@ -59,7 +59,7 @@ class MachineShaking:
     balances: dict[str, Balance] = field(default_factory=dict)
 
     def stats(self) -> dict[str, float]:
-        """Peak and RMS of the force [N] and moment [N·m] at :attr:`rpm`
+        """Peak and RMS of the force [N] and moment [N·m] at ``rpm``
         (:meth:`Shaking.stats`).
 
         Returns
@@ -149,7 +149,7 @@ class MachineShaking:
 
     def figure(self) -> Any:
         """The force's hodograph and the moment over the cycle
-        (:func:`cyclomech.dynamics.plot.plot_shaking`).
+        (:func:`cyclomech.plot.plot_shaking`).
 
         Returns
         -------

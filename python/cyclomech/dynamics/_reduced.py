@@ -145,10 +145,10 @@ class Reduced:
 def reduced(result: Any, rpm: float | None = None) -> Reduced:
     """The machine reduced to its main shaft, phased by its optimised cyclogram.
 
-    Each mechanism of the main shaft (:attr:`MachineResult.shaft`) gives its
+    Each mechanism of the main shaft (``result.shaft``) gives its
     inertia J_i over its own turn (``shaft_inertia()`` of its result, on the grid
     and with the phase of its ``shaft_torque()``); the J_i are read at the phases
-    the main shaft used (:attr:`cyclomech.shaft.MainShaft.phases_deg`, with the
+    the main shaft used (``MainShaft.phases_deg``, with the
     flattening's shifts) and summed. dJ/dφ is twice the summed ω² part of those
     with an inertia and Q the summed static part of all.
 

@@ -23,7 +23,7 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
     Left: the tip of the force vector (F_x, F_y) [N] over the cycle, as a closed
     curve around the origin (the frame sees this force turn and pulse), its peak
     marked; right: the shaking moment [N·m] against the angle. Given a
-    :class:`Balance`, both before (grey) and after balancing.
+    :class:`~cyclomech.dynamics.Balance`, both before (grey) and after balancing.
 
     Parameters
     ----------
