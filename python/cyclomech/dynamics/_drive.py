@@ -115,7 +115,7 @@ class Drive:
         _toml.must_be_table(table, source, "[drive]")
         _toml.check_keys(table, DRIVE_KEYS, source, "[drive]")
         kind = table.get("motor")
-        if kind not in _MOTOR_KEYS:
+        if not isinstance(kind, str) or kind not in _MOTOR_KEYS:
             raise InputError(
                 f"{where}: motor = {kind!r} must be one of {', '.join(_MOTOR_KEYS)} (the "
                 "motor's torque against speed: Kloss's induction motor, a linear DC or servo "
