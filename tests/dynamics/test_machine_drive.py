@@ -291,3 +291,33 @@ def test_a_strong_motor_starts_the_knife() -> None:
     r = cm.machine.analyze(build(d), progress=False)
     assert r.dynamics.start.startswith("within 1 % of the steady speed after")
     assert "start-up from rest under load" in dict(r.dynamics.table()[1])
+
+
+def test_a_constant_torque_that_does_not_balance_the_load_fails() -> None:
+    """A constant torque other than the mean load's has no periodic speed: the
+    machine speeds up or slows down cycle after cycle. Sizing a flywheel for it
+    must not return a flywheel so large the drift hides within one cycle (it
+    returned 6e10 kg·m² and δ 1e-9, exit 0): the run fails, naming the imbalance."""
+    r0 = cm.machine.analyze(cm.Machine.from_toml(KNIFE), progress=False)
+    mean_load = float(np.mean(r0.dynamics.reduced.load_torque_nm))
+    for factor in (1.03, 0.97):
+        d = knife()
+        d["drive"] = {
+            "motor": "constant",
+            "torque_nm": factor * mean_load / (32 * 0.95),
+            "gear_ratio": 32.0,
+            "gear_efficiency": 0.95,
+        }
+        r = cm.machine.analyze(build(d), progress=False)
+        assert r.dynamics.steady is None
+        word = "exceeds" if factor > 1 else "falls short of"
+        assert word in r.dynamics.problem, r.dynamics.problem
+        assert any(f.startswith("drive:") for f in r.failures)
+
+
+def test_the_speed_limit_advice_points_the_right_way() -> None:
+    d = knife()
+    d["drive"]["gear_ratio"] = 20.0  # 1430/20 = 71.5 rpm, above the 57.14 rpm limit
+    r = cm.machine.analyze(build(d), progress=False)
+    (text,) = [f for f in r.failures if "speed limit" in f]
+    assert "a larger gear ratio" in text

@@ -148,3 +148,29 @@ def test_a_link_not_on_the_frame_is_refused_by_name() -> None:
     d["balance"] = [{"mechanism": "knife", "links": [["B", "C"]]}]
     with pytest.raises(cm.InputError, match=r"\[\[balance\]\] 1: .*B"):
         cm.machine.analyze(cm.Machine.from_dict(d, "dir/knife.toml"), progress=False)
+
+
+def test_a_balance_row_on_a_machine_without_shaking_is_refused() -> None:
+    """The loom has no mechanism with inertia forces at a phase; a [[balance]] row
+    naming its cam (not a linkage) was silently ignored (exit 0)."""
+    import tomllib
+
+    with open(ROOT / "examples/stb_loom.toml", "rb") as f:
+        d = tomllib.load(f)
+    d["balance"] = [{"mechanism": "lifter cam", "links": [["O", "A"]]}]
+    with pytest.raises(cm.InputError, match=r"\[\[balance\]\] 1: mechanism = 'lifter cam'"):
+        cm.machine.analyze(cm.Machine.from_dict(d, "loom.toml"), progress=False)
+
+
+def test_bad_api_arguments(knife: Any) -> None:
+    with pytest.raises(TypeError, match="requests"):
+        cm.dynamics.machine_shaking(knife, requests=["knife"])
+    with pytest.raises(TypeError, match="requests"):
+        cm.dynamics.machine_balances(knife, [("knife", [("O", "F")])])
+    res = knife.mechanisms["knife"]
+    with pytest.raises(TypeError, match="linkage"):
+        cm.dynamics.shaking(res.kinetostatics, linkage="x")
+    with pytest.raises(cm.InputError, match="rpm"):
+        cm.dynamics.balance(res, counterweights=[("O", "F")], rpm=-1.0)
+    with pytest.raises(cm.InputError, match="rpm"):
+        knife.shaking.shaking.stats(-5.0)

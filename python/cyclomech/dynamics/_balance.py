@@ -587,7 +587,7 @@ def balance(
     """
     if objective not in OBJECTIVES:
         raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
-    n = finite_number("rpm", rpm, "[rpm]")
+    n = positive("rpm", rpm, "[rpm]")
     weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
     g = np.zeros(2) if gravity is None else float_array("gravity", gravity)
     if g.shape != (2,) or not np.isfinite(g).all():

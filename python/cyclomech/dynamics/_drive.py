@@ -289,8 +289,10 @@ class MachineDynamics:
             text += (
                 f"; for δ = {self.target_speed_fluctuation:g} the flywheel is "
                 f"{f.flywheel_kg_m2:.4g} kg·m² by simulation, {f.energy_method_kg_m2:.4g} by "
-                f"the energy method ({100 * f.difference:+.1f} %)"
+                f"the energy method at the simulated mean speed ({100 * f.difference:+.1f} %)"
             )
+        if self.start.startswith("the motor cannot start"):
+            text += "; it cannot start the machine from rest under load (see the report)"
         return text
 
     def failures(self) -> list[str]:
@@ -333,7 +335,7 @@ class MachineDynamics:
             out.append(
                 f"drive: the motor turns the main shaft at up to {top:.2f} rpm (mean "
                 f"{s.mean_rpm:.2f} rpm), above the machine's speed limit "
-                f"{self.speed_limit_rpm:.2f} rpm: a smaller gear ratio or a slower motor"
+                f"{self.speed_limit_rpm:.2f} rpm: a larger gear ratio or a slower motor"
             )
         return out
 
@@ -557,8 +559,8 @@ def machine_dynamics(
     if not 0.0 < delta < 1.0:
         raise InputError(f"speed_fluctuation = {delta!r} must be the target δ, 0 < δ < 1")
     limit = float(speed_limit_rpm) if _toml.is_number(speed_limit_rpm) else math.nan
-    if not limit >= 0.0:
-        raise InputError(f"speed_limit_rpm = {speed_limit_rpm!r} must be a speed ≥ 0 [rpm]")
+    if not (limit >= 0.0 and math.isfinite(limit)):
+        raise InputError(f"speed_limit_rpm = {speed_limit_rpm!r} must be a finite speed ≥ 0 [rpm]")
     d = reduced(result)
     steady, sizing, problem = None, None, ""
     try:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .. import _toml
-from .._arrays import positive
+from .._arrays import count, finite_number, instances, positive
 from .._errors import InputError
 from ._balance import OBJECTIVES, Balance, balance
 from ._shaking import Shaking, shaking
@@ -253,11 +253,14 @@ def machine_shaking(
     if not hasattr(result, "mechanisms") or not hasattr(result, "nominal_rpm"):
         raise TypeError(f"result must be a MachineResult; got {type(result).__name__}")
     n = float(result.nominal_rpm) if rpm is None else positive("rpm", rpm, "[rpm]")
+    # The balances first: a request the machine cannot meet is an error even where
+    # nothing else shakes the frame.
+    balances = machine_balances(result, requests)
     try:
         s = shaking(result)
     except InputError:
         return None
-    return MachineShaking(s, n, machine_balances(result, requests))
+    return MachineShaking(s, n, balances)
 
 
 #: The keys of a ``[[balance]]`` row.
@@ -280,6 +283,12 @@ class BalanceRequest:
     torque_weight : float, default 1.0
         The RMS torque's weight in ``"rms_force+torque"`` [1/m].
 
+    Raises
+    ------
+    InputError
+        If a field is not of its kind: a name, (joint, joint) pairs, an objective of
+        :data:`~cyclomech.dynamics.OBJECTIVES`, a finite weight ≥ 0.
+
     Examples
     --------
     >>> BalanceRequest.from_row({"mechanism": "knife", "links": [["O", "F"]]}, "m.toml", 0).links
@@ -290,6 +299,27 @@ class BalanceRequest:
     links: tuple[tuple[str, str], ...]
     objective: str = "rms_force"
     torque_weight: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.mechanism, str):
+            raise InputError(f"mechanism = {self.mechanism!r} must name a linkage")
+        links = self.links
+        if not (
+            isinstance(links, tuple | list)
+            and links
+            and all(
+                isinstance(p, tuple | list) and len(p) == 2 and all(isinstance(j, str) for j in p)
+                for p in links
+            )
+        ):
+            raise InputError(f"links = {links!r} must be one or more (joint, joint) pairs")
+        object.__setattr__(self, "links", tuple((p[0], p[1]) for p in links))
+        if not isinstance(self.objective, str) or self.objective not in OBJECTIVES:
+            raise InputError(
+                f"objective = {self.objective!r} must be one of {', '.join(OBJECTIVES)}"
+            )
+        w = finite_number("torque_weight", self.torque_weight, "[1/m]", low=0.0)
+        object.__setattr__(self, "torque_weight", w)
 
     @classmethod
     def from_row(cls, row: Any, source: str, index: int) -> BalanceRequest:
@@ -322,6 +352,7 @@ class BalanceRequest:
         >>> r.objective
         'peak_force'
         """
+        index = count("index", index, low=0)
         where = f"{source}: [[balance]] {index + 1}"
         _toml.must_be_table(row, source, f"[[balance]] {index + 1}")
         _toml.check_keys(row, BALANCE_KEYS, source, f"[[balance]] {index + 1}")
@@ -373,6 +404,8 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
     InputError
         If a request names no linkage with masses of the machine, or a link the
         balance refuses (not pivoted to the frame, unknown), naming the row.
+    TypeError
+        If ``requests`` is not a sequence of :class:`BalanceRequest`.
 
     Examples
     --------
@@ -383,6 +416,7 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
     >>> round(b.before["rms_force_n"], 1), round(b.after["rms_force_n"], 6)
     (176.1, 0.0)
     """
+    instances("requests", requests, BalanceRequest)
     out: dict[str, Balance] = {}
     for i, req in enumerate(requests):
         res = result.mechanisms.get(req.mechanism)

@@ -57,11 +57,20 @@ class Motor:
     >>> m = LinearMotor(10.0, 3000.0, ratio=10.0, rotor_kg_m2=1e-3)
     >>> m.shaft_inertia_kg_m2
     0.1
+    >>> Motor(2.0, 0.9, 1e-3).shaft_inertia_kg_m2   # the gear alone: no characteristic
+    0.004
     """
 
     ratio: float
     efficiency: float
     rotor_kg_m2: float
+
+    def __post_init__(self) -> None:
+        # Only a Motor made directly runs this (each characteristic sets its fields
+        # itself, through the same checks).
+        i, eta, j = _drive(self.ratio, self.efficiency, self.rotor_kg_m2)
+        for k, v in (("ratio", i), ("efficiency", eta), ("rotor_kg_m2", j)):
+            object.__setattr__(self, k, v)
 
     #: The kernel's code of the characteristic.
     _KIND = -1

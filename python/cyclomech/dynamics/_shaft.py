@@ -46,6 +46,34 @@ STEADY_COLUMNS: tuple[str, ...] = tuple(_core.DYNAMICS_STEADY_COLUMNS)
 _STATUS: tuple[str, ...] = tuple(_core.DYNAMICS_STEADY_STATUS)
 
 
+#: The largest net work over a periodic cycle, relative to the work of the load and
+#: the motor: a steady state must balance them (the kinetic energy returns). The
+#: discretisation's own error is ~1e-7 of it, ~1e-4 where a gear's efficiency kinks
+#: the motor's torque.
+WORK_BALANCE = 1e-3
+
+
+def _check_work(d: Reduced, motor: Motor, motor_torque: Array) -> None:
+    """Refuse a "periodic" speed whose cycle does not balance the motor's work and the
+    load's: a flywheel so large that the speed hardly changes over a cycle passes the
+    periodicity test while the machine still speeds up or slows down (a constant
+    torque that is not the mean load)."""
+    m = np.asarray(motor_torque, dtype=float)
+    g = np.where(m >= 0, motor.ratio * motor.efficiency, motor.ratio / motor.efficiency)
+    shaft = g * m
+    q = d.load_torque_nm
+    net = float(np.mean(shaft - q))
+    scale = float(np.mean(np.abs(q)) + np.mean(np.abs(shaft)))
+    if scale > 0 and abs(net) > WORK_BALANCE * scale:
+        raise SolverError(
+            f"no periodic steady state: over a cycle the motor's torque on the shaft "
+            f"{'exceeds' if net > 0 else 'falls short of'} the load's by {abs(net):.4g} N·m "
+            f"on average ({abs(net) / scale:.2g} of their scale): the machine "
+            f"{'speeds up' if net > 0 else 'slows down'} cycle after cycle (a constant "
+            "torque must equal the mean load torque)"
+        )
+
+
 def _flywheel(value: Any) -> float:
     return finite_number("flywheel_kg_m2", value, "[kg·m²]", low=0.0)
 
@@ -215,6 +243,7 @@ def steady_state(
             f"{row[2]:.3g}); a stronger motor, another gear ratio or a bigger flywheel may help"
         )
     col = dict(zip(STEADY_COLUMNS, row.tolist(), strict=True))
+    _check_work(d, motor, m)
     return SteadyState(
         theta_deg=d.theta_deg,
         omega=w,
@@ -652,7 +681,9 @@ def size_flywheel(
         energy = float(d.torque().stats(ss.mean_rpm, target).flywheel_kg_m2)
         return FlywheelSizing(target, 0.0, energy, -1.0, ss)
     hi = scale
-    for _ in range(80):
+    # Up to 2^30 times the energy method's flywheel: beyond it a "δ" met is a speed
+    # that drifts too slowly to see in one cycle, not a steady state.
+    for _ in range(30):
         if deltas(np.array([hi]))[0] <= target:
             break
         hi *= 2.0

@@ -150,7 +150,7 @@ class Shaking:
 
     @staticmethod
     def _weights(rpm: Any, crank_acceleration: Any) -> tuple[float, float]:
-        n = finite_number("rpm", rpm, "[rpm]")
+        n = finite_number("rpm", rpm, "[rpm]", low=0.0)
         eps = finite_number("crank_acceleration", crank_acceleration, "[rad/s²]")
         return (n * RAD_PER_S_PER_RPM) ** 2, eps
 
@@ -555,6 +555,8 @@ def shaking(
     >>> (s.force(300.0) / (3.0 * 0.1 * (300 * np.pi / 30) ** 2)).round(4).tolist()
     [[1.2857, 0.0], [-0.2981, 0.0]]
     """
+    if linkage is not None:
+        instance("linkage", linkage, Linkage)
     about = _point("about_m", about_m)
     if isinstance(mechanism, Kinetostatics):
         if offsets_m is not None:

@@ -102,6 +102,18 @@ def _print_shaft_and_frame(r: Any) -> None:
             f"{st['peak_force_n']:.4g} N, RMS {st['rms_force_n']:.4g} N; moment peak "
             f"{st['peak_moment_nm']:.4g} N·m"
         )
+        for k, b in r.shaking.balances.items():
+            weights = ", ".join(
+                f"{c.link} {c.mass_radius_kg_m:.4g} kg·m at {c.angle_deg:.1f}°"
+                for c in b.counterweights
+            )
+            before, after = b.before["rms_force_n"], b.after["rms_force_n"]
+            # A force balanced to rounding is 0 (its digits would be the processor's).
+            left = "0" if after <= 1e-9 * before else f"{after:.4g}"
+            print(
+                f"Balancing {k} ({b.objective}): {weights}; RMS shaking force "
+                f"{before:.4g} → {left} N"
+            )
 
 
 def run_command(args: argparse.Namespace) -> int:
