@@ -5,6 +5,7 @@ numerically here must match twice its ω² part (computed by the kinetostatics,
 independently)."""
 
 import math
+from pathlib import Path
 
 import cyclomech as cm
 import numpy as np
@@ -12,6 +13,9 @@ import pytest
 from cyclomech._errors import InputError, SolverError
 from hypothesis import given, settings
 from hypothesis import strategies as st
+
+#: The examples, found from this file (the wheel's tests run from an empty folder).
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 N = 3600
 PHI = 2 * np.pi * np.arange(N) / N
@@ -27,7 +31,7 @@ def _derivative(j):
 @pytest.fixture(scope="module")
 def machines():
     return {
-        k: cm.machine.analyze(cm.Machine.from_toml(f"examples/{k}.toml"), progress=False)
+        k: cm.machine.analyze(cm.Machine.from_toml(EXAMPLES / f"{k}.toml"), progress=False)
         for k in ("knife_cutter", "stb_loom", "extrusion_press_line")
     }
 
@@ -188,7 +192,7 @@ def test_bad_input_names_the_argument():
     with pytest.raises(InputError, match="tol"):
         cm.dynamics.steady_state(d, m, flywheel_kg_m2=1.0, tol=0.0)
     # A machine with nothing on its main shaft: no reduced machine, no flywheel.
-    r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+    r = cm.machine.analyze(cm.Machine.from_toml(EXAMPLES / "stb_loom.toml"), progress=False)
     import dataclasses
 
     with pytest.raises(InputError, match="result"):
