@@ -90,7 +90,7 @@ from __future__ import annotations
 from ._balance import OBJECTIVES, Balance, Counterweight, balance
 from ._drive import Drive, MachineDynamics, machine_dynamics
 from ._frame import BalanceRequest, MachineShaking, machine_balances, machine_shaking
-from ._keys import KEY_DOCS as _KEY_DOCS
+from ._keys import DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
 from ._shaft import (
@@ -105,10 +105,6 @@ from ._shaft import (
     steady_states,
 )
 from ._shaking import Shaking, shaking
-
-#: The machine file's ``[drive]`` and ``[[balance]]`` tables' keys, for the format
-#: reference (:attr:`cyclomech.Machine.key_docs` ends with them).
-DRIVE_KEY_DOCS = _KEY_DOCS
 
 __all__ = [
     "DRIVE_KEY_DOCS",

@@ -3,7 +3,7 @@ flywheel) and ``[[balance]]`` rows (counterweights to find), for the machine-fil
 format reference (:attr:`cyclomech.Machine.key_docs`; ``tests/package/test_keydocs.py``
 holds them equal to the reader's key sets and checks their defaults and ranges).
 
->>> [t.name for t in KEY_DOCS]
+>>> [t.name for t in DRIVE_KEY_DOCS]
 ['drive', 'balance']
 """
 
@@ -20,8 +20,9 @@ TAB_ = "; table motors only"
 
 # The records are a table each: one key per record, aligned for reading.
 # fmt: off
-#: ``[drive]``'s keys, in the page's order.
-KEY_DOCS: tuple[KeyTable, ...] = (
+#: The machine file's ``[drive]`` and ``[[balance]]`` tables' keys, in the format
+#: reference's order (the machine's key documentation ends with them).
+DRIVE_KEY_DOCS: tuple[KeyTable, ...] = (
     KeyTable("drive", "[drive]", (
         K("motor", "The motor's characteristic: torque against speed.", NO_UNIT, TEXT, REQ,
           "one of induction, linear, constant, table", False),
