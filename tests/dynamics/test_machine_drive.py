@@ -321,3 +321,15 @@ def test_the_speed_limit_advice_points_the_right_way() -> None:
     r = cm.machine.analyze(build(d), progress=False)
     (text,) = [f for f in r.failures if "speed limit" in f]
     assert "a larger gear ratio" in text
+
+
+def test_a_bare_motor_is_refused_by_name() -> None:
+    """Motor (the gear and rotor every characteristic has) can be made on its own
+    since it checks its fields; asked for a torque it is an InputError naming the
+    characteristics, not a NotImplementedError from inside."""
+    m = cm.dynamics.Motor(2.0, 0.9, 1e-3)
+    with pytest.raises(cm.InputError, match="LinearMotor"):
+        m.torque_nm(100.0)
+    d = cm.dynamics.Reduced.from_curves(np.ones(8), np.zeros(8), np.ones(8), nominal_rpm=1.0)
+    with pytest.raises(cm.InputError, match="no torque characteristic"):
+        cm.dynamics.steady_state(d, m)

@@ -88,7 +88,10 @@ class Motor:
 
     def _params(self) -> tuple[list[float], Array, Array]:
         """(3 kernel parameters, table speeds [rad/s], table torques [N·m])."""
-        raise NotImplementedError
+        raise InputError(
+            "motor: a bare Motor (gear and rotor only) has no torque characteristic; use "
+            "ConstantTorque, LinearMotor, InductionMotor or TableMotor"
+        )
 
     def torque_nm(self, motor_rpm: Any) -> Array:
         """The characteristic: the motor's torque at its own speeds [N·m].
@@ -114,7 +117,10 @@ class Motor:
         return self._torque(n * RAD_PER_S_PER_RPM).reshape(np.shape(motor_rpm))
 
     def _torque(self, w: Array) -> Array:
-        raise NotImplementedError
+        raise InputError(
+            "motor: a bare Motor (gear and rotor only) has no torque characteristic; use "
+            "ConstantTorque, LinearMotor, InductionMotor or TableMotor"
+        )
 
 
 @dataclass(frozen=True, init=False)
