@@ -35,6 +35,7 @@ from ..cyclogram import Optimum
 from ..dynamics import machine_dynamics, machine_shaking
 from ..shaft import main_shaft
 from . import _page
+from ._efficiency import machine_efficiency
 from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
 from ._result import MachineResult
@@ -245,6 +246,9 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["shaft"] = r.shaft.json()
     if r.dynamics is not None:
         out["dynamics"] = r.dynamics.json()
+    eff = machine_efficiency(r)
+    if eff is not None:  # only with friction: the other machines' files stay as they were
+        out["efficiency"] = {k: v for k, v in eff.items() if k != "mechanisms"}
     if r.shaking is not None:
         out["shaking"] = r.shaking.json()
     sw = r.sweep
