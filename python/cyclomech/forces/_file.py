@@ -346,6 +346,20 @@ def friction_from_table(
         for k, unit in (("mu", ""), ("viscous_n_s_per_m", "[N·s/m]"))
         if f"guide_{k}" in spec
     }
+    pins = _pins(spec, at, modelled, other, default)
+    guides = _guides(spec, at, sliders, g_default)
+    return Friction(pins=pins, guides=guides)
+
+
+def _pins(
+    spec: Mapping[str, Any],
+    at: str,
+    modelled: list[str],
+    other: list[str],
+    default: Mapping[str, float],
+) -> dict[str, PinFriction]:
+    """The joints' friction of a friction table ``spec``: the defaults for every
+    joint of ``modelled`` (when given), each override of ``pins`` on top."""
     own = _names_table(spec, "pins", at)
     for p in own:
         if p in other:
@@ -386,6 +400,14 @@ def friction_from_table(
             CyclomechWarning,
             stacklevel=3,
         )
+    return pins
+
+
+def _guides(
+    spec: Mapping[str, Any], at: str, sliders: list[str], g_default: Mapping[str, float]
+) -> dict[str, GuideFriction]:
+    """The guides' friction of a friction table ``spec``: the defaults for every
+    slider of ``sliders`` (when given), each override of ``guides`` on top."""
     g_own = _names_table(spec, "guides", at)
     for p in g_own:
         if p not in sliders:
@@ -407,4 +429,4 @@ def friction_from_table(
             if k in row:
                 got[k] = _coefficient(row, k, f"{at} guides.{p}", unit)
         guides[p] = GuideFriction(got.get("mu", 0.0), got.get("viscous_n_s_per_m", 0.0))
-    return Friction(pins=pins, guides=guides)
+    return guides

@@ -548,7 +548,9 @@ def kinetostatics_with_friction(
     return out
 
 
-def _joints(linkage: Linkage, dynamics: Mapping[str, Any]) -> tuple[list[str], list[str], list[str]]:
+def _joints(
+    linkage: Linkage, dynamics: Mapping[str, Any]
+) -> tuple[list[str], list[str], list[str]]:
     """The names a friction of ``linkage`` (with the forces' keywords ``dynamics``)
     may use: its joints where friction is modelled (two members: two links, a link
     and the frame, a link and a slider's block), its other joints, and its sliders'

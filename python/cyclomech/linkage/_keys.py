@@ -124,7 +124,8 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         "optionally as a table over the crank angle ``angle_deg``."
     )),
     KeyTable("linkage.friction", "[mechanism.<name>.friction] of a linkage", (
-        K("pin_radius_m", "Every joint's pin (journal) radius r, for μ·r·|R|.", "m", NUM,
+        K("pin_radius_m", "Every joint's pin (journal) radius r (a friction torque μ·r·R, R "
+          "the reaction).", "m", NUM,
           "none (no Coulomb friction in the pins)", "finite, ≥ 0; with pin_mu", None),
         K("pin_mu", "Every joint's Coulomb friction coefficient μ.", NO_UNIT, NUM,
           "none (no Coulomb friction in the pins)",
@@ -132,7 +133,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("pin_viscous_nm_s_per_rad", "Every joint's viscous coefficient c (a torque "
           "c·ω_rel).", "N·m·s/rad", NUM, "0", NONNEG, None),
         K("guide_mu", "Every slider's guide's Coulomb friction coefficient μ (a force "
-          "μ·|N|).", NO_UNIT, NUM, "none (no Coulomb friction in the guides)",
+          "μ·N, N the normal force).", NO_UNIT, NUM, "none (no Coulomb friction in the guides)",
           "finite, ≥ 0; above 0.5 warns; needs a slider", None),
         K("guide_viscous_n_s_per_m", "Every slider's guide's viscous coefficient c (a force "
           "c·v_rel).", "N·s/m", NUM, "0", "finite, ≥ 0; needs a slider", None),
@@ -144,7 +145,8 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "sliders' points of the linkage; a key left out takes the default", None),
     ), intro=(
         "The friction of a linkage's joints and slider guides (issue 34): Coulomb "
-        "friction μ·r·|R| in each pin and μ·|N| on each guide, solved with the reactions, "
+        "friction μ·r·R in each pin (R the joint's reaction) and μ·N on each guide (N the "
+        "normal force), solved with the reactions, "
         "and a viscous term. The ``pin_*`` and ``guide_*`` keys apply to every joint of two "
         "members (two links, a link and the frame, a link and a slider's block) and every "
         "guide; ``pins`` and ``guides`` override them one by one. One line is the common "

@@ -445,6 +445,21 @@ class LinkageMechanism(Unbounded):
         return LinkageResult(self, ctx, self.solve(), vmax, amax, k, f)
 
 
+def _runs(f: forces.FrictionForces) -> str:
+    """The crank angles [deg] where ``f`` self-locks, as runs of neighbouring
+    angles ("43.3–70.1, 110.0"), at most six runs."""
+    locked = f.self_locking[0]
+    deg = np.degrees(f.angles)
+    idx = np.flatnonzero(locked)
+    # A run breaks where the next locked angle is not the next sample.
+    cuts = np.flatnonzero(np.diff(idx) > 1) + 1
+    runs = [
+        f"{deg[r[0]]:.1f}" if r.size == 1 else f"{deg[r[0]]:.1f}–{deg[r[-1]]:.1f}"
+        for r in np.split(idx, cuts)
+    ]
+    return ", ".join(runs[:6]) + (f" and {len(runs) - 6} more runs" if len(runs) > 6 else "")
+
+
 @dataclass(frozen=True)
 class LinkageResult(PlainResult):
     """A linkage's solution over one crank turn and the output point's largest
@@ -521,11 +536,9 @@ class LinkageResult(PlainResult):
         f = self.friction
         if f is None or not f.self_locking.any():
             return []
-        bad = np.degrees(f.angles[f.self_locking[0]])
-        more = f" … ({bad.size} angles)" if bad.size > 6 else ""
         return [
-            f"friction self-locks the linkage at crank angles "
-            f"{', '.join(f'{v:.1f}' for v in bad[:6])}{more} degrees: no finite driving "
+            f"friction self-locks the linkage at crank angles {_runs(f)} degrees: no "
+            "finite driving "
             "torque moves it there; lower the friction coefficients or pin radii, or change "
             "the dimensions (the pressure angles)"
         ]
@@ -642,7 +655,7 @@ class LinkageResult(PlainResult):
                 "max_acceleration_m_s2": self.max_acceleration_analog * w * w,
                 "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
                 **self._forces_json(),
-            }
+            },
         }
 
     def _forces_json(self) -> dict[str, Any]:
@@ -711,9 +724,12 @@ class LinkageResult(PlainResult):
             ],
         ]
         if e["self_locking_crank_deg"]:
-            rows.append(["self-locking at crank [deg]", ", ".join(
-                f"{v:.1f}" for v in e["self_locking_crank_deg"][:6]
-            )])
+            rows.append(
+                [
+                    "self-locking at crank [deg]",
+                    ", ".join(f"{v:.1f}" for v in e["self_locking_crank_deg"][:6]),
+                ]
+            )
         return rows
 
     def figures(self, save: Save) -> None:

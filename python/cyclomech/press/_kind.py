@@ -189,6 +189,14 @@ class PressMechanism(Unbounded):
         """
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = ctx.where(name)
+        if "friction" in table:
+            # Refused by name, not ignored: a designer who wrote it expects losses.
+            raise InputError(
+                f"{ctx.where(name)}: friction is not modelled for a press: its crank torque "
+                "is the gear-lever press's closed form, not a linkage's kinetostatics, so "
+                "there are no joint reactions for friction to act with; drop the friction "
+                'table, or model the drive as kind = "linkage" (which takes one)'
+            )
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         if ("k_Sp" in table) == ("working_stroke_m" in table):
             raise InputError(
