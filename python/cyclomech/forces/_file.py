@@ -23,6 +23,8 @@ __all__ = ["DYNAMICS_KEYS", "FRICTION_KEYS", "dynamics_from_table", "friction_fr
 #: The keys of a linkage's table that describe its forces: the linkage's table
 #: format owns them (:data:`cyclomech.linkage.DYNAMICS_KEYS`, the same set).
 DYNAMICS_KEYS = LINKAGE_DYNAMICS_KEYS
+#: Those :func:`dynamics_from_table` reads (friction is :func:`friction_from_table`'s).
+_FORCE_KEYS = DYNAMICS_KEYS - {"friction"}
 
 #: The keys of a linkage's ``[mechanism.<name>.friction]`` table: the defaults of
 #: every joint and every guide, and per joint / per slider overrides.
@@ -86,7 +88,8 @@ def dynamics_from_table(
     -------
     dict of str to object or None
         The keywords ``masses``, ``point_masses``, ``loads``, ``gravity``, or None
-        when the table has none of :data:`DYNAMICS_KEYS`.
+        when the table has none of :data:`DYNAMICS_KEYS` but ``friction`` (which
+        :func:`friction_from_table` reads).
 
     Raises
     ------
@@ -104,7 +107,7 @@ def dynamics_from_table(
     >>> d["point_masses"], d["loads"][0].force_n.tolist()
     ({'C': 2.0}, [-100.0, 0.0])
     """
-    if not DYNAMICS_KEYS & set(instance("table", table, Mapping)):
+    if not _FORCE_KEYS & set(instance("table", table, Mapping)):
         return None
     if linkage is not None:
         from ..linkage import Linkage  # here: the linkage package imports this one

@@ -564,7 +564,8 @@ def _joints(
     )
     joints = sorted({p for p, _ in model.pairs()})
     slider_of = [name.split(" ", 1)[0] for name in guide_names]
-    modelled, other = [], []
+    modelled: list[str] = []
+    other: list[str] = []
     for j in joints:
         sides = sum(1 for q, _ in model.pairs() if q == j)
         ok = (sides, slider_of.count(names[j])) in ((2, 0), (1, 1))

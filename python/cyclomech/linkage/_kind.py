@@ -66,7 +66,7 @@ class LinkageMechanism(Unbounded):
     # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
-        _LINKAGE_KEYS | DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase", "friction"}
+        _LINKAGE_KEYS | DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}
     )
     #: Its plausibility rules besides the suffix rules of every key: none of its own
     #: (its lengths are the drawn points', whose table the linkage file reads).
@@ -153,7 +153,7 @@ class LinkageMechanism(Unbounded):
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         _toml.check_keys(table, set(cls.keys), ctx.source, where)
-        extra = {"kind", "max_acceleration_m_per_s2", "phase", "friction", *DYNAMICS_KEYS}
+        extra = {"kind", "max_acceleration_m_per_s2", "phase", *DYNAMICS_KEYS}
         own = {k: v for k, v in table.items() if k not in extra}
         lk = Linkage.from_dict(own, ctx.source, where)
         limit = _toml.optional_positive(
