@@ -206,3 +206,37 @@ def test_no_warning_for_plausible_values() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         build(slider_data({"pin_radius_m": 0.02, "pin_mu": 0.5, "guide_mu": 0.1}))
+
+
+def six_bar(friction: dict[str, Any]) -> dict[str, Any]:
+    """The example machine with a four-bar A-B-C-D whose coupler's joint C also
+    carries a rod C-E to a block E on a horizontal guide: three members at C."""
+    d = copy.deepcopy(dict(cm.Machine.example().data or {}))
+    d["mechanism"]["six"] = {
+        "kind": "linkage",
+        "points": {
+            "A": [0.0, 0.0],
+            "B": [0.1, 0.0],
+            "C": [0.3, 0.25],
+            "D": [0.4, 0.0],
+            "E": [0.7, 0.1],
+        },
+        "links": [["A", "B"], ["B", "C"], ["C", "D"], ["C", "E"]],
+        "ground": ["A", "D"],
+        "driver": ["A", "B"],
+        "sliders": {"E": {"ground": [1.0, 0.0]}},
+        "load": [{"point": "E", "force_n": [-100.0, 0.0]}],
+        "friction": friction,
+    }
+    return d
+
+
+def test_a_joint_of_three_members() -> None:
+    """The defaults leave C frictionless with a warning naming it; naming C is an
+    error saying why and listing the joints that take friction."""
+    with pytest.warns(cm.CyclomechWarning, match=r"leave joint\(s\) C frictionless"):
+        f = build(six_bar({"pin_radius_m": 0.01, "pin_mu": 0.1})).mechanisms["six"].friction
+    assert sorted(f.pins) == ["A", "B", "D", "E"]
+    msg = refused(six_bar({"pins": {"C": {"radius_m": 0.01, "mu": 0.1}}}))
+    assert "pins.C: friction is not modelled at joint 'C', which joins more than two" in msg
+    assert "A, B, D, E" in msg

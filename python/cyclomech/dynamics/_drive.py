@@ -231,7 +231,7 @@ class MachineDynamics:
     ...                        progress=False)
     >>> d = r.dynamics
     >>> round(d.steady.mean_rpm, 2), round(d.steady.speed_fluctuation, 4), d.failures()
-    (45.19, 0.05, [])
+    (45.1, 0.05, [])
     """
 
     drive: Drive
@@ -254,7 +254,7 @@ class MachineDynamics:
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
         ...                        progress=False)
         >>> round(r.dynamics.flywheel_kg_m2, 1)     # sized: the file gives none
-        1658.1
+        1748.6
         """
         if self.drive.flywheel_kg_m2 is not None:
             return self.drive.flywheel_kg_m2
@@ -552,7 +552,7 @@ def machine_dynamics(
     ...                        progress=False)
     >>> d = machine_dynamics(r, r.machine.drive, 0.05, r.limit.rpm)
     >>> round(float(d.sizing.flywheel_kg_m2), 1), round(float(d.sizing.energy_method_kg_m2), 1)
-    (1658.1, 1793.9)
+    (1748.6, 1881.2)
     """
     instance("drive", drive, Drive)
     delta = finite_number("speed_fluctuation", speed_fluctuation, "(δ)", low=0.0)

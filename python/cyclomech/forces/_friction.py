@@ -553,8 +553,8 @@ def _joints(
 ) -> tuple[list[str], list[str], list[str]]:
     """The names a friction of ``linkage`` (with the forces' keywords ``dynamics``)
     may use: its joints where friction is modelled (two members: two links, a link
-    and the frame, a link and a slider's block), its other joints, and its sliders'
-    points, each in the linkage's order (the rule of :func:`_elements`)."""
+    and the frame, a link and a slider's block), its joints of more members, and
+    its sliders' points, each in the linkage's order (the rule of :func:`_elements`)."""
     model, names, _b, guide_names, _l, _m = _build(
         linkage,
         dynamics.get("masses"),
@@ -568,8 +568,12 @@ def _joints(
     other: list[str] = []
     for j in joints:
         sides = sum(1 for q, _ in model.pairs() if q == j)
-        ok = (sides, slider_of.count(names[j])) in ((2, 0), (1, 1))
-        (modelled if ok else other).append(names[j])
+        guides = slider_of.count(names[j])
+        if (sides, guides) in ((2, 0), (1, 1)):
+            modelled.append(names[j])
+        elif sides + guides > 2:
+            other.append(names[j])
+        # else a point of one member only (a link's free end): no joint at all
     sliders = [p for p in names if p in slider_of]
     return modelled, other, sliders
 

@@ -52,6 +52,10 @@ class LinkageMechanism(Unbounded):
     phase : Phase, optional
         Where the crank sits in the cycle: its absolute angle [deg] at a cyclogram
         event (default ``Phase()``: angle 0° at cycle angle 0).
+    friction : Friction, optional
+        The friction of its joints and guides (:class:`cyclomech.forces.Friction`,
+        the ``friction`` table), solved at the nominal speed
+        (:meth:`friction_forces`); needs ``dynamics``; None (default) without.
 
     Examples
     --------
