@@ -137,3 +137,21 @@ def test_self_locking_fails_naming_the_mechanism_and_angles(tmp_path: Path, caps
     ram = data["friction"]["ram"]
     assert ram["cycle_efficiency"] is None and len(ram["self_locking_crank_deg"]) > 100
     assert data["efficiency"]["machine_efficiency"] is None
+
+
+def test_the_machines_efficiency_over_two_mechanisms(tmp_path: Path) -> None:
+    """The knife and a ram with μ = 0.2 on its guide: the main shaft's mean power
+    is the sum of the two mechanisms' mean input powers (phasing moves a curve,
+    not its mean), and the machine's efficiency is 1 − (P_f,knife + P_f,ram)/ΣP_in."""
+    f = tmp_path / "k.toml"
+    f.write_text(KNIFE.read_text("utf-8") + RAM.replace("5.0", "0.2"), encoding="utf-8")
+    r = analyze(cm.Machine.from_toml(f), progress=False)
+    k, ram = (r.mechanisms[n].efficiency() for n in ("knife", "ram"))
+    p_in = k["mean_input_power_w"] + ram["mean_input_power_w"]
+    assert float(r.shaft.at_nominal.power_w) == pytest.approx(p_in, rel=1e-9)
+    e = cm.machine._efficiency.machine_efficiency(r)
+    lost = k["mean_friction_power_w"] + ram["mean_friction_power_w"]
+    assert e["mean_friction_power_w"] == pytest.approx(lost, rel=1e-12)
+    assert e["machine_efficiency"] == pytest.approx(1.0 - lost / p_in, rel=1e-9)
+    low, high = sorted((k["cycle_efficiency"], ram["cycle_efficiency"]))
+    assert low < e["machine_efficiency"] < high
