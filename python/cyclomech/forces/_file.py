@@ -250,7 +250,7 @@ def _coefficient(spec: Mapping[str, Any], key: str, at: str, unit: str) -> float
     try:
         x = finite_number(f"{at}: {key}", v, unit, low=0.0)
     except InputError as e:
-        raise InputError(f"{e}{'; ' + what if what else ''}") from None
+        raise InputError(f"{str(e).rstrip()}{'; ' + what if what else ''}") from None
     if key.endswith("mu") and x > MU_PLAUSIBLE:
         warnings.warn(
             f"{at}: {key} = {x:g} is above {MU_PLAUSIBLE:g}: lubricated metal pairs are "
