@@ -240,3 +240,8 @@ def test_a_joint_of_three_members() -> None:
     msg = refused(six_bar({"pins": {"C": {"radius_m": 0.01, "mu": 0.1}}}))
     assert "pins.C: friction is not modelled at joint 'C', which joins more than two" in msg
     assert "A, B, D, E" in msg
+
+
+def test_an_overrides_radius_in_millimetres_warns() -> None:
+    with pytest.warns(cm.CyclomechWarning, match=r"pins.B: radius_m = 20.*millimetres"):
+        build(slider_data({"pins": {"B": {"radius_m": 20.0, "mu": 0.1}}}))

@@ -381,6 +381,7 @@ def _pins(
         row = own.get(p, {})
         here = f"{at} pins.{p}" if p in own else at
         _toml.check_keys(row, _PIN_KEYS, None, f"{at} pins.{p}")
+        _keyrules.check(row, (), f"{at} pins.{p}")
         got = dict(default)
         for k, unit in (("radius_m", "[m]"), ("mu", ""), ("viscous_nm_s_per_rad", "[N·m·s/rad]")):
             if k in row:
