@@ -105,6 +105,7 @@ from ._shaft import (
     steady_states,
 )
 from ._shaking import Shaking, shaking
+from ._torsion import ShaftNode, Torsion, TorsionSweep, WorkingMember, torsion, torsion_sweep
 
 __all__ = [
     "DRIVE_KEY_DOCS",
@@ -122,11 +123,15 @@ __all__ = [
     "MachineShaking",
     "Motor",
     "Reduced",
+    "ShaftNode",
     "Shaking",
     "StartUp",
     "SteadyBatch",
     "SteadyState",
     "TableMotor",
+    "Torsion",
+    "TorsionSweep",
+    "WorkingMember",
     "balance",
     "machine_balances",
     "machine_dynamics",
@@ -137,4 +142,6 @@ __all__ = [
     "start_up",
     "steady_state",
     "steady_states",
+    "torsion",
+    "torsion_sweep",
 ]
