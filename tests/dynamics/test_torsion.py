@@ -7,12 +7,11 @@ from __future__ import annotations
 
 import math
 
+import cyclomech as cm
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-
-import cyclomech as cm
 from cyclomech import InputError, SolverError
+from scipy.integrate import solve_ivp
 
 N = 720
 PHI = np.arange(N) * (2 * np.pi / N)
@@ -176,19 +175,20 @@ def test_limit_rpm_takes_the_first_crossing():
         0.01 * np.sin(PHI),
         0.01 * np.cos(PHI),
         -0.01 * np.sin(PHI),
-        frequency_hz=5.0,
+        frequency_hz=10.0,
         damping_ratio=0.05,
     )
+    # no load on the shaft: it does not twist, the error is the link's alone
     node = cm.dynamics.ShaftNode(
-        "a", np.zeros(N), np.zeros(N), np.zeros(N), 0.05, 1e6, 50.0, member
+        "a", np.zeros(N), np.zeros(N), np.zeros(N), 0.05, 1e4, 20.0, member
     )
-    rpm = np.linspace(30.0, 900.0, 30)
+    rpm = np.linspace(60.0, 1800.0, 30)
     s = cm.dynamics.torsion_sweep([node], rpm)
     e = s.peak_error[:, 0]
     # base excitation of the member by sin φ: |u| = A r²/|1 − r² + 2iζr|, r = ω/ω_n
-    r = rpm * np.pi / 30 / (2 * np.pi * 5.0)
+    r = rpm * np.pi / 30 / (2 * np.pi * 10.0)
     closed = 0.01 * r**2 / np.abs(1 - r**2 + 2j * 0.05 * r)
-    # e = u here (a rigid shaft): |e| peaks at |u|
+    # e = u here (an unloaded shaft): |e| peaks at |u|
     assert e == pytest.approx(closed, rel=2e-4)
     bound = 0.012
     above = closed > bound
@@ -231,5 +231,5 @@ def test_bad_input_names_the_field():
 
 def test_an_undamped_chain_is_a_solver_error():
     node = cm.dynamics.ShaftNode("a", np.zeros(8), np.zeros(8), 1 + np.sin(PHI[::90]), 0.1, 1e4)
-    with pytest.raises(SolverError, match="not settled.*damping"):
+    with pytest.raises(SolverError, match=r"not settled.*damping"):
         cm.dynamics.torsion([node], rpm=60.0, max_cycles=30)
