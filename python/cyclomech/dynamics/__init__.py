@@ -89,6 +89,7 @@ from __future__ import annotations
 
 from ._balance import OBJECTIVES, Balance, Counterweight, balance
 from ._drive import Drive, MachineDynamics, machine_dynamics
+from ._elastic import ElasticShaft, LinkSpec, MachineTorsion, machine_torsion
 from ._frame import BalanceRequest, MachineShaking, machine_balances, machine_shaking
 from ._keys import DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
@@ -116,11 +117,14 @@ __all__ = [
     "ConstantTorque",
     "Counterweight",
     "Drive",
+    "ElasticShaft",
     "FlywheelSizing",
     "InductionMotor",
     "LinearMotor",
+    "LinkSpec",
     "MachineDynamics",
     "MachineShaking",
+    "MachineTorsion",
     "Motor",
     "Reduced",
     "ShaftNode",
@@ -136,6 +140,7 @@ __all__ = [
     "machine_balances",
     "machine_dynamics",
     "machine_shaking",
+    "machine_torsion",
     "reduced",
     "shaking",
     "size_flywheel",

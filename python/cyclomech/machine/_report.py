@@ -32,7 +32,7 @@ from .._kind import Context
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum
-from ..dynamics import machine_dynamics, machine_shaking
+from ..dynamics import machine_dynamics, machine_shaking, machine_torsion
 from ..shaft import main_shaft
 from . import _page
 from ._kinds import KINDS
@@ -155,6 +155,10 @@ def _drive_and_frame(r: MachineResult) -> None:
         t = time.perf_counter()
         r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, r.limit.rpm)
         r.seconds["main shaft's real speed"] = time.perf_counter() - t
+        if m.drive.elastic is not None:
+            t = time.perf_counter()
+            r.torsion = machine_torsion(r, m.drive.elastic, r.dynamics.steady, m.drive.motor)
+            r.seconds["elastic shaft's dynamic errors"] = time.perf_counter() - t
     elif m.drive is not None:
         warnings.warn(
             f"{m.source}: [drive]: nothing loads the main shaft (no mechanism has masses or "
@@ -247,6 +251,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["dynamics"] = r.dynamics.json()
     if r.shaking is not None:
         out["shaking"] = r.shaking.json()
+    if r.torsion is not None:
+        out["torsion"] = r.torsion.json()
     sw = r.sweep
     out["speed_sweep"] = {
         "speed_rpm": sw.rpm,
@@ -404,6 +410,18 @@ def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None])
             "torque: the machine's equation of motion with its reduced inertia (the "
             "mechanisms' masses at their phases, the flywheel, the rotor through the gear) "
             "in its periodic steady state.",
+        )
+    fig = None if r.torsion is None else r.torsion.figure()
+    if fig is not None:
+        save(
+            fig,
+            "main_shaft_torsion",
+            "shaft",
+            "The working members' dynamic errors (where each is minus where the rigid "
+            "machine puts it at the same motor angle) and the main shaft's twist at each "
+            "take-off over the cycle, under the motor at its steady state: the shaft as "
+            "torsional springs between the take-off points, each working member on its "
+            "elastic link ([drive.shaft], [drive.link.…]).",
         )
 
 
