@@ -327,7 +327,7 @@ class MachineTorsion:
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
         ...                        progress=False)
         >>> r.torsion.bounds()
-        {'knife': 0.0005}
+        {'knife': 0.001}
         """
         return {
             x.name: x.member.max_error
