@@ -335,9 +335,24 @@ class MachineTorsion:
             if x.member is not None and x.member.max_error is not None
         }
 
+    def nominal_units(self) -> dict[str, str]:
+        """Each working member's unit ("m" or "rad"), by mechanism.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.nominal_units()
+        {'knife': 'm'}
+        """
+        return {x.name: x.member.unit for x in self.nodes if x.member is not None}
+
     def failures(self) -> list[str]:
         """What fails: a chain with no steady state, a member's error at the nominal
-        speed above its bound, or its error-limited speed below the nominal speed.
+        speed under the motor above its bound, or above it at every speed of the
+        range. (An error-limited speed below the nominal speed lowers the machine's
+        speed limit, whose check says so: :attr:`MachineResult.above_speed_limit`.)
 
         Examples
         --------
@@ -368,11 +383,6 @@ class MachineTorsion:
                 out.append(
                     f"{name}: its dynamic error exceeds max_error {show(bound)} at every speed "
                     f"of the speed range (from {self.sweep.rpm[0]:g} rpm)"
-                )
-            elif lim < self.nominal_rpm:
-                out.append(
-                    f"{name}: its dynamic error reaches max_error {show(bound)} at {lim:.2f} rpm, "
-                    f"below the nominal {self.nominal_rpm:g} rpm"
                 )
         return out
 

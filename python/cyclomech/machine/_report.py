@@ -15,7 +15,9 @@ lays them out is :mod:`cyclomech.machine._page`.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
+import math
 import time
 import warnings
 from collections.abc import Callable
@@ -132,6 +134,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
     _drive_and_frame(r)
+    _fold_error_limits(r)
     if r.above_speed_limit:
         warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
     if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
@@ -165,6 +168,50 @@ def _drive_and_frame(r: MachineResult) -> None:
             "loads): no real speed and no flywheel to size",
             CyclomechWarning,
             stacklevel=3,
+        )
+
+
+def _fold_error_limits(r: MachineResult) -> None:
+    """The dynamic errors' speed limits into the machine's: a working member whose
+    error on the elastic shaft and link (``[drive.shaft]``) reaches its bound at a
+    speed below the machine's limit lowers it, as a mechanism's own limit does
+    (``by`` names it, ``mechanisms_rpm`` holds it as "<name> (dynamic error)"), and
+    the speed sweep's productivity is 0 above it. The errors are computed with the
+    mechanisms at their phases in the nominal optimum (their relative phases on the
+    shaft; the twist of one take-off does not depend on its own phase)."""
+    if r.torsion is None:
+        return
+    lim = r.limit
+    rpm, by, reason = lim.rpm, lim.by, lim.reason
+    extra, why = dict(lim.mechanisms_rpm), dict(lim.mechanisms_reason)
+    for name, v in r.torsion.limits_rpm.items():
+        if not math.isfinite(v):
+            continue
+        key = f"{name} (dynamic error)"
+        bound = r.torsion.bounds()[name]
+        unit = r.torsion.nominal_units()[name]
+        shown = f"{bound * 1e3:g} mm" if unit == "m" else f"{math.degrees(bound):g}°"
+        extra[key] = v
+        why[key] = (
+            f"its dynamic error on the elastic shaft and link reaches max_error = {shown} "
+            "([drive.link])"
+        )
+        if v < rpm:
+            rpm, by, reason = v, key, why[key]
+    if rpm == lim.rpm and extra == lim.mechanisms_rpm:
+        return
+    r.limit = dataclasses.replace(
+        lim, rpm=rpm, by=by, reason=reason, mechanisms_rpm=extra, mechanisms_reason=why
+    )
+    for attr in ("sweep", "sweep_linear"):
+        sw = getattr(r, attr)
+        keep = sw.rpm <= rpm
+        setattr(
+            r,
+            attr,
+            dataclasses.replace(
+                sw, productivity_per_min=np.where(keep, sw.productivity_per_min, 0.0)
+            ),
         )
 
 
