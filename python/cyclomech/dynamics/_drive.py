@@ -24,6 +24,7 @@ from .. import _toml
 from .._arrays import finite_number, instance
 from .._errors import InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
+from ._elastic import ElasticShaft
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
 from ._shaft import FlywheelSizing, SteadyState, size_flywheel, start_up, steady_state
@@ -59,6 +60,9 @@ class Drive:
         The motor, its gear and rotor.
     flywheel_kg_m2 : float or None
         The flywheel [kg·m²] (≥ 0); None: sized by simulation for the machine's δ.
+    elastic : ElasticShaft, optional
+        The main shaft's and the working members' elasticity (``[drive.shaft]``,
+        ``[drive.link.<mechanism>]``); None: a rigid machine.
 
     Raises
     ------
@@ -77,9 +81,12 @@ class Drive:
 
     motor: Motor
     flywheel_kg_m2: float | None = None
+    elastic: ElasticShaft | None = None
 
     def __post_init__(self) -> None:
         instance("motor", self.motor, Motor)
+        if self.elastic is not None:
+            instance("elastic", self.elastic, ElasticShaft)
         if self.flywheel_kg_m2 is not None:
             fw = finite_number("flywheel_kg_m2", self.flywheel_kg_m2, "[kg·m²]", low=0.0)
             object.__setattr__(self, "flywheel_kg_m2", fw)
@@ -113,6 +120,12 @@ class Drive:
         """
         where = f"{source}: [drive]"
         _toml.must_be_table(table, source, "[drive]")
+        elastic = None
+        if "shaft" in table:
+            elastic = ElasticShaft.from_tables(table["shaft"], table.get("link", {}), source)
+        elif "link" in table:
+            raise InputError(f"{where}: [drive.link.…] needs [drive.shaft] (the take-off points)")
+        table = {k: v for k, v in table.items() if k not in ("shaft", "link")}
         _toml.check_keys(table, DRIVE_KEYS, source, "[drive]")
         kind = table.get("motor")
         if not isinstance(kind, str) or kind not in _MOTOR_KEYS:
@@ -141,7 +154,7 @@ class Drive:
                 flywheel = float(flywheel)
         except InputError as e:
             raise InputError(f"{where}: {_file_names(str(e))}") from None
-        return cls(motor, flywheel)
+        return cls(motor, flywheel, elastic)
 
 
 def _motor(kind: str, t: Mapping[str, Any], gear: dict[str, Any]) -> Motor:

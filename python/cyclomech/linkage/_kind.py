@@ -613,6 +613,30 @@ class LinkageResult(PlainResult):
         k.shaft_torque()  # the same checks: a uniform grid, finite everywhere
         return np.array(k.torque_parts[1]), at[0], at[1]
 
+    def working_member(self) -> tuple[Array, Array, Array, str] | None:
+        """Its working member, the output point, for the main shaft's torsion
+        (:func:`cyclomech.dynamics.torsion`): (x and y, their first and second
+        derivatives in the crank angle as (2, N) rows on the grid of
+        :meth:`shaft_inertia`, the unit "m"); None where that is None.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> xy, d1, d2, unit = r.working_member()
+        >>> xy.shape, unit
+        ((2, 3600), 'm')
+        """
+        k = self.kinetostatics
+        if k is None or self.shaft_inertia() is None:
+            return None
+        sol = k.solution
+        i = sol.index(self.mech.output)
+        assert sol.vel is not None and sol.acc is not None  # the forces solve with analogs
+        rows = [np.ascontiguousarray(a[:, i, :].T) for a in (sol.xy, sol.vel, sol.acc)]
+        return rows[0], rows[1], rows[2], "m"
+
     def _shaft_phase(self) -> tuple[float, str | None] | None:
         """(the cycle angle [deg] where the crank is at its drawn angle, the event
         its ``phase`` follows); None when it follows an event and there is no

@@ -105,6 +105,10 @@ def page(
             parts.append("<h3>Under its motor</h3>")
             header, rows = r.dynamics.table()
             parts.append(_table(header, rows))
+        if r.torsion is not None:
+            parts.append("<h3>Elastic shaft and links: the dynamic errors</h3>")
+            header, rows = r.torsion.table()
+            parts.append(_table(header, rows))
         parts += _images(figs, "shaft")
     if r.shaking is not None:
         parts.append("<h2>Frame: the shaking force</h2>")

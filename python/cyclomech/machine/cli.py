@@ -93,6 +93,8 @@ def _print_shaft_and_frame(r: Any) -> None:
             print(efficiency_line(eff))
         if r.dynamics is not None:
             print(r.dynamics.line())
+        if r.torsion is not None:
+            print(r.torsion.line())
         fl = r.shaft.flattening
         if fl is not None:
             print(
