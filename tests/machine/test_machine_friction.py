@@ -40,6 +40,19 @@ friction = {guide_mu = 5.0}
 """
 
 
+def with_ram(ram: str) -> str:
+    """The knife cutter's file with ``ram`` added, on its elastic main shaft too."""
+    text = KNIFE.read_text("utf-8")
+    for key, two in (
+        ("take_off", '["knife", "ram"]'),
+        ("stiffness_nm_per_rad", "[1.6e6, 1.6e6]"),
+        ("hub_inertia_kg_m2", "[2.0, 0.5]"),
+    ):
+        line = next(x for x in text.splitlines() if x.startswith(key + " "))
+        text = text.replace(line, f"{key} = {two}")
+    return text + ram
+
+
 def knife(friction: bool = True) -> cm.Machine:
     d = copy.deepcopy(dict(cm.Machine.from_toml(KNIFE).data or {}))
     if not friction:
@@ -126,7 +139,7 @@ def test_no_friction_no_efficiency_group(tmp_path: Path) -> None:
 
 def test_self_locking_fails_naming_the_mechanism_and_angles(tmp_path: Path, capsys) -> None:
     f = tmp_path / "k.toml"
-    f.write_text(KNIFE.read_text("utf-8") + RAM, encoding="utf-8")
+    f.write_text(with_ram(RAM), encoding="utf-8")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cm.CyclomechWarning)  # μ = 5; self-locking
         status = main(["run", str(f), "--out", str(tmp_path / "out"), "--no-plot", "--quiet"])
@@ -144,7 +157,7 @@ def test_the_machines_efficiency_over_two_mechanisms(tmp_path: Path) -> None:
     is the sum of the two mechanisms' mean input powers (phasing moves a curve,
     not its mean), and the machine's efficiency is 1 − (P_f,knife + P_f,ram)/ΣP_in."""
     f = tmp_path / "k.toml"
-    f.write_text(KNIFE.read_text("utf-8") + RAM.replace("5.0", "0.2"), encoding="utf-8")
+    f.write_text(with_ram(RAM.replace("5.0", "0.2")), encoding="utf-8")
     r = analyze(cm.Machine.from_toml(f), progress=False)
     k, ram = (r.mechanisms[n].efficiency() for n in ("knife", "ram"))
     p_in = k["mean_input_power_w"] + ram["mean_input_power_w"]
