@@ -128,10 +128,12 @@ class ElasticShaft:
 
         Examples
         --------
-        >>> ElasticShaft.from_tables({"take_off": ["a"], "stiffness_nm_per_rad": [-1.0],
-        ...                           "hub_inertia_kg_m2": [0.1]}, {}, "m.toml")
-        Traceback (most recent call last):
-        cyclomech._errors.InputError: m.toml: [drive.shaft]: stiffness_nm_per_rad[0] = -1.0 must ...
+        >>> try:
+        ...     ElasticShaft.from_tables({"take_off": ["a"], "stiffness_nm_per_rad": [-1.0],
+        ...                               "hub_inertia_kg_m2": [0.1]}, {}, "m.toml")
+        ... except InputError as e:
+        ...     print(e)
+        m.toml: [drive.shaft]: stiffness_nm_per_rad[0] = -1.0 must be a finite number > 0 [N·m/rad]
         """
         where = f"{source}: [drive.shaft]"
         _toml.must_be_table(shaft, source, "[drive.shaft]")
