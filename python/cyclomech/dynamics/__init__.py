@@ -1,5 +1,6 @@
-"""Machine dynamics (issue 34): the main shaft's real speed under its motor, the
-frame's shaking force and moment, and balancing.
+"""Machine dynamics (issue 34): the main shaft's real speed under its motor, its
+torsion and the working members' dynamic errors, the frame's shaking force and
+moment, and balancing.
 
 **The main shaft** (items 1–2).
 
@@ -47,6 +48,26 @@ in parallel.
 >>> s = cm.dynamics.steady_state(d, motor, flywheel_kg_m2=5.0)
 >>> round(s.mean_rpm, 2), round(s.speed_fluctuation, 4)
 (98.03, 0.0297)
+
+**Torsion and dynamic errors** (item 3): the main shaft as torsional springs
+between the motor's end and the mechanisms' take-off points, each node a
+mechanism's J(φ) and Q(φ) on its hub, and each working member on an elastic link
+(:class:`ShaftNode`, :class:`WorkingMember`): :func:`torsion` gives the periodic
+steady state under a motor or at a constant speed (the twists, the segments'
+torques, each member's dynamic error: where it is minus where the rigid machine
+puts it), :func:`torsion_sweep` many constant speeds in one parallel call. A
+machine file's ``[drive.shaft]`` and ``[drive.link.<mechanism>]`` give them to
+``cyclomech run`` (:func:`machine_torsion`, :class:`MachineTorsion`), where a bound
+on a member's error lowers the machine's speed limit.
+
+>>> import numpy as np, cyclomech as cm
+>>> phi = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+>>> member = cm.dynamics.WorkingMember(0.01 * np.sin(phi), 0.01 * np.cos(phi),
+...                                    -0.01 * np.sin(phi), frequency_hz=50.0)
+>>> node = cm.dynamics.ShaftNode("crank", np.zeros(360), np.zeros(360),
+...                              np.full(360, 20.0), 0.02, 2e4, 2.0, member)
+>>> round(cm.dynamics.torsion([node], rpm=300.0).peak_error["crank"] * 1e3, 4)  # mm: (ω/ω_n)²·10 mm + lag
+0.1016
 
 **Shaking force and moment, and balancing** (item 4): the force and moment a
 linkage, and the whole machine with its mechanisms phased by the cyclogram, puts on the
