@@ -533,6 +533,14 @@ fn integrate(
     finish(model, nodes, status, cycles, residual, n * sub, &run, width)
 }
 
+/// out = z + a·k, element by element.
+#[inline]
+fn axpy(out: &mut [f64], z: &[f64], a: f64, k: &[f64]) {
+    for ((o, &zi), &ki) in out.iter_mut().zip(z).zip(k) {
+        *o = zi + a * ki;
+    }
+}
+
 /// One cycle of RK4 from `z`, recording each sample's state.
 fn cycle(
     model: &Model<'_>,
@@ -544,7 +552,6 @@ fn cycle(
 ) -> Option<()> {
     let n = model.samples;
     let nn = model.segs.len();
-    let dim = z.len();
     for i in 0..n {
         // Record the sample: the segment torques from the state.
         let phi_i = TAU * i as f64 / n as f64;
@@ -570,23 +577,18 @@ fn cycle(
             if j > 0 {
                 model.rhs(phi, z, &mut run.k[0], &mut run.torque)?;
             }
-            for d in 0..dim {
-                run.tmp[d] = z[d] + 0.5 * h * run.k[0][d];
-            }
+            axpy(&mut run.tmp, z, 0.5 * h, &run.k[0]);
             let (k0, rest) = run.k.split_at_mut(1);
             model.rhs(phi + 0.5 * h, &run.tmp, &mut rest[0], &mut run.torque)?;
-            for d in 0..dim {
-                run.tmp[d] = z[d] + 0.5 * h * rest[0][d];
-            }
+            axpy(&mut run.tmp, z, 0.5 * h, &rest[0]);
             model.rhs(phi + 0.5 * h, &run.tmp, &mut rest[1], &mut run.torque)?;
-            for d in 0..dim {
-                run.tmp[d] = z[d] + h * rest[1][d];
-            }
+            axpy(&mut run.tmp, z, h, &rest[1]);
             model.rhs(phi + h, &run.tmp, &mut rest[2], &mut run.torque)?;
-            for d in 0..dim {
-                z[d] += h / 6.0 * (k0[0][d] + 2.0 * rest[0][d] + 2.0 * rest[1][d] + rest[2][d]);
-                run.lo[d] = run.lo[d].min(z[d]);
-                run.hi[d] = run.hi[d].max(z[d]);
+            let (a, b, c, e) = (&k0[0], &rest[0], &rest[1], &rest[2]);
+            for (d, zd) in z.iter_mut().enumerate() {
+                *zd += h / 6.0 * (a[d] + 2.0 * b[d] + 2.0 * c[d] + e[d]);
+                run.lo[d] = run.lo[d].min(*zd);
+                run.hi[d] = run.hi[d].max(*zd);
             }
         }
     }
