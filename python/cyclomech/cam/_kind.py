@@ -658,6 +658,11 @@ class CamResult(BoundsResult):
         angles of :meth:`shaft_inertia`, the unit: "m", or "rad" for an oscillating
         follower); None where :meth:`shaft_inertia` is None.
 
+        Returns
+        -------
+        tuple of (ndarray, ndarray, ndarray, str) or None
+            As above.
+
         Examples
         --------
         >>> import cyclomech as cm

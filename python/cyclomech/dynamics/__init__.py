@@ -66,7 +66,7 @@ on a member's error lowers the machine's speed limit.
 ...                                    -0.01 * np.sin(phi), frequency_hz=50.0)
 >>> node = cm.dynamics.ShaftNode("crank", np.zeros(360), np.zeros(360),
 ...                              np.full(360, 20.0), 0.02, 2e4, 2.0, member)
->>> round(cm.dynamics.torsion([node], rpm=300.0).peak_error["crank"] * 1e3, 4)  # mm: (ω/ω_n)²·10 mm + lag
+>>> round(cm.dynamics.torsion([node], rpm=300.0).peak_error["crank"] * 1e3, 4)  # (ω/ω_n)²·10 mm
 0.1016
 
 **Shaking force and moment, and balancing** (item 4): the force and moment a

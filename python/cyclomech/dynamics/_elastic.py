@@ -323,6 +323,11 @@ class MachineTorsion:
     def bounds(self) -> dict[str, float]:
         """Each bounded member's largest dynamic error allowed [its unit].
 
+        Returns
+        -------
+        dict of str to float
+            The bound by mechanism [m or rad].
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -340,6 +345,11 @@ class MachineTorsion:
     def nominal_units(self) -> dict[str, str]:
         """Each working member's unit ("m" or "rad"), by mechanism.
 
+        Returns
+        -------
+        dict of str to str
+            The unit by mechanism.
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -355,6 +365,11 @@ class MachineTorsion:
         speed under the motor above its bound, or above it at every speed of the
         range. (An error-limited speed below the nominal speed lowers the machine's
         speed limit, whose check says so: :attr:`MachineResult.above_speed_limit`.)
+
+        Returns
+        -------
+        list of str
+            One line per failure (empty when nothing fails).
 
         Examples
         --------
@@ -391,6 +406,11 @@ class MachineTorsion:
     def line(self) -> str:
         """One line for the CLI: each member's peak dynamic error under the motor and
         the speed at which it reaches its bound.
+
+        Returns
+        -------
+        str
+            The line.
 
         Examples
         --------
@@ -429,6 +449,12 @@ class MachineTorsion:
 
     def json(self) -> dict[str, Any]:
         """The ``torsion`` group of ``results.json``.
+
+        Returns
+        -------
+        dict
+            The nominal speed, the mean speed under the motor, the problem, the
+            sweep's range and one entry per take-off point (JSON types).
 
         Examples
         --------
@@ -477,6 +503,11 @@ class MachineTorsion:
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """The report's table: one row per take-off point.
 
+        Returns
+        -------
+        tuple of (list of str, list of list)
+            The header and the rows.
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -522,6 +553,11 @@ class MachineTorsion:
     def figure(self) -> Any:
         """The dynamic errors and twists over the cycle at the nominal speed under the
         motor (None without a steady state).
+
+        Returns
+        -------
+        matplotlib.figure.Figure or None
+            :func:`~cyclomech.dynamics.plot.plot_torsion`'s figure.
 
         Examples
         --------

@@ -500,7 +500,7 @@ def torsion(
     n = w.size
     return Torsion(
         names,
-        np.arange(n) * (360.0 / n),
+        np.linspace(0.0, 360.0, n, endpoint=False),
         w,
         t,
         tw,
