@@ -77,7 +77,7 @@ def test_report_json_and_cli(knife: Any, tmp_path: Path) -> None:
 
 
 def test_without_inertia_forces_at_a_phase() -> None:
-    """The loom's lifter cam has an oscillating follower (no centre of mass given):
+    """The example's cam stop alone puts no inertia force on the frame at a phase:
     the machine has no shaking figure and says nothing false about it."""
     r = cm.machine.analyze(cm.Machine.example(), progress=False)
     assert r.shaking is None
@@ -174,3 +174,61 @@ def test_bad_api_arguments(knife: Any) -> None:
         cm.dynamics.balance(res, counterweights=[("O", "F")], rpm=-1.0)
     with pytest.raises(cm.InputError, match="rpm"):
         knife.shaking.shaking.stats(-5.0)
+
+
+@pytest.fixture(scope="module")
+def loom() -> Any:
+    return cm.machine.analyze(cm.Machine.from_toml(ROOT / "examples/stb_loom.toml"), progress=False)
+
+
+def test_an_oscillating_follower_shakes_by_a_couple(loom: Any, tmp_path: Path) -> None:
+    """The loom's lifter cam: an oscillating follower given by its inertia J about
+    the pivot alone, its centre of mass taken at the pivot: no force, and the
+    moment −dH/dt of the lever, here from positions: the roller centre's path in
+    the cam frame turned back into the fixed frame by the cam angle, the arm's
+    angle about the pivot (a, 0) from it, differentiated twice in time by finite
+    differences (the kernel's s″ is not used)."""
+    res = loom.mechanisms["lifter cam"]
+    cam, j = res.cam, float(res.mech.design.loads.mass)
+    f = cam.follower
+    n, w = 3600, 300.0 * np.pi / 30.0
+    h = 2 * np.pi / n
+    theta = np.arange(n) * h
+    # The cam frame at θ = 0 sits at an angle r0 to the fixed one: the roller centre
+    # at ψ0 is (a − l·cos ψ0, l·sin ψ0) in the fixed frame (cyclomech.cam's convention).
+    psi0 = np.radians(f.initial_arm_angle_deg)
+    start = np.array([f.pivot_distance - f.arm_length * np.cos(psi0), f.arm_length * np.sin(psi0)])
+    p0 = cam.solve([0.0]).pitch[0]
+    r0 = np.arctan2(start[1], start[0]) - np.arctan2(p0[1], p0[0])
+
+    def arm_angle(t: Any) -> Any:
+        p = cam.solve(t).pitch
+        c, s = np.cos(t + r0), np.sin(t + r0)  # the cam turns counter-clockwise
+        x, y = c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]
+        # the roller stays on its arm: |roller − pivot| = l (the frames agree)
+        np.testing.assert_allclose(np.hypot(x - f.pivot_distance, y), f.arm_length, rtol=1e-9)
+        return np.unwrap(np.arctan2(y, x - f.pivot_distance))
+
+    k = 1e-3  # rad of cam: d²/dt² = ω² d²/dθ² at constant speed, 4th-order stencil
+    a = [arm_angle(theta + i * k) for i in (-2, -1, 0, 1, 2)]
+    acc = (-a[0] + 16 * a[1] - 30 * a[2] + 16 * a[3] - a[4]) / (12 * k * k) * w**2
+    want = -j * acc  # −dH/dt, H = J·(the arm's angular velocity)
+    part = loom.shaking.shaking.parts["lifter cam"]
+    got = part.moment(300.0)
+    assert np.abs(part.force(300.0)).max() == 0.0
+    # At its phase: the machine's cycle angle θ sees the cam at θ − phase (read
+    # between the samples: the phase is not a whole number of them).
+    phase = res.shaft_torque()[2]
+    at = np.interp(part.angles_deg - phase, np.degrees(theta), want, period=360.0)
+    scale = np.abs(want).max()
+    assert scale > 50.0  # a real moment
+    # Two linear interpolations on the 0.1° grid (the machine's phasing and this
+    # one) of a curve that turns within a few degrees: ~1e-3 of its peak each.
+    np.testing.assert_allclose(got, at, atol=5e-3 * scale)
+    # ... and the report, results.json and the CLI say so plainly.
+    rows = loom.shaking.table()[1]
+    assert any(r[0] == "assumed for lifter cam" and "centre of mass" in r[1] for r in rows)
+    cm.machine.write_report(loom, tmp_path, figures=False)
+    g = json.loads((tmp_path / "results.json").read_text())["shaking"]
+    assert "moment only" in g["assumed"]["lifter cam"]
+    assert g["peak_moment_nm"] == pytest.approx(np.abs(got).max(), rel=1e-12)

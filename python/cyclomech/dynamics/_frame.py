@@ -83,7 +83,7 @@ class MachineShaking:
         -------
         dict of str to Any
             The speed, the statistics, each mechanism's statistics, what was left out
-            and why, and the force (x, y) and moment over the cycle (every 10th angle).
+            and why, what was assumed (``assumed``, only when anything was), and the force (x, y) and moment over the cycle (every 10th angle).
 
         Examples
         --------
@@ -96,12 +96,15 @@ class MachineShaking:
         """
         s, n = self.shaking, self.rpm
         f = s.force(n)
+        # What was assumed, when anything was (an oscillating follower's centre of mass).
+        notes = {"assumed": dict(s.notes)} if s.notes else {}
         return {
             "rpm": n,
             "about_m": list(s.about_m),
             **self.stats(),
             "mechanisms": {k: p.stats(n) for k, p in s.parts.items()},
             "left_out": dict(s.skipped),
+            **notes,
             "theta_deg": s.angles_deg[::10],
             "force_x_n": f[::10, 0],
             "force_y_n": f[::10, 1],
@@ -118,7 +121,7 @@ class MachineShaking:
             ``["quantity", "value"]``.
         rows : list of list
             The force's and moment's peak and RMS, each mechanism's RMS force, what
-            was left out.
+            was assumed, what was left out.
 
         Examples
         --------
@@ -144,6 +147,7 @@ class MachineShaking:
             [f"RMS shaking force of {k} [N]", p.stats(n)["rms_force_n"]]
             for k, p in self.shaking.parts.items()
         ]
+        rows += [[f"assumed for {k}", why] for k, why in self.shaking.notes.items()]
         rows += [[f"left out: {k}", why] for k, why in self.shaking.skipped.items()]
         return ["quantity", "value"], rows
 
@@ -220,8 +224,8 @@ def machine_shaking(
     result: Any, rpm: Any = None, requests: Sequence[BalanceRequest] = ()
 ) -> MachineShaking | None:
     """The machine's shaking force and moment on its frame, or None when no
-    mechanism gives one (no linkage with masses, translating cam follower with
-    loads or loaded press at a phase in the cyclogram).
+    mechanism gives one (no linkage with masses, cam follower with its mass or
+    inertia, or loaded press at a phase in the cyclogram).
 
     Parameters
     ----------
