@@ -83,7 +83,8 @@ class MachineShaking:
         -------
         dict of str to Any
             The speed, the statistics, each mechanism's statistics, what was left out
-            and why, what was assumed (``assumed``, only when anything was), and the force (x, y) and moment over the cycle (every 10th angle).
+            and why, what was assumed (``assumed``, only when anything was), and the
+            force (x, y) and moment over the cycle (every 10th angle).
 
         Examples
         --------

@@ -484,8 +484,7 @@ def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, A
                 )
             else:
                 skipped[name] = (
-                    "an oscillating follower without inertia_kg_m2: nothing of it moves "
-                    "with mass"
+                    "an oscillating follower without inertia_kg_m2: nothing of it moves with mass"
                 )
                 continue
         else:
