@@ -232,3 +232,35 @@ def test_an_oscillating_follower_shakes_by_a_couple(loom: Any, tmp_path: Path) -
     g = json.loads((tmp_path / "results.json").read_text())["shaking"]
     assert "moment only" in g["assumed"]["lifter cam"]
     assert g["peak_moment_nm"] == pytest.approx(np.abs(got).max(), rel=1e-12)
+
+
+def test_the_figures_say_which_angle(knife: Any, loom: Any) -> None:
+    """The hodograph's peak is at a cycle angle (the machine's) or a crank angle
+    (a balanced mechanism's), said in words: the polar plot's own angles are the
+    force's direction, so "peak at 344°" read as one. The moment's axis names the
+    angle with its unit, ticked every 60° (30° crowded the half-width axis)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = knife.shaking.figure()
+    polar, right = fig.axes
+    st = knife.shaking.stats()
+    assert f"peak {st['peak_force_n']:,.0f} N (red) at cycle angle " in polar.get_title()
+    assert f"{st['peak_force_deg'] % 360:.0f}°" in polar.get_title()
+    assert right.get_xlabel() == "cycle angle  [deg]"
+    lo, hi = right.get_xlim()
+    ticks = [t for t in right.get_xticks() if lo <= t <= hi]
+    assert (lo, hi) == (0.0, 360.0) and ticks == [0.0, 60.0, 120.0, 180.0, 240.0, 300.0, 360.0]
+    plt.close(fig)
+    ((name, fig),) = knife.shaking.balance_figures()
+    polar, right = fig.axes
+    assert right.get_xlabel() == f"crank angle of {name}  [deg]"
+    assert np.allclose(np.diff(right.get_xticks()), 60.0)
+    # the least-RMS balance leaves no force: no "peak" at a rounding's angle
+    assert polar.get_title().endswith("no shaking force left: a couple only (right)")
+    plt.close(fig)
+    fig = loom.shaking.figure()  # a couple only: said so
+    assert fig.axes[0].get_title().endswith("no shaking force: a couple only (right)")
+    plt.close(fig)

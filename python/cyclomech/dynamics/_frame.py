@@ -197,7 +197,15 @@ class MachineShaking:
         from .plot import plot_shaking
 
         return [
-            (k, plot_shaking(b, self.rpm, title=f"{k}: before and after balancing"))
+            (
+                k,
+                plot_shaking(
+                    b,
+                    self.rpm,
+                    title=f"{k}: before and after balancing",
+                    angle_name=f"crank angle of {k}",
+                ),
+            )
             for k, b in self.balances.items()
         ]
 
