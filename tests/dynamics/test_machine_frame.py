@@ -129,6 +129,28 @@ def test_balance_rows_balance_the_knife(knife: Any) -> None:
             {"mechanism": "knife", "links": [["O", "F"]], "torque_weight": -1.0},
             ["[[balance]] 1", "torque_weight"],
         ),
+        (  # ignored silently before: the default objective has no torque term
+            {"mechanism": "knife", "links": [["O", "F"]], "torque_weight": 2.0},
+            [
+                "[[balance]] 1",
+                "torque_weight = 2.0",
+                'objective = "rms_force+torque"',
+                "'rms_force'",
+            ],
+        ),
+        (
+            {
+                "mechanism": "knife",
+                "links": [["O", "F"]],
+                "objective": "peak_force",
+                "torque_weight": 1.0,
+            },
+            ["[[balance]] 1", "torque_weight = 1.0", "only applies", "'peak_force'"],
+        ),
+        (
+            {"mechanism": "knife", "links": [["O", "F"]], "max_mass_radius_kg_m": 0.0},
+            ["[[balance]] 1", "max_mass_radius_kg_m = 0.0", "> 0 [kg·m]"],
+        ),
         ({"mechanism": 3, "links": [["O", "F"]]}, ["[[balance]] 1", "mechanism"]),
         ({"links": [["O", "F"]]}, ["[[balance]] 1", "mechanism"]),
         ({"mechanism": "knife", "links": [["O", "F"]], "bogus": 1}, ["[[balance]] 1", "bogus"]),
@@ -151,8 +173,8 @@ def test_a_link_not_on_the_frame_is_refused_by_name() -> None:
 
 
 def test_a_balance_row_on_a_machine_without_shaking_is_refused() -> None:
-    """The loom has no mechanism with inertia forces at a phase; a [[balance]] row
-    naming its cam (not a linkage) was silently ignored (exit 0)."""
+    """A [[balance]] row naming the loom's cam (not a linkage) was silently ignored
+    (exit 0) when the loom had no shaking; it is refused by name."""
     import tomllib
 
     with open(ROOT / "examples/stb_loom.toml", "rb") as f:
@@ -264,3 +286,34 @@ def test_the_figures_say_which_angle(knife: Any, loom: Any) -> None:
     fig = loom.shaking.figure()  # a couple only: said so
     assert fig.axes[0].get_title().endswith("no shaking force: a couple only (right)")
     plt.close(fig)
+
+
+def test_a_bounded_weighted_balance_row_in_the_results(tmp_path: Path) -> None:
+    """A row with the torque objective, its weight and a bound on m·r: the weight and
+    the bound are in results.json's balance group (they were not), the counterweights
+    the bound stops are named there, in the report's table and in the CLI line, and
+    none exceeds it."""
+    d = _knife_data()
+    d["balance"][0].update(
+        objective="rms_force+torque", torque_weight=3.0, max_mass_radius_kg_m=5.0
+    )
+    r = cm.machine.analyze(cm.Machine.from_dict(d, "dir/knife.toml"), progress=False)
+    b = r.shaking.balances["knife"]
+    assert all(c.mass_radius_kg_m <= 5.0 * (1 + 1e-9) for c in b.counterweights)
+    # unbounded, A-B and D-C want 25 and 15 kg·m (the file's least-RMS row)
+    assert set(b.at_bound) >= {"A-B"}
+    cm.machine.write_report(r, tmp_path, figures=False)
+    g = json.loads((tmp_path / "results.json").read_text())["shaking"]["balance"]["knife"]
+    assert g["torque_weight"] == 3.0 and g["max_mass_radius_kg_m"] == 5.0
+    assert g["at_bound"] == list(b.at_bound)
+    rows = b.table()[1]
+    flagged = [row[0] for row in rows if "at the bound max_mass_radius_kg_m = 5" in str(row[2])]
+    assert len(flagged) == len(b.at_bound)
+    cost = b.after["rms_force_n"] + 3.0 * b.after["rms_torque_nm"]
+    assert cost < b.before["rms_force_n"] + 3.0 * b.before["rms_torque_nm"]
+
+
+def test_an_unbounded_rms_row_keeps_its_results_group(knife: Any) -> None:
+    # The file's row (no weight, no bound): results.json's balance entry as before.
+    g = knife.shaking.json()["balance"]["knife"]
+    assert list(g) == ["objective", "before", "after", "counterweights"]

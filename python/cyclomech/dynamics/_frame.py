@@ -211,9 +211,17 @@ class MachineShaking:
 
 
 def _balance_json(b: Balance) -> dict[str, Any]:
-    """A balance's ``results.json`` entry."""
+    """A balance's ``results.json`` entry (the torque weight and the bound on m·r
+    only when the row used them)."""
+    used: dict[str, Any] = {}
+    if b.torque_weight is not None:
+        used["torque_weight"] = b.torque_weight
+    if b.max_mass_radius_kg_m is not None:
+        used["max_mass_radius_kg_m"] = b.max_mass_radius_kg_m
+        used["at_bound"] = list(b.at_bound)
     return {
         "objective": b.objective,
+        **used,
         "before": b.before,
         "after": b.after,
         "counterweights": [
@@ -277,7 +285,9 @@ def machine_shaking(
 
 
 #: The keys of a ``[[balance]]`` row.
-BALANCE_KEYS: frozenset[str] = frozenset({"mechanism", "links", "objective", "torque_weight"})
+BALANCE_KEYS: frozenset[str] = frozenset(
+    {"mechanism", "links", "objective", "torque_weight", "max_mass_radius_kg_m"}
+)
 
 
 @dataclass(frozen=True)
@@ -295,12 +305,14 @@ class BalanceRequest:
         One of :data:`~cyclomech.dynamics.OBJECTIVES`.
     torque_weight : float, default 1.0
         The RMS torque's weight in ``"rms_force+torque"`` [1/m].
+    max_mass_radius_kg_m : float, optional
+        The largest m·r of each counterweight [kg·m]; default None (no bound).
 
     Raises
     ------
     InputError
         If a field is not of its kind: a name, (joint, joint) pairs, an objective of
-        :data:`~cyclomech.dynamics.OBJECTIVES`, a finite weight ≥ 0.
+        :data:`~cyclomech.dynamics.OBJECTIVES`, a finite weight ≥ 0, a bound > 0.
 
     Examples
     --------
@@ -312,6 +324,7 @@ class BalanceRequest:
     links: tuple[tuple[str, str], ...]
     objective: str = "rms_force"
     torque_weight: float = 1.0
+    max_mass_radius_kg_m: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.mechanism, str):
@@ -333,6 +346,9 @@ class BalanceRequest:
             )
         w = finite_number("torque_weight", self.torque_weight, "[1/m]", low=0.0)
         object.__setattr__(self, "torque_weight", w)
+        if self.max_mass_radius_kg_m is not None:
+            b = positive("max_mass_radius_kg_m", self.max_mass_radius_kg_m, "[kg·m]")
+            object.__setattr__(self, "max_mass_radius_kg_m", b)
 
     @classmethod
     def from_row(cls, row: Any, source: str, index: int) -> BalanceRequest:
@@ -356,7 +372,8 @@ class BalanceRequest:
         InputError
             Naming the file, the row and the key: an unknown key, a missing mechanism
             or links, links that are not pairs of joint names, an unknown objective,
-            a negative torque weight.
+            a negative torque weight or one with an objective that has no torque
+            (it would be ignored), a bound on m·r that is not > 0.
 
         Examples
         --------
@@ -393,7 +410,26 @@ class BalanceRequest:
         weight = row.get("torque_weight", 1.0)
         if not (_toml.is_number(weight) and math.isfinite(weight) and weight >= 0):
             raise InputError(f"{where}: torque_weight = {weight!r} must be finite and ≥ 0 [1/m]")
-        return cls(name, tuple((p[0], p[1]) for p in links), objective, float(weight))
+        if "torque_weight" in row and objective != "rms_force+torque":
+            raise InputError(
+                f"{where}: torque_weight = {weight!r} only applies to objective = "
+                f'"rms_force+torque" (this row\'s objective is {objective!r}, which has no '
+                "torque term): remove it or set that objective"
+            )
+        bound = row.get("max_mass_radius_kg_m")
+        if bound is not None and not (
+            _toml.is_number(bound) and math.isfinite(bound) and bound > 0
+        ):
+            raise InputError(
+                f"{where}: max_mass_radius_kg_m = {bound!r} must be finite and > 0 [kg·m]"
+            )
+        return cls(
+            name,
+            tuple((p[0], p[1]) for p in links),
+            objective,
+            float(weight),
+            None if bound is None else float(bound),
+        )
 
 
 def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
@@ -448,6 +484,7 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
                 objective=req.objective,
                 torque_weight=req.torque_weight,
                 gravity=gravity,
+                max_mass_radius_kg_m=req.max_mass_radius_kg_m,
             )
         except InputError as e:
             raise InputError(f"{where}: {e}") from None

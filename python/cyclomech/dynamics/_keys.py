@@ -71,7 +71,10 @@ DRIVE_KEY_DOCS: tuple[KeyTable, ...] = (
           "or the RMS force plus torque_weight times the driving torque's RMS.", NO_UNIT,
           TEXT, "rms_force", "one of rms_force, peak_force, rms_force+torque", False),
         K("torque_weight", "The RMS driving torque's weight in rms_force+torque.", "1/m",
-          NUM, "1", "finite, ≥ 0", False),
+          NUM, "1", "finite, ≥ 0; only with objective = rms_force+torque", False),
+        K("max_mass_radius_kg_m", "The largest m·r of each counterweight of the row: the "
+          "optimum under it, a counterweight it stops flagged as at the bound.", "kg·m", NUM,
+          "none (no bound)", POS, False),
     ), intro=(
         "Counterweights to find for a linkage, one row each: the report gives their "
         "mass·radius and angle on each link and the shaking force before and after, at "
