@@ -32,7 +32,7 @@ import numpy.typing as npt
 
 from .._arrays import finite_number, instance
 from .._errors import InputError
-from .._units import RAD_PER_S_PER_RPM
+from .._units import at_speed
 from ..cam import Cam, FlatFaced, TranslatingRoller
 from ..forces import Kinetostatics
 from ..linkage import Linkage
@@ -152,12 +152,6 @@ class Shaking:
         extra = f", {len(self.parts)} mechanisms" if self.parts else ""
         return f"Shaking({self.angles_deg.size} angles, about {self.about_m}{extra})"
 
-    @staticmethod
-    def _weights(rpm: Any, crank_acceleration: Any) -> tuple[float, float]:
-        n = finite_number("rpm", rpm, "[rpm]", low=0.0)
-        eps = finite_number("crank_acceleration", crank_acceleration, "[rad/s²]")
-        return (n * RAD_PER_S_PER_RPM) ** 2, eps
-
     def force(self, rpm: Any, crank_acceleration: Any = 0.0) -> Array:
         """The shaking force −Σ mᵢ a_Gᵢ [N] at a crank speed and acceleration.
 
@@ -186,9 +180,7 @@ class Shaking:
         >>> cm.dynamics.shaking(k).force(0.0, crank_acceleration=10.0).tolist()  # −m r ε ŷ
         [[0.0, -6.0]]
         """
-        w2, eps = self._weights(rpm, crank_acceleration)
-        out: Array = w2 * self.force_parts[0] + eps * self.force_parts[1]
-        return out
+        return at_speed(self.force_parts, rpm, crank_acceleration, static=False, rpm_low=0.0)
 
     def moment(self, rpm: Any, crank_acceleration: Any = 0.0) -> Array:
         """The shaking moment −dH/dt about ``about_m`` [N·m] at a speed and acceleration.
@@ -221,9 +213,7 @@ class Shaking:
         >>> cm.dynamics.shaking(k).moment(0.0, crank_acceleration=10.0).round(9).tolist()  # −m r² ε
         [-1.8]
         """
-        w2, eps = self._weights(rpm, crank_acceleration)
-        out: Array = w2 * self.moment_parts[0] + eps * self.moment_parts[1]
-        return out
+        return at_speed(self.moment_parts, rpm, crank_acceleration, static=False, rpm_low=0.0)
 
     def frame_force(self, rpm: Any, crank_acceleration: Any = 0.0) -> Array:
         """The whole force on the frame [N]: the shaking force plus the static part.
