@@ -746,10 +746,29 @@ def balance(
             f"{', '.join(f'{v:.1f}' for v in bad)} degrees (not assembled or a dead centre)"
         )
     sites = _sites(k, counterweights)
-    xy = k.solution.xy
-    form = _form(s, k.torque_parts, sites, xy, (n * RAD_PER_S_PER_RPM) ** 2, g)
+    return _solve(
+        s, k.torque_parts, sites, k.solution.xy, k.solution.names, n, g, objective, weight, bound
+    )
+
+
+def _solve(
+    s: Shaking,
+    torque: Array,
+    sites: list[_Site],
+    xy: Array,
+    names: Sequence[str],
+    n: float,
+    g: Array,
+    objective: str,
+    weight: float,
+    bound: float | None,
+) -> Balance:
+    """The counterweights at ``sites`` for ``objective`` and their balance: ``s`` the
+    shaking without them, ``torque`` the driving torque's parts (3, N), ``xy`` the
+    points (N, P, 2) the sites' indices name (``names``), at ``n`` rpm."""
+    form = _form(s, torque, sites, xy, (n * RAD_PER_S_PER_RPM) ** 2, g)
     # Least squares on the per-ω² force: the same optimum at every speed.
-    a = np.moveaxis(_form(s, k.torque_parts, sites, xy, 1.0, g).lin[:2], 0, 2)  # (J, N, 2, 2)
+    a = np.moveaxis(_form(s, torque, sites, xy, 1.0, g).lin[:2], 0, 2)  # (J, N, 2, 2)
     mat = np.moveaxis(a, 0, 2).reshape(-1, 2 * len(sites))  # rows (n, channel)
     w, *_ = np.linalg.lstsq(mat, -s.force_parts[0].ravel(), rcond=None)
     w = w.reshape(len(sites), 2)
@@ -762,8 +781,8 @@ def balance(
     cws = tuple(
         Counterweight(
             st.link,
-            k.solution.names[st.pivot],
-            k.solution.names[st.towards],
+            names[st.pivot],
+            names[st.towards],
             st.radius,
             (float(wj[0]), float(wj[1])),
         )
@@ -777,8 +796,114 @@ def balance(
         after=_stats(form, w),
         shaking_before=s,
         shaking_after=_after(s, sites, xy, w, g),
-        torque_parts_after=_torque_after(k.torque_parts, sites, w, g),
+        torque_parts_after=_torque_after(torque, sites, w, g),
         form=form,
         torque_weight=weight if objective == "rms_force+torque" else None,
         max_mass_radius_kg_m=bound,
     )
+
+
+#: The press's carrier, as a [[balance]] row names it: from the guide gear's centre
+#: (the main shaft's axis, fixed) to the planet's centre.
+PRESS_CARRIER = ("O", "planet")
+
+
+def _press_balance(
+    mechanism: Any,
+    *,
+    rpm: Any,
+    objective: str = "rms_force",
+    torque_weight: Any = 1.0,
+    max_mass_radius_kg_m: Any = None,
+    radius_m: Any = None,
+) -> Balance:
+    """A counterweight on a gear-lever press's carrier (its crank, turning with the
+    main shaft about the guide gear's centre O) against the slider's and the rod's
+    shaking (:func:`~cyclomech.dynamics.shaking`'s press part).
+
+    The carrier is the link O → planet (its centre); the counterweight is the
+    vector (m r cos α, m r sin α) in its frame, as on a linkage's crank
+    (:func:`balance`, the same objectives and solvers). The carrier turns rigidly
+    with the shaft, so its counterweight's force ω²·m·r turns with it: it takes
+    out the force's part that turns with the crank, not the slider's higher
+    harmonics. Constant speed; the carrier's and planet's own masses are not in
+    the press's model; no gravity.
+
+    Parameters
+    ----------
+    mechanism : PressResult
+        A machine's press result (``result.mechanisms[name]``) with its masses and
+        load (its shaft torque).
+    rpm : float
+        The crank speed of the statistics and of the torque objective [rpm].
+    objective : str, default "rms_force"
+        One of :data:`OBJECTIVES`.
+    torque_weight : float, default 1.0
+        The RMS torque's weight in ``"rms_force+torque"`` [1/m].
+    max_mass_radius_kg_m : float, optional
+        The largest m·r [kg·m]; default None (no bound).
+    radius_m : float, optional
+        The counterweight's radius [m]; default the carrier's length R − r.
+
+    Returns
+    -------
+    Balance
+        Its one counterweight, on the link ``"O-planet"``, and the statistics
+        before and after on the press's own carrier angles ψ past BDC.
+
+    Raises
+    ------
+    InputError
+        If the press has no shaft torque (no load or optimum) or an argument is out
+        of its range.
+    TypeError
+        If ``mechanism`` is not a press result.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/extrusion_press_line.toml"),
+    ...                        progress=False)
+    >>> b = _press_balance(r.mechanisms["drive"], rpm=40.0)
+    >>> b.counterweights[0].link, b.after["rms_force_n"] < b.before["rms_force_n"]
+    ('O-planet', True)
+    """
+    from ..press import GearLeverPress
+    from ._shaking import _of_press
+
+    m: Any = getattr(mechanism, "mech", None)
+    press = getattr(m, "press", None)
+    if not isinstance(press, GearLeverPress) or not hasattr(mechanism, "shaft_torque"):
+        raise TypeError(
+            f"mechanism must be a machine's press result; got {type(mechanism).__name__}"
+        )
+    if objective not in OBJECTIVES:
+        raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
+    n = positive("rpm", rpm, "[rpm]")
+    weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
+    bound = (
+        None
+        if max_mass_radius_kg_m is None
+        else positive("max_mass_radius_kg_m", max_mass_radius_kg_m, "[kg·m]")
+    )
+    curve, inertia = mechanism.shaft_torque(), mechanism.shaft_inertia()
+    if curve is None or inertia is None:
+        raise InputError(
+            "mechanism: the press has no torque on the main shaft (a deformation_force "
+            "and an optimum are needed): nothing to balance"
+        )
+    size = curve[0].size
+    s = _of_press(press, m.slider_mass, m.rod_mass, (0.0, 0.0), size)
+    torque = np.stack([curve[0], inertia[0], curve[1]])
+    psi = np.arange(size, dtype=np.float64) * (2.0 * math.pi / size)
+    centre = press.solve(np.mod(-psi, 2.0 * math.pi)).centre  # (N, 2), O at the origin
+    length = float(np.hypot(*centre[0]))
+    r = length if radius_m is None else positive("radius_m", radius_m, "[m]")
+    ex = centre / np.hypot(centre[:, 0], centre[:, 1])[:, None]
+    e = np.stack([np.stack([ex[:, 0], -ex[:, 1]], -1), np.stack([ex[:, 1], ex[:, 0]], -1)], 1)
+    # The carrier turns with the shaft, θ = θ0 ± ψ: its sign from two samples.
+    turn = float(_cross(ex[0], ex[1])) / (psi[1] - psi[0])
+    sign = 1.0 if turn > 0 else -1.0
+    site = _Site("-".join(PRESS_CARRIER), 0, 1, r, e, np.full(size, sign), np.zeros(size))
+    xy = np.stack([np.zeros_like(centre), centre], axis=1)
+    return _solve(s, torque, [site], xy, PRESS_CARRIER, n, np.zeros(2), objective, weight, bound)

@@ -16,7 +16,8 @@ from typing import Any
 from .. import _toml
 from .._arrays import count, finite_number, instances, positive
 from .._errors import InputError
-from ._balance import OBJECTIVES, Balance, balance
+from ..press import GearLeverPress
+from ._balance import OBJECTIVES, PRESS_CARRIER, Balance, _press_balance, balance
 from ._shaking import Shaking, shaking
 
 __all__ = [
@@ -434,7 +435,9 @@ class BalanceRequest:
 
 def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
     """Each requested linkage balanced at the machine's nominal speed
-    (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity).
+    (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity), or a press's
+    carrier (``_balance._press_balance``, its links
+    ``[["O", "planet"]]``).
 
     Parameters
     ----------
@@ -470,10 +473,14 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
     for i, req in enumerate(requests):
         res = result.mechanisms.get(req.mechanism)
         where = f"[[balance]] {i + 1}"
+        if isinstance(getattr(getattr(res, "mech", None), "press", None), GearLeverPress):
+            out[req.mechanism] = _press(res, req, where, result.nominal_rpm)
+            continue
         if getattr(res, "kinetostatics", None) is None:
             raise InputError(
                 f"{where}: mechanism = {req.mechanism!r} must be a linkage of the machine "
-                "with masses (its kinetostatics gives the shaking force)"
+                "with masses (its kinetostatics gives the shaking force) or a press with "
+                "its masses and load"
             )
         gravity = (res.mech.dynamics or {}).get("gravity")
         try:
@@ -489,3 +496,25 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
         except InputError as e:
             raise InputError(f"{where}: {e}") from None
     return out
+
+
+def _press(res: Any, req: BalanceRequest, where: str, rpm: float) -> Balance:
+    """A press's [[balance]] row: the counterweight on its carrier
+    (``_balance._press_balance``), the row's links checked."""
+    carrier = set(PRESS_CARRIER)
+    if len(req.links) != 1 or set(req.links[0]) != carrier:
+        raise InputError(
+            f"{where}: links = {[list(p) for p in req.links]!r}: a press has one link to "
+            f"counterweight, its carrier {list(PRESS_CARRIER)!r} (from the guide gear's "
+            "centre O on the main shaft to the planet's centre)"
+        )
+    try:
+        return _press_balance(
+            res,
+            rpm=rpm,
+            objective=req.objective,
+            torque_weight=req.torque_weight,
+            max_mass_radius_kg_m=req.max_mass_radius_kg_m,
+        )
+    except InputError as e:
+        raise InputError(f"{where}: mechanism = {req.mechanism!r}: {e}") from None

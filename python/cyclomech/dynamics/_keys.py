@@ -62,9 +62,10 @@ DRIVE_KEY_DOCS: tuple[KeyTable, ...] = (
         "method's. Optional; without it the main shaft turns at constant speed."
     )),
     KeyTable("balance", "[[balance]]", (
-        K("mechanism", "The linkage to balance.", NO_UNIT, TEXT, REQ,
-          "a linkage of the machine with masses", False),
-        K("links", "The links to counterweight, each by two of its joints.", NO_UNIT, ARR,
+        K("mechanism", "The linkage (or press) to balance.", NO_UNIT, TEXT, REQ,
+          "a linkage of the machine with masses, or a press with its masses and load", False),
+        K("links", "The links to counterweight, each by two of its joints (a press's "
+          'carrier: ["O", "planet"]).', NO_UNIT, ARR,
           REQ, "a non-empty array of [joint, joint] pairs, each link pivoted to the frame",
           False),
         K("objective", "What the counterweights minimise: the shaking force's RMS or peak, "
