@@ -250,6 +250,9 @@ def test_an_oscillating_follower_shakes_by_a_couple(loom: Any, tmp_path: Path) -
     # ... and the report, results.json and the CLI say so plainly.
     rows = loom.shaking.table()[1]
     assert any(r[0] == "assumed for lifter cam" and "centre of mass" in r[1] for r in rows)
+    # no zero force "at 0.0°": no force, said so; the cam stop's absence explained
+    assert rows[0][1].startswith("0: no shaking force")
+    assert any(r[0] == "left out: lifter" and r[1].startswith("a cam stop") for r in rows)
     cm.machine.write_report(loom, tmp_path, figures=False)
     g = json.loads((tmp_path / "results.json").read_text())["shaking"]
     assert "moment only" in g["assumed"]["lifter cam"]

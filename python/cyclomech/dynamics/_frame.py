@@ -134,11 +134,14 @@ class MachineShaking:
         'shaking force at 45 rpm, peak [N] (at the cycle angle [deg])'
         """
         st, n = self.stats(), self.rpm
+        # No force at all (a lever shaking by a couple only) has no angle of its peak.
+        peak = (
+            f"{st['peak_force_n']:.4g} (at {st['peak_force_deg']:.1f}°)"
+            if st["peak_force_n"] > 0.0
+            else "0: no shaking force (see what was assumed and left out below)"
+        )
         rows: list[list[Any]] = [
-            [
-                f"shaking force at {n:g} rpm, peak [N] (at the cycle angle [deg])",
-                f"{st['peak_force_n']:.4g} (at {st['peak_force_deg']:.1f}°)",
-            ],
+            [f"shaking force at {n:g} rpm, peak [N] (at the cycle angle [deg])", peak],
             ["shaking force, RMS over the cycle [N]", st["rms_force_n"]],
             [
                 f"shaking moment about {self.shaking.about_m}, peak / RMS [N·m]",

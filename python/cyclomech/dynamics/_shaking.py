@@ -477,6 +477,13 @@ def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, A
                     "an oscillating follower without inertia_kg_m2: nothing of it moves with mass"
                 )
                 continue
+        elif getattr(res.mech, "kind", "") == "cam_stop":
+            skipped[name] = (
+                "a cam stop: the impact of a lever on its stop, not the lever's motion "
+                "over the cycle (the cam that drives it shakes the frame through its "
+                "follower's mass or inertia)"
+            )
+            continue
         else:
             skipped[name] = (
                 "no inertia forces at a phase in the cyclogram (a linkage with masses, a "
