@@ -358,3 +358,14 @@ def test_a_weak_motor_names_its_torque_against_the_load(flywheel: float | None) 
         "a larger motor or a larger gear ratio",
     ):
         assert words in text, text
+
+
+def test_a_nominal_speed_above_the_limit_is_not_blamed_on_the_drive() -> None:
+    # The cyclogram does not fit at 70 rpm (limit 57.14): no optimum, no shaft torque,
+    # so no real speed. That failure is said once; the drive was warned about as if
+    # nothing loaded the main shaft (a warning, an error under filterwarnings).
+    d = knife()
+    d["machine"]["nominal_rpm"] = 70.0
+    r = cm.machine.analyze(build(d), progress=False)
+    assert r.optimum is None and r.dynamics is None
+    assert r.problem  # the cyclogram's own failure, said by the report and the CLI
