@@ -166,7 +166,9 @@ def _fourbar_balance():
     return _CACHE["b"]
 
 
-def test_the_peak_objective_finds_the_grid_minimum():
+def _slider_crank():
+    """A slider-crank (crank 0.1 m, rod 0.35 m) with 1 kg at the crank pin and 3 kg
+    on the slider, and its forces over a turn in 1° steps."""
     sc = cm.Linkage(
         {"A": (0, 0), "B": (0.1, 0), "C": (0.45, 0)},
         [("A", "B"), ("B", "C")],
@@ -177,6 +179,11 @@ def test_the_peak_objective_finds_the_grid_minimum():
     k = cm.forces.kinetostatics(
         sc, np.radians(np.arange(0.0, 360.0, 1.0)), point_masses={"B": 1.0, "C": 3.0}
     )
+    return sc, k
+
+
+def test_the_peak_objective_finds_the_grid_minimum():
+    sc, k = _slider_crank()
     b = cm.dynamics.balance(
         k, counterweights=[("A", "B")], rpm=300.0, linkage=sc, objective="peak_force"
     )
@@ -269,16 +276,7 @@ def test_the_bounded_optimum_beats_every_design_on_the_bound(objective):
     # bound of 0.12: the constrained optimum lies on the circle |w| = 0.12 (each
     # objective is convex in w, or nearly); the Rust batch over 3600 designs on
     # that circle finds none better (dense sampling, not the optimiser).
-    sc = cm.Linkage(
-        {"A": (0, 0), "B": (0.1, 0), "C": (0.45, 0)},
-        [("A", "B"), ("B", "C")],
-        ["A"],
-        ("A", "B"),
-        sliders={"C": ("ground", (1, 0))},
-    )
-    k = cm.forces.kinetostatics(
-        sc, np.radians(np.arange(0.0, 360.0, 1.0)), point_masses={"B": 1.0, "C": 3.0}
-    )
+    sc, k = _slider_crank()
     b = cm.dynamics.balance(
         k,
         counterweights=[("A", "B")],

@@ -635,6 +635,22 @@ def _weighted(form: _Form, w0: Array, weight: float, bound: float | None = None)
     return out
 
 
+def _arguments(
+    objective: Any, rpm: Any, torque_weight: Any, max_mass_radius_kg_m: Any
+) -> tuple[float, float, float | None]:
+    """The balance's arguments checked: (rpm, torque weight, bound on m·r or None)."""
+    if objective not in OBJECTIVES:
+        raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
+    n = positive("rpm", rpm, "[rpm]")
+    weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
+    bound = (
+        None
+        if max_mass_radius_kg_m is None
+        else positive("max_mass_radius_kg_m", max_mass_radius_kg_m, "[kg·m]")
+    )
+    return n, weight, bound
+
+
 def balance(
     mechanism: Any,
     *,
@@ -716,15 +732,7 @@ def balance(
     >>> round(c.mass_kg, 6), round(c.angle_deg, 3)
     (2.5, 180.0)
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
-    n = positive("rpm", rpm, "[rpm]")
-    weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
-    bound = (
-        None
-        if max_mass_radius_kg_m is None
-        else positive("max_mass_radius_kg_m", max_mass_radius_kg_m, "[kg·m]")
-    )
+    n, weight, bound = _arguments(objective, rpm, torque_weight, max_mass_radius_kg_m)
     g = np.zeros(2) if gravity is None else float_array("gravity", gravity)
     if g.shape != (2,) or not np.isfinite(g).all():
         raise InputError(f"gravity = {gravity!r} must be (gx, gy) [m/s²], finite")
@@ -877,15 +885,7 @@ def _press_balance(
         raise TypeError(
             f"mechanism must be a machine's press result; got {type(mechanism).__name__}"
         )
-    if objective not in OBJECTIVES:
-        raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
-    n = positive("rpm", rpm, "[rpm]")
-    weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
-    bound = (
-        None
-        if max_mass_radius_kg_m is None
-        else positive("max_mass_radius_kg_m", max_mass_radius_kg_m, "[kg·m]")
-    )
+    n, weight, bound = _arguments(objective, rpm, torque_weight, max_mass_radius_kg_m)
     curve, inertia = mechanism.shaft_torque(), mechanism.shaft_inertia()
     if curve is None or inertia is None:
         raise InputError(
