@@ -872,3 +872,48 @@ def dynamics_start_up(
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
 ]: ...
+
+# dynamics: the main shaft's torsion and the working members' dynamic errors.
+
+__all__ += ["TORSION_STATUS", "dynamics_torsion", "dynamics_torsion_sweep"]
+
+TORSION_STATUS: tuple[str, ...]
+
+def dynamics_torsion(
+    curves: npt.NDArray[np.float64],
+    nodes: npt.NDArray[np.float64],
+    members: npt.NDArray[np.float64],
+    speed: float,
+    kinds: npt.NDArray[np.int64],
+    params: npt.NDArray[np.float64],
+    ratio: npt.NDArray[np.float64],
+    efficiency: npt.NDArray[np.float64],
+    table_offsets: npt.NDArray[np.int64],
+    table_speed: npt.NDArray[np.float64],
+    table_torque: npt.NDArray[np.float64],
+    head_inertia: float,
+    omega_start: float,
+    *,
+    tol: float,
+    max_cycles: int,
+    accuracy: float,
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+]: ...
+def dynamics_torsion_sweep(
+    curves: npt.NDArray[np.float64],
+    nodes: npt.NDArray[np.float64],
+    members: npt.NDArray[np.float64],
+    speeds: npt.NDArray[np.float64],
+    *,
+    tol: float,
+    max_cycles: int,
+    accuracy: float,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...

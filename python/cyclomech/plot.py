@@ -7,7 +7,8 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
 * ``cyclomech.cyclogram.plot`` — :func:`plot_cyclogram`, :func:`plot_cyclogram_pair`
   (a Gantt chart over the cycle and a circular diagram);
 * ``cyclomech.dynamics.plot`` — :func:`plot_shaking` (the shaking force's
-  hodograph and the shaking moment over the cycle, before and after balancing);
+  hodograph and the shaking moment over the cycle, before and after balancing),
+  :func:`plot_torsion` (the working members' dynamic errors and the shaft's twist);
 * ``cyclomech.forces.plot`` — :func:`plot_forces` (a linkage's driving torque
   and joint loads over the crank angle);
 * ``cyclomech.linkage.plot`` — :func:`plot_linkage`, :func:`plot_analogs`,
@@ -53,7 +54,7 @@ from .cyclogram.plot import LIMITING_COLOR as LIMITING_COLOR
 from .cyclogram.plot import MECHANISM_COLORS as MECHANISM_COLORS
 from .cyclogram.plot import OTHER_ROW as OTHER_ROW
 from .cyclogram.plot import plot_cyclogram, plot_cyclogram_pair
-from .dynamics.plot import plot_shaking
+from .dynamics.plot import plot_shaking, plot_torsion
 from .forces.plot import plot_forces
 from .impact.plot import plot_min_phase, plot_rebound_vs_speed, plot_response
 from .linkage.plot import XY_COLORS as XY_COLORS
@@ -86,5 +87,6 @@ __all__ = [
     "plot_shaking",
     "plot_speed_sweep",
     "plot_svaj",
+    "plot_torsion",
     "plot_transfer",
 ]

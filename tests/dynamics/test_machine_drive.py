@@ -276,7 +276,8 @@ def test_the_loaded_start_is_reported(result: Any) -> None:
     sol = solve_ivp(rhs, (0, 60), [0.0, 0.0], events=stops, rtol=1e-9, atol=1e-12)
     assert sol.t_events[0].size == 1
     assert sol.t_events[0][0] == pytest.approx(t_said, rel=2e-3)
-    assert math.degrees(sol.y_events[0][0][0]) == pytest.approx(74.6, abs=0.2)
+    # 72.6° with the knife's friction on the shaft (74.6° without).
+    assert math.degrees(sol.y_events[0][0][0]) == pytest.approx(72.6, abs=0.2)
 
 
 def test_a_strong_motor_starts_the_knife() -> None:

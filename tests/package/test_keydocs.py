@@ -22,7 +22,7 @@ from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
 from cyclomech.dynamics._drive import DRIVE_KEYS
 from cyclomech.dynamics._frame import BALANCE_KEYS
-from cyclomech.forces._file import _LOAD_KEYS, _MASS_KEYS
+from cyclomech.forces._file import _GUIDE_KEYS, _LOAD_KEYS, _MASS_KEYS, _PIN_KEYS, FRICTION_KEYS
 from cyclomech.machine import KINDS, check_parameter
 from cyclomech.machine._model import _MACHINE_KEYS
 from cyclomech.press._kind import FORCE_KEYS
@@ -145,6 +145,9 @@ def test_kind_keys(kind: str) -> None:
         ("cam.segment", SEGMENT_KEYS | {"arc"}),
         ("linkage.mass", _MASS_KEYS),
         ("linkage.load", _LOAD_KEYS),
+        ("linkage.friction", FRICTION_KEYS),
+        ("linkage.friction.pins", _PIN_KEYS),
+        ("linkage.friction.guides", _GUIDE_KEYS),
         ("press.deformation_force", set(FORCE_KEYS)),
         ("servo.motor", MOTOR_KEYS),
         ("servo.segment", SEGMENT_KEYS - {"load_n", "load_nm"} | {"arc"}),
@@ -367,6 +370,11 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      lambda m: m.mechanisms["knife"].dynamics["masses"][("B", "C", "E")].inertia_kg_m2, 0.0),
     ("linkage", "gravity_m_per_s2", "none (no gravity)", "knife_cutter",
      ("mechanism", "knife"), lambda m: m.mechanisms["knife"].dynamics["gravity"], None),
+    ("linkage", "friction", "none (frictionless)", "knife_cutter",
+     ("mechanism", "knife"), lambda m: m.mechanisms["knife"].friction, None),
+    ("linkage.friction", "pin_viscous_nm_s_per_rad", "0", "knife_cutter",
+     ("mechanism", "knife", "friction"),
+     lambda m: m.mechanisms["knife"].friction.pins["A"].viscous, 0.0),
     ("press", "offset_m", "0", "extrusion_press_line", ("mechanism", "drive"),
      lambda m: m.mechanisms["drive"].press.offset, 0.0),
     ("press", "slider_mass_kg", "0", "extrusion_press_line", ("mechanism", "drive"),
@@ -533,6 +541,8 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("knife_cutter", ("mechanism", "knife"), "max_acceleration_m_per_s2", 0.0, 1e-9),
     ("knife_cutter", ("mechanism", "knife", "mass", 0), "mass_kg", -1e-9, 0.0),
     ("knife_cutter", ("mechanism", "knife", "lengths", 0), "length", 0.0, 0.425),
+    ("knife_cutter", ("mechanism", "knife", "friction"), "pin_mu", -1e-9, 0.0),
+    ("knife_cutter", ("mechanism", "knife", "friction"), "pin_radius_m", -1e-9, 0.0),
     ("extrusion_press_line", ("mechanism", "drive"), "k_Sp", 1.01, 0.1),
     ("extrusion_press_line", ("mechanism", "drive"), "slider_mass_kg", -1e-9, 0.0),
     ("extrusion_press_line", ("mechanism", "drive"), "rod_mass_kg", -1.0, 0.0),
@@ -584,7 +594,12 @@ def test_documented_range_is_enforced(
     }.get(path[:1])
     if table is None:
         kind = at(data(source), path[:2]).get("kind")
-        sub = {"segment": "cam.segment", "mass": "linkage.mass", "lengths": "linkage.lengths"}
+        sub = {
+            "segment": "cam.segment",
+            "mass": "linkage.mass",
+            "lengths": "linkage.lengths",
+            "friction": "linkage.friction",
+        }
         table = f"{kind}.{path[2]}" if kind == "servo" and len(path) > 2 else None
         table = table or (sub[path[2]] if len(path) > 2 else kind)
     assert key in documented(table)

@@ -184,8 +184,16 @@ class CamDesign:
         """
         extra = frozenset(instances("extra", extra, str))
         arcs = flag("arcs", arcs)
-        _toml.check_keys(table, CAM_KEYS | extra, source, where)
         at = where if source is None else f"{source}: {where}"
+        if isinstance(table, Mapping) and "friction" in table:
+            # Refused by name, not as an unknown key: whoever wrote it expects losses.
+            raise InputError(
+                f"{at}: friction is not modelled for a cam (a roller follower's rolling "
+                "friction is usually negligible; a flat-faced follower's sliding and the "
+                "follower's bearings are not modelled); drop the friction table (a linkage, "
+                'kind = "linkage", takes one)'
+            )
+        _toml.check_keys(table, CAM_KEYS | extra, source, where)
         _toml.require(table, ("follower", "segment"), at)
         kind = table["follower"]
         if not isinstance(kind, str) or kind not in _GEOMETRY:

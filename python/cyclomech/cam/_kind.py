@@ -32,7 +32,7 @@ from .._kind import (
 )
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
-from ._followers import FlatFaced
+from ._followers import FlatFaced, OscillatingRoller
 from ._keys import KEY_DOCS
 from ._loads import CRITERIA
 from ._program import Cam
@@ -651,6 +651,27 @@ class CamResult(BoundsResult):
         theta = np.arange(3600, dtype=np.float64) * (2.0 * math.pi / 3600)
         ds = self.cam.solve(theta).ds
         return d.loads.mass * ds * ds, at[0], at[1]
+
+    def working_member(self) -> tuple[Array, Array, Array, str] | None:
+        """Its working member, the follower, for the main shaft's torsion
+        (:func:`cyclomech.dynamics.torsion`): (s, s′, s″ as (1, N) rows on the 3600 cam
+        angles of :meth:`shaft_inertia`, the unit: "m", or "rad" for an oscillating
+        follower); None where :meth:`shaft_inertia` is None.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> s, ds, dds, unit = r.mechanisms["lifter cam"].working_member()
+        >>> s.shape, unit
+        ((1, 3600), 'rad')
+        """
+        if self.shaft_inertia() is None:
+            return None
+        theta = np.arange(3600, dtype=np.float64) * (2.0 * math.pi / 3600)
+        k = self.cam.solve(theta)
+        unit = "rad" if isinstance(self.mech.design.cam.follower, OscillatingRoller) else "m"
+        return k.s[None], k.ds[None], k.dds[None], unit
 
     def _shaft_phase(self) -> tuple[float, str] | None:
         """(its phase [deg]: the first bound segment starts at its operation's start

@@ -89,6 +89,7 @@ from __future__ import annotations
 
 from ._balance import OBJECTIVES, Balance, Counterweight, balance
 from ._drive import Drive, MachineDynamics, machine_dynamics
+from ._elastic import ElasticShaft, LinkSpec, MachineTorsion, machine_torsion
 from ._frame import BalanceRequest, MachineShaking, machine_balances, machine_shaking
 from ._keys import DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
@@ -105,6 +106,7 @@ from ._shaft import (
     steady_states,
 )
 from ._shaking import Shaking, shaking
+from ._torsion import ShaftNode, Torsion, TorsionSweep, WorkingMember, torsion, torsion_sweep
 
 __all__ = [
     "DRIVE_KEY_DOCS",
@@ -115,26 +117,36 @@ __all__ = [
     "ConstantTorque",
     "Counterweight",
     "Drive",
+    "ElasticShaft",
     "FlywheelSizing",
     "InductionMotor",
     "LinearMotor",
+    "LinkSpec",
     "MachineDynamics",
     "MachineShaking",
+    "MachineTorsion",
     "Motor",
     "Reduced",
+    "ShaftNode",
     "Shaking",
     "StartUp",
     "SteadyBatch",
     "SteadyState",
     "TableMotor",
+    "Torsion",
+    "TorsionSweep",
+    "WorkingMember",
     "balance",
     "machine_balances",
     "machine_dynamics",
     "machine_shaking",
+    "machine_torsion",
     "reduced",
     "shaking",
     "size_flywheel",
     "start_up",
     "steady_state",
     "steady_states",
+    "torsion",
+    "torsion_sweep",
 ]

@@ -24,6 +24,7 @@ from .. import _toml
 from .._arrays import finite_number, instance
 from .._errors import InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
+from ._elastic import ElasticShaft
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
 from ._reduced import Reduced, reduced
 from ._shaft import FlywheelSizing, SteadyState, size_flywheel, start_up, steady_state
@@ -59,6 +60,9 @@ class Drive:
         The motor, its gear and rotor.
     flywheel_kg_m2 : float or None
         The flywheel [kg·m²] (≥ 0); None: sized by simulation for the machine's δ.
+    elastic : ElasticShaft, optional
+        The main shaft's and the working members' elasticity (``[drive.shaft]``,
+        ``[drive.link.<mechanism>]``); None: a rigid machine.
 
     Raises
     ------
@@ -77,9 +81,12 @@ class Drive:
 
     motor: Motor
     flywheel_kg_m2: float | None = None
+    elastic: ElasticShaft | None = None
 
     def __post_init__(self) -> None:
         instance("motor", self.motor, Motor)
+        if self.elastic is not None:
+            instance("elastic", self.elastic, ElasticShaft)
         if self.flywheel_kg_m2 is not None:
             fw = finite_number("flywheel_kg_m2", self.flywheel_kg_m2, "[kg·m²]", low=0.0)
             object.__setattr__(self, "flywheel_kg_m2", fw)
@@ -113,6 +120,12 @@ class Drive:
         """
         where = f"{source}: [drive]"
         _toml.must_be_table(table, source, "[drive]")
+        elastic = None
+        if "shaft" in table:
+            elastic = ElasticShaft.from_tables(table["shaft"], table.get("link", {}), source)
+        elif "link" in table:
+            raise InputError(f"{where}: [drive.link.…] needs [drive.shaft] (the take-off points)")
+        table = {k: v for k, v in table.items() if k not in ("shaft", "link")}
         _toml.check_keys(table, DRIVE_KEYS, source, "[drive]")
         kind = table.get("motor")
         if not isinstance(kind, str) or kind not in _MOTOR_KEYS:
@@ -141,7 +154,7 @@ class Drive:
                 flywheel = float(flywheel)
         except InputError as e:
             raise InputError(f"{where}: {_file_names(str(e))}") from None
-        return cls(motor, flywheel)
+        return cls(motor, flywheel, elastic)
 
 
 def _motor(kind: str, t: Mapping[str, Any], gear: dict[str, Any]) -> Motor:
@@ -231,7 +244,7 @@ class MachineDynamics:
     ...                        progress=False)
     >>> d = r.dynamics
     >>> round(d.steady.mean_rpm, 2), round(d.steady.speed_fluctuation, 4), d.failures()
-    (45.19, 0.05, [])
+    (45.1, 0.05, [])
     """
 
     drive: Drive
@@ -254,7 +267,7 @@ class MachineDynamics:
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
         ...                        progress=False)
         >>> round(r.dynamics.flywheel_kg_m2, 1)     # sized: the file gives none
-        1658.1
+        1748.6
         """
         if self.drive.flywheel_kg_m2 is not None:
             return self.drive.flywheel_kg_m2
@@ -552,7 +565,7 @@ def machine_dynamics(
     ...                        progress=False)
     >>> d = machine_dynamics(r, r.machine.drive, 0.05, r.limit.rpm)
     >>> round(float(d.sizing.flywheel_kg_m2), 1), round(float(d.sizing.energy_method_kg_m2), 1)
-    (1658.1, 1793.9)
+    (1748.6, 1881.2)
     """
     instance("drive", drive, Drive)
     delta = finite_number("speed_fluctuation", speed_fluctuation, "(δ)", low=0.0)

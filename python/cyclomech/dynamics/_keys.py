@@ -4,7 +4,7 @@ format reference (:attr:`cyclomech.Machine.key_docs`; ``tests/package/test_keydo
 holds them equal to the reader's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in DRIVE_KEY_DOCS]
-['drive', 'balance']
+['drive', 'drive.shaft', 'drive.link', 'balance']
 """
 
 from __future__ import annotations
@@ -60,6 +60,43 @@ DRIVE_KEY_DOCS: tuple[KeyTable, ...] = (
         "inertia, not the constant speed of the kinetostatics), the real coefficient of "
         "speed fluctuation and the flywheel sized by simulation beside the energy "
         "method's. Optional; without it the main shaft turns at constant speed."
+    )),
+    KeyTable("drive.shaft", "[drive.shaft]", (
+        K("take_off", "Every mechanism on the main shaft, in order from the motor's end.",
+          NO_UNIT, ARR, REQ, "the names of the mechanisms that load the main shaft, each once",
+          None),
+        K("stiffness_nm_per_rad", "Each shaft segment's torsional stiffness, the one before "
+          "each take-off point (G·I_p/L for a plain shaft).", "N·m/rad", ARR, REQ,
+          "one finite number > 0 per take_off point", None),
+        K("hub_inertia_kg_m2", "The constant inertia at each take-off point: the crank, cam "
+          "disc, gear and shaft section there.", "kg·m²", ARR, REQ,
+          "one finite number > 0 per take_off point", None),
+        K("damping_ratio", "The segments' damping ratio (each segment's damping "
+          "2ζ·√(c·J̄), J̄ its node's mean inertia).", NO_UNIT, NUM, "0.02", "finite, ≥ 0",
+          None),
+    ), intro=(
+        "The main shaft as torsional springs between the motor's end (the flywheel, "
+        "rotor and gears) and the mechanisms' take-off points: with it the report gives "
+        "each node's twist and each working member's dynamic error over the cycle under "
+        "the motor, and the speed at which an error reaches its bound. Needs [drive]; "
+        "optional."
+    )),
+    KeyTable("drive.link", "[drive.link.<mechanism>]", (
+        K("frequency_hz", "The natural frequency of the working member on its link or "
+          "transmission (the member as one mass on it).", "Hz", NUM, "inf (a rigid link)",
+          "> 0", None),
+        K("damping_ratio", "The link's damping ratio.", NO_UNIT, NUM, "0.05", "finite, ≥ 0",
+          None),
+        K("max_error_m", "The largest dynamic error allowed of a member that travels "
+          "(a slider, a follower, a point: its distance from the rigid machine's).", "m", NUM,
+          "none", "finite, > 0; not with max_error_deg", None),
+        K("max_error_deg", "The largest dynamic error allowed of a member that turns (an "
+          "oscillating follower).", "deg", NUM, "none", "finite, > 0; not with max_error_m",
+          None),
+    ), intro=(
+        "A working member's elastic link, one table per mechanism of [drive.shaft]'s "
+        "take_off (a mechanism without one has a rigid link): its dynamic error is the "
+        "shaft's lag and the link's vibration together. Optional."
     )),
     KeyTable("balance", "[[balance]]", (
         K("mechanism", "The linkage (or press) to balance.", NO_UNIT, TEXT, REQ,

@@ -4,6 +4,7 @@ matplotlib is imported only when drawing."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -14,7 +15,7 @@ from .._plotting import angle_axis, pyplot
 from ._balance import Balance
 from ._shaking import Shaking
 
-__all__ = ["plot_shaking"]
+__all__ = ["plot_shaking", "plot_torsion"]
 
 
 def plot_shaking(
@@ -147,4 +148,71 @@ def plot_shaking(
         polar.legend(fontsize=8, loc="upper left", bbox_to_anchor=(-0.25, 0.02))
         right.legend(fontsize=8)
     fig.suptitle(title or f"shaking of the frame at {n:g} rpm")
+    return fig
+
+
+def plot_torsion(t: Any, *, title: str | None = None) -> Any:
+    """The working members' dynamic errors (top) and the shaft's twist at each
+    take-off (bottom) over the cycle, of :func:`cyclomech.dynamics.torsion`.
+
+    Parameters
+    ----------
+    t : Torsion
+        The steady state.
+    title : str, optional
+        The figure's title (default: the head's mean speed).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes; errors in mm (a member that travels) or degrees (one that turns).
+
+    Raises
+    ------
+    InputError
+        If ``t`` is not a :class:`~cyclomech.dynamics.Torsion`.
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> phi = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+    >>> m = cm.dynamics.WorkingMember(0.01 * np.sin(phi), 0.01 * np.cos(phi), -0.01 * np.sin(phi))
+    >>> node = cm.dynamics.ShaftNode("crank", np.zeros(360), np.zeros(360),
+    ...                              np.full(360, 20.0), 0.02, 2e4, 2.0, m)
+    >>> fig = plot_torsion(cm.dynamics.torsion([node], rpm=300.0))
+    >>> [a.get_ylabel() for a in fig.axes]
+    ['dynamic error  [mm or deg]', 'twist behind the motor end  [deg]']
+    """
+    from ._torsion import Torsion
+
+    if not isinstance(t, Torsion):
+        raise InputError(
+            f"plot_torsion needs a Torsion (cyclomech.dynamics.torsion); got {type(t).__name__}"
+        )
+    plt = pyplot()
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8.0, 5.6), sharex=True, layout="constrained")
+    x = np.append(t.theta_deg, 360.0)
+    for name, e in t.error.items():
+        unit = t.units[name]
+        scale = 1e3 if unit == "m" else math.degrees(1.0)
+        label = f"{name} [{'mm' if unit == 'm' else 'deg'}]"
+        if e.shape[0] == 2:  # a point: its distance from the rigid machine's
+            v = np.hypot(e[0], e[1])
+            label = f"{name}, |e| [mm]"
+        else:
+            v = e[0]
+        top.plot(x, scale * np.append(v, v[0]), gid=f"error {name}", label=label)
+    top.axhline(0.0, color="0.6", lw=0.8)
+    top.set_ylabel("dynamic error  [mm or deg]")
+    top.grid(True, lw=0.4, alpha=0.5)
+    if t.error:
+        top.legend(fontsize=8)
+    for k, name in enumerate(t.names):
+        tw = np.degrees(t.twist_rad[k])
+        bottom.plot(x, np.append(tw, tw[0]), gid=f"twist {name}", label=name)
+    bottom.set_ylabel("twist behind the motor end  [deg]")
+    angle_axis(bottom, 360.0, "main-shaft angle at the motor end  [deg]")
+    bottom.grid(True, lw=0.4, alpha=0.5)
+    bottom.legend(fontsize=8)
+    fig.suptitle(title or f"elastic main shaft at {t.mean_rpm:.2f} rpm (under the motor)")
     return fig

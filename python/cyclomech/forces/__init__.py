@@ -42,7 +42,7 @@ The code lives in private modules beside this door: ``_model`` (the loads and
 
 from __future__ import annotations
 
-from ._file import DYNAMICS_KEYS, dynamics_from_table
+from ._file import DYNAMICS_KEYS, FRICTION_KEYS, dynamics_from_table, friction_from_table
 from ._friction import (
     Friction,
     FrictionForces,
@@ -55,6 +55,7 @@ from ._result import NEAR_DEAD_CENTRE, Kinetostatics
 
 __all__ = [
     "DYNAMICS_KEYS",
+    "FRICTION_KEYS",
     "NEAR_DEAD_CENTRE",
     "Friction",
     "FrictionForces",
@@ -66,6 +67,7 @@ __all__ = [
     "PointLoad",
     "check_dynamics",
     "dynamics_from_table",
+    "friction_from_table",
     "kinetostatics",
     "kinetostatics_with_friction",
 ]

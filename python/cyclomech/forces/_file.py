@@ -4,23 +4,47 @@ table (units in the key names)."""
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
-from .. import _toml
-from .._arrays import instance
-from .._errors import InputError
+from .. import _keyrules, _toml
+from .._arrays import finite_number, instance
+from .._errors import CyclomechWarning, InputError
 from ..linkage import DYNAMICS_KEYS as LINKAGE_DYNAMICS_KEYS
+from ._friction import Friction, GuideFriction, PinFriction, _joints
 from ._model import LinkMass, LinkTorque, PointLoad
 
 if TYPE_CHECKING:
     from ..linkage import Linkage
 
-__all__ = ["DYNAMICS_KEYS", "dynamics_from_table"]
+__all__ = ["DYNAMICS_KEYS", "FRICTION_KEYS", "dynamics_from_table", "friction_from_table"]
 
 #: The keys of a linkage's table that describe its forces: the linkage's table
 #: format owns them (:data:`cyclomech.linkage.DYNAMICS_KEYS`, the same set).
 DYNAMICS_KEYS = LINKAGE_DYNAMICS_KEYS
+#: Those :func:`dynamics_from_table` reads (friction is :func:`friction_from_table`'s).
+_FORCE_KEYS = DYNAMICS_KEYS - {"friction"}
+
+#: The keys of a linkage's ``[mechanism.<name>.friction]`` table: the defaults of
+#: every joint and every guide, and per joint / per slider overrides.
+FRICTION_KEYS = frozenset(
+    {
+        "pin_radius_m",
+        "pin_mu",
+        "pin_viscous_nm_s_per_rad",
+        "guide_mu",
+        "guide_viscous_n_s_per_m",
+        "pins",
+        "guides",
+    }
+)
+#: The keys of one joint's table in ``pins`` and of one slider's in ``guides``.
+_PIN_KEYS = frozenset({"radius_m", "mu", "viscous_nm_s_per_rad"})
+_GUIDE_KEYS = frozenset({"mu", "viscous_n_s_per_m"})
+#: A friction coefficient above this is taken but warned about: lubricated metal
+#: pairs are 0.05–0.2, dry steel on steel up to about 0.5.
+MU_PLAUSIBLE = 0.5
 
 _MASS_KEYS = {"link", "mass_kg", "com_m", "com_point", "com_offset_m", "inertia_kg_m2"}
 _LOAD_KEYS = {"point", "force_n", "link", "torque_nm", "angle_deg"}
@@ -64,7 +88,8 @@ def dynamics_from_table(
     -------
     dict of str to object or None
         The keywords ``masses``, ``point_masses``, ``loads``, ``gravity``, or None
-        when the table has none of :data:`DYNAMICS_KEYS`.
+        when the table has none of :data:`DYNAMICS_KEYS` but ``friction`` (which
+        :func:`friction_from_table` reads).
 
     Raises
     ------
@@ -82,7 +107,7 @@ def dynamics_from_table(
     >>> d["point_masses"], d["loads"][0].force_n.tolist()
     ({'C': 2.0}, [-100.0, 0.0])
     """
-    if not DYNAMICS_KEYS & set(instance("table", table, Mapping)):
+    if not _FORCE_KEYS & set(instance("table", table, Mapping)):
         return None
     if linkage is not None:
         from ..linkage import Linkage  # here: the linkage package imports this one
@@ -213,3 +238,199 @@ def _check_names(
             )
         if isinstance(load, LinkTorque):
             link_ok(load.link, f"{where} load[{i}]")
+
+
+def _coefficient(spec: Mapping[str, Any], key: str, at: str, unit: str) -> float:
+    """The number ``spec[key]``, finite and ≥ 0, the message naming ``at`` and the key;
+    a friction coefficient above :data:`MU_PLAUSIBLE` warns, naming the likely slip."""
+    v = spec[key]
+    if not _toml.is_number(v):
+        raise InputError(f"{at}: {key} = {v!r} must be a number ≥ 0 {unit}".rstrip())
+    what = "a friction coefficient (lubricated bronze on steel 0.05–0.1)" if "mu" in key else ""
+    try:
+        x = finite_number(f"{at}: {key}", v, unit, low=0.0)
+    except InputError as e:
+        raise InputError(f"{str(e).rstrip()}{'; ' + what if what else ''}") from None
+    if key.endswith("mu") and x > MU_PLAUSIBLE:
+        warnings.warn(
+            f"{at}: {key} = {x:g} is above {MU_PLAUSIBLE:g}: lubricated metal pairs are "
+            "0.05–0.2 and dry steel on steel at most about 0.5 — did you give a percentage "
+            f"({key} = {x / 100:g}) or the friction angle's degrees?",
+            CyclomechWarning,
+            stacklevel=4,
+        )
+    return x
+
+
+def _names_table(spec: Mapping[str, Any], key: str, at: str) -> Mapping[str, Any]:
+    """The sub-table ``spec[key]`` ({name = {…}}), each value a table."""
+    t = spec.get(key, {})
+    if not isinstance(t, Mapping) or not all(isinstance(v, Mapping) for v in t.values()):
+        one = "{radius_m = 0.02, mu = 0.05}" if key == "pins" else "{mu = 0.15}"
+        raise InputError(
+            f"{at}: {key} = {t!r} must be a table of tables {{name = {one}}}, one per "
+            f"{'joint' if key == 'pins' else 'slider'}"
+        )
+    return t
+
+
+def friction_from_table(
+    table: Mapping[str, Any], source: str, where: str, linkage: Linkage, dynamics: Mapping[str, Any]
+) -> Friction | None:
+    """The :class:`~cyclomech.forces.Friction` of a linkage's ``friction`` table.
+
+    ``[<table>.friction]``: defaults for every joint — ``pin_radius_m`` [m] and
+    ``pin_mu`` (given together), ``pin_viscous_nm_s_per_rad`` [N·m·s/rad] — and
+    for every slider's guide — ``guide_mu``, ``guide_viscous_n_s_per_m`` [N·s/m] —
+    and overrides ``pins`` = {joint = {radius_m, mu, viscous_nm_s_per_rad}} and
+    ``guides`` = {slider's point = {mu, viscous_n_s_per_m}}, a key an override
+    lacks taken from the defaults. The defaults apply to every joint where
+    friction is modelled (two members: two links, a link and the frame, a link
+    and a slider's block); a joint of more members is left frictionless with a
+    warning naming it. One line covers the common case:
+    ``friction = {pin_radius_m = 0.015, pin_mu = 0.08}``.
+
+    Parameters
+    ----------
+    table : mapping of str to object
+        The linkage's table of the machine file.
+    source : str
+        The file's name, for the messages.
+    where : str
+        The table's name (e.g. ``"[mechanism.knife]"``), for the messages.
+    linkage : Linkage
+        The linkage: the joints and sliders named are checked against it.
+    dynamics : mapping of str to object
+        Its forces' keywords (:func:`dynamics_from_table`'s).
+
+    Returns
+    -------
+    Friction or None
+        The friction of its joints and guides; None without a ``friction`` table.
+
+    Raises
+    ------
+    InputError
+        If a key is unknown, a value is not a finite number ≥ 0, ``pin_mu`` comes
+        without ``pin_radius_m`` (or the reverse) for some joint, a joint or slider
+        named is not one of the linkage's (the message lists those it has) or its
+        friction is not modelled; the message names ``source``, the table, the key
+        and the value.
+
+    Warns
+    -----
+    CyclomechWarning
+        For a friction coefficient above 0.5 (a percentage?), and for joints of
+        more than two members the defaults cannot reach.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+    >>> f = friction_from_table({"friction": {"pin_radius_m": 0.01, "pin_mu": 0.1}}, "f.toml",
+    ...                         "[mechanism.crank]", crank, {})
+    >>> f.pins["O"]
+    PinFriction(radius_m=0.01, mu=0.1, viscous=0.0)
+    """
+    if "friction" not in table:
+        return None
+    at = f"{source}: {where.rstrip(']')}.friction]"
+    spec = table["friction"]
+    _toml.check_keys(spec, FRICTION_KEYS, None, at)
+    _keyrules.check(spec, (), at)
+    modelled, other, sliders = _joints(linkage, dynamics)
+    default = {
+        k: _coefficient(spec, f"pin_{k}", at, unit)
+        for k, unit in (("radius_m", "[m]"), ("mu", ""), ("viscous_nm_s_per_rad", "[N·m·s/rad]"))
+        if f"pin_{k}" in spec
+    }
+    g_default = {
+        k: _coefficient(spec, f"guide_{k}", at, unit)
+        for k, unit in (("mu", ""), ("viscous_n_s_per_m", "[N·s/m]"))
+        if f"guide_{k}" in spec
+    }
+    pins = _pins(spec, at, modelled, other, default)
+    guides = _guides(spec, at, sliders, g_default)
+    return Friction(pins=pins, guides=guides)
+
+
+def _pins(
+    spec: Mapping[str, Any],
+    at: str,
+    modelled: list[str],
+    other: list[str],
+    default: Mapping[str, float],
+) -> dict[str, PinFriction]:
+    """The joints' friction of a friction table ``spec``: the defaults for every
+    joint of ``modelled`` (when given), each override of ``pins`` on top."""
+    own = _names_table(spec, "pins", at)
+    for p in own:
+        if p in other:
+            raise InputError(
+                f"{at}: pins.{p}: friction is not modelled at joint {p!r}, which joins more "
+                "than two members; it is modelled at a joint of two (two links, a link and "
+                f"the frame, a link and a slider's block): {', '.join(modelled)}"
+            )
+        if p not in modelled:
+            raise InputError(
+                f"{at}: pins.{p}: {p!r} is not a joint of the linkage; its joints are "
+                f"{', '.join(modelled + other)}"
+            )
+    pins: dict[str, PinFriction] = {}
+    for p in modelled if default else list(own):
+        row = own.get(p, {})
+        here = f"{at} pins.{p}" if p in own else at
+        _toml.check_keys(row, _PIN_KEYS, None, f"{at} pins.{p}")
+        _keyrules.check(row, (), f"{at} pins.{p}")
+        got = dict(default)
+        for k, unit in (("radius_m", "[m]"), ("mu", ""), ("viscous_nm_s_per_rad", "[N·m·s/rad]")):
+            if k in row:
+                got[k] = _coefficient(row, k, f"{at} pins.{p}", unit)
+        if ("radius_m" in got) != ("mu" in got):
+            have, lack = ("radius_m", "mu") if "radius_m" in got else ("mu", "radius_m")
+            pre = "pin_" if p not in own else ""
+            raise InputError(
+                f"{here}: {pre}{have} is given without {pre}{lack} for joint {p!r}: Coulomb "
+                f"friction in a pin takes both (the torque μ·r·|R|); give {pre}{lack} "
+                "(≥ 0, μ ≈ 0.05–0.1 and r = the pin's radius in m)"
+            )
+        pins[p] = PinFriction(
+            got.get("radius_m", 0.0), got.get("mu", 0.0), got.get("viscous_nm_s_per_rad", 0.0)
+        )
+    if other and default:
+        warnings.warn(
+            f"{at}: the pin defaults leave joint(s) {', '.join(other)} frictionless: each "
+            "joins more than two members, where friction is not modelled",
+            CyclomechWarning,
+            stacklevel=3,
+        )
+    return pins
+
+
+def _guides(
+    spec: Mapping[str, Any], at: str, sliders: list[str], g_default: Mapping[str, float]
+) -> dict[str, GuideFriction]:
+    """The guides' friction of a friction table ``spec``: the defaults for every
+    slider of ``sliders`` (when given), each override of ``guides`` on top."""
+    g_own = _names_table(spec, "guides", at)
+    for p in g_own:
+        if p not in sliders:
+            raise InputError(
+                f"{at}: guides.{p}: {p!r} is not a slider's point; the sliders are "
+                f"{', '.join(sliders) if sliders else 'none (the linkage has no slider)'}"
+            )
+    if g_default and not sliders:
+        raise InputError(
+            f"{at}: {', '.join(f'guide_{k}' for k in g_default)} is given but the linkage "
+            "has no slider; drop it, or give sliders"
+        )
+    guides: dict[str, GuideFriction] = {}
+    for p in sliders if g_default else list(g_own):
+        row = g_own.get(p, {})
+        _toml.check_keys(row, _GUIDE_KEYS, None, f"{at} guides.{p}")
+        got = dict(g_default)
+        for k, unit in (("mu", ""), ("viscous_n_s_per_m", "[N·s/m]")):
+            if k in row:
+                got[k] = _coefficient(row, k, f"{at} guides.{p}", unit)
+        guides[p] = GuideFriction(got.get("mu", 0.0), got.get("viscous_n_s_per_m", 0.0))
+    return guides

@@ -548,6 +548,36 @@ def kinetostatics_with_friction(
     return out
 
 
+def _joints(
+    linkage: Linkage, dynamics: Mapping[str, Any]
+) -> tuple[list[str], list[str], list[str]]:
+    """The names a friction of ``linkage`` (with the forces' keywords ``dynamics``)
+    may use: its joints where friction is modelled (two members: two links, a link
+    and the frame, a link and a slider's block), its joints of more members, and
+    its sliders' points, each in the linkage's order (the rule of :func:`_elements`)."""
+    model, names, _b, guide_names, _l, _m = _build(
+        linkage,
+        dynamics.get("masses"),
+        dynamics.get("point_masses"),
+        dynamics.get("loads", ()),
+        dynamics.get("gravity"),
+    )
+    joints = sorted({p for p, _ in model.pairs()})
+    slider_of = [name.split(" ", 1)[0] for name in guide_names]
+    modelled: list[str] = []
+    other: list[str] = []
+    for j in joints:
+        sides = sum(1 for q, _ in model.pairs() if q == j)
+        guides = slider_of.count(names[j])
+        if (sides, guides) in ((2, 0), (1, 1)):
+            modelled.append(names[j])
+        elif sides + guides > 2:
+            other.append(names[j])
+        # else a point of one member only (a link's free end): no joint at all
+    sliders = [p for p in names if p in slider_of]
+    return modelled, other, sliders
+
+
 def _elements(
     friction: Friction, model: Any, names: list[str], guide_names: list[str]
 ) -> tuple[tuple[Any, Any, Any], tuple[Any, Any, Any], list[str]]:

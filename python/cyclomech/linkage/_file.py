@@ -20,7 +20,9 @@ _LINKAGE_KEYS = {"name", "points", "links", "ground", "driver", "output", "lengt
 #: loads, gravity), which :func:`cyclomech.forces.dynamics_from_table` reads. The
 #: linkage's table format owns them, so the forces package imports the linkage
 #: package and not the reverse (:data:`cyclomech.forces.DYNAMICS_KEYS` is this set).
-DYNAMICS_KEYS = frozenset({"mass", "point_mass_kg", "load", "gravity_m_per_s2"})
+#: ``friction`` (its joints' and guides', :func:`cyclomech.forces.friction_from_table`)
+#: is one of them; the others are :func:`cyclomech.forces.dynamics_from_table`'s.
+DYNAMICS_KEYS = frozenset({"mass", "point_mass_kg", "load", "gravity_m_per_s2", "friction"})
 #: Keys of a machine file's linkage table that a plain linkage file does not take:
 #: its forces (cyclomech.forces) and where its crank sits in the cycle.
 _MACHINE_KEYS = DYNAMICS_KEYS | {"phase"}

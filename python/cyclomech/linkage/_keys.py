@@ -67,6 +67,9 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("gravity_m_per_s2", "The acceleration of gravity [gx, gy].", "m/s²", ARR,
           "none (no gravity)",
           "two finite numbers; needs mass or point_mass_kg", True),
+        K("friction", "The friction of its joints and guides (a [….friction] table).", NO_UNIT,
+          TAB, "none (frictionless)",
+          "a friction table; needs mass, point_mass_kg or load", True),
     )),
     KeyTable("linkage.lengths", "[[mechanism.<name>.lengths]] of a linkage", (
         K("joints", "The two joints the length joins.", NO_UNIT, ARR, REQ,
@@ -119,6 +122,58 @@ KEY_DOCS: tuple[KeyTable, ...] = (
     ), intro=(
         "One external load: ``point`` with ``force_n``, or ``link`` with ``torque_nm``, "
         "optionally as a table over the crank angle ``angle_deg``."
+    )),
+    KeyTable("linkage.friction", "[mechanism.<name>.friction] of a linkage", (
+        K("pin_radius_m", "Every joint's pin (journal) radius r (a friction torque μ·r·R, R "
+          "the reaction).", "m", NUM,
+          "none (no Coulomb friction in the pins)", "finite, ≥ 0; with pin_mu", None),
+        K("pin_mu", "Every joint's Coulomb friction coefficient μ.", NO_UNIT, NUM,
+          "none (no Coulomb friction in the pins)",
+          "finite, ≥ 0; with pin_radius_m; above 0.5 warns", None),
+        K("pin_viscous_nm_s_per_rad", "Every joint's viscous coefficient c (a torque "
+          "c·ω_rel).", "N·m·s/rad", NUM, "0", NONNEG, None),
+        K("guide_mu", "Every slider's guide's Coulomb friction coefficient μ (a force "
+          "μ·N, N the normal force).", NO_UNIT, NUM, "none (no Coulomb friction in the guides)",
+          "finite, ≥ 0; above 0.5 warns; needs a slider", None),
+        K("guide_viscous_n_s_per_m", "Every slider's guide's viscous coefficient c (a force "
+          "c·v_rel).", "N·s/m", NUM, "0", "finite, ≥ 0; needs a slider", None),
+        K("pins", "Per-joint overrides {joint = {radius_m, mu, viscous_nm_s_per_rad}}.",
+          NO_UNIT, TAB, "none (the defaults for every joint)",
+          "joints of two members of the linkage; a key left out takes the default", None),
+        K("guides", "Per-slider overrides {point = {mu, viscous_n_s_per_m}}.", NO_UNIT, TAB,
+          "none (the defaults for every guide)",
+          "sliders' points of the linkage; a key left out takes the default", None),
+    ), intro=(
+        "The friction of a linkage's joints and slider guides (issue 34): Coulomb "
+        "friction μ·r·R in each pin (R the joint's reaction) and μ·N on each guide (N the "
+        "normal force), solved with the reactions, "
+        "and a viscous term. The ``pin_*`` and ``guide_*`` keys apply to every joint of two "
+        "members (two links, a link and the frame, a link and a slider's block) and every "
+        "guide; ``pins`` and ``guides`` override them one by one. One line is the common "
+        "case: ``friction = {pin_radius_m = 0.015, pin_mu = 0.08}``. Coulomb friction is "
+        "taken at the nominal speed's velocities and reactions, and added to the torque the "
+        "main shaft, its flywheel and its ``[drive]`` see. A press and a cam refuse a "
+        "friction table: friction is not modelled there."
+    )),
+    KeyTable("linkage.friction.pins", "a joint in pins of a linkage's friction", (
+        K("radius_m", "The pin's (journal's) radius r.", "m", NUM, "pin_radius_m",
+          "finite, ≥ 0; with mu", None),
+        K("mu", "The Coulomb friction coefficient μ.", NO_UNIT, NUM, "pin_mu",
+          "finite, ≥ 0; with radius_m; above 0.5 warns", None),
+        K("viscous_nm_s_per_rad", "The viscous coefficient c (a torque c·ω_rel).",
+          "N·m·s/rad", NUM, "pin_viscous_nm_s_per_rad", NONNEG, None),
+    ), intro=(
+        "One joint's friction in ``pins``, keyed by the joint's name; a key left out "
+        "takes the table's ``pin_*`` default."
+    )),
+    KeyTable("linkage.friction.guides", "a slider in guides of a linkage's friction", (
+        K("mu", "The guide's Coulomb friction coefficient μ.", NO_UNIT, NUM, "guide_mu",
+          "finite, ≥ 0; above 0.5 warns", None),
+        K("viscous_n_s_per_m", "The viscous coefficient c (a force c·v_rel).", "N·s/m", NUM,
+          "guide_viscous_n_s_per_m", NONNEG, None),
+    ), intro=(
+        "One slider's guide friction in ``guides``, keyed by the sliding point; a key "
+        "left out takes the table's ``guide_*`` default (a point with two guides: both)."
     )),
     Phase.key_docs,
 )

@@ -52,6 +52,10 @@ class LinkageMechanism(Unbounded):
     phase : Phase, optional
         Where the crank sits in the cycle: its absolute angle [deg] at a cyclogram
         event (default ``Phase()``: angle 0° at cycle angle 0).
+    friction : Friction, optional
+        The friction of its joints and guides (:class:`cyclomech.forces.Friction`,
+        the ``friction`` table), solved at the nominal speed
+        (:meth:`friction_forces`); needs ``dynamics``; None (default) without.
 
     Examples
     --------
@@ -83,10 +87,15 @@ class LinkageMechanism(Unbounded):
     #: gravity) when the table gives any, and where the crank sits in the cycle.
     dynamics: dict[str, Any] | None = None
     phase: Phase = field(default_factory=Phase)
+    #: The friction of its joints and guides (the ``friction`` table), None without.
+    friction: forces.Friction | None = None
     _solved: dict[int, tuple[LinkageSolution, tuple[float, float]]] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
     _forces: dict[int, forces.Kinetostatics] = field(
+        default_factory=dict, init=False, repr=False, compare=False
+    )
+    _friction: dict[tuple[int, float], forces.FrictionForces] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
 
@@ -98,6 +107,13 @@ class LinkageMechanism(Unbounded):
         if self.max_acceleration is not None:
             a = positive("max_acceleration", self.max_acceleration, "[m/s²]")
             object.__setattr__(self, "max_acceleration", a)
+        if self.friction is not None:
+            instance("friction", self.friction, forces.Friction)
+            if self.dynamics is None:
+                raise InputError(
+                    "friction: the linkage has no masses or loads (dynamics): no forces for "
+                    "its friction to act with; give masses or loads, or drop the friction"
+                )
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> LinkageMechanism:
@@ -155,13 +171,25 @@ class LinkageMechanism(Unbounded):
                 f"{ctx.where(name)}: phase places the linkage's torque on the main shaft, but "
                 "it has no masses or loads ([[…mass]], point_mass_kg, [[…load]]): nothing to place"
             )
-        mech = cls(name, lk, lk.output or lk.names[-1], limit, ctx.angle_points, dynamics, phase)
-        mech.peaks()  # must assemble over the whole turn
+        if "friction" in table and dynamics is None:
+            raise InputError(
+                f"{ctx.where(name)}: friction acts with the joints' forces, but the linkage "
+                "has no masses or loads ([[…mass]], point_mass_kg, [[…load]]): give them, or "
+                "drop the friction table"
+            )
         if dynamics is not None:
             try:  # names of links and points, checked against the linkage now
                 forces.check_dynamics(lk, **dynamics)
             except InputError as e:
                 raise InputError(f"{ctx.where(name)}: {e}") from None
+        friction = (
+            None
+            if dynamics is None
+            else forces.friction_from_table(table, ctx.source, where, lk, dynamics)
+        )
+        out = lk.output or lk.names[-1]
+        mech = cls(name, lk, out, limit, ctx.angle_points, dynamics, phase, friction)
+        mech.peaks()  # must assemble over the whole turn
         return mech
 
     def kinetostatics(self, samples: int = 3600) -> forces.Kinetostatics | None:
@@ -218,6 +246,48 @@ class LinkageMechanism(Unbounded):
                 )
             self._forces[samples] = k
         return self._forces[samples]
+
+    def friction_forces(self, rpm: float, samples: int = 3600) -> forces.FrictionForces | None:
+        """Its forces with friction at the steady crank speed ``rpm``, on the grid of
+        :meth:`kinetostatics`; computed once per speed and grid.
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm] (> 0).
+        samples : int, default 3600
+            The number of uniform crank angles from the drawn one.
+
+        Returns
+        -------
+        FrictionForces or None
+            :func:`cyclomech.forces.kinetostatics_with_friction` over the turn; None
+            without a ``friction`` table.
+
+        Warns
+        -----
+        CyclomechWarning
+            If a pose is self-locking (its forces are NaN).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> knife = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"]
+        >>> f = knife.friction_forces(45.0, 360)
+        >>> f.torque.shape, 0.8 < float(f.cycle_efficiency()[0]) < 1.0
+        ((1, 360), True)
+        """
+        n = positive("rpm", rpm, "[rpm]")
+        k = self.kinetostatics(samples)
+        if self.friction is None or k is None:
+            return None
+        key = (k.angles.size, n)
+        if key not in self._friction:
+            assert self.dynamics is not None
+            self._friction[key] = forces.kinetostatics_with_friction(
+                self.linkage, k.solution, self.friction, n, **self.dynamics
+            )
+        return self._friction[key]
 
     def solve(self, points: int | None = None) -> LinkageSolution:
         """The mechanism over one crank turn from its drawn angle; solved once per grid.
@@ -374,7 +444,24 @@ class LinkageMechanism(Unbounded):
         """
         instance("ctx", ctx, Context)
         vmax, amax = self.peaks()
-        return LinkageResult(self, ctx, self.solve(), vmax, amax, self.kinetostatics())
+        k = self.kinetostatics()
+        f = None if k is None else self.friction_forces(ctx.nominal_rpm)
+        return LinkageResult(self, ctx, self.solve(), vmax, amax, k, f)
+
+
+def _runs(f: forces.FrictionForces) -> str:
+    """The crank angles [deg] where ``f`` self-locks, as runs of neighbouring
+    angles ("43.3–70.1, 110.0"), at most six runs."""
+    locked = f.self_locking[0]
+    deg = np.degrees(f.angles)
+    idx = np.flatnonzero(locked)
+    # A run breaks where the next locked angle is not the next sample.
+    cuts = np.flatnonzero(np.diff(idx) > 1) + 1
+    runs = [
+        f"{deg[r[0]]:.1f}" if r.size == 1 else f"{deg[r[0]]:.1f}–{deg[r[-1]]:.1f}"
+        for r in np.split(idx, cuts)
+    ]
+    return ", ".join(runs[:6]) + (f" and {len(runs) - 6} more runs" if len(runs) > 6 else "")
 
 
 @dataclass(frozen=True)
@@ -390,6 +477,9 @@ class LinkageResult(PlainResult):
     #: Its forces over the turn (3600 angles from the drawn one), None without
     #: masses or loads.
     kinetostatics: forces.Kinetostatics | None = None
+    #: Its forces with friction at the nominal speed on the same angles, None
+    #: without a ``friction`` table.
+    friction: forces.FrictionForces | None = None
 
     def shaft_torque(self) -> tuple[Array, Array, float, str | None] | None:
         """Its driving torque for the machine's main shaft: (ω² part [N·m·s²],
@@ -397,12 +487,107 @@ class LinkageResult(PlainResult):
         [deg] where the crank is at its drawn angle, from its ``phase``; the event
         the phase follows, None for a crank fixed at cycle angle 0); None without
         masses or loads, or when the phase follows an event and there is no
-        optimum."""
+        optimum.
+
+        With friction, the static part carries the torque friction adds at the
+        nominal speed (the torque with friction less the one without), so the
+        main shaft, its flywheel and its drive see the losses. Coulomb friction
+        is not linear in ω² (it goes with |R|), so this is the nominal speed's
+        friction at every speed the shaft's statistics are read at; a pose that
+        self-locks (a failure, :meth:`failures`) leaves the torque frictionless.
+        """
         k, at = self.kinetostatics, self._shaft_phase()
         if k is None or at is None:
             return None
         t = k.shaft_torque()
-        return t.per_omega2, t.static, at[0], at[1]
+        return t.per_omega2, t.static + self.friction_torque(), at[0], at[1]
+
+    def friction_torque(self) -> Array:
+        """The torque friction adds on the crank at the nominal speed [N·m]: the
+        driving torque with friction less the one without, on the angles of
+        :attr:`kinetostatics` (zeros without friction or where a pose
+        self-locks).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> t = r.friction_torque()
+        >>> t.shape, bool(t.mean() > 0)
+        ((3600,), True)
+        """
+        k, f = self.kinetostatics, self.friction
+        if k is None:
+            return np.zeros(0)
+        if f is None or not f.ok.all():
+            return np.zeros(k.angles.size)
+        out: Array = f.torque[0] - k.torque(self.ctx.nominal_rpm)
+        return out
+
+    def failures(self) -> list[str]:
+        """What fails at the nominal speed: poses where friction self-locks the
+        linkage (no finite driving torque), by crank angle; empty otherwise.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> r.failures()
+        []
+        """
+        f = self.friction
+        if f is None or not f.self_locking.any():
+            return []
+        return [
+            f"friction self-locks the linkage at crank angles {_runs(f)} degrees: no "
+            "finite driving "
+            "torque moves it there; lower the friction coefficients or pin radii, or change "
+            "the dimensions (the pressure angles)"
+        ]
+
+    def efficiency(self) -> dict[str, Any] | None:
+        """Its friction over one turn at the nominal speed, None without friction:
+        ``cycle_efficiency`` (output work / input work; None where a pose
+        self-locks or the motor puts no work in), ``mean_friction_power_w``,
+        ``mean_input_power_w`` (with friction), ``peak_torque_nm`` and
+        ``mean_torque_nm`` with friction and ``peak_torque_nm_without`` (the
+        frictionless peak) [N·m], and ``self_locking_crank_deg``.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> e = r.efficiency()
+        >>> 0.8 < e["cycle_efficiency"] < 1.0, e["mean_friction_power_w"] > 0
+        (True, True)
+        """
+        f, k = self.friction, self.kinetostatics
+        if f is None or k is None:
+            return None
+        n = self.ctx.nominal_rpm
+        locked = np.degrees(f.angles[f.self_locking[0]])
+        eta = float(f.cycle_efficiency()[0])
+
+        def finite(v: Any) -> float | None:
+            x = float(v)
+            return x if np.isfinite(x) else None
+
+        return {
+            "nominal_rpm": n,
+            "cycle_efficiency": finite(eta),
+            "mean_friction_power_w": finite(np.mean(f.friction_power[0])),
+            "mean_input_power_w": finite(np.mean(f.input_power[0])),
+            "mean_torque_nm": finite(np.mean(f.torque[0])),
+            "peak_torque_nm": finite(np.max(f.torque[0])),
+            "peak_torque_nm_without": float(np.max(k.torque(n))),
+            "friction_power_by_element_w": {
+                e: finite(np.mean(f.losses[0, :, i])) for i, e in enumerate(f.elements)
+            },
+            "self_locking_crank_deg": [float(v) for v in locked],
+        }
 
     def shaft_inertia(self) -> tuple[Array, float, str | None] | None:
         """Its reduced moment of inertia about the crank, for the machine's main
@@ -427,6 +612,30 @@ class LinkageResult(PlainResult):
             return None
         k.shaft_torque()  # the same checks: a uniform grid, finite everywhere
         return np.array(k.torque_parts[1]), at[0], at[1]
+
+    def working_member(self) -> tuple[Array, Array, Array, str] | None:
+        """Its working member, the output point, for the main shaft's torsion
+        (:func:`cyclomech.dynamics.torsion`): (x and y, their first and second
+        derivatives in the crank angle as (2, N) rows on the grid of
+        :meth:`shaft_inertia`, the unit "m"); None where that is None.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> xy, d1, d2, unit = r.working_member()
+        >>> xy.shape, unit
+        ((2, 3600), 'm')
+        """
+        k = self.kinetostatics
+        if k is None or self.shaft_inertia() is None:
+            return None
+        sol = k.solution
+        i = sol.index(self.mech.output)
+        assert sol.vel is not None and sol.acc is not None  # the forces solve with analogs
+        rows = [np.ascontiguousarray(a[:, i, :].T) for a in (sol.xy, sol.vel, sol.acc)]
+        return rows[0], rows[1], rows[2], "m"
 
     def _shaft_phase(self) -> tuple[float, str | None] | None:
         """(the cycle angle [deg] where the crank is at its drawn angle, the event
@@ -459,9 +668,12 @@ class LinkageResult(PlainResult):
         return header, cols
 
     def json(self) -> dict[str, dict[str, Any]]:
-        """Its ``mechanisms`` entry."""
+        """Its ``mechanisms`` entry, and with friction its ``friction`` entry
+        (:meth:`efficiency`)."""
         w = RAD_PER_S_PER_RPM * self.ctx.nominal_rpm
+        eff = self.efficiency()
         return {
+            **({} if eff is None else {"friction": eff}),
             "mechanisms": {
                 "kind": "linkage",
                 "output": self.mech.output,
@@ -471,7 +683,7 @@ class LinkageResult(PlainResult):
                 "max_acceleration_m_s2": self.max_acceleration_analog * w * w,
                 "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
                 **self._forces_json(),
-            }
+            },
         }
 
     def _forces_json(self) -> dict[str, Any]:
@@ -517,7 +729,36 @@ class LinkageResult(PlainResult):
                 if "peak_torque_nm" in info
                 else []
             ),
+            *self._friction_rows(),
         ]
+
+    def _friction_rows(self) -> list[list[Any]]:
+        """Its report table's rows on friction (none without)."""
+        e, n = self.efficiency(), self.ctx.nominal_rpm
+        if e is None:
+            return []
+        eta = e["cycle_efficiency"]
+        rows: list[list[Any]] = [
+            [
+                f"efficiency over the turn at {n:g} rpm (work out / work in)",
+                "—" if eta is None else f"{eta:.4f}",
+            ],
+            [f"mean power lost to friction at {n:g} rpm [W]", e["mean_friction_power_w"]],
+            [
+                f"driving torque with friction at {n:g} rpm: peak / mean [N·m]",
+                f"{e['peak_torque_nm']:.4g} / {e['mean_torque_nm']:.4g}"
+                if e["peak_torque_nm"] is not None
+                else "— (self-locking)",
+            ],
+        ]
+        if e["self_locking_crank_deg"]:
+            rows.append(
+                [
+                    "self-locking at crank [deg]",
+                    ", ".join(f"{v:.1f}" for v in e["self_locking_crank_deg"][:6]),
+                ]
+            )
+        return rows
 
     def figures(self, save: Save) -> None:
         """The mechanism with its output's path, and the output's analogs."""

@@ -206,6 +206,14 @@ class Machine:
         if drive is not None and not isinstance(drive, Drive):
             raise InputError(f"drive must be a cyclomech.dynamics.Drive or None; got {drive!r}")
         self.drive = drive
+        for name in () if drive is None or drive.elastic is None else drive.elastic.take_off:
+            if name not in self.mechanisms:
+                near = difflib.get_close_matches(name, self.mechanisms, 1)
+                hint = f" (did you mean {near[0]!r}?)" if near else ""
+                raise InputError(
+                    f"{source}: [drive.shaft]: take_off names {name!r}, not a mechanism of the "
+                    f"machine{hint}; its mechanisms: {', '.join(self.mechanisms)}"
+                )
         self.balance = tuple(instances("balance", balance, BalanceRequest))
         for b in self.balance:
             if b.mechanism not in self.mechanisms:

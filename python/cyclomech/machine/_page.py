@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ._efficiency import efficiency_table, machine_efficiency
 from ._model import SCHEMA
 from ._result import MachineResult
 
@@ -90,9 +91,23 @@ def page(
         parts.append("<h2>Main shaft</h2>")
         header, rows = r.shaft.table()
         parts.append(_table(header, rows))
+        eff = machine_efficiency(r)
+        if eff is not None:
+            parts.append("<h3>Friction and efficiency</h3>")
+            parts.append(
+                f"<p>At {r.nominal_rpm:g} rpm; Coulomb friction at the nominal speed's "
+                "velocities and reactions, its torque added to the main shaft's (so the "
+                "flywheel and the motor below carry it).</p>"
+            )
+            header, rows = efficiency_table(eff)
+            parts.append(_table(header, rows))
         if r.dynamics is not None:
             parts.append("<h3>Under its motor</h3>")
             header, rows = r.dynamics.table()
+            parts.append(_table(header, rows))
+        if r.torsion is not None:
+            parts.append("<h3>Elastic shaft and links: the dynamic errors</h3>")
+            header, rows = r.torsion.table()
             parts.append(_table(header, rows))
         parts += _images(figs, "shaft")
     if r.shaking is not None:

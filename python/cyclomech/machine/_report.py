@@ -15,7 +15,9 @@ lays them out is :mod:`cyclomech.machine._page`.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
+import math
 import time
 import warnings
 from collections.abc import Callable
@@ -32,9 +34,10 @@ from .._kind import Context
 from .._progress import progress as progress_bar
 from .._units import DEG_PER_S_PER_RPM
 from ..cyclogram import Optimum
-from ..dynamics import machine_dynamics, machine_shaking
+from ..dynamics import machine_dynamics, machine_shaking, machine_torsion
 from ..shaft import main_shaft
 from . import _page
+from ._efficiency import machine_efficiency
 from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
 from ._result import MachineResult
@@ -132,6 +135,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
     _drive_and_frame(r)
+    _fold_error_limits(r)
     if r.above_speed_limit:
         warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
     if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
@@ -155,6 +159,10 @@ def _drive_and_frame(r: MachineResult) -> None:
         t = time.perf_counter()
         r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, r.limit.rpm)
         r.seconds["main shaft's real speed"] = time.perf_counter() - t
+        if m.drive.elastic is not None:
+            t = time.perf_counter()
+            r.torsion = machine_torsion(r, m.drive.elastic, r.dynamics.steady, m.drive.motor)
+            r.seconds["elastic shaft's dynamic errors"] = time.perf_counter() - t
     elif m.drive is not None and r.optimum is not None:
         # Without an optimum (the cyclogram does not fit at the nominal speed, a
         # failure said already) nothing is phased on the shaft: not a drive's fault.
@@ -163,6 +171,50 @@ def _drive_and_frame(r: MachineResult) -> None:
             "loads): no real speed and no flywheel to size",
             CyclomechWarning,
             stacklevel=3,
+        )
+
+
+def _fold_error_limits(r: MachineResult) -> None:
+    """The dynamic errors' speed limits into the machine's: a working member whose
+    error on the elastic shaft and link (``[drive.shaft]``) reaches its bound at a
+    speed below the machine's limit lowers it, as a mechanism's own limit does
+    (``by`` names it, ``mechanisms_rpm`` holds it as "<name> (dynamic error)"), and
+    the speed sweep's productivity is 0 above it. The errors are computed with the
+    mechanisms at their phases in the nominal optimum (their relative phases on the
+    shaft; the twist of one take-off does not depend on its own phase)."""
+    if r.torsion is None:
+        return
+    lim = r.limit
+    rpm, by, reason = lim.rpm, lim.by, lim.reason
+    extra, why = dict(lim.mechanisms_rpm), dict(lim.mechanisms_reason)
+    for name, v in r.torsion.limits_rpm.items():
+        if not math.isfinite(v):
+            continue
+        key = f"{name} (dynamic error)"
+        bound = r.torsion.bounds()[name]
+        unit = r.torsion.nominal_units()[name]
+        shown = f"{bound * 1e3:g} mm" if unit == "m" else f"{math.degrees(bound):g}°"
+        extra[key] = v
+        why[key] = (
+            f"its dynamic error on the elastic shaft and link reaches max_error = {shown} "
+            "([drive.link])"
+        )
+        if v < rpm:
+            rpm, by, reason = v, key, why[key]
+    if rpm == lim.rpm and extra == lim.mechanisms_rpm:
+        return
+    r.limit = dataclasses.replace(
+        lim, rpm=rpm, by=by, reason=reason, mechanisms_rpm=extra, mechanisms_reason=why
+    )
+    for attr in ("sweep", "sweep_linear"):
+        sw = getattr(r, attr)
+        keep = sw.rpm <= rpm
+        setattr(
+            r,
+            attr,
+            dataclasses.replace(
+                sw, productivity_per_min=np.where(keep, sw.productivity_per_min, 0.0)
+            ),
         )
 
 
@@ -247,8 +299,13 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["shaft"] = r.shaft.json()
     if r.dynamics is not None:
         out["dynamics"] = r.dynamics.json()
+    eff = machine_efficiency(r)
+    if eff is not None:  # only with friction: the other machines' files stay as they were
+        out["efficiency"] = {k: v for k, v in eff.items() if k != "mechanisms"}
     if r.shaking is not None:
         out["shaking"] = r.shaking.json()
+    if r.torsion is not None:
+        out["torsion"] = r.torsion.json()
     sw = r.sweep
     out["speed_sweep"] = {
         "speed_rpm": sw.rpm,
@@ -406,6 +463,18 @@ def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None])
             "torque: the machine's equation of motion with its reduced inertia (the "
             "mechanisms' masses at their phases, the flywheel, the rotor through the gear) "
             "in its periodic steady state.",
+        )
+    fig = None if r.torsion is None else r.torsion.figure()
+    if fig is not None:
+        save(
+            fig,
+            "main_shaft_torsion",
+            "shaft",
+            "The working members' dynamic errors (where each is minus where the rigid "
+            "machine puts it at the same motor angle) and the main shaft's twist at each "
+            "take-off over the cycle, under the motor at its steady state: the shaft as "
+            "torsional springs between the take-off points, each working member on its "
+            "elastic link ([drive.shaft], [drive.link.…]).",
         )
 
 

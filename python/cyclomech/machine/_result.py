@@ -17,7 +17,7 @@ from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
 
 if TYPE_CHECKING:
-    from ..dynamics import MachineDynamics, MachineShaking
+    from ..dynamics import MachineDynamics, MachineShaking, MachineTorsion
     from ..shaft import MainShaft
 
 __all__ = ["MachineResult"]
@@ -71,6 +71,9 @@ class MachineResult:
         The shaking force and moment the moving parts put on the frame at the
         nominal speed, when a mechanism gives inertia forces at a phase; default
         None.
+    torsion : cyclomech.dynamics.MachineTorsion, optional
+        The working members' dynamic errors on the elastic main shaft and links of
+        the file's ``[drive.shaft]``, when it has one; default None.
 
     Examples
     --------
@@ -96,6 +99,7 @@ class MachineResult:
     shaft: MainShaft | None = None
     dynamics: MachineDynamics | None = None
     shaking: MachineShaking | None = None
+    torsion: MachineTorsion | None = None
 
     @property
     def failures(self) -> list[str]:
@@ -120,6 +124,8 @@ class MachineResult:
             out += [f"{k}: {text}" for text in (own() if own is not None else [])]
         if self.dynamics is not None:
             out += self.dynamics.failures()
+        if self.torsion is not None:
+            out += self.torsion.failures()
         return out
 
     @property

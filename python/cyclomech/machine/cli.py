@@ -37,6 +37,7 @@ from .._cli import (
     quiet_interrupt,
 )
 from .._errors import InputError
+from ._efficiency import efficiency_line, machine_efficiency
 
 __all__ = ["add_commands", "design_range", "run_command", "sweep_command"]
 
@@ -87,8 +88,13 @@ def _print_shaft_and_frame(r: Any) -> None:
             f"{float(s.power_w):.4g} W; flywheel {float(s.flywheel_kg_m2):.4g} kg·m² for "
             f"δ = {r.shaft.speed_fluctuation:g} (ΔE = {float(s.energy_fluctuation_j):.4g} J)"
         )
+        eff = machine_efficiency(r)
+        if eff is not None:
+            print(efficiency_line(eff))
         if r.dynamics is not None:
             print(r.dynamics.line())
+        if r.torsion is not None:
+            print(r.torsion.line())
         fl = r.shaft.flattening
         if fl is not None:
             print(

@@ -189,6 +189,14 @@ class PressMechanism(Unbounded):
         """
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = ctx.where(name)
+        if "friction" in table:
+            # Refused by name, not ignored: a designer who wrote it expects losses.
+            raise InputError(
+                f"{ctx.where(name)}: friction is not modelled for a press: its crank torque "
+                "is the gear-lever press's closed form, not a linkage's kinetostatics, so "
+                "there are no joint reactions for friction to act with; drop the friction "
+                'table, or model the drive as kind = "linkage" (which takes one)'
+            )
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         if ("k_Sp" in table) == ("working_stroke_m" in table):
             raise InputError(
@@ -498,6 +506,27 @@ class PressResult(PlainResult):
         m = self.mech
         j = crank_inertia(m.press, t.alpha, slider_mass=m.slider_mass, rod_mass=m.rod_mass)
         return j, m.phase.shift_deg(o.times, 0.0), m.phase.event
+
+    def working_member(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, str] | None:
+        """Its working member, the slider, for the main shaft's torsion
+        (:func:`cyclomech.dynamics.torsion`): (its height, and its first and second
+        derivatives in ψ, as (1, N) rows on the angles ψ of :meth:`shaft_inertia`,
+        the unit "m"); None where that is None. (α = −ψ: dS/dψ = −dS/dα.)
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> r = cm.machine.analyze(m, progress=False)
+        >>> s, ds, dds, unit = r.mechanisms["drive"].working_member()
+        >>> s.shape, unit
+        ((1, 3600), 'm')
+        """
+        t = self.torque
+        if t is None or self.shaft_inertia() is None:
+            return None
+        k = self.mech.press.solve(t.alpha)
+        return k.slider[:, 1][None].copy(), -k.ds[None], k.dds[None].copy(), "m"
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""

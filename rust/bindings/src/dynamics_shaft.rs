@@ -36,7 +36,7 @@ impl LayoutError for DriveError {
 
 /// The motors of the arrays described in the module's docs.
 #[allow(clippy::too_many_arguments)]
-fn motors(
+pub(crate) fn motors(
     py: Python<'_>,
     kinds: &PyReadonlyArray1<'_, i64>,
     params: &PyReadonlyArray2<'_, f64>,

@@ -12,6 +12,7 @@ mod convert;
 mod cyclogram;
 mod dynamics_shaft;
 mod dynamics_shaking;
+mod dynamics_torsion;
 mod errors;
 mod forces;
 mod impact;
@@ -36,6 +37,8 @@ mod _core {
     use super::dynamics_shaft::{dynamics_start_up, dynamics_steady, dynamics_steady_batch};
     #[pymodule_export]
     use super::dynamics_shaking::{shaking_batch, shaking_channels};
+    #[pymodule_export]
+    use super::dynamics_torsion::{dynamics_torsion, dynamics_torsion_sweep};
     #[pymodule_export]
     use super::forces::ForceModel;
     #[pymodule_export]
@@ -88,6 +91,7 @@ mod _core {
             "DYNAMICS_STEADY_STATUS",
             PyTuple::new(m.py(), STEADY_STATUS)?,
         )?;
+        m.add("TORSION_STATUS", PyTuple::new(m.py(), TORSION_STATUS)?)?;
         m.add("SHAKING_STATS", PyTuple::new(m.py(), SHAKING_STATS)?)?;
         m.add("SERVO_CHECKS", PyTuple::new(m.py(), SERVO_CHECKS)?)?;
         m.add("SERVO_DUTY", PyTuple::new(m.py(), SERVO_DUTY)?)?;
@@ -100,7 +104,7 @@ mod _core {
     use super::*;
     use cyclomech_core::cam::{CRITERIA as CAM_CRITERIA, LOAD_COLUMNS};
     use cyclomech_core::dynamics::shaking::STATS as SHAKING_STATS;
-    use cyclomech_core::dynamics::{STEADY_COLUMNS, STEADY_STATUS};
+    use cyclomech_core::dynamics::{STEADY_COLUMNS, STEADY_STATUS, TORSION_STATUS};
     use cyclomech_core::motion::{NAMES as LAW_NAMES, SEGMENT_LAWS};
     use cyclomech_core::press::Status;
     use cyclomech_core::servo::{

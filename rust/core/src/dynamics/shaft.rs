@@ -55,7 +55,7 @@ pub enum DriveError {
 
 crate::input::wraps_invalid_input!(DriveError);
 
-fn bad(field: &'static str, value: f64, why: impl Into<String>) -> DriveError {
+pub(crate) fn bad(field: &'static str, value: f64, why: impl Into<String>) -> DriveError {
     InvalidInput::bad_value(field, value, why.into()).into()
 }
 
@@ -215,7 +215,7 @@ impl Motor {
     /// (shaft torque, its derivative in the shaft speed, motor torque) at the
     /// shaft speed `w` [rad/s].
     #[inline]
-    fn on_shaft(&self, w: f64) -> (f64, f64, f64) {
+    pub(crate) fn on_shaft(&self, w: f64) -> (f64, f64, f64) {
         let (m, dm) = self.characteristic.torque(self.ratio * w);
         let g = if m >= 0.0 {
             self.ratio * self.efficiency
@@ -712,14 +712,14 @@ pub struct StartUp {
 
 /// Periodic cubic Hermite interpolation of a sampled curve, slopes by fourth-order
 /// central differences.
-struct Spline {
+pub(crate) struct Spline {
     v: Vec<f64>,
     d: Vec<f64>,
     h: f64,
 }
 
 impl Spline {
-    fn new(v: &[f64]) -> Self {
+    pub(crate) fn new(v: &[f64]) -> Self {
         let n = v.len();
         let h = TAU / n as f64;
         let d = (0..n)
@@ -736,7 +736,7 @@ impl Spline {
     }
 
     #[inline]
-    fn at(&self, phi: f64) -> f64 {
+    pub(crate) fn at(&self, phi: f64) -> f64 {
         let n = self.v.len();
         let s = (phi / self.h).rem_euclid(n as f64);
         let k = (s.floor() as usize).min(n - 1);

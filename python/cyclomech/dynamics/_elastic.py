@@ -1,0 +1,603 @@
+"""The machine's elastic main shaft and links (``[drive.shaft]`` and
+``[drive.link.<mechanism>]`` of a machine file) and the dynamic errors they give
+(:class:`MachineTorsion`, issue 34 item 3): `_elastic` part of
+:mod:`cyclomech.dynamics` (its door).
+
+:meth:`ElasticShaft.from_tables` reads the tables; :func:`machine_torsion` puts
+each mechanism's reduced inertia and load torque (phased by the optimised
+cyclogram, as :func:`~cyclomech.dynamics.reduced` does) and its working member on
+its take-off node, solves the chain under the drive's motor with the steady
+state's flywheel at the nominal speed (:func:`~cyclomech.dynamics.torsion`), and
+sweeps the machine's speed range with the head at constant speed
+(:func:`~cyclomech.dynamics.torsion_sweep`) for the speed at which each bounded
+member's dynamic error reaches its bound.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import _toml
+from .._errors import InputError, SolverError
+from .._units import RAD_PER_S_PER_RPM
+from ..shaft import ShaftTorque
+from ._torsion import ShaftNode, Torsion, TorsionSweep, WorkingMember, torsion, torsion_sweep
+
+__all__ = ["ElasticShaft", "LinkSpec", "MachineTorsion", "machine_torsion"]
+
+Array = npt.NDArray[np.float64]
+
+#: The chain's fastest rate times the time step in a machine's run: RK4's relative
+#: error a cycle is ~(0.1)⁴/120 ≈ 1e-6 at it, well under the errors' own meaning,
+#: at half the steps of :func:`torsion`'s default.
+_ACCURACY = 0.1
+
+#: The keys of ``[drive.shaft]`` and of each ``[drive.link.<mechanism>]``.
+SHAFT_KEYS = frozenset({"take_off", "stiffness_nm_per_rad", "hub_inertia_kg_m2", "damping_ratio"})
+LINK_KEYS = frozenset({"frequency_hz", "damping_ratio", "max_error_m", "max_error_deg"})
+
+
+@dataclass(frozen=True)
+class LinkSpec:
+    """A working member's elastic link: natural frequency [Hz] (inf: rigid), damping
+    ratio, and the largest dynamic error allowed (in metres, or degrees for a member
+    that turns; None: no bound). Each parameter is kept as the attribute of the same
+    name.
+
+    Parameters
+    ----------
+    frequency_hz : float, default inf
+        > 0.
+    damping_ratio : float, default 0.05
+        ≥ 0.
+    max_error_m, max_error_deg : float, optional
+        > 0; at most one.
+
+    Examples
+    --------
+    >>> LinkSpec(frequency_hz=60.0, max_error_m=5e-4).max_error_m
+    0.0005
+    """
+
+    frequency_hz: float = math.inf
+    damping_ratio: float = 0.05
+    max_error_m: float | None = None
+    max_error_deg: float | None = None
+
+
+@dataclass(frozen=True)
+class ElasticShaft:
+    """The main shaft's elasticity: its take-off points in order from the motor's
+    end, each segment's stiffness [N·m/rad], each hub's inertia [kg·m²], one damping
+    ratio for the segments (d_k = 2ζ·√(c_k·J̄_k), J̄_k the node's mean inertia), and
+    the working members' links by mechanism. Each parameter is kept as the
+    attribute of the same name.
+
+    Parameters
+    ----------
+    take_off : tuple of str
+        Every mechanism on the main shaft, in order from the motor's end.
+    stiffness_nm_per_rad, hub_inertia_kg_m2 : tuple of float
+        One per take-off point (> 0).
+    damping_ratio : float, default 0.02
+        ≥ 0 (steel shafts: 0.01–0.05).
+    links : dict of str to LinkSpec
+        The elastic links (mechanisms not named have rigid ones).
+
+    Examples
+    --------
+    >>> e = ElasticShaft.from_tables({"take_off": ["knife"], "stiffness_nm_per_rad": [2e4],
+    ...                               "hub_inertia_kg_m2": [0.5]}, {}, "m.toml")
+    >>> e.take_off, e.damping_ratio
+    (('knife',), 0.02)
+    """
+
+    take_off: tuple[str, ...]
+    stiffness_nm_per_rad: tuple[float, ...]
+    hub_inertia_kg_m2: tuple[float, ...]
+    damping_ratio: float = 0.02
+    links: dict[str, LinkSpec] = field(default_factory=dict)
+
+    @classmethod
+    def from_tables(cls, shaft: Any, links: Any, source: str) -> ElasticShaft:
+        """The elastic shaft of ``[drive.shaft]`` and the ``[drive.link.<name>]`` tables.
+
+        Parameters
+        ----------
+        shaft : Mapping
+            ``[drive.shaft]`` as read.
+        links : Mapping
+            ``[drive.link]`` as read: a table per mechanism.
+        source : str
+            The file's name, for messages.
+
+        Returns
+        -------
+        ElasticShaft
+
+        Raises
+        ------
+        InputError
+            Naming the file, the table and the key: an unknown key, a missing one,
+            arrays of other lengths than ``take_off``, a value out of range.
+
+        Examples
+        --------
+        >>> ElasticShaft.from_tables({"take_off": ["a"], "stiffness_nm_per_rad": [-1.0],
+        ...                           "hub_inertia_kg_m2": [0.1]}, {}, "m.toml")
+        Traceback (most recent call last):
+        cyclomech._errors.InputError: m.toml: [drive.shaft]: stiffness_nm_per_rad[0] = -1.0 must ...
+        """
+        where = f"{source}: [drive.shaft]"
+        _toml.must_be_table(shaft, source, "[drive.shaft]")
+        _toml.check_keys(shaft, SHAFT_KEYS, source, "[drive.shaft]")
+        for k in ("take_off", "stiffness_nm_per_rad", "hub_inertia_kg_m2"):
+            if k not in shaft:
+                raise InputError(f"{where}: {k} is missing (one per take-off point)")
+        names = shaft["take_off"]
+        if not (isinstance(names, list) and names and all(isinstance(x, str) for x in names)):
+            raise InputError(
+                f"{where}: take_off = {names!r} must be a non-empty array of mechanism names, "
+                "in order from the motor's end"
+            )
+        if len(set(names)) != len(names):
+            raise InputError(f"{where}: take_off = {names!r} names a mechanism twice")
+        arrays = {}
+        for k, unit in (("stiffness_nm_per_rad", "[N·m/rad]"), ("hub_inertia_kg_m2", "[kg·m²]")):
+            v = shaft[k]
+            if not (isinstance(v, list) and len(v) == len(names)):
+                raise InputError(
+                    f"{where}: {k} = {v!r} must be an array of {len(names)} numbers, one per "
+                    "take_off point"
+                )
+            for i, x in enumerate(v):
+                if not (_toml.is_number(x) and math.isfinite(x) and x > 0):
+                    raise InputError(
+                        f"{where}: {k}[{i}] = {x!r} must be a finite number > 0 {unit}"
+                    )
+            arrays[k] = tuple(float(x) for x in v)
+        zeta = shaft.get("damping_ratio", 0.02)
+        if not (_toml.is_number(zeta) and math.isfinite(zeta) and zeta >= 0):
+            raise InputError(f"{where}: damping_ratio = {zeta!r} must be a finite number ≥ 0")
+        _toml.must_be_table(links, source, "[drive.link]")
+        specs = {name: _link(name, t, source) for name, t in links.items()}
+        for name in specs:
+            if name not in names:
+                raise InputError(
+                    f"{source}: [drive.link.{name}]: {name!r} is not a take_off point of "
+                    f"[drive.shaft] ({', '.join(names)})"
+                )
+        return cls(
+            tuple(names),
+            arrays["stiffness_nm_per_rad"],
+            arrays["hub_inertia_kg_m2"],
+            float(zeta),
+            specs,
+        )
+
+
+def _link(name: str, t: Any, source: str) -> LinkSpec:
+    """One ``[drive.link.<name>]`` table, checked."""
+    where = f"{source}: [drive.link.{name}]"
+    _toml.must_be_table(t, source, f"[drive.link.{name}]")
+    _toml.check_keys(t, LINK_KEYS, source, f"[drive.link.{name}]")
+    for k, v in t.items():
+        if not (_toml.is_number(v) and (v > 0 or (k == "damping_ratio" and v == 0))):
+            raise InputError(
+                f"{where}: {k} = {v!r} must be a number > 0"
+                + (" (or 0)" if k == "damping_ratio" else "")
+            )
+        if k != "frequency_hz" and not math.isfinite(v):
+            raise InputError(f"{where}: {k} = {v!r} must be finite")
+    if "max_error_m" in t and "max_error_deg" in t:
+        raise InputError(f"{where}: give max_error_m or max_error_deg, not both")
+    return LinkSpec(
+        float(t.get("frequency_hz", math.inf)),
+        float(t.get("damping_ratio", 0.05)),
+        None if "max_error_m" not in t else float(t["max_error_m"]),
+        None if "max_error_deg" not in t else float(t["max_error_deg"]),
+    )
+
+
+def _phased(rows: Array, phase_deg: float) -> Array:
+    """Each row of a mechanism's own-grid curve at the main shaft's angles (the same
+    Rust shift as the torque's)."""
+    z = np.zeros((1, rows.shape[1]))
+    return np.vstack([ShaftTorque.from_curves(r[None], z, [phase_deg]).per_omega2 for r in rows])
+
+
+def _bound(spec: LinkSpec, unit: str, name: str, source: str) -> float | None:
+    """The member's bound in its own unit, or an error for a unit it has not."""
+    if spec.max_error_m is not None:
+        if unit != "m":
+            raise InputError(
+                f"{source}: [drive.link.{name}]: max_error_m bounds a member that travels; "
+                f"{name!r}'s turns: give max_error_deg"
+            )
+        return spec.max_error_m
+    if spec.max_error_deg is not None:
+        if unit != "rad":
+            raise InputError(
+                f"{source}: [drive.link.{name}]: max_error_deg bounds a member that turns; "
+                f"{name!r}'s travels: give max_error_m"
+            )
+        return math.radians(spec.max_error_deg)
+    return None
+
+
+def _nodes(result: Any, elastic: ElasticShaft, source: str) -> list[ShaftNode]:
+    """The chain's nodes of an analysed machine."""
+    shaft = result.shaft
+    on = list(shaft.parts)
+    missing = [k for k in on if k not in elastic.take_off]
+    extra = [k for k in elastic.take_off if k not in on]
+    if missing or extra:
+        raise InputError(
+            f"{source}: [drive.shaft]: take_off = {list(elastic.take_off)} must list every "
+            f"mechanism on the main shaft ({', '.join(on)}) and no other"
+            + (f"; missing {', '.join(missing)}" if missing else "")
+            + (f"; not on the shaft: {', '.join(extra)}" if extra else "")
+        )
+    nodes = []
+    for k, name in enumerate(elastic.take_off):
+        mech = result.mechanisms[name]
+        part = shaft.parts[name]
+        phase = shaft.phases_deg[name]
+        got = mech.shaft_inertia()
+        j = np.zeros(part.static.size) if got is None else _phased(got[0][None], phase)[0]
+        hub, c = elastic.hub_inertia_kg_m2[k], elastic.stiffness_nm_per_rad[k]
+        damping = 2.0 * elastic.damping_ratio * math.sqrt(c * (hub + float(j.mean())))
+        member = None
+        wm = getattr(mech, "working_member", None)
+        w = None if wm is None else wm()
+        if w is not None:
+            spec = elastic.links.get(name, LinkSpec())
+            pos, d1, d2 = (_phased(a, phase) for a in w[:3])
+            member = WorkingMember(
+                pos,
+                d1,
+                d2,
+                w[3],
+                spec.frequency_hz,
+                spec.damping_ratio,
+                _bound(spec, w[3], name, source),
+            )
+        elif name in elastic.links:
+            raise InputError(
+                f"{source}: [drive.link.{name}]: {name!r} has no working member to put on a link"
+            )
+        nodes.append(
+            ShaftNode(name, j, 2.0 * part.per_omega2, part.static, hub, c, damping, member)
+        )
+    return nodes
+
+
+@dataclass(frozen=True)
+class MachineTorsion:
+    """The dynamic errors of an analysed machine on its elastic shaft and links.
+
+    Built by :func:`machine_torsion`; each parameter is kept as the attribute of
+    the same name.
+
+    Parameters
+    ----------
+    nodes : tuple of ShaftNode
+        The chain.
+    nominal : Torsion or None
+        The steady state under the drive's motor with the steady state's flywheel
+        (None when the motor has no steady state or the chain none: ``problem``).
+    sweep : TorsionSweep
+        The peak errors and twists at the machine's speeds, the head at constant
+        speed.
+    limits_rpm : dict of str to float
+        Each bounded member's speed at which its error reaches its bound
+        (:meth:`TorsionSweep.limit_rpm`; inf: not in the speed range).
+    nominal_rpm : float
+        The machine's nominal speed [rpm].
+    problem : str
+        Why there is no ``nominal`` ("" when there is).
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+    ...                        progress=False)
+    >>> r.torsion.failures()
+    []
+    """
+
+    nodes: tuple[ShaftNode, ...]
+    nominal: Torsion | None
+    sweep: TorsionSweep
+    limits_rpm: dict[str, float]
+    nominal_rpm: float
+    problem: str = ""
+
+    def bounds(self) -> dict[str, float]:
+        """Each bounded member's largest dynamic error allowed [its unit].
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.bounds()
+        {'knife': 0.001}
+        """
+        return {
+            x.name: x.member.max_error
+            for x in self.nodes
+            if x.member is not None and x.member.max_error is not None
+        }
+
+    def nominal_units(self) -> dict[str, str]:
+        """Each working member's unit ("m" or "rad"), by mechanism.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.nominal_units()
+        {'knife': 'm'}
+        """
+        return {x.name: x.member.unit for x in self.nodes if x.member is not None}
+
+    def failures(self) -> list[str]:
+        """What fails: a chain with no steady state, a member's error at the nominal
+        speed under the motor above its bound, or above it at every speed of the
+        range. (An error-limited speed below the nominal speed lowers the machine's
+        speed limit, whose check says so: :attr:`MachineResult.above_speed_limit`.)
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.failures()
+        []
+        """
+        out = []
+        if self.problem:
+            out.append(f"the elastic main shaft: {self.problem}")
+        for name, bound in self.bounds().items():
+            unit = self.nodes[[x.name for x in self.nodes].index(name)].member.unit  # type: ignore[union-attr]
+            show = (
+                (lambda v: f"{v * 1e3:.4g} mm")
+                if unit == "m"
+                else (lambda v: f"{math.degrees(v):.4g}°")
+            )
+            if self.nominal is not None and self.nominal.peak_error[name] > bound:
+                out.append(
+                    f"{name}: its dynamic error under the motor reaches "
+                    f"{show(self.nominal.peak_error[name])} > max_error {show(bound)}: a "
+                    "stiffer shaft or link, or a lower speed"
+                )
+            lim = self.limits_rpm.get(name, math.inf)
+            if lim <= self.sweep.rpm[0]:
+                out.append(
+                    f"{name}: its dynamic error exceeds max_error {show(bound)} at every speed "
+                    f"of the speed range (from {self.sweep.rpm[0]:g} rpm)"
+                )
+        return out
+
+    def line(self) -> str:
+        """One line for the CLI: each member's peak dynamic error under the motor and
+        the speed at which it reaches its bound.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.line()[:30]
+        'Elastic shaft: dynamic error o'
+        """
+        if self.nominal is None:
+            return f"Elastic shaft: no steady state ({self.problem})"
+        parts = []
+        for x in self.nodes:
+            m = x.member
+            if m is None:
+                continue
+            v = self.nominal.peak_error[x.name]
+            txt = (
+                f"{x.name} {v * 1e3:.3g} mm"
+                if m.unit == "m"
+                else f"{x.name} {math.degrees(v):.3g}°"
+            )
+            lim = self.limits_rpm.get(x.name)
+            if lim is not None:
+                txt += (
+                    " (bound reached "
+                    + ("above the speed range" if math.isinf(lim) else f"at {lim:.2f} rpm")
+                    + ")"
+                )
+            parts.append(txt)
+        return (
+            "Elastic shaft: dynamic error of " + "; ".join(parts)
+            if parts
+            else "Elastic shaft: no working member"
+        )
+
+    def json(self) -> dict[str, Any]:
+        """The ``torsion`` group of ``results.json``.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> sorted(r.torsion.json()["nodes"][0])[:3]
+        ['damping_nm_s_per_rad', 'error_limited_rpm', 'hub_inertia_kg_m2']
+        """
+        t = self.nominal
+        rows = []
+        for k, x in enumerate(self.nodes):
+            m = x.member
+            rows.append(
+                {
+                    "mechanism": x.name,
+                    "stiffness_nm_per_rad": x.stiffness_nm_per_rad,
+                    "hub_inertia_kg_m2": x.hub_inertia_kg_m2,
+                    "damping_nm_s_per_rad": x.damping_nm_s_per_rad,
+                    "max_twist_deg": None
+                    if t is None
+                    else float(np.degrees(np.abs(t.twist_rad[k]).max())),
+                    "member_unit": None if m is None else m.unit,
+                    "link_frequency_hz": None
+                    if m is None or math.isinf(m.frequency_hz)
+                    else m.frequency_hz,
+                    "peak_error": None if t is None or m is None else t.peak_error[x.name],
+                    "max_error": None if m is None else m.max_error,
+                    "error_limited_rpm": None
+                    if x.name not in self.limits_rpm or math.isinf(self.limits_rpm[x.name])
+                    else self.limits_rpm[x.name],
+                }
+            )
+        return {
+            "nominal_rpm": self.nominal_rpm,
+            "mean_rpm": None if t is None else t.mean_rpm,
+            "problem": self.problem,
+            "sweep_rpm": [
+                float(self.sweep.rpm[0]),
+                float(self.sweep.rpm[-1]),
+                int(self.sweep.rpm.size),
+            ],
+            "nodes": rows,
+        }
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """The report's table: one row per take-off point.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.table()[0][:3]
+        ['take-off', 'stiffness [N·m/rad]', 'largest twist [deg]']
+        """
+        head = [
+            "take-off",
+            "stiffness [N·m/rad]",
+            "largest twist [deg]",
+            "link [Hz]",
+            "peak dynamic error",
+            "bound",
+            "error reaches the bound at [rpm]",
+        ]
+        rows = []
+        for k, x in enumerate(self.nodes):
+            m, t = x.member, self.nominal
+
+            def show(v: float | None, m: WorkingMember | None = m) -> str:
+                if v is None or m is None or not math.isfinite(v):
+                    return "—"
+                return f"{v * 1e3:.4g} mm" if m.unit == "m" else f"{math.degrees(v):.4g}°"
+
+            lim = self.limits_rpm.get(x.name)
+            rows.append(
+                [
+                    x.name,
+                    f"{x.stiffness_nm_per_rad:.4g}",
+                    "—" if t is None else f"{np.degrees(np.abs(t.twist_rad[k]).max()):.4g}",
+                    "rigid" if m is None or math.isinf(m.frequency_hz) else f"{m.frequency_hz:g}",
+                    show(None if t is None or m is None else t.peak_error[x.name]),
+                    show(None if m is None else m.max_error),
+                    "—"
+                    if lim is None
+                    else ("above the range" if math.isinf(lim) else f"{lim:.2f}"),
+                ]
+            )
+        return head, rows
+
+    def figure(self) -> Any:
+        """The dynamic errors and twists over the cycle at the nominal speed under the
+        motor (None without a steady state).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> fig = r.torsion.figure()
+        >>> len(fig.axes)
+        2
+        """
+        from .plot import plot_torsion
+
+        return None if self.nominal is None else plot_torsion(self.nominal)
+
+
+def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any) -> MachineTorsion:
+    """The dynamic errors of an analysed machine on its elastic shaft and links.
+
+    At the nominal speed under ``motor`` with the head's inertia of ``steady`` (the
+    rigid steady state: its flywheel and rotor, and its speed at the first angle as
+    the start); and over the machine's speed range (its ``speed_grid``) with the head
+    at constant speed, each mechanism at its phase in the nominal optimum (the
+    phases move with the speed: the sweep takes the nominal's), for the speed at
+    which each bounded member's error first reaches its bound.
+
+    Parameters
+    ----------
+    result : MachineResult
+        :func:`cyclomech.machine.analyze`'s result, with its main shaft.
+    elastic : ElasticShaft
+        The shaft and the links.
+    steady : SteadyState or None
+        The rigid machine's steady state under ``motor`` (None: no nominal run).
+    motor : Motor
+        The drive's motor.
+
+    Returns
+    -------
+    MachineTorsion
+
+    Raises
+    ------
+    InputError
+        If ``take_off`` does not list the mechanisms on the main shaft, or a bound
+        has the wrong unit for its member.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+    ...                        progress=False)
+    >>> t = machine_torsion(r, r.machine.drive.elastic, r.dynamics.steady, r.machine.drive.motor)
+    >>> t.nominal.names
+    ('knife',)
+    """
+    source = result.machine.source
+    nodes = _nodes(result, elastic, source)
+    nominal, problem = None, ""
+    if steady is None:
+        problem = "the motor has no steady state"
+    else:
+        try:
+            nominal = torsion(
+                nodes,
+                motor=motor,
+                head_inertia_kg_m2=steady.constant_inertia_kg_m2,
+                accuracy=_ACCURACY,
+                start_rpm=float(steady.omega[0]) / RAD_PER_S_PER_RPM,
+            )
+        except SolverError as e:
+            problem = str(e)
+    full = np.asarray(result.machine.speed_grid(), dtype=np.float64)
+    # 41 speeds at most: the limit is linear between two of them, to 1/40 of the range
+    grid = np.linspace(full[0], full[-1], min(full.size, 41))
+    sweep = torsion_sweep(nodes, grid, accuracy=_ACCURACY)
+    limits = {
+        x.name: sweep.limit_rpm(x.name, x.member.max_error)
+        for x in nodes
+        if x.member is not None and x.member.max_error is not None
+    }
+    return MachineTorsion(tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem)

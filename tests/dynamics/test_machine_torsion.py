@@ -1,0 +1,167 @@
+"""A machine file's ``[drive.shaft]`` and ``[drive.link.<mechanism>]``: the working
+members' dynamic errors in ``cyclomech run`` (issue 34 item 3, the machine's part).
+
+The chain kernel is checked against closed forms and solve_ivp in
+``test_torsion.py``; here: that the machine puts the right curves on the right node
+(the knife's dynamic error on a stiff shaft and a stiff link is the link's
+quasi-static deflection −Π″·ω²/ω_n², computed here from the linkage's own
+acceleration analogs, and its lag on a soft shaft is Π′·θ), that an error bound
+lowers the machine's speed limit, and the keys' errors.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import cyclomech as cm
+import numpy as np
+import pytest
+from cyclomech import InputError
+
+ROOT = Path(__file__).resolve().parents[2]
+KNIFE = ROOT / "examples" / "knife_cutter.toml"
+
+
+def knife() -> dict[str, Any]:
+    with open(KNIFE, "rb") as f:
+        return tomllib.load(f)
+
+
+def run(d: dict[str, Any]) -> Any:
+    return cm.machine.analyze(cm.Machine.from_dict(d, "dir/knife.toml"), progress=False)
+
+
+@pytest.fixture(scope="module")
+def result() -> Any:
+    return cm.machine.analyze(cm.Machine.from_toml(KNIFE), progress=False)
+
+
+def test_the_file_is_read_and_reported(result: Any) -> None:
+    e = cm.Machine.from_toml(KNIFE).drive.elastic
+    assert e.take_off == ("knife",) and e.stiffness_nm_per_rad == (1.6e6,)
+    assert e.links["knife"].frequency_hz == 40.0 and e.links["knife"].max_error_m == 1e-3
+    t = result.torsion
+    assert t.nominal is not None and t.failures() == []
+    # under the motor, the head turns at the rigid steady state's mean speed
+    assert t.nominal.mean_rpm == pytest.approx(result.dynamics.steady.mean_rpm, rel=1e-4)
+    j = t.json()
+    assert j["nodes"][0]["mechanism"] == "knife" and j["nodes"][0]["max_error"] == 1e-3
+    assert j["nodes"][0]["peak_error"] == pytest.approx(t.nominal.peak_error["knife"])
+    assert "Elastic shaft: dynamic error of knife" in t.line()
+
+
+def test_a_stiff_shaft_and_link_give_the_quasi_static_deflection() -> None:
+    """Shaft 1e9 N·m/rad, link 400 Hz: at 45 rpm the knife point's error is its
+    link's quasi-static deflection u = −ÿ/ω_n² = −Π″·ω²/ω_n² (the knife's
+    harmonics are far below 400 Hz), Π″ from the linkage's own analogs."""
+    d = knife()
+    d["drive"]["shaft"]["stiffness_nm_per_rad"] = [1e9]
+    d["drive"]["link"]["knife"] = {"frequency_hz": 400.0, "damping_ratio": 0.05}
+    r = run(d)
+    s = r.torsion.sweep
+    wn = 2 * math.pi * 400.0
+    i = int(np.argmin(np.abs(s.rpm - 45.0)))
+    w = s.rpm[i] * math.pi / 30
+    knife_r = r.mechanisms["knife"]
+    k = knife_r.kinetostatics.solution
+    acc = k.acc[:, k.index(knife_r.mech.output), :]
+    want = w * w * np.hypot(acc[:, 0], acc[:, 1]).max() / wn**2
+    assert s.peak_error[i, 0] == pytest.approx(want, rel=1e-2)
+
+
+def test_a_soft_shaft_lags_the_knife_by_its_twist() -> None:
+    """A rigid link on a soft shaft: e = Π(φ − θ) − Π(φ) ≈ −Π′·θ; checked at the
+    nominal state's peak twist against the analogs read at that angle."""
+    d = knife()
+    d["drive"]["shaft"]["stiffness_nm_per_rad"] = [2e5]
+    del d["drive"]["link"]
+    r = run(d)
+    t = r.torsion.nominal
+    k = int(np.argmax(t.twist_rad[0]))
+    e = t.error["knife"][:, k]
+    part = r.shaft.parts["knife"]
+    assert part.static.size == t.twist_rad.shape[1]
+    node = r.torsion.nodes[0]
+    d1 = node.member.d1[:, k]
+    theta = t.twist_rad[0, k]
+    assert np.hypot(*e) == pytest.approx(np.hypot(*d1) * theta, rel=2e-2)
+    assert theta > 1e-3  # a real twist, not a rounding
+
+
+def test_an_error_bound_lowers_the_speed_limit() -> None:
+    d = knife()
+    d["drive"]["link"]["knife"]["max_error_m"] = 2.0e-4
+    # the file's nominal 45 rpm is above the lowered limit: a warning (and exit 3)
+    with pytest.warns(cm.CyclomechWarning, match=r"knife \(dynamic error\)"):
+        r = run(d)
+    lim = r.torsion.limits_rpm["knife"]
+    assert 20.0 < lim < 100.0
+    assert r.limit.rpm == lim and r.limit.by == "knife (dynamic error)"
+    assert r.limit.mechanisms_rpm["knife (dynamic error)"] == lim
+    assert "dynamic error" in r.limit.reason
+    sw = r.sweep
+    assert (sw.productivity_per_min[sw.rpm > lim] == 0).all()
+    assert (sw.productivity_per_min[(sw.rpm <= lim) & sw.fits] > 0).all()
+    # the sweep's errors bracket the bound at the limit: linear between two speeds
+    s = r.torsion.sweep
+    j = int(np.searchsorted(s.rpm, lim))
+    assert s.peak_error[j - 1, 0] <= 2.0e-4 < s.peak_error[j, 0]
+    assert r.nominal_rpm > lim and "knife (dynamic error)" in r.above_speed_limit
+
+
+def test_a_bound_exceeded_everywhere_fails() -> None:
+    d = knife()
+    d["drive"]["link"]["knife"]["max_error_m"] = 1e-6
+    with pytest.warns(cm.CyclomechWarning, match="above the speed limit"):
+        r = run(d)
+    assert r.limit.rpm == r.torsion.sweep.rpm[0]  # exceeded from the range's first speed
+    assert any("every speed" in f for f in r.failures)
+    assert any("under the motor reaches" in f for f in r.failures)
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        (
+            lambda d: (d["drive"].pop("link"), d["drive"]["shaft"].update(take_off=["knif"])),
+            r"did you mean 'knife'",
+        ),
+        (
+            lambda d: d["drive"]["shaft"].update(
+                take_off=["knife", "clamp"],
+                stiffness_nm_per_rad=[1.0, 2.0],
+                hub_inertia_kg_m2=[1.0, 1.0],
+            ),
+            r"(must list every mechanism|not a mechanism)",
+        ),
+        (
+            lambda d: d["drive"]["shaft"].update(stiffness_nm_per_rad=[-1.0]),
+            r"stiffness_nm_per_rad\[0\]",
+        ),
+        (lambda d: d["drive"]["shaft"].update(hub_inertia_kg_m2=[1.0, 2.0]), r"one per take_off"),
+        (lambda d: d["drive"]["shaft"].update(damping_ratio=-0.1), r"damping_ratio"),
+        (lambda d: d["drive"]["shaft"].update(stiff=1.0), r"stiff"),
+        (lambda d: d["drive"]["shaft"].pop("take_off"), r"take_off is missing"),
+        (lambda d: d["drive"]["link"]["knife"].update(max_error_deg=1.0), r"not both"),
+        (lambda d: d["drive"]["link"]["knife"].update(frequency_hz=0.0), r"frequency_hz"),
+        (lambda d: d["drive"]["link"].update(other={"frequency_hz": 3.0}), r"not a take_off"),
+        (lambda d: d["drive"].pop("shaft"), r"needs \[drive.shaft\]"),
+    ],
+)
+def test_bad_keys_are_named(change: Any, match: str) -> None:
+    d = copy.deepcopy(knife())
+    change(d)
+    with pytest.raises(InputError, match=match):
+        run(d)
+
+
+def test_a_degree_bound_on_a_travelling_member_is_refused() -> None:
+    d = knife()
+    del d["drive"]["link"]["knife"]["max_error_m"]
+    d["drive"]["link"]["knife"]["max_error_deg"] = 0.5
+    with pytest.raises(InputError, match="max_error_deg bounds a member that turns"):
+        run(d)
