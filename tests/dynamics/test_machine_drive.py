@@ -334,3 +334,39 @@ def test_a_bare_motor_is_refused_by_name() -> None:
     d = cm.dynamics.Reduced.from_curves(np.ones(8), np.zeros(8), np.ones(8), nominal_rpm=1.0)
     with pytest.raises(cm.InputError, match="no torque characteristic"):
         cm.dynamics.steady_state(d, m)
+
+
+@pytest.mark.parametrize("flywheel", [None, 2000.0])
+def test_a_weak_motor_names_its_torque_against_the_load(flywheel: float | None) -> None:
+    # Sized (no flywheel in the file) or given, a motor too weak for the load says by
+    # how much: its breakdown torque through the gear against the load's mean and peak
+    # on the main shaft, and what to change (the trial's message named neither).
+    d = knife()
+    d["drive"]["rated_power_w"] = 500.0
+    if flywheel is not None:
+        d["drive"]["flywheel_kg_m2"] = flywheel
+    r = cm.machine.analyze(build(d), progress=False)
+    assert r.dynamics.steady is None
+    text = r.dynamics.problem
+    m_k = 2.8 * 500.0 / (1430.0 * math.pi / 30.0)  # λ·P/ω_n, by hand
+    st = r.shaft.torque.stats(45.0, 0.05)  # the kinetostatics' shaft torque
+    mean, peak = float(st.mean_torque_nm), float(st.peak_torque_nm)
+    assert 32 * 0.95 * m_k < mean  # the case: below the mean load
+    for words in (
+        f"breakdown torque M_k {m_k:.4g} N·m",
+        f"{32 * 0.95 * m_k:.4g} N·m on the main shaft",
+        f"{mean:.4g} N·m mean, {peak:.4g} N·m peak",
+        "a larger motor or a larger gear ratio",
+    ):
+        assert words in text, text
+
+
+def test_a_nominal_speed_above_the_limit_is_not_blamed_on_the_drive() -> None:
+    # The cyclogram does not fit at 70 rpm (limit 57.14): no optimum, no shaft torque,
+    # so no real speed. That failure is said once; the drive was warned about as if
+    # nothing loaded the main shaft (a warning, an error under filterwarnings).
+    d = knife()
+    d["machine"]["nominal_rpm"] = 70.0
+    r = cm.machine.analyze(build(d), progress=False)
+    assert r.optimum is None and r.dynamics is None
+    assert r.problem  # the cyclogram's own failure, said by the report and the CLI

@@ -280,7 +280,8 @@ def test_run_with_figures_embeds_them_in_the_report(run):
     pngs = sorted((out / "figures").glob("*.png"))
     # The speed sweep, the cyclogram (Gantt and circular), the lifter's rebound,
     # cam law and smallest phase angle, and its cam's drawing, SVAJ, loads along the
-    # cycle and smallest phase angles.
+    # cycle and smallest phase angles; the main shaft's torque, and under the file's
+    # [drive] its real speed; the frame's shaking (the lifter cam's couple).
     assert {p.stem for p in pngs} == {
         "speed_sweep",
         "cyclogram",
@@ -293,6 +294,8 @@ def test_run_with_figures_embeds_them_in_the_report(run):
         "lifter_cam_along_cycle",
         "lifter_cam_min_phase",
         "main_shaft",
+        "main_shaft_speed",
+        "shaking",
     }
     page = (out / "report.html").read_text(encoding="utf-8")
     for p in pngs:

@@ -436,6 +436,8 @@ DEFAULTS: list[tuple[str, str, str, str, tuple[Any, ...], Get, Any]] = [
      lambda m: m.balance[0].objective, "rms_force"),
     ("balance", "torque_weight", "1", "knife_cutter", ("balance", 0),
      lambda m: m.balance[0].torque_weight, 1.0),
+    ("balance", "max_mass_radius_kg_m", "none (no bound)", "knife_cutter", ("balance", 0),
+     lambda m: m.balance[0].max_mass_radius_kg_m, None),
 ]  # fmt: skip
 
 
@@ -567,7 +569,12 @@ RANGES: list[tuple[str, tuple[Any, ...], str, Any, Any]] = [
     ("knife_cutter", ("drive",), "motor", "diesel", "induction"),
     ("knife_cutter", ("balance", 0), "objective", "min", "peak_force"),
     ("knife_cutter", ("balance", 0), "torque_weight", -1e-9, 0.0),
+    ("knife_cutter", ("balance", 0), "max_mass_radius_kg_m", 0.0, 1e-9),
 ]
+
+#: Keys that a table takes only beside another key's value: that value is set
+#: before the key's range is tried.
+ALONGSIDE: dict[str, dict[str, Any]] = {"torque_weight": {"objective": "rms_force+torque"}}
 
 
 @pytest.mark.parametrize(
@@ -597,9 +604,11 @@ def test_documented_range_is_enforced(
         table = table or (sub[path[2]] if len(path) > 2 else kind)
     assert key in documented(table)
     d = data(source)
+    at(d, path).update(ALONGSIDE.get(key, {}))
     at(d, path)[key] = outside
     assert key in refused(d)
     d = data(source)
+    at(d, path).update(ALONGSIDE.get(key, {}))
     at(d, path)[key] = inside
     build(d)
 

@@ -315,6 +315,10 @@ class Balance:
         The driving torque's parts (per ω², per ε, static) with them [N·m·s², N·m].
     form : object
         The linear form at ``rpm`` that :meth:`evaluate` reads.
+    torque_weight : float or None, default None
+        The RMS torque's weight [1/m] when the objective is ``"rms_force+torque"``.
+    max_mass_radius_kg_m : float or None, default None
+        The bound on each counterweight's m·r [kg·m], if one was given.
 
     Examples
     --------
@@ -337,6 +341,28 @@ class Balance:
     shaking_after: Shaking
     torque_parts_after: Array
     form: Any
+    torque_weight: float | None = None
+    max_mass_radius_kg_m: float | None = None
+
+    @property
+    def at_bound(self) -> tuple[str, ...]:
+        """The links whose counterweight sits at ``max_mass_radius_kg_m`` (to 1e-6):
+        the optimum wants a heavier one there, the bound decided it.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.1, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, np.radians(np.arange(0.0, 360.0, 10.0)),
+        ...                             point_masses={"A": 2.0})
+        >>> cm.dynamics.balance(k, counterweights=[("O", "A")], rpm=600.0,
+        ...                     max_mass_radius_kg_m=0.15).at_bound   # 0.2 kg·m wanted
+        ('O-A',)
+        """
+        b = self.max_mass_radius_kg_m
+        if b is None:
+            return ()
+        return tuple(c.link for c in self.counterweights if c.mass_radius_kg_m >= b * (1 - 1e-6))
 
     def evaluate(self, designs: Any, *, n_threads: int | None = None) -> dict[str, Array]:
         """The statistics of many counterweight designs at ``rpm``, in one Rust call.
@@ -405,13 +431,20 @@ class Balance:
             "peak_torque_nm": "peak driving torque [N·m]",
         }
         rows: list[list[Any]] = [[v, self.before[k], self.after[k]] for k, v in labels.items()]
+        bound = self.at_bound
         for c in self.counterweights:
             rows.append(
                 [
                     f"counterweight on {c.link} at r = {c.radius_m:g} m: "
                     "m·r [kg·m], α [deg], m [kg]",
                     "",
-                    f"{c.mass_radius_kg_m:.4g}, {c.angle_deg:.2f}, {c.mass_kg:.4g}",
+                    f"{c.mass_radius_kg_m:.4g}, {c.angle_deg:.2f}, {c.mass_kg:.4g}"
+                    + (
+                        f" (at the bound max_mass_radius_kg_m = {self.max_mass_radius_kg_m:g}: "
+                        "the optimum wants more)"
+                        if c.link in bound
+                        else ""
+                    ),
                 ]
             )
         return ["quantity", "before", "after"], rows
@@ -440,9 +473,70 @@ def _stats(form: _Form, w: Array) -> dict[str, float]:
     return {k: float(v[0]) for k, v in _evaluate(form, w[None], None).items()}
 
 
-def _peak(form: _Form, w0: Array) -> Array:
-    """The design of least peak force: min t s.t. t² ≥ |F_n(w)|² at every angle,
-    by SLSQP from ``w0`` (the least-squares design)."""
+def _within(w: Array, bound: float | None) -> Array:
+    """``w`` (J, 2) with each counterweight's m·r shrunk to ``bound`` where above."""
+    if bound is None:
+        return w
+    size = np.hypot(w[:, 0], w[:, 1])
+    out: Array = w * np.minimum(1.0, bound / np.maximum(size, 1e-300))[:, None]
+    return out
+
+
+def _bound_constraint(j: int, bound: float, extra: int) -> dict[str, Any]:
+    """SLSQP's inequality B² − |w_j|² ≥ 0 for each counterweight, on x = (w, ``extra``
+    more variables), scaled by B²."""
+
+    def fun(x: Array) -> Array:
+        w = x[: 2 * j].reshape(j, 2)
+        out: Array = 1.0 - np.einsum("ji,ji->j", w, w) / bound**2
+        return out
+
+    def jac(x: Array) -> Array:
+        w = x[: 2 * j].reshape(j, 2)
+        out = np.zeros((j, 2 * j + extra))
+        for i in range(j):
+            out[i, 2 * i : 2 * i + 2] = -2.0 * w[i] / bound**2
+        return out
+
+    return {"type": "ineq", "fun": fun, "jac": jac}
+
+
+def _rms_bounded(form: _Form, w0: Array, bound: float) -> Array:
+    """The design of least RMS force with each |w_j| ≤ ``bound``: the least squares
+    of the force at ``rpm`` (linear in w) under the bounds, by SLSQP from the
+    unbounded design shrunk to them (a convex problem: its optimum is the one)."""
+    from scipy.optimize import minimize
+
+    j = form.lin.shape[1]
+    base = form.base[:2].T.ravel()  # (N·2)
+    a = np.moveaxis(form.lin[:2], 0, 2)  # (J, N, 2 [channel], 2)
+    mat = np.moveaxis(a, 0, 2).reshape(-1, 2 * j)  # rows (n, channel)
+    scale = float(np.abs(base).max(initial=0.0)) or 1.0
+    mat_s, base_s = mat / scale, base / scale
+
+    def f(x: Array) -> float:
+        r = mat_s @ x + base_s
+        return float(r @ r)
+
+    def g(x: Array) -> Array:
+        out: Array = 2.0 * mat_s.T @ (mat_s @ x + base_s)
+        return out
+
+    res = minimize(
+        f,
+        _within(w0, bound).ravel(),
+        jac=g,
+        constraints=[_bound_constraint(j, bound, 0)],
+        method="SLSQP",
+        options={"maxiter": 500, "ftol": 1e-15},
+    )
+    out: Array = _within(res.x.reshape(j, 2), bound)
+    return out
+
+
+def _peak(form: _Form, w0: Array, bound: float | None = None) -> Array:
+    """The design of least peak force: min t s.t. t² ≥ |F_n(w)|² at every angle
+    (and each |w_j| ≤ ``bound``), by SLSQP from ``w0`` (the least-squares design)."""
     from scipy.optimize import minimize
 
     j = form.lin.shape[1]
@@ -464,29 +558,43 @@ def _peak(form: _Form, w0: Array) -> Array:
         dw = -2.0 * np.einsum("nc,jncb->njb", f, a).reshape(f.shape[0], -1) / scale
         return np.concatenate([dw, 2.0 * x[-1] * np.ones((f.shape[0], 1))], axis=1)
 
+    w0 = _within(w0, bound)
     x0 = np.concatenate([w0.ravel(), [float(np.sqrt((force(np.append(w0, 0)) ** 2).sum(1).max()))]])
+    constraints = [{"type": "ineq", "fun": cons, "jac": jac}]
+    if bound is not None:
+        constraints.append(_bound_constraint(j, bound, 1))
     res = minimize(
         lambda x: x[-1],
         x0,
         jac=lambda x: np.eye(x.size)[-1],
-        constraints=[{"type": "ineq", "fun": cons, "jac": jac}],
+        constraints=constraints,
         method="SLSQP",
         options={"maxiter": 500, "ftol": 1e-12},
     )
-    best: Array = res.x[:-1].reshape(j, 2)
+    best: Array = _within(res.x[:-1].reshape(j, 2), bound)
     return best
 
 
-def _weighted(form: _Form, w0: Array, weight: float) -> Array:
+def _weighted(form: _Form, w0: Array, weight: float, bound: float | None = None) -> Array:
     """The design of least RMS force + weight × RMS torque, by Nelder–Mead from
-    the least-squares design and from none (the better of the two)."""
+    the least-squares design and from none (the better of the two). With a
+    ``bound`` on each |w_j|, a design beyond it is read at the bound plus a
+    penalty on the excess (Nelder–Mead takes no constraints), so the search
+    ends inside or on it."""
     from scipy.optimize import minimize
 
     j = form.lin.shape[1]
+    w0 = _within(w0, bound)
+    # The penalty's scale: the objective's size at no counterweight, per kg·m.
+    s0 = _evaluate(form, np.zeros((1, j, 2)), None)
+    unit = float(s0["rms_force_n"][0] + weight * s0["rms_torque_nm"][0]) / (bound or 1.0)
 
     def f(x: Array) -> float:
-        s = _evaluate(form, x.reshape(1, j, 2), None)
-        return float(s["rms_force_n"][0] + weight * s["rms_torque_nm"][0])
+        w = x.reshape(j, 2)
+        at = _within(w, bound)
+        s = _evaluate(form, at[None], None)
+        excess = float(np.abs(w - at).sum()) * (unit or 1.0)
+        return float(s["rms_force_n"][0] + weight * s["rms_torque_nm"][0]) + excess
 
     scale = max(float(np.abs(w0).max(initial=0.0)), 1e-6)
     results = []
@@ -506,8 +614,41 @@ def _weighted(form: _Form, w0: Array, weight: float) -> Array:
             )
         )
     best = min(results, key=lambda r: float(r.fun))
-    out: Array = best.x.reshape(j, 2)
+    out: Array = _within(best.x.reshape(j, 2), bound)
+    if bound is not None:
+        # Nelder–Mead creeps along a bound (the penalty's kink): polish by SLSQP
+        # under the bounds from where it stopped, kept if better and inside them.
+        def clean(x: Array) -> float:
+            st = _evaluate(form, x.reshape(1, j, 2), None)
+            return float(st["rms_force_n"][0] + weight * st["rms_torque_nm"][0])
+
+        res = minimize(
+            clean,
+            out.ravel(),
+            constraints=[_bound_constraint(j, bound, 0)],
+            method="SLSQP",
+            options={"maxiter": 200, "ftol": 1e-12},
+        )
+        polished = _within(res.x.reshape(j, 2), bound)
+        if clean(polished.ravel()) < clean(out.ravel()):
+            out = polished
     return out
+
+
+def _arguments(
+    objective: Any, rpm: Any, torque_weight: Any, max_mass_radius_kg_m: Any
+) -> tuple[float, float, float | None]:
+    """The balance's arguments checked: (rpm, torque weight, bound on m·r or None)."""
+    if objective not in OBJECTIVES:
+        raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
+    n = positive("rpm", rpm, "[rpm]")
+    weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
+    bound = (
+        None
+        if max_mass_radius_kg_m is None
+        else positive("max_mass_radius_kg_m", max_mass_radius_kg_m, "[kg·m]")
+    )
+    return n, weight, bound
 
 
 def balance(
@@ -520,6 +661,7 @@ def balance(
     gravity: Any = None,
     linkage: Linkage | None = None,
     about_m: Any = (0.0, 0.0),
+    max_mass_radius_kg_m: Any = None,
 ) -> Balance:
     """Counterweights on links pivoted to the frame that minimise the shaking.
 
@@ -553,6 +695,11 @@ def balance(
         The linkage of a ``Kinetostatics`` with guides (see :func:`shaking`).
     about_m : tuple of (float, float), default (0.0, 0.0)
         The point of the shaking moment (x, y) [m].
+    max_mass_radius_kg_m : float, optional
+        The largest m·r of each counterweight [kg·m] (> 0); default None (no
+        bound). With it every objective goes through SLSQP or Nelder–Mead under
+        the bound (the least squares too, when its optimum exceeds it), and
+        :attr:`Balance.at_bound` names the counterweights it stopped.
 
     Returns
     -------
@@ -585,10 +732,7 @@ def balance(
     >>> round(c.mass_kg, 6), round(c.angle_deg, 3)
     (2.5, 180.0)
     """
-    if objective not in OBJECTIVES:
-        raise InputError(f"objective = {objective!r} must be one of {', '.join(OBJECTIVES)}")
-    n = positive("rpm", rpm, "[rpm]")
-    weight = finite_number("torque_weight", torque_weight, "[1/m]", low=0.0)
+    n, weight, bound = _arguments(objective, rpm, torque_weight, max_mass_radius_kg_m)
     g = np.zeros(2) if gravity is None else float_array("gravity", gravity)
     if g.shape != (2,) or not np.isfinite(g).all():
         raise InputError(f"gravity = {gravity!r} must be (gx, gy) [m/s²], finite")
@@ -610,22 +754,43 @@ def balance(
             f"{', '.join(f'{v:.1f}' for v in bad)} degrees (not assembled or a dead centre)"
         )
     sites = _sites(k, counterweights)
-    xy = k.solution.xy
-    form = _form(s, k.torque_parts, sites, xy, (n * RAD_PER_S_PER_RPM) ** 2, g)
+    return _solve(
+        s, k.torque_parts, sites, k.solution.xy, k.solution.names, n, g, objective, weight, bound
+    )
+
+
+def _solve(
+    s: Shaking,
+    torque: Array,
+    sites: list[_Site],
+    xy: Array,
+    names: Sequence[str],
+    n: float,
+    g: Array,
+    objective: str,
+    weight: float,
+    bound: float | None,
+) -> Balance:
+    """The counterweights at ``sites`` for ``objective`` and their balance: ``s`` the
+    shaking without them, ``torque`` the driving torque's parts (3, N), ``xy`` the
+    points (N, P, 2) the sites' indices name (``names``), at ``n`` rpm."""
+    form = _form(s, torque, sites, xy, (n * RAD_PER_S_PER_RPM) ** 2, g)
     # Least squares on the per-ω² force: the same optimum at every speed.
-    a = np.moveaxis(_form(s, k.torque_parts, sites, xy, 1.0, g).lin[:2], 0, 2)  # (J, N, 2, 2)
+    a = np.moveaxis(_form(s, torque, sites, xy, 1.0, g).lin[:2], 0, 2)  # (J, N, 2, 2)
     mat = np.moveaxis(a, 0, 2).reshape(-1, 2 * len(sites))  # rows (n, channel)
     w, *_ = np.linalg.lstsq(mat, -s.force_parts[0].ravel(), rcond=None)
     w = w.reshape(len(sites), 2)
     if objective == "peak_force":
-        w = _peak(form, w)
+        w = _peak(form, w, bound)
     elif objective == "rms_force+torque":
-        w = _weighted(form, w, weight)
+        w = _weighted(form, w, weight, bound)
+    elif bound is not None and np.hypot(w[:, 0], w[:, 1]).max() > bound:
+        w = _rms_bounded(form, w, bound)
     cws = tuple(
         Counterweight(
             st.link,
-            k.solution.names[st.pivot],
-            k.solution.names[st.towards],
+            names[st.pivot],
+            names[st.towards],
             st.radius,
             (float(wj[0]), float(wj[1])),
         )
@@ -639,6 +804,106 @@ def balance(
         after=_stats(form, w),
         shaking_before=s,
         shaking_after=_after(s, sites, xy, w, g),
-        torque_parts_after=_torque_after(k.torque_parts, sites, w, g),
+        torque_parts_after=_torque_after(torque, sites, w, g),
         form=form,
+        torque_weight=weight if objective == "rms_force+torque" else None,
+        max_mass_radius_kg_m=bound,
     )
+
+
+#: The press's carrier, as a [[balance]] row names it: from the guide gear's centre
+#: (the main shaft's axis, fixed) to the planet's centre.
+PRESS_CARRIER = ("O", "planet")
+
+
+def _press_balance(
+    mechanism: Any,
+    *,
+    rpm: Any,
+    objective: str = "rms_force",
+    torque_weight: Any = 1.0,
+    max_mass_radius_kg_m: Any = None,
+    radius_m: Any = None,
+) -> Balance:
+    """A counterweight on a gear-lever press's carrier (its crank, turning with the
+    main shaft about the guide gear's centre O) against the slider's and the rod's
+    shaking (:func:`~cyclomech.dynamics.shaking`'s press part).
+
+    The carrier is the link O → planet (its centre); the counterweight is the
+    vector (m r cos α, m r sin α) in its frame, as on a linkage's crank
+    (:func:`balance`, the same objectives and solvers). The carrier turns rigidly
+    with the shaft, so its counterweight's force ω²·m·r turns with it: it takes
+    out the force's part that turns with the crank, not the slider's higher
+    harmonics. Constant speed; the carrier's and planet's own masses are not in
+    the press's model; no gravity.
+
+    Parameters
+    ----------
+    mechanism : PressResult
+        A machine's press result (``result.mechanisms[name]``) with its masses and
+        load (its shaft torque).
+    rpm : float
+        The crank speed of the statistics and of the torque objective [rpm].
+    objective : str, default "rms_force"
+        One of :data:`OBJECTIVES`.
+    torque_weight : float, default 1.0
+        The RMS torque's weight in ``"rms_force+torque"`` [1/m].
+    max_mass_radius_kg_m : float, optional
+        The largest m·r [kg·m]; default None (no bound).
+    radius_m : float, optional
+        The counterweight's radius [m]; default the carrier's length R − r.
+
+    Returns
+    -------
+    Balance
+        Its one counterweight, on the link ``"O-planet"``, and the statistics
+        before and after on the press's own carrier angles ψ past BDC.
+
+    Raises
+    ------
+    InputError
+        If the press has no shaft torque (no load or optimum) or an argument is out
+        of its range.
+    TypeError
+        If ``mechanism`` is not a press result.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/extrusion_press_line.toml"),
+    ...                        progress=False)
+    >>> b = _press_balance(r.mechanisms["drive"], rpm=40.0)
+    >>> b.counterweights[0].link, b.after["rms_force_n"] < b.before["rms_force_n"]
+    ('O-planet', True)
+    """
+    from ..press import GearLeverPress
+    from ._shaking import _of_press
+
+    m: Any = getattr(mechanism, "mech", None)
+    press = getattr(m, "press", None)
+    if not isinstance(press, GearLeverPress) or not hasattr(mechanism, "shaft_torque"):
+        raise TypeError(
+            f"mechanism must be a machine's press result; got {type(mechanism).__name__}"
+        )
+    n, weight, bound = _arguments(objective, rpm, torque_weight, max_mass_radius_kg_m)
+    curve, inertia = mechanism.shaft_torque(), mechanism.shaft_inertia()
+    if curve is None or inertia is None:
+        raise InputError(
+            "mechanism: the press has no torque on the main shaft (a deformation_force "
+            "and an optimum are needed): nothing to balance"
+        )
+    size = curve[0].size
+    s = _of_press(press, m.slider_mass, m.rod_mass, (0.0, 0.0), size)
+    torque = np.stack([curve[0], inertia[0], curve[1]])
+    psi = np.arange(size, dtype=np.float64) * (2.0 * math.pi / size)
+    centre = press.solve(np.mod(-psi, 2.0 * math.pi)).centre  # (N, 2), O at the origin
+    length = float(np.hypot(*centre[0]))
+    r = length if radius_m is None else positive("radius_m", radius_m, "[m]")
+    ex = centre / np.hypot(centre[:, 0], centre[:, 1])[:, None]
+    e = np.stack([np.stack([ex[:, 0], -ex[:, 1]], -1), np.stack([ex[:, 1], ex[:, 0]], -1)], 1)
+    # The carrier turns with the shaft, θ = θ0 ± ψ: its sign from two samples.
+    turn = float(_cross(ex[0], ex[1])) / (psi[1] - psi[0])
+    sign = 1.0 if turn > 0 else -1.0
+    site = _Site("-".join(PRESS_CARRIER), 0, 1, r, e, np.full(size, sign), np.zeros(size))
+    xy = np.stack([np.zeros_like(centre), centre], axis=1)
+    return _solve(s, torque, [site], xy, PRESS_CARRIER, n, np.zeros(2), objective, weight, bound)

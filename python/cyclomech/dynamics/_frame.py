@@ -16,7 +16,8 @@ from typing import Any
 from .. import _toml
 from .._arrays import count, finite_number, instances, positive
 from .._errors import InputError
-from ._balance import OBJECTIVES, Balance, balance
+from ..press import GearLeverPress
+from ._balance import OBJECTIVES, PRESS_CARRIER, Balance, _press_balance, balance
 from ._shaking import Shaking, shaking
 
 __all__ = [
@@ -83,7 +84,8 @@ class MachineShaking:
         -------
         dict of str to Any
             The speed, the statistics, each mechanism's statistics, what was left out
-            and why, and the force (x, y) and moment over the cycle (every 10th angle).
+            and why, what was assumed (``assumed``, only when anything was), and the
+            force (x, y) and moment over the cycle (every 10th angle).
 
         Examples
         --------
@@ -96,12 +98,15 @@ class MachineShaking:
         """
         s, n = self.shaking, self.rpm
         f = s.force(n)
+        # What was assumed, when anything was (an oscillating follower's centre of mass).
+        notes = {"assumed": dict(s.notes)} if s.notes else {}
         return {
             "rpm": n,
             "about_m": list(s.about_m),
             **self.stats(),
             "mechanisms": {k: p.stats(n) for k, p in s.parts.items()},
             "left_out": dict(s.skipped),
+            **notes,
             "theta_deg": s.angles_deg[::10],
             "force_x_n": f[::10, 0],
             "force_y_n": f[::10, 1],
@@ -118,7 +123,7 @@ class MachineShaking:
             ``["quantity", "value"]``.
         rows : list of list
             The force's and moment's peak and RMS, each mechanism's RMS force, what
-            was left out.
+            was assumed, what was left out.
 
         Examples
         --------
@@ -129,11 +134,14 @@ class MachineShaking:
         'shaking force at 45 rpm, peak [N] (at the cycle angle [deg])'
         """
         st, n = self.stats(), self.rpm
+        # No force at all (a lever shaking by a couple only) has no angle of its peak.
+        peak = (
+            f"{st['peak_force_n']:.4g} (at {st['peak_force_deg']:.1f}°)"
+            if st["peak_force_n"] > 0.0
+            else "0: no shaking force (see what was assumed and left out below)"
+        )
         rows: list[list[Any]] = [
-            [
-                f"shaking force at {n:g} rpm, peak [N] (at the cycle angle [deg])",
-                f"{st['peak_force_n']:.4g} (at {st['peak_force_deg']:.1f}°)",
-            ],
+            [f"shaking force at {n:g} rpm, peak [N] (at the cycle angle [deg])", peak],
             ["shaking force, RMS over the cycle [N]", st["rms_force_n"]],
             [
                 f"shaking moment about {self.shaking.about_m}, peak / RMS [N·m]",
@@ -144,6 +152,7 @@ class MachineShaking:
             [f"RMS shaking force of {k} [N]", p.stats(n)["rms_force_n"]]
             for k, p in self.shaking.parts.items()
         ]
+        rows += [[f"assumed for {k}", why] for k, why in self.shaking.notes.items()]
         rows += [[f"left out: {k}", why] for k, why in self.shaking.skipped.items()]
         return ["quantity", "value"], rows
 
@@ -192,15 +201,31 @@ class MachineShaking:
         from .plot import plot_shaking
 
         return [
-            (k, plot_shaking(b, self.rpm, title=f"{k}: before and after balancing"))
+            (
+                k,
+                plot_shaking(
+                    b,
+                    self.rpm,
+                    title=f"{k}: before and after balancing",
+                    angle_name=f"crank angle of {k}",
+                ),
+            )
             for k, b in self.balances.items()
         ]
 
 
 def _balance_json(b: Balance) -> dict[str, Any]:
-    """A balance's ``results.json`` entry."""
+    """A balance's ``results.json`` entry (the torque weight and the bound on m·r
+    only when the row used them)."""
+    used: dict[str, Any] = {}
+    if b.torque_weight is not None:
+        used["torque_weight"] = b.torque_weight
+    if b.max_mass_radius_kg_m is not None:
+        used["max_mass_radius_kg_m"] = b.max_mass_radius_kg_m
+        used["at_bound"] = list(b.at_bound)
     return {
         "objective": b.objective,
+        **used,
         "before": b.before,
         "after": b.after,
         "counterweights": [
@@ -220,8 +245,8 @@ def machine_shaking(
     result: Any, rpm: Any = None, requests: Sequence[BalanceRequest] = ()
 ) -> MachineShaking | None:
     """The machine's shaking force and moment on its frame, or None when no
-    mechanism gives one (no linkage with masses, translating cam follower with
-    loads or loaded press at a phase in the cyclogram).
+    mechanism gives one (no linkage with masses, cam follower with its mass or
+    inertia, or loaded press at a phase in the cyclogram).
 
     Parameters
     ----------
@@ -264,7 +289,9 @@ def machine_shaking(
 
 
 #: The keys of a ``[[balance]]`` row.
-BALANCE_KEYS: frozenset[str] = frozenset({"mechanism", "links", "objective", "torque_weight"})
+BALANCE_KEYS: frozenset[str] = frozenset(
+    {"mechanism", "links", "objective", "torque_weight", "max_mass_radius_kg_m"}
+)
 
 
 @dataclass(frozen=True)
@@ -282,12 +309,14 @@ class BalanceRequest:
         One of :data:`~cyclomech.dynamics.OBJECTIVES`.
     torque_weight : float, default 1.0
         The RMS torque's weight in ``"rms_force+torque"`` [1/m].
+    max_mass_radius_kg_m : float, optional
+        The largest m·r of each counterweight [kg·m]; default None (no bound).
 
     Raises
     ------
     InputError
         If a field is not of its kind: a name, (joint, joint) pairs, an objective of
-        :data:`~cyclomech.dynamics.OBJECTIVES`, a finite weight ≥ 0.
+        :data:`~cyclomech.dynamics.OBJECTIVES`, a finite weight ≥ 0, a bound > 0.
 
     Examples
     --------
@@ -299,6 +328,7 @@ class BalanceRequest:
     links: tuple[tuple[str, str], ...]
     objective: str = "rms_force"
     torque_weight: float = 1.0
+    max_mass_radius_kg_m: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.mechanism, str):
@@ -320,6 +350,9 @@ class BalanceRequest:
             )
         w = finite_number("torque_weight", self.torque_weight, "[1/m]", low=0.0)
         object.__setattr__(self, "torque_weight", w)
+        if self.max_mass_radius_kg_m is not None:
+            b = positive("max_mass_radius_kg_m", self.max_mass_radius_kg_m, "[kg·m]")
+            object.__setattr__(self, "max_mass_radius_kg_m", b)
 
     @classmethod
     def from_row(cls, row: Any, source: str, index: int) -> BalanceRequest:
@@ -343,7 +376,8 @@ class BalanceRequest:
         InputError
             Naming the file, the row and the key: an unknown key, a missing mechanism
             or links, links that are not pairs of joint names, an unknown objective,
-            a negative torque weight.
+            a negative torque weight or one with an objective that has no torque
+            (it would be ignored), a bound on m·r that is not > 0.
 
         Examples
         --------
@@ -380,12 +414,33 @@ class BalanceRequest:
         weight = row.get("torque_weight", 1.0)
         if not (_toml.is_number(weight) and math.isfinite(weight) and weight >= 0):
             raise InputError(f"{where}: torque_weight = {weight!r} must be finite and ≥ 0 [1/m]")
-        return cls(name, tuple((p[0], p[1]) for p in links), objective, float(weight))
+        if "torque_weight" in row and objective != "rms_force+torque":
+            raise InputError(
+                f"{where}: torque_weight = {weight!r} only applies to objective = "
+                f'"rms_force+torque" (this row\'s objective is {objective!r}, which has no '
+                "torque term): remove it or set that objective"
+            )
+        bound = row.get("max_mass_radius_kg_m")
+        if bound is not None and not (
+            _toml.is_number(bound) and math.isfinite(bound) and bound > 0
+        ):
+            raise InputError(
+                f"{where}: max_mass_radius_kg_m = {bound!r} must be finite and > 0 [kg·m]"
+            )
+        return cls(
+            name,
+            tuple((p[0], p[1]) for p in links),
+            objective,
+            float(weight),
+            None if bound is None else float(bound),
+        )
 
 
 def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
     """Each requested linkage balanced at the machine's nominal speed
-    (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity).
+    (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity), or a press's
+    carrier (``_balance._press_balance``, its links
+    ``[["O", "planet"]]``).
 
     Parameters
     ----------
@@ -421,10 +476,14 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
     for i, req in enumerate(requests):
         res = result.mechanisms.get(req.mechanism)
         where = f"[[balance]] {i + 1}"
+        if isinstance(getattr(getattr(res, "mech", None), "press", None), GearLeverPress):
+            out[req.mechanism] = _press(res, req, where, result.nominal_rpm)
+            continue
         if getattr(res, "kinetostatics", None) is None:
             raise InputError(
                 f"{where}: mechanism = {req.mechanism!r} must be a linkage of the machine "
-                "with masses (its kinetostatics gives the shaking force)"
+                "with masses (its kinetostatics gives the shaking force) or a press with "
+                "its masses and load"
             )
         gravity = (res.mech.dynamics or {}).get("gravity")
         try:
@@ -435,7 +494,30 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
                 objective=req.objective,
                 torque_weight=req.torque_weight,
                 gravity=gravity,
+                max_mass_radius_kg_m=req.max_mass_radius_kg_m,
             )
         except InputError as e:
             raise InputError(f"{where}: {e}") from None
     return out
+
+
+def _press(res: Any, req: BalanceRequest, where: str, rpm: float) -> Balance:
+    """A press's [[balance]] row: the counterweight on its carrier
+    (``_balance._press_balance``), the row's links checked."""
+    carrier = set(PRESS_CARRIER)
+    if len(req.links) != 1 or set(req.links[0]) != carrier:
+        raise InputError(
+            f"{where}: links = {[list(p) for p in req.links]!r}: a press has one link to "
+            f"counterweight, its carrier {list(PRESS_CARRIER)!r} (from the guide gear's "
+            "centre O on the main shaft to the planet's centre)"
+        )
+    try:
+        return _press_balance(
+            res,
+            rpm=rpm,
+            objective=req.objective,
+            torque_weight=req.torque_weight,
+            max_mass_radius_kg_m=req.max_mass_radius_kg_m,
+        )
+    except InputError as e:
+        raise InputError(f"{where}: mechanism = {req.mechanism!r}: {e}") from None

@@ -99,16 +99,20 @@ DRIVE_KEY_DOCS: tuple[KeyTable, ...] = (
         "shaft's lag and the link's vibration together. Optional."
     )),
     KeyTable("balance", "[[balance]]", (
-        K("mechanism", "The linkage to balance.", NO_UNIT, TEXT, REQ,
-          "a linkage of the machine with masses", False),
-        K("links", "The links to counterweight, each by two of its joints.", NO_UNIT, ARR,
+        K("mechanism", "The linkage (or press) to balance.", NO_UNIT, TEXT, REQ,
+          "a linkage of the machine with masses, or a press with its masses and load", False),
+        K("links", "The links to counterweight, each by two of its joints (a press's "
+          'carrier: ["O", "planet"]).', NO_UNIT, ARR,
           REQ, "a non-empty array of [joint, joint] pairs, each link pivoted to the frame",
           False),
         K("objective", "What the counterweights minimise: the shaking force's RMS or peak, "
           "or the RMS force plus torque_weight times the driving torque's RMS.", NO_UNIT,
           TEXT, "rms_force", "one of rms_force, peak_force, rms_force+torque", False),
         K("torque_weight", "The RMS driving torque's weight in rms_force+torque.", "1/m",
-          NUM, "1", "finite, ≥ 0", False),
+          NUM, "1", "finite, ≥ 0; only with objective = rms_force+torque", False),
+        K("max_mass_radius_kg_m", "The largest m·r of each counterweight of the row: the "
+          "optimum under it, a counterweight it stops flagged as at the bound.", "kg·m", NUM,
+          "none (no bound)", POS, False),
     ), intro=(
         "Counterweights to find for a linkage, one row each: the report gives their "
         "mass·radius and angle on each link and the shaking force before and after, at "

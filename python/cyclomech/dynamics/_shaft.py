@@ -24,7 +24,7 @@ from .._arrays import (
 )
 from .._errors import CyclomechWarning, InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
-from ._motor import Motor, pack
+from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor, pack
 from ._reduced import Reduced
 
 __all__ = [
@@ -72,6 +72,37 @@ def _check_work(d: Reduced, motor: Motor, motor_torque: Array) -> None:
             f"{'speeds up' if net > 0 else 'slows down'} cycle after cycle (a constant "
             "torque must equal the mean load torque)"
         )
+
+
+def _motor_against_load(d: Reduced, motor: Motor) -> str:
+    """The motor's largest torque on the shaft against the load's mean and peak
+    torque at the nominal speed, and what to change: the reason a motor cannot
+    drive the machine, in numbers."""
+    if isinstance(motor, InductionMotor):
+        what, most = "breakdown torque M_k", motor.breakdown_ratio * motor.rated_torque_nm
+    elif isinstance(motor, LinearMotor):
+        what, most = "stall torque", motor.stall_torque_nm
+    elif isinstance(motor, ConstantTorque):
+        what, most = "torque", motor.torque
+    elif isinstance(motor, TableMotor):
+        what, most = "largest torque of its table", float(np.max(motor.torque))
+    else:  # pragma: no cover - every motor is one of the four
+        return ""
+    shaft = most * motor.ratio * motor.efficiency
+    st = d.torque().stats(d.nominal_rpm, 0.5)
+    mean, peak = float(st.mean_torque_nm), float(st.peak_torque_nm)
+    verdict = (
+        "below the load's mean: it cannot keep the machine turning at any flywheel"
+        if shaft < mean
+        else "above the load's mean, yet no flywheel kept a periodic speed (the motor "
+        "slows past its largest torque within the cycle)"
+    )
+    return (
+        f"the motor's {what} {most:.4g} N·m is {shaft:.4g} N·m on the main shaft "
+        f"(× gear ratio {motor.ratio:g} × efficiency {motor.efficiency:g}), {verdict}; the "
+        f"load at {d.nominal_rpm:g} rpm is {mean:.4g} N·m mean, {peak:.4g} N·m peak: choose "
+        "a larger motor or a larger gear ratio"
+    )
 
 
 def _flywheel(value: Any) -> float:
@@ -238,9 +269,14 @@ def steady_state(
     )
     status = int(row[0])
     if status != 0:
+        advice = (
+            _motor_against_load(d, motor)
+            if status == 1
+            else "a stronger motor, another gear ratio or a bigger flywheel may help"
+        )
         raise SolverError(
             f"no periodic steady state: {_STATUS[status]} (after {int(row[1])} shots, residual "
-            f"{row[2]:.3g}); a stronger motor, another gear ratio or a bigger flywheel may help"
+            f"{row[2]:.3g}); {advice}"
         )
     col = dict(zip(STEADY_COLUMNS, row.tolist(), strict=True))
     _check_work(d, motor, m)
@@ -689,8 +725,8 @@ def size_flywheel(
         hi *= 2.0
     else:
         raise SolverError(
-            f"no flywheel up to {hi:.3g} kg·m² brings δ down to {target:g} (the motor may not "
-            "drive the machine)"
+            f"no flywheel up to {hi:.3g} kg·m² brings δ down to {target:g}: "
+            f"{_motor_against_load(d, motor)}"
         )
     lo = 0.0
     while (hi - lo) > rt * hi:

@@ -32,7 +32,7 @@ import numpy.typing as npt
 
 from .._arrays import finite_number, instance
 from .._errors import InputError
-from .._units import RAD_PER_S_PER_RPM
+from .._units import at_speed
 from ..cam import Cam, FlatFaced, TranslatingRoller
 from ..forces import Kinetostatics
 from ..linkage import Linkage
@@ -126,6 +126,9 @@ class Shaking:
         A machine's: each contributing mechanism's, at its phase.
     skipped : dict of str to str, default {}
         A machine's: each mechanism left out, with the reason.
+    notes : dict of str to str, default {}
+        A machine's: what was assumed for a mechanism included (an oscillating
+        follower's centre of mass at its pivot).
 
     Examples
     --------
@@ -143,16 +146,11 @@ class Shaking:
     about_m: tuple[float, float] = (0.0, 0.0)
     parts: dict[str, Shaking] = field(default_factory=dict)
     skipped: dict[str, str] = field(default_factory=dict)
+    notes: dict[str, str] = field(default_factory=dict)
 
     def __repr__(self) -> str:
         extra = f", {len(self.parts)} mechanisms" if self.parts else ""
         return f"Shaking({self.angles_deg.size} angles, about {self.about_m}{extra})"
-
-    @staticmethod
-    def _weights(rpm: Any, crank_acceleration: Any) -> tuple[float, float]:
-        n = finite_number("rpm", rpm, "[rpm]", low=0.0)
-        eps = finite_number("crank_acceleration", crank_acceleration, "[rad/s²]")
-        return (n * RAD_PER_S_PER_RPM) ** 2, eps
 
     def force(self, rpm: Any, crank_acceleration: Any = 0.0) -> Array:
         """The shaking force −Σ mᵢ a_Gᵢ [N] at a crank speed and acceleration.
@@ -182,9 +180,7 @@ class Shaking:
         >>> cm.dynamics.shaking(k).force(0.0, crank_acceleration=10.0).tolist()  # −m r ε ŷ
         [[0.0, -6.0]]
         """
-        w2, eps = self._weights(rpm, crank_acceleration)
-        out: Array = w2 * self.force_parts[0] + eps * self.force_parts[1]
-        return out
+        return at_speed(self.force_parts, rpm, crank_acceleration, static=False, rpm_low=0.0)
 
     def moment(self, rpm: Any, crank_acceleration: Any = 0.0) -> Array:
         """The shaking moment −dH/dt about ``about_m`` [N·m] at a speed and acceleration.
@@ -217,9 +213,7 @@ class Shaking:
         >>> cm.dynamics.shaking(k).moment(0.0, crank_acceleration=10.0).round(9).tolist()  # −m r² ε
         [-1.8]
         """
-        w2, eps = self._weights(rpm, crank_acceleration)
-        out: Array = w2 * self.moment_parts[0] + eps * self.moment_parts[1]
-        return out
+        return at_speed(self.moment_parts, rpm, crank_acceleration, static=False, rpm_low=0.0)
 
     def frame_force(self, rpm: Any, crank_acceleration: Any = 0.0) -> Array:
         """The whole force on the frame [N]: the shaking force plus the static part.
@@ -387,6 +381,22 @@ def _of_cam(cam: Cam, mass: float, about: tuple[float, float], n: int) -> Shakin
     return Shaking(np.degrees(theta), force, moment, about)
 
 
+def _of_oscillating(cam: Cam, inertia: float, about: tuple[float, float], n: int) -> Shaking:
+    """An oscillating follower's shaking on ``n`` cam angles from 0: its arm is
+    given by its moment of inertia J about the pivot alone, so its centre of mass
+    is taken at the pivot (a lever balanced about its axis): no shaking force, and
+    the moment −dH/dt of a lever turning about a fixed point, a couple (the same
+    about every point). The arm's angle in the plane is π − ψ (the roller centre
+    at (a − l·cos ψ, l·sin ψ), :mod:`cyclomech.cam`), ψ = ψ0 + s, so H = −J·ψ̇ and
+    −dH/dt = J·s̈ = J·(ω²·s″ + ε·s′)."""
+    theta = np.arange(n, dtype=np.float64) * (2.0 * math.pi / n)
+    kin = cam.solve(theta)
+    moment = np.zeros((3, n))
+    moment[0] = inertia * kin.dds
+    moment[1] = inertia * kin.ds
+    return Shaking(np.degrees(theta), np.zeros((3, n, 2)), moment, about)
+
+
 def _of_press(
     press: GearLeverPress, slider_mass: float, rod_mass: float, about: tuple[float, float], n: int
 ) -> Shaking:
@@ -431,6 +441,7 @@ def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, A
     phase (the phase its shaft torque takes, on the same samples), summed."""
     parts: dict[str, Shaking] = {}
     skipped: dict[str, str] = {}
+    notes: dict[str, str] = {}
     for name in offsets:
         if name not in result.mechanisms:
             raise InputError(
@@ -451,13 +462,28 @@ def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, A
             m = res.mech
             own = _of_press(m.press, m.slider_mass, m.rod_mass, own_about, curve[0].size)
         elif isinstance(cam, Cam) and curve is not None:
-            if not isinstance(cam.follower, TranslatingRoller | FlatFaced):
+            mass = float(res.mech.design.loads.mass)
+            if isinstance(cam.follower, TranslatingRoller | FlatFaced):
+                own = _of_cam(cam, mass, own_about, curve[0].size)
+            elif mass > 0:
+                own = _of_oscillating(cam, mass, own_about, curve[0].size)
+                notes[name] = (
+                    f"an oscillating follower given by its inertia about the pivot "
+                    f"({mass:g} kg·m²): its centre of mass is taken at the pivot, so it "
+                    "shakes the frame by a moment only (J·ψ̈, a couple), no force"
+                )
+            else:
                 skipped[name] = (
-                    "an oscillating follower: its arm's centre of mass is not given (its "
-                    "mass is a moment of inertia about the pivot)"
+                    "an oscillating follower without inertia_kg_m2: nothing of it moves with mass"
                 )
                 continue
-            own = _of_cam(cam, res.mech.design.loads.mass, own_about, curve[0].size)
+        elif getattr(res.mech, "kind", "") == "cam_stop":
+            skipped[name] = (
+                "a cam stop: the impact of a lever on its stop, not the lever's motion "
+                "over the cycle (the cam that drives it shakes the frame through its "
+                "follower's mass or inertia)"
+            )
+            continue
         else:
             skipped[name] = (
                 "no inertia forces at a phase in the cyclogram (a linkage with masses, a "
@@ -482,6 +508,7 @@ def _of_machine(result: Any, about: tuple[float, float], offsets: Mapping[str, A
         about,
         parts=parts,
         skipped=skipped,
+        notes=notes,
     )
 
 
@@ -498,8 +525,10 @@ def shaking(
     linkage result) or of a whole machine (a :class:`~cyclomech.machine.MachineResult`):
     each linkage with masses, each translating cam follower with loads and each
     loaded press (its slider and rod) at the phase its driving torque takes on the
-    main shaft, summed (the rest listed in ``skipped`` with the reason: oscillating
-    followers, servo axes). A
+    main shaft, summed (the rest listed in ``skipped`` with the reason: servo
+    axes, a follower without mass). An oscillating follower, given by its arm's
+    moment of inertia J about the pivot, is taken with its centre of mass at the
+    pivot: it shakes the frame by the couple J·ψ̈ only (said in ``notes``). A
     linkage's force is taken from its ground joints' reactions and frame guides'
     normal forces, the moment adds the driving torque's reaction on the motor; see
     :mod:`cyclomech.dynamics` for what is included (gravity and the working loads

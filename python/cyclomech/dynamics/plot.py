@@ -18,13 +18,17 @@ from ._shaking import Shaking
 __all__ = ["plot_shaking", "plot_torsion"]
 
 
-def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
+def plot_shaking(
+    shaking: Any, rpm: Any, *, title: str | None = None, angle_name: str | None = None
+) -> Any:
     """The shaking force's hodograph (a polar plot) and the shaking moment over the cycle.
 
     Left: the tip of the force vector (F_x, F_y) [N] over the cycle, as a closed
     curve around the origin (the frame sees this force turn and pulse), its peak
-    marked; right: the shaking moment [N·m] against the angle. Given a
-    :class:`~cyclomech.dynamics.Balance`, both before (grey) and after balancing.
+    marked with the angle of the cycle it occurs at (the polar plot's own angles
+    are the force's direction); right: the shaking moment [N·m] against that
+    angle. Given a :class:`~cyclomech.dynamics.Balance`, both before (grey) and
+    after balancing.
 
     Parameters
     ----------
@@ -35,6 +39,10 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
         The speed [rpm] of the inertia forces.
     title : str, optional
         The figure's title; default names the speed.
+    angle_name : str, optional
+        What the angles are, for the peak's label and the moment's axis; default
+        "cycle angle" for a machine's shaking (one with ``parts``), "crank angle"
+        for a mechanism's or a balance.
 
     Returns
     -------
@@ -52,7 +60,7 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
     Notes
     -----
     Artists by gid: ``"force"``, ``"force before"``, ``"peak"``, ``"moment"``,
-    ``"moment before"``.
+    ``"moment before"``; the hodograph's title names the peak and the angle it is at.
 
     Examples
     --------
@@ -63,8 +71,8 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
     >>> k = cm.forces.kinetostatics(crank, np.radians(np.arange(0.0, 360.0, 5.0)),
     ...                             point_masses={"A": 2.0})
     >>> fig = plot_shaking(cm.dynamics.shaking(k), 300.0)
-    >>> fig.axes[0].name, fig.axes[1].get_ylabel()
-    ('polar', 'shaking moment  [N·m]')
+    >>> fig.axes[0].name, fig.axes[1].get_ylabel(), fig.axes[1].get_xlabel()
+    ('polar', 'shaking moment  [N·m]', 'crank angle  [deg]')
     >>> import matplotlib.pyplot as plt
     >>> plt.close(fig)
     """
@@ -78,7 +86,13 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
             f"(cyclomech.dynamics.balance); got {type(shaking).__name__}"
         )
     n = finite_number("rpm", rpm, "[rpm]")
+    if angle_name is None:
+        angle_name = "cycle angle" if after.parts else "crank angle"
+    elif not isinstance(angle_name, str):
+        raise InputError(f"angle_name = {angle_name!r} must be a str (e.g. 'crank angle')")
     plt = pyplot()
+    from matplotlib.ticker import MultipleLocator
+
     fig = plt.figure(figsize=(10.0, 4.4), layout="constrained")
     polar = fig.add_subplot(1, 2, 1, projection="polar")
     right = fig.add_subplot(1, 2, 2)
@@ -103,22 +117,32 @@ def plot_shaking(shaking: Any, rpm: Any, *, title: str | None = None) -> Any:
         right.plot(x[order], m[order], gid=f"moment {name}".strip(), label=label, **style)
     f = after.force(n)
     mag = np.hypot(f[:, 0], f[:, 1])
-    if mag.size:
+    # A force that is zero to rounding (balanced, or a lever shaking by a couple
+    # only) has no peak to place: its "angle" would be the rounding's.
+    scale = float(mag.max(initial=0.0))
+    if before is not None:
+        scale = max(scale, float(np.hypot(*before.force(n).T).max(initial=0.0)))
+    if mag.size and float(mag.max()) > 1e-9 * scale:
         i = int(np.argmax(mag))
         polar.plot([np.arctan2(f[i, 1], f[i, 0])], [mag[i]], "o", color="C3", gid="peak")
-        polar.annotate(
-            f"peak {mag[i]:,.0f} N at {after.angles_deg[i] % 360:.0f}°",
-            (np.arctan2(f[i, 1], f[i, 0]), mag[i]),
-            textcoords="offset points",
-            xytext=(6, 6),
-            fontsize=8,
-        )
-    polar.set_title("shaking force  [N] (direction on the frame)", fontsize=9)
+        peak = f"peak {mag[i]:,.0f} N (red) at {angle_name} {after.angles_deg[i] % 360:.0f}°"
+    else:
+        peak = "no shaking force" + (" left" if before is not None else "")
+        if np.abs(after.moment(n)).max(initial=0.0) > 0.0:
+            peak += ": a couple only (right)"
+    if scale == 0.0:  # no curve to scale the radius by: no radial labels
+        polar.set_ylim(0.0, 1.0)
+        polar.set_yticklabels([])
+    # The peak in the title: the polar plot's own angles are the force's direction,
+    # so the cycle angle is said in words, off the plot.
+    polar.set_title(f"shaking force  [N] (direction on the frame)\n{peak}", fontsize=9)
     polar.set_rlabel_position(112.5)  # radial labels off the 0° axis the curves often cross
     polar.tick_params(axis="y", labelsize=7)
     right.axhline(0.0, color="0.6", lw=0.8)
     right.set_ylabel("shaking moment  [N·m]")
-    angle_axis(right, 360.0, "angle  [deg]")
+    angle_axis(right, 360.0, f"{angle_name}  [deg]")
+    # Every 60°: the 30° of a full-width axis crowd this half-width one.
+    right.xaxis.set_major_locator(MultipleLocator(60.0))
     right.grid(True, lw=0.4, alpha=0.5)
     if before is not None:
         polar.legend(fontsize=8, loc="upper left", bbox_to_anchor=(-0.25, 0.02))

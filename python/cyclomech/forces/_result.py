@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number, float_array, instance, instances
+from .._arrays import float_array, instance, instances
 from .._errors import InputError
-from .._units import RAD_PER_S_PER_RPM
+from .._units import at_speed
 
 if TYPE_CHECKING:
     from ..linkage import LinkageSolution
@@ -340,16 +340,8 @@ class Kinetostatics:
         out: npt.NDArray[np.bool_] = ~(self.conditioning >= NEAR_DEAD_CENTRE)
         return out & self.solution.ok
 
-    @staticmethod
-    def _weights(rpm: Any, crank_acceleration: Any) -> tuple[float, float]:
-        n = finite_number("rpm", rpm, "[rpm]")
-        eps = finite_number("crank_acceleration", crank_acceleration, "[rad/s²]")
-        return (n * RAD_PER_S_PER_RPM) ** 2, eps
-
     def _at(self, parts: Array, rpm: Any, crank_acceleration: Any) -> Array:
-        w2, eps = self._weights(rpm, crank_acceleration)
-        out: Array = w2 * parts[0] + eps * parts[1] + parts[2]
-        return out
+        return at_speed(parts, rpm, crank_acceleration)
 
     def torque(self, rpm: Any, crank_acceleration: float = 0.0) -> Array:
         """The driving torque on the crank [N·m] at a crank speed and acceleration.

@@ -163,7 +163,9 @@ def _drive_and_frame(r: MachineResult) -> None:
             t = time.perf_counter()
             r.torsion = machine_torsion(r, m.drive.elastic, r.dynamics.steady, m.drive.motor)
             r.seconds["elastic shaft's dynamic errors"] = time.perf_counter() - t
-    elif m.drive is not None:
+    elif m.drive is not None and r.optimum is not None:
+        # Without an optimum (the cyclogram does not fit at the nominal speed, a
+        # failure said already) nothing is phased on the shaft: not a drive's fault.
         warnings.warn(
             f"{m.source}: [drive]: nothing loads the main shaft (no mechanism has masses or "
             "loads): no real speed and no flywheel to size",

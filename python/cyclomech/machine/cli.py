@@ -108,9 +108,12 @@ def _print_shaft_and_frame(r: Any) -> None:
             f"{st['peak_force_n']:.4g} N, RMS {st['rms_force_n']:.4g} N; moment peak "
             f"{st['peak_moment_nm']:.4g} N·m"
         )
+        for k, why in r.shaking.shaking.notes.items():
+            print(f"  assumed for {k}: {why}")
         for k, b in r.shaking.balances.items():
             weights = ", ".join(
                 f"{c.link} {c.mass_radius_kg_m:.4g} kg·m at {c.angle_deg:.1f}°"
+                + (" (at the bound max_mass_radius_kg_m)" if c.link in b.at_bound else "")
                 for c in b.counterweights
             )
             before, after = b.before["rms_force_n"], b.after["rms_force_n"]
