@@ -52,6 +52,15 @@ def test_the_file_is_read_and_reported(result: Any) -> None:
     assert j["nodes"][0]["mechanism"] == "knife" and j["nodes"][0]["max_error"] == 1e-3
     assert j["nodes"][0]["peak_error"] == pytest.approx(t.nominal.peak_error["knife"])
     assert "Elastic shaft: dynamic error of knife" in t.line()
+    # its events: those of the operations it performs and its phase's
+    cg, opt = result.machine.cyclogram, result.optimum
+    own = {e for o in cg.operations if o.mechanism == "knife" for e in o.arc} | {"clamped"}
+    lags = t.event_lags_deg["knife"]
+    assert set(lags) == own
+    grid = np.append(t.nominal.theta_deg, 360.0)
+    for e, lag in lags.items():
+        tw = np.append(t.nominal.twist_rad[0], t.nominal.twist_rad[0, 0])
+        assert lag == pytest.approx(np.degrees(np.interp(opt.times[e] % 360.0, grid, tw)))
 
 
 def test_a_stiff_shaft_and_link_give_the_quasi_static_deflection() -> None:

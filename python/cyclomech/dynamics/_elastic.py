@@ -16,6 +16,7 @@ member's dynamic error reaches its bound.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -303,6 +304,12 @@ class MachineTorsion:
         The machine's nominal speed [rpm].
     problem : str
         Why there is no ``nominal`` ("" when there is).
+    event_lags_deg : dict of str to dict of str to float
+        For each take-off point, how late its mechanism's events happen under the
+        motor [deg]: the node's twist at each event's angle in the optimum, for the
+        events of the operations it performs (``mechanism`` of an operation) and
+        the operations whose bounds it sets, and the event its ``phase`` follows.
+        Empty without a steady state.
 
     Examples
     --------
@@ -319,6 +326,7 @@ class MachineTorsion:
     limits_rpm: dict[str, float]
     nominal_rpm: float
     problem: str = ""
+    event_lags_deg: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def bounds(self) -> dict[str, float]:
         """Each bounded member's largest dynamic error allowed [its unit].
@@ -486,6 +494,7 @@ class MachineTorsion:
                     "error_limited_rpm": None
                     if x.name not in self.limits_rpm or math.isinf(self.limits_rpm[x.name])
                     else self.limits_rpm[x.name],
+                    "event_lag_deg": self.event_lags_deg.get(x.name, {}),
                 }
             )
         return {
@@ -524,6 +533,7 @@ class MachineTorsion:
             "peak dynamic error",
             "bound",
             "error reaches the bound at [rpm]",
+            "latest event [deg]",
         ]
         rows = []
         for k, x in enumerate(self.nodes):
@@ -546,6 +556,7 @@ class MachineTorsion:
                     "—"
                     if lim is None
                     else ("above the range" if math.isinf(lim) else f"{lim:.2f}"),
+                    _latest(self.event_lags_deg.get(x.name, {})),
                 ]
             )
         return head, rows
@@ -638,4 +649,37 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
         for x in nodes
         if x.member is not None and x.member.max_error is not None
     }
-    return MachineTorsion(tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem)
+    lags = {} if nominal is None else _event_lags(result, nominal)
+    return MachineTorsion(
+        tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem, lags
+    )
+
+
+def _event_lags(result: Any, t: Torsion) -> dict[str, dict[str, float]]:
+    """Each node's twist [deg] at the optimum's angle of each event of its own: the
+    operations whose ``mechanism`` it is or whose bounds it sets, and the event its
+    phase follows."""
+    opt = result.optimum
+    if opt is None:
+        return {}
+    cg = result.machine.cyclogram
+    out = {}
+    for name in t.names:
+        mech = result.machine.mechanisms[name]
+        own = [e for o in cg.operations if o.mechanism == name for e in o.arc]
+        own += [e for b in mech.bounds() for e in b.arc]  # the operations it bounds
+        phase = getattr(getattr(mech, "phase", None), "event", None)
+        if phase is not None:
+            own.append(phase)
+        events = [e for e in cg.events if e in set(own) and e in opt.times]
+        at = t.lag_deg(name, [opt.times[e] for e in events]) if events else []
+        out[name] = {e: float(v) for e, v in zip(events, at, strict=True)}
+    return out
+
+
+def _latest(lags: Mapping[str, float]) -> str:
+    """The report's cell: the event its node's twist delays most."""
+    if not lags:
+        return "—"
+    e = max(lags, key=lambda k: abs(lags[k]))
+    return f"{e}: {lags[e]:+.4g}"
