@@ -18,8 +18,9 @@ the timing; measured 3e-11 to 6e-10). The issue's target is
 :func:`numba_kernel`, cyclomech's own method (the same RK4 in φ₀ with the same
 step rule, the same cubic Hermite interpolation of the samples, the same
 periodicity test) written in numba, the speeds one after the other — what a user
-who knew the method would write; it agrees with cyclomech to 1e-8
-(:func:`test_numba_agrees`).
+who knew the method would write, compiled with ``error_model="numpy"`` (without
+it numba checks every division and runs 2.8× slower); it agrees with cyclomech to
+1e-8 (:func:`test_numba_agrees`).
 
 Default test run (``--benchmark-disable`` in addopts): each benchmark once, on
 4 of the 64 speeds (the full sweep takes seconds a call). For timings and the
