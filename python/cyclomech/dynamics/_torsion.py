@@ -380,7 +380,7 @@ def torsion(
     start_rpm: float | None = None,
     tol: float = 1e-9,
     max_cycles: int = 5000,
-    accuracy: float = 0.05,
+    accuracy: float = 0.1,
 ) -> Torsion:
     """The periodic steady state of the main shaft as a chain of torsional springs.
 
@@ -415,7 +415,7 @@ def torsion(
         The periodicity, in [1e-14, 0.1].
     max_cycles : int, default 5000
         Cycles at most.
-    accuracy : float, default 0.05
+    accuracy : float, default 0.1
         The fastest rate times the time step, in [1e-4, 0.5].
 
     Returns
@@ -605,7 +605,7 @@ def torsion_sweep(
     *,
     tol: float = 1e-9,
     max_cycles: int = 5000,
-    accuracy: float = 0.05,
+    accuracy: float = 0.1,
     n_threads: int | None = None,
 ) -> TorsionSweep:
     """The dynamic errors at each constant head speed of ``rpm``, in parallel.

@@ -710,6 +710,14 @@ pub struct StartUp {
     pub settle_time: f64,
 }
 
+/// Where an angle falls among a spline's samples: the sample before it, the one
+/// after (wrapping), and the Hermite weights of their values and slopes.
+pub(crate) struct Cell {
+    k: usize,
+    k1: usize,
+    w: [f64; 4],
+}
+
 /// Periodic cubic Hermite interpolation of a sampled curve, slopes by fourth-order
 /// central differences.
 pub(crate) struct Spline {
@@ -735,24 +743,47 @@ impl Spline {
         }
     }
 
+    /// The cell of `phi` [rad] (any turn) and its Hermite weights; one cell
+    /// serves every spline on the same samples.
     #[inline]
-    pub(crate) fn at(&self, phi: f64) -> f64 {
+    pub(crate) fn locate(&self, phi: f64) -> Cell {
         let n = self.v.len();
-        let s = (phi / self.h).rem_euclid(n as f64);
+        let nf = n as f64;
+        let mut s = phi / self.h;
+        // Most angles are within a turn of the grid: a compare is cheaper than a
+        // remainder.
+        if s < 0.0 {
+            s += nf;
+        } else if s >= nf {
+            s -= nf;
+        }
+        if !(0.0..nf).contains(&s) {
+            s = s.rem_euclid(nf);
+        }
         let k = (s.floor() as usize).min(n - 1);
         let u = s - k as f64;
-        let k1 = (k + 1) % n;
-        let (p0, p1, m0, m1) = (
-            self.v[k],
-            self.v[k1],
-            self.d[k] * self.h,
-            self.d[k1] * self.h,
-        );
         let (u2, u3) = (u * u, u * u * u);
-        (2.0 * u3 - 3.0 * u2 + 1.0) * p0
-            + (u3 - 2.0 * u2 + u) * m0
-            + (-2.0 * u3 + 3.0 * u2) * p1
-            + (u3 - u2) * m1
+        Cell {
+            k,
+            k1: if k + 1 == n { 0 } else { k + 1 },
+            w: [
+                2.0 * u3 - 3.0 * u2 + 1.0,
+                (u3 - 2.0 * u2 + u) * self.h,
+                -2.0 * u3 + 3.0 * u2,
+                (u3 - u2) * self.h,
+            ],
+        }
+    }
+
+    /// The value in the cell `c` (of [`Spline::locate`] on a spline of as many samples).
+    #[inline]
+    pub(crate) fn at_cell(&self, c: &Cell) -> f64 {
+        c.w[0] * self.v[c.k] + c.w[1] * self.d[c.k] + c.w[2] * self.v[c.k1] + c.w[3] * self.d[c.k1]
+    }
+
+    #[inline]
+    pub(crate) fn at(&self, phi: f64) -> f64 {
+        self.at_cell(&self.locate(phi))
     }
 }
 
