@@ -373,7 +373,8 @@ class MachineTorsion:
         """What fails: a chain with no steady state, a member's error at the nominal
         speed under the motor above its bound, or above it at every speed of the
         range. (An error-limited speed below the nominal speed lowers the machine's
-        speed limit, whose check says so: :attr:`cyclomech.machine.MachineResult.above_speed_limit`.)
+        speed limit, whose check says so:
+        :attr:`cyclomech.machine.MachineResult.above_speed_limit`.)
 
         Returns
         -------
