@@ -22,6 +22,7 @@ from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
 from cyclomech.dynamics._drive import DRIVE_KEYS
 from cyclomech.dynamics._frame import BALANCE_KEYS
+from cyclomech.cam._friction import CAM_FRICTION_KEYS
 from cyclomech.forces._file import _GUIDE_KEYS, _LOAD_KEYS, _MASS_KEYS, _PIN_KEYS, FRICTION_KEYS
 from cyclomech.machine import KINDS, check_parameter
 from cyclomech.machine._model import _MACHINE_KEYS
@@ -141,7 +142,8 @@ def test_kind_keys(kind: str) -> None:
         ("constraint", _CON_KEYS),
         ("constraint.terms", _TERM_KEYS),
         ("phase", Phase.KEYS),
-        ("cam", CAM_KEYS | {"kind"}),
+        ("cam", CAM_KEYS | {"kind", "friction"}),
+        ("cam.friction", CAM_FRICTION_KEYS),
         ("cam.segment", SEGMENT_KEYS | {"arc"}),
         ("linkage.mass", _MASS_KEYS),
         ("linkage.load", _LOAD_KEYS),
