@@ -192,10 +192,13 @@ def test_a_pin_radius_in_millimetres_warns() -> None:
         build(slider_data({"pin_radius_m": 15.0, "pin_mu": 0.1}))
 
 
-def test_a_press_refuses_a_friction_table_by_name() -> None:
+def test_a_press_refuses_a_linkages_per_joint_overrides() -> None:
+    """A press takes its own friction table (tests/press/test_press_friction.py):
+    a linkage's ``pins`` overrides are unknown there, the press's keys listed."""
     d = copy.deepcopy(dict(cm.Machine.from_toml(EXAMPLES / "extrusion_press_line.toml").data or {}))
-    d["mechanism"]["drive"]["friction"] = {"pin_radius_m": 0.01, "pin_mu": 0.1}
-    assert "[mechanism.drive]: friction is not modelled for a press" in refused(d)
+    d["mechanism"]["drive"]["friction"] = {"pins": {"A": {"radius_m": 0.01}}}
+    msg = refused(d)
+    assert "pins" in msg and "guide_mu" in msg and "pin_radius_m" in msg
 
 
 def test_a_cam_refuses_a_linkages_friction_keys() -> None:

@@ -273,13 +273,16 @@ def cam_friction(
     tx, ty = length * ds * vx + cy, length * ds * vy - cx
     speed = np.hypot(tx, ty)
     sigma = np.where(q < 0.0, -1.0, 1.0)
-    s_m = np.sign(ds)
+    # Zero relative velocity (a dwell, to round-off) costs no friction: the sign
+    # there is 0, the linkage's rule (forces/friction.rs).
+    scale = 1.0 if osc else fol.base_radius + fol.roller_radius
+    s_m = np.where(np.abs(ds) > 1e-12 * scale, np.sign(ds), 0.0)
     k = friction.pin_mu * friction.pin_radius / r_r if r_r > 0.0 else 0.0
     c = 1.0 / math.sqrt(1.0 - k * k)
     # ω_r = ω·(1 − σ|T|/r_r) (rolling, module docs); the arm's angle is π − ψ.
     spin_abs = w * (1.0 - sigma * speed / r_r) if r_r > 0.0 else np.zeros_like(th)
     spin = spin_abs + (w * ds if osc else 0.0)
-    s_r = np.sign(spin)
+    s_r = np.where(np.abs(spin) > 1e-12 * w, np.sign(spin), 0.0)
     cos, sin = np.cos(phi), np.sin(phi)
     if osc:
         h = np.full_like(th, c)
