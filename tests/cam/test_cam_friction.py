@@ -338,3 +338,18 @@ def test_a_flat_follower_and_a_cam_file_refuse_friction() -> None:
     }
     with pytest.raises(cm.InputError, match=r"\[cam\]: friction is not modelled for a cam file"):
         cm.cam.CamDesign.from_table(table, "[cam]")
+
+
+def test_a_self_locking_follower_is_a_failure_of_the_machine() -> None:
+    """A pivot friction that no contact force overcomes (μ·r_p larger than the
+    normal's lever over part of the turn) fails the run, naming the cam, as a
+    linkage's self-locking does; the shaft's torque stays frictionless."""
+    d = loom_data()
+    d["mechanism"]["lifter cam"]["friction"] = {"pivot_radius_m": 0.5, "pivot_mu": 0.5}
+    r = analyze(d)
+    res = r.mechanisms["lifter cam"]
+    assert res.friction.self_locking.any()
+    assert any("friction self-locks the follower of 'lifter cam'" in t for t in r.failures)
+    np.testing.assert_array_equal(res.friction_torque(), 0.0)
+    e = res.efficiency()
+    assert e["cycle_efficiency"] is None and e["self_locking_crank_deg"]

@@ -534,16 +534,30 @@ class CamResult(BoundsResult):
             out.append(f"the profile is undercut at {runs}")
         if self.jump_rpm < self.ctx.nominal_rpm:
             out.append(f"the follower jumps off the cam above {self.jump_rpm:.4g} rpm")
-        f = self.friction
-        if f is not None and f.self_locking.any():
-            deg = np.degrees(f.theta[f.self_locking])
-            out.append(
-                f"friction self-locks the follower at cam angles {deg.min():.1f}–"
-                f"{deg.max():.1f}° ({int(f.self_locking.sum())} of {f.theta.size} angles): "
-                "no finite contact force moves it there; lower the friction coefficients "
-                "or the pivot's radius, or the pressure angle"
-            )
         return out
+
+    def failures(self) -> list[str]:
+        """What fails at the nominal speed: cam angles where friction self-locks
+        the follower (no finite contact force moves it), as a linkage's; empty
+        otherwise.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].failures()
+        []
+        """
+        f = self.friction
+        if f is None or not f.self_locking.any():
+            return []
+        deg = np.degrees(f.theta[f.self_locking])
+        return [
+            f"friction self-locks the follower of {self.mech.name!r} at cam angles "
+            f"{deg.min():.1f}–{deg.max():.1f}° ({int(f.self_locking.sum())} of "
+            f"{f.theta.size} angles): no finite contact force moves it there; lower the "
+            "friction coefficients or the pivot's radius, or the pressure angle"
+        ]
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry and its ``cams`` entry of ``results.json``.

@@ -136,7 +136,7 @@ class PressFrictionForces:
     >>> import numpy as np, cyclomech as cm
     >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
     >>> f = press_friction(p, np.radians([90.0]), 4.0, PressFriction(guide_mu=0.1),
-    ...                    slider_mass=10.0)
+    ...                    slider_mass=10.0, k_Sp=0.1)
     >>> f.elements
     ('guide', 'slider pin', 'planet pin')
     """
@@ -163,7 +163,7 @@ class PressFrictionForces:
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
         >>> f = press_friction(p, np.radians([90.0]), 4.0, PressFriction(guide_mu=0.1),
-        ...                    slider_mass=10.0)
+        ...                    slider_mass=10.0, k_Sp=0.1)
         >>> bool(f.friction_power[0] >= 0)
         True
         """
@@ -178,7 +178,7 @@ class PressFrictionForces:
         --------
         >>> import numpy as np, cyclomech as cm
         >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
-        >>> f = press_friction(p, np.radians([0.0]), 4.0, PressFriction(guide_mu=0.1))
+        >>> f = press_friction(p, np.radians([0.0]), 4.0, PressFriction(guide_mu=0.1), k_Sp=0.1)
         >>> f.input_power.tolist()
         [0.0]
         """
