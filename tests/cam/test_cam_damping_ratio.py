@@ -22,7 +22,10 @@ def _edit(tmp_path: Path, src: Path, old: str, new: str) -> Path:
     text = src.read_text()
     assert old in text
     path = tmp_path / src.name
-    path.write_text(text.replace(old, new, 1))
+    # The last occurrence: the loom's [drive.link."lifter cam"] also has a
+    # damping_ratio = 0.05, before the cam's own table.
+    head, _, tail = text.rpartition(old)
+    path.write_text(head + new + tail)
     return path
 
 

@@ -192,14 +192,22 @@ def test_a_pin_radius_in_millimetres_warns() -> None:
         build(slider_data({"pin_radius_m": 15.0, "pin_mu": 0.1}))
 
 
-@pytest.mark.parametrize("source", ["extrusion_press_line", "stb_loom"])
-def test_press_and_cam_refuse_a_friction_table_by_name(source: str) -> None:
-    d = copy.deepcopy(dict(cm.Machine.from_toml(EXAMPLES / f"{source}.toml").data or {}))
-    name = "drive" if source == "extrusion_press_line" else "lifter cam"
-    d["mechanism"][name]["friction"] = {"pin_radius_m": 0.01, "pin_mu": 0.1}
+def test_a_press_refuses_a_linkages_per_joint_overrides() -> None:
+    """A press takes its own friction table (tests/press/test_press_friction.py):
+    a linkage's ``pins`` overrides are unknown there, the press's keys listed."""
+    d = copy.deepcopy(dict(cm.Machine.from_toml(EXAMPLES / "extrusion_press_line.toml").data or {}))
+    d["mechanism"]["drive"]["friction"] = {"pins": {"A": {"radius_m": 0.01}}}
     msg = refused(d)
-    kind = "a press" if name == "drive" else "a cam"
-    assert f"[mechanism.{name}]: friction is not modelled for {kind}" in msg
+    assert "pins" in msg and "guide_mu" in msg and "pin_radius_m" in msg
+
+
+def test_a_cam_refuses_a_linkages_friction_keys() -> None:
+    """A cam takes its own friction table (tests/cam/test_cam_friction.py): a
+    linkage's pin keys are unknown there, the cam's keys listed."""
+    d = copy.deepcopy(dict(cm.Machine.from_toml(EXAMPLES / "stb_loom.toml").data or {}))
+    d["mechanism"]["lifter cam"]["friction"] = {"pin_radius_m": 0.01, "pin_mu": 0.1}
+    msg = refused(d)
+    assert "pin_mu" in msg and "roller_pin_mu" in msg and "pivot_mu" in msg
 
 
 def test_no_warning_for_plausible_values() -> None:

@@ -19,12 +19,14 @@ from cyclomech import _keydocs
 from cyclomech._keydoc import KeyDoc
 from cyclomech._kind import Phase
 from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
+from cyclomech.cam._friction import CAM_FRICTION_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
 from cyclomech.dynamics._drive import DRIVE_KEYS
 from cyclomech.dynamics._frame import BALANCE_KEYS
 from cyclomech.forces._file import _GUIDE_KEYS, _LOAD_KEYS, _MASS_KEYS, _PIN_KEYS, FRICTION_KEYS
 from cyclomech.machine import KINDS, check_parameter
 from cyclomech.machine._model import _MACHINE_KEYS
+from cyclomech.press._friction import PRESS_FRICTION_KEYS
 from cyclomech.press._kind import FORCE_KEYS
 from cyclomech.servo._kind import MOTOR_KEYS
 
@@ -141,7 +143,8 @@ def test_kind_keys(kind: str) -> None:
         ("constraint", _CON_KEYS),
         ("constraint.terms", _TERM_KEYS),
         ("phase", Phase.KEYS),
-        ("cam", CAM_KEYS | {"kind"}),
+        ("cam", CAM_KEYS | {"kind", "friction"}),
+        ("cam.friction", CAM_FRICTION_KEYS),
         ("cam.segment", SEGMENT_KEYS | {"arc"}),
         ("linkage.mass", _MASS_KEYS),
         ("linkage.load", _LOAD_KEYS),
@@ -149,6 +152,7 @@ def test_kind_keys(kind: str) -> None:
         ("linkage.friction.pins", _PIN_KEYS),
         ("linkage.friction.guides", _GUIDE_KEYS),
         ("press.deformation_force", set(FORCE_KEYS)),
+        ("press.friction", PRESS_FRICTION_KEYS),
         ("servo.motor", MOTOR_KEYS),
         ("servo.segment", SEGMENT_KEYS - {"load_n", "load_nm"} | {"arc"}),
         ("drive", DRIVE_KEYS),

@@ -246,8 +246,16 @@ def test_negative_or_bad_masses(key):
 # --- the machine ----------------------------------------------------------------------------
 
 
-def variant(tmp_path: Path, old: str, new: str) -> Path:
+def frictionless() -> str:
+    """The press line's file without its friction table: these tests hold the
+    frictionless closed form (tests/press/test_press_friction.py the friction)."""
     text = LINE.read_text(encoding="utf-8")
+    start = text.index("friction = {")
+    return text[:start] + text[text.index("\n", start) + 1 :]
+
+
+def variant(tmp_path: Path, old: str, new: str) -> Path:
+    text = frictionless()
     assert text.count(old) == 1, old
     p = tmp_path / "line.toml"
     p.write_text(text.replace(old, new), encoding="utf-8")
@@ -255,8 +263,10 @@ def variant(tmp_path: Path, old: str, new: str) -> Path:
 
 
 @pytest.fixture(scope="module")
-def line():
-    m = cm.Machine.from_toml(LINE)
+def line(tmp_path_factory):
+    p = tmp_path_factory.mktemp("line") / "line.toml"
+    p.write_text(frictionless(), encoding="utf-8")
+    m = cm.Machine.from_toml(p)
     return m, cm.machine.analyze(m, progress=False)
 
 
@@ -294,7 +304,8 @@ def test_press_line_main_shaft_is_the_press_torque_at_its_phase(line):
 
 def test_press_line_report_and_results_json(tmp_path):
     out = tmp_path / "out"
-    assert main(["run", str(LINE), "--out", str(out)]) == 0
+    (tmp_path / "line.toml").write_text(frictionless(), encoding="utf-8")
+    assert main(["run", str(tmp_path / "line.toml"), "--out", str(out)]) == 0
     res = json.loads((out / "results.json").read_text())
     shaft = res["shaft"]
     assert shaft["contributors"] == ["drive"]
@@ -324,7 +335,7 @@ def test_press_without_load_gives_no_shaft_torque(tmp_path):
 
 
 def test_masses_alone_give_a_torque_that_averages_zero(tmp_path):
-    text = LINE.read_text(encoding="utf-8")
+    text = frictionless()
     start = text.index("deformation_force = {")
     end = text.index("\n", start)
     p = tmp_path / "masses.toml"

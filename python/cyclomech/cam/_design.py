@@ -185,13 +185,13 @@ class CamDesign:
         extra = frozenset(instances("extra", extra, str))
         arcs = flag("arcs", arcs)
         at = where if source is None else f"{source}: {where}"
-        if isinstance(table, Mapping) and "friction" in table:
+        if isinstance(table, Mapping) and "friction" in table and "friction" not in extra:
             # Refused by name, not as an unknown key: whoever wrote it expects losses.
+            # A machine file's cam mechanism reads it (cam/_kind.py), at its nominal speed.
             raise InputError(
-                f"{at}: friction is not modelled for a cam (a roller follower's rolling "
-                "friction is usually negligible; a flat-faced follower's sliding and the "
-                "follower's bearings are not modelled); drop the friction table (a linkage, "
-                'kind = "linkage", takes one)'
+                f"{at}: friction is not modelled for a cam file (no machine speed or "
+                'efficiency to report); a machine file\'s cam mechanism (kind = "cam") '
+                "takes a friction table; drop it here"
             )
         _toml.check_keys(table, CAM_KEYS | extra, source, where)
         _toml.require(table, ("follower", "segment"), at)

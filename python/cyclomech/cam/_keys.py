@@ -3,7 +3,7 @@ format reference (:attr:`CamMechanism.key_docs`; ``tests/package/test_keydocs.py
 them equal to the parser's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]
-['cam', 'cam.segment']
+['cam', 'cam.friction', 'cam.segment']
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from .._keydoc import (
     POS,
     REQ,
     ROWS,
+    TAB,
     TEXT,
     KeyTable,
 )
@@ -99,6 +100,39 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("polydyne_rpm", "Make the cam polydyne for this speed: the follower's output "
           "follows the program.", "rpm", NUM, "none (the cam follows the program)",
           "finite, > 0; needs mass_kg (inertia_kg_m2) and natural_frequency_hz", True),
+        K("friction", "The follower's friction at its pivot or guide and its roller's pin "
+          "(a [….friction] table).", NO_UNIT, TAB, "none (frictionless)",
+          "a friction table; needs mass_kg (inertia_kg_m2 when oscillating); not for a flat "
+          "follower", False),
+    )),
+    KeyTable("cam.friction", "[mechanism.<name>.friction] of a cam", (
+        K("pivot_radius_m", "The oscillating arm's pivot pin (journal) radius r_p (a friction "
+          "torque μ_p·r_p·|R| against the arm's turning, R the pivot's reaction).", "m", NUM,
+          "none (no friction at the pivot)", "finite, ≥ 0; with pivot_mu" + OS, None),
+        K("pivot_mu", "The pivot's Coulomb friction coefficient μ_p.", NO_UNIT, NUM,
+          "none (no friction at the pivot)",
+          "finite, ≥ 0; with pivot_radius_m; above 0.5 warns" + OS, None),
+        K("guide_mu", "The translating follower's guide's Coulomb friction coefficient μ_g "
+          "(a force μ_g·|F⊥| against its sliding, F⊥ the contact force across the stem).",
+          NO_UNIT, NUM, "none (no friction in the guide)",
+          "finite, ≥ 0; above 0.5 warns" + TR, None),
+        K("roller_pin_radius_m", "The roller's pin radius r_pin (a friction torque "
+          "μ_r·r_pin·|F| against the roller's turning on its arm or stem).", "m", NUM,
+          "none (no friction in the roller)",
+          "finite, 0 ≤ roller_pin_radius_m < roller_radius_m; with roller_pin_mu", None),
+        K("roller_pin_mu", "The roller pin's Coulomb friction coefficient μ_r (about 0.005 "
+          "for a needle bearing, 0.05–0.1 for a plain one).", NO_UNIT, NUM,
+          "none (no friction in the roller)",
+          "finite, ≥ 0; with roller_pin_radius_m; above 0.5 warns", None),
+    ), intro=(
+        "Coulomb friction of a cam's follower (issue 34), solved with the contact force "
+        "at the nominal speed (a closed form per cam angle): at an oscillating arm's pivot "
+        "(its centre of mass taken on the pivot, so the pivot carries the contact force) or "
+        "a translating stem's guide (one effective guide), and at the roller's pin (the "
+        "roller rolls on the cam). Where the follower dwells the pivot or guide costs "
+        "nothing; the roller still turns. The efficiency and the torque friction adds reach "
+        "the report and the main shaft as a linkage's do. A flat-faced follower refuses "
+        "friction."
     )),
     KeyTable("cam.segment", "[[mechanism.<name>.segment]] of a cam", (
         K("kind", "The segment's kind.", NO_UNIT, TEXT, REQ, "one of rise, dwell, return",

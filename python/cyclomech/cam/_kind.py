@@ -33,6 +33,7 @@ from .._kind import (
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
 from ._followers import FlatFaced, OscillatingRoller
+from ._friction import CamFriction, CamFrictionForces, cam_friction, friction_from_table
 from ._keys import KEY_DOCS
 from ._loads import CRITERIA
 from ._program import Cam
@@ -104,6 +105,9 @@ class CamMechanism(ExactBounds):
     criteria : tuple of tuple of (int, str)
         For each bound, in the order of :meth:`bounds`, the segment's index and
         the criterion (one of ``cyclomech.cam.CRITERIA``).
+    friction : CamFriction, optional
+        The follower's friction (the ``friction`` table, :mod:`cyclomech.cam._friction`),
+        solved at the nominal speed; needs the follower's loads; None (default) without.
 
     Examples
     --------
@@ -120,14 +124,16 @@ class CamMechanism(ExactBounds):
     # Its tables' keys, its own first, for the machine-file format reference
     # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
-    keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind"})
+    keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind", "friction"})
     fixed_keys: ClassVar[frozenset[str]] = frozenset(
-        {"kind", "follower", "closure", "segment", "continuity"}
+        {"kind", "follower", "closure", "segment", "continuity", "friction"}
     )
     json_groups: ClassVar[tuple[str, ...]] = ("cams",)
     name: str
     design: CamDesign
     criteria: tuple[tuple[int, str], ...]
+    #: The follower's friction (the ``friction`` table), None without.
+    friction: CamFriction | None = None
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamMechanism:
@@ -167,9 +173,21 @@ class CamMechanism(ExactBounds):
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         design = CamDesign.from_table(
-            table, where, source=ctx.source, extra=frozenset({"kind"}), arcs=True
+            table, where, source=ctx.source, extra=frozenset({"kind", "friction"}), arcs=True
         )
         at = ctx.where(name)
+        friction = friction_from_table(table, at, design.cam.follower)
+        if friction is not None and design.loads is None:
+            mass = (
+                "inertia_kg_m2"
+                if isinstance(design.cam.follower, OscillatingRoller)
+                else ("mass_kg")
+            )
+            raise InputError(
+                f"{at}: friction acts with the follower's forces, but the cam has no loads; "
+                f"give the follower's {mass} (and its spring and loads), or drop the "
+                "friction table"
+            )
         if not math.isclose(ctx.cyclogram.cycle_deg, 360.0):
             raise InputError(
                 f"{at}: a cam turns once per cycle, so the cyclogram's cycle_deg must be 360; "
@@ -184,7 +202,7 @@ class CamMechanism(ExactBounds):
             if arc in seen:
                 raise InputError(f"{at} segment {i}: arc = {list(arc)!r} is bound twice")
             seen.add(arc)
-        return cls(name, design, _criteria(design))
+        return cls(name, design, _criteria(design), friction)
 
     # ------------------------------------------------------------- its bounds
     def _arc(self, k: int) -> Arc:
@@ -377,6 +395,11 @@ class CamMechanism(ExactBounds):
             stress = math.inf
         segs = sorted({k for k, _ in self.criteria})
         at = d.min_phase_angles([n], segments=segs) if segs else None
+        fr = None
+        if self.friction is not None and d.loads is not None:
+            # On the 3600 angles of shaft_torque(), at the nominal speed.
+            grid = np.arange(3600, dtype=np.float64) * (2.0 * math.pi / 3600)
+            fr = cam_friction(cam, grid, n, d.loads, self.friction)
         result = CamResult(
             mech=self,
             ctx=ctx,
@@ -387,6 +410,7 @@ class CamMechanism(ExactBounds):
             jump_rpm=math.inf if d.loads is None else cam.jump_rpm(d.loads)[0],
             undercut_deg=cam.undercut_angles_deg(3600),
             at_nominal=at,
+            friction=fr,
         )
         problems = result.problems()
         if problems:
@@ -449,6 +473,9 @@ class CamResult(BoundsResult):
     at_nominal : MinPhaseAngles or None
         Its bound segments' smallest phase angles at the nominal speed (None
         without a bound segment).
+    friction : CamFrictionForces or None
+        Its follower's forces with friction at the nominal speed on the 3600 cam
+        angles of :meth:`shaft_torque`; None (default) without a ``friction`` table.
 
     Examples
     --------
@@ -468,6 +495,7 @@ class CamResult(BoundsResult):
     jump_rpm: float
     undercut_deg: list[tuple[float, float]]
     at_nominal: Any
+    friction: CamFrictionForces | None = None
 
     def problems(self) -> list[str]:
         """What fails at the nominal speed on the cam as laid out.
@@ -508,6 +536,29 @@ class CamResult(BoundsResult):
             out.append(f"the follower jumps off the cam above {self.jump_rpm:.4g} rpm")
         return out
 
+    def failures(self) -> list[str]:
+        """What fails at the nominal speed: cam angles where friction self-locks
+        the follower (no finite contact force moves it), as a linkage's; empty
+        otherwise.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> r.mechanisms["lifter cam"].failures()
+        []
+        """
+        f = self.friction
+        if f is None or not f.self_locking.any():
+            return []
+        deg = np.degrees(f.theta[f.self_locking])
+        return [
+            f"friction self-locks the follower of {self.mech.name!r} at cam angles "
+            f"{deg.min():.1f}–{deg.max():.1f}° ({int(f.self_locking.sum())} of "
+            f"{f.theta.size} angles): no finite contact force moves it there; lower the "
+            "friction coefficients or the pivot's radius, or the pressure angle"
+        ]
+
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry and its ``cams`` entry of ``results.json``.
 
@@ -526,7 +577,9 @@ class CamResult(BoundsResult):
         """
         m, d = self.mech, self.mech.design
         bounds = {b.label: self.ctx.bounds[b.name] for b in m.bounds()}
+        eff = self.efficiency()
         return {
+            **({} if eff is None else {"friction": eff}),
             "mechanisms": {"kind": "cam", "arcs": [list(a) for a in d.arcs if a is not None]},
             "cams": {
                 "follower": type(d.cam.follower).__name__,
@@ -620,7 +673,76 @@ class CamResult(BoundsResult):
         if d.loads is None or at is None:
             return None
         t = self.cam.shaft_torque(d.loads, samples=3600)
-        return t.per_omega2, t.static, at[0], at[1]
+        return t.per_omega2, t.static + self.friction_torque(), at[0], at[1]
+
+    def friction_torque(self) -> Array:
+        """The torque friction adds on the cam shaft at the nominal speed [N·m]: the
+        driving torque with friction less the one without, on the 3600 cam angles of
+        :meth:`shaft_torque` (zeros without friction or where a pose self-locks).
+
+        As a linkage's: Coulomb friction goes with the contact force, which changes
+        with the speed, so :meth:`shaft_torque` carries the nominal speed's friction
+        torque in its static part at every speed.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"),
+        ...                        progress=False).mechanisms["lifter cam"]
+        >>> t = r.friction_torque()
+        >>> t.shape, bool(t.mean() > 0)
+        ((3600,), True)
+        """
+        f = self.friction
+        if f is None or f.self_locking.any():
+            return np.zeros(3600)
+        out: Array = f.torque - f.torque_without
+        return out
+
+    def efficiency(self) -> dict[str, Any] | None:
+        """Its friction over one turn at the nominal speed, None without friction.
+
+        The keys of a linkage's (:meth:`cyclomech.linkage.LinkageResult.efficiency`):
+        ``cycle_efficiency`` = 1 − mean friction power / mean input power (None where
+        a pose self-locks or the shaft puts no work in), ``mean_friction_power_w``,
+        ``mean_input_power_w`` (with friction) [W], ``mean_torque_nm``,
+        ``peak_torque_nm`` with friction and ``peak_torque_nm_without`` [N·m],
+        ``friction_power_by_element_w`` (the pivot or guide, the roller's pin) and
+        ``self_locking_crank_deg`` (the cam angles where it self-locks [deg]).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"),
+        ...                        progress=False).mechanisms["lifter cam"]
+        >>> e = r.efficiency()
+        >>> 0.0 < e["cycle_efficiency"] < 1.0, e["mean_friction_power_w"] > 0
+        (True, True)
+        """
+        f = self.friction
+        if f is None:
+            return None
+
+        def finite(v: Any) -> float | None:
+            x = float(v)
+            return x if np.isfinite(x) else None
+
+        p_f = float(np.mean(f.friction_power))
+        p_in = float(np.mean(f.input_power))
+        eta = 1.0 - p_f / p_in if p_in > 0.0 else math.nan
+        return {
+            "nominal_rpm": self.ctx.nominal_rpm,
+            "cycle_efficiency": finite(eta),
+            "mean_friction_power_w": finite(p_f),
+            "mean_input_power_w": finite(p_in),
+            "mean_torque_nm": finite(np.mean(f.torque)),
+            "peak_torque_nm": finite(np.max(f.torque)),
+            "peak_torque_nm_without": float(np.max(f.torque_without)),
+            "friction_power_by_element_w": {
+                e: finite(np.mean(f.losses[:, i])) for i, e in enumerate(f.elements)
+            },
+            "self_locking_crank_deg": [float(v) for v in np.degrees(f.theta[f.self_locking])],
+        }
 
     def shaft_inertia(self) -> tuple[Array, float, str] | None:
         """Its reduced moment of inertia about the cam shaft, for the machine's

@@ -751,7 +751,11 @@ def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext)
             f"{where}: cam = {name!r} is not a cam of the machine; its cams are {cams}"
         )
     design = CamDesign.from_table(
-        other, f"[mechanism.{name}]", source=ctx.source, extra=frozenset({"kind"}), arcs=True
+        other,
+        f"[mechanism.{name}]",
+        source=ctx.source,
+        extra=frozenset({"kind", "friction"}),
+        arcs=True,
     )
     if arc not in design.arcs:
         bound = ", ".join(repr(list(a)) for a in design.arcs if a is not None) or "none"

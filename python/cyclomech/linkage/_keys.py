@@ -152,8 +152,9 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         "guide; ``pins`` and ``guides`` override them one by one. One line is the common "
         "case: ``friction = {pin_radius_m = 0.015, pin_mu = 0.08}``. Coulomb friction is "
         "taken at the nominal speed's velocities and reactions, and added to the torque the "
-        "main shaft, its flywheel and its ``[drive]`` see. A press and a cam refuse a "
-        "friction table: friction is not modelled there."
+        "main shaft, its flywheel and its ``[drive]`` see. A cam and a press "
+        "take their own friction tables (a cam's pivot or guide and roller pin, a press's "
+        "slider guide and rod pins)."
     )),
     KeyTable("linkage.friction.pins", "a joint in pins of a linkage's friction", (
         K("radius_m", "The pin's (journal's) radius r.", "m", NUM, "pin_radius_m",

@@ -4,7 +4,7 @@ force, phase), for the machine-file format reference (:attr:`PressMechanism.key_
 defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]
-['press', 'press.deformation_force', 'phase']
+['press', 'press.deformation_force', 'press.friction', 'phase']
 """
 
 from __future__ import annotations
@@ -54,6 +54,9 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("rod_mass_kg", "The (uniform) rod's mass.", "kg", NUM, "0", NONNEG, True),
         K("phase", "Where BDC sits in the cycle {event, crank_deg}: the carrier's angle past "
           "BDC.", NO_UNIT, TAB, "the carrier at BDC at cycle angle 0", "a phase table", True),
+        K("friction", "The friction of its slider's guide and its rod's pins (a "
+          "[….friction] table).", NO_UNIT, TAB, "none (frictionless)",
+          "a friction table; needs deformation_force, slider_mass_kg or rod_mass_kg", False),
     )),
     KeyTable("press.deformation_force", "deformation_force of a press", (
         K("s_above_bdc_m", "The slider's heights above BDC.", "m", ARR, REQ,
@@ -62,6 +65,22 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "finite, ≥ 0, as many as s_above_bdc_m", None),
     ), intro=(
         "The deformation-force diagram of a press: linear between its points, zero outside them."
+    )),
+    KeyTable("press.friction", "[mechanism.<name>.friction] of a press", (
+        K("guide_mu", "The slider guide's Coulomb friction coefficient μ_g (a force "
+          "μ_g·|H| against the sliding, H the guide's normal force).", NO_UNIT, NUM,
+          "none (no friction in the guide)", "finite, ≥ 0; above 0.5 warns", None),
+        K("pin_radius_m", "The radius r of the rod's two pins (a friction torque μ·r·|F| "
+          "against the rod's turning on the planet and on the slider).", "m", NUM,
+          "none (no friction in the pins)", "finite, ≥ 0; with pin_mu", None),
+        K("pin_mu", "The rod's pins' Coulomb friction coefficient μ.", NO_UNIT, NUM,
+          "none (no friction in the pins)",
+          "finite, ≥ 0; with pin_radius_m; above 0.5 warns", None),
+    ), intro=(
+        "Coulomb friction of a press drive (issue 34): at the slider's guide and the rod's "
+        "two pins, solved with the slider's and the rod's Newton–Euler equations at the "
+        "nominal speed. The efficiency and the torque friction adds reach the report and "
+        "the main shaft as a linkage's do."
     )),
     Phase.key_docs,
 )

@@ -19,6 +19,7 @@ from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
 from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
+from ._friction import PressFriction, PressFrictionForces, friction_from_table, press_friction
 from ._keys import KEY_DOCS
 from ._study import DRIVE_KEYS, drive_from_table
 from ._torque import DeformationForce, PressTorque, check_table
@@ -67,6 +68,10 @@ class PressMechanism(Unbounded):
     phase : Phase, optional
         Where it sits in the cycle; default ``Phase()`` (its angle 0 at cycle angle
         0).
+    friction : PressFriction, optional
+        The friction of its slider's guide and its rod's pins (the ``friction``
+        table, :mod:`cyclomech.press._friction`), solved at the nominal speed;
+        needs a load; None (default) without.
 
     Attributes
     ----------
@@ -103,8 +108,11 @@ class PressMechanism(Unbounded):
             "slider_mass_kg",
             "rod_mass_kg",
             "phase",
+            "friction",
         }
     )
+    # A sweep sets numbers: the friction table is set in the file.
+    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "friction"})
     #: Its plausibility rules (besides every ``_m`` key's): a press slider meets
     #: the workpiece at mm/s to a few m/s; a limit over 10 m/s is likelier mm/s.
     rules: ClassVar[tuple[Rule, ...]] = (
@@ -125,6 +133,7 @@ class PressMechanism(Unbounded):
     slider_mass: float = 0.0
     rod_mass: float = 0.0
     phase: Phase = field(default_factory=Phase)
+    friction: PressFriction | None = None
 
     def __post_init__(self) -> None:
         # Built directly too, not only from a file: the same rule for its numbers.
@@ -189,14 +198,6 @@ class PressMechanism(Unbounded):
         """
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = ctx.where(name)
-        if "friction" in table:
-            # Refused by name, not ignored: a designer who wrote it expects losses.
-            raise InputError(
-                f"{ctx.where(name)}: friction is not modelled for a press: its crank torque "
-                "is the gear-lever press's closed form, not a linkage's kinetostatics, so "
-                "there are no joint reactions for friction to act with; drop the friction "
-                'table, or model the drive as kind = "linkage" (which takes one)'
-            )
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
         if ("k_Sp" in table) == ("working_stroke_m" in table):
             raise InputError(
@@ -213,7 +214,14 @@ class PressMechanism(Unbounded):
             slider_mass=_mass(table, "slider_mass_kg", where),
             rod_mass=_mass(table, "rod_mass_kg", where),
             phase=Phase.from_table(table, ctx, name),
+            friction=friction_from_table(table, where),
         )
+        if mech.friction is not None and not mech.loaded:
+            raise InputError(
+                f"{where}: friction acts with the slider's and the rod's forces, but the press "
+                "has no load; give deformation_force, slider_mass_kg or rod_mass_kg, or drop "
+                "the friction table"
+            )
         _keyrules.check(table, cls.rules, where)
         try:
             c = mech.criteria(60.0)
@@ -412,7 +420,21 @@ class PressMechanism(Unbounded):
         0.1276
         """
         instance("ctx", ctx, Context)
-        return PressResult(self, ctx, self.criteria(ctx.nominal_rpm), self.crank_torque())
+        t = self.crank_torque()
+        f = None
+        if self.friction is not None and t is not None:
+            f = press_friction(
+                self.press,
+                t.alpha,
+                ctx.nominal_rpm * RAD_PER_S_PER_RPM,
+                self.friction,
+                force=self.force,
+                slider_mass=self.slider_mass,
+                rod_mass=self.rod_mass,
+                k_Sp=self.k_Sp,
+                working_stroke=self.working_stroke,
+            )
+        return PressResult(self, ctx, self.criteria(ctx.nominal_rpm), t, f)
 
 
 def _force(table: Mapping[str, Any], name: str, ctx: TableContext) -> DeformationForce | None:
@@ -459,6 +481,9 @@ class PressResult(PlainResult):
     ctx: Context
     criteria: PressCriteria
     torque: PressTorque | None = None
+    #: Its forces with friction at the nominal speed on the angles of ``torque``,
+    #: None without a ``friction`` table.
+    friction: PressFrictionForces | None = None
 
     @property
     def omega(self) -> float:
@@ -482,7 +507,99 @@ class PressResult(PlainResult):
         if t is None or o is None:
             return None
         phase = self.mech.phase
-        return t.per_omega2, t.static, phase.shift_deg(o.times, 0.0), phase.event
+        static = t.static + self.friction_torque()
+        return t.per_omega2, static, phase.shift_deg(o.times, 0.0), phase.event
+
+    def friction_torque(self) -> np.ndarray:
+        """The torque friction adds on the crank at the nominal speed [N·m]: the
+        driving torque with friction less the one without, on the angles of
+        :attr:`torque` (zeros without friction or where a pose self-locks).
+
+        As a linkage's: Coulomb friction goes with the forces, which change with
+        the speed, so :meth:`shaft_torque` carries the nominal speed's friction
+        torque in its static part at every speed.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> t = cm.machine.analyze(m, progress=False).mechanisms["drive"].friction_torque()
+        >>> t.shape, bool(t.mean() > 0)
+        ((3600,), True)
+        """
+        t, f = self.torque, self.friction
+        if t is None:
+            return np.zeros(0)
+        if f is None or f.self_locking.any():
+            return np.zeros(t.alpha.size)
+        out: np.ndarray = f.torque - f.torque_without
+        return out
+
+    def failures(self) -> list[str]:
+        """What fails at the nominal speed: crank angles where friction self-locks
+        the drive (no finite driving torque); empty otherwise.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> cm.machine.analyze(m, progress=False).mechanisms["drive"].failures()
+        []
+        """
+        f = self.friction
+        if f is None or not f.self_locking.any():
+            return []
+        deg = np.degrees(np.mod(-f.alpha[f.self_locking], 2.0 * math.pi))
+        return [
+            f"friction self-locks the press drive at {int(f.self_locking.sum())} crank angles "
+            f"({deg.min():.1f}–{deg.max():.1f}° past BDC): no finite driving torque moves it "
+            "there; lower the friction coefficients or the pins' radius"
+        ]
+
+    def efficiency(self) -> dict[str, Any] | None:
+        """Its friction over one turn at the nominal speed, None without friction.
+
+        The keys of a linkage's (:meth:`cyclomech.linkage.LinkageResult.efficiency`):
+        ``cycle_efficiency`` = 1 − mean friction power / mean input power (None where
+        a pose self-locks or the crank puts no work in), ``mean_friction_power_w``,
+        ``mean_input_power_w`` (with friction) [W], ``mean_torque_nm``,
+        ``peak_torque_nm`` with friction and ``peak_torque_nm_without`` [N·m],
+        ``friction_power_by_element_w`` (the guide, the slider's pin, the planet's
+        pin) and ``self_locking_crank_deg`` (the carrier's angles past BDC [deg]).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> e = cm.machine.analyze(m, progress=False).mechanisms["drive"].efficiency()
+        >>> 0.5 < e["cycle_efficiency"] < 1.0, e["mean_friction_power_w"] > 0
+        (True, True)
+        """
+        f = self.friction
+        if f is None:
+            return None
+
+        def finite(v: Any) -> float | None:
+            x = float(v)
+            return x if np.isfinite(x) else None
+
+        p_f = float(np.mean(f.friction_power))
+        p_in = float(np.mean(f.input_power))
+        eta = 1.0 - p_f / p_in if p_in > 0.0 else math.nan
+        locked = np.degrees(np.mod(-f.alpha[f.self_locking], 2.0 * math.pi))
+        return {
+            "nominal_rpm": self.ctx.nominal_rpm,
+            "cycle_efficiency": finite(eta),
+            "mean_friction_power_w": finite(p_f),
+            "mean_input_power_w": finite(p_in),
+            "mean_torque_nm": finite(np.mean(f.torque)),
+            "peak_torque_nm": finite(np.max(f.torque)),
+            "peak_torque_nm_without": float(np.max(f.torque_without)),
+            "friction_power_by_element_w": {
+                e: finite(np.mean(f.losses[:, i])) for i, e in enumerate(f.elements)
+            },
+            "self_locking_crank_deg": [float(v) for v in locked],
+        }
 
     def shaft_inertia(self) -> tuple[np.ndarray, float, str | None] | None:
         """Its reduced moment of inertia about the crank, for the machine's main
@@ -529,9 +646,12 @@ class PressResult(PlainResult):
         return k.slider[:, 1][None].copy(), -k.ds[None], k.dds[None].copy(), "m"
 
     def json(self) -> dict[str, dict[str, Any]]:
-        """Its ``mechanisms`` entry."""
+        """Its ``mechanisms`` entry, and with friction its ``friction`` entry
+        (:meth:`efficiency`)."""
         t, m = self.torque, self.mech
+        eff = self.efficiency()
         return {
+            **({} if eff is None else {"friction": eff}),
             "mechanisms": {
                 "kind": "press",
                 "criteria": self.criteria.as_dict(),
@@ -548,7 +668,7 @@ class PressResult(PlainResult):
                     "slider_mass_kg": m.slider_mass,
                     "rod_mass_kg": m.rod_mass,
                 },
-            }
+            },
         }
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
