@@ -295,6 +295,7 @@ def test_run_with_figures_embeds_them_in_the_report(run):
         "lifter_cam_min_phase",
         "main_shaft",
         "main_shaft_speed",
+        "main_shaft_torsion",
         "shaking",
     }
     page = (out / "report.html").read_text(encoding="utf-8")

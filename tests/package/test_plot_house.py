@@ -58,6 +58,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_shaking",
         "plot_speed_sweep",
         "plot_svaj",
+        "plot_torsion",
         "plot_transfer",
     ]
     homes = set()

@@ -541,6 +541,11 @@ class CamResult(BoundsResult):
         the follower (no finite contact force moves it), as a linkage's; empty
         otherwise.
 
+        Returns
+        -------
+        list of str
+            One line per failure (empty when nothing fails).
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -684,6 +689,11 @@ class CamResult(BoundsResult):
         with the speed, so :meth:`shaft_torque` carries the nominal speed's friction
         torque in its static part at every speed.
 
+        Returns
+        -------
+        ndarray of float, shape (3600,)
+            The added torque [N·m].
+
         Examples
         --------
         >>> import cyclomech as cm
@@ -709,6 +719,11 @@ class CamResult(BoundsResult):
         ``peak_torque_nm`` with friction and ``peak_torque_nm_without`` [N·m],
         ``friction_power_by_element_w`` (the pivot or guide, the roller's pin) and
         ``self_locking_crank_deg`` (the cam angles where it self-locks [deg]).
+
+        Returns
+        -------
+        dict of str to Any or None
+            The keys above; None without friction.
 
         Examples
         --------

@@ -24,9 +24,12 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _toml
+from .._arrays import finite_number, instance, positive
 from .._errors import InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
 from ..shaft import ShaftTorque
+from ._motor import Motor
+from ._shaft import SteadyState
 from ._torsion import ShaftNode, Torsion, TorsionSweep, WorkingMember, torsion, torsion_sweep
 
 __all__ = ["ElasticShaft", "LinkSpec", "MachineTorsion", "machine_torsion"]
@@ -71,6 +74,22 @@ class LinkSpec:
     max_error_m: float | None = None
     max_error_deg: float | None = None
 
+    def __post_init__(self) -> None:
+        f = self.frequency_hz
+        if not (_toml.is_number(f) and f > 0):  # a number > 0, inf allowed (a rigid link)
+            raise InputError(
+                f"LinkSpec: frequency_hz = {f!r} must be a number > 0 [Hz] (inf: rigid)"
+            )
+        object.__setattr__(self, "frequency_hz", float(f))
+        z = finite_number("LinkSpec: damping_ratio", self.damping_ratio, "", low=0.0)
+        object.__setattr__(self, "damping_ratio", z)
+        for k, unit in (("max_error_m", "[m]"), ("max_error_deg", "[deg]")):
+            v = getattr(self, k)
+            if v is not None:
+                object.__setattr__(self, k, positive(f"LinkSpec: {k}", v, unit))
+        if self.max_error_m is not None and self.max_error_deg is not None:
+            raise InputError("LinkSpec: give max_error_m or max_error_deg, not both")
+
 
 @dataclass(frozen=True)
 class ElasticShaft:
@@ -104,6 +123,35 @@ class ElasticShaft:
     hub_inertia_kg_m2: tuple[float, ...]
     damping_ratio: float = 0.02
     links: dict[str, LinkSpec] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        names = self.take_off
+        if not (
+            isinstance(names, (tuple, list))
+            and names
+            and all(isinstance(x, str) for x in names)
+            and len(set(names)) == len(names)
+        ):
+            raise InputError(
+                f"ElasticShaft: take_off = {names!r} must be distinct mechanism names, at least one"
+            )
+        object.__setattr__(self, "take_off", tuple(names))
+        for k, unit in (("stiffness_nm_per_rad", "[N·m/rad]"), ("hub_inertia_kg_m2", "[kg·m²]")):
+            v = getattr(self, k)
+            if not (isinstance(v, (tuple, list)) and len(v) == len(names)):
+                raise InputError(
+                    f"ElasticShaft: {k} = {v!r} must hold {len(names)} numbers, one per "
+                    "take_off point"
+                )
+            vals = tuple(positive(f"ElasticShaft: {k}[{i}]", x, unit) for i, x in enumerate(v))
+            object.__setattr__(self, k, vals)
+        z = finite_number("ElasticShaft: damping_ratio", self.damping_ratio, "", low=0.0)
+        object.__setattr__(self, "damping_ratio", z)
+        if not isinstance(self.links, Mapping) or not all(
+            isinstance(k, str) and isinstance(v, LinkSpec) for k, v in self.links.items()
+        ):
+            raise InputError(f"ElasticShaft: links = {self.links!r} must map names to LinkSpec")
+        object.__setattr__(self, "links", dict(self.links))
 
     @classmethod
     def from_tables(cls, shaft: Any, links: Any, source: str) -> ElasticShaft:
@@ -626,6 +674,17 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
     >>> t.nominal.names
     ('knife',)
     """
+    if not all(hasattr(result, k) for k in ("machine", "shaft", "mechanisms", "optimum")):
+        raise InputError(
+            f"result must be a machine's result (cyclomech.machine.analyze); got "
+            f"{type(result).__name__}"
+        )
+    instance("elastic", elastic, ElasticShaft)
+    instance("motor", motor, Motor)
+    if steady is not None:
+        instance("steady", steady, SteadyState)
+    if result.shaft is None:
+        raise InputError("result: nothing loads the main shaft: no chain to put on it")
     source = result.machine.source
     nodes = _nodes(result, elastic, source)
     nominal, problem = None, ""
@@ -674,7 +733,7 @@ def _event_lags(result: Any, t: Torsion) -> dict[str, dict[str, float]]:
         if phase is not None:
             own.append(phase)
         events = [e for e in cg.events if e in set(own) and e in opt.times]
-        at = t.lag_deg(name, [opt.times[e] for e in events]) if events else []
+        at = t.lag_deg(name, [opt.times[e] for e in events]) if events else np.zeros(0)
         out[name] = {e: float(v) for e, v in zip(events, at, strict=True)}
     return out
 

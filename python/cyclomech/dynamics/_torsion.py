@@ -14,7 +14,16 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import count, finite_number, instance, instances, positive, threads_arg, tolerance
+from .._arrays import (
+    count,
+    finite_number,
+    float_array,
+    instance,
+    instances,
+    positive,
+    threads_arg,
+    tolerance,
+)
 from .._errors import InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
 from ._motor import Motor, pack
@@ -35,7 +44,7 @@ _STATUS: tuple[str, ...] = tuple(_core.TORSION_STATUS)
 
 def _rows(name: str, value: Any, samples: int | None) -> Array:
     """``value`` as a C-contiguous (C, N) float array of finite numbers."""
-    a = np.array(value, dtype=np.float64, ndmin=2, copy=True)
+    a = np.array(float_array(name, value, (1, 2)), ndmin=2, copy=True)
     if a.ndim != 2 or a.shape[0] > 3 or (samples is not None and a.shape[1] != samples):
         want = "N" if samples is None else str(samples)
         raise InputError(
@@ -365,7 +374,10 @@ class Torsion:
         if name not in self.names:
             raise InputError(f"lag_deg: {name!r} is not a node; the nodes are {list(self.names)}")
         k = self.names.index(name)
-        x = np.mod(np.asarray(at_deg, dtype=np.float64), 360.0)
+        a = float_array("at_deg", at_deg, (0, 1))
+        if not np.isfinite(a).all():
+            raise InputError(f"lag_deg: at_deg = {at_deg!r} must be finite angles [deg]")
+        x = np.mod(a, 360.0)
         grid = np.append(self.theta_deg, 360.0)
         tw = np.append(self.twist_rad[k], self.twist_rad[k][0])
         return np.asarray(np.degrees(np.interp(x, grid, tw)))
@@ -644,7 +656,7 @@ def torsion_sweep(
     """
     arrays = _pack(nodes)
     opts = _options(tol, max_cycles, accuracy)
-    r = np.array(rpm, dtype=np.float64, ndmin=1)
+    r = np.array(float_array("rpm", rpm, (0, 1)), ndmin=1)
     if r.ndim != 1 or r.size == 0 or not (np.isfinite(r) & (r > 0)).all():
         raise InputError(
             f"rpm must be a non-empty 1-D array of finite speeds > 0 [rpm]; got {rpm!r}"

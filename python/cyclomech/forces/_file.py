@@ -332,6 +332,17 @@ def friction_from_table(
     >>> f.pins["O"]
     PinFriction(radius_m=0.01, mu=0.1, viscous=0.0)
     """
+    for name, value, kind in (
+        ("table", table, Mapping),
+        ("source", source, str),
+        ("where", where, str),
+        ("dynamics", dynamics, Mapping),
+    ):
+        if not isinstance(value, kind):
+            raise InputError(
+                f"friction_from_table: {name} = {value!r} must be a "
+                f"{'mapping' if kind is Mapping else 'string'}"
+            )
     if "friction" not in table:
         return None
     at = f"{source}: {where.rstrip(']')}.friction]"
