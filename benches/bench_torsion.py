@@ -48,7 +48,7 @@ S = 64
 RPM = np.linspace(60.0, 300.0, S)
 SMOKE = RPM[::21]  # the default (untimed) run: 4 speeds
 PHI = 2 * np.pi * np.arange(N) / N
-TOL, ACCURACY = 1e-9, 0.05  # torsion_sweep's defaults, given to the numba peer too
+TOL, ACCURACY = 1e-9, 0.1  # torsion_sweep's defaults, given to the numba peer too
 
 # The knife's slider-crank: crank R, rod L [m], the knife's mass [kg].
 R, L, MASS = 0.05, 0.2, 4.0
