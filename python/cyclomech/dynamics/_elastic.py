@@ -520,7 +520,7 @@ class MachineTorsion:
         >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
         ...                        progress=False)
         >>> sorted(r.torsion.json()["nodes"][0])[:3]
-        ['damping_nm_s_per_rad', 'error_limited_rpm', 'hub_inertia_kg_m2']
+        ['damping_nm_s_per_rad', 'error_limited_rpm', 'event_lag_deg']
         """
         t = self.nominal
         rows = []

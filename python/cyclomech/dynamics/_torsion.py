@@ -380,7 +380,8 @@ class Torsion:
         x = np.mod(a, 360.0)
         grid = np.append(self.theta_deg, 360.0)
         tw = np.append(self.twist_rad[k], self.twist_rad[k][0])
-        return np.asarray(np.degrees(np.interp(x, grid, tw)))
+        # the shape of at_deg (a number gives a 0-d array)
+        return np.asarray(np.degrees(np.interp(x, grid, tw))).reshape(np.shape(at_deg))
 
 
 def torsion(
