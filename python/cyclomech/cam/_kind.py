@@ -106,7 +106,7 @@ class CamMechanism(ExactBounds):
         For each bound, in the order of :meth:`bounds`, the segment's index and
         the criterion (one of ``cyclomech.cam.CRITERIA``).
     friction : CamFriction, optional
-        The follower's friction (the ``friction`` table, :mod:`cyclomech.cam._friction`),
+        The follower's friction (the ``friction`` table, ``cyclomech/cam/_friction.py``),
         solved at the nominal speed; needs the follower's loads; None (default) without.
 
     Examples
@@ -712,7 +712,7 @@ class CamResult(BoundsResult):
     def efficiency(self) -> dict[str, Any] | None:
         """Its friction over one turn at the nominal speed, None without friction.
 
-        The keys of a linkage's (:meth:`cyclomech.linkage.LinkageResult.efficiency`):
+        The keys of a linkage's (``LinkageResult.efficiency()``):
         ``cycle_efficiency`` = 1 − mean friction power / mean input power (None where
         a pose self-locks or the shaft puts no work in), ``mean_friction_power_w``,
         ``mean_input_power_w`` (with friction) [W], ``mean_torque_nm``,

@@ -618,7 +618,7 @@ class MachineTorsion:
         Returns
         -------
         matplotlib.figure.Figure or None
-            :func:`~cyclomech.dynamics.plot.plot_torsion`'s figure.
+            ``plot_torsion``'s figure (:mod:`cyclomech.plot`).
 
         Examples
         --------

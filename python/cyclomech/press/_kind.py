@@ -70,7 +70,7 @@ class PressMechanism(Unbounded):
         0).
     friction : PressFriction, optional
         The friction of its slider's guide and its rod's pins (the ``friction``
-        table, :mod:`cyclomech.press._friction`), solved at the nominal speed;
+        table, ``cyclomech/press/_friction.py``), solved at the nominal speed;
         needs a load; None (default) without.
 
     Attributes
