@@ -163,13 +163,17 @@ struct Seg {
     c: f64,
     d: f64,
     link: Option<Link>,
+    /// The mean of Q over the samples [N·m] (the start's static twist).
+    q_mean: f64,
 }
 
-struct Model<'a> {
+/// The chain, built once for every head that turns it (one speed or a sweep).
+struct Model {
     segs: Vec<Seg>,
-    head: Head<'a>,
     dim: usize,
     samples: usize,
+    /// The chain's own fastest rate [1/s] (a motor's head may add to it).
+    rate: f64,
 }
 
 /// Check the nodes: a typed error naming the first bad field.
@@ -294,8 +298,8 @@ fn check_head(head: &Head<'_>) -> Result<(), DriveError> {
     Ok(())
 }
 
-impl<'a> Model<'a> {
-    fn new(nodes: &[Node<'_>], head: Head<'a>) -> Model<'a> {
+impl Model {
+    fn new(nodes: &[Node<'_>]) -> Model {
         let samples = nodes[0].j.len();
         let mut dim = 2 + 2 * nodes.len();
         let mut segs = Vec::with_capacity(nodes.len());
@@ -323,22 +327,27 @@ impl<'a> Model<'a> {
                 c: node.stiffness,
                 d: node.damping,
                 link,
+                q_mean: node.q.iter().sum::<f64>() / samples as f64,
             });
         }
-        Model {
-            segs,
-            head,
-            dim,
-            samples,
-        }
-    }
-
-    /// The fastest rate of the chain [1/s]: the time step is `accuracy` over it.
-    fn rate(&self, nodes: &[Node<'_>]) -> f64 {
         let lows: Vec<f64> = nodes
             .iter()
             .map(|nd| nd.j.iter().fold(f64::INFINITY, |a, &v| a.min(v)) + nd.hub)
             .collect();
+        let mut model = Model {
+            segs,
+            dim,
+            samples,
+            rate: 0.0,
+        };
+        model.rate = model.chain_rate(&lows);
+        model
+    }
+
+    /// The chain's fastest rate [1/s] from each node's least inertia `lows`: the
+    /// Gershgorin bound of the stiffnesses over the inertias, the damping's rate
+    /// and the links'.
+    fn chain_rate(&self, lows: &[f64]) -> f64 {
         let mut r2: f64 = 0.0;
         let mut rd: f64 = 0.0;
         for (k, s) in self.segs.iter().enumerate() {
@@ -352,16 +361,33 @@ impl<'a> Model<'a> {
                 }
             }
         }
-        if let Head::Motor { inertia, .. } = self.head {
-            r2 = r2.max(2.0 * self.segs[0].c / inertia);
-            rd = rd.max(2.0 * self.segs[0].d / inertia);
-        }
         r2.sqrt().max(rd)
+    }
+
+    /// The fastest rate [1/s] with `head`: a motor's head inertia on the first
+    /// segment may be the lightest node.
+    fn rate(&self, head: &Head<'_>) -> f64 {
+        match head {
+            Head::Speed(_) => self.rate,
+            Head::Motor { inertia, .. } => {
+                let (c, d) = (self.segs[0].c, self.segs[0].d);
+                self.rate
+                    .max((2.0 * c / inertia).sqrt())
+                    .max(2.0 * d / inertia)
+            }
+        }
     }
 
     /// dz/dφ₀ at head angle `phi`; None where the head stops or the state is
     /// not finite. `torque` gets S_k.
-    fn rhs(&self, phi: f64, z: &[f64], dz: &mut [f64], torque: &mut [f64]) -> Option<()> {
+    fn rhs(
+        &self,
+        head: &Head<'_>,
+        phi: f64,
+        z: &[f64],
+        dz: &mut [f64],
+        torque: &mut [f64],
+    ) -> Option<()> {
         let w0 = z[1];
         if !(w0.is_finite() && w0 > 0.0) {
             return None;
@@ -374,7 +400,7 @@ impl<'a> Model<'a> {
             th_prev = th;
             dth_prev = dth;
         }
-        let eps0 = match self.head {
+        let eps0 = match *head {
             Head::Speed(_) => 0.0,
             Head::Motor { motor, inertia, .. } => (motor.on_shaft(w0).0 - torque[0]) / inertia,
         };
@@ -417,20 +443,9 @@ impl<'a> Model<'a> {
         let mut z = vec![0.0; self.dim];
         z[1] = w0;
         let n = self.segs.len();
-        let means: Vec<f64> = self
-            .segs
-            .iter()
-            .map(|s| {
-                let m = self.samples;
-                (0..m)
-                    .map(|i| s.q.at(TAU * i as f64 / m as f64))
-                    .sum::<f64>()
-                    / m as f64
-            })
-            .collect();
         let mut th = 0.0;
         for k in 0..n {
-            let passed: f64 = means[k..].iter().sum();
+            let passed: f64 = self.segs[k..].iter().map(|s| s.q_mean).sum();
             th += passed / self.segs[k].c;
             z[2 + 2 * k] = th;
         }
@@ -455,17 +470,27 @@ pub fn torsion(
     head: Head<'_>,
     opt: &TorsionOptions,
 ) -> Result<Torsion, DriveError> {
-    let n = check(nodes)?;
+    check(nodes)?;
     check_head(&head)?;
     check_options(opt)?;
-    let model = Model::new(nodes, head);
+    solve(&Model::new(nodes), nodes, head, opt)
+}
+
+/// The steady state of the built chain `model` (of `nodes`, checked) under `head`.
+fn solve(
+    model: &Model,
+    nodes: &[Node<'_>],
+    head: Head<'_>,
+    opt: &TorsionOptions,
+) -> Result<Torsion, DriveError> {
+    let n = model.samples;
     let w_top = match head {
         Head::Speed(w) => w,
         Head::Motor { omega, .. } => 1.5 * omega,
     };
     // Head angle per step: the time step accuracy/rate at the top speed.
     let per_sample = TAU / n as f64;
-    let h_max = opt.accuracy / model.rate(nodes) * w_top;
+    let h_max = opt.accuracy / model.rate(&head) * w_top;
     let sub = (per_sample / h_max).ceil().max(1.0);
     if sub * n as f64 > 2e8 {
         return Err(bad(
@@ -475,13 +500,13 @@ pub fn torsion(
              too high for the speed (check the units of the stiffness and the inertias)",
         ));
     }
-    Ok(integrate(&model, nodes, w_top, sub as usize, opt))
+    Ok(integrate(model, nodes, &head, sub as usize, opt))
 }
 
 fn integrate(
-    model: &Model<'_>,
+    model: &Model,
     nodes: &[Node<'_>],
-    w_top: f64,
+    head: &Head<'_>,
     sub: usize,
     opt: &TorsionOptions,
 ) -> Torsion {
@@ -492,11 +517,10 @@ fn integrate(
         .map(|x| x.member.map_or(0, |m| m.components))
         .sum();
     let width = 2 + 2 * nn + rows;
-    let w0 = match model.head {
+    let w0 = match *head {
         Head::Speed(w) => w,
         Head::Motor { omega, .. } => omega,
     };
-    let _ = w_top;
     let dim = model.dim;
     let mut run = Run {
         k: [
@@ -523,7 +547,7 @@ fn integrate(
         z[0] = 0.0;
         run.lo.copy_from_slice(&z);
         run.hi.copy_from_slice(&z);
-        if cycle(model, &mut z, h, sub, &mut run, width).is_none() {
+        if cycle(model, head, &mut z, h, sub, &mut run, width).is_none() {
             status = 2;
             break;
         }
@@ -546,7 +570,8 @@ fn axpy(out: &mut [f64], z: &[f64], a: f64, k: &[f64]) {
 
 /// One cycle of RK4 from `z`, recording each sample's state.
 fn cycle(
-    model: &Model<'_>,
+    model: &Model,
+    head: &Head<'_>,
     z: &mut [f64],
     h: f64,
     sub: usize,
@@ -558,7 +583,7 @@ fn cycle(
     for i in 0..n {
         // Record the sample: the segment torques from the state.
         let phi_i = TAU * i as f64 / n as f64;
-        model.rhs(phi_i, z, &mut run.k[0], &mut run.torque)?;
+        model.rhs(head, phi_i, z, &mut run.k[0], &mut run.torque)?;
         let r = &mut run.rec[i * width..(i + 1) * width];
         r[0] = z[0];
         r[1] = z[1];
@@ -578,15 +603,15 @@ fn cycle(
         for j in 0..sub {
             let phi = phi_i + h * j as f64;
             if j > 0 {
-                model.rhs(phi, z, &mut run.k[0], &mut run.torque)?;
+                model.rhs(head, phi, z, &mut run.k[0], &mut run.torque)?;
             }
             axpy(&mut run.tmp, z, 0.5 * h, &run.k[0]);
             let (k0, rest) = run.k.split_at_mut(1);
-            model.rhs(phi + 0.5 * h, &run.tmp, &mut rest[0], &mut run.torque)?;
+            model.rhs(head, phi + 0.5 * h, &run.tmp, &mut rest[0], &mut run.torque)?;
             axpy(&mut run.tmp, z, 0.5 * h, &rest[0]);
-            model.rhs(phi + 0.5 * h, &run.tmp, &mut rest[1], &mut run.torque)?;
+            model.rhs(head, phi + 0.5 * h, &run.tmp, &mut rest[1], &mut run.torque)?;
             axpy(&mut run.tmp, z, h, &rest[1]);
-            model.rhs(phi + h, &run.tmp, &mut rest[2], &mut run.torque)?;
+            model.rhs(head, phi + h, &run.tmp, &mut rest[2], &mut run.torque)?;
             let (a, b, c, e) = (&k0[0], &rest[0], &rest[1], &rest[2]);
             for (d, zd) in z.iter_mut().enumerate() {
                 *zd += h / 6.0 * (a[d] + 2.0 * b[d] + 2.0 * c[d] + e[d]);
@@ -622,7 +647,7 @@ fn change(a: &[f64], b: &[f64], lo: &[f64], hi: &[f64]) -> f64 {
 
 #[allow(clippy::too_many_arguments)]
 fn finish(
-    model: &Model<'_>,
+    model: &Model,
     nodes: &[Node<'_>],
     status: u8,
     cycles: usize,
@@ -712,6 +737,7 @@ pub fn torsion_sweep(
         ));
     }
     let mut failed: Option<DriveError> = None;
+    let model = Model::new(nodes); // once: the splines and the chain's rate
     let pool = pool(resolve_threads(n_threads)?)?;
     let results: Vec<Result<(), DriveError>> = pool.install(|| {
         out.par_chunks_mut(width)
@@ -721,7 +747,7 @@ pub fn torsion_sweep(
                 if crate::cancel::requested() {
                     return Ok(());
                 }
-                let t = torsion(nodes, Head::Speed(w), opt)?;
+                let t = solve(&model, nodes, Head::Speed(w), opt)?;
                 row[0] = t.status as f64;
                 row[1] = t.cycles as f64;
                 row[2] = t.residual;
