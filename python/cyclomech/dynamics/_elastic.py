@@ -256,6 +256,35 @@ def _link(name: str, t: Any, source: str) -> LinkSpec:
     )
 
 
+def _shown(value: float, unit: str, digits: int = 4) -> str:
+    """A dynamic error [m or rad] as the report writes it: in mm or degrees.
+
+    Parameters
+    ----------
+    value : float
+        The error [m] or [rad]; not finite: "—".
+    unit : str
+        "m" or "rad".
+    digits : int, default 4
+        Significant digits.
+
+    Returns
+    -------
+    str
+        The text.
+
+    Examples
+    --------
+    >>> _shown(2.143e-4, "m"), _shown(0.00117, "rad", 3)
+    ('0.2143 mm', '0.067°')
+    """
+    if not math.isfinite(value):
+        return "—"
+    if unit == "m":
+        return f"{value * 1e3:.{digits}g} mm"
+    return f"{math.degrees(value):.{digits}g}°"
+
+
 def _phased(rows: Array, phase_deg: float) -> Array:
     """Each row of a mechanism's own-grid curve at the main shaft's angles (the same
     Rust shift as the torque's)."""
@@ -417,6 +446,45 @@ class MachineTorsion:
         """
         return {x.name: x.member.unit for x in self.nodes if x.member is not None}
 
+    def limit_reason(self, name: str) -> str:
+        """Why member ``name``'s error limits the speed, in words (the machine's
+        speed limit names it so).
+
+        Parameters
+        ----------
+        name : str
+            A take-off point whose member has a bound.
+
+        Returns
+        -------
+        str
+            The reason.
+
+        Raises
+        ------
+        InputError
+            If ``name`` has no bounded member.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> r.torsion.limit_reason("knife")
+        'its dynamic error on the elastic shaft and link reaches max_error = 1 mm ([drive.link])'
+        """
+        instance("name", name, str)
+        bounds = self.bounds()
+        if name not in bounds:
+            raise InputError(
+                f"limit_reason: {name!r} has no bounded member; those with one: {list(bounds)}"
+            )
+        b = _shown(bounds[name], self.nominal_units()[name])
+        return (
+            f"its dynamic error on the elastic shaft and link reaches max_error = {b} "
+            "([drive.link])"
+        )
+
     def failures(self) -> list[str]:
         """What fails: a chain with no steady state, a member's error at the nominal
         speed under the motor above its bound, or above it at every speed of the
@@ -440,13 +508,12 @@ class MachineTorsion:
         out = []
         if self.problem:
             out.append(f"the elastic main shaft: {self.problem}")
+        units = self.nominal_units()
         for name, bound in self.bounds().items():
-            unit = self.nodes[[x.name for x in self.nodes].index(name)].member.unit  # type: ignore[union-attr]
-            show = (
-                (lambda v: f"{v * 1e3:.4g} mm")
-                if unit == "m"
-                else (lambda v: f"{math.degrees(v):.4g}°")
-            )
+
+            def show(v: float, unit: str = units[name]) -> str:
+                return _shown(v, unit)
+
             if self.nominal is not None and self.nominal.peak_error[name] > bound:
                 out.append(
                     f"{name}: its dynamic error under the motor reaches "
@@ -485,12 +552,7 @@ class MachineTorsion:
             m = x.member
             if m is None:
                 continue
-            v = self.nominal.peak_error[x.name]
-            txt = (
-                f"{x.name} {v * 1e3:.3g} mm"
-                if m.unit == "m"
-                else f"{x.name} {math.degrees(v):.3g}°"
-            )
+            txt = f"{x.name} {_shown(self.nominal.peak_error[x.name], m.unit, 3)}"
             lim = self.limits_rpm.get(x.name)
             if lim is not None:
                 txt += (
@@ -590,9 +652,7 @@ class MachineTorsion:
             m, t = x.member, self.nominal
 
             def show(v: float | None, m: WorkingMember | None = m) -> str:
-                if v is None or m is None or not math.isfinite(v):
-                    return "—"
-                return f"{v * 1e3:.4g} mm" if m.unit == "m" else f"{math.degrees(v):.4g}°"
+                return "—" if v is None or m is None else _shown(v, m.unit)
 
             lim = self.limits_rpm.get(x.name)
             rows.append(

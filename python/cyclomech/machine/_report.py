@@ -191,14 +191,8 @@ def _fold_error_limits(r: MachineResult) -> None:
         if not math.isfinite(v):
             continue
         key = f"{name} (dynamic error)"
-        bound = r.torsion.bounds()[name]
-        unit = r.torsion.nominal_units()[name]
-        shown = f"{bound * 1e3:g} mm" if unit == "m" else f"{math.degrees(bound):g}°"
         extra[key] = v
-        why[key] = (
-            f"its dynamic error on the elastic shaft and link reaches max_error = {shown} "
-            "([drive.link])"
-        )
+        why[key] = r.torsion.limit_reason(name)
         if v < rpm:
             rpm, by, reason = v, key, why[key]
     if rpm == lim.rpm and extra == lim.mechanisms_rpm:
