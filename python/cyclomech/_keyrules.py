@@ -32,9 +32,19 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any, TypeGuard
 
+from ._arrays import finite_number
 from ._errors import CyclomechWarning, InputError
 
-__all__ = ["RENAMED", "SUFFIX_RULES", "Rule", "check", "file_names", "renamed"]
+__all__ = [
+    "MU_PLAUSIBLE",
+    "RENAMED",
+    "SUFFIX_RULES",
+    "Rule",
+    "check",
+    "file_names",
+    "friction_number",
+    "renamed",
+]
 
 # fmt: off
 #: Every renamed key of every file table: old name → (new name, its unit in words).
@@ -285,3 +295,36 @@ def check(table: Mapping[str, Any], rules: Iterable[Rule], where: str) -> None:
         pending.append(rule.message(v, table, where))
     for msg in pending:
         warnings.warn(msg, CyclomechWarning, stacklevel=3)
+
+
+#: A friction coefficient above this is taken but warned about: lubricated metal
+#: pairs are 0.05–0.2, dry steel on steel up to about 0.5.
+MU_PLAUSIBLE = 0.5
+
+
+def friction_number(spec: Mapping[str, Any], key: str, at: str, unit: str) -> float:
+    """The number ``spec[key]`` of a ``friction`` table (a linkage's, a cam's, a
+    press's), finite and ≥ 0, the message naming ``at`` and the key; a friction
+    coefficient (a key ending in ``mu``) above :data:`MU_PLAUSIBLE` warns, naming the
+    likely slip (a percentage, the friction angle's degrees).
+
+    >>> friction_number({"pin_mu": 0.08}, "pin_mu", "[m.friction]", "")
+    0.08
+    """
+    v = spec[key]
+    if isinstance(v, bool) or not isinstance(v, int | float):
+        raise InputError(f"{at}: {key} = {v!r} must be a number ≥ 0 {unit}".rstrip())
+    what = "a friction coefficient (lubricated bronze on steel 0.05–0.1)" if "mu" in key else ""
+    try:
+        x = finite_number(f"{at}: {key}", v, unit, low=0.0)
+    except InputError as e:
+        raise InputError(f"{str(e).rstrip()}{'; ' + what if what else ''}") from None
+    if key.endswith("mu") and x > MU_PLAUSIBLE:
+        warnings.warn(
+            f"{at}: {key} = {x:g} is above {MU_PLAUSIBLE:g}: lubricated metal pairs are "
+            "0.05–0.2 and dry steel on steel at most about 0.5 — did you give a percentage "
+            f"({key} = {x / 100:g}) or the friction angle's degrees?",
+            CyclomechWarning,
+            stacklevel=4,
+        )
+    return x

@@ -41,7 +41,6 @@ as :meth:`Cam.solve`'s frames):
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -51,7 +50,7 @@ import numpy.typing as npt
 
 from .. import _keyrules, _toml
 from .._arrays import finite_number
-from .._errors import CyclomechWarning, InputError
+from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
 from ._followers import FlatFaced, OscillatingRoller
 
@@ -65,8 +64,6 @@ Array = npt.NDArray[np.float64]
 CAM_FRICTION_KEYS = frozenset(
     {"pivot_radius_m", "pivot_mu", "guide_mu", "roller_pin_radius_m", "roller_pin_mu"}
 )
-#: Above this a friction coefficient warns (as a linkage's, forces/_file.py).
-MU_PLAUSIBLE = 0.5
 
 
 @dataclass(frozen=True)
@@ -391,21 +388,10 @@ def friction_from_table(table: Mapping[str, Any], at: str, follower: Any) -> Cam
     if not isinstance(spec, Mapping):
         raise InputError(f"{where}: friction = {spec!r} must be a table of friction keys")
     _toml.check_keys(spec, CAM_FRICTION_KEYS, None, where)
-    v = {}
-    for key in sorted(spec):
-        x = spec[key]
-        if not _toml.is_number(x):
-            raise InputError(f"{where}: {key} = {x!r} must be a number ≥ 0")
-        unit = "[m]" if key.endswith("_m") else ""
-        v[key] = finite_number(f"{where}: {key}", x, unit, low=0.0)
-        if key.endswith("mu") and v[key] > MU_PLAUSIBLE:
-            warnings.warn(
-                f"{where}: {key} = {v[key]:g} is above {MU_PLAUSIBLE:g}: lubricated metal "
-                "pairs are 0.05–0.2 and dry steel on steel at most about 0.5 — did you give "
-                f"a percentage ({key} = {v[key] / 100:g}) or the friction angle's degrees?",
-                CyclomechWarning,
-                stacklevel=4,
-            )
+    v = {
+        key: _keyrules.friction_number(spec, key, where, "[m]" if key.endswith("_m") else "")
+        for key in sorted(spec)
+    }
     for radius, mu in (("pivot_radius_m", "pivot_mu"), ("roller_pin_radius_m", "roller_pin_mu")):
         if (radius in spec) != (mu in spec):
             have, need = (radius, mu) if radius in spec else (mu, radius)

@@ -9,7 +9,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from .. import _keyrules, _toml
-from .._arrays import finite_number, instance
+from .._arrays import instance
 from .._errors import CyclomechWarning, InputError
 from ..linkage import DYNAMICS_KEYS as LINKAGE_DYNAMICS_KEYS
 from ._friction import Friction, GuideFriction, PinFriction, _joints
@@ -42,9 +42,6 @@ FRICTION_KEYS = frozenset(
 #: The keys of one joint's table in ``pins`` and of one slider's in ``guides``.
 _PIN_KEYS = frozenset({"radius_m", "mu", "viscous_nm_s_per_rad"})
 _GUIDE_KEYS = frozenset({"mu", "viscous_n_s_per_m"})
-#: A friction coefficient above this is taken but warned about: lubricated metal
-#: pairs are 0.05–0.2, dry steel on steel up to about 0.5.
-MU_PLAUSIBLE = 0.5
 
 _MASS_KEYS = {"link", "mass_kg", "com_m", "com_point", "com_offset_m", "inertia_kg_m2"}
 _LOAD_KEYS = {"point", "force_n", "link", "torque_nm", "angle_deg"}
@@ -240,28 +237,6 @@ def _check_names(
             link_ok(load.link, f"{where} load[{i}]")
 
 
-def _coefficient(spec: Mapping[str, Any], key: str, at: str, unit: str) -> float:
-    """The number ``spec[key]``, finite and ≥ 0, the message naming ``at`` and the key;
-    a friction coefficient above :data:`MU_PLAUSIBLE` warns, naming the likely slip."""
-    v = spec[key]
-    if not _toml.is_number(v):
-        raise InputError(f"{at}: {key} = {v!r} must be a number ≥ 0 {unit}".rstrip())
-    what = "a friction coefficient (lubricated bronze on steel 0.05–0.1)" if "mu" in key else ""
-    try:
-        x = finite_number(f"{at}: {key}", v, unit, low=0.0)
-    except InputError as e:
-        raise InputError(f"{str(e).rstrip()}{'; ' + what if what else ''}") from None
-    if key.endswith("mu") and x > MU_PLAUSIBLE:
-        warnings.warn(
-            f"{at}: {key} = {x:g} is above {MU_PLAUSIBLE:g}: lubricated metal pairs are "
-            "0.05–0.2 and dry steel on steel at most about 0.5 — did you give a percentage "
-            f"({key} = {x / 100:g}) or the friction angle's degrees?",
-            CyclomechWarning,
-            stacklevel=4,
-        )
-    return x
-
-
 def _names_table(spec: Mapping[str, Any], key: str, at: str) -> Mapping[str, Any]:
     """The sub-table ``spec[key]`` ({name = {…}}), each value a table."""
     t = spec.get(key, {})
@@ -351,12 +326,12 @@ def friction_from_table(
     _keyrules.check(spec, (), at)
     modelled, other, sliders = _joints(linkage, dynamics)
     default = {
-        k: _coefficient(spec, f"pin_{k}", at, unit)
+        k: _keyrules.friction_number(spec, f"pin_{k}", at, unit)
         for k, unit in (("radius_m", "[m]"), ("mu", ""), ("viscous_nm_s_per_rad", "[N·m·s/rad]"))
         if f"pin_{k}" in spec
     }
     g_default = {
-        k: _coefficient(spec, f"guide_{k}", at, unit)
+        k: _keyrules.friction_number(spec, f"guide_{k}", at, unit)
         for k, unit in (("mu", ""), ("viscous_n_s_per_m", "[N·s/m]"))
         if f"guide_{k}" in spec
     }
@@ -396,7 +371,7 @@ def _pins(
         got = dict(default)
         for k, unit in (("radius_m", "[m]"), ("mu", ""), ("viscous_nm_s_per_rad", "[N·m·s/rad]")):
             if k in row:
-                got[k] = _coefficient(row, k, f"{at} pins.{p}", unit)
+                got[k] = _keyrules.friction_number(row, k, f"{at} pins.{p}", unit)
         if ("radius_m" in got) != ("mu" in got):
             have, lack = ("radius_m", "mu") if "radius_m" in got else ("mu", "radius_m")
             pre = "pin_" if p not in own else ""
@@ -442,6 +417,6 @@ def _guides(
         got = dict(g_default)
         for k, unit in (("mu", ""), ("viscous_n_s_per_m", "[N·s/m]")):
             if k in row:
-                got[k] = _coefficient(row, k, f"{at} guides.{p}", unit)
+                got[k] = _keyrules.friction_number(row, k, f"{at} guides.{p}", unit)
         guides[p] = GuideFriction(got.get("mu", 0.0), got.get("viscous_n_s_per_m", 0.0))
     return guides

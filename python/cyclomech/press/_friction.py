@@ -34,7 +34,6 @@ M = M_frictionless + P_f/ω with P_f = μ_g·|H|·|v_s| + μ·r·|F_S|·|γ̇| +
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -44,7 +43,7 @@ import numpy.typing as npt
 
 from .. import _keyrules, _toml
 from .._arrays import finite_number, float_array, positive
-from .._errors import CyclomechWarning, InputError
+from .._errors import InputError
 
 if TYPE_CHECKING:
     from ._drive import GearLeverPress
@@ -54,8 +53,6 @@ Array = npt.NDArray[np.float64]
 
 #: The keys of a press's ``friction`` table.
 PRESS_FRICTION_KEYS = frozenset({"guide_mu", "pin_radius_m", "pin_mu"})
-#: Above this a friction coefficient warns (as a linkage's, forces/_file.py).
-MU_PLAUSIBLE = 0.5
 #: The fixed point's tolerance (relative change of the forces) and step limit.
 TOL, STEPS = 1e-13, 200
 
@@ -418,21 +415,10 @@ def friction_from_table(table: Mapping[str, Any], at: str) -> PressFriction | No
     if not isinstance(spec, Mapping):
         raise InputError(f"{where}: friction = {spec!r} must be a table of friction keys")
     _toml.check_keys(spec, PRESS_FRICTION_KEYS, None, where)
-    v = {}
-    for key in sorted(spec):
-        x = spec[key]
-        if not _toml.is_number(x):
-            raise InputError(f"{where}: {key} = {x!r} must be a number ≥ 0")
-        unit = "[m]" if key.endswith("_m") else ""
-        v[key] = finite_number(f"{where}: {key}", x, unit, low=0.0)
-        if key.endswith("mu") and v[key] > MU_PLAUSIBLE:
-            warnings.warn(
-                f"{where}: {key} = {v[key]:g} is above {MU_PLAUSIBLE:g}: lubricated metal "
-                "pairs are 0.05–0.2 and dry steel on steel at most about 0.5 — did you give "
-                f"a percentage ({key} = {v[key] / 100:g}) or the friction angle's degrees?",
-                CyclomechWarning,
-                stacklevel=4,
-            )
+    v = {
+        key: _keyrules.friction_number(spec, key, where, "[m]" if key.endswith("_m") else "")
+        for key in sorted(spec)
+    }
     if ("pin_radius_m" in spec) != ("pin_mu" in spec):
         have, need = (
             ("pin_radius_m", "pin_mu") if "pin_radius_m" in spec else ("pin_mu", "pin_radius_m")
