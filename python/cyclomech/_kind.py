@@ -55,6 +55,7 @@ __all__ = [
     "Save",
     "TableContext",
     "Unbounded",
+    "efficiency_entry",
     "per_distinct_speed",
 ]
 
@@ -1230,3 +1231,76 @@ class BatchDesigns(Protocol):
         (2, 1)
         """
         ...
+
+
+def efficiency_entry(
+    nominal_rpm: float,
+    torque: Array,
+    torque_without: Array,
+    friction_power: Array,
+    input_power: Array,
+    losses: Array,
+    elements: Sequence[str],
+    locked_deg: Array,
+    cycle_efficiency: float | None = None,
+) -> dict[str, Any]:
+    """A mechanism result's ``efficiency()`` (the keys
+    :func:`cyclomech.machine._efficiency.machine_efficiency` reads), from its friction
+    over one turn at the nominal speed; NaN (a self-locking pose) becomes None.
+
+    Parameters
+    ----------
+    nominal_rpm : float
+        The nominal speed [rpm].
+    torque, torque_without : ndarray of float, shape (N,)
+        The driving torque with and without friction [N·m].
+    friction_power, input_power : ndarray of float, shape (N,)
+        The power lost to friction and put in [W].
+    losses : ndarray of float, shape (N, E)
+        Each friction element's power [W].
+    elements : sequence of str
+        The elements' names (E).
+    locked_deg : ndarray of float
+        The angles where it self-locks [deg].
+    cycle_efficiency : float, optional
+        The efficiency over the turn; default 1 − mean friction power / mean input
+        power (NaN where the input is not positive).
+
+    Returns
+    -------
+    dict of str to Any
+        ``nominal_rpm``, ``cycle_efficiency``, ``mean_friction_power_w``,
+        ``mean_input_power_w``, ``mean_torque_nm``, ``peak_torque_nm``,
+        ``peak_torque_nm_without``, ``friction_power_by_element_w`` and
+        ``self_locking_crank_deg``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> e = efficiency_entry(60.0, np.full(4, 2.0), np.full(4, 1.8), np.full(4, 1.0),
+    ...                      np.full(4, 10.0), np.ones((4, 1)), ["pin"], np.zeros(0))
+    >>> round(e["cycle_efficiency"], 6), e["friction_power_by_element_w"]
+    (0.9, {'pin': 1.0})
+    """
+
+    def finite(v: Any) -> float | None:
+        x = float(v)
+        return x if np.isfinite(x) else None
+
+    p_f = float(np.mean(friction_power))
+    p_in = float(np.mean(input_power))
+    if cycle_efficiency is None:
+        cycle_efficiency = 1.0 - p_f / p_in if p_in > 0.0 else float("nan")
+    return {
+        "nominal_rpm": nominal_rpm,
+        "cycle_efficiency": finite(cycle_efficiency),
+        "mean_friction_power_w": finite(p_f),
+        "mean_input_power_w": finite(p_in),
+        "mean_torque_nm": finite(np.mean(torque)),
+        "peak_torque_nm": finite(np.max(torque)),
+        "peak_torque_nm_without": float(np.max(torque_without)),
+        "friction_power_by_element_w": {
+            e: finite(np.mean(losses[:, i])) for i, e in enumerate(elements)
+        },
+        "self_locking_crank_deg": [float(v) for v in locked_deg],
+    }

@@ -28,6 +28,7 @@ from .._kind import (
     Proportional,
     Save,
     TableContext,
+    efficiency_entry,
     per_distinct_speed,
 )
 from ..cyclogram import Arc
@@ -738,26 +739,16 @@ class CamResult(BoundsResult):
         if f is None:
             return None
 
-        def finite(v: Any) -> float | None:
-            x = float(v)
-            return x if np.isfinite(x) else None
-
-        p_f = float(np.mean(f.friction_power))
-        p_in = float(np.mean(f.input_power))
-        eta = 1.0 - p_f / p_in if p_in > 0.0 else math.nan
-        return {
-            "nominal_rpm": self.ctx.nominal_rpm,
-            "cycle_efficiency": finite(eta),
-            "mean_friction_power_w": finite(p_f),
-            "mean_input_power_w": finite(p_in),
-            "mean_torque_nm": finite(np.mean(f.torque)),
-            "peak_torque_nm": finite(np.max(f.torque)),
-            "peak_torque_nm_without": float(np.max(f.torque_without)),
-            "friction_power_by_element_w": {
-                e: finite(np.mean(f.losses[:, i])) for i, e in enumerate(f.elements)
-            },
-            "self_locking_crank_deg": [float(v) for v in np.degrees(f.theta[f.self_locking])],
-        }
+        return efficiency_entry(
+            self.ctx.nominal_rpm,
+            f.torque,
+            f.torque_without,
+            f.friction_power,
+            f.input_power,
+            f.losses,
+            f.elements,
+            np.degrees(f.theta[f.self_locking]),
+        )
 
     def shaft_inertia(self) -> tuple[Array, float, str] | None:
         """Its reduced moment of inertia about the cam shaft, for the machine's

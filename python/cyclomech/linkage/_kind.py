@@ -15,7 +15,16 @@ from .._arrays import count, instance, positive
 from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
-from .._kind import Array, Context, Phase, PlainResult, Save, TableContext, Unbounded
+from .._kind import (
+    Array,
+    Context,
+    Phase,
+    PlainResult,
+    Save,
+    TableContext,
+    Unbounded,
+    efficiency_entry,
+)
 from .._units import RAD_PER_S_PER_RPM
 from ._file import _LINKAGE_KEYS, DYNAMICS_KEYS
 from ._keys import KEY_DOCS
@@ -568,26 +577,17 @@ class LinkageResult(PlainResult):
         if f is None or k is None:
             return None
         n = self.ctx.nominal_rpm
-        locked = np.degrees(f.angles[f.self_locking[0]])
-        eta = float(f.cycle_efficiency()[0])
-
-        def finite(v: Any) -> float | None:
-            x = float(v)
-            return x if np.isfinite(x) else None
-
-        return {
-            "nominal_rpm": n,
-            "cycle_efficiency": finite(eta),
-            "mean_friction_power_w": finite(np.mean(f.friction_power[0])),
-            "mean_input_power_w": finite(np.mean(f.input_power[0])),
-            "mean_torque_nm": finite(np.mean(f.torque[0])),
-            "peak_torque_nm": finite(np.max(f.torque[0])),
-            "peak_torque_nm_without": float(np.max(k.torque(n))),
-            "friction_power_by_element_w": {
-                e: finite(np.mean(f.losses[0, :, i])) for i, e in enumerate(f.elements)
-            },
-            "self_locking_crank_deg": [float(v) for v in locked],
-        }
+        return efficiency_entry(
+            n,
+            f.torque[0],
+            k.torque(n),
+            f.friction_power[0],
+            f.input_power[0],
+            f.losses[0],
+            f.elements,
+            np.degrees(f.angles[f.self_locking[0]]),
+            float(f.cycle_efficiency()[0]),
+        )
 
     def shaft_inertia(self) -> tuple[Array, float, str | None] | None:
         """Its reduced moment of inertia about the crank, for the machine's main

@@ -15,7 +15,7 @@ from .._arrays import finite_number, instance, positive
 from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
-from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded
+from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded, efficiency_entry
 from .._numtext import number_text
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
@@ -579,27 +579,17 @@ class PressResult(PlainResult):
         if f is None:
             return None
 
-        def finite(v: Any) -> float | None:
-            x = float(v)
-            return x if np.isfinite(x) else None
-
-        p_f = float(np.mean(f.friction_power))
-        p_in = float(np.mean(f.input_power))
-        eta = 1.0 - p_f / p_in if p_in > 0.0 else math.nan
         locked = np.degrees(np.mod(-f.alpha[f.self_locking], 2.0 * math.pi))
-        return {
-            "nominal_rpm": self.ctx.nominal_rpm,
-            "cycle_efficiency": finite(eta),
-            "mean_friction_power_w": finite(p_f),
-            "mean_input_power_w": finite(p_in),
-            "mean_torque_nm": finite(np.mean(f.torque)),
-            "peak_torque_nm": finite(np.max(f.torque)),
-            "peak_torque_nm_without": float(np.max(f.torque_without)),
-            "friction_power_by_element_w": {
-                e: finite(np.mean(f.losses[:, i])) for i, e in enumerate(f.elements)
-            },
-            "self_locking_crank_deg": [float(v) for v in locked],
-        }
+        return efficiency_entry(
+            self.ctx.nominal_rpm,
+            f.torque,
+            f.torque_without,
+            f.friction_power,
+            f.input_power,
+            f.losses,
+            f.elements,
+            locked,
+        )
 
     def shaft_inertia(self) -> tuple[np.ndarray, float, str | None] | None:
         """Its reduced moment of inertia about the crank, for the machine's main
