@@ -197,22 +197,30 @@ def numba_kernel() -> Any:
         return None
 
     @numba.njit(cache=False, error_model="numpy", no_cpython_wrapper=True)
-    def basis(v, m, phi, h):
-        """Cubic Hermite on the periodic samples v with slopes m (per sample step)."""
-        n = v.size
+    def cell(n, phi, h):
+        """Where phi falls among n periodic samples: the sample before it, the one
+        after, and the cubic Hermite weights (located once, used for every curve
+        of a node, as cyclomech does)."""
         s = phi / h
-        s -= n * math.floor(s / n)
+        if s < 0.0:
+            s += n
+        elif s >= n:
+            s -= n
+        if s < 0.0 or s >= n:
+            s -= n * math.floor(s / n)
         k = min(int(s), n - 1)
         u = s - k
-        k1 = (k + 1) % n
+        k1 = 0 if k + 1 == n else k + 1
         u2 = u * u
         u3 = u2 * u
-        return (
-            (2 * u3 - 3 * u2 + 1) * v[k]
-            + (u3 - 2 * u2 + u) * m[k]
-            + (-2 * u3 + 3 * u2) * v[k1]
-            + (u3 - u2) * m[k1]
-        )
+        return k, k1, 2 * u3 - 3 * u2 + 1, u3 - 2 * u2 + u, -2 * u3 + 3 * u2, u3 - u2
+
+    @numba.njit(cache=False, error_model="numpy", no_cpython_wrapper=True)
+    def basis(v, m, at):
+        """Cubic Hermite on the periodic samples v with slopes m (per sample step)
+        in the cell ``at``."""
+        k, k1, a, b, c, d = at
+        return a * v[k] + b * m[k] + c * v[k1] + d * m[k1]
 
     @numba.njit(cache=False, error_model="numpy", no_cpython_wrapper=True)
     def rhs(phi, z, dz, tq, w0, jj, dj, q, sl, c, d, row, comps, wn, zeta, pv, p1, p2, ps, h):
@@ -235,9 +243,10 @@ def numba_kernel() -> Any:
             pk = phi - th
             wk = w0 - dth
             nxt = tq[k + 1] if k + 1 < nn else 0.0
-            jv = basis(jj[k], sl[0, k], pk, h)
-            djv = basis(dj[k], sl[1, k], pk, h)
-            qv = basis(q[k], sl[2, k], pk, h)
+            at_k = cell(jj.shape[1], pk, h)
+            jv = basis(jj[k], sl[0, k], at_k)
+            djv = basis(dj[k], sl[1, k], at_k)
+            qv = basis(q[k], sl[2, k], at_k)
             acc = (tq[k] - nxt - 0.5 * djv * wk * wk - qv) / jv
             dz[2 + 2 * k] = dth * iw
             dz[3 + 2 * k] = -acc * iw
@@ -245,7 +254,7 @@ def numba_kernel() -> Any:
                 r = row[k] + cc
                 u = z[at]
                 du = z[at + 1]
-                yy = basis(p2[r], ps[2, r], pk, h) * wk * wk + basis(p1[r], ps[1, r], pk, h) * acc
+                yy = basis(p2[r], ps[2, r], at_k) * wk * wk + basis(p1[r], ps[1, r], at_k) * acc
                 dz[at] = du * iw
                 dz[at + 1] = (-yy - 2.0 * zeta[k] * wn[k] * du - wn[k] * wn[k] * u) * iw
                 at += 2
@@ -365,7 +374,11 @@ def numba_kernel() -> Any:
                     sq = 0.0
                     for cc in range(comps[k]):
                         r = row[k] + cc
-                        e = basis(pv[r], ps[0, r], h * i - rec_th[k, i], h) - pv[r, i] + rec_u[r, i]
+                        e = (
+                            basis(pv[r], ps[0, r], cell(n, h * i - rec_th[k, i], h))
+                            - pv[r, i]
+                            + rec_u[r, i]
+                        )
                         sq += e * e
                     peak = max(peak, math.sqrt(sq))
                 out[si, k] = peak
