@@ -174,3 +174,22 @@ def test_a_degree_bound_on_a_travelling_member_is_refused() -> None:
     d["drive"]["link"]["knife"]["max_error_deg"] = 0.5
     with pytest.raises(InputError, match="max_error_deg bounds a member that turns"):
         run(d)
+
+
+def test_a_bound_in_millimetres_given_as_metres_is_refused() -> None:
+    """1 mm written as max_error_m = 1.0: larger than the knife's whole travel over
+    the cycle (its x-y extent, ~0.2 m here), so it could never bind — an error that
+    names the likely slip, not a speed limit quietly never reached."""
+    d = knife()
+    d["drive"]["link"]["knife"]["max_error_m"] = 1.0
+    with pytest.raises(InputError, match=r"whole travel.*did you give millimetres"):
+        run(d)
+
+
+@pytest.mark.parametrize("table", ["shaft", "link"])
+def test_a_damping_ratio_of_one_or_more_warns(table: str) -> None:
+    d = knife()
+    where = d["drive"]["shaft"] if table == "shaft" else d["drive"]["link"]["knife"]
+    where["damping_ratio"] = 2.0  # 2 %, written as a percentage
+    with pytest.warns(cm.CyclomechWarning, match=r"overdamped.*did you mean 0\.02"):
+        cm.Machine.from_dict(d, "dir/knife.toml")

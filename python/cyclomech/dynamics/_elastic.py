@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._arrays import finite_number, instance, positive
 from .._errors import InputError, SolverError
 from .._units import RAD_PER_S_PER_RPM
@@ -41,6 +41,19 @@ Array = npt.NDArray[np.float64]
 #: range): the peak errors it reports keep 5 digits at it, a quarter fewer cycles
 #: than :func:`torsion`'s default 1e-9.
 _TOL = 1e-7
+
+#: The plausibility rule of a damping ratio in ``[drive.shaft]`` and
+#: ``[drive.link.…]``: 1 or more is valid (overdamped) but far likelier a percentage.
+DAMPING_RULES = (
+    _keyrules.Rule(
+        "damping_ratio",
+        lambda v, t: v >= 1.0,
+        lambda v, t: (
+            f"is overdamped (ζ ≥ 1) — did you mean {v / 100:g}? damping_ratio is a ratio, "
+            "not a percentage"
+        ),
+    ),
+)
 
 #: The keys of ``[drive.shaft]`` and of each ``[drive.link.<mechanism>]``.
 SHAFT_KEYS = frozenset({"take_off", "stiffness_nm_per_rad", "hub_inertia_kg_m2", "damping_ratio"})
@@ -216,6 +229,7 @@ class ElasticShaft:
         zeta = shaft.get("damping_ratio", 0.02)
         if not (_toml.is_number(zeta) and math.isfinite(zeta) and zeta >= 0):
             raise InputError(f"{where}: damping_ratio = {zeta!r} must be a finite number ≥ 0")
+        _keyrules.check(shaft, DAMPING_RULES, where)
         _toml.must_be_table(links, source, "[drive.link]")
         specs = {name: _link(name, t, source) for name, t in links.items()}
         for name in specs:
@@ -248,6 +262,7 @@ def _link(name: str, t: Any, source: str) -> LinkSpec:
             raise InputError(f"{where}: {k} = {v!r} must be finite")
     if "max_error_m" in t and "max_error_deg" in t:
         raise InputError(f"{where}: give max_error_m or max_error_deg, not both")
+    _keyrules.check(t, DAMPING_RULES, where)
     return LinkSpec(
         float(t.get("frequency_hz", math.inf)),
         float(t.get("damping_ratio", 0.05)),
@@ -311,6 +326,26 @@ def _bound(spec: LinkSpec, unit: str, name: str, source: str) -> float | None:
     return None
 
 
+def _check_travel(bound: float | None, pos: Array, unit: str, name: str, source: str) -> None:
+    """Refuse a bound as large as the member's whole travel (the extent of its
+    positions over the cycle): it cannot bind, so it cannot be meant — likelier a
+    bound in millimetres given as metres."""
+    if bound is None:
+        return
+    travel = float(np.hypot.reduce(np.ptp(pos, axis=1)))
+    if bound < travel:
+        return
+    key, scale, u = (
+        ("max_error_m", 1.0, "m") if unit == "m" else ("max_error_deg", 180 / math.pi, "°")
+    )
+    hint = f" — did you give millimetres ({key} = {bound / 1000:g})?" if unit == "m" else ""
+    raise InputError(
+        f"{source}: [drive.link.{name}]: {key} = {bound * scale:g} {u} is as large as "
+        f"{name!r}'s whole travel over the cycle ({travel * scale:.4g} {u}): such a bound "
+        f"cannot bind, so it cannot be meant{hint}"
+    )
+
+
 def _nodes(result: Any, elastic: ElasticShaft, source: str) -> list[ShaftNode]:
     """The chain's nodes of an analysed machine."""
     shaft = result.shaft
@@ -339,15 +374,9 @@ def _nodes(result: Any, elastic: ElasticShaft, source: str) -> list[ShaftNode]:
         if w is not None:
             spec = elastic.links.get(name, LinkSpec())
             pos, d1, d2 = (_phased(a, phase) for a in w[:3])
-            member = WorkingMember(
-                pos,
-                d1,
-                d2,
-                w[3],
-                spec.frequency_hz,
-                spec.damping_ratio,
-                _bound(spec, w[3], name, source),
-            )
+            bound = _bound(spec, w[3], name, source)
+            _check_travel(bound, pos, w[3], name, source)
+            member = WorkingMember(pos, d1, d2, w[3], spec.frequency_hz, spec.damping_ratio, bound)
         elif name in elastic.links:
             raise InputError(
                 f"{source}: [drive.link.{name}]: {name!r} has no working member to put on a link"
