@@ -193,3 +193,18 @@ def test_a_damping_ratio_of_one_or_more_warns(table: str) -> None:
     where["damping_ratio"] = 2.0  # 2 %, written as a percentage
     with pytest.warns(cm.CyclomechWarning, match=r"overdamped.*did you mean 0\.02"):
         cm.Machine.from_dict(d, "dir/knife.toml")
+
+
+def test_a_chain_that_does_not_settle_is_a_failure() -> None:
+    """No damping anywhere: no steady state under the motor nor at any speed of the
+    sweep; the run fails saying so instead of reporting NaN quietly."""
+    d = knife()
+    d["drive"]["shaft"]["damping_ratio"] = 0.0
+    d["drive"]["link"]["knife"]["damping_ratio"] = 0.0
+    del d["drive"]["link"]["knife"]["max_error_m"]
+    d["machine"]["speed_rpm"], d["machine"]["speed_points"] = [40.0, 50.0], 3  # quick
+    m = cm.Machine.from_dict(d, "dir/knife.toml")
+    r = cm.machine.analyze(m, progress=False)
+    assert r.torsion.nominal is None
+    assert any("did not settle at 3 of the 3 speeds" in f for f in r.failures)
+    assert any("no periodic steady state" in f for f in r.failures)

@@ -41,6 +41,10 @@ Array = npt.NDArray[np.float64]
 #: range): the peak errors it reports keep 5 digits at it, a quarter fewer cycles
 #: than :func:`torsion`'s default 1e-9.
 _TOL = 1e-7
+#: The cycles a machine's run gives the chain to settle: a real shaft's and link's
+#: damping take the start's transient away in a few (ζ·ω·T ≫ 1); a chain that has not
+#: settled in these is reported so (a failure), in seconds rather than minutes.
+_MAX_CYCLES = 300
 
 #: The plausibility rule of a damping ratio in ``[drive.shaft]`` and
 #: ``[drive.link.…]``: 1 or more is valid (overdamped) but far likelier a percentage.
@@ -515,7 +519,8 @@ class MachineTorsion:
         )
 
     def failures(self) -> list[str]:
-        """What fails: a chain with no steady state, a member's error at the nominal
+        """What fails: a chain with no steady state (under the motor, or at a speed of
+        the sweep), a member's error at the nominal
         speed under the motor above its bound, or above it at every speed of the
         range. (An error-limited speed below the nominal speed lowers the machine's
         speed limit, whose check says so:
@@ -537,6 +542,13 @@ class MachineTorsion:
         out = []
         if self.problem:
             out.append(f"the elastic main shaft: {self.problem}")
+        bad = self.sweep.rpm[~self.sweep.settled]
+        if bad.size:
+            out.append(
+                f"the elastic main shaft did not settle at {bad.size} of the "
+                f"{self.sweep.rpm.size} speeds of the sweep ({bad.min():g}–{bad.max():g} rpm): "
+                "its errors there are unknown (NaN); give the shaft or the links some damping"
+            )
         units = self.nominal_units()
         for name, bound in self.bounds().items():
 
@@ -787,13 +799,14 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
                 head_inertia_kg_m2=steady.constant_inertia_kg_m2,
                 start_rpm=float(steady.omega[0]) / RAD_PER_S_PER_RPM,
                 tol=_TOL,
+                max_cycles=_MAX_CYCLES,
             )
         except SolverError as e:
             problem = str(e)
     full = np.asarray(result.machine.speed_grid(), dtype=np.float64)
     # 41 speeds at most: the limit is linear between two of them, to 1/40 of the range
     grid = np.linspace(full[0], full[-1], min(full.size, 41))
-    sweep = torsion_sweep(nodes, grid, tol=_TOL)
+    sweep = torsion_sweep(nodes, grid, tol=_TOL, max_cycles=_MAX_CYCLES)
     limits = {
         x.name: sweep.limit_rpm(x.name, x.member.max_error)
         for x in nodes
