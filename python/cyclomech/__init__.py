@@ -27,6 +27,7 @@ try:  # every domain, numpy and the Rust core: ~0.6 s
             press,
             servo,
             shaft,
+            synthesis,
             transfer,
         )
 except BaseException as _error:
@@ -115,5 +116,6 @@ __all__ = [
     "servo",
     "shaft",
     "sweep",
+    "synthesis",
     "transfer",
 ]

@@ -34,6 +34,7 @@
 //!   on the (virtual) main shaft through a gearbox, the checks of a motor
 //!   (peak and RMS torque, speed, inertia ratio) and the sizing batch over
 //!   motors × gear ratios × speeds.
+//! * [`synthesis`] — mechanisms dimensioned from what they must do (issue 35).
 //! * [`transfer`] — rotor transfer (seed 002): the quintic transition's values,
 //!   curvature and arc length, the composed path sampled by arc length, the
 //!   kinematics of a speed law and the design's candidate scan.
@@ -88,6 +89,7 @@ pub mod parallel;
 pub mod press;
 pub mod servo;
 pub mod shaft;
+pub mod synthesis;
 pub(crate) mod tile;
 pub mod transfer;
 pub mod units;

@@ -1,0 +1,5 @@
+//! Synthesis (issue 35): mechanisms dimensioned from what they must do.
+//!
+//! Each kernel takes what a mechanism must do (precision points, target
+//! points, poses, limits) as slices and returns the dimensions with their
+//! margins; candidates are evaluated in parallel batches.
