@@ -10,4 +10,15 @@ the dimensions with the margins of the constraints it was asked to hold.
 
 from __future__ import annotations
 
-__all__ = []  # type: list[str]  # filled as the kinds of synthesis land
+from ._knife import KnifeDrive, KnifeRequirement, knife_drive, knife_motion
+from ._knife_compare import KnifeComparison, compare_knife_drives, knife_forces
+
+__all__ = [  # filled as the kinds of synthesis land
+    "KnifeComparison",
+    "KnifeDrive",
+    "KnifeRequirement",
+    "compare_knife_drives",
+    "knife_drive",
+    "knife_forces",
+    "knife_motion",
+]
