@@ -20,7 +20,8 @@ crank-angle grid in one call.
 The code lives in private modules beside this door: ``_linkage``
 (:class:`Linkage`: the model, its compilation and solve), ``_file`` (its file
 format), ``_drawing`` (the checks of the drawing's parts), ``_solution``
-(:class:`LinkageSolution`) and ``_geometries`` (:func:`solve_geometries`);
+(:class:`LinkageSolution`), ``_geometries`` (:func:`solve_geometries`) and
+``_synthesize`` (the hook of a table's ``synthesize`` requirements);
 ``cyclomech.linkage.presets`` holds the seed's knife drives.
 """
 
@@ -32,12 +33,15 @@ from ._geometries import solve_geometries
 from ._kind import LinkageMechanism
 from ._linkage import Linkage
 from ._solution import LinkageSolution
+from ._synthesize import SYNTHESIZERS, register_synthesizer
 
 __all__ = [
     "DYNAMICS_KEYS",
     "Linkage",
     "LinkageMechanism",
     "LinkageSolution",
+    "SYNTHESIZERS",
     "presets",
+    "register_synthesizer",
     "solve_geometries",
 ]

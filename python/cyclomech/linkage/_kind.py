@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -30,6 +31,7 @@ from ._file import _LINKAGE_KEYS, DYNAMICS_KEYS
 from ._keys import KEY_DOCS
 from ._linkage import Linkage
 from ._solution import LinkageSolution
+from ._synthesize import synthesize
 
 __all__ = ["LinkageMechanism"]
 
@@ -79,7 +81,7 @@ class LinkageMechanism(Unbounded):
     # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
     keys: ClassVar[frozenset[str]] = frozenset(
-        _LINKAGE_KEYS | DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase"}
+        _LINKAGE_KEYS | DYNAMICS_KEYS | {"kind", "max_acceleration_m_per_s2", "phase", "synthesize"}
     )
     #: Its plausibility rules besides the suffix rules of every key: none of its own
     #: (its lengths are the drawn points', whose table the linkage file reads).
@@ -98,6 +100,9 @@ class LinkageMechanism(Unbounded):
     phase: Phase = field(default_factory=Phase)
     #: The friction of its joints and guides (the ``friction`` table), None without.
     friction: forces.Friction | None = None
+    #: The record of its ``synthesize`` table (the linkage synthesised from
+    #: requirements, with its report rows and figures), None for given dimensions.
+    synthesis: Any = field(default=None, compare=False)
     _solved: dict[int, tuple[LinkageSolution, tuple[float, float]]] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
@@ -166,9 +171,22 @@ class LinkageMechanism(Unbounded):
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         _toml.check_keys(table, set(cls.keys), ctx.source, where)
-        extra = {"kind", "max_acceleration_m_per_s2", "phase", *DYNAMICS_KEYS}
+        extra = {"kind", "max_acceleration_m_per_s2", "phase", "synthesize", *DYNAMICS_KEYS}
         own = {k: v for k, v in table.items() if k not in extra}
-        lk = Linkage.from_dict(own, ctx.source, where)
+        record = None
+        if "synthesize" in table:
+            # Requirements instead of dimensions: the synthesis domain's synthesizer
+            # (registered at import) gives the linkage; drawn dimensions would clash.
+            clash = sorted(k for k in own if k != "name")
+            if clash:
+                raise InputError(
+                    f"{ctx.where(name)}: synthesize gives the linkage from requirements, so "
+                    f"{', '.join(clash)} cannot be given too; drop them, or drop synthesize"
+                )
+            record = synthesize(table["synthesize"], f"{ctx.where(name)}.synthesize")
+            lk = record.linkage
+        else:
+            lk = Linkage.from_dict(own, ctx.source, where)
         limit = _toml.optional_positive(
             table, "max_acceleration_m_per_s2", ctx.where(name), "[m/s²]"
         )
@@ -197,7 +215,7 @@ class LinkageMechanism(Unbounded):
             else forces.friction_from_table(table, ctx.source, where, lk, dynamics)
         )
         out = lk.output or lk.names[-1]
-        mech = cls(name, lk, out, limit, ctx.angle_points, dynamics, phase, friction)
+        mech = cls(name, lk, out, limit, ctx.angle_points, dynamics, phase, friction, record)
         mech.peaks()  # must assemble over the whole turn
         return mech
 
@@ -683,8 +701,14 @@ class LinkageResult(PlainResult):
                 "max_acceleration_m_s2": self.max_acceleration_analog * w * w,
                 "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
                 **self._forces_json(),
+                **({} if self.mech.synthesis is None else {"synthesis": self.mech.synthesis.json()}),
             },
         }
+
+    def files(self, folder: Path) -> list[Path]:
+        """Its own files: those of its ``synthesize`` record (none without)."""
+        rec = self.mech.synthesis
+        return [] if rec is None else list(rec.files(folder, self.mech.name))
 
     def _forces_json(self) -> dict[str, Any]:
         k = self.kinetostatics
@@ -730,6 +754,7 @@ class LinkageResult(PlainResult):
                 else []
             ),
             *self._friction_rows(),
+            *([] if self.mech.synthesis is None else self.mech.synthesis.rows()),
         ]
 
     def _friction_rows(self) -> list[list[Any]]:
@@ -765,6 +790,8 @@ class LinkageResult(PlainResult):
         from .plot import plot_analogs, plot_linkage
 
         k, mech, sol = self.mech.name, self.mech, self.solution
+        if mech.synthesis is not None:
+            mech.synthesis.figures(save, k)
         ax = plot_linkage(mech.linkage, sol, 0, trace=[mech.output], title=f"{k}: mechanism")
         save(
             ax.figure,

@@ -12,11 +12,14 @@ from __future__ import annotations
 
 from ._knife import KnifeDrive, KnifeRequirement, knife_drive, knife_motion
 from ._knife_compare import KnifeComparison, compare_knife_drives, knife_forces
+from ._knife_file import SYNTHESIZE_KEYS, KnifeSynthesis  # registers the linkage synthesizer
 
 __all__ = [  # filled as the kinds of synthesis land
     "KnifeComparison",
     "KnifeDrive",
     "KnifeRequirement",
+    "KnifeSynthesis",
+    "SYNTHESIZE_KEYS",
     "compare_knife_drives",
     "knife_drive",
     "knife_forces",

@@ -523,11 +523,6 @@ def knife_drive(
     )
     order = np.argsort(res.population_energies, kind="stable")
     pop = res.population[order]
-    # The population is stored scaled to [0, 1] in scipy ≥ 1.? ; map back if so.
-    lo = np.array([b[0] for b in prob.bounds])
-    hi = np.array([b[1] for b in prob.bounds])
-    if np.all((pop >= 0.0) & (pop <= 1.0)) and not np.all((pop >= lo) & (pop <= hi)):
-        pop = lo + pop * (hi - lo)
     best_x = np.asarray(res.x, dtype=float)
     lengths = prob.lengths(np.vstack([best_x[None], pop]))
     ev = prob.evaluate(lengths[:1])
