@@ -64,6 +64,7 @@ from .motion.plot import plot_law
 from .press.plot import WORK_COLOR as WORK_COLOR
 from .press.plot import plot_crank_torque, plot_press, plot_press_criteria
 from .servo.plot import plot_duty
+from .synthesis.plot import plot_knife_motion, plot_knife_torque
 from .transfer.plot import plot_transfer
 
 __all__ = [
@@ -76,6 +77,8 @@ __all__ = [
     "plot_cyclogram_pair",
     "plot_duty",
     "plot_forces",
+    "plot_knife_motion",
+    "plot_knife_torque",
     "plot_law",
     "plot_linkage",
     "plot_min_phase",

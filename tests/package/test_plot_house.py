@@ -47,6 +47,8 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_cyclogram_pair",
         "plot_duty",
         "plot_forces",
+        "plot_knife_motion",
+        "plot_knife_torque",
         "plot_law",
         "plot_linkage",
         "plot_min_phase",

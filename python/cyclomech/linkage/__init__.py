@@ -37,10 +37,10 @@ from ._synthesize import SYNTHESIZERS, register_synthesizer
 
 __all__ = [
     "DYNAMICS_KEYS",
+    "SYNTHESIZERS",
     "Linkage",
     "LinkageMechanism",
     "LinkageSolution",
-    "SYNTHESIZERS",
     "presets",
     "register_synthesizer",
     "solve_geometries",

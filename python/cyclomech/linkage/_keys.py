@@ -78,54 +78,6 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "a synthesize table; then no points, links, ground, driver, output, lengths or "
           "sliders", True),
     )),
-    KeyTable("linkage.synthesize", "[mechanism.<name>.synthesize] of a linkage", (
-        K("scheme", "The scheme to synthesise: seed 001's knife drives br125 (p = 1, "
-          "structure 1–3), br136 (p = 2, 1–2–3), brp4 (p = 3, 1–2–2–3).", NO_UNIT, TEXT, REQ,
-          "br125, br136 or brp4", None),
-        K("stroke_m", "The knife point E's stroke: max − min of its travel along −y.", "m",
-          NUM, REQ, POS, None),
-        K("cut_deg", "The crank angle of the working stroke, from the knife's top to its "
-          "bottom (the return takes the rest).", "deg", NUM, REQ, "in (0, 360)", None),
-        K("knife_m", "The knife holder's length BC; the frame is the scheme's scaled to it.",
-          "m", NUM, "the scheme's preset", POS, None),
-        K("envelope_m", "A frame box [x_min, y_min, x_max, y_max] every joint stays in over "
-          "the turn.", "m", ARR, "none (no envelope)",
-          "four finite numbers, x_min < x_max, y_min < y_max, holding the ground pivots",
-          None),
-        K("min_transmission_deg", "The least transmission angle at every dyad joint and the "
-          "class III group's driven joint.", "deg", NUM, "30", "in [0, 90)", None),
-        K("max_length_ratio", "The longest link over the shortest, at most.", NO_UNIT, NUM,
-          "25", "finite, > 1", None),
-        K("stroke_tol_m", "How close the stroke must come.", "m", NUM, "0.0005", POS, None),
-        K("cut_tol_deg", "How close the cut's crank angle must come.", "deg", NUM, "0.5", POS,
-          None),
-        K("seed", "The optimiser's seed (a seed repeats its result).", NO_UNIT, INT, "1",
-          "a whole number ≥ 0", None),
-        K("popsize", "Candidates per design variable in each generation.", NO_UNIT, INT, "15",
-          "a whole number ≥ 5", None),
-        K("maxiter", "Generations of differential evolution at most.", NO_UNIT, INT, "120",
-          "a whole number ≥ 1", None),
-        K("compare", "Synthesise all three schemes and compare them in the report.", NO_UNIT,
-          BOOL, "false", "true or false", None),
-        K("compare_rpm", "The crank speed of the comparison's torque, loads and "
-          "acceleration.", "rpm", NUM, "45", "finite, > 0; needs compare", None),
-        K("compare_max_acceleration_m_per_s2", "The knife's allowed acceleration for the "
-          "comparison's speed limit.", "m/s²", NUM, "8", "finite, > 0; needs compare", None),
-        K("holder_kg", "The comparison's knife-holder mass.", "kg", NUM, "80",
-          "finite, > 0; needs compare", None),
-        K("link_kg_per_m", "The comparison's mass per length of every other moving link.",
-          "kg/m", NUM, "10", "finite, > 0; needs compare", None),
-        K("cut_force_n", "The comparison's cutting force on E, upwards over the cut.", "N",
-          NUM, "0", "finite, ≥ 0; needs compare", None),
-    ), intro=(
-        "Requirements instead of dimensions (issue 35): ``cyclomech run`` synthesises the "
-        "linkage (``cyclomech.synthesis.knife_drive``: differential evolution over the "
-        "scheme's link lengths, each generation solved in one batch call), reports what it "
-        "chose and why, and analyses it as any other linkage; the masses, loads and phase "
-        "of the table name the scheme's joints (A, B, C, D, E, F, O; br136 adds G, J; "
-        "brp4 G, J, K, M, P). The knife's stroke is its travel along −y; its top and "
-        "bottom are the crank angles of its highest and lowest positions."
-    )),
     KeyTable("linkage.lengths", "[[mechanism.<name>.lengths]] of a linkage", (
         K("joints", "The two joints the length joins.", NO_UNIT, ARR, REQ,
           "[a, b], two joints of one link", None),
@@ -230,6 +182,54 @@ KEY_DOCS: tuple[KeyTable, ...] = (
     ), intro=(
         "One slider's guide friction in ``guides``, keyed by the sliding point; a key "
         "left out takes the table's ``guide_*`` default (a point with two guides: both)."
+    )),
+    KeyTable("linkage.synthesize", "[mechanism.<name>.synthesize] of a linkage", (
+        K("scheme", "The scheme to synthesise: seed 001's knife drives br125 (p = 1, "
+          "structure 1–3), br136 (p = 2, 1–2–3), brp4 (p = 3, 1–2–2–3).", NO_UNIT, TEXT, REQ,
+          "br125, br136 or brp4", None),
+        K("stroke_m", "The knife point E's stroke: max − min of its travel along −y.", "m",
+          NUM, REQ, POS, None),
+        K("cut_deg", "The crank angle of the working stroke, from the knife's top to its "
+          "bottom (the return takes the rest).", "deg", NUM, REQ, "in (0, 360)", None),
+        K("knife_m", "The knife holder's length BC; the frame is the scheme's scaled to it.",
+          "m", NUM, "the scheme's preset", POS, None),
+        K("envelope_m", "A frame box [x_min, y_min, x_max, y_max] every joint stays in over "
+          "the turn.", "m", ARR, "none (no envelope)",
+          "four finite numbers, x_min < x_max, y_min < y_max, holding the ground pivots",
+          None),
+        K("min_transmission_deg", "The least transmission angle at every dyad joint and the "
+          "class III group's driven joint.", "deg", NUM, "30", "in [0, 90)", None),
+        K("max_length_ratio", "The longest link over the shortest, at most.", NO_UNIT, NUM,
+          "25", "finite, > 1", None),
+        K("stroke_tol_m", "How close the stroke must come.", "m", NUM, "0.0005", POS, None),
+        K("cut_tol_deg", "How close the cut's crank angle must come.", "deg", NUM, "0.5", POS,
+          None),
+        K("seed", "The optimiser's seed (a seed repeats its result).", NO_UNIT, INT, "1",
+          "a whole number ≥ 0", None),
+        K("popsize", "Candidates per design variable in each generation.", NO_UNIT, INT, "15",
+          "a whole number ≥ 5", None),
+        K("maxiter", "Generations of differential evolution at most.", NO_UNIT, INT, "120",
+          "a whole number ≥ 1", None),
+        K("compare", "Synthesise all three schemes and compare them in the report.", NO_UNIT,
+          BOOL, "false", "true or false", None),
+        K("compare_rpm", "The crank speed of the comparison's torque, loads and "
+          "acceleration.", "rpm", NUM, "45", "finite, > 0; needs compare", None),
+        K("compare_max_acceleration_m_per_s2", "The knife's allowed acceleration for the "
+          "comparison's speed limit.", "m/s²", NUM, "8", "finite, > 0; needs compare", None),
+        K("holder_kg", "The comparison's knife-holder mass.", "kg", NUM, "80",
+          "finite, > 0; needs compare", None),
+        K("link_kg_per_m", "The comparison's mass per length of every other moving link.",
+          "kg/m", NUM, "10", "finite, > 0; needs compare", None),
+        K("cut_force_n", "The comparison's cutting force on E, upwards over the cut.", "N",
+          NUM, "0", "finite, ≥ 0; needs compare", None),
+    ), intro=(
+        "Requirements instead of dimensions (issue 35): ``cyclomech run`` synthesises the "
+        "linkage (``cyclomech.synthesis.knife_drive``: differential evolution over the "
+        "scheme's link lengths, each generation solved in one batch call), reports what it "
+        "chose and why, and analyses it as any other linkage; the masses, loads and phase "
+        "of the table name the scheme's joints (A, B, C, D, E, F, O; br136 adds G, J; "
+        "brp4 G, J, K, M, P). The knife's stroke is its travel along −y; its top and "
+        "bottom are the crank angles of its highest and lowest positions."
     )),
     Phase.key_docs,
 )

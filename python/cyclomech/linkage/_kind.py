@@ -67,6 +67,10 @@ class LinkageMechanism(Unbounded):
         The friction of its joints and guides (:class:`cyclomech.forces.Friction`,
         the ``friction`` table), solved at the nominal speed
         (:meth:`friction_forces`); needs ``dynamics``; None (default) without.
+    synthesis : object, optional
+        The record of a ``synthesize`` table (the linkage synthesised from
+        requirements, with its report rows, figures and files; see
+        ``cyclomech.linkage.SYNTHESIZERS``); None (default) for drawn dimensions.
 
     Examples
     --------
@@ -701,7 +705,9 @@ class LinkageResult(PlainResult):
                 "max_acceleration_m_s2": self.max_acceleration_analog * w * w,
                 "speed_limit_rpm": self.ctx.own_limit_rpm(self.mech.name),
                 **self._forces_json(),
-                **({} if self.mech.synthesis is None else {"synthesis": self.mech.synthesis.json()}),
+                **(
+                    {} if self.mech.synthesis is None else {"synthesis": self.mech.synthesis.json()}
+                ),
             },
         }
 

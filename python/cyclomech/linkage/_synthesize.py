@@ -50,9 +50,7 @@ class Synthesized(Protocol):
 SYNTHESIZERS: dict[str, Callable[[Mapping[str, Any], str], Synthesized]] = {}
 
 
-def register_synthesizer(
-    scheme: str, fn: Callable[[Mapping[str, Any], str], Synthesized]
-) -> None:
+def register_synthesizer(scheme: str, fn: Callable[[Mapping[str, Any], str], Synthesized]) -> None:
     """Register ``fn`` as the synthesizer of ``synthesize`` tables whose ``scheme``
     is ``scheme``.
 

@@ -15,11 +15,11 @@ from ._knife_compare import KnifeComparison, compare_knife_drives, knife_forces
 from ._knife_file import SYNTHESIZE_KEYS, KnifeSynthesis  # registers the linkage synthesizer
 
 __all__ = [  # filled as the kinds of synthesis land
+    "SYNTHESIZE_KEYS",
     "KnifeComparison",
     "KnifeDrive",
     "KnifeRequirement",
     "KnifeSynthesis",
-    "SYNTHESIZE_KEYS",
     "compare_knife_drives",
     "knife_drive",
     "knife_forces",

@@ -49,7 +49,7 @@ from .._arrays import count, finite_number, positive
 from .._errors import InputError
 from ..linkage import Linkage, presets, solve_geometries
 
-__all__ = ["KnifeDrive", "KnifeRequirement", "SCHEMES", "knife_drive", "knife_motion"]
+__all__ = ["SCHEMES", "KnifeDrive", "KnifeRequirement", "knife_drive", "knife_motion"]
 
 Array = npt.NDArray[np.float64]
 
@@ -189,9 +189,7 @@ def _scaled(lk: Linkage, factor: float) -> Linkage:
     return Linkage.from_dict(d)
 
 
-def knife_motion(
-    linkage: Linkage | None, sol: Any, output: str = "E"
-) -> dict[str, Array]:
+def knife_motion(linkage: Linkage | None, sol: Any, output: str = "E") -> dict[str, Array]:
     """The knife's stroke, top and bottom angles and cut of solved geometries.
 
     ``sol`` is a :class:`~cyclomech.LinkageSolution` over a uniform grid of one
@@ -269,7 +267,7 @@ def transmission_angles(sol: Any, checks: Sequence[tuple[Any, ...]]) -> Array:
             (a, b), (d, cc) = ((pt(x), pt(y)) for x, y in (c[3], c[4]))
             # Homogeneous lines AB and DC and their meet I = (ix, iy, w): w = 0
             # for parallel hangers, I then a direction along them.
-            one = np.ones(a.shape[:-1] + (1,))
+            one = np.ones((*a.shape[:-1], 1))
             h = [np.concatenate([q, one], axis=-1) for q in (a, b, d, cc)]
             i_h = np.cross(np.cross(h[0], h[1]), np.cross(h[2], h[3]))
             r = i_h[..., 2:3] * e - i_h[..., :2]  # w·(E − I): along IE
@@ -364,8 +362,13 @@ class _Problem:
         self.angles = _grid(self.linkage)
         if req.envelope is not None:
             x0, y0, x1, y1 = req.envelope
-            fx = np.array([xy for n, xy in self.linkage.to_dict()["points"].items()
-                           if n in self.linkage.to_dict()["ground"]])
+            fx = np.array(
+                [
+                    xy
+                    for n, xy in self.linkage.to_dict()["points"].items()
+                    if n in self.linkage.to_dict()["ground"]
+                ]
+            )
             outside = (fx[:, 0] < x0) | (fx[:, 0] > x1) | (fx[:, 1] < y0) | (fx[:, 1] > y1)
             if outside.any():
                 raise InputError(
@@ -397,8 +400,12 @@ class _Problem:
             xs, ys = sol.xy[..., 0], sol.xy[..., 1]
             with np.errstate(invalid="ignore"):
                 clear = np.minimum.reduce(
-                    [(xs - x0).min(axis=(1, 2)), (x1 - xs).min(axis=(1, 2)),
-                     (ys - y0).min(axis=(1, 2)), (y1 - ys).min(axis=(1, 2))]
+                    [
+                        (xs - x0).min(axis=(1, 2)),
+                        (x1 - xs).min(axis=(1, 2)),
+                        (ys - y0).min(axis=(1, 2)),
+                        (y1 - ys).min(axis=(1, 2)),
+                    ]
                 )
         else:
             clear = np.full(len(lengths), np.inf)
@@ -624,7 +631,9 @@ def _posed(base: Linkage, lengths: Array, sol: Any) -> Linkage:
     (the middle of the grid), so that its own solve starts from that assembly."""
     d = base.to_dict()
     mid = sol.xy.shape[1] // 2
-    d["points"] = {n: [float(x), float(y)] for n, (x, y) in zip(sol.names, sol.xy[0, mid], strict=True)}
+    d["points"] = {
+        n: [float(x), float(y)] for n, (x, y) in zip(sol.names, sol.xy[0, mid], strict=True)
+    }
     d["lengths"] = [
         {"joints": [a, b], "length": float(v)}
         for (a, b), v in zip(base.dimensions, lengths, strict=True)

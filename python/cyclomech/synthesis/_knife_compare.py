@@ -102,7 +102,7 @@ def knife_forces(
     rho = positive("link_kg_per_m", link_kg_per_m, "[kg/m]")
     f_cut = finite_number("cut_force_n", cut_force_n, "[N]", low=0.0)
     ground = set(lk.to_dict()["ground"])
-    masses: dict[tuple[str, ...], LinkMass] = {}
+    masses: dict[Sequence[str], LinkMass] = {}
     for link in lk.to_dict()["links"]:
         if all(p in ground for p in link):
             continue
@@ -194,8 +194,9 @@ class KnifeComparison:
         head = [h for _, h, _ in self.COLUMNS]
         body = [[f.format(r[k]) for k, _, f in self.COLUMNS] for r in self.rows]
         widths = [max(len(x) for x in col) for col in zip(head, *body, strict=True)]
-        lines = ["  ".join(x.rjust(w) for x, w in zip(row, widths, strict=True))
-                 for row in [head, *body]]
+        lines = [
+            "  ".join(x.rjust(w) for x, w in zip(row, widths, strict=True)) for row in [head, *body]
+        ]
         lines += [f"{s}: {why}" for s, why in self.failed.items()]
         return "\n".join(lines)
 
@@ -205,7 +206,7 @@ def _row_and_curves(
 ) -> tuple[dict[str, Any], dict[str, Array], LinkageSolution, Kinetostatics]:
     lk = drive.linkage
     top = math.radians(drive.top_deg)
-    angles = top + np.arange(JERK_POINTS) * (2.0 * math.pi / JERK_POINTS)
+    angles: Array = top + np.arange(JERK_POINTS, dtype=np.float64) * (2.0 * math.pi / JERK_POINTS)
     sol = lk.solve(angles)
     assert sol.vel is not None and sol.acc is not None
     k = sol.index("E")
@@ -326,5 +327,5 @@ def compare_knife_drives(
             "no knife-drive scheme meets the requirement: "
             + "; ".join(f"{s}: {why}" for s, why in failed.items())
         )
-    grid = np.arange(JERK_POINTS) * (360.0 / JERK_POINTS)
+    grid: Array = np.arange(JERK_POINTS, dtype=np.float64) * (360.0 / JERK_POINTS)
     return KnifeComparison(requirement, n, drives, rows, curves, grid, failed)

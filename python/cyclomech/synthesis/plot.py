@@ -62,8 +62,8 @@ def plot_knife_motion(comparison: KnifeComparison, *, title: str | None = None) 
     top.axvline(r.cut_deg, color="0.5", lw=0.8, ls="--")
     top.set_ylabel("knife displacement  [mm]")
     top.set_title(
-        title or f"knife motion, stroke {r.stroke_m * 1e3:g} mm, cut {r.cut_deg:g}°, "
-        f"at {c.rpm:g} rpm"
+        title
+        or f"knife motion, stroke {r.stroke_m * 1e3:g} mm, cut {r.cut_deg:g}°, at {c.rpm:g} rpm"
     )
     top.legend(fontsize=8, title="scheme")
     bottom.axhline(0.0, color="0.6", lw=0.8)
