@@ -11,7 +11,6 @@ difference of the solver's acceleration analog."""
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 
 import cyclomech as cm
 import numpy as np
@@ -169,17 +168,26 @@ def test_the_table_has_a_line_per_scheme(comparison) -> None:
     assert [ln.split()[0] for ln in lines[1:]] == ["br125", "br136", "brp4"]
 
 
+def _solution(phi: np.ndarray, y: np.ndarray, dy: np.ndarray, d2y: np.ndarray):
+    """A one-point solution "E" at x = 0 moving in y (a closed form, no linkage)."""
+
+    def stack(v: np.ndarray) -> np.ndarray:
+        return np.stack([np.zeros_like(v), v], axis=-1)[:, None, :]
+
+    flags = np.zeros(phi.size, dtype=bool)
+    return cm.LinkageSolution(
+        phi, ("E",), stack(y), stack(dy), stack(d2y), ~flags, flags, flags.copy()
+    )
+
+
 def test_knife_motion_on_a_closed_form() -> None:
     # y_E = cos φ + 0.3 sin 2φ: the extremes solved here by brentq on y' = 0.
     phi = np.linspace(0.0, 2 * np.pi, 181)
     y = np.cos(phi) + 0.3 * np.sin(2 * phi)
     dy = -np.sin(phi) + 0.6 * np.cos(2 * phi)
     d2y = -np.cos(phi) - 1.2 * np.sin(2 * phi)
-    stack = lambda v: np.stack([np.zeros_like(v), v], axis=-1)[:, None, :]  # noqa: E731
-    sol = SimpleNamespace(
-        angles=phi, xy=stack(y), vel=stack(dy), acc=stack(d2y), index=lambda name: 0
-    )
-    m = knife_motion(None, sol)
+    sol = _solution(phi, y, dy, d2y)
+    m = knife_motion(sol)
     f = lambda p: -math.sin(p) + 0.6 * math.cos(2 * p)  # noqa: E731
     top = brentq(f, -0.5, 1.0)
     bottom = brentq(f, 2.0, 4.0)
@@ -196,9 +204,12 @@ def test_a_knife_that_turns_back_within_its_stroke_is_counted() -> None:
     phi = np.linspace(0.0, 2 * np.pi, 361)
     y = np.cos(phi) + 0.6 * np.cos(3 * phi)
     dy = -np.sin(phi) - 1.8 * np.sin(3 * phi)
-    stack = lambda v: np.stack([np.zeros_like(v), v], axis=-1)[:, None, :]  # noqa: E731
-    sol = SimpleNamespace(angles=phi, xy=stack(y), vel=stack(dy), acc=stack(-y), index=lambda n: 0)
-    assert int(knife_motion(None, sol)["turns"]) == 6
+    sol = _solution(phi, y, dy, -y)
+    assert int(knife_motion(sol)["turns"]) == 6
+    with pytest.raises(cm.InputError, match="LinkageSolution with analogs"):
+        knife_motion("E")
+    with pytest.raises(cm.InputError, match="output = 'Q'"):
+        knife_motion(sol, "Q")
 
 
 def test_a_seed_repeats_its_result() -> None:

@@ -69,7 +69,9 @@ def register_synthesizer(scheme: str, fn: Callable[[Mapping[str, Any], str], Syn
     Examples
     --------
     >>> import cyclomech as cm
-    >>> "br125" in cm.linkage.SYNTHESIZERS
+    >>> knife = cm.linkage.SYNTHESIZERS["br125"]     # cyclomech.synthesis registered it
+    >>> cm.linkage.register_synthesizer("br125", knife)
+    >>> cm.linkage.SYNTHESIZERS["br125"] is knife
     True
     """
     if not isinstance(scheme, str) or not callable(fn):

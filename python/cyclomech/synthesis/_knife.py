@@ -47,7 +47,7 @@ from scipy.optimize import differential_evolution
 
 from .._arrays import count, finite_number, positive
 from .._errors import InputError
-from ..linkage import Linkage, presets, solve_geometries
+from ..linkage import Linkage, LinkageSolution, presets, solve_geometries
 
 __all__ = ["SCHEMES", "KnifeDrive", "KnifeRequirement", "knife_drive", "knife_motion"]
 
@@ -189,14 +189,21 @@ def _scaled(lk: Linkage, factor: float) -> Linkage:
     return Linkage.from_dict(d)
 
 
-def knife_motion(linkage: Linkage | None, sol: Any, output: str = "E") -> dict[str, Array]:
+def knife_motion(sol: LinkageSolution, output: str = "E") -> dict[str, Array]:
     """The knife's stroke, top and bottom angles and cut of solved geometries.
 
-    ``sol`` is a :class:`~cyclomech.LinkageSolution` over a uniform grid of one
-    crank turn with both ends (the last angle = the first + 2π), of shape (N+1,
-    M, 2) or (K, N+1, M, 2), with analogs. Each extreme of s = −y is the grid's,
-    moved by one Newton step on the analogs (s'/s''). ``linkage`` is unused (for
-    symmetry with the other helpers); None is fine.
+    Each extreme of s = −y is the grid's, moved by one Newton step on the analogs
+    (s'/s''); accurate to O(h³) in the grid step h.
+
+    Parameters
+    ----------
+    sol : LinkageSolution
+        A solution with analogs over a uniform grid of one crank turn with both
+        ends (the last angle = the first + 2π): of :meth:`cyclomech.Linkage.solve`
+        (shape (N+1, M, 2)) or :func:`cyclomech.linkage.solve_geometries` (K, N+1,
+        M, 2).
+    output : str, default "E"
+        The knife point.
 
     Returns
     -------
@@ -212,11 +219,18 @@ def knife_motion(linkage: Linkage | None, sol: Any, output: str = "E") -> dict[s
     >>> from cyclomech.synthesis import knife_motion
     >>> lk = presets.br125()
     >>> sol = lk.solve(lk.drawn_angle + np.linspace(0, 2 * np.pi, 361))
-    >>> m = knife_motion(lk, sol)
+    >>> m = knife_motion(sol)
     >>> round(float(m["stroke"]), 4), int(m["turns"])
     (0.1385, 2)
     """
-    del linkage
+    if not isinstance(sol, LinkageSolution) or sol.vel is None or sol.acc is None:
+        raise InputError(
+            f"sol must be a LinkageSolution with analogs (analogs=True); got {type(sol).__name__}"
+        )
+    if not isinstance(output, str) or output not in sol.names:
+        raise InputError(f"output = {output!r} is not a point of sol: {', '.join(sol.names)}")
+    if sol.angles.size < 4:
+        raise InputError(f"sol has {sol.angles.size} angles; a turn needs at least 4")
     k = sol.index(output)
     s = -sol.xy[..., :-1, k, 1]
     v = -sol.vel[..., :-1, k, 1]
@@ -386,7 +400,7 @@ class _Problem:
     def evaluate(self, lengths: Array) -> dict[str, Array]:
         """Every measure of K geometries, from one :func:`solve_geometries` call."""
         sol = solve_geometries(self.linkage, self.angles, lengths)
-        m = knife_motion(None, sol)
+        m = knife_motion(sol)
         ok = sol.ok.all(axis=1) & ~sol.branch_change.any(axis=1) & ~sol.singular.any(axis=1)
         size = float(self.base.max())
         with np.errstate(invalid="ignore"):
