@@ -27,7 +27,7 @@ from cyclomech.synthesis.plot import plot_knife_motion, plot_knife_torque
 # transmission angles of at least 30° wherever a dyad or the class III group
 # passes force, the longest link at most 25 times the shortest.
 req = cm.synthesis.KnifeRequirement(
-    stroke_m=0.15, cut_deg=175.0, min_transmission_deg=30.0, maxiter=40, seed=1
+    stroke_m=0.15, cut_deg=175.0, min_transmission_deg=30.0, popsize=8, maxiter=30, seed=1
 )
 c = cm.synthesis.compare_knife_drives(req, rpm=45.0, cut_force_n=20000.0)
 print(c.table())
