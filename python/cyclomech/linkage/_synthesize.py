@@ -102,7 +102,7 @@ def synthesize(table: Any, where: str) -> Synthesized:
     if not isinstance(table, Mapping):
         raise InputError(f"{where}: synthesize must be a table; got {table!r}")
     scheme = table.get("scheme")
-    if scheme not in SYNTHESIZERS:
+    if not isinstance(scheme, str) or scheme not in SYNTHESIZERS:
         raise InputError(
             f"{where}: scheme = {scheme!r} has no synthesizer; the schemes are "
             f"{', '.join(sorted(SYNTHESIZERS)) or 'none (import cyclomech.synthesis)'}"

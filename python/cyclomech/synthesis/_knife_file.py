@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import _toml
-from .._arrays import flag
+from .._arrays import finite_number, flag, positive
 from .._errors import InputError
 from ..linkage import Linkage, register_synthesizer
 from ._knife import SCHEMES, KnifeDrive, KnifeRequirement, knife_drive
@@ -169,6 +169,19 @@ class KnifeSynthesis:
         return [path]
 
 
+def _compare_value(key: str, value: Any) -> float:
+    """A comparison key's number, checked before it keys the cache."""
+    if key == "cut_force_n":
+        return finite_number(key, value, "[N]", low=0.0)
+    units = {
+        "compare_rpm": "[rpm]",
+        "compare_max_acceleration_m_per_s2": "[m/s²]",
+        "holder_kg": "[kg]",
+        "link_kg_per_m": "[kg/m]",
+    }
+    return positive(key, value, units[key])
+
+
 def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
     """The knife drive of a ``synthesize`` table (the synthesizer registered for
     the schemes of :data:`~cyclomech.synthesis.SCHEMES`).
@@ -211,7 +224,9 @@ def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
             kw["envelope"] = tuple(kw["envelope"])
         req = KnifeRequirement(**kw)
         compare = flag("compare", table.get("compare", False))
-        ckw = tuple(sorted((f, table[k]) for k, f in _COMPARE_KEYS.items() if k in table))
+        ckw = tuple(
+            sorted((f, _compare_value(k, table[k])) for k, f in _COMPARE_KEYS.items() if k in table)
+        )
         if ckw and not compare:
             raise InputError(
                 f"{', '.join(k for k in _COMPARE_KEYS if k in table)} set the comparison's "
