@@ -23,6 +23,7 @@ mod press;
 mod servo;
 mod shaft;
 mod speed_limit;
+mod synthesis_fourbar;
 mod transfer;
 
 #[pymodule]
@@ -62,6 +63,11 @@ mod _core {
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
+    #[pymodule_export]
+    use super::synthesis_fourbar::{
+        fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,
+        slider_crank_position, slider_crank_transmission,
+    };
     #[pymodule_export]
     use super::threads;
     #[pymodule_export]
