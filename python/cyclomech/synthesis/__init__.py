@@ -17,7 +17,9 @@ from ._fourbar import (
     slider_crank_linkage,
     slider_crank_margins,
 )
+from ._function import FunctionCandidate, chebyshev_points, function_generation
 
 __all__ = []  # type: list[str]  # filled as the kinds of synthesis land
 __all__ += ["Margins", "four_bar_linkage", "four_bar_margins", "slider_crank_linkage"]
 __all__ += ["slider_crank_margins"]
+__all__ += ["FunctionCandidate", "chebyshev_points", "function_generation"]

@@ -24,6 +24,7 @@ mod servo;
 mod shaft;
 mod speed_limit;
 mod synthesis_fourbar;
+mod synthesis_function;
 mod transfer;
 
 #[pymodule]
@@ -67,6 +68,10 @@ mod _core {
     use super::synthesis_fourbar::{
         fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,
         slider_crank_position, slider_crank_transmission,
+    };
+    #[pymodule_export]
+    use super::synthesis_function::{
+        chebyshev_points, function_branches, function_error, function_fit, function_generated,
     };
     #[pymodule_export]
     use super::threads;

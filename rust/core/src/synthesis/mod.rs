@@ -5,3 +5,4 @@
 //! margins; candidates are evaluated in parallel batches.
 
 pub mod fourbar;
+pub mod function;
