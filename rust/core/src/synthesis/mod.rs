@@ -6,3 +6,4 @@
 
 pub mod fourbar;
 pub mod function;
+pub mod motion;
