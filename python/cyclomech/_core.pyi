@@ -976,3 +976,26 @@ def function_generated(
     x: list[float],
     near: float,
 ) -> list[float]: ...
+
+# synthesis: three-position motion generation (synthesis/motion.rs). Returns (A0,
+# B0, A positions, B positions, (a, b, c, d), crank angles [rad], direction,
+# branches, working arc (lo, hi) [rad], transmission tuple as above).
+
+__all__ += ["motion_fourbar"]
+
+def motion_fourbar(
+    poses: list[tuple[float, float, float]],
+    uv1: tuple[float, float],
+    uv2: tuple[float, float],
+) -> tuple[
+    tuple[float, float],
+    tuple[float, float],
+    list[tuple[float, float]],
+    list[tuple[float, float]],
+    tuple[float, float, float, float],
+    list[float],
+    float,
+    list[float],
+    tuple[float, float],
+    tuple[bool, float, float, float, float],
+]: ...

@@ -224,6 +224,25 @@ def _coupler_point(
     return pin[0] + u * ex - v * ey, pin[1] + u * ey + v * ex
 
 
+def _coupler_body(pts: dict[str, tuple[float, float]], a: str, b: str) -> tuple[str, ...]:
+    """The coupler's joints: (a, b), with P if drawn, and — where P lies on the
+    line through a and b, so that the solver could not tell which side of that
+    line it is on — a helper point Q of the coupler, a + (b − a) turned 90°,
+    which fixes the side (adds it to ``pts``)."""
+    if "P" not in pts:
+        return (a, b)
+    (xa, ya), (xb, yb), (xp, yp) = pts[a], pts[b], pts["P"]
+    ab, ap = math.hypot(xb - xa, yb - ya), math.hypot(xp - xa, yp - ya)
+    cross = (xb - xa) * (yp - ya) - (yb - ya) * (xp - xa)
+    if abs(cross) > 1e-6 * ab * (ab + ap):
+        return (a, b, "P")
+    # Q before P: the solver places joints in the drawing's order, and P needs Q.
+    p = pts.pop("P")
+    pts["Q"] = (xa - (yb - ya), ya + (xb - xa))
+    pts["P"] = p
+    return (a, b, "Q", "P")
+
+
 def four_bar_linkage(
     crank: float,
     coupler: float,
@@ -251,6 +270,8 @@ def four_bar_linkage(
     coupler_point : (u, v), optional
         A coupler point P [m] in the coupler's frame: u along B → C, v to its
         left; drawn as point ``"P"`` on the coupler (then the linkage's output).
+        Where P is on the line BC (v = 0), a helper point ``"Q"`` of the coupler
+        (B + BC turned 90°) is drawn too: it tells the solver which side P is on.
     origin : (x, y)
         The crank pivot A [m].
     ground_deg : float
@@ -301,7 +322,7 @@ def four_bar_linkage(
         local["P"] = _coupler_point(coupler_point, local["B"], local["C"])
     o = _xy("origin", origin)
     pts = _place(o, math.radians(finite_number("ground_deg", ground_deg, "[deg]")), local)
-    body = ("B", "C", "P") if "P" in pts else ("B", "C")
+    body = _coupler_body(pts, "B", "C")
     return Linkage(
         pts,
         [("A", "B"), body, ("C", "D")],
@@ -338,7 +359,8 @@ def slider_crank_linkage(
     mode : {+1, -1}
         +1 draws the slider ahead of the crank pin along the slide direction.
     coupler_point : (u, v), optional
-        A point P on the rod [m]: u along B → C, v to its left.
+        A point P on the rod [m]: u along B → C, v to its left (with a helper
+        point ``"Q"`` where v = 0, as in :func:`four_bar_linkage`).
     origin : (x, y)
         The crank pivot A [m].
     ground_deg : float
@@ -376,7 +398,7 @@ def slider_crank_linkage(
         local["P"] = _coupler_point(coupler_point, local["B"], local["C"])
     g = math.radians(finite_number("ground_deg", ground_deg, "[deg]"))
     pts = _place(_xy("origin", origin), g, local)
-    body = ("B", "C", "P") if "P" in pts else ("B", "C")
+    body = _coupler_body(pts, "B", "C")
     return Linkage(
         pts,
         [("A", "B"), body],

@@ -25,6 +25,7 @@ mod shaft;
 mod speed_limit;
 mod synthesis_fourbar;
 mod synthesis_function;
+mod synthesis_motion;
 mod transfer;
 
 #[pymodule]
@@ -73,6 +74,8 @@ mod _core {
     use super::synthesis_function::{
         chebyshev_points, function_branches, function_error, function_fit, function_generated,
     };
+    #[pymodule_export]
+    use super::synthesis_motion::motion_fourbar;
     #[pymodule_export]
     use super::threads;
     #[pymodule_export]

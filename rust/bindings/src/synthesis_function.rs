@@ -111,8 +111,7 @@ pub fn function_generated(
 ) -> PyResult<Vec<f64>> {
     let g = generator(py, kind)?;
     let f = fit(dims, flip_in, flip_out);
-    Ok(x
-        .iter()
+    Ok(x.iter()
         .map(|&t| function::generated(g, &f, t, sigma, near).unwrap_or(f64::NAN))
         .collect())
 }

@@ -82,7 +82,12 @@ pub fn pose_point(p: Pose, uv: [f64; 2]) -> [f64; 2] {
 }
 
 /// The circumcentre of three points, or the reason there is none.
-fn circumcentre(q: [[f64; 2]; 3], which: usize, uv: [f64; 2], size: f64) -> Result<[f64; 2], MotionError> {
+fn circumcentre(
+    q: [[f64; 2]; 3],
+    which: usize,
+    uv: [f64; 2],
+    size: f64,
+) -> Result<[f64; 2], MotionError> {
     let [p1, p2, p3] = q;
     let pairs = [(0, 1), (0, 2), (1, 2)];
     for (i, j) in pairs {
@@ -292,8 +297,24 @@ mod tests {
         // A rotation about the origin: the origin is the pole of every pair.
         let poses = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5], [1.0, 0.0, 1.0]];
         let e = motion_dyad(&poses, [0.0, 0.0], 2).unwrap_err();
-        assert!(matches!(e, MotionError::Pole { which: 2, i: 1, j: 2, .. }), "{e:?}");
-        assert!(motion_dyad(&[[f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [0.0, 0.0], 1).is_err());
+        assert!(
+            matches!(
+                e,
+                MotionError::Pole {
+                    which: 2,
+                    i: 1,
+                    j: 2,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(motion_dyad(
+            &[[f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            [0.0, 0.0],
+            1
+        )
+        .is_err());
     }
 
     proptest! {
