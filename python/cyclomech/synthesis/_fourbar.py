@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import _core
-from .._arrays import finite_number, positive, real
+from .._arrays import finite_number, flag, positive, real
 from .._errors import InputError
 from ..linkage import Linkage
 
@@ -56,8 +56,8 @@ class Margins:
         precision point or pose the synthesis asked for is reached on that
         branch (and, for poses, in order).
     length_ratio : float
-        Longest over shortest link length (the ground and, for a slider-crank,
-        the offset's magnitude excluded where it is zero).
+        Longest over shortest link length: of the four links, ground included,
+        for a four-bar; of crank and rod for a slider-crank.
 
     Examples
     --------
@@ -156,7 +156,7 @@ def four_bar_margins(
     kind, turns, _ = _core.fourbar_grashof(a, b, c, d)
     t = _core.fourbar_transmission(a, b, c, d, lo, hi)
     links = (a, b, c, d)
-    return _margins(kind, turns, t, bool(branch_ok), max(links) / min(links))
+    return _margins(kind, turns, t, flag("branch_ok", branch_ok), max(links) / min(links))
 
 
 def slider_crank_margins(
@@ -185,7 +185,9 @@ def slider_crank_margins(
     lo, hi = _range(range_deg)
     kind = _core.slider_crank_kind(r, ln, e)
     t = _core.slider_crank_transmission(r, ln, e, lo, hi)
-    return _margins(kind, kind != "rocker-slider", t, bool(branch_ok), max(r, ln) / min(r, ln))
+    return _margins(
+        kind, kind != "rocker-slider", t, flag("branch_ok", branch_ok), max(r, ln) / min(r, ln)
+    )
 
 
 def _mode(mode: Any) -> float:

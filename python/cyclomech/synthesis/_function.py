@@ -359,37 +359,59 @@ def function_generation(
         raise InputError(f"spacing must be one of {_SPACINGS}; got {spacing!r}")
     n_grid = count("n_grid", n_grid, low=2, what="grid angles")
 
-    wanted: Callable[[np.ndarray], np.ndarray] | None = None
-    table_range: tuple[float, float] | None = None
-    if function is not None:
-        if callable(function):
-            fn = function
-
-            def wanted(x: np.ndarray) -> np.ndarray:
-                return _call(fn, x, mechanism)
-        else:
-            table = _pairs("function", function, mechanism)
-            if len(table) < 2:
-                raise InputError(
-                    f"function as a table needs at least 2 (φ, y) pairs; got {len(table)}"
-                )
-            wanted = _tabulated(table)
-            table_range = (float(table[:, 0].min()), float(table[:, 0].max()))
-
-    if pairs_deg is not None:
-        pts = _pairs("pairs_deg", pairs_deg, mechanism)
-        if len(pts) < 3:
-            raise InputError(
-                f"pairs_deg has {len(pts)} precision point(s); {mechanism} function generation "
-                "needs at least 3 (3 exact, more least squares)"
-            )
-        _coincident(pts[:, 0], "pairs_deg")
-    elif wanted is None:
+    wanted, table_range = _wanted(function, mechanism)
+    given = None if pairs_deg is None else _given_points(pairs_deg, mechanism)
+    if given is None and wanted is None:
         raise InputError(
             "give the precision points (pairs_deg=) or the wanted relation (function=, "
             "with x_range_deg= for a callable)"
         )
+    lo, hi = _input_range(x_range_deg, table_range, given)
+    if given is None:
+        assert wanted is not None
+        n = count("n", n, low=3, what="precision points")
+        x = chebyshev_points(lo, hi, n) if spacing == "chebyshev" else np.linspace(lo, hi, n)
+        _coincident(x % 360.0, "precision points")
+        pts = np.column_stack([x, wanted(x)])
+    else:
+        pts = given
 
+    grid = np.linspace(lo, hi, n_grid) if wanted is not None else pts[:, 0].copy()
+    grid_want = wanted(grid) if wanted is not None else pts[:, 1].copy()
+
+    return _ranked(mechanism, pts, grid, grid_want, (lo, hi), d, offsets)
+
+
+def _wanted(
+    function: Any, mechanism: str
+) -> tuple[Callable[[np.ndarray], np.ndarray] | None, tuple[float, float] | None]:
+    """The wanted relation as a vectorised callable, and a table's input range."""
+    if function is None:
+        return None, None
+    if callable(function):
+        fn = function
+        return (lambda x: _call(fn, x, mechanism)), None
+    table = _pairs("function", function, mechanism)
+    if len(table) < 2:
+        raise InputError(f"function as a table needs at least 2 (φ, y) pairs; got {len(table)}")
+    return _tabulated(table), (float(table[:, 0].min()), float(table[:, 0].max()))
+
+
+def _given_points(pairs_deg: Any, mechanism: str) -> np.ndarray:
+    pts = _pairs("pairs_deg", pairs_deg, mechanism)
+    if len(pts) < 3:
+        raise InputError(
+            f"pairs_deg has {len(pts)} precision point(s); {mechanism} function generation "
+            "needs at least 3 (3 exact, more least squares)"
+        )
+    _coincident(pts[:, 0], "pairs_deg")
+    return pts
+
+
+def _input_range(
+    x_range_deg: Any, table_range: tuple[float, float] | None, given: np.ndarray | None
+) -> tuple[float, float]:
+    """The input range [deg]: given, else the table's, else the precision points'."""
     if x_range_deg is not None:
         try:
             lo_v, hi_v = x_range_deg
@@ -398,24 +420,26 @@ def function_generation(
                 f"x_range_deg must be (lo, hi) input angles [deg]; got {x_range_deg!r}"
             ) from None
         lo = finite_number("x_range_deg[0]", lo_v, "[deg]")
-        hi = finite_number("x_range_deg[1]", hi_v, "[deg]", low=lo, strict=True)
-    elif table_range is not None:
-        lo, hi = table_range
-    elif pairs_deg is not None:
-        lo, hi = float(pts[:, 0].min()), float(pts[:, 0].max())
-    else:
-        raise InputError("x_range_deg = (lo, hi) [deg] is needed with a callable function")
+        return lo, finite_number("x_range_deg[1]", hi_v, "[deg]", low=lo, strict=True)
+    if table_range is not None:
+        return table_range
+    if given is not None:
+        return float(given[:, 0].min()), float(given[:, 0].max())
+    raise InputError("x_range_deg = (lo, hi) [deg] is needed with a callable function")
 
-    if pairs_deg is None:
-        assert wanted is not None
-        n = count("n", n, low=3, what="precision points")
-        x = chebyshev_points(lo, hi, n) if spacing == "chebyshev" else np.linspace(lo, hi, n)
-        _coincident(x % 360.0, "precision points")
-        pts = np.column_stack([x, wanted(x)])
 
-    grid = np.linspace(lo, hi, n_grid) if wanted is not None else pts[:, 0].copy()
-    grid_want = wanted(grid) if wanted is not None else pts[:, 1].copy()
-
+def _ranked(
+    mechanism: str,
+    pts: np.ndarray,
+    grid: np.ndarray,
+    grid_want: np.ndarray,
+    span: tuple[float, float],
+    d: float,
+    offsets: Any,
+) -> list[FunctionCandidate]:
+    """One candidate per offset (those with no real linkage left out, unless
+    there is only the one), clean first, then by structural error, then by the
+    larger worst transmission angle."""
     shifts = (
         [(0.0, 0.0)]
         if offsets is None
@@ -425,7 +449,7 @@ def function_generation(
     first_error: InputError | None = None
     for dx, dy in shifts:
         try:
-            made.append(_candidate(mechanism, pts, grid, grid_want, (lo, hi), d, (dx, dy)))
+            made.append(_candidate(mechanism, pts, grid, grid_want, span, d, (dx, dy)))
         except InputError as e:
             if offsets is None:
                 raise

@@ -233,7 +233,7 @@ pub fn function_fit(
     let svd = m.svd(true, true);
     let sv = &svd.singular_values;
     let (smax, smin) = (sv.max(), sv.min());
-    if !(smin > SINGULAR_TOL * smax) {
+    if smin.is_nan() || smin <= SINGULAR_TOL * smax {
         return Err(FunctionError::Singular {
             kind: kind.name(),
             ratio: if smax > 0.0 { smin / smax } else { 0.0 },
@@ -264,7 +264,7 @@ pub fn lengths(kind: Generator, k: [f64; 3], ground: f64) -> Result<FunctionFit,
                 )));
             }
             let b2 = a * a + c * c + d * d - 2.0 * a * c * k[2];
-            if !(b2 > 0.0) {
+            if b2.is_nan() || b2 <= 0.0 {
                 return Err(fail(format!(
                     "the coupler would have b² = {b2:e} ≤ 0 (K3 = {:e}); change the range or \
                      the points",
@@ -285,7 +285,7 @@ pub fn lengths(kind: Generator, k: [f64; 3], ground: f64) -> Result<FunctionFit,
             }
             let e = k[1] / k[0];
             let l2 = r * r + e * e - k[2];
-            if !(l2 > 0.0) {
+            if l2.is_nan() || l2 <= 0.0 {
                 return Err(fail(format!(
                     "the rod would have l² = {l2:e} ≤ 0; change the range or the points"
                 )));
