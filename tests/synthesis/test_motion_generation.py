@@ -86,6 +86,49 @@ def test_a_known_four_bar_is_recovered_from_three_coupler_poses() -> None:
     assert pickle.loads(pickle.dumps(c)) == c
 
 
+def _standard_form_dyad(poses, beta2_deg, beta3_deg):
+    """Erdman & Sandor's standard-form dyad (*Mechanism Design*, vol. 1, ch. 8),
+    a different method: with the crank's rotations β2, β3 chosen, solve
+    W(e^{iβj} − 1) + Z(e^{iαj} − 1) = δj (j = 2, 3) for the link W (ground pivot
+    → moving pivot) and Z (moving pivot → pose point), complex and linear."""
+    p = np.array([complex(x, y) for x, y, _ in poses])
+    alpha = np.radians([t - poses[0][2] for _, _, t in poses])
+    beta = np.radians([0.0, beta2_deg, beta3_deg])
+    m = np.array([[np.exp(1j * beta[j]) - 1, np.exp(1j * alpha[j]) - 1] for j in (1, 2)])
+    w, z = np.linalg.solve(m, p[1:] - p[0])
+    moving = p[0] - z
+    return moving - w, moving  # ground pivot, moving pivot (pose 1)
+
+
+@pytest.mark.parametrize(
+    ("betas", "poses", "clean"),
+    [
+        (((40, 95), (-30, -70)), [(0.0, 0.0, 0.0), (0.5, 0.2, 20.0), (0.9, 0.6, 45.0)], False),
+        (((25, 60), (15, 50)), [(1.0, 2.0, 30.0), (1.4, 2.1, 10.0), (1.9, 1.8, -15.0)], True),
+    ],
+)
+def test_centre_points_match_the_standard_form_dyads(betas, poses, clean) -> None:
+    (g1, m1), (g2, m2) = (_standard_form_dyad(poses, *b) for b in betas)
+    uv1 = _frame(poses[0], (m1.real, m1.imag))
+    uv2 = _frame(poses[0], (m2.real, m2.imag))
+    (c,) = syn.motion_generation(poses, circle_points=(uv1, uv2))
+    assert_allclose(c.centre_points, [(g1.real, g1.imag), (g2.real, g2.imag)], atol=1e-12)
+    # The crank turns by the β's chosen for its dyad.
+    turn = np.array(c.crank_angles_deg) - c.crank_angles_deg[0]
+    assert_allclose((turn[1:] - betas[0] + 180) % 360 - 180, 0, atol=1e-9)
+    assert c.clean == clean
+    if clean:
+        _passes_through(c, poses)
+    else:
+        # The branch defect is real: driven from pose 1 on its branch, the
+        # solver's linkage misses the poses reached on the other one.
+        assert c.branch_defect
+        sol = c.linkage().solve(np.radians(c.crank_angles_deg))
+        miss = np.linalg.norm(sol["P"] - [p[:2] for p in poses], axis=1)
+        bad = [i for i, b in enumerate(c.branches) if b != c.branches[0]]
+        assert (miss[bad] > 1e-3).all() or not sol.ok[bad].all()
+
+
 @settings(max_examples=60, deadline=None)
 @given(
     xy=st.lists(st.floats(-1, 1), min_size=6, max_size=6),
