@@ -483,6 +483,29 @@ mod tests {
     }
 
     proptest! {
+        /// Three positions of a random offset slider-crank give it back.
+        #[test]
+        fn three_positions_of_any_slider_crank_give_it_back(
+            r in 0.05f64..1.0, extra in 0.05f64..2.0, e in -0.5f64..0.5,
+            t0 in -3.0f64..3.0, s1 in 0.3f64..1.5, s2 in 0.3f64..1.5,
+        ) {
+            let l = r + e.abs() + extra; // a crank: it assembles everywhere
+            let x = [t0, t0 + s1, t0 + s1 + s2];
+            let y: Vec<f64> = x.iter().map(|&t| slider_crank_position(r, l, e, t, 1.0).unwrap()).collect();
+            match function_fit(Generator::SliderCrank, &x, &y, f64::NAN) {
+                Ok(fit) => {
+                    let scale = 1.0 + l;
+                    prop_assert!((fit.dims[0] - r).abs() < 1e-6 * scale, "{:?}", fit);
+                    prop_assert!((fit.dims[1] - l).abs() < 1e-6 * scale, "{:?}", fit);
+                    prop_assert!((fit.dims[2] - e).abs() < 1e-6 * scale, "{:?}", fit);
+                }
+                Err(FunctionError::Singular { .. }) => {}
+                Err(err) => prop_assert!(false, "{err}"),
+            }
+        }
+    }
+
+    proptest! {
         /// Three points read off a random assemblable four-bar give it back (the
         /// Freudenstein solve against the linkage's own closed-form loop).
         #[test]

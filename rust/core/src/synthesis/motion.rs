@@ -318,6 +318,48 @@ mod tests {
     }
 
     proptest! {
+        /// Three coupler poses of a random four-bar, with its moving pivots as
+        /// the circle points, give back its ground pivots and lengths.
+        #[test]
+        fn any_four_bar_is_recovered_from_three_poses(
+            a in 0.3f64..3.0, b in 0.3f64..3.0, c in 0.3f64..3.0, d in 0.3f64..3.0,
+            t0 in -3.0f64..3.0, s1 in 0.1f64..1.0, s2 in 0.1f64..1.0,
+        ) {
+            let th = [t0, t0 + s1, t0 + s1 + s2];
+            let Some(poses) = poses_of(a, b, c, d, th, 1.0) else { return Ok(()) };
+            match motion_fourbar(&poses, [0.0, 0.0], [b, 0.0]) {
+                Ok(m) => {
+                    let tol = 1e-7 * (1.0 + a + b + c + d);
+                    prop_assert!(m.crank.centre[0].abs() < tol && m.crank.centre[1].abs() < tol);
+                    prop_assert!((m.rocker.centre[0] - d).abs() < tol && m.rocker.centre[1].abs() < tol);
+                    for (got, want) in m.lengths.iter().zip([a, b, c, d]) {
+                        prop_assert!((got - want).abs() < tol);
+                    }
+                    // Drawn from one branch, in order: no branch defect; an order
+                    // defect exactly where the crank cannot sweep the arc (checked by
+                    // sampling the closed-form output angle, and at the break found).
+                    prop_assert!(!m.branch_defect());
+                    prop_assert_eq!(m.direction, 1.0);
+                    let sweeps = (0..=2000).all(|i| {
+                        let t = th[0] + (th[2] - th[0]) * i as f64 / 2000.0;
+                        fourbar_output_angle(a, b, c, d, t, 1.0).is_some()
+                    });
+                    match m.transmission {
+                        Transmission::Breaks { theta, .. } => {
+                            prop_assert!(fourbar_output_angle(a, b, c, d, theta, 1.0).is_none());
+                            prop_assert!(th[0] <= theta && theta <= th[2]);
+                        }
+                        Transmission::Range { .. } => prop_assert!(sweeps),
+                    }
+                }
+                // Nearly collinear or coinciding positions are refused, never answered wrongly.
+                Err(MotionError::Collinear { .. } | MotionError::Pole { .. }) => {}
+                Err(e) => prop_assert!(false, "{e}"),
+            }
+        }
+    }
+
+    proptest! {
         /// Circumcentre against its definition: equidistant from the three positions.
         #[test]
         fn centre_is_equidistant(
