@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from .. import _core
-from .._arrays import count, finite_number, float_array, positive
+from .._arrays import count, finite_number, float_array, positive, real_array
 from .._errors import InputError
 from ..linkage import Linkage
 from ._fourbar import (
@@ -143,7 +143,7 @@ class FunctionCandidate:
         >>> [round(float(v), 9) for v in c.generated([30, 60, 90])]
         [80.0, 90.0, 100.0]
         """
-        x = np.radians(float_array("input_deg", input_deg, (0, 1)))
+        x = np.radians(real_array("input_deg", input_deg, "[deg]", ndims=(0, 1)))
         four = self.mechanism == "four-bar"
         near = math.radians(self.precision[0][1]) if four else 0.0
         out = np.array(
@@ -358,6 +358,8 @@ def function_generation(
     if spacing not in _SPACINGS:
         raise InputError(f"spacing must be one of {_SPACINGS}; got {spacing!r}")
     n_grid = count("n_grid", n_grid, low=2, what="grid angles")
+    # Checked even where pairs_deg makes it unused: a bad n is a mistake either way.
+    n = count("n", n, low=3, what="precision points")
 
     wanted, table_range = _wanted(function, mechanism)
     given = None if pairs_deg is None else _given_points(pairs_deg, mechanism)
@@ -369,7 +371,6 @@ def function_generation(
     lo, hi = _input_range(x_range_deg, table_range, given)
     if given is None:
         assert wanted is not None
-        n = count("n", n, low=3, what="precision points")
         x = chebyshev_points(lo, hi, n) if spacing == "chebyshev" else np.linspace(lo, hi, n)
         _coincident(x % 360.0, "precision points")
         pts = np.column_stack([x, wanted(x)])
