@@ -23,6 +23,9 @@ mod press;
 mod servo;
 mod shaft;
 mod speed_limit;
+mod synthesis_fourbar;
+mod synthesis_function;
+mod synthesis_motion;
 mod transfer;
 
 #[pymodule]
@@ -62,6 +65,17 @@ mod _core {
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
+    #[pymodule_export]
+    use super::synthesis_fourbar::{
+        fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,
+        slider_crank_position, slider_crank_transmission,
+    };
+    #[pymodule_export]
+    use super::synthesis_function::{
+        chebyshev_points, function_branches, function_error, function_fit, function_generated,
+    };
+    #[pymodule_export]
+    use super::synthesis_motion::motion_fourbar;
     #[pymodule_export]
     use super::threads;
     #[pymodule_export]
