@@ -10,4 +10,7 @@ the dimensions with the margins of the constraints it was asked to hold.
 
 from __future__ import annotations
 
+from ._path import PathCandidate, path_evaluate, path_generation
+
 __all__ = []  # type: list[str]  # filled as the kinds of synthesis land
+__all__ += ["PathCandidate", "path_evaluate", "path_generation"]

@@ -23,6 +23,7 @@ mod press;
 mod servo;
 mod shaft;
 mod speed_limit;
+mod synthesis_path;
 mod transfer;
 
 #[pymodule]
@@ -62,6 +63,8 @@ mod _core {
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
+    #[pymodule_export]
+    use super::synthesis_path::{path_columns, path_evaluate, path_points};
     #[pymodule_export]
     use super::threads;
     #[pymodule_export]
