@@ -587,6 +587,28 @@ pub fn evaluate_into(
     Ok(())
 }
 
+/// The coupler point [m] of one candidate `row` (its first 10 columns) at each
+/// absolute crank angle of `angles` [rad], flat (x, y) pairs; NaN where the
+/// candidate does not close. The points the errors of [`evaluate_into`] are
+/// measured from, for a caller to report or to check against another solver.
+pub fn points(kind: Kind, row: &[f64], angles: &[f64]) -> Result<Vec<f64>, InvalidInput> {
+    if row.len() < PARAMS.len() {
+        return Err(InvalidInput::bad_value(
+            "row",
+            row.len() as f64,
+            "values are too few: a candidate has 10 columns",
+        ));
+    }
+    InvalidInput::check_finite("row", row)?;
+    InvalidInput::check_finite("angles", angles)?;
+    let c = Cand::new(kind, row)
+        .ok_or_else(|| InvalidInput::bad_value("row", f64::NAN, "must have lengths above zero"))?;
+    Ok(angles
+        .iter()
+        .flat_map(|&phi| c.point(phi).unwrap_or([f64::NAN, f64::NAN]))
+        .collect())
+}
+
 /// Run the chunks on `threads` threads (serially for one).
 fn run<T: Send, F: Fn(T) + Sync + Send>(
     threads: usize,
