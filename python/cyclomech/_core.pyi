@@ -941,3 +941,25 @@ def dynamics_torsion_sweep(
     accuracy: float,
     n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
+
+# synthesis: the four-bar's and slider-crank's checks (synthesis/fourbar.rs).
+# A transmission tuple is (True, mu_min, mu_max, theta_at_min, theta_at_max) [rad]
+# where it assembles over the range, else (False, theta_break, cos_mu, nan, nan).
+
+__all__ += ["fourbar_grashof", "fourbar_output_angle", "fourbar_transmission"]
+__all__ += ["slider_crank_kind", "slider_crank_position", "slider_crank_transmission"]
+
+def fourbar_grashof(a: float, b: float, c: float, d: float) -> tuple[str, bool, bool]: ...
+def fourbar_transmission(
+    a: float, b: float, c: float, d: float, lo: float, hi: float
+) -> tuple[bool, float, float, float, float]: ...
+def fourbar_output_angle(
+    a: float, b: float, c: float, d: float, theta: list[float], sigma: float
+) -> list[float]: ...
+def slider_crank_kind(r: float, rod: float, e: float) -> str: ...
+def slider_crank_transmission(
+    r: float, rod: float, e: float, lo: float, hi: float
+) -> tuple[bool, float, float, float, float]: ...
+def slider_crank_position(
+    r: float, rod: float, e: float, theta: list[float], sigma: float
+) -> list[float]: ...

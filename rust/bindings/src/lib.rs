@@ -23,6 +23,7 @@ mod press;
 mod servo;
 mod shaft;
 mod speed_limit;
+mod synthesis_fourbar;
 mod synthesis_path;
 mod transfer;
 
@@ -64,6 +65,10 @@ mod _core {
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
     #[pymodule_export]
+    use super::synthesis_fourbar::{
+        fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,
+        slider_crank_position, slider_crank_transmission,
+    };
     use super::synthesis_path::{path_columns, path_evaluate, path_points};
     #[pymodule_export]
     use super::threads;

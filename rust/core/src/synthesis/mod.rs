@@ -4,4 +4,5 @@
 //! points, poses, limits) as slices and returns the dimensions with their
 //! margins; candidates are evaluated in parallel batches.
 
+pub mod fourbar;
 pub mod path;
