@@ -25,6 +25,13 @@ from .. import _core
 from .._arrays import count, finite_number, flag, float_array, real_array, threads_arg
 from .._errors import InfeasibleError, InputError
 from ..linkage import Linkage
+from ._fourbar import (
+    Margins,
+    four_bar_linkage,
+    four_bar_margins,
+    slider_crank_linkage,
+    slider_crank_margins,
+)
 
 __all__ = ["PathCandidate", "path_evaluate", "path_generation"]
 
@@ -56,7 +63,9 @@ class PathCandidate:
         guide's offset from A (slider-crank, signed, a quarter turn left of the
         guide's direction) [m], ``r2`` the crank, ``r3`` the coupler, ``r4`` the
         rocker (four-bar only) [m], ``u, v`` the coupler point in the coupler's
-        frame (origin B, x along B→C) [m], ``mode`` ±1 the assembly mode, and with
+        frame (origin B, x along B→C) [m], ``mode`` ±1 the assembly mode (the σ of
+        :func:`four_bar_linkage`: +1 puts C on the left of the ray D → B; for a
+        slider-crank, the slider ahead of the crank pin along the guide), and with
         timing ``phi1`` the absolute crank angle at the first target [rad].
     rms : float
         RMS distance of the targets from the coupler point (timing) or from the
@@ -68,18 +77,13 @@ class PathCandidate:
         target (with timing: the prescribed ones).
     points : ndarray of float, shape (N, 2)
         The coupler point at ``angles`` [m], by the batch evaluator.
-    grashof : str
-        Four-bar: ``"crank-rocker"``, ``"double-crank"``, ``"double-rocker"``,
-        ``"rocker-crank"`` (Grashof, by the shortest link), ``"change-point"`` or
-        ``"triple-rocker"`` (non-Grashof); slider-crank: ``"crank"`` if the crank
-        turns fully (r2 + |offset| < r3), else ``"rocker"``.
-    transmission_deg : (float, float)
-        The smallest and largest transmission angle over the working range [deg]
-        (four-bar: between coupler and rocker; slider-crank: between coupler and
-        the guide's normal).
-    branch : int
-        The assembly mode kept over the whole working range (±1, as ``mode``);
-        the range is checked to close strictly, so no branch change occurs.
+    margins : Margins
+        The shared margins of :func:`four_bar_margins` or
+        :func:`slider_crank_margins` over the working range: Grashof type,
+        whether the crank turns, the transmission angle's extremes [deg] (four-bar:
+        between coupler and rocker; slider-crank: between coupler and the guide's
+        normal), ``branch_ok`` (one branch, no fold, over the whole range) and the
+        link-length ratio.
     full_turn : bool
         The working range was the crank's whole turn.
 
@@ -88,8 +92,8 @@ class PathCandidate:
     >>> import numpy as np, cyclomech as cm
     >>> from cyclomech.synthesis import path_generation
     >>> c = path_generation([(1, 2), (2.5, 3), (3.5, 2), (2, 0.5)], seed=1, maxiter=60)[0]
-    >>> c.rms < 1e-3, c.grashof
-    (True, 'crank-rocker')
+    >>> c.rms < 1e-3, c.margins.grashof, c.margins.branch_ok
+    (True, 'crank-rocker', True)
     >>> sol = c.linkage().solve(c.angles)
     >>> bool(np.allclose(sol["P"], c.points, atol=1e-9))
     True
@@ -101,15 +105,14 @@ class PathCandidate:
     max: float
     angles: npt.NDArray[np.float64]
     points: npt.NDArray[np.float64]
-    grashof: str
-    transmission_deg: tuple[float, float]
-    branch: int
+    margins: Margins
     full_turn: bool
     _row: npt.NDArray[np.float64] = field(repr=False, compare=False)
 
     def linkage(self) -> Linkage:
         """This candidate as a :class:`cyclomech.Linkage`, drawn at the first
-        target's crank angle.
+        target's crank angle by :func:`four_bar_linkage` or
+        :func:`slider_crank_linkage`.
 
         Points A (crank pivot), B (crank tip), C (coupler–rocker joint, or the
         slider), D (rocker pivot, four-bar only) and P (the coupler point, the
@@ -131,76 +134,28 @@ class PathCandidate:
         return _linkage(self.kind, self._row, float(self.angles[0]))
 
 
-def _pose(kind: str, row: npt.NDArray[np.float64], phi: float) -> dict[str, tuple[float, float]]:
-    """The joints at absolute crank angle φ (the drawn pose of :meth:`linkage`);
-    P is the batch evaluator's own point."""
-    x0, y0, th, r1, r2, r3, r4 = (float(x) for x in row[:7])
-    a = np.array([x0, y0])
-    b = a + r2 * np.array([math.cos(phi), math.sin(phi)])
-    p = _core.path_points(kind, np.ascontiguousarray(row[:10]), np.array([phi]))[0]
-    mode = 1.0 if row[9] >= 0 else -1.0
-    t = np.array([math.cos(th), math.sin(th)])
-    n = np.array([-t[1], t[0]])
-    if kind == "four_bar":
-        d = a + r1 * t
-        bd = d - b
-        dist = float(np.hypot(*bd))
-        e = bd / dist
-        along = (r3 * r3 - r4 * r4 + dist * dist) / (2 * dist)
-        h = mode * math.sqrt(max(r3 * r3 - along * along, 0.0))
-        c = b + along * e + h * np.array([-e[1], e[0]])
-        pts = {"A": a, "B": b, "C": c, "D": d, "P": p}
-    else:
-        w = b - (a + r1 * n)
-        q = float(w @ n)
-        c = b + mode * math.sqrt(max(r3 * r3 - q * q, 0.0)) * t - q * n
-        pts = {"A": a, "B": b, "C": c, "P": p}
-    return {k: (float(v[0]), float(v[1])) for k, v in pts.items()}
-
-
 def _linkage(kind: str, row: npt.NDArray[np.float64], phi: float) -> Linkage:
-    pts = _pose(kind, row, phi)
-    # The lengths the candidate has, not the drawn distances rounded through
-    # the pose: the solve then reproduces the evaluator's points to rounding.
-    lengths = {("A", "B"): float(row[4]), ("B", "C"): float(row[5])}
+    x0, y0, th, r1, r2, r3, r4, u, v, mode = (float(x) for x in row[:10])
+    draw: dict[str, Any] = {
+        "crank_deg": math.degrees(phi - th),
+        "mode": 1 if mode >= 0 else -1,
+        "coupler_point": (u, v),
+        "origin": (x0, y0),
+        "ground_deg": math.degrees(th),
+    }
     if kind == "four_bar":
-        lengths[("C", "D")] = float(row[6])
-        return Linkage(
-            pts,
-            [("A", "B"), ("B", "C", "P"), ("C", "D")],
-            ["A", "D"],
-            ("A", "B"),
-            lengths,
-            name="path generation four-bar",
-            output="P",
-        )
-    th = float(row[2])
-    return Linkage(
-        pts,
-        [("A", "B"), ("B", "C", "P")],
-        ["A"],
-        ("A", "B"),
-        lengths,
-        sliders={"C": ("ground", (math.cos(th), math.sin(th)))},
-        name="path generation slider-crank",
-        output="P",
-    )
+        return four_bar_linkage(r2, r3, r4, r1, name="path generation four-bar", **draw)
+    return slider_crank_linkage(r2, r3, r1, name="path generation slider-crank", **draw)
 
 
-def _grashof(kind: str, row: npt.NDArray[np.float64]) -> str:
-    """The Grashof type (four-bar) or whether the crank turns (slider-crank)."""
-    if kind == "slider_crank":
-        return "crank" if row[4] + abs(row[3]) < row[5] else "rocker"
-    ground, crank, coupler, rocker = (float(x) for x in row[3:7])
-    ls = sorted((ground, crank, coupler, rocker))
-    s_l, p_q = ls[0] + ls[3], ls[1] + ls[2]
-    if math.isclose(s_l, p_q, rel_tol=1e-12):
-        return "change-point"
-    if s_l > p_q:
-        return "triple-rocker"
-    shortest = min((crank, "crank-rocker"), (ground, "double-crank"), (coupler, "double-rocker"),
-                   (rocker, "rocker-crank"))
-    return shortest[1]
+def _margins(kind: str, row: npt.NDArray[np.float64], span: tuple[float, float] | None) -> Margins:
+    """The shared margins over the working range: absolute crank angles
+    ``span`` [rad] (None: the whole turn), measured from the ground line."""
+    th, r1, r2, r3, r4 = (float(x) for x in row[2:7])
+    rng = None if span is None else (math.degrees(span[0] - th), math.degrees(span[1] - th))
+    if kind == "four_bar":
+        return four_bar_margins(r2, r3, r4, r1, range_deg=rng)
+    return slider_crank_margins(r2, r3, r1, range_deg=rng)
 
 
 def _kind(kind: Any) -> str:
@@ -629,22 +584,29 @@ def path_generation(
         row = cand_rows[i]
         if any(np.allclose(row, c._row, rtol=1e-4, atol=1e-4 * span) for c in out):
             continue
-        out.append(_candidate(k, row, final, int(i), tau is not None, cons["full_turn"]))
+        out.append(_candidate(k, row, final, int(i), tau, cons["full_turn"]))
         if len(out) == keep:
             break
     return out
 
 
 def _candidate(
-    kind: str, row: npt.NDArray[np.float64], final: dict[str, Any], i: int, timed: bool, full: bool
+    kind: str,
+    row: npt.NDArray[np.float64],
+    final: dict[str, Any],
+    i: int,
+    tau: npt.NDArray[np.float64] | None,
+    full: bool,
 ) -> PathCandidate:
     row = row.copy()
     row[9] = 1.0 if row[9] >= 0 else -1.0
-    names = list(_PARAMS) + (["phi1"] if timed else [])
+    names = list(_PARAMS) + (["phi1"] if tau is not None else [])
     params = {n: float(v) for n, v in zip(names, row, strict=True)}
     if kind == "slider_crank":
         del params["r4"]
     angles = np.ascontiguousarray(final["angles"][i])
+    whole = full or tau is None
+    span = None if whole or tau is None else (float(row[10] + tau.min()), float(row[10] + tau.max()))
     return PathCandidate(
         kind=kind,
         params=params,
@@ -652,10 +614,8 @@ def _candidate(
         max=float(final["max"][i]),
         angles=angles,
         points=_core.path_points(kind, np.ascontiguousarray(row[:10]), angles),
-        grashof=_grashof(kind, row),
-        transmission_deg=(math.degrees(final["mu_min"][i]), math.degrees(final["mu_max"][i])),
-        branch=int(row[9]),
-        full_turn=full or not timed,
+        margins=_margins(kind, row, span),
+        full_turn=whole,
         _row=row,
     )
 

@@ -69,6 +69,7 @@ mod _core {
         fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,
         slider_crank_position, slider_crank_transmission,
     };
+    #[pymodule_export]
     use super::synthesis_path::{path_columns, path_evaluate, path_points};
     #[pymodule_export]
     use super::threads;

@@ -7,8 +7,8 @@
 //!   the ground link A→D; `r1` |AD|, `r2` the crank |AB|, `r3` the coupler
 //!   |BC|, `r4` the rocker |DC|; `u, v` the coupler point P in the coupler's
 //!   frame (origin B, x along B→C, y a quarter turn to its left); `mode` the
-//!   assembly mode (≥ 0: C left of B→D, that is cross(D − B, C − B) > 0; < 0:
-//!   right).
+//!   assembly mode σ of [`super::fourbar`] (≥ 0: +1, C on the left of the ray
+//!   D → B; < 0: −1, on its right).
 //! * slider-crank: `x0, y0` the crank pivot A; `theta0` the direction t of the
 //!   slider's guide; `r1` the guide's offset e (the guide is the line through
 //!   A + e·n along t, n = t turned a quarter left); `r2` the crank |AB|; `r3`
@@ -38,7 +38,7 @@
 //! crank angles the targets span, [phi1 + min τ, phi1 + max τ]. On it, in
 //! closed form (the dyad's closing distance is a function of cos or sin of the
 //! crank angle, extreme at the interval's ends or at a whole or half turn
-//! inside it):
+//! inside it; the shared closed forms of [`super::fourbar`]):
 //! * the candidate must assemble at every angle of the range, strictly (no
 //!   fold: the dyad never stretched or folded flat), so the assembly mode it
 //!   starts in is the one it keeps, without a branch change;
@@ -58,6 +58,9 @@
 
 use rayon::prelude::*;
 
+use std::f64::consts::PI;
+
+use super::fourbar::{fourbar_transmission, slider_crank_transmission, Transmission};
 use crate::geom::sin_cos;
 use crate::input::InvalidInput;
 
@@ -236,7 +239,8 @@ impl Cand {
                 if h2 < 0.0 {
                     return None;
                 }
-                let h = self.mode * h2.sqrt();
+                // mode +1: C on the left of the ray D → B (fourbar.rs's σ).
+                let h = -self.mode * h2.sqrt();
                 [
                     (along * e[0] - h * e[1]) / self.r3,
                     (along * e[1] + h * e[0]) / self.r3,
@@ -265,61 +269,35 @@ impl Cand {
         ])
     }
 
-    /// The transmission angle's range [μlo, μhi] over crank angles
-    /// [lo, hi] (closed form), and whether the dyad closes strictly over it
-    /// with the amount it misses by (0 when it closes, relative to r3).
+    /// The transmission angle's range [μlo, μhi] over absolute crank angles
+    /// [lo, hi] by the shared closed forms of [`super::fourbar`] (whose crank
+    /// angle is measured from the ground line), whether the dyad closes
+    /// strictly over it (a fold, μ = 0 or π, is not closing: the branch could
+    /// change there), and by how much it misses (|cos μ| − 1 at the worst
+    /// angle, 0 when it closes). NaN angles where it does not close.
     fn range(&self, lo: f64, hi: f64) -> (f64, f64, f64, bool) {
-        match self.kind {
+        let th = self.t[1].atan2(self.t[0]);
+        let t = match self.kind {
             Kind::FourBar => {
-                // |BD|² = r1² + r2² − 2 r1 r2 cos(φ − θ0): extreme with the cosine.
-                let th = self.t[1].atan2(self.t[0]);
-                let (cmin, cmax) = cos_range(lo - th, hi - th);
-                let (r1, r2, r3, r4) = (self.r1, self.r2, self.r3, self.r4);
-                let d2 = |cs: f64| (r1 * r1 + r2 * r2 - 2.0 * r1 * r2 * cs).max(0.0);
-                let (dmin, dmax) = (d2(cmax).sqrt(), d2(cmin).sqrt());
-                // μ grows with |BD|: cos μ = (r3² + r4² − d²) / (2 r3 r4).
-                let mu = |d: f64| {
-                    ((r3 * r3 + r4 * r4 - d * d) / (2.0 * r3 * r4))
-                        .clamp(-1.0, 1.0)
-                        .acos()
-                };
-                let miss = ((dmax - (r3 + r4)).max(0.0) + ((r3 - r4).abs() - dmin).max(0.0)) / r3;
-                let closes = dmax < r3 + r4 && dmin > (r3 - r4).abs();
-                (mu(dmin), mu(dmax), miss, closes)
+                fourbar_transmission(self.r2, self.r3, self.r4, self.r1, lo - th, hi - th)
             }
             Kind::SliderCrank => {
-                // B's signed distance from the guide: q = r2 sin(φ − θ0) − e.
-                let th = self.t[1].atan2(self.t[0]);
-                let half = std::f64::consts::FRAC_PI_2;
-                let (smin, smax) = cos_range(lo - th - half, hi - th - half);
-                let (qmin, qmax) = (self.r2 * smin - self.r1, self.r2 * smax - self.r1);
-                // cos μ = q / r3: μ = 90° with the coupler along the guide.
-                let mu = |q: f64| (q / self.r3).clamp(-1.0, 1.0).acos();
-                let miss = ((qmax - self.r3).max(0.0) + (-self.r3 - qmin).max(0.0)) / self.r3;
-                let closes = qmax < self.r3 && qmin > -self.r3;
-                (mu(qmax), mu(qmin), miss, closes)
+                slider_crank_transmission(self.r2, self.r3, self.r1, lo - th, hi - th)
             }
+        };
+        match t {
+            Ok(Transmission::Range { mu_min, mu_max, .. }) => {
+                let closes = mu_min > 0.0 && mu_max < PI;
+                (mu_min, mu_max, 0.0, closes)
+            }
+            Ok(Transmission::Breaks { cos_mu, .. }) => {
+                (f64::NAN, f64::NAN, cos_mu.abs() - 1.0, false)
+            }
+            // Lengths and range are checked before: unreachable, but a
+            // candidate, not a panic.
+            Err(_) => (f64::NAN, f64::NAN, 1.0, false),
         }
     }
-}
-
-/// min and max of cos x over [a, b] (a ≤ b).
-fn cos_range(a: f64, b: f64) -> (f64, f64) {
-    let tau = std::f64::consts::TAU;
-    if b - a >= tau {
-        return (-1.0, 1.0);
-    }
-    let (ca, cb) = (a.cos(), b.cos());
-    let (mut lo, mut hi) = (ca.min(cb), ca.max(cb));
-    // A whole turn k·2π inside: the maximum 1; a half turn π + k·2π: the minimum −1.
-    if (a / tau).ceil() * tau <= b {
-        hi = 1.0;
-    }
-    let shifted = a - std::f64::consts::PI;
-    if (shifted / tau).ceil() * tau + std::f64::consts::PI <= b {
-        lo = -1.0;
-    }
-    (lo, hi)
 }
 
 /// Squared distance from p to the target t (None: not assembled → +∞).
