@@ -545,7 +545,9 @@ def path_generation(
             res, ang = _core.path_evaluate(
                 k, row, pts, tau, n_threads=1, angles=True, **_SEARCH, **cons
             )
-            at = _core.path_points(k, np.ascontiguousarray(row[0, :10]), ang[0])
+            # A target the curve does not reach (no sample assembles) has no
+            # angle: its residual is the dominating one below.
+            at = _core.path_points(k, np.ascontiguousarray(row[0, :10]), np.nan_to_num(ang[0]))
             r = np.append((at - pts).ravel(), big * res[0, 3])
             return np.where(np.isfinite(r), r, big)
 
