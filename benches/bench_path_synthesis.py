@@ -75,11 +75,14 @@ def pylinkage_problem() -> tuple[Any, Array, tuple[Any, ...], list[float]]:
     pl, fixed = _pylinkage()
     a, d = pl.Ground(0, 0, name="A"), pl.Ground(GROUND, 0, name="D")
     crank = pl.Crank(anchor=a, radius=CRANK, angular_velocity=2 * math.pi / 96, name="B")
-    c = pl.RRRDyad(
-        anchor1=crank.output, anchor2=d, distance1=COUPLER, distance2=ROCKER, name="C"
+    c = pl.RRRDyad(anchor1=crank.output, anchor2=d, distance1=COUPLER, distance2=ROCKER, name="C")
+    p = fixed(
+        anchor1=crank.output,
+        anchor2=c,
+        distance=1.3892443989449803,
+        angle=0.5280744484263599,
+        name="P",
     )
-    p = fixed(anchor1=crank.output, anchor2=c, distance=1.3892443989449803,
-              angle=0.5280744484263599, name="P")
     link = pl.Linkage([a, d, crank, c, p])
     init = tuple(link.get_coords())
     truth = list(link.get_constraints())
@@ -113,8 +116,13 @@ def pylinkage_run(maxiter: int, seed: int = 1) -> float:
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         ens = differential_evolution_optimization(
-            fitness, link, bounds=(lo, hi), order_relation=min, maxiter=maxiter,
-            seed=seed, verbose=False,
+            fitness,
+            link,
+            bounds=(lo, hi),
+            order_relation=min,
+            maxiter=maxiter,
+            seed=seed,
+            verbose=False,
         )
     return float(ens[0].score)
 
@@ -153,11 +161,16 @@ def random_rows(k: int, seed: int = 0) -> Array:
     rng = np.random.default_rng(seed)
     s = float(np.ptp(targets(), axis=0).max())
     cols = [
-        rng.uniform(-3 * s, 3 * s, k), rng.uniform(-3 * s, 3 * s, k),
-        rng.uniform(-math.pi, math.pi, k), rng.uniform(0.1 * s, 4 * s, k),
-        rng.uniform(0.05 * s, 2 * s, k), rng.uniform(0.1 * s, 4 * s, k),
-        rng.uniform(0.1 * s, 4 * s, k), rng.uniform(-3 * s, 3 * s, k),
-        rng.uniform(-3 * s, 3 * s, k), rng.choice([-1.0, 1.0], k),
+        rng.uniform(-3 * s, 3 * s, k),
+        rng.uniform(-3 * s, 3 * s, k),
+        rng.uniform(-math.pi, math.pi, k),
+        rng.uniform(0.1 * s, 4 * s, k),
+        rng.uniform(0.05 * s, 2 * s, k),
+        rng.uniform(0.1 * s, 4 * s, k),
+        rng.uniform(0.1 * s, 4 * s, k),
+        rng.uniform(-3 * s, 3 * s, k),
+        rng.uniform(-3 * s, 3 * s, k),
+        rng.choice([-1.0, 1.0], k),
         rng.uniform(-math.pi, math.pi, k),
     ]
     return np.ascontiguousarray(np.column_stack(cols))
@@ -221,9 +234,7 @@ def test_raw_numpy(benchmark) -> None:
     benchmark.extra_info["what"] = f"broadcast over (K, N) = ({k}, 6), RMS and assembly only"
     benchmark.extra_info["items"] = k
     with np.errstate(all="ignore"):
-        rms, _ = benchmark.pedantic(
-            numpy_timed, (rows, targets(), TIMING), rounds=3, iterations=1
-        )
+        rms, _ = benchmark.pedantic(numpy_timed, (rows, targets(), TIMING), rounds=3, iterations=1)
     assert rms.shape == (k,)
 
 
@@ -253,6 +264,8 @@ def test_opt_cyclomech(benchmark, threads: int | None) -> None:
     t0 = time.perf_counter()
     err = benchmark.pedantic(cyclomech_run, (it, threads), rounds=3, iterations=1)
     benchmark.extra_info["error"] = err
-    print(f"\ncyclomech maxiter {it} ({where}): error {err:.3g} m "
-          f"(pylinkage's {target:.3g} m), {time.perf_counter() - t0:.3g} s for 3 rounds")
+    print(
+        f"\ncyclomech maxiter {it} ({where}): error {err:.3g} m "
+        f"(pylinkage's {target:.3g} m), {time.perf_counter() - t0:.3g} s for 3 rounds"
+    )
     assert err <= target

@@ -18,18 +18,17 @@ from __future__ import annotations
 import math
 import pickle
 
+import cyclomech as cm
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings
-from hypothesis import strategies as st
-
-import cyclomech as cm
 from cyclomech.synthesis import (
     four_bar_linkage,
     path_evaluate,
     path_generation,
     slider_crank_linkage,
 )
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
 
 TAU = 2 * math.pi
 

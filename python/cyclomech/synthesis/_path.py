@@ -41,8 +41,8 @@ _KINDS = ("four_bar", "slider_crank")
 #: one for a slider-crank; mode is one, its sign taken).
 _LENGTHS = ("r1", "r2", "r3", "r4", "u", "v", "x0", "y0")
 #: The curve's resolution while searching and for the reported errors.
-_SEARCH = {"samples": 90, "refine": 24}
-_REPORT = {"samples": 1440, "refine": 60}
+_SEARCH = (90, 24)  # (samples, refine)
+_REPORT = (1440, 60)
 
 
 @dataclass(frozen=True)
@@ -355,7 +355,9 @@ def _bounds(
     for n in names:
         lo, hi = default[n]
         if n in given and n != "mode":
-            b = real_array(f"bounds[{n!r}]", given[n], "[deg]" if "th" in n or "phi" in n else "[m]")
+            b = real_array(
+                f"bounds[{n!r}]", given[n], "[deg]" if "th" in n or "phi" in n else "[m]"
+            )
             if b.shape != (2,) or not b[0] < b[1]:
                 raise InputError(
                     f"bounds[{n!r}] = {b.tolist()} must be (lo, hi) with lo < hi; an empty or "
@@ -502,9 +504,17 @@ def path_generation(
         r[:, slot] = x.T
         return r
 
-    def cost(x: npt.NDArray[np.float64], accuracy: dict[str, int]) -> npt.NDArray[np.float64]:
+    def cost(x: npt.NDArray[np.float64], accuracy: tuple[int, int]) -> npt.NDArray[np.float64]:
         res, _ = _core.path_evaluate(
-            k, rows(x), pts, tau, n_threads=threads, angles=False, **accuracy, **cons
+            k,
+            rows(x),
+            pts,
+            tau,
+            n_threads=threads,
+            angles=False,
+            samples=accuracy[0],
+            refine=accuracy[1],
+            **cons,
         )
         return np.ascontiguousarray(res[:, 0])
 
@@ -543,8 +553,17 @@ def path_generation(
             x[free] = z
             row = rows(x[:, None])
             res, ang = _core.path_evaluate(
-                k, row, pts, tau, n_threads=1, angles=True, **_SEARCH, **cons
+                k,
+                row,
+                pts,
+                tau,
+                n_threads=1,
+                angles=True,
+                samples=_SEARCH[0],
+                refine=_SEARCH[1],
+                **cons,
             )
+            assert ang is not None  # asked for
             # A target the curve does not reach (no sample assembles) has no
             # angle: its residual is the dominating one below.
             at = _core.path_points(k, np.ascontiguousarray(row[0, :10]), np.nan_to_num(ang[0]))
@@ -571,9 +590,18 @@ def path_generation(
             found.append(y)
     cand_rows = rows(np.array(found).T)
     final = path_evaluate(
-        cand_rows, pts, None if tm is None else tm, kind=k, angles=True,
-        min_transmission_deg=min_transmission_deg, max_ratio=max_ratio,
-        pivot_box=pivot_box, full_turn=full_turn, n_threads=threads, **_REPORT,
+        cand_rows,
+        pts,
+        None if tm is None else tm,
+        kind=k,
+        angles=True,
+        min_transmission_deg=min_transmission_deg,
+        max_ratio=max_ratio,
+        pivot_box=pivot_box,
+        full_turn=full_turn,
+        n_threads=threads,
+        samples=_REPORT[0],
+        refine=_REPORT[1],
     )
     ok = np.flatnonzero(final["violation"] == 0)
     if ok.size == 0:
@@ -582,11 +610,11 @@ def path_generation(
     out: list[PathCandidate] = []
     # Distinct: not the same linkage polished twice (within 1e-4 of the targets' extent).
     span = float(np.ptp(pts, axis=0).max())
-    for i in ok:
-        row = cand_rows[i]
+    for j in ok:
+        row = cand_rows[j]
         if any(np.allclose(row, c._row, rtol=1e-4, atol=1e-4 * span) for c in out):
             continue
-        out.append(_candidate(k, row, final, int(i), tau, cons["full_turn"]))
+        out.append(_candidate(k, row, final, int(j), tau, cons["full_turn"]))
         if len(out) == keep:
             break
     return out
@@ -608,7 +636,9 @@ def _candidate(
         del params["r4"]
     angles = np.ascontiguousarray(final["angles"][i])
     whole = full or tau is None
-    span = None if whole or tau is None else (float(row[10] + tau.min()), float(row[10] + tau.max()))
+    span = (
+        None if whole or tau is None else (float(row[10] + tau.min()), float(row[10] + tau.max()))
+    )
     return PathCandidate(
         kind=kind,
         params=params,
@@ -633,7 +663,9 @@ def _conflict(cons: dict[str, Any]) -> list[str]:
     return out
 
 
-def _missed(final: dict[str, Any], rows: npt.NDArray[np.float64], cons: dict[str, Any], kind: str) -> str:
+def _missed(
+    final: dict[str, Any], rows: npt.NDArray[np.float64], cons: dict[str, Any], kind: str
+) -> str:
     """Which constraints the least violated candidate misses, in words."""
     i = int(np.argmin(final["violation"]))
     mu = math.degrees(min(final["mu_min"][i], math.pi - final["mu_max"][i]))

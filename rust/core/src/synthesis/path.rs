@@ -115,7 +115,7 @@ impl Spec<'_> {
 
     fn validate(&self) -> Result<(), InvalidInput> {
         InvalidInput::check_finite("targets", self.targets)?;
-        if self.targets.len() % 2 != 0 || self.targets.is_empty() {
+        if !self.targets.len().is_multiple_of(2) || self.targets.is_empty() {
             return Err(InvalidInput::bad_value(
                 "targets",
                 self.targets.len() as f64,
@@ -493,7 +493,7 @@ pub fn evaluate_into(
     spec.validate()?;
     let w = spec.width();
     let n = spec.targets.len() / 2;
-    if params.len() % w != 0 {
+    if !params.len().is_multiple_of(w) {
         return Err(InvalidInput::bad_value(
             "params",
             params.len() as f64,
