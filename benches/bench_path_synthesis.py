@@ -198,6 +198,78 @@ def numpy_timed(rows: Array, t: Array, tau: Array) -> tuple[Array, Array]:
     return np.sqrt(e2.mean(axis=1)), (h2 >= 0).all(axis=1)
 
 
+K_UNTIMED = 100_000
+SAMPLES = 90
+
+
+def numpy_untimed(rows: Array, t: Array, samples: int = SAMPLES, chunk: int = 5_000) -> Array:
+    """RMS distance of each target to the nearest of ``samples`` curve points a
+    turn (the evaluator's rule without its golden-section steps), broadcast over
+    (chunk, M, N) a chunk of candidates at a time (a whole (K, M, N) array would
+    not fit): what a numpy user writes. Unassembled samples are +inf away."""
+    phi = 2 * np.pi * np.arange(samples) / samples
+    out = np.empty(len(rows))
+    for s0 in range(0, len(rows), chunk):
+        r = rows[s0 : s0 + chunk]
+        x0, y0, th, r1, r2, r3, r4, u, v, mode = (r[:, i : i + 1] for i in range(10))
+        bx, by = x0 + r2 * np.cos(phi), y0 + r2 * np.sin(phi)
+        dx, dy = x0 + r1 * np.cos(th) - bx, y0 + r1 * np.sin(th) - by
+        dd = dx * dx + dy * dy
+        dist = np.sqrt(dd)
+        ex, ey = dx / dist, dy / dist
+        along = (r3 * r3 - r4 * r4 + dd) / (2 * dist)
+        h2 = r3 * r3 - along * along
+        h = -np.sign(mode) * np.sqrt(np.maximum(h2, 0.0))
+        fx, fy = (along * ex - h * ey) / r3, (along * ey + h * ex) / r3
+        px, py = bx + u * fx - v * fy, by + u * fy + v * fx
+        e2 = (px[:, :, None] - t[:, 0]) ** 2 + (py[:, :, None] - t[:, 1]) ** 2
+        e2 = np.where((h2 >= 0)[:, :, None], e2, np.inf)
+        out[s0 : s0 + chunk] = np.sqrt(e2.min(axis=1).mean(axis=1))
+    return out
+
+
+def test_numpy_untimed_agrees() -> None:
+    rows = np.ascontiguousarray(random_rows(5_000, seed=6)[:, :10])
+    r = cm.synthesis.path_evaluate(rows, targets(), samples=SAMPLES, refine=0)
+    rms = numpy_untimed(rows, targets())
+    fine = np.isfinite(rms) & np.isfinite(r["rms"])
+    assert fine.sum() > 500
+    np.testing.assert_allclose(r["rms"][fine], rms[fine], rtol=0, atol=1e-9)
+
+
+@pytest.mark.benchmark(group=GROUP_RAW + " (untimed)")
+@pytest.mark.parametrize("threads", [1, None], ids=["1-thread", "all-cores"])
+def test_raw_untimed_cyclomech(benchmark, threads: int | None) -> None:
+    k = 5_000 if benchmark.disabled else K_UNTIMED
+    rows = np.ascontiguousarray(random_rows(k)[:, :10])
+    benchmark.extra_info["tool"] = "cyclomech"
+    where = "all cores" if threads is None else "1 thread"
+    benchmark.extra_info["what"] = (
+        f"path_evaluate untimed, {k} candidates, {SAMPLES} samples, no refinement, {where}"
+    )
+    benchmark.extra_info["items"] = k
+    r = benchmark.pedantic(
+        cm.synthesis.path_evaluate,
+        (rows, targets()),
+        {"n_threads": threads, "samples": SAMPLES, "refine": 0},
+        rounds=3,
+        iterations=1,
+    )
+    assert r["cost"].shape == (k,)
+
+
+@pytest.mark.benchmark(group=GROUP_RAW + " (untimed)")
+def test_raw_untimed_numpy(benchmark) -> None:
+    k = 5_000 if benchmark.disabled else K_UNTIMED
+    rows = np.ascontiguousarray(random_rows(k)[:, :10])
+    benchmark.extra_info["tool"] = "numpy"
+    benchmark.extra_info["what"] = f"broadcast over (5000, {SAMPLES}, 6) chunks, nearest sample"
+    benchmark.extra_info["items"] = k
+    with np.errstate(all="ignore"):
+        rms = benchmark.pedantic(numpy_untimed, (rows, targets()), rounds=3, iterations=1)
+    assert rms.shape == (k,)
+
+
 def test_numpy_agrees() -> None:
     rows = random_rows(20_000, seed=5)
     r = cm.synthesis.path_evaluate(rows, targets(), np.degrees(TIMING), full_turn=False)
