@@ -278,7 +278,7 @@ def test_unreachable_constraints_say_which() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"points": [(0, 0), (1, 1)]}, "at least 3 target points; got 2"),
+        ({"points": [(0, 0), (1, 1)]}, r"at least 3 target points \(two lie .*\); got 2"),
         ({"points": [(0, 0), (1, float("nan")), (2, 0)]}, r"points\[1, 1\] = nan"),
         ({"points": TARGETS, "timing": [0, 10, 20]}, "5 points, 3 angles"),
         ({"points": TARGETS, "bounds": {"r2": (1.0, 1.0)}}, r"bounds\['r2'\].*lo < hi"),

@@ -478,146 +478,158 @@ def path_generation(
     >>> from cyclomech.synthesis import path_generation
     >>> pts = [(1, 2), (2.5, 3), (3.5, 2), (2, 0.5)]
     >>> best = path_generation(pts, seed=2, maxiter=60, min_transmission_deg=30)[0]
-    >>> best.rms < 1e-3, best.transmission_deg[0] >= 30
+    >>> best.rms < 1e-3, best.margins.worst_transmission_deg >= 30
     (True, True)
     """
-    from scipy.optimize import differential_evolution, least_squares
-
     k = _kind(kind)
-    tm = None if timing is None else timing
-    pts = _targets(points, tm is not None)
-    tau = _timing(tm, len(pts))
+    pts = _targets(points, timing is not None)
+    tau = _timing(timing, len(pts))
     names, box = _bounds(k, pts, tau is not None, bounds)
     cons = _constraints(min_transmission_deg, max_ratio, pivot_box, full_turn)
-    pop = count("popsize", popsize, low=5)
-    iters = count("maxiter", maxiter, low=1)
     keep = count("keep", keep, low=1)
-    polish = flag("polish", polish)
-    tol = finite_number("tol", tol, "(relative)", low=0.0)
-    threads = threads_arg(n_threads)
-    width = len(_PARAMS) + (tau is not None)
-    slot = [[*_PARAMS, "phi1"].index(n) for n in names]
+    prob = _Problem(k, pts, tau, names, box, cons, threads_arg(n_threads))
+    found = prob.search(
+        count("popsize", popsize, low=5),
+        count("maxiter", maxiter, low=1),
+        finite_number("tol", tol, "(relative)", low=0.0),
+        seed,
+        4 * keep,
+    )
+    if flag("polish", polish):
+        found += [prob.polish(x0) for x0 in found[:keep]]
+    return prob.ranked(found, keep)
 
-    def rows(x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+
+@dataclass
+class _Problem:
+    """One path-generation problem: the targets, the optimiser's variables and
+    their bounds, the constraints; its steps as methods."""
+
+    kind: str
+    pts: npt.NDArray[np.float64]
+    tau: npt.NDArray[np.float64] | None
+    names: list[str]
+    box: npt.NDArray[np.float64]
+    cons: dict[str, Any]
+    threads: int | None
+
+    def rows(self, x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """Optimiser vectors (D, S) → kernel rows (S, width)."""
+        width = len(_PARAMS) + (self.tau is not None)
+        slot = [[*_PARAMS, "phi1"].index(n) for n in self.names]
         r = np.ones((x.shape[1], width))  # r4 = 1 for a slider-crank: unused
         r[:, slot] = x.T
         return r
 
-    def cost(x: npt.NDArray[np.float64], accuracy: tuple[int, int]) -> npt.NDArray[np.float64]:
-        res, _ = _core.path_evaluate(
-            k,
-            rows(x),
-            pts,
-            tau,
-            n_threads=threads,
-            angles=False,
+    def evaluate(
+        self, x: npt.NDArray[np.float64], accuracy: tuple[int, int], angles: bool = False
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64] | None]:
+        """The kernel's columns (and angles) of optimiser vectors (D, S)."""
+        return _core.path_evaluate(
+            self.kind,
+            self.rows(x),
+            self.pts,
+            self.tau,
+            n_threads=self.threads,
+            angles=angles,
             samples=accuracy[0],
             refine=accuracy[1],
-            **cons,
+            **self.cons,
         )
-        return np.ascontiguousarray(res[:, 0])
 
-    de = differential_evolution(
-        lambda x: cost(np.reshape(x, (len(names), -1)), _SEARCH),
-        box,
-        popsize=pop,
-        maxiter=iters,
-        tol=tol,
-        rng=seed,
-        polish=False,
-        vectorized=True,
-        updating="deferred",
-        # Measured on targets from known linkages (timed and untimed): these
-        # reach the exact linkage far more often than scipy's defaults
-        # (best1bin, 0.7), which settle on a neighbouring local minimum.
-        strategy="randtobest1bin",
-        recombination=0.9,
-    )
-    order = np.argsort(de.population_energies)
-    starts = de.population[order]
-    found = [starts[i] for i in range(min(len(starts), 4 * keep))]
-    if polish:
-        # Least squares on the targets' residual vectors (smooth in the
-        # dimensions, so it converges fast where DE only creeps), from the best
-        # feasible candidates, the assembly mode held. A step into a violated
-        # region gets a residual that dominates; the final evaluation below
-        # keeps only feasible results anyway.
-        lo, hi = box[:, 0], box[:, 1]
-        im = names.index("mode")
-        free = np.array([n != "mode" for n in names])
-        big = 1e3 * float(np.ptp(pts, axis=0).max())
+    def cost(self, x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        return np.ascontiguousarray(self.evaluate(x, _SEARCH)[0][:, 0])
 
-        def residual(z: npt.NDArray[np.float64], x0: npt.NDArray[np.float64]) -> Any:
+    def search(
+        self, popsize: int, maxiter: int, tol: float, seed: Any, n: int
+    ) -> list[npt.NDArray[np.float64]]:
+        """Differential evolution, a generation a kernel call: the ``n`` best of
+        the final population."""
+        from scipy.optimize import differential_evolution
+
+        de = differential_evolution(
+            lambda x: self.cost(np.reshape(x, (len(self.names), -1))),
+            self.box,
+            popsize=popsize,
+            maxiter=maxiter,
+            tol=tol,
+            rng=seed,
+            polish=False,
+            vectorized=True,
+            updating="deferred",
+            # Measured on targets from known linkages (timed and untimed): these
+            # reach the exact linkage far more often than scipy's defaults
+            # (best1bin, 0.7), which settle on a neighbouring local minimum.
+            strategy="randtobest1bin",
+            recombination=0.9,
+        )
+        order = np.argsort(de.population_energies)
+        return [de.population[i] for i in order[:n]]
+
+    def polish(self, x0: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """Least squares on the targets' residual vectors (smooth in the
+        dimensions, so it converges fast where DE only creeps) from ``x0``, the
+        assembly mode held. A step into a violated region gets a residual that
+        dominates; :meth:`ranked` keeps only feasible results anyway."""
+        from scipy.optimize import least_squares
+
+        lo, hi = self.box[:, 0], self.box[:, 1]
+        im = self.names.index("mode")
+        free = np.array([n != "mode" for n in self.names])
+        big = 1e3 * float(np.ptp(self.pts, axis=0).max())
+        x0 = x0.copy()
+        x0[im] = 1.0 if x0[im] >= 0 else -1.0
+        if self.cost(x0[:, None])[0] >= _PENALTY:
+            return x0
+
+        def residual(z: npt.NDArray[np.float64]) -> Any:
             x = x0.copy()
             x[free] = z
-            row = rows(x[:, None])
-            res, ang = _core.path_evaluate(
-                k,
-                row,
-                pts,
-                tau,
-                n_threads=1,
-                angles=True,
-                samples=_SEARCH[0],
-                refine=_SEARCH[1],
-                **cons,
-            )
+            res, ang = self.evaluate(x[:, None], _SEARCH, angles=True)
             assert ang is not None  # asked for
             # A target the curve does not reach (no sample assembles) has no
             # angle: its residual is the dominating one below.
-            at = _core.path_points(k, np.ascontiguousarray(row[0, :10]), np.nan_to_num(ang[0]))
-            r = np.append((at - pts).ravel(), big * res[0, 3])
+            row = np.ascontiguousarray(self.rows(x[:, None])[0, :10])
+            at = _core.path_points(self.kind, row, np.nan_to_num(ang[0]))
+            r = np.append((at - self.pts).ravel(), big * res[0, 3])
             return np.where(np.isfinite(r), r, big)
 
-        for i in range(min(keep, len(found))):
-            x0 = found[i].copy()
-            x0[im] = 1.0 if x0[im] >= 0 else -1.0
-            if cost(x0[:, None], _SEARCH)[0] >= _PENALTY:
+        fit = least_squares(
+            residual,
+            np.clip(x0[free], lo[free], hi[free]),
+            bounds=(lo[free], hi[free]),
+            xtol=1e-15,
+            ftol=1e-15,
+            gtol=1e-15,
+            max_nfev=200 * len(x0),
+        )
+        y = x0.copy()
+        y[free] = fit.x
+        return y
+
+    def ranked(self, found: list[npt.NDArray[np.float64]], keep: int) -> list[PathCandidate]:
+        """The feasible ones of ``found`` at the reporting accuracy, best first,
+        distinct (not the same linkage polished twice: within 1e-4 of the
+        targets' extent), at most ``keep``."""
+        x = np.array(found).T
+        res, ang = self.evaluate(x, _REPORT, angles=True)
+        final: dict[str, Any] = {name: res[:, i] for i, name in enumerate(_COLUMNS)}
+        final["angles"] = ang
+        cand_rows = self.rows(x)
+        ok = np.flatnonzero(final["violation"] == 0)
+        if ok.size == 0:
+            raise InfeasibleError(_missed(final, self.cons), conflict=_conflict(self.cons))
+        ok = ok[np.argsort(final["rms"][ok], kind="stable")]
+        out: list[PathCandidate] = []
+        span = float(np.ptp(self.pts, axis=0).max())
+        for j in ok:
+            row = cand_rows[j]
+            if any(np.allclose(row, c._row, rtol=1e-4, atol=1e-4 * span) for c in out):
                 continue
-            fit = least_squares(
-                residual,
-                np.clip(x0[free], lo[free], hi[free]),
-                bounds=(lo[free], hi[free]),
-                args=(x0,),
-                xtol=1e-15,
-                ftol=1e-15,
-                gtol=1e-15,
-                max_nfev=200 * len(x0),
-            )
-            y = x0.copy()
-            y[free] = fit.x
-            found.append(y)
-    cand_rows = rows(np.array(found).T)
-    final = path_evaluate(
-        cand_rows,
-        pts,
-        None if tm is None else tm,
-        kind=k,
-        angles=True,
-        min_transmission_deg=min_transmission_deg,
-        max_ratio=max_ratio,
-        pivot_box=pivot_box,
-        full_turn=full_turn,
-        n_threads=threads,
-        samples=_REPORT[0],
-        refine=_REPORT[1],
-    )
-    ok = np.flatnonzero(final["violation"] == 0)
-    if ok.size == 0:
-        raise InfeasibleError(_missed(final, cand_rows, cons, k), conflict=_conflict(cons))
-    ok = ok[np.argsort(final["rms"][ok], kind="stable")]
-    out: list[PathCandidate] = []
-    # Distinct: not the same linkage polished twice (within 1e-4 of the targets' extent).
-    span = float(np.ptp(pts, axis=0).max())
-    for j in ok:
-        row = cand_rows[j]
-        if any(np.allclose(row, c._row, rtol=1e-4, atol=1e-4 * span) for c in out):
-            continue
-        out.append(_candidate(k, row, final, int(j), tau, cons["full_turn"]))
-        if len(out) == keep:
-            break
-    return out
+            out.append(_candidate(self.kind, row, final, int(j), self.tau, self.cons["full_turn"]))
+            if len(out) == keep:
+                break
+        return out
 
 
 def _candidate(
@@ -663,9 +675,7 @@ def _conflict(cons: dict[str, Any]) -> list[str]:
     return out
 
 
-def _missed(
-    final: dict[str, Any], rows: npt.NDArray[np.float64], cons: dict[str, Any], kind: str
-) -> str:
+def _missed(final: dict[str, Any], cons: dict[str, Any]) -> str:
     """Which constraints the least violated candidate misses, in words."""
     i = int(np.argmin(final["violation"]))
     mu = math.degrees(min(final["mu_min"][i], math.pi - final["mu_max"][i]))
