@@ -530,7 +530,8 @@ class _Problem:
             self.rows(x),
             self.pts,
             self.tau,
-            n_threads=self.threads,
+            # One candidate (the polish's calls): no pool to wake for it.
+            n_threads=self.threads if x.shape[1] > 1 else 1,
             angles=angles,
             samples=accuracy[0],
             refine=accuracy[1],
