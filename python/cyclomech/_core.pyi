@@ -963,3 +963,63 @@ def slider_crank_transmission(
 def slider_crank_position(
     r: float, rod: float, e: float, theta: list[float], sigma: float
 ) -> list[float]: ...
+
+# synthesis: function generation (synthesis/function.rs). kind is "four-bar" or
+# "slider-crank"; dims are (a, b, c, d) or (r, l, e, 0) [m].
+
+__all__ += ["chebyshev_points", "function_branches", "function_error", "function_fit"]
+__all__ += ["function_generated"]
+
+def chebyshev_points(lo: float, hi: float, n: int) -> list[float]: ...
+def function_fit(
+    kind: str, x: list[float], y: list[float], ground: float
+) -> tuple[tuple[float, float, float], tuple[float, float, float, float], bool, bool]: ...
+def function_branches(
+    kind: str,
+    dims: tuple[float, float, float, float],
+    flip_in: bool,
+    flip_out: bool,
+    x: list[float],
+    y: list[float],
+) -> list[float]: ...
+def function_error(
+    kind: str,
+    dims: tuple[float, float, float, float],
+    flip_in: bool,
+    flip_out: bool,
+    sigma: float,
+    grid: list[float],
+    wanted: list[float],
+) -> tuple[float, int]: ...
+def function_generated(
+    kind: str,
+    dims: tuple[float, float, float, float],
+    flip_in: bool,
+    flip_out: bool,
+    sigma: float,
+    x: list[float],
+    near: float,
+) -> list[float]: ...
+
+# synthesis: three-position motion generation (synthesis/motion.rs). Returns (A0,
+# B0, A positions, B positions, (a, b, c, d), crank angles [rad], direction,
+# branches, working arc (lo, hi) [rad], transmission tuple as above).
+
+__all__ += ["motion_fourbar"]
+
+def motion_fourbar(
+    poses: list[tuple[float, float, float]],
+    uv1: tuple[float, float],
+    uv2: tuple[float, float],
+) -> tuple[
+    tuple[float, float],
+    tuple[float, float],
+    list[tuple[float, float]],
+    list[tuple[float, float]],
+    tuple[float, float, float, float],
+    list[float],
+    float,
+    list[float],
+    tuple[float, float],
+    tuple[bool, float, float, float, float],
+]: ...

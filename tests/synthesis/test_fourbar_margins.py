@@ -147,3 +147,13 @@ def test_bad_input_names_the_argument(call, needle) -> None:
     with pytest.raises(cm.InputError) as info:
         call()
     assert needle in str(info.value)
+
+
+def test_a_coupler_point_on_the_coupler_line_gets_a_helper_point() -> None:
+    # P on the line BC: the solver needs a third point of the coupler to know
+    # which side of BC P is on; Q fixes it and P follows B → C exactly.
+    lk = syn.four_bar_linkage(1, 3, 3.5, 4, crank_deg=40, coupler_point=(1.5, 0.0))
+    assert "Q" in lk.names and lk.output == "P"
+    sol = lk.solve(np.radians(np.linspace(40, 400, 91)))
+    assert sol.ok.all()
+    assert_allclose(sol["P"], sol["B"] + 0.5 * (sol["C"] - sol["B"]), atol=1e-12)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import _core
-from .._arrays import finite_number, positive, real
+from .._arrays import finite_number, flag, positive, real
 from .._errors import InputError
 from ..linkage import Linkage
 
@@ -56,8 +56,8 @@ class Margins:
         precision point or pose the synthesis asked for is reached on that
         branch (and, for poses, in order).
     length_ratio : float
-        Longest over shortest link length (the ground and, for a slider-crank,
-        the offset's magnitude excluded where it is zero).
+        Longest over shortest link length: of the four links, ground included,
+        for a four-bar; of crank and rod for a slider-crank.
 
     Examples
     --------
@@ -156,7 +156,7 @@ def four_bar_margins(
     kind, turns, _ = _core.fourbar_grashof(a, b, c, d)
     t = _core.fourbar_transmission(a, b, c, d, lo, hi)
     links = (a, b, c, d)
-    return _margins(kind, turns, t, bool(branch_ok), max(links) / min(links))
+    return _margins(kind, turns, t, flag("branch_ok", branch_ok), max(links) / min(links))
 
 
 def slider_crank_margins(
@@ -185,7 +185,9 @@ def slider_crank_margins(
     lo, hi = _range(range_deg)
     kind = _core.slider_crank_kind(r, ln, e)
     t = _core.slider_crank_transmission(r, ln, e, lo, hi)
-    return _margins(kind, kind != "rocker-slider", t, bool(branch_ok), max(r, ln) / min(r, ln))
+    return _margins(
+        kind, kind != "rocker-slider", t, flag("branch_ok", branch_ok), max(r, ln) / min(r, ln)
+    )
 
 
 def _mode(mode: Any) -> float:
@@ -224,6 +226,25 @@ def _coupler_point(
     return pin[0] + u * ex - v * ey, pin[1] + u * ey + v * ex
 
 
+def _coupler_body(pts: dict[str, tuple[float, float]], a: str, b: str) -> tuple[str, ...]:
+    """The coupler's joints: (a, b), with P if drawn, and — where P lies on the
+    line through a and b, so that the solver could not tell which side of that
+    line it is on — a helper point Q of the coupler, a + (b − a) turned 90°,
+    which fixes the side (adds it to ``pts``)."""
+    if "P" not in pts:
+        return (a, b)
+    (xa, ya), (xb, yb), (xp, yp) = pts[a], pts[b], pts["P"]
+    ab, ap = math.hypot(xb - xa, yb - ya), math.hypot(xp - xa, yp - ya)
+    cross = (xb - xa) * (yp - ya) - (yb - ya) * (xp - xa)
+    if abs(cross) > 1e-6 * ab * (ab + ap):
+        return (a, b, "P")
+    # Q before P: the solver places joints in the drawing's order, and P needs Q.
+    p = pts.pop("P")
+    pts["Q"] = (xa - (yb - ya), ya + (xb - xa))
+    pts["P"] = p
+    return (a, b, "Q", "P")
+
+
 def four_bar_linkage(
     crank: float,
     coupler: float,
@@ -251,6 +272,8 @@ def four_bar_linkage(
     coupler_point : (u, v), optional
         A coupler point P [m] in the coupler's frame: u along B → C, v to its
         left; drawn as point ``"P"`` on the coupler (then the linkage's output).
+        Where P is on the line BC (v = 0), a helper point ``"Q"`` of the coupler
+        (B + BC turned 90°) is drawn too: it tells the solver which side P is on.
     origin : (x, y)
         The crank pivot A [m].
     ground_deg : float
@@ -301,7 +324,7 @@ def four_bar_linkage(
         local["P"] = _coupler_point(coupler_point, local["B"], local["C"])
     o = _xy("origin", origin)
     pts = _place(o, math.radians(finite_number("ground_deg", ground_deg, "[deg]")), local)
-    body = ("B", "C", "P") if "P" in pts else ("B", "C")
+    body = _coupler_body(pts, "B", "C")
     return Linkage(
         pts,
         [("A", "B"), body, ("C", "D")],
@@ -338,7 +361,8 @@ def slider_crank_linkage(
     mode : {+1, -1}
         +1 draws the slider ahead of the crank pin along the slide direction.
     coupler_point : (u, v), optional
-        A point P on the rod [m]: u along B → C, v to its left.
+        A point P on the rod [m]: u along B → C, v to its left (with a helper
+        point ``"Q"`` where v = 0, as in :func:`four_bar_linkage`).
     origin : (x, y)
         The crank pivot A [m].
     ground_deg : float
@@ -376,7 +400,7 @@ def slider_crank_linkage(
         local["P"] = _coupler_point(coupler_point, local["B"], local["C"])
     g = math.radians(finite_number("ground_deg", ground_deg, "[deg]"))
     pts = _place(_xy("origin", origin), g, local)
-    body = ("B", "C", "P") if "P" in pts else ("B", "C")
+    body = _coupler_body(pts, "B", "C")
     return Linkage(
         pts,
         [("A", "B"), body],

@@ -24,6 +24,8 @@ mod servo;
 mod shaft;
 mod speed_limit;
 mod synthesis_fourbar;
+mod synthesis_function;
+mod synthesis_motion;
 mod synthesis_path;
 mod transfer;
 
@@ -69,6 +71,12 @@ mod _core {
         fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,
         slider_crank_position, slider_crank_transmission,
     };
+    #[pymodule_export]
+    use super::synthesis_function::{
+        chebyshev_points, function_branches, function_error, function_fit, function_generated,
+    };
+    #[pymodule_export]
+    use super::synthesis_motion::motion_fourbar;
     #[pymodule_export]
     use super::synthesis_path::{path_columns, path_evaluate, path_points};
     #[pymodule_export]

@@ -5,4 +5,6 @@
 //! margins; candidates are evaluated in parallel batches.
 
 pub mod fourbar;
+pub mod function;
+pub mod motion;
 pub mod path;
