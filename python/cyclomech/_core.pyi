@@ -572,6 +572,30 @@ def servo_rms_angles(
     n_threads: int | None = None,
 ) -> npt.NDArray[np.float64]: ...
 
+# synthesis: path generation
+
+__all__ += ["path_columns", "path_evaluate", "path_points"]
+
+def path_evaluate(
+    kind: str,
+    params: npt.NDArray[np.float64],
+    targets: npt.NDArray[np.float64],
+    timing: npt.NDArray[np.float64] | None = None,
+    *,
+    samples: int = 90,
+    refine: int = 40,
+    full_turn: bool = True,
+    min_transmission: float = 0.0,
+    max_ratio: float = ...,
+    pivot_box: tuple[float, float, float, float] | list[float] | None = None,
+    angles: bool = False,
+    n_threads: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
+def path_columns() -> tuple[list[str], list[str], float]: ...
+def path_points(
+    kind: str, row: npt.NDArray[np.float64], angles: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]: ...
+
 # shaft
 
 __all__ += ["shaft_stats", "shaft_sum"]

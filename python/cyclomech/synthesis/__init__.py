@@ -56,6 +56,7 @@ from ._knife import KnifeDrive, KnifeRequirement, knife_drive, knife_motion
 from ._knife_compare import KnifeComparison, compare_knife_drives, knife_forces
 from ._knife_file import SYNTHESIZE_KEYS, KnifeSynthesis  # registers the linkage synthesizer
 from ._motion import MotionCandidate, motion_generation
+from ._path import PathCandidate, path_evaluate, path_generation
 
 __all__ = []  # type: list[str]  # filled as the kinds of synthesis land
 __all__ += ["Margins", "four_bar_linkage", "four_bar_margins", "slider_crank_linkage"]
@@ -65,3 +66,4 @@ __all__ += ["MotionCandidate", "motion_generation"]
 __all__ += ["SYNTHESIZE_KEYS", "KnifeComparison", "KnifeDrive", "KnifeRequirement"]
 __all__ += ["KnifeSynthesis", "compare_knife_drives", "knife_drive", "knife_forces"]
 __all__ += ["knife_motion"]
+__all__ += ["PathCandidate", "path_evaluate", "path_generation"]

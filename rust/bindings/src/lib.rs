@@ -26,6 +26,7 @@ mod speed_limit;
 mod synthesis_fourbar;
 mod synthesis_function;
 mod synthesis_motion;
+mod synthesis_path;
 mod transfer;
 
 #[pymodule]
@@ -76,6 +77,8 @@ mod _core {
     };
     #[pymodule_export]
     use super::synthesis_motion::motion_fourbar;
+    #[pymodule_export]
+    use super::synthesis_path::{path_columns, path_evaluate, path_points};
     #[pymodule_export]
     use super::threads;
     #[pymodule_export]

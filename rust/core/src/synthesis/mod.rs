@@ -7,3 +7,4 @@
 pub mod fourbar;
 pub mod function;
 pub mod motion;
+pub mod path;
