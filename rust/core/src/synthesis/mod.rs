@@ -3,3 +3,5 @@
 //! Each kernel takes what a mechanism must do (precision points, target
 //! points, poses, limits) as slices and returns the dimensions with their
 //! margins; candidates are evaluated in parallel batches.
+
+pub mod cam_size;
