@@ -37,6 +37,11 @@ from ._export import DxfUnavailableError, profile_table, write_profile_csv, writ
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
 from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
+
+# Not in __all__: the bound's own argument rules, shared with the cam sizing
+# (cyclomech.synthesis.cam_size) so that both read a limit and a segment list alike.
+from ._loads import bound_segments as bound_segments
+from ._loads import pressure_limit_deg as pressure_limit_deg
 from ._program import KINDS, Cam, CamKinematics, Segment
 from ._rows import UNITS, read_program, read_segments
 from ._vibration import (

@@ -10,4 +10,7 @@ the dimensions with the margins of the constraints it was asked to hold.
 
 from __future__ import annotations
 
-__all__ = []  # type: list[str]  # filled as the kinds of synthesis land
+from ._cam_size import *  # noqa: F403
+from ._cam_size import __all__ as _cam_size_all
+
+__all__ = [*_cam_size_all]  # filled as the kinds of synthesis land

@@ -318,7 +318,7 @@ impl Sizing<'_> {
             }
             return self.answer(radii[b], p, omega, hertz, 2);
         };
-        let gap_above = g[j..].iter().any(|&v| !(v <= 1.0));
+        let gap_above = g[j..].iter().any(|&v| v > 1.0 || v.is_nan());
         if j == 0 {
             return Sized {
                 gap_above,
@@ -451,7 +451,8 @@ fn check_speeds(omegas: &[f64]) -> Result<(), CamError> {
 /// `radii` [m] (the cam's other dimensions held), [`Cam::min_angles_into`]'s
 /// angles of `segments` at `omegas` into `out` (row-major (radii, speeds,
 /// segments, criteria)); NaN rows where the follower cannot be built at that
-/// radius. Radii in parallel.
+/// radius (the arguments are then checked only at the radii where it can).
+/// Radii in parallel.
 #[allow(clippy::too_many_arguments)]
 pub fn tradeoff_into(
     cam: &Cam,
@@ -464,8 +465,8 @@ pub fn tradeoff_into(
     out: &mut [f64],
     n_threads: Option<i64>,
 ) -> Result<(), CamError> {
-    // The cam's own call validates segments, speeds, limits, loads and contact.
-    cam.min_angles_into(segments, &[], loads, contact, limits, &mut [], n_threads)?;
+    // The cam's own call at each radius validates the segments, limits, loads
+    // and contact (the same at every radius: the first error is returned).
     check_speeds(omegas)?;
     if let Some((index, &value)) = radii
         .iter()

@@ -171,6 +171,6 @@ proptest! {
         let b = got.binding as usize;
         prop_assert!((got.ratios[b] - 1.0).abs() < 1e-8, "{:?}", got);
         let below = s.ratios(got.base_radius * 0.999, None, 10.0, None);
-        prop_assert!(below.map_or(true, |r| r[b] > 1.0));
+        prop_assert!(below.is_none_or(|r| r[b] > 1.0));
     }
 }
