@@ -15,7 +15,8 @@ distance (its arm length held: scaling pivot, arm and radius together would leav
 every angle unchanged). The roller, the program, the loads and the contact are held.
 
 **The rule.** g(R_b), the largest of the criteria's ratios (worst value over the
-whole cam, dwells included, to its limit; ≤ 1 admissible), is scanned on 64 radii
+whole cam, dwells included, to its limit; ≤ 1 admissible, to 1 + 1e-9 so that a
+cam laid out at its own bounds' angles is not read as violating them), is scanned on 64 radii
 geometrically spaced over the range; the answer is the smallest scanned admissible
 radius refined downward to the crossing by Brent's root (1e-13 relative): the
 smallest radius where all hold, to within a scan cell (a feasible window narrower

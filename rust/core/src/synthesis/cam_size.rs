@@ -17,7 +17,8 @@
 //! (r_r/ρ_p on a roller's pitch curve, both flanks of a groove; −s″/(R_b + s)
 //! for a flat face) and the Hertz stress's ratio σ_max/[σ_H] (+∞ on an undercut
 //! profile), each a segment's worst value by the grid-and-Brent search of
-//! `cam::search`. g(R_b) is the largest of them; ≤ 1 is admissible. A radius
+//! `cam::search`. g(R_b) is the largest of them; ≤ 1 is admissible (up to
+//! [`ADMIT`], 1 + 1e-9). A radius
 //! at which the follower cannot be built (a roller larger than the base circle,
 //! an arm that cannot reach the pitch circle) counts as violated ("geometry").
 //!
@@ -82,6 +83,11 @@ pub const SCAN: usize = 64;
 
 /// Values of the second dimension over its range.
 pub const SECOND_GRID: usize = 33;
+
+/// A ratio up to this is admissible: a cam laid out at phase angles its own
+/// bounds gave (the machine's LP) sits at ratio 1 to the bounds' 1e-13, which
+/// the sizing's own evaluation must not read as a violation.
+pub const ADMIT: f64 = 1.0 + 1e-9;
 
 /// One sizing's answer (see [`SIZE_COLUMNS`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -308,7 +314,7 @@ impl Sizing<'_> {
             .par_iter()
             .map(|&r| self.worst(r, p, omega, hertz))
             .collect();
-        let Some(j) = g.iter().position(|&v| v <= 1.0) else {
+        let Some(j) = g.iter().position(|&v| v <= ADMIT) else {
             // Infeasible: the scanned radius where g is least.
             let mut b = SCAN - 1;
             for i in 0..SCAN {
@@ -318,7 +324,7 @@ impl Sizing<'_> {
             }
             return self.answer(radii[b], p, omega, hertz, 2);
         };
-        let gap_above = g[j..].iter().any(|&v| v > 1.0 || v.is_nan());
+        let gap_above = g[j..].iter().any(|&v| v > ADMIT || v.is_nan());
         if j == 0 {
             return Sized {
                 gap_above,
@@ -331,14 +337,15 @@ impl Sizing<'_> {
         while !ga.is_finite() && tries < 200 {
             let mid = (a * b).sqrt();
             let gm = f(mid);
-            if gm <= 1.0 {
+            if gm <= ADMIT {
                 (b, gb) = (mid, gm);
             } else {
                 (a, ga) = (mid, gm);
             }
             tries += 1;
         }
-        let rb = if !ga.is_finite() || b - a <= 1e-15 * b {
+        // Admissible within ADMIT but above 1 at b: b itself is the crossing.
+        let rb = if !ga.is_finite() || gb > 1.0 || b - a <= 1e-15 * b {
             b
         } else {
             brent_zero(|r| f(r) - 1.0, a, b, ga - 1.0, gb - 1.0, 0.0, 1e-13)
