@@ -25,7 +25,7 @@ from cyclomech.machine import analyze, write_report
 
 ROOT = Path(__file__).resolve().parents[2]
 PINNED = Path(__file__).resolve().parent / "pinned"
-EXAMPLES = ("stb_loom", "knife_cutter", "extrusion_press_line", "rotor_line")
+EXAMPLES = ("stb_loom", "knife_cutter", "extrusion_press_line", "rotor_line", "lifter_cam_sized")
 WRITE = os.environ.get("CYCLOMECH_PIN", "") not in ("", "0")
 RTOL = 1e-9
 #: Not results: wall times and the path the file was given by.

@@ -37,13 +37,17 @@ from ._export import DxfUnavailableError, profile_table, write_profile_csv, writ
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
 from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
-
-# Not in __all__: the bound's own argument rules, shared with the cam sizing
-# (cyclomech.synthesis.cam_size) so that both read a limit and a segment list alike.
-from ._loads import bound_segments as bound_segments
-from ._loads import pressure_limit_deg as pressure_limit_deg
 from ._program import KINDS, Cam, CamKinematics, Segment
 from ._rows import UNITS, read_program, read_segments
+
+# Not in __all__: the cam sizing's door is cyclomech.synthesis (issue 35); it lives
+# here, beside the criteria it evaluates, so that a cam table can ask to be sized.
+from ._size import CAM_SIZE_CRITERIA as CAM_SIZE_CRITERIA
+from ._size import CamLimits as CamLimits
+from ._size import CamSize as CamSize
+from ._size import CamSizeTradeoff as CamSizeTradeoff
+from ._size import cam_size as cam_size
+from ._size import cam_size_tradeoff as cam_size_tradeoff
 from ._vibration import (
     FollowerResponse,
     follower_response,

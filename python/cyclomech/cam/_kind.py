@@ -38,6 +38,7 @@ from ._friction import CamFriction, CamFrictionForces, cam_friction, friction_fr
 from ._keys import KEY_DOCS
 from ._loads import CRITERIA
 from ._program import Cam
+from ._size import CamLimits, cam_size
 from ._synthesize import CamSynthesis, synthesis_from_table
 
 __all__ = ["CamMechanism", "CamResult"]
@@ -110,6 +111,12 @@ class CamMechanism(ExactBounds):
     friction : CamFriction, optional
         The follower's friction (the ``friction`` table, ``cyclomech/cam/_friction.py``),
         solved at the nominal speed; needs the follower's loads; None (default) without.
+    synthesis : CamSynthesis, optional
+        What the ``synthesize`` table asks (the base radius sized by the machine's run,
+        :meth:`resize`); None (default) without: the file's base radius.
+    sized : cyclomech.synthesis.CamSize, optional
+        The last sizing (the radius chosen, the binding limit, the margins); None
+        (default) before one.
 
     Examples
     --------
@@ -280,8 +287,6 @@ class CamMechanism(ExactBounds):
         s = self.synthesis
         if s is None:
             return None
-        from ..synthesis import CamLimits, cam_size  # the synthesis stands on the cam
-
         d = self.design
         cam, _ = self.laid_out(angles)
         try:

@@ -286,8 +286,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["optimum"] = None
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
-    if r.resizing is not None:
-        out["resizing"] = r.resizing.json()
+    out.update({} if r.resizing is None else {"resizing": r.resizing.json()})
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
     groups["mechanisms"] = {}

@@ -16,7 +16,8 @@ round whose angles equal (within 1e-9°) those of a round two or more before whi
 a hook still changes is a cycle; no fixed point after :data:`MAX_ROUNDS` rounds,
 or a cycle, is a loud :class:`cyclomech.CyclomechWarning` and a failure of the run
 (exit status 3), the last round's machine analysed. A cyclogram that does not fit
-in a round stops the loop there (the run then reports it as any other).
+in a round stops the loop there, a failure too (in round 1, with every mechanism at
+its loosest size, no size asked would fit).
 
 **What the fixed point is.** The loop starts from each mechanism's loosest size (a
 cam's ``max_base_radius_m``). The LP, which maximises the limiting operation, takes
@@ -160,9 +161,12 @@ def resize_machine(machine: Machine) -> tuple[Machine, Resizing | None]:
         try:
             opt = m.optimize(rpm)
         except InfeasibleError as e:
-            if i == 1:
-                return m, None  # the run reports the cyclogram that does not fit
-            return m, Resizing(i, False, f"round {i}: {e}", history)
+            # The run reports the cyclogram that does not fit; the sizing says at
+            # which sizes (in round 1, the loosest: no size asked would fit).
+            first = " with each mechanism at its largest size (a cam's max_base_radius_m)"
+            note = f"round {i}{first if i == 1 else ''}: {e}"
+            _warn(machine, note)
+            return m, Resizing(i, False, note, history)
         angles = dict(opt.angles)
         new: dict[str, Any] = {}
         for k in names:
