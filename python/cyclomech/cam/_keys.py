@@ -3,7 +3,7 @@ format reference (:attr:`CamMechanism.key_docs`; ``tests/package/test_keydocs.py
 them equal to the parser's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]
-['cam', 'cam.friction', 'cam.synthesize', 'cam.segment']
+['cam', 'cam.synthesize', 'cam.friction', 'cam.segment']
 """
 
 from __future__ import annotations
