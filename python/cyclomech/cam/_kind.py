@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
-from .._arrays import instance
+from .._arrays import instance, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._keydoc import KeyTable
 from .._kind import (
@@ -186,6 +186,7 @@ class CamMechanism(ExactBounds):
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
         at = ctx.where(name)
+        _toml.must_be_table(table, ctx.source, where)
         synthesis = synthesis_from_table(table, at, str(table.get("follower", "")))
         if synthesis is not None:
             # The first round's cam: the largest radius asked (the loosest bounds);
@@ -284,6 +285,10 @@ class CamMechanism(ExactBounds):
         >>> m.mechanisms["lifter cam"].resize(300.0, {}) is None   # no synthesize table
         True
         """
+        rpm = float(speeds_rpm("rpm", rpm)[0]) if np.ndim(rpm) == 0 else math.nan
+        if math.isnan(rpm):
+            raise InputError("rpm must be one speed [rpm]")
+        instance("angles", angles, Mapping)
         s = self.synthesis
         if s is None:
             return None

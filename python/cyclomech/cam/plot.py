@@ -861,9 +861,11 @@ def plot_size_tradeoff(
     if not 0 <= int(rpm_index) < n_rpm:
         raise InputError(f"rpm_index = {rpm_index} must be in [0, {n_rpm}) (t's speeds)")
     n_seg = len(t.segments)
+    if labels is not None and (isinstance(labels, str) or not hasattr(labels, "__len__")):
+        raise InputError(f"labels must be one name per segment ({n_seg}); got {labels!r}")
     names = [f"segment {i}" for i in t.segments] if labels is None else [str(x) for x in labels]
-    if isinstance(labels, str) or len(names) != n_seg:
-        raise InputError(f"labels must hold one name per segment ({n_seg}); got {labels!r}")
+    if len(names) != n_seg:
+        raise InputError(f"labels holds {len(names)} names; t has {n_seg} segments")
     plt = pyplot()
     from matplotlib.lines import Line2D
 
