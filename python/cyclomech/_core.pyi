@@ -12,6 +12,9 @@ import numpy.typing as npt
 __all__ = [
     "CAM_CRITERIA",
     "CAM_LOAD_COLUMNS",
+    "CAM_SIZE_COLUMNS",
+    "CAM_SIZE_CRITERIA",
+    "CAM_SIZE_STATUS",
     "DEG_PER_S_PER_RPM",
     "MOTION_LAWS",
     "PRESS_STATUS",
@@ -30,6 +33,8 @@ __all__ = [
     "ProgramKernel",
     "TwoPeriodKernel",
     "__version__",
+    "cam_size",
+    "cam_size_tradeoff",
     "contact_rebound_batch",
     "contact_response",
     "contact_sample",
@@ -64,6 +69,10 @@ DEG_PER_S_PER_RPM: float
 CAM_CRITERIA: tuple[str, ...]
 #: The columns of CamKernel.loads.
 CAM_LOAD_COLUMNS: tuple[str, ...]
+#: cam_size: its criteria (binding index), statuses (status index) and columns.
+CAM_SIZE_CRITERIA: tuple[str, ...]
+CAM_SIZE_STATUS: tuple[str, ...]
+CAM_SIZE_COLUMNS: tuple[str, ...]
 #: The statistics of shaft_stats, in its columns' order.
 SHAFT_STATS: tuple[str, ...]
 #: The columns of dynamics_steady_batch's rows, in order.
@@ -189,6 +198,34 @@ class CamKernel:
         *,
         n_threads: int | None = None,
     ) -> npt.NDArray[np.float64]: ...
+
+# synthesis: cam sizing (cyclomech.synthesis.cam_size); errors are cyclomech.InputError.
+
+def cam_size(
+    cam: CamKernel,
+    omegas: npt.NDArray[np.float64],
+    max_pressure_angle: float,
+    min_radius: float,
+    max_radius: float,
+    loads: tuple[float, float, float, list[float]] | None = None,
+    contact: tuple[float, float, float, float, float] | None = None,
+    max_stress: float | None = None,
+    second: tuple[float, float] | None = None,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def cam_size_tradeoff(
+    cam: CamKernel,
+    radii: npt.NDArray[np.float64],
+    segments: list[int],
+    omegas: npt.NDArray[np.float64],
+    max_pressure_angle: float,
+    loads: tuple[float, float, float, list[float]] | None = None,
+    contact: tuple[float, float, float, float, float] | None = None,
+    max_stress: float | None = None,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
 
 # linkage
 

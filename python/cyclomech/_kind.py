@@ -499,6 +499,15 @@ class Mechanism(Protocol):
     mechanism's class for the hook and calls it; it knows no kind by name
     (``cam_stop`` has one: :meth:`cyclomech.impact.CamStop.batch_designs`).
 
+    Optional hook too: a mechanism dimensioned from the machine's own timing has a
+    ``resizes`` flag (True where its table asks for it) and a method ``resize(rpm,
+    angles)``: given the nominal speed [rpm] and the optimum's phase angles [deg] by
+    arc, the mechanism re-dimensioned for them (its bounds on the same operations),
+    or None where its dimensions would not change; ``resized_values()`` names what
+    it chose. ``cyclomech run`` iterates LP and resize to a fixed point before it
+    analyses the machine (``cyclomech/machine/_resize.py``; ``cam`` has one:
+    :meth:`cyclomech.cam.CamMechanism.resize`).
+
     Examples
     --------
     >>> import cyclomech as cm

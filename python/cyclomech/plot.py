@@ -21,9 +21,10 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
   :func:`plot_min_phase` (a stop: the motion after contact, the first rebound and
   the smallest phase angle against speed);
 * ``cyclomech.cam.plot`` — :func:`plot_cam`, :func:`plot_svaj`, :func:`plot_along_cycle`,
-  :func:`plot_min_phase_angles` (a disc cam: the cam and its follower, the SVAJ
-  diagram, the pressure angle, forces and stress along the cycle, and the smallest
-  phase angles against speed per criterion);
+  :func:`plot_min_phase_angles`, :func:`plot_size_tradeoff` (a disc cam: the cam and
+  its follower, the SVAJ diagram, the pressure angle, forces and stress along the
+  cycle, the smallest phase angles against speed per criterion, and against the base
+  radius);
 * ``cyclomech.transfer.plot`` — :func:`plot_transfer` (a rotor transfer path);
 * ``cyclomech.servo.plot`` — :func:`plot_duty` (a servo motor's torque and speed
   over the cycle, with its limits);
@@ -49,7 +50,13 @@ from ._plotting import LINK_COLOR as LINK_COLOR
 from ._plotting import MOTION_COLORS as MOTION_COLORS
 from ._plotting import PLATE_COLOR as PLATE_COLOR
 from ._plotting import TRACE_COLORS as TRACE_COLORS
-from .cam.plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
+from .cam.plot import (
+    plot_along_cycle,
+    plot_cam,
+    plot_min_phase_angles,
+    plot_size_tradeoff,
+    plot_svaj,
+)
 from .cyclogram.plot import LIMITING_COLOR as LIMITING_COLOR
 from .cyclogram.plot import MECHANISM_COLORS as MECHANISM_COLORS
 from .cyclogram.plot import OTHER_ROW as OTHER_ROW
@@ -88,6 +95,7 @@ __all__ = [
     "plot_rebound_vs_speed",
     "plot_response",
     "plot_shaking",
+    "plot_size_tradeoff",
     "plot_speed_sweep",
     "plot_svaj",
     "plot_torsion",

@@ -20,6 +20,7 @@ from cyclomech._keydoc import KeyDoc
 from cyclomech._kind import Phase
 from cyclomech.cam._design import CAM_KEYS, SEGMENT_KEYS
 from cyclomech.cam._friction import CAM_FRICTION_KEYS
+from cyclomech.cam._synthesize import SYNTHESIZE_KEYS
 from cyclomech.cyclogram._file import _CG_KEYS, _CON_KEYS, _OP_KEYS, _TERM_KEYS
 from cyclomech.dynamics._drive import DRIVE_KEYS
 from cyclomech.dynamics._frame import BALANCE_KEYS
@@ -143,8 +144,9 @@ def test_kind_keys(kind: str) -> None:
         ("constraint", _CON_KEYS),
         ("constraint.terms", _TERM_KEYS),
         ("phase", Phase.KEYS),
-        ("cam", CAM_KEYS | {"kind", "friction"}),
+        ("cam", CAM_KEYS | {"kind", "friction", "synthesize"}),
         ("cam.friction", CAM_FRICTION_KEYS),
+        ("cam.synthesize", SYNTHESIZE_KEYS),
         ("cam.segment", SEGMENT_KEYS | {"arc"}),
         ("linkage.mass", _MASS_KEYS),
         ("linkage.load", _LOAD_KEYS),

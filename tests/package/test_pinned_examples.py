@@ -31,6 +31,7 @@ EXAMPLES = (
     "extrusion_press_line",
     "rotor_line",
     "knife_cutter_synthesized",
+    "lifter_cam_sized",
 )
 WRITE = os.environ.get("CYCLOMECH_PIN", "") not in ("", "0")
 RTOL = 1e-9

@@ -58,6 +58,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_rebound_vs_speed",
         "plot_response",
         "plot_shaking",
+        "plot_size_tradeoff",
         "plot_speed_sweep",
         "plot_svaj",
         "plot_torsion",

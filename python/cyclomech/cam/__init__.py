@@ -39,6 +39,15 @@ from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
 from ._program import KINDS, Cam, CamKinematics, Segment
 from ._rows import UNITS, read_program, read_segments
+
+# Not in __all__: the cam sizing's door is cyclomech.synthesis (issue 35); it lives
+# here, beside the criteria it evaluates, so that a cam table can ask to be sized.
+from ._size import CAM_SIZE_CRITERIA as CAM_SIZE_CRITERIA
+from ._size import CamLimits as CamLimits
+from ._size import CamSize as CamSize
+from ._size import CamSizeTradeoff as CamSizeTradeoff
+from ._size import cam_size as cam_size
+from ._size import cam_size_tradeoff as cam_size_tradeoff
 from ._vibration import (
     FollowerResponse,
     follower_response,

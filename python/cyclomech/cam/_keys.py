@@ -3,7 +3,7 @@ format reference (:attr:`CamMechanism.key_docs`; ``tests/package/test_keydocs.py
 them equal to the parser's key sets and checks their defaults and ranges).
 
 >>> [t.name for t in KEY_DOCS]
-['cam', 'cam.friction', 'cam.segment']
+['cam', 'cam.synthesize', 'cam.friction', 'cam.segment']
 """
 
 from __future__ import annotations
@@ -42,7 +42,8 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           False),
         K("segment", "The cam's program: rises, dwells and returns in turn.", NO_UNIT, ROWS,
           REQ, "at least one row; angles summing to 360; rises − returns = 0", False),
-        K("base_radius_m", "The radius of the cam's base circle.", "m", NUM, REQ, POS, True),
+        K("base_radius_m", "The radius of the cam's base circle.", "m", NUM,
+          "required unless a synthesize table sizes it (then refused)", POS, True),
         K("roller_radius_m", "The roller's radius (0: a knife edge).", "m", NUM,
           "required for translating and oscillating followers (a flat one refuses it)",
           "finite, 0 ≤ roller_radius_m < base_radius_m", True),
@@ -104,6 +105,32 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "(a [….friction] table).", NO_UNIT, TAB, "none (frictionless)",
           "a friction table; needs mass_kg (inertia_kg_m2 when oscillating); not for a flat "
           "follower", False),
+        K("synthesize", "Size the cam instead of giving base_radius_m (a [….synthesize] "
+          "table).", NO_UNIT, TAB, "none (base_radius_m as given)",
+          "a synthesize table; refuses base_radius_m beside it", False),
+    )),
+    KeyTable("cam.synthesize", "[mechanism.<name>.synthesize] of a cam", (
+        K("base_radius", "What to size: the smallest base radius that meets the cam's limits "
+          "(max_pressure_angle_deg, undercut, max_stress_pa) at the optimised timing.",
+          NO_UNIT, TEXT, REQ, "smallest", None),
+        K("max_base_radius_m", "The largest base radius searched; the first round's cam.",
+          "m", NUM, REQ, "finite, > 0; above min_base_radius_m", None),
+        K("min_base_radius_m", "The smallest base radius searched.", "m", NUM,
+          "none (just above the roller's radius)", "finite, > 0; above the roller's radius",
+          None),
+        K("offset_m", "The range searched for a translating follower's offset (the one "
+          "needing the smallest radius).", "m", ARR, "none (offset_m as given)",
+          "[low, high], finite, low < high" + TR + " or flat", None),
+        K("pivot_distance_m", "The range searched for an oscillating follower's pivot "
+          "distance, its arm length held.", "m", ARR, "none (pivot_distance_m as given)",
+          "[low, high], finite, low < high" + OS, None),
+    ), intro=(
+        "A cam sized by the machine's run (issue 35): the smallest base radius that meets "
+        "the pressure angle, undercut and Hertz stress at its phase angles in the optimised "
+        "cyclogram and the nominal speed (cyclomech.synthesis.cam_size), iterated with the "
+        "timing LP to a fixed point (at most 20 rounds; no fixed point fails the run). The "
+        "first round's cam has max_base_radius_m. The report and results.json (cams, "
+        "sizing; resizing) say what was chosen and which limit binds."
     )),
     KeyTable("cam.friction", "[mechanism.<name>.friction] of a cam", (
         K("pivot_radius_m", "The oscillating arm's pivot pin (journal) radius r_p (a friction "

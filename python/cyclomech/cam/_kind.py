@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
-from .._arrays import instance
+from .._arrays import instance, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._keydoc import KeyTable
 from .._kind import (
@@ -38,6 +38,8 @@ from ._friction import CamFriction, CamFrictionForces, cam_friction, friction_fr
 from ._keys import KEY_DOCS
 from ._loads import CRITERIA
 from ._program import Cam
+from ._size import CamLimits, cam_size
+from ._synthesize import CamSynthesis, synthesis_from_table
 
 __all__ = ["CamMechanism", "CamResult"]
 
@@ -109,6 +111,12 @@ class CamMechanism(ExactBounds):
     friction : CamFriction, optional
         The follower's friction (the ``friction`` table, ``cyclomech/cam/_friction.py``),
         solved at the nominal speed; needs the follower's loads; None (default) without.
+    synthesis : CamSynthesis, optional
+        What the ``synthesize`` table asks (the base radius sized by the machine's run,
+        :meth:`resize`); None (default) without: the file's base radius.
+    sized : cyclomech.synthesis.CamSize, optional
+        The last sizing (the radius chosen, the binding limit, the margins); None
+        (default) before one.
 
     Examples
     --------
@@ -125,9 +133,9 @@ class CamMechanism(ExactBounds):
     # Its tables' keys, its own first, for the machine-file format reference
     # (cyclomech._keydocs renders them; tests/package/test_keydocs.py holds them to the parser).
     key_docs: ClassVar[tuple[KeyTable, ...]] = KEY_DOCS
-    keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind", "friction"})
+    keys: ClassVar[frozenset[str]] = frozenset(CAM_KEYS | {"kind", "friction", "synthesize"})
     fixed_keys: ClassVar[frozenset[str]] = frozenset(
-        {"kind", "follower", "closure", "segment", "continuity", "friction"}
+        {"kind", "follower", "closure", "segment", "continuity", "friction", "synthesize"}
     )
     json_groups: ClassVar[tuple[str, ...]] = ("cams",)
     name: str
@@ -135,6 +143,10 @@ class CamMechanism(ExactBounds):
     criteria: tuple[tuple[int, str], ...]
     #: The follower's friction (the ``friction`` table), None without.
     friction: CamFriction | None = None
+    #: What the ``synthesize`` table asks (the base radius sized), None without.
+    synthesis: CamSynthesis | None = None
+    #: The last sizing (a :class:`cyclomech.synthesis.CamSize`), None before one.
+    sized: Any = None
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> CamMechanism:
@@ -173,10 +185,23 @@ class CamMechanism(ExactBounds):
         """
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
         where = f"[mechanism.{name}]"
-        design = CamDesign.from_table(
-            table, where, source=ctx.source, extra=frozenset({"kind", "friction"}), arcs=True
-        )
         at = ctx.where(name)
+        _toml.must_be_table(table, ctx.source, where)
+        synthesis = synthesis_from_table(table, at, str(table.get("follower", "")))
+        if synthesis is not None:
+            # The first round's cam: the largest radius asked (the loosest bounds);
+            # the machine's run sizes it (resize) to a fixed point.
+            table = {**table, "base_radius_m": synthesis.max_base_radius}
+        extra = frozenset({"kind", "friction", "synthesize"})
+        try:
+            design = CamDesign.from_table(table, where, source=ctx.source, extra=extra, arcs=True)
+        except InputError as e:
+            if synthesis is None:
+                raise
+            raise InputError(
+                f"{e} (synthesize: the first round's base radius is max_base_radius_m = "
+                f"{synthesis.max_base_radius!r})"
+            ) from None
         friction = friction_from_table(table, at, design.cam.follower)
         if friction is not None and design.loads is None:
             mass = (
@@ -203,7 +228,117 @@ class CamMechanism(ExactBounds):
             if arc in seen:
                 raise InputError(f"{at} segment {i}: arc = {list(arc)!r} is bound twice")
             seen.add(arc)
-        return cls(name, design, _criteria(design), friction)
+        return cls(name, design, _criteria(design), friction, synthesis)
+
+    # ------------------------------------------------------------- its sizing
+    @property
+    def resizes(self) -> bool:
+        """Whether the machine's run sizes this cam (it has a ``synthesize`` table).
+
+        Returns
+        -------
+        bool
+            True with a ``synthesize`` table.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"].resizes
+        False
+        """
+        return self.synthesis is not None
+
+    def resize(self, rpm: float, angles: Mapping[Arc, float]) -> CamMechanism | None:
+        """The cam sized at the optimum's angles, or None where its size would not change.
+
+        The machine's hook (``cyclomech/machine/_resize.py``): with a ``synthesize``
+        table, the smallest base radius (and offset or pivot distance, if asked) that
+        meets the cam's limits (``max_pressure_angle_deg``, undercut,
+        ``max_stress_pa``) with its segments at ``angles``
+        (:meth:`laid_out`) at ``rpm`` (:func:`cyclomech.synthesis.cam_size`). None
+        without a ``synthesize`` table, or when every dimension is within 1e-9
+        (relative) of this cam's: the fixed point.
+
+        Parameters
+        ----------
+        rpm : float
+            The machine's nominal speed [rpm].
+        angles : Mapping of tuple of (str, str) to float
+            The optimum's phase angles [deg], by arc.
+
+        Returns
+        -------
+        CamMechanism or None
+            The resized mechanism (its file's angles kept: the cyclogram sets them),
+            or None.
+
+        Raises
+        ------
+        InputError
+            If no radius up to ``max_base_radius_m`` meets the limits (naming the one
+            that fails and the best it reaches).
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/stb_loom.toml")
+        >>> m.mechanisms["lifter cam"].resize(300.0, {}) is None   # no synthesize table
+        True
+        """
+        rpm = float(speeds_rpm("rpm", rpm)[0]) if np.ndim(rpm) == 0 else math.nan
+        if math.isnan(rpm):
+            raise InputError("rpm must be one speed [rpm]")
+        instance("angles", angles, Mapping)
+        s = self.synthesis
+        if s is None:
+            return None
+        d = self.design
+        cam, _ = self.laid_out(angles)
+        try:
+            r = cam_size(
+                cam,
+                rpm,
+                limits=CamLimits(d.max_pressure_angle_deg, d.max_stress),
+                loads=d.loads,
+                contact=d.contact,
+                max_base_radius=s.max_base_radius,
+                min_base_radius=s.min_base_radius,
+                offset=s.offset,
+                pivot_distance=s.pivot_distance,
+            )
+        except InputError as e:
+            raise InputError(f"cam {self.name!r} (synthesize): {e}") from None
+        new, old = r.cam.follower, d.cam.follower
+        same = all(
+            math.isclose(getattr(new, k), getattr(old, k), rel_tol=1e-9, abs_tol=1e-15)
+            for k in ("base_radius", "offset", "pivot_distance")
+            if hasattr(old, k)
+        )
+        if same and self.sized is not None:
+            return None
+        program = d.cam.segments if d.cam.program is None else d.cam.program
+        design = replace(d, cam=Cam(program, new, d.cam.closure))
+        return replace(self, design=design, sized=r)
+
+    def resized_values(self) -> dict[str, float]:
+        """The dimensions the last sizing chose [m], by the table's key names.
+
+        Returns
+        -------
+        dict of str to float
+            ``base_radius_m`` and the second dimension searched, if any; {} before a
+            sizing.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"].resized_values()
+        {}
+        """
+        r = self.sized
+        if r is None:
+            return {}
+        return {f"{k}_m": float(getattr(r.cam.follower, k)) for k in r.searched}
 
     # ------------------------------------------------------------- its bounds
     def _arc(self, k: int) -> Arc:
@@ -423,6 +558,35 @@ class CamMechanism(ExactBounds):
         return result
 
 
+def _sizing_json(m: CamMechanism) -> dict[str, Any]:
+    """The ``sizing`` entry of a sized cam's ``cams`` entry: what was chosen and why."""
+    r = m.sized
+    return {
+        **m.resized_values(),
+        "searched": list(r.searched),
+        "at_rpm": r.rpm,
+        "status": r.status,
+        "binding": r.binding,
+        "ratios": r.ratios,
+        "margins": r.margins,
+        "min_base_radius_m": r.min_base_radius,
+        "max_base_radius_m": r.max_base_radius,
+    }
+
+
+def _sizing_text(m: CamMechanism) -> str:
+    """A sized cam's report row: the dimensions chosen and the limit that binds."""
+    r = m.sized
+    dims = ", ".join(f"{k} = {v * 1e3:.4g} mm" for k, v in m.resized_values().items())
+    why = (
+        f"the smallest radius searched ({r.min_base_radius * 1e3:.4g} mm) already holds"
+        if r.status == "at_lower_bound"
+        else f"{WORDS.get(r.binding, r.binding)} binds"
+    )
+    margins = ", ".join(f"{WORDS.get(k, k)} {v:.3g}" for k, v in r.margins.items())
+    return f"{dims} at {r.rpm:g} rpm: {why} (margins {margins})"
+
+
 def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
     """The (segment, criterion) pairs that bound a cam's operations."""
     cam = design.cam
@@ -600,6 +764,7 @@ class CamResult(BoundsResult):
                 "undercut_deg": self.undercut_deg,
                 "speed_rpm": self.ctx.rpm,
                 "min_phase_deg": bounds,
+                **({} if m.sized is None else {"sizing": _sizing_json(m)}),
             },
         }
 
@@ -632,6 +797,8 @@ class CamResult(BoundsResult):
         ]
         if self.layout_note:
             rows.append(["layout", self.layout_note])
+        if m.sized is not None:
+            rows.append(["sized (synthesize)", _sizing_text(m)])
         rows += [
             [
                 f"largest pressure angle at {n:g} rpm [deg] (limit)",

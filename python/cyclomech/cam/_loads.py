@@ -404,12 +404,52 @@ def solve_min_angles(
         max_stress = positive("max_stress", max_stress, "[Pa]")
         if follower_loads is None or contact is None:
             raise InputError("max_stress needs the follower's loads and a Contact")
+    alpha = pressure_limit_deg(cam, max_pressure_angle_deg)
+    idx = bound_segments(cam, segments)
+    out = cam._kernel.min_angles(
+        list(idx),
+        n * RAD_PER_S_PER_RPM,
+        math.radians(alpha),
+        None if follower_loads is None else follower_loads._kernel_args(len(cam.segments)),
+        None if contact is None else contact._kernel_args(),
+        max_stress,
+        n_threads=threads_arg(n_threads),
+    )
+    vib = np.zeros((n.size, len(idx), 1))
+    if vibration is not None:
+        vib[:, :, 0] = _vibration_deg(cam, idx, n, vibration)
+    angles = np.concatenate([np.degrees(out), vib], axis=-1)
+    return MinPhaseAngles(rpm=n, segments=idx, criteria=CRITERIA, angle_deg=angles)
+
+
+def pressure_limit_deg(cam: Cam, max_pressure_angle_deg: Any) -> float:
+    """The pressure-angle limit [deg]: the given one, checked to lie in (0, 90), or
+    the follower's default (:func:`default_pressure_angle_deg`).
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> pressure_limit_deg(cam, None), pressure_limit_deg(cam, 20)
+    (30.0, 20.0)
+    """
     if max_pressure_angle_deg is None:
-        alpha = default_pressure_angle_deg(cam.follower)
-    else:
-        alpha = finite_number("max_pressure_angle_deg", max_pressure_angle_deg, "[deg]")
-        if not 0.0 < alpha < 90.0:
-            raise InputError(f"max_pressure_angle_deg must be in (0, 90) [deg]; got {alpha!r}")
+        return default_pressure_angle_deg(cam.follower)
+    alpha = finite_number("max_pressure_angle_deg", max_pressure_angle_deg, "[deg]")
+    if not 0.0 < alpha < 90.0:
+        raise InputError(f"max_pressure_angle_deg must be in (0, 90) [deg]; got {alpha!r}")
+    return alpha
+
+
+def bound_segments(cam: Cam, segments: Any) -> tuple[int, ...]:
+    """The indices of the rises and returns to bound: ``segments`` checked, or (None)
+    every rest-to-rest one.
+
+    >>> import cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], cm.cam.FlatFaced(0.04))
+    >>> bound_segments(cam, None)
+    (0, 1)
+    """
     moving = tuple(i for i, g in enumerate(cam.segments) if g.kind != "dwell")
     # A program's segment whose shape changes with its angle (moving ends, a
     # constant velocity, a spline) has no minimum angle of its own.
@@ -429,20 +469,7 @@ def solve_min_angles(
                     "velocity or a point table: its shape changes with its angle, so it has "
                     "no minimum phase angle; bound rest-to-rest segments only"
                 )
-    out = cam._kernel.min_angles(
-        list(idx),
-        n * RAD_PER_S_PER_RPM,
-        math.radians(alpha),
-        None if follower_loads is None else follower_loads._kernel_args(len(cam.segments)),
-        None if contact is None else contact._kernel_args(),
-        max_stress,
-        n_threads=threads_arg(n_threads),
-    )
-    vib = np.zeros((n.size, len(idx), 1))
-    if vibration is not None:
-        vib[:, :, 0] = _vibration_deg(cam, idx, n, vibration)
-    angles = np.concatenate([np.degrees(out), vib], axis=-1)
-    return MinPhaseAngles(rpm=n, segments=idx, criteria=CRITERIA, angle_deg=angles)
+    return idx
 
 
 def _vibration_deg(cam: Cam, idx: tuple[int, ...], rpm: Array, vibration: Any) -> Array:

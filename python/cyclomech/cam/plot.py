@@ -7,7 +7,9 @@ the base circle and the follower at a few cam angles. :func:`plot_svaj` draws th
 follower's displacement and its derivatives against cam angle, per radian of cam
 or (with a speed) per second; :func:`plot_along_cycle` the pressure angle, normal
 force, Hertz stress and shaft torque at a speed; :func:`plot_min_phase_angles` a
-:class:`cyclomech.cam.MinPhaseAngles` against speed, per criterion and segment.
+:class:`cyclomech.cam.MinPhaseAngles` against speed, per criterion and segment;
+:func:`plot_size_tradeoff` the smallest phase angles against the base radius
+(:func:`cyclomech.synthesis.cam_size_tradeoff`).
 
 matplotlib is an optional dependency (``pip install 'cyclomech[plot]'``), imported
 only when a function draws; the functions draw on the axes they are given (or on a
@@ -41,11 +43,18 @@ from .._units import RAD_PER_S_PER_RPM
 from ._followers import FlatFaced, OscillatingRoller
 from ._loads import CamLoads, Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
 from ._program import Cam
+from ._size import CamSizeTradeoff
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["plot_along_cycle", "plot_cam", "plot_min_phase_angles", "plot_svaj"]
+__all__ = [
+    "plot_along_cycle",
+    "plot_cam",
+    "plot_min_phase_angles",
+    "plot_size_tradeoff",
+    "plot_svaj",
+]
 
 Array = npt.NDArray[np.float64]
 #: Cam-angle steps of a turn in the drawings (0.25°).
@@ -779,4 +788,127 @@ def plot_min_phase_angles(
     ax.set_ylim(bottom=0.0)
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.set_title(title or "smallest phase angle per criterion against speed", fontsize=10)
+    return ax
+
+
+def plot_size_tradeoff(
+    t: CamSizeTradeoff,
+    *,
+    rpm_index: int = 0,
+    labels: Any = None,
+    sized_m: float | None = None,
+    ax: Axes | None = None,
+    title: str | None = None,
+) -> Axes:
+    """The smallest phase angle [deg] of each segment against the base radius [mm].
+
+    The trade-off of :func:`cyclomech.synthesis.cam_size_tradeoff` at one of its
+    speeds: one colour per segment, one line style per criterion (as
+    :func:`plot_min_phase_angles`), the bound (the largest) bold and faint under
+    them; a criterion 0 at every radius is left out, 0 and NaN are gaps. A larger
+    cam takes a shorter phase angle: in a machine the cam's size sets its bounds
+    in the timing LP and the LP its phase angles.
+
+    Parameters
+    ----------
+    t : CamSizeTradeoff
+        The trade-off (:func:`cyclomech.synthesis.cam_size_tradeoff`).
+    rpm_index : int, default 0
+        Which of its speeds to draw.
+    labels : sequence of str, optional
+        One name per segment; default None ("segment <i>").
+    sized_m : float, optional
+        A chosen base radius [m] (:func:`cyclomech.synthesis.cam_size`), drawn as a
+        vertical line; default None (not drawn).
+    ax : matplotlib.axes.Axes, optional
+        The axes to draw on; default None (a new figure).
+    title : str, optional
+        The title; default None.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+
+    Raises
+    ------
+    InputError
+        If ``t`` is not a trade-off, ``rpm_index`` is not one of its speeds' indices
+        or ``labels`` does not hold one name per segment.
+
+    Notes
+    -----
+    Artists, by gid: ``"<i>:<criterion>"``, ``"<i>:bound"``, ``"sized"``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np, cyclomech as cm
+    >>> from cyclomech.cam.plot import plot_size_tradeoff
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02),
+    ...                   S("dwell", 60)], cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> t = cm.synthesis.cam_size_tradeoff(cam, 300.0, np.linspace(0.015, 0.1, 12))
+    >>> plot_size_tradeoff(t, labels=["rise", "return"]).get_xlabel()
+    'base radius  [mm]'
+    """
+    if not isinstance(t, CamSizeTradeoff):
+        raise InputError(f"t must be a cyclomech.synthesis.CamSizeTradeoff; got {t!r}")
+    n_rpm = t.rpm.size
+    if isinstance(rpm_index, bool) or not isinstance(rpm_index, int | np.integer):
+        raise InputError(f"rpm_index must be an integer; got {rpm_index!r}")
+    if not 0 <= int(rpm_index) < n_rpm:
+        raise InputError(f"rpm_index = {rpm_index} must be in [0, {n_rpm}) (t's speeds)")
+    n_seg = len(t.segments)
+    if labels is not None and (isinstance(labels, str) or not hasattr(labels, "__len__")):
+        raise InputError(f"labels must be one name per segment ({n_seg}); got {labels!r}")
+    names = [f"segment {i}" for i in t.segments] if labels is None else [str(x) for x in labels]
+    if len(names) != n_seg:
+        raise InputError(f"labels holds {len(names)} names; t has {n_seg} segments")
+    plt = pyplot()
+    from matplotlib.lines import Line2D
+
+    if ax is None:
+        _fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    assert ax is not None
+    r_mm = t.base_radius * MM
+    a = t.angle_deg[:, int(rpm_index)]
+    bound = t.bound_deg[:, int(rpm_index)]
+    used: set[int] = set()
+    for i, seg in enumerate(t.segments):
+        c = f"C{i % 10}"
+        ax.plot(r_mm, bound[:, i], color=c, lw=5.0, alpha=0.3, gid=f"{seg}:bound")
+        for j, crit in enumerate(t.criteria):
+            y = a[:, i, j]
+            if not (np.nan_to_num(y, nan=1.0) != 0.0).any():
+                continue
+            used.add(j)
+            ax.plot(
+                r_mm,
+                np.where(y == 0.0, np.nan, y),
+                color=c,
+                lw=1.3,
+                ls=_CRITERION_STYLES[j % len(_CRITERION_STYLES)],
+                gid=f"{seg}:{crit}",
+            )
+    handles = [Line2D([], [], color=f"C{i % 10}", lw=5.0, alpha=0.45) for i in range(n_seg)]
+    texts = [f"{names[i]}: bound" for i in range(n_seg)]
+    handles += [
+        Line2D([], [], color="0.2", lw=1.3, ls=_CRITERION_STYLES[j % len(_CRITERION_STYLES)])
+        for j in sorted(used)
+    ]
+    texts += [t.criteria[j].replace("_", " ") for j in sorted(used)]
+    if sized_m is not None:
+        x = positive("sized_m", sized_m, "[m]") * MM
+        ax.axvline(x, color=CRITICAL_COLOR, lw=1.0, ls="--", gid="sized")
+        handles.append(Line2D([], [], color=CRITICAL_COLOR, lw=1.0, ls="--"))
+        texts.append(f"sized: {x:.4g} mm")
+    ax.legend(handles, texts, fontsize=8, loc="best")
+    ax.set_xlabel("base radius  [mm]")
+    ax.set_ylabel("smallest phase angle  [deg]")
+    ax.set_ylim(bottom=0.0)
+    ax.grid(True, lw=0.4, alpha=0.5)
+    rpm = float(t.rpm[int(rpm_index)])
+    ax.set_title(title or f"smallest phase angle against base radius at {rpm:g} rpm", fontsize=10)
     return ax

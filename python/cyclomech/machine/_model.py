@@ -492,6 +492,22 @@ class Machine:
         other.mechanisms, other.data, other._bounded, other._laws = mechs, data, bounded, {}
         return other
 
+    def _with_mechanisms(self, mechanisms: Mapping[str, Mechanism]) -> Machine:
+        """A copy with some mechanisms replaced by re-dimensioned ones whose bounds stay
+        on the same operations under the same labels (the sizing loop,
+        ``_resize.py``): the cyclogram and its network shared, the bound laws anew."""
+        mechs = dict(self.mechanisms)
+        mechs.update(mechanisms)
+        bounded = _bounded(mechs)
+        if [b for m in bounded for b in m.bounds()] != self.bounds():
+            raise InputError(
+                f"{self.source}: a resized mechanism ({', '.join(mechanisms)}) changed its "
+                "bounds' operations"
+            )
+        other = copy.copy(self)
+        other.mechanisms, other._bounded, other._laws = mechs, bounded, {}
+        return other
+
     # ----------------------------------------------------------------- its parts
     @property
     def bounded_mechanisms(self) -> list[Mechanism]:

@@ -40,6 +40,7 @@ from . import _page
 from ._efficiency import machine_efficiency
 from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
+from ._resize import resize_machine
 from ._result import MachineResult
 
 __all__ = ["MachineResult", "analyze", "write_report"]
@@ -74,6 +75,8 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     from ._model import Machine
 
     m = instance("machine", machine, Machine)
+    # Mechanisms that size themselves at the optimised timing: to a fixed point first.
+    m, resizing = resize_machine(m)
     steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms"]
     seconds: dict[str, float] = {}
     with progress_bar(len(steps), m.name, progress) as bar:
@@ -134,6 +137,7 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
+    r.resizing = resizing
     _drive_and_frame(r)
     _fold_error_limits(r)
     if r.above_speed_limit:
@@ -282,6 +286,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["optimum"] = None
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
+    out.update({} if r.resizing is None else {"resizing": r.resizing.json()})
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
     groups["mechanisms"] = {}

@@ -15,6 +15,7 @@ import numpy as np
 from .._kind import MechanismResult
 from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
+from ._resize import Resizing
 
 if TYPE_CHECKING:
     from ..dynamics import MachineDynamics, MachineShaking, MachineTorsion
@@ -74,6 +75,9 @@ class MachineResult:
     torsion : cyclomech.dynamics.MachineTorsion, optional
         The working members' dynamic errors on the elastic main shaft and links of
         the file's ``[drive.shaft]``, when it has one; default None.
+    resizing : Resizing, optional
+        How the mechanisms that size themselves (a cam's ``synthesize`` table) were
+        sized at the optimised timing, to a fixed point; default None (none does).
 
     Examples
     --------
@@ -100,6 +104,7 @@ class MachineResult:
     dynamics: MachineDynamics | None = None
     shaking: MachineShaking | None = None
     torsion: MachineTorsion | None = None
+    resizing: Resizing | None = None
 
     @property
     def failures(self) -> list[str]:
@@ -126,6 +131,8 @@ class MachineResult:
             out += self.dynamics.failures()
         if self.torsion is not None:
             out += self.torsion.failures()
+        if self.resizing is not None:
+            out += self.resizing.failures()
         return out
 
     @property

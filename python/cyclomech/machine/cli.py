@@ -125,6 +125,23 @@ def _print_shaft_and_frame(r: Any) -> None:
             )
 
 
+def _print_resizing(r: Any) -> None:
+    """What the mechanisms that size themselves chose at the optimised timing."""
+    z = r.resizing
+    if z is None:
+        return
+    end = f"a fixed point in {z.rounds} rounds" if z.converged else f"NO fixed point: {z.note}"
+    print(f"Sized at the optimised timing ({end}):")
+    for name, sizes in z.history[-1]["sizes"].items():
+        dims = ", ".join(f"{k} = {v:.6g}" for k, v in sizes.items())
+        res = r.mechanisms.get(name)
+        sized = getattr(getattr(res, "mech", None), "sized", None)
+        why = ""
+        if sized is not None:
+            why = f" ({sized.binding} binds)" if sized.binding else f" ({sized.status})"
+        print(f"  {name}: {dims}{why}")
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Run ``cyclomech run`` with the parsed ``args``; return the exit status."""
     from . import Machine, analyze, write_report
@@ -156,6 +173,7 @@ def run_command(args: argparse.Namespace) -> int:
         priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
         if priced:
             print("Binding, with shadow prices: " + ", ".join(priced))
+    _print_resizing(r)
     _print_shaft_and_frame(r)
     use_fig = not args.no_plot and has_matplotlib("figures")
     if use_fig and not args.quiet:

@@ -44,6 +44,14 @@ table asks for it with ``[mechanism.<name>.synthesize]``.
 
 from __future__ import annotations
 
+from ._cam_size import (
+    CAM_SIZE_CRITERIA,
+    CamLimits,
+    CamSize,
+    CamSizeTradeoff,
+    cam_size,
+    cam_size_tradeoff,
+)
 from ._fourbar import (
     Margins,
     four_bar_linkage,
@@ -58,12 +66,33 @@ from ._knife_file import SYNTHESIZE_KEYS, KnifeSynthesis  # registers the linkag
 from ._motion import MotionCandidate, motion_generation
 from ._path import PathCandidate, path_evaluate, path_generation
 
-__all__ = []  # type: list[str]  # filled as the kinds of synthesis land
-__all__ += ["Margins", "four_bar_linkage", "four_bar_margins", "slider_crank_linkage"]
-__all__ += ["slider_crank_margins"]
-__all__ += ["FunctionCandidate", "chebyshev_points", "function_generation"]
-__all__ += ["MotionCandidate", "motion_generation"]
-__all__ += ["SYNTHESIZE_KEYS", "KnifeComparison", "KnifeDrive", "KnifeRequirement"]
-__all__ += ["KnifeSynthesis", "compare_knife_drives", "knife_drive", "knife_forces"]
-__all__ += ["knife_motion"]
-__all__ += ["PathCandidate", "path_evaluate", "path_generation"]
+__all__ = [
+    "CAM_SIZE_CRITERIA",
+    "SYNTHESIZE_KEYS",
+    "CamLimits",
+    "CamSize",
+    "CamSizeTradeoff",
+    "FunctionCandidate",
+    "KnifeComparison",
+    "KnifeDrive",
+    "KnifeRequirement",
+    "KnifeSynthesis",
+    "Margins",
+    "MotionCandidate",
+    "PathCandidate",
+    "cam_size",
+    "cam_size_tradeoff",
+    "chebyshev_points",
+    "compare_knife_drives",
+    "four_bar_linkage",
+    "four_bar_margins",
+    "function_generation",
+    "knife_drive",
+    "knife_forces",
+    "knife_motion",
+    "motion_generation",
+    "path_evaluate",
+    "path_generation",
+    "slider_crank_linkage",
+    "slider_crank_margins",
+]

@@ -59,7 +59,7 @@ pub(crate) fn specs(
 /// A validated cam: program, follower and closure (see `cyclomech.cam`).
 #[pyclass(module = "cyclomech._core", frozen)]
 pub struct CamKernel {
-    cam: Cam,
+    pub(crate) cam: Cam,
 }
 
 #[pymethods]
@@ -240,7 +240,9 @@ impl CamKernel {
     }
 }
 
-fn to_loads((mass, spring_rate, preload, segment_loads): (f64, f64, f64, Vec<f64>)) -> Loads {
+pub(crate) fn to_loads(
+    (mass, spring_rate, preload, segment_loads): (f64, f64, f64, Vec<f64>),
+) -> Loads {
     Loads {
         mass,
         spring_rate,
@@ -249,7 +251,7 @@ fn to_loads((mass, spring_rate, preload, segment_loads): (f64, f64, f64, Vec<f64
     }
 }
 
-fn to_contact([width, fe, fnu, ce, cnu]: [f64; 5]) -> Contact {
+pub(crate) fn to_contact([width, fe, fnu, ce, cnu]: [f64; 5]) -> Contact {
     Contact {
         width,
         follower_modulus: fe,

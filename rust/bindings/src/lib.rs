@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod cam;
+mod cam_size;
 mod cam_vibration;
 mod convert;
 mod cyclogram;
@@ -33,6 +34,8 @@ mod transfer;
 mod _core {
     #[pymodule_export]
     use super::cam::CamKernel;
+    #[pymodule_export]
+    use super::cam_size::{cam_size, cam_size_tradeoff};
     #[pymodule_export]
     use super::cam_vibration::{cam_follower_response, cam_min_tau, cam_residual_ratio};
     #[pymodule_export]
@@ -99,6 +102,7 @@ mod _core {
         m.add("DEG_PER_S_PER_RPM", units::DEG_PER_S_PER_RPM)?;
         m.add("CAM_CRITERIA", PyTuple::new(m.py(), CAM_CRITERIA)?)?;
         m.add("CAM_LOAD_COLUMNS", PyTuple::new(m.py(), LOAD_COLUMNS)?)?;
+        super::cam_size::constants(m)?;
         m.add("SHAFT_STATS", PyTuple::new(m.py(), SHAFT_STATS)?)?;
         m.add(
             "DYNAMICS_STEADY_COLUMNS",

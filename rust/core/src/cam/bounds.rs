@@ -105,7 +105,7 @@ impl Cam {
     }
 
     /// The pressure angle's ratio max|φ|/[α] for segment `k` at angle `beta`.
-    fn pressure_ratio(&self, k: usize, beta: f64, limit: f64) -> f64 {
+    pub(crate) fn pressure_ratio(&self, k: usize, beta: f64, limit: f64) -> f64 {
         max_unit(|x| {
             let mut geo = [0.0; N_COLUMNS];
             self.trial_row(k, x, beta, &mut geo);
@@ -134,7 +134,7 @@ impl Cam {
     }
 
     /// The undercut ratio's worst value over segment `k` at angle `beta`.
-    fn undercut_ratio(&self, k: usize, beta: f64) -> f64 {
+    pub(crate) fn undercut_ratio(&self, k: usize, beta: f64) -> f64 {
         max_unit(|x| self.undercut_of(&self.lean_row(self.program().trial(k, x, beta)))).0
     }
 
@@ -167,7 +167,7 @@ impl Cam {
     /// also maximised on the two cells around it. `grid`: the law's values at
     /// the grid's points ([`Program::law_at`]), if the caller keeps them.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn stress_ratio(
+    pub(crate) fn stress_ratio(
         &self,
         k: usize,
         beta: f64,

@@ -29,6 +29,7 @@ pub use bounds::{last_crossing, Limits, CRITERIA};
 pub use contact::{Contact, Loads, LOAD_COLUMNS, N_LOAD_COLUMNS};
 pub use follower::{Cam, Follower, COLUMNS, N_COLUMNS};
 pub use program::{CamError, Kind, Program, SegmentSpec};
+pub(crate) use search::{brent_max, brent_zero};
 pub use vibration::{
     free_amplitude, min_tau, min_tau_of, residual_ratio, residual_ratio_batch, steady_response,
     LawForce, SteadyState, VibrationError, GRID_PER_UNIT, RESONANCE_DET, SCAN_MAX, SCAN_STEP,
