@@ -421,6 +421,10 @@ class MachineTorsion:
         events of the operations it performs (``mechanism`` of an operation) and
         the operations whose bounds it sets, and the event its ``phase`` follows.
         Empty without a steady state.
+    working_rpm : float, default inf
+        The machine's speed limit before its dynamic errors lower it [rpm]: a sweep
+        speed above it is outside the speeds the machine can run at, so a chain that
+        does not settle there is no failure (its errors stay NaN in the sweep).
 
     Examples
     --------
@@ -438,6 +442,7 @@ class MachineTorsion:
     nominal_rpm: float
     problem: str = ""
     event_lags_deg: dict[str, dict[str, float]] = field(default_factory=dict)
+    working_rpm: float = math.inf
 
     def bounds(self) -> dict[str, float]:
         """Each bounded member's largest dynamic error allowed [its unit].
@@ -542,7 +547,7 @@ class MachineTorsion:
         out = []
         if self.problem:
             out.append(f"the elastic main shaft: {self.problem}")
-        bad = self.sweep.rpm[~self.sweep.settled]
+        bad = self.sweep.rpm[~self.sweep.settled & (self.sweep.rpm <= self.working_rpm)]
         if bad.size:
             out.append(
                 f"the elastic main shaft did not settle at {bad.size} of the "
@@ -813,8 +818,9 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
         if x.member is not None and x.member.max_error is not None
     }
     lags = {} if nominal is None else _event_lags(result, nominal)
+    top = float(getattr(getattr(result, "limit", None), "rpm", math.inf))
     return MachineTorsion(
-        tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem, lags
+        tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem, lags, top
     )
 
 
