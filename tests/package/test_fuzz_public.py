@@ -57,6 +57,7 @@ PACKAGES = [
     "cyclomech.press",
     "cyclomech.servo",
     "cyclomech.shaft",
+    "cyclomech.synthesis",
     "cyclomech.transfer",
 ]
 
@@ -119,6 +120,15 @@ RESULT_CLASSES = {
     "cyclomech.shaft.MainShaft",
     "cyclomech.shaft.ShaftStats",
     "cyclomech.shaft.ShaftTorque",
+    "cyclomech.synthesis.CamSize",
+    "cyclomech.synthesis.CamSizeTradeoff",
+    "cyclomech.synthesis.FunctionCandidate",
+    "cyclomech.synthesis.KnifeComparison",
+    "cyclomech.synthesis.KnifeDrive",
+    "cyclomech.synthesis.KnifeSynthesis",
+    "cyclomech.synthesis.Margins",
+    "cyclomech.synthesis.MotionCandidate",
+    "cyclomech.synthesis.PathCandidate",
     "cyclomech.transfer.PathAcceleration",
     "cyclomech.transfer.PathSample",
     "cyclomech.transfer.QuinticTransition",
@@ -409,6 +419,8 @@ ALLOWED = {
     ("cyclomech.Constraint", "rhs", "nan"),
     # a speed limit of +inf: the machine is not limited (drawn as no line)
     ("cyclomech.plot.plot_speed_sweep", "limit_rpm", "inf"),
+    # a linkage that cannot be assembled has NaN transmission angles (its margins say so)
+    ("cyclomech.synthesis.slider_crank_margins", "offset", "negative"),
 }
 
 

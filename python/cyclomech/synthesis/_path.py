@@ -492,7 +492,7 @@ def path_generation(
         count("popsize", popsize, low=5),
         count("maxiter", maxiter, low=1),
         finite_number("tol", tol, "(relative)", low=0.0),
-        seed,
+        None if seed is None else count("seed", seed, low=0, what="seed"),
         4 * keep,
     )
     if flag("polish", polish):
