@@ -26,6 +26,27 @@ points the circumcentres of their three positions. Candidates come best first:
 clean ones (no branch or order defect, no fold over the range) before the
 others, each with its defects and margins.
 
+Path generation
+---------------
+:func:`path_generation` finds a four-bar or slider-crank whose coupler point
+passes N target points, with the crank angles prescribed (timing) or free, by
+differential evolution whose every generation is one parallel call of the Rust
+batch evaluator (:func:`path_evaluate`, millions of candidates per call for a
+user's own sweep), then least squares from the best. The constraints (a crank
+that turns fully, the transmission angle, the link-length ratio, a box for the
+ground pivots) are checked in closed form over the working range; a candidate
+that breaks one ranks after every one that does not.
+
+Cams sized against the cyclogram
+--------------------------------
+:func:`cam_size` gives a cam's smallest base radius (with the best offset of a
+translating roller, or the pivot distance of an oscillating one) that meets its
+pressure-angle, undercut and Hertz-stress limits at its phase angles and speed,
+the binding limit and every margin; :func:`cam_size_tradeoff` the smallest
+phase angles against the base radius, the trade the cyclogram makes. A machine
+file's cam table asks for it with ``[mechanism.<name>.synthesize]`` and
+``cyclomech run`` sizes it at the optimised timing, to a fixed point.
+
 Seed 001's knife drives
 -----------------------
 :func:`knife_drive` dimensions one of the three generalised knife-drive schemes
