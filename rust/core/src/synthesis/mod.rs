@@ -4,6 +4,7 @@
 //! points, poses, limits) as slices and returns the dimensions with their
 //! margins; candidates are evaluated in parallel batches.
 
+pub mod dwell;
 pub mod fourbar;
 pub mod function;
 pub mod motion;
