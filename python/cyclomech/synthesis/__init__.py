@@ -34,6 +34,7 @@ others, each with its defects and margins.
 
 from __future__ import annotations
 
+from ._dwell import DwellCandidate, dwell_sixbar
 from ._fourbar import (
     Margins,
     four_bar_linkage,
@@ -49,3 +50,4 @@ __all__ += ["Margins", "four_bar_linkage", "four_bar_margins", "slider_crank_lin
 __all__ += ["slider_crank_margins"]
 __all__ += ["FunctionCandidate", "chebyshev_points", "function_generation"]
 __all__ += ["MotionCandidate", "motion_generation"]
+__all__ += ["DwellCandidate", "dwell_sixbar"]
