@@ -101,15 +101,17 @@ fn solve3(mut m: [[f64; 3]; 3], mut r: [f64; 3]) -> Option<[f64; 3]> {
     let big = m.iter().flatten().fold(0.0f64, |a, &v| a.max(v.abs()));
     for k in 0..3 {
         let p = (k..3).max_by(|&i, &j| m[i][k].abs().total_cmp(&m[j][k].abs()))?;
-        if !(m[p][k].abs() > 1e-14 * big) {
+        let pivot = m[p][k].abs();
+        if pivot.is_nan() || pivot <= 1e-14 * big {
             return None;
         }
         m.swap(k, p);
         r.swap(k, p);
         for i in k + 1..3 {
             let f = m[i][k] / m[k][k];
-            for j in k..3 {
-                m[i][j] -= f * m[k][j];
+            let row_k = m[k];
+            for (mij, mkj) in m[i].iter_mut().zip(row_k).skip(k) {
+                *mij -= f * mkj;
             }
             r[i] -= f * r[k];
         }
@@ -149,7 +151,7 @@ pub fn fit_circle(pts: &[[f64; 2]]) -> Option<Circle> {
     let [dd, ee, ff] = solve3(m, r)?;
     let (mut cx, mut cy) = (-dd / 2.0, -ee / 2.0);
     let r2 = cx * cx + cy * cy - ff;
-    if !(r2 > 0.0) {
+    if r2.is_nan() || r2 <= 0.0 {
         return None;
     }
     let mut rad = r2.sqrt();
@@ -422,7 +424,7 @@ fn construct(circle: Circle, far: [f64; 2], q: f64, side: f64) -> Option<Output>
     let (dx, dy) = (far[0] - e0[0], far[1] - e0[1]);
     let dist = dx.hypot(dy);
     let h = dist - circle.radius;
-    if !(h > 1e-9 * dist) {
+    if h.is_nan() || h <= 1e-9 * dist {
         return None;
     }
     let (ux, uy) = (dx / dist, dy / dist);
@@ -507,7 +509,7 @@ impl Sixbar {
 /// dyad does not assemble over the turn).
 pub fn evaluate(design: &Design, spec: &Spec) -> Option<Sixbar> {
     let g = grashof(design.a, design.b, design.c, design.d).ok()?;
-    if !g.crank_turns || !(design.u.is_finite() && design.v.is_finite()) {
+    if !(g.crank_turns && design.u.is_finite() && design.v.is_finite()) {
         return None;
     }
     let Ok(Transmission::Range { mu_min, mu_max, .. }) =
@@ -587,7 +589,7 @@ pub fn dwell_batch(
 ) -> Result<Vec<f64>, InvalidInput> {
     spec.check()?;
     InvalidInput::check_finite("params", params)?;
-    if params.len() % PARAMS != 0 {
+    if !params.len().is_multiple_of(PARAMS) {
         return Err(InvalidInput::bad_value(
             "params",
             params.len() as f64,
@@ -729,7 +731,7 @@ mod tests {
         #[test]
         fn residual_bounds_the_sampled_dwell_motion(
             a in 0.15f64..0.4, b in 0.8f64..1.6, c in 0.8f64..1.6,
-            u in -0.5f64..1.5, v in -1.0f64..1.0, tm in 0.0f64..6.28,
+            u in -0.5f64..1.5, v in -1.0f64..1.0, tm in 0.0f64..TAU,
         ) {
             let design = Design { a, b, c, d: 1.0, u, v, sigma: 1.0, theta_mid: tm };
             let sp = spec();
