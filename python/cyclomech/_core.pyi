@@ -1011,6 +1011,7 @@ def dwell_batch(
     span: float,
     swing: float,
     min_mu: float,
+    max_ratio: float,
     n_dwell: int,
     n_turn: int,
     *,

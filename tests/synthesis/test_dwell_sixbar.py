@@ -89,6 +89,9 @@ def test_the_candidates_meet_their_constraints(found):
         assert np.minimum(mu, 180 - mu).min() >= 30.0 - 1e-3
         assert_allclose(lk.length("P", "E"), c.lengths["dyad"], rtol=1e-12)
         assert_allclose(lk.length("E", "F"), c.lengths["output"], rtol=1e-12)
+        links = list(c.lengths.values())
+        assert_allclose(c.length_ratio, max(links) / min(links), rtol=1e-12)
+        assert c.length_ratio <= 10.0
 
 
 def test_fixed_seed_is_repeatable_and_results_pickle(found):
@@ -130,7 +133,7 @@ def test_a_constructed_dwell_from_a_symmetric_coupler_curve():
     a, b, c, d, u, v = 0.3, 1.0, 1.0, 1.0, 0.5, math.sqrt(0.75)
     mids = np.radians(np.arange(0, 360, 5.0))
     p = np.array([[a, b, c, d, u, v, m] for m in mids])
-    r = _core.dwell_batch(p, 1.0, math.radians(60), math.radians(40), 0.0, 25, 360)
+    r = _core.dwell_batch(p, 1.0, math.radians(60), math.radians(40), 0.0, math.inf, 25, 360)
     cols = _core.dwell_fields()
     res = r[:, cols.index("residual")]
     k = int(np.nanargmin(res))
@@ -160,6 +163,7 @@ def test_the_search_finds_a_smaller_residual_than_the_constructed_one():
         ({"dwell_deg": 60, "swing_deg": 30, "ground_m": 0}, "ground_m"),
         ({"dwell_deg": 60, "swing_deg": 30, "min_transmission_deg": 95}, "min_transmission_deg"),
         ({"dwell_deg": 60, "swing_deg": 30, "seed": 1.5}, "seed"),
+        ({"dwell_deg": 60, "swing_deg": 30, "max_length_ratio": 0.5}, "max_length_ratio"),
         ({"dwell_deg": 60, "swing_deg": 30, "n_dwell": 2}, "n_dwell"),
     ],
 )

@@ -77,8 +77,12 @@ class DwellCandidate:
     output_transmission_min_deg, output_transmission_max_deg : float
         The second loop's transmission angle (between E → P and E → F) over the
         turn [deg], on a grid of ``n_turn`` crank angles.
+    length_ratio : float
+        The six links' longest over shortest (crank, coupler, rocker, ground,
+        dyad, output).
     feasible : bool
-        Both loops' transmission angles at least the limit and the swing met.
+        Both loops' transmission angles at least the limit, the swing met and
+        the length ratio within its limit.
 
     Examples
     --------
@@ -102,6 +106,7 @@ class DwellCandidate:
     margins: Margins
     output_transmission_min_deg: float
     output_transmission_max_deg: float
+    length_ratio: float
     feasible: bool
 
     @property
@@ -207,6 +212,7 @@ def _candidate(row: np.ndarray, p: np.ndarray, dwell: float, min_mu: float) -> D
         margins=m,
         output_transmission_min_deg=math.degrees(f["mu2_min"]),
         output_transmission_max_deg=math.degrees(f["mu2_max"]),
+        length_ratio=float(f["ratio"]),
         feasible=bool(f["violation"] == 0.0 and mu2 >= min_mu),
     )
 
@@ -217,6 +223,7 @@ def dwell_sixbar(
     *,
     ground_m: float = 1.0,
     min_transmission_deg: float = 30.0,
+    max_length_ratio: float = 10.0,
     n_candidates: int = 5,
     seed: int = 0,
     popsize: int = 20,
@@ -244,7 +251,8 @@ def dwell_sixbar(
     in one parallel Rust call per generation; its objective is the output's
     residual motion over the dwell [deg] plus 1000 × the constraints' violation
     (transmission angles of both loops below ``min_transmission_deg``, swing
-    missed) — so feasible candidates rank by residual alone.
+    missed, link-length ratio above ``max_length_ratio``) — so feasible
+    candidates rank by residual alone.
 
     Parameters
     ----------
@@ -257,6 +265,8 @@ def dwell_sixbar(
         length scales with it).
     min_transmission_deg : float
         The least transmission angle allowed in both loops [deg], in [0, 90].
+    max_length_ratio : float
+        The largest ratio allowed of the six links' longest to shortest (≥ 1).
     n_candidates : int
         How many candidates to return at most (distinct members of the final
         population, best first).
@@ -309,6 +319,7 @@ def dwell_sixbar(
         math.radians(dwell),
         math.radians(swing),
         math.radians(mu),
+        finite_number("max_length_ratio", max_length_ratio, "", low=1.0),
         count("n_dwell", n_dwell, low=3, what="dwell samples"),
         count("n_turn", n_turn, low=8, what="turn samples"),
     )

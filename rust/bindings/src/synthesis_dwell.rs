@@ -12,7 +12,7 @@ use crate::errors::{input_error, run};
 
 /// Rows (a, b, c, d, u, v, θm) → rows of `dwell_fields()` (see the core's docs).
 #[pyfunction]
-#[pyo3(signature = (params, sigma, span, swing, min_mu, n_dwell, n_turn, *, n_threads=None))]
+#[pyo3(signature = (params, sigma, span, swing, min_mu, max_ratio, n_dwell, n_turn, *, n_threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn dwell_batch<'py>(
     py: Python<'py>,
@@ -21,6 +21,7 @@ pub fn dwell_batch<'py>(
     span: f64,
     swing: f64,
     min_mu: f64,
+    max_ratio: f64,
     n_dwell: usize,
     n_turn: usize,
     n_threads: Option<i64>,
@@ -42,6 +43,7 @@ pub fn dwell_batch<'py>(
         span,
         swing,
         min_mu,
+        max_ratio,
         n_dwell,
         n_turn,
     };

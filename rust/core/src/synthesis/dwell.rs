@@ -43,10 +43,11 @@
 //! whole-turn grid; the four-bar's is in closed form.
 //!
 //! **Ranking rule.** A candidate *violates* by the sum of: the four-bar's worst
-//! transmission angle below the limit, the second loop's below the limit, and
-//! |swing − wanted| beyond [`SWING_TOL`] (all [rad]); it is *rejected*
-//! ([`REJECTED`]) where the crank does not turn fully, no arc or placement
-//! exists, or the dyad cannot be assembled somewhere in the turn. The
+//! transmission angle below the limit, the second loop's below the limit,
+//! |swing − wanted| beyond [`SWING_TOL`] (all [rad]), and the logarithm of the
+//! six links' longest-over-shortest ratio over its limit where above it. It is
+//! *rejected* ([`REJECTED`]) where the crank does not turn fully, no arc or
+//! placement exists, or the dyad cannot be assembled somewhere in the turn. The
 //! objective is residual + 1000·violation (degrees): feasible candidates rank
 //! by their residual alone.
 
@@ -65,7 +66,7 @@ pub const SWING_TOL: f64 = 1e-9;
 /// The objective of a candidate that cannot be evaluated (see the module docs).
 pub const REJECTED: f64 = 1e9;
 /// Fields per candidate in [`dwell_batch`]'s output, in this order.
-pub const FIELDS: [&str; 17] = [
+pub const FIELDS: [&str; 18] = [
     "objective",
     "violation",
     "residual",
@@ -83,6 +84,7 @@ pub const FIELDS: [&str; 17] = [
     "mu2_min",
     "mu2_max",
     "side",
+    "ratio",
 ];
 /// Parameters per candidate in [`dwell_batch`]'s input: a, b, c, d [m], u, v
 /// [m], θm [rad].
@@ -233,6 +235,9 @@ pub struct Spec {
     pub swing: f64,
     /// The least transmission angle allowed in both loops [rad], in [0, π/2].
     pub min_mu: f64,
+    /// The largest ratio allowed of the six links' longest to shortest
+    /// (a, b, c, d, the dyad R and the output rocker e), ≥ 1.
+    pub max_ratio: f64,
     /// Crank angles sampled over the dwell (≥ 3).
     pub n_dwell: usize,
     /// Crank angles sampled over the whole turn (≥ 8).
@@ -261,6 +266,13 @@ impl Spec {
                 "min_mu",
                 self.min_mu,
                 "[rad] must be in [0, π/2]",
+            ));
+        }
+        if self.max_ratio.is_nan() || self.max_ratio < 1.0 {
+            return Err(InvalidInput::bad_value(
+                "max_ratio",
+                self.max_ratio,
+                "must be ≥ 1 (longest over shortest link)",
             ));
         }
         if self.n_dwell < 3 || self.n_turn < 8 {
@@ -388,7 +400,10 @@ pub fn measure(design: &Design, out: &Output, spec: &Spec) -> Option<Measures> {
     let psi = |t: f64| output_angle(design, out, t, psi_mid);
     let (lo, hi) = (tm - spec.span / 2.0, tm + spec.span / 2.0);
     let residual = peak_to_peak(&psi, lo, hi, 4 * spec.n_dwell)?;
-    let swing = peak_to_peak(&psi, tm - PI, tm + PI, spec.n_turn)?;
+    // One step beyond each end of the turn: ψ is periodic, and an extreme just
+    // across the seam (θm ± π) must have samples on both sides for its refinement.
+    let st = TAU / spec.n_turn as f64;
+    let swing = peak_to_peak(&psi, tm - PI - st, tm + PI + st, spec.n_turn + 2)?;
     let (mut cmin, mut cmax) = (f64::INFINITY, f64::NEG_INFINITY);
     for i in 0..spec.n_turn {
         let c = out.cos_mu2(design.point(tm + TAU * i as f64 / spec.n_turn as f64)?);
@@ -493,6 +508,8 @@ pub struct Sixbar {
     pub mu4_min: f64,
     pub mu4_max: f64,
     pub side: f64,
+    /// The six links' longest over shortest.
+    pub ratio: f64,
     /// The constraints' violation [rad] (module docs), 0 where all hold.
     pub violation: f64,
 }
@@ -525,11 +542,22 @@ pub fn evaluate(design: &Design, spec: &Spec) -> Option<Sixbar> {
             d(p).total_cmp(&d(q))
         })?;
     let mu4 = mu_min.min(PI - mu_max);
-    let violation = |m: &Measures| {
+    let (d4_lo, d4_hi) = [design.b, design.c, design.d]
+        .into_iter()
+        .fold((design.a, design.a), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    // The six links' longest over shortest (the output's e and R from the placement).
+    let ratio = |o: &Output| {
+        let (lo, hi) = [o.circle.radius, o.rocker]
+            .into_iter()
+            .fold((d4_lo, d4_hi), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        hi / lo
+    };
+    let violation = |o: &Output, m: &Measures| {
         let mu2 = m.mu2_min.min(PI - m.mu2_max);
         let miss = (m.swing - spec.swing).abs();
         (spec.min_mu - mu4).max(0.0)
             + (spec.min_mu - mu2).max(0.0)
+            + (ratio(o) / spec.max_ratio).ln().max(0.0)
             + if miss > SWING_TOL { miss } else { 0.0 }
     };
     [1.0, -1.0]
@@ -543,7 +571,8 @@ pub fn evaluate(design: &Design, spec: &Spec) -> Option<Sixbar> {
                 mu4_min: mu_min,
                 mu4_max: mu_max,
                 side,
-                violation: violation(&measures),
+                ratio: ratio(&output),
+                violation: violation(&output, &measures),
             })
         })
         .min_by(|x, y| x.objective().total_cmp(&y.objective()))
@@ -576,6 +605,7 @@ pub fn fields(s: Option<&Sixbar>) -> [f64; FIELDS.len()] {
         s.measures.mu2_min,
         s.measures.mu2_max,
         s.side,
+        s.ratio,
     ]
 }
 
@@ -660,6 +690,7 @@ mod tests {
             span: 60f64.to_radians(),
             swing: 40f64.to_radians(),
             min_mu: 0.0,
+            max_ratio: f64::INFINITY,
             n_dwell: 25,
             n_turn: 360,
         }
