@@ -1060,3 +1060,23 @@ def motion_fourbar(
     tuple[float, float],
     tuple[bool, float, float, float, float],
 ]: ...
+
+# synthesis: six-bar dwell linkages (synthesis/dwell.rs). params rows are (a, b,
+# c, d, u, v, theta_mid); the result's columns are dwell_fields().
+
+__all__ += ["dwell_batch", "dwell_fields", "fit_circle"]
+
+def dwell_batch(
+    params: npt.NDArray[np.float64],
+    sigma: float,
+    span: float,
+    swing: float,
+    min_mu: float,
+    max_ratio: float,
+    n_dwell: int,
+    n_turn: int,
+    *,
+    n_threads: int | None = None,
+) -> npt.NDArray[np.float64]: ...
+def dwell_fields() -> list[str]: ...
+def fit_circle(points: list[tuple[float, float]]) -> tuple[float, float, float] | None: ...

@@ -122,6 +122,7 @@ RESULT_CLASSES = {
     "cyclomech.shaft.ShaftTorque",
     "cyclomech.synthesis.CamSize",
     "cyclomech.synthesis.CamSizeTradeoff",
+    "cyclomech.synthesis.DwellCandidate",
     "cyclomech.synthesis.FunctionCandidate",
     "cyclomech.synthesis.KnifeComparison",
     "cyclomech.synthesis.KnifeDrive",

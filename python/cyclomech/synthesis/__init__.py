@@ -57,6 +57,27 @@ synthesises each and compares them (transmission angles, peak acceleration and
 jerk, driving torque and joint loads, speed limit). A machine file's linkage
 table asks for it with ``[mechanism.<name>.synthesize]``.
 
+Six-bar dwell linkages
+----------------------
+:func:`dwell_sixbar` builds Stephenson III six-bars whose output rocker stands
+(nearly) still while the crank turns a given dwell angle and swings a given
+angle over the rest of the turn: a crank-rocker's coupler point traces a nearly
+circular arc over the dwell (fitted by least squares, Kåsa's fit refined by
+Gauss–Newton), a dyad of that arc's radius joins it to the output joint, which
+stands at the arc's centre during the dwell, and the output's pivot is placed on
+the perpendicular bisector of that joint's extreme positions so that the swing
+measured on the six-bar's position solution is the one asked for. A
+differential-evolution search over the four-bar and its coupler point, its whole
+population evaluated in one parallel Rust call per generation, ranks the
+candidates (:class:`DwellCandidate`) feasible first (both loops' transmission
+angles at the limit or above, swing met), then by the output's residual motion
+over the dwell; each builds its :class:`cyclomech.Linkage`.
+
+>>> import cyclomech as cm
+>>> six = cm.synthesis.dwell_sixbar(dwell_deg=60, swing_deg=40, maxiter=10)[0]
+>>> six.feasible, round(six.swing_deg, 6), six.residual_deg < 1.0
+(True, 40.0, True)
+
 >>> import cyclomech as cm
 >>> best = cm.synthesis.function_generation([(30, 80), (60, 90), (90, 100)], ground_m=0.2)[0]
 >>> best.margins.grashof, best.clean
@@ -73,6 +94,7 @@ from ._cam_size import (
     cam_size,
     cam_size_tradeoff,
 )
+from ._dwell import DwellCandidate, dwell_sixbar
 from ._fourbar import (
     Margins,
     four_bar_linkage,
@@ -93,6 +115,7 @@ __all__ = [
     "CamLimits",
     "CamSize",
     "CamSizeTradeoff",
+    "DwellCandidate",
     "FunctionCandidate",
     "KnifeComparison",
     "KnifeDrive",
@@ -105,6 +128,7 @@ __all__ = [
     "cam_size_tradeoff",
     "chebyshev_points",
     "compare_knife_drives",
+    "dwell_sixbar",
     "four_bar_linkage",
     "four_bar_margins",
     "function_generation",

@@ -24,6 +24,7 @@ mod press;
 mod servo;
 mod shaft;
 mod speed_limit;
+mod synthesis_dwell;
 mod synthesis_fourbar;
 mod synthesis_function;
 mod synthesis_motion;
@@ -69,6 +70,8 @@ mod _core {
     use super::shaft::{shaft_stats, shaft_sum};
     #[pymodule_export]
     use super::speed_limit::{solve_proportional, speed_limits_proportional};
+    #[pymodule_export]
+    use super::synthesis_dwell::{dwell_batch, dwell_fields, fit_circle};
     #[pymodule_export]
     use super::synthesis_fourbar::{
         fourbar_grashof, fourbar_output_angle, fourbar_transmission, slider_crank_kind,

@@ -264,6 +264,29 @@ pub fn fourbar_output_angle(a: f64, b: f64, c: f64, d: f64, theta: f64, sigma: f
     Some(theta4 - TAU * ((theta4 + PI) / TAU).ceil() + TAU)
 }
 
+/// The coupler point P [m] at crank angle θ [rad] on branch σ = ±1, or None
+/// where it does not assemble. P is (u, v) [m] in the coupler's frame: u along
+/// B → C, v to its left (the Python layer's `coupler_point`); A at the origin,
+/// D at (d, 0).
+#[allow(clippy::too_many_arguments)]
+pub fn coupler_point(
+    a: f64,
+    b: f64,
+    c: f64,
+    d: f64,
+    theta: f64,
+    sigma: f64,
+    u: f64,
+    v: f64,
+) -> Option<[f64; 2]> {
+    let t4 = fourbar_output_angle(a, b, c, d, theta, sigma)?;
+    let (bx, by) = (a * theta.cos(), a * theta.sin());
+    let (cx, cy) = (d + c * t4.cos(), c * t4.sin());
+    // |BC| = b on an assembled pose: the unit vector along the coupler.
+    let (ex, ey) = ((cx - bx) / b, (cy - by) / b);
+    Some([bx + u * ex - v * ey, by + u * ey + v * ex])
+}
+
 /// The branch σ = ±1 of a four-bar drawn with crank pin B and rocker pin C (D at
 /// (d, 0)): the side of the ray D → B that C is on (module docs); 0 when C is on
 /// the line DB (a folded pose, the branch undefined).
@@ -424,6 +447,30 @@ mod tests {
                 assert_eq!(fourbar_branch(d, bp, cp), sigma);
             }
         }
+    }
+
+    #[test]
+    fn coupler_point_is_rigid_with_the_coupler() {
+        let (a, b, c, d, u, v) = (1.0, 3.0, 3.5, 4.0, 1.2, 0.7);
+        for i in 0..32 {
+            let th = i as f64 * TAU / 32.0;
+            let p = coupler_point(a, b, c, d, th, 1.0, u, v).unwrap();
+            let t4 = fourbar_output_angle(a, b, c, d, th, 1.0).unwrap();
+            let bp = [a * th.cos(), a * th.sin()];
+            let cp = [d + c * t4.cos(), c * t4.sin()];
+            // Distances to B and C are those of (u, v) to (0, 0) and (b, 0).
+            let pb = (p[0] - bp[0]).hypot(p[1] - bp[1]);
+            let pc = (p[0] - cp[0]).hypot(p[1] - cp[1]);
+            assert!((pb - u.hypot(v)).abs() < 1e-12);
+            assert!((pc - (u - b).hypot(v)).abs() < 1e-12);
+            // v > 0: P on the left of B → C.
+            assert!(fourbar_branch_side(bp, cp, p) > 0.0);
+        }
+        assert!(coupler_point(3.0, 3.0, 3.0, 4.0, PI, 1.0, 0.0, 0.0).is_none());
+    }
+
+    fn fourbar_branch_side(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! margins; candidates are evaluated in parallel batches.
 
 pub mod cam_size;
+pub mod dwell;
 pub mod fourbar;
 pub mod function;
 pub mod motion;
