@@ -312,8 +312,7 @@ def dwell_sixbar(
     if mu > 90.0:
         raise InputError(f"min_transmission_deg must be ≤ 90 [deg]; got {mu:g}")
     want = count("n_candidates", n_candidates, what="candidates")
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer):
-        raise InputError(f"seed must be an integer; got {seed!r}")
+    seed = count("seed", seed, low=0, what="seed")
     args = (
         1.0,
         math.radians(dwell),

@@ -161,7 +161,7 @@ class FunctionCandidate:
         return out.reshape(x.shape)
 
     def crank_angle_deg(self, input_deg: float) -> float:
-        """The linkage's crank angle [deg] (what :meth:`Linkage.solve` takes, in
+        """The linkage's crank angle [deg] (what :meth:`cyclomech.Linkage.solve` takes, in
         radians) for the function's input angle φ [deg]: φ, or φ + 180° where the
         crank is flipped.
 

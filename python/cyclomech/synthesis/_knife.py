@@ -313,7 +313,7 @@ class KnifeDrive:
     min_transmission_deg : dict of str to float
         The least transmission angle over the turn at each checked joint.
     candidates : list of (float, ndarray)
-        The last generation's (cost, lengths in :attr:`Linkage.dimensions`
+        The last generation's (cost, lengths in ``Linkage.dimensions``
         order), best first; the first is the linkage's.
     feasible : bool
         Every margin ≥ 0.

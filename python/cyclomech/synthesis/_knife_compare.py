@@ -6,7 +6,7 @@ the speed limit.
 **Jerk.** The knife's acceleration analog d²xy/dφ² of a linkage turning at
 constant speed is a smooth 2π-periodic function of the crank angle, so its
 derivative is taken spectrally: the FFT of the analog on a uniform grid of
-:data:`JERK_POINTS` angles, times i·k, back. For an analytic periodic function
+``JERK_POINTS`` angles, times i·k, back. For an analytic periodic function
 the error falls exponentially with the grid (the test checks it against a
 central difference of the solver's own acceleration analog). Jerk = ω³ · that
 third derivative; acceleration = ω² · the second (ω the crank speed [rad/s]).
@@ -146,11 +146,11 @@ class KnifeComparison:
         The crank speed of the dynamic columns [rpm].
     drives : dict of str to KnifeDrive
         Each scheme's synthesis (schemes that could not meet the requirement are
-        left out and named in :attr:`failed`).
+        left out and named in ``failed``).
     rows : list of dict
         One row per scheme (see :meth:`table` for the columns).
     curves : dict of str to dict of str to ndarray
-        Per scheme over :attr:`angles` (crank angle from each drive's top [deg]):
+        Per scheme over ``angles`` (crank angle from each drive's top [deg]):
         ``s`` the knife's displacement [m], ``acc`` its acceleration along −y
         [m/s²], ``jerk`` [m/s³] along −y, ``torque`` [N·m].
     failed : dict of str to str
@@ -257,7 +257,7 @@ def compare_knife_drives(
     """Synthesise each scheme for ``requirement`` and compare them side by side.
 
     Each scheme is synthesised by :func:`knife_drive` and then solved by its own
-    :meth:`~cyclomech.Linkage.solve` on :data:`JERK_POINTS` angles from its top:
+    :meth:`~cyclomech.Linkage.solve` on ``JERK_POINTS`` angles from its top:
     the least transmission angle at each checked joint, the knife's peak
     acceleration (ω²·max|d²E/dφ²|) and jerk (ω³·max|d³E/dφ³|, spectral; see the
     module), the driving torque and the most loaded joint by

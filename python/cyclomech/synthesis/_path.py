@@ -122,7 +122,7 @@ class PathCandidate:
         Returns
         -------
         Linkage
-            Its solve at :attr:`angles` places P at :attr:`points`.
+            Its solve at ``angles`` places P at ``points``.
 
         Examples
         --------
