@@ -135,7 +135,7 @@ class CamSize:
         ``"ok"`` (a limit binds) or ``"at_lower_bound"`` (already admissible at
         ``min_base_radius``: the optimum is the search's bound).
     binding : str
-        The criterion of :data:`~cyclomech.cam.CAM_SIZE_CRITERIA` that binds (ratio 1), "" at the
+        The criterion of ``CAM_SIZE_CRITERIA`` that binds (ratio 1), "" at the
         lower bound.
     ratios : dict of str to float
         Each criterion's worst value over the cam to its limit at the answer (≤ 1;

@@ -6,7 +6,7 @@ registers a synthesizer per ``scheme`` here when it is imported (``import
 cyclomech`` imports it), and the linkage table's parser calls it through
 :func:`synthesize`. A synthesizer takes the ``synthesize`` table and the place
 to name in messages and returns a record with the synthesised ``linkage`` and
-the report's hooks (:class:`~cyclomech.linkage._synthesize.Synthesized`).
+the report's hooks (``Synthesized``).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ class Synthesized(Protocol):
         ...
 
 
-#: scheme name → synthesizer(table, where) → :class:`~cyclomech.linkage._synthesize.Synthesized`.
+#: scheme name → synthesizer(table, where) → ``Synthesized``.
 SYNTHESIZERS: dict[str, Callable[[Mapping[str, Any], str], Synthesized]] = {}
 
 
@@ -59,7 +59,7 @@ def register_synthesizer(scheme: str, fn: Callable[[Mapping[str, Any], str], Syn
     scheme : str
         The ``scheme`` value it answers.
     fn : callable
-        ``fn(table, where)`` → a :class:`~cyclomech.linkage._synthesize.Synthesized` record.
+        ``fn(table, where)`` → a ``Synthesized`` record.
 
     Raises
     ------
