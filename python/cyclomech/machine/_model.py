@@ -1064,3 +1064,9 @@ def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:
         # mistake in the file: an InputError naming the file and the table.
         msg = str(e)
         raise InputError(msg if msg.startswith(ctx.source) else f"{where}: {msg}") from None
+
+
+def with_mechanisms(machine: Machine, mechanisms: Mapping[str, Mechanism]) -> Machine:
+    """``machine`` with some mechanisms replaced by re-dimensioned ones (the sizing
+    loop of ``_resize.py``; Machine's privates stay in this module)."""
+    return machine._with_mechanisms(mechanisms)

@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._errors import CyclomechWarning, InfeasibleError
+from ._model import with_mechanisms
 
 if TYPE_CHECKING:
     from ._model import Machine
@@ -195,9 +196,9 @@ def resize_machine(machine: Machine) -> tuple[Machine, Resizing | None]:
                 f"{', '.join(new)} still change: a cycle, no fixed point"
             )
             _warn(machine, note)
-            return m._with_mechanisms(new), Resizing(i, False, note, history)
+            return with_mechanisms(m, new), Resizing(i, False, note, history)
         seen.append(vec)
-        m = m._with_mechanisms(new)
+        m = with_mechanisms(m, new)
     note = f"no fixed point after {MAX_ROUNDS} rounds of timing and sizing"
     _warn(machine, note)
     return m, Resizing(MAX_ROUNDS, False, note, history)

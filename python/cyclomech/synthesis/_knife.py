@@ -514,6 +514,8 @@ def knife_drive(
     >>> k = cm.synthesis.knife_drive("br125", 0.15, 175.0, maxiter=40)
     >>> k.feasible, abs(k.stroke_m - 0.15) <= 0.5e-3
     (True, True)
+    >>> k.why().split(":")[0]
+    'br125'
     """
     _scheme(scheme)
     if requirement is None:

@@ -83,7 +83,14 @@ class KnifeSynthesis:
 
     def rows(self) -> list[list[Any]]:
         """The report table's rows: the scheme, why it was chosen, its lengths and
-        margins, and each compared scheme's line."""
+        margins, and each compared scheme's line.
+
+        Examples
+        --------
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s.rows()[0]
+        ['synthesised scheme', 'br125 (seed 001, p = 1)']
+        """
         d = self.drive
         lengths = ", ".join(
             f"{a}{b} {v:.4f}"
@@ -115,7 +122,14 @@ class KnifeSynthesis:
         return rows
 
     def json(self) -> dict[str, Any]:
-        """Its ``synthesis`` entry in ``results.json``."""
+        """Its ``synthesis`` entry in ``results.json``.
+
+        Examples
+        --------
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s.json()["scheme"]
+        'br125'
+        """
         d = self.drive
         out: dict[str, Any] = {
             "scheme": d.scheme,
@@ -136,7 +150,17 @@ class KnifeSynthesis:
         return out
 
     def figures(self, save: Any, name: str) -> None:
-        """The compared schemes' knife motion and driving torque (with ``compare``)."""
+        """The compared schemes' knife motion and driving torque (with ``compare``),
+        each given to ``save(figure, stem, caption)``.
+
+        Examples
+        --------
+        Without the comparison there is nothing to draw:
+
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s.figures(print, "knife") is None
+        True
+        """
         if self.comparison is None:
             return
         from .plot import plot_knife_motion, plot_knife_torque
@@ -156,7 +180,17 @@ class KnifeSynthesis:
         )
 
     def files(self, folder: Path, name: str) -> list[Path]:
-        """``<name>_schemes.csv``: the comparison's rows (with ``compare``)."""
+        """``<name>_schemes.csv``: the comparison's rows (with ``compare``).
+
+        Examples
+        --------
+        Without the comparison no file is written:
+
+        >>> import tempfile
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s.files(tempfile.gettempdir(), "knife")
+        []
+        """
         if self.comparison is None:
             return []
         cols = [k for k, _, _ in KnifeComparison.COLUMNS]
