@@ -179,3 +179,15 @@ def test_a_pivot_search_in_the_file() -> None:
     held_rb = held.machine.mechanisms[CAM].design.cam.follower.base_radius
     assert f.base_radius <= held_rb * (1 + 1e-9)
     assert set(r.resizing.history[-1]["sizes"][CAM]) == {"base_radius_m", "pivot_distance_m"}
+
+
+def test_a_radius_in_millimetres_is_warned_of() -> None:
+    """max_base_radius_m = 90 (mm given as m) is not absorbed: the unit-suffix rule of
+    every other table warns, naming the slip, before the geometry refuses it."""
+    d = copy.deepcopy(data())
+    d["mechanism"][CAM]["synthesize"]["max_base_radius_m"] = 90.0
+    with (
+        pytest.warns(cm.CyclomechWarning, match=r"max_base_radius_m = 90.0 m .*millimetres"),
+        pytest.raises(cm.InputError, match="cannot reach"),
+    ):
+        cm.Machine.from_dict(d, "f.toml")

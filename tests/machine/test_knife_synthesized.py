@@ -112,3 +112,14 @@ def test_the_synthesize_keys_are_documented() -> None:
 
     documented = {k.name for k in _keydocs.tables()["linkage.synthesize"].keys}
     assert documented == set(cm.synthesis.SYNTHESIZE_KEYS)
+
+
+def test_a_stroke_in_millimetres_is_warned_of() -> None:
+    """stroke_m = 166 (mm given as m) is not absorbed: the unit-suffix rule of every
+    other table warns, naming the slip, and no scheme reaches the stroke."""
+    d = _small(stroke_m=166.0, maxiter=2)
+    with (
+        pytest.warns(cm.CyclomechWarning, match=r"stroke_m = 166.0 m .*millimetres"),
+        pytest.raises(cm.InputError, match="stroke"),
+    ):
+        cm.Machine.from_dict(d, "f.toml")

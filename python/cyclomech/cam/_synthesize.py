@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._errors import InputError
 
 __all__ = ["SYNTHESIZE_KEYS", "CamSynthesis", "synthesis_from_table"]
@@ -132,6 +132,7 @@ def synthesis_from_table(table: Mapping[str, Any], at: str, follower: str) -> Ca
         raise InputError(
             f"{where}: min_base_radius_m = {lo!r} must be < max_base_radius_m = {hi!r} [m]"
         )
+    _keyrules.check(spec, (), where)  # a radius in mm given as m, …
     offset = _range(spec, "offset_m", where)
     pivot = _range(spec, "pivot_distance_m", where)
     if offset is not None and follower != "translating":

@@ -86,7 +86,7 @@ over the dwell; each builds its :class:`cyclomech.Linkage`.
 
 from __future__ import annotations
 
-from ._cam_size import (
+from ..cam import (  # the sizing lives beside the criteria it evaluates (cam/_size.py)
     CAM_SIZE_CRITERIA,
     CamLimits,
     CamSize,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .. import _toml
+from .. import _keyrules, _toml
 from .._arrays import finite_number, flag, positive
 from .._errors import InputError
 from ..linkage import Linkage, register_synthesizer
@@ -257,6 +257,7 @@ def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
         if "envelope" in kw and isinstance(kw["envelope"], list):
             kw["envelope"] = tuple(kw["envelope"])
         req = KnifeRequirement(**kw)
+        _keyrules.check(table, (), where)  # a stroke in mm given as m, …
         compare = flag("compare", table.get("compare", False))
         ckw = tuple(
             sorted((f, _compare_value(k, table[k])) for k, f in _COMPARE_KEYS.items() if k in table)
