@@ -156,7 +156,7 @@ def from_table(table: Mapping[str, Any], where: str) -> LinkageSynthesis:
             f"{where}: none of the {len(found)} four-bar(s) through these poses can run in a "
             "machine (the crank turning fully, counter-clockwise, through the poses in order "
             f"on one branch, transmission ≥ {min_mu:g}°, length ratio ≤ {ratio:g}); the "
-            f"first: {why}; try other "
+            f"first ones: {why}; try other "
             "circle_points_m, a wider grid_extent_m, or poses in the other order"
         )
     return _record(usable[0], len(found), len(usable), min_mu)  # ratio in the margins row

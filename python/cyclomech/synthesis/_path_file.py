@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
+from .._arrays import flag
 from .._errors import InfeasibleError, InputError
 from ..linkage import register_synthesizer
 from ._linkage_file import (
@@ -19,7 +21,6 @@ from ._linkage_file import (
     fmt,
     number,
     points,
-    refused,
     warn_array_slips,
     whole,
 )
@@ -41,6 +42,7 @@ KEYS = frozenset(
         "seed",
         "popsize",
         "maxiter",
+        "polish",
     }
 )
 _MECHANISMS = ("four_bar", "slider_crank")
@@ -51,7 +53,7 @@ def _candidates(
     targets: Any, timing: Any, kind: str, mu: float, ratio: float, box: Any, run: Any
 ) -> list[PathCandidate]:
     # A machine file is parsed again by sweeps and checks: synthesise once.
-    seed, popsize, maxiter = run
+    seed, popsize, maxiter, polish = run
     return path_generation(
         [list(p) for p in targets],
         None if timing is None else list(timing),
@@ -63,6 +65,7 @@ def _candidates(
         seed=seed,
         popsize=popsize,
         maxiter=maxiter,
+        polish=polish,
     )
 
 
@@ -122,11 +125,14 @@ def from_table(table: Mapping[str, Any], where: str) -> LinkageSynthesis:
             whole(table, "seed", 0, 0, "seed"),
             whole(table, "popsize", 15, 5, "population multiplier"),
             whole(table, "maxiter", 1000, 1, "generations"),
+            flag("polish", table.get("polish", True)),
         )
         warn_array_slips(table, where)
         found = _candidates(targets, timing, kind, mu, ratio, box, run)
     except (InputError, InfeasibleError) as e:
-        raise refused(where, e) from None
+        # path_generation's own names for the file's keys.
+        msg = re.sub(r"\bpoints\[", "targets_m[", str(e)).replace("max_ratio", "max_length_ratio")
+        raise InputError(f"{where}: {msg.replace(' or widen the bounds', '')}") from None
     best = found[0]
     if limit is not None and best.max > limit:
         raise InputError(
