@@ -60,8 +60,8 @@ def output_angle_deg(c: DwellCandidate, crank_deg: Any) -> np.ndarray:
     >>> from cyclomech.synthesis._dwell_file import from_table
     >>> rec = from_table({"scheme": "dwell_sixbar", "dwell_deg": 60, "swing_deg": 40,
     ...                   "maxiter": 10}, "<doc>")
-    >>> psi = output_angle_deg(rec.candidate, range(0, 360))
-    >>> round(float(psi.max() - psi.min()), 6)
+    >>> psi = output_angle_deg(rec.candidate, [i / 10 for i in range(3600)])
+    >>> round(float(psi.max() - psi.min()), 3)      # the swing, sampled every 0.1°
     40.0
     """
     lk = c.linkage()

@@ -5,7 +5,6 @@ angle ψ follows the crank angle φ, for a machine that turns the crank fully.""
 from __future__ import annotations
 
 import functools
-import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -165,9 +164,7 @@ def from_table(table: Mapping[str, Any], where: str) -> LinkageSynthesis:
         raise refused(where, e) from None
     usable = [c for c in found if not _defects(c, min_mu)]
     if not usable:
-        why = "; ".join(
-            f"offset {c.offset}: {', '.join(_defects(c, min_mu))}" for c in found[:4]
-        )
+        why = "; ".join(f"offset {c.offset}: {', '.join(_defects(c, min_mu))}" for c in found[:4])
         raise InputError(
             f"{where}: no four-bar a machine can run meets these precision points (its "
             f"crank must turn fully, every point on one branch): {why}; try other "
