@@ -7,7 +7,9 @@ report says what was chosen, and bad tables are refused naming the key."""
 from __future__ import annotations
 
 import contextlib
+import json
 import math
+import pickle
 import time
 import tomllib
 from pathlib import Path
@@ -195,6 +197,9 @@ def test_report_json_figures_and_files(syn: dict[str, Any], words: str, tmp_path
     assert info["synthesis"]["scheme"] == words
     assert math.isfinite(info["speed_limit_rpm"])  # analysed as any linkage
     rec = m.mechanisms["arm"].synthesis
+    # A sweep's workers take the machine by pickle: the record goes too.
+    again = pickle.loads(pickle.dumps(m)).mechanisms["arm"].synthesis
+    assert again.json() == json.loads(json.dumps(rec.json(), allow_nan=False))
     (path,) = rec.files(tmp_path, "the arm")
     lines = path.read_text("utf-8").splitlines()
     assert lines[0] == "quantity,value,unit" and len(lines) > 4

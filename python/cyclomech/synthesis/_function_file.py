@@ -241,6 +241,7 @@ def _record(
         "structural_error_at_deg": c.structural_error_at_deg,
         "precision_error_deg": miss,
         "length_ratio": m.length_ratio,
+        **({} if function is None else {"function_deg": [list(p) for p in function]}),
     }
     dims = tuple((k, v, "m") for k, v in ln.items())
     return LinkageSynthesis(
@@ -250,48 +251,48 @@ def _record(
         report,
         entry,
         (*dims, ("crank_offset", 180.0 if c.crank_flipped else 0.0, "deg")),
-        _figures(function),
+        _draw,
     )
 
 
-def _figures(function: Any) -> Any:
-    def draw(rec: LinkageSynthesis, name: str) -> list[tuple[Any, str, str]]:
-        from .._plotting import pyplot
+def _draw(rec: LinkageSynthesis, name: str) -> list[tuple[Any, str, str]]:
+    """The generated output over the input range with the precision points, and
+    with a wanted relation its difference from it."""
+    from .._plotting import pyplot
 
-        c: FunctionCandidate = rec.candidate
-        x = np.array([p for p, _ in c.precision])
-        y = np.array([q for _, q in c.precision])
-        lo, hi = rec.entry["input_range_deg"]
-        grid = np.linspace(min(lo, x.min()), max(hi, x.max()), 241)
-        plt = pyplot()
-        rows = 2 if function is not None else 1
-        fig, axes = plt.subplots(rows, 1, figsize=(7.5, 2.8 * rows + 0.6), sharex=True,
-                                 layout="constrained", squeeze=False)  # fmt: skip
-        top = axes[0, 0]
-        top.plot(grid, c.generated(grid), lw=1.4, label="generated ψ", gid="generated")
-        top.plot(x, y, "o", ms=6, mfc="none", label="precision points", gid="precision")
-        if function is not None:
-            f = np.array(function)
-            wanted = np.interp(grid, f[:, 0] + c.offset[0], f[:, 1] + c.offset[1])
-            top.plot(grid, wanted, "--", lw=1.0, color="0.4", label="wanted ψ", gid="wanted")
-            err = axes[1, 0]
-            err.plot(grid, c.generated(grid) - wanted, lw=1.2, gid="error")
-            err.axhline(0.0, color="0.6", lw=0.8)
-            err.set_ylabel("generated − wanted  [deg]")
-        top.set_ylabel("output angle ψ  [deg]")
-        top.set_title(f"{name}: the synthesised function generator")
-        top.legend(fontsize=8)
-        axes[-1, 0].set_xlabel("input angle φ  [deg]")
-        return [
-            (
-                fig,
-                f"{name}_synthesis",
-                "The output angle the synthesised four-bar generates over the input angle, "
-                "through the precision points (and its difference from the wanted relation).",
-            )
-        ]
-
-    return draw
+    function = rec.entry.get("function_deg")
+    c: FunctionCandidate = rec.candidate
+    x = np.array([p for p, _ in c.precision])
+    y = np.array([q for _, q in c.precision])
+    lo, hi = rec.entry["input_range_deg"]
+    grid = np.linspace(min(lo, x.min()), max(hi, x.max()), 241)
+    plt = pyplot()
+    rows = 2 if function is not None else 1
+    fig, axes = plt.subplots(rows, 1, figsize=(7.5, 2.8 * rows + 0.6), sharex=True,
+                             layout="constrained", squeeze=False)  # fmt: skip
+    top = axes[0, 0]
+    top.plot(grid, c.generated(grid), lw=1.4, label="generated ψ", gid="generated")
+    top.plot(x, y, "o", ms=6, mfc="none", label="precision points", gid="precision")
+    if function is not None:
+        f = np.array(function)
+        wanted = np.interp(grid, f[:, 0] + c.offset[0], f[:, 1] + c.offset[1])
+        top.plot(grid, wanted, "--", lw=1.0, color="0.4", label="wanted ψ", gid="wanted")
+        err = axes[1, 0]
+        err.plot(grid, c.generated(grid) - wanted, lw=1.2, gid="error")
+        err.axhline(0.0, color="0.6", lw=0.8)
+        err.set_ylabel("generated − wanted  [deg]")
+    top.set_ylabel("output angle ψ  [deg]")
+    top.set_title(f"{name}: the synthesised function generator")
+    top.legend(fontsize=8)
+    axes[-1, 0].set_xlabel("input angle φ  [deg]")
+    return [
+        (
+            fig,
+            f"{name}_synthesis",
+            "The output angle the synthesised four-bar generates over the input angle, "
+            "through the precision points (and its difference from the wanted relation).",
+        )
+    ]
 
 
 register_synthesizer("function", from_table)

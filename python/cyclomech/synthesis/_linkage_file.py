@@ -117,7 +117,7 @@ class LinkageSynthesis:
         >>> rec.json()["scheme"], sorted(rec.json()["lengths_m"])
         ('function', ['coupler', 'crank', 'ground', 'rocker'])
         """
-        return {"scheme": self.scheme, **self.entry}
+        return {"scheme": self.scheme, **_plain(self.entry)}
 
     def figures(self, save: Any, name: str) -> None:
         """Its figures, each given to ``save(figure, stem, caption)``.
@@ -159,6 +159,17 @@ class LinkageSynthesis:
             for q, v, unit in self.dimensions:
                 w.writerow([q, repr(float(v)), unit])
         return [path]
+
+
+def _plain(v: Any) -> Any:
+    """``v`` for JSON: non-finite numbers as None (JSON has no NaN), tuples as lists."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, list | tuple):
+        return [_plain(x) for x in v]
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    return v
 
 
 def check_table(
