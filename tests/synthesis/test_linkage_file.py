@@ -113,6 +113,13 @@ def test_path_generator_passes_its_targets() -> None:
     assert c.margins.worst_transmission_deg >= 30.0
 
 
+def test_path_bounds_hold() -> None:
+    syn = {**PATH, "bounds": {"crank_m": [0.03, 0.05], "x0_m": [-0.2, 0.0]}}
+    syn.pop("max_error_m")
+    p = machine(syn).mechanisms["arm"].synthesis.candidate.params
+    assert 0.03 <= p["r2"] <= 0.05 and -0.2 <= p["x0"] <= 0.0
+
+
 def test_path_with_timing_meets_the_crank_angles() -> None:
     timing = [0.0, 60.0, 130.0, 220.0, 300.0]
     # Targets of a known four-bar at those crank angles: the requirement is reachable.
@@ -243,6 +250,9 @@ BAD = [
     ({**PATH, "mechanism": "six_bar"}, "mechanism = 'six_bar' must be one of"),
     ({**DWELL, "seed": -1}, "seed"),
     ({**MOTION, "grid_points": 16}, "grid_points = 16"),
+    ({**PATH, "bounds": {"crank_m": [0.2, 0.1]}}, r"bounds.crank_m = \[0.2, 0.1\] must be"),
+    ({**PATH, "bounds": {"rod_m": [0.1, 0.2]}}, "bounds: unknown key 'rod_m'"),
+    ({**PATH, "bounds": {"crank_m": [-0.2, -0.1]}}, r"bounds.crank_m = \(-0.2, -0.1\)"),
 ]  # fmt: skip
 
 
@@ -279,3 +289,6 @@ def test_every_key_is_documented() -> None:
                         ("motion", _motion_file), ("dwell_sixbar", _dwell_file)]:  # fmt: skip
         assert {k.name for k in tables[f"linkage.synthesize.{scheme}"].keys} == set(mod.KEYS)
         assert scheme in cm.linkage.SYNTHESIZERS
+    assert {k.name for k in tables["linkage.synthesize.path.bounds"].keys} == set(
+        _path_file.BOUND_KEYS
+    )

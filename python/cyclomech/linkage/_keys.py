@@ -296,6 +296,10 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "a whole number ≥ 1", None),
         K("polish", "Refine the best candidates by least squares after the search.", NO_UNIT,
           BOOL, "true", "true or false", None),
+        K("bounds", "The search's ranges of the design variables {crank_m = [lo, hi], …} "
+          "(a [….synthesize.bounds] table).", NO_UNIT, TAB,
+          "ranges scaled to the targets' extent S (pivots ±3S, links up to 4S, crank 2S)",
+          "a bounds table", None),
     ), intro=(
         "A four-bar or slider-crank whose coupler point P passes target points "
         "(``cyclomech.synthesis.path_generation``: differential evolution, each generation "
@@ -303,6 +307,34 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         "turns it once per cycle); the feasible candidate nearest the targets is chosen, and "
         "a file with none, or with the best error above max_error_m, is refused. Points A "
         "(crank pivot), B, C, D (four-bar) and P, the output."
+    )),
+    KeyTable("linkage.synthesize.path.bounds", "bounds of a path synthesis", (
+        K("x0_m", "The crank pivot A's x.", "m", ARR, "targets' centre ± 3S", "[lo, hi], lo < hi",
+          None),
+        K("y0_m", "The crank pivot A's y.", "m", ARR, "targets' centre ± 3S", "[lo, hi], lo < hi",
+          None),
+        K("theta0_deg", "The ground line's (or slider guide's) direction.", "deg", ARR,
+          "[-180, 180]", "[lo, hi], lo < hi", None),
+        K("ground_m", "The ground link A–D (four-bar).", "m", ARR, "[0.1S, 4S]",
+          "[lo, hi], lo < hi, hi > 0; four_bar only", None),
+        K("offset_m", "The slider guide's offset from A (slider-crank).", "m", ARR,
+          "[-2S, 2S]", "[lo, hi], lo < hi; slider_crank only", None),
+        K("crank_m", "The crank A–B.", "m", ARR, "[0.05S, 2S]", "[lo, hi], lo < hi, hi > 0",
+          None),
+        K("coupler_m", "The coupler B–C.", "m", ARR, "[0.1S, 4S]", "[lo, hi], lo < hi, hi > 0",
+          None),
+        K("rocker_m", "The rocker D–C (four-bar).", "m", ARR, "[0.1S, 4S]",
+          "[lo, hi], lo < hi, hi > 0; four_bar only", None),
+        K("u_m", "The coupler point along B → C.", "m", ARR, "[-3S, 3S]", "[lo, hi], lo < hi",
+          None),
+        K("v_m", "The coupler point to the left of B → C.", "m", ARR, "[-3S, 3S]",
+          "[lo, hi], lo < hi", None),
+        K("phi1_deg", "The crank angle at the first target (with timing_deg).", "deg", ARR,
+          "[-180, 180]", "[lo, hi], lo < hi; needs timing_deg", None),
+    ), intro=(
+        "The ranges differential evolution searches, overriding the defaults, which "
+        "scale with the targets' extent S about their centre; a key left out keeps its "
+        "default."
     )),
     KeyTable("linkage.synthesize.motion", "synthesize of a linkage: scheme = motion", (
         K("scheme", "A motion generator: a coupler that takes three poses.", NO_UNIT, TEXT,

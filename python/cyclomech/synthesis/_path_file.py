@@ -43,9 +43,43 @@ KEYS = frozenset(
         "popsize",
         "maxiter",
         "polish",
+        "bounds",
     }
 )
 _MECHANISMS = ("four_bar", "slider_crank")
+#: The keys of ``bounds`` → path generation's variables (a slider-crank's r1 is its
+#: guide's offset, a four-bar's its ground link).
+BOUND_KEYS = {
+    "x0_m": "x0",
+    "y0_m": "y0",
+    "theta0_deg": "theta0",
+    "ground_m": "r1",
+    "offset_m": "r1",
+    "crank_m": "r2",
+    "coupler_m": "r3",
+    "rocker_m": "r4",
+    "u_m": "u",
+    "v_m": "v",
+    "phi1_deg": "phi1",
+}
+
+
+def _bounds(table: Mapping[str, Any], kind: str, timed: bool) -> Any:
+    """The ``bounds`` table as sorted ((variable, (lo, hi)), …), None when absent."""
+    if "bounds" not in table:
+        return None
+    b = table["bounds"]
+    allowed = set(BOUND_KEYS) - {"offset_m" if kind == "four_bar" else "ground_m"}
+    allowed -= {"rocker_m"} if kind == "slider_crank" else set()
+    allowed -= set() if timed else {"phi1_deg"}
+    check_table(b, frozenset(allowed), (), "bounds")
+    out = []
+    for k in sorted(b):
+        (lo, hi) = points({k: [b[k]]}, k, 2, "[deg]" if k.endswith("_deg") else "[m]")[0]
+        if not lo < hi:
+            raise InputError(f"bounds.{k} = {[lo, hi]} must be [lo, hi] with lo < hi")
+        out.append((BOUND_KEYS[k], (lo, hi)))
+    return tuple(out)
 
 
 @functools.lru_cache(maxsize=16)
@@ -53,11 +87,12 @@ def _candidates(
     targets: Any, timing: Any, kind: str, mu: float, ratio: float, box: Any, run: Any
 ) -> list[PathCandidate]:
     # A machine file is parsed again by sweeps and checks: synthesise once.
-    seed, popsize, maxiter, polish = run
+    seed, popsize, maxiter, polish, bounds = run
     return path_generation(
         [list(p) for p in targets],
         None if timing is None else list(timing),
         kind=kind,
+        bounds=None if bounds is None else {k: list(v) for k, v in bounds},
         full_turn=True,
         min_transmission_deg=mu,
         max_ratio=ratio,
@@ -126,12 +161,18 @@ def from_table(table: Mapping[str, Any], where: str) -> LinkageSynthesis:
             whole(table, "popsize", 15, 5, "population multiplier"),
             whole(table, "maxiter", 1000, 1, "generations"),
             flag("polish", table.get("polish", True)),
+            _bounds(table, kind, timing is not None),
         )
         warn_array_slips(table, where)
+        warn_array_slips(table.get("bounds", {}), f"{where}.bounds")
         found = _candidates(targets, timing, kind, mu, ratio, box, run)
     except (InputError, InfeasibleError) as e:
         # path_generation's own names for the file's keys.
         msg = re.sub(r"\bpoints\[", "targets_m[", str(e)).replace("max_ratio", "max_length_ratio")
+        other = "ground_m" if table.get("mechanism") == "slider_crank" else "offset_m"
+        for key, var in BOUND_KEYS.items():
+            if key != other:
+                msg = msg.replace(f"bounds[{var!r}]", f"bounds.{key}")
         raise InputError(f"{where}: {msg.replace(' or widen the bounds', '')}") from None
     best = found[0]
     if limit is not None and best.max > limit:
