@@ -71,6 +71,18 @@ def test_function_generator_meets_its_precision_points() -> None:
     assert c.margins.crank_turns
 
 
+def test_function_generator_with_offsets_meets_its_shifted_points() -> None:
+    offsets = [[0.0, 0.0], [40.0, 10.0], [-20.0, 30.0]]
+    c = machine({**FUNCTION, "offsets_deg": offsets}).mechanisms["arm"].synthesis.candidate
+    assert list(c.offset) in offsets
+    lk = c.linkage()
+    phi = np.array([p for p, _ in c.precision])
+    sol = lk.solve(np.radians(phi + (180.0 if c.crank_flipped else 0.0)))
+    got = rocker_deg(sol, "D", "C") - (180.0 if c.output_flipped else 0.0)
+    want = np.array([q for _, q in FUNCTION["precision_points_deg"]]) + c.offset[1]
+    np.testing.assert_allclose(wrap(got - want), 0.0, atol=1e-9)
+
+
 def test_function_generator_structural_error_by_dense_sampling() -> None:
     """function_deg: the reported structural error is the largest difference from
     the table on a dense grid, solved by the linkage itself."""

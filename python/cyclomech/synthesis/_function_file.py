@@ -94,6 +94,13 @@ def _relation(table: Mapping[str, Any]) -> tuple[Any, Any, Any]:
     return None, ((x_range[0], y[0]), (x_range[1], y[1])), x_range
 
 
+def _given(table: Mapping[str, Any]) -> str:
+    """The key(s) the relation came from, for messages."""
+    if "output_range_deg" in table:
+        return "input_range_deg and output_range_deg"
+    return "precision_points_deg" if "precision_points_deg" in table else "function_deg"
+
+
 def _full_turn(c: FunctionCandidate) -> Any:
     ln = c.lengths
     return four_bar_margins(ln["crank"], ln["coupler"], ln["rocker"], ln["ground"])
@@ -166,7 +173,8 @@ def from_table(table: Mapping[str, Any], where: str) -> LinkageSynthesis:
     if not usable:
         why = "; ".join(f"offset {c.offset}: {', '.join(_defects(c, min_mu))}" for c in found[:4])
         raise InputError(
-            f"{where}: no four-bar a machine can run meets these precision points (its "
+            f"{where}: no four-bar a machine can run meets these precision points (of "
+            f"{_given(table)}; its "
             f"crank must turn fully, every point on one branch): {why}; try other "
             "precision points, a wider output range, or offsets_deg = [[Δφ, Δψ], …] "
             "(other origins of the scales)"
