@@ -12,6 +12,7 @@ import math
 import pickle
 import time
 import tomllib
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -126,7 +127,8 @@ def test_path_generator_passes_its_targets() -> None:
 
 
 def test_path_bounds_hold() -> None:
-    syn = {**PATH, "bounds": {"crank_m": [0.03, 0.05], "x0_m": [-0.2, 0.0]}}
+    syn = {**PATH, "bounds": {"crank_m": [0.03, 0.05], "x0_m": [-0.2, 0.0]}, "maxiter": 30,
+           "polish": False}  # fmt: skip
     syn.pop("max_error_m")
     p = machine(syn).mechanisms["arm"].synthesis.candidate.params
     assert 0.03 <= p["r2"] <= 0.05 and -0.2 <= p["x0"] <= 0.0
@@ -304,3 +306,38 @@ def test_every_key_is_documented() -> None:
     assert {k.name for k in tables["linkage.synthesize.path.bounds"].keys} == set(
         _path_file.BOUND_KEYS
     )
+
+
+#: Values of the wrong type or range for any key (as the file fuzz's).
+WRONG: list[Any] = [
+    1, 1.5, -1.0, float("nan"), float("inf"), True, "x", "", [], [1], [["A", "D"]],
+    {"a": 1}, [{"a": 1}], [1.0, "x"],
+]  # fmt: skip
+LIGHT = [
+    FUNCTION,
+    {**PATH, "maxiter": 3, "polish": False, "max_error_m": 1.0},
+    {**MOTION, "grid_points": 3},
+    {**DWELL, "popsize": 5, "maxiter": 2, "max_residual_deg": 10.0},
+]
+
+
+@pytest.mark.parametrize("syn", LIGHT, ids=[s["scheme"] for s in LIGHT])
+def test_any_wrong_value_is_an_input_error(syn: dict[str, Any]) -> None:
+    """Every key of each scheme's table replaced by each wrong value: the machine
+    reads, or the error is a CyclomechError, never another exception."""
+    d = tomllib.loads(EXAMPLE.read_text("utf-8"))
+    others = []
+    for key in syn:
+        for bad in WRONG:
+            if (key, bad) == ("polish", True):
+                continue  # valid, and a polish after three generations takes ~30 s
+            d["mechanism"]["arm"] = {"kind": "linkage", "synthesize": {**syn, key: bad}}
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    cm.Machine.from_dict(d, str(EXAMPLE))
+            except cm.CyclomechError:
+                pass
+            except Exception as e:
+                others.append(f"{key} = {bad!r}: {type(e).__name__}: {e}")
+    assert not others, "\n".join(others[:10])

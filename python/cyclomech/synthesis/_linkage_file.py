@@ -43,7 +43,16 @@ from .._arrays import count, finite_number, real_array
 from .._errors import CyclomechWarning, InputError
 from ..linkage import Linkage
 
-__all__ = ["LinkageSynthesis", "check_table", "number", "points", "whole"]
+__all__ = [
+    "LinkageSynthesis",
+    "check_table",
+    "fmt",
+    "number",
+    "points",
+    "refused",
+    "warn_array_slips",
+    "whole",
+]
 
 #: A figure maker: (record, mechanism name) → [(figure, stem, caption)].
 Figures = Callable[["LinkageSynthesis", str], list[tuple[Any, str, str]]]
