@@ -45,6 +45,7 @@ speeds and radii. For timings and the ratio tables::
 from __future__ import annotations
 
 import math
+import time
 from typing import Any
 
 import cyclomech as cm
@@ -409,3 +410,59 @@ def test_tradeoff_numpy(benchmark) -> None:
     benchmark.extra_info["items"] = radii.size
     out = benchmark.pedantic(numpy_tradeoff, (radii, RPM_TRADE), rounds=3, iterations=1)
     assert out.shape == (radii.size, RPM_TRADE.size, 2, 4)
+
+
+def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, float]:
+    """Median wall time [s] of each tool, the tools called in turn each round (so
+    the machine's load drifts over all of them alike)."""
+    times: dict[str, list[float]] = {name: [] for name in tools}
+    for _ in range(rounds):
+        for name, run in tools.items():
+            t0 = time.perf_counter()
+            run()
+            times[name].append(time.perf_counter() - t0)
+    return {name: float(np.median(t)) for name, t in times.items()}
+
+
+def _report(title: str, med: dict[str, float], items: int, unit: str) -> None:
+    print(f"\n{title}:")
+    for name, t in med.items():
+        print(f"  {name:<34} {t * 1e3:9.2f} ms   {t / items * 1e3:8.3f} ms per {unit}")
+    for peer in [n for n in med if not n.startswith("cyclomech")]:
+        for ref in [n for n in med if n.startswith("cyclomech")]:
+            print(f"  {peer} / {ref} = {med[peer] / med[ref]:.2f}x")
+
+
+def test_print_ratios(request: pytest.FixtureRequest) -> None:
+    """Interleaved rounds in one process, medians and ratios (print with -s)."""
+    timed = not request.config.getoption("benchmark_disable", False)
+    rounds = 7 if timed else 1
+    rpm = RPM_SIZE if timed else RPM_SIZE[::5]
+    med = interleaved(
+        {
+            "cyclomech cam_size, 1 thread": lambda: cyclomech_size(rpm, 1),
+            "cyclomech cam_size, all cores": lambda: cyclomech_size(rpm, None),
+            "numpy, all speeds at once": lambda: numpy_size(rpm),
+            "numpy, one speed per call": lambda: [
+                numpy_size(rpm[i : i + 1]) for i in range(rpm.size)
+            ],
+        },
+        rounds,
+    )
+    _report(f"cam_size, {rpm.size} speeds, {rounds} interleaved rounds", med, rpm.size, "speed")
+    radii = RADII_TRADE if timed else RADII_TRADE[::10]
+    med2 = interleaved(
+        {
+            "cyclomech tradeoff, 1 thread": lambda: cyclomech_tradeoff(radii, RPM_TRADE, 1),
+            "cyclomech tradeoff, all cores": lambda: cyclomech_tradeoff(radii, RPM_TRADE, None),
+            "numpy": lambda: numpy_tradeoff(radii, RPM_TRADE),
+        },
+        rounds,
+    )
+    _report(
+        f"cam_size_tradeoff, {radii.size} radii x {RPM_TRADE.size} speeds, {rounds} rounds",
+        med2,
+        radii.size,
+        "radius",
+    )
+    assert all(t > 0 for t in [*med.values(), *med2.values()])

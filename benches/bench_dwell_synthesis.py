@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from typing import Any
 
 import cyclomech as cm  # noqa: F401 - the package loads the core
@@ -849,3 +850,52 @@ def test_dwell_numba(benchmark, numba_peer: Any, threads: int | None) -> None:
     finally:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     assert out.shape == (k, len(FIELDS))
+
+
+def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, float]:
+    """Median wall time [s] of each tool, the tools called in turn each round (so
+    the machine's load drifts over all of them alike)."""
+    times: dict[str, list[float]] = {name: [] for name in tools}
+    for _ in range(rounds):
+        for name, run in tools.items():
+            t0 = time.perf_counter()
+            run()
+            times[name].append(time.perf_counter() - t0)
+    return {name: float(np.median(t)) for name, t in times.items()}
+
+
+def test_print_ratios(request: pytest.FixtureRequest) -> None:
+    """Interleaved rounds in one process, medians and ratios (print with -s). The
+    numba rows need numba and a timed run (or CYCLOMECH_BENCH_NUMBA=1)."""
+    timed = not request.config.getoption("benchmark_disable", False)
+    k, rounds = (K_TIMED, 7) if timed else (K_SMOKE, 1)
+    p = candidates(k)
+    tools: dict[str, Any] = {
+        "cyclomech, 1 thread": lambda: cyclomech_batch(p, 1),
+        "cyclomech, all cores": lambda: cyclomech_batch(p, None),
+        "numpy": lambda: numpy_batch(p),
+    }
+    if numba is not None and (timed or os.environ.get("CYCLOMECH_BENCH_NUMBA") == "1"):
+        request.getfixturevalue("numba_peer")  # compiled and checked
+        every = numba.config.NUMBA_NUM_THREADS
+
+        def numba_on(n: int) -> Any:
+            def run() -> None:
+                numba.set_num_threads(n)
+                try:
+                    numba_batch(p)
+                finally:
+                    numba.set_num_threads(every)
+
+            return run
+
+        tools["numba, 1 thread"] = numba_on(1)
+        tools["numba, all cores"] = numba_on(every)
+    med = interleaved(tools, rounds)
+    print(f"\ndwell_batch, {k} candidates, {rounds} interleaved rounds (median):")
+    for name, t in med.items():
+        print(f"  {name:<22} {t * 1e3:9.1f} ms   {k / t:9.0f} candidates/s")
+    for peer in [n for n in med if not n.startswith("cyclomech")]:
+        for ref in ("cyclomech, 1 thread", "cyclomech, all cores"):
+            print(f"  {peer} / {ref} = {med[peer] / med[ref]:.2f}x")
+    assert all(t > 0 for t in med.values())
