@@ -45,6 +45,7 @@ speeds and radii. For timings and the ratio tables::
 from __future__ import annotations
 
 import math
+import os
 import time
 from typing import Any
 
@@ -311,6 +312,198 @@ def numpy_tradeoff(radii: Array, rpm: Array) -> Array:
     return np.degrees(out)
 
 
+# ------------------------------------------------------------- the numba peer
+try:
+    import numba
+except ImportError:  # pragma: no cover - depends on the environment
+    numba = None
+
+if numba is not None:
+    _jit = numba.njit(cache=True, error_model="numpy")
+    _pjit = numba.njit(parallel=True, cache=True, error_model="numpy")
+    _prange = numba.prange
+else:  # the functions below are then never called
+    _jit = _pjit = lambda f: f
+    _prange = range
+TAU = 2 * math.pi
+NC, NF = XC.size, XF.size
+
+
+@_jit
+def nb_value(crit, rb, omega, sign, beta, x):  # type: ignore[no-untyped-def]
+    """One criterion's value at the fraction x of a rise (+1) or return (−1):
+    0 pressure ratio, 1 undercut ratio, 2 stress ratio, 3 jump (β = 1)."""
+    w = TAU * x
+    h = sign * H
+    s = (0.0 if sign > 0 else H) + h * (x - math.sin(w) / TAU)
+    ds = h / beta * (1 - math.cos(w))
+    dds = h / beta**2 * TAU * math.sin(w)
+    if crit == 3:
+        return max(-MASS * dds / (RATE * s + PRELOAD), 0.0)
+    d = rb + RR + s
+    if crit == 0:
+        return abs(math.atan2(ds, d)) / ALPHA
+    speed2 = d * d + ds * ds
+    speed = math.sqrt(speed2)
+    kp = (d * (d - dds) + 2 * ds * ds) / (speed2 * speed)
+    if crit == 1:
+        return RR * kp
+    n = (MASS * dds * omega**2 + RATE * s + PRELOAD) / (d / speed)
+    kappa = 1 / RR + kp / (1 - RR * kp)
+    return math.sqrt(max(n, 0.0) * kappa / (math.pi * WIDTH * C_HERTZ)) / LIMIT
+
+
+@_jit
+def nb_peak(crit, rb, omega, sign, beta):  # type: ignore[no-untyped-def]
+    """:func:`peak` of one criterion over a segment, scalar."""
+    best, i = -np.inf, 0
+    for k in range(NC):
+        v = nb_value(crit, rb, omega, sign, beta, k / (NC - 1))
+        if v > best:
+            best, i = v, k
+    a = max(i - 1, 0) / (NC - 1)
+    b = min(i + 1, NC - 1) / (NC - 1)
+    vals = np.empty(NF)
+    j = 0
+    for k in range(NF):
+        vals[k] = nb_value(crit, rb, omega, sign, beta, a + (b - a) * (k / (NF - 1)))
+        if vals[k] > vals[j]:
+            j = k
+    top = vals[j]
+    if 0 < j < NF - 1:
+        fm, f0, fp = vals[j - 1], vals[j], vals[j + 1]
+        curv = fm - 2 * f0 + fp
+        if curv < 0:
+            top = max(f0 - (fm - fp) ** 2 / (8 * curv), top)
+    return top
+
+
+@_jit
+def nb_ratio(crit, rb, omega, sign, beta):  # type: ignore[no-untyped-def]
+    """A segment's worst ratio; the stress's +∞ on an undercut profile."""
+    if crit == 2 and not nb_peak(1, rb, 0.0, sign, beta) < 1.0:
+        return np.inf
+    return nb_peak(crit, rb, omega, sign, beta)
+
+
+@_jit
+def nb_stress_cam(rb, omega):  # type: ignore[no-untyped-def]
+    """The stress's worst ratio over the whole cam (rise, return, both dwells)."""
+    g = max(
+        nb_ratio(2, rb, omega, 1.0, TAU / 3),
+        nb_ratio(2, rb, omega, -1.0, TAU / 3),
+    )
+    for s in (0.0, H):
+        d = rb + RR + s
+        if RR / d >= 1.0:
+            return np.inf
+        kappa = 1 / RR + 1 / (d - RR)
+        g = max(g, math.sqrt((RATE * s + PRELOAD) * kappa / (math.pi * WIDTH * C_HERTZ)) / LIMIT)
+    return g
+
+
+@_jit
+def nb_geometry_cam(rb):  # type: ignore[no-untyped-def]
+    """max(pressure ratio, undercut ratio) over the whole cam (speed-free)."""
+    g = RR / (rb + RR)  # the base circle's dwell: the larger undercut ratio
+    for sign in (1.0, -1.0):
+        g = max(g, nb_peak(0, rb, 0.0, sign, TAU / 3), nb_peak(1, rb, 0.0, sign, TAU / 3))
+    return g
+
+
+@_jit
+def nb_illinois(kind, crit, rb, omega, sign, a, b, fa, fb, geometric):  # type: ignore[no-untyped-def]
+    """The root of g − 1 on [a, b] (:func:`illinois`, scalar); kind 0: the whole
+    cam's g(R_b) at speed omega, kind 1: a segment's ratio g(β) at rb."""
+    x, last = b, 0
+    for _ in range(100):
+        if math.isfinite(fa) and math.isfinite(fb) and fb != fa:
+            xn = (a * fb - b * fa) / (fb - fa)
+        else:
+            xn = math.sqrt(a * b) if geometric else 0.5 * (a + b)
+        if kind == 0:
+            fx = max(nb_geometry_cam(xn), nb_stress_cam(xn, omega)) - 1.0
+        else:
+            fx = nb_ratio(crit, rb, omega, sign, xn) - 1.0
+        if np.sign(fx) == np.sign(fa):
+            a, fa = xn, fx
+            if last == 1:
+                fb *= 0.5
+            last = 1
+        else:
+            b, fb = xn, fx
+            if last == -1:
+                fa *= 0.5
+            last = -1
+        done = fx == 0 or abs(xn - x) <= 1e-14 * xn or b - a <= 1e-13 * xn
+        x = xn
+        if done:
+            break
+    return x
+
+
+@_pjit
+def numba_size(rpm):  # type: ignore[no-untyped-def]
+    """:func:`numpy_size` in numba: the speed-free geometry once per scanned
+    radius, then each speed (``prange``) its stress scan and root."""
+    omega = rpm * TAU / 60
+    radii = R_MIN * (R_MAX / R_MIN) ** (np.arange(SCAN) / (SCAN - 1))
+    radii[-1] = R_MAX
+    geo = np.empty(SCAN)
+    for i in _prange(SCAN):
+        geo[i] = nb_geometry_cam(radii[i])
+    out = np.empty(rpm.size)
+    for k in _prange(rpm.size):
+        g = np.empty(SCAN)
+        for i in range(SCAN):
+            g[i] = max(geo[i], nb_stress_cam(radii[i], omega[k]))
+        j = 0
+        while j < SCAN and not g[j] <= 1.0 + 1e-9:
+            j += 1
+        out[k] = nb_illinois(
+            0, 0, 0.0, omega[k], 0.0, radii[j - 1], radii[j], g[j - 1] - 1, g[j] - 1, True
+        )
+    return out
+
+
+@_jit
+def nb_bound(crit, rb, omega, sign):  # type: ignore[no-untyped-def]
+    """Scan down from 2π by 0.7 to the first violation, then the crossing."""
+    hi = TAU
+    ghi = nb_ratio(crit, rb, omega, sign, hi) - 1.0
+    if not ghi <= 0.0:
+        return np.nan
+    while hi * 0.7 >= TAU * 1e-6:
+        lo = hi * 0.7
+        glo = nb_ratio(crit, rb, omega, sign, lo) - 1.0
+        if not glo <= 0.0:
+            return nb_illinois(1, crit, rb, omega, sign, lo, hi, glo, ghi, False)
+        hi, ghi = lo, glo
+    return 0.0
+
+
+@_pjit
+def numba_tradeoff(radii, rpm):  # type: ignore[no-untyped-def]
+    """:func:`numpy_tradeoff` in numba, radii in ``prange``."""
+    omega = rpm * TAU / 60
+    out = np.zeros((radii.size, rpm.size, 2, 4))
+    jump = np.empty(2)
+    for k in range(2):
+        jump[k] = math.sqrt(nb_peak(3, 0.0, 0.0, 1.0 - 2.0 * k, 1.0))
+    for i in _prange(radii.size):
+        for k in range(2):
+            sign = 1.0 - 2.0 * k
+            p = nb_bound(0, radii[i], 0.0, sign)
+            u = nb_bound(1, radii[i], 0.0, sign)
+            for m in range(rpm.size):
+                st = nb_bound(2, radii[i], omega[m], sign)
+                out[i, m, k, 0] = p
+                out[i, m, k, 1] = u
+                out[i, m, k, 2] = omega[m] * jump[k]
+                out[i, m, k, 3] = 0.0 if st <= u * (1 + 1e-9) else st
+    return out * (180.0 / math.pi)
+
+
 # ---------------------------------------------------------------- cyclomech
 def cyclomech_size(rpm: Array, threads: int | None) -> list[cm.synthesis.CamSize]:
     cam = make_cam()
@@ -412,6 +605,12 @@ def test_tradeoff_numpy(benchmark) -> None:
     assert out.shape == (radii.size, RPM_TRADE.size, 2, 4)
 
 
+def _timed(config: pytest.Config) -> bool:
+    """Whether this is a timed run (--benchmark-enable), as conftest reads it."""
+    session = getattr(config, "_benchmarksession", None)
+    return session is not None and not session.disabled
+
+
 def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, float]:
     """Median wall time [s] of each tool, the tools called in turn each round (so
     the machine's load drifts over all of them alike)."""
@@ -433,32 +632,70 @@ def _report(title: str, med: dict[str, float], items: int, unit: str) -> None:
             print(f"  {peer} / {ref} = {med[peer] / med[ref]:.2f}x")
 
 
+def _on(threads: int, run: Any) -> Any:
+    """run() on numba's `threads` threads (0: all)."""
+
+    def call() -> None:
+        every = numba.config.NUMBA_NUM_THREADS
+        numba.set_num_threads(threads or every)
+        try:
+            run()
+        finally:
+            numba.set_num_threads(every)
+
+    return call
+
+
+@pytest.fixture(scope="module")
+def numba_peer(request: pytest.FixtureRequest) -> None:
+    """The numba peer compiled and checked against cyclomech (skips without numba;
+    in the default run unless CYCLOMECH_BENCH_NUMBA=1: compiling takes ~30 s)."""
+    if numba is None:
+        pytest.skip("numba is not installed (pip install numba)")
+    if not _timed(request.config) and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
+        pytest.skip("the numba peer compiles for ~30 s: runs with --benchmark-enable")
+    rpm = RPM_SIZE[::3]
+    ours = [r.base_radius for r in cyclomech_size(rpm, None)]
+    np.testing.assert_allclose(numba_size(rpm), ours, rtol=1e-9)
+    radii = RADII_TRADE[::6]
+    ref = cyclomech_tradeoff(radii, RPM_TRADE, None)
+    np.testing.assert_allclose(numba_tradeoff(radii, RPM_TRADE), ref, rtol=1e-10, atol=1e-12)
+
+
+def test_numba_agrees(numba_peer: None) -> None:
+    """The fixture's check (radii to 1e-9, angles to 1e-10), as a test."""
+
+
 def test_print_ratios(request: pytest.FixtureRequest) -> None:
-    """Interleaved rounds in one process, medians and ratios (print with -s)."""
-    timed = not request.config.getoption("benchmark_disable", False)
+    """Interleaved rounds in one process, medians and ratios (print with -s). The
+    numba rows need numba and a timed run (or CYCLOMECH_BENCH_NUMBA=1)."""
+    timed = _timed(request.config)
     rounds = 7 if timed else 1
     rpm = RPM_SIZE if timed else RPM_SIZE[::5]
-    med = interleaved(
-        {
-            "cyclomech cam_size, 1 thread": lambda: cyclomech_size(rpm, 1),
-            "cyclomech cam_size, all cores": lambda: cyclomech_size(rpm, None),
-            "numpy, all speeds at once": lambda: numpy_size(rpm),
-            "numpy, one speed per call": lambda: [
-                numpy_size(rpm[i : i + 1]) for i in range(rpm.size)
-            ],
-        },
-        rounds,
-    )
+    jit = numba is not None and (timed or os.environ.get("CYCLOMECH_BENCH_NUMBA") == "1")
+    if jit:
+        request.getfixturevalue("numba_peer")  # compiled and checked
+    tools: dict[str, Any] = {
+        "cyclomech cam_size, 1 thread": lambda: cyclomech_size(rpm, 1),
+        "cyclomech cam_size, all cores": lambda: cyclomech_size(rpm, None),
+        "numpy, all speeds at once": lambda: numpy_size(rpm),
+        "numpy, one speed per call": lambda: [numpy_size(rpm[i : i + 1]) for i in range(rpm.size)],
+    }
+    if jit:
+        tools["numba, all speeds at once, 1 thread"] = _on(1, lambda: numba_size(rpm))
+        tools["numba, all speeds at once, all cores"] = _on(0, lambda: numba_size(rpm))
+    med = interleaved(tools, rounds)
     _report(f"cam_size, {rpm.size} speeds, {rounds} interleaved rounds", med, rpm.size, "speed")
     radii = RADII_TRADE if timed else RADII_TRADE[::10]
-    med2 = interleaved(
-        {
-            "cyclomech tradeoff, 1 thread": lambda: cyclomech_tradeoff(radii, RPM_TRADE, 1),
-            "cyclomech tradeoff, all cores": lambda: cyclomech_tradeoff(radii, RPM_TRADE, None),
-            "numpy": lambda: numpy_tradeoff(radii, RPM_TRADE),
-        },
-        rounds,
-    )
+    tools = {
+        "cyclomech tradeoff, 1 thread": lambda: cyclomech_tradeoff(radii, RPM_TRADE, 1),
+        "cyclomech tradeoff, all cores": lambda: cyclomech_tradeoff(radii, RPM_TRADE, None),
+        "numpy": lambda: numpy_tradeoff(radii, RPM_TRADE),
+    }
+    if jit:
+        tools["numba, 1 thread"] = _on(1, lambda: numba_tradeoff(radii, RPM_TRADE))
+        tools["numba, all cores"] = _on(0, lambda: numba_tradeoff(radii, RPM_TRADE))
+    med2 = interleaved(tools, rounds)
     _report(
         f"cam_size_tradeoff, {radii.size} radii x {RPM_TRADE.size} speeds, {rounds} rounds",
         med2,

@@ -821,8 +821,7 @@ def numba_peer(request: pytest.FixtureRequest) -> Any:
     CYCLOMECH_BENCH_NUMBA=1)."""
     if numba is None:
         pytest.skip("numba is not installed (pip install numba)")
-    disabled = request.config.getoption("benchmark_disable", False)
-    if disabled and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
+    if not _timed(request.config) and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
         pytest.skip("the numba peer compiles for 20-30 s: runs with --benchmark-enable")
     p = candidates(1_000, seed=3)
     _agreement(cyclomech_batch(p, None), numba_batch(p), len(p))
@@ -852,6 +851,12 @@ def test_dwell_numba(benchmark, numba_peer: Any, threads: int | None) -> None:
     assert out.shape == (k, len(FIELDS))
 
 
+def _timed(config: pytest.Config) -> bool:
+    """Whether this is a timed run (--benchmark-enable), as conftest reads it."""
+    session = getattr(config, "_benchmarksession", None)
+    return session is not None and not session.disabled
+
+
 def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, float]:
     """Median wall time [s] of each tool, the tools called in turn each round (so
     the machine's load drifts over all of them alike)."""
@@ -867,7 +872,7 @@ def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, float]:
 def test_print_ratios(request: pytest.FixtureRequest) -> None:
     """Interleaved rounds in one process, medians and ratios (print with -s). The
     numba rows need numba and a timed run (or CYCLOMECH_BENCH_NUMBA=1)."""
-    timed = not request.config.getoption("benchmark_disable", False)
+    timed = _timed(request.config)
     k, rounds = (K_TIMED, 7) if timed else (K_SMOKE, 1)
     p = candidates(k)
     tools: dict[str, Any] = {
