@@ -32,14 +32,22 @@ stress bounds, vectorised over (radius, segment) and (radius, speed, segment)
 with the same closed forms and the same Illinois root; the jump bound in closed
 form. They agree to 1e-10 relative (:func:`test_tradeoff_agrees`).
 
+**numba** (:func:`numba_size`, :func:`numba_tradeoff`; checked equal to the same
+tolerances, ``test_numba_agrees``): the same closed forms, grids and roots in
+scalar loops, speeds or radii in ``prange`` — in the interleaved rounds of
+:func:`test_print_ratios` only, with a timed run (compiling takes ~30 s the first
+time; cached in ``benches/__pycache__``). It does not pay here: numpy's vectorised
+transcendental functions and the geometry shared over speeds beat it.
+
 Outputs are small (a row per speed; 60 × 5 × 2 × 4 angles), so the page state of
 the output is not a question here; the peer's work arrays are allocated afresh
 each call, as a user's would be.
 
 Default test run (``--benchmark-disable`` in addopts): each row once on fewer
-speeds and radii. For timings and the ratio tables::
+speeds and radii, without numba. For timings, the ratio tables and (``-s``) the
+interleaved rounds' medians and ratios::
 
-    python -m pytest benches/bench_cam_size.py --benchmark-enable -q -p no:cacheprovider
+    python -m pytest benches/bench_cam_size.py --benchmark-enable -q -p no:cacheprovider -s
 """
 
 from __future__ import annotations
@@ -569,7 +577,7 @@ def test_size_cyclomech(benchmark, threads: int | None) -> None:
 def test_size_numpy(benchmark) -> None:
     rpm = _speeds(benchmark)
     benchmark.extra_info["tool"] = "numpy"
-    benchmark.extra_info["what"] = f"all {rpm.size} speeds at once: scan, vectorised bisection"
+    benchmark.extra_info["what"] = f"all {rpm.size} speeds at once: scan, vectorised Illinois root"
     benchmark.extra_info["items"] = rpm.size
     rb, _ = benchmark.pedantic(numpy_size, (rpm,), rounds=3, iterations=1)
     assert rb.shape == rpm.shape
@@ -599,7 +607,7 @@ def test_tradeoff_cyclomech(benchmark, threads: int | None) -> None:
 def test_tradeoff_numpy(benchmark) -> None:
     radii = _radii(benchmark)
     benchmark.extra_info["tool"] = "numpy"
-    benchmark.extra_info["what"] = "vectorised over (radius, speed, segment): scan, bisection"
+    benchmark.extra_info["what"] = "vectorised over (radius, speed, segment): scan, Illinois root"
     benchmark.extra_info["items"] = radii.size
     out = benchmark.pedantic(numpy_tradeoff, (radii, RPM_TRADE), rounds=3, iterations=1)
     assert out.shape == (radii.size, RPM_TRADE.size, 2, 4)

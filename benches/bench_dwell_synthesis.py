@@ -1,4 +1,4 @@
-"""Six-bar dwell candidates: cyclomech's batch evaluation against numpy, the same rule.
+"""Six-bar dwell candidates: cyclomech's batch evaluation against numpy and numba.
 
 ``_core.dwell_batch`` (``rust/core/src/synthesis/dwell.rs``, the kernel behind
 :func:`cyclomech.synthesis.dwell_sixbar`: one call per generation of its
@@ -22,17 +22,25 @@ over the candidates (and over both sides of the pivot placement at once):
   golden-section search, all four batched into one array, to the kernel's
   1e-13 rad bracket; the second loop's transmission angle on the 360-angle grid.
 
-Both give the same 18 fields per candidate: they are compared to 1e-9 (radians,
-metres on a 1 m ground) before anything is timed (:func:`test_numpy_agrees`).
-The candidates are uniform in the search's bounds (``_dwell._BOUNDS``): what the
-first generation of the search evaluates; about a third of them are crank-rockers
-whose six-bar is built and measured, the rest are rejected in a few operations by
-both. The output is small (K × 18), so there is no page-state question here.
+And against :func:`numba_batch`: the same rule step for step in scalar loops, one
+candidate per ``prange`` iteration, with the same cached grids.
+
+Both peers give the same 18 fields per candidate: they are compared to 1e-9
+(radians, metres on a 1 m ground) before anything is timed
+(:func:`test_numpy_agrees`, :func:`test_numba_agrees`), but for a few
+ill-conditioned infeasible candidates (see :func:`test_numpy_agrees`). The
+candidates are uniform in the search's bounds (``_dwell._BOUNDS``): what the
+first generation of the search evaluates; about a fifth of them (828 of the 4000
+timed) have a crank that turns, an arc and a placement, and are built and measured
+(about 12 placements each: 2 sides × ~6 secant steps), the rest are rejected in a
+few operations by all. The output is small (K × 18), so there is no page-state question here.
 
 Default test run (``--benchmark-disable`` in addopts): each row once on 200
-candidates. For timings and the ratio tables::
+candidates, without numba (compiling it takes 20–30 s the first time; cached in
+``benches/__pycache__``; ``CYCLOMECH_BENCH_NUMBA=1`` includes it). For timings,
+the ratio tables and (``-s``) the interleaved rounds' medians and ratios::
 
-    python -m pytest benches/bench_dwell_synthesis.py --benchmark-enable -q -p no:cacheprovider
+    python -m pytest benches/bench_dwell_synthesis.py --benchmark-enable -q -p no:cacheprovider -s
 """
 
 from __future__ import annotations
