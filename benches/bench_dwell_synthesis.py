@@ -865,16 +865,21 @@ def _timed(config: pytest.Config) -> bool:
     return session is not None and not session.disabled
 
 
-def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, float]:
-    """Median wall time [s] of each tool, the tools called in turn each round (so
-    the machine's load drifts over all of them alike)."""
-    times: dict[str, list[float]] = {name: [] for name in tools}
+def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, tuple[float, float]]:
+    """Median wall time and median CPU time (the process's, all threads) [s] of
+    each tool, the tools called in turn each round (so the machine's load drifts
+    over all of them alike). On a loaded machine the one-thread rows' CPU time is
+    the steadier measure of the work."""
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in tools}
     for _ in range(rounds):
         for name, run in tools.items():
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             run()
-            times[name].append(time.perf_counter() - t0)
-    return {name: float(np.median(t)) for name, t in times.items()}
+            times[name].append((time.perf_counter() - t0, time.process_time() - c0))
+    return {
+        name: (float(np.median([w for w, _ in t])), float(np.median([c for _, c in t])))
+        for name, t in times.items()
+    }
 
 
 def test_print_ratios(request: pytest.FixtureRequest) -> None:
@@ -906,9 +911,12 @@ def test_print_ratios(request: pytest.FixtureRequest) -> None:
         tools["numba, all cores"] = numba_on(every)
     med = interleaved(tools, rounds)
     print(f"\ndwell_batch, {k} candidates, {rounds} interleaved rounds (median):")
-    for name, t in med.items():
-        print(f"  {name:<22} {t * 1e3:9.1f} ms   {k / t:9.0f} candidates/s")
+    for name, (t, cpu) in med.items():
+        print(
+            f"  {name:<22} {t * 1e3:9.1f} ms   {k / t:9.0f} candidates/s   CPU {cpu * 1e3:9.1f} ms"
+        )
     for peer in [n for n in med if not n.startswith("cyclomech")]:
         for ref in ("cyclomech, 1 thread", "cyclomech, all cores"):
-            print(f"  {peer} / {ref} = {med[peer] / med[ref]:.2f}x")
-    assert all(t > 0 for t in med.values())
+            wall, cpu = med[peer][0] / med[ref][0], med[peer][1] / med[ref][1]
+            print(f"  {peer} / {ref} = {wall:.2f}x  (CPU time: {cpu:.2f}x)")
+    assert all(t > 0 for t, _ in med.values())
