@@ -22,7 +22,7 @@ radius, the stress broadcast over (radius, speed, angle)), the smallest
 admissible one, and the crossing below it by Illinois' regula falsi vectorised
 over the speeds (a geometric bisection step where an end is +∞), to 1e-13
 relative. The radii agree to 1e-9 relative (3e-11 measured) and the binding
-criterion is the same (:func:`test_size_agrees`).
+criterion is the same (:func:`check_size`).
 
 **Trade-off** (``cm.synthesis.cam_size_tradeoff``: ``Cam.min_phase_angles`` at
 each of 60 base radii, 5 speeds, the rise and the return) against
@@ -30,7 +30,7 @@ each of 60 base radii, 5 speeds, the rise and the return) against
 first violating angle, then the crossing) for the pressure-angle, undercut and
 stress bounds, vectorised over (radius, segment) and (radius, speed, segment)
 with the same closed forms and the same Illinois root; the jump bound in closed
-form. They agree to 1e-10 relative (:func:`test_tradeoff_agrees`).
+form. They agree to 1e-10 relative (:func:`check_tradeoff`).
 
 **numba** (:func:`numba_size`, :func:`numba_tradeoff`; checked equal to the same
 tolerances, ``test_numba_agrees``): the same closed forms, grids and roots in
@@ -541,7 +541,20 @@ def test_both_criteria_bind() -> None:
     assert got == {"pressure_angle", "contact_stress"}
 
 
-def test_size_agrees() -> None:
+@pytest.fixture(scope="module")
+def numpy_checked() -> None:
+    """The numpy peers checked against cyclomech before any row that times them."""
+    check_size()
+    check_tradeoff()
+
+
+def test_peers_agree(numpy_checked: None) -> None:
+    """:func:`check_size` and :func:`check_tradeoff`, through the fixture."""
+
+
+def check_size() -> None:
+    """Radii to 1e-9 relative and the same binding criterion, on 7 speeds (the
+    last bound by the stress)."""
     rpm = RPM_SIZE[::3]
     ours = cyclomech_size(rpm, None)
     rb, binding = numpy_size(rpm)
@@ -550,7 +563,8 @@ def test_size_agrees() -> None:
     assert [r.binding for r in ours] == [names[b] for b in binding]
 
 
-def test_tradeoff_agrees() -> None:
+def check_tradeoff() -> None:
+    """Every angle to 1e-10 relative, on 10 radii × 5 speeds × 2 segments."""
     radii = RADII_TRADE[::6]
     ours = cyclomech_tradeoff(radii, RPM_TRADE, None)
     ref = numpy_tradeoff(radii, RPM_TRADE)
@@ -574,7 +588,7 @@ def test_size_cyclomech(benchmark, threads: int | None) -> None:
 
 
 @pytest.mark.benchmark(group=GROUP_SIZE)
-def test_size_numpy(benchmark) -> None:
+def test_size_numpy(benchmark, numpy_checked: None) -> None:
     rpm = _speeds(benchmark)
     benchmark.extra_info["tool"] = "numpy"
     benchmark.extra_info["what"] = f"all {rpm.size} speeds at once: scan, vectorised Illinois root"
@@ -604,7 +618,7 @@ def test_tradeoff_cyclomech(benchmark, threads: int | None) -> None:
 
 
 @pytest.mark.benchmark(group=GROUP_TRADE)
-def test_tradeoff_numpy(benchmark) -> None:
+def test_tradeoff_numpy(benchmark, numpy_checked: None) -> None:
     radii = _radii(benchmark)
     benchmark.extra_info["tool"] = "numpy"
     benchmark.extra_info["what"] = "vectorised over (radius, speed, segment): scan, Illinois root"
@@ -689,6 +703,7 @@ def test_print_ratios(request: pytest.FixtureRequest) -> None:
     timed = _timed(request.config)
     rounds = 7 if timed else 1
     rpm = RPM_SIZE if timed else RPM_SIZE[::5]
+    request.getfixturevalue("numpy_checked")
     jit = numba is not None and (timed or os.environ.get("CYCLOMECH_BENCH_NUMBA") == "1")
     if jit:
         request.getfixturevalue("numba_peer")  # compiled and checked

@@ -433,7 +433,15 @@ def numpy_batch(params: Array) -> Array:
     return out
 
 
-def test_numpy_agrees() -> None:
+@pytest.fixture(scope="module")
+def numpy_checked() -> None:
+    """numpy_batch checked against cyclomech (:func:`test_numpy_agrees`), before
+    any row that times it."""
+    p = candidates(1_000, seed=3)
+    _agreement(cyclomech_batch(p, None), numpy_batch(p), len(p))
+
+
+def test_numpy_agrees(numpy_checked: None) -> None:
     """The same rejections and feasible designs, and all 18 fields to 1e-9 (relative
     or absolute) on the candidates both evaluate but for the ill-conditioned few.
 
@@ -443,8 +451,6 @@ def test_numpy_agrees() -> None:
     an output that turns a full circle (a swing of 2π, whose peak-to-peak depends
     on where ψ wraps); their secant steps part on the last bits. Every feasible
     candidate agrees to 1e-9 (to 3e-11 with numba, 2.5e-12 with numpy on seed 3)."""
-    p = candidates(1_000, seed=3)
-    _agreement(cyclomech_batch(p, None), numpy_batch(p), len(p))
 
 
 def _k(benchmark: Any) -> int:
@@ -465,7 +471,7 @@ def test_dwell_cyclomech(benchmark, threads: int | None) -> None:
 
 
 @pytest.mark.benchmark(group=GROUP)
-def test_dwell_numpy(benchmark) -> None:
+def test_dwell_numpy(benchmark, numpy_checked: None) -> None:
     k = _k(benchmark)
     p = candidates(k)
     benchmark.extra_info["tool"] = "numpy"
@@ -887,6 +893,7 @@ def test_print_ratios(request: pytest.FixtureRequest) -> None:
     numba rows need numba and a timed run (or CYCLOMECH_BENCH_NUMBA=1)."""
     timed = _timed(request.config)
     k, rounds = (K_TIMED, 7) if timed else (K_SMOKE, 1)
+    request.getfixturevalue("numpy_checked")
     p = candidates(k)
     tools: dict[str, Any] = {
         "cyclomech, 1 thread": lambda: cyclomech_batch(p, 1),
