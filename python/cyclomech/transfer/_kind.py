@@ -148,8 +148,14 @@ class TransferMechanism(Unbounded):
         10.0
         """
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
-        where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
+        return cls._from_checked(name, table, ctx.where(name))
+
+    @classmethod
+    def _from_checked(cls, name: str, table: Mapping[str, Any], where: str) -> TransferMechanism:
+        """The mechanism from a table whose key names are checked; messages start
+        with ``where`` (a machine file's ``[mechanism.<name>]`` or a transfer
+        file's ``[transfer]``)."""
         _toml.require(table, ("R_t_m", "R_p_m", "gap_m", "pockets_t", "pockets_p"), where)
         R_t, R_p = (
             _toml.number(table, "R_t_m", where, "[m]"),
