@@ -241,8 +241,8 @@ def events(table: Mapping[str, Any], key: str, where: str, *, arc: bool = False)
         for i, n in enumerate(names):
             if n in seen:
                 raise InputError(
-                    f"{where}: {key} = {v!r} names the event {n!r} twice (at {seen[n]} "
-                    f"and {i}); each event once"
+                    f"{where}: {key} = {v!r} names the event {n!r} twice (entries #{seen[n] + 1} "
+                    f"and #{i + 1}); each event once"
                 )
             seen[n] = i
     return names

@@ -364,9 +364,7 @@ def test_small_a_mechanism_name_one_letter_off_is_an_error():
     assert {"clamp", "back gauge"} <= {op.mechanism for op in m.cyclogram.operations}
 
 
-@pytest.mark.parametrize(
-    "command", ["cyclogram", "linkage", "press", "impact", "cam", "transfer"]
-)
+@pytest.mark.parametrize("command", ["cyclogram", "linkage", "press", "impact", "cam", "transfer"])
 def test_small_a_machine_file_given_to_another_command_points_to_run(command, tmp_path, capsys):
     loom = str(EXAMPLES / "stb_loom.toml")
     assert main([command, loom, "--out", str(tmp_path), "--no-plot"]) == 2

@@ -122,5 +122,5 @@ def test_the_issues_linkage_file_is_exit_2(tmp_path, capsys) -> None:
     bad.write_text(text[:start] + 'ground = [["A", "D"]]' + text[end:], encoding="utf-8")
     assert main(["linkage", str(bad), "--out", str(tmp_path / "o"), "--no-plot"]) == 2
     err = capsys.readouterr().err
-    assert "ground[0] = ['A', 'D'] must be a joint name (a string)" in err
+    assert "ground #1 = ['A', 'D'] must be a joint name (a string)" in err
     assert "Traceback" not in err

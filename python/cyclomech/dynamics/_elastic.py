@@ -227,7 +227,7 @@ class ElasticShaft:
             for i, x in enumerate(v):
                 if not (_toml.is_number(x) and math.isfinite(x) and x > 0):
                     raise InputError(
-                        f"{where}: {k}[{i}] = {x!r} must be a finite number > 0 {unit}"
+                        f"{where}: {k} #{i + 1} = {x!r} must be a finite number > 0 {unit}"
                     )
             arrays[k] = tuple(float(x) for x in v)
         zeta = shaft.get("damping_ratio", 0.02)
