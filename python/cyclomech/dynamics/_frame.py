@@ -439,8 +439,7 @@ class BalanceRequest:
 def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
     """Each requested linkage balanced at the machine's nominal speed
     (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity), or a press's
-    carrier (``_balance._press_balance``, its links
-    ``[["O", "planet"]]``).
+    carrier (a counterweight on the carrier, its links ``[["O", "planet"]]``).
 
     Parameters
     ----------

@@ -656,7 +656,7 @@ class Machine:
         Returns
         -------
         dict of str to ndarray
-            By the bound's name (:class:`~cyclomech._kind.Bound`), the smallest angle
+            By the bound's name (:class:`~cyclomech.machine.Bound`), the smallest angle
             [deg] at each speed.
 
         Raises
