@@ -232,7 +232,7 @@ class PressMechanism(Unbounded):
             raise InputError(f"{where}: {mech._failure(c)}")
         if mech.force is not None:
             try:
-                mech.force.check_stroke(c.S_p, "deformation_force.s_above_bdc_m")
+                mech.force.check_stroke(c.S_p, "deformation_force.s_above_bdc_m", counted=True)
             except InputError as e:
                 raise InputError(f"{where}: {e}") from None
         return mech

@@ -160,7 +160,7 @@ class DeformationForce:
         """
         return float(np.sum(0.5 * (self.force[1:] + self.force[:-1]) * np.diff(self.s)))
 
-    def check_stroke(self, S_p: float, s_key: str = "s") -> None:
+    def check_stroke(self, S_p: float, s_key: str = "s", *, counted: bool = False) -> None:
         """Check that the table lies inside the working stroke [0, ``S_p``] [m].
 
         To ``STROKE_TOL`` (1e-9)·S_p.
@@ -171,6 +171,9 @@ class DeformationForce:
             The working stroke [m].
         s_key : str, default "s"
             The key the error names (the table's key in the file).
+        counted : bool, default False
+            Name the entry counted from 1, as a file's (``s_m #2``), not as a
+            Python subscript (``s[1]``).
 
         Raises
         ------
@@ -189,8 +192,9 @@ class DeformationForce:
         bad = np.flatnonzero(self.s > top)
         if bad.size:
             j = int(bad[0])
+            at = f"{s_key} #{j + 1}" if counted else f"{s_key}[{j}]"
             raise InputError(
-                f"{s_key}[{j}] = {float(self.s[j])!r} m lies above the working stroke: the force "
+                f"{at} = {float(self.s[j])!r} m lies above the working stroke: the force "
                 f"diagram's heights above BDC must lie in [0, {S_p:.6g}] m (S_p = {S_p:.6g} m)"
             )
 
