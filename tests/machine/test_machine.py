@@ -249,12 +249,14 @@ def test_every_machine_example_is_covered():
     # The loom with its cam is covered by test_machine_cams.py; here its stop-only copy.
     # The flow wrapper (cams and servo axes) by tests/servo/test_servo_kind.py; the
     # synthesised knife drive by test_knife_synthesized.py, the sized cam by
-    # test_cam_sized_machine.py.
+    # test_cam_sized_machine.py, the synthesised transfer arm by
+    # test_transfer_arm_synthesized.py.
     assert found == {Path(f).name for f in MACHINE_FILES} - {"stb_loom_stop_only.toml"} | {
         "stb_loom.toml",
         "flow_wrapper.toml",
         "knife_cutter_synthesized.toml",
         "lifter_cam_sized.toml",
+        "transfer_arm_synthesized.toml",
     }
 
 

@@ -35,9 +35,15 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 LOOM = ROOT / "examples" / "stb_loom.toml"
 SCRIPT = Path(sys.executable).with_name("cyclomech")
-# The console script's two lines, plus one byte on fd {fd} once the entry module is in.
+# The console script's two lines, with one byte written on fd {fd} once the entry
+# point's watch is on (CtrlC.__enter__): the promise starts when the entry point
+# runs. A byte written by the script before it calls main() left a window (a CI run
+# under load sent SIGINT there, into the script's own line, and got its traceback).
 ENTRY = (
-    "import os, sys, _cyclomech_entry; os.write({fd}, b'.'); os.close({fd}); "
+    "import os, sys, _cyclomech_entry, _cyclomech_entry._interrupt as i; on = i.CtrlC.__enter__\n"
+    "def enter(self):\n"
+    "    r = on(self); os.write({fd}, b'.'); os.close({fd}); i.CtrlC.__enter__ = on; return r\n"
+    "i.CtrlC.__enter__ = enter\n"
     "sys.exit(_cyclomech_entry.main())"
 )
 

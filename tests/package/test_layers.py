@@ -15,7 +15,7 @@ import pytest
 PKG = Path(__file__).resolve().parents[2] / "python" / "cyclomech"
 
 #: The shared modules every domain may stand on (errors, number checks, the Rust
-#: core, units, files, TOML, the key documentation, plotting and CLI helpers).
+#: core, units, files, TOML, the key documentation, plotting, notebook and CLI helpers).
 GROUND = {
     "cyclomech._arrays",
     "cyclomech._cli",
@@ -24,6 +24,7 @@ GROUND = {
     "cyclomech._files",
     "cyclomech._json",
     "cyclomech._keydoc",
+    "cyclomech._notebook",
     "cyclomech._plotting",
     "cyclomech._toml",
     "cyclomech._units",

@@ -32,6 +32,7 @@ EXAMPLES = (
     "rotor_line",
     "knife_cutter_synthesized",
     "lifter_cam_sized",
+    "transfer_arm_synthesized",
 )
 WRITE = os.environ.get("CYCLOMECH_PIN", "") not in ("", "0")
 RTOL = 1e-9

@@ -12,6 +12,7 @@ import numpy.typing as npt
 from .. import _core
 from .._arrays import count, finite_number, float_array, instances, positive, threads_arg
 from .._errors import InputError
+from .._notebook import data_frame, figure_of, html_card, pandas
 from ..motion import NAMES, Program
 from . import _loads
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
@@ -602,6 +603,64 @@ class Cam:
         edges = np.diff(np.r_[0, flags.astype(np.int8), 0])
         first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
         return [(float(deg[a]), float(deg[b])) for a, b in zip(first, last, strict=True)]
+
+    def to_pandas(self, samples: int = 3600) -> Any:
+        """The cam's exact geometry at ``samples`` cam angles over one turn as a
+        pandas DataFrame indexed by ``theta_deg``: the columns of
+        :func:`cyclomech.cam.profile_table` (the profile CSV's), lengths in m
+        (pandas needed).
+
+        Parameters
+        ----------
+        samples : int, default 3600
+            The number of cam angles over the turn (≥ 3).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per cam angle [deg].
+
+        Raises
+        ------
+        InputError
+            If ``samples`` is not an integer ≥ 3.
+        ImportError
+            If pandas is not installed.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> S = cm.cam.Segment
+        >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
+        ...                  cm.cam.TranslatingRoller(0.05, 0.01))
+        >>> df = cam.to_pandas(720)
+        >>> df.index.name, len(df), round(float(df["s_m"].max()), 12)
+        ('theta_deg', 720, 0.02)
+        """
+        from ._export import profile_table  # here: _export imports this module
+
+        pandas()  # before the work: no table computed for nothing
+        return data_frame(profile_table(self, samples), index="theta_deg")
+
+    def _repr_html_(self) -> str:
+        """The notebook's view: the follower, the segments, the largest pressure
+        angle, the smallest radius of curvature, any undercut, and the drawing."""
+        from ._export import profile_table  # here: _export imports this module
+
+        t = profile_table(self, 3600)
+        rows: list[tuple[str, Any]] = [
+            ("follower", repr(self.follower)),
+            ("closure", self.closure),
+            ("segments", ", ".join(f"{g.kind} {g.angle_deg:g}°" for g in self.segments)),
+            ("largest |pressure angle| [deg]", float(np.max(np.abs(t["pressure_angle_deg"])))),
+            (
+                "smallest |profile radius of curvature| [m]",
+                float(np.nanmin(np.abs(t["profile_radius_m"]))),
+            ),
+        ]
+        runs = self.undercut_angles_deg()
+        rows.append(("undercut", ", ".join(f"{a:g}–{b:g}°" for a, b in runs) or "none"))
+        return html_card("Cam", rows, figure_of(self))
 
 
 def _summary(program: Program) -> tuple[Segment, ...]:

@@ -28,6 +28,7 @@ import numpy.typing as npt
 
 from .._arrays import float_array, positive, real_array
 from .._errors import InputError
+from .._notebook import register_figure
 from .._plotting import (
     CRITICAL_COLOR,
     LINK_COLOR,
@@ -916,3 +917,7 @@ def plot_size_tradeoff(
     rpm = float(t.rpm[int(rpm_index)])
     ax.set_title(title or f"smallest phase angle against base radius at {rpm:g} rpm", fontsize=10)
     return ax
+
+
+# The notebook's figure of a Cam (its ``_repr_html_``).
+register_figure(Cam, lambda cam: plot_cam(cam).figure)

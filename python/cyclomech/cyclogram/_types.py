@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from .._arrays import real
 from .._errors import InputError
+from .._notebook import figure_of, html_card, table_frame
 from ._angles import Arc
 
 if TYPE_CHECKING:
@@ -251,6 +252,96 @@ class Optimum:
     stretch: dict[Arc, float]
     critical: tuple[Arc, ...]
     name: str = "cyclogram"
+
+    def table(self) -> tuple[list[str], list[list[object]]]:
+        """Each operation at the optimum, in the order added: (header, rows).
+
+        Columns: ``operation`` (its title), ``mechanism``, ``from``, ``to``,
+        ``start_deg`` (its start event's angle), ``angle_deg``,
+        ``beyond_minimum_deg`` (``stretch``), ``critical``.
+
+        Returns
+        -------
+        header : list of str
+            The columns' names.
+        rows : list of list
+            One row per operation.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30)
+        >>> header, rows = cg.optimize().table()
+        >>> header[4:6], rows[0][4:6]
+        (['start_deg', 'angle_deg'], [0.0, 30.0])
+        """
+        header = ["operation", "mechanism", "from", "to", "start_deg", "angle_deg"]
+        header += ["beyond_minimum_deg", "critical"]
+        crit = set(self.critical)
+        rows: list[list[object]] = [
+            [
+                op.title,
+                op.mechanism or "",
+                op.src,
+                op.dst,
+                self.times[op.src],
+                self.angles[op.arc],
+                self.stretch[op.arc],
+                op.arc in crit,
+            ]
+            for op in self.operations
+        ]
+        return header, rows
+
+    def to_pandas(self) -> Any:
+        """:meth:`table` as a pandas DataFrame indexed by the operation's title
+        (pandas needed).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per operation.
+
+        Raises
+        ------
+        ImportError
+            If pandas is not installed.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> cg = cm.Cyclogram()
+        >>> cg.add_operation("a", "b", 30)
+        >>> cg.add_operation("b", "c", 50)
+        >>> cg.optimize().to_pandas()["start_deg"].tolist()
+        [0.0, 30.0]
+        """
+        return table_frame(*self.table(), index="operation")
+
+    def _repr_html_(self) -> str:
+        """The notebook's view: what was optimised and its value, the operations'
+        table and the Gantt chart of the optimum."""
+        rows: list[tuple[str, object]] = [
+            (
+                "goal",
+                "the limiting operation's largest angle"
+                if self.goal == "max_limiting"
+                else "the shortest span",
+            ),
+            ("optimum [deg]", self.objective),
+            ("span [deg]", self.duration),
+            ("cycle [deg]", self.cycle_deg),
+        ]
+        if self.speed_rpm is not None:
+            rows.append(("at [rpm]", self.speed_rpm))
+        rows.append(("binding", ", ".join(self.binding) or "none"))
+        return html_card(
+            self.name,
+            rows,
+            figure_of(self),
+            tables=[("Operations", *self.table())],
+        )
 
 
 @dataclass(frozen=True)

@@ -29,6 +29,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, cast
 
 from .._errors import InputError
+from .._notebook import register_figure
 from .._plotting import deg_text, pyplot
 from . import Arc, Optimum, Schedule
 from ._circular import (
@@ -295,3 +296,7 @@ def _label(
         keyed = now
         if not now:
             break
+
+
+# The notebook's figure of an Optimum (its ``_repr_html_``).
+register_figure(Optimum, lambda o: plot_cyclogram(o).figure)

@@ -12,6 +12,7 @@ import numpy.typing as npt
 
 from .._arrays import float_array, instance, instances
 from .._errors import InputError
+from .._notebook import data_frame, figure_of, html_card
 from .._units import at_speed
 
 if TYPE_CHECKING:
@@ -573,6 +574,104 @@ class Kinetostatics:
             if not load[i] <= best[1]:
                 best = (p, float(load[i]), float(np.degrees(self.angles[i])))
         return best
+
+    def table(self, rpm: Any, crank_acceleration: float = 0.0) -> tuple[list[str], list[Array]]:
+        """The forces at a speed as columns (header, columns), one row per crank
+        angle: ``crank_deg``, ``torque_nm``, ``guide_n[<guide>]`` for each guide
+        and ``fx_n[<point> on <link>]``, ``fy_n[…]`` for each joint force (the
+        columns of a machine's ``<mechanism>_forces.csv``).
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration [rad/s²].
+
+        Returns
+        -------
+        header : list of str
+            The columns' names, units in them.
+        columns : list of ndarray of float, each shape (N,)
+            The columns.
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0], point_masses={"A": 2.0})
+        >>> header, cols = k.table(60.0)
+        >>> header[:3], round(float(cols[2][0]), 4)
+        (['crank_deg', 'torque_nm', 'fx_n[O on frame]'], 23.6871)
+        """
+        header = ["crank_deg", "torque_nm"]
+        cols: list[Array] = [np.degrees(self.angles), self.torque(rpm, crank_acceleration)]
+        guides = self.guide_forces(rpm, crank_acceleration)
+        for j, g in enumerate(self.guides):
+            header.append(f"guide_n[{g}]")
+            cols.append(guides[:, j])
+        react = self.reactions(rpm, crank_acceleration)
+        for i, (pt, part) in enumerate(self.pairs):
+            header += [f"fx_n[{pt} on {part}]", f"fy_n[{pt} on {part}]"]
+            cols += [react[:, i, 0], react[:, i, 1]]
+        return header, cols
+
+    def to_pandas(self, rpm: Any, crank_acceleration: float = 0.0) -> Any:
+        """:meth:`table` as a pandas DataFrame indexed by ``crank_deg`` (pandas
+        needed).
+
+        Parameters
+        ----------
+        rpm : float
+            The crank speed [rpm].
+        crank_acceleration : float, default 0.0
+            The crank's angular acceleration [rad/s²].
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per crank angle [deg].
+
+        Raises
+        ------
+        InputError
+            If ``rpm`` or ``crank_acceleration`` is not a finite number.
+        ImportError
+            If pandas is not installed.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> crank = cm.Linkage({"O": (0, 0), "A": (0.3, 0)}, [("O", "A")], ["O"], ("O", "A"))
+        >>> k = cm.forces.kinetostatics(crank, [0.0, 1.0], point_masses={"A": 2.0})
+        >>> k.to_pandas(60.0)["fx_n[O on frame]"].round(4).tolist()
+        [23.6871, 12.7982]
+        """
+        header, cols = self.table(rpm, crank_acceleration)
+        return data_frame(dict(zip(header, cols, strict=True)), index="crank_deg")
+
+    def _repr_html_(self) -> str:
+        """The notebook's view: what was solved and the driving torque's parts
+        (ω², ε and static), with the linkage at its first angle."""
+        torque = np.abs(self.torque_parts)
+        with np.errstate(invalid="ignore"):
+            peak = [float(np.nanmax(t)) if np.isfinite(t).any() else math.nan for t in torque]
+        rows: list[tuple[str, Any]] = [
+            ("crank angles", self.angles.size),
+            ("joint forces", len(self.pairs)),
+            ("guides", ", ".join(self.guides) or "none"),
+            ("not assembled or at a dead centre", int((~self.ok).sum())),
+            ("near a dead centre", int(self.near_dead_centre.sum())),
+            ("peak |torque| per (rad/s)² of crank speed [N·m·s²]", peak[0]),
+            ("peak |torque| per rad/s² of crank acceleration [N·m·s²]", peak[1]),
+            ("peak |static torque| (gravity, loads) [N·m]", peak[2]),
+        ]
+        return html_card("Kinetostatics", rows, figure_of(self))
 
     def shaft_torque(self) -> ShaftTorque:
         """The driving torque as a :class:`~cyclomech.shaft.ShaftTorque`.

@@ -9,7 +9,9 @@ import numpy as np
 
 from .._arrays import finite_number
 from .._errors import InputError
+from .._notebook import register_figure
 from .._plotting import CRITICAL_COLOR, angle_axis, pyplot
+from . import _result
 
 if TYPE_CHECKING:
     from ._result import Kinetostatics
@@ -113,3 +115,21 @@ def plot_forces(k: Kinetostatics, rpm: float, *, title: str | None = None) -> An
     for ax in (top, bottom):
         ax.grid(True, lw=0.4, alpha=0.5)
     return fig
+
+
+def _torque_parts(k: Kinetostatics) -> Any:
+    """The notebook's figure of a Kinetostatics (its ``_repr_html_``): the driving
+    torque's three parts against the crank angle (no speed is given there)."""
+    fig, axes = pyplot().subplots(3, 1, sharex=True, figsize=(6.4, 5.2), layout="constrained")
+    deg = np.degrees(k.angles)
+    labels = ["per (rad/s)² [N·m·s²]", "per rad/s² [N·m·s²]", "static [N·m]"]
+    for ax, part, label in zip(axes, k.torque_parts, labels, strict=True):
+        ax.plot(deg, part)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].set_title("Driving torque: ω²·(1) + ε·(2) + (3)")
+    axes[-1].set_xlabel("crank angle [deg]")
+    return fig
+
+
+register_figure(_result.Kinetostatics, _torque_parts)

@@ -185,8 +185,10 @@ KEY_DOCS: tuple[KeyTable, ...] = (
     )),
     KeyTable("linkage.synthesize", "[mechanism.<name>.synthesize] of a linkage", (
         K("scheme", "The scheme to synthesise: seed 001's knife drives br125 (p = 1, "
-          "structure 1–3), br136 (p = 2, 1–2–3), brp4 (p = 3, 1–2–2–3).", NO_UNIT, TEXT, REQ,
-          "br125, br136 or brp4", None),
+          "structure 1–3), br136 (p = 2, 1–2–3), brp4 (p = 3, 1–2–2–3) with the keys "
+          "below; function, path, motion or dwell_sixbar with the keys of their own tables "
+          "(below).", NO_UNIT, TEXT, REQ,
+          "br125, br136, brp4, function, path, motion or dwell_sixbar", None),
         K("stroke_m", "The knife point E's stroke: max − min of its travel along −y.", "m",
           NUM, REQ, POS, None),
         K("cut_deg", "The crank angle of the working stroke, from the knife's top to its "
@@ -230,6 +232,167 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         "of the table name the scheme's joints (A, B, C, D, E, F, O; br136 adds G, J; "
         "brp4 G, J, K, M, P). The knife's stroke is its travel along −y; its top and "
         "bottom are the crank angles of its highest and lowest positions."
+    )),
+    KeyTable("linkage.synthesize.function", "synthesize of a linkage: scheme = function", (
+        K("scheme", "A four-bar function generator: its output rocker's angle ψ follows the "
+          "crank angle φ (both from the ground line A → D).", NO_UNIT, TEXT, REQ, "function",
+          None),
+        K("precision_points_deg", "The precision points [[φ, ψ], …] the four-bar meets "
+          "exactly (3) or by least squares (more).", "deg", ARR,
+          "none (give one of precision_points_deg, function_deg, output_range_deg)",
+          "at least 3 rows of 2 finite numbers, distinct φ", None),
+        K("function_deg", "The wanted relation ψ(φ) as a table [[φ, ψ], …], interpolated "
+          "linearly; precision points are placed on it.", "deg", ARR,
+          "none (give one of precision_points_deg, function_deg, output_range_deg)",
+          "at least 2 rows of 2 finite numbers, distinct φ", None),
+        K("input_range_deg", "The input range [lo, hi] of φ (the structural error's range).",
+          "deg", ARR, "the table's or the precision points' range",
+          "two finite numbers, lo < hi; needed with output_range_deg", None),
+        K("output_range_deg", "ψ at the input range's ends [ψ(lo), ψ(hi)]: ψ linear in φ.",
+          "deg", ARR, "none (give one of precision_points_deg, function_deg, output_range_deg)",
+          "two finite numbers; needs input_range_deg", None),
+        K("points", "Precision points placed on the relation (3 exact, more least squares).",
+          NO_UNIT, INT, "3", "a whole number ≥ 3; not with precision_points_deg", None),
+        K("spacing", "How they are placed over the input range.", NO_UNIT, TEXT, "chebyshev",
+          "chebyshev or uniform; not with precision_points_deg", None),
+        K("ground_m", "The ground length A–D (the equation fixes only ratios).", "m", NUM, "1",
+          POS, None),
+        K("offsets_deg", "Origins of the scales to try [[Δφ, Δψ], …], one candidate each.",
+          "deg", ARR, "[[0, 0]]", "rows of 2 finite numbers", None),
+        K("min_transmission_deg", "The least transmission angle over the crank's turn.", "deg",
+          NUM, "0", "in [0, 90)", None),
+    ), intro=(
+        "A four-bar function generator (``cyclomech.synthesis.function_generation``, "
+        "Freudenstein's equation). A machine turns the crank fully: of the candidates, the "
+        "first in function generation's ranking whose crank turns fully and meets every "
+        "precision point on one branch is chosen, or the file is refused saying what each "
+        "candidate missed. The linkage's points are A (crank pivot, the origin), B, C, D "
+        "(output pivot on +x); its output C. Where the solution draws the crank flipped, the "
+        "crank's angle is φ + 180° (the report says so)."
+    )),
+    KeyTable("linkage.synthesize.path", "synthesize of a linkage: scheme = path", (
+        K("scheme", "A path generator: a coupler point P through target points.", NO_UNIT,
+          TEXT, REQ, "path", None),
+        K("targets_m", "The target points [[x, y], …].", "m", ARR, REQ,
+          "at least 3 rows of 2 finite numbers (distinct without timing_deg)", None),
+        K("timing_deg", "The crank angle at each target (only differences matter).", "deg",
+          ARR, "none (P anywhere on its path)", "one finite number per target", None),
+        K("mechanism", "The linkage searched.", NO_UNIT, TEXT, "four_bar",
+          "four_bar or slider_crank", None),
+        K("min_transmission_deg", "The least transmission angle over the turn.", "deg", NUM,
+          "0", "in [0, 90)", None),
+        K("max_length_ratio", "The longest link over the shortest, at most.", NO_UNIT, NUM,
+          "none (no limit)", "finite, ≥ 1", None),
+        K("pivot_box_m", "The box [x_min, x_max, y_min, y_max] the ground pivots stay in.",
+          "m", ARR, "none (anywhere)", "four finite numbers, x_min ≤ x_max, y_min ≤ y_max",
+          None),
+        K("max_error_m", "The largest distance of a target from P allowed.", "m", NUM,
+          "none (reported, not checked)", POS, None),
+        K("seed", "The optimiser's seed (a seed repeats its result).", NO_UNIT, INT, "0",
+          "a whole number ≥ 0", None),
+        K("popsize", "Candidates per design variable in each generation.", NO_UNIT, INT, "15",
+          "a whole number ≥ 5", None),
+        K("maxiter", "Generations of differential evolution at most.", NO_UNIT, INT, "1000",
+          "a whole number ≥ 1", None),
+        K("polish", "Refine the best candidates by least squares after the search.", NO_UNIT,
+          BOOL, "true", "true or false", None),
+        K("bounds", "The search's ranges of the design variables {crank_m = [lo, hi], …} "
+          "(a [….synthesize.bounds] table).", NO_UNIT, TAB,
+          "ranges scaled to the targets' extent S (pivots ±3S, links up to 4S, crank 2S)",
+          "a bounds table", None),
+    ), intro=(
+        "A four-bar or slider-crank whose coupler point P passes target points "
+        "(``cyclomech.synthesis.path_generation``: differential evolution, each generation "
+        "one parallel batch call, then least squares). Its crank must turn fully (a machine "
+        "turns it once per cycle); the feasible candidate nearest the targets is chosen, and "
+        "a file with none, or with the best error above max_error_m, is refused. Points A "
+        "(crank pivot), B, C, D (four-bar) and P, the output."
+    )),
+    KeyTable("linkage.synthesize.path.bounds", "bounds of a path synthesis", (
+        K("x0_m", "The crank pivot A's x.", "m", ARR, "targets' centre ± 3S", "[lo, hi], lo < hi",
+          None),
+        K("y0_m", "The crank pivot A's y.", "m", ARR, "targets' centre ± 3S", "[lo, hi], lo < hi",
+          None),
+        K("theta0_deg", "The ground line's (or slider guide's) direction.", "deg", ARR,
+          "[-180, 180]", "[lo, hi], lo < hi", None),
+        K("ground_m", "The ground link A–D (four-bar).", "m", ARR, "[0.1S, 4S]",
+          "[lo, hi], lo < hi, hi > 0; four_bar only", None),
+        K("offset_m", "The slider guide's offset from A (slider-crank).", "m", ARR,
+          "[-2S, 2S]", "[lo, hi], lo < hi; slider_crank only", None),
+        K("crank_m", "The crank A–B.", "m", ARR, "[0.05S, 2S]", "[lo, hi], lo < hi, hi > 0",
+          None),
+        K("coupler_m", "The coupler B–C.", "m", ARR, "[0.1S, 4S]", "[lo, hi], lo < hi, hi > 0",
+          None),
+        K("rocker_m", "The rocker D–C (four-bar).", "m", ARR, "[0.1S, 4S]",
+          "[lo, hi], lo < hi, hi > 0; four_bar only", None),
+        K("u_m", "The coupler point along B → C.", "m", ARR, "[-3S, 3S]", "[lo, hi], lo < hi",
+          None),
+        K("v_m", "The coupler point to the left of B → C.", "m", ARR, "[-3S, 3S]",
+          "[lo, hi], lo < hi", None),
+        K("phi1_deg", "The crank angle at the first target (with timing_deg).", "deg", ARR,
+          "[-180, 180]", "[lo, hi], lo < hi; needs timing_deg", None),
+    ), intro=(
+        "The ranges differential evolution searches, overriding the defaults, which "
+        "scale with the targets' extent S about their centre; a key left out keeps its "
+        "default."
+    )),
+    KeyTable("linkage.synthesize.motion", "synthesize of a linkage: scheme = motion", (
+        K("scheme", "A motion generator: a coupler that takes three poses.", NO_UNIT, TEXT,
+          REQ, "motion", None),
+        K("pose_points_m", "Where the coupler point P is at the three poses [[x, y], …].",
+          "m", ARR, REQ, "3 rows of 2 finite numbers, the poses distinct", None),
+        K("pose_angles_deg", "The angle of a coupler line through P at each pose.", "deg",
+          ARR, REQ, "3 finite numbers", None),
+        K("circle_points_m", "The moving pivots [[u, v], [u, v]] (the crank's, the rocker's) "
+          "in the coupler frame (u along the pose angle from P, v to its left).", "m", ARR,
+          "none (a grid of circle points is scanned)",
+          "2 rows of 2 finite numbers; not with the grid's keys", None),
+        K("grid_extent_m", "The scanned grid's half width around P.", "m", NUM,
+          "the poses' largest distance from the first (at least 1 mm)", POS, None),
+        K("grid_points", "Circle points per side of the grid (every pair is a candidate).",
+          NO_UNIT, INT, "7", "a whole number from 2 to 15", None),
+        K("min_transmission_deg", "The least transmission angle over the turn.", "deg", NUM,
+          "0", "in [0, 90)", None),
+        K("max_length_ratio", "The longest link over the shortest, at most.", NO_UNIT, NUM,
+          "none (no limit)", "finite, ≥ 1", None),
+    ), intro=(
+        "A four-bar whose coupler takes three poses (``cyclomech.synthesis."
+        "motion_generation``: circle and centre points). Of the candidates, those a machine "
+        "can run — the crank turning fully and counter-clockwise through the poses in order, "
+        "on one branch, within the limits — are kept, and the one with the largest worst "
+        "transmission angle over the turn is chosen; a file with none is refused. Points A0, "
+        "B0 (ground), A, B (moving pivots), P (the output; Q a helper where P is on AB)."
+    )),
+    KeyTable("linkage.synthesize.dwell_sixbar", "synthesize of a linkage: scheme = dwell_sixbar",
+             (
+        K("scheme", "A six-bar dwell linkage: the output rocker stands (nearly) still over "
+          "part of the turn.", NO_UNIT, TEXT, REQ, "dwell_sixbar", None),
+        K("dwell_deg", "The crank angle of the dwell.", "deg", NUM, REQ, "in (0, 360)", None),
+        K("swing_deg", "The output rocker's swing over the rest of the turn.", "deg", NUM, REQ,
+          "in (0, 180)", None),
+        K("ground_m", "The four-bar's ground length A–D (every length scales with it).", "m",
+          NUM, "1", POS, None),
+        K("min_transmission_deg", "The least transmission angle in both loops.", "deg", NUM,
+          "30", "in [0, 90]", None),
+        K("max_length_ratio", "The six links' longest over shortest, at most.", NO_UNIT, NUM,
+          "10", "finite, ≥ 1", None),
+        K("max_residual_deg", "The output's motion over the dwell allowed, peak to peak.",
+          "deg", NUM, "none (reported, not checked)", POS, None),
+        K("seed", "The optimiser's seed (a seed repeats its result).", NO_UNIT, INT, "0",
+          "a whole number ≥ 0", None),
+        K("popsize", "Candidates per design variable in each generation.", NO_UNIT, INT, "20",
+          "a whole number ≥ 1", None),
+        K("maxiter", "Generations of differential evolution.", NO_UNIT, INT, "30",
+          "a whole number ≥ 1", None),
+    ), intro=(
+        "A Stephenson III six-bar dwell linkage (``cyclomech.synthesis.dwell_sixbar``): a "
+        "crank-rocker's coupler point P runs on a near-circular arc over the dwell and a "
+        "dyad P–E of its radius holds the output joint E at the arc's centre. The feasible "
+        "candidate (transmission angles, swing and length ratio held) whose output moves "
+        "least over the dwell is chosen; a file with none, or above max_residual_deg, is "
+        "refused. Points A (crank pivot, the origin), B, C, D (on +x), P, E (the output), F "
+        "(the output's pivot); links A–B, B–C–P, D–C, P–E, F–E. The report gives the dwell's "
+        "crank angles, for the phase."
     )),
     Phase.key_docs,
 )

@@ -674,20 +674,7 @@ class LinkageResult(PlainResult):
         the crank angle [deg], the driving torque [N·m], each guide's force and
         each joint's force on each part (x, y) [N]; None without forces."""
         k = self.kinetostatics
-        if k is None:
-            return None
-        n = self.ctx.nominal_rpm
-        header = ["crank_deg", "torque_nm"]
-        cols: list[Array] = [np.degrees(k.angles), k.torque(n)]
-        guides = k.guide_forces(n)
-        for j, g in enumerate(k.guides):
-            header.append(f"guide_n[{g}]")
-            cols.append(guides[:, j])
-        react = k.reactions(n)
-        for i, (p, part) in enumerate(k.pairs):
-            header += [f"fx_n[{p} on {part}]", f"fy_n[{p} on {part}]"]
-            cols += [react[:, i, 0], react[:, i, 1]]
-        return header, cols
+        return None if k is None else k.table(self.ctx.nominal_rpm)
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry, and with friction its ``friction`` entry

@@ -531,13 +531,11 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     for name in ("report.html", "results.json"):
         (folder / name).unlink(missing_ok=True)
     summary = _summary(result)
-    written = [
-        _write_csv(folder / "speed_sweep.csv", *_sweep_table(result)),
-        _write_csv(folder / "operations.csv", *_operations_table(result)),
-    ]
+    written: list[Path] = []
     cycle_files: list[str] = []  # over the cycle, for the report's Files section
-    for name, header, rows in _cycle_tables(result):
-        cycle_files.append(name)
+    for name, (header, rows) in tables(result).items():
+        if name not in ("speed_sweep.csv", "operations.csv"):
+            cycle_files.append(name)
         written.append(_write_csv(folder / name, header, rows))
     for res in result.mechanisms.values():
         # A kind's own files (a servo axis's cam tables), by an optional hook.
@@ -562,6 +560,22 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
         written.append(p)
     written += [f[2] for f in figs]
     return written
+
+
+def tables(r: MachineResult) -> dict[str, tuple[list[str], list[list[Any]]]]:
+    """Every CSV table of the report, by file name → (header, rows): the speed
+    sweep, the operations at the optimum and the tables over the cycle
+    (:func:`write_report` writes them; :meth:`MachineResult.to_pandas` gives each
+    as a DataFrame).
+
+    >>> import cyclomech as cm
+    >>> list(tables(cm.machine.analyze(cm.Machine.example(), progress=False)))
+    ['speed_sweep.csv', 'operations.csv']
+    """
+    out = {"speed_sweep.csv": _sweep_table(r), "operations.csv": _operations_table(r)}
+    for name, header, rows in _cycle_tables(r):
+        out[name] = (header, rows)
+    return out
 
 
 def _sweep_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:

@@ -8,11 +8,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._errors import InputError
 from .._kind import MechanismResult
+from .._notebook import figure_of, html_card, pandas, table_frame
 from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
 from ._resize import Resizing
@@ -155,4 +157,88 @@ class MachineResult:
         return (
             f"the nominal speed {self.nominal_rpm:g} rpm is above the speed limit of "
             f"mechanism {k!r}, {over[k]:.2f} rpm ({self.limit.mechanisms_reason.get(k, '')})"
+        )
+
+    def to_pandas(self, table: str = "operations.csv") -> Any:
+        """One of the report's CSV tables as a pandas DataFrame (pandas needed).
+
+        The same header and rows as the file :func:`~cyclomech.machine.write_report`
+        writes: ``"operations.csv"`` (each operation at the optimum, indexed by its
+        title), ``"speed_sweep.csv"`` (the key figures at each speed [rpm], indexed
+        by speed), and the tables over the cycle at the nominal speed the machine
+        has (``"main_shaft.csv"``, ``"main_shaft_speed.csv"``,
+        ``"<mechanism>_forces.csv"``: indexed by the angle [deg]).
+
+        Parameters
+        ----------
+        table : str, default "operations.csv"
+            The table's file name.
+
+        Returns
+        -------
+        pandas.DataFrame
+            The table's rows, indexed by its first column (an operation's title,
+            a speed [rpm], an angle [deg]).
+
+        Raises
+        ------
+        InputError
+            If the machine has no such table (the message lists those it has).
+        ImportError
+            If pandas is not installed.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
+        >>> r.to_pandas()["angle_deg"].round(3).tolist()
+        [45.0, 42.178, 20.0, 252.822]
+        >>> r.to_pandas("speed_sweep.csv").index.name
+        'speed_rpm'
+        """
+        from ._report import tables  # here: _report imports this module
+
+        pandas()  # before the work: no table computed for nothing
+        have = tables(self)
+        if not isinstance(table, str) or table not in have:
+            raise InputError(f"table = {table!r} is not one of this machine's: {', '.join(have)}")
+        header, rows = have[table]
+        index = {"operations.csv": "operation", "speed_sweep.csv": "speed_rpm"}.get(
+            table, header[0]
+        )
+        return table_frame(header, rows, index=index)
+
+    def _repr_html_(self) -> str:
+        """The notebook's view: the speed limit, the optimum's key numbers, what
+        fails, the operations at the optimum, and the cyclogram at the optimum."""
+        from ._report import tables  # here: _report imports this module
+
+        lim = self.limit
+        rows: list[tuple[str, Any]] = [
+            ("speed limit [rpm]", lim.rpm),
+            ("set by", lim.by + (f" ({lim.reason})" if lim.reason else "")),
+            ("nominal speed [rpm]", self.nominal_rpm),
+        ]
+        o = self.optimum
+        if o is not None:
+            rows.append(("limiting operation's angle at the optimum [deg]", o.objective))
+        else:
+            rows.append(("optimum", f"none: {self.problem}"))
+        if self.above_speed_limit:
+            rows.append(("above a speed limit", self.above_speed_limit))
+        rows.append(("fails", "; ".join(self.failures) or "nothing"))
+        header, ops = tables(self)["operations.csv"]
+        keep = [header.index(h) for h in ("operation", "minimum_deg", "angle_deg", "start_deg")]
+        figure = None if o is None else figure_of(self)
+        return html_card(
+            self.machine.name,
+            rows,
+            figure,
+            tables=[
+                (
+                    "Operations at the optimum",
+                    [header[i] for i in keep],
+                    [[r[i] for i in keep] for r in ops],
+                )
+            ],
         )

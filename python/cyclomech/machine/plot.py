@@ -17,7 +17,10 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from .._arrays import finite_number, instance
+from .._notebook import register_figure
 from .._plotting import CRITICAL_COLOR, pyplot
+from ..cyclogram.plot import plot_cyclogram
+from . import _result
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -396,3 +399,8 @@ def _bound_styles(names: list[str]) -> dict[str, tuple[str, Any]]:
         used.add((colour, str(style)))
         out[name] = (colour, style)
     return out
+
+
+# The notebook's figure of a MachineResult (its ``_repr_html_``): the cyclogram at
+# the optimum (it has none where the cyclogram does not fit: no figure is asked then).
+register_figure(_result.MachineResult, lambda r: plot_cyclogram(r.optimum).figure)

@@ -57,6 +57,17 @@ synthesises each and compares them (transmission angles, peak acceleration and
 jerk, driving torque and joint loads, speed limit). A machine file's linkage
 table asks for it with ``[mechanism.<name>.synthesize]``.
 
+Machine files
+-------------
+A machine file's linkage table may give requirements instead of dimensions,
+``[mechanism.<name>.synthesize]`` with a ``scheme``: the knife drives above,
+``function`` (:func:`function_generation`), ``path`` (:func:`path_generation`),
+``motion`` (:func:`motion_generation`) or ``dwell_sixbar`` (:func:`dwell_sixbar`).
+``cyclomech run`` synthesises the linkage, keeps the best candidate a machine can
+run (its crank turning fully, counter-clockwise, on one branch; the table's own
+limits held; a file none meets is refused, saying what the best one missed),
+reports what it chose and why, and analyses it as any other linkage.
+
 Six-bar dwell linkages
 ----------------------
 :func:`dwell_sixbar` builds Stephenson III six-bars whose output rocker stands
@@ -93,6 +104,12 @@ from ..cam import (  # the sizing lives beside the criteria it evaluates (cam/_s
     CamSizeTradeoff,
     cam_size,
     cam_size_tradeoff,
+)
+from . import (  # noqa: F401 - each registers its linkage synthesizer (a machine file's scheme)
+    _dwell_file,
+    _function_file,
+    _motion_file,
+    _path_file,
 )
 from ._dwell import DwellCandidate, dwell_sixbar
 from ._fourbar import (
