@@ -655,7 +655,7 @@ class Cam:
             ("largest |pressure angle| [deg]", float(np.max(np.abs(t["pressure_angle_deg"])))),
             (
                 "smallest |profile radius of curvature| [m]",
-                float(np.nanmin(np.abs(t["profile_radius_m"]))),
+                float(np.nanmin(np.abs(t["profile_curvature_radius_m"]))),
             ),
         ]
         runs = self.undercut_angles_deg()
