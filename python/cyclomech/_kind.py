@@ -79,7 +79,7 @@ class Bound:
 
     Examples
     --------
-    >>> from cyclomech._kind import Bound
+    >>> from cyclomech.machine import Bound
     >>> Bound(("3", "7"), "rebound[lifter]", "lifter").label
     'rebound[lifter]'
     """
@@ -467,7 +467,7 @@ class MechanismResult(Protocol):
 
 @runtime_checkable
 class Mechanism(Protocol):
-    """A mechanism kind: the contract of the module ``cyclomech._kind``.
+    """A mechanism kind: what a kind of ``[mechanism.<name>]`` table provides.
 
     A protocol that each kind's class satisfies (``isinstance`` checks the
     methods); it is not instantiated itself. Class attributes: ``kind`` (the
@@ -492,8 +492,8 @@ class Mechanism(Protocol):
     is a kind all the same): a classmethod ``batch_designs(mechanism, table,
     keys)`` offers the machine's sweeps a batch path for a mechanism of the kind
     whose table's ``keys`` (a collection of str) vary. ``mechanism`` is the
-    machine's mechanism and ``table`` its table as read. It returns a
-    ``cyclomech._kind.BatchDesigns`` (the designs of that mechanism, built and
+    machine's mechanism and ``table`` its table as read. It returns a batch of
+    designs (the designs of that mechanism, built and
     solved many at once, bit for bit what one machine per design gives), or None
     where those keys need one machine per design. The sweep asks each swept
     mechanism's class for the hook and calls it; it knows no kind by name

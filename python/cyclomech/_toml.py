@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import codecs
 import math
+import re
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
@@ -56,13 +57,67 @@ def load(path: str | Path) -> tuple[dict[str, Any], str]:
     except FileNotFoundError:
         raise InputError(f"{p}: no such file") from None
     except tomllib.TOMLDecodeError as e:
-        raise InputError(f"{p}: not valid TOML: {e}") from None
+        raise InputError(f"{p}: not valid TOML: {_decode_error(text, str(e))}") from None
     except UnicodeDecodeError as e:
         raise InputError(f"{p}: not valid TOML: the file is not UTF-8 text ({e})") from None
     except IsADirectoryError:
         raise InputError(f"{p}: is a directory, not a TOML file") from None
     except OSError as e:
         raise InputError(f"{p}: cannot be read: {e.strerror or e}") from None
+
+
+#: A key of a TOML line: bare, "quoted" or 'literal' parts, dotted.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\]|\\.)*"|'[^']*')"""
+_QUOTED = re.compile(r""""(?:[^"\\]|\\.)*"|'[^']*'""")
+_KEY = rf"{_KEY_PART}(?:[ \t]*\.[ \t]*{_KEY_PART})*"
+_KEY_LINE = re.compile(rf"[ \t]*({_KEY})[ \t]*=")
+_HEADER = re.compile(rf"[ \t]*(\[\[?)[ \t]*({_KEY})[ \t]*\]")
+_AT = re.compile(r"\(at line (\d+), column (\d+)\)")
+
+
+def _decode_error(text: str, message: str) -> str:
+    """tomllib's ``message`` with the key it is about named, where it names none.
+
+    tomllib says "Cannot overwrite a value (at line 3, column 6)" for a key given
+    twice, and "Cannot declare ('t',) twice" for a table: the key (and its table)
+    is read back from the line the position points to: "line 3: key 'x' of table
+    [t] is given twice (each key once per table): Cannot overwrite a value (at line
+    3, column 6)". Other messages are returned as they are.
+    """
+    at = _AT.search(message)
+    dup = "Cannot overwrite a value" in message or "Cannot declare" in message
+    lines = text.splitlines()
+    if not (at and dup and 1 <= int(at.group(1)) <= len(lines)):
+        return message
+    n = int(at.group(1))
+    line = lines[n - 1]
+    header = _HEADER.match(line)
+    if header:
+        brackets = header.group(1)
+        table = f"{brackets}{header.group(2)}{brackets.replace('[', ']')}"
+        if "Cannot declare" in message:
+            return f"line {n}: table {table} is declared twice (merge the two): {message}"
+        return (
+            f"line {n}: table {table} names a key that already holds a value "
+            f"(rename one of them): {message}"
+        )
+    key = _KEY_LINE.match(line)
+    if not key:
+        return message
+    table = "the top level"
+    for above in reversed(lines[: n - 1]):
+        if h := _HEADER.match(above):
+            brackets = h.group(1)
+            table = f"table {brackets}{h.group(2)}{brackets.replace('[', ']')}"
+            break
+    k = key.group(1)
+    name = k if k[0] in "\"'" else repr(k)
+    why = (
+        "is given twice, or a part of it already holds a value"
+        if "." in _QUOTED.sub("", k)
+        else "is given twice (each key once per table)"
+    )
+    return f"line {n}: key {name} of {table} {why}: {message}"
 
 
 def must_be_table(table: Any, source: str | None, where: str) -> None:
@@ -186,8 +241,8 @@ def events(table: Mapping[str, Any], key: str, where: str, *, arc: bool = False)
         for i, n in enumerate(names):
             if n in seen:
                 raise InputError(
-                    f"{where}: {key} = {v!r} names the event {n!r} twice (at {seen[n]} "
-                    f"and {i}); each event once"
+                    f"{where}: {key} = {v!r} names the event {n!r} twice (entries #{seen[n] + 1} "
+                    f"and #{i + 1}); each event once"
                 )
             seen[n] = i
     return names

@@ -3,7 +3,8 @@
 Each domain owns its command in its ``cli.py``, which adds the command's
 sub-parser and runs it: ``cyclogram`` (:mod:`cyclomech.cyclogram.cli`),
 ``linkage`` (:mod:`cyclomech.linkage.cli`), ``press`` (:mod:`cyclomech.press.cli`),
-``impact`` (:mod:`cyclomech.impact.cli`), ``cam`` (:mod:`cyclomech.cam.cli`), ``run`` and ``sweep``
+``impact`` (:mod:`cyclomech.impact.cli`), ``cam`` (:mod:`cyclomech.cam.cli`),
+``transfer`` (:mod:`cyclomech.transfer.cli`), ``run`` and ``sweep``
 (:mod:`cyclomech.machine.cli`). This module builds the top-level parser from the
 list :data:`COMMANDS`, checks ``--out`` before any work, and turns errors into one
 line and an exit status; the helpers the commands share are in ``_cli``.
@@ -45,6 +46,7 @@ from .impact import cli as impact_cli
 from .linkage import cli as linkage_cli
 from .machine import cli as machine_cli
 from .press import cli as press_cli
+from .transfer import cli as transfer_cli
 
 #: The environment variable of the Rust kernels' default thread count.
 THREADS_ENV = _core.THREADS_ENV
@@ -61,7 +63,15 @@ __all__ = [
 #: The domains with commands, in the order of ``cyclomech --help``: each module's
 #: ``add_commands(subparsers)`` adds its commands, each sub-parser with its ``run``
 #: function as a default. A new domain adds one line here.
-COMMANDS = (cyclogram_cli, linkage_cli, press_cli, impact_cli, cam_cli, machine_cli)
+COMMANDS = (
+    cyclogram_cli,
+    linkage_cli,
+    press_cli,
+    impact_cli,
+    cam_cli,
+    transfer_cli,
+    machine_cli,
+)
 
 
 def _not_a_machine_file(args: argparse.Namespace) -> None:

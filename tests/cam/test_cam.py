@@ -369,13 +369,13 @@ ROLLER = cm.cam.TranslatingRoller(0.05, 0.01)
         ([S("rise", 180, 0.02), S("return", 180, 0.019)], r"does not return to its start"),
         (
             [S("rise", 180, 0.02, "spline"), S("return", 180, 0.02)],
-            r"segment 0 \(rise\).*'spline'.*cycloidal",
+            r"segment 1 \(rise\).*'spline'.*cycloidal",
         ),
-        ([S("rise", 180, 0.02), S("return", 180, 0.02, "nope")], r"segment 1 \(return\).*law"),
-        ([S("rise", 180, 0.0), S("return", 180, 0.02)], r"segment 0 \(rise\): stroke"),
+        ([S("rise", 180, 0.02), S("return", 180, 0.02, "nope")], r"segment 2 \(return\).*law"),
+        ([S("rise", 180, 0.0), S("return", 180, 0.02)], r"segment 1 \(rise\): stroke"),
         (
             [S("rise", 180, 0.02), S("dwell", 90, 0.01), S("return", 90, 0.02)],
-            r"segment 1 \(dwell\): stroke",
+            r"segment 2 \(dwell\): stroke",
         ),
         ([], r"segments"),
     ],
@@ -433,7 +433,7 @@ def test_kernel_validates_on_its_own() -> None:
     """The Rust kernel refuses bad input too (a typed error, never a panic)."""
     from cyclomech import _core
 
-    with pytest.raises(cm.InputError, match=r"segment 0 \(rise\): unknown motion law"):
+    with pytest.raises(cm.InputError, match=r"segment 1 \(rise\): unknown motion law"):
         _core.CamKernel(
             ["rise", "return"],
             [math.pi, math.pi],

@@ -57,7 +57,7 @@ def test_the_polydyne_example_holds_on_design_and_fails_off(tmp_path, capsys):
     capsys.readouterr()
     assert main(["cam", path, "--out", str(tmp_path / "off"), "--no-plot", "--rpm", "1000"]) == 3
     out = capsys.readouterr().out
-    assert "FAILS: segment 0 (poly7): residual vibration" in out
+    assert "FAILS: segment 1 (poly7): residual vibration" in out
 
 
 def _table(**extra: Any) -> dict[str, Any]:
@@ -96,16 +96,16 @@ def test_a_file_program_reads():
                 t["segment"][1].update(law="constant_velocity")
                 or t["segment"][0].pop("end_velocity_m_per_rad")
             ),
-            r"segment 1: a constant_velocity segment needs stroke_m, start_velocity_m_per_rad",
+            r"segment 2: a constant_velocity segment needs stroke_m, start_velocity_m_per_rad",
         ),
         (
             lambda t: t["segment"][0].update(end_velocity_deg_per_rad=1.0),
-            r"segment 0: unknown key .end_velocity_deg_per_rad.; valid keys are .*_m_per_rad",
+            r"segment 1: unknown key .end_velocity_deg_per_rad.; valid keys are .*_m_per_rad",
         ),
         (lambda t: t.update(continuity="smooth"), r"continuity = 'smooth' must be one of"),
         (
             lambda t: t["segment"][0].update(law="polynomial_345"),
-            r"segment 0 \(polynomial_345\): the law cannot meet its end velocity = 0.01",
+            r"segment 1 \(polynomial_345\): the law cannot meet its end velocity = 0.01",
         ),
         (
             lambda t: t.update(polydyne_rpm=600.0),
@@ -123,5 +123,5 @@ def test_file_mistakes_name_the_segment_and_key(change, message):
 def test_an_arc_on_a_moving_segment_is_refused():
     t = _table()
     t["segment"][1]["arc"] = ["a", "b"]
-    with pytest.raises(cm.InputError, match=r"segment 1: arc = \['a', 'b'\], but its law"):
+    with pytest.raises(cm.InputError, match=r"segment 2: arc = \['a', 'b'\], but its law"):
         CamDesign.from_table(t, "[cam]", arcs=True)

@@ -340,7 +340,7 @@ def test_profile_table_is_the_exact_geometry(which):
     assert_array_equal(np.column_stack([t["profile_x_m"], t["profile_y_m"]]), k.profile)
     assert_array_equal(np.column_stack([t["pitch_x_m"], t["pitch_y_m"]]), k.pitch)
     assert_array_equal(t["pressure_angle_deg"], np.degrees(k.pressure_angle))
-    assert_array_equal(t["profile_radius_m"], k.profile_radius_of_curvature)
+    assert_array_equal(t["profile_curvature_radius_m"], k.profile_radius_of_curvature)
     assert_array_equal(t["undercut"], k.undercut)
     assert ("outer_x_m" in t) == (which == "lifter")
 
@@ -419,7 +419,7 @@ def test_the_csv_round_trips_to_cam_solve(which, tmp_path):
     assert_array_equal(a["outer_x_m"], k.profile_outer[:, 0])
     assert_array_equal(a["pitch_y_m"], k.pitch[:, 1])
     assert_array_equal(a["pressure_angle_deg"], np.degrees(k.pressure_angle))
-    assert_array_equal(a["pitch_radius_m"], k.pitch_radius_of_curvature)
+    assert_array_equal(a["pitch_curvature_radius_m"], k.pitch_radius_of_curvature)
     assert_array_equal(a["undercut"].astype(bool), k.undercut)
 
 
@@ -506,8 +506,8 @@ def test_cam_command_on_the_example(tmp_path, capsys):
     assert len(a) == 41
     assert_allclose(a["rpm"], np.linspace(0.25 * rpm, 2.0 * rpm, 41))
     ref = d.min_phase_angles(a["rpm"])
-    assert_allclose(a["seg0_rise_contact_stress_deg"], ref.angle_deg[:, 0, 3], rtol=1e-11)
-    assert_allclose(a["seg2_return_bound_deg"], ref.bound_deg[:, 1], rtol=1e-11)
+    assert_allclose(a["seg1_rise_contact_stress_deg"], ref.angle_deg[:, 0, 3], rtol=1e-11)
+    assert_allclose(a["seg3_return_bound_deg"], ref.bound_deg[:, 1], rtol=1e-11)
     # the profile files hold --samples points
     csv = np.genfromtxt(out_dir / "profile.csv", delimiter=",", names=True)
     assert len(csv) == 1800
@@ -526,7 +526,7 @@ def test_a_segment_shorter_than_its_bound_fails_with_the_reason(tmp_path, capsys
     code = main(["cam", str(f), "--out", str(tmp_path / "out"), "--no-plot"])
     out, _ = capsys.readouterr()
     assert code == 3
-    line = next(ln for ln in out.splitlines() if ln.startswith("FAILS: segment 0 (rise)"))
+    line = next(ln for ln in out.splitlines() if ln.startswith("FAILS: segment 1 (rise)"))
     assert "25° < " in line and "undercut at 300 rpm" in line
     res = json.loads((tmp_path / "out" / "results.json").read_text(encoding="utf-8"))
     assert res["min_phase"][0]["ok"] is False and res["min_phase"][1]["ok"] is True
@@ -652,7 +652,7 @@ def test_bad_files_exit_2_naming_file_table_and_key(tmp_path, capsys):
     f = _write(tmp_path, LIFTER.replace("law = ", "speed = 3\nlaw = ", 1), "seg.toml")
     assert main(["cam", str(f), "--out", str(tmp_path / "out")]) == 2
     _, err = capsys.readouterr()
-    assert f"{f}: [cam]: segment 0: unknown key 'speed'" in err
+    assert f"{f}: [cam]: segment 1: unknown key 'speed'" in err
     missing = tmp_path / "missing.toml"
     assert main(["cam", str(missing), "--out", str(tmp_path / "out")]) == 2
     _, err = capsys.readouterr()
@@ -696,5 +696,24 @@ def test_a_cam_segment_no_angle_can_carry_is_said_so(tmp_path, capsys) -> None:
     text = out + err
     assert code == 3
     # Was "70° < more than a whole turn, the smallest phase angle …".
-    assert "segment 0 (rise): 70°, but no phase angle up to a whole turn meets" in text
+    assert "segment 1 (rise): 70°, but no phase angle up to a whole turn meets" in text
     assert "more than a whole turn" not in text and "verdict" in out
+
+
+def test_the_radius_columns_are_radii_of_curvature_and_say_so():
+    """The CSV's radius columns were ``pitch_radius_m``/``profile_radius_m``: read as
+    the pitch circle's radius, they are radii of curvature. On the dwells of a
+    translating roller follower the pitch curve is a circle of radius r_b + s + r_r
+    and the profile one of r_b + s (closed form), which the renamed columns hold."""
+    S = cm.cam.Segment
+    segments = [S("rise", 120, 0.02), S("dwell", 60), S("return", 120, 0.02), S("dwell", 60)]
+    cam = cm.cam.Cam(segments, cm.cam.TranslatingRoller(0.05, 0.01))
+    t = cm.cam.profile_table(cam, 720)
+    radius_columns = [c for c in t if "radius" in c]
+    assert radius_columns == ["pitch_curvature_radius_m", "profile_curvature_radius_m"]
+    top = (t["theta_deg"] > 122) & (t["theta_deg"] < 178)  # the dwell at s = 20 mm
+    low = t["theta_deg"] > 302  # the dwell at s = 0
+    assert_allclose(t["pitch_curvature_radius_m"][top], 0.08, rtol=1e-12)
+    assert_allclose(t["profile_curvature_radius_m"][top], 0.07, rtol=1e-12)
+    assert_allclose(t["pitch_curvature_radius_m"][low], 0.06, rtol=1e-12)
+    assert_allclose(t["profile_curvature_radius_m"][low], 0.05, rtol=1e-12)

@@ -93,7 +93,7 @@ def test_a_program_with_a_jerk_jump_is_refused_by_name():
     with pytest.raises(cm.InputError) as e:
         cm.cam.polydyne(prog, follower_mass=MASS, stiffness=K, rpm=RPM)
     assert str(e.value).startswith(
-        "the polydyne cam motion at 600.0 rpm: segment 0 (cycloidal) → segment 1 (cycloidal) "
+        "the polydyne cam motion at 600.0 rpm: segment 1 (cycloidal) → segment 2 (cycloidal) "
         "at 180°: the velocity jumps"
     )
     with pytest.raises(cm.InputError, match="stiffness"):

@@ -131,7 +131,7 @@ def test_program_cams_refuse_what_a_cam_cannot_be():
             cm.motion.Program([M("poly5", 180, start=0.01, end=0.02), M("poly5", 180, end=0.01)]),
             FOLLOWER,
         )
-    with pytest.raises(cm.InputError, match=r"segment 0 \(poly5\) moves but ends where it starts"):
+    with pytest.raises(cm.InputError, match=r"segment 1 \(poly5\) moves but ends where it starts"):
         cm.cam.Cam(
             cm.motion.Program([M("poly5", 180, end=(0.0, 0.01)), M("poly5", 180, end=0.0)]),
             FOLLOWER,

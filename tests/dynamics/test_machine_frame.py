@@ -119,20 +119,20 @@ def test_balance_rows_balance_the_knife(knife: Any) -> None:
     ("row", "words"),
     [
         ({"mechanism": "knfe", "links": [["O", "F"]]}, ["[[balance]]", "'knfe'", "'knife'"]),
-        ({"mechanism": "knife", "links": [["O"]]}, ["[[balance]] 1", "links"]),
-        ({"mechanism": "knife", "links": []}, ["[[balance]] 1", "links"]),
+        ({"mechanism": "knife", "links": [["O"]]}, ["[[balance]] #1", "links"]),
+        ({"mechanism": "knife", "links": []}, ["[[balance]] #1", "links"]),
         (
             {"mechanism": "knife", "links": [["O", "F"]], "objective": "min"},
-            ["[[balance]] 1", "objective", "rms_force"],
+            ["[[balance]] #1", "objective", "rms_force"],
         ),
         (
             {"mechanism": "knife", "links": [["O", "F"]], "torque_weight": -1.0},
-            ["[[balance]] 1", "torque_weight"],
+            ["[[balance]] #1", "torque_weight"],
         ),
         (  # ignored silently before: the default objective has no torque term
             {"mechanism": "knife", "links": [["O", "F"]], "torque_weight": 2.0},
             [
-                "[[balance]] 1",
+                "[[balance]] #1",
                 "torque_weight = 2.0",
                 'objective = "rms_force+torque"',
                 "'rms_force'",
@@ -145,15 +145,15 @@ def test_balance_rows_balance_the_knife(knife: Any) -> None:
                 "objective": "peak_force",
                 "torque_weight": 1.0,
             },
-            ["[[balance]] 1", "torque_weight = 1.0", "only applies", "'peak_force'"],
+            ["[[balance]] #1", "torque_weight = 1.0", "only applies", "'peak_force'"],
         ),
         (
             {"mechanism": "knife", "links": [["O", "F"]], "max_mass_radius_kg_m": 0.0},
-            ["[[balance]] 1", "max_mass_radius_kg_m = 0.0", "> 0 [kg·m]"],
+            ["[[balance]] #1", "max_mass_radius_kg_m = 0.0", "> 0 [kg·m]"],
         ),
-        ({"mechanism": 3, "links": [["O", "F"]]}, ["[[balance]] 1", "mechanism"]),
-        ({"links": [["O", "F"]]}, ["[[balance]] 1", "mechanism"]),
-        ({"mechanism": "knife", "links": [["O", "F"]], "bogus": 1}, ["[[balance]] 1", "bogus"]),
+        ({"mechanism": 3, "links": [["O", "F"]]}, ["[[balance]] #1", "mechanism"]),
+        ({"links": [["O", "F"]]}, ["[[balance]] #1", "mechanism"]),
+        ({"mechanism": "knife", "links": [["O", "F"]], "bogus": 1}, ["[[balance]] #1", "bogus"]),
     ],
 )
 def test_bad_balance_rows_are_named(row: dict[str, Any], words: list[str]) -> None:
@@ -168,7 +168,7 @@ def test_bad_balance_rows_are_named(row: dict[str, Any], words: list[str]) -> No
 def test_a_link_not_on_the_frame_is_refused_by_name() -> None:
     d = _knife_data()
     d["balance"] = [{"mechanism": "knife", "links": [["B", "C"]]}]
-    with pytest.raises(cm.InputError, match=r"\[\[balance\]\] 1: .*B"):
+    with pytest.raises(cm.InputError, match=r"\[\[balance\]\] #1: .*B"):
         cm.machine.analyze(cm.Machine.from_dict(d, "dir/knife.toml"), progress=False)
 
 
@@ -180,7 +180,7 @@ def test_a_balance_row_on_a_machine_without_shaking_is_refused() -> None:
     with open(ROOT / "examples/stb_loom.toml", "rb") as f:
         d = tomllib.load(f)
     d["balance"] = [{"mechanism": "lifter cam", "links": [["O", "A"]]}]
-    with pytest.raises(cm.InputError, match=r"\[\[balance\]\] 1: mechanism = 'lifter cam'"):
+    with pytest.raises(cm.InputError, match=r"\[\[balance\]\] #1: mechanism = 'lifter cam'"):
         cm.machine.analyze(cm.Machine.from_dict(d, "loom.toml"), progress=False)
 
 

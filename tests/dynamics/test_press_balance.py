@@ -86,8 +86,8 @@ def _data() -> dict[str, Any]:
 @pytest.mark.parametrize(
     ("links", "words"),
     [
-        ([["O", "P"]], ["[[balance]] 1", "its carrier ['O', 'planet']"]),
-        ([["O", "planet"], ["O", "planet"]], ["[[balance]] 1", "one link"]),
+        ([["O", "P"]], ["[[balance]] #1", "its carrier ['O', 'planet']"]),
+        ([["O", "planet"], ["O", "planet"]], ["[[balance]] #1", "one link"]),
     ],
 )
 def test_a_press_row_names_its_carrier(links: list[list[str]], words: list[str]) -> None:

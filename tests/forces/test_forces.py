@@ -449,12 +449,12 @@ def test_bad_load_tables(args, match):
 
 def test_file_keys_name_the_file_table_and_key():
     bad = [
-        ({"mass": [{"link": ["A", "B"], "mass_kg": -1.0}]}, "mass\\[0\\]: mass_kg = -1.0"),
+        ({"mass": [{"link": ["A", "B"], "mass_kg": -1.0}]}, "mass #1: mass_kg = -1.0"),
         ({"mass": [{"link": "AB", "mass_kg": 1.0}]}, "link = 'AB'"),
         ({"mass": [{"link": ["A", "B"], "mass_kg": 1.0, "colour": 1}]}, "colour"),
         ({"point_mass_kg": {"C": -1.0}}, "point_mass_kg.C"),
-        ({"load": [{"point": "C"}]}, "load\\[0\\]: give point and force_n"),
-        ({"load": [{"point": "C", "force_n": [1, 2], "angle_deg": [5, 1]}]}, "load\\[0\\]"),
+        ({"load": [{"point": "C"}]}, "load #1: give point and force_n"),
+        ({"load": [{"point": "C", "force_n": [1, 2], "angle_deg": [5, 1]}]}, "load #1"),
         ({"gravity_m_per_s2": [0, -9.81, 1]}, "gravity_m_per_s2"),
     ]
     for table, match in bad:
@@ -483,17 +483,17 @@ def test_a_solution_is_used_as_given_and_checked():
         (
             'point = "E"  ',
             'point = "Z"  ',
-            r"\[mechanism.knife\] load\[0\]: point = 'Z' is not a point",
+            r"\[mechanism.knife\] load #1: point = 'Z' is not a point",
         ),
-        ("mass_kg = 80.0", "mass_kg = -80.0", r"\[mechanism.knife\] mass\[0\]: mass_kg = -80.0"),
+        ("mass_kg = 80.0", "mass_kg = -80.0", r"\[mechanism.knife\] mass #1: mass_kg = -80.0"),
         (
             'link = ["B", "C", "E"]',
             'link = ["B", "C", "Q"]',
-            r"mass\[0\]: link = \['B', 'C', 'Q'\]",
+            r"mass #1: link = \['B', 'C', 'Q'\]",
         ),
         ('event = "clamped"', 'event = "clampd"', r"phase: event = 'clampd' is not an event"),
         ("crank_deg = 140.0", "crank_deg = true", r"phase: crank_deg"),
-        ("inertia_kg_m2 = 15.0", "inertia_kg_m2 = 15.0\ncolour = 1", r"mass\[0\].*colour"),
+        ("inertia_kg_m2 = 15.0", "inertia_kg_m2 = 15.0\ncolour = 1", r"mass #1.*colour"),
     ],
 )
 def test_a_machine_file_error_names_the_file_table_and_key(tmp_path, old, new, match):

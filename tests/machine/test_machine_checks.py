@@ -364,11 +364,42 @@ def test_small_a_mechanism_name_one_letter_off_is_an_error():
     assert {"clamp", "back gauge"} <= {op.mechanism for op in m.cyclogram.operations}
 
 
-@pytest.mark.parametrize("command", ["cyclogram", "linkage", "press", "impact"])
+@pytest.mark.parametrize("command", ["cyclogram", "linkage", "press", "impact", "cam", "transfer"])
 def test_small_a_machine_file_given_to_another_command_points_to_run(command, tmp_path, capsys):
     loom = str(EXAMPLES / "stb_loom.toml")
     assert main([command, loom, "--out", str(tmp_path), "--no-plot"]) == 2
     assert f"run it with `cyclomech run {loom}`" in capsys.readouterr().err
+
+
+#: Each domain's example file and the command that reads it.
+DOMAIN_FILES = {
+    "stb_group1.toml": ("a cyclogram file", "cyclogram"),
+    "crank_rocker.toml": ("a linkage file", "linkage"),
+    "extrusion_press.toml": ("a press file", "press"),
+    "stb_lifter.toml": ("an impact file", "impact"),
+    "lifter_cam.toml": ("a cam file", "cam"),
+    "polydyne_cam.toml": ("a cam file", "cam"),
+    "rotor_transfer.toml": ("a rotor transfer file", "transfer"),
+}
+
+
+@pytest.mark.parametrize("run", ["run", "sweep"])
+@pytest.mark.parametrize("name", sorted(DOMAIN_FILES))
+def test_small_each_domains_file_given_to_run_names_its_command(name, run, tmp_path, capsys):
+    """`cyclomech run examples/lifter_cam.toml` said "unknown key 'cam'"; every
+    other command's file now says what it looks like and which command runs it."""
+    f = str(EXAMPLES / name)
+    what, command = DOMAIN_FILES[name]
+    assert main([run, f, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert f"this looks like {what}" in err, err
+    assert f"run it with `cyclomech {command} {f}`" in err
+    assert "unknown key" not in err
+
+
+def test_small_every_example_is_a_machine_file_or_named_by_its_command():
+    others = {p.name for p in EXAMPLES.glob("*.toml") if "[machine]" not in p.read_text("utf-8")}
+    assert others == set(DOMAIN_FILES) | {"burg_trimmer.toml", "flying_knife_cam.toml"}
 
 
 def test_item6_one_invalid_value_is_a_problem_row_not_an_error():

@@ -57,7 +57,7 @@ def test_a_stop_arc_of_the_cyclogram_that_the_cam_does_not_drive_names_the_cam(t
 
 def test_a_cam_segment_arc_missing_from_the_cyclogram_gets_the_same_message(tmp_path):
     msg = _read(tmp_path, 'arc = ["1", "3"]', 'arc = ["1", "9"]')
-    assert "[mechanism.lifter cam] segment 0: arc = ['1', '9'] " + NOT_AN_OPERATION in msg
+    assert "[mechanism.lifter cam] segment 1: arc = ['1', '9'] " + NOT_AN_OPERATION in msg
     assert "from or to '1' or '9': ['1', '3'], ['1', '4'];" in msg
 
 

@@ -175,7 +175,7 @@ def test_the_continuity_check_fires_exactly_at_the_jump():
     with pytest.raises(cm.InputError) as e:
         P(segs, continuity="velocity")
     assert str(e.value) == (
-        "segment 1 (dwell) → segment 2 (constant_velocity) at 150°: "
+        "segment 2 (dwell) → segment 3 (constant_velocity) at 150°: "
         "the velocity jumps from 0 to 0.02"
     )
     # Asked only to the position, the same program is accepted.
@@ -184,21 +184,21 @@ def test_the_continuity_check_fires_exactly_at_the_jump():
     assert m.v.tolist() == [0.0, 0.02]
     # A position jump is refused whatever is asked (the last segment back to
     # the first across the advance).
-    with pytest.raises(cm.InputError, match=r"segment 1 \(poly5\) → segment 0 \(dwell\) at 360°"):
+    with pytest.raises(cm.InputError, match=r"segment 2 \(poly5\) → segment 1 \(dwell\) at 360°"):
         P([S("dwell", 180, start=0.0), S("poly5", 180, end=0.1)], continuity="position")
 
 
 def test_given_values_a_law_cannot_meet_are_errors():
     with pytest.raises(cm.InputError) as e:
         P([S("polynomial_345", 180, end=(0.1, 0.3)), S("poly5", 180, end=0.0)])
-    assert "segment 0 (polynomial_345): the law cannot meet its end velocity = 0.3" in str(e.value)
+    assert "segment 1 (polynomial_345): the law cannot meet its end velocity = 0.3" in str(e.value)
     assert "use poly5 or poly7" in str(e.value)
-    cannot = r"segment 0 \({}\): the law cannot meet its end {} = {}"
+    cannot = r"segment 1 \({}\): the law cannot meet its end {} = {}"
     with pytest.raises(cm.InputError, match=cannot.format("cycloidal", "acceleration", 1)):
         P([S("cycloidal", 180, end=(0.1, 0.0, 1.0)), S("poly5", 180, end=0.0)])
     with pytest.raises(cm.InputError, match=cannot.format("dwell", "position", 0.1)):
         P([S("dwell", 180, end=0.1), S("poly5", 180, end=0.0)])
-    with pytest.raises(cm.InputError, match=r"segment 1 \(cycloidal\): its end position is"):
+    with pytest.raises(cm.InputError, match=r"segment 2 \(cycloidal\): its end position is"):
         P([S("dwell", 180), S("cycloidal", 180)])
     with pytest.raises(cm.InputError, match=r"sum to 350°, not 360°"):
         P([S("cycloidal", 180, end=0.1), S("cycloidal", 170, end=0.0)])
@@ -263,7 +263,7 @@ def test_derivatives_are_the_positions(laws, angles, ends, v):
 def test_a_segment_that_runs_backwards_is_warned_about():
     # From rest to 0.04 per rad over 70° (1.22 rad) with a stroke of 0.018 m: a
     # cycloid carrying the change of velocity would go back first (below 0).
-    with pytest.warns(cm.CyclomechWarning, match=r"segment 0 \(cycloidal\) runs backwards"):
+    with pytest.warns(cm.CyclomechWarning, match=r"segment 1 \(cycloidal\) runs backwards"):
         prog = P([S("cycloidal", 70, end=(0.018, 0.04)), S("poly5", 290, end=0.0)])
     assert prog.evaluate(np.radians(10.0)).s < 0.0
     # With the stroke of the velocity change alone (0.04 × 1.22 / 2) it does not.

@@ -83,7 +83,7 @@ def test_a_spline_joins_and_its_table_is_checked():
     )
     # (The poly5 starts with the spline's end acceleration: not rest to rest either.)
     assert prog.scalable == (False, False)
-    with pytest.raises(cm.InputError, match=r"segment 0 \(spline\): its points must run from 0°"):
+    with pytest.raises(cm.InputError, match=r"segment 1 \(spline\): its points must run from 0°"):
         P([S("spline", 180, points=[(0, 0), (170, 0.01)]), S("poly5", 180, end=0.0)])
     with pytest.raises(cm.InputError, match=r"velocity and acceleration together"):
         P(
@@ -92,7 +92,7 @@ def test_a_spline_joins_and_its_table_is_checked():
                 S("poly5", 180, end=0.0),
             ]
         )
-    with pytest.raises(cm.InputError, match=r"segment 0 \(spline\): .*increas"):
+    with pytest.raises(cm.InputError, match=r"segment 1 \(spline\): .*increas"):
         P(
             [
                 S("spline", 180, points=[(0, 0), (90, 0.01), (60, 0.0), (180, 0.02)]),

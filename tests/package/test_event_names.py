@@ -59,7 +59,7 @@ CASES = {
         "stb_loom.toml",
         'arc = ["1", "3"]',
         'arc = ["1", 3]',
-        ["[mechanism.lifter cam]", "segment 0", "arc = ['1', 3]", 'write arc = ["1", "3"]'],
+        ["[mechanism.lifter cam]", "segment 1", "arc = ['1', 3]", 'write arc = ["1", "3"]'],
     ),
     "phase event": (
         "knife_cutter.toml",

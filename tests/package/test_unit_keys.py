@@ -18,6 +18,7 @@ import cyclomech as cm
 import pytest
 from cyclomech._keyrules import RENAMED
 from cyclomech.cli import main
+from cyclomech.transfer.cli import read_transfer_file
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 LOOM = EXAMPLES / "stb_loom.toml"
@@ -36,6 +37,8 @@ def _read(path: Path) -> object:
         return cm.cam.CamDesign.from_toml(path)
     if "[linkage]" in text:
         return cm.linkage.Linkage.from_toml(path)
+    if "[transfer]" in text:
+        return read_transfer_file(path)
     return cm.Cyclogram.from_toml(path)
 
 

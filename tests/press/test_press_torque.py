@@ -367,13 +367,13 @@ def test_phase_moves_the_curve(tmp_path, line):
         (
             "0.0110, 0.0120]",
             "0.0110, 0.0135]",
-            r"line\.toml: \[mechanism\.drive\]: deformation_force\.s_above_bdc_m\[4\] = 0\.0135 m "
+            r"line\.toml: \[mechanism\.drive\]: deformation_force\.s_above_bdc_m #5 = 0\.0135 m "
             r"lies above the working stroke.*\[0, 0\.0127606\] m",
         ),
         (
             "force_n = [200e3,",
             "force_n = [-200e3,",
-            r"\[mechanism\.drive\]: deformation_force\.force_n\[0\] = -200000\.0 must be ≥ 0",
+            r"\[mechanism\.drive\]: deformation_force\.force_n #1 = -200000\.0 must be ≥ 0",
         ),
         (
             "0.0100, 0.0110",

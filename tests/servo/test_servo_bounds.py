@@ -77,7 +77,7 @@ def test_no_angle_and_refusals():
     moving = cm.motion.Program([S("cycloidal", 90, end=(1.0, 0.5)), S("poly5", 270, end=0.0)])
     ax = cm.servo.ServoAxis(moving, cm.servo.RotaryLoad(0.02), cm.servo.Gearbox(2.0), MOTOR)
     assert ax.min_phase_angles(60.0).segments == ()
-    with pytest.raises(cm.InputError, match=r"segment 0 \(cycloidal\): its shape changes"):
+    with pytest.raises(cm.InputError, match=r"segment 1 \(cycloidal\): its shape changes"):
         ax.min_phase_angles(60.0, segments=[0])
 
 

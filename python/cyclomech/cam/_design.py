@@ -284,7 +284,7 @@ class CamDesign:
         # radians, a stress in MPa): the rules of every key by its unit suffix.
         _keyrules.check(table, CAM_RULES, at)
         for i, row in enumerate(table["segment"]):
-            _keyrules.check(row, (), f"{at} segment {i}")
+            _keyrules.check(row, (), f"{at} segment {i + 1}")
         _check_arcs(cam, bound, at)
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
 
@@ -411,7 +411,7 @@ def _follower_loads(
             table.get(units["spring"], 0.0),
             table.get(units["preload"], 0.0),
             tuple(
-                _toml.number(row, units["load"], f"{at} segment {i}", "")
+                _toml.number(row, units["load"], f"{at} segment {i + 1}", "")
                 if units["load"] in row
                 else 0.0
                 for i, row in enumerate(table["segment"])
@@ -428,7 +428,7 @@ def _check_arcs(cam: Cam, bound: tuple[tuple[str, str] | None, ...], at: str) ->
     for i, arc in enumerate(bound):
         if arc is not None and not cam.program.scalable[i]:
             raise InputError(
-                f"{at} segment {i}: arc = {list(arc)!r}, but its law "
+                f"{at} segment {i + 1}: arc = {list(arc)!r}, but its law "
                 f"({cam.segments[i].law}) has moving ends, a constant velocity or a "
                 "point table (or the cam is polydyne): its shape changes with its "
                 "angle, so it cannot take a phase angle from the cyclogram"

@@ -98,8 +98,9 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
           ``profile_y_m``: the profile (a groove's inner flank); ``outer_x_m``,
           ``outer_y_m``: a groove's outer flank (groove closure only);
         * ``pressure_angle_deg`` [deg], signed;
-        * ``pitch_radius_m``, ``profile_radius_m``: the signed radii of curvature
-          (+ convex, − concave, inf straight), the profile's of the inner flank;
+        * ``pitch_curvature_radius_m``, ``profile_curvature_radius_m``: the signed
+          radii of curvature (+ convex, − concave, inf straight), the profile's of
+          the inner flank;
         * ``chordal_error_m``: the distance from the chord to the next point to the
           curve, h²/(8ρ) with ρ the smaller |radius| at its ends (the largest of the
           flanks; 0 where straight, NaN at an undercut point);
@@ -139,8 +140,8 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
         table["outer_x_m"] = k.profile_outer[:, 0].copy()
         table["outer_y_m"] = k.profile_outer[:, 1].copy()
     table["pressure_angle_deg"] = np.degrees(k.pressure_angle)
-    table["pitch_radius_m"] = k.pitch_radius_of_curvature.copy()
-    table["profile_radius_m"] = k.profile_radius_of_curvature.copy()
+    table["pitch_curvature_radius_m"] = k.pitch_radius_of_curvature.copy()
+    table["profile_curvature_radius_m"] = k.profile_radius_of_curvature.copy()
     table["chordal_error_m"] = _chordal_error(cam, k)
     table["undercut"] = k.undercut.copy()
     _warn_chordal(table, n)
@@ -247,9 +248,10 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     frame of :mod:`cyclomech.cam`: the profile as a closed LWPOLYLINE of
     ``samples`` vertices on layer PROFILE (a groove's inner flank), a groove's
     outer flank on GROOVE_OUTER, the pitch curve on PITCH, the base circle (a
-    CIRCLE) on BASE and the centre (a POINT) on CENTRE. Why a polyline and not a
-    spline, and the chordal-error warning: see ``cyclomech.cam._export`` and
-    :func:`profile_table`. Needs ezdxf (``pip install 'cyclomech[dxf]'``).
+    CIRCLE) on BASE and the centre (a POINT) on CENTRE. A polyline, not a spline:
+    its vertices are the exact profile points, and the chordal error between them
+    is :func:`profile_table`'s ``chordal_error_m`` (a warning when ``samples`` leaves
+    more than 1 µm). Needs ezdxf (``pip install 'cyclomech[dxf]'``).
 
     Parameters
     ----------

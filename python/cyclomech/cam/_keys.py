@@ -125,7 +125,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "distance, its arm length held.", "m", ARR, "none (pivot_distance_m as given)",
           "[low, high], finite, low < high" + OS, None),
     ), intro=(
-        "A cam sized by the machine's run (issue 35): the smallest base radius that meets "
+        "A cam sized by the machine's run: the smallest base radius that meets "
         "the pressure angle, undercut and Hertz stress at its phase angles in the optimised "
         "cyclogram and the nominal speed (cyclomech.synthesis.cam_size), iterated with the "
         "timing LP to a fixed point (at most 20 rounds; no fixed point fails the run). The "
@@ -152,7 +152,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "none (no friction in the roller)",
           "finite, ≥ 0; with roller_pin_radius_m; above 0.5 warns", None),
     ), intro=(
-        "Coulomb friction of a cam's follower (issue 34), solved with the contact force "
+        "Coulomb friction of a cam's follower, solved with the contact force "
         "at the nominal speed (a closed form per cam angle): at an oscillating arm's pivot "
         "(its centre of mass taken on the pivot, so the pivot carries the contact force) or "
         "a translating stem's guide (one effective guide), and at the roller's pin (the "

@@ -224,9 +224,9 @@ class CamMechanism(ExactBounds):
         for i, arc in enumerate(design.arcs):
             if arc is None:
                 continue
-            _toml.operation(arc, "arc", f"{at} segment {i}", known)
+            _toml.operation(arc, "arc", f"{at} segment {i + 1}", known)
             if arc in seen:
-                raise InputError(f"{at} segment {i}: arc = {list(arc)!r} is bound twice")
+                raise InputError(f"{at} segment {i + 1}: arc = {list(arc)!r} is bound twice")
             seen.add(arc)
         return cls(name, design, _criteria(design), friction, synthesis)
 
@@ -480,7 +480,7 @@ class CamMechanism(ExactBounds):
             j = next((i % n for i in range(k + 1, k + n) if segs[i % n].kind == "dwell"), None)
             if j is None or segs[j].angle_deg - delta <= 0.0:
                 return self.design.cam, (
-                    f"segment {k} at {angles[arc]:.4g}° leaves no dwell to take up "
+                    f"segment {k + 1} at {angles[arc]:.4g}° leaves no dwell to take up "
                     f"{delta:+.4g}°: shown with the file's angles"
                 )
             segs[k] = replace(segs[k], angle_deg=float(angles[arc]))

@@ -238,7 +238,7 @@ class Cam:
                 raise InputError("segments must hold at least one Segment")
             for i, g in enumerate(segs):
                 if not isinstance(g, Segment):
-                    raise InputError(f"segment {i} must be a cyclomech.cam.Segment; got {g!r}")
+                    raise InputError(f"segment {i + 1} must be a cyclomech.cam.Segment; got {g!r}")
         if not isinstance(follower, TranslatingRoller | FlatFaced | OscillatingRoller):
             raise InputError(
                 "follower must be a TranslatingRoller, FlatFaced or OscillatingRoller; "
@@ -655,7 +655,7 @@ class Cam:
             ("largest |pressure angle| [deg]", float(np.max(np.abs(t["pressure_angle_deg"])))),
             (
                 "smallest |profile radius of curvature| [m]",
-                float(np.nanmin(np.abs(t["profile_radius_m"]))),
+                float(np.nanmin(np.abs(t["profile_curvature_radius_m"]))),
             ),
         ]
         runs = self.undercut_angles_deg()
@@ -682,7 +682,7 @@ def _summary(program: Program) -> tuple[Segment, ...]:
         if i == 0 and s0[0] != 0.0:
             raise InputError(
                 f"a cam's program must start at s = 0 (the displacement from the base "
-                f"circle at cam angle 0); segment 0 ({g.law}) starts at s = {s0[0]!r}"
+                f"circle at cam angle 0); segment 1 ({g.law}) starts at s = {s0[0]!r}"
             )
         h = s1[0] - s0[0]
         if g.law == "dwell":
@@ -690,7 +690,7 @@ def _summary(program: Program) -> tuple[Segment, ...]:
             continue
         if h == 0.0:
             raise InputError(
-                f"segment {i} ({g.law}) moves but ends where it starts; a cam's moving "
+                f"segment {i + 1} ({g.law}) moves but ends where it starts; a cam's moving "
                 "segment needs a net stroke: split it in two"
             )
         kind = "rise" if h > 0 else "return"
@@ -702,7 +702,7 @@ def _check_program(segs: tuple[Segment, ...]) -> None:
     """Each error names the segment (index and kind), the value and what is valid."""
     net, scale, total = 0.0, 0.0, 0.0
     for i, g in enumerate(segs):
-        where = f"segment {i} ({g.kind})"
+        where = f"segment {i + 1} ({g.kind})"
         if g.kind == "dwell":
             if g.stroke != 0.0:
                 raise InputError(f"{where}: stroke = {g.stroke!r} must be 0 for a dwell")

@@ -101,7 +101,7 @@ def read_segments(
     other |= {k for k in SEGMENT_KEYS if "_velocity_" in k} - mine
     segs, bound = [], []
     for i, row in enumerate(rows):
-        where = f"segment {i}"
+        where = f"segment {i + 1}"
         _toml.check_keys(row, allowed - other, None, where)
         _toml.require(row, ("kind", "angle_deg"), where)
         stroke = _toml.number(row, stroke_key, where, "") if stroke_key in row else 0.0
@@ -199,7 +199,7 @@ def read_program(
     end = advance * scale
     out, s, prev_v1 = [], 0.0, None
     for i, (row, g) in enumerate(zip(rows, segs, strict=True)):
-        where = f"segment {i}"
+        where = f"segment {i + 1}"
         v0, v1 = (_toml.number(row, k, where, "") * scale if k in row else None for k in vel)
         stroke = g.stroke
         if g.law == "constant_velocity" and units["stroke"] not in row:

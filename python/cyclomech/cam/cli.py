@@ -338,7 +338,7 @@ def _print_min_phase(
         why = str(binding[i]) or "none"
         rows.append(
             [
-                str(seg),
+                str(seg + 1),
                 g.kind,
                 *(_angle_text(v) for v in here[i]),
                 _angle_text(b),
@@ -349,7 +349,7 @@ def _print_min_phase(
         )
         entries.append(
             {
-                "segment": seg,
+                "segment": seg + 1,
                 "kind": g.kind,
                 "angle_deg": g.angle_deg,
                 "min_deg": dict(zip(m.criteria, here[i].tolist(), strict=True)),
@@ -362,12 +362,12 @@ def _print_min_phase(
             what = why.replace("_", " ")
             if math.isfinite(b):
                 fails.append(
-                    f"segment {seg} ({g.kind}): {g.angle_deg:g}° < {b:.4g}°, the smallest "
+                    f"segment {seg + 1} ({g.kind}): {g.angle_deg:g}° < {b:.4g}°, the smallest "
                     f"phase angle for {what} at {rpm:g} rpm"
                 )
             else:
                 fails.append(
-                    f"segment {seg} ({g.kind}): {g.angle_deg:g}°, but no phase angle up to a "
+                    f"segment {seg + 1} ({g.kind}): {g.angle_deg:g}°, but no phase angle up to a "
                     f"whole turn meets {what} at {rpm:g} rpm"
                 )
     results["min_phase"] = entries
@@ -415,17 +415,17 @@ def _print_residual(
         bad = a > limit
         rows.append(
             [
-                str(i),
+                str(i + 1),
                 cam.segments[i].law,
                 f"{a * scale:.4g}{unit}",
                 f"{limit * scale:.4g}{unit}",
                 "FAILS" if bad else "ok",
             ]
         )
-        entries.append({"segment": i, "residual": a, "limit": limit, "ok": not bad})
+        entries.append({"segment": i + 1, "residual": a, "limit": limit, "ok": not bad})
         if bad:
             fails.append(
-                f"segment {i} ({cam.segments[i].law}): residual vibration "
+                f"segment {i + 1} ({cam.segments[i].law}): residual vibration "
                 f"{a * scale:.4g}{unit} > {limit * scale:.4g}{unit} at {rpm:g} rpm"
             )
     print(table(rows, ["segment", "law", "residual", "limit", "verdict"]))
@@ -439,7 +439,7 @@ def _write_min_phase_csv(path: Path, cam: Cam, m: MinPhaseAngles) -> None:
     cols, head = [np.asarray(m.rpm, dtype=np.float64)], ["rpm"]
     bound = m.bound_deg
     for i, seg in enumerate(m.segments):
-        tag = f"seg{seg}_{cam.segments[seg].kind}"
+        tag = f"seg{seg + 1}_{cam.segments[seg].kind}"
         for j, c in enumerate(m.criteria):
             cols.append(m.angle_deg[:, i, j])
             head.append(f"{tag}_{c}_deg")
@@ -471,7 +471,7 @@ def _figures(
             title=f"{name}: along the cycle at {rpm:g} rpm",
         )
         save(axes[0].figure, out / "along_cycle.png", written)
-    labels = [f"segment {i} ({cam.segments[i].kind})" for i in sweep.segments]
+    labels = [f"segment {i + 1} ({cam.segments[i].kind})" for i in sweep.segments]
     nominal = [cam.segments[i].angle_deg for i in sweep.segments]
     ax = plot_min_phase_angles(
         sweep, labels=labels, nominal_deg=nominal, title=f"{name}: smallest phase angles"

@@ -724,7 +724,7 @@ def plot_min_phase_angles(
     n_seg = len(m.segments)
     if labels is not None and (isinstance(labels, str) or not hasattr(labels, "__len__")):
         raise InputError(f"labels must be one name per segment; got {labels!r}")
-    names = [f"segment {i}" for i in m.segments] if labels is None else [str(x) for x in labels]
+    names = [f"segment {i + 1}" for i in m.segments] if labels is None else [str(x) for x in labels]
     if len(names) != n_seg:
         raise InputError(f"labels holds {len(names)} names; m has {n_seg} segments")
     nominal = None
@@ -736,7 +736,7 @@ def plot_min_phase_angles(
     from matplotlib.lines import Line2D
 
     if ax is None:
-        _fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+        _fig, ax = plt.subplots(figsize=(9.5, 4.6), layout="constrained")
     assert ax is not None
     rpm = np.asarray(m.rpm, dtype=np.float64).reshape(-1)
     a = np.asarray(m.angle_deg, dtype=np.float64).reshape(rpm.size, n_seg, len(m.criteria))
@@ -783,7 +783,11 @@ def plot_min_phase_angles(
     if nominal is not None:
         handles.append(Line2D([], [], color="0.2", lw=0.9, ls=_NOMINAL_STYLE))
         texts.append("angle in the design")
-    ax.legend(handles, texts, fontsize=8, loc="best")
+    # Beside the axes, not on them: the curves fill the plot at every speed (at
+    # "best" the legend covered the bounds between 400 and 500 rpm).
+    ax.legend(
+        handles, texts, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0
+    )
     ax.set_xlabel("cam speed  [rpm]")
     ax.set_ylabel("smallest phase angle  [deg]")
     ax.set_ylim(bottom=0.0)
@@ -864,7 +868,7 @@ def plot_size_tradeoff(
     n_seg = len(t.segments)
     if labels is not None and (isinstance(labels, str) or not hasattr(labels, "__len__")):
         raise InputError(f"labels must be one name per segment ({n_seg}); got {labels!r}")
-    names = [f"segment {i}" for i in t.segments] if labels is None else [str(x) for x in labels]
+    names = [f"segment {i + 1}" for i in t.segments] if labels is None else [str(x) for x in labels]
     if len(names) != n_seg:
         raise InputError(f"labels holds {len(names)} names; t has {n_seg} segments")
     plt = pyplot()

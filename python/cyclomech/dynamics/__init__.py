@@ -1,8 +1,8 @@
-"""Machine dynamics (issue 34): the main shaft's real speed under its motor, its
+"""Machine dynamics: the main shaft's real speed under its motor, its
 torsion and the working members' dynamic errors, the frame's shaking force and
 moment, and balancing.
 
-**The main shaft** (items 1–2).
+**The main shaft.**
 
 **The reduced machine** (:func:`reduced`, :class:`Reduced`). A cyclic machine on
 one main shaft has one degree of freedom, the shaft angle φ. Its mechanisms'
@@ -49,7 +49,7 @@ in parallel.
 >>> round(s.mean_rpm, 2), round(s.speed_fluctuation, 4)
 (98.03, 0.0297)
 
-**Torsion and dynamic errors** (item 3): the main shaft as torsional springs
+**Torsion and dynamic errors**: the main shaft as torsional springs
 between the motor's end and the mechanisms' take-off points, each node a
 mechanism's J(φ) and Q(φ) on its hub, and each working member on an elastic link
 (:class:`ShaftNode`, :class:`WorkingMember`): :func:`torsion` gives the periodic
@@ -69,7 +69,7 @@ on a member's error lowers the machine's speed limit.
 >>> round(cm.dynamics.torsion([node], rpm=300.0).peak_error["crank"] * 1e3, 4)  # (ω/ω_n)²·10 mm
 0.1016
 
-**Shaking force and moment, and balancing** (item 4): the force and moment a
+**Shaking force and moment, and balancing**: the force and moment a
 linkage, and the whole machine with its mechanisms phased by the cyclogram, puts on the
 frame over the cycle (:func:`shaking`, :class:`Shaking`), and counterweights on
 the links pivoted to the frame that minimise it (:func:`balance`,
@@ -81,13 +81,13 @@ torque's reaction on the motor included); both are ω²·(part 0) + ε·(part 1)
 crank speed ω and acceleration ε, taken from the kinetostatics' frame reactions
 (ground joints and frame guides). Gravity and the working loads are not part of
 them: they form the static part, which :meth:`Shaking.frame_force` adds (what
-the frame's bearings and guides carry). See ``_shaking`` for the equations.
+the frame's bearings and guides carry).
 
 **Balancing.** A counterweight on a link pivoted to the frame is the vector
 (m r cos α, m r sin α) [kg·m] in the link's frame, a point mass at a radius r:
 the shaking force is linear in these vectors, so the least RMS force is one
 least-squares solve; the peak force and SAM's RMS force + weight × RMS torque go
-through scipy's optimisers over the Rust batch of designs. See ``_balance``.
+through scipy's optimisers over the Rust batch of designs.
 
 Units: SI (N, N·m, kg, m); speeds in rpm where named so; angles of results in
 degrees.
@@ -101,9 +101,7 @@ degrees.
 >>> round(cm.dynamics.balance(k, counterweights=[("O", "A")], rpm=600.0).after["peak_force_n"], 9)
 0.0
 
-The code lives in private modules beside this door: ``_shaking``
-(:func:`shaking`) and ``_balance`` (:func:`balance`); plots in
-``cyclomech.dynamics.plot`` (in :mod:`cyclomech.plot`).
+The plots are in ``cyclomech.dynamics.plot`` (in :mod:`cyclomech.plot`).
 """
 
 from __future__ import annotations

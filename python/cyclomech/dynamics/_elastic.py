@@ -200,7 +200,7 @@ class ElasticShaft:
         ...                               "hub_inertia_kg_m2": [0.1]}, {}, "m.toml")
         ... except InputError as e:
         ...     print(e)
-        m.toml: [drive.shaft]: stiffness_nm_per_rad[0] = -1.0 must be a finite number > 0 [N·m/rad]
+        m.toml: [drive.shaft]: stiffness_nm_per_rad #1 = -1.0 must be a finite number > 0 [N·m/rad]
         """
         where = f"{source}: [drive.shaft]"
         _toml.must_be_table(shaft, source, "[drive.shaft]")
@@ -227,7 +227,7 @@ class ElasticShaft:
             for i, x in enumerate(v):
                 if not (_toml.is_number(x) and math.isfinite(x) and x > 0):
                     raise InputError(
-                        f"{where}: {k}[{i}] = {x!r} must be a finite number > 0 {unit}"
+                        f"{where}: {k} #{i + 1} = {x!r} must be a finite number > 0 {unit}"
                     )
             arrays[k] = tuple(float(x) for x in v)
         zeta = shaft.get("damping_ratio", 0.02)

@@ -387,9 +387,9 @@ class BalanceRequest:
         'peak_force'
         """
         index = count("index", index, low=0)
-        where = f"{source}: [[balance]] {index + 1}"
-        _toml.must_be_table(row, source, f"[[balance]] {index + 1}")
-        _toml.check_keys(row, BALANCE_KEYS, source, f"[[balance]] {index + 1}")
+        where = f"{source}: [[balance]] #{index + 1}"
+        _toml.must_be_table(row, source, f"[[balance]] #{index + 1}")
+        _toml.check_keys(row, BALANCE_KEYS, source, f"[[balance]] #{index + 1}")
         name = row.get("mechanism")
         if not isinstance(name, str):
             raise InputError(f"{where}: mechanism = {name!r} must name a linkage of the machine")
@@ -439,8 +439,7 @@ class BalanceRequest:
 def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
     """Each requested linkage balanced at the machine's nominal speed
     (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity), or a press's
-    carrier (``_balance._press_balance``, its links
-    ``[["O", "planet"]]``).
+    carrier (a counterweight on the carrier, its links ``[["O", "planet"]]``).
 
     Parameters
     ----------
@@ -475,7 +474,7 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
     out: dict[str, Balance] = {}
     for i, req in enumerate(requests):
         res = result.mechanisms.get(req.mechanism)
-        where = f"[[balance]] {i + 1}"
+        where = f"[[balance]] #{i + 1}"
         if isinstance(getattr(getattr(res, "mech", None), "press", None), GearLeverPress):
             out[req.mechanism] = _press(res, req, where, result.nominal_rpm)
             continue

@@ -1,4 +1,4 @@
-"""Forces in planar linkages: kinetostatics (issue 19).
+"""Forces in planar linkages: kinetostatics.
 
 At every crank angle, the reaction at every joint, the normal force of every
 guide and the driving torque on the crank, for links with mass, centre of mass
@@ -35,9 +35,8 @@ Units: SI (N, N·m, kg, m, rad); crank speeds in rpm where named so.
 >>> round(float(k.torque(rpm=0.0)[0]), 6)    # −F·r: the force drives the crank here
 -100.0
 
-The code lives in private modules beside this door: ``_model`` (the loads and
-:func:`kinetostatics`), ``_result`` (:class:`Kinetostatics`), ``_friction``
-(friction per speed) and ``_file`` (the machine file's keys).
+A machine file's linkage gives its masses, loads and friction in its own table
+(:func:`dynamics_from_table`, :func:`friction_from_table`).
 """
 
 from __future__ import annotations

@@ -112,8 +112,8 @@ def dynamics_from_table(
         instance("linkage", linkage, Linkage)
     masses: dict[tuple[str, ...], LinkMass] = {}
     for i, row in enumerate(_rows(table, "mass", where)):
-        at = f"{source}: {where} mass[{i}]"
-        _toml.check_keys(row, _MASS_KEYS, source, f"{where} mass[{i}]")
+        at = f"{source}: {where} mass #{i + 1}"
+        _toml.check_keys(row, _MASS_KEYS, source, f"{where} mass #{i + 1}")
         _toml.require(row, ("link", "mass_kg"), at)
         link = row["link"]
         if not isinstance(link, list) or not all(isinstance(p, str) for p in link):
@@ -156,8 +156,8 @@ def dynamics_from_table(
         point_masses[p] = m
     loads: list[PointLoad | LinkTorque] = []
     for i, row in enumerate(_rows(table, "load", where)):
-        at = f"{source}: {where} load[{i}]"
-        _toml.check_keys(row, _LOAD_KEYS, source, f"{where} load[{i}]")
+        at = f"{source}: {where} load #{i + 1}"
+        _toml.check_keys(row, _LOAD_KEYS, source, f"{where} load #{i + 1}")
         try:
             if "point" in row and "force_n" in row and not {"link", "torque_nm"} & set(row):
                 loads.append(PointLoad(row["point"], row["force_n"], row.get("angle_deg")))
@@ -210,7 +210,7 @@ def _check_names(
             )
 
     for i, joints in enumerate(masses):
-        link_ok(joints, f"{where} mass[{i}]")
+        link_ok(joints, f"{where} mass #{i + 1}")
     for p in point_masses:
         if p not in linkage.names:
             raise InputError(
@@ -225,16 +225,17 @@ def _check_names(
     for i, load in enumerate(loads):
         if isinstance(load, PointLoad) and load.point not in linkage.names:
             raise InputError(
-                f"{source}: {where} load[{i}]: point = {load.point!r} is not a point; the points "
-                f"are {names}"
+                f"{source}: {where} load #{i + 1}: point = {load.point!r} is not a point; the "
+                f"points are {names}"
             )
         if isinstance(load, PointLoad) and load.point in ground:
             raise InputError(
-                f"{source}: {where} load[{i}]: point = {load.point!r} is a ground joint: a force "
-                "there goes straight into the frame and loads no link; put it on a moving point"
+                f"{source}: {where} load #{i + 1}: point = {load.point!r} is a ground joint: a "
+                "force there goes straight into the frame and loads no link; put it on a moving "
+                "point"
             )
         if isinstance(load, LinkTorque):
-            link_ok(load.link, f"{where} load[{i}]")
+            link_ok(load.link, f"{where} load #{i + 1}")
 
 
 def _names_table(spec: Mapping[str, Any], key: str, at: str) -> Mapping[str, Any]:

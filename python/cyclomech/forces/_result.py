@@ -166,17 +166,19 @@ class Kinetostatics:
         pairs: tuple[tuple[str, str], ...],
         guides: tuple[str, ...],
     ) -> Kinetostatics:
-        """The forces from the Rust kernel's values: views, no copies.
+        """The forces from their parts as arrays, as :func:`kinetostatics` computes
+        them (a result rebuilt from saved arrays, say): views, no copies.
 
         Parameters
         ----------
         solution : LinkageSolution
             The solved linkage at the N crank angles.
         values : ndarray of float, shape (3, N, 1 + G [+ 2K])
-            The kernel's parts: the torque [N·m], the G guide forces [N] and, when
-            reactions were asked for, the K joint forces (x, y) [N].
+            The parts (ω², ε and constant) of the torque [N·m], the G guide
+            forces [N] and, when reactions were asked for, the K joint forces
+            (x, y) [N].
         conditioning : ndarray of float, shape (N,)
-            The kernel's conditioning at each angle: 0 where a block of the force
+            The conditioning at each angle: 0 where a block of the force
             system is singular, NaN where an input is not finite. Only those two
             are kept; elsewhere the attribute ``conditioning`` is the scale-free
             crank angle to a dead centre that the solution's analogs give (0 where
@@ -190,7 +192,7 @@ class Kinetostatics:
         -------
         Kinetostatics
             The forces; no reactions (shape (3, N, 0, 2)) when they were not asked for.
-            NaN at every dead centre: where only the analogs show one (the kernel's
+            NaN at every dead centre: where only the analogs show one (the given
             values finite), the values are copied with NaN there.
 
         Raises
@@ -200,7 +202,7 @@ class Kinetostatics:
             guides, K pairs) or ``conditioning`` of shape (N,), either holds other
             than real numbers, ``conditioning`` is negative or NaN where the
             solution is finite, a value is not finite where the solution is finite
-            and ``conditioning`` > 0 (the kernel's NaN marks only those angles), or
+            and ``conditioning`` > 0 (NaN marks only those angles), or
             ``solution`` has no analogs.
         TypeError
             If ``solution`` is not a :class:`~cyclomech.LinkageSolution`, ``guides``

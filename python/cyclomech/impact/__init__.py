@@ -16,10 +16,8 @@ the lever to the stop. This module holds the physics layer:
   phase angle becomes a constraint of the :class:`cyclomech.Cyclogram`;
 * :class:`ImpactStudy`, the impact file.
 
-The code lives in private modules beside this door, one per subject: ``_lever``
-(stiffness, frequency, contact time, impact force), ``_pulse``, ``_response``
-(the Duhamel kernels and first rebounds), ``_contact``, ``_stop`` (StopImpact),
-``_stops`` (the batch functions over many stops) and ``_study`` (the file format).
+Functions over many stops at once (:func:`rebounds`, :func:`max_impact_speeds`,
+:func:`min_phase_angles`) evaluate every stop in one Rust call.
 
 SI units: m, kg, N, s, rad; speeds in rpm and phase angles in degrees where the
 names say so.

@@ -65,8 +65,9 @@ class CamStop:
         Each key that sets a :class:`StopImpact` parameter or ``a_max``, and that
         parameter's name (``"preload_m": "preload"``).
     rules : tuple of Rule
-        Its plausibility rules (``cyclomech._keyrules.check``): a rebound limit
-        not below the stroke is an error, a damping ratio ζ ≥ 1 a warning.
+        Its plausibility rules (a value implausible for its unit warns): a
+        rebound limit not below the stroke is an error, a damping ratio ζ ≥ 1 a
+        warning.
     fixed_keys : frozenset of str
         The keys a sweep may not vary (``kind``, ``arc``, ``cam``).
     json_groups : tuple of str
@@ -146,8 +147,8 @@ class CamStop:
         Returns
         -------
         StopBatch or None
-            The batch (its ``designs`` and ``solve``; ``cyclomech.impact._batch``),
-            or None.
+            The batch (its ``designs`` and ``solve``: every design's stop in one
+            Rust call), or None.
 
         Raises
         ------

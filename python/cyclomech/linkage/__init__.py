@@ -17,12 +17,9 @@ solved by Newton continuation from the drawn pose with the seed's bracketing as
 the fallback. :func:`solve_geometries` solves K geometries of one linkage over one
 crank-angle grid in one call.
 
-The code lives in private modules beside this door: ``_linkage``
-(:class:`Linkage`: the model, its compilation and solve), ``_file`` (its file
-format), ``_drawing`` (the checks of the drawing's parts), ``_solution``
-(:class:`LinkageSolution`), ``_geometries`` (:func:`solve_geometries`) and
-``_synthesize`` (the hook of a table's ``synthesize`` requirements);
-``cyclomech.linkage.presets`` holds the seed's knife drives.
+A linkage file (``cyclomech linkage FILE.toml``) is read by
+:meth:`Linkage.from_toml`; ``cyclomech.linkage.presets`` holds the seed's knife
+drives.
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ def _joint(value: Any, where: str, points: Mapping[str, Any]) -> str:
     file's ``ground = [["A", "D"]]`` once ended in ``TypeError: unhashable``).
 
     >>> from cyclomech.linkage._drawing import _joint
-    >>> _joint("A", "ground[0]", {"A": 0})
+    >>> _joint("A", "ground #1", {"A": 0})
     'A'
     >>> _joint(["A"], "ground", {"A": 0})
     Traceback (most recent call last):
@@ -134,10 +134,12 @@ def _links(links: Any, points: Mapping[str, Any]) -> list[tuple[str, ...]]:
     out = []
     for k, ln in enumerate(links):
         if isinstance(ln, str) or not isinstance(ln, Sequence) or len(ln) < 2:
-            raise InputError(f"links[{k}] = {ln!r} must list at least two joints")
-        joints = tuple(_joint(p, f"links[{k}][{i}]", points) for i, p in enumerate(ln))
+            raise InputError(f"links #{k + 1} = {ln!r} must list at least two joints")
+        joints = tuple(
+            _joint(p, f"links #{k + 1}, joint #{i + 1}", points) for i, p in enumerate(ln)
+        )
         if len(set(joints)) != len(joints):
-            raise InputError(f"links[{k}] = {ln!r} lists a joint twice")
+            raise InputError(f"links #{k + 1} = {ln!r} lists a joint twice")
         out.append(joints)
     if not out:
         raise InputError("links must list at least the crank")
@@ -151,7 +153,7 @@ def _ground(ground: Any, points: Mapping[str, Any]) -> set[str]:
             if isinstance(ground, str)
             else f"ground = {ground!r} must be an array of joint names"
         )
-    g = {_joint(p, f"ground[{i}]", points) for i, p in enumerate(ground)}
+    g = {_joint(p, f"ground #{i + 1}", points) for i, p in enumerate(ground)}
     if not g:
         raise InputError("ground must list at least the crank's pivot")
     return g

@@ -151,7 +151,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "none (the defaults for every guide)",
           "sliders' points of the linkage; a key left out takes the default", None),
     ), intro=(
-        "The friction of a linkage's joints and slider guides (issue 34): Coulomb "
+        "The friction of a linkage's joints and slider guides: Coulomb "
         "friction μ·r·R in each pin (R the joint's reaction) and μ·N on each guide (N the "
         "normal force), solved with the reactions, "
         "and a viscous term. The ``pin_*`` and ``guide_*`` keys apply to every joint of two "
@@ -225,7 +225,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("cut_force_n", "The comparison's cutting force on E, upwards over the cut.", "N",
           NUM, "0", "finite, ≥ 0; needs compare", None),
     ), intro=(
-        "Requirements instead of dimensions (issue 35): ``cyclomech run`` synthesises the "
+        "Requirements instead of dimensions: ``cyclomech run`` synthesises the "
         "linkage (``cyclomech.synthesis.knife_drive``: differential evolution over the "
         "scheme's link lengths, each generation solved in one batch call), reports what it "
         "chose and why, and analyses it as any other linkage; the masses, loads and phase "

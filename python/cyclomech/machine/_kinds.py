@@ -31,7 +31,7 @@ def register(cls: type[Mechanism]) -> type[Mechanism]:
     """Add a mechanism kind to :data:`KINDS` (usable as a class decorator).
 
     The one argument, ``cls``, is the kind's class: it has a string ``kind`` and
-    satisfies :class:`~cyclomech._kind.Mechanism`. (It is described here, not under
+    satisfies :class:`~cyclomech.machine.Mechanism`. (It is described here, not under
     Parameters: numpydoc takes a first parameter named ``cls`` for a classmethod's
     and would report it as unknown.)
 

@@ -298,7 +298,7 @@ class Machine:
             if other:
                 raise InputError(
                     f"{source}: a machine file needs a [machine] table; this looks like "
-                    f"{other[0]}: run it with `cyclomech {other[1]}`"
+                    f"{other[0]}: run it with `cyclomech {other[1]} {source}`"
                 )
         _toml.check_keys(
             data,
@@ -656,7 +656,7 @@ class Machine:
         Returns
         -------
         dict of str to ndarray
-            By the bound's name (:class:`~cyclomech._kind.Bound`), the smallest angle
+            By the bound's name (:class:`~cyclomech.machine.Bound`), the smallest angle
             [deg] at each speed.
 
         Raises
@@ -966,6 +966,10 @@ def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     """What another command's file looks like, and that command: by its tables."""
     if "stop" in data:
         return "an impact file ([stop])", "impact"
+    if "cam" in data:
+        return "a cam file ([cam])", "cam"
+    if "transfer" in data:
+        return "a rotor transfer file ([transfer])", "transfer"
     if "linkage" in data:
         return "a linkage file ([linkage])", "linkage"
     if "press" in data:

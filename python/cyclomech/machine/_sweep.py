@@ -542,19 +542,17 @@ def sweep(
         or all cores).
     batch : bool, default True
         A sweep of pulse-model stops' numeric keys builds and solves each chunk's
-        designs in one Rust call (``cyclomech.machine._batch`` says when a
-        kind's batch path is taken, ``cyclomech.impact._batch`` what a stop's batch
-        takes); False builds one machine per design (the reference: the same
-        results, bit for bit, slower).
+        designs in one Rust call (where every swept key is a stop's number);
+        False builds one machine per design (the reference: the same results, bit
+        for bit, slower).
     out : str or Path, optional
         A ``.parquet`` path (needs pyarrow): the rows are written to it task by
         task as they finish, in order, and dropped, so that a sweep of any size
         runs in bounded memory; the result then holds no columns, only ``path``
         and ``summary`` (read the rows with :meth:`SweepResult.read`).
     shaft : bool, default False
-        Add the main shaft's columns (``cyclomech.machine._sweep_shaft``: one
-        ``cyclomech run`` analysis per design, ~0.7 s for the loom with its cam;
-        NaN where there is no main shaft).
+        Add the main shaft's columns (one ``cyclomech run`` analysis per design,
+        ~0.7 s for the loom with its cam; NaN where there is no main shaft).
 
     Returns
     -------

@@ -110,8 +110,21 @@ def plot_speed_sweep(
         _bounds(fig, axes[2], n, upto, stops, linear)
     axes[-1].set_xlabel("main-shaft speed  [rpm]")
     by = f" ({limit_by})" if limit_by else ""
+    shown = _shown_range(n, runs, limit_rpm if limited else None)
     for ax in axes:
-        _speed_range(ax, ax is top, n, runs, limit_rpm if limited else None, by)
+        _speed_range(ax, ax is top, n, runs, limit_rpm if limited else None, by, shown)
+    if shown[1] < float(n.max()):
+        axes[-1].annotate(
+            f"(the sweep runs to {float(n.max()):g} rpm; nothing runs above the limit)",
+            xy=(1.0, 0.0),
+            xycoords="axes fraction",
+            xytext=(0, -28),
+            textcoords="offset points",
+            ha="right",
+            va="top",
+            fontsize=7,
+            color="0.35",
+        )
     if not runs.any():
         _works_at_no_speed(top, mid, limit_rpm if limited else None, by)
     else:  # with nothing drawn, a legend would only name empty lines
@@ -179,22 +192,109 @@ def _bounds(fig: Any, low: Any, n: Any, upto: Any, stops: dict[str, Any], linear
                 gid=f"stop:{name}:linear",
             )
     low.set_ylabel("smallest phase angle  [deg]")
-    if len(low.get_lines()) > 6:  # many bounds: the legend beside the panel
+    if len(stops) > 10:  # many bounds: a colour per operation, a line per criterion
+        handles, labels = _grouped_legend(
+            styles, any(ln.get_gid().endswith(":linear") for ln in low.get_lines())
+        )
+        low.legend(
+            handles,
+            labels,
+            ncols=2,
+            fontsize=7,
+            loc="upper left",
+            bbox_to_anchor=(1.01, 1.0),
+            borderaxespad=0,
+            title="colour: what is bounded · line: criterion",
+            title_fontsize=7,
+        )
+        fig.set_size_inches(12.0, 7.5)
+    elif len(low.get_lines()) > 6:  # the legend beside the panel
         low.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.set_size_inches(12.0, 7.5)
     else:
         low.legend(fontsize=8, loc="upper left")
 
 
-def _speed_range(ax: Any, top: bool, n: Any, runs: Any, limit_rpm: float | None, by: str) -> None:
-    """One panel's grid and speed range, with where the machine does not run
-    shaded: above the speed limit ``limit_rpm`` [rpm] (its dashed red line, when in
-    range), or without a finite limit where the cyclogram does not fit. The labels
-    and gids go on the ``top`` panel only."""
+def _split(name: str) -> tuple[str, str]:
+    """(what is bounded, criterion) of a bound's name: ``σ_H[lifter cam rise 1→3]``
+    is (``lifter cam rise 1→3``, ``σ_H``); a stop's, its mechanism's name alone, is
+    (that name, ``rebound (a stop)``)."""
+    crit, bracket, rest = name.partition("[")
+    return (rest.rstrip("]"), crit) if bracket else (name, "rebound (a stop)")
+
+
+def _grouped_legend(
+    styles: dict[str, tuple[str, Any]], linear: bool
+) -> tuple[list[Any], list[str]]:
+    """The legend of many bounds: one entry per colour (the operation a bound is on,
+    by mechanism, in the order of the bounds) in the first column, one per line
+    style (the criterion; the seed's linearised bound dashed) in the second; blank
+    entries even the columns. 13 bounds of a loom's stop and cam took 13 entries."""
+    from matplotlib.lines import Line2D
+
+    colours: dict[str, str] = {}
+    lines: dict[str, Any] = {}
+    for name, (colour, style) in styles.items():
+        what, crit = _split(name)
+        colours.setdefault(what, colour)
+        lines.setdefault(crit, style)
+    left = [(Line2D([], [], color=c, lw=3.0), what) for what, c in colours.items()]
+    right = [(Line2D([], [], color="0.25", lw=1.4, ls=st), crit) for crit, st in lines.items()]
+    if linear:
+        right.append((Line2D([], [], color="0.25", lw=1.2, ls="--"), "linearised (seed)"))
+    blank = (Line2D([], [], lw=0, alpha=0), "")
+    rows = max(len(left), len(right))
+    pairs = [*left, *[blank] * (rows - len(left)), *right, *[blank] * (rows - len(right))]
+    return [h for h, _ in pairs], [t for _, t in pairs]
+
+
+#: When the speeds where the machine runs take less than this share of the sweep's
+#: range (the speed limit low in it), the speed axis ends past the limit so that they
+#: take :data:`RUNNING_SHARE` of it: the curves are not squeezed into a sliver
+#: beside a grey block (once 7 % of the width).
+SQUEEZED_SHARE = 0.5
+#: The share of the speed axis the running speeds then take.
+RUNNING_SHARE = 0.8
+
+
+def _shown_range(n: Any, runs: Any, limit_rpm: float | None) -> tuple[float, float]:
+    """The speed axis' range [rpm]: the sweep's, or where the machine runs in less
+    than :data:`SQUEEZED_SHARE` of it, from its start to the last speed it runs at
+    (the speed limit) plus what makes that :data:`RUNNING_SHARE` of the axis.
+
+    >>> import numpy as np
+    >>> n = np.linspace(200.0, 500.0, 61)
+    >>> _shown_range(n, n <= 420.0, 420.0)
+    (200.0, 500.0)
+    >>> _shown_range(n, n <= 221.0, 221.0)
+    (200.0, 226.25)
+    """
+    lo, hi = float(n.min()), float(n.max())
+    if not runs.any():
+        return lo, hi  # nothing to show but the range and why
+    last = float(n[runs].max()) if limit_rpm is None else min(float(limit_rpm), hi)
+    if last <= lo or last - lo >= SQUEEZED_SHARE * (hi - lo):
+        return lo, hi
+    return lo, lo + (last - lo) / RUNNING_SHARE
+
+
+def _speed_range(
+    ax: Any,
+    top: bool,
+    n: Any,
+    runs: Any,
+    limit_rpm: float | None,
+    by: str,
+    shown: tuple[float, float],
+) -> None:
+    """One panel's grid and speed range ``shown`` [rpm], with where the machine
+    does not run shaded: above the speed limit ``limit_rpm`` [rpm] (its dashed red
+    line, when in range), or without a finite limit where the cyclogram does not
+    fit. The labels and gids go on the ``top`` panel only."""
     limited = limit_rpm is not None
     lim = math.nan if limit_rpm is None else float(limit_rpm)
     ax.grid(True, lw=0.4, alpha=0.5)
-    ax.set_xlim(float(n.min()), float(n.max()))
+    ax.set_xlim(*shown)
     if limit_rpm is not None and limit_rpm < n.max():
         ax.axvspan(
             max(lim, float(n.min())),
@@ -253,10 +353,16 @@ def _works_at_no_speed(top: Any, mid: Any, limit_rpm: float | None, by: str) -> 
     mid.set_yticks([])
 
 
-#: Line styles of a bound's criterion when the bounds are many (a cam's four
-#: criteria on each of its segments): solid, dotted, dash-dot, long dashes. The
-#: seed's linearised stop bounds keep "--".
-_CRITERION_STYLES = ("-", (0, (1, 1.5)), (0, (5, 1.5, 1, 1.5)), (0, (8, 2.5)))
+#: Line styles of a bound's criterion when the bounds are many (a stop's rebound
+#: and a cam's four criteria on each of its segments): solid, dotted, dash-dot,
+#: long dashes, dash-dot-dot. The seed's linearised stop bounds keep "--".
+_CRITERION_STYLES = (
+    "-",
+    (0, (1, 1.5)),
+    (0, (5, 1.5, 1, 1.5)),
+    (0, (8, 2.5)),
+    (0, (5, 1.2, 1, 1.2, 1, 1.2)),
+)
 
 
 def _bound_styles(names: list[str]) -> dict[str, tuple[str, Any]]:
@@ -264,7 +370,7 @@ def _bound_styles(names: list[str]) -> dict[str, tuple[str, Any]]:
     bounds: one colour each (C3, C4, …), solid. More: a colour per operation (what
     the brackets of ``criterion[mechanism segment]`` name, or the bound's own name)
     and a line style per criterion, so that 13 bounds do not reuse a colour for
-    unrelated curves; past 10 operations × 4 criteria, the colours repeat with the
+    unrelated curves; past 10 operations × 5 criteria, the colours repeat with the
     next styles.
 
     >>> s = _bound_styles(["lifter", "σ_H[cam rise 1→3]", "undercut[cam rise 1→3]"])
@@ -286,7 +392,7 @@ def _bound_styles(names: list[str]) -> dict[str, tuple[str, Any]]:
         k = criteria.setdefault(crit if bracket else "", len(criteria))
         colour, step = f"C{(g + 3) % 10}", k + (g // 10) * len(_CRITERION_STYLES)
         style = _CRITERION_STYLES[step % len(_CRITERION_STYLES)]
-        while (colour, str(style)) in used:  # only past 40 bounds
+        while (colour, str(style)) in used:  # only past 50 bounds
             step += 1
             colour = f"C{(g + 3 + step // len(_CRITERION_STYLES)) % 10}"
             style = _CRITERION_STYLES[step % len(_CRITERION_STYLES)]

@@ -260,7 +260,7 @@ class Program:
     >>> cm.motion.Program([S("harmonic", 90, end=0.1), S("dwell", 90), S("harmonic", 180, end=0.0)],
     ...                   continuity="acceleration")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    cyclomech._errors.InputError: segment 0 (harmonic) → segment 1 (dwell) at 90°: the ...
+    cyclomech._errors.InputError: segment 1 (harmonic) → segment 2 (dwell) at 90°: the ...
     """
 
     __slots__ = ("_kernel", "advance", "continuity", "segments", "shift")
@@ -292,7 +292,7 @@ class Program:
             if row[5] is not None:
                 at, v = row[5]
                 warnings.warn(
-                    f"segment {i} ({segs[i].law}) runs backwards: v = {v:.4g} per rad at "
+                    f"segment {i + 1} ({segs[i].law}) runs backwards: v = {v:.4g} per rad at "
                     f"{math.degrees(at):.4g}°, against its stroke; its stroke is short for "
                     "its end velocities (lengthen it, or shorten the angle)",
                     CyclomechWarning,

@@ -36,11 +36,10 @@ deformation-force diagram F(S) (:class:`DeformationForce`, S the slider's height
 above BDC inside [0, S_p]) minus ω²·(m_s·Π'·Π'' + a uniform rod's term), from the
 power balance; its energy per stroke ∫ F dS and its peak.
 
-The code lives in private modules beside this door, one per subject: ``_drive``
-(:class:`GearLeverPress`, kinematics and criteria of one design), ``_torque``
-(the crank torque), ``_grid`` (:func:`design_grid`), ``_optimize``
-(:func:`pareto_mask`, :func:`optimize`), ``_study`` (the press file) and ``_kind``
-(the machine file's ``press`` mechanism).
+Many designs: :func:`design_grid` evaluates a grid of designs in one call and
+:func:`pareto_mask` and :func:`optimize` find the non-dominated ones; a press file
+(``cyclomech press FILE.toml``) and a machine file's ``kind = "press"`` mechanism
+describe one drive.
 """
 
 from __future__ import annotations

@@ -427,8 +427,7 @@ class GearLeverPress:
 
         [N·m], the torque the drive puts into the crank in its turning direction, from
         the power balance M·ω = dT/dt − F·v with v = dS/dt = −ω·Π' (α runs against the
-        motion); G is the rod's centre, φ its angle (derivation in
-        ``cyclomech.press._torque``). The ω² part and the force part come apart
+        motion); G is the rod's centre, φ its angle. The ω² part and the force part come apart
         (:class:`PressTorque`).
 
         Parameters

@@ -77,7 +77,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "none (no friction in the pins)",
           "finite, ≥ 0; with pin_radius_m; above 0.5 warns", None),
     ), intro=(
-        "Coulomb friction of a press drive (issue 34): at the slider's guide and the rod's "
+        "Coulomb friction of a press drive: at the slider's guide and the rod's "
         "two pins, solved with the slider's and the rod's Newton–Euler equations at the "
         "nominal speed. The efficiency and the torque friction adds reach the report and "
         "the main shaft as a linkage's do."

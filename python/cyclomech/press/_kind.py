@@ -81,7 +81,7 @@ class PressMechanism(Unbounded):
         The keys its table takes (their names say their units: ``R_m``,
         ``working_stroke_m``, ``max_V_np_m_per_s``, …).
     rules : tuple of Rule
-        Its plausibility rules (``cyclomech._keyrules.check``).
+        Its plausibility rules (a value implausible for its unit warns).
 
     Examples
     --------
@@ -232,7 +232,7 @@ class PressMechanism(Unbounded):
             raise InputError(f"{where}: {mech._failure(c)}")
         if mech.force is not None:
             try:
-                mech.force.check_stroke(c.S_p, "deformation_force.s_above_bdc_m")
+                mech.force.check_stroke(c.S_p, "deformation_force.s_above_bdc_m", counted=True)
             except InputError as e:
                 raise InputError(f"{where}: {e}") from None
         return mech
@@ -456,6 +456,7 @@ def _force(table: Mapping[str, Any], name: str, ctx: TableContext) -> Deformatio
             spec["force_n"],
             "deformation_force.s_above_bdc_m",
             "deformation_force.force_n",
+            counted=True,
         )
     except InputError as e:
         raise InputError(f"{where}: {e}") from None

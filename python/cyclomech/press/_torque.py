@@ -50,10 +50,17 @@ Array = npt.NDArray[np.float64]
 STROKE_TOL = 1e-9
 
 
-def check_table(s: Any, force: Any, s_key: str, force_key: str) -> tuple[Array, Array]:
+def check_table(
+    s: Any, force: Any, s_key: str, force_key: str, *, counted: bool = False
+) -> tuple[Array, Array]:
     """The positions [m] and forces [N] of a force diagram as float64 arrays, or
     :class:`InputError` naming the offending key: 1-D, the same length ≥ 2, finite,
-    positions ≥ 0 and strictly increasing, forces ≥ 0."""
+    positions ≥ 0 and strictly increasing, forces ≥ 0. An entry is named as a
+    Python subscript (``s[0]``), or ``counted`` from 1 as a file's (``s_m #1``)."""
+
+    def at(key: str, j: Any) -> str:
+        return f"{key} #{int(j) + 1}" if counted else f"{key}[{int(j)}]"
+
     a = float_array(s_key, s)
     f = float_array(force_key, force)
     if a.size < 2 or a.size != f.size:
@@ -64,21 +71,21 @@ def check_table(s: Any, force: Any, s_key: str, force_key: str) -> tuple[Array, 
     for key, v in ((s_key, a), (force_key, f)):
         bad = np.flatnonzero(~np.isfinite(v))
         if bad.size:
-            raise InputError(f"{key}[{bad[0]}] = {float(v[bad[0]])!r} is not finite")
+            raise InputError(f"{at(key, bad[0])} = {float(v[bad[0]])!r} is not finite")
     bad = np.flatnonzero(np.diff(a) <= 0)
     if bad.size:
         j = int(bad[0])
         raise InputError(
-            f"{s_key} must increase strictly (heights above BDC [m]); {s_key}[{j + 1}] = "
-            f"{float(a[j + 1])!r} does not exceed {s_key}[{j}] = {float(a[j])!r}"
+            f"{s_key} must increase strictly (heights above BDC [m]); {at(s_key, j + 1)} = "
+            f"{float(a[j + 1])!r} does not exceed {at(s_key, j)} = {float(a[j])!r}"
         )
     if a[0] < 0:
-        raise InputError(f"{s_key}[0] = {float(a[0])!r} must be ≥ 0 [m] (a height above BDC)")
+        raise InputError(f"{at(s_key, 0)} = {float(a[0])!r} must be ≥ 0 [m] (a height above BDC)")
     bad = np.flatnonzero(f < 0)
     if bad.size:
         j = int(bad[0])
         raise InputError(
-            f"{force_key}[{j}] = {float(f[j])!r} must be ≥ 0 [N] (the blank pushes the slider up)"
+            f"{at(force_key, j)} = {float(f[j])!r} must be ≥ 0 [N] (the blank pushes the slider up)"
         )
     return a, f
 
@@ -153,7 +160,7 @@ class DeformationForce:
         """
         return float(np.sum(0.5 * (self.force[1:] + self.force[:-1]) * np.diff(self.s)))
 
-    def check_stroke(self, S_p: float, s_key: str = "s") -> None:
+    def check_stroke(self, S_p: float, s_key: str = "s", *, counted: bool = False) -> None:
         """Check that the table lies inside the working stroke [0, ``S_p``] [m].
 
         To ``STROKE_TOL`` (1e-9)·S_p.
@@ -164,6 +171,9 @@ class DeformationForce:
             The working stroke [m].
         s_key : str, default "s"
             The key the error names (the table's key in the file).
+        counted : bool, default False
+            Name the entry counted from 1, as a file's (``s_m #2``), not as a
+            Python subscript (``s[1]``).
 
         Raises
         ------
@@ -182,8 +192,9 @@ class DeformationForce:
         bad = np.flatnonzero(self.s > top)
         if bad.size:
             j = int(bad[0])
+            at = f"{s_key} #{j + 1}" if counted else f"{s_key}[{j}]"
             raise InputError(
-                f"{s_key}[{j}] = {float(self.s[j])!r} m lies above the working stroke: the force "
+                f"{at} = {float(self.s[j])!r} m lies above the working stroke: the force "
                 f"diagram's heights above BDC must lie in [0, {S_p:.6g}] m (S_p = {S_p:.6g} m)"
             )
 

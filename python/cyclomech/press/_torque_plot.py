@@ -67,7 +67,7 @@ def plot_crank_torque(
     >>> matplotlib.use("Agg")
     >>> import matplotlib.pyplot as plt
     >>> import numpy as np, cyclomech as cm
-    >>> from cyclomech.press._torque_plot import plot_crank_torque
+    >>> from cyclomech.plot import plot_crank_torque
     >>> p = cm.press.GearLeverPress(R=0.09, r=0.03, d=0.0, L=0.3, phi0=0.0)
     >>> f = cm.press.DeformationForce([0.0, 0.012], [1e5, 1e5])
     >>> t = p.crank_torque(np.radians(np.arange(361.0)), force=f, slider_mass=40.0, k_Sp=0.1)

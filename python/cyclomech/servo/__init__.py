@@ -1,4 +1,4 @@
-"""Servo axes (issue 33): electronic cams whose master is the machine's (virtual)
+"""Servo axes: electronic cams whose master is the machine's (virtual)
 main shaft, the motor torque and speed they need through a gearbox, the checks of a
 motor, and the sizing of motor and gear ratio from a catalogue.
 

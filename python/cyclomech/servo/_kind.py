@@ -327,7 +327,7 @@ class ServoMechanism(ExactBounds):
             j = next((i % n for i in range(k + 1, k + n) if rows[i % n]["kind"] == "dwell"), None)
             if j is None or float(rows[j]["angle_deg"]) - delta <= 0.0:
                 return self.axis.program, (
-                    f"segment {k} at {angles[arc]:.4g}° leaves no dwell to take up "
+                    f"segment {k + 1} at {angles[arc]:.4g}° leaves no dwell to take up "
                     f"{delta:+.4g}°: shown with the file's angles"
                 )
             rows[k]["angle_deg"] = float(angles[arc])
@@ -506,7 +506,7 @@ class ServoMechanism(ExactBounds):
         if math.isinf(rpm):
             return rpm, ""
         who = f"motor {motor.name!r}" if motor.name else "the motor"
-        where = ", ".join(f"{i} ({self.axis.program.segments[i].law})" for i in free)
+        where = ", ".join(f"{i + 1} ({self.axis.program.segments[i].law})" for i in free)
         c = int(np.argmin(limits))
         if rpm == 0.0:
             what = ("peak", motor.peak_torque_nm) if c == 0 else ("rated", motor.rated_torque_nm)
@@ -720,13 +720,13 @@ def _check_arcs(program: Program, arcs: tuple[Arc | None, ...], ctx: TableContex
     for i, arc in enumerate(arcs):
         if arc is None:
             continue
-        _toml.operation(arc, "arc", f"{at} segment {i}", known)
+        _toml.operation(arc, "arc", f"{at} segment {i + 1}", known)
         if arc in seen:
-            raise InputError(f"{at} segment {i}: arc = {list(arc)!r} is bound twice")
+            raise InputError(f"{at} segment {i + 1}: arc = {list(arc)!r} is bound twice")
         seen.add(arc)
         if not program.scalable[i]:
             raise InputError(
-                f"{at} segment {i}: arc = {list(arc)!r}, but its law "
+                f"{at} segment {i + 1}: arc = {list(arc)!r}, but its law "
                 f"({program.segments[i].law}) has moving ends, a constant velocity or a "
                 "point table: its shape changes with its angle, so it cannot take a "
                 "phase angle from the cyclogram"

@@ -1,4 +1,4 @@
-"""The main shaft (issue 19, first slice): the mechanisms' shaft torques over one
+"""The main shaft: the mechanisms' shaft torques over one
 cycle, each shifted by its phase in the cyclogram and summed, and at each speed the
 mean, peak, lowest and RMS torque, the energy fluctuation, the flywheel inertia for
 a coefficient of speed fluctuation and the motor power.

@@ -11,7 +11,7 @@ transition → circle.
   it leaves the circle (origin at A, x along the tangent, y towards the centre):
   y = 0, y' = 0, y'' = 1/R at A; y = k·x2 + b, y' = k, y'' = 0 at B on the line
   y = k·x + b. a0 = a1 = 0, a2 = 1/(2R); a3, a4, a5 from the three conditions at B,
-  solved in closed form (the seed's printed form is garbled).
+  solved in closed form.
 * :func:`smooth_transition` — the member of that family whose curvature also
   *starts and ends flat* (y''' = 0 at A and B, so the jerk does not jump at either
   junction either): y'' = (1 − 3s² + 2s³)/R, s = x/x2; it fixes k = x2/(2R) and
@@ -31,13 +31,13 @@ unless ``ccw=False`` (then the process rotor turns clockwise, as meshing rotors
 do, and the path is the mirror image). Signed curvature is positive where the
 path turns left: +1/R_t on the transport circle, −1/R_p on the process circle.
 
-The code lives in private modules beside this door, one per subject: ``_jump``,
-``_quintic`` (the transitions and :func:`to_machine`), ``_path``
-(:class:`TransferPath`) and ``_design`` (:func:`design_transfer`), with the input
-checks they share in ``_checks``. The numeric kernels — the quintic's values,
-curvature and arc length, the composed path's sample, the kinematics along it
-and the design's candidate scan — are Rust (``rust/core/src/transfer``), one call
-each with the GIL released; the path's sample, kinematics and scan take
+A transfer alone from a file: ``cyclomech transfer FILE.toml`` (a ``[transfer]``
+table: a machine file's ``kind = "transfer"`` keys, its ``name`` and ``rpm``).
+
+The numeric work — the quintic's values, curvature and arc length, the composed
+path's sample, the kinematics along it and the design's candidate scan — is
+compiled code, one call each with the GIL released; the path's sample, kinematics
+and scan take
 ``n_threads`` (default: every core, or ``CYCLOMECH_THREADS``) and give the same
 result on any thread count.
 """

@@ -59,7 +59,7 @@ class TransferMechanism(Unbounded):
         The keys its table takes (their names say their units: ``R_t_m``,
         ``gap_m``, ``max_jerk_m_per_s3``, …).
     rules : tuple of Rule
-        Its own plausibility rules (``cyclomech._keyrules.check``).
+        Its own plausibility rules (a value implausible for its unit warns).
 
     Examples
     --------
@@ -114,8 +114,8 @@ class TransferMechanism(Unbounded):
         The table holds ``R_t_m``, ``R_p_m``, ``gap_m`` [m], ``pockets_t``,
         ``pockets_p``; optionally ``x2_m`` [m] (default: the length of least jerk,
         :func:`cyclomech.transfer.design_transfer`), ``max_jerk_m_per_s3`` [m/s³]
-        and ``max_acceleration_m_per_s2`` [m/s²]. The values are then checked by
-        ``cyclomech._keyrules.check``.
+        and ``max_acceleration_m_per_s2`` [m/s²]. The values are then checked for
+        plausibility (a value implausible for its unit warns).
 
         Parameters
         ----------
@@ -148,8 +148,14 @@ class TransferMechanism(Unbounded):
         10.0
         """
         instance("ctx", ctx, TableContext)  # a dict or a str: TypeError by name
-        where = ctx.where(name)
         _toml.check_keys(table, set(cls.keys), ctx.source, f"[mechanism.{name}]")
+        return cls._from_checked(name, table, ctx.where(name))
+
+    @classmethod
+    def _from_checked(cls, name: str, table: Mapping[str, Any], where: str) -> TransferMechanism:
+        """The mechanism from a table whose key names are checked; messages start
+        with ``where`` (a machine file's ``[mechanism.<name>]`` or a transfer
+        file's ``[transfer]``)."""
         _toml.require(table, ("R_t_m", "R_p_m", "gap_m", "pockets_t", "pockets_p"), where)
         R_t, R_p = (
             _toml.number(table, "R_t_m", where, "[m]"),

@@ -14,7 +14,8 @@ pub const CLOSE_TOL: f64 = 1e-12;
 /// Errors of the cam domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CamError {
-    #[error("segment {index} ({kind}): {field} = {} {why}", crate::num_text::Num(*value))]
+    // Segments are counted from 1 in every message (`index` is the 0-based position).
+    #[error("segment {} ({kind}): {field} = {} {why}", index + 1, crate::num_text::Num(*value))]
     BadSegment {
         index: usize,
         kind: &'static str,
@@ -22,7 +23,7 @@ pub enum CamError {
         value: f64,
         why: &'static str,
     },
-    #[error("segment {index} ({kind}): unknown motion law {name:?}; known laws: {known}")]
+    #[error("segment {} ({kind}): unknown motion law {name:?}; known laws: {known}", index + 1)]
     UnknownLaw {
         index: usize,
         kind: &'static str,

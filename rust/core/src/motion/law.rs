@@ -22,14 +22,17 @@ pub enum MotionError {
     UnknownLaw { name: String, known: String },
     #[error("{what}")]
     BadLaw { what: String },
-    #[error("segment {index} ({law}): {what}")]
+    // Segments are counted from 1 in every message, as a designer counts the
+    // segment tables of a file (`index` is the 0-based position).
+    #[error("segment {} ({law}): {what}", index + 1)]
     BadSegment {
         index: usize,
         law: String,
         what: String,
     },
     #[error(
-        "segment {left} ({left_law}) → segment {right} ({right_law}) at {}°: the {what} jumps from {} to {}",
+        "segment {} ({left_law}) → segment {} ({right_law}) at {}°: the {what} jumps from {} to {}",
+        left + 1, right + 1,
         crate::num_text::Num(*at_deg), crate::num_text::Num(*from), crate::num_text::Num(*to)
     )]
     Join {

@@ -43,7 +43,7 @@ fn a_cycloidal_rise_is_its_closed_form() {
     ];
     let e = Program::new(&specs, 3, 0.0).unwrap_err().to_string();
     assert!(
-        e.starts_with("segment 0 (cycloidal) → segment 1 (cycloidal) at 180°: the jerk jumps"),
+        e.starts_with("segment 1 (cycloidal) → segment 2 (cycloidal) at 180°: the jerk jumps"),
         "{e}"
     );
     let b = PI / 2.0;
@@ -92,7 +92,7 @@ fn velocity_ends_are_met_and_the_derivatives_are_exact() {
     // take the first segment's start, v1.)
     let e = p.unwrap_err().to_string();
     assert!(
-        e.contains("segment 4 (poly5) → segment 0 (constant_velocity) at 360°"),
+        e.contains("segment 5 (poly5) → segment 1 (constant_velocity) at 360°"),
         "{e}"
     );
     assert!(e.contains("velocity jumps from 0 to 0.04"), "{e}");
@@ -155,7 +155,7 @@ fn a_rest_to_rest_polynomial_refuses_a_moving_end() {
     .to_string();
     assert_eq!(
         e,
-        "segment 0 (polynomial_345): the law cannot meet its end velocity = 0.3 (its own is 0) \
+        "segment 1 (polynomial_345): the law cannot meet its end velocity = 0.3 (its own is 0) \
          (this law is rest to rest; for moving ends use poly5 or poly7)"
     );
 }
