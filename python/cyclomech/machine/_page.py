@@ -288,7 +288,12 @@ def _cyclogram_section(r: MachineResult) -> list[str]:
 def _files_section(r: MachineResult, cycle_files: list[str]) -> str:
     """The files written, the page's last section (and the document's end)."""
     cycle = [f'<a href="{name}"><code>{name}</code></a>' for name in cycle_files]
-    over = f"; over the cycle at {r.nominal_rpm:g} rpm: {', '.join(cycle)}" if cycle else ""
+    over = (
+        f"; at the optimised timing and {r.nominal_rpm:g} rpm (tables over the cycle, "
+        f"the parts to make): {', '.join(cycle)}"
+        if cycle
+        else ""
+    )
     return (
         "<h2>Files</h2><p><code>results.json</code> (schema "
         f"<code>{SCHEMA}</code>), <code>speed_sweep.csv</code>, <code>operations.csv</code>, "

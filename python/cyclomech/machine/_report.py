@@ -14,7 +14,6 @@ lays them out is :mod:`cyclomech.machine._page`.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import json
 import math
@@ -28,7 +27,7 @@ import numpy as np
 
 from .._arrays import flag, instance
 from .._errors import CyclomechWarning, InfeasibleError
-from .._files import folder_target, whole
+from .._files import file_stem, folder_target, whole, write_csv
 from .._json import jsonable
 from .._kind import Context
 from .._progress import progress as progress_bar
@@ -320,20 +319,6 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     return jsonable(out)
 
 
-def _stem(name: str) -> str:
-    """A mechanism's name as a file-name stem."""
-    return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
-
-
-def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
-    with whole(path) as tmp, tmp.open("w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        for row in rows:
-            w.writerow([repr(float(v)) if isinstance(v, float | np.floating) else v for v in row])
-    return path
-
-
 # --------------------------------------------------------------------- figures
 def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     """(section, caption, path) of every figure, written as PNG."""
@@ -438,7 +423,7 @@ def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None])
         for k, fig in r.shaking.balance_figures():
             save(
                 fig,
-                f"balance_{_stem(k)}",
+                f"balance_{file_stem(k)}",
                 "frame",
                 f"The shaking force of {k} before (grey) and after the counterweights of "
                 "its [[balance]] row, at the nominal speed.",
@@ -536,7 +521,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     for name, (header, rows) in tables(result).items():
         if name not in ("speed_sweep.csv", "operations.csv"):
             cycle_files.append(name)
-        written.append(_write_csv(folder / name, header, rows))
+        written.append(write_csv(folder / name, header, rows))
     for res in result.mechanisms.values():
         # A kind's own files (a servo axis's cam tables), by an optional hook.
         own = getattr(res, "files", None)
@@ -618,10 +603,11 @@ def _sweep_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
 
 
 def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
-    """``operations.csv``: each operation of the optimum at the nominal speed,
-    its minimum [deg] and what sets it, its angle and start [deg], what it got
-    beyond its minimum [deg] and whether it is critical (no rows without an
-    optimum).
+    """``operations.csv``, the timing table: each operation of the optimum at the
+    nominal speed, its minimum [deg] and what sets it, its angle and start [deg],
+    what it got beyond its minimum [deg], whether it is critical, its end [deg]
+    (start + angle: past the cycle where it ends in the next one) and its
+    duration at the nominal speed [s] (no rows without an optimum).
 
     >>> import cyclomech as cm
     >>> header, rows = _operations_table(cm.machine.analyze(cm.Machine.example(), progress=False))
@@ -639,6 +625,8 @@ def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
         "start_deg",
         "beyond_minimum_deg",
         "critical",
+        "end_deg",
+        "duration_s",
     ]
     rows: list[list[Any]] = []
     if r.optimum is not None:
@@ -657,6 +645,8 @@ def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
                     o.times[op.src],
                     o.angles[op.arc] - float(mn),
                     op.arc in set(o.critical),
+                    o.times[op.src] + o.angles[op.arc],
+                    o.angles[op.arc] / (DEG_PER_S_PER_RPM * r.nominal_rpm),
                 ]
             )
     return header, rows
@@ -690,5 +680,5 @@ def _cycle_tables(r: MachineResult) -> list[tuple[str, list[str], list[list[Any]
         if over is not None:
             head, columns = over
             rows = [list(row) for row in zip(*columns, strict=True)]
-            out.append((f"{_stem(k)}_forces.csv", head, rows))
+            out.append((f"{file_stem(k)}_forces.csv", head, rows))
     return out
