@@ -41,11 +41,14 @@ from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
 from ._resize import resize_machine
 from ._result import MachineResult
+from ._sensitivity import sensitivities as sensitivity_table
 
 __all__ = ["MachineResult", "analyze", "write_report"]
 
 
-def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
+def analyze(
+    machine: Machine, *, progress: bool | None = None, sensitivities: bool = False
+) -> MachineResult:
     """Solve the machine once.
 
     Its speed limit, the optimised cyclogram at the nominal speed, the speed sweeps
@@ -57,6 +60,10 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         The machine.
     progress : bool, optional
         A progress bar on stderr; default None (when stderr is a terminal).
+    sensitivities : bool, default False
+        Also the speed limit's sensitivity to every numeric key of the mechanisms'
+        tables (:func:`~cyclomech.machine.sensitivities`: 2 variants per key, their
+        limits in one call; seconds for a machine with many keys).
 
     Returns
     -------
@@ -76,7 +83,8 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     m = instance("machine", machine, Machine)
     # Mechanisms that size themselves at the optimised timing: to a fixed point first.
     m, resizing = resize_machine(m)
-    steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms"]
+    steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms", "main shaft"]
+    steps += ["sensitivities"] if flag("sensitivities", sensitivities) else []
     seconds: dict[str, float] = {}
     with progress_bar(len(steps), m.name, progress) as bar:
 
@@ -133,10 +141,12 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
                 optimum=opt if flat else None,
             ),
         )
+        sens = timed("sensitivities", lambda: sensitivity_table(m)) if sensitivities else None
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
     r.resizing = resizing
+    r.sensitivities = sens
     _drive_and_frame(r)
     _fold_error_limits(r)
     if r.above_speed_limit:
@@ -286,6 +296,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
     out.update({} if r.resizing is None else {"resizing": r.resizing.json()})
+    if r.sensitivities is not None:
+        out["sensitivities"] = [x.json() for x in r.sensitivities]
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
     groups["mechanisms"] = {}
