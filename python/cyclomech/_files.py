@@ -18,23 +18,38 @@ otherwise the temporary file is removed and the old file, if any, is left as it 
 from __future__ import annotations
 
 import contextlib
+import csv
 import os
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from ._arrays import file_path
 from ._errors import InputError
 
 __all__ = [
+    "file_stem",
     "file_target",
     "folder_problem",
     "folder_target",
     "partial",
     "savetxt",
     "whole",
+    "write_csv",
     "write_text",
 ]
+
+
+def file_stem(name: str) -> str:
+    """A mechanism's name as a file-name stem: letters, digits, ``-`` and ``_`` kept,
+    anything else ``_`` (the stem of every file named after a mechanism).
+
+    >>> file_stem("lifter cam"), file_stem("jaw/2")
+    ('lifter_cam', 'jaw_2')
+    """
+    return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
 
 
 def _path(name: str, value: Any) -> Path:
@@ -256,4 +271,21 @@ def savetxt(path: Path, table: Any, **options: Any) -> Path:
 
     with whole(path) as tmp:
         np.savetxt(tmp, table, **options)
+    return path
+
+
+def write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
+    """Write a CSV table whole (:func:`whole`): ``header``, then ``rows``, floats
+    as their shortest round-tripping text (``repr``), other cells as they are.
+
+    >>> import pathlib, tempfile
+    >>> p = write_csv(pathlib.Path(tempfile.mkdtemp()) / "t.csv", ["a", "b"], [[0.1, "x"]])
+    >>> p.read_text().splitlines()
+    ['a,b', '0.1,x']
+    """
+    with whole(path) as tmp, tmp.open("w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for row in rows:
+            w.writerow([repr(float(v)) if isinstance(v, float | np.floating) else v for v in row])
     return path

@@ -5,11 +5,13 @@ bounds on the phase angle; the pressure angle, undercut and jump besides)."""
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -17,6 +19,7 @@ import numpy as np
 from .. import _toml
 from .._arrays import instance, speeds_rpm
 from .._errors import CyclomechWarning, InputError
+from .._files import file_stem, folder_target
 from .._keydoc import KeyTable
 from .._kind import (
     Array,
@@ -33,6 +36,7 @@ from .._kind import (
 )
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
+from ._export import DxfUnavailableError, write_profile_csv, write_profile_dxf
 from ._followers import FlatFaced, OscillatingRoller
 from ._friction import CamFriction, CamFrictionForces, cam_friction, friction_from_table
 from ._keys import KEY_DOCS
@@ -985,6 +989,45 @@ class CamResult(BoundsResult):
         start = sum(g.angle_deg for g in self.cam.segments[:k])
         return float(o.times[arc[0]]) - start, arc[0]
 
+    def files(self, folder: Path) -> list[Path]:
+        """Write the cam's profile at the optimised timing into ``folder``: the part
+        to make.
+
+        ``<name>_profile.csv`` (:func:`cyclomech.cam.write_profile_csv`: 3600 cam
+        angles, lengths in m) and, with ezdxf installed, ``<name>_profile.dxf``
+        (:func:`cyclomech.cam.write_profile_dxf`, mm) — the same files ``cyclomech
+        cam`` writes for a cam file with these phase angles. Nothing when the cam
+        is not laid out at the optimum (``layout_note`` says why; the report shows
+        it): a profile at another timing is not the part to make.
+
+        Parameters
+        ----------
+        folder : str or Path
+            The folder (created if missing).
+
+        Returns
+        -------
+        list of Path
+            The files written.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib, cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> [p.name for p in r.mechanisms["lifter cam"].files(pathlib.Path(tempfile.mkdtemp()))]
+        ['lifter_cam_profile.csv', 'lifter_cam_profile.dxf']
+        """
+        folder = folder_target("folder", folder)
+        if self.layout_note:
+            return []
+        folder.mkdir(parents=True, exist_ok=True)
+        stem = file_stem(self.mech.name)
+        out = [write_profile_csv(self.cam, folder / f"{stem}_profile.csv")]
+        # The DXF is the dxf extra's: without ezdxf the CSV holds the same geometry.
+        with contextlib.suppress(DxfUnavailableError):
+            out.append(write_profile_dxf(self.cam, folder / f"{stem}_profile.dxf"))
+        return out
+
     def figures(self, save: Save) -> None:
         """Draw its figures and hand each to ``save``.
 
@@ -1010,7 +1053,7 @@ class CamResult(BoundsResult):
         from .plot import plot_along_cycle, plot_cam, plot_min_phase_angles, plot_svaj
 
         m, d, k, n = self.mech, self.mech.design, self.mech.name, self.ctx.nominal_rpm
-        stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in k)
+        stem = file_stem(k)
         stress = d.loads is not None and d.contact is not None
         ax = plot_cam(
             self.cam,

@@ -4,6 +4,7 @@ TOML file (:meth:`Linkage.from_toml`, :meth:`Linkage.to_toml`)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -53,6 +54,37 @@ def linkage_table(lk: Linkage) -> dict[str, Any]:
             p: [{kind: list(arg)} for kind, arg in guides] for p, guides in lk._sliders.items()
         }
     return out
+
+
+def drawing_table(lk: Linkage) -> tuple[list[str], list[list[Any]]]:
+    """The table :meth:`Linkage.drawing_table` returns.
+
+    >>> import cyclomech as cm
+    >>> lk = cm.Linkage({"A": (0, 0), "B": (0, 1)}, [("A", "B")], ["A"], ("A", "B"))
+    >>> for row in drawing_table(lk)[1]:
+    ...     print(row)
+    ['pivot', 'A', 0.0, 0.0, '', '']
+    ['joint', 'B', 0.0, 1.0, '', 'crank A→B at 90°']
+    ['link', 'A-B', '', '', 1.0, '']
+    """
+    a, b = lk._driver
+    (xa, ya), (xb, yb) = lk._points[a], lk._points[b]
+    crank = f"crank {a}→{b} at {math.degrees(math.atan2(yb - ya, xb - xa)) % 360.0:.6g}°"
+    ground = [n for n in lk._points if n in lk._ground]
+    moving = [n for n in lk._points if n not in lk._ground]
+    rows: list[list[Any]] = [["pivot", n, *lk._points[n], "", ""] for n in ground]
+    rows += [["joint", n, *lk._points[n], "", crank] for n in moving]
+    for link in lk._links:
+        for i, p in enumerate(link):
+            for q in link[i + 1 :]:
+                rows.append(["link", f"{p}-{q}", "", "", lk.length(p, q), ""])
+    for pt, guides in lk._sliders.items():
+        for kind, arg in guides:
+            if kind == "ground":
+                rows.append(["guide", pt, *map(float, arg), "", "a straight guide of the frame"])
+            else:
+                rows.append(["guide", pt, "", "", "", f"slides along link {arg[0]}-{arg[1]}"])
+    return ["item", "name", "x_m", "y_m", "length_m", "note"], rows
 
 
 def from_table(cls: type[Linkage], table: Mapping[str, Any], source: str, where: str) -> Linkage:

@@ -14,6 +14,7 @@ import numpy as np
 from .. import _keyrules, _toml, forces
 from .._arrays import count, instance, positive
 from .._errors import InputError
+from .._files import file_stem, write_csv
 from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import (
@@ -699,9 +700,14 @@ class LinkageResult(PlainResult):
         }
 
     def files(self, folder: Path) -> list[Path]:
-        """Its own files: those of its ``synthesize`` record (none without)."""
+        """Its own files: ``<name>_drawing.csv``, the linkage's drawing table (its
+        pivots, joints, link lengths and guides: :meth:`Linkage.drawing_table`),
+        and those of its ``synthesize`` record."""
+        lk, stem = self.mech.linkage, file_stem(self.mech.name)
+        header, rows = lk.drawing_table()
+        path = write_csv(folder / f"{stem}_drawing.csv", header, rows)
         rec = self.mech.synthesis
-        return [] if rec is None else list(rec.files(folder, self.mech.name))
+        return [path, *([] if rec is None else rec.files(folder, self.mech.name))]
 
     def _forces_json(self) -> dict[str, Any]:
         k = self.kinetostatics

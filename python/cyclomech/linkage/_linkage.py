@@ -26,7 +26,7 @@ from ._drawing import (
     _points,
     _sliders,
 )
-from ._file import from_table, linkage_table, read_toml, write_toml
+from ._file import drawing_table, from_table, linkage_table, read_toml, write_toml
 from ._solution import LinkageSolution, out_arrays
 
 __all__ = ["Linkage"]
@@ -376,6 +376,33 @@ class Linkage:
         [('driver', ('B',))]
         """
         return linkage_table(self)
+
+    def drawing_table(self) -> tuple[list[str], list[list[Any]]]:
+        """The linkage as a drawing table: what a designer needs to draw and make it.
+
+        One row per ground pivot (``pivot``: x, y [m]), per moving joint at the
+        drawn pose (``joint``: x, y [m]; the note gives the crank's angle there),
+        per pair of joints on each link (``link``: their distance [m], every pair
+        of a ternary link, so each body is fixed), and per slider guide
+        (``guide``: a frame's guide's direction (dx, dy), or the link it runs
+        along).
+
+        Returns
+        -------
+        header : list of str
+            ``item``, ``name``, ``x_m``, ``y_m``, ``length_m``, ``note``.
+        rows : list of list
+            The rows; empty cells ``""``.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> lk = cm.Linkage({"A": (0, 0), "B": (1, 0), "C": (3.5, 2.5), "D": (4, 0)},
+        ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
+        >>> [(r[1], round(r[4], 6)) for r in lk.drawing_table()[1] if r[0] == "link"]
+        [('A-B', 1.0), ('B-C', 3.535534), ('C-D', 2.54951)]
+        """
+        return drawing_table(self)
 
     @classmethod
     def from_dict(

@@ -107,6 +107,7 @@ from ._report import (
     analyze,
     write_report,
 )
+from ._sensitivity import Sensitivity, sensitivities
 from ._sweep import (
     SweepResult,
     dask_client,
@@ -130,6 +131,7 @@ __all__ = [
     "MechanismResult",
     "PlainResult",
     "Proportional",
+    "Sensitivity",
     "SpeedSweep",
     "SweepResult",
     "TableContext",
@@ -140,6 +142,7 @@ __all__ = [
     "dask_workers",
     "parse_range",
     "register",
+    "sensitivities",
     "speed_limits",
     "speed_sweeps",
     "sweep",

@@ -79,6 +79,7 @@ def page(
     ]
     parts += _summary_section(r, summary)
     parts += _images(figs, "summary")
+    parts += _sensitivity_section(r)
     parts += _cyclogram_section(r)
     parts += _images(figs, "cyclogram")
     for k in m.mechanisms:
@@ -121,6 +122,27 @@ def page(
         parts += _images(figs, "frame")
     parts.append(_files_section(r, cycle_files))
     return "\n".join(parts)
+
+
+def _sensitivity_section(r: MachineResult) -> list[str]:
+    """Which key buys how many rpm: the ranked sensitivities, when computed."""
+    if r.sensitivities is None:
+        return []
+    rows = [
+        [s.key, s.value, s.rpm_per_percent, s.rpm_per_unit, s.status, s.note]
+        for s in r.sensitivities
+    ]
+    header = ["key", "value", "rpm per +1 %", "rpm per unit", "status", "note"]
+    return [
+        "<h3>Which key buys speed</h3>",
+        f"<p>The speed limit ({r.machine.speed_limit().rpm:.2f} rpm without the elastic "
+        "shaft's dynamic errors) when one key of the file is raised by 1 %, the others "
+        "as they are: central differences of ±0.1 % (every variant's limit in one call). "
+        "Negative: lowering the key buys speed. A kink: another bound takes over at this "
+        "value (the note gives both sides); does not bind: the key does not set the "
+        "limit here.</p>",
+        _table(header, rows),
+    ]
 
 
 def _summary_section(r: MachineResult, summary: dict[str, Any]) -> list[str]:
@@ -288,7 +310,12 @@ def _cyclogram_section(r: MachineResult) -> list[str]:
 def _files_section(r: MachineResult, cycle_files: list[str]) -> str:
     """The files written, the page's last section (and the document's end)."""
     cycle = [f'<a href="{name}"><code>{name}</code></a>' for name in cycle_files]
-    over = f"; over the cycle at {r.nominal_rpm:g} rpm: {', '.join(cycle)}" if cycle else ""
+    over = (
+        f"; at the optimised timing and {r.nominal_rpm:g} rpm (tables over the cycle, "
+        f"the parts to make): {', '.join(cycle)}"
+        if cycle
+        else ""
+    )
     return (
         "<h2>Files</h2><p><code>results.json</code> (schema "
         f"<code>{SCHEMA}</code>), <code>speed_sweep.csv</code>, <code>operations.csv</code>, "

@@ -14,7 +14,6 @@ lays them out is :mod:`cyclomech.machine._page`.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import json
 import math
@@ -28,7 +27,7 @@ import numpy as np
 
 from .._arrays import flag, instance
 from .._errors import CyclomechWarning, InfeasibleError
-from .._files import folder_target, whole
+from .._files import file_stem, folder_target, whole, write_csv
 from .._json import jsonable
 from .._kind import Context
 from .._progress import progress as progress_bar
@@ -42,11 +41,14 @@ from ._kinds import KINDS
 from ._model import SCHEMA, Machine, SpeedSweep
 from ._resize import resize_machine
 from ._result import MachineResult
+from ._sensitivity import sensitivities as sensitivity_table
 
 __all__ = ["MachineResult", "analyze", "write_report"]
 
 
-def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
+def analyze(
+    machine: Machine, *, progress: bool | None = None, sensitivities: bool = False
+) -> MachineResult:
     """Solve the machine once.
 
     Its speed limit, the optimised cyclogram at the nominal speed, the speed sweeps
@@ -58,6 +60,10 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
         The machine.
     progress : bool, optional
         A progress bar on stderr; default None (when stderr is a terminal).
+    sensitivities : bool, default False
+        Also the speed limit's sensitivity to every numeric key of the mechanisms'
+        tables (:func:`~cyclomech.machine.sensitivities`: 2 variants per key, their
+        limits in one call; seconds for a machine with many keys).
 
     Returns
     -------
@@ -77,7 +83,8 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
     m = instance("machine", machine, Machine)
     # Mechanisms that size themselves at the optimised timing: to a fixed point first.
     m, resizing = resize_machine(m)
-    steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms"]
+    steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms", "main shaft"]
+    steps += ["sensitivities"] if flag("sensitivities", sensitivities) else []
     seconds: dict[str, float] = {}
     with progress_bar(len(steps), m.name, progress) as bar:
 
@@ -134,10 +141,12 @@ def analyze(machine: Machine, *, progress: bool | None = None) -> MachineResult:
                 optimum=opt if flat else None,
             ),
         )
+        sens = timed("sensitivities", lambda: sensitivity_table(m)) if sensitivities else None
     r = MachineResult(
         m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
     )
     r.resizing = resizing
+    r.sensitivities = sens
     _drive_and_frame(r)
     _fold_error_limits(r)
     if r.above_speed_limit:
@@ -287,6 +296,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
     out.update({} if r.resizing is None else {"resizing": r.resizing.json()})
+    if r.sensitivities is not None:
+        out["sensitivities"] = [x.json() for x in r.sensitivities]
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
     groups["mechanisms"] = {}
@@ -318,20 +329,6 @@ def _summary(r: MachineResult) -> dict[str, Any]:
     }
     out["seconds"] = r.seconds
     return jsonable(out)
-
-
-def _stem(name: str) -> str:
-    """A mechanism's name as a file-name stem."""
-    return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
-
-
-def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> Path:
-    with whole(path) as tmp, tmp.open("w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        for row in rows:
-            w.writerow([repr(float(v)) if isinstance(v, float | np.floating) else v for v in row])
-    return path
 
 
 # --------------------------------------------------------------------- figures
@@ -438,7 +435,7 @@ def _shaft_figures(r: MachineResult, save: Callable[[Any, str, str, str], None])
         for k, fig in r.shaking.balance_figures():
             save(
                 fig,
-                f"balance_{_stem(k)}",
+                f"balance_{file_stem(k)}",
                 "frame",
                 f"The shaking force of {k} before (grey) and after the counterweights of "
                 "its [[balance]] row, at the nominal speed.",
@@ -536,7 +533,7 @@ def write_report(result: MachineResult, out: str | Path, *, figures: bool = True
     for name, (header, rows) in tables(result).items():
         if name not in ("speed_sweep.csv", "operations.csv"):
             cycle_files.append(name)
-        written.append(_write_csv(folder / name, header, rows))
+        written.append(write_csv(folder / name, header, rows))
     for res in result.mechanisms.values():
         # A kind's own files (a servo axis's cam tables), by an optional hook.
         own = getattr(res, "files", None)
@@ -618,10 +615,11 @@ def _sweep_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
 
 
 def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
-    """``operations.csv``: each operation of the optimum at the nominal speed,
-    its minimum [deg] and what sets it, its angle and start [deg], what it got
-    beyond its minimum [deg] and whether it is critical (no rows without an
-    optimum).
+    """``operations.csv``, the timing table: each operation of the optimum at the
+    nominal speed, its minimum [deg] and what sets it, its angle and start [deg],
+    what it got beyond its minimum [deg], whether it is critical, its end [deg]
+    (start + angle: past the cycle where it ends in the next one) and its
+    duration at the nominal speed [s] (no rows without an optimum).
 
     >>> import cyclomech as cm
     >>> header, rows = _operations_table(cm.machine.analyze(cm.Machine.example(), progress=False))
@@ -639,6 +637,8 @@ def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
         "start_deg",
         "beyond_minimum_deg",
         "critical",
+        "end_deg",
+        "duration_s",
     ]
     rows: list[list[Any]] = []
     if r.optimum is not None:
@@ -657,6 +657,8 @@ def _operations_table(r: MachineResult) -> tuple[list[str], list[list[Any]]]:
                     o.times[op.src],
                     o.angles[op.arc] - float(mn),
                     op.arc in set(o.critical),
+                    o.times[op.src] + o.angles[op.arc],
+                    o.angles[op.arc] / (DEG_PER_S_PER_RPM * r.nominal_rpm),
                 ]
             )
     return header, rows
@@ -690,5 +692,5 @@ def _cycle_tables(r: MachineResult) -> list[tuple[str, list[str], list[list[Any]
         if over is not None:
             head, columns = over
             rows = [list(row) for row in zip(*columns, strict=True)]
-            out.append((f"{_stem(k)}_forces.csv", head, rows))
+            out.append((f"{file_stem(k)}_forces.csv", head, rows))
     return out

@@ -18,6 +18,7 @@ from .._notebook import figure_of, html_card, pandas, table_frame
 from ..cyclogram import Optimum, SpeedLimit
 from ._model import Machine, SpeedSweep
 from ._resize import Resizing
+from ._sensitivity import Sensitivity
 
 if TYPE_CHECKING:
     from ..dynamics import MachineDynamics, MachineShaking, MachineTorsion
@@ -80,6 +81,10 @@ class MachineResult:
     resizing : Resizing, optional
         How the mechanisms that size themselves (a cam's ``synthesize`` table) were
         sized at the optimised timing, to a fixed point; default None (none does).
+    sensitivities : list of Sensitivity, optional
+        The speed limit's sensitivity to each numeric key of the mechanisms'
+        tables, ranked (:func:`~cyclomech.machine.sensitivities`); default None
+        (not asked for: ``analyze(..., sensitivities=True)``, ``cyclomech run``).
 
     Examples
     --------
@@ -107,6 +112,7 @@ class MachineResult:
     shaking: MachineShaking | None = None
     torsion: MachineTorsion | None = None
     resizing: Resizing | None = None
+    sensitivities: list[Sensitivity] | None = None
 
     @property
     def failures(self) -> list[str]:

@@ -142,6 +142,14 @@ def _print_resizing(r: Any) -> None:
         print(f"  {name}: {dims}{why}")
 
 
+def _print_sensitivities(r: Any) -> None:
+    """The three keys that buy the most speed per 1 %, in one line."""
+    top = [s for s in r.sensitivities or () if s.status == "binds"][:3]
+    if top:
+        keys = ", ".join(f"{s.key} {s.rpm_per_percent:+.3g} rpm" for s in top)
+        print(f"Speed limit per +1 % of a key: {keys} (all keys in the report)")
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Run ``cyclomech run`` with the parsed ``args``; return the exit status."""
     from . import Machine, analyze, write_report
@@ -154,7 +162,7 @@ def run_command(args: argparse.Namespace) -> int:
         f"{m.speed_range_rpm[1]:g} rpm"
     )
     out = out_folder(args)
-    r = analyze(m, progress=None if not args.quiet else False)
+    r = analyze(m, progress=None if not args.quiet else False, sensitivities=True)
     lim = r.limit
     by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
     if lim.rpm == 0:  # no speed is to blame: the reason names the chain
@@ -173,6 +181,7 @@ def run_command(args: argparse.Namespace) -> int:
         priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
         if priced:
             print("Binding, with shadow prices: " + ", ".join(priced))
+    _print_sensitivities(r)
     _print_resizing(r)
     _print_shaft_and_frame(r)
     use_fig = not args.no_plot and has_matplotlib("figures")

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._arrays import instance
 from .._errors import CyclomechWarning
-from .._files import folder_target, savetxt
+from .._files import file_stem, folder_target, savetxt
 from .._kind import BoundsResult, Context, Save
 from ..cam import MinPhaseAngles
 from ..motion import Program, write_cam_coefficients, write_cam_table
@@ -36,10 +36,6 @@ CHECK_WORDS = {
     "speed": "peak speed",
     "inertia_ratio": "inertia ratio",
 }
-
-
-def _stem(name: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
 
 
 @dataclass(frozen=True)
@@ -400,7 +396,7 @@ class ServoResult(BoundsResult):
         """
         folder = folder_target("folder", folder)
         folder.mkdir(parents=True, exist_ok=True)
-        stem = _stem(self.mech.name)
+        stem = file_stem(self.mech.name)
         out = [
             write_cam_table(
                 self.program, folder / f"{stem}_cam_table.csv", points=self.mech.table_points
@@ -448,7 +444,7 @@ class ServoResult(BoundsResult):
         from ..cam.plot import plot_min_phase_angles
         from .plot import plot_duty
 
-        m, n, stem = self.mech, self.ctx.nominal_rpm, _stem(self.mech.name)
+        m, n, stem = self.mech, self.ctx.nominal_rpm, file_stem(self.mech.name)
         if self.duty is not None:
             axes = plot_duty(self.duty, self.axis.motor, title=f"{m.name} at {n:g} rpm")
             save(

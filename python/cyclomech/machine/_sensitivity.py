@@ -1,0 +1,202 @@
+"""Which key of the machine file buys how many rpm of speed limit: the sensitivity
+of :meth:`Machine.speed_limit` to every numeric key of the mechanisms' tables.
+
+**Method.** Each key k of value v (a number ≠ 0 at the top of a ``[mechanism.X]``
+table) is varied by ±h·v (h = :data:`STEP`, 0.1 %) with :meth:`Machine.with_values`,
+and the speed limits of all 2K variants come from one
+:func:`~cyclomech.machine.speed_limits` call (the variants of one file share the
+cyclogram's network: one shortest-path call per step of the search for all of
+them). With L₊, L₀, L₋ the limits [rpm] at v(1 + h), v, v(1 − h):
+
+* the sensitivity dL/dk = (L₊ − L₋) / (2 h v) [rpm per the key's unit], and the
+  rpm a +1 % raise buys, 0.01·v·dL/dk;
+* **does not bind**: |L₊ − L₋| and both one-sided changes within
+  :data:`FLAT` · L₀ (the limit search's own tolerance is far below it) — the key
+  does not set the speed limit here; 0 rpm;
+* **kink**: the one-sided slopes (L₊ − L₀)/(h v) and (L₀ − L₋)/(h v) differ by
+  more than :data:`KINK` of the larger: the limit changes which bound sets it at
+  this value (a maximum of two bounds, or a peak of the limit over the key). No
+  slope holds on both sides: ``rpm_per_unit`` is the raise's one-sided slope,
+  ``rpm_per_percent`` NaN, and the note gives the limit's change at ±0.1 %;
+* **cannot vary**: a variant is invalid (the key is at the edge of what is
+  valid, or is a count): the message says why; no number.
+
+Keys that are whole numbers (counts), booleans, strings, lists and sub-tables are
+not varied. The speed limit is the one :meth:`Machine.speed_limit` gives — the
+cyclogram's and each mechanism's own — not the elastic main shaft's dynamic-error
+limit that the report folds in after (``[drive.shaft]``): where that one sets the
+machine's limit, these sensitivities are of the limit beneath it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from .._arrays import instance
+from .._errors import CyclomechError
+
+if TYPE_CHECKING:
+    from ._model import Machine
+
+__all__ = ["FLAT", "KINK", "STEP", "Sensitivity", "sensitivities"]
+
+#: The relative step of the central difference.
+STEP = 1e-3
+#: A change of the limit within this fraction of it is no change.
+FLAT = 1e-9
+#: One-sided slopes differing by more than this fraction of the larger: a kink.
+KINK = 0.1
+
+
+@dataclass(frozen=True)
+class Sensitivity:
+    """How the speed limit moves with one key of the machine file.
+
+    Attributes
+    ----------
+    key : str
+        ``<mechanism>.<key>``, as ``--set`` and :meth:`Machine.with_values` name it.
+    value : float
+        The key's value in the file, in its own unit.
+    rpm_per_unit : float
+        dL/dk [rpm per the key's unit] (NaN where it cannot vary).
+    rpm_per_percent : float
+        The speed limit a +1 % raise of the key buys [rpm] (negative: lowering the
+        key buys speed; 0 where it does not bind, NaN at a kink or where it cannot
+        vary).
+    status : str
+        ``"binds"``, ``"does not bind"``, ``"kink"`` or ``"cannot vary"``.
+    note : str
+        For a kink, the one-sided changes; for a key that cannot vary, why.
+    """
+
+    key: str
+    value: float
+    rpm_per_unit: float
+    rpm_per_percent: float
+    status: str
+    note: str = ""
+
+    def json(self) -> dict[str, Any]:
+        """Its entry in ``results.json`` (no NaN: ``null``).
+
+        Examples
+        --------
+        >>> Sensitivity("a.b_m", 0.1, 2.0, 0.002, "binds").json()["rpm_per_percent"]
+        0.002
+        """
+
+        def num(x: float) -> float | None:
+            return x if math.isfinite(x) else None
+
+        return {
+            "key": self.key,
+            "value": self.value,
+            "rpm_per_unit": num(self.rpm_per_unit),
+            "rpm_per_percent": num(self.rpm_per_percent),
+            "status": self.status,
+            "note": self.note,
+        }
+
+
+def _keys(machine: Machine) -> list[tuple[str, float]]:
+    """The varied keys: (path, value) of every float ≠ 0 at the top of a mechanism's
+    table, in the file's order."""
+    out = []
+    for name, table in (machine.data or {}).get("mechanism", {}).items():
+        for k, v in table.items():
+            if isinstance(v, float) and math.isfinite(v) and v != 0.0:
+                out.append((f"{name}.{k}", v))
+    return out
+
+
+def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sensitivity]:
+    """The speed limit's sensitivity to every numeric key of the mechanisms' tables,
+    ranked: the keys that buy the most rpm per 1 % first (either way), then the
+    kinks, those that do not bind and those that cannot vary (see the module's
+    rules).
+
+    Parameters
+    ----------
+    machine : Machine
+        A machine read from a file or a dict (its keys are varied).
+    n_threads : int, optional
+        Threads for the Rust kernels; default None (``CYCLOMECH_THREADS`` or all cores).
+
+    Returns
+    -------
+    list of Sensitivity
+        One per varied key, ranked.
+
+    Raises
+    ------
+    InputError
+        If ``machine`` is not a :class:`Machine` or was not read from a file or a dict.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> s = cm.machine.sensitivities(cm.Machine.example())
+    >>> [(x.key, round(x.rpm_per_percent, 3)) for x in s[:2]]   # lowering b buys speed
+    [('lifter.b_m', -0.833), ('lifter.lever_length_m', 0.602)]
+    """
+    from ._many import speed_limits
+    from ._model import Machine
+
+    m = instance("machine", machine, Machine)
+    if m.data is None:
+        from .._errors import InputError
+
+        raise InputError("sensitivities needs a machine read from a file or a dict")
+    keys = _keys(m)
+    variants: list[Machine] = [m]
+    where: list[tuple[int, int] | str] = []  # per key: (index of +, index of −) or why not
+    for path, v in keys:
+        try:
+            up, down = m.with_values({path: v * (1 + STEP)}), m.with_values({path: v * (1 - STEP)})
+        except CyclomechError as e:
+            where.append(str(e))
+            continue
+        where.append((len(variants), len(variants) + 1))
+        variants += [up, down]
+    limits = [lim.rpm for lim in speed_limits(variants, n_threads=n_threads)]
+    base = limits[0]
+    out = []
+    for (path, v), at in zip(keys, where, strict=True):
+        if isinstance(at, str):
+            out.append(Sensitivity(path, v, math.nan, math.nan, "cannot vary", at))
+            continue
+        up, down = limits[at[0]], limits[at[1]]
+        out.append(_rate(path, v, base, up, down))
+    order = {"binds": 0, "kink": 1, "does not bind": 2, "cannot vary": 3}
+    return sorted(
+        out, key=lambda s: (order[s.status], -abs(s.rpm_per_percent if s.status == "binds" else 0))
+    )
+
+
+def _rate(path: str, v: float, base: float, up: float, down: float) -> Sensitivity:
+    """One key's sensitivity from the limits at v(1 ± h) and v (the module's rules).
+
+    >>> _rate("a.k", 2.0, 100.0, 100.2, 99.8).rpm_per_percent
+    2.0000000000000284
+    >>> _rate("a.k", 2.0, 100.0, 100.0, 100.0).status
+    'does not bind'
+    >>> _rate("a.k", 2.0, 100.0, 100.0, 99.8).status
+    'kink'
+    """
+    if not all(math.isfinite(x) for x in (base, up, down)):
+        return Sensitivity(path, v, math.nan, math.nan, "cannot vary", "no finite speed limit")
+    tol = FLAT * max(abs(base), 1.0)
+    if abs(up - base) <= tol and abs(base - down) <= tol:
+        return Sensitivity(path, v, 0.0, 0.0, "does not bind")
+    s_up, s_down = (up - base) / (STEP * v), (base - down) / (STEP * v)
+    if abs(s_up - s_down) > KINK * max(abs(s_up), abs(s_down)):
+        note = (
+            f"+0.1 % changes the limit by {up - base:+.4g} rpm, −0.1 % by {down - base:+.4g} rpm: "
+            "another bound takes over here"
+        )
+        return Sensitivity(path, v, s_up, math.nan, "kink", note)
+    rate = (up - down) / (2.0 * STEP * v)
+    return Sensitivity(path, v, rate, rate * 0.01 * v, "binds")

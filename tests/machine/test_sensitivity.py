@@ -1,0 +1,115 @@
+"""Which key buys how many rpm (issue 36, item 2): the speed limit's sensitivity to
+each numeric key of the mechanisms' tables, from one batched call, checked against
+re-runs of the machine with the key changed (each its own ``speed_limit()``, not the
+batch), and the rules for a key that does not bind, a kink and a key that cannot
+vary."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import cyclomech as cm
+import pytest
+from cyclomech.cli import main
+from cyclomech.machine._sensitivity import STEP, _rate
+from hypothesis import given
+from hypothesis import strategies as st
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _limit(m: cm.Machine, key: str, factor: float) -> float:
+    value = m.data["mechanism"][key.split(".", 1)[0]][key.split(".", 1)[1]]
+    return m.with_values({key: value * factor}).speed_limit().rpm
+
+
+@pytest.fixture(scope="module")
+def example() -> tuple[cm.Machine, list[cm.machine.Sensitivity]]:
+    m = cm.Machine.example()
+    return m, cm.machine.sensitivities(m)
+
+
+def test_each_binding_key_is_its_central_difference_rerun(example):
+    m, table = example
+    binds = [s for s in table if s.status == "binds"]
+    assert len(binds) >= 3
+    for s in binds:
+        up, down = _limit(m, s.key, 1 + STEP), _limit(m, s.key, 1 - STEP)
+        want = (up - down) / (2 * STEP * s.value)
+        assert s.rpm_per_unit == pytest.approx(want, rel=1e-2), s.key
+
+
+def test_a_one_percent_raise_buys_what_the_table_says(example):
+    m, table = example
+    base = m.speed_limit().rpm
+    for s in [s for s in table if s.status == "binds"][:3]:
+        gained = _limit(m, s.key, 1.01) - base
+        assert gained == pytest.approx(s.rpm_per_percent, rel=0.05), s.key
+
+
+def test_the_ranking_puts_the_largest_effect_first(example):
+    _, table = example
+    binds = [abs(s.rpm_per_percent) for s in table if s.status == "binds"]
+    assert binds == sorted(binds, reverse=True)
+    order = ["binds", "kink", "does not bind", "cannot vary"]
+    ranks = [order.index(s.status) for s in table]
+    assert ranks == sorted(ranks)
+
+
+def test_a_key_that_does_not_bind_is_zero_and_says_so():
+    m = cm.Machine.from_toml(ROOT / "examples" / "flow_wrapper.toml")
+    table = {s.key: s for s in cm.machine.sensitivities(m)}
+    s = table["pusher.base_radius_m"]
+    assert (s.status, s.rpm_per_percent, s.rpm_per_unit) == ("does not bind", 0.0, 0.0)
+    assert _limit(m, "pusher.base_radius_m", 1.01) == pytest.approx(m.speed_limit().rpm, rel=1e-9)
+
+
+def test_a_kink_gives_both_sides_and_no_slope():
+    # The press's phase angle φ0 sits at the top of its speed limit: both ways lower it.
+    m = cm.Machine.from_toml(ROOT / "examples" / "extrusion_press_line.toml")
+    s = {s.key: s for s in cm.machine.sensitivities(m)}["drive.phi0_deg"]
+    assert s.status == "kink" and math.isnan(s.rpm_per_percent)
+    base = m.speed_limit().rpm
+    up, down = _limit(m, "drive.phi0_deg", 1 + STEP), _limit(m, "drive.phi0_deg", 1 - STEP)
+    assert f"{up - base:+.4g} rpm" in s.note and f"{down - base:+.4g} rpm" in s.note
+    assert up < base and down < base
+
+
+def test_a_key_that_cannot_vary_says_why():
+    m = cm.Machine.from_toml(ROOT / "examples" / "extrusion_press_line.toml")
+    s = {s.key: s for s in cm.machine.sensitivities(m)}["drive.R_m"]
+    assert s.status == "cannot vary" and math.isnan(s.rpm_per_percent)
+    assert "R" in s.note and "extrusion_press_line.toml" in s.note
+
+
+@given(
+    a=st.floats(10, 1000),
+    b=st.floats(-50, 50).filter(lambda x: abs(x) > 1e-3),
+    v=st.floats(1e-3, 1e3),
+)
+def test_a_straight_line_gives_its_slope(a, b, v):
+    # L(k) = a + b·k: the central difference is exact, the +1 % figure b·0.01·v.
+    s = _rate("m.k", v, a + b * v, a + b * v * (1 + STEP), a + b * v * (1 - STEP))
+    assert s.status == "binds"
+    assert s.rpm_per_unit == pytest.approx(b, rel=1e-6, abs=1e-9)
+    assert s.rpm_per_percent == pytest.approx(b * 0.01 * v, rel=1e-6, abs=1e-9)
+
+
+def test_run_reports_them_in_results_json_and_the_page(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert (
+        main(["run", str(ROOT / "examples" / "stb_loom.toml"), "--out", str(out), "--no-plot"]) == 0
+    )
+    printed = capsys.readouterr().out
+    assert "Speed limit per +1 % of a key: lifter.b_m" in printed
+    results = json.loads((out / "results.json").read_text("utf-8"))
+    entries = {e["key"]: e for e in results["sensitivities"]}
+    assert entries["lifter.b_m"]["status"] == "binds"
+    assert all(
+        e["rpm_per_percent"] is None or math.isfinite(e["rpm_per_percent"])
+        for e in entries.values()
+    )
+    page = (out / "report.html").read_text("utf-8")
+    assert "Which key buys speed" in page and "lifter.b_m" in page
