@@ -4,7 +4,7 @@ to users is :mod:`cyclomech.synthesis` (``cyclomech.synthesis.cam_size``).
 The smallest base radius (and, if asked, a translating roller's offset or an
 oscillating roller's pivot distance) that meets the cam's pressure-angle, undercut
 and Hertz-stress limits at its own phase angles and a speed, and the trade-off
-between the base radius and the smallest phase angles (issue 35, item 7). The
+between the base radius and the smallest phase angles. The
 kernel is ``rust/core/src/synthesis/cam_size.rs``: the cam module's own criteria
 (:meth:`cyclomech.cam.Cam.solve`'s pressure angle and curvature,
 :meth:`cyclomech.cam.Cam.loads`'s stress), speeds and radii in parallel.

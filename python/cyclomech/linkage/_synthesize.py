@@ -1,5 +1,5 @@
 """The hook by which a linkage table gives requirements instead of dimensions
-(``[mechanism.<name>.synthesize]``, issue 35 item 8).
+(``[mechanism.<name>.synthesize]``).
 
 The synthesis domain imports this one, not the reverse (no import circles): it
 registers a synthesizer per ``scheme`` here when it is imported (``import

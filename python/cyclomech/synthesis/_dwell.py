@@ -1,4 +1,4 @@
-"""Six-bar dwell linkages (issue 35, item 4): a four-bar's coupler point whose
+"""Six-bar dwell linkages: a four-bar's coupler point whose
 curve holds a nearly circular arc while the crank turns the dwell angle, and a
 dyad from that point to the output rocker's joint, which sits at the arc's
 centre during the dwell — so the output stands (nearly) still — and swings the

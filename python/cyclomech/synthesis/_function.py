@@ -1,4 +1,4 @@
-"""Function generation (issue 35, item 1): a four-bar whose output angle — or an
+"""Function generation: a four-bar whose output angle — or an
 offset slider-crank whose slider position — follows a wanted function of the
 crank angle, by Freudenstein's equation (exact through three precision points,
 least squares through more), with the structural error over the whole range.

@@ -1,4 +1,4 @@
-"""Seed 001's knife drives synthesised for a required knife motion (issue 35, item 6).
+"""Seed 001's knife drives synthesised for a required knife motion.
 
 The three generalised schemes of seed 001 (``br125`` p = 1, structure 1–3;
 ``br136`` p = 2, 1–2–3; ``brp4`` p = 3, 1–2–2–3; their topology and frame are

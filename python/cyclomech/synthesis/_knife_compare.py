@@ -1,5 +1,5 @@
 """Seed 001's three knife-drive schemes synthesised for one requirement and
-compared side by side (issue 35, item 6): transmission angles, the knife's peak
+compared side by side: transmission angles, the knife's peak
 acceleration and jerk, driving torque and joint loads by the kinetostatics, and
 the speed limit.
 

@@ -1,5 +1,5 @@
 """A knife drive synthesised from a machine file's ``[mechanism.<name>.synthesize]``
-table (issue 35, item 8): the synthesizer this module registers with
+table: the synthesizer this module registers with
 :mod:`cyclomech.linkage` for the schemes ``br125``, ``br136`` and ``brp4``, and
 the record it returns (the linkage and its part of the report)."""
 

@@ -1,5 +1,5 @@
 """Linkages synthesised from a machine file's ``[mechanism.<name>.synthesize]``
-table by the classical methods (issue 35, item 8): the record every such
+table by the classical methods: the record every such
 synthesizer returns, and the readers of its keys that the four schemes share.
 
 The schemes, each registered with :mod:`cyclomech.linkage` by its own module:

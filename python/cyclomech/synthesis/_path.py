@@ -1,4 +1,4 @@
-"""Path generation (issue 35, item 2): a coupler point through target points.
+"""Path generation: a coupler point through target points.
 
 The optimiser is scipy's differential evolution with ``vectorized=True``: each
 generation's whole population is one call of the Rust batch evaluator
