@@ -33,7 +33,13 @@ the base circle), − where concave, ``inf`` where straight.
 from __future__ import annotations
 
 from ._design import CAM_KEYS, SEGMENT_KEYS, CamDesign
-from ._export import DxfUnavailableError, profile_table, write_profile_csv, write_profile_dxf
+from ._export import (
+    DxfUnavailableError,
+    cutter_path,
+    profile_table,
+    write_profile_csv,
+    write_profile_dxf,
+)
 from ._followers import FlatFaced, Follower, OscillatingRoller, TranslatingRoller
 from ._kind import CamMechanism, CamResult
 from ._loads import CRITERIA, CamLoads, Contact, FollowerLoads, MinPhaseAngles
@@ -78,6 +84,7 @@ __all__ = [
     "OscillatingRoller",
     "Segment",
     "TranslatingRoller",
+    "cutter_path",
     "follower_response",
     "min_vibration_tau",
     "polydyne",

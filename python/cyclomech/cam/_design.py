@@ -33,6 +33,7 @@ from .. import _keyrules, _toml
 from .._arrays import flag, instances
 from .._errors import InputError
 from .._keyrules import Rule
+from ._export import cutter_path
 from ._followers import FlatFaced, OscillatingRoller, TranslatingRoller
 from ._loads import Contact, FollowerLoads, MinPhaseAngles, default_pressure_angle_deg
 from ._program import Cam
@@ -77,6 +78,7 @@ CAM_KEYS = frozenset(
     | set(_OSCILLATING.values()) - {"stroke_deg", "load_nm", "_deg_per_rad", "points_deg"}
     | set(_CONTACT)
     | {"natural_frequency_hz", "damping_ratio"}
+    | {"tool_radius_m"}
 )
 #: The plausibility rules of a cam table besides every key's by its unit suffix
 #: (``cyclomech._keyrules.check``): a pressure-angle limit of a degree or two
@@ -118,6 +120,9 @@ class CamDesign:
     arcs : tuple of (tuple of (str, str) or None)
         For each segment the cyclogram operation it is bound to (None where it is
         free).
+    tool_radius : float or None, default None
+        The radius [m] of the cutter the profile files give the centre path of
+        (:func:`cyclomech.cam.cutter_path`), or None (none).
 
     Examples
     --------
@@ -137,6 +142,7 @@ class CamDesign:
     max_pressure_angle_deg: float
     vibration: tuple[float, float, float] | None
     arcs: tuple[tuple[str, str] | None, ...]
+    tool_radius: float | None = None
 
     @classmethod
     def from_table(
@@ -286,7 +292,13 @@ class CamDesign:
         for i, row in enumerate(table["segment"]):
             _keyrules.check(row, (), f"{at} segment {i + 1}")
         _check_arcs(cam, bound, at)
-        return cls(cam, loads, contact, max_stress, alpha, vibration, bound)
+        tool = _toml.optional_positive(table, "tool_radius_m", at, "[m]")
+        if tool is not None:
+            try:
+                cutter_path(cam, tool, 3)  # a knife edge has no cutter path: said here
+            except InputError as e:
+                raise InputError(f"{at}: {e}") from None
+        return cls(cam, loads, contact, max_stress, alpha, vibration, bound, tool)
 
     @classmethod
     def from_toml(cls, path: str | Path) -> tuple[str, float | None, CamDesign]:

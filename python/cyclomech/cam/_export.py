@@ -26,10 +26,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import count, instance
-from .._errors import CyclomechError, CyclomechWarning
+from .._arrays import count, finite_number, instance
+from .._errors import CyclomechError, CyclomechWarning, InputError
 from .._files import file_target, whole
-from ._followers import OscillatingRoller
+from ._followers import FlatFaced, OscillatingRoller
 
 if TYPE_CHECKING:
     from ._program import Cam
@@ -37,6 +37,7 @@ if TYPE_CHECKING:
 __all__ = [
     "CHORDAL_TOLERANCE_MM",
     "DxfUnavailableError",
+    "cutter_path",
     "profile_table",
     "write_profile_csv",
     "write_profile_dxf",
@@ -51,6 +52,8 @@ LAYERS = {
     "PITCH": "the pitch curve (the roller centre's path)",
     "BASE": "the base circle",
     "CENTRE": "the cam centre (a POINT)",
+    "CUTTER": "the centre path of a cutter of the given radius along the profile",
+    "CUTTER_OUTER": "the cutter's centre path along a groove's outer flank",
 }
 _MM = 1000.0
 
@@ -72,7 +75,9 @@ def _samples(samples: Any) -> int:
     return count("samples", samples, low=3, what="cam angles over one turn")
 
 
-def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
+def profile_table(
+    cam: Cam, samples: int = 3600, tool_radius: float | None = None
+) -> dict[str, npt.NDArray[Any]]:
     """The cam's exact geometry at evenly spaced cam angles over one turn.
 
     θ = 0, 360°/samples, … (the last is not 360°: the curves are closed), one Rust
@@ -86,6 +91,9 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
         The cam.
     samples : int, default 3600
         The number of cam angles over the turn (≥ 3).
+    tool_radius : float, optional
+        A cutter's radius [m]: adds the centre path of a cutter of that radius
+        that cuts the profile (:func:`cutter_path`); default None (none).
 
     Returns
     -------
@@ -104,12 +112,15 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
         * ``chordal_error_m``: the distance from the chord to the next point to the
           curve, h²/(8ρ) with ρ the smaller |radius| at its ends (the largest of the
           flanks; 0 where straight, NaN at an undercut point);
-        * ``undercut``: bool.
+        * ``undercut``: bool;
+        * with ``tool_radius``: ``cutter_x_m``, ``cutter_y_m`` (and a groove's
+          ``outer_cutter_x_m``, ``outer_cutter_y_m``): the cutter's centre path.
 
     Raises
     ------
     InputError
-        If ``samples`` is not an integer ≥ 3.
+        If ``samples`` is not an integer ≥ 3, or ``tool_radius`` is not > 0 or the
+        follower is a knife edge (:func:`cutter_path`).
 
     Examples
     --------
@@ -144,8 +155,109 @@ def profile_table(cam: Cam, samples: int = 3600) -> dict[str, npt.NDArray[Any]]:
     table["profile_curvature_radius_m"] = k.profile_radius_of_curvature.copy()
     table["chordal_error_m"] = _chordal_error(cam, k)
     table["undercut"] = k.undercut.copy()
+    if tool_radius is not None:
+        paths = _cutter(cam, k, tool_radius)
+        table["cutter_x_m"], table["cutter_y_m"] = paths[0][:, 0], paths[0][:, 1]
+        if len(paths) == 2:
+            table["outer_cutter_x_m"], table["outer_cutter_y_m"] = paths[1][:, 0], paths[1][:, 1]
+        _warn_gouge(table, tool_radius)
     _warn_chordal(table, n)
     return table
+
+
+def _tool_radius(tool_radius: Any, cam: Cam) -> float:
+    r = finite_number("tool_radius", tool_radius, "[m]", low=0.0)
+    if r <= 0.0:
+        raise InputError(f"tool_radius = {r!r} [m] must be > 0")
+    if not isinstance(cam.follower, FlatFaced) and cam.follower.roller_radius == 0.0:
+        raise InputError(
+            "tool_radius: a knife-edge follower's profile is its pitch curve, with no "
+            "roller to take the normal from; cut it from profile_x_m, profile_y_m"
+        )
+    return r
+
+
+def _cutter(cam: Cam, k: Any, tool_radius: Any) -> list[npt.NDArray[np.float64]]:
+    """The cutter's centre paths (the profile's, then a groove's outer flank's)."""
+    r_t = _tool_radius(tool_radius, cam)
+    if isinstance(cam.follower, FlatFaced):
+        # The face's normal is the follower's axis, through the cam centre: the
+        # pitch point (the face's point on the axis) gives its direction.
+        n = k.pitch / np.hypot(k.pitch[:, 0], k.pitch[:, 1])[:, None]
+        return [k.profile + r_t * n]
+    r_r = float(cam.follower.roller_radius)
+    n = (k.pitch - k.profile) / r_r  # the profile's outward normal, exactly
+    out = [k.pitch - (r_r - r_t) * n]
+    if k.profile_outer is not None:
+        out.append(k.pitch + (r_r - r_t) * n)
+    return out
+
+
+def cutter_path(cam: Cam, tool_radius: float, samples: int = 3600) -> npt.NDArray[np.float64]:
+    """The centre path of a cutter (a milling or grinding tool) of radius
+    ``tool_radius`` that cuts the cam's profile, at ``samples`` cam angles [m].
+
+    The profile's outward normal n at the contact: for a roller follower
+    (pitch − profile)/r_r, exactly; for a flat face the follower's axis. The
+    cutter's centre is the profile point moved out by ``tool_radius`` along n: for a
+    roller, pitch − (r_r − r_t)·n (the pitch curve itself for a cutter of the
+    roller's size); a groove's outer flank is cut from inside the groove, at
+    pitch + (r_r − r_t)·n (:func:`profile_table`'s ``outer_cutter_*``). Where the
+    profile is concave with a radius of curvature smaller than the cutter's, the
+    cutter would gouge it: :func:`profile_table` warns.
+
+    Parameters
+    ----------
+    cam : Cam
+        The cam (a roller or flat-faced follower).
+    tool_radius : float
+        The cutter's radius [m], > 0.
+    samples : int, default 3600
+        The number of cam angles over the turn (≥ 3), as :func:`profile_table`'s.
+
+    Returns
+    -------
+    ndarray of float, shape (samples, 2)
+        The cutter's centre along the profile (a groove's inner flank) [m].
+
+    Raises
+    ------
+    InputError
+        If ``tool_radius`` is not > 0, the follower is a knife edge or ``samples``
+        is not an integer ≥ 3.
+
+    Examples
+    --------
+    >>> import numpy as np, cyclomech as cm
+    >>> S = cm.cam.Segment
+    >>> cam = cm.cam.Cam([S("rise", 180, 0.02), S("return", 180, 0.02)],
+    ...                  cm.cam.TranslatingRoller(0.05, 0.01))
+    >>> c = cm.cam.cutter_path(cam, 0.01, 360)           # the roller's size: the pitch curve
+    >>> bool(np.allclose(c, cam.solve(np.radians(np.arange(360.0))).pitch, atol=1e-15))
+    True
+    """
+    from ._program import Cam  # at call time, as the type-only import above
+
+    instance("cam", cam, Cam)
+    n = _samples(samples)
+    k = cam.solve(np.radians(np.arange(n) * (360.0 / n)))
+    return _cutter(cam, k, tool_radius)[0]
+
+
+def _warn_gouge(table: dict[str, npt.NDArray[Any]], tool_radius: float) -> None:
+    """Warn where the profile is concave tighter than the cutter (it would gouge)."""
+    rho = table["profile_curvature_radius_m"]
+    bad = (rho < 0) & (-rho < tool_radius)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        warnings.warn(
+            f"a cutter of radius {tool_radius * _MM:g} mm gouges the profile where it is "
+            f"concave tighter than that: from θ = {table['theta_deg'][i]:.4g}° "
+            f"(radius of curvature {-rho[i] * _MM:.4g} mm; {int(bad.sum())} of "
+            f"{rho.size} samples); take a smaller cutter",
+            CyclomechWarning,
+            stacklevel=3,
+        )
 
 
 def _chordal_error(cam: Cam, k: Any) -> npt.NDArray[np.float64]:
@@ -186,7 +298,9 @@ def _warn_chordal(table: dict[str, npt.NDArray[Any]], n: int) -> None:
     )
 
 
-def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
+def write_profile_csv(
+    cam: Cam, path: str | Path, samples: int = 3600, tool_radius: float | None = None
+) -> Path:
     """Write :func:`profile_table` to ``path`` as CSV.
 
     One header line of the column names with their units (lengths in m, angles in
@@ -201,6 +315,9 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
         The CSV file to write.
     samples : int, default 3600
         The number of cam angles over the turn (≥ 3).
+    tool_radius : float, optional
+        A cutter's radius [m]: the columns of its centre path too
+        (:func:`cutter_path`); default None.
 
     Returns
     -------
@@ -210,7 +327,7 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     Raises
     ------
     InputError
-        If ``samples`` is not an integer ≥ 3.
+        If ``samples`` is not an integer ≥ 3 or ``tool_radius`` is invalid.
     OSError
         If the file cannot be written (a full disk, no permission), naming the
         file; no half-written file is left.
@@ -225,7 +342,7 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     >>> p.read_text().splitlines()[0][:42]
     'theta_deg,s_m,pitch_x_m,pitch_y_m,profile_'
     """
-    table = profile_table(cam, samples)
+    table = profile_table(cam, samples, tool_radius)
     p = file_target("path", path)
     cols = [v.astype(np.float64) for v in table.values()]
     fmt = ["%.17g"] * (len(cols) - 1) + ["%d"]
@@ -241,7 +358,9 @@ def write_profile_csv(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     return p
 
 
-def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
+def write_profile_dxf(
+    cam: Cam, path: str | Path, samples: int = 3600, tool_radius: float | None = None
+) -> Path:
     """Write the cam as a DXF drawing (R2013), lengths in **mm**.
 
     $INSUNITS = 4, $MEASUREMENT metric, the cam centre at the origin in the cam
@@ -261,6 +380,9 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
         The DXF file to write.
     samples : int, default 3600
         The number of profile vertices over the turn (≥ 3).
+    tool_radius : float, optional
+        A cutter's radius [m]: its centre path on layer CUTTER (a groove's outer
+        flank's on CUTTER_OUTER), :func:`cutter_path`; default None.
 
     Returns
     -------
@@ -272,7 +394,7 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     DxfUnavailableError
         If ezdxf is not installed (before the file is touched).
     InputError
-        If ``samples`` is not an integer ≥ 3.
+        If ``samples`` is not an integer ≥ 3 or ``tool_radius`` is invalid.
     OSError
         If the file cannot be written (a full disk, no permission), naming the
         file; no half-written file is left.
@@ -296,7 +418,7 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
             "write_profile_dxf needs ezdxf, which is not installed: "
             "pip install 'cyclomech[dxf]' (or pip install ezdxf)"
         ) from None
-    table = profile_table(cam, samples)
+    table = profile_table(cam, samples, tool_radius)
     doc = ezdxf.new("R2013", setup=False)
     doc.header["$INSUNITS"] = 4  # millimetres
     doc.header["$MEASUREMENT"] = 1  # metric
@@ -312,6 +434,10 @@ def write_profile_dxf(cam: Cam, path: str | Path, samples: int = 3600) -> Path:
     if "outer_x_m" in table:
         polyline("outer_x_m", "outer_y_m", "GROOVE_OUTER")
     polyline("pitch_x_m", "pitch_y_m", "PITCH")
+    if "cutter_x_m" in table:
+        polyline("cutter_x_m", "cutter_y_m", "CUTTER")
+    if "outer_cutter_x_m" in table:
+        polyline("outer_cutter_x_m", "outer_cutter_y_m", "CUTTER_OUTER")
     msp.add_circle((0.0, 0.0), cam.follower.base_radius * _MM, dxfattribs={"layer": "BASE"})
     msp.add_point((0.0, 0.0), dxfattribs={"layer": "CENTRE"})
     p = file_target("path", path)

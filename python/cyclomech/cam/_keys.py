@@ -90,6 +90,9 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "2.1e11", POS + "; needs width_m", True),
         K("cam_poisson", "The cam's Poisson's ratio.", NO_UNIT, NUM,
           "0.3", "a number, −1 < ν < 0.5" + "; needs width_m", True),
+        K("tool_radius_m", "The radius of the cutter that makes the profile: the "
+          "profile files give its centre path (a roller's size: the pitch curve).", "m", NUM,
+          "none (no cutter path)", "finite, > 0; a roller or flat-faced follower", True),
         K("max_stress_pa", "The allowed Hertz contact stress [σ_H].", "Pa", NUM,
           "none (σ_H not bounded)",
           "finite, > 0; needs mass_kg (inertia_kg_m2 when oscillating) and width_m", True),

@@ -995,8 +995,9 @@ class CamResult(BoundsResult):
 
         ``<name>_profile.csv`` (:func:`cyclomech.cam.write_profile_csv`: 3600 cam
         angles, lengths in m) and, with ezdxf installed, ``<name>_profile.dxf``
-        (:func:`cyclomech.cam.write_profile_dxf`, mm) — the same files ``cyclomech
-        cam`` writes for a cam file with these phase angles. Nothing when the cam
+        (:func:`cyclomech.cam.write_profile_dxf`, mm), with the centre path of a
+        cutter of the table's ``tool_radius_m`` when it gives one — the same files
+        ``cyclomech cam`` writes for a cam file with these phase angles. Nothing when the cam
         is not laid out at the optimum (``layout_note`` says why; the report shows
         it): a profile at another timing is not the part to make.
 
@@ -1022,10 +1023,13 @@ class CamResult(BoundsResult):
             return []
         folder.mkdir(parents=True, exist_ok=True)
         stem = file_stem(self.mech.name)
-        out = [write_profile_csv(self.cam, folder / f"{stem}_profile.csv")]
+        tool = self.mech.design.tool_radius
+        out = [write_profile_csv(self.cam, folder / f"{stem}_profile.csv", tool_radius=tool)]
         # The DXF is the dxf extra's: without ezdxf the CSV holds the same geometry.
         with contextlib.suppress(DxfUnavailableError):
-            out.append(write_profile_dxf(self.cam, folder / f"{stem}_profile.dxf"))
+            out.append(
+                write_profile_dxf(self.cam, folder / f"{stem}_profile.dxf", tool_radius=tool)
+            )
         return out
 
     def figures(self, save: Save) -> None:

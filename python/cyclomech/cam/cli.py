@@ -88,6 +88,12 @@ def add_commands(commands: Any) -> None:
     )
     c.add_argument("--no-plot", action="store_true", help="do not write the figures")
     c.add_argument("--no-dxf", action="store_true", help="do not write profile.dxf")
+    c.add_argument(
+        "--tool-radius-mm",
+        type=float,
+        help="a cutter's radius [mm]: its centre path in profile.csv and profile.dxf "
+        "(default: the file's tool_radius_m, else none)",
+    )
     c.set_defaults(run=cam_command)
 
 
@@ -169,10 +175,13 @@ def cam_command(args: argparse.Namespace) -> int:
             f"{args.file}: [cam]: no speed: give rpm = <cam speed in rpm> in [cam], or --rpm N"
         )
     samples = count("--samples", args.samples, low=3, what="cam angles over one turn")
+    tool = d.tool_radius
+    if getattr(args, "tool_radius_mm", None) is not None:
+        tool = positive("--tool-radius-mm", args.tool_radius_mm, "[mm]") / 1000.0
     angular = isinstance(cam.follower, OscillatingRoller)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        prof = profile_table(cam, samples)
+        prof = profile_table(cam, samples, tool)
     notes = [str(w.message) for w in caught]
 
     print(f"{name}: {_follower_text(cam)}, {cam.closure} closure")
@@ -287,10 +296,10 @@ def cam_command(args: argparse.Namespace) -> int:
     out = out_folder(args)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CyclomechWarning)  # the chordal error: noted once
-        written = [write_profile_csv(cam, out / "profile.csv", samples)]
+        written = [write_profile_csv(cam, out / "profile.csv", samples, tool)]
         if not args.no_dxf:
             try:
-                written.append(write_profile_dxf(cam, out / "profile.dxf", samples))
+                written.append(write_profile_dxf(cam, out / "profile.dxf", samples, tool))
             except DxfUnavailableError:
                 print("\n(no profile.dxf: ezdxf is not installed; pip install 'cyclomech[dxf]')")
     _write_min_phase_csv(out / "min_phase.csv", cam, sweep)

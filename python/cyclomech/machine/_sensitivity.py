@@ -54,7 +54,10 @@ KINK = 0.1
 class Sensitivity:
     """How the speed limit moves with one key of the machine file.
 
-    Attributes
+    Built by :func:`sensitivities`; each parameter is kept as the attribute of the
+    same name.
+
+    Parameters
     ----------
     key : str
         ``<mechanism>.<key>``, as ``--set`` and :meth:`Machine.with_values` name it.
@@ -68,8 +71,15 @@ class Sensitivity:
         vary).
     status : str
         ``"binds"``, ``"does not bind"``, ``"kink"`` or ``"cannot vary"``.
-    note : str
+    note : str, default ""
         For a kink, the one-sided changes; for a key that cannot vary, why.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> s = cm.machine.sensitivities(cm.Machine.example())[0]
+    >>> s.key, s.status, s.rpm_per_percent < 0      # lowering b buys speed
+    ('lifter.b_m', 'binds', True)
     """
 
     key: str
@@ -81,6 +91,12 @@ class Sensitivity:
 
     def json(self) -> dict[str, Any]:
         """Its entry in ``results.json`` (no NaN: ``null``).
+
+        Returns
+        -------
+        dict of str to object
+            ``key``, ``value``, ``rpm_per_unit``, ``rpm_per_percent``, ``status``,
+            ``note``.
 
         Examples
         --------
