@@ -35,8 +35,11 @@ def test_run_and_sweep_show_progress_on_stderr(tmp_path, capsys):
     m = cm.Machine.from_toml(LOOM)
     analyze(m, progress=True)
     err = capsys.readouterr().err
-    # One tqdm bar over the run's four steps, naming the step it is on.
-    assert "100.0% 4/4" in err and "speed limit" in err and "mechanisms" in err
+    # One tqdm bar over the run's five steps, naming the step it is on.
+    assert "100.0% 5/5" in err and "speed limit" in err and "mechanisms" in err
+    analyze(m, progress=True, sensitivities=True)  # cyclomech run's: a sixth step
+    err = capsys.readouterr().err
+    assert "100.0% 6/6" in err and "sensitivities" in err
     cm.sweep(m, {"lifter.preload_m": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
     err = capsys.readouterr().err
     assert "sweep [" in err and "100.0% 4/4" in err

@@ -103,6 +103,7 @@ RESULT_CLASSES = {
     "cyclomech.machine.MachineResult",
     "cyclomech.machine.MechanismResult",
     "cyclomech.machine.PlainResult",
+    "cyclomech.machine.Sensitivity",
     "cyclomech.machine.SpeedSweep",
     "cyclomech.machine.TableContext",
     "cyclomech.motion.Characteristics",

@@ -292,12 +292,7 @@ class CamDesign:
         for i, row in enumerate(table["segment"]):
             _keyrules.check(row, (), f"{at} segment {i + 1}")
         _check_arcs(cam, bound, at)
-        tool = _toml.optional_positive(table, "tool_radius_m", at, "[m]")
-        if tool is not None:
-            try:
-                cutter_path(cam, tool, 3)  # a knife edge has no cutter path: said here
-            except InputError as e:
-                raise InputError(f"{at}: {e}") from None
+        tool = _tool_radius(table, cam, at)
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound, tool)
 
     @classmethod
@@ -500,3 +495,15 @@ def _vibration(
         )
     assert f is not None and a is not None
     return f, zeta, math.radians(a) if angular else a
+
+
+def _tool_radius(table: Mapping[str, Any], cam: Cam, at: str) -> float | None:
+    """The table's ``tool_radius_m`` [m] (None without), checked against the cam: a
+    knife edge has no cutter path, and the table is where to say so."""
+    tool = _toml.optional_positive(table, "tool_radius_m", at, "[m]")
+    if tool is not None:
+        try:
+            cutter_path(cam, tool, 3)
+        except InputError as e:
+            raise InputError(f"{at}: {e}") from None
+    return tool

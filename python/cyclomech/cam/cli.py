@@ -175,9 +175,7 @@ def cam_command(args: argparse.Namespace) -> int:
             f"{args.file}: [cam]: no speed: give rpm = <cam speed in rpm> in [cam], or --rpm N"
         )
     samples = count("--samples", args.samples, low=3, what="cam angles over one turn")
-    tool = d.tool_radius
-    if getattr(args, "tool_radius_mm", None) is not None:
-        tool = positive("--tool-radius-mm", args.tool_radius_mm, "[mm]") / 1000.0
+    tool = _tool_radius(args, d)
     angular = isinstance(cam.follower, OscillatingRoller)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -294,14 +292,7 @@ def cam_command(args: argparse.Namespace) -> int:
     fails += _print_phase_checks(d, both, here, rpm, results)
 
     out = out_folder(args)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CyclomechWarning)  # the chordal error: noted once
-        written = [write_profile_csv(cam, out / "profile.csv", samples, tool)]
-        if not args.no_dxf:
-            try:
-                written.append(write_profile_dxf(cam, out / "profile.dxf", samples, tool))
-            except DxfUnavailableError:
-                print("\n(no profile.dxf: ezdxf is not installed; pip install 'cyclomech[dxf]')")
+    written = _write_profiles(cam, out, samples, tool, dxf=not args.no_dxf)
     _write_min_phase_csv(out / "min_phase.csv", cam, sweep)
     written.append(out / "min_phase.csv")
     for note in notes:
@@ -496,3 +487,25 @@ def _figures(
         color="0.3",
     )
     save(ax.figure, out / "min_phase.png", written)
+
+
+def _tool_radius(args: argparse.Namespace, d: CamDesign) -> float | None:
+    """The cutter's radius [m]: ``--tool-radius-mm``, else the file's ``tool_radius_m``."""
+    if getattr(args, "tool_radius_mm", None) is None:
+        return d.tool_radius
+    return positive("--tool-radius-mm", args.tool_radius_mm, "[mm]") / 1000.0
+
+
+def _write_profiles(
+    cam: Cam, out: Path, samples: int, tool: float | None, *, dxf: bool
+) -> list[Path]:
+    """``profile.csv`` and (``dxf``, with ezdxf) ``profile.dxf``: the parts to make."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CyclomechWarning)  # the chordal error: noted once
+        written = [write_profile_csv(cam, out / "profile.csv", samples, tool)]
+        if dxf:
+            try:
+                written.append(write_profile_dxf(cam, out / "profile.dxf", samples, tool))
+            except DxfUnavailableError:
+                print("\n(no profile.dxf: ezdxf is not installed; pip install 'cyclomech[dxf]')")
+    return written

@@ -295,9 +295,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["optimum"] = None
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
-    out.update({} if r.resizing is None else {"resizing": r.resizing.json()})
-    if r.sensitivities is not None:
-        out["sensitivities"] = [x.json() for x in r.sensitivities]
+    out.update(_asked_for(r))
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}
     groups["mechanisms"] = {}
@@ -332,6 +330,17 @@ def _summary(r: MachineResult) -> dict[str, Any]:
 
 
 # --------------------------------------------------------------------- figures
+def _asked_for(r: MachineResult) -> dict[str, Any]:
+    """``results.json``'s entries of what the file or the caller asked for: how
+    mechanisms sized themselves (``resizing``) and the speed limit's sensitivities."""
+    out: dict[str, Any] = {}
+    if r.resizing is not None:
+        out["resizing"] = r.resizing.json()
+    if r.sensitivities is not None:
+        out["sensitivities"] = [x.json() for x in r.sensitivities]
+    return out
+
+
 def _figures(r: MachineResult, folder: Path) -> list[tuple[str, str, Path]]:
     """(section, caption, path) of every figure, written as PNG."""
     import matplotlib
