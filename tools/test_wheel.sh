@@ -43,7 +43,7 @@ esac
 # ~40 s), which time Python's signal handling, not the build; and the full-disk
 # tests (~30 s), which test the Python writers against a tmpfs. Every kernel, every
 # docstring example and the entry point's import still run against the wheel.
-python -m pytest "$repo/tests" -p no:cacheprovider -q -m "not slow" \
+python -m pytest "$repo/tests" -p no:cacheprovider -q -n auto -m "not slow" \
     --ignore="$repo/tests/package/test_full_disk.py" \
     --ignore="$repo/tests/package/test_architecture.py" \
     --ignore="$repo/tests/package/test_layers.py" \

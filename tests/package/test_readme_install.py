@@ -22,7 +22,7 @@ def test_the_first_two_commands_are_the_ones_ci_runs():
         commands[0]
         == 'pip install ".[plot]" && cyclomech run examples/stb_loom.toml --out out/stb_loom'
     )
-    assert commands[1] == 'pip install ".[test]" && python -m pytest'
+    assert commands[1] == 'pip install ".[test]" && python -m pytest -n auto'
     for var in ("TEST_CMD", "DOCS_CMD"):
         cmd = re.search(rf"^{var}='(.*)'$", CI, flags=re.M).group(1)
         assert cmd in README
