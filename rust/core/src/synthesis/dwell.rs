@@ -40,7 +40,10 @@
 //! the true one when the sampled extreme lies in its basin, which the grid's
 //! spacing (fine against the curve's features) makes the case. The second loop's
 //! transmission angle μ2 (between E → P and E → F) is sampled on the
-//! whole-turn grid; the four-bar's is in closed form.
+//! whole-turn grid; the four-bar's is in closed form. The coupler points on these
+//! fixed grids (and at θm) do not depend on the output's placement: they are
+//! solved once per candidate ([`Grids`]) and shared by all its placements; only
+//! the golden-section searches solve the four-bar at new angles.
 //!
 //! **Ranking rule.** A candidate *violates* by the sum of: the four-bar's worst
 //! transmission angle below the limit, the second loop's below the limit,
@@ -326,9 +329,70 @@ impl Output {
 /// The output angle ψ(θ) − ψ(θm) [rad] wrapped into (−π, π], or None where the
 /// six-bar does not assemble.
 pub fn output_angle(design: &Design, out: &Output, theta: f64, psi_mid: f64) -> Option<f64> {
-    let e = out.joint(design.point(theta)?)?;
+    output_angle_at(out, design.point(theta)?, psi_mid)
+}
+
+/// [`output_angle`] for the coupler point P [m] at the crank angle.
+fn output_angle_at(out: &Output, p: [f64; 2], psi_mid: f64) -> Option<f64> {
+    let e = out.joint(p)?;
     let psi = (e[1] - out.pivot[1]).atan2(e[0] - out.pivot[0]) - psi_mid;
     Some(psi - TAU * ((psi + PI) / TAU).ceil() + TAU)
+}
+
+/// The coupler points at the crank angles lo + step·i, i = 0..=n, step =
+/// (hi − lo)/n (None where the four-bar does not assemble): a sampling grid of
+/// [`peak_to_peak`], solved once per candidate since it does not change with the
+/// output's placement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    lo: f64,
+    step: f64,
+    points: Vec<Option<[f64; 2]>>,
+}
+
+impl Grid {
+    fn new(design: &Design, lo: f64, hi: f64, n: usize) -> Grid {
+        let step = (hi - lo) / n as f64;
+        let points = (0..=n)
+            .map(|i| design.point(lo + step * i as f64))
+            .collect();
+        Grid { lo, step, points }
+    }
+
+    /// The number of intervals n.
+    fn n(&self) -> usize {
+        self.points.len() - 1
+    }
+}
+
+/// The coupler points a candidate's measures use at fixed crank angles (module
+/// docs), whatever the output's placement: at θm, on the dwell's and the turn's
+/// sampling grids, and on the second loop's transmission-angle grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grids {
+    mid: Option<[f64; 2]>,
+    dwell: Grid,
+    turn: Grid,
+    mu2: Vec<Option<[f64; 2]>>,
+}
+
+impl Grids {
+    /// The four-bar solved on the grids of [`measure`] for `spec`.
+    pub fn new(design: &Design, spec: &Spec) -> Grids {
+        let tm = design.theta_mid;
+        let (lo, hi) = (tm - spec.span / 2.0, tm + spec.span / 2.0);
+        // One step beyond each end of the turn: ψ is periodic, and an extreme just
+        // across the seam (θm ± π) must have samples on both sides for its refinement.
+        let st = TAU / spec.n_turn as f64;
+        Grids {
+            mid: design.point(tm),
+            dwell: Grid::new(design, lo, hi, 4 * spec.n_dwell),
+            turn: Grid::new(design, tm - PI - st, tm + PI + st, spec.n_turn + 2),
+            mu2: (0..spec.n_turn)
+                .map(|i| design.point(tm + TAU * i as f64 / spec.n_turn as f64))
+                .collect(),
+        }
+    }
 }
 
 /// The largest of f on [lo, hi] by golden-section search (f unimodal there).
@@ -355,12 +419,19 @@ fn golden_max(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     f1.max(f2)
 }
 
-/// Peak-to-peak of `psi` over [lo, hi], sampled at n + 1 angles and refined
-/// (module docs); None where it does not assemble at a sample.
-fn peak_to_peak(psi: &dyn Fn(f64) -> Option<f64>, lo: f64, hi: f64, n: usize) -> Option<f64> {
-    let step = (hi - lo) / n as f64;
-    let vals: Vec<f64> = (0..=n)
-        .map(|i| psi(lo + step * i as f64))
+/// Peak-to-peak of `psi` over the grid's range, sampled at its n + 1 angles
+/// (`psi_at` of its coupler points) and refined (module docs); None where it does
+/// not assemble at a sample.
+fn peak_to_peak(
+    psi: &dyn Fn(f64) -> Option<f64>,
+    psi_at: &dyn Fn([f64; 2]) -> Option<f64>,
+    grid: &Grid,
+) -> Option<f64> {
+    let (lo, step, n) = (grid.lo, grid.step, grid.n());
+    let vals: Vec<f64> = grid
+        .points
+        .iter()
+        .map(|p| psi_at((*p)?))
         .collect::<Option<_>>()?;
     let arg = |better: &dyn Fn(f64, f64) -> bool| {
         (1..=n).fold(0, |k, i| if better(vals[i], vals[k]) { i } else { k })
@@ -394,19 +465,21 @@ pub struct Measures {
 /// Residual, swing and the second loop's transmission angles of the six-bar
 /// (module docs), or None where it does not assemble over the whole turn.
 pub fn measure(design: &Design, out: &Output, spec: &Spec) -> Option<Measures> {
-    let tm = design.theta_mid;
-    let e_mid = out.joint(design.point(tm)?)?;
+    measure_on(design, out, &Grids::new(design, spec))
+}
+
+/// [`measure`] with the design's coupler points on the grids solved beforehand
+/// ([`Grids::new`] for this design and spec).
+pub fn measure_on(design: &Design, out: &Output, grids: &Grids) -> Option<Measures> {
+    let e_mid = out.joint(grids.mid?)?;
     let psi_mid = (e_mid[1] - out.pivot[1]).atan2(e_mid[0] - out.pivot[0]);
     let psi = |t: f64| output_angle(design, out, t, psi_mid);
-    let (lo, hi) = (tm - spec.span / 2.0, tm + spec.span / 2.0);
-    let residual = peak_to_peak(&psi, lo, hi, 4 * spec.n_dwell)?;
-    // One step beyond each end of the turn: ψ is periodic, and an extreme just
-    // across the seam (θm ± π) must have samples on both sides for its refinement.
-    let st = TAU / spec.n_turn as f64;
-    let swing = peak_to_peak(&psi, tm - PI - st, tm + PI + st, spec.n_turn + 2)?;
+    let psi_at = |p: [f64; 2]| output_angle_at(out, p, psi_mid);
+    let residual = peak_to_peak(&psi, &psi_at, &grids.dwell)?;
+    let swing = peak_to_peak(&psi, &psi_at, &grids.turn)?;
     let (mut cmin, mut cmax) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..spec.n_turn {
-        let c = out.cos_mu2(design.point(tm + TAU * i as f64 / spec.n_turn as f64)?);
+    for p in &grids.mu2 {
+        let c = out.cos_mu2((*p)?);
         cmin = cmin.min(c);
         cmax = cmax.max(c);
     }
@@ -460,11 +533,12 @@ fn construct(circle: Circle, far: [f64; 2], q: f64, side: f64) -> Option<Output>
 fn place_side(
     design: &Design,
     spec: &Spec,
+    grids: &Grids,
     circle: Circle,
     far: [f64; 2],
     side: f64,
 ) -> Option<(Output, Measures)> {
-    let p_mid = design.point(design.theta_mid)?;
+    let p_mid = grids.mid?;
     let eval = |q: f64| -> Option<(Output, Measures)> {
         let mut out = construct(circle, far, q, side)?;
         // τ: the side of the ray F → P_mid that E0 is on.
@@ -474,7 +548,7 @@ fn place_side(
             circle.centre[1] - out.pivot[1],
         );
         out.branch = if fx * gy - fy * gx >= 0.0 { 1.0 } else { -1.0 };
-        let m = measure(design, &out, spec)?;
+        let m = measure_on(design, &out, grids)?;
         Some((out, m))
     };
     let clamp = |q: f64| q.clamp(1e-3, PI - 1e-3);
@@ -560,10 +634,12 @@ pub fn evaluate(design: &Design, spec: &Spec) -> Option<Sixbar> {
             + (ratio(o) / spec.max_ratio).ln().max(0.0)
             + if miss > SWING_TOL { miss } else { 0.0 }
     };
+    // Solved once here: the same for every placement of the output.
+    let grids = Grids::new(design, spec);
     [1.0, -1.0]
         .into_iter()
         .filter_map(|side| {
-            let (output, measures) = place_side(design, spec, circle, far, side)?;
+            let (output, measures) = place_side(design, spec, &grids, circle, far, side)?;
             Some(Sixbar {
                 output,
                 measures,
@@ -746,7 +822,80 @@ mod tests {
         assert!(w <= s.measures.swing + 1e-12 && w >= s.measures.swing - 1e-8);
     }
 
+    /// The measures as the kernel took them before [`Grids`]: the four-bar solved
+    /// again at every grid angle of every placement.
+    fn measure_resolving(design: &Design, out: &Output, spec: &Spec) -> Option<Measures> {
+        let p2p = |psi: &dyn Fn(f64) -> Option<f64>, lo: f64, hi: f64, n: usize| {
+            let step = (hi - lo) / n as f64;
+            let vals: Vec<f64> = (0..=n)
+                .map(|i| psi(lo + step * i as f64))
+                .collect::<Option<_>>()?;
+            let arg = |better: &dyn Fn(f64, f64) -> bool| {
+                (1..=n).fold(0, |k, i| if better(vals[i], vals[k]) { i } else { k })
+            };
+            let (imax, imin) = (arg(&|x, y| x > y), arg(&|x, y| x < y));
+            let around = |i: usize| {
+                (
+                    lo + step * i.saturating_sub(1) as f64,
+                    lo + step * (i + 1).min(n) as f64,
+                )
+            };
+            let up = |t: f64| psi(t).unwrap_or(f64::NEG_INFINITY);
+            let down = |t: f64| psi(t).map_or(f64::NEG_INFINITY, |v| -v);
+            let (a, b) = around(imax);
+            let top = golden_max(&up, a, b).max(vals[imax]);
+            let (a, b) = around(imin);
+            let bottom = -golden_max(&down, a, b).max(-vals[imin]);
+            Some(top - bottom)
+        };
+        let tm = design.theta_mid;
+        let e_mid = out.joint(design.point(tm)?)?;
+        let psi_mid = (e_mid[1] - out.pivot[1]).atan2(e_mid[0] - out.pivot[0]);
+        let psi = |t: f64| output_angle(design, out, t, psi_mid);
+        let residual = p2p(
+            &psi,
+            tm - spec.span / 2.0,
+            tm + spec.span / 2.0,
+            4 * spec.n_dwell,
+        )?;
+        let st = TAU / spec.n_turn as f64;
+        let swing = p2p(&psi, tm - PI - st, tm + PI + st, spec.n_turn + 2)?;
+        let (mut cmin, mut cmax) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..spec.n_turn {
+            let c = out.cos_mu2(design.point(tm + TAU * i as f64 / spec.n_turn as f64)?);
+            cmin = cmin.min(c);
+            cmax = cmax.max(c);
+        }
+        Some(Measures {
+            residual,
+            swing,
+            mu2_min: cmax.clamp(-1.0, 1.0).acos(),
+            mu2_max: cmin.clamp(-1.0, 1.0).acos(),
+        })
+    }
+
     proptest! {
+        #[test]
+        fn grids_solved_once_measure_bit_for_bit_as_solved_again(
+            a in 0.15f64..0.4, b in 0.8f64..1.6, c in 0.8f64..1.6,
+            u in -0.5f64..1.5, v in -1.0f64..1.0, tm in 0.0f64..TAU,
+            sigma in prop::sample::select(vec![1.0, -1.0]),
+            dq in -0.3f64..0.3, n_dwell in 3usize..30, n_turn in 8usize..400,
+        ) {
+            let design = Design { a, b, c, d: 1.0, u, v, sigma, theta_mid: tm };
+            let sp = Spec { n_dwell, n_turn, ..spec() };
+            let Some(s) = evaluate(&design, &sp) else { return Ok(()) };
+            let bits = |m: Option<Measures>| {
+                m.map(|m| [m.residual, m.swing, m.mu2_min, m.mu2_max].map(f64::to_bits))
+            };
+            // The placement the search kept, and another (a rocker dq longer or shorter).
+            let again = measure_resolving(&design, &s.output, &sp);
+            prop_assert_eq!(bits(Some(s.measures)), bits(again));
+            let other = Output { rocker: s.output.rocker * (1.0 + dq), ..s.output };
+            let cached = measure_on(&design, &other, &Grids::new(&design, &sp));
+            prop_assert_eq!(bits(cached), bits(measure_resolving(&design, &other, &sp)));
+        }
+
         #[test]
         fn fit_is_exact_on_random_circles(
             cx in -5.0f64..5.0, cy in -5.0f64..5.0, r in 0.05f64..3.0,
