@@ -20,11 +20,17 @@ Norton's convention, angles from the ground line A → D) exactly through three
 precision points — Chebyshev-spaced by :func:`chebyshev_points` or given —
 or by least squares through more, reports the structural error over the whole
 input range, and does the same for a slider-crank's position.
-:func:`motion_generation` takes three poses of the coupler and builds four-bars
-from two circle points (given, or scanned on a grid and ranked), their centre
-points the circumcentres of their three positions. Candidates come best first:
-clean ones (no branch or order defect, no fold over the range) before the
-others, each with its defects and margins.
+:func:`motion_generation` takes three, four or five poses of the coupler and
+builds four-bars from two dyads (a circle point of the coupler whose positions
+lie on a circle about a centre point, the ground pivot). Three poses: two circle
+points (given, or scanned on a grid and ranked), their centre points the
+circumcentres of their three positions. Four poses: dyads on Burmester's
+circle-point and centre-point curves (:func:`burmester_curves`, traced in closed
+form), chosen by the crank's rotation or scanned along the curves. Five poses:
+every pair of Burmester's points (:func:`burmester_points`, at most four, all
+of them bracketed along the curves; none or one raises). Candidates come best
+first: clean ones (no branch or order defect, no fold over the range) before
+the others, each with its defects and margins.
 
 Path generation
 ---------------
@@ -94,6 +100,7 @@ from ..cam import (  # the sizing lives beside the criteria it evaluates (cam/_s
     cam_size,
     cam_size_tradeoff,
 )
+from ._burmester import BurmesterCurves, BurmesterPoint, burmester_curves, burmester_points
 from ._dwell import DwellCandidate, dwell_sixbar
 from ._fourbar import (
     Margins,
@@ -112,6 +119,8 @@ from ._path import PathCandidate, path_evaluate, path_generation
 __all__ = [
     "CAM_SIZE_CRITERIA",
     "SYNTHESIZE_KEYS",
+    "BurmesterCurves",
+    "BurmesterPoint",
     "CamLimits",
     "CamSize",
     "CamSizeTradeoff",
@@ -124,6 +133,8 @@ __all__ = [
     "Margins",
     "MotionCandidate",
     "PathCandidate",
+    "burmester_curves",
+    "burmester_points",
     "cam_size",
     "cam_size_tradeoff",
     "chebyshev_points",
