@@ -97,7 +97,7 @@ class BurmesterCurves:
         True
         """
         b = finite_number("beta_deg", beta_deg, "[deg]")
-        if branch not in (1, -1):
+        if isinstance(branch, bool) or branch not in (1, -1):
             raise InputError(f"branch must be +1 or -1; got {branch!r}")
         d = _core.burmester_dyad(_rad(list(self.poses)), math.radians(b), float(branch))
         return None if d is None else ((d[0][0], d[0][1]), (d[1][0], d[1][1]))
@@ -201,7 +201,8 @@ def burmester_points(poses: Sequence[Sequence[float]]) -> list[BurmesterPoint]:
     from the centre equals the radius to 1e-9 of (radius + the poses' spread);
     roots at a pole (two positions closer than 1e-7 spreads), at infinity
     (beyond 1e6 spreads: a slider) or where the curve only passed through
-    infinity are dropped; roots closer than 1e-6 spreads are one. A double root
+    infinity are dropped; roots closer than 1e-5 of (the spread + their
+    distance from the first pose point) are one. A double root
     (the curves tangent) has no sign change and may be missed: it is the
     boundary between two real pairs and none. If the count found is odd, the
     trace is repeated 16 times denser; an odd count after that warns
@@ -247,9 +248,7 @@ def burmester_points(poses: Sequence[Sequence[float]]) -> list[BurmesterPoint]:
             stacklevel=2,
         )
     return [
-        BurmesterPoint(
-            (float(a[0]), float(a[1])), (float(c[0]), float(c[1])), float(r), float(res)
-        )
+        BurmesterPoint((float(a[0]), float(a[1])), (float(c[0]), float(c[1])), float(r), float(res))
         for a, c, r, res in rows
     ]
 
@@ -282,7 +281,7 @@ def _four_poses(
         dyads = []
         for k, (b, s) in enumerate(((b1, s1), (b2, s2))):
             beta = finite_number(f"free_choices[{k}][0]", b, "[deg]")
-            if s not in (1, -1):
+            if isinstance(s, bool) or s not in (1, -1):
                 raise InputError(f"free_choices[{k}][1] (the branch) must be +1 or -1; got {s!r}")
             d = _core.burmester_dyad(_rad(ps), math.radians(beta), float(s))
             if d is None:

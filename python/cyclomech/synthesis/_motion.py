@@ -214,7 +214,10 @@ def _pairs(
     for (i, j), (tup, why) in zip(
         pairs, _core.motion_fourbars(_rad(poses), dyads, pairs), strict=True
     ):
-        out.append(why if tup is None else _from_tuple(poses, dyads[i][0], dyads[j][0], tup))
+        if tup is None:
+            out.append(why or "no four-bar")
+        else:
+            out.append(_from_tuple(poses, dyads[i][0], dyads[j][0], tup))
     return out
 
 

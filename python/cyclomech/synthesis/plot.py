@@ -176,6 +176,15 @@ def plot_burmester(
             "plot_burmester needs a BurmesterCurves (cyclomech.synthesis.burmester_curves); "
             f"got {type(curves).__name__}"
         )
+    try:
+        cands = list(candidates)
+    except TypeError:
+        cands = [None]
+    if not all(isinstance(c, MotionCandidate) for c in cands):
+        raise InputError(
+            "plot_burmester: candidates must be MotionCandidates "
+            f"(cyclomech.synthesis.motion_generation); got {candidates!r}"
+        )
     plt = pyplot()
     axes = axes_arg(ax, (1,), "plot_burmester")
     if axes is None:
@@ -188,22 +197,43 @@ def plot_burmester(
     half = 3.0 * spread if extent_m is None else float(extent_m)
     mid = xy.mean(axis=0)
     moving = curves.moving_points()
-    a.plot(moving[:, 0], moving[:, 1], color="#1f77b4", lw=1.3, gid="circle_points",
-           label="circle points (pose 1)")
-    a.plot(curves.centre_points[:, 0], curves.centre_points[:, 1], color="#d62728", lw=1.3,
-           gid="centre_points", label="centre points")
+    a.plot(
+        moving[:, 0],
+        moving[:, 1],
+        color="#1f77b4",
+        lw=1.3,
+        gid="circle_points",
+        label="circle points (pose 1)",
+    )
+    a.plot(
+        curves.centre_points[:, 0],
+        curves.centre_points[:, 1],
+        color="#d62728",
+        lw=1.3,
+        gid="centre_points",
+        label="centre points",
+    )
     arrow = 0.25 * spread
     for k, (x, y, t) in enumerate(curves.poses):
         dx, dy = arrow * math.cos(math.radians(t)), arrow * math.sin(math.radians(t))
-        a.annotate("", (x + dx, y + dy), (x, y),
-                   arrowprops={"arrowstyle": "->", "color": "0.2", "lw": 1.2})
+        a.annotate(
+            "", (x + dx, y + dy), (x, y), arrowprops={"arrowstyle": "->", "color": "0.2", "lw": 1.2}
+        )
         a.text(x - 0.5 * dy, y + 0.5 * dx, str(k + 1), fontsize=9, ha="center", va="center")
     a.plot(xy[:, 0], xy[:, 1], "o", color="0.2", ms=4, gid="poses", label="poses")
-    for k, c in enumerate(candidates):
+    for k, c in enumerate(cands):
         (a0, b0), (pa, pb) = c.centre_points, c.moving_pivots
         pts = np.array([a0, pa, pb, b0])
-        a.plot(pts[:, 0], pts[:, 1], "-o", color=_DYAD_COLORS[k % len(_DYAD_COLORS)], lw=2.0, ms=5,
-               gid=f"dyad[{k}]", label=f"four-bar {k + 1}")
+        a.plot(
+            pts[:, 0],
+            pts[:, 1],
+            "-o",
+            color=_DYAD_COLORS[k % len(_DYAD_COLORS)],
+            lw=2.0,
+            ms=5,
+            gid=f"dyad[{k}]",
+            label=f"four-bar {k + 1}",
+        )
         a.plot([a0[0], b0[0]], [a0[1], b0[1]], "^", color=_DYAD_COLORS[k % len(_DYAD_COLORS)], ms=9)
     a.set_xlim(mid[0] - half, mid[0] + half)
     a.set_ylim(mid[1] - half, mid[1] + half)

@@ -62,7 +62,9 @@
 //! the circle point's positions closer than 1e-7 of the spread), at infinity
 //! (radius or circle point beyond 1e6 spreads) and where the sign change was
 //! the curve passing through infinity fail that test and are dropped. Roots
-//! closer than 1e-6 spreads are one point (a double root, counted once). A
+//! closer than 1e-5 of (the spread + their distance from pose 1's point) are
+//! one point (a double root, or one root found twice where it is
+//! ill-conditioned, as when two poses nearly coincide), counted once. A
 //! double root without a sign change (the two cubics tangent) is not
 //! bracketed: it is the boundary between two and zero real pairs, where a
 //! perturbation of the poses below their printed precision decides. If the
@@ -329,6 +331,126 @@ impl Compat {
     }
 }
 
+/// One sample of a branch: (β, circle point, centre point), normalised.
+type Sample = (f64, [f64; 2], [f64; 2]);
+
+/// Refinement of the traced curves: neighbours closer than this (normalised:
+/// spreads of the poses, circle point plus centre point; relative beyond one
+/// spread from pose 1) ...
+const REFINE_STEP: f64 = 5e-3;
+/// ... within this many spreads, at most 2^REFINE_DEPTH points per interval.
+const REFINE_WITHIN: f64 = 100.0;
+const REFINE_DEPTH: u32 = 24;
+
+impl Compat {
+    fn sample(&self, beta: f64, sigma: f64) -> Option<Sample> {
+        self.dyad(beta, sigma).map(|(a, c)| (beta, a, c))
+    }
+
+    /// Branch σ traced: for each of `n` uniform values β_k over a turn, the
+    /// sample there (None where the compatibility linkage does not assemble)
+    /// and, if the next is a sample too, the points bisected in between until
+    /// neighbours are closer than [`REFINE_STEP`] (the curve races through a
+    /// small range of β where a crank barely turns).
+    fn trace(&self, sigma: f64, n: usize) -> Vec<(Option<Sample>, Vec<Sample>)> {
+        let h = 2.0 * PI / n as f64;
+        (0..n)
+            .map(|k| {
+                let b0 = -PI + h * k as f64;
+                let s0 = self.sample(b0, sigma);
+                let mut mid = Vec::new();
+                if let (Some(s0), Some(s1)) = (s0, self.sample(b0 + h, sigma)) {
+                    self.refine(sigma, s0, s1, REFINE_DEPTH, &mut mid);
+                }
+                (s0, mid)
+            })
+            .collect()
+    }
+
+    fn refine(&self, sigma: f64, s0: Sample, s1: Sample, depth: u32, out: &mut Vec<Sample>) {
+        let mut pts = Vec::new();
+        refine_by(
+            &|b| self.sample(b, sigma),
+            (s0.0, s0),
+            (s1.0, s1),
+            depth,
+            &mut pts,
+        );
+        out.extend(pts.into_iter().map(|(_, x)| x));
+    }
+
+    /// The fold of the compatibility linkage between `b_ok` (the branches
+    /// assemble) and `b_bad` (they do not), by bisection.
+    fn fold(&self, b_ok: f64, b_bad: f64) -> f64 {
+        let (mut lo, mut hi) = (b_ok, b_bad);
+        for _ in 0..80 {
+            let mid = 0.5 * (lo + hi);
+            if self.sample(mid, 1.0).is_some() {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// The curve through a fold at `fold`, from branch σ = −1 at `b_ok` to
+    /// σ = +1 at `b_ok`: s ∈ [−1, 1], σ = sign(s), β = fold + (b_ok − fold)s²
+    /// (the curve is smooth in s, not in β: near a fold it moves as √|β − fold|).
+    fn at_fold(&self, fold: f64, b_ok: f64, s: f64) -> Option<Sample> {
+        let sigma = if s < 0.0 { -1.0 } else { 1.0 };
+        self.sample(fold + (b_ok - fold) * s * s, sigma)
+    }
+
+    /// Samples (s, sample) through the fold between `b_ok` and `b_bad`,
+    /// refined like [`Compat::trace`]; also the fold.
+    fn fold_fill(&self, b_ok: f64, b_bad: f64) -> (f64, Vec<(f64, Sample)>) {
+        let fold = self.fold(b_ok, b_bad);
+        let f = |s: f64| self.at_fold(fold, b_ok, s);
+        let m = 16;
+        let grid: Vec<(f64, Sample)> = (0..=2 * m)
+            .filter_map(|i| {
+                let s = -1.0 + i as f64 / m as f64;
+                f(s).map(|x| (s, x))
+            })
+            .collect();
+        let mut out = Vec::with_capacity(grid.len());
+        for w in grid.windows(2) {
+            out.push(w[0]);
+            refine_by(&f, w[0], w[1], REFINE_DEPTH, &mut out);
+        }
+        out.extend(grid.last().copied());
+        (fold, out)
+    }
+}
+
+/// Points bisected in the parameter between `p0` and `p1` (parameter, sample)
+/// until neighbours are closer than [`REFINE_STEP`] (relative beyond one
+/// spread), within [`REFINE_WITHIN`] spreads.
+fn refine_by<F: Fn(f64) -> Option<Sample>>(
+    f: &F,
+    p0: (f64, Sample),
+    p1: (f64, Sample),
+    depth: u32,
+    out: &mut Vec<(f64, Sample)>,
+) {
+    let (s0, s1) = (p0.1, p1.1);
+    let norm = |s: &Sample| s.1[0].hypot(s.1[1]).max(s.2[0].hypot(s.2[1]));
+    let gap =
+        (s0.1[0] - s1.1[0]).hypot(s0.1[1] - s1.1[1]) + (s0.2[0] - s1.2[0]).hypot(s0.2[1] - s1.2[1]);
+    let near = norm(&s0).min(norm(&s1));
+    if depth == 0 || gap <= REFINE_STEP * near.max(1.0) || near > REFINE_WITHIN {
+        return;
+    }
+    let t = 0.5 * (p0.0 + p1.0);
+    let Some(m) = f(t) else {
+        return;
+    };
+    refine_by(f, p0, (t, m), depth - 1, out);
+    out.push((t, m));
+    refine_by(f, (t, m), p1, depth - 1, out);
+}
+
 fn compat_for(nm: &Normal, poses: &[Pose]) -> Result<Compat, MotionError> {
     Compat::new(nm, [0, 1, 2, 3]).ok_or(MotionError::PoseCount {
         what: "Burmester's curves (the poses are degenerate: every dyad of three of them passes the fourth)",
@@ -352,31 +474,63 @@ pub fn burmester_curves(poses: &[Pose], samples: usize) -> Result<BurmesterCurve
     let cp = compat_for(&nm, poses)?;
     let n = samples.clamp(16, 1 << 20);
     let mut branches = Vec::new();
+    let far = |(_, a, c): &Sample| a[0].hypot(a[1]) > CURVE_FAR || c[0].hypot(c[1]) > CURVE_FAR;
+    let point = |(beta, a, c): Sample, sigma: f64| CurvePoint {
+        beta,
+        sigma,
+        circle: [a[0] * nm.scale, a[1] * nm.scale],
+        centre: nm.to_world(c),
+    };
+    let h = 2.0 * PI / n as f64;
+    let mut folds: Vec<Vec<CurvePoint>> = Vec::new();
     for sigma in [1.0, -1.0] {
         let mut runs: Vec<Vec<CurvePoint>> = Vec::new();
         let mut cur: Vec<CurvePoint> = Vec::new();
-        for k in 0..n {
-            let beta = -PI + 2.0 * PI * (k as f64) / (n as f64);
-            let pt = cp
-                .dyad(beta, sigma)
-                .filter(|(a, c)| a[0].hypot(a[1]) <= CURVE_FAR && c[0].hypot(c[1]) <= CURVE_FAR);
-            match pt {
-                Some((a, c)) => cur.push(CurvePoint {
-                    beta,
-                    sigma,
-                    circle: [a[0] * nm.scale, a[1] * nm.scale],
-                    centre: nm.to_world(c),
-                }),
-                None => {
+        let mut starts_at_first = false;
+        for (k, (s0, mid)) in cp.trace(sigma, n).into_iter().enumerate() {
+            for s in s0.into_iter().chain(mid) {
+                if far(&s) {
                     if !cur.is_empty() {
                         runs.push(std::mem::take(&mut cur));
                     }
+                } else {
+                    if cur.is_empty() && runs.is_empty() && k == 0 {
+                        starts_at_first = true;
+                    }
+                    cur.push(point(s, sigma));
+                }
+            }
+            if s0.is_none() && !cur.is_empty() {
+                runs.push(std::mem::take(&mut cur));
+            }
+            // Through each fold once (it joins the two branches).
+            let b0 = -PI + h * k as f64;
+            let next_ok = cp.sample(b0 + h, sigma).is_some();
+            let fold = match (s0.is_some(), next_ok) {
+                (true, false) => Some((b0, b0 + h)),
+                (false, true) => Some((b0 + h, b0)),
+                _ => None,
+            };
+            if let (Some((b_ok, b_bad)), true) = (fold, sigma > 0.0) {
+                let mut run = Vec::new();
+                for (s, x) in cp.fold_fill(b_ok, b_bad).1 {
+                    let sg = if s < 0.0 { -1.0 } else { 1.0 };
+                    if far(&x) {
+                        if !run.is_empty() {
+                            folds.push(std::mem::take(&mut run));
+                        }
+                    } else {
+                        run.push(point(x, sg));
+                    }
+                }
+                if !run.is_empty() {
+                    folds.push(run);
                 }
             }
         }
         if !cur.is_empty() {
             // A run reaching β = π continues the one that starts at β = −π.
-            if !runs.is_empty() && runs[0][0].beta == -PI {
+            if starts_at_first && !runs.is_empty() {
                 let first = runs.remove(0);
                 cur.extend(first);
             }
@@ -384,6 +538,7 @@ pub fn burmester_curves(poses: &[Pose], samples: usize) -> Result<BurmesterCurve
         }
         branches.extend(runs);
     }
+    branches.extend(folds);
     Ok(BurmesterCurves {
         parameter_pose: cp.p + 2,
         branches,
@@ -466,7 +621,7 @@ pub fn burmester_points(poses: &[Pose]) -> Result<BurmesterPoints, MotionError> 
     check_distinct(poses)?;
     let mut found = Vec::new();
     let mut parity_ok = false;
-    for density in [4096usize, 65536] {
+    for density in [1024usize, 16384] {
         found.clear();
         // Curve of {1, 2, 3, 4} against the condition of {1, 2, 3, 5}, and back.
         for (curve, cond) in [([0, 1, 2, 3], [0, 1, 2, 4]), ([0, 1, 2, 4], [0, 1, 2, 3])] {
@@ -510,34 +665,49 @@ fn trace_roots(
         let c5 = [c[0] * ratio, c[1] * ratio];
         Some((det_norm(&nm5, cond, a5), a5, c5))
     };
-    let beta_at = |k: usize| -PI + 2.0 * PI * (k as f64) / (n as f64);
+    let h = 2.0 * PI / n as f64;
+    let cond_of = |(b, a, c): Sample| -> (f64, f64, [f64; 2], [f64; 2]) {
+        let a5 = [a[0] * ratio, a[1] * ratio];
+        let c5 = [c[0] * ratio, c[1] * ratio];
+        (b, det_norm(&nm5, cond, a5), a5, c5)
+    };
     let mut cands: Vec<([f64; 2], [f64; 2])> = Vec::new();
     for sigma in [1.0, -1.0] {
-        let vals: Vec<Option<(f64, [f64; 2], [f64; 2])>> =
-            (0..n).map(|k| eval(beta_at(k), sigma)).collect();
+        let traced = cp.trace(sigma, n);
         for k in 0..n {
-            let k2 = (k + 1) % n;
-            let (b0, b1) = (beta_at(k), if k2 == 0 { PI } else { beta_at(k2) });
-            match (vals[k], vals[k2]) {
-                (Some((f0, a0, c0)), Some((f1, _, _))) => {
-                    if f0 == 0.0 {
-                        cands.push((a0, c0));
-                    } else if f0 * f1 < 0.0 {
-                        if let Some(r) = bisect(|b| eval(b, sigma).map(|v| v.0), b0, b1, f0) {
-                            if let Some((_, a, c)) = eval(r, sigma) {
-                                cands.push((a, c));
-                            }
+            let (s0, mid) = &traced[k];
+            let next_ok = traced[(k + 1) % n].0.is_some();
+            let Some(s0) = *s0 else {
+                if next_ok && sigma > 0.0 {
+                    let b1 = -PI + h * (k + 1) as f64;
+                    fold_roots(&cp, &cond_of, b1, b1 - h, &mut cands);
+                }
+                continue;
+            };
+            if !next_ok {
+                if sigma > 0.0 {
+                    fold_roots(&cp, &cond_of, s0.0, s0.0 + h, &mut cands);
+                }
+                continue;
+            }
+            // The samples of the interval, its end included.
+            let end = cp.sample(s0.0 + h, sigma);
+            let pts: Vec<_> = std::iter::once(s0)
+                .chain(mid.iter().copied())
+                .chain(end)
+                .map(cond_of)
+                .collect();
+            for w in pts.windows(2) {
+                let ((b0, f0, a0, c0), (b1, f1, _, _)) = (w[0], w[1]);
+                if f0 == 0.0 {
+                    cands.push((a0, c0));
+                } else if f0 * f1 < 0.0 {
+                    if let Some(r) = bisect(|b| eval(b, sigma).map(|v| v.0), b0, b1, f0) {
+                        if let Some((_, a, c)) = eval(r, sigma) {
+                            cands.push((a, c));
                         }
                     }
                 }
-                (Some((f0, _, _)), None) if sigma > 0.0 => {
-                    // The branch folds between b0 and b1: across the fold σ changes.
-                    fold_roots(&eval, b0, b1, f0, &mut cands);
-                }
-                (None, Some((f1, _, _))) if sigma > 0.0 => {
-                    fold_roots(&eval, b1, b0, f1, &mut cands);
-                }
-                _ => {}
             }
         }
     }
@@ -552,7 +722,11 @@ fn trace_roots(
                     (f.circle[0] - p.circle[0]).hypot(f.circle[1] - p.circle[1]),
                     (f.centre[0] - p.centre[0]).hypot(f.centre[1] - p.centre[1]),
                 );
-                da <= 1e-6 * spread && dc <= 1e-6 * spread
+                let size = spread
+                    + f.centre[0]
+                        .hypot(f.centre[1])
+                        .max(f.circle[0].hypot(f.circle[1]));
+                da <= 1e-5 * size && dc <= 1e-5 * size
             });
             if !dup {
                 found.push(p);
@@ -561,43 +735,38 @@ fn trace_roots(
     }
 }
 
-/// Roots on the short arc through the fold of the compatibility linkage
-/// between `b_ok` (both branches valid, σ = +1 has value `f_plus`) and `b_bad`
-/// (neither): the arc runs σ = +1 from b_ok to the fold and back on σ = −1.
-fn fold_roots<F>(
-    eval: &F,
+/// Roots on the arc through the fold of the compatibility linkage between
+/// `b_ok` (both branches assemble) and `b_bad` (neither): `cond` maps a sample
+/// to (β, condition, circle point, centre) in the five poses' normalisation.
+fn fold_roots<G>(
+    cp: &Compat,
+    cond: &G,
     b_ok: f64,
     b_bad: f64,
-    f_plus: f64,
     cands: &mut Vec<([f64; 2], [f64; 2])>,
 ) where
-    F: Fn(f64, f64) -> Option<(f64, [f64; 2], [f64; 2])>,
+    G: Fn(Sample) -> (f64, f64, [f64; 2], [f64; 2]),
 {
-    let Some((f_minus, _, _)) = eval(b_ok, -1.0) else {
-        return;
-    };
-    if f_plus * f_minus >= 0.0 {
-        return;
-    }
-    // The fold: the last valid β between b_ok and b_bad.
-    let (mut lo, mut hi) = (b_ok, b_bad);
-    for _ in 0..80 {
-        let mid = 0.5 * (lo + hi);
-        if eval(mid, 1.0).is_some() {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let fold = lo;
-    // s ∈ [−1, 1]: σ = sign(s), β = fold + (b_ok − fold)|s|.
-    let at = |s: f64| {
-        let sigma = if s < 0.0 { -1.0 } else { 1.0 };
-        eval(fold + (b_ok - fold) * s.abs(), sigma)
-    };
-    if let Some(s) = bisect(|s| at(s).map(|v| v.0), -1.0, 1.0, f_minus) {
-        if let Some((_, a, c)) = at(s) {
-            cands.push((a, c));
+    let (fold, fill) = cp.fold_fill(b_ok, b_bad);
+    let vals: Vec<(f64, f64, [f64; 2], [f64; 2])> = fill
+        .iter()
+        .map(|&(s, x)| {
+            let (_, f, a, c) = cond(x);
+            (s, f, a, c)
+        })
+        .collect();
+    for w in vals.windows(2) {
+        let ((s0, f0, a0, c0), (s1, f1, _, _)) = (w[0], w[1]);
+        if f0 == 0.0 {
+            cands.push((a0, c0));
+        } else if f0 * f1 < 0.0 {
+            let g = |s: f64| cp.at_fold(fold, b_ok, s).map(|x| cond(x).1);
+            if let Some(r) = bisect(g, s0, s1, f0) {
+                if let Some(x) = cp.at_fold(fold, b_ok, r) {
+                    let (_, _, a, c) = cond(x);
+                    cands.push((a, c));
+                }
+            }
         }
     }
 }

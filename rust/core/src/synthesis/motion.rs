@@ -29,6 +29,12 @@
 //! *order defect* is a working arc the linkage cannot sweep on one branch (it
 //! cannot be assembled somewhere between the poses): the crank would have to
 //! turn back, meeting the poses out of order.
+//!
+//! **Four and five poses** ([`super::burmester`]): the dyads come from
+//! Burmester's curves or points, and [`fourbar_of_dyads`] applies the same
+//! rules to n poses. With more than three the crank can also meet the poses out
+//! of order however it turns (its angles from pose 1, counted one way, do not
+//! increase through poses 2, …, n): that is an order defect too.
 
 use std::f64::consts::TAU;
 
