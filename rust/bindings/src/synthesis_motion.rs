@@ -11,6 +11,9 @@ use crate::errors::{input_error, run, IntoPyErr};
 
 type P = (f64, f64);
 
+/// A Burmester point: (circle point, centre, radius, residual).
+type PointRow = (P, P, f64, f64);
+
 /// (A0, B0, A positions (n), B positions (n), lengths (a, b, c, d), crank angles
 /// (n) [rad], direction (±1), branches (n), arc (lo, hi) [rad], transmission
 /// (ok, μ_min, μ_max, θ at μ_min, θ at μ_max) or (False, θ break, cos μ, NaN, NaN),
@@ -186,7 +189,7 @@ pub fn burmester_det(py: Python<'_>, poses: [(f64, f64, f64); 4], uv: P) -> PyRe
 pub fn burmester_points(
     py: Python<'_>,
     poses: Vec<(f64, f64, f64)>,
-) -> PyResult<(Vec<(P, P, f64, f64)>, bool)> {
+) -> PyResult<(Vec<PointRow>, bool)> {
     let poses = poses_of(&poses);
     run(py, "burmester_points", move || {
         let b = burmester::burmester_points(&poses)?;

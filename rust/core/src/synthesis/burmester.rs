@@ -243,7 +243,7 @@ impl Compat {
         let cof = [m(1, 2), -m(0, 2), m(0, 1)];
         let mags = cof.map(|c| c.norm());
         let big = mags.iter().fold(0.0f64, |a, &b| a.max(b));
-        if !(big > 1e-300) {
+        if big.is_nan() || big <= 1e-300 {
             return None;
         }
         let p = (0..3)
@@ -330,6 +330,9 @@ impl Compat {
         Some(([a.re, a.im], [c.re, c.im]))
     }
 }
+
+/// A dyad as (circle point (coupler frame), centre point) [m].
+pub type DyadPoints = ([f64; 2], [f64; 2]);
 
 /// One sample of a branch: (β, circle point, centre point), normalised.
 type Sample = (f64, [f64; 2], [f64; 2]);
@@ -552,7 +555,7 @@ pub fn burmester_dyad(
     poses: &[Pose],
     beta: f64,
     sigma: f64,
-) -> Result<Option<([f64; 2], [f64; 2])>, MotionError> {
+) -> Result<Option<DyadPoints>, MotionError> {
     if poses.len() != 4 {
         return Err(MotionError::PoseCount {
             what: "a dyad of Burmester's curves",
@@ -627,7 +630,7 @@ pub fn burmester_points(poses: &[Pose]) -> Result<BurmesterPoints, MotionError> 
         for (curve, cond) in [([0, 1, 2, 3], [0, 1, 2, 4]), ([0, 1, 2, 4], [0, 1, 2, 3])] {
             trace_roots(poses, curve, cond, density, &mut found);
         }
-        parity_ok = found.len() % 2 == 0;
+        parity_ok = found.len().is_multiple_of(2);
         if parity_ok {
             break;
         }
@@ -801,7 +804,7 @@ fn verify(
     c: [f64; 2],
     rho: f64,
 ) -> Option<BurmesterPoint> {
-    if !(rho > 0.0) || rho.sqrt() > 1e6 || a[0].hypot(a[1]) > 1e6 {
+    if rho.is_nan() || rho <= 0.0 || rho.sqrt() > 1e6 || a[0].hypot(a[1]) > 1e6 {
         return None;
     }
     let uv = [a[0] * nm.scale, a[1] * nm.scale];

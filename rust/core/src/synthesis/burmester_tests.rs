@@ -98,7 +98,7 @@ fn five_poses_give_back_the_known_pivots() {
     let (ua, ub) = (frame(poses[0], pa), frame(poses[0], pb));
     let pts = burmester_points(&poses).unwrap();
     assert!(pts.parity_ok);
-    assert!(pts.points.len() >= 2 && pts.points.len() % 2 == 0);
+    assert!(pts.points.len() >= 2 && pts.points.len().is_multiple_of(2));
     for (uv, c) in [(ua, [0.0, 0.0]), (ub, [DIMS[3], 0.0])] {
         let hit = pts.points.iter().any(|p| {
             (p.circle[0] - uv[0]).hypot(p.circle[1] - uv[1]) < 1e-7
@@ -161,7 +161,7 @@ proptest! {
             });
             prop_assert!(hit, "{:?} not in {:?}", uv, pts.points);
         }
-        prop_assert!(pts.points.len() % 2 == 0 && pts.points.len() <= 4);
+        prop_assert!(pts.points.len().is_multiple_of(2) && pts.points.len() <= 4);
         for p in &pts.points {
             for &q in &poses {
                 let w = pose_point(q, p.circle);

@@ -214,7 +214,7 @@ pub fn dyad_through(
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
     let spread = (hi - lo) / hi.max(1e-300);
-    if !(spread <= 1e-6) {
+    if spread.is_nan() || spread > 1e-6 {
         return Err(MotionError::NotADyad {
             which,
             u: uv[0],
