@@ -176,15 +176,7 @@ def plot_burmester(
             "plot_burmester needs a BurmesterCurves (cyclomech.synthesis.burmester_curves); "
             f"got {type(curves).__name__}"
         )
-    try:
-        cands = list(candidates)
-    except TypeError:
-        cands = [None]
-    if not all(isinstance(c, MotionCandidate) for c in cands):
-        raise InputError(
-            "plot_burmester: candidates must be MotionCandidates "
-            f"(cyclomech.synthesis.motion_generation); got {candidates!r}"
-        )
+    cands = _candidates(candidates)
     plt = pyplot()
     axes = axes_arg(ax, (1,), "plot_burmester")
     if axes is None:
@@ -213,14 +205,7 @@ def plot_burmester(
         gid="centre_points",
         label="centre points",
     )
-    arrow = 0.25 * spread
-    for k, (x, y, t) in enumerate(curves.poses):
-        dx, dy = arrow * math.cos(math.radians(t)), arrow * math.sin(math.radians(t))
-        a.annotate(
-            "", (x + dx, y + dy), (x, y), arrowprops={"arrowstyle": "->", "color": "0.2", "lw": 1.2}
-        )
-        a.text(x - 0.5 * dy, y + 0.5 * dx, str(k + 1), fontsize=9, ha="center", va="center")
-    a.plot(xy[:, 0], xy[:, 1], "o", color="0.2", ms=4, gid="poses", label="poses")
+    _draw_poses(a, curves.poses, spread)
     for k, c in enumerate(cands):
         (a0, b0), (pa, pb) = c.centre_points, c.moving_pivots
         pts = np.array([a0, pa, pb, b0])
@@ -244,3 +229,29 @@ def plot_burmester(
     a.legend(fontsize=8, loc="best")
     a.set_title(title or "Burmester's curves of four poses")
     return fig
+
+
+def _candidates(candidates: Any) -> list[MotionCandidate]:
+    try:
+        cands = list(candidates)
+    except TypeError:
+        cands = [candidates]
+    if not all(isinstance(c, MotionCandidate) for c in cands):
+        raise InputError(
+            "plot_burmester: candidates must be MotionCandidates "
+            f"(cyclomech.synthesis.motion_generation); got {candidates!r}"
+        )
+    return cands
+
+
+def _draw_poses(a: Any, poses: Sequence[Sequence[float]], spread: float) -> None:
+    """Each pose as a point with an arrow along its angle and its number."""
+    arrow = 0.25 * spread
+    for k, (x, y, t) in enumerate(poses):
+        dx, dy = arrow * math.cos(math.radians(t)), arrow * math.sin(math.radians(t))
+        a.annotate(
+            "", (x + dx, y + dy), (x, y), arrowprops={"arrowstyle": "->", "color": "0.2", "lw": 1.2}
+        )
+        a.text(x - 0.5 * dy, y + 0.5 * dx, str(k + 1), fontsize=9, ha="center", va="center")
+    xy = np.array([p[:2] for p in poses])
+    a.plot(xy[:, 0], xy[:, 1], "o", color="0.2", ms=4, gid="poses", label="poses")
