@@ -223,7 +223,7 @@ FIVE = {
         (-0.5931, -0.4754, 45.07),
         (-0.4392, -0.0296, 86.53),
     ],
-    "four": [
+    "smooth": [
         (0, 0, 0),
         (0.9, 0.1, 10),
         (1.6, 0.5, 25),
@@ -233,9 +233,16 @@ FIVE = {
 }
 
 
-@pytest.mark.parametrize("name", sorted(FIVE))
+def _random_poses(seed):
+    rng = np.random.default_rng(seed)
+    rest = [(*rng.uniform(-1, 1, 2), rng.uniform(-90, 90)) for _ in range(4)]
+    return [(0.0, 0.0, 0.0)] + [(float(x), float(y), float(t)) for x, y, t in rest]
+
+
+# seed5 and seed11 have four real Burmester points, the others two (or none).
+@pytest.mark.parametrize("name", [*sorted(FIVE), "seed1", "seed2", "seed5", "seed11"])
 def test_burmester_points_count_against_the_resultant(name) -> None:
-    poses = FIVE[name]
+    poses = FIVE[name] if name in FIVE else _random_poses(int(name[4:]))
     want = _resultant_points(poses)
     got = syn.burmester_points(poses)
     assert len(got) == len(want), (got, want)
