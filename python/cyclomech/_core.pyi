@@ -1038,17 +1038,21 @@ def function_generated(
     near: float,
 ) -> list[float]: ...
 
-# synthesis: three-position motion generation (synthesis/motion.rs). Returns (A0,
-# B0, A positions, B positions, (a, b, c, d), crank angles [rad], direction,
-# branches, working arc (lo, hi) [rad], transmission tuple as above).
+# synthesis: motion generation (synthesis/motion.rs, three poses; synthesis/burmester.rs,
+# four and five). A four-bar is (A0, B0, A positions, B positions, (a, b, c, d), crank
+# angles [rad], direction, branches, working arc (lo, hi) [rad], transmission tuple as
+# above, in order).
 
-__all__ += ["motion_fourbar"]
+__all__ += [
+    "burmester_curves",
+    "burmester_det",
+    "burmester_dyad",
+    "burmester_points",
+    "motion_fourbar",
+    "motion_fourbars",
+]
 
-def motion_fourbar(
-    poses: list[tuple[float, float, float]],
-    uv1: tuple[float, float],
-    uv2: tuple[float, float],
-) -> tuple[
+_MotionTuple = tuple[
     tuple[float, float],
     tuple[float, float],
     list[tuple[float, float]],
@@ -1059,7 +1063,29 @@ def motion_fourbar(
     list[float],
     tuple[float, float],
     tuple[bool, float, float, float, float],
-]: ...
+    bool,
+]
+
+def motion_fourbar(
+    poses: list[tuple[float, float, float]],
+    uv1: tuple[float, float],
+    uv2: tuple[float, float],
+) -> _MotionTuple: ...
+def motion_fourbars(
+    poses: list[tuple[float, float, float]],
+    dyads: list[tuple[tuple[float, float], tuple[float, float]]],
+    pairs: list[tuple[int, int]],
+) -> list[tuple[_MotionTuple | None, str | None]]: ...
+def burmester_curves(
+    poses: list[tuple[float, float, float]], samples: int
+) -> tuple[int, list[list[float]]]: ...
+def burmester_dyad(
+    poses: list[tuple[float, float, float]], beta: float, sigma: float
+) -> tuple[tuple[float, float], tuple[float, float]] | None: ...
+def burmester_det(poses: list[tuple[float, float, float]], uv: tuple[float, float]) -> float: ...
+def burmester_points(
+    poses: list[tuple[float, float, float]],
+) -> tuple[list[tuple[tuple[float, float], tuple[float, float], float, float]], bool]: ...
 
 # synthesis: six-bar dwell linkages (synthesis/dwell.rs). params rows are (a, b,
 # c, d, u, v, theta_mid); the result's columns are dwell_fields().

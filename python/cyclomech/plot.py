@@ -29,6 +29,9 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
 * ``cyclomech.servo.plot`` — :func:`plot_duty` (a servo motor's torque and speed
   over the cycle, with its limits);
 * ``cyclomech.machine.plot`` — :func:`plot_speed_sweep` (the machine against speed).
+* ``cyclomech.synthesis.plot`` — :func:`plot_knife_motion`, :func:`plot_knife_torque`
+  (compared knife drives), :func:`plot_burmester` (Burmester's curves of four poses
+  with the chosen dyads).
 
 The colours the plots use are here too (``CRITICAL_COLOR``,
 ``LIMITING_COLOR``, …). Lengths are metres in and millimetres on the axes where
@@ -71,13 +74,14 @@ from .motion.plot import plot_law
 from .press.plot import WORK_COLOR as WORK_COLOR
 from .press.plot import plot_crank_torque, plot_press, plot_press_criteria
 from .servo.plot import plot_duty
-from .synthesis.plot import plot_knife_motion, plot_knife_torque
+from .synthesis.plot import plot_burmester, plot_knife_motion, plot_knife_torque
 from .transfer.plot import plot_transfer
 
 __all__ = [
     "animate_linkage",
     "plot_along_cycle",
     "plot_analogs",
+    "plot_burmester",
     "plot_cam",
     "plot_crank_torque",
     "plot_cyclogram",

@@ -130,6 +130,8 @@ RESULT_CLASSES = {
     "cyclomech.synthesis.KnifeSynthesis",
     "cyclomech.synthesis.Margins",
     "cyclomech.synthesis.MotionCandidate",
+    "cyclomech.synthesis.BurmesterCurves",
+    "cyclomech.synthesis.BurmesterPoint",
     "cyclomech.synthesis.PathCandidate",
     "cyclomech.transfer.PathAcceleration",
     "cyclomech.transfer.PathSample",

@@ -41,6 +41,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "animate_linkage",
         "plot_along_cycle",
         "plot_analogs",
+        "plot_burmester",
         "plot_cam",
         "plot_crank_torque",
         "plot_cyclogram",

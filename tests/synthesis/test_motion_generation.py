@@ -233,8 +233,8 @@ def test_order_defect_a_rocker_meeting_the_poses_out_of_order() -> None:
 @pytest.mark.parametrize(
     ("args", "kwargs", "needle"),
     [
-        ([(0, 0, 0), (1, 0, 10)], {}, "needs exactly 3 poses; got 2"),
-        ([(0, 0, 0), (1, 0, 10), (2, 1, 20), (3, 1, 5)], {}, "Burmester"),
+        ([(0, 0, 0), (1, 0, 10)], {}, "needs 3, 4 or 5 poses"),
+        ([(0, 0, 0), (1, 0, 10), (2, 1, 20), (3, 1, 5), (4, 0, 0), (5, 0, 9)], {}, "Burmester"),
         ([(0, 0, 0), (1, 0, 10), (0, 0, 360)], {}, "poses[0] and poses[2] are coincident"),
         ([(0, 0, 0), (1, 0, 0), (2.5, 0, 0)], {"circle_points": ((0.3, 0.2), (0, 1))}, "slider"),
         ([(0, 0, 0), (1, 0, 0), (2.5, 0, 0)], {}, "no pair of circle points"),

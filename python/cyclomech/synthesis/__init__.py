@@ -1,4 +1,4 @@
-"""Synthesis: mechanisms dimensioned from what they must do (issue 35).
+"""Synthesis: mechanisms dimensioned from what they must do.
 
 Where the other domains analyse a mechanism whose dimensions the designer
 brings, this one starts a step earlier, from what the mechanism must do: an
@@ -20,11 +20,17 @@ Norton's convention, angles from the ground line A → D) exactly through three
 precision points — Chebyshev-spaced by :func:`chebyshev_points` or given —
 or by least squares through more, reports the structural error over the whole
 input range, and does the same for a slider-crank's position.
-:func:`motion_generation` takes three poses of the coupler and builds four-bars
-from two circle points (given, or scanned on a grid and ranked), their centre
-points the circumcentres of their three positions. Candidates come best first:
-clean ones (no branch or order defect, no fold over the range) before the
-others, each with its defects and margins.
+:func:`motion_generation` takes three, four or five poses of the coupler and
+builds four-bars from two dyads (a circle point of the coupler whose positions
+lie on a circle about a centre point, the ground pivot). Three poses: two circle
+points (given, or scanned on a grid and ranked), their centre points the
+circumcentres of their three positions. Four poses: dyads on Burmester's
+circle-point and centre-point curves (:func:`burmester_curves`, traced in closed
+form), chosen by the crank's rotation or scanned along the curves. Five poses:
+every pair of Burmester's points (:func:`burmester_points`, at most four, all
+of them bracketed along the curves; none or one raises). Candidates come best
+first: clean ones (no branch or order defect, no fold over the range) before
+the others, each with its defects and margins.
 
 Path generation
 ---------------
@@ -111,6 +117,7 @@ from . import (  # noqa: F401 - each registers its linkage synthesizer (a machin
     _motion_file,
     _path_file,
 )
+from ._burmester import BurmesterCurves, BurmesterPoint, burmester_curves, burmester_points
 from ._dwell import DwellCandidate, dwell_sixbar
 from ._fourbar import (
     Margins,
@@ -129,6 +136,8 @@ from ._path import PathCandidate, path_evaluate, path_generation
 __all__ = [
     "CAM_SIZE_CRITERIA",
     "SYNTHESIZE_KEYS",
+    "BurmesterCurves",
+    "BurmesterPoint",
     "CamLimits",
     "CamSize",
     "CamSizeTradeoff",
@@ -141,6 +150,8 @@ __all__ = [
     "Margins",
     "MotionCandidate",
     "PathCandidate",
+    "burmester_curves",
+    "burmester_points",
     "cam_size",
     "cam_size_tradeoff",
     "chebyshev_points",

@@ -1,7 +1,9 @@
-"""Three-position motion generation (issue 35, item 3): four-bars whose coupler
-takes three given poses, by circle points and centre points (the classical
-construction; ``rust/core/src/synthesis/motion.rs`` has its derivation and the
-rules for the degenerate choices and the defects).
+"""Motion generation: four-bars whose coupler takes three,
+four or five given poses. Three by circle points and centre points (the
+classical construction; ``rust/core/src/synthesis/motion.rs`` has its
+derivation and the rules for the degenerate choices and the defects); four by
+dyads on Burmester's curves and five by pairs of Burmester's points
+(``rust/core/src/synthesis/burmester.rs``; :mod:`._burmester`).
 """
 
 from __future__ import annotations
@@ -31,36 +33,38 @@ class MotionCandidate:
 
     Attributes
     ----------
-    poses : three (x [m], y [m], angle [deg])
+    poses : three to five (x [m], y [m], angle [deg])
         The poses asked for.
     circle_points : ((u, v), (u, v))
         The moving pivots A (the crank's) and B (the rocker's) in the coupler
         frame [m]: u along the pose angle from the pose point, v to its left.
     centre_points : ((x, y), (x, y))
-        The ground pivots A0 and B0 [m]: the circumcentres of A's and B's three
-        positions.
+        The ground pivots A0 and B0 [m]: the centres of the circles that A's
+        and B's positions lie on (with three poses their circumcentres).
     moving_pivots : ((x, y), (x, y))
         A and B in the first pose [m] (the drawn pose of :meth:`linkage`).
     lengths : dict of str to float
         ``crank`` |A0A|, ``coupler`` |AB|, ``rocker`` |B0B|, ``ground`` |A0B0| [m].
-    crank_angles_deg : (float, float, float)
-        The crank's absolute angle A0 → A at the three poses [deg].
+    crank_angles_deg : tuple of float
+        The crank's absolute angle A0 → A at each pose [deg].
     direction : int
-        +1 if the crank turns counter-clockwise from pose 1 through 2 to 3, −1
-        clockwise.
-    branches : (int, int, int)
+        +1 if the crank turns counter-clockwise from pose 1 through the others
+        in order, −1 clockwise (with an order defect among four or five poses:
+        the shorter turn from pose 1 to pose 2).
+    branches : tuple of int
         The assembly branch at each pose (the side of the ray B0 → A that B is
         on; 0 where folded).
     branch_defect : bool
         A pose is reached on the other branch: the linkage cannot pass from one
         pose to the next without being taken apart.
     order_defect : bool
-        The crank cannot sweep the arc from pose 1 through 2 to 3 on one branch
-        (it breaks in between): it would meet the poses out of order.
+        The crank cannot sweep the arc from pose 1 through the others on one
+        branch (it breaks in between), or, with four or five poses, turning
+        one way it meets them out of order: it would meet the poses out of order.
     working_arc_deg : (float, float)
         That arc as absolute crank angles (lo, hi) [deg], lo < hi.
     margins : Margins
-        Over the working arc (pose 1 to pose 3 through pose 2).
+        Over the working arc (pose 1 through the others to the last).
 
     Examples
     --------
@@ -76,9 +80,9 @@ class MotionCandidate:
     centre_points: tuple[Point, Point]
     moving_pivots: tuple[Point, Point]
     lengths: dict[str, float]
-    crank_angles_deg: tuple[float, float, float]
+    crank_angles_deg: tuple[float, ...]
     direction: int
-    branches: tuple[int, int, int]
+    branches: tuple[int, ...]
     branch_defect: bool
     order_defect: bool
     working_arc_deg: tuple[float, float]
@@ -133,18 +137,17 @@ def _poses(poses: Any) -> list[tuple[float, float, float]]:
     a = float_array("poses", poses, (2,))
     if a.shape[1] != 3:
         raise InputError(f"poses must be (x [m], y [m], angle [deg]) triples; got shape {a.shape}")
-    if a.shape[0] != 3:
-        more = (
-            " (four and five poses are Burmester's curves, not done yet)" if a.shape[0] > 3 else ""
-        )
+    if not 3 <= a.shape[0] <= 5:
         raise InputError(
-            f"three-position motion generation needs exactly 3 poses; got {a.shape[0]}{more}"
+            "motion generation needs 3, 4 or 5 poses (three by circumcentres, four by "
+            f"Burmester's curves, five by Burmester's points); got {a.shape[0]}"
         )
     bad = np.argwhere(~np.isfinite(a))
     if bad.size:
         i, k = bad[0]
         raise InputError(f"poses[{i}][{k}] = {a[i, k]} is not finite")
-    for i, j in itertools.combinations(range(3), 2):
+    n = a.shape[0]
+    for i, j in itertools.combinations(range(n), 2):
         same_place = math.hypot(a[i, 0] - a[j, 0], a[i, 1] - a[j, 1]) <= 1e-12 * (
             1 + float(np.abs(a[:, :2]).max())
         )
@@ -152,19 +155,28 @@ def _poses(poses: Any) -> list[tuple[float, float, float]]:
         if same_place and same_angle:
             raise InputError(
                 f"poses[{i}] and poses[{j}] are coincident ({a[i, 0]:g}, {a[i, 1]:g}, "
-                f"{a[i, 2]:g} deg): three distinct poses are needed"
+                f"{a[i, 2]:g} deg): {n} distinct poses are needed"
             )
     return [(float(x), float(y), float(t)) for x, y, t in a]
 
 
+def _rad(poses: list[tuple[float, float, float]]) -> list[tuple[float, float, float]]:
+    return [(x, y, math.radians(t)) for x, y, t in poses]
+
+
 def _candidate(poses: list[tuple[float, float, float]], uv1: Point, uv2: Point) -> MotionCandidate:
-    rad = [(x, y, math.radians(t)) for x, y, t in poses]
-    a0, b0, pa, pb, dims, th, direction, br, arc, t = _core.motion_fourbar(rad, uv1, uv2)
+    return _from_tuple(poses, uv1, uv2, _core.motion_fourbar(_rad(poses), uv1, uv2))
+
+
+def _from_tuple(
+    poses: list[tuple[float, float, float]], uv1: Point, uv2: Point, tup: Any
+) -> MotionCandidate:
+    a0, b0, pa, pb, dims, th, direction, br, arc, t, in_order = tup
     a, b, c, d = dims
     ground = math.atan2(b0[1] - a0[1], b0[0] - a0[0])
-    branches = (int(br[0]), int(br[1]), int(br[2]))
+    branches = tuple(int(x) for x in br)
     branch_defect = branches[0] == 0 or len(set(branches)) > 1
-    order_defect = not t[0]
+    order_defect = not (t[0] and in_order)
     kind, turns, _ = _core.fourbar_grashof(a, b, c, d)
     ok = t[0] and t[1] > 0.0 and t[2] < math.pi
     margins = Margins(
@@ -177,11 +189,11 @@ def _candidate(poses: list[tuple[float, float, float]], uv1: Point, uv2: Point) 
     )
     return MotionCandidate(
         poses=tuple(poses),
-        circle_points=(uv1, uv2),
+        circle_points=(_pt(uv1), _pt(uv2)),
         centre_points=(_pt(a0), _pt(b0)),
         moving_pivots=(_pt(pa[0]), _pt(pb[0])),
         lengths={"crank": a, "coupler": b, "rocker": c, "ground": d},
-        crank_angles_deg=(math.degrees(th[0]), math.degrees(th[1]), math.degrees(th[2])),
+        crank_angles_deg=tuple(math.degrees(x) for x in th),
         direction=int(direction),
         branches=branches,
         branch_defect=branch_defect,
@@ -189,6 +201,24 @@ def _candidate(poses: list[tuple[float, float, float]], uv1: Point, uv2: Point) 
         working_arc_deg=(math.degrees(arc[0] + ground), math.degrees(arc[1] + ground)),
         margins=margins,
     )
+
+
+def _pairs(
+    poses: list[tuple[float, float, float]],
+    dyads: list[tuple[Point, Point]],
+    pairs: list[tuple[int, int]],
+) -> list[MotionCandidate | str]:
+    """Four-bars of pairs (crank, rocker) of dyads (circle point, centre) through
+    the poses, in one kernel call: each a candidate or the reason it is none."""
+    out: list[MotionCandidate | str] = []
+    for (i, j), (tup, why) in zip(
+        pairs, _core.motion_fourbars(_rad(poses), dyads, pairs), strict=True
+    ):
+        if tup is None:
+            out.append(why or "no four-bar")
+        else:
+            out.append(_from_tuple(poses, dyads[i][0], dyads[j][0], tup))
+    return out
 
 
 def _pt(p: Sequence[float]) -> Point:
@@ -214,32 +244,52 @@ def motion_generation(
     poses: Sequence[Sequence[float]],
     *,
     circle_points: Sequence[Sequence[float]] | None = None,
+    free_choices: Sequence[Sequence[float]] | None = None,
     grid: tuple[float, int] | None = None,
     keep: int = 10,
 ) -> list[MotionCandidate]:
-    """Four-bars whose coupler takes three poses: candidates with their defects and
-    margins, best first.
+    """Four-bars whose coupler takes three, four or five poses: candidates with
+    their defects and margins, best first.
 
     A pose is (x [m], y [m], angle [deg]): where a point P of the coupler is and
     the angle of a line of the coupler through it. A circle point (u, v) in the
-    coupler frame (u along that line from P, v to its left) takes three
-    positions; their circumcentre is its centre point, the ground pivot of a link
-    that keeps it there. Two circle points (the crank's, then the rocker's) give
-    a four-bar through the poses; the family has four free numbers.
+    coupler frame (u along that line from P, v to its left) takes one position
+    per pose; if they lie on a circle, its centre is the centre point, the
+    ground pivot of a link that keeps it there. Two such dyads (the crank's,
+    then the rocker's) make a four-bar through the poses.
+
+    * **Three poses:** every circle point has a centre (the circumcentre of
+      its three positions); the family has four free numbers, the two circle
+      points (``circle_points=``, or a ``grid=`` scan).
+    * **Four poses:** the circle points lie on Burmester's circle-point curve
+      (:func:`burmester_curves`); each dyad is one free number, the crank's
+      rotation β from pose 1 (``free_choices=``), or a scan of dyads along the
+      curves (``grid=``).
+    * **Five poses:** at most four dyads, Burmester's points
+      (:func:`burmester_points`); every pair of them is a candidate (at most
+      six). None or one real point raises :class:`~cyclomech.InputError` ("no
+      four-bar passes these five poses"), never an empty list.
 
     Parameters
     ----------
-    poses : three (x, y, angle_deg)
+    poses : three to five (x, y, angle_deg)
         The poses, in the order the coupler must take them.
     circle_points : ((u1, v1), (u2, v2)), optional
-        The two moving pivots [m] in the coupler frame: one candidate.
+        Three poses: the two moving pivots [m] in the coupler frame: one candidate.
+    free_choices : ((beta1_deg, branch1), (beta2_deg, branch2)), optional
+        Four poses: the crank's and the rocker's dyads on Burmester's curves,
+        each by its rotation β [deg] from pose 1 to pose
+        ``burmester_curves(poses).parameter_pose`` and its branch (±1): one
+        candidate.
     grid : (extent_m, n), optional
-        Otherwise a scan: circle points on an n × n grid over
+        Otherwise a scan. Three poses: circle points on an n × n grid over
         [−extent, extent]² of the coupler frame around P, every pair of them
-        (each pair once, the first as the crank's), ranked; n ≤ 15. Default: extent the
-        poses' largest distance from the first (at least 1 mm), n = 7. Pairs
-        with no centre point (collinear positions: a slider; a pole) are left
-        out.
+        (each pair once, the first as the crank's), ranked; n ≤ 15; default
+        extent the poses' largest distance from the first (at least 1 mm),
+        n = 7; pairs with no centre point (collinear positions: a slider; a
+        pole) are left out. Four poses: n ≤ 200 dyads spread along Burmester's
+        curves whose moving and ground pivots lie within ±extent of the first
+        pose point, every pair; default extent twice the poses' spread, n = 24.
     keep : int
         How many ranked candidates a scan returns.
 
@@ -253,9 +303,11 @@ def motion_generation(
     Raises
     ------
     InputError
-        Not three poses, coincident poses, a circle point whose three positions
-        are collinear (its centre at infinity: that dyad would be a slider) or a
-        pole, circle points sharing a centre point — or a scan leaving nothing.
+        Fewer than three or more than five poses, coincident poses, a choice
+        that does not fit the number of poses, a circle point whose three
+        positions are collinear (its centre at infinity: that dyad would be a
+        slider) or a pole, circle points sharing a centre point, five poses
+        with fewer than two real Burmester points — or a scan leaving nothing.
 
     Examples
     --------
@@ -267,9 +319,33 @@ def motion_generation(
     >>> sol = best[0].linkage().solve(np.radians(best[0].crank_angles_deg))
     >>> bool(np.allclose(sol["P"], [p[:2] for p in poses], atol=1e-9))
     True
+    >>> four = cm.synthesis.motion_generation(poses + [(1.2, 1.1, 70)], keep=2)
+    >>> len(four[0].crank_angles_deg)
+    4
     """
     ps = _poses(poses)
     keep = count("keep", keep, what="candidates")
+    if len(ps) > 3:
+        from ._burmester import _five_poses, _four_poses
+
+        if circle_points is not None:
+            raise InputError(
+                f"circle_points= is for three poses; with {len(ps)} the circle points lie on "
+                "Burmester's curves: give free_choices= (four poses) or nothing"
+            )
+        if len(ps) == 4:
+            return _four_poses(ps, free_choices, grid, keep)
+        if free_choices is not None or grid is not None:
+            raise InputError(
+                "five poses leave no free choice: every pair of Burmester points is a "
+                "candidate; drop free_choices= and grid="
+            )
+        return _five_poses(ps, keep)
+    if free_choices is not None:
+        raise InputError(
+            "free_choices= is for four poses (dyads on Burmester's curves); with three "
+            "give circle_points="
+        )
     if circle_points is not None:
         if grid is not None:
             raise InputError("give circle_points= or grid=, not both")

@@ -82,7 +82,10 @@ mod _core {
         chebyshev_points, function_branches, function_error, function_fit, function_generated,
     };
     #[pymodule_export]
-    use super::synthesis_motion::motion_fourbar;
+    use super::synthesis_motion::{
+        burmester_curves, burmester_det, burmester_dyad, burmester_points, motion_fourbar,
+        motion_fourbars,
+    };
     #[pymodule_export]
     use super::synthesis_path::{path_columns, path_evaluate, path_points};
     #[pymodule_export]

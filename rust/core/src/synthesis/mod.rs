@@ -4,6 +4,7 @@
 //! points, poses, limits) as slices and returns the dimensions with their
 //! margins; candidates are evaluated in parallel batches.
 
+pub mod burmester;
 pub mod cam_size;
 pub mod dwell;
 pub mod fourbar;

@@ -29,6 +29,12 @@
 //! *order defect* is a working arc the linkage cannot sweep on one branch (it
 //! cannot be assembled somewhere between the poses): the crank would have to
 //! turn back, meeting the poses out of order.
+//!
+//! **Four and five poses** ([`super::burmester`]): the dyads come from
+//! Burmester's curves or points, and [`fourbar_of_dyads`] applies the same
+//! rules to n poses. With more than three the crank can also meet the poses out
+//! of order however it turns (its angles from pose 1, counted one way, do not
+//! increase through poses 2, …, n): that is an order defect too.
 
 use std::f64::consts::TAU;
 
@@ -71,6 +77,33 @@ pub enum MotionError {
          points that are not on one dyad"
     )]
     SameCentre,
+    #[error(
+        "poses[{i}] and poses[{j}] are coincident (the same place and angle): {n} distinct \
+         poses are needed"
+    )]
+    Coincident { i: usize, j: usize, n: usize },
+    #[error(
+        "{what} needs {want} poses; got {got} (motion generation takes 3, 4 or 5 poses: \
+         three by circumcentres, four by Burmester's curves, five by Burmester's points)"
+    )]
+    PoseCount {
+        what: &'static str,
+        want: &'static str,
+        got: usize,
+    },
+    #[error(
+        "circle point {which} (u, v) = ({u}, {v}) m with centre ({cx}, {cy}) m is not a dyad of \
+         these poses: its positions' distances from the centre differ by {spread:.3e} of the \
+         radius (more than 1e-6); take dyads from burmester_curves or burmester_points"
+    )]
+    NotADyad {
+        which: usize,
+        u: f64,
+        v: f64,
+        cx: f64,
+        cy: f64,
+        spread: f64,
+    },
 }
 
 crate::input::wraps_invalid_input!(MotionError);
@@ -119,14 +152,16 @@ fn circumcentre(
     Ok([p1[0] + ox, p1[1] + oy])
 }
 
-/// One dyad: its centre point (ground pivot) and the circle point's three positions.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One dyad: its centre point (ground pivot) and the circle point's positions,
+/// one per pose.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Dyad {
     pub centre: [f64; 2],
-    pub circle: [[f64; 2]; 3],
+    pub circle: Vec<[f64; 2]>,
 }
 
-fn check_poses(poses: &[Pose; 3]) -> Result<f64, MotionError> {
+/// Finite poses; their size (the largest |x|, |y|) for the relative tolerances.
+pub(crate) fn check_poses(poses: &[Pose]) -> Result<f64, MotionError> {
     for (i, p) in poses.iter().enumerate() {
         for (k, &v) in p.iter().enumerate() {
             if !v.is_finite() {
@@ -152,11 +187,48 @@ pub fn motion_dyad(poses: &[Pose; 3], uv: [f64; 2], which: usize) -> Result<Dyad
     let circle = poses.map(|p| pose_point(p, uv));
     let size = size.max(uv[0].abs()).max(uv[1].abs());
     let centre = circumcentre(circle, which, uv, size)?;
+    Ok(Dyad {
+        centre,
+        circle: circle.to_vec(),
+    })
+}
+
+/// The dyad of circle point `uv` (coupler frame, [m]) and centre point `centre`
+/// ([m]) through n poses, checked: the positions' distances from the centre
+/// agree to 1e-6 of the radius (else [`MotionError::NotADyad`]).
+pub fn dyad_through(
+    poses: &[Pose],
+    uv: [f64; 2],
+    centre: [f64; 2],
+    which: usize,
+) -> Result<Dyad, MotionError> {
+    check_poses(poses)?;
+    InvalidInput::check_finite("circle_point", &uv)?;
+    InvalidInput::check_finite("centre_point", &centre)?;
+    let circle: Vec<[f64; 2]> = poses.iter().map(|&p| pose_point(p, uv)).collect();
+    let r: Vec<f64> = circle
+        .iter()
+        .map(|q| (q[0] - centre[0]).hypot(q[1] - centre[1]))
+        .collect();
+    let (lo, hi) = r
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+    let spread = (hi - lo) / hi.max(1e-300);
+    if spread.is_nan() || spread > 1e-6 {
+        return Err(MotionError::NotADyad {
+            which,
+            u: uv[0],
+            v: uv[1],
+            cx: centre[0],
+            cy: centre[1],
+            spread,
+        });
+    }
     Ok(Dyad { centre, circle })
 }
 
-/// A three-position four-bar and its defects (module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A four-bar through n poses and its defects (module docs).
+#[derive(Debug, Clone, PartialEq)]
 pub struct MotionFourBar {
     /// The crank's dyad (centre A0, circle point A).
     pub crank: Dyad,
@@ -165,12 +237,15 @@ pub struct MotionFourBar {
     /// Crank a = |A − A0|, coupler b = |B − A|, rocker c = |B − B0|, ground
     /// d = |B0 − A0| [m].
     pub lengths: [f64; 4],
-    /// The crank's absolute angles at the three poses [rad], in (−π, π].
-    pub crank_angles: [f64; 3],
+    /// The crank's absolute angles at the poses [rad], in (−π, π].
+    pub crank_angles: Vec<f64>,
     /// +1: the crank turns counter-clockwise through the poses; −1 clockwise.
     pub direction: f64,
+    /// The crank meets the poses in their order turning one way (always so for
+    /// three poses; module docs).
+    pub in_order: bool,
     /// The branch σ at each pose (module docs; 0 for a folded pose).
-    pub branches: [f64; 3],
+    pub branches: Vec<f64>,
     /// The working arc as (lo, hi) crank angles [rad] from the ground line
     /// A0 → B0 (lo < hi).
     pub arc: (f64, f64),
@@ -185,9 +260,10 @@ impl MotionFourBar {
         s == 0.0 || self.branches.iter().any(|&b| b != s)
     }
 
-    /// The working arc cannot be swept on one branch.
+    /// The crank meets the poses out of order, or the working arc cannot be
+    /// swept on one branch.
     pub fn order_defect(&self) -> bool {
-        matches!(self.transmission, Transmission::Breaks { .. })
+        !self.in_order || matches!(self.transmission, Transmission::Breaks { .. })
     }
 }
 
@@ -200,6 +276,20 @@ pub fn motion_fourbar(
 ) -> Result<MotionFourBar, MotionError> {
     let crank = motion_dyad(poses, uv1, 1)?;
     let rocker = motion_dyad(poses, uv2, 2)?;
+    fourbar_of_dyads(poses, crank, rocker)
+}
+
+/// The four-bar of two dyads through the same n ≥ 3 poses (the crank's first),
+/// with its defects (module docs). With n poses the crank meets them in order
+/// when its angles, counted from pose 1 the way it turns, increase through
+/// poses 2, …, n: it is tried counter-clockwise, then clockwise; if neither,
+/// `in_order` is false (an order defect) and the direction is that of the
+/// shorter turn from pose 1 to pose 2, the arc running to the farthest pose.
+pub fn fourbar_of_dyads(
+    poses: &[Pose],
+    crank: Dyad,
+    rocker: Dyad,
+) -> Result<MotionFourBar, MotionError> {
     let (a0, b0) = (crank.centre, rocker.centre);
     let dist = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
     let d = dist(a0, b0);
@@ -209,30 +299,49 @@ pub fn motion_fourbar(
     if d <= COLLINEAR_TOL * size {
         return Err(MotionError::SameCentre);
     }
+    let n = poses.len();
     let (a1, b1) = (crank.circle[0], rocker.circle[0]);
     let lengths = [dist(a1, a0), dist(b1, a1), dist(b1, b0), d];
     let ang = |p: [f64; 2], o: [f64; 2]| (p[1] - o[1]).atan2(p[0] - o[0]);
-    let crank_angles = [0, 1, 2].map(|i| ang(crank.circle[i], a0));
-    let branches = [0, 1, 2].map(|i| {
-        let (u, w) = (crank.circle[i], rocker.circle[i]);
-        let z = (u[0] - b0[0]) * (w[1] - b0[1]) - (u[1] - b0[1]) * (w[0] - b0[0]);
-        if z > 0.0 {
-            1.0
-        } else if z < 0.0 {
-            -1.0
-        } else {
-            0.0
-        }
-    });
-    let [t1, t2, t3] = crank_angles;
-    let d12 = (t2 - t1).rem_euclid(TAU);
-    let d13 = (t3 - t1).rem_euclid(TAU);
+    let crank_angles: Vec<f64> = crank.circle.iter().map(|&p| ang(p, a0)).collect();
+    let branches: Vec<f64> = (0..n)
+        .map(|i| {
+            let (u, w) = (crank.circle[i], rocker.circle[i]);
+            let z = (u[0] - b0[0]) * (w[1] - b0[1]) - (u[1] - b0[1]) * (w[0] - b0[0]);
+            if z > 0.0 {
+                1.0
+            } else if z < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let t1 = crank_angles[0];
+    let ccw: Vec<f64> = crank_angles[1..]
+        .iter()
+        .map(|t| (t - t1).rem_euclid(TAU))
+        .collect();
+    let cw: Vec<f64> = crank_angles[1..]
+        .iter()
+        .map(|t| (t1 - t).rem_euclid(TAU))
+        .collect();
+    let increasing = |v: &[f64]| v.windows(2).all(|w| w[0] < w[1]);
+    let (direction, in_order) = if increasing(&ccw) {
+        (1.0, true)
+    } else if increasing(&cw) {
+        (-1.0, true)
+    } else if ccw[0] <= cw[0] {
+        (1.0, false)
+    } else {
+        (-1.0, false)
+    };
     let ground = ang(b0, a0);
     let rel1 = t1 - ground;
-    let (direction, arc) = if d12 < d13 {
-        (1.0, (rel1, rel1 + d13))
+    let arc = if direction > 0.0 {
+        (rel1, rel1 + ccw.iter().fold(0.0f64, |m, &x| m.max(x)))
     } else {
-        (-1.0, (rel1 - (TAU - d13), rel1))
+        (rel1 - cw.iter().fold(0.0f64, |m, &x| m.max(x)), rel1)
     };
     let [a, b, c, _] = lengths;
     let transmission = fourbar_transmission(a, b, c, d, arc.0, arc.1)?;
@@ -242,6 +351,7 @@ pub fn motion_fourbar(
         lengths,
         crank_angles,
         direction,
+        in_order,
         branches,
         arc,
         transmission,
