@@ -101,6 +101,7 @@ def targets() -> Array:
 
 def pylinkage_run(maxiter: int, seed: int = 1) -> float:
     """pylinkage's optimiser on the targets: its best error [m]."""
+    pytest.importorskip("pylinkage", minversion="1.0")
     from pylinkage.optimization import differential_evolution_optimization
     from pylinkage.optimization.utils import kinematic_minimization
 

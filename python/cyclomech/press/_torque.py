@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .._arrays import finite_number, float_array, positive, real_array
+from .._arrays import finite_number, flag, float_array, positive, real_array
 from .._errors import InputError
 
 if TYPE_CHECKING:
@@ -188,6 +188,7 @@ class DeformationForce:
         diagram's heights above BDC must lie in [0, 0.0128] m (S_p = 0.0128 m)
         """
         S_p = positive("S_p", S_p, "[m]")
+        counted = flag("counted", counted)
         top = S_p * (1.0 + STROKE_TOL)
         bad = np.flatnonzero(self.s > top)
         if bad.size:
