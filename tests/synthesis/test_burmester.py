@@ -122,7 +122,14 @@ def test_a_known_four_bar_s_pivots_lie_on_the_four_pose_curves(dims, uv, t0, ste
     # Every sampled dyad: its four positions equidistant from its centre.
     for uv_k, c_k in zip(curves.circle_points[ok][::97], centre[::97], strict=True):
         assert _spread_of_radii(poses, uv_k, c_k) < 1e-9
-        assert abs(_det(poses, uv_k)) < 1e-9
+        # The curves pass through the displacement poles, where two of the positions
+        # coincide: every circle through the other three holds them, and the scaled
+        # determinant divides by a vanishing row (CI's derandomised run sampled P14
+        # with positions 1.5e-9 apart). Its check is for the other points.
+        q = _positions(poses, uv_k)
+        gaps = np.linalg.norm(q[:, None] - q[None], axis=2)[np.triu_indices(4, 1)]
+        if gaps.min() > 1e-6 * spread:
+            assert abs(_det(poses, uv_k)) < 1e-9
 
 
 @settings(max_examples=8, deadline=None)
