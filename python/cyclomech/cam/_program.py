@@ -598,11 +598,7 @@ class Cam:
         """
         n = count("samples", samples, low=2)
         deg = np.arange(n) * (360.0 / n)
-        flags = self.solve(np.radians(deg)).undercut
-        # The runs' first and last samples, from where the flags change.
-        edges = np.diff(np.r_[0, flags.astype(np.int8), 0])
-        first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
-        return [(float(deg[a]), float(deg[b])) for a, b in zip(first, last, strict=True)]
+        return _runs(deg, self.solve(np.radians(deg)).undercut)
 
     def to_pandas(self, samples: int = 3600) -> Any:
         """The cam's exact geometry at ``samples`` cam angles over one turn as a
@@ -658,9 +654,23 @@ class Cam:
                 float(np.nanmin(np.abs(t["profile_curvature_radius_m"]))),
             ),
         ]
-        runs = self.undercut_angles_deg()
+        runs = _runs(t["theta_deg"], t["undercut"])  # the table's samples: no second solve
         rows.append(("undercut", ", ".join(f"{a:g}–{b:g}°" for a, b in runs) or "none"))
         return html_card("Cam", rows, figure_of(self))
+
+
+def _runs(
+    deg: npt.NDArray[np.floating[Any]], flags: npt.NDArray[np.bool_]
+) -> list[tuple[float, float]]:
+    """The (first, last) sampled angle [deg] of each run of ``flags``, from where
+    they change.
+
+    >>> _runs(np.arange(6.0), np.array([0, 1, 1, 0, 1, 0], dtype=bool))
+    [(1.0, 2.0), (4.0, 4.0)]
+    """
+    edges = np.diff(np.r_[0, flags.astype(np.int8), 0])
+    first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    return [(float(deg[a]), float(deg[b])) for a, b in zip(first, last, strict=True)]
 
 
 def _summary(program: Program) -> tuple[Segment, ...]:

@@ -133,9 +133,10 @@ def _sensitivity_section(r: MachineResult) -> list[str]:
         for s in r.sensitivities
     ]
     header = ["key", "value", "rpm per +1 %", "rpm per unit", "status", "note"]
+    base = r.sensitivities[0].limit_rpm if r.sensitivities else r.limit.rpm
     return [
         "<h3>Which key buys speed</h3>",
-        f"<p>The speed limit ({r.machine.speed_limit().rpm:.2f} rpm without the elastic "
+        f"<p>The speed limit ({base:.2f} rpm without the elastic "
         "shaft's dynamic errors) when one key of the file is raised by 1 %, the others "
         "as they are: central differences of ±0.1 % (every variant's limit in one call). "
         "Negative: lowering the key buys speed. A kink: another bound takes over at this "

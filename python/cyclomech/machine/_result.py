@@ -217,7 +217,7 @@ class MachineResult:
     def _repr_html_(self) -> str:
         """The notebook's view: the speed limit, the optimum's key numbers, what
         fails, the operations at the optimum, and the cyclogram at the optimum."""
-        from ._report import tables  # here: _report imports this module
+        from ._report import _operations_table  # here: _report imports this module
 
         lim = self.limit
         rows: list[tuple[str, Any]] = [
@@ -233,7 +233,7 @@ class MachineResult:
         if self.above_speed_limit:
             rows.append(("above a speed limit", self.above_speed_limit))
         rows.append(("fails", "; ".join(self.failures) or "nothing"))
-        header, ops = tables(self)["operations.csv"]
+        header, ops = _operations_table(self)  # only this table: not the sweep's too
         keep = [header.index(h) for h in ("operation", "minimum_deg", "angle_deg", "start_deg")]
         figure = None if o is None else figure_of(self)
         return html_card(

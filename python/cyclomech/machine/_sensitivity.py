@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 from .._arrays import instance
@@ -74,6 +74,9 @@ class Sensitivity:
         ``"binds"``, ``"does not bind"``, ``"kink"`` or ``"cannot vary"``.
     note : str, default ""
         For a kink, the one-sided changes; for a key that cannot vary, why.
+    limit_rpm : float, default nan
+        The speed limit at the file's values [rpm] (:meth:`Machine.speed_limit`,
+        the one the sensitivities are of).
 
     Examples
     --------
@@ -89,6 +92,7 @@ class Sensitivity:
     rpm_per_percent: float
     status: str
     note: str = ""
+    limit_rpm: float = math.nan
 
     def json(self) -> dict[str, Any]:
         """Its entry in ``results.json`` (no NaN: ``null``).
@@ -188,10 +192,10 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
     out = []
     for (path, v), at in zip(keys, where, strict=True):
         if isinstance(at, str):
-            out.append(Sensitivity(path, v, math.nan, math.nan, "cannot vary", at))
-            continue
-        up, down = limits[at[0]], limits[at[1]]
-        out.append(_rate(path, v, base, up, down))
+            rec = Sensitivity(path, v, math.nan, math.nan, "cannot vary", at)
+        else:
+            rec = _rate(path, v, base, limits[at[0]], limits[at[1]])
+        out.append(replace(rec, limit_rpm=base))
     order = {"binds": 0, "kink": 1, "does not bind": 2, "cannot vary": 3}
     return sorted(
         out, key=lambda s: (order[s.status], -abs(s.rpm_per_percent if s.status == "binds" else 0))

@@ -17,9 +17,9 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import count, finite_number, positive
+from .._arrays import count, finite_number
 from .._errors import CyclomechWarning, InputError
-from ._motion import MotionCandidate, Point, _pairs, _poses, _rad, _rank
+from ._motion import MotionCandidate, Point, _grid, _pairs, _poses, _rad, _rank
 
 __all__ = ["BurmesterCurves", "BurmesterPoint", "burmester_curves", "burmester_points"]
 
@@ -292,16 +292,7 @@ def _four_poses(
                 )
             dyads.append(d)
         return _best(_pairs(ps, dyads, [(0, 1)]), keep, f"free_choices={free_choices!r}")
-    if grid is None:
-        spread = max(math.hypot(x - ps[0][0], y - ps[0][1]) for x, y, _ in ps)
-        extent, n = 2.0 * max(spread, 1e-3), 24
-    else:
-        try:
-            ext_v, n_v = grid
-        except (TypeError, ValueError):
-            raise InputError(f"grid must be (extent_m, n); got {grid!r}") from None
-        extent = positive("grid[0]", ext_v, "[m]")
-        n = count("grid[1]", n_v, low=2, high=200, what="dyads on the curves")
+    extent, n = _grid(grid, ps, scale=2.0, n=24, high=200, what="dyads on the curves")
     curves = burmester_curves(ps, samples=4096)
     x0, y0 = ps[0][0], ps[0][1]
     near = np.all(np.abs(curves.moving_points() - (x0, y0)) <= extent, axis=1) & np.all(

@@ -357,16 +357,7 @@ def motion_generation(
             ) from None
         return [_candidate(ps, _uv("circle_points[0]", p1), _uv("circle_points[1]", p2))]
 
-    if grid is None:
-        spread = max(math.hypot(x - ps[0][0], y - ps[0][1]) for x, y, _ in ps)
-        extent, n = max(spread, 1e-3), 7
-    else:
-        try:
-            ext_v, n_v = grid
-        except (TypeError, ValueError):
-            raise InputError(f"grid must be (extent_m, n); got {grid!r}") from None
-        extent = positive("grid[0]", ext_v, "[m]")
-        n = count("grid[1]", n_v, low=2, high=15, what="points per side")
+    extent, n = _grid(grid, ps, scale=1.0, n=7, high=15, what="points per side")
     axis = np.linspace(-extent, extent, n)
     pts = [(float(u), float(v)) for u in axis for v in axis]
     found: list[MotionCandidate] = []
@@ -382,3 +373,18 @@ def motion_generation(
         )
     found.sort(key=_rank)
     return found[:keep]
+
+
+def _grid(
+    grid: Any, ps: list[tuple[float, float, float]], *, scale: float, n: int, high: int, what: str
+) -> tuple[float, int]:
+    """A scan's ``grid = (extent_m, n)``, checked; default: ``scale`` times the poses'
+    largest distance from the first (at least 1 mm), and ``n``."""
+    if grid is None:
+        spread = max(math.hypot(x - ps[0][0], y - ps[0][1]) for x, y, _ in ps)
+        return scale * max(spread, 1e-3), n
+    try:
+        ext_v, n_v = grid
+    except (TypeError, ValueError):
+        raise InputError(f"grid must be (extent_m, n); got {grid!r}") from None
+    return positive("grid[0]", ext_v, "[m]"), count("grid[1]", n_v, low=2, high=high, what=what)
