@@ -54,13 +54,13 @@ from __future__ import annotations
 
 import math
 import os
-import time
 from typing import Any
 
 import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
+from _timing import interleaved, timed_run
 
 Array = npt.NDArray[np.float64]
 GROUP_SIZE = "synthesis: cam_size, smallest base radius, per speed"
@@ -627,29 +627,6 @@ def test_tradeoff_numpy(benchmark, numpy_checked: None) -> None:
     assert out.shape == (radii.size, RPM_TRADE.size, 2, 4)
 
 
-def _timed(config: pytest.Config) -> bool:
-    """Whether this is a timed run (--benchmark-enable), as conftest reads it."""
-    session = getattr(config, "_benchmarksession", None)
-    return session is not None and not session.disabled
-
-
-def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, tuple[float, float]]:
-    """Median wall time and median CPU time (the process's, all threads) [s] of
-    each tool, the tools called in turn each round (so the machine's load drifts
-    over all of them alike). On a loaded machine the one-thread rows' CPU time is
-    the steadier measure of the work."""
-    times: dict[str, list[tuple[float, float]]] = {name: [] for name in tools}
-    for _ in range(rounds):
-        for name, run in tools.items():
-            t0, c0 = time.perf_counter(), time.process_time()
-            run()
-            times[name].append((time.perf_counter() - t0, time.process_time() - c0))
-    return {
-        name: (float(np.median([w for w, _ in t])), float(np.median([c for _, c in t])))
-        for name, t in times.items()
-    }
-
-
 def _report(title: str, med: dict[str, tuple[float, float]], items: int, unit: str) -> None:
     print(f"\n{title}:")
     for name, (t, cpu) in med.items():
@@ -683,7 +660,7 @@ def numba_peer(request: pytest.FixtureRequest) -> None:
     in the default run unless CYCLOMECH_BENCH_NUMBA=1: compiling takes ~30 s)."""
     if numba is None:
         pytest.skip("numba is not installed (pip install numba)")
-    if not _timed(request.config) and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
+    if not timed_run(request.config) and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
         pytest.skip("the numba peer compiles for ~30 s: runs with --benchmark-enable")
     rpm = RPM_SIZE[::3]
     ours = [r.base_radius for r in cyclomech_size(rpm, None)]
@@ -700,7 +677,7 @@ def test_numba_agrees(numba_peer: None) -> None:
 def test_print_ratios(request: pytest.FixtureRequest) -> None:
     """Interleaved rounds in one process, medians and ratios (print with -s). The
     numba rows need numba and a timed run (or CYCLOMECH_BENCH_NUMBA=1)."""
-    timed = _timed(request.config)
+    timed = timed_run(request.config)
     rounds = 7 if timed else 1
     rpm = RPM_SIZE if timed else RPM_SIZE[::5]
     request.getfixturevalue("numpy_checked")

@@ -47,13 +47,13 @@ from __future__ import annotations
 
 import math
 import os
-import time
 from typing import Any
 
 import cyclomech as cm  # noqa: F401 - the package loads the core
 import numpy as np
 import numpy.typing as npt
 import pytest
+from _timing import interleaved, timed_run
 from cyclomech import _core
 from cyclomech.synthesis._dwell import _BOUNDS
 
@@ -835,7 +835,7 @@ def numba_peer(request: pytest.FixtureRequest) -> Any:
     CYCLOMECH_BENCH_NUMBA=1)."""
     if numba is None:
         pytest.skip("numba is not installed (pip install numba)")
-    if not _timed(request.config) and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
+    if not timed_run(request.config) and os.environ.get("CYCLOMECH_BENCH_NUMBA") != "1":
         pytest.skip("the numba peer compiles for 20-30 s: runs with --benchmark-enable")
     p = candidates(1_000, seed=3)
     _agreement(cyclomech_batch(p, None), numba_batch(p), len(p))
@@ -865,33 +865,10 @@ def test_dwell_numba(benchmark, numba_peer: Any, threads: int | None) -> None:
     assert out.shape == (k, len(FIELDS))
 
 
-def _timed(config: pytest.Config) -> bool:
-    """Whether this is a timed run (--benchmark-enable), as conftest reads it."""
-    session = getattr(config, "_benchmarksession", None)
-    return session is not None and not session.disabled
-
-
-def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, tuple[float, float]]:
-    """Median wall time and median CPU time (the process's, all threads) [s] of
-    each tool, the tools called in turn each round (so the machine's load drifts
-    over all of them alike). On a loaded machine the one-thread rows' CPU time is
-    the steadier measure of the work."""
-    times: dict[str, list[tuple[float, float]]] = {name: [] for name in tools}
-    for _ in range(rounds):
-        for name, run in tools.items():
-            t0, c0 = time.perf_counter(), time.process_time()
-            run()
-            times[name].append((time.perf_counter() - t0, time.process_time() - c0))
-    return {
-        name: (float(np.median([w for w, _ in t])), float(np.median([c for _, c in t])))
-        for name, t in times.items()
-    }
-
-
 def test_print_ratios(request: pytest.FixtureRequest) -> None:
     """Interleaved rounds in one process, medians and ratios (print with -s). The
     numba rows need numba and a timed run (or CYCLOMECH_BENCH_NUMBA=1)."""
-    timed = _timed(request.config)
+    timed = timed_run(request.config)
     k, rounds = (K_TIMED, 7) if timed else (K_SMOKE, 1)
     request.getfixturevalue("numpy_checked")
     p = candidates(k)
