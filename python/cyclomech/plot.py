@@ -28,7 +28,9 @@ have always had here, so ``from cyclomech.plot import plot_press`` and
 * ``cyclomech.transfer.plot`` — :func:`plot_transfer` (a rotor transfer path);
 * ``cyclomech.servo.plot`` — :func:`plot_duty` (a servo motor's torque and speed
   over the cycle, with its limits);
-* ``cyclomech.machine.plot`` — :func:`plot_speed_sweep` (the machine against speed).
+* ``cyclomech.machine.plot`` — :func:`plot_speed_sweep` (the machine against speed),
+  :func:`plot_machine_frame` and :func:`animate_machine` (the machine moving: one
+  frame, or a GIF over the cycle).
 * ``cyclomech.synthesis.plot`` — :func:`plot_knife_motion`, :func:`plot_knife_torque`
   (compared knife drives), :func:`plot_burmester` (Burmester's curves of four poses
   with the chosen dyads).
@@ -69,7 +71,7 @@ from .forces.plot import plot_forces
 from .impact.plot import plot_min_phase, plot_rebound_vs_speed, plot_response
 from .linkage.plot import XY_COLORS as XY_COLORS
 from .linkage.plot import animate_linkage, plot_analogs, plot_linkage
-from .machine.plot import plot_speed_sweep
+from .machine.plot import animate_machine, plot_machine_frame, plot_speed_sweep
 from .motion.plot import plot_law
 from .press.plot import WORK_COLOR as WORK_COLOR
 from .press.plot import plot_crank_torque, plot_press, plot_press_criteria
@@ -79,6 +81,7 @@ from .transfer.plot import plot_transfer
 
 __all__ = [
     "animate_linkage",
+    "animate_machine",
     "plot_along_cycle",
     "plot_analogs",
     "plot_burmester",
@@ -92,6 +95,7 @@ __all__ = [
     "plot_knife_torque",
     "plot_law",
     "plot_linkage",
+    "plot_machine_frame",
     "plot_min_phase",
     "plot_min_phase_angles",
     "plot_press",

@@ -15,7 +15,8 @@ import pytest
 PKG = Path(__file__).resolve().parents[2] / "python" / "cyclomech"
 
 #: The shared modules every domain may stand on (errors, number checks, the Rust
-#: core, units, files, TOML, the key documentation, plotting, notebook and CLI helpers).
+#: core, units, files, TOML, the key documentation, plotting, notebook and CLI helpers,
+#: the animation's scenes).
 GROUND = {
     "cyclomech._arrays",
     "cyclomech._cli",
@@ -26,6 +27,7 @@ GROUND = {
     "cyclomech._keydoc",
     "cyclomech._notebook",
     "cyclomech._plotting",
+    "cyclomech._scene",
     "cyclomech._toml",
     "cyclomech._units",
 }

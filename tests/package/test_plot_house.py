@@ -39,6 +39,7 @@ def test_docstring_examples(module):
 def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
     assert cplot.__all__ == [
         "animate_linkage",
+        "animate_machine",
         "plot_along_cycle",
         "plot_analogs",
         "plot_burmester",
@@ -52,6 +53,7 @@ def test_the_facade_re_exports_each_domains_plots_under_their_old_names():
         "plot_knife_torque",
         "plot_law",
         "plot_linkage",
+        "plot_machine_frame",
         "plot_min_phase",
         "plot_min_phase_angles",
         "plot_press",

@@ -1,8 +1,9 @@
-"""The HTML report is a web page (issue 36, item 4): opened in a real browser —
+"""The HTML report is a web page: opened in a real browser —
 headless Chromium from Debian's ``chromium`` and ``chromium-driver``, driven by
 selenium, no browser downloaded at run time — it loads without console errors,
-every image is decoded, every table is there, and every link to a written file
-resolves. ``.ci/run`` installs the browser; elsewhere the test is skipped when it is
+every image is decoded, every table is there, every link to a written file
+resolves, and the machine's animation plays (its frames change), pauses and follows
+its slider. ``.ci/run`` installs the browser; elsewhere the test is skipped when it is
 missing (in CI a missing browser fails)."""
 
 from __future__ import annotations
@@ -79,3 +80,33 @@ def test_every_link_to_a_written_file_resolves(browser, report):
     for h in local:
         path = Path(unquote(urlparse(h).path))
         assert path.is_file() and path.parent == report.parent, h
+
+
+def test_the_machine_moves_when_played(browser, report):
+    """Play advances the frame (the slider, the angle shown and every drawing
+    change), pause holds it, and the slider sets it."""
+    import time
+
+    browser.get(report.as_uri())
+    pixels = "return Array.from(document.querySelectorAll('canvas')).map(c => c.toDataURL())"
+    state = (
+        "return [document.getElementById('cm-slider').value, "
+        "document.getElementById('cm-angle').textContent]"
+    )
+    before, shown = browser.execute_script(pixels), browser.execute_script(state)
+    assert shown == ["0", "θ = 0.0°"] and len(before) >= 2  # a drawing and the cyclogram
+    browser.find_element("id", "cm-play").click()
+    time.sleep(0.6)  # 24 frames a second: about 14 frames
+    browser.find_element("id", "cm-play").click()  # pause
+    held, after = browser.execute_script(state), browser.execute_script(pixels)
+    assert held[0] != "0" and held[1] != shown[1]
+    moved = [a != b for a, b in zip(before, after, strict=True)]
+    assert moved[-1] and any(moved[:-1]), moved  # the cursor, and a mechanism (not all dwell)
+    time.sleep(0.3)
+    assert browser.execute_script(state) == held  # paused
+    browser.execute_script(
+        "const s = document.getElementById('cm-slider'); s.value = '60';"
+        "s.dispatchEvent(new Event('input'));"
+    )
+    assert browser.execute_script(state) == ["60", "θ = 180.0°"]
+    assert [e for e in browser.get_log("browser") if e["level"] in ("SEVERE", "WARNING")] == []

@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
-from .._arrays import instance, speeds_rpm
+from .._arrays import instance, real_array, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._files import file_stem, folder_target
 from .._keydoc import KeyTable
@@ -34,6 +34,7 @@ from .._kind import (
     efficiency_entry,
     per_distinct_speed,
 )
+from .._scene import Scene
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
 from ._export import DxfUnavailableError, write_profile_csv, write_profile_dxf
@@ -976,6 +977,34 @@ class CamResult(BoundsResult):
         k = self.cam.solve(theta)
         unit = "rad" if isinstance(self.mech.design.cam.follower, OscillatingRoller) else "m"
         return k.s[None], k.ds[None], k.dds[None], unit
+
+    def scene(self, cycle_deg: Array) -> Scene | None:
+        """The cam and its follower at the main shaft's angles ``cycle_deg`` [deg],
+        for the machine's animation: the profile turned to the cam's angle there
+        (from its phase in the optimum) and the follower where :meth:`Cam.solve`
+        puts it.
+
+        Parameters
+        ----------
+        cycle_deg : ndarray of float
+            The main shaft's angles [deg].
+
+        Returns
+        -------
+        Scene or None
+            Lengths in m; None without an optimum.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> s = r.mechanisms["lifter cam"].scene(np.arange(0.0, 360.0, 30.0))
+        >>> s.frames, sorted(s.bodies)
+        (12, ['cam', 'groove', 'roller'])
+        """
+        from ._scene import cam_scene
+
+        return cam_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
 
     def _shaft_phase(self) -> tuple[float, str] | None:
         """(its phase [deg]: the first bound segment starts at its operation's start

@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _keyrules, _toml, forces
-from .._arrays import count, instance, positive
+from .._arrays import count, instance, positive, real_array
 from .._errors import InputError
 from .._files import file_stem, write_csv
 from .._keydoc import KeyTable
@@ -27,6 +27,7 @@ from .._kind import (
     Unbounded,
     efficiency_entry,
 )
+from .._scene import Scene
 from .._units import RAD_PER_S_PER_RPM
 from ._file import _LINKAGE_KEYS, DYNAMICS_KEYS
 from ._keys import KEY_DOCS
@@ -659,6 +660,37 @@ class LinkageResult(PlainResult):
         assert sol.vel is not None and sol.acc is not None  # the forces solve with analogs
         rows = [np.ascontiguousarray(a[:, i, :].T) for a in (sol.xy, sol.vel, sol.acc)]
         return rows[0], rows[1], rows[2], "m"
+
+    def scene(self, cycle_deg: Array) -> Scene | None:
+        """The linkage at the main shaft's angles ``cycle_deg`` [deg], for the
+        machine's animation: every point where :meth:`Linkage.solve` puts it at the
+        crank angle its ``phase`` gives (NaN where it cannot be assembled), its
+        moving links, its fixed pivots, its sliders' blocks and guides, and the
+        output point's path.
+
+        Parameters
+        ----------
+        cycle_deg : ndarray of float
+            The main shaft's angles [deg].
+
+        Returns
+        -------
+        Scene or None
+            Lengths in m; None when its phase follows an event and there is no
+            optimum.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False).mechanisms["knife"]
+        >>> s = r.scene(np.arange(0.0, 360.0, 30.0))
+        >>> s.frames, s.traces
+        (12, ('E',))
+        """
+        from ._scene import linkage_scene
+
+        return linkage_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
 
     def _shaft_phase(self) -> tuple[float, str | None] | None:
         """(the cycle angle [deg] where the crank is at its drawn angle, the event

@@ -93,6 +93,7 @@ from .._kind import (
     TableContext,
     Unbounded,
 )
+from .._scene import Body, Scene
 from ._kinds import KINDS, register
 from ._model import (
     SCHEMA,
@@ -119,6 +120,7 @@ from ._sweep import (
 __all__ = [
     "KINDS",
     "SCHEMA",
+    "Body",
     "Bound",
     "BoundsResult",
     "Context",
@@ -131,6 +133,7 @@ __all__ = [
     "MechanismResult",
     "PlainResult",
     "Proportional",
+    "Scene",
     "Sensitivity",
     "SpeedSweep",
     "SweepResult",

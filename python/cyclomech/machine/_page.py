@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ._animation import animation_section
 from ._efficiency import efficiency_table, machine_efficiency
 from ._model import SCHEMA
 from ._result import MachineResult
@@ -82,6 +83,7 @@ def page(
     parts += _sensitivity_section(r)
     parts += _cyclogram_section(r)
     parts += _images(figs, "cyclogram")
+    parts += animation_section(r)
     for k in m.mechanisms:
         info = summary["mechanisms"][k]
         parts.append(f"<h2>Mechanism “{e(k)}” ({e(info['kind'].replace('_', ' '))})</h2>")
@@ -341,6 +343,10 @@ th { background: #f2f2f2; } .key { font-size: 1.1em; background: #f6f9ff;
        border: 1px solid #c9d7ef; padding: .8em 1em; border-radius: 6px; }
 figure { margin: 1em 0 2em; } figure img { max-width: 100%; }
 figcaption, .note { color: #555; font-size: .9em; } .warn { color: #b00; }
+.cm-ctrl { margin: .5em 0; } .cm-ctrl input { width: 60%; vertical-align: middle; }
+.cm-scenes { display: flex; flex-wrap: wrap; gap: .5em; }
+.cm-fig { margin: 0; } .cm-fig canvas { border: 1px solid #ddd; background: #fff; }
+#cm-timeline { width: 100%; border: 1px solid #ddd; margin-top: .5em; }
 """
 
 

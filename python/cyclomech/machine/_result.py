@@ -165,6 +165,49 @@ class MachineResult:
             f"mechanism {k!r}, {over[k]:.2f} rpm ({self.limit.mechanisms_reason.get(k, '')})"
         )
 
+    def scenes(self, frames: int = 120) -> tuple[Any, dict[str, Any]]:
+        """Every mechanism that can be drawn, moving over one cycle: the data of the
+        report's animation and of :func:`~cyclomech.machine.plot.animate_machine`.
+
+        Frame k of ``frames`` is at the main shaft's angle k·cycle/``frames``; each
+        mechanism is at its own phase there (a linkage's crank, a cam's angle, a
+        press's carrier, a servo axis's master angle, from the optimum's timing),
+        every point where its solver puts it. A kind draws itself by a ``scene``
+        method on its result; a cam stop's lever is drawn with its cam (its own
+        model covers only the approach to the stop), and a mechanism timed by the
+        optimum is left out when the machine has none.
+
+        Parameters
+        ----------
+        frames : int, default 120
+            Frames over the cycle (≥ 2).
+
+        Returns
+        -------
+        cycle_deg : ndarray of float
+            The main shaft's angle at each frame [deg].
+        scenes : dict of str to Scene
+            Each drawable mechanism's :class:`~cyclomech.machine.Scene` by name
+            (lengths in m).
+
+        Raises
+        ------
+        InputError
+            If ``frames`` is not an integer ≥ 2.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+        ...                        progress=False)
+        >>> theta, scenes = r.scenes(frames=8)
+        >>> theta.tolist(), list(scenes)
+        ([0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0], ['knife'])
+        """
+        from ._animation import machine_scenes  # here: it reads this module's results
+
+        return machine_scenes(self, frames)
+
     def to_pandas(self, table: str = "operations.csv") -> Any:
         """One of the report's CSV tables as a pandas DataFrame (pandas needed).
 

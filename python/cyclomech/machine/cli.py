@@ -51,6 +51,12 @@ def add_commands(commands: Any) -> None:
     m.add_argument("--out", help="output folder (default: out/<file name>)")
     m.add_argument("--no-plot", action="store_true", help="do not draw the figures")
     m.add_argument("--quiet", action="store_true", help="no progress bar")
+    m.add_argument(
+        "--animate",
+        action="store_true",
+        help="also write machine.gif: every mechanism moving over one cycle beside the "
+        "cyclogram (needs matplotlib; some seconds)",
+    )
     m.set_defaults(run=run_command, machine_file=True)
     w = commands.add_parser("sweep", help="a machine's key figures over parameters and speeds")
     w.add_argument("file", help="machine file, e.g. examples/stb_loom.toml")
@@ -150,6 +156,26 @@ def _print_sensitivities(r: Any) -> None:
         print(f"Speed limit per +1 % of a key: {keys} (all keys in the report)")
 
 
+#: Frames of ``--animate``'s GIF over the cycle (4° apart).
+GIF_FRAMES = 90
+
+
+def _animate(r: Any, out: Path, quiet: bool) -> None:
+    """``--animate``: write ``machine.gif`` into ``out``, or say on stderr why not."""
+    from .plot import animate_machine
+
+    if not has_matplotlib("--animate"):
+        return
+    if not quiet:
+        print("drawing the animation …", file=sys.stderr, flush=True)
+    try:
+        gif = animate_machine(r, out / "machine.gif", frames=GIF_FRAMES)
+    except InputError as e:
+        print(f"cyclomech: no animation: {e}", file=sys.stderr)
+        return
+    print(f"Animation: {gif}")
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Run ``cyclomech run`` with the parsed ``args``; return the exit status."""
     from . import Machine, analyze, write_report
@@ -189,6 +215,8 @@ def run_command(args: argparse.Namespace) -> int:
         print("drawing the figures …", file=sys.stderr, flush=True)  # a few seconds
     written = write_report(r, out, figures=use_fig)
     print(f"\nReport: {out / 'report.html'}  ({len(written)} files in {out})")
+    if args.animate:
+        _animate(r, out, args.quiet)
     if lim.rpm == 0:
         print(
             f"cyclomech: {args.file}: the machine works at no speed (exit status {EXIT_FAILS})",

@@ -21,11 +21,12 @@ from .._notebook import register_figure
 from .._plotting import CRITICAL_COLOR, pyplot
 from ..cyclogram.plot import plot_cyclogram
 from . import _result
+from ._animation_plot import animate_machine, plot_machine_frame
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["plot_speed_sweep"]
+__all__ = ["animate_machine", "plot_machine_frame", "plot_speed_sweep"]
 
 
 def plot_speed_sweep(

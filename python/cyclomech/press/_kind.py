@@ -11,12 +11,22 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _keyrules, _toml
-from .._arrays import finite_number, instance, positive
+from .._arrays import finite_number, instance, positive, real_array
 from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
-from .._kind import Context, Phase, PlainResult, Save, TableContext, Unbounded, efficiency_entry
+from .._kind import (
+    Array,
+    Context,
+    Phase,
+    PlainResult,
+    Save,
+    TableContext,
+    Unbounded,
+    efficiency_entry,
+)
 from .._numtext import number_text
+from .._scene import Scene
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
 from ._friction import PressFriction, PressFrictionForces, friction_from_table, press_friction
@@ -510,6 +520,35 @@ class PressResult(PlainResult):
         phase = self.mech.phase
         static = t.static + self.friction_torque()
         return t.per_omega2, static, phase.shift_deg(o.times, 0.0), phase.event
+
+    def scene(self, cycle_deg: Array) -> Scene | None:
+        """The press at the main shaft's angles ``cycle_deg`` [deg], for the
+        machine's animation: the carrier turned past BDC by its ``phase``, every
+        joint (O, the planet's centre C, the pin P, the slider B) where
+        :meth:`GearLeverPress.solve` puts it, the gears, the slider and its guide.
+
+        Parameters
+        ----------
+        cycle_deg : ndarray of float
+            The main shaft's angles [deg].
+
+        Returns
+        -------
+        Scene or None
+            Lengths in m; None when its phase follows an event and there is no optimum.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/extrusion_press_line.toml")
+        >>> r = cm.machine.analyze(m, progress=False)
+        >>> s = r.mechanisms["drive"].scene(np.arange(0.0, 360.0, 30.0))
+        >>> s.frames, s.links
+        (12, (('O', 'C'), ('C', 'P'), ('P', 'B')))
+        """
+        from ._scene import press_scene
+
+        return press_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
 
     def friction_torque(self) -> np.ndarray:
         """The torque friction adds on the crank at the nominal speed [N·m]: the

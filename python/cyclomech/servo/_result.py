@@ -12,10 +12,11 @@ from typing import Any
 
 import numpy as np
 
-from .._arrays import instance
+from .._arrays import instance, real_array
 from .._errors import CyclomechWarning
 from .._files import file_stem, folder_target, savetxt
-from .._kind import BoundsResult, Context, Save
+from .._kind import Array, BoundsResult, Context, Save
+from .._scene import Scene
 from ..cam import MinPhaseAngles
 from ..motion import Program, write_cam_coefficients, write_cam_table
 from ._axis import CHECKS, Duty, ServoAxis
@@ -186,6 +187,35 @@ class ServoResult(BoundsResult):
         []
         """
         return ([self.layout_note] if self.layout_note else []) + self.failures()
+
+    def scene(self, cycle_deg: Array) -> Scene | None:
+        """The axis's load at the main shaft's angles ``cycle_deg`` [deg], for the
+        machine's animation: where the program laid out at the optimum puts it
+        (master angle = cycle angle − :attr:`master_offset_deg`): a linear load's
+        carriage at x = s on its rail, a rotary load's disc turned by s.
+
+        Parameters
+        ----------
+        cycle_deg : ndarray of float
+            The main shaft's angles [deg].
+
+        Returns
+        -------
+        Scene or None
+            Lengths in m; None without an optimum.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/flow_wrapper.toml")
+        >>> r = cm.machine.analyze(m, progress=False)
+        >>> s = r.mechanisms["film feed"].scene(np.arange(0.0, 360.0, 30.0))
+        >>> s.frames, sorted(s.bodies)
+        (12, ['carriage', 'rail'])
+        """
+        from ._scene import servo_scene
+
+        return servo_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
 
     @property
     def master_offset_deg(self) -> float:

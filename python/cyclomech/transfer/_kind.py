@@ -9,11 +9,12 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .. import _keyrules, _toml
-from .._arrays import count, instance, positive, speeds_rpm
+from .._arrays import count, instance, positive, real_array, speeds_rpm
 from .._errors import InfeasibleError, InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
-from .._kind import Context, PlainResult, Save, TableContext, Unbounded
+from .._kind import Array, Context, PlainResult, Save, TableContext, Unbounded
+from .._scene import Scene
 from .._units import RAD_PER_S_PER_RPM
 from ._design import design_transfer
 from ._keys import KEY_DOCS
@@ -350,6 +351,36 @@ class TransferResult(PlainResult):
     speeds: tuple[float, float]
     max_acceleration: float
     max_jerk: float
+
+    def scene(self, cycle_deg: Array) -> Scene | None:
+        """The transfer at the main shaft's angles ``cycle_deg`` [deg], for the
+        machine's animation: both pitch circles, the path, and one workpiece per
+        cycle moving along it by the speed law at the nominal speed (workpiece 1 at
+        the path's start at cycle angle 0: the transfer has no operation in the
+        cyclogram).
+
+        Parameters
+        ----------
+        cycle_deg : ndarray of float
+            The main shaft's angles [deg].
+
+        Returns
+        -------
+        Scene or None
+            Lengths in m; never None.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> m = cm.Machine.from_toml("examples/rotor_line.toml")
+        >>> r = cm.machine.analyze(m, progress=False)
+        >>> s = r.mechanisms["line"].scene(np.arange(0.0, 360.0, 30.0))
+        >>> s.frames, s.ground
+        (12, ('O_t', 'O_p'))
+        """
+        from ._scene import transfer_scene
+
+        return transfer_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""
