@@ -279,3 +279,25 @@ def test_a_scene_refuses_inconsistent_data():
     with pytest.raises(cm.CyclomechError, match="frames"):
         results_free = cm.machine.analyze(cm.Machine.example(), progress=False)
         results_free.scenes(1)
+
+
+def test_a_stop_frame_drives_the_lever_by_its_law_until_the_stop_holds_it(results):
+    r = results("stb_loom")
+    o = r.optimum
+    mech = r.machine.mechanisms["lifter"]
+    st, (a, b) = mech.stop, mech.arc
+    start, span = o.times[a], o.angles[(a, b)]
+    u = np.linspace(0.0, 1.0, 41)
+    theta = np.concatenate([start + span * u, [start + span + 5.0, start - 5.0]]) % 360.0
+    s = r.mechanisms["lifter"].scene(theta)
+    w = s.points["W"]
+    length = np.hypot(*w[0])
+    travel = length * np.arctan2(w[:, 1], w[:, 0])  # W's arc from the rest position
+    z = cm.motion.law(st.law.name, form="rise").z(u)  # the law, from the motion module
+    want = np.minimum(st.stroke * z, st.stroke - st.preload)
+    np.testing.assert_allclose(travel[:41], want, rtol=0, atol=1e-12)
+    assert travel[40] == pytest.approx(st.stroke - st.preload)  # held at the stop
+    assert np.isnan(w[41:]).all()  # outside its operation: not drawn
+    # the stop sits where the working point meets it, in every frame
+    stop = s.bodies["stop"].at(0)
+    assert float(np.min(np.hypot(*(stop - w[40]).T))) < 0.05 * length

@@ -18,6 +18,7 @@ from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
+from .._scene import Scene
 from ..cyclogram import Arc, Constraint
 from ._batch import StopBatch, stop_batch
 from ._keys import KEY_DOCS
@@ -612,6 +613,35 @@ class CamStopResult:
     exact: Array
     linear: Array
     per_mm: dict[str, float]
+
+    def scene(self, cycle_deg: Array) -> Scene | None:
+        """The lever and its stop at the main shaft's angles ``cycle_deg`` [deg], for
+        the machine's animation: over its operation (timed by the optimum) the
+        working point travels stroke·Z(u) until the stop holds it at
+        stroke − preload; outside it the lever is not drawn (the stop's model
+        covers the approach only), the stop always is.
+
+        Parameters
+        ----------
+        cycle_deg : ndarray of float
+            The main shaft's angles [deg].
+
+        Returns
+        -------
+        Scene or None
+            Lengths in m; None without an optimum.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+        >>> s = r.mechanisms["lifter"].scene(np.arange(0.0, 360.0, 30.0))
+        >>> s.frames, s.links, sorted(s.bodies)
+        (12, (('A', 'roller', 'W'),), ['stop'])
+        """
+        from ._scene import stop_scene
+
+        return stop_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry and its ``stops`` entry."""

@@ -173,9 +173,9 @@ class MachineResult:
         mechanism is at its own phase there (a linkage's crank, a cam's angle, a
         press's carrier, a servo axis's master angle, from the optimum's timing),
         every point where its solver puts it. A kind draws itself by a ``scene``
-        method on its result; a cam stop's lever is drawn with its cam (its own
-        model covers only the approach to the stop), and a mechanism timed by the
-        optimum is left out when the machine has none.
+        method on its result; a cam stop's lever is drawn over the operation that
+        brings it to its stop (its model covers that approach only), and a
+        mechanism timed by the optimum is left out when the machine has none.
 
         Parameters
         ----------
