@@ -5,6 +5,10 @@ own angle is θ less its phase (the cycle angle where its first bound segment's
 operation starts less the segments before it). The profile is drawn in the cam's
 frame and turned by that angle; the follower's roller centre (or face point) is
 where :meth:`Cam.solve` puts the pitch point, turned into the fixed frame.
+
+>>> import numpy as np
+>>> np.degrees(cam_angles(30.0, np.array([30.0, 120.0]))).tolist()
+[0.0, 90.0]
 """
 
 from __future__ import annotations

@@ -8,6 +8,12 @@ s = stroke − preload, which then holds it. The stop's model covers that approa
 only: outside the operation the lever is not drawn (a lever driven by a cam of
 the machine is drawn with that cam), the stop always is. To scale: W's travel is
 small beside the lever.
+
+>>> import numpy as np, cyclomech as cm
+>>> r = cm.machine.analyze(cm.Machine.from_toml("examples/stb_loom.toml"), progress=False)
+>>> s = stop_travel(r.mechanisms["lifter"], np.array([r.optimum.times["7"], 200.0]))
+>>> round(float(s[0]) * 1e3, 4), bool(np.isnan(s[1]))      # held at the stop [mm]; outside
+(9.15, True)
 """
 
 from __future__ import annotations

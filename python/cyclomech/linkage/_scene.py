@@ -4,6 +4,11 @@ The crank's absolute angle at the main shaft's angle θ is the drawn angle plus
 θ less the cycle angle where the crank is at its drawn angle (its ``phase``): the
 crank turns once per cycle, counter-clockwise. Every point is where
 :meth:`Linkage.solve` puts it at that angle.
+
+>>> import numpy as np, cyclomech as cm
+>>> lk = cm.Machine.from_toml("examples/knife_cutter.toml").mechanisms["knife"].linkage
+>>> round(float(np.degrees(crank_angles(20.0, lk, np.array([50.0]))[0] - lk.drawn_angle)), 9)
+30.0
 """
 
 from __future__ import annotations

@@ -9,6 +9,11 @@ and :mod:`cyclomech.machine.plot` draws a frame or writes a GIF from the same
 scenes.
 
 Frame k of F is at the main shaft's angle k·cycle/F [deg].
+
+>>> import cyclomech as cm
+>>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"), progress=False)
+>>> frame_angles(r, 4).tolist(), [op["title"] for op in timeline(r)["ops"]][:2]
+([0.0, 90.0, 180.0, 270.0], ['clamp the pile', 'cut'])
 """
 
 from __future__ import annotations

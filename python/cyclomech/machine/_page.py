@@ -63,7 +63,7 @@ def page(
     >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
     >>> text = page(r, _summary(r), [], [])
     >>> text.count("<h2>"), "Speed limit: 421.37 rpm" in text
-    (4, True)
+    (5, True)
     """
     m = r.machine
     e = html.escape

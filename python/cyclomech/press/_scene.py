@@ -4,6 +4,10 @@ The carrier turns counter-clockwise once per cycle: at the main shaft's angle θ
 has turned ψ = θ less the cycle angle of BDC (its ``phase``) past BDC, so the
 press's angle from BDC against the motion is α = −ψ; every joint is where
 :meth:`GearLeverPress.solve` puts it at α.
+
+>>> import numpy as np
+>>> np.degrees(press_alpha(10.0, np.array([10.0, 100.0]))).round(9).tolist()
+[0.0, 270.0]
 """
 
 from __future__ import annotations

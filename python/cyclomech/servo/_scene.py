@@ -6,6 +6,10 @@ position puts it there: a linear load's carriage at x = s [m] on its rail, a
 rotary load's disc turned by s [rad] (drawn with a radius of 0.1 m: a rotary
 load has no length of its own). A program with an advance (a feed) draws the
 position within the cycle, from 0 to the advance.
+
+>>> import numpy as np
+>>> np.degrees(master_angles(350.0, np.array([0.0, 10.0]))).round(9).tolist()
+[10.0, 20.0]
 """
 
 from __future__ import annotations

@@ -6,6 +6,12 @@ cycle; a workpiece moves along the path by the speed law at the nominal speed
 between), so the time it takes from the path's start to arc length s, in cycles,
 is (n/60)·∫ ds/v. The transfer has no operation in the cyclogram: workpiece 1
 is at the path's start at θ = 0. The rotors are drawn by their pitch circles.
+
+>>> import cyclomech as cm
+>>> r = cm.machine.analyze(cm.Machine.from_toml("examples/rotor_line.toml"), progress=False)
+>>> points, s, cycles = cycles_along(r.mechanisms["line"])
+>>> bool(cycles[-1] > 1.0), points.shape
+(True, (4001, 2))
 """
 
 from __future__ import annotations
