@@ -21,7 +21,11 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def _limit(m: cm.Machine, key: str, factor: float) -> float:
-    value = m.data["mechanism"][key.split(".", 1)[0]][key.split(".", 1)[1]]
+    parts = key.split(".")
+    if parts[0] == "operation":  # operation.<k>.<key>, k from 1
+        value = m.data["operation"][int(parts[1]) - 1][parts[2]]
+    else:
+        value = m.data["mechanism"][parts[0]][parts[1]]
     return m.with_values({key: value * factor}).speed_limit().rpm
 
 
@@ -103,7 +107,9 @@ def test_run_reports_them_in_results_json_and_the_page(tmp_path, capsys):
         main(["run", str(ROOT / "examples" / "stb_loom.toml"), "--out", str(out), "--no-plot"]) == 0
     )
     printed = capsys.readouterr().out
-    assert "Speed limit per +1 % of a key: lifter.b_m" in printed
+    # the weft insertion's time sets the loom's limit first, then the lever's overhang
+    assert "Speed limit per +1 % of a key: operation.11.min_duration_s" in printed
+    assert ", lifter.b_m" in printed
     results = json.loads((out / "results.json").read_text("utf-8"))
     entries = {e["key"]: e for e in results["sensitivities"]}
     assert entries["lifter.b_m"]["status"] == "binds"
@@ -113,3 +119,37 @@ def test_run_reports_them_in_results_json_and_the_page(tmp_path, capsys):
     )
     page = (out / "report.html").read_text("utf-8")
     assert "Which key buys speed" in page and "lifter.b_m" in page
+
+
+def test_operation_keys_match_the_critical_chains_closed_form():
+    """The knife cutter's limit is its cyclogram's: the chain clamp → cut → knife
+    return → move the pile fills the turn, Σ a_k + 6·n·t = 360° (t the pile's
+    min_duration_s), so n = (360 − Σ a_k)/(6 t): a +1 % raise of an angle a_k buys
+    −0.01·a_k/(6 t) rpm and of t, −0.01·n rpm — exact, against the table's central
+    differences (each a re-parse of the file with the operation's key changed)."""
+    m = cm.Machine.from_toml(ROOT / "examples" / "knife_cutter.toml")
+    table = {s.key: s for s in cm.machine.sensitivities(m)}
+    ops = m.data["operation"]
+    t = ops[5]["min_duration_s"]
+    chain = {1: ops[0], 2: ops[1], 3: ops[2]}
+    n = (360.0 - sum(op["min_angle_deg"] for op in chain.values())) / (6.0 * t)
+    assert table["operation.6.min_duration_s"].limit_rpm == pytest.approx(n, rel=1e-9)
+    assert table["operation.6.min_duration_s"].rpm_per_percent == pytest.approx(-0.01 * n, rel=1e-5)
+    for k, op in chain.items():
+        s = table[f"operation.{k}.min_angle_deg"]
+        assert s.status == "binds" and op["name"] in s.note
+        assert s.rpm_per_percent == pytest.approx(-0.01 * op["min_angle_deg"] / (6 * t), rel=1e-5)
+    assert table["operation.4.min_angle_deg"].status == "does not bind"  # off the chain
+
+
+def test_an_operation_key_path_is_checked():
+    m = cm.Machine.from_toml(ROOT / "examples" / "knife_cutter.toml")
+    assert m.with_values({"operation.6.min_duration_s": 0.3}).speed_limit().rpm > 60.0
+    with pytest.raises(
+        cm.CyclomechError,
+        match=r"operation '9' must be the number of an \[\[operation\]\] of the file, 1 to 6",
+    ):
+        m.with_values({"operation.9.min_angle_deg": 1.0})
+    with pytest.raises(cm.CyclomechError, match="has no key 'name' a sweep can set"):
+        cm.machine.check_parameter(m, "operation.2.name")
+    cm.machine.check_parameter(m, "operation.2.min_angle_deg")

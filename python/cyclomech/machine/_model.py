@@ -439,8 +439,10 @@ class Machine:
         Parameters
         ----------
         values : Mapping of str to Any
-            The new values by ``<mechanism>.<key>`` (``{"lifter.preload_m": 2e-4}``) or
-            ``machine.<key>``, in the file's units.
+            The new values by ``<mechanism>.<key>`` (``{"lifter.preload_m": 2e-4}``),
+            ``machine.<key>`` or ``operation.<k>.<key>`` (a number of the k-th
+            ``[[operation]]``, from 1: ``min_angle_deg``, ``max_angle_deg``,
+            ``min_duration_s``), in the file's units.
 
         Returns
         -------
@@ -470,14 +472,14 @@ class Machine:
         for path, value in instance("values", values, Mapping).items():
             head = path.split(".", 1)[0]
             if head not in touched:
-                if head == "machine":
-                    data["machine"] = copy.deepcopy(data.get("machine", {}))
+                if head in ("machine", "operation"):
+                    data[head] = copy.deepcopy(data.get(head, {} if head == "machine" else []))
                 elif head in data["mechanism"]:
                     data["mechanism"][head] = copy.deepcopy(data["mechanism"][head])
             table, key = _split_key(path, data)
             table[key] = value.item() if isinstance(value, np.generic) else value
             touched.add(head)
-        if "machine" in touched:
+        if touched & {"machine", "operation"}:
             return Machine.from_dict(data, self.source)
         # Only the named mechanisms' tables changed: validate and build those (as
         # from_dict would), and share the cyclogram and its network with this one.
@@ -979,18 +981,33 @@ def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     return None
 
 
+#: The keys of a ``[[operation]]`` a sweep or a sensitivity may vary (its numbers).
+OPERATION_NUMBERS = frozenset({"min_angle_deg", "max_angle_deg", "min_duration_s"})
+
+
 def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
-    """The table and key a sweep parameter ``<mechanism>.<key>`` or
-    ``machine.<key>`` names in the parsed file."""
+    """The table and key a sweep parameter ``<mechanism>.<key>``, ``machine.<key>``
+    or ``operation.<k>.<key>`` (the k-th ``[[operation]]``, from 1) names in the
+    parsed file."""
     parts = path.split(".")
     mechs = data.get("mechanism", {})
+    ops = data.get("operation", [])
     if len(parts) == 2 and parts[0] == "machine":
         table = data.setdefault("machine", {})
     elif len(parts) == 2 and parts[0] in mechs:
         table = mechs[parts[0]]
+    elif len(parts) == 3 and parts[0] == "operation":
+        k = int(parts[1]) if parts[1].isdigit() else 0
+        if not 1 <= k <= len(ops):
+            raise InputError(
+                f"parameter {path!r}: operation {parts[1]!r} must be the number of an "
+                f"[[operation]] of the file, 1 to {len(ops)}"
+            )
+        return ops[k - 1], parts[2]
     else:
         raise InputError(
-            f"parameter {path!r} must be <mechanism>.<key> or machine.<key>; the mechanisms "
+            f"parameter {path!r} must be <mechanism>.<key>, machine.<key> or "
+            "operation.<number>.<key>; the mechanisms "
             f"are {', '.join(sorted(mechs)) or '(none)'}"
         )
     return table, parts[1]
@@ -1007,7 +1024,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     machine : Machine
         The machine (read from a file or a dict).
     path : str
-        The parameter: ``<mechanism>.<key>`` or ``machine.<key>``.
+        The parameter: ``<mechanism>.<key>``, ``machine.<key>`` or
+        ``operation.<k>.<key>`` (a number of the k-th ``[[operation]]``, from 1).
 
     Raises
     ------
@@ -1032,6 +1050,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     head = path.split(".", 1)[0]
     if head == "machine":
         allowed, where = _MACHINE_KEYS - {"name", "speed_rpm", "unmodelled"}, "[machine]"
+    elif head == "operation":
+        allowed, where = set(OPERATION_NUMBERS), f"[[operation]] #{path.split('.')[1]}"
     else:
         kind = type(machine.mechanisms[head])
         allowed, where = set(kind.keys - kind.fixed_keys), f"[mechanism.{head}]"
@@ -1041,7 +1061,7 @@ def check_parameter(machine: Machine, path: str) -> None:
             f"set{_toml.renamed_hint(key, allowed)}; valid keys are "
             f"{', '.join(sorted(allowed))}"
         )
-    if head != "machine":
+    if head not in ("machine", "operation"):
         # A key the kind takes in general that this table refuses (a stop's stroke
         # when it names its cam): refused before the sweep, not design by design.
         refuses = getattr(type(machine.mechanisms[head]), "sweep_refuses", None)

@@ -62,8 +62,9 @@ def analyze(
         A progress bar on stderr; default None (when stderr is a terminal).
     sensitivities : bool, default False
         Also the speed limit's sensitivity to every numeric key of the mechanisms'
-        tables (:func:`~cyclomech.machine.sensitivities`: 2 variants per key, their
-        limits in one call; seconds for a machine with many keys).
+        tables and the cyclogram's operations
+        (:func:`~cyclomech.machine.sensitivities`: 2 variants per key, their limits
+        in one call; seconds for a machine with many keys).
 
     Returns
     -------

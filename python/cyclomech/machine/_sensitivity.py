@@ -1,12 +1,16 @@
 """Which key of the machine file buys how many rpm of speed limit: the sensitivity
-of :meth:`Machine.speed_limit` to every numeric key of the mechanisms' tables.
+of :meth:`Machine.speed_limit` to every numeric key of the mechanisms' tables and of
+the cyclogram's operations.
 
 **Method.** Each key k of value v (a number ≠ 0 at the top of a ``[mechanism.X]``
-table) is varied by ±h·v (h = :data:`STEP`, 0.1 %) with :meth:`Machine.with_values`,
-and the speed limits of all 2K variants come from one
-:func:`~cyclomech.machine.speed_limits` call (the variants of one file share the
-cyclogram's network: one shortest-path call per step of the search for all of
-them). With L₊, L₀, L₋ the limits [rpm] at v(1 + h), v, v(1 − h):
+table, or an ``[[operation]]``'s ``min_angle_deg``, ``max_angle_deg`` or
+``min_duration_s``, named ``operation.<k>.<key>`` with k from 1) is varied by
+±h·v (h = :data:`STEP`, 0.1 %) with :meth:`Machine.with_values`, and the speed
+limits of all 2K variants come from one :func:`~cyclomech.machine.speed_limits`
+call (the variants of a mechanism's keys share the cyclogram's network: one
+shortest-path call per step of the search for all of them; an operation's
+variant has a cyclogram of its own). A key of an operation names it in its note.
+With L₊, L₀, L₋ the limits [rpm] at v(1 + h), v, v(1 − h):
 
 * the sensitivity dL/dk = (L₊ − L₋) / (2 h v) [rpm per the key's unit], and the
   rpm a +1 % raise buys, 0.01·v·dL/dk;
@@ -81,9 +85,9 @@ class Sensitivity:
     Examples
     --------
     >>> import cyclomech as cm
-    >>> s = cm.machine.sensitivities(cm.Machine.example())[0]
-    >>> s.key, s.status, s.rpm_per_percent < 0      # lowering b buys speed
-    ('lifter.b_m', 'binds', True)
+    >>> s = {x.key: x for x in cm.machine.sensitivities(cm.Machine.example())}["lifter.b_m"]
+    >>> s.status, s.rpm_per_percent < 0      # lowering b buys speed
+    ('binds', True)
     """
 
     key: str
@@ -122,22 +126,32 @@ class Sensitivity:
         }
 
 
-def _keys(machine: Machine) -> list[tuple[str, float]]:
-    """The varied keys: (path, value) of every float ≠ 0 at the top of a mechanism's
-    table, in the file's order."""
+def _keys(machine: Machine) -> list[tuple[str, float, str]]:
+    """The varied keys: (path, value, what it is) of every float ≠ 0 at the top of a
+    mechanism's table, then every number ≠ 0 of an ``[[operation]]`` (its angles and
+    duration: whole numbers there are angles, not counts), in the file's order."""
+    from ._model import OPERATION_NUMBERS
+
+    data = machine.data or {}
     out = []
-    for name, table in (machine.data or {}).get("mechanism", {}).items():
+    for name, table in data.get("mechanism", {}).items():
         for k, v in table.items():
             if isinstance(v, float) and math.isfinite(v) and v != 0.0:
-                out.append((f"{name}.{k}", v))
+                out.append((f"{name}.{k}", v, ""))
+    for i, op in enumerate(data.get("operation", []), start=1):
+        title = op.get("name") or f"{op.get('from')} → {op.get('to')}"
+        for k, v in op.items():
+            number = isinstance(v, int | float) and not isinstance(v, bool)
+            if k in OPERATION_NUMBERS and number and math.isfinite(v) and v != 0:
+                out.append((f"operation.{i}.{k}", float(v), f"[[operation]] #{i}: {title}"))
     return out
 
 
 def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sensitivity]:
-    """The speed limit's sensitivity to every numeric key of the mechanisms' tables,
-    ranked: the keys that buy the most rpm per 1 % first (either way), then the
-    kinks, those that do not bind and those that cannot vary (see the module's
-    rules).
+    """The speed limit's sensitivity to every numeric key of the mechanisms' tables
+    and the cyclogram's operations (``operation.<k>.min_duration_s``, …), ranked:
+    the keys that buy the most rpm per 1 % first (either way), then the kinks, those
+    that do not bind and those that cannot vary (see the module's rules).
 
     Parameters
     ----------
@@ -160,8 +174,10 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
     --------
     >>> import cyclomech as cm
     >>> s = cm.machine.sensitivities(cm.Machine.example())
-    >>> [(x.key, round(x.rpm_per_percent, 3)) for x in s[:2]]   # lowering b buys speed
-    [('lifter.b_m', -0.833), ('lifter.lever_length_m', 0.602)]
+    >>> [(x.key, round(x.rpm_per_percent, 3)) for x in s[:2]]   # shorter, faster
+    [('operation.4.min_duration_s', -3.611), ('lifter.b_m', -0.833)]
+    >>> s[0].note
+    '[[operation]] #4: weft insertion'
     """
     from ._many import speed_limits
     from ._model import Machine
@@ -178,7 +194,7 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
     # files' rules would warn of (a ζ of 0.9999 raised past 1) is not the user's slip.
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CyclomechWarning)
-        for path, v in keys:
+        for path, v, _ in keys:
             try:
                 up = m.with_values({path: v * (1 + STEP)})
                 down = m.with_values({path: v * (1 - STEP)})
@@ -190,12 +206,13 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
         limits = [lim.rpm for lim in speed_limits(variants, n_threads=n_threads)]
     base = limits[0]
     out = []
-    for (path, v), at in zip(keys, where, strict=True):
+    for (path, v, what), at in zip(keys, where, strict=True):
         if isinstance(at, str):
             rec = Sensitivity(path, v, math.nan, math.nan, "cannot vary", at)
         else:
             rec = _rate(path, v, base, limits[at[0]], limits[at[1]])
-        out.append(replace(rec, limit_rpm=base))
+        note = "; ".join(x for x in (what, rec.note) if x)
+        out.append(replace(rec, limit_rpm=base, note=note))
     order = {"binds": 0, "kink": 1, "does not bind": 2, "cannot vary": 3}
     return sorted(
         out, key=lambda s: (order[s.status], -abs(s.rpm_per_percent if s.status == "binds" else 0))
