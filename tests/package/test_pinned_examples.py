@@ -92,6 +92,10 @@ def test_example_outputs_are_pinned(example: str, tmp_path: Path, capsys) -> Non
     args = ["run", str(ROOT / "examples" / f"{example}.toml"), "--out", str(out)]
     assert main([*args, "--no-plot", "--quiet"]) == 0
     summary = capsys.readouterr().out.replace(str(out), "<out>").replace(str(ROOT), "<root>")
+    # The report animates every mechanism of every example (the machine moving).
+    page = (out / "report.html").read_text("utf-8")
+    data = json.loads(page.split("id='cm-anim-data'>", 1)[1].split("</script>", 1)[0])
+    assert [s["name"] for s in data["scenes"]] == list(m.mechanisms)
     here = PINNED / example
     if WRITE:
         here.mkdir(parents=True, exist_ok=True)
