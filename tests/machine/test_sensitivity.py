@@ -13,8 +13,8 @@ from pathlib import Path
 import cyclomech as cm
 import pytest
 from cyclomech.cli import main
-from cyclomech.machine._sensitivity import STEP, _rate
-from hypothesis import given
+from cyclomech.machine._sensitivity import EXACT, FLAT, STEP, _rate
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -95,7 +95,12 @@ def test_a_key_that_cannot_vary_says_why():
 )
 def test_a_straight_line_gives_its_slope(a, b, v):
     # L(k) = a + b·k: the central difference is exact, the +1 % figure b·0.01·v.
-    s = _rate("m.k", v, a + b * v, a + b * v * (1 + STEP), a + b * v * (1 - STEP))
+    base = a + b * v
+    s = _rate("m.k", v, base, a + b * v * (1 + STEP), a + b * v * (1 - STEP))
+    if abs(b * v) * STEP <= 0.5 * FLAT * max(abs(base), 1.0):
+        assert s.status == "does not bind"  # a change within the search's tolerance
+        return
+    assume(abs(b * v) * STEP > 2.0 * FLAT * max(abs(base), 1.0))  # not at the threshold
     assert s.status == "binds"
     assert s.rpm_per_unit == pytest.approx(b, rel=1e-6, abs=1e-9)
     assert s.rpm_per_percent == pytest.approx(b * 0.01 * v, rel=1e-6, abs=1e-9)
@@ -125,8 +130,9 @@ def test_operation_keys_match_the_critical_chains_closed_form():
     """The knife cutter's limit is its cyclogram's: the chain clamp → cut → knife
     return → move the pile fills the turn, Σ a_k + 6·n·t = 360° (t the pile's
     min_duration_s), so n = (360 − Σ a_k)/(6 t): a +1 % raise of an angle a_k buys
-    −0.01·a_k/(6 t) rpm and of t, −0.01·n rpm — exact, against the table's central
-    differences (each a re-parse of the file with the operation's key changed)."""
+    −0.01·a_k/(6 t) rpm and of t, −0.01·n rpm. The table takes these from the LP's
+    shadow prices at the limit (exact, its note says so); its central differences
+    (each a re-parse of the file with the operation's key changed) agree."""
     m = cm.Machine.from_toml(ROOT / "examples" / "knife_cutter.toml")
     table = {s.key: s for s in cm.machine.sensitivities(m)}
     ops = m.data["operation"]
@@ -134,11 +140,13 @@ def test_operation_keys_match_the_critical_chains_closed_form():
     chain = {1: ops[0], 2: ops[1], 3: ops[2]}
     n = (360.0 - sum(op["min_angle_deg"] for op in chain.values())) / (6.0 * t)
     assert table["operation.6.min_duration_s"].limit_rpm == pytest.approx(n, rel=1e-9)
-    assert table["operation.6.min_duration_s"].rpm_per_percent == pytest.approx(-0.01 * n, rel=1e-5)
+    assert table["operation.6.min_duration_s"].rpm_per_percent == pytest.approx(-0.01 * n, rel=1e-8)
     for k, op in chain.items():
         s = table[f"operation.{k}.min_angle_deg"]
-        assert s.status == "binds" and op["name"] in s.note
-        assert s.rpm_per_percent == pytest.approx(-0.01 * op["min_angle_deg"] / (6 * t), rel=1e-5)
+        assert s.status == "binds" and op["name"] in s.note and EXACT in s.note
+        assert s.rpm_per_percent == pytest.approx(-0.01 * op["min_angle_deg"] / (6 * t), rel=1e-8)
+        fd = (_limit(m, s.key, 1 + STEP) - _limit(m, s.key, 1 - STEP)) / (2 * STEP * s.value)
+        assert s.rpm_per_unit == pytest.approx(fd, rel=1e-5)
     assert table["operation.4.min_angle_deg"].status == "does not bind"  # off the chain
 
 
@@ -153,3 +161,27 @@ def test_an_operation_key_path_is_checked():
     with pytest.raises(cm.CyclomechError, match="has no key 'name' a sweep can set"):
         cm.machine.check_parameter(m, "operation.2.name")
     cm.machine.check_parameter(m, "operation.2.min_angle_deg")
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    a=st.tuples(st.floats(10.0, 60.0), st.floats(60.0, 120.0), st.floats(65.0, 110.0)),
+    t=st.floats(0.1, 0.6),
+)
+def test_exact_rates_hold_on_any_chain(a, t):
+    """The knife cutter's chain with other angles and another duration (the knife's
+    return above the unclamp's 60°, so the chain stays critical): the exact rates
+    are the closed form's."""
+    m = cm.Machine.from_toml(ROOT / "examples" / "knife_cutter.toml")
+    values = {f"operation.{k + 1}.min_angle_deg": v for k, v in enumerate(a)}
+    m = m.with_values({**values, "operation.6.min_duration_s": t})
+    n = (360.0 - sum(a)) / (6.0 * t)
+    lim = m.speed_limit()
+    assume(lim.by == "cyclogram" and lim.rpm == pytest.approx(n, rel=1e-9))
+    table = {s.key: s for s in cm.machine.sensitivities(m)}
+    for k in range(len(a)):
+        s = table[f"operation.{k + 1}.min_angle_deg"]
+        if EXACT in s.note:
+            assert s.rpm_per_unit == pytest.approx(-1.0 / (6.0 * t), rel=1e-8)
+    s = table["operation.6.min_duration_s"]
+    assert EXACT in s.note and s.rpm_per_unit == pytest.approx(-n / t, rel=1e-8)

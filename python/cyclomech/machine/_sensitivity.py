@@ -22,6 +22,11 @@ With L₊, L₀, L₋ the limits [rpm] at v(1 + h), v, v(1 − h):
   this value (a maximum of two bounds, or a peak of the limit over the key). No
   slope holds on both sides: ``rpm_per_unit`` is the raise's one-sided slope,
   ``rpm_per_percent`` NaN, and the note gives the limit's change at ±0.1 %;
+* **exact**: where the cyclogram sets the limit on its operations' own bounds alone
+  (no mechanism's bound or constraint priced at the limit), a binding operation
+  key's rate is taken from the LP's shadow prices at the limit instead
+  (:func:`_exact`); its note says so. Elsewhere (a mechanism's key: its bound's
+  derivative is not at hand) the central difference stands;
 * **cannot vary**: a variant is invalid (the key is at the edge of what is
   valid, or is a count): the message says why; no number.
 
@@ -45,7 +50,7 @@ from .._errors import CyclomechError, CyclomechWarning
 if TYPE_CHECKING:
     from ._model import Machine
 
-__all__ = ["FLAT", "KINK", "STEP", "Sensitivity", "sensitivities"]
+__all__ = ["EXACT", "FLAT", "KINK", "STEP", "Sensitivity", "sensitivities"]
 
 #: The relative step of the central difference.
 STEP = 1e-3
@@ -205,18 +210,87 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
             variants += [up, down]
         limits = [lim.rpm for lim in speed_limits(variants, n_threads=n_threads)]
     base = limits[0]
+    exact = _exact(m, base)
     out = []
     for (path, v, what), at in zip(keys, where, strict=True):
         if isinstance(at, str):
             rec = Sensitivity(path, v, math.nan, math.nan, "cannot vary", at)
         else:
             rec = _rate(path, v, base, limits[at[0]], limits[at[1]])
+        if path in exact and rec.status == "binds":
+            rate = exact[path]
+            rec = replace(rec, rpm_per_unit=rate, rpm_per_percent=0.01 * v * rate, note=EXACT)
         note = "; ".join(x for x in (what, rec.note) if x)
         out.append(replace(rec, limit_rpm=base, note=note))
     order = {"binds": 0, "kink": 1, "does not bind": 2, "cannot vary": 3}
     return sorted(
         out, key=lambda s: (order[s.status], -abs(s.rpm_per_percent if s.status == "binds" else 0))
     )
+
+
+#: The note of a rate from the LP's duals (:func:`_exact`).
+EXACT = "exact: the LP's shadow prices at the limit"
+
+
+def _labels(ops: list[Any]) -> list[str]:
+    """Each operation's label in the LP's rows: its title, with its arc where
+    several operations share the title (the cyclogram's rule)."""
+    titles = [op.title for op in ops]
+    return [
+        t if titles.count(t) == 1 else f"{t} ({op.src}→{op.dst})"
+        for t, op in zip(titles, ops, strict=True)
+    ]
+
+
+def _exact(m: Machine, limit: float) -> dict[str, float]:
+    """dL/dk [rpm per unit] of the operations' angles and durations, exact, where
+    the cyclogram sets the limit L on its operations' own bounds alone.
+
+    At L the optimum's limiting angle F(n) meets its own minimum m_0(n); F moves
+    with each priced bound j by its shadow price y_j (F_k = Σ y_j ∂m_j/∂k, and
+    likewise in n), so dL/dk = −(F_k − ∂m_0/∂k)/(F_n − ∂m_0/∂n), with
+    m_j = a_j (angle row ``min[…]``) or 6·n·t_j [deg] (duration row ``duration[…]``).
+    Empty where a mechanism's bound or a constraint is priced (their derivative in
+    n is not at hand: the finite differences stand), at a tie of the limiting
+    operation's angle and duration, or where the optimum cannot be taken.
+    """
+    from .._errors import InfeasibleError
+
+    lim = m.speed_limit()
+    cg = m.cyclogram
+    if lim.by != "cyclogram" or not (0.0 < limit < math.inf) or cg.limiting is None:
+        return {}
+    n = limit * (1.0 - 1e-9)  # the limit is searched to ~1e-11: just inside it
+    try:
+        o = m.optimize(n)
+    except (InfeasibleError, CyclomechError):
+        return {}
+    ops = list(cg.operations)
+    rows = {}
+    for i, lab in enumerate(_labels(ops)):
+        rows[f"min[{lab}]"], rows[f"duration[{lab}]"] = (i, "angle"), (i, "duration")
+    priced = {k: y for k, y in o.duals.items() if abs(y) > 1e-12 and k != "cycle"}
+    if any(k not in rows for k in priced):
+        return {}
+    head = [op.arc for op in ops].index(cg.limiting)
+    lead = ops[head]
+    a0, d0 = lead.min_angle_deg, 6.0 * n * lead.min_duration_s
+    if math.isclose(a0, d0) or not math.isclose(max(a0, d0), o.objective, rel_tol=1e-6):
+        return {}
+    f_n = sum(y * 6.0 * ops[rows[k][0]].min_duration_s for k, y in priced.items() if k[0] == "d")
+    m0_n = 6.0 * lead.min_duration_s if d0 > a0 else 0.0
+    if abs(f_n - m0_n) < 1e-15:
+        return {}
+    out = {}
+    for i, label in enumerate(_labels(ops)):
+        for key, row, per in (
+            ("min_angle_deg", f"min[{label}]", 1.0),
+            ("min_duration_s", f"duration[{label}]", 6.0 * n),
+        ):
+            f_k = priced.get(row, 0.0) * per
+            own = i == head and ((key == "min_angle_deg") == (a0 > d0))
+            out[f"operation.{i + 1}.{key}"] = -(f_k - (per if own else 0.0)) / (f_n - m0_n)
+    return out
 
 
 def _rate(path: str, v: float, base: float, up: float, down: float) -> Sensitivity:
