@@ -706,7 +706,7 @@ class ForceModel:
         *,
         reactions: bool = True,
         n_threads: int | None = None,
-    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
     def solve_friction(
         self,
         xy: npt.NDArray[np.float64],
