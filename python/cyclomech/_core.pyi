@@ -175,7 +175,11 @@ class CamKernel:
     @property
     def initial_arm_angle(self) -> float | None: ...
     def solve(
-        self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
+        self,
+        theta: npt.NDArray[np.float64],
+        *,
+        n_threads: int | None = None,
+        out: npt.NDArray[np.float64] | None = None,
     ) -> npt.NDArray[np.float64]: ...
     def loads(
         self,
