@@ -30,10 +30,20 @@ def cam(follower: str = "translating", closure: str = "spring") -> cm.cam.Cam:
     return cm.cam.Cam(segs, FOLLOWERS[follower](), closure=closure)
 
 
-FIELDS = (
-    "theta s ds dds ddds pitch profile profile_outer pressure_angle "
-    "pitch_radius_of_curvature profile_radius_of_curvature undercut"
-).split()
+FIELDS = [
+    "theta",
+    "s",
+    "ds",
+    "dds",
+    "ddds",
+    "pitch",
+    "profile",
+    "profile_outer",
+    "pressure_angle",
+    "pitch_radius_of_curvature",
+    "profile_radius_of_curvature",
+    "undercut",
+]
 
 
 @settings(max_examples=15, deadline=None)
@@ -84,7 +94,7 @@ def test_fresh_solve_matches_the_closed_forms():
 def test_a_wrong_out_is_an_input_error():
     c = cam()
     first = c.solve(np.zeros(10))
-    with pytest.raises(cm.InputError, match="out must be a CamKinematics.*for 11 angles"):
+    with pytest.raises(cm.InputError, match=r"out must be a CamKinematics.*for 11 angles"):
         c.solve(np.zeros(11), out=first)
     with pytest.raises(cm.InputError, match="out must be a CamKinematics"):
         c.solve(np.zeros(10), out=np.zeros((10, 14)))

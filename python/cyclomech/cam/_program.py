@@ -314,7 +314,7 @@ class Cam:
         >>> k.s.shape, k.profile.shape, round(float(k.s[3, 0]), 12)
         ((7, 1), (7, 1, 2), 0.02)
         >>> again = cam.solve(np.linspace(0, np.pi, 7).reshape(7, 1), out=k)
-        >>> again.s is k.s, round(float(again.s[6, 0]), 12)
+        >>> np.shares_memory(again.s, k.s), round(float(again.s[6, 0]), 12)
         (True, 0.02)
         """
         # (A bool or a string is not an angle; any number of dimensions.)
