@@ -3,8 +3,9 @@
 Group 1: ``Cam.solve`` (s, s′, s″, s‴, pitch curve, profile, pressure angle, radii
 of curvature, undercut; one Rust call) against :func:`numpy_solve`: the same closed
 forms for a translating offset roller on a cycloidal rise–dwell–return–dwell
-program, written with numpy over masks of the segments. Both agree to 1e-12 m
-(checked by :func:`test_numpy_agrees`).
+program, written with numpy on each segment's slice of the sorted grid (the best
+closed form a numpy user writes: no masks, each sine once). Both agree to 1e-12
+m (checked by :func:`test_numpy_agrees`).
 
 Group 2: the cam profile coordinates of the PyPI package ``mechanism`` (Gabe
 Morris; ``pip install mechanism``) on the same program. Its cams are radial
@@ -18,22 +19,33 @@ cycloidal) over its grid, so its timed call is the construction plus
 ``cycloidal.get_profile``: what it takes to get the coordinates. The group skips,
 with the reason printed, when mechanism is not installed.
 
-Default test run (``--benchmark-disable`` in addopts): each benchmark once. For
-timings::
+Ratio table (:func:`test_ratio_table`, timed runs only): interleaved rounds of
+``Cam.solve`` (new arrays, and ``out=`` a previous result), the numpy peer and
+the floors of writing the (N, 14) block once, with reused and with fresh pages.
 
-    python -m pytest benches/bench_cam.py --benchmark-enable -q -p no:cacheprovider
+Default test run (``--benchmark-disable`` in addopts): each benchmark once. For
+timings and the table (``-s`` prints it)::
+
+    python -m pytest benches/bench_cam.py --benchmark-enable -q -p no:cacheprovider -s
 """
 
 from __future__ import annotations
 
+import ctypes
 import importlib.metadata
 import math
+import sys
+from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _timing import interleaved, timed_run
 
 Array = npt.NDArray[np.float64]
 GROUP = "cam.solve, 1e6 angles (translating offset roller, cycloidal)"
@@ -51,24 +63,36 @@ def make_cam(offset: float = E) -> cm.cam.Cam:
 
 
 def numpy_solve(theta: Array) -> dict[str, Array]:
-    """The translating roller's closed forms with numpy (cycloidal law)."""
+    """The translating roller's closed forms with numpy (cycloidal law), the best
+    a numpy user writes for a sorted grid: each segment's closed form on its
+    contiguous slice (``searchsorted`` on the boundaries; no masks, no gathers),
+    each sine and cosine taken once. Any order of angles: an unsorted grid is
+    sorted first and the results put back (not timed here: the grid is sorted)."""
     t = np.mod(theta, 2 * math.pi)
-    s = np.zeros_like(t)
+    if t.size > 1 and not (t[1:] >= t[:-1]).all():
+        order = np.argsort(t)
+        out = numpy_solve(t[order])
+        back = np.empty_like(order)
+        back[order] = np.arange(order.size)
+        return {k: v[back] for k, v in out.items()}
+    s = np.empty_like(t)
     ds = np.zeros_like(t)
     dds = np.zeros_like(t)
     level = 0.0
-    for sign, start, ang in PROGRAM:
+    bounds = np.searchsorted(t, [math.radians(a) for _, a, _ in PROGRAM[1:]])
+    edges = [0, *bounds.tolist(), t.size]
+    for (sign, start, ang), i0, i1 in zip(PROGRAM, edges[:-1], edges[1:], strict=True):
         b, a0 = math.radians(ang), math.radians(start)
-        m = (t >= a0) & (t < a0 + b)
         if sign == 0:
-            s[m] = level
+            s[i0:i1] = level
             continue
-        x = (t[m] - a0) / b
+        x = (t[i0:i1] - a0) / b
         w = 2 * math.pi * x
+        sw, cw = np.sin(w), np.cos(w)
         h = sign * H
-        s[m] = level + h * (x - np.sin(w) / (2 * math.pi))
-        ds[m] = h / b * (1 - np.cos(w))
-        dds[m] = h / b**2 * 2 * math.pi * np.sin(w)
+        s[i0:i1] = level + h * (x - sw / (2 * math.pi))
+        ds[i0:i1] = h / b * (1 - cw)
+        dds[i0:i1] = h / b**2 * 2 * math.pi * sw
         level += h
     d = math.sqrt((RB + RR) ** 2 - E**2) + s
     # Fixed frame: T = (d, s′ − e), A = (2s′ − e, s″ − d); cam frame: rotate by −θ.
@@ -96,15 +120,70 @@ def theta() -> Array:
     return np.linspace(0.0, 2 * math.pi, N, endpoint=False)
 
 
-def test_numpy_agrees(theta: Array) -> None:
-    k = make_cam().solve(theta[::97])
-    ref = numpy_solve(theta[::97])
+@pytest.mark.parametrize("step", [97, -89])
+def test_numpy_agrees(theta: Array, step: int) -> None:
+    k = make_cam().solve(theta[::step])
+    ref = numpy_solve(theta[::step])
     np.testing.assert_allclose(k.s, ref["s"], atol=1e-12)
     np.testing.assert_allclose(k.pitch[:, 0], ref["pitch_x"], atol=1e-12)
     np.testing.assert_allclose(k.profile[:, 1], ref["profile_y"], atol=1e-12)
     np.testing.assert_allclose(k.pressure_angle, ref["pressure_angle"], atol=1e-12)
     np.testing.assert_allclose(k.pitch_radius_of_curvature, ref["rho"], rtol=1e-10)
     np.testing.assert_array_equal(k.undercut, ref["undercut"])
+
+
+def _malloc_trim() -> Callable[[], object] | None:
+    """glibc's ``malloc_trim(0)`` (freed heap pages back to the kernel), or None."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        trim = ctypes.CDLL(None).malloc_trim
+    except (OSError, AttributeError):
+        return None
+    return lambda: trim(0)
+
+
+def test_ratio_table(request: pytest.FixtureRequest, theta: Array) -> None:
+    """Interleaved rounds (medians, wall and CPU), both page states for every
+    row: ``reused`` (glibc's heap reuses the freed outputs and temporaries),
+    ``fresh`` (``malloc_trim(0)`` before each call: every new array is
+    first-touched). ``out=`` keeps its block, so its pages are never fresh.
+    Floors: a (N, 14) float64 block written once, new (``np.empty`` + ``fill``)
+    and existing (``fill``)."""
+    if not timed_run(request.config):
+        pytest.skip("timed runs only (--benchmark-enable)")
+    cam = make_cam()
+    prev = {1: cam.solve(theta), 2: cam.solve(theta)}
+    block = np.empty((N, 14))
+    tools: dict[str, Callable[[], Any]] = {
+        "cyclomech 1 thread": lambda: cam.solve(theta, n_threads=1),
+        "cyclomech 1 thread, out=": lambda: cam.solve(theta, n_threads=1, out=prev[1]),
+        "cyclomech 2 threads": lambda: cam.solve(theta, n_threads=2),
+        "cyclomech 2 threads, out=": lambda: cam.solve(theta, n_threads=2, out=prev[2]),
+        "numpy": lambda: numpy_solve(theta),
+        "floor: new (N, 14) written": lambda: np.empty((N, 14)).fill(1.0),
+        "floor: existing (N, 14) written": lambda: block.fill(1.0),
+    }
+    trim = _malloc_trim()
+    states = {"reused": None} | ({"fresh": trim} if trim is not None else {})
+    for state, before in states.items():
+
+        def wrap(f: Callable[[], Any], before: Any = before) -> Callable[[], None]:
+            def run() -> None:
+                if before is not None:
+                    before()
+                f()
+
+            return run
+
+        t = interleaved({k: wrap(f) for k, f in tools.items()}, 7)
+        wall, cpu = t["numpy"]
+        print(f"\nCam.solve, {N} angles, {state} pages, 7 interleaved rounds (medians)")
+        for name, (w, c) in t.items():
+            print(
+                f"  {name:32s} wall {w * 1e3:6.1f} ms  cpu {c * 1e3:6.1f} ms  "
+                f"numpy/this wall {wall / w:5.2f}x  cpu {cpu / c:5.2f}x"
+            )
 
 
 @pytest.mark.benchmark(group=GROUP)

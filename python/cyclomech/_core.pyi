@@ -175,7 +175,11 @@ class CamKernel:
     @property
     def initial_arm_angle(self) -> float | None: ...
     def solve(
-        self, theta: npt.NDArray[np.float64], *, n_threads: int | None = None
+        self,
+        theta: npt.NDArray[np.float64],
+        *,
+        n_threads: int | None = None,
+        out: npt.NDArray[np.float64] | None = None,
     ) -> npt.NDArray[np.float64]: ...
     def loads(
         self,
@@ -706,7 +710,7 @@ class ForceModel:
         *,
         reactions: bool = True,
         n_threads: int | None = None,
-    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
     def solve_friction(
         self,
         xy: npt.NDArray[np.float64],

@@ -179,3 +179,144 @@ def dense_system(
             A[:, 3 * body + 2, col_g + q] = -_cross(arm, nn)
     info = {"col_g": col_g, "col_m": col_m, "sides": sides, "pins": pins, "omega": np.array(w1)}
     return A, R, info
+
+
+def compact_kinetostatics(
+    linkage: Any,
+    xy: Array,
+    vel: Array,
+    acc: Array,
+    *,
+    masses: dict[tuple[str, ...], tuple[float, tuple[float, float] | None, float]] | None = None,
+    point_masses: dict[str, float] | None = None,
+    gravity: tuple[float, float] = (0.0, 0.0),
+) -> dict[str, Array]:
+    """The same forces from the smallest system a numpy user would write: each
+    pin's force on its first part (the frame, or its first link) eliminated by
+    the pin's equation, so 3 equations per moving link in as many unknowns (9×9
+    for a four-bar, 6×6 for a slider-crank, 15×15 for the Burg trimmer),
+    assembled over all angles at once and solved by one stacked
+    ``numpy.linalg.solve``; the eliminated forces then from the pins' equations.
+    Parts (3, ...) of the torque (3, N), the guides (3, N, G) and the pairs'
+    forces (3, N, K, 2), pairs in the kernel's order. Every pin must be on a
+    link (no pin of two crossing guides alone)."""
+    t = linkage.to_dict()
+    names = list(linkage.names)
+    idx = {n: i for i, n in enumerate(names)}
+    pts = {n: np.array(v, dtype=float) for n, v in t["points"].items()}
+    ground = set(t["ground"])
+    moving = [list(ln) for ln in t["links"] if not set(ln) <= ground]
+    pivot, tip = t["driver"]
+    crank = next(b for b, ln in enumerate(moving) if pivot in ln and tip in ln)
+    n, nb = xy.shape[0], len(moving)
+    g = np.array(gravity, dtype=float)
+    guides: list[tuple[int, int, int, int, Array]] = []  # point, b, c, body, dir
+    for p, gl in (t.get("sliders") or {}).items():
+        for gd in gl:
+            ((kind, arg),) = gd.items()
+            if kind == "ground":
+                guides.append((idx[p], -1, -1, -1, np.array(arg, dtype=float)))
+            else:
+                body = next(b for b, ln in enumerate(moving) if arg[0] in ln and arg[1] in ln)
+                guides.append((idx[p], idx[arg[0]], idx[arg[1]], body, np.zeros(2)))
+    # Pins: (point, sides (-1 the frame, first), guides, first unknown column).
+    pins = []
+    col = 0
+    for p, name in enumerate(names):
+        s = ([-1] if name in ground else []) + [b for b, ln in enumerate(moving) if name in ln]
+        gs = [k for k, gd in enumerate(guides) if gd[0] == p]
+        if s or gs:
+            assert s, "a pin on no link"
+            pins.append((p, s, gs, col))
+            col += 2 * (len(s) - 1)
+    col_g, col_m = col, col + len(guides)
+    nu = col_m + 1
+    assert nu == 3 * nb, (nu, nb)
+    com, com1, com2, w1, w2, mass, inertia = [], [], [], [], [], [], []
+    for ln in moving:
+        m, c, jz = (masses or {}).get(tuple(ln), (0.0, None, 0.0))
+        cc = np.mean([pts[q] for q in ln], axis=0) if c is None else np.array(c, dtype=float)
+        x0, x1 = pts[ln[0]], pts[ln[1]]
+        d = x1 - x0
+        u = (cc - x0) @ d / (d @ d)
+        v = (cc - x0) @ np.array([-d[1], d[0]]) / (d @ d)
+        i0, i1 = idx[ln[0]], idx[ln[1]]
+        dd, d1, d2 = xy[:, i1] - xy[:, i0], vel[:, i1] - vel[:, i0], acc[:, i1] - acc[:, i0]
+        for src, dst, dx in ((xy, com, dd), (vel, com1, d1), (acc, com2, d2)):
+            perp = np.stack([-dx[:, 1], dx[:, 0]], axis=1)
+            dst.append(src[:, i0] + u * dx + v * perp)
+        n2 = (dd**2).sum(axis=1)
+        om = _cross(dd, d1) / n2
+        w1.append(om)
+        w2.append(_cross(dd, d2) / n2 - 2 * (dd * d1).sum(axis=1) * om / n2)
+        mass.append(m)
+        inertia.append(jz)
+    normals = []
+    for _p, b, c, _body, dr in guides:
+        e = np.broadcast_to(dr, (n, 2)) if b < 0 else xy[:, c] - xy[:, b]
+        le = np.hypot(e[:, 0], e[:, 1])
+        normals.append(np.stack([-e[:, 1] / le, e[:, 0] / le], axis=1))
+    pm = np.zeros(len(names))
+    for p, m in (point_masses or {}).items():
+        pm[idx[p]] = m
+    A = np.zeros((n, nu, nu))
+    R = np.zeros((n, nu, 3))
+    for b in range(nb):
+        r = 3 * b
+        R[:, r : r + 2, 0] = mass[b] * com2[b]
+        R[:, r + 2, 0] = inertia[b] * w2[b]
+        R[:, r : r + 2, 1] = mass[b] * com1[b]
+        R[:, r + 2, 1] = inertia[b] * w1[b]
+        R[:, r : r + 2, 2] = -mass[b] * g
+    A[:, 3 * crank + 2, col_m] = 1.0
+    # The pin's load F_ext + m g − m a by part (ω², ε, static): (N, 2, 3).
+    loads = {
+        p: np.stack(
+            [-pm[p] * acc[:, p], -pm[p] * vel[:, p], np.broadcast_to(pm[p] * g, (n, 2))], axis=2
+        )
+        for p, *_ in pins
+    }
+    for p, s, gs, c0 in pins:
+        arms = {b: xy[:, p] - com[b] for b in s if b >= 0}
+        for k, b in enumerate(s[1:]):
+            cx = c0 + 2 * k
+            A[:, 3 * b, cx] += 1.0
+            A[:, 3 * b + 1, cx + 1] += 1.0
+            A[:, 3 * b + 2, cx] -= arms[b][:, 1]
+            A[:, 3 * b + 2, cx + 1] += arms[b][:, 0]
+            if s[0] >= 0:  # −X on the first link, through the pin's equation
+                e = s[0]
+                A[:, 3 * e, cx] -= 1.0
+                A[:, 3 * e + 1, cx + 1] -= 1.0
+                A[:, 3 * e + 2, cx] += arms[e][:, 1]
+                A[:, 3 * e + 2, cx + 1] -= arms[e][:, 0]
+        if s[0] >= 0:
+            e, arm, ld = s[0], arms[s[0]], loads[p]
+            R[:, 3 * e : 3 * e + 2, :] -= ld
+            R[:, 3 * e + 2, :] -= arm[:, 0, None] * ld[:, 1] - arm[:, 1, None] * ld[:, 0]
+            for q in gs:
+                nn = normals[q]
+                A[:, 3 * e, col_g + q] += nn[:, 0]
+                A[:, 3 * e + 1, col_g + q] += nn[:, 1]
+                A[:, 3 * e + 2, col_g + q] += _cross(arm, nn)
+    for q, (p, _, _, body, _) in enumerate(guides):
+        if body >= 0:
+            arm, nn = xy[:, p] - com[body], normals[q]
+            A[:, 3 * body, col_g + q] -= nn[:, 0]
+            A[:, 3 * body + 1, col_g + q] -= nn[:, 1]
+            A[:, 3 * body + 2, col_g + q] -= _cross(arm, nn)
+    x = np.linalg.solve(A, R)  # (N, nu, 3)
+    out = []
+    for p, s, gs, c0 in pins:
+        first = loads[p].copy()
+        for q in gs:
+            first += normals[q][:, :, None] * x[:, None, col_g + q, :]
+        for k in range(len(s) - 1):
+            first -= x[:, c0 + 2 * k : c0 + 2 * k + 2, :]
+        out.append(first)
+        out += [x[:, c0 + 2 * k : c0 + 2 * k + 2, :] for k in range(len(s) - 1)]
+    return {
+        "torque": x[:, col_m, :].T,
+        "guides": np.moveaxis(x[:, col_g:col_m, :], 2, 0),
+        "reactions": np.moveaxis(np.stack(out, axis=1), 3, 0),
+    }

@@ -521,7 +521,7 @@ def kinetostatics(
     )
     sol = _solution(linkage, angles, n_threads)
     force, torque = _load_arrays(loads, sol.angles, names, links, moving)
-    values, conditioning = model.solve(
+    values, conditioning, analogs = model.solve(
         np.ascontiguousarray(sol.xy),
         np.ascontiguousarray(sol.vel),
         np.ascontiguousarray(sol.acc),
@@ -532,7 +532,7 @@ def kinetostatics(
     )
     pairs = tuple((names[p], "frame" if b < 0 else body_names[b]) for p, b in model.pairs())
     return Kinetostatics._from_kernel(  # the kernel's output: checked by its tests, not per call
-        sol, values, conditioning, pairs=pairs, guides=tuple(guide_names)
+        sol, values, conditioning, pairs=pairs, guides=tuple(guide_names), analogs=analogs
     )
 
 

@@ -46,7 +46,7 @@ _AT_DEAD_CENTRE = 1e-12
 Array = npt.NDArray[np.float64]
 
 
-def _conditioning(solution: LinkageSolution, kernel: Array) -> Array:
+def _conditioning(solution: LinkageSolution, kernel: Array, analogs: Array | None = None) -> Array:
     """The crank angle [rad] from each pose to a dead centre, from the analogs.
 
     Near a fold, where a dyad's two links line up and the crank can go no
@@ -61,13 +61,19 @@ def _conditioning(solution: LinkageSolution, kernel: Array) -> Array:
     a fold far too late.
     0 where the kernel or the kinematics are singular or the analogs put the
     crank within ``_AT_DEAD_CENTRE`` of a dead centre, NaN where not assembled.
+    ``analogs``: the ratio |x'| / (2|x''|) as the kernel took it while reading the
+    analogs (``ForceModel.solve``'s third output; NaN where an input is not
+    finite), else it is computed here.
     """
     assert solution.vel is not None and solution.acc is not None
-    v = np.hypot(solution.vel[..., 0], solution.vel[..., 1]).max(axis=1, initial=0.0)
-    a = np.hypot(solution.acc[..., 0], solution.acc[..., 1]).max(axis=1, initial=0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out: Array = np.where(a > 0.0, v / (2.0 * a), np.inf)
-    out = np.where(np.isnan(kernel) | np.isnan(v) | np.isnan(a), np.nan, out)
+    if analogs is None:
+        v = np.hypot(solution.vel[..., 0], solution.vel[..., 1]).max(axis=1, initial=0.0)
+        a = np.hypot(solution.acc[..., 0], solution.acc[..., 1]).max(axis=1, initial=0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out: Array = np.where(a > 0.0, v / (2.0 * a), np.inf)
+        out = np.where(np.isnan(kernel) | np.isnan(v) | np.isnan(a), np.nan, out)
+    else:
+        out = np.where(np.isnan(kernel), np.nan, analogs)
     dead = (kernel == 0.0) | (solution.singular & solution.ok) | (out < _AT_DEAD_CENTRE)
     return np.where(dead, 0.0, out)
 
@@ -250,11 +256,13 @@ class Kinetostatics:
         *,
         pairs: tuple[tuple[str, str], ...],
         guides: tuple[str, ...],
+        analogs: Array | None = None,
     ) -> Kinetostatics:
-        """:meth:`from_values` of the kernel's own output, unchecked."""
+        """:meth:`from_values` of the kernel's own output, unchecked (``analogs``:
+        see :func:`_conditioning`)."""
         n, g = values.shape[1], len(guides)
         k = (values.shape[2] - 1 - g) // 2
-        cond = _conditioning(solution, conditioning)
+        cond = _conditioning(solution, conditioning, analogs)
         dead = (cond == 0.0) & ~np.isnan(values[0, :, 0])
         if dead.any():
             values = np.where(dead[None, :, None], np.nan, values)

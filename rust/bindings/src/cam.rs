@@ -5,12 +5,13 @@ use cyclomech_core::cam::{
     N_COLUMNS, N_LOAD_COLUMNS,
 };
 use numpy::ndarray::{Ix2, Ix3};
-use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
+use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
 use crate::errors::{run, IntoPyErr};
 use crate::motion::ProgramKernel;
+use cyclomech_core::input::InvalidInput;
 
 fn kind(py: Python<'_>, index: usize, name: &str) -> PyResult<Kind> {
     match name {
@@ -126,22 +127,44 @@ impl CamKernel {
 
     /// (N, 14) rows of s, s', s'', s''', pitch, profile, outer flank, pressure
     /// angle, radii of curvature and undercut (0/1) at cam angles `theta` [rad].
-    #[pyo3(signature = (theta, *, n_threads=None))]
+    /// Into `out` (a writeable C-contiguous float64 (N, 14) array that overlaps
+    /// `theta` nowhere) when given, which is returned.
+    #[pyo3(signature = (theta, *, n_threads=None, out=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
         theta: PyReadonlyArray1<'py, f64>,
         n_threads: Option<i64>,
+        out: Option<Bound<'py, PyArray2<f64>>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let ts = CamError::slice(py, "theta", &theta)?;
-        let out = convert::zeros::<f64, Ix2>(
-            py,
-            &[ts.len(), N_COLUMNS],
-            "CamKernel.solve",
-            "solve fewer cam angles at a time",
-        )?;
+        let want = [ts.len(), N_COLUMNS];
+        let bad = |got: String| {
+            CamError::from(InvalidInput::Output {
+                field: "out",
+                want: format!(
+                    "a writeable C-contiguous float64 array of shape ({}, {N_COLUMNS}) \
+                     that overlaps no input",
+                    ts.len()
+                ),
+                got,
+            })
+            .into_pyerr(py)
+        };
+        let out = match out {
+            Some(a) if a.shape() == want && a.is_c_contiguous() => a,
+            Some(a) => return Err(bad(format!("an array of shape {:?}", a.shape()))),
+            None => convert::zeros::<f64, Ix2>(
+                py,
+                &want,
+                "CamKernel.solve",
+                "solve fewer cam angles at a time",
+            )?,
+        };
         {
-            let mut rw = out.readwrite();
+            let mut rw = out
+                .try_readwrite()
+                .map_err(|e| bad(format!("an array numpy will not lend for writing ({e})")))?;
             let slice = convert::output(py, &mut rw)?;
             run(py, "CamKernel.solve", || {
                 self.cam.solve_into(ts, slice, n_threads)

@@ -166,7 +166,9 @@ impl ForceModel {
         self.model.width(reactions)
     }
 
-    /// (values (3, N, width), conditioning (N,): 0 at a dead centre, NaN where an input is not finite) at the N angles of `xy`, `vel`, `acc`
+    /// (values (3, N, width), conditioning (N,): 0 at a dead centre, NaN where an input is not finite,
+    /// analogs (N,): the points' largest |x'| over twice their largest |x''| [rad], ∞ where none
+    /// accelerates, NaN where an input is not finite) at the N angles of `xy`, `vel`, `acc`
     /// (N, P, 2), with optional point forces (N, P, 2) [N] and link torques (N, B) [N·m].
     #[pyo3(signature = (xy, vel, acc, force=None, torque=None, *, reactions=true, n_threads=None))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -180,7 +182,11 @@ impl ForceModel {
         torque: Option<PyReadonlyArrayDyn<'py, f64>>,
         reactions: bool,
         n_threads: Option<i64>,
-    ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<(
+        Bound<'py, PyArray3<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
         let n = xy.shape().first().copied().unwrap_or(0);
         let inputs = Inputs {
             xy: ForceError::slice(py, "xy", &xy)?,
@@ -204,20 +210,24 @@ impl ForceModel {
         )?;
         let conditioning =
             convert::zeros::<f64, Ix1>(py, &[n], "kinetostatics", "solve fewer angles at a time")?;
+        let analogs =
+            convert::zeros::<f64, Ix1>(py, &[n], "kinetostatics", "solve fewer angles at a time")?;
         {
             let mut vw = values.readwrite();
             let mut sw = conditioning.readwrite();
+            let mut aw = analogs.readwrite();
             let out = Outputs {
                 values: convert::output(py, &mut vw)?,
                 conditioning: convert::output(py, &mut sw)?,
                 reactions,
+                analogs: Some(convert::output(py, &mut aw)?),
             };
             let model = &self.model;
             run(py, "kinetostatics", || {
                 solve_into(model, inputs, out, n_threads)
             })?;
         }
-        Ok((values, conditioning))
+        Ok((values, conditioning, analogs))
     }
 
     /// With friction, at the N angles of `xy`, `vel`, `acc` (as `solve`) and the

@@ -662,6 +662,7 @@ mod tests {
             values: &mut parts,
             conditioning: &mut cond,
             reactions: true,
+            analogs: None,
         };
         solve_into(&model, inputs, out, Some(1)).unwrap();
         for (k, &om) in omegas.iter().enumerate() {

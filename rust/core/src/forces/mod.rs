@@ -154,6 +154,8 @@ pub struct Model {
     guide_col: usize,
     torque_col: usize,
     blocks: Vec<Block>,
+    /// Where each block's entries go at solving time.
+    plan: solve::Plan,
 }
 
 impl Model {
@@ -217,8 +219,10 @@ impl Model {
             guide_col,
             torque_col,
             blocks: Vec::new(),
+            plan: solve::Plan::new(0, &[]),
         };
         model.blocks = model.order()?;
+        model.plan = solve::Plan::new(model.n, &model.blocks);
         Ok(model)
     }
 

@@ -20,10 +20,16 @@ pub(super) const CHUNK: usize = 256;
 /// system's blocks, of a pivot to the block's largest entry (0 at a dead centre,
 /// where the values are NaN; NaN where the inputs are not finite; near a fold it
 /// falls only as the square root of the crank angle to it: see the module).
+///
+/// `analogs`, if given (N,): the largest |x'| of the points over twice their
+/// largest |x''| [rad] (∞ where no point accelerates, NaN where an input is
+/// not finite): the crank angle to a dead centre the Python layer flags poses
+/// by (`forces._result._conditioning`), taken here while the analogs are read.
 pub struct Outputs<'a> {
     pub values: &'a mut [f64],
     pub conditioning: &'a mut [f64],
     pub reactions: bool,
+    pub analogs: Option<&'a mut [f64]>,
 }
 
 /// The kinematic quantities of one pose, for [`Model::assemble`].
@@ -45,6 +51,10 @@ pub(super) struct Pose {
     pub(super) extra: bool,
     pub(super) extra_force: Vec<V2>,
     pub(super) extra_body: Vec<[f64; 3]>,
+    /// Each point's load F_ext + m g − m a by part (see [`Pose::pin_load`]).
+    loads: Vec<[V2; 3]>,
+    /// max |x'| / (2 max |x''|) over the points (see [`Outputs::analogs`]).
+    pub(super) analog_ratio: f64,
 }
 
 impl Pose {
@@ -66,6 +76,8 @@ impl Pose {
             extra: false,
             extra_force: vec![[0.0; 2]; p],
             extra_body: vec![[0.0; 3]; b],
+            loads: vec![[[0.0; 2]; 3]; p],
+            analog_ratio: f64::NAN,
         }
     }
 
@@ -91,8 +103,19 @@ impl Pose {
         let finite = |v: &[V2]| v.iter().all(|p| p[0].is_finite() && p[1].is_finite());
         let ok = finite(&self.xy) && finite(&self.vel) && finite(&self.acc);
         if !(ok && finite(&self.force) && self.torques.iter().all(|t| t.is_finite())) {
+            self.analog_ratio = f64::NAN;
             return false;
         }
+        let big = |v: &[V2]| {
+            v.iter()
+                .fold(0.0f64, |m, p| m.max(p[0] * p[0] + p[1] * p[1]))
+        };
+        let (v2, a2) = (big(&self.vel), big(&self.acc));
+        self.analog_ratio = if a2 > 0.0 {
+            v2.sqrt() / (2.0 * a2.sqrt())
+        } else {
+            f64::INFINITY
+        };
         for (i, body) in spec.bodies.iter().enumerate() {
             let (j0, j1) = (body.points[0], body.points[1]);
             let [u, v] = body.com_uv;
@@ -122,7 +145,26 @@ impl Pose {
             let len = dot(e, e).sqrt();
             self.normal[g] = [-e[1] / len, e[0] / len];
         }
+        self.refresh_loads(spec);
         true
+    }
+
+    /// Recompute the points' loads (after `fill`, or after a change of the
+    /// `extra` loads).
+    pub(super) fn refresh_loads(&mut self, spec: &Spec) {
+        let g = spec.gravity;
+        for p in 0..self.loads.len() {
+            let m = spec.point_mass[p];
+            let (v, a, mut f) = (self.vel[p], self.acc[p], self.force[p]);
+            if self.extra {
+                f = [f[0] + self.extra_force[p][0], f[1] + self.extra_force[p][1]];
+            }
+            self.loads[p] = [
+                [-m * a[0], -m * a[1]],
+                [-m * v[0], -m * v[1]],
+                [f[0] + m * g[0], f[1] + m * g[1]],
+            ];
+        }
     }
 
     /// r − c of body `b`.
@@ -135,18 +177,11 @@ impl Pose {
         self.torques[b]
     }
 
-    /// The known part of pin `p`'s equation, F_ext + m_p g − m_p a_p, by part.
-    pub(super) fn pin_load(&self, spec: &Spec, p: usize) -> [V2; 3] {
-        let m = spec.point_mass[p];
-        let (v, a, mut f, g) = (self.vel[p], self.acc[p], self.force[p], spec.gravity);
-        if self.extra {
-            f = [f[0] + self.extra_force[p][0], f[1] + self.extra_force[p][1]];
-        }
-        [
-            [-m * a[0], -m * a[1]],
-            [-m * v[0], -m * v[1]],
-            [f[0] + m * g[0], f[1] + m * g[1]],
-        ]
+    /// The known part of pin `p`'s equation, F_ext + m_p g − m_p a_p, by part
+    /// (as of the last [`Pose::fill`] or [`Pose::refresh_loads`]).
+    #[inline(always)]
+    pub(super) fn pin_load(&self, _spec: &Spec, p: usize) -> [V2; 3] {
+        self.loads[p]
     }
 }
 
@@ -154,7 +189,10 @@ impl Pose {
 type Task<'a> = (
     usize,
     (
-        ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]),
+        (
+            ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]),
+            &'a mut [f64],
+        ),
         &'a mut [f64],
     ),
 );
@@ -169,47 +207,114 @@ pub(super) struct Row<'a> {
     pub(super) torque: Option<&'a [f64]>,
 }
 
-/// The dense system of one pose.
-struct Dense {
-    n: usize,
-    a: Vec<f64>,
-    r: Vec<f64>,
+/// Where one pose's system is assembled: straight into the diagonal blocks'
+/// augmented matrices and their rows' coefficients of earlier blocks' unknowns
+/// (the slots of [`Plan`]), nothing else stored or zeroed.
+struct Packed<'a> {
+    plan: &'a Plan,
+    vals: &'a mut [f64],
 }
 
-impl Sink for Dense {
+impl Sink for Packed<'_> {
     #[inline(always)]
     fn a(&mut self, row: usize, col: usize, v: f64) {
-        self.a[row * self.n + col] += v;
+        self.vals[self.plan.slot[row * self.plan.n + col] as usize] += v;
     }
     #[inline(always)]
     fn rhs(&mut self, row: usize, part: usize, v: f64) {
-        self.r[row * 3 + part] += v;
+        self.vals[self.plan.rhs_slot[row] as usize + part] += v;
+    }
+}
+
+/// Where each structural entry of the system goes, fixed once per model: each
+/// block is a k×s row-major augmented matrix (its k columns, zero padding, the
+/// three right-hand sides in the last three columns; s = 8 for k ≤ 5, 16 for
+/// k ≤ 13, so the elimination runs on whole rows of fixed length), followed by
+/// its rows' coefficients of earlier blocks' unknowns.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Plan {
+    n: usize,
+    /// Slot of entry (row, col) of the system (n × n), `u32::MAX` off the pattern.
+    slot: Vec<u32>,
+    /// Slot of each row's first right-hand side.
+    rhs_slot: Vec<u32>,
+    /// Slots in all.
+    len: usize,
+    blocks: Vec<PlanBlock>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct PlanBlock {
+    /// First slot of the augmented matrix, its size k and row stride s.
+    base: usize,
+    k: usize,
+    s: usize,
+    /// First slot of its dependency coefficients, row after row.
+    dep_base: usize,
+}
+
+/// The row stride of a block of `k` columns (see [`Plan`]).
+fn stride(k: usize) -> usize {
+    match k {
+        0..=5 => 8,
+        6..=13 => 16,
+        _ => (k + 3).div_ceil(4) * 4,
+    }
+}
+
+impl Plan {
+    pub(super) fn new(n: usize, blocks: &[super::Block]) -> Plan {
+        let mut slot = vec![u32::MAX; n * n];
+        let mut rhs_slot = vec![0u32; n];
+        let mut next = 0usize;
+        let mut out = Vec::with_capacity(blocks.len());
+        for blk in blocks {
+            let (k, s) = (blk.cols.len(), stride(blk.cols.len()));
+            let base = next;
+            for (i, &row) in blk.rows.iter().enumerate() {
+                for (j, &col) in blk.cols.iter().enumerate() {
+                    slot[row * n + col] = (base + i * s + j) as u32;
+                }
+                rhs_slot[row] = (base + i * s + s - 3) as u32;
+            }
+            next += k * s;
+            let dep_base = next;
+            for (i, &row) in blk.rows.iter().enumerate() {
+                for &col in &blk.deps[i] {
+                    slot[row * n + col] = next as u32;
+                    next += 1;
+                }
+            }
+            out.push(PlanBlock {
+                base,
+                k,
+                s,
+                dep_base,
+            });
+        }
+        Plan {
+            n,
+            slot,
+            rhs_slot,
+            len: next,
+            blocks: out,
+        }
     }
 }
 
 /// Per-task buffers.
 pub(super) struct Scratch {
     pub(super) pose: Pose,
-    sys: Dense,
+    vals: Vec<f64>,
     x: Vec<f64>,
-    m: Vec<f64>,
-    b: Vec<f64>,
 }
 
 impl Model {
     pub(super) fn scratch(&self) -> Scratch {
-        let n = self.n;
-        let big = self.blocks.iter().map(|b| b.cols.len()).max().unwrap_or(0);
         Scratch {
             pose: Pose::structural(&self.spec),
-            sys: Dense {
-                n,
-                a: vec![0.0; n * n],
-                r: vec![0.0; n * 3],
-            },
-            x: vec![0.0; n * 3],
-            m: vec![0.0; big * big],
-            b: vec![0.0; big * 3],
+            vals: vec![0.0; self.plan.len],
+            x: vec![0.0; self.n * 3],
         }
     }
 
@@ -222,37 +327,44 @@ impl Model {
     /// Solve one pose into `out` (its row of each part): its conditioning (see
     /// [`Outputs`]), 0 at a dead centre (`out` untouched).
     pub(super) fn solve_one(&self, s: &mut Scratch, out: [&mut [f64]; 3]) -> f64 {
-        let n = self.n;
-        s.sys.a.fill(0.0);
-        s.sys.r.fill(0.0);
-        self.assemble(&s.pose, &mut s.sys);
-        let (a, r, x) = (&s.sys.a, &s.sys.r, &mut s.x);
+        if s.pose.extra {
+            s.pose.refresh_loads(&self.spec);
+        }
+        s.vals.fill(0.0);
+        self.assemble(
+            &s.pose,
+            &mut Packed {
+                plan: &self.plan,
+                vals: &mut s.vals,
+            },
+        );
+        let (vals, x) = (&mut s.vals, &mut s.x);
         let mut cond = f64::INFINITY;
-        for blk in &self.blocks {
-            let k = blk.cols.len();
-            let (m, b) = (&mut s.m[..k * k], &mut s.b[..k * 3]);
-            for (i, &row) in blk.rows.iter().enumerate() {
-                let from = &a[row * n..(row + 1) * n];
-                for (dst, &col) in m[i * k..(i + 1) * k].iter_mut().zip(&blk.cols) {
-                    *dst = from[col];
-                }
-                let mut v = [r[row * 3], r[row * 3 + 1], r[row * 3 + 2]];
-                for &col in &blk.deps[i] {
-                    let c = from[col];
+        for (blk, pb) in self.blocks.iter().zip(&self.plan.blocks) {
+            let (k, st) = (pb.k, pb.s);
+            let (head, deps) = vals.split_at_mut(pb.dep_base);
+            let m = &mut head[pb.base..pb.base + k * st];
+            let mut d = 0;
+            for (i, cols) in blk.deps.iter().enumerate() {
+                let b = &mut m[i * st + st - 3..(i + 1) * st];
+                let mut v = [b[0], b[1], b[2]];
+                for &col in cols {
+                    let c = deps[d];
+                    d += 1;
                     let xs = &x[col * 3..col * 3 + 3];
                     v[0] -= c * xs[0];
                     v[1] -= c * xs[1];
                     v[2] -= c * xs[2];
                 }
-                b[i * 3..i * 3 + 3].copy_from_slice(&v);
+                b.copy_from_slice(&v);
             }
-            let scale = abs_max(m);
-            match lu_solve(m, b, k, SINGULAR_REL * scale) {
+            let scale = block_abs_max(m, k, st);
+            match lu_solve(m, k, st, SINGULAR_REL * scale) {
                 Some(pivot) => cond = cond.min(pivot / scale),
                 None => return 0.0,
             }
             for (j, &col) in blk.cols.iter().enumerate() {
-                x[col * 3..col * 3 + 3].copy_from_slice(&b[j * 3..j * 3 + 3]);
+                x[col * 3..col * 3 + 3].copy_from_slice(&m[j * st + st - 3..(j + 1) * st]);
             }
         }
         self.write(s, out);
@@ -265,21 +377,25 @@ impl Model {
     fn write(&self, s: &Scratch, out: [&mut [f64]; 3]) {
         let g_n = self.spec.guides.len();
         let x = &s.x;
-        for (part, row) in out.into_iter().enumerate() {
+        let [r0, r1, r2] = out;
+        let mut rows = [r0, r1, r2];
+        for (part, row) in rows.iter_mut().enumerate() {
             row[0] = x[self.torque_col * 3 + part];
             for g in 0..g_n {
                 row[1 + g] = x[(self.guide_col + g) * 3 + part];
             }
-            if row.len() == 1 + g_n {
+        }
+        if rows[0].len() == 1 + g_n {
+            return;
+        }
+        let mut k = 1 + g_n;
+        for pin in &self.pins {
+            if pin.sides.is_empty() {
                 continue;
             }
-            let mut k = 1 + g_n;
-            for pin in &self.pins {
-                if pin.sides.is_empty() {
-                    continue;
-                }
-                let load = s.pose.pin_load(&self.spec, pin.point)[part];
-                let mut first = load;
+            let load = s.pose.pin_load(&self.spec, pin.point);
+            for (part, row) in rows.iter_mut().enumerate() {
+                let mut first = load[part];
                 for &g in &pin.guides {
                     let nn = s.pose.normal[g];
                     let f = x[(self.guide_col + g) * 3 + part];
@@ -293,50 +409,102 @@ impl Model {
                 }
                 row[k] = first[0];
                 row[k + 1] = first[1];
-                k += 2;
                 for j in 0..pin.sides.len() - 1 {
                     let (cx, cy) = (pin.col + 2 * j, pin.col + 2 * j + 1);
-                    row[k] = x[cx * 3 + part];
-                    row[k + 1] = x[cy * 3 + part];
-                    k += 2;
+                    row[k + 2 + 2 * j] = x[cx * 3 + part];
+                    row[k + 3 + 2 * j] = x[cy * 3 + part];
                 }
             }
+            k += 2 * pin.sides.len();
         }
     }
 }
 
-/// The largest |v| of finite `v`, in four independent lanes (no serial chain
-/// of NaN-aware maxima).
-fn abs_max(v: &[f64]) -> f64 {
+/// The largest |v| of the k×k matrix of an augmented block of row stride `st`.
+#[inline(always)]
+fn block_abs_max(m: &[f64], k: usize, st: usize) -> f64 {
     let mut acc = [0.0f64; 4];
-    let mut chunks = v.chunks_exact(4);
-    for c in &mut chunks {
-        for (a, x) in acc.iter_mut().zip(c) {
+    for row in m.chunks_exact(st) {
+        for (i, x) in row[..k].iter().enumerate() {
             let y = x.abs();
-            if y > *a {
-                *a = y;
+            if y > acc[i & 3] {
+                acc[i & 3] = y;
             }
-        }
-    }
-    for x in chunks.remainder() {
-        let y = x.abs();
-        if y > acc[0] {
-            acc[0] = y;
         }
     }
     acc.iter().fold(0.0, |m, &x| if x > m { x } else { m })
 }
 
-/// Gaussian elimination with partial pivoting of the k×k `m` (row-major) on the
-/// three right-hand sides `b` (k×3), in place (the diagonal keeps the pivots'
-/// reciprocals): the smallest |pivot|, or None if a pivot is at most `tol` (or
-/// not finite).
-fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> Option<f64> {
+/// Gaussian elimination with partial pivoting of the augmented k×`st` block `m`
+/// (row-major; the k×k matrix, zero padding, three right-hand sides last), in
+/// place: the solutions end in the right-hand sides' columns. Returns the
+/// smallest |pivot|, or None if a pivot is at most `tol` (or not finite).
+/// Sizes up to 13 run a copy specialised to their k and stride.
+fn lu_solve(m: &mut [f64], k: usize, st: usize, tol: f64) -> Option<f64> {
+    pulp::Arch::new().dispatch(Lu { m, k, st, tol })
+}
+
+/// [`lu_solve`]'s work, compiled for the widest vector unit the CPU has (no
+/// fused multiply–add: the same operations as the scalar code, bit for bit).
+struct Lu<'a> {
+    m: &'a mut [f64],
+    k: usize,
+    st: usize,
+    tol: f64,
+}
+
+impl pulp::WithSimd for Lu<'_> {
+    type Output = Option<f64>;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Option<f64> {
+        let Lu { m, k, st, tol } = self;
+        lu_fixed(m, k, st, tol)
+    }
+}
+
+#[inline(always)]
+fn lu_fixed(m: &mut [f64], k: usize, st: usize, tol: f64) -> Option<f64> {
+    macro_rules! fixed {
+        ($($k:literal => $s:literal),*) => {
+            match k {
+                $($k => lu_aug::<$s>(m, $k, tol),)*
+                _ => lu_any(m, k, st, tol),
+            }
+        };
+    }
+    fixed!(1 => 8, 2 => 8, 3 => 8, 4 => 8, 5 => 8, 6 => 16, 7 => 16, 8 => 16, 9 => 16,
+           10 => 16, 11 => 16, 12 => 16, 13 => 16)
+}
+
+#[inline(always)]
+fn lu_aug<const S: usize>(m: &mut [f64], k: usize, tol: f64) -> Option<f64> {
+    let (rows, _) = m.as_chunks_mut::<S>();
+    lu_rows(&mut rows[..k], tol)
+}
+
+#[inline(always)]
+fn lu_any(m: &mut [f64], k: usize, st: usize, tol: f64) -> Option<f64> {
+    let mut rows: Vec<Vec<f64>> = m.chunks_exact(st).map(<[f64]>::to_vec).collect();
+    let r = lu_rows(&mut rows[..k], tol);
+    for (dst, src) in m.chunks_exact_mut(st).zip(&rows) {
+        dst.copy_from_slice(src);
+    }
+    r
+}
+
+/// [`lu_solve`] on rows that hold the matrix's columns first and the three
+/// right-hand sides last. Each row update runs over the whole row, a fixed
+/// length (the entries up to the pivot column are never read again: they hold
+/// garbage), each entry right of it updated as by an update of those alone.
+#[inline(always)]
+fn lu_rows<R: AsMut<[f64]> + AsRef<[f64]>>(rows: &mut [R], tol: f64) -> Option<f64> {
+    let k = rows.len();
     let mut smallest = f64::INFINITY;
     for c in 0..k {
-        let (mut piv, mut best) = (c, m[c * k + c].abs());
-        for r in c + 1..k {
-            let v = m[r * k + c].abs();
+        let (mut piv, mut best) = (c, rows[c].as_ref()[c].abs());
+        for (r, row) in rows.iter().enumerate().skip(c + 1) {
+            let v = row.as_ref()[c].abs();
             if v > best {
                 (piv, best) = (r, v);
             }
@@ -346,42 +514,40 @@ fn lu_solve(m: &mut [f64], b: &mut [f64], k: usize, tol: f64) -> Option<f64> {
         }
         smallest = smallest.min(best);
         if piv != c {
-            let (top, bottom) = m.split_at_mut(piv * k);
-            top[c * k..(c + 1) * k].swap_with_slice(&mut bottom[..k]);
-            let (top, bottom) = b.split_at_mut(piv * 3);
-            top[c * 3..c * 3 + 3].swap_with_slice(&mut bottom[..3]);
+            rows.swap(c, piv);
         }
-        let inv = 1.0 / m[c * k + c];
-        m[c * k + c] = inv;
-        let (top, bottom) = m.split_at_mut((c + 1) * k);
-        let prow = &top[c * k + c + 1..(c + 1) * k];
-        let (btop, bbottom) = b.split_at_mut((c + 1) * 3);
-        let bp = [btop[c * 3], btop[c * 3 + 1], btop[c * 3 + 2]];
-        for (row, br) in bottom.chunks_exact_mut(k).zip(bbottom.chunks_exact_mut(3)) {
+        let (top, bottom) = rows.split_at_mut(c + 1);
+        let prow = top[c].as_mut();
+        let inv = 1.0 / prow[c];
+        prow[c] = inv;
+        let prow = top[c].as_ref();
+        for row in bottom.iter_mut() {
+            let row = row.as_mut();
             let f = row[c] * inv;
             if f == 0.0 {
                 continue;
             }
-            for (x, p) in row[c + 1..].iter_mut().zip(prow) {
+            for (x, p) in row.iter_mut().zip(prow) {
                 *x -= f * p;
             }
-            br[0] -= f * bp[0];
-            br[1] -= f * bp[1];
-            br[2] -= f * bp[2];
         }
     }
+    let st = rows[0].as_ref().len();
     for c in (0..k).rev() {
-        let row = &m[c * k..(c + 1) * k];
-        let mut v = [b[c * 3], b[c * 3 + 1], b[c * 3 + 2]];
-        for (t, &coef) in row.iter().enumerate().skip(c + 1) {
-            v[0] -= coef * b[t * 3];
-            v[1] -= coef * b[t * 3 + 1];
-            v[2] -= coef * b[t * 3 + 2];
+        let (top, bottom) = rows.split_at_mut(c + 1);
+        let row = top[c].as_mut();
+        let mut v = [row[st - 3], row[st - 2], row[st - 1]];
+        for (t, b) in bottom.iter().enumerate() {
+            let b = b.as_ref();
+            let coef = row[c + 1 + t];
+            v[0] -= coef * b[st - 3];
+            v[1] -= coef * b[st - 2];
+            v[2] -= coef * b[st - 1];
         }
         let inv = row[c];
-        b[c * 3] = v[0] * inv;
-        b[c * 3 + 1] = v[1] * inv;
-        b[c * 3 + 2] = v[2] * inv;
+        row[st - 3] = v[0] * inv;
+        row[st - 2] = v[1] * inv;
+        row[st - 1] = v[2] * inv;
     }
     Some(smallest)
 }
@@ -435,9 +601,23 @@ pub fn solve_into(
     if n == 0 {
         return Ok(());
     }
+    if out.analogs.as_ref().is_some_and(|a| a.len() != n) {
+        return Err(ForceError::BadModel(format!(
+            "analogs has {} values; {n} angles need {n}",
+            out.analogs.as_ref().map_or(0, |a| a.len())
+        )));
+    }
     let (part0, rest) = out.values.split_at_mut(n * w);
     let (part1, part2) = rest.split_at_mut(n * w);
-    let run = |(c, (((v0, v1), v2), conds)): Task<'_>| {
+    let mut spare = Vec::new();
+    let analogs: &mut [f64] = match out.analogs {
+        Some(a) => a,
+        None => {
+            spare.resize(n, 0.0);
+            &mut spare
+        }
+    };
+    let run = |(c, ((((v0, v1), v2), conds), ratios)): Task<'_>| {
         if crate::cancel::requested() {
             return;
         }
@@ -446,8 +626,9 @@ pub fn solve_into(
             .chunks_exact_mut(w)
             .zip(v1.chunks_exact_mut(w))
             .zip(v2.chunks_exact_mut(w))
-            .zip(conds.iter_mut());
-        for (i, (((r0, r1), r2), cond)) in rows.enumerate() {
+            .zip(conds.iter_mut())
+            .zip(ratios.iter_mut());
+        for (i, ((((r0, r1), r2), cond), ratio)) in rows.enumerate() {
             let a = c * CHUNK + i;
             let row = Row {
                 xy: &xy[a * p2..(a + 1) * p2],
@@ -461,6 +642,7 @@ pub fn solve_into(
             } else {
                 f64::NAN
             };
+            *ratio = s.pose.analog_ratio;
             if cond.is_nan() || *cond == 0.0 {
                 r0.fill(f64::NAN);
                 r1.fill(f64::NAN);
@@ -474,6 +656,7 @@ pub fn solve_into(
             .zip(part1.par_chunks_mut(CHUNK * w))
             .zip(part2.par_chunks_mut(CHUNK * w))
             .zip(out.conditioning.par_chunks_mut(CHUNK))
+            .zip(analogs.par_chunks_mut(CHUNK))
             .enumerate()
             .for_each(run)
     });

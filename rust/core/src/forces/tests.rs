@@ -39,6 +39,7 @@ fn one(model: &Model, xy: &[V2], vel: &[V2], acc: &[V2], force: Option<&[V2]>) -
             values: &mut values,
             conditioning: &mut conditioning,
             reactions: true,
+            analogs: None,
         },
         Some(1),
     )
@@ -319,6 +320,7 @@ fn dead_centre_is_singular() {
             values: &mut values,
             conditioning: &mut conditioning,
             reactions: true,
+            analogs: None,
         },
         Some(1),
     )
