@@ -29,11 +29,50 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from ._arrays import count, flag, float_array, instance, real_array
 from ._errors import InputError
 
-__all__ = ["Body", "Scene", "block", "circle", "rotate"]
+__all__ = ["Body", "Scene", "block", "circle", "cycle_angles", "rotate"]
 
 Array = npt.NDArray[np.float64]
+
+
+def cycle_angles(cycle_deg: object) -> Array:
+    """The main shaft's angles [deg] a ``scene`` hook is asked for: a non-empty 1-D
+    array of finite numbers, or :class:`InputError`.
+
+    Parameters
+    ----------
+    cycle_deg : array_like of float
+        The angles [deg].
+
+    Returns
+    -------
+    ndarray of float, shape (N,)
+        The angles [deg].
+
+    Examples
+    --------
+    >>> cycle_angles([0, 90]).tolist()
+    [0.0, 90.0]
+    """
+    a = real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,))
+    if not a.size:
+        raise InputError("cycle_deg must hold at least one angle [deg]; got an empty array")
+    return a
+
+
+def _xy(name: str, value: object, cols: int, *, nan: bool) -> Array:
+    """``value`` as an (n, ``cols``) float array: no ±inf, NaN only where ``nan``."""
+    a = float_array(name, value, ndims=(2,))
+    if a.shape[1] != cols or not a.shape[0]:
+        raise InputError(f"{name} must have shape (n ≥ 1, {cols}); got {a.shape}")
+    bad = np.isinf(a) | (np.isnan(a) if not nan else False)
+    if bad.any():
+        i = tuple(int(k) for k in np.argwhere(bad)[0])
+        allowed = "finite or NaN (a break)" if nan else "finite"
+        raise InputError(f"{name}{list(i)} = {a[i]!r} must be {allowed}")
+    return a
 
 
 def rotate(xy: Array, angle: Array) -> Array:
@@ -146,6 +185,12 @@ class Body:
     closed: bool = True
     fill: bool = True
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "outline", _xy("outline", self.outline, 2, nan=True))
+        object.__setattr__(self, "pose", _xy("pose", self.pose, 3, nan=False))
+        object.__setattr__(self, "closed", flag("closed", self.closed))
+        object.__setattr__(self, "fill", flag("fill", self.fill))
+
     def at(self, frame: int) -> Array:
         """The outline where the body is at frame ``frame`` [m].
 
@@ -167,12 +212,13 @@ class Body:
                [ 1.,  0.],
                [ 2., -1.]])
         """
-        x, y, a = self.pose[frame]
+        i = count("frame", frame, low=0, high=self.pose.shape[0] - 1)
+        x, y, a = self.pose[i]
         out: Array = rotate(self.outline, np.array(a)) + np.array([x, y])
         return out
 
 
-def _fixed(pose: Array | tuple[float, float, float], frames: int) -> Array:
+def _fixed(pose: Array, frames: int) -> Array:
     return np.broadcast_to(np.asarray(pose, dtype=np.float64), (frames, 3)).copy()
 
 
@@ -222,6 +268,28 @@ class Scene:
     traces: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        from collections.abc import Mapping as _Mapping
+
+        instance("name", self.name, str)
+        points = {
+            instance("points' names", k, str): _xy(f"points[{k!r}]", v, 2, nan=True)
+            for k, v in instance("points", self.points, _Mapping).items()
+        }
+        object.__setattr__(self, "points", points)
+        for what in ("links", "ground", "traces"):
+            value = getattr(self, what)
+            if isinstance(value, str) or not isinstance(value, tuple | list):
+                raise InputError(f"{what} must be a tuple of point names; got {value!r}")
+        links = tuple(tuple(ln) if isinstance(ln, tuple | list) else ln for ln in self.links)
+        if not all(isinstance(ln, tuple) and len(ln) >= 2 for ln in links):
+            raise InputError(f"links must be tuples of two or more point names; got {self.links!r}")
+        object.__setattr__(self, "links", links)
+        object.__setattr__(self, "ground", tuple(self.ground))
+        object.__setattr__(self, "traces", tuple(self.traces))
+        for k, b in instance("bodies", self.bodies, _Mapping).items():
+            instance(f"bodies[{k!r}]", b, Body)
+        if not points and not self.bodies:
+            raise InputError(f"scene {self.name!r} has neither points nor bodies")
         sizes = {np.shape(v)[0] for v in self.points.values()}
         sizes |= {b.pose.shape[0] for b in self.bodies.values()}
         if len(sizes) != 1:
@@ -290,4 +358,7 @@ class Scene:
         array([[1., 2., 0.],
                [1., 2., 0.]])
         """
-        return _fixed(pose, frames)
+        p = real_array("pose", pose, "[m, m, rad]", ndims=(1,))
+        if p.shape != (3,):
+            raise InputError(f"pose must be (x [m], y [m], angle [rad]); got shape {p.shape}")
+        return _fixed(p, count("frames", frames, low=1))

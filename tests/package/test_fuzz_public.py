@@ -423,6 +423,10 @@ ALLOWED = {
     ("cyclomech.Constraint", "rhs", "nan"),
     # a speed limit of +inf: the machine is not limited (drawn as no line)
     ("cyclomech.plot.plot_speed_sweep", "limit_rpm", "inf"),
+    # NaN rows break a body's outline into pieces; NaN points are a pose that cannot
+    # be assembled (not drawn)
+    ("cyclomech.machine.Body", "outline", "nan entry"),
+    ("cyclomech.machine.Scene", "points", "nan entry"),
     # a linkage that cannot be assembled has NaN transmission angles (its margins say so)
     ("cyclomech.synthesis.slider_crank_margins", "offset", "negative"),
 }

@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _toml
-from .._arrays import instance, real_array, speeds_rpm
+from .._arrays import instance, speeds_rpm
 from .._errors import CyclomechWarning, InputError
 from .._files import file_stem, folder_target
 from .._keydoc import KeyTable
@@ -34,7 +34,7 @@ from .._kind import (
     efficiency_entry,
     per_distinct_speed,
 )
-from .._scene import Scene
+from .._scene import Scene, cycle_angles
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
 from ._export import DxfUnavailableError, write_profile_csv, write_profile_dxf
@@ -1004,7 +1004,7 @@ class CamResult(BoundsResult):
         """
         from ._scene import cam_scene
 
-        return cam_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
+        return cam_scene(self, cycle_angles(cycle_deg))
 
     def _shaft_phase(self) -> tuple[float, str] | None:
         """(its phase [deg]: the first bound segment starts at its operation's start

@@ -159,6 +159,8 @@ def plot_cyclogram(
     if kind not in ("gantt", "circular"):
         raise InputError(f"kind must be 'gantt' or 'circular'; got {kind!r}")
     lay = _layout(result, minimums)
+    if ax is not None and not hasattr(ax, "add_collection"):
+        raise InputError(f"ax must be None (a new figure) or a matplotlib Axes; got {ax!r}")
     if ax is not None and kind == "circular":
         _require_polar(ax)
     if ax is None:

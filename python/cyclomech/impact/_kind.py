@@ -18,7 +18,7 @@ from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
-from .._scene import Scene
+from .._scene import Scene, cycle_angles
 from ..cyclogram import Arc, Constraint
 from ._batch import StopBatch, stop_batch
 from ._keys import KEY_DOCS
@@ -641,7 +641,7 @@ class CamStopResult:
         """
         from ._scene import stop_scene
 
-        return stop_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
+        return stop_scene(self, cycle_angles(cycle_deg))
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry and its ``stops`` entry."""

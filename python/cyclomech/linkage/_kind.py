@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _keyrules, _toml, forces
-from .._arrays import count, instance, positive, real_array
+from .._arrays import count, instance, positive
 from .._errors import InputError
 from .._files import file_stem, write_csv
 from .._keydoc import KeyTable
@@ -27,7 +27,7 @@ from .._kind import (
     Unbounded,
     efficiency_entry,
 )
-from .._scene import Scene
+from .._scene import Scene, cycle_angles
 from .._units import RAD_PER_S_PER_RPM
 from ._file import _LINKAGE_KEYS, DYNAMICS_KEYS
 from ._keys import KEY_DOCS
@@ -690,7 +690,7 @@ class LinkageResult(PlainResult):
         """
         from ._scene import linkage_scene
 
-        return linkage_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
+        return linkage_scene(self, cycle_angles(cycle_deg))
 
     def _shaft_phase(self) -> tuple[float, str | None] | None:
         """(the cycle angle [deg] where the crank is at its drawn angle, the event

@@ -49,7 +49,7 @@ class _Painter:
         for p in scene.traces:
             xy = 1e3 * scene.points[p]
             ax.plot(xy[:, 0], xy[:, 1], color="#6aa5d8", lw=0.9, gid=f"trace:{p}", zorder=1)
-        self.bodies = []
+        self.bodies: list[tuple[Any, Any, Any]] = []  # (body, its patch or None, its line or None)
         for name, b in scene.bodies.items():
             if b.fill:
                 patch = Polygon(
@@ -66,7 +66,7 @@ class _Painter:
             else:
                 (line,) = ax.plot([], [], color="#4a4a4a", lw=1.0, gid=f"body:{name}", zorder=2)
                 self.bodies.append((b, None, line))
-        self.plates = [
+        self.plates: list[Any] = [
             ax.add_patch(Polygon(np.zeros((len(ln), 2)), facecolor=PLATE_COLOR, zorder=2.5))
             for ln in scene.links
             if len(ln) > 2
@@ -150,12 +150,17 @@ def _figure(result: MachineResult, theta: Any) -> tuple[Figure, list[_Painter], 
 def _show(painters: list[_Painter], cursor: Any, theta: Any, i: int, fig: Any) -> None:
     for p in painters:
         p.show(i)
-    text = f"main shaft at θ = {theta[i]:.1f}°"
     if cursor is not None:
         cursor.set_xdata([theta[i], theta[i]])
-        cursor.axes.set_title(text)
-    else:
-        fig.suptitle(text, fontsize=11)
+    _label(fig, cursor).set_text(f"main shaft at θ = {theta[i]:.1f}°")
+
+
+def _label(fig: Any, cursor: Any) -> Any:
+    """The text that says the angle: the cyclogram's title, or the figure's without
+    a cyclogram."""
+    if cursor is not None:
+        return cursor.axes.title
+    return fig._suptitle if fig._suptitle is not None else fig.suptitle("", fontsize=11)
 
 
 def plot_machine_frame(result: MachineResult, cycle_deg: float = 0.0) -> Figure:
@@ -276,10 +281,10 @@ def animate_machine(
         fig.canvas.draw()
         fig.set_layout_engine("none")
         moving = [a for p in painters for a in p.artists()]
-        moving += [fig._suptitle] if cursor is None else [cursor, cursor.axes.title]
+        moving += [_label(fig, cursor)] + ([] if cursor is None else [cursor])
         for a in moving:
             a.set_animated(True)
-        canvas = fig.canvas
+        canvas: Any = fig.canvas  # the Agg canvas: copy_from_bbox, buffer_rgba
         canvas.draw()
         still = canvas.copy_from_bbox(fig.bbox)
         images = []

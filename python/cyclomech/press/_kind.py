@@ -11,7 +11,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _keyrules, _toml
-from .._arrays import finite_number, instance, positive, real_array
+from .._arrays import finite_number, instance, positive
 from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
@@ -26,7 +26,7 @@ from .._kind import (
     efficiency_entry,
 )
 from .._numtext import number_text
-from .._scene import Scene
+from .._scene import Scene, cycle_angles
 from .._units import RAD_PER_S_PER_RPM
 from ._drive import STATUS, GearLeverPress, PressCriteria
 from ._friction import PressFriction, PressFrictionForces, friction_from_table, press_friction
@@ -548,7 +548,7 @@ class PressResult(PlainResult):
         """
         from ._scene import press_scene
 
-        return press_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
+        return press_scene(self, cycle_angles(cycle_deg))
 
     def friction_torque(self) -> np.ndarray:
         """The torque friction adds on the crank at the nominal speed [N·m]: the

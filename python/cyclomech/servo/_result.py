@@ -12,11 +12,11 @@ from typing import Any
 
 import numpy as np
 
-from .._arrays import instance, real_array
+from .._arrays import instance
 from .._errors import CyclomechWarning
 from .._files import file_stem, folder_target, savetxt
 from .._kind import Array, BoundsResult, Context, Save
-from .._scene import Scene
+from .._scene import Scene, cycle_angles
 from ..cam import MinPhaseAngles
 from ..motion import Program, write_cam_coefficients, write_cam_table
 from ._axis import CHECKS, Duty, ServoAxis
@@ -215,7 +215,7 @@ class ServoResult(BoundsResult):
         """
         from ._scene import servo_scene
 
-        return servo_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
+        return servo_scene(self, cycle_angles(cycle_deg))
 
     @property
     def master_offset_deg(self) -> float:

@@ -9,12 +9,12 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .. import _keyrules, _toml
-from .._arrays import count, instance, positive, real_array, speeds_rpm
+from .._arrays import count, instance, positive, speeds_rpm
 from .._errors import InfeasibleError, InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Context, PlainResult, Save, TableContext, Unbounded
-from .._scene import Scene
+from .._scene import Scene, cycle_angles
 from .._units import RAD_PER_S_PER_RPM
 from ._design import design_transfer
 from ._keys import KEY_DOCS
@@ -380,7 +380,7 @@ class TransferResult(PlainResult):
         """
         from ._scene import transfer_scene
 
-        return transfer_scene(self, real_array("cycle_deg", cycle_deg, "[deg]", ndims=(1,)))
+        return transfer_scene(self, cycle_angles(cycle_deg))
 
     def json(self) -> dict[str, dict[str, Any]]:
         """Its ``mechanisms`` entry."""
