@@ -69,6 +69,27 @@ def _timed(config: pytest.Config) -> list[Any]:
     return [b for b in session.benchmarks if b and not b.has_error]
 
 
+#: Parameters whose largest values only a timed run needs: (fixture, smallest value
+#: left to ``-m exhaustive`` when benchmarks are off). bench_schedule's V = 1e6 rows
+#: (a minute of the default run, most of it rustworkx and the graph's build) check
+#: what V = 1e3 … 1e5 check on the same code; timed, they give the per-arc scaling.
+SMOKE_TOO_LARGE = {"scaled": 1_000_000}
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """With benchmarks off (the default run executes each benchmark once, as a test),
+    the sizes of :data:`SMOKE_TOO_LARGE` are marked ``exhaustive``, which the default
+    ``-m "not exhaustive"`` leaves out; ``--benchmark-enable`` runs them all. Before
+    the ``-m`` selection (tryfirst)."""
+    if not (config.getoption("benchmark_disable") and not config.getoption("benchmark_enable")):
+        return
+    for item in items:
+        params = getattr(getattr(item, "callspec", None), "params", {})
+        if any(params.get(k, 0) >= v for k, v in SMOKE_TOO_LARGE.items()):
+            item.add_marker(pytest.mark.exhaustive)
+
+
 @pytest.hookimpl(trylast=True)
 def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config) -> None:
     benches = _timed(config)

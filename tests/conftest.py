@@ -20,6 +20,19 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config: pytest.Config) -> None:
+    """``-n N`` sends whole files to the workers (``--dist loadfile``) unless a
+    ``--dist`` is given: many files build a module-scoped fixture (the docstring
+    examples' recorded calls, the full-disk reference outputs, a synthesised drive,
+    the million-event graphs) that ``--dist load`` builds again on every worker
+    that gets one of the file's tests. Set here, not in pyproject's addopts:
+    pytest-benchmark turns timing off whenever ``--dist`` is set, also without
+    ``-n``. Runs before xdist's own hook, which makes ``-n`` mean ``--dist load``."""
+    if getattr(config.option, "numprocesses", None) and config.option.dist == "no":
+        config.option.dist = "loadfile"
+
+
 @pytest.fixture(autouse=True)
 def _in_the_repository(monkeypatch: pytest.MonkeyPatch) -> None:
     """Docstring examples and tests name files as a user at the repository's root

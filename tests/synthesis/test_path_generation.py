@@ -27,7 +27,7 @@ from cyclomech.synthesis import (
     path_generation,
     slider_crank_linkage,
 )
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
 
 TAU = 2 * math.pi
@@ -188,27 +188,68 @@ def _transmission_deg(kind: str, sol: cm.linkage.LinkageSolution, th: float) -> 
     return np.degrees(np.arccos(np.clip(cos, -1, 1)))
 
 
-# No shrinking: each example is a whole synthesis (seconds), and the failing
-# example hypothesis prints is reproducible as it stands.
-@settings(
-    max_examples=6,
-    deadline=None,
-    suppress_health_check=[HealthCheck.too_slow],
-    phases=[Phase.explicit, Phase.reuse, Phase.generate],
-)
-@given(
-    pts=st.lists(
+#: The constrained synthesis's inputs: 3 to 5 spread points, either kind, with or
+#: without timing, each constraint on or off.
+CONSTRAINED = {
+    "pts": st.lists(
         st.tuples(st.floats(-1, 1), st.floats(-1, 1)), min_size=3, max_size=5, unique=True
     ).filter(lambda p: np.ptp(np.array(p), axis=0).max() > 0.2),
-    kind=st.sampled_from(["four_bar", "slider_crank"]),
-    timed=st.booleans(),
-    full_turn=st.booleans(),
-    mu=st.sampled_from([0.0, 30.0, 45.0]),
-    ratio=st.sampled_from([math.inf, 6.0]),
-    boxed=st.booleans(),
-    seed=st.integers(0, 2**16),
+    "kind": st.sampled_from(["four_bar", "slider_crank"]),
+    "timed": st.booleans(),
+    "full_turn": st.booleans(),
+    "mu": st.sampled_from([0.0, 30.0, 45.0]),
+    "ratio": st.sampled_from([math.inf, 6.0]),
+    "boxed": st.booleans(),
+    "seed": st.integers(0, 2**16),
+}
+# No shrinking: each example is a whole synthesis (seconds), and the failing
+# example hypothesis prints is reproducible as it stands.
+_WHOLE_SYNTHESES = {
+    "deadline": None,
+    "suppress_health_check": [HealthCheck.too_slow],
+    "phases": [Phase.explicit, Phase.reuse, Phase.generate],
+}
+
+
+# The default run: two explicit cases that between them take every branch of the
+# checks (a timed four-bar over a partial turn and an untimed slider-crank over a
+# full one, each with the transmission, ratio and box constraints on; each returns
+# three candidates), and two drawn ones. The exhaustive run below draws 30 (the
+# default drew 6).
+@settings(max_examples=2, **_WHOLE_SYNTHESES)
+@example(
+    pts=[(-0.8, 0.1), (0.0, 0.6), (0.7, 0.2)],
+    kind="four_bar",
+    timed=True,
+    full_turn=False,
+    mu=45.0,
+    ratio=6.0,
+    boxed=True,
+    seed=11,
 )
-def test_no_returned_candidate_violates_its_constraints(
+@example(
+    pts=[(-0.6, -0.2), (0.2, 0.5), (0.8, -0.1)],
+    kind="slider_crank",
+    timed=False,
+    full_turn=True,
+    mu=30.0,
+    ratio=6.0,
+    boxed=True,
+    seed=7,
+)
+@given(**CONSTRAINED)
+def test_no_returned_candidate_violates_its_constraints(**case: object) -> None:
+    _check_constrained(**case)
+
+
+@pytest.mark.exhaustive
+@settings(max_examples=30, **_WHOLE_SYNTHESES)
+@given(**CONSTRAINED)
+def test_no_returned_candidate_violates_its_constraints_exhaustive(**case: object) -> None:
+    _check_constrained(**case)
+
+
+def _check_constrained(
     pts: list[tuple[float, float]],
     kind: str,
     timed: bool,
@@ -218,6 +259,9 @@ def test_no_returned_candidate_violates_its_constraints(
     boxed: bool,
     seed: int,
 ) -> None:
+    """Every candidate returned assembles over its range without a fold or a branch
+    change, and keeps the transmission angle, link ratio and pivot box asked for
+    (checked on a dense 7201-angle solve, not the optimiser's own samples)."""
     points = np.array(pts)
     timing = np.linspace(0.0, 200.0, len(points)) if timed else None
     box = (-1.5, 1.5, -1.5, 1.5) if boxed else None
