@@ -291,11 +291,12 @@ pub fn residual_ratio_batch(
         .into());
     }
     let fill = |o: &mut [f64], t: &[f64]| closed.fill(t, zeta, o);
+    let threads = resolve_threads(n_threads)?;
     if tau.len() <= CLOSED_CHUNK {
         fill(out, tau);
         return Ok(());
     }
-    let pool = pool(resolve_threads(n_threads)?)?;
+    let pool = pool(threads)?;
     pool.install(|| {
         out.par_chunks_mut(CLOSED_CHUNK)
             .zip(tau.par_chunks(CLOSED_CHUNK))

@@ -301,3 +301,9 @@ fn closed_timing() {
         println!("{law}: {:.1} ns per tau", best / taus.len() as f64 * 1e9);
     }
 }
+
+#[test]
+fn a_bad_thread_count_is_an_error_for_any_batch() {
+    let mut out = [0.0; 2];
+    assert!(residual_ratio_batch("cycloidal", &[1.0, 2.0], 0.1, Some(0), &mut out).is_err());
+}
