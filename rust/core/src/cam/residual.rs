@@ -314,7 +314,9 @@ impl ClosedResidual {
         } else {
             -lam * self.vel.weighted(lam, inv_lam)
         };
-        g.re.hypot(g.im) / wd
+        // |G| ≤ O(1) and ≥ ~ε/τ² here: its square neither overflows nor
+        // underflows for τ ≤ 1e150 (`hypot` would cost a third of the time).
+        (g.re * g.re + g.im * g.im).sqrt() / wd
     }
 
     /// R(τ_i, ζ) for every τ_i into `out` (checked τ > 0, ζ ∈ [0, 1)); the
