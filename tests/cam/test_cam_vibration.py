@@ -24,6 +24,8 @@ TAU = 2 * math.pi
 PI2 = math.pi**2
 #: Modified sine: peak acceleration Ca = 4π²/(4 + π) (textbook 5.528).
 CA_MODSINE = 4 * PI2 / (4 + math.pi)
+#: Modified trapezoid: Ca = 8π/(π + 2) (textbook 4.888).
+CA_MODTRAP = 8 * math.pi / (math.pi + 2)
 
 
 def _zpp(law: str, u: float) -> float:
@@ -34,6 +36,18 @@ def _zpp(law: str, u: float) -> float:
         return PI2 / 2 * math.cos(math.pi * u)
     if law == "polynomial_345":
         return 60 * u - 180 * u**2 + 120 * u**3
+    if law == "polynomial_4567":
+        return 420 * u**2 - 1680 * u**3 + 2100 * u**4 - 840 * u**5
+    if law == "modified_trapezoid":
+        if u <= 1 / 8:
+            return CA_MODTRAP * math.sin(4 * math.pi * u)
+        if u <= 3 / 8:
+            return CA_MODTRAP
+        if u <= 5 / 8:
+            return CA_MODTRAP * math.cos(4 * math.pi * (u - 3 / 8))
+        if u <= 7 / 8:
+            return -CA_MODTRAP
+        return -CA_MODTRAP * math.cos(4 * math.pi * (u - 7 / 8))
     if law == "modified_sine":
         if u <= 1 / 8:
             return CA_MODSINE * math.sin(4 * math.pi * u)
@@ -43,7 +57,18 @@ def _zpp(law: str, u: float) -> float:
     raise AssertionError(law)
 
 
-_BREAKS = {"modified_sine": (0.0, 1 / 8, 7 / 8, 1.0)}
+_BREAKS = {
+    "modified_sine": (0.0, 1 / 8, 7 / 8, 1.0),
+    "modified_trapezoid": (0.0, 1 / 8, 3 / 8, 5 / 8, 7 / 8, 1.0),
+}
+LAWS = (
+    "cycloidal",
+    "harmonic",
+    "polynomial_345",
+    "polynomial_4567",
+    "modified_sine",
+    "modified_trapezoid",
+)
 
 
 def _amplitude(q: float, v: float, w: float, zeta: float) -> float:
@@ -102,6 +127,59 @@ def test_against_solve_ivp(law: str, zeta: float) -> None:
     r = cm.cam.residual_vibration(law, taus, zeta)
     want = [_ivp_residual(law, t, zeta) for t in taus]
     np.testing.assert_allclose(r, want, rtol=1e-7, atol=1e-10)
+
+
+@pytest.mark.parametrize("law", LAWS)
+@pytest.mark.parametrize("zeta", [0.0, 0.01, 0.5, 0.95])
+def test_every_law_against_solve_ivp(law: str, zeta: float) -> None:
+    """The closed forms (issue 37) for every built-in law, ζ from 0 to near 1,
+    τ from small to large, against scipy integrating the textbook z''."""
+    taus = [0.05, 0.9, 1.1, 6.283185307179586, 13.0, 55.0, 120.0]
+    r = cm.cam.residual_vibration(law, taus, zeta)
+    want = [_ivp_residual(law, t, zeta) for t in taus]
+    np.testing.assert_allclose(r, want, rtol=2e-7, atol=1e-10)
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    law=st.sampled_from(LAWS),
+    tau=st.floats(0.01, 60.0),
+    zeta=st.floats(0.0, 0.95),
+)
+def test_closed_forms_property_against_solve_ivp(law: str, tau: float, zeta: float) -> None:
+    r = float(cm.cam.residual_vibration(law, tau, zeta))
+    want = _ivp_residual(law, tau, zeta)
+    assert r == pytest.approx(want, rel=2e-7, abs=1e-10)
+
+
+def _damped_cycloidal(tau: np.ndarray, zeta: float) -> np.ndarray:
+    """Independent numpy closed form: G = 4π²(e^λ − 1)/(λ² + 4π²), R = |G|/ω_d
+    (complex arithmetic, λ = −ζτ + iω_d)."""
+    wd = tau * math.sqrt(1 - zeta**2)
+    lam = -zeta * tau + 1j * wd
+    return np.abs(4 * PI2 * np.expm1(lam) / (lam**2 + 4 * PI2)) / wd
+
+
+def _damped_345(tau: np.ndarray, zeta: float) -> np.ndarray:
+    """Independent numpy closed form of the 3-4-5 rise by parts (g = −z''):
+    G = Σ_m (g⁽ᵐ⁾(0)·e^λ − g⁽ᵐ⁾(1))/λ^(m+1) with g(0) = g(1) = 0, g' = −60 at
+    both ends, g'' = 360 and −360, and the third derivative −720 (used for
+    |λ| ≥ 2, where the sum does not cancel)."""
+    wd = tau * math.sqrt(1 - zeta**2)
+    lam = -zeta * tau + 1j * wd
+    e = np.exp(lam)
+    g = -60 * (e - 1) / lam**2 + 360 * (e + 1) / lam**3 - 720 * (e - 1) / lam**4
+    return np.abs(g) / wd
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.05, 0.4, 0.99])
+def test_against_independent_numpy_closed_forms(zeta: float) -> None:
+    tau = np.geomspace(2.0, 1e4, 3001)
+    tau = tau[np.abs(tau - TAU) > 1e-6]
+    envelope = np.minimum(1 / math.sqrt(1 - zeta**2), 100 / tau**2)
+    for law, ref in (("cycloidal", _damped_cycloidal), ("polynomial_345", _damped_345)):
+        r = cm.cam.residual_vibration(law, tau, zeta)
+        assert np.all(np.abs(r - ref(tau, zeta)) <= 1e-11 * envelope), law
 
 
 def test_small_tau_limit_and_shape() -> None:

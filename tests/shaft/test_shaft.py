@@ -173,3 +173,66 @@ def test_bad_input_is_named(call, needle) -> None:
     with pytest.raises(cm.CyclomechError) as e:
         call()
     assert isinstance(e.value, ValueError) and needle in str(e.value)
+
+
+def _numpy_exact_stats(a: np.ndarray, b: np.ndarray, rpm: np.ndarray, delta: float) -> list:
+    """The statistics as the sampled kernel defines them, vectorised over (speeds,
+    samples) in numpy: T = ω²a + b, its samples' mean, peak and lowest, the RMS of
+    the piecewise-linear torque, and ΔE over the samples of E = ∫(T − T̄) AND E's
+    extrema inside each step where T − T̄ changes sign."""
+    n = a.size
+    h = 2 * math.pi / n
+    w = rpm * RAD
+    t = (w**2)[:, None] * a[None] + b[None]
+    t1 = np.roll(t, -1, axis=1)
+    mean = t.mean(axis=1)
+    rms = np.sqrt((h * (t * t + t * t1 + t1 * t1) / 3).sum(axis=1) / (2 * math.pi))
+    d0, d1 = t - mean[:, None], t1 - mean[:, None]
+    e = np.concatenate([np.zeros((len(w), 1)), np.cumsum(0.5 * (d0 + d1) * h, axis=1)], axis=1)
+    cross = ((d0 < 0) != (d1 < 0)) & (d0 != d1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ex = e[:, :-1] + 0.5 * d0 * (d0 / (d0 - d1)) * h
+    hi = np.maximum(e.max(axis=1), np.where(cross, ex, -np.inf).max(axis=1))
+    lo = np.minimum(e.min(axis=1), np.where(cross, ex, np.inf).min(axis=1))
+    de = hi - lo
+    return [mean, t.max(axis=1), t.min(axis=1), rms, de, de / (w**2 * delta), mean * w]
+
+
+@given(
+    st.integers(0, 2**31),
+    st.integers(3, 50),
+    st.lists(st.floats(1.0, 5000.0), min_size=1, max_size=30),
+    st.booleans(),
+)
+@settings(max_examples=60, deadline=None)
+def test_statistics_equal_the_sampled_definition(seed, n, rpm, ties) -> None:
+    """Every column of the envelope kernel (issue 37) against the sampled kernel's
+    definition in numpy, on random torques (with ties in a and b when `ties`), at
+    one or many speeds, repeated and unsorted. Tolerances, relative to the scale
+    S = max|ω²a| + max|b| at each speed: 1e-12 for the mean, peak and lowest,
+    1e-7 for the RMS (its square is a quadratic in ω² here, a sum there), 2e-9
+    of S for ΔE [J] (and the flywheel with it)."""
+    rng = np.random.default_rng(seed)
+    if ties:
+        a = rng.integers(-2, 3, size=n) * 1e-3
+        b = rng.integers(-2, 3, size=n).astype(float)
+    else:
+        a, b = rng.normal(size=n) * 1e-3, rng.normal(size=n)
+    speeds = np.array(rpm + rpm[:1])
+    s = cm.shaft.ShaftTorque.from_curves(a[None], b[None]).stats(speeds, 0.03)
+    want = _numpy_exact_stats(a, b, speeds, 0.03)
+    w2 = (speeds * RAD) ** 2
+    scale = w2 * np.abs(a).max() + np.abs(b).max() + 1e-300
+    got = [
+        s.mean_torque_nm,
+        s.peak_torque_nm,
+        s.lowest_torque_nm,
+        s.rms_torque_nm,
+        s.energy_fluctuation_j,
+        s.flywheel_kg_m2 * w2 * 0.03,
+        s.power_w / (speeds * RAD),
+    ]
+    want[5] = want[5] * w2 * 0.03
+    want[6] = want[6] / (speeds * RAD)
+    for g, wv, tol in zip(got, want, [1e-12, 1e-12, 1e-12, 1e-7, 2e-9, 2e-9, 1e-12], strict=True):
+        assert np.all(np.abs(g - wv) <= tol * scale), (g, wv)

@@ -13,12 +13,15 @@
 //! Files: `program` (segments, the displacement s(θ) and its derivatives),
 //! `follower` (pitch curve, profile, pressure angle, curvature, undercut),
 //! `contact` (forces, Hertz stress, shaft torque, jump), `bounds` (the smallest
-//! phase angle per criterion) and `search` (the bracketed searches they use).
+//! phase angle per criterion), `search` (the bracketed searches they use),
+//! `vibration` (follower dynamics: residual vibration, its bound, the steady
+//! state) and `residual` (the built-in laws' residual vibration in closed form).
 
 mod bounds;
 mod contact;
 mod follower;
 mod program;
+mod residual;
 mod search;
 mod stress;
 #[cfg(test)]
@@ -29,6 +32,7 @@ pub use bounds::{last_crossing, Limits, CRITERIA};
 pub use contact::{Contact, Loads, LOAD_COLUMNS, N_LOAD_COLUMNS};
 pub use follower::{Cam, Follower, COLUMNS, N_COLUMNS};
 pub use program::{CamError, Kind, Program, SegmentSpec};
+pub use residual::{ClosedResidual, MAX_CLOSED_DEGREE, SERIES_RADIUS};
 pub(crate) use search::{brent_max, brent_zero};
 pub use vibration::{
     free_amplitude, min_tau, min_tau_of, residual_ratio, residual_ratio_batch, steady_response,

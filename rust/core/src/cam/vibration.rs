@@ -33,6 +33,9 @@
 //! the amplitude of q(u) = R e^{−ζτ(u−1)} cos(ω_d (u − 1) − φ). As τ → 0 (a
 //! follower far too soft) y stays put, x(1) → −1 and R → 1/√(1 − ζ²).
 //!
+//! For the built-in laws R is a closed form ([`ClosedResidual`], module
+//! `residual`; issue 37). A law given as its pieces ([`LawForce::of`], a motion
+//! program's segment) keeps the sampled path:
 //! R comes from the exact piecewise-linear Duhamel kernel of the stops
 //! ([`crate::impact::response_into`], mass 1, ω_n = τ) with the force −z''(u)
 //! sampled on [0, 1] at [`GRID_PER_UNIT`] intervals per unit (the law's internal
@@ -76,6 +79,7 @@ use std::f64::consts::TAU;
 use rayon::prelude::*;
 
 use super::program::{CamError, Kind, Program, SegmentSpec};
+use super::residual::ClosedResidual;
 use crate::impact::{response_into, ImpactError, Oscillator, MODE_RANGE};
 use crate::input::InvalidInput;
 use crate::motion::{Law, MotionError};
@@ -245,14 +249,19 @@ impl LawForce {
 /// law started from rest (see the module docs).
 pub fn residual_ratio(law: &str, tau: f64, zeta: f64) -> Result<f64, VibrationError> {
     check_zeta(zeta)?;
-    LawForce::new(law)?.residual_ratio(tau, zeta)
+    let closed = ClosedResidual::new(law)?;
+    check_tau(tau)?;
+    Ok(closed.ratio(tau, zeta))
 }
 
-/// τ values per rayon task.
+/// τ values per rayon task of the sampled path.
 const CHUNK: usize = 16;
 
-/// R(τ_i, ζ) for every τ_i into `out`, in parallel; an error names the first
-/// bad entry.
+/// τ values per rayon task of the closed forms (5 to 200 ns each).
+const CLOSED_CHUNK: usize = 4096;
+
+/// R(τ_i, ζ) for every τ_i into `out`, in parallel (closed forms: see
+/// [`ClosedResidual`]); an error names the first bad entry.
 pub fn residual_ratio_batch(
     law: &str,
     tau: &[f64],
@@ -261,7 +270,7 @@ pub fn residual_ratio_batch(
     out: &mut [f64],
 ) -> Result<(), VibrationError> {
     check_zeta(zeta)?;
-    let force = LawForce::new(law)?;
+    let closed = ClosedResidual::new(law)?;
     if out.len() != tau.len() {
         return Err(ImpactError::Length {
             field: "out",
@@ -281,34 +290,23 @@ pub fn residual_ratio_batch(
         }
         .into());
     }
-    let pool = pool(resolve_threads(n_threads)?)?;
-    let first_error = pool.install(|| {
-        out.par_chunks_mut(CHUNK)
-            .zip(tau.par_chunks(CHUNK))
-            .enumerate()
-            .filter_map(|(c, (o, t))| {
-                if crate::cancel::requested() {
-                    return None;
-                }
-                let mut buf = Vec::new();
-                for (j, (oj, &tj)) in o.iter_mut().zip(t).enumerate() {
-                    match force.ratio(tj, zeta, &mut buf) {
-                        Ok(r) => *oj = r,
-                        Err(e) => return Some((c * CHUNK + j, e)),
-                    }
-                }
-                None
-            })
-            .min_by_key(|(i, _)| *i)
-    });
-    match first_error {
-        None => Ok(()),
-        Some((row, e)) => Err(ImpactError::Case {
-            row,
-            error: Box::new(e),
-        }
-        .into()),
+    let fill = |o: &mut [f64], t: &[f64]| closed.fill(t, zeta, o);
+    let threads = resolve_threads(n_threads)?;
+    if tau.len() <= CLOSED_CHUNK {
+        fill(out, tau);
+        return Ok(());
     }
+    let pool = pool(threads)?;
+    pool.install(|| {
+        out.par_chunks_mut(CLOSED_CHUNK)
+            .zip(tau.par_chunks(CLOSED_CHUNK))
+            .for_each(|(o, t)| {
+                if !crate::cancel::requested() {
+                    fill(o, t)
+                }
+            })
+    });
+    Ok(())
 }
 
 /// Root of f on [lo, hi] (f(lo) > 0 ≥ f(hi) or the reverse) by the Illinois
@@ -392,11 +390,26 @@ fn maximise(
 /// The smallest τ* ≥ 0 such that R(τ) ≤ `ratio_limit` for every τ ≥ τ* (the
 /// bound rule; see the module docs), for the named law and damping ratio ζ.
 pub fn min_tau(law: &str, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationError> {
-    min_tau_of(&LawForce::new(law)?, ratio_limit, zeta)
+    let closed = ClosedResidual::new(law)?;
+    min_tau_by(
+        |t, _: &mut Vec<f64>| Ok(closed.ratio(t, zeta)),
+        ratio_limit,
+        zeta,
+    )
 }
 
 /// [`min_tau`] for a law's force ([`LawForce::of`] any rest-to-rest law).
 pub fn min_tau_of(force: &LawForce, ratio_limit: f64, zeta: f64) -> Result<f64, VibrationError> {
+    check_zeta(zeta)?;
+    min_tau_by(|t, buf| force.ratio(t, zeta, buf), ratio_limit, zeta)
+}
+
+/// [`min_tau`] with R(τ) given by `r` (a scratch buffer its second argument).
+fn min_tau_by(
+    r: impl Fn(f64, &mut Vec<f64>) -> Result<f64, ImpactError> + Sync,
+    ratio_limit: f64,
+    zeta: f64,
+) -> Result<f64, VibrationError> {
     check_zeta(zeta)?;
     param(
         "ratio_limit",
@@ -404,7 +417,6 @@ pub fn min_tau_of(force: &LawForce, ratio_limit: f64, zeta: f64) -> Result<f64, 
         ratio_limit > 0.0,
         "finite and > 0 (amplitude per unit stroke)",
     )?;
-    let r = |tau: f64, buf: &mut Vec<f64>| force.ratio(tau, zeta, buf);
     // R(0+) = 1/√(1 − ζ²) (module docs).
     let r0 = 1.0 / ((1.0 - zeta) * (1.0 + zeta)).sqrt();
     let pool = pool(resolve_threads(None)?)?;

@@ -151,3 +151,159 @@ proptest! {
         }
     }
 }
+
+/// R's envelope for a law: the small-τ value where the law's force has not yet
+/// averaged out, then c/τ² (every built-in law's z' is continuous).
+fn envelope(tau: f64, zeta: f64) -> f64 {
+    (1.0 / ((1.0 - zeta) * (1.0 + zeta)).sqrt()).min(100.0 / (tau * tau))
+}
+
+#[test]
+fn closed_forms_match_the_sampled_duhamel_path() {
+    for law in crate::motion::NAMES {
+        let closed = ClosedResidual::new(law).unwrap();
+        let sampled = LawForce::new(law).unwrap();
+        for zeta in [0.0, 0.01, 0.2, 0.7, 0.99] {
+            let mut worst: f64 = 0.0;
+            for i in 0..300 {
+                // 1e-3 to 200, log-spaced, plus the resonances of the sines.
+                let tau = 1e-3 * (2e5f64).powf(i as f64 / 299.0);
+                let (c, s) = (
+                    closed.ratio(tau, zeta),
+                    sampled.residual_ratio(tau, zeta).unwrap(),
+                );
+                worst = worst.max((c - s).abs() / envelope(tau, zeta));
+            }
+            for k in 1..=12 {
+                let tau = PI * k as f64;
+                let (c, s) = (
+                    closed.ratio(tau, zeta),
+                    sampled.residual_ratio(tau, zeta).unwrap(),
+                );
+                worst = worst.max((c - s).abs() / envelope(tau, zeta));
+            }
+            // The sampled path's own error (O(h⁴τ²) after extrapolation) dominates.
+            assert!(worst < 1e-8, "{law} zeta {zeta}: {worst}");
+        }
+    }
+}
+
+#[test]
+fn closed_cycloidal_is_the_textbook_form() {
+    let closed = ClosedResidual::new("cycloidal").unwrap();
+    for i in 1..=4000 {
+        let tau = 0.05 * i as f64 + 1e-3;
+        let env = 8.0 * PI * PI / (tau * (4.0 * PI * PI - tau * tau).abs());
+        let r = closed.ratio(tau, 0.0);
+        assert!(
+            (r - cycloidal(tau)).abs() <= 1e-13 * env.min(1.0),
+            "{tau}: {r}"
+        );
+    }
+    // Through the resonance τ = 2π (a removable 0/0) and on its zeros.
+    // The textbook form's limit: 8π²·(|τ − 2π|/2)/(2π·4π·|τ − 2π|) = 1/2.
+    let at = 0.5;
+    let r = closed.ratio(TAU, 0.0);
+    assert!((r - at).abs() < 1e-14, "{r} {at}");
+    // Near it the textbook form itself loses digits (sin(τ/2), 4π² − τ²): R
+    // moves by O(τ − 2π) from 1/2 there, and the textbook form serves farther out.
+    for d in [1e-12, 1e-9, 1e-6] {
+        for t in [TAU * (1.0 + d), TAU * (1.0 - d)] {
+            let r = closed.ratio(t, 0.0);
+            assert!((r - at).abs() < 2.0 * d + 1e-14, "{t}: {r}");
+        }
+    }
+    for t in [TAU * (1.0 + 1e-3), TAU * (1.0 - 1e-3)] {
+        let want = cycloidal(t);
+        assert!((closed.ratio(t, 0.0) - want).abs() < 1e-11 * want, "{t}");
+    }
+    for k in 2..=40 {
+        assert!(closed.ratio(TAU * k as f64, 0.0) < 1e-15);
+    }
+}
+
+#[test]
+fn closed_small_and_huge_tau() {
+    for law in crate::motion::NAMES {
+        let closed = ClosedResidual::new(law).unwrap();
+        for zeta in [0.0f64, 0.5, 0.999] {
+            let want = 1.0 / ((1.0 - zeta) * (1.0 + zeta)).sqrt();
+            for tau in [1e-150, 1e-9, 1e-4] {
+                let r = closed.ratio(tau, zeta);
+                // R = |λ|·|1 + O(λ)|/ω_d: within O(τ) of the limit.
+                assert!(
+                    (r - want).abs() <= tau * want + 1e-14 * want,
+                    "{law} {tau}: {r}"
+                );
+            }
+            for tau in [1e6, 1e12, 1e150] {
+                let r = closed.ratio(tau, zeta);
+                assert!(r.is_finite() && r <= 1e-6, "{law} {tau}: {r}");
+            }
+        }
+    }
+}
+
+proptest! {
+    #[test]
+    fn closed_matches_sampled(law in 0usize..6, tau in 0.01f64..150.0, zeta in 0.0f64..0.995) {
+        let name = crate::motion::NAMES[law];
+        let c = ClosedResidual::new(name).unwrap().ratio(tau, zeta);
+        let s = LawForce::new(name).unwrap().residual_ratio(tau, zeta).unwrap();
+        prop_assert!((c - s).abs() <= 1e-8 * envelope(tau, zeta), "{} {} {}: {} {}", name, tau, zeta, c, s);
+    }
+}
+
+#[test]
+fn cycloidal_real_form_equals_the_general_pieces() {
+    let closed = ClosedResidual::new("cycloidal").unwrap();
+    for zeta in [0.0, 0.05, 0.5, 0.99] {
+        for i in 0..2000 {
+            let tau = 1e-4 * (1e8f64).powf(i as f64 / 1999.0);
+            let (a, b) = (closed.ratio(tau, zeta), closed.general(tau, zeta));
+            assert!(
+                (a - b).abs() <= 1e-12 * envelope(tau, zeta),
+                "{tau} {zeta}: {a} {b}"
+            );
+        }
+    }
+    let taus: Vec<f64> = (1..=1000)
+        .map(|i| 0.1 * i as f64)
+        .chain([3e6, 1e9])
+        .collect();
+    let mut out = vec![0.0; taus.len()];
+    closed.fill(&taus, 0.05, &mut out);
+    for (t, o) in taus.iter().zip(&out) {
+        assert!(
+            (o - closed.ratio(*t, 0.05)).abs() <= 1e-14 * o.max(1e-300),
+            "{t}"
+        );
+    }
+}
+
+/// Time per τ of each law's closed form (run by hand:
+/// `cargo test --release -p cyclomech-core closed_timing -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn closed_timing() {
+    let taus: Vec<f64> = (0..100_000)
+        .map(|i| 0.5 + 99.5 * i as f64 / 99_999.0)
+        .collect();
+    let mut out = vec![0.0; taus.len()];
+    for law in crate::motion::NAMES {
+        let closed = ClosedResidual::new(law).unwrap();
+        let mut best = f64::INFINITY;
+        for _ in 0..20 {
+            let t0 = std::time::Instant::now();
+            closed.fill(&taus, 0.05, &mut out);
+            best = best.min(t0.elapsed().as_secs_f64());
+        }
+        println!("{law}: {:.1} ns per tau", best / taus.len() as f64 * 1e9);
+    }
+}
+
+#[test]
+fn a_bad_thread_count_is_an_error_for_any_batch() {
+    let mut out = [0.0; 2];
+    assert!(residual_ratio_batch("cycloidal", &[1.0, 2.0], 0.1, Some(0), &mut out).is_err());
+}

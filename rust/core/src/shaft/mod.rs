@@ -17,15 +17,20 @@
 //! inertia J = ΔE/(ω² δ) for a coefficient of speed fluctuation δ (the energy
 //! method: ΔE = J ω² δ with ω the mean speed) and the motor power T̄ ω [W].
 //!
-//! Files: this one (the kernels) and `tests`.
+//! The statistics at many speeds use the structure T = ω²a + b: each is a
+//! function of u = ω² over sums, convex hulls and crossing intervals computed
+//! once (`envelope`), O(N log N + S log S) instead of one pass over the N
+//! samples per speed.
+//!
+//! Files: this one (the kernels), `envelope` (the statistics at many speeds)
+//! and `tests`.
 
 use std::f64::consts::TAU;
-
-use rayon::prelude::*;
 
 use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
+mod envelope;
 #[cfg(test)]
 mod tests;
 
@@ -143,56 +148,7 @@ pub fn stats_into(
     }
     debug_assert_eq!(out.len(), omegas.len() * N_STATS);
     let pool = pool(resolve_threads(n_threads)?)?;
-    pool.install(|| {
-        out.par_chunks_mut(N_STATS)
-            .zip(omegas.par_iter())
-            .for_each(|(row, &w)| {
-                if !crate::cancel::requested() {
-                    row.copy_from_slice(&stats_at(a, b, w, delta))
-                }
-            });
-    });
+    let threads = pool.current_num_threads();
+    pool.install(|| envelope::stats_envelope(a, b, omegas, delta, out, threads));
     Ok(())
-}
-
-/// [`STATS`] at one speed ω [rad/s].
-fn stats_at(a: &[f64], b: &[f64], w: f64, delta: f64) -> [f64; N_STATS] {
-    let n = a.len();
-    let h = TAU / n as f64;
-    let w2 = w * w;
-    let t = |k: usize| w2 * a[k % n] + b[k % n];
-    let (mut sum, mut peak, mut low) = (0.0, f64::NEG_INFINITY, f64::INFINITY);
-    for k in 0..n {
-        let v = t(k);
-        sum += v;
-        peak = peak.max(v);
-        low = low.min(v);
-    }
-    let mean = sum / n as f64;
-    let (mut sq, mut e, mut e_max, mut e_min) = (0.0, 0.0, 0.0f64, 0.0f64);
-    for k in 0..n {
-        let (t0, t1) = (t(k), t(k + 1));
-        sq += h * (t0 * t0 + t0 * t1 + t1 * t1) / 3.0;
-        let (d0, d1) = (t0 - mean, t1 - mean);
-        if (d0 < 0.0) != (d1 < 0.0) && d0 != d1 {
-            // E' = T − T̄ crosses 0 inside the step: E's extremum there.
-            let f = d0 / (d0 - d1);
-            let ex = e + 0.5 * d0 * f * h;
-            e_max = e_max.max(ex);
-            e_min = e_min.min(ex);
-        }
-        e += 0.5 * (d0 + d1) * h;
-        e_max = e_max.max(e);
-        e_min = e_min.min(e);
-    }
-    let de = e_max - e_min;
-    [
-        mean,
-        peak,
-        low,
-        (sq / TAU).sqrt(),
-        de,
-        de / (w2 * delta),
-        mean * w,
-    ]
 }
