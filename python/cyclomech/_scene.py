@@ -7,8 +7,8 @@ kind's own solver, at the mechanism's own angle for that cycle angle), which
 points the bars and plates join, which are fixed to the frame, and the rigid
 outlines (a cam's profile, a roller, a slider's block, a stop) with their pose at
 each angle. The machine's report animates these (a canvas and a small script),
-:func:`cyclomech.machine.plot.animate_machine` writes them as a GIF, and
-:func:`cyclomech.machine.plot.plot_machine_frame` draws one frame. Nothing here
+:func:`cyclomech.plot.animate_machine` writes them as a GIF, and
+:func:`cyclomech.plot.plot_machine_frame` draws one frame. Nothing here
 solves: a scene only carries what the solvers gave.
 
 Units: lengths in m, angles in rad (the cycle angles in degrees, as named).

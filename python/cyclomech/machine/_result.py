@@ -167,7 +167,7 @@ class MachineResult:
 
     def scenes(self, frames: int = 120) -> tuple[Any, dict[str, Any]]:
         """Every mechanism that can be drawn, moving over one cycle: the data of the
-        report's animation and of :func:`~cyclomech.machine.plot.animate_machine`.
+        report's animation and of :func:`~cyclomech.plot.animate_machine`.
 
         Frame k of ``frames`` is at the main shaft's angle k·cycle/``frames``; each
         mechanism is at its own phase there (a linkage's crank, a cam's angle, a
