@@ -50,8 +50,22 @@ def report(request, tmp_path_factory) -> Path:
     return out / "report.html"
 
 
-def test_the_report_loads_whole_in_a_browser(browser, report):
+def _open(browser, report: Path) -> None:
+    """Load the page and wait (up to 30 s, for a loaded machine) until the browser
+    has built all of it: the Files section is its last."""
+    from selenium.webdriver.support.ui import WebDriverWait
+
     browser.get(report.as_uri())
+    WebDriverWait(browser, 30).until(
+        lambda b: b.execute_script(
+            "return document.readyState === 'complete' && "
+            "Array.from(document.querySelectorAll('h2')).some(h => h.textContent === 'Files')"
+        )
+    )
+
+
+def test_the_report_loads_whole_in_a_browser(browser, report):
+    _open(browser, report)
     logs = browser.get_log("browser")
     assert [e for e in logs if e["level"] in ("SEVERE", "WARNING")] == []
     images = browser.execute_script(
@@ -71,7 +85,7 @@ def test_the_report_loads_whole_in_a_browser(browser, report):
 
 
 def test_every_link_to_a_written_file_resolves(browser, report):
-    browser.get(report.as_uri())
+    _open(browser, report)
     hrefs = browser.execute_script(
         "return Array.from(document.querySelectorAll('a[href]')).map(a => a.href)"
     )
@@ -87,7 +101,7 @@ def test_the_machine_moves_when_played(browser, report):
     change), pause holds it, and the slider sets it."""
     import time
 
-    browser.get(report.as_uri())
+    _open(browser, report)
     pixels = "return Array.from(document.querySelectorAll('canvas')).map(c => c.toDataURL())"
     state = (
         "return [document.getElementById('cm-slider').value, "
