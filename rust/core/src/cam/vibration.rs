@@ -293,7 +293,10 @@ pub fn residual_ratio_batch(
     let fill = |o: &mut [f64], t: &[f64]| closed.fill(t, zeta, o);
     let threads = resolve_threads(n_threads)?;
     if tau.len() <= CLOSED_CHUNK {
-        fill(out, tau);
+        // One chunk: skipped, as every chunk of a long batch is, when the flag is up.
+        if !crate::cancel::requested() {
+            fill(out, tau);
+        }
         return Ok(());
     }
     let pool = pool(threads)?;

@@ -149,6 +149,11 @@ pub fn stats_into(
     debug_assert_eq!(out.len(), omegas.len() * N_STATS);
     let pool = pool(resolve_threads(n_threads)?)?;
     let threads = pool.current_num_threads();
+    // The envelopes take milliseconds for any size: the flag is read once, before
+    // (a raised flag leaves the output unwritten, as a cut chunked kernel does).
+    if crate::cancel::requested() {
+        return Ok(());
+    }
     pool.install(|| envelope::stats_envelope(a, b, omegas, delta, out, threads));
     Ok(())
 }
