@@ -268,12 +268,10 @@ class Scene:
     traces: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        from collections.abc import Mapping as _Mapping
-
         instance("name", self.name, str)
         points = {
             instance("points' names", k, str): _xy(f"points[{k!r}]", v, 2, nan=True)
-            for k, v in instance("points", self.points, _Mapping).items()
+            for k, v in instance("points", self.points, Mapping).items()
         }
         object.__setattr__(self, "points", points)
         for what in ("links", "ground", "traces"):
@@ -286,7 +284,7 @@ class Scene:
         object.__setattr__(self, "links", links)
         object.__setattr__(self, "ground", tuple(self.ground))
         object.__setattr__(self, "traces", tuple(self.traces))
-        for k, b in instance("bodies", self.bodies, _Mapping).items():
+        for k, b in instance("bodies", self.bodies, Mapping).items():
             instance(f"bodies[{k!r}]", b, Body)
         if not points and not self.bodies:
             raise InputError(f"scene {self.name!r} has neither points nor bodies")
@@ -327,7 +325,11 @@ class Scene:
         (-0.15, 2.15, -0.15, 1.15)
         """
         pts = [np.asarray(v, dtype=np.float64).reshape(-1, 2) for v in self.points.values()]
-        pts += [b.at(i) for b in self.bodies.values() for i in range(self.frames)]
+        # every body at every frame at once: (F, P, 2)
+        pts += [
+            (rotate(b.outline[None], b.pose[:, 2:3]) + b.pose[:, None, :2]).reshape(-1, 2)
+            for b in self.bodies.values()
+        ]
         allp = np.concatenate(pts) if pts else np.zeros((1, 2))
         allp = allp[np.isfinite(allp).all(axis=1)]
         if not allp.size:

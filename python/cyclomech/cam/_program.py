@@ -323,16 +323,23 @@ class Cam:
         if out is not None:
             return self._solve_into(t, shape, out, n_threads)
         rows = self._kernel.solve(t.reshape(-1), n_threads=threads_arg(n_threads))
+        # (a copy of the angles: not a view of the caller's array)
+        return self._kinematics(rows, shape, t.reshape(shape).copy(), rows[:, 13] != 0.0)
 
-        # Views into the kernel's one (N, 14) block: no copies.
+    def _kinematics(
+        self, block: npt.NDArray[np.float64], shape: tuple[int, ...], theta: Any, undercut: Any
+    ) -> CamKinematics:
+        """The result as views into the kernel's one (N, 14) block (no copies), with the
+        angles and undercut flags given."""
+
         def col(i: int) -> npt.NDArray[np.float64]:
-            return rows[:, i].reshape(shape)
+            return block[:, i].reshape(shape)
 
         def pts(i: int) -> npt.NDArray[np.float64]:
-            return rows[:, i : i + 2].reshape(*shape, 2)
+            return block[:, i : i + 2].reshape(*shape, 2)
 
         return CamKinematics(
-            theta=t.reshape(shape).copy(),  # (not a view of the caller's array)
+            theta=theta,
             s=col(0),
             ds=col(1),
             dds=col(2),
@@ -343,7 +350,7 @@ class Cam:
             pressure_angle=col(10),
             pitch_radius_of_curvature=col(11),
             profile_radius_of_curvature=col(12),
-            undercut=col(13) != 0.0,
+            undercut=np.reshape(undercut, shape),
         )
 
     def _solve_into(
@@ -377,27 +384,7 @@ class Cam:
         self._kernel.solve(t.reshape(-1), n_threads=threads_arg(n_threads), out=block)
         np.copyto(out.theta.reshape(-1), t.reshape(-1))
         np.not_equal(block[:, 13], 0.0, out=out.undercut.reshape(-1))
-
-        def col(i: int) -> npt.NDArray[np.float64]:
-            return block[:, i].reshape(shape)
-
-        def pts(i: int) -> npt.NDArray[np.float64]:
-            return block[:, i : i + 2].reshape(*shape, 2)
-
-        return CamKinematics(
-            theta=out.theta.reshape(shape),
-            s=col(0),
-            ds=col(1),
-            dds=col(2),
-            ddds=col(3),
-            pitch=pts(4),
-            profile=pts(6),
-            profile_outer=pts(8) if self.closure == "groove" else None,
-            pressure_angle=col(10),
-            pitch_radius_of_curvature=col(11),
-            profile_radius_of_curvature=col(12),
-            undercut=out.undercut.reshape(shape),
-        )
+        return self._kinematics(block, shape, out.theta.reshape(shape), out.undercut)
 
     @property
     def initial_arm_angle_deg(self) -> float | None:

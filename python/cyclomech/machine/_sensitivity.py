@@ -208,9 +208,10 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
                 continue
             where.append((len(variants), len(variants) + 1))
             variants += [up, down]
-        limits = [lim.rpm for lim in speed_limits(variants, n_threads=n_threads)]
+        found = speed_limits(variants, n_threads=n_threads)
+    limits = [lim.rpm for lim in found]
     base = limits[0]
-    exact = _exact(m, base)
+    exact = _exact(m, found[0])
     out = []
     for (path, v, what), at in zip(keys, where, strict=True):
         if isinstance(at, str):
@@ -242,7 +243,7 @@ def _labels(ops: list[Any]) -> list[str]:
     ]
 
 
-def _exact(m: Machine, limit: float) -> dict[str, float]:
+def _exact(m: Machine, lim: Any) -> dict[str, float]:
     """dL/dk [rpm per unit] of the operations' angles and durations, exact, where
     the cyclogram sets the limit L on its operations' own bounds alone.
 
@@ -256,8 +257,7 @@ def _exact(m: Machine, limit: float) -> dict[str, float]:
     """
     from .._errors import InfeasibleError
 
-    lim = m.speed_limit()
-    cg = m.cyclogram
+    cg, limit = m.cyclogram, lim.rpm  # lim: the machine's SpeedLimit, already found
     if lim.by != "cyclogram" or not (0.0 < limit < math.inf) or cg.limiting is None:
         return {}
     n = limit * (1.0 - 1e-9)  # the limit is searched to ~1e-11: just inside it
@@ -266,8 +266,9 @@ def _exact(m: Machine, limit: float) -> dict[str, float]:
     except (InfeasibleError, CyclomechError):
         return {}
     ops = list(cg.operations)
+    labels = _labels(ops)
     rows = {}
-    for i, lab in enumerate(_labels(ops)):
+    for i, lab in enumerate(labels):
         rows[f"min[{lab}]"], rows[f"duration[{lab}]"] = (i, "angle"), (i, "duration")
     priced = {k: y for k, y in o.duals.items() if abs(y) > 1e-12 and k != "cycle"}
     if any(k not in rows for k in priced):
@@ -282,7 +283,7 @@ def _exact(m: Machine, limit: float) -> dict[str, float]:
     if abs(f_n - m0_n) < 1e-15:
         return {}
     out = {}
-    for i, label in enumerate(_labels(ops)):
+    for i, label in enumerate(labels):
         for key, row, per in (
             ("min_angle_deg", f"min[{label}]", 1.0),
             ("min_duration_s", f"duration[{label}]", 6.0 * n),
