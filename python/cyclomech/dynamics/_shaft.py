@@ -575,15 +575,10 @@ def start_up(
         max_steps=steps,
     )
     if status == 2:
-        # The step that ended below 0: where the speed crossed 0 inside it (linear
-        # between its ends; the step's end alone overshoots by up to a step).
-        t0, t1, w0, w1 = (float(v) for v in (t[-2], t[-1], w[-2], w[-1]))
-        f = w0 / (w0 - w1) if w0 > 0 > w1 else 1.0
-        t_stop = t0 + f * (t1 - t0)
-        phi_stop = float(phi[-2]) + f * (float(phi[-1]) - float(phi[-2]))
+        t_stop, phi_stop = _stop(t[-2:], phi[-2:], w[-2:])
         raise SolverError(
             f"the motor cannot start the machine: its speed falls back through 0 at "
-            f"t = {t_stop:.4g} s, shaft angle {math.degrees(phi_stop):.1f}° (the "
+            f"t = {t_stop:.4g} s, shaft angle {math.degrees(phi_stop):.2f}° (the "
             "load's torque there exceeds what the motor gives before the machine has gathered "
             "speed); a stronger motor, another gear ratio or an unloaded start may help"
         )
@@ -595,6 +590,36 @@ def start_up(
             stacklevel=2,
         )
     return StartUp(t, phi, w, m, float(when), ss)
+
+
+def _stop(t: Array, phi: Array, w: Array) -> tuple[float, float]:
+    """Where the speed falls back through 0 inside the last step, from its two ends
+    (t [s], φ [rad], ω [rad/s], ω₀ > 0 ≥ ω₁): the peak of φ's cubic Hermite
+    interpolant on the step (φ and φ′ = ω at both ends; O(h⁴), as the integrator's
+    own dense output), whose derivative, a quadratic, is 0 there. Linear
+    interpolation of φ would miss it by O(h²), since φ peaks where ω = 0.
+
+    Returns
+    -------
+    tuple of float
+        (t, φ) at the stop [s, rad].
+
+    >>> # φ = t − t²/2 (ω = 1 − t) sampled at t = 0 and 1.5: the stop is t = 1, φ = ½.
+    >>> _stop(np.array([0.0, 1.5]), np.array([0.0, 0.375]), np.array([1.0, -0.5]))
+    (1.0, 0.5)
+    """
+    t0, t1, p0, p1, w0, w1 = (float(x) for x in (t[0], t[1], phi[0], phi[1], w[0], w[1]))
+    h = t1 - t0
+    # φ(s) = h00 p0 + h10 h w0 + h01 p1 + h11 h w1, s ∈ [0, 1]; φ′(s)/h = a s² + b s + c.
+    d = (p1 - p0) / h
+    a, b, c = 3.0 * (w0 + w1) - 6.0 * d, 6.0 * d - 4.0 * w0 - 2.0 * w1, w0
+    roots = np.roots([a, b, c]) if abs(a) > 1e-300 else np.array([-c / b])
+    real = [float(r.real) for r in np.atleast_1d(roots) if abs(r.imag) < 1e-12]
+    inside = [r for r in real if 0.0 <= r <= 1.0]
+    s = min(inside) if inside else (w0 / (w0 - w1) if w0 > 0 > w1 else 1.0)
+    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
+    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+    return t0 + s * h, h00 * p0 + h10 * h * w0 + h01 * p1 + h11 * h * w1
 
 
 @dataclass(frozen=True)
