@@ -13,8 +13,10 @@ Columns of a record: ``unit`` as the file takes it (the key names say ``_deg``,
 bool, array, table or array of tables; ``default``: the value taken when the key is
 absent, "required", "required unless …" or "none" (the feature it turns on is
 off); ``valid``: the rule the parser checks; ``sweep``: whether
-:func:`cyclomech.sweep` may vary it (``<mechanism>.<key>``, ``machine.<key>``),
-None for the rows of a sub-table, which a sweep sets only through their parent key.
+:func:`cyclomech.sweep` may vary it as a number (``<mechanism>.<key>``,
+``machine.<key>``), None for the rows of a sub-table, whose numbers a sweep sets by
+a path (``<mechanism>.lengths.3.length``) where the kind's ``varied_tables`` name
+the parent key.
 
 The short names below (:data:`NUM`, :data:`REQ`, :data:`POS`, …) keep the owners'
 records one line of thought each.

@@ -499,6 +499,11 @@ class Mechanism(Protocol):
     mechanism's class for the hook and calls it; it knows no kind by name
     (``cam_stop`` has one: :meth:`cyclomech.impact.CamStop.batch_designs`).
 
+    Optional class attribute: ``varied_tables`` (a frozenset of str), the sub-tables
+    and lists of its table whose numbers a sweep and the sensitivities may vary by a
+    path (``<mechanism>.lengths.3.length``, ``<mechanism>.points.B.1``; positions
+    from 1); none without it.
+
     Optional hook too: a mechanism dimensioned from the machine's own timing has a
     ``resizes`` flag (True where its table asks for it) and a method ``resize(rpm,
     angles)``: given the nominal speed [rpm] and the optimum's phase angles [deg] by

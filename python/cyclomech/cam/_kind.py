@@ -142,6 +142,10 @@ class CamMechanism(ExactBounds):
     fixed_keys: ClassVar[frozenset[str]] = frozenset(
         {"kind", "follower", "closure", "segment", "continuity", "friction", "synthesize"}
     )
+    #: Sub-tables and lists whose numbers a sweep or a sensitivity may vary by a
+    #: path (``segment.2.stroke_deg``, ``friction.pivot_mu``); not ``synthesize``,
+    #: whose every variant would size the cam again.
+    varied_tables: ClassVar[frozenset[str]] = frozenset({"segment", "friction"})
     json_groups: ClassVar[tuple[str, ...]] = ("cams",)
     name: str
     design: CamDesign

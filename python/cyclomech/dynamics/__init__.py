@@ -108,7 +108,7 @@ from __future__ import annotations
 
 from ._balance import OBJECTIVES, Balance, Counterweight, balance
 from ._drive import Drive, MachineDynamics, machine_dynamics
-from ._elastic import ElasticShaft, LinkSpec, MachineTorsion, machine_torsion
+from ._elastic import ElasticShaft, LinkSpec, MachineTorsion, error_limits, machine_torsion
 from ._frame import BalanceRequest, MachineShaking, machine_balances, machine_shaking
 from ._keys import DRIVE_KEY_DOCS
 from ._motor import ConstantTorque, InductionMotor, LinearMotor, Motor, TableMotor
@@ -156,6 +156,7 @@ __all__ = [
     "TorsionSweep",
     "WorkingMember",
     "balance",
+    "error_limits",
     "machine_balances",
     "machine_dynamics",
     "machine_shaking",

@@ -32,7 +32,7 @@ from ._motor import Motor
 from ._shaft import SteadyState
 from ._torsion import ShaftNode, Torsion, TorsionSweep, WorkingMember, torsion, torsion_sweep
 
-__all__ = ["ElasticShaft", "LinkSpec", "MachineTorsion", "machine_torsion"]
+__all__ = ["ElasticShaft", "LinkSpec", "MachineTorsion", "error_limits", "machine_torsion"]
 
 Array = npt.NDArray[np.float64]
 
@@ -808,6 +808,18 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
             )
         except SolverError as e:
             problem = str(e)
+    sweep, limits = _error_limits(result, nodes)
+    lags = {} if nominal is None else _event_lags(result, nominal)
+    top = float(getattr(getattr(result, "limit", None), "rpm", math.inf))
+    return MachineTorsion(
+        tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem, lags, top
+    )
+
+
+def _error_limits(result: Any, nodes: list[ShaftNode]) -> tuple[TorsionSweep, dict[str, float]]:
+    """The chain's sweep over the machine's speed range with the head at constant
+    speed, and each bounded member's speed at which its error first reaches its
+    bound (inf: not in the range)."""
     full = np.asarray(result.machine.speed_grid(), dtype=np.float64)
     # 41 speeds at most: the limit is linear between two of them, to 1/40 of the range
     grid = np.linspace(full[0], full[-1], min(full.size, 41))
@@ -817,11 +829,45 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
         for x in nodes
         if x.member is not None and x.member.max_error is not None
     }
-    lags = {} if nominal is None else _event_lags(result, nominal)
-    top = float(getattr(getattr(result, "limit", None), "rpm", math.inf))
-    return MachineTorsion(
-        tuple(nodes), nominal, sweep, limits, float(result.nominal_rpm), problem, lags, top
-    )
+    return sweep, limits
+
+
+def error_limits(result: Any, elastic: ElasticShaft) -> dict[str, float]:
+    """Each bounded member's dynamic-error speed limit [rpm] of an analysed machine on
+    another elastic shaft and links: what :func:`machine_torsion` gives as
+    ``limits_rpm``, without its nominal run under the motor (the sensitivities of
+    the limit to the drive's keys vary ``elastic`` alone).
+
+    Parameters
+    ----------
+    result : MachineResult
+        :func:`cyclomech.machine.analyze`'s result, with its main shaft.
+    elastic : ElasticShaft
+        The shaft and the links.
+
+    Returns
+    -------
+    dict of str to float
+        The limit by mechanism [rpm] (inf: its error stays within its bound over
+        the speed range).
+
+    Raises
+    ------
+    InputError
+        As :func:`machine_torsion`.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/knife_cutter.toml"),
+    ...                        progress=False)
+    >>> error_limits(r, r.machine.drive.elastic) == r.torsion.limits_rpm
+    True
+    """
+    instance("elastic", elastic, ElasticShaft)
+    if result.shaft is None:
+        raise InputError("result: nothing loads the main shaft: no chain to put on it")
+    return _error_limits(result, _nodes(result, elastic, result.machine.source))[1]
 
 
 def _event_lags(result: Any, t: Torsion) -> dict[str, dict[str, float]]:

@@ -65,7 +65,7 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("phase_deg", "The phase angles of the report's rebound curves.", "deg", ARR,
           "[20, 60, 5]",
           "[from, to, count]: from and to finite in (0, 360], count a whole number 1 to 50",
-          True),
+          False),
     )),
 )
 # fmt: on

@@ -92,7 +92,20 @@ class LinkageMechanism(Unbounded):
     #: Its plausibility rules besides the suffix rules of every key: none of its own
     #: (its lengths are the drawn points', whose table the linkage file reads).
     rules: ClassVar[tuple[Rule, ...]] = ()
-    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "name"})
+    # A sweep sets numbers: the structure and the tables are set in the file (their
+    # numbers by a path: varied_tables).
+    fixed_keys: ClassVar[frozenset[str]] = frozenset(
+        {"kind", "name", "points", "links", "ground", "driver", "lengths", "sliders"}
+        | {"phase", "mass", "point_mass_kg", "load", "gravity_m_per_s2", "friction"}
+        | {"synthesize"}
+    )
+    #: Sub-tables and lists whose numbers a sweep or a sensitivity may vary by a
+    #: path (``lengths.3.length``, ``points.B.1``); not ``synthesize``, whose every
+    #: variant would run the synthesis again.
+    varied_tables: ClassVar[frozenset[str]] = frozenset(
+        {"points", "lengths", "phase", "mass", "point_mass_kg", "load", "gravity_m_per_s2"}
+        | {"friction"}
+    )
     name: str
     linkage: Linkage
     output: str

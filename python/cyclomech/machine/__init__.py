@@ -108,7 +108,7 @@ from ._report import (
     analyze,
     write_report,
 )
-from ._sensitivity import Sensitivity, sensitivities
+from ._sensitivity import Sensitivity, drive_sensitivities, sensitivities
 from ._sweep import (
     SweepResult,
     dask_client,
@@ -143,6 +143,7 @@ __all__ = [
     "check_parameter",
     "dask_client",
     "dask_workers",
+    "drive_sensitivities",
     "parse_range",
     "register",
     "sensitivities",

@@ -440,9 +440,14 @@ class Machine:
         ----------
         values : Mapping of str to Any
             The new values by ``<mechanism>.<key>`` (``{"lifter.preload_m": 2e-4}``),
-            ``machine.<key>`` or ``operation.<k>.<key>`` (a number of the k-th
+            ``<mechanism>.<table>.<key>…`` (a number in a sub-table or a list of
+            the mechanism's table: a sub-table's key, or a list's position from 1,
+            as ``knife.lengths.3.length`` or ``knife.points.B.1``),
+            ``machine.<key>``, ``operation.<k>.<key>`` (a number of the k-th
             ``[[operation]]``, from 1: ``min_angle_deg``, ``max_angle_deg``,
-            ``min_duration_s``), in the file's units.
+            ``min_duration_s``) or ``drive.<table>.<key>…`` (a number of the
+            ``[drive]`` table or its sub-tables: ``drive.link.knife.max_error_m``),
+            in the file's units.
 
         Returns
         -------
@@ -472,14 +477,14 @@ class Machine:
         for path, value in instance("values", values, Mapping).items():
             head = path.split(".", 1)[0]
             if head not in touched:
-                if head in ("machine", "operation"):
-                    data[head] = copy.deepcopy(data.get(head, {} if head == "machine" else []))
+                if head in ("machine", "operation", "drive"):
+                    data[head] = copy.deepcopy(data.get(head, [] if head == "operation" else {}))
                 elif head in data["mechanism"]:
                     data["mechanism"][head] = copy.deepcopy(data["mechanism"][head])
             table, key = _split_key(path, data)
             table[key] = value.item() if isinstance(value, np.generic) else value
             touched.add(head)
-        if touched & {"machine", "operation"}:
+        if touched & {"machine", "operation", "drive"}:
             return Machine.from_dict(data, self.source)
         # Only the named mechanisms' tables changed: validate and build those (as
         # from_dict would), and share the cyclogram and its network with this one.
@@ -981,21 +986,40 @@ def _other_command(data: Mapping[str, Any]) -> tuple[str, str] | None:
     return None
 
 
+def _varied_tables(mechanism: Any) -> frozenset[str]:
+    """The sub-tables and lists of a mechanism's table whose numbers a sweep or a
+    sensitivity may vary by a path (``lengths.3.length``, ``points.B.1``): its
+    kind's optional ``varied_tables`` (none by default).
+
+    >>> import cyclomech as cm
+    >>> cam = cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"]
+    >>> sorted(_varied_tables(cam))
+    ['friction', 'segment']
+    """
+    return frozenset(getattr(type(mechanism), "varied_tables", frozenset()))
+
+
 #: The keys of a ``[[operation]]`` a sweep or a sensitivity may vary (its numbers).
 OPERATION_NUMBERS = frozenset({"min_angle_deg", "max_angle_deg", "min_duration_s"})
 
 
-def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
-    """The table and key a sweep parameter ``<mechanism>.<key>``, ``machine.<key>``
-    or ``operation.<k>.<key>`` (the k-th ``[[operation]]``, from 1) names in the
-    parsed file."""
+def _split_key(path: str, data: dict[str, Any]) -> tuple[Any, Any]:
+    """The container and key a parameter names in the parsed file: a table and a
+    key for ``<mechanism>.<key>``, ``machine.<key>`` or ``operation.<k>.<key>`` (the
+    k-th ``[[operation]]``, from 1); for a deeper ``<mechanism>.<key>.<sub>…`` the
+    sub-table or list holding the number (:func:`_step`: a sub-table's key, or a
+    list's position from 1, as ``lengths.3.length`` or ``points.B.1``)."""
     parts = path.split(".")
     mechs = data.get("mechanism", {})
     ops = data.get("operation", [])
     if len(parts) == 2 and parts[0] == "machine":
         table = data.setdefault("machine", {})
-    elif len(parts) == 2 and parts[0] in mechs:
-        table = mechs[parts[0]]
+    elif len(parts) >= 2 and (parts[0] in mechs or (parts[0] == "drive" and "drive" in data)):
+        node: Any = data["drive"] if parts[0] == "drive" else mechs[parts[0]]
+        key: Any = parts[1]
+        for i, sub in enumerate(parts[2:], start=2):
+            node, key = _step(path, ".".join(parts[:i]), node, key, sub)
+        return node, key
     elif len(parts) == 3 and parts[0] == "operation":
         k = int(parts[1]) if parts[1].isdigit() else 0
         if not 1 <= k <= len(ops):
@@ -1006,11 +1030,37 @@ def _split_key(path: str, data: dict[str, Any]) -> tuple[dict[str, Any], str]:
         return ops[k - 1], parts[2]
     else:
         raise InputError(
-            f"parameter {path!r} must be <mechanism>.<key>, machine.<key> or "
+            f"parameter {path!r} must be <mechanism>.<key>, <mechanism>.<table>.<key> "
+            "(a sub-table's key, or a list's position from 1), machine.<key> or "
             "operation.<number>.<key>; the mechanisms "
             f"are {', '.join(sorted(mechs)) or '(none)'}"
         )
     return table, parts[1]
+
+
+def _step(path: str, where: str, node: Any, key: Any, sub: str) -> tuple[Any, Any]:
+    """One step down a parameter's path: from ``node[key]`` (which must exist) to
+    its entry ``sub`` — a sub-table's key, or a list's position from 1."""
+    inner = node.get(key) if isinstance(node, dict) else node[key]
+    if isinstance(inner, dict):
+        if sub not in inner:
+            raise InputError(
+                f"parameter {path!r}: {where} has no key {sub!r}; its keys are "
+                f"{', '.join(map(str, inner)) or '(none)'}"
+            )
+        return inner, sub
+    if isinstance(inner, list):
+        k = int(sub) if sub.isdigit() else 0
+        if not 1 <= k <= len(inner):
+            raise InputError(
+                f"parameter {path!r}: {where} is a list of {len(inner)}: {sub!r} must be a "
+                f"position in it, 1 to {len(inner)}"
+            )
+        return inner, k - 1
+    what = (
+        "not in the file" if inner is None else f"a {type(inner).__name__}, not a table or a list"
+    )
+    raise InputError(f"parameter {path!r}: {where} is {what}: nothing to step into")
 
 
 def check_parameter(machine: Machine, path: str) -> None:
@@ -1046,8 +1096,29 @@ def check_parameter(machine: Machine, path: str) -> None:
     instance("path", path, str)
     if machine.data is None:
         raise InputError("a sweep needs a machine read from a file or a dict")
-    _, key = _split_key(path, dict(machine.data))  # a copy: it may add a [machine] table
-    head = path.split(".", 1)[0]
+    parts = path.split(".")
+    head = parts[0]
+    if head == "drive":
+        raise InputError(
+            f"{machine.source}: parameter {path!r}: a sweep does not vary the drive's keys "
+            "(its speed limit is the cyclogram's and the mechanisms'); cyclomech run's "
+            "sensitivities rank them"
+        )
+    table, key = _split_key(path, dict(machine.data))  # a copy: it may add a [machine] table
+    if head not in ("machine", "operation") and len(parts) > 2:
+        tables = _varied_tables(machine.mechanisms[head])
+        if parts[1] not in tables:
+            raise InputError(
+                f"{machine.source}: parameter {path!r}: [mechanism.{head}] {parts[1]!r} is "
+                "not a table whose numbers a sweep can set; those of this kind are "
+                f"{', '.join(sorted(tables)) or '(none)'}"
+            )
+    value = table.get(key) if isinstance(table, dict) else table[key]
+    if len(parts) > 2 and head != "operation":
+        if isinstance(value, bool) or not isinstance(value, int | float | dict | list):
+            raise InputError(f"{machine.source}: parameter {path!r} names {value!r}, not a number")
+        _a_number(machine, path, value)
+        return
     if head == "machine":
         allowed, where = _MACHINE_KEYS - {"name", "speed_rpm", "unmodelled"}, "[machine]"
     elif head == "operation":
@@ -1055,6 +1126,8 @@ def check_parameter(machine: Machine, path: str) -> None:
     else:
         kind = type(machine.mechanisms[head])
         allowed, where = set(kind.keys - kind.fixed_keys), f"[mechanism.{head}]"
+        if key in _varied_tables(machine.mechanisms[head]):
+            _a_number(machine, path, value)  # a table whose numbers a path names
     if key not in allowed:
         raise InputError(
             f"{machine.source}: parameter {path!r}: {where} has no key {key!r} a sweep can "
@@ -1070,6 +1143,18 @@ def check_parameter(machine: Machine, path: str) -> None:
             raise InputError(
                 f"{machine.source}: parameter {path!r}: {where} cannot vary {key}: {why}"
             )
+    _a_number(machine, path, value)
+
+
+def _a_number(machine: Machine, path: str, value: Any) -> None:
+    """Refuse a parameter that names a table or a list: a sweep sets numbers."""
+    if isinstance(value, dict | list):
+        sub = next(iter(value), None) if isinstance(value, dict) else 1
+        raise InputError(
+            f"{machine.source}: parameter {path!r} names a "
+            f"{'table' if isinstance(value, dict) else 'list'}, not a number: name one of "
+            f"its numbers ({path}.{sub}…)"
+        )
 
 
 def _mechanism(key: str, spec: Any, ctx: TableContext) -> Mechanism:

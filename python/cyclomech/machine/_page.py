@@ -143,7 +143,8 @@ def _sensitivity_section(r: MachineResult) -> list[str]:
         "as they are: central differences of ±0.1 % (every variant's limit in one call). "
         "Negative: lowering the key buys speed. A kink: another bound takes over at this "
         "value (the note gives both sides); does not bind: the key does not set the "
-        "limit here.</p>",
+        "limit here. A key inside a sub-table or a list is named by its path, positions "
+        "from 1 (<code>lengths.3.length</code>); a curve is scaled as a whole.</p>",
         _table(header, rows),
     ]
 

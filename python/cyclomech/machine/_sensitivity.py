@@ -3,8 +3,9 @@ of :meth:`Machine.speed_limit` to every numeric key of the mechanisms' tables an
 the cyclogram's operations.
 
 **Method.** Each key k of value v (a number ≠ 0 at the top of a ``[mechanism.X]``
-table, or an ``[[operation]]``'s ``min_angle_deg``, ``max_angle_deg`` or
-``min_duration_s``, named ``operation.<k>.<key>`` with k from 1) is varied by
+table; a number ≠ 0 in one of its sub-tables and lists that its kind lets vary —
+:func:`_nested` —; or an ``[[operation]]``'s ``min_angle_deg``, ``max_angle_deg``
+or ``min_duration_s``, named ``operation.<k>.<key>`` with k from 1) is varied by
 ±h·v (h = :data:`STEP`, 0.1 %) with :meth:`Machine.with_values`, and the speed
 limits of all 2K variants come from one :func:`~cyclomech.machine.speed_limits`
 call (the variants of a mechanism's keys share the cyclogram's network: one
@@ -28,19 +29,48 @@ With L₊, L₀, L₋ the limits [rpm] at v(1 + h), v, v(1 − h):
   (:func:`_exact`); its note says so. Elsewhere (a mechanism's key: its bound's
   derivative is not at hand) the central difference stands;
 * **cannot vary**: a variant is invalid (the key is at the edge of what is
-  valid, or is a count): the message says why; no number.
+  valid, or is a count): the message says why; no number;
+* **not varied**: a key in a sub-table or a list past the first
+  :data:`MAX_NESTED`, or a mechanism's or an operation's key where a dynamic error
+  sets the limit (below): no number.
 
-Keys that are whole numbers (counts), booleans, strings, lists and sub-tables are
-not varied. The speed limit is the one :meth:`Machine.speed_limit` gives — the
-cyclogram's and each mechanism's own — not the elastic main shaft's dynamic-error
-limit that the report folds in after (``[drive.shaft]``): where that one sets the
-machine's limit, these sensitivities are of the limit beneath it.
+**Keys in sub-tables and lists** (a linkage's ``points``, ``lengths``, ``mass``
+and ``load``; a cam's or a servo axis's ``segment`` tables; a press's
+``deformation_force``; ``friction`` and ``phase`` tables: each kind's
+``varied_tables``) are named by their path, a sub-table's key or a list's position
+from 1: ``knife.lengths.3.length``, ``"lifter cam".segment.2.stroke_deg``. A list of
+at most three numbers is a vector (a point, gravity): each number is a key of its
+own (``knife.points.B.1`` is B's x). A longer list of numbers, or a list of such
+vectors, is a curve or a table (a force over the crank angle): it is one key,
+**scaled as a whole** (its value is the scale, 1; the note says so). At most
+:data:`MAX_NESTED` such keys are varied, in the file's order; the rest are listed
+as ``"not varied"``, since each costs two analyses. A ``synthesize`` table is not
+varied: each variant would run the synthesis again.
+
+Keys that are whole numbers (counts), booleans and strings are not varied; nor
+are the catalogue tables of a kind (a servo's motors and gear ratios).
+
+The speed limit is the one :meth:`Machine.speed_limit` gives — the
+cyclogram's and each mechanism's own. **The elastic main shaft's dynamic errors**
+(``[drive.shaft]``, ``[drive.link.<name>]``) can lower it further: the report folds
+in the speed at which a working member's error reaches its bound
+(:func:`~cyclomech.dynamics.error_limits`). :func:`drive_sensitivities` adds the
+drive's keys (``drive.shaft.stiffness_nm_per_rad.1``,
+``drive.link.knife.max_error_m``, …) to the table, each varied by ±0.1 % with the
+analysed machine's motions kept (only the shaft and the links change), the limit
+being min(L, the dynamic errors' limits): where no dynamic error's limit lies
+within :data:`NEAR` above L, none of them can bind at ±0.1 % and they are listed
+as not binding without a run. Where a dynamic error sets the machine's limit, the
+mechanisms' and the operations' keys are **not varied** for it (their effect on the
+errors would need the whole analysis per variant); each note keeps the key's rate
+of the limit beneath.
 """
 
 from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -50,7 +80,17 @@ from .._errors import CyclomechError, CyclomechWarning
 if TYPE_CHECKING:
     from ._model import Machine
 
-__all__ = ["EXACT", "FLAT", "KINK", "STEP", "Sensitivity", "sensitivities"]
+__all__ = [
+    "EXACT",
+    "FLAT",
+    "KINK",
+    "MAX_NESTED",
+    "NEAR",
+    "STEP",
+    "Sensitivity",
+    "drive_sensitivities",
+    "sensitivities",
+]
 
 #: The relative step of the central difference.
 STEP = 1e-3
@@ -58,6 +98,13 @@ STEP = 1e-3
 FLAT = 1e-9
 #: One-sided slopes differing by more than this fraction of the larger: a kink.
 KINK = 0.1
+#: At most this many keys in sub-tables and lists are varied (two analyses each).
+MAX_NESTED = 200
+#: A dynamic error's limit further than this fraction above the speed limit cannot
+#: bind at ±0.1 % of a drive key: its keys are not run (:func:`drive_sensitivities`).
+NEAR = 0.02
+#: The note of a curve or a table varied as a whole.
+SCALED = "its {n} numbers scaled together (value: the scale)"
 
 
 @dataclass(frozen=True)
@@ -70,9 +117,12 @@ class Sensitivity:
     Parameters
     ----------
     key : str
-        ``<mechanism>.<key>``, as ``--set`` and :meth:`Machine.with_values` name it.
+        ``<mechanism>.<key>`` (or a path into a sub-table or a list, positions from
+        1: ``knife.lengths.3.length``), as ``--set`` and :meth:`Machine.with_values`
+        name it; ``operation.<k>.<key>`` for the k-th ``[[operation]]``.
     value : float
-        The key's value in the file, in its own unit.
+        The key's value in the file, in its own unit (1, the scale, for a curve or
+        a table varied as a whole).
     rpm_per_unit : float
         dL/dk [rpm per the key's unit] (NaN where it cannot vary).
     rpm_per_percent : float
@@ -80,7 +130,8 @@ class Sensitivity:
         key buys speed; 0 where it does not bind, NaN at a kink or where it cannot
         vary).
     status : str
-        ``"binds"``, ``"does not bind"``, ``"kink"`` or ``"cannot vary"``.
+        ``"binds"``, ``"does not bind"``, ``"kink"``, ``"cannot vary"`` or
+        ``"not varied"``.
     note : str, default ""
         For a kink, the one-sided changes; for a key that cannot vary, why.
     limit_rpm : float, default nan
@@ -131,18 +182,26 @@ class Sensitivity:
         }
 
 
-def _keys(machine: Machine) -> list[tuple[str, float, str]]:
+def _keys(machine: Machine) -> list[tuple[str, Any, str]]:
     """The varied keys: (path, value, what it is) of every float ≠ 0 at the top of a
-    mechanism's table, then every number ≠ 0 of an ``[[operation]]`` (its angles and
-    duration: whole numbers there are angles, not counts), in the file's order."""
-    from ._model import OPERATION_NUMBERS
+    mechanism's table, then of the numbers in its kind's ``varied_tables``
+    (:func:`_nested`: a curve's value is its list, varied as a whole), then every
+    number ≠ 0 of an ``[[operation]]`` (its angles and duration: whole numbers there
+    are angles, not counts), in the file's order."""
+    from ._model import OPERATION_NUMBERS, _varied_tables
 
     data = machine.data or {}
-    out = []
+    out: list[tuple[str, Any, str]] = []
     for name, table in data.get("mechanism", {}).items():
         for k, v in table.items():
             if isinstance(v, float) and math.isfinite(v) and v != 0.0:
                 out.append((f"{name}.{k}", v, ""))
+        for k in _varied_tables(machine.mechanisms[name]):
+            if k in table:
+                out += [
+                    (p, v, SCALED.format(n=_count(v)) if isinstance(v, list) else "")
+                    for p, v in _nested(f"{name}.{k}", table[k])
+                ]
     for i, op in enumerate(data.get("operation", []), start=1):
         title = op.get("name") or f"{op.get('from')} → {op.get('to')}"
         for k, v in op.items():
@@ -150,6 +209,59 @@ def _keys(machine: Machine) -> list[tuple[str, float, str]]:
             if k in OPERATION_NUMBERS and number and math.isfinite(v) and v != 0:
                 out.append((f"operation.{i}.{k}", float(v), f"[[operation]] #{i}: {title}"))
     return out
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _count(v: Any) -> int:
+    """How many numbers a curve or a table holds."""
+    return sum(_count(x) for x in v) if isinstance(v, list) else 1
+
+
+def _nested(path: str, node: Any) -> Iterator[tuple[str, Any]]:
+    """(path, value) of every key varied under ``node`` (positions from 1): a float
+    ≠ 0; each number ≠ 0 of a vector (a list of at most three numbers); a curve or
+    a table (a longer list of numbers, or a list of vectors) as a whole, its value
+    the list, if it holds a number ≠ 0.
+
+    >>> list(_nested("k.points", {"A": [0.0, 0.0], "B": [0.3, 0.4]}))
+    [('k.points.B.1', 0.3), ('k.points.B.2', 0.4)]
+    >>> list(_nested("k.load", [{"angle_deg": [0.0, 90.0, 180.0, 270.0], "point": "E"}]))
+    [('k.load.1.angle_deg', [0.0, 90.0, 180.0, 270.0])]
+    """
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _nested(f"{path}.{k}", v)
+    elif isinstance(node, list) and node and all(_is_number(x) for x in node) and len(node) <= 3:
+        for i, x in enumerate(node, start=1):
+            if x != 0:
+                yield f"{path}.{i}", float(x)
+    elif (
+        isinstance(node, list)
+        and node
+        and all(
+            _is_number(x) or (isinstance(x, list) and all(_is_number(y) for y in x)) for x in node
+        )
+    ):
+        if any(x != 0 for x in _flat(node)):
+            yield path, node
+    elif isinstance(node, list):
+        for i, v in enumerate(node, start=1):
+            yield from _nested(f"{path}.{i}", v)
+    elif isinstance(node, float) and math.isfinite(node) and node != 0.0:
+        yield path, node
+
+
+def _flat(v: list[Any]) -> Iterator[float]:
+    for x in v:
+        yield from (_flat(x) if isinstance(x, list) else (x,))
+
+
+def _scaled(v: Any, f: float) -> Any:
+    """``v`` times ``f``: a number, or every number of a curve or a table."""
+    return [_scaled(x, f) for x in v] if isinstance(v, list) else v * f
 
 
 def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sensitivity]:
@@ -199,10 +311,16 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
     # files' rules would warn of (a ζ of 0.9999 raised past 1) is not the user's slip.
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CyclomechWarning)
+        nested = 0
         for path, v, _ in keys:
+            deep = path.count(".") > 1 and not path.startswith("operation.")
+            nested += deep
+            if deep and nested > MAX_NESTED:
+                where.append(f"past the first {MAX_NESTED} keys in sub-tables and lists")
+                continue
             try:
-                up = m.with_values({path: v * (1 + STEP)})
-                down = m.with_values({path: v * (1 - STEP)})
+                up = m.with_values({path: _scaled(v, 1 + STEP)})
+                down = m.with_values({path: _scaled(v, 1 - STEP)})
             except CyclomechError as e:
                 where.append(str(e))
                 continue
@@ -214,8 +332,10 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
     exact = _exact(m, found[0])
     out = []
     for (path, v, what), at in zip(keys, where, strict=True):
+        v = 1.0 if isinstance(v, list) else v  # a curve's value: its scale
         if isinstance(at, str):
-            rec = Sensitivity(path, v, math.nan, math.nan, "cannot vary", at)
+            status = "not varied" if at.startswith("past the first") else "cannot vary"
+            rec = Sensitivity(path, v, math.nan, math.nan, status, at)
         else:
             rec = _rate(path, v, base, limits[at[0]], limits[at[1]])
         if path in exact and rec.status == "binds":
@@ -223,9 +343,105 @@ def sensitivities(machine: Machine, *, n_threads: int | None = None) -> list[Sen
             rec = replace(rec, rpm_per_unit=rate, rpm_per_percent=0.01 * v * rate, note=EXACT)
         note = "; ".join(x for x in (what, rec.note) if x)
         out.append(replace(rec, limit_rpm=base, note=note))
-    order = {"binds": 0, "kink": 1, "does not bind": 2, "cannot vary": 3}
+    return _ranked(out)
+
+
+def drive_sensitivities(result: Any, table: list[Sensitivity]) -> list[Sensitivity]:
+    """The table of :func:`sensitivities` with the drive's elastic keys added, of the
+    limit the report gives: min(L, each working member's dynamic-error limit) (see
+    the module's rules).
+
+    Parameters
+    ----------
+    result : MachineResult
+        :func:`analyze`'s result, whose ``torsion`` holds the dynamic errors (the
+        table is returned as it is without them).
+    table : list of Sensitivity
+        :func:`sensitivities` of its machine.
+
+    Returns
+    -------
+    list of Sensitivity
+        The table with one row per number of ``[drive.shaft]`` and of each
+        ``[drive.link.<name>]``, ranked with the others.
+
+    Examples
+    --------
+    >>> import cyclomech as cm
+    >>> m = cm.Machine.from_toml("examples/knife_cutter.toml")
+    >>> r = cm.machine.analyze(m, progress=False, sensitivities=True)
+    >>> s = {x.key: x for x in r.sensitivities}["drive.link.knife.max_error_m"]
+    >>> s.status, s.note[:44]
+    ('does not bind', 'no dynamic error limits the speed within 2 %')
+    """
+    from ..dynamics import error_limits
+
+    m = result.machine
+    if result.torsion is None or m.data is None or "drive" not in m.data:
+        return table
+    base = table[0].limit_rpm if table else m.speed_limit().rpm
+    drive = m.data["drive"]
+    keys = list(_nested("drive.shaft", drive.get("shaft", {})))
+    for name, link in drive.get("link", {}).items():
+        keys += _nested(f"drive.link.{name}", link)
+    own = {k: v for k, v in result.torsion.limits_rpm.items() if math.isfinite(v)}
+    lowest = min(own.values(), default=math.inf)
+    out = list(table)
+    if lowest > base * (1.0 + NEAR):
+        quiet = (
+            f"no dynamic error limits the speed within {100 * NEAR:g} % of {base:.4g} rpm "
+            f"(lowest: {lowest:.4g} rpm)"
+        )
+        out += [Sensitivity(p, v, 0.0, 0.0, "does not bind", quiet, base) for p, v in keys]
+        return _ranked(out)
+    folded = min(base, lowest)
+
+    def limit(path: str, value: Any) -> float:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CyclomechWarning)
+            other = m.with_values({path: value})
+        return min([base, *error_limits(result, other.drive.elastic).values()])
+
+    for path, v in keys:
+        try:
+            up, down = limit(path, v * (1 + STEP)), limit(path, v * (1 - STEP))
+        except CyclomechError as e:
+            out.append(Sensitivity(path, v, math.nan, math.nan, "cannot vary", str(e), folded))
+            continue
+        out.append(replace(_rate(path, v, folded, up, down), limit_rpm=folded))
+    if lowest < base:
+        out = [x if x.key.startswith("drive.") else _beneath(x, folded) for x in out]
+    return _ranked(out)
+
+
+def _beneath(x: Sensitivity, folded: float) -> Sensitivity:
+    """A mechanism's or an operation's row where a dynamic error sets the limit: not
+    varied for it (each variant would need the whole analysis), its rate of the
+    rigid limit beneath kept in the note."""
+    was = (
+        f"on the limit beneath ({x.limit_rpm:.4g} rpm) +1 % gives {x.rpm_per_percent:+.4g} rpm"
+        if x.status == "binds"
+        else f"on the limit beneath ({x.limit_rpm:.4g} rpm): {x.status}"
+    )
+    why = "a dynamic error sets the limit; this key's effect on it is not computed"
+    note = "; ".join(y for y in (x.note, why, was) if y)
+    return replace(
+        x,
+        rpm_per_unit=math.nan,
+        rpm_per_percent=math.nan,
+        status="not varied",
+        note=note,
+        limit_rpm=folded,
+    )
+
+
+def _ranked(table: list[Sensitivity]) -> list[Sensitivity]:
+    """The keys that buy the most rpm per 1 % first (either way), then the kinks,
+    those that do not bind, that cannot vary and that were not varied."""
+    order = {"binds": 0, "kink": 1, "does not bind": 2, "cannot vary": 3, "not varied": 4}
     return sorted(
-        out, key=lambda s: (order[s.status], -abs(s.rpm_per_percent if s.status == "binds" else 0))
+        table,
+        key=lambda s: (order[s.status], -abs(s.rpm_per_percent if s.status == "binds" else 0)),
     )
 
 

@@ -524,9 +524,11 @@ def sweep(
         The machine, read from a file or a dict (:meth:`Machine.from_toml`,
         :meth:`Machine.from_dict`).
     grid : Mapping of str to array_like
-        The parameters (``"<mechanism>.<key>"`` or ``"machine.<key>"``) → values,
-        in the file's units, and the speeds ``grid["speed_rpm"]`` [rpm] (default
-        the machine's speed grid).
+        The parameters (``"<mechanism>.<key>"``, a number in a sub-table or a
+        list such as ``"knife.lengths.3.length"`` (positions from 1; see
+        :meth:`Machine.with_values`), ``"machine.<key>"`` or
+        ``"operation.<k>.<key>"``) → values, in the file's units, and the speeds
+        ``grid["speed_rpm"]`` [rpm] (default the machine's speed grid).
     executor : dask.distributed.Client or concurrent.futures.Executor, optional
         None (this process; ``n_threads`` rayon threads per kernel), a
         ``dask.distributed.Client`` or a ``concurrent.futures.Executor`` (one task

@@ -49,11 +49,11 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("max_V_np_m_per_s", "The limit on the slider's speed at the start of the working "
           "stroke.", "m/s", NUM, "none (no speed limit)", POS, True),
         K("deformation_force", "The deformation-force diagram over the working stroke.",
-          NO_UNIT, TAB, "none (no force)", "a table {s_above_bdc_m, force_n}", True),
+          NO_UNIT, TAB, "none (no force)", "a table {s_above_bdc_m, force_n}", False),
         K("slider_mass_kg", "The slider's mass.", "kg", NUM, "0", NONNEG, True),
         K("rod_mass_kg", "The (uniform) rod's mass.", "kg", NUM, "0", NONNEG, True),
         K("phase", "Where BDC sits in the cycle {event, crank_deg}: the carrier's angle past "
-          "BDC.", NO_UNIT, TAB, "the carrier at BDC at cycle angle 0", "a phase table", True),
+          "BDC.", NO_UNIT, TAB, "the carrier at BDC at cycle angle 0", "a phase table", False),
         K("friction", "The friction of its slider's guide and its rod's pins (a "
           "[….friction] table).", NO_UNIT, TAB, "none (frictionless)",
           "a friction table; needs deformation_force, slider_mass_kg or rod_mass_kg", False),

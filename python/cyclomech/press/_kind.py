@@ -121,8 +121,14 @@ class PressMechanism(Unbounded):
             "friction",
         }
     )
-    # A sweep sets numbers: the friction table is set in the file.
-    fixed_keys: ClassVar[frozenset[str]] = frozenset({"kind", "friction"})
+    # A sweep sets numbers: the tables are set in the file (their numbers by a
+    # path: varied_tables).
+    fixed_keys: ClassVar[frozenset[str]] = frozenset(
+        {"kind", "friction", "deformation_force", "phase"}
+    )
+    #: Sub-tables whose numbers a sweep or a sensitivity may vary by a path
+    #: (``friction.guide_mu``, ``deformation_force.force_n``).
+    varied_tables: ClassVar[frozenset[str]] = frozenset({"deformation_force", "phase", "friction"})
     #: Its plausibility rules (besides every ``_m`` key's): a press slider meets
     #: the workpiece at mm/s to a few m/s; a limit over 10 m/s is likelier mm/s.
     rules: ClassVar[tuple[Rule, ...]] = (

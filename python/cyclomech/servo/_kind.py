@@ -136,6 +136,9 @@ class ServoMechanism(ExactBounds):
         {"kind", "load", "segment", "motor", "catalogue", "gear_ratios", "continuity"}
         | {"table_points", "phase"}
     )
+    #: Sub-tables and lists whose numbers a sweep or a sensitivity may vary by a
+    #: path (``segment.1.stroke_m``, ``phase.crank_deg``); not the catalogue's.
+    varied_tables: ClassVar[frozenset[str]] = frozenset({"segment", "phase"})
     json_groups: ClassVar[tuple[str, ...]] = ("servo_axes",)
     name: str
     axis: ServoAxis
