@@ -780,17 +780,10 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
     >>> t.nominal.names
     ('knife',)
     """
-    if not all(hasattr(result, k) for k in ("machine", "shaft", "mechanisms", "optimum")):
-        raise InputError(
-            f"result must be a machine's result (cyclomech.machine.analyze); got "
-            f"{type(result).__name__}"
-        )
-    instance("elastic", elastic, ElasticShaft)
+    _check_result(result, elastic)
     instance("motor", motor, Motor)
     if steady is not None:
         instance("steady", steady, SteadyState)
-    if result.shaft is None:
-        raise InputError("result: nothing loads the main shaft: no chain to put on it")
     source = result.machine.source
     nodes = _nodes(result, elastic, source)
     nominal, problem = None, ""
@@ -864,10 +857,21 @@ def error_limits(result: Any, elastic: ElasticShaft) -> dict[str, float]:
     >>> error_limits(r, r.machine.drive.elastic) == r.torsion.limits_rpm
     True
     """
+    _check_result(result, elastic)
+    return _error_limits(result, _nodes(result, elastic, result.machine.source))[1]
+
+
+def _check_result(result: Any, elastic: Any) -> None:
+    """Refuse what is not an analysed machine with a main shaft, or not an
+    :class:`ElasticShaft`."""
+    if not all(hasattr(result, k) for k in ("machine", "shaft", "mechanisms", "optimum")):
+        raise InputError(
+            f"result must be a machine's result (cyclomech.machine.analyze); got "
+            f"{type(result).__name__}"
+        )
     instance("elastic", elastic, ElasticShaft)
     if result.shaft is None:
         raise InputError("result: nothing loads the main shaft: no chain to put on it")
-    return _error_limits(result, _nodes(result, elastic, result.machine.source))[1]
 
 
 def _event_lags(result: Any, t: Torsion) -> dict[str, dict[str, float]]:

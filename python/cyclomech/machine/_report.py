@@ -151,10 +151,7 @@ def analyze(
     r.sensitivities = sens
     _drive_and_frame(r)
     _fold_error_limits(r)
-    if sens is not None:  # the drive's keys, of the limit with the dynamic errors folded in
-        t = time.perf_counter()
-        r.sensitivities = drive_sensitivities(r, sens)
-        r.seconds["sensitivities"] += time.perf_counter() - t
+    _add_drive_keys(r)
     if r.above_speed_limit:
         warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
     if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
@@ -167,6 +164,15 @@ def analyze(
             stacklevel=2,
         )
     return r
+
+
+def _add_drive_keys(r: MachineResult) -> None:
+    """The drive's elastic keys into the sensitivities, when computed: of the limit
+    with the dynamic errors folded in (:func:`drive_sensitivities`)."""
+    if r.sensitivities is not None:
+        t = time.perf_counter()
+        r.sensitivities = drive_sensitivities(r, r.sensitivities)
+        r.seconds["sensitivities"] += time.perf_counter() - t
 
 
 def _drive_and_frame(r: MachineResult) -> None:

@@ -365,6 +365,12 @@ def drive_sensitivities(result: Any, table: list[Sensitivity]) -> list[Sensitivi
         The table with one row per number of ``[drive.shaft]`` and of each
         ``[drive.link.<name>]``, ranked with the others.
 
+    Raises
+    ------
+    InputError
+        If ``result`` is not a :class:`MachineResult` or ``table`` not a list of
+        :class:`Sensitivity`.
+
     Examples
     --------
     >>> import cyclomech as cm
@@ -375,7 +381,14 @@ def drive_sensitivities(result: Any, table: list[Sensitivity]) -> list[Sensitivi
     ('does not bind', 'no dynamic error limits the speed within 2 %')
     """
     from ..dynamics import error_limits
+    from ._result import MachineResult
 
+    result = instance("result", result, MachineResult)
+    table = list(instance("table", table, list))
+    if not all(isinstance(x, Sensitivity) for x in table):
+        from .._errors import InputError
+
+        raise InputError("table must be a list of Sensitivity (cyclomech.machine.sensitivities)")
     m = result.machine
     if result.torsion is None or m.data is None or "drive" not in m.data:
         return table
