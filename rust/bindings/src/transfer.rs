@@ -130,7 +130,10 @@ pub fn transfer_sample<'py>(
             if p.shape() != [n, 2] || shapes.iter().any(|&l| l != n) || arrays.5.len() != n {
                 return Err(input_error(
                     py,
-                    format!("out holds arrays of {} points; this sample has {n}", s.len()),
+                    format!(
+                        "out holds arrays of {} points; this sample has {n}",
+                        s.len()
+                    ),
                 ));
             }
             arrays
