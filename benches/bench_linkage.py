@@ -325,7 +325,7 @@ def test_ratio_table(request: pytest.FixtureRequest, setup, pylinkage_four_bar) 
     # The floor's output: the solution's arrays, one block as solve allocates them.
     shapes = [(a.shape, a.dtype) for a in (prev.xy, prev.vel, prev.acc, prev.ok)]
     shapes += [(prev.ok.shape, prev.ok.dtype)] * 2
-    existing = one_block(*shapes)
+    existing = one_block(*shapes, what="floor", hint="")
 
     def pylinkage_run() -> None:
         lk.set_coords(start)
@@ -335,7 +335,9 @@ def test_ratio_table(request: pytest.FixtureRequest, setup, pylinkage_four_bar) 
         "cyclomech 1 thread": lambda: lk_cm.solve(phi, n_threads=1),
         "cyclomech 1 thread, out=": lambda: lk_cm.solve(phi, n_threads=1, out=prev),
         "pylinkage step_fast_with_kinematics": pylinkage_run,
-        "floor: new block written once": lambda: [a.fill(1) for a in one_block(*shapes)],
+        "floor: new block written once": lambda: [
+            a.fill(1) for a in one_block(*shapes, what="floor", hint="")
+        ],
         "floor: existing block written": lambda: [a.fill(1) for a in existing],
     }
     mb = sum(a.nbytes for a in existing) / 1e6

@@ -134,7 +134,9 @@ def test_sample_scipy(benchmark, path) -> None:
 
 def _sample_block(n: int) -> list[Any]:
     """Arrays of a sample's shapes and types (the floor's output)."""
-    return one_block(((n, 2), np.float64), *[((n,), np.float64)] * 4, ((n,), np.int8))
+    return one_block(
+        ((n, 2), np.float64), *[((n,), np.float64)] * 4, ((n,), np.int8), what="floor", hint=""
+    )
 
 
 def test_ratio_table(request: pytest.FixtureRequest, path) -> None:

@@ -361,7 +361,7 @@ def out_array(out: Any, shape: tuple[int, ...], inputs: list[Any], what: str) ->
 _HUGE_PAGE = 1 << 21
 
 
-def one_block(*parts: tuple[tuple[int, ...], Any]) -> list[Any]:
+def one_block(*parts: tuple[tuple[int, ...], Any], what: str, hint: str) -> list[Any]:
     """New C-order arrays of the given (shape, dtype) ``parts``, carved from one block.
 
     A kernel's outputs are written once and their first touch costs as much as the
@@ -372,25 +372,34 @@ def one_block(*parts: tuple[tuple[int, ...], Any]) -> list[Any]:
     10 ms, one aligned block in 5.4 ms; BENCHMARKS.md, issue 37 rows 5–6). Each
     array starts on a 64-byte boundary (an empty one is its own). The arrays share
     one base: the block lives while any of them does. Nothing is written
-    (``numpy.empty``).
+    (``numpy.empty``). A size that cannot fit, or that the system cannot allocate,
+    is the :class:`InputError` of :func:`check_bytes` naming ``what`` and ``hint``.
 
     Examples
     --------
     >>> import numpy as np
-    >>> xy, ok = one_block(((3, 2), np.float64), ((3,), np.bool_))
+    >>> xy, ok = one_block(((3, 2), np.float64), ((3,), np.bool_), what="x", hint="fewer")
     >>> xy.shape, ok.dtype, xy.flags.c_contiguous, xy.base is not None
     ((3, 2), dtype('bool'), True, True)
     """
-    sizes = [int(np.prod(shape, dtype=np.int64)) * np.dtype(dt).itemsize for shape, dt in parts]
-    starts = np.cumsum([0] + [-(-b // 64) * 64 for b in sizes])
-    total = int(starts[-1])
+    # Python integers: a size whose element count overflows int64 is refused too.
+    sizes = [math.prod(shape) * np.dtype(dt).itemsize for shape, dt in parts]
+    starts = [0]
+    for b in sizes:
+        starts.append(starts[-1] + -(-b // 64) * 64)
+    total = starts[-1]
+    check_bytes(what, float(sum(sizes)), hint)  # the arrays' bytes (not the alignment's)
     pad = _HUGE_PAGE if total >= 2 * _HUGE_PAGE else 64
-    raw = np.empty(total + pad, dtype=np.uint8)
+    try:
+        raw = np.empty(total + pad, dtype=np.uint8)
+    except MemoryError:
+        check_bytes(what, float(sum(sizes)), hint, failed=True)
+        raise  # pragma: no cover - check_bytes(failed=True) always raises
     base = -raw.ctypes.data % pad
     # An empty part is its own empty array: views of no bytes would all start at
     # the same address, which a kernel's borrow check takes for an overlap.
     return [
-        raw[base + int(at) : base + int(at) + size].view(dt).reshape(shape)
+        raw[base + at : base + at + size].view(dt).reshape(shape)
         if size
         else np.empty(shape, dtype=dt)
         for (shape, dt), at, size in zip(parts, starts, sizes, strict=False)

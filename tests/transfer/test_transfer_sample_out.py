@@ -129,7 +129,7 @@ def test_new_sample_arrays_are_disjoint_views_of_one_aligned_block():
     )
 )
 def test_one_block_gives_disjoint_aligned_arrays_of_the_parts(parts):
-    arrays = one_block(*[(tuple(shape), dt) for shape, dt in parts])
+    arrays = one_block(*[(tuple(shape), dt) for shape, dt in parts], what="parts", hint="")
     assert len(arrays) == len(parts)
     for (shape, dt), a in zip(parts, arrays, strict=True):
         assert a.shape == tuple(shape) and a.dtype == np.dtype(dt)
@@ -141,3 +141,15 @@ def test_one_block_gives_disjoint_aligned_arrays_of_the_parts(parts):
         a[...] = i + 1
     for i, a in enumerate(arrays):
         assert (a == (i + 1 if a.dtype != np.bool_ else True)).all()
+
+
+def test_one_block_refuses_a_size_that_cannot_fit_before_allocating(monkeypatch):
+    monkeypatch.setenv("CYCLOMECH_MAX_BYTES", str(10**6))
+    with pytest.raises(InputError, match=r"the parts needs .* GB, more than .*; fewer"):
+        one_block(((10**6,), np.float64), what="the parts", hint="fewer")
+    with pytest.raises(InputError, match=r"TransferPath\.sample\(200000\)"):
+        tr.TransferPath(0.15, 0.25, (0.0, 0.0), (0.41, 0.0)).sample(200_000)
+    # An element count that overflows int64 is refused, not wrapped.
+    monkeypatch.delenv("CYCLOMECH_MAX_BYTES")
+    with pytest.raises(InputError, match="more than"):
+        one_block(((2**40, 2**40), np.float64), what="the parts", hint="fewer")

@@ -325,8 +325,14 @@ class Linkage:
         if out is None:
             # New outputs in one block from a huge-page boundary (``one_block``:
             # their first touch is the cost when the kernel is this fast).
-            big = [((len(a), len(sel), 2), np.float64)] * (3 if an else 1)
-            new = one_block(*big, *[((len(a),), np.bool_)] * 3)
+            copies = 3 if an else 1
+            new = one_block(
+                *[((len(a), len(sel), 2), np.float64)] * copies,
+                *[((len(a),), np.bool_)] * 3,
+                what=f"the linkage's results ({copies} arrays of {len(a)} × {len(sel)} × 2 "
+                "float64 and 3 flags)",
+                hint="solve fewer angles, points or geometries at a time",
+            )
             bufs = (new[0], *(new[1:3] if an else (None, None)), *new[-3:])
         else:
             bufs = out_arrays(out, (len(a),), len(sel), an, [a])

@@ -486,7 +486,13 @@ class TransferPath:
                 float(n) * _SAMPLE_PEAK_BYTES,
                 f"sample fewer points (≤ {int(available_bytes() // _SAMPLE_PEAK_BYTES):,} fit)",
             )
-            arrays = one_block(((n, 2), np.float64), *[((n,), np.float64)] * 4, ((n,), np.int8))
+            arrays = one_block(
+                ((n, 2), np.float64),
+                *[((n,), np.float64)] * 4,
+                ((n,), np.int8),
+                what=f"TransferPath.sample({n})",
+                hint="sample fewer points",
+            )
         else:
             arrays = _sample_out(out, n)
         counts = np.array(_allocate(n, self._lengths), dtype=np.int64)
