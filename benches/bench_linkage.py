@@ -29,6 +29,15 @@ turns its crank by increments of atan2, so its angles drift from the grid by up 
 cyclomech's to 7e-11); pyslvs 6e-12 (SolverSystem) and 2e-10 (expr_solving);
 python-solvespace 1e-8 (its convergence tolerance).
 
+``test_ratio_table`` (issue 37): the four-bar with analogs on one thread against
+pylinkage's ``step_fast_with_kinematics`` in both page states (fresh pages:
+``malloc_trim(0)`` before each call), into new arrays and ``out=previous``, with the
+floors of writing the solution's arrays once (new and existing) and the ratio to the
+floor of the same page state. Run::
+
+    taskset -c 1 python -m pytest benches/bench_linkage.py -k ratio_table \
+        --benchmark-enable -q -p no:cacheprovider -s
+
 The peers are in the ``[bench]`` extras, not ``[test]``: each row skips when its peer
 is not installed (pylinkage without numba too, whose fallback is pure Python).
 """
@@ -37,17 +46,21 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from types import ModuleType
 from typing import Any
 
 import cyclomech as cm
 import numpy as np
 import pytest
+from _timing import in_state, interleaved, page_states, timed_run
+from cyclomech._arrays import one_block
 from numpy.testing import assert_allclose
 
 N_ANGLES = 360_000
 R, L2, L3, D = 1.0, 3.5, 3.0, 4.0
 GROUP = "four-bar crank-rocker, 360 000 angles"
+ROUNDS = 7
 
 
 def _label(benchmark, tool: str, what: str) -> None:
@@ -288,6 +301,64 @@ def test_linkage_pylinkage_kinematics(benchmark, setup, pylinkage_four_bar) -> N
     assert sol.vel is not None and sol.acc is not None
     assert_allclose(vel[:, c], sol.vel[:, sol.index("C")], atol=1e-8)
     assert_allclose(acc[:, c], sol.acc[:, sol.index("C")], atol=1e-8)
+
+
+def test_ratio_table(request: pytest.FixtureRequest, setup, pylinkage_four_bar) -> None:
+    """Four-bar with analogs, one thread, interleaved rounds (medians, wall and CPU),
+    both page states (``_timing.page_states``): cyclomech into new arrays and into a
+    previous solution's (``out=``), pylinkage's fastest path with analogs
+    (``step_fast_with_kinematics``, numba), and the floors: the solution's arrays
+    new (one block, as ``solve`` allocates them) and existing, written once
+    (``fill``). The results are checked equal first. The ratio to the floor is
+    taken against the new arrays' floor in fresh pages and the existing arrays' in
+    reused ones."""
+    if not timed_run(request.config):
+        pytest.skip("timed runs only (--benchmark-enable)")
+    lk_cm, phi = setup
+    lk, start = pylinkage_four_bar
+    prev = lk_cm.solve(phi, n_threads=1)
+    lk.set_coords(start)
+    pos, vel, acc = lk.step_fast_with_kinematics(N_ANGLES)
+    for ours, theirs in ((prev.xy, pos), (prev.vel, vel), (prev.acc, acc)):
+        # pylinkage's points are A, D, B, C; ours A, B, C, D.
+        assert_allclose(ours, theirs[:, [0, 2, 3, 1]], atol=1e-8)
+    # The floor's output: the solution's arrays, one block as solve allocates them.
+    shapes = [(a.shape, a.dtype) for a in (prev.xy, prev.vel, prev.acc, prev.ok)]
+    shapes += [(prev.ok.shape, prev.ok.dtype)] * 2
+    existing = one_block(*shapes, what="floor", hint="")
+
+    def pylinkage_run() -> None:
+        lk.set_coords(start)
+        lk.step_fast_with_kinematics(N_ANGLES)
+
+    tools: dict[str, Callable[[], Any]] = {
+        "cyclomech 1 thread": lambda: lk_cm.solve(phi, n_threads=1),
+        "cyclomech 1 thread, out=": lambda: lk_cm.solve(phi, n_threads=1, out=prev),
+        "pylinkage step_fast_with_kinematics": pylinkage_run,
+        "floor: new block written once": lambda: [
+            a.fill(1) for a in one_block(*shapes, what="floor", hint="")
+        ],
+        "floor: existing block written": lambda: [a.fill(1) for a in existing],
+    }
+    mb = sum(a.nbytes for a in existing) / 1e6
+    for state, before in page_states().items():
+        t = interleaved({k: in_state(f, before) for k, f in tools.items()}, ROUNDS)
+        print(
+            f"\nfour-bar with analogs, {N_ANGLES} angles, {state} pages, output {mb:.0f} MB, "
+            f"{ROUNDS} interleaved rounds (medians)"
+        )
+        peer = t["pylinkage step_fast_with_kinematics"]
+        floor = (
+            t["floor: new block written once"]
+            if state == "fresh"
+            else t["floor: existing block written"]
+        )
+        for name, (w, c) in t.items():
+            print(
+                f"  {name:38s} wall {w * 1e3:6.1f} ms  cpu {c * 1e3:6.1f} ms  "
+                f"pylinkage/this {peer[0] / w:5.2f}x (cpu {peer[1] / c:5.2f}x)  "
+                f"this/floor {w / floor[0]:4.2f} (cpu {c / floor[1]:4.2f})"
+            )
 
 
 # --- class III: pyslvs, python-solvespace ---------------------------------------------

@@ -18,15 +18,26 @@ and scipy, in one run, on one thread and on two.
   minimiser) and against a Python loop of that numpy code's ``TransferPath`` and
   ``max_jerk`` per candidate (the straightforward way).
 
+- ``test_ratio_table`` (issue 37): the sample on one thread against the scipy peer
+  in both page states (fresh pages: ``malloc_trim(0)`` before each call), new arrays
+  and ``out=previous``, and the floors of writing the sample's arrays once (new and
+  existing). The scipy peer is the one a numpy/scipy user writes for the curve
+  (polynomial derivatives, trapezoid arc length, closed-form curvature); the numpy
+  code it replaced is slower still (the groups above).
+
 Measured (AMD EPYC, 2 cores; medians): see BENCHMARKS.md. Run::
 
     python -m pytest benches/bench_transfer.py --benchmark-enable -q -p no:cacheprovider
+    taskset -c 1 python -m pytest benches/bench_transfer.py -k ratio_table \
+        --benchmark-enable -q -p no:cacheprovider -s
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import cyclomech as cm
 import numpy as np
@@ -37,6 +48,8 @@ from numpy.polynomial import Polynomial
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "tests" / "transfer"))
 import transfer_reference as ref
+from _timing import in_state, interleaved, page_states, timed_run
+from cyclomech._arrays import one_block
 
 Array = npt.NDArray[np.float64]
 
@@ -44,6 +57,7 @@ R_T, R_P, GAP, X2, V = 0.15, 0.25, 0.01, 0.04, 0.15708
 N = 1_000_000
 GROUP_SAMPLE = f"TransferPath.sample: {N:.0e} points"
 GROUP_DESIGN = "design_transfer: 64 candidate lengths"
+ROUNDS = 9
 
 
 def _label(benchmark, tool: str, what: str) -> None:
@@ -116,6 +130,51 @@ def test_sample_scipy(benchmark, path) -> None:
     assert err < 1e-9
     assert kappa[0] == pytest.approx(1 / R_T, rel=1e-12)
     assert pts.shape == (N, 2)
+
+
+def _sample_block(n: int) -> list[Any]:
+    """Arrays of a sample's shapes and types (the floor's output)."""
+    return one_block(
+        ((n, 2), np.float64), *[((n,), np.float64)] * 4, ((n,), np.int8), what="floor", hint=""
+    )
+
+
+def test_ratio_table(request: pytest.FixtureRequest, path) -> None:
+    """``TransferPath.sample(1e6)``, one thread, interleaved rounds (medians, wall
+    and CPU), both page states (``_timing.page_states``): new arrays and
+    ``out=previous``, the scipy peer, and the floors — the sample's arrays new
+    (one block, as ``sample`` allocates them) and existing, written once
+    (``fill``). The peer and ours are checked to agree first."""
+    if not timed_run(request.config):
+        pytest.skip("timed runs only (--benchmark-enable)")
+    prev = path.sample(N, n_threads=1)
+    pts, arc, kappa, _rate = scipy_sample(path, N)
+    assert pts.shape == (N, 2)
+    # The peer's transitions against ours on the same abscissas: the curvature
+    # at A and the transitions' total length (quad) agree.
+    assert kappa[0] == pytest.approx(prev.curvature[prev.piece == 1][0], rel=1e-12)
+    want = sum(quad_length(q) for q in path.transitions)
+    assert abs(arc[-1] - want) < 1e-9 * want
+    assert path.sample(N, n_threads=1, out=prev).s is prev.s
+    existing = _sample_block(N)
+    tools: dict[str, Callable[[], Any]] = {
+        "cyclomech 1 thread": lambda: path.sample(N, n_threads=1),
+        "cyclomech 1 thread, out=": lambda: path.sample(N, n_threads=1, out=prev),
+        "scipy (two transitions)": lambda: scipy_sample(path, N),
+        "floor: new arrays written once": lambda: [a.fill(1) for a in _sample_block(N)],
+        "floor: existing arrays written": lambda: [a.fill(1) for a in existing],
+    }
+    for state, before in page_states().items():
+        t = interleaved({k: in_state(f, before) for k, f in tools.items()}, ROUNDS)
+        print(
+            f"\nTransferPath.sample({N:.0e}), {state} pages, {ROUNDS} interleaved rounds (medians)"
+        )
+        peer = t["scipy (two transitions)"]
+        for name, (w, c) in t.items():
+            print(
+                f"  {name:32s} wall {w * 1e3:6.2f} ms  cpu {c * 1e3:6.2f} ms  "
+                f"scipy/this {peer[0] / w:5.2f}x (cpu {peer[1] / c:5.2f}x)"
+            )
 
 
 def loop_design(speed: float, cands: Array) -> Array:

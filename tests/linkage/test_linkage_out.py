@@ -197,3 +197,23 @@ def test_a_subset_is_the_full_solves_columns_and_flags(points, analogs, threads)
     if analogs:
         assert same(part.vel, full.vel[:, cols].copy())
         assert same(part.acc, full.acc[:, cols].copy())
+
+
+def test_new_solution_arrays_are_disjoint_and_a_solve_into_them_is_bit_for_bit():
+    """A solve's new arrays are carved from one block (issue 37 row 6): each is its
+    own memory, and solving into them again (``out=``) gives the same bits."""
+    lk = crank_rocker()
+    phi = np.linspace(-1.0, 9.0, 60_001)
+    for analogs in (True, False):
+        sol = lk.solve(phi, 1, analogs=analogs)
+        given = {f: getattr(sol, f) for f in FIELDS if getattr(sol, f) is not None}
+        arrays = list(given.values())
+        assert len(arrays) == (6 if analogs else 4)
+        for i, a in enumerate(arrays):
+            assert a.flags.c_contiguous and a.flags.writeable
+            assert not any(np.shares_memory(a, b) for b in arrays[i + 1 :])
+        want = {f: a.copy() for f, a in given.items()}
+        again = lk.solve(phi, 2, analogs=analogs, out=sol)
+        for f, w in want.items():
+            assert getattr(again, f) is given[f]
+            assert same(getattr(again, f), w), f

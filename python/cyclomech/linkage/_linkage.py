@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import flag, float_array, threads_arg
+from .._arrays import flag, float_array, one_block, threads_arg
 from .._errors import CyclomechError, InputError
 from ._drawing import (
     Point,
@@ -293,6 +293,7 @@ class Linkage:
             always; ``vel`` and ``acc`` exactly when ``analogs``; flags left out are
             allocated). Positions and analogs are C-contiguous float64 (N, M, 2),
             flags bool (N,); the results are bit for bit those of a fresh solve.
+            Default None: new arrays, carved from one block (they share its memory).
 
         Returns
         -------
@@ -321,7 +322,20 @@ class Linkage:
         a = float_array("angles", angles)
         sel, names = self._select(points)
         an = flag("analogs", analogs)
-        bufs = None if out is None else out_arrays(out, (len(a),), len(sel), an, [a])
+        if out is None:
+            # New outputs in one block from a huge-page boundary (``one_block``:
+            # their first touch is the cost when the kernel is this fast).
+            copies = 3 if an else 1
+            new = one_block(
+                *[((len(a), len(sel), 2), np.float64)] * copies,
+                *[((len(a),), np.bool_)] * 3,
+                what=f"the linkage's results ({copies} arrays of {len(a)} × {len(sel)} × 2 "
+                "float64 and 3 flags)",
+                hint="solve fewer angles, points or geometries at a time",
+            )
+            bufs = (new[0], *(new[1:3] if an else (None, None)), *new[-3:])
+        else:
+            bufs = out_arrays(out, (len(a),), len(sel), an, [a])
         xy, vel, acc, ok, singular, branch = self._program.solve(
             a, sel, analogs=an, n_threads=threads_arg(n_threads), out=bufs
         )

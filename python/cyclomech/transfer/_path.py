@@ -12,7 +12,17 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import available_bytes, check_bytes, count, finite_number, flag, threads_arg
+from .._arrays import (
+    available_bytes,
+    check_bytes,
+    count,
+    finite_number,
+    flag,
+    instance,
+    one_block,
+    out_array,
+    threads_arg,
+)
 from .._errors import InfeasibleError, InputError
 from ._checks import _LENGTH_RANGE, Array, _finite_array, _point, _radius, _speeds
 from ._quintic import smooth_k_b, smooth_transition
@@ -420,7 +430,9 @@ class TransferPath:
         """
         return float(self._lengths[0])
 
-    def sample(self, n: int = 10_001, *, n_threads: int | None = None) -> PathSample:
+    def sample(
+        self, n: int = 10_001, *, n_threads: int | None = None, out: PathSample | None = None
+    ) -> PathSample:
         """Points along the whole path with arc length, heading, signed curvature and its rate.
 
         Each piece is sampled evenly in its own parameter, in proportion to its length;
@@ -435,16 +447,23 @@ class TransferPath:
             The number of points (≥ 10).
         n_threads : int, optional
             Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
+        out : PathSample, optional
+            A previous sample of ``n`` points whose arrays are written in place (bit
+            for bit a new sample; no new memory to first-touch). Default None: new
+            arrays, carved from one block started on a huge-page boundary (they share
+            its memory).
 
         Returns
         -------
         PathSample
-            The sample, in travel order.
+            The sample, in travel order (with ``out``: a new PathSample of its arrays).
 
         Raises
         ------
         InputError
-            If ``n`` is not a count ≥ 10, or the sample would not fit in memory.
+            If ``n`` is not a count ≥ 10, the sample would not fit in memory, or
+            ``out`` is not a PathSample of ``n`` writeable C-contiguous arrays that
+            share no memory with one another.
 
         Examples
         --------
@@ -453,19 +472,32 @@ class TransferPath:
         >>> s = p.sample(10_001)
         >>> bool(abs(s.s[-1] - p.length) < 1e-12), bool(abs(s.curvature).max() <= 1 / 0.15)
         (True, True)
+        >>> again = p.sample(10_001, out=s)                # into s's arrays
+        >>> again.s is s.s
+        True
         """
         n = count("n", n, low=10, what="points along the path")
         threads = threads_arg(n_threads)
-        # Sized before anything is allocated: a size that cannot fit is an
-        # InputError, not a MemoryError or the OOM killer.
-        check_bytes(
-            f"TransferPath.sample({n})",
-            float(n) * _SAMPLE_PEAK_BYTES,
-            f"sample fewer points (≤ {int(available_bytes() // _SAMPLE_PEAK_BYTES):,} fit)",
-        )
+        if out is None:
+            # Sized before anything is allocated: a size that cannot fit is an
+            # InputError, not a MemoryError or the OOM killer.
+            check_bytes(
+                f"TransferPath.sample({n})",
+                float(n) * _SAMPLE_PEAK_BYTES,
+                f"sample fewer points (≤ {int(available_bytes() // _SAMPLE_PEAK_BYTES):,} fit)",
+            )
+            arrays = one_block(
+                ((n, 2), np.float64),
+                *[((n,), np.float64)] * 4,
+                ((n,), np.int8),
+                what=f"TransferPath.sample({n})",
+                hint="sample fewer points",
+            )
+        else:
+            arrays = _sample_out(out, n)
         counts = np.array(_allocate(n, self._lengths), dtype=np.int64)
         points, s, heading, curv, rate, piece = _core.transfer_sample(
-            self._spec, counts, self.ccw, n_threads=threads
+            self._spec, counts, self.ccw, n_threads=threads, out=tuple(arrays)
         )
         return PathSample(points, s, heading, curv, rate, piece)
 
@@ -629,6 +661,37 @@ class TransferPath:
             f"centre_p={self.centre_p.tolist()}, x2=({self.x2_t:.6g}, {self.x2_p:.6g}), "
             f"ccw={self.ccw})"
         )
+
+
+def _sample_out(out: Any, n: int) -> list[Any]:
+    """The arrays of ``out`` (a :class:`PathSample`) for a sample of ``n`` points
+    written in place, checked by the rule of every ``out=`` (``out_array``): each
+    writeable, C-contiguous, of the sample's shape and type, sharing no memory
+    with another; anything else is an :class:`InputError` naming the field."""
+    out = instance("out", out, PathSample)
+    fields = ("points", "s", "heading", "curvature", "curvature_rate", "piece")
+    arrays = [getattr(out, f) for f in fields]
+    for f, a in zip(fields, arrays, strict=True):
+        if f == "piece":
+            ok = isinstance(a, np.ndarray) and a.dtype == np.int8 and a.shape == (n,)
+            if not (ok and a.flags.c_contiguous and a.flags.writeable):
+                raise InputError(
+                    f"out.piece must be a writeable C-contiguous int8 array of shape ({n},); "
+                    f"got {type(a).__name__} {getattr(a, 'dtype', '')} {getattr(a, 'shape', '')}"
+                )
+            continue
+        try:
+            out_array(a, (n, 2) if f == "points" else (n,), [], f"the sample's {f}")
+        except InputError as e:
+            raise InputError(f"out.{f}: {e}") from None
+    for i, a in enumerate(arrays):
+        for j in range(i):
+            if np.shares_memory(a, arrays[j]):
+                raise InputError(
+                    f"out.{fields[i]} shares memory with out.{fields[j]}: each array of "
+                    "the sample must be its own"
+                )
+    return arrays
 
 
 def _allocate(n: int, lengths: Array) -> list[int]:

@@ -8,7 +8,10 @@ use cyclomech_core::transfer::{
     QuinticValue, SampleOut, SpeedLaw, TransferError, N_KINEMATICS,
 };
 use numpy::ndarray::{Dimension, Ix1, Ix2};
-use numpy::{Element, IntoPyArray, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use numpy::{
+    Element, IntoPyArray, PyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -84,17 +87,30 @@ pub fn transfer_quintic<'py>(
     Ok(out)
 }
 
+/// The six arrays a path sample is written into: points (n, 2), s, heading,
+/// curvature, curvature_rate (n,) and piece (n,) int8.
+type SampleArrays<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i8>>,
+);
+
 /// The composed path of `spec` (see `cyclomech_core::transfer::N_SPEC`) with
 /// `counts` points on its five pieces: (points (n, 2), s, heading, curvature,
-/// curvature_rate, piece (int8)).
+/// curvature_rate, piece (int8)). `out`, if given, is those six arrays (C-contiguous,
+/// of those shapes; the Python layer checks them), written in place and returned.
 #[pyfunction]
-#[pyo3(signature = (spec, counts, ccw, *, n_threads=None))]
+#[pyo3(signature = (spec, counts, ccw, *, n_threads=None, out=None))]
 pub fn transfer_sample<'py>(
     py: Python<'py>,
     spec: PyReadonlyArray1<'py, f64>,
     counts: PyReadonlyArray1<'py, i64>,
     ccw: bool,
     n_threads: Option<i64>,
+    out: Option<SampleArrays<'py>>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let spec = PathSpec::from_flat(TransferError::slice(py, "spec", &spec)?)
         .map_err(|e| e.into_pyerr(py))?;
@@ -107,22 +123,36 @@ pub fn transfer_sample<'py>(
     }
     let counts = [0, 1, 2, 3, 4].map(|i| c[i] as usize);
     let n: usize = counts.iter().sum();
-    convert::check(
-        py,
-        &format!("transfer_sample({n})"),
-        convert::nbytes(&[(&[n, 6], 8), (&[n], 1)]),
-        "sample fewer points",
-    )?;
-    let points = new_f64::<Ix2>(py, &[n, 2], "transfer_sample")?;
-    let arrays = [0, 1, 2, 3].map(|_| new_f64::<Ix1>(py, &[n], "transfer_sample"));
-    let [s, heading, curvature, rate] = arrays;
-    let (s, heading, curvature, rate) = (s?, heading?, curvature?, rate?);
-    let piece = convert::zeros::<i8, Ix1>(
-        py,
-        &[n],
-        "transfer_sample",
-        "ask for fewer points at a time",
-    )?;
+    let (points, s, heading, curvature, rate, piece) = match out {
+        Some(arrays) => {
+            let (p, s) = (&arrays.0, &arrays.1);
+            let shapes = [s.len(), arrays.2.len(), arrays.3.len(), arrays.4.len()];
+            if p.shape() != [n, 2] || shapes.iter().any(|&l| l != n) || arrays.5.len() != n {
+                return Err(input_error(
+                    py,
+                    format!(
+                        "out holds arrays of {} points; this sample has {n}",
+                        s.len()
+                    ),
+                ));
+            }
+            arrays
+        }
+        None => {
+            convert::check(
+                py,
+                &format!("transfer_sample({n})"),
+                convert::nbytes(&[(&[n, 6], 8), (&[n], 1)]),
+                "sample fewer points",
+            )?;
+            let points = new_f64::<Ix2>(py, &[n, 2], "transfer_sample")?;
+            let arrays = [0, 1, 2, 3].map(|_| new_f64::<Ix1>(py, &[n], "transfer_sample"));
+            let [s, heading, curvature, rate] = arrays;
+            // Every element is written (each block fills its piece index).
+            let piece = empty::<i8, Ix1>(py, &[n], "transfer_sample")?;
+            (points, s?, heading?, curvature?, rate?, piece)
+        }
+    };
     {
         let (mut p, mut s_, mut h, mut k, mut r, mut i) = (
             points.readwrite(),
