@@ -3,7 +3,10 @@ collect it): whether the run is timed, and the interleaved medians."""
 
 from __future__ import annotations
 
+import ctypes
+import sys
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -31,3 +34,58 @@ def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, tuple[float, fl
         name: (float(np.median([w for w, _ in t])), float(np.median([c for _, c in t])))
         for name, t in times.items()
     }
+
+
+def malloc_trim() -> Callable[[], object] | None:
+    """glibc's ``malloc_trim(0)`` (freed heap pages back to the kernel), or None
+    off Linux/glibc."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        trim = ctypes.CDLL(None).malloc_trim
+    except (OSError, AttributeError):
+        return None
+    return lambda: trim(0)
+
+
+def page_states(
+    tools: dict[str, Callable[[], Any]], rounds: int
+) -> dict[str, dict[str, tuple[float, float]]]:
+    """:func:`interleaved` medians of ``tools`` in both memory-page states (issue 37):
+    ``reused`` (glibc's heap hands the freed outputs and temporaries back, their
+    pages already mapped) and ``fresh`` (``malloc_trim(0)`` before each call of
+    every tool, so each new array's pages are first touched in the call; arrays
+    of 32 MB and more are mapped fresh by glibc in both states). A tool that
+    writes into a caller's existing buffer (``out=``) keeps its pages in both."""
+    trim = malloc_trim()
+    out = {"reused": interleaved(tools, rounds)}
+    if trim is not None:
+
+        def fresh(run: Callable[[], Any]) -> Callable[[], None]:
+            def call() -> None:
+                trim()
+                run()
+
+            return call
+
+        out["fresh"] = interleaved({k: fresh(f) for k, f in tools.items()}, rounds)
+    return out
+
+
+def print_states(
+    title: str,
+    states: dict[str, dict[str, tuple[float, float]]],
+    per: float,
+    unit: str,
+    against: dict[str, str],
+) -> None:
+    """Print each state's medians (wall and CPU, divided by ``per`` into ``unit``)
+    and, for each ``row: reference`` of ``against``, the ratio reference / row
+    (wall and CPU) from the same run."""
+    for state, t in states.items():
+        print(f"\n{title}, {state} pages (medians of interleaved rounds)")
+        for name, (w, c) in t.items():
+            print(f"  {name:44s} wall {w / per:10.4g} {unit}  cpu {c / per:10.4g} {unit}")
+        for row, ref in against.items():
+            (wr, cr), (w, c) = t[ref], t[row]
+            print(f"  {ref} / {row}: wall {wr / w:.3f}x  cpu {cr / c:.3f}x")
