@@ -36,19 +36,68 @@ def interleaved(tools: dict[str, Any], rounds: int) -> dict[str, tuple[float, fl
     }
 
 
-def page_states() -> dict[str, Callable[[], object] | None]:
-    """The page states a table is measured in: ``reused`` (nothing before a call:
-    glibc's heap hands back the freed outputs and temporaries where it keeps them)
-    and, on glibc, ``fresh`` (``malloc_trim(0)`` before each call, so every new
-    array is first-touched)."""
-    states: dict[str, Callable[[], object] | None] = {"reused": None}
-    if sys.platform.startswith("linux"):
-        try:
-            trim = ctypes.CDLL(None).malloc_trim
-        except (OSError, AttributeError):
-            return states
-        states["fresh"] = lambda: trim(0)
-    return states
+def malloc_trim() -> Callable[[], object] | None:
+    """glibc's ``malloc_trim(0)`` (freed heap pages back to the kernel), or None
+    off Linux/glibc."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        trim = ctypes.CDLL(None).malloc_trim
+    except (OSError, AttributeError):
+        return None
+    return lambda: trim(0)
+
+
+def page_states(
+    tools: dict[str, Callable[[], Any]], rounds: int
+) -> dict[str, dict[str, tuple[float, float]]]:
+    """:func:`interleaved` medians of ``tools`` in both memory-page states (issue 37):
+    ``reused`` (glibc's heap hands the freed outputs and temporaries back, their
+    pages already mapped) and ``fresh`` (``malloc_trim(0)`` before each call of
+    every tool, so each new array's pages are first touched in the call; arrays
+    of 32 MB and more are mapped fresh by glibc in both states). A tool that
+    writes into a caller's existing buffer (``out=``) keeps its pages in both."""
+    trim = malloc_trim()
+    out = {"reused": interleaved(tools, rounds)}
+    if trim is not None:
+
+        def fresh(run: Callable[[], Any]) -> Callable[[], None]:
+            def call() -> None:
+                trim()
+                run()
+
+            return call
+
+        out["fresh"] = interleaved({k: fresh(f) for k, f in tools.items()}, rounds)
+    return out
+
+
+def print_states(
+    title: str,
+    states: dict[str, dict[str, tuple[float, float]]],
+    per: float,
+    unit: str,
+    against: dict[str, str],
+) -> None:
+    """Print each state's medians (wall and CPU, divided by ``per`` into ``unit``)
+    and, for each ``row: reference`` of ``against``, the ratio reference / row
+    (wall and CPU) from the same run."""
+    for state, t in states.items():
+        print(f"\n{title}, {state} pages (medians of interleaved rounds)")
+        for name, (w, c) in t.items():
+            print(f"  {name:44s} wall {w / per:10.4g} {unit}  cpu {c / per:10.4g} {unit}")
+        for row, ref in against.items():
+            (wr, cr), (w, c) = t[ref], t[row]
+            print(f"  {ref} / {row}: wall {wr / w:.3f}x  cpu {cr / c:.3f}x")
+
+
+def preparations() -> dict[str, Callable[[], object] | None]:
+    """The page states as what runs before each call: ``reused`` (nothing: glibc's
+    heap hands back the freed outputs and temporaries where it keeps them) and, on
+    glibc, ``fresh`` (``malloc_trim(0)``, so every new array is first-touched), for
+    a bench that times each state's calls itself (:func:`in_state`)."""
+    trim = malloc_trim()
+    return {"reused": None} | ({} if trim is None else {"fresh": trim})
 
 
 def in_state(f: Callable[[], Any], before: Callable[[], object] | None) -> Callable[[], None]:

@@ -69,6 +69,11 @@ reused-buffer floor 11.9 ms and its fresh floor 17.6 ms. first_rebound 1e6 cases
 in 0.48 / 0.93 s (2.1e6 / 1.1e6 cases/s): numpy 4.4x / 2.3x; per case 0.93 µs,
 21x less than the full history's 19 µs. StopImpact 60 / 117 ms: numpy 4.7x / 2.4x.
 
+Issue 37's row (:func:`batch_ratio_table`): the batch against its memory floors,
+one thread, interleaved rounds, both page states::
+
+    taskset -c 1 python benches/bench_impact.py
+
 sdof and eqsig are optional (``pip install sdof eqsig``): their rows skip when not
 installed. Default test run (``--benchmark-disable`` in addopts): each benchmark
 once, with every check, about ten seconds; timed, about 25 s::
@@ -91,6 +96,7 @@ import numpy.typing as npt
 import pytest
 import scipy.fft
 import scipy.signal
+from _timing import page_states, print_states, timed_run
 from numpy.testing import assert_array_equal
 
 Array = npt.NDArray[np.float64]
@@ -569,6 +575,58 @@ def test_batch_memory_floor_out(benchmark, batch) -> None:
     assert_array_equal(q, batch["forces"])
 
 
+def batch_ratio_table(rounds: int = 9) -> None:
+    """Issue 37's measurement of ``duhamel_batch`` (1000 cases × 10 000 steps)
+    against its memory floors: one thread (run under ``taskset -c 1``),
+    interleaved rounds, both page states (an 80 MB array is mapped fresh by glibc
+    whatever the state: ``new`` rows first-touch their pages in every call, ``out=``
+    rows never). Checked first: the batch against the closed form (1e-12) and its
+    ``out=`` call bit for bit. Floors: ``np.copyto`` (read B·N, write B·N: glibc's
+    memcpy, with non-temporal stores at this size), ``np.multiply(forces, 1.0)``
+    (the same traffic through a ufunc loop's ordinary stores) and ``fill`` (write
+    only)."""
+    amp, zeta = _cases(N_CASES, 1)
+    forces = decaying(T, amp)
+    args = (T, forces, OMEGA, zeta, MASS)
+    q = cm.impact.duhamel_batch(*args, n_threads=1)
+    assert rel_err(q, closed_form(T, amp, zeta)) <= 1e-12
+    buf, floor_buf = np.full_like(forces, np.nan), np.full_like(forces, np.nan)
+    assert cm.impact.duhamel_batch(*args, n_threads=1, out=buf) is buf
+    assert_array_equal(buf.view(np.uint64), q.view(np.uint64))
+    tools = {
+        "duhamel_batch, new array": lambda: cm.impact.duhamel_batch(*args, n_threads=1),
+        "duhamel_batch, out=": lambda: cm.impact.duhamel_batch(*args, n_threads=1, out=buf),
+        "floor np.copyto, new array": lambda: np.copyto(np.empty_like(forces), forces),
+        "floor np.copyto, existing": lambda: np.copyto(floor_buf, forces),
+        "floor np.multiply(f, 1.0), new array": lambda: np.multiply(forces, 1.0),
+        "floor np.multiply(f, 1.0), existing": lambda: np.multiply(forces, 1.0, out=floor_buf),
+        "floor fill (write only), new array": lambda: np.empty_like(forces).fill(1.0),
+        "floor fill (write only), existing": lambda: floor_buf.fill(1.0),
+    }
+    new, out = "duhamel_batch, new array", "duhamel_batch, out="
+    print_states(
+        f"duhamel_batch {N_CASES} x {N_STEPS + 1}, one thread",
+        page_states(tools, rounds),
+        1e-3,
+        "ms",
+        {
+            "floor np.copyto, new array": new,
+            "floor np.copyto, existing": out,
+            "floor np.multiply(f, 1.0), new array": new,
+            "floor np.multiply(f, 1.0), existing": out,
+            "floor fill (write only), new array": new,
+            "floor fill (write only), existing": out,
+        },
+    )
+
+
+def test_batch_ratio_table(request: pytest.FixtureRequest) -> None:
+    """The issue-37 table in timed runs (``taskset -c 1 python benches/bench_impact.py``)."""
+    if not timed_run(request.config):
+        pytest.skip("timed runs only (--benchmark-enable)")
+    batch_ratio_table(5)
+
+
 @full_only
 @pytest.mark.benchmark(group=GROUP_BATCH)
 def test_batch_eqsig(benchmark, batch) -> None:
@@ -726,3 +784,9 @@ def test_stop_numpy(benchmark, stop) -> None:
     err = rel_err(a, stop["a"])
     _report(benchmark, err, "cyclomech")
     assert err <= 1e-8
+
+
+if __name__ == "__main__":
+    import sys
+
+    batch_ratio_table(int(sys.argv[1]) if len(sys.argv) > 1 else 9)

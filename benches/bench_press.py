@@ -37,6 +37,11 @@ each pin path (everything that does not depend on L) once per (d, φ0) and reuse
 it for every L; the numpy reference does not exploit the grid's structure.
 The two-period law and ``solve`` agree with cyclomech to 1e-12 m (checked).
 
+Issue 37's row (:func:`ratio_table`): the 100 × 100 × 20 grid, one thread, interleaved
+rounds, both page states, checked first::
+
+    taskset -c 1 python benches/bench_press.py
+
 Default test run (``--benchmark-disable`` in addopts): each benchmark once, a few
 seconds in all. For timings::
 
@@ -55,6 +60,7 @@ import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
+from _timing import page_states, print_states, timed_run
 from numpy.testing import assert_allclose, assert_array_equal
 
 Array = npt.NDArray[np.float64]
@@ -398,6 +404,40 @@ def test_sweep_full_numpy(benchmark, full_grid) -> None:
     check_sweep(ref, cm_sweep(full_grid, None), full_grid)
 
 
+#: Issue 37's grid: 100 × 100 × 20 designs (d, L, φ0) × 360 angles (7.2e7 positions).
+ISSUE37_GRID = (100, 100, 20)
+
+
+def ratio_table(rounds: int = 5, shape: tuple[int, int, int] = ISSUE37_GRID) -> None:
+    """Issue 37's measurement: one thread (run under ``taskset -c 1``), interleaved
+    rounds, both page states, the results checked against each other first
+    (:func:`check_sweep` on the timed grid). Prints µs per design and numpy /
+    cyclomech."""
+    axes = design_axes(shape)
+    check_sweep(numpy_sweep(axes), cm_sweep(axes, 1), axes)
+    tools = {
+        "cyclomech press.design_grid, n_threads=1": lambda: cm_sweep(axes, 1),
+        f"numpy, broadcast in chunks of {CHUNK} designs": lambda: numpy_sweep(axes),
+    }
+    n = math.prod(shape)
+    names = list(tools)
+    print_states(
+        f"press sweep {' x '.join(map(str, shape))} designs x {SAMPLES} angles",
+        page_states(tools, rounds),
+        n * 1e-6,
+        "us/design",
+        {names[0]: names[1]},
+    )
+
+
+def test_ratio_table(request: pytest.FixtureRequest) -> None:
+    """The issue-37 table on the default grid in timed runs (the issue's grid:
+    ``taskset -c 1 python benches/bench_press.py``)."""
+    if not timed_run(request.config):
+        pytest.skip("timed runs only (--benchmark-enable)")
+    ratio_table(3, DEFAULT_GRID)
+
+
 # --- two-period law: numpy reference --------------------------------------------------
 
 N_LAW = 1_000_000
@@ -566,3 +606,9 @@ def test_solve_numpy(benchmark, press) -> None:
     _label(benchmark, "numpy", "BDC by Newton, then the kinematics broadcast over the angles")
     p, alpha = press
     benchmark(numpy_solve, p, alpha)
+
+
+if __name__ == "__main__":
+    import sys
+
+    ratio_table(int(sys.argv[1]) if len(sys.argv) > 1 else 5)

@@ -18,6 +18,11 @@ size; for their time per arc::
     python -m pytest benches/bench_schedule.py -k scale --benchmark-enable -q \
         -p no:cacheprovider --benchmark-json=/tmp/scale.json
     python benches/bench_schedule.py /tmp/scale.json
+
+Issue 37's row, the prepared solve against the random gather + scatter floor at
+V = 1e5 and 1e6, one thread, both page states (:func:`floor_ratio_table`)::
+
+    taskset -c 1 python benches/bench_schedule.py floor
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
+from _timing import page_states, print_states, timed_run
 from numpy.testing import assert_allclose
 
 rx = pytest.importorskip("rustworkx")
@@ -420,6 +426,72 @@ def test_scale_solve_networkx(benchmark, scaled: Dag) -> None:
     assert_allclose(scaled.cyclomech_length(), length, rtol=RTOL)
 
 
+def check_earliest(dag: Dag, t: npt.NDArray[np.float64]) -> None:
+    """Earliest times by their definition, with numpy alone: every arc's inequality
+    holds, and an event with incoming arcs sits exactly on the largest
+    t[src] + w of them (0 without)."""
+    lhs = t[dag.src] + dag.weights
+    best = np.full(dag.n_events, -np.inf)
+    np.maximum.at(best, dag.dst, lhs)
+    has_in = np.isfinite(best)
+    assert np.array_equal(t[has_in], best[has_in])
+    assert np.all(t[~has_in] == 0.0)
+
+
+def floor_ratio_table(sizes: tuple[int, ...] = (10**5, 10**6), rounds: int = 15) -> None:
+    """Issue 37's measurement of the prepared solve, ``EventGraph.longest_path(w)``
+    with E = 4V, against the random-access floor every longest path pays (as
+    ``bench_scaling.py``'s ``lp_floor``): numpy's gather ``t[i]`` of E random
+    indices from V times and scatter ``out[i] = w`` of E values into V slots. One
+    thread (run under ``taskset -c 1``), interleaved rounds, both page states; the
+    solve returns a new array and works in scratch of its own (``out=`` is for
+    batches), so its peer is the floor into new arrays; the floor into existing
+    ones is printed too. Checked first against the definition
+    (:func:`check_earliest`)."""
+    for v in sizes:
+        dag = random_dag(v, 4 * v, seed=20261126)
+        g = cm.EventGraph(dag.n_events, dag.src, dag.dst)
+        w = dag.weights
+        check_earliest(dag, g.longest_path(w, n_threads=1))
+        rng = np.random.default_rng(20261126)
+        idx = rng.integers(0, v, 4 * v)
+        times = rng.uniform(0.0, 360.0, v)
+        fw = rng.uniform(MIN_ANGLE_DEG, MAX_ANGLE_DEG, 4 * v)
+        got, slots = np.empty(4 * v), np.empty(v)
+
+        def floor_new(idx=idx, times=times, fw=fw, v=v) -> None:
+            np.take(times, idx)
+            np.empty(v)[idx] = fw
+
+        def floor_existing(idx=idx, times=times, fw=fw, got=got, slots=slots) -> None:
+            np.take(times, idx, out=got)
+            slots[idx] = fw
+
+        tools = {
+            "longest_path(w), new array": lambda g=g, w=w: g.longest_path(w, n_threads=1),
+            "floor gather + scatter, new arrays": floor_new,
+            "floor gather + scatter, existing": floor_existing,
+        }
+        print_states(
+            f"prepared longest path, V = {v:.0e}, E = {4 * v:.0e}, one thread",
+            page_states(tools, rounds),
+            4 * v * 1e-9,
+            "ns/arc",
+            {
+                "floor gather + scatter, new arrays": "longest_path(w), new array",
+                "floor gather + scatter, existing": "longest_path(w), new array",
+            },
+        )
+
+
+def test_floor_ratio_table(request: pytest.FixtureRequest) -> None:
+    """The issue-37 table in timed runs (``taskset -c 1 python
+    benches/bench_schedule.py floor``)."""
+    if not timed_run(request.config):
+        pytest.skip("timed runs only (--benchmark-enable)")
+    floor_ratio_table((10**5,), 7)
+
+
 def per_arc_table(path: str) -> str:
     """The scaling rows of a ``--benchmark-json`` file as ns per arc (median)."""
     with open(path, encoding="utf-8") as f:
@@ -441,4 +513,7 @@ def per_arc_table(path: str) -> str:
 
 
 if __name__ == "__main__":
-    print(per_arc_table(sys.argv[1]))
+    if sys.argv[1:2] == ["floor"]:
+        floor_ratio_table()
+    else:
+        print(per_arc_table(sys.argv[1]))

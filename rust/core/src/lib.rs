@@ -46,7 +46,7 @@
 //! parallel loop polls at the start of a chunk), [`units`] (rpm to rad/s and deg/s) and
 //! the crate-private `geom` (plane vectors and the sine and cosine every kernel
 //! evaluates the same way) and `tile` (the 8 × 8 register transpose the batch
-//! longest path and the Duhamel scan share).
+//! longest path, the Duhamel scan and the Duhamel batch share).
 
 /// Tests only: `$body` run once per instruction set the processor has (plain
 /// scalar code, AVX2 + FMA, AVX-512), with `$s` the `pulp::Simd` of each, as

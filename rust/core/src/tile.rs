@@ -1,7 +1,8 @@
 //! An 8 × 8 tile of f64 transposed in registers: explicit shuffles on AVX-512 and
 //! AVX2, element by element elsewhere. Shared by the kernels that gather eight
 //! lanes and store them by row: the cyclogram's batch longest path
-//! (`cyclogram::event_graph`) and the Duhamel scan (`impact::scan`).
+//! (`cyclogram::event_graph`), the Duhamel scan (`impact::scan`) and the
+//! Duhamel batch's lockstep loop (`impact::oscillator`).
 
 /// The tile's side: eight f64 lanes (one AVX-512 register).
 pub(crate) const TILE: usize = 8;

@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use crate::geom::sin_cos;
 use crate::parallel::{pool, resolve_threads};
+use crate::tile::{transpose, TILE};
 
 use super::error::{
     check_finite, check_times, finite, length, mode_range, param, step_ok, time_error, ImpactError,
@@ -699,6 +700,9 @@ const TASK_STEPS: usize = 16_384;
 /// lanes instead of waiting on each other.
 pub(super) const LOCK: usize = 8;
 
+// The lockstep loop transposes tiles of LOCK lanes × TILE steps.
+const _: () = assert!(LOCK == TILE);
+
 /// Distinct step lengths above which a batch's grid is treated as ragged.
 const MAX_DISTINCT: usize = 256;
 
@@ -752,7 +756,7 @@ impl pulp::WithSimd for Lockstep<'_, '_> {
     type Output = ([f64; LOCK], [f64; LOCK]);
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> Self::Output {
         let Lockstep {
             which,
             coef,
@@ -769,9 +773,16 @@ impl pulp::WithSimd for Lockstep<'_, '_> {
         for (l, o) in outs.iter_mut().enumerate() {
             o[0] = q[l];
         }
-        for (k, &w) in (1..n).zip(which) {
-            let c = &coef[w as usize];
-            let f1: [f64; LOCK] = std::array::from_fn(|l| rows[l][k]);
+        // One step of every lane: Step::apply's operations in its order (no
+        // fused multiply-adds), so the lanes equal the single-case loop.
+        #[inline(always)]
+        fn step(
+            c: &LaneStep,
+            q: &mut [f64; LOCK],
+            v: &mut [f64; LOCK],
+            f0: &[f64; LOCK],
+            f1: &[f64; LOCK],
+        ) {
             for l in 0..LOCK {
                 let fq = c[4][l] * f0[l] + c[6][l] * f1[l];
                 let fv = c[5][l] * f0[l] + c[7][l] * f1[l];
@@ -779,6 +790,32 @@ impl pulp::WithSimd for Lockstep<'_, '_> {
                 v[l] = c[2][l] * q[l] + (c[3][l] * v[l] + fv);
                 q[l] = qn;
             }
+        }
+        // Steps in tiles of TILE columns: each row's TILE forces read, and its
+        // TILE results written, as whole registers, the tile transposed in
+        // registers between rows and lanes. (Column by column, the eight rows'
+        // loads and stores went one element at a time, at eight addresses
+        // 80 KB apart: the loop's cost, not the arithmetic.)
+        let tiles = (n - 1) / TILE;
+        for j in 0..tiles {
+            let c0 = 1 + j * TILE;
+            let fin: [[f64; TILE]; LOCK] =
+                std::array::from_fn(|l| rows[l][c0..c0 + TILE].try_into().unwrap());
+            let ft = transpose(simd, &fin);
+            let mut qt = [[0.0; LOCK]; TILE];
+            for (i, (f1, qi)) in ft.iter().zip(qt.iter_mut()).enumerate() {
+                step(&coef[which[c0 - 1 + i] as usize], &mut q, &mut v, &f0, f1);
+                *qi = q;
+                f0 = *f1;
+            }
+            let qo = transpose(simd, &qt);
+            for (o, row) in outs.iter_mut().zip(&qo) {
+                o[c0..c0 + TILE].copy_from_slice(row);
+            }
+        }
+        for k in 1 + tiles * TILE..n {
+            let f1: [f64; LOCK] = std::array::from_fn(|l| rows[l][k]);
+            step(&coef[which[k - 1] as usize], &mut q, &mut v, &f0, &f1);
             for (l, o) in outs.iter_mut().enumerate() {
                 o[k] = q[l];
             }

@@ -1604,3 +1604,55 @@ fn speed_report() {
         );
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+    /// The lockstep loop (whole tiles of steps and the columns after the last
+    /// tile) on each instruction set, against each case run alone by the
+    /// sequential loop, bit for bit: any length (under a tile, a tile and one,
+    /// several), repeated times (force jumps), every damping regime.
+    #[test]
+    fn lockstep_tiles_equal_the_single_case_loop(
+        steps in prop::collection::vec(prop_oneof![Just(0.0), 1e-4f64..3e-3], 1..40),
+        forces in prop::collection::vec(-5.0f64..5.0, LOCK * 41),
+        z in prop::collection::vec(prop_oneof![Just(0.0), Just(1.0), 0.0f64..3.0], LOCK),
+        q0 in prop::collection::vec(-1e-3f64..1e-3, LOCK),
+    ) {
+        use pulp::Simd;
+        let mut t = vec![0.0];
+        for h in &steps {
+            t.push(t.last().unwrap() + h);
+        }
+        let n = t.len();
+        let forces = &forces[..LOCK * n];
+        let w: Vec<f64> = (0..LOCK).map(|i| 300.0 + 211.0 * i as f64).collect();
+        let m = vec![0.02; LOCK];
+        let v0: Vec<f64> = q0.iter().map(|q| -40.0 * q).collect();
+        let cases = cases_of(&w, &z, &m, &q0, &v0);
+        let grid = GridSteps::new(&t).unwrap();
+        let (coef, lane_q0, lane_v0) = lane_steps(&grid, &cases, 0).unwrap();
+        let runs = on_each_isa!(|simd| {
+            let mut out = vec![0.0; LOCK * n];
+            let last = Simd::vectorize(
+                simd,
+                Lockstep {
+                    which: &grid.which,
+                    coef: &coef,
+                    forces,
+                    out: &mut out,
+                    q0: lane_q0,
+                    v0: lane_v0,
+                },
+            );
+            (out, last)
+        });
+        for (isa, (out, (ql, vl))) in runs {
+            for i in 0..LOCK {
+                let osc = Oscillator::new(w[i], z[i], m[i]).unwrap();
+                let (q, v) = respond(&t, &forces[i * n..(i + 1) * n], &osc, q0[i], v0[i]);
+                prop_assert_eq!(&out[i * n..(i + 1) * n], &q[..], "{}: case {}", isa, i);
+                prop_assert_eq!((ql[i], vl[i]), (q[n - 1], v[n - 1]), "{}: case {}", isa, i);
+            }
+        }
+    }
+}

@@ -534,6 +534,22 @@ impl pulp::WithSimd for RodScan<'_, '_> {
 /// [`Status::Reverses`].
 pub const RECONTACT: f64 = 1e-9;
 
+#[cfg(test)]
+thread_local! {
+    /// Tests only: false runs the first pass of the walk point by point (no
+    /// [`Walk::skip_above`]), the reference the skipping pass must equal.
+    pub(super) static SKIP_WALK: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// Whether the walk's first pass passes over the stretches far above S_p.
+#[inline]
+fn skips_walk() -> bool {
+    #[cfg(test)]
+    return SKIP_WALK.with(|c| c.get());
+    #[cfg(not(test))]
+    true
+}
+
 /// One point of the walk back from BDC: θ, S = y − y_B, y' and −y''.
 #[derive(Debug, Clone, Copy)]
 struct WalkPoint {
@@ -621,6 +637,39 @@ impl Walk {
         self.j = if j == 0 { self.m - 1 } else { j - 1 };
         self.theta_j -= self.h;
         Some(pt)
+    }
+
+    /// Passes over at most `limit` samples ahead while each has S ≥ `far` (and
+    /// TDC does not come first): how many, the highest S among them and the
+    /// last one as a point (None if none). The samples and their angles are
+    /// [`next`](Self::next)'s, step for step.
+    #[inline]
+    fn skip_above(
+        &mut self,
+        p: &WalkPoints<'_>,
+        far: f64,
+        limit: usize,
+    ) -> (usize, f64, Option<WalkPoint>) {
+        let (mut k, mut high, mut last) = (0, f64::NEG_INFINITY, None);
+        while k < limit && !(self.top_pending && self.th_top >= self.theta_j) {
+            let j = self.j;
+            let s = p.ys[j] - p.y_b;
+            if s < far || s.is_nan() {
+                break;
+            }
+            high = high.max(s);
+            last = Some((j, self.theta_j));
+            self.j = if j == 0 { self.m - 1 } else { j - 1 };
+            self.theta_j -= self.h;
+            k += 1;
+        }
+        let last = last.map(|(j, th)| WalkPoint {
+            th,
+            s: p.ys[j] - p.y_b,
+            dy: p.dys[j],
+            g: -p.ddys[j],
+        });
+        (k, high, last)
     }
 }
 
@@ -790,7 +839,27 @@ pub(super) fn criteria_with(
             g: -ddy_b,
         };
         let mut s_max = 0.0f64;
-        for step in 0..=m + 1 {
+        // A step whose point and the one before it are both at least `far`
+        // (S_p + band) has nothing to find: no crossing, no dip that can reach
+        // S_p, no peak below it. Such stretches (after the working stroke's
+        // start, most of the walk to TDC) are passed over sample by sample
+        // keeping only the highest S ([`Walk::skip_above`]).
+        let far = if skips_walk() {
+            s_p + band
+        } else {
+            f64::INFINITY
+        };
+        let mut step = 0;
+        while step <= m + 1 {
+            if nx.s >= far {
+                let (k, high, last) = w.skip_above(&pts, far, m + 2 - step);
+                if let Some(last) = last {
+                    s_max = s_max.max(high);
+                    nx = last;
+                    step += k;
+                    continue;
+                }
+            }
             let Some(cur) = w.next(&pts) else {
                 break;
             };
@@ -826,6 +895,7 @@ pub(super) fn criteria_with(
             if w.done() {
                 break;
             }
+            step += 1;
         }
     }
     let Some(Contact {

@@ -235,3 +235,64 @@ fn statuses_are_indexed_by_code_with_distinct_texts() {
     texts.dedup();
     assert_eq!(texts.len(), Status::ALL.len());
 }
+
+/// Criteria rows and status of `design`, with the walk's first pass skipping the
+/// stretches far above S_p or going point by point.
+fn criteria_walked(design: &Design, spec: &Spec, skip: bool) -> (Vec<u64>, Status) {
+    SKIP_WALK.with(|c| c.set(skip));
+    let r = criteria(design, spec);
+    SKIP_WALK.with(|c| c.set(true));
+    let (row, status) = r.unwrap();
+    (row.iter().map(|x| x.to_bits()).collect(), status)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// The first pass that skips the stretches far above S_p finds the same
+    /// contact, the same re-contacts and so the same criteria, bit for bit, as
+    /// the pass that visits every point: over designs that reach the guide or
+    /// not, dip and back off (re-contacts) or reverse, working strokes from
+    /// near zero to the whole stroke (k_Sp = 1 ends at TDC) and as lengths,
+    /// coarse and fine sampling, gear ratios 2–4.
+    #[test]
+    fn skipping_the_far_stretches_changes_nothing(
+        ratio in 2usize..5,
+        d in 0.0f64..0.06,
+        l in 0.05f64..0.6,
+        phi0 in -PI..PI,
+        stroke in prop_oneof![
+            (1e-3f64..1.0).prop_map(Stroke::Fraction),
+            Just(Stroke::Fraction(1.0)),
+            (1e-4f64..0.2).prop_map(Stroke::Length),
+        ],
+        samples in prop_oneof![Just(360usize), 8usize..100, 500usize..2000],
+    ) {
+        let design = Design { big_r: 0.03 * ratio as f64, r: 0.03, d, l, phi0, offset: 0.0 };
+        prop_assume!(design.validate().is_ok());
+        let spec = Spec { stroke, omega: 3.0, samples };
+        let skipped = criteria_walked(&design, &spec, true);
+        let visited = criteria_walked(&design, &spec, false);
+        prop_assert_eq!(skipped, visited);
+    }
+}
+
+#[test]
+fn skipping_keeps_the_dip_and_back_off() {
+    // The re-contacting slider of issue 16 (a dip below S_p after the first
+    // contact): the same row and status either way.
+    let spec = Spec {
+        stroke: Stroke::Fraction(0.1),
+        omega: 1.0,
+        samples: 360,
+    };
+    for (d, l) in [(0.028, 0.46), (0.029, 0.25), (0.0, 0.3), (0.059, 0.5)] {
+        let design = press(d, l, 56f64.to_radians());
+        assert_eq!(
+            criteria_walked(&design, &spec, true),
+            criteria_walked(&design, &spec, false),
+            "d = {d}, L = {l}"
+        );
+    }
+    let (_, status) = criteria_walked(&press(0.028, 0.46, 56f64.to_radians()), &spec, true);
+    assert_eq!(status, Status::ReContacts);
+}
