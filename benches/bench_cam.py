@@ -31,7 +31,6 @@ timings and the table (``-s`` prints it)::
 
 from __future__ import annotations
 
-import ctypes
 import importlib.metadata
 import math
 import sys
@@ -45,7 +44,7 @@ import numpy.typing as npt
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _timing import interleaved, timed_run
+from _timing import in_state, interleaved, preparations, timed_run
 
 Array = npt.NDArray[np.float64]
 GROUP = "cam.solve, 1e6 angles (translating offset roller, cycloidal)"
@@ -132,17 +131,6 @@ def test_numpy_agrees(theta: Array, step: int) -> None:
     np.testing.assert_array_equal(k.undercut, ref["undercut"])
 
 
-def _malloc_trim() -> Callable[[], object] | None:
-    """glibc's ``malloc_trim(0)`` (freed heap pages back to the kernel), or None."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        trim = ctypes.CDLL(None).malloc_trim
-    except (OSError, AttributeError):
-        return None
-    return lambda: trim(0)
-
-
 def test_ratio_table(request: pytest.FixtureRequest, theta: Array) -> None:
     """Interleaved rounds (medians, wall and CPU), both page states for every
     row: ``reused`` (glibc's heap reuses the freed outputs and temporaries),
@@ -164,19 +152,8 @@ def test_ratio_table(request: pytest.FixtureRequest, theta: Array) -> None:
         "floor: new (N, 14) written": lambda: np.empty((N, 14)).fill(1.0),
         "floor: existing (N, 14) written": lambda: block.fill(1.0),
     }
-    trim = _malloc_trim()
-    states = {"reused": None} | ({"fresh": trim} if trim is not None else {})
-    for state, before in states.items():
-
-        def wrap(f: Callable[[], Any], before: Any = before) -> Callable[[], None]:
-            def run() -> None:
-                if before is not None:
-                    before()
-                f()
-
-            return run
-
-        t = interleaved({k: wrap(f) for k, f in tools.items()}, 7)
+    for state, before in preparations().items():
+        t = interleaved({k: in_state(f, before) for k, f in tools.items()}, 7)
         wall, cpu = t["numpy"]
         print(f"\nCam.solve, {N} angles, {state} pages, 7 interleaved rounds (medians)")
         for name, (w, c) in t.items():

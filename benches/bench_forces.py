@@ -35,7 +35,6 @@ ratio table skipped. For timings and the table (printed; ``-s``)::
 
 from __future__ import annotations
 
-import ctypes
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -48,7 +47,7 @@ from cyclomech.linkage import presets
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "forces"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _timing import interleaved, timed_run
+from _timing import in_state, interleaved, preparations, timed_run
 from forces_reference import compact_kinetostatics, dense_kinetostatics
 
 GROUP = "kinetostatics from a solution, 1e5 crank angles, 1 thread"
@@ -148,23 +147,10 @@ def test_pin_node_agrees() -> None:
     assert np.abs(k.reaction_parts - ref["reactions"]).max() < 1e-10 * scale
 
 
-def _malloc_trim() -> Callable[[], object] | None:
-    """glibc's ``malloc_trim(0)`` (freed heap pages back to the kernel), or None."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        trim = ctypes.CDLL(None).malloc_trim
-    except (OSError, AttributeError):
-        return None
-    return lambda: trim(0)
-
-
 def test_ratio_table(request: pytest.FixtureRequest) -> None:
     """Interleaved rounds, both page states: medians and numpy / cyclomech."""
     if not timed_run(request.config):
         pytest.skip("timed runs only (--benchmark-enable)")
-    trim = _malloc_trim()
-    states = {"reused": None} | ({"fresh": trim} if trim is not None else {})
     print(f"\nkinetostatics, {N} angles, 1 thread, {ROUNDS} interleaved rounds (medians)")
     for name in CASES:
         ours, peer = setup(name, N)
@@ -174,19 +160,9 @@ def test_ratio_table(request: pytest.FixtureRequest) -> None:
         def floor(width: int = width) -> None:
             np.empty((3, N, width)).fill(1.0)
 
-        for state, before in states.items():
-
-            def wrap(f: Callable[[], Any], before: Any = before) -> Callable[[], None]:
-                def run() -> None:
-                    if before is not None:
-                        before()
-                    f()
-
-                return run
-
-            t = interleaved(
-                {"cyclomech": wrap(ours), "numpy": wrap(peer), "floor": wrap(floor)}, ROUNDS
-            )
+        for state, before in preparations().items():
+            tools = {"cyclomech": ours, "numpy": peer, "floor": floor}
+            t = interleaved({k: in_state(f, before) for k, f in tools.items()}, ROUNDS)
             for i, clock in enumerate(("wall", "cpu")):
                 c, p, f = (t[k][i] * 1e3 for k in ("cyclomech", "numpy", "floor"))
                 print(

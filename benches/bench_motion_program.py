@@ -28,15 +28,18 @@ timings and the ratio table::
 
 from __future__ import annotations
 
-import ctypes
 import math
 import sys
 from collections.abc import Callable
+from pathlib import Path
 
 import cyclomech as cm
 import numpy as np
 import numpy.typing as npt
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _timing import malloc_trim
 
 Array = npt.NDArray[np.float64]
 GROUP = "motion program: s, v, a, j at 1e6 angles"
@@ -46,26 +49,13 @@ B1, B2 = math.radians(120.0), math.radians(120.0)  # rise and return angles
 D1 = math.radians(60.0)  # the dwell between them
 
 
-def _malloc_trim() -> Callable[[], object] | None:
-    """glibc's ``malloc_trim(0)``: every freed page of the heap handed back to the
-    kernel (``MADV_DONTNEED``), so that the next call's outputs, which reuse those
-    addresses, are fresh pages again. None where there is none (not glibc)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        trim = ctypes.CDLL(None).malloc_trim
-    except (OSError, AttributeError):
-        return None
-    return lambda: trim(0)
-
-
 @pytest.fixture(params=["reused", "fresh"])
 def pages(request: pytest.FixtureRequest) -> Callable[[], object] | None:
     """The memory-page state of the outputs (module docs) for both sides: the
     setup to run before each timed call (none for reused pages)."""
     if request.param == "reused":
         return None
-    trim = _malloc_trim()
+    trim = malloc_trim()
     if trim is None:
         pytest.skip("fresh pages need glibc's malloc_trim")
     return trim
