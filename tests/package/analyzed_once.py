@@ -27,10 +27,6 @@ from typing import Any
 
 import cyclomech.machine
 
-#: digest of the pickled (arguments, keywords) -> the pickled result; per process,
-#: so per xdist worker.
-_RESULTS: dict[str, bytes] = {}
-
 
 def _key(args: tuple[Any, ...], kwargs: dict[str, Any]) -> str | None:
     try:
@@ -41,20 +37,27 @@ def _key(args: tuple[Any, ...], kwargs: dict[str, Any]) -> str | None:
 
 
 @contextlib.contextmanager
-def analyze_each_machine_once() -> Iterator[None]:
+def analyze_each_machine_once(results: dict[str, bytes] | None = None) -> Iterator[None]:
     """``cyclomech.machine.analyze`` answers a repeated call by a copy of the first
     call's result while the block runs (examples look it up on the module at run
-    time, as ``cm.machine.analyze`` or ``from cyclomech.machine import analyze``)."""
+    time, as ``cm.machine.analyze`` or ``from cyclomech.machine import analyze``).
+
+    ``results`` (digest of the pickled arguments -> the pickled result) is the
+    cache: pass one dict to several blocks to share it, or none for a fresh one. A
+    block whose first calls must run for real (the fuzz's profiler records what
+    they call) takes a fresh one: another test file in the same worker may have
+    analysed the same machines already."""
     real = cyclomech.machine.analyze
+    cache: dict[str, bytes] = {} if results is None else results
 
     def analyze(*args: Any, **kwargs: Any) -> Any:
         key = _key(args, kwargs)
-        if key is not None and key in _RESULTS:
-            return pickle.loads(_RESULTS[key])
+        if key is not None and key in cache:
+            return pickle.loads(cache[key])
         result = real(*args, **kwargs)
         if key is not None:
             with contextlib.suppress(Exception):
-                _RESULTS[key] = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
+                cache[key] = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
         return result
 
     cyclomech.machine.analyze = analyze

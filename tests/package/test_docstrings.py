@@ -41,6 +41,10 @@ def _is_door(name: str) -> bool:
     return hasattr(importlib.import_module(name), "__path__")
 
 
+#: The examples' analyses, shared by every module's test in this worker.
+_ANALYSES: dict[str, bytes] = {}
+
+
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name: str) -> None:
     if "plot" in name or "report" in name:
@@ -48,7 +52,7 @@ def test_docstring_examples(name: str) -> None:
     module = importlib.import_module(name)
     # The same machine file's analysis is computed once per worker, not once per
     # example that opens with it (analyzed_once.py says why that is the same).
-    with analyze_each_machine_once():
+    with analyze_each_machine_once(_ANALYSES):
         result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
     if name not in NO_EXAMPLES and not _is_door(name):
         assert result.attempted > 0, f"{name} has no examples"
