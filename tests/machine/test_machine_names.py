@@ -97,19 +97,12 @@ def test_the_unmodelled_list_is_checked(unmodelled, match) -> None:
 
 def test_every_example_declares_its_unmodelled_mechanisms() -> None:
     """The examples read without an error or a warning (warnings are errors here),
-    and each operation's mechanism is a table or declared unmodelled. A knife drive
-    synthesised from requirements is read with a light synthesis (its names do not
-    depend on the budget; 10 CPU-s at the file's): the file as it is reads without a
-    warning in tests/package/test_unit_keys.py::test_every_example_reads_without_a_warning."""
+    and each operation's mechanism is a table or declared unmodelled."""
     for path in sorted(EXAMPLES.glob("*.toml")):
         data = tomllib.loads(path.read_text(encoding="utf-8"))
         if "machine" not in data:
             continue
-        for table in data.get("mechanism", {}).values():
-            syn = table.get("synthesize") if isinstance(table, dict) else None
-            if isinstance(syn, dict) and syn.get("scheme") in ("br125", "br136", "brp4"):
-                syn.update(popsize=5, maxiter=2, stroke_tol_m=0.1, cut_tol_deg=60.0)
-        m = cm.Machine.from_dict(data, str(path))
+        m = cm.Machine.from_toml(path)
         declared = set(data["machine"].get("unmodelled", []))
         for op in m.cyclogram.operations:
             assert (
