@@ -90,32 +90,9 @@ def test_run_prints_the_damping_ratio_warning(tmp_path, capsys):
     assert "zeta = 5 is overdamped" in err and "did you mean 0.05?" in err
 
 
-#: The knife drive's synthesis made light where the file is read once per old key
-#: name (as test_file_fuzz._light does): what is checked, how each key is read, does
-#: not depend on the synthesis's budget, and at the file's it took 10 CPU-s.
-_LIGHT_SYNTHESIS = {
-    "popsize = 10 ": "popsize = 5 ",
-    "maxiter = 60 ": "maxiter = 2\nstroke_tol_m = 0.1\ncut_tol_deg = 60.0 ",
-}
-
-
-def _light(text: str) -> str:
-    if "[mechanism.knife.synthesize]" not in text:
-        return text
-    for heavy, light in _LIGHT_SYNTHESIS.items():
-        assert text.count(heavy) == 1, heavy
-        text = text.replace(heavy, light)
-    return text
-
-
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.name)
 def test_every_old_key_name_in_every_example_is_an_error_naming_the_new_one(path, tmp_path):
-    text = _light(path.read_text(encoding="utf-8"))
-    if text != path.read_text(encoding="utf-8"):
-        light = tmp_path / "light" / path.name
-        light.parent.mkdir()
-        light.write_text(text, encoding="utf-8")
-        _read(light)  # the file as lightened still reads
+    text = path.read_text(encoding="utf-8")
     olds = [(old, new) for old, (new, _) in RENAMED.items()
             if re.search(rf"^{re.escape(new)}\s*=", text, flags=re.M)]  # fmt: skip
     for old, new in olds:
