@@ -154,7 +154,8 @@ def test_output_read_by_a_pipe_that_closes_is_no_traceback(tmp_path):
 def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
     """nominal_rpm = 450 on the loom (limit 420.32 rpm): the report is written, the
     screen says the cyclogram does not fit there, and the exit status is 3 (the
-    design fails), not 0. The file's own 300 rpm stays 0."""
+    design fails), not 0. (The file's own 300 rpm gives 0:
+    test_run_prints_the_key_figures_and_where_the_report_is.)"""
     text = LOOM.read_text(encoding="utf-8").replace("nominal_rpm = 300.0", "nominal_rpm = 450.0")
     assert "nominal_rpm = 450.0" in text
     fast = tmp_path / "fast_loom.toml"
@@ -164,7 +165,6 @@ def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
     assert "At 450 rpm the cyclogram does not fit" in cap.out
     assert "does not fit at the nominal 450 rpm (speed limit 420.32 rpm; exit status 3)" in cap.err
     assert (tmp_path / "fast" / "report.html").exists()
-    assert main(["run", str(LOOM), "--out", str(tmp_path / "ok"), "--no-plot", "--quiet"]) == 0
 
 
 def test_sweep_refuses_a_key_this_table_takes_from_elsewhere(tmp_path, capsys):
@@ -198,6 +198,7 @@ def test_version_and_one_line_warnings(tmp_path):
     lines = [ln for ln in r.stderr.splitlines() if "works at none" in ln]
     assert len(lines) == 1 and lines[0].startswith("cyclomech: warning: "), r.stderr
     assert "Warning:" not in r.stderr
+    assert (tmp_path / "o" / "report.html").exists()  # the nominal 300 rpm still works
 
 
 @pytest.mark.parametrize(
@@ -260,9 +261,12 @@ def test_a_bad_threads_variable_is_the_environments_error(tmp_path, capsys, monk
     assert "CYCLOMECH_THREADS" not in os.environ
 
 
-def test_a_speed_range_where_the_machine_works_nowhere_is_said(tmp_path, capsys):
+def test_a_speed_range_where_the_machine_works_nowhere_is_said(tmp_path):
     # Found by a new user's trial: a range above the speed limit gave an all-NaN
-    # speed sweep and no word. The nominal speed (300 rpm) still works: exit 0.
+    # speed sweep and no word. The nominal speed (300 rpm) still works: exit 0 —
+    # the command's side (its one warning line, exit 0, the report written) for a
+    # range where the machine works nowhere is test_version_and_one_line_warnings's
+    # (430-500 rpm); a range this far up costs the command 16 CPU-s more.
     text = LOOM.read_text(encoding="utf-8").replace(
         "speed_rpm = [200.0, 500.0]", "speed_rpm = [900000.0, 1000000.0]"
     )
@@ -271,10 +275,6 @@ def test_a_speed_range_where_the_machine_works_nowhere_is_said(tmp_path, capsys)
     with pytest.warns(cm.CyclomechWarning, match="works at none of the .* speeds"):
         r = analyze(cm.Machine.from_toml(path), progress=False)
     assert not r.sweep.fits.any() and r.optimum is not None
-    with warnings.catch_warnings():
-        warnings.simplefilter("always", cm.CyclomechWarning)
-        assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 0
-    assert "cyclomech: warning: " in capsys.readouterr().err
 
 
 def test_a_nominal_speed_exactly_at_a_mechanisms_limit_works(tmp_path, capsys):

@@ -4,6 +4,7 @@ import doctest
 import importlib
 
 import pytest
+from analyzed_once import analyze_each_machine_once
 
 
 def _modules() -> list[str]:
@@ -40,12 +41,19 @@ def _is_door(name: str) -> bool:
     return hasattr(importlib.import_module(name), "__path__")
 
 
+#: The examples' analyses, shared by every module's test in this worker.
+_ANALYSES: dict[str, bytes] = {}
+
+
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name: str) -> None:
     if "plot" in name or "report" in name:
         pytest.importorskip("matplotlib")
     module = importlib.import_module(name)
-    result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
+    # The same machine file's analysis is computed once per worker, not once per
+    # example that opens with it (analyzed_once.py says why that is the same).
+    with analyze_each_machine_once(_ANALYSES):
+        result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
     if name not in NO_EXAMPLES and not _is_door(name):
         assert result.attempted > 0, f"{name} has no examples"
     assert result.failed == 0
@@ -96,3 +104,25 @@ def test_every_public_function_has_an_example() -> None:
         elif callable(obj) and ">>>" not in (obj.__doc__ or ""):
             missing.append(name)
     assert not missing, f"public callables without a runnable example: {missing}"
+
+
+def test_a_repeated_analysis_is_a_copy_of_a_real_one() -> None:
+    """The examples' cache (analyzed_once.py) against the real ``analyze``: a
+    repeated call is an equal, separate result; a changed machine is a new analysis."""
+    import cyclomech as cm
+    import numpy as np
+
+    real = cm.machine.analyze(cm.Machine.example(), progress=False)
+    with analyze_each_machine_once():
+        first = cm.machine.analyze(cm.Machine.example(), progress=False)
+        again = cm.machine.analyze(cm.Machine.example(), progress=False)
+        changed = cm.machine.analyze(
+            cm.Machine.example().with_values({"lifter.preload_m": 3e-4}), progress=False
+        )
+    assert cm.machine.analyze.__module__ == "cyclomech.machine._report"  # restored
+    assert again is not first and again.sweep is not first.sweep
+    for r in (first, again):
+        assert r.limit.rpm == real.limit.rpm
+        assert r.optimum.objective == real.optimum.objective
+        np.testing.assert_array_equal(r.sweep.limiting_deg, real.sweep.limiting_deg)
+    assert changed.limit.rpm != real.limit.rpm

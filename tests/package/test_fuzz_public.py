@@ -41,6 +41,7 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
+from analyzed_once import analyze_each_machine_once
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -270,7 +271,9 @@ def _record(targets: list[Target]) -> dict[str, tuple[list[Any], dict[str, Any]]
 
     sys.setprofile(prof)
     try:
-        with warnings.catch_warnings():
+        # A repeated analysis of one machine is a copy of the first (analyzed_once.py):
+        # the first call of every callable inside it is recorded by the first one.
+        with warnings.catch_warnings(), analyze_each_machine_once():
             warnings.simplefilter("ignore")
             for d in docs.values():
                 _run_examples([d], {})
