@@ -84,6 +84,9 @@ def test_without_inertia_forces_at_a_phase() -> None:
     assert cm.dynamics.machine_shaking(r) is None
     with pytest.raises(TypeError, match="MachineResult"):
         cm.dynamics.machine_shaking({"mechanisms": {}})
+    for bad in ("r", {}, None, 3):  # not an AttributeError from deep inside
+        with pytest.raises(TypeError, match="result must be a MachineResult"):
+            cm.dynamics.machine_balances(bad, [])
     with pytest.raises(cm.InputError, match="rpm"):
         cm.dynamics.machine_shaking(r, rpm=-1.0)
 

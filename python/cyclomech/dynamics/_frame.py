@@ -275,8 +275,7 @@ def machine_shaking(
     >>> machine_shaking(r) is None       # a stop only: no inertia forces at a phase
     True
     """
-    if not hasattr(result, "mechanisms") or not hasattr(result, "nominal_rpm"):
-        raise TypeError(f"result must be a MachineResult; got {type(result).__name__}")
+    _a_result(result)
     n = float(result.nominal_rpm) if rpm is None else positive("rpm", rpm, "[rpm]")
     # The balances first: a request the machine cannot meet is an error even where
     # nothing else shakes the frame.
@@ -436,6 +435,12 @@ class BalanceRequest:
         )
 
 
+def _a_result(result: Any) -> None:
+    """Refuse what is not a machine's result (:func:`cyclomech.machine.analyze`)."""
+    if not hasattr(result, "mechanisms") or not hasattr(result, "nominal_rpm"):
+        raise TypeError(f"result must be a MachineResult; got {type(result).__name__}")
+
+
 def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[str, Balance]:
     """Each requested linkage balanced at the machine's nominal speed
     (:func:`~cyclomech.dynamics.balance`, with the linkage's gravity), or a press's
@@ -459,7 +464,8 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
         If a request names no linkage with masses of the machine, or a link the
         balance refuses (not pivoted to the frame, unknown), naming the row.
     TypeError
-        If ``requests`` is not a sequence of :class:`BalanceRequest`.
+        If ``result`` is not a machine's result or ``requests`` not a sequence of
+        :class:`BalanceRequest`.
 
     Examples
     --------
@@ -470,6 +476,7 @@ def machine_balances(result: Any, requests: Sequence[BalanceRequest]) -> dict[st
     >>> round(b.before["rms_force_n"], 1), round(b.after["rms_force_n"], 6)
     (176.1, 0.0)
     """
+    _a_result(result)
     instances("requests", requests, BalanceRequest)
     out: dict[str, Balance] = {}
     for i, req in enumerate(requests):
