@@ -120,3 +120,19 @@ def test_a_drive_path_is_set_by_with_values_and_refused_by_a_sweep():
     assert new.data == cm.Machine.from_dict(e, "by hand").data
     with pytest.raises(cm.CyclomechError, match="a sweep does not vary the drive's keys"):
         cm.machine.check_parameter(m, "drive.link.knife.max_error_m")
+
+
+def test_a_mechanism_named_drive_keeps_its_keys_beside_the_drive_table():
+    # The extrusion press line's press is the mechanism "drive", beside its
+    # [drive] table: drive.R_m is the press's, drive.shaft.… the elastic shaft's.
+    m = cm.Machine.from_toml(ROOT / "examples" / "extrusion_press_line.toml")
+    press = m.with_values({"drive.k_Sp": 1.05 * m.data["mechanism"]["drive"]["k_Sp"]})
+    assert press.data["drive"] is m.data["drive"]  # the [drive] table untouched
+    cm.machine.check_parameter(m, "drive.k_Sp")
+    shaft = m.data["drive"]["shaft"]
+    key = next(k for k, v in shaft.items() if isinstance(v, float))
+    other = m.with_values({f"drive.shaft.{key}": 2.0 * shaft[key]})
+    assert other.data["drive"]["shaft"][key] == 2.0 * shaft[key]
+    assert other.data["mechanism"]["drive"] == m.data["mechanism"]["drive"]
+    with pytest.raises(cm.CyclomechError, match="a sweep does not vary the drive's keys"):
+        cm.machine.check_parameter(m, f"drive.shaft.{key}")

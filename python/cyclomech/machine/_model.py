@@ -445,9 +445,9 @@ class Machine:
             as ``knife.lengths.3.length`` or ``knife.points.B.1``),
             ``machine.<key>``, ``operation.<k>.<key>`` (a number of the k-th
             ``[[operation]]``, from 1: ``min_angle_deg``, ``max_angle_deg``,
-            ``min_duration_s``) or ``drive.<table>.<key>…`` (a number of the
-            ``[drive]`` table or its sub-tables: ``drive.link.knife.max_error_m``),
-            in the file's units.
+            ``min_duration_s``) or ``drive.shaft.<key>…`` / ``drive.link.<name>.<key>``
+            (a number of the ``[drive]`` table's elastic shaft and links:
+            ``drive.link.knife.max_error_m``), in the file's units.
 
         Returns
         -------
@@ -475,16 +475,18 @@ class Machine:
         data["mechanism"] = dict(data.get("mechanism", {}))
         touched: set[str] = set()
         for path, value in instance("values", values, Mapping).items():
-            head = path.split(".", 1)[0]
+            head = _head(path, data)
             if head not in touched:
-                if head in ("machine", "operation", "drive"):
-                    data[head] = copy.deepcopy(data.get(head, [] if head == "operation" else {}))
+                if head in ("machine", "operation"):
+                    data[head] = copy.deepcopy(data.get(head, {} if head == "machine" else []))
+                elif head == DRIVE:
+                    data["drive"] = copy.deepcopy(data["drive"])
                 elif head in data["mechanism"]:
                     data["mechanism"][head] = copy.deepcopy(data["mechanism"][head])
             table, key = _split_key(path, data)
             table[key] = value.item() if isinstance(value, np.generic) else value
             touched.add(head)
-        if touched & {"machine", "operation", "drive"}:
+        if touched & {"machine", "operation", DRIVE}:
             return Machine.from_dict(data, self.source)
         # Only the named mechanisms' tables changed: validate and build those (as
         # from_dict would), and share the cyclogram and its network with this one.
@@ -1003,6 +1005,30 @@ def _varied_tables(mechanism: Any) -> frozenset[str]:
 OPERATION_NUMBERS = frozenset({"min_angle_deg", "max_angle_deg", "min_duration_s"})
 
 
+#: What :func:`_head` calls the ``[drive]`` table's elastic sub-tables.
+DRIVE = "[drive]"
+
+
+def _head(path: str, data: Mapping[str, Any]) -> str:
+    """The table a parameter's path starts in: :data:`DRIVE` for
+    ``drive.shaft.…`` and ``drive.link.…`` where the ``[drive]`` table has that
+    sub-table (a mechanism may be named ``drive`` too: its keys are never ``shaft``
+    or ``link``), else the path's first name (``machine``, ``operation`` or a
+    mechanism).
+
+    >>> _head("drive.link.knife.max_error_m", {"drive": {"link": {}}})
+    '[drive]'
+    >>> _head("drive.R_m", {"drive": {"link": {}}, "mechanism": {"drive": {}}})
+    'drive'
+    """
+    parts = path.split(".")
+    drive = data.get("drive")
+    elastic = len(parts) > 2 and parts[1] in ("shaft", "link")
+    if parts[0] == "drive" and elastic and isinstance(drive, dict) and parts[1] in drive:
+        return DRIVE
+    return parts[0]
+
+
 def _split_key(path: str, data: dict[str, Any]) -> tuple[Any, Any]:
     """The container and key a parameter names in the parsed file: a table and a
     key for ``<mechanism>.<key>``, ``machine.<key>`` or ``operation.<k>.<key>`` (the
@@ -1014,8 +1040,8 @@ def _split_key(path: str, data: dict[str, Any]) -> tuple[Any, Any]:
     ops = data.get("operation", [])
     if len(parts) == 2 and parts[0] == "machine":
         table = data.setdefault("machine", {})
-    elif len(parts) >= 2 and (parts[0] in mechs or (parts[0] == "drive" and "drive" in data)):
-        node: Any = data["drive"] if parts[0] == "drive" else mechs[parts[0]]
+    elif len(parts) >= 2 and (parts[0] in mechs or _head(path, data) == DRIVE):
+        node: Any = data["drive"] if _head(path, data) == DRIVE else mechs[parts[0]]
         key: Any = parts[1]
         for i, sub in enumerate(parts[2:], start=2):
             node, key = _step(path, ".".join(parts[:i]), node, key, sub)
@@ -1098,7 +1124,7 @@ def check_parameter(machine: Machine, path: str) -> None:
         raise InputError("a sweep needs a machine read from a file or a dict")
     parts = path.split(".")
     head = parts[0]
-    if head == "drive":
+    if _head(path, machine.data) == DRIVE:
         raise InputError(
             f"{machine.source}: parameter {path!r}: a sweep does not vary the drive's keys "
             "(its speed limit is the cyclogram's and the mechanisms'); cyclomech run's "
