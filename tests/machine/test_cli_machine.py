@@ -35,11 +35,15 @@ def test_run_and_sweep_show_progress_on_stderr(tmp_path, capsys):
     m = cm.Machine.from_toml(LOOM)
     analyze(m, progress=True)
     err = capsys.readouterr().err
-    # One tqdm bar over the run's five steps, naming the step it is on.
-    assert "100.0% 5/5" in err and "speed limit" in err and "mechanisms" in err
-    analyze(m, progress=True, sensitivities=True)  # cyclomech run's: a sixth step
+    # One tqdm bar over the run's steps, naming the step it is on: five, and the
+    # loom's [drive] with its elastic shaft adds the real speed and the dynamic errors.
+    assert "100.0% 7/7" in err and "speed limit" in err and "mechanisms" in err
+    assert "elastic shaft's dynamic errors" in err
+    analyze(m, progress=True, sensitivities=True)  # cyclomech run's: and the drive's keys
     err = capsys.readouterr().err
-    assert "100.0% 6/6" in err and "sensitivities" in err
+    assert "100.0% 9/9" in err and "sensitivities" in err and "the drive's keys" in err
+    analyze(cm.Machine.example(), progress=True)  # no [drive]: the five steps
+    assert "100.0% 5/5" in capsys.readouterr().err
     cm.sweep(m, {"lifter.preload_m": [2e-4, 3e-4], "speed_rpm": [300.0, 350.0]}, progress=True)
     err = capsys.readouterr().err
     assert "sweep [" in err and "100.0% 4/4" in err

@@ -87,6 +87,7 @@ def analyze(
     m, resizing = resize_machine(m)
     steps = ["speed limit", "optimised cyclogram", "speed sweep", "mechanisms", "main shaft"]
     steps += ["sensitivities"] if flag("sensitivities", sensitivities) else []
+    steps += _drive_steps(m, sensitivities)
     seconds: dict[str, float] = {}
     with progress_bar(len(steps), m.name, progress) as bar:
 
@@ -144,50 +145,70 @@ def analyze(
             ),
         )
         sens = timed("sensitivities", lambda: sensitivity_table(m)) if sensitivities else None
-    r = MachineResult(
-        m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
-    )
-    r.resizing = resizing
-    r.sensitivities = sens
-    _drive_and_frame(r)
-    _fold_error_limits(r)
-    _add_drive_keys(r)
-    if r.above_speed_limit:
-        warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=2)
-    if limit.rpm > 0 and not np.any(sw.productivity_per_min > 0):
-        lo, hi = m.speed_range_rpm
-        warnings.warn(
-            f"{m.source}: the machine works at none of the {rpm.size} speeds of its speed "
-            f"range {lo:g}–{hi:g} rpm (speed limit {limit.rpm:.2f} rpm): the speed sweep "
-            "is empty",
-            CyclomechWarning,
-            stacklevel=2,
+        r = MachineResult(
+            m, limit, nominal, opt, problem, sw, sw_lin, mins, mins_by, results, seconds, shaft
         )
+        r.resizing = resizing
+        r.sensitivities = sens
+        _drive_and_frame(r, timed)
+        _fold_error_limits(r)
+        if sens is not None and DRIVE_KEYS in steps:
+            r.sensitivities = timed(DRIVE_KEYS, lambda: drive_sensitivities(r, sens))
+    _warn(r)
     return r
 
 
-def _add_drive_keys(r: MachineResult) -> None:
-    """The drive's elastic keys into the sensitivities, when computed: of the limit
-    with the dynamic errors folded in (:func:`drive_sensitivities`)."""
-    if r.sensitivities is not None:
-        t = time.perf_counter()
-        r.sensitivities = drive_sensitivities(r, r.sensitivities)
-        r.seconds["sensitivities"] += time.perf_counter() - t
+#: The progress bar's step that ranks the drive's elastic keys (:func:`drive_sensitivities`).
+DRIVE_KEYS = "the drive's keys"
 
 
-def _drive_and_frame(r: MachineResult) -> None:
+def _drive_steps(m: Machine, sensitivities: bool) -> list[str]:
+    """The progress bar's steps after the main shaft: its real speed under the
+    ``[drive]``, the elastic shaft's dynamic errors and, with the sensitivities,
+    the drive's elastic keys ranked against them."""
+    if m.drive is None:
+        return []
+    steps = ["main shaft's real speed"]
+    if m.drive.elastic is not None:
+        steps += ["elastic shaft's dynamic errors"] + ([DRIVE_KEYS] if sensitivities else [])
+    return steps
+
+
+def _warn(r: MachineResult) -> None:
+    """What the run must say loudly: a nominal speed above the speed limit, and a
+    speed range where the machine works at no speed."""
+    m, lim, sw = r.machine, r.limit, r.sweep
+    if r.above_speed_limit:
+        warnings.warn(f"{m.source}: {r.above_speed_limit}", CyclomechWarning, stacklevel=3)
+    if lim.rpm > 0 and not np.any(sw.productivity_per_min > 0):
+        lo, hi = m.speed_range_rpm
+        warnings.warn(
+            f"{m.source}: the machine works at none of the {sw.rpm.size} speeds of its speed "
+            f"range {lo:g}–{hi:g} rpm (speed limit {lim.rpm:.2f} rpm): the speed sweep "
+            "is empty",
+            CyclomechWarning,
+            stacklevel=3,
+        )
+
+
+def _drive_and_frame(r: MachineResult, timed: Callable[[str, Callable[[], Any]], Any]) -> None:
     """What the machine's motor and frame see, into ``r``: the main shaft's real speed
-    under the file's ``[drive]`` and the shaking force with its ``[[balance]]`` rows."""
+    under the file's ``[drive]`` and the shaking force with its ``[[balance]]`` rows,
+    each step through ``timed`` (the progress bar's)."""
     m = r.machine
     r.shaking = machine_shaking(r, requests=m.balance)
     if m.drive is not None and r.shaft is not None:
-        t = time.perf_counter()
-        r.dynamics = machine_dynamics(r, m.drive, m.speed_fluctuation, r.limit.rpm)
-        r.seconds["main shaft's real speed"] = time.perf_counter() - t
-        if m.drive.elastic is not None:
-            t = time.perf_counter()
-            r.torsion = machine_torsion(r, m.drive.elastic, r.dynamics.steady, m.drive.motor)
-            r.seconds["elastic shaft's dynamic errors"] = time.perf_counter() - t
+        drive = m.drive
+        r.dynamics = timed(
+            "main shaft's real speed",
+            lambda: machine_dynamics(r, drive, m.speed_fluctuation, r.limit.rpm),
+        )
+        if drive.elastic is not None:
+            elastic, steady = drive.elastic, r.dynamics.steady
+            r.torsion = timed(
+                "elastic shaft's dynamic errors",
+                lambda: machine_torsion(r, elastic, steady, drive.motor),
+            )
     elif m.drive is not None and r.optimum is not None:
         # Without an optimum (the cyclogram does not fit at the nominal speed, a
         # failure said already) nothing is phased on the shaft: not a drive's fault.
