@@ -89,23 +89,3 @@ def print_states(
         for row, ref in against.items():
             (wr, cr), (w, c) = t[ref], t[row]
             print(f"  {ref} / {row}: wall {wr / w:.3f}x  cpu {cr / c:.3f}x")
-
-
-def preparations() -> dict[str, Callable[[], object] | None]:
-    """The page states as what runs before each call: ``reused`` (nothing: glibc's
-    heap hands back the freed outputs and temporaries where it keeps them) and, on
-    glibc, ``fresh`` (``malloc_trim(0)``, so every new array is first-touched), for
-    a bench that times each state's calls itself (:func:`in_state`)."""
-    trim = malloc_trim()
-    return {"reused": None} | ({} if trim is None else {"fresh": trim})
-
-
-def in_state(f: Callable[[], Any], before: Callable[[], object] | None) -> Callable[[], None]:
-    """``f`` with ``before`` (a page state's preparation, or None) run first."""
-
-    def run() -> None:
-        if before is not None:
-            before()
-        f()
-
-    return run

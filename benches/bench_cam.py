@@ -44,7 +44,7 @@ import numpy.typing as npt
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _timing import in_state, interleaved, preparations, timed_run
+from _timing import page_states, timed_run
 
 Array = npt.NDArray[np.float64]
 GROUP = "cam.solve, 1e6 angles (translating offset roller, cycloidal)"
@@ -152,8 +152,7 @@ def test_ratio_table(request: pytest.FixtureRequest, theta: Array) -> None:
         "floor: new (N, 14) written": lambda: np.empty((N, 14)).fill(1.0),
         "floor: existing (N, 14) written": lambda: block.fill(1.0),
     }
-    for state, before in preparations().items():
-        t = interleaved({k: in_state(f, before) for k, f in tools.items()}, 7)
+    for state, t in page_states(tools, 7).items():
         wall, cpu = t["numpy"]
         print(f"\nCam.solve, {N} angles, {state} pages, 7 interleaved rounds (medians)")
         for name, (w, c) in t.items():

@@ -47,7 +47,7 @@ from cyclomech.linkage import presets
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "forces"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _timing import in_state, interleaved, preparations, timed_run
+from _timing import page_states, timed_run
 from forces_reference import compact_kinetostatics, dense_kinetostatics
 
 GROUP = "kinetostatics from a solution, 1e5 crank angles, 1 thread"
@@ -160,9 +160,8 @@ def test_ratio_table(request: pytest.FixtureRequest) -> None:
         def floor(width: int = width) -> None:
             np.empty((3, N, width)).fill(1.0)
 
-        for state, before in preparations().items():
-            tools = {"cyclomech": ours, "numpy": peer, "floor": floor}
-            t = interleaved({k: in_state(f, before) for k, f in tools.items()}, ROUNDS)
+        tools = {"cyclomech": ours, "numpy": peer, "floor": floor}
+        for state, t in page_states(tools, ROUNDS).items():
             for i, clock in enumerate(("wall", "cpu")):
                 c, p, f = (t[k][i] * 1e3 for k in ("cyclomech", "numpy", "floor"))
                 print(

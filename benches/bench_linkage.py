@@ -53,7 +53,7 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
-from _timing import in_state, interleaved, preparations, timed_run
+from _timing import page_states, timed_run
 from cyclomech._arrays import one_block
 from numpy.testing import assert_allclose
 
@@ -305,7 +305,7 @@ def test_linkage_pylinkage_kinematics(benchmark, setup, pylinkage_four_bar) -> N
 
 def test_ratio_table(request: pytest.FixtureRequest, setup, pylinkage_four_bar) -> None:
     """Four-bar with analogs, one thread, interleaved rounds (medians, wall and CPU),
-    both page states (``_timing.preparations``): cyclomech into new arrays and into a
+    both page states (``_timing.page_states``): cyclomech into new arrays and into a
     previous solution's (``out=``), pylinkage's fastest path with analogs
     (``step_fast_with_kinematics``, numba), and the floors: the solution's arrays
     new (one block, as ``solve`` allocates them) and existing, written once
@@ -341,8 +341,7 @@ def test_ratio_table(request: pytest.FixtureRequest, setup, pylinkage_four_bar) 
         "floor: existing block written": lambda: [a.fill(1) for a in existing],
     }
     mb = sum(a.nbytes for a in existing) / 1e6
-    for state, before in preparations().items():
-        t = interleaved({k: in_state(f, before) for k, f in tools.items()}, ROUNDS)
+    for state, t in page_states(tools, ROUNDS).items():
         print(
             f"\nfour-bar with analogs, {N_ANGLES} angles, {state} pages, output {mb:.0f} MB, "
             f"{ROUNDS} interleaved rounds (medians)"

@@ -48,7 +48,7 @@ from numpy.polynomial import Polynomial
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "tests" / "transfer"))
 import transfer_reference as ref
-from _timing import in_state, interleaved, preparations, timed_run
+from _timing import page_states, timed_run
 from cyclomech._arrays import one_block
 
 Array = npt.NDArray[np.float64]
@@ -141,7 +141,7 @@ def _sample_block(n: int) -> list[Any]:
 
 def test_ratio_table(request: pytest.FixtureRequest, path) -> None:
     """``TransferPath.sample(1e6)``, one thread, interleaved rounds (medians, wall
-    and CPU), both page states (``_timing.preparations``): new arrays and
+    and CPU), both page states (``_timing.page_states``): new arrays and
     ``out=previous``, the scipy peer, and the floors — the sample's arrays new
     (one block, as ``sample`` allocates them) and existing, written once
     (``fill``). The peer and ours are checked to agree first."""
@@ -164,8 +164,7 @@ def test_ratio_table(request: pytest.FixtureRequest, path) -> None:
         "floor: new arrays written once": lambda: [a.fill(1) for a in _sample_block(N)],
         "floor: existing arrays written": lambda: [a.fill(1) for a in existing],
     }
-    for state, before in preparations().items():
-        t = interleaved({k: in_state(f, before) for k, f in tools.items()}, ROUNDS)
+    for state, t in page_states(tools, ROUNDS).items():
         print(
             f"\nTransferPath.sample({N:.0e}), {state} pages, {ROUNDS} interleaved rounds (medians)"
         )
