@@ -199,7 +199,7 @@ def _keys(machine: Machine) -> list[tuple[str, Any, str]]:
         for k in _varied_tables(machine.mechanisms[name]):
             if k in table:
                 out += [
-                    (p, v, SCALED.format(n=_count(v)) if isinstance(v, list) else "")
+                    (p, v, SCALED.format(n=sum(1 for _ in _flat(v))) if isinstance(v, list) else "")
                     for p, v in _nested(f"{name}.{k}", table[k])
                 ]
     for i, op in enumerate(data.get("operation", []), start=1):
@@ -213,11 +213,6 @@ def _keys(machine: Machine) -> list[tuple[str, Any, str]]:
 
 def _is_number(x: Any) -> bool:
     return isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
-
-
-def _count(v: Any) -> int:
-    """How many numbers a curve or a table holds."""
-    return sum(_count(x) for x in v) if isinstance(v, list) else 1
 
 
 def _nested(path: str, node: Any) -> Iterator[tuple[str, Any]]:
