@@ -136,3 +136,19 @@ def test_a_mechanism_named_drive_keeps_its_keys_beside_the_drive_table():
     assert other.data["mechanism"]["drive"] == m.data["mechanism"]["drive"]
     with pytest.raises(cm.CyclomechError, match="a sweep does not vary the drive's keys"):
         cm.machine.check_parameter(m, f"drive.shaft.{key}")
+
+
+def test_a_dynamic_error_just_above_the_limit_is_run_and_does_not_bind():
+    # The edge of the NEAR rule: the pile's move slowed so that the cyclogram's
+    # limit, n = 120° / (6·t), is 37.0 rpm, 1.1 % under the knife's dynamic-error
+    # limit (37.41 rpm): within NEAR, so each drive key is run, and none binds,
+    # since min(37.0, 37.41 ± its change) stays 37.0.
+    d = _knife(2e-4)
+    d["operation"][5]["min_duration_s"] = 120.0 / (6.0 * 37.0)
+    r = cm.machine.analyze(cm.Machine.from_dict(d, "edge"), progress=False, sensitivities=True)
+    assert r.limit.by == "cyclogram" and r.limit.rpm == pytest.approx(37.0, rel=1e-9)
+    lowest = r.torsion.limits_rpm["knife"]
+    assert r.limit.rpm < lowest <= r.limit.rpm * (1 + NEAR)
+    drive = [s for s in r.sensitivities if s.key.startswith("drive.")]
+    assert len(drive) == 6
+    assert all(s.status == "does not bind" and "within" not in s.note for s in drive)

@@ -105,6 +105,14 @@ def test_drawn_positions_of_moving_joints_do_not_bind(knife):
             assert (s.status, s.rpm_per_percent) == ("does not bind", 0.0)
     up = _by_hand(d, ("knife", "points", "B", 0), 1.01)
     assert up == pytest.approx(base, rel=1e-9)
+    # The crank pin F sits level with its pivot O: the crank's length, hence the
+    # limit, has an extremum in F's y there — both ways change it alike, a kink by
+    # the rule (no slope holds on both sides), as the re-runs by hand say.
+    s = table["knife.points.F.2"]
+    assert s.status == "kink" and math.isnan(s.rpm_per_percent)
+    up = _by_hand(d, ("knife", "points", "F", 1), 1 + STEP)
+    down = _by_hand(d, ("knife", "points", "F", 1), 1 - STEP)
+    assert (up - base) * (down - base) > 0
     # A zero (the pivot A at the origin) has no relative step: it is not listed.
     assert "knife.points.A.1" not in table and "knife.points.D.2" not in table
 
