@@ -35,6 +35,13 @@
 //! z(1) − z(0) = 1 with no cancellation; it serves τ < 1 (|λ| = τ), the
 //! z''-form τ ≥ 1. R → 1/√(1 − ζ²) as τ → 0 as it must.
 //!
+//! **In lanes.** [`ClosedResidual::fill`] serves the cycloidal rise by its own
+//! real form ([`cycloidal`]) and the other built-in laws by the same pieces
+//! summed with per-law constants, in real arithmetic across SIMD lanes
+//! ([`Lanes`], module `lanes`); [`ClosedResidual::general`] below is the
+//! scalar path both fall back to (small τ, near a resonance, huge τ) and the
+//! reference they are tested against.
+//!
 //! Accuracy (tested against the sampled Duhamel path of `vibration`, the
 //! cycloidal law's textbook form and, in Python, independent numpy closed forms
 //! and scipy's `solve_ivp`): within 1e-11 of R's envelope up to τ = 10⁴. The
@@ -48,6 +55,10 @@ use nalgebra::Complex;
 
 use crate::geom::sin_cos;
 use crate::motion::{Law, MotionError};
+
+#[path = "residual_lanes.rs"]
+pub mod lanes;
+pub use lanes::Lanes;
 
 type C = Complex<f64>;
 
@@ -253,6 +264,8 @@ pub struct ClosedResidual {
     accel: Integrand,
     /// g = z' (τ < 1).
     vel: Integrand,
+    /// The pieces' sum in SIMD lanes (`residual_lanes`), where the law allows.
+    lanes: Option<Lanes>,
 }
 
 impl ClosedResidual {
@@ -291,6 +304,7 @@ impl ClosedResidual {
             cycloidal: false,
             accel: Integrand::new(accel),
             vel: Integrand::new(vel),
+            lanes: Lanes::of(law),
         })
     }
 
@@ -319,11 +333,25 @@ impl ClosedResidual {
         (g.re * g.re + g.im * g.im).sqrt() / wd
     }
 
-    /// R(τ_i, ζ) for every τ_i into `out` (checked τ > 0, ζ ∈ [0, 1)); the
-    /// cycloidal rise in SIMD lanes.
+    /// The lanes' constants, if the law has them.
+    pub fn lanes(&self) -> Option<&Lanes> {
+        self.lanes.as_ref()
+    }
+
+    /// R(τ_i, ζ) for every τ_i into `out` (checked τ > 0, ζ ∈ [0, 1)): the
+    /// cycloidal rise in its real form, the other laws in the pieces' sum
+    /// ([`Lanes`]), both in SIMD lanes.
     pub fn fill(&self, tau: &[f64], zeta: f64, out: &mut [f64]) {
         if self.cycloidal {
             pulp::Arch::new().dispatch(cycloidal::Blocks { tau, out, zeta });
+        } else if let Some(lanes) = &self.lanes {
+            pulp::Arch::new().dispatch(lanes::Blocks {
+                lanes,
+                tau,
+                out,
+                zeta,
+                scalar: |t| self.general(t, zeta),
+            });
         } else {
             for (o, &t) in out.iter_mut().zip(tau) {
                 *o = self.general(t, zeta);
@@ -385,6 +413,14 @@ pub mod cycloidal {
     /// few ulps of `exp_m1` (tested), and no cancellation at k = 0.
     #[inline(always)]
     fn expm1_neg(x: f64) -> f64 {
+        let (two_k, em1) = exp_split(x);
+        two_k * em1 + (two_k - 1.0)
+    }
+
+    /// (2^k, expm1(r)) with e^x = 2^k·(1 + expm1(r)) for −700 ≤ x ≤ 0 (the
+    /// reduction of [`expm1_neg`], without branches).
+    #[inline(always)]
+    pub(crate) fn exp_split(x: f64) -> (f64, f64) {
         const ROUND: f64 = 6_755_399_441_055_744.0;
         let shifted = x * std::f64::consts::LOG2_E + ROUND;
         let k = shifted - ROUND;
@@ -398,7 +434,7 @@ pub mod cycloidal {
         // 2^k from k's bits in the shifted value (its ulp is 1).
         let kb = shifted.to_bits().wrapping_sub(ROUND.to_bits());
         let two_k = f64::from_bits(kb.wrapping_add(1023) << 52);
-        two_k * em1 + (two_k - 1.0)
+        (two_k, em1)
     }
 
     /// R for [`LANES`] values of τ in (0, 2e6] at once, without branches (so a
