@@ -35,8 +35,9 @@
 //! z(1) − z(0) = 1 with no cancellation; it serves τ < 1 (|λ| = τ), the
 //! z''-form τ ≥ 1. R → 1/√(1 − ζ²) as τ → 0 as it must.
 //!
-//! **In lanes.** [`ClosedResidual::fill`] serves the cycloidal rise by its own
-//! real form ([`cycloidal`]) and the other built-in laws by the same pieces
+//! **In lanes.** [`ClosedResidual::fill`] serves the cycloidal and harmonic
+//! rises by their own real forms ([`cycloidal`], [`lanes::harmonic`]) and the
+//! other built-in laws by the same pieces
 //! summed with per-law constants, in real arithmetic across SIMD lanes
 //! ([`Lanes`], module `lanes`); [`ClosedResidual::general`] below is the
 //! scalar path both fall back to (small τ, near a resonance, huge τ) and the
@@ -260,6 +261,8 @@ impl Integrand {
 pub struct ClosedResidual {
     /// The cycloidal rise: its own real form ([`cycloidal`]).
     cycloidal: bool,
+    /// The harmonic rise: its own real form ([`lanes::harmonic`]).
+    harmonic: bool,
     /// g = −z'' (τ ≥ 1).
     accel: Integrand,
     /// g = z' (τ < 1).
@@ -273,6 +276,7 @@ impl ClosedResidual {
     pub fn new(law: &str) -> Result<ClosedResidual, MotionError> {
         let mut c = ClosedResidual::of(&Law::rise(law)?).expect("built-in laws have low degrees");
         c.cycloidal = law == "cycloidal";
+        c.harmonic = law == "harmonic";
         Ok(c)
     }
 
@@ -302,6 +306,7 @@ impl ClosedResidual {
         }
         Some(ClosedResidual {
             cycloidal: false,
+            harmonic: false,
             accel: Integrand::new(accel),
             vel: Integrand::new(vel),
             lanes: Lanes::of(law),
@@ -313,6 +318,16 @@ impl ClosedResidual {
     pub fn ratio(&self, tau: f64, zeta: f64) -> f64 {
         if self.cycloidal {
             return cycloidal::ratio(tau, zeta, ((1.0 - zeta) * (1.0 + zeta)).sqrt());
+        }
+        if self.harmonic {
+            return lanes::harmonic::ratio(tau, zeta, ((1.0 - zeta) * (1.0 + zeta)).sqrt());
+        }
+        // The lanes' formula where it serves, so that one τ and a batch agree
+        // bit for bit.
+        if let Some(l) = &self.lanes {
+            if !l.needs_scalar(tau, zeta, ((1.0 - zeta) * (1.0 + zeta)).sqrt()) {
+                return l.one(tau, zeta);
+            }
         }
         self.general(tau, zeta)
     }
@@ -344,6 +359,8 @@ impl ClosedResidual {
     pub fn fill(&self, tau: &[f64], zeta: f64, out: &mut [f64]) {
         if self.cycloidal {
             pulp::Arch::new().dispatch(cycloidal::Blocks { tau, out, zeta });
+        } else if self.harmonic {
+            pulp::Arch::new().dispatch(lanes::harmonic::Blocks { tau, out, zeta });
         } else if let Some(lanes) = &self.lanes {
             pulp::Arch::new().dispatch(lanes::Blocks {
                 lanes,
@@ -412,7 +429,7 @@ pub mod cycloidal {
     /// by its Taylor series to r¹³/13! (the remainder < 4e-18·|r|): within a
     /// few ulps of `exp_m1` (tested), and no cancellation at k = 0.
     #[inline(always)]
-    fn expm1_neg(x: f64) -> f64 {
+    pub(crate) fn expm1_neg(x: f64) -> f64 {
         let (two_k, em1) = exp_split(x);
         two_k * em1 + (two_k - 1.0)
     }

@@ -197,82 +197,81 @@ impl Lanes {
     /// R for [`LANES`] values of τ without branches (`c` = √(1 − ζ²)), and
     /// which lanes the scalar path must redo (module docs).
     #[inline(always)]
-    pub fn block(&self, tau: &[f64; LANES], zeta: f64, c: f64) -> ([f64; LANES], bool) {
+    pub fn block<const L: usize>(&self, tau: &[f64; L], zeta: f64, c: f64) -> ([f64; L], bool) {
         let h = self.step as f64 / 8.0;
         let n_pow = 8 / self.step;
-        let mut a = [0.0; LANES];
-        let mut w = [0.0; LANES];
-        let mut inv = [0.0; LANES];
+        let mut a = [0.0; L];
+        let mut w = [0.0; L];
+        let mut inv = [0.0; L];
         let mut bad = false;
-        for l in 0..LANES {
+        for l in 0..L {
             a[l] = zeta * tau[l];
             w[l] = c * tau[l];
             inv[l] = 1.0 / tau[l];
             bad |= !(tau[l] >= self.tau_min && tau[l] <= TAU_MAX);
         }
         // E = e^{λh} and its powers.
-        let mut er = [[0.0; LANES]; POWERS];
-        let mut ei = [[0.0; LANES]; POWERS];
-        let mut wh = [0.0; LANES];
-        for l in 0..LANES {
+        let mut er = [[0.0; L]; POWERS];
+        let mut ei = [[0.0; L]; POWERS];
+        let mut wh = [0.0; L];
+        for l in 0..L {
             wh[l] = w[l] * h;
             er[0][l] = 1.0;
         }
         let (sn, cs) = sin_cos_lanes(&wh);
-        for l in 0..LANES {
+        for l in 0..L {
             let (two_k, em1) = exp_split((-a[l] * h).max(-700.0));
             let m = two_k * (em1 + 1.0);
             er[1][l] = m * cs[l];
             ei[1][l] = m * sn[l];
         }
         for n in 2..=n_pow {
-            for l in 0..LANES {
+            for l in 0..L {
                 let (pr, pi) = (er[n - 1][l], ei[n - 1][l]);
                 er[n][l] = pr * er[1][l] - pi * ei[1][l];
                 ei[n][l] = pr * ei[1][l] + pi * er[1][l];
             }
         }
-        let mut gr = [0.0; LANES];
-        let mut gi = [0.0; LANES];
+        let mut gr = [0.0; L];
+        let mut gi = [0.0; L];
         // Σ_j μʲ·S_j by Horner in μ, S_j = Σ_n a_{n,j} Eⁿ.
         if !self.poly.is_empty() {
-            let (mut ar, mut ai) = ([0.0; LANES], [0.0; LANES]);
+            let (mut ar, mut ai) = ([0.0; L], [0.0; L]);
             for terms in self.poly.iter().rev() {
-                for l in 0..LANES {
+                for l in 0..L {
                     let (mr, mi) = (-zeta * inv[l], -c * inv[l]);
                     let (r, i) = (ar[l] * mr - ai[l] * mi, ar[l] * mi + ai[l] * mr);
                     ar[l] = r;
                     ai[l] = i;
                 }
                 for &(n, v) in terms {
-                    for l in 0..LANES {
+                    for l in 0..L {
                         ar[l] += v * er[n][l];
                         ai[l] += v * ei[n][l];
                     }
                 }
             }
-            for l in 0..LANES {
+            for l in 0..L {
                 let (mr, mi) = (-zeta * inv[l], -c * inv[l]);
                 gr[l] = ar[l] * mr - ai[l] * mi;
                 gi[l] = ar[l] * mi + ai[l] * mr;
             }
         }
         for s in &self.sines {
-            let (mut pr, mut pi, mut qr, mut qi) =
-                ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+            let (mut pr, mut pi, mut qr, mut qi) = ([0.0; L], [0.0; L], [0.0; L], [0.0; L]);
             for &(n, v) in &s.p {
-                for l in 0..LANES {
+                for l in 0..L {
                     pr[l] += v * er[n][l];
                     pi[l] += v * ei[n][l];
                 }
             }
             for &(n, v) in &s.q {
-                for l in 0..LANES {
+                for l in 0..L {
                     qr[l] += v * er[n][l];
                     qi[l] += v * ei[n][l];
                 }
             }
-            for l in 0..LANES {
+            for l in 0..L {
                 let (al, wl) = (a[l], w[l]);
                 // N = λQ + P, λ = −a + iω.
                 let nr = -al * qr[l] - wl * qi[l] + pr[l];
@@ -288,8 +287,8 @@ impl Lanes {
                 gi[l] += (ni * dr - nr * di) * inv_den;
             }
         }
-        let mut out = [0.0; LANES];
-        for l in 0..LANES {
+        let mut out = [0.0; L];
+        for l in 0..L {
             out[l] = (gr[l] * gr[l] + gi[l] * gi[l]).sqrt() / w[l];
         }
         (out, bad)
@@ -358,11 +357,109 @@ impl Lanes {
             })
     }
 
-    /// R for one τ by the lanes' formula (for tests: the lanes' values are this,
-    /// wherever [`Lanes::needs_scalar`] is false).
+    /// R for one τ by the lanes' formula, bit for bit a lane's value (the same
+    /// operations; tested), wherever [`Lanes::needs_scalar`] is false.
     pub fn one(&self, tau: f64, zeta: f64) -> f64 {
         let c = ((1.0 - zeta) * (1.0 + zeta)).sqrt();
-        self.block(&[tau; LANES], zeta, c).0[0]
+        self.block(&[tau], zeta, c).0[0]
+    }
+}
+
+/// The harmonic rise in real arithmetic, as [`super::cycloidal`]: its
+/// g = −(π²/2)·cos πs gives G = −(π²/2)·λ(1 + e^{λ})/(λ² + π²), and with
+/// e = e^{−ζτ}, |λ| = τ, |1 + e^{λ}|² = (1 − e)² + 4e·cos²(ω_d/2),
+///
+/// ```text
+/// R = (π²/2c)·√[((1 − e)² + 4e cos²(ω_d/2)) / ((ζτ)² + (ω_d − π)²) / ((ζτ)² + (ω_d + π)²)]
+/// ```
+///
+/// (c = √(1 − ζ²)), every factor free of cancellation at any τ: 1 − e =
+/// −expm1(−ζτ), cos(ω_d/2) = sin((π − ω_d)/2) and ω_d − π with a two-part π, so
+/// that the undamped resonance τ = π (0/0) keeps its limit; as τ → 0 R → 1/c
+/// with no sum to cancel (the pieces' sum needs the scalar path there).
+pub mod harmonic {
+    use std::f64::consts::PI;
+
+    use crate::cam::residual::cycloidal::expm1_neg;
+    use crate::geom::{sin, sin_lanes};
+
+    /// π − PI (the second part of π).
+    const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
+    const HALF_PI2: f64 = 0.5 * PI * PI;
+
+    /// Values per block of [`ratio_lanes`].
+    pub const LANES: usize = 8;
+
+    /// The argument whose sine is cos(ω_d/2).
+    #[inline(always)]
+    fn half_gap(wd: f64) -> f64 {
+        0.5 * ((PI - wd) + PI_LO)
+    }
+
+    #[inline(always)]
+    fn combine(zt: f64, wd: f64, c: f64, m: f64, s: f64) -> f64 {
+        let (one_minus_e, e) = (-m, 1.0 + m);
+        let num = one_minus_e * one_minus_e + 4.0 * e * s * s;
+        let dm = (wd - PI) - PI_LO;
+        let dp = wd + PI;
+        let z2 = zt * zt;
+        HALF_PI2 * (num / (z2 + dm * dm) / (z2 + dp * dp)).sqrt() / c
+    }
+
+    /// R(τ, ζ) for one τ (`c` = √(1 − ζ²)).
+    #[inline]
+    pub fn ratio(tau: f64, zeta: f64, c: f64) -> f64 {
+        let (zt, wd) = (zeta * tau, c * tau);
+        combine(zt, wd, c, (-zt).exp_m1(), sin(half_gap(wd)))
+    }
+
+    /// R for [`LANES`] values of τ in (0, 2e6] at once, without branches.
+    #[inline(always)]
+    pub fn ratio_lanes(tau: &[f64; LANES], zeta: f64, c: f64) -> [f64; LANES] {
+        let mut m = [0.0; LANES];
+        let mut s = [0.0; LANES];
+        let mut out = [0.0; LANES];
+        for l in 0..LANES {
+            m[l] = expm1_neg((-zeta * tau[l]).max(-700.0));
+        }
+        for l in 0..LANES {
+            s[l] = sin_lanes(half_gap(c * tau[l]));
+        }
+        for l in 0..LANES {
+            out[l] = combine(zeta * tau[l], c * tau[l], c, m[l], s[l]);
+        }
+        out
+    }
+
+    /// Fills `out` with R(τ_i, ζ) in blocks of [`LANES`].
+    pub(crate) struct Blocks<'a> {
+        pub(crate) tau: &'a [f64],
+        pub(crate) out: &'a mut [f64],
+        pub(crate) zeta: f64,
+    }
+
+    impl pulp::WithSimd for Blocks<'_> {
+        type Output = ();
+
+        #[inline(always)]
+        fn with_simd<S: pulp::Simd>(self, _simd: S) {
+            let c = ((1.0 - self.zeta) * (1.0 + self.zeta)).sqrt();
+            let mut tc = self.tau.chunks_exact(LANES);
+            let mut oc = self.out.chunks_exact_mut(LANES);
+            for (t, o) in (&mut tc).zip(&mut oc) {
+                let t: &[f64; LANES] = t.try_into().expect("chunks of LANES");
+                if t.iter().fold(true, |ok, &v| ok & (v <= 2e6)) {
+                    o.copy_from_slice(&ratio_lanes(t, self.zeta, c));
+                } else {
+                    for (oj, &tj) in o.iter_mut().zip(t) {
+                        *oj = ratio(tj, self.zeta, c);
+                    }
+                }
+            }
+            for (oj, &tj) in oc.into_remainder().iter_mut().zip(tc.remainder()) {
+                *oj = ratio(tj, self.zeta, c);
+            }
+        }
     }
 }
 
@@ -452,7 +549,42 @@ mod tests {
         }
     }
 
+    /// The harmonic rise's real form against the scalar pieces (its own
+    /// derivation against the φ functions' sum) and through its resonance.
+    #[test]
+    fn harmonic_real_form_equals_the_general_pieces() {
+        let c = closed("harmonic");
+        for zeta in [0.0, 0.05, 0.5, 0.99] {
+            for i in 0..2000 {
+                let tau = 1e-4 * (1e8f64).powf(i as f64 / 1999.0);
+                let (a, b) = (c.ratio(tau, zeta), c.general(tau, zeta));
+                assert!(
+                    (a - b).abs() <= 1e-12 * envelope(tau, zeta),
+                    "{tau} {zeta}: {a} {b}"
+                );
+            }
+        }
+        // Undamped at τ = π (ω_d = π − δ): (π²/2)·2|sin(δ/2)|/(|δ|·2π) → π/4.
+        assert!((c.ratio(PI, 0.0) - PI / 4.0).abs() < 1e-14);
+        for d in [1e-12, 1e-9, 1e-6] {
+            for t in [PI * (1.0 + d), PI * (1.0 - d)] {
+                assert!((c.ratio(t, 0.0) - PI / 4.0).abs() < 4.0 * d + 1e-14, "{t}");
+            }
+        }
+    }
+
     proptest! {
+        #[test]
+        fn harmonic_lanes_match_one_by_one(t in proptest::collection::vec(1e-6f64..2e6, harmonic::LANES), zeta in 0.0f64..0.999) {
+            let t: [f64; harmonic::LANES] = t.try_into().unwrap();
+            let c = ((1.0 - zeta) * (1.0 + zeta)).sqrt();
+            let r = harmonic::ratio_lanes(&t, zeta, c);
+            for l in 0..harmonic::LANES {
+                let one = harmonic::ratio(t[l], zeta, c);
+                prop_assert!((r[l] - one).abs() <= 1e-14 * one, "{} {}", r[l], one);
+            }
+        }
+
         #[test]
         fn lanes_equal_one_by_one(law in 0usize..5, t in proptest::collection::vec(1.0f64..2e4, LANES), zeta in 0.0f64..0.999) {
             let c = closed(LAWS[law]);
