@@ -299,6 +299,16 @@ pub fn residual_ratio_batch(
         }
         return Ok(());
     }
+    if threads == 1 {
+        // In the calling thread (a one-thread pool's hand-off costs a wake-up,
+        // a scheduler slice on a loaded machine), chunk by chunk as the pool's.
+        for (o, t) in out.chunks_mut(CLOSED_CHUNK).zip(tau.chunks(CLOSED_CHUNK)) {
+            if !crate::cancel::requested() {
+                fill(o, t)
+            }
+        }
+        return Ok(());
+    }
     let pool = pool(threads)?;
     pool.install(|| {
         out.par_chunks_mut(CLOSED_CHUNK)
