@@ -56,7 +56,7 @@ def kill_in_kernel(delay):
 KILLED = []  # when kill_in_kernel sent its signal
 
 def vibration(n, threads):
-    # Below the lanes' tau_min (~4.3): the scalar pieces, ~100 ns a value.
+    # Below the lanes' tau_min (4.03): the scalar pieces, ~100 ns a value.
     tau = np.linspace(1.0, 4.0, n)
     return cm.cam.residual_vibration("polynomial_4567", tau, 0.1, n_threads=threads)
 

@@ -26,7 +26,7 @@
 //!
 //! - small τ, where the pieces' terms (up to |a|/τʲ) cancel to G = O(τ):
 //!   below [`Lanes::tau_min`], the smallest τ ≥ 1 where Σ|a|τ^{−j} ≤
-//!   [`TERM_BOUND`] (1 for the sine laws; 2.9 for 3-4-5 and 5.1 for 4-5-6-7);
+//!   [`TERM_BOUND`] (1 for the sine laws; 1.95 for 3-4-5 and 4.03 for 4-5-6-7);
 //! - near a resonance of a sine piece, |λ ∓ iΩ| < [`NEAR`], where its numerator
 //!   and denominator both vanish (the absolute error there is
 //!   ~ε·B/|λ − iΩ|);
