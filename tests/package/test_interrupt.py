@@ -11,8 +11,9 @@ The rules (``cyclomech_core::cancel`` and ``rust/bindings/src/interrupt.rs``):
 
 Each case runs in a fresh interpreter (the hook is per process). The only timing
 checked is that an interrupted call ends far sooner than it would have: the full
-call takes seconds (the modified trapezoid, the slowest of the laws' closed forms,
-~150 ns a value), the test allows 20 s after the signal. That each kind of
+call takes seconds (the 4-5-6-7 rise at 1 ≤ τ ≤ 4, below its SIMD lanes' τ_min:
+the exact scalar pieces, the slowest path of the laws' closed forms, ~100 ns a
+value), the test allows 20 s after the signal. That each kind of
 parallel loop polls the flag is checked in Rust (``rust/core/tests/cancel.rs``).
 """
 
@@ -55,8 +56,9 @@ def kill_in_kernel(delay):
 KILLED = []  # when kill_in_kernel sent its signal
 
 def vibration(n, threads):
-    tau = np.linspace(1.0, 1000.0, n)
-    return cm.cam.residual_vibration("modified_trapezoid", tau, 0.1, n_threads=threads)
+    # Below the lanes' tau_min (4.03): the scalar pieces, ~100 ns a value.
+    tau = np.linspace(1.0, 4.0, n)
+    return cm.cam.residual_vibration("polynomial_4567", tau, 0.1, n_threads=threads)
 
 def in_kernel(e):
     # Raised by the kernel's call, not by Python code before it (the checks of 2e7
@@ -75,7 +77,7 @@ def _child(body: str) -> str:
 @pytest.mark.slow
 @pytest.mark.parametrize("threads", [1, 2])
 def test_a_long_call_is_cut_short_and_raises_keyboard_interrupt(threads):
-    # 2e7 values at ~150 ns each: ~3 s on one thread if it ran to the end; the
+    # 2e7 values at ~100 ns each: ~2 s on one thread if it ran to the end; the
     # signal comes 0.2 s after the kernel started (checked: where the exception came from).
     out = _child(f"""
         ref = vibration(3000, {threads})

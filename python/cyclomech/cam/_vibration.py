@@ -25,8 +25,11 @@ For the built-in laws R is a closed form (issue 37): with λ = −ζτ + iω_d,
 ω_d = τ√(1 − ζ²), R = |G|/ω_d where G = −∫₀¹ e^{λ(1−s)} z''(s) ds, integrated
 exactly piece by piece (each law's pieces are polynomials and sines); for the
 cycloidal rise R = 4π²|e^{λ} − 1|/(ω_d|λ² + 4π²|), evaluated without
-cancellation (also through the resonance τ = 2π) and in SIMD lanes. Tested
-within 1e-11 of R's envelope up to τ = 10⁴ against independent closed forms.
+cancellation (also through the resonance τ = 2π) and in SIMD lanes, the
+harmonic rise likewise; the other four laws' pieces summed with per-law
+constants in SIMD lanes too (the exact scalar pieces at small τ and near a sine
+piece's resonance). Tested within 1e-11
+of R's envelope up to τ = 10⁴ against independent closed forms (numpy, per law).
 A motion program's own segment law (the ``program`` path of the bound below)
 keeps the exact piecewise-linear Duhamel kernel of the stops
 (:func:`cyclomech.impact.duhamel`'s recurrence) with −z'' sampled at 1024

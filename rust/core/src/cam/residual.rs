@@ -35,6 +35,14 @@
 //! z(1) − z(0) = 1 with no cancellation; it serves τ < 1 (|λ| = τ), the
 //! z''-form τ ≥ 1. R → 1/√(1 − ζ²) as τ → 0 as it must.
 //!
+//! **In lanes.** [`ClosedResidual::fill`] serves the cycloidal and harmonic
+//! rises by their own real forms ([`cycloidal`], [`lanes::harmonic`]) and the
+//! other built-in laws by the same pieces
+//! summed with per-law constants, in real arithmetic across SIMD lanes
+//! ([`Lanes`], module `lanes`); [`ClosedResidual::general`] below is the
+//! scalar path both fall back to (small τ, near a resonance, huge τ) and the
+//! reference they are tested against.
+//!
 //! Accuracy (tested against the sampled Duhamel path of `vibration`, the
 //! cycloidal law's textbook form and, in Python, independent numpy closed forms
 //! and scipy's `solve_ivp`): within 1e-11 of R's envelope up to τ = 10⁴. The
@@ -48,6 +56,10 @@ use nalgebra::Complex;
 
 use crate::geom::sin_cos;
 use crate::motion::{Law, MotionError};
+
+#[path = "residual_lanes.rs"]
+pub mod lanes;
+pub use lanes::Lanes;
 
 type C = Complex<f64>;
 
@@ -249,10 +261,14 @@ impl Integrand {
 pub struct ClosedResidual {
     /// The cycloidal rise: its own real form ([`cycloidal`]).
     cycloidal: bool,
+    /// The harmonic rise: its own real form ([`lanes::harmonic`]).
+    harmonic: bool,
     /// g = −z'' (τ ≥ 1).
     accel: Integrand,
     /// g = z' (τ < 1).
     vel: Integrand,
+    /// The pieces' sum in SIMD lanes (`residual_lanes`), where the law allows.
+    lanes: Option<Lanes>,
 }
 
 impl ClosedResidual {
@@ -260,6 +276,7 @@ impl ClosedResidual {
     pub fn new(law: &str) -> Result<ClosedResidual, MotionError> {
         let mut c = ClosedResidual::of(&Law::rise(law)?).expect("built-in laws have low degrees");
         c.cycloidal = law == "cycloidal";
+        c.harmonic = law == "harmonic";
         Ok(c)
     }
 
@@ -289,8 +306,10 @@ impl ClosedResidual {
         }
         Some(ClosedResidual {
             cycloidal: false,
+            harmonic: false,
             accel: Integrand::new(accel),
             vel: Integrand::new(vel),
+            lanes: Lanes::of(law),
         })
     }
 
@@ -299,6 +318,16 @@ impl ClosedResidual {
     pub fn ratio(&self, tau: f64, zeta: f64) -> f64 {
         if self.cycloidal {
             return cycloidal::ratio(tau, zeta, ((1.0 - zeta) * (1.0 + zeta)).sqrt());
+        }
+        if self.harmonic {
+            return lanes::harmonic::ratio(tau, zeta, ((1.0 - zeta) * (1.0 + zeta)).sqrt());
+        }
+        // The lanes' formula where it serves, so that one τ and a batch agree
+        // bit for bit.
+        if let Some(l) = &self.lanes {
+            if !l.needs_scalar(tau, zeta, ((1.0 - zeta) * (1.0 + zeta)).sqrt()) {
+                return l.one(tau, zeta);
+            }
         }
         self.general(tau, zeta)
     }
@@ -319,11 +348,27 @@ impl ClosedResidual {
         (g.re * g.re + g.im * g.im).sqrt() / wd
     }
 
-    /// R(τ_i, ζ) for every τ_i into `out` (checked τ > 0, ζ ∈ [0, 1)); the
-    /// cycloidal rise in SIMD lanes.
+    /// The lanes' constants, if the law has them.
+    pub fn lanes(&self) -> Option<&Lanes> {
+        self.lanes.as_ref()
+    }
+
+    /// R(τ_i, ζ) for every τ_i into `out` (checked τ > 0, ζ ∈ [0, 1)): the
+    /// cycloidal rise in its real form, the other laws in the pieces' sum
+    /// ([`Lanes`]), both in SIMD lanes.
     pub fn fill(&self, tau: &[f64], zeta: f64, out: &mut [f64]) {
         if self.cycloidal {
             pulp::Arch::new().dispatch(cycloidal::Blocks { tau, out, zeta });
+        } else if self.harmonic {
+            pulp::Arch::new().dispatch(lanes::harmonic::Blocks { tau, out, zeta });
+        } else if let Some(lanes) = &self.lanes {
+            pulp::Arch::new().dispatch(lanes::Blocks {
+                lanes,
+                tau,
+                out,
+                zeta,
+                scalar: |t| self.general(t, zeta),
+            });
         } else {
             for (o, &t) in out.iter_mut().zip(tau) {
                 *o = self.general(t, zeta);
@@ -384,7 +429,15 @@ pub mod cycloidal {
     /// by its Taylor series to r¹³/13! (the remainder < 4e-18·|r|): within a
     /// few ulps of `exp_m1` (tested), and no cancellation at k = 0.
     #[inline(always)]
-    fn expm1_neg(x: f64) -> f64 {
+    pub(crate) fn expm1_neg(x: f64) -> f64 {
+        let (two_k, em1) = exp_split(x);
+        two_k * em1 + (two_k - 1.0)
+    }
+
+    /// (2^k, expm1(r)) with e^x = 2^k·(1 + expm1(r)) for −700 ≤ x ≤ 0 (the
+    /// reduction of [`expm1_neg`], without branches).
+    #[inline(always)]
+    pub(crate) fn exp_split(x: f64) -> (f64, f64) {
         const ROUND: f64 = 6_755_399_441_055_744.0;
         let shifted = x * std::f64::consts::LOG2_E + ROUND;
         let k = shifted - ROUND;
@@ -398,7 +451,7 @@ pub mod cycloidal {
         // 2^k from k's bits in the shifted value (its ulp is 1).
         let kb = shifted.to_bits().wrapping_sub(ROUND.to_bits());
         let two_k = f64::from_bits(kb.wrapping_add(1023) << 52);
-        two_k * em1 + (two_k - 1.0)
+        (two_k, em1)
     }
 
     /// R for [`LANES`] values of τ in (0, 2e6] at once, without branches (so a
