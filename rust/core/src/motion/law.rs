@@ -477,7 +477,7 @@ impl Law {
         // (NaN fails the comparisons.) Within [−1, 2], |t| ≤ 3 (a piece lies in
         // [0, 1]), so the branch-free sine's argument stays within 1e6.
         let one_piece = x.iter().fold(true, |ok, &v| {
-            ok & (v > lo) & (v <= hi) & (v >= -1.0) & (v <= 2.0)
+            ok & (v > lo) & (v <= hi) & (-1.0..=2.0).contains(&v)
         });
         let wave = f.amp.iter().any(|&a| a != 0.0);
         let sine_ok = !wave || 3.0 * f.freq.abs() + f.phase[0].abs() <= 1e6;
