@@ -207,7 +207,10 @@ def test_zero_friction_gives_todays_numbers() -> None:
     th = grid(3600)
     f = cam_friction(cam, th, RPM, ARM_LOADS, CamFriction())
     ld = cam.loads(th, RPM, ARM_LOADS)
-    np.testing.assert_array_equal(f.torque, ld.shaft_torque)
+    # Cam.solve's fast kernel (FMA, issue 37 row 4) and the loads' kernel
+    # round apart by an ulp or so of the torque's scale: no longer bit for bit.
+    scale = np.max(np.abs(ld.shaft_torque))
+    np.testing.assert_allclose(f.torque, ld.shaft_torque, rtol=0, atol=1e-12 * scale)
     np.testing.assert_array_equal(f.losses, 0.0)
     np.testing.assert_allclose(f.normal_force, ld.normal_force, rtol=1e-12, atol=1e-12)
 
@@ -270,9 +273,13 @@ def test_zero_coefficients_leave_the_loom_as_it_was(loom: tuple[Any, Any]) -> No
     d["mechanism"]["lifter cam"]["friction"] = {"pivot_radius_m": 0.01, "pivot_mu": 0.0}
     r, (_, bare) = analyze(d), loom
     a, b = r.mechanisms["lifter cam"].shaft_torque(), bare.mechanisms["lifter cam"].shaft_torque()
-    np.testing.assert_array_equal(a[1], b[1])
+    # Within round-off (Cam.solve's fast kernel and the loads' round apart by an
+    # ulp or so of the torque's scale: test_zero_friction_gives_todays_numbers).
+    scale = np.max(np.abs(b[1]))
+    np.testing.assert_allclose(a[1], b[1], rtol=0, atol=1e-12 * scale)
     for key in ("mean_torque_nm", "peak_torque_nm", "rms_torque_nm", "power_w"):
-        assert getattr(r.shaft.at_nominal, key) == getattr(bare.shaft.at_nominal, key)
+        want = getattr(bare.shaft.at_nominal, key)
+        assert getattr(r.shaft.at_nominal, key) == pytest.approx(want, rel=1e-12, abs=1e-12 * scale)
 
 
 # ------------------------------------------------------------------- bad input

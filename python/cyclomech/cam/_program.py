@@ -322,9 +322,14 @@ class Cam:
         shape = np.shape(theta)  # (float_array makes a 0-d input 1-d)
         if out is not None:
             return self._solve_into(t, shape, out, n_threads)
-        rows = self._kernel.solve(t.reshape(-1), n_threads=threads_arg(n_threads))
+        # The undercut flags come from the kernel's pass (a pass here over the
+        # block's column would read all of it again).
+        undercut = np.empty(t.size, dtype=bool)
+        rows = self._kernel.solve(
+            t.reshape(-1), n_threads=threads_arg(n_threads), undercut=undercut
+        )
         # (a copy of the angles: not a view of the caller's array)
-        return self._kinematics(rows, shape, t.reshape(shape).copy(), rows[:, 13] != 0.0)
+        return self._kinematics(rows, shape, t.reshape(shape).copy(), undercut)
 
     def _kinematics(
         self, block: npt.NDArray[np.float64], shape: tuple[int, ...], theta: Any, undercut: Any
@@ -379,11 +384,18 @@ class Cam:
                 f"out must be a CamKinematics that Cam.solve returned for {n} angles "
                 f"(of a cam of the same closure, its arrays writeable); got {got}"
             )
-        if np.shares_memory(block, t) or np.shares_memory(out.theta, t):
+        flags = out.undercut.reshape(-1)
+        if not (flags.flags.c_contiguous and flags.flags.writeable and flags.dtype == bool):
+            raise InputError(
+                "out must be a CamKinematics that Cam.solve returned (its undercut flags "
+                "a writeable bool array)"
+            )
+        if any(np.shares_memory(a, t) for a in (block, out.theta, flags)):
             t = t.copy()  # (solving into the angles' own memory)
-        self._kernel.solve(t.reshape(-1), n_threads=threads_arg(n_threads), out=block)
+        self._kernel.solve(
+            t.reshape(-1), n_threads=threads_arg(n_threads), out=block, undercut=flags
+        )
         np.copyto(out.theta.reshape(-1), t.reshape(-1))
-        np.not_equal(block[:, 13], 0.0, out=out.undercut.reshape(-1))
         return self._kinematics(block, shape, out.theta.reshape(shape), out.undercut)
 
     @property

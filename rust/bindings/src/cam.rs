@@ -5,7 +5,9 @@ use cyclomech_core::cam::{
     N_COLUMNS, N_LOAD_COLUMNS,
 };
 use numpy::ndarray::{Ix2, Ix3};
-use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::convert::{self, LayoutError};
@@ -128,14 +130,17 @@ impl CamKernel {
     /// (N, 14) rows of s, s', s'', s''', pitch, profile, outer flank, pressure
     /// angle, radii of curvature and undercut (0/1) at cam angles `theta` [rad].
     /// Into `out` (a writeable C-contiguous float64 (N, 14) array that overlaps
-    /// `theta` nowhere) when given, which is returned.
-    #[pyo3(signature = (theta, *, n_threads=None, out=None))]
+    /// `theta` nowhere) when given, which is returned. With `undercut` (a
+    /// writeable contiguous bool array of N), the undercut column is also
+    /// written there as booleans, in the same pass.
+    #[pyo3(signature = (theta, *, n_threads=None, out=None, undercut=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
         theta: PyReadonlyArray1<'py, f64>,
         n_threads: Option<i64>,
         out: Option<Bound<'py, PyArray2<f64>>>,
+        undercut: Option<Bound<'py, PyArray1<bool>>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let ts = CamError::slice(py, "theta", &theta)?;
         let want = [ts.len(), N_COLUMNS];
@@ -161,13 +166,40 @@ impl CamKernel {
                 "solve fewer cam angles at a time",
             )?,
         };
+        let bad_flags = |got: String| {
+            CamError::from(InvalidInput::Output {
+                field: "undercut",
+                want: format!(
+                    "a writeable contiguous bool array of shape ({},) that overlaps no input",
+                    ts.len()
+                ),
+                got,
+            })
+            .into_pyerr(py)
+        };
+        if let Some(u) = &undercut {
+            if u.shape() != [ts.len()] || !u.is_c_contiguous() {
+                return Err(bad_flags(format!("an array of shape {:?}", u.shape())));
+            }
+        }
         {
             let mut rw = out
                 .try_readwrite()
                 .map_err(|e| bad(format!("an array numpy will not lend for writing ({e})")))?;
             let slice = convert::output(py, &mut rw)?;
+            let mut flags_rw = undercut
+                .as_ref()
+                .map(|u| u.try_readwrite())
+                .transpose()
+                .map_err(|e| {
+                    bad_flags(format!("an array numpy will not lend for writing ({e})"))
+                })?;
+            let flags: &mut [bool] = match flags_rw.as_mut() {
+                Some(f) => convert::output(py, f)?,
+                None => &mut [],
+            };
             run(py, "CamKernel.solve", || {
-                self.cam.solve_into(ts, slice, n_threads)
+                self.cam.solve_flags_into(ts, slice, flags, n_threads)
             })?;
         }
         Ok(out)

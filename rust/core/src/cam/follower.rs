@@ -6,7 +6,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use rayon::prelude::*;
 
 use super::program::{CamError, Program};
-use crate::geom::sin_cos_lanes;
+use crate::geom::{sin_cos_fma_lanes, sin_cos_lanes};
 use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
@@ -39,6 +39,13 @@ const CHUNK: usize = 4096;
 enum Mode {
     /// Every column; the pressure angle by the inlined [`atan2_lanes`].
     Lanes,
+    /// [`Mode::Lanes`] for a kernel compiled with FMA: fused multiply-adds,
+    /// θ's sine and cosine by [`sin_cos_fma_lanes`], the law's sinusoid once
+    /// (`Program::eval_lanes_fast`), one reciprocal of the pitch speed, and
+    /// the pressure angle by [`atan2_fast_lanes`]: within 1e-13 of each
+    /// output's scale (curvature for the radii) of [`Mode::Platform`]'s
+    /// (tested), about half the work of [`Mode::Lanes`].
+    Fast,
     /// Every column; the pressure angle by the platform's `atan2`.
     Platform,
     /// The bound searches' inner loop: no cam-frame points (NaN) and, in the
@@ -202,6 +209,64 @@ fn atan2_lanes<const L: usize>(y: &[f64; L], x: &[f64; L]) -> [f64; L] {
     out
 }
 
+/// π/2 − the f64 nearest π/2.
+#[allow(clippy::excessive_precision)]
+const PIO2_LO: f64 = 6.123_233_995_736_766_035_87e-17;
+
+/// atan2(y, x) [rad] in (−π, π] for `L` lanes with one division and fused
+/// multiply-adds, for a kernel compiled with FMA: with u = min(|x|, |y|) and
+/// v = max(|x|, |y|), atan(u/v) ∈ [0, π/4] is fdlibm's odd polynomial of w =
+/// u/v, or π/4 + that of w = (u − v)/(u + v) when u/v > √2 − 1 (either way
+/// |w| ≤ √2 − 1, inside the polynomial's |w| < 7/16), then π/2 − · when
+/// |y| > |x|, π − · when x < 0 and the sign of y, each constant split hi + lo
+/// as fdlibm's. [`atan2_lanes`] divides twice (the ratio, then fdlibm's map of
+/// it). Lanes with a zero, infinite, NaN or huge (> 1e300) argument take the
+/// platform's `atan2`. Within 2 ulp of the platform (tested).
+#[inline(always)]
+fn atan2_fast_lanes<const L: usize>(y: &[f64; L], x: &[f64; L]) -> [f64; L] {
+    const TAN_PI_8: f64 = std::f64::consts::SQRT_2 - 1.0;
+    let mut out = [0.0; L];
+    let mut special = false;
+    for l in 0..L {
+        let (ax, ay) = (x[l].abs(), y[l].abs());
+        let (u, v) = (ax.min(ay), ax.max(ay));
+        // (min and max drop a NaN: x + y keeps it.)
+        special |= !((u > 0.0) & (v < 1e300) & !(x[l] + y[l]).is_nan());
+        let big = u > TAN_PI_8 * v;
+        let w = pick(big, u - v, u) / pick(big, u + v, v);
+        let z = w * w;
+        let zz = z * z;
+        let even = zz
+            .mul_add(AT[10], AT[8])
+            .mul_add(zz, AT[6])
+            .mul_add(zz, AT[4])
+            .mul_add(zz, AT[2])
+            .mul_add(zz, AT[0]);
+        let odd = zz
+            .mul_add(AT[9], AT[7])
+            .mul_add(zz, AT[5])
+            .mul_add(zz, AT[3])
+            .mul_add(zz, AT[1]);
+        let q = z.mul_add(odd, even);
+        // atan u/v = hi − ((w·z·Q − lo) − w): fdlibm's form, hi = lo = 0 below
+        // tan(π/8).
+        let (hi, lo) = (pick(big, FRAC_PI_4, 0.0), pick(big, ATAN_LO[1], 0.0));
+        let t = hi - ((w * z).mul_add(q, -lo) - w);
+        let t = pick(ay > ax, (FRAC_PI_2 - t) + PIO2_LO, t);
+        let t = pick(x[l] > 0.0, t, (PI - t) + PI_LO);
+        out[l] = pick(y[l] > 0.0, t, -t);
+    }
+    if special {
+        for l in 0..L {
+            let (ax, ay) = (x[l].abs(), y[l].abs());
+            if !((ax.min(ay) > 0.0) & (ax.max(ay) < 1e300) & !(x[l] + y[l]).is_nan()) {
+                out[l] = platform_atan2(y[l], x[l]);
+            }
+        }
+    }
+    out
+}
+
 #[cold]
 #[inline(never)]
 fn platform_atan2(y: f64, x: f64) -> f64 {
@@ -217,6 +282,11 @@ struct Rows<'a> {
     cam: &'a Cam,
     theta: &'a [f64],
     out: &'a mut [f64],
+    /// [`Mode::Fast`] (the processor has FMA), else [`Mode::Lanes`].
+    fast: bool,
+    /// The undercut flags of `theta` as booleans, written beside the rows
+    /// while they are in registers (empty: not asked for).
+    flags: &'a mut [bool],
 }
 
 impl pulp::WithSimd for Rows<'_> {
@@ -224,15 +294,27 @@ impl pulp::WithSimd for Rows<'_> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let Rows { cam, theta, out } = self;
+        let Rows {
+            cam,
+            theta,
+            out,
+            fast,
+            flags,
+        } = self;
+        let with_flags = !flags.is_empty();
         let mut groups = theta.chunks_exact(GROUP);
         let mut rows = out.chunks_exact_mut(GROUP * N_COLUMNS);
-        for (tg, og) in (&mut groups).zip(&mut rows) {
+        for (g, (tg, og)) in (&mut groups).zip(&mut rows).enumerate() {
             let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
-            let cols = cam.lanes(tg);
+            let cols = cam.lanes(tg, fast);
             for (l, row) in og.chunks_exact_mut(N_COLUMNS).enumerate() {
                 for (c, v) in row.iter_mut().enumerate() {
                     *v = cols[c][l];
+                }
+            }
+            if with_flags {
+                for (f, &u) in flags[g * GROUP..(g + 1) * GROUP].iter_mut().zip(&cols[13]) {
+                    *f = u != 0.0;
                 }
             }
         }
@@ -242,13 +324,38 @@ impl pulp::WithSimd for Rows<'_> {
         if !tail.is_empty() {
             let mut tg = [0.0; GROUP];
             tg[..tail.len()].copy_from_slice(tail);
-            let cols = cam.lanes(&tg);
+            let cols = cam.lanes(&tg, fast);
             for (l, row) in rest.chunks_exact_mut(N_COLUMNS).enumerate() {
                 for (c, v) in row.iter_mut().enumerate() {
                     *v = cols[c][l];
                 }
             }
+            if with_flags {
+                let done = theta.len() - tail.len();
+                for (f, &u) in flags[done..].iter_mut().zip(&cols[13]) {
+                    *f = u != 0.0;
+                }
+            }
         }
+    }
+}
+
+/// Whether the processor has fused multiply-add instructions, so that
+/// [`Mode::Fast`]'s `mul_add`s are single instructions (`pulp` compiles the
+/// kernel for AVX2 + FMA or AVX-512 where it finds them); elsewhere they would
+/// be libm calls, and the kernel keeps [`Mode::Lanes`].
+fn fma_is_fast() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("fma") && std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(target_arch = "aarch64")]
+    {
+        true
+    }
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    {
+        false
     }
 }
 
@@ -391,8 +498,12 @@ impl Cam {
     /// The rows of `L` cam angles θ [rad], column by column (see
     /// [`Cam::geometry`]).
     #[inline(always)]
-    fn lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; N_COLUMNS] {
-        self.geometry(theta, self.program.eval_lanes(theta), Mode::Lanes)
+    fn lanes<const L: usize>(&self, theta: &[f64; L], fast: bool) -> [[f64; L]; N_COLUMNS] {
+        if fast {
+            self.geometry(theta, self.program.eval_lanes_fast(theta), Mode::Fast)
+        } else {
+            self.geometry(theta, self.program.eval_lanes(theta), Mode::Lanes)
+        }
     }
 
     /// The rows of `L` cam angles θ [rad] for their [s, s′, s″, s‴] lanes `sv`,
@@ -424,6 +535,32 @@ impl Cam {
         }
         let [s, ds, dds, ddds] = sv;
         let st = self.start;
+        let fast = mode == Mode::Fast;
+        // `fma!(a, b, c)`: a·b + c, fused in the fast mode (one rounding), else
+        // as written (two: bit for bit the values `row_at` has always had).
+        macro_rules! fma {
+            ($a:expr, $b:expr, $c:expr) => {
+                if fast {
+                    f64::mul_add($a, $b, $c)
+                } else {
+                    $a * $b + $c
+                }
+            };
+        }
+        // θ's (and an arm's) sine and cosine: the fused kernels in the fast
+        // mode where every lane is within their range, else fdlibm's.
+        // (A macro, not a closure: a closure kept out of line would lose the
+        // instruction set.)
+        macro_rules! sincos {
+            ($a:expr) => {{
+                let a: &[f64; L] = $a;
+                if fast && a.iter().fold(true, |ok, v| ok & (v.abs() <= 1e6)) {
+                    sin_cos_fma_lanes(a)
+                } else {
+                    sin_cos_lanes(a)
+                }
+            }};
+        }
         let (zero, one) = ([0.0; L], [1.0; L]);
         // Fixed frame: roller centre (or flat-face trace point) C, C', C'', and
         // the unit direction v of the follower's motion (increasing s).
@@ -447,7 +584,7 @@ impl Cam {
                 roller_radius,
                 ..
             } => {
-                let (sn, cs) = sin_cos_lanes(&lift);
+                let (sn, cs) = sincos!(&lift);
                 let dd = each!(i => ds[i] * ds[i]);
                 (
                     [each!(i => a - l * cs[i]), each!(i => l * sn[i])],
@@ -472,31 +609,37 @@ impl Cam {
             each!(i => c2[0][i] - 2.0 * -c1[1][i] - c[0][i]),
             each!(i => c2[1][i] - 2.0 * c1[0][i] - c[1][i]),
         ];
-        let speed = each!(i => (t[0][i] * t[0][i] + t[1][i] * t[1][i]).sqrt());
-        let k = each!(i => t[0][i] * acc[1][i] - t[1][i] * acc[0][i]);
+        let speed = each!(i => fma!(t[0][i], t[0][i], t[1][i] * t[1][i]).sqrt());
+        let k = each!(i => fma!(t[0][i], acc[1][i], -(t[1][i] * acc[0][i])));
         // The pitch point moves clockwise in the cam frame: convex is k < 0.
         let rho_p = each!(i => pick(
             k[i] == 0.0,
             f64::INFINITY,
             -speed[i] * speed[i] * speed[i] / k[i]
         ));
-        let n = [
-            each!(i => -t[1][i] / speed[i]),
-            each!(i => t[0][i] / speed[i]),
-        ];
+        // The unit normal: one reciprocal of the speed in the fast mode.
+        let n = if fast {
+            let inv = each!(i => 1.0 / speed[i]);
+            [each!(i => -t[1][i] * inv[i]), each!(i => t[0][i] * inv[i])]
+        } else {
+            [
+                each!(i => -t[1][i] / speed[i]),
+                each!(i => t[0][i] / speed[i]),
+            ]
+        };
         let lean = mode == Mode::Lean;
         let (sn, cs) = if lean {
             ([f64::NAN; L], [f64::NAN; L])
         } else {
-            sin_cos_lanes(theta)
+            sincos!(theta)
         };
         // P in the cam frame: R(−θ) p (NaN when lean).
         macro_rules! to_cam {
             ($p:expr) => {{
                 let p: [[f64; L]; 2] = $p;
                 [
-                    each!(i => p[0][i] * cs[i] + p[1][i] * sn[i]),
-                    each!(i => -p[0][i] * sn[i] + p[1][i] * cs[i]),
+                    each!(i => fma!(p[0][i], cs[i], p[1][i] * sn[i])),
+                    each!(i => fma!(-p[0][i], sn[i], p[1][i] * cs[i])),
                 ]
             }};
         }
@@ -527,6 +670,7 @@ impl Cam {
                 let phi = match mode {
                     Mode::Platform => each!(i => cr[i].atan2(dt[i])),
                     Mode::Lanes => atan2_lanes(&cr, &dt),
+                    Mode::Fast => atan2_fast_lanes(&cr, &dt),
                     Mode::Lean => dt,
                 };
                 let groove = self.groove;
@@ -552,28 +696,55 @@ impl Cam {
         out: &mut [f64],
         n_threads: Option<i64>,
     ) -> Result<(), CamError> {
+        self.solve_flags_into(theta, out, &mut [], n_threads)
+    }
+
+    /// [`Cam::solve_into`], and the undercut column as booleans into
+    /// `undercut` (`theta.len()` of them, or empty for none): written while the
+    /// row is in registers, where a later pass over the column would read the
+    /// whole (N, 14) block again (in Python, `rows[:, 13] != 0`: a third of
+    /// the kernel's time for 1e6 angles).
+    pub fn solve_flags_into(
+        &self,
+        theta: &[f64],
+        out: &mut [f64],
+        undercut: &mut [bool],
+        n_threads: Option<i64>,
+    ) -> Result<(), CamError> {
         debug_assert_eq!(out.len(), theta.len() * N_COLUMNS);
+        debug_assert!(undercut.is_empty() || undercut.len() == theta.len());
         let pool = pool(resolve_threads(n_threads)?)?;
+        let fast = fma_is_fast();
         // The finite check runs inside each chunk's pass (one read of θ); a
         // chunk with a bad angle is left unwritten and reported below.
+        let chunk = |rows: &mut [f64], ts: &[f64], flags: &mut [bool]| {
+            if crate::cancel::requested() {
+                return true;
+            }
+            let ok = ts.iter().fold(true, |ok, t| ok & t.is_finite());
+            if ok {
+                pulp::Arch::new().dispatch(Rows {
+                    cam: self,
+                    theta: ts,
+                    out: rows,
+                    fast,
+                    flags,
+                });
+            }
+            ok
+        };
         let finite = pool.install(|| {
-            out.par_chunks_mut(CHUNK * N_COLUMNS)
-                .zip(theta.par_chunks(CHUNK))
-                .map(|(rows, ts)| {
-                    if crate::cancel::requested() {
-                        return true;
-                    }
-                    let ok = ts.iter().fold(true, |ok, t| ok & t.is_finite());
-                    if ok {
-                        pulp::Arch::new().dispatch(Rows {
-                            cam: self,
-                            theta: ts,
-                            out: rows,
-                        });
-                    }
-                    ok
-                })
-                .reduce(|| true, |a, b| a & b)
+            let rows = out
+                .par_chunks_mut(CHUNK * N_COLUMNS)
+                .zip(theta.par_chunks(CHUNK));
+            if undercut.is_empty() {
+                rows.map(|(r, ts)| chunk(r, ts, &mut []))
+                    .reduce(|| true, |a, b| a & b)
+            } else {
+                rows.zip(undercut.par_chunks_mut(CHUNK))
+                    .map(|((r, ts), f)| chunk(r, ts, f))
+                    .reduce(|| true, |a, b| a & b)
+            }
         });
         if !finite {
             if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {

@@ -98,6 +98,10 @@ struct Seg {
     /// Signed stroke: + for a rise, − for a return, 0 for a dwell.
     h: f64,
     law: Option<Law>,
+    /// 1/angle and h/angle^n for n = 1, 2, 3: [`Program::eval_lanes_fast`]
+    /// multiplies where [`Program::eval`] divides.
+    inv_angle: f64,
+    h_per: [f64; 3],
 }
 
 /// A validated cam program: s(θ) and its derivatives over one turn.
@@ -152,12 +156,15 @@ impl Program {
                     (sign * sp.stroke, Some(law))
                 }
             };
+            let b = sp.angle;
             segs.push(Seg {
                 start,
-                angle: sp.angle,
+                angle: b,
                 s0,
                 h,
                 law,
+                inv_angle: 1.0 / b,
+                h_per: [h / b, h / (b * b), h / (b * b * b)],
             });
             // A program's segment may overshoot its ends (moving ends): its
             // law's own range; a named rise stays within them.
@@ -274,6 +281,55 @@ impl Program {
                     out[1][l] = g.h * z1[l] / b;
                     out[2][l] = g.h * z2[l] / (b * b);
                     out[3][l] = g.h * z3[l] / (b * b * b);
+                }
+                out
+            }
+        }
+    }
+
+    /// [`Program::eval_lanes`] for a kernel compiled with FMA (see
+    /// [`Law::z_all_lanes_shared`]): the law's sinusoid once for the four
+    /// orders, fused multiply-adds, and each division by the segment's angle
+    /// a multiplication by a reciprocal taken once. Within 1e-13 of each
+    /// order's scale of [`Program::eval`] (tested), not bit for bit.
+    #[inline(always)]
+    pub(super) fn eval_lanes_fast<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+        let segs = &self.segs;
+        let mut k = 0;
+        while k + 1 < segs.len() && segs[k + 1].start <= theta[0] {
+            k += 1;
+        }
+        let g = &segs[k];
+        let hi = segs.get(k + 1).map_or(TAU, |n| n.start.min(TAU));
+        // One mask test across the lanes (NaN fails the comparisons: one by one).
+        let one_segment = theta
+            .iter()
+            .fold(true, |ok, &v| ok & (v >= 0.0) & (v >= g.start) & (v < hi));
+        if !one_segment {
+            let mut out = [[0.0; L]; 4];
+            for (l, &v) in theta.iter().enumerate() {
+                let e = self.eval(v);
+                for o in 0..4 {
+                    out[o][l] = e[o];
+                }
+            }
+            return out;
+        }
+        match &g.law {
+            None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
+            Some(law) => {
+                let mut x = [0.0; L];
+                for l in 0..L {
+                    x[l] = ((theta[l] - g.start) * g.inv_angle).clamp(0.0, 1.0);
+                }
+                let [z0, z1, z2, z3] = law.z_all_lanes_shared(&x);
+                let [d1, d2, d3] = g.h_per;
+                let mut out = [[0.0; L]; 4];
+                for l in 0..L {
+                    out[0][l] = g.h.mul_add(z0[l], g.s0);
+                    out[1][l] = d1 * z1[l];
+                    out[2][l] = d2 * z2[l];
+                    out[3][l] = d3 * z3[l];
                 }
                 out
             }

@@ -430,6 +430,96 @@ impl Law {
         out
     }
 
+    /// [Z, Z′, Z″, Z‴] for `L` values x in [0, 1] (as [`Law::z_all_lanes`]),
+    /// with the piece's sinusoid taken once for the four orders and fused
+    /// multiply-adds: sin(ωt + φ + nπ/2) is sin, cos, −sin, −cos of ωt + φ, from
+    /// one [`sin_cos_fma_lanes`](crate::geom) (where `z_all_lanes` takes four
+    /// sines of four rounded phases), and each Horner step is one `mul_add`.
+    /// Within 1e-13 of each order's scale of `z_all` (tested; where a piece's
+    /// polynomial and sinusoid cancel, both forms round at their terms' size),
+    /// not bit for bit;
+    /// for callers compiled with FMA (a kernel dispatched by `pulp` to AVX2 or
+    /// AVX-512: elsewhere `mul_add` is a libm call). Values in one piece run
+    /// across lanes without branches; otherwise each value goes alone through
+    /// `z_all`.
+    ///
+    /// ```
+    /// # use cyclomech_core::motion::Law;
+    /// let law = Law::rise("cycloidal").unwrap();
+    /// let x = [0.1, 0.2, 0.5, 0.95];
+    /// let z = law.z_all_lanes_shared(&x);
+    /// for (l, &v) in x.iter().enumerate() {
+    ///     for (o, want) in law.z_all(v).into_iter().enumerate() {
+    ///         assert!((z[o][l] - want).abs() <= 1e-13 * (1.0 + want.abs()));
+    ///     }
+    /// }
+    /// ```
+    #[inline(always)]
+    pub fn z_all_lanes_shared<const L: usize>(&self, x: &[f64; L]) -> [[f64; L]; 4] {
+        let s = &self.fast;
+        let mut k = 0;
+        while k + 1 < s.len() && x[0] > s[k].x1 {
+            k += 1;
+        }
+        let f = &s[k];
+        // As in z_all_lanes: v is in piece k iff x1(k − 1) < v ≤ x1(k) (open
+        // ends for the first and last pieces).
+        let lo = if k == 0 {
+            f64::NEG_INFINITY
+        } else {
+            s[k - 1].x1
+        };
+        let hi = if k + 1 == s.len() {
+            f64::INFINITY
+        } else {
+            f.x1
+        };
+        // (NaN fails the comparisons.) Within [−1, 2], |t| ≤ 3 (a piece lies in
+        // [0, 1]), so the branch-free sine's argument stays within 1e6.
+        let one_piece = x.iter().fold(true, |ok, &v| {
+            ok & (v > lo) & (v <= hi) & (-1.0..=2.0).contains(&v)
+        });
+        let wave = f.amp.iter().any(|&a| a != 0.0);
+        let sine_ok = !wave || 3.0 * f.freq.abs() + f.phase[0].abs() <= 1e6;
+        if !(one_piece && sine_ok) {
+            let mut out = [[0.0; L]; 4];
+            for (l, &v) in x.iter().enumerate() {
+                let z = self.z_all(v);
+                for o in 0..4 {
+                    out[o][l] = z[o];
+                }
+            }
+            return out;
+        }
+        let mut t = [0.0; L];
+        for l in 0..L {
+            t[l] = x[l] - f.x0;
+        }
+        let mut out = [[0.0f64; L]; 4];
+        for (order, p) in out.iter_mut().enumerate() {
+            for &ck in f.poly[order].iter().rev() {
+                for l in 0..L {
+                    p[l] = p[l].mul_add(t[l], ck);
+                }
+            }
+        }
+        if wave {
+            let mut arg = [0.0; L];
+            for l in 0..L {
+                arg[l] = f.freq.mul_add(t[l], f.phase[0]);
+            }
+            let (sn, cs) = crate::geom::sin_cos_fma_lanes(&arg);
+            let [a0, a1, a2, a3] = f.amp;
+            for l in 0..L {
+                out[0][l] = a0.mul_add(sn[l], out[0][l]);
+                out[1][l] = a1.mul_add(cs[l], out[1][l]);
+                out[2][l] = (-a2).mul_add(sn[l], out[2][l]);
+                out[3][l] = (-a3).mul_add(cs[l], out[3][l]);
+            }
+        }
+        out
+    }
+
     /// (min Z, max Z) over [0, 1].
     pub fn z_range(&self) -> (f64, f64) {
         (self.peak_signed(0, -1.0).1, self.peak_signed(0, 1.0).1)

@@ -398,6 +398,71 @@ fn lanes_of_all_orders_are_z_all_bit_for_bit() {
     }
 }
 
+/// z_all_lanes_shared against z_all: at most this much of each order's scale
+/// (its largest |value|) apart. A piece adds a polynomial and a sinusoid that
+/// partly cancel (the modified laws), so both round at the size of their terms,
+/// up to ~50 ε of the sum's scale (measured); the cam kernel's outputs must stay
+/// within 1e-12 of their scales.
+const SHARED_TOL: f64 = 1e-13;
+
+#[test]
+fn shared_sinusoid_lanes_are_z_all_within_a_tolerance_of_scale() {
+    // z_all_lanes_shared (the cam kernel's: one sine and cosine for the four
+    // orders, FMA) against the pointwise z_all, for every law, on groups inside
+    // one piece and straddling piece ends: within SHARED_TOL of each order's
+    // scale (its largest |value| on the grid).
+    let laws: Vec<Law> = NAMES
+        .iter()
+        .flat_map(|n| [Law::rise(n).unwrap(), Law::half(n).unwrap()])
+        .chain([Law::polynomial(&[0.0, 0.0, 1.5, -0.5], false).unwrap()])
+        .collect();
+    let x: Vec<f64> = (0..=8001).map(|i| i as f64 / 8001.0).collect();
+    for law in &laws {
+        let want: Vec<[f64; 4]> = x.iter().map(|&v| law.z_all(v)).collect();
+        let scale: [f64; 4] = std::array::from_fn(|o| {
+            want.iter()
+                .fold(f64::MIN_POSITIVE, |m, w| m.max(w[o].abs()))
+        });
+        for start in 0..8 {
+            for (i, g) in x[start..].chunks_exact(8).enumerate() {
+                let g: [f64; 8] = g.try_into().unwrap();
+                let z = law.z_all_lanes_shared(&g);
+                for (l, &v) in g.iter().enumerate() {
+                    let w = want[start + 8 * i + l];
+                    for o in 0..4 {
+                        let gap = (z[o][l] - w[o]).abs() / scale[o];
+                        assert!(gap <= SHARED_TOL, "x = {v}, order {o}: {gap} of the scale");
+                    }
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    #[test]
+    fn shared_sinusoid_lanes_anywhere_in_the_unit_interval(
+        x in prop::array::uniform8(0.0f64..=1.0), k in 0usize..6, half in any::<bool>(),
+    ) {
+        // Unsorted x (one by one where they straddle a piece end), against the
+        // law's published peak velocity and acceleration as scales of orders 1, 2.
+        let law = if half { Law::half(NAMES[k]) } else { Law::rise(NAMES[k]) }.unwrap();
+        let z = law.z_all_lanes_shared(&x);
+        for (l, &v) in x.iter().enumerate() {
+            let w = law.z_all(v);
+            let scale = [1.0, law.dz_max, law.ddz_max, 1.0];
+            for o in 0..3 {
+                prop_assert!(
+                    (z[o][l] - w[o]).abs() <= SHARED_TOL * scale[o],
+                    "x = {}, order {}: {} vs {}", v, o, z[o][l], w[o]
+                );
+            }
+            // The jerk's scale is not published: relative to 1 + |jerk|.
+            prop_assert!((z[3][l] - w[3]).abs() <= 1e-12 * (1.0 + w[3].abs()));
+        }
+    }
+}
+
 /// Timing of the two-period law on the benchmark's 1e6 angles, one thread
 /// (ignored: `cargo test --release -p cyclomech-core two_period_timing --
 /// --ignored --nocapture`).

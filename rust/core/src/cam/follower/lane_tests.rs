@@ -102,6 +102,8 @@ fn every_instruction_set_gives_the_rows_of_row_at() {
                     cam: &cam,
                     theta: &theta,
                     out: &mut out,
+                    fast: false,
+                    flags: &mut [],
                 },
             );
             out
@@ -124,6 +126,144 @@ fn every_instruction_set_gives_the_rows_of_row_at() {
                     );
                 }
             }
+        }
+    }
+}
+
+/// The angles of the lane tests: sorted over a turn (groups in one segment),
+/// a group across every segment end, unsorted and out-of-turn angles, and a
+/// tail shorter than a group.
+fn test_angles() -> Vec<f64> {
+    let mut theta: Vec<f64> = (0..4003).map(|i| i as f64 * TAU / 4003.0).collect();
+    for d in [0.0, 100.0, 150.0, 280.0, 360.0] {
+        let e = f64::to_radians(d);
+        theta.extend([e.next_down(), e, e.next_up(), e, e, e, e, e]);
+    }
+    theta.extend((0..41).map(|i| (i as f64 * 7.3).sin() * 40.0));
+    theta.extend([2e6, -3e7, 1e6]);
+    theta
+}
+
+/// The rows of `theta` through [`Rows`] on every instruction set, in
+/// [`Mode::Fast`] (`fast`) or [`Mode::Lanes`].
+fn rows_on_each_isa(cam: &Cam, theta: &[f64], fast: bool) -> Vec<(&'static str, Vec<f64>)> {
+    use pulp::Simd;
+    on_each_isa!(|simd| {
+        let mut out = vec![0.0; theta.len() * N_COLUMNS];
+        Simd::vectorize(
+            simd,
+            Rows {
+                cam,
+                theta,
+                out: &mut out,
+                fast,
+                flags: &mut [],
+            },
+        );
+        out
+    })
+}
+
+/// Largest allowed gap of [`Mode::Fast`] from `row_at`, in units of each
+/// column's scale (its largest |value| over the test's angles); curvature for
+/// the radii (they pass through infinity at an inflection of the pitch curve).
+const FAST_TOL: f64 = 1e-13;
+
+/// Checks the fast rows of `theta` against `row` (the platform path, the values
+/// before issue 37's round 2) and their bits alike on every instruction set.
+fn check_fast_rows(cam: &Cam, theta: &[f64]) -> Result<(), String> {
+    let runs = rows_on_each_isa(cam, theta, true);
+    let (_, first) = &runs[0];
+    for (isa, out) in &runs {
+        if let Some(i) = (0..out.len()).find(|&i| !same(out[i], first[i])) {
+            return Err(format!(
+                "{isa} differs from scalar at θ = {}",
+                theta[i / N_COLUMNS]
+            ));
+        }
+    }
+    let rows: Vec<[f64; N_COLUMNS]> = theta
+        .iter()
+        .map(|&t| {
+            let mut r = [0.0; N_COLUMNS];
+            cam.row(t, &mut r);
+            r
+        })
+        .collect();
+    // Scales: |value| for the plain columns, curvature 1/ρ for the radii.
+    let curv = |c: usize, v: f64| if c == 11 || c == 12 { 1.0 / v } else { v };
+    let mut scale = [f64::MIN_POSITIVE; N_COLUMNS];
+    for r in &rows {
+        for c in 0..N_COLUMNS {
+            let v = curv(c, r[c]);
+            if v.is_finite() {
+                scale[c] = scale[c].max(v.abs());
+            }
+        }
+    }
+    for (i, r) in rows.iter().enumerate() {
+        for c in 0..N_COLUMNS {
+            let (got, want) = (first[i * N_COLUMNS + c], r[c]);
+            let (g, w) = (curv(c, got), curv(c, want));
+            let close = same(g, w) || (g - w).abs() <= FAST_TOL * scale[c];
+            // The undercut flag may flip only where its criterion is at its
+            // threshold: ρ_pitch = r (profile radius 0) or an inflection.
+            let edge = COLUMNS[c] == "undercut"
+                && ((r[12] / r[11]).abs() <= 1e-9 || (1.0 / r[11]).abs() <= 1e-9 * scale[11]);
+            if !(close || edge) {
+                return Err(format!(
+                    "θ = {}, {}: {got} vs {want} ({} of the scale {})",
+                    theta[i],
+                    COLUMNS[c],
+                    (g - w).abs() / scale[c],
+                    scale[c]
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn fast_rows_are_row_at_within_a_tolerance_of_scale_on_every_instruction_set() {
+    let theta = test_angles();
+    for cam in cams() {
+        check_fast_rows(&cam, &theta).unwrap();
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    #[test]
+    fn fast_rows_anywhere(
+        start in 0.0f64..TAU, step in 1e-6f64..0.05, n in 1usize..40, shuffle in any::<bool>(),
+        which in 0usize..12,
+    ) {
+        // Runs of evenly spaced angles from anywhere (the lane path where a
+        // group stays in a segment), or the same angles reversed.
+        let mut theta: Vec<f64> = (0..n).map(|i| start + i as f64 * step).collect();
+        if shuffle {
+            theta.reverse();
+        }
+        let cam = cams().swap_remove(which);
+        prop_assert!(check_fast_rows(&cam, &theta).is_ok(), "{:?}", check_fast_rows(&cam, &theta));
+    }
+}
+
+#[test]
+fn the_flags_are_the_undercut_column() {
+    // Cams with and without undercut, a length that leaves a tail, two threads.
+    let theta: Vec<f64> = (0..3 * CHUNK + 5).map(|i| i as f64 * 1e-3).collect();
+    for cam in cams() {
+        let mut out = vec![0.0; theta.len() * N_COLUMNS];
+        let mut flags = vec![false; theta.len()];
+        cam.solve_flags_into(&theta, &mut out, &mut flags, Some(2))
+            .unwrap();
+        let mut plain = vec![0.0; theta.len() * N_COLUMNS];
+        cam.solve_into(&theta, &mut plain, Some(1)).unwrap();
+        assert!(out.iter().zip(&plain).all(|(a, b)| same(*a, *b)));
+        for (i, &f) in flags.iter().enumerate() {
+            assert_eq!(f, out[i * N_COLUMNS + 13] != 0.0, "θ = {}", theta[i]);
         }
     }
 }
@@ -155,6 +295,56 @@ proptest! {
             prop_assert!(ulps(a, b) <= 2.0, "atan2({yy}, {xx}) = {a} vs {b}");
         }
     }
+}
+
+proptest! {
+    #[test]
+    fn fast_atan2_matches_the_platform(y in -1e3f64..1e3, x in -1e3f64..1e3, e in -300i32..300) {
+        for (yy, xx) in [(y, x), (y * 2f64.powi(e), x), (y, x * 2f64.powi(e)), (x, y)] {
+            let (a, b) = (super::atan2_fast_lanes(&[yy], &[xx])[0], yy.atan2(xx));
+            prop_assert!(ulps(a, b) <= 2.0, "atan2({yy}, {xx}) = {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn fast_atan2_at_its_reduction_edges_and_special_values() {
+    let t8 = std::f64::consts::SQRT_2 - 1.0;
+    for a in [t8, 1.0, 0.5, 2.0, 1e-300, 1e300, 1e-10, 1e10] {
+        for t in [a.next_down(), a, a.next_up()] {
+            for (y, x) in [
+                (t, 1.0),
+                (-t, 1.0),
+                (t, -1.0),
+                (-t, -1.0),
+                (1.0, t),
+                (-1.0, -t),
+            ] {
+                let (a, b) = (super::atan2_fast_lanes(&[y], &[x])[0], y.atan2(x));
+                assert!(ulps(a, b) <= 2.0, "atan2({y}, {x}) = {a} vs {b}");
+            }
+        }
+    }
+    let inf = f64::INFINITY;
+    for (y, x) in [
+        (0.0, 1.0),
+        (-0.0, -1.0),
+        (0.0, -1.0),
+        (1.0, 0.0),
+        (-1.0, -0.0),
+        (0.0, 0.0),
+        (inf, 1.0),
+        (1.0, -inf),
+        (1e308, 1e308),
+    ] {
+        assert_eq!(
+            super::atan2_fast_lanes(&[y], &[x])[0].to_bits(),
+            y.atan2(x).to_bits(),
+            "atan2({y}, {x})"
+        );
+    }
+    assert!(super::atan2_fast_lanes(&[f64::NAN], &[1.0])[0].is_nan());
+    assert!(super::atan2_fast_lanes(&[1.0], &[f64::NAN])[0].is_nan());
 }
 
 #[test]
