@@ -553,16 +553,18 @@ fn skips_walk() -> bool {
 #[cfg(test)]
 thread_local! {
     /// Tests only: false leaves out [`Walk::rest_above`] (the first pass then
-    /// skips its way to TDC), to time the two and to check they agree.
-    pub(super) static REST_CHECK: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+    /// skips its way to TDC) and [`Walk::skip_below`] (main's walk), to time
+    /// the two.
+    pub(super) static SHORTCUTS: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
 }
 
 /// Whether the walk's first pass ends once the rest of the way to TDC is
-/// known to be far above S_p.
+/// known to be far above S_p, and passes over the approach from BDC to S_p
+/// where nothing can happen.
 #[inline]
-fn checks_rest() -> bool {
+fn shortcuts() -> bool {
     #[cfg(test)]
-    return REST_CHECK.with(|c| c.get());
+    return SHORTCUTS.with(|c| c.get());
     #[cfg(not(test))]
     true
 }
@@ -684,6 +686,40 @@ impl Walk {
         } else {
             above(&p.ys[..=j]) && above(&p.ys[self.m - (n - j - 1)..self.m])
         }
+    }
+
+    /// Passes over at most `limit` samples ahead while each has S < `s_p` and
+    /// y' ≤ 0 (and TDC does not come first): how many, the highest S among
+    /// them and the last one as a point (None if none), as
+    /// [`skip_above`](Self::skip_above).
+    #[inline]
+    fn skip_below(
+        &mut self,
+        p: &WalkPoints<'_>,
+        s_p: f64,
+        limit: usize,
+    ) -> (usize, f64, Option<WalkPoint>) {
+        let (mut k, mut high, mut last) = (0, f64::NEG_INFINITY, None);
+        while k < limit && !(self.top_pending && self.th_top >= self.theta_j) {
+            let j = self.j;
+            let s = p.ys[j] - p.y_b;
+            // (False for NaN too.)
+            if !(s < s_p && p.dys[j] <= 0.0) {
+                break;
+            }
+            high = if s > high { s } else { high };
+            last = Some((j, self.theta_j));
+            self.j = if j == 0 { self.m - 1 } else { j - 1 };
+            self.theta_j -= self.h;
+            k += 1;
+        }
+        let last = last.map(|(j, th)| WalkPoint {
+            th,
+            s: p.ys[j] - p.y_b,
+            dy: p.dys[j],
+            g: -p.ddys[j],
+        });
+        (k, high, last)
     }
 
     /// Passes over at most `limit` samples ahead while each has S ≥ `far` (and
@@ -899,8 +935,21 @@ pub(super) fn criteria_with(
         let mut step = 0;
         // Whether the rest of the walk has been checked with [`Walk::rest_above`]
         // (once: it fails only where the slider dips again before TDC).
-        let mut rest_checked = !checks_rest();
+        let mut rest_checked = !shortcuts();
+        let below = skips_walk() && shortcuts();
         while step <= m + 1 {
+            if below && nx.s < s_p {
+                // Points below S_p where the slider descends (y' ≤ 0) are
+                // neither a crossing nor a peak: passed over, keeping only
+                // the highest S.
+                let (k, high, last) = w.skip_below(&pts, s_p, m + 2 - step);
+                if let Some(last) = last {
+                    s_max = s_max.max(high);
+                    nx = last;
+                    step += k;
+                    continue;
+                }
+            }
             if nx.s >= far {
                 if !rest_checked {
                     rest_checked = true;

@@ -343,7 +343,7 @@ fn press_sweep_timing() {
     let mut sums = [0u64; 2];
     for _ in 0..5 {
         for (k, fast) in [true, false].into_iter().enumerate() {
-            REST_CHECK.with(|c| c.set(fast));
+            SHORTCUTS.with(|c| c.set(fast));
             let (t, c) = (std::time::Instant::now(), cpu());
             super::sweep::sweep_into(&grid, &spec, Some(1), &mut rows, &mut status).unwrap();
             best[k][0] = best[k][0].min(t.elapsed().as_secs_f64());
@@ -360,7 +360,7 @@ fn press_sweep_timing() {
                 .fold(0u64, |a, x| a.rotate_left(5) ^ x.to_bits());
         }
     }
-    REST_CHECK.with(|c| c.set(true));
+    SHORTCUTS.with(|c| c.set(true));
     for (k, name) in ["shortcuts", "reference walk"].into_iter().enumerate() {
         println!(
             "press sweep 100x100x20, {name}: best {:.3} us/design (CPU {:.3}), checksum {:016x}",
