@@ -239,9 +239,23 @@ fn statuses_are_indexed_by_code_with_distinct_texts() {
 /// Criteria rows and status of `design`, with the walk's first pass skipping the
 /// stretches far above S_p or going point by point.
 fn criteria_walked(design: &Design, spec: &Spec, skip: bool) -> (Vec<u64>, Status) {
+    criteria_shortcut(design, spec, skip, true)
+}
+
+/// [`criteria_walked`], with the walk's shortcuts of issue 37 (the early end
+/// at TDC and the pass over the approach to S_p, [`SHORTCUTS`]) or without
+/// (main's skipping walk before them).
+fn criteria_shortcut(
+    design: &Design,
+    spec: &Spec,
+    skip: bool,
+    shortcuts: bool,
+) -> (Vec<u64>, Status) {
     SKIP_WALK.with(|c| c.set(skip));
+    SHORTCUTS.with(|c| c.set(shortcuts));
     let r = criteria(design, spec);
     SKIP_WALK.with(|c| c.set(true));
+    SHORTCUTS.with(|c| c.set(true));
     let (row, status) = r.unwrap();
     (row.iter().map(|x| x.to_bits()).collect(), status)
 }
@@ -272,7 +286,11 @@ proptest! {
         let spec = Spec { stroke, omega: 3.0, samples };
         let skipped = criteria_walked(&design, &spec, true);
         let visited = criteria_walked(&design, &spec, false);
-        prop_assert_eq!(skipped, visited);
+        // Without the shortcuts (the early end once the rest up to TDC is far
+        // above S_p, the pass over the approach from BDC to S_p).
+        let long_way = criteria_shortcut(&design, &spec, true, false);
+        prop_assert_eq!(&skipped, &visited);
+        prop_assert_eq!(&skipped, &long_way);
     }
 }
 
@@ -287,10 +305,16 @@ fn skipping_keeps_the_dip_and_back_off() {
     };
     for (d, l) in [(0.028, 0.46), (0.029, 0.25), (0.0, 0.3), (0.059, 0.5)] {
         let design = press(d, l, 56f64.to_radians());
+        let skipped = criteria_walked(&design, &spec, true);
         assert_eq!(
-            criteria_walked(&design, &spec, true),
+            skipped,
             criteria_walked(&design, &spec, false),
             "d = {d}, L = {l}"
+        );
+        assert_eq!(
+            skipped,
+            criteria_shortcut(&design, &spec, true, false),
+            "d = {d}, L = {l}, without the shortcuts"
         );
     }
     let (_, status) = criteria_walked(&press(0.028, 0.46, 56f64.to_radians()), &spec, true);
