@@ -669,7 +669,7 @@ impl Walk {
             return false;
         }
         let ahead = (self.theta_j - self.th_top) / self.h;
-        if !(ahead < self.m as f64) {
+        if ahead.is_nan() || ahead >= self.m as f64 {
             return false;
         }
         let n = if ahead < 0.0 {
