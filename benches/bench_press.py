@@ -34,7 +34,9 @@ and every working-stroke criterion depends on the pick; :func:`bdc_ties` checks
 that they are such ties, and only S_n and J_max are compared for them (4 designs of
 the check grid, none of the default grid, 614 of the full grid). cyclomech samples
 each pin path (everything that does not depend on L) once per (d, φ0) and reuses
-it for every L; the numpy reference does not exploit the grid's structure.
+it for every L; so does :func:`numpy_sweep_pinned`, numpy at its best here (issue
+37, round 2: about twice as fast as the plain broadcast :func:`numpy_sweep`, the
+same bits), which the ratio table compares against, next to the plain one.
 The two-period law and ``solve`` agree with cyclomech to 1e-12 m (checked).
 
 Issue 37's row (:func:`ratio_table`): the 100 × 100 × 20 grid, one thread, interleaved
@@ -139,8 +141,6 @@ def _numpy_criteria_chunk(
 ) -> None:
     """Criteria of a chunk of designs (written into ``out``'s rows), on the grid."""
     ct, st, cbk, sbk = table
-    m = ct.size
-    h = 2 * np.pi / m
     i = round(R / r)
     beta0 = i * (phi0 - np.pi / 2)
     c0, s0 = np.cos(beta0)[:, None], np.sin(beta0)[:, None]
@@ -148,7 +148,13 @@ def _numpy_criteria_chunk(
     cb = cbk * c0 - sbk * s0
     sb = sbk * c0 + cbk * s0
     *_, w2, y, dy, ddy = numpy_kinematics(ct, st, cb, sb, d[:, None], length[:, None])
-    n = len(d)
+    _numpy_criteria_rows(w2, y, dy, ddy, out)
+
+
+def _numpy_criteria_rows(w2: Array, y: Array, dy: Array, ddy: Array, out: dict[str, Array]) -> None:
+    """Criteria from the sampled kinematics (designs, angles), into ``out``'s rows."""
+    n, m = y.shape
+    h = 2 * np.pi / m
     rows = np.arange(n)
     reach = (w2 > 0).all(axis=1)
     # BDC: the lowest sample; S_n from the sample extremes.
@@ -201,6 +207,52 @@ def _numpy_criteria_chunk(
 def _flat_designs(axes: tuple[Array, Array, Array]) -> tuple[Array, Array, Array]:
     d, length, phi0 = (g.ravel() for g in np.meshgrid(*axes, indexing="ij"))
     return d, length, phi0
+
+
+def numpy_sweep_pinned(
+    axes: tuple[Array, Array, Array], samples: int = SAMPLES, chunk: int = CHUNK
+) -> dict[str, Array]:
+    """:func:`numpy_sweep` exploiting the grid's structure as cyclomech does: the pin
+    path's rows that do not depend on the rod length (u², u·P_x', P_x'² + u·P_x'',
+    P_y, P_y', P_y'') computed once per (d, φ0) and broadcast over L, so that each
+    (design, angle) costs the rod's few operations (√, two divisions, five adds and
+    multiplies) instead of the whole kinematics. The same values bit for bit as
+    :func:`numpy_sweep` (the same operations in the same order); chunks of whole d
+    values, about ``chunk`` designs each."""
+    d_ax, l_ax, phi_ax = axes
+    nd, nl, nphi = d_ax.size, l_ax.size, phi_ax.size
+    th = 2 * np.pi * np.arange(samples) / samples
+    a, k = R - r, R / r - 1.0
+    ct, st, cbk, sbk = np.cos(th), np.sin(th), np.cos(-k * th), np.sin(-k * th)
+    beta0 = round(R / r) * (phi_ax - np.pi / 2)
+    c0, s0 = np.cos(beta0)[:, None], np.sin(beta0)[:, None]
+    cb = cbk * c0 - sbk * s0  # (φ0, angles)
+    sb = sbk * c0 + cbk * s0
+    cx, cy = a * ct, a * st
+    length = l_ax[None, :, None, None]
+    n = nd * nl * nphi
+    out = {name: np.empty(n) for name in cm.press.CRITERIA}
+    out["status"] = np.empty(n, dtype=np.uint8)
+    step = max(1, chunk // (nl * nphi))
+    for start in range(0, nd, step):
+        dd = d_ax[start : start + step, None, None]  # (d, 1, 1)
+        dcb, dsb = dd * cb, dd * sb  # (d, φ0, angles)
+        u = cx + dcb  # P_x − offset, offset 0
+        px1, py1 = k * dsb - cy, cx - k * dcb
+        px2, py2 = -cx - (k * k) * dcb, -cy - (k * k) * dsb
+        u2, upx1, hh, py = u * u, u * px1, px1 * px1 + u * px2, cy + dsb
+        pin = [v[:, None] for v in (u2, upx1, hh, py, py1, py2)]  # (d, 1, φ0, angles)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            w2 = length * length - pin[0]
+            w = np.sqrt(w2)
+            g = pin[1] / w
+            y = pin[3] - w
+            dy = pin[4] + g
+            ddy = pin[5] + (pin[2] + g * g) / w
+        lo, hi = start * nl * nphi, min(start + step, nd) * nl * nphi
+        part = {name: col[lo:hi] for name, col in out.items()}
+        _numpy_criteria_rows(*(v.reshape(hi - lo, samples) for v in (w2, y, dy, ddy)), part)
+    return out
 
 
 def numpy_sweep(
@@ -339,6 +391,11 @@ def test_numpy_sweep_agrees() -> None:
     sw = cm_sweep(axes, n_threads=1)
     assert sw.ok.sum() > 0.9 * sw.ok.size  # the check is not vacuous
     check_sweep(ref, sw, axes)
+    # The pin-path formulation: the same operations, so the same bits; chunks of
+    # 4 d values (240 designs), the last one partial.
+    pinned = numpy_sweep_pinned(axes, chunk=4 * CHECK_GRID[1] * CHECK_GRID[2])
+    for name, col in ref.items():
+        assert_array_equal(pinned[name], col, err_msg=name)
 
 
 # --- press.design_grid benchmarks -----------------------------------------------------------
@@ -387,6 +444,13 @@ def test_sweep_numpy(benchmark, grid) -> None:
     check_sweep(ref, cm_sweep(grid, None), grid)
 
 
+@pytest.mark.benchmark(group=GROUP_SWEEP)
+def test_sweep_numpy_pinned(benchmark, grid) -> None:
+    _label(benchmark, "numpy", "pin path once per (d, phi0), broadcast over L, on the grid")
+    ref = benchmark(numpy_sweep_pinned, grid)
+    check_sweep(ref, cm_sweep(grid, None), grid)
+
+
 @full_only
 @pytest.mark.benchmark(group=GROUP_SWEEP_FULL)
 @pytest.mark.parametrize("threads", [2, 1])
@@ -411,23 +475,35 @@ ISSUE37_GRID = (100, 100, 20)
 def ratio_table(rounds: int = 5, shape: tuple[int, int, int] = ISSUE37_GRID) -> None:
     """Issue 37's measurement: one thread (run under ``taskset -c 1``), interleaved
     rounds, both page states, the results checked against each other first
-    (:func:`check_sweep` on the timed grid). Prints µs per design and numpy /
-    cyclomech."""
+    (:func:`check_sweep` on the timed grid, and the two numpy formulations equal bit
+    for bit). Prints µs per design and numpy / cyclomech for both numpy peers: the
+    one that reuses each pin path across rod lengths (:func:`numpy_sweep_pinned`,
+    numpy at its best here) and the plain broadcast (:func:`numpy_sweep`, the
+    peer of the earlier rounds)."""
     axes = design_axes(shape)
-    check_sweep(numpy_sweep(axes), cm_sweep(axes, 1), axes)
+    ref = numpy_sweep_pinned(axes)
+    plain = numpy_sweep(axes)
+    for name, col in ref.items():
+        assert_array_equal(col, plain[name], err_msg=name)
+    check_sweep(ref, cm_sweep(axes, 1), axes)
     tools = {
         "cyclomech press.design_grid, n_threads=1": lambda: cm_sweep(axes, 1),
+        "numpy, pin path once per (d, phi0)": lambda: numpy_sweep_pinned(axes),
         f"numpy, broadcast in chunks of {CHUNK} designs": lambda: numpy_sweep(axes),
     }
     n = math.prod(shape)
     names = list(tools)
+    states = page_states(tools, rounds)
     print_states(
         f"press sweep {' x '.join(map(str, shape))} designs x {SAMPLES} angles",
-        page_states(tools, rounds),
+        states,
         n * 1e-6,
         "us/design",
         {names[0]: names[1]},
     )
+    for state, t in states.items():
+        (w, c), (wr, cr) = t[names[0]], t[names[2]]
+        print(f"  {state} pages: {names[2]} / {names[0]}: wall {wr / w:.3f}x  cpu {cr / c:.3f}x")
 
 
 def test_ratio_table(request: pytest.FixtureRequest) -> None:

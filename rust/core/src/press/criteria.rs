@@ -550,6 +550,25 @@ fn skips_walk() -> bool {
     true
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Tests only: false leaves out [`Walk::rest_above`] (the first pass then
+    /// skips its way to TDC) and [`Walk::skip_below`] (main's walk), to time
+    /// the two.
+    pub(super) static SHORTCUTS: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// Whether the walk's first pass ends once the rest of the way to TDC is
+/// known to be far above S_p, and passes over the approach from BDC to S_p
+/// where nothing can happen.
+#[inline]
+fn shortcuts() -> bool {
+    #[cfg(test)]
+    return SHORTCUTS.with(|c| c.get());
+    #[cfg(not(test))]
+    true
+}
+
 /// One point of the walk back from BDC: θ, S = y − y_B, y' and −y''.
 #[derive(Debug, Clone, Copy)]
 struct WalkPoint {
@@ -637,6 +656,70 @@ impl Walk {
         self.j = if j == 0 { self.m - 1 } else { j - 1 };
         self.theta_j -= self.h;
         Some(pt)
+    }
+
+    /// True if every sample the walk can still visit before TDC has S ≥ `far`:
+    /// checked on the samples up to two beyond the estimate of TDC's place (a
+    /// superset of those visited, as the walk's angles are the estimate's to
+    /// far better than a step), in two vectorised passes over the rows and
+    /// without the walk's dependent chain of angles. False if TDC is not
+    /// ahead, or any of those samples is below `far` (or NaN).
+    fn rest_above(&self, p: &WalkPoints<'_>, far: f64) -> bool {
+        if !self.top_pending {
+            return false;
+        }
+        let ahead = (self.theta_j - self.th_top) / self.h;
+        if ahead.is_nan() || ahead >= self.m as f64 {
+            return false;
+        }
+        let n = if ahead < 0.0 {
+            0
+        } else {
+            (ahead as usize + 2).min(self.m)
+        };
+        let y_b = p.y_b;
+        let above = |ys: &[f64]| ys.iter().fold(true, |a, &y| a & (y - y_b >= far));
+        // Samples j, j − 1, …, j − n + 1 on the turn.
+        let j = self.j;
+        if n <= j + 1 {
+            above(&p.ys[j + 1 - n..=j])
+        } else {
+            above(&p.ys[..=j]) && above(&p.ys[self.m - (n - j - 1)..self.m])
+        }
+    }
+
+    /// Passes over at most `limit` samples ahead while each has S < `s_p` and
+    /// y' ≤ 0 (and TDC does not come first): how many, the highest S among
+    /// them and the last one as a point (None if none), as
+    /// [`skip_above`](Self::skip_above).
+    #[inline]
+    fn skip_below(
+        &mut self,
+        p: &WalkPoints<'_>,
+        s_p: f64,
+        limit: usize,
+    ) -> (usize, f64, Option<WalkPoint>) {
+        let (mut k, mut high, mut last) = (0, f64::NEG_INFINITY, None);
+        while k < limit && !(self.top_pending && self.th_top >= self.theta_j) {
+            let j = self.j;
+            let s = p.ys[j] - p.y_b;
+            // (False for NaN too.)
+            if !(s < s_p && p.dys[j] <= 0.0) {
+                break;
+            }
+            high = if s > high { s } else { high };
+            last = Some((j, self.theta_j));
+            self.j = if j == 0 { self.m - 1 } else { j - 1 };
+            self.theta_j -= self.h;
+            k += 1;
+        }
+        let last = last.map(|(j, th)| WalkPoint {
+            th,
+            s: p.ys[j] - p.y_b,
+            dy: p.dys[j],
+            g: -p.ddys[j],
+        });
+        (k, high, last)
     }
 
     /// Passes over at most `limit` samples ahead while each has S ≥ `far` (and
@@ -850,8 +933,33 @@ pub(super) fn criteria_with(
             f64::INFINITY
         };
         let mut step = 0;
+        // Whether the rest of the walk has been checked with [`Walk::rest_above`]
+        // (once: it fails only where the slider dips again before TDC).
+        let mut rest_checked = !shortcuts();
+        let below = skips_walk() && shortcuts();
         while step <= m + 1 {
+            if below && nx.s < s_p {
+                // Points below S_p where the slider descends (y' ≤ 0) are
+                // neither a crossing nor a peak: passed over, keeping only
+                // the highest S.
+                let (k, high, last) = w.skip_below(&pts, s_p, m + 2 - step);
+                if let Some(last) = last {
+                    s_max = s_max.max(high);
+                    nx = last;
+                    step += k;
+                    continue;
+                }
+            }
             if nx.s >= far {
+                if !rest_checked {
+                    rest_checked = true;
+                    if w.rest_above(&pts, far) {
+                        // Nothing left to find: the walk would pass over every
+                        // sample up to TDC and end there (TDC itself is no
+                        // crossing, as the point before it is above S_p).
+                        break;
+                    }
+                }
                 let (k, high, last) = w.skip_above(&pts, far, m + 2 - step);
                 if let Some(last) = last {
                     s_max = s_max.max(high);

@@ -239,9 +239,23 @@ fn statuses_are_indexed_by_code_with_distinct_texts() {
 /// Criteria rows and status of `design`, with the walk's first pass skipping the
 /// stretches far above S_p or going point by point.
 fn criteria_walked(design: &Design, spec: &Spec, skip: bool) -> (Vec<u64>, Status) {
+    criteria_shortcut(design, spec, skip, true)
+}
+
+/// [`criteria_walked`], with the walk's shortcuts of issue 37 (the early end
+/// at TDC and the pass over the approach to S_p, [`SHORTCUTS`]) or without
+/// (main's skipping walk before them).
+fn criteria_shortcut(
+    design: &Design,
+    spec: &Spec,
+    skip: bool,
+    shortcuts: bool,
+) -> (Vec<u64>, Status) {
     SKIP_WALK.with(|c| c.set(skip));
+    SHORTCUTS.with(|c| c.set(shortcuts));
     let r = criteria(design, spec);
     SKIP_WALK.with(|c| c.set(true));
+    SHORTCUTS.with(|c| c.set(true));
     let (row, status) = r.unwrap();
     (row.iter().map(|x| x.to_bits()).collect(), status)
 }
@@ -272,7 +286,11 @@ proptest! {
         let spec = Spec { stroke, omega: 3.0, samples };
         let skipped = criteria_walked(&design, &spec, true);
         let visited = criteria_walked(&design, &spec, false);
-        prop_assert_eq!(skipped, visited);
+        // Without the shortcuts (the early end once the rest up to TDC is far
+        // above S_p, the pass over the approach from BDC to S_p).
+        let long_way = criteria_shortcut(&design, &spec, true, false);
+        prop_assert_eq!(&skipped, &visited);
+        prop_assert_eq!(&skipped, &long_way);
     }
 }
 
@@ -287,12 +305,92 @@ fn skipping_keeps_the_dip_and_back_off() {
     };
     for (d, l) in [(0.028, 0.46), (0.029, 0.25), (0.0, 0.3), (0.059, 0.5)] {
         let design = press(d, l, 56f64.to_radians());
+        let skipped = criteria_walked(&design, &spec, true);
         assert_eq!(
-            criteria_walked(&design, &spec, true),
+            skipped,
             criteria_walked(&design, &spec, false),
             "d = {d}, L = {l}"
+        );
+        assert_eq!(
+            skipped,
+            criteria_shortcut(&design, &spec, true, false),
+            "d = {d}, L = {l}, without the shortcuts"
         );
     }
     let (_, status) = criteria_walked(&press(0.028, 0.46, 56f64.to_radians()), &spec, true);
     assert_eq!(status, Status::ReContacts);
+}
+
+/// Time of the sweep over issue 37's 100 × 100 × 20 grid (d, L, φ0) on one
+/// thread, best of a few rounds, and a checksum of the rows' bits (to compare
+/// builds): `cargo test --release -p cyclomech-core press_sweep_timing --
+/// --ignored --nocapture`. Not a test of speed (no assertion on time).
+#[test]
+#[ignore]
+fn press_sweep_timing() {
+    let lin = |a: f64, b: f64, n: usize, end: bool| -> Vec<f64> {
+        let div = if end { (n - 1) as f64 } else { n as f64 };
+        (0..n).map(|i| a + (b - a) * i as f64 / div).collect()
+    };
+    let (d, l, phi0) = (
+        lin(0.0, 0.04, 100, true),
+        lin(0.3, 0.5, 100, true),
+        lin(0.0, 2.0 * PI / 3.0, 20, false),
+    );
+    let grid = super::sweep::Grid {
+        big_r: &[0.09],
+        r: &[0.03],
+        d: &d,
+        l: &l,
+        phi0: &phi0,
+        offset: 0.0,
+    };
+    let spec = Spec {
+        stroke: Stroke::Fraction(0.1),
+        omega: 4.0,
+        samples: 360,
+    };
+    let n = grid.len();
+    let mut rows = vec![0.0; n * CRITERIA.len()];
+    let mut status = vec![0u8; n];
+    // This thread's time on a CPU [s] (Linux; the wall clock elsewhere): on a
+    // shared machine the wall clock also counts the other processes' turns.
+    let cpu = || {
+        std::fs::read_to_string("/proc/thread-self/schedstat")
+            .ok()
+            .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+            .map(|ns| ns * 1e-9)
+    };
+    // Interleaved rounds with and without the walk's shortcuts (the reference
+    // path), best wall and CPU time of each, and a checksum of each's rows.
+    let mut best = [[f64::INFINITY; 2]; 2];
+    let mut sums = [0u64; 2];
+    for _ in 0..5 {
+        for (k, fast) in [true, false].into_iter().enumerate() {
+            SHORTCUTS.with(|c| c.set(fast));
+            let (t, c) = (std::time::Instant::now(), cpu());
+            super::sweep::sweep_into(&grid, &spec, Some(1), &mut rows, &mut status).unwrap();
+            best[k][0] = best[k][0].min(t.elapsed().as_secs_f64());
+            if let (Some(a), Some(b)) = (c, cpu()) {
+                best[k][1] = best[k][1].min(b - a);
+            }
+            sums[k] = rows
+                .iter()
+                .chain(
+                    status
+                        .iter()
+                        .map(|&s| &[0.0, 1.0, 2.0, 3.0, 4.0][s as usize]),
+                )
+                .fold(0u64, |a, x| a.rotate_left(5) ^ x.to_bits());
+        }
+    }
+    SHORTCUTS.with(|c| c.set(true));
+    for (k, name) in ["shortcuts", "reference walk"].into_iter().enumerate() {
+        println!(
+            "press sweep 100x100x20, {name}: best {:.3} us/design (CPU {:.3}), checksum {:016x}",
+            best[k][0] / n as f64 * 1e6,
+            best[k][1] / n as f64 * 1e6,
+            sums[k]
+        );
+    }
 }
