@@ -345,9 +345,9 @@ impl Pose<Lanes> {
                 }
             }
         }
-        // x − x is 0 where x is finite, NaN where not: a lane's sum is 0 where
+        // 0·x is ±0 where x is finite, NaN where not: a lane's sum is 0 where
         // all its inputs are finite ([`Row::finite`]).
-        let mut z = Lanes::splat(0.0);
+        let (zero, mut z) = (Lanes::splat(0.0), Lanes::splat(0.0));
         let pairs = self
             .xy
             .iter()
@@ -355,10 +355,11 @@ impl Pose<Lanes> {
             .chain(&self.acc)
             .chain(&self.force);
         for p in pairs {
-            z = z + (p[0] - p[0]) + (p[1] - p[1]);
+            z += p[0] * zero;
+            z += p[1] * zero;
         }
         for &t in &self.torques {
-            z = z + (t - t);
+            z += t * zero;
         }
         // As [`analog_ratio`], lane by lane.
         let big = |v: &[[Lanes; 2]]| {
@@ -821,10 +822,10 @@ fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; 
             }
             let (top, bottom) = m.split_at_mut(r * st);
             for (a, b) in top[c * st..(c + 1) * st].iter_mut().zip(&mut bottom[..st]) {
-                let (x, y) = (*a, *b);
-                for l in 0..LANES {
-                    a.0[l] = if swap[l] { y.0[l] } else { x.0[l] };
-                    b.0[l] = if swap[l] { x.0[l] } else { y.0[l] };
+                for ((x, y), &sw) in a.0.iter_mut().zip(b.0.iter_mut()).zip(&swap) {
+                    let (u, v) = (*x, *y);
+                    *x = if sw { v } else { u };
+                    *y = if sw { u } else { v };
                 }
             }
         }
