@@ -1,5 +1,7 @@
-//! The batched per-angle solve: one pose's system assembled densely, solved by
-//! its blocks in order, three right-hand sides at once, angles in parallel.
+//! The batched per-angle solve: each pose's system assembled straight into its
+//! blocks, solved by its blocks in order, three right-hand sides at once; 8
+//! angles at a time in SIMD lanes (each lane the one-angle path's operations,
+//! bit for bit), the rest one by one; tasks of angles in parallel.
 
 use rayon::prelude::*;
 
