@@ -42,9 +42,10 @@
 //! near a dead centre from the analogs (`Kinetostatics.near_dead_centre`).
 //!
 //! Files: this one (the model, its analysis and errors), `solve` (the batched
-//! per-angle solve) and `tests`.
+//! per-angle solve), `lanes` (8 angles at once in SIMD lanes) and `tests`.
 
 mod friction;
+mod lanes;
 mod solve;
 #[cfg(test)]
 mod tests;
