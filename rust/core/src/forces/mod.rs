@@ -42,9 +42,10 @@
 //! near a dead centre from the analogs (`Kinetostatics.near_dead_centre`).
 //!
 //! Files: this one (the model, its analysis and errors), `solve` (the batched
-//! per-angle solve) and `tests`.
+//! per-angle solve), `lanes` (8 angles at once in SIMD lanes) and `tests`.
 
 mod friction;
+mod lanes;
 mod solve;
 #[cfg(test)]
 mod tests;
@@ -303,47 +304,51 @@ impl Model {
 
     /// Emit the system at one pose into `sink`: matrix entries and the three
     /// right-hand sides (ω², ε, static), in the order of the module's equations.
-    fn assemble<S: Sink>(&self, pose: &solve::Pose, s: &mut S) {
+    /// Generic over the number type: one angle (`f64`) or several in the lanes
+    /// of [`solve::Lanes`], by the same operations in the same order.
+    #[inline(always)]
+    fn assemble<T: solve::Num, S: Sink<T>>(&self, pose: &solve::Pose<T>, s: &mut S) {
         let spec = &self.spec;
+        let k = T::splat;
         for (i, body) in spec.bodies.iter().enumerate() {
             let r = 3 * i;
             let (m, jz) = (body.mass, body.inertia);
             let (c1, c2) = (pose.com_v[i], pose.com_a[i]);
-            s.rhs(r, 0, m * c2[0]);
-            s.rhs(r + 1, 0, m * c2[1]);
-            s.rhs(r + 2, 0, jz * pose.omega_a[i]);
-            s.rhs(r, 1, m * c1[0]);
-            s.rhs(r + 1, 1, m * c1[1]);
-            s.rhs(r + 2, 1, jz * pose.omega_v[i]);
-            s.rhs(r, 2, -m * spec.gravity[0]);
-            s.rhs(r + 1, 2, -m * spec.gravity[1]);
+            s.rhs(r, 0, k(m) * c2[0]);
+            s.rhs(r + 1, 0, k(m) * c2[1]);
+            s.rhs(r + 2, 0, k(jz) * pose.omega_a[i]);
+            s.rhs(r, 1, k(m) * c1[0]);
+            s.rhs(r + 1, 1, k(m) * c1[1]);
+            s.rhs(r + 2, 1, k(jz) * pose.omega_v[i]);
+            s.rhs(r, 2, k(-m * spec.gravity[0]));
+            s.rhs(r + 1, 2, k(-m * spec.gravity[1]));
             s.rhs(r + 2, 2, -pose.torque(i));
             if pose.extra {
                 let [fx, fy, mz] = pose.extra_body[i];
-                s.rhs(r, 2, -fx);
-                s.rhs(r + 1, 2, -fy);
-                s.rhs(r + 2, 2, -mz);
+                s.rhs(r, 2, k(-fx));
+                s.rhs(r + 1, 2, k(-fy));
+                s.rhs(r + 2, 2, k(-mz));
             }
         }
-        s.a(3 * spec.driver + 2, self.torque_col, 1.0);
+        s.a(3 * spec.driver + 2, self.torque_col, k(1.0));
         for pin in &self.pins {
             let p = pin.point;
             let x = pose.xy[p];
             let load = pose.pin_load(spec, p);
             let first = pin.sides.first().copied();
-            for (k, &side) in pin.sides.iter().enumerate().skip(1) {
-                let (cx, cy) = (pin.col + 2 * (k - 1), pin.col + 2 * (k - 1) + 1);
+            for (kk, &side) in pin.sides.iter().enumerate().skip(1) {
+                let (cx, cy) = (pin.col + 2 * (kk - 1), pin.col + 2 * (kk - 1) + 1);
                 if let Side::Body(b) = side {
                     let d = pose.arm(b, x);
-                    s.a(3 * b, cx, 1.0);
-                    s.a(3 * b + 1, cy, 1.0);
+                    s.a(3 * b, cx, k(1.0));
+                    s.a(3 * b + 1, cy, k(1.0));
                     s.a(3 * b + 2, cx, -d[1]);
                     s.a(3 * b + 2, cy, d[0]);
                 }
                 if let Some(Side::Body(e)) = first {
                     let d = pose.arm(e, x);
-                    s.a(3 * e, cx, -1.0);
-                    s.a(3 * e + 1, cy, -1.0);
+                    s.a(3 * e, cx, k(-1.0));
+                    s.a(3 * e + 1, cy, k(-1.0));
                     s.a(3 * e + 2, cx, d[1]);
                     s.a(3 * e + 2, cy, -d[0]);
                 }
@@ -394,9 +399,9 @@ impl Model {
 }
 
 /// Where [`Model::assemble`] writes.
-trait Sink {
-    fn a(&mut self, row: usize, col: usize, v: f64);
-    fn rhs(&mut self, row: usize, part: usize, v: f64);
+trait Sink<T = f64> {
+    fn a(&mut self, row: usize, col: usize, v: T);
+    fn rhs(&mut self, row: usize, part: usize, v: T);
 }
 
 /// The structural pattern: which columns each row reads.

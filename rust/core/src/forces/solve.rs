@@ -1,10 +1,15 @@
-//! The batched per-angle solve: one pose's system assembled densely, solved by
-//! its blocks in order, three right-hand sides at once, angles in parallel.
+//! The batched per-angle solve: each pose's system assembled straight into its
+//! blocks, solved by its blocks in order, three right-hand sides at once; 8
+//! angles at a time in SIMD lanes (each lane the one-angle path's operations,
+//! bit for bit), the rest one by one; tasks of angles in parallel.
 
 use rayon::prelude::*;
 
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
+
+use super::lanes::{block_abs_max_lanes, lu_lanes, Lanes, LANES};
 use super::{ForceError, Guide, Model, Sink, Spec};
-use crate::geom::{cross, dot, sub, V2};
+use crate::geom::V2;
 use crate::parallel::{pool, resolve_threads};
 
 /// A pivot below this fraction of its block's largest entry is a dead centre.
@@ -32,19 +37,61 @@ pub struct Outputs<'a> {
     pub analogs: Option<&'a mut [f64]>,
 }
 
-/// The kinematic quantities of one pose, for [`Model::assemble`].
-pub(super) struct Pose {
-    pub(super) xy: Vec<V2>,
-    pub(super) vel: Vec<V2>,
-    acc: Vec<V2>,
-    com: Vec<V2>,
-    pub(super) com_v: Vec<V2>,
-    pub(super) com_a: Vec<V2>,
-    pub(super) omega_v: Vec<f64>,
-    pub(super) omega_a: Vec<f64>,
-    pub(super) normal: Vec<V2>,
-    force: Vec<V2>,
-    torques: Vec<f64>,
+/// The number type of [`Pose`] and [`Model::assemble`]: one angle (`f64`) or
+/// [`LANES`] angles at once ([`Lanes`]), the same IEEE operations either way.
+pub(super) trait Num:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+{
+    fn splat(v: f64) -> Self;
+    fn sqrt(self) -> Self;
+}
+
+impl Num for f64 {
+    #[inline(always)]
+    fn splat(v: f64) -> f64 {
+        v
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+}
+
+#[inline(always)]
+fn gsub<T: Num>(a: [T; 2], b: [T; 2]) -> [T; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+#[inline(always)]
+fn gdot<T: Num>(a: [T; 2], b: [T; 2]) -> T {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+#[inline(always)]
+fn gcross<T: Num>(a: [T; 2], b: [T; 2]) -> T {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// The kinematic quantities of one pose (or of [`LANES`] poses), for
+/// [`Model::assemble`].
+pub(super) struct Pose<T = f64> {
+    pub(super) xy: Vec<[T; 2]>,
+    pub(super) vel: Vec<[T; 2]>,
+    acc: Vec<[T; 2]>,
+    com: Vec<[T; 2]>,
+    pub(super) com_v: Vec<[T; 2]>,
+    pub(super) com_a: Vec<[T; 2]>,
+    pub(super) omega_v: Vec<T>,
+    pub(super) omega_a: Vec<T>,
+    pub(super) normal: Vec<[T; 2]>,
+    force: Vec<[T; 2]>,
+    torques: Vec<T>,
     /// Friction's loads (see `friction`), read only when `extra` is set: a
     /// force on each point [N] and a force and moment about the centre of mass
     /// on each body [N, N·m], all in the static part.
@@ -52,33 +99,136 @@ pub(super) struct Pose {
     pub(super) extra_force: Vec<V2>,
     pub(super) extra_body: Vec<[f64; 3]>,
     /// Each point's load F_ext + m g − m a by part (see [`Pose::pin_load`]).
-    loads: Vec<[V2; 3]>,
+    loads: Vec<[[T; 2]; 3]>,
     /// max |x'| / (2 max |x''|) over the points (see [`Outputs::analogs`]).
     pub(super) analog_ratio: f64,
 }
 
-impl Pose {
-    /// A pose with placeholder values: only the pattern is read from it.
-    pub(super) fn structural(spec: &Spec) -> Pose {
+impl<T: Num> Pose<T> {
+    /// A pose of zeros: only the pattern is read from it.
+    fn zeroed(spec: &Spec) -> Pose<T> {
         let (p, b, g) = (spec.n_points, spec.bodies.len(), spec.guides.len());
+        let z = T::splat(0.0);
         Pose {
-            xy: vec![[0.0; 2]; p],
-            vel: vec![[0.0; 2]; p],
-            acc: vec![[0.0; 2]; p],
-            com: vec![[0.0; 2]; b],
-            com_v: vec![[0.0; 2]; b],
-            com_a: vec![[0.0; 2]; b],
-            omega_v: vec![0.0; b],
-            omega_a: vec![0.0; b],
-            normal: vec![[0.0; 2]; g],
-            force: vec![[0.0; 2]; p],
-            torques: vec![0.0; b],
+            xy: vec![[z; 2]; p],
+            vel: vec![[z; 2]; p],
+            acc: vec![[z; 2]; p],
+            com: vec![[z; 2]; b],
+            com_v: vec![[z; 2]; b],
+            com_a: vec![[z; 2]; b],
+            omega_v: vec![z; b],
+            omega_a: vec![z; b],
+            normal: vec![[z; 2]; g],
+            force: vec![[z; 2]; p],
+            torques: vec![z; b],
             extra: false,
             extra_force: vec![[0.0; 2]; p],
             extra_body: vec![[0.0; 3]; b],
-            loads: vec![[[0.0; 2]; 3]; p],
+            loads: vec![[[z; 2]; 3]; p],
             analog_ratio: f64::NAN,
         }
+    }
+
+    /// The bodies' centres of mass and angular analogs, the guides' normals and
+    /// the points' loads, from the points' positions and analogs.
+    #[inline(always)]
+    fn derive(&mut self, spec: &Spec) {
+        let k = T::splat;
+        for (i, body) in spec.bodies.iter().enumerate() {
+            let (j0, j1) = (body.points[0], body.points[1]);
+            let [u, v] = body.com_uv;
+            let at = |x: &[[T; 2]]| {
+                let d = gsub(x[j1], x[j0]);
+                [
+                    x[j0][0] + k(u) * d[0] - k(v) * d[1],
+                    x[j0][1] + k(u) * d[1] + k(v) * d[0],
+                ]
+            };
+            self.com[i] = at(&self.xy);
+            self.com_v[i] = at(&self.vel);
+            self.com_a[i] = at(&self.acc);
+            let d = gsub(self.xy[j1], self.xy[j0]);
+            let d1 = gsub(self.vel[j1], self.vel[j0]);
+            let d2 = gsub(self.acc[j1], self.acc[j0]);
+            let n2 = gdot(d, d);
+            let w = gcross(d, d1) / n2;
+            self.omega_v[i] = w;
+            self.omega_a[i] = gcross(d, d2) / n2 - k(2.0) * gdot(d, d1) * w / n2;
+        }
+        for (g, guide) in spec.guides.iter().enumerate() {
+            let e = match *guide {
+                Guide::Fixed { dir, .. } => [k(dir[0]), k(dir[1])],
+                Guide::Link { b, c, .. } => gsub(self.xy[c], self.xy[b]),
+            };
+            let len = gdot(e, e).sqrt();
+            self.normal[g] = [-e[1] / len, e[0] / len];
+        }
+        self.refresh_loads(spec);
+    }
+
+    /// Recompute the points' loads (after `fill`, or after a change of the
+    /// `extra` loads).
+    #[inline(always)]
+    pub(super) fn refresh_loads(&mut self, spec: &Spec) {
+        let k = T::splat;
+        let g = spec.gravity;
+        for p in 0..self.loads.len() {
+            let m = spec.point_mass[p];
+            let (v, a, mut f) = (self.vel[p], self.acc[p], self.force[p]);
+            if self.extra {
+                f = [
+                    f[0] + k(self.extra_force[p][0]),
+                    f[1] + k(self.extra_force[p][1]),
+                ];
+            }
+            self.loads[p] = [
+                [k(-m) * a[0], k(-m) * a[1]],
+                [k(-m) * v[0], k(-m) * v[1]],
+                [f[0] + k(m * g[0]), f[1] + k(m * g[1])],
+            ];
+        }
+    }
+
+    /// r − c of body `b`.
+    #[inline(always)]
+    pub(super) fn arm(&self, b: usize, x: [T; 2]) -> [T; 2] {
+        gsub(x, self.com[b])
+    }
+
+    /// The external torque on body `b` [N·m].
+    #[inline(always)]
+    pub(super) fn torque(&self, b: usize) -> T {
+        self.torques[b]
+    }
+
+    /// The known part of pin `p`'s equation, F_ext + m_p g − m_p a_p, by part
+    /// (as of the last [`Pose::fill`] or [`Pose::refresh_loads`]).
+    #[inline(always)]
+    pub(super) fn pin_load(&self, _spec: &Spec, p: usize) -> [[T; 2]; 3] {
+        self.loads[p]
+    }
+}
+
+/// max |x'| / (2 max |x''|) of one angle's analogs (see [`Outputs::analogs`]),
+/// given that they are finite.
+#[inline(always)]
+fn analog_ratio(vel: &[f64], acc: &[f64]) -> f64 {
+    let big = |v: &[f64]| {
+        v.chunks_exact(2)
+            .fold(0.0f64, |m, p| m.max(p[0] * p[0] + p[1] * p[1]))
+    };
+    let (v2, a2) = (big(vel), big(acc));
+    if a2 > 0.0 {
+        v2.sqrt() / (2.0 * a2.sqrt())
+    } else {
+        f64::INFINITY
+    }
+}
+
+impl Pose<f64> {
+    /// A pose with placeholder values: only the pattern is read from it.
+    pub(super) fn structural(spec: &Spec) -> Pose {
+        Pose::zeroed(spec)
     }
 
     /// The pose at one angle; false where an input is not finite (the linkage
@@ -100,88 +250,85 @@ impl Pose {
             Some(t) => self.torques.copy_from_slice(t),
             None => self.torques.fill(0.0),
         }
-        let finite = |v: &[V2]| v.iter().all(|p| p[0].is_finite() && p[1].is_finite());
-        let ok = finite(&self.xy) && finite(&self.vel) && finite(&self.acc);
-        if !(ok && finite(&self.force) && self.torques.iter().all(|t| t.is_finite())) {
+        if !row.finite() {
             self.analog_ratio = f64::NAN;
             return false;
         }
-        let big = |v: &[V2]| {
-            v.iter()
-                .fold(0.0f64, |m, p| m.max(p[0] * p[0] + p[1] * p[1]))
-        };
-        let (v2, a2) = (big(&self.vel), big(&self.acc));
-        self.analog_ratio = if a2 > 0.0 {
-            v2.sqrt() / (2.0 * a2.sqrt())
-        } else {
-            f64::INFINITY
-        };
-        for (i, body) in spec.bodies.iter().enumerate() {
-            let (j0, j1) = (body.points[0], body.points[1]);
-            let [u, v] = body.com_uv;
-            let at = |x: &[V2]| {
-                let d = sub(x[j1], x[j0]);
-                [
-                    x[j0][0] + u * d[0] - v * d[1],
-                    x[j0][1] + u * d[1] + v * d[0],
-                ]
-            };
-            self.com[i] = at(&self.xy);
-            self.com_v[i] = at(&self.vel);
-            self.com_a[i] = at(&self.acc);
-            let d = sub(self.xy[j1], self.xy[j0]);
-            let d1 = sub(self.vel[j1], self.vel[j0]);
-            let d2 = sub(self.acc[j1], self.acc[j0]);
-            let n2 = dot(d, d);
-            let w = cross(d, d1) / n2;
-            self.omega_v[i] = w;
-            self.omega_a[i] = cross(d, d2) / n2 - 2.0 * dot(d, d1) * w / n2;
-        }
-        for (g, guide) in spec.guides.iter().enumerate() {
-            let e = match *guide {
-                Guide::Fixed { dir, .. } => dir,
-                Guide::Link { b, c, .. } => sub(self.xy[c], self.xy[b]),
-            };
-            let len = dot(e, e).sqrt();
-            self.normal[g] = [-e[1] / len, e[0] / len];
-        }
-        self.refresh_loads(spec);
+        self.analog_ratio = analog_ratio(row.vel, row.acc);
+        self.derive(spec);
         true
     }
+}
 
-    /// Recompute the points' loads (after `fill`, or after a change of the
-    /// `extra` loads).
-    pub(super) fn refresh_loads(&mut self, spec: &Spec) {
-        let g = spec.gravity;
-        for p in 0..self.loads.len() {
-            let m = spec.point_mass[p];
-            let (v, a, mut f) = (self.vel[p], self.acc[p], self.force[p]);
-            if self.extra {
-                f = [f[0] + self.extra_force[p][0], f[1] + self.extra_force[p][1]];
-            }
-            self.loads[p] = [
-                [-m * a[0], -m * a[1]],
-                [-m * v[0], -m * v[1]],
-                [f[0] + m * g[0], f[1] + m * g[1]],
-            ];
-        }
-    }
-
-    /// r − c of body `b`.
-    pub(super) fn arm(&self, b: usize, x: V2) -> V2 {
-        sub(x, self.com[b])
-    }
-
-    /// The external torque on body `b` [N·m].
-    pub(super) fn torque(&self, b: usize) -> f64 {
-        self.torques[b]
-    }
-
-    /// The known part of pin `p`'s equation, F_ext + m_p g − m_p a_p, by part
-    /// (as of the last [`Pose::fill`] or [`Pose::refresh_loads`]).
+impl Pose<Lanes> {
+    /// The poses at [`LANES`] angles, lane l from `rows[l]`; for each lane
+    /// whether its inputs are finite, and its analog ratio (as [`Pose::fill`]).
     #[inline(always)]
-    pub(super) fn pin_load(&self, _spec: &Spec, p: usize) -> [V2; 3] {
-        self.loads[p]
+    fn fill_lanes(
+        &mut self,
+        spec: &Spec,
+        rows: &[Row<'_>; LANES],
+        ok: &mut [bool; LANES],
+        ratio: &mut [f64; LANES],
+    ) {
+        #[inline(always)]
+        fn pts(out: &mut [[Lanes; 2]], l: usize, s: &[f64]) {
+            for (o, c) in out.iter_mut().zip(s.chunks_exact(2)) {
+                o[0].0[l] = c[0];
+                o[1].0[l] = c[1];
+            }
+        }
+        for (l, row) in rows.iter().enumerate() {
+            pts(&mut self.xy, l, row.xy);
+            pts(&mut self.vel, l, row.vel);
+            pts(&mut self.acc, l, row.acc);
+            if let Some(f) = row.force {
+                pts(&mut self.force, l, f);
+            }
+            if let Some(t) = row.torque {
+                for (o, &v) in self.torques.iter_mut().zip(t) {
+                    o.0[l] = v;
+                }
+            }
+        }
+        // 0·x is ±0 where x is finite, NaN where not: a lane's sum is 0 where
+        // all its inputs are finite ([`Row::finite`]).
+        let (zero, mut z) = (Lanes::splat(0.0), Lanes::splat(0.0));
+        let pairs = self
+            .xy
+            .iter()
+            .chain(&self.vel)
+            .chain(&self.acc)
+            .chain(&self.force);
+        for p in pairs {
+            z += p[0] * zero;
+            z += p[1] * zero;
+        }
+        for &t in &self.torques {
+            z += t * zero;
+        }
+        // As [`analog_ratio`], lane by lane.
+        let big = |v: &[[Lanes; 2]]| {
+            let mut m = [0.0f64; LANES];
+            for p in v {
+                for (m, (x, y)) in m.iter_mut().zip(p[0].0.iter().zip(p[1].0)) {
+                    *m = m.max(x * x + y * y);
+                }
+            }
+            m
+        };
+        let (v2, a2) = (big(&self.vel), big(&self.acc));
+        for l in 0..LANES {
+            ok[l] = z.0[l] == 0.0;
+            ratio[l] = if !ok[l] {
+                f64::NAN
+            } else if a2[l] > 0.0 {
+                v2[l].sqrt() / (2.0 * a2[l].sqrt())
+            } else {
+                f64::INFINITY
+            };
+        }
+        self.derive(spec);
     }
 }
 
@@ -207,21 +354,34 @@ pub(super) struct Row<'a> {
     pub(super) torque: Option<&'a [f64]>,
 }
 
+impl Row<'_> {
+    /// Whether every input of the angle is finite.
+    #[inline(always)]
+    fn finite(&self) -> bool {
+        let f = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        f(self.xy)
+            && f(self.vel)
+            && f(self.acc)
+            && self.force.is_none_or(f)
+            && self.torque.is_none_or(f)
+    }
+}
+
 /// Where one pose's system is assembled: straight into the diagonal blocks'
 /// augmented matrices and their rows' coefficients of earlier blocks' unknowns
 /// (the slots of [`Plan`]), nothing else stored or zeroed.
-struct Packed<'a> {
+struct Packed<'a, T> {
     plan: &'a Plan,
-    vals: &'a mut [f64],
+    vals: &'a mut [T],
 }
 
-impl Sink for Packed<'_> {
+impl<T: Num> Sink<T> for Packed<'_, T> {
     #[inline(always)]
-    fn a(&mut self, row: usize, col: usize, v: f64) {
+    fn a(&mut self, row: usize, col: usize, v: T) {
         self.vals[self.plan.slot[row * self.plan.n + col] as usize] += v;
     }
     #[inline(always)]
-    fn rhs(&mut self, row: usize, part: usize, v: f64) {
+    fn rhs(&mut self, row: usize, part: usize, v: T) {
         self.vals[self.plan.rhs_slot[row] as usize + part] += v;
     }
 }
@@ -375,14 +535,32 @@ impl Model {
     /// (if the rows have room) every pin's forces, the eliminated one from its
     /// pin's equation.
     fn write(&self, s: &Scratch, out: [&mut [f64]; 3]) {
+        let (x, pose) = (&s.x, &s.pose);
+        self.write_with(
+            |i| x[i],
+            |p| pose.pin_load(&self.spec, p),
+            |g| pose.normal[g],
+            out,
+        );
+    }
+
+    /// [`Model::write`] given the unknowns `x` (unknown j's part i at 3j + i),
+    /// the points' loads and the guides' normals; one angle or [`LANES`].
+    #[inline(always)]
+    fn write_with<T: Num>(
+        &self,
+        x: impl Fn(usize) -> T,
+        load_of: impl Fn(usize) -> [[T; 2]; 3],
+        normal: impl Fn(usize) -> [T; 2],
+        out: [&mut [T]; 3],
+    ) {
         let g_n = self.spec.guides.len();
-        let x = &s.x;
         let [r0, r1, r2] = out;
         let mut rows = [r0, r1, r2];
         for (part, row) in rows.iter_mut().enumerate() {
-            row[0] = x[self.torque_col * 3 + part];
+            row[0] = x(self.torque_col * 3 + part);
             for g in 0..g_n {
-                row[1 + g] = x[(self.guide_col + g) * 3 + part];
+                row[1 + g] = x((self.guide_col + g) * 3 + part);
             }
         }
         if rows[0].len() == 1 + g_n {
@@ -393,31 +571,145 @@ impl Model {
             if pin.sides.is_empty() {
                 continue;
             }
-            let load = s.pose.pin_load(&self.spec, pin.point);
+            let load = load_of(pin.point);
             for (part, row) in rows.iter_mut().enumerate() {
                 let mut first = load[part];
                 for &g in &pin.guides {
-                    let nn = s.pose.normal[g];
-                    let f = x[(self.guide_col + g) * 3 + part];
+                    let nn = normal(g);
+                    let f = x((self.guide_col + g) * 3 + part);
                     first[0] += f * nn[0];
                     first[1] += f * nn[1];
                 }
                 for j in 0..pin.sides.len() - 1 {
                     let (cx, cy) = (pin.col + 2 * j, pin.col + 2 * j + 1);
-                    first[0] -= x[cx * 3 + part];
-                    first[1] -= x[cy * 3 + part];
+                    first[0] = first[0] - x(cx * 3 + part);
+                    first[1] = first[1] - x(cy * 3 + part);
                 }
                 row[k] = first[0];
                 row[k + 1] = first[1];
                 for j in 0..pin.sides.len() - 1 {
                     let (cx, cy) = (pin.col + 2 * j, pin.col + 2 * j + 1);
-                    row[k + 2 + 2 * j] = x[cx * 3 + part];
-                    row[k + 3 + 2 * j] = x[cy * 3 + part];
+                    row[k + 2 + 2 * j] = x(cx * 3 + part);
+                    row[k + 3 + 2 * j] = x(cy * 3 + part);
                 }
             }
             k += 2 * pin.sides.len();
         }
     }
+
+    pub(super) fn scratch_lanes(&self, reactions: bool) -> ScratchLanes {
+        ScratchLanes {
+            res: vec![Lanes::splat(0.0); 3 * self.width(reactions)],
+            pose: Pose::zeroed(&self.spec),
+            vals: vec![Lanes::splat(0.0); self.plan.len],
+            x: vec![Lanes::splat(0.0); self.n * 3],
+        }
+    }
+
+    /// [`Model::solve_one`] at [`LANES`] angles at once, lane l's inputs
+    /// `rows[l]` and outputs row l of each part's `out` (`LANES` rows of W
+    /// values each): the same operations on each lane (each
+    /// lane pivots on its own rows), so bit for bit the scalar path's values.
+    /// Each lane's conditioning into `cond` (NaN where an input is not finite,
+    /// 0 at a dead centre: that lane's values NaN) and analog ratio into
+    /// `ratio`.
+    #[inline(always)]
+    fn solve_lanes(
+        &self,
+        s: &mut ScratchLanes,
+        rows: &[Row<'_>; LANES],
+        out: [&mut [f64]; 3],
+        cond: &mut [f64],
+        ratio: &mut [f64],
+    ) {
+        let mut ok = [true; LANES];
+        let mut ratios = [0.0; LANES];
+        s.pose.fill_lanes(&self.spec, rows, &mut ok, &mut ratios);
+        ratio.copy_from_slice(&ratios);
+        s.vals.fill(Lanes::splat(0.0));
+        self.assemble(
+            &s.pose,
+            &mut Packed {
+                plan: &self.plan,
+                vals: &mut s.vals,
+            },
+        );
+        let (vals, x) = (&mut s.vals, &mut s.x);
+        let mut conds = [f64::INFINITY; LANES];
+        let mut live = [true; LANES];
+        for (blk, pb) in self.blocks.iter().zip(&self.plan.blocks) {
+            let (k, st) = (pb.k, pb.s);
+            let (head, deps) = vals.split_at_mut(pb.dep_base);
+            let m = &mut head[pb.base..pb.base + k * st];
+            let mut d = 0;
+            for (i, cols) in blk.deps.iter().enumerate() {
+                let b = &mut m[i * st + st - 3..(i + 1) * st];
+                let mut v = [b[0], b[1], b[2]];
+                for &col in cols {
+                    let c = deps[d];
+                    d += 1;
+                    let xs = &x[col * 3..col * 3 + 3];
+                    v[0] = v[0] - c * xs[0];
+                    v[1] = v[1] - c * xs[1];
+                    v[2] = v[2] - c * xs[2];
+                }
+                b.copy_from_slice(&v);
+            }
+            let scale = block_abs_max_lanes(m, k, st);
+            let tol = Lanes::splat(SINGULAR_REL) * scale;
+            let (pivot, alive) = lu_lanes(m, k, st, tol);
+            for l in 0..LANES {
+                live[l] &= alive[l];
+                conds[l] = conds[l].min(pivot.0[l] / scale.0[l]);
+            }
+            for (j, &col) in blk.cols.iter().enumerate() {
+                x[col * 3..col * 3 + 3].copy_from_slice(&m[j * st + st - 3..(j + 1) * st]);
+            }
+        }
+        let [o0, o1, o2] = out;
+        let w = o0.len() / LANES;
+        {
+            let (pose, res) = (&s.pose, &mut s.res);
+            let (q0, rest) = res.split_at_mut(w);
+            let (q1, q2) = rest.split_at_mut(w);
+            self.write_with(
+                |i| x[i],
+                |p| pose.pin_load(&self.spec, p),
+                |g| pose.normal[g],
+                [q0, q1, q2],
+            );
+        }
+        for (part, o) in [o0, o1, o2].into_iter().enumerate() {
+            let res = &s.res[part * w..(part + 1) * w];
+            for (l, row) in o.chunks_exact_mut(w).enumerate() {
+                if ok[l] && live[l] {
+                    for (v, r) in row.iter_mut().zip(res) {
+                        *v = r.0[l];
+                    }
+                } else {
+                    row.fill(f64::NAN);
+                }
+            }
+        }
+        for l in 0..LANES {
+            cond[l] = if !ok[l] {
+                f64::NAN
+            } else if !live[l] {
+                0.0
+            } else {
+                conds[l]
+            };
+        }
+    }
+}
+
+/// Per-task buffers of [`Model::solve_lanes`].
+pub(super) struct ScratchLanes {
+    pose: Pose<Lanes>,
+    vals: Vec<Lanes>,
+    x: Vec<Lanes>,
+    /// The values of the three parts, W each.
+    res: Vec<Lanes>,
 }
 
 /// The largest |v| of the k×k matrix of an augmented block of row stride `st`.
@@ -621,34 +913,21 @@ pub fn solve_into(
         if crate::cancel::requested() {
             return;
         }
-        let mut s = model.scratch();
-        let rows = v0
-            .chunks_exact_mut(w)
-            .zip(v1.chunks_exact_mut(w))
-            .zip(v2.chunks_exact_mut(w))
-            .zip(conds.iter_mut())
-            .zip(ratios.iter_mut());
-        for (i, ((((r0, r1), r2), cond), ratio)) in rows.enumerate() {
-            let a = c * CHUNK + i;
-            let row = Row {
-                xy: &xy[a * p2..(a + 1) * p2],
-                vel: &vel[a * p2..(a + 1) * p2],
-                acc: &acc[a * p2..(a + 1) * p2],
-                force: force.map(|f| &f[a * p2..(a + 1) * p2]),
-                torque: torque.map(|t| &t[a * nb..(a + 1) * nb]),
-            };
-            *cond = if s.pose.fill(&model.spec, row) {
-                model.solve_one(&mut s, [&mut *r0, &mut *r1, &mut *r2])
-            } else {
-                f64::NAN
-            };
-            *ratio = s.pose.analog_ratio;
-            if cond.is_nan() || *cond == 0.0 {
-                r0.fill(f64::NAN);
-                r1.fill(f64::NAN);
-                r2.fill(f64::NAN);
-            }
-        }
+        let inputs = Inputs {
+            xy,
+            vel,
+            acc,
+            force,
+            torque,
+        };
+        pulp::Arch::new().dispatch(Chunk {
+            model,
+            inputs,
+            first: c * CHUNK,
+            values: [v0, v1, v2],
+            conds,
+            ratios,
+        });
     };
     pool(threads)?.install(|| {
         part0
@@ -661,6 +940,86 @@ pub fn solve_into(
             .for_each(run)
     });
     Ok(())
+}
+
+/// One parallel task of [`solve_into`]: the angles from `first` on, as many
+/// as `conds` has, into their rows of each part's `values`; [`LANES`] angles
+/// at a time in SIMD lanes, the rest one by one. Compiled for the widest
+/// vector unit the CPU has.
+struct Chunk<'a, 'b> {
+    model: &'a Model,
+    inputs: Inputs<'a>,
+    first: usize,
+    values: [&'b mut [f64]; 3],
+    conds: &'b mut [f64],
+    ratios: &'b mut [f64],
+}
+
+impl pulp::WithSimd for Chunk<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let Chunk {
+            model,
+            inputs,
+            first,
+            values: [v0, v1, v2],
+            conds,
+            ratios,
+        } = self;
+        let p2 = 2 * model.spec.n_points;
+        let nb = model.spec.bodies.len();
+        let count = conds.len();
+        let w = v0.len() / count.max(1);
+        let row = |a: usize| Row {
+            xy: &inputs.xy[a * p2..(a + 1) * p2],
+            vel: &inputs.vel[a * p2..(a + 1) * p2],
+            acc: &inputs.acc[a * p2..(a + 1) * p2],
+            force: inputs.force.map(|f| &f[a * p2..(a + 1) * p2]),
+            torque: inputs.torque.map(|t| &t[a * nb..(a + 1) * nb]),
+        };
+        let lanes = count / LANES * LANES;
+        let (l0, t0) = v0.split_at_mut(lanes * w);
+        let (l1, t1) = v1.split_at_mut(lanes * w);
+        let (l2, t2) = v2.split_at_mut(lanes * w);
+        let (lc, tc) = conds.split_at_mut(lanes);
+        let (lr, tr) = ratios.split_at_mut(lanes);
+        if lanes > 0 {
+            let mut s = model.scratch_lanes(w > model.width(false));
+            let groups = l0
+                .chunks_exact_mut(LANES * w)
+                .zip(l1.chunks_exact_mut(LANES * w))
+                .zip(l2.chunks_exact_mut(LANES * w))
+                .zip(lc.chunks_exact_mut(LANES))
+                .zip(lr.chunks_exact_mut(LANES));
+            for (i, ((((g0, g1), g2), cond), ratio)) in groups.enumerate() {
+                let a = first + i * LANES;
+                let rows: [Row<'_>; LANES] = std::array::from_fn(|l| row(a + l));
+                model.solve_lanes(&mut s, &rows, [g0, g1, g2], cond, ratio);
+            }
+        }
+        let mut s = model.scratch();
+        let rows = t0
+            .chunks_exact_mut(w)
+            .zip(t1.chunks_exact_mut(w))
+            .zip(t2.chunks_exact_mut(w))
+            .zip(tc.iter_mut())
+            .zip(tr.iter_mut());
+        for (i, ((((r0, r1), r2), cond), ratio)) in rows.enumerate() {
+            *cond = if s.pose.fill(&model.spec, row(first + lanes + i)) {
+                model.solve_one(&mut s, [&mut *r0, &mut *r1, &mut *r2])
+            } else {
+                f64::NAN
+            };
+            *ratio = s.pose.analog_ratio;
+            if cond.is_nan() || *cond == 0.0 {
+                r0.fill(f64::NAN);
+                r1.fill(f64::NAN);
+                r2.fill(f64::NAN);
+            }
+        }
+    }
 }
 
 /// One angle's inputs for the tests (no link torques).
@@ -678,4 +1037,50 @@ pub(super) fn tests_row<'a>(
         force: Some(force),
         torque: None,
     }
+}
+
+/// The one-angle-at-a-time path over all N angles (the kernel before the
+/// lanes), for the tests: values, conditioning and analog ratios as
+/// [`solve_into`]'s.
+#[cfg(test)]
+pub(super) fn tests_scalar(
+    model: &Model,
+    inputs: Inputs<'_>,
+    reactions: bool,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let p2 = 2 * model.spec.n_points;
+    let nb = model.spec.bodies.len();
+    let n = inputs.xy.len() / p2;
+    let w = model.width(reactions);
+    let mut values = vec![0.0; 3 * n * w];
+    let (mut conds, mut ratios) = (vec![0.0; n], vec![0.0; n]);
+    let mut s = model.scratch();
+    let (v0, rest) = values.split_at_mut(n * w);
+    let (v1, v2) = rest.split_at_mut(n * w);
+    for a in 0..n {
+        let row = Row {
+            xy: &inputs.xy[a * p2..(a + 1) * p2],
+            vel: &inputs.vel[a * p2..(a + 1) * p2],
+            acc: &inputs.acc[a * p2..(a + 1) * p2],
+            force: inputs.force.map(|f| &f[a * p2..(a + 1) * p2]),
+            torque: inputs.torque.map(|t| &t[a * nb..(a + 1) * nb]),
+        };
+        let (r0, r1, r2) = (
+            &mut v0[a * w..(a + 1) * w],
+            &mut v1[a * w..(a + 1) * w],
+            &mut v2[a * w..(a + 1) * w],
+        );
+        conds[a] = if s.pose.fill(&model.spec, row) {
+            model.solve_one(&mut s, [&mut *r0, &mut *r1, &mut *r2])
+        } else {
+            f64::NAN
+        };
+        ratios[a] = s.pose.analog_ratio;
+        if conds[a].is_nan() || conds[a] == 0.0 {
+            r0.fill(f64::NAN);
+            r1.fill(f64::NAN);
+            r2.fill(f64::NAN);
+        }
+    }
+    (values, conds, ratios)
 }

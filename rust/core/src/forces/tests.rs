@@ -328,3 +328,136 @@ fn dead_centre_is_singular() {
     assert_eq!(conditioning[0], 0.0);
     assert!(values.iter().all(|v| v.is_nan()));
 }
+
+/// `solve_into` (angles in SIMD lanes, the rest one by one) and the
+/// one-angle-at-a-time path, on the same inputs: equal bit for bit (NaN where
+/// the other is NaN).
+/// Returns the conditioning.
+fn lanes_match_scalar(
+    model: &Model,
+    xy: &[f64],
+    vel: &[f64],
+    acc: &[f64],
+    force: &[f64],
+    torque: &[f64],
+) -> Vec<f64> {
+    let n = torque.len() / model.spec().bodies.len();
+    let mut out = Vec::new();
+    for reactions in [true, false] {
+        let inputs = Inputs {
+            xy,
+            vel,
+            acc,
+            force: Some(force),
+            torque: Some(torque),
+        };
+        let w = model.width(reactions);
+        let mut values = vec![0.0; 3 * n * w];
+        let (mut conds, mut ratios) = (vec![0.0; n], vec![0.0; n]);
+        solve_into(
+            model,
+            inputs,
+            Outputs {
+                values: &mut values,
+                conditioning: &mut conds,
+                reactions,
+                analogs: Some(&mut ratios),
+            },
+            Some(1),
+        )
+        .unwrap();
+        let (rv, rc, rr) = solve::tests_scalar(model, inputs, reactions);
+        let same = |a: &[f64], b: &[f64], what: &str| {
+            for (i, (x, y)) in a.iter().zip(b).enumerate() {
+                assert!(
+                    x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+                    "{what}[{i}]: lanes {x:e}, scalar {y:e}"
+                );
+            }
+        };
+        same(&values, &rv, "values");
+        same(&conds, &rc, "conditioning");
+        same(&ratios, &rr, "analog ratio");
+        out = conds;
+    }
+    out
+}
+
+proptest! {
+    /// Four-bars of random size, masses and loads at 19 random crank angles
+    /// (two groups of lanes and a tail of three), one angle with a NaN input
+    /// and one folded flat (a dead centre of the dyad): the lanes give the
+    /// scalar path's values bit for bit, flags included.
+    #[test]
+    fn lanes_are_the_scalar_path_bit_for_bit(
+        b in 2.0f64..4.0, c in 2.0f64..4.0, d in 2.5f64..4.0,
+        phis in proptest::collection::vec(0.0f64..std::f64::consts::TAU, 19),
+        m in proptest::collection::vec(0.0f64..5.0, 3), j in proptest::collection::vec(0.0f64..1.0, 3),
+        u in -0.5f64..1.5, v in -0.5f64..0.5, loads in proptest::collection::vec(-50.0f64..50.0, 19),
+        nan_at in 0usize..19, flat_at in 0usize..19,
+    ) {
+        let spec = Spec {
+            n_points: 4,
+            bodies: vec![
+                body(&[0, 1], m[0], [0.5, 0.1], j[0]),
+                body(&[1, 2], m[1], [u, v], j[1]),
+                body(&[3, 2], m[2], [0.4, -0.2], j[2]),
+            ],
+            ground: vec![0, 3],
+            point_mass: vec![0.0, 0.5, 0.0, 0.0],
+            guides: vec![],
+            driver: 0,
+            gravity: [0.3, -9.81],
+        };
+        let model = Model::new(spec).unwrap();
+        let (mut xy, mut vel, mut acc, mut force, mut torque) = (vec![], vec![], vec![], vec![], vec![]);
+        for (i, &phi) in phis.iter().enumerate() {
+            let (p, pv, pa) = four_bar(1.0, b, c, d, phi)
+                .or_else(|| four_bar(1.0, 3.0, 3.0, 3.0, phi))
+                .expect("the 1-3-3-3 four-bar assembles everywhere");
+            let mut p = p;
+            if i == flat_at {
+                // C on the line B–D: the dyad's two links in line.
+                let bd = sub(p[3], p[1]);
+                p[2] = [p[1][0] + 0.5 * bd[0], p[1][1] + 0.5 * bd[1]];
+            }
+            xy.extend(p.iter().flatten());
+            vel.extend(pv.iter().flatten());
+            acc.extend(pa.iter().flatten());
+            force.extend([0.0, 0.0, 0.0, 0.0, loads[i], 10.0, 0.0, 0.0]);
+            torque.extend([0.0, 0.5 * loads[i], -loads[i]]);
+        }
+        acc[nan_at * 8 + 5] = f64::NAN;
+        let cond = lanes_match_scalar(&model, &xy, &vel, &acc, &force, &torque);
+        prop_assert!(cond[nan_at].is_nan());
+        prop_assert!(flat_at == nan_at || cond[flat_at] == 0.0, "folded: {}", cond[flat_at]);
+        prop_assert!(cond.iter().enumerate().all(|(i, &c)| i == nan_at || i == flat_at || c > 0.0));
+    }
+
+    /// The same for slider-cranks (a guide of the frame), the slider at
+    /// random angles and once exactly at the dead centre l = r, φ = 90°.
+    #[test]
+    fn slider_lanes_are_the_scalar_path_bit_for_bit(
+        l in 0.2f64..0.6, mc in 0.0f64..5.0, mr in 0.0f64..3.0, jr in 0.0f64..0.1,
+        phis in proptest::collection::vec(0.0f64..std::f64::consts::TAU, 17),
+        dead_at in 0usize..17,
+    ) {
+        let model = Model::new(Spec { gravity: [0.0, -9.81], ..slider_spec(mc, (mr, jr)) }).unwrap();
+        let (mut xy, mut vel, mut acc, mut force, mut torque) = (vec![], vec![], vec![], vec![], vec![]);
+        for (i, &phi) in phis.iter().enumerate() {
+            let (p, pv, pa) = if i == dead_at {
+                let z = [[0.0, 0.0]; 3];
+                ([[0.0, 0.0], [0.0, 0.1], [0.0, 0.0]], z, z)
+            } else {
+                slider_crank(0.1, l, phi)
+            };
+            xy.extend(p.iter().flatten());
+            vel.extend(pv.iter().flatten());
+            acc.extend(pa.iter().flatten());
+            force.extend([0.0, 0.0, 0.0, 0.0, -100.0 * phi, 0.0]);
+            torque.extend([phi, 0.0]);
+        }
+        let cond = lanes_match_scalar(&model, &xy, &vel, &acc, &force, &torque);
+        prop_assert_eq!(cond[dead_at], 0.0);
+    }
+}
