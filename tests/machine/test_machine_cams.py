@@ -13,7 +13,6 @@ from pathlib import Path
 import cyclomech as cm
 import numpy as np
 import pytest
-from cyclomech.cli import main
 from scipy.optimize import linprog
 
 ROOT = Path(__file__).resolve().parents[2]

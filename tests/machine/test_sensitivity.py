@@ -12,7 +12,6 @@ from pathlib import Path
 
 import cyclomech as cm
 import pytest
-from cyclomech.cli import main
 from cyclomech.machine._sensitivity import EXACT, FLAT, STEP, _rate
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st

@@ -20,7 +20,6 @@ from typing import Any
 
 import cyclomech as cm
 import pytest
-from cyclomech.cli import main
 from cyclomech.machine import analyze, write_report
 
 ROOT = Path(__file__).resolve().parents[2]
