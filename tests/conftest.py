@@ -1,7 +1,13 @@
 """Shared test settings: headless matplotlib, reproducible hypothesis runs in CI,
-and the repository's root as the working directory of every test."""
+the repository's root as the working directory of every test, and one
+``cyclomech run`` per worker of each file that several tests only read
+(:func:`cli_run`)."""
 
+import contextlib
+import io
 import os
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -40,3 +46,40 @@ def _in_the_repository(monkeypatch: pytest.MonkeyPatch) -> None:
     installed wheel, tools/test_wheel.sh runs it from an empty directory so that
     ``python/`` cannot be imported, and the package is imported before this runs."""
     monkeypatch.chdir(ROOT)
+
+
+@dataclass(frozen=True)
+class RunOutput:
+    """What ``cyclomech run <file> --out <folder> <flags>`` gave: its exit status, its
+    output folder and what it printed on stdout."""
+
+    code: int
+    out: Path
+    stdout: str
+
+
+@pytest.fixture(scope="session")
+def cli_run(tmp_path_factory: pytest.TempPathFactory) -> Callable[..., RunOutput]:
+    """``cli_run(file, *flags)``: ``cyclomech run file --out <folder> *flags`` in this
+    process, run once per worker for each (file, flags) and answered from then on
+    by the same :class:`RunOutput`. A run of the loom costs seconds (its
+    sensitivities: two speed-limit searches per key), and a dozen files read the
+    same run's ``results.json``, report and tables: each test still reads what the
+    command wrote for that file with those flags. Tests only read the folder (a test
+    that writes must run its own command); stdout is kept, stderr is not (ask
+    ``--quiet``, or run it yourself where stderr matters)."""
+    from cyclomech.cli import main
+
+    done: dict[tuple[str, ...], RunOutput] = {}
+
+    def run(file: str | Path, *flags: str) -> RunOutput:
+        key = (str(Path(file).resolve()), *flags)
+        if key not in done:
+            out = tmp_path_factory.mktemp(Path(file).stem) / "out"
+            printed = io.StringIO()
+            with contextlib.redirect_stdout(printed):
+                code = main(["run", key[0], "--out", str(out), *flags])
+            done[key] = RunOutput(code, out, printed.getvalue())
+        return done[key]
+
+    return run

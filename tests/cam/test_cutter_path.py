@@ -128,8 +128,11 @@ def test_a_machine_files_tool_radius_reaches_the_parts(tmp_path):
     path = tmp_path / "loom.toml"
     path.write_text(text, encoding="utf-8")
     assert tomllib.loads(text)["mechanism"]["lifter cam"]["tool_radius_m"] == 0.008
+    # The report's writer, as `cyclomech run` calls it (the run's sensitivities,
+    # 12 of its 14 CPU-s, write no part; test_parts_export runs the command).
     out = tmp_path / "o"
-    assert main(["run", str(path), "--out", str(out), "--no-plot", "--quiet"]) == 0
+    m = cm.Machine.from_toml(path)
+    cm.machine.write_report(cm.machine.analyze(m, progress=False), out, figures=False)
     with (out / "lifter_cam_profile.csv").open(newline="", encoding="utf-8") as f:
         header = next(csv.reader(f))
     assert {"cutter_x_m", "cutter_y_m", "outer_cutter_x_m", "outer_cutter_y_m"} <= set(header)

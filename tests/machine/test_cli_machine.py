@@ -21,10 +21,11 @@ ROOT = Path(__file__).resolve().parents[2]
 LOOM = ROOT / "examples" / "stb_loom.toml"
 
 
-def test_run_prints_the_key_figures_and_where_the_report_is(tmp_path, capsys):
-    out = tmp_path / "loom"
-    assert main(["run", str(LOOM), "--out", str(out), "--no-plot", "--quiet"]) == 0
-    text = capsys.readouterr().out
+def test_run_prints_the_key_figures_and_where_the_report_is(cli_run):
+    run = cli_run(LOOM, "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
+    text = run.stdout
     lim = cm.Machine.from_toml(LOOM).speed_limit()
     assert f"Speed limit: {lim.rpm:.2f} rpm, set by the cyclogram" in text
     assert f"Report: {out / 'report.html'}" in text

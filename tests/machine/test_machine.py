@@ -25,7 +25,6 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech._keyrules import RENAMED
-from cyclomech.cli import main
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -126,21 +125,16 @@ def widened(tmp_path: Path, name: str, hi: float) -> Path:
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    """``cyclomech run`` on a machine file, once per file: the output folder."""
-    cache: dict[str, Path] = {}
+def run(cli_run):
+    """``cyclomech run`` on a machine file, once per file and worker (``cli_run``,
+    tests/conftest.py: other files read the same runs): the output folder."""
 
     def go(path: str | Path) -> Path:
-        key = str(path)
-        if key not in cache:
-            src = Path(path) if Path(path).is_absolute() else EXAMPLES / path
-            out = tmp_path_factory.mktemp(src.stem) / "out"
-            argv = ["run", str(src), "--out", str(out), "--quiet"]
-            if src.name != PLOTTED or src.parent != EXAMPLES:
-                argv.append("--no-plot")
-            assert main(argv) == 0
-            cache[key] = out
-        return cache[key]
+        src = Path(path) if Path(path).is_absolute() else EXAMPLES / path
+        plot = src.name == PLOTTED and src.parent == EXAMPLES
+        done = cli_run(src, "--quiet") if plot else cli_run(src, "--no-plot", "--quiet")
+        assert done.code == 0
+        return done.out
 
     return go
 

@@ -13,7 +13,6 @@ from pathlib import Path
 import cyclomech as cm
 import numpy as np
 import pytest
-from cyclomech.cli import main
 from scipy.optimize import linprog
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -151,9 +150,10 @@ def test_the_cam_bounds_are_its_criteria_and_grow_with_speed():
             np.testing.assert_allclose(v, v[0] * n / n[0], rtol=1e-12)
 
 
-def test_the_loom_report_has_the_cam(tmp_path):
-    out = tmp_path / "out"
-    assert main(["run", str(LOOM), "--out", str(out), "--quiet", "--no-plot"]) == 0
+def test_the_loom_report_has_the_cam(cli_run):
+    run = cli_run(LOOM, "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
     import json
 
     r = json.loads((out / "results.json").read_text(encoding="utf-8"))
@@ -244,11 +244,12 @@ def test_the_main_shaft_carries_the_cams_torque_at_its_phase():
     np.testing.assert_allclose(o.power_w, o.mean_torque_nm * w, rtol=1e-12)
 
 
-def test_the_main_shaft_in_the_report_and_only_where_a_mechanism_gives_torque(tmp_path):
+def test_the_main_shaft_in_the_report_and_only_where_a_mechanism_gives_torque(cli_run):
     import json
 
-    out = tmp_path / "out"
-    assert main(["run", str(LOOM), "--out", str(out), "--quiet", "--no-plot"]) == 0
+    run = cli_run(LOOM, "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
     r = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert r["shaft"]["contributors"] == ["lifter cam"] and r["shaft"]["speed_fluctuation"] == 0.05
     assert "Main shaft" in (out / "report.html").read_text(encoding="utf-8")

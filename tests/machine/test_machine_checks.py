@@ -108,7 +108,7 @@ def test_item8_a_cyclogram_that_fits_at_no_speed_is_loud(tmp_path, capsys):
         ("rotor_line.toml", "line", ("jerk", "max_jerk = 10 m/s³")),
     ],
 )
-def test_item12_a_mechanisms_speed_limit_says_why(example, mech, words, capsys, tmp_path):
+def test_item12_a_mechanisms_speed_limit_says_why(example, mech, words, cli_run):
     """ "set by mechanism 'drive'" did not say why. The limit now names the
     criterion and its limit, and the criterion at that speed equals the limit
     (evaluated independently of the limit's formula: the press's criteria, the
@@ -124,9 +124,9 @@ def test_item12_a_mechanisms_speed_limit_says_why(example, mech, words, capsys, 
     else:
         _, jerk = x.peaks(lim.rpm)
         assert jerk == pytest.approx(x.max_jerk, rel=1e-9)
-    args = ["run", str(EXAMPLES / example), "--out", str(tmp_path), "--no-plot", "--quiet"]
-    assert main(args) == 0
-    assert f"set by mechanism {mech!r}: {lim.reason}" in capsys.readouterr().out
+    run = cli_run(EXAMPLES / example, "--no-plot", "--quiet")
+    assert run.code == 0
+    assert f"set by mechanism {mech!r}: {lim.reason}" in run.stdout
 
 
 def test_item12_cyclogram_limit_names_its_chain():

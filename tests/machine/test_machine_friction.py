@@ -113,12 +113,13 @@ def test_power_balance_over_the_turn(results: tuple[Any, Any]) -> None:
     assert eta == pytest.approx(p_out.mean() / p_in.mean(), rel=1e-6)
 
 
-def test_efficiency_in_results_report_and_run_line(tmp_path: Path, capsys) -> None:
-    assert main(["run", str(KNIFE), "--out", str(tmp_path), "--no-plot", "--quiet"]) == 0
-    out = capsys.readouterr().out
+def test_efficiency_in_results_report_and_run_line(cli_run) -> None:
+    run = cli_run(KNIFE, "--no-plot", "--quiet")
+    assert run.code == 0
+    out, folder = run.stdout, run.out
     line = next(t for t in out.splitlines() if t.startswith("Friction at 45 rpm"))
     assert "knife efficiency 0.95" in line and "machine efficiency 0.95" in line
-    data = json.loads((tmp_path / "results.json").read_text("utf-8"))
+    data = json.loads((folder / "results.json").read_text("utf-8"))
     k, m = data["friction"]["knife"], data["efficiency"]
     assert m["machine_efficiency"] == pytest.approx(k["cycle_efficiency"], rel=1e-12)
     assert m["mean_friction_power_w"] == pytest.approx(k["mean_friction_power_w"], rel=1e-12)
@@ -126,7 +127,7 @@ def test_efficiency_in_results_report_and_run_line(tmp_path: Path, capsys) -> No
     assert sum(k["friction_power_by_element_w"].values()) == pytest.approx(
         k["mean_friction_power_w"], rel=1e-9
     )
-    page = (tmp_path / "report.html").read_text("utf-8")
+    page = (folder / "report.html").read_text("utf-8")
     assert "<h3>Friction and efficiency</h3>" in page and "efficiency over the turn" in page
 
 

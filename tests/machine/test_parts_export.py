@@ -50,10 +50,10 @@ def _cam_file(table: dict, angles: list[float], rpm: float, path: Path) -> Path:
 
 
 @pytest.fixture(scope="module")
-def loom_run(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("loom")
-    assert main(["run", str(LOOM), "--out", str(out), "--no-plot", "--quiet"]) == 0
-    return out
+def loom_run(cli_run) -> Path:
+    run = cli_run(LOOM, "--no-plot", "--quiet")
+    assert run.code == 0
+    return run.out
 
 
 def test_the_cam_profile_is_cyclomech_cams_at_the_optimised_angles(loom_run, tmp_path):
@@ -100,11 +100,12 @@ def test_the_report_links_the_parts(loom_run):
         assert f'<a href="{name}">' in page and (loom_run / name).is_file()
 
 
-def test_the_linkage_drawing_table_is_the_files_drawing(tmp_path):
-    assert main(["run", str(KNIFE), "--out", str(tmp_path), "--no-plot", "--quiet"]) == 0
+def test_the_linkage_drawing_table_is_the_files_drawing(cli_run):
+    run = cli_run(KNIFE, "--no-plot", "--quiet")
+    assert run.code == 0
     table = tomllib.loads(KNIFE.read_text("utf-8"))["mechanism"]["knife"]
     pts = {k: tuple(v) for k, v in table["points"].items()}
-    with (tmp_path / "knife_drawing.csv").open(newline="", encoding="utf-8") as f:
+    with (run.out / "knife_drawing.csv").open(newline="", encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
     pivots = {r["name"]: (float(r["x_m"]), float(r["y_m"])) for r in rows if r["item"] == "pivot"}
     joints = {r["name"]: (float(r["x_m"]), float(r["y_m"])) for r in rows if r["item"] == "joint"}
@@ -116,7 +117,7 @@ def test_the_linkage_drawing_table_is_the_files_drawing(tmp_path):
             for b in link[i + 1 :]:
                 (xa, ya), (xb, yb) = pts[a], pts[b]
                 assert links[f"{a}-{b}"] == pytest.approx(math.hypot(xb - xa, yb - ya), rel=1e-15)
-    assert '<a href="knife_drawing.csv">' in (tmp_path / "report.html").read_text("utf-8")
+    assert '<a href="knife_drawing.csv">' in (run.out / "report.html").read_text("utf-8")
 
 
 def test_a_cam_not_laid_out_at_the_optimum_writes_no_part(tmp_path):

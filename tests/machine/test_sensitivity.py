@@ -12,7 +12,6 @@ from pathlib import Path
 
 import cyclomech as cm
 import pytest
-from cyclomech.cli import main
 from cyclomech.machine._sensitivity import EXACT, FLAT, STEP, _rate
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
@@ -106,12 +105,11 @@ def test_a_straight_line_gives_its_slope(a, b, v):
     assert s.rpm_per_percent == pytest.approx(b * 0.01 * v, rel=1e-6, abs=1e-9)
 
 
-def test_run_reports_them_in_results_json_and_the_page(tmp_path, capsys):
-    out = tmp_path / "o"
-    assert (
-        main(["run", str(ROOT / "examples" / "stb_loom.toml"), "--out", str(out), "--no-plot"]) == 0
-    )
-    printed = capsys.readouterr().out
+def test_run_reports_them_in_results_json_and_the_page(cli_run):
+    run = cli_run(ROOT / "examples" / "stb_loom.toml", "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
+    printed = run.stdout
     # the weft insertion's time sets the loom's limit first, then the lever's overhang
     assert "Speed limit per +1 % of a key: operation.11.min_duration_s" in printed
     assert ", lifter.b_m" in printed

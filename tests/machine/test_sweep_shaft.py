@@ -24,9 +24,10 @@ def loom() -> cm.Machine:
     return cm.Machine.from_toml(LOOM_CAM)
 
 
-def test_the_columns_are_the_run_reports(loom, tmp_path) -> None:
-    assert main(["run", str(LOOM_CAM), "--out", str(tmp_path), "--no-plot", "--quiet"]) == 0
-    shaft = json.loads((tmp_path / "results.json").read_text())["shaft"]
+def test_the_columns_are_the_run_reports(loom, cli_run) -> None:
+    run = cli_run(LOOM_CAM, "--no-plot", "--quiet")
+    assert run.code == 0
+    shaft = json.loads((run.out / "results.json").read_text())["shaft"]
     rpm = np.array(shaft["speed_rpm"])
     r = cm.sweep(loom, {"speed_rpm": rpm}, progress=False, shaft=True)
     assert np.array_equal(r.columns["shaft_peak_torque_nm"], shaft["peak_torque_nm_over_speed"])

@@ -20,7 +20,6 @@ from typing import Any
 
 import cyclomech as cm
 import pytest
-from cyclomech.cli import main
 from cyclomech.machine import analyze, write_report
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -81,17 +80,17 @@ def _table(path: Path) -> list[list[Any]]:
 
 
 @pytest.mark.parametrize("example", EXAMPLES)
-def test_example_outputs_are_pinned(example: str, tmp_path: Path, capsys) -> None:
+def test_example_outputs_are_pinned(example: str, tmp_path: Path, cli_run) -> None:
     m = cm.Machine.from_toml(ROOT / "examples" / f"{example}.toml")
     write_report(analyze(m, progress=False), tmp_path, figures=False)
     results = json.loads((tmp_path / "results.json").read_text("utf-8"))
     for k in VOLATILE:
         results.pop(k)
     tables = {p.name: _table(p) for p in sorted(tmp_path.glob("*.csv"))}
-    out = tmp_path / "run"
-    args = ["run", str(ROOT / "examples" / f"{example}.toml"), "--out", str(out)]
-    assert main([*args, "--no-plot", "--quiet"]) == 0
-    summary = capsys.readouterr().out.replace(str(out), "<out>").replace(str(ROOT), "<root>")
+    run = cli_run(ROOT / "examples" / f"{example}.toml", "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
+    summary = run.stdout.replace(str(out), "<out>").replace(str(ROOT), "<root>")
     # The report animates every mechanism of every example (the machine moving).
     page = (out / "report.html").read_text("utf-8")
     data = json.loads(page.split("id='cm-anim-data'>", 1)[1].split("</script>", 1)[0])

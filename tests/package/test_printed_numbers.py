@@ -59,9 +59,10 @@ def test_number_text(value, compared, text):
     assert number_text(value, *compared) == text
 
 
-def test_the_results_file_keeps_every_digit(tmp_path):
-    out = tmp_path / "loom"
-    assert main(["run", str(LOOM), "--out", str(out), "--no-plot", "--quiet"]) == 0
+def test_the_results_file_keeps_every_digit(cli_run):
+    run = cli_run(LOOM, "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
     results = json.loads((out / "results.json").read_text())
     strokes = []
 

@@ -14,7 +14,6 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 import pytest
-from cyclomech.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVER = shutil.which("chromedriver")
@@ -43,11 +42,10 @@ def browser():
 
 
 @pytest.fixture(scope="module", params=["stb_loom", "knife_cutter", "transfer_arm_synthesized"])
-def report(request, tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp(request.param)
-    args = ["run", str(ROOT / "examples" / f"{request.param}.toml"), "--out", str(out), "--quiet"]
-    assert main(args) == 0
-    return out / "report.html"
+def report(request, cli_run) -> Path:
+    run = cli_run(ROOT / "examples" / f"{request.param}.toml", "--quiet")
+    assert run.code == 0
+    return run.out / "report.html"
 
 
 def _open(browser, report: Path) -> None:

@@ -254,9 +254,10 @@ def test_a_failing_check_warns_and_exits_3(
     assert "Fails at 100 rpm" in (tmp_path / "o" / "report.html").read_text()
 
 
-def test_run_writes_cam_tables(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    out = tmp_path / "out"
-    assert main(["run", str(EXAMPLE), "--out", str(out), "--no-plot", "--quiet"]) == 0
+def test_run_writes_cam_tables(cli_run) -> None:
+    run = cli_run(EXAMPLE, "--no-plot", "--quiet")
+    out = run.out
+    assert run.code == 0
     summary = json.loads((out / "results.json").read_text())
     assert summary["servo_axes"]["jaw"]["motor"] == "AC-130-955"
     m = cm.Machine.from_toml(EXAMPLE)
