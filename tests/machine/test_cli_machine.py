@@ -165,7 +165,8 @@ def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
     assert "nominal_rpm = 450.0" in text
     fast = tmp_path / "fast_loom.toml"
     fast.write_text(text, encoding="utf-8")
-    assert main(["run", str(fast), "--out", str(tmp_path / "fast"), "--no-plot", "--quiet"]) == 3
+    argv = ["run", str(fast), "--out", str(tmp_path / "fast"), "--no-plot", "--quiet"]
+    assert main([*argv, "--no-sensitivities"]) == 3
     cap = capsys.readouterr()
     assert "At 450 rpm the cyclogram does not fit" in cap.out
     assert "does not fit at the nominal 450 rpm (speed limit 420.32 rpm; exit status 3)" in cap.err
@@ -198,7 +199,8 @@ def test_version_and_one_line_warnings(tmp_path):
     odd = tmp_path / "odd.toml"
     odd.write_text(src.replace("speed_rpm = [200.0, 500.0]", "speed_rpm = [430.0, 500.0]"))
     cmd = [sys.executable, "-m", "cyclomech", "run", str(odd), "--out", str(tmp_path / "o")]
-    r = subprocess.run([*cmd, "--no-plot", "--quiet"], capture_output=True, text=True)
+    cmd += ["--no-plot", "--quiet", "--no-sensitivities"]
+    r = subprocess.run(cmd, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     lines = [ln for ln in r.stderr.splitlines() if "works at none" in ln]
     assert len(lines) == 1 and lines[0].startswith("cyclomech: warning: "), r.stderr

@@ -88,7 +88,8 @@ def test_item8_a_cyclogram_that_fits_at_no_speed_is_loud(tmp_path, capsys):
     lim = cm.Machine.from_toml(path).speed_limit()
     assert lim.rpm == 0.0 and lim.by == "cyclogram"
     assert "at any speed" in lim.reason and "one 200° + two 170° = 370° > 360°" in lim.reason
-    code = main(["run", str(path), "--out", str(tmp_path / "out"), "--no-plot", "--quiet"])
+    argv = ["run", str(path), "--out", str(tmp_path / "out"), "--no-plot", "--quiet"]
+    code = main([*argv, "--no-sensitivities"])
     io = capsys.readouterr()
     assert code == EXIT_FAILS != 0
     assert "works at no speed" in io.out and "370° > 360°" in io.out

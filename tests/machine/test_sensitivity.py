@@ -124,6 +124,33 @@ def test_run_reports_them_in_results_json_and_the_page(cli_run):
     assert "Which key buys speed" in page and "lifter.b_m" in page
 
 
+def test_run_without_sensitivities_says_so_and_keeps_every_other_figure(cli_run):
+    """``--no-sensitivities`` leaves out the table and nothing else: the limit, the
+    optimum and the results file's other entries are the full run's, the printed
+    line on the keys is gone, and the page says why its section is empty."""
+    loom = ROOT / "examples" / "stb_loom.toml"
+    full = cli_run(loom, "--no-plot", "--quiet")
+    bare = cli_run(loom, "--no-plot", "--quiet", "--no-sensitivities")
+    assert bare.code == full.code == 0
+    assert "Speed limit per +1 % of a key" not in bare.stdout
+    # every printed line but the keys' (and the folder's name in the last) alike
+    lines = [x for x in full.stdout.splitlines() if "per +1 %" not in x]
+    assert [x.replace(str(full.out), "OUT") for x in lines] == [
+        x.replace(str(bare.out), "OUT") for x in bare.stdout.splitlines()
+    ]
+    a = json.loads((full.out / "results.json").read_text("utf-8"))
+    b = json.loads((bare.out / "results.json").read_text("utf-8"))
+    assert "sensitivities" in a and "sensitivities" not in b
+    a.pop("sensitivities")
+    assert {k: v for k, v in a.items() if k != "seconds"} == {
+        k: v for k, v in b.items() if k != "seconds"
+    }
+    assert "sensitivities" in a["seconds"] and "sensitivities" not in b["seconds"]
+    page = (bare.out / "report.html").read_text("utf-8")
+    assert "Which key buys speed" in page and "--no-sensitivities" in page
+    assert "lifter.b_m" not in page.split("Which key buys speed")[1].split("<h3>")[0]
+
+
 def test_operation_keys_match_the_critical_chains_closed_form():
     """The knife cutter's limit is its cyclogram's: the chain clamp → cut → knife
     return → move the pile fills the turn, Σ a_k + 6·n·t = 360° (t the pile's

@@ -129,7 +129,11 @@ def page(
 def _sensitivity_section(r: MachineResult) -> list[str]:
     """Which key buys how many rpm: the ranked sensitivities, when computed."""
     if r.sensitivities is None:
-        return []
+        return [
+            "<h3>Which key buys speed</h3>",
+            "<p>Not computed for this report (<code>cyclomech run --no-sensitivities</code>, "
+            "or <code>analyze(…, sensitivities=False)</code>).</p>",
+        ]
     rows = [
         [s.key, s.value, s.rpm_per_percent, s.rpm_per_unit, s.status, s.note]
         for s in r.sensitivities

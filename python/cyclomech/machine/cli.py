@@ -52,6 +52,12 @@ def add_commands(commands: Any) -> None:
     m.add_argument("--no-plot", action="store_true", help="do not draw the figures")
     m.add_argument("--quiet", action="store_true", help="no progress bar")
     m.add_argument(
+        "--no-sensitivities",
+        action="store_true",
+        help="skip which key buys speed (two speed limits per key of the file: most of "
+        "a run's time where cams bound the speed); the report says it was skipped",
+    )
+    m.add_argument(
         "--animate",
         action="store_true",
         help="also write machine.gif: every mechanism moving over one cycle beside the "
@@ -188,7 +194,9 @@ def run_command(args: argparse.Namespace) -> int:
         f"{m.speed_range_rpm[1]:g} rpm"
     )
     out = out_folder(args)
-    r = analyze(m, progress=None if not args.quiet else False, sensitivities=True)
+    r = analyze(
+        m, progress=None if not args.quiet else False, sensitivities=not args.no_sensitivities
+    )
     lim = r.limit
     by = "the cyclogram" if lim.by == "cyclogram" else f"mechanism {lim.by!r}"
     if lim.rpm == 0:  # no speed is to blame: the reason names the chain
