@@ -156,12 +156,16 @@ def test_a_known_four_bar_is_among_the_five_pose_four_bars(dims, uv, t0, steps) 
         assert _spread_of_radii(poses, p.circle_point, p.centre_point) < 1e-9
     found = syn.motion_generation(poses)
     assert 1 <= len(found) <= 6
-    mine = [
-        c
-        for c in found
-        if {tuple(np.round(x, 6)) for x in c.centre_points}
-        == {(0.0, 0.0), (round(dims[3], 6), 0.0)}
-    ]
+    # By distance, not by rounding: hypothesis draws ground lengths such as
+    # 2.9296875, a tie at the sixth decimal that a centre 1e-15 short rounds the
+    # other way (random profile, dims = (1, 2, 2, 2.9296875), steps of 12°).
+    pivots = np.array([(0.0, 0.0), (dims[3], 0.0)])
+
+    def at_the_pivots(c: syn.MotionCandidate) -> bool:
+        d = np.linalg.norm(np.asarray(c.centre_points)[:, None] - pivots, axis=2)
+        return max(d[0, 0], d[1, 1]) < 1e-6 or max(d[0, 1], d[1, 0]) < 1e-6
+
+    mine = [c for c in found if at_the_pivots(c)]
     assert len(mine) == 1
     (c,) = mine
     assert c.clean
