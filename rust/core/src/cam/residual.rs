@@ -358,9 +358,21 @@ impl ClosedResidual {
     /// ([`Lanes`]), both in SIMD lanes.
     pub fn fill(&self, tau: &[f64], zeta: f64, out: &mut [f64]) {
         if self.cycloidal {
-            pulp::Arch::new().dispatch(cycloidal::Blocks { tau, out, zeta });
+            let form = std::marker::PhantomData::<cycloidal::Form>;
+            pulp::Arch::new().dispatch(RealBlocks {
+                tau,
+                out,
+                zeta,
+                form,
+            });
         } else if self.harmonic {
-            pulp::Arch::new().dispatch(lanes::harmonic::Blocks { tau, out, zeta });
+            let form = std::marker::PhantomData::<lanes::harmonic::Form>;
+            pulp::Arch::new().dispatch(RealBlocks {
+                tau,
+                out,
+                zeta,
+                form,
+            });
         } else if let Some(lanes) = &self.lanes {
             pulp::Arch::new().dispatch(lanes::Blocks {
                 lanes,
@@ -373,6 +385,47 @@ impl ClosedResidual {
             for (o, &t) in out.iter_mut().zip(tau) {
                 *o = self.general(t, zeta);
             }
+        }
+    }
+}
+
+/// A law's residual vibration in real arithmetic (the cycloidal and the
+/// harmonic rise): one τ, and [`cycloidal::LANES`] values of τ ≤ 2e6 at once.
+pub(crate) trait RealForm {
+    fn one(tau: f64, zeta: f64, c: f64) -> f64;
+    fn lanes(tau: &[f64; cycloidal::LANES], zeta: f64, c: f64) -> [f64; cycloidal::LANES];
+}
+
+/// Fills `out` with R(τ_i, ζ) by a [`RealForm`]: blocks of lanes where every τ
+/// is ≤ 2e6, one by one elsewhere and in the tail (the same value either way).
+pub(crate) struct RealBlocks<'a, F: RealForm> {
+    pub(crate) tau: &'a [f64],
+    pub(crate) out: &'a mut [f64],
+    pub(crate) zeta: f64,
+    pub(crate) form: std::marker::PhantomData<F>,
+}
+
+impl<F: RealForm> pulp::WithSimd for RealBlocks<'_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        use cycloidal::LANES;
+        let c = ((1.0 - self.zeta) * (1.0 + self.zeta)).sqrt();
+        let mut tc = self.tau.chunks_exact(LANES);
+        let mut oc = self.out.chunks_exact_mut(LANES);
+        for (t, o) in (&mut tc).zip(&mut oc) {
+            let t: &[f64; LANES] = t.try_into().expect("chunks of LANES");
+            if t.iter().fold(true, |ok, &v| ok & (v <= 2e6)) {
+                o.copy_from_slice(&F::lanes(t, self.zeta, c));
+            } else {
+                for (oj, &tj) in o.iter_mut().zip(t) {
+                    *oj = F::one(tj, self.zeta, c);
+                }
+            }
+        }
+        for (oj, &tj) in oc.into_remainder().iter_mut().zip(tc.remainder()) {
+            *oj = F::one(tj, self.zeta, c);
         }
     }
 }
@@ -474,34 +527,17 @@ pub mod cycloidal {
         out
     }
 
-    /// Fills `out` with R(τ_i, ζ) in blocks of [`LANES`].
-    pub(crate) struct Blocks<'a> {
-        pub(crate) tau: &'a [f64],
-        pub(crate) out: &'a mut [f64],
-        pub(crate) zeta: f64,
-    }
+    /// The cycloidal rise's real form, for [`RealBlocks`].
+    pub(crate) struct Form;
 
-    impl pulp::WithSimd for Blocks<'_> {
-        type Output = ();
-
+    impl super::RealForm for Form {
         #[inline(always)]
-        fn with_simd<S: pulp::Simd>(self, _simd: S) {
-            let c = ((1.0 - self.zeta) * (1.0 + self.zeta)).sqrt();
-            let mut tc = self.tau.chunks_exact(LANES);
-            let mut oc = self.out.chunks_exact_mut(LANES);
-            for (t, o) in (&mut tc).zip(&mut oc) {
-                let t: &[f64; LANES] = t.try_into().expect("chunks of LANES");
-                if t.iter().fold(true, |ok, &v| ok & (v <= 2e6)) {
-                    o.copy_from_slice(&ratio_lanes(t, self.zeta, c));
-                } else {
-                    for (oj, &tj) in o.iter_mut().zip(t) {
-                        *oj = ratio(tj, self.zeta, c);
-                    }
-                }
-            }
-            for (oj, &tj) in oc.into_remainder().iter_mut().zip(tc.remainder()) {
-                *oj = ratio(tj, self.zeta, c);
-            }
+        fn one(tau: f64, zeta: f64, c: f64) -> f64 {
+            ratio(tau, zeta, c)
+        }
+        #[inline(always)]
+        fn lanes(tau: &[f64; LANES], zeta: f64, c: f64) -> [f64; LANES] {
+            ratio_lanes(tau, zeta, c)
         }
     }
 

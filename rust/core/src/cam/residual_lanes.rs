@@ -431,34 +431,17 @@ pub mod harmonic {
         out
     }
 
-    /// Fills `out` with R(τ_i, ζ) in blocks of [`LANES`].
-    pub(crate) struct Blocks<'a> {
-        pub(crate) tau: &'a [f64],
-        pub(crate) out: &'a mut [f64],
-        pub(crate) zeta: f64,
-    }
+    /// The harmonic rise's real form, for [`RealBlocks`](crate::cam::residual::RealBlocks).
+    pub(crate) struct Form;
 
-    impl pulp::WithSimd for Blocks<'_> {
-        type Output = ();
-
+    impl crate::cam::residual::RealForm for Form {
         #[inline(always)]
-        fn with_simd<S: pulp::Simd>(self, _simd: S) {
-            let c = ((1.0 - self.zeta) * (1.0 + self.zeta)).sqrt();
-            let mut tc = self.tau.chunks_exact(LANES);
-            let mut oc = self.out.chunks_exact_mut(LANES);
-            for (t, o) in (&mut tc).zip(&mut oc) {
-                let t: &[f64; LANES] = t.try_into().expect("chunks of LANES");
-                if t.iter().fold(true, |ok, &v| ok & (v <= 2e6)) {
-                    o.copy_from_slice(&ratio_lanes(t, self.zeta, c));
-                } else {
-                    for (oj, &tj) in o.iter_mut().zip(t) {
-                        *oj = ratio(tj, self.zeta, c);
-                    }
-                }
-            }
-            for (oj, &tj) in oc.into_remainder().iter_mut().zip(tc.remainder()) {
-                *oj = ratio(tj, self.zeta, c);
-            }
+        fn one(tau: f64, zeta: f64, c: f64) -> f64 {
+            ratio(tau, zeta, c)
+        }
+        #[inline(always)]
+        fn lanes(tau: &[f64; LANES], zeta: f64, c: f64) -> [f64; LANES] {
+            ratio_lanes(tau, zeta, c)
         }
     }
 }
