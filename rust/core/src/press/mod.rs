@@ -23,7 +23,8 @@
 //!
 //! Files: `kinematics` (the design, its kinematics over α grids, the domain's
 //! error), `criteria` (the working-stroke criteria of one design), `sweep`
-//! (criteria over a design grid, in parallel) and `pareto` (non-dominated
+//! (criteria over a design grid, in parallel), `walk` (the walk back from BDC
+//! to the first contact, which `criteria` runs) and `pareto` (non-dominated
 //! filtering, for the optimiser).
 
 mod criteria;
@@ -32,6 +33,7 @@ mod pareto;
 mod sweep;
 #[cfg(test)]
 mod tests;
+mod walk;
 
 pub use criteria::{criteria, Spec, Status, Stroke, CRITERIA, DEFAULT_SAMPLES, RECONTACT, TIE};
 pub use kinematics::{bdc, solve_into, Design, KinOut, PressError, MAX_RATIO};

@@ -2,6 +2,7 @@ use std::f64::consts::TAU;
 
 use super::criteria::*;
 use super::kinematics::*;
+use super::walk::{SHORTCUTS, SKIP_WALK};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
