@@ -224,7 +224,6 @@ impl Model {
         };
         model.blocks = model.order()?;
         model.plan = solve::Plan::new(model.n, &model.blocks);
-        model.plan.tape = solve::Tape::new(&model);
         Ok(model)
     }
 
@@ -331,7 +330,7 @@ impl Model {
                 s.rhs(r + 2, 2, k(-mz));
             }
         }
-        s.a_const(3 * spec.driver + 2, self.torque_col, k(1.0));
+        s.a(3 * spec.driver + 2, self.torque_col, k(1.0));
         for pin in &self.pins {
             let p = pin.point;
             let x = pose.xy[p];
@@ -341,15 +340,15 @@ impl Model {
                 let (cx, cy) = (pin.col + 2 * (kk - 1), pin.col + 2 * (kk - 1) + 1);
                 if let Side::Body(b) = side {
                     let d = pose.arm(b, x);
-                    s.a_const(3 * b, cx, k(1.0));
-                    s.a_const(3 * b + 1, cy, k(1.0));
+                    s.a(3 * b, cx, k(1.0));
+                    s.a(3 * b + 1, cy, k(1.0));
                     s.a(3 * b + 2, cx, -d[1]);
                     s.a(3 * b + 2, cy, d[0]);
                 }
                 if let Some(Side::Body(e)) = first {
                     let d = pose.arm(e, x);
-                    s.a_const(3 * e, cx, k(-1.0));
-                    s.a_const(3 * e + 1, cy, k(-1.0));
+                    s.a(3 * e, cx, k(-1.0));
+                    s.a(3 * e + 1, cy, k(-1.0));
                     s.a(3 * e + 2, cx, d[1]);
                     s.a(3 * e + 2, cy, -d[0]);
                 }
@@ -402,12 +401,6 @@ impl Model {
 /// Where [`Model::assemble`] writes.
 trait Sink<T = f64> {
     fn a(&mut self, row: usize, col: usize, v: T);
-    /// An entry that is the same at every pose (±1): [`Sink::a`] unless the
-    /// sink has it already (`solve::Taped` starts from a template of them).
-    #[inline(always)]
-    fn a_const(&mut self, row: usize, col: usize, v: T) {
-        self.a(row, col, v);
-    }
     fn rhs(&mut self, row: usize, part: usize, v: T);
 }
 

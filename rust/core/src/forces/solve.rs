@@ -386,93 +386,6 @@ impl<T: Num> Sink<T> for Packed<'_, T> {
     }
 }
 
-/// [`Model::assemble`] compiled once per model into a flat tape (for the
-/// lanes, where `Pose::extra` is never set): the slot of each entry and
-/// right-hand side that changes with the pose, in the order `assemble` emits
-/// them, so that a pose is assembled with no slot lookups (its `Sink` calls
-/// are a walk down the tape); the constant entries (±1) are not on it but in
-/// `template`, the values' starting point. `None` from [`Tape::new`] if a
-/// constant shares its slot with another entry (then the sums' order would
-/// change): the lanes then assemble through [`Packed`].
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct Tape {
-    slots: Vec<u32>,
-    /// The constant entries in their slots (summed in `assemble`'s order), 0
-    /// elsewhere.
-    template: Vec<f64>,
-}
-
-impl Tape {
-    pub(super) fn new(model: &Model) -> Option<Tape> {
-        struct Rec<'a> {
-            plan: &'a Plan,
-            slots: Vec<u32>,
-            consts: Vec<(u32, f64)>,
-        }
-        impl Sink for Rec<'_> {
-            fn a(&mut self, row: usize, col: usize, _: f64) {
-                self.slots.push(self.plan.slot[row * self.plan.n + col]);
-            }
-            fn a_const(&mut self, row: usize, col: usize, v: f64) {
-                self.consts
-                    .push((self.plan.slot[row * self.plan.n + col], v));
-            }
-            fn rhs(&mut self, row: usize, part: usize, _: f64) {
-                self.slots.push(self.plan.rhs_slot[row] + part as u32);
-            }
-        }
-        let mut rec = Rec {
-            plan: &model.plan,
-            slots: Vec::new(),
-            consts: Vec::new(),
-        };
-        model.assemble(&Pose::structural(&model.spec), &mut rec);
-        let mut template = vec![0.0; model.plan.len];
-        for &(slot, v) in &rec.consts {
-            if slot == u32::MAX || rec.slots.contains(&slot) {
-                return None;
-            }
-            template[slot as usize] += v;
-        }
-        if rec.slots.iter().any(|&s| s as usize >= model.plan.len) {
-            return None;
-        }
-        Some(Tape {
-            slots: rec.slots,
-            template,
-        })
-    }
-}
-
-/// Where a pose's system is assembled along a [`Tape`]: each entry added into
-/// the next slot of the tape, the constants already in place.
-struct Taped<'a, T> {
-    slots: std::slice::Iter<'a, u32>,
-    vals: &'a mut [T],
-}
-
-impl<T: Num> Taped<'_, T> {
-    #[inline(always)]
-    fn push(&mut self, v: T) {
-        if let Some(&slot) = self.slots.next() {
-            self.vals[slot as usize] += v;
-        }
-    }
-}
-
-impl<T: Num> Sink<T> for Taped<'_, T> {
-    #[inline(always)]
-    fn a(&mut self, _: usize, _: usize, v: T) {
-        self.push(v);
-    }
-    #[inline(always)]
-    fn a_const(&mut self, _: usize, _: usize, _: T) {}
-    #[inline(always)]
-    fn rhs(&mut self, _: usize, _: usize, v: T) {
-        self.push(v);
-    }
-}
-
 /// Where each structural entry of the system goes, fixed once per model: each
 /// block is a k×s row-major augmented matrix (its k columns, zero padding, the
 /// three right-hand sides in the last three columns; s = 8 for k ≤ 5, 16 for
@@ -488,8 +401,6 @@ pub(super) struct Plan {
     /// Slots in all.
     len: usize,
     blocks: Vec<PlanBlock>,
-    /// The assembly as a tape (set by `Model::new` once the plan is made).
-    pub(super) tape: Option<Tape>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -547,7 +458,6 @@ impl Plan {
             rhs_slot,
             len: next,
             blocks: out,
-            tape: None,
         }
     }
 }
@@ -692,10 +602,6 @@ impl Model {
             res: vec![Lanes::splat(0.0); 3 * self.width(reactions)],
             pose: Pose::zeroed(&self.spec),
             vals: vec![Lanes::splat(0.0); self.plan.len],
-            template: match &self.plan.tape {
-                Some(t) => t.template.iter().map(|&v| Lanes::splat(v)).collect(),
-                None => vec![Lanes::splat(0.0); self.plan.len],
-            },
             x: vec![Lanes::splat(0.0); self.n * 3],
         }
     }
@@ -720,23 +626,14 @@ impl Model {
         let mut ratios = [0.0; LANES];
         s.pose.fill_lanes(&self.spec, rows, &mut ok, &mut ratios);
         ratio.copy_from_slice(&ratios);
-        s.vals.copy_from_slice(&s.template);
-        match &self.plan.tape {
-            Some(tape) => self.assemble(
-                &s.pose,
-                &mut Taped {
-                    slots: tape.slots.iter(),
-                    vals: &mut s.vals,
-                },
-            ),
-            None => self.assemble(
-                &s.pose,
-                &mut Packed {
-                    plan: &self.plan,
-                    vals: &mut s.vals,
-                },
-            ),
-        }
+        s.vals.fill(Lanes::splat(0.0));
+        self.assemble(
+            &s.pose,
+            &mut Packed {
+                plan: &self.plan,
+                vals: &mut s.vals,
+            },
+        );
         let (vals, x) = (&mut s.vals, &mut s.x);
         let mut conds = [f64::INFINITY; LANES];
         let mut live = [true; LANES];
@@ -810,8 +707,6 @@ impl Model {
 pub(super) struct ScratchLanes {
     pose: Pose<Lanes>,
     vals: Vec<Lanes>,
-    /// What `vals` starts from at each group: the tape's constants, or 0.
-    template: Vec<Lanes>,
     x: Vec<Lanes>,
     /// The values of the three parts, W each.
     res: Vec<Lanes>,

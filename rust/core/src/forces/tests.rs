@@ -410,8 +410,6 @@ proptest! {
             gravity: [0.3, -9.81],
         };
         let model = Model::new(spec).unwrap();
-        // The lanes assemble along the tape (not the slot lookups).
-        prop_assert!(model.plan.tape.is_some());
         let (mut xy, mut vel, mut acc, mut force, mut torque) = (vec![], vec![], vec![], vec![], vec![]);
         for (i, &phi) in phis.iter().enumerate() {
             let (p, pv, pa) = four_bar(1.0, b, c, d, phi)
@@ -445,7 +443,6 @@ proptest! {
         dead_at in 0usize..17,
     ) {
         let model = Model::new(Spec { gravity: [0.0, -9.81], ..slider_spec(mc, (mr, jr)) }).unwrap();
-        prop_assert!(model.plan.tape.is_some());
         let (mut xy, mut vel, mut acc, mut force, mut torque) = (vec![], vec![], vec![], vec![], vec![]);
         for (i, &phi) in phis.iter().enumerate() {
             let (p, pv, pa) = if i == dead_at {
