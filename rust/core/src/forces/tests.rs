@@ -461,3 +461,95 @@ proptest! {
         prop_assert_eq!(cond[dead_at], 0.0);
     }
 }
+
+/// The process's CPU time [s] (Linux; 0 elsewhere), from /proc/self/stat (the
+/// solve runs on a pool thread; the test is otherwise idle).
+fn process_cpu() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    let rest = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    (ticks(11) + ticks(12)) / 100.0
+}
+
+/// The kernel alone on the bench's size (1e5 crank angles of a loaded
+/// four-bar, reactions on, one thread, a reused output): CPU time a call,
+/// several rounds, and a checksum of the output bits (equal before and after
+/// a change that must keep the values bit for bit). Run:
+/// `cargo test --release -p cyclomech-core --lib forces_kernel_timing -- --ignored --nocapture`
+#[test]
+#[ignore = "timing, not a check"]
+fn forces_kernel_timing() {
+    let spec = Spec {
+        n_points: 4,
+        bodies: vec![
+            body(&[0, 1], 1.0, [0.5, 0.1], 0.1),
+            body(&[1, 2], 2.0, [0.4, 0.05], 0.3),
+            body(&[3, 2], 1.5, [0.4, -0.2], 0.2),
+        ],
+        ground: vec![0, 3],
+        point_mass: vec![0.0, 0.5, 0.0, 0.0],
+        guides: vec![],
+        driver: 0,
+        gravity: [0.0, -9.81],
+    };
+    let model = Model::new(spec).unwrap();
+    let n = 100_000;
+    let (mut xy, mut vel, mut acc, mut force, mut torque) =
+        (vec![], vec![], vec![], vec![], vec![]);
+    for i in 0..n {
+        let phi = i as f64 * std::f64::consts::TAU / n as f64;
+        let (p, pv, pa) = four_bar(1.0, 3.0, 3.0, 3.0, phi).unwrap();
+        xy.extend(p.iter().flatten());
+        vel.extend(pv.iter().flatten());
+        acc.extend(pa.iter().flatten());
+        force.extend([0.0, 0.0, 0.0, 0.0, phi.sin() * 20.0, 10.0, 0.0, 0.0]);
+        torque.extend([0.0, 0.5, -1.0]);
+    }
+    for reactions in [true, false] {
+        let w = model.width(reactions);
+        let mut values = vec![0.0; 3 * n * w];
+        let (mut conds, mut ratios) = (vec![0.0; n], vec![0.0; n]);
+        let mut call = || {
+            solve_into(
+                &model,
+                Inputs {
+                    xy: &xy,
+                    vel: &vel,
+                    acc: &acc,
+                    force: Some(&force),
+                    torque: Some(&torque),
+                },
+                Outputs {
+                    values: &mut values,
+                    conditioning: &mut conds,
+                    reactions,
+                    analogs: Some(&mut ratios),
+                },
+                Some(1),
+            )
+            .unwrap();
+        };
+        call();
+        let mut per = Vec::new();
+        for _ in 0..7 {
+            let t = process_cpu();
+            for _ in 0..20 {
+                call();
+            }
+            per.push((process_cpu() - t) / 20.0 * 1e3);
+        }
+        per.sort_by(f64::total_cmp);
+        let sum = values
+            .iter()
+            .chain(&conds)
+            .chain(&ratios)
+            .fold(0u64, |h, v| h.rotate_left(5) ^ v.to_bits());
+        println!(
+            "reactions {reactions}: CPU ms a call min {:.2} median {:.2} max {:.2}; checksum {sum:016x}",
+            per[0], per[3], per[6]
+        );
+    }
+}
