@@ -239,33 +239,48 @@ impl Program {
         }
     }
 
-    /// [`Program::eval`] for `L` angles at once, as four lanes [s, s′, s″, s‴]
-    /// (the same values, bit for bit): angles in [0, 2π) within one segment (the
-    /// common case for sorted angles) run as loops across lanes without branches
-    /// (see `Law::z_all_lanes`), others one by one.
+    /// The segment every angle of `theta` lies in, if one holds them all as
+    /// `eval`'s lookup puts them (t in segment k iff start(k) ≤ t < start(k +
+    /// 1), within [0, 2π)); None for lanes that straddle segments, lie outside
+    /// the turn or are NaN (one mask test across the lanes).
     #[inline(always)]
-    pub(super) fn eval_lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+    fn lanes_segment<const L: usize>(&self, theta: &[f64; L]) -> Option<&Seg> {
         let segs = &self.segs;
         let mut k = 0;
         while k + 1 < segs.len() && segs[k + 1].start <= theta[0] {
             k += 1;
         }
         let g = &segs[k];
-        // eval's lookup puts t in segment k iff start(k) ≤ t < start(k + 1).
         let hi = segs.get(k + 1).map_or(TAU, |n| n.start.min(TAU));
-        let one_segment = theta
+        theta
             .iter()
-            .fold(true, |ok, &v| ok & (v >= 0.0) & (v >= g.start) & (v < hi));
-        if !one_segment {
-            let mut out = [[0.0; L]; 4];
-            for (l, &v) in theta.iter().enumerate() {
-                let e = self.eval(v);
-                for o in 0..4 {
-                    out[o][l] = e[o];
-                }
+            .fold(true, |ok, &v| ok & (v >= 0.0) & (v >= g.start) & (v < hi))
+            .then_some(g)
+    }
+
+    /// [`Program::eval`] of each angle, as the lanes' four rows: the path of
+    /// lanes that straddle segments.
+    #[inline(always)]
+    fn eval_each<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+        let mut out = [[0.0; L]; 4];
+        for (l, &v) in theta.iter().enumerate() {
+            let e = self.eval(v);
+            for o in 0..4 {
+                out[o][l] = e[o];
             }
-            return out;
         }
+        out
+    }
+
+    /// [`Program::eval`] for `L` angles at once, as four lanes [s, s′, s″, s‴]
+    /// (the same values, bit for bit): angles in [0, 2π) within one segment (the
+    /// common case for sorted angles) run as loops across lanes without branches
+    /// (see `Law::z_all_lanes`), others one by one.
+    #[inline(always)]
+    pub(super) fn eval_lanes<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+        let Some(g) = self.lanes_segment(theta) else {
+            return self.eval_each(theta);
+        };
         match &g.law {
             None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
             Some(law) => {
@@ -294,27 +309,9 @@ impl Program {
     /// order's scale of [`Program::eval`] (tested), not bit for bit.
     #[inline(always)]
     pub(super) fn eval_lanes_fast<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
-        let segs = &self.segs;
-        let mut k = 0;
-        while k + 1 < segs.len() && segs[k + 1].start <= theta[0] {
-            k += 1;
-        }
-        let g = &segs[k];
-        let hi = segs.get(k + 1).map_or(TAU, |n| n.start.min(TAU));
-        // One mask test across the lanes (NaN fails the comparisons: one by one).
-        let one_segment = theta
-            .iter()
-            .fold(true, |ok, &v| ok & (v >= 0.0) & (v >= g.start) & (v < hi));
-        if !one_segment {
-            let mut out = [[0.0; L]; 4];
-            for (l, &v) in theta.iter().enumerate() {
-                let e = self.eval(v);
-                for o in 0..4 {
-                    out[o][l] = e[o];
-                }
-            }
-            return out;
-        }
+        let Some(g) = self.lanes_segment(theta) else {
+            return self.eval_each(theta);
+        };
         match &g.law {
             None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
             Some(law) => {

@@ -359,6 +359,46 @@ impl Law {
         s[k].eval_all(x)
     }
 
+    /// The piece the first of `x` lies in, and whether every value of `x` lies
+    /// in it as the lookup of `z` puts them: v in piece k iff x1(k − 1) < v ≤
+    /// x1(k), open ends for the first and last pieces (NaN is in none).
+    #[inline(always)]
+    fn lanes_piece<const L: usize>(&self, x: &[f64; L]) -> (&Fast, bool) {
+        let s = &self.fast;
+        let mut k = 0;
+        while k + 1 < s.len() && x[0] > s[k].x1 {
+            k += 1;
+        }
+        let lo = if k == 0 {
+            f64::NEG_INFINITY
+        } else {
+            s[k - 1].x1
+        };
+        let hi = if k + 1 == s.len() {
+            f64::INFINITY
+        } else {
+            s[k].x1
+        };
+        (
+            &s[k],
+            x.iter().fold(true, |ok, &v| ok & (v > lo) & (v <= hi)),
+        )
+    }
+
+    /// [`Law::z_all`] of each value of `x`, as the lanes' four rows: the path
+    /// of lanes that straddle pieces.
+    #[inline(always)]
+    fn z_all_each<const L: usize>(&self, x: &[f64; L]) -> [[f64; L]; 4] {
+        let mut out = [[0.0; L]; 4];
+        for (l, &v) in x.iter().enumerate() {
+            let z = self.z_all(v);
+            for o in 0..4 {
+                out[o][l] = z[o];
+            }
+        }
+        out
+    }
+
     /// [`Law::z_all`] for `L` values x in [0, 1] at once, as four lanes [Z, Z′,
     /// Z″, Z‴]: bit for bit `z_all` per value. Values in one piece (the common
     /// case for sorted x) run as loops across lanes without branches, so that a
@@ -376,36 +416,11 @@ impl Law {
     /// ```
     #[inline(always)]
     pub fn z_all_lanes<const L: usize>(&self, x: &[f64; L]) -> [[f64; L]; 4] {
-        let s = &self.fast;
-        let mut k = 0;
-        while k + 1 < s.len() && x[0] > s[k].x1 {
-            k += 1;
-        }
-        let f = &s[k];
-        // The lookup of `z` puts v in piece k iff v ≤ x1(k) (or k is last) and
-        // v > x1(k − 1) (or k is first).
-        let lo = if k == 0 {
-            f64::NEG_INFINITY
-        } else {
-            s[k - 1].x1
-        };
-        let hi = if k + 1 == s.len() {
-            f64::INFINITY
-        } else {
-            f.x1
-        };
-        let one_piece = x.iter().fold(true, |ok, &v| ok & (v > lo) & (v <= hi));
+        let (f, one_piece) = self.lanes_piece(x);
         // The branch-free sine holds for |argument| ≤ 1e6; here |t| ≤ 1.
         let sine_ok = (0..4).all(|o| f.amp[o] == 0.0 || f.freq.abs() + f.phase[o].abs() <= 1e5);
         if !(one_piece && sine_ok) {
-            let mut out = [[0.0; L]; 4];
-            for (l, &v) in x.iter().enumerate() {
-                let z = self.z_all(v);
-                for o in 0..4 {
-                    out[o][l] = z[o];
-                }
-            }
-            return out;
+            return self.z_all_each(x);
         }
         // Plain loops, no closures: a closure the compiler keeps out of line
         // would lose the caller's instruction set.
@@ -456,40 +471,14 @@ impl Law {
     /// ```
     #[inline(always)]
     pub fn z_all_lanes_shared<const L: usize>(&self, x: &[f64; L]) -> [[f64; L]; 4] {
-        let s = &self.fast;
-        let mut k = 0;
-        while k + 1 < s.len() && x[0] > s[k].x1 {
-            k += 1;
-        }
-        let f = &s[k];
-        // As in z_all_lanes: v is in piece k iff x1(k − 1) < v ≤ x1(k) (open
-        // ends for the first and last pieces).
-        let lo = if k == 0 {
-            f64::NEG_INFINITY
-        } else {
-            s[k - 1].x1
-        };
-        let hi = if k + 1 == s.len() {
-            f64::INFINITY
-        } else {
-            f.x1
-        };
+        let (f, one_piece) = self.lanes_piece(x);
         // (NaN fails the comparisons.) Within [−1, 2], |t| ≤ 3 (a piece lies in
         // [0, 1]), so the branch-free sine's argument stays within 1e6.
-        let one_piece = x.iter().fold(true, |ok, &v| {
-            ok & (v > lo) & (v <= hi) & (-1.0..=2.0).contains(&v)
-        });
+        let in_range = x.iter().fold(true, |ok, v| ok & (-1.0..=2.0).contains(v));
         let wave = f.amp.iter().any(|&a| a != 0.0);
         let sine_ok = !wave || 3.0 * f.freq.abs() + f.phase[0].abs() <= 1e6;
-        if !(one_piece && sine_ok) {
-            let mut out = [[0.0; L]; 4];
-            for (l, &v) in x.iter().enumerate() {
-                let z = self.z_all(v);
-                for o in 0..4 {
-                    out[o][l] = z[o];
-                }
-            }
-            return out;
+        if !(one_piece && in_range && sine_ok) {
+            return self.z_all_each(x);
         }
         let mut t = [0.0; L];
         for l in 0..L {
