@@ -5,6 +5,7 @@ refused by name, and the valid ones keep their closed forms."""
 from __future__ import annotations
 
 import math
+import warnings
 
 import cyclomech as cm
 import numpy as np
@@ -123,11 +124,31 @@ def test_item18_phase_angles_refuses_nan_and_negative_speeds():
         cm.impact.min_phase_angles([300, math.nan, -300], 0.1)
     with pytest.raises(cm.InputError, match=r"rpm\[0\] = -300.0 must be finite and > 0"):
         cm.impact.min_phase_angles([-300], 0.1)
-    with pytest.raises(cm.InputError, match=r"per_rpm = -0.1 must be finite and ≥ 0"):
+    with pytest.raises(cm.InputError, match=r"per_rpm = -0.1 must be ≥ 0 \[deg/rpm\] \(inf"):
         cm.impact.min_phase_angles([300], -0.1)
+    with pytest.raises(cm.InputError, match=r"per_rpm = nan must be ≥ 0"):
+        cm.impact.min_phase_angles([300], math.nan)
     # Valid input: n·per_rpm, by hand, and a scalar stays a scalar.
     np.testing.assert_allclose(cm.impact.min_phase_angles([100.0, 4000.0], 0.1), [10.0, math.nan])
     assert np.ndim(cm.impact.min_phase_angles(100.0, 0.1)) == 0
+    # +inf per rpm (v* = 0, or one so small the slope passes the float range): no
+    # phase angle of one turn will do, as Proportional's law says.
+    assert np.isnan(cm.impact.min_phase_angles([1e-6, 300.0], math.inf)).all()
+
+
+def test_a_subnormal_rebound_limit_is_a_bound_no_speed_meets():
+    # Random sweeps drew a_max = 5e-324 m: v* became subnormal and phase_per_rpm's
+    # division overflowed (a RuntimeWarning, then min_phase_angle refused its own inf).
+    # Such a limit is met by no speed: inf per rpm, NaN angles, no warning.
+    lever = cm.impact.StopImpact.example()
+    v = lever.max_impact_speed(5e-324)
+    assert 0.0 <= v < 1e-300
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert lever.phase_per_rpm(v) == math.inf
+        assert np.isnan(lever.min_phase_angle(5e-324, [1e-6, 100.0])).all()
+    # The next limit up still has a finite (huge) slope: the law is n·per_rpm.
+    assert math.isfinite(lever.phase_per_rpm(lever.max_impact_speed(1e-300)))
 
 
 def test_item18_rebounds_refuses_negative_impact_speeds():

@@ -475,7 +475,9 @@ class StopImpact:
         >>> round(280 * lifter.phase_per_rpm(lifter.max_impact_speed(0.1e-3)), 6)
         28.027142
         """
-        with np.errstate(divide="ignore"):
+        # A v* so small (a subnormal rebound limit) that the slope passes the float
+        # range is a bound no speed meets: inf, as for v* = 0.
+        with np.errstate(divide="ignore", over="ignore"):
             per_rpm = np.degrees(RAD_PER_S_PER_RPM * self.stroke * self.dz_contact)
             return float(
                 per_rpm

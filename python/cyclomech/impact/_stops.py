@@ -265,7 +265,7 @@ def min_phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
     rpm : float or array_like of float
         The speeds n [rpm] (finite, > 0); broadcasts with ``per_rpm``.
     per_rpm : float or array_like of float
-        The phase angle per rpm [deg/rpm] (finite, ≥ 0), e.g. from
+        The phase angle per rpm [deg/rpm] (≥ 0; +inf: no speed will do), e.g. from
         :meth:`StopImpact.phase_per_rpm`.
 
     Returns
@@ -276,20 +276,22 @@ def min_phase_angles(rpm: npt.ArrayLike, per_rpm: npt.ArrayLike) -> Array:
     Raises
     ------
     InputError
-        If a speed is not finite and positive or a ``per_rpm`` is not finite and ≥ 0.
+        If a speed is not finite and positive or a ``per_rpm`` is NaN or negative.
 
     Examples
     --------
     >>> import cyclomech as cm
     >>> cm.impact.min_phase_angles([100.0, 200.0, 400.0], 0.1).tolist()
     [10.0, 20.0, 40.0]
+    >>> cm.impact.min_phase_angles(100.0, float("inf")).tolist()   # no phase angle will do
+    nan
     """
     # float_array checks the dtype; np.asarray keeps a scalar 0-d.
     n = _positive_array("rpm", np.asarray(float_array("rpm", rpm, ndims=(0, 1, 2))), "[rpm]")
     n = n.reshape(np.shape(rpm))
     k = float_array("per_rpm", per_rpm, ndims=(0, 1, 2)).reshape(np.shape(per_rpm))
-    bad = ~(np.isfinite(k) & (k >= 0.0))
+    bad = ~(k >= 0.0)  # NaN too
     if bad.any():
         v = k.reshape(-1)[int(np.argmax(bad.reshape(-1)))]
-        raise InputError(f"per_rpm = {float(v)!r} must be finite and ≥ 0 [deg/rpm]")
+        raise InputError(f"per_rpm = {float(v)!r} must be ≥ 0 [deg/rpm] (inf: no speed)")
     return proportional_law(n, k)
