@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 import math
 import pickle
+import warnings
 from fractions import Fraction
 
 import cyclomech as cm
@@ -19,7 +20,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from cyclomech import synthesis as syn
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
@@ -84,8 +85,13 @@ def _det(poses, uv):
 
 
 def _passes_through(cand, poses, atol=1e-9):
+    """The candidate, solved by Linkage.solve, through every pose: to `atol` [m] plus
+    1e-11 of its longest link, since a position solve rounds relative to its lengths
+    (the random profile found a Burmester point 9 km out whose 4-m-ground four-bar
+    was 2e-8 m off: 2e-12 of its crank, whose dyad's radii agree to 1e-9)."""
     sol = cand.linkage().solve(np.radians(cand.crank_angles_deg))
     assert sol.ok.all()
+    atol = atol + 1e-11 * max(cand.lengths.values())
     assert_allclose(sol["P"], [p[:2] for p in poses], atol=atol)
     ab = sol["B"] - sol["A"]
     turn = np.degrees(np.arctan2(ab[:, 1], ab[:, 0]))
@@ -139,14 +145,37 @@ def test_a_known_four_bar_s_pivots_lie_on_the_four_pose_curves(dims, uv, t0, ste
     t0=st.floats(-60, 60),
     steps=st.lists(st.floats(12, 40), min_size=4, max_size=4),
 )
+# Found by the random profile: a lost root near a tangency (a warning, 3 points), and
+# a Burmester point 9 km out (its four-bar 2e-8 m off, rounding of its lengths).
+@example(
+    dims=(0.7414870663509294, 3.318359375, 2.287109375, 3.921875),
+    uv=(0.0, 0.0),
+    t0=0.0,
+    steps=[14.5, 31.0, 13.0, 31.0],
+)
+@example(
+    dims=(0.7414870663509294, 3.3203125, 2.28125, 3.9296875),
+    uv=(0.0, 0.0),
+    t0=0.0,
+    steps=[14.5, 31.0, 13.0, 31.0],
+)
 def test_a_known_four_bar_is_among_the_five_pose_four_bars(dims, uv, t0, steps) -> None:
     angles = list(np.cumsum([t0, *steps]))
     known = _known(dims, uv, angles)
     assume(known is not None)
     poses, pa, pb = known
     a_uv, b_uv = _frame(poses[0], pa), _frame(poses[0], pb)
-    pts = syn.burmester_points(poses)
-    assert len(pts) in (2, 4)
+    # Near a tangency of Burmester's curves a root can be lost; the function says so
+    # (documented) and returns an odd count. The random profile met one (dims =
+    # (0.7414870663509294, 3.318359375, 2.287109375, 3.921875), uv = 0, t0 = 0, steps
+    # 14.5, 31, 13, 31: a third point at y = 0.0024 beside a lost twin). The known
+    # four-bar's pivots must be found either way.
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always", cm.CyclomechWarning)
+        pts = syn.burmester_points(poses)
+    lost = [w for w in said if "a root was lost" in str(w.message)]
+    assert len(said) == len(lost)
+    assert len(pts) in ((3,) if lost else (2, 4))
     for uv_k, c_k in ((a_uv, (0, 0)), (b_uv, (dims[3], 0))):
         assert any(
             math.dist(p.circle_point, uv_k) < 1e-7 and math.dist(p.centre_point, c_k) < 1e-7
@@ -154,7 +183,10 @@ def test_a_known_four_bar_is_among_the_five_pose_four_bars(dims, uv, t0, steps) 
         )
     for p in pts:
         assert _spread_of_radii(poses, p.circle_point, p.centre_point) < 1e-9
-    found = syn.motion_generation(poses)
+    with warnings.catch_warnings():
+        if lost:
+            warnings.simplefilter("ignore", cm.CyclomechWarning)
+        found = syn.motion_generation(poses)
     assert 1 <= len(found) <= 6
     # By distance, not by rounding: hypothesis draws ground lengths such as
     # 2.9296875, a tie at the sixth decimal that a centre 1e-15 short rounds the
