@@ -509,6 +509,50 @@ fn lockstep_batch_equals_single() {
     assert!(GridSteps::new(&graded).is_none());
 }
 
+/// The grid's step table against a plain search of the distinct lengths in
+/// the order first seen: linspace-like grids (lengths ulps apart), repeated
+/// times (h = 0), exactly MAX_DISTINCT lengths and one more.
+#[test]
+fn grid_steps_are_the_distinct_lengths_in_order() {
+    fn by_search(t: &[f64]) -> (Vec<f64>, Vec<u32>) {
+        let (mut hs, mut which) = (Vec::<f64>::new(), Vec::new());
+        for w in t.windows(2) {
+            let h = w[1] - w[0];
+            let i = match hs.iter().position(|x| x.to_bits() == h.to_bits()) {
+                Some(i) => i,
+                None => {
+                    hs.push(h);
+                    hs.len() - 1
+                }
+            };
+            which.push(i as u32);
+        }
+        (hs, which)
+    }
+    let mut lin: Vec<f64> = (0..10_001).map(|k| k as f64 * 2e-6).collect();
+    lin.insert(77, lin[77]);
+    lin.insert(5000, lin[5000]);
+    // 255 and 256 distinct lengths (+ the zero of the repeated time), then 257.
+    let sums = |d: usize| -> Vec<f64> {
+        let mut t = vec![0.0, 0.0];
+        for k in 0..3 * d {
+            t.push(t.last().unwrap() + 1.0 + (k % (d - 1)) as f64);
+        }
+        t
+    };
+    for t in [lin, sums(255), sums(256)] {
+        let g = GridSteps::new(&t).unwrap();
+        let (hs, which) = by_search(&t);
+        assert!(hs.len() <= 256 && hs.len() > 15, "{}", hs.len());
+        assert_eq!(
+            g.hs.iter().map(|h| h.to_bits()).collect::<Vec<_>>(),
+            hs.iter().map(|h| h.to_bits()).collect::<Vec<_>>()
+        );
+        assert_eq!(g.which, which);
+    }
+    assert!(GridSteps::new(&sums(257)).is_none());
+}
+
 #[test]
 fn batch_errors_name_the_case() {
     let t = [0.0, 0.1, 0.2];
