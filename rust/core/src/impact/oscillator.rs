@@ -75,47 +75,23 @@ pub(super) struct Mode {
     pub(super) split: bool,
 }
 
-/// The denominators of [`cs_series`]' nested forms: (2n−1)·2n and 2n·(2n+1).
-const DC: [f64; 11] = [
-    2.0, 12.0, 30.0, 56.0, 90.0, 132.0, 182.0, 240.0, 306.0, 380.0, 462.0,
-];
-const DS: [f64; 11] = [
-    6.0, 20.0, 42.0, 72.0, 110.0, 156.0, 210.0, 272.0, 342.0, 420.0, 506.0,
-];
-
 /// cos(√−u)-type and sin(√−u)/√−u-type series for |u| ≤ 1:
 /// (Σ uⁿ/(2n)!, Σ uⁿ/(2n+1)!), to 1/24! (below rounding).
 #[inline(always)]
 fn cs_series(u: f64) -> (f64, f64) {
     // Nested form: 1 + u/(1·2)(1 + u/(3·4)(1 + …)).
+    const DC: [f64; 11] = [
+        2.0, 12.0, 30.0, 56.0, 90.0, 132.0, 182.0, 240.0, 306.0, 380.0, 462.0,
+    ];
+    const DS: [f64; 11] = [
+        6.0, 20.0, 42.0, 72.0, 110.0, 156.0, 210.0, 272.0, 342.0, 420.0, 506.0,
+    ];
     let (mut c, mut s) = (1.0, 1.0);
     for i in (0..11).rev() {
         c = 1.0 + u / DC[i] * c;
         s = 1.0 + u / DS[i] * s;
     }
     (c, s)
-}
-
-/// [`cs_series`] of each lane, its operations in its order (so each lane equals
-/// it bit for bit): its 22 divisions a lane, which dominate a step's
-/// coefficients, go in vector registers.
-struct CsLanes([f64; LOCK]);
-
-impl pulp::WithSimd for CsLanes {
-    type Output = ([f64; LOCK], [f64; LOCK]);
-
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        let u = self.0;
-        let (mut c, mut s) = ([1.0; LOCK], [1.0; LOCK]);
-        for i in (0..11).rev() {
-            for l in 0..LOCK {
-                c[l] = 1.0 + u[l] / DC[i] * c[l];
-                s[l] = 1.0 + u[l] / DS[i] * s[l];
-            }
-        }
-        (c, s)
-    }
 }
 
 #[inline]
@@ -188,27 +164,7 @@ impl Mode {
             let p01 = -ea * (-k2 * tau).exp_m1() / k2;
             return ((b * ea - a * eb) / k2, p01, (b * eb - a * ea) / k2);
         }
-        if let Some(u) = self.series_arg(tau) {
-            return self.phi_series(tau, cs_series(u));
-        }
         let (ec, es) = self.ecs(tau);
-        (ec + self.sigma * es, es, ec - self.sigma * es)
-    }
-
-    /// u = −λτ² where [`Mode::phi`] sums the series [`cs_series`] (not
-    /// split, |u| ≤ 1), else None.
-    #[inline]
-    fn series_arg(&self, tau: f64) -> Option<f64> {
-        let u = -self.lambda * tau * tau;
-        (!self.split && u.abs() <= 1.0).then_some(u)
-    }
-
-    /// [`Mode::phi`] at τ from the series' sums (c, s) = cs_series(u),
-    /// u = series_arg(τ): [`Mode::ecs`]'s series branch, then phi's combination.
-    #[inline]
-    fn phi_series(&self, tau: f64, (c, s): (f64, f64)) -> (f64, f64, f64) {
-        let e = (-self.sigma * tau).exp();
-        let (ec, es) = (e * c, e * s * tau);
         (ec + self.sigma * es, es, ec - self.sigma * es)
     }
 
@@ -410,11 +366,7 @@ impl Step {
         if h == 0.0 {
             return Step::IDENTITY;
         }
-        Step::with_phi(mode, h, inv_m, mode.phi(h))
-    }
-
-    /// [`Step::new`] for h ≠ 0 from the transition (Φ00, Φ01, Φ11) = phi(h).
-    fn with_phi(mode: &Mode, h: f64, inv_m: f64, (p00, p01, p11): (f64, f64, f64)) -> Step {
+        let (p00, p01, p11) = mode.phi(h);
         let (sig, w2) = (mode.sigma, mode.w2);
         let (i1, i1h, i2h) = if mode.rate * h <= 2.0 {
             integrals_series(mode, h)
@@ -1022,24 +974,11 @@ pub(super) fn lane_steps(
 ) -> Option<(Vec<LaneStep>, [f64; LOCK], [f64; LOCK])> {
     let mut coef = vec![LaneStep([[0.0; LOCK]; 8]); grid.hs.len()];
     let (mut q0, mut v0) = ([0.0; LOCK], [0.0; LOCK]);
-    let mut lanes = [(Mode::new(1.0, 0.0), 1.0); LOCK];
     for l in 0..LOCK {
         let (mode, inv_m, q, v) = cases.case(first + l).ok()?;
         (q0[l], v0[l]) = (q, v);
-        lanes[l] = (mode, inv_m);
-    }
-    let arch = pulp::Arch::new();
-    for (c, &h) in coef.iter_mut().zip(&grid.hs) {
-        // Step::new of each lane, the transitions' series summed in lanes.
-        let args = lanes.map(|(mode, _)| mode.series_arg(h));
-        let (cs, ss) = arch.dispatch(CsLanes(args.map(|u| u.unwrap_or(0.0))));
-        for (l, &(mode, inv_m)) in lanes.iter().enumerate() {
-            let st = match args[l] {
-                Some(_) if h != 0.0 => {
-                    Step::with_phi(&mode, h, inv_m, mode.phi_series(h, (cs[l], ss[l])))
-                }
-                _ => Step::new(&mode, h, inv_m),
-            };
+        for (c, &h) in coef.iter_mut().zip(&grid.hs) {
+            let st = Step::new(&mode, h, inv_m);
             if !st.is_finite() {
                 return None;
             }

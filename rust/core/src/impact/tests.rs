@@ -553,42 +553,6 @@ fn grid_steps_are_the_distinct_lengths_in_order() {
     assert!(GridSteps::new(&sums(257)).is_none());
 }
 
-/// The lockstep coefficients (the transitions' series summed in lanes) equal
-/// the one-case `Step::new` of each lane bit for bit, with lanes of one group
-/// in different branches: series and closed forms, under-, critically and
-/// over-damped, split, undamped, and the zero step of a repeated time.
-#[test]
-fn lane_steps_equal_each_lanes_step() {
-    let mut t = vec![0.0, 1e-6, 1e-6, 1e-3, 2e-3, 0.05, 0.5];
-    t.push(t[6] + 2e-6);
-    let grid = GridSteps::new(&t).unwrap();
-    let w = [300.0, 2000.0, 5.0, 1e4, 300.0, 800.0, 50.0, 3000.0];
-    let z = [0.0, 0.05, 0.7, 1.0, 1.2, 2.5, 10.0, 0.3];
-    let m = [0.02, 1.0, 3.0, 0.5, 7e-3, 2.0, 0.1, 1e-3];
-    let zero = [0.0; LOCK];
-    let cases = cases_of(&w, &z, &m, &zero, &zero);
-    let (coef, _, _) = lane_steps(&grid, &cases, 0).unwrap();
-    for (c, &h) in coef.iter().zip(&grid.hs) {
-        for l in 0..LOCK {
-            let st = Step::new(
-                &Oscillator::new(w[l], z[l], m[l]).unwrap().mode(),
-                h,
-                1.0 / m[l],
-            );
-            let all = [
-                st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
-            ];
-            for (j, x) in all.iter().enumerate() {
-                assert_eq!(
-                    c.0[j][l].to_bits(),
-                    x.to_bits(),
-                    "h {h}, lane {l}, coefficient {j}"
-                );
-            }
-        }
-    }
-}
-
 #[test]
 fn batch_errors_name_the_case() {
     let t = [0.0, 0.1, 0.2];
