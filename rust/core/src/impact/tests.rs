@@ -1700,3 +1700,51 @@ proptest! {
         }
     }
 }
+
+/// The lockstep loop alone on every instruction set the processor has (the
+/// Python API picks the best): 8 cases × 10 001 steps on the issue-37 grid,
+/// ns per case-step (run with --ignored --nocapture in release).
+#[test]
+#[ignore]
+fn lockstep_speed_per_isa() {
+    use pulp::Simd;
+    use std::time::Instant;
+    let n = 10_001;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * 2e-6).collect();
+    let grid = GridSteps::new(&t).unwrap();
+    let w = [1866.0; LOCK];
+    let z: Vec<f64> = (0..LOCK).map(|i| 0.01 + 0.01 * i as f64).collect();
+    let m = [7.4e-3; LOCK];
+    let zero = [0.0; LOCK];
+    let cases = cases_of(&w, &z, &m, &zero, &zero);
+    let (coef, q0, v0) = lane_steps(&grid, &cases, 0).unwrap();
+    let forces: Vec<f64> = (0..LOCK * n)
+        .map(|i| ((i * 7919) % 13) as f64 - 6.0)
+        .collect();
+    let mut out = vec![0.0; LOCK * n];
+    let rounds = 200;
+    let runs = on_each_isa!(|simd| {
+        let mut best = f64::INFINITY;
+        for _ in 0..5 {
+            let t0 = Instant::now();
+            for _ in 0..rounds {
+                Simd::vectorize(
+                    simd,
+                    Lockstep {
+                        which: &grid.which,
+                        coef: &coef,
+                        forces: &forces,
+                        out: &mut out,
+                        q0,
+                        v0,
+                    },
+                );
+            }
+            best = best.min(t0.elapsed().as_secs_f64() / (rounds * LOCK * n) as f64);
+        }
+        best
+    });
+    for (isa, s) in runs {
+        println!("lockstep {isa}: {:.3} ns per case-step", s * 1e9);
+    }
+}
