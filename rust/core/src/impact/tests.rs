@@ -509,6 +509,50 @@ fn lockstep_batch_equals_single() {
     assert!(GridSteps::new(&graded).is_none());
 }
 
+/// The grid's step table against a plain search of the distinct lengths in
+/// the order first seen: linspace-like grids (lengths ulps apart), repeated
+/// times (h = 0), exactly MAX_DISTINCT lengths and one more.
+#[test]
+fn grid_steps_are_the_distinct_lengths_in_order() {
+    fn by_search(t: &[f64]) -> (Vec<f64>, Vec<u32>) {
+        let (mut hs, mut which) = (Vec::<f64>::new(), Vec::new());
+        for w in t.windows(2) {
+            let h = w[1] - w[0];
+            let i = match hs.iter().position(|x| x.to_bits() == h.to_bits()) {
+                Some(i) => i,
+                None => {
+                    hs.push(h);
+                    hs.len() - 1
+                }
+            };
+            which.push(i as u32);
+        }
+        (hs, which)
+    }
+    let mut lin: Vec<f64> = (0..10_001).map(|k| k as f64 * 2e-6).collect();
+    lin.insert(77, lin[77]);
+    lin.insert(5000, lin[5000]);
+    // 255 and 256 distinct lengths (+ the zero of the repeated time), then 257.
+    let sums = |d: usize| -> Vec<f64> {
+        let mut t = vec![0.0, 0.0];
+        for k in 0..3 * d {
+            t.push(t.last().unwrap() + 1.0 + (k % (d - 1)) as f64);
+        }
+        t
+    };
+    for t in [lin, sums(255), sums(256)] {
+        let g = GridSteps::new(&t).unwrap();
+        let (hs, which) = by_search(&t);
+        assert!(hs.len() <= 256 && hs.len() > 15, "{}", hs.len());
+        assert_eq!(
+            g.hs.iter().map(|h| h.to_bits()).collect::<Vec<_>>(),
+            hs.iter().map(|h| h.to_bits()).collect::<Vec<_>>()
+        );
+        assert_eq!(g.which, which);
+    }
+    assert!(GridSteps::new(&sums(257)).is_none());
+}
+
 #[test]
 fn batch_errors_name_the_case() {
     let t = [0.0, 0.1, 0.2];
@@ -1654,5 +1698,53 @@ proptest! {
                 prop_assert_eq!((ql[i], vl[i]), (q[n - 1], v[n - 1]), "{}: case {}", isa, i);
             }
         }
+    }
+}
+
+/// The lockstep loop alone on every instruction set the processor has (the
+/// Python API picks the best): 8 cases × 10 001 steps on the issue-37 grid,
+/// ns per case-step (run with --ignored --nocapture in release).
+#[test]
+#[ignore]
+fn lockstep_speed_per_isa() {
+    use pulp::Simd;
+    use std::time::Instant;
+    let n = 10_001;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * 2e-6).collect();
+    let grid = GridSteps::new(&t).unwrap();
+    let w = [1866.0; LOCK];
+    let z: Vec<f64> = (0..LOCK).map(|i| 0.01 + 0.01 * i as f64).collect();
+    let m = [7.4e-3; LOCK];
+    let zero = [0.0; LOCK];
+    let cases = cases_of(&w, &z, &m, &zero, &zero);
+    let (coef, q0, v0) = lane_steps(&grid, &cases, 0).unwrap();
+    let forces: Vec<f64> = (0..LOCK * n)
+        .map(|i| ((i * 7919) % 13) as f64 - 6.0)
+        .collect();
+    let mut out = vec![0.0; LOCK * n];
+    let rounds = 200;
+    let runs = on_each_isa!(|simd| {
+        let mut best = f64::INFINITY;
+        for _ in 0..5 {
+            let t0 = Instant::now();
+            for _ in 0..rounds {
+                Simd::vectorize(
+                    simd,
+                    Lockstep {
+                        which: &grid.which,
+                        coef: &coef,
+                        forces: &forces,
+                        out: &mut out,
+                        q0,
+                        v0,
+                    },
+                );
+            }
+            best = best.min(t0.elapsed().as_secs_f64() / (rounds * LOCK * n) as f64);
+        }
+        best
+    });
+    for (isa, s) in runs {
+        println!("lockstep {isa}: {:.3} ns per case-step", s * 1e9);
     }
 }
