@@ -181,6 +181,7 @@ class CamKernel:
         n_threads: int | None = None,
         out: npt.NDArray[np.float64] | None = None,
         undercut: npt.NDArray[np.bool_] | None = None,
+        theta_copy: npt.NDArray[np.float64] | None = None,
     ) -> npt.NDArray[np.float64]: ...
     def loads(
         self,

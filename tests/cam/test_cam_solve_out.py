@@ -100,3 +100,31 @@ def test_a_wrong_out_is_an_input_error():
         c.solve(np.zeros(10), out=np.zeros((10, 14)))
     with pytest.raises(cm.InputError, match="same closure"):
         cam(closure="groove").solve(np.zeros(10), out=first)
+
+
+@pytest.mark.parametrize("index", [0, 13, 4099, 8191])
+def test_a_non_finite_angle_anywhere_is_named(index):
+    """The finite check runs per lane group inside the kernel's pass: the angle
+    planted at ``index`` (first of a group, inside one, across a chunk) is the
+    one the error names, with ``out=`` as without."""
+    c = cam()
+    theta = np.linspace(0.0, 2 * math.pi, 8195)
+    theta[index] = np.nan
+    first = c.solve(np.zeros(theta.size))
+    for out in (None, first):
+        with pytest.raises(cm.InputError, match=rf"theta.*\b{index}\b"):
+            c.solve(theta, out=out, n_threads=1)
+
+
+def test_the_kernel_copies_the_angles_where_asked():
+    """``theta_copy=`` of the kernel (what ``out=`` uses for ``out.theta``): the
+    angles themselves, for a length that is not a whole number of lane groups;
+    a wrong array is an InputError naming it."""
+    c = cam()
+    theta = np.random.default_rng(3).uniform(-10, 10, 1003)
+    copy = np.full(theta.size, np.nan)
+    rows = c._kernel.solve(theta, n_threads=1, theta_copy=copy)
+    np.testing.assert_array_equal(copy, theta)
+    np.testing.assert_array_equal(rows, c._kernel.solve(theta, n_threads=2))
+    with pytest.raises(cm.InputError, match="theta_copy"):
+        c._kernel.solve(theta, theta_copy=np.zeros(theta.size + 1))

@@ -392,10 +392,24 @@ class Cam:
             )
         if any(np.shares_memory(a, t) for a in (block, out.theta, flags)):
             t = t.copy()  # (solving into the angles' own memory)
-        self._kernel.solve(
-            t.reshape(-1), n_threads=threads_arg(n_threads), out=block, undercut=flags
+        # The kernel copies the angles into out.theta in its pass (θ is then in
+        # registers) where that array is one it can write (as Cam.solve made it).
+        theta_out = out.theta
+        direct = (
+            isinstance(theta_out, np.ndarray)
+            and theta_out.dtype == np.float64
+            and theta_out.flags.c_contiguous
+            and theta_out.flags.writeable
         )
-        np.copyto(out.theta.reshape(-1), t.reshape(-1))
+        self._kernel.solve(
+            t.reshape(-1),
+            n_threads=threads_arg(n_threads),
+            out=block,
+            undercut=flags,
+            theta_copy=theta_out.reshape(-1) if direct else None,
+        )
+        if not direct:
+            np.copyto(out.theta.reshape(-1), t.reshape(-1))
         return self._kinematics(block, shape, out.theta.reshape(shape), out.undercut)
 
     @property

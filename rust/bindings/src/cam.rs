@@ -132,8 +132,9 @@ impl CamKernel {
     /// Into `out` (a writeable C-contiguous float64 (N, 14) array that overlaps
     /// `theta` nowhere) when given, which is returned. With `undercut` (a
     /// writeable contiguous bool array of N), the undercut column is also
-    /// written there as booleans, in the same pass.
-    #[pyo3(signature = (theta, *, n_threads=None, out=None, undercut=None))]
+    /// written there as booleans, in the same pass; with `theta_copy` (a
+    /// writeable contiguous float64 array of N), a copy of `theta`.
+    #[pyo3(signature = (theta, *, n_threads=None, out=None, undercut=None, theta_copy=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
@@ -141,6 +142,7 @@ impl CamKernel {
         n_threads: Option<i64>,
         out: Option<Bound<'py, PyArray2<f64>>>,
         undercut: Option<Bound<'py, PyArray1<bool>>>,
+        theta_copy: Option<Bound<'py, PyArray1<f64>>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let ts = CamError::slice(py, "theta", &theta)?;
         let want = [ts.len(), N_COLUMNS];
@@ -182,6 +184,22 @@ impl CamKernel {
                 return Err(bad_flags(format!("an array of shape {:?}", u.shape())));
             }
         }
+        let bad_copy = |got: String| {
+            CamError::from(InvalidInput::Output {
+                field: "theta_copy",
+                want: format!(
+                    "a writeable contiguous float64 array of shape ({},) that overlaps no input",
+                    ts.len()
+                ),
+                got,
+            })
+            .into_pyerr(py)
+        };
+        if let Some(c) = &theta_copy {
+            if c.shape() != [ts.len()] || !c.is_c_contiguous() {
+                return Err(bad_copy(format!("an array of shape {:?}", c.shape())));
+            }
+        }
         {
             let mut rw = out
                 .try_readwrite()
@@ -198,8 +216,17 @@ impl CamKernel {
                 Some(f) => convert::output(py, f)?,
                 None => &mut [],
             };
+            let mut copy_rw = theta_copy
+                .as_ref()
+                .map(|c| c.try_readwrite())
+                .transpose()
+                .map_err(|e| bad_copy(format!("an array numpy will not lend for writing ({e})")))?;
+            let copy: &mut [f64] = match copy_rw.as_mut() {
+                Some(c) => convert::output(py, c)?,
+                None => &mut [],
+            };
             run(py, "CamKernel.solve", || {
-                self.cam.solve_flags_into(ts, slice, flags, n_threads)
+                self.cam.solve_flags_into(ts, slice, flags, copy, n_threads)
             })?;
         }
         Ok(out)

@@ -41,8 +41,10 @@ enum Mode {
     Lanes,
     /// [`Mode::Lanes`] for a kernel compiled with FMA: fused multiply-adds,
     /// θ's sine and cosine by [`sin_cos_fma_lanes`], the law's sinusoid once
-    /// (`Program::eval_lanes_fast`), one reciprocal of the pitch speed, and
-    /// the pressure angle by [`atan2_fast_lanes`]: within 1e-13 of each
+    /// (`Program::eval_lanes_fast`), one reciprocal of the pitch speed, the
+    /// pitch radius as −(|T|²/k)·|T| and the pressure angle by
+    /// [`atan2_fast_lanes`] of the unscaled normal (neither waits for the
+    /// square root): within 1e-13 of each
     /// output's scale (curvature for the radii) of [`Mode::Platform`]'s
     /// (tested), about half the work of [`Mode::Lanes`].
     Fast,
@@ -273,11 +275,17 @@ fn platform_atan2(y: f64, x: f64) -> f64 {
     y.atan2(x)
 }
 
+/// One parallel chunk of [`Cam::solve_flags_into`]: its rows, angles, flags
+/// and copy of the angles (empty where not asked for).
+type Chunk<'a> = (&'a mut [f64], &'a [f64], &'a mut [bool], &'a mut [f64]);
+
 /// Angles per lane group of [`Cam::solve_into`]: one AVX-512 register of f64.
 const GROUP: usize = 8;
 
 /// [`Cam::solve_into`]'s loop over one chunk, compiled once per instruction set
-/// (`pulp` picks AVX-512, AVX2 or baseline at run time).
+/// (`pulp` picks AVX-512, AVX2 or baseline at run time). Its output: whether
+/// every angle was finite (a group holding a non-finite angle is left
+/// unwritten).
 struct Rows<'a> {
     cam: &'a Cam,
     theta: &'a [f64],
@@ -287,56 +295,140 @@ struct Rows<'a> {
     /// The undercut flags of `theta` as booleans, written beside the rows
     /// while they are in registers (empty: not asked for).
     flags: &'a mut [bool],
+    /// A copy of `theta` written group by group while it is in registers
+    /// (empty: not asked for), where a later copy would read θ again.
+    theta_copy: &'a mut [f64],
 }
 
 impl pulp::WithSimd for Rows<'_> {
-    type Output = ();
+    type Output = bool;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> bool {
         let Rows {
             cam,
             theta,
             out,
             fast,
             flags,
+            theta_copy,
         } = self;
+        const BLOCK: usize = GROUP * N_COLUMNS;
         let with_flags = !flags.is_empty();
+        let with_copy = !theta_copy.is_empty();
+        let mut finite = true;
+        let n_full = theta.len() / GROUP;
+        let (full, rest) = out.split_at_mut(n_full * BLOCK);
         let mut groups = theta.chunks_exact(GROUP);
-        let mut rows = out.chunks_exact_mut(GROUP * N_COLUMNS);
-        for (g, (tg, og)) in (&mut groups).zip(&mut rows).enumerate() {
+        for (g, (tg, og)) in (&mut groups).zip(full.chunks_exact_mut(BLOCK)).enumerate() {
             let tg: &[f64; GROUP] = tg.try_into().unwrap_or(&[0.0; GROUP]);
-            let cols = cam.lanes(tg, fast);
-            for (l, row) in og.chunks_exact_mut(N_COLUMNS).enumerate() {
-                for (c, v) in row.iter_mut().enumerate() {
-                    *v = cols[c][l];
-                }
-            }
-            if with_flags {
-                for (f, &u) in flags[g * GROUP..(g + 1) * GROUP].iter_mut().zip(&cols[13]) {
-                    *f = u != 0.0;
-                }
-            }
+            let Ok(og) = <&mut [f64; BLOCK]>::try_from(og) else {
+                continue;
+            };
+            let at = g * GROUP..(g + 1) * GROUP;
+            finite &= group_rows(
+                simd,
+                cam,
+                fast,
+                tg,
+                og,
+                if with_flags {
+                    &mut flags[at.clone()]
+                } else {
+                    &mut []
+                },
+                if with_copy {
+                    &mut theta_copy[at]
+                } else {
+                    &mut []
+                },
+            );
         }
         // The tail (fewer than a group) padded to a whole group, so that every
         // angle of a solve takes the same arithmetic.
-        let (tail, rest) = (groups.remainder(), rows.into_remainder());
+        let tail = groups.remainder();
         if !tail.is_empty() {
             let mut tg = [0.0; GROUP];
             tg[..tail.len()].copy_from_slice(tail);
-            let cols = cam.lanes(&tg, fast);
-            for (l, row) in rest.chunks_exact_mut(N_COLUMNS).enumerate() {
-                for (c, v) in row.iter_mut().enumerate() {
-                    *v = cols[c][l];
-                }
+            let mut block = [0.0; BLOCK];
+            let at = n_full * GROUP..theta.len();
+            let ok = group_rows(
+                simd,
+                cam,
+                fast,
+                &tg,
+                &mut block,
+                if with_flags {
+                    &mut flags[at.clone()]
+                } else {
+                    &mut []
+                },
+                if with_copy {
+                    &mut theta_copy[at]
+                } else {
+                    &mut []
+                },
+            );
+            if ok {
+                rest.copy_from_slice(&block[..rest.len()]);
             }
-            if with_flags {
-                let done = theta.len() - tail.len();
-                for (f, &u) in flags[done..].iter_mut().zip(&cols[13]) {
-                    *f = u != 0.0;
-                }
-            }
+            finite &= ok;
         }
+        finite
+    }
+}
+
+/// One group of [`Rows`]: the rows of the angles `tg` into `block` (8 × 14
+/// values), their undercut flags into `flags` and `tg` into `theta_copy` (each
+/// as many as it holds: none, or the group's angles); false, and nothing
+/// written, if an angle is not finite. (A function, not a closure: a closure
+/// kept out of line would lose the instruction set.)
+#[inline(always)]
+fn group_rows<S: pulp::Simd>(
+    simd: S,
+    cam: &Cam,
+    fast: bool,
+    tg: &[f64; GROUP],
+    block: &mut [f64; GROUP * N_COLUMNS],
+    flags: &mut [bool],
+    theta_copy: &mut [f64],
+) -> bool {
+    if !tg.iter().fold(true, |ok, t| ok & t.is_finite()) {
+        return false;
+    }
+    let cols = cam.lanes(tg, fast);
+    store_rows(simd, &cols, block);
+    for (f, &u) in flags.iter_mut().zip(&cols[13]) {
+        *f = u != 0.0;
+    }
+    for (c, &t) in theta_copy.iter_mut().zip(tg) {
+        *c = t;
+    }
+    true
+}
+
+/// A group's 14 columns of 8 lanes stored as its 8 rows of 14 (`block`, 112
+/// values): two 8 × 8 transposes in registers ([`crate::tile::transpose`]),
+/// then each row as whole-register stores, where a row written value by value
+/// from the columns compiled to 128-bit pieces and single stores.
+#[inline(always)]
+fn store_rows<S: pulp::Simd>(
+    simd: S,
+    cols: &[[f64; GROUP]; N_COLUMNS],
+    block: &mut [f64; GROUP * N_COLUMNS],
+) {
+    let c = cols;
+    // Columns 0–7, then 8–13 (the last two rows of the second tile unused).
+    let first = [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]];
+    let second = [c[8], c[9], c[10], c[11], c[12], c[13], c[13], c[13]];
+    let (first, second) = (
+        crate::tile::transpose(simd, &first),
+        crate::tile::transpose(simd, &second),
+    );
+    for l in 0..GROUP {
+        let row = l * N_COLUMNS;
+        block[row..row + 8].copy_from_slice(&first[l]);
+        block[row + 8..row + N_COLUMNS].copy_from_slice(&second[l][..N_COLUMNS - 8]);
     }
 }
 
@@ -609,14 +701,21 @@ impl Cam {
             each!(i => c2[0][i] - 2.0 * -c1[1][i] - c[0][i]),
             each!(i => c2[1][i] - 2.0 * c1[0][i] - c[1][i]),
         ];
-        let speed = each!(i => fma!(t[0][i], t[0][i], t[1][i] * t[1][i]).sqrt());
+        let speed2 = each!(i => fma!(t[0][i], t[0][i], t[1][i] * t[1][i]));
+        let speed = each!(i => speed2[i].sqrt());
         let k = each!(i => fma!(t[0][i], acc[1][i], -(t[1][i] * acc[0][i])));
         // The pitch point moves clockwise in the cam frame: convex is k < 0.
-        let rho_p = each!(i => pick(
-            k[i] == 0.0,
-            f64::INFINITY,
-            -speed[i] * speed[i] * speed[i] / k[i]
-        ));
+        // (The fast mode divides |T|² by k while the square root runs, where
+        // |T|³/k waits for it.)
+        let rho_p = if fast {
+            each!(i => pick(k[i] == 0.0, f64::INFINITY, -(speed2[i] / k[i]) * speed[i]))
+        } else {
+            each!(i => pick(
+                k[i] == 0.0,
+                f64::INFINITY,
+                -speed[i] * speed[i] * speed[i] / k[i]
+            ))
+        };
         // The unit normal: one reciprocal of the speed in the fast mode.
         let n = if fast {
             let inv = each!(i => 1.0 / speed[i]);
@@ -665,8 +764,16 @@ impl Cam {
                 } else {
                     nan
                 };
-                let cr = each!(i => v[0][i] * n[1][i] - v[1][i] * n[0][i]);
-                let dt = each!(i => v[0][i] * n[0][i] + v[1][i] * n[1][i]);
+                // φ = atan2(v × n, v · n); the fast mode takes the normal
+                // unscaled, J T = |T| n (the same angle, one rounding fewer,
+                // and not waiting for the square root and the reciprocal).
+                let m = if fast {
+                    [each!(i => -t[1][i]), t[0]]
+                } else {
+                    n
+                };
+                let cr = each!(i => v[0][i] * m[1][i] - v[1][i] * m[0][i]);
+                let dt = each!(i => v[0][i] * m[0][i] + v[1][i] * m[1][i]);
                 let phi = match mode {
                     Mode::Platform => each!(i => cr[i].atan2(dt[i])),
                     Mode::Lanes => atan2_lanes(&cr, &dt),
@@ -696,56 +803,71 @@ impl Cam {
         out: &mut [f64],
         n_threads: Option<i64>,
     ) -> Result<(), CamError> {
-        self.solve_flags_into(theta, out, &mut [], n_threads)
+        self.solve_flags_into(theta, out, &mut [], &mut [], n_threads)
     }
 
     /// [`Cam::solve_into`], and the undercut column as booleans into
-    /// `undercut` (`theta.len()` of them, or empty for none): written while the
-    /// row is in registers, where a later pass over the column would read the
-    /// whole (N, 14) block again (in Python, `rows[:, 13] != 0`: a third of
-    /// the kernel's time for 1e6 angles).
+    /// `undercut` and a copy of `theta` into `theta_copy` (`theta.len()` of
+    /// each, or empty for none): written while the group's rows and angles are
+    /// in registers, where a later pass would read the whole (N, 14) block (in
+    /// Python, `rows[:, 13] != 0`: a third of the kernel's time for 1e6 angles)
+    /// or θ again. The finite check is the group's, in the same pass; a group
+    /// with a non-finite angle is left unwritten, and the first such angle
+    /// reported.
     pub fn solve_flags_into(
         &self,
         theta: &[f64],
         out: &mut [f64],
         undercut: &mut [bool],
+        theta_copy: &mut [f64],
         n_threads: Option<i64>,
     ) -> Result<(), CamError> {
         debug_assert_eq!(out.len(), theta.len() * N_COLUMNS);
         debug_assert!(undercut.is_empty() || undercut.len() == theta.len());
+        debug_assert!(theta_copy.is_empty() || theta_copy.len() == theta.len());
         let pool = pool(resolve_threads(n_threads)?)?;
         let fast = fma_is_fast();
-        // The finite check runs inside each chunk's pass (one read of θ); a
-        // chunk with a bad angle is left unwritten and reported below.
-        let chunk = |rows: &mut [f64], ts: &[f64], flags: &mut [bool]| {
-            if crate::cancel::requested() {
-                return true;
-            }
-            let ok = ts.iter().fold(true, |ok, t| ok & t.is_finite());
-            if ok {
-                pulp::Arch::new().dispatch(Rows {
+        // Each chunk's rows, angles, flags and copy (empty where not asked for).
+        let (with_flags, with_copy) = (!undercut.is_empty(), !theta_copy.is_empty());
+        let mut flags = undercut.chunks_mut(CHUNK);
+        let mut copies = theta_copy.chunks_mut(CHUNK);
+        let chunks: Vec<Chunk> = out
+            .chunks_mut(CHUNK * N_COLUMNS)
+            .zip(theta.chunks(CHUNK))
+            .map(|(rows, ts)| {
+                let f = if with_flags { flags.next() } else { None };
+                let c = if with_copy { copies.next() } else { None };
+                (rows, ts, f.unwrap_or_default(), c.unwrap_or_default())
+            })
+            .collect();
+        let one = |(rows, ts, flags, theta_copy): Chunk| {
+            crate::cancel::requested()
+                || pulp::Arch::new().dispatch(Rows {
                     cam: self,
                     theta: ts,
                     out: rows,
                     fast,
                     flags,
-                });
-            }
-            ok
+                    theta_copy,
+                })
         };
+        // One thread: the chunks in the calling thread (no hand-over to the
+        // pool's worker and back).
+        if pool.current_num_threads() == 1 {
+            let finite = chunks.into_iter().fold(true, |ok, c| ok & one(c));
+            return self.finite_or_error(theta, finite);
+        }
         let finite = pool.install(|| {
-            let rows = out
-                .par_chunks_mut(CHUNK * N_COLUMNS)
-                .zip(theta.par_chunks(CHUNK));
-            if undercut.is_empty() {
-                rows.map(|(r, ts)| chunk(r, ts, &mut []))
-                    .reduce(|| true, |a, b| a & b)
-            } else {
-                rows.zip(undercut.par_chunks_mut(CHUNK))
-                    .map(|((r, ts), f)| chunk(r, ts, f))
-                    .reduce(|| true, |a, b| a & b)
-            }
+            chunks
+                .into_par_iter()
+                .map(one)
+                .reduce(|| true, |a, b| a & b)
         });
+        self.finite_or_error(theta, finite)
+    }
+
+    /// Ok if `finite`, else the first non-finite angle of `theta` as the error.
+    fn finite_or_error(&self, theta: &[f64], finite: bool) -> Result<(), CamError> {
         if !finite {
             if let Some((index, &value)) = theta.iter().enumerate().find(|(_, t)| !t.is_finite()) {
                 return Err(InvalidInput::NotFinite {

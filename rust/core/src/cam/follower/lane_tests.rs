@@ -104,6 +104,7 @@ fn every_instruction_set_gives_the_rows_of_row_at() {
                     out: &mut out,
                     fast: false,
                     flags: &mut [],
+                    theta_copy: &mut [],
                 },
             );
             out
@@ -158,6 +159,7 @@ fn rows_on_each_isa(cam: &Cam, theta: &[f64], fast: bool) -> Vec<(&'static str, 
                 out: &mut out,
                 fast,
                 flags: &mut [],
+                theta_copy: &mut [],
             },
         );
         out
@@ -251,19 +253,25 @@ proptest! {
 }
 
 #[test]
-fn the_flags_are_the_undercut_column() {
-    // Cams with and without undercut, a length that leaves a tail, two threads.
+fn the_flags_are_the_undercut_column_and_the_copy_the_angles() {
+    // Cams with and without undercut, a length that leaves a tail, two threads
+    // and one (the calling thread's path).
     let theta: Vec<f64> = (0..3 * CHUNK + 5).map(|i| i as f64 * 1e-3).collect();
     for cam in cams() {
-        let mut out = vec![0.0; theta.len() * N_COLUMNS];
-        let mut flags = vec![false; theta.len()];
-        cam.solve_flags_into(&theta, &mut out, &mut flags, Some(2))
-            .unwrap();
-        let mut plain = vec![0.0; theta.len() * N_COLUMNS];
-        cam.solve_into(&theta, &mut plain, Some(1)).unwrap();
-        assert!(out.iter().zip(&plain).all(|(a, b)| same(*a, *b)));
-        for (i, &f) in flags.iter().enumerate() {
-            assert_eq!(f, out[i * N_COLUMNS + 13] != 0.0, "θ = {}", theta[i]);
+        for threads in [1, 2] {
+            let mut out = vec![0.0; theta.len() * N_COLUMNS];
+            let mut flags = vec![false; theta.len()];
+            let mut copy = vec![f64::NAN; theta.len()];
+            cam.solve_flags_into(&theta, &mut out, &mut flags, &mut copy, Some(threads))
+                .unwrap();
+            let mut plain = vec![0.0; theta.len() * N_COLUMNS];
+            cam.solve_into(&theta, &mut plain, Some(3 - threads))
+                .unwrap();
+            assert!(out.iter().zip(&plain).all(|(a, b)| same(*a, *b)));
+            assert!(copy.iter().zip(&theta).all(|(a, b)| same(*a, *b)));
+            for (i, &f) in flags.iter().enumerate() {
+                assert_eq!(f, out[i * N_COLUMNS + 13] != 0.0, "θ = {}", theta[i]);
+            }
         }
     }
 }
@@ -274,13 +282,25 @@ fn solve_into_reports_the_first_bad_angle() {
     let mut theta = vec![1.0; 3 * CHUNK];
     theta[2 * CHUNK + 5] = f64::NAN;
     theta[2 * CHUNK + 9] = f64::INFINITY;
-    let mut out = vec![0.0; theta.len() * N_COLUMNS];
-    let err = cam.solve_into(&theta, &mut out, Some(2)).unwrap_err();
-    assert!(
-        err.to_string()
-            .contains(&format!("theta[{}]", 2 * CHUNK + 5)),
-        "{err}"
-    );
+    // The good angles' rows are still written (the check is each lane
+    // group's): those of the one angle alone.
+    let mut one = [0.0; N_COLUMNS];
+    cam.solve_into(&[1.0], &mut one, Some(1)).unwrap();
+    let bad_group = (2 * CHUNK + 5) / GROUP;
+    for threads in [1, 2] {
+        let mut out = vec![f64::NAN; theta.len() * N_COLUMNS];
+        let err = cam.solve_into(&theta, &mut out, Some(threads)).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains(&format!("theta[{}]", 2 * CHUNK + 5)),
+            "{err}"
+        );
+        for (i, row) in out.chunks_exact(N_COLUMNS).enumerate() {
+            if i / GROUP != bad_group && i / GROUP != bad_group + 1 {
+                assert!(row.iter().zip(&one).all(|(a, b)| same(*a, *b)), "row {i}");
+            }
+        }
+    }
 }
 
 fn ulps(a: f64, b: f64) -> f64 {
