@@ -39,7 +39,11 @@ impl Neg for Lanes {
     type Output = Lanes;
     #[inline(always)]
     fn neg(self) -> Lanes {
-        Lanes(self.0.map(|a| -a))
+        let mut r = self.0;
+        for a in &mut r {
+            *a = -*a;
+        }
+        Lanes(r)
     }
 }
 
@@ -59,13 +63,51 @@ impl Num for Lanes {
     }
     #[inline(always)]
     fn sqrt(self) -> Lanes {
-        Lanes(self.0.map(f64::sqrt))
+        let mut r = self.0;
+        for a in &mut r {
+            *a = a.sqrt();
+        }
+        Lanes(r)
     }
+}
+
+/// One diagonal block `m` (k rows of `st` lanes-values: see `solve::Plan`) of
+/// [`LANES`] angles solved in place: each lane's largest |entry| of the k×k
+/// matrix, and [`lu_lanes`]'s smallest pivots and live lanes with a pivot
+/// tolerance of `rel` times the largest entry. Blocks of up to 13 unknowns in
+/// the lanes' plan (st = k + 3) run a copy for their size, where every loop's
+/// length is a constant: the loops unroll, and each lanes operation stays one
+/// vector instruction (with a length known only at run time, the compiler
+/// vectorizes the loops over a row's entries instead, across the lanes' arrays,
+/// into code slower than the plain lane by lane operations).
+#[inline(always)]
+pub(super) fn solve_block_lanes(
+    m: &mut [Lanes],
+    k: usize,
+    st: usize,
+    rel: f64,
+) -> (Lanes, Lanes, [bool; LANES]) {
+    #[inline(always)]
+    fn sized(m: &mut [Lanes], k: usize, st: usize, rel: f64) -> (Lanes, Lanes, [bool; LANES]) {
+        let m = &mut m[..k * st];
+        let scale = block_abs_max_lanes(m, k, st);
+        let (pivot, alive) = lu_lanes(m, k, st, Lanes::splat(rel) * scale);
+        (scale, pivot, alive)
+    }
+    macro_rules! fixed {
+        ($($k:literal),*) => {
+            match k {
+                $($k if st == $k + 3 => sized(m, $k, $k + 3, rel),)*
+                _ => sized(m, k, st, rel),
+            }
+        };
+    }
+    fixed!(1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)
 }
 
 /// `solve::block_abs_max` lane by lane (the largest |v| ignoring NaN, as there).
 #[inline(always)]
-pub(super) fn block_abs_max_lanes(m: &[Lanes], k: usize, st: usize) -> Lanes {
+fn block_abs_max_lanes(m: &[Lanes], k: usize, st: usize) -> Lanes {
     let mut acc = [0.0f64; LANES];
     for row in m.chunks_exact(st) {
         for x in &row[..k] {
@@ -80,50 +122,105 @@ pub(super) fn block_abs_max_lanes(m: &[Lanes], k: usize, st: usize) -> Lanes {
     Lanes(acc)
 }
 
+/// Lane by lane `if m { a } else { b }` on the bits, with no branch (compiled
+/// to one vector blend).
+#[inline(always)]
+fn select(m: [u64; LANES], a: Lanes, b: Lanes) -> Lanes {
+    let mut r = [0.0; LANES];
+    for l in 0..LANES {
+        r[l] = f64::from_bits((a.0[l].to_bits() & m[l]) | (b.0[l].to_bits() & !m[l]));
+    }
+    Lanes(r)
+}
+
+/// All ones in the lanes where a > b, zeros elsewhere.
+#[inline(always)]
+fn gt_mask(a: Lanes, b: Lanes) -> [u64; LANES] {
+    let mut r = [0u64; LANES];
+    for l in 0..LANES {
+        r[l] = if a.0[l] > b.0[l] { u64::MAX } else { 0 };
+    }
+    r
+}
+
+/// All ones in the lanes where a is ±0, zeros elsewhere.
+#[inline(always)]
+fn zero_mask(a: Lanes) -> [u64; LANES] {
+    let mut r = [0u64; LANES];
+    for l in 0..LANES {
+        r[l] = if a.0[l] == 0.0 { u64::MAX } else { 0 };
+    }
+    r
+}
+
+/// |v| lane by lane.
+#[inline(always)]
+fn abs(v: Lanes) -> Lanes {
+    let mut r = v.0;
+    for a in &mut r {
+        *a = a.abs();
+    }
+    Lanes(r)
+}
+
 /// `solve::lu_rows` on the augmented block `m` (k rows of `st` lanes-values, as in
 /// `solve::Plan`) of [`LANES`] angles: each lane chooses its own pivot rows by the
 /// same rule and is eliminated by the same operations, so each lane ends as
-/// `solve::lu_rows` would leave it. Returns each lane's smallest |pivot| and
-/// whether it had no pivot at most `tol` (nor one not finite); a lane without
-/// is left with garbage, the others untouched by it.
+/// `solve::lu_rows` would leave it (in the entries read afterwards: the upper
+/// triangle and the right-hand sides; `lu_rows` also updates the entries left
+/// of the pivot column and the padding, which nothing reads, and these are
+/// skipped here). Returns each lane's smallest |pivot| and whether it had no
+/// pivot at most `tol` (nor one not finite); a lane without is left with
+/// garbage, the others untouched by it. Branch-free per lane: the pivot search,
+/// the row swap and the skip of a zero factor are lane masks and blends.
 #[inline(always)]
-pub(super) fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; LANES]) {
-    let mut smallest = [f64::INFINITY; LANES];
+fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; LANES]) {
+    let mut smallest = Lanes::splat(f64::INFINITY);
     let mut alive = [true; LANES];
+    // The columns an elimination step at column c reads and writes: c + 1..k
+    // and the three right-hand sides.
+    let rhs = st - 3;
     for c in 0..k {
-        let mut best = m[c * st + c].0.map(f64::abs);
-        let mut piv = [c; LANES];
+        let mut best = abs(m[c * st + c]);
+        let mut piv = [c as u64; LANES];
         for r in c + 1..k {
-            let v = m[r * st + c].0;
+            let y = abs(m[r * st + c]);
+            let gt = gt_mask(y, best);
+            best = select(gt, y, best);
             for l in 0..LANES {
-                let y = v[l].abs();
-                if y > best[l] {
-                    best[l] = y;
-                    piv[l] = r;
-                }
+                piv[l] = (r as u64 & gt[l]) | (piv[l] & !gt[l]);
             }
         }
         for l in 0..LANES {
-            let b = best[l];
+            let b = best.0[l];
             if b <= tol.0[l] || b == 0.0 || !b.is_finite() {
                 alive[l] = false;
             }
-            smallest[l] = smallest[l].min(b);
+            smallest.0[l] = smallest.0[l].min(b);
         }
         // Each lane swaps row c with its own pivot row: row r's swap blends
         // the lanes that pivot on r.
         for r in c + 1..k {
-            let swap = piv.map(|p| p == r);
-            if !swap.contains(&true) {
+            let mut swap = [0u64; LANES];
+            let mut any = 0u64;
+            for l in 0..LANES {
+                swap[l] = if piv[l] == r as u64 { u64::MAX } else { 0 };
+                any |= swap[l];
+            }
+            if any == 0 {
                 continue;
             }
             let (top, bottom) = m.split_at_mut(r * st);
-            for (a, b) in top[c * st..(c + 1) * st].iter_mut().zip(&mut bottom[..st]) {
-                for ((x, y), &sw) in a.0.iter_mut().zip(b.0.iter_mut()).zip(&swap) {
-                    let (u, v) = (*x, *y);
-                    *x = if sw { v } else { u };
-                    *y = if sw { u } else { v };
-                }
+            let (a, b) = (&mut top[c * st..(c + 1) * st], &mut bottom[..st]);
+            for j in c..k {
+                let (u, v) = (a[j], b[j]);
+                a[j] = select(swap, v, u);
+                b[j] = select(swap, u, v);
+            }
+            for j in rhs..st {
+                let (u, v) = (a[j], b[j]);
+                a[j] = select(swap, v, u);
+                b[j] = select(swap, u, v);
             }
         }
         let (top, bottom) = m.split_at_mut((c + 1) * st);
@@ -133,15 +230,18 @@ pub(super) fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lan
         let prow = &top[c * st..];
         for row in bottom[..(k - c - 1) * st].chunks_exact_mut(st) {
             let f = row[c] * inv;
-            if f.0.iter().all(|&v| v == 0.0) {
+            // The scalar path skips a row whose factor is 0.
+            let skip = zero_mask(f);
+            if skip.iter().fold(u64::MAX, |a, &s| a & s) != 0 {
                 continue;
             }
-            for (x, p) in row.iter_mut().zip(prow) {
-                for l in 0..LANES {
-                    // The scalar path skips a row whose factor is 0.
-                    let u = x.0[l] - f.0[l] * p.0[l];
-                    x.0[l] = if f.0[l] == 0.0 { x.0[l] } else { u };
-                }
+            for j in c + 1..k {
+                let x = row[j];
+                row[j] = select(skip, x, x - f * prow[j]);
+            }
+            for j in rhs..st {
+                let x = row[j];
+                row[j] = select(skip, x, x - f * prow[j]);
             }
         }
     }
@@ -160,5 +260,5 @@ pub(super) fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lan
         row[st - 2] = v[1] * inv;
         row[st - 1] = v[2] * inv;
     }
-    (Lanes(smallest), alive)
+    (smallest, alive)
 }

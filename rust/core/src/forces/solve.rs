@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
-use super::lanes::{block_abs_max_lanes, lu_lanes, Lanes, LANES};
+use super::lanes::{solve_block_lanes, Lanes, LANES};
 use super::{ForceError, Guide, Model, Sink, Spec};
 use crate::geom::V2;
 use crate::parallel::{pool, resolve_threads};
@@ -78,6 +78,18 @@ fn gcross<T: Num>(a: [T; 2], b: [T; 2]) -> T {
     a[0] * b[1] - a[1] * b[0]
 }
 
+/// x₀ + u·d + v·d⊥ with d = x₁ − x₀, d⊥ = (−d_y, d_x), x₀ = `x[j0]`, x₁ = `x[j1]`
+/// (a body's centre of mass, or its analogs).
+#[inline(always)]
+fn body_point<T: Num>(x: &[[T; 2]], j0: usize, j1: usize, u: f64, v: f64) -> [T; 2] {
+    let k = T::splat;
+    let d = gsub(x[j1], x[j0]);
+    [
+        x[j0][0] + k(u) * d[0] - k(v) * d[1],
+        x[j0][1] + k(u) * d[1] + k(v) * d[0],
+    ]
+}
+
 /// The kinematic quantities of one pose (or of [`LANES`] poses), for
 /// [`Model::assemble`].
 pub(super) struct Pose<T = f64> {
@@ -137,16 +149,9 @@ impl<T: Num> Pose<T> {
         for (i, body) in spec.bodies.iter().enumerate() {
             let (j0, j1) = (body.points[0], body.points[1]);
             let [u, v] = body.com_uv;
-            let at = |x: &[[T; 2]]| {
-                let d = gsub(x[j1], x[j0]);
-                [
-                    x[j0][0] + k(u) * d[0] - k(v) * d[1],
-                    x[j0][1] + k(u) * d[1] + k(v) * d[0],
-                ]
-            };
-            self.com[i] = at(&self.xy);
-            self.com_v[i] = at(&self.vel);
-            self.com_a[i] = at(&self.acc);
+            self.com[i] = body_point(&self.xy, j0, j1, u, v);
+            self.com_v[i] = body_point(&self.vel, j0, j1, u, v);
+            self.com_a[i] = body_point(&self.acc, j0, j1, u, v);
             let d = gsub(self.xy[j1], self.xy[j0]);
             let d1 = gsub(self.vel[j1], self.vel[j0]);
             let d2 = gsub(self.acc[j1], self.acc[j0]);
@@ -423,7 +428,19 @@ fn stride(k: usize) -> usize {
 }
 
 impl Plan {
+    /// The plan of the one-angle path (rows of fixed length: see [`Plan`]).
     pub(super) fn new(n: usize, blocks: &[super::Block]) -> Plan {
+        Plan::with_stride(n, blocks, stride)
+    }
+
+    /// The plan of the [`LANES`] path: each entry is a vector of the lanes
+    /// already, so the rows need no padding (stride k + 3) and the slots to
+    /// zero before each assembly are half as many.
+    pub(super) fn lanes(n: usize, blocks: &[super::Block]) -> Plan {
+        Plan::with_stride(n, blocks, |k| k + 3)
+    }
+
+    fn with_stride(n: usize, blocks: &[super::Block], stride: impl Fn(usize) -> usize) -> Plan {
         let mut slot = vec![u32::MAX; n * n];
         let mut rhs_slot = vec![0u32; n];
         let mut next = 0usize;
@@ -601,7 +618,7 @@ impl Model {
         ScratchLanes {
             res: vec![Lanes::splat(0.0); 3 * self.width(reactions)],
             pose: Pose::zeroed(&self.spec),
-            vals: vec![Lanes::splat(0.0); self.plan.len],
+            vals: vec![Lanes::splat(0.0); self.plan_lanes.len],
             x: vec![Lanes::splat(0.0); self.n * 3],
         }
     }
@@ -630,14 +647,14 @@ impl Model {
         self.assemble(
             &s.pose,
             &mut Packed {
-                plan: &self.plan,
+                plan: &self.plan_lanes,
                 vals: &mut s.vals,
             },
         );
         let (vals, x) = (&mut s.vals, &mut s.x);
         let mut conds = [f64::INFINITY; LANES];
         let mut live = [true; LANES];
-        for (blk, pb) in self.blocks.iter().zip(&self.plan.blocks) {
+        for (blk, pb) in self.blocks.iter().zip(&self.plan_lanes.blocks) {
             let (k, st) = (pb.k, pb.s);
             let (head, deps) = vals.split_at_mut(pb.dep_base);
             let m = &mut head[pb.base..pb.base + k * st];
@@ -655,9 +672,7 @@ impl Model {
                 }
                 b.copy_from_slice(&v);
             }
-            let scale = block_abs_max_lanes(m, k, st);
-            let tol = Lanes::splat(SINGULAR_REL) * scale;
-            let (pivot, alive) = lu_lanes(m, k, st, tol);
+            let (scale, pivot, alive) = solve_block_lanes(m, k, st, SINGULAR_REL);
             for l in 0..LANES {
                 live[l] &= alive[l];
                 conds[l] = conds[l].min(pivot.0[l] / scale.0[l]);
