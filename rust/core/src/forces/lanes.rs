@@ -122,35 +122,46 @@ fn block_abs_max_lanes(m: &[Lanes], k: usize, st: usize) -> Lanes {
     Lanes(acc)
 }
 
-/// Lane by lane `if m { a } else { b }` on the bits, with no branch (compiled
-/// to one vector blend).
+/// Lane by lane `if a == b { x } else { y }` (a compare and a blend: each
+/// lane's choice is an IEEE comparison of floats, which the compiler keeps in
+/// vector registers, where a mask of integers it turns back into branches).
 #[inline(always)]
-fn select(m: [u64; LANES], a: Lanes, b: Lanes) -> Lanes {
+fn if_eq(a: Lanes, b: Lanes, x: Lanes, y: Lanes) -> Lanes {
     let mut r = [0.0; LANES];
     for l in 0..LANES {
-        r[l] = f64::from_bits((a.0[l].to_bits() & m[l]) | (b.0[l].to_bits() & !m[l]));
+        r[l] = if a.0[l] == b.0[l] { x.0[l] } else { y.0[l] };
     }
     Lanes(r)
 }
 
-/// All ones in the lanes where a > b, zeros elsewhere.
+/// Lane by lane `if a > b { x } else { y }`.
 #[inline(always)]
-fn gt_mask(a: Lanes, b: Lanes) -> [u64; LANES] {
-    let mut r = [0u64; LANES];
+fn if_gt(a: Lanes, b: Lanes, x: Lanes, y: Lanes) -> Lanes {
+    let mut r = [0.0; LANES];
     for l in 0..LANES {
-        r[l] = if a.0[l] > b.0[l] { u64::MAX } else { 0 };
+        r[l] = if a.0[l] > b.0[l] { x.0[l] } else { y.0[l] };
     }
-    r
+    Lanes(r)
 }
 
-/// All ones in the lanes where a is ±0, zeros elsewhere.
+/// Whether a == b in every lane.
 #[inline(always)]
-fn zero_mask(a: Lanes) -> [u64; LANES] {
-    let mut r = [0u64; LANES];
+fn all_eq(a: Lanes, b: Lanes) -> bool {
+    let mut all = true;
     for l in 0..LANES {
-        r[l] = if a.0[l] == 0.0 { u64::MAX } else { 0 };
+        all &= a.0[l] == b.0[l];
     }
-    r
+    all
+}
+
+/// Whether a == b in some lane.
+#[inline(always)]
+fn any_eq(a: Lanes, b: Lanes) -> bool {
+    let mut any = false;
+    for l in 0..LANES {
+        any |= a.0[l] == b.0[l];
+    }
+    any
 }
 
 /// |v| lane by lane.
@@ -180,47 +191,40 @@ fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; 
     // The columns an elimination step at column c reads and writes: c + 1..k
     // and the three right-hand sides.
     let rhs = st - 3;
+    let zero = Lanes::splat(0.0);
     for c in 0..k {
+        // Each lane's pivot row (as a float: its choice a float compare too).
         let mut best = abs(m[c * st + c]);
-        let mut piv = [c as u64; LANES];
+        let mut piv = Lanes::splat(c as f64);
         for r in c + 1..k {
             let y = abs(m[r * st + c]);
-            let gt = gt_mask(y, best);
-            best = select(gt, y, best);
-            for l in 0..LANES {
-                piv[l] = (r as u64 & gt[l]) | (piv[l] & !gt[l]);
-            }
+            piv = if_gt(y, best, Lanes::splat(r as f64), piv);
+            best = if_gt(y, best, y, best);
         }
         for l in 0..LANES {
             let b = best.0[l];
-            if b <= tol.0[l] || b == 0.0 || !b.is_finite() {
-                alive[l] = false;
-            }
+            // As `b <= tol || b == 0.0 || !b.is_finite()` (b is |x| or NaN).
+            alive[l] &= !((b <= tol.0[l]) | (b == 0.0) | !(b < f64::INFINITY));
             smallest.0[l] = smallest.0[l].min(b);
         }
         // Each lane swaps row c with its own pivot row: row r's swap blends
         // the lanes that pivot on r.
         for r in c + 1..k {
-            let mut swap = [0u64; LANES];
-            let mut any = 0u64;
-            for l in 0..LANES {
-                swap[l] = if piv[l] == r as u64 { u64::MAX } else { 0 };
-                any |= swap[l];
-            }
-            if any == 0 {
+            let rr = Lanes::splat(r as f64);
+            if !any_eq(piv, rr) {
                 continue;
             }
             let (top, bottom) = m.split_at_mut(r * st);
             let (a, b) = (&mut top[c * st..(c + 1) * st], &mut bottom[..st]);
             for j in c..k {
                 let (u, v) = (a[j], b[j]);
-                a[j] = select(swap, v, u);
-                b[j] = select(swap, u, v);
+                a[j] = if_eq(piv, rr, v, u);
+                b[j] = if_eq(piv, rr, u, v);
             }
             for j in rhs..st {
                 let (u, v) = (a[j], b[j]);
-                a[j] = select(swap, v, u);
-                b[j] = select(swap, u, v);
+                a[j] = if_eq(piv, rr, v, u);
+                b[j] = if_eq(piv, rr, u, v);
             }
         }
         let (top, bottom) = m.split_at_mut((c + 1) * st);
@@ -231,17 +235,16 @@ fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; 
         for row in bottom[..(k - c - 1) * st].chunks_exact_mut(st) {
             let f = row[c] * inv;
             // The scalar path skips a row whose factor is 0.
-            let skip = zero_mask(f);
-            if skip.iter().fold(u64::MAX, |a, &s| a & s) != 0 {
+            if all_eq(f, zero) {
                 continue;
             }
             for j in c + 1..k {
                 let x = row[j];
-                row[j] = select(skip, x, x - f * prow[j]);
+                row[j] = if_eq(f, zero, x, x - f * prow[j]);
             }
             for j in rhs..st {
                 let x = row[j];
-                row[j] = select(skip, x, x - f * prow[j]);
+                row[j] = if_eq(f, zero, x, x - f * prow[j]);
             }
         }
     }

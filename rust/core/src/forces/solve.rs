@@ -266,34 +266,59 @@ impl Pose<f64> {
 }
 
 impl Pose<Lanes> {
-    /// The poses at [`LANES`] angles, lane l from `rows[l]`; for each lane
-    /// whether its inputs are finite, and its analog ratio (as [`Pose::fill`]).
+    /// The poses at [`LANES`] consecutive angles, lane l from angle l of
+    /// `rows`; for each lane whether its inputs are finite, and its analog
+    /// ratio (as [`Pose::fill`]).
     #[inline(always)]
     fn fill_lanes(
         &mut self,
         spec: &Spec,
-        rows: &[Row<'_>; LANES],
+        rows: Rows<'_>,
         ok: &mut [bool; LANES],
         ratio: &mut [f64; LANES],
     ) {
+        /// Value j of each of the [`LANES`] angles of `s` (angle after angle,
+        /// `per` values each): a strided load into one vector, never a vector
+        /// read of values stored one lane at a time.
         #[inline(always)]
-        fn pts(out: &mut [[Lanes; 2]], l: usize, s: &[f64]) {
-            for (o, c) in out.iter_mut().zip(s.chunks_exact(2)) {
-                o[0].0[l] = c[0];
-                o[1].0[l] = c[1];
+        fn column(s: &[f64], per: usize, j: usize) -> Lanes {
+            let mut v = [0.0; LANES];
+            for (l, v) in v.iter_mut().enumerate() {
+                *v = s[l * per + j];
+            }
+            Lanes(v)
+        }
+        /// The points' (x, y) of the [`LANES`] angles of `s` into `out`, as
+        /// [`column`] (each angle's pairs a slice of `out`'s length, so that
+        /// no load needs a bounds check).
+        #[inline(always)]
+        fn pts(out: &mut [[Lanes; 2]], s: &[f64]) {
+            let n = out.len();
+            let mut at: [&[[f64; 2]]; LANES] = [&[]; LANES];
+            for (l, a) in at.iter_mut().enumerate() {
+                *a = &s[2 * n * l..2 * n * (l + 1)].as_chunks::<2>().0[..n];
+            }
+            for (j, o) in out.iter_mut().enumerate() {
+                let (mut x, mut y) = ([0.0; LANES], [0.0; LANES]);
+                for l in 0..LANES {
+                    let p = at[l][j];
+                    x[l] = p[0];
+                    y[l] = p[1];
+                }
+                *o = [Lanes(x), Lanes(y)];
             }
         }
-        for (l, row) in rows.iter().enumerate() {
-            pts(&mut self.xy, l, row.xy);
-            pts(&mut self.vel, l, row.vel);
-            pts(&mut self.acc, l, row.acc);
-            if let Some(f) = row.force {
-                pts(&mut self.force, l, f);
-            }
-            if let Some(t) = row.torque {
-                for (o, &v) in self.torques.iter_mut().zip(t) {
-                    o.0[l] = v;
-                }
+        pts(&mut self.xy, rows.xy);
+        pts(&mut self.vel, rows.vel);
+        pts(&mut self.acc, rows.acc);
+        if let Some(f) = rows.force {
+            pts(&mut self.force, f);
+        }
+        if let Some(t) = rows.torque {
+            let per = self.torques.len();
+            let t = &t[..LANES * per];
+            for (j, o) in self.torques.iter_mut().enumerate() {
+                *o = column(t, per, j);
             }
         }
         // 0·x is ±0 where x is finite, NaN where not: a lane's sum is 0 where
@@ -348,6 +373,17 @@ type Task<'a> = (
         &'a mut [f64],
     ),
 );
+
+/// The inputs of [`LANES`] consecutive angles, angle after angle (as in
+/// [`Inputs`]).
+#[derive(Clone, Copy)]
+struct Rows<'a> {
+    xy: &'a [f64],
+    vel: &'a [f64],
+    acc: &'a [f64],
+    force: Option<&'a [f64]>,
+    torque: Option<&'a [f64]>,
+}
 
 /// One angle's inputs (flat (x, y) pairs).
 #[derive(Clone, Copy)]
@@ -624,7 +660,7 @@ impl Model {
     }
 
     /// [`Model::solve_one`] at [`LANES`] angles at once, lane l's inputs
-    /// `rows[l]` and outputs row l of each part's `out` (`LANES` rows of W
+    /// angle l of `rows` and outputs row l of each part's `out` (`LANES` rows of W
     /// values each): the same operations on each lane (each
     /// lane pivots on its own rows), so bit for bit the scalar path's values.
     /// Each lane's conditioning into `cond` (NaN where an input is not finite,
@@ -634,7 +670,7 @@ impl Model {
     fn solve_lanes(
         &self,
         s: &mut ScratchLanes,
-        rows: &[Row<'_>; LANES],
+        rows: Rows<'_>,
         out: [&mut [f64]; 3],
         cond: &mut [f64],
         ratio: &mut [f64],
@@ -1010,8 +1046,15 @@ impl pulp::WithSimd for Chunk<'_, '_> {
                 .zip(lr.chunks_exact_mut(LANES));
             for (i, ((((g0, g1), g2), cond), ratio)) in groups.enumerate() {
                 let a = first + i * LANES;
-                let rows: [Row<'_>; LANES] = std::array::from_fn(|l| row(a + l));
-                model.solve_lanes(&mut s, &rows, [g0, g1, g2], cond, ratio);
+                let (b, e) = (a * p2, (a + LANES) * p2);
+                let rows = Rows {
+                    xy: &inputs.xy[b..e],
+                    vel: &inputs.vel[b..e],
+                    acc: &inputs.acc[b..e],
+                    force: inputs.force.map(|f| &f[b..e]),
+                    torque: inputs.torque.map(|t| &t[a * nb..(a + LANES) * nb]),
+                };
+                model.solve_lanes(&mut s, rows, [g0, g1, g2], cond, ratio);
             }
         }
         let mut s = model.scratch();
