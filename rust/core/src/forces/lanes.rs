@@ -125,6 +125,8 @@ fn block_abs_max_lanes(m: &[Lanes], k: usize, st: usize) -> Lanes {
 /// Lane by lane `if a == b { x } else { y }` (a compare and a blend: each
 /// lane's choice is an IEEE comparison of floats, which the compiler keeps in
 /// vector registers, where a mask of integers it turns back into branches).
+// Indexed: the same lane of four arrays.
+#[allow(clippy::needless_range_loop)]
 #[inline(always)]
 fn if_eq(a: Lanes, b: Lanes, x: Lanes, y: Lanes) -> Lanes {
     let mut r = [0.0; LANES];
@@ -135,6 +137,8 @@ fn if_eq(a: Lanes, b: Lanes, x: Lanes, y: Lanes) -> Lanes {
 }
 
 /// Lane by lane `if a > b { x } else { y }`.
+// Indexed: the same lane of four arrays.
+#[allow(clippy::needless_range_loop)]
 #[inline(always)]
 fn if_gt(a: Lanes, b: Lanes, x: Lanes, y: Lanes) -> Lanes {
     let mut r = [0.0; LANES];
@@ -201,11 +205,14 @@ fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; 
             piv = if_gt(y, best, Lanes::splat(r as f64), piv);
             best = if_gt(y, best, y, best);
         }
-        for l in 0..LANES {
-            let b = best.0[l];
-            // As `b <= tol || b == 0.0 || !b.is_finite()` (b is |x| or NaN).
-            alive[l] &= !((b <= tol.0[l]) | (b == 0.0) | !(b < f64::INFINITY));
-            smallest.0[l] = smallest.0[l].min(b);
+        for ((a, s), (&b, &t)) in alive
+            .iter_mut()
+            .zip(&mut smallest.0)
+            .zip(best.0.iter().zip(&tol.0))
+        {
+            // As `b <= tol || b == 0.0 || !b.is_finite()`, with no branch.
+            *a &= !((b <= t) | (b == 0.0) | !b.is_finite());
+            *s = s.min(b);
         }
         // Each lane swaps row c with its own pivot row: row r's swap blends
         // the lanes that pivot on r.
