@@ -187,7 +187,7 @@ fn abs(v: Lanes) -> Lanes {
 /// skipped here). Returns each lane's smallest |pivot| and whether it had no
 /// pivot at most `tol` (nor one not finite); a lane without is left with
 /// garbage, the others untouched by it. Branch-free per lane: the pivot search,
-/// the row swap and the skip of a zero factor are lane masks and blends.
+/// the row swap and the skip of a zero factor are float compares and blends.
 #[inline(always)]
 fn lu_lanes(m: &mut [Lanes], k: usize, st: usize, tol: Lanes) -> (Lanes, [bool; LANES]) {
     let mut smallest = Lanes::splat(f64::INFINITY);
