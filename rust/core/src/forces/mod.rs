@@ -157,6 +157,8 @@ pub struct Model {
     blocks: Vec<Block>,
     /// Where each block's entries go at solving time.
     plan: solve::Plan,
+    /// The same for the 8 angles at once of the lanes path.
+    plan_lanes: solve::Plan,
 }
 
 impl Model {
@@ -221,9 +223,11 @@ impl Model {
             torque_col,
             blocks: Vec::new(),
             plan: solve::Plan::new(0, &[]),
+            plan_lanes: solve::Plan::new(0, &[]),
         };
         model.blocks = model.order()?;
         model.plan = solve::Plan::new(model.n, &model.blocks);
+        model.plan_lanes = solve::Plan::lanes(model.n, &model.blocks);
         Ok(model)
     }
 

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
-use super::lanes::{block_abs_max_lanes, lu_lanes, Lanes, LANES};
+use super::lanes::{solve_block_lanes, Lanes, LANES};
 use super::{ForceError, Guide, Model, Sink, Spec};
 use crate::geom::V2;
 use crate::parallel::{pool, resolve_threads};
@@ -78,6 +78,18 @@ fn gcross<T: Num>(a: [T; 2], b: [T; 2]) -> T {
     a[0] * b[1] - a[1] * b[0]
 }
 
+/// x₀ + u·d + v·d⊥ with d = x₁ − x₀, d⊥ = (−d_y, d_x), x₀ = `x[j0]`, x₁ = `x[j1]`
+/// (a body's centre of mass, or its analogs).
+#[inline(always)]
+fn body_point<T: Num>(x: &[[T; 2]], j0: usize, j1: usize, u: f64, v: f64) -> [T; 2] {
+    let k = T::splat;
+    let d = gsub(x[j1], x[j0]);
+    [
+        x[j0][0] + k(u) * d[0] - k(v) * d[1],
+        x[j0][1] + k(u) * d[1] + k(v) * d[0],
+    ]
+}
+
 /// The kinematic quantities of one pose (or of [`LANES`] poses), for
 /// [`Model::assemble`].
 pub(super) struct Pose<T = f64> {
@@ -137,16 +149,9 @@ impl<T: Num> Pose<T> {
         for (i, body) in spec.bodies.iter().enumerate() {
             let (j0, j1) = (body.points[0], body.points[1]);
             let [u, v] = body.com_uv;
-            let at = |x: &[[T; 2]]| {
-                let d = gsub(x[j1], x[j0]);
-                [
-                    x[j0][0] + k(u) * d[0] - k(v) * d[1],
-                    x[j0][1] + k(u) * d[1] + k(v) * d[0],
-                ]
-            };
-            self.com[i] = at(&self.xy);
-            self.com_v[i] = at(&self.vel);
-            self.com_a[i] = at(&self.acc);
+            self.com[i] = body_point(&self.xy, j0, j1, u, v);
+            self.com_v[i] = body_point(&self.vel, j0, j1, u, v);
+            self.com_a[i] = body_point(&self.acc, j0, j1, u, v);
             let d = gsub(self.xy[j1], self.xy[j0]);
             let d1 = gsub(self.vel[j1], self.vel[j0]);
             let d2 = gsub(self.acc[j1], self.acc[j0]);
@@ -261,34 +266,59 @@ impl Pose<f64> {
 }
 
 impl Pose<Lanes> {
-    /// The poses at [`LANES`] angles, lane l from `rows[l]`; for each lane
-    /// whether its inputs are finite, and its analog ratio (as [`Pose::fill`]).
+    /// The poses at [`LANES`] consecutive angles, lane l from angle l of
+    /// `rows`; for each lane whether its inputs are finite, and its analog
+    /// ratio (as [`Pose::fill`]).
     #[inline(always)]
     fn fill_lanes(
         &mut self,
         spec: &Spec,
-        rows: &[Row<'_>; LANES],
+        rows: Rows<'_>,
         ok: &mut [bool; LANES],
         ratio: &mut [f64; LANES],
     ) {
+        /// Value j of each of the [`LANES`] angles of `s` (angle after angle,
+        /// `per` values each): a strided load into one vector, never a vector
+        /// read of values stored one lane at a time.
         #[inline(always)]
-        fn pts(out: &mut [[Lanes; 2]], l: usize, s: &[f64]) {
-            for (o, c) in out.iter_mut().zip(s.chunks_exact(2)) {
-                o[0].0[l] = c[0];
-                o[1].0[l] = c[1];
+        fn column(s: &[f64], per: usize, j: usize) -> Lanes {
+            let mut v = [0.0; LANES];
+            for (l, v) in v.iter_mut().enumerate() {
+                *v = s[l * per + j];
+            }
+            Lanes(v)
+        }
+        /// The points' (x, y) of the [`LANES`] angles of `s` into `out`, as
+        /// [`column`] (each angle's pairs a slice of `out`'s length, so that
+        /// no load needs a bounds check).
+        #[inline(always)]
+        fn pts(out: &mut [[Lanes; 2]], s: &[f64]) {
+            let n = out.len();
+            let mut at: [&[[f64; 2]]; LANES] = [&[]; LANES];
+            for (l, a) in at.iter_mut().enumerate() {
+                *a = &s[2 * n * l..2 * n * (l + 1)].as_chunks::<2>().0[..n];
+            }
+            for (j, o) in out.iter_mut().enumerate() {
+                let (mut x, mut y) = ([0.0; LANES], [0.0; LANES]);
+                for l in 0..LANES {
+                    let p = at[l][j];
+                    x[l] = p[0];
+                    y[l] = p[1];
+                }
+                *o = [Lanes(x), Lanes(y)];
             }
         }
-        for (l, row) in rows.iter().enumerate() {
-            pts(&mut self.xy, l, row.xy);
-            pts(&mut self.vel, l, row.vel);
-            pts(&mut self.acc, l, row.acc);
-            if let Some(f) = row.force {
-                pts(&mut self.force, l, f);
-            }
-            if let Some(t) = row.torque {
-                for (o, &v) in self.torques.iter_mut().zip(t) {
-                    o.0[l] = v;
-                }
+        pts(&mut self.xy, rows.xy);
+        pts(&mut self.vel, rows.vel);
+        pts(&mut self.acc, rows.acc);
+        if let Some(f) = rows.force {
+            pts(&mut self.force, f);
+        }
+        if let Some(t) = rows.torque {
+            let per = self.torques.len();
+            let t = &t[..LANES * per];
+            for (j, o) in self.torques.iter_mut().enumerate() {
+                *o = column(t, per, j);
             }
         }
         // 0·x is ±0 where x is finite, NaN where not: a lane's sum is 0 where
@@ -343,6 +373,17 @@ type Task<'a> = (
         &'a mut [f64],
     ),
 );
+
+/// The inputs of [`LANES`] consecutive angles, angle after angle (as in
+/// [`Inputs`]).
+#[derive(Clone, Copy)]
+struct Rows<'a> {
+    xy: &'a [f64],
+    vel: &'a [f64],
+    acc: &'a [f64],
+    force: Option<&'a [f64]>,
+    torque: Option<&'a [f64]>,
+}
 
 /// One angle's inputs (flat (x, y) pairs).
 #[derive(Clone, Copy)]
@@ -423,7 +464,19 @@ fn stride(k: usize) -> usize {
 }
 
 impl Plan {
+    /// The plan of the one-angle path (rows of fixed length: see [`Plan`]).
     pub(super) fn new(n: usize, blocks: &[super::Block]) -> Plan {
+        Plan::with_stride(n, blocks, stride)
+    }
+
+    /// The plan of the [`LANES`] path: each entry is a vector of the lanes
+    /// already, so the rows need no padding (stride k + 3) and the slots to
+    /// zero before each assembly are half as many.
+    pub(super) fn lanes(n: usize, blocks: &[super::Block]) -> Plan {
+        Plan::with_stride(n, blocks, |k| k + 3)
+    }
+
+    fn with_stride(n: usize, blocks: &[super::Block], stride: impl Fn(usize) -> usize) -> Plan {
         let mut slot = vec![u32::MAX; n * n];
         let mut rhs_slot = vec![0u32; n];
         let mut next = 0usize;
@@ -601,13 +654,13 @@ impl Model {
         ScratchLanes {
             res: vec![Lanes::splat(0.0); 3 * self.width(reactions)],
             pose: Pose::zeroed(&self.spec),
-            vals: vec![Lanes::splat(0.0); self.plan.len],
+            vals: vec![Lanes::splat(0.0); self.plan_lanes.len],
             x: vec![Lanes::splat(0.0); self.n * 3],
         }
     }
 
     /// [`Model::solve_one`] at [`LANES`] angles at once, lane l's inputs
-    /// `rows[l]` and outputs row l of each part's `out` (`LANES` rows of W
+    /// angle l of `rows` and outputs row l of each part's `out` (`LANES` rows of W
     /// values each): the same operations on each lane (each
     /// lane pivots on its own rows), so bit for bit the scalar path's values.
     /// Each lane's conditioning into `cond` (NaN where an input is not finite,
@@ -617,7 +670,7 @@ impl Model {
     fn solve_lanes(
         &self,
         s: &mut ScratchLanes,
-        rows: &[Row<'_>; LANES],
+        rows: Rows<'_>,
         out: [&mut [f64]; 3],
         cond: &mut [f64],
         ratio: &mut [f64],
@@ -630,14 +683,14 @@ impl Model {
         self.assemble(
             &s.pose,
             &mut Packed {
-                plan: &self.plan,
+                plan: &self.plan_lanes,
                 vals: &mut s.vals,
             },
         );
         let (vals, x) = (&mut s.vals, &mut s.x);
         let mut conds = [f64::INFINITY; LANES];
         let mut live = [true; LANES];
-        for (blk, pb) in self.blocks.iter().zip(&self.plan.blocks) {
+        for (blk, pb) in self.blocks.iter().zip(&self.plan_lanes.blocks) {
             let (k, st) = (pb.k, pb.s);
             let (head, deps) = vals.split_at_mut(pb.dep_base);
             let m = &mut head[pb.base..pb.base + k * st];
@@ -655,9 +708,7 @@ impl Model {
                 }
                 b.copy_from_slice(&v);
             }
-            let scale = block_abs_max_lanes(m, k, st);
-            let tol = Lanes::splat(SINGULAR_REL) * scale;
-            let (pivot, alive) = lu_lanes(m, k, st, tol);
+            let (scale, pivot, alive) = solve_block_lanes(m, k, st, SINGULAR_REL);
             for l in 0..LANES {
                 live[l] &= alive[l];
                 conds[l] = conds[l].min(pivot.0[l] / scale.0[l]);
@@ -995,8 +1046,15 @@ impl pulp::WithSimd for Chunk<'_, '_> {
                 .zip(lr.chunks_exact_mut(LANES));
             for (i, ((((g0, g1), g2), cond), ratio)) in groups.enumerate() {
                 let a = first + i * LANES;
-                let rows: [Row<'_>; LANES] = std::array::from_fn(|l| row(a + l));
-                model.solve_lanes(&mut s, &rows, [g0, g1, g2], cond, ratio);
+                let (b, e) = (a * p2, (a + LANES) * p2);
+                let rows = Rows {
+                    xy: &inputs.xy[b..e],
+                    vel: &inputs.vel[b..e],
+                    acc: &inputs.acc[b..e],
+                    force: inputs.force.map(|f| &f[b..e]),
+                    torque: inputs.torque.map(|t| &t[a * nb..(a + LANES) * nb]),
+                };
+                model.solve_lanes(&mut s, rows, [g0, g1, g2], cond, ratio);
             }
         }
         let mut s = model.scratch();
