@@ -121,9 +121,12 @@ class _PerSpeed:
 
         def solve(speeds: Array) -> Array:
             key = None if self._key is None else (self._key, speeds.tobytes())
-            if key is not None and key in _MEMO:
-                _MEMO.move_to_end(key)
-                return _MEMO[key]
+            kept = None if key is None else _MEMO.get(key)
+            if kept is not None:
+                # Another thread may have dropped it meanwhile: then it is not moved.
+                with contextlib.suppress(KeyError):
+                    _MEMO.move_to_end(key)  # type: ignore[arg-type]
+                return kept
             m = d.cam.min_phase_angles(
                 speeds,
                 loads=d.loads,
@@ -136,8 +139,9 @@ class _PerSpeed:
             if key is not None:
                 out.flags.writeable = False
                 _MEMO[key] = out
-                if len(_MEMO) > _MEMO_SIZE:
-                    _MEMO.popitem(last=False)
+                while len(_MEMO) > _MEMO_SIZE:
+                    with contextlib.suppress(KeyError):
+                        _MEMO.popitem(last=False)
             return out
 
         return per_distinct_speed(rpm, solve)
