@@ -111,3 +111,33 @@ def test_the_pair_numbers_an_operation_alike_in_both_diagrams():
     for entry in keyed:
         k, title = entry.split("  ", 1)
         assert titles[int(k) - 1] == title, entry
+
+
+def _outline_width(text: str, size: float, bold: bool) -> float:
+    """The width as matplotlib measures a text's outline, here, no memo."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextPath
+
+    prop = FontProperties(size=size, weight="bold" if bold else "normal")
+    return float(TextPath((0, 0), text, prop=prop).get_extents().width)
+
+
+def test_a_measured_width_is_kept_and_the_font_is_in_its_key():
+    """text_width_pt keeps what it measured (the labels' fitting tries each title in
+    several forms, in two figures): a kept width is the measure's to the bit, and a
+    change of the font's settings is measured anew, not answered from the memo."""
+    from cyclomech.cyclogram import _labels
+
+    _labels._WIDTHS.clear()
+    for text, size, bold in [(LONG, 7.5, False), (LONG, 7.5, True), ("lift 45°", 9.0, False)]:
+        want = _outline_width(text, size, bold)
+        assert _labels.text_width_pt(text, size, bold) == want  # measured
+        assert _labels.text_width_pt(text, size, bold) == want  # kept
+    assert len(_labels._WIDTHS) == 3
+    with matplotlib.rc_context({"font.family": "serif", "font.serif": ["DejaVu Serif"]}):
+        serif = _labels.text_width_pt(LONG, 7.5)
+        assert serif == _outline_width(LONG, 7.5, False)
+    assert serif != _labels.text_width_pt(LONG, 7.5)  # the sans-serif width, kept
+    assert len(_labels._WIDTHS) == 4
+    assert _labels.text_width_pt("$x^2$ lift", 7.5) == _outline_width("$x^2$ lift", 7.5, False)
+    assert len(_labels._WIDTHS) == 4  # mathtext is measured every time

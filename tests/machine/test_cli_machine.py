@@ -273,15 +273,22 @@ def test_a_speed_range_where_the_machine_works_nowhere_is_said(tmp_path):
     # speed sweep and no word. The nominal speed (300 rpm) still works: exit 0 —
     # the command's side (its one warning line, exit 0, the report written) for a
     # range where the machine works nowhere is test_version_and_one_line_warnings's
-    # (430-500 rpm); a range this far up costs the command 16 CPU-s more.
+    # (430-500 rpm); a range this far up costs the command 16 CPU-s more. Without
+    # the elastic main shaft ([drive.shaft] and [drive.link]): its dynamic errors'
+    # sweep over this range was 8.5 of the test's 9 CPU-s and is not what it checks;
+    # test_machine.py::test_a_speed_range_above_the_limit_is_reported_as_such runs
+    # the loom with its shaft over a range above the limit (600-900 rpm).
     text = LOOM.read_text(encoding="utf-8").replace(
         "speed_rpm = [200.0, 500.0]", "speed_rpm = [900000.0, 1000000.0]"
     )
+    start, end = text.index("[drive.shaft]"), text.index("# --- the microshuttle lifter")
+    text = text[:start] + text[end:]
     path = tmp_path / "m.toml"
     path.write_text(text, encoding="utf-8")
     with pytest.warns(cm.CyclomechWarning, match="works at none of the .* speeds"):
         r = analyze(cm.Machine.from_toml(path), progress=False)
     assert not r.sweep.fits.any() and r.optimum is not None
+    assert r.machine.data is not None and "shaft" not in r.machine.data["drive"]
 
 
 def test_a_nominal_speed_exactly_at_a_mechanisms_limit_works(tmp_path, capsys):

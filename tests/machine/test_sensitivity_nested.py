@@ -219,3 +219,28 @@ def test_the_sweep_command_takes_a_path(tmp_path, capsys):
     assert main([*argv, "--out", str(tmp_path), "--quiet"]) == 0
     assert "highest 57.14 rpm at knife.lengths.3.length=1.5" in capsys.readouterr().out
     assert (tmp_path / "sweep.parquet").stat().st_size > 0
+
+
+class _Backwards(frozenset):
+    """A set of table names that iterates them the other way round from the file."""
+
+    def __iter__(self):
+        return iter(sorted(frozenset.__iter__(self), key=self.order.index, reverse=True))
+
+
+def test_sub_tables_are_varied_in_the_files_order(monkeypatch):
+    """The kind's varied tables are a set, whose order in one process follows the
+    string hashes (the loom's ranking put its cam's ``segment`` and ``friction`` rows,
+    tied at "does not bind", in either order from run to run); the keys go in the
+    file's order, as tomllib reads it, whatever order the set iterates in."""
+    loom = ROOT / "examples" / "stb_loom.toml"
+    table = tomllib.loads(loom.read_text())["mechanism"]["lifter cam"]
+    in_file = [k for k in table if k in ("segment", "friction")]
+    assert len(in_file) == 2
+    _Backwards.order = in_file
+    from cyclomech.machine import _model
+
+    monkeypatch.setattr(_model, "_varied_tables", lambda mech: _Backwards(in_file))
+    keys = [p for p, _, _ in _sensitivity._keys(cm.Machine.from_toml(loom))]
+    nested = [p.split(".")[1] for p in keys if p.startswith("lifter cam.") and p.count(".") > 1]
+    assert nested and [k for i, k in enumerate(nested) if k not in nested[:i]] == in_file

@@ -367,21 +367,23 @@ def test_item4_constrained_optimum_is_not_local():
     in a band of φ0 ~0.2° wide between grid points. The optimiser (refined from a
     finer sweep, several starts, the limit inside the refinement) finds a design at
     least as good as scipy's differential evolution with the limit as a constraint
-    (two seeds) and as a dense brute-force grid around DE's best, and it meets the
-    limit by the independent reference. The old optimiser returned 3.159."""
+    (seed 1) and as a dense brute-force grid around DE's best, and it meets the
+    limit by the independent reference. The old optimiser returned 3.159. (Seed 0
+    also ran, 5 CPU-s: it settles in the 3.16 basin, so the minimum over both seeds,
+    the reference and the brute force's centre were seed 1's; measured 3.1586 vs
+    2.9926.)"""
     limit = 0.01
     opt = cm.press.optimize(**COARSE, limits={"V_np": limit})
     grid = opt.grid
     assert (grid.ok & (grid["V_np"] <= limit)).sum() <= 3
     score = _scorer(COARSE["L"])
-    de = [_differential_evolution(score, limit, seed) for seed in (0, 1)]
-    de_best, x_best = min(de, key=lambda t: t[0])
+    de_best, x_best = _differential_evolution(score, limit, seed=1)
     brute = _brute_force(score, x_best, [0.0015, 0.02, math.radians(0.2)], (31, 21, 81), limit)
     ref = min(de_best, brute)
     assert ref < 3.05  # the references see the better basin
     best, c = opt.designs[0], opt.criteria[0]
     assert float(score(c.as_dict())) == pytest.approx(opt.scores[0], rel=1e-12)
-    assert opt.scores[0] <= ref + 2e-3, (opt.scores[0], de, brute)
+    assert opt.scores[0] <= ref + 2e-3, (opt.scores[0], de_best, brute)
     r = reference(best.R, best.r, best.d, best.L, best.phi0, 0.1, W_README)
     assert r["V_np"] <= limit * (1 + 1e-9) and r["lift"] < 0
 

@@ -213,7 +213,7 @@ def test_a_knife_that_turns_back_within_its_stroke_is_counted() -> None:
 
 
 def test_a_seed_repeats_its_result() -> None:
-    req = KnifeRequirement(0.14, 185.0, maxiter=20, seed=7)
+    req = KnifeRequirement(0.14, 185.0, maxiter=8, seed=7)
     a = cm.synthesis._knife._synthesise.__wrapped__("br125", req, 3)
     b = cm.synthesis._knife._synthesise.__wrapped__("br125", req, 3)
     if isinstance(a, str):
@@ -224,7 +224,7 @@ def test_a_seed_repeats_its_result() -> None:
 
 def test_an_envelope_holds_and_a_tight_one_says_so() -> None:
     box = (-1.62, -0.02, 0.12, 1.12)
-    d = knife_drive("br125", 0.15, 175.0, envelope=box, maxiter=80, seed=3)
+    d = knife_drive("br125", 0.15, 175.0, envelope=box, maxiter=30, seed=3)
     sol = d.linkage.solve(DENSE)
     xy = sol.xy.reshape(-1, 2)
     assert (xy[:, 0] >= box[0]).all() and (xy[:, 0] <= box[2]).all()
@@ -235,11 +235,11 @@ def test_an_envelope_holds_and_a_tight_one_says_so() -> None:
 
 def test_a_stroke_out_of_reach_names_the_requirement_and_the_best() -> None:
     with pytest.raises(cm.InputError) as e:
-        knife_drive("br125", 1.5, 175.0, maxiter=30)
+        knife_drive("br125", 1.5, 175.0, maxiter=10)
     msg = str(e.value)
     assert "the stroke" in msg and "best achieved: stroke" in msg and "asked 1.5" in msg
     with pytest.raises(cm.InputError, match="no knife-drive scheme meets the requirement"):
-        compare_knife_drives(KnifeRequirement(1.5, 175.0, maxiter=20), schemes=("br125",))
+        compare_knife_drives(KnifeRequirement(1.5, 175.0, maxiter=5), schemes=("br125",))
 
 
 @pytest.mark.parametrize("cut", [0.0, 360.0, -5.0, 400.0, float("nan")])

@@ -9,6 +9,7 @@ import contextlib
 import functools
 import math
 import warnings
+from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -68,19 +69,64 @@ class _Constant:
         return np.full(np.shape(rpm), self.value)
 
 
+#: The Hertz stress laws' answers (:class:`_PerSpeed`), by everything the Rust call
+#: reads and the speeds it is asked: the same inputs give the same floats, so an
+#: answer is kept and given again (at most :data:`_MEMO_SIZE`, the oldest dropped).
+#: A sensitivity ranking (:func:`cyclomech.machine.sensitivities`) asks the cam's
+#: laws of every variant the search's speeds; a variant of a key that leaves the
+#: cam as it is (an operation's, another mechanism's, the friction's, a damping
+#: ratio) has a cam mechanism of its own but the same law, and where it does not
+#: move the limit its search asks the same speeds: on the loom two calls in three
+#: (1542 → 576) were such repeats.
+_MEMO: OrderedDict[tuple[Any, ...], Array] = OrderedDict()
+_MEMO_SIZE = 1024
+
+
 @dataclass(frozen=True)
 class _PerSpeed:
-    """A bound law solved at each speed (the Hertz stress): one Rust call per call."""
+    """A bound law solved at each speed (the Hertz stress): one Rust call per call,
+    or the answer of an earlier call with the same inputs (:data:`_MEMO`)."""
 
     design: CamDesign
     segment: int
     column: int
+
+    @functools.cached_property
+    def _key(self) -> tuple[Any, ...] | None:
+        """Every input of the Rust call but the speeds, numbers by their bits (so that
+        0.0 and -0.0 differ; a NaN matches itself); None (no memo) for a cam of a
+        motion program, whose kernel is not kept here by value."""
+        d = self.design
+        c = d.cam
+        if c.program is not None:
+            return None
+        kind, params = c.follower._kernel_args()
+        loads = None if d.loads is None else d.loads._kernel_args(len(c.segments))
+        numbers = [x for g in c.segments for x in (g.angle_deg, g.stroke)]
+        numbers += params
+        if loads is not None:
+            numbers += [*loads[:3], *loads[3]]
+        if d.contact is not None:
+            numbers += d.contact._kernel_args()
+        numbers += [math.nan if d.max_stress is None else d.max_stress]
+        numbers += [d.max_pressure_angle_deg]
+        words = tuple((g.kind, g.law) for g in c.segments)
+        flags = (kind, c.closure, loads is None, d.contact is None, d.max_stress is None)
+        bits = np.array(numbers, dtype=np.float64).tobytes()
+        return (words, flags, bits, self.segment, self.column)
 
     def __call__(self, rpm: Array) -> Array:
         # Without the speed-free criteria's vibration.
         d = self.design
 
         def solve(speeds: Array) -> Array:
+            key = None if self._key is None else (self._key, speeds.tobytes())
+            kept = None if key is None else _MEMO.get(key)
+            if kept is not None:
+                # Another thread may have dropped it meanwhile: then it is not moved.
+                with contextlib.suppress(KeyError):
+                    _MEMO.move_to_end(key)  # type: ignore[arg-type]
+                return kept
             m = d.cam.min_phase_angles(
                 speeds,
                 loads=d.loads,
@@ -89,7 +135,14 @@ class _PerSpeed:
                 max_pressure_angle_deg=d.max_pressure_angle_deg,
                 segments=[self.segment],
             )
-            return m.angle_deg[:, 0, self.column]
+            out = m.angle_deg[:, 0, self.column].copy()
+            if key is not None:
+                out.flags.writeable = False
+                _MEMO[key] = out
+                while len(_MEMO) > _MEMO_SIZE:
+                    with contextlib.suppress(KeyError):
+                        _MEMO.popitem(last=False)
+            return out
 
         return per_distinct_speed(rpm, solve)
 

@@ -28,13 +28,44 @@ if TYPE_CHECKING:
 KEY_TITLE = "numbered operations"
 
 
+#: Widths measured (:func:`text_width_pt`), by the text and everything about its font
+#: that the measure reads; at most :data:`_WIDTHS_SIZE`.
+_WIDTHS: dict[tuple[Any, ...], float] = {}
+_WIDTHS_SIZE = 4096
+
+
 def text_width_pt(text: str, size: float, bold: bool = False) -> float:
-    """Width [pt] of one line of text at ``size`` pt in the default font."""
-    from matplotlib.font_manager import FontProperties
+    """Width [pt] of one line of text at ``size`` pt in the default font.
+
+    The width of the text's outline (a ``TextPath``'s extents: a few ms, most of
+    the time a figure's labels take, each label tried in up to four forms in each
+    of two figures) is measured once for a text, its font's properties and the
+    font file they resolve to; a text with ``$`` (mathtext, which reads more
+    settings) is measured every time."""
+    import matplotlib as mpl
+    from matplotlib.font_manager import FontProperties, findfont
     from matplotlib.textpath import TextPath
 
     prop = FontProperties(size=size, weight="bold" if bold else "normal")
-    return float(TextPath((0, 0), text, prop=prop).get_extents().width)
+    key = None
+    if "$" not in text:
+        font = (
+            tuple(prop.get_family()),
+            prop.get_style(),
+            prop.get_variant(),
+            prop.get_weight(),
+            prop.get_stretch(),
+            prop.get_size_in_points(),
+            prop.get_file(),
+            prop.get_math_fontfamily(),
+        )
+        key = (text, font, findfont(prop), mpl.rcParams["text.parse_math"])
+        if key in _WIDTHS:
+            return _WIDTHS[key]
+    width = float(TextPath((0, 0), text, prop=prop).get_extents().width)
+    if key is not None and len(_WIDTHS) < _WIDTHS_SIZE:
+        _WIDTHS[key] = width
+    return width
 
 
 def _two_lines(text: str) -> str | None:

@@ -196,12 +196,15 @@ def _keys(machine: Machine) -> list[tuple[str, Any, str]]:
         for k, v in table.items():
             if isinstance(v, float) and math.isfinite(v) and v != 0.0:
                 out.append((f"{name}.{k}", v, ""))
-        for k in _varied_tables(machine.mechanisms[name]):
-            if k in table:
-                out += [
-                    (p, v, SCALED.format(n=sum(1 for _ in _flat(v))) if isinstance(v, list) else "")
-                    for p, v in _nested(f"{name}.{k}", table[k])
-                ]
+        # The tables in the file's order: the kind's set of them has an order of
+        # its own in each process (string hashes), which decided the ranking's
+        # order among ties and which keys fall past MAX_NESTED.
+        varied = _varied_tables(machine.mechanisms[name])
+        for k in [k for k in table if k in varied]:
+            out += [
+                (p, v, SCALED.format(n=sum(1 for _ in _flat(v))) if isinstance(v, list) else "")
+                for p, v in _nested(f"{name}.{k}", table[k])
+            ]
     for i, op in enumerate(data.get("operation", []), start=1):
         title = op.get("name") or f"{op.get('from')} → {op.get('to')}"
         for k, v in op.items():

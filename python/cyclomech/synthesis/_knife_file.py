@@ -87,7 +87,7 @@ class KnifeSynthesis:
 
         Examples
         --------
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
         >>> s.rows()[0]
         ['synthesised scheme', 'br125 (seed 001, p = 1)']
         """
@@ -126,7 +126,7 @@ class KnifeSynthesis:
 
         Examples
         --------
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
         >>> s.json()["scheme"]
         'br125'
         """
@@ -157,7 +157,7 @@ class KnifeSynthesis:
         --------
         Without the comparison there is nothing to draw:
 
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
         >>> s.figures(print, "knife") is None
         True
         """
@@ -187,7 +187,7 @@ class KnifeSynthesis:
         Without the comparison no file is written:
 
         >>> import tempfile
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=40)))
+        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
         >>> s.files(tempfile.gettempdir(), "knife")
         []
         """
@@ -243,7 +243,7 @@ def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
     --------
     >>> from cyclomech.synthesis._knife_file import from_table
     >>> rec = from_table({"scheme": "br125", "stroke_m": 0.15, "cut_deg": 175.0,
-    ...                   "maxiter": 40}, "<doc>")
+    ...                   "maxiter": 30}, "<doc>")
     >>> rec.linkage.output
     'E'
     """

@@ -127,7 +127,7 @@ class PathCandidate:
         Examples
         --------
         >>> from cyclomech.synthesis import path_generation
-        >>> c = path_generation([(1, 2), (2.5, 3), (3.5, 2), (2, 0.5)], seed=1, maxiter=20)[0]
+        >>> c = path_generation([(1, 2), (2.5, 3), (3.5, 2), (2, 0.5)], seed=1, maxiter=60)[0]
         >>> c.linkage().names
         ('A', 'B', 'C', 'D', 'P')
         """
