@@ -419,6 +419,7 @@ ALLOWED = {
     # a slope of +inf is a bound no speed meets (a stop whose v* is 0)
     ("cyclomech.cyclogram.Proportional", "per_rpm", "inf"),
     ("cyclomech.cyclogram.Proportional.evaluate", "per_rpm", "inf"),
+    ("cyclomech.impact.min_phase_angles", "per_rpm", "inf"),
     # NaN: no phase angle of one turn will do at that speed (a gap in the curve)
     ("cyclomech.plot.plot_min_phase", "exact", "nan entry"),
     ("cyclomech.plot.plot_min_phase", "linear", "nan entry"),
