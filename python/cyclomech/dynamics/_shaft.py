@@ -473,7 +473,13 @@ class StartUp:
         The motor's torque [N·m].
     settle_time_s : float
         When the speed entered the band ``settle``·ω̄ around the steady state for
-        good [s] (it then stayed there for a whole turn); NaN if it did not.
+        good [s] (it then stayed there for a whole turn); NaN if it did not. The
+        crossing itself, on each step's cubic Hermite interpolant of (φ, ω) (as
+        accurate as the integration), not the end of the step it falls in; an
+        excursion out of the band is seen where it spans an eighth of a step. Where
+        the speed's deviation only just touches the band's edge, a slight change
+        of the machine moves this time by the spacing of the touches (the rule:
+        the last crossing).
     steady : SteadyState
         The steady state it settles on.
 
@@ -483,8 +489,8 @@ class StartUp:
     >>> d = cm.dynamics.Reduced.from_curves(np.ones(8), np.zeros(8), np.zeros(8),
     ...                                     nominal_rpm=100.0)
     >>> s = cm.dynamics.start_up(d, cm.dynamics.LinearMotor(10.0, 600.0))
-    >>> round(s.settle_time_s, 1)       # τ = J ω0/M_stall = 6.28 s; ≈ ln(1000)·τ = 43.4
-    43.3
+    >>> round(s.settle_time_s, 2)       # τ = J ω0/M_stall = 6.28 s; ln(1000)·τ = 43.40
+    43.4
     """
 
     time_s: Array

@@ -706,8 +706,81 @@ pub struct StartUp {
     pub phi: Vec<f64>,
     pub omega: Vec<f64>,
     pub motor_torque: Vec<f64>,
-    /// When the speed entered the steady band for good [s] (NaN if it did not).
+    /// When the speed entered the steady band for good [s] (NaN if it did not):
+    /// the last crossing back into the band, found on the steps' cubic Hermite
+    /// interpolants (see [`last_exit`]), not at a step's end.
     pub settle_time: f64,
+}
+
+/// A start-up step's cubic Hermite interpolant of (φ, ω) from the values and
+/// slopes at its two ends (φ′ = ω, ω′ from the equation of motion, the
+/// integrator's own first and last stages): O(h⁴), as Dormand–Prince's dense
+/// output. `at(s)`, s ∈ [0, 1] along the step of length `h`.
+struct Hermite {
+    h: f64,
+    y0: [f64; 2],
+    y1: [f64; 2],
+    d0: [f64; 2],
+    d1: [f64; 2],
+}
+
+impl Hermite {
+    fn new(h: f64, y0: [f64; 2], f0: [f64; 2], y1: [f64; 2], f1: [f64; 2]) -> Hermite {
+        Hermite {
+            h,
+            y0,
+            y1,
+            d0: f0,
+            d1: f1,
+        }
+    }
+
+    /// (φ, ω) at fraction `s` of the step.
+    fn at(&self, s: f64) -> (f64, f64) {
+        if s == 1.0 {
+            return (self.y1[0], self.y1[1]);
+        }
+        let (s2, s3) = (s * s, s * s * s);
+        let (h00, h10) = (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s);
+        let (h01, h11) = (-2.0 * s3 + 3.0 * s2, s3 - s2);
+        let c = |i: usize| {
+            h00 * self.y0[i]
+                + h10 * self.h * self.d0[i]
+                + h01 * self.y1[i]
+                + h11 * self.h * self.d1[i]
+        };
+        (c(0), c(1))
+    }
+}
+
+/// Samples a start-up step is checked at for an excursion out of the settle band
+/// (its ends and 7 points between: an excursion between two steps' ends is
+/// found where it spans an eighth of a step).
+const BAND_SAMPLES: usize = 8;
+
+/// The last fraction s ∈ (0, 1] of a step at which `outside(s)` holds, where
+/// the speed was outside the band: 1 if it is at the step's end, else the
+/// crossing back into the band after the last sample outside, by bisection to
+/// 2⁻⁴⁰ of the step; None if no sample, its start included, is outside.
+fn last_exit(outside: &impl Fn(f64) -> bool) -> Option<f64> {
+    if outside(1.0) {
+        return Some(1.0);
+    }
+    let m = BAND_SAMPLES;
+    let (lo, hi) = (0..m)
+        .rev()
+        .map(|j| (j as f64 / m as f64, (j + 1) as f64 / m as f64))
+        .find(|&(a, _)| outside(a))?;
+    let (mut a, mut b) = (lo, hi);
+    for _ in 0..37 {
+        let mid = 0.5 * (a + b);
+        if outside(mid) {
+            a = mid;
+        } else {
+            b = mid;
+        }
+    }
+    Some(0.5 * (a + b))
 }
 
 /// Where an angle falls among a spline's samples: the sample before it, the one
@@ -889,6 +962,7 @@ pub fn start_up(
     k[0] = f(y[0], y[1]);
     let mut last_out = 0.0; // the last time the speed was outside the band
     let mut phi_out = 0.0;
+    let band = opt.settle * w_ref;
     let mut steps = 0usize;
     while t < opt.t_max && steps < opt.max_steps {
         if crate::cancel::requested() {
@@ -922,6 +996,7 @@ pub fn start_up(
             continue;
         }
         if err <= 1.0 {
+            let (t0, y0, f0) = (t, y, k[0]);
             t += h;
             y = ynew;
             k[0] = k[6]; // first same as last
@@ -934,11 +1009,18 @@ pub fn start_up(
                 out.status = 2;
                 return Ok(out);
             }
-            let target = lookup(y[0]);
-            if (y[1] - target).abs() > opt.settle * w_ref {
-                last_out = t;
-                phi_out = y[0];
-            } else if y[0] - phi_out >= TAU && last_out > 0.0 {
+            let step = Hermite::new(h, y0, f0, y, k[6]);
+            let outside = |s: f64| {
+                let (phi, w) = step.at(s);
+                (w - lookup(phi)).abs() > band
+            };
+            if let Some(s) = last_exit(&outside) {
+                // The speed was outside the band in this step: from where it last
+                // came back in, it must stay in for a whole turn.
+                last_out = t0 + s * h;
+                phi_out = if s == 1.0 { y[0] } else { step.at(s).0 };
+            }
+            if !outside(1.0) && y[0] - phi_out >= TAU && last_out > 0.0 {
                 out.status = 0;
                 out.settle_time = last_out;
                 return Ok(out);
