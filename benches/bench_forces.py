@@ -26,6 +26,8 @@ Page states (both sides alike, interleaved rounds): ``reused`` — glibc's heap
 keeps and reuses the freed outputs and temporaries; ``fresh`` —
 ``malloc_trim(0)`` before each call, so each call first-touches its pages. Floor:
 cyclomech's output array (3, N, W) written once (``np.empty`` + ``fill``).
+``cyclomech out=`` solves into the arrays of a previous result (``out=``), which no
+page state touches anew.
 
 Default test run (``--benchmark-disable`` in addopts): each check once, the
 ratio table skipped. For timings and the table (printed; ``-s``)::
@@ -105,15 +107,17 @@ CASES: dict[str, tuple[Callable[[], cm.Linkage], dict[Any, Any], dict[str, float
 }
 
 
-def setup(name: str, n: int) -> tuple[Callable[[], Any], Callable[[], Any]]:
+def setup(name: str, n: int) -> tuple[Callable[..., Any], Callable[[], Any]]:
     """(cyclomech, numpy) for case ``name`` on ``n`` crank angles, from one solution."""
     make, masses, pm = CASES[name]
     lk = make()
     sol = lk.solve(np.linspace(0.0, 2 * np.pi, n, endpoint=False))
     lm = {k: cm.forces.LinkMass(*v) for k, v in masses.items()}
 
-    def ours() -> Any:
-        return cm.forces.kinetostatics(lk, sol, masses=lm, point_masses=pm, gravity=G, n_threads=1)
+    def ours(out: Any = None) -> Any:
+        return cm.forces.kinetostatics(
+            lk, sol, masses=lm, point_masses=pm, gravity=G, n_threads=1, out=out
+        )
 
     def peer() -> Any:
         return compact_kinetostatics(
@@ -160,14 +164,19 @@ def test_ratio_table(request: pytest.FixtureRequest) -> None:
         def floor(width: int = width) -> None:
             np.empty((3, N, width)).fill(1.0)
 
-        tools = {"cyclomech": ours, "numpy": peer, "floor": floor}
+        def into(k: Any = k, ours: Callable[..., Any] = ours) -> None:
+            ours(out=k)
+
+        tools = {"cyclomech": ours, "cyclomech out=": into, "numpy": peer, "floor": floor}
         for state, t in page_states(tools, ROUNDS).items():
             for i, clock in enumerate(("wall", "cpu")):
-                c, p, f = (t[k][i] * 1e3 for k in ("cyclomech", "numpy", "floor"))
+                c, o, p, f = (
+                    t[k][i] * 1e3 for k in ("cyclomech", "cyclomech out=", "numpy", "floor")
+                )
                 print(
                     f"  {name:13s} {state:6s} {clock:4s}  cyclomech {c:7.1f} ms  "
-                    f"numpy {p:7.1f} ms  ratio {p / c:5.2f}x  floor {f:5.1f} ms  "
-                    f"cyclomech/floor {c / f:4.1f}"
+                    f"numpy {p:7.1f} ms  ratio {p / c:5.2f}x  out= {o:7.1f} ms  "
+                    f"ratio {p / o:5.2f}x  floor {f:5.1f} ms  cyclomech/floor {c / f:4.1f}"
                 )
 
 

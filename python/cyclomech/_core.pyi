@@ -712,6 +712,7 @@ class ForceModel:
         *,
         reactions: bool = True,
         n_threads: int | None = None,
+        out: npt.NDArray[np.float64] | None = None,
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
     def solve_friction(
         self,

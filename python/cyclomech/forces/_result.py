@@ -257,15 +257,21 @@ class Kinetostatics:
         pairs: tuple[tuple[str, str], ...],
         guides: tuple[str, ...],
         analogs: Array | None = None,
+        own: bool = False,
     ) -> Kinetostatics:
         """:meth:`from_values` of the kernel's own output, unchecked (``analogs``:
-        see :func:`_conditioning`)."""
+        see :func:`_conditioning`). ``own``: ``values`` is the result's to keep (the
+        kernel's new block, or ``out``'s), so a dead centre's rows are set to NaN in
+        it, not in a copy."""
         n, g = values.shape[1], len(guides)
         k = (values.shape[2] - 1 - g) // 2
         cond = _conditioning(solution, conditioning, analogs)
         dead = (cond == 0.0) & ~np.isnan(values[0, :, 0])
         if dead.any():
-            values = np.where(dead[None, :, None], np.nan, values)
+            if own:
+                values[:, dead, :] = np.nan
+            else:
+                values = np.where(dead[None, :, None], np.nan, values)
         return cls(
             solution=solution,
             pairs=pairs if k else (),

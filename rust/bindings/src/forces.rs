@@ -170,7 +170,9 @@ impl ForceModel {
     /// analogs (N,): the points' largest |x'| over twice their largest |x''| [rad], ∞ where none
     /// accelerates, NaN where an input is not finite) at the N angles of `xy`, `vel`, `acc`
     /// (N, P, 2), with optional point forces (N, P, 2) [N] and link torques (N, B) [N·m].
-    #[pyo3(signature = (xy, vel, acc, force=None, torque=None, *, reactions=true, n_threads=None))]
+    /// The values into `out` (a writeable C-contiguous float64 (3, N, width) array
+    /// that overlaps no input) when given, which is returned.
+    #[pyo3(signature = (xy, vel, acc, force=None, torque=None, *, reactions=true, n_threads=None, out=None))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
     fn solve<'py>(
         &self,
@@ -182,6 +184,7 @@ impl ForceModel {
         torque: Option<PyReadonlyArrayDyn<'py, f64>>,
         reactions: bool,
         n_threads: Option<i64>,
+        out: Option<Bound<'py, PyArray3<f64>>>,
     ) -> PyResult<(
         Bound<'py, PyArray3<f64>>,
         Bound<'py, PyArray1<f64>>,
@@ -202,18 +205,31 @@ impl ForceModel {
                 .transpose()?,
         };
         let w = self.model.width(reactions);
-        let values = convert::zeros::<f64, Ix3>(
-            py,
-            &[3, n, w],
-            "kinetostatics",
-            "solve fewer angles at a time",
-        )?;
+        let bad = |got: String| {
+            ForceError::BadModel(format!(
+                "out must be a writeable C-contiguous float64 array of shape (3, {n}, {w}) \
+                 that overlaps no input; got {got}"
+            ))
+            .into_pyerr(py)
+        };
+        let values = match out {
+            Some(a) if a.shape() == [3, n, w] && a.is_c_contiguous() => a,
+            Some(a) => return Err(bad(format!("an array of shape {:?}", a.shape()))),
+            None => convert::zeros::<f64, Ix3>(
+                py,
+                &[3, n, w],
+                "kinetostatics",
+                "solve fewer angles at a time",
+            )?,
+        };
         let conditioning =
             convert::zeros::<f64, Ix1>(py, &[n], "kinetostatics", "solve fewer angles at a time")?;
         let analogs =
             convert::zeros::<f64, Ix1>(py, &[n], "kinetostatics", "solve fewer angles at a time")?;
         {
-            let mut vw = values.readwrite();
+            let mut vw = values
+                .try_readwrite()
+                .map_err(|e| bad(format!("an array numpy will not lend for writing ({e})")))?;
             let mut sw = conditioning.readwrite();
             let mut aw = analogs.readwrite();
             let out = Outputs {
