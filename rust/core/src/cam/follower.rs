@@ -314,8 +314,14 @@ impl pulp::WithSimd for Rows<'_> {
             theta_copy,
         } = self;
         const BLOCK: usize = GROUP * N_COLUMNS;
-        let with_flags = !flags.is_empty();
-        let with_copy = !theta_copy.is_empty();
+        // A group's stretch of an optional output (empty: not asked for).
+        fn part<T>(v: &mut [T], at: std::ops::Range<usize>) -> &mut [T] {
+            if v.is_empty() {
+                v
+            } else {
+                &mut v[at]
+            }
+        }
         let mut finite = true;
         let n_full = theta.len() / GROUP;
         let (full, rest) = out.split_at_mut(n_full * BLOCK);
@@ -332,16 +338,8 @@ impl pulp::WithSimd for Rows<'_> {
                 fast,
                 tg,
                 og,
-                if with_flags {
-                    &mut flags[at.clone()]
-                } else {
-                    &mut []
-                },
-                if with_copy {
-                    &mut theta_copy[at]
-                } else {
-                    &mut []
-                },
+                part(flags, at.clone()),
+                part(theta_copy, at),
             );
         }
         // The tail (fewer than a group) padded to a whole group, so that every
@@ -358,16 +356,8 @@ impl pulp::WithSimd for Rows<'_> {
                 fast,
                 &tg,
                 &mut block,
-                if with_flags {
-                    &mut flags[at.clone()]
-                } else {
-                    &mut []
-                },
-                if with_copy {
-                    &mut theta_copy[at]
-                } else {
-                    &mut []
-                },
+                part(flags, at.clone()),
+                part(theta_copy, at),
             );
             if ok {
                 rest.copy_from_slice(&block[..rest.len()]);
