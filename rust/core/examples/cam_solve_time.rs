@@ -11,21 +11,9 @@
 use std::time::Instant;
 
 use cyclomech_core::cam::{Cam, Follower, Kind, Program, SegmentSpec, N_COLUMNS};
+use cyclomech_core::timing::process_cpu_seconds;
 
 const N: usize = 1_000_000;
-
-/// The process's user + system CPU time [s] (Linux; 0 elsewhere).
-fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    // Fields after the command's closing parenthesis: utime and stime are the
-    // 14th and 15th fields of the line, in clock ticks (100 per second).
-    let rest = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
-    (ticks(11) + ticks(12)) / 100.0
-}
 
 fn main() {
     let calls: usize = std::env::args()
@@ -59,14 +47,14 @@ fn main() {
     cam.solve_into(&theta, &mut out, Some(1))
         .expect("finite angles");
     let mut wall = Vec::with_capacity(calls);
-    let cpu0 = cpu_seconds();
+    let cpu0 = process_cpu_seconds();
     for _ in 0..calls {
         let t0 = Instant::now();
         cam.solve_into(&theta, &mut out, Some(1))
             .expect("finite angles");
         wall.push(t0.elapsed().as_secs_f64());
     }
-    let cpu = (cpu_seconds() - cpu0) / calls as f64;
+    let cpu = (process_cpu_seconds() - cpu0) / calls as f64;
     wall.sort_by(f64::total_cmp);
     let checksum: f64 = out.iter().step_by(97).filter(|v| v.is_finite()).sum();
     println!(

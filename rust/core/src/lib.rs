@@ -91,5 +91,6 @@ pub mod servo;
 pub mod shaft;
 pub mod synthesis;
 pub(crate) mod tile;
+pub mod timing;
 pub mod transfer;
 pub mod units;

@@ -462,18 +462,6 @@ proptest! {
     }
 }
 
-/// The process's CPU time [s] (Linux; 0 elsewhere), from /proc/self/stat (the
-/// solve runs on a pool thread; the test is otherwise idle).
-fn process_cpu() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    let rest = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
-    (ticks(11) + ticks(12)) / 100.0
-}
-
 /// The kernel alone on the bench's size (1e5 crank angles of a loaded
 /// four-bar, reactions on, one thread, a reused output): CPU time a call,
 /// several rounds, and a checksum of the output bits (equal before and after
@@ -535,11 +523,11 @@ fn forces_kernel_timing() {
         call();
         let mut per = Vec::new();
         for _ in 0..7 {
-            let t = process_cpu();
+            let t = crate::timing::process_cpu_seconds();
             for _ in 0..20 {
                 call();
             }
-            per.push((process_cpu() - t) / 20.0 * 1e3);
+            per.push((crate::timing::process_cpu_seconds() - t) / 20.0 * 1e3);
         }
         per.sort_by(f64::total_cmp);
         let sum = values
