@@ -4,6 +4,7 @@ derived here from its Lagrangian with sympy and integrated with scipy's
 ``solve_ivp`` (rtol 1e-11). cyclomech only sees the sampled J(φ), J′(φ) and
 Q(φ)."""
 
+import itertools
 import math
 
 import cyclomech as cm
@@ -11,7 +12,9 @@ import numpy as np
 import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
+from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
+from scipy.signal import argrelmax
 
 R, L, M_S, M_R, J_C, F0, Q0 = 0.08, 0.3, 6.0, 2.0, 0.02, 300.0, 25.0
 N = 3600
@@ -232,3 +235,99 @@ def test_the_steady_states_error_falls_as_the_fourth_power_of_the_step():
         errs.append(np.max(np.abs(sol.sol(s.time_s)[1] - s.omega)) / np.mean(s.omega))
     assert errs[0] / errs[1] > 12 and errs[1] / errs[2] > 12
     assert errs[2] < 1e-10
+
+
+def _rippled_start_up():
+    """A machine whose start-up approaches its steady state in ripples: J = 1 +
+    0.3·sin φ (J′ = 0.3·cos φ), no load, a linear motor (stall 100 N·m, no load
+    600 rpm). The term ½J′ω² (≈ 18·ω̄ δω) dwarfs the motor's slope (1.6 N·m·s), so
+    |ω − ω_ss(φ)| peaks once a turn and the peaks decay by ≈ 0.85 a turn; the
+    steady speed itself fluctuates by δ = 0.32. Returns the machine, the motor and
+    the right-hand side, written here from J φ̈ = M(ω) − ½J′ω²."""
+    n, a, m0, n0 = 3600, 0.3, 100.0, 600.0
+    phi = 2 * np.pi * np.arange(n) / n
+    d = cm.dynamics.Reduced.from_curves(
+        1 + a * np.sin(phi), a * np.cos(phi), np.zeros(n), nominal_rpm=100.0
+    )
+    w0 = n0 * math.pi / 30
+
+    def rhs(_t, y):
+        p, w = y
+        return [w, (m0 * (1 - w / w0) - 0.5 * a * math.cos(p) * w * w) / (1 + a * math.sin(p))]
+
+    return d, cm.dynamics.LinearMotor(m0, n0), rhs
+
+
+def test_a_rippled_start_up_settles_at_the_last_crossing_and_a_bare_touch_is_the_rule():
+    """The ambiguous case of the settle time's rule (the last crossing into the
+    band settle·ω̄, ω̄ = 2π/T the steady state's time mean): where the deviation's
+    peaks decay through the band, the settle time is the crossing on the falling
+    side of the last peak above it. Reference: ``solve_ivp`` (DOP853, rtol 1e-11)
+    with its dense output, the steady state by a periodic cubic spline of its
+    samples, each crossing by ``brentq``.
+
+    - A band between two peaks: the crossing after the higher, to 1e-8.
+    - A band a fraction δ below a peak (a bare touch): while the excursion above
+      the band spans an eighth of the step it falls in, that crossing (to 1e-6);
+      narrower, either it or the crossing after the peak before — one turn earlier,
+      never anything else — and, the integrator's steps being the same whatever the
+      band, once missed it stays missed as δ shrinks.
+    - A band just above a peak: the crossing after the peak before.
+    Before, the band was relative to the angle mean of ω (1.2 % wide here) and
+    the deviation read on a cubic Hermite interpolant of each step (1e-7 of ω̄ off
+    between the steps' ends): the band between two peaks gave 4e-4 off, and a
+    touch 1e-5 below a peak was read as the crossing a turn earlier."""
+    d, motor, rhs = _rippled_start_up()
+    s = cm.dynamics.start_up(d, motor, settle=1e-2, rtol=1e-10)
+    t_end = s.time_s[-1]
+    sol = solve_ivp(
+        rhs, (0, t_end), [0.0, 0.0], rtol=1e-11, atol=1e-12, dense_output=True, method="DOP853"
+    )
+    scale = s.steady.mean_rpm * math.pi / 30
+    knots = 2 * np.pi * np.arange(s.steady.omega.size + 1) / s.steady.omega.size
+    wss = CubicSpline(knots, np.append(s.steady.omega, s.steady.omega[0]), bc_type="periodic")
+
+    def dev(t):
+        p, w = sol.sol(t)
+        return np.abs(w - wss(p % (2 * np.pi))) / scale
+
+    tt = np.linspace(0.5 * t_end, t_end, 100_001)
+    dv = dev(tt)
+    peaks = [(tt[i], dv[i]) for i in argrelmax(dv)[0]]
+    assert len(peaks) >= 6
+    assert all(b[1] < 0.9 * a[1] for a, b in itertools.pairwise(peaks))  # decaying ripples
+    (t_prev, _), (t_k, h_k), (t_next, h_next) = peaks[-5:-2]
+
+    def crossing(t_peak: float, band: float, t_after: float) -> float:
+        g = np.linspace(t_peak, t_after, 20_001)
+        j = np.flatnonzero(dev(g) < band)[0]
+        return brentq(lambda t: dev(t) - band, g[j - 1], g[j], xtol=1e-14)
+
+    def width(band: float) -> float:
+        g = np.linspace(t_prev, t_next, 200_001)
+        above = g[dev(g) > band]
+        return float(np.ptp(above[above > 0.5 * (t_prev + t_k)]))
+
+    def settle(band: float) -> tuple[float, float]:
+        r = cm.dynamics.start_up(d, motor, settle=band, rtol=1e-10)
+        i = np.searchsorted(r.time_s, t_k)
+        return r.settle_time_s, r.time_s[i] - r.time_s[i - 1]
+
+    band = math.sqrt(h_k * h_next)
+    got, _ = settle(band)
+    assert abs(got - crossing(t_k, band, t_next)) <= 1e-8 * got
+    missed = False
+    for delta in [1e-2, 1e-4, 1e-6, 1e-7, 1e-8, 1e-10]:
+        band = h_k * (1 - delta)
+        got, step = settle(band)
+        on_k, on_prev = crossing(t_k, band, t_next), crossing(t_prev, band, t_k)
+        if abs(got - on_prev) <= 1e-8 * got:
+            assert width(band) < step / 8, (delta, width(band), step)
+            missed = True
+        else:
+            assert not missed, delta  # once missed, missed for every smaller δ
+            assert abs(got - on_k) <= 1e-6 * got, (delta, got, on_k)
+    assert missed  # both sides of the rule are met (here from δ = 1e-8 on)
+    band = h_k * (1 + 1e-6)
+    got, _ = settle(band)
+    assert abs(got - crossing(t_prev, band, t_k)) <= 1e-8 * got

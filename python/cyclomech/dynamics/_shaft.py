@@ -473,9 +473,10 @@ class StartUp:
         The motor's torque [N·m].
     settle_time_s : float
         When the speed entered the band ``settle``·ω̄ around the steady state for
-        good [s] (it then stayed there for a whole turn); NaN if it did not. The
-        crossing itself, on each step's cubic Hermite interpolant of (φ, ω) (as
-        accurate as the integration), not the end of the step it falls in; an
+        good [s] (it then stayed there for a whole turn; ω̄ = 2π/T, the steady
+        state's time-mean speed ``steady.mean_rpm``); NaN if it did not. The
+        crossing itself, on each step's continuous extension of order 4
+        (Dormand–Prince's dense output), not the end of the step it falls in; an
         excursion out of the band is seen where it spans an eighth of a step. Where
         the speed's deviation only just touches the band's edge, a slight change
         of the machine moves this time by the spacing of the touches (the rule:
@@ -529,7 +530,8 @@ def start_up(
     rtol : float, default 1e-9
         The integrator's relative tolerance, in [1e-14, 0.1].
     settle : float, default 1e-3
-        The band around the steady state, relative to its mean speed, in (0, 0.5].
+        The band around the steady state, relative to its time-mean speed 2π/T
+        (``SteadyState.mean_rpm``), in (0, 0.5].
     t_max_s : float, default 600.0
         Stop at this time at the latest [s].
     max_steps : int, default 2 000 000
