@@ -87,7 +87,7 @@ class KnifeSynthesis:
     Examples
     --------
     >>> from cyclomech.synthesis import KnifeRequirement, KnifeSynthesis, knife_drive
-    >>> req = KnifeRequirement(0.15, 175.0, maxiter=30)
+    >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
     >>> s = KnifeSynthesis(knife_drive("br125", requirement=req))
     >>> s.comparison is None, s.linkage.output
     (True, 'E')
@@ -144,7 +144,8 @@ class KnifeSynthesis:
 
         Examples
         --------
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.rows()[0]
         ['synthesised scheme', 'br125 (seed 001, p = 1)']
         """
@@ -183,7 +184,8 @@ class KnifeSynthesis:
 
         Examples
         --------
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.json()["scheme"]
         'br125'
         """
@@ -214,7 +216,8 @@ class KnifeSynthesis:
         --------
         Without the comparison there is nothing to draw:
 
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.figures(print, "knife") is None
         True
         """
@@ -244,7 +247,8 @@ class KnifeSynthesis:
         Without the comparison no file is written:
 
         >>> import tempfile
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.files(tempfile.gettempdir(), "knife")
         []
         """
@@ -300,7 +304,7 @@ def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
     --------
     >>> from cyclomech.synthesis._knife_file import from_table
     >>> rec = from_table({"scheme": "br125", "stroke_m": 0.15, "cut_deg": 175.0,
-    ...                   "maxiter": 30}, "<doc>")
+    ...                   "popsize": 8, "maxiter": 30}, "<doc>")
     >>> rec.linkage.output
     'E'
     """
