@@ -8,6 +8,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import pickle
 from pathlib import Path
 from typing import Any
 
@@ -48,6 +49,30 @@ def test_the_example_synthesises_its_knife_drive(machine: cm.Machine) -> None:
     assert rec.drive.feasible
     # The three schemes were compared.
     assert [r["scheme"] for r in rec.comparison.rows] == ["br125", "br136", "brp4"]
+
+
+def test_the_comparison_is_computed_when_first_read() -> None:
+    """Reading the file synthesises the table's scheme only; the comparison, read
+    later, is the public comparison of the same requirement, with the same drive."""
+    rec = cm.Machine.from_toml(EXAMPLE).mechanisms["knife"].synthesis
+    assert "comparison=(computed when first read)" in repr(rec)
+    # A pickled record (a Dask worker's machine) computes it the same way.
+    again = pickle.loads(pickle.dumps(rec))
+    c = rec.comparison
+    assert "computed when first read" not in repr(rec) and rec.comparison is c
+    req = cm.synthesis.KnifeRequirement(
+        0.166, 174.0, knife_m=1.51, min_transmission_deg=30.0, popsize=10, maxiter=60
+    )
+    want = cm.synthesis.compare_knife_drives(req, rpm=45.0, cut_force_n=30000.0)
+    assert c.requirement == req and c.rows == want.rows and c.failed == want.failed
+    for s in want.curves:
+        for k, v in want.curves[s].items():
+            np.testing.assert_array_equal(c.curves[s][k], v)
+    assert c.drives["br125"] is rec.drive
+    assert again.comparison.rows == want.rows
+    np.testing.assert_array_equal(
+        again.drive.linkage.dimension_values, rec.drive.linkage.dimension_values
+    )
 
 
 def test_the_report_says_what_it_chose_and_why(machine: cm.Machine, tmp_path: Path) -> None:

@@ -6,6 +6,7 @@ function past its own (issue 32)."""
 from __future__ import annotations
 
 import ast
+import functools
 import io
 import re
 import subprocess
@@ -406,7 +407,9 @@ def function_sizes(text: str) -> dict[str, int]:
     return sizes
 
 
+@functools.cache
 def _function_sizes_in_package() -> dict[str, int]:
+    # Read by two tests (three times): the package's sources do not change meanwhile.
     return {
         f"{path.relative_to(PKG).as_posix()}:{name}": n
         for path in _modules()

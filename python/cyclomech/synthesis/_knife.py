@@ -511,7 +511,7 @@ def knife_drive(
     Examples
     --------
     >>> import cyclomech as cm
-    >>> k = cm.synthesis.knife_drive("br125", 0.15, 175.0, maxiter=30)
+    >>> k = cm.synthesis.knife_drive("br125", 0.15, 175.0, popsize=8, maxiter=30)
     >>> k.feasible, abs(k.stroke_m - 0.15) <= 0.5e-3
     (True, True)
     >>> k.why().split(":")[0]

@@ -186,8 +186,8 @@ class KnifeComparison:
         Examples
         --------
         >>> import cyclomech as cm
-        >>> c = cm.synthesis.compare_knife_drives(
-        ...     cm.synthesis.KnifeRequirement(0.15, 175.0, maxiter=30), schemes=("br125",))
+        >>> req = cm.synthesis.KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> c = cm.synthesis.compare_knife_drives(req, schemes=("br125",))
         >>> c.table().splitlines()[0].split()[0]
         'scheme'
         """
@@ -292,7 +292,7 @@ def compare_knife_drives(
     Examples
     --------
     >>> import cyclomech as cm
-    >>> req = cm.synthesis.KnifeRequirement(0.15, 175.0, maxiter=30)
+    >>> req = cm.synthesis.KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
     >>> c = cm.synthesis.compare_knife_drives(req, schemes=("br125",), rpm=45.0)
     >>> c.rows[0]["scheme"], c.rows[0]["min_transmission_deg"] >= 30.0
     ('br125', True)

@@ -60,21 +60,78 @@ def _compare(req: KnifeRequirement, kw: tuple[tuple[str, Any], ...]) -> KnifeCom
     return compare_knife_drives(req, **dict(kw))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False, repr=False, eq=False)
 class KnifeSynthesis:
     """The knife drive a ``synthesize`` table asked for, with the comparison of
     the three schemes when ``compare = true``.
+
+    Parameters
+    ----------
+    drive : KnifeDrive
+        The synthesis of the table's scheme.
+    comparison : KnifeComparison, optional
+        The schemes side by side; None (default) for none.
 
     Attributes
     ----------
     drive : KnifeDrive
         The synthesis of the table's scheme.
     comparison : KnifeComparison or None
-        The three schemes side by side (``compare = true``), None otherwise.
+        The three schemes side by side (``compare = true``), None otherwise. A
+        machine file's comparison is computed when first read (the report's rows,
+        ``results.json``, figures and files read it): reading the file, checking
+        it or sweeping it synthesises only the table's scheme. Either way it is
+        :func:`~cyclomech.synthesis.compare_knife_drives` of the table's
+        requirement, and its drive of the table's scheme is :attr:`drive`.
+
+    Examples
+    --------
+    >>> from cyclomech.synthesis import KnifeRequirement, KnifeSynthesis, knife_drive
+    >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+    >>> s = KnifeSynthesis(knife_drive("br125", requirement=req))
+    >>> s.comparison is None, s.linkage.output
+    (True, 'E')
     """
 
     drive: KnifeDrive
-    comparison: KnifeComparison | None = None
+    _comparison: KnifeComparison | None
+    # (requirement, comparison keywords) of a comparison not computed yet, else None.
+    _later: tuple[KnifeRequirement, tuple[tuple[str, Any], ...]] | None
+
+    def __init__(self, drive: KnifeDrive, comparison: KnifeComparison | None = None) -> None:
+        object.__setattr__(self, "drive", drive)
+        object.__setattr__(self, "_comparison", comparison)
+        object.__setattr__(self, "_later", None)
+
+    @classmethod
+    def _compared_later(
+        cls, drive: KnifeDrive, req: KnifeRequirement, kw: tuple[tuple[str, Any], ...]
+    ) -> KnifeSynthesis:
+        """``drive`` with the comparison ``_compare(req, kw)`` computed when first read."""
+        s = cls(drive)
+        object.__setattr__(s, "_later", (req, kw))
+        return s
+
+    @property
+    def comparison(self) -> KnifeComparison | None:
+        """The schemes side by side (``compare = true``), None otherwise."""
+        if self._later is not None:
+            # The file's checks ran when it was read, so this cannot fail on them;
+            # the table's own scheme is the cached drive (``_synthesise``'s cache).
+            object.__setattr__(self, "_comparison", _compare(*self._later))
+            object.__setattr__(self, "_later", None)
+        return self._comparison
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, KnifeSynthesis):
+            return NotImplemented
+        return self.drive == other.drive and self.comparison == other.comparison
+
+    __hash__ = None  # type: ignore[assignment]  # its drive holds dicts and arrays
+
+    def __repr__(self) -> str:
+        c = "(computed when first read)" if self._later is not None else repr(self._comparison)
+        return f"KnifeSynthesis(drive={self.drive!r}, comparison={c})"
 
     @property
     def linkage(self) -> Linkage:
@@ -87,7 +144,8 @@ class KnifeSynthesis:
 
         Examples
         --------
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.rows()[0]
         ['synthesised scheme', 'br125 (seed 001, p = 1)']
         """
@@ -126,7 +184,8 @@ class KnifeSynthesis:
 
         Examples
         --------
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.json()["scheme"]
         'br125'
         """
@@ -157,7 +216,8 @@ class KnifeSynthesis:
         --------
         Without the comparison there is nothing to draw:
 
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.figures(print, "knife") is None
         True
         """
@@ -187,7 +247,8 @@ class KnifeSynthesis:
         Without the comparison no file is written:
 
         >>> import tempfile
-        >>> s = KnifeSynthesis(_drive("br125", KnifeRequirement(0.15, 175.0, maxiter=30)))
+        >>> req = KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30)
+        >>> s = KnifeSynthesis(_drive("br125", req))
         >>> s.files(tempfile.gettempdir(), "knife")
         []
         """
@@ -243,7 +304,7 @@ def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
     --------
     >>> from cyclomech.synthesis._knife_file import from_table
     >>> rec = from_table({"scheme": "br125", "stroke_m": 0.15, "cut_deg": 175.0,
-    ...                   "maxiter": 30}, "<doc>")
+    ...                   "popsize": 8, "maxiter": 30}, "<doc>")
     >>> rec.linkage.output
     'E'
     """
@@ -267,12 +328,18 @@ def from_table(table: Mapping[str, Any], where: str) -> KnifeSynthesis:
                 f"{', '.join(k for k in _COMPARE_KEYS if k in table)} set the comparison's "
                 "speed and masses: they need compare = true"
             )
-        if compare:
+        if not compare:
+            return KnifeSynthesis(_drive(scheme, req))
+        try:
+            # The comparison's drive of this scheme is this one (knife_drive's cache):
+            # the other schemes are synthesised when the comparison is first read.
+            drive = _drive(scheme, req)
+        except InputError:
+            # The comparison's messages, as when it ran first: its own when no
+            # scheme meets the requirement, else this scheme's.
             c = _compare(req, ckw)
-            if scheme in c.failed:
-                raise InputError(c.failed[scheme])
-            return KnifeSynthesis(c.drives[scheme], c)
-        return KnifeSynthesis(_drive(scheme, req))
+            raise InputError(c.failed[scheme]) from None
+        return KnifeSynthesis._compared_later(drive, req, ckw)
     except InputError as e:
         raise InputError(f"{where}: {e}") from None
 

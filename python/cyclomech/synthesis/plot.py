@@ -54,7 +54,7 @@ def plot_knife_motion(comparison: KnifeComparison, *, title: str | None = None) 
     >>> import cyclomech as cm
     >>> from cyclomech.synthesis.plot import plot_knife_motion
     >>> c = cm.synthesis.compare_knife_drives(
-    ...     cm.synthesis.KnifeRequirement(0.15, 175.0, maxiter=30), schemes=("br125",))
+    ...     cm.synthesis.KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30), schemes=("br125",))
     >>> fig = plot_knife_motion(c)
     >>> [ax.get_ylabel() for ax in fig.axes]
     ['knife displacement  [mm]', 'knife acceleration  [m/s²]']
@@ -104,7 +104,7 @@ def plot_knife_torque(comparison: KnifeComparison, *, title: str | None = None) 
     >>> import cyclomech as cm
     >>> from cyclomech.synthesis.plot import plot_knife_torque
     >>> c = cm.synthesis.compare_knife_drives(
-    ...     cm.synthesis.KnifeRequirement(0.15, 175.0, maxiter=30), schemes=("br125",))
+    ...     cm.synthesis.KnifeRequirement(0.15, 175.0, popsize=8, maxiter=30), schemes=("br125",))
     >>> fig = plot_knife_torque(c)
     >>> fig.axes[0].get_ylabel()
     'driving torque  [N·m]'
