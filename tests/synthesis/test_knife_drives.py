@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 #: The requirement of the tests: the Burg trimmer's motion on a 1.25 m holder.
-REQ = KnifeRequirement(0.15, 175.0, maxiter=80, seed=3)
+REQ = KnifeRequirement(0.15, 175.0, maxiter=80, seed=3, popsize=10)
 DENSE = np.radians(np.arange(0.0, 360.0, 0.1))
 
 
