@@ -473,13 +473,10 @@ fn rod_loops<S: pulp::Simd>(
     {
         let [y, dy, ddy] = out;
         // Per lane of a block, the running minima of the keys y (BDC), −y (TDC)
-        // and −|y''| (the acceleration peak), and the index (an f64, a lane of
-        // the same register type) where the lane first met each.
+        // and −|y''| (the acceleration peak); where each is first met is found
+        // by the candidate pass below, which visits those samples anyway.
         let mut best = [[f64::INFINITY; LANES]; 3];
-        let mut best_at = [[0.0f64; LANES]; 3];
-        let mut at: [f64; LANES] = std::array::from_fn(|l| l as f64);
         let l2 = simd.splat_f64s(l2);
-        let step = simd.splat_f64s(LANES as f64);
         let rows = y.iter_mut().zip(dy.iter_mut()).zip(ddy.iter_mut());
         for (p, ((yc, dyc), ddyc)) in pin.iter().zip(rows) {
             let [u2, upx1, hh, py, py1, py2] = p.each_ref().map(|c| S::as_simd_f64s(c).0);
@@ -489,9 +486,7 @@ fn rod_loops<S: pulp::Simd>(
                 S::as_mut_simd_f64s(ddyc).0,
             );
             let [b0, b1, b2] = best.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
-            let [a0, a1, a2] = best_at.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
-            let atv = S::as_mut_simd_f64s(&mut at).0;
-            for v in 0..atv.len() {
+            for v in 0..b0.len() {
                 let w = simd.sqrt_f64s(simd.sub_f64s(l2, u2[v]));
                 let iw = recip(w);
                 let g = simd.mul_f64s(upx1[v], iw);
@@ -502,30 +497,16 @@ fn rod_loops<S: pulp::Simd>(
                 dyv[v] = simd.add_f64s(py1[v], g);
                 ddyv[v] = dd;
                 let keys = [yy, simd.neg_f64s(yy), simd.neg_f64s(simd.abs_f64s(dd))];
-                let trackers = [
-                    (&mut *b0, &mut *a0),
-                    (&mut *b1, &mut *a1),
-                    (&mut *b2, &mut *a2),
-                ];
-                for (k, (bk, ak)) in keys.into_iter().zip(trackers) {
-                    let lt = simd.less_than_f64s(k, bk[v]);
-                    bk[v] = simd.select_f64s(lt, k, bk[v]);
-                    ak[v] = simd.select_f64s(lt, atv[v], ak[v]);
+                for (k, bk) in keys.into_iter().zip([&mut *b0, &mut *b1, &mut *b2]) {
+                    // (A NaN key leaves the minimum as it is, as `<` would.)
+                    bk[v] = simd.min_f64s(k, bk[v]);
                 }
-                atv[v] = simd.add_f64s(atv[v], step);
             }
         }
-        // Merge the lanes: the smallest key, the first index of ties.
-        let [(vlo, lo), (vhi, hi), (vacc, acc)] = std::array::from_fn(|k| {
-            let (mut v, mut i) = (f64::INFINITY, 0.0);
-            for l in 0..LANES {
-                let (b, a) = (best[k][l], best_at[k][l]);
-                if b < v || (b == v && a < i) {
-                    (v, i) = (b, a);
-                }
-            }
-            (v, i as usize)
-        });
+        // Merge the lanes: the smallest key.
+        let [vlo, vhi, vacc] = best.map(|b| b.iter().fold(f64::INFINITY, |a, &x| a.min(x)));
+        // The first sample at each extreme (0 if none is: all NaN).
+        let (mut lo, mut hi, mut acc) = (None, None, None);
         // Candidates: local maxima of |y''| within 1 % of the largest, and local
         // extremes of y within `band` of the lowest and the highest sample. A
         // true extreme is at most max|y''|·h²/8 beyond its nearest sample, so
@@ -566,6 +547,15 @@ fn rod_loops<S: pulp::Simd>(
                 if !(is_acc || is_lo || is_hi) {
                     continue;
                 }
+                if is_lo && lo.is_none() && yq == ylo {
+                    lo = Some(q);
+                }
+                if is_hi && hi.is_none() && yq == yhi {
+                    hi = Some(q);
+                }
+                if is_acc && acc.is_none() && aq == -vacc {
+                    acc = Some(q);
+                }
                 let (qp, qn) = (prev(q), next(q));
                 if is_acc && aq >= ddys[qp].abs() && aq >= ddys[qn].abs() {
                     peaks.push(q);
@@ -578,7 +568,11 @@ fn rod_loops<S: pulp::Simd>(
                 }
             }
         }
-        Extremes { lo, hi, acc }
+        Extremes {
+            lo: lo.unwrap_or(0),
+            hi: hi.unwrap_or(0),
+            acc: acc.unwrap_or(0),
+        }
     }
 }
 

@@ -592,13 +592,21 @@ fn press_sweep_timing() {
             .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
             .map(|ns| ns * 1e-9)
     };
-    // Interleaved rounds with and without the walk's shortcuts (the reference
-    // path), best wall and CPU time of each, and a checksum of each's rows.
-    let mut best = [[f64::INFINITY; 2]; 2];
-    let mut sums = [0u64; 2];
+    // Interleaved rounds of the kernel as it is (fast arithmetic, the walk's
+    // shortcuts), with the exact arithmetic of round 2 ([`EXACT`]), and with
+    // neither (main's walk before round 2): best wall and CPU time of each,
+    // and a checksum of each's rows.
+    let configs = [
+        ("fast arithmetic + shortcuts", false, true),
+        ("exact arithmetic + shortcuts (round 2)", true, true),
+        ("exact arithmetic, reference walk", true, false),
+    ];
+    let mut best = [[f64::INFINITY; 2]; 3];
+    let mut sums = [0u64; 3];
     for _ in 0..5 {
-        for (k, fast) in [true, false].into_iter().enumerate() {
-            SHORTCUTS.with(|c| c.set(fast));
+        for (k, &(_, exact, shortcuts)) in configs.iter().enumerate() {
+            SHORTCUTS.with(|c| c.set(shortcuts));
+            EXACT.with(|c| c.set(exact));
             let (t, c) = (std::time::Instant::now(), cpu());
             super::sweep::sweep_into(&grid, &spec, Some(1), &mut rows, &mut status).unwrap();
             best[k][0] = best[k][0].min(t.elapsed().as_secs_f64());
@@ -616,7 +624,8 @@ fn press_sweep_timing() {
         }
     }
     SHORTCUTS.with(|c| c.set(true));
-    for (k, name) in ["shortcuts", "reference walk"].into_iter().enumerate() {
+    EXACT.with(|c| c.set(false));
+    for (k, (name, ..)) in configs.iter().enumerate() {
         println!(
             "press sweep 100x100x20, {name}: best {:.3} us/design (CPU {:.3}), checksum {:016x}",
             best[k][0] / n as f64 * 1e6,
