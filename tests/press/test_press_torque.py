@@ -445,3 +445,20 @@ def test_plot_crank_torque_draws_the_parts():
     with pytest.raises(cm.CyclomechError, match="PressTorque"):
         plot_crank_torque("t", 5.0)
     plt.close("all")
+
+
+def test_force_is_on_at_the_start_of_the_working_stroke():
+    """At α = α_p the slider is at S_p only to rounding (criteria and kinematics compute
+    it apart; here Π(α_p) − S_p is a few 1e-17 m, either sign): the diagram's force at S_p
+    acts there, not the zero past the diagram's end. Reference: F times the speed Π' by
+    central differences of the kernel's positions."""
+    c = GEAR.criteria(omega=1.0, k_Sp=0.1)
+    F = 1.5e5
+    f = cm.press.DeformationForce([0.0, c.S_p], [F, F])
+    t = GEAR.crank_torque([c.alpha_p], force=f, k_Sp=0.1)
+    h = 1e-4
+    s = positions(GEAR, np.array([c.alpha_p - h, c.alpha_p + h]))["s"]
+    assert t.static[0] == pytest.approx(F * (s[1] - s[0]) / (2 * h), rel=1e-6)
+    # Past the stroke's start the force is off.
+    past = GEAR.crank_torque([c.alpha_p + 1e-6], force=f, k_Sp=0.1)
+    assert past.static[0] == 0.0

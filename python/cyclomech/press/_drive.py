@@ -428,7 +428,10 @@ class GearLeverPress:
         [N·m], the torque the drive puts into the crank in its turning direction, from
         the power balance M·ω = dT/dt − F·v with v = dS/dt = −ω·Π' (α runs against the
         motion); G is the rod's centre, φ its angle. The ω² part and the force part come apart
-        (:class:`PressTorque`).
+        (:class:`PressTorque`). On the working stroke a height Π above S_p by no more
+        than rounding (1e-12 of the nominal stroke, as at α = α_p, where Π = S_p to
+        rounding) is read from the diagram at S_p, so that the force does not drop to
+        zero at the stroke's start by the last bit of Π.
 
         Parameters
         ----------

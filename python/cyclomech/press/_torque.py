@@ -341,7 +341,11 @@ def crank_torque(
     on = np.mod(a, 2.0 * math.pi) <= c.alpha_p
     static = np.zeros_like(a)
     if force is not None:
-        static = np.where(on, force.at(k.s) * k.ds, 0.0)
+        # Π = S_p at α_p only to rounding (the criteria and the kinematics compute
+        # it apart): heights above S_p by at most 1e-12 of the stroke read the
+        # diagram at S_p, not past its end (where the force is zero).
+        s = np.where((k.s > c.S_p) & (k.s <= c.S_p + 1e-12 * c.S_n), c.S_p, k.s)
+        static = np.where(on, force.at(s) * k.ds, 0.0)
     per_omega2 = -m_s * k.ds * k.dds
     if m_r > 0:
         per_omega2 = per_omega2 - m_r * _rod_term(press, k)

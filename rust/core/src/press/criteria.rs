@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use crate::geom::sin_cos;
 
-use super::kinematics::{cos_sin, Design, Frame, Kin, PressError, Table};
+use super::kinematics::{cos_sin, exact, Design, Frame, Kin, PressError, Table};
 use super::walk::{shortcuts, skips_walk, Contact, Walk, WalkPoint, WalkPoints};
 
 /// Carrier angles sampled per turn to find dead centres and extremes, unless the
@@ -151,15 +151,29 @@ pub(super) struct PinScan {
     /// of P_x'): the rod reaches the guide everywhere iff L exceeds it.
     u_max: f64,
     // Rows of one rod length (y, y', y''), in blocks like `pin`.
-    y: Vec<[f64; LANES]>,
-    dy: Vec<[f64; LANES]>,
-    ddy: Vec<[f64; LANES]>,
+    pub(super) y: Vec<[f64; LANES]>,
+    pub(super) dy: Vec<[f64; LANES]>,
+    pub(super) ddy: Vec<[f64; LANES]>,
     /// Candidates of the |y''| peak, of BDC and of TDC for one rod length (see
     /// [`scan_rod`]).
-    cands: [Vec<usize>; 3],
+    pub(super) cands: [Vec<usize>; 3],
 }
 
 impl PinScan {
+    /// The rows of one rod length (L² = `l2`) over the `m` samples, their
+    /// extremes and candidates ([`scan_rod`]).
+    pub(super) fn rod(&mut self, l2: f64, m: usize) -> Extremes {
+        let PinScan {
+            pin,
+            y,
+            dy,
+            ddy,
+            cands,
+            ..
+        } = self;
+        scan_rod(l2, m, pin, [y, dy, ddy], cands)
+    }
+
     /// Sample the pin path of `f` (its rod length is not used).
     pub(super) fn fill(&mut self, f: &Frame, table: &Table) {
         let m = table.len();
@@ -385,6 +399,28 @@ fn scan_rod(
     out: [&mut [[f64; LANES]]; 3],
     cands: &mut [Vec<usize>; 3],
 ) -> Extremes {
+    #[cfg(target_arch = "x86_64")]
+    if !exact() {
+        if let Some(v4) = pulp::x86::V4::try_new() {
+            use pulp::Simd;
+            // 1/w from the processor's 14-bit estimate and two Newton steps
+            // (FMA): within an ulp or two of the exact division, in a few
+            // multiply-adds instead of a divider's ~10 cycles a register.
+            let one = v4.splat_f64s(1.0);
+            let recip = move |w: pulp::f64x8| {
+                let mut r: pulp::f64x8 = pulp::cast(v4.avx512f._mm512_rcp14_pd(pulp::cast(w)));
+                for _ in 0..2 {
+                    let e = v4.mul_add_f64s(v4.neg_f64s(w), r, one);
+                    r = v4.mul_add_f64s(r, e, r);
+                }
+                r
+            };
+            return v4.vectorize(
+                #[inline(always)]
+                move || rod_loops(v4, recip, l2, m, pin, out, cands),
+            );
+        }
+    }
     pulp::Arch::new().dispatch(RodScan {
         l2,
         m,
@@ -417,15 +453,30 @@ impl pulp::WithSimd for RodScan<'_, '_> {
             out,
             cands,
         } = self;
+        let one = simd.splat_f64s(1.0);
+        rod_loops(simd, |w| simd.div_f64s(one, w), l2, m, pin, out, cands)
+    }
+}
+
+/// The loops of [`scan_rod`] on one instruction set, with `recip` for
+/// 1/√(L² − u²) (the exact division, or an estimate refined by Newton steps).
+#[inline(always)]
+fn rod_loops<S: pulp::Simd>(
+    simd: S,
+    recip: impl Fn(S::f64s) -> S::f64s,
+    l2: f64,
+    m: usize,
+    pin: &[[[f64; LANES]; 6]],
+    out: [&mut [[f64; LANES]]; 3],
+    cands: &mut [Vec<usize>; 3],
+) -> Extremes {
+    {
         let [y, dy, ddy] = out;
         // Per lane of a block, the running minima of the keys y (BDC), −y (TDC)
-        // and −|y''| (the acceleration peak), and the index (an f64, a lane of
-        // the same register type) where the lane first met each.
+        // and −|y''| (the acceleration peak); where each is first met is found
+        // by the candidate pass below, which visits those samples anyway.
         let mut best = [[f64::INFINITY; LANES]; 3];
-        let mut best_at = [[0.0f64; LANES]; 3];
-        let mut at: [f64; LANES] = std::array::from_fn(|l| l as f64);
-        let (l2, one) = (simd.splat_f64s(l2), simd.splat_f64s(1.0));
-        let step = simd.splat_f64s(LANES as f64);
+        let l2 = simd.splat_f64s(l2);
         let rows = y.iter_mut().zip(dy.iter_mut()).zip(ddy.iter_mut());
         for (p, ((yc, dyc), ddyc)) in pin.iter().zip(rows) {
             let [u2, upx1, hh, py, py1, py2] = p.each_ref().map(|c| S::as_simd_f64s(c).0);
@@ -435,11 +486,9 @@ impl pulp::WithSimd for RodScan<'_, '_> {
                 S::as_mut_simd_f64s(ddyc).0,
             );
             let [b0, b1, b2] = best.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
-            let [a0, a1, a2] = best_at.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
-            let atv = S::as_mut_simd_f64s(&mut at).0;
-            for v in 0..atv.len() {
+            for v in 0..b0.len() {
                 let w = simd.sqrt_f64s(simd.sub_f64s(l2, u2[v]));
-                let iw = simd.div_f64s(one, w);
+                let iw = recip(w);
                 let g = simd.mul_f64s(upx1[v], iw);
                 let yy = simd.sub_f64s(py[v], w);
                 let hg = simd.add_f64s(hh[v], simd.mul_f64s(g, g));
@@ -448,30 +497,16 @@ impl pulp::WithSimd for RodScan<'_, '_> {
                 dyv[v] = simd.add_f64s(py1[v], g);
                 ddyv[v] = dd;
                 let keys = [yy, simd.neg_f64s(yy), simd.neg_f64s(simd.abs_f64s(dd))];
-                let trackers = [
-                    (&mut *b0, &mut *a0),
-                    (&mut *b1, &mut *a1),
-                    (&mut *b2, &mut *a2),
-                ];
-                for (k, (bk, ak)) in keys.into_iter().zip(trackers) {
-                    let lt = simd.less_than_f64s(k, bk[v]);
-                    bk[v] = simd.select_f64s(lt, k, bk[v]);
-                    ak[v] = simd.select_f64s(lt, atv[v], ak[v]);
+                for (k, bk) in keys.into_iter().zip([&mut *b0, &mut *b1, &mut *b2]) {
+                    // (A NaN key leaves the minimum as it is, as `<` would.)
+                    bk[v] = simd.min_f64s(k, bk[v]);
                 }
-                atv[v] = simd.add_f64s(atv[v], step);
             }
         }
-        // Merge the lanes: the smallest key, the first index of ties.
-        let [(vlo, lo), (vhi, hi), (vacc, acc)] = std::array::from_fn(|k| {
-            let (mut v, mut i) = (f64::INFINITY, 0.0);
-            for l in 0..LANES {
-                let (b, a) = (best[k][l], best_at[k][l]);
-                if b < v || (b == v && a < i) {
-                    (v, i) = (b, a);
-                }
-            }
-            (v, i as usize)
-        });
+        // Merge the lanes: the smallest key.
+        let [vlo, vhi, vacc] = best.map(|b| b.iter().fold(f64::INFINITY, |a, &x| a.min(x)));
+        // The first sample at each extreme (0 if none is: all NaN).
+        let (mut lo, mut hi, mut acc) = (None, None, None);
         // Candidates: local maxima of |y''| within 1 % of the largest, and local
         // extremes of y within `band` of the lowest and the highest sample. A
         // true extreme is at most max|y''|·h²/8 beyond its nearest sample, so
@@ -512,6 +547,15 @@ impl pulp::WithSimd for RodScan<'_, '_> {
                 if !(is_acc || is_lo || is_hi) {
                     continue;
                 }
+                if is_lo && lo.is_none() && yq == ylo {
+                    lo = Some(q);
+                }
+                if is_hi && hi.is_none() && yq == yhi {
+                    hi = Some(q);
+                }
+                if is_acc && acc.is_none() && aq == -vacc {
+                    acc = Some(q);
+                }
                 let (qp, qn) = (prev(q), next(q));
                 if is_acc && aq >= ddys[qp].abs() && aq >= ddys[qn].abs() {
                     peaks.push(q);
@@ -524,7 +568,11 @@ impl pulp::WithSimd for RodScan<'_, '_> {
                 }
             }
         }
-        Extremes { lo, hi, acc }
+        Extremes {
+            lo: lo.unwrap_or(0),
+            hi: hi.unwrap_or(0),
+            acc: acc.unwrap_or(0),
+        }
     }
 }
 
@@ -550,23 +598,13 @@ pub(super) fn criteria_with(
         return Status::NoReach;
     }
     let l2 = f.l * f.l;
-    let at = |x: f64, order: u32| f.at(x, order);
+    let at = |x: f64, order: u32| f.at_pow(x, order);
     // One branch-free pass over the turn (vectorised): height, slope, curvature.
     let Extremes {
         lo: j_lo,
         hi: j_hi,
         acc: j_acc,
-    } = {
-        let PinScan {
-            pin,
-            y,
-            dy,
-            ddy,
-            cands,
-            ..
-        } = &mut *scan;
-        scan_rod(l2, m, pin, [y, dy, ddy], cands)
-    };
+    } = scan.rod(l2, m);
     let (ys, dys, ddys) = (
         &scan.y.as_flattened()[..m],
         &scan.dy.as_flattened()[..m],

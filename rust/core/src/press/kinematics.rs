@@ -103,10 +103,14 @@ impl Design {
 
     pub(super) fn frame(&self) -> Frame {
         let i = (self.big_r / self.r).round();
+        let beta0 = i * (self.phi0 - FRAC_PI_2);
         Frame {
             a: self.big_r - self.r,
             k: i - 1.0,
-            beta0: i * (self.phi0 - FRAC_PI_2),
+            beta0,
+            turn0: cos_sin(beta0),
+            // A whole number from 1 to MAX_RATIO − 1 for a valid design.
+            k_int: (i - 1.0).clamp(0.0, MAX_RATIO) as u32,
             d: self.d,
             l: self.l,
             e: self.offset,
@@ -120,6 +124,10 @@ pub(super) struct Frame {
     pub(super) a: f64,
     pub(super) k: f64,
     pub(super) beta0: f64,
+    /// (cos β0, sin β0).
+    pub(super) turn0: (f64, f64),
+    /// k as an integer (the gear ratio less one), for the powers of e^{iθ}.
+    pub(super) k_int: u32,
     pub(super) d: f64,
     pub(super) l: f64,
     pub(super) e: f64,
@@ -191,6 +199,58 @@ impl Frame {
     pub(super) fn at(&self, theta: f64, order: u32) -> Kin {
         self.kin(cos_sin(theta), cos_sin(self.beta0 - self.k * theta), order)
     }
+
+    /// [`at`](Self::at) with one sin/cos, of θ; those of β = β0 − kθ from
+    /// them, as e^{iβ0}·(e^{−iθ})^k with k whole (binary powers): not the bits
+    /// of sin/cos of the rounded β0 − kθ but as accurate (the power's phase
+    /// error, ~k ulps, is that of rounding kθ). For the criteria's
+    /// refinements; [`at`](Self::at) where [`exact`].
+    #[inline]
+    pub(super) fn at_pow(&self, theta: f64, order: u32) -> Kin {
+        if exact() {
+            return self.at(theta, order);
+        }
+        let t = cos_sin(theta);
+        self.kin(t, self.turn(t), order)
+    }
+
+    /// (cos β, sin β) for β = β0 − kθ from (cos θ, sin θ).
+    #[inline(always)]
+    fn turn(&self, (c, s): (f64, f64)) -> (f64, f64) {
+        // (cos kθ, sin kθ) = (c + i·s)^k.
+        let (mut pc, mut ps) = (1.0, 0.0);
+        let (mut bc, mut bs) = (c, s);
+        let mut n = self.k_int;
+        while n > 0 {
+            if n & 1 == 1 {
+                (pc, ps) = (pc * bc - ps * bs, pc * bs + ps * bc);
+            }
+            n >>= 1;
+            if n > 0 {
+                (bc, bs) = (bc * bc - bs * bs, 2.0 * bc * bs);
+            }
+        }
+        let (c0, s0) = self.turn0;
+        (c0 * pc + s0 * ps, s0 * pc - c0 * ps)
+    }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Tests only: true runs the reference arithmetic of the criteria — sin/cos
+    /// of β = β0 − kθ itself in [`Frame::at`], and the rod scan's exact
+    /// division for 1/√(L² − u²) — against which the faster forms (the power
+    /// of e^{iθ}, the reciprocal from an estimate and Newton steps) are tested.
+    pub(super) static EXACT: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether the criteria run their reference arithmetic (tests only, [`EXACT`]).
+#[inline]
+pub(super) fn exact() -> bool {
+    #[cfg(test)]
+    return EXACT.with(|c| c.get());
+    #[cfg(not(test))]
+    false
 }
 
 /// (cos x, sin x).

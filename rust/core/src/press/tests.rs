@@ -1,6 +1,7 @@
 use std::f64::consts::TAU;
 
 use super::criteria::*;
+use super::kinematics::EXACT;
 use super::kinematics::*;
 use super::walk::{SHORTCUTS, SKIP_WALK};
 use proptest::prelude::*;
@@ -322,6 +323,235 @@ fn skipping_keeps_the_dip_and_back_off() {
     assert_eq!(status, Status::ReContacts);
 }
 
+/// Criteria of `design` with the reference arithmetic ([`EXACT`]: sin/cos of
+/// β itself, the exact division in the rod scan) or the fast one.
+fn criteria_exact(design: &Design, spec: &Spec, exact: bool) -> (Vec<f64>, Status) {
+    EXACT.with(|c| c.set(exact));
+    let r = criteria(design, spec);
+    EXACT.with(|c| c.set(false));
+    r.unwrap()
+}
+
+/// Where a row of the fast arithmetic differs from the reference's: the
+/// largest difference of a column over its scale — the larger of the two
+/// values, or the column's own scale where the value itself can be ~0:
+/// heights by S_n, speeds by V_pmax, the speed ratio k_Vp by k_Vmax, angles
+/// by one radian (θ_BDC on the circle) — and that column.
+fn row_deviation(fast: &[f64], exact: &[f64]) -> (f64, usize) {
+    let scale = |row: &[f64], c: usize| -> f64 {
+        match c {
+            0 | 1 => row[0].abs(),
+            3..=5 => row[5].abs(),
+            9 => row[10].abs(),
+            2 | 13 => 1.0,
+            _ => 0.0,
+        }
+    };
+    let mut worst = (0.0f64, 0);
+    for c in 0..CRITERIA.len() {
+        let (a, b) = (fast[c], exact[c]);
+        if a.is_nan() && b.is_nan() {
+            continue;
+        }
+        let mut diff = (a - b).abs();
+        if c == 13 {
+            diff = diff.min(TAU - diff);
+        }
+        let unit = a
+            .abs()
+            .max(b.abs())
+            .max(scale(fast, c))
+            .max(scale(exact, c));
+        let dev = if diff == 0.0 { 0.0 } else { diff / unit };
+        // (NaN against a number counts as infinitely far.)
+        let dev = if dev.is_nan() { f64::INFINITY } else { dev };
+        if dev > worst.0 {
+            worst = (dev, c);
+        }
+    }
+    worst
+}
+
+#[test]
+fn fast_turn_is_sin_cos_of_beta() {
+    // Frame::at_pow's (cos β, sin β) as e^{iβ0}·(e^{−iθ})^k against sin/cos of
+    // β = β0 − kθ (Frame::at), every gear ratio, angles over several turns.
+    for ratio in 2..=64 {
+        let design = Design {
+            big_r: 0.01 * ratio as f64,
+            r: 0.01,
+            d: 0.007,
+            l: 2.0,
+            phi0: 0.37,
+            offset: 0.001,
+        };
+        design.validate().unwrap();
+        let f = design.frame();
+        // The derivatives' scale: the pin's excursion times the power of k
+        // each brings (k⁴·d for y'''').
+        let k = f.k;
+        let unit = f.a + f.d * k.powi(4) + 1.0;
+        for q in 0..200 {
+            let th = -7.0 + 0.137 * q as f64;
+            let (a, b) = (f.at(th, 4), f.at_pow(th, 4));
+            for (x, y, what) in [
+                (a.y, b.y, "y"),
+                (a.dy, b.dy, "dy"),
+                (a.ddy, b.ddy, "ddy"),
+                (a.dddy, b.dddy, "dddy"),
+                (a.ddddy, b.ddddy, "ddddy"),
+            ] {
+                assert!(
+                    (x - y).abs() <= 1e-13 * unit * (1.0 + k),
+                    "ratio {ratio}, θ = {th}, {what}: {x} vs {y}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn fast_reciprocal_keeps_the_rod_scan() {
+    // The rod scan with 1/w from an estimate and Newton steps against the
+    // exact division: y the same bits (√ is exact either way), y' and y''
+    // within a few ulps of their terms, the same extremes and candidates.
+    for (d, l) in [(0.021, 0.31), (0.03, 0.2), (0.0, 0.07), (0.05, 0.12)] {
+        let f = press(d, l, 0.7).frame();
+        let table = Table::new(3.0, 361);
+        let m = table.len();
+        let run = |exact: bool| {
+            EXACT.with(|c| c.set(exact));
+            let mut scan = PinScan::default();
+            scan.fill(&f, &table);
+            let ex = scan.rod(f.l * f.l, m);
+            EXACT.with(|c| c.set(false));
+            let flat = |v: &Vec<[f64; LANES]>| v.as_flattened()[..m].to_vec();
+            (
+                [ex.lo, ex.hi, ex.acc],
+                scan.cands.clone(),
+                flat(&scan.y),
+                flat(&scan.dy),
+                flat(&scan.ddy),
+            )
+        };
+        let (fast, exact) = (run(false), run(true));
+        assert_eq!(fast.0, exact.0, "d = {d}, L = {l}");
+        assert_eq!(fast.1, exact.1, "d = {d}, L = {l}");
+        assert_eq!(fast.2, exact.2, "d = {d}, L = {l}");
+        let unit = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for (a, b) in [(&fast.3, &exact.3), (&fast.4, &exact.4)] {
+            let tol = 8.0 * f64::EPSILON * unit(b);
+            for j in 0..m {
+                assert!(
+                    (a[j] - b[j]).abs() <= tol,
+                    "d = {d}, L = {l}, sample {j}: {} vs {}",
+                    a[j],
+                    b[j]
+                );
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// The fast arithmetic (one sin/cos per refinement evaluation, 1/w by
+    /// Newton steps in the rod scan) against the reference ([`EXACT`]): the
+    /// same status, and every column within 1e-12 of its scale
+    /// ([`row_deviation`]), over the designs of the walk's proptest.
+    #[test]
+    fn fast_arithmetic_is_the_exact_within_1e12(
+        ratio in 2usize..5,
+        d in 0.0f64..0.06,
+        l in 0.05f64..0.6,
+        phi0 in -PI..PI,
+        stroke in prop_oneof![
+            (1e-3f64..1.0).prop_map(Stroke::Fraction),
+            Just(Stroke::Fraction(1.0)),
+            (1e-4f64..0.2).prop_map(Stroke::Length),
+        ],
+        samples in prop_oneof![Just(360usize), 8usize..100, 500usize..2000],
+    ) {
+        let design = Design { big_r: 0.03 * ratio as f64, r: 0.03, d, l, phi0, offset: 0.0 };
+        prop_assume!(design.validate().is_ok());
+        let spec = Spec { stroke, omega: 3.0, samples };
+        let (fast, st_fast) = criteria_exact(&design, &spec, false);
+        let (exact, st_exact) = criteria_exact(&design, &spec, true);
+        prop_assert_eq!(st_fast, st_exact);
+        let (dev, col) = row_deviation(&fast, &exact);
+        prop_assert!(dev <= 1e-12, "{} off by {:e}: {:?} vs {:?}", CRITERIA[col], dev, fast, exact);
+    }
+}
+
+/// The grid of issue 37 (d, L, φ0) as `benches/bench_press.py` sweeps it, with
+/// `n` values of d and of L (100 there) and 20 of φ0.
+fn bench_grid(n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let lin = |a: f64, b: f64, n: usize, end: bool| -> Vec<f64> {
+        let div = if end { (n - 1) as f64 } else { n as f64 };
+        (0..n).map(|i| a + (b - a) * i as f64 / div).collect()
+    };
+    (
+        lin(0.0, 0.04, n, true),
+        lin(0.3, 0.5, n, true),
+        lin(0.0, 2.0 * PI / 3.0, 20, false),
+    )
+}
+
+/// Sweep of the grid `axes` (d, L, φ0) with the fast or the reference
+/// arithmetic: rows and statuses.
+fn sweep_exact(axes: &(Vec<f64>, Vec<f64>, Vec<f64>), exact: bool) -> (Vec<f64>, Vec<u8>) {
+    let grid = super::sweep::Grid {
+        big_r: &[0.09],
+        r: &[0.03],
+        d: &axes.0,
+        l: &axes.1,
+        phi0: &axes.2,
+        offset: 0.0,
+    };
+    let spec = Spec {
+        stroke: Stroke::Fraction(0.1),
+        omega: 4.0,
+        samples: 360,
+    };
+    let n = grid.len();
+    let (mut rows, mut status) = (vec![0.0; n * CRITERIA.len()], vec![0u8; n]);
+    EXACT.with(|c| c.set(exact));
+    let r = super::sweep::sweep_into(&grid, &spec, Some(1), &mut rows, &mut status);
+    EXACT.with(|c| c.set(false));
+    r.unwrap();
+    (rows, status)
+}
+
+/// Fast against reference arithmetic over a sweep: how many statuses differ,
+/// the largest deviation of a row ([`row_deviation`]) and its column.
+fn sweep_deviation(axes: &(Vec<f64>, Vec<f64>, Vec<f64>)) -> (usize, f64, &'static str) {
+    let (fast, st_fast) = sweep_exact(axes, false);
+    let (exact, st_exact) = sweep_exact(axes, true);
+    let flips = st_fast
+        .iter()
+        .zip(&st_exact)
+        .filter(|(a, b)| a != b)
+        .count();
+    let nc = CRITERIA.len();
+    let mut worst = (0.0, CRITERIA[0]);
+    for (a, b) in fast.chunks(nc).zip(exact.chunks(nc)) {
+        let (dev, col) = row_deviation(a, b);
+        if dev > worst.0 {
+            worst = (dev, CRITERIA[col]);
+        }
+    }
+    (flips, worst.0, worst.1)
+}
+
+#[test]
+fn fast_arithmetic_keeps_the_bench_grid() {
+    // A 12 × 12 × 20 cut of the bench grid (the whole grid in the timing
+    // test): the same statuses, every row within 1e-12 of the reference's.
+    let (flips, dev, col) = sweep_deviation(&bench_grid(12));
+    assert_eq!(flips, 0);
+    assert!(dev <= 1e-12, "{col} off by {dev:e}");
+}
+
 /// Time of the sweep over issue 37's 100 × 100 × 20 grid (d, L, φ0) on one
 /// thread, best of a few rounds, and a checksum of the rows' bits (to compare
 /// builds): `cargo test --release -p cyclomech-core press_sweep_timing --
@@ -329,15 +559,15 @@ fn skipping_keeps_the_dip_and_back_off() {
 #[test]
 #[ignore]
 fn press_sweep_timing() {
-    let lin = |a: f64, b: f64, n: usize, end: bool| -> Vec<f64> {
-        let div = if end { (n - 1) as f64 } else { n as f64 };
-        (0..n).map(|i| a + (b - a) * i as f64 / div).collect()
-    };
-    let (d, l, phi0) = (
-        lin(0.0, 0.04, 100, true),
-        lin(0.3, 0.5, 100, true),
-        lin(0.0, 2.0 * PI / 3.0, 20, false),
+    let axes = bench_grid(100);
+    // The fast arithmetic against the reference on the whole grid first.
+    let (flips, dev, col) = sweep_deviation(&axes);
+    println!(
+        "fast vs exact arithmetic: {flips} statuses differ, largest deviation {dev:e} ({col})"
     );
+    assert_eq!(flips, 0);
+    assert!(dev <= 1e-12);
+    let (d, l, phi0) = axes;
     let grid = super::sweep::Grid {
         big_r: &[0.09],
         r: &[0.03],
@@ -362,13 +592,21 @@ fn press_sweep_timing() {
             .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
             .map(|ns| ns * 1e-9)
     };
-    // Interleaved rounds with and without the walk's shortcuts (the reference
-    // path), best wall and CPU time of each, and a checksum of each's rows.
-    let mut best = [[f64::INFINITY; 2]; 2];
-    let mut sums = [0u64; 2];
+    // Interleaved rounds of the kernel as it is (fast arithmetic, the walk's
+    // shortcuts), with the exact arithmetic of round 2 ([`EXACT`]), and with
+    // neither (main's walk before round 2): best wall and CPU time of each,
+    // and a checksum of each's rows.
+    let configs = [
+        ("fast arithmetic + shortcuts", false, true),
+        ("exact arithmetic + shortcuts (round 2)", true, true),
+        ("exact arithmetic, reference walk", true, false),
+    ];
+    let mut best = [[f64::INFINITY; 2]; 3];
+    let mut sums = [0u64; 3];
     for _ in 0..5 {
-        for (k, fast) in [true, false].into_iter().enumerate() {
-            SHORTCUTS.with(|c| c.set(fast));
+        for (k, &(_, exact, shortcuts)) in configs.iter().enumerate() {
+            SHORTCUTS.with(|c| c.set(shortcuts));
+            EXACT.with(|c| c.set(exact));
             let (t, c) = (std::time::Instant::now(), cpu());
             super::sweep::sweep_into(&grid, &spec, Some(1), &mut rows, &mut status).unwrap();
             best[k][0] = best[k][0].min(t.elapsed().as_secs_f64());
@@ -386,7 +624,8 @@ fn press_sweep_timing() {
         }
     }
     SHORTCUTS.with(|c| c.set(true));
-    for (k, name) in ["shortcuts", "reference walk"].into_iter().enumerate() {
+    EXACT.with(|c| c.set(false));
+    for (k, (name, ..)) in configs.iter().enumerate() {
         println!(
             "press sweep 100x100x20, {name}: best {:.3} us/design (CPU {:.3}), checksum {:016x}",
             best[k][0] / n as f64 * 1e6,

@@ -175,20 +175,26 @@ impl Walk {
         s_p: f64,
         limit: usize,
     ) -> (usize, f64, Option<WalkPoint>) {
+        // The walk's place and angle in locals (registers) through the loop,
+        // not in `self` (stored and reloaded every step: the chain of angles
+        // then waits on the store); the same steps, the same bits.
+        let (mut j, mut th) = (self.j, self.theta_j);
+        let (m, h, top, th_top) = (self.m, self.h, self.top_pending, self.th_top);
+        let (ys, dys, y_b) = (p.ys, p.dys, p.y_b);
         let (mut k, mut high, mut last) = (0, f64::NEG_INFINITY, None);
-        while k < limit && !(self.top_pending && self.th_top >= self.theta_j) {
-            let j = self.j;
-            let s = p.ys[j] - p.y_b;
+        while k < limit && !(top && th_top >= th) {
+            let s = ys[j] - y_b;
             // (False for NaN too.)
-            if !(s < s_p && p.dys[j] <= 0.0) {
+            if !(s < s_p && dys[j] <= 0.0) {
                 break;
             }
             high = if s > high { s } else { high };
-            last = Some((j, self.theta_j));
-            self.j = if j == 0 { self.m - 1 } else { j - 1 };
-            self.theta_j -= self.h;
+            last = Some((j, th));
+            j = if j == 0 { m - 1 } else { j - 1 };
+            th -= h;
             k += 1;
         }
+        (self.j, self.theta_j) = (j, th);
         let last = last.map(|(j, th)| WalkPoint {
             th,
             s: p.ys[j] - p.y_b,
@@ -209,19 +215,23 @@ impl Walk {
         far: f64,
         limit: usize,
     ) -> (usize, f64, Option<WalkPoint>) {
+        // (Locals through the loop, as in `skip_below`.)
+        let (mut j, mut th) = (self.j, self.theta_j);
+        let (m, h, top, th_top) = (self.m, self.h, self.top_pending, self.th_top);
+        let (ys, y_b) = (p.ys, p.y_b);
         let (mut k, mut high, mut last) = (0, f64::NEG_INFINITY, None);
-        while k < limit && !(self.top_pending && self.th_top >= self.theta_j) {
-            let j = self.j;
-            let s = p.ys[j] - p.y_b;
+        while k < limit && !(top && th_top >= th) {
+            let s = ys[j] - y_b;
             if s < far || s.is_nan() {
                 break;
             }
             high = high.max(s);
-            last = Some((j, self.theta_j));
-            self.j = if j == 0 { self.m - 1 } else { j - 1 };
-            self.theta_j -= self.h;
+            last = Some((j, th));
+            j = if j == 0 { m - 1 } else { j - 1 };
+            th -= h;
             k += 1;
         }
+        (self.j, self.theta_j) = (j, th);
         let last = last.map(|(j, th)| WalkPoint {
             th,
             s: p.ys[j] - p.y_b,
