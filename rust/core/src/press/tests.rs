@@ -262,6 +262,43 @@ fn criteria_shortcut(
     (row.iter().map(|x| x.to_bits()).collect(), status)
 }
 
+/// The designs of the walk's proptests: designs that reach the guide or not,
+/// dip and back off (re-contacts) or reverse, working strokes from near zero to
+/// the whole stroke (k_Sp = 1 ends at TDC) and as lengths, coarse and fine
+/// sampling, gear ratios 2–4 (invalid ones are left to `prop_assume!`).
+fn walk_cases() -> impl Strategy<Value = (Design, Spec)> {
+    (
+        2usize..5,
+        0.0f64..0.06,
+        0.05f64..0.6,
+        -PI..PI,
+        prop_oneof![
+            (1e-3f64..1.0).prop_map(Stroke::Fraction),
+            Just(Stroke::Fraction(1.0)),
+            (1e-4f64..0.2).prop_map(Stroke::Length),
+        ],
+        prop_oneof![Just(360usize), 8usize..100, 500usize..2000],
+    )
+        .prop_map(|(ratio, d, l, phi0, stroke, samples)| {
+            let design = Design {
+                big_r: 0.03 * ratio as f64,
+                r: 0.03,
+                d,
+                l,
+                phi0,
+                offset: 0.0,
+            };
+            (
+                design,
+                Spec {
+                    stroke,
+                    omega: 3.0,
+                    samples,
+                },
+            )
+        })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
     /// The first pass that skips the stretches far above S_p finds the same
@@ -272,20 +309,9 @@ proptest! {
     /// coarse and fine sampling, gear ratios 2–4.
     #[test]
     fn skipping_the_far_stretches_changes_nothing(
-        ratio in 2usize..5,
-        d in 0.0f64..0.06,
-        l in 0.05f64..0.6,
-        phi0 in -PI..PI,
-        stroke in prop_oneof![
-            (1e-3f64..1.0).prop_map(Stroke::Fraction),
-            Just(Stroke::Fraction(1.0)),
-            (1e-4f64..0.2).prop_map(Stroke::Length),
-        ],
-        samples in prop_oneof![Just(360usize), 8usize..100, 500usize..2000],
+        (design, spec) in walk_cases(),
     ) {
-        let design = Design { big_r: 0.03 * ratio as f64, r: 0.03, d, l, phi0, offset: 0.0 };
         prop_assume!(design.validate().is_ok());
-        let spec = Spec { stroke, omega: 3.0, samples };
         let skipped = criteria_walked(&design, &spec, true);
         let visited = criteria_walked(&design, &spec, false);
         // Without the shortcuts (the early end once the rest up to TDC is far
@@ -461,20 +487,9 @@ proptest! {
     /// ([`row_deviation`]), over the designs of the walk's proptest.
     #[test]
     fn fast_arithmetic_is_the_exact_within_1e12(
-        ratio in 2usize..5,
-        d in 0.0f64..0.06,
-        l in 0.05f64..0.6,
-        phi0 in -PI..PI,
-        stroke in prop_oneof![
-            (1e-3f64..1.0).prop_map(Stroke::Fraction),
-            Just(Stroke::Fraction(1.0)),
-            (1e-4f64..0.2).prop_map(Stroke::Length),
-        ],
-        samples in prop_oneof![Just(360usize), 8usize..100, 500usize..2000],
+        (design, spec) in walk_cases(),
     ) {
-        let design = Design { big_r: 0.03 * ratio as f64, r: 0.03, d, l, phi0, offset: 0.0 };
         prop_assume!(design.validate().is_ok());
-        let spec = Spec { stroke, omega: 3.0, samples };
         let (fast, st_fast) = criteria_exact(&design, &spec, false);
         let (exact, st_exact) = criteria_exact(&design, &spec, true);
         prop_assert_eq!(st_fast, st_exact);
