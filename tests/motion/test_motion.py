@@ -760,3 +760,53 @@ def test_two_period_law_pickles_after_use():
     lw = cm.motion.two_period(0.1, 3.0, "cycloidal", "modified_sine", max_speed=0.062)
     lw.position(1.0)
     _same_two_period(lw, pickle.loads(pickle.dumps(lw)))
+
+
+def _rise_from_velocity(dz: Polynomial) -> list[float]:
+    """Z's coefficients for Z' ∝ ``dz``, scaled so that Z(1) = 1."""
+    z = dz.integ()
+    return (z / z(1.0)).coef.tolist()
+
+
+def test_a_dip_of_z_prime_below_zero_between_the_samples_is_refused():
+    """Z' = x²(1 − x)²((x − a)² − ε²) runs backwards on (a − ε, a + ε), a dip 3e-3
+    wide centred between two of the 256 samples the check takes (a = 100.5/256).
+    Before, only the best sample was refined and this law was accepted (its Z' down
+    to −8.1e-5 by dense sampling here); now every sampled local extreme is."""
+    a, eps = 100.5 / 256, 1.5e-3
+    x = Polynomial([0.0, 1.0])
+    dz = x**2 * (1 - x) ** 2 * ((x - a) ** 2 - eps**2)
+    coeffs = _rise_from_velocity(dz)
+    dense = Polynomial(coeffs).deriv()(np.linspace(0.0, 1.0, 2_000_001)).min()
+    assert dense < -8e-5  # the law does run backwards, by dense sampling
+    with pytest.raises(cm.CyclomechError, match="runs backwards"):
+        cm.motion.polynomial(coeffs)
+
+
+def test_two_near_tied_peaks_of_z_prime_give_the_higher():
+    """Z' = x²(1 − x)²((x − m)² + κ)(1 + e(x − m)) has two peaks, one at a sample
+    and one between samples, whose heights cross as e moves through e0 (found by
+    brentq). ``dz_max`` is the higher, to 1e-12, against scipy's bounded search on
+    each side of m. Before, only the best sample was refined: 1e-4 low."""
+    from scipy.optimize import minimize_scalar
+
+    m, kappa = 0.5 + 0.37 / 256, 0.004
+    x = Polynomial([0.0, 1.0])
+
+    def law(e: float) -> list[float]:
+        return _rise_from_velocity(x**2 * (1 - x) ** 2 * ((x - m) ** 2 + kappa) * (1 + e * (x - m)))
+
+    def peaks(coeffs: list[float]) -> list[float]:
+        d1 = Polynomial(coeffs).deriv()
+        return [
+            -minimize_scalar(
+                lambda t: -d1(t), bounds=side, method="bounded", options={"xatol": 1e-14}
+            ).fun
+            for side in ((0.0, m), (m, 1.0))
+        ]
+
+    e0 = brentq(lambda e: (lambda p: p[0] - p[1])(peaks(law(e))), -0.2, 0.2, xtol=1e-16)
+    for de in np.linspace(-3e-4, 3e-4, 13):
+        coeffs = law(e0 + de)
+        want = max(peaks(coeffs))
+        assert cm.motion.polynomial(coeffs).dz_max == pytest.approx(want, rel=1e-12), de

@@ -299,6 +299,10 @@ def polynomial(coeffs: npt.ArrayLike, form: str = "rise") -> MotionLaw:
 
     Checked to within 1e-9: Z(0) = 0, Z(1) = 1, Z'(0) = 0 and Z' ≥ 0 on [0, 1];
     as a rise also Z'(1) = 0, as a half law (``form="half"``) Z' largest at j = 1.
+    Z' ≥ 0 and the peaks ``dz_max``, ``ddz_max`` are found on 256 samples, each
+    of the highest sampled local extrema then refined (a dip of Z' narrower than
+    a sample gap is seen, and the higher of two near-tied peaks taken); two
+    extrema within one gap of 1/256 on a rising or falling stretch are not.
 
     Parameters
     ----------
