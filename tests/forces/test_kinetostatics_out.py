@@ -12,6 +12,7 @@ import math
 import cyclomech as cm
 import numpy as np
 import pytest
+from test_forces import slider_crank
 
 F = cm.forces
 G = (0.0, -9.81)
@@ -23,16 +24,6 @@ def four_bar(b: float = 0.1, c: tuple[float, float] = (0.3, 0.25), d: float = 0.
         [("A", "B"), ("B", "C"), ("C", "D")],
         ["A", "D"],
         ("A", "B"),
-    )
-
-
-def slider_crank(r: float, rod: float) -> cm.Linkage:
-    return cm.Linkage(
-        {"O": (0, 0), "A": (r, 0), "C": (r + rod, 0)},
-        [("O", "A"), ("A", "C")],
-        ["O"],
-        ("O", "A"),
-        sliders={"C": ("ground", (1, 0))},
     )
 
 
