@@ -138,6 +138,19 @@ fn bad_input_is_an_error() {
         ..m.clone()
     };
     assert!(steady_state(&c, 0.0, &bad_eff, &opts(), false).is_err());
+    // A start-up's steady speeds must be > 0 (its band is relative to their time
+    // mean): a zero or negative one is named, not a division by it.
+    let start = StartUpOptions {
+        rtol: 1e-9,
+        settle: 1e-3,
+        t_max: 10.0,
+        max_steps: 1000,
+    };
+    let mut steady = vec![1.0; 8];
+    assert!(start_up(&c, 0.0, &m, &steady, &start).is_ok());
+    steady[3] = 0.0;
+    let e = start_up(&c, 0.0, &m, &steady, &start).unwrap_err();
+    assert!(e.to_string().contains("steady"), "{e}");
     let mut out = vec![0.0; 12];
     assert!(steady_batch(&c, &[0.0, 1.0], &[m], &opts(), &mut out, Some(1)).is_err());
 }
