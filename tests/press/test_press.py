@@ -619,6 +619,46 @@ def test_tied_bdc_is_the_same_in_solve_and_sweep():
     assert np.ptp(sw["theta_bdc"]) < 1e-9
 
 
+#: A drive whose BDC is flat (y″ = 0 there, by symmetry: y − y_B ≈ y⁗·x⁴/24), written
+#: four ways. θ_B is the root of a y′ that is cubic there, so the rounding of y′
+#: (~1e-17) moves it by ~(6·1e-17/y⁗)^(1/3) ≈ 3e-6 rad, differently for each way.
+FLAT_BDC_PHI0 = [math.pi / 6 + TAU * k for k in (0, 1, -1, -7)]
+
+
+def test_a_flat_bdc_is_ill_conditioned_and_solve_counts_from_the_criteria_bdc():
+    """Where BDC is flat, θ_B (and α_p, V_cp, k_Vp, k_Vmax, counted from it) are known
+    only to ~1e-5 (as documented in PressCriteria), every other criterion and the
+    carrier angle of first contact θ_B − α_p to rounding; and solve counts α from
+    the criteria's own BDC, so that S(α_p) = S_p to rounding. (solve found its own
+    BDC: S(α_p) − S_p was ±1e-6 m here, 4.9e-17 m on an ordinary BDC.)"""
+    m = Model(2 * R0, 0.03, 0.01, 0.4, FLAT_BDC_PHI0[0])
+    tb, _ = m.dead_centre()
+    ddy = m.at(np.linspace(0.0, TAU, 3600, endpoint=False))[4]
+    assert abs(float(m.at(tb)[4])) < 1e-12 * np.abs(ddy).max()  # flat
+    ref = brute_criteria(m, 0.1, 4.0)
+    sw = cm.press.design_grid(
+        R=2 * R0, r=0.03, d=0.01, L=0.4, phi0=np.array(FLAT_BDC_PHI0), k_Sp=0.1, omega=4.0
+    )
+    conditioned = ("alpha_p", "V_cp", "k_Vp", "k_Vmax")
+    for i, phi0 in enumerate(FLAT_BDC_PHI0):
+        p = cm.press.GearLeverPress(R=2 * R0, r=0.03, d=0.01, L=0.4, phi0=phi0)
+        c = p.criteria(k_Sp=0.1, omega=4.0)
+        for f in FIELDS:
+            rel = 1e-4 if f in conditioned else 1e-12
+            assert getattr(c, f) == pytest.approx(ref[f], rel=rel), f
+        assert abs(np.angle(np.exp(1j * (c.theta_bdc - tb)))) < 1e-4
+        contact = np.angle(np.exp(1j * (c.theta_bdc - c.alpha_p - (tb - ref["alpha_p"]))))
+        assert abs(contact) < 1e-12
+        k = p.solve(np.array([0.0, c.alpha_p]))
+        assert math.atan2(k.centre[0, 1], k.centre[0, 0]) % TAU == pytest.approx(
+            c.theta_bdc, abs=1e-12
+        )
+        assert k.s[0] == pytest.approx(0.0, abs=1e-15 * c.S_n)
+        assert k.s[1] == pytest.approx(c.S_p, abs=1e-14 * c.S_n)
+        for name in cm.press.CRITERIA:  # the sweep finds the same BDC
+            assert_array_equal(sw[name][i], getattr(c, name))
+
+
 @pytest.mark.parametrize("d", [0.01, 0.02, 0.03, 0.04])
 def test_tied_tdcs_full_working_stroke_from_the_nearest(d):
     """Two equally high TDCs (φ0 = 0): with k_Sp = 1 the working stroke runs from

@@ -114,6 +114,17 @@ class PressCriteria:
     gives the same criteria (and :meth:`GearLeverPress.solve` counts α from the same
     BDC).
 
+    A *flat* BDC (y″ = 0 there, as in the symmetric R = 0.18, r = 0.03, d = 0.01,
+    L = 0.4 m, φ0 = π/6, where y − y_B grows as the fourth power of the angle) is
+    ill-conditioned: θ_B is the root of a y′ that is cubic there, and the ~1e-17
+    rounding of y′ moves it by ~(6·1e-17/y⁗)^(1/3), about 3e-6 to 1e-5 rad, differently
+    for each way of writing φ0 and for each ``samples``. ``theta_bdc`` and the
+    criteria counted from it, ``alpha_p``, ``V_cp``, ``k_Vp`` and ``k_Vmax``, are then
+    known to ~2e-5 (relative); the others, and the carrier angle of the first contact
+    ``theta_bdc - alpha_p``, to rounding. :meth:`GearLeverPress.solve` takes its α = 0
+    from the BDC these criteria find with the default ``samples``, so that
+    S(``alpha_p``) = ``S_p`` to rounding also there.
+
     Parameters
     ----------
     S_n : float
@@ -317,7 +328,11 @@ class GearLeverPress:
         Parameters
         ----------
         alpha : array_like of float, shape (N,)
-            The crank angles α [rad], from BDC against the motion.
+            The crank angles α [rad], from BDC against the motion: the BDC of
+            :meth:`criteria` at the default ``samples`` (``theta_bdc``, the same
+            numbers bit for bit, so that S(α_p) = S_p to rounding, see
+            :class:`PressCriteria`); for a rod that cannot reach the guide over the
+            whole turn (no criteria), the lowest point of the turn's assembled part.
         n_threads : int, optional
             Threads for the Rust kernel; default None (``CYCLOMECH_THREADS`` or all cores).
 

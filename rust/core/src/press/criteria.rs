@@ -583,36 +583,29 @@ fn rod_loops<S: pulp::Simd>(
 /// [`Status::Reverses`].
 pub const RECONTACT: f64 = 1e-9;
 
-/// Criteria of the design `f` (its rod length included) on its sampled pin path
-/// `scan`, into `row` (see [`CRITERIA`]); returns its status.
-pub(super) fn criteria_with(
+/// A dead centre: (θ, y, y'' there, the sample it was found from).
+pub(super) type DeadCentre = (f64, f64, f64, usize);
+
+/// BDC and TDC of the design `f` from its rows for one rod length
+/// (`scan.rod` done; `j_lo`, `j_hi` its lowest and highest sample), with the
+/// tie rule of [`TIE`]. The one computation of a design's BDC: the criteria
+/// count α from it and so does [`super::kinematics::solve_into`] (through
+/// [`bdc_of`]), bit for bit for the same sample count.
+pub(super) fn dead_centres(
     f: &Frame,
     table: &Table,
-    spec: &Spec,
-    scan: &mut PinScan,
-    row: &mut [f64],
-) -> Status {
-    row.fill(f64::NAN);
+    scan: &PinScan,
+    j_lo: usize,
+    j_hi: usize,
+) -> (DeadCentre, DeadCentre) {
     let m = table.len();
-    if scan.u_max >= f.l {
-        return Status::NoReach;
-    }
-    let l2 = f.l * f.l;
     let at = |x: f64, order: u32| f.at_pow(x, order);
-    // One branch-free pass over the turn (vectorised): height, slope, curvature.
-    let Extremes {
-        lo: j_lo,
-        hi: j_hi,
-        acc: j_acc,
-    } = scan.rod(l2, m);
     let (ys, dys, ddys) = (
         &scan.y.as_flattened()[..m],
         &scan.dy.as_flattened()[..m],
         &scan.ddy.as_flattened()[..m],
     );
     let h = TAU / m as f64;
-    // Neighbours on the turn (a compare, not a division: `prev` is on the
-    // walk's chain of dependent steps).
     let prev = |j: usize| if j == 0 { m - 1 } else { j - 1 };
     let next = |j: usize| if j + 1 == m { 0 } else { j + 1 };
     // Dead centres: roots of y' between the neighbours of the sample extremes,
@@ -650,7 +643,7 @@ pub(super) fn criteria_with(
         }
     };
     // Each candidate refined (its sample kept if that is beyond the root).
-    let [acc_peaks, lows, highs] = &scan.cands;
+    let [_, lows, highs] = &scan.cands;
     let low = |q: usize| {
         let (t, y, ddy) = dead(q);
         (t, y.min(ys[q]), ddy, q)
@@ -683,6 +676,59 @@ pub(super) fn criteria_with(
             .unwrap_or_else(|| high(j_hi));
         (b, t)
     };
+    (b, t)
+}
+
+/// The BDC (θ_B, y_B) of a design whose rod reaches the guide over the whole
+/// turn, as its criteria on `samples` angles a turn find it ([`dead_centres`]);
+/// None if the rod does not reach everywhere. `ratio` is the design's gear
+/// ratio ([`Design::validate`]).
+pub(super) fn bdc_of(design: &Design, ratio: f64, samples: usize) -> Option<(f64, f64)> {
+    let f = design.frame();
+    let table = Table::new(ratio, samples);
+    let mut scan = PinScan::default();
+    scan.fill(&f, &table);
+    if scan.u_max >= f.l {
+        return None;
+    }
+    let Extremes { lo, hi, .. } = scan.rod(f.l * f.l, samples);
+    let ((th_b, y_b, ..), _) = dead_centres(&f, &table, &scan, lo, hi);
+    Some((wrap(th_b), y_b))
+}
+
+/// Criteria of the design `f` (its rod length included) on its sampled pin path
+/// `scan`, into `row` (see [`CRITERIA`]); returns its status.
+pub(super) fn criteria_with(
+    f: &Frame,
+    table: &Table,
+    spec: &Spec,
+    scan: &mut PinScan,
+    row: &mut [f64],
+) -> Status {
+    row.fill(f64::NAN);
+    let m = table.len();
+    if scan.u_max >= f.l {
+        return Status::NoReach;
+    }
+    let l2 = f.l * f.l;
+    let at = |x: f64, order: u32| f.at_pow(x, order);
+    // One branch-free pass over the turn (vectorised): height, slope, curvature.
+    let Extremes {
+        lo: j_lo,
+        hi: j_hi,
+        acc: j_acc,
+    } = scan.rod(l2, m);
+    let (ys, dys, ddys) = (
+        &scan.y.as_flattened()[..m],
+        &scan.dy.as_flattened()[..m],
+        &scan.ddy.as_flattened()[..m],
+    );
+    let h = TAU / m as f64;
+    // Neighbours on the turn (a compare, not a division: `prev` is on the
+    // walk's chain of dependent steps).
+    let prev = |j: usize| if j == 0 { m - 1 } else { j - 1 };
+    let next = |j: usize| if j + 1 == m { 0 } else { j + 1 };
+    let (b, t) = dead_centres(f, table, scan, j_lo, j_hi);
     let ((th_b, y_b, ddy_b, j_b), (th_t, y_t, ddy_t, _)) = (b, t);
     let s_n = y_t - y_b;
     let s_p = match spec.stroke {
@@ -963,7 +1009,7 @@ pub(super) fn criteria_with(
     // that is more than a last step away, when a bracketed search follows.
     let acc = ddys[j_acc].abs();
     let mut a_max = acc;
-    for &q in acc_peaks {
+    for &q in &scan.cands[0] {
         let th_a = table.theta(q);
         let sgn = ddys[q].signum();
         let (q1, q2) = (prev(q), next(q));

@@ -9,7 +9,7 @@ use crate::geom::sin_cos;
 use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
-use super::criteria::{wrap, DEFAULT_SAMPLES, TIE};
+use super::criteria::{bdc_of, wrap, DEFAULT_SAMPLES, TIE};
 
 /// Errors of the press domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -362,6 +362,10 @@ pub struct KinOut<'a> {
 /// The BDC of a design: (θ_B, y_B), the lowest slider position over the turn
 /// (over its assembled part if the rod cannot reach everywhere; None if nowhere).
 /// Of BDCs that tie (see [`TIE`]), the one at the smallest θ in [0, 2π).
+/// [`solve_into`] takes it only for a design whose rod does not reach over the
+/// whole turn; for the others it takes the BDC of their criteria, which agrees
+/// with this one to rounding where BDC is an ordinary minimum (y'' > 0) and to
+/// ~1e-5 rad where it is flat (y'' ≈ 0: θ_B is a root of a y' cubic there).
 pub fn bdc(design: &Design, samples: usize) -> Option<(f64, f64)> {
     let f = design.frame();
     let h = TAU / samples as f64;
@@ -431,9 +435,10 @@ pub fn solve_into(
     n_threads: Option<i64>,
     out: KinOut<'_>,
 ) -> Result<(), PressError> {
-    for d in designs {
-        d.validate()?;
-    }
+    let ratios = designs
+        .iter()
+        .map(|d| d.validate())
+        .collect::<Result<Vec<f64>, _>>()?;
     InvalidInput::check_finite("alpha", alpha)?;
     let (k, n) = (designs.len(), alpha.len());
     if out.s.len() != k * n
@@ -447,9 +452,17 @@ pub fn solve_into(
         return Err(PressError::BadSpec("output sizes do not match".into()));
     }
     let threads = resolve_threads(n_threads)?;
+    // α counts from the BDC the design's criteria report (one computation,
+    // so that S(α_p) = S_p to rounding even where a flat BDC leaves θ_B
+    // uncertain by ~1e-5 rad); where the rod does not reach over the whole
+    // turn (no criteria), from the lowest point of its assembled part.
     let frames: Vec<(Frame, Option<(f64, f64)>)> = designs
         .iter()
-        .map(|d| (d.frame(), bdc(d, 4 * DEFAULT_SAMPLES)))
+        .zip(&ratios)
+        .map(|(d, &ratio)| {
+            let b = bdc_of(d, ratio, DEFAULT_SAMPLES).or_else(|| bdc(d, 4 * DEFAULT_SAMPLES));
+            (d.frame(), b)
+        })
         .collect();
     const CHUNK: usize = 8192;
     let one = |start: usize, (s, ds, dds, centre, pin, slider, ok): KinChunk<'_>| {
