@@ -69,6 +69,33 @@ def test_a_groove_is_cut_on_both_flanks():
     )
 
 
+def test_a_groove_refuses_a_cutter_wider_than_itself():
+    """A groove 2·r_r wide is cut from inside on both flanks: a cutter of radius above
+    r_r would overcut the opposite flank by 2·(r_t − r_r) (10 mm here), so it is
+    refused by name, in the call and in a cam table's key; r_t = r_r cuts both
+    flanks on the pitch curve, at r_r from each (against the dense flanks)."""
+    segs = [S("rise", 180, 0.02), S("return", 180, 0.02)]
+    cam = cm.cam.Cam(segs, cm.cam.TranslatingRoller(0.05, 0.01), closure="groove")
+    for call in (
+        lambda: cm.cam.cutter_path(cam, 0.015),
+        lambda: cm.cam.profile_table(cam, 720, tool_radius=0.015),
+    ):
+        with pytest.raises(cm.InputError, match=r"tool_radius = 0\.015.*roller radius 0\.01"):
+            call()
+    table = {
+        "follower": "translating", "base_radius_m": 0.05, "roller_radius_m": 0.01,
+        "closure": "groove", "tool_radius_m": 0.015,
+        "segment": [{"kind": "rise", "angle_deg": 180, "stroke_m": 0.02},
+                    {"kind": "return", "angle_deg": 180, "stroke_m": 0.02}],
+    }  # fmt: skip
+    with pytest.raises(cm.InputError, match=r"\[cam\].*tool_radius = 0\.015"):
+        cm.cam.CamDesign.from_table(table, "[cam]")
+    t = cm.cam.profile_table(cam, 1000, tool_radius=0.01)
+    for cutter, flank in (("cutter", "profile"), ("outer_cutter", "profile_outer")):
+        c = np.column_stack([t[f"{cutter}_x_m"], t[f"{cutter}_y_m"]])[::3]
+        np.testing.assert_allclose(_distance_to_curve(c, _dense(cam, flank)), 0.01, atol=2e-7)
+
+
 def test_a_cutter_of_the_rollers_size_runs_on_the_pitch_curve():
     cam = cm.cam.Cam(
         [S("rise", 180, 0.02), S("return", 180, 0.02)], cm.cam.TranslatingRoller(0.05, 0.01)

@@ -174,6 +174,17 @@ def _tool_radius(tool_radius: Any, cam: Cam) -> float:
             "tool_radius: a knife-edge follower's profile is its pitch curve, with no "
             "roller to take the normal from; cut it from profile_x_m, profile_y_m"
         )
+    r_r = getattr(cam.follower, "roller_radius", None)
+    if cam.closure == "groove" and r_r is not None and r > r_r:
+        # The outer flank is cut from inside the groove (2·r_r wide): a wider
+        # cutter's centre falls on the far side of the pitch curve and its disc
+        # cuts 2·(r_t − r_r) into the opposite flank.
+        raise InputError(
+            f"tool_radius = {r!r} [m] is larger than the roller radius {r_r!r} [m]: a "
+            f"groove is 2·r_r wide and both its flanks are cut from inside it, so a "
+            f"wider cutter cuts {2 * (r - r_r):.3g} m into the opposite flank; use a "
+            f"tool_radius of at most {r_r!r} m"
+        )
     return r
 
 
@@ -204,7 +215,8 @@ def cutter_path(cam: Cam, tool_radius: float, samples: int = 3600) -> npt.NDArra
     roller's size); a groove's outer flank is cut from inside the groove, at
     pitch + (r_r − r_t)·n (:func:`profile_table`'s ``outer_cutter_*``). Where the
     profile is concave with a radius of curvature smaller than the cutter's, the
-    cutter would gouge it: :func:`profile_table` warns.
+    cutter would gouge it: :func:`profile_table` warns. A groove's cutter must fit
+    in the groove (``tool_radius`` ≤ r_r): a wider one is refused.
 
     Parameters
     ----------
