@@ -55,6 +55,40 @@ def test_the_coefficients_rebuild_the_program(tmp_path):
     assert_allclose(rows[1:, 1], rows[:-1, 2], atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    "law", ["cycloidal", "harmonic", "modified_sine", "modified_trapezoid",
+            "polynomial_345", "polynomial_4567"],
+)  # fmt: skip
+def test_every_named_law_is_written_and_rebuilt(tmp_path, law):
+    """Each rest-to-rest law's pieces fit c0 … c7 (polynomial_4567's and
+    polynomial_345's come one coefficient longer, the last 0: the file used to fail
+    to be written, a ValueError); the rebuilt rise against VDI 2143's closed forms
+    (polynomials, and the cycloid h(z − sin 2πz/2π)), else Program.evaluate."""
+    h = 0.02
+    prog = cm.motion.Program(
+        [S(law, 120, end=h), S("dwell", 60), S(law, 120, end=0.0), S("dwell", 60)]
+    )
+    rows = np.loadtxt(
+        cm.motion.write_cam_coefficients(prog, tmp_path / "c.csv"), delimiter=",", skiprows=1
+    )
+    z = np.linspace(0.0, 1.0, 241)
+    u = z * math.radians(120)
+    first = rows[rows[:, 0] == 0]
+    pieces = []
+    for r in first:
+        t = u[(u >= math.radians(r[1])) & (u < math.radians(r[2]))] - math.radians(r[1])
+        pieces.append(np.polyval(r[3:11][::-1], t) + r[11] * np.sin(r[12] * t + r[13]))
+    rebuilt = np.concatenate(pieces)
+    closed = {
+        "polynomial_345": h * (10 * z**3 - 15 * z**4 + 6 * z**5),
+        "polynomial_4567": h * (35 * z**4 - 84 * z**5 + 70 * z**6 - 20 * z**7),
+        "cycloidal": h * (z - np.sin(2 * math.pi * z) / (2 * math.pi)),
+    }
+    want = closed.get(law, prog.evaluate(u).s)[: len(rebuilt)]
+    assert len(rebuilt) == len(z) - 1  # all but the end point (the next piece's)
+    assert_allclose(rebuilt, want, rtol=0, atol=1e-15)
+
+
 def test_the_table_holds_the_program(tmp_path):
     prog = _program()
     path = cm.motion.write_cam_table(prog, tmp_path / "t.csv", points=720)

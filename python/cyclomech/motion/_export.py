@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .._arrays import count, instance
+from .._errors import InputError
 from .._files import file_target, savetxt
 from ._program import Program
 
@@ -125,6 +126,15 @@ def write_cam_coefficients(program: Program, path: Any) -> Any:
     target = file_target("path", path)
     rows = []
     for seg, x0, x1, poly, amp, omega, phase in program._kernel.pieces:
+        # A named law's pieces come integrated from its acceleration, one
+        # coefficient longer than its degree (polynomial_4567: 9, the last 0).
+        poly = np.trim_zeros(np.asarray(poly, dtype=float), "b")
+        if len(poly) > _DEGREES:
+            raise InputError(
+                f"program: segment {seg} has a piece of degree {len(poly) - 1}; the "
+                f"coefficient file holds degree 7 at most (c0 … c7): write it with "
+                f"write_cam_table"
+            )
         c = np.zeros(_DEGREES)
         c[: len(poly)] = poly
         rows.append([seg, np.degrees(x0), np.degrees(x1), *c, amp, omega, phase])
