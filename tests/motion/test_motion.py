@@ -810,3 +810,32 @@ def test_two_near_tied_peaks_of_z_prime_give_the_higher():
         coeffs = law(e0 + de)
         want = max(peaks(coeffs))
         assert cm.motion.polynomial(coeffs).dz_max == pytest.approx(want, rel=1e-12), de
+
+
+def test_a_two_period_law_built_directly_must_join_its_speeds():
+    """TwoPeriodLaw built from numbers (not by two_period) is refused where Π' jumps
+    at α1 (0.300 → 0.047 m/rad was accepted: an impact under a smooth law's name), or
+    where a law is a rise; two_period's own numbers and the stroke1 the message
+    proposes both give a law whose Π' is continuous (dense one-sided differences of
+    its positions, against the kinks of the refused one)."""
+    half, rise = cm.motion.law("cycloidal"), cm.motion.law("cycloidal", form="rise")
+    built = cm.motion.two_period(0.2, math.pi, "cycloidal", "harmonic", asymmetry=1.4)
+    again = cm.motion.TwoPeriodLaw(
+        built.law1, built.law2, built.stroke, built.angle, built.stroke1, built.angle1
+    )
+    assert again.max_speed == built.max_speed
+    with pytest.raises(cm.InputError, match=r"stroke1 = 0\.15 m: Π' would jump.*0\.3 to"):
+        cm.motion.TwoPeriodLaw(half, half, 0.2, math.pi, 0.15, 1.0)
+    with pytest.raises(cm.InputError, match=r"law2 .* is a rise"):
+        cm.motion.TwoPeriodLaw(half, rise, 0.2, math.pi, 0.1, 1.0)
+    try:
+        cm.motion.TwoPeriodLaw(half, half, 0.2, math.pi, 0.15, 1.0)
+    except cm.InputError as e:
+        fit = float(re.search(r"stroke1 = ([0-9.e-]+) m, or", str(e)).group(1))
+    lw = cm.motion.TwoPeriodLaw(half, half, 0.2, math.pi, fit, 1.0)
+    eps = 1e-6
+    p = lw.position(np.array([1.0 - 2 * eps, 1.0 - eps, 1.0, 1.0 + eps, 1.0 + 2 * eps]))
+    left = (3 * p[2] - 4 * p[1] + p[0]) / (2 * eps)
+    right = (-3 * p[2] + 4 * p[3] - p[4]) / (2 * eps)
+    assert left == pytest.approx(right, rel=1e-6)
+    assert left == pytest.approx(fit * half.dz_max / 1.0, rel=1e-6)

@@ -358,8 +358,9 @@ class TwoPeriodLaw:
     up to the full stroke Π2 (``stroke``) [m]. Π' is continuous at α1 (condition 9
     of the seed) and peaks there at ``max_speed`` [m/rad]. ``asymmetry`` is
     f_A = (α2 − α1)/α1 and ``accel_ratio`` I = Π''1max/Π''2max, whichever complex
-    of input data built the law. Build it with :func:`two_period`; each parameter
-    is kept as the attribute of the same name.
+    of input data built the law. Build it with :func:`two_period`; built directly,
+    Π' must be continuous at α1 to 1e-9 (relative), else it is refused. Each
+    parameter is kept as the attribute of the same name.
 
     Parameters
     ----------
@@ -400,6 +401,8 @@ class TwoPeriodLaw:
         # (a NaN stroke would reach the kernel and give NaN positions).
         instance("law1", self.law1, MotionLaw)
         instance("law2", self.law2, MotionLaw)
+        _half("law1", self.law1)
+        _half("law2", self.law2)
         p2 = positive("stroke", self.stroke, "[m]")
         a2 = positive("angle", self.angle, "[rad]")
         p1 = positive("stroke1", self.stroke1, "[m]")
@@ -410,6 +413,19 @@ class TwoPeriodLaw:
             raise InputError(
                 f"stroke1 = {p1!r} m and angle1 = {a1!r} rad must lie below stroke = {p2!r} m "
                 f"and angle = {a2!r} rad"
+            )
+        # Π' continuous at α1 (the seed's condition 9): Π1·Z1'(1)/α1 = (Π2 − Π1)·Z2'(1)/
+        # (α2 − α1). two_period meets it to rounding; numbers typed in may not, and a
+        # jump in Π' is an impact the law's name hides.
+        v1, v2 = self.law1.dz_max, self.law2.dz_max
+        before, after = p1 * v1 / a1, (p2 - p1) * v2 / (a2 - a1)
+        if abs(before - after) > 1e-9 * max(before, after):
+            fit = p2 * v2 * a1 / (v1 * (a2 - a1) + v2 * a1)
+            raise InputError(
+                f"stroke1 = {p1!r} m: Π' would jump at angle1 from {before:.6g} to "
+                f"{after:.6g} m/rad (continuity, the seed's condition 9: "
+                f"Π1·Z1'max/α1 = (Π2 − Π1)·Z2'max/(α2 − α1)); with these laws and angles "
+                f"stroke1 = {fit:.12g} m, or build the law with two_period"
             )
         for k, v in (("stroke", p2), ("angle", a2), ("stroke1", p1), ("angle1", a1)):
             object.__setattr__(self, k, v)
