@@ -202,6 +202,31 @@ def test_a_guide_that_self_locks_is_nan_and_named() -> None:
     assert np.isnan(f.torque[f.self_locking]).all()
 
 
+def test_off_the_cam_nothing_passes_to_the_shaft() -> None:
+    """Above the jump speed a spring-closed follower leaves the cam: there the
+    contact force, the losses and both torques are 0 (the torque was still Q·s′,
+    up to 0.6 N·m, beside a contact force of 0); Cam.loads keeps the would-be Q·s′
+    (its documented rule, as for the pull in normal_force); on the cam the torque
+    is the power balance (Q·s′ + losses/ω) as before."""
+    cam = oscillating_cam()
+    loads = cm.cam.FollowerLoads(INERTIA, SPRING, 2.0, (DRAG, 0.0, 0.0, 0.0))
+    rpm = 1.3 * cam.jump_rpm(loads)[0]
+    th = grid()
+    f = cam_friction(cam, th, rpm, loads, CamFriction(pivot_mu=0.1, pin_mu=0.1))
+    ld = cam.loads(th, rpm, loads)
+    off = ld.separated
+    assert off.any() and not off.all()
+    for name in ("contact_force", "torque", "torque_without"):
+        np.testing.assert_array_equal(getattr(f, name)[off], 0.0, err_msg=name)
+    np.testing.assert_array_equal(f.losses[off], 0.0)
+    ds = cam.solve(th).ds
+    np.testing.assert_allclose(ld.shaft_torque, ld.force * ds, rtol=1e-12, atol=1e-12)
+    assert np.abs(ld.shaft_torque[off]).max() > 0.0
+    w = rpm * 2.0 * math.pi / 60.0
+    on = f.torque[~off] - (ld.force * ds + f.losses.sum(axis=1) / w)[~off]
+    np.testing.assert_allclose(on, 0.0, atol=1e-12 * np.abs(f.torque).max())
+
+
 def test_zero_friction_gives_todays_numbers() -> None:
     cam = oscillating_cam("groove")
     th = grid(3600)

@@ -130,9 +130,12 @@ class CamFrictionForces:
     roller_spin : ndarray of float, shape (N,)
         The roller's angular velocity relative to the arm or stem [rad/s].
     torque : ndarray of float, shape (N,)
-        The driving torque on the cam shaft with friction [N·m].
+        The driving torque on the cam shaft with friction [N·m]; 0 where a
+        spring-closed follower has left the cam (no contact, as the forces and
+        losses there).
     torque_without : ndarray of float, shape (N,)
-        Without friction (:meth:`Cam.loads`' shaft torque) [N·m].
+        Without friction (:meth:`Cam.loads`' shaft torque, but 0 where the follower
+        has left the cam) [N·m].
     losses : ndarray of float, shape (N, 2)
         The power lost [W] at the pivot (or guide) and at the roller's pin.
     elements : tuple of str
@@ -298,7 +301,9 @@ def cam_friction(
     joint = mu_r * h * n_abs * np.abs(w * ds)
     pin = friction.pin_mu * friction.pin_radius * f_abs * np.abs(spin)
     losses = np.stack([joint, pin], axis=1)
-    torque = q * ds + (joint + pin) / w
+    # Off the cam (separated) nothing passes to the shaft: the torque is 0 there,
+    # as the contact force and the losses are (Cam.loads' is the would-be Q·s').
+    torque = np.where(ld.separated, 0.0, q * ds + (joint + pin) / w)
     return CamFrictionForces(
         theta=th,
         rpm=float(rpm),
@@ -306,7 +311,7 @@ def cam_friction(
         contact_force=f_abs,
         roller_spin=spin,
         torque=torque,
-        torque_without=ld.shaft_torque,
+        torque_without=np.where(ld.separated, 0.0, ld.shaft_torque),
         losses=losses,
         elements=("pivot" if osc else "guide", "roller pin"),
         self_locking=locked,

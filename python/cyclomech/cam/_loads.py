@@ -195,7 +195,10 @@ class CamLoads:
         profile is undercut, and where the follower has left the cam (``separated``:
         no contact, so no stress to compare with [σ_H]).
     shaft_torque : ndarray of float
-        The torque the cam shaft must supply [N·m].
+        The torque the cam shaft must supply [N·m], Q·s′. Where the follower has
+        left the cam (``separated``), the torque it would need were it held on, as
+        ``normal_force`` there is the pull it would need; none passes while it is
+        off (:func:`cam_friction` reports 0 there).
     separated : ndarray of bool
         Spring closure: where the follower leaves the cam.
 
