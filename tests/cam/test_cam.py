@@ -414,6 +414,21 @@ def test_bad_programs(segments: list[cm.cam.Segment], match: str) -> None:
             "groove",
         ),
         (lambda: cm.cam.Cam([S("rise", 180, 0.01), S("return", 180, 0.01)], "roller"), "follower"),
+        # A return first takes s to −0.02: the roller's centre (R_b + r_r = 0.015) and
+        # the flat face (R_b = 0.01, accepted until now) would cross the cam centre.
+        (
+            lambda: cm.cam.Cam(
+                [S("return", 180, 0.02), S("rise", 180, 0.02)],
+                cm.cam.TranslatingRoller(0.01, 0.005),
+            ),
+            "base_radius.*cross the cam centre",
+        ),
+        (
+            lambda: cm.cam.Cam(
+                [S("return", 180, 0.02), S("rise", 180, 0.02)], cm.cam.FlatFaced(0.01)
+            ),
+            "base_radius.*cross the cam centre",
+        ),
         (
             lambda: cm.cam.Cam(
                 [S("rise", 180, 3.0), S("return", 180, 3.0)],

@@ -510,7 +510,9 @@ impl Cam {
                 psi0
             }
         };
-        if let Follower::TranslatingRoller { .. } = follower {
+        // The roller's centre, or the flat face, must stay on its side of the cam
+        // centre (a face at R_b + s ≤ 0 has its profile's base circle nowhere).
+        if let Follower::TranslatingRoller { .. } | Follower::FlatFaced { .. } = follower {
             if start + program.s_min() <= 0.0 {
                 return Err(CamError::BadFollower {
                     field: "base_radius",
