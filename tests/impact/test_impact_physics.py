@@ -201,6 +201,27 @@ def test_propped_stiffness_default_is_mid_overhang():
     assert propped == pytest.approx(fem_at(E, J, a, b, b / 2, propped=True), rel=1e-9)
 
 
+@pytest.mark.parametrize("gap", [1e-3, 1e-5, 1e-7, 1e-9, 1e-12])
+def test_propped_stiffness_next_to_the_stop_against_50_digits(gap):
+    """A point a fraction ``gap`` of the overhang from the stop: the force method's
+    f_mm − f_mc²/f_cc from the overhang's textbook deflections (P at u, seen at
+    v ≤ u: (u·a·v/3 + v²(3u − v)/6)/EJ) in 50-digit arithmetic, unfactored. As
+    written in floats it cancelled: 2e-6 off at 1e-5, 3 % at 1e-7, an overflow
+    error at 1e-8."""
+    mpmath = pytest.importorskip("mpmath")
+    E, J, a, b = 2.1e11, 6.1e-11, 0.05, 0.1
+    at = b * (1 - gap)
+    with mpmath.workdps(50):
+        A, B, S, EJ = (mpmath.mpf(v) for v in (a, b, at, E * J))
+
+        def f(v, u):
+            return (u * A * v / 3 + v * v * (3 * u - v) / 6) / EJ
+
+        want = 1 / (f(S, S) - f(S, B) ** 2 / f(B, B))
+    _, propped = impact.propped_lever_stiffness(E, J, a, b, at=at)
+    assert propped == pytest.approx(float(want), rel=1e-12)
+
+
 def test_propped_stiffness_near_the_ends_of_the_overhang():
     # Next to the roller support both stiffnesses grow without bound; next to
     # the stop the propped one does while the free one tends to the tip's.

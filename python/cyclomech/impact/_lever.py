@@ -105,7 +105,9 @@ def propped_lever_stiffness(
     stop adds a support at the end of the overhang (seed 000, fig. 6), so the
     reduced mass, now between two supports, vibrates faster. The beam is as in
     :func:`lever_stiffness`. Computed by the force method: the overhanging beam is
-    the base, the stop's reaction the redundant.
+    the base, the stop's reaction the redundant; its flexibility
+    f_mm − f_mc²/f_cc = s²(b − s)²(4ab + 4bs − s²)/(12b²(a + b)·E·J_x) (s = ``at``) is
+    taken in that factored form, accurate to rounding up to the stop.
 
     Parameters
     ----------
@@ -155,9 +157,14 @@ def propped_lever_stiffness(
         EJ, length = np.float64(E) * J, a + b
         x = a + s
         f_mm = np.float64(_flexibility(x, x, a, length, EJ))
-        f_mc = np.float64(_flexibility(x, length, a, length, EJ))
-        f_cc = np.float64(_flexibility(length, length, a, length, EJ))
-        free, propped = 1.0 / f_mm, 1.0 / (f_mm - f_mc * f_mc / f_cc)
+        # The force method's f_mm − f_mc²/f_cc (c the stop at the end), factored:
+        # s²(b − s)²(4ab + 4bs − s²)/(12b²(a + b)EJ). As written it cancelled as the
+        # point neared the stop (3 % off at at = b(1 − 1e-7), overflow at 1e-8);
+        # factored, each term is positive.
+        d = np.float64(b) - s
+        propped_f = s * s * d * d * (4.0 * a * b + 4.0 * b * s - s * s)
+        propped_f = propped_f / (12.0 * b * b * (a + b) * EJ)
+        free, propped = 1.0 / f_mm, 1.0 / propped_f
     given = {"E": E, "J_x": J, "a": a, "b": b, "at": s}
     return _stiffness(free, **given), _stiffness(propped, **given)
 
