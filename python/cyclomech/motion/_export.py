@@ -128,7 +128,9 @@ def write_cam_coefficients(program: Program, path: Any) -> Any:
     for seg, x0, x1, poly, amp, omega, phase in program._kernel.pieces:
         # A named law's pieces come integrated from its acceleration, one
         # coefficient longer than its degree (polynomial_4567: 9, the last 0).
-        poly = np.trim_zeros(np.asarray(poly, dtype=float), "b")
+        coeffs = np.asarray(poly, dtype=float)
+        nonzero = np.flatnonzero(coeffs)
+        poly = coeffs[: nonzero[-1] + 1 if nonzero.size else 0]
         if len(poly) > _DEGREES:
             raise InputError(
                 f"program: segment {seg} has a piece of degree {len(poly) - 1}; the "
