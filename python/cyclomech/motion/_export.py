@@ -130,15 +130,15 @@ def write_cam_coefficients(program: Program, path: Any) -> Any:
         # coefficient longer than its degree (polynomial_4567: 9, the last 0).
         coeffs = np.asarray(poly, dtype=float)
         nonzero = np.flatnonzero(coeffs)
-        poly = coeffs[: nonzero[-1] + 1 if nonzero.size else 0]
-        if len(poly) > _DEGREES:
+        kept = coeffs[: nonzero[-1] + 1 if nonzero.size else 0]
+        if len(kept) > _DEGREES:
             raise InputError(
-                f"program: segment {seg} has a piece of degree {len(poly) - 1}; the "
+                f"program: segment {seg} has a piece of degree {len(kept) - 1}; the "
                 f"coefficient file holds degree 7 at most (c0 … c7): write it with "
                 f"write_cam_table"
             )
         c = np.zeros(_DEGREES)
-        c[: len(poly)] = poly
+        c[: len(kept)] = kept
         rows.append([seg, np.degrees(x0), np.degrees(x1), *c, amp, omega, phase])
     return _write(target, np.array(rows, dtype=float), COEFFICIENT_COLUMNS, first="%d")
 
