@@ -93,6 +93,7 @@ def test_run_above_the_jump_speed_exits_3_naming_the_cam(
     doc = json.loads((tmp_path / "out" / "results.json").read_text("utf-8"))
     assert doc["speed_limit"]["by"] == "pusher"
     assert doc["speed_limit"]["rpm"] == pytest.approx(ref, rel=1e-7)
+    assert "speed limit of mechanism 'pusher'" in doc["above_speed_limit"]
     # At the nominal the cam's own check fails too: the report's summary says it.
     assert "pusher: the follower jumps off the cam above" in (
         tmp_path / "out" / "report.html"
