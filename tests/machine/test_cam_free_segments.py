@@ -182,3 +182,33 @@ def test_sized_at_the_upper_bound_says_so(
     assert sizing["base_radius_m"] == pytest.approx(0.035, rel=1e-9)
     assert "raise the bound to shorten them" in sizing["note"]
     assert "at its upper bound" in (tmp_path / "out" / "report.html").read_text("utf-8")
+
+
+def test_unbound_segment_sets_the_limit_where_its_stress_reaches_the_allowed(
+    tmp_path: Path,
+) -> None:
+    """The loom's lift (70°) without its arc: its σ_H bounds the speed by itself.
+    Against dense sampling of the contact stress over the segment (the loads, not
+    the phase-angle solver): just below the limit the largest σ_H is under [σ_H],
+    just above it over."""
+    loom = (ROOT / "examples" / "stb_loom.toml").read_text("utf-8")
+    old = (
+        "load_nm = 2.0                    # the microshuttle's drag, resisting the lift\n"
+        'arc = ["1", "3"]'
+    )
+    path = tmp_path / "free_lift.toml"
+    path.write_text(_edit(loom, old, "load_nm = 2.0"), "utf-8")
+    cam = cm.Machine.from_toml(path).mechanisms["lifter cam"]
+    rpm = cam.speed_limit_rpm()
+    assert 0.0 < rpm < math.inf
+    assert cam.limit_reason().startswith(
+        f"cam 'lifter cam' segment 1 (rise, 70°, no arc): σ_H exceeds [σ_H] = 900 MPa "
+        f"above {rpm:.2f} rpm"
+    )
+    d = cam.design
+    theta = np.radians(np.linspace(0.0, 70.0, 20_001))
+    peak = [
+        float(np.nanmax(d.cam.loads(theta, n, d.loads, d.contact).contact_stress))
+        for n in (rpm * (1 - 1e-5), rpm * (1 + 1e-5))
+    ]
+    assert peak[0] < d.max_stress < peak[1]
