@@ -39,7 +39,8 @@ from .._scene import Scene, cycle_angles
 from ..cyclogram import Arc
 from ._design import CAM_KEYS, CamDesign
 from ._export import DxfUnavailableError, write_profile_csv, write_profile_dxf
-from ._followers import FlatFaced, OscillatingRoller
+from ._followers import OscillatingRoller
+from ._free import checks, own_limit
 from ._friction import CamFriction, CamFrictionForces, cam_friction, friction_from_table
 from ._keys import KEY_DOCS
 from ._loads import CRITERIA
@@ -402,6 +403,35 @@ class CamMechanism(ExactBounds):
             return {}
         return {f"{k}_m": float(getattr(r.cam.follower, k)) for k in r.searched}
 
+    @property
+    def sizing_status(self) -> str:
+        """The last sizing's status: ``ok``, ``at_lower_bound``, ``infeasible`` (the
+        sizing's own) or ``at_upper_bound``: an ``ok`` sizing whose base radius is
+        ``max_base_radius_m`` within :data:`UPPER_TOL` (relative): the bound, not a
+        limit of the cam, set it, and the cyclogram stretched the phase angles to fit
+        there; "" before a sizing.
+
+        Returns
+        -------
+        str
+            The status.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.from_toml("examples/lifter_cam_sized.toml"),
+        ...                        progress=False)
+        >>> r.mechanisms["lifter cam"].mech.sizing_status
+        'ok'
+        """
+        r = self.sized
+        if r is None:
+            return ""
+        radius = float(r.cam.follower.base_radius)
+        if r.status == "ok" and radius >= r.max_base_radius * (1.0 - UPPER_TOL):
+            return "at_upper_bound"
+        return str(r.status)
+
     # ------------------------------------------------------------- its bounds
     def _arc(self, k: int) -> Arc:
         arc = self.design.arcs[k]
@@ -472,13 +502,26 @@ class CamMechanism(ExactBounds):
                 out.append(_Constant(v))
         return tuple(out)
 
+    @functools.cached_property
+    def _own_limit(self) -> tuple[float, str]:
+        return own_limit(self.name, self.design)
+
     def speed_limit_rpm(self) -> float:
-        """A cam limits the speed through the cyclogram's bounds only.
+        """The highest speed [rpm] its rises and returns without an operation allow.
+
+        The segments bound to operations limit the speed through the cyclogram's
+        bounds. The others keep their file's angles, so each criterion that applies
+        to them (as to a bound segment) sets the cam's own limit: the jump of a
+        spring-closed follower and the residual vibration (exactly proportional to
+        the speed: their angle at a reference speed scaled), σ_H (solved in the
+        speed, taken as growing with it), and the pressure angle and undercut
+        (geometry alone: 0 rpm, the machine works at no speed, where they fail).
 
         Returns
         -------
         float
-            inf [rpm].
+            The speed [rpm]; inf where every rise and return is bound to an operation
+            or nothing binds.
 
         Examples
         --------
@@ -487,15 +530,15 @@ class CamMechanism(ExactBounds):
         >>> m.mechanisms["lifter cam"].speed_limit_rpm()
         inf
         """
-        return math.inf
+        return self._own_limit[0]
 
     def limit_reason(self) -> str:
-        """No reason: a cam has no own speed limit (:meth:`speed_limit_rpm`).
+        """Why :meth:`speed_limit_rpm` is what it is: the segment and the criterion.
 
         Returns
         -------
         str
-            "".
+            "" where it has no limit.
 
         Examples
         --------
@@ -503,7 +546,7 @@ class CamMechanism(ExactBounds):
         >>> cm.Machine.from_toml("examples/stb_loom.toml").mechanisms["lifter cam"].limit_reason()
         ''
         """
-        return ""
+        return self._own_limit[1]
 
     # ------------------------------------------------------------- results
     def laid_out(self, angles: Mapping[Arc, float]) -> tuple[Cam, str]:
@@ -610,6 +653,10 @@ class CamMechanism(ExactBounds):
             at_nominal=at,
             friction=fr,
         )
+        upper = _upper_note(self)
+        if upper:
+            msg = f"cam {self.name!r} (synthesize): {upper}"
+            warnings.warn(msg, CyclomechWarning, stacklevel=2)
         problems = result.problems()
         if problems:
             warnings.warn(
@@ -620,6 +667,25 @@ class CamMechanism(ExactBounds):
         return result
 
 
+#: A sized cam is at its upper bound (status ``at_upper_bound``) when its base radius
+#: is within this (relative) of ``max_base_radius_m``: the tolerance at which
+#: :meth:`CamMechanism.resize` takes a sizing as its fixed point (the sizing's own
+#: root is refined to 1e-13 relative, so a radius pressed against the bound reads
+#: within it, and one 1e-9 below has room the sizing did not need).
+UPPER_TOL = 1e-9
+
+
+def _upper_note(m: CamMechanism) -> str:
+    """What a cam sized at its upper bound means, in words ("" if it is not)."""
+    r = m.sized
+    if m.sizing_status != "at_upper_bound":
+        return ""
+    return (
+        f"at its upper bound max_base_radius_m = {r.max_base_radius * 1e3:.4g} mm: the "
+        "phase angles were stretched to fit; raise the bound to shorten them"
+    )
+
+
 def _sizing_json(m: CamMechanism) -> dict[str, Any]:
     """The ``sizing`` entry of a sized cam's ``cams`` entry: what was chosen and why."""
     r = m.sized
@@ -627,12 +693,14 @@ def _sizing_json(m: CamMechanism) -> dict[str, Any]:
         **m.resized_values(),
         "searched": list(r.searched),
         "at_rpm": r.rpm,
-        "status": r.status,
+        "status": m.sizing_status,
         "binding": r.binding,
         "ratios": r.ratios,
         "margins": r.margins,
         "min_base_radius_m": r.min_base_radius,
         "max_base_radius_m": r.max_base_radius,
+        # Only where it says something: what the bound did.
+        **({"note": note} if (note := _upper_note(m)) else {}),
     }
 
 
@@ -645,30 +713,23 @@ def _sizing_text(m: CamMechanism) -> str:
         if r.status == "at_lower_bound"
         else f"{WORDS.get(r.binding, r.binding)} binds"
     )
+    upper = _upper_note(m)
+    if upper:
+        why = f"{upper} ({why} there)"
     margins = ", ".join(f"{WORDS.get(k, k)} {v:.3g}" for k, v in r.margins.items())
     return f"{dims} at {r.rpm:g} rpm: {why} (margins {margins})"
 
 
 def _criteria(design: CamDesign) -> tuple[tuple[int, str], ...]:
     """The (segment, criterion) pairs that bound a cam's operations."""
-    cam = design.cam
-    flat = isinstance(cam.follower, FlatFaced)
-    knife = not isinstance(cam.follower, FlatFaced) and cam.follower.roller_radius == 0.0
-    out = []
-    for k, arc in enumerate(design.arcs):
-        if arc is None:
-            continue
-        if not flat:
-            out.append((k, "pressure_angle"))
-        if not knife:
-            out.append((k, "undercut"))
-        if cam.closure == "spring" and design.loads is not None and design.loads.mass > 0:
-            out.append((k, "jump"))
-        if design.max_stress is not None:
-            out.append((k, "contact_stress"))
-        if design.vibration is not None:
-            out.append((k, "vibration"))
-    return tuple(out)
+    return tuple(
+        (k, c) for k, arc in enumerate(design.arcs) if arc is not None for c in checks(design, k)
+    )
+
+
+#: The relative tolerance of a cam's checks at the nominal speed
+#: (:meth:`CamResult.failures`): a bound met with equality reads within it.
+CHECK_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -725,7 +786,9 @@ class CamResult(BoundsResult):
     friction: CamFrictionForces | None = None
 
     def problems(self) -> list[str]:
-        """What fails at the nominal speed on the cam as laid out.
+        """What fails or is not as asked at the nominal speed on the cam as laid out:
+        the layout (a bound segment the next dwell cannot take up) and the checks
+        that fail (:meth:`failures` but friction's).
 
         The bound segments hold their criteria by construction; the free ones, the
         dwells and the layout may not. The machine warns with them.
@@ -742,9 +805,11 @@ class CamResult(BoundsResult):
         >>> r.mechanisms["lifter cam"].problems()
         []
         """
-        d, out, tol = self.mech.design, [], 1.0 + 1e-9
-        if self.layout_note:
-            out.append(self.layout_note)
+        return ([self.layout_note] if self.layout_note else []) + self._failing()
+
+    def _failing(self) -> list[str]:
+        """The cam's checks that fail at the nominal speed, beyond :data:`CHECK_TOL`."""
+        d, out, tol = self.mech.design, [], 1.0 + CHECK_TOL
         if self.max_pressure_angle_deg > d.max_pressure_angle_deg * tol:
             out.append(
                 f"the pressure angle reaches {self.max_pressure_angle_deg:.4g}° "
@@ -759,14 +824,19 @@ class CamResult(BoundsResult):
         if self.undercut_deg:
             runs = ", ".join(f"{a:g}–{b:g}°" for a, b in self.undercut_deg)
             out.append(f"the profile is undercut at {runs}")
-        if self.jump_rpm < self.ctx.nominal_rpm:
+        if self.jump_rpm * tol < self.ctx.nominal_rpm:
             out.append(f"the follower jumps off the cam above {self.jump_rpm:.4g} rpm")
         return out
 
     def failures(self) -> list[str]:
-        """What fails at the nominal speed: cam angles where friction self-locks
-        the follower (no finite contact force moves it), as a linkage's; empty
-        otherwise.
+        """What fails at the nominal speed and must not ship: ``cyclomech run`` exits 3.
+
+        A check of the cam as laid out at the optimum that fails (the pressure
+        angle above [α], σ_H above [σ_H], an undercut profile, the follower leaving
+        the cam below the nominal speed: beyond :data:`CHECK_TOL` relative, since
+        the bounds are solved finer than the 3600 angles checked here), and cam
+        angles where friction self-locks the follower (no finite contact force
+        moves it), as a linkage's; empty otherwise.
 
         Returns
         -------
@@ -780,15 +850,17 @@ class CamResult(BoundsResult):
         >>> r.mechanisms["lifter cam"].failures()
         []
         """
+        out = self._failing()
         f = self.friction
         if f is None or not f.self_locking.any():
-            return []
+            return out
         deg = np.degrees(f.theta[f.self_locking])
         return [
+            *out,
             f"friction self-locks the follower of {self.mech.name!r} at cam angles "
             f"{deg.min():.1f}–{deg.max():.1f}° ({int(f.self_locking.sum())} of "
             f"{f.theta.size} angles): no finite contact force moves it there; lower the "
-            "friction coefficients or the pivot's radius, or the pressure angle"
+            "friction coefficients or the pivot's radius, or the pressure angle",
         ]
 
     def json(self) -> dict[str, dict[str, Any]]:

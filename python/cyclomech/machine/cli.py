@@ -151,6 +151,8 @@ def _print_resizing(r: Any) -> None:
         why = ""
         if sized is not None:
             why = f" ({sized.binding} binds)" if sized.binding else f" ({sized.status})"
+            if getattr(res.mech, "sizing_status", "") == "at_upper_bound":
+                why = f" (at its upper bound{'; ' + why[2:-1] if sized.binding else ''})"
         print(f"  {name}: {dims}{why}")
 
 
