@@ -50,7 +50,7 @@ def test_the_knife_without_nominal_runs_at_its_limit(tmp_path, capsys):
 
 
 def test_the_limit_is_the_closed_form_and_fits_where_the_check_does():
-    text, data = knife_without_nominal()
+    _, data = knife_without_nominal()
     m = cm.Machine.from_dict(data, "knife.toml")
     limit = m.speed_limit().rpm
     exact = closed_form_limit(data)
