@@ -158,6 +158,7 @@ def dynamics_from_table(
     for i, row in enumerate(_rows(table, "load", where)):
         at = f"{source}: {where} load #{i + 1}"
         _toml.check_keys(row, _LOAD_KEYS, source, f"{where} load #{i + 1}")
+        _keyrules.check(row, (), at)  # an angle table in radians, …
         try:
             if "point" in row and "force_n" in row and not {"link", "torque_nm"} & set(row):
                 loads.append(PointLoad(row["point"], row["force_n"], row.get("angle_deg")))
