@@ -59,18 +59,21 @@ def _load(row: Mapping[str, Any], source: str, where: str) -> PointLoad | LinkTo
     ``_deg`` angle table warns if it looks like radians (:mod:`cyclomech._keyrules`)."""
     at = f"{source}: {where}"
     _toml.check_keys(row, _LOAD_KEYS, source, where)
-    _keyrules.check(row, (), at)
+    load: PointLoad | LinkTorque
     try:
         if "point" in row and "force_n" in row and not {"link", "torque_nm"} & set(row):
-            return PointLoad(row["point"], row["force_n"], row.get("angle_deg"))
-        if "link" in row and "torque_nm" in row and not {"point", "force_n"} & set(row):
-            return LinkTorque(row["link"], row["torque_nm"], row.get("angle_deg"))
-        raise InputError(
-            "give point and force_n [N] (a force), or link and torque_nm [N·m] (a "
-            "torque), optionally with angle_deg (a table over the crank angle)"
-        )
+            load = PointLoad(row["point"], row["force_n"], row.get("angle_deg"))
+        elif "link" in row and "torque_nm" in row and not {"point", "force_n"} & set(row):
+            load = LinkTorque(row["link"], row["torque_nm"], row.get("angle_deg"))
+        else:
+            raise InputError(
+                "give point and force_n [N] (a force), or link and torque_nm [N·m] (a "
+                "torque), optionally with angle_deg (a table over the crank angle)"
+            )
     except InputError as e:
         raise InputError(f"{at}: {e}") from None
+    _keyrules.check(row, (), at)  # after the row's own errors
+    return load
 
 
 def dynamics_from_table(
