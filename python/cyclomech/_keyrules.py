@@ -238,7 +238,8 @@ SUFFIX_RULES: tuple[tuple[str, Callable[[str], Rule]], ...] = (
 
 
 def check(table: Mapping[str, Any], rules: Iterable[Rule], where: str) -> None:
-    """Apply ``rules`` and :data:`SUFFIX_RULES` to the numbers of ``table``.
+    """Apply ``rules`` and :data:`SUFFIX_RULES` to the numbers of ``table``, and
+    :func:`radian_table` to its ``_deg`` arrays.
 
     Run after the table's own checks (a value of the wrong type or range is their
     error); a key a rule names but the table lacks, or whose value is no finite
@@ -293,8 +294,72 @@ def check(table: Mapping[str, Any], rules: Iterable[Rule], where: str) -> None:
             raise InputError(rule.message(v, table, where))
         warned.add(rule.key)
         pending.append(rule.message(v, table, where))
+    pending.extend(
+        msg
+        for k, v in table.items()
+        if k.endswith("_deg") and not k.endswith("_per_deg") and k not in warned
+        for msg in [radian_table(k, v, where)]
+        if msg
+    )
     for msg in pending:
         warnings.warn(msg, CyclomechWarning, stacklevel=3)
+
+
+#: One turn [rad]: an angle table (a ``_deg`` key's array, or a column of its rows)
+#: whose values all lie within ±this and span no more than it is likelier radians.
+TURN_RAD = 2.0 * math.pi
+
+
+def radian_table(key: str, value: Any, where: str) -> str:
+    """The warning for a ``_deg`` array that looks like radians, or "".
+
+    An array of numbers (a flat list, or each column of a list of rows) with at
+    least two distinct values, all within ±2π and spanning at most 2π
+    (:data:`TURN_RAD`), is likelier radians: the angle tables cyclomech reads (a
+    load table over the crank angle, a spline's points, precision points, a phase
+    grid) span tens of degrees. Other values, and anything not a list of finite
+    numbers, give "".
+
+    Parameters
+    ----------
+    key : str
+        The key (ending ``_deg``).
+    value : Any
+        Its value as read.
+    where : str
+        The file and table (``knife.toml: [mechanism.knife] load #1``).
+
+    Returns
+    -------
+    str
+        The message naming the place, the key and the values, or "".
+
+    Examples
+    --------
+    >>> radian_table("angle_deg", [2.443, 2.618, 4.363], "f.toml: [m] load #1")[-35:]
+    '9.9736, 150.0004, 249.9815] if so)?'
+    >>> radian_table("angle_deg", [140.0, 150.0, 250.0], "f")
+    ''
+    """
+    if not isinstance(value, list) or len(value) < 2:
+        return ""
+    rows = value if all(isinstance(r, list) for r in value) else [[x] for x in value]
+    width = {len(r) for r in rows}
+    if len(width) != 1 or not all(_number(x) for r in rows for x in r):
+        return ""
+    for c in range(width.pop()):
+        col = [float(r[c]) for r in rows]
+        lo, hi = min(col), max(col)
+        if lo < hi and lo >= -TURN_RAD and hi <= TURN_RAD and hi - lo <= TURN_RAD:
+            flat = not isinstance(value[0], list)
+            which = "" if flat else f" (column {c + 1})"
+            deg = [[round(math.degrees(float(x)), 4) for x in r] for r in rows]
+            shown = [d[0] for d in deg] if flat else deg
+            return (
+                f"{where}: {key} = {value!r}{which} spans only {hi - lo:.4g}°, every value "
+                f"within ±2π — did you give radians ({key} = {shown} if so)?"
+            )
+    return ""
 
 
 #: A friction coefficient above this is taken but warned about: lubricated metal

@@ -380,7 +380,6 @@ KNOWN_LONG = {
     "cam/plot.py:plot_along_cycle": 92,
     "cam/plot.py:plot_cam": 84,
     "transfer/_path.py:TransferPath.__init__": 82,
-    "forces/_file.py:dynamics_from_table": 82,
 }
 
 

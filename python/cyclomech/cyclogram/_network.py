@@ -291,6 +291,65 @@ class SpeedNetwork:
                 named[i] = "; ".join([named[i], *names] if named[i] else names)
         return value, fits, named, mins
 
+    def minimums_fit(
+        self, rpm: Array, t_bound: Sequence[Array], n_threads: int | None = None
+    ) -> npt.NDArray[np.bool_]:
+        """Whether the minimum angles alone fit in the cycle at each speed.
+
+        The network without the maximum angles and the constraints: every
+        operation's minimum (its angle, its duration, the extra ``bounds``) and the
+        cycle, solved by the same shortest paths (and tolerance) as :meth:`solve`.
+        Where :meth:`solve` finds no fit but this does, a maximum or a constraint
+        conflicts with the minimums; where neither fits, the minimums fill the cycle.
+
+        Parameters
+        ----------
+        rpm : ndarray of float, shape (B,)
+            The speeds [rpm].
+        t_bound : sequence of ndarray of float, shape (B,)
+            The extra bounds' angles [deg], one array a bound; NaN: no angle is
+            enough (no fit).
+        n_threads : int, optional
+            Threads for the shortest paths (default: ``CYCLOMECH_THREADS`` or all
+            cores).
+
+        Returns
+        -------
+        ndarray of bool, shape (B,)
+            Whether the minimum angles fit at each speed.
+
+        Examples
+        --------
+        >>> import numpy as np, cyclomech as cm
+        >>> cg = cm.Cyclogram(limiting=("b", "c"))
+        >>> cg.add_operation("a", "b", min_angle_deg=100, max_angle_deg=110)
+        >>> cg.add_operation("b", "c", min_angle_deg=60)
+        >>> net = cm.cyclogram.SpeedNetwork(cg, [(("a", "b"), "wear")])
+        >>> rpm, wear = np.array([1.0, 1.0]), [np.array([120.0, 320.0])]
+        >>> net.solve(rpm, wear)[1].tolist(), net.minimums_fit(rpm, wear).tolist()
+        ([False, False], [True, False])
+        """
+        rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(1,))
+        t_bound = self._bound_angles(t_bound, rpm.shape)
+        mins, _ = self.minimums(rpm, t_bound)
+        keep = np.array([k not in ("max", "user") for k in self.kind], bool)
+        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
+        w[:, self.min_edge] -= mins
+        bound_ok = np.ones(rpm.size, bool)
+        for t in t_bound:
+            bound_ok &= np.isfinite(t)
+        w[~bound_ok] = self.base
+        got, _ = max_difference(
+            self.n,
+            self.src[keep],
+            self.dst[keep],
+            np.ascontiguousarray(w[:, keep]),
+            self.source,
+            self.target,
+            n_threads=n_threads,
+        )
+        return bound_ok & ~np.isnan(np.asarray(got, dtype=np.float64))
+
     def fits(
         self, bounds_at: BoundsAt, rpm: Array, n_threads: int | None = None
     ) -> npt.NDArray[np.bool_]:

@@ -15,11 +15,53 @@ from ._layout import Layout, chain_after, closed_over_cycle
 from ._lp import LP
 from ._types import SpeedLimit
 
+#: :data:`DIFFERENCE_RTOL` of the Rust difference-constraint solver
+#: (``rust/core/src/cyclogram/difference.rs``), which the speed-limit search
+#: (:class:`~cyclomech.cyclogram.SpeedNetwork`) uses to decide what fits.
+DIFFERENCE_RTOL = 1e-12
+
+
+def fit_slack(lay: Layout, mins: npt.NDArray[np.float64], cycle: float) -> float:
+    """How far [deg] a chain of minimum angles may exceed the cycle and still fit.
+
+    One rule for :func:`check_fits` and the speed-limit search: the search's
+    shortest paths (:class:`~cyclomech.cyclogram.SpeedNetwork`, V + 2 nodes) call
+    a cycle feasible unless its weights sum below ``-(V + 2)·eps``, with
+    ``eps = DIFFERENCE_RTOL·(1 + max|w|)·(V + 2)``; this is that bound with
+    ``max|w|`` bounded by the cycle times (1 + the largest height), the largest
+    minimum, maximum and single-bound constraint (plus ``1e-12·cycle`` for the
+    round-off of the cycle ratio). So a speed the search reports as fitting is
+    one at which the minimum angles pass :func:`check_fits`.
+
+    >>> import cyclomech as cm
+    >>> from cyclomech.cyclogram._layout import Layout
+    >>> cg = cm.Cyclogram()
+    >>> cg.add_operation("a", "b", 100)
+    >>> lay = Layout(cg.name, cg.events, cg.operations, cg.constraints)
+    >>> fit_slack(lay, lay.angle, 360.0) < 1e-8
+    True
+    """
+    n_nodes = len(lay.events) + 2
+    his = [abs(op.max_angle_deg) for op in lay.ops if op.max_angle_deg is not None]
+    rhs = [
+        abs(c.rhs) / min(abs(k) for _, k in c.coeffs if k)
+        for c in lay.constraints
+        if any(k for _, k in c.coeffs)
+    ]
+    scale = max(
+        cycle * (1.0 + float(np.max(lay.height, initial=0.0))),
+        float(np.max(np.abs(mins), initial=0.0)),
+        max(his, default=0.0),
+        max(rhs, default=0.0),
+    )
+    return DIFFERENCE_RTOL * (1.0 + scale) * n_nodes**2 + 1e-12 * cycle
+
 
 def check_fits(
     lay: Layout, mins: npt.NDArray[np.float64], cycle: float, speed: float | None
 ) -> None:
-    """Raise if the minimum angles alone exceed the cycle, naming the chain."""
+    """Raise if the minimum angles alone exceed the cycle by more than
+    :func:`fit_slack` (the speed-limit search's tolerance), naming the chain."""
     src, dst, h = lay.src, lay.dst, lay.height
     V = len(lay.events)
     # Closed on itself over one cycle: a cycle of this graph longer than
@@ -33,12 +75,12 @@ def check_fits(
     if found is None:
         return
     ratio, arcs = found
-    if ratio <= cycle * (1 + 1e-12):
+    crossings = max(round(float(h2[arcs].sum())), 1)
+    if (ratio - cycle) * crossings <= fit_slack(lay, mins, cycle):
         return
     ops = [lay.ops[e] for e in chain_after(arcs, len(s2) - 1) if e < len(lay.ops)]
     at = "" if speed is None else f" at {speed:g} rpm"
     parts = " + ".join(f"{op.title} {mins[lay.arc_index[op.arc]]:g}°" for op in ops)
-    crossings = round(float(h2[arcs].sum()))
     room = f"{cycle:g}°" if crossings == 1 else f"{crossings} × {cycle:g}°"
     raise InfeasibleError(
         f"cyclogram {lay.name!r}: the minimum angles{at} do not fit in the cycle: "

@@ -54,6 +54,28 @@ def _rows(table: Mapping[str, Any], key: str, where: str) -> list[Mapping[str, A
     return rows
 
 
+def _load(row: Mapping[str, Any], source: str, where: str) -> PointLoad | LinkTorque:
+    """One ``[[…load]]`` row (``where``: its table and number) as a load; its
+    ``_deg`` angle table warns if it looks like radians (:mod:`cyclomech._keyrules`)."""
+    at = f"{source}: {where}"
+    _toml.check_keys(row, _LOAD_KEYS, source, where)
+    load: PointLoad | LinkTorque
+    try:
+        if "point" in row and "force_n" in row and not {"link", "torque_nm"} & set(row):
+            load = PointLoad(row["point"], row["force_n"], row.get("angle_deg"))
+        elif "link" in row and "torque_nm" in row and not {"point", "force_n"} & set(row):
+            load = LinkTorque(row["link"], row["torque_nm"], row.get("angle_deg"))
+        else:
+            raise InputError(
+                "give point and force_n [N] (a force), or link and torque_nm [N·m] (a "
+                "torque), optionally with angle_deg (a table over the crank angle)"
+            )
+    except InputError as e:
+        raise InputError(f"{at}: {e}") from None
+    _keyrules.check(row, (), at)  # after the row's own errors
+    return load
+
+
 def dynamics_from_table(
     table: Mapping[str, Any], source: str, where: str, linkage: Linkage | None = None
 ) -> dict[str, Any] | None:
@@ -156,20 +178,7 @@ def dynamics_from_table(
         point_masses[p] = m
     loads: list[PointLoad | LinkTorque] = []
     for i, row in enumerate(_rows(table, "load", where)):
-        at = f"{source}: {where} load #{i + 1}"
-        _toml.check_keys(row, _LOAD_KEYS, source, f"{where} load #{i + 1}")
-        try:
-            if "point" in row and "force_n" in row and not {"link", "torque_nm"} & set(row):
-                loads.append(PointLoad(row["point"], row["force_n"], row.get("angle_deg")))
-            elif "link" in row and "torque_nm" in row and not {"point", "force_n"} & set(row):
-                loads.append(LinkTorque(row["link"], row["torque_nm"], row.get("angle_deg")))
-            else:
-                raise InputError(
-                    "give point and force_n [N] (a force), or link and torque_nm [N·m] (a "
-                    "torque), optionally with angle_deg (a table over the crank angle)"
-                )
-        except InputError as e:
-            raise InputError(f"{at}: {e}") from None
+        loads.append(_load(row, source, f"{where} load #{i + 1}"))
     gravity = None
     if "gravity_m_per_s2" in table:
         g = table["gravity_m_per_s2"]

@@ -125,7 +125,8 @@ KEY_DOCS: tuple[KeyTable, ...] = (
           "none (with link: required)", "finite numbers", None),
         K("angle_deg", "Crank angles of a load table (zero outside it).", "deg", ARR,
           "none (a constant load)",
-          "at least 2 finite angles, strictly increasing over at most 360", None),
+          "at least 2 finite angles, strictly increasing over at most 360 (all within "
+          "±2π and spanning at most 2π warns: radians?)", None),
     ), intro=(
         "One external load: ``point`` with ``force_n``, or ``link`` with ``torque_nm``, "
         "optionally as a table over the crank angle ``angle_deg``."

@@ -324,8 +324,13 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
         cg = net.speed_limits(at, len(ms), ms[0].search_start_rpm, threads, 1e-10)
         ok = np.flatnonzero((cg > 0.0) & np.isfinite(cg))
         binding = np.full(len(ms), "", dtype=object)
+        fills = np.ones(len(ms), bool)
         if ok.size:
             binding[ok] = net.solve(cg[ok], at(ok, cg[ok, None]), threads)[2]
+            # What stops the fit just above the limit: the minimums filling the
+            # cycle, or (they still fit) a minimum rising into a maximum/constraint.
+            above = cg[ok] * (1.0 + _ABOVE)
+            fills[ok] = ~net.minimums_fit(above, at(ok, above[:, None]), threads)
         for j, (i, m) in enumerate(zip(idx, ms, strict=True)):
             mech = {k: v for k, v in _own_limits(m, cache).items() if math.isfinite(v)}
             why = {k: m.mechanisms[k].limit_reason() for k in mech}
@@ -334,7 +339,12 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
                 if v < rpm:
                     by, rpm = k, v
             chain = tuple(b for b in str(binding[j]).split("; ") if b)
-            reason = why[by] if by != "cyclogram" else _cyclogram_reason(m, rpm, chain)
+            if by != "cyclogram":
+                reason = why[by]
+            elif fills[j]:
+                reason = _cyclogram_reason(m, rpm, chain)
+            else:
+                reason, chain = _conflict_reason(m, rpm, chain)
             out[i] = SpeedLimit(
                 rpm,
                 binding=chain,
@@ -345,6 +355,33 @@ def speed_limits(machines: Sequence[Machine], *, n_threads: int | None = None) -
                 mechanisms_reason=why,
             )
     return out  # type: ignore[return-value]
+
+
+#: How far above a cyclogram speed limit (relative) :func:`speed_limits` looks for
+#: what stops the fit: far above the search's 1e-10 and its tolerance, so a bound
+#: that rises into a maximum is over it by far more than the LP's tolerance.
+_ABOVE = 1e-6
+
+
+def _conflict_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> tuple[str, tuple[str, ...]]:
+    """Why the cyclogram limits machine ``m`` at ``rpm`` when its minimum angles
+    still fit just above it, and the bounds that set it: those the LP names as
+    conflicting there (a speed-dependent minimum rising into a maximum angle or a
+    constraint). ``chain`` (the bounds at the limit) if the LP names none."""
+    for step in (_ABOVE, 1e-4, 1e-2):
+        try:
+            m.cyclogram_at(rpm * (1.0 + step)).optimize()
+        except InfeasibleError as e:
+            names = tuple(str(c) for c in e.conflict)
+            if names:
+                pair = " against ".join(names) if len(names) == 2 else ", ".join(names)
+                return (
+                    f"{pair}: a speed-dependent minimum rises to meet a fixed maximum "
+                    "or constraint (above this speed no angle satisfies them all; the "
+                    "cyclogram does not fill the cycle)",
+                    names,
+                )
+    return "the cyclogram's bounds stop fitting just above this speed", chain
 
 
 def _cyclogram_reason(m: Machine, rpm: float, chain: tuple[str, ...]) -> str:

@@ -212,7 +212,7 @@ def run_command(args: argparse.Namespace) -> int:
         o = r.optimum
         print(
             f"At {r.nominal_rpm:g} rpm the limiting operation {op.title!r} gets "
-            f"{o.objective:.2f}° ({o.stretch[op.arc]:.2f}° more than its minimum)"
+            f"{o.objective:.2f}° ({max(o.stretch[op.arc], 0.0):.2f}° more than its minimum)"
         )
         priced = [f"{k} ({v:+.3g})" for k, v in o.duals.items() if abs(v) > 1e-9]
         if priced:
