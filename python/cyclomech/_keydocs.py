@@ -231,8 +231,8 @@ def render_page(title: str = "Machine-file format") -> str:
         "only through their parent key. The tables are generated from the same key "
         "sets the file readers check, so a key listed here is one the reader takes. "
         "A value likely in the wrong unit warns: a ``_m`` length over 10 m, a ``_deg`` "
-        "angle under 0.01°, a ``_pa`` stress under 1 MPa, and a ``_deg`` array (or a "
-        "column of its rows) of at least two distinct values, all within ±2π and "
+        "angle under 0.01°, a ``_pa`` stress under 1 MPa, and a ``_deg`` array (or the "
+        "first column of its rows, the angle) of at least two distinct values, all within ±2π and "
         "spanning at most 2π — likelier radians, as an angle table (a load table, a "
         "spline's points, precision points, a phase grid) spans tens of degrees.",
         "",

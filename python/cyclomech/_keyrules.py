@@ -313,12 +313,14 @@ TURN_RAD = 2.0 * math.pi
 def radian_table(key: str, value: Any, where: str) -> str:
     """The warning for a ``_deg`` array that looks like radians, or "".
 
-    An array of numbers (a flat list, or each column of a list of rows) with at
-    least two distinct values, all within ±2π and spanning at most 2π
-    (:data:`TURN_RAD`), is likelier radians: the angle tables cyclomech reads (a
-    load table over the crank angle, a spline's points, precision points, a phase
-    grid) span tens of degrees. Other values, and anything not a list of finite
-    numbers, give "".
+    An array of numbers (a flat list, or the first column of a list of rows: the
+    angle along the cycle or the crank's) with at least two distinct values, all
+    within ±2π and spanning at most 2π (:data:`TURN_RAD`), is likelier radians: the
+    angle tables cyclomech reads (a load table over the crank angle, a spline's
+    points, precision points, a phase grid) span tens of degrees there. A row's
+    other columns are values (an arm's or a rotary axis's swing, an output angle),
+    which may well span a few degrees, and are not judged. Other values, and
+    anything not a list of finite numbers, give "".
 
     Parameters
     ----------
@@ -347,7 +349,7 @@ def radian_table(key: str, value: Any, where: str) -> str:
     width = {len(r) for r in rows}
     if len(width) != 1 or not all(_number(x) for r in rows for x in r):
         return ""
-    for c in range(width.pop()):
+    for c in range(min(1, width.pop())):
         col = [float(r[c]) for r in rows]
         lo, hi = min(col), max(col)
         if lo < hi and lo >= -TURN_RAD and hi <= TURN_RAD and hi - lo <= TURN_RAD:

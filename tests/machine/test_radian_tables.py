@@ -1,7 +1,8 @@
 """A ``_deg`` angle table given in radians warns (probe B6): the knife's load table
 over 140–250° of crank typed as 2.443–4.363 was read as a 30 kN cut over 1.9°.
-The rule (``_keyrules.radian_table``): an array, or a column of rows, of at least
-two distinct values, all within ±2π and spanning at most 2π."""
+The rule (``_keyrules.radian_table``): an array, or the first column of rows (the
+angle along the cycle; the other columns are values, an arm's swing of a few degrees
+among them), of at least two distinct values, all within ±2π and spanning at most 2π."""
 
 from __future__ import annotations
 
@@ -54,7 +55,8 @@ def test_the_load_table_in_degrees_does_not_warn():
         ([3.0, 3.0], False),  # no span
         ([0.44, 0.96, 4], True),  # a phase grid [start, stop, count] in radians
         ([25.0, 55.0, 4], False),
-        ([[0.0, 0.0], [30.0, 0.2], [60.0, 0.5]], True),  # column 2 of a point table
+        ([[0.0, 0.0], [30.0, 0.2], [60.0, 0.5]], False),  # column 2: a value (a 0.5° swing)
+        ([[0.0, 0.0], [0.52, 0.2], [1.05, 0.5]], True),  # column 1, the angle, in radians
         ([[0.0, 0.0], [30.0, 20.0], [60.0, 30.0]], False),
         ([[0.0, 0.0], [5.0, 0.0]], True),  # a cam angle column over 5°: flagged too
         ([1.0], False),
@@ -67,5 +69,5 @@ def test_the_rule_at_its_edges(value, warns):
 
 
 def test_a_table_of_rows_names_the_column():
-    assert "(column 2)" in radian_table("p_deg", [[0.0, 0.0], [30.0, 0.2]], "f")
+    assert radian_table("p_deg", [[0.0, 0.0], [30.0, 0.2]], "f") == ""  # a value column
     assert "(column 1)" in radian_table("p_deg", [[0.0, 0.0], [5.0, 0.0]], "f")
