@@ -56,6 +56,7 @@
 mod contact;
 mod design_batch;
 mod error;
+mod lane_coef;
 mod oscillator;
 mod rebound;
 mod scan;

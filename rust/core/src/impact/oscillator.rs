@@ -12,6 +12,7 @@ use crate::tile::{transpose_in, transpose_out, HALF, TILE};
 use super::error::{
     check_finite, check_times, finite, length, mode_range, param, step_ok, time_error, ImpactError,
 };
+use super::lane_coef::LaneCoef;
 use super::scan::scan;
 
 /// The forced oscillator: ω = `omega_n` [rad/s], ζ = `zeta`, m = `mass`.
@@ -78,7 +79,7 @@ pub(super) struct Mode {
 /// 1/(2n)! and 1/(2n+1)!, n = 0 … 11: the coefficients of [`cs_series`].
 /// The factorials are exact in f64 up to 22! (their odd parts stay below 2⁵³),
 /// so each reciprocal but the last is correctly rounded.
-const CS_COEF: ([f64; 12], [f64; 12]) = {
+pub(super) const CS_COEF: ([f64; 12], [f64; 12]) = {
     let (mut c, mut s) = ([0.0; 12], [0.0; 12]);
     let mut fact = 1.0;
     let mut k = 0;
@@ -473,31 +474,43 @@ fn phi2_series(u: f64) -> f64 {
 /// (I1, I1/h, I2/h) by their Taylor series, for (σ + √|λ|)·h ≤ 2. With
 /// G_n = g⁽ⁿ⁾(0) hⁿ/n!: G_0 = 0, G_1 = h, G_{n+2} = −(2σh G_{n+1} + ω²h² G_n/(n+1))/(n+2),
 /// I1/h = Σ G_n/(n+1), I2/h = h Σ G_n/((n+1)(n+2)).
+/// 1/n and −1/n, so that the series multiply instead of dividing (three
+/// divisions a term would dominate the cost of a step's coefficients).
+pub(super) const INV: ([f64; 46], [f64; 46]) = {
+    let (mut t, mut m) = ([0.0; 46], [0.0; 46]);
+    let mut n = 1;
+    while n < 46 {
+        t[n] = 1.0 / n as f64;
+        m[n] = -t[n];
+        n += 1;
+    }
+    (t, m)
+};
+
+/// Terms of [`integrals_series`] at most (its n runs over 1..SERIES_END).
+pub(super) const SERIES_END: usize = 42;
+
+/// Where [`integrals_series`] stops: after the term at which its bound on
+/// |G_n|/h falls below this.
+pub(super) const SERIES_TOL: f64 = 1e-18;
+
 fn integrals_series(mode: &Mode, h: f64) -> (f64, f64, f64) {
-    // 1/n, so that the loop multiplies instead of dividing (three divisions a
-    // term would dominate the cost of a step's coefficients).
-    const INV: [f64; 46] = {
-        let mut t = [0.0; 46];
-        let mut n = 1;
-        while n < 46 {
-            t[n] = 1.0 / n as f64;
-            n += 1;
-        }
-        t
-    };
+    let (inv, neg_inv) = INV;
     let (a, b) = (2.0 * mode.sigma * h, mode.w2 * h * h);
     let rh = mode.rate * h;
     let (mut gp, mut g) = (0.0, h); // G_{n−1}, G_n, n = 1
     let (mut s1, mut s2) = (h / 2.0, h / 6.0);
     // |G_n| ≤ h (rh)^{n−1}/(n−1)!.
     let mut bound = 1.0;
-    for n in 1..42 {
-        let gn = -(a * g + b * gp * INV[n]) * INV[n + 1];
+    for n in 1..SERIES_END {
+        // −(…)/(n + 1) as (…)·(−1/(n + 1)): the same bits, one operation less
+        // on the chain.
+        let gn = (a * g + b * gp * inv[n]) * neg_inv[n + 1];
         (gp, g) = (g, gn);
-        s1 += g * INV[n + 2];
-        s2 += g * (INV[n + 2] * INV[n + 3]);
-        bound *= rh * INV[n];
-        if bound < 1e-18 {
+        s1 += g * inv[n + 2];
+        s2 += g * (inv[n + 2] * inv[n + 3]);
+        bound *= rh * inv[n];
+        if bound < SERIES_TOL {
             break;
         }
     }
@@ -1046,30 +1059,24 @@ fn lockstep(grid: &GridSteps, cases: &Cases<'_>, first: usize, f: &[f64], qo: &m
 }
 
 /// The lockstep inputs of cases first..first+LOCK: each distinct step's
-/// coefficients per lane, and each lane's (q0, v0); None if a case is invalid or
-/// a coefficient not finite.
+/// coefficients per lane (bit for bit [`Step::new`]'s, see [`LaneCoef`]), and
+/// each lane's (q0, v0); None if a case is invalid or a coefficient not finite.
 pub(super) fn lane_steps(
     grid: &GridSteps,
     cases: &Cases<'_>,
     first: usize,
 ) -> Option<(Vec<LaneStep>, [f64; LOCK], [f64; LOCK])> {
-    let mut coef = vec![LaneStep([[0.0; LOCK]; 8]); grid.hs.len()];
-    let (mut q0, mut v0) = ([0.0; LOCK], [0.0; LOCK]);
+    let (mut q0, mut v0, mut inv_m) = ([0.0; LOCK], [0.0; LOCK], [0.0; LOCK]);
+    let mut modes = [Mode::new(1.0, 0.0); LOCK];
     for l in 0..LOCK {
-        let (mode, inv_m, q, v) = cases.case(first + l).ok()?;
-        (q0[l], v0[l]) = (q, v);
-        for (c, &h) in coef.iter_mut().zip(&grid.hs) {
-            let st = Step::new(&mode, h, inv_m);
-            if !st.is_finite() {
-                return None;
-            }
-            let all = [
-                st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
-            ];
-            for (cj, x) in c.0.iter_mut().zip(all) {
-                cj[l] = x;
-            }
-        }
+        (modes[l], inv_m[l], q0[l], v0[l]) = cases.case(first + l).ok()?;
     }
-    Some((coef, q0, v0))
+    let mut coef = vec![LaneStep([[0.0; LOCK]; 8]); grid.hs.len()];
+    let finite = pulp::Arch::new().dispatch(LaneCoef {
+        modes: &modes,
+        inv_m: &inv_m,
+        hs: &grid.hs,
+        coef: &mut coef,
+    });
+    finite.then_some((coef, q0, v0))
 }
