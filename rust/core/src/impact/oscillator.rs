@@ -104,7 +104,7 @@ pub(super) const CS_COEF: ([f64; 12], [f64; 12]) = {
 /// 1 + u/(1·2)(1 + u/(3·4)(1 + …)) took 22 divisions, half the cost of a
 /// step's coefficients).
 #[inline(always)]
-fn cs_series(u: f64) -> (f64, f64) {
+pub(super) fn cs_series(u: f64) -> (f64, f64) {
     let (dc, ds) = CS_COEF;
     let (mut c, mut s) = (dc[11], ds[11]);
     for i in (0..11).rev() {

@@ -1872,3 +1872,31 @@ proptest! {
         prop_assert!(lane_coef_is_step_new(&w, &z, &m, &hs).is_ok(), "{:?}", lane_coef_is_step_new(&w, &z, &m, &hs));
     }
 }
+
+/// C and S's series (Horner's rule on reciprocal factorials) against their
+/// closed forms over its whole range |u| ≤ 1: cos √−u and sin √−u / √−u for
+/// u < 0, cosh √u and sinh √u / √u for u > 0 (libm's, within an ulp or two);
+/// dense near 0 and at the ends. (Against mpmath at 200 bits: 0.88 and 0.56
+/// ulp at worst over 40 000 points, as the nested form it replaced.)
+#[test]
+fn cs_series_matches_the_closed_forms() {
+    let mut us: Vec<f64> = (-2000..=2000).map(|i| i as f64 / 2000.0).collect();
+    us.extend((1..300).flat_map(|k| {
+        let x = 10f64.powf(-(k as f64) / 15.0);
+        [x, -x]
+    }));
+    for u in us {
+        let (c, s) = cs_series(u);
+        let r = u.abs().sqrt();
+        let (rc, rs) = if u < 0.0 {
+            (r.cos(), r.sin() / r)
+        } else if u > 0.0 {
+            (r.cosh(), r.sinh() / r)
+        } else {
+            (1.0, 1.0)
+        };
+        let (ec, es) = ((c - rc).abs() / rc, (s - rs).abs() / rs);
+        assert!(ec <= 4.0 * f64::EPSILON, "u {u}: C {c} vs {rc}");
+        assert!(es <= 4.0 * f64::EPSILON, "u {u}: S {s} vs {rs}");
+    }
+}
