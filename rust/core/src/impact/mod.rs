@@ -47,7 +47,9 @@
 //! crossing of x = 0 is bracketed between closed-form extrema and solved to
 //! rounding: an exact event-driven history.
 //!
-//! Files: `oscillator` (the recurrence for one case and for batches), `scan`
+//! Files: `oscillator` (the recurrence for one case and for batches),
+//! `lane_coef` (a batch's lockstep group's step coefficients in vector lanes,
+//! bit for bit the one case's), `scan`
 //! (the one case's chunked lane-parallel scan on uniform grids),
 //! `rebound` (the first rebound after a pulse), `contact` (the link on its stop),
 //! `design_batch` (many designs of one stop built and solved at once, for
@@ -56,6 +58,7 @@
 mod contact;
 mod design_batch;
 mod error;
+mod lane_coef;
 mod oscillator;
 mod rebound;
 mod scan;

@@ -12,6 +12,7 @@ use crate::tile::{transpose_in, transpose_out, HALF, TILE};
 use super::error::{
     check_finite, check_times, finite, length, mode_range, param, step_ok, time_error, ImpactError,
 };
+use super::lane_coef::LaneCoef;
 use super::scan::scan;
 
 /// The forced oscillator: ω = `omega_n` [rad/s], ζ = `zeta`, m = `mass`.
@@ -75,21 +76,40 @@ pub(super) struct Mode {
     pub(super) split: bool,
 }
 
+/// 1/(2n)! and 1/(2n+1)!, n = 0 … 11: the coefficients of [`cs_series`].
+/// The factorials are exact in f64 up to 22! (their odd parts stay below 2⁵³),
+/// so each reciprocal but the last is correctly rounded.
+pub(super) const CS_COEF: ([f64; 12], [f64; 12]) = {
+    let (mut c, mut s) = ([0.0; 12], [0.0; 12]);
+    let mut fact = 1.0;
+    let mut k = 0;
+    while k < 24 {
+        if k > 0 {
+            fact *= k as f64;
+        }
+        if k % 2 == 0 {
+            c[k / 2] = 1.0 / fact;
+        } else {
+            s[k / 2] = 1.0 / fact;
+        }
+        k += 1;
+    }
+    (c, s)
+};
+
 /// cos(√−u)-type and sin(√−u)/√−u-type series for |u| ≤ 1:
-/// (Σ uⁿ/(2n)!, Σ uⁿ/(2n+1)!), to 1/24! (below rounding).
+/// (Σ uⁿ/(2n)!, Σ uⁿ/(2n+1)!), n ≤ 11 (the first term left out is below
+/// 1/24! ≈ 2⁻⁷⁹ of the sum). Horner's rule on the reciprocal factorials:
+/// a multiply and an add a term, no division (the nested form
+/// 1 + u/(1·2)(1 + u/(3·4)(1 + …)) took 22 divisions, half the cost of a
+/// step's coefficients).
 #[inline(always)]
-fn cs_series(u: f64) -> (f64, f64) {
-    // Nested form: 1 + u/(1·2)(1 + u/(3·4)(1 + …)).
-    const DC: [f64; 11] = [
-        2.0, 12.0, 30.0, 56.0, 90.0, 132.0, 182.0, 240.0, 306.0, 380.0, 462.0,
-    ];
-    const DS: [f64; 11] = [
-        6.0, 20.0, 42.0, 72.0, 110.0, 156.0, 210.0, 272.0, 342.0, 420.0, 506.0,
-    ];
-    let (mut c, mut s) = (1.0, 1.0);
+pub(super) fn cs_series(u: f64) -> (f64, f64) {
+    let (dc, ds) = CS_COEF;
+    let (mut c, mut s) = (dc[11], ds[11]);
     for i in (0..11).rev() {
-        c = 1.0 + u / DC[i] * c;
-        s = 1.0 + u / DS[i] * s;
+        c = c * u + dc[i];
+        s = s * u + ds[i];
     }
     (c, s)
 }
@@ -401,14 +421,30 @@ impl Step {
         .all(|c| c.is_finite())
     }
 
-    /// (q, v) after the step from (q, v) with forces f0 → f1.
+    /// (q, v) after the step from (q, v) with forces f0 → f1, in fused
+    /// multiply-adds (one rounding each):
+    ///
+    /// ```text
+    /// fq = fma(g0q, f0, g1q·f1),   q' = fma(p00, q, fma(p01, v, fq))
+    /// fv = fma(g0v, f0, g1v·f1),   v' = fma(p10, q, fma(p11, v, fv))
+    /// ```
+    ///
+    /// The batch's lockstep lanes do exactly these operations in this order
+    /// ([`Lockstep`]), and a fused multiply-add is correctly rounded whether
+    /// the processor does it (`vfmadd`, `fmadd`) or libm's `fma` does, so every
+    /// path gives the same bits. The state's chain is two fused operations a
+    /// step (8 cycles on Zen 4, against 11 for the unfused multiply → add →
+    /// add; the lockstep loop in cache stays ~0.5 ns a case-step, bound by
+    /// its loads, but overlaps memory better). Compiled without hardware FMA (x86-64 before AVX2, outside a
+    /// `pulp` dispatch) each `mul_add` is a call into libm: the hot loops run
+    /// inside a dispatch ([`RunLoop`], [`Lockstep`]).
     #[inline(always)]
     pub(super) fn apply(&self, q: f64, v: f64, f0: f64, f1: f64) -> (f64, f64) {
-        let fq = self.g0q * f0 + self.g1q * f1;
-        let fv = self.g0v * f0 + self.g1v * f1;
+        let fq = self.g0q.mul_add(f0, self.g1q * f1);
+        let fv = self.g0v.mul_add(f0, self.g1v * f1);
         (
-            self.p00 * q + (self.p01 * v + fq),
-            self.p10 * q + (self.p11 * v + fv),
+            self.p00.mul_add(q, self.p01.mul_add(v, fq)),
+            self.p10.mul_add(q, self.p11.mul_add(v, fv)),
         )
     }
 }
@@ -439,31 +475,43 @@ fn phi2_series(u: f64) -> f64 {
 /// (I1, I1/h, I2/h) by their Taylor series, for (σ + √|λ|)·h ≤ 2. With
 /// G_n = g⁽ⁿ⁾(0) hⁿ/n!: G_0 = 0, G_1 = h, G_{n+2} = −(2σh G_{n+1} + ω²h² G_n/(n+1))/(n+2),
 /// I1/h = Σ G_n/(n+1), I2/h = h Σ G_n/((n+1)(n+2)).
+/// 1/n and −1/n, so that the series multiply instead of dividing (three
+/// divisions a term would dominate the cost of a step's coefficients).
+pub(super) const INV: ([f64; 46], [f64; 46]) = {
+    let (mut t, mut m) = ([0.0; 46], [0.0; 46]);
+    let mut n = 1;
+    while n < 46 {
+        t[n] = 1.0 / n as f64;
+        m[n] = -t[n];
+        n += 1;
+    }
+    (t, m)
+};
+
+/// Terms of [`integrals_series`] at most (its n runs over 1..SERIES_END).
+pub(super) const SERIES_END: usize = 42;
+
+/// Where [`integrals_series`] stops: after the term at which its bound on
+/// |G_n|/h falls below this.
+pub(super) const SERIES_TOL: f64 = 1e-18;
+
 fn integrals_series(mode: &Mode, h: f64) -> (f64, f64, f64) {
-    // 1/n, so that the loop multiplies instead of dividing (three divisions a
-    // term would dominate the cost of a step's coefficients).
-    const INV: [f64; 46] = {
-        let mut t = [0.0; 46];
-        let mut n = 1;
-        while n < 46 {
-            t[n] = 1.0 / n as f64;
-            n += 1;
-        }
-        t
-    };
+    let (inv, neg_inv) = INV;
     let (a, b) = (2.0 * mode.sigma * h, mode.w2 * h * h);
     let rh = mode.rate * h;
     let (mut gp, mut g) = (0.0, h); // G_{n−1}, G_n, n = 1
     let (mut s1, mut s2) = (h / 2.0, h / 6.0);
     // |G_n| ≤ h (rh)^{n−1}/(n−1)!.
     let mut bound = 1.0;
-    for n in 1..42 {
-        let gn = -(a * g + b * gp * INV[n]) * INV[n + 1];
+    for n in 1..SERIES_END {
+        // −(…)/(n + 1) as (…)·(−1/(n + 1)): the same bits, one operation less
+        // on the chain.
+        let gn = (a * g + b * gp * inv[n]) * neg_inv[n + 1];
         (gp, g) = (g, gn);
-        s1 += g * INV[n + 2];
-        s2 += g * (INV[n + 2] * INV[n + 3]);
-        bound *= rh * INV[n];
-        if bound < 1e-18 {
+        s1 += g * inv[n + 2];
+        s2 += g * (inv[n + 2] * inv[n + 3]);
+        bound *= rh * inv[n];
+        if bound < SERIES_TOL {
             break;
         }
     }
@@ -554,9 +602,26 @@ pub(super) fn run(
     v_out: Option<&mut [f64]>,
 ) -> Result<(), ImpactError> {
     let mut steps = Steps::new(mode, inv_m);
+    let arch = pulp::Arch::new();
     match v_out {
-        None => run_loop::<false>(t, force, &mut steps, q0, v0, q_out, &mut []),
-        Some(v_out) => run_loop::<true>(t, force, &mut steps, q0, v0, q_out, v_out),
+        None => arch.dispatch(RunLoop::<false> {
+            t,
+            force,
+            steps: &mut steps,
+            q0,
+            v0,
+            q_out,
+            v_out: &mut [],
+        }),
+        Some(v_out) => arch.dispatch(RunLoop::<true> {
+            t,
+            force,
+            steps: &mut steps,
+            q0,
+            v0,
+            q_out,
+            v_out,
+        }),
     }
 }
 
@@ -586,7 +651,37 @@ fn run_one(
 
 /// The hot loop: plain indexing over slices cut to one length (no bounds checks,
 /// q and v stay in registers); coefficients are computed once per distinct h.
-#[inline(never)]
+/// Run through a `pulp` dispatch so that [`Step::apply`]'s fused multiply-adds
+/// are the processor's (AVX2 + FMA, AVX-512) rather than calls into libm.
+struct RunLoop<'a, 'b, const WITH_V: bool> {
+    t: &'b [f64],
+    force: &'b [f64],
+    steps: &'b mut Steps<'a>,
+    q0: f64,
+    v0: f64,
+    q_out: &'b mut [f64],
+    v_out: &'b mut [f64],
+}
+
+impl<const WITH_V: bool> pulp::WithSimd for RunLoop<'_, '_, WITH_V> {
+    type Output = Result<(), ImpactError>;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        let RunLoop {
+            t,
+            force,
+            steps,
+            q0,
+            v0,
+            q_out,
+            v_out,
+        } = self;
+        run_loop::<WITH_V>(t, force, steps, q0, v0, q_out, v_out)
+    }
+}
+
+#[inline(always)]
 fn run_loop<const WITH_V: bool>(
     t: &[f64],
     force: &[f64],
@@ -797,8 +892,8 @@ impl pulp::WithSimd for Lockstep<'_, '_> {
         for l in 0..LOCK {
             outs[l][0] = q[l];
         }
-        // One step of every lane: Step::apply's operations in its order (no
-        // fused multiply-adds), so the lanes equal the single-case loop.
+        // One step of every lane: Step::apply's operations in its order (the
+        // same fused multiply-adds), so the lanes equal the single-case loop.
         #[inline(always)]
         fn step(
             LaneStep(c): &LaneStep,
@@ -808,10 +903,10 @@ impl pulp::WithSimd for Lockstep<'_, '_> {
             f1: &[f64; LOCK],
         ) {
             for l in 0..LOCK {
-                let fq = c[4][l] * f0[l] + c[6][l] * f1[l];
-                let fv = c[5][l] * f0[l] + c[7][l] * f1[l];
-                let qn = c[0][l] * q[l] + (c[1][l] * v[l] + fq);
-                v[l] = c[2][l] * q[l] + (c[3][l] * v[l] + fv);
+                let fq = c[4][l].mul_add(f0[l], c[6][l] * f1[l]);
+                let fv = c[5][l].mul_add(f0[l], c[7][l] * f1[l]);
+                let qn = c[0][l].mul_add(q[l], c[1][l].mul_add(v[l], fq));
+                v[l] = c[2][l].mul_add(q[l], c[3][l].mul_add(v[l], fv));
                 q[l] = qn;
             }
         }
@@ -965,30 +1060,24 @@ fn lockstep(grid: &GridSteps, cases: &Cases<'_>, first: usize, f: &[f64], qo: &m
 }
 
 /// The lockstep inputs of cases first..first+LOCK: each distinct step's
-/// coefficients per lane, and each lane's (q0, v0); None if a case is invalid or
-/// a coefficient not finite.
+/// coefficients per lane (bit for bit [`Step::new`]'s, see [`LaneCoef`]), and
+/// each lane's (q0, v0); None if a case is invalid or a coefficient not finite.
 pub(super) fn lane_steps(
     grid: &GridSteps,
     cases: &Cases<'_>,
     first: usize,
 ) -> Option<(Vec<LaneStep>, [f64; LOCK], [f64; LOCK])> {
-    let mut coef = vec![LaneStep([[0.0; LOCK]; 8]); grid.hs.len()];
-    let (mut q0, mut v0) = ([0.0; LOCK], [0.0; LOCK]);
+    let (mut q0, mut v0, mut inv_m) = ([0.0; LOCK], [0.0; LOCK], [0.0; LOCK]);
+    let mut modes = [Mode::new(1.0, 0.0); LOCK];
     for l in 0..LOCK {
-        let (mode, inv_m, q, v) = cases.case(first + l).ok()?;
-        (q0[l], v0[l]) = (q, v);
-        for (c, &h) in coef.iter_mut().zip(&grid.hs) {
-            let st = Step::new(&mode, h, inv_m);
-            if !st.is_finite() {
-                return None;
-            }
-            let all = [
-                st.p00, st.p01, st.p10, st.p11, st.g0q, st.g0v, st.g1q, st.g1v,
-            ];
-            for (cj, x) in c.0.iter_mut().zip(all) {
-                cj[l] = x;
-            }
-        }
+        (modes[l], inv_m[l], q0[l], v0[l]) = cases.case(first + l).ok()?;
     }
-    Some((coef, q0, v0))
+    let mut coef = vec![LaneStep([[0.0; LOCK]; 8]); grid.hs.len()];
+    let finite = pulp::Arch::new().dispatch(LaneCoef {
+        modes: &modes,
+        inv_m: &inv_m,
+        hs: &grid.hs,
+        coef: &mut coef,
+    });
+    finite.then_some((coef, q0, v0))
 }
