@@ -403,21 +403,25 @@ fn scan_rod(
     if !exact() {
         if let Some(v4) = pulp::x86::V4::try_new() {
             use pulp::Simd;
-            // 1/w from the processor's 14-bit estimate and two Newton steps
-            // (FMA): within an ulp or two of the exact division, in a few
-            // multiply-adds instead of a divider's ~10 cycles a register.
-            let one = v4.splat_f64s(1.0);
-            let recip = move |w: pulp::f64x8| {
-                let mut r: pulp::f64x8 = pulp::cast(v4.avx512f._mm512_rcp14_pd(pulp::cast(w)));
-                for _ in 0..2 {
-                    let e = v4.mul_add_f64s(v4.neg_f64s(w), r, one);
-                    r = v4.mul_add_f64s(r, e, r);
-                }
-                r
+            // 1/w = 1/√(L² − u²) from the processor's 14-bit estimate r₀ of
+            // the reciprocal square root, corrected by the series of
+            // (1 − e)^(−1/2) in e = 1 − x·r₀² (|e| ≤ 2⁻¹³) to its e³ term
+            // (what is left, 35e⁴/128, is below 2⁻⁵³): within an ulp or two
+            // of 1/√x, by FMA; and w = x·(1/w). A few multiply-adds in place
+            // of a √ and a division (the divider's ~20 cycles a register on
+            // this processor), and a shorter chain than two Newton steps.
+            let (one, half) = (v4.splat_f64s(1.0), v4.splat_f64s(0.5));
+            let (c2, c3) = (v4.splat_f64s(3.0 / 8.0), v4.splat_f64s(5.0 / 16.0));
+            let root = move |x: pulp::f64x8| {
+                let r0: pulp::f64x8 = pulp::cast(v4.avx512f._mm512_rsqrt14_pd(pulp::cast(x)));
+                let e = v4.mul_add_f64s(v4.neg_f64s(x), v4.mul_f64s(r0, r0), one);
+                let p = v4.mul_add_f64s(v4.mul_add_f64s(e, c3, c2), e, half);
+                let r = v4.mul_add_f64s(v4.mul_f64s(r0, e), p, r0);
+                (v4.mul_f64s(x, r), r)
             };
             return v4.vectorize(
                 #[inline(always)]
-                move || rod_loops(v4, recip, l2, m, pin, out, cands),
+                move || rod_loops(v4, root, l2, m, pin, out, cands),
             );
         }
     }
@@ -454,16 +458,21 @@ impl pulp::WithSimd for RodScan<'_, '_> {
             cands,
         } = self;
         let one = simd.splat_f64s(1.0);
-        rod_loops(simd, |w| simd.div_f64s(one, w), l2, m, pin, out, cands)
+        let root = |x: S::f64s| {
+            let w = simd.sqrt_f64s(x);
+            (w, simd.div_f64s(one, w))
+        };
+        rod_loops(simd, root, l2, m, pin, out, cands)
     }
 }
 
-/// The loops of [`scan_rod`] on one instruction set, with `recip` for
-/// 1/√(L² − u²) (the exact division, or an estimate refined by Newton steps).
+/// The loops of [`scan_rod`] on one instruction set, with `root` for
+/// (√x, 1/√x) at x = L² − u² (the exact √ and division, or an estimate
+/// corrected by a series).
 #[inline(always)]
 fn rod_loops<S: pulp::Simd>(
     simd: S,
-    recip: impl Fn(S::f64s) -> S::f64s,
+    root: impl Fn(S::f64s) -> (S::f64s, S::f64s),
     l2: f64,
     m: usize,
     pin: &[[[f64; LANES]; 6]],
@@ -472,10 +481,14 @@ fn rod_loops<S: pulp::Simd>(
 ) -> Extremes {
     {
         let [y, dy, ddy] = out;
-        // Per lane of a block, the running minima of the keys y (BDC), −y (TDC)
-        // and −|y''| (the acceleration peak); where each is first met is found
-        // by the candidate pass below, which visits those samples anyway.
-        let mut best = [[f64::INFINITY; LANES]; 3];
+        // Per lane of a block, the running minimum of y (BDC) and maxima of y
+        // (TDC) and |y''| (the acceleration peak); where each is first met is
+        // found by the candidate pass below, which visits those samples anyway.
+        let mut best = [
+            [f64::INFINITY; LANES],
+            [f64::NEG_INFINITY; LANES],
+            [f64::NEG_INFINITY; LANES],
+        ];
         let l2 = simd.splat_f64s(l2);
         let rows = y.iter_mut().zip(dy.iter_mut()).zip(ddy.iter_mut());
         for (p, ((yc, dyc), ddyc)) in pin.iter().zip(rows) {
@@ -487,8 +500,7 @@ fn rod_loops<S: pulp::Simd>(
             );
             let [b0, b1, b2] = best.each_mut().map(|b| S::as_mut_simd_f64s(b).0);
             for v in 0..b0.len() {
-                let w = simd.sqrt_f64s(simd.sub_f64s(l2, u2[v]));
-                let iw = recip(w);
+                let (w, iw) = root(simd.sub_f64s(l2, u2[v]));
                 let g = simd.mul_f64s(upx1[v], iw);
                 let yy = simd.sub_f64s(py[v], w);
                 let hg = simd.add_f64s(hh[v], simd.mul_f64s(g, g));
@@ -496,15 +508,16 @@ fn rod_loops<S: pulp::Simd>(
                 yv[v] = yy;
                 dyv[v] = simd.add_f64s(py1[v], g);
                 ddyv[v] = dd;
-                let keys = [yy, simd.neg_f64s(yy), simd.neg_f64s(simd.abs_f64s(dd))];
-                for (k, bk) in keys.into_iter().zip([&mut *b0, &mut *b1, &mut *b2]) {
-                    // (A NaN key leaves the minimum as it is, as `<` would.)
-                    bk[v] = simd.min_f64s(k, bk[v]);
-                }
+                // (A NaN key leaves the extreme as it is, as `<` would.)
+                b0[v] = simd.min_f64s(yy, b0[v]);
+                b1[v] = simd.max_f64s(yy, b1[v]);
+                b2[v] = simd.max_f64s(simd.abs_f64s(dd), b2[v]);
             }
         }
-        // Merge the lanes: the smallest key.
-        let [vlo, vhi, vacc] = best.map(|b| b.iter().fold(f64::INFINITY, |a, &x| a.min(x)));
+        // Merge the lanes.
+        let [b0, b1, b2] = best;
+        let ylo = b0.iter().fold(f64::INFINITY, |a, &x| a.min(x));
+        let [yhi, vacc] = [b1, b2].map(|b| b.iter().fold(f64::NEG_INFINITY, |a, &x| a.max(x)));
         // The first sample at each extreme (0 if none is: all NaN).
         let (mut lo, mut hi, mut acc) = (None, None, None);
         // Candidates: local maxima of |y''| within 1 % of the largest, and local
@@ -512,11 +525,10 @@ fn rod_loops<S: pulp::Simd>(
         // true extreme is at most max|y''|·h²/8 beyond its nearest sample, so
         // one that ties with the lowest (highest) has a sample in the band (with
         // twice the sampled max|y''| for the sampling of |y''| itself).
-        let (ylo, yhi) = (vlo, -vhi);
         let h = TAU / m as f64;
         let band =
-            0.25 * -vacc * h * h + TIE * (yhi - ylo) + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
-        let (thr, thr_lo, thr_hi) = (0.99 * -vacc, ylo + band, yhi - band);
+            0.25 * vacc * h * h + TIE * (yhi - ylo) + 8.0 * f64::EPSILON * (ylo.abs() + yhi.abs());
+        let (thr, thr_lo, thr_hi) = (0.99 * vacc, ylo + band, yhi - band);
         let [peaks, lows, highs] = cands;
         for c in [&mut *peaks, &mut *lows, &mut *highs] {
             c.clear();
@@ -553,7 +565,7 @@ fn rod_loops<S: pulp::Simd>(
                 if is_hi && hi.is_none() && yq == yhi {
                     hi = Some(q);
                 }
-                if is_acc && acc.is_none() && aq == -vacc {
+                if is_acc && acc.is_none() && aq == vacc {
                     acc = Some(q);
                 }
                 let (qp, qn) = (prev(q), next(q));

@@ -238,9 +238,10 @@ impl Frame {
 #[cfg(test)]
 thread_local! {
     /// Tests only: true runs the reference arithmetic of the criteria — sin/cos
-    /// of β = β0 − kθ itself in [`Frame::at`], and the rod scan's exact
-    /// division for 1/√(L² − u²) — against which the faster forms (the power
-    /// of e^{iθ}, the reciprocal from an estimate and Newton steps) are tested.
+    /// of β = β0 − kθ itself in [`Frame::at`], and the rod scan's exact √ and
+    /// division for √(L² − u²) and its reciprocal — against which the faster
+    /// forms (the power of e^{iθ}, both from an estimate of the reciprocal
+    /// square root and its correction) are tested.
     pub(super) static EXACT: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 

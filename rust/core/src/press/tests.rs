@@ -350,7 +350,7 @@ fn skipping_keeps_the_dip_and_back_off() {
 }
 
 /// Criteria of `design` with the reference arithmetic ([`EXACT`]: sin/cos of
-/// β itself, the exact division in the rod scan) or the fast one.
+/// β itself, the exact √ and division in the rod scan) or the fast one.
 fn criteria_exact(design: &Design, spec: &Spec, exact: bool) -> (Vec<f64>, Status) {
     EXACT.with(|c| c.set(exact));
     let r = criteria(design, spec);
@@ -438,9 +438,9 @@ fn fast_turn_is_sin_cos_of_beta() {
 
 #[test]
 fn fast_reciprocal_keeps_the_rod_scan() {
-    // The rod scan with 1/w from an estimate and Newton steps against the
-    // exact division: y the same bits (√ is exact either way), y' and y''
-    // within a few ulps of their terms, the same extremes and candidates.
+    // The rod scan with w and 1/w from an estimate of 1/√ and its correction
+    // against the exact √ and division: y, y' and y'' within a few ulps of
+    // their terms, the same extremes and candidates.
     for (d, l) in [(0.021, 0.31), (0.03, 0.2), (0.0, 0.07), (0.05, 0.12)] {
         let f = press(d, l, 0.7).frame();
         let table = Table::new(3.0, 361);
@@ -463,9 +463,12 @@ fn fast_reciprocal_keeps_the_rod_scan() {
         let (fast, exact) = (run(false), run(true));
         assert_eq!(fast.0, exact.0, "d = {d}, L = {l}");
         assert_eq!(fast.1, exact.1, "d = {d}, L = {l}");
-        assert_eq!(fast.2, exact.2, "d = {d}, L = {l}");
         let unit = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        for (a, b) in [(&fast.3, &exact.3), (&fast.4, &exact.4)] {
+        for (a, b) in [
+            (&fast.2, &exact.2),
+            (&fast.3, &exact.3),
+            (&fast.4, &exact.4),
+        ] {
             let tol = 8.0 * f64::EPSILON * unit(b);
             for j in 0..m {
                 assert!(
@@ -481,8 +484,8 @@ fn fast_reciprocal_keeps_the_rod_scan() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
-    /// The fast arithmetic (one sin/cos per refinement evaluation, 1/w by
-    /// Newton steps in the rod scan) against the reference ([`EXACT`]): the
+    /// The fast arithmetic (one sin/cos per refinement evaluation, w and 1/w
+    /// from an estimate of 1/√ in the rod scan) against the reference ([`EXACT`]): the
     /// same status, and every column within 1e-12 of its scale
     /// ([`row_deviation`]), over the designs of the walk's proptest.
     #[test]
