@@ -350,9 +350,21 @@ WRONG_TYPES = [
     (lambda: cm.transfer.quintic_transition(1.0, 1e300, 0.0, 1e10), "overflows"),
     (lambda: cm.transfer.smooth_transition(1.0, 1.3407807929942597e154), "overflows"),
     (lambda: cm.impact.lever_stiffness(1.0, 1.0, 1.0, 4.6e-191), "scale the units"),
-    (lambda: cm.impact.propped_lever_stiffness(1.0, 1.0, 3.4e15, 2.0, 1.0), "scale the units"),
+    # (a = 3.4e15 was here: the unfactored f_mm − f_mc²/f_cc cancelled to garbage;
+    # factored it gives the right 6.0, see the test below. 1e308 still overflows.)
+    (lambda: cm.impact.propped_lever_stiffness(1.0, 1.0, 1e308, 2.0, 1.0), "scale the units"),
     (lambda: cm.transfer.TransferPath(5e-324, 5e-324, (0, 0), (0, 0.5), x2=1.0), "R_t"),
 ]
+
+
+def test_a_propped_lever_with_a_huge_span_is_its_limit():
+    """a = 3.4e15 m against b = 2, at = 1: the long span restrains the roller's slope
+    not at all, so the propped overhang tends to a beam simply supported at the
+    roller and the stop, 3·E·J·b/(s²(b − s)²) = 6 N/m; the free one is
+    3EJ/(s²(a + s)). (The fuzz had it as an error: the unfactored form cancelled.)"""
+    free, propped = cm.impact.propped_lever_stiffness(1.0, 1.0, 3.4e15, 2.0, 1.0)
+    assert free == pytest.approx(3.0 / (3.4e15 + 1.0), rel=1e-12)
+    assert propped == pytest.approx(6.0, rel=1e-12)
 
 
 @pytest.mark.parametrize("call, match", WRONG_TYPES)
