@@ -407,7 +407,7 @@ class CamMechanism(ExactBounds):
     def sizing_status(self) -> str:
         """The last sizing's status: ``ok``, ``at_lower_bound``, ``infeasible`` (the
         sizing's own) or ``at_upper_bound``: an ``ok`` sizing whose base radius is
-        ``max_base_radius_m`` within :data:`UPPER_TOL` (relative): the bound, not a
+        ``max_base_radius_m`` within 1e-9 (relative, ``UPPER_TOL``): the bound, not a
         limit of the cam, set it, and the cyclogram stretched the phase angles to fit
         there; "" before a sizing.
 
@@ -808,7 +808,7 @@ class CamResult(BoundsResult):
         return ([self.layout_note] if self.layout_note else []) + self._failing()
 
     def _failing(self) -> list[str]:
-        """The cam's checks that fail at the nominal speed, beyond :data:`CHECK_TOL`."""
+        """The cam's checks that fail at the nominal speed, beyond 1e-6 (``CHECK_TOL``)."""
         d, out, tol = self.mech.design, [], 1.0 + CHECK_TOL
         if self.max_pressure_angle_deg > d.max_pressure_angle_deg * tol:
             out.append(
@@ -833,7 +833,7 @@ class CamResult(BoundsResult):
 
         A check of the cam as laid out at the optimum that fails (the pressure
         angle above [α], σ_H above [σ_H], an undercut profile, the follower leaving
-        the cam below the nominal speed: beyond :data:`CHECK_TOL` relative, since
+        the cam below the nominal speed: beyond 1e-6 relative (``CHECK_TOL``), since
         the bounds are solved finer than the 3600 angles checked here), and cam
         angles where friction self-locks the follower (no finite contact force
         moves it), as a linkage's; empty otherwise.

@@ -198,7 +198,7 @@ class CamLoads:
         The torque the cam shaft must supply [N·m], Q·s′. Where the follower has
         left the cam (``separated``), the torque it would need were it held on, as
         ``normal_force`` there is the pull it would need; none passes while it is
-        off (:func:`cam_friction` reports 0 there).
+        off (the friction forces, ``cam_friction``, report 0 there).
     separated : ndarray of bool
         Spring closure: where the follower leaves the cam.
 
