@@ -261,18 +261,10 @@ class SpeedNetwork:
         rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(1,))
         t_bound = self._bound_angles(t_bound, rpm.shape)
         labels = flag("labels", labels)
-        mins, which = self.minimums(rpm, t_bound)
-        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
-        w[:, self.min_edge] -= mins
-        bound_ok = np.ones(rpm.size, bool)
-        for t in t_bound:
-            bound_ok &= np.isfinite(t)
+        w, bound_ok, mins, which = self._weights(rpm, t_bound)
         if self.always_false:
             bound_ok[:] = False
-        # A bound no angle meets (+inf: a servo's RMS beyond what any angle
-        # gives) means no fit at that speed: its row is not solved (value NaN
-        # below), so give it finite weights.
-        w[~bound_ok] = self.base
+            w[:] = self.base
         extra: list[list[str]] = []
         if self.general:
             value, on_path, extra = self._lp(rpm, mins, bound_ok)
@@ -290,6 +282,23 @@ class SpeedNetwork:
             if names and fits[i]:
                 named[i] = "; ".join([named[i], *names] if named[i] else names)
         return value, fits, named, mins
+
+    def _weights(
+        self, rpm: Array, t_bound: Sequence[Array]
+    ) -> tuple[Array, npt.NDArray[np.bool_], Array, Any]:
+        """The arcs' weights at each speed (B, E), whether every extra bound has an
+        angle there, and the minimum angles with what sets each (:meth:`minimums`)."""
+        mins, which = self.minimums(rpm, t_bound)
+        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
+        w[:, self.min_edge] -= mins
+        bound_ok = np.ones(rpm.size, bool)
+        for t in t_bound:
+            bound_ok &= np.isfinite(t)
+        # A bound no angle meets (+inf: a servo's RMS beyond what any angle
+        # gives) means no fit at that speed: its row is not solved (value NaN
+        # below), so give it finite weights.
+        w[~bound_ok] = self.base
+        return w, bound_ok, mins, which
 
     def minimums_fit(
         self, rpm: Array, t_bound: Sequence[Array], n_threads: int | None = None
@@ -331,14 +340,8 @@ class SpeedNetwork:
         """
         rpm = real_array("rpm", rpm, "[rpm]", low=0.0, strict=True, ndims=(1,))
         t_bound = self._bound_angles(t_bound, rpm.shape)
-        mins, _ = self.minimums(rpm, t_bound)
+        w, bound_ok, _, _ = self._weights(rpm, t_bound)
         keep = np.array([k not in ("max", "user") for k in self.kind], bool)
-        w = np.broadcast_to(self.base, (rpm.size, self.base.size)).copy()
-        w[:, self.min_edge] -= mins
-        bound_ok = np.ones(rpm.size, bool)
-        for t in t_bound:
-            bound_ok &= np.isfinite(t)
-        w[~bound_ok] = self.base
         got, _ = max_difference(
             self.n,
             self.src[keep],
