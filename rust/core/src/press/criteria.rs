@@ -174,6 +174,15 @@ impl PinScan {
         scan_rod(l2, m, pin, [y, dy, ddy], cands)
     }
 
+    /// y, y', y'' of the last [`PinScan::rod`] over its `m` samples.
+    pub(super) fn rows(&self, m: usize) -> (&[f64], &[f64], &[f64]) {
+        (
+            &self.y.as_flattened()[..m],
+            &self.dy.as_flattened()[..m],
+            &self.ddy.as_flattened()[..m],
+        )
+    }
+
     /// Sample the pin path of `f` (its rod length is not used).
     pub(super) fn fill(&mut self, f: &Frame, table: &Table) {
         let m = table.len();
@@ -612,11 +621,7 @@ pub(super) fn dead_centres(
 ) -> (DeadCentre, DeadCentre) {
     let m = table.len();
     let at = |x: f64, order: u32| f.at_pow(x, order);
-    let (ys, dys, ddys) = (
-        &scan.y.as_flattened()[..m],
-        &scan.dy.as_flattened()[..m],
-        &scan.ddy.as_flattened()[..m],
-    );
+    let (ys, dys, ddys) = scan.rows(m);
     let h = TAU / m as f64;
     let prev = |j: usize| if j == 0 { m - 1 } else { j - 1 };
     let next = |j: usize| if j + 1 == m { 0 } else { j + 1 };
@@ -730,11 +735,7 @@ pub(super) fn criteria_with(
         hi: j_hi,
         acc: j_acc,
     } = scan.rod(l2, m);
-    let (ys, dys, ddys) = (
-        &scan.y.as_flattened()[..m],
-        &scan.dy.as_flattened()[..m],
-        &scan.ddy.as_flattened()[..m],
-    );
+    let (ys, dys, ddys) = scan.rows(m);
     let h = TAU / m as f64;
     // Neighbours on the turn (a compare, not a division: `prev` is on the
     // walk's chain of dependent steps).
