@@ -26,6 +26,9 @@
 //! caller-owned buffers) and `triad` (the class III group).
 
 mod batch;
+mod change;
+#[cfg(test)]
+mod change_tests;
 #[cfg(test)]
 mod lane_tests;
 mod lanes;
@@ -36,5 +39,6 @@ mod tests;
 mod triad;
 
 pub use batch::{solve_many, solve_many_into, Outputs};
+pub use change::{ChangePoint, NEAR_H_REL};
 pub use model::{Line, LinkageError, Program, Request, Solution, Step};
 pub use triad::Triad;

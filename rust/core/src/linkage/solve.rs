@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use crate::geom::{cross, dot, sub, V2};
 
 use super::batch::{check_angles, check_request, Buffers, Outputs};
+use super::change::Branches;
 use super::lanes::Blocks;
 use super::model::{LinkageError, Program, Request, Solution, Step};
 
@@ -22,7 +23,7 @@ const BLOCK: usize = 1024;
 
 /// How class III groups find their pose from the one before.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Seek {
+pub(super) enum Seek {
     /// From the drawn pose: Newton from it, else the bracketed root nearest it
     /// (within a quarter of the group's size).
     Start,
@@ -39,11 +40,11 @@ enum Seek {
 /// Δφ [rad] to the angle being solved, and how class III groups find their pose.
 #[derive(Clone, Copy)]
 pub(super) struct Prev<'a> {
-    xy: &'a [V2],
-    vel: &'a [V2],
-    acc: &'a [V2],
-    dphi: f64,
-    seek: Seek,
+    pub(super) xy: &'a [V2],
+    pub(super) vel: &'a [V2],
+    pub(super) acc: &'a [V2],
+    pub(super) dphi: f64,
+    pub(super) seek: Seek,
 }
 
 /// Largest crank-angle step along a path through class III groups [rad]: larger
@@ -322,7 +323,7 @@ impl Program {
         Ok(())
     }
 
-    fn has_triads(&self) -> bool {
+    pub(super) fn has_triads(&self) -> bool {
         self.steps.iter().any(|s| matches!(s, Step::Triad { .. }))
     }
 
@@ -595,6 +596,7 @@ impl Program {
     ///   assembles are `ok = false`, and the walk follows on from the re-acquired pose.
     fn solve_path(
         &self,
+        br: &Branches,
         angles: &[f64],
         sel: &[usize],
         out: &mut Out<'_>,
@@ -661,7 +663,7 @@ impl Program {
                         dphi: next - at,
                         seek: Seek::Follow,
                     };
-                    let got = self.solve_one::<true>(
+                    let got = br.at(self, next).solve_one::<true>(
                         next,
                         &mut scratch.xy,
                         &mut scratch.vel,
@@ -685,7 +687,7 @@ impl Program {
                         dphi: 0.0,
                         seek: Seek::Acquire(start.branch),
                     };
-                    let got = self.solve_one::<true>(
+                    let got = br.at(self, target).solve_one::<true>(
                         target,
                         &mut scratch.xy,
                         &mut scratch.vel,
@@ -710,7 +712,7 @@ impl Program {
     /// [`super::lanes::LANES`] angles in SIMD when every step has a lane form (see
     /// [`super::lanes`]; the same bits), else one angle at a time. Only the
     /// analogs the chosen points need are computed.
-    fn solve_rows(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
+    pub(super) fn solve_rows(&self, angles: &[f64], sel: &[usize], out: &mut Out<'_>) {
         let analogs = !out.vel.is_empty();
         if self.has_lane_form() {
             let an = if analogs {
@@ -738,17 +740,47 @@ impl Program {
         }
     }
 
-    /// Solve one run of angles single-threaded.
+    /// Solve one run of angles single-threaded, through the change points of its
+    /// class II groups (see [`super::change`]).
     pub(super) fn solve_serial(
         &self,
         angles: &[f64],
         sel: &[usize],
         out: &mut Out<'_>,
     ) -> Result<(), LinkageError> {
+        let br = self.branches()?;
+        self.solve_serial_with(&br, angles, sel, out)
+    }
+
+    /// [`Program::solve_serial`] with its change points already found.
+    pub(super) fn solve_serial_with(
+        &self,
+        br: &Branches,
+        angles: &[f64],
+        sel: &[usize],
+        out: &mut Out<'_>,
+    ) -> Result<(), LinkageError> {
+        self.solve_unflagged(br, angles, sel, out)?;
+        br.flag(angles, sel.len(), out);
+        Ok(())
+    }
+
+    /// [`Program::solve_serial_with`] without the change points' windows flagged
+    /// (the search for them reads every row's analogs).
+    pub(super) fn solve_unflagged(
+        &self,
+        br: &Branches,
+        angles: &[f64],
+        sel: &[usize],
+        out: &mut Out<'_>,
+    ) -> Result<(), LinkageError> {
         if self.has_triads() {
-            self.solve_path(angles, sel, out)
-        } else {
+            self.solve_path(br, angles, sel, out)
+        } else if br.is_trivial() {
             self.solve_rows(angles, sel, out);
+            Ok(())
+        } else {
+            br.solve_rows(angles, sel, out);
             Ok(())
         }
     }
@@ -782,8 +814,9 @@ impl Program {
         let threads = crate::parallel::resolve_threads(n_threads)?;
         let sel = &request.points;
         let mut out = outputs.view(angles.len(), sel.len(), request.analogs)?;
+        let br = self.branches()?;
         if self.has_triads() || angles.len() < 2 * BLOCK {
-            self.solve_serial(angles, sel, &mut out)?;
+            self.solve_serial_with(&br, angles, sel, &mut out)?;
         } else {
             let mut blocks = Vec::with_capacity(angles.len().div_ceil(BLOCK));
             let mut rest = out;
@@ -800,7 +833,12 @@ impl Program {
                     return;
                 }
                 let run = &angles[start..start + block.ok.len()];
-                self.solve_rows(run, sel, &mut block);
+                if br.is_trivial() {
+                    self.solve_rows(run, sel, &mut block);
+                } else {
+                    br.solve_rows(run, sel, &mut block);
+                }
+                br.flag(run, sel.len(), &mut block);
             };
             if threads == 1 {
                 blocks.into_iter().for_each(one);
