@@ -53,10 +53,22 @@ SAME_WORKER = (
 )
 
 
+#: Files of one long test (mypy and stubtest on the whole package, 18 and 8 CPU-s in
+#: a subprocess) that ``--dist loadfile`` sends first: xdist sends the files with the
+#: most tests first, so these came last, and one worker ran mypy alone while the
+#: other had run out of files.
+FIRST = ("package/test_types.py", "package/test_stubs.py")
+
+
+def _short(path: str) -> str:
+    return "/".join(path.split("/")[-2:])
+
+
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """``--dist loadfile`` with the files of each :data:`SAME_WORKER` group in one
-    scope (xdist's own scheduler otherwise: None lets its hook choose)."""
+    scope and the :data:`FIRST` files sent first (xdist's own scheduler otherwise:
+    None lets its hook choose)."""
     if config.option.dist != "loadfile":
         return None
     from xdist.scheduler import LoadFileScheduling
@@ -64,9 +76,18 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     group = {f: " + ".join(g) for g in SAME_WORKER for f in g}
 
     class SameWorkerScheduling(LoadFileScheduling):
+        ordered = False
+
         def _split_scope(self, nodeid: str) -> str:
             path = nodeid.split("::", 1)[0]
-            return group.get("/".join(path.split("/")[-2:]), path)
+            return group.get(_short(path), path)
+
+        def _assign_work_unit(self, node: Any) -> None:
+            if not self.ordered:  # the first assignment: the queue is whole
+                self.ordered = True
+                for scope in reversed([s for s in self.workqueue if _short(s) in FIRST]):
+                    self.workqueue.move_to_end(scope, last=False)
+            super()._assign_work_unit(node)
 
     return SameWorkerScheduling(config, log)
 
