@@ -9,6 +9,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
@@ -37,6 +38,58 @@ def pytest_cmdline_main(config: pytest.Config) -> None:
     ``-n``. Runs before xdist's own hook, which makes ``-n`` mean ``--dist load``."""
     if getattr(config.option, "numprocesses", None) and config.option.dist == "no":
         config.option.dist = "loadfile"
+
+
+#: Files that ``--dist loadfile`` sends to one worker as one unit, in collection order
+#: (the first named runs first), because the later one reads what the earlier one
+#: computed in that process, and on another worker would compute it again:
+#: ``test_docstrings`` records the first call of each public callable its examples
+#: make (``example_calls.py``), the fuzz's valid calls (its examples had cost the
+#: fuzz 15 CPU-s more); the knife drive the synthesised knife file's report compares
+#: (about 7 CPU-s a process) is computed once for both files that report it.
+SAME_WORKER = (
+    ("package/test_docstrings.py", "package/test_fuzz_public.py"),
+    ("machine/test_knife_synthesized.py", "package/test_pinned_examples.py"),
+)
+
+
+#: Files of one long test (mypy and stubtest on the whole package, 18 and 8 CPU-s in
+#: a subprocess) that ``--dist loadfile`` sends first: xdist sends the files with the
+#: most tests first, so these came last, and one worker ran mypy alone while the
+#: other had run out of files.
+FIRST = ("package/test_types.py", "package/test_stubs.py")
+
+
+def _short(path: str) -> str:
+    return "/".join(path.split("/")[-2:])
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """``--dist loadfile`` with the files of each :data:`SAME_WORKER` group in one
+    scope and the :data:`FIRST` files sent first (xdist's own scheduler otherwise:
+    None lets its hook choose)."""
+    if config.option.dist != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    group = {f: " + ".join(g) for g in SAME_WORKER for f in g}
+
+    class SameWorkerScheduling(LoadFileScheduling):
+        ordered = False
+
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            return group.get(_short(path), path)
+
+        def _assign_work_unit(self, node: Any) -> None:
+            if not self.ordered:  # the first assignment: the queue is whole
+                self.ordered = True
+                for scope in reversed([s for s in self.workqueue if _short(s) in FIRST]):
+                    self.workqueue.move_to_end(scope, last=False)
+            super()._assign_work_unit(node)
+
+    return SameWorkerScheduling(config, log)
 
 
 @pytest.fixture(autouse=True)

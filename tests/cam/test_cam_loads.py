@@ -1138,6 +1138,16 @@ BAD = {
     "theta_string": (lambda: _cam().loads("1.0", 100.0, FL), "theta"),
     "dwell_index": (lambda: _cam().min_phase_angles([100.0], segments=[1]), "segments"),
     "index_out_of_range": (lambda: _cam().min_phase_angles([100.0], segments=[7]), "segments"),
+    # found by the fuzz: NaN was a ValueError, a bool index read as 0 or 1, a float
+    # index truncated, a string index read
+    "index_nan": (lambda: _cam().min_phase_angles([100.0], segments=[math.nan]), "segments"),
+    "index_bool": (lambda: _cam().min_phase_angles([100.0], segments=np.array([True])), "segments"),
+    "index_float": (lambda: _cam().min_phase_angles([100.0], segments=[0.5]), "segments"),
+    "index_string": (lambda: _cam().min_phase_angles([100.0], segments=["0"]), "segments"),
+    "vibration_strings": (
+        lambda: _cam().min_phase_angles([100.0], vibration=("100", "0.05", "1e-4")),
+        "vibration",
+    ),
     "alpha_zero": (
         lambda: _cam().min_phase_angles([100.0], max_pressure_angle_deg=0.0),
         "max_pressure_angle_deg",

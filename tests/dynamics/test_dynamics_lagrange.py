@@ -4,6 +4,7 @@ derived here from its Lagrangian with sympy and integrated with scipy's
 ``solve_ivp`` (rtol 1e-11). cyclomech only sees the sampled J(φ), J′(φ) and
 Q(φ)."""
 
+import functools
 import itertools
 import math
 
@@ -20,10 +21,13 @@ R, L, M_S, M_R, J_C, F0, Q0 = 0.08, 0.3, 6.0, 2.0, 0.02, 300.0, 25.0
 N = 3600
 
 
+@functools.cache
 def _lagrangian():
     """(J(φ), J′(φ), Q(φ)) as numpy functions and the right-hand side φ̈(φ, ω, M)
     from the Lagrangian of the slider-crank (uniform rod, slider load F0 while it
-    moves, a constant process torque Q0 on the crank)."""
+    moves, a constant process torque Q0 on the crank). Derived when a test first
+    asks (4 CPU-s of sympy), not when the file is collected: every xdist worker
+    collects every file, and one runs it."""
     t = sp.symbols("t")
     phi = sp.Function("phi")(t)
     x = R * sp.cos(phi) + sp.sqrt(L**2 - R**2 * sp.sin(phi) ** 2)
@@ -46,7 +50,22 @@ def _lagrangian():
     return f(jj), f(sp.diff(jj, p)), f(load.subs(phi, p)), sp.lambdify((p, w, m), acc, "numpy")
 
 
-J_OF, DJ_OF, Q_OF, ACC = _lagrangian()
+def J_OF(p):
+    return _lagrangian()[0](p)
+
+
+def DJ_OF(p):
+    return _lagrangian()[1](p)
+
+
+def Q_OF(p):
+    return _lagrangian()[2](p)
+
+
+def ACC(p, w, m):
+    return _lagrangian()[3](p, w, m)
+
+
 PHI = 2 * np.pi * np.arange(N) / N
 
 

@@ -885,6 +885,22 @@ def test_optimize_takes_the_machines_speeds_and_says_so(rpm):
         cm.Machine.example().optimize(rpm)
 
 
+@pytest.mark.parametrize(
+    ("key", "bad"), [("linear", 1), ("linear", 0), ("n_threads", "2"), ("n_threads", True)]
+)
+def test_a_bad_flag_or_thread_count_is_refused_also_when_the_laws_are_kept(key, bad):
+    """Found by the fuzz: ``bound_angles(linear=1)`` returned the linear laws a
+    ``linear=True`` call had kept on the machine (1 == True as a dict key), where a
+    fresh machine refuses 1. Both are refused, whichever laws the machine keeps."""
+    machine = cm.Machine.example()
+    machine.bound_angles([300.0], linear=True)
+    machine.bound_angles([300.0], linear=False)
+    with pytest.raises(cm.InputError, match=key):
+        machine.bound_angles([300.0], **{key: bad})
+    with pytest.raises(cm.InputError, match=key):
+        machine.bound_laws(**{key: bad})
+
+
 def test_a_mechanism_without_its_kind_says_the_key_is_missing(tmp_path):
     text = (EXAMPLES / "stb_loom.toml").read_text("utf-8").replace('kind = "cam_stop"\n', "", 1)
     path = tmp_path / "m.toml"

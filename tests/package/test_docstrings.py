@@ -1,28 +1,14 @@
 """Every runnable example in the public docstrings runs and shows what it says."""
 
+import contextlib
 import doctest
 import importlib
 
 import pytest
 from analyzed_once import analyze_each_machine_once
+from example_calls import FirstCalls, docstrings_recording, package_modules
 
-
-def _modules() -> list[str]:
-    """Every module of the package, doors and private modules alike (a re-exported
-    object is doctested in the module that defines it)."""
-    import pkgutil
-
-    import cyclomech
-
-    names = [
-        m.name
-        for m in pkgutil.walk_packages(cyclomech.__path__, "cyclomech.")
-        if m.name not in ("cyclomech._core", "cyclomech.__main__")
-    ]
-    return sorted(names)
-
-
-MODULES = _modules()
+MODULES = package_modules()
 # Modules with nothing to show by example: the error classes, the TOML reader's
 # internals and the argument parser (tested through the CLI), and the domain doors,
 # which only re-export (their objects are doctested where they are defined).
@@ -45,18 +31,32 @@ def _is_door(name: str) -> bool:
 _ANALYSES: dict[str, bytes] = {}
 
 
+@pytest.fixture(scope="module")
+def recording(request: pytest.FixtureRequest) -> FirstCalls | None:
+    """The fuzz's valid calls, recorded while the examples run when the fuzz is in
+    this session (it runs after this file in the same worker and reads them:
+    example_calls.py), else None: the profiler slows the examples by about a third."""
+    fuzz = any(item.path.name == "test_fuzz_public.py" for item in request.session.items)
+    return docstrings_recording() if fuzz else None
+
+
 @pytest.mark.parametrize("name", MODULES)
-def test_docstring_examples(name: str) -> None:
+def test_docstring_examples(recording: FirstCalls | None, name: str) -> None:
     if "plot" in name or "report" in name:
         pytest.importorskip("matplotlib")
     module = importlib.import_module(name)
     # The same machine file's analysis is computed once per worker, not once per
     # example that opens with it (analyzed_once.py says why that is the same).
-    with analyze_each_machine_once(_ANALYSES):
+    with (
+        analyze_each_machine_once(_ANALYSES),
+        recording.recording() if recording is not None else contextlib.nullcontext(),
+    ):
         result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
     if name not in NO_EXAMPLES and not _is_door(name):
         assert result.attempted > 0, f"{name} has no examples"
     assert result.failed == 0
+    if recording is not None:
+        recording.ran(name)
 
 
 def test_every_public_function_has_an_example() -> None:

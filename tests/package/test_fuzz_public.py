@@ -13,25 +13,23 @@ numpy's errors, or a bare ``TypeError`` from ``float("x")`` deep inside, never.
 The valid calls are the docstring examples themselves: their examples all run
 (``test_docstrings.py``), so each public function, constructor and public method is
 called once by its own examples while a profiler records the arguments of that
-first call. Each argument is then replaced by each bad value of its kind (numbers:
-strings, bools, NaN, ±inf, None, a negative; counts: a float; flags: ``1`` and
-``"true"``; arrays: NaN entries, strings, bools, a wrong shape, an empty array;
-objects: a str, a dict, None), the others kept as recorded.
+first call (``example_calls.py``: recorded by ``test_docstrings.py`` as it runs the
+examples in the same worker, or by this file running them). Each argument is then
+replaced by each bad value of its kind (numbers: strings, bools, NaN, ±inf, None, a
+negative; counts: a float; flags: ``1`` and ``"true"``; arrays: NaN entries,
+strings, bools, a wrong shape, an empty array; objects: a str, a dict, None), the
+others kept as recorded.
 """
 
 from __future__ import annotations
 
 import contextlib
 import copy
-import doctest
-import importlib
 import inspect
 import math
 import os
 import signal
-import sys
 import tempfile
-import types
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, fields, is_dataclass
@@ -41,31 +39,9 @@ from typing import Any
 import cyclomech as cm
 import numpy as np
 import pytest
-from analyzed_once import analyze_each_machine_once
+from example_calls import PACKAGES, FirstCalls, Target, docstrings_calls, targets
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-PACKAGES = [
-    "cyclomech",
-    "cyclomech.cam",
-    "cyclomech.cyclogram",
-    "cyclomech.dynamics",
-    "cyclomech.forces",
-    "cyclomech.impact",
-    "cyclomech.linkage",
-    "cyclomech.machine",
-    "cyclomech.motion",
-    "cyclomech.press",
-    "cyclomech.servo",
-    "cyclomech.shaft",
-    "cyclomech.synthesis",
-    "cyclomech.transfer",
-]
-
-#: Docstring examples to skip when recording valid calls: they open plots that
-#: the plot modules' own examples already call, or they spawn worker processes.
-_SKIP_DOCSTRINGS = {"dask_client", "dask_workers"}
-
 
 #: Result classes: the library builds them from its kernels' arrays and a user reads
 #: them. Their constructors are not inputs (they are not fuzzed); their public
@@ -139,152 +115,6 @@ RESULT_CLASSES = {
     "cyclomech.transfer.QuinticTransition",
     "cyclomech.transfer.TransferDesign",
 }
-
-
-def _public_objects() -> list[tuple[str, Any]]:
-    """(qualified name, object) of every entry of every package's ``__all__`` and
-    of its ``plot`` module's, modules and exceptions left out."""
-    out: dict[int, tuple[str, Any]] = {}
-    for pkg in PACKAGES:
-        names = [pkg]
-        try:
-            importlib.import_module(pkg + ".plot")
-            names.append(pkg + ".plot")
-        except ModuleNotFoundError:
-            pass
-        for modname in names:
-            mod = importlib.import_module(modname)
-            for n in mod.__all__:
-                obj = getattr(mod, n)
-                if inspect.ismodule(obj) or isinstance(obj, types.GenericAlias):
-                    continue
-                if inspect.isclass(obj) and issubclass(obj, BaseException):
-                    continue
-                if not callable(obj) or n in _SKIP_DOCSTRINGS:
-                    continue
-                out.setdefault(id(obj), (f"{modname}.{n}", obj))
-    return sorted(out.values(), key=lambda t: t[0])
-
-
-@dataclass
-class Target:
-    """One public callable: how to call it and which code its examples run."""
-
-    name: str
-    func: Callable[..., Any]  # what the fuzz calls (the class for a constructor)
-    code: types.CodeType  # what the profiler watches
-    docs: list[Any]  # objects whose docstring examples call it
-    bound_self: bool = False  # a method: the recorded first argument is the instance
-
-
-def _code(f: Any) -> types.CodeType | None:
-    f = inspect.unwrap(f)
-    return getattr(f, "__code__", None)
-
-
-def _targets() -> list[Target]:
-    targets: list[Target] = []
-    for name, obj in _public_objects():
-        if inspect.isclass(obj):
-            if getattr(obj, "_is_protocol", False):
-                continue
-            init = obj.__dict__.get("__init__")
-            code = _code(init) if init is not None else None
-            if code is None:
-                # a dataclass's generated __init__ is in __dict__; else a parent's
-                for base in obj.__mro__[1:]:
-                    if base.__module__.startswith("cyclomech") and "__init__" in base.__dict__:
-                        code = _code(base.__dict__["__init__"])
-                        break
-            if code is not None and name not in RESULT_CLASSES:
-                targets.append(Target(name, obj, code, [obj, init]))
-            for attr, member in vars(obj).items():
-                if attr.startswith("_"):
-                    continue
-                static = isinstance(member, staticmethod)
-                if isinstance(member, classmethod | staticmethod):
-                    member = member.__func__
-                if not inspect.isfunction(member):
-                    continue
-                code = _code(member)
-                if code is None:
-                    continue
-                if static:
-                    targets.append(Target(f"{name}.{attr}", getattr(obj, attr), code, [member]))
-                else:
-                    targets.append(Target(f"{name}.{attr}", member, code, [member], True))
-        elif inspect.isfunction(obj) or hasattr(obj, "__wrapped__"):
-            code = _code(obj)
-            if code is not None:
-                targets.append(Target(name, obj, code, [obj]))
-    return targets
-
-
-def _run_examples(objs: list[Any], globs: dict[str, Any]) -> None:
-    finder = doctest.DocTestFinder(recurse=False)
-    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
-    for o in objs:
-        if o is None or not (getattr(o, "__doc__", None) or "").count(">>>"):
-            continue
-        mod = inspect.getmodule(o)
-        g = dict(vars(mod)) if mod is not None else dict(globs)
-        for test in finder.find(o, globs=g):
-            runner.run(test, out=lambda s: None)
-
-
-def _record(targets: list[Target]) -> dict[str, tuple[list[Any], dict[str, Any]]]:
-    """name -> (args, kwargs) of the first call the target's examples make."""
-    by_code: dict[types.CodeType, list[Target]] = {}
-    for t in targets:
-        by_code.setdefault(t.code, []).append(t)
-    seen: dict[types.CodeType, tuple[list[Any], dict[str, Any]]] = {}
-    wanted: set[types.CodeType] = set()
-
-    def prof(frame: types.FrameType, event: str, arg: Any) -> None:
-        if event != "call" or frame.f_code not in wanted or frame.f_code in seen:
-            return
-        code = frame.f_code
-        loc = frame.f_locals
-        n = code.co_argcount
-        k = code.co_kwonlyargcount
-        names = code.co_varnames[: n + k]
-        args = [loc[v] for v in names[:n]]
-        kwargs = {v: loc[v] for v in names[n:]}
-        i = n + k
-        if code.co_flags & inspect.CO_VARARGS:
-            args += list(loc[code.co_varnames[i]])
-            i += 1
-        if code.co_flags & inspect.CO_VARKEYWORDS:
-            kwargs.update(loc[code.co_varnames[i]])
-        try:
-            rec = copy.deepcopy((args, kwargs))
-        except Exception:
-            rec = (args, kwargs)
-        seen[code] = rec
-
-    wanted.update(by_code)
-    docs: dict[int, Any] = {}
-    for t in targets:
-        for d in t.docs:
-            docs.setdefault(id(d), d)
-    import matplotlib.pyplot as plt
-
-    sys.setprofile(prof)
-    try:
-        # A repeated analysis of one machine is a copy of the first (analyzed_once.py):
-        # the first call of every callable inside it is recorded by the first one.
-        with warnings.catch_warnings(), analyze_each_machine_once():
-            warnings.simplefilter("ignore")
-            for d in docs.values():
-                _run_examples([d], {})
-                plt.close("all")
-    finally:
-        sys.setprofile(None)
-    out = {}
-    for t in targets:
-        if t.code in seen:
-            out[t.name] = seen[t.code]
-    return out
 
 
 # ---------------------------------------------------------------------------
@@ -572,13 +402,20 @@ def _fuzz_here(t: Target, calls: Any, plt: Any) -> list[Outcome]:
 
 @pytest.fixture(scope="module")
 def recorded() -> Iterator[tuple[list[Target], dict[str, tuple[list[Any], dict[str, Any]]]]]:
-    """The targets and their valid calls; the examples name files from the
-    repository's root, as a user there does."""
+    """The targets and their valid calls: those ``test_docstrings.py`` recorded in
+    this process if it ran every module's examples here, else those of the
+    targets' own examples, run now (example_calls.py); the examples name files
+    from the repository's root, as a user there does."""
     here = os.getcwd()
     os.chdir(Path(__file__).resolve().parents[2])
     try:
-        targets = _targets()
-        yield targets, _record(targets)
+        found = targets(RESULT_CLASSES)
+        calls = docstrings_calls(found)
+        if calls is None:
+            own = FirstCalls(frozenset(t.code for t in found))
+            own.run_examples(found)
+            calls = own.calls(found)
+        yield found, calls
     finally:
         os.chdir(here)
 

@@ -21,7 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import _core
-from .._arrays import finite_number, float_array, positive, speeds_rpm, threads_arg
+from .._arrays import count, finite_number, float_array, positive, real, speeds_rpm, threads_arg
 from .._errors import InputError
 from .._units import RAD_PER_S_PER_RPM
 from ._followers import OscillatingRoller
@@ -460,7 +460,11 @@ def bound_segments(cam: Cam, segments: Any) -> tuple[int, ...]:
     if segments is None:
         idx = tuple(i for i in moving if scalable[i])
     else:
-        idx = tuple(int(i) for i in np.atleast_1d(np.asarray(segments)).reshape(-1))
+        # count: a float, bool or string index is refused, not truncated or read
+        idx = tuple(
+            count("segments", i, low=0, what="the index of a rise or return")
+            for i in np.atleast_1d(np.asarray(segments)).reshape(-1)
+        )
         for i in idx:
             if i not in moving:
                 raise InputError(
@@ -488,7 +492,7 @@ def _vibration_deg(cam: Cam, idx: tuple[int, ...], rpm: Array, vibration: Any) -
     from ._vibration import min_vibration_tau
 
     try:
-        f, zeta, a = (float(v) for v in vibration)
+        f, zeta, a = (real(v) for v in vibration)  # a string is not a number
     except (TypeError, ValueError):
         raise InputError(
             "vibration must be (natural frequency [Hz], damping ratio, amplitude limit "

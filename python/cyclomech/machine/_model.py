@@ -18,6 +18,7 @@ from .._arrays import (
     SPEED_CAP_RPM,
     count,
     finite_number,
+    flag,
     instance,
     instances,
     speed_rtol,
@@ -642,8 +643,11 @@ class Machine:
         >>> np.round(law(np.array([300.0])), 2).tolist()
         [30.03]
         """
+        # Checked before the cache is asked: 1 == True would find the linear laws.
+        linear = flag("linear", linear)
+        threads = threads_arg(n_threads)
         if linear not in self._laws:
-            self._laws[linear] = _laws([self], linear, threads_arg(n_threads))[0]
+            self._laws[linear] = _laws([self], linear, threads)[0]
         return self._laws[linear]
 
     def bound_angles(
