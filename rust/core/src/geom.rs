@@ -272,9 +272,7 @@ pub(crate) fn sin_cos_near_lanes<const L: usize>(
     for l in 0..L {
         let z = d[l] * d[l];
         // sin d = d + d·z·(−1/6 + z/120 − z²/5040); cos d − 1 = z·(−1/2 + z/24 − z²/720).
-        let ps = z
-            .mul_add(-1.0 / 5040.0, 1.0 / 120.0)
-            .mul_add(z, -1.0 / 6.0);
+        let ps = z.mul_add(-1.0 / 5040.0, 1.0 / 120.0).mul_add(z, -1.0 / 6.0);
         let sd = (d[l] * z).mul_add(ps, d[l]);
         let cm = z * z.mul_add(-1.0 / 720.0, 1.0 / 24.0).mul_add(z, -0.5);
         sn[l] = ca.mul_add(sd, sa.mul_add(cm, sa));

@@ -405,15 +405,15 @@ impl pulp::WithSimd for Rows<'_> {
             }
             let near = anchors.map(|a| a[g % ANCHOR_GROUPS]);
             let at = g * GROUP..(g + 1) * GROUP;
+            let path = if fast { Path::Fast(near) } else { Path::Lanes };
             finite &= group_rows(
                 simd,
                 cam,
-                fast,
+                path,
                 tg,
                 og,
                 part(flags, at.clone()),
                 part(theta_copy, at),
-                near,
             );
         }
         // The tail (fewer than a group) padded to a whole group, so that every
@@ -424,15 +424,15 @@ impl pulp::WithSimd for Rows<'_> {
             tg[..tail.len()].copy_from_slice(tail);
             let mut block = [0.0; BLOCK];
             let at = n_full * GROUP..theta.len();
+            let path = if fast { Path::Fast(None) } else { Path::Lanes };
             let ok = group_rows(
                 simd,
                 cam,
-                fast,
+                path,
                 &tg,
                 &mut block,
                 part(flags, at.clone()),
                 part(theta_copy, at),
-                None,
             );
             if ok {
                 rest.copy_from_slice(&block[..rest.len()]);
@@ -441,6 +441,14 @@ impl pulp::WithSimd for Rows<'_> {
         }
         finite
     }
+}
+
+/// How [`group_rows`] computes a group: [`Mode::Lanes`], or [`Mode::Fast`]
+/// with the group's anchor for θ's sine and cosine, if it has one.
+#[derive(Clone, Copy)]
+enum Path {
+    Lanes,
+    Fast(Option<Anchor>),
 }
 
 /// One group of [`Rows`]: the rows of the angles `tg` into `block` (8 × 14
@@ -452,17 +460,16 @@ impl pulp::WithSimd for Rows<'_> {
 fn group_rows<S: pulp::Simd>(
     simd: S,
     cam: &Cam,
-    fast: bool,
+    path: Path,
     tg: &[f64; GROUP],
     block: &mut [f64; GROUP * N_COLUMNS],
     flags: &mut [bool],
     theta_copy: &mut [f64],
-    near: Option<Anchor>,
 ) -> bool {
     if !tg.iter().fold(true, |ok, t| ok & t.is_finite()) {
         return false;
     }
-    if fast {
+    if let Path::Fast(near) = path {
         cam.program.eval_lanes_fast_then(
             tg,
             FastGroup {

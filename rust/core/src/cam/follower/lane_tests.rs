@@ -388,7 +388,6 @@ fn right_atan2_on_a_dense_grid_at_its_reduction_edges_and_special_values() {
     assert!(super::atan2_right_lanes(&[1.0], &[f64::NAN])[0].is_nan());
 }
 
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
     #[test]
