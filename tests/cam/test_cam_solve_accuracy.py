@@ -1,10 +1,13 @@
 """``Cam.solve``'s fast kernel (issue 37 row 4, round 2: fused multiply-adds, the
 law's sine and cosine once for four orders, one reciprocal, a one-division
-arctangent) against closed forms written with numpy: every output of a translating
-offset roller on a cycloidal rise–dwell–return–dwell, on sorted grids (the lane
-path) and shuffled ones, within 1e-12 of each output's scale (curvature for the
-radii, which pass through infinity at an inflection); the undercut flags the
-kernel writes beside the rows are its undercut column."""
+arctangent; round 6: a translating roller without its zero terms, a shorter
+arctangent polynomial, θ's sine and cosine rotated from an anchor where the angles
+are dense, as in the 200 003-angle grid below) against closed forms written with
+numpy: every output of a translating offset roller on a cycloidal
+rise–dwell–return–dwell, on sorted grids (the lane path) and shuffled ones, within
+1e-12 of each output's scale (curvature for the radii, which pass through infinity
+at an inflection); the undercut flags the kernel writes beside the rows are its
+undercut column."""
 
 from __future__ import annotations
 

@@ -5,8 +5,8 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use rayon::prelude::*;
 
-use super::program::{CamError, Program};
-use crate::geom::{sin_cos_fma_lanes, sin_cos_lanes};
+use super::program::{CamError, LanesSink, Program};
+use crate::geom::{sin_cos_fma_lanes, sin_cos_lanes, sin_cos_near_lanes};
 use crate::input::InvalidInput;
 use crate::parallel::{pool, resolve_threads};
 
@@ -40,13 +40,19 @@ enum Mode {
     /// Every column; the pressure angle by the inlined [`atan2_lanes`].
     Lanes,
     /// [`Mode::Lanes`] for a kernel compiled with FMA: fused multiply-adds,
-    /// θ's sine and cosine by [`sin_cos_fma_lanes`], the law's sinusoid once
-    /// (`Program::eval_lanes_fast`), one reciprocal of the pitch speed, the
-    /// pitch radius as −(|T|²/k)·|T| and the pressure angle by
-    /// [`atan2_fast_lanes`] of the unscaled normal (neither waits for the
-    /// square root): within 1e-13 of each
-    /// output's scale (curvature for the radii) of [`Mode::Platform`]'s
-    /// (tested), about half the work of [`Mode::Lanes`].
+    /// θ's sine and cosine by [`sin_cos_fma_lanes`] or, where the lane
+    /// group lies within [`NEAR_RAD`](crate::geom::NEAR_RAD) of its
+    /// [`Anchor`], rotated from the anchor's ([`sin_cos_near_lanes`]), the
+    /// law's sinusoid once (`Program::eval_lanes_fast_then`), one reciprocal
+    /// of the pitch speed, the pitch radius as −(|T|²/k)·|T| and the pressure
+    /// angle by [`atan2_fast_lanes`] of the unscaled normal (neither waits
+    /// for the square root); a translating roller by
+    /// [`Cam::translating_fast`] (its zero terms dropped, the pressure angle
+    /// by [`atan2_right_lanes`]). Within 1e-13 of each output's scale
+    /// (curvature for the radii) of [`Mode::Platform`]'s (tested), about
+    /// half the work of [`Mode::Lanes`]; the same bits on every instruction
+    /// set, but an angle's bits depend on its anchor (the first angle of its
+    /// run of [`ANCHOR_GROUPS`] groups), not on the angle alone.
     Fast,
     /// Every column; the pressure angle by the platform's `atan2`.
     Platform,
@@ -275,6 +281,68 @@ fn platform_atan2(y: f64, x: f64) -> f64 {
     y.atan2(x)
 }
 
+// atan w = w − w·z·P(z), z = w², on |w| ≤ tan(π/8): P of degree 8, fitted by
+// least squares on Chebyshev nodes in 40-digit arithmetic (its error 2.4e-16
+// absolute at most on the interval, against fdlibm's degree 10 for |w| < 7/16).
+#[allow(clippy::excessive_precision)]
+const AT_SHORT: [f64; 9] = [
+    0.333_333_333_331_451_5,
+    -0.199_999_999_658_150_57,
+    0.142_857_119_541_588_3,
+    -0.111_110_290_702_336_69,
+    0.090_892_171_020_029_1,
+    -0.076_706_048_215_711_52,
+    0.064_898_628_793_205_32,
+    -0.049_766_422_130_405_4,
+    0.024_714_823_887_357_16,
+];
+
+/// atan2(y, x) [rad] for x > 0 (the pressure angle of a translating roller,
+/// whose x is the lift R + s > 0) for `L` lanes: [`atan2_fast_lanes`]
+/// without the left half-plane, the sign of y copied onto atan(|y|/x), and
+/// the shorter polynomial [`AT_SHORT`] on the same reduction (|w| ≤
+/// tan(π/8)). Lanes with x not > 0, an infinite, NaN or huge (> 1e300)
+/// argument take the platform's `atan2`. Within 2 ulp and 4e-16 of the
+/// platform (tested), not bit for bit [`atan2_fast_lanes`].
+#[inline(always)]
+fn atan2_right_lanes<const L: usize>(y: &[f64; L], x: &[f64; L]) -> [f64; L] {
+    const TAN_PI_8: f64 = std::f64::consts::SQRT_2 - 1.0;
+    const SIGN: u64 = 1 << 63;
+    let mut out = [0.0; L];
+    let mut special = false;
+    for l in 0..L {
+        let ay = y[l].abs();
+        let (u, v) = (x[l].min(ay), x[l].max(ay));
+        special |= !((x[l] > 0.0) & (v < 1e300) & !y[l].is_nan());
+        let big = u > TAN_PI_8 * v;
+        let w = pick(big, u - v, u) / pick(big, u + v, v);
+        let z = w * w;
+        let zz = z * z;
+        let a = &AT_SHORT;
+        let even = zz
+            .mul_add(a[8], a[6])
+            .mul_add(zz, a[4])
+            .mul_add(zz, a[2])
+            .mul_add(zz, a[0]);
+        let odd = zz.mul_add(a[7], a[5]).mul_add(zz, a[3]).mul_add(zz, a[1]);
+        let q = z.mul_add(odd, even);
+        let (hi, lo) = (pick(big, FRAC_PI_4, 0.0), pick(big, ATAN_LO[1], 0.0));
+        let t = hi - ((w * z).mul_add(q, -lo) - w);
+        // t ≥ 0 (+0 for y = ±0): y's sign bit is atan2's sign.
+        let t = pick(ay > x[l], (FRAC_PI_2 - t) + PIO2_LO, t);
+        out[l] = f64::from_bits(t.to_bits() | (y[l].to_bits() & SIGN));
+    }
+    if special {
+        for l in 0..L {
+            let v = x[l].max(y[l].abs());
+            if !((x[l] > 0.0) & (v < 1e300) & !y[l].is_nan()) {
+                out[l] = platform_atan2(y[l], x[l]);
+            }
+        }
+    }
+    out
+}
+
 /// One parallel chunk of [`Cam::solve_flags_into`]: its rows, angles, flags
 /// and copy of the angles (empty where not asked for).
 type Chunk<'a> = (&'a mut [f64], &'a [f64], &'a mut [bool], &'a mut [f64]);
@@ -324,6 +392,7 @@ impl pulp::WithSimd for Rows<'_> {
         }
         let mut finite = true;
         let n_full = theta.len() / GROUP;
+        let mut anchors = None;
         let (full, rest) = out.split_at_mut(n_full * BLOCK);
         let mut groups = theta.chunks_exact(GROUP);
         for (g, (tg, og)) in (&mut groups).zip(full.chunks_exact_mut(BLOCK)).enumerate() {
@@ -331,11 +400,16 @@ impl pulp::WithSimd for Rows<'_> {
             let Ok(og) = <&mut [f64; BLOCK]>::try_from(og) else {
                 continue;
             };
+            if fast && g % ANCHOR_GROUPS == 0 {
+                anchors = anchors_at(theta, g);
+            }
+            let near = anchors.map(|a| a[g % ANCHOR_GROUPS]);
             let at = g * GROUP..(g + 1) * GROUP;
+            let path = if fast { Path::Fast(near) } else { Path::Lanes };
             finite &= group_rows(
                 simd,
                 cam,
-                fast,
+                path,
                 tg,
                 og,
                 part(flags, at.clone()),
@@ -350,10 +424,11 @@ impl pulp::WithSimd for Rows<'_> {
             tg[..tail.len()].copy_from_slice(tail);
             let mut block = [0.0; BLOCK];
             let at = n_full * GROUP..theta.len();
+            let path = if fast { Path::Fast(None) } else { Path::Lanes };
             let ok = group_rows(
                 simd,
                 cam,
-                fast,
+                path,
                 &tg,
                 &mut block,
                 part(flags, at.clone()),
@@ -368,6 +443,14 @@ impl pulp::WithSimd for Rows<'_> {
     }
 }
 
+/// How [`group_rows`] computes a group: [`Mode::Lanes`], or [`Mode::Fast`]
+/// with the group's anchor for θ's sine and cosine, if it has one.
+#[derive(Clone, Copy)]
+enum Path {
+    Lanes,
+    Fast(Option<Anchor>),
+}
+
 /// One group of [`Rows`]: the rows of the angles `tg` into `block` (8 × 14
 /// values), their undercut flags into `flags` and `tg` into `theta_copy` (each
 /// as many as it holds: none, or the group's angles); false, and nothing
@@ -377,7 +460,7 @@ impl pulp::WithSimd for Rows<'_> {
 fn group_rows<S: pulp::Simd>(
     simd: S,
     cam: &Cam,
-    fast: bool,
+    path: Path,
     tg: &[f64; GROUP],
     block: &mut [f64; GROUP * N_COLUMNS],
     flags: &mut [bool],
@@ -386,15 +469,115 @@ fn group_rows<S: pulp::Simd>(
     if !tg.iter().fold(true, |ok, t| ok & t.is_finite()) {
         return false;
     }
-    let cols = cam.lanes(tg, fast);
-    store_rows(simd, &cols, block);
-    for (f, &u) in flags.iter_mut().zip(&cols[13]) {
-        *f = u != 0.0;
+    if let Path::Fast(near) = path {
+        cam.program.eval_lanes_fast_then(
+            tg,
+            FastGroup {
+                simd,
+                cam,
+                theta: tg,
+                block,
+                flags,
+                near,
+            },
+        );
+    } else {
+        let cols = cam.geometry(tg, cam.program.eval_lanes(tg), Mode::Lanes, None);
+        finish_rows(simd, &cols, block, flags);
     }
     for (c, &t) in theta_copy.iter_mut().zip(tg) {
         *c = t;
     }
     true
+}
+
+/// A group's rows into its block and its undercut flags into `flags` (empty:
+/// not asked for).
+#[inline(always)]
+fn finish_rows<S: pulp::Simd>(
+    simd: S,
+    cols: &[[f64; GROUP]; N_COLUMNS],
+    block: &mut [f64; GROUP * N_COLUMNS],
+    flags: &mut [bool],
+) {
+    store_rows(simd, cols, block);
+    for (f, &u) in flags.iter_mut().zip(&cols[13]) {
+        *f = u != 0.0;
+    }
+}
+
+/// [`group_rows`] in [`Mode::Fast`] from the lanes [s, s′, s″, s‴]: the
+/// sink of [`Program::eval_lanes_fast_then`], so that the geometry and the
+/// stores are inlined into each of its branches.
+struct FastGroup<'a, S> {
+    simd: S,
+    cam: &'a Cam,
+    theta: &'a [f64; GROUP],
+    block: &'a mut [f64; GROUP * N_COLUMNS],
+    flags: &'a mut [bool],
+    /// The group's anchor for θ's sine and cosine (see [`Anchor`]).
+    near: Option<Anchor>,
+}
+
+/// An angle θ [rad] near a lane group's and its sine and cosine, from which
+/// [`sin_cos_near_lanes`] rotates: the first angle of a group, taken eight
+/// groups at a time in one register ([`ANCHOR_GROUPS`]).
+#[derive(Clone, Copy)]
+struct Anchor {
+    theta: f64,
+    sin: f64,
+    cos: f64,
+}
+
+/// Lane groups sharing one register of anchors.
+const ANCHOR_GROUPS: usize = 8;
+
+/// The anchors of the lane groups `g`, …, `g` + [`ANCHOR_GROUPS`] − 1 of
+/// `theta` (past its last whole group, that group's): each group's first
+/// angle, their sines and cosines by one [`sin_cos_fma_lanes`] (the work of
+/// one group's, shared by eight). `None` where an anchor is not within
+/// 10⁶ rad (that kernel's range) or is NaN.
+#[inline(always)]
+fn anchors_at(theta: &[f64], g: usize) -> Option<[Anchor; ANCHOR_GROUPS]> {
+    let last = (theta.len() / GROUP).checked_sub(1)?;
+    let mut a = [0.0; ANCHOR_GROUPS];
+    for (j, v) in a.iter_mut().enumerate() {
+        *v = theta[(g + j).min(last) * GROUP];
+    }
+    if !a.iter().fold(true, |ok, v| ok & (v.abs() <= 1e6)) {
+        return None;
+    }
+    let (sn, cs) = sin_cos_fma_lanes(&a);
+    Some(std::array::from_fn(|j| Anchor {
+        theta: a[j],
+        sin: sn[j],
+        cos: cs[j],
+    }))
+}
+
+impl<S: pulp::Simd> LanesSink<GROUP> for FastGroup<'_, S> {
+    type Out = ();
+
+    #[inline(always)]
+    fn take(self, sv: [[f64; GROUP]; 4]) {
+        let FastGroup {
+            simd,
+            cam,
+            theta,
+            block,
+            flags,
+            near,
+        } = self;
+        let cols = match cam.follower {
+            Follower::TranslatingRoller {
+                roller_radius,
+                offset,
+                ..
+            } => cam.translating_fast(theta, sv, offset, roller_radius, near),
+            _ => cam.geometry(theta, sv, Mode::Fast, near),
+        };
+        finish_rows(simd, &cols, block, flags);
+    }
 }
 
 /// A group's 14 columns of 8 lanes stored as its 8 rows of 14 (`block`, 112
@@ -563,7 +746,7 @@ impl Cam {
     /// search's trial segment).
     #[inline]
     pub fn row_at(&self, theta: f64, sv: [f64; 4], out: &mut [f64]) {
-        let cols = self.geometry(&[theta], sv.map(|v| [v]), Mode::Platform);
+        let cols = self.geometry(&[theta], sv.map(|v| [v]), Mode::Platform, None);
         for (o, c) in out[..N_COLUMNS].iter_mut().zip(cols) {
             *o = c[0];
         }
@@ -575,19 +758,8 @@ impl Cam {
     /// searches' inner loop (no sine, cosine or arctangent of an angle).
     #[inline]
     pub(super) fn lean_row(&self, sv: [f64; 4]) -> [f64; N_COLUMNS] {
-        self.geometry(&[0.0], sv.map(|v| [v]), Mode::Lean)
+        self.geometry(&[0.0], sv.map(|v| [v]), Mode::Lean, None)
             .map(|c| c[0])
-    }
-
-    /// The rows of `L` cam angles θ [rad], column by column (see
-    /// [`Cam::geometry`]).
-    #[inline(always)]
-    fn lanes<const L: usize>(&self, theta: &[f64; L], fast: bool) -> [[f64; L]; N_COLUMNS] {
-        if fast {
-            self.geometry(theta, self.program.eval_lanes_fast(theta), Mode::Fast)
-        } else {
-            self.geometry(theta, self.program.eval_lanes(theta), Mode::Lanes)
-        }
     }
 
     /// The rows of `L` cam angles θ [rad] for their [s, s′, s″, s‴] lanes `sv`,
@@ -605,6 +777,7 @@ impl Cam {
         theta: &[f64; L],
         sv: [[f64; L]; 4],
         mode: Mode,
+        near: Option<Anchor>,
     ) -> [[f64; L]; N_COLUMNS] {
         // `each!(i => e)`: the lanes [e(0), …, e(L − 1)] by a plain loop (a
         // closure the compiler kept out of line would lose the instruction set).
@@ -719,8 +892,15 @@ impl Cam {
             ]
         };
         let lean = mode == Mode::Lean;
+        // θ's: in the fast mode rotated from the group's anchor where it is
+        // near (see [`Anchor`]).
+        let rotated = near
+            .filter(|_| fast)
+            .and_then(|a| sin_cos_near_lanes(theta, a.theta, a.sin, a.cos));
         let (sn, cs) = if lean {
             ([f64::NAN; L], [f64::NAN; L])
+        } else if let Some(v) = rotated {
+            v
         } else {
             sincos!(theta)
         };
@@ -784,6 +964,86 @@ impl Cam {
         [
             s, ds, dds, ddds, pitch[0], pitch[1], profile[0], profile[1], outer[0], outer[1], phi,
             rho_p, rho_q, undercut,
+        ]
+    }
+
+    /// [`Cam::geometry`] in [`Mode::Fast`] for a translating roller (offset
+    /// `e`, roller radius `rr` [m]), without the terms that are 0 for it (0·x,
+    /// 0 − x, which IEEE rules keep in the general form): C = (e, R + s), so
+    /// T = (R + s, s′ − e), A = (2s′ − e, s″ − R − s), and the pressure angle
+    /// atan2(s′ − e, R + s) by [`atan2_right_lanes`] (R + s > 0). Every other
+    /// column is the general form's, bit for bit; the pressure angle within
+    /// 2 ulp and 4e-16 of it.
+    #[inline(always)]
+    fn translating_fast<const L: usize>(
+        &self,
+        theta: &[f64; L],
+        sv: [[f64; L]; 4],
+        e: f64,
+        rr: f64,
+        near: Option<Anchor>,
+    ) -> [[f64; L]; N_COLUMNS] {
+        macro_rules! each {
+            ($i:ident => $e:expr) => {{
+                let mut a = [0.0; L];
+                for $i in 0..L {
+                    a[$i] = $e;
+                }
+                a
+            }};
+        }
+        let [s, ds, dds, ddds] = sv;
+        let st = self.start;
+        let lift = each!(i => st + s[i]);
+        let t = [lift, each!(i => ds[i] - e)];
+        let acc = [each!(i => 2.0 * ds[i] - e), each!(i => dds[i] - lift[i])];
+        let speed2 = each!(i => t[0][i].mul_add(t[0][i], t[1][i] * t[1][i]));
+        let speed = each!(i => speed2[i].sqrt());
+        let k = each!(i => t[0][i].mul_add(acc[1][i], -(t[1][i] * acc[0][i])));
+        let rho_p = each!(i => pick(k[i] == 0.0, f64::INFINITY, -(speed2[i] / k[i]) * speed[i]));
+        let inv = each!(i => 1.0 / speed[i]);
+        let n = [each!(i => -t[1][i] * inv[i]), each!(i => t[0][i] * inv[i])];
+        let rotated = near.and_then(|a| sin_cos_near_lanes(theta, a.theta, a.sin, a.cos));
+        let (sn, cs) = match rotated {
+            Some(v) => v,
+            None if theta.iter().fold(true, |ok, v| ok & (v.abs() <= 1e6)) => {
+                sin_cos_fma_lanes(theta)
+            }
+            None => sin_cos_lanes(theta),
+        };
+        macro_rules! to_cam {
+            ($x:expr, $y:expr) => {{
+                let (x, y): ([f64; L], [f64; L]) = ($x, $y);
+                [
+                    each!(i => x[i].mul_add(cs[i], y[i] * sn[i])),
+                    each!(i => (-x[i]).mul_add(sn[i], y[i] * cs[i])),
+                ]
+            }};
+        }
+        let pitch = to_cam!([e; L], lift);
+        let profile = to_cam!(
+            each!(i => e - rr * n[0][i]),
+            each!(i => lift[i] - rr * n[1][i])
+        );
+        let outer = if self.groove {
+            to_cam!(
+                each!(i => e + rr * n[0][i]),
+                each!(i => lift[i] + rr * n[1][i])
+            )
+        } else {
+            [[f64::NAN; L]; 2]
+        };
+        let phi = atan2_right_lanes(&t[1], &lift);
+        let groove = self.groove;
+        let cusp = each!(i => {
+            let inner = (rr > 0.0) & (rho_p[i] > 0.0) & (rho_p[i] < rr);
+            let outer = groove & (rr > 0.0) & (rho_p[i] < 0.0) & (-rho_p[i] < rr);
+            pick(inner | outer, 1.0, 0.0)
+        });
+        let rho_q = each!(i => rho_p[i] - rr);
+        [
+            s, ds, dds, ddds, pitch[0], pitch[1], profile[0], profile[1], outer[0], outer[1], phi,
+            rho_p, rho_q, cusp,
         ]
     }
 

@@ -98,7 +98,7 @@ struct Seg {
     /// Signed stroke: + for a rise, − for a return, 0 for a dwell.
     h: f64,
     law: Option<Law>,
-    /// 1/angle and h/angle^n for n = 1, 2, 3: [`Program::eval_lanes_fast`]
+    /// 1/angle and h/angle^n for n = 1, 2, 3: [`Program::eval_lanes_fast_then`]
     /// multiplies where [`Program::eval`] divides.
     inv_angle: f64,
     h_per: [f64; 3],
@@ -110,6 +110,16 @@ pub struct Program {
     segs: Vec<Seg>,
     s_min: f64,
     s_max: f64,
+}
+
+/// What takes a lane group's [s, s′, s″, s‴] from
+/// [`Program::eval_lanes_fast_then`] (a trait, not a closure: a closure kept
+/// out of line would lose the caller's instruction set).
+pub(super) trait LanesSink<const L: usize> {
+    /// What the work on the lanes gives.
+    type Out;
+    /// The work on the lanes `sv` = [s, s′, s″, s‴].
+    fn take(self, sv: [[f64; L]; 4]) -> Self::Out;
 }
 
 impl Program {
@@ -303,17 +313,27 @@ impl Program {
     }
 
     /// [`Program::eval_lanes`] for a kernel compiled with FMA (see
-    /// [`Law::z_all_lanes_shared`]): the law's sinusoid once for the four
-    /// orders, fused multiply-adds, and each division by the segment's angle
-    /// a multiplication by a reciprocal taken once. Within 1e-13 of each
-    /// order's scale of [`Program::eval`] (tested), not bit for bit.
+    /// [`Law::z_all_lanes_shared`]), handed to `sink`: the law's sinusoid
+    /// once for the four orders, fused multiply-adds, and each division by
+    /// the segment's angle a multiplication by a reciprocal taken once.
+    /// Within 1e-13 of each order's scale of [`Program::eval`] (tested), not
+    /// bit for bit. `sink` takes the lanes on the branch that computed them
+    /// (a dwell, a law, or the angles one by one), so that the caller's work
+    /// on them is inlined into each branch: where the branches joined and
+    /// the lanes were returned, the compiler passed them through the stack
+    /// and reading them back waited on the stores (a tenth of the cam
+    /// kernel's samples in a profile, at the first use of s).
     #[inline(always)]
-    pub(super) fn eval_lanes_fast<const L: usize>(&self, theta: &[f64; L]) -> [[f64; L]; 4] {
+    pub(super) fn eval_lanes_fast_then<const L: usize, K: LanesSink<L>>(
+        &self,
+        theta: &[f64; L],
+        sink: K,
+    ) -> K::Out {
         let Some(g) = self.lanes_segment(theta) else {
-            return self.eval_each(theta);
+            return sink.take(self.eval_each(theta));
         };
         match &g.law {
-            None => [[g.s0; L], [0.0; L], [0.0; L], [0.0; L]],
+            None => sink.take([[g.s0; L], [0.0; L], [0.0; L], [0.0; L]]),
             Some(law) => {
                 let mut x = [0.0; L];
                 for l in 0..L {
@@ -328,7 +348,7 @@ impl Program {
                     out[2][l] = d2 * z2[l];
                     out[3][l] = d3 * z3[l];
                 }
-                out
+                sink.take(out)
             }
         }
     }

@@ -1,12 +1,13 @@
 //! The lane forms of the cam kernel (sin_cos, atan2, the rows) against the
-//! scalar ones: bit for bit, per instruction set.
+//! scalar ones: bit for bit per instruction set, and [`Mode::Fast`] within a
+//! tolerance of them (its bits alike on every instruction set).
 
 use proptest::prelude::*;
 use std::f64::consts::TAU;
 
 use super::*;
 use crate::cam::{Kind, SegmentSpec};
-use crate::geom::sin_cos;
+use crate::geom::{sin_cos, NEAR_RAD};
 
 #[test]
 fn sin_cos_lanes_is_geom_sin_cos_bit_for_bit() {
@@ -228,10 +229,163 @@ fn check_fast_rows(cam: &Cam, theta: &[f64]) -> Result<(), String> {
 
 #[test]
 fn fast_rows_are_row_at_within_a_tolerance_of_scale_on_every_instruction_set() {
-    let theta = test_angles();
+    // The test angles, then a grid dense enough that every group lies near
+    // its anchor (θ's sine and cosine rotated from it; asserted below).
+    let dense: Vec<f64> = (0..30_000).map(|i| i as f64 * TAU / 30_000.0).collect();
+    assert!((ANCHOR_GROUPS * GROUP) as f64 * TAU / 30_000.0 < NEAR_RAD);
     for cam in cams() {
-        check_fast_rows(&cam, &theta).unwrap();
+        check_fast_rows(&cam, &test_angles()).unwrap();
+        check_fast_rows(&cam, &dense).unwrap();
     }
+}
+
+/// The kernel's anchors for `theta` as one chunk: each whole group's.
+fn anchors_of(theta: &[f64]) -> Vec<Option<Anchor>> {
+    let mut out = Vec::new();
+    let mut anchors = None;
+    for g in 0..theta.len() / GROUP {
+        if g % ANCHOR_GROUPS == 0 {
+            anchors = anchors_at(theta, g);
+        }
+        out.push(anchors.map(|a| a[g % ANCHOR_GROUPS]));
+    }
+    out
+}
+
+#[test]
+fn rotated_sin_cos_on_a_million_angles_is_within_4_eps_of_sin_cos() {
+    // The bench's grid over a turn, as the kernel anchors it (chunks of
+    // CHUNK angles), and a grid around 1e5 rad: every group rotated from its
+    // anchor; each sine and cosine within 4ε of geom::sin_cos (fdlibm's
+    // kernels, within an ulp of the platform).
+    let turn: Vec<f64> = (0..1_000_000).map(|i| i as f64 * TAU / 1e6).collect();
+    let far: Vec<f64> = (0..100_000).map(|i| 1e5 + i as f64 * 1e-4).collect();
+    let mut worst = 0.0f64;
+    for theta in [turn, far] {
+        for chunk in theta.chunks(CHUNK) {
+            for (tg, near) in chunk.chunks_exact(GROUP).zip(anchors_of(chunk)) {
+                let tg: &[f64; GROUP] = tg.try_into().unwrap();
+                let a = near.expect("an anchor for every group");
+                let (sn, cs) = sin_cos_near_lanes(tg, a.theta, a.sin, a.cos)
+                    .expect("every group near its anchor");
+                for l in 0..GROUP {
+                    let (s0, c0) = sin_cos(tg[l]);
+                    worst = worst.max((sn[l] - s0).abs()).max((cs[l] - c0).abs());
+                }
+            }
+        }
+    }
+    eprintln!("rotated sin_cos: worst {:.2} ε", worst / f64::EPSILON);
+    assert!(worst <= 4.0 * f64::EPSILON, "worst {worst:e}");
+}
+
+#[test]
+fn rotated_sin_cos_declines_far_or_nan_lanes_and_anchors_refuse_wide_angles() {
+    let a = 0.3f64;
+    let (sa, ca) = a.sin_cos();
+    let mut x = [a; 8];
+    x[5] = a + NEAR_RAD;
+    assert!(sin_cos_near_lanes(&x, a, sa, ca).is_some());
+    x[5] = (a + NEAR_RAD).next_up();
+    assert!(sin_cos_near_lanes(&x, a, sa, ca).is_none());
+    x[5] = a - 2.0 * NEAR_RAD;
+    assert!(sin_cos_near_lanes(&x, a, sa, ca).is_none());
+    x[5] = f64::NAN;
+    assert!(sin_cos_near_lanes(&x, a, sa, ca).is_none());
+    // An anchor beyond 1e6 rad (the fused kernel's range) or NaN: none for
+    // the eight groups; fewer than a group: none.
+    let mut theta = vec![1.0; 8 * GROUP];
+    assert!(anchors_at(&theta, 0).is_some());
+    theta[7 * GROUP] = 2e6;
+    assert!(anchors_at(&theta, 0).is_none());
+    theta[7 * GROUP] = f64::NAN;
+    assert!(anchors_at(&theta, 0).is_none());
+    assert!(anchors_at(&theta[..GROUP - 1], 0).is_none());
+}
+
+proptest! {
+    #[test]
+    fn rotated_sin_cos_anywhere_near_an_anchor(
+        a in -1e6f64..1e6, d in prop::array::uniform8(-NEAR_RAD..=NEAR_RAD),
+    ) {
+        let x: [f64; 8] = std::array::from_fn(|l| a + d[l]);
+        let (sa, ca) = crate::geom::sin_cos_fma_lanes(&[a]);
+        let (sn, cs) = sin_cos_near_lanes(&x, a, sa[0], ca[0]).unwrap_or_default();
+        // (a + d rounds: its lanes may lie a rounding beyond NEAR_RAD.)
+        for l in 0..8 {
+            if (x[l] - a).abs() <= NEAR_RAD {
+                let (s0, c0) = sin_cos(x[l]);
+                prop_assert!((sn[l] - s0).abs() <= 4.0 * f64::EPSILON, "sin {}", x[l]);
+                prop_assert!((cs[l] - c0).abs() <= 4.0 * f64::EPSILON, "cos {}", x[l]);
+            }
+        }
+    }
+}
+
+/// Within 2 ulp of `b`, or 6e-16 absolutely (the shorter arctangent's
+/// polynomial is 2.4e-16 from atan at most).
+fn near_atan(a: f64, b: f64) -> bool {
+    ulps(a, b) <= 2.0 || (a - b).abs() <= 6e-16
+}
+
+proptest! {
+    #[test]
+    fn right_atan2_matches_the_platform(y in -1e3f64..1e3, x in 1e-3f64..1e3, e in -300i32..300) {
+        for (yy, xx) in [(y, x), (y * 2f64.powi(e), x), (y, x * 2f64.powi(e)), (x, y.abs())] {
+            let (a, b) = (super::atan2_right_lanes(&[yy], &[xx])[0], yy.atan2(xx));
+            prop_assert!(near_atan(a, b), "atan2({yy}, {xx}) = {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn right_atan2_on_a_dense_grid_at_its_reduction_edges_and_special_values() {
+    // Dense ratios over [0, 4] and their reciprocals (both branches of the
+    // reduction), then the edges tan(π/8) and 1 to the ulp.
+    let mut worst = 0.0f64;
+    for i in 0..=400_000 {
+        let r = i as f64 * 1e-5;
+        for (y, x) in [(r, 1.0), (-r, 1.0), (1.0, r.max(1e-9)), (-1.0, r.max(1e-9))] {
+            let (a, b) = (super::atan2_right_lanes(&[y], &[x])[0], y.atan2(x));
+            assert!(near_atan(a, b), "atan2({y}, {x}) = {a} vs {b}");
+            worst = worst.max((a - b).abs());
+        }
+    }
+    eprintln!("right atan2: worst {worst:.2e} on the dense grid");
+    assert!(worst <= 6e-16, "{worst:e}");
+    let t8 = std::f64::consts::SQRT_2 - 1.0;
+    for r in [t8, 1.0, 1e-300, 1e300, 1e-10, 1e10] {
+        for t in [r.next_down(), r, r.next_up()] {
+            for (y, x) in [(t, 1.0), (-t, 1.0), (1.0, t), (-1.0, t)] {
+                let (a, b) = (super::atan2_right_lanes(&[y], &[x])[0], y.atan2(x));
+                assert!(near_atan(a, b), "atan2({y}, {x}) = {a} vs {b}");
+            }
+        }
+    }
+    // Zeros keep their sign; x ≤ 0, infinities and huge values are the
+    // platform's; NaN stays NaN.
+    let inf = f64::INFINITY;
+    for (y, x) in [
+        (0.0, 1.0),
+        (-0.0, 1.0),
+        (0.0, -1.0),
+        (1.0, 0.0),
+        (1.0, -0.0),
+        (-1.0, -2.0),
+        (0.0, 0.0),
+        (inf, 1.0),
+        (1.0, inf),
+        (1e308, 1e308),
+        (-1e301, 1.0),
+    ] {
+        assert_eq!(
+            super::atan2_right_lanes(&[y], &[x])[0].to_bits(),
+            y.atan2(x).to_bits(),
+            "atan2({y}, {x})"
+        );
+    }
+    assert!(super::atan2_right_lanes(&[f64::NAN], &[1.0])[0].is_nan());
+    assert!(super::atan2_right_lanes(&[1.0], &[f64::NAN])[0].is_nan());
 }
 
 proptest! {
