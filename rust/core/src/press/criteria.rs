@@ -545,46 +545,71 @@ fn rod_loops<S: pulp::Simd>(
         let (ys, ddys) = (&y.as_flattened()[..m], &ddy.as_flattened()[..m]);
         let prev = |q: usize| if q == 0 { m - 1 } else { q - 1 };
         let next = |q: usize| if q + 1 == m { 0 } else { q + 1 };
-        // A block with no sample in any of the three ranges is passed over in
-        // one test.
+        // Per block, the lanes in each range as bit masks: on AVX-512 straight
+        // from the three vector compares (a mask register is a byte), elsewhere
+        // lane by lane. A block with no lane in any range (most) is passed over;
+        // in the others only the set lanes of each mask are visited, in θ
+        // order (most lanes of a hit block are in no range, or in one only).
         let [tv, tlo, thi] = [thr, thr_lo, thr_hi].map(|t| simd.splat_f64s(t));
-        let high = |yv: S::f64s, ddyv: S::f64s| {
-            let acc = simd.greater_than_or_equal_f64s(simd.abs_f64s(ddyv), tv);
-            let low = simd.less_than_or_equal_f64s(yv, tlo);
-            let top = simd.greater_than_or_equal_f64s(yv, thi);
-            simd.or_m64s(acc, simd.or_m64s(low, top))
-        };
+        let byte_masks =
+            core::mem::size_of::<S::m64s>() == 1 && core::mem::size_of::<S::f64s>() == 8 * LANES;
         for (c, (yb, ddyb)) in y.iter().zip(ddy.iter()).enumerate() {
-            let (yv, ddyv) = (S::as_simd_f64s(yb).0, S::as_simd_f64s(ddyb).0);
-            let hit = (1..yv.len()).fold(high(yv[0], ddyv[0]), |a, v| {
-                simd.or_m64s(a, high(yv[v], ddyv[v]))
-            });
-            if simd.first_true_m64s(hit) == S::F64_LANES {
+            let base = c * LANES;
+            let [mut m_acc, mut m_lo, mut m_hi] = if byte_masks {
+                let (yv, ddyv) = (S::as_simd_f64s(yb).0[0], S::as_simd_f64s(ddyb).0[0]);
+                [
+                    simd.greater_than_or_equal_f64s(simd.abs_f64s(ddyv), tv),
+                    simd.less_than_or_equal_f64s(yv, tlo),
+                    simd.greater_than_or_equal_f64s(yv, thi),
+                ]
+                .map(|k| u32::from(pulp::bytemuck::cast::<S::m64s, u8>(k)))
+            } else {
+                let mut bits = [0u32; 3];
+                for (l, (&yq, &dq)) in yb.iter().zip(ddyb).enumerate() {
+                    bits[0] |= u32::from(dq.abs() >= thr) << l;
+                    bits[1] |= u32::from(yq <= thr_lo) << l;
+                    bits[2] |= u32::from(yq >= thr_hi) << l;
+                }
+                bits
+            };
+            if m_acc | m_lo | m_hi == 0 {
                 continue;
             }
-            for q in c * LANES..(c * LANES + LANES).min(m) {
-                let (yq, aq) = (ys[q], ddys[q].abs());
-                let (is_acc, is_lo, is_hi) = (aq >= thr, yq <= thr_lo, yq >= thr_hi);
-                if !(is_acc || is_lo || is_hi) {
-                    continue;
-                }
-                if is_lo && lo.is_none() && yq == ylo {
-                    lo = Some(q);
-                }
-                if is_hi && hi.is_none() && yq == yhi {
-                    hi = Some(q);
-                }
-                if is_acc && acc.is_none() && aq == vacc {
+            // The last block's lanes past m are padding.
+            if base + LANES > m {
+                let valid = (1u32 << (m - base)) - 1;
+                (m_acc, m_lo, m_hi) = (m_acc & valid, m_lo & valid, m_hi & valid);
+            }
+            while m_acc != 0 {
+                let q = base + m_acc.trailing_zeros() as usize;
+                m_acc &= m_acc - 1;
+                let aq = ddys[q].abs();
+                if acc.is_none() && aq == vacc {
                     acc = Some(q);
                 }
-                let (qp, qn) = (prev(q), next(q));
-                if is_acc && aq >= ddys[qp].abs() && aq >= ddys[qn].abs() {
+                if aq >= ddys[prev(q)].abs() && aq >= ddys[next(q)].abs() {
                     peaks.push(q);
                 }
-                if is_lo && yq <= ys[qp] && yq <= ys[qn] {
+            }
+            while m_lo != 0 {
+                let q = base + m_lo.trailing_zeros() as usize;
+                m_lo &= m_lo - 1;
+                let yq = ys[q];
+                if lo.is_none() && yq == ylo {
+                    lo = Some(q);
+                }
+                if yq <= ys[prev(q)] && yq <= ys[next(q)] {
                     lows.push(q);
                 }
-                if is_hi && yq >= ys[qp] && yq >= ys[qn] {
+            }
+            while m_hi != 0 {
+                let q = base + m_hi.trailing_zeros() as usize;
+                m_hi &= m_hi - 1;
+                let yq = ys[q];
+                if hi.is_none() && yq == yhi {
+                    hi = Some(q);
+                }
+                if yq >= ys[prev(q)] && yq >= ys[next(q)] {
                     highs.push(q);
                 }
             }

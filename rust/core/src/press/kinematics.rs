@@ -207,6 +207,8 @@ impl Frame {
     /// refinements; [`at`](Self::at) where [`exact`].
     #[inline]
     pub(super) fn at_pow(&self, theta: f64, order: u32) -> Kin {
+        #[cfg(test)]
+        EVALS.with(|c| c.set(c.get() + 1));
         if exact() {
             return self.at(theta, order);
         }
@@ -243,6 +245,14 @@ thread_local! {
     /// forms (the power of e^{iθ}, both from an estimate of the reciprocal
     /// square root and its correction) are tested.
     pub(super) static EXACT: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Tests only: evaluations of the kinematics by the criteria's
+    /// refinements ([`Frame::at_pow`]) on this thread, for the timing test's
+    /// count per design.
+    pub(super) static EVALS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// Whether the criteria run their reference arithmetic (tests only, [`EXACT`]).

@@ -602,6 +602,15 @@ fn press_sweep_timing() {
     let n = grid.len();
     let mut rows = vec![0.0; n * CRITERIA.len()];
     let mut status = vec![0u8; n];
+    // Evaluations of the kinematics a design by the refinements (BDC, TDC, α_p,
+    // the acceleration peak, now and then a speed peak): each refinement's
+    // start is meant to be good enough for one evaluation (round 5 counted
+    // 4.15 a design on this grid), so more than five means a start got worse.
+    super::kinematics::EVALS.with(|c| c.set(0));
+    super::sweep::sweep_into(&grid, &spec, Some(1), &mut rows, &mut status).unwrap();
+    let evals = super::kinematics::EVALS.with(|c| c.get()) as f64 / n as f64;
+    println!("evaluations of the kinematics by the refinements: {evals:.3} a design");
+    assert!(evals <= 5.0, "{evals} evaluations a design");
     // This thread's time on a CPU [s] (Linux; the wall clock elsewhere): on a
     // shared machine the wall clock also counts the other processes' turns.
     let cpu = || {
