@@ -621,13 +621,14 @@ def test_the_three_ways_to_place_a_centre_of_mass_agree():
 
 
 def test_near_a_dead_centre_is_flagged_and_a_machine_refuses_it(tmp_path):
-    """An offset slider-crank whose rod stands perpendicular to the guide at crank
-    90° (the circle of A just touches the guide): the force solve there is nearly
-    singular. The rule: conditioning < NEAR_DEAD_CENTRE flags the angle
+    """An offset slider-crank whose rod nearly stands perpendicular to the guide at
+    crank 90° (the circle of A reaches 25 µm past the guide): the force solve there
+    is nearly singular. The rule: conditioning < NEAR_DEAD_CENTRE flags the angle
     (``near_dead_centre``), shaft_torque() warns, a machine refuses the mechanism
-    (exit 2) rather than report a 1 MW motor."""
+    (exit 2) rather than report a 1 MW motor. (With the circle just touching the
+    guide, crank 90° is a change point: tests/linkage/test_change_points.py.)"""
     lk = cm.Linkage(
-        {"O": (0, 0), "A": (0.1, 0), "C": (0.1 + math.sqrt(0.03), -0.1)},
+        {"O": (0, 0), "A": (0.1, 0), "C": (0.1 + math.sqrt(0.03 + 1e-5), -0.1)},
         [("O", "A"), ("A", "C")],
         ["O"],
         ("O", "A"),
@@ -636,7 +637,7 @@ def test_near_a_dead_centre_is_flagged_and_a_machine_refuses_it(tmp_path):
     phi = np.radians(np.arange(0.0, 360.0, 0.1))
     k = F.kinetostatics(lk, phi, point_masses={"C": 20.0}, gravity=G)
     flagged = np.degrees(phi[k.near_dead_centre])
-    assert flagged.size and np.all(np.abs(flagged - 90.0) < 1.0)
+    assert flagged.size and np.all(np.abs(flagged - 90.0) < 1.5)
     assert k.conditioning[~k.near_dead_centre].min() >= F.NEAR_DEAD_CENTRE
     with pytest.warns(cm.CyclomechWarning, match="near a dead centre"):
         k.shaft_torque()

@@ -264,8 +264,9 @@ def test_ordinary_linkages_over_full_turns_are_not_flagged():
 def test_a_machine_takes_a_good_linkage_of_any_size_and_refuses_a_toggle(scale):
     """On main the pivots' measure depended on the links' size: the example
     crank-rocker drawn 2e-4 or 1e4 times as large was refused as near a dead
-    centre. An offset slider-crank whose rod stands across its guide at 90° is
-    refused at every size, naming the angle and how near it is."""
+    centre. An offset slider-crank whose rod nearly stands across its guide at 90°
+    is refused at every size, naming the angle and how near it is; with the rod
+    exactly across it (a change point, once a turn) it is refused on construction."""
     t = cm.Linkage.from_toml(Path(__file__).parents[2] / "examples" / "crank_rocker.toml")
     d = t.to_dict()
     good = cm.Linkage(
@@ -279,15 +280,21 @@ def test_a_machine_takes_a_good_linkage_of_any_size_and_refuses_a_toggle(scale):
     k = mech.kinetostatics(720)
     assert k is not None and k.ok.all() and k.conditioning.min() > 0.1
     r = 0.1 * scale
-    bad = cm.Linkage(
-        {"O": (0, 0), "A": (r, 0), "C": (r + math.sqrt(3) * r, -r)},
-        [("O", "A"), ("A", "C")],
-        ["O"],
-        ("O", "A"),
-        sliders={"C": ("ground", (1, 0))},
-    )
+
+    def slider_crank(reach: float) -> cm.Linkage:
+        return cm.Linkage(
+            {"O": (0, 0), "A": (r, 0), "C": (r + math.sqrt(reach) * r, -r)},
+            [("O", "A"), ("A", "C")],
+            ["O"],
+            ("O", "A"),
+            sliders={"C": ("ground", (1, 0))},
+        )
+
+    with pytest.raises(cm.InputError, match=r"'bad'.*joint 'C' at 90\.00°.*odd number"):
+        LinkageMechanism("bad", slider_crank(3.0), "C", None, 361, {"point_masses": {"C": 1.0}})
+    bad = slider_crank(3.001)
     mech = LinkageMechanism("bad", bad, "C", None, 361, {"point_masses": {"C": scale**3}})
-    said = r"'bad'.* angles 90\.00 degrees \(its analogs put the crank \S+ rad from one, "
+    said = r"'bad'.* angles 89\.30, .* degrees \(its analogs put the crank 0\.0079 rad from one, "
     said += r"under 0\.02 rad\)"
     with pytest.raises(cm.InputError, match=said):
         mech.kinetostatics(3600)

@@ -4,6 +4,7 @@ turns once per machine cycle (seed 001)."""
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,7 +14,7 @@ import numpy as np
 
 from .. import _keyrules, _toml, forces
 from .._arrays import count, instance, positive
-from .._errors import InputError
+from .._errors import CyclomechWarning, InputError
 from .._files import file_stem, write_csv
 from .._keydoc import KeyTable
 from .._keyrules import Rule
@@ -140,6 +141,7 @@ class LinkageMechanism(Unbounded):
         if self.max_acceleration is not None:
             a = positive("max_acceleration", self.max_acceleration, "[m/s²]")
             object.__setattr__(self, "max_acceleration", a)
+        self._check_change_points()
         if self.friction is not None:
             instance("friction", self.friction, forces.Friction)
             if self.dynamics is None:
@@ -147,6 +149,31 @@ class LinkageMechanism(Unbounded):
                     "friction: the linkage has no masses or loads (dynamics): no forces for "
                     "its friction to act with; give masses or loads, or drop the friction"
                 )
+
+    def _check_change_points(self) -> None:
+        """A change point the motion cannot follow within one turn is an error; one it
+        follows is a warning (a real mechanism needs a guide to pass it)."""
+        found = self.linkage.change_points
+        if not found:
+            return
+        where = ", ".join(f"joint {j!r} at {math.degrees(a) % 360.0:.2f}°" for j, a, _ in found)
+        held = [j for j, _, followed in found if not followed]
+        if held:
+            raise InputError(
+                f"mechanism {self.name!r}: the linkage has change points (uncertainty "
+                f"positions, where a group's two assemblies meet): {where}; joint "
+                f"{held[0]!r} passes an odd number a crank turn, so its smooth motion "
+                "repeats only every two turns (held to one turn, its velocity jumps "
+                "there); change its dimensions (a four-bar with s + l = p + q has one)"
+            )
+        warnings.warn(
+            f"mechanism {self.name!r}: the linkage passes change points (uncertainty "
+            f"positions, where a group's two assemblies meet), crank angles: {where}; "
+            "cyclomech follows the smooth motion through them, which the mechanism "
+            "does only with a guide (such as a second coupler out of phase)",
+            CyclomechWarning,
+            stacklevel=2,
+        )
 
     @classmethod
     def from_table(cls, name: str, table: Mapping[str, Any], ctx: TableContext) -> LinkageMechanism:

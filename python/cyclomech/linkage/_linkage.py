@@ -157,6 +157,7 @@ class Linkage:
         self._check_guides()
         compiled = self._compile()
         self._structure, self._program, self.drawn_angle, self._dims, self._slots = compiled
+        self._changes: list[tuple[str, float, bool]] | None = None
         self._check_drawn_pose_closes()
 
     # ---------------------------------------------------------------- queries
@@ -254,6 +255,47 @@ class Linkage:
             return self._lengths[key]
         pa, pb = self._points[a], self._points[b]
         return math.hypot(pb[0] - pa[0], pb[1] - pa[1])
+
+    @property
+    def change_points(self) -> list[tuple[str, float, bool]]:
+        """The change points of its class II groups over one crank turn: where a
+        group's joint reaches the line through its two anchors (or a slider's
+        circle touches its guide) while the crank turns on, and its two assemblies
+        meet (an uncertainty position; a parallelogram four-bar has two a turn).
+
+        The solve follows the smooth motion through each: the group changes side
+        there, so velocities stay continuous (what a guided mechanism, such as a
+        parallelogram drive with a second coupler out of phase, does). That needs
+        an even number a turn for the group; with an odd number (a Grashof linkage
+        with s + l = p + q) the smooth motion repeats only every two turns, so the
+        group keeps its drawn side and its velocity jumps there (``followed`` is
+        False). A change point is found where the group's h² at an extremum of its
+        anchors' distance is within the fold's round-off floor (|h| ≤ 1e-6 of its
+        link); angles where h is under 1e-3 of the link are flagged ``singular``
+        (NaN analogs), where the closed form loses digits. Class III groups are not
+        searched: a change of branch there is flagged ``branch_change``.
+
+        Returns
+        -------
+        list of (str, float, bool)
+            Per change point: the joint its group places, the crank angle [rad] in
+            [φ0, φ0 + 2π) from the drawn angle φ0, and whether the motion follows it.
+            Empty for most linkages.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> pg = cm.Linkage({"A": (0, 0), "B": (0, 0.3), "C": (1, 0.3), "D": (1, 0)},
+        ...                 [("A", "B"), ("B", "C"), ("C", "D")], ["A", "D"], ("A", "B"))
+        >>> [(j, round(a, 9), f) for j, a, f in pg.change_points]
+        [('C', 3.141592654, True), ('C', 6.283185307, True)]
+        """
+        if self._changes is None:
+            found = self._program.change_points()
+            self._changes = [
+                (self._structure[s][1][0], phi, followed) for s, phi, followed, _ in found
+            ]
+        return list(self._changes)
 
     # ---------------------------------------------------------------- solving
     def solve(

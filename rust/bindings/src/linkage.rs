@@ -304,6 +304,16 @@ impl LinkageProgram {
         self.program.n_points
     }
 
+    /// The change points of its class II groups over one turn from the drawn angle:
+    /// a list of (step, crank angle [rad], followed, window [rad]).
+    fn change_points(&self, py: Python<'_>) -> PyResult<Vec<(usize, f64, bool, f64)>> {
+        let found = run(py, "Linkage.change_points", || self.program.change_points())?;
+        Ok(found
+            .into_iter()
+            .map(|c| (c.step, c.phi, c.followed, c.window))
+            .collect())
+    }
+
     /// Solve over absolute crank angles [rad]: (xy, vel, acc) of shape (N, M, 2)
     /// for the M chosen `points` (vel and acc None unless `analogs`), and the flags
     /// ok, singular and branch, each (N,).

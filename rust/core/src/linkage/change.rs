@@ -74,7 +74,8 @@ pub struct ChangePoint {
 /// of its radius are flagged singular (analogs NaN): the closed form takes h as
 /// √(r² − x²), which cancels there, and its analogs lose digits as h falls
 /// (measured on a parallelogram: accelerations off by 6e-7 of their scale at
-/// h = 3e-4 of the coupler, 4e-3 at 3e-5, wholly wrong at 3e-6; 3.5e-8 at 1.3e-3).
+/// h = 3e-4 of the coupler, 4e-3 at 3e-5, wholly wrong at 3e-6; 1.2e-7 at 1.5e-3,
+/// 3e-9 at 5e-3).
 pub const NEAR_H_REL: f64 = 1e-3;
 
 /// Every point with its analogs at the scan's crank angles, flat (angles · P).
