@@ -161,6 +161,10 @@ impl Branches {
             .collect();
         flips.sort_by(|x, y| x.0.total_cmp(&y.0));
         self.bounds = flips.iter().map(|f| f.0).collect();
+        if flips.is_empty() {
+            self.programs.clear();
+            return;
+        }
         let mut programs = vec![base.clone()];
         for &(_, step) in &flips {
             let mut next = programs[programs.len() - 1].clone();
@@ -292,10 +296,37 @@ impl Program {
     pub(super) fn branches(&self) -> Result<Branches, LinkageError> {
         let phi0 = self.drawn.as_ref().map_or(0.0, |d| d.0);
         let mut br = Branches::none(phi0);
+        let held = self.held_pairs();
         let sided: Vec<usize> = (0..self.steps.len())
-            .filter(|&s| matches!(self.steps[s], Step::Circles { .. } | Step::Slide { .. }))
+            .filter(|&s| match self.steps[s] {
+                // A further joint of a rigid body: its anchors' distance is fixed,
+                // so its h never changes and it has no change point.
+                Step::Circles { a, b, .. } => !held.contains(&(a.min(b), a.max(b))),
+                Step::Slide { .. } => true,
+                _ => false,
+            })
             .collect();
+        if sided.is_empty() {
+            return Ok(br);
+        }
         let mut next = 0;
+        // Groups ahead of the first class III group read only closed-form points:
+        // searched on the program cut there, in lanes, not along a path.
+        let first = self
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::Triad { .. }));
+        if let Some(cut) = first.filter(|&c| sided[0] < c) {
+            let head = Program {
+                n_points: self.n_points,
+                fixed: self.fixed.clone(),
+                steps: self.steps[..cut].to_vec(),
+                drawn: self.drawn.clone(),
+            };
+            br.points = head.branches()?.points;
+            br.rebuild(self);
+            next = sided.partition_point(|&s| s < cut);
+        }
         while next < sided.len() {
             let scan = self.scan(&br)?;
             while next < sided.len() {
@@ -321,6 +352,38 @@ impl Program {
             }
         }
         Ok(br)
+    }
+
+    /// The pairs of points (lower index first) whose distance the program holds
+    /// fixed: both fixed, the crank's pivot and tip, a joint and each anchor of the
+    /// circles that place it (or the slider's pivot, the aimed link's), and a class
+    /// III group's arms and sides.
+    pub(super) fn held_pairs(&self) -> Vec<(usize, usize)> {
+        let pair = |x: usize, y: usize| (x.min(y), x.max(y));
+        let mut held = Vec::new();
+        for (i, &(x, _)) in self.fixed.iter().enumerate() {
+            for &(y, _) in &self.fixed[i + 1..] {
+                held.push(pair(x, y));
+            }
+        }
+        for step in &self.steps {
+            match *step {
+                Step::Driver { pivot, tip, .. } => held.push(pair(pivot, tip)),
+                Step::Circles { a, b, p, .. } => held.extend([pair(a, p), pair(b, p)]),
+                Step::Slide { a, p, .. } => held.push(pair(a, p)),
+                Step::Aim { b, c, .. } => held.push(pair(b, c)),
+                Step::Triad {
+                    anchors, joints, ..
+                } => {
+                    for i in 0..3 {
+                        held.push(pair(anchors[i], joints[i]));
+                        held.push(pair(joints[i], joints[(i + 1) % 3]));
+                    }
+                }
+                _ => {}
+            }
+        }
+        held
     }
 
     /// Every point at the scan's crank angles (with the flips so far; with the

@@ -328,3 +328,25 @@ fn analog_error_near_a_change_point() {
         );
     }
 }
+
+#[test]
+fn a_coupler_point_is_not_searched() {
+    // A point of the coupler B–C (anchors B and C, held at a fixed distance): no
+    // change point whatever the four-bar, and the parallelogram's own are found.
+    let mut prog = four_bar(0.3, 1.0, 0.3, 1.0, 1.0, FRAC_PI_2);
+    prog.n_points = 5;
+    prog.steps.push(Step::Circles {
+        a: 1,
+        b: 2,
+        p: 4,
+        ra: 0.5,
+        rb: 0.7,
+        sign: 1.0,
+    });
+    if let Some((_, pose)) = &mut prog.drawn {
+        pose.push([0.4, 0.7]);
+    }
+    assert!(prog.held_pairs().contains(&(1, 2)));
+    let cps = prog.change_points().unwrap();
+    assert_eq!(cps.iter().map(|c| c.step).collect::<Vec<_>>(), vec![1, 1]);
+}
