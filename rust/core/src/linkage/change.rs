@@ -78,13 +78,47 @@ pub struct ChangePoint {
 /// 3e-9 at 5e-3).
 pub const NEAR_H_REL: f64 = 1e-3;
 
-/// Every point with its analogs at the scan's crank angles, flat (angles · P).
-struct Scan {
-    angles: Vec<f64>,
+/// Rows of every point (or `m` chosen points) over `n` angles, owned: what a solve
+/// writes through [`Out`] when the rows are read back here.
+struct Rows {
     xy: Vec<V2>,
     vel: Vec<V2>,
     acc: Vec<V2>,
     ok: Vec<bool>,
+    singular: Vec<bool>,
+    branch: Vec<bool>,
+}
+
+impl Rows {
+    /// `n` rows of `m` points, with room for the analogs when `analogs`.
+    fn new(n: usize, m: usize, analogs: bool) -> Rows {
+        let an = if analogs { n * m } else { 0 };
+        Rows {
+            xy: vec![[0.0; 2]; n * m],
+            vel: vec![[0.0; 2]; an],
+            acc: vec![[0.0; 2]; an],
+            ok: vec![false; n],
+            singular: vec![false; n],
+            branch: vec![false; n],
+        }
+    }
+
+    fn out(&mut self) -> Out<'_> {
+        Out {
+            xy: &mut self.xy,
+            vel: &mut self.vel,
+            acc: &mut self.acc,
+            ok: &mut self.ok,
+            singular: &mut self.singular,
+            branch: &mut self.branch,
+        }
+    }
+}
+
+/// Every point at the scan's crank angles (and its analogs with class III groups).
+struct Scan {
+    angles: Vec<f64>,
+    rows: Rows,
 }
 
 /// The programs that hold between the followed change points of one turn.
@@ -168,9 +202,9 @@ impl Branches {
         let mut programs = vec![base.clone()];
         for &(_, step) in &flips {
             let mut next = programs[programs.len() - 1].clone();
-            match &mut next.steps[step] {
-                Step::Circles { sign, .. } | Step::Slide { sign, .. } => *sign = -*sign,
-                _ => unreachable!("only groups with an assembly side have change points"),
+            // Only groups with an assembly side have change points.
+            if let Step::Circles { sign, .. } | Step::Slide { sign, .. } = &mut next.steps[step] {
+                *sign = -*sign;
             }
             programs.push(next);
         }
@@ -191,37 +225,18 @@ impl Branches {
                 continue;
             }
             let sub: Vec<f64> = rows.iter().map(|&i| angles[i]).collect();
-            let n = rows.len();
-            let an = if analogs { n * m } else { 0 };
-            let (mut xy, mut vel, mut acc) = (
-                vec![[0.0; 2]; n * m],
-                vec![[0.0; 2]; an],
-                vec![[0.0; 2]; an],
-            );
-            let (mut ok, mut singular, mut branch) =
-                (vec![false; n], vec![false; n], vec![false; n]);
-            prog.solve_rows(
-                &sub,
-                sel,
-                &mut Out {
-                    xy: &mut xy,
-                    vel: &mut vel,
-                    acc: &mut acc,
-                    ok: &mut ok,
-                    singular: &mut singular,
-                    branch: &mut branch,
-                },
-            );
+            let mut got = Rows::new(rows.len(), m, analogs);
+            prog.solve_rows(&sub, sel, &mut got.out());
             for (r, &i) in rows.iter().enumerate() {
                 let (to, from) = (i * m..(i + 1) * m, r * m..(r + 1) * m);
-                out.xy[to.clone()].copy_from_slice(&xy[from.clone()]);
+                out.xy[to.clone()].copy_from_slice(&got.xy[from.clone()]);
                 if analogs {
-                    out.vel[to.clone()].copy_from_slice(&vel[from.clone()]);
-                    out.acc[to].copy_from_slice(&acc[from]);
+                    out.vel[to.clone()].copy_from_slice(&got.vel[from.clone()]);
+                    out.acc[to].copy_from_slice(&got.acc[from]);
                 }
-                out.ok[i] = ok[r];
-                out.singular[i] = singular[r];
-                out.branch[i] = branch[r];
+                out.ok[i] = got.ok[r];
+                out.singular[i] = got.singular[r];
+                out.branch[i] = got.branch[r];
             }
         }
     }
@@ -397,33 +412,9 @@ impl Program {
             .map(|j| br.phi0 + TAU * j as f64 / n as f64)
             .collect();
         let all: Vec<usize> = (0..p).collect();
-        let an = if path { n * p } else { 0 };
-        let (mut xy, mut vel, mut acc) = (
-            vec![[0.0; 2]; n * p],
-            vec![[0.0; 2]; an],
-            vec![[0.0; 2]; an],
-        );
-        let (mut ok, mut singular, mut branch) = (vec![false; n], vec![false; n], vec![false; n]);
-        self.solve_unflagged(
-            br,
-            &angles,
-            &all,
-            &mut Out {
-                xy: &mut xy,
-                vel: &mut vel,
-                acc: &mut acc,
-                ok: &mut ok,
-                singular: &mut singular,
-                branch: &mut branch,
-            },
-        )?;
-        Ok(Scan {
-            angles,
-            xy,
-            vel,
-            acc,
-            ok,
-        })
+        let mut rows = Rows::new(n, p, path);
+        self.solve_unflagged(br, &angles, &all, &mut rows.out())?;
+        Ok(Scan { angles, rows })
     }
 
     /// The change points of step `s`: each extremum of its gap, bracketed by the
@@ -433,17 +424,17 @@ impl Program {
         let (p, n) = (self.n_points, scan.angles.len());
         let row = |j: usize| j * p..(j + 1) * p;
         let step = &self.steps[s];
-        let path = !scan.vel.is_empty();
+        let path = !scan.rows.vel.is_empty();
         let g: Vec<Option<[f64; 4]>> = (0..n)
             .map(|j| {
                 let r = row(j);
                 let (v, a) = if path {
-                    (&scan.vel[r.clone()], &scan.acc[r.clone()])
+                    (&scan.rows.vel[r.clone()], &scan.rows.acc[r.clone()])
                 } else {
                     (&[][..], &[][..])
                 };
-                if scan.ok[j] {
-                    gap(step, &scan.xy[r], v, a)
+                if scan.rows.ok[j] {
+                    gap(step, &scan.rows.xy[r], v, a)
                 } else {
                     None
                 }
@@ -480,9 +471,9 @@ impl Program {
                 let prog = br.at(self, phi);
                 let r = row(j);
                 let prev = path.then(|| Prev {
-                    xy: &scan.xy[r.clone()],
-                    vel: &scan.vel[r.clone()],
-                    acc: &scan.acc[r],
+                    xy: &scan.rows.xy[r.clone()],
+                    vel: &scan.rows.vel[r.clone()],
+                    acc: &scan.rows.acc[r],
                     dphi: phi - mid,
                     seek: Seek::Follow,
                 });
