@@ -150,7 +150,39 @@ def test_unit_slips_by_key_suffix_warn(tmp_path, old, new, match):
         with contextlib.suppress(cm.InputError):
             cm.Machine.from_toml(f)
     msgs = [str(w.message) for w in caught if issubclass(w.category, cm.CyclomechWarning)]
-    assert any(re.search(match, m) for m in msgs), msgs
+    # once: a cam stop read its cam's table and its own twice (probe 4)
+    assert sum(bool(re.search(match, m)) for m in msgs) == 1, msgs
+
+
+def _lengths_in_millimetres(text: str) -> str:
+    """Every number of a ``_m`` key in the machine's mechanism tables times 1000."""
+    out, table = [], ""
+    for line in text.splitlines():
+        if head := re.match(r"\s*\[+([^\]]*)\]", line):
+            table = head.group(1)
+        key = re.match(r"^(\w+_m)\s*=\s*([-+0-9.eE]+)(.*)$", line)
+        if key and table.startswith("mechanism"):
+            line = f"{key.group(1)} = {float(key.group(2)) * 1000!r}{key.group(3)}"
+        out.append(line)
+    return "\n".join(out)
+
+
+@pytest.mark.parametrize(
+    "name", ["stb_loom.toml", "extrusion_press_line.toml", "lifter_cam_sized.toml"]
+)
+def test_a_machine_warns_of_each_slipped_value_once(name, tmp_path):
+    # The loom's cam stop reads its cam (the lifter cam's lengths), the press line's
+    # mechanism its drive: both warned of the same key twice.
+    f = tmp_path / name
+    f.write_text(_lengths_in_millimetres((EXAMPLES / name).read_text(encoding="utf-8")))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with contextlib.suppress(cm.InputError):
+            cm.Machine.from_toml(f)
+    msgs = [str(w.message) for w in caught if issubclass(w.category, cm.CyclomechWarning)]
+    slips = [m for m in msgs if "did you mean millimetres" in m]
+    assert len(slips) >= 4, msgs
+    assert len(set(msgs)) == len(msgs), sorted(msgs)
 
 
 def test_an_impact_file_checks_its_rebound_limit_against_its_stroke(tmp_path):

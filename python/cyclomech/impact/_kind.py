@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -14,7 +15,7 @@ import numpy.typing as npt
 
 from .. import _keyrules, _toml
 from .._arrays import flag, float_array, instance, instances, positive, real_array, threads_arg
-from .._errors import InputError
+from .._errors import CyclomechWarning, InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
@@ -253,7 +254,7 @@ class CamStop:
         if "cam" in table:
             table = {**table, **_from_cam(table, arc, where, ctx)}
         stop = _stop_from_table(
-            table, where, skip=("kind", "arc", "a_max_m", "phase_deg", "cam"), rules=()
+            table, where, skip=("kind", "arc", "a_max_m", "phase_deg", "cam"), rules=None
         )
         a_max = _toml.number(table, "a_max_m", where, "[m]")
         if a_max <= 0:
@@ -781,13 +782,18 @@ def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext)
         raise InputError(
             f"{where}: cam = {name!r} is not a cam of the machine; its cams are {cams}"
         )
-    design = CamDesign.from_table(
-        other,
-        f"[mechanism.{name}]",
-        source=ctx.source,
-        extra=frozenset({"kind", "friction"}),
-        arcs=True,
-    )
+    # The cam is a mechanism of the machine and warns of its own values (a length
+    # in mm, an angle in radians) when it is read as one; read here for its law and
+    # stroke, the same warnings would print twice.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CyclomechWarning)
+        design = CamDesign.from_table(
+            other,
+            f"[mechanism.{name}]",
+            source=ctx.source,
+            extra=frozenset({"kind", "friction"}),
+            arcs=True,
+        )
     if arc not in design.arcs:
         bound = ", ".join(repr(list(a)) for a in design.arcs if a is not None) or "none"
         raise InputError(

@@ -89,14 +89,15 @@ def _stop_from_table(
     table: Mapping[str, Any],
     where: str,
     skip: Iterable[str] = (),
-    rules: Iterable[Rule] = STOP_RULES,
+    rules: Iterable[Rule] | None = STOP_RULES,
 ) -> StopImpact:
     """A :class:`StopImpact` from a file's table (its keys are checked by the
     caller; ``skip`` are the caller's own keys): the one reader of a stop, for
     ``cyclomech impact``'s [stop] and a machine's cam_stop mechanisms. Errors start
     with ``where`` and name the file's keys; the values are then checked against
-    ``rules`` (:data:`STOP_RULES`: a warning for a damping ratio given in percent;
-    a cam stop checks its own, with its rebound limit, itself)."""
+    ``rules`` (:data:`STOP_RULES`: a warning for a damping ratio given in percent),
+    unless ``rules`` is None: a cam stop checks its whole table itself, with its
+    rebound limit, once (checking here too printed each unit warning twice)."""
     skip = {"name", *skip}
     kwargs: dict[str, Any] = {}
     for k, v in table.items():
@@ -113,7 +114,8 @@ def _stop_from_table(
         stop = StopImpact(**kwargs)
     except InputError as e:
         raise InputError(f"{where}: {_keyrules.file_names(str(e), STOP_PARAMS)}") from None
-    _keyrules.check(table, rules, where)
+    if rules is not None:
+        _keyrules.check(table, rules, where)
     return stop
 
 

@@ -219,7 +219,7 @@ class PressMechanism(Unbounded):
             raise InputError(
                 f"{where}: give one of k_Sp (a fraction of the stroke) or working_stroke_m [m]"
             )
-        press = drive_from_table(table, where)
+        press = drive_from_table(table, where, check=False)
         mech = cls(
             name,
             press,

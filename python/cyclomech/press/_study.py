@@ -36,12 +36,13 @@ DRIVE_PARAMS: dict[str, str] = {
 DRIVE_KEYS = frozenset(DRIVE_PARAMS)
 
 
-def drive_from_table(table: Mapping[str, Any], where: str) -> GearLeverPress:
+def drive_from_table(table: Mapping[str, Any], where: str, *, check: bool = True) -> GearLeverPress:
     """The design of a table's ``R_m``, ``r_m``, ``d_m``, ``L_m`` [m], ``phi0_deg``
     [deg] and optional ``offset_m`` [m]: the one reader of a press drive, for
     ``cyclomech press`` files and machines' press mechanisms. Errors start with
     ``where`` and name the file's keys; the values are then checked by
-    ``cyclomech._keyrules.check`` (a length over 10 m warns).
+    ``cyclomech._keyrules.check`` (a length over 10 m warns), unless ``check`` is
+    False: a machine's press mechanism checks its whole table itself, once.
 
     >>> d = drive_from_table({"R_m": 0.09, "r_m": 0.03, "d_m": 0.02, "L_m": 0.3,
     ...                       "phi0_deg": 15}, "x")
@@ -58,7 +59,8 @@ def drive_from_table(table: Mapping[str, Any], where: str) -> GearLeverPress:
         press = GearLeverPress(phi0=phi0, offset=offset, **geo)
     except InputError as e:
         raise InputError(f"{where}: {_keyrules.file_names(str(e), DRIVE_PARAMS)}") from None
-    _keyrules.check({k: table[k] for k in DRIVE_KEYS if k in table}, (), where)
+    if check:
+        _keyrules.check({k: table[k] for k in DRIVE_KEYS if k in table}, (), where)
     return press
 
 
