@@ -9,7 +9,7 @@ import cyclomech as cm
 import numpy as np
 import pytest
 from cyclomech.cli import main
-from cyclomech.machine.cli import design_range
+from cyclomech.machine.cli import TIE_RTOL, design_range
 
 # Absolute: the module fixture runs before the tests' chdir to the repository root
 # (tests/conftest.py), and the installed-wheel job runs from elsewhere.
@@ -58,15 +58,50 @@ def test_streamed_and_kept_give_the_same_line(kept: cm.SweepResult, tmp_path: Pa
     )
 
 
-def test_ties_keep_the_first_design_and_no_limit_gives_no_line() -> None:
+def test_ties_name_the_first_design_and_count_the_others() -> None:
+    # Two rows a design. Design 0 and 2 tie at the highest exactly, design 3 within
+    # TIE_RTOL of it (a tie), design 4 just outside (above: it is the highest, alone).
+    hi = 5.0
+    limits = [hi, np.nan, hi, hi * (1 + 0.5 * TIE_RTOL), 3.0, 3.0]
     cols = {
-        "a.x": np.array([1.0, 1.0, 2.0, 2.0, 3.0, 3.0]),
-        "speed_limit_rpm": np.array([5.0, 5.0, np.nan, np.nan, 5.0, 5.0]),
+        "a.x": np.repeat(np.arange(6.0), 2),
+        "speed_limit_rpm": np.repeat(limits, 2),
     }
-    text = design_range(Path("unused"), cols, ["a.x"])
-    assert text.splitlines()[1].endswith("a.x=1") and text.splitlines()[2].endswith("a.x=1")
+    first, high, low = design_range(Path("unused"), cols, ["a.x"]).splitlines()
+    assert high.endswith("rpm at a.x=0 (and 2 more designs at it)"), high
+    assert low.endswith("rpm at a.x=4 (and 1 more design at it)"), low
+    cols["speed_limit_rpm"][8:10] = hi * (1 + 3 * TIE_RTOL)  # design 4 now the highest
+    high = design_range(Path("unused"), cols, ["a.x"]).splitlines()[1]
+    assert high.endswith("rpm at a.x=4"), high
+    # every design fitting up to the speed cap: ∞ ties only with ∞
+    cols["speed_limit_rpm"][:] = np.repeat([np.inf, 7.0, np.inf, 7.0, 7.0, np.nan], 2)
+    first, high, low = design_range(Path("unused"), cols, ["a.x"]).splitlines()
+    assert first.endswith("7–inf rpm")
+    assert high.endswith("a.x=0 (and 1 more design at it)") and low.endswith(
+        "a.x=1 (and 2 more designs at it)"
+    )
     cols["speed_limit_rpm"][:] = np.nan
     assert design_range(Path("unused"), cols, ["a.x"]) == ""
+
+
+def test_ties_are_counted_across_the_streamed_batches(tmp_path: Path) -> None:
+    # Parquet is read 65 536 rows at a time: a tie in a later batch is counted, a
+    # higher limit there within TIE_RTOL keeps the first design.
+    pa = pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+
+    n = 200_000
+    lim = np.full(n, 4.0)
+    lim[[10, 70_000, 150_000]] = [6.0, 6.0 * (1 + 0.2 * TIE_RTOL), 6.0]
+    lim[199_999] = 2.0
+    path = tmp_path / "s.parquet"
+    table = {"a.x": np.arange(n, dtype=np.float64), "speed_limit_rpm": lim}
+    pq.write_table(pa.table(table), path)
+    streamed = design_range(path, {}, ["a.x"])
+    assert streamed == design_range(Path("unused"), table, ["a.x"])
+    _, high, low = streamed.splitlines()
+    assert high.endswith("rpm at a.x=10 (and 2 more designs at it)"), high
+    assert low.endswith("rpm at a.x=199999"), low
 
 
 def test_the_command_prints_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -369,14 +369,34 @@ def sweep_command(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+#: Speed limits of two designs within this (relative) of each other are a tie in
+#: :func:`design_range`: ten times the speed search's default ``rtol`` (1e-10), so
+#: designs its search cannot tell apart count as one limit.
+TIE_RTOL = 1e-9
+
+
+def _tie(a: Any, b: float) -> Any:
+    """``a`` (a limit or an array of them) ties with ``b`` [rpm]: equal (∞ = ∞ too)
+    or within :data:`TIE_RTOL` of it."""
+    import numpy as np
+
+    if not math.isfinite(b):
+        return np.asarray(a) == b
+    return np.abs(np.asarray(a) - b) <= TIE_RTOL * abs(b)
+
+
 def design_range(path: Path, columns: dict[str, Any], params: list[str]) -> str:
     """One line naming the designs of a sweep with the highest and the lowest speed
     limit [rpm] and their parameters; empty when no design has one (all invalid).
 
     The rows are read from ``columns`` when the sweep kept them, else from the
-    Parquet file at ``path`` in batches (a streamed sweep of any size). A design's
-    speed limit is the same on each of its rows; ties keep the first design in the
-    sweep's order. A design that fits up to the speed cap has an infinite limit.
+    Parquet file at ``path`` in batches (a streamed sweep of any size; read twice:
+    the limits, then the designs at the extremes). A design's speed limit is the
+    same on each of its rows. Ties: the designs whose limit is within
+    :data:`TIE_RTOL` (1e-9, relative) of the highest (or the lowest) share it; the
+    line names the first of them in the sweep's order and says how many more there
+    are. A design that fits up to the speed cap has an infinite limit (∞ ties only
+    with ∞).
 
     Parameters
     ----------
@@ -396,45 +416,49 @@ def design_range(path: Path, columns: dict[str, Any], params: list[str]) -> str:
     Examples
     --------
     >>> import numpy as np
-    >>> cols = {"lifter.preload_m": np.array([1e-4, 1e-4, 2e-4, 2e-4]),
-    ...         "speed_limit_rpm": np.array([441.7, 441.7, 402.1, 402.1])}
+    >>> cols = {"lifter.preload_m": np.array([1e-4, 1e-4, 2e-4, 2e-4, 3e-4, 3e-4]),
+    ...         "speed_limit_rpm": np.array([441.7, 441.7, 402.1, 402.1, 441.7, 441.7])}
     >>> print(design_range(Path("unused"), cols, ["lifter.preload_m"]))
     speed limit over the designs: 402.1–441.7 rpm
-      highest 441.7 rpm at lifter.preload_m=0.0001
+      highest 441.7 rpm at lifter.preload_m=0.0001 (and 1 more design at it)
       lowest  402.1 rpm at lifter.preload_m=0.0002
     """
     import numpy as np
 
-    names = [*params, "speed_limit_rpm"]
-    if columns:
-        batches: Any = [{k: np.asarray(columns[k]) for k in names}]
-    else:
+    def batches(names: list[str]) -> Any:
+        if columns:
+            return [{k: np.asarray(columns[k]) for k in names}]
         import pyarrow.parquet as pq
 
-        batches = (
+        return (
             {k: b.column(k).to_numpy(zero_copy_only=False) for k in names}
             for b in pq.ParquetFile(path).iter_batches(columns=names, batch_size=1 << 16)
         )
-    best: tuple[float, list[Any]] | None = None
-    worst: tuple[float, list[Any]] | None = None
-    for b in batches:
-        lim = np.asarray(b["speed_limit_rpm"], dtype=np.float64)
-        ok = np.flatnonzero(~np.isnan(lim))
-        if not ok.size:
-            continue
-        hi, lo = ok[np.argmax(lim[ok])], ok[np.argmin(lim[ok])]
-        if best is None or lim[hi] > best[0]:
-            best = (float(lim[hi]), [b[k][hi] for k in params])
-        if worst is None or lim[lo] < worst[0]:
-            worst = (float(lim[lo]), [b[k][lo] for k in params])
-    if best is None or worst is None:
-        return ""
 
-    def at(values: list[Any]) -> str:
-        return ", ".join(f"{k}={v:g}" for k, v in zip(params, values, strict=True))
+    hi, lo = -math.inf, math.inf
+    for b in batches(["speed_limit_rpm"]):
+        lim = np.asarray(b["speed_limit_rpm"], dtype=np.float64)
+        if not np.isnan(lim).all():
+            hi, lo = max(hi, float(np.nanmax(lim))), min(lo, float(np.nanmin(lim)))
+    if lo > hi:
+        return ""
+    # The designs at each extreme, in the sweep's order (a design has several rows).
+    at: dict[float, list[Any]] = {hi: [], lo: []}
+    for b in batches([*params, "speed_limit_rpm"]) if params else ():
+        tie = {x: _tie(np.asarray(b["speed_limit_rpm"], dtype=np.float64), x) for x in at}
+        for x, rows in tie.items():
+            at[x].append(np.column_stack([np.asarray(b[k])[rows] for k in params]))
+
+    def named(x: float) -> str:
+        if not params:  # one design
+            return ""
+        rows = np.concatenate(at[x])
+        where = ", ".join(f"{k}={v:g}" for k, v in zip(params, rows[0], strict=True))
+        more = len(np.unique(rows, axis=0)) - 1  # distinct designs: a design has rows
+        return where + (f" (and {plural(more, 'more design')} at it)" if more else "")
 
     return (
-        f"speed limit over the designs: {worst[0]:.4g}–{best[0]:.4g} rpm\n"
-        f"  highest {best[0]:.4g} rpm at {at(best[1])}\n"
-        f"  lowest  {worst[0]:.4g} rpm at {at(worst[1])}"
+        f"speed limit over the designs: {lo:.4g}–{hi:.4g} rpm\n"
+        f"  highest {hi:.4g} rpm at {named(hi)}\n"
+        f"  lowest  {lo:.4g} rpm at {named(lo)}"
     )
