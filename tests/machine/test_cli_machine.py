@@ -173,6 +173,12 @@ def test_run_at_a_nominal_speed_above_the_limit_fails_loudly(tmp_path, capsys):
     assert "At 450 rpm the cyclogram does not fit" in cap.out
     assert "does not fit at the nominal 450 rpm (speed limit 420.32 rpm; exit status 3)" in cap.err
     assert (tmp_path / "fast" / "report.html").exists()
+    # results.json says why the run failed, as the screen does (probe 4: only the
+    # report and the exit status did)
+    results = json.loads((tmp_path / "fast" / "results.json").read_text(encoding="utf-8"))
+    assert results["fails"] == [
+        "the cyclogram does not fit at the nominal 450 rpm (speed limit 420.32 rpm)"
+    ]
 
 
 def test_sweep_refuses_a_key_this_table_takes_from_elsewhere(tmp_path, capsys):
@@ -245,6 +251,7 @@ def test_a_nominal_speed_above_a_mechanisms_own_limit_fails(
     assert err[1] == f"cyclomech: {path}: {r.above_speed_limit} (exit status 3)"
     results = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert results["above_speed_limit"] == r.above_speed_limit
+    assert results["fails"] == r.fails == [r.above_speed_limit]
     assert "Above the speed limit" in (out / "report.html").read_text(encoding="utf-8")
 
 
@@ -306,3 +313,4 @@ def test_a_nominal_speed_exactly_at_a_mechanisms_limit_works(tmp_path, capsys):
     s = r.machine.speed_sweep([r.nominal_rpm])
     assert s.productivity_per_min.tolist() == [r.nominal_rpm]
     assert main(["run", str(path), "--out", str(tmp_path / "o"), "--no-plot", "--quiet"]) == 0
+    assert json.loads((tmp_path / "o" / "results.json").read_text(encoding="utf-8"))["fails"] == []

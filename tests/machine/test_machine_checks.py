@@ -100,6 +100,7 @@ def test_item8_a_cyclogram_that_fits_at_no_speed_is_loud(tmp_path, capsys):
     assert "works at no speed" in html and "At 100 rpm" not in html
     res = json.loads((tmp_path / "out" / "results.json").read_text("utf-8"))
     assert res["speed_limit"]["rpm"] == 0.0 and "370°" in res["speed_limit"]["reason"]
+    assert res["fails"] == [f"the machine works at no speed: {lim.reason}"]
 
 
 @pytest.mark.parametrize(

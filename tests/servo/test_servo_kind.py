@@ -252,6 +252,8 @@ def test_a_failing_check_warns_and_exits_3(
     err = capsys.readouterr().err
     assert "jaw: its motor fails the inertia ratio check" in err
     assert "Fails at 100 rpm" in (tmp_path / "o" / "report.html").read_text()
+    results = json.loads((tmp_path / "o" / "results.json").read_text())
+    assert results["fails"] == r.fails == [f"at 100 rpm {r.failures[0]}"]
 
 
 def test_run_writes_cam_tables(cli_run) -> None:

@@ -328,6 +328,7 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         out["optimum"] = None
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
+    out["fails"] = r.fails  # everything that makes `cyclomech run` exit 3; [] if it works
     out.update(_asked_for(r))
     # Each mechanism's entries, by group: "mechanisms" and the groups its kind adds.
     groups: dict[str, dict[str, Any]] = {g: {} for c in KINDS.values() for g in c.json_groups}

@@ -144,6 +144,40 @@ class MachineResult:
         return out
 
     @property
+    def fails(self) -> list[str]:
+        """Everything that makes the design fail as it stands, one text each: the
+        machine works at no speed; the cyclogram does not fit at the nominal speed;
+        the nominal speed is above a mechanism's own limit
+        (:attr:`above_speed_limit`); a mechanism's or the drive's own check fails
+        there (:attr:`failures`). ``cyclomech run`` exits 3 exactly when it is not
+        empty, and ``results.json`` carries it as ``fails``. Empty when the design
+        works.
+
+        Examples
+        --------
+        >>> import cyclomech as cm
+        >>> r = cm.machine.analyze(cm.Machine.example(), progress=False)
+        >>> r.fails
+        []
+        >>> data = cm.Machine.example().data
+        >>> data["machine"]["nominal_rpm"] = 500.0
+        >>> fast = cm.machine.analyze(cm.Machine.from_dict(data), progress=False)
+        >>> fast.fails
+        ['the cyclogram does not fit at the nominal 500 rpm (speed limit 421.37 rpm)']
+        """
+        if self.limit.rpm == 0:
+            return [f"the machine works at no speed: {self.limit.reason}"]
+        out = []
+        if self.optimum is None:
+            out.append(
+                f"the cyclogram does not fit at the nominal {self.nominal_rpm:g} rpm "
+                f"(speed limit {self.limit.rpm:.2f} rpm)"
+            )
+        if self.above_speed_limit:
+            out.append(self.above_speed_limit)
+        return out + [f"at {self.nominal_rpm:g} rpm {text}" for text in self.failures]
+
+    @property
     def above_speed_limit(self) -> str:
         """Why the nominal speed is above a mechanism's own speed limit ("" if it is
         not). The cyclogram may still fit there (its optimum is then computed), but
