@@ -152,3 +152,43 @@ def test_a_sweep_of_geometries_follows_each_one():
     np.testing.assert_array_equal(many.xy[0], one.xy)
     b, c = many.xy[0][:, lk.names.index("B")], many.xy[0][:, lk.names.index("C")]
     np.testing.assert_allclose(c - b, np.broadcast_to([1.0, 0.0], c.shape), atol=1e-12)
+
+
+def _linkage_file(lk: cm.Linkage, path: Path) -> Path:
+    lk.to_toml(path)
+    return path
+
+
+def test_the_linkage_command_lists_them(tmp_path: Path, capsys: pytest.CaptureFixture[str]):
+    # The parallelogram: both followed, on screen and in linkage.json, exit 0.
+    import json
+
+    from cyclomech.cli import main
+
+    path = _linkage_file(four_bar(0.3, 1.0, 0.3, 1.0), tmp_path / "pg.toml")
+    assert main(["linkage", str(path), "--out", str(tmp_path / "pg"), "--no-plot"]) == 0
+    out, err = capsys.readouterr()
+    assert (
+        "Change points (a group's two assemblies meet): joint 'C' at 180.00°, joint 'C' at " in out
+    )
+    assert "followed smoothly" in out and "warning" not in err
+    doc = json.loads((tmp_path / "pg" / "linkage.json").read_text(encoding="utf-8"))
+    got = doc["change_points"]
+    assert [(c["joint"], c["followed"]) for c in got] == [("C", True), ("C", True)]
+    assert got[0]["angle_deg"] == pytest.approx(180.0, abs=1e-7)
+    assert min(got[1]["angle_deg"], 360.0 - got[1]["angle_deg"]) < 1e-7
+    # s + l = p + q: held, and a warning says the velocity jumps there.
+    odd = _linkage_file(four_bar(0.2, 0.9, 0.5, 0.6, phi0=1.0), tmp_path / "odd.toml")
+    assert main(["linkage", str(odd), "--out", str(tmp_path / "odd"), "--no-plot"]) == 0
+    out, err = capsys.readouterr()
+    assert "Change points (a group's two assemblies meet): joint 'C' at " in out
+    assert "followed smoothly" not in out
+    assert "joint 'C' passes an odd number of change points" in err and "jumps" in err
+    doc = json.loads((tmp_path / "odd" / "linkage.json").read_text(encoding="utf-8"))
+    assert [(c["joint"], c["followed"]) for c in doc["change_points"]] == [("C", False)]
+    # A crank-rocker has none: no line, an empty list.
+    crank = Path(__file__).resolve().parents[2] / "examples" / "crank_rocker.toml"
+    assert main(["linkage", str(crank), "--out", str(tmp_path / "cr"), "--no-plot"]) == 0
+    assert "Change points" not in capsys.readouterr().out
+    doc = json.loads((tmp_path / "cr" / "linkage.json").read_text(encoding="utf-8"))
+    assert doc["change_points"] == []

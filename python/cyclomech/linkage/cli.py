@@ -122,6 +122,11 @@ def _summary(lk: Linkage, sol: LinkageSolution, point: str, step: float) -> dict
         "assembled": int(sol.ok.sum()),
         "singular": int(sol.singular.sum()),
         "branch_changes": [float(a) for a in np.degrees(sol.angles[sol.branch_change])],
+        # Where a class II group's two assemblies meet (Linkage.change_points)
+        "change_points": [
+            {"joint": j, "angle_deg": math.degrees(a) % 360.0, "followed": f}
+            for j, a, f in lk.change_points
+        ],
         "full_turn": bool(sol.ok.all()),
         "unreachable_deg": [
             list(r) for r in _runs(~sol.ok, np.degrees(sol.angles), step) if not sol.ok.all()
@@ -141,6 +146,37 @@ def _summary(lk: Linkage, sol: LinkageSolution, point: str, step: float) -> dict
         out["max_velocity_analog_m_per_rad"] = float(np.nanmax(speed))
         out["max_acceleration_analog_m_per_rad2"] = float(np.nanmax(accel))
     return out
+
+
+def _print_change_points(found: list[dict[str, Any]], file: str) -> None:
+    """Say where the linkage passes change points (uncertainty positions) and how the
+    solve took them: followed (a guide is needed), or held (its velocity jumps).
+
+    >>> _print_change_points([{"joint": "C", "angle_deg": 180.0, "followed": True},
+    ...                       {"joint": "C", "angle_deg": 0.0, "followed": True}],
+    ...                      "pg.toml")  # doctest: +NORMALIZE_WHITESPACE
+    Change points (a group's two assemblies meet): joint 'C' at 180.00°, joint 'C' at
+    0.00°; followed smoothly, as a guide (a second coupler out of phase) makes the
+    mechanism do
+    """
+    if not found:
+        return
+    where = ", ".join(f"joint {c['joint']!r} at {c['angle_deg']:.2f}°" for c in found)
+    print(
+        f"Change points (a group's two assemblies meet): {where}; followed smoothly, as a "
+        "guide (a second coupler out of phase) makes the mechanism do"
+        if all(c["followed"] for c in found)
+        else f"Change points (a group's two assemblies meet): {where}"
+    )
+    held = sorted({c["joint"] for c in found if not c["followed"]})
+    if held:
+        print(
+            f"cyclomech: warning: {file}: joint {held[0]!r} passes an odd number of change "
+            "points a crank turn, so its smooth motion repeats only every two turns; it is "
+            "held on its drawn side and its velocity jumps there (a four-bar with "
+            "s + l = p + q has one); a machine refuses it",
+            file=sys.stderr,
+        )
 
 
 def linkage_command(args: argparse.Namespace) -> int:
@@ -205,6 +241,7 @@ def linkage_command(args: argparse.Namespace) -> int:
         f"{at(summary['singular'], 'dead centres')}, "
         f"{at(len(summary['branch_changes']), 'branch changes')}."
     )
+    _print_change_points(summary["change_points"], args.file)
     full = bool(sol.ok.all())
     if not full and sol.ok.any():
         ranges = ", ".join(_turn_range(a, b) for a, b in summary["unreachable_deg"])
