@@ -116,7 +116,10 @@ KEY_DOCS: tuple[KeyTable, ...] = (
         K("base_radius", "What to size: the smallest base radius that meets the cam's limits "
           "(max_pressure_angle_deg, undercut, max_stress_pa) at the optimised timing.",
           NO_UNIT, TEXT, REQ, "smallest", None),
-        K("max_base_radius_m", "The largest base radius searched; the first round's cam.",
+        K("max_base_radius_m", "The largest base radius searched; the first round's cam. "
+          "A cam sized to it (within 1e-9) has sizing status at_upper_bound: the bound, not "
+          "a limit of the cam, set it and the phase angles were stretched to fit (a CLI "
+          "warning; raise the bound to shorten them).",
           "m", NUM, REQ, "finite, > 0; above min_base_radius_m", None),
         K("min_base_radius_m", "The smallest base radius searched.", "m", NUM,
           "none (just above the roller's radius)", "finite, > 0; above the roller's radius",
