@@ -49,8 +49,16 @@ def stress_limit_rpm(design: CamDesign, k: int, beta: float, at_ref: float) -> f
     it fails at the reference speed (``at_ref`` its smallest angle there), inf where it
     holds up to :data:`STRESS_CAP_RPM`; else the root of (its smallest angle − beta)
     in the speed (Brent's, 1e-9 relative), bracketed on a geometric grid of speeds
-    solved in one call (σ_H is taken as growing with the speed, as the inertia
-    force does)."""
+    solved in one call.
+
+    One crossing, not several: at each cam angle the contact force is affine in ω²
+    (the inertia force ∝ ω², the spring, the preload and the loads not), so its
+    largest value over the segment, and with it the largest σ_H, is convex in ω².
+    The speeds where σ_H ≤ [σ_H] are then one interval; it holds the reference
+    speed, so the first grid speed past it brackets its only upper end. σ_H need
+    not grow with the speed: on the loom's lift it falls from 101 to 98 MPa up to
+    ~35 rpm (the inertia unloading the spring's peak at the end of the rise), then
+    rises."""
     col = CRITERIA.index("contact_stress")
     if math.isnan(at_ref) or at_ref > beta:
         return 0.0
