@@ -279,6 +279,36 @@ def _minimums(m: Machine, rpm: float) -> tuple[np.ndarray, list[str]]:
 
 
 # --------------------------------------------------------------------- files
+def _optimum(r: MachineResult) -> dict[str, Any] | None:
+    """results.json's ``optimum``: the optimised cyclogram at the nominal speed, its
+    limiting operation's angle and time, what binds and the shadow prices (None
+    where the cyclogram does not fit there)."""
+    o, cg = r.optimum, r.machine.cyclogram
+    if o is None:
+        return None
+    assert r.minimums is not None
+    lim_op = cg.operation(cg.limiting)  # type: ignore[arg-type]
+    at = [op.arc for op in cg.operations].index(lim_op.arc)
+    prices: dict[str, float] = {}
+    for res in r.mechanisms.values():
+        prices.update(res.prices())
+    return {
+        "speed_rpm": r.nominal_rpm,
+        "limiting_deg": o.objective,
+        "limiting_min_deg": float(r.minimums[at]),
+        "gained_deg": o.stretch[lim_op.arc],
+        "limiting_s": o.objective / (DEG_PER_S_PER_RPM * r.nominal_rpm),
+        "times_deg": o.times,
+        "angles_deg": o.angles,
+        "minimums_deg": {op.arc: float(v) for op, v in zip(cg.operations, r.minimums, strict=True)},
+        "minimum_by": {op.arc: by for op, by in zip(cg.operations, r.minimum_by, strict=True)},
+        "binding": list(o.binding),
+        "shadow_prices": {kk: v for kk, v in o.duals.items() if abs(v) > 1e-9},
+        "shadow_prices_per_mm_rebound": prices,
+        "critical": list(o.critical),
+    }
+
+
 def _summary(r: MachineResult) -> dict[str, Any]:
     m = r.machine
     cg = m.cyclogram
@@ -300,32 +330,8 @@ def _summary(r: MachineResult) -> dict[str, Any]:
         },
         "limiting_operation": {"name": lim_op.title, "arc": lim_op.arc},
     }
-    o = r.optimum
-    if o is not None:
-        assert r.minimums is not None
-        at = [op.arc for op in cg.operations].index(lim_op.arc)
-        prices: dict[str, float] = {}
-        for res in r.mechanisms.values():
-            prices.update(res.prices())
-        out["optimum"] = {
-            "speed_rpm": r.nominal_rpm,
-            "limiting_deg": o.objective,
-            "limiting_min_deg": float(r.minimums[at]),
-            "gained_deg": o.stretch[lim_op.arc],
-            "limiting_s": o.objective / (DEG_PER_S_PER_RPM * r.nominal_rpm),
-            "times_deg": o.times,
-            "angles_deg": o.angles,
-            "minimums_deg": {
-                op.arc: float(v) for op, v in zip(cg.operations, r.minimums, strict=True)
-            },
-            "minimum_by": {op.arc: by for op, by in zip(cg.operations, r.minimum_by, strict=True)},
-            "binding": list(o.binding),
-            "shadow_prices": {kk: v for kk, v in o.duals.items() if abs(v) > 1e-9},
-            "shadow_prices_per_mm_rebound": prices,
-            "critical": list(o.critical),
-        }
-    else:
-        out["optimum"] = None
+    out["optimum"] = _optimum(r)
+    if r.optimum is None:
         out["problem"] = r.problem
     out["above_speed_limit"] = r.above_speed_limit or None
     out["fails"] = r.fails  # everything that makes `cyclomech run` exit 3; [] if it works
