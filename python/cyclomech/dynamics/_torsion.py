@@ -598,18 +598,33 @@ class TorsionSweep:
         >>> s.limit_rpm("a", 2.0)   # crosses 2 between 10 and 20 rpm; 30 rpm is not offered
         15.0
         """
-        if name not in self.names:
-            raise InputError(f"limit_rpm: {name!r} is not a node; the nodes are {list(self.names)}")
-        bound = positive("max_error", max_error, "")
-        e = self.peak_error[:, self.names.index(name)]
-        over = ~self.settled | ~(e <= bound)
-        if not over.any():
+        i = self.first_over(name, max_error)
+        if i is None:
             return math.inf
-        i = int(np.argmax(over))
+        e = self.peak_error[:, self.names.index(name)]
         if i == 0 or not self.settled[i]:
             return float(self.rpm[i])
         lo, hi = self.rpm[i - 1], self.rpm[i]
-        return float(lo + (hi - lo) * (bound - e[i - 1]) / (e[i] - e[i - 1]))
+        return float(lo + (hi - lo) * (max_error - e[i - 1]) / (e[i] - e[i - 1]))
+
+    def first_over(self, name: str, max_error: float) -> int | None:
+        """The index of the lowest speed of the sweep at which member ``name``'s
+        peak error exceeds ``max_error`` or the chain did not settle (None: none):
+        the upper end of :meth:`limit_rpm`'s bracket.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> s = TorsionSweep(("a",), np.array([10.0, 20.0, 30.0]), np.array([[1.0], [3.0], [1.0]]),
+        ...                  np.zeros((3, 1)), np.ones(3, bool))
+        >>> s.first_over("a", 2.0), s.first_over("a", 4.0)
+        (1, None)
+        """
+        if name not in self.names:
+            raise InputError(f"limit_rpm: {name!r} is not a node; the nodes are {list(self.names)}")
+        bound = positive("max_error", max_error, "")
+        over = ~self.settled | ~(self.peak_error[:, self.names.index(name)] <= bound)
+        return int(np.argmax(over)) if over.any() else None
 
 
 def torsion_sweep(
