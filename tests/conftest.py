@@ -4,6 +4,7 @@ the repository's root as the working directory of every test, and one
 (:func:`cli_run`)."""
 
 import contextlib
+import gc
 import hashlib
 import io
 import json
@@ -66,6 +67,18 @@ SAME_WORKER = (
 #: most tests first, so these came last, and one worker ran mypy alone while the
 #: other had run out of files.
 FIRST = ("package/test_types.py", "package/test_stubs.py")
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """What collection built (every test module, the ~5400 items, the libraries they
+    import: ~0.4 million objects) lives as long as the session: moved out of the
+    cyclic garbage collector's reach once, after one last collection
+    (``gc.freeze``), so that each full collection stops walking all of it again (in
+    one process with the whole suite collected and 461 of its tests run, the full
+    collections took 6.0 CPU-s, 4.9 with the freeze). The tests see no difference:
+    what is frozen was reachable, and stays so."""
+    gc.collect()
+    gc.freeze()
 
 
 def _short(path: str) -> str:
