@@ -22,7 +22,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import pickle
-from collections.abc import Iterator
+from collections.abc import Iterator, MutableMapping
 from typing import Any
 
 import cyclomech.machine
@@ -37,18 +37,20 @@ def _key(args: tuple[Any, ...], kwargs: dict[str, Any]) -> str | None:
 
 
 @contextlib.contextmanager
-def analyze_each_machine_once(results: dict[str, bytes] | None = None) -> Iterator[None]:
+def analyze_each_machine_once(results: MutableMapping[str, bytes] | None = None) -> Iterator[None]:
     """``cyclomech.machine.analyze`` answers a repeated call by a copy of the first
     call's result while the block runs (examples look it up on the module at run
     time, as ``cm.machine.analyze`` or ``from cyclomech.machine import analyze``).
 
     ``results`` (digest of the pickled arguments -> the pickled result) is the
-    cache: pass one dict to several blocks to share it, or none for a fresh one. A
+    cache: pass one dict (or a mapping that reads and writes only those keys, as
+    ``cli_run``'s folder shared by the workers) to several blocks to share it, or
+    none for a fresh one. A
     block whose first calls must run for real (the fuzz's profiler records what
     they call) takes a fresh one: another test file in the same worker may have
     analysed the same machines already."""
     real = cyclomech.machine.analyze
-    cache: dict[str, bytes] = {} if results is None else results
+    cache: MutableMapping[str, bytes] = {} if results is None else results
 
     def analyze(*args: Any, **kwargs: Any) -> Any:
         key = _key(args, kwargs)
