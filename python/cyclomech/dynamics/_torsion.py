@@ -609,8 +609,25 @@ class TorsionSweep:
 
     def first_over(self, name: str, max_error: float) -> int | None:
         """The index of the lowest speed of the sweep at which member ``name``'s
-        peak error exceeds ``max_error`` or the chain did not settle (None: none):
-        the upper end of :meth:`limit_rpm`'s bracket.
+        peak error exceeds ``max_error`` or the chain did not settle: the upper end
+        of :meth:`limit_rpm`'s bracket.
+
+        Parameters
+        ----------
+        name : str
+            A node with a working member.
+        max_error : float
+            The bound [the member's unit] (> 0).
+
+        Returns
+        -------
+        int or None
+            The index into ``rpm``; None where no speed of the sweep exceeds it.
+
+        Raises
+        ------
+        InputError
+            If ``name`` is not a node or ``max_error`` is not > 0.
 
         Examples
         --------
