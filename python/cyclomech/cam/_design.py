@@ -153,6 +153,7 @@ class CamDesign:
         source: str | None = None,
         extra: frozenset[str] = frozenset(),
         arcs: bool = False,
+        check: bool = True,
     ) -> CamDesign:
         """Parse a cam table (see the module's units for its keys).
 
@@ -169,6 +170,10 @@ class CamDesign:
             Keys the caller reads itself (accepted, not read here).
         arcs : bool, default False
             Allow ``arc = [from, to]`` in segments (a machine file).
+        check : bool, default True
+            Warn of valid values a user may not have meant (a length in mm, an
+            angle in radians: ``cyclomech._keyrules.check``); False where the table
+            is read again and its own reading warns (a cam stop reads its cam's).
 
         Returns
         -------
@@ -288,9 +293,10 @@ class CamDesign:
             cam = _polydyne(table, at, units, cam, loads, follower, closure)
         # Valid values a user may not have meant (a length in mm, an angle in
         # radians, a stress in MPa): the rules of every key by its unit suffix.
-        _keyrules.check(table, CAM_RULES, at)
-        for i, row in enumerate(table["segment"]):
-            _keyrules.check(row, (), f"{at} segment {i + 1}")
+        if check:
+            _keyrules.check(table, CAM_RULES, at)
+            for i, row in enumerate(table["segment"]):
+                _keyrules.check(row, (), f"{at} segment {i + 1}")
         _check_arcs(cam, bound, at)
         tool = _tool_radius(table, cam, at)
         return cls(cam, loads, contact, max_stress, alpha, vibration, bound, tool)

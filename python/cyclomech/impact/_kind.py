@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import functools
 import math
-import warnings
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -15,7 +14,7 @@ import numpy.typing as npt
 
 from .. import _keyrules, _toml
 from .._arrays import flag, float_array, instance, instances, positive, real_array, threads_arg
-from .._errors import CyclomechWarning, InputError
+from .._errors import InputError
 from .._keydoc import KeyTable
 from .._keyrules import Rule
 from .._kind import Array, Bound, BoundLaw, Context, Proportional, Save, TableContext
@@ -783,17 +782,15 @@ def _from_cam(table: Mapping[str, Any], arc: Arc, where: str, ctx: TableContext)
             f"{where}: cam = {name!r} is not a cam of the machine; its cams are {cams}"
         )
     # The cam is a mechanism of the machine and warns of its own values (a length
-    # in mm, an angle in radians) when it is read as one; read here for its law and
-    # stroke, the same warnings would print twice.
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CyclomechWarning)
-        design = CamDesign.from_table(
-            other,
-            f"[mechanism.{name}]",
-            source=ctx.source,
-            extra=frozenset({"kind", "friction"}),
-            arcs=True,
-        )
+    # in mm, an angle in radians) when it is read as one: not again here.
+    design = CamDesign.from_table(
+        other,
+        f"[mechanism.{name}]",
+        source=ctx.source,
+        extra=frozenset({"kind", "friction"}),
+        arcs=True,
+        check=False,
+    )
     if arc not in design.arcs:
         bound = ", ".join(repr(list(a)) for a in design.arcs if a is not None) or "none"
         raise InputError(
