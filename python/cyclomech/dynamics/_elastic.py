@@ -847,15 +847,18 @@ def _error_limit(nodes: list[ShaftNode], sweep: TorsionSweep, name: str, bound: 
         return sweep.limit_rpm(name, bound)
     k = sweep.names.index(name)
 
-    def excess(rpm: float) -> float:
-        s = torsion_sweep(nodes, [rpm], tol=_TOL, max_cycles=_MAX_CYCLES, n_threads=1)
-        # an unsettled chain exceeds (a finite value keeps Brent's bracket sound)
-        return float(s.peak_error[0, k] - bound) if s.settled[0] else bound
-
     lo, hi = float(sweep.rpm[i - 1]), float(sweep.rpm[i])
     e_lo, e_hi = float(sweep.peak_error[i - 1, k] - bound), float(sweep.peak_error[i, k] - bound)
     if not e_lo < 0.0 < e_hi:  # at the bound at lo already
         return lo
+
+    def excess(rpm: float) -> float:
+        if rpm in (lo, hi):  # the sweep solved the bracket's ends already
+            return e_lo if rpm == lo else e_hi
+        s = torsion_sweep(nodes, [rpm], tol=_TOL, max_cycles=_MAX_CYCLES, n_threads=1)
+        # an unsettled chain exceeds (a finite value keeps Brent's bracket sound)
+        return float(s.peak_error[0, k] - bound) if s.settled[0] else bound
+
     return float(brentq(excess, lo, hi, rtol=LIMIT_RTOL))
 
 
