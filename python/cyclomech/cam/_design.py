@@ -172,8 +172,8 @@ class CamDesign:
             Allow ``arc = [from, to]`` in segments (a machine file).
         check : bool, default True
             Warn of valid values a user may not have meant (a length in mm, an
-            angle in radians: ``cyclomech._keyrules.check``); False where the table
-            is read again and its own reading warns (a cam stop reads its cam's).
+            angle in radians); False where the table is read again and its own
+            reading warns (a machine's cam stop reads its cam's table).
 
         Returns
         -------
@@ -195,6 +195,7 @@ class CamDesign:
         """
         extra = frozenset(instances("extra", extra, str))
         arcs = flag("arcs", arcs)
+        check = flag("check", check)
         at = where if source is None else f"{source}: {where}"
         if isinstance(table, Mapping) and "friction" in table and "friction" not in extra:
             # Refused by name, not as an unknown key: whoever wrote it expects losses.
