@@ -180,9 +180,26 @@ def large_rx_length(large_rx) -> float:
     return float(rx.dag_weighted_longest_path_length(large_rx, _edge_weight))
 
 
+#: V of networkx's solve and build rows when benchmarks are off: at V = 1e5 its graph
+#: (built twice, ~2.5 CPU-s each) and its solve cost ~8 CPU-s of the default run, and
+#: check nothing its V = 1e3 and 1e4 scaling rows do not (its code has no size
+#: switch); timed, it runs the groups' V = 1e5 like every other tool.
+SMOKE_NETWORKX_EVENTS = 10_000
+
+
 @pytest.fixture(scope="module")
-def large_nx(large: Dag):
-    return build_networkx(large)
+def nx_dag(request: pytest.FixtureRequest, large: Dag) -> Dag:
+    """The DAG of networkx's solve and build rows: ``large`` when timed, else a
+    V = :data:`SMOKE_NETWORKX_EVENTS` one."""
+    if timed_run(request.config):
+        return large
+    n = SMOKE_NETWORKX_EVENTS
+    return random_dag(n, ARCS_PER_EVENT * n, seed=20261101)
+
+
+@pytest.fixture(scope="module")
+def large_nx(nx_dag: Dag):
+    return build_networkx(nx_dag)
 
 
 @pytest.mark.benchmark(group=GROUP_SOLVE)
@@ -208,10 +225,10 @@ def test_solve_rustworkx(benchmark, large: Dag, large_rx) -> None:
 
 
 @pytest.mark.benchmark(group=GROUP_SOLVE, min_rounds=SLOW_ROUNDS)
-def test_solve_networkx(benchmark, large: Dag, large_nx) -> None:
+def test_solve_networkx(benchmark, nx_dag: Dag, large_nx) -> None:
     _label(benchmark, "networkx", "dag_longest_path_length(G, weight='weight')")
     length = benchmark(nx.dag_longest_path_length, large_nx, weight="weight")
-    assert_allclose(large.cyclomech_length(), length, rtol=RTOL)
+    assert_allclose(nx_dag.cyclomech_length(), length, rtol=RTOL)
 
 
 @pytest.mark.benchmark(group=GROUP_BUILD)
@@ -230,11 +247,11 @@ def test_build_rustworkx(benchmark, large: Dag) -> None:
 
 
 @pytest.mark.benchmark(group=GROUP_BUILD, min_rounds=SLOW_ROUNDS)
-def test_build_networkx(benchmark, large: Dag) -> None:
+def test_build_networkx(benchmark, nx_dag: Dag) -> None:
     _label(benchmark, "networkx", "DiGraph from the arrays")
-    graph = benchmark(build_networkx, large)
+    graph = benchmark(build_networkx, nx_dag)
     length = nx.dag_longest_path_length(graph, weight="weight")
-    assert_allclose(large.cyclomech_length(), length, rtol=RTOL)
+    assert_allclose(nx_dag.cyclomech_length(), length, rtol=RTOL)
 
 
 # --- 1000 weight vectors on one DAG with V = 1e3 ----------------------------------

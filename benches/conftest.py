@@ -73,9 +73,10 @@ def _timed(config: pytest.Config) -> list[Any]:
 #: left to ``-m exhaustive`` when benchmarks are off). bench_schedule's V = 1e6 rows
 #: (a minute of the default run, most of it rustworkx and the graph's build) and its
 #: V = 1e5 rows (5.6 CPU-s, 4.6 of them networkx's) check what V = 1e3 and 1e4 check
-#: on the same code, and the solve and build groups run V = 1e5 with every tool
-#: (every size switch of the kernels is at 2^20 arcs or more, V >= 2.6e5); timed,
-#: they give the per-arc scaling.
+#: on the same code, and the solve and build groups run V = 1e5 with every tool but
+#: networkx (every size switch of the kernels is at 2^20 arcs or more, V >= 2.6e5;
+#: networkx's rows take V = 1e4 when benchmarks are off, bench_schedule's
+#: ``nx_dag``); timed, they give the per-arc scaling.
 SMOKE_TOO_LARGE = {"scaled": 100_000}
 
 
