@@ -206,3 +206,30 @@ def test_item13_press_design_grid_too_large_is_refused_before_allocating():
     axis = np.linspace(0.0, 0.04, 1000)
     with pytest.raises(cm.InputError, match=r"1,000,000,000 designs needs .* GB"):
         cm.press.design_grid(R=0.09, r=0.03, d=axis, L=axis + 0.25, phi0=axis, k_Sp=0.1, omega=4.19)
+
+
+def test_small_sizes_skip_the_read_of_available_memory_but_not_the_cap(monkeypatch):
+    # Reading /proc/meminfo costs ~13 µs, paid by every kernel call; a result of at
+    # most UNCHECKED_BYTES cannot be what exhausts memory, so it is not read. The
+    # environment's cap holds at every size.
+    from cyclomech import _arrays
+
+    reads = []
+
+    def tiny() -> int:
+        reads.append(1)
+        return 1000
+
+    monkeypatch.delenv("CYCLOMECH_MAX_BYTES", raising=False)
+    monkeypatch.setattr(_arrays, "available_bytes", tiny)
+    _arrays.check_bytes("a small array", _arrays.UNCHECKED_BYTES, "fewer points")
+    assert reads == []
+    with pytest.raises(cm.InputError, match=r"a larger array needs .* more than the 1e-06 GB"):
+        _arrays.check_bytes("a larger array", _arrays.UNCHECKED_BYTES + 1, "fewer points")
+    assert reads == [1]
+    with pytest.raises(cm.InputError, match="which the system could not allocate"):
+        _arrays.check_bytes("a failed array", 8.0, "fewer points", failed=True)
+    monkeypatch.undo()
+    monkeypatch.setenv("CYCLOMECH_MAX_BYTES", "100")
+    with pytest.raises(cm.InputError, match=r"needs 1e-06 GB, more than the 1e-07 GB"):
+        _arrays.check_bytes("a small array", 1000, "fewer points")

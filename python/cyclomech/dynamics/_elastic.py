@@ -810,13 +810,21 @@ def machine_torsion(result: Any, elastic: ElasticShaft, steady: Any, motor: Any)
     )
 
 
-def _error_limits(result: Any, nodes: list[ShaftNode]) -> tuple[TorsionSweep, dict[str, float]]:
+def _error_limits(
+    result: Any, nodes: list[ShaftNode], below: float = math.inf
+) -> tuple[TorsionSweep, dict[str, float]]:
     """The chain's sweep over the machine's speed range with the head at constant
     speed, and each bounded member's speed at which its error first reaches its
-    bound (inf: not in the range)."""
+    bound (inf: not in the range).
+
+    With ``below`` [rpm], the sweep stops at its first speed ≥ ``below``: a limit
+    under ``below`` is the same (the first crossing depends on the speeds up to
+    it alone), one above is inf. For a caller that takes min(``below``, limit)
+    (the sensitivities' variants) the answers are those of the whole sweep."""
     full = np.asarray(result.machine.speed_grid(), dtype=np.float64)
     # 41 speeds at most: the first crossing is found on them, then put to a root
     grid = np.linspace(full[0], full[-1], min(full.size, 41))
+    grid = grid[: int(np.searchsorted(grid, below, side="left")) + 1]
     sweep = torsion_sweep(nodes, grid, tol=_TOL, max_cycles=_MAX_CYCLES)
     limits = {
         x.name: _error_limit(nodes, sweep, x.name, x.member.max_error)
@@ -862,7 +870,9 @@ def _error_limit(nodes: list[ShaftNode], sweep: TorsionSweep, name: str, bound: 
     return float(brentq(excess, lo, hi, rtol=LIMIT_RTOL))
 
 
-def error_limits(result: Any, elastic: ElasticShaft) -> dict[str, float]:
+def error_limits(
+    result: Any, elastic: ElasticShaft, *, below_rpm: float = math.inf
+) -> dict[str, float]:
     """Each bounded member's dynamic-error speed limit [rpm] of an analysed machine on
     another elastic shaft and links: what :func:`machine_torsion` gives as
     ``limits_rpm``, without its nominal run under the motor (the sensitivities of
@@ -874,12 +884,18 @@ def error_limits(result: Any, elastic: ElasticShaft) -> dict[str, float]:
         :func:`cyclomech.machine.analyze`'s result, with its main shaft.
     elastic : ElasticShaft
         The shaft and the links.
+    below_rpm : float, default inf
+        Only limits below this speed [rpm] are sought: the sweep stops at its
+        first speed ≥ ``below_rpm`` (a first crossing depends on the speeds up to
+        it alone), and a limit above is inf. min(``below_rpm``, limit) is that of
+        the whole sweep, in fewer solves of the chain (the sensitivities take
+        it with the machine's limit).
 
     Returns
     -------
     dict of str to float
         The limit by mechanism [rpm] (inf: its error stays within its bound over
-        the speed range).
+        the speed range, or, with ``below_rpm``, does not reach it below that).
 
     Raises
     ------
@@ -893,9 +909,14 @@ def error_limits(result: Any, elastic: ElasticShaft) -> dict[str, float]:
     ...                        progress=False)
     >>> error_limits(r, r.machine.drive.elastic) == r.torsion.limits_rpm
     True
+    >>> tight = r.machine.with_values({"drive.link.knife.max_error_m": 2e-4}).drive.elastic
+    >>> round(error_limits(r, tight)["knife"], 2), error_limits(r, tight, below_rpm=30.0)
+    (37.45, {'knife': inf})
     """
     _check_result(result, elastic)
-    return _error_limits(result, _nodes(result, elastic, result.machine.source))[1]
+    below = finite_number("below_rpm", below_rpm, "[rpm]", low=0.0, strict=True, inf=True)
+    nodes = _nodes(result, elastic, result.machine.source)
+    return _error_limits(result, nodes, below)[1]
 
 
 def _check_result(result: Any, elastic: Any) -> None:

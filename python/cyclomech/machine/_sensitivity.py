@@ -411,7 +411,7 @@ def drive_sensitivities(result: Any, table: list[Sensitivity]) -> list[Sensitivi
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", CyclomechWarning)
             other = m.with_values({path: value})
-        return min([base, *error_limits(result, other.drive.elastic).values()])
+        return min([base, *error_limits(result, other.drive.elastic, below_rpm=base).values()])
 
     for path, v in keys:
         try:
