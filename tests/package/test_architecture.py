@@ -367,7 +367,7 @@ KNOWN_LONG = {
     "cam/cli.py:cam_command": 149,
     "press/cli.py:press_command": 135,
     "transfer/plot.py:plot_transfer": 129,
-    "cyclogram/_lp.py:LP.__init__": 128,
+    "cyclogram/_lp.py:LP.__init__": 125,
     "shaft/_flatten.py:flatten_phases": 107,
     "cam/_design.py:CamDesign.from_table": 113,
     "forces/_model.py:_build": 112,

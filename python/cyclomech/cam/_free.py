@@ -7,7 +7,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ._design import CamDesign
 from ._followers import FlatFaced
@@ -59,6 +58,8 @@ def stress_limit_rpm(design: CamDesign, k: int, beta: float, at_ref: float) -> f
     not grow with the speed: on the loom's lift it falls from 101 to 98 MPa up to
     ~35 rpm (the inertia unloading the spring's peak at the end of the rise), then
     rises."""
+    from scipy.optimize import brentq  # here: scipy.optimize is ~0.3 s to import
+
     col = CRITERIA.index("contact_stress")
     if math.isnan(at_ref) or at_ref > beta:
         return 0.0

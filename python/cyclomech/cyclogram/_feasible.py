@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import linprog
 
 _Rows = npt.NDArray[np.float64]
 
@@ -156,6 +155,8 @@ class FeasibleSet:
         >>> res.status, round(float(res.fun), 9), round(float(res.x[0]), 9)
         (0, 0.0, 3.0)
         """
+        from scipy.optimize import linprog  # here: scipy.optimize is ~0.3 s to import
+
         width = len(c)
 
         def pad(a: _Rows) -> _Rows:

@@ -11,9 +11,6 @@ from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
-from scipy import sparse
-from scipy.optimize import linprog
-from scipy.sparse.csgraph import breadth_first_order
 
 from .._units import DEG_PER_S_PER_RPM
 from ._angles import Arc
@@ -32,7 +29,9 @@ class LP:
     of one sparse matrix, with its kind, its operation and the sign that turned it
     into the solver's form, so a subset is a row mask (for the deletion filter) and
     every dual maps back to its name. The span rows p_v − F ≤ 0 are structure, not
-    bounds: always present, never reported.
+    bounds: always present, never reported. (scipy is imported where it is used:
+    ``import cyclomech``, and with it every command's start, does not pay its
+    ~0.3 s.)
     """
 
     def __init__(
@@ -43,6 +42,8 @@ class LP:
         limiting: Arc | None,
         speed_secs: npt.NDArray[np.float64] | None = None,
     ) -> None:
+        from scipy import sparse
+
         self.lay, self.cycle, self.limiting, self.mins = lay, cycle, limiting, mins
         V = len(lay.events)
         self.V = self.F = V
@@ -154,11 +155,7 @@ class LP:
         self.n_rows = n_rows
         self.max_of = dict(zip(max_ops.tolist(), maxs.tolist(), strict=True))
         self.speed_secs = speed_secs
-        ar = np.arange(V)
-        self._span = sparse.csr_array(
-            (np.r_[np.ones(V), -np.ones(V)], (np.r_[ar, ar], np.r_[ar, np.full(V, self.F)])),
-            shape=(V, self.n_var),
-        )
+        self._span = _span_rows(V, self.n_var)
         c = np.zeros(self.n_var)
         if speed_secs is not None:
             c[-1] = -1.0  # maximise n
@@ -205,6 +202,9 @@ class LP:
         On success the result carries ``dual_all`` and ``resid_all``: the marginal
         and the residual of every named row (NaN for rows left out).
         """
+        from scipy import sparse
+        from scipy.optimize import linprog
+
         sel = np.arange(self.n_rows) if keep is None else np.flatnonzero(keep)
         ub, eq = sel[~self.eq[sel]], sel[self.eq[sel]]
         blocks = [self.A[ub], self._span]
@@ -277,6 +277,9 @@ class LP:
 
     def _elastic_support(self) -> npt.NDArray[np.bool_] | None:
         """Rows with a non-zero dual in the elastic LP, or None if it fails."""
+        from scipy import sparse
+        from scipy.optimize import linprog
+
         R, nv = self.n_rows, self.n_var
         # Equalities become two inequalities sharing one slack.
         A = sparse.vstack([self.A, -self.A[self.eq]]).tocsr()
@@ -329,6 +332,8 @@ class LP:
         feasibility tolerance absorbs round-off, and if it did not, the first LP's
         answer stands. Shadow prices still come from the first LP.
         """
+        from scipy import sparse
+
         pin = sparse.csr_array(self.c.reshape(1, -1))
         c = np.r_[np.ones(self.V), np.zeros(self.n_var - self.V)]
         tidy = self.solve(c=c, extra=(pin, float(res.fun)))
@@ -342,6 +347,9 @@ class LP:
         operation at its minimum on a chain of such operations between two events of
         the priced ones (lengthening it would move a priced event just the same).
         """
+        from scipy import sparse
+        from scipy.sparse.csgraph import breadth_first_order
+
         E, V = len(self.xi), self.V
         priced = np.zeros(E, bool)
         priced[sorted(self.priced_ops(res))] = True
@@ -416,3 +424,15 @@ class LP:
             critical=tuple(arcs[e] for e in np.flatnonzero(critical)),
             name=lay.name,
         )
+
+
+def _span_rows(V: int, n_var: int) -> Any:
+    """The span rows p_v − F ≤ 0 of the V events (F, the finish, is variable V), as
+    a sparse (V, ``n_var``) matrix."""
+    from scipy import sparse
+
+    ar = np.arange(V)
+    return sparse.csr_array(
+        (np.r_[np.ones(V), -np.ones(V)], (np.r_[ar, ar], np.r_[ar, np.full(V, V)])),
+        shape=(V, n_var),
+    )

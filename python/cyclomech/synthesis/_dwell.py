@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import differential_evolution
 
 from .. import _core
 from .._arrays import count, finite_number, positive, threads_arg
@@ -330,6 +329,8 @@ def dwell_sixbar(
     def objective(x: np.ndarray) -> np.ndarray:
         # vectorized: x is (6, S), one Rust call per generation.
         return rows(_population(x.T, d))[:, 0]
+
+    from scipy.optimize import differential_evolution  # here: ~0.3 s to import
 
     bounds = [(lo * d, hi * d) if i < 5 else (lo, hi) for i, (lo, hi) in enumerate(_BOUNDS)]
     res = differential_evolution(

@@ -43,7 +43,6 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import differential_evolution
 
 from .._arrays import count, finite_number, positive
 from .._errors import InputError
@@ -582,6 +581,8 @@ def _synthesise(scheme: str, requirement: KnifeRequirement, keep: int) -> KnifeD
     # Deterministic for a seed: a machine file parsed again (sweeps, checks) and a
     # comparison after a single synthesis reuse the result, or the reason it failed
     # (the message, as a string: lru_cache keeps no exceptions).
+    from scipy.optimize import differential_evolution  # here: ~0.3 s to import
+
     prob = _Problem(scheme, requirement)
 
     def batch(x: Array) -> Array:
