@@ -147,8 +147,11 @@ def test_limits_below_a_speed_keep_the_whole_sweeps_min(result: Any) -> None:
         part = cm.dynamics.error_limits(result, tight, below_rpm=below)["knife"]
         assert min(below, part) == min(below, whole), below
         assert part == (whole if below > 36.0 else math.inf), below  # the bracket is in
-    with pytest.raises(InputError, match=r"below_rpm = 0.0 must be finite and > 0 \[rpm\]"):
+    with pytest.raises(InputError, match=r"below_rpm = 0.0 must be finite and > 0 \[rpm\] \(inf"):
         cm.dynamics.error_limits(result, tight, below_rpm=0.0)
+    for bad in ("38", -1.0, math.nan, -math.inf, True):
+        with pytest.raises(InputError, match=r"below_rpm .*\[rpm\] \(inf: the whole range\)"):
+            cm.dynamics.error_limits(result, tight, below_rpm=bad)
 
 
 def test_a_bound_exceeded_everywhere_fails() -> None:

@@ -914,7 +914,9 @@ def error_limits(
     (37.45, {'knife': inf})
     """
     _check_result(result, elastic)
-    below = finite_number("below_rpm", below_rpm, "[rpm]", low=0.0, strict=True, inf=True)
+    below = finite_number(
+        "below_rpm", below_rpm, "[rpm] (inf: the whole range)", low=0.0, strict=True, inf=True
+    )
     nodes = _nodes(result, elastic, result.machine.source)
     return _error_limits(result, nodes, below)[1]
 
